@@ -1,0 +1,211 @@
+//! An in-memory transport wired to an in-process peer (the simulated drive).
+//!
+//! The peer answers in bytes, exactly like a drive on a wire; the transport only adds the
+//! timing: replies become readable at the time the peer says (plus emulated wire time), and
+//! reads wait on the shared [`Clock`], so with a virtual clock a timeout costs no real time.
+//! It must not interpret the bytes.
+
+use super::{Transport, TransportError};
+use crate::clock::SharedClock;
+use std::collections::VecDeque;
+use std::sync::{Arc, Mutex};
+use std::time::Duration;
+
+/// Bytes sent back by a [`Peer`], readable from time `at` (clock time) on.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct PeerReply {
+    pub at: Duration,
+    pub bytes: Vec<u8>,
+}
+
+/// Something that answers bytes with bytes: the simulated drive.
+pub trait Peer: Send {
+    /// `bytes` have fully arrived at clock time `now`; returns what the peer sends back.
+    fn receive(&mut self, bytes: &[u8], now: Duration) -> Vec<PeerReply>;
+}
+
+/// Emulated time on the wire: how long a byte takes at a baud rate.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct WireTime {
+    pub baud: u32,
+    /// Bits per character including start, parity and stop bits: 10 for 8N1.
+    pub bits_per_byte: u32,
+}
+
+impl WireTime {
+    pub fn new_8n1(baud: u32) -> Self {
+        WireTime {
+            baud,
+            bits_per_byte: 10,
+        }
+    }
+
+    /// Time that `n` bytes occupy the line.
+    pub fn of(&self, n: usize) -> Duration {
+        if self.baud == 0 {
+            return Duration::ZERO;
+        }
+        let bits = n as u128 * u128::from(self.bits_per_byte);
+        Duration::from_nanos(u64::try_from(bits * 1_000_000_000 / u128::from(self.baud)).unwrap_or(u64::MAX))
+    }
+}
+
+/// A transport to a peer in the same process.
+pub struct MemoryTransport {
+    name: String,
+    peer: Arc<Mutex<dyn Peer>>,
+    clock: SharedClock,
+    wire: Option<WireTime>,
+    pending: VecDeque<PeerReply>,
+}
+
+impl MemoryTransport {
+    pub fn new(name: impl Into<String>, peer: Arc<Mutex<dyn Peer>>, clock: SharedClock) -> Self {
+        MemoryTransport {
+            name: name.into(),
+            peer,
+            clock,
+            wire: None,
+            pending: VecDeque::new(),
+        }
+    }
+
+    /// Makes every byte cost its time on the wire, in both directions.
+    pub fn with_wire_time(mut self, wire: WireTime) -> Self {
+        self.wire = Some(wire);
+        self
+    }
+}
+
+impl Transport for MemoryTransport {
+    fn name(&self) -> &str {
+        &self.name
+    }
+
+    fn write_all(&mut self, bytes: &[u8]) -> Result<(), TransportError> {
+        if let Some(w) = self.wire {
+            self.clock.sleep(w.of(bytes.len()));
+        }
+        let now = self.clock.now();
+        let replies = {
+            let mut peer = self.peer.lock().map_err(|_| TransportError::Closed {
+                port: self.name.clone(),
+            })?;
+            peer.receive(bytes, now)
+        };
+        for mut r in replies {
+            if let Some(w) = self.wire {
+                r.at += w.of(r.bytes.len());
+            }
+            self.pending.push_back(r);
+        }
+        Ok(())
+    }
+
+    fn read(&mut self, buf: &mut [u8], timeout: Duration) -> Result<usize, TransportError> {
+        let deadline = self.clock.now() + timeout;
+        let Some(front) = self.pending.front_mut() else {
+            self.clock.sleep_until(deadline);
+            return Err(TransportError::Timeout {
+                port: self.name.clone(),
+                waited: timeout,
+            });
+        };
+        if front.at > deadline {
+            self.clock.sleep_until(deadline);
+            return Err(TransportError::Timeout {
+                port: self.name.clone(),
+                waited: timeout,
+            });
+        }
+        self.clock.sleep_until(front.at);
+        let n = buf.len().min(front.bytes.len());
+        buf[..n].copy_from_slice(&front.bytes[..n]);
+        front.bytes.drain(..n);
+        if front.bytes.is_empty() {
+            self.pending.pop_front();
+        }
+        Ok(n)
+    }
+
+    fn discard_input(&mut self) -> Result<usize, TransportError> {
+        let now = self.clock.now();
+        let mut dropped = 0;
+        while self.pending.front().is_some_and(|r| r.at <= now) {
+            if let Some(r) = self.pending.pop_front() {
+                dropped += r.bytes.len();
+            }
+        }
+        Ok(dropped)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::clock::{Clock, VirtualClock};
+
+    struct Echo {
+        delay: Duration,
+    }
+    impl Peer for Echo {
+        fn receive(&mut self, bytes: &[u8], now: Duration) -> Vec<PeerReply> {
+            vec![PeerReply {
+                at: now + self.delay,
+                bytes: bytes.to_vec(),
+            }]
+        }
+    }
+
+    fn transport(delay_ms: u64) -> (MemoryTransport, Arc<VirtualClock>) {
+        let clock = Arc::new(VirtualClock::new());
+        let peer: Arc<Mutex<dyn Peer>> = Arc::new(Mutex::new(Echo {
+            delay: Duration::from_millis(delay_ms),
+        }));
+        (MemoryTransport::new("echo", peer, clock.clone()), clock)
+    }
+
+    #[test]
+    fn reply_arrives_at_the_peers_time() {
+        let (mut t, clock) = transport(3);
+        t.write_all(&[1, 2, 3]).unwrap();
+        let mut buf = [0u8; 2];
+        assert_eq!(t.read(&mut buf, Duration::from_secs(1)).unwrap(), 2);
+        assert_eq!(clock.now(), Duration::from_millis(3));
+        assert_eq!(t.read(&mut buf, Duration::from_secs(1)).unwrap(), 1);
+        assert_eq!(buf[0], 3);
+    }
+
+    #[test]
+    fn late_reply_times_out_and_costs_the_timeout() {
+        let (mut t, clock) = transport(1500);
+        t.write_all(&[9]).unwrap();
+        let mut buf = [0u8; 8];
+        let err = t.read(&mut buf, Duration::from_secs(1)).unwrap_err();
+        assert!(matches!(err, TransportError::Timeout { .. }));
+        assert_eq!(clock.now(), Duration::from_secs(1));
+        // Still pending, readable later.
+        assert_eq!(t.read(&mut buf, Duration::from_secs(1)).unwrap(), 1);
+    }
+
+    #[test]
+    fn discard_drops_only_what_has_arrived() {
+        let (mut t, clock) = transport(5);
+        t.write_all(&[1, 2]).unwrap();
+        assert_eq!(t.discard_input().unwrap(), 0);
+        clock.advance(Duration::from_millis(5));
+        assert_eq!(t.discard_input().unwrap(), 2);
+    }
+
+    #[test]
+    fn wire_time_is_charged_both_ways() {
+        let (t, clock) = transport(0);
+        let mut t = t.with_wire_time(WireTime::new_8n1(57_600));
+        t.write_all(&[0; 12]).unwrap();
+        let mut buf = [0u8; 64];
+        t.read(&mut buf, Duration::from_secs(1)).unwrap();
+        // 24 bytes x 10 bits / 57600 bit/s
+        assert_eq!(clock.now(), WireTime::new_8n1(57_600).of(24));
+        assert_eq!(WireTime::new_8n1(57_600).of(24).as_micros(), 4166);
+    }
+}

@@ -1,0 +1,90 @@
+//! `drivescript decode` end to end: the printed telegrams with the right meaning, JSON that
+//! matches the vectors field for field, exit codes.
+
+use crate::support::{drivescript, sd2_vectors, stderr, stdout};
+use serde_json::Value;
+
+#[test]
+fn json_output_matches_the_vectors_field_for_field() {
+    let vectors = sd2_vectors();
+    let input: String = vectors.iter().map(|v| format!("{}\n", v.hex)).collect();
+    let out = drivescript(&["decode", "--json"], &input);
+    assert_eq!(
+        out.status.code(),
+        Some(1),
+        "two vectors are rejects: {}",
+        stderr(&out)
+    );
+    let lines: Vec<Value> = stdout(&out)
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    assert_eq!(lines.len(), vectors.len());
+    for (v, got) in vectors.iter().zip(&lines) {
+        if v.frame == Value::String("reject".into()) {
+            assert!(
+                got["reject"].as_str().is_some_and(|r| !r.is_empty()),
+                "{}: {got}",
+                v.name
+            );
+        } else {
+            assert_eq!(got, &v.frame, "{}", v.name);
+        }
+    }
+}
+
+#[test]
+fn all_accepted_forms_of_hex_and_exit_zero() {
+    let out = drivescript(
+        &[
+            "decode",
+            "--protocol",
+            "sd2",
+            "00 0b 02 01 0e 44 00 00 00 00 00 02 0f 00 8e",
+            "000401028e006a",
+            "0x00 0x09 0x02 0x01 0x0d 0x8e 0x01 0x00 0x00 0x00 0x00 0x57",
+        ],
+        "",
+    );
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    let text = stdout(&out);
+    assert!(text.contains("control   15: enable operation"), "{text}");
+    assert!(
+        text.contains("reply     write wide object (cmd 0x8e), drive 2 (switch 0, drive A) → PC (1)"),
+        "{text}"
+    );
+    assert!(text.contains("error     0x00 no error"), "{text}");
+    assert!(
+        text.contains("398 (0x018e) VCTRL_VELOCITY_ACTUAL_VALUE_UUNIT"),
+        "{text}"
+    );
+}
+
+#[test]
+fn a_reply_is_read_as_the_object_its_request_asked_for() {
+    let out = drivescript(
+        &["decode"],
+        "# status word read\n00 09 02 01 0d 43 00 00 00 00 00 a3\n\n00 07 01 02 8d 02 00 37 66 c9\n",
+    );
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    let text = stdout(&out);
+    assert!(text.contains("status    0x6637: operation enabled"), "{text}");
+}
+
+#[test]
+fn rejected_telegram_says_why_and_exits_one() {
+    let out = drivescript(&["decode", "00 0d 02 01 10 05 00 07 00 ff 1f 00 00 00 00 05"], "");
+    assert_eq!(out.status.code(), Some(1));
+    assert!(stdout(&out).contains("rejected: bad checksum at byte 15: expected 0xb5, got 0x05"));
+}
+
+#[test]
+fn text_that_is_not_hex_is_a_usage_error() {
+    let out = drivescript(&["decode", "00 0g"], "");
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        stderr(&out).contains("argument 1: 'g' at column 5 is not a hex digit"),
+        "{}",
+        stderr(&out)
+    );
+}

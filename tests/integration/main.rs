@@ -1,0 +1,6 @@
+//! The one integration test binary: golden vectors, the command line end to end, and
+//! (later) the data-driven recipe cases under `tests/cases/`.
+
+mod decode_cli;
+mod support;
+mod vectors;
