@@ -1,8 +1,18 @@
 //! The command line: argument parsing and one module per subcommand. Turns results into
 //! text and exit codes; must not build telegrams or touch ports itself.
 
+mod connection_args;
 mod decode_command;
+mod drive_args;
 mod exit_code;
+mod interrupt;
+mod object_commands;
+mod recipe_commands;
+mod simulate_command;
+
+pub use connection_args::{Connection, ConnectionArgs, WriteLengthArg};
+pub use drive_args::DictionaryArgs;
+pub use recipe_commands::{run_recipe, RunRequest, RunResult};
 
 pub use exit_code::*;
 
@@ -18,7 +28,15 @@ pub struct Cli {
 
 #[derive(Debug, Subcommand)]
 enum Command {
+    Run(recipe_commands::RunArgs),
+    Check(recipe_commands::CheckArgs),
+    Read(object_commands::ReadArgs),
+    Write(object_commands::WriteArgs),
+    State(object_commands::StateArgs),
+    Objects(object_commands::ObjectsArgs),
     Decode(decode_command::DecodeArgs),
+    Simulate(simulate_command::SimulateArgs),
+    Ports(object_commands::PortsArgs),
 }
 
 /// Runs the command line and returns the process exit code.
@@ -31,6 +49,30 @@ pub fn main() -> i32 {
         }
     };
     match cli.command {
+        Command::Run(args) => recipe_commands::run(&args),
+        Command::Check(args) => recipe_commands::check(&args),
+        Command::Read(args) => object_commands::read(&args),
+        Command::Write(args) => object_commands::write(&args),
+        Command::State(args) => object_commands::state(&args),
+        Command::Objects(args) => object_commands::objects(&args),
+        Command::Ports(args) => object_commands::ports(&args),
         Command::Decode(args) => decode_command::run(&args),
+        Command::Simulate(args) => simulate_command::run(&args),
     }
+}
+
+/// A diagnostic rendered for standard error: with colours on a terminal, plain otherwise
+/// (CI logs), always with the file:line:column snippet header.
+pub fn render_diagnostic(d: &dyn miette::Diagnostic) -> String {
+    use std::io::IsTerminal;
+    let handler = if std::io::stderr().is_terminal() {
+        miette::GraphicalReportHandler::new()
+    } else {
+        miette::GraphicalReportHandler::new_themed(miette::GraphicalTheme::unicode_nocolor())
+    };
+    let mut out = String::new();
+    if handler.render_report(&mut out, d).is_err() {
+        out = format!("error: {d}\n");
+    }
+    out
 }

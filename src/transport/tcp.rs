@@ -70,7 +70,11 @@ impl TcpTransport {
             return Err(fail(detail));
         };
 
-        let name = format!("tcp {addr}");
+        Self::from_stream(stream, format!("tcp {addr}"))
+    }
+
+    /// Wraps a connected stream (the simulator's side of `drivescript simulate --tcp`).
+    pub fn from_stream(stream: TcpStream, name: String) -> Result<Self, TransportError> {
         let setup = |e: io::Error| TransportError::Io {
             port: name.clone(),
             detail: e.to_string(),

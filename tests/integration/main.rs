@@ -2,5 +2,6 @@
 //! (later) the data-driven recipe cases under `tests/cases/`.
 
 mod decode_cli;
+mod recipe_cases;
 mod support;
 mod vectors;

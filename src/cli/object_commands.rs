@@ -1,0 +1,389 @@
+//! One-off object access: `read`, `write`, `state`, `objects`, `ports`.
+
+use super::connection_args::ConnectionArgs;
+use super::drive_args::{open_drive, DictionaryArgs};
+use super::{COMMUNICATION, INVALID, PASSED};
+use crate::dictionary::{Dictionary, ObjectDef, Quantity};
+use crate::drive::DriveError;
+use crate::protocol::device_control::{status_word_bits, DeviceState};
+use clap::Args;
+use serde_json::json;
+
+#[derive(Debug, Args)]
+/// Read objects by name (or alias) and show their values with units.
+pub struct ReadArgs {
+    /// Object names or aliases, e.g. status_word speed_actual.
+    #[arg(required = true, value_name = "NAME")]
+    names: Vec<String>,
+    /// One JSON array of {object, value, unit, raw}.
+    #[arg(long)]
+    json: bool,
+    #[command(flatten)]
+    dictionary: DictionaryArgs,
+    #[command(flatten)]
+    connection: ConnectionArgs,
+}
+
+#[derive(Debug, Args)]
+/// Write one object, e.g. `write speed_setpoint 6000rpm`. Values outside the object's
+/// limits, and read-only objects, are refused before anything is sent.
+pub struct WriteArgs {
+    #[arg(value_name = "NAME")]
+    name: String,
+    /// The value with its unit (`6000rpm`, `6000 rpm`, `1.5 A`); a bare number is in the
+    /// object's own unit.
+    #[arg(value_name = "VALUE", allow_hyphen_values = true)]
+    value: String,
+    #[command(flatten)]
+    dictionary: DictionaryArgs,
+    #[command(flatten)]
+    connection: ConnectionArgs,
+}
+
+#[derive(Debug, Args)]
+/// Read the status word and show the device-control state it means.
+pub struct StateArgs {
+    #[arg(long)]
+    json: bool,
+    #[command(flatten)]
+    dictionary: DictionaryArgs,
+    #[command(flatten)]
+    connection: ConnectionArgs,
+}
+
+#[derive(Debug, Args)]
+/// List the objects of a dictionary: names, aliases, address, type, unit, access, limits.
+pub struct ObjectsArgs {
+    /// Only objects whose name, alias or description contains this text.
+    filter: Option<String>,
+    #[arg(long)]
+    json: bool,
+    #[command(flatten)]
+    dictionary: DictionaryArgs,
+}
+
+#[derive(Debug, Args)]
+/// List this machine's serial ports, with USB IDs where there are some.
+pub struct PortsArgs {
+    #[arg(long)]
+    json: bool,
+}
+
+fn note_simulated(description: &str, simulated: bool) {
+    if simulated {
+        eprintln!("using {description}; its state is not kept between commands");
+    }
+}
+
+/// Exit code of a drive error: refused before sending → 2, otherwise 3.
+fn drive_error_code(e: &DriveError) -> i32 {
+    match e {
+        DriveError::UnknownObject { .. }
+        | DriveError::ReadOnly { .. }
+        | DriveError::WriteOnly { .. }
+        | DriveError::Value(_) => INVALID,
+        _ => COMMUNICATION,
+    }
+}
+
+pub fn read(args: &ReadArgs) -> i32 {
+    let dictionary = match args.dictionary.load(None) {
+        Ok(d) => d,
+        Err(text) => {
+            eprint!("{text}");
+            return INVALID;
+        }
+    };
+    // Every name is checked before the port is opened, so a typo sends nothing.
+    for name in &args.names {
+        if let Err(e) = check_readable(&dictionary, name) {
+            eprintln!("error: {e}");
+            return INVALID;
+        }
+    }
+    let mut open = match open_drive(&args.connection, dictionary, true) {
+        Ok(o) => o,
+        Err(text) => {
+            eprintln!("{text}");
+            return COMMUNICATION;
+        }
+    };
+    note_simulated(&open.description, open.simulator.is_some());
+    let mut rows = Vec::new();
+    for name in &args.names {
+        let def = match open.drive.object(name) {
+            Ok(d) => d.clone(),
+            Err(e) => {
+                eprintln!("error: {e}");
+                return INVALID;
+            }
+        };
+        match open.drive.read(name) {
+            Ok(v) => rows.push((def, v)),
+            Err(e) => {
+                eprintln!("error: {e}");
+                return drive_error_code(&e);
+            }
+        }
+    }
+    if args.json {
+        let list: Vec<_> = rows
+            .iter()
+            .map(|(d, v)| {
+                let value = match v.number() {
+                    Some(n) => json!(n),
+                    None => json!(v.text().unwrap_or_default()),
+                };
+                json!({ "object": d.name, "value": value, "unit": d.unit.map(|u| u.symbol()), "raw": v.raw.to_string() })
+            })
+            .collect();
+        println!("{}", serde_json::Value::Array(list));
+    } else {
+        let width = rows.iter().map(|(d, _)| d.name.len()).max().unwrap_or(6).max(6);
+        println!("{:<width$}  {:<18}  {:<12}  address", "object", "value", "raw");
+        for (d, v) in &rows {
+            println!(
+                "{:<width$}  {:<18}  {:<12}  {}",
+                d.name,
+                v.to_string(),
+                v.raw.to_string(),
+                d.address
+            );
+        }
+    }
+    PASSED
+}
+
+fn check_readable(dictionary: &Dictionary, name: &str) -> Result<(), DriveError> {
+    let def = dictionary.lookup(name).map_err(|e| DriveError::UnknownObject {
+        name: name.to_string(),
+        suggestions: e.suggestions.clone(),
+    })?;
+    if !def.readable() {
+        return Err(DriveError::WriteOnly {
+            object: def.name.clone(),
+        });
+    }
+    Ok(())
+}
+
+pub fn write(args: &WriteArgs) -> i32 {
+    let dictionary = match args.dictionary.load(None) {
+        Ok(d) => d,
+        Err(text) => {
+            eprint!("{text}");
+            return INVALID;
+        }
+    };
+    // Refusals happen before the port is opened: nothing is sent for a bad value.
+    let def = match dictionary.lookup(&args.name) {
+        Ok(d) => d.clone(),
+        Err(e) => {
+            eprintln!(
+                "error: {}",
+                DriveError::UnknownObject {
+                    name: args.name.clone(),
+                    suggestions: e.suggestions.clone()
+                }
+            );
+            return INVALID;
+        }
+    };
+    if !def.writable() {
+        eprintln!(
+            "error: {}",
+            DriveError::ReadOnly {
+                object: def.name.clone()
+            }
+        );
+        return INVALID;
+    }
+    let is_text = def.data_type.range().is_none();
+    let checked = if is_text {
+        def.text_to_raw(&args.value).map(|_| None)
+    } else {
+        Quantity::parse(&args.value).and_then(|q| def.to_raw(&q).map(|raw| Some((q, raw))))
+    };
+    let parsed = match checked {
+        Ok(p) => p,
+        Err(e) => {
+            eprintln!("error: {e}; nothing was sent");
+            return INVALID;
+        }
+    };
+    let mut open = match open_drive(&args.connection, dictionary, true) {
+        Ok(o) => o,
+        Err(text) => {
+            eprintln!("{text}");
+            return COMMUNICATION;
+        }
+    };
+    note_simulated(&open.description, open.simulator.is_some());
+    let result = match &parsed {
+        Some((q, _)) => open.drive.write(&def.name, q),
+        None => open.drive.write_text(&def.name, &args.value),
+    };
+    match result {
+        Ok(()) => {
+            match &parsed {
+                Some((q, raw)) => println!("{} = {q} written (raw {raw})", def.name),
+                None => println!("{} = \"{}\" written", def.name, args.value),
+            }
+            PASSED
+        }
+        Err(e) => {
+            eprintln!("error: {e}");
+            drive_error_code(&e)
+        }
+    }
+}
+
+pub fn state(args: &StateArgs) -> i32 {
+    let dictionary = match args.dictionary.load(None) {
+        Ok(d) => d,
+        Err(text) => {
+            eprint!("{text}");
+            return INVALID;
+        }
+    };
+    let mut open = match open_drive(&args.connection, dictionary, true) {
+        Ok(o) => o,
+        Err(text) => {
+            eprintln!("{text}");
+            return COMMUNICATION;
+        }
+    };
+    note_simulated(&open.description, open.simulator.is_some());
+    let status = match open.drive.status_word() {
+        Ok(s) => s,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return drive_error_code(&e);
+        }
+    };
+    let state = open.drive.profile().ok().and_then(|p| p.state_of(status));
+    let drive_error = open.drive.drive_error();
+    if args.json {
+        println!(
+            "{}",
+            json!({ "status_word": status, "state": state.map(DeviceState::id), "drive_error": drive_error })
+        );
+    } else {
+        let name = state
+            .map(|s| s.to_string())
+            .unwrap_or_else(|| "no state of the table matches".into());
+        println!("status word 0x{status:04x}: {name}");
+        println!("  bits set: {}", status_word_bits(status).join(", "));
+        if let Some(code) = drive_error {
+            println!("  drive error: {code}{}", if code == 0 { " (none)" } else { "" });
+        }
+    }
+    PASSED
+}
+
+pub fn objects(args: &ObjectsArgs) -> i32 {
+    let dictionary = match args.dictionary.load(None) {
+        Ok(d) => d,
+        Err(text) => {
+            eprint!("{text}");
+            return INVALID;
+        }
+    };
+    let list: Vec<&ObjectDef> = match &args.filter {
+        Some(f) => dictionary.filter(f),
+        None => dictionary.objects().collect(),
+    };
+    if args.json {
+        let rows: Vec<_> = list
+            .iter()
+            .map(|d| {
+                json!({
+                    "name": d.name, "aliases": d.aliases, "address": d.address.to_string(),
+                    "type": d.data_type.to_string(), "unit": d.unit.map(|u| u.symbol()), "scale": d.scale,
+                    "access": d.access.id(), "min": d.min, "max": d.max,
+                    "description": d.description, "unconfirmed": d.unconfirmed,
+                })
+            })
+            .collect();
+        println!("{}", serde_json::Value::Array(rows));
+        return PASSED;
+    }
+    if list.is_empty() {
+        eprintln!("no object of the {} dictionary matches", dictionary.family());
+        return PASSED;
+    }
+    println!("{} — {} object(s)", dictionary.title(), list.len());
+    println!(
+        "{:<18} {:<9} {:<11} {:<6} {:<6} {:<22} aliases",
+        "name", "address", "type", "unit", "access", "limits"
+    );
+    for d in list {
+        let limits = match (d.min, d.max) {
+            (Some(lo), Some(hi)) => format!("{} .. {}", crate::recipe::number(lo), crate::recipe::number(hi)),
+            (Some(lo), None) => format!(">= {}", crate::recipe::number(lo)),
+            (None, Some(hi)) => format!("<= {}", crate::recipe::number(hi)),
+            (None, None) => String::new(),
+        };
+        let flag = if d.unconfirmed.is_some() {
+            " (unconfirmed)"
+        } else {
+            ""
+        };
+        println!(
+            "{:<18} {:<9} {:<11} {:<6} {:<6} {:<22} {}{flag}",
+            d.name,
+            d.address.to_string(),
+            d.data_type.to_string(),
+            d.unit.map(|u| u.symbol()).unwrap_or(""),
+            d.access.id(),
+            limits,
+            d.aliases.join(", ")
+        );
+    }
+    PASSED
+}
+
+pub fn ports(args: &PortsArgs) -> i32 {
+    let ports = match crate::transport::list_ports() {
+        Ok(p) => p,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return COMMUNICATION;
+        }
+    };
+    if args.json {
+        let rows: Vec<_> = ports
+            .iter()
+            .map(|p| {
+                json!({
+                    "name": p.name, "kind": p.kind,
+                    "usb": p.usb.as_ref().map(|u| json!({ "vid": format!("{:04x}", u.vid), "pid": format!("{:04x}", u.pid),
+                        "serial_number": u.serial_number, "manufacturer": u.manufacturer, "product": u.product })),
+                })
+            })
+            .collect();
+        println!("{}", serde_json::Value::Array(rows));
+        return PASSED;
+    }
+    if ports.is_empty() {
+        println!("no serial ports found (a USB adapter that is plugged in shows up as /dev/ttyUSB* or /dev/ttyACM*)");
+        return PASSED;
+    }
+    for p in ports {
+        match p.usb {
+            Some(u) => println!(
+                "{}  usb {:04x}:{:04x}  {} {}{}",
+                p.name,
+                u.vid,
+                u.pid,
+                u.manufacturer.unwrap_or_default(),
+                u.product.unwrap_or_default(),
+                u.serial_number
+                    .map(|s| format!("  serial {s}"))
+                    .unwrap_or_default()
+            ),
+            None => println!("{}  {}", p.name, p.kind),
+        }
+    }
+    PASSED
+}

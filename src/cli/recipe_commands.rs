@@ -1,0 +1,200 @@
+//! `drivescript check` and `drivescript run`: validate recipes without a port, and run one
+//! with the safe stop at every ending.
+
+use super::connection_args::ConnectionArgs;
+use super::drive_args::{open_drive, DictionaryArgs};
+use super::COMMUNICATION;
+use super::{interrupt, INVALID, PASSED};
+use crate::clock::SharedClock;
+use crate::recipe::{load_recipe, Recipe, RecipeInvalid, RunReport, Runner};
+use crate::report::ConsoleReporter;
+use crate::sim::Sd2Simulator;
+use clap::Args;
+use std::io::{IsTerminal, Write};
+use std::path::{Path, PathBuf};
+use std::sync::{Arc, Mutex};
+
+#[derive(Debug, Args)]
+/// Validate recipes against the dictionary without opening any port: object names, units,
+/// limits, durations, parameters, states, included files, unknown keys. Reports every
+/// problem at once; exit code 2 if there is any.
+pub struct CheckArgs {
+    #[arg(required = true, value_name = "RECIPE")]
+    recipes: Vec<PathBuf>,
+    /// Parameter override, NAME=VALUE (e.g. speed=8000rpm); may be repeated.
+    #[arg(long = "set", value_name = "NAME=VALUE", value_parser = parse_set)]
+    set: Vec<(String, String)>,
+    #[command(flatten)]
+    dictionary: DictionaryArgs,
+}
+
+#[derive(Debug, Args)]
+/// Run a recipe. Without --port or --tcp it runs against the built-in simulated drive and
+/// says so. The recipe is checked first; nothing is sent if it has a problem. Whatever
+/// happens, `finally` runs (default: disable operation, then shutdown).
+pub struct RunArgs {
+    #[arg(value_name = "RECIPE")]
+    recipe: PathBuf,
+    /// Parameter override, NAME=VALUE (e.g. speed=8000rpm); may be repeated.
+    #[arg(long = "set", value_name = "NAME=VALUE", value_parser = parse_set)]
+    set: Vec<(String, String)>,
+    /// Simulated drive only: run in virtual time, so hours take seconds with identical
+    /// results.
+    #[arg(long, conflicts_with = "realtime")]
+    fast: bool,
+    /// Run in real time (the default; with a real drive always).
+    #[arg(long)]
+    realtime: bool,
+    /// Directory for `csv:` files named by sample steps (default: the current directory).
+    #[arg(long, value_name = "DIR", default_value = ".")]
+    output_dir: PathBuf,
+    #[command(flatten)]
+    dictionary: DictionaryArgs,
+    #[command(flatten)]
+    connection: ConnectionArgs,
+}
+
+fn parse_set(text: &str) -> Result<(String, String), String> {
+    match text.split_once('=') {
+        Some((k, v)) if !k.trim().is_empty() => Ok((k.trim().to_string(), v.trim().to_string())),
+        _ => Err(format!("`{text}`: write NAME=VALUE, e.g. speed=8000rpm")),
+    }
+}
+
+fn print_invalid(e: &RecipeInvalid) {
+    eprint!("{}", e.render(std::io::stderr().is_terminal()));
+}
+
+pub fn check(args: &CheckArgs) -> i32 {
+    let dictionary = match args.dictionary.load(None) {
+        Ok(d) => d,
+        Err(text) => {
+            eprint!("{text}");
+            return INVALID;
+        }
+    };
+    let mut code = PASSED;
+    for path in &args.recipes {
+        match load_recipe(path, &dictionary, &args.set) {
+            Ok(recipe) => println!(
+                "ok  {} — {} ({} steps{})",
+                path.display(),
+                recipe.name,
+                count_steps(&recipe),
+                finally_note(&recipe)
+            ),
+            Err(e) => {
+                print_invalid(&e);
+                code = INVALID;
+            }
+        }
+    }
+    code
+}
+
+fn count_steps(recipe: &Recipe) -> usize {
+    recipe.steps.len()
+}
+
+fn finally_note(recipe: &Recipe) -> &'static str {
+    match &recipe.finally {
+        None => ", default finally",
+        Some(s) if s.is_empty() => ", empty finally",
+        Some(_) => "",
+    }
+}
+
+pub fn run(args: &RunArgs) -> i32 {
+    let interrupts = interrupt::install();
+    let count = || interrupts.presses();
+    let request = RunRequest {
+        recipe: &args.recipe,
+        set: &args.set,
+        fast: args.fast,
+        output_dir: args.output_dir.clone(),
+        dictionary: &args.dictionary,
+        connection: &args.connection,
+        prepare_simulator: None,
+        interrupts: &count,
+    };
+    let mut stdout = std::io::stdout();
+    let mut stderr = std::io::stderr();
+    run_recipe(&request, &mut stdout, &mut stderr).exit_code
+}
+
+/// A hook that gets the simulated drive and the run's clock before the run starts.
+pub type PrepareSimulator = dyn Fn(&Arc<Mutex<Sd2Simulator>>, &SharedClock);
+
+/// Everything a run needs; the command line fills it from its options, the tests directly.
+pub struct RunRequest<'a> {
+    pub recipe: &'a Path,
+    pub set: &'a [(String, String)],
+    /// Virtual time (simulated drive only).
+    pub fast: bool,
+    pub output_dir: PathBuf,
+    pub dictionary: &'a DictionaryArgs,
+    pub connection: &'a ConnectionArgs,
+    /// Called with the simulated drive and the run's clock before the run (tests inject
+    /// faults and schedule a Ctrl-C here).
+    pub prepare_simulator: Option<&'a PrepareSimulator>,
+    /// How many times Ctrl-C was pressed.
+    pub interrupts: &'a dyn Fn() -> u32,
+}
+
+/// What a run produced.
+pub struct RunResult {
+    pub exit_code: i32,
+    /// `None` when the run never started (invalid recipe, port not available).
+    pub report: Option<RunReport>,
+    pub simulator: Option<Arc<Mutex<Sd2Simulator>>>,
+}
+
+/// Checks and runs a recipe, writing the console output to `out` and problems to `err`.
+pub fn run_recipe(request: &RunRequest, out: &mut dyn Write, err: &mut dyn Write) -> RunResult {
+    let refused = |code| RunResult {
+        exit_code: code,
+        report: None,
+        simulator: None,
+    };
+    let dictionary = match request.dictionary.load(None) {
+        Ok(d) => d,
+        Err(text) => {
+            let _ = write!(err, "{text}");
+            return refused(INVALID);
+        }
+    };
+    let recipe = match load_recipe(request.recipe, &dictionary, request.set) {
+        Ok(r) => r,
+        Err(e) => {
+            let _ = write!(err, "{}", e.render(false));
+            return refused(INVALID);
+        }
+    };
+    if request.fast && !request.connection.is_simulated() {
+        let _ = writeln!(err, "error: --fast (virtual time) works only with the built-in simulated drive; a real drive runs in real time");
+        return refused(INVALID);
+    }
+    let mut open = match open_drive(request.connection, dictionary, request.fast) {
+        Ok(o) => o,
+        Err(text) => {
+            let _ = writeln!(err, "{text}");
+            return refused(COMMUNICATION);
+        }
+    };
+    if let (Some(sim), Some(prepare)) = (&open.simulator, request.prepare_simulator) {
+        prepare(sim, open.drive.clock());
+    }
+    if open.simulator.is_some() {
+        let _ = writeln!(out, "using {}", open.description);
+    }
+    let virtual_time = request.fast && open.simulator.is_some();
+    let mut console = ConsoleReporter::new(&mut *out, virtual_time);
+    let report = Runner::new(&mut open.drive, &mut console, request.interrupts, &recipe)
+        .with_output_dir(request.output_dir.clone())
+        .run(&recipe);
+    RunResult {
+        exit_code: report.verdict.exit_code(),
+        report: Some(report),
+        simulator: open.simulator,
+    }
+}

@@ -1,0 +1,188 @@
+//! `drivescript simulate`: serves the simulated drive on a pseudo-terminal or a TCP port so
+//! any serial tool (or drivescript with `--port`/`--tcp`) can talk to it.
+
+use super::{interrupt, COMMUNICATION, INVALID, PASSED};
+use crate::clock::RealClock;
+use crate::sim::{Sd2Simulator, SimConfig};
+use crate::sim_server::SimServer;
+use crate::transport::{Peer, TcpTransport, WireTime};
+use clap::Args;
+use std::io::Write;
+use std::net::TcpListener;
+use std::sync::atomic::Ordering;
+use std::sync::{Arc, Mutex};
+use std::time::Duration;
+
+#[derive(Debug, Args)]
+/// Serve the simulated SD2 drive on a pseudo-terminal (--pty) or a TCP port (--tcp), until
+/// Ctrl-C. The drive keeps its state between connections, like a real one behind a server.
+pub struct SimulateArgs {
+    /// The drive family to simulate.
+    #[arg(long, default_value = "sd2", value_parser = ["sd2"])]
+    drive: String,
+    /// Serve on a new pseudo-terminal; its path is printed on the first line.
+    #[arg(long, conflicts_with = "tcp", required_unless_present = "tcp")]
+    pty: bool,
+    /// Serve on this TCP address, e.g. 127.0.0.1:4001 (raw TCP, like ser2net).
+    #[arg(long, value_name = "ADDR")]
+    tcp: Option<String>,
+    /// Address switch position of the simulated drive (DNC address = switch × 2 + 2).
+    #[arg(long, value_name = "SWITCH", default_value_t = 0)]
+    address: u8,
+    /// The raw DNC address instead of the switch position.
+    #[arg(long, value_name = "N")]
+    dnc_address: Option<u8>,
+    /// Charge the time bytes take on a real line at --baud (8N1), so throughput can be
+    /// measured honestly over a pseudo-terminal.
+    #[arg(long)]
+    wire_time: bool,
+    /// Baud rate for --wire-time.
+    #[arg(long, value_name = "N", default_value_t = 57_600)]
+    baud: u32,
+    /// Speed ramp of the simulated motor.
+    #[arg(long, value_name = "RPM_PER_S", default_value_t = 2000.0)]
+    ramp: f64,
+}
+
+pub fn run(args: &SimulateArgs) -> i32 {
+    let address = match args.dnc_address {
+        Some(a) if a >= 2 => a,
+        Some(a) => {
+            eprintln!("error: --dnc-address {a}: a drive has an address of 2..=255");
+            return INVALID;
+        }
+        None => match crate::protocol::sd2::dnc_address(args.address, false) {
+            Some(a) => a,
+            None => {
+                eprintln!(
+                    "error: --address {}: the highest switch position is 126",
+                    args.address
+                );
+                return INVALID;
+            }
+        },
+    };
+    let sim = Sd2Simulator::new(SimConfig {
+        address,
+        ramp_rpm_per_s: args.ramp,
+        ..SimConfig::default()
+    });
+    let description = sim.describe();
+    let peer: Arc<Mutex<dyn Peer>> = Arc::new(Mutex::new(sim));
+    let mut server = SimServer::new(peer, RealClock::shared());
+    if args.wire_time {
+        server = server.with_wire_time(WireTime::new_8n1(args.baud));
+    }
+    let interrupt = interrupt::install();
+    let stop = server.stop_flag();
+    let watcher_stop = stop.clone();
+    std::thread::spawn(move || loop {
+        if interrupt.presses() > 0 {
+            watcher_stop.store(true, Ordering::SeqCst);
+            return;
+        }
+        std::thread::sleep(Duration::from_millis(50));
+    });
+    let wire = if args.wire_time {
+        format!(", wire time at {} bit/s", args.baud)
+    } else {
+        String::new()
+    };
+
+    if args.pty {
+        serve_pty(&server, &description, &wire)
+    } else if let Some(addr) = &args.tcp {
+        serve_tcp(&server, addr, &description, &wire, &stop)
+    } else {
+        eprintln!("error: give --pty or --tcp ADDR");
+        INVALID
+    }
+}
+
+#[cfg(unix)]
+fn serve_pty(server: &SimServer, description: &str, wire: &str) -> i32 {
+    let pty = match crate::sim_server::PtyEndpoint::open() {
+        Ok(p) => p,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return COMMUNICATION;
+        }
+    };
+    // The path alone on the first line, so scripts can read it.
+    println!("{}", pty.path);
+    eprintln!("{description} on {}{wire}; Ctrl-C to stop", pty.path);
+    eprintln!("try: drivescript state --port {}", pty.path);
+    let _ = std::io::stdout().flush();
+    let mut master = pty.master;
+    match server.serve(&mut master) {
+        Ok(stats) => {
+            eprintln!("stopped after {} replies", stats.replies);
+            PASSED
+        }
+        Err(e) => {
+            eprintln!("error: {e}");
+            COMMUNICATION
+        }
+    }
+}
+
+#[cfg(not(unix))]
+fn serve_pty(_: &SimServer, _: &str, _: &str) -> i32 {
+    eprintln!("error: --pty needs a Unix pseudo-terminal; use --tcp 127.0.0.1:4001 here");
+    INVALID
+}
+
+fn serve_tcp(
+    server: &SimServer,
+    addr: &str,
+    description: &str,
+    wire: &str,
+    stop: &std::sync::atomic::AtomicBool,
+) -> i32 {
+    let listener = match TcpListener::bind(addr) {
+        Ok(l) => l,
+        Err(e) => {
+            eprintln!("error: cannot listen on {addr}: {e}; choose a free port, e.g. 127.0.0.1:4001");
+            return INVALID;
+        }
+    };
+    let local = listener
+        .local_addr()
+        .map(|a| a.to_string())
+        .unwrap_or_else(|_| addr.to_string());
+    println!("{local}");
+    eprintln!("{description} on tcp {local}{wire}; Ctrl-C to stop");
+    eprintln!("try: drivescript state --tcp {local}");
+    let _ = std::io::stdout().flush();
+    if listener.set_nonblocking(true).is_err() {
+        eprintln!("error: cannot poll the listening socket");
+        return COMMUNICATION;
+    }
+    while !stop.load(Ordering::SeqCst) {
+        match listener.accept() {
+            Ok((stream, peer)) => {
+                let _ = stream.set_nonblocking(false);
+                let mut transport = match TcpTransport::from_stream(stream, format!("tcp client {peer}")) {
+                    Ok(t) => t,
+                    Err(e) => {
+                        eprintln!("warning: {e}");
+                        continue;
+                    }
+                };
+                eprintln!("client {peer} connected");
+                match server.serve(&mut transport) {
+                    Ok(stats) => eprintln!("client {peer} left after {} replies", stats.replies),
+                    Err(e) => eprintln!("client {peer}: {e}"),
+                }
+            }
+            Err(e) if e.kind() == std::io::ErrorKind::WouldBlock => {
+                std::thread::sleep(Duration::from_millis(50))
+            }
+            Err(e) => {
+                eprintln!("error: accepting on {local}: {e}");
+                return COMMUNICATION;
+            }
+        }
+    }
+    PASSED
+}

@@ -1,0 +1,140 @@
+//! The data types of object values as they travel on the wire (SD2: all little-endian):
+//! u8 i8 u16 i16 u32 i32, and strings with a maximum length. Sizes and ranges only;
+//! encoding lives with the object definition.
+
+use std::fmt;
+
+/// Longest string a single SD2 block carries: 48 data bytes, one of them the length byte.
+pub const MAX_STRING_LEN: u8 = 47;
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum DataType {
+    U8,
+    I8,
+    U16,
+    I16,
+    U32,
+    I32,
+    /// Characters, at most `max` of them. SD2 sends the maximum length first, then the
+    /// characters, NUL-terminated when shorter than the maximum.
+    String {
+        max: u8,
+    },
+}
+
+impl DataType {
+    pub const INTEGERS: [DataType; 6] = [
+        DataType::U8,
+        DataType::I8,
+        DataType::U16,
+        DataType::I16,
+        DataType::U32,
+        DataType::I32,
+    ];
+
+    /// Bytes on the wire: the integer's width, or for a string the length byte plus `max`.
+    pub fn size(self) -> usize {
+        match self {
+            DataType::U8 | DataType::I8 => 1,
+            DataType::U16 | DataType::I16 => 2,
+            DataType::U32 | DataType::I32 => 4,
+            DataType::String { max } => 1 + usize::from(max),
+        }
+    }
+
+    /// The smallest and largest raw count; `None` for strings.
+    pub fn range(self) -> Option<(i64, i64)> {
+        Some(match self {
+            DataType::U8 => (0, u8::MAX.into()),
+            DataType::I8 => (i8::MIN.into(), i8::MAX.into()),
+            DataType::U16 => (0, u16::MAX.into()),
+            DataType::I16 => (i16::MIN.into(), i16::MAX.into()),
+            DataType::U32 => (0, u32::MAX.into()),
+            DataType::I32 => (i32::MIN.into(), i32::MAX.into()),
+            DataType::String { .. } => return None,
+        })
+    }
+
+    pub fn is_integer(self) -> bool {
+        !matches!(self, DataType::String { .. })
+    }
+
+    pub fn is_signed(self) -> bool {
+        matches!(self, DataType::I8 | DataType::I16 | DataType::I32)
+    }
+
+    /// The spelling in dictionary files: `u16`, `string(32)`.
+    pub fn name(self) -> String {
+        match self {
+            DataType::U8 => "u8".into(),
+            DataType::I8 => "i8".into(),
+            DataType::U16 => "u16".into(),
+            DataType::I16 => "i16".into(),
+            DataType::U32 => "u32".into(),
+            DataType::I32 => "i32".into(),
+            DataType::String { max } => format!("string({max})"),
+        }
+    }
+
+    /// Parses a dictionary's `type:` value. The error says what is accepted.
+    pub fn parse(text: &str) -> Result<DataType, String> {
+        let t = text.trim();
+        if let Some(found) = Self::INTEGERS.into_iter().find(|d| d.name() == t) {
+            return Ok(found);
+        }
+        if t == "string" {
+            return Err(format!(
+                "`string` needs its maximum length, e.g. `string(32)` (1..={MAX_STRING_LEN})"
+            ));
+        }
+        if let Some(inner) = t.strip_prefix("string(").and_then(|r| r.strip_suffix(')')) {
+            return match inner.trim().parse::<u8>() {
+                Ok(max) if (1..=MAX_STRING_LEN).contains(&max) => Ok(DataType::String { max }),
+                _ => Err(format!(
+                    "string length `{}` must be a number from 1 to {MAX_STRING_LEN} (one SD2 block carries 48 bytes, one of them the length)",
+                    inner.trim()
+                )),
+            };
+        }
+        Err(format!("unknown type `{t}`"))
+    }
+
+    /// The type names a dictionary may use, for suggestions and help texts.
+    pub fn names() -> [&'static str; 7] {
+        ["u8", "i8", "u16", "i16", "u32", "i32", "string(32)"]
+    }
+}
+
+impl fmt::Display for DataType {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&self.name())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sizes_and_ranges() {
+        assert_eq!(DataType::U16.size(), 2);
+        assert_eq!(DataType::I32.size(), 4);
+        assert_eq!(DataType::String { max: 32 }.size(), 33);
+        assert_eq!(DataType::I8.range(), Some((-128, 127)));
+        assert_eq!(DataType::U32.range(), Some((0, 4_294_967_295)));
+        assert_eq!(DataType::String { max: 3 }.range(), None);
+    }
+
+    #[test]
+    fn parse_names() {
+        for d in DataType::INTEGERS {
+            assert_eq!(DataType::parse(&d.name()), Ok(d));
+        }
+        assert_eq!(DataType::parse("string(32)"), Ok(DataType::String { max: 32 }));
+        assert_eq!(DataType::parse("string( 8 )"), Ok(DataType::String { max: 8 }));
+        assert!(DataType::parse("string").unwrap_err().contains("string(32)"));
+        assert!(DataType::parse("string(48)").unwrap_err().contains("1 to 47"));
+        assert!(DataType::parse("string(x)").is_err());
+        assert_eq!(DataType::parse("u64"), Err("unknown type `u64`".into()));
+    }
+}

@@ -1,0 +1,231 @@
+//! A drive family's object dictionary: named objects and the device-control profile,
+//! loaded from YAML (the built-in files are compiled into the binary) and checked as a
+//! whole. Its only I/O is reading a dictionary file; it knows nothing of transports,
+//! links or protocols beyond object addresses.
+
+use super::address::Address;
+use super::dictionary_error::DictionaryError;
+use super::did_you_mean::did_you_mean;
+use super::object_def::ObjectDef;
+use super::profile::Profile;
+use super::reader::read;
+use super::role::Role;
+use super::text_span::{SourceFile, TextSpan};
+use super::unknown_object::UnknownObject;
+use super::validate::validate;
+use super::yaml_node::YamlNode;
+use std::path::Path;
+use std::sync::{Arc, OnceLock};
+
+/// The built-in dictionaries: family, path shown in messages, text.
+const BUILTIN: &[(&str, &str, &str)] = &[(
+    "sd2",
+    "dictionary/sd2.yaml",
+    include_str!("../../dictionary/sd2.yaml"),
+)];
+
+#[derive(Debug, Clone)]
+pub struct Dictionary {
+    family: String,
+    family_span: TextSpan,
+    title: String,
+    objects: Vec<ObjectDef>,
+    profile: Option<Profile>,
+}
+
+impl Dictionary {
+    /// The families with a built-in dictionary.
+    pub fn builtin_families() -> impl Iterator<Item = &'static str> {
+        BUILTIN.iter().map(|(family, _, _)| *family)
+    }
+
+    /// The dictionary compiled into the binary for `family` (`sd2`). Parsed once per
+    /// process; each call returns a copy.
+    pub fn builtin(family: &str) -> Result<Dictionary, DictionaryError> {
+        static PARSED: OnceLock<Vec<Result<Dictionary, DictionaryError>>> = OnceLock::new();
+        let parsed = PARSED.get_or_init(|| {
+            BUILTIN
+                .iter()
+                .map(|(_, path, text)| Self::from_yaml(path, text))
+                .collect()
+        });
+        let Some(i) = BUILTIN
+            .iter()
+            .position(|(f, _, _)| f.eq_ignore_ascii_case(family))
+        else {
+            let known: Vec<&str> = Self::builtin_families().collect();
+            return Err(DictionaryError::unlocated(
+                "",
+                format!("no built-in dictionary for drive family `{family}`"),
+            )
+            .with_help(format!("built in: {}", known.join(", "))));
+        };
+        match parsed.get(i) {
+            Some(result) => result.clone(),
+            None => Self::from_yaml(BUILTIN[i].1, BUILTIN[i].2),
+        }
+    }
+
+    /// Reads, parses and checks a dictionary file. Every problem of the file is reported.
+    pub fn load(path: impl AsRef<Path>) -> Result<Dictionary, DictionaryError> {
+        Self::from_file(path.as_ref(), true)
+    }
+
+    /// Parses and checks dictionary text; `path` is only used in messages.
+    pub fn from_yaml(path: &str, text: &str) -> Result<Dictionary, DictionaryError> {
+        Self::from_source(SourceFile::new(path, text), true)
+    }
+
+    /// Adds a user's objects (`--dictionary PATH`) to this dictionary. An object whose
+    /// name is already in the dictionary replaces that object (same place in the list);
+    /// other objects are appended. A `profile:` in `other` replaces the whole profile.
+    /// Then everything is checked again (an alias clashing with a built-in name, a profile
+    /// role now naming a string …); on any problem `self` is left unchanged.
+    pub fn extend(&mut self, other: Dictionary) -> Result<(), DictionaryError> {
+        let prefer = Arc::clone(other.family_span.file());
+        if !other.family.eq_ignore_ascii_case(&self.family) {
+            return Err(DictionaryError::at(
+                &other.family_span,
+                format!(
+                    "this dictionary is for `{}`; it cannot extend the `{}` dictionary",
+                    other.family, self.family
+                ),
+                "other family",
+            )
+            .with_help(format!("write `family: {}`", self.family)));
+        }
+        let mut merged = self.clone();
+        for object in other.objects {
+            match merged
+                .objects
+                .iter()
+                .position(|o| o.name.eq_ignore_ascii_case(&object.name))
+            {
+                Some(i) => merged.objects[i] = object,
+                None => merged.objects.push(object),
+            }
+        }
+        if other.profile.is_some() {
+            merged.profile = other.profile;
+        }
+        let problems = validate(&merged.objects, merged.profile.as_ref(), &[], Some(&prefer));
+        if let Some(e) = DictionaryError::collect(problems) {
+            return Err(e);
+        }
+        *self = merged;
+        Ok(())
+    }
+
+    /// Reads a user's dictionary file and [`extend`](Self::extend)s this one with it. Its
+    /// profile may name objects of this dictionary, so roles are checked after merging.
+    pub fn extend_from(&mut self, path: impl AsRef<Path>) -> Result<(), DictionaryError> {
+        let other = Self::from_file(path.as_ref(), false)?;
+        self.extend(other)
+    }
+
+    fn from_file(path: &Path, check_roles: bool) -> Result<Dictionary, DictionaryError> {
+        let shown = path.display().to_string();
+        let text = std::fs::read_to_string(path).map_err(|e| {
+            DictionaryError::unlocated(&shown, format!("cannot read the dictionary file: {e}"))
+                .with_help("check the path given with --dictionary")
+        })?;
+        Self::from_source(SourceFile::new(shown, text), check_roles)
+    }
+
+    fn from_source(file: Arc<SourceFile>, check_roles: bool) -> Result<Dictionary, DictionaryError> {
+        let root = YamlNode::parse(&file)?;
+        let mut problems = Vec::new();
+        let contents = read(&root, &mut problems);
+        let profile = if check_roles {
+            contents.profile.as_ref()
+        } else {
+            None
+        };
+        problems.extend(validate(&contents.objects, profile, &contents.broken, None));
+        if let Some(e) = DictionaryError::collect(problems) {
+            return Err(e);
+        }
+        Ok(Dictionary {
+            family: contents.family,
+            family_span: contents.family_span,
+            title: contents.title,
+            objects: contents.objects,
+            profile: contents.profile,
+        })
+    }
+
+    /// `sd2`
+    pub fn family(&self) -> &str {
+        &self.family
+    }
+
+    pub fn title(&self) -> &str {
+        &self.title
+    }
+
+    /// The object called `name` or having it as an alias, ignoring case. Otherwise an
+    /// error with up to three close names.
+    pub fn lookup(&self, name: &str) -> Result<&ObjectDef, UnknownObject> {
+        self.get(name).ok_or_else(|| UnknownObject {
+            name: name.to_string(),
+            family: self.family.clone(),
+            suggestions: self.suggest(name),
+        })
+    }
+
+    /// [`lookup`](Self::lookup) without the suggestions.
+    pub fn get(&self, name: &str) -> Option<&ObjectDef> {
+        self.objects.iter().find(|o| o.is_named(name))
+    }
+
+    /// Object names close to `name` (compared with names and aliases), best first.
+    fn suggest(&self, name: &str) -> Vec<String> {
+        let close = did_you_mean(name, self.objects.iter().flat_map(|o| o.names()));
+        let mut names: Vec<String> = Vec::new();
+        for n in close {
+            if let Some(o) = self.get(&n) {
+                if !names.contains(&o.name) {
+                    names.push(o.name.clone());
+                }
+            }
+        }
+        names.truncate(3);
+        names
+    }
+
+    /// The object at SD2 `index`/`subindex`.
+    pub fn by_address(&self, index: u16, subindex: u32) -> Option<&ObjectDef> {
+        let address = Address::Indexed { index, subindex };
+        self.objects.iter().find(|o| o.address == address)
+    }
+
+    /// Every object, in file order (a user's new objects after the built-in ones).
+    pub fn objects(&self) -> impl Iterator<Item = &ObjectDef> {
+        self.objects.iter()
+    }
+
+    /// Objects whose name, an alias or the description contains `text`, ignoring case
+    /// (`drivescript objects FILTER`). An empty filter gives every object.
+    pub fn filter(&self, text: &str) -> Vec<&ObjectDef> {
+        let needle = text.trim().to_lowercase();
+        self.objects
+            .iter()
+            .filter(|o| {
+                needle.is_empty()
+                    || o.names().any(|n| n.to_lowercase().contains(&needle))
+                    || o.description.to_lowercase().contains(&needle)
+            })
+            .collect()
+    }
+
+    /// The device-control profile; `None` for a dictionary file that has none (a user's
+    /// additions).
+    pub fn profile(&self) -> Option<&Profile> {
+        self.profile.as_ref()
+    }
+
+    /// The object playing `role` in the profile.
+    pub fn role(&self, role: Role) -> Option<&ObjectDef> {
+        self.get(self.profile.as_ref()?.object(role)?)
+    }
+}

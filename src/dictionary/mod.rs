@@ -1,0 +1,50 @@
+//! Object dictionaries: the named objects of a drive family (address, type, unit and scale,
+//! access, limits, aliases) and its device-control profile, read from YAML with every
+//! problem located, plus engineering units and the conversions between quantities and raw
+//! bytes. File format: `dictionary/sd2.yaml` (built in) is the reference.
+//!
+//! The only I/O here is reading a dictionary file. This layer must not know transports or
+//! links, and it does not decide whether a write is allowed (the drive layer checks
+//! [`ObjectDef::access`]).
+
+mod access;
+mod address;
+mod data_type;
+#[allow(clippy::module_inception)]
+mod dictionary;
+mod dictionary_error;
+mod did_you_mean;
+mod format;
+mod object_def;
+mod object_names;
+mod profile;
+mod quantity;
+mod reader;
+mod role;
+mod text_span;
+mod unit;
+mod unknown_object;
+mod validate;
+mod value;
+mod value_error;
+mod yaml_node;
+
+pub use access::Access;
+pub use address::Address;
+pub use data_type::{DataType, MAX_STRING_LEN};
+pub use dictionary::Dictionary;
+pub use dictionary_error::DictionaryError;
+pub use did_you_mean::did_you_mean;
+pub use format::Format;
+pub use object_def::ObjectDef;
+pub use profile::{Profile, RoleBinding, StateMask};
+pub use quantity::Quantity;
+pub use role::Role;
+pub use text_span::{SourceFile, TextSpan};
+pub use unit::{Dimension, Unit};
+pub use unknown_object::UnknownObject;
+pub use value::{RawValue, Value};
+pub use value_error::ValueError;
+
+#[cfg(test)]
+mod tests;

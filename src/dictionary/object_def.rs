@@ -1,0 +1,584 @@
+//! One named object of a dictionary: address, type, unit and scale, access, limits, and
+//! the conversions between engineering quantities and the bytes on the wire.
+//! Pure arithmetic: it must not do I/O, and it knows nothing of transports or links.
+//! Whether a write is allowed (`access`) is checked by the drive layer, not here.
+
+use super::access::Access;
+use super::address::Address;
+use super::data_type::DataType;
+use super::format::Format;
+use super::quantity::Quantity;
+use super::text_span::TextSpan;
+use super::unit::Unit;
+use super::value::{decimals_of, format_number, RawValue, Value};
+use super::value_error::ValueError;
+
+#[derive(Debug, Clone)]
+pub struct ObjectDef {
+    /// The identifier recipes use: `[a-z][a-z0-9_]*`.
+    pub name: String,
+    /// Other names that find this object (the manual's, older ones); matched ignoring case.
+    pub aliases: Vec<String>,
+    pub address: Address,
+    pub data_type: DataType,
+    /// Engineering unit; `None` for raw counts and bit fields.
+    pub unit: Option<Unit>,
+    /// Engineering units per raw count (0.001 for SD2 speeds in rpm).
+    pub scale: f64,
+    pub access: Access,
+    /// Limits in engineering units.
+    pub min: Option<f64>,
+    pub max: Option<f64>,
+    pub format: Format,
+    pub description: String,
+    /// Why the entry is not confirmed by a source (type, unit or index guessed or
+    /// provided by the simulator); `None` when the sources give it.
+    pub unconfirmed: Option<String>,
+    /// Where the entry is defined (the `- name:` mapping).
+    pub span: TextSpan,
+    /// Where the name and each alias are written (same order as [`ObjectDef::names`]);
+    /// empty for objects built in code.
+    pub(crate) name_spans: Vec<TextSpan>,
+}
+
+impl ObjectDef {
+    /// An object with scale 1, no unit, no limits, decimal display (for code and tests;
+    /// dictionaries come from files).
+    pub fn new(name: impl Into<String>, address: Address, data_type: DataType, access: Access) -> Self {
+        ObjectDef {
+            name: name.into(),
+            aliases: Vec::new(),
+            address,
+            data_type,
+            unit: None,
+            scale: 1.0,
+            access,
+            min: None,
+            max: None,
+            format: Format::Decimal,
+            description: String::new(),
+            unconfirmed: None,
+            span: TextSpan::unknown(),
+            name_spans: Vec::new(),
+        }
+    }
+
+    /// Where the `i`-th of [`ObjectDef::names`] is written (the object's span when unknown).
+    pub(crate) fn name_span(&self, i: usize) -> &TextSpan {
+        self.name_spans.get(i).unwrap_or(&self.span)
+    }
+
+    /// `speed_actual (VCTRL_VELOCITY_ACTUAL_VALUE_UUNIT)`: the name and the first alias.
+    pub fn display_name(&self) -> String {
+        match self.aliases.first() {
+            Some(alias) => format!("{} ({alias})", self.name),
+            None => self.name.clone(),
+        }
+    }
+
+    /// True when `name` is this object's name or one of its aliases, ignoring case.
+    pub fn is_named(&self, name: &str) -> bool {
+        self.names().any(|n| n.eq_ignore_ascii_case(name))
+    }
+
+    /// The name, then the aliases.
+    pub fn names(&self) -> impl Iterator<Item = &str> {
+        std::iter::once(self.name.as_str()).chain(self.aliases.iter().map(String::as_str))
+    }
+
+    pub fn readable(&self) -> bool {
+        self.access.readable()
+    }
+
+    pub fn writable(&self) -> bool {
+        self.access.writable()
+    }
+
+    /// Decimal places one count resolves in the object's unit (scale 0.001 → 3).
+    pub fn decimals(&self) -> usize {
+        decimals_of(self.scale)
+    }
+
+    /// The engineering value of a raw count: count × scale, computed as a division where
+    /// the scale is 1/n so that 1003647 counts are exactly 1003.647 rpm.
+    pub fn engineering(&self, counts: i64) -> f64 {
+        match self.inverse_scale() {
+            Some(n) => counts as f64 / n,
+            None => counts as f64 * self.scale,
+        }
+    }
+
+    /// Raw counts for an engineering value, rounded to the nearest count.
+    fn counts_of(&self, value: f64) -> f64 {
+        match self.inverse_scale() {
+            Some(n) => (value * n).round(),
+            None => (value / self.scale).round(),
+        }
+    }
+
+    /// `n` when the scale is 1/n for a whole n.
+    fn inverse_scale(&self) -> Option<f64> {
+        let n = 1.0 / self.scale;
+        (n >= 1.0 && (n - n.round()).abs() < 1e-9 * n).then(|| n.round())
+    }
+
+    /// `60000 rpm`: a value in the object's unit, with the decimals a count resolves.
+    pub(crate) fn with_unit(&self, value: f64) -> String {
+        let number = format_number(value, self.decimals() + 3);
+        match self.unit {
+            Some(u) => format!("{number} {u}"),
+            None => number,
+        }
+    }
+
+    /// Converts an engineering quantity to the raw count to write: unit conversion within a
+    /// dimension (a bare number is read in the object's unit, not as counts), scale,
+    /// rounding to the nearest count. Refuses a value outside `[min, max]` or outside the
+    /// type's range, saying the limit and its unit.
+    pub fn to_raw(&self, quantity: &Quantity) -> Result<RawValue, ValueError> {
+        let Some((lo, hi)) = self.data_type.range() else {
+            return Err(ValueError::NumberForText {
+                object: self.name.clone(),
+                data_type: self.data_type,
+            });
+        };
+        let value = match (quantity.unit, self.unit) {
+            (None, _) => quantity.value,
+            (Some(given), Some(own)) => {
+                given
+                    .convert(quantity.value, own)
+                    .ok_or_else(|| ValueError::WrongUnit {
+                        unit: given,
+                        object: self.name.clone(),
+                        object_unit: Some(own),
+                    })?
+            }
+            (Some(given), None) => {
+                return Err(ValueError::WrongUnit {
+                    unit: given,
+                    object: self.name.clone(),
+                    object_unit: None,
+                })
+            }
+        };
+        if !value.is_finite() {
+            return Err(ValueError::NotANumber {
+                text: quantity.to_string(),
+                hint: ": not a finite number".into(),
+            });
+        }
+        let given = match (quantity.unit, self.unit) {
+            (Some(g), Some(own)) if g != own => format!("{quantity} ({})", self.with_unit(value)),
+            _ => self.with_unit(value),
+        };
+        let counts = self.counts_of(value);
+        let rounded = self.engineering(counts.clamp(i64::MIN as f64, i64::MAX as f64) as i64);
+        let tolerance = self.scale * 1e-6;
+        if let Some(max) = self.max {
+            if rounded > max + tolerance {
+                return Err(ValueError::AboveMax {
+                    object: self.name.clone(),
+                    value: given,
+                    limit: self.with_unit(max),
+                });
+            }
+        }
+        if let Some(min) = self.min {
+            if rounded < min - tolerance {
+                return Err(ValueError::BelowMin {
+                    object: self.name.clone(),
+                    value: given,
+                    limit: self.with_unit(min),
+                });
+            }
+        }
+        if counts < lo as f64 || counts > hi as f64 {
+            let mut range = format!(
+                "{}..={}",
+                self.with_unit(self.engineering(lo)),
+                self.with_unit(self.engineering(hi))
+            );
+            if self.unit.is_some() || self.scale != 1.0 {
+                range.push_str(&format!(" ({lo}..={hi} counts)"));
+            }
+            return Err(ValueError::OutOfTypeRange {
+                object: self.name.clone(),
+                value: given,
+                counts: format!("{counts:.0}"),
+                data_type: self.data_type,
+                range,
+            });
+        }
+        Ok(RawValue::Int(counts as i64))
+    }
+
+    /// Checks text for a string object: plain printable ASCII, at most the type's maximum.
+    pub fn text_to_raw(&self, text: &str) -> Result<RawValue, ValueError> {
+        let DataType::String { max } = self.data_type else {
+            return Err(ValueError::TextForNumber {
+                object: self.name.clone(),
+                data_type: self.data_type,
+            });
+        };
+        if let Some(found) = text.chars().find(|c| !(c.is_ascii_graphic() || *c == ' ')) {
+            return Err(ValueError::TextNotAscii {
+                object: self.name.clone(),
+                found,
+            });
+        }
+        let len = text.chars().count();
+        if len > usize::from(max) {
+            return Err(ValueError::TextTooLong {
+                object: self.name.clone(),
+                len,
+                max,
+            });
+        }
+        Ok(RawValue::Text(text.to_string()))
+    }
+
+    /// Decodes the object's bytes as the drive sends them (little-endian integers of the
+    /// type's size; SD2 strings as `data[0]` = maximum length, then the characters,
+    /// NUL-terminated when shorter). A wrong byte count is refused with expected vs actual.
+    pub fn from_raw(&self, bytes: &[u8]) -> Result<Value, ValueError> {
+        let size = self.data_type.size();
+        let wrong_count = |expected: String| ValueError::WrongByteCount {
+            object: self.name.clone(),
+            data_type: self.data_type,
+            expected,
+            actual: bytes.len(),
+        };
+        if let DataType::String { .. } = self.data_type {
+            let Some((_, chars)) = bytes.split_first() else {
+                return Err(wrong_count(format!("1 to {size}")));
+            };
+            if bytes.len() > size {
+                return Err(wrong_count(format!("1 to {size}")));
+            }
+            let text: Vec<u8> = chars.iter().copied().take_while(|&b| b != 0).collect();
+            return Ok(Value {
+                raw: RawValue::Text(String::from_utf8_lossy(&text).into_owned()),
+                quantity: None,
+                format: Format::Decimal,
+                width: size,
+                decimals: 0,
+            });
+        }
+        if bytes.len() != size {
+            return Err(wrong_count(size.to_string()));
+        }
+        let mut buf = [0u8; 8];
+        buf[..size].copy_from_slice(bytes);
+        let unsigned = u64::from_le_bytes(buf);
+        let raw = if self.data_type.is_signed() {
+            let shift = 64 - 8 * size as u32;
+            ((unsigned << shift) as i64) >> shift
+        } else {
+            unsigned as i64
+        };
+        Ok(Value {
+            raw: RawValue::Int(raw),
+            quantity: Some(Quantity::new(self.engineering(raw), self.unit)),
+            format: self.format,
+            width: size,
+            decimals: self.decimals(),
+        })
+    }
+
+    /// The bytes to send for `raw`: little-endian in the type's size, or for a string the
+    /// maximum length, the characters and a NUL when shorter than the maximum (the read
+    /// layout; the sources show no string write).
+    ///
+    /// Returns an empty vector when `raw` does not fit the object (text for an integer, a
+    /// count outside the type's range, text too long): no SD2 write accepts zero bytes,
+    /// so a mismatch fails loudly instead of writing a wrapped number. Values from
+    /// [`ObjectDef::to_raw`] and [`ObjectDef::text_to_raw`] always fit.
+    pub fn encode_raw(&self, raw: &RawValue) -> Vec<u8> {
+        match (self.data_type, raw) {
+            (DataType::String { max }, RawValue::Text(text)) => {
+                if text.len() > usize::from(max) || !text.is_ascii() {
+                    return Vec::new();
+                }
+                let mut bytes = Vec::with_capacity(text.len() + 2);
+                bytes.push(max);
+                bytes.extend_from_slice(text.as_bytes());
+                if text.len() < usize::from(max) {
+                    bytes.push(0);
+                }
+                bytes
+            }
+            (data_type, RawValue::Int(count)) => match data_type.range() {
+                Some((lo, hi)) if (lo..=hi).contains(count) => {
+                    count.to_le_bytes()[..data_type.size()].to_vec()
+                }
+                _ => Vec::new(),
+            },
+            (_, RawValue::Text(_)) => Vec::new(),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    fn speed_setpoint() -> ObjectDef {
+        let mut o = ObjectDef::new(
+            "speed_setpoint",
+            Address::indexed(395, 0),
+            DataType::I32,
+            Access::ReadWrite,
+        );
+        o.unit = Some(Unit::Rpm);
+        o.scale = 0.001;
+        o.min = Some(-60000.0);
+        o.max = Some(60000.0);
+        o
+    }
+
+    fn bytes_for(o: &ObjectDef, text: &str) -> Vec<u8> {
+        let raw = o.to_raw(&Quantity::parse(text).unwrap()).unwrap();
+        o.encode_raw(&raw)
+    }
+
+    #[test]
+    fn speeds_to_bytes() {
+        let o = speed_setpoint();
+        assert_eq!(bytes_for(&o, "1000 rpm"), [0x40, 0x42, 0x0f, 0x00]);
+        assert_eq!(bytes_for(&o, "6000 rpm"), [0x80, 0x8d, 0x5b, 0x00]);
+        assert_eq!(bytes_for(&o, "6500 rpm"), 6_500_000i32.to_le_bytes());
+        assert_eq!(bytes_for(&o, "6500 rpm"), [0xa0, 0x2e, 0x63, 0x00]);
+        assert_eq!(bytes_for(&o, "18000 rpm"), 18_000_000i32.to_le_bytes());
+        assert_eq!(bytes_for(&o, "18000 rpm"), [0x80, 0xa8, 0x12, 0x01]);
+        assert_eq!(bytes_for(&o, "6 krpm"), [0x80, 0x8d, 0x5b, 0x00]);
+        assert_eq!(
+            bytes_for(&o, "6000"),
+            [0x80, 0x8d, 0x5b, 0x00],
+            "a bare number is in rpm"
+        );
+        assert_eq!(bytes_for(&o, "-3000 rpm"), (-3_000_000i32).to_le_bytes());
+        assert_eq!(
+            bytes_for(&o, "0.0004 rpm"),
+            [0, 0, 0, 0],
+            "rounds to the nearest count"
+        );
+        assert_eq!(bytes_for(&o, "0.0005 rpm"), [1, 0, 0, 0]);
+        assert_eq!(
+            bytes_for(&o, "60000 rpm"),
+            60_000_000i32.to_le_bytes(),
+            "the limit itself is allowed"
+        );
+    }
+
+    #[test]
+    fn limits_are_refused_with_the_limit_and_unit() {
+        let o = speed_setpoint();
+        let e = o.to_raw(&Quantity::parse("70000 rpm").unwrap()).unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "70000 rpm is above the maximum of speed_setpoint, 60000 rpm"
+        );
+        let e = o.to_raw(&Quantity::parse("-61 krpm").unwrap()).unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "-61 krpm (-61000 rpm) is below the minimum of speed_setpoint, -60000 rpm"
+        );
+    }
+
+    #[test]
+    fn type_range_is_refused_with_the_range_in_units() {
+        let mut o = speed_setpoint();
+        o.min = None;
+        o.max = None;
+        let e = o.to_raw(&Quantity::parse("3000000 rpm").unwrap()).unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "3000000 rpm is 3000000000 counts, outside the range of speed_setpoint's type i32: \
+             -2147483.648 rpm..=2147483.647 rpm (-2147483648..=2147483647 counts)"
+        );
+        let cw = ObjectDef::new(
+            "control_word",
+            Address::indexed(68, 0),
+            DataType::U16,
+            Access::ReadWrite,
+        );
+        let e = cw.to_raw(&Quantity::new(-1.0, None)).unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "-1 is -1 counts, outside the range of control_word's type u16: 0..=65535"
+        );
+        assert_eq!(
+            cw.to_raw(&Quantity::parse("0x0F").unwrap()),
+            Ok(RawValue::Int(15))
+        );
+    }
+
+    #[test]
+    fn wrong_units_are_refused() {
+        let mut current = ObjectDef::new(
+            "current_actual",
+            Address::indexed(400, 0),
+            DataType::I32,
+            Access::ReadOnly,
+        );
+        current.unit = Some(Unit::Ampere);
+        current.scale = 0.001;
+        let e = current.to_raw(&Quantity::parse("6000 rpm").unwrap()).unwrap_err();
+        assert!(
+            e.to_string()
+                .starts_with("rpm is not a unit of current_actual (A)"),
+            "{e}"
+        );
+        assert_eq!(
+            current.to_raw(&Quantity::parse("1500 mA").unwrap()),
+            Ok(RawValue::Int(1500))
+        );
+        let cw = ObjectDef::new(
+            "control_word",
+            Address::indexed(68, 0),
+            DataType::U16,
+            Access::ReadWrite,
+        );
+        let e = cw.to_raw(&Quantity::parse("6 rpm").unwrap()).unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "rpm given, but control_word has no unit: give a plain number"
+        );
+        assert!(cw.to_raw(&Quantity::new(f64::NAN, None)).is_err());
+    }
+
+    fn ident() -> ObjectDef {
+        ObjectDef::new(
+            "ident",
+            Address::indexed(22, 0),
+            DataType::String { max: 32 },
+            Access::ReadOnly,
+        )
+    }
+
+    #[test]
+    fn from_raw_every_type() {
+        let cases: [(DataType, &[u8], i64); 6] = [
+            (DataType::U8, &[0xff], 255),
+            (DataType::I8, &[0xff], -1),
+            (DataType::U16, &[0x37, 0x02], 0x237),
+            (DataType::I16, &[0x00, 0x80], -32768),
+            (DataType::U32, &[0xff, 0xff, 0xff, 0xff], 4_294_967_295),
+            (DataType::I32, &[0x7f, 0x50, 0x0f, 0x00], 1_003_647),
+        ];
+        for (t, bytes, expected) in cases {
+            let o = ObjectDef::new("x", Address::indexed(1, 0), t, Access::ReadOnly);
+            let v = o.from_raw(bytes).unwrap();
+            assert_eq!(v.raw, RawValue::Int(expected), "{t}");
+            assert_eq!(o.encode_raw(&v.raw), bytes, "{t}");
+        }
+        let v = speed_setpoint().from_raw(&[0x7f, 0x50, 0x0f, 0x00]).unwrap();
+        assert_eq!(v.to_string(), "1003.647 rpm");
+        assert_eq!(v.number(), Some(1003.647));
+    }
+
+    #[test]
+    fn from_raw_string() {
+        let bytes = [
+            0x20, 0x54, 0x65, 0x73, 0x74, 0x20, 0x4d, 0x6f, 0x74, 0x6f, 0x72, 0x00,
+        ];
+        let v = ident().from_raw(&bytes).unwrap();
+        assert_eq!(v.raw, RawValue::Text("Test Motor".into()));
+        assert_eq!(v.to_string(), "\"Test Motor\"");
+        assert_eq!(ident().from_raw(&[0x20]).unwrap().text(), Some(""));
+        assert_eq!(
+            ident().encode_raw(&RawValue::Text("Test Motor".into())),
+            bytes.to_vec()
+        );
+    }
+
+    #[test]
+    fn wrong_byte_counts_are_refused() {
+        let e = speed_setpoint().from_raw(&[1, 2]).unwrap_err();
+        assert_eq!(e.to_string(), "speed_setpoint (i32) takes 4 bytes, got 2");
+        let e = ident().from_raw(&[]).unwrap_err();
+        assert_eq!(e.to_string(), "ident (string(32)) takes 1 to 33 bytes, got 0");
+        assert!(ident().from_raw(&[0x20; 34]).is_err());
+    }
+
+    #[test]
+    fn text_values() {
+        assert_eq!(
+            ident().text_to_raw("Spindle 1"),
+            Ok(RawValue::Text("Spindle 1".into()))
+        );
+        assert!(matches!(
+            ident().text_to_raw(&"x".repeat(33)),
+            Err(ValueError::TextTooLong { len: 33, max: 32, .. })
+        ));
+        assert!(matches!(
+            ident().text_to_raw("Motör"),
+            Err(ValueError::TextNotAscii { found: 'ö', .. })
+        ));
+        assert!(matches!(
+            speed_setpoint().text_to_raw("fast"),
+            Err(ValueError::TextForNumber { .. })
+        ));
+        assert!(matches!(
+            ident().to_raw(&Quantity::new(1.0, None)),
+            Err(ValueError::NumberForText { .. })
+        ));
+    }
+
+    #[test]
+    fn encode_refuses_what_does_not_fit() {
+        let cw = ObjectDef::new(
+            "control_word",
+            Address::indexed(68, 0),
+            DataType::U16,
+            Access::ReadWrite,
+        );
+        assert_eq!(cw.encode_raw(&RawValue::Int(70000)), Vec::<u8>::new());
+        assert_eq!(cw.encode_raw(&RawValue::Text("6".into())), Vec::<u8>::new());
+        assert_eq!(ident().encode_raw(&RawValue::Int(6)), Vec::<u8>::new());
+        assert_eq!(
+            ident().encode_raw(&RawValue::Text("x".repeat(40))),
+            Vec::<u8>::new()
+        );
+        assert_eq!(cw.encode_raw(&RawValue::Int(15)), vec![15, 0]);
+    }
+
+    #[test]
+    fn access_helpers() {
+        assert!(speed_setpoint().writable() && speed_setpoint().readable());
+        assert!(!ident().writable() && ident().readable());
+    }
+
+    proptest! {
+        #[test]
+        fn to_raw_from_raw_round_trip_within_one_count(v in -60000.0f64..=60000.0) {
+            let o = speed_setpoint();
+            let raw = o.to_raw(&Quantity::new(v, Some(Unit::Rpm))).unwrap();
+            let back = o.from_raw(&o.encode_raw(&raw)).unwrap().number().unwrap();
+            prop_assert!((back - v).abs() <= o.scale, "{} → {:?} → {}", v, raw, back);
+        }
+
+        #[test]
+        fn round_trip_every_integer_type(t in 0usize..6, count in any::<i64>(), scale in prop::sample::select(vec![1.0, 0.1, 0.001, 0.25, 2.0])) {
+            let data_type = DataType::INTEGERS[t];
+            let (lo, hi) = data_type.range().unwrap();
+            let count = lo + (count.rem_euclid(hi - lo + 1));
+            let mut o = ObjectDef::new("x", Address::indexed(1, 0), data_type, Access::ReadWrite);
+            o.scale = scale;
+            o.unit = Some(Unit::Volt);
+            let value = o.engineering(count);
+            let raw = o.to_raw(&Quantity::new(value, Some(Unit::Volt))).unwrap();
+            prop_assert_eq!(raw.clone(), RawValue::Int(count));
+            let back = o.from_raw(&o.encode_raw(&raw)).unwrap();
+            prop_assert_eq!(back.raw, RawValue::Int(count));
+        }
+
+        #[test]
+        fn from_raw_never_panics(bytes in prop::collection::vec(any::<u8>(), 0..40), t in 0usize..7) {
+            let data_type = if t == 6 { DataType::String { max: 32 } } else { DataType::INTEGERS[t] };
+            let o = ObjectDef::new("x", Address::indexed(1, 0), data_type, Access::ReadOnly);
+            let _ = o.from_raw(&bytes);
+        }
+    }
+}

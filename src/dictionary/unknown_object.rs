@@ -1,0 +1,40 @@
+//! A name that is neither an object nor an alias in the dictionary, with up to three
+//! "did you mean" suggestions. Pure data.
+
+use super::did_you_mean::suggestion_text;
+use std::fmt;
+
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct UnknownObject {
+    pub name: String,
+    /// The dictionary's family, e.g. `sd2`.
+    pub family: String,
+    /// Object names, best first (at most three).
+    pub suggestions: Vec<String>,
+}
+
+impl UnknownObject {
+    /// `did you mean `speed_setpoint`?`, or a pointer to `drivescript objects`.
+    pub fn help(&self) -> String {
+        suggestion_text(&self.suggestions)
+            .unwrap_or_else(|| format!("`drivescript objects --drive {}` lists the objects", self.family))
+    }
+}
+
+impl fmt::Display for UnknownObject {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "no object `{}` in the {} dictionary", self.name, self.family)?;
+        if let Some(s) = suggestion_text(&self.suggestions) {
+            write!(f, "; {s}")?;
+        }
+        Ok(())
+    }
+}
+
+impl std::error::Error for UnknownObject {}
+
+impl miette::Diagnostic for UnknownObject {
+    fn help<'a>(&'a self) -> Option<Box<dyn fmt::Display + 'a>> {
+        Some(Box::new(self.help()))
+    }
+}

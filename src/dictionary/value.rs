@@ -1,0 +1,172 @@
+//! An object's value as read from a drive: the raw count or text, and its engineering
+//! reading with unit. Display is what a commissioning engineer expects to see:
+//! `6000 rpm`, `325.3 V`, `0x0237`, `"Test Motor"`. Presentation only; decoding bytes is
+//! the object definition's job.
+
+use super::format::Format;
+use super::quantity::Quantity;
+use super::unit::Unit;
+use std::fmt;
+
+/// A value as the drive holds it: a count, or text.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub enum RawValue {
+    Int(i64),
+    Text(String),
+}
+
+impl RawValue {
+    pub fn as_int(&self) -> Option<i64> {
+        match self {
+            RawValue::Int(i) => Some(*i),
+            RawValue::Text(_) => None,
+        }
+    }
+}
+
+impl fmt::Display for RawValue {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            RawValue::Int(i) => write!(f, "{i}"),
+            RawValue::Text(t) => write!(f, "{t:?}"),
+        }
+    }
+}
+
+/// A decoded value: raw, and for integers the engineering quantity (raw × scale, in the
+/// object's unit, or the count itself when the object has no unit).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Value {
+    pub raw: RawValue,
+    /// `None` for text.
+    pub quantity: Option<Quantity>,
+    /// How the value prints: decimal, or hex `0x0237` with `width` bytes of digits.
+    pub format: Format,
+    /// Bytes of the type, for the hex width.
+    pub width: usize,
+    /// Decimal places the object's scale resolves (0.001 → 3), used when printing.
+    pub decimals: usize,
+}
+
+impl Value {
+    /// The engineering value (raw × scale); `None` for text.
+    pub fn number(&self) -> Option<f64> {
+        self.quantity.map(|q| q.value)
+    }
+
+    pub fn unit(&self) -> Option<Unit> {
+        self.quantity.and_then(|q| q.unit)
+    }
+
+    pub fn text(&self) -> Option<&str> {
+        match &self.raw {
+            RawValue::Text(t) => Some(t),
+            RawValue::Int(_) => None,
+        }
+    }
+}
+
+impl fmt::Display for Value {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match (&self.raw, self.quantity) {
+            (RawValue::Text(t), _) => write!(f, "{t:?}"),
+            (RawValue::Int(i), _) if self.format == Format::Hex && self.unit().is_none() => {
+                let digits = self.width.max(1) * 2;
+                // Negative counts of signed types print as their two's complement.
+                let bits = (self.width.clamp(1, 8) * 8) as u32;
+                let mask = if bits >= 64 { u64::MAX } else { (1u64 << bits) - 1 };
+                write!(f, "0x{:0digits$x}", (*i as u64) & mask)
+            }
+            (RawValue::Int(i), None) => write!(f, "{i}"),
+            (RawValue::Int(_), Some(q)) => {
+                f.write_str(&format_number(q.value, self.decimals))?;
+                match q.unit {
+                    Some(u) => write!(f, " {u}"),
+                    None => Ok(()),
+                }
+            }
+        }
+    }
+}
+
+/// `value` with at most `decimals` places, trailing zeros dropped: 6000, 325.3, 1003.647.
+pub(crate) fn format_number(value: f64, decimals: usize) -> String {
+    let text = format!("{value:.decimals$}");
+    let text = if text.contains('.') {
+        text.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        text
+    };
+    if text == "-0" {
+        "0".into()
+    } else {
+        text
+    }
+}
+
+/// Decimal places needed to show every multiple of `scale` exactly (0.001 → 3, 0.5 → 1);
+/// at most 9.
+pub(crate) fn decimals_of(scale: f64) -> usize {
+    (0..=9)
+        .find(|&d| {
+            let shifted = scale * 10f64.powi(d as i32);
+            (shifted - shifted.round()).abs() < 1e-9 * shifted.abs().max(1.0)
+        })
+        .unwrap_or(9)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn int(raw: i64, value: f64, unit: Option<Unit>, format: Format, width: usize, decimals: usize) -> Value {
+        Value {
+            raw: RawValue::Int(raw),
+            quantity: Some(Quantity::new(value, unit)),
+            format,
+            width,
+            decimals,
+        }
+    }
+
+    #[test]
+    fn display_as_engineers_read_it() {
+        assert_eq!(
+            int(6_000_000, 6000.0, Some(Unit::Rpm), Format::Decimal, 4, 3).to_string(),
+            "6000 rpm"
+        );
+        assert_eq!(
+            int(1_003_647, 1003.647, Some(Unit::Rpm), Format::Decimal, 4, 3).to_string(),
+            "1003.647 rpm"
+        );
+        assert_eq!(
+            int(3253, 325.3, Some(Unit::Volt), Format::Decimal, 2, 1).to_string(),
+            "325.3 V"
+        );
+        assert_eq!(int(0x237, 567.0, None, Format::Hex, 2, 0).to_string(), "0x0237");
+        assert_eq!(int(-1, -1.0, None, Format::Hex, 2, 0).to_string(), "0xffff");
+        assert_eq!(int(3, 3.0, None, Format::Decimal, 2, 0).to_string(), "3");
+        let text = Value {
+            raw: RawValue::Text("Test Motor".into()),
+            quantity: None,
+            format: Format::Decimal,
+            width: 33,
+            decimals: 0,
+        };
+        assert_eq!(text.to_string(), "\"Test Motor\"");
+        assert_eq!(text.text(), Some("Test Motor"));
+        assert_eq!(text.number(), None);
+    }
+
+    #[test]
+    fn number_formatting() {
+        assert_eq!(format_number(-0.0001, 3), "0");
+        assert_eq!(format_number(60000.0, 3), "60000");
+        assert_eq!(format_number(0.5, 1), "0.5");
+        assert_eq!(decimals_of(0.001), 3);
+        assert_eq!(decimals_of(0.1), 1);
+        assert_eq!(decimals_of(1.0), 0);
+        assert_eq!(decimals_of(0.25), 2);
+        assert_eq!(decimals_of(1.0 / 3.0), 9);
+    }
+}

@@ -1,0 +1,96 @@
+//! Why a value cannot be written to, or read from, an object: not a number, unknown or
+//! wrong unit, outside the object's limits or its type's range, wrong byte count.
+//! Every message names the object, the limit and the unit. Pure data.
+
+use super::data_type::DataType;
+use super::did_you_mean::suggestion_text;
+use super::unit::Unit;
+
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum ValueError {
+    #[error("no value: write a number with an optional unit, e.g. `6000 rpm`")]
+    Empty,
+
+    #[error("`{text}` is not a number{hint}")]
+    NotANumber {
+        text: String,
+        /// Starts with `: ` when present.
+        hint: String,
+    },
+
+    #[error("{}", unknown_unit(unit, suggestions))]
+    UnknownUnit { unit: String, suggestions: Vec<String> },
+
+    #[error("{}", wrong_unit(*unit, object, *object_unit))]
+    WrongUnit {
+        unit: Unit,
+        object: String,
+        object_unit: Option<Unit>,
+    },
+
+    #[error("{value} is above the maximum of {object}, {limit}")]
+    AboveMax {
+        object: String,
+        value: String,
+        limit: String,
+    },
+
+    #[error("{value} is below the minimum of {object}, {limit}")]
+    BelowMin {
+        object: String,
+        value: String,
+        limit: String,
+    },
+
+    #[error("{value} is {counts} counts, outside the range of {object}'s type {data_type}: {range}")]
+    OutOfTypeRange {
+        object: String,
+        value: String,
+        counts: String,
+        data_type: DataType,
+        /// The type's range in the object's unit (and in counts when they differ).
+        range: String,
+    },
+
+    #[error("{object} holds text ({data_type}); give text, not a number")]
+    NumberForText { object: String, data_type: DataType },
+
+    #[error("{object} holds a number ({data_type}); give a number, not text")]
+    TextForNumber { object: String, data_type: DataType },
+
+    #[error("text of {len} characters is too long for {object}: at most {max}")]
+    TextTooLong { object: String, len: usize, max: u8 },
+
+    #[error("{object} takes plain ASCII text; {found:?} is not allowed")]
+    TextNotAscii { object: String, found: char },
+
+    #[error("{object} ({data_type}) takes {expected} bytes, got {actual}")]
+    WrongByteCount {
+        object: String,
+        data_type: DataType,
+        /// `4`, or `1 to 33` for strings.
+        expected: String,
+        actual: usize,
+    },
+}
+
+fn unknown_unit(unit: &str, suggestions: &[String]) -> String {
+    let known: Vec<&str> = Unit::symbols().collect();
+    let mut text = format!("unknown unit `{unit}` (known units: {})", known.join(", "));
+    if let Some(s) = suggestion_text(suggestions) {
+        text.push_str("; ");
+        text.push_str(&s);
+    }
+    text
+}
+
+fn wrong_unit(unit: Unit, object: &str, object_unit: Option<Unit>) -> String {
+    match object_unit {
+        Some(u) => format!(
+            "{unit} is not a unit of {object} ({u}): {unit} measures {}, {u} measures {}",
+            unit.dimension().name(),
+            u.dimension().name()
+        ),
+        None => format!("{unit} given, but {object} has no unit: give a plain number"),
+    }
+}

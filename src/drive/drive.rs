@@ -1,0 +1,264 @@
+//! [`Drive`]: objects by name with units, device-control commands and the state machine,
+//! over any protocol family's [`ObjectAccess`]. Everything that can be refused (unknown
+//! object, read-only, value outside limits) is refused here, before a byte is sent.
+
+use super::state_path::{next_step, NextStep};
+use super::{DriveError, ObjectAccess};
+use crate::clock::SharedClock;
+use crate::dictionary::{Dictionary, ObjectDef, Profile, Quantity, RawValue, Role, Value};
+use crate::link::LinkError;
+use crate::protocol::device_control::{DeviceCommand, DeviceState};
+use std::sync::Arc;
+use std::time::Duration;
+
+/// How often the status word is polled while waiting for a state change.
+const STATE_POLL: Duration = Duration::from_millis(10);
+
+/// One step of a state walk, for the log.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Transition {
+    pub command: DeviceCommand,
+    pub from: DeviceState,
+    pub to: DeviceState,
+    /// Time from the command to the new state.
+    pub after: Duration,
+}
+
+pub struct Drive {
+    access: Box<dyn ObjectAccess>,
+    dictionary: Arc<Dictionary>,
+    clock: SharedClock,
+}
+
+impl Drive {
+    pub fn new(access: Box<dyn ObjectAccess>, dictionary: Arc<Dictionary>) -> Self {
+        let clock = access.clock();
+        Drive {
+            access,
+            dictionary,
+            clock,
+        }
+    }
+
+    pub fn dictionary(&self) -> &Arc<Dictionary> {
+        &self.dictionary
+    }
+
+    pub fn clock(&self) -> &SharedClock {
+        &self.clock
+    }
+
+    pub fn port(&self) -> String {
+        self.access.port()
+    }
+
+    /// The object definition for a name or alias.
+    pub fn object(&self, name: &str) -> Result<&ObjectDef, DriveError> {
+        self.dictionary
+            .lookup(name)
+            .map_err(|e| DriveError::UnknownObject {
+                name: name.to_string(),
+                suggestions: e.suggestions.clone(),
+            })
+    }
+
+    /// The dictionary's device-control profile (a dictionary without one cannot do
+    /// device control).
+    pub fn profile(&self) -> Result<&Profile, DriveError> {
+        self.dictionary.profile().ok_or_else(|| DriveError::NoRole {
+            family: self.dictionary.family().to_string(),
+            role: "profile",
+        })
+    }
+
+    fn role_object(&self, role: Role) -> Result<ObjectDef, DriveError> {
+        let name = self.profile()?.object(role).ok_or_else(|| DriveError::NoRole {
+            family: self.dictionary.family().to_string(),
+            role: role.id(),
+        })?;
+        Ok(self.object(name)?.clone())
+    }
+
+    /// Reads an object and decodes it with its type, scale and unit.
+    pub fn read(&mut self, name: &str) -> Result<Value, DriveError> {
+        let def = self.object(name)?.clone();
+        self.read_def(&def)
+    }
+
+    fn read_def(&mut self, def: &ObjectDef) -> Result<Value, DriveError> {
+        if !def.readable() {
+            return Err(DriveError::WriteOnly {
+                object: def.name.clone(),
+            });
+        }
+        let bytes = self
+            .access
+            .read(&def.address)
+            .map_err(|e| self.refusal(e, "to read", def))?;
+        def.from_raw(&bytes).map_err(|source| DriveError::BadReply {
+            object: def.name.clone(),
+            source,
+        })
+    }
+
+    /// Reads an object as a number in its engineering unit.
+    pub fn read_number(&mut self, name: &str) -> Result<f64, DriveError> {
+        let def = self.object(name)?.clone();
+        let value = self.read_def(&def)?;
+        value.number().ok_or_else(|| DriveError::BadReply {
+            object: def.name.clone(),
+            source: crate::dictionary::ValueError::TextForNumber {
+                object: def.name.clone(),
+                data_type: def.data_type,
+            },
+        })
+    }
+
+    /// Writes a number with its unit (a bare number is in the object's unit). Refused
+    /// before sending when the object is read-only or the value outside its limits.
+    pub fn write(&mut self, name: &str, quantity: &Quantity) -> Result<(), DriveError> {
+        let def = self.object(name)?.clone();
+        if !def.writable() {
+            return Err(DriveError::ReadOnly {
+                object: def.name.clone(),
+            });
+        }
+        let raw = def.to_raw(quantity)?;
+        self.write_raw(&def, &raw)
+    }
+
+    /// Writes text to a string object.
+    pub fn write_text(&mut self, name: &str, text: &str) -> Result<(), DriveError> {
+        let def = self.object(name)?.clone();
+        if !def.writable() {
+            return Err(DriveError::ReadOnly {
+                object: def.name.clone(),
+            });
+        }
+        let raw = def.text_to_raw(text)?;
+        self.write_raw(&def, &raw)
+    }
+
+    fn write_raw(&mut self, def: &ObjectDef, raw: &RawValue) -> Result<(), DriveError> {
+        let bytes = def.encode_raw(raw);
+        self.access
+            .write(&def.address, &bytes)
+            .map_err(|e| self.refusal(e, "to write", def))
+    }
+
+    /// Names the object in a drive's refusal (the link only knows the index).
+    fn refusal(&self, e: DriveError, operation: &'static str, def: &ObjectDef) -> DriveError {
+        match e {
+            DriveError::Link(LinkError::DriveRefused { port, code, .. }) => DriveError::Refused {
+                port,
+                operation,
+                object: def.name.clone(),
+                code,
+            },
+            other => other,
+        }
+    }
+
+    /// Writes the control-word value of `command` (the profile's table). A fault reset
+    /// needs a rising edge of bit 7, so the bit is cleared first.
+    pub fn command(&mut self, command: DeviceCommand) -> Result<(), DriveError> {
+        let control = self.role_object(Role::ControlWord)?;
+        let value = self.profile()?.command_value(command);
+        if command == DeviceCommand::FaultReset {
+            self.write_raw(&control, &RawValue::Int(i64::from(value & !0x80)))?;
+        }
+        self.write_raw(&control, &RawValue::Int(i64::from(value)))
+    }
+
+    pub fn status_word(&mut self) -> Result<u16, DriveError> {
+        let status = self.role_object(Role::StatusWord)?;
+        let v = self.read_def(&status)?;
+        Ok(v.raw.as_int().unwrap_or(0) as u16)
+    }
+
+    /// The state the status word shows.
+    pub fn state(&mut self) -> Result<DeviceState, DriveError> {
+        let status = self.status_word()?;
+        self.profile()?
+            .state_of(status)
+            .ok_or(DriveError::UnknownStatus { status })
+    }
+
+    /// The drive's error code, when the profile has one and it can be read (best effort:
+    /// this is called while explaining another failure).
+    pub fn drive_error(&mut self) -> Option<u16> {
+        let def = self.role_object(Role::DriveError).ok()?;
+        let v = self.read_def(&def).ok()?;
+        v.raw.as_int().map(|c| c as u16)
+    }
+
+    /// Walks the state machine to `target`, one transition at a time, each within
+    /// `timeout`. A drive in fault is not reset here: that is an explicit `fault_reset`.
+    /// `cancelled` is asked between polls; when it says yes the walk stops.
+    pub fn go_to(
+        &mut self,
+        target: DeviceState,
+        timeout: Duration,
+        cancelled: &dyn Fn() -> bool,
+    ) -> Result<Vec<Transition>, DriveError> {
+        let mut done = Vec::new();
+        let mut state = self.state()?;
+        loop {
+            if matches!(state, DeviceState::Fault) && target != DeviceState::Fault {
+                return Err(DriveError::Fault {
+                    state,
+                    drive_error: self.drive_error(),
+                });
+            }
+            let command = match next_step(state, target) {
+                NextStep::Arrived => return Ok(done),
+                NextStep::Unreachable => {
+                    return Err(DriveError::Unreachable {
+                        from: state,
+                        to: target,
+                    })
+                }
+                NextStep::Wait => None,
+                NextStep::Command(c) => Some(c),
+            };
+            let started = self.clock.now();
+            if let Some(c) = command {
+                self.command(c)?;
+            }
+            let from = state;
+            loop {
+                if cancelled() {
+                    return Err(DriveError::Interrupted);
+                }
+                state = self.state()?;
+                if state != from {
+                    break;
+                }
+                let waited = self.clock.now() - started;
+                if waited >= timeout {
+                    let drive_error = self.drive_error();
+                    let hint = match command {
+                        Some(c) => format!("the drive did not accept {c}; check that its control channel is the serial interface and that no other master holds it"),
+                        None => "the drive did not leave this state by itself".into(),
+                    };
+                    return Err(DriveError::StateTimeout {
+                        target,
+                        stuck_in: from,
+                        waited,
+                        drive_error,
+                        hint,
+                    });
+                }
+                self.clock.sleep(STATE_POLL);
+            }
+            if let Some(c) = command {
+                done.push(Transition {
+                    command: c,
+                    from,
+                    to: state,
+                    after: self.clock.now() - started,
+                });
+            }
+        }
+    }
+}

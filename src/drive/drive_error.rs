@@ -1,0 +1,102 @@
+//! The one error type of the drive layer: object names, values, states and the drive's own
+//! error code, with what to do. Refusals (unknown object, read-only, out of limits) are
+//! raised before any byte is sent.
+
+use crate::dictionary::ValueError;
+use crate::link::LinkError;
+use crate::protocol::device_control::DeviceState;
+use crate::protocol::sd2::ErrorCode;
+use std::time::Duration;
+
+#[derive(Debug, thiserror::Error)]
+pub enum DriveError {
+    #[error("unknown object `{name}`{}", suggest(suggestions))]
+    UnknownObject { name: String, suggestions: Vec<String> },
+
+    #[error("{object} is read-only; nothing was sent")]
+    ReadOnly { object: String },
+
+    #[error("{object} is write-only and cannot be read")]
+    WriteOnly { object: String },
+
+    #[error("{0}; nothing was sent")]
+    Value(#[from] ValueError),
+
+    #[error("reading {object}: {source}")]
+    BadReply {
+        object: String,
+        #[source]
+        source: ValueError,
+    },
+
+    #[error("the {family} dictionary's profile names no {role} object, which device control needs")]
+    NoRole { family: String, role: &'static str },
+
+    #[error(transparent)]
+    Link(#[from] LinkError),
+
+    #[error("{port} refused {operation} {object}: {code}")]
+    Refused {
+        port: String,
+        operation: &'static str,
+        object: String,
+        code: ErrorCode,
+    },
+
+    #[error("status word 0x{status:04x} matches no state of the profile's state table")]
+    UnknownStatus { status: u16 },
+
+    #[error("stuck in {stuck_in} on the way to {target}: no change within {} ms{}; {hint}", waited.as_millis(), drive_error_text(*drive_error))]
+    StateTimeout {
+        target: DeviceState,
+        stuck_in: DeviceState,
+        waited: Duration,
+        drive_error: Option<u16>,
+        hint: String,
+    },
+
+    #[error("no command leads from {from} to {to}; the drive enters {to} by itself")]
+    Unreachable { from: DeviceState, to: DeviceState },
+
+    #[error("the drive is in {state}{}; run `fault_reset` once the cause is removed", drive_error_text(*drive_error))]
+    Fault {
+        state: DeviceState,
+        drive_error: Option<u16>,
+    },
+
+    #[error("interrupted")]
+    Interrupted,
+}
+
+fn suggest(s: &[String]) -> String {
+    if s.is_empty() {
+        "; `drivescript objects` lists the objects".into()
+    } else {
+        format!(
+            "; did you mean {}?",
+            s.iter()
+                .map(|x| format!("`{x}`"))
+                .collect::<Vec<_>>()
+                .join(" or ")
+        )
+    }
+}
+
+fn drive_error_text(code: Option<u16>) -> String {
+    match code {
+        Some(0) | None => String::new(),
+        Some(c) => format!(" (drive error {c}, 0x{c:04x})"),
+    }
+}
+
+impl DriveError {
+    /// True for errors where the line or the drive is unreachable (exit code 3 territory).
+    pub fn is_communication(&self) -> bool {
+        matches!(self, DriveError::Link(_))
+    }
+
+    /// True when the drive itself is in fault.
+    pub fn is_fault(&self) -> bool {
+        matches!(self, DriveError::Fault { .. })
+    }
+}

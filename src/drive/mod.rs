@@ -1,0 +1,15 @@
+//! One protocol-independent drive API: read and write objects by name with units, issue
+//! device-control commands, read the state, walk the state machine. Each protocol family
+//! implements the small [`ObjectAccess`] trait underneath. Knows names and units, not bytes.
+
+mod drive;
+mod drive_error;
+mod object_access;
+mod sd2_access;
+mod state_path;
+
+pub use drive::{Drive, Transition};
+pub use drive_error::DriveError;
+pub use object_access::ObjectAccess;
+pub use sd2_access::Sd2Access;
+pub use state_path::{next_step, NextStep};

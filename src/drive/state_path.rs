@@ -1,0 +1,126 @@
+//! Which device-control command moves a drive one step from a state toward a target state,
+//! along the CiA 402 transition graph. Pure; no I/O.
+
+use crate::protocol::device_control::{DeviceCommand, DeviceState};
+
+/// What to do next on the way from `from` to `to`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum NextStep {
+    /// Already there.
+    Arrived,
+    /// Send this command.
+    Command(DeviceCommand),
+    /// The drive moves on by itself (booting, fault reaction); wait.
+    Wait,
+    /// No command leads there from here.
+    Unreachable,
+}
+
+/// The next step from `from` toward `to`. A drive in quick stop or fault is first brought
+/// back through "switch on disabled" rather than straight on, so it never starts moving
+/// again without passing the states where it is safe.
+pub fn next_step(from: DeviceState, to: DeviceState) -> NextStep {
+    use DeviceCommand::*;
+    use DeviceState::*;
+    if from == to {
+        return NextStep::Arrived;
+    }
+    match (from, to) {
+        (NotReadyToSwitchOn | FaultReactionActive, _) => NextStep::Wait,
+        (_, NotReadyToSwitchOn | FaultReactionActive | Fault) => NextStep::Unreachable,
+        (Fault, _) => NextStep::Command(FaultReset),
+        (QuickStopActive, _) => NextStep::Command(DisableVoltage),
+        (_, QuickStopActive) if from == OperationEnabled => NextStep::Command(QuickStop),
+        (SwitchOnDisabled, QuickStopActive) | (ReadyToSwitchOn | SwitchedOn, QuickStopActive) => {
+            // Quick stop active is only entered from operation enabled; walk there first.
+            next_step(from, OperationEnabled)
+        }
+        (_, SwitchOnDisabled) => NextStep::Command(DisableVoltage),
+        (SwitchOnDisabled, _) => NextStep::Command(Shutdown),
+        (ReadyToSwitchOn, SwitchedOn | OperationEnabled) => NextStep::Command(SwitchOn),
+        (SwitchedOn, ReadyToSwitchOn) | (OperationEnabled, ReadyToSwitchOn) => NextStep::Command(Shutdown),
+        (SwitchedOn, OperationEnabled) => NextStep::Command(EnableOperation),
+        (OperationEnabled, SwitchedOn) => NextStep::Command(DisableOperation),
+        _ => NextStep::Unreachable,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use DeviceState::*;
+
+    /// Follows the path with an ideal drive (every command takes effect at once).
+    fn walk(mut from: DeviceState, to: DeviceState) -> Vec<DeviceCommand> {
+        let mut commands = Vec::new();
+        for _ in 0..10 {
+            match next_step(from, to) {
+                NextStep::Arrived => return commands,
+                NextStep::Command(c) => {
+                    commands.push(c);
+                    from = ideal(from, c);
+                }
+                other => panic!("{from:?} → {to:?}: {other:?}"),
+            }
+        }
+        panic!("no arrival from {from:?} to {to:?}: {commands:?}");
+    }
+
+    fn ideal(from: DeviceState, c: DeviceCommand) -> DeviceState {
+        use DeviceCommand::*;
+        match (from, c) {
+            (Fault, FaultReset) => SwitchOnDisabled,
+            (_, DisableVoltage) => SwitchOnDisabled,
+            (OperationEnabled, QuickStop) => QuickStopActive,
+            (SwitchOnDisabled | SwitchedOn | OperationEnabled, Shutdown) => ReadyToSwitchOn,
+            (ReadyToSwitchOn, SwitchOn) | (OperationEnabled, DisableOperation) => SwitchedOn,
+            (SwitchedOn, EnableOperation) => OperationEnabled,
+            _ => from,
+        }
+    }
+
+    #[test]
+    fn every_commandable_state_reaches_operation_enabled_and_back() {
+        use DeviceCommand::*;
+        assert_eq!(
+            walk(SwitchOnDisabled, OperationEnabled),
+            vec![Shutdown, SwitchOn, EnableOperation]
+        );
+        assert_eq!(
+            walk(Fault, OperationEnabled),
+            vec![FaultReset, Shutdown, SwitchOn, EnableOperation]
+        );
+        assert_eq!(
+            walk(QuickStopActive, OperationEnabled),
+            vec![DisableVoltage, Shutdown, SwitchOn, EnableOperation]
+        );
+        assert_eq!(walk(OperationEnabled, SwitchOnDisabled), vec![DisableVoltage]);
+        assert_eq!(walk(OperationEnabled, ReadyToSwitchOn), vec![Shutdown]);
+        assert_eq!(walk(OperationEnabled, SwitchedOn), vec![DisableOperation]);
+        assert_eq!(
+            walk(SwitchOnDisabled, QuickStopActive),
+            vec![Shutdown, SwitchOn, EnableOperation, QuickStop]
+        );
+        for from in [
+            SwitchOnDisabled,
+            ReadyToSwitchOn,
+            SwitchedOn,
+            OperationEnabled,
+            QuickStopActive,
+            Fault,
+        ] {
+            for to in [SwitchOnDisabled, ReadyToSwitchOn, SwitchedOn, OperationEnabled] {
+                walk(from, to);
+            }
+        }
+    }
+
+    #[test]
+    fn states_only_the_drive_enters_are_unreachable() {
+        for to in [Fault, FaultReactionActive, NotReadyToSwitchOn] {
+            assert_eq!(next_step(OperationEnabled, to), NextStep::Unreachable);
+        }
+        assert_eq!(next_step(FaultReactionActive, SwitchOnDisabled), NextStep::Wait);
+        assert_eq!(next_step(NotReadyToSwitchOn, SwitchOnDisabled), NextStep::Wait);
+    }
+}

@@ -1,0 +1,252 @@
+//! Conditions on a drive (a state, or a value against a predicate) and named checks on
+//! instant values or sample statistics. Pure evaluation; reading the drive is the
+//! interpreter's business.
+
+use super::step::ObjectRef;
+use crate::protocol::device_control::DeviceState;
+use std::fmt;
+
+/// How close is near enough.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Tolerance {
+    /// In the object's unit.
+    Absolute(f64),
+    /// Percent of the target's magnitude.
+    Percent(f64),
+}
+
+/// A test on one number (in the object's engineering unit), or on text.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Predicate {
+    Equals(f64),
+    EqualsText(String),
+    Above(f64),
+    Below(f64),
+    Between(f64, f64),
+    Near { target: f64, tolerance: Tolerance },
+}
+
+impl Predicate {
+    pub fn holds(&self, value: f64) -> bool {
+        match self {
+            Predicate::EqualsText(_) => false,
+            _ => {
+                let (lo, hi) = self.limits();
+                let lo_ok = lo.is_none_or(|lo| if self.is_strict() { value > lo } else { value >= lo });
+                let hi_ok = hi.is_none_or(|hi| if self.is_strict() { value < hi } else { value <= hi });
+                lo_ok && hi_ok
+            }
+        }
+    }
+
+    pub fn holds_text(&self, text: &str) -> bool {
+        match self {
+            Predicate::EqualsText(want) => want == text,
+            _ => false,
+        }
+    }
+
+    fn is_strict(&self) -> bool {
+        matches!(self, Predicate::Above(_) | Predicate::Below(_))
+    }
+
+    /// The lower and upper limit this predicate allows (for reports, plots and JUnit).
+    pub fn limits(&self) -> (Option<f64>, Option<f64>) {
+        match *self {
+            Predicate::Equals(v) => (Some(v), Some(v)),
+            Predicate::EqualsText(_) => (None, None),
+            Predicate::Above(v) => (Some(v), None),
+            Predicate::Below(v) => (None, Some(v)),
+            Predicate::Between(a, b) => (Some(a.min(b)), Some(a.max(b))),
+            Predicate::Near { target, tolerance } => {
+                let band = match tolerance {
+                    Tolerance::Absolute(t) => t.abs(),
+                    Tolerance::Percent(p) => target.abs() * p.abs() / 100.0,
+                };
+                (Some(target - band), Some(target + band))
+            }
+        }
+    }
+
+    /// `near 6000 rpm ± 1 %`, with `unit` after every number.
+    pub fn describe(&self, unit: Option<&str>) -> String {
+        let u = |v: f64| match unit {
+            Some(u) => format!("{} {u}", number(v)),
+            None => number(v),
+        };
+        match self {
+            Predicate::Equals(v) => format!("equals {}", u(*v)),
+            Predicate::EqualsText(t) => format!("equals \"{t}\""),
+            Predicate::Above(v) => format!("above {}", u(*v)),
+            Predicate::Below(v) => format!("below {}", u(*v)),
+            Predicate::Between(a, b) => format!("between {} and {}", u(*a), u(*b)),
+            Predicate::Near { target, tolerance } => match tolerance {
+                Tolerance::Absolute(t) => format!("near {} ± {}", u(*target), u(*t)),
+                Tolerance::Percent(p) => format!("near {} ± {} %", u(*target), number(*p)),
+            },
+        }
+    }
+}
+
+/// A number without needless digits: 6000, 0.5, 1003.647.
+pub fn number(v: f64) -> String {
+    if v == v.trunc() && v.abs() < 1e15 {
+        format!("{}", v as i64)
+    } else {
+        let s = format!("{v:.6}");
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    }
+}
+
+/// What `wait_until` waits for.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Condition {
+    State(DeviceState),
+    Value { object: ObjectRef, predicate: Predicate },
+}
+
+impl fmt::Display for Condition {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Condition::State(s) => write!(f, "state {}", s.id()),
+            Condition::Value { object, predicate } => {
+                write!(
+                    f,
+                    "{} {}",
+                    object.name,
+                    predicate.describe(object.unit.as_deref())
+                )
+            }
+        }
+    }
+}
+
+/// A statistic of the last sample window.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Statistic {
+    Mean,
+    Min,
+    Max,
+    /// Peak to peak: max − min.
+    Ripple,
+    /// Standard deviation.
+    Std,
+}
+
+impl Statistic {
+    pub const ALL: [(&'static str, Statistic); 5] = [
+        ("mean", Statistic::Mean),
+        ("min", Statistic::Min),
+        ("max", Statistic::Max),
+        ("ripple", Statistic::Ripple),
+        ("std", Statistic::Std),
+    ];
+
+    pub fn id(self) -> &'static str {
+        match self {
+            Statistic::Mean => "mean",
+            Statistic::Min => "min",
+            Statistic::Max => "max",
+            Statistic::Ripple => "ripple",
+            Statistic::Std => "std",
+        }
+    }
+
+    pub fn from_id(id: &str) -> Option<Statistic> {
+        Self::ALL.iter().find(|(n, _)| *n == id).map(|(_, s)| *s)
+    }
+}
+
+/// A named pass/fail check of `expect`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Check {
+    /// `speed_actual mean near 6000 rpm ± 0.5 %`, or the recipe's own name for it.
+    pub name: String,
+    pub object: ObjectRef,
+    /// `None`: the value read now. `Some`: a statistic of the last sample window.
+    pub statistic: Option<Statistic>,
+    pub predicate: Predicate,
+}
+
+/// Statistics of one sampled series.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Stats {
+    pub count: usize,
+    pub mean: f64,
+    pub min: f64,
+    pub max: f64,
+    pub std: f64,
+}
+
+impl Stats {
+    pub fn of(values: &[f64]) -> Stats {
+        if values.is_empty() {
+            return Stats::default();
+        }
+        let n = values.len() as f64;
+        let mean = values.iter().sum::<f64>() / n;
+        let var = values.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / n;
+        Stats {
+            count: values.len(),
+            mean,
+            min: values.iter().copied().fold(f64::INFINITY, f64::min),
+            max: values.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+            std: var.sqrt(),
+        }
+    }
+
+    pub fn get(&self, s: Statistic) -> f64 {
+        match s {
+            Statistic::Mean => self.mean,
+            Statistic::Min => self.min,
+            Statistic::Max => self.max,
+            Statistic::Ripple => self.max - self.min,
+            Statistic::Std => self.std,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn near_percent_and_absolute() {
+        let p = Predicate::Near {
+            target: 6000.0,
+            tolerance: Tolerance::Percent(1.0),
+        };
+        assert!(p.holds(6059.9) && p.holds(5940.0) && !p.holds(6061.0));
+        assert_eq!(p.limits(), (Some(5940.0), Some(6060.0)));
+        assert_eq!(p.describe(Some("rpm")), "near 6000 rpm ± 1 %");
+        let a = Predicate::Near {
+            target: 0.0,
+            tolerance: Tolerance::Absolute(5.0),
+        };
+        assert!(a.holds(-5.0) && !a.holds(5.1));
+        assert_eq!(a.describe(Some("rpm")), "near 0 rpm ± 5 rpm");
+    }
+
+    #[test]
+    fn bounds_are_strict_only_for_above_and_below() {
+        assert!(!Predicate::Above(1.0).holds(1.0));
+        assert!(Predicate::Above(1.0).holds(1.01));
+        assert!(!Predicate::Below(1.0).holds(1.0));
+        assert!(Predicate::Between(2.0, 1.0).holds(1.0) && Predicate::Between(1.0, 2.0).holds(2.0));
+        assert!(Predicate::Equals(7.0).holds(7.0) && !Predicate::Equals(7.0).holds(7.5));
+        assert!(Predicate::EqualsText("Test Motor".into()).holds_text("Test Motor"));
+        assert!(!Predicate::EqualsText("x".into()).holds(1.0));
+    }
+
+    #[test]
+    fn statistics() {
+        let s = Stats::of(&[1.0, 2.0, 3.0, 4.0]);
+        assert_eq!((s.count, s.mean, s.min, s.max), (4, 2.5, 1.0, 4.0));
+        assert_eq!(s.get(Statistic::Ripple), 3.0);
+        assert!((s.std - 1.118_034).abs() < 1e-6);
+        assert_eq!(Stats::of(&[]).count, 0);
+        assert_eq!(number(6000.0), "6000");
+        assert_eq!(number(0.5), "0.5");
+        assert_eq!(number(1003.647), "1003.647");
+    }
+}

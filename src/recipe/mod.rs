@@ -1,0 +1,21 @@
+//! YAML recipes: the model with source places, validation against the dictionary (every
+//! problem at once, with did-you-mean), and the interpreter that runs them against the
+//! drive API. Knows nothing about bytes or ports.
+
+mod condition;
+mod loader;
+mod problem;
+mod recipe;
+mod run_observer;
+mod run_report;
+mod runner;
+mod step;
+
+pub use condition::{number, Check, Condition, Predicate, Statistic, Stats, Tolerance};
+pub use loader::{load_recipe, load_recipe_text, show_duration};
+pub use problem::{Problem, RecipeInvalid, RecipeSource};
+pub use recipe::{Param, Recipe};
+pub use run_observer::{Observers, RunObserver};
+pub use run_report::{CheckResult, RunReport, Series, StepRecord, Verdict};
+pub use runner::{default_finally_steps, InterruptCount, Runner};
+pub use step::{ObjectRef, SetValue, Step, StepKind, StepOrigin};

@@ -1,0 +1,111 @@
+//! A validated recipe step: every object resolved, every value converted to the object's
+//! engineering unit and checked against its limits, every duration parsed. What the
+//! interpreter runs; it never sees YAML.
+
+use super::condition::{Check, Condition};
+use crate::protocol::device_control::{DeviceCommand, DeviceState};
+use std::path::PathBuf;
+use std::time::Duration;
+
+/// Where a step was written: `recipes/run-in.yaml:12:5`.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct StepOrigin {
+    pub path: String,
+    pub line: usize,
+    pub column: usize,
+}
+
+impl std::fmt::Display for StepOrigin {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}:{}:{}", self.path, self.line, self.column)
+    }
+}
+
+/// An object as a step names it, resolved to its dictionary name.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ObjectRef {
+    /// The dictionary's name (an alias in the recipe is resolved to this).
+    pub name: String,
+    /// The object's engineering unit symbol, for messages and CSV headers.
+    pub unit: Option<String>,
+}
+
+impl std::fmt::Display for ObjectRef {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.name)
+    }
+}
+
+/// A value to write: a number in the object's unit, or text for string objects.
+#[derive(Debug, Clone, PartialEq)]
+pub enum SetValue {
+    Number(f64),
+    Text(String),
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct Step {
+    pub kind: StepKind,
+    pub origin: StepOrigin,
+    /// One line saying what the step does: `set speed_setpoint = 6000 rpm`.
+    pub label: String,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub enum StepKind {
+    /// Write one device-control command to the control word.
+    Command(DeviceCommand),
+    /// Walk the state machine to a state, each transition within `timeout`.
+    GoTo { state: DeviceState, timeout: Duration },
+    /// Write objects, in the order written.
+    Set(Vec<(ObjectRef, SetValue)>),
+    /// Read objects and show their values.
+    Read(Vec<ObjectRef>),
+    /// Show a message.
+    Print(String),
+    /// Poll until the condition holds; failing after `timeout`.
+    WaitUntil {
+        condition: Condition,
+        timeout: Duration,
+        every: Duration,
+    },
+    /// Wait, watching the drive for faults.
+    Dwell(Duration),
+    /// Read objects every `every` for `duration`, keeping statistics; optionally to CSV.
+    Sample {
+        objects: Vec<ObjectRef>,
+        every: Duration,
+        duration: Duration,
+        csv: Option<PathBuf>,
+    },
+    /// Named pass/fail checks.
+    Expect(Vec<Check>),
+    /// Write an object in steps from one value to another.
+    Ramp {
+        object: ObjectRef,
+        points: Vec<f64>,
+        every: Duration,
+    },
+    /// Run nested steps a number of times or for a duration.
+    Repeat {
+        times: Option<u32>,
+        duration: Option<Duration>,
+        steps: Vec<Step>,
+    },
+    /// Steps of another recipe file, with its parameters already applied.
+    Include { path: String, steps: Vec<Step> },
+}
+
+impl Step {
+    /// True for steps that take time and should show progress.
+    pub fn is_long(&self) -> bool {
+        matches!(
+            self.kind,
+            StepKind::WaitUntil { .. }
+                | StepKind::Dwell(_)
+                | StepKind::Sample { .. }
+                | StepKind::Repeat { .. }
+                | StepKind::Ramp { .. }
+        )
+    }
+}

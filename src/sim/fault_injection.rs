@@ -1,0 +1,169 @@
+//! Faults a test can inject into the simulated drive between telegrams: lost, corrupt, late
+//! or misaddressed replies, a drive fault at a chosen time, a fault that will not reset.
+//! It only decides what happens to replies and when trips fire; it must not build bytes or
+//! touch the drive model itself.
+
+use std::time::Duration;
+
+/// Pending injections. Each reply-shaping injection affects the next `n` replies the drive
+/// produces and counts down by one per reply, independently of the others (a reply can be
+/// both late and corrupt; a dropped reply still uses up the other injections it overlaps).
+/// Calling a setter again replaces its count. The request behind a dropped or damaged reply
+/// is still executed, as on a real drive whose answer is lost on the wire.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct FaultInjection {
+    drop: u32,
+    corrupt: u32,
+    delay: u32,
+    delay_by: Duration,
+    wrong_address: u32,
+    /// Sorted by time; equal times keep the order they were scheduled in.
+    trips: Vec<(Duration, u16)>,
+    reset_blocked: bool,
+}
+
+/// What happens to one reply.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub(crate) struct ReplyFate {
+    pub(crate) dropped: bool,
+    pub(crate) corrupt_checksum: bool,
+    pub(crate) extra_delay: Duration,
+    pub(crate) wrong_address: bool,
+}
+
+fn count_down(n: &mut u32) -> bool {
+    let active = *n > 0;
+    *n = n.saturating_sub(1);
+    active
+}
+
+impl FaultInjection {
+    /// The next `n` replies are not sent.
+    pub fn drop_replies(&mut self, n: u32) -> &mut Self {
+        self.drop = n;
+        self
+    }
+
+    /// The next `n` replies go out with their check byte inverted.
+    pub fn corrupt_checksum(&mut self, n: u32) -> &mut Self {
+        self.corrupt = n;
+        self
+    }
+
+    /// The next `n` replies are sent `by` later than the normal response latency.
+    pub fn delay_replies(&mut self, n: u32, by: Duration) -> &mut Self {
+        self.delay = n;
+        self.delay_by = by;
+        self
+    }
+
+    /// The next `n` replies carry source address + 1 (another drive answering).
+    pub fn wrong_address(&mut self, n: u32) -> &mut Self {
+        self.wrong_address = n;
+        self
+    }
+
+    /// At clock time `at` the drive trips: fault reaction active (braking at the quick-stop
+    /// ramp), then fault at standstill; the drive error object shows `drive_error` until a
+    /// fault reset. A time already past fires with the next telegram.
+    pub fn trip_at(&mut self, at: Duration, drive_error: u16) -> &mut Self {
+        let i = self.trips.partition_point(|(t, _)| *t <= at);
+        self.trips.insert(i, (at, drive_error));
+        self
+    }
+
+    /// While `blocked`, the fault cause persists: a fault reset leaves the drive in fault.
+    pub fn fault_reset_blocked(&mut self, blocked: bool) -> &mut Self {
+        self.reset_blocked = blocked;
+        self
+    }
+
+    pub fn is_fault_reset_blocked(&self) -> bool {
+        self.reset_blocked
+    }
+
+    /// True when no reply injection is pending and no trip is scheduled.
+    pub fn is_idle(&self) -> bool {
+        self.drop == 0
+            && self.corrupt == 0
+            && self.delay == 0
+            && self.wrong_address == 0
+            && self.trips.is_empty()
+    }
+
+    /// The fate of the reply about to be sent; counts every active injection down.
+    pub(crate) fn next_reply(&mut self) -> ReplyFate {
+        let delayed = count_down(&mut self.delay);
+        ReplyFate {
+            dropped: count_down(&mut self.drop),
+            corrupt_checksum: count_down(&mut self.corrupt),
+            extra_delay: if delayed { self.delay_by } else { Duration::ZERO },
+            wrong_address: count_down(&mut self.wrong_address),
+        }
+    }
+
+    /// Removes and returns the earliest trip due at or before `until`.
+    pub(crate) fn take_trip_due(&mut self, until: Duration) -> Option<(Duration, u16)> {
+        match self.trips.first() {
+            Some(&(at, _)) if at <= until => Some(self.trips.remove(0)),
+            _ => None,
+        }
+    }
+
+    /// The trips due at or before `until`, in firing order, without consuming them.
+    pub(crate) fn trips_due(&self, until: Duration) -> impl Iterator<Item = (Duration, u16)> + '_ {
+        self.trips.iter().copied().take_while(move |(at, _)| *at <= until)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn injections_count_down_independently() {
+        let mut f = FaultInjection::default();
+        assert!(f.is_idle());
+        f.drop_replies(1)
+            .corrupt_checksum(2)
+            .delay_replies(3, Duration::from_millis(5))
+            .wrong_address(1);
+        assert!(!f.is_idle());
+        let first = f.next_reply();
+        assert_eq!(
+            first,
+            ReplyFate {
+                dropped: true,
+                corrupt_checksum: true,
+                extra_delay: Duration::from_millis(5),
+                wrong_address: true
+            }
+        );
+        let second = f.next_reply();
+        assert!(!second.dropped && second.corrupt_checksum && !second.wrong_address);
+        let third = f.next_reply();
+        assert_eq!(third.extra_delay, Duration::from_millis(5));
+        assert!(!third.corrupt_checksum);
+        assert_eq!(f.next_reply(), ReplyFate::default());
+        assert!(f.is_idle());
+    }
+
+    #[test]
+    fn trips_fire_in_time_order() {
+        let mut f = FaultInjection::default();
+        let s = Duration::from_secs;
+        f.trip_at(s(5), 2).trip_at(s(1), 1).trip_at(s(5), 3);
+        assert_eq!(
+            f.trips_due(s(5)).collect::<Vec<_>>(),
+            vec![(s(1), 1), (s(5), 2), (s(5), 3)]
+        );
+        assert_eq!(f.take_trip_due(s(0)), None);
+        assert_eq!(f.take_trip_due(s(2)), Some((s(1), 1)));
+        assert_eq!(f.take_trip_due(s(2)), None);
+        assert_eq!(f.take_trip_due(s(9)), Some((s(5), 2)));
+        assert_eq!(f.take_trip_due(s(9)), Some((s(5), 3)));
+        assert!(f.is_idle());
+        f.fault_reset_blocked(true);
+        assert!(f.is_fault_reset_blocked());
+    }
+}

@@ -1,0 +1,270 @@
+//! The simulated SD2 drive as a byte-level peer: cuts incoming bytes into blocks, answers
+//! every request addressed to it with the exact reply bytes a drive sends, and applies the
+//! injected faults to those replies. It must not take shortcuts around the codec (every
+//! request is decoded and every reply encoded) and must not read a clock of its own: time
+//! is the `now` it is given, so the same bytes at the same times give the same replies.
+
+use super::drive_model::DriveModel;
+use super::fault_injection::FaultInjection;
+use super::service_channel::{
+    ServiceAction, ServiceSession, INVALID_SERVICE_DRIVE_ERROR, UNSUPPORTED_ACCESS,
+};
+use super::sim_config::SimConfig;
+use super::sim_objects::{SimObject, CONTROL_WORD};
+use crate::protocol::device_control::DeviceState;
+use crate::protocol::sd2::{
+    Body, Cyclic, ErrorCode, FrameExtractor, Framing, ServiceChannel, Telegram, WriteLength,
+};
+use crate::transport::{Peer, PeerReply};
+use std::time::Duration;
+
+/// A simulated single-axis SD2 drive. See the module docs of `sim` for the model.
+#[derive(Debug)]
+pub struct Sd2Simulator {
+    model: DriveModel,
+    extractor: FrameExtractor,
+    faults: FaultInjection,
+    service: ServiceSession,
+    logging: bool,
+    received: Vec<(Duration, Telegram)>,
+    control_words: Vec<u16>,
+    corrupt_blocks: u64,
+}
+
+impl Sd2Simulator {
+    /// A drive just booted: switch on disabled, at rest, setpoint 0.
+    pub fn new(config: SimConfig) -> Self {
+        Sd2Simulator {
+            model: DriveModel::new(config),
+            extractor: FrameExtractor::new(Framing::Requests),
+            faults: FaultInjection::default(),
+            service: ServiceSession::default(),
+            logging: true,
+            received: Vec::new(),
+            control_words: Vec::new(),
+            corrupt_blocks: 0,
+        }
+    }
+
+    pub fn config(&self) -> &SimConfig {
+        self.model.config()
+    }
+
+    /// One line for the command line's first output.
+    pub fn describe(&self) -> String {
+        let c = self.config();
+        format!(
+            "simulated SD2 at DNC address {} (ramp {} rpm/s)",
+            c.address, c.ramp_rpm_per_s
+        )
+    }
+
+    /// Every decoded request addressed to this drive, with the time it arrived.
+    pub fn received(&self) -> &[(Duration, Telegram)] {
+        &self.received
+    }
+
+    /// Every control word accepted, from writes of object 68 (block or service channel)
+    /// and from cyclic telegrams, in order.
+    pub fn control_words_written(&self) -> Vec<u16> {
+        self.control_words.clone()
+    }
+
+    /// Forgets the logs of [`received`](Self::received) and
+    /// [`control_words_written`](Self::control_words_written).
+    pub fn clear_log(&mut self) {
+        self.received.clear();
+        self.control_words.clear();
+    }
+
+    /// Turns the logs on (the default) or off: a long run-in that nobody inspects need not
+    /// keep every telegram in memory.
+    pub fn set_logging(&mut self, on: bool) {
+        self.logging = on;
+    }
+
+    /// Candidate blocks that failed to decode (bad checksum, length or command). A real
+    /// drive cannot trust the header of such a block, so it stays silent and the master
+    /// times out; the count lets a test see that this happened.
+    pub fn corrupt_blocks(&self) -> u64 {
+        self.corrupt_blocks
+    }
+
+    /// The device state as of the last block received.
+    pub fn state(&self) -> DeviceState {
+        self.model.state()
+    }
+
+    /// Model speed (without noise) at `now`, including trips scheduled before `now`.
+    /// Does not advance the drive itself.
+    pub fn speed_rpm(&self, now: Duration) -> f64 {
+        let mut model = self.model.clone();
+        for (at, code) in self.faults.trips_due(now) {
+            model.advance_to(at);
+            model.trip(code);
+        }
+        model.advance_to(now);
+        model.speed_rpm()
+    }
+
+    /// The speed setpoint in rpm, as last written (object 395 or the cyclic reference).
+    pub fn setpoint_rpm(&self) -> f64 {
+        self.model.setpoint_rpm()
+    }
+
+    /// Faults to inject into the next replies or at a given time.
+    pub fn faults(&mut self) -> &mut FaultInjection {
+        &mut self.faults
+    }
+
+    /// Advances the model to `now`, splitting the interval at every scheduled trip.
+    fn advance_to(&mut self, now: Duration) {
+        while let Some((at, code)) = self.faults.take_trip_due(now) {
+            self.model.advance_to(at);
+            self.model.trip(code);
+        }
+        self.model.advance_to(now);
+    }
+
+    fn answer(&mut self, body: &Body) -> Option<Body> {
+        Some(match *body {
+            Body::ReadRequest { index, subindex } => match self.model.read(index, subindex) {
+                Ok(data) => Body::ReadReply {
+                    error: ErrorCode::OK,
+                    data,
+                },
+                Err(error) => Body::ReadReply {
+                    error,
+                    data: Default::default(),
+                },
+            },
+            Body::WriteRequest {
+                index,
+                subindex,
+                data,
+            } => Body::WriteReply {
+                error: self
+                    .write_object(index, subindex, data.as_slice())
+                    .err()
+                    .unwrap_or(ErrorCode::OK),
+            },
+            Body::CyclicRequest(request) => Body::CyclicReply(self.cyclic(&request)),
+            // A reply on the bus is some other drive's business.
+            Body::ReadReply { .. } | Body::WriteReply { .. } | Body::CyclicReply(_) => return None,
+        })
+    }
+
+    fn write_object(&mut self, index: u16, subindex: u32, bytes: &[u8]) -> Result<(), ErrorCode> {
+        let blocked = self.faults.is_fault_reset_blocked();
+        self.model.write(index, subindex, bytes, blocked)?;
+        if let (CONTROL_WORD, true, &[lo, hi]) = (index, self.logging, bytes) {
+            self.control_words.push(u16::from_le_bytes([lo, hi]));
+        }
+        Ok(())
+    }
+
+    /// Process data first (control word, then speed reference), then the service channel,
+    /// so the reply's status shows the effect of both.
+    fn cyclic(&mut self, request: &Cyclic) -> Cyclic {
+        let control_word = request.word();
+        if self.logging {
+            self.control_words.push(control_word);
+        }
+        let blocked = self.faults.is_fault_reset_blocked();
+        self.model.write_control_word(control_word, blocked);
+        self.model.set_speed_reference(request.speed());
+        let service = request.service.map(|s| self.serve(&s));
+        let mut reply = self.model.cyclic_reply(request.header);
+        reply.service = service;
+        reply
+    }
+
+    fn serve(&mut self, request: &ServiceChannel) -> ServiceChannel {
+        let outcome = match self.service.begin(request) {
+            ServiceAction::Resend(reply) => return reply,
+            ServiceAction::Read { index, subindex } => self.model.read(index, subindex).and_then(|data| {
+                let s = data.as_slice();
+                let mut out = [0u8; 4];
+                out.get_mut(..s.len())
+                    .ok_or(UNSUPPORTED_ACCESS)?
+                    .copy_from_slice(s);
+                Ok(out)
+            }),
+            ServiceAction::Write {
+                index,
+                subindex,
+                data,
+                valid,
+            } => {
+                // The object's own size, when the master sent at least that many bytes.
+                let n =
+                    SimObject::find(index)
+                        .map_or(valid, |o| if o.size() <= valid { o.size() } else { valid });
+                self.write_object(index, subindex, &data[..n]).map(|()| data)
+            }
+            ServiceAction::Acknowledge => Ok(request.data),
+            ServiceAction::Invalid => {
+                self.model.trip(INVALID_SERVICE_DRIVE_ERROR);
+                Err(UNSUPPORTED_ACCESS)
+            }
+        };
+        self.service.finish(request, outcome)
+    }
+
+    /// Encodes `reply` and applies the injected faults: `None` when it is dropped.
+    fn send(&mut self, reply: Telegram, now: Duration) -> Option<PeerReply> {
+        let fate = self.faults.next_reply();
+        if fate.dropped {
+            return None;
+        }
+        let mut reply = reply;
+        if fate.wrong_address {
+            reply.source = reply.source.wrapping_add(1);
+        }
+        // Replies are never write commands, so the length-field choice does not apply.
+        let mut bytes = reply.encode(WriteLength::Captured);
+        if fate.corrupt_checksum {
+            if let Some(check) = bytes.last_mut() {
+                *check = !*check;
+            }
+        }
+        Some(PeerReply {
+            at: now + self.config().response_latency + fate.extra_delay,
+            bytes,
+        })
+    }
+}
+
+impl Peer for Sd2Simulator {
+    fn receive(&mut self, bytes: &[u8], now: Duration) -> Vec<PeerReply> {
+        self.advance_to(now);
+        self.extractor.push(bytes);
+        let mut replies = Vec::new();
+        while let Some(block) = self.extractor.next_block() {
+            let Ok(request) = block.telegram else {
+                self.corrupt_blocks += 1;
+                continue;
+            };
+            if request.dest != self.config().address || request.is_reply() {
+                continue;
+            }
+            if self.logging {
+                self.received.push((now, request));
+            }
+            let Some(body) = self.answer(&request.body) else {
+                continue;
+            };
+            let reply = Telegram {
+                dest: request.source,
+                source: self.config().address,
+                body,
+            };
+            replies.extend(self.send(reply, now));
+        }
+        replies
+    }
+}
+
+#[cfg(test)]
+#[path = "sd2_simulator_tests.rs"]
+mod tests;

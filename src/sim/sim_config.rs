@@ -1,0 +1,48 @@
+//! The simulated SD2 drive's settings: address, timing and the physical constants of the
+//! motor model. Plain data with the documented defaults; it must not hold any state.
+
+use std::time::Duration;
+
+/// How the simulated drive is set up. `Default` gives a single-axis SD2 at DNC address 2
+/// with a 230 V supply and a light spindle.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SimConfig {
+    /// DNC address the drive answers to (drive A at switch 0 is 2).
+    pub address: u8,
+    /// Time from the last byte of a request to the reply. The manual promises at most
+    /// 250 µs; 100 µs keeps the simulator well inside that.
+    pub response_latency: Duration,
+    /// Speed ramp in operation enabled.
+    pub ramp_rpm_per_s: f64,
+    /// Deceleration in quick stop active and fault reaction active.
+    pub quick_stop_ramp_rpm_per_s: f64,
+    /// Friction deceleration while the power stage is off (the motor coasts).
+    pub coast_rpm_per_s: f64,
+    /// The speed that the cyclic telegram's 0x3FFF (+100 %) stands for.
+    pub velocity_scaling_rpm: f64,
+    /// Largest speed setpoint the drive accepts (either sign).
+    pub max_speed_rpm: f64,
+    /// Peak of the noise on the actual speed.
+    pub noise_rpm: f64,
+    /// Seed of the noise generator; the same seed gives the same measurements.
+    pub seed: u64,
+    /// Parameter-set identification (object 22); at most 32 bytes are reported.
+    pub ident: String,
+}
+
+impl Default for SimConfig {
+    fn default() -> Self {
+        SimConfig {
+            address: 2,
+            response_latency: Duration::from_micros(100),
+            ramp_rpm_per_s: 2000.0,
+            quick_stop_ramp_rpm_per_s: 10_000.0,
+            coast_rpm_per_s: 300.0,
+            velocity_scaling_rpm: 24_000.0,
+            max_speed_rpm: 60_000.0,
+            noise_rpm: 0.5,
+            seed: 0,
+            ident: "Test Motor".to_string(),
+        }
+    }
+}

@@ -1,0 +1,170 @@
+//! Serves an in-process peer (the simulated drive) on a byte pipe — the far end of a
+//! pseudo-terminal, or a TCP connection — so any serial tool, or drivescript itself with
+//! `--port`/`--tcp`, can talk to it. Optionally charges the time bytes would take on a real
+//! line. Must not interpret telegrams: the peer does that.
+
+use crate::clock::SharedClock;
+use crate::transport::{Peer, Transport, TransportError, WireTime};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Arc, Mutex};
+use std::time::Duration;
+
+/// How often the serve loop looks at the stop flag while the line is quiet.
+const POLL: Duration = Duration::from_millis(50);
+
+/// What one `serve` call did.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct ServeStats {
+    pub bytes_in: u64,
+    pub bytes_out: u64,
+    pub replies: u64,
+}
+
+pub struct SimServer {
+    peer: Arc<Mutex<dyn Peer>>,
+    clock: SharedClock,
+    wire: Option<WireTime>,
+    stop: Arc<AtomicBool>,
+}
+
+impl SimServer {
+    pub fn new(peer: Arc<Mutex<dyn Peer>>, clock: SharedClock) -> Self {
+        SimServer {
+            peer,
+            clock,
+            wire: None,
+            stop: Arc::new(AtomicBool::new(false)),
+        }
+    }
+
+    /// Emulates a line at this rate: a request is complete only when its last byte would
+    /// have arrived, and a reply is handed over when its last byte would have been sent.
+    pub fn with_wire_time(mut self, wire: WireTime) -> Self {
+        self.wire = Some(wire);
+        self
+    }
+
+    /// Setting this flag ends `serve` within [`POLL`].
+    pub fn stop_flag(&self) -> Arc<AtomicBool> {
+        self.stop.clone()
+    }
+
+    /// Answers whatever arrives on `io` until the other side closes or the stop flag is set.
+    pub fn serve(&self, io: &mut dyn Transport) -> Result<ServeStats, TransportError> {
+        let mut stats = ServeStats::default();
+        let mut buf = [0u8; 512];
+        let mut input_busy_until = Duration::ZERO;
+        let mut output_busy_until = Duration::ZERO;
+        while !self.stop.load(Ordering::SeqCst) {
+            let n = match io.read(&mut buf, POLL) {
+                Ok(n) => n,
+                Err(TransportError::Timeout { .. }) => continue,
+                Err(TransportError::Closed { .. }) => break,
+                Err(e) => return Err(e),
+            };
+            stats.bytes_in += n as u64;
+            let now = self.clock.now();
+            let arrived = match self.wire {
+                Some(w) => now.max(input_busy_until) + w.of(n),
+                None => now,
+            };
+            input_busy_until = arrived;
+            let replies = match self.peer.lock() {
+                Ok(mut peer) => peer.receive(&buf[..n], arrived),
+                Err(_) => {
+                    return Err(TransportError::Closed {
+                        port: io.name().to_string(),
+                    })
+                }
+            };
+            for reply in replies {
+                let done = match self.wire {
+                    Some(w) => reply.at.max(output_busy_until) + w.of(reply.bytes.len()),
+                    None => reply.at,
+                };
+                output_busy_until = done;
+                self.clock.sleep_until(done);
+                io.write_all(&reply.bytes)?;
+                stats.bytes_out += reply.bytes.len() as u64;
+                stats.replies += 1;
+            }
+        }
+        Ok(stats)
+    }
+}
+
+/// A pseudo-terminal whose far end is served: the path in `path` behaves like a serial
+/// port with a drive on it.
+#[cfg(unix)]
+pub struct PtyEndpoint {
+    /// The path to give other programs (`/dev/pts/N`).
+    pub path: String,
+    /// The near end, to pass to [`SimServer::serve`].
+    pub master: crate::transport::SerialTransport,
+    /// Kept open so the master does not see a hang-up while no program has the path open.
+    _slave: serialport::TTYPort,
+}
+
+#[cfg(unix)]
+impl PtyEndpoint {
+    pub fn open() -> Result<Self, TransportError> {
+        let (master, slave) = serialport::TTYPort::pair().map_err(|e| TransportError::Open {
+            port: "a new pseudo-terminal".into(),
+            detail: e.to_string(),
+        })?;
+        let path = serialport::SerialPort::name(&slave).unwrap_or_default();
+        if path.is_empty() {
+            return Err(TransportError::Open {
+                port: "a new pseudo-terminal".into(),
+                detail: "the system gave no path for it".into(),
+            });
+        }
+        let master = crate::transport::SerialTransport::from_port(master, format!("pseudo-terminal {path}"));
+        Ok(PtyEndpoint {
+            path,
+            master,
+            _slave: slave,
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::clock::RealClock;
+    use crate::transport::PeerReply;
+
+    struct Echo;
+    impl Peer for Echo {
+        fn receive(&mut self, bytes: &[u8], now: Duration) -> Vec<PeerReply> {
+            vec![PeerReply {
+                at: now,
+                bytes: bytes.iter().map(|b| b ^ 0xff).collect(),
+            }]
+        }
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn a_pty_path_answers_like_a_port() {
+        let pty = PtyEndpoint::open().unwrap();
+        let path = pty.path.clone();
+        let mut master = pty.master;
+        let server = SimServer::new(Arc::new(Mutex::new(Echo)), RealClock::shared());
+        let stop = server.stop_flag();
+        let handle = std::thread::spawn(move || server.serve(&mut master));
+        let mut port = crate::transport::SerialTransport::open(&path, Default::default()).unwrap();
+        port.write_all(&[0x00, 0x0f]).unwrap();
+        let mut got = Vec::new();
+        let mut buf = [0u8; 8];
+        while got.len() < 2 {
+            let n = port.read(&mut buf, Duration::from_secs(2)).unwrap();
+            got.extend_from_slice(&buf[..n]);
+        }
+        assert_eq!(got, vec![0xff, 0xf0]);
+        stop.store(true, Ordering::SeqCst);
+        let stats = handle.join().unwrap().unwrap();
+        assert_eq!(stats.replies, 1);
+        drop(pty._slave);
+    }
+}

@@ -1,0 +1,327 @@
+//! YAML text → a tree of nodes that each know where they stand in the file (byte offset,
+//! length, line, column). Recipe validation walks this tree instead of deserialising
+//! straight into structs, so it can report every problem of a file at once, each at its
+//! place. Parsing only; no meaning is given to any key here.
+
+use serde::de::{Deserialize, Deserializer, MapAccess, SeqAccess, Visitor};
+use std::fmt;
+
+/// Where a node stands in its file. `offset`/`len` are in bytes; `line`/`column` 1-based.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct Span {
+    pub offset: usize,
+    pub len: usize,
+    pub line: usize,
+    pub column: usize,
+}
+
+impl Span {
+    /// For miette labels.
+    pub fn source_span(&self) -> miette::SourceSpan {
+        (self.offset, self.len).into()
+    }
+}
+
+/// A value with its span.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Spanned<T> {
+    pub value: T,
+    pub span: Span,
+}
+
+impl<T> Spanned<T> {
+    pub fn new(value: T, span: Span) -> Self {
+        Spanned { value, span }
+    }
+}
+
+/// A YAML node. Mapping entries keep their order and their keys' spans.
+#[derive(Debug, Clone, PartialEq)]
+pub enum YamlNode {
+    Null,
+    Bool(bool),
+    Int(i64),
+    Float(f64),
+    Str(String),
+    Seq(Vec<Spanned<YamlNode>>),
+    Map(Vec<(Spanned<String>, Spanned<YamlNode>)>),
+}
+
+impl YamlNode {
+    /// What kind of node this is, for messages: "a list", "a number".
+    pub fn kind(&self) -> &'static str {
+        match self {
+            YamlNode::Null => "nothing",
+            YamlNode::Bool(_) => "true/false",
+            YamlNode::Int(_) | YamlNode::Float(_) => "a number",
+            YamlNode::Str(_) => "text",
+            YamlNode::Seq(_) => "a list",
+            YamlNode::Map(_) => "a mapping",
+        }
+    }
+
+    /// The node as text: strings as they are, numbers and booleans written out (YAML turns
+    /// `6000` into a number, but a recipe value `6000` means the same as `"6000"`).
+    pub fn as_text(&self) -> Option<String> {
+        match self {
+            YamlNode::Str(s) => Some(s.clone()),
+            YamlNode::Int(i) => Some(i.to_string()),
+            YamlNode::Float(f) => Some(f.to_string()),
+            YamlNode::Bool(b) => Some(b.to_string()),
+            _ => None,
+        }
+    }
+}
+
+/// YAML that could not be parsed at all.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct YamlError {
+    pub message: String,
+    pub span: Span,
+}
+
+/// Parses `text` into a spanned tree.
+pub fn parse(text: &str) -> Result<Spanned<YamlNode>, YamlError> {
+    if text.trim().is_empty() {
+        return Ok(Spanned::new(YamlNode::Null, Span::default()));
+    }
+    let options = serde_saphyr::options! {
+        budget: serde_saphyr::budget! {
+            max_depth: 64,
+            max_nodes: 200_000,
+        },
+    };
+    match serde_saphyr::from_str_with_options::<serde_saphyr::Spanned<Node>>(text, options) {
+        Ok(root) => Ok(convert(root, text)),
+        Err(e) => Err(error_of(&e, text)),
+    }
+}
+
+fn error_of(e: &serde_saphyr::Error, text: &str) -> YamlError {
+    let message = first_line(&e.to_string());
+    let span = e
+        .location()
+        .map(|loc| span_of_location(&loc, text))
+        .unwrap_or_default();
+    YamlError { message, span }
+}
+
+/// serde-saphyr prefixes the message with `error: line L column C:` and appends a snippet;
+/// the caller renders its own snippet, so only the sentence is kept.
+fn first_line(message: &str) -> String {
+    let line = message.lines().next().unwrap_or(message).trim();
+    let line = line.strip_prefix("error:").unwrap_or(line).trim();
+    match line.find(": ") {
+        Some(i) if line[..i].starts_with("line ") => line[i + 2..].to_string(),
+        _ => line.to_string(),
+    }
+}
+
+fn span_of_location(loc: &serde_saphyr::Location, text: &str) -> Span {
+    let line = loc.line() as usize;
+    let column = loc.column() as usize;
+    let span = loc.span();
+    let offset = span
+        .byte_offset()
+        .map(|o| o as usize)
+        .unwrap_or_else(|| offset_of(text, line, column));
+    let len = span.byte_len().map(|l| l as usize).unwrap_or(0);
+    Span {
+        offset: offset.min(text.len()),
+        len: len.min(text.len().saturating_sub(offset)),
+        line,
+        column,
+    }
+}
+
+/// Byte offset of a 1-based line and character column.
+fn offset_of(text: &str, line: usize, column: usize) -> usize {
+    let mut offset = 0;
+    for (i, l) in text.split_inclusive('\n').enumerate() {
+        if i + 1 == line {
+            return offset
+                + l.char_indices()
+                    .nth(column.saturating_sub(1))
+                    .map(|(b, _)| b)
+                    .unwrap_or(l.len());
+        }
+        offset += l.len();
+    }
+    text.len()
+}
+
+fn convert(node: serde_saphyr::Spanned<Node>, text: &str) -> Spanned<YamlNode> {
+    let span = span_of_location(&node.referenced, text);
+    let value = match node.value {
+        Node::Null => YamlNode::Null,
+        Node::Bool(b) => YamlNode::Bool(b),
+        Node::Int(i) => YamlNode::Int(i),
+        Node::Float(f) => YamlNode::Float(f),
+        Node::Str(s) => YamlNode::Str(s),
+        Node::Seq(items) => YamlNode::Seq(items.into_iter().map(|n| convert(n, text)).collect()),
+        Node::Map(entries) => YamlNode::Map(
+            entries
+                .into_iter()
+                .map(|(k, v)| {
+                    let key_span = span_of_location(&k.referenced, text);
+                    let key = match k.value {
+                        Node::Str(s) => s,
+                        other => plain(&other),
+                    };
+                    (Spanned::new(key, key_span), convert(v, text))
+                })
+                .collect(),
+        ),
+    };
+    Spanned::new(value, span)
+}
+
+fn plain(node: &Node) -> String {
+    match node {
+        Node::Null => "null".into(),
+        Node::Bool(b) => b.to_string(),
+        Node::Int(i) => i.to_string(),
+        Node::Float(f) => f.to_string(),
+        Node::Str(s) => s.clone(),
+        Node::Seq(_) | Node::Map(_) => "(a list or mapping as a key)".into(),
+    }
+}
+
+/// The raw tree as serde-saphyr hands it over, with its locations.
+enum Node {
+    Null,
+    Bool(bool),
+    Int(i64),
+    Float(f64),
+    Str(String),
+    Seq(Vec<serde_saphyr::Spanned<Node>>),
+    Map(Vec<(serde_saphyr::Spanned<Node>, serde_saphyr::Spanned<Node>)>),
+}
+
+impl<'de> Deserialize<'de> for Node {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        d.deserialize_any(NodeVisitor)
+    }
+}
+
+struct NodeVisitor;
+
+impl<'de> Visitor<'de> for NodeVisitor {
+    type Value = Node;
+
+    fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+        f.write_str("any YAML value")
+    }
+    fn visit_unit<E>(self) -> Result<Node, E> {
+        Ok(Node::Null)
+    }
+    fn visit_none<E>(self) -> Result<Node, E> {
+        Ok(Node::Null)
+    }
+    fn visit_bool<E>(self, v: bool) -> Result<Node, E> {
+        Ok(Node::Bool(v))
+    }
+    fn visit_i64<E>(self, v: i64) -> Result<Node, E> {
+        Ok(Node::Int(v))
+    }
+    fn visit_u64<E>(self, v: u64) -> Result<Node, E> {
+        Ok(i64::try_from(v).map(Node::Int).unwrap_or(Node::Float(v as f64)))
+    }
+    fn visit_f64<E>(self, v: f64) -> Result<Node, E> {
+        Ok(Node::Float(v))
+    }
+    fn visit_str<E>(self, v: &str) -> Result<Node, E> {
+        Ok(Node::Str(v.to_string()))
+    }
+    fn visit_string<E>(self, v: String) -> Result<Node, E> {
+        Ok(Node::Str(v))
+    }
+    fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Node, A::Error> {
+        let mut out = Vec::new();
+        while let Some(item) = seq.next_element()? {
+            out.push(item);
+        }
+        Ok(Node::Seq(out))
+    }
+    fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<Node, A::Error> {
+        let mut out = Vec::new();
+        while let Some(key) = map.next_key()? {
+            let value = map.next_value()?;
+            out.push((key, value));
+        }
+        Ok(Node::Map(out))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    fn map(node: &Spanned<YamlNode>) -> &Vec<(Spanned<String>, Spanned<YamlNode>)> {
+        match &node.value {
+            YamlNode::Map(m) => m,
+            other => panic!("not a map: {other:?}"),
+        }
+    }
+
+    #[test]
+    fn every_node_knows_its_place() {
+        let text = "name: Spindle\nsteps:\n  - shutdown\n  - set: { speed_setpoint: \"{{speed}}\" }\n  - dwell: 10\n";
+        let root = parse(text).unwrap();
+        let m = map(&root);
+        assert_eq!(m[0].0.value, "name");
+        assert_eq!(m[0].1.value, YamlNode::Str("Spindle".into()));
+        assert_eq!((m[0].1.span.line, m[0].1.span.column), (1, 7));
+        let YamlNode::Seq(steps) = &m[1].1.value else {
+            panic!()
+        };
+        assert_eq!(steps[0].span.line, 3);
+        let set = map(&steps[1]);
+        let inner = map(&set[0].1);
+        let value = &inner[0].1;
+        assert_eq!(
+            &text[value.span.offset..value.span.offset + value.span.len],
+            "\"{{speed}}\""
+        );
+        assert_eq!((value.span.line, value.span.column), (4, 28));
+        let dwell = map(&steps[2]);
+        assert_eq!(dwell[0].1.value, YamlNode::Int(10));
+    }
+
+    #[test]
+    fn syntax_errors_are_located() {
+        let e = parse("a: [1, 2\nb: 3").unwrap_err();
+        assert_eq!(e.span.line, 2, "{e:?}");
+        assert!(!e.message.contains("-->"), "{}", e.message);
+    }
+
+    #[test]
+    fn alias_bombs_are_bounded() {
+        let mut text = String::from("a0: &a0 [x, x, x, x, x, x, x, x, x, x]\n");
+        for i in 1..12 {
+            text.push_str(&format!(
+                "a{i}: &a{i} [*a{p}, *a{p}, *a{p}, *a{p}, *a{p}, *a{p}, *a{p}, *a{p}, *a{p}, *a{p}]\n",
+                p = i - 1
+            ));
+        }
+        assert!(parse(&text).is_err());
+    }
+
+    #[test]
+    fn empty_text_is_null() {
+        assert_eq!(parse("  \n").unwrap().value, YamlNode::Null);
+    }
+
+    proptest! {
+        #[test]
+        fn never_panics(text in "\\PC{0,200}") {
+            let _ = parse(&text);
+        }
+
+        #[test]
+        fn never_panics_on_yamlish(text in "[a-z:\\-\\[\\]{}, \\n\"'&*!|>#0-9]{0,200}") {
+            let _ = parse(&text);
+        }
+    }
+}

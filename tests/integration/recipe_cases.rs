@@ -1,0 +1,199 @@
+//! Data-driven recipe cases: every folder `tests/cases/<group>/<case>/` holds `recipe.yaml`
+//! (and any files it includes) and `case.yaml`:
+//!
+//! ```yaml
+//! exit: 0                      # expected exit code
+//! args: [speed=4000rpm]        # --set overrides (optional)
+//! sim: { trip_at: 12 s, drive_error: 4660, drop_replies: 1, fault_reset_blocked: true }
+//! interrupt_at: 30 s           # Ctrl-C pressed once at this (virtual) time (optional)
+//! output: |                    # lines that must appear, in this order (substring of a line)
+//!   PASSED
+//! control_words: [0, 6, 7, 15, 7, 6]   # exactly the control words the drive received
+//! control_words_end: [7, 6]            # or only the last ones (the safe stop)
+//! ```
+//!
+//! Every case runs in-process against the simulated drive in virtual time.
+
+use drivescript::cli::{run_recipe, ConnectionArgs, DictionaryArgs, RunRequest};
+use drivescript::clock::SharedClock;
+use std::path::{Path, PathBuf};
+use std::sync::{Arc, Mutex, OnceLock};
+use std::time::Duration;
+
+#[derive(Debug, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+struct Case {
+    exit: i32,
+    #[serde(default)]
+    args: Vec<String>,
+    #[serde(default)]
+    sim: Option<SimSetup>,
+    #[serde(default)]
+    interrupt_at: Option<String>,
+    #[serde(default)]
+    output: String,
+    #[serde(default)]
+    control_words: Option<Vec<u16>>,
+    #[serde(default)]
+    control_words_end: Option<Vec<u16>>,
+}
+
+#[derive(Debug, Default, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+struct SimSetup {
+    trip_at: Option<String>,
+    drive_error: Option<u16>,
+    drop_replies: Option<u32>,
+    corrupt_checksum: Option<u32>,
+    wrong_address: Option<u32>,
+    fault_reset_blocked: Option<bool>,
+}
+
+fn duration(text: &str) -> Duration {
+    humantime::parse_duration(text).unwrap_or_else(|e| panic!("bad duration {text}: {e}"))
+}
+
+fn cases() -> Vec<PathBuf> {
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/cases");
+    let mut out = Vec::new();
+    for group in std::fs::read_dir(&root).expect("tests/cases exists") {
+        let group = group.expect("readable").path();
+        if !group.is_dir() {
+            continue;
+        }
+        for case in std::fs::read_dir(&group).expect("readable") {
+            let case = case.expect("readable").path();
+            if case.join("case.yaml").exists() {
+                out.push(case);
+            }
+        }
+    }
+    out.sort();
+    out
+}
+
+/// Runs one case; returns what was wrong with it, if anything.
+fn run_case(dir: &Path) -> Result<(), String> {
+    let text = std::fs::read_to_string(dir.join("case.yaml")).map_err(|e| e.to_string())?;
+    let case: Case = serde_saphyr::from_str(&text).map_err(|e| format!("case.yaml: {e}"))?;
+    let set: Vec<(String, String)> = case
+        .args
+        .iter()
+        .map(|a| {
+            let (k, v) = a.split_once('=').expect("args are NAME=VALUE");
+            (k.to_string(), v.to_string())
+        })
+        .collect();
+    let clock_slot: Arc<OnceLock<SharedClock>> = Arc::new(OnceLock::new());
+    let interrupt_at = case.interrupt_at.as_deref().map(duration);
+    let slot = clock_slot.clone();
+    let interrupts = move || match (interrupt_at, slot.get()) {
+        (Some(at), Some(clock)) if clock.now() >= at => 1,
+        _ => 0,
+    };
+    let sim_setup = case.sim.unwrap_or_default();
+    let slot = clock_slot.clone();
+    let prepare = move |sim: &Arc<Mutex<drivescript::sim::Sd2Simulator>>, clock: &SharedClock| {
+        let _ = slot.set(clock.clone());
+        let mut sim = sim.lock().expect("simulator lock");
+        let f = sim.faults();
+        if let Some(at) = &sim_setup.trip_at {
+            f.trip_at(duration(at), sim_setup.drive_error.unwrap_or(1));
+        }
+        if let Some(n) = sim_setup.drop_replies {
+            f.drop_replies(n);
+        }
+        if let Some(n) = sim_setup.corrupt_checksum {
+            f.corrupt_checksum(n);
+        }
+        if let Some(n) = sim_setup.wrong_address {
+            f.wrong_address(n);
+        }
+        if let Some(b) = sim_setup.fault_reset_blocked {
+            f.fault_reset_blocked(b);
+        }
+    };
+    let output_dir = std::env::temp_dir().join(format!(
+        "drivescript-case-{}",
+        dir.file_name().and_then(|n| n.to_str()).unwrap_or("x")
+    ));
+    let dictionary = DictionaryArgs::builtin_sd2();
+    let connection = ConnectionArgs::simulated();
+    let recipe = dir.join("recipe.yaml");
+    let request = RunRequest {
+        recipe: &recipe,
+        set: &set,
+        fast: true,
+        output_dir,
+        dictionary: &dictionary,
+        connection: &connection,
+        prepare_simulator: Some(&prepare),
+        interrupts: &interrupts,
+    };
+    let mut out = Vec::new();
+    let mut err = Vec::new();
+    let result = run_recipe(&request, &mut out, &mut err);
+    let output = format!(
+        "{}{}",
+        String::from_utf8_lossy(&out),
+        String::from_utf8_lossy(&err)
+    );
+    let mut problems = Vec::new();
+    if result.exit_code != case.exit {
+        problems.push(format!("exit code {} (expected {})", result.exit_code, case.exit));
+    }
+    // Expected lines must appear in order.
+    let mut lines = output.lines();
+    for want in case.output.lines().map(str::trim).filter(|l| !l.is_empty()) {
+        if !lines.any(|l| l.contains(want)) {
+            problems.push(format!("missing (in order): {want}"));
+            break;
+        }
+    }
+    let words = result
+        .simulator
+        .as_ref()
+        .map(|s| s.lock().expect("simulator lock").control_words_written())
+        .unwrap_or_default();
+    if let Some(want) = &case.control_words {
+        if &words != want {
+            problems.push(format!("control words {words:?} (expected {want:?})"));
+        }
+    }
+    if let Some(want) = &case.control_words_end {
+        if !words.ends_with(want) {
+            problems.push(format!("control words {words:?} do not end with {want:?}"));
+        }
+    }
+    if problems.is_empty() {
+        Ok(())
+    } else {
+        Err(format!(
+            "{}\n--- output ---\n{output}--- end ---",
+            problems.join("\n")
+        ))
+    }
+}
+
+#[test]
+fn recipe_cases() {
+    let all = cases();
+    assert!(
+        all.len() >= 10,
+        "expected the recipe cases under tests/cases, found {}",
+        all.len()
+    );
+    let mut failures = Vec::new();
+    for dir in &all {
+        if let Err(e) = run_case(dir) {
+            failures.push(format!("== {}\n{e}", dir.display()));
+        }
+    }
+    assert!(
+        failures.is_empty(),
+        "{} of {} cases failed:\n{}",
+        failures.len(),
+        all.len(),
+        failures.join("\n\n")
+    );
+}
