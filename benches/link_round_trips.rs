@@ -43,6 +43,9 @@ const TARGET: f64 = 0.90;
 /// DNC address of the simulated drive.
 const DRIVE: u8 = 2;
 
+/// What ends a measurement: the link's own error, boxed because it is large.
+type Failure = Box<LinkError>;
+
 const STATUS_WORD: u16 = 67;
 const SPEED_SETPOINT: u16 = 395;
 const ACTUAL_SPEED: u16 = 398;
@@ -73,7 +76,7 @@ impl Kind {
     }
 
     /// One round trip; `i` varies the values written so no two requests need be alike.
-    fn round_trip(self, link: &mut Sd2Link, i: u32) -> Result<(), LinkError> {
+    fn round_trip(self, link: &mut Sd2Link, i: u32) -> Result<(), Failure> {
         match self {
             Kind::ReadStatusWord => {
                 black_box(link.read_object(DRIVE, STATUS_WORD, 0)?);
@@ -206,7 +209,7 @@ impl Row {
 }
 
 /// Measures every telegram kind over `link`.
-fn measure(link: &mut Sd2Link, clock: &SharedClock) -> Result<Vec<Row>, LinkError> {
+fn measure(link: &mut Sd2Link, clock: &SharedClock) -> Result<Vec<Row>, Failure> {
     let mut rows = Vec::new();
     for kind in KINDS {
         for i in 0..WARM_UP {
@@ -258,7 +261,7 @@ fn simulator() -> Sd2Simulator {
 }
 
 /// Path a: link → memory transport with wire time → simulator, all in this thread.
-fn in_process() -> Result<Vec<Row>, LinkError> {
+fn in_process() -> Result<Vec<Row>, Failure> {
     let clock = RealClock::shared();
     let peer: Arc<Mutex<dyn Peer>> = Arc::new(Mutex::new(simulator()));
     let transport = MemoryTransport::new("in-process simulator", peer, clock.clone())
@@ -269,13 +272,17 @@ fn in_process() -> Result<Vec<Row>, LinkError> {
 
 /// Path b: link → serial port on a pseudo-terminal → `SimServer` with wire time in a thread.
 #[cfg(unix)]
-fn through_pty() -> Result<Vec<Row>, LinkError> {
+fn through_pty() -> Result<Vec<Row>, Failure> {
     use drivescript::sim_server::{PtyEndpoint, SimServer};
-    use drivescript::transport::{SerialSettings, SerialTransport};
+    use drivescript::transport::{SerialSettings, SerialTransport, TransportError};
     use std::sync::atomic::Ordering;
 
+    fn port_failure(e: TransportError) -> Failure {
+        Box::new(LinkError::from(e))
+    }
+
     let clock = RealClock::shared();
-    let pty = PtyEndpoint::open()?;
+    let pty = PtyEndpoint::open().map_err(port_failure)?;
     let path = pty.path.clone();
     // Only the master moves to the server thread; `pty` keeps the slave open meanwhile.
     let mut master = pty.master;
@@ -285,7 +292,7 @@ fn through_pty() -> Result<Vec<Row>, LinkError> {
     let handle = std::thread::spawn(move || server.serve(&mut master));
 
     let measured = SerialTransport::open(&path, SerialSettings::with_baud(BAUD))
-        .map_err(LinkError::from)
+        .map_err(port_failure)
         .and_then(|port| {
             let mut link = Sd2Link::new(Box::new(port), clock.clone(), LinkConfig::default());
             measure(&mut link, &clock)
@@ -294,7 +301,7 @@ fn through_pty() -> Result<Vec<Row>, LinkError> {
     stop.store(true, Ordering::SeqCst);
     let served = handle.join().expect("the simulator server thread panicked");
     let rows = measured?;
-    served?;
+    served.map_err(port_failure)?;
     Ok(rows)
 }
 
@@ -361,6 +368,13 @@ fn verdict(path: &str, rows: &[Row]) {
     }
 }
 
+/// One path's measurement.
+struct Measured {
+    name: &'static str,
+    title: &'static str,
+    result: Result<Vec<Row>, Failure>,
+}
+
 fn main() -> ExitCode {
     println!(
         "SD2 link round trips at {BAUD} bit/s 8N1, {ROUND_TRIPS} timed per kind (after {WARM_UP} untimed)"
@@ -375,37 +389,36 @@ fn main() -> ExitCode {
     );
     println!("ratio = limit / mean round trip; over = mean − limit; p50, max = median, longest round trip");
 
-    let mut results: Vec<(&str, &str, Result<Vec<Row>, LinkError>)> = vec![(
-        "in-process",
-        "a) in-process: Sd2Link → MemoryTransport (wire time) → simulator",
-        in_process(),
-    )];
+    let mut paths = vec![Measured {
+        name: "in-process",
+        title: "a) in-process: Sd2Link → MemoryTransport (wire time) → simulator",
+        result: in_process(),
+    }];
     #[cfg(unix)]
-    results.push((
-        "pseudo-terminal",
-        "b) end to end: Sd2Link → SerialTransport on a pty → SimServer (wire time) → simulator \
-         (includes the OS pty latency)",
-        through_pty(),
-    ));
+    paths.push(Measured {
+        name: "pseudo-terminal",
+        title: "b) end to end: Sd2Link → SerialTransport on a pty → SimServer (wire time) → simulator \
+                (includes the OS pty latency)",
+        result: through_pty(),
+    });
 
     let mut failed = false;
-    for (path, title, result) in &results {
-        match result {
-            Ok(rows) => print_table(title, rows),
+    for p in &paths {
+        match &p.result {
+            Ok(rows) => print_table(p.title, rows),
             Err(e) => {
                 println!();
-                println!("{title}");
-                eprintln!("{path}: link error: {e}");
+                println!("{}", p.title);
+                eprintln!("{}: link error: {e}", p.name);
                 failed = true;
             }
         }
     }
     println!();
-    for (path, _, result) in &results {
-        if let Ok(rows) = result {
-            verdict(path, rows);
-        } else {
-            println!("{path}: ERROR (see above)");
+    for p in &paths {
+        match &p.result {
+            Ok(rows) => verdict(p.name, rows),
+            Err(_) => println!("{}: ERROR (see above)", p.name),
         }
     }
     if failed {

@@ -1,8 +1,9 @@
 //! `drivescript decode`: explains captured telegrams, one per argument or per input line.
 
+use super::drive_args::DictionaryArgs;
 use super::{FAILED, INVALID, PASSED};
 use crate::hex::parse_hex;
-use crate::protocol::sd2::{explain, to_json, ObjectNames, Telegram};
+use crate::protocol::sd2::{explain, to_json, Telegram};
 use clap::{Args, ValueEnum};
 use std::io::{BufRead, Write};
 
@@ -18,8 +19,10 @@ pub struct DecodeArgs {
     /// a rejected telegram is {"reject": "<reason>"}.
     #[arg(long)]
     json: bool,
-    /// Telegrams in hex, one per argument.
+    /// Telegrams in hex, one per argument. Lines of a `--trace` file are accepted too.
     hex: Vec<String>,
+    #[command(flatten)]
+    dictionary: DictionaryArgs,
 }
 
 #[derive(Debug, Clone, Copy, ValueEnum)]
@@ -44,6 +47,9 @@ pub fn run(args: &DecodeArgs) -> i32 {
             }
         }
         out
+    } else if args.hex.len() > 1 && args.hex.iter().all(|a| is_single_byte(a)) {
+        // `decode 00 0b 02 ...` without quotes: the shell split one telegram into bytes.
+        vec![("the arguments".to_string(), args.hex.join(" "))]
     } else {
         args.hex
             .iter()
@@ -51,7 +57,13 @@ pub fn run(args: &DecodeArgs) -> i32 {
             .map(|(i, h)| (format!("argument {}", i + 1), h.clone()))
             .collect()
     };
-    let names = BuiltinNames;
+    let names = match args.dictionary.load(None) {
+        Ok(d) => d,
+        Err(text) => {
+            eprint!("{text}");
+            return INVALID;
+        }
+    };
     let stdout = std::io::stdout();
     let mut out = stdout.lock();
     let mut code = PASSED;
@@ -77,7 +89,7 @@ pub fn run(args: &DecodeArgs) -> i32 {
             writeln!(out, "{}", to_json(&result))
         } else {
             let body = match &result {
-                Ok(t) => explain(t, &bytes, last_request.as_ref(), &names),
+                Ok(t) => explain(t, &bytes, last_request.as_ref(), names.as_ref()),
                 Err(e) => format!("  rejected: {e}\n"),
             };
             writeln!(out, "{}\n{body}", crate::hex::to_hex(&bytes))
@@ -95,36 +107,11 @@ pub fn run(args: &DecodeArgs) -> i32 {
     code
 }
 
-/// Object names from the SD2 sources (`shared/protocols/sd2-dnc.md`), used until a
-/// dictionary is loaded.
-struct BuiltinNames;
-
-const SD2_OBJECTS: &[(u16, &str)] = &[
-    (22, "DEVICE_PARAMETER_IDENT_STRING"),
-    (33, "DC bus voltage, actual"),
-    (39, "POWER_STAGE_LOAD_ACTUAL"),
-    (67, "DEV_CTRL_STATUS_WORD"),
-    (68, "DEV_CTRL_CONTROL_WORD"),
-    (168, "actual speed, second source"),
-    (352, "PARAMETER_SET"),
-    (395, "SPG_TARGET_VELOCITY_VL_UUNIT"),
-    (398, "VCTRL_VELOCITY_ACTUAL_VALUE_UUNIT"),
-];
-
-impl ObjectNames for BuiltinNames {
-    fn object_name(&self, index: u16, _subindex: u32) -> Option<String> {
-        SD2_OBJECTS
-            .iter()
-            .find(|(i, _)| *i == index)
-            .map(|(_, n)| n.to_string())
-    }
-    fn object_value(&self, _index: u16, _subindex: u32, _data: &[u8]) -> Option<String> {
-        None
-    }
-    fn is_control_word(&self, index: u16) -> bool {
-        index == 68
-    }
-    fn is_status_word(&self, index: u16) -> bool {
-        index == 67
-    }
+/// `0b`, `0x0b`, `b`: one byte, as the shell leaves an unquoted telegram.
+fn is_single_byte(arg: &str) -> bool {
+    let digits = arg
+        .strip_prefix("0x")
+        .or_else(|| arg.strip_prefix("0X"))
+        .unwrap_or(arg);
+    (1..=2).contains(&digits.len()) && digits.chars().all(|c| c.is_ascii_hexdigit())
 }

@@ -88,3 +88,31 @@ fn text_that_is_not_hex_is_a_usage_error() {
         stderr(&out)
     );
 }
+
+#[test]
+fn an_unquoted_telegram_is_one_telegram() {
+    let bytes: Vec<&str> = "00 0b 02 01 0e 44 00 00 00 00 00 02 06 00 97"
+        .split(' ')
+        .collect();
+    let mut args = vec!["decode"];
+    args.extend(bytes);
+    let out = drivescript(&args, "");
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    let text = stdout(&out);
+    assert!(text.contains("control   6: shutdown"), "{text}");
+    assert_eq!(text.matches("request").count(), 1, "{text}");
+}
+
+#[test]
+fn objects_are_named_from_the_dictionary() {
+    let out = drivescript(
+        &["decode", "00 0b 02 01 0e 8b 01 00 00 00 00 04 80 8d 5b 00 eb"],
+        "",
+    );
+    let text = stdout(&out);
+    assert!(
+        text.contains("395 (0x018b) speed_setpoint (SPG_TARGET_VELOCITY_VL_UUNIT)"),
+        "{text}"
+    );
+    assert!(text.contains("= 6000 rpm"), "{text}");
+}

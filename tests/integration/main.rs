@@ -2,6 +2,8 @@
 //! (later) the data-driven recipe cases under `tests/cases/`.
 
 mod decode_cli;
+mod drive_sim;
+mod end_to_end;
 mod recipe_cases;
 mod support;
 mod vectors;

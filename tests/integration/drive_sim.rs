@@ -1,0 +1,292 @@
+//! The drive API and the link against the simulated drive, in virtual time: every
+//! dictionary object read back, the documented write telegrams, the state walk, refusals
+//! that send nothing, and every fault injection producing the right retry or error.
+
+use drivescript::clock::{Clock, SharedClock, VirtualClock};
+use drivescript::dictionary::{Dictionary, Quantity, Unit};
+use drivescript::drive::{Drive, DriveError, Sd2Access};
+use drivescript::hex::to_hex;
+use drivescript::link::{LinkConfig, LinkError, Sd2Link};
+use drivescript::protocol::device_control::{DeviceCommand, DeviceState};
+use drivescript::protocol::sd2::{Body, WriteLength};
+use drivescript::sim::{Sd2Simulator, SimConfig};
+use drivescript::transport::{MemoryTransport, Peer};
+use std::sync::{Arc, Mutex};
+use std::time::Duration;
+
+struct Bench {
+    drive: Drive,
+    sim: Arc<Mutex<Sd2Simulator>>,
+    clock: SharedClock,
+}
+
+fn bench() -> Bench {
+    let clock: SharedClock = Arc::new(VirtualClock::new());
+    let sim = Arc::new(Mutex::new(Sd2Simulator::new(SimConfig::default())));
+    let peer: Arc<Mutex<dyn Peer>> = sim.clone();
+    let transport = MemoryTransport::new("simulated drive", peer, clock.clone());
+    let link = Sd2Link::new(Box::new(transport), clock.clone(), LinkConfig::default());
+    let dictionary = Arc::new(Dictionary::builtin("sd2").expect("the built-in dictionary is valid"));
+    Bench {
+        drive: Drive::new(Box::new(Sd2Access::new(link, 2)), dictionary),
+        sim,
+        clock,
+    }
+}
+
+fn sent(b: &Bench) -> Vec<String> {
+    b.sim
+        .lock()
+        .unwrap()
+        .received()
+        .iter()
+        .map(|(_, t)| to_hex(&t.encode(WriteLength::Captured)))
+        .collect()
+}
+
+#[test]
+fn every_dictionary_object_reads_back_with_its_type_and_unit() {
+    let mut b = bench();
+    let dictionary = b.drive.dictionary().clone();
+    let mut read = 0;
+    for def in dictionary.objects() {
+        if !def.readable() {
+            continue;
+        }
+        let value = b
+            .drive
+            .read(&def.name)
+            .unwrap_or_else(|e| panic!("{}: {e}", def.name));
+        assert_eq!(value.unit(), def.unit, "{}", def.name);
+        if def.data_type.range().is_some() {
+            assert!(value.number().is_some(), "{} has no number: {value}", def.name);
+        } else {
+            assert_eq!(value.text(), Some("Test Motor"), "{}", def.name);
+        }
+        read += 1;
+    }
+    assert!(read >= 10, "only {read} objects read");
+    let bus = b.drive.read_number("bus_voltage").unwrap();
+    assert!((320.0..330.0).contains(&bus), "bus voltage {bus} V");
+}
+
+#[test]
+fn speed_writes_produce_the_documented_bytes() {
+    let mut b = bench();
+    for (rpm, data) in [
+        (1000.0, "40 42 0f 00"),
+        (6000.0, "80 8d 5b 00"),
+        (6500.0, "a0 2e 63 00"),
+        (18000.0, "80 a8 12 01"),
+    ] {
+        b.drive
+            .write("speed_setpoint", &Quantity::new(rpm, Some(Unit::Rpm)))
+            .unwrap();
+        let sim = b.sim.lock().unwrap();
+        let (_, last) = sim.received().last().unwrap();
+        match last.body {
+            Body::WriteRequest {
+                index,
+                subindex,
+                data: d,
+            } => {
+                assert_eq!((index, subindex), (395, 0));
+                assert_eq!(to_hex(d.as_slice()), data, "{rpm} rpm");
+            }
+            other => panic!("{other:?}"),
+        }
+        assert_eq!(sim.setpoint_rpm(), rpm);
+    }
+    let all = sent(&b);
+    // The two the SD2 sources print, byte for byte.
+    assert_eq!(all[0], "00 0b 02 01 0e 8b 01 00 00 00 00 04 40 42 0f 00 c2");
+    assert_eq!(all[1], "00 0b 02 01 0e 8b 01 00 00 00 00 04 80 8d 5b 00 eb");
+}
+
+#[test]
+fn refusals_send_nothing() {
+    let mut b = bench();
+    let refusals: Vec<DriveError> = vec![
+        b.drive
+            .write("status_word", &Quantity::new(7.0, None))
+            .unwrap_err(),
+        b.drive
+            .write("speed_setpoint", &Quantity::new(70_000.0, Some(Unit::Rpm)))
+            .unwrap_err(),
+        b.drive
+            .write("speed_setpoint", &Quantity::new(5.0, Some(Unit::Ampere)))
+            .unwrap_err(),
+        b.drive
+            .write("speed_setpont", &Quantity::new(1.0, None))
+            .unwrap_err(),
+        b.drive.read("store_parameters").unwrap_err(),
+        b.drive
+            .write("parameter_set", &Quantity::new(65.0, None))
+            .unwrap_err(),
+    ];
+    assert!(sent(&b).is_empty(), "sent: {:?}", sent(&b));
+    let texts: Vec<String> = refusals.iter().map(|e| e.to_string()).collect();
+    assert!(
+        texts[0].contains("status_word is read-only; nothing was sent"),
+        "{texts:?}"
+    );
+    assert!(
+        texts[1].contains("above the maximum of speed_setpoint, 60000 rpm"),
+        "{texts:?}"
+    );
+    assert!(texts[2].contains("speed_setpoint"), "{texts:?}");
+    assert!(texts[3].contains("did you mean `speed_setpoint`"), "{texts:?}");
+    assert!(texts[4].contains("write-only"), "{texts:?}");
+    assert!(texts[5].contains("64"), "{texts:?}");
+}
+
+#[test]
+fn the_state_walk_reaches_operation_enabled_from_every_state_and_back() {
+    let never = || false;
+    for start in [
+        DeviceState::SwitchOnDisabled,
+        DeviceState::ReadyToSwitchOn,
+        DeviceState::SwitchedOn,
+        DeviceState::OperationEnabled,
+        DeviceState::QuickStopActive,
+    ] {
+        let mut b = bench();
+        // Bring the drive into the start state.
+        if start == DeviceState::QuickStopActive {
+            b.drive
+                .go_to(DeviceState::OperationEnabled, Duration::from_secs(1), &never)
+                .unwrap();
+            b.drive
+                .write("speed_setpoint", &Quantity::new(3000.0, Some(Unit::Rpm)))
+                .unwrap();
+            b.clock.sleep(Duration::from_secs(2));
+            b.drive.command(DeviceCommand::QuickStop).unwrap();
+        } else {
+            b.drive.go_to(start, Duration::from_secs(1), &never).unwrap();
+        }
+        assert_eq!(b.drive.state().unwrap(), start);
+        b.drive
+            .go_to(DeviceState::OperationEnabled, Duration::from_secs(1), &never)
+            .unwrap_or_else(|e| panic!("from {start}: {e}"));
+        assert_eq!(
+            b.sim.lock().unwrap().state(),
+            DeviceState::OperationEnabled,
+            "from {start}"
+        );
+        b.drive
+            .go_to(DeviceState::SwitchOnDisabled, Duration::from_secs(1), &never)
+            .unwrap();
+        assert_eq!(b.sim.lock().unwrap().state(), DeviceState::SwitchOnDisabled);
+    }
+    // The normal start is shutdown, switch on, enable operation: 6, 7, 15.
+    let mut b = bench();
+    b.drive
+        .go_to(DeviceState::OperationEnabled, Duration::from_secs(1), &never)
+        .unwrap();
+    assert_eq!(b.sim.lock().unwrap().control_words_written(), vec![6, 7, 15]);
+}
+
+#[test]
+fn a_faulted_drive_is_reported_and_reset_explicitly() {
+    let mut b = bench();
+    let never = || false;
+    b.sim.lock().unwrap().faults().trip_at(Duration::ZERO, 0x0042);
+    let e = b
+        .drive
+        .go_to(DeviceState::OperationEnabled, Duration::from_secs(1), &never)
+        .unwrap_err();
+    assert!(e.is_fault(), "{e}");
+    assert!(e.to_string().contains("drive error 66, 0x0042"), "{e}");
+    b.drive.command(DeviceCommand::FaultReset).unwrap();
+    assert_eq!(b.drive.state().unwrap(), DeviceState::SwitchOnDisabled);
+    b.drive
+        .go_to(DeviceState::OperationEnabled, Duration::from_secs(1), &never)
+        .unwrap();
+}
+
+#[test]
+fn a_blocked_fault_reset_names_the_state_it_is_stuck_in() {
+    let mut b = bench();
+    b.sim
+        .lock()
+        .unwrap()
+        .faults()
+        .trip_at(Duration::ZERO, 9)
+        .fault_reset_blocked(true);
+    let _ = b.drive.state();
+    b.drive.command(DeviceCommand::FaultReset).unwrap();
+    assert_eq!(b.drive.state().unwrap(), DeviceState::Fault);
+}
+
+#[test]
+fn lost_corrupt_late_and_misaddressed_replies_are_retried() {
+    let cases: Vec<(&str, Box<dyn Fn(&mut Sd2Simulator)>)> = vec![
+        (
+            "drop",
+            Box::new(|s| {
+                s.faults().drop_replies(1);
+            }),
+        ),
+        (
+            "corrupt",
+            Box::new(|s| {
+                s.faults().corrupt_checksum(1);
+            }),
+        ),
+        (
+            "late",
+            Box::new(|s| {
+                s.faults().delay_replies(1, Duration::from_millis(1500));
+            }),
+        ),
+        (
+            "wrong address",
+            Box::new(|s| {
+                s.faults().wrong_address(1);
+            }),
+        ),
+    ];
+    for (name, inject) in cases {
+        let mut b = bench();
+        inject(&mut b.sim.lock().unwrap());
+        let v = b
+            .drive
+            .read("status_word")
+            .unwrap_or_else(|e| panic!("{name}: {e}"));
+        assert_eq!(v.raw.as_int(), Some(0x0240), "{name}");
+        // The retry went out: two identical requests.
+        assert_eq!(sent(&b).len(), 2, "{name}");
+    }
+}
+
+#[test]
+fn a_dead_line_is_a_clear_error_after_the_retries() {
+    let mut b = bench();
+    b.sim.lock().unwrap().faults().drop_replies(10);
+    let e = b.drive.read("status_word").unwrap_err();
+    assert!(e.is_communication(), "{e}");
+    assert!(
+        matches!(e, DriveError::Link(LinkError::NoReply { attempts: 3, .. })),
+        "{e}"
+    );
+    assert_eq!(sent(&b).len(), 3);
+    // 3 timeouts of 1 s and 2 settle periods, in virtual time.
+    assert_eq!(b.clock.now(), Duration::from_millis(3040));
+}
+
+#[test]
+fn a_drive_refusal_names_the_object_and_the_code() {
+    let mut b = bench();
+    let never = || false;
+    b.drive
+        .go_to(DeviceState::OperationEnabled, Duration::from_secs(1), &never)
+        .unwrap();
+    // The simulator refuses a parameter-set change while operation is enabled (0x9B).
+    let e = b
+        .drive
+        .write("parameter_set", &Quantity::new(2.0, None))
+        .unwrap_err();
+    let text = e.to_string();
+    assert!(text.contains("refused to write parameter_set"), "{text}");
+    assert!(text.contains("0x9B"), "{text}");
+}
