@@ -2,7 +2,7 @@
 //! dictionary object read back, the documented write telegrams, the state walk, refusals
 //! that send nothing, and every fault injection producing the right retry or error.
 
-use drivescript::clock::{Clock, SharedClock, VirtualClock};
+use drivescript::clock::{SharedClock, VirtualClock};
 use drivescript::dictionary::{Dictionary, Quantity, Unit};
 use drivescript::drive::{Drive, DriveError, Sd2Access};
 use drivescript::hex::to_hex;
@@ -220,7 +220,8 @@ fn a_blocked_fault_reset_names_the_state_it_is_stuck_in() {
 
 #[test]
 fn lost_corrupt_late_and_misaddressed_replies_are_retried() {
-    let cases: Vec<(&str, Box<dyn Fn(&mut Sd2Simulator)>)> = vec![
+    type Inject = Box<dyn Fn(&mut Sd2Simulator)>;
+    let cases: Vec<(&str, Inject)> = vec![
         (
             "drop",
             Box::new(|s| {
