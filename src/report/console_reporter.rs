@@ -1,6 +1,7 @@
 //! Plain console output of a run: one line per step with its number, what it did, ok/FAIL
 //! and the values, one line per check, the safe stop, and a summary. Line-oriented so it
-//! never garbles a log file.
+//! never garbles a log file. The line formats are pub functions so the live progress
+//! display prints exactly the same permanent lines.
 
 use crate::recipe::{
     number, CheckResult, Recipe, RunObserver, RunReport, Step, StepKind, StepRecord, Verdict,
@@ -31,94 +32,140 @@ impl<W: Write> ConsoleReporter<W> {
 
 impl<W: Write> RunObserver for ConsoleReporter<W> {
     fn run_started(&mut self, recipe: &Recipe, drive: &str) {
-        self.line(&format!("recipe  {} ({})", recipe.name, recipe.path));
-        self.line(&format!("drive   {drive}"));
-        if !recipe.params.is_empty() {
-            let params = recipe
-                .params
-                .iter()
-                .map(|p| format!("{} = {}", p.name, p.value))
-                .collect::<Vec<_>>()
-                .join(", ");
-            self.line(&format!("params  {params}"));
+        for line in header_lines(recipe, drive) {
+            self.line(&line);
         }
     }
 
     fn step_started(&mut self, number: &str, step: &Step, phase: &'static str) {
-        // Containers announce themselves, so their nested steps read in order.
-        if matches!(step.kind, StepKind::Repeat { .. } | StepKind::Include { .. }) {
-            let number = if phase == "steps" {
-                number.to_string()
-            } else {
-                number.replace('.', " ")
-            };
-            self.line(&format!("{number:>6}  ...   {}", step.label));
+        if let Some(line) = container_line(number, step, phase) {
+            self.line(&line);
         }
     }
 
     fn step_finished(&mut self, r: &StepRecord) {
-        let mark = if r.ok { "ok  " } else { "FAIL" };
-        let number = if r.phase == "steps" {
-            r.number.clone()
-        } else {
-            r.number.replace('.', " ")
-        };
-        let detail = if r.detail.is_empty() {
-            String::new()
-        } else {
-            format!("  {}", r.detail)
-        };
-        self.line(&format!("{number:>6}  {mark}  {}{detail}", r.label));
+        self.line(&step_line(r));
     }
 
     fn check(&mut self, c: &CheckResult) {
-        if c.name.starts_with("wait until") {
-            return;
+        if let Some(line) = check_line(c) {
+            self.line(&line);
         }
-        let mark = if c.passed { "PASS" } else { "FAIL" };
-        let limits = match (c.low, c.high) {
-            (Some(lo), Some(hi)) if lo == hi => format!(" (expected {})", with_unit(lo, c.unit.as_deref())),
-            (Some(lo), Some(hi)) => {
-                format!(" (limits {} .. {})", number(lo), with_unit(hi, c.unit.as_deref()))
-            }
-            (Some(lo), None) => format!(" (limit > {})", with_unit(lo, c.unit.as_deref())),
-            (None, Some(hi)) => format!(" (limit < {})", with_unit(hi, c.unit.as_deref())),
-            (None, None) => String::new(),
-        };
-        self.line(&format!("        {mark}  {}: {}{limits}", c.name, c.message));
     }
 
     fn message(&mut self, text: &str) {
-        self.line(&format!("        {text}"));
+        self.line(&message_line(text));
     }
 
     fn run_finished(&mut self, report: &RunReport) {
-        for note in &report.safe_stop {
-            self.line(&format!("safe stop: {note}"));
+        for line in summary_lines(report, self.virtual_time) {
+            self.line(&line);
         }
-        if let Some(state) = report.final_state {
-            self.line(&format!("drive left in {state}"));
-        }
-        let steps = report
-            .steps
-            .iter()
-            .filter(|s| s.phase == "steps" && !s.number.contains('.'))
-            .count();
-        let time = humantime::format_duration(std::time::Duration::from_millis(
-            report.duration.as_millis() as u64
-        ));
-        let clock = if self.virtual_time { " of virtual time" } else { "" };
-        let why = match &report.verdict {
-            Verdict::Error(m) => format!(": {m}"),
-            _ => String::new(),
-        };
-        self.line(&format!(
-            "{}{why} — {steps} step(s), {} check(s) passed, {} failed, {time}{clock}",
-            report.verdict.word(),
-            report.checks_passed(),
-            report.checks_failed()
-        ));
     }
+}
+
+/// `recipe  NAME (PATH)`, `drive   DRIVE` and, when there are any, `params  a = 1, b = 2`.
+pub fn header_lines(recipe: &Recipe, drive: &str) -> Vec<String> {
+    let mut lines = vec![
+        format!("recipe  {} ({})", recipe.name, recipe.path),
+        format!("drive   {drive}"),
+    ];
+    if !recipe.params.is_empty() {
+        let params = recipe
+            .params
+            .iter()
+            .map(|p| format!("{} = {}", p.name, p.value))
+            .collect::<Vec<_>>()
+            .join(", ");
+        lines.push(format!("params  {params}"));
+    }
+    lines
+}
+
+/// The announcement of a container step (`repeat`, `include`), so its nested steps read in
+/// order; `None` for every other step.
+pub fn container_line(number: &str, step: &Step, phase: &str) -> Option<String> {
+    if matches!(step.kind, StepKind::Repeat { .. } | StepKind::Include { .. }) {
+        let number = if phase == "steps" {
+            number.to_string()
+        } else {
+            number.replace('.', " ")
+        };
+        Some(format!("{number:>6}  ...   {}", step.label))
+    } else {
+        None
+    }
+}
+
+/// `     3  ok    switch_on  switched on`.
+pub fn step_line(r: &StepRecord) -> String {
+    let mark = if r.ok { "ok  " } else { "FAIL" };
+    let number = if r.phase == "steps" {
+        r.number.clone()
+    } else {
+        r.number.replace('.', " ")
+    };
+    let detail = if r.detail.is_empty() {
+        String::new()
+    } else {
+        format!("  {}", r.detail)
+    };
+    format!("{number:>6}  {mark}  {}{detail}", r.label)
+}
+
+/// `        PASS  name: message (limits 5940 .. 6060 rpm)`; `None` for `wait until` checks,
+/// whose step line already says it.
+pub fn check_line(c: &CheckResult) -> Option<String> {
+    if c.name.starts_with("wait until") {
+        return None;
+    }
+    let mark = if c.passed { "PASS" } else { "FAIL" };
+    let limits = match (c.low, c.high) {
+        (Some(lo), Some(hi)) if lo == hi => format!(" (expected {})", with_unit(lo, c.unit.as_deref())),
+        (Some(lo), Some(hi)) => {
+            format!(" (limits {} .. {})", number(lo), with_unit(hi, c.unit.as_deref()))
+        }
+        (Some(lo), None) => format!(" (limit > {})", with_unit(lo, c.unit.as_deref())),
+        (None, Some(hi)) => format!(" (limit < {})", with_unit(hi, c.unit.as_deref())),
+        (None, None) => String::new(),
+    };
+    Some(format!("        {mark}  {}: {}{limits}", c.name, c.message))
+}
+
+/// A value read by `read`/`print`, or a message, indented under its step.
+pub fn message_line(text: &str) -> String {
+    format!("        {text}")
+}
+
+/// The safe-stop notes, the final state and the one-line verdict.
+pub fn summary_lines(report: &RunReport, virtual_time: bool) -> Vec<String> {
+    let mut lines = Vec::new();
+    for note in &report.safe_stop {
+        lines.push(format!("safe stop: {note}"));
+    }
+    if let Some(state) = report.final_state {
+        lines.push(format!("drive left in {state}"));
+    }
+    let steps = report
+        .steps
+        .iter()
+        .filter(|s| s.phase == "steps" && !s.number.contains('.'))
+        .count();
+    let time = humantime::format_duration(std::time::Duration::from_millis(
+        report.duration.as_millis() as u64
+    ));
+    let clock = if virtual_time { " of virtual time" } else { "" };
+    let why = match &report.verdict {
+        Verdict::Error(m) => format!(": {m}"),
+        _ => String::new(),
+    };
+    lines.push(format!(
+        "{}{why} — {steps} step(s), {} check(s) passed, {} failed, {time}{clock}",
+        report.verdict.word(),
+        report.checks_passed(),
+        report.checks_failed()
+    ));
+    lines
 }
 
 fn with_unit(v: f64, unit: Option<&str>) -> String {

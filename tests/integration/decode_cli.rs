@@ -55,7 +55,7 @@ fn all_accepted_forms_of_hex_and_exit_zero() {
     );
     assert!(text.contains("error     0x00 no error"), "{text}");
     assert!(
-        text.contains("398 (0x018e) VCTRL_VELOCITY_ACTUAL_VALUE_UUNIT"),
+        text.contains("398 (0x018e) speed_actual (VCTRL_VELOCITY_ACTUAL_VALUE_UUNIT)"),
         "{text}"
     );
 }
