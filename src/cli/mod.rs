@@ -37,6 +37,7 @@ enum Command {
     Decode(decode_command::DecodeArgs),
     Simulate(simulate_command::SimulateArgs),
     Ports(object_commands::PortsArgs),
+    Schema(recipe_commands::SchemaArgs),
 }
 
 /// Runs the command line and returns the process exit code.
@@ -56,6 +57,7 @@ pub fn main() -> i32 {
         Command::State(args) => object_commands::state(&args),
         Command::Objects(args) => object_commands::objects(&args),
         Command::Ports(args) => object_commands::ports(&args),
+        Command::Schema(args) => recipe_commands::schema(&args),
         Command::Decode(args) => decode_command::run(&args),
         Command::Simulate(args) => simulate_command::run(&args),
     }

@@ -198,3 +198,26 @@ pub fn run_recipe(request: &RunRequest, out: &mut dyn Write, err: &mut dyn Write
         simulator: open.simulator,
     }
 }
+
+#[derive(Debug, Args)]
+/// Print the JSON Schema of recipes, for editor completion of keys, object names and
+/// states. Recipes point their editor at it with a first line
+/// `# yaml-language-server: $schema=../recipe.schema.json`.
+pub struct SchemaArgs {
+    #[command(flatten)]
+    dictionary: DictionaryArgs,
+}
+
+pub fn schema(args: &SchemaArgs) -> i32 {
+    match args.dictionary.load(None) {
+        Ok(d) => {
+            let text = serde_json::to_string_pretty(&crate::recipe::recipe_schema(&d)).unwrap_or_default();
+            println!("{text}");
+            PASSED
+        }
+        Err(text) => {
+            eprint!("{text}");
+            INVALID
+        }
+    }
+}

@@ -9,6 +9,7 @@ mod recipe;
 mod run_observer;
 mod run_report;
 mod runner;
+mod schema;
 mod step;
 
 pub use condition::{number, Check, Condition, Predicate, Statistic, Stats, Tolerance};
@@ -18,4 +19,5 @@ pub use recipe::{Param, Recipe};
 pub use run_observer::{Observers, RunObserver};
 pub use run_report::{CheckResult, RunReport, Series, StepRecord, Verdict};
 pub use runner::{default_finally_steps, InterruptCount, Runner};
+pub use schema::recipe_schema;
 pub use step::{ObjectRef, SetValue, Step, StepKind, StepOrigin};

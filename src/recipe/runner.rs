@@ -54,6 +54,9 @@ pub struct Runner<'a> {
     output_dir: PathBuf,
     /// The last sample window per object.
     windows: HashMap<String, Vec<f64>>,
+    /// CSV files written in this run: a sample step that runs again (in a repeat) appends
+    /// to its file instead of overwriting what the earlier pass recorded.
+    csv_files: std::collections::HashSet<PathBuf>,
     report: RunReport,
     failed_checks: bool,
     last_fault_check: Duration,
@@ -103,6 +106,7 @@ impl<'a> Runner<'a> {
             clock,
             output_dir: PathBuf::from("."),
             windows: HashMap::new(),
+            csv_files: std::collections::HashSet::new(),
             report,
             failed_checks: false,
             last_fault_check: Duration::ZERO,
@@ -456,7 +460,11 @@ impl<'a> Runner<'a> {
         number: &str,
     ) -> Result<String, Stop> {
         let mut writer = match csv {
-            Some(p) => Some(SampleCsv::create(&self.output_dir.join(p), objects).map_err(Stop::Error)?),
+            Some(p) => {
+                let path = self.output_dir.join(p);
+                let append = !self.csv_files.insert(path.clone());
+                Some(SampleCsv::open(&path, objects, append).map_err(Stop::Error)?)
+            }
             None => None,
         };
         let start = self.clock.now();
@@ -484,7 +492,7 @@ impl<'a> Runner<'a> {
                 row.push((o.name.clone(), o.unit.clone(), v));
             }
             if let Some(w) = writer.as_mut() {
-                w.row((at - start).as_secs_f64(), &row).map_err(Stop::Error)?;
+                w.row((at - run_start).as_secs_f64(), &row).map_err(Stop::Error)?;
             }
             self.observer.sample(at, &row);
             let live = row
@@ -801,21 +809,29 @@ struct SampleCsv {
 }
 
 impl SampleCsv {
-    fn create(path: &std::path::Path, objects: &[ObjectRef]) -> Result<Self, String> {
+    /// Creates the file with its header, or (`append`) continues one this run started.
+    fn open(path: &std::path::Path, objects: &[ObjectRef], append: bool) -> Result<Self, String> {
         if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
             std::fs::create_dir_all(dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
         }
-        let file =
-            std::fs::File::create(path).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
-        let mut writer = csv::Writer::from_writer(file);
-        let mut header = vec!["time [s]".to_string()];
-        header.extend(objects.iter().map(|o| match &o.unit {
-            Some(u) => format!("{} [{u}]", o.name),
-            None => o.name.clone(),
-        }));
-        writer
-            .write_record(&header)
+        let file = std::fs::OpenOptions::new()
+            .create(true)
+            .append(append)
+            .write(true)
+            .truncate(!append)
+            .open(path)
             .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+        let mut writer = csv::Writer::from_writer(file);
+        if !append {
+            let mut header = vec!["time [s]".to_string()];
+            header.extend(objects.iter().map(|o| match &o.unit {
+                Some(u) => format!("{} [{u}]", o.name),
+                None => o.name.clone(),
+            }));
+            writer
+                .write_record(&header)
+                .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+        }
         let mut s = SampleCsv {
             writer,
             path: path.to_path_buf(),

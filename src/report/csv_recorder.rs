@@ -1,0 +1,168 @@
+//! `--csv FILE`: every sample of every `sample` step of a run, streamed in long format
+//! (`time [s],step,object,value,unit`, one row per value, since steps sample different
+//! objects) and flushed row by row, so an aborted run keeps every sample it took.
+//! An observer: its write errors are kept for the CLI to report, never fail the run.
+
+use super::trace_writer::create_file;
+use crate::recipe::{number, RunObserver, Step};
+use std::path::{Path, PathBuf};
+use std::time::Duration;
+
+/// The header row.
+pub const CSV_HEADER: [&str; 5] = ["time [s]", "step", "object", "value", "unit"];
+
+pub struct CsvRecorder {
+    writer: csv::Writer<std::fs::File>,
+    path: PathBuf,
+    /// The number of the step running now (`3`, `7.2`).
+    step: String,
+    rows: u64,
+    error: Option<String>,
+}
+
+impl CsvRecorder {
+    /// Creates (truncates) the file, its directory too, and writes the header. An
+    /// unwritable path is an error here, before the run starts; the message names the path.
+    pub fn create(path: &Path) -> Result<Self, String> {
+        let file = create_file(path)?;
+        let mut writer = csv::WriterBuilder::new().from_writer(file);
+        writer
+            .write_record(CSV_HEADER)
+            .and_then(|()| writer.flush().map_err(csv::Error::from))
+            .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+        Ok(CsvRecorder {
+            writer,
+            path: path.to_path_buf(),
+            step: String::new(),
+            rows: 0,
+            error: None,
+        })
+    }
+
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+
+    /// Rows written so far (one per sampled value).
+    pub fn rows(&self) -> u64 {
+        self.rows
+    }
+
+    /// The first write error (`cannot write PATH: ...`), after which recording stopped.
+    pub fn error(&self) -> Option<&str> {
+        self.error.as_deref()
+    }
+
+    fn row(&mut self, record: [&str; 5]) -> Result<(), String> {
+        self.writer
+            .write_record(record)
+            .and_then(|()| self.writer.flush().map_err(csv::Error::from))
+            .map_err(|e| format!("cannot write {}: {e}", self.path.display()))
+    }
+}
+
+impl RunObserver for CsvRecorder {
+    fn step_started(&mut self, number: &str, _step: &Step, _phase: &'static str) {
+        self.step = number.to_string();
+    }
+
+    fn sample(&mut self, at: Duration, values: &[(String, Option<String>, f64)]) {
+        if self.error.is_some() {
+            return;
+        }
+        let time = format!("{:.6}", at.as_secs_f64());
+        let step = self.step.clone();
+        for (object, unit, value) in values {
+            let value = number(*value);
+            if let Err(e) = self.row([&time, &step, object, &value, unit.as_deref().unwrap_or("")]) {
+                self.error = Some(e);
+                return;
+            }
+            self.rows += 1;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::protocol::device_control::DeviceCommand;
+    use crate::recipe::{StepKind, StepOrigin};
+
+    fn temp(name: &str) -> PathBuf {
+        std::env::temp_dir()
+            .join(format!("drivescript-csv-{}-{name}", std::process::id()))
+            .join("out/samples.csv")
+    }
+
+    fn step() -> Step {
+        Step {
+            kind: StepKind::Command(DeviceCommand::Shutdown),
+            origin: StepOrigin {
+                path: "r.yaml".into(),
+                line: 3,
+                column: 5,
+            },
+            label: "sample".into(),
+        }
+    }
+
+    fn row(object: &str, unit: Option<&str>, value: f64) -> (String, Option<String>, f64) {
+        (object.into(), unit.map(String::from), value)
+    }
+
+    #[test]
+    fn long_format_rows_are_on_disk_while_the_run_goes_on() {
+        let path = temp("rows");
+        let mut csv = CsvRecorder::create(&path).unwrap();
+        csv.step_started("3", &step(), "steps");
+        csv.sample(
+            Duration::from_millis(5_100),
+            &[row("speed_actual", Some("rpm"), 6000.125), row("current_actual", Some("A"), 2.5)],
+        );
+        // Read while the recorder is alive: the rows must already be in the file.
+        assert_eq!(
+            std::fs::read_to_string(&path).unwrap(),
+            "time [s],step,object,value,unit\n\
+             5.100000,3,speed_actual,6000.125,rpm\n\
+             5.100000,3,current_actual,2.5,A\n"
+        );
+        csv.step_started("7.2", &step(), "steps");
+        csv.sample(Duration::from_secs(70), &[row("drive_error", None, 0.0)]);
+        let text = std::fs::read_to_string(&path).unwrap();
+        assert!(text.ends_with("70.000000,7.2,drive_error,0,\n"), "{text}");
+        assert_eq!(csv.rows(), 3);
+        assert_eq!(csv.error(), None);
+
+        // And a CSV reader agrees on the columns.
+        let mut reader = csv::Reader::from_path(&path).unwrap();
+        assert_eq!(reader.headers().unwrap(), &csv::StringRecord::from(CSV_HEADER.to_vec()));
+        let rows: Vec<csv::StringRecord> = reader.records().map(Result::unwrap).collect();
+        assert_eq!(rows.len(), 3);
+        assert_eq!(&rows[1][2], "current_actual");
+        drop(csv);
+        std::fs::remove_dir_all(path.parent().unwrap().parent().unwrap()).unwrap();
+    }
+
+    #[test]
+    fn names_with_commas_are_quoted() {
+        let path = temp("quote");
+        let mut csv = CsvRecorder::create(&path).unwrap();
+        csv.sample(Duration::ZERO, &[row("odd,name", Some("\"u\""), 1.0)]);
+        let text = std::fs::read_to_string(&path).unwrap();
+        assert!(text.ends_with("0.000000,,\"odd,name\",1,\"\"\"u\"\"\"\n"), "{text}");
+        drop(csv);
+        std::fs::remove_dir_all(path.parent().unwrap().parent().unwrap()).unwrap();
+    }
+
+    #[test]
+    fn an_unwritable_path_is_refused_with_its_name() {
+        let err = CsvRecorder::create(Path::new("/proc/drivescript/x.csv"))
+            .err()
+            .unwrap();
+        assert!(err.contains("/proc/drivescript"), "{err}");
+        let dir = std::env::temp_dir();
+        let err = CsvRecorder::create(&dir).err().unwrap();
+        assert!(err.starts_with("cannot write "), "{err}");
+    }
+}

@@ -1,0 +1,64 @@
+//! The shipped example recipes stay valid and pass against the simulated drive, the
+//! committed `recipe.schema.json` is what `drivescript schema` prints, and sample CSV files
+//! keep every pass of a repeated stage.
+
+use crate::support::{drivescript, repo_root, stderr, stdout};
+
+#[test]
+fn every_example_recipe_checks_and_passes_in_virtual_time() {
+    let dir = repo_root().join("recipes");
+    let out_dir = std::env::temp_dir().join("drivescript-examples");
+    let _ = std::fs::remove_dir_all(&out_dir);
+    let mut ran = 0;
+    for entry in std::fs::read_dir(&dir).expect("recipes/") {
+        let path = entry.expect("entry").path();
+        if path.extension().and_then(|e| e.to_str()) != Some("yaml") {
+            continue;
+        }
+        let p = path.to_str().expect("utf-8 path");
+        let check = drivescript(&["check", p], "");
+        assert_eq!(check.status.code(), Some(0), "{p}: {}", stderr(&check));
+        let run = drivescript(
+            &[
+                "run",
+                p,
+                "--fast",
+                "--output-dir",
+                out_dir.to_str().expect("utf-8"),
+            ],
+            "",
+        );
+        assert_eq!(
+            run.status.code(),
+            Some(0),
+            "{p}:\n{}{}",
+            stdout(&run),
+            stderr(&run)
+        );
+        assert!(stdout(&run).contains("PASSED"), "{p}");
+        assert!(
+            stdout(&run).contains("using the built-in simulated SD2 drive"),
+            "{p}"
+        );
+        ran += 1;
+    }
+    assert!(ran >= 4, "only {ran} example recipes");
+    // The run-in's stage 2 runs twice; its CSV holds both passes under one header.
+    let csv = std::fs::read_to_string(out_dir.join("run-in-stage-2.csv")).expect("stage 2 csv");
+    assert_eq!(csv.lines().filter(|l| l.starts_with("time")).count(), 1);
+    assert_eq!(csv.lines().count(), 1 + 2 * 901, "15 min at 1 s, twice");
+    assert!(csv.starts_with("time [s],speed_actual [rpm],current_actual [A]\n"));
+}
+
+#[test]
+fn the_committed_schema_is_current() {
+    let out = drivescript(&["schema"], "");
+    assert_eq!(out.status.code(), Some(0));
+    let committed =
+        std::fs::read_to_string(repo_root().join("recipe.schema.json")).expect("recipe.schema.json");
+    assert_eq!(
+        committed.trim(),
+        stdout(&out).trim(),
+        "recipe.schema.json is out of date: run `cargo run -- schema > recipe.schema.json`"
+    );
+}
