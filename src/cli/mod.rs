@@ -38,6 +38,14 @@ enum Command {
     Simulate(simulate_command::SimulateArgs),
     Ports(object_commands::PortsArgs),
     Schema(recipe_commands::SchemaArgs),
+    Completions(CompletionsArgs),
+}
+
+#[derive(Debug, clap::Args)]
+/// Print a shell completion script, e.g. `drivescript completions bash >
+/// ~/.local/share/bash-completion/completions/drivescript`.
+struct CompletionsArgs {
+    shell: clap_complete::Shell,
 }
 
 /// Runs the command line and returns the process exit code.
@@ -49,6 +57,9 @@ pub fn main() -> i32 {
             return if e.use_stderr() { INVALID } else { PASSED };
         }
     };
+    if !matches!(cli.command, Command::Run(_)) {
+        quiet_on_closed_pipe();
+    }
     match cli.command {
         Command::Run(args) => recipe_commands::run(&args),
         Command::Check(args) => recipe_commands::check(&args),
@@ -58,8 +69,29 @@ pub fn main() -> i32 {
         Command::Objects(args) => object_commands::objects(&args),
         Command::Ports(args) => object_commands::ports(&args),
         Command::Schema(args) => recipe_commands::schema(&args),
+        Command::Completions(args) => {
+            use clap::CommandFactory;
+            use std::io::Write;
+            let mut script = Vec::new();
+            clap_complete::generate(args.shell, &mut Cli::command(), "drivescript", &mut script);
+            let _ = std::io::stdout().write_all(&script);
+            PASSED
+        }
         Command::Decode(args) => decode_command::run(&args),
         Command::Simulate(args) => simulate_command::run(&args),
+    }
+}
+
+/// `drivescript objects | head` must end quietly when `head` closes the pipe, as other
+/// Unix tools do, instead of panicking in `println!`. Not for `run`: a run killed by a
+/// closed pipe would skip the safe stop, so `run` keeps SIGPIPE ignored and its console
+/// output ignores a closed pipe instead.
+fn quiet_on_closed_pipe() {
+    #[cfg(unix)]
+    // SAFETY: restoring the default disposition of one signal at start-up, before any
+    // other thread exists; no handler code runs.
+    unsafe {
+        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
     }
 }
 

@@ -116,3 +116,17 @@ fn objects_are_named_from_the_dictionary() {
     );
     assert!(text.contains("= 6000 rpm"), "{text}");
 }
+
+#[test]
+fn completions_for_every_shell_name_the_subcommands() {
+    for shell in ["bash", "zsh", "fish", "powershell"] {
+        let out = drivescript(&["completions", shell], "");
+        assert_eq!(out.status.code(), Some(0), "{shell}: {}", stderr(&out));
+        let text = stdout(&out);
+        for sub in ["run", "check", "decode", "simulate", "objects"] {
+            assert!(text.contains(sub), "{shell} completion lacks {sub}");
+        }
+    }
+    let out = drivescript(&["completions", "tcsh"], "");
+    assert_eq!(out.status.code(), Some(2));
+}

@@ -6,6 +6,7 @@
 //! args: [speed=4000rpm]        # --set overrides (optional)
 //! sim: { trip_at: 12 s, drive_error: 4660, drop_replies: 1, fault_reset_blocked: true }
 //! interrupt_at: 30 s           # Ctrl-C pressed once at this (virtual) time (optional)
+//! second_interrupt_at: 31 s    # and again (optional)
 //! output: |                    # lines that must appear, in this order (substring of a line)
 //!   PASSED
 //! control_words: [0, 6, 7, 15, 7, 6]   # exactly the control words the drive received
@@ -30,6 +31,9 @@ struct Case {
     sim: Option<SimSetup>,
     #[serde(default)]
     interrupt_at: Option<String>,
+    /// A second Ctrl-C at this time.
+    #[serde(default)]
+    second_interrupt_at: Option<String>,
     #[serde(default)]
     output: String,
     #[serde(default)]
@@ -85,11 +89,15 @@ fn run_case(dir: &Path) -> Result<(), String> {
         })
         .collect();
     let clock_slot: Arc<OnceLock<SharedClock>> = Arc::new(OnceLock::new());
-    let interrupt_at = case.interrupt_at.as_deref().map(duration);
+    let presses_at: Vec<Duration> = [&case.interrupt_at, &case.second_interrupt_at]
+        .into_iter()
+        .flatten()
+        .map(|t| duration(t))
+        .collect();
     let slot = clock_slot.clone();
-    let interrupts = move || match (interrupt_at, slot.get()) {
-        (Some(at), Some(clock)) if clock.now() >= at => 1,
-        _ => 0,
+    let interrupts = move || match slot.get() {
+        Some(clock) => presses_at.iter().filter(|at| clock.now() >= **at).count() as u32,
+        None => 0,
     };
     let sim_setup = case.sim.unwrap_or_default();
     let slot = clock_slot.clone();
