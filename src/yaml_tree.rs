@@ -85,7 +85,9 @@ pub fn parse(text: &str) -> Result<Spanned<YamlNode>, YamlError> {
     if text.trim().is_empty() {
         return Ok(Spanned::new(YamlNode::Null, Span::default()));
     }
+    // YAML 1.1 booleans (`yes`, `on`, `n`) would turn names and values into true/false.
     let options = serde_saphyr::options! {
+        strict_booleans: true,
         budget: serde_saphyr::budget! {
             max_depth: 64,
             max_nodes: 200_000,
@@ -98,23 +100,19 @@ pub fn parse(text: &str) -> Result<Spanned<YamlNode>, YamlError> {
 }
 
 fn error_of(e: &serde_saphyr::Error, text: &str) -> YamlError {
-    let message = first_line(&e.to_string());
+    use serde_saphyr::MessageFormatter;
+    // The caller renders its own snippet, so only the sentence is kept, on one line.
+    let message: String = serde_saphyr::DefaultMessageFormatter
+        .format_message(e.without_snippet())
+        .chars()
+        .map(|c| if c.is_control() { ' ' } else { c })
+        .collect();
     let span = e
         .location()
+        .filter(|loc| loc.line() > 0)
         .map(|loc| span_of_location(&loc, text))
         .unwrap_or_default();
     YamlError { message, span }
-}
-
-/// serde-saphyr prefixes the message with `error: line L column C:` and appends a snippet;
-/// the caller renders its own snippet, so only the sentence is kept.
-fn first_line(message: &str) -> String {
-    let line = message.lines().next().unwrap_or(message).trim();
-    let line = line.strip_prefix("error:").unwrap_or(line).trim();
-    match line.find(": ") {
-        Some(i) if line[..i].starts_with("line ") => line[i + 2..].to_string(),
-        _ => line.to_string(),
-    }
 }
 
 fn span_of_location(loc: &serde_saphyr::Location, text: &str) -> Span {

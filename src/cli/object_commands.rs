@@ -1,13 +1,14 @@
 //! One-off object access: `read`, `write`, `state`, `objects`, `ports`.
 
 use super::connection_args::ConnectionArgs;
-use super::drive_args::{open_drive, DictionaryArgs};
+use super::drive_args::{open_drive, DictionaryArgs, OpenDrive};
 use super::{COMMUNICATION, INVALID, PASSED};
 use crate::dictionary::{Dictionary, ObjectDef, Quantity};
 use crate::drive::DriveError;
 use crate::protocol::device_control::{status_word_bits, DeviceState};
 use clap::Args;
 use serde_json::json;
+use std::sync::Arc;
 
 #[derive(Debug, Args)]
 /// Read objects by name (or alias) and show their values with units.
@@ -69,10 +70,28 @@ pub struct PortsArgs {
     json: bool,
 }
 
-fn note_simulated(description: &str, simulated: bool) {
-    if simulated {
-        eprintln!("using {description}; its state is not kept between commands");
+/// The dictionary, or the exit code after printing why not.
+fn load_dictionary(args: &DictionaryArgs) -> Result<Arc<Dictionary>, i32> {
+    args.load(None).map_err(|text| {
+        eprint!("{text}");
+        INVALID
+    })
+}
+
+/// The drive, or the exit code after printing why not. Says so when it is the simulated
+/// drive, whose state a one-off command cannot keep.
+fn open(connection: &ConnectionArgs, dictionary: Arc<Dictionary>) -> Result<OpenDrive, i32> {
+    let open = open_drive(connection, dictionary, true).map_err(|text| {
+        eprintln!("{text}");
+        COMMUNICATION
+    })?;
+    if open.simulator.is_some() {
+        eprintln!(
+            "using {}; its state is not kept between commands",
+            open.description
+        );
     }
+    Ok(open)
 }
 
 /// Exit code of a drive error: refused before sending → 2, otherwise 3.
@@ -87,12 +106,9 @@ fn drive_error_code(e: &DriveError) -> i32 {
 }
 
 pub fn read(args: &ReadArgs) -> i32 {
-    let dictionary = match args.dictionary.load(None) {
+    let dictionary = match load_dictionary(&args.dictionary) {
         Ok(d) => d,
-        Err(text) => {
-            eprint!("{text}");
-            return INVALID;
-        }
+        Err(code) => return code,
     };
     // Every name is checked before the port is opened, so a typo sends nothing.
     for name in &args.names {
@@ -101,14 +117,10 @@ pub fn read(args: &ReadArgs) -> i32 {
             return INVALID;
         }
     }
-    let mut open = match open_drive(&args.connection, dictionary, true) {
+    let mut open = match open(&args.connection, dictionary) {
         Ok(o) => o,
-        Err(text) => {
-            eprintln!("{text}");
-            return COMMUNICATION;
-        }
+        Err(code) => return code,
     };
-    note_simulated(&open.description, open.simulator.is_some());
     let mut rows = Vec::new();
     for name in &args.names {
         let def = match open.drive.object(name) {
@@ -168,12 +180,9 @@ fn check_readable(dictionary: &Dictionary, name: &str) -> Result<(), DriveError>
 }
 
 pub fn write(args: &WriteArgs) -> i32 {
-    let dictionary = match args.dictionary.load(None) {
+    let dictionary = match load_dictionary(&args.dictionary) {
         Ok(d) => d,
-        Err(text) => {
-            eprint!("{text}");
-            return INVALID;
-        }
+        Err(code) => return code,
     };
     // Refusals happen before the port is opened: nothing is sent for a bad value.
     let def = match dictionary.lookup(&args.name) {
@@ -211,14 +220,10 @@ pub fn write(args: &WriteArgs) -> i32 {
             return INVALID;
         }
     };
-    let mut open = match open_drive(&args.connection, dictionary, true) {
+    let mut open = match open(&args.connection, dictionary) {
         Ok(o) => o,
-        Err(text) => {
-            eprintln!("{text}");
-            return COMMUNICATION;
-        }
+        Err(code) => return code,
     };
-    note_simulated(&open.description, open.simulator.is_some());
     let result = match &parsed {
         Some((q, _)) => open.drive.write(&def.name, q),
         None => open.drive.write_text(&def.name, &args.value),
@@ -239,21 +244,14 @@ pub fn write(args: &WriteArgs) -> i32 {
 }
 
 pub fn state(args: &StateArgs) -> i32 {
-    let dictionary = match args.dictionary.load(None) {
+    let dictionary = match load_dictionary(&args.dictionary) {
         Ok(d) => d,
-        Err(text) => {
-            eprint!("{text}");
-            return INVALID;
-        }
+        Err(code) => return code,
     };
-    let mut open = match open_drive(&args.connection, dictionary, true) {
+    let mut open = match open(&args.connection, dictionary) {
         Ok(o) => o,
-        Err(text) => {
-            eprintln!("{text}");
-            return COMMUNICATION;
-        }
+        Err(code) => return code,
     };
-    note_simulated(&open.description, open.simulator.is_some());
     let status = match open.drive.status_word() {
         Ok(s) => s,
         Err(e) => {
@@ -282,12 +280,9 @@ pub fn state(args: &StateArgs) -> i32 {
 }
 
 pub fn objects(args: &ObjectsArgs) -> i32 {
-    let dictionary = match args.dictionary.load(None) {
+    let dictionary = match load_dictionary(&args.dictionary) {
         Ok(d) => d,
-        Err(text) => {
-            eprint!("{text}");
-            return INVALID;
-        }
+        Err(code) => return code,
     };
     let list: Vec<&ObjectDef> = match &args.filter {
         Some(f) => dictionary.filter(f),

@@ -103,46 +103,9 @@ impl fmt::Display for TextSpan {
     }
 }
 
-/// Byte offset of the 1-based `line` and character `column` in `text` (clamped to the text).
-pub(crate) fn byte_offset_of(text: &str, line: usize, column: usize) -> usize {
-    let mut start = 0;
-    for _ in 1..line {
-        match text[start..].find('\n') {
-            Some(i) => start += i + 1,
-            None => return text.len(),
-        }
-    }
-    let rest = &text[start..];
-    let within = rest
-        .char_indices()
-        .nth(column.saturating_sub(1))
-        .map(|(i, _)| i)
-        .unwrap_or(rest.len());
-    start + within
-}
-
-/// Byte length of the `chars` characters of `text` starting at byte `offset`.
-pub(crate) fn byte_len_of(text: &str, offset: usize, chars: usize) -> usize {
-    let rest = text.get(offset..).unwrap_or("");
-    rest.char_indices()
-        .nth(chars)
-        .map(|(i, _)| i)
-        .unwrap_or(rest.len())
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn offsets_from_line_and_column() {
-        let text = "ab\nçd: x\n";
-        assert_eq!(byte_offset_of(text, 1, 1), 0);
-        assert_eq!(byte_offset_of(text, 2, 1), 3);
-        assert_eq!(byte_offset_of(text, 2, 2), 5);
-        assert_eq!(byte_offset_of(text, 9, 1), text.len());
-        assert_eq!(byte_len_of(text, 3, 2), 3);
-    }
 
     #[test]
     fn display_is_path_line_column() {

@@ -1,13 +1,11 @@
-//! A dictionary file as a YAML tree in which every node keeps its place in the text.
-//! serde_saphyr parses; each node is read as `Spanned<RawNode>`, so line, column and byte
-//! span survive, and the reader can then report every problem of a file rather than the
-//! first one serde meets. Only parsing: no I/O, no knowledge of objects.
+//! A dictionary file as a YAML tree in which every node keeps its place in the text, as
+//! [`TextSpan`]s into the shared [`SourceFile`]. Parsing is `crate::yaml_tree`'s (one
+//! spanned parser for recipes and dictionaries); this only attaches the file. No I/O, no
+//! knowledge of objects.
 
 use super::dictionary_error::DictionaryError;
-use super::text_span::{byte_len_of, byte_offset_of, SourceFile, TextSpan};
-use serde::de::{self, Deserialize, Deserializer, MapAccess, SeqAccess, Visitor};
-use serde_saphyr::{MessageFormatter, Spanned};
-use std::fmt;
+use super::text_span::{SourceFile, TextSpan};
+use crate::yaml_tree::{self, Span, Spanned};
 use std::sync::Arc;
 
 /// One node and where it is written. Mappings and lists point at their first character.
@@ -40,11 +38,17 @@ impl YamlNode {
                     .with_help("a dictionary starts with `family:` and lists its `objects:`"),
             );
         }
-        // YAML 1.1 booleans (`yes`, `on`, `n`) would turn names into true/false.
-        let options = serde_saphyr::options! { strict_booleans: true };
-        match serde_saphyr::from_str_with_options::<Spanned<RawNode>>(&file.text, options) {
-            Ok(raw) => Ok(convert(file, raw)),
-            Err(err) => Err(yaml_error(file, &err)),
+        match yaml_tree::parse(&file.text) {
+            Ok(root) => Ok(convert(file, root)),
+            Err(e) if e.span.line > 0 => Err(DictionaryError::at(
+                &text_span(file, e.span),
+                format!("not valid YAML: {}", e.message),
+                "here",
+            )),
+            Err(e) => Err(DictionaryError::unlocated(
+                &file.path,
+                format!("not valid YAML: {}", e.message),
+            )),
         }
     }
 
@@ -66,53 +70,26 @@ impl YamlNode {
     }
 }
 
-fn yaml_error(file: &Arc<SourceFile>, err: &serde_saphyr::Error) -> DictionaryError {
-    let inner = err.without_snippet();
-    let message: String = serde_saphyr::DefaultMessageFormatter
-        .format_message(inner)
-        .chars()
-        .map(|c| if c.is_control() { ' ' } else { c })
-        .collect();
-    let message = format!("not valid YAML: {message}");
-    match err.location() {
-        Some(loc) if loc.line() > 0 => {
-            let span = span_of(file, &loc);
-            DictionaryError::at(&span, message, "here")
-        }
-        _ => DictionaryError::unlocated(&file.path, message),
-    }
+fn text_span(file: &Arc<SourceFile>, span: Span) -> TextSpan {
+    TextSpan::new(file, span.offset, span.len, span.line, span.column)
 }
 
-fn span_of(file: &Arc<SourceFile>, loc: &serde_saphyr::Location) -> TextSpan {
-    let line = usize::try_from(loc.line()).unwrap_or(usize::MAX);
-    let column = usize::try_from(loc.column()).unwrap_or(usize::MAX);
-    let s = loc.span();
-    let offset = s
-        .byte_offset()
-        .and_then(|o| usize::try_from(o).ok())
-        .unwrap_or_else(|| byte_offset_of(&file.text, line, column));
-    let len = s
-        .byte_len()
-        .and_then(|l| usize::try_from(l).ok())
-        .unwrap_or_else(|| byte_len_of(&file.text, offset, usize::try_from(s.len()).unwrap_or(0)));
-    TextSpan::new(file, offset, len, line, column)
-}
-
-fn convert(file: &Arc<SourceFile>, raw: Spanned<RawNode>) -> YamlNode {
-    let span = span_of(file, &raw.referenced);
-    let kind = match raw.value {
-        RawNode::Null => NodeKind::Null,
-        RawNode::Bool => NodeKind::Bool,
-        RawNode::Int(i) => NodeKind::Int(i),
-        RawNode::Float(f) => NodeKind::Float(f),
-        RawNode::Str(s) => NodeKind::Str(s),
-        RawNode::Seq(items) => NodeKind::Seq(items.into_iter().map(|i| convert(file, i)).collect()),
-        RawNode::Map(entries) => NodeKind::Map(
+fn convert(file: &Arc<SourceFile>, node: Spanned<yaml_tree::YamlNode>) -> YamlNode {
+    use yaml_tree::YamlNode as Y;
+    let span = text_span(file, node.span);
+    let kind = match node.value {
+        Y::Null => NodeKind::Null,
+        Y::Bool(_) => NodeKind::Bool,
+        Y::Int(i) => NodeKind::Int(i.into()),
+        Y::Float(f) => NodeKind::Float(f),
+        Y::Str(s) => NodeKind::Str(s),
+        Y::Seq(items) => NodeKind::Seq(items.into_iter().map(|i| convert(file, i)).collect()),
+        Y::Map(entries) => NodeKind::Map(
             entries
                 .into_iter()
                 .map(|(k, v)| {
                     let key = YamlNode {
-                        span: span_of(file, &k.referenced),
+                        span: text_span(file, k.span),
                         kind: NodeKind::Str(k.value),
                     };
                     (key, convert(file, v))
@@ -121,82 +98,6 @@ fn convert(file: &Arc<SourceFile>, raw: Spanned<RawNode>) -> YamlNode {
         ),
     };
     YamlNode { kind, span }
-}
-
-/// The tree as serde_saphyr hands it over, children wrapped in `Spanned`.
-enum RawNode {
-    Null,
-    Bool,
-    Int(i128),
-    Float(f64),
-    Str(String),
-    Seq(Vec<Spanned<RawNode>>),
-    Map(Vec<(Spanned<String>, Spanned<RawNode>)>),
-}
-
-impl<'de> Deserialize<'de> for RawNode {
-    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
-        deserializer.deserialize_any(RawNodeVisitor)
-    }
-}
-
-struct RawNodeVisitor;
-
-impl<'de> Visitor<'de> for RawNodeVisitor {
-    type Value = RawNode;
-
-    fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
-        f.write_str("any YAML value")
-    }
-    fn visit_unit<E>(self) -> Result<RawNode, E> {
-        Ok(RawNode::Null)
-    }
-    fn visit_none<E>(self) -> Result<RawNode, E> {
-        Ok(RawNode::Null)
-    }
-    fn visit_some<D: Deserializer<'de>>(self, d: D) -> Result<RawNode, D::Error> {
-        RawNode::deserialize(d)
-    }
-    fn visit_bool<E>(self, _: bool) -> Result<RawNode, E> {
-        Ok(RawNode::Bool)
-    }
-    fn visit_i64<E>(self, v: i64) -> Result<RawNode, E> {
-        Ok(RawNode::Int(v.into()))
-    }
-    fn visit_u64<E>(self, v: u64) -> Result<RawNode, E> {
-        Ok(RawNode::Int(v.into()))
-    }
-    fn visit_i128<E>(self, v: i128) -> Result<RawNode, E> {
-        Ok(RawNode::Int(v))
-    }
-    fn visit_u128<E: de::Error>(self, v: u128) -> Result<RawNode, E> {
-        i128::try_from(v)
-            .map(RawNode::Int)
-            .or(Ok(RawNode::Float(v as f64)))
-    }
-    fn visit_f64<E>(self, v: f64) -> Result<RawNode, E> {
-        Ok(RawNode::Float(v))
-    }
-    fn visit_str<E>(self, v: &str) -> Result<RawNode, E> {
-        Ok(RawNode::Str(v.to_string()))
-    }
-    fn visit_string<E>(self, v: String) -> Result<RawNode, E> {
-        Ok(RawNode::Str(v))
-    }
-    fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<RawNode, A::Error> {
-        let mut items = Vec::new();
-        while let Some(item) = seq.next_element()? {
-            items.push(item);
-        }
-        Ok(RawNode::Seq(items))
-    }
-    fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<RawNode, A::Error> {
-        let mut entries = Vec::new();
-        while let Some(entry) = map.next_entry()? {
-            entries.push(entry);
-        }
-        Ok(RawNode::Map(entries))
-    }
 }
 
 #[cfg(test)]

@@ -35,6 +35,15 @@ enum Stop {
     Interrupted,
 }
 
+/// Whether a step went well, and what to say about it.
+fn outcome(result: &Result<String, Stop>) -> (bool, String) {
+    match result {
+        Ok(d) => (true, d.clone()),
+        Err(Stop::Failed(m)) | Err(Stop::Fault(m)) | Err(Stop::Error(m)) => (false, m.clone()),
+        Err(Stop::Interrupted) => (false, "interrupted".to_string()),
+    }
+}
+
 impl From<DriveError> for Stop {
     fn from(e: DriveError) -> Self {
         match e {
@@ -183,31 +192,39 @@ impl<'a> Runner<'a> {
             self.observer.step_started(&number, step, phase);
             let started = self.clock.now();
             let result = self.step(step, &number, phase);
-            let (ok, detail) = match &result {
-                Ok(d) => (true, d.clone()),
-                Err(Stop::Failed(m)) | Err(Stop::Fault(m)) | Err(Stop::Error(m)) => (false, m.clone()),
-                Err(Stop::Interrupted) => (false, "interrupted".to_string()),
-            };
+            let (ok, detail) = outcome(&result);
             let ok = ok && !matches!(step.kind, StepKind::Expect(_) if detail.starts_with("FAILED"));
-            let record = StepRecord {
-                number: number.clone(),
-                label: step.label.clone(),
-                origin: step.origin.clone(),
-                ok,
-                detail,
-                started,
-                duration: self.clock.now() - started,
-                phase,
-            };
-            self.observer.step_finished(&record);
             // Nested steps were recorded by their own records; keep the container too.
-            self.report.steps.push(record);
+            self.record_step(number.clone(), step, ok, detail, started, phase);
             result?;
             if phase == "steps" {
                 self.watch_fault(true)?;
             }
         }
         Ok(())
+    }
+
+    fn record_step(
+        &mut self,
+        number: String,
+        step: &Step,
+        ok: bool,
+        detail: String,
+        started: Duration,
+        phase: &'static str,
+    ) {
+        let record = StepRecord {
+            number,
+            label: step.label.clone(),
+            origin: step.origin.clone(),
+            ok,
+            detail,
+            started,
+            duration: self.clock.now() - started,
+            phase,
+        };
+        self.observer.step_finished(&record);
+        self.report.steps.push(record);
     }
 
     fn step(&mut self, step: &Step, number: &str, phase: &'static str) -> Result<String, Stop> {
@@ -685,11 +702,7 @@ impl<'a> Runner<'a> {
             self.observer.step_started(&number, step, phase);
             let started = self.clock.now();
             let result = self.step(step, &number, phase);
-            let (ok, detail) = match &result {
-                Ok(d) => (true, d.clone()),
-                Err(Stop::Failed(m)) | Err(Stop::Fault(m)) | Err(Stop::Error(m)) => (false, m.clone()),
-                Err(Stop::Interrupted) => (false, "interrupted".into()),
-            };
+            let (ok, detail) = outcome(&result);
             if !ok {
                 self.report.safe_stop.push(format!(
                     "{phase} step {} ({}) failed: {detail}",
@@ -697,18 +710,7 @@ impl<'a> Runner<'a> {
                     step.label
                 ));
             }
-            let record = StepRecord {
-                number,
-                label: step.label.clone(),
-                origin: step.origin.clone(),
-                ok,
-                detail,
-                started,
-                duration: self.clock.now() - started,
-                phase,
-            };
-            self.observer.step_finished(&record);
-            self.report.steps.push(record);
+            self.record_step(number, step, ok, detail, started, phase);
         }
     }
 

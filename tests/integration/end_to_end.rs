@@ -145,7 +145,8 @@ fn ctrl_c_during_a_run_stops_safely_and_exits_130() {
     let code = child.wait().expect("run ends").code();
     let all = format!("{seen}{rest}");
     assert_eq!(code, Some(130), "{all}");
-    assert!(all.contains("FAIL  dwell 2h  interrupted"), "{all}");
+    // The press lands in the dwell or just before it starts; either way the steps stop.
+    assert!(!all.contains("ok    dwell"), "{all}");
     assert!(all.contains("finally 3  ok    shutdown"), "{all}");
     assert!(all.contains("drive left in ready to switch on"), "{all}");
     assert!(all.contains("INTERRUPTED"), "{all}");
