@@ -69,7 +69,14 @@ pub fn run(args: &DecodeArgs) -> i32 {
     let mut code = PASSED;
     let mut last_request: Option<Telegram> = None;
     for (place, line) in &lines {
-        let text = line.trim();
+        let mut text = line.trim();
+        // A line of a `--trace` file: only its telegram's hex counts.
+        if crate::report::is_trace_line(text) {
+            match crate::report::hex_of_trace_line(text) {
+                Some(hex) => text = hex,
+                None => continue,
+            }
+        }
         if text.is_empty() || text.starts_with('#') {
             continue;
         }

@@ -5,6 +5,7 @@ use super::connection_args::{Connection, ConnectionArgs};
 use super::render_diagnostic;
 use crate::dictionary::Dictionary;
 use crate::drive::{Drive, Sd2Access};
+use crate::link::TelegramObserver;
 use crate::sim::Sd2Simulator;
 use clap::Args;
 use std::path::PathBuf;
@@ -56,12 +57,25 @@ pub fn open_drive(
     dictionary: Arc<Dictionary>,
     virtual_time: bool,
 ) -> Result<OpenDrive, String> {
+    open_drive_observed(connection, dictionary, virtual_time, None)
+}
+
+/// [`open_drive`] with an observer of every telegram (trace file, `-v`).
+pub fn open_drive_observed(
+    connection: &ConnectionArgs,
+    dictionary: Arc<Dictionary>,
+    virtual_time: bool,
+    observer: Option<Box<dyn TelegramObserver>>,
+) -> Result<OpenDrive, String> {
     let Connection {
-        link,
+        mut link,
         dest,
         simulator,
         description,
     } = connection.open(virtual_time).map_err(|e| format!("error: {e}"))?;
+    if let Some(o) = observer {
+        link.set_observer(o);
+    }
     let drive = Drive::new(Box::new(Sd2Access::new(link, dest)), dictionary);
     Ok(OpenDrive {
         drive,

@@ -12,7 +12,7 @@ mod simulate_command;
 
 pub use connection_args::{Connection, ConnectionArgs, WriteLengthArg};
 pub use drive_args::DictionaryArgs;
-pub use recipe_commands::{run_recipe, RunRequest, RunResult};
+pub use recipe_commands::{run_recipe, OutputArgs, RunRequest, RunResult};
 
 pub use exit_code::*;
 

@@ -2,12 +2,14 @@
 //! with the safe stop at every ending.
 
 use super::connection_args::ConnectionArgs;
-use super::drive_args::{open_drive, DictionaryArgs};
+use super::drive_args::{open_drive_observed, DictionaryArgs};
 use super::COMMUNICATION;
 use super::{interrupt, INVALID, PASSED};
 use crate::clock::SharedClock;
-use crate::recipe::{load_recipe, Recipe, RecipeInvalid, RunReport, Runner};
-use crate::report::ConsoleReporter;
+use crate::recipe::{load_recipe, Observers, Recipe, RecipeInvalid, RunReport, Runner};
+use crate::report::{
+    write_html, write_junit, ConsoleReporter, CsvRecorder, ProgressReporter, TelegramFanOut, TraceWriter,
+};
 use crate::sim::Sd2Simulator;
 use clap::Args;
 use std::io::{IsTerminal, Write};
@@ -49,9 +51,35 @@ pub struct RunArgs {
     #[arg(long, value_name = "DIR", default_value = ".")]
     output_dir: PathBuf,
     #[command(flatten)]
+    outputs: OutputArgs,
+    #[command(flatten)]
     dictionary: DictionaryArgs,
     #[command(flatten)]
     connection: ConnectionArgs,
+}
+
+/// What a run writes besides the console.
+#[derive(Debug, Clone, Default, Args)]
+#[command(next_help_heading = "Output")]
+pub struct OutputArgs {
+    /// Print every telegram sent and received, with its time and meaning, to standard error.
+    #[arg(short, long)]
+    pub verbose: bool,
+    /// Write every telegram to FILE as the run goes (`drivescript decode` reads it back).
+    #[arg(long, value_name = "FILE")]
+    pub trace: Option<PathBuf>,
+    /// Stream every sample to FILE (time, step, object, value, unit), flushed row by row.
+    #[arg(long, value_name = "FILE")]
+    pub csv: Option<PathBuf>,
+    /// Write a JUnit XML report: one test case per check, for CI servers.
+    #[arg(long, value_name = "FILE")]
+    pub junit: Option<PathBuf>,
+    /// Write a self-contained HTML report with plots of every sampled series.
+    #[arg(long, value_name = "FILE.html")]
+    pub report: Option<PathBuf>,
+    /// Plain lines only: no live progress bar.
+    #[arg(long, alias = "no-progress")]
+    pub quiet: bool,
 }
 
 fn parse_set(text: &str) -> Result<(String, String), String> {
@@ -114,8 +142,10 @@ pub fn run(args: &RunArgs) -> i32 {
         output_dir: args.output_dir.clone(),
         dictionary: &args.dictionary,
         connection: &args.connection,
+        outputs: &args.outputs,
         prepare_simulator: None,
         interrupts: &count,
+        terminal: std::io::stdout().is_terminal(),
     };
     let mut stdout = std::io::stdout();
     let mut stderr = std::io::stderr();
@@ -134,11 +164,14 @@ pub struct RunRequest<'a> {
     pub output_dir: PathBuf,
     pub dictionary: &'a DictionaryArgs,
     pub connection: &'a ConnectionArgs,
+    pub outputs: &'a OutputArgs,
     /// Called with the simulated drive and the run's clock before the run (tests inject
     /// faults and schedule a Ctrl-C here).
     pub prepare_simulator: Option<&'a PrepareSimulator>,
     /// How many times Ctrl-C was pressed.
     pub interrupts: &'a dyn Fn() -> u32,
+    /// Whether standard output is a terminal (live progress).
+    pub terminal: bool,
 }
 
 /// What a run produced.
@@ -174,7 +207,38 @@ pub fn run_recipe(request: &RunRequest, out: &mut dyn Write, err: &mut dyn Write
         let _ = writeln!(err, "error: --fast (virtual time) works only with the built-in simulated drive; a real drive runs in real time");
         return refused(INVALID);
     }
-    let mut open = match open_drive(request.connection, dictionary, request.fast) {
+    // Files are opened before anything is sent: a path that cannot be written is an
+    // invalid command line, not a half-run recipe.
+    let outputs = request.outputs;
+    let mut telegrams = TelegramFanOut::new();
+    if let Some(path) = &outputs.trace {
+        match TraceWriter::create(path, dictionary.clone()) {
+            Ok(t) => telegrams.push(Box::new(t)),
+            Err(e) => {
+                let _ = writeln!(err, "error: {e}");
+                return refused(INVALID);
+            }
+        }
+    }
+    if outputs.verbose {
+        telegrams.push(Box::new(TraceWriter::new(std::io::stderr(), dictionary.clone())));
+    }
+    let mut csv = match &outputs.csv {
+        Some(path) => match CsvRecorder::create(path) {
+            Ok(c) => Some(c),
+            Err(e) => {
+                let _ = writeln!(err, "error: {e}");
+                return refused(INVALID);
+            }
+        },
+        None => None,
+    };
+    let mut open = match open_drive_observed(
+        request.connection,
+        dictionary,
+        request.fast,
+        telegrams.into_observer(),
+    ) {
         Ok(o) => o,
         Err(text) => {
             let _ = writeln!(err, "{text}");
@@ -188,10 +252,36 @@ pub fn run_recipe(request: &RunRequest, out: &mut dyn Write, err: &mut dyn Write
         let _ = writeln!(out, "using {}", open.description);
     }
     let virtual_time = request.fast && open.simulator.is_some();
+    // A live bar only on a terminal, and not while -v writes telegram lines under it.
+    let live = request.terminal && !outputs.quiet && !outputs.verbose;
     let mut console = ConsoleReporter::new(&mut *out, virtual_time);
-    let report = Runner::new(&mut open.drive, &mut console, request.interrupts, &recipe)
-        .with_output_dir(request.output_dir.clone())
-        .run(&recipe);
+    let mut progress = live.then(|| ProgressReporter::stdout(virtual_time));
+    let report = {
+        let mut observers = Observers::default();
+        match progress.as_mut() {
+            Some(p) => observers.push(p),
+            None => observers.push(&mut console),
+        }
+        if let Some(c) = csv.as_mut() {
+            observers.push(c);
+        }
+        Runner::new(&mut open.drive, &mut observers, request.interrupts, &recipe)
+            .with_output_dir(request.output_dir.clone())
+            .run(&recipe)
+    };
+    if let Some(e) = csv.as_ref().and_then(|c| c.error()) {
+        let _ = writeln!(err, "warning: {e}");
+    }
+    if let Some(path) = &outputs.junit {
+        if let Err(e) = write_junit(&report, path) {
+            let _ = writeln!(err, "error: {e}");
+        }
+    }
+    if let Some(path) = &outputs.report {
+        if let Err(e) = write_html(&report, path) {
+            let _ = writeln!(err, "error: {e}");
+        }
+    }
     RunResult {
         exit_code: report.verdict.exit_code(),
         report: Some(report),

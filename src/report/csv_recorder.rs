@@ -118,7 +118,10 @@ mod tests {
         csv.step_started("3", &step(), "steps");
         csv.sample(
             Duration::from_millis(5_100),
-            &[row("speed_actual", Some("rpm"), 6000.125), row("current_actual", Some("A"), 2.5)],
+            &[
+                row("speed_actual", Some("rpm"), 6000.125),
+                row("current_actual", Some("A"), 2.5),
+            ],
         );
         // Read while the recorder is alive: the rows must already be in the file.
         assert_eq!(
@@ -136,7 +139,10 @@ mod tests {
 
         // And a CSV reader agrees on the columns.
         let mut reader = csv::Reader::from_path(&path).unwrap();
-        assert_eq!(reader.headers().unwrap(), &csv::StringRecord::from(CSV_HEADER.to_vec()));
+        assert_eq!(
+            reader.headers().unwrap(),
+            &csv::StringRecord::from(CSV_HEADER.to_vec())
+        );
         let rows: Vec<csv::StringRecord> = reader.records().map(Result::unwrap).collect();
         assert_eq!(rows.len(), 3);
         assert_eq!(&rows[1][2], "current_actual");
@@ -150,7 +156,10 @@ mod tests {
         let mut csv = CsvRecorder::create(&path).unwrap();
         csv.sample(Duration::ZERO, &[row("odd,name", Some("\"u\""), 1.0)]);
         let text = std::fs::read_to_string(&path).unwrap();
-        assert!(text.ends_with("0.000000,,\"odd,name\",1,\"\"\"u\"\"\"\n"), "{text}");
+        assert!(
+            text.ends_with("0.000000,,\"odd,name\",1,\"\"\"u\"\"\"\n"),
+            "{text}"
+        );
         drop(csv);
         std::fs::remove_dir_all(path.parent().unwrap().parent().unwrap()).unwrap();
     }

@@ -55,8 +55,8 @@ pub fn check_markup(text: &str, void: &[&str]) -> Result<Vec<Element>, String> {
                     return Err(format!("processing instruction not at the start, at {i}"));
                 }
                 i += end + 2;
-            } else if rest.starts_with("<!") {
-                if !rest[2..].to_ascii_lowercase().starts_with("doctype") || !elements.is_empty() {
+            } else if let Some(declaration) = rest.strip_prefix("<!") {
+                if !declaration.to_ascii_lowercase().starts_with("doctype") || !elements.is_empty() {
                     return Err(format!("unexpected <! at {i}"));
                 }
                 let end = rest.find('>').ok_or(format!("unclosed doctype at {i}"))?;
@@ -66,9 +66,7 @@ pub fn check_markup(text: &str, void: &[&str]) -> Result<Vec<Element>, String> {
                 let name = close[..end].trim();
                 match open.pop() {
                     Some((open_name, _)) if open_name == name => {}
-                    Some((open_name, _)) => {
-                        return Err(format!("</{name}> at {i} closes <{open_name}>"))
-                    }
+                    Some((open_name, _)) => return Err(format!("</{name}> at {i} closes <{open_name}>")),
                     None => return Err(format!("</{name}> at {i} without a start tag")),
                 }
                 i += 2 + end + 1;
@@ -157,7 +155,9 @@ fn start_tag(tag: &str, at: usize) -> Result<(Element, bool, usize), String> {
         }
         let attr = &tag[start..j];
         if attr.is_empty() || b.get(j) != Some(&b'=') {
-            return Err(format!("attribute '{attr}' of <{name}> at {at} has no quoted value"));
+            return Err(format!(
+                "attribute '{attr}' of <{name}> at {at} has no quoted value"
+            ));
         }
         j += 1;
         let quote = *b.get(j).ok_or(format!("<{name}> at {at} ends in an attribute"))?;

@@ -1,6 +1,28 @@
 //! Showing what happened: console lines as the run goes, and (from the run report) the
 //! files handed over afterwards. Reads the run's events and report; never talks to a drive.
 
+mod atomic_write;
 mod console_reporter;
+mod csv_recorder;
+mod html_report;
+mod junit_report;
+#[cfg(test)]
+mod markup_check;
+mod progress_reporter;
+#[cfg(test)]
+mod sample_report;
+mod telegram_fan_out;
+mod trace_writer;
 
-pub use console_reporter::ConsoleReporter;
+pub use atomic_write::write_atomically;
+pub use console_reporter::{
+    check_line, container_line, header_lines, message_line, step_line, summary_lines, ConsoleReporter,
+};
+pub use csv_recorder::{CsvRecorder, CSV_HEADER};
+pub use html_report::{html_report, write_html, MAX_PLOT_POINTS};
+pub use junit_report::{junit_xml, write_junit};
+pub use progress_reporter::{progress_text, ProgressReporter};
+pub use telegram_fan_out::TelegramFanOut;
+pub use trace_writer::{
+    hex_of_trace_line, is_trace_line, summary as telegram_summary, TraceNames, TraceWriter,
+};

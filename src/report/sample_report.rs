@@ -13,7 +13,14 @@ pub fn origin(line: usize) -> StepOrigin {
     }
 }
 
-pub fn step(number: &str, label: &str, ok: bool, detail: &str, started_ms: u64, phase: &'static str) -> StepRecord {
+pub fn step(
+    number: &str,
+    label: &str,
+    ok: bool,
+    detail: &str,
+    started_ms: u64,
+    phase: &'static str,
+) -> StepRecord {
     StepRecord {
         number: number.into(),
         label: label.into(),
@@ -65,8 +72,22 @@ pub fn passed_report() -> RunReport {
         steps: vec![
             step("1", "shutdown", true, "ready to switch on", 0, "steps"),
             step("2", "set speed_setpoint = 6000 rpm", true, "", 250, "steps"),
-            step("3", "sample speed_actual every 100 ms for 60 s", true, "mean 6000.1 rpm", 5_000, "steps"),
-            step("4", "expect speed_actual mean near 6000 rpm ± 0.5 %", true, "", 65_000, "steps"),
+            step(
+                "3",
+                "sample speed_actual every 100 ms for 60 s",
+                true,
+                "mean 6000.1 rpm",
+                5_000,
+                "steps",
+            ),
+            step(
+                "4",
+                "expect speed_actual mean near 6000 rpm ± 0.5 %",
+                true,
+                "",
+                65_000,
+                "steps",
+            ),
             step("1", "disable_operation", true, "switched on", 65_500, "finally"),
         ],
         checks: vec![
@@ -111,7 +132,14 @@ pub fn error_report() -> RunReport {
         verdict: Verdict::Error("no reply within 100 ms from drive 2 <port>".into()),
         steps: vec![
             step("1", "expect speed_actual", false, "mean 5800 rpm", 0, "steps"),
-            step("2", "dwell 10 s", false, "no reply within 100 ms from drive 2 <port>", 2_000, "steps"),
+            step(
+                "2",
+                "dwell 10 s",
+                false,
+                "no reply within 100 ms from drive 2 <port>",
+                2_000,
+                "steps",
+            ),
         ],
         checks: vec![CheckResult {
             // Written in step 1.

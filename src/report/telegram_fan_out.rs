@@ -62,13 +62,19 @@ mod tests {
     struct Log(Arc<Mutex<Vec<String>>>, &'static str);
     impl TelegramObserver for Log {
         fn telegram(&mut self, at: Duration, d: Direction, bytes: &[u8], _: &Result<Telegram, DecodeError>) {
+            self.0.lock().unwrap().push(format!(
+                "{} {} {} {}",
+                self.1,
+                at.as_millis(),
+                d.tag(),
+                bytes.len()
+            ));
+        }
+        fn event(&mut self, at: Duration, text: &str) {
             self.0
                 .lock()
                 .unwrap()
-                .push(format!("{} {} {} {}", self.1, at.as_millis(), d.tag(), bytes.len()));
-        }
-        fn event(&mut self, at: Duration, text: &str) {
-            self.0.lock().unwrap().push(format!("{} {} {text}", self.1, at.as_millis()));
+                .push(format!("{} {} {text}", self.1, at.as_millis()));
         }
     }
 
@@ -80,7 +86,12 @@ mod tests {
         fan.push(Box::new(Log(log.clone(), "a")));
         fan.push(Box::new(Log(log.clone(), "b")));
         let mut o = fan.into_observer().unwrap();
-        o.telegram(Duration::from_millis(5), Direction::Sent, &[0, 9], &Err(DecodeError::Empty));
+        o.telegram(
+            Duration::from_millis(5),
+            Direction::Sent,
+            &[0, 9],
+            &Err(DecodeError::Empty),
+        );
         o.event(Duration::from_millis(6), "retry 1 of 2");
         assert_eq!(
             *log.lock().unwrap(),

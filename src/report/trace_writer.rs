@@ -161,6 +161,21 @@ pub fn hex_of_trace_line(line: &str) -> Option<&str> {
     }
 }
 
+/// True for every line a trace holds: telegram lines, link events (`--`) and comments (`#`).
+/// `decode` reads a trace line's hex with [`hex_of_trace_line`] and skips the others, and
+/// takes any other line as hex itself.
+pub fn is_trace_line(line: &str) -> bool {
+    let line = line.trim_start();
+    if line.starts_with('#') {
+        return true;
+    }
+    let mut tokens = line.split_whitespace();
+    let seconds = tokens
+        .next()
+        .is_some_and(|t| t.contains('.') && t.parse::<f64>().is_ok());
+    seconds && matches!(tokens.next(), Some("TX" | "RX" | "--"))
+}
+
 /// One line saying what a telegram means: `read object 67 status_word`,
 /// `reply status_word = 0x0237 operation enabled`, `write reply ok`. `request` is the
 /// request a reply answers, when known.
@@ -275,7 +290,12 @@ fn cyclic(c: &Cyclic, reply: bool, names: &dyn ObjectNames) -> String {
         } else {
             format!("service {}", svc.function().id().replace('_', " "))
         };
-        let _ = write!(s, "; {what} object {} = {}", object(names, svc.index, 0), svc.value());
+        let _ = write!(
+            s,
+            "; {what} object {} = {}",
+            object(names, svc.index, 0),
+            svc.value()
+        );
     }
     s
 }
@@ -323,8 +343,18 @@ mod tests {
     #[test]
     fn read_and_its_reply_are_named() {
         let mut trace = TraceWriter::new(Vec::new(), names());
-        send(&mut trace, 12, Direction::Sent, &Telegram::read_request(2, 1, 67, 0));
-        send(&mut trace, 14, Direction::Received, &read_reply(&[0x37, 0x02], ErrorCode::OK));
+        send(
+            &mut trace,
+            12,
+            Direction::Sent,
+            &Telegram::read_request(2, 1, 67, 0),
+        );
+        send(
+            &mut trace,
+            14,
+            Direction::Received,
+            &read_reply(&[0x37, 0x02], ErrorCode::OK),
+        );
         let l = lines(trace);
         assert_eq!(
             l[0],
@@ -359,9 +389,17 @@ mod tests {
         };
         send(&mut trace, 4, Direction::Received, &refused);
         let l = lines(trace);
-        assert!(l[0].ends_with("# write object 395 speed_setpoint = 6000 rpm"), "{}", l[0]);
+        assert!(
+            l[0].ends_with("# write object 395 speed_setpoint = 6000 rpm"),
+            "{}",
+            l[0]
+        );
         assert!(l[1].ends_with("# write reply ok"), "{}", l[1]);
-        assert!(l[2].ends_with("# write object 68 control_word = 0x0006 shutdown"), "{}", l[2]);
+        assert!(
+            l[2].ends_with("# write object 68 control_word = 0x0006 shutdown"),
+            "{}",
+            l[2]
+        );
         assert!(
             l[3].ends_with("# write reply 0x8A attempt to write a read-only object"),
             "{}",
@@ -372,14 +410,43 @@ mod tests {
     #[test]
     fn read_errors_unknown_objects_and_orphan_replies() {
         let mut trace = TraceWriter::new(Vec::new(), names());
-        send(&mut trace, 0, Direction::Received, &read_reply(&[0x7f, 0x50, 0x0f, 0x00], ErrorCode::OK));
-        send(&mut trace, 1, Direction::Sent, &Telegram::read_request(2, 1, 9999, 0));
-        send(&mut trace, 2, Direction::Received, &read_reply(&[], ErrorCode::OBJECT_DOES_NOT_EXIST));
-        send(&mut trace, 3, Direction::Sent, &Telegram::read_request(2, 1, 398, 0));
-        send(&mut trace, 4, Direction::Received, &read_reply(&[0x7f, 0x50, 0x0f, 0x00], ErrorCode::OK));
+        send(
+            &mut trace,
+            0,
+            Direction::Received,
+            &read_reply(&[0x7f, 0x50, 0x0f, 0x00], ErrorCode::OK),
+        );
+        send(
+            &mut trace,
+            1,
+            Direction::Sent,
+            &Telegram::read_request(2, 1, 9999, 0),
+        );
+        send(
+            &mut trace,
+            2,
+            Direction::Received,
+            &read_reply(&[], ErrorCode::OBJECT_DOES_NOT_EXIST),
+        );
+        send(
+            &mut trace,
+            3,
+            Direction::Sent,
+            &Telegram::read_request(2, 1, 398, 0),
+        );
+        send(
+            &mut trace,
+            4,
+            Direction::Received,
+            &read_reply(&[0x7f, 0x50, 0x0f, 0x00], ErrorCode::OK),
+        );
         let l = lines(trace);
         assert!(l[0].ends_with("# reply 1003647 (request not seen)"), "{}", l[0]);
-        assert!(l[1].ends_with("# read object 9999 (not in the dictionary)"), "{}", l[1]);
+        assert!(
+            l[1].ends_with("# read object 9999 (not in the dictionary)"),
+            "{}",
+            l[1]
+        );
         assert!(
             l[2].ends_with("# read reply 0x8B object does not exist in the object dictionary"),
             "{}",
@@ -423,7 +490,12 @@ mod tests {
         let mut trace = TraceWriter::new(Vec::new(), names());
         let bytes = parse_hex("00 09 01 02 8d 02 00 37 02 00").unwrap();
         let decoded = Telegram::decode(&bytes);
-        trace.telegram(Duration::from_micros(1_500_250), Direction::Received, &bytes, &decoded);
+        trace.telegram(
+            Duration::from_micros(1_500_250),
+            Direction::Received,
+            &bytes,
+            &decoded,
+        );
         trace.event(Duration::from_secs(2), "no reply within 100 ms\n(retry follows)");
         trace.comment("a note");
         let l = lines(trace);
@@ -444,8 +516,12 @@ mod tests {
         let mut trace = TraceWriter::new(Vec::new(), names());
         let sent = Telegram::write_request(2, 1, 395, 0, &6_000_000i32.to_le_bytes()).unwrap();
         send(&mut trace, 7_200_000, Direction::Sent, &sent);
+        // Past the column width (100 h) the line only grows.
+        send(&mut trace, 360_000_000, Direction::Sent, &sent);
         let l = lines(trace);
-        assert!(l[0].starts_with("7200.000000 TX "), "{}", l[0]);
+        assert!(l[0].starts_with(" 7200.000000 TX 00 0b "), "{}", l[0]);
+        assert!(l[1].starts_with("360000.000000 TX 00 0b "), "{}", l[1]);
+        assert_eq!(hex_of_trace_line(&l[1]), hex_of_trace_line(&l[0]));
         let hex = hex_of_trace_line(&l[0]).unwrap();
         let bytes = parse_hex(hex).unwrap();
         assert_eq!(Telegram::decode(&bytes).unwrap(), sent);
@@ -457,6 +533,17 @@ mod tests {
         assert_eq!(hex_of_trace_line("00 0b 02 01"), None);
         assert_eq!(hex_of_trace_line("0.5 TXT 00"), None);
         assert_eq!(hex_of_trace_line(""), None);
+
+        for line in [
+            l[0].as_str(),
+            "    2.000000 -- no reply within 100 ms",
+            "# comment",
+        ] {
+            assert!(is_trace_line(line), "{line}");
+        }
+        for line in ["00 09 02 01 0d 43 00", "000902010d", "0x00 0x09", "", "1.5 17 00"] {
+            assert!(!is_trace_line(line), "{line}");
+        }
     }
 
     #[test]
@@ -473,13 +560,20 @@ mod tests {
         drop(trace);
         std::fs::remove_dir_all(&dir).unwrap();
 
-        let err = TraceWriter::create(Path::new("/proc/no/such/dir/x.trace"), names()).unwrap_err();
+        let err = TraceWriter::create(Path::new("/proc/no/such/dir/x.trace"), names())
+            .err()
+            .unwrap();
         assert!(err.contains("/proc/no/such/dir"), "{err}");
     }
 
     fn send_file(trace: &mut TraceWriter<std::fs::File>) {
         let t = Telegram::read_request(2, 1, 67, 0);
-        trace.telegram(Duration::ZERO, Direction::Sent, &t.encode(WriteLength::Captured), &Ok(t));
+        trace.telegram(
+            Duration::ZERO,
+            Direction::Sent,
+            &t.encode(WriteLength::Captured),
+            &Ok(t),
+        );
     }
 
     #[test]

@@ -15,7 +15,7 @@
 //!
 //! Every case runs in-process against the simulated drive in virtual time.
 
-use drivescript::cli::{run_recipe, ConnectionArgs, DictionaryArgs, RunRequest};
+use drivescript::cli::{run_recipe, ConnectionArgs, DictionaryArgs, OutputArgs, RunRequest};
 use drivescript::clock::SharedClock;
 use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex, OnceLock};
@@ -135,8 +135,10 @@ fn run_case(dir: &Path) -> Result<(), String> {
         output_dir,
         dictionary: &dictionary,
         connection: &connection,
+        outputs: &OutputArgs::default(),
         prepare_simulator: Some(&prepare),
         interrupts: &interrupts,
+        terminal: false,
     };
     let mut out = Vec::new();
     let mut err = Vec::new();

@@ -1,0 +1,890 @@
+//! `--report FILE.html`: the run report as ONE self-contained HTML page to hand over after
+//! commissioning: recipe, drive, parameters, verdict, every step and check, the safe stop,
+//! and an inline SVG plot per sampled series with the checks' limits. Must not reference
+//! anything outside the file (no network, fonts, scripts or images), must print well in
+//! black and white, and escapes every text that comes from recipes, drives or messages.
+
+use super::atomic_write::write_atomically;
+use super::junit_report::{limits_text, with_unit};
+use crate::recipe::{number, CheckResult, RunReport, Series, StepRecord, Verdict};
+use std::fmt::Write as _;
+use std::path::Path;
+use std::time::Duration;
+
+/// Most points a plot's polyline holds; longer series keep the min and max of each bucket.
+pub const MAX_PLOT_POINTS: usize = 2000;
+
+/// The HTML page of a run.
+pub fn html_report(report: &RunReport) -> String {
+    let r = report;
+    let mut h = String::with_capacity(16 * 1024);
+    let verdict = r.verdict.word();
+    let _ = write!(
+        h,
+        "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n\
+         <meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n\
+         <meta name=\"generator\" content=\"drivescript {}\">\n<title>{} — {verdict}</title>\n\
+         <style>{CSS}</style>\n</head>\n<body>\n",
+        env!("CARGO_PKG_VERSION"),
+        esc(&r.recipe)
+    );
+    header(&mut h, r);
+    checks(&mut h, r);
+    plots(&mut h, r);
+    steps(&mut h, r);
+    safe_stop(&mut h, r);
+    let _ = write!(
+        h,
+        "<footer>Written by drivescript {} from the run's report.</footer>\n</body>\n</html>\n",
+        env!("CARGO_PKG_VERSION")
+    );
+    h
+}
+
+/// Writes [`html_report`] to `path` atomically (via `path.tmp`), creating the directory.
+pub fn write_html(report: &RunReport, path: &Path) -> Result<(), String> {
+    write_atomically(path, &html_report(report))
+}
+
+const CSS: &str = "
+body { font-family: system-ui, -apple-system, 'Segoe UI', Roboto, Helvetica, Arial, sans-serif;
+       margin: 2em auto; max-width: 1100px; padding: 0 1em; color: #111; line-height: 1.4; }
+h1 { margin-bottom: 0.2em; }
+h2 { border-bottom: 1px solid #999; padding-bottom: 0.1em; margin-top: 1.6em; }
+table { border-collapse: collapse; width: 100%; margin: 0.5em 0; }
+th, td { border: 1px solid #bbb; padding: 0.25em 0.5em; text-align: left; vertical-align: top; }
+th { background: #eee; }
+td.num { text-align: right; font-variant-numeric: tabular-nums; white-space: nowrap; }
+table.facts th { width: 12em; }
+.verdict { display: inline-block; font-size: 2.2em; font-weight: bold; letter-spacing: 0.05em;
+           padding: 0.15em 0.6em; border: 4px solid; margin: 0.3em 0; }
+.verdict.passed { color: #0a5a1e; background: #dff3e4; border-style: solid; }
+.verdict.failed, .verdict.error, .verdict.interrupted { color: #8b0000; background: #fbe0e0;
+           border-style: double; border-width: 6px; }
+.why { font-size: 1.1em; font-weight: bold; }
+.ok { color: #0a5a1e; }
+.fail { color: #8b0000; font-weight: bold; }
+tr.fail td { background: #fdf0f0; }
+code { font-family: ui-monospace, Menlo, Consolas, monospace; font-size: 0.95em; }
+figure { margin: 1em 0; }
+figcaption { font-size: 0.9em; color: #333; }
+svg.plot { width: 100%; max-width: 760px; height: auto; border: 1px solid #ccc; background: #fff; }
+svg.plot text { font-family: system-ui, Helvetica, Arial, sans-serif; font-size: 11px; fill: #111; }
+svg.plot .grid { stroke: #ddd; stroke-width: 1; }
+svg.plot .axis { stroke: #111; stroke-width: 1; }
+svg.plot .data { fill: none; stroke: #1f4fa0; stroke-width: 1.5; }
+svg.plot .limit { stroke: #b00000; stroke-width: 1.2; stroke-dasharray: 6 4; }
+svg.plot text.limit-label { fill: #b00000; }
+footer { margin-top: 2em; font-size: 0.8em; color: #555; }
+@media print {
+  body { margin: 0; max-width: none; color: #000; }
+  th, tr.fail td, .verdict, .verdict.passed, .verdict.failed, .verdict.error,
+  .verdict.interrupted, svg.plot { background: none !important; }
+  .verdict, .ok, .fail, svg.plot text.limit-label { color: #000 !important; }
+  svg.plot text.limit-label { fill: #000; }
+  svg.plot .data { stroke: #000; }
+  svg.plot .limit { stroke: #000; }
+  figure, table, tr, .verdict { break-inside: avoid; page-break-inside: avoid; }
+  thead { display: table-header-group; }
+  h2 { break-after: avoid; page-break-after: avoid; }
+}
+";
+
+fn header(h: &mut String, r: &RunReport) {
+    let class = r.verdict.word().to_lowercase();
+    let mark = if r.verdict == Verdict::Passed {
+        "✔"
+    } else {
+        "✘"
+    };
+    let _ = write!(
+        h,
+        "<header>\n<h1>{}</h1>\n<p class=\"verdict {class}\" id=\"verdict\">{mark} {}</p>\n",
+        esc(&r.recipe),
+        r.verdict.word()
+    );
+    let why = match &r.verdict {
+        Verdict::Passed => format!("All {} check(s) passed.", r.checks.len()),
+        Verdict::Failed => format!("{} of {} check(s) failed.", r.checks_failed(), r.checks.len()),
+        Verdict::Error(m) => format!("Communication failure or drive fault: {m}"),
+        Verdict::Interrupted => "Interrupted (Ctrl-C); the drive was brought to a safe stop.".into(),
+    };
+    let _ = writeln!(h, "<p class=\"why\">{}</p>\n</header>", esc(&why));
+
+    h.push_str("<section>\n<h2>Run</h2>\n<table class=\"facts\">\n");
+    let params = if r.params.is_empty() {
+        "none".to_string()
+    } else {
+        r.params
+            .iter()
+            .map(|(n, v)| format!("{n} = {v}"))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    let facts = [
+        ("Recipe", r.recipe.clone()),
+        ("Recipe file", r.recipe_path.clone()),
+        ("Drive", r.drive.clone()),
+        (
+            "Drive identity",
+            r.identity.clone().unwrap_or_else(|| "not read".into()),
+        ),
+        ("Parameters", params),
+        (
+            "Started (UTC)",
+            humantime::format_rfc3339_seconds(r.started_at)
+                .to_string()
+                .replace('T', " ")
+                .replace('Z', " UTC"),
+        ),
+        ("Duration", duration_text(r.duration)),
+        (
+            "Verdict",
+            format!("{} (exit code {})", r.verdict.word(), r.verdict.exit_code()),
+        ),
+        (
+            "Checks",
+            format!("{} passed, {} failed", r.checks_passed(), r.checks_failed()),
+        ),
+        (
+            "Drive left in",
+            r.final_state
+                .map(|s| s.to_string())
+                .unwrap_or_else(|| "unknown (could not be read)".into()),
+        ),
+    ];
+    for (name, value) in facts {
+        let _ = writeln!(
+            h,
+            "<tr><th scope=\"row\">{name}</th><td>{}</td></tr>",
+            esc(&value)
+        );
+    }
+    h.push_str("</table>\n</section>\n");
+}
+
+fn checks(h: &mut String, r: &RunReport) {
+    h.push_str("<section id=\"checks\">\n<h2>Checks</h2>\n");
+    if r.checks.is_empty() {
+        h.push_str("<p>The recipe has no checks.</p>\n</section>\n");
+        return;
+    }
+    h.push_str(
+        "<table>\n<thead><tr><th>Check</th><th>Measured</th><th>Limits</th><th>Result</th>\
+         <th>Details</th><th>Where</th></tr></thead>\n<tbody>\n",
+    );
+    for c in &r.checks {
+        let measured = match (c.measured, &c.measured_text) {
+            (Some(v), _) => with_unit(v, c.unit.as_deref()),
+            (None, Some(t)) => t.clone(),
+            (None, None) => "—".into(),
+        };
+        let (row, mark) = if c.passed {
+            ("pass", "<span class=\"ok\">PASS</span>")
+        } else {
+            ("fail", "<span class=\"fail\">FAIL</span>")
+        };
+        let _ = writeln!(
+            h,
+            "<tr class=\"{row}\"><td>{}</td><td class=\"num\">{}</td><td class=\"num\">{}</td>\
+             <td>{mark}</td><td>{}</td><td><code>{}</code></td></tr>",
+            esc(&c.name),
+            esc(&measured),
+            esc(&limits_text(c).unwrap_or_else(|| "—".into())),
+            esc(&c.message),
+            esc(&c.origin.to_string())
+        );
+    }
+    h.push_str("</tbody>\n</table>\n</section>\n");
+}
+
+fn steps(h: &mut String, r: &RunReport) {
+    h.push_str("<section id=\"steps\">\n<h2>Steps</h2>\n");
+    if r.steps.is_empty() {
+        h.push_str("<p>No step ran.</p>\n</section>\n");
+        return;
+    }
+    h.push_str(
+        "<table>\n<thead><tr><th>#</th><th>Phase</th><th>Step</th><th>Result</th><th>Detail</th>\
+         <th>Start</th><th>Duration</th></tr></thead>\n<tbody>\n",
+    );
+    for s in &r.steps {
+        step_row(h, s);
+    }
+    h.push_str("</tbody>\n</table>\n</section>\n");
+}
+
+fn step_row(h: &mut String, s: &StepRecord) {
+    let (row, mark) = if s.ok {
+        ("ok", "<span class=\"ok\">ok</span>")
+    } else {
+        ("fail", "<span class=\"fail\">FAIL</span>")
+    };
+    let _ = writeln!(
+        h,
+        "<tr class=\"{row}\"><td class=\"num\">{}</td><td>{}</td><td>{}</td><td>{mark}</td>\
+         <td>{}</td><td class=\"num\">{}</td><td class=\"num\">{}</td></tr>",
+        esc(&s.number),
+        esc(s.phase),
+        esc(&s.label),
+        esc(&s.detail),
+        esc(&duration_text(s.started)),
+        esc(&duration_text(s.duration))
+    );
+}
+
+fn safe_stop(h: &mut String, r: &RunReport) {
+    h.push_str("<section id=\"safe-stop\">\n<h2>Safe stop</h2>\n");
+    if r.safe_stop.is_empty() {
+        h.push_str("<p>No notes.</p>\n");
+    } else {
+        h.push_str("<ul>\n");
+        for note in &r.safe_stop {
+            let _ = writeln!(h, "<li>{}</li>", esc(note));
+        }
+        h.push_str("</ul>\n");
+    }
+    let state = r
+        .final_state
+        .map(|s| s.to_string())
+        .unwrap_or_else(|| "unknown (could not be read)".into());
+    let _ = writeln!(
+        h,
+        "<p>Drive left in: <strong>{}</strong></p>\n</section>",
+        esc(&state)
+    );
+}
+
+fn plots(h: &mut String, r: &RunReport) {
+    if r.series.is_empty() {
+        return;
+    }
+    h.push_str("<section id=\"plots\">\n<h2>Sampled values</h2>\n");
+    for (i, s) in r.series.iter().enumerate() {
+        let limits: Vec<&CheckResult> = r
+            .checks
+            .iter()
+            .filter(|c| c.object.as_deref() == Some(s.object.as_str()))
+            .collect();
+        h.push_str("<figure>\n");
+        h.push_str(&plot_svg(s, &limits, i));
+        let shown = downsample(&finite(&s.points)).len();
+        let how = if shown < s.points.len() {
+            format!(
+                "{shown} of {} points shown (min and max of each interval)",
+                s.points.len()
+            )
+        } else {
+            format!("{} points", s.points.len())
+        };
+        let _ = writeln!(
+            h,
+            "<figcaption>{} sampled by step {}: {}{}</figcaption>\n</figure>",
+            esc(&axis_title(&s.object, s.unit.as_deref())),
+            esc(&s.step),
+            esc(&how),
+            esc(&stats_text(s))
+        );
+    }
+    h.push_str("</section>\n");
+}
+
+fn stats_text(s: &Series) -> String {
+    let values: Vec<f64> = finite(&s.points).iter().map(|p| p.1).collect();
+    if values.is_empty() {
+        return String::new();
+    }
+    let min = values.iter().copied().fold(f64::INFINITY, f64::min);
+    let max = values.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    let mean = values.iter().sum::<f64>() / values.len() as f64;
+    let u = s.unit.as_deref();
+    format!(
+        "; min {}, mean {}, max {}",
+        with_unit(min, u),
+        with_unit(round_to(mean, 6), u),
+        with_unit(max, u)
+    )
+}
+
+// Plot geometry (SVG user units).
+const W: f64 = 760.0;
+const H: f64 = 320.0;
+const LEFT: f64 = 80.0;
+const RIGHT: f64 = 130.0;
+const TOP: f64 = 16.0;
+const BOTTOM: f64 = 52.0;
+
+/// An SVG line plot of a series with the limits of `checks`. The polyline's `points` hold
+/// the data itself (time in s, value); a transform maps them onto the plot area.
+pub fn plot_svg(series: &Series, checks: &[&CheckResult], id: usize) -> String {
+    let mut s = String::new();
+    let title = axis_title(&series.object, series.unit.as_deref());
+    let _ = writeln!(
+        s,
+        "<svg class=\"plot\" xmlns=\"http://www.w3.org/2000/svg\" viewBox=\"0 0 {W} {H}\" \
+         font-family=\"Helvetica, Arial, sans-serif\" font-size=\"11\" \
+         width=\"{W}\" height=\"{H}\" role=\"img\" aria-label=\"{}\">",
+        esc(&format!("{title} over time"))
+    );
+    let _ = writeln!(s, "<title>{}</title>", esc(&format!("{title} over time")));
+    let points = finite(&series.points);
+    if points.is_empty() {
+        let _ = writeln!(
+            s,
+            "<text x=\"{}\" y=\"{}\" text-anchor=\"middle\">no samples</text>\n</svg>",
+            W / 2.0,
+            H / 2.0
+        );
+        return s;
+    }
+    // Limits of the checks on this object: (value, label), each value once.
+    let mut limits: Vec<(f64, String)> = Vec::new();
+    for c in checks {
+        let stat = c.statistic.clone().map(|s| format!("{s} ")).unwrap_or_default();
+        let u = c.unit.as_deref().or(series.unit.as_deref());
+        let marks: Vec<(f64, String)> = match (c.low, c.high) {
+            (Some(lo), Some(hi)) if lo == hi => vec![(lo, format!("{stat}= {}", with_unit(lo, u)))],
+            (lo, hi) => lo
+                .map(|v| (v, format!("{stat}≥ {}", with_unit(v, u))))
+                .into_iter()
+                .chain(hi.map(|v| (v, format!("{stat}≤ {}", with_unit(v, u)))))
+                .collect(),
+        };
+        for (v, label) in marks {
+            if v.is_finite() && !limits.iter().any(|(w, _)| *w == v) {
+                limits.push((v, label));
+            }
+        }
+    }
+
+    let (t0, t1) = padded_range(points.iter().map(|p| p.0), 0.0);
+    let (v0, v1) = padded_range(points.iter().map(|p| p.1).chain(limits.iter().map(|l| l.0)), 0.05);
+    let (x_left, x_right, y_top, y_bottom) = (LEFT, W - RIGHT, TOP, H - BOTTOM);
+    let sx = (x_right - x_left) / (t1 - t0);
+    let sy = (y_bottom - y_top) / (v1 - v0);
+    let x = |t: f64| x_left + (t - t0) * sx;
+    let y = |v: f64| y_bottom - (v - v0) * sy;
+
+    // Grid and tick labels.
+    let (time_unit, time_div) = time_unit(t1 - t0);
+    for tick in ticks(t0 / time_div, t1 / time_div) {
+        let px = x(tick * time_div);
+        let _ = writeln!(
+            s,
+            "<line class=\"grid\" stroke=\"#ddd\" x1=\"{px:.2}\" y1=\"{y_top}\" x2=\"{px:.2}\" y2=\"{y_bottom}\"/>\
+             <text x=\"{px:.2}\" y=\"{:.2}\" text-anchor=\"middle\">{}</text>",
+            y_bottom + 16.0,
+            number(round_to(tick, 9))
+        );
+    }
+    for tick in ticks(v0, v1) {
+        let py = y(tick);
+        let _ = writeln!(
+            s,
+            "<line class=\"grid\" stroke=\"#ddd\" x1=\"{x_left}\" y1=\"{py:.2}\" x2=\"{x_right}\" y2=\"{py:.2}\"/>\
+             <text x=\"{:.2}\" y=\"{:.2}\" text-anchor=\"end\">{}</text>",
+            x_left - 6.0,
+            py + 4.0,
+            number(round_to(tick, 9))
+        );
+    }
+    // Axes and their titles.
+    let _ = writeln!(
+        s,
+        "<line class=\"axis\" stroke=\"#111\" x1=\"{x_left}\" y1=\"{y_bottom}\" x2=\"{x_right}\" y2=\"{y_bottom}\"/>\
+         <line class=\"axis\" stroke=\"#111\" x1=\"{x_left}\" y1=\"{y_top}\" x2=\"{x_left}\" y2=\"{y_bottom}\"/>"
+    );
+    let _ = writeln!(
+        s,
+        "<text class=\"axis-title\" x=\"{:.2}\" y=\"{:.2}\" text-anchor=\"middle\">time [{time_unit}]</text>",
+        (x_left + x_right) / 2.0,
+        H - 12.0
+    );
+    let (tx, ty) = (16.0, (y_top + y_bottom) / 2.0);
+    let _ = writeln!(
+        s,
+        "<text class=\"axis-title\" x=\"{tx}\" y=\"{ty:.2}\" text-anchor=\"middle\" \
+         transform=\"rotate(-90 {tx} {ty:.2})\">{}</text>",
+        esc(&title)
+    );
+
+    // The data, clipped to the plot area, in data coordinates.
+    let _ = writeln!(
+        s,
+        "<clipPath id=\"plot-area-{id}\"><rect x=\"{x_left}\" y=\"{y_top}\" width=\"{:.2}\" height=\"{:.2}\"/></clipPath>",
+        x_right - x_left,
+        y_bottom - y_top
+    );
+    let _ = write!(
+        s,
+        "<g clip-path=\"url(#plot-area-{id})\">\n<polyline class=\"data\" fill=\"none\" stroke=\"#1f4fa0\" stroke-width=\"1.5\" \
+         vector-effect=\"non-scaling-stroke\" \
+         transform=\"matrix({sx} 0 0 {} {} {})\" points=\"",
+        -sy,
+        x_left - t0 * sx,
+        y_bottom + v0 * sy
+    );
+    for (k, (t, v)) in downsample(&points).iter().enumerate() {
+        if k > 0 {
+            s.push(' ');
+        }
+        let _ = write!(s, "{},{}", number(*t), number(*v));
+    }
+    s.push_str("\"/>\n");
+    // Limits: dashed lines across, labelled on the right.
+    for (v, _) in &limits {
+        let py = y(*v);
+        let _ = writeln!(
+            s,
+            "<line class=\"limit\" stroke=\"#b00000\" stroke-dasharray=\"6 4\" x1=\"{x_left}\" y1=\"{py:.2}\" x2=\"{x_right}\" y2=\"{py:.2}\"/>"
+        );
+    }
+    s.push_str("</g>\n");
+    for (v, label) in &limits {
+        let _ = writeln!(
+            s,
+            "<text class=\"limit-label\" fill=\"#b00000\" x=\"{:.2}\" y=\"{:.2}\">{}</text>",
+            x_right + 4.0,
+            y(*v) + 4.0,
+            esc(label)
+        );
+    }
+    s.push_str("</svg>\n");
+    s
+}
+
+fn finite(points: &[(f64, f64)]) -> Vec<(f64, f64)> {
+    points
+        .iter()
+        .copied()
+        .filter(|(t, v)| t.is_finite() && v.is_finite())
+        .collect()
+}
+
+/// At most [`MAX_PLOT_POINTS`] points: all of them, or per bucket of consecutive points
+/// its minimum and maximum in time order, so peaks stay visible.
+pub fn downsample(points: &[(f64, f64)]) -> Vec<(f64, f64)> {
+    if points.len() <= MAX_PLOT_POINTS {
+        return points.to_vec();
+    }
+    let buckets = MAX_PLOT_POINTS / 2;
+    let mut out = Vec::with_capacity(MAX_PLOT_POINTS);
+    for b in 0..buckets {
+        let start = b * points.len() / buckets;
+        let end = ((b + 1) * points.len() / buckets).min(points.len());
+        let chunk = &points[start..end];
+        if chunk.is_empty() {
+            continue;
+        }
+        let (mut lo, mut hi) = (0, 0);
+        for (i, p) in chunk.iter().enumerate() {
+            if p.1 < chunk[lo].1 {
+                lo = i;
+            }
+            if p.1 > chunk[hi].1 {
+                hi = i;
+            }
+        }
+        let (a, b) = if lo <= hi { (lo, hi) } else { (hi, lo) };
+        out.push(chunk[a]);
+        if b != a {
+            out.push(chunk[b]);
+        }
+    }
+    out
+}
+
+/// The range of `values`, widened by `pad` of its width on each side; never empty.
+fn padded_range(values: impl Iterator<Item = f64>, pad: f64) -> (f64, f64) {
+    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+    for v in values {
+        lo = lo.min(v);
+        hi = hi.max(v);
+    }
+    if !lo.is_finite() || !hi.is_finite() {
+        return (0.0, 1.0);
+    }
+    if hi - lo <= f64::EPSILON * hi.abs().max(1.0) {
+        let half = (lo.abs() * 0.01).max(0.5);
+        return (lo - half, hi + half);
+    }
+    let margin = (hi - lo) * pad;
+    (lo - margin, hi + margin)
+}
+
+/// Four to nine round tick values (1, 2 or 5 × 10^n apart) inside `lo..=hi`.
+fn ticks(lo: f64, hi: f64) -> Vec<f64> {
+    let raw = (hi - lo) / 8.0;
+    if raw <= 0.0 || !raw.is_finite() {
+        return vec![lo];
+    }
+    let magnitude = 10f64.powf(raw.log10().floor());
+    let step = [1.0, 2.0, 5.0, 10.0]
+        .iter()
+        .map(|m| m * magnitude)
+        .find(|s| *s >= raw)
+        .unwrap_or(10.0 * magnitude);
+    let first = (lo / step).ceil() as i64;
+    let last = (hi / step).floor() as i64;
+    (first..=last).map(|k| k as f64 * step).collect()
+}
+
+fn round_to(v: f64, decimals: i32) -> f64 {
+    let f = 10f64.powi(decimals);
+    (v * f).round() / f
+}
+
+/// Seconds for short series, minutes or hours for run-ins.
+fn time_unit(span_s: f64) -> (&'static str, f64) {
+    if span_s > 3.0 * 3600.0 {
+        ("h", 3600.0)
+    } else if span_s > 600.0 {
+        ("min", 60.0)
+    } else {
+        ("s", 1.0)
+    }
+}
+
+fn axis_title(object: &str, unit: Option<&str>) -> String {
+    match unit {
+        Some(u) => format!("{object} [{u}]"),
+        None => object.to_string(),
+    }
+}
+
+/// `0.250 s`, or `1h 5m 3s` from a minute on.
+fn duration_text(d: Duration) -> String {
+    if d < Duration::from_secs(60) {
+        format!("{:.3} s", d.as_secs_f64())
+    } else {
+        humantime::format_duration(Duration::from_millis(d.as_millis() as u64)).to_string()
+    }
+}
+
+/// Text for HTML content and attribute values.
+pub fn esc(text: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    for c in text.chars() {
+        match c {
+            '&' => out.push_str("&amp;"),
+            '<' => out.push_str("&lt;"),
+            '>' => out.push_str("&gt;"),
+            '"' => out.push_str("&quot;"),
+            '\'' => out.push_str("&#39;"),
+            c => out.push(c),
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::report::markup_check::{check_markup, unescape, Element, HTML_VOID};
+    use crate::report::sample_report::{error_report, passed_report};
+
+    fn parse(html: &str) -> Vec<Element> {
+        assert!(html.starts_with("<!DOCTYPE html>"));
+        check_markup(html, HTML_VOID).unwrap_or_else(|e| panic!("{e}\n{html}"))
+    }
+
+    fn texts(elements: &[Element], name: &str) -> Vec<String> {
+        elements
+            .iter()
+            .filter(|e| e.name == name)
+            .map(|e| unescape(&e.text))
+            .collect()
+    }
+
+    /// The text of each cell of each body row of the table in section `id`.
+    fn rows(html: &str, id: &str) -> Vec<Vec<String>> {
+        let start = html.find(&format!("<section id=\"{id}\">")).unwrap();
+        let end = start + html[start..].find("</section>").unwrap();
+        let body = &html[start..end];
+        body.split("<tr class=")
+            .skip(1)
+            .map(|row| {
+                row.split("<td")
+                    .skip(1)
+                    .map(|cell| {
+                        let inner = &cell[cell.find('>').unwrap() + 1..cell.find("</td>").unwrap()];
+                        // Drop inner tags (<span>, <code>).
+                        let mut text = String::new();
+                        let mut in_tag = false;
+                        for c in inner.chars() {
+                            match c {
+                                '<' => in_tag = true,
+                                '>' => in_tag = false,
+                                c if !in_tag => text.push(c),
+                                _ => {}
+                            }
+                        }
+                        unescape(&text)
+                    })
+                    .collect()
+            })
+            .collect()
+    }
+
+    #[test]
+    fn the_page_says_what_ran_and_how_it_ended() {
+        let r = passed_report();
+        let html = html_report(&r);
+        let e = parse(&html);
+        assert_eq!(texts(&e, "h1"), vec!["Spindle <run-in> & \"test\""]);
+        assert_eq!(
+            texts(&e, "title")[0],
+            "Spindle <run-in> & \"test\" — PASSED",
+            "the page title"
+        );
+        let verdict = e.iter().find(|e| e.attr("id") == Some("verdict")).unwrap();
+        assert_eq!(verdict.attr("class"), Some("verdict passed"));
+        assert_eq!(verdict.text, "✔ PASSED");
+        let facts: Vec<String> = texts(&e, "td");
+        for want in [
+            "recipes/run-in.yaml",
+            "sd2 at /dev/ttyUSB0, address 2",
+            "SD2S 0362150C",
+            "speed = 6000 rpm",
+            "2024-06-10 06:13:20 UTC",
+            "1m 6s 250ms",
+            "PASSED (exit code 0)",
+            "switched on",
+        ] {
+            assert!(facts.iter().any(|f| f == want), "{want} not in {facts:?}");
+        }
+
+        let steps = rows(&html, "steps");
+        assert_eq!(steps.len(), r.steps.len());
+        assert_eq!(
+            steps[2],
+            vec![
+                "3",
+                "steps",
+                "sample speed_actual every 100 ms for 60 s",
+                "ok",
+                "mean 6000.1 rpm",
+                "5.000 s",
+                "0.250 s"
+            ]
+        );
+        assert_eq!(steps[4][1], "finally");
+        for (row, step) in steps.iter().zip(&r.steps) {
+            assert_eq!(row[2], step.label);
+        }
+
+        let checks = rows(&html, "checks");
+        assert_eq!(
+            checks[0],
+            vec![
+                "speed_actual mean near 6000 rpm ± 0.5 %",
+                "6000.1 rpm",
+                "5970 .. 6030 rpm",
+                "PASS",
+                "mean 6000.1 rpm",
+                "recipes/run-in.yaml:20:5"
+            ]
+        );
+        assert_eq!(checks[1][0], "wait until state operation_enabled");
+        assert_eq!(checks[1][1], "operation enabled");
+        assert_eq!(checks[1][2], "—");
+
+        let notes = texts(&e, "li");
+        assert_eq!(notes, vec!["finally: disable_operation ran"]);
+    }
+
+    #[test]
+    fn failures_and_errors_stand_out_and_text_is_escaped() {
+        let html = html_report(&error_report());
+        let e = parse(&html);
+        let verdict = e.iter().find(|e| e.attr("id") == Some("verdict")).unwrap();
+        assert_eq!(verdict.attr("class"), Some("verdict error"));
+        assert_eq!(verdict.text, "✘ ERROR");
+        assert!(html.contains(
+            "Communication failure or drive fault: no reply within 100 ms from drive 2 &lt;port&gt;"
+        ));
+        assert!(html.contains("speed &amp; &lt;mean&gt;"));
+        assert!(!html.contains("<port>") && !html.contains("<mean>"));
+        let checks = rows(&html, "checks");
+        assert_eq!(checks[0][3], "FAIL");
+        let steps = rows(&html, "steps");
+        assert_eq!(steps[1][3], "FAIL");
+        assert!(html.contains("<tr class=\"fail\">"));
+        assert!(html.contains("unknown (could not be read)"));
+        // No plot section without series.
+        assert!(!html.contains("<svg"));
+    }
+
+    #[test]
+    fn one_plot_per_series_with_data_axes_and_limits() {
+        let r = passed_report();
+        let html = html_report(&r);
+        let e = parse(&html);
+        let svgs: Vec<&Element> = e.iter().filter(|e| e.name == "svg").collect();
+        assert_eq!(svgs.len(), 1);
+        let polyline = e.iter().find(|e| e.name == "polyline").unwrap();
+        assert!(polyline.ancestors.contains(&"svg".to_string()));
+        let points: Vec<(f64, f64)> = polyline
+            .attr("points")
+            .unwrap()
+            .split(' ')
+            .map(|p| {
+                let (t, v) = p.split_once(',').unwrap();
+                (t.parse().unwrap(), v.parse().unwrap())
+            })
+            .collect();
+        // All 601 points, as data (to the 6 decimals written).
+        assert_eq!(points.len(), r.series[0].points.len());
+        for (got, want) in points.iter().zip(&r.series[0].points) {
+            assert!(
+                (got.0 - want.0).abs() < 1e-6 && got.1 == want.1,
+                "{got:?} vs {want:?}"
+            );
+        }
+        assert_eq!(points[1], (5.1, 5998.75));
+        assert!(polyline.attr("transform").unwrap().starts_with("matrix("));
+
+        // Axis titles with units, tick labels.
+        let svg_texts: Vec<String> = e
+            .iter()
+            .filter(|e| e.name == "text" && e.ancestors.contains(&"svg".to_string()))
+            .map(|e| unescape(&e.text))
+            .collect();
+        assert!(svg_texts.contains(&"time [s]".to_string()), "{svg_texts:?}");
+        assert!(svg_texts.contains(&"speed_actual [rpm]".to_string()));
+        for tick in ["10", "20", "30", "40", "50", "60", "5970", "6000", "6030"] {
+            assert!(
+                svg_texts.contains(&tick.to_string()),
+                "tick {tick} in {svg_texts:?}"
+            );
+        }
+        // The check's limits: dashed lines at 5970 and 6030, labelled.
+        let limits: Vec<&Element> = e
+            .iter()
+            .filter(|e| e.name == "line" && e.attr("class") == Some("limit"))
+            .collect();
+        assert_eq!(limits.len(), 2);
+        assert!(
+            svg_texts.contains(&"mean ≥ 5970 rpm".to_string()),
+            "{svg_texts:?}"
+        );
+        assert!(svg_texts.contains(&"mean ≤ 6030 rpm".to_string()));
+        // The lines sit where the polyline's transform puts those values.
+        let m: Vec<f64> = polyline.attr("transform").unwrap()["matrix(".len()..]
+            .trim_end_matches(')')
+            .split(' ')
+            .map(|v| v.parse().unwrap())
+            .collect();
+        let y_of = |v: f64| m[3] * v + m[5];
+        let ys: Vec<f64> = limits
+            .iter()
+            .map(|l| l.attr("y1").unwrap().parse().unwrap())
+            .collect();
+        assert!((ys[0] - y_of(5970.0)).abs() < 0.01, "{ys:?}");
+        assert!((ys[1] - y_of(6030.0)).abs() < 0.01, "{ys:?}");
+        // Within the plot area.
+        assert!(ys.iter().all(|y| (TOP..=H - BOTTOM).contains(y)));
+        assert!(html.contains("speed_actual [rpm] sampled by step 3: 601 points"));
+    }
+
+    #[test]
+    fn long_series_are_downsampled_keeping_peaks() {
+        let mut points: Vec<(f64, f64)> = (0..100_000).map(|i| (f64::from(i) * 0.01, 1.0)).collect();
+        points[54_321].1 = 99.0;
+        points[77_777].1 = -42.0;
+        let d = downsample(&points);
+        assert!(
+            d.len() <= MAX_PLOT_POINTS && d.len() > MAX_PLOT_POINTS / 2,
+            "{}",
+            d.len()
+        );
+        assert!(d.contains(&points[54_321]) && d.contains(&points[77_777]));
+        assert!(d.windows(2).all(|w| w[0].0 < w[1].0), "in time order");
+
+        let mut r = passed_report();
+        r.series[0].points = points;
+        r.series[0].unit = None;
+        r.checks.clear();
+        let html = html_report(&r);
+        parse(&html);
+        assert!(html.contains("points=\""));
+        assert!(html.contains(",99 ") && html.contains(",-42 "));
+        assert!(html.contains("of 100000 points shown (min and max of each interval)"));
+        assert!(html.contains(">time [min]</text>"), "1000 s is shown in minutes");
+        assert!(!html.contains("class=\"limit\""));
+    }
+
+    #[test]
+    fn degenerate_series_still_plot() {
+        let mut r = passed_report();
+        r.series[0].points = vec![(1.0, 5.0)];
+        r.series.push(Series {
+            object: "a<b".into(),
+            unit: Some("°C".into()),
+            step: "9".into(),
+            points: vec![(f64::NAN, 1.0)],
+        });
+        let html = html_report(&r);
+        let e = parse(&html);
+        assert_eq!(e.iter().filter(|e| e.name == "svg").count(), 2);
+        assert!(html.contains("points=\"1,5\""));
+        assert!(html.contains(">no samples</text>"));
+        assert!(html.contains("a&lt;b [°C]"));
+        let ids: Vec<&str> = e
+            .iter()
+            .filter(|e| e.name == "clipPath")
+            .map(|e| e.attr("id").unwrap())
+            .collect();
+        assert_eq!(ids, vec!["plot-area-0"]);
+    }
+
+    #[test]
+    fn self_contained_and_print_friendly() {
+        let html = html_report(&passed_report());
+        for external in [
+            "<link",
+            "<script",
+            "<img",
+            "src=",
+            "@import",
+            "url(http",
+            "href=\"http",
+        ] {
+            assert!(!html.contains(external), "{external}");
+        }
+        // The only URL is the SVG namespace, which browsers never fetch.
+        assert_eq!(
+            html.matches("http").count(),
+            html.matches("http://www.w3.org/2000/svg").count()
+        );
+        assert!(html.contains("@media print"));
+        assert!(html.contains("break-inside: avoid"));
+        assert!(html.contains("background: none !important"));
+    }
+
+    #[test]
+    fn written_atomically() {
+        let dir = std::env::temp_dir().join(format!("drivescript-html-{}", std::process::id()));
+        let path = dir.join("out/report.html");
+        write_html(&passed_report(), &path).unwrap();
+        assert_eq!(
+            std::fs::read_to_string(&path).unwrap(),
+            html_report(&passed_report())
+        );
+        assert!(!dir.join("out/report.html.tmp").exists());
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn ticks_are_round() {
+        assert_eq!(ticks(0.0, 10.0), vec![0.0, 2.0, 4.0, 6.0, 8.0, 10.0]);
+        assert_eq!(
+            ticks(5967.0, 6033.0),
+            vec![5970.0, 5980.0, 5990.0, 6000.0, 6010.0, 6020.0, 6030.0]
+        );
+        assert_eq!(
+            esc("<a href='x'>&\"</a>"),
+            "&lt;a href=&#39;x&#39;&gt;&amp;&quot;&lt;/a&gt;"
+        );
+    }
+}

@@ -1,0 +1,385 @@
+//! Live progress on a terminal: an indicatif line showing the running step, elapsed and
+//! remaining time of long steps (run clock, so virtual time reads right) and the live
+//! values, with every finished step, check and message printed above it as the same
+//! permanent lines as [`ConsoleReporter`](super::ConsoleReporter).
+//! Only for a terminal (the CLI decides: stdout is a TTY, no `--quiet`/`--no-progress`);
+//! in a log file or pipe the redrawn line would garble it. Never fails the run.
+
+use super::console_reporter::{
+    check_line, container_line, header_lines, message_line, step_line, summary_lines,
+};
+use crate::recipe::{CheckResult, Recipe, RunObserver, RunReport, Step, StepKind, StepRecord};
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressFinish, ProgressStyle};
+use std::io::Write;
+use std::time::Duration;
+
+const SPINNER: &str = "{spinner} {prefix:>6}  {wide_msg}";
+const BAR: &str = "{spinner} {prefix:>6}  [{bar:24}] {wide_msg}";
+
+pub struct ProgressReporter<W: Write> {
+    /// Where the permanent lines go (the terminal the bar is drawn on).
+    out: W,
+    bar: ProgressBar,
+    virtual_time: bool,
+    /// The running leaf step: (number, label).
+    current: Option<(String, String)>,
+    /// Running containers (`repeat`, `include`): (number, label, progress text).
+    containers: Vec<(String, String, String)>,
+    /// Whether the bar shows a bar (a step with a known total) or only the spinner.
+    with_bar: bool,
+}
+
+impl ProgressReporter<std::io::Stdout> {
+    /// Progress on standard output, which must be a terminal.
+    pub fn stdout(virtual_time: bool) -> Self {
+        let bar = ProgressBar::with_draw_target(None, ProgressDrawTarget::stdout());
+        bar.enable_steady_tick(Duration::from_millis(120));
+        ProgressReporter::new(std::io::stdout(), bar, virtual_time)
+    }
+}
+
+impl<W: Write> ProgressReporter<W> {
+    /// Permanent lines to `out`, the live line on `bar` (`ProgressBar::hidden()` in tests).
+    /// `out` and the bar's target should be the same terminal: lines are printed with the
+    /// bar suspended so the two never interleave.
+    pub fn new(out: W, bar: ProgressBar, virtual_time: bool) -> Self {
+        let bar = bar.with_finish(ProgressFinish::AndClear);
+        bar.set_style(style(SPINNER));
+        ProgressReporter {
+            out,
+            bar,
+            virtual_time,
+            current: None,
+            containers: Vec::new(),
+            with_bar: false,
+        }
+    }
+
+    /// The live line (for tests and for a caller that wants to tick or hide it).
+    pub fn bar(&self) -> &ProgressBar {
+        &self.bar
+    }
+
+    pub fn into_inner(self) -> W {
+        self.bar.finish_and_clear();
+        self.out
+    }
+
+    /// A permanent line above the live one.
+    fn line(&mut self, text: &str) {
+        let out = &mut self.out;
+        self.bar.suspend(|| {
+            // A closed terminal must not stop the run or its safe stop.
+            let _ = writeln!(out, "{text}");
+            let _ = out.flush();
+        });
+    }
+
+    fn set_bar(&mut self, with_bar: bool) {
+        if with_bar != self.with_bar {
+            self.bar.set_style(style(if with_bar { BAR } else { SPINNER }));
+            self.with_bar = with_bar;
+        }
+    }
+
+    /// The containers' progress, appended to the live line: `[repeat 3 times: iteration 2 of 3]`.
+    fn context(&self) -> String {
+        self.containers
+            .iter()
+            .map(|(_, label, progress)| {
+                if progress.is_empty() {
+                    format!(" [{label}]")
+                } else {
+                    format!(" [{label}: {progress}]")
+                }
+            })
+            .collect()
+    }
+}
+
+fn style(template: &str) -> ProgressStyle {
+    ProgressStyle::with_template(template)
+        .unwrap_or_else(|_| ProgressStyle::default_spinner())
+        .progress_chars("=> ")
+}
+
+fn display_number(number: &str, phase: &str) -> String {
+    if phase == "steps" {
+        number.to_string()
+    } else {
+        number.replace('.', " ")
+    }
+}
+
+/// `12.3 s` under a minute, then `1h 2m 3s` to the second.
+pub fn short_duration(d: Duration) -> String {
+    if d < Duration::from_secs(60) {
+        format!("{:.1} s", d.as_secs_f64())
+    } else {
+        humantime::format_duration(Duration::from_secs(d.as_secs())).to_string()
+    }
+}
+
+/// `12.0 s of 60.0 s, 48.0 s left` (or `12.0 s` without a total).
+pub fn progress_text(elapsed: Duration, total: Option<Duration>) -> String {
+    match total {
+        Some(t) => format!(
+            "{} of {}, {} left",
+            short_duration(elapsed.min(t)),
+            short_duration(t),
+            short_duration(t.saturating_sub(elapsed))
+        ),
+        None => short_duration(elapsed),
+    }
+}
+
+impl<W: Write> RunObserver for ProgressReporter<W> {
+    fn run_started(&mut self, recipe: &Recipe, drive: &str) {
+        for line in header_lines(recipe, drive) {
+            self.line(&line);
+        }
+    }
+
+    fn step_started(&mut self, number: &str, step: &Step, phase: &'static str) {
+        if let Some(line) = container_line(number, step, phase) {
+            self.line(&line);
+        }
+        if matches!(step.kind, StepKind::Repeat { .. } | StepKind::Include { .. }) {
+            self.containers
+                .push((number.to_string(), step.label.clone(), String::new()));
+            return;
+        }
+        self.current = Some((number.to_string(), step.label.clone()));
+        self.set_bar(false);
+        self.bar.unset_length();
+        self.bar.set_position(0);
+        self.bar.set_prefix(display_number(number, phase));
+        self.bar.set_message(format!("{}{}", step.label, self.context()));
+    }
+
+    fn step_progress(&mut self, number: &str, elapsed: Duration, total: Option<Duration>, values: &str) {
+        if let Some(c) = self.containers.iter_mut().find(|c| c.0 == number) {
+            let mut text = values.to_string();
+            if let Some(t) = total {
+                text = format!("{text}, {}", progress_text(elapsed, Some(t)));
+            }
+            c.2 = text;
+            return;
+        }
+        let Some((current, label)) = self.current.clone() else {
+            return;
+        };
+        if current != number {
+            return;
+        }
+        match total {
+            Some(t) if !t.is_zero() => {
+                self.set_bar(true);
+                self.bar.set_length(t.as_millis() as u64);
+                self.bar.set_position(elapsed.min(t).as_millis() as u64);
+            }
+            _ => self.set_bar(false),
+        }
+        let values = if values.is_empty() {
+            String::new()
+        } else {
+            format!(" — {values}")
+        };
+        self.bar.set_message(format!(
+            "{label}  {}{values}{}",
+            progress_text(elapsed, total),
+            self.context()
+        ));
+    }
+
+    fn step_finished(&mut self, record: &StepRecord) {
+        if self.containers.last().is_some_and(|c| c.0 == record.number) {
+            self.containers.pop();
+        }
+        if self.current.as_ref().is_some_and(|c| c.0 == record.number) {
+            self.current = None;
+        }
+        self.line(&step_line(record));
+        self.set_bar(false);
+        self.bar.unset_length();
+        self.bar.set_message(self.context().trim_start().to_string());
+    }
+
+    fn check(&mut self, result: &CheckResult) {
+        if let Some(line) = check_line(result) {
+            self.line(&line);
+        }
+    }
+
+    fn message(&mut self, text: &str) {
+        self.line(&message_line(text));
+    }
+
+    fn run_finished(&mut self, report: &RunReport) {
+        self.bar.finish_and_clear();
+        for line in summary_lines(report, self.virtual_time) {
+            self.line(&line);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::recipe::{Param, StepOrigin};
+    use crate::report::sample_report::{passed_report, speed_check, step};
+    use crate::report::ConsoleReporter;
+
+    fn recipe() -> Recipe {
+        Recipe {
+            name: "Spindle run-in".into(),
+            description: None,
+            drive: "sd2".into(),
+            path: "recipes/run-in.yaml".into(),
+            params: vec![Param {
+                name: "speed".into(),
+                value: "6000 rpm".into(),
+                origin: "--set".into(),
+            }],
+            steps: Vec::new(),
+            finally: None,
+            on_fault: Vec::new(),
+            leave_enabled: false,
+        }
+    }
+
+    fn a_step(kind: StepKind, label: &str) -> Step {
+        Step {
+            kind,
+            origin: StepOrigin {
+                path: "recipes/run-in.yaml".into(),
+                line: 7,
+                column: 5,
+            },
+            label: label.into(),
+        }
+    }
+
+    fn repeat() -> Step {
+        a_step(
+            StepKind::Repeat {
+                times: Some(3),
+                duration: None,
+                steps: Vec::new(),
+            },
+            "repeat 3 times",
+        )
+    }
+
+    fn dwell() -> Step {
+        a_step(StepKind::Dwell(Duration::from_secs(60)), "dwell 60 s")
+    }
+
+    /// The same events to any observer.
+    fn play(o: &mut dyn RunObserver) {
+        let report = passed_report();
+        o.run_started(&recipe(), "sd2 (simulated)");
+        o.step_started("1", &repeat(), "steps");
+        o.step_progress("1", Duration::ZERO, None, "iteration 1 of 3");
+        o.step_started("1.1", &dwell(), "steps");
+        o.step_progress("1.1", Duration::from_secs(12), Some(Duration::from_secs(60)), "");
+        o.step_finished(&step("1.1", "dwell 60 s", true, "", 0, "steps"));
+        o.step_finished(&step(
+            "1",
+            "repeat 3 times",
+            true,
+            "3 iteration(s) in 180 s",
+            0,
+            "steps",
+        ));
+        o.check(&speed_check(
+            "speed_actual mean near 6000 rpm ± 0.5 %",
+            6000.1,
+            true,
+        ));
+        o.message("speed_actual = 6000.1 rpm");
+        o.step_started("finally.1", &dwell(), "finally");
+        o.step_finished(&step(
+            "finally.1",
+            "disable_operation",
+            false,
+            "no reply",
+            0,
+            "finally",
+        ));
+        o.run_finished(&report);
+    }
+
+    #[test]
+    fn permanent_lines_are_the_console_lines() {
+        let mut console = ConsoleReporter::new(Vec::new(), true);
+        play(&mut console);
+        let mut progress = ProgressReporter::new(Vec::new(), ProgressBar::hidden(), true);
+        play(&mut progress);
+        let want = String::from_utf8(console.into_inner()).unwrap();
+        let got = String::from_utf8(progress.into_inner()).unwrap();
+        assert_eq!(got, want);
+        // And they say what happened.
+        assert!(
+            got.starts_with("recipe  Spindle run-in (recipes/run-in.yaml)\n"),
+            "{got}"
+        );
+        assert!(got.contains("     1  ...   repeat 3 times\n"), "{got}");
+        assert!(got.contains("   1.1  ok    dwell 60 s\n"), "{got}");
+        assert!(got.contains("        PASS  speed_actual mean near 6000 rpm ± 0.5 %: mean 6000.1 rpm"));
+        assert!(
+            got.contains("finally 1  FAIL  disable_operation  no reply\n"),
+            "{got}"
+        );
+        assert!(got.contains("PASSED — 4 step(s), 2 check(s) passed, 0 failed, 1m 6s 250ms of virtual time"));
+    }
+
+    #[test]
+    fn the_live_line_shows_step_time_values_and_context() {
+        let mut p = ProgressReporter::new(Vec::new(), ProgressBar::hidden(), false);
+        p.step_started("4", &repeat(), "steps");
+        p.step_progress("4", Duration::ZERO, None, "iteration 2 of 3");
+        p.step_started("4.1", &dwell(), "steps");
+        assert_eq!(p.bar().prefix(), "4.1");
+        assert_eq!(p.bar().message(), "dwell 60 s [repeat 3 times: iteration 2 of 3]");
+        p.step_progress(
+            "4.1",
+            Duration::from_millis(12_340),
+            Some(Duration::from_secs(60)),
+            "speed_actual 6001.2 rpm",
+        );
+        assert_eq!(
+            p.bar().message(),
+            "dwell 60 s  12.3 s of 1m, 47.7 s left — speed_actual 6001.2 rpm \
+             [repeat 3 times: iteration 2 of 3]"
+        );
+        assert_eq!(p.bar().length(), Some(60_000));
+        assert_eq!(p.bar().position(), 12_340);
+        // Progress of another step (a stale number) does not overwrite the line.
+        p.step_progress("3", Duration::from_secs(1), None, "x");
+        assert!(p.bar().message().starts_with("dwell 60 s  12.3 s"));
+        p.step_finished(&step("4.1", "dwell 60 s", true, "", 0, "steps"));
+        assert_eq!(p.bar().length(), None);
+        assert_eq!(p.bar().message(), "[repeat 3 times: iteration 2 of 3]");
+        p.step_finished(&step("4", "repeat 3 times", true, "", 0, "steps"));
+        assert_eq!(p.bar().message(), "");
+        let out = String::from_utf8(p.into_inner()).unwrap();
+        assert_eq!(
+            out,
+            "     4  ...   repeat 3 times\n   4.1  ok    dwell 60 s\n     4  ok    repeat 3 times\n"
+        );
+    }
+
+    #[test]
+    fn long_times_read_as_hours_and_minutes() {
+        assert_eq!(
+            progress_text(Duration::from_secs(3_725), Some(Duration::from_secs(7_200))),
+            "1h 2m 5s of 2h, 57m 55s left"
+        );
+        assert_eq!(progress_text(Duration::from_millis(500), None), "0.5 s");
+        assert_eq!(
+            progress_text(Duration::from_secs(70), Some(Duration::from_secs(60))),
+            "1m of 1m, 0.0 s left"
+        );
+    }
+}

@@ -1,0 +1,89 @@
+//! `run` with every output: trace (read back by `decode`), streamed CSV, JUnit and the
+//! HTML report, written for a real run of the acceptance recipe; and an unwritable output
+//! path refused before anything is sent.
+
+use crate::support::{drivescript, stderr, stdout};
+
+#[test]
+fn a_run_writes_trace_csv_junit_and_html() {
+    let dir = std::env::temp_dir().join("drivescript-outputs");
+    let _ = std::fs::remove_dir_all(&dir);
+    let p = |name: &str| dir.join(name).to_str().expect("utf-8").to_string();
+    let (trace, csv, junit, html) = (p("trace.txt"), p("samples.csv"), p("junit.xml"), p("report.html"));
+    let out = drivescript(
+        &[
+            "run",
+            "recipes/acceptance-test.yaml",
+            "--fast",
+            "--trace",
+            &trace,
+            "--csv",
+            &csv,
+            "--junit",
+            &junit,
+            "--report",
+            &html,
+        ],
+        "",
+    );
+    assert_eq!(out.status.code(), Some(0), "{}{}", stdout(&out), stderr(&out));
+
+    let trace_text = std::fs::read_to_string(&trace).expect("trace");
+    assert!(
+        trace_text
+            .contains(" TX 00 0b 02 01 0e 44 00 00 00 00 00 02 0f 00 8e  # write object 68 control_word"),
+        "enable operation in the trace"
+    );
+    let telegrams = trace_text
+        .lines()
+        .filter(|l| !l.starts_with('#') && (l.contains(" TX ") || l.contains(" RX ")))
+        .count();
+    let decoded = drivescript(&["decode", "--json"], &trace_text);
+    assert_eq!(decoded.status.code(), Some(0), "{}", stderr(&decoded));
+    assert_eq!(
+        stdout(&decoded).lines().count(),
+        telegrams,
+        "decode reads every telegram of the trace back"
+    );
+
+    let csv_text = std::fs::read_to_string(&csv).expect("csv");
+    assert!(csv_text.starts_with("time [s],step,object,value,unit\n"));
+    // Three stages of 20 s at 100 ms, two objects: 3 × 201 × 2 rows.
+    assert_eq!(csv_text.lines().count() - 1, 3 * 201 * 2);
+
+    let junit_text = std::fs::read_to_string(&junit).expect("junit");
+    assert!(
+        junit_text.contains(r#"<testsuite name="Spindle acceptance test" tests="14""#),
+        "{junit_text}"
+    );
+    assert!(junit_text.contains("failures=\"0\""));
+
+    let html_text = std::fs::read_to_string(&html).expect("html");
+    assert!(html_text.starts_with("<!DOCTYPE html>"));
+    assert!(html_text.contains("Spindle acceptance test"));
+    assert!(html_text.contains("<polyline"), "plots of the sampled series");
+    assert!(
+        !html_text.contains("http://") || html_text.contains("http://www.w3.org/2000/svg"),
+        "no external assets"
+    );
+}
+
+#[test]
+fn an_unwritable_output_is_refused_before_anything_is_sent() {
+    let out = drivescript(
+        &[
+            "run",
+            "recipes/commissioning.yaml",
+            "--fast",
+            "--csv",
+            "/proc/no/such/dir/x.csv",
+        ],
+        "",
+    );
+    assert_eq!(out.status.code(), Some(2), "{}", stdout(&out));
+    assert!(stderr(&out).contains("/proc/no/such/dir"), "{}", stderr(&out));
+    assert!(
+        !stdout(&out).contains("using the built-in"),
+        "nothing was started"
+    );
+}
