@@ -5,6 +5,7 @@
 //! second against the simulator with [`VirtualClock`], with identical results.
 //! This module must not know about drives or protocols.
 
+use crate::stop_request::StopRequests;
 use std::fmt::Debug;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::Arc;
@@ -20,6 +21,11 @@ pub trait Clock: Send + Sync + Debug {
     fn is_virtual(&self) -> bool;
     /// Wall-clock time at which the clock started, for reports and traces.
     fn started_at(&self) -> SystemTime;
+
+    /// Waits until `deadline` or until a stop request is pending, whichever comes first;
+    /// true when it was the stop request. Every wait of the engine goes through here, so a
+    /// stop request wakes it at once instead of when the step would have woken anyway.
+    fn wait_until(&self, deadline: Duration, stop: &StopRequests) -> bool;
 
     /// Waits for `duration`.
     fn sleep(&self, duration: Duration) {
@@ -79,6 +85,27 @@ impl Clock for RealClock {
             let left = deadline - now;
             if left > SPIN_BELOW {
                 std::thread::sleep(left - SPIN_BELOW);
+            } else {
+                std::hint::spin_loop();
+            }
+        }
+    }
+
+    fn wait_until(&self, deadline: Duration, stop: &StopRequests) -> bool {
+        loop {
+            let now = self.now();
+            if stop.pending_at(now) {
+                return true;
+            }
+            if now >= deadline {
+                return false;
+            }
+            let until = stop
+                .next_scheduled()
+                .map_or(deadline, |at| at.clamp(now, deadline));
+            let left = until - now;
+            if left > SPIN_BELOW {
+                stop.wait_real(left - SPIN_BELOW);
             } else {
                 std::hint::spin_loop();
             }
@@ -147,6 +174,27 @@ impl Clock for VirtualClock {
         self.nanos.fetch_max(saturating_nanos(deadline), Ordering::SeqCst);
     }
 
+    fn wait_until(&self, deadline: Duration, stop: &StopRequests) -> bool {
+        loop {
+            let now = self.now();
+            if stop.pending_at(now) {
+                return true;
+            }
+            if now >= deadline {
+                return false;
+            }
+            // A request scheduled before the deadline ends the jump there, at its time.
+            let until = stop
+                .next_scheduled()
+                .map_or(deadline, |at| at.clamp(now, deadline));
+            self.sleep_until(until);
+            if until == now {
+                // Only a request scheduled for exactly now, which pending_at has delivered.
+                return stop.pending_at(now);
+            }
+        }
+    }
+
     fn is_virtual(&self) -> bool {
         true
     }
@@ -179,6 +227,39 @@ mod tests {
         c.sleep_until(deadline);
         assert!(c.now() >= deadline);
         assert!(!c.is_virtual());
+    }
+
+    #[test]
+    fn a_virtual_wait_ends_at_a_scheduled_stop_request_not_at_its_deadline() {
+        use crate::stop_request::StopSignal;
+        let c = VirtualClock::new();
+        let stop = StopRequests::new();
+        let s = Duration::from_secs;
+        stop.schedule(s(15), StopSignal::TERM);
+        assert!(!c.wait_until(s(10), &stop));
+        assert_eq!(c.now(), s(10));
+        assert!(c.wait_until(s(40), &stop));
+        assert_eq!(c.now(), s(15));
+        stop.acknowledge();
+        assert!(!c.wait_until(s(20), &stop));
+        assert_eq!(c.now(), s(20));
+    }
+
+    #[test]
+    fn a_real_wait_wakes_within_milliseconds_of_a_request_from_another_thread() {
+        use crate::stop_request::StopSignal;
+        let c = RealClock::new();
+        let stop = std::sync::Arc::new(StopRequests::new());
+        let sender = stop.clone();
+        let t = std::thread::spawn(move || {
+            std::thread::sleep(Duration::from_millis(30));
+            sender.request(StopSignal::INT);
+        });
+        let before = c.now();
+        assert!(c.wait_until(before + Duration::from_secs(60), &stop));
+        // Generous bound: this fails only if the wait ran to its deadline.
+        assert!(c.now() - before < Duration::from_secs(30));
+        t.join().expect("sender");
     }
 
     #[test]

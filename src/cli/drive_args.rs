@@ -7,6 +7,7 @@ use crate::dictionary::Dictionary;
 use crate::drive::{Drive, Sd2Access};
 use crate::link::TelegramObserver;
 use crate::sim::Sd2Simulator;
+use crate::stop_request::StopRequests;
 use clap::Args;
 use std::path::PathBuf;
 use std::sync::{Arc, Mutex};
@@ -57,7 +58,7 @@ pub fn open_drive(
     dictionary: Arc<Dictionary>,
     virtual_time: bool,
 ) -> Result<OpenDrive, String> {
-    open_drive_observed(connection, dictionary, virtual_time, None)
+    open_drive_observed(connection, dictionary, virtual_time, None, None)
 }
 
 /// [`open_drive`] with an observer of every telegram (trace file, `-v`).
@@ -66,6 +67,7 @@ pub fn open_drive_observed(
     dictionary: Arc<Dictionary>,
     virtual_time: bool,
     observer: Option<Box<dyn TelegramObserver>>,
+    stop: Option<Arc<StopRequests>>,
 ) -> Result<OpenDrive, String> {
     let Connection {
         mut link,
@@ -75,6 +77,9 @@ pub fn open_drive_observed(
     } = connection.open(virtual_time).map_err(|e| format!("error: {e}"))?;
     if let Some(o) = observer {
         link.set_observer(o);
+    }
+    if let Some(s) = stop {
+        link.set_stop_requests(s);
     }
     let drive = Drive::new(Box::new(Sd2Access::new(link, dest)), dictionary);
     Ok(OpenDrive {

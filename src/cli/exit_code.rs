@@ -6,7 +6,7 @@ pub const PASSED: i32 = 0;
 pub const FAILED: i32 = 1;
 /// The recipe or the command line is invalid; nothing was sent.
 pub const INVALID: i32 = 2;
-/// Communication failure or drive fault.
+/// Communication failure, drive fault, or a safe stop that could not be confirmed.
 pub const COMMUNICATION: i32 = 3;
-/// Interrupted by Ctrl-C (after the safe stop).
-pub const INTERRUPTED: i32 = 130;
+// A stop signal ends a run with 128 + its number and a panic with 101, both after the
+// safe stop: see `StopSignal::exit_code` and `RunReport::exit_code`.

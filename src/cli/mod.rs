@@ -5,10 +5,11 @@ mod connection_args;
 mod decode_command;
 mod drive_args;
 mod exit_code;
-mod interrupt;
 mod object_commands;
+mod panic_notice;
 mod recipe_commands;
 mod simulate_command;
+mod stop_signals;
 
 pub use connection_args::{Connection, ConnectionArgs, WriteLengthArg};
 pub use drive_args::DictionaryArgs;

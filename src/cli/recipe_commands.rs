@@ -1,16 +1,19 @@
 //! `drivescript check` and `drivescript run`: validate recipes without a port, and run one
 //! with the safe stop at every ending.
 
-use super::connection_args::ConnectionArgs;
+use super::connection_args::{parse_duration, ConnectionArgs};
 use super::drive_args::{open_drive_observed, DictionaryArgs};
 use super::COMMUNICATION;
-use super::{interrupt, INVALID, PASSED};
+use super::{panic_notice, stop_signals, INVALID, PASSED};
 use crate::clock::SharedClock;
-use crate::recipe::{load_recipe, Observers, Recipe, RecipeInvalid, RunReport, Runner};
+use crate::dictionary::Quantity;
+use crate::recipe::{load_recipe, Observers, Recipe, RecipeInvalid, RunReport, Runner, SafeStopSettings};
 use crate::report::{
-    write_html, write_junit, ConsoleReporter, CsvRecorder, ProgressReporter, TelegramFanOut, TraceWriter,
+    write_html, write_html_unfinished, write_junit, write_junit_unfinished, ConsoleReporter, CsvRecorder,
+    ProgressReporter, TelegramFanOut, TraceWriter,
 };
 use crate::sim::Sd2Simulator;
+use crate::stop_request::StopRequests;
 use clap::Args;
 use std::io::{IsTerminal, Write};
 use std::path::{Path, PathBuf};
@@ -53,9 +56,47 @@ pub struct RunArgs {
     #[command(flatten)]
     outputs: OutputArgs,
     #[command(flatten)]
+    safe_stop: SafeStopArgs,
+    #[command(flatten)]
     dictionary: DictionaryArgs,
     #[command(flatten)]
     connection: ConnectionArgs,
+}
+
+/// How the safe stop at the end of every run behaves.
+#[derive(Debug, Clone, Default, Args)]
+#[command(next_help_heading = "Safe stop")]
+pub struct SafeStopArgs {
+    /// How long the default safe stop waits, setpoint at 0, for standstill before it
+    /// disables the drive [default: 60s].
+    #[arg(long, value_name = "DURATION", value_parser = parse_duration)]
+    pub stop_timeout: Option<std::time::Duration>,
+    /// Speeds within ± this count as standstill [default: 10rpm].
+    #[arg(long, value_name = "SPEED", value_parser = parse_speed)]
+    pub standstill: Option<Quantity>,
+    /// How long to keep trying to reopen a lost port to deliver the safe stop [default: 10s].
+    #[arg(long, value_name = "DURATION", value_parser = parse_duration)]
+    pub reconnect_timeout: Option<std::time::Duration>,
+}
+
+impl SafeStopArgs {
+    /// The defaults with the command line's choices on top.
+    pub fn settings(&self) -> SafeStopSettings {
+        let d = SafeStopSettings::default();
+        SafeStopSettings {
+            standstill_timeout: self.stop_timeout.unwrap_or(d.standstill_timeout),
+            standstill: self.standstill.unwrap_or(d.standstill),
+            reconnect_timeout: self.reconnect_timeout.unwrap_or(d.reconnect_timeout),
+        }
+    }
+}
+
+fn parse_speed(text: &str) -> Result<Quantity, String> {
+    let q = Quantity::parse(text).map_err(|e| e.to_string())?;
+    match q.unit {
+        Some(u) if u.dimension() == crate::dictionary::Dimension::Speed && q.value >= 0.0 => Ok(q),
+        _ => Err(format!("`{text}`: give a speed with its unit, e.g. 10rpm")),
+    }
 }
 
 /// What a run writes besides the console.
@@ -133,8 +174,8 @@ fn finally_note(recipe: &Recipe) -> &'static str {
 }
 
 pub fn run(args: &RunArgs) -> i32 {
-    let interrupts = interrupt::install();
-    let count = || interrupts.presses();
+    let stop = stop_signals::install(true);
+    panic_notice::install();
     let request = RunRequest {
         recipe: &args.recipe,
         set: &args.set,
@@ -144,7 +185,8 @@ pub fn run(args: &RunArgs) -> i32 {
         connection: &args.connection,
         outputs: &args.outputs,
         prepare_simulator: None,
-        interrupts: &count,
+        stop: stop.clone(),
+        safe_stop: args.safe_stop.settings(),
         terminal: std::io::stdout().is_terminal(),
     };
     let mut stdout = std::io::stdout();
@@ -166,10 +208,12 @@ pub struct RunRequest<'a> {
     pub connection: &'a ConnectionArgs,
     pub outputs: &'a OutputArgs,
     /// Called with the simulated drive and the run's clock before the run (tests inject
-    /// faults and schedule a Ctrl-C here).
+    /// faults here).
     pub prepare_simulator: Option<&'a PrepareSimulator>,
-    /// How many times Ctrl-C was pressed.
-    pub interrupts: &'a dyn Fn() -> u32,
+    /// Stop requests (signals, or scheduled by tests).
+    pub stop: Arc<StopRequests>,
+    /// How the safe stop waits for standstill and reopens a lost port.
+    pub safe_stop: SafeStopSettings,
     /// Whether standard output is a terminal (live progress).
     pub terminal: bool,
 }
@@ -233,11 +277,29 @@ pub fn run_recipe(request: &RunRequest, out: &mut dyn Write, err: &mut dyn Write
         },
         None => None,
     };
+    // A report left from an earlier run is replaced at once by one that says this run has
+    // not finished: a run killed beyond any safe stop (SIGKILL, power loss) must never
+    // leave an old PASS for CI to read.
+    let placeholders = [
+        outputs
+            .junit
+            .as_ref()
+            .map(|p| write_junit_unfinished(&recipe.name, &recipe.path, p)),
+        outputs
+            .report
+            .as_ref()
+            .map(|p| write_html_unfinished(&recipe.name, &recipe.path, p)),
+    ];
+    if let Some(e) = placeholders.into_iter().flatten().find_map(Result::err) {
+        let _ = writeln!(err, "error: {e}");
+        return refused(INVALID);
+    }
     let mut open = match open_drive_observed(
         request.connection,
         dictionary,
         request.fast,
         telegrams.into_observer(),
+        Some(request.stop.clone()),
     ) {
         Ok(o) => o,
         Err(text) => {
@@ -265,8 +327,9 @@ pub fn run_recipe(request: &RunRequest, out: &mut dyn Write, err: &mut dyn Write
         if let Some(c) = csv.as_mut() {
             observers.push(c);
         }
-        Runner::new(&mut open.drive, &mut observers, request.interrupts, &recipe)
+        Runner::new(&mut open.drive, &mut observers, &request.stop, &recipe)
             .with_output_dir(request.output_dir.clone())
+            .with_settings(request.safe_stop)
             .run(&recipe)
     };
     if let Some(e) = csv.as_ref().and_then(|c| c.error()) {
@@ -283,7 +346,7 @@ pub fn run_recipe(request: &RunRequest, out: &mut dyn Write, err: &mut dyn Write
         }
     }
     RunResult {
-        exit_code: report.verdict.exit_code(),
+        exit_code: report.exit_code(),
         report: Some(report),
         simulator: open.simulator,
     }

@@ -1,7 +1,7 @@
 //! `drivescript simulate`: serves the simulated drive on a pseudo-terminal or a TCP port so
 //! any serial tool (or drivescript with `--port`/`--tcp`) can talk to it.
 
-use super::{interrupt, COMMUNICATION, INVALID, PASSED};
+use super::{stop_signals, COMMUNICATION, INVALID, PASSED};
 use crate::clock::RealClock;
 use crate::sim::{Sd2Simulator, SimConfig};
 use crate::sim_server::SimServer;
@@ -73,15 +73,14 @@ pub fn run(args: &SimulateArgs) -> i32 {
     if args.wire_time {
         server = server.with_wire_time(WireTime::new_8n1(args.baud));
     }
-    let interrupt = interrupt::install();
+    let requests = stop_signals::install(false);
     let stop = server.stop_flag();
     let watcher_stop = stop.clone();
-    std::thread::spawn(move || loop {
-        if interrupt.presses() > 0 {
-            watcher_stop.store(true, Ordering::SeqCst);
-            return;
+    std::thread::spawn(move || {
+        while requests.count_at(Duration::ZERO) == 0 {
+            requests.wait_real(Duration::from_secs(1));
         }
-        std::thread::sleep(Duration::from_millis(50));
+        watcher_stop.store(true, Ordering::SeqCst);
     });
     let wire = if args.wire_time {
         format!(", wire time at {} bit/s", args.baud)

@@ -52,6 +52,11 @@ impl Drive {
         self.access.port()
     }
 
+    /// Opens the port again after the line was lost.
+    pub fn reopen(&mut self) -> Result<(), DriveError> {
+        self.access.reopen()
+    }
+
     /// The object definition for a name or alias.
     pub fn object(&self, name: &str) -> Result<&ObjectDef, DriveError> {
         self.dictionary

@@ -95,6 +95,17 @@ impl DriveError {
         matches!(self, DriveError::Link(_))
     }
 
+    /// True when the port itself failed (device gone, connection closed), so that only
+    /// reopening it can reach the drive again.
+    pub fn is_link_lost(&self) -> bool {
+        matches!(self, DriveError::Link(e) if e.is_transport())
+    }
+
+    /// True when a stop request ended the operation.
+    pub fn is_interrupted(&self) -> bool {
+        matches!(self, DriveError::Interrupted) || matches!(self, DriveError::Link(e) if e.is_interrupted())
+    }
+
     /// True when the drive itself is in fault.
     pub fn is_fault(&self) -> bool {
         matches!(self, DriveError::Fault { .. })

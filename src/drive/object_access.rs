@@ -13,4 +13,6 @@ pub trait ObjectAccess: Send {
     fn port(&self) -> String;
     /// The clock the link waits on (real, or virtual with the simulator).
     fn clock(&self) -> SharedClock;
+    /// Opens the port again after the line was lost (see `Transport::reopen`).
+    fn reopen(&mut self) -> Result<(), DriveError>;
 }

@@ -46,4 +46,8 @@ impl ObjectAccess for Sd2Access {
     fn clock(&self) -> SharedClock {
         self.link.clock().clone()
     }
+
+    fn reopen(&mut self) -> Result<(), DriveError> {
+        Ok(self.link.reopen()?)
+    }
 }

@@ -49,6 +49,9 @@ pub enum LinkError {
 
     #[error("cannot build the telegram: {0}")]
     Encode(#[from] EncodeError),
+
+    #[error("stopped waiting for drive {dest} on {port} to answer {request}: a stop was requested")]
+    Interrupted { port: String, dest: u8, request: String },
 }
 
 impl LinkError {
@@ -58,6 +61,17 @@ impl LinkError {
             LinkError::DriveRefused { code, .. } => Some(*code),
             _ => None,
         }
+    }
+
+    /// True when the port itself failed (device gone, connection closed): only reopening
+    /// it can help.
+    pub fn is_transport(&self) -> bool {
+        matches!(self, LinkError::Transport(_))
+    }
+
+    /// True when a stop request ended the wait for a reply.
+    pub fn is_interrupted(&self) -> bool {
+        matches!(self, LinkError::Interrupted { .. })
     }
 
     /// True when nothing usable came back at all (line down, drive off).

@@ -12,7 +12,17 @@ use crate::hex::to_hex;
 use crate::protocol::sd2::{
     check_reply, Body, Cyclic, Data, DecodeError, ErrorCode, FrameExtractor, Framing, Telegram,
 };
+use crate::stop_request::StopRequests;
 use crate::transport::{Transport, TransportError};
+use std::sync::Arc;
+use std::time::Duration;
+
+/// A stop request does not cut short the first part of a reply wait: a drive that is
+/// answering at all has answered by then (250 µs turnaround plus the reply's wire time),
+/// so the telegram under way finishes and its answer is not lost.
+const STOP_GRACE: Duration = Duration::from_millis(20);
+/// After the grace, reply waits look at stop requests this often.
+const STOP_POLL: Duration = Duration::from_millis(10);
 
 pub struct Sd2Link {
     transport: Box<dyn Transport>,
@@ -22,6 +32,7 @@ pub struct Sd2Link {
     observer: Option<Box<dyn TelegramObserver>>,
     stats: LinkStats,
     buf: [u8; 256],
+    stop: Option<Arc<StopRequests>>,
 }
 
 /// Why one attempt did not produce a reply.
@@ -31,6 +42,8 @@ enum AttemptFailure {
         bytes: Vec<u8>,
         problem: DecodeError,
     },
+    /// A stop was requested while the drive was silent.
+    Interrupted,
     /// The port itself failed (closed, unplugged): retrying will not help.
     Transport(TransportError),
 }
@@ -45,7 +58,25 @@ impl Sd2Link {
             observer: None,
             stats: LinkStats::default(),
             buf: [0; 256],
+            stop: None,
         }
+    }
+
+    /// Lets stop requests end reply waits and retries early (see [`STOP_GRACE`]).
+    pub fn set_stop_requests(&mut self, stop: Arc<StopRequests>) {
+        self.stop = Some(stop);
+    }
+
+    fn stop_pending(&self) -> bool {
+        self.stop.as_ref().is_some_and(|s| s.pending_at(self.clock.now()))
+    }
+
+    /// Closes and opens the port again after it failed; what arrived before is dropped.
+    pub fn reopen(&mut self) -> Result<(), LinkError> {
+        self.extractor.clear();
+        self.event("reopening the port");
+        self.transport.reopen()?;
+        Ok(())
     }
 
     pub fn set_observer(&mut self, observer: Box<dyn TelegramObserver>) {
@@ -80,6 +111,9 @@ impl Sd2Link {
         let mut last_refused: Option<(Vec<u8>, DecodeError)> = None;
         for attempt in 1..=attempts {
             if attempt > 1 {
+                if self.stop_pending() {
+                    return Err(self.interrupted(request, &bytes));
+                }
                 self.stats.retries += 1;
                 self.settle()?;
                 self.event(&format!("retry {} of {}", attempt - 1, self.config.retries));
@@ -105,6 +139,10 @@ impl Sd2Link {
                 Err(AttemptFailure::Transport(e)) => {
                     self.event(&format!("transport failed: {e}"));
                     return Err(LinkError::Transport(e));
+                }
+                Err(AttemptFailure::Interrupted) => {
+                    self.event("stop requested while waiting for the reply");
+                    return Err(self.interrupted(request, &bytes));
                 }
             }
         }
@@ -189,6 +227,14 @@ impl Sd2Link {
         }
     }
 
+    fn interrupted(&self, request: &Telegram, bytes: &[u8]) -> LinkError {
+        LinkError::Interrupted {
+            port: self.transport.name().to_string(),
+            dest: request.dest,
+            request: describe_request(request, bytes),
+        }
+    }
+
     fn unexpected(&self, request: &Telegram, reply: &Telegram) -> LinkError {
         LinkError::UnexpectedReply {
             port: self.transport.name().to_string(),
@@ -229,7 +275,8 @@ impl Sd2Link {
     }
 
     fn await_reply(&mut self, request: &Telegram) -> Result<Telegram, AttemptFailure> {
-        let deadline = self.clock.now() + self.config.reply_timeout;
+        let sent = self.clock.now();
+        let deadline = sent + self.config.reply_timeout;
         loop {
             while let Some(block) = self.extractor.next_block() {
                 if block.skipped > 0 {
@@ -263,9 +310,23 @@ impl Sd2Link {
             if now >= deadline {
                 return Err(AttemptFailure::Timeout);
             }
-            match self.transport.read(&mut self.buf, deadline - now) {
+            // With stop requests to watch, read in slices so that a silent drive is given
+            // up within STOP_POLL of a request (after the grace).
+            let slice = match &self.stop {
+                None => deadline - now,
+                Some(_) if now - sent < STOP_GRACE => (sent + STOP_GRACE).min(deadline) - now,
+                Some(_) => STOP_POLL.min(deadline - now),
+            };
+            match self.transport.read(&mut self.buf, slice) {
                 Ok(n) => self.extractor.push(&self.buf[..n]),
-                Err(TransportError::Timeout { .. }) => return Err(AttemptFailure::Timeout),
+                Err(TransportError::Timeout { .. }) if self.clock.now() >= deadline => {
+                    return Err(AttemptFailure::Timeout)
+                }
+                Err(TransportError::Timeout { .. }) => {
+                    if self.clock.now() - sent >= STOP_GRACE && self.stop_pending() {
+                        return Err(AttemptFailure::Interrupted);
+                    }
+                }
                 Err(e) => return Err(AttemptFailure::Transport(e)),
             }
         }

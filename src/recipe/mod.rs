@@ -18,6 +18,6 @@ pub use problem::{Problem, RecipeInvalid, RecipeSource};
 pub use recipe::{Param, Recipe};
 pub use run_observer::{Observers, RunObserver};
 pub use run_report::{CheckResult, RunReport, Series, StepRecord, Verdict};
-pub use runner::{default_finally_steps, InterruptCount, Runner};
+pub use runner::{default_finally_steps, Runner, SafeStopSettings};
 pub use schema::recipe_schema;
 pub use step::{ObjectRef, SetValue, Step, StepKind, StepOrigin};

@@ -4,6 +4,7 @@
 
 use super::step::StepOrigin;
 use crate::protocol::device_control::DeviceState;
+use crate::stop_request::StopSignal;
 use std::time::{Duration, SystemTime};
 
 /// How a run ended, in the order of severity of DESIGN.md's exit codes.
@@ -14,17 +15,25 @@ pub enum Verdict {
     Failed,
     /// Communication failure or drive fault.
     Error(String),
-    /// Ctrl-C, after the safe stop.
-    Interrupted,
+    /// A stop signal (the first one), after the safe stop.
+    Interrupted(StopSignal),
+    /// A bug: a panic inside the run (its message), after the safe stop.
+    Panicked(String),
 }
+
+/// The exit code of a panic, as Rust's own runtime uses.
+pub const PANIC_EXIT: i32 = 101;
+/// Communication failure, drive fault, or a safe stop that could not be confirmed.
+pub const ERROR_EXIT: i32 = 3;
 
 impl Verdict {
     pub fn exit_code(&self) -> i32 {
         match self {
             Verdict::Passed => 0,
             Verdict::Failed => 1,
-            Verdict::Error(_) => 3,
-            Verdict::Interrupted => 130,
+            Verdict::Error(_) => ERROR_EXIT,
+            Verdict::Interrupted(signal) => signal.exit_code(),
+            Verdict::Panicked(_) => PANIC_EXIT,
         }
     }
 
@@ -33,7 +42,19 @@ impl Verdict {
             Verdict::Passed => "PASSED",
             Verdict::Failed => "FAILED",
             Verdict::Error(_) => "ERROR",
-            Verdict::Interrupted => "INTERRUPTED",
+            Verdict::Interrupted(_) => "INTERRUPTED",
+            Verdict::Panicked(_) => "PANIC",
+        }
+    }
+
+    /// One sentence on why the run ended this way, for reports; `None` when it passed or
+    /// failed a check (the checks say why).
+    pub fn reason(&self) -> Option<String> {
+        match self {
+            Verdict::Passed | Verdict::Failed => None,
+            Verdict::Error(m) => Some(m.clone()),
+            Verdict::Interrupted(s) => Some(format!("interrupted by {}", s.describe())),
+            Verdict::Panicked(m) => Some(format!("internal error (panic): {m}")),
         }
     }
 }
@@ -100,11 +121,57 @@ pub struct RunReport {
     pub series: Vec<Series>,
     /// The state the drive was left in, when it could be read.
     pub final_state: Option<DeviceState>,
-    /// Notes on the safe stop: what ran, what failed, the safety net.
+    /// The actual speed read back after the safe stop, in `speed_unit`.
+    pub final_speed: Option<f64>,
+    pub speed_unit: Option<String>,
+    /// The power stage is off but the spindle still turns (it coasts without control).
+    pub coasting: bool,
+    /// The safe stop was verified by reading the state back (or a successful recipe left
+    /// the drive enabled on purpose). False means CHECK THE DRIVE BY HAND.
+    pub stop_confirmed: bool,
+    /// The drive did not obey the stop commands and the stop was escalated.
+    pub disobeyed: bool,
+    /// Notes on the safe stop: what ran, what failed, the escalation.
     pub safe_stop: Vec<String>,
 }
 
 impl RunReport {
+    /// The process exit code: a panic first (101), then a safe stop that was not confirmed
+    /// or a drive that did not obey (3), then the verdict's own.
+    pub fn exit_code(&self) -> i32 {
+        match &self.verdict {
+            Verdict::Panicked(_) => PANIC_EXIT,
+            _ if !self.stop_confirmed || self.disobeyed => ERROR_EXIT,
+            v => v.exit_code(),
+        }
+    }
+
+    /// The truth about the drive after the safe stop, in one line: its state, its speed,
+    /// and whether it is still coasting.
+    pub fn drive_left(&self) -> String {
+        let state = match self.final_state {
+            Some(s) => s.to_string(),
+            None => "an unknown state (it could not be read back)".to_string(),
+        };
+        let speed = match (self.final_speed, &self.speed_unit) {
+            (Some(v), Some(u)) => format!(" at {} {u}", super::condition::number(v.round())),
+            (Some(v), None) => format!(" at speed {}", super::condition::number(v.round())),
+            (None, _) if self.final_state.is_some() => ", speed not read".to_string(),
+            (None, _) => String::new(),
+        };
+        let coasting = if self.coasting {
+            " — STILL COASTING: the power stage is off and nothing brakes the spindle; keep clear until it stands still"
+        } else {
+            ""
+        };
+        format!("drive left in {state}{speed}{coasting}")
+    }
+
+    /// True when the last word must be CHECK THE DRIVE BY HAND.
+    pub fn check_by_hand(&self) -> bool {
+        !self.stop_confirmed
+    }
+
     pub fn checks_passed(&self) -> usize {
         self.checks.iter().filter(|c| c.passed).count()
     }

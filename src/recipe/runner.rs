@@ -1,27 +1,32 @@
 //! The recipe interpreter: runs validated steps against a [`Drive`], reports through a
-//! [`RunObserver`], and ALWAYS ends with the safe stop: `on_fault` after a drive fault,
-//! then `finally` (or the default: disable operation, then shutdown), then a check that the
-//! power stage is really off. Knows names and units, never bytes.
+//! [`RunObserver`], and ALWAYS ends with the safe stop (see `safe_stop.rs`), whatever ended
+//! the steps: success, a failed check, an error, a stop request, a lost link or a panic.
+//! Every wait wakes on a stop request. Knows names and units, never bytes.
+
+mod safe_stop;
+mod settings;
+
+pub use safe_stop::default_finally_steps;
+pub use settings::SafeStopSettings;
 
 use super::condition::{number, Check, Condition, Predicate, Stats};
 use super::loader::show_duration;
 use super::recipe::Recipe;
 use super::run_observer::RunObserver;
 use super::run_report::{CheckResult, RunReport, Series, StepRecord, Verdict};
-use super::step::{ObjectRef, SetValue, Step, StepKind, StepOrigin};
+use super::step::{ObjectRef, SetValue, Step, StepKind};
 use crate::clock::SharedClock;
 use crate::dictionary::Quantity;
 use crate::drive::{Drive, DriveError};
-use crate::protocol::device_control::{DeviceCommand, DeviceState};
+use crate::protocol::device_control::DeviceState;
+use crate::stop_request::{StopRequests, StopSignal};
 use std::collections::HashMap;
+use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::PathBuf;
 use std::time::Duration;
 
 /// How often `dwell` and `repeat` look at the drive for faults.
 const FAULT_WATCH: Duration = Duration::from_millis(100);
-
-/// Asks how many times Ctrl-C was pressed.
-pub type InterruptCount<'a> = &'a (dyn Fn() -> u32 + 'a);
 
 /// Why the steps stopped early.
 #[derive(Debug)]
@@ -30,34 +35,62 @@ enum Stop {
     Failed(String),
     /// The drive went to fault.
     Fault(String),
+    /// The port failed (device gone, connection closed): only reopening it can help.
+    LinkLost(String),
     /// Communication or another drive error.
     Error(String),
+    /// A stop request (signal).
     Interrupted,
+    /// A panic inside the run: a bug, but the drive must still be stopped.
+    Panicked(String),
 }
 
 /// Whether a step went well, and what to say about it.
 fn outcome(result: &Result<String, Stop>) -> (bool, String) {
     match result {
         Ok(d) => (true, d.clone()),
-        Err(Stop::Failed(m)) | Err(Stop::Fault(m)) | Err(Stop::Error(m)) => (false, m.clone()),
+        Err(Stop::Failed(m) | Stop::Fault(m) | Stop::LinkLost(m) | Stop::Error(m)) => (false, m.clone()),
         Err(Stop::Interrupted) => (false, "interrupted".to_string()),
+        Err(Stop::Panicked(m)) => (false, format!("internal error (panic): {m}")),
     }
 }
 
 impl From<DriveError> for Stop {
     fn from(e: DriveError) -> Self {
-        match e {
-            DriveError::Interrupted => Stop::Interrupted,
-            DriveError::Fault { .. } => Stop::Fault(e.to_string()),
-            other => Stop::Error(other.to_string()),
+        if e.is_interrupted() {
+            Stop::Interrupted
+        } else if e.is_fault() {
+            Stop::Fault(e.to_string())
+        } else if e.is_link_lost() {
+            Stop::LinkLost(e.to_string())
+        } else {
+            Stop::Error(e.to_string())
         }
     }
+}
+
+/// The text of a panic's payload (`panic!("...")` carries a `&str` or a `String`).
+fn panic_message(payload: &(dyn std::any::Any + Send)) -> String {
+    payload
+        .downcast_ref::<&str>()
+        .map(|s| s.to_string())
+        .or_else(|| payload.downcast_ref::<String>().cloned())
+        .unwrap_or_else(|| "a panic without a message".to_string())
+}
+
+/// `start + every × k`, or an error instead of the overflow panic.
+fn nth_tick(start: Duration, every: Duration, k: u32) -> Result<Duration, Stop> {
+    every
+        .checked_mul(k)
+        .and_then(|d| start.checked_add(d))
+        .ok_or_else(|| Stop::Error(format!("time overflow: {k} × {every:?} after {start:?}")))
 }
 
 pub struct Runner<'a> {
     drive: &'a mut Drive,
     observer: &'a mut dyn RunObserver,
-    interrupts: InterruptCount<'a>,
+    stop: &'a StopRequests,
+    settings: SafeStopSettings,
     clock: SharedClock,
     /// Directory that relative `csv:` paths of sample steps are written to.
     output_dir: PathBuf,
@@ -75,16 +108,15 @@ pub struct Runner<'a> {
     /// to the drive *entering* a fault during the run; a drive already in fault (at the
     /// start, or after a step that waited for it) is the recipe's to reset.
     known_fault: bool,
-    /// Ctrl-C presses that do not count: 0 while the steps run, 1 during the safe stop
-    /// (only a second press interrupts that).
-    interrupt_allowance: u32,
+    /// `on_fault`, `finally` and the verification run: only a second stop request counts.
+    in_safe_stop: bool,
 }
 
 impl<'a> Runner<'a> {
     pub fn new(
         drive: &'a mut Drive,
         observer: &'a mut dyn RunObserver,
-        interrupts: InterruptCount<'a>,
+        stop: &'a StopRequests,
         recipe: &Recipe,
     ) -> Self {
         let clock = drive.clock().clone();
@@ -106,12 +138,18 @@ impl<'a> Runner<'a> {
             checks: Vec::new(),
             series: Vec::new(),
             final_state: None,
+            final_speed: None,
+            speed_unit: None,
+            coasting: false,
+            stop_confirmed: false,
+            disobeyed: false,
             safe_stop: Vec::new(),
         };
         Runner {
             drive,
             observer,
-            interrupts,
+            stop,
+            settings: SafeStopSettings::default(),
             clock,
             output_dir: PathBuf::from("."),
             windows: HashMap::new(),
@@ -121,8 +159,14 @@ impl<'a> Runner<'a> {
             last_fault_check: Duration::ZERO,
             run_start: clock_now,
             known_fault: false,
-            interrupt_allowance: 0,
+            in_safe_stop: false,
         }
+    }
+
+    /// How the safe stop waits for standstill and how long it tries to reopen a lost port.
+    pub fn with_settings(mut self, settings: SafeStopSettings) -> Self {
+        self.settings = settings;
+        self
     }
 
     /// Where `csv:` files of sample steps go (relative paths).
@@ -131,11 +175,56 @@ impl<'a> Runner<'a> {
         self
     }
 
-    /// Runs the recipe to the end, whatever happens, and returns what happened.
+    /// Runs the recipe to the end, whatever happens, and returns what happened. A panic in
+    /// the steps is caught here so that the safe stop still runs; the caller exits 101.
     pub fn run(mut self, recipe: &Recipe) -> RunReport {
         let start = self.clock.now();
         self.run_start = start;
         self.observer.run_started(recipe, &self.report.drive);
+        let ended = self.guarded(|r| {
+            r.look_at_the_drive();
+            r.steps(&recipe.steps, "", "steps")
+        });
+        let stop = ended.err();
+        if let Some(Stop::Fault(_)) = &stop {
+            if !recipe.on_fault.is_empty() {
+                self.stop.acknowledge();
+                self.in_safe_stop = true;
+                let on_fault = self.guarded(|r| {
+                    r.best_effort(&recipe.on_fault, "on_fault");
+                    Ok(())
+                });
+                if let Err(e) = on_fault {
+                    let (_, why) = outcome(&Err(e));
+                    self.report.safe_stop.push(format!("on_fault ended early: {why}"));
+                }
+            }
+        }
+        let link_lost = matches!(stop, Some(Stop::LinkLost(_)));
+        self.report.verdict = match &stop {
+            None if self.failed_checks => Verdict::Failed,
+            None => Verdict::Passed,
+            Some(Stop::Failed(_)) => Verdict::Failed,
+            Some(Stop::Fault(m) | Stop::Error(m) | Stop::LinkLost(m)) => Verdict::Error(m.clone()),
+            Some(Stop::Interrupted) => Verdict::Interrupted(self.stop.first().unwrap_or(StopSignal::INT)),
+            Some(Stop::Panicked(m)) => Verdict::Panicked(m.clone()),
+        };
+        self.run_safe_stop(recipe, link_lost);
+        self.report.duration = self.clock.now().saturating_sub(start);
+        self.observer.run_finished(&self.report);
+        self.report
+    }
+
+    /// Runs `f`, turning a panic inside it into [`Stop::Panicked`].
+    fn guarded(&mut self, f: impl FnOnce(&mut Self) -> Result<(), Stop>) -> Result<(), Stop> {
+        match catch_unwind(AssertUnwindSafe(|| f(self))) {
+            Ok(result) => result,
+            Err(payload) => Err(Stop::Panicked(panic_message(payload.as_ref()))),
+        }
+    }
+
+    /// Identity and fault state at the start, both best effort.
+    fn look_at_the_drive(&mut self) {
         self.report.identity = self.identity();
         self.known_fault = matches!(
             self.drive.state(),
@@ -150,24 +239,6 @@ impl<'a> Runner<'a> {
             self.observer
                 .message(&format!("the drive is in fault at the start{code}"));
         }
-        let outcome = self.steps(&recipe.steps, "", "steps");
-        let stop = outcome.err();
-        if let Some(Stop::Fault(_)) = &stop {
-            if !recipe.on_fault.is_empty() {
-                self.best_effort(&recipe.on_fault, "on_fault");
-            }
-        }
-        self.report.verdict = match &stop {
-            None if self.failed_checks => Verdict::Failed,
-            None => Verdict::Passed,
-            Some(Stop::Failed(_)) => Verdict::Failed,
-            Some(Stop::Fault(m)) | Some(Stop::Error(m)) => Verdict::Error(m.clone()),
-            Some(Stop::Interrupted) => Verdict::Interrupted,
-        };
-        self.safe_stop(recipe);
-        self.report.duration = self.clock.now() - start;
-        self.observer.run_finished(&self.report);
-        self.report
     }
 
     fn identity(&mut self) -> Option<String> {
@@ -175,8 +246,30 @@ impl<'a> Runner<'a> {
         self.drive.read(&name).ok().map(|v| v.to_string())
     }
 
+    /// A stop request that nobody answers yet. During the safe stop only a second request
+    /// counts: the first one, arriving while `finally` already runs, asks for what is
+    /// being done anyway.
     fn interrupted(&self) -> bool {
-        (self.interrupts)() > self.interrupt_allowance
+        let now = self.clock.now();
+        if !self.stop.pending_at(now) {
+            return false;
+        }
+        if self.in_safe_stop && self.stop.count_at(now) < 2 {
+            self.stop.acknowledge();
+            return false;
+        }
+        true
+    }
+
+    /// Waits until `deadline` on the run's clock; a stop request (see
+    /// [`Runner::interrupted`]) ends the wait at once.
+    fn wait(&self, deadline: Duration) -> Result<(), Stop> {
+        while self.clock.wait_until(deadline, self.stop) {
+            if self.interrupted() {
+                return Err(Stop::Interrupted);
+            }
+        }
+        Ok(())
     }
 
     fn steps(&mut self, steps: &[Step], prefix: &str, phase: &'static str) -> Result<(), Stop> {
@@ -191,7 +284,11 @@ impl<'a> Runner<'a> {
             };
             self.observer.step_started(&number, step, phase);
             let started = self.clock.now();
-            let result = self.step(step, &number, phase);
+            // A panic is caught here too, so that the step it happened in is recorded.
+            let result = match catch_unwind(AssertUnwindSafe(|| self.step(step, &number, phase))) {
+                Ok(r) => r,
+                Err(payload) => Err(Stop::Panicked(panic_message(payload.as_ref()))),
+            };
             let (ok, detail) = outcome(&result);
             let ok = ok && !matches!(step.kind, StepKind::Expect(_) if detail.starts_with("FAILED"));
             // Nested steps were recorded by their own records; keep the container too.
@@ -220,7 +317,7 @@ impl<'a> Runner<'a> {
             ok,
             detail,
             started,
-            duration: self.clock.now() - started,
+            duration: self.clock.now().saturating_sub(started),
             phase,
         };
         self.observer.step_finished(&record);
@@ -235,10 +332,13 @@ impl<'a> Runner<'a> {
                 Ok(format!("control word {value}"))
             }
             StepKind::GoTo { state, timeout } => {
-                let (interrupts, allowance) = (self.interrupts, self.interrupt_allowance);
-                let transitions = self
-                    .drive
-                    .go_to(*state, *timeout, &move || interrupts() > allowance)?;
+                // The same rule as `interrupted`, without borrowing the runner, whose drive
+                // the walk borrows.
+                let (stop, clock, in_safe_stop) = (self.stop, self.clock.clone(), self.in_safe_stop);
+                let transitions = self.drive.go_to(*state, *timeout, &move || {
+                    let now = clock.now();
+                    stop.pending_at(now) && !(in_safe_stop && stop.count_at(now) < 2)
+                })?;
                 if transitions.is_empty() {
                     Ok(format!("already {state}"))
                 } else {
@@ -308,6 +408,7 @@ impl<'a> Runner<'a> {
                 self.steps(steps, number, phase)?;
                 Ok(format!("{} steps", steps.len()))
             }
+            StepKind::Standstill { below, timeout } => self.standstill(*below, *timeout, number),
         }
     }
 
@@ -363,9 +464,10 @@ impl<'a> Runner<'a> {
         number: &str,
     ) -> Result<String, Stop> {
         let started = self.clock.now();
+        let give_up = started.saturating_add(timeout);
         loop {
             let (holds, seen, value) = self.read_condition(condition)?;
-            let waited = self.clock.now() - started;
+            let waited = self.clock.now().saturating_sub(started);
             if holds {
                 if matches!(
                     condition,
@@ -409,8 +511,7 @@ impl<'a> Runner<'a> {
                 return Err(Stop::Interrupted);
             }
             self.observer.step_progress(number, waited, Some(timeout), &seen);
-            let next = (started + waited + every).min(started + timeout);
-            self.clock.sleep_until(next);
+            self.wait(self.clock.now().saturating_add(every).min(give_up))?;
         }
     }
 
@@ -445,7 +546,7 @@ impl<'a> Runner<'a> {
             message: message.unwrap_or_else(|| "reached".into()),
             origin: step.origin.clone(),
             at: self.clock.now(),
-            duration: self.clock.now() - started,
+            duration: self.clock.now().saturating_sub(started),
         };
         self.observer.check(&result);
         self.report.checks.push(result);
@@ -453,7 +554,7 @@ impl<'a> Runner<'a> {
 
     fn dwell(&mut self, d: Duration, number: &str) -> Result<(), Stop> {
         let start = self.clock.now();
-        let end = start + d;
+        let end = start.saturating_add(d);
         loop {
             self.watch_fault(true)?;
             let now = self.clock.now();
@@ -464,7 +565,7 @@ impl<'a> Runner<'a> {
                 return Err(Stop::Interrupted);
             }
             self.observer.step_progress(number, now - start, Some(d), "");
-            self.clock.sleep_until((now + FAULT_WATCH).min(end));
+            self.wait(now.saturating_add(FAULT_WATCH).min(end))?;
         }
     }
 
@@ -489,17 +590,18 @@ impl<'a> Runner<'a> {
         let mut series: Vec<Vec<(f64, f64)>> = vec![Vec::new(); objects.len()];
         let mut k: u32 = 0;
         let mut late = 0u32;
+        let end = start.saturating_add(duration);
         loop {
-            let due = start + every * k;
-            if due > start + duration {
+            let due = nth_tick(start, every, k)?;
+            if due > end {
                 break;
             }
             if self.interrupted() {
                 return Err(Stop::Interrupted);
             }
-            self.clock.sleep_until(due);
+            self.wait(due)?;
             let at = self.clock.now();
-            if at > due + every {
+            if at > due.saturating_add(every) {
                 late += 1;
             }
             let mut row = Vec::with_capacity(objects.len());
@@ -607,7 +709,7 @@ impl<'a> Runner<'a> {
                 },
                 origin: step.origin.clone(),
                 at: self.clock.now(),
-                duration: self.clock.now() - started,
+                duration: self.clock.now().saturating_sub(started),
             };
             if !passed {
                 self.failed_checks = true;
@@ -635,12 +737,16 @@ impl<'a> Runner<'a> {
             .as_deref()
             .and_then(crate::dictionary::Unit::from_symbol);
         let start = self.clock.now();
-        let total = every * points.len().saturating_sub(1) as u32;
+        let last = u32::try_from(points.len().saturating_sub(1)).unwrap_or(u32::MAX);
+        let total = every.checked_mul(last).unwrap_or(Duration::MAX);
         for (i, p) in points.iter().enumerate() {
+            let due = nth_tick(start, every, u32::try_from(i).unwrap_or(u32::MAX))?;
+            self.wait(due)?;
+            // Nothing more is written once a stop is requested, not even a point already
+            // due: the next setpoint would be a step away from a standstill.
             if self.interrupted() {
                 return Err(Stop::Interrupted);
             }
-            self.clock.sleep_until(start + every * i as u32);
             self.drive.write(&object.name, &Quantity::new(*p, unit))?;
             self.observer.step_progress(
                 number,
@@ -666,7 +772,7 @@ impl<'a> Runner<'a> {
         loop {
             let more = match (times, duration) {
                 (Some(t), _) => n < t,
-                (_, Some(d)) => self.clock.now() - start < d,
+                (_, Some(d)) => self.clock.now().saturating_sub(start) < d,
                 _ => false,
             };
             if !more {
@@ -686,101 +792,6 @@ impl<'a> Runner<'a> {
         }
         Ok(format!("{n} iteration(s) in {}", secs(self.clock.now() - start)))
     }
-
-    /// Runs steps whatever fails; errors are recorded and the next step is tried. A second
-    /// Ctrl-C abandons the rest.
-    fn best_effort(&mut self, steps: &[Step], phase: &'static str) {
-        self.interrupt_allowance = 1;
-        for (i, step) in steps.iter().enumerate() {
-            if (self.interrupts)() >= 2 {
-                self.report
-                    .safe_stop
-                    .push(format!("{phase} abandoned at step {} (second Ctrl-C)", i + 1));
-                return;
-            }
-            let number = format!("{phase}.{}", i + 1);
-            self.observer.step_started(&number, step, phase);
-            let started = self.clock.now();
-            let result = self.step(step, &number, phase);
-            let (ok, detail) = outcome(&result);
-            if !ok {
-                self.report.safe_stop.push(format!(
-                    "{phase} step {} ({}) failed: {detail}",
-                    i + 1,
-                    step.label
-                ));
-            }
-            self.record_step(number, step, ok, detail, started, phase);
-        }
-    }
-
-    /// `finally` (or the default), then make sure the power stage is off unless a
-    /// successful recipe asked to leave it on. A second Ctrl-C switches it off at once.
-    fn safe_stop(&mut self, recipe: &Recipe) {
-        let default_finally;
-        let finally: &[Step] = match &recipe.finally {
-            Some(steps) => steps,
-            None => {
-                default_finally = default_finally_steps(&recipe.path);
-                &default_finally
-            }
-        };
-        self.best_effort(finally, "finally");
-        if (self.interrupts)() >= 2 {
-            self.emergency_off();
-        }
-        let keep = recipe.leave_enabled && self.report.verdict == Verdict::Passed;
-        match self.drive.state() {
-            Ok(state) => {
-                self.report.final_state = Some(state);
-                if state.is_powered() && !keep && state != DeviceState::FaultReactionActive {
-                    self.report.safe_stop.push(format!(
-                        "the drive was still in {state} after finally; disabling it"
-                    ));
-                    for c in [DeviceCommand::DisableOperation, DeviceCommand::Shutdown] {
-                        if let Err(e) = self.drive.command(c) {
-                            self.report.safe_stop.push(format!("{c} failed: {e}"));
-                            self.emergency_off();
-                            break;
-                        }
-                    }
-                    self.report.final_state = self.drive.state().ok();
-                }
-            }
-            Err(e) => self.report.safe_stop.push(format!(
-                "could not read the drive's state after the safe stop: {e}; CHECK THE DRIVE BY HAND"
-            )),
-        }
-    }
-
-    fn emergency_off(&mut self) {
-        match self.drive.command(DeviceCommand::DisableVoltage) {
-            Ok(()) => self
-                .report
-                .safe_stop
-                .push("power stage switched off at once (disable voltage)".into()),
-            Err(e) => self
-                .report
-                .safe_stop
-                .push(format!("disable voltage failed: {e}; CHECK THE DRIVE BY HAND")),
-        }
-    }
-}
-
-/// The default `finally`: disable operation, then shutdown.
-pub fn default_finally_steps(path: &str) -> Vec<Step> {
-    [DeviceCommand::DisableOperation, DeviceCommand::Shutdown]
-        .into_iter()
-        .map(|c| Step {
-            kind: StepKind::Command(c),
-            origin: StepOrigin {
-                path: path.to_string(),
-                line: 0,
-                column: 0,
-            },
-            label: format!("{} (default finally)", c.id()),
-        })
-        .collect()
 }
 
 fn with_unit(v: f64, o: &ObjectRef) -> String {

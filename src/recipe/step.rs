@@ -94,6 +94,9 @@ pub enum StepKind {
     },
     /// Steps of another recipe file, with its parameters already applied.
     Include { path: String, steps: Vec<Step> },
+    /// The default safe stop's wait: while the drive is in operation enabled, poll the
+    /// actual speed until it is within ±`below` (its unit) or `timeout` has passed.
+    Standstill { below: f64, timeout: Duration },
 }
 
 impl Step {
@@ -106,6 +109,7 @@ impl Step {
                 | StepKind::Sample { .. }
                 | StepKind::Repeat { .. }
                 | StepKind::Ramp { .. }
+                | StepKind::Standstill { .. }
         )
     }
 }

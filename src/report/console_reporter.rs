@@ -3,9 +3,7 @@
 //! never garbles a log file. The line formats are pub functions so the live progress
 //! display prints exactly the same permanent lines.
 
-use crate::recipe::{
-    number, CheckResult, Recipe, RunObserver, RunReport, Step, StepKind, StepRecord, Verdict,
-};
+use crate::recipe::{number, CheckResult, Recipe, RunObserver, RunReport, Step, StepKind, StepRecord};
 use std::io::Write;
 
 pub struct ConsoleReporter<W: Write> {
@@ -143,8 +141,9 @@ pub fn summary_lines(report: &RunReport, virtual_time: bool) -> Vec<String> {
     for note in &report.safe_stop {
         lines.push(format!("safe stop: {note}"));
     }
-    if let Some(state) = report.final_state {
-        lines.push(format!("drive left in {state}"));
+    lines.push(report.drive_left());
+    if report.check_by_hand() {
+        lines.push("CHECK THE DRIVE BY HAND: the safe stop could not be confirmed (see above)".to_string());
     }
     let steps = report
         .steps
@@ -155,15 +154,16 @@ pub fn summary_lines(report: &RunReport, virtual_time: bool) -> Vec<String> {
         report.duration.as_millis() as u64
     ));
     let clock = if virtual_time { " of virtual time" } else { "" };
-    let why = match &report.verdict {
-        Verdict::Error(m) => format!(": {m}"),
-        _ => String::new(),
+    let why = match report.verdict.reason() {
+        Some(m) => format!(": {m}"),
+        None => String::new(),
     };
     lines.push(format!(
-        "{}{why} — {steps} step(s), {} check(s) passed, {} failed, {time}{clock}",
+        "{}{why} — {steps} step(s), {} check(s) passed, {} failed, {time}{clock}, exit code {}",
         report.verdict.word(),
         report.checks_passed(),
-        report.checks_failed()
+        report.checks_failed(),
+        report.exit_code()
     ));
     lines
 }

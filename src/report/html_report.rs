@@ -107,7 +107,11 @@ fn header(h: &mut String, r: &RunReport) {
         Verdict::Passed => format!("All {} check(s) passed.", r.checks.len()),
         Verdict::Failed => format!("{} of {} check(s) failed.", r.checks_failed(), r.checks.len()),
         Verdict::Error(m) => format!("Communication failure or drive fault: {m}"),
-        Verdict::Interrupted => "Interrupted (Ctrl-C); the drive was brought to a safe stop.".into(),
+        Verdict::Interrupted(s) => format!(
+            "Interrupted by {}; the safe stop ran before the program ended.",
+            s.describe()
+        ),
+        Verdict::Panicked(m) => format!("Internal error (panic: {m}); the safe stop ran after it."),
     };
     let _ = writeln!(h, "<p class=\"why\">{}</p>\n</header>", esc(&why));
 
@@ -140,18 +144,13 @@ fn header(h: &mut String, r: &RunReport) {
         ("Duration", duration_text(r.duration)),
         (
             "Verdict",
-            format!("{} (exit code {})", r.verdict.word(), r.verdict.exit_code()),
+            format!("{} (exit code {})", r.verdict.word(), r.exit_code()),
         ),
         (
             "Checks",
             format!("{} passed, {} failed", r.checks_passed(), r.checks_failed()),
         ),
-        (
-            "Drive left in",
-            r.final_state
-                .map(|s| s.to_string())
-                .unwrap_or_else(|| "unknown (could not be read)".into()),
-        ),
+        ("After the safe stop", r.drive_left()),
     ];
     for (name, value) in facts {
         let _ = writeln!(
@@ -244,14 +243,15 @@ fn safe_stop(h: &mut String, r: &RunReport) {
         }
         h.push_str("</ul>\n");
     }
-    let state = r
-        .final_state
-        .map(|s| s.to_string())
-        .unwrap_or_else(|| "unknown (could not be read)".into());
+    let warning = if r.check_by_hand() {
+        "<p class=\"fail\"><strong>CHECK THE DRIVE BY HAND:</strong> the safe stop could not be confirmed.</p>\n"
+    } else {
+        ""
+    };
     let _ = writeln!(
         h,
-        "<p>Drive left in: <strong>{}</strong></p>\n</section>",
-        esc(&state)
+        "<p><strong>{}</strong></p>\n{warning}</section>",
+        esc(&r.drive_left())
     );
 }
 
@@ -710,7 +710,8 @@ mod tests {
         let steps = rows(&html, "steps");
         assert_eq!(steps[1][3], "FAIL");
         assert!(html.contains("<tr class=\"fail\">"));
-        assert!(html.contains("unknown (could not be read)"));
+        assert!(html.contains("an unknown state (it could not be read back)"));
+        assert!(html.contains("CHECK THE DRIVE BY HAND"));
         // No plot section without series.
         assert!(!html.contains("<svg"));
     }

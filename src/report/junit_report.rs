@@ -62,12 +62,25 @@ fn suite_properties(r: &RunReport, started: &str) -> Vec<Property> {
     }
     p.push(Property::new("started_at_utc", started));
     p.push(Property::new("verdict", r.verdict.word()));
+    p.push(Property::new("exit_code", r.exit_code().to_string()));
+    if let Some(reason) = r.verdict.reason() {
+        p.push(Property::new("reason", reason));
+    }
     if let Verdict::Error(m) = &r.verdict {
         p.push(Property::new("error", m.as_str()));
     }
     if let Some(state) = r.final_state {
         p.push(Property::new("final_state", state.to_string()));
     }
+    p.push(Property::new("after_safe_stop", r.drive_left()));
+    p.push(Property::new(
+        "safe_stop_confirmed",
+        if r.stop_confirmed {
+            "true"
+        } else {
+            "false: CHECK THE DRIVE BY HAND"
+        },
+    ));
     p
 }
 
@@ -181,9 +194,16 @@ fn run_case(r: &RunReport) -> Option<TestCase> {
     let unexplained = unexplained_failures(r);
     let (kind, message) = match &r.verdict {
         Verdict::Error(m) => (NonSuccessKind::Error, format!("ERROR: {m}")),
-        Verdict::Interrupted => (
+        Verdict::Interrupted(s) => (
             NonSuccessKind::Failure,
-            "INTERRUPTED: the run was interrupted (Ctrl-C) and the drive brought to a safe stop".into(),
+            format!(
+                "INTERRUPTED: the run was interrupted by {} and the safe stop ran",
+                s.describe()
+            ),
+        ),
+        Verdict::Panicked(m) => (
+            NonSuccessKind::Error,
+            format!("PANIC: internal error ({m}); the safe stop ran after it"),
         ),
         Verdict::Failed if !unexplained.is_empty() || r.checks_failed() == 0 => {
             let first = unexplained
@@ -405,7 +425,7 @@ mod tests {
         assert!(xml.contains("<testcase name=\"run\""), "{xml}");
         assert!(xml.contains("tests=\"1\" skipped=\"0\" failures=\"0\""), "{xml}");
 
-        r.verdict = Verdict::Interrupted;
+        r.verdict = Verdict::Interrupted(crate::stop_request::StopSignal::INT);
         r.steps[2].ok = false;
         r.steps[2].detail = "interrupted".into();
         let xml = junit_xml(&r);

@@ -13,6 +13,7 @@ mod progress_reporter;
 mod sample_report;
 mod telegram_fan_out;
 mod trace_writer;
+mod unfinished_report;
 
 pub use atomic_write::write_atomically;
 pub use console_reporter::{
@@ -25,4 +26,7 @@ pub use progress_reporter::{progress_text, ProgressReporter};
 pub use telegram_fan_out::TelegramFanOut;
 pub use trace_writer::{
     hex_of_trace_line, is_trace_line, summary as telegram_summary, TraceNames, TraceWriter,
+};
+pub use unfinished_report::{
+    html_unfinished, junit_unfinished, write_html_unfinished, write_junit_unfinished,
 };

@@ -115,6 +115,11 @@ pub fn passed_report() -> RunReport {
             points,
         }],
         final_state: Some(DeviceState::SwitchedOn),
+        final_speed: Some(0.4),
+        speed_unit: Some("rpm".into()),
+        coasting: false,
+        stop_confirmed: true,
+        disobeyed: false,
         safe_stop: vec!["finally: disable_operation ran".into()],
     }
 }
@@ -148,6 +153,11 @@ pub fn error_report() -> RunReport {
         }],
         series: Vec::new(),
         final_state: None,
+        final_speed: None,
+        speed_unit: None,
+        coasting: false,
+        stop_confirmed: false,
+        disobeyed: false,
         safe_stop: vec!["the safety net (disable voltage) could not be sent".into()],
     }
 }

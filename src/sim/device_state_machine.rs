@@ -50,6 +50,11 @@ impl DeviceStateMachine {
         self.drive_error
     }
 
+    /// What `control_word` would command in the current state.
+    pub(crate) fn command_for(&self, control_word: u16) -> DeviceCommand {
+        command_of(control_word, self.control_word, self.state)
+    }
+
     /// Evaluates a written control word. A command the current state does not list leaves
     /// the state unchanged; the write itself is always accepted. With `reset_blocked` the
     /// fault cause persists, so a fault reset leaves the drive in fault.

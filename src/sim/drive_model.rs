@@ -86,6 +86,11 @@ impl DriveModel {
         self.update();
     }
 
+    /// What `control_word` would command now, without carrying it out.
+    pub(crate) fn command_for(&self, control_word: u16) -> DeviceCommand {
+        self.machine.command_for(control_word)
+    }
+
     pub(crate) fn write_control_word(&mut self, control_word: u16, reset_blocked: bool) -> DeviceCommand {
         let command = self.machine.write_control_word(control_word, reset_blocked);
         self.update();

@@ -1,8 +1,11 @@
 //! Faults a test can inject into the simulated drive between telegrams: lost, corrupt, late
-//! or misaddressed replies, a drive fault at a chosen time, a fault that will not reset.
-//! It only decides what happens to replies and when trips fire; it must not build bytes or
+//! or misaddressed replies, a drive fault at a chosen time, a fault that will not reset, a
+//! drive that acknowledges stop commands but does not obey them, a line that goes down for
+//! a while, and a panic inside the request handling (to prove the engine's panic path).
+//! It only decides what happens to replies and when things fire; it must not build bytes or
 //! touch the drive model itself.
 
+use crate::protocol::device_control::DeviceCommand;
 use std::time::Duration;
 
 /// Pending injections. Each reply-shaping injection affects the next `n` replies the drive
@@ -20,6 +23,12 @@ pub struct FaultInjection {
     /// Sorted by time; equal times keep the order they were scheduled in.
     trips: Vec<(Duration, u16)>,
     reset_blocked: bool,
+    /// Commands acknowledged on the wire but not carried out.
+    ignored: Vec<DeviceCommand>,
+    /// The line is down from the first time until the second.
+    line_down: Option<(Duration, Duration)>,
+    /// The simulator panics while handling the first request at or after this time.
+    panic_at: Option<Duration>,
 }
 
 /// What happens to one reply.
@@ -82,6 +91,46 @@ impl FaultInjection {
         self.reset_blocked
     }
 
+    /// While enabled (operation enabled, quick stop active), the drive answers these
+    /// commands as written but does not carry them out (a drive whose control channel is
+    /// not the serial line, or a broken one). Replaces the list.
+    pub fn ignore_commands(&mut self, commands: &[DeviceCommand]) -> &mut Self {
+        self.ignored = commands.to_vec();
+        self
+    }
+
+    pub fn ignores(&self, command: DeviceCommand) -> bool {
+        self.ignored.contains(&command)
+    }
+
+    /// The line goes down at `from` and comes back at `until`: no telegram passes, as
+    /// when a USB adapter is pulled out and put back. The drive itself keeps running.
+    pub fn line_down(&mut self, from: Duration, until: Duration) -> &mut Self {
+        self.line_down = Some((from, until));
+        self
+    }
+
+    /// Whether the line is up at `now`.
+    pub fn line_up(&self, now: Duration) -> bool {
+        !matches!(self.line_down, Some((from, until)) if from <= now && now < until)
+    }
+
+    /// The simulator panics while handling the first request at or after `at`, once,
+    /// before the request changes anything.
+    pub fn panic_at(&mut self, at: Duration) -> &mut Self {
+        self.panic_at = Some(at);
+        self
+    }
+
+    /// True (once) when the panic is due at `now`.
+    pub(crate) fn take_panic_due(&mut self, now: Duration) -> bool {
+        let due = self.panic_at.is_some_and(|at| at <= now);
+        if due {
+            self.panic_at = None;
+        }
+        due
+    }
+
     /// True when no reply injection is pending and no trip is scheduled.
     pub fn is_idle(&self) -> bool {
         self.drop == 0
@@ -89,6 +138,7 @@ impl FaultInjection {
             && self.delay == 0
             && self.wrong_address == 0
             && self.trips.is_empty()
+            && self.panic_at.is_none()
     }
 
     /// The fate of the reply about to be sent; counts every active injection down.

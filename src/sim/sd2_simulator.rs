@@ -156,22 +156,45 @@ impl Sd2Simulator {
 
     fn write_object(&mut self, index: u16, subindex: u32, bytes: &[u8]) -> Result<(), ErrorCode> {
         let blocked = self.faults.is_fault_reset_blocked();
+        let control_word = match (index, bytes) {
+            (CONTROL_WORD, &[lo, hi]) => Some(u16::from_le_bytes([lo, hi])),
+            _ => None,
+        };
+        if let Some(cw) = control_word.filter(|cw| self.disobeys(*cw)) {
+            self.log_control_word(cw);
+            return Ok(());
+        }
         self.model.write(index, subindex, bytes, blocked)?;
-        if let (CONTROL_WORD, true, &[lo, hi]) = (index, self.logging, bytes) {
-            self.control_words.push(u16::from_le_bytes([lo, hi]));
+        if let Some(cw) = control_word {
+            self.log_control_word(cw);
         }
         Ok(())
+    }
+
+    fn log_control_word(&mut self, control_word: u16) {
+        if self.logging {
+            self.control_words.push(control_word);
+        }
+    }
+
+    /// True when an injected fault makes the enabled drive ignore what `control_word`
+    /// commands (it still starts up normally, so a recipe can get it running).
+    fn disobeys(&self, control_word: u16) -> bool {
+        matches!(
+            self.model.state(),
+            DeviceState::OperationEnabled | DeviceState::QuickStopActive
+        ) && self.faults.ignores(self.model.command_for(control_word))
     }
 
     /// Process data first (control word, then speed reference), then the service channel,
     /// so the reply's status shows the effect of both.
     fn cyclic(&mut self, request: &Cyclic) -> Cyclic {
         let control_word = request.word();
-        if self.logging {
-            self.control_words.push(control_word);
-        }
+        self.log_control_word(control_word);
         let blocked = self.faults.is_fault_reset_blocked();
-        self.model.write_control_word(control_word, blocked);
+        if !self.disobeys(control_word) {
+            self.model.write_control_word(control_word, blocked);
+        }
         self.model.set_speed_reference(request.speed());
         let service = request.service.map(|s| self.serve(&s));
         let mut reply = self.model.cyclic_reply(request.header);
@@ -237,6 +260,9 @@ impl Sd2Simulator {
 
 impl Peer for Sd2Simulator {
     fn receive(&mut self, bytes: &[u8], now: Duration) -> Vec<PeerReply> {
+        if self.faults.take_panic_due(now) {
+            panic!("injected test fault: the simulated drive panics while handling a request");
+        }
         self.advance_to(now);
         self.extractor.push(bytes);
         let mut replies = Vec::new();
@@ -262,6 +288,10 @@ impl Peer for Sd2Simulator {
             replies.extend(self.send(reply, now));
         }
         replies
+    }
+
+    fn reachable(&self, now: Duration) -> bool {
+        self.faults.line_up(now)
     }
 }
 

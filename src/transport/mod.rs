@@ -32,4 +32,9 @@ pub trait Transport: Send {
     /// Throws away input that has arrived but not been read (stale replies, line noise);
     /// returns how many bytes were dropped.
     fn discard_input(&mut self) -> Result<usize, TransportError>;
+
+    /// Closes and opens the same port again (same path and settings, same address), after
+    /// the line was lost: a USB adapter re-enumerated, a serial server restarted. The safe
+    /// stop uses it to reach a drive that may still be running.
+    fn reopen(&mut self) -> Result<(), TransportError>;
 }

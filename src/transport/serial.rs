@@ -140,7 +140,10 @@ const WRITE_MARGIN: Duration = Duration::from_secs(1);
 
 /// A drive (or bus) on a local serial port.
 pub struct SerialTransport {
-    port: Box<dyn SerialPort>,
+    /// `None` only between closing and reopening the device.
+    port: Option<Box<dyn SerialPort>>,
+    /// What was opened, for [`Transport::reopen`].
+    path: String,
     name: String,
     settings: SerialSettings,
 }
@@ -169,7 +172,8 @@ impl SerialTransport {
         let port: Box<dyn SerialPort> = builder.open().map_err(|e| open_error(path, &e))?;
 
         let mut t = SerialTransport {
-            port,
+            port: Some(port),
+            path: path.to_string(),
             name: format!("{path} at {settings}"),
             settings,
         };
@@ -184,7 +188,8 @@ impl SerialTransport {
     #[cfg(unix)]
     pub fn from_port(port: serialport::TTYPort, name: String) -> Self {
         SerialTransport {
-            port: Box::new(port),
+            port: Some(Box::new(port)),
+            path: name.clone(),
             name,
             settings: SerialSettings::default(),
         }
@@ -207,6 +212,16 @@ impl SerialTransport {
             port: self.name.clone(),
             detail,
         }
+    }
+
+    /// The open device; an error when an earlier reopen closed it and could not open it
+    /// again.
+    fn device(&mut self) -> Result<&mut Box<dyn SerialPort>, TransportError> {
+        let name = &self.name;
+        self.port.as_mut().ok_or_else(|| TransportError::Io {
+            port: name.clone(),
+            detail: "the port is closed: the device went away and could not be opened again".into(),
+        })
     }
 
     fn port_error(&self, e: &serialport::Error) -> TransportError {
@@ -257,8 +272,13 @@ impl Transport for SerialTransport {
         // The port has one timeout for both directions and the last read may have left it
         // at a few milliseconds, too short for a long telegram at a low baud rate.
         let allowed = self.settings.wire_time(bytes.len()) + WRITE_MARGIN;
-        self.port.set_timeout(allowed).map_err(|e| self.port_error(&e))?;
-        match self.port.write_all(bytes).and_then(|()| self.port.flush()) {
+        let port = self.device()?;
+        let sent = port
+            .set_timeout(allowed)
+            .map_err(io::Error::from)
+            .and_then(|()| port.write_all(bytes))
+            .and_then(|()| port.flush());
+        match sent {
             Ok(()) => Ok(()),
             Err(e) if e.kind() == io::ErrorKind::TimedOut => Err(TransportError::Io {
                 port: self.name.clone(),
@@ -279,8 +299,12 @@ impl Transport for SerialTransport {
         let deadline = Instant::now() + timeout;
         loop {
             let left = deadline.saturating_duration_since(Instant::now());
-            self.port.set_timeout(left).map_err(|e| self.port_error(&e))?;
-            match self.port.read(buf) {
+            let port = self.device()?;
+            let read = port
+                .set_timeout(left)
+                .map_err(io::Error::from)
+                .and_then(|()| port.read(buf));
+            match read {
                 Ok(n) if n > 0 => return Ok(n),
                 // A signal or a zero-length read is not an answer; keep waiting while the
                 // caller's time lasts.
@@ -299,11 +323,21 @@ impl Transport for SerialTransport {
     }
 
     fn discard_input(&mut self) -> Result<usize, TransportError> {
-        let pending = self.port.bytes_to_read().map_err(|e| self.port_error(&e))?;
-        self.port
-            .clear(ClearBuffer::Input)
-            .map_err(|e| self.port_error(&e))?;
+        let port = self.device()?;
+        let cleared = port
+            .bytes_to_read()
+            .and_then(|pending| port.clear(ClearBuffer::Input).map(|()| pending));
+        let pending = cleared.map_err(|e| self.port_error(&e))?;
         Ok(usize::try_from(pending).unwrap_or(usize::MAX))
+    }
+
+    fn reopen(&mut self) -> Result<(), TransportError> {
+        // The old descriptor holds the exclusive lock on a device that may have come back
+        // under the same path (a udev by-id link); it must be closed before the new open.
+        drop(self.port.take());
+        let fresh = SerialTransport::open(&self.path, self.settings)?;
+        self.port = fresh.port;
+        Ok(())
     }
 }
 
@@ -449,9 +483,9 @@ mod tests {
             (SerialTransport::from_port(slave, "pty".to_string()), master)
         }
 
-        fn wait_until_pending(t: &SerialTransport, n: u32) {
+        fn wait_until_pending(t: &mut SerialTransport, n: u32) {
             let deadline = Instant::now() + Duration::from_millis(500);
-            while t.port.bytes_to_read().unwrap() < n {
+            while t.device().unwrap().bytes_to_read().unwrap() < n {
                 assert!(Instant::now() < deadline, "bytes never arrived");
                 std::thread::yield_now();
             }
@@ -506,7 +540,7 @@ mod tests {
         fn discard_drops_pending_bytes() {
             let (mut t, mut drive) = pair();
             drive.write_all(&[1, 2, 3]).unwrap();
-            wait_until_pending(&t, 3);
+            wait_until_pending(&mut t, 3);
             assert_eq!(t.discard_input().unwrap(), 3);
             let mut buf = [0u8; 8];
             assert!(t

@@ -20,6 +20,9 @@ const WRITE_TIMEOUT: Duration = Duration::from_secs(5);
 pub struct TcpTransport {
     stream: TcpStream,
     name: String,
+    /// Where [`TcpTransport::connect`] connected, and how long it may take, for
+    /// [`Transport::reopen`]; `None` for a wrapped stream.
+    dialled: Option<(String, Duration)>,
 }
 
 impl TcpTransport {
@@ -70,7 +73,9 @@ impl TcpTransport {
             return Err(fail(detail));
         };
 
-        Self::from_stream(stream, format!("tcp {addr}"))
+        let mut t = Self::from_stream(stream, format!("tcp {addr}"))?;
+        t.dialled = Some((addr.to_string(), connect_timeout));
+        Ok(t)
     }
 
     /// Wraps a connected stream (the simulator's side of `drivescript simulate --tcp`).
@@ -83,7 +88,11 @@ impl TcpTransport {
         // would hold each request back for up to a delayed-ACK period.
         stream.set_nodelay(true).map_err(setup)?;
         stream.set_write_timeout(Some(WRITE_TIMEOUT)).map_err(setup)?;
-        Ok(TcpTransport { stream, name })
+        Ok(TcpTransport {
+            stream,
+            name,
+            dialled: None,
+        })
     }
 
     fn closed(&self) -> TransportError {
@@ -187,6 +196,18 @@ impl Transport for TcpTransport {
         };
         restored.map_err(|e| self.io_error(&e))?;
         Ok(dropped)
+    }
+
+    fn reopen(&mut self) -> Result<(), TransportError> {
+        let Some((addr, timeout)) = self.dialled.clone() else {
+            return Err(TransportError::Open {
+                port: self.name.clone(),
+                detail: "a connection accepted from a peer cannot be dialled again".into(),
+            });
+        };
+        let _ = self.stream.shutdown(std::net::Shutdown::Both);
+        *self = TcpTransport::connect(&addr, timeout)?;
+        Ok(())
     }
 }
 

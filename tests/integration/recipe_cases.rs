@@ -4,9 +4,13 @@
 //! ```yaml
 //! exit: 0                      # expected exit code
 //! args: [speed=4000rpm]        # --set overrides (optional)
-//! sim: { trip_at: 12 s, drive_error: 4660, drop_replies: 1, fault_reset_blocked: true }
-//! interrupt_at: 30 s           # Ctrl-C pressed once at this (virtual) time (optional)
+//! sim: { trip_at: 12 s, drive_error: 4660, drop_replies: 1, fault_reset_blocked: true,
+//!        ignore_commands: [disable_operation, shutdown], line_down: [10 s, 12 s],
+//!        panic_at: 12 s }
+//! interrupt_at: 30 s           # a stop signal arrives at this (virtual) time (optional)
 //! second_interrupt_at: 31 s    # and again (optional)
+//! signal: TERM                 # which signal (default INT, i.e. Ctrl-C)
+//! safe_stop: { stop_timeout: 5 s, reconnect_timeout: 3 s }   # the run's --stop-timeout…
 //! output: |                    # lines that must appear, in this order (substring of a line)
 //!   PASSED
 //! control_words: [0, 6, 7, 15, 7, 6]   # exactly the control words the drive received
@@ -17,8 +21,11 @@
 
 use drivescript::cli::{run_recipe, ConnectionArgs, DictionaryArgs, OutputArgs, RunRequest};
 use drivescript::clock::SharedClock;
+use drivescript::protocol::device_control::DeviceCommand;
+use drivescript::recipe::SafeStopSettings;
+use drivescript::stop_request::{StopRequests, StopSignal};
 use std::path::{Path, PathBuf};
-use std::sync::{Arc, Mutex, OnceLock};
+use std::sync::{Arc, Mutex, PoisonError};
 use std::time::Duration;
 
 #[derive(Debug, serde::Deserialize)]
@@ -34,6 +41,10 @@ struct Case {
     /// A second Ctrl-C at this time.
     #[serde(default)]
     second_interrupt_at: Option<String>,
+    #[serde(default)]
+    signal: Option<String>,
+    #[serde(default)]
+    safe_stop: Option<SafeStopSetup>,
     #[serde(default)]
     output: String,
     #[serde(default)]
@@ -51,6 +62,16 @@ struct SimSetup {
     corrupt_checksum: Option<u32>,
     wrong_address: Option<u32>,
     fault_reset_blocked: Option<bool>,
+    ignore_commands: Option<Vec<String>>,
+    line_down: Option<[String; 2]>,
+    panic_at: Option<String>,
+}
+
+#[derive(Debug, Default, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+struct SafeStopSetup {
+    stop_timeout: Option<String>,
+    reconnect_timeout: Option<String>,
 }
 
 fn duration(text: &str) -> Duration {
@@ -88,21 +109,28 @@ fn run_case(dir: &Path) -> Result<(), String> {
             (k.to_string(), v.to_string())
         })
         .collect();
-    let clock_slot: Arc<OnceLock<SharedClock>> = Arc::new(OnceLock::new());
-    let presses_at: Vec<Duration> = [&case.interrupt_at, &case.second_interrupt_at]
+    let signal = match &case.signal {
+        Some(name) => StopSignal::from_name(name).ok_or_else(|| format!("unknown signal {name}"))?,
+        None => StopSignal::INT,
+    };
+    let stop = Arc::new(StopRequests::new());
+    for at in [&case.interrupt_at, &case.second_interrupt_at]
         .into_iter()
         .flatten()
-        .map(|t| duration(t))
-        .collect();
-    let slot = clock_slot.clone();
-    let interrupts = move || match slot.get() {
-        Some(clock) => presses_at.iter().filter(|at| clock.now() >= **at).count() as u32,
-        None => 0,
-    };
+    {
+        stop.schedule(duration(at), signal);
+    }
+    let mut safe_stop = SafeStopSettings::default();
+    if let Some(s) = &case.safe_stop {
+        if let Some(t) = &s.stop_timeout {
+            safe_stop.standstill_timeout = duration(t);
+        }
+        if let Some(t) = &s.reconnect_timeout {
+            safe_stop.reconnect_timeout = duration(t);
+        }
+    }
     let sim_setup = case.sim.unwrap_or_default();
-    let slot = clock_slot.clone();
-    let prepare = move |sim: &Arc<Mutex<drivescript::sim::Sd2Simulator>>, clock: &SharedClock| {
-        let _ = slot.set(clock.clone());
+    let prepare = move |sim: &Arc<Mutex<drivescript::sim::Sd2Simulator>>, _clock: &SharedClock| {
         let mut sim = sim.lock().expect("simulator lock");
         let f = sim.faults();
         if let Some(at) = &sim_setup.trip_at {
@@ -119,6 +147,19 @@ fn run_case(dir: &Path) -> Result<(), String> {
         }
         if let Some(b) = sim_setup.fault_reset_blocked {
             f.fault_reset_blocked(b);
+        }
+        if let Some(names) = &sim_setup.ignore_commands {
+            let commands: Vec<DeviceCommand> = names
+                .iter()
+                .map(|n| DeviceCommand::from_id(n).unwrap_or_else(|| panic!("unknown command {n}")))
+                .collect();
+            f.ignore_commands(&commands);
+        }
+        if let Some([from, until]) = &sim_setup.line_down {
+            f.line_down(duration(from), duration(until));
+        }
+        if let Some(at) = &sim_setup.panic_at {
+            f.panic_at(duration(at));
         }
     };
     let output_dir = std::env::temp_dir().join(format!(
@@ -137,7 +178,8 @@ fn run_case(dir: &Path) -> Result<(), String> {
         connection: &connection,
         outputs: &OutputArgs::default(),
         prepare_simulator: Some(&prepare),
-        interrupts: &interrupts,
+        stop: stop.clone(),
+        safe_stop,
         terminal: false,
     };
     let mut out = Vec::new();
@@ -163,7 +205,11 @@ fn run_case(dir: &Path) -> Result<(), String> {
     let words = result
         .simulator
         .as_ref()
-        .map(|s| s.lock().expect("simulator lock").control_words_written())
+        .map(|s| {
+            s.lock()
+                .unwrap_or_else(PoisonError::into_inner)
+                .control_words_written()
+        })
         .unwrap_or_default();
     if let Some(want) = &case.control_words {
         if &words != want {

@@ -1,0 +1,238 @@
+//! Requests to stop a run (stop signals, or a request scheduled at a clock time), counted,
+//! with a condition variable so that every wait in the engine wakes at once when one
+//! arrives. The first request asks for the safe stop; a request that arrives while the safe
+//! stop runs asks for the power stage to be switched off at once. This module only counts
+//! and wakes; what a request means for a drive is the session's business.
+
+use std::sync::{Condvar, Mutex, MutexGuard, PoisonError};
+use std::time::Duration;
+
+/// A stop signal, by its POSIX number (the same on every Unix for these four).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct StopSignal {
+    pub number: i32,
+    pub name: &'static str,
+}
+
+impl StopSignal {
+    pub const HUP: StopSignal = StopSignal {
+        number: 1,
+        name: "SIGHUP",
+    };
+    pub const INT: StopSignal = StopSignal {
+        number: 2,
+        name: "SIGINT",
+    };
+    pub const QUIT: StopSignal = StopSignal {
+        number: 3,
+        name: "SIGQUIT",
+    };
+    pub const TERM: StopSignal = StopSignal {
+        number: 15,
+        name: "SIGTERM",
+    };
+    pub const ALL: [StopSignal; 4] = [Self::INT, Self::TERM, Self::HUP, Self::QUIT];
+
+    /// The signal with this number, if it is one of the four stop signals.
+    pub fn from_number(number: i32) -> Option<StopSignal> {
+        Self::ALL.into_iter().find(|s| s.number == number)
+    }
+
+    /// `INT`, `SIGINT`, `int`: for test cases and options.
+    pub fn from_name(name: &str) -> Option<StopSignal> {
+        let upper = name.trim().to_ascii_uppercase();
+        let short = upper.strip_prefix("SIG").unwrap_or(&upper);
+        Self::ALL.into_iter().find(|s| &s.name[3..] == short)
+    }
+
+    /// The exit code after the safe stop: 128 + the signal number, as shells report it.
+    pub fn exit_code(self) -> i32 {
+        128 + self.number
+    }
+
+    /// What usually sends it, for the message the user reads.
+    pub fn describe(self) -> &'static str {
+        match self.number {
+            1 => "SIGHUP (terminal closed or ssh session dropped)",
+            2 => "Ctrl-C (SIGINT)",
+            3 => "SIGQUIT (Ctrl-\\)",
+            _ => "SIGTERM (kill, timeout, systemd or a cancelled CI job)",
+        }
+    }
+}
+
+#[derive(Debug, Default)]
+struct State {
+    /// Every request so far, in order of arrival.
+    received: Vec<StopSignal>,
+    /// Requests already being served: the safe stop answers the first; only a later one
+    /// interrupts it.
+    acknowledged: usize,
+    /// Once the last resort (disable voltage) has started, no request may interrupt it.
+    final_stage: bool,
+    /// Requests that arrive by themselves when the clock reaches their time, sorted.
+    scheduled: Vec<(Duration, StopSignal)>,
+}
+
+/// The run's stop requests, shared by the signal watcher, the engine and the link.
+#[derive(Debug, Default)]
+pub struct StopRequests {
+    state: Mutex<State>,
+    changed: Condvar,
+}
+
+impl StopRequests {
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    fn lock(&self) -> MutexGuard<'_, State> {
+        // A panic while holding this lock cannot leave the counters half-updated, and the
+        // safe stop after a panic needs them.
+        self.state.lock().unwrap_or_else(PoisonError::into_inner)
+    }
+
+    /// A stop request arrives now (a signal, a button).
+    pub fn request(&self, signal: StopSignal) {
+        self.lock().received.push(signal);
+        self.changed.notify_all();
+    }
+
+    /// A stop request that arrives by itself when the clock reaches `at` (in virtual time
+    /// too, where no thread could deliver it at the right moment).
+    pub fn schedule(&self, at: Duration, signal: StopSignal) {
+        let mut s = self.lock();
+        let i = s.scheduled.partition_point(|(t, _)| *t <= at);
+        s.scheduled.insert(i, (at, signal));
+        drop(s);
+        self.changed.notify_all();
+    }
+
+    /// Delivers the scheduled requests due at `now`.
+    fn deliver_due(s: &mut State, now: Duration) {
+        while let Some(&(at, signal)) = s.scheduled.first() {
+            if at > now {
+                break;
+            }
+            s.scheduled.remove(0);
+            s.received.push(signal);
+        }
+    }
+
+    /// How many requests arrived by clock time `now`.
+    pub fn count_at(&self, now: Duration) -> usize {
+        let mut s = self.lock();
+        Self::deliver_due(&mut s, now);
+        s.received.len()
+    }
+
+    /// The first request, which decides the exit code.
+    pub fn first(&self) -> Option<StopSignal> {
+        self.lock().received.first().copied()
+    }
+
+    /// True when a request arrived (by `now`) that nobody has answered yet.
+    pub fn pending_at(&self, now: Duration) -> bool {
+        let mut s = self.lock();
+        Self::deliver_due(&mut s, now);
+        !s.final_stage && s.received.len() > s.acknowledged
+    }
+
+    /// The requests so far are being answered (the safe stop has started): waits go on
+    /// until another one arrives.
+    pub fn acknowledge(&self) {
+        let mut s = self.lock();
+        s.acknowledged = s.received.len();
+    }
+
+    /// The last resort has started: from now on nothing interrupts a wait.
+    pub fn enter_final_stage(&self) {
+        self.lock().final_stage = true;
+    }
+
+    /// The next scheduled request after `now`, if any.
+    pub fn next_scheduled(&self) -> Option<Duration> {
+        self.lock().scheduled.first().map(|(at, _)| *at)
+    }
+
+    /// Waits on the condition variable for at most `timeout` of real time, or until a
+    /// request arrives or is scheduled. Returns at once if one is already pending.
+    pub fn wait_real(&self, timeout: Duration) {
+        let s = self.lock();
+        if !s.final_stage && s.received.len() > s.acknowledged {
+            return;
+        }
+        let seen = (s.received.len(), s.scheduled.len());
+        let _unused = self
+            .changed
+            .wait_timeout_while(s, timeout, |s| (s.received.len(), s.scheduled.len()) == seen)
+            .unwrap_or_else(PoisonError::into_inner);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::sync::Arc;
+    use std::time::Instant;
+
+    #[test]
+    fn the_first_request_is_pending_until_acknowledged_and_a_second_is_pending_again() {
+        let stop = StopRequests::new();
+        let t = Duration::ZERO;
+        assert!(!stop.pending_at(t));
+        stop.request(StopSignal::TERM);
+        assert!(stop.pending_at(t));
+        stop.acknowledge();
+        assert!(!stop.pending_at(t));
+        stop.request(StopSignal::INT);
+        assert!(stop.pending_at(t));
+        assert_eq!(stop.first(), Some(StopSignal::TERM));
+        assert_eq!(stop.count_at(t), 2);
+        stop.enter_final_stage();
+        stop.request(StopSignal::INT);
+        assert!(!stop.pending_at(t));
+    }
+
+    #[test]
+    fn scheduled_requests_arrive_when_the_clock_reaches_them() {
+        let stop = StopRequests::new();
+        let s = Duration::from_secs;
+        stop.schedule(s(31), StopSignal::INT);
+        stop.schedule(s(30), StopSignal::HUP);
+        assert_eq!(stop.next_scheduled(), Some(s(30)));
+        assert!(!stop.pending_at(s(29)));
+        assert_eq!(stop.count_at(s(30)), 1);
+        assert_eq!(stop.first(), Some(StopSignal::HUP));
+        assert_eq!(stop.count_at(s(40)), 2);
+        assert_eq!(stop.next_scheduled(), None);
+    }
+
+    #[test]
+    fn a_request_from_another_thread_wakes_a_real_wait_at_once() {
+        let stop = Arc::new(StopRequests::new());
+        let other = stop.clone();
+        let started = Instant::now();
+        let sender = std::thread::spawn(move || {
+            std::thread::sleep(Duration::from_millis(20));
+            other.request(StopSignal::QUIT);
+        });
+        stop.wait_real(Duration::from_secs(30));
+        assert!(
+            started.elapsed() < Duration::from_secs(10),
+            "the wait did not wake"
+        );
+        assert!(stop.pending_at(Duration::ZERO));
+        sender.join().expect("sender");
+    }
+
+    #[test]
+    fn signal_names_numbers_and_exit_codes() {
+        for (name, code) in [("INT", 130), ("SIGTERM", 143), ("hup", 129), ("QUIT", 131)] {
+            let s = StopSignal::from_name(name).expect(name);
+            assert_eq!(s.exit_code(), code);
+            assert_eq!(StopSignal::from_number(s.number), Some(s));
+        }
+        assert_eq!(StopSignal::from_name("KILL"), None);
+    }
+}
