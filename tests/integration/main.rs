@@ -7,5 +7,6 @@ mod end_to_end;
 mod examples;
 mod outputs;
 mod recipe_cases;
+mod safety;
 mod support;
 mod vectors;

@@ -1,0 +1,530 @@
+//! Every ending stops the drive: each stop signal sent to the real binary talking to a
+//! simulated drive through a pseudo-terminal, the stop latency (virtual and real time), a
+//! ramp that must not write after a stop, a port that goes away and comes back, and a run
+//! killed beyond any safe stop, which must leave a report that says so.
+
+use crate::support::repo_root;
+use drivescript::cli::{run_recipe, ConnectionArgs, DictionaryArgs, OutputArgs, RunRequest, RunResult};
+use drivescript::clock::SharedClock;
+use drivescript::protocol::device_control::DeviceState;
+use drivescript::protocol::sd2::{Body, Telegram};
+use drivescript::recipe::SafeStopSettings;
+use drivescript::sim::Sd2Simulator;
+use drivescript::stop_request::{StopRequests, StopSignal};
+use std::path::{Path, PathBuf};
+use std::sync::{Arc, Mutex, OnceLock, PoisonError};
+use std::time::{Duration, Instant};
+
+/// Object indices of the SD2 dictionary the checks below look for.
+const CONTROL_WORD: u16 = 68;
+const SPEED_SETPOINT: u16 = 395;
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("drivescript-safety-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("scratch dir");
+    dir
+}
+
+fn write_recipe(dir: &Path, text: &str) -> PathBuf {
+    let path = dir.join("recipe.yaml");
+    std::fs::write(&path, text).expect("recipe written");
+    path
+}
+
+/// The value of a write of `index` (little-endian), if `t` is one.
+fn written(t: &Telegram, index: u16) -> Option<i64> {
+    match &t.body {
+        Body::WriteRequest { index: i, data, .. } if *i == index => {
+            let b = data.as_slice();
+            let mut v = [0u8; 8];
+            v[..b.len().min(8)].copy_from_slice(&b[..b.len().min(8)]);
+            Some(i64::from_le_bytes(v))
+        }
+        _ => None,
+    }
+}
+
+/// Runs a recipe in-process against the built-in simulated drive.
+fn run_in_process(
+    recipe: &Path,
+    fast: bool,
+    stop: Arc<StopRequests>,
+    clock_slot: Arc<OnceLock<SharedClock>>,
+) -> RunResult {
+    let prepare = move |_: &Arc<Mutex<Sd2Simulator>>, clock: &SharedClock| {
+        let _ = clock_slot.set(clock.clone());
+    };
+    let dictionary = DictionaryArgs::builtin_sd2();
+    let connection = ConnectionArgs::simulated();
+    let outputs = OutputArgs::default();
+    let request = RunRequest {
+        recipe,
+        set: &[],
+        fast,
+        output_dir: std::env::temp_dir(),
+        dictionary: &dictionary,
+        connection: &connection,
+        outputs: &outputs,
+        prepare_simulator: Some(&prepare),
+        stop,
+        safe_stop: SafeStopSettings::default(),
+        terminal: false,
+    };
+    let (mut out, mut err) = (Vec::new(), Vec::new());
+    let result = run_recipe(&request, &mut out, &mut err);
+    if result.report.is_none() {
+        panic!(
+            "the run did not start: {}{}",
+            String::from_utf8_lossy(&out),
+            String::from_utf8_lossy(&err)
+        );
+    }
+    result
+}
+
+fn received(result: &RunResult) -> Vec<(Duration, Telegram)> {
+    let sim = result.simulator.as_ref().expect("simulated drive");
+    let sim = sim.lock().unwrap_or_else(PoisonError::into_inner);
+    sim.received().to_vec()
+}
+
+const SAMPLE_EVERY_30_S: &str = "name: Sampling every 30 s
+steps:
+  - go_to: operation_enabled
+  - set: { speed_setpoint: 2000 rpm }
+  - wait_until: { speed_actual: { near: 2000 rpm, within: 1 % }, timeout: 10 s }
+  - sample: { objects: [speed_actual], every: 30 s, for: 10 min }
+";
+
+#[test]
+fn in_virtual_time_the_stop_starts_at_the_signal_not_at_the_next_sample() {
+    let dir = scratch("virtual-latency");
+    let recipe = write_recipe(&dir, SAMPLE_EVERY_30_S);
+    let stop = Arc::new(StopRequests::new());
+    let signal_at = Duration::from_millis(45_250);
+    stop.schedule(signal_at, StopSignal::TERM);
+    let result = run_in_process(&recipe, true, stop, Arc::new(OnceLock::new()));
+    assert_eq!(result.exit_code, 143);
+    let first_stop = received(&result)
+        .into_iter()
+        .find(|(at, t)| *at >= signal_at && written(t, SPEED_SETPOINT).is_some())
+        .expect("a stop telegram after the signal");
+    assert_eq!(written(&first_stop.1, SPEED_SETPOINT), Some(0));
+    let latency = first_stop.0 - signal_at;
+    assert!(latency < Duration::from_millis(50), "stop latency {latency:?}");
+}
+
+#[test]
+fn in_real_time_a_signal_during_a_30_s_sample_interval_stops_within_100_ms() {
+    let dir = scratch("real-latency");
+    let recipe = write_recipe(&dir, SAMPLE_EVERY_30_S);
+    let stop = Arc::new(StopRequests::new());
+    let clock_slot: Arc<OnceLock<SharedClock>> = Arc::new(OnceLock::new());
+    let (sender_stop, sender_clock) = (stop.clone(), clock_slot.clone());
+    // The spindle reaches 2000 rpm after 1 s; the sample step then waits 30 s.
+    let sender = std::thread::spawn(move || {
+        std::thread::sleep(Duration::from_millis(2500));
+        let clock = sender_clock.get().expect("the run has started");
+        let at = clock.now();
+        sender_stop.request(StopSignal::INT);
+        at
+    });
+    let wall = Instant::now();
+    let result = run_in_process(&recipe, false, stop, clock_slot);
+    let signal_at = sender.join().expect("sender");
+    assert_eq!(result.exit_code, 130);
+    assert!(
+        wall.elapsed() < Duration::from_secs(20),
+        "the run went on after the signal"
+    );
+    let first_stop = received(&result)
+        .into_iter()
+        .find(|(at, t)| *at >= signal_at && written(t, SPEED_SETPOINT).is_some())
+        .expect("a stop telegram after the signal");
+    let latency = first_stop.0 - signal_at;
+    assert!(
+        latency < Duration::from_millis(100),
+        "stop latency {latency:?} (signal at {signal_at:?})"
+    );
+}
+
+#[test]
+fn a_ramp_writes_no_further_setpoint_after_a_stop_request() {
+    let dir = scratch("ramp");
+    let recipe = write_recipe(
+        &dir,
+        "name: Ramp
+steps:
+  - go_to: operation_enabled
+  - ramp: { object: speed_setpoint, from: 1000 rpm, to: 12000 rpm, step: 1000 rpm, every: 2 s }
+",
+    );
+    let stop = Arc::new(StopRequests::new());
+    // Exactly when the fourth point is due: it must not be written.
+    let signal_at = Duration::from_secs(6) + Duration::from_millis(20);
+    stop.schedule(signal_at, StopSignal::HUP);
+    let result = run_in_process(&recipe, true, stop, Arc::new(OnceLock::new()));
+    assert_eq!(result.exit_code, 129);
+    let setpoints: Vec<(Duration, i64)> = received(&result)
+        .iter()
+        .filter_map(|(at, t)| written(t, SPEED_SETPOINT).map(|v| (*at, v)))
+        .collect();
+    let after: Vec<i64> = setpoints
+        .iter()
+        .filter(|(at, _)| *at >= signal_at)
+        .map(|(_, v)| *v)
+        .collect();
+    assert_eq!(after, vec![0], "setpoints written after the stop: {setpoints:?}");
+    let before: Vec<i64> = setpoints
+        .iter()
+        .filter(|(at, _)| *at < signal_at)
+        .map(|(_, v)| *v)
+        .collect();
+    assert_eq!(before, vec![1_000_000, 2_000_000, 3_000_000, 4_000_000]);
+}
+
+/// `drivescript simulate --pty` in the background, killed when dropped.
+#[cfg(unix)]
+struct PtySimulator {
+    child: std::process::Child,
+    path: String,
+}
+
+#[cfg(unix)]
+impl PtySimulator {
+    fn start() -> PtySimulator {
+        use std::io::BufRead;
+        let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_drivescript"))
+            .args(["simulate", "--pty"])
+            .stdout(std::process::Stdio::piped())
+            .stderr(std::process::Stdio::null())
+            .spawn()
+            .expect("simulate starts");
+        let mut line = String::new();
+        std::io::BufReader::new(child.stdout.take().expect("stdout"))
+            .read_line(&mut line)
+            .expect("simulate prints its pty");
+        PtySimulator {
+            child,
+            path: line.trim().to_string(),
+        }
+    }
+}
+
+#[cfg(unix)]
+impl Drop for PtySimulator {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+/// The control words written in a trace file's TX lines, with their clock seconds.
+#[cfg(unix)]
+fn traced_writes(trace: &str, index: u16) -> Vec<(f64, i64)> {
+    trace
+        .lines()
+        .filter_map(|line| {
+            let mut tokens = line.split_whitespace();
+            let secs: f64 = tokens.next()?.parse().ok()?;
+            if tokens.next()? != "TX" {
+                return None;
+            }
+            let bytes: Vec<u8> = tokens
+                .take_while(|t| *t != "#")
+                .map(|t| u8::from_str_radix(t, 16))
+                .collect::<Result<_, _>>()
+                .ok()?;
+            let telegram = Telegram::decode(&bytes).ok()?;
+            written(&telegram, index).map(|v| (secs, v))
+        })
+        .collect()
+}
+
+/// Sends `signal` to a real run on a real pseudo-terminal while a sample step waits 30 s
+/// for its next sample; checks the exit code, the stop telegrams, the drive's state and
+/// both reports.
+#[cfg(unix)]
+fn signal_through_a_pty(signal: StopSignal) {
+    use std::io::Read;
+    let sim = PtySimulator::start();
+    let dir = scratch(&format!("pty-{}", signal.name));
+    let recipe = write_recipe(&dir, SAMPLE_EVERY_30_S);
+    let (junit, html, trace) = (
+        dir.join("junit.xml"),
+        dir.join("report.html"),
+        dir.join("run.trace"),
+    );
+    // An earlier run's pass, which must not survive this run's end.
+    std::fs::write(&junit, "<testsuites tests=\"1\" failures=\"0\"/>").expect("old junit");
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_drivescript"))
+        .arg("run")
+        .arg(&recipe)
+        .args(["--port", &sim.path, "--junit"])
+        .arg(&junit)
+        .arg("--report")
+        .arg(&html)
+        .arg("--trace")
+        .arg(&trace)
+        .current_dir(repo_root())
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("run starts");
+    let mut out = child.stdout.take().expect("stdout");
+    let mut seen = String::new();
+    let mut buf = [0u8; 512];
+    let started = Instant::now();
+    while !seen.contains("wait until speed_actual") && started.elapsed() < Duration::from_secs(30) {
+        let n = out.read(&mut buf).expect("read");
+        if n == 0 {
+            break;
+        }
+        seen.push_str(&String::from_utf8_lossy(&buf[..n]));
+    }
+    assert!(seen.contains("wait until speed_actual"), "{seen}");
+    let placeholder = std::fs::read_to_string(&junit).expect("junit exists during the run");
+    assert!(placeholder.contains("NOT FINISHED"), "{placeholder}");
+    // The sample step has taken its first sample and now waits 30 s.
+    std::thread::sleep(Duration::from_millis(300));
+    let before = std::fs::read_to_string(&trace).expect("trace").lines().count();
+    let sent = Instant::now();
+    let status = std::process::Command::new("kill")
+        .arg(format!("-{}", &signal.name[3..]))
+        .arg(child.id().to_string())
+        .status()
+        .expect("kill runs");
+    assert!(status.success());
+    // The first telegram after the signal, seen in the trace as it is flushed.
+    let latency = loop {
+        let text = std::fs::read_to_string(&trace).expect("trace");
+        let fresh: String = text.lines().skip(before).collect::<Vec<_>>().join("\n");
+        if !traced_writes(&fresh, SPEED_SETPOINT).is_empty() {
+            break sent.elapsed();
+        }
+        assert!(
+            sent.elapsed() < Duration::from_secs(10),
+            "no stop telegram: {fresh}"
+        );
+        std::thread::sleep(Duration::from_millis(1));
+    };
+    let mut rest = String::new();
+    out.read_to_string(&mut rest).expect("rest");
+    let code = child.wait().expect("run ends").code();
+    let all = format!("{seen}{rest}");
+    assert_eq!(code, Some(signal.exit_code()), "{all}");
+    assert!(
+        latency < Duration::from_millis(100),
+        "{}: the stop telegram came {latency:?} after the signal",
+        signal.name
+    );
+    assert!(all.contains("drive left in ready to switch on at 0 rpm"), "{all}");
+    assert!(
+        all.contains(&format!("INTERRUPTED: interrupted by {}", signal.describe())),
+        "{all}"
+    );
+    let trace_text = std::fs::read_to_string(&trace).expect("trace");
+    let after: Vec<i64> = traced_writes(
+        &trace_text.lines().skip(before).collect::<Vec<_>>().join("\n"),
+        CONTROL_WORD,
+    )
+    .into_iter()
+    .map(|(_, v)| v)
+    .collect();
+    assert_eq!(after, vec![7, 6], "control words after the signal");
+    let junit_text = std::fs::read_to_string(&junit).expect("junit");
+    assert!(
+        junit_text.contains("INTERRUPTED: the run was interrupted by"),
+        "{junit_text}"
+    );
+    assert!(!junit_text.contains("NOT FINISHED"), "{junit_text}");
+    let html_text = std::fs::read_to_string(&html).expect("html");
+    assert!(html_text.contains("INTERRUPTED"), "{html_text}");
+    assert!(html_text.contains(signal.describe()), "{html_text}");
+    // The simulated drive keeps its state: ask it.
+    let state = crate::support::drivescript(&["state", "--port", &sim.path], "");
+    assert!(
+        crate::support::stdout(&state).contains("ready to switch on"),
+        "{}",
+        crate::support::stdout(&state)
+    );
+}
+
+#[cfg(unix)]
+#[test]
+fn sigint_through_a_pty_stops_the_drive_and_exits_130() {
+    signal_through_a_pty(StopSignal::INT);
+}
+
+#[cfg(unix)]
+#[test]
+fn sigterm_through_a_pty_stops_the_drive_and_exits_143() {
+    signal_through_a_pty(StopSignal::TERM);
+}
+
+#[cfg(unix)]
+#[test]
+fn sighup_through_a_pty_stops_the_drive_and_exits_129() {
+    signal_through_a_pty(StopSignal::HUP);
+}
+
+#[cfg(unix)]
+#[test]
+fn sigquit_through_a_pty_stops_the_drive_and_exits_131() {
+    signal_through_a_pty(StopSignal::QUIT);
+}
+
+#[cfg(unix)]
+#[test]
+fn a_run_killed_beyond_any_safe_stop_leaves_a_report_that_says_not_finished() {
+    let dir = scratch("sigkill");
+    let recipe = write_recipe(&dir, SAMPLE_EVERY_30_S);
+    let (junit, html) = (dir.join("junit.xml"), dir.join("report.html"));
+    std::fs::write(&junit, "<testsuites tests=\"1\" failures=\"0\"/>").expect("old junit");
+    std::fs::write(&html, "<p>PASSED</p>").expect("old html");
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_drivescript"))
+        .arg("run")
+        .arg(&recipe)
+        .arg("--junit")
+        .arg(&junit)
+        .arg("--report")
+        .arg(&html)
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .expect("run starts");
+    let started = Instant::now();
+    while !std::fs::read_to_string(&html)
+        .unwrap_or_default()
+        .contains("NOT FINISHED")
+    {
+        assert!(
+            started.elapsed() < Duration::from_secs(10),
+            "no placeholder report"
+        );
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    child.kill().expect("SIGKILL");
+    let _ = child.wait();
+    let junit_text = std::fs::read_to_string(&junit).expect("junit");
+    assert!(junit_text.contains("failures=\"1\""), "{junit_text}");
+    assert!(junit_text.contains("NOT FINISHED"), "{junit_text}");
+    assert!(std::fs::read_to_string(&html)
+        .expect("html")
+        .contains("NOT FINISHED"));
+}
+
+/// The pty peer goes away (its pseudo-terminal is closed) while the spindle turns and
+/// comes back on a new pseudo-terminal under the same path, as a USB adapter does behind
+/// its `/dev/serial/by-id` link; the safe stop reopens the port and reaches the drive.
+#[cfg(unix)]
+#[test]
+fn a_lost_port_is_reopened_and_the_stop_reaches_the_drive() {
+    use drivescript::clock::RealClock;
+    use drivescript::sim::SimConfig;
+    use drivescript::sim_server::{PtyEndpoint, SimServer};
+    use drivescript::transport::Peer;
+    use std::sync::atomic::Ordering;
+
+    let dir = scratch("lost-port");
+    let link = dir.join("ttyDRIVE");
+    let sim = Arc::new(Mutex::new(Sd2Simulator::new(SimConfig::default())));
+    let peer: Arc<Mutex<dyn Peer>> = sim.clone();
+    let clock = RealClock::shared();
+    let serve = |pty: PtyEndpoint| {
+        let server = SimServer::new(peer.clone(), clock.clone());
+        let flag = server.stop_flag();
+        let handle = std::thread::spawn(move || {
+            // Whole, so that its own slave end stays open while it is served (without it
+            // the master sees a hang-up whenever the run has the port closed).
+            let pty = pty;
+            let mut master = pty.master;
+            let _ = server.serve(&mut master);
+        });
+        (flag, handle)
+    };
+    let first = PtyEndpoint::open().expect("pty");
+    std::os::unix::fs::symlink(&first.path, &link).expect("symlink");
+    let (first_flag, first_server) = serve(first);
+
+    let recipe = write_recipe(
+        &dir,
+        "name: Run-in
+steps:
+  - go_to: operation_enabled
+  - set: { speed_setpoint: 3000 rpm }
+  - dwell: 1 h
+",
+    );
+    let port = link.to_string_lossy().to_string();
+    let runner = std::thread::spawn(move || {
+        let dictionary = DictionaryArgs::builtin_sd2();
+        let mut connection = ConnectionArgs::simulated();
+        connection.port = Some(port);
+        let outputs = OutputArgs::default();
+        let request = RunRequest {
+            recipe: &recipe,
+            set: &[],
+            fast: false,
+            output_dir: std::env::temp_dir(),
+            dictionary: &dictionary,
+            connection: &connection,
+            outputs: &outputs,
+            prepare_simulator: None,
+            stop: Arc::new(StopRequests::new()),
+            safe_stop: SafeStopSettings::default(),
+            terminal: false,
+        };
+        let (mut out, mut err) = (Vec::new(), Vec::new());
+        let result = run_recipe(&request, &mut out, &mut err);
+        (
+            result.exit_code,
+            format!(
+                "{}{}",
+                String::from_utf8_lossy(&out),
+                String::from_utf8_lossy(&err)
+            ),
+        )
+    });
+    let started = Instant::now();
+    let state = || sim.lock().unwrap_or_else(PoisonError::into_inner).state();
+    while state() != DeviceState::OperationEnabled {
+        if runner.is_finished() || started.elapsed() > Duration::from_secs(10) {
+            let (code, output) = runner.join().expect("runner");
+            panic!("the run never enabled the drive (exit code {code}):\n{output}");
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    std::thread::sleep(Duration::from_millis(500));
+    // Away: the pseudo-terminal closes; the drive keeps turning.
+    first_flag.store(true, Ordering::SeqCst);
+    first_server.join().expect("first server");
+    let words_before = sim
+        .lock()
+        .unwrap_or_else(PoisonError::into_inner)
+        .control_words_written();
+    std::thread::sleep(Duration::from_millis(800));
+    assert_eq!(state(), DeviceState::OperationEnabled);
+    // Back, under the same path.
+    let second = PtyEndpoint::open().expect("second pty");
+    let tmp = dir.join("ttyDRIVE.new");
+    std::os::unix::fs::symlink(&second.path, &tmp).expect("symlink");
+    std::fs::rename(&tmp, &link).expect("repoint");
+    let (second_flag, second_server) = serve(second);
+
+    let (code, output) = runner.join().expect("runner");
+    second_flag.store(true, Ordering::SeqCst);
+    second_server.join().expect("second server");
+    assert_eq!(code, 3, "{output}");
+    assert!(output.contains("reopening"), "{output}");
+    assert!(output.contains("restored at attempt"), "{output}");
+    assert!(output.contains("drive left in ready to switch on"), "{output}");
+    assert_eq!(state(), DeviceState::ReadyToSwitchOn, "{output}");
+    let words = sim
+        .lock()
+        .unwrap_or_else(PoisonError::into_inner)
+        .control_words_written();
+    assert_eq!(&words[..words_before.len()], &words_before[..]);
+    assert_eq!(&words[words_before.len()..], &[7, 6], "{output}");
+}
