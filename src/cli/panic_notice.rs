@@ -19,7 +19,7 @@ pub fn install() {
             .unwrap_or_default();
         let _ = writeln!(
             std::io::stderr(),
-            "\ninternal error (panic): {message}{place}\nThis is a bug in drivescript; please report it with the command line and the recipe. The safe stop runs now."
+            "\ninternal error (panic): {message}{place}\nThis is a bug in drivescript; please report it with the command line and the recipe. If a run was under way, its safe stop runs now."
         );
     }));
 }
