@@ -112,6 +112,18 @@ impl PtyEndpoint {
             port: "a new pseudo-terminal".into(),
             detail: e.to_string(),
         })?;
+        // serialport opens the pair without close-on-exec; a child process started meanwhile
+        // (by this program or a test harness) would keep the pseudo-terminal alive after we
+        // close it, and a drive that "goes away" would never hang up.
+        for fd in [
+            std::os::fd::AsRawFd::as_raw_fd(&master),
+            std::os::fd::AsRawFd::as_raw_fd(&slave),
+        ] {
+            // SAFETY: setting a descriptor flag on descriptors this function owns.
+            unsafe {
+                libc::fcntl(fd, libc::F_SETFD, libc::FD_CLOEXEC);
+            }
+        }
         let path = serialport::SerialPort::name(&slave).unwrap_or_default();
         if path.is_empty() {
             return Err(TransportError::Open {

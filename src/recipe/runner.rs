@@ -110,6 +110,9 @@ pub struct Runner<'a> {
     known_fault: bool,
     /// `on_fault`, `finally` and the verification run: only a second stop request counts.
     in_safe_stop: bool,
+    /// Reopening the port was tried for the whole reconnect time and failed: later
+    /// failures of the safe stop do not wait for it again.
+    link_given_up: bool,
 }
 
 impl<'a> Runner<'a> {
@@ -160,6 +163,7 @@ impl<'a> Runner<'a> {
             run_start: clock_now,
             known_fault: false,
             in_safe_stop: false,
+            link_given_up: false,
         }
     }
 

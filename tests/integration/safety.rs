@@ -243,13 +243,13 @@ fn traced_writes(trace: &str, index: u16) -> Vec<(f64, i64)> {
 }
 
 /// Sends `signal` to a real run on a real pseudo-terminal while a sample step waits 30 s
-/// for its next sample; checks the exit code, the stop telegrams, the drive's state and
-/// both reports.
+/// for its next sample (and `second` while the safe stop brakes the spindle); checks the
+/// exit code, the stop telegrams, the drive's state and both reports.
 #[cfg(unix)]
-fn signal_through_a_pty(signal: StopSignal) {
+fn signal_through_a_pty(signal: StopSignal, second: Option<StopSignal>) {
     use std::io::Read;
     let sim = PtySimulator::start();
-    let dir = scratch(&format!("pty-{}", signal.name));
+    let dir = scratch(&format!("pty-{}-{}", signal.name, second.map_or("", |s| s.name)));
     let recipe = write_recipe(&dir, SAMPLE_EVERY_30_S);
     let (junit, html, trace) = (
         dir.join("junit.xml"),
@@ -290,12 +290,15 @@ fn signal_through_a_pty(signal: StopSignal) {
     std::thread::sleep(Duration::from_millis(300));
     let before = std::fs::read_to_string(&trace).expect("trace").lines().count();
     let sent = Instant::now();
-    let status = std::process::Command::new("kill")
-        .arg(format!("-{}", &signal.name[3..]))
-        .arg(child.id().to_string())
-        .status()
-        .expect("kill runs");
-    assert!(status.success());
+    let kill = |s: StopSignal| {
+        let status = std::process::Command::new("kill")
+            .arg(format!("-{}", &s.name[3..]))
+            .arg(child.id().to_string())
+            .status()
+            .expect("kill runs");
+        assert!(status.success());
+    };
+    kill(signal);
     // The first telegram after the signal, seen in the trace as it is flushed.
     let latency = loop {
         let text = std::fs::read_to_string(&trace).expect("trace");
@@ -309,6 +312,11 @@ fn signal_through_a_pty(signal: StopSignal) {
         );
         std::thread::sleep(Duration::from_millis(1));
     };
+    if let Some(s) = second {
+        // The default safe stop now brakes the spindle from 2000 rpm for about 1 s.
+        std::thread::sleep(Duration::from_millis(300));
+        kill(s);
+    }
     let mut rest = String::new();
     out.read_to_string(&mut rest).expect("rest");
     let code = child.wait().expect("run ends").code();
@@ -319,11 +327,25 @@ fn signal_through_a_pty(signal: StopSignal) {
         "{}: the stop telegram came {latency:?} after the signal",
         signal.name
     );
-    assert!(all.contains("drive left in ready to switch on at 0 rpm"), "{all}");
     assert!(
         all.contains(&format!("INTERRUPTED: interrupted by {}", signal.describe())),
         "{all}"
     );
+    let (words, state_after) = match second {
+        None => {
+            assert!(all.contains("drive left in ready to switch on at 0 rpm"), "{all}");
+            (vec![7, 6], "ready to switch on")
+        }
+        Some(_) => {
+            assert!(
+                all.contains("power stage switched off at once (disable voltage)"),
+                "{all}"
+            );
+            assert!(all.contains("drive left in switch on disabled at"), "{all}");
+            assert!(all.contains("STILL COASTING"), "{all}");
+            (vec![0], "switch on disabled")
+        }
+    };
     let trace_text = std::fs::read_to_string(&trace).expect("trace");
     let after: Vec<i64> = traced_writes(
         &trace_text.lines().skip(before).collect::<Vec<_>>().join("\n"),
@@ -332,7 +354,7 @@ fn signal_through_a_pty(signal: StopSignal) {
     .into_iter()
     .map(|(_, v)| v)
     .collect();
-    assert_eq!(after, vec![7, 6], "control words after the signal");
+    assert_eq!(after, words, "control words after the signal");
     let junit_text = std::fs::read_to_string(&junit).expect("junit");
     assert!(
         junit_text.contains("INTERRUPTED: the run was interrupted by"),
@@ -344,35 +366,38 @@ fn signal_through_a_pty(signal: StopSignal) {
     assert!(html_text.contains(signal.describe()), "{html_text}");
     // The simulated drive keeps its state: ask it.
     let state = crate::support::drivescript(&["state", "--port", &sim.path], "");
-    assert!(
-        crate::support::stdout(&state).contains("ready to switch on"),
-        "{}",
-        crate::support::stdout(&state)
-    );
+    let shown = crate::support::stdout(&state);
+    assert!(shown.contains(state_after), "{shown}");
 }
 
 #[cfg(unix)]
 #[test]
 fn sigint_through_a_pty_stops_the_drive_and_exits_130() {
-    signal_through_a_pty(StopSignal::INT);
+    signal_through_a_pty(StopSignal::INT, None);
 }
 
 #[cfg(unix)]
 #[test]
 fn sigterm_through_a_pty_stops_the_drive_and_exits_143() {
-    signal_through_a_pty(StopSignal::TERM);
+    signal_through_a_pty(StopSignal::TERM, None);
 }
 
 #[cfg(unix)]
 #[test]
 fn sighup_through_a_pty_stops_the_drive_and_exits_129() {
-    signal_through_a_pty(StopSignal::HUP);
+    signal_through_a_pty(StopSignal::HUP, None);
 }
 
 #[cfg(unix)]
 #[test]
 fn sigquit_through_a_pty_stops_the_drive_and_exits_131() {
-    signal_through_a_pty(StopSignal::QUIT);
+    signal_through_a_pty(StopSignal::QUIT, None);
+}
+
+#[cfg(unix)]
+#[test]
+fn a_second_signal_through_a_pty_switches_the_power_stage_off_at_once() {
+    signal_through_a_pty(StopSignal::TERM, Some(StopSignal::INT));
 }
 
 #[cfg(unix)]
@@ -497,7 +522,10 @@ steps:
         std::thread::sleep(Duration::from_millis(20));
     }
     std::thread::sleep(Duration::from_millis(500));
-    // Away: the pseudo-terminal closes; the drive keeps turning.
+    // Away: the pseudo-terminal closes and its link goes, as udev removes a by-id link
+    // with its adapter (the pts number may be given to another test's pty at once); the
+    // drive keeps turning.
+    std::fs::remove_file(&link).expect("link removed");
     first_flag.store(true, Ordering::SeqCst);
     first_server.join().expect("first server");
     let words_before = sim
@@ -510,7 +538,7 @@ steps:
     let second = PtyEndpoint::open().expect("second pty");
     let tmp = dir.join("ttyDRIVE.new");
     std::os::unix::fs::symlink(&second.path, &tmp).expect("symlink");
-    std::fs::rename(&tmp, &link).expect("repoint");
+    std::fs::rename(&tmp, &link).expect("link back");
     let (second_flag, second_server) = serve(second);
 
     let (code, output) = runner.join().expect("runner");

@@ -377,9 +377,21 @@ impl Runner<'_> {
         }
     }
 
+    /// After a reopen: whether the drive answering has the identity read at the start (a
+    /// re-enumerated adapter can come back under a name another one had).
+    fn same_drive(&mut self) -> bool {
+        match self.report.identity.clone() {
+            Some(before) => self.identity().is_none_or(|now| now == before),
+            None => true,
+        }
+    }
+
     /// Reopens the port with back-off until it answers or the reconnect time is used up;
     /// reports every attempt. True when the drive answers again.
     pub(super) fn restore_link(&mut self) -> bool {
+        if self.link_given_up {
+            return false;
+        }
         let started = self.clock.now();
         let give_up = started.saturating_add(self.settings.reconnect_timeout);
         let mut pause = REOPEN_PAUSE;
@@ -388,6 +400,13 @@ impl Runner<'_> {
             let result = self.drive.reopen().and_then(|()| self.drive.state());
             let at = secs(self.clock.now().saturating_sub(started));
             match result {
+                Ok(_) if !self.same_drive() => {
+                    self.note(format!(
+                        "{port} answers again, but with another drive's identity; the stop is not sent to it. CHECK THE DRIVE BY HAND"
+                    ));
+                    self.link_given_up = true;
+                    return false;
+                }
                 Ok(state) => {
                     self.note(format!(
                         "link to {port} restored at attempt {attempt} after {at}; the drive reports {state}"
@@ -404,6 +423,7 @@ impl Runner<'_> {
                     "gave up reopening {port} after {attempt} attempt(s) in {}",
                     crate::recipe::show_duration(self.settings.reconnect_timeout)
                 ));
+                self.link_given_up = true;
                 return false;
             }
             // A further stop request does not end the attempts: reaching the drive is
