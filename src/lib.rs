@@ -21,5 +21,6 @@ pub mod recipe;
 pub mod report;
 pub mod sim;
 pub mod sim_server;
+pub mod text_file;
 pub mod transport;
 pub mod yaml_tree;

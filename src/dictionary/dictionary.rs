@@ -14,6 +14,7 @@ use super::text_span::{SourceFile, TextSpan};
 use super::unknown_object::UnknownObject;
 use super::validate::validate;
 use super::yaml_node::YamlNode;
+use crate::text_file::read_text_file;
 use std::path::Path;
 use std::sync::{Arc, OnceLock};
 
@@ -125,9 +126,11 @@ impl Dictionary {
 
     fn from_file(path: &Path, check_roles: bool) -> Result<Dictionary, DictionaryError> {
         let shown = path.display().to_string();
-        let text = std::fs::read_to_string(path).map_err(|e| {
-            DictionaryError::unlocated(&shown, format!("cannot read the dictionary file: {e}"))
-                .with_help("check the path given with --dictionary")
+        let text = read_text_file(path).map_err(|e| {
+            let help = e
+                .help()
+                .unwrap_or_else(|| "check the path given with --dictionary".into());
+            DictionaryError::unlocated(&shown, e.sentence("the dictionary file")).with_help(help)
         })?;
         Self::from_source(SourceFile::new(shown, text), check_roles)
     }

@@ -40,15 +40,19 @@ impl YamlNode {
         }
         match yaml_tree::parse(&file.text) {
             Ok(root) => Ok(convert(file, root)),
-            Err(e) if e.span.line > 0 => Err(DictionaryError::at(
-                &text_span(file, e.span),
-                format!("not valid YAML: {}", e.message),
-                "here",
-            )),
-            Err(e) => Err(DictionaryError::unlocated(
-                &file.path,
-                format!("not valid YAML: {}", e.message),
-            )),
+            Err(e) => {
+                let message = if e.over_limit {
+                    e.message
+                } else {
+                    format!("not valid YAML: {}", e.message)
+                };
+                let error = if e.span.line > 0 {
+                    DictionaryError::at(&text_span(file, e.span), message, "here")
+                } else {
+                    DictionaryError::unlocated(&file.path, message)
+                };
+                Err(error.with_optional_help(e.help))
+            }
         }
     }
 

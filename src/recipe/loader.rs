@@ -9,6 +9,7 @@ use super::recipe::{Param, Recipe};
 use super::step::{ObjectRef, SetValue, Step, StepKind, StepOrigin};
 use crate::dictionary::{DataType, Dictionary, ObjectDef, Quantity};
 use crate::protocol::device_control::{DeviceCommand, DeviceState};
+use crate::text_file::read_text_file;
 use crate::yaml_tree::{self, Span, Spanned, YamlNode};
 use std::collections::{BTreeMap, HashSet};
 use std::path::{Path, PathBuf};
@@ -58,21 +59,24 @@ pub fn load_recipe(
     overrides: &[(String, String)],
 ) -> Result<Recipe, RecipeInvalid> {
     let shown = path.display().to_string();
-    let text = match std::fs::read_to_string(path) {
+    let text = match read_text_file(path) {
         Ok(t) => t,
         Err(e) => {
             let source = RecipeSource {
                 path: shown.clone(),
                 text: Arc::from(""),
             };
+            let help = e.help().unwrap_or_else(|| {
+                "check the path; recipes are YAML files such as recipes/commissioning.yaml".into()
+            });
             return Err(RecipeInvalid {
-                path: shown,
+                path: shown.clone(),
                 problems: vec![Problem::new(
                     &source,
                     Span::default(),
-                    format!("cannot read the recipe: {e}"),
+                    e.sentence(&format!("the recipe {shown}")),
                     "",
-                    Some("check the path; recipes are YAML files such as recipes/commissioning.yaml".into()),
+                    Some(help),
                 )],
             });
         }
@@ -169,6 +173,10 @@ impl Loader<'_, '_> {
     fn recipe(&mut self, text: &str, overrides: &[(String, String)]) -> Option<Recipe> {
         let root = match yaml_tree::parse(text) {
             Ok(r) => r,
+            Err(e) if e.over_limit => {
+                self.problem(e.span, e.message, "here", e.help);
+                return None;
+            }
             Err(e) => {
                 self.problem(
                     e.span,
@@ -1415,14 +1423,17 @@ impl Loader<'_, '_> {
             );
             return None;
         }
-        let text = match std::fs::read_to_string(&path) {
+        let text = match read_text_file(&path) {
             Ok(t) => t,
             Err(e) => {
+                let help = e
+                    .help()
+                    .unwrap_or_else(|| "include paths are relative to the including recipe".into());
                 self.problem(
                     file_node.span,
-                    format!("cannot read {}: {e}", path.display()),
+                    e.sentence(&format!("the included file {}", path.display())),
                     "included file",
-                    Some("include paths are relative to the including recipe".into()),
+                    Some(help),
                 );
                 return None;
             }
