@@ -4,6 +4,7 @@
 //! instead of stopping at the first. Never talks to a drive.
 
 use super::condition::{Check, Condition, Predicate, Statistic, Tolerance};
+use super::expansion::{Expansion, OverLimit};
 use super::problem::{Problem, RecipeInvalid, RecipeSource};
 use super::recipe::{Param, Recipe};
 use super::step::{ObjectRef, SetValue, Step, StepKind, StepOrigin};
@@ -99,6 +100,7 @@ pub fn load_recipe_text(
     overrides: &[(String, String)],
 ) -> Result<Recipe, RecipeInvalid> {
     let mut problems = Vec::new();
+    let mut expansion = Expansion::default();
     let source = Arc::new(RecipeSource {
         path: path.to_string(),
         text: Arc::from(text),
@@ -108,6 +110,7 @@ pub fn load_recipe_text(
             dict: dictionary,
             source: source.clone(),
             problems: &mut problems,
+            expansion: &mut expansion,
             params: BTreeMap::new(),
             sampled: HashSet::new(),
             base_dir: base_dir.to_path_buf(),
@@ -141,6 +144,8 @@ struct Loader<'a, 'p> {
     dict: &'a Dictionary,
     source: Arc<RecipeSource>,
     problems: &'p mut Vec<Problem>,
+    /// Included files and steps so far, over every level of includes.
+    expansion: &'p mut Expansion,
     params: BTreeMap<String, ParamValue>,
     /// Objects sampled so far in file order, for `expect` on statistics.
     sampled: HashSet<String>,
@@ -160,6 +165,10 @@ impl Loader<'_, '_> {
     ) {
         self.problems
             .push(Problem::new(&self.source, span, message, label, help));
+    }
+
+    fn over_limit(&mut self, span: Span, over: OverLimit) {
+        self.problem(span, over.message, over.label, Some(over.help));
     }
 
     fn origin(&self, span: Span) -> StepOrigin {
@@ -607,6 +616,13 @@ impl Loader<'_, '_> {
     }
 
     fn step(&mut self, node: &Spanned<YamlNode>) -> Option<Step> {
+        if self.expansion.is_over() {
+            return None;
+        }
+        if let Err(over) = self.expansion.step() {
+            self.over_limit(node.span, over);
+            return None;
+        }
         let origin = self.origin(node.span);
         match &node.value {
             YamlNode::Str(word) => {
@@ -1389,6 +1405,9 @@ impl Loader<'_, '_> {
     }
 
     fn include(&mut self, body: &Spanned<YamlNode>) -> Option<(StepKind, String)> {
+        if self.expansion.is_over() {
+            return None;
+        }
         let (file_node, params_node) = match &body.value {
             YamlNode::Map(entries) => {
                 self.check_keys(entries, &["file", "params"], &["file"], body.span, "include");
@@ -1421,6 +1440,10 @@ impl Loader<'_, '_> {
                 "too deep",
                 None,
             );
+            return None;
+        }
+        if let Err(over) = self.expansion.load() {
+            self.over_limit(file_node.span, over);
             return None;
         }
         let text = match read_text_file(&path) {
@@ -1462,6 +1485,7 @@ impl Loader<'_, '_> {
                 dict: self.dict,
                 source,
                 problems: self.problems,
+                expansion: self.expansion,
                 params: BTreeMap::new(),
                 sampled: self.sampled.clone(),
                 base_dir: path.parent().map(Path::to_path_buf).unwrap_or_default(),
