@@ -103,8 +103,11 @@ pub fn parse(text: &str) -> Result<Spanned<YamlNode>, YamlError> {
         return Ok(Spanned::new(YamlNode::Null, Span::default()));
     }
     // YAML 1.1 booleans (`yes`, `on`, `n`) would turn names and values into true/false.
+    // `.nan` and `.inf` stay text, so that the reader refuses them where they are used, in
+    // its own words, instead of the whole file failing as "not valid YAML".
     let options = serde_saphyr::options! {
         strict_booleans: true,
+        non_finite_float_policy: serde_saphyr::NonFiniteFloatPolicy::AsString,
         budget: serde_saphyr::budget! {
             max_depth: MAX_DEPTH,
             max_nodes: MAX_VALUES,

@@ -231,9 +231,22 @@ impl Reader<'_> {
     }
 
     fn number(&mut self, node: &YamlNode, what: &str) -> Option<f64> {
-        match node.kind {
-            NodeKind::Int(i) => Some(i as f64),
-            NodeKind::Float(f) if f.is_finite() => Some(f),
+        match &node.kind {
+            NodeKind::Int(i) => Some(*i as f64),
+            NodeKind::Float(f) if f.is_finite() => Some(*f),
+            // YAML's `.nan`, `.inf` and numbers too large for a float (`1e400`), which the
+            // parser hands over as text.
+            NodeKind::Float(_) | NodeKind::Str(_) if node.is_non_finite_number() => {
+                self.push(
+                    DictionaryError::at(
+                        &node.span,
+                        format!("`{what}` must be a finite number, not `{}`", node.written()),
+                        "not finite",
+                    )
+                    .with_help("write a number such as `60000` or `0.001`"),
+                );
+                None
+            }
             _ => {
                 self.push(expected(node, &format!("`{what}`"), "a number"));
                 None

@@ -72,6 +72,24 @@ impl YamlNode {
     pub fn is_null(&self) -> bool {
         matches!(self.kind, NodeKind::Null)
     }
+
+    /// True for a number that is not finite: `.nan`, `.inf`, or `1e400` (too large for a
+    /// float), which the parser hands over as the text `.nan`, `.inf` or `-.inf`.
+    pub fn is_non_finite_number(&self) -> bool {
+        match &self.kind {
+            NodeKind::Float(f) => !f.is_finite(),
+            NodeKind::Str(s) => matches!(s.as_str(), ".nan" | ".inf" | "-.inf" | "+.inf"),
+            _ => false,
+        }
+    }
+
+    /// The node's text as written in the file.
+    pub fn written(&self) -> &str {
+        let text = &self.span.file().text;
+        let start = self.span.offset().min(text.len());
+        let end = (start + self.span.len()).min(text.len());
+        text.get(start..end).unwrap_or_default().trim()
+    }
 }
 
 fn text_span(file: &Arc<SourceFile>, span: Span) -> TextSpan {

@@ -28,6 +28,14 @@ pub const DEFAULT_RAMP_EVERY: Duration = Duration::from_millis(100);
 const MAX_INCLUDE_DEPTH: usize = 8;
 /// A ramp of more points than this is almost certainly a typo in its step.
 const MAX_RAMP_POINTS: usize = 100_000;
+/// The longest duration a recipe may give (dwell, timeout, `every`, `for`). Run-ins last
+/// hours or days, not years; anything longer is a typo in the number or the unit, and the
+/// cap keeps every sum of durations the run makes far from overflowing.
+pub const MAX_DURATION: Duration = Duration::from_secs(1000 * 24 * 3600);
+/// Most samples one `sample` step may take (`for` / `every` + 1). Each is kept in memory
+/// for the statistics and the plots (16 bytes per object), and the runner counts them in
+/// a `u32`; a million is 28 h at 100 ms.
+pub const MAX_SAMPLES: u64 = 1_000_000;
 
 const TOP_KEYS: &[&str] = &[
     "name",
@@ -406,6 +414,35 @@ impl Loader<'_, '_> {
         self.substitute(&raw, node.span)
     }
 
+    /// Refuses a number that YAML reads as not finite (`.nan`, `.inf`, `1e400`), naming it
+    /// as written; true when it was refused.
+    fn not_finite(&mut self, node: &Spanned<YamlNode>) -> bool {
+        let refused = match &node.value {
+            YamlNode::Float(f) => !f.is_finite(),
+            // How the parser hands over YAML's non-finite numbers (see `yaml_tree::parse`).
+            YamlNode::Str(s) => matches!(s.as_str(), ".nan" | ".inf" | "-.inf" | "+.inf"),
+            _ => false,
+        };
+        if refused {
+            let written = self.written(node.span);
+            self.problem(
+                node.span,
+                format!("`{written}` is not a finite number"),
+                "not finite",
+                Some("write a number such as `6000 rpm`, `1 %` or `0.5 A`".into()),
+            );
+        }
+        refused
+    }
+
+    /// The text under `span` as written in the file.
+    fn written(&self, span: Span) -> String {
+        let text = &self.source.text;
+        let start = span.offset.min(text.len());
+        let end = (start + span.len).min(text.len());
+        text.get(start..end).unwrap_or_default().trim().to_string()
+    }
+
     /// Text that takes no parameters (names, descriptions).
     fn plain_text(&mut self, node: &Spanned<YamlNode>) -> Option<String> {
         match node.value.as_text() {
@@ -489,6 +526,19 @@ impl Loader<'_, '_> {
                 );
                 None
             }
+            Ok(d) if d > MAX_DURATION => {
+                self.problem(
+                    node.span,
+                    format!(
+                        "{what}: `{}` is longer than {} days, the longest duration a recipe may give",
+                        text.trim(),
+                        MAX_DURATION.as_secs() / (24 * 3600)
+                    ),
+                    "too long",
+                    Some("check the number and the unit; repeat a shorter step for a longer run".into()),
+                );
+                None
+            }
             Ok(d) => Some(d),
             Err(e) => {
                 self.problem(
@@ -551,6 +601,9 @@ impl Loader<'_, '_> {
     /// A number for `def` in its engineering unit; `check_limits` also refuses values
     /// outside the object's limits and type (for writes).
     fn number_for(&mut self, def: &ObjectDef, node: &Spanned<YamlNode>, check_limits: bool) -> Option<f64> {
+        if self.not_finite(node) {
+            return None;
+        }
         let text = self.text(node)?;
         let q = match Quantity::parse(&text) {
             Ok(q) => q,
@@ -573,6 +626,15 @@ impl Loader<'_, '_> {
         match (q.unit, def.unit) {
             (None, _) => Some(q.value),
             (Some(u), Some(own)) => match u.convert(q.value, own) {
+                Some(v) if !v.is_finite() => {
+                    self.problem(
+                        node.span,
+                        format!("{}: `{text}` is too large to be a number of {own}", def.name),
+                        "too large",
+                        None,
+                    );
+                    None
+                }
                 Some(v) => Some(v),
                 None => {
                     self.problem(
@@ -598,7 +660,21 @@ impl Loader<'_, '_> {
 
     fn steps(&mut self, node: &Spanned<YamlNode>) -> Vec<Step> {
         match &node.value {
-            YamlNode::Seq(items) => items.iter().filter_map(|i| self.step(i)).collect(),
+            YamlNode::Seq(items) => {
+                let mut steps = Vec::new();
+                let mut longest = Duration::ZERO;
+                for item in items {
+                    let Some(step) = self.step(item) else {
+                        continue;
+                    };
+                    longest = longest.saturating_add(step.longest_time());
+                    if let Err(over) = self.expansion.longest_time(longest) {
+                        self.over_limit(item.span, over);
+                    }
+                    steps.push(step);
+                }
+                steps
+            }
             YamlNode::Null => Vec::new(),
             other => {
                 self.problem(
@@ -1000,11 +1076,14 @@ impl Loader<'_, '_> {
     }
 
     fn tolerance(&mut self, def: &ObjectDef, node: &Spanned<YamlNode>) -> Option<Tolerance> {
+        if self.not_finite(node) {
+            return None;
+        }
         let text = self.text(node)?;
         let t = text.trim();
         if let Some(p) = t.strip_suffix('%') {
             return match p.trim().parse::<f64>() {
-                Ok(v) if v >= 0.0 => Some(Tolerance::Percent(v)),
+                Ok(v) if v.is_finite() && v >= 0.0 => Some(Tolerance::Percent(v)),
                 _ => {
                     self.problem(
                         node.span,
@@ -1119,6 +1198,24 @@ impl Loader<'_, '_> {
                 ),
                 "longer than `for`",
                 None,
+            );
+            return None;
+        }
+        let samples = duration.as_nanos() / every.as_nanos() + 1;
+        if samples > u128::from(MAX_SAMPLES) {
+            let at = self.get(entries, "every").map(|n| n.span).unwrap_or(body.span);
+            self.problem(
+                at,
+                format!(
+                    "sampling every {} for {} takes {samples} samples, more than {MAX_SAMPLES}",
+                    show_duration(every),
+                    show_duration(duration)
+                ),
+                "too often for so long",
+                Some(
+                    "sample less often (a larger `every`), or split the time into several sample steps"
+                        .into(),
+                ),
             );
             return None;
         }
@@ -1274,6 +1371,15 @@ impl Loader<'_, '_> {
             }
         };
         let (from, to, every, step_size) = (from?, to?, every?, step_size?);
+        if !step_size.is_finite() {
+            self.problem(
+                body.span,
+                "the ramp's step or rate is too large to be a number",
+                "not finite",
+                None,
+            );
+            return None;
+        }
         if step_size <= 0.0 {
             self.problem(
                 body.span,
@@ -1389,6 +1495,16 @@ impl Loader<'_, '_> {
             return None;
         }
         let steps = self.steps(self.get(entries, "steps")?);
+        if duration.is_some() && !steps.iter().any(Step::takes_time) {
+            let at = self.get(entries, "for").map(|n| n.span).unwrap_or(body.span);
+            self.problem(
+                at,
+                "`repeat` with `for` needs a step that takes time (a wait, dwell, sample, ramp or drive access); these steps take none, so it would never end",
+                "nothing takes time",
+                Some("use `times` to repeat them a number of times".into()),
+            );
+            return None;
+        }
         let label = match (times, duration) {
             (Some(t), _) => format!("repeat {t} times ({} steps)", steps.len()),
             (_, Some(d)) => format!("repeat for {} ({} steps)", show_duration(d), steps.len()),
