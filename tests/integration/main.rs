@@ -5,6 +5,7 @@ mod decode_cli;
 mod drive_sim;
 mod end_to_end;
 mod examples;
+mod loader_limits;
 mod outputs;
 mod recipe_cases;
 mod support;
