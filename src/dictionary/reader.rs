@@ -11,7 +11,7 @@ use super::dictionary_error::DictionaryError;
 use super::did_you_mean::{did_you_mean, suggestion_text};
 use super::format::Format;
 use super::object_def::ObjectDef;
-use super::profile::{Profile, RoleBinding, StateMask};
+use super::profile::{command_in, stops_keeping_power, Profile, RoleBinding, StateMask};
 use super::role::Role;
 use super::text_span::TextSpan;
 use super::unit::Unit;
@@ -559,6 +559,7 @@ impl Reader<'_> {
         let allowed: Vec<&str> = DeviceCommand::ALL.iter().map(|c| c.id()).collect();
         let f = self.fields(node, "the commands", &allowed)?;
         let mut values = [0u16; 7];
+        let mut nodes: [Option<&YamlNode>; 7] = [None; 7];
         let mut complete = true;
         for (i, command) in DeviceCommand::ALL.into_iter().enumerate() {
             let meaning = format!(
@@ -567,13 +568,69 @@ impl Reader<'_> {
             );
             match self.required(&f, command.id(), &meaning) {
                 Some(n) => match self.int(n, command.id(), 0, u16::MAX.into()) {
-                    Some(v) => values[i] = v as u16,
+                    Some(v) => {
+                        values[i] = v as u16;
+                        nodes[i] = Some(n);
+                    }
                     None => complete = false,
                 },
                 None => complete = false,
             }
         }
-        complete.then_some(values)
+        if !complete {
+            return None;
+        }
+        let node_of = |c: DeviceCommand| nodes[DeviceCommand::ALL.iter().position(|x| *x == c).unwrap_or(0)];
+        let before = self.errors.len();
+        for kept in [DeviceCommand::EnableOperation, DeviceCommand::SwitchOn] {
+            if let (0, Some(node)) = (command_in(&values, kept), node_of(kept)) {
+                self.push(
+                    DictionaryError::at(
+                        &node.span,
+                        format!(
+                            "`{}` is 0: it sets no control-word bit, so no stop command could undo it",
+                            kept.id()
+                        ),
+                        "sets no bit",
+                    )
+                    .with_help(format!(
+                        "the SD2 manual's {} is {}",
+                        kept.id(),
+                        kept.default_control_word()
+                    )),
+                );
+            }
+        }
+        for (stop, kept) in stops_keeping_power(&values) {
+            let (Some(node), Some(kept_node)) = (node_of(stop), node_of(kept)) else {
+                continue;
+            };
+            let (v, k) = (command_in(&values, stop), command_in(&values, kept));
+            let state = if kept == DeviceCommand::EnableOperation {
+                "enabled"
+            } else {
+                "switched on"
+            };
+            self.push(
+                DictionaryError::at(
+                    &node.span,
+                    format!(
+                        "`{}` {v} (0x{v:04X}) keeps every bit of `{}` {k} (0x{k:04X}): this stop command would leave the drive {state}",
+                        stop.id(),
+                        kept.id()
+                    ),
+                    "keeps the drive running",
+                )
+                .also_at(&kept_node.span, kept.id())
+                .with_optional_help(Some(format!(
+                    "a stop command must clear at least one bit of `{}`; the SD2 manual's {} is {}",
+                    kept.id(),
+                    stop.id(),
+                    stop.default_control_word()
+                ))),
+            );
+        }
+        (self.errors.len() == before).then_some(values)
     }
 
     fn states(&mut self, node: &YamlNode) -> Option<[StateMask; 8]> {
