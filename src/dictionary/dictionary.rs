@@ -4,6 +4,7 @@
 //! links or protocols beyond object addresses.
 
 use super::address::Address;
+use super::bench_limits::BenchLimits;
 use super::dictionary_error::DictionaryError;
 use super::did_you_mean::did_you_mean;
 use super::object_def::ObjectDef;
@@ -32,6 +33,9 @@ pub struct Dictionary {
     title: String,
     objects: Vec<ObjectDef>,
     profile: Option<Profile>,
+    /// The bench limits in force; applied again after every [`Self::extend`], so no
+    /// dictionary added later can raise them.
+    bench_limits: Option<BenchLimits>,
 }
 
 impl Dictionary {
@@ -113,6 +117,9 @@ impl Dictionary {
         if let Some(e) = DictionaryError::collect(problems) {
             return Err(e);
         }
+        if let Some(limits) = merged.bench_limits.take() {
+            merged.apply_bench_limits(limits);
+        }
         *self = merged;
         Ok(())
     }
@@ -154,7 +161,32 @@ impl Dictionary {
             title: contents.title,
             objects: contents.objects,
             profile: contents.profile,
+            bench_limits: None,
         })
+    }
+
+    /// Caps every writable object whose unit measures speed (or current) at the bench's
+    /// limit: its maximum becomes the smaller of its own and the cap, its minimum the larger
+    /// of its own and minus the cap. Refusals then name the bench limit and its file. Kept
+    /// and applied again after every later [`Self::extend`].
+    pub fn apply_bench_limits(&mut self, limits: BenchLimits) {
+        let origin = limits.source();
+        for object in self.objects.iter_mut().filter(|o| o.writable()) {
+            let Some(unit) = object.unit else { continue };
+            let dimension = unit.dimension();
+            let Some(cap) = limits.cap(dimension) else {
+                continue;
+            };
+            if let Some(cap) = dimension.base().convert(cap, unit) {
+                object.cap_at(cap, &origin);
+            }
+        }
+        self.bench_limits = Some(limits);
+    }
+
+    /// The bench limits in force, if any.
+    pub fn bench_limits(&self) -> Option<&BenchLimits> {
+        self.bench_limits.as_ref()
     }
 
     /// `sd2`

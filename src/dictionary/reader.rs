@@ -3,6 +3,8 @@
 //! scale, limits against the type's range, the profile's commands and state table.
 //! Every problem is recorded with its place; reading goes on so a file reports them all.
 //! Cross-entry checks (duplicate names, profile roles) are the validator's. No I/O.
+//! Its field helpers (known keys with did-you-mean, required keys, text) also read the
+//! bench limits file, so both files speak with one voice.
 
 use super::access::Access;
 use super::address::Address;
@@ -59,12 +61,12 @@ pub(crate) fn read(root: &YamlNode, errors: &mut Vec<DictionaryError>) -> FileCo
     r.document(root)
 }
 
-struct Reader<'e> {
+pub(crate) struct Reader<'e> {
     errors: &'e mut Vec<DictionaryError>,
 }
 
 /// The entries of a mapping whose keys were all known.
-struct Fields<'n> {
+pub(crate) struct Fields<'n> {
     node: &'n YamlNode,
     what: &'static str,
     entries: Vec<(&'n str, &'n YamlNode, &'n YamlNode)>,
@@ -72,7 +74,7 @@ struct Fields<'n> {
 
 impl<'n> Fields<'n> {
     /// The value of `key`, absent when missing or written as nothing (`key:` or `~`).
-    fn get(&self, key: &str) -> Option<&'n YamlNode> {
+    pub(crate) fn get(&self, key: &str) -> Option<&'n YamlNode> {
         self.entries
             .iter()
             .find(|(k, _, v)| *k == key && !v.is_null())
@@ -80,8 +82,13 @@ impl<'n> Fields<'n> {
     }
 }
 
-impl Reader<'_> {
-    fn push(&mut self, e: DictionaryError) {
+impl<'e> Reader<'e> {
+    /// A reader recording problems in `errors`.
+    pub(crate) fn new(errors: &'e mut Vec<DictionaryError>) -> Self {
+        Reader { errors }
+    }
+
+    pub(crate) fn push(&mut self, e: DictionaryError) {
         self.errors.push(e);
     }
 
@@ -130,7 +137,12 @@ impl Reader<'_> {
     }
 
     /// The mapping's entries; unknown keys are reported (with suggestions) and left out.
-    fn fields<'n>(&mut self, node: &'n YamlNode, what: &'static str, allowed: &[&str]) -> Option<Fields<'n>> {
+    pub(crate) fn fields<'n>(
+        &mut self,
+        node: &'n YamlNode,
+        what: &'static str,
+        allowed: &[&str],
+    ) -> Option<Fields<'n>> {
         let NodeKind::Map(entries) = &node.kind else {
             self.push(expected(node, what, "a mapping (`key: value` lines)"));
             return None;

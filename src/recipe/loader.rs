@@ -1663,9 +1663,13 @@ pub fn show_duration(d: Duration) -> String {
 
 fn limits_help(def: &ObjectDef) -> Option<String> {
     let unit = def.unit.map(|u| format!(" {}", u.symbol())).unwrap_or_default();
+    let bench = match def.bench {
+        Some(_) => " on this bench; only the limits file can raise a bench limit (not the recipe, --set or a dictionary)",
+        None => "",
+    };
     match (def.min, def.max) {
         (Some(lo), Some(hi)) => Some(format!(
-            "{} accepts {}{unit} to {}{unit}",
+            "{} accepts {}{unit} to {}{unit}{bench}",
             def.name,
             super::condition::number(lo),
             super::condition::number(hi)
