@@ -95,12 +95,17 @@ fn print_invalid(e: &RecipeInvalid) {
 
 pub fn check(args: &CheckArgs) -> i32 {
     let mut code = PASSED;
+    let mut last_error = String::new();
     for path in &args.recipes {
-        // Per recipe: each may have its own drivescript-limits.yaml next to it.
+        // Per recipe: each may have its own drivescript-limits.yaml next to it. A broken
+        // --dictionary or --limits file is said once, not once per recipe.
         let dictionary = match args.dictionary.load_for(None, Some(path)) {
             Ok(d) => d,
             Err(text) => {
-                eprint!("{text}");
+                if text != last_error {
+                    eprint!("{text}");
+                    last_error = text;
+                }
                 code = INVALID;
                 continue;
             }

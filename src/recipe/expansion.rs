@@ -2,8 +2,8 @@
 //! steps read, over every level of includes together, so that includes of includes cannot
 //! multiply into hours of checking (8 files each including the next 10 times is 10^8
 //! loads); and bounds the time the steps can take, so that no sum of durations in a run
-//! can outgrow the clock. Counting only: the loader reports the refusal at the step or
-//! include that went over.
+//! can outgrow the clock. Counting only: it must not read files or record problems; the
+//! loader reports the refusal at the step or include that went over.
 
 use std::time::Duration;
 
