@@ -22,5 +22,6 @@ pub mod report;
 pub mod sim;
 pub mod sim_server;
 pub mod stop_request;
+pub mod text_file;
 pub mod transport;
 pub mod yaml_tree;

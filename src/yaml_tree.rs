@@ -73,12 +73,29 @@ impl YamlNode {
     }
 }
 
-/// YAML that could not be parsed at all.
+/// YAML that could not be parsed at all, or that goes over a reading limit.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct YamlError {
     pub message: String,
     pub span: Span,
+    /// The text is YAML but goes over one of the limits below (an alias bomb, a file of
+    /// too many values): the message says which, and is not a syntax error.
+    pub over_limit: bool,
+    /// What to do, for limits (syntax errors get the caller's help).
+    pub help: Option<String>,
 }
+
+/// Deepest nesting of lists and mappings. Recipes nest a few levels (each `repeat` adds
+/// three); the parse and the tree walks recurse per level, and at 64 levels a debug build
+/// overflowed a 2 MiB thread stack, so 32 keeps them far from the stack's end.
+pub const MAX_DEPTH: usize = 32;
+/// Most values (text, numbers, lists, mappings) in one file, aliases expanded. The largest
+/// real recipes and dictionaries have a few thousand.
+pub const MAX_VALUES: usize = 200_000;
+/// Most values that aliases (`*name`) may copy in one file: room to reuse a block of steps
+/// many times, but an alias bomb ("billion laughs", each alias doubling the last) stops
+/// after a few milliseconds instead of filling the memory.
+pub const MAX_ALIAS_COPIES: usize = 10_000;
 
 /// Parses `text` into a spanned tree.
 pub fn parse(text: &str) -> Result<Spanned<YamlNode>, YamlError> {
@@ -86,11 +103,17 @@ pub fn parse(text: &str) -> Result<Spanned<YamlNode>, YamlError> {
         return Ok(Spanned::new(YamlNode::Null, Span::default()));
     }
     // YAML 1.1 booleans (`yes`, `on`, `n`) would turn names and values into true/false.
+    // `.nan` and `.inf` stay text, so that the reader refuses them where they are used, in
+    // its own words, instead of the whole file failing as "not valid YAML".
     let options = serde_saphyr::options! {
         strict_booleans: true,
+        non_finite_float_policy: serde_saphyr::NonFiniteFloatPolicy::AsString,
         budget: serde_saphyr::budget! {
-            max_depth: 64,
-            max_nodes: 200_000,
+            max_depth: MAX_DEPTH,
+            max_nodes: MAX_VALUES,
+        },
+        alias_limits: serde_saphyr::alias_limits! {
+            max_total_replayed_events: MAX_ALIAS_COPIES,
         },
     };
     match serde_saphyr::from_str_with_options::<serde_saphyr::Spanned<Node>>(text, options) {
@@ -101,18 +124,86 @@ pub fn parse(text: &str) -> Result<Spanned<YamlNode>, YamlError> {
 
 fn error_of(e: &serde_saphyr::Error, text: &str) -> YamlError {
     use serde_saphyr::MessageFormatter;
+    let span = e
+        .location()
+        .filter(|loc| loc.line() > 0)
+        .map(|loc| span_of_location(&loc, text))
+        .unwrap_or_default();
+    if let Some((message, help)) = limit_message(e) {
+        return YamlError {
+            message,
+            span,
+            over_limit: true,
+            help: Some(help),
+        };
+    }
     // The caller renders its own snippet, so only the sentence is kept, on one line.
     let message: String = serde_saphyr::DefaultMessageFormatter
         .format_message(e.without_snippet())
         .chars()
         .map(|c| if c.is_control() { ' ' } else { c })
         .collect();
-    let span = e
-        .location()
-        .filter(|loc| loc.line() > 0)
-        .map(|loc| span_of_location(&loc, text))
-        .unwrap_or_default();
-    YamlError { message, span }
+    YamlError {
+        message,
+        span,
+        over_limit: false,
+        help: None,
+    }
+}
+
+/// A plain sentence and help for a reading limit, instead of the parser's internal names
+/// (`budget breached: Nodes { nodes: 200001 }`); `None` for other errors.
+fn limit_message(e: &serde_saphyr::Error) -> Option<(String, String)> {
+    use serde_saphyr::budget::BudgetBreach as B;
+    use serde_saphyr::Error as E;
+    let mut e = e;
+    while let E::AliasError { error, .. } | E::WithSnippet { error, .. } = e {
+        e = error;
+    }
+    let aliases = || {
+        (
+            format!(
+                "refused: the aliases (`*name`) in this file copy more than {MAX_ALIAS_COPIES} values, as an alias bomb does"
+            ),
+            "to run steps several times use `repeat` or `include`, not aliases of aliases".to_string(),
+        )
+    };
+    let too_many = || {
+        (
+            format!("refused: this file has more than {MAX_VALUES} YAML values (aliases expanded)"),
+            "recipes and dictionaries have a few thousand; write repetition as `repeat` steps and split a generated file into included files".to_string(),
+        )
+    };
+    let other = |what: String| {
+        (
+            format!("refused: {what}"),
+            "check that the path names the file you meant".to_string(),
+        )
+    };
+    Some(match e {
+        E::AliasReplayLimitExceeded { .. }
+        | E::AliasExpansionLimitExceeded { .. }
+        | E::AliasReplayStackDepthExceeded { .. }
+        | E::AliasReplayCounterOverflow { .. } => aliases(),
+        E::Budget { breach, .. } => match breach {
+            B::Aliases { .. }
+            | B::Anchors { .. }
+            | B::AliasAnchorRatio { .. }
+            | B::RecordedAnchorEvents { .. }
+            | B::RecordedAnchorBytes { .. } => aliases(),
+            B::Nodes { .. } | B::Events { .. } => too_many(),
+            B::Depth { .. } => (
+                format!("refused: lists and mappings nest deeper than {MAX_DEPTH} levels"),
+                "recipes nest a few levels; check the indentation and the brackets".to_string(),
+            ),
+            B::Documents { .. } => other("this file holds too many YAML documents (`---`)".into()),
+            B::ScalarBytes { .. } | B::InputBytes { .. } => {
+                other("the text in this file is larger than the YAML reader accepts".into())
+            }
+            _ => other("this file goes over a limit of the YAML reader".into()),
+        },
+        _ => return None,
+    })
 }
 
 fn span_of_location(loc: &serde_saphyr::Location, text: &str) -> Span {
@@ -303,7 +394,32 @@ mod tests {
                 p = i - 1
             ));
         }
-        assert!(parse(&text).is_err());
+        let e = parse(&text).unwrap_err();
+        assert!(e.over_limit, "{e:?}");
+        assert!(e.message.contains("aliases (`*name`)"), "{}", e.message);
+        assert!(!e.message.contains('{'), "internal names leak: {}", e.message);
+        assert!(e.span.line > 1, "located: {e:?}");
+    }
+
+    #[test]
+    fn limits_are_said_in_plain_words() {
+        let deep = format!("{}1{}", "[".repeat(MAX_DEPTH + 2), "]".repeat(MAX_DEPTH + 2));
+        let e = parse(&deep).unwrap_err();
+        assert!(e.over_limit && e.message.contains("nest deeper than 32"), "{e:?}");
+        // Far deeper than the limit, in a test thread's small stack: refused, no overflow.
+        let e = parse(&format!("{}1{}", "[".repeat(5000), "]".repeat(5000))).unwrap_err();
+        assert!(!e.message.contains('{'), "{e:?}");
+        let e = parse(&"- ".repeat(5000)).unwrap_err();
+        assert!(!e.message.contains('{'), "{e:?}");
+        let many = format!("[{}]", vec!["1"; MAX_VALUES + 1].join(","));
+        let e = parse(&many).unwrap_err();
+        assert!(
+            e.over_limit && e.message.contains("more than 200000 YAML values"),
+            "{e:?}"
+        );
+        assert!(!e.message.contains("Nodes"), "{}", e.message);
+        let e = parse("a: [1").unwrap_err();
+        assert!(!e.over_limit && e.help.is_none(), "{e:?}");
     }
 
     #[test]

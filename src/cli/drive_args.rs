@@ -1,15 +1,16 @@
-//! Choosing the dictionary (built-in family plus the user's own files) and opening a
-//! [`Drive`] on a connection: the common start of every command that talks to a drive.
+//! Choosing the dictionary (built-in family plus the user's own files, capped by the
+//! bench limits file) and opening a [`Drive`] on a connection: the common start of every
+//! command that talks to a drive.
 
 use super::connection_args::{Connection, ConnectionArgs};
 use super::render_diagnostic;
-use crate::dictionary::Dictionary;
+use crate::dictionary::{BenchLimits, Dictionary, LIMITS_ENV};
 use crate::drive::{Drive, Sd2Access};
 use crate::link::TelegramObserver;
 use crate::sim::Sd2Simulator;
 use crate::stop_request::StopRequests;
 use clap::Args;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex};
 
 #[derive(Debug, Clone, Args)]
@@ -21,16 +22,34 @@ pub struct DictionaryArgs {
     /// same name). May be given several times.
     #[arg(long = "dictionary", value_name = "PATH")]
     pub extra: Vec<PathBuf>,
+    /// Bench limits file capping speed and current (`max_speed: 12000 rpm`). Without it:
+    /// the file named by $DRIVESCRIPT_LIMITS, else drivescript-limits.yaml next to the
+    /// recipe. Nothing (recipe, --set, --dictionary) can raise its limits.
+    #[arg(long = "limits", value_name = "FILE")]
+    pub limits: Option<PathBuf>,
 }
 
 impl DictionaryArgs {
     /// The built-in dictionary of `family` (or of `--drive`) with the user's files merged
     /// in. On failure, the rendered diagnostic to print.
     pub fn load(&self, family: Option<&str>) -> Result<Arc<Dictionary>, String> {
+        self.load_for(family, None)
+    }
+
+    /// [`load`](Self::load) for running or checking `recipe`: a `drivescript-limits.yaml`
+    /// next to it caps the dictionary when neither --limits nor $DRIVESCRIPT_LIMITS names
+    /// a limits file.
+    pub fn load_for(&self, family: Option<&str>, recipe: Option<&Path>) -> Result<Arc<Dictionary>, String> {
         let family = family.unwrap_or(&self.family);
         let mut dictionary = Dictionary::builtin(family).map_err(|e| render_diagnostic(&e))?;
         for path in &self.extra {
             dictionary.extend_from(path).map_err(|e| render_diagnostic(&e))?;
+        }
+        // Last, so that no dictionary above can raise the bench's limits.
+        let env = std::env::var_os(LIMITS_ENV);
+        if let Some((path, route)) = BenchLimits::find(self.limits.as_deref(), env.as_deref(), recipe) {
+            let limits = BenchLimits::load(&path, route).map_err(|e| render_diagnostic(&e))?;
+            dictionary.apply_bench_limits(limits);
         }
         Ok(Arc::new(dictionary))
     }
@@ -40,6 +59,7 @@ impl DictionaryArgs {
         DictionaryArgs {
             family: "sd2".into(),
             extra: Vec::new(),
+            limits: None,
         }
     }
 }

@@ -296,6 +296,7 @@ pub fn objects(args: &ObjectsArgs) -> i32 {
                     "name": d.name, "aliases": d.aliases, "address": d.address.to_string(),
                     "type": d.data_type.to_string(), "unit": d.unit.map(|u| u.symbol()), "scale": d.scale,
                     "access": d.access.id(), "min": d.min, "max": d.max,
+                    "bench_limit": d.bench.as_ref().map(|b| b.origin.clone()),
                     "description": d.description, "unconfirmed": d.unconfirmed,
                 })
             })
@@ -308,6 +309,13 @@ pub fn objects(args: &ObjectsArgs) -> i32 {
         return PASSED;
     }
     println!("{} — {} object(s)", dictionary.title(), list.len());
+    if let Some(limits) = dictionary.bench_limits() {
+        println!(
+            "bench limits {} ({}); limits marked (bench) are capped by it",
+            limits.summary(),
+            limits.source()
+        );
+    }
     println!(
         "{:<18} {:<9} {:<11} {:<6} {:<6} {:<22} aliases",
         "name", "address", "type", "unit", "access", "limits"
@@ -318,6 +326,10 @@ pub fn objects(args: &ObjectsArgs) -> i32 {
             (Some(lo), None) => format!(">= {}", crate::recipe::number(lo)),
             (None, Some(hi)) => format!("<= {}", crate::recipe::number(hi)),
             (None, None) => String::new(),
+        };
+        let limits = match &d.bench {
+            Some(_) => format!("{limits} (bench)"),
+            None => limits,
         };
         let flag = if d.unconfirmed.is_some() {
             " (unconfirmed)"

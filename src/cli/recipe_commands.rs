@@ -135,23 +135,35 @@ fn print_invalid(e: &RecipeInvalid) {
 }
 
 pub fn check(args: &CheckArgs) -> i32 {
-    let dictionary = match args.dictionary.load(None) {
-        Ok(d) => d,
-        Err(text) => {
-            eprint!("{text}");
-            return INVALID;
-        }
-    };
     let mut code = PASSED;
+    let mut last_error = String::new();
     for path in &args.recipes {
+        // Per recipe: each may have its own drivescript-limits.yaml next to it. A broken
+        // --dictionary or --limits file is said once, not once per recipe.
+        let dictionary = match args.dictionary.load_for(None, Some(path)) {
+            Ok(d) => d,
+            Err(text) => {
+                if text != last_error {
+                    eprint!("{text}");
+                    last_error = text;
+                }
+                code = INVALID;
+                continue;
+            }
+        };
         match load_recipe(path, &dictionary, &args.set) {
-            Ok(recipe) => println!(
-                "ok  {} — {} ({} steps{})",
-                path.display(),
-                recipe.name,
-                count_steps(&recipe),
-                finally_note(&recipe)
-            ),
+            Ok(recipe) => {
+                println!(
+                    "ok  {} — {} ({} steps{})",
+                    path.display(),
+                    recipe.name,
+                    count_steps(&recipe),
+                    finally_note(&recipe)
+                );
+                if let Some(limits) = dictionary.bench_limits() {
+                    println!("    bench limits {} ({})", limits.summary(), limits.source());
+                }
+            }
             Err(e) => {
                 print_invalid(&e);
                 code = INVALID;
@@ -233,7 +245,7 @@ pub fn run_recipe(request: &RunRequest, out: &mut dyn Write, err: &mut dyn Write
         report: None,
         simulator: None,
     };
-    let dictionary = match request.dictionary.load(None) {
+    let dictionary = match request.dictionary.load_for(None, Some(request.recipe)) {
         Ok(d) => d,
         Err(text) => {
             let _ = write!(err, "{text}");

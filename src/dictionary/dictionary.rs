@@ -4,6 +4,7 @@
 //! links or protocols beyond object addresses.
 
 use super::address::Address;
+use super::bench_limits::BenchLimits;
 use super::dictionary_error::DictionaryError;
 use super::did_you_mean::did_you_mean;
 use super::object_def::ObjectDef;
@@ -14,6 +15,7 @@ use super::text_span::{SourceFile, TextSpan};
 use super::unknown_object::UnknownObject;
 use super::validate::validate;
 use super::yaml_node::YamlNode;
+use crate::text_file::read_text_file;
 use std::path::Path;
 use std::sync::{Arc, OnceLock};
 
@@ -31,6 +33,9 @@ pub struct Dictionary {
     title: String,
     objects: Vec<ObjectDef>,
     profile: Option<Profile>,
+    /// The bench limits in force; applied again after every [`Self::extend`], so no
+    /// dictionary added later can raise them.
+    bench_limits: Option<BenchLimits>,
 }
 
 impl Dictionary {
@@ -112,6 +117,9 @@ impl Dictionary {
         if let Some(e) = DictionaryError::collect(problems) {
             return Err(e);
         }
+        if let Some(limits) = merged.bench_limits.take() {
+            merged.apply_bench_limits(limits);
+        }
         *self = merged;
         Ok(())
     }
@@ -125,9 +133,11 @@ impl Dictionary {
 
     fn from_file(path: &Path, check_roles: bool) -> Result<Dictionary, DictionaryError> {
         let shown = path.display().to_string();
-        let text = std::fs::read_to_string(path).map_err(|e| {
-            DictionaryError::unlocated(&shown, format!("cannot read the dictionary file: {e}"))
-                .with_help("check the path given with --dictionary")
+        let text = read_text_file(path).map_err(|e| {
+            let help = e
+                .help()
+                .unwrap_or_else(|| "check the path given with --dictionary".into());
+            DictionaryError::unlocated(&shown, e.sentence("the dictionary file")).with_help(help)
         })?;
         Self::from_source(SourceFile::new(shown, text), check_roles)
     }
@@ -151,7 +161,32 @@ impl Dictionary {
             title: contents.title,
             objects: contents.objects,
             profile: contents.profile,
+            bench_limits: None,
         })
+    }
+
+    /// Caps every writable object whose unit measures speed (or current) at the bench's
+    /// limit: its maximum becomes the smaller of its own and the cap, its minimum the larger
+    /// of its own and minus the cap. Refusals then name the bench limit and its file. Kept
+    /// and applied again after every later [`Self::extend`].
+    pub fn apply_bench_limits(&mut self, limits: BenchLimits) {
+        let origin = limits.source();
+        for object in self.objects.iter_mut().filter(|o| o.writable()) {
+            let Some(unit) = object.unit else { continue };
+            let dimension = unit.dimension();
+            let Some(cap) = limits.cap(dimension) else {
+                continue;
+            };
+            if let Some(cap) = dimension.base().convert(cap, unit) {
+                object.cap_at(cap, &origin);
+            }
+        }
+        self.bench_limits = Some(limits);
+    }
+
+    /// The bench limits in force, if any.
+    pub fn bench_limits(&self) -> Option<&BenchLimits> {
+        self.bench_limits.as_ref()
     }
 
     /// `sd2`

@@ -3,12 +3,16 @@
 //! problem located, plus engineering units and the conversions between quantities and raw
 //! bytes. File format: `dictionary/sd2.yaml` (built in) is the reference.
 //!
-//! The only I/O here is reading a dictionary file. This layer must not know transports or
+//! A test bench's limits file caps speed and current on top of any dictionary.
+//!
+//! The only I/O here is reading dictionary and limits files. This layer must not know transports or
 //! links, and it does not decide whether a write is allowed (the drive layer checks
 //! [`ObjectDef::access`]).
 
 mod access;
 mod address;
+mod bench_cap;
+mod bench_limits;
 mod data_type;
 #[allow(clippy::module_inception)]
 mod dictionary;
@@ -31,6 +35,8 @@ mod yaml_node;
 
 pub use access::Access;
 pub use address::Address;
+pub use bench_cap::BenchCap;
+pub use bench_limits::{BenchLimits, LimitsRoute, LIMITS_ENV, LIMITS_FILE_NAME};
 pub use data_type::{DataType, MAX_STRING_LEN};
 pub use dictionary::Dictionary;
 pub use dictionary_error::DictionaryError;

@@ -5,6 +5,7 @@
 
 use super::access::Access;
 use super::address::Address;
+use super::bench_cap::BenchCap;
 use super::data_type::DataType;
 use super::format::Format;
 use super::quantity::Quantity;
@@ -26,9 +27,11 @@ pub struct ObjectDef {
     /// Engineering units per raw count (0.001 for SD2 speeds in rpm).
     pub scale: f64,
     pub access: Access,
-    /// Limits in engineering units.
+    /// Limits in engineering units (tightened by the bench limits, see [`Self::bench`]).
     pub min: Option<f64>,
     pub max: Option<f64>,
+    /// Set when a bench limits file tightened `min` or `max`: refusals then say so.
+    pub bench: Option<BenchCap>,
     pub format: Format,
     pub description: String,
     /// Why the entry is not confirmed by a source (type, unit or index guessed or
@@ -55,11 +58,32 @@ impl ObjectDef {
             access,
             min: None,
             max: None,
+            bench: None,
             format: Format::Decimal,
             description: String::new(),
             unconfirmed: None,
             span: TextSpan::unknown(),
             name_spans: Vec::new(),
+        }
+    }
+
+    /// Tightens the limits to `±cap` (in the object's unit) when that is narrower, and
+    /// marks the sides the bench now decides. `origin` names the limits file.
+    pub(crate) fn cap_at(&mut self, cap: f64, origin: &str) {
+        let max = self.max.is_none_or(|m| cap <= m);
+        let min = self.min.is_none_or(|m| -cap >= m);
+        if max {
+            self.max = Some(cap);
+        }
+        if min {
+            self.min = Some(-cap);
+        }
+        if max || min {
+            self.bench = Some(BenchCap {
+                origin: origin.to_string(),
+                max,
+                min,
+            });
         }
     }
 
@@ -176,19 +200,29 @@ impl ObjectDef {
         let tolerance = self.scale * 1e-6;
         if let Some(max) = self.max {
             if rounded > max + tolerance {
-                return Err(ValueError::AboveMax {
-                    object: self.name.clone(),
-                    value: given,
-                    limit: self.with_unit(max),
+                let (object, value, limit) = (self.name.clone(), given, self.with_unit(max));
+                return Err(match &self.bench {
+                    Some(b) if b.max => ValueError::AboveBenchLimit {
+                        object,
+                        value,
+                        limit,
+                        origin: b.origin.clone(),
+                    },
+                    _ => ValueError::AboveMax { object, value, limit },
                 });
             }
         }
         if let Some(min) = self.min {
             if rounded < min - tolerance {
-                return Err(ValueError::BelowMin {
-                    object: self.name.clone(),
-                    value: given,
-                    limit: self.with_unit(min),
+                let (object, value, limit) = (self.name.clone(), given, self.with_unit(min));
+                return Err(match &self.bench {
+                    Some(b) if b.min => ValueError::BelowBenchLimit {
+                        object,
+                        value,
+                        limit,
+                        origin: b.origin.clone(),
+                    },
+                    _ => ValueError::BelowMin { object, value, limit },
                 });
             }
         }
@@ -384,6 +418,39 @@ mod tests {
             e.to_string(),
             "-61 krpm (-61000 rpm) is below the minimum of speed_setpoint, -60000 rpm"
         );
+    }
+
+    #[test]
+    fn bench_caps_tighten_and_say_so() {
+        let mut o = speed_setpoint();
+        o.cap_at(6000.0, "limits file /x/drivescript-limits.yaml");
+        assert_eq!((o.min, o.max), (Some(-6000.0), Some(6000.0)));
+        let e = o.to_raw(&Quantity::parse("6500 rpm").unwrap()).unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "6500 rpm exceeds the bench limit 6000 rpm of speed_setpoint (limits file /x/drivescript-limits.yaml)"
+        );
+        let e = o.to_raw(&Quantity::parse("-6.5 krpm").unwrap()).unwrap_err();
+        assert!(
+            e.to_string()
+                .starts_with("-6.5 krpm (-6500 rpm) is below the bench limit -6000 rpm"),
+            "{e}"
+        );
+        assert!(o.to_raw(&Quantity::parse("6000 rpm").unwrap()).is_ok());
+        // A cap wider than the object's own limits changes nothing.
+        let mut o = speed_setpoint();
+        o.cap_at(70000.0, "limits file b.yaml");
+        assert_eq!(
+            (o.min, o.max, o.bench.is_none()),
+            (Some(-60000.0), Some(60000.0), true)
+        );
+        // Only the side the cap tightens is the bench's.
+        let mut o = speed_setpoint();
+        o.min = Some(0.0);
+        o.cap_at(6000.0, "limits file b.yaml");
+        assert_eq!((o.min, o.max), (Some(0.0), Some(6000.0)));
+        let e = o.to_raw(&Quantity::parse("-1 rpm").unwrap()).unwrap_err();
+        assert!(matches!(e, ValueError::BelowMin { .. }), "{e}");
     }
 
     #[test]

@@ -98,9 +98,74 @@ impl Profile {
     }
 }
 
+/// The commands that stop the drive, each with the commands whose bits it must not keep
+/// all of: a stop that keeps every bit of `enable_operation` leaves the drive enabled, one
+/// that keeps every bit of `switch_on` leaves it switched on. The rule uses the profile's
+/// own values, so it holds for any family's control word.
+const STOPS: [(DeviceCommand, &[DeviceCommand]); 4] = [
+    (DeviceCommand::DisableOperation, &[DeviceCommand::EnableOperation]),
+    (
+        DeviceCommand::Shutdown,
+        &[DeviceCommand::EnableOperation, DeviceCommand::SwitchOn],
+    ),
+    (
+        DeviceCommand::QuickStop,
+        &[DeviceCommand::EnableOperation, DeviceCommand::SwitchOn],
+    ),
+    (
+        DeviceCommand::DisableVoltage,
+        &[DeviceCommand::EnableOperation, DeviceCommand::SwitchOn],
+    ),
+];
+
+/// The value of `command` in a command table ordered as [`DeviceCommand::ALL`].
+pub(crate) fn command_in(commands: &[u16; 7], command: DeviceCommand) -> u16 {
+    let i = DeviceCommand::ALL.iter().position(|c| *c == command).unwrap_or(0);
+    commands[i]
+}
+
+/// Stop commands of `commands` that keep every bit of a command they must undo: pairs of
+/// (stop, the command it would keep in force), at most one pair per stop. Commands whose
+/// value is 0 are left out: every value keeps all bits of 0, which the reader reports once.
+pub(crate) fn stops_keeping_power(commands: &[u16; 7]) -> Vec<(DeviceCommand, DeviceCommand)> {
+    let mut found = Vec::new();
+    for (stop, undoes) in STOPS {
+        let value = command_in(commands, stop);
+        let kept = undoes.iter().find(|c| {
+            let bits = command_in(commands, **c);
+            bits != 0 && value & bits == bits
+        });
+        if let Some(kept) = kept {
+            found.push((stop, *kept));
+        }
+    }
+    found
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn stops_must_clear_a_bit_of_what_they_undo() {
+        let defaults = DeviceCommand::ALL.map(DeviceCommand::default_control_word);
+        assert!(stops_keeping_power(&defaults).is_empty());
+        let mut bad = defaults;
+        bad[4] = 15; // disable_operation
+        bad[0] = 7; // shutdown keeps switch_on
+        bad[3] = 0x8F; // quick_stop keeps enable_operation, plus an extra bit
+        assert_eq!(
+            stops_keeping_power(&bad),
+            [
+                (DeviceCommand::DisableOperation, DeviceCommand::EnableOperation),
+                (DeviceCommand::Shutdown, DeviceCommand::SwitchOn),
+                (DeviceCommand::QuickStop, DeviceCommand::EnableOperation),
+            ]
+        );
+        // Another family's bits: enable 0x30, switch on 0x10; stops clearing them pass.
+        let other = [0x01, 0x10, 0x00, 0x02, 0x10, 0x30, 0x80];
+        assert!(stops_keeping_power(&other).is_empty());
+    }
 
     #[test]
     fn defaults_match_the_device_control_table() {

@@ -3,6 +3,8 @@
 //! scale, limits against the type's range, the profile's commands and state table.
 //! Every problem is recorded with its place; reading goes on so a file reports them all.
 //! Cross-entry checks (duplicate names, profile roles) are the validator's. No I/O.
+//! Its field helpers (known keys with did-you-mean, required keys, text) also read the
+//! bench limits file, so both files speak with one voice.
 
 use super::access::Access;
 use super::address::Address;
@@ -11,7 +13,7 @@ use super::dictionary_error::DictionaryError;
 use super::did_you_mean::{did_you_mean, suggestion_text};
 use super::format::Format;
 use super::object_def::ObjectDef;
-use super::profile::{Profile, RoleBinding, StateMask};
+use super::profile::{command_in, stops_keeping_power, Profile, RoleBinding, StateMask};
 use super::role::Role;
 use super::text_span::TextSpan;
 use super::unit::Unit;
@@ -59,12 +61,12 @@ pub(crate) fn read(root: &YamlNode, errors: &mut Vec<DictionaryError>) -> FileCo
     r.document(root)
 }
 
-struct Reader<'e> {
+pub(crate) struct Reader<'e> {
     errors: &'e mut Vec<DictionaryError>,
 }
 
 /// The entries of a mapping whose keys were all known.
-struct Fields<'n> {
+pub(crate) struct Fields<'n> {
     node: &'n YamlNode,
     what: &'static str,
     entries: Vec<(&'n str, &'n YamlNode, &'n YamlNode)>,
@@ -72,7 +74,7 @@ struct Fields<'n> {
 
 impl<'n> Fields<'n> {
     /// The value of `key`, absent when missing or written as nothing (`key:` or `~`).
-    fn get(&self, key: &str) -> Option<&'n YamlNode> {
+    pub(crate) fn get(&self, key: &str) -> Option<&'n YamlNode> {
         self.entries
             .iter()
             .find(|(k, _, v)| *k == key && !v.is_null())
@@ -80,8 +82,13 @@ impl<'n> Fields<'n> {
     }
 }
 
-impl Reader<'_> {
-    fn push(&mut self, e: DictionaryError) {
+impl<'e> Reader<'e> {
+    /// A reader recording problems in `errors`.
+    pub(crate) fn new(errors: &'e mut Vec<DictionaryError>) -> Self {
+        Reader { errors }
+    }
+
+    pub(crate) fn push(&mut self, e: DictionaryError) {
         self.errors.push(e);
     }
 
@@ -130,7 +137,12 @@ impl Reader<'_> {
     }
 
     /// The mapping's entries; unknown keys are reported (with suggestions) and left out.
-    fn fields<'n>(&mut self, node: &'n YamlNode, what: &'static str, allowed: &[&str]) -> Option<Fields<'n>> {
+    pub(crate) fn fields<'n>(
+        &mut self,
+        node: &'n YamlNode,
+        what: &'static str,
+        allowed: &[&str],
+    ) -> Option<Fields<'n>> {
         let NodeKind::Map(entries) = &node.kind else {
             self.push(expected(node, what, "a mapping (`key: value` lines)"));
             return None;
@@ -231,9 +243,22 @@ impl Reader<'_> {
     }
 
     fn number(&mut self, node: &YamlNode, what: &str) -> Option<f64> {
-        match node.kind {
-            NodeKind::Int(i) => Some(i as f64),
-            NodeKind::Float(f) if f.is_finite() => Some(f),
+        match &node.kind {
+            NodeKind::Int(i) => Some(*i as f64),
+            NodeKind::Float(f) if f.is_finite() => Some(*f),
+            // YAML's `.nan`, `.inf` and numbers too large for a float (`1e400`), which the
+            // parser hands over as text.
+            NodeKind::Float(_) | NodeKind::Str(_) if node.is_non_finite_number() => {
+                self.push(
+                    DictionaryError::at(
+                        &node.span,
+                        format!("`{what}` must be a finite number, not `{}`", node.written()),
+                        "not finite",
+                    )
+                    .with_help("write a number such as `60000` or `0.001`"),
+                );
+                None
+            }
             _ => {
                 self.push(expected(node, &format!("`{what}`"), "a number"));
                 None
@@ -546,6 +571,7 @@ impl Reader<'_> {
         let allowed: Vec<&str> = DeviceCommand::ALL.iter().map(|c| c.id()).collect();
         let f = self.fields(node, "the commands", &allowed)?;
         let mut values = [0u16; 7];
+        let mut nodes: [Option<&YamlNode>; 7] = [None; 7];
         let mut complete = true;
         for (i, command) in DeviceCommand::ALL.into_iter().enumerate() {
             let meaning = format!(
@@ -554,13 +580,69 @@ impl Reader<'_> {
             );
             match self.required(&f, command.id(), &meaning) {
                 Some(n) => match self.int(n, command.id(), 0, u16::MAX.into()) {
-                    Some(v) => values[i] = v as u16,
+                    Some(v) => {
+                        values[i] = v as u16;
+                        nodes[i] = Some(n);
+                    }
                     None => complete = false,
                 },
                 None => complete = false,
             }
         }
-        complete.then_some(values)
+        if !complete {
+            return None;
+        }
+        let node_of = |c: DeviceCommand| nodes[DeviceCommand::ALL.iter().position(|x| *x == c).unwrap_or(0)];
+        let before = self.errors.len();
+        for kept in [DeviceCommand::EnableOperation, DeviceCommand::SwitchOn] {
+            if let (0, Some(node)) = (command_in(&values, kept), node_of(kept)) {
+                self.push(
+                    DictionaryError::at(
+                        &node.span,
+                        format!(
+                            "`{}` is 0: it sets no control-word bit, so no stop command could undo it",
+                            kept.id()
+                        ),
+                        "sets no bit",
+                    )
+                    .with_help(format!(
+                        "the SD2 manual's {} is {}",
+                        kept.id(),
+                        kept.default_control_word()
+                    )),
+                );
+            }
+        }
+        for (stop, kept) in stops_keeping_power(&values) {
+            let (Some(node), Some(kept_node)) = (node_of(stop), node_of(kept)) else {
+                continue;
+            };
+            let (v, k) = (command_in(&values, stop), command_in(&values, kept));
+            let state = if kept == DeviceCommand::EnableOperation {
+                "enabled"
+            } else {
+                "switched on"
+            };
+            self.push(
+                DictionaryError::at(
+                    &node.span,
+                    format!(
+                        "`{}` {v} (0x{v:04X}) keeps every bit of `{}` {k} (0x{k:04X}): this stop command would leave the drive {state}",
+                        stop.id(),
+                        kept.id()
+                    ),
+                    "keeps the drive running",
+                )
+                .also_at(&kept_node.span, kept.id())
+                .with_optional_help(Some(format!(
+                    "a stop command must clear at least one bit of `{}`; the SD2 manual's {} is {}",
+                    kept.id(),
+                    stop.id(),
+                    stop.default_control_word()
+                ))),
+            );
+        }
+        (self.errors.len() == before).then_some(values)
     }
 
     fn states(&mut self, node: &YamlNode) -> Option<[StateMask; 8]> {

@@ -782,3 +782,71 @@ fn problems_of_broken_objects_are_all_reported_too() {
     );
     assert_eq!(all[5].2, "`min` 5 is greater than `max` 1");
 }
+
+// ---- issue 9: profiles whose stops keep the drive running; non-finite numbers ----
+
+#[test]
+fn stop_commands_that_keep_the_drive_enabled_are_refused() {
+    let text = SD2.replace("disable_operation: 7", "disable_operation: 15");
+    let e = problem(&text);
+    assert_eq!(at(&e), pos(&text, "15\n    enable_operation"));
+    assert_eq!(
+        e.message,
+        "`disable_operation` 15 (0x000F) keeps every bit of `enable_operation` 15 (0x000F): this stop command would leave the drive enabled"
+    );
+    assert_eq!(e.label(), "keeps the drive running");
+    assert!(
+        e.help.as_deref().unwrap_or("").contains("disable_operation is 7"),
+        "{e:?}"
+    );
+
+    // Shutdown keeping switch_on, quick stop keeping enable_operation (extra bits or not).
+    let text = SD2
+        .replace("shutdown: 6", "shutdown: 0x87")
+        .replace("quick_stop: 2", "quick_stop: 0x10F");
+    let all = problems(&text);
+    assert_eq!(all.len(), 2, "{all:#?}");
+    assert!(
+        all[0]
+            .2
+            .starts_with("`shutdown` 135 (0x0087) keeps every bit of `switch_on` 7"),
+        "{all:#?}"
+    );
+    assert!(
+        all[0].2.ends_with("would leave the drive switched on"),
+        "{all:#?}"
+    );
+    assert!(
+        all[1]
+            .2
+            .starts_with("`quick_stop` 271 (0x010F) keeps every bit of `enable_operation`"),
+        "{all:#?}"
+    );
+
+    let text = SD2.replace("enable_operation: 15", "enable_operation: 0");
+    let e = problem(&text);
+    assert!(e.message.starts_with("`enable_operation` is 0"), "{}", e.message);
+}
+
+#[test]
+fn a_user_profile_cannot_make_the_stops_keep_the_drive_enabled() {
+    let profile = &SD2[SD2.find("profile:").unwrap()..].replace("disable_voltage: 0", "disable_voltage: 15");
+    let user = parse(&format!("family: sd2\nobjects: []\n{profile}"));
+    let e = user.expect_err("refused when read, before merging");
+    assert!(
+        e.message
+            .starts_with("`disable_voltage` 15 (0x000F) keeps every bit"),
+        "{}",
+        e.message
+    );
+}
+
+#[test]
+fn limits_that_are_not_finite_are_refused_as_written() {
+    for (written, value) in [(".inf", ".inf"), ("1e400", "1e400"), (".nan", ".nan")] {
+        let text = object(&format!("    max: {written}\n"));
+        let e = problem(&text);
+        assert_eq!(e.message, format!("`max` must be a finite number, not `{value}`"));
+        assert_eq!(at(&e), pos(&text, written));
+    }
+}

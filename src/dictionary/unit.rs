@@ -22,6 +22,17 @@ pub enum Dimension {
 }
 
 impl Dimension {
+    /// The unit every other unit of this dimension converts through.
+    pub fn base(self) -> Unit {
+        match self {
+            Dimension::Speed => Unit::Rpm,
+            Dimension::Ratio => Unit::Percent,
+            Dimension::Voltage => Unit::Volt,
+            Dimension::Current => Unit::Ampere,
+            Dimension::Time => Unit::Second,
+        }
+    }
+
     pub fn name(self) -> &'static str {
         match self {
             Dimension::Speed => "speed",
@@ -196,5 +207,9 @@ mod tests {
         assert_eq!(Unit::Milliampere.convert(1500.0, Unit::Ampere), Some(1.5));
         assert_eq!(Unit::Rpm.convert(1.0, Unit::Ampere), None);
         assert_eq!(Unit::Percent.convert(3.0, Unit::Percent), Some(3.0));
+        for u in Unit::ALL {
+            assert_eq!(u.dimension().base().factor(), 1.0, "{u}");
+            assert_eq!(u.dimension().base().dimension(), u.dimension());
+        }
     }
 }

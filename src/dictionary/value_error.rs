@@ -1,5 +1,6 @@
 //! Why a value cannot be written to, or read from, an object: not a number, unknown or
-//! wrong unit, outside the object's limits or its type's range, wrong byte count.
+//! wrong unit, outside the object's limits (its own or the bench's) or its type's range,
+//! wrong byte count.
 //! Every message names the object, the limit and the unit. Pure data.
 
 use super::data_type::DataType;
@@ -40,6 +41,23 @@ pub enum ValueError {
         object: String,
         value: String,
         limit: String,
+    },
+
+    #[error("{value} exceeds the bench limit {limit} of {object} ({origin})")]
+    AboveBenchLimit {
+        object: String,
+        value: String,
+        limit: String,
+        /// `limits file /x/drivescript-limits.yaml`
+        origin: String,
+    },
+
+    #[error("{value} is below the bench limit {limit} of {object} ({origin})")]
+    BelowBenchLimit {
+        object: String,
+        value: String,
+        limit: String,
+        origin: String,
     },
 
     #[error("{value} is {counts} counts, outside the range of {object}'s type {data_type}: {range}")]

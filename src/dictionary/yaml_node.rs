@@ -40,15 +40,19 @@ impl YamlNode {
         }
         match yaml_tree::parse(&file.text) {
             Ok(root) => Ok(convert(file, root)),
-            Err(e) if e.span.line > 0 => Err(DictionaryError::at(
-                &text_span(file, e.span),
-                format!("not valid YAML: {}", e.message),
-                "here",
-            )),
-            Err(e) => Err(DictionaryError::unlocated(
-                &file.path,
-                format!("not valid YAML: {}", e.message),
-            )),
+            Err(e) => {
+                let message = if e.over_limit {
+                    e.message
+                } else {
+                    format!("not valid YAML: {}", e.message)
+                };
+                let error = if e.span.line > 0 {
+                    DictionaryError::at(&text_span(file, e.span), message, "here")
+                } else {
+                    DictionaryError::unlocated(&file.path, message)
+                };
+                Err(error.with_optional_help(e.help))
+            }
         }
     }
 
@@ -67,6 +71,24 @@ impl YamlNode {
 
     pub fn is_null(&self) -> bool {
         matches!(self.kind, NodeKind::Null)
+    }
+
+    /// True for a number that is not finite: `.nan`, `.inf`, or `1e400` (too large for a
+    /// float), which the parser hands over as the text `.nan`, `.inf` or `-.inf`.
+    pub fn is_non_finite_number(&self) -> bool {
+        match &self.kind {
+            NodeKind::Float(f) => !f.is_finite(),
+            NodeKind::Str(s) => matches!(s.as_str(), ".nan" | ".inf" | "-.inf" | "+.inf"),
+            _ => false,
+        }
+    }
+
+    /// The node's text as written in the file.
+    pub fn written(&self) -> &str {
+        let text = &self.span.file().text;
+        let start = self.span.offset().min(text.len());
+        let end = (start + self.span.len()).min(text.len());
+        text.get(start..end).unwrap_or_default().trim()
     }
 }
 

@@ -4,11 +4,13 @@
 //! instead of stopping at the first. Never talks to a drive.
 
 use super::condition::{Check, Condition, Predicate, Statistic, Tolerance};
+use super::expansion::{Expansion, OverLimit};
 use super::problem::{Problem, RecipeInvalid, RecipeSource};
 use super::recipe::{Param, Recipe};
 use super::step::{ObjectRef, SetValue, Step, StepKind, StepOrigin};
 use crate::dictionary::{DataType, Dictionary, ObjectDef, Quantity};
 use crate::protocol::device_control::{DeviceCommand, DeviceState};
+use crate::text_file::read_text_file;
 use crate::yaml_tree::{self, Span, Spanned, YamlNode};
 use std::collections::{BTreeMap, HashSet};
 use std::path::{Path, PathBuf};
@@ -26,6 +28,14 @@ pub const DEFAULT_RAMP_EVERY: Duration = Duration::from_millis(100);
 const MAX_INCLUDE_DEPTH: usize = 8;
 /// A ramp of more points than this is almost certainly a typo in its step.
 const MAX_RAMP_POINTS: usize = 100_000;
+/// The longest duration a recipe may give (dwell, timeout, `every`, `for`). Run-ins last
+/// hours or days, not years; anything longer is a typo in the number or the unit, and the
+/// cap keeps every sum of durations the run makes far from overflowing.
+pub const MAX_DURATION: Duration = Duration::from_secs(1000 * 24 * 3600);
+/// Most samples one `sample` step may take (`for` / `every` + 1). Each is kept in memory
+/// for the statistics and the plots (16 bytes per object), and the runner counts them in
+/// a `u32`; a million is 28 h at 100 ms.
+pub const MAX_SAMPLES: u64 = 1_000_000;
 
 const TOP_KEYS: &[&str] = &[
     "name",
@@ -58,21 +68,24 @@ pub fn load_recipe(
     overrides: &[(String, String)],
 ) -> Result<Recipe, RecipeInvalid> {
     let shown = path.display().to_string();
-    let text = match std::fs::read_to_string(path) {
+    let text = match read_text_file(path) {
         Ok(t) => t,
         Err(e) => {
             let source = RecipeSource {
                 path: shown.clone(),
                 text: Arc::from(""),
             };
+            let help = e.help().unwrap_or_else(|| {
+                "check the path; recipes are YAML files such as recipes/commissioning.yaml".into()
+            });
             return Err(RecipeInvalid {
-                path: shown,
+                path: shown.clone(),
                 problems: vec![Problem::new(
                     &source,
                     Span::default(),
-                    format!("cannot read the recipe: {e}"),
+                    e.sentence(&format!("the recipe {shown}")),
                     "",
-                    Some("check the path; recipes are YAML files such as recipes/commissioning.yaml".into()),
+                    Some(help),
                 )],
             });
         }
@@ -95,6 +108,7 @@ pub fn load_recipe_text(
     overrides: &[(String, String)],
 ) -> Result<Recipe, RecipeInvalid> {
     let mut problems = Vec::new();
+    let mut expansion = Expansion::default();
     let source = Arc::new(RecipeSource {
         path: path.to_string(),
         text: Arc::from(text),
@@ -104,6 +118,7 @@ pub fn load_recipe_text(
             dict: dictionary,
             source: source.clone(),
             problems: &mut problems,
+            expansion: &mut expansion,
             params: BTreeMap::new(),
             sampled: HashSet::new(),
             base_dir: base_dir.to_path_buf(),
@@ -137,6 +152,8 @@ struct Loader<'a, 'p> {
     dict: &'a Dictionary,
     source: Arc<RecipeSource>,
     problems: &'p mut Vec<Problem>,
+    /// Included files and steps so far, over every level of includes.
+    expansion: &'p mut Expansion,
     params: BTreeMap<String, ParamValue>,
     /// Objects sampled so far in file order, for `expect` on statistics.
     sampled: HashSet<String>,
@@ -158,6 +175,10 @@ impl Loader<'_, '_> {
             .push(Problem::new(&self.source, span, message, label, help));
     }
 
+    fn over_limit(&mut self, span: Span, over: OverLimit) {
+        self.problem(span, over.message, over.label, Some(over.help));
+    }
+
     fn origin(&self, span: Span) -> StepOrigin {
         StepOrigin {
             path: self.source.path.clone(),
@@ -169,6 +190,10 @@ impl Loader<'_, '_> {
     fn recipe(&mut self, text: &str, overrides: &[(String, String)]) -> Option<Recipe> {
         let root = match yaml_tree::parse(text) {
             Ok(r) => r,
+            Err(e) if e.over_limit => {
+                self.problem(e.span, e.message, "here", e.help);
+                return None;
+            }
             Err(e) => {
                 self.problem(
                     e.span,
@@ -389,6 +414,35 @@ impl Loader<'_, '_> {
         self.substitute(&raw, node.span)
     }
 
+    /// Refuses a number that YAML reads as not finite (`.nan`, `.inf`, `1e400`), naming it
+    /// as written; true when it was refused.
+    fn not_finite(&mut self, node: &Spanned<YamlNode>) -> bool {
+        let refused = match &node.value {
+            YamlNode::Float(f) => !f.is_finite(),
+            // How the parser hands over YAML's non-finite numbers (see `yaml_tree::parse`).
+            YamlNode::Str(s) => matches!(s.as_str(), ".nan" | ".inf" | "-.inf" | "+.inf"),
+            _ => false,
+        };
+        if refused {
+            let written = self.written(node.span);
+            self.problem(
+                node.span,
+                format!("`{written}` is not a finite number"),
+                "not finite",
+                Some("write a number such as `6000 rpm`, `1 %` or `0.5 A`".into()),
+            );
+        }
+        refused
+    }
+
+    /// The text under `span` as written in the file.
+    fn written(&self, span: Span) -> String {
+        let text = &self.source.text;
+        let start = span.offset.min(text.len());
+        let end = (start + span.len).min(text.len());
+        text.get(start..end).unwrap_or_default().trim().to_string()
+    }
+
     /// Text that takes no parameters (names, descriptions).
     fn plain_text(&mut self, node: &Spanned<YamlNode>) -> Option<String> {
         match node.value.as_text() {
@@ -472,6 +526,19 @@ impl Loader<'_, '_> {
                 );
                 None
             }
+            Ok(d) if d > MAX_DURATION => {
+                self.problem(
+                    node.span,
+                    format!(
+                        "{what}: `{}` is longer than {} days, the longest duration a recipe may give",
+                        text.trim(),
+                        MAX_DURATION.as_secs() / (24 * 3600)
+                    ),
+                    "too long",
+                    Some("check the number and the unit; repeat a shorter step for a longer run".into()),
+                );
+                None
+            }
             Ok(d) => Some(d),
             Err(e) => {
                 self.problem(
@@ -534,6 +601,9 @@ impl Loader<'_, '_> {
     /// A number for `def` in its engineering unit; `check_limits` also refuses values
     /// outside the object's limits and type (for writes).
     fn number_for(&mut self, def: &ObjectDef, node: &Spanned<YamlNode>, check_limits: bool) -> Option<f64> {
+        if self.not_finite(node) {
+            return None;
+        }
         let text = self.text(node)?;
         let q = match Quantity::parse(&text) {
             Ok(q) => q,
@@ -556,6 +626,15 @@ impl Loader<'_, '_> {
         match (q.unit, def.unit) {
             (None, _) => Some(q.value),
             (Some(u), Some(own)) => match u.convert(q.value, own) {
+                Some(v) if !v.is_finite() => {
+                    self.problem(
+                        node.span,
+                        format!("{}: `{text}` is too large to be a number of {own}", def.name),
+                        "too large",
+                        None,
+                    );
+                    None
+                }
                 Some(v) => Some(v),
                 None => {
                     self.problem(
@@ -581,7 +660,21 @@ impl Loader<'_, '_> {
 
     fn steps(&mut self, node: &Spanned<YamlNode>) -> Vec<Step> {
         match &node.value {
-            YamlNode::Seq(items) => items.iter().filter_map(|i| self.step(i)).collect(),
+            YamlNode::Seq(items) => {
+                let mut steps = Vec::new();
+                let mut longest = Duration::ZERO;
+                for item in items {
+                    let Some(step) = self.step(item) else {
+                        continue;
+                    };
+                    longest = longest.saturating_add(step.longest_time());
+                    if let Err(over) = self.expansion.longest_time(longest) {
+                        self.over_limit(item.span, over);
+                    }
+                    steps.push(step);
+                }
+                steps
+            }
             YamlNode::Null => Vec::new(),
             other => {
                 self.problem(
@@ -599,6 +692,13 @@ impl Loader<'_, '_> {
     }
 
     fn step(&mut self, node: &Spanned<YamlNode>) -> Option<Step> {
+        if self.expansion.is_over() {
+            return None;
+        }
+        if let Err(over) = self.expansion.step() {
+            self.over_limit(node.span, over);
+            return None;
+        }
         let origin = self.origin(node.span);
         match &node.value {
             YamlNode::Str(word) => {
@@ -976,11 +1076,14 @@ impl Loader<'_, '_> {
     }
 
     fn tolerance(&mut self, def: &ObjectDef, node: &Spanned<YamlNode>) -> Option<Tolerance> {
+        if self.not_finite(node) {
+            return None;
+        }
         let text = self.text(node)?;
         let t = text.trim();
         if let Some(p) = t.strip_suffix('%') {
             return match p.trim().parse::<f64>() {
-                Ok(v) if v >= 0.0 => Some(Tolerance::Percent(v)),
+                Ok(v) if v.is_finite() && v >= 0.0 => Some(Tolerance::Percent(v)),
                 _ => {
                     self.problem(
                         node.span,
@@ -1095,6 +1198,24 @@ impl Loader<'_, '_> {
                 ),
                 "longer than `for`",
                 None,
+            );
+            return None;
+        }
+        let samples = duration.as_nanos() / every.as_nanos() + 1;
+        if samples > u128::from(MAX_SAMPLES) {
+            let at = self.get(entries, "every").map(|n| n.span).unwrap_or(body.span);
+            self.problem(
+                at,
+                format!(
+                    "sampling every {} for {} takes {samples} samples, more than {MAX_SAMPLES}",
+                    show_duration(every),
+                    show_duration(duration)
+                ),
+                "too often for so long",
+                Some(
+                    "sample less often (a larger `every`), or split the time into several sample steps"
+                        .into(),
+                ),
             );
             return None;
         }
@@ -1250,6 +1371,15 @@ impl Loader<'_, '_> {
             }
         };
         let (from, to, every, step_size) = (from?, to?, every?, step_size?);
+        if !step_size.is_finite() {
+            self.problem(
+                body.span,
+                "the ramp's step or rate is too large to be a number",
+                "not finite",
+                None,
+            );
+            return None;
+        }
         if step_size <= 0.0 {
             self.problem(
                 body.span,
@@ -1365,6 +1495,16 @@ impl Loader<'_, '_> {
             return None;
         }
         let steps = self.steps(self.get(entries, "steps")?);
+        if duration.is_some() && !steps.iter().any(Step::takes_time) {
+            let at = self.get(entries, "for").map(|n| n.span).unwrap_or(body.span);
+            self.problem(
+                at,
+                "`repeat` with `for` needs a step that takes time (a wait, dwell, sample, ramp or drive access); these steps take none, so it would never end",
+                "nothing takes time",
+                Some("use `times` to repeat them a number of times".into()),
+            );
+            return None;
+        }
         let label = match (times, duration) {
             (Some(t), _) => format!("repeat {t} times ({} steps)", steps.len()),
             (_, Some(d)) => format!("repeat for {} ({} steps)", show_duration(d), steps.len()),
@@ -1381,6 +1521,9 @@ impl Loader<'_, '_> {
     }
 
     fn include(&mut self, body: &Spanned<YamlNode>) -> Option<(StepKind, String)> {
+        if self.expansion.is_over() {
+            return None;
+        }
         let (file_node, params_node) = match &body.value {
             YamlNode::Map(entries) => {
                 self.check_keys(entries, &["file", "params"], &["file"], body.span, "include");
@@ -1415,14 +1558,21 @@ impl Loader<'_, '_> {
             );
             return None;
         }
-        let text = match std::fs::read_to_string(&path) {
+        if let Err(over) = self.expansion.load() {
+            self.over_limit(file_node.span, over);
+            return None;
+        }
+        let text = match read_text_file(&path) {
             Ok(t) => t,
             Err(e) => {
+                let help = e
+                    .help()
+                    .unwrap_or_else(|| "include paths are relative to the including recipe".into());
                 self.problem(
                     file_node.span,
-                    format!("cannot read {}: {e}", path.display()),
+                    e.sentence(&format!("the included file {}", path.display())),
                     "included file",
-                    Some("include paths are relative to the including recipe".into()),
+                    Some(help),
                 );
                 return None;
             }
@@ -1451,6 +1601,7 @@ impl Loader<'_, '_> {
                 dict: self.dict,
                 source,
                 problems: self.problems,
+                expansion: self.expansion,
                 params: BTreeMap::new(),
                 sampled: self.sampled.clone(),
                 base_dir: path.parent().map(Path::to_path_buf).unwrap_or_default(),
@@ -1512,9 +1663,13 @@ pub fn show_duration(d: Duration) -> String {
 
 fn limits_help(def: &ObjectDef) -> Option<String> {
     let unit = def.unit.map(|u| format!(" {}", u.symbol())).unwrap_or_default();
+    let bench = match def.bench {
+        Some(_) => " on this bench; only the limits file can raise a bench limit (not the recipe, --set or a dictionary)",
+        None => "",
+    };
     match (def.min, def.max) {
         (Some(lo), Some(hi)) => Some(format!(
-            "{} accepts {}{unit} to {}{unit}",
+            "{} accepts {}{unit} to {}{unit}{bench}",
             def.name,
             super::condition::number(lo),
             super::condition::number(hi)

@@ -3,6 +3,7 @@
 //! drive API. Knows nothing about bytes or ports.
 
 mod condition;
+mod expansion;
 mod loader;
 mod problem;
 mod recipe;
@@ -13,7 +14,8 @@ mod schema;
 mod step;
 
 pub use condition::{number, Check, Condition, Predicate, Statistic, Stats, Tolerance};
-pub use loader::{load_recipe, load_recipe_text, show_duration};
+pub use expansion::{MAX_EXPANDED_STEPS, MAX_INCLUDE_LOADS, MAX_RUN_TIME};
+pub use loader::{load_recipe, load_recipe_text, show_duration, MAX_DURATION, MAX_SAMPLES};
 pub use problem::{Problem, RecipeInvalid, RecipeSource};
 pub use recipe::{Param, Recipe};
 pub use run_observer::{Observers, RunObserver};

@@ -51,6 +51,13 @@ pub struct Step {
     pub label: String,
 }
 
+/// The longest a list of steps can take (see [`Step::longest_time`]).
+pub fn longest_time_of(steps: &[Step]) -> Duration {
+    steps
+        .iter()
+        .fold(Duration::ZERO, |sum, s| sum.saturating_add(s.longest_time()))
+}
+
 #[derive(Debug, Clone, PartialEq)]
 pub enum StepKind {
     /// Write one device-control command to the control word.
@@ -100,6 +107,55 @@ pub enum StepKind {
 }
 
 impl Step {
+    /// The longest this step can take: every timeout in full, a repeat's steps multiplied
+    /// out, telegram times left aside; saturating. The loader bounds it so that no sum of
+    /// times in a run can overflow.
+    pub fn longest_time(&self) -> Duration {
+        match &self.kind {
+            StepKind::Command(_)
+            | StepKind::Set(_)
+            | StepKind::Read(_)
+            | StepKind::Print(_)
+            | StepKind::Expect(_) => Duration::ZERO,
+            // Each transition has its own timeout; no walk has more transitions than states.
+            StepKind::GoTo { timeout, .. } => timeout.saturating_mul(DeviceState::ALL.len() as u32),
+            StepKind::WaitUntil { timeout, every, .. } => timeout.saturating_add(*every),
+            StepKind::Dwell(d) => *d,
+            StepKind::Sample { every, duration, .. } => duration.saturating_add(*every),
+            StepKind::Ramp { points, every, .. } => {
+                every.saturating_mul(u32::try_from(points.len()).unwrap_or(u32::MAX))
+            }
+            StepKind::Repeat {
+                times,
+                duration,
+                steps,
+            } => {
+                let once = longest_time_of(steps);
+                match (times, duration) {
+                    (Some(t), _) => once.saturating_mul(*t),
+                    // The last pass starts just before the time is up and runs to its end.
+                    (_, Some(d)) => d.saturating_add(once),
+                    _ => Duration::ZERO,
+                }
+            }
+            StepKind::Include { steps, .. } => longest_time_of(steps),
+            StepKind::Standstill { timeout, .. } => *timeout,
+        }
+    }
+
+    /// True when time passes while the step runs (it waits or talks to the drive). A
+    /// `repeat` with `for` needs one such step, or it would never end in virtual time.
+    pub fn takes_time(&self) -> bool {
+        match &self.kind {
+            StepKind::Print(_) => false,
+            StepKind::Expect(checks) => checks.iter().any(|c| c.statistic.is_none()),
+            StepKind::Repeat { steps, .. } | StepKind::Include { steps, .. } => {
+                steps.iter().any(Step::takes_time)
+            }
+            _ => true,
+        }
+    }
+
     /// True for steps that take time and should show progress.
     pub fn is_long(&self) -> bool {
         matches!(

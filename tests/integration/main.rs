@@ -1,10 +1,12 @@
 //! The one integration test binary: golden vectors, the command line end to end, and
 //! (later) the data-driven recipe cases under `tests/cases/`.
 
+mod bench_limits;
 mod decode_cli;
 mod drive_sim;
 mod end_to_end;
 mod examples;
+mod loader_limits;
 mod outputs;
 mod recipe_cases;
 mod safety;

@@ -1,0 +1,153 @@
+//! Reads the text files drivescript is given (recipes, included files, dictionaries, bench
+//! limits) with a size limit that holds before the file is read whole, so a wrong path such
+//! as `/dev/zero` or a huge generated file cannot fill the memory. Only reads bytes and
+//! checks they are UTF-8; it must not know what the text means or how it is shown.
+
+use std::fs::File;
+use std::io::Read;
+use std::path::Path;
+
+/// The most drivescript reads from one recipe, included file, dictionary or limits file.
+/// The largest real ones are a few tens of kilobytes; 8 MiB leaves room for generated
+/// recipes while keeping a mistaken path from costing more than a moment and a few MiB.
+pub const MAX_TEXT_FILE_BYTES: u64 = 8 * 1024 * 1024;
+
+/// Why a text file was not read.
+#[derive(Debug, thiserror::Error)]
+pub enum TextFileError {
+    /// Opening or reading failed (missing file, no permission, …).
+    #[error("{0}")]
+    Io(std::io::Error),
+    /// Larger than [`MAX_TEXT_FILE_BYTES`].
+    #[error("larger than {}", limit_text())]
+    TooLarge,
+    /// A directory, device or socket: `a directory`, `a device`, `a socket`.
+    #[error("{0}, not a file")]
+    NotAFile(&'static str),
+    /// Bytes that are not UTF-8 (a binary file, or text saved in another encoding).
+    #[error("not UTF-8 text")]
+    NotUtf8,
+}
+
+impl TextFileError {
+    /// One sentence naming the file as `what` (`the recipe x.yaml`, `the dictionary file`).
+    pub fn sentence(&self, what: &str) -> String {
+        match self {
+            TextFileError::Io(e) => format!("cannot read {what}: {e}"),
+            TextFileError::TooLarge => format!(
+                "{what} is larger than {}, the limit for one recipe, included file, dictionary or limits file",
+                limit_text()
+            ),
+            TextFileError::NotAFile(kind) => format!("{what} is {kind}, not a file"),
+            TextFileError::NotUtf8 => format!("{what} is not UTF-8 text"),
+        }
+    }
+
+    /// What to do about it; `None` for I/O errors, whose help depends on the caller.
+    pub fn help(&self) -> Option<String> {
+        match self {
+            TextFileError::Io(_) => None,
+            TextFileError::TooLarge => Some(
+                "check that the path names the file you meant (recipes and dictionaries are a few kilobytes of YAML); split a generated recipe into included files"
+                    .into(),
+            ),
+            TextFileError::NotAFile(_) => Some("give the path of a YAML file".into()),
+            TextFileError::NotUtf8 => Some("save the file as UTF-8 text".into()),
+        }
+    }
+}
+
+fn limit_text() -> String {
+    format!("{} MiB", MAX_TEXT_FILE_BYTES / (1024 * 1024))
+}
+
+/// Reads `path` as UTF-8 text of at most [`MAX_TEXT_FILE_BYTES`]. Directories, devices and
+/// sockets are refused before reading; pipes (`<(…)`) are read up to the limit, since their
+/// size is not known in advance (and `/dev/zero`-like sources report size 0).
+pub fn read_text_file(path: &Path) -> Result<String, TextFileError> {
+    let file = File::open(path).map_err(TextFileError::Io)?;
+    let meta = file.metadata().map_err(TextFileError::Io)?;
+    if let Some(kind) = not_a_file(&meta.file_type()) {
+        return Err(TextFileError::NotAFile(kind));
+    }
+    if meta.is_file() && meta.len() > MAX_TEXT_FILE_BYTES {
+        return Err(TextFileError::TooLarge);
+    }
+    read_bounded(file, MAX_TEXT_FILE_BYTES)
+}
+
+/// Reads at most `limit` bytes of `source` as text; more is [`TextFileError::TooLarge`].
+fn read_bounded(source: impl Read, limit: u64) -> Result<String, TextFileError> {
+    let mut bytes = Vec::new();
+    source
+        .take(limit.saturating_add(1))
+        .read_to_end(&mut bytes)
+        .map_err(TextFileError::Io)?;
+    if bytes.len() as u64 > limit {
+        return Err(TextFileError::TooLarge);
+    }
+    String::from_utf8(bytes).map_err(|_| TextFileError::NotUtf8)
+}
+
+fn not_a_file(file_type: &std::fs::FileType) -> Option<&'static str> {
+    if file_type.is_dir() {
+        return Some("a directory");
+    }
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::FileTypeExt;
+        if file_type.is_char_device() || file_type.is_block_device() {
+            return Some("a device");
+        }
+        if file_type.is_socket() {
+            return Some("a socket");
+        }
+    }
+    None
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn reads_small_files_and_refuses_what_is_not_a_file() {
+        let dir = std::env::temp_dir().join(format!("drivescript-text-file-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("r.yaml");
+        std::fs::write(&path, "name: x\n").unwrap();
+        assert_eq!(read_text_file(&path).unwrap(), "name: x\n");
+        assert!(matches!(
+            read_text_file(&dir),
+            Err(TextFileError::NotAFile("a directory"))
+        ));
+        assert!(matches!(
+            read_text_file(&dir.join("missing.yaml")),
+            Err(TextFileError::Io(_))
+        ));
+        std::fs::write(&path, [0xff, 0xfe, 0x00]).unwrap();
+        assert!(matches!(read_text_file(&path), Err(TextFileError::NotUtf8)));
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn devices_are_refused_before_reading() {
+        let e = read_text_file(Path::new("/dev/zero")).unwrap_err();
+        assert_eq!(
+            e.sentence("the recipe /dev/zero"),
+            "the recipe /dev/zero is a device, not a file"
+        );
+    }
+
+    #[test]
+    fn an_endless_source_stops_at_the_limit() {
+        let e = read_bounded(std::io::repeat(b'a'), 1000).unwrap_err();
+        assert!(matches!(e, TextFileError::TooLarge));
+        assert_eq!(read_bounded(&b"abc"[..], 3).unwrap(), "abc");
+        assert_eq!(
+            TextFileError::TooLarge.sentence("the recipe x.yaml"),
+            "the recipe x.yaml is larger than 8 MiB, the limit for one recipe, included file, dictionary or limits file"
+        );
+    }
+}
