@@ -7,7 +7,9 @@ use super::COMMUNICATION;
 use super::{panic_notice, stop_signals, INVALID, PASSED};
 use crate::clock::SharedClock;
 use crate::dictionary::Quantity;
-use crate::recipe::{load_recipe, Observers, Recipe, RecipeInvalid, RunReport, Runner, SafeStopSettings};
+use crate::recipe::{
+    load_recipe, Observers, Recipe, RecipeInvalid, RunReport, Runner, SafeStopChoice, SafeStopSettings,
+};
 use crate::report::{
     write_html, write_html_unfinished, write_junit, write_junit_unfinished, ConsoleReporter, CsvRecorder,
     ProgressReporter, TelegramFanOut, TraceWriter,
@@ -69,26 +71,38 @@ pub struct RunArgs {
 pub struct SafeStopArgs {
     /// How long the default safe stop waits, setpoint at 0, for standstill before it
     /// disables the drive [default: 60s].
-    #[arg(long, value_name = "DURATION", value_parser = parse_duration)]
+    #[arg(long, value_name = "DURATION", value_parser = parse_stop_duration)]
     pub stop_timeout: Option<std::time::Duration>,
     /// Speeds within ± this count as standstill [default: 10rpm].
     #[arg(long, value_name = "SPEED", value_parser = parse_speed)]
     pub standstill: Option<Quantity>,
     /// How long to keep trying to reopen a lost port to deliver the safe stop [default: 10s].
-    #[arg(long, value_name = "DURATION", value_parser = parse_duration)]
+    #[arg(long, value_name = "DURATION", value_parser = parse_stop_duration)]
     pub reconnect_timeout: Option<std::time::Duration>,
 }
 
 impl SafeStopArgs {
-    /// The defaults with the command line's choices on top.
-    pub fn settings(&self) -> SafeStopSettings {
+    /// The command line's choices on top of the recipe's, on top of the defaults.
+    pub fn settings(&self, recipe: &SafeStopChoice) -> SafeStopSettings {
         let d = SafeStopSettings::default();
         SafeStopSettings {
-            standstill_timeout: self.stop_timeout.unwrap_or(d.standstill_timeout),
-            standstill: self.standstill.unwrap_or(d.standstill),
+            standstill_timeout: self
+                .stop_timeout
+                .or(recipe.timeout)
+                .unwrap_or(d.standstill_timeout),
+            standstill: self.standstill.or(recipe.standstill).unwrap_or(d.standstill),
             reconnect_timeout: self.reconnect_timeout.unwrap_or(d.reconnect_timeout),
         }
     }
+}
+
+/// A safe-stop wait from the command line: at least a millisecond, at most a day.
+fn parse_stop_duration(text: &str) -> Result<std::time::Duration, String> {
+    let d = parse_duration(text)?;
+    if d.is_zero() || d > std::time::Duration::from_secs(24 * 3600) {
+        return Err(format!("`{text}`: give a duration between 1ms and 24h"));
+    }
+    Ok(d)
 }
 
 fn parse_speed(text: &str) -> Result<Quantity, String> {
@@ -198,7 +212,7 @@ pub fn run(args: &RunArgs) -> i32 {
         outputs: &args.outputs,
         prepare_simulator: None,
         stop: stop.clone(),
-        safe_stop: args.safe_stop.settings(),
+        safe_stop: args.safe_stop.clone(),
         terminal: std::io::stdout().is_terminal(),
     };
     let mut stdout = std::io::stdout();
@@ -224,8 +238,8 @@ pub struct RunRequest<'a> {
     pub prepare_simulator: Option<&'a PrepareSimulator>,
     /// Stop requests (signals, or scheduled by tests).
     pub stop: Arc<StopRequests>,
-    /// How the safe stop waits for standstill and reopens a lost port.
-    pub safe_stop: SafeStopSettings,
+    /// The command line's choices for the safe stop (over the recipe's and the defaults).
+    pub safe_stop: SafeStopArgs,
     /// Whether standard output is a terminal (live progress).
     pub terminal: bool,
 }
@@ -341,7 +355,7 @@ pub fn run_recipe(request: &RunRequest, out: &mut dyn Write, err: &mut dyn Write
         }
         Runner::new(&mut open.drive, &mut observers, &request.stop, &recipe)
             .with_output_dir(request.output_dir.clone())
-            .with_settings(request.safe_stop)
+            .with_settings(request.safe_stop.settings(&recipe.safe_stop))
             .run(&recipe)
     };
     if let Some(e) = csv.as_ref().and_then(|c| c.error()) {

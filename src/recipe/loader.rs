@@ -6,9 +6,9 @@
 use super::condition::{Check, Condition, Predicate, Statistic, Tolerance};
 use super::expansion::{Expansion, OverLimit};
 use super::problem::{Problem, RecipeInvalid, RecipeSource};
-use super::recipe::{Param, Recipe};
+use super::recipe::{Param, Recipe, SafeStopChoice};
 use super::step::{ObjectRef, SetValue, Step, StepKind, StepOrigin};
-use crate::dictionary::{DataType, Dictionary, ObjectDef, Quantity};
+use crate::dictionary::{DataType, Dictionary, Dimension, ObjectDef, Quantity};
 use crate::protocol::device_control::{DeviceCommand, DeviceState};
 use crate::text_file::read_text_file;
 use crate::yaml_tree::{self, Span, Spanned, YamlNode};
@@ -46,6 +46,7 @@ const TOP_KEYS: &[&str] = &[
     "finally",
     "on_fault",
     "leave_enabled",
+    "safe_stop",
 ];
 const STEP_KEYS: &[&str] = &[
     "go_to",
@@ -236,6 +237,10 @@ impl Loader<'_, '_> {
             },
             None => false,
         };
+        let safe_stop = self
+            .get(entries, "safe_stop")
+            .map(|n| self.safe_stop(n))
+            .unwrap_or_default();
         let params = self.params_section(self.get(entries, "params"), overrides);
         let steps = match self.get(entries, "steps") {
             Some(n) => self.steps(n),
@@ -256,7 +261,39 @@ impl Loader<'_, '_> {
             finally,
             on_fault,
             leave_enabled,
+            safe_stop,
         })
+    }
+
+    /// `safe_stop: { timeout: 2 min, standstill: 20 rpm }`.
+    fn safe_stop(&mut self, node: &Spanned<YamlNode>) -> SafeStopChoice {
+        let mut choice = SafeStopChoice::default();
+        let Some(entries) = self.map(
+            node,
+            "safe_stop",
+            "safe_stop: { timeout: 2 min, standstill: 20 rpm }",
+        ) else {
+            return choice;
+        };
+        self.check_keys(entries, &["timeout", "standstill"], &[], node.span, "safe_stop");
+        if let Some(n) = self.get(entries, "timeout") {
+            choice.timeout = self.duration(n, "safe_stop timeout");
+        }
+        if let Some(n) = self.get(entries, "standstill") {
+            let text = self.text(n).unwrap_or_default();
+            match Quantity::parse(&text) {
+                Ok(q) if q.unit.is_some_and(|u| u.dimension() == Dimension::Speed) && q.value >= 0.0 => {
+                    choice.standstill = Some(q)
+                }
+                _ => self.problem(
+                    n.span,
+                    format!("safe_stop standstill: `{}` is not a speed", text.trim()),
+                    "expected a speed",
+                    Some("write a speed of 0 or more with its unit, e.g. `10 rpm`".to_string()),
+                ),
+            }
+        }
+        choice
     }
 
     fn get<'n>(&self, entries: &'n Entries, key: &str) -> Option<&'n Spanned<YamlNode>> {

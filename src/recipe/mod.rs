@@ -17,7 +17,7 @@ pub use condition::{number, Check, Condition, Predicate, Statistic, Stats, Toler
 pub use expansion::{MAX_EXPANDED_STEPS, MAX_INCLUDE_LOADS, MAX_RUN_TIME};
 pub use loader::{load_recipe, load_recipe_text, show_duration, MAX_DURATION, MAX_SAMPLES};
 pub use problem::{Problem, RecipeInvalid, RecipeSource};
-pub use recipe::{Param, Recipe};
+pub use recipe::{Param, Recipe, SafeStopChoice};
 pub use run_observer::{Observers, RunObserver};
 pub use run_report::{CheckResult, RunReport, Series, StepRecord, Verdict};
 pub use runner::{default_finally_steps, Runner, SafeStopSettings};

@@ -2,6 +2,17 @@
 //! steps end (`finally`) or the drive faults (`on_fault`).
 
 use super::step::Step;
+use crate::dictionary::Quantity;
+use std::time::Duration;
+
+/// The recipe's own choices for the safe stop (`safe_stop:`); the command line's win.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct SafeStopChoice {
+    /// How long the default safe stop waits for standstill.
+    pub timeout: Option<Duration>,
+    /// Speeds within ± this count as standstill.
+    pub standstill: Option<Quantity>,
+}
 
 /// A parameter as it was finally resolved (declared default or `--set`).
 #[derive(Debug, Clone, PartialEq)]
@@ -28,4 +39,5 @@ pub struct Recipe {
     /// After a successful run, leave the drive as the steps left it (e.g. a spindle that is
     /// meant to keep turning). Every other ending still stops the drive.
     pub leave_enabled: bool,
+    pub safe_stop: SafeStopChoice,
 }

@@ -169,7 +169,16 @@ pub fn recipe_schema(dictionary: &Dictionary) -> Value {
             "steps": { "$ref": "#/$defs/steps" },
             "finally": { "$ref": "#/$defs/steps" },
             "on_fault": { "$ref": "#/$defs/steps" },
-            "leave_enabled": { "type": "boolean" }
+            "leave_enabled": { "type": "boolean" },
+            "safe_stop": {
+                "type": "object",
+                "description": "The default safe stop: how long to wait for standstill (setpoint 0) before disabling, and what counts as standstill",
+                "additionalProperties": false,
+                "properties": {
+                    "timeout": { "$ref": "#/$defs/duration" },
+                    "standstill": { "type": "string", "examples": ["10 rpm"] }
+                }
+            }
         },
         "$defs": {
             "duration": duration,

@@ -245,6 +245,7 @@ mod tests {
             finally: None,
             on_fault: Vec::new(),
             leave_enabled: false,
+            safe_stop: Default::default(),
         }
     }
 

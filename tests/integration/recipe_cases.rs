@@ -19,10 +19,9 @@
 //!
 //! Every case runs in-process against the simulated drive in virtual time.
 
-use drivescript::cli::{run_recipe, ConnectionArgs, DictionaryArgs, OutputArgs, RunRequest};
+use drivescript::cli::{run_recipe, ConnectionArgs, DictionaryArgs, OutputArgs, RunRequest, SafeStopArgs};
 use drivescript::clock::SharedClock;
 use drivescript::protocol::device_control::DeviceCommand;
-use drivescript::recipe::SafeStopSettings;
 use drivescript::stop_request::{StopRequests, StopSignal};
 use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex, PoisonError};
@@ -120,14 +119,10 @@ fn run_case(dir: &Path) -> Result<(), String> {
     {
         stop.schedule(duration(at), signal);
     }
-    let mut safe_stop = SafeStopSettings::default();
+    let mut safe_stop = SafeStopArgs::default();
     if let Some(s) = &case.safe_stop {
-        if let Some(t) = &s.stop_timeout {
-            safe_stop.standstill_timeout = duration(t);
-        }
-        if let Some(t) = &s.reconnect_timeout {
-            safe_stop.reconnect_timeout = duration(t);
-        }
+        safe_stop.stop_timeout = s.stop_timeout.as_deref().map(duration);
+        safe_stop.reconnect_timeout = s.reconnect_timeout.as_deref().map(duration);
     }
     let sim_setup = case.sim.unwrap_or_default();
     let prepare = move |sim: &Arc<Mutex<drivescript::sim::Sd2Simulator>>, _clock: &SharedClock| {

@@ -4,11 +4,12 @@
 //! killed beyond any safe stop, which must leave a report that says so.
 
 use crate::support::repo_root;
-use drivescript::cli::{run_recipe, ConnectionArgs, DictionaryArgs, OutputArgs, RunRequest, RunResult};
+use drivescript::cli::{
+    run_recipe, ConnectionArgs, DictionaryArgs, OutputArgs, RunRequest, RunResult, SafeStopArgs,
+};
 use drivescript::clock::SharedClock;
 use drivescript::protocol::device_control::DeviceState;
 use drivescript::protocol::sd2::{Body, Telegram};
-use drivescript::recipe::SafeStopSettings;
 use drivescript::sim::Sd2Simulator;
 use drivescript::stop_request::{StopRequests, StopSignal};
 use std::path::{Path, PathBuf};
@@ -68,7 +69,7 @@ fn run_in_process(
         outputs: &outputs,
         prepare_simulator: Some(&prepare),
         stop,
-        safe_stop: SafeStopSettings::default(),
+        safe_stop: SafeStopArgs::default(),
         terminal: false,
     };
     let (mut out, mut err) = (Vec::new(), Vec::new());
@@ -498,7 +499,7 @@ steps:
             outputs: &outputs,
             prepare_simulator: None,
             stop: Arc::new(StopRequests::new()),
-            safe_stop: SafeStopSettings::default(),
+            safe_stop: SafeStopArgs::default(),
             terminal: false,
         };
         let (mut out, mut err) = (Vec::new(), Vec::new());
