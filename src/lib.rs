@@ -19,6 +19,7 @@ pub mod link;
 pub mod protocol;
 pub mod recipe;
 pub mod report;
+pub mod session;
 pub mod sim;
 pub mod sim_server;
 pub mod stop_request;

@@ -5,7 +5,7 @@
 
 use super::role::Role;
 use super::text_span::TextSpan;
-use crate::protocol::device_control::{DeviceCommand, DeviceState};
+use crate::drive::device_control::{DeviceCommand, DeviceState};
 
 /// An object name assigned to a role, with where the assignment is written.
 #[derive(Debug, Clone)]
@@ -46,7 +46,7 @@ pub struct Profile {
 
 impl Profile {
     /// The SD2 manual's command values and state table (those of
-    /// [`crate::protocol::device_control`]) with the given role assignments.
+    /// [`crate::drive::device_control`]) with the given role assignments.
     pub fn with_defaults(roles: Vec<RoleBinding>) -> Profile {
         Profile {
             roles,

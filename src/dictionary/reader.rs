@@ -18,7 +18,7 @@ use super::role::Role;
 use super::text_span::TextSpan;
 use super::unit::Unit;
 use super::yaml_node::{NodeKind, YamlNode};
-use crate::protocol::device_control::{DeviceCommand, DeviceState};
+use crate::drive::device_control::{DeviceCommand, DeviceState};
 
 /// What one file holds, as far as it could be read.
 pub(crate) struct FileContents {

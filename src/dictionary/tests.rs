@@ -2,7 +2,7 @@
 //! its line and column, collecting all errors, lookup with suggestions, extend.
 
 use super::*;
-use crate::protocol::device_control::{DeviceCommand, DeviceState};
+use crate::drive::device_control::{DeviceCommand, DeviceState};
 
 const SD2: &str = include_str!("../../dictionary/sd2.yaml");
 

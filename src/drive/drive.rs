@@ -6,8 +6,8 @@ use super::state_path::{next_step, NextStep};
 use super::{DriveError, ObjectAccess};
 use crate::clock::SharedClock;
 use crate::dictionary::{Dictionary, ObjectDef, Profile, Quantity, RawValue, Role, Value};
+use crate::drive::device_control::{DeviceCommand, DeviceState};
 use crate::link::LinkError;
-use crate::protocol::device_control::{DeviceCommand, DeviceState};
 use std::sync::Arc;
 use std::time::Duration;
 

@@ -3,8 +3,8 @@
 //! raised before any byte is sent.
 
 use crate::dictionary::ValueError;
+use crate::drive::device_control::DeviceState;
 use crate::link::LinkError;
-use crate::protocol::device_control::DeviceState;
 use crate::protocol::sd2::ErrorCode;
 use std::time::Duration;
 

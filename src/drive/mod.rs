@@ -2,12 +2,14 @@
 //! device-control commands, read the state, walk the state machine. Each protocol family
 //! implements the small [`ObjectAccess`] trait underneath. Knows names and units, not bytes.
 
+pub mod device_control;
 mod drive;
 mod drive_error;
 mod object_access;
 mod sd2_access;
 mod state_path;
 
+pub use device_control::{DeviceCommand, DeviceState};
 pub use drive::{Drive, Transition};
 pub use drive_error::DriveError;
 pub use object_access::ObjectAccess;

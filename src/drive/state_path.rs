@@ -1,7 +1,7 @@
 //! Which device-control command moves a drive one step from a state toward a target state,
 //! along the CiA 402 transition graph. Pure; no I/O.
 
-use crate::protocol::device_control::{DeviceCommand, DeviceState};
+use crate::drive::device_control::{DeviceCommand, DeviceState};
 
 /// What to do next on the way from `from` to `to`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -3,13 +3,13 @@
 //! states, parameters and included files, and collects EVERY problem with its place
 //! instead of stopping at the first. Never talks to a drive.
 
-use super::condition::{Check, Condition, Predicate, Statistic, Tolerance};
 use super::expansion::{Expansion, OverLimit};
 use super::problem::{Problem, RecipeInvalid, RecipeSource};
 use super::recipe::{Param, Recipe, SafeStopChoice};
 use super::step::{ObjectRef, SetValue, Step, StepKind, StepOrigin};
 use crate::dictionary::{DataType, Dictionary, Dimension, ObjectDef, Quantity};
-use crate::protocol::device_control::{DeviceCommand, DeviceState};
+use crate::drive::device_control::{DeviceCommand, DeviceState};
+use crate::session::{Check, Condition, Predicate, Statistic, Tolerance};
 use crate::text_file::read_text_file;
 use crate::yaml_tree::{self, Span, Spanned, YamlNode};
 use std::collections::{BTreeMap, HashSet};
@@ -1443,8 +1443,8 @@ impl Loader<'_, '_> {
         let label = format!(
             "ramp {} from {}{u} to {}{u} in {} steps every {}",
             r.name,
-            super::condition::number(from),
-            super::condition::number(to),
+            crate::session::number(from),
+            crate::session::number(to),
             points.len(),
             show_duration(every)
         );
@@ -1687,8 +1687,8 @@ fn show_set_value(v: &SetValue, o: &ObjectRef) -> String {
     match v {
         SetValue::Text(t) => format!("\"{t}\""),
         SetValue::Number(n) => match &o.unit {
-            Some(u) => format!("{} {u}", super::condition::number(*n)),
-            None => super::condition::number(*n),
+            Some(u) => format!("{} {u}", crate::session::number(*n)),
+            None => crate::session::number(*n),
         },
     }
 }
@@ -1708,8 +1708,8 @@ fn limits_help(def: &ObjectDef) -> Option<String> {
         (Some(lo), Some(hi)) => Some(format!(
             "{} accepts {}{unit} to {}{unit}{bench}",
             def.name,
-            super::condition::number(lo),
-            super::condition::number(hi)
+            crate::session::number(lo),
+            crate::session::number(hi)
         )),
         _ => None,
     }

@@ -2,24 +2,22 @@
 //! problem at once, with did-you-mean), and the interpreter that runs them against the
 //! drive API. Knows nothing about bytes or ports.
 
-mod condition;
 mod expansion;
 mod loader;
 mod problem;
 mod recipe;
 mod run_observer;
-mod run_report;
 mod runner;
 mod schema;
 mod step;
 
-pub use condition::{number, Check, Condition, Predicate, Statistic, Stats, Tolerance};
+pub use crate::session::{number, Check, Condition, Predicate, Statistic, Stats, Tolerance};
+pub use crate::session::{CheckResult, RunReport, Series, StepRecord, Verdict};
 pub use expansion::{MAX_EXPANDED_STEPS, MAX_INCLUDE_LOADS, MAX_RUN_TIME};
 pub use loader::{load_recipe, load_recipe_text, show_duration, MAX_DURATION, MAX_SAMPLES};
 pub use problem::{Problem, RecipeInvalid, RecipeSource};
 pub use recipe::{Param, Recipe, SafeStopChoice};
 pub use run_observer::{Observers, RunObserver};
-pub use run_report::{CheckResult, RunReport, Series, StepRecord, Verdict};
 pub use runner::{default_finally_steps, Runner, SafeStopSettings};
 pub use schema::recipe_schema;
 pub use step::{ObjectRef, SetValue, Step, StepKind, StepOrigin};

@@ -2,8 +2,8 @@
 //! streamed CSV). Observers must not fail the run: their own I/O problems are theirs.
 
 use super::recipe::Recipe;
-use super::run_report::{CheckResult, RunReport, StepRecord};
 use super::step::Step;
+use crate::session::{CheckResult, RunReport, StepRecord};
 use std::time::Duration;
 
 pub trait RunObserver {

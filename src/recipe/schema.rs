@@ -4,7 +4,7 @@
 //! tagged YAML whose exact shape a derive could not express. Pure; no I/O.
 
 use crate::dictionary::Dictionary;
-use crate::protocol::device_control::{DeviceCommand, DeviceState};
+use crate::drive::device_control::{DeviceCommand, DeviceState};
 use serde_json::{json, Value};
 
 /// The schema for recipes written against `dictionary`.

@@ -2,39 +2,11 @@
 //! engineering unit and checked against its limits, every duration parsed. What the
 //! interpreter runs; it never sees YAML.
 
-use super::condition::{Check, Condition};
-use crate::protocol::device_control::{DeviceCommand, DeviceState};
+use crate::drive::device_control::{DeviceCommand, DeviceState};
+use crate::session::{Check, Condition};
+pub use crate::session::{ObjectRef, StepOrigin};
 use std::path::PathBuf;
 use std::time::Duration;
-
-/// Where a step was written: `recipes/run-in.yaml:12:5`.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct StepOrigin {
-    pub path: String,
-    pub line: usize,
-    pub column: usize,
-}
-
-impl std::fmt::Display for StepOrigin {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "{}:{}:{}", self.path, self.line, self.column)
-    }
-}
-
-/// An object as a step names it, resolved to its dictionary name.
-#[derive(Debug, Clone, PartialEq)]
-pub struct ObjectRef {
-    /// The dictionary's name (an alias in the recipe is resolved to this).
-    pub name: String,
-    /// The object's engineering unit symbol, for messages and CSV headers.
-    pub unit: Option<String>,
-}
-
-impl std::fmt::Display for ObjectRef {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(&self.name)
-    }
-}
 
 /// A value to write: a number in the object's unit, or text for string objects.
 #[derive(Debug, Clone, PartialEq)]

@@ -86,7 +86,7 @@ impl RunObserver for CsvRecorder {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::protocol::device_control::DeviceCommand;
+    use crate::drive::device_control::DeviceCommand;
     use crate::recipe::{StepKind, StepOrigin};
 
     fn temp(name: &str) -> PathBuf {

@@ -1,7 +1,7 @@
 //! Test support: run reports as the runner would hand them over, one that passed and one
 //! that ended in a communication error, for the report writers' tests. Only for tests.
 
-use crate::protocol::device_control::DeviceState;
+use crate::drive::device_control::DeviceState;
 use crate::recipe::{CheckResult, RunReport, Series, StepOrigin, StepRecord, Verdict};
 use std::time::{Duration, SystemTime, UNIX_EPOCH};
 

@@ -11,9 +11,9 @@
 //! ([`hex_of_trace_line`]). It must not block or fail the link: write errors are kept, not
 //! raised, and the rest of the run goes on without the trace.
 
+use crate::drive::device_control::{control_word_meaning, DeviceState};
 use crate::hex::to_hex;
 use crate::link::{Direction, TelegramObserver};
-use crate::protocol::device_control::{control_word_meaning, DeviceState};
 use crate::protocol::sd2::{Body, Cyclic, Data, DecodeError, ObjectNames, Telegram};
 use std::fmt::Write as _;
 use std::io::Write;

@@ -2,7 +2,7 @@
 //! state tables of `shared/protocols/sd2-dnc.md`: control word in, state and status word out.
 //! It must not know about time, speed ramps or bytes; the caller reports standstill.
 
-use crate::protocol::device_control::{DeviceCommand, DeviceState};
+use crate::drive::device_control::{DeviceCommand, DeviceState};
 
 /// Control-word bit 7: fault reset, acting on its rising edge.
 const FAULT_RESET_BIT: u16 = 0x80;

@@ -10,7 +10,7 @@ use super::sim_objects::{
     SimObject, ACTUAL_CURRENT, ACTUAL_SPEED, ACTUAL_SPEED_2, BUS_VOLTAGE, CONTROL_WORD, DRIVE_ERROR,
     IDENT_MAX, IDENT_STRING, PARAMETER_SET, POWER_STAGE_LOAD, SPEED_SETPOINT, STATUS_WORD, STORE_PARAMETERS,
 };
-use crate::protocol::device_control::{DeviceCommand, DeviceState};
+use crate::drive::device_control::{DeviceCommand, DeviceState};
 use crate::protocol::sd2::{Cyclic, Data, ErrorCode};
 use std::time::Duration;
 

@@ -5,7 +5,7 @@
 //! It only decides what happens to replies and when things fire; it must not build bytes or
 //! touch the drive model itself.
 
-use crate::protocol::device_control::DeviceCommand;
+use crate::drive::device_control::DeviceCommand;
 use std::time::Duration;
 
 /// Pending injections. Each reply-shaping injection affects the next `n` replies the drive

@@ -11,7 +11,7 @@ use super::service_channel::{
 };
 use super::sim_config::SimConfig;
 use super::sim_objects::{SimObject, CONTROL_WORD};
-use crate::protocol::device_control::DeviceState;
+use crate::drive::device_control::DeviceState;
 use crate::protocol::sd2::{
     Body, Cyclic, ErrorCode, FrameExtractor, Framing, ServiceChannel, Telegram, WriteLength,
 };

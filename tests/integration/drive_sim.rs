@@ -4,10 +4,10 @@
 
 use drivescript::clock::{SharedClock, VirtualClock};
 use drivescript::dictionary::{Dictionary, Quantity, Unit};
+use drivescript::drive::device_control::{DeviceCommand, DeviceState};
 use drivescript::drive::{Drive, DriveError, Sd2Access};
 use drivescript::hex::to_hex;
 use drivescript::link::{LinkConfig, LinkError, Sd2Link};
-use drivescript::protocol::device_control::{DeviceCommand, DeviceState};
 use drivescript::protocol::sd2::{Body, WriteLength};
 use drivescript::sim::{Sd2Simulator, SimConfig};
 use drivescript::transport::{MemoryTransport, Peer};

@@ -21,7 +21,7 @@
 
 use drivescript::cli::{run_recipe, ConnectionArgs, DictionaryArgs, OutputArgs, RunRequest, SafeStopArgs};
 use drivescript::clock::SharedClock;
-use drivescript::protocol::device_control::DeviceCommand;
+use drivescript::drive::device_control::DeviceCommand;
 use drivescript::stop_request::{StopRequests, StopSignal};
 use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex, PoisonError};

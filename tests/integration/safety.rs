@@ -8,7 +8,7 @@ use drivescript::cli::{
     run_recipe, ConnectionArgs, DictionaryArgs, OutputArgs, RunRequest, RunResult, SafeStopArgs,
 };
 use drivescript::clock::SharedClock;
-use drivescript::protocol::device_control::DeviceState;
+use drivescript::drive::device_control::DeviceState;
 use drivescript::protocol::sd2::{Body, Telegram};
 use drivescript::sim::Sd2Simulator;
 use drivescript::stop_request::{StopRequests, StopSignal};

@@ -3,10 +3,8 @@
 //! Pure text formatting; object names come from whoever implements [`ObjectNames`].
 
 use super::{switch_of, Body, Cyclic, Data, Telegram, WriteLength, MASTER_ADDRESS};
+use crate::drive::device_control::{control_word_bits, control_word_meaning, status_word_bits, DeviceState};
 use crate::hex::to_hex;
-use crate::protocol::device_control::{
-    control_word_bits, control_word_meaning, status_word_bits, DeviceState,
-};
 use std::fmt::Write as _;
 
 /// What the explainer needs to know about objects (a dictionary, or nothing).

@@ -6,11 +6,11 @@
 
 use super::{outcome, round, secs, Runner, Stop};
 use crate::dictionary::Role;
+use crate::drive::device_control::{DeviceCommand, DeviceState};
 use crate::drive::DriveError;
-use crate::protocol::device_control::{DeviceCommand, DeviceState};
 use crate::recipe::recipe::Recipe;
-use crate::recipe::run_report::Verdict;
 use crate::recipe::step::{ObjectRef, SetValue, Step, StepKind, StepOrigin};
+use crate::session::Verdict;
 use std::time::Duration;
 
 /// How often the safe stop polls the speed or the state while it waits.

@@ -2,8 +2,8 @@
 //! instant values or sample statistics. Pure evaluation; reading the drive is the
 //! interpreter's business.
 
-use super::step::ObjectRef;
-use crate::protocol::device_control::DeviceState;
+use super::object_ref::ObjectRef;
+use crate::drive::device_control::DeviceState;
 use std::fmt;
 
 /// How close is near enough.

@@ -2,8 +2,8 @@
 //! measured value and limits, every sampled series, and how the run ended. Plain data for
 //! the console, JUnit, CSV and HTML reports; no formatting and no I/O here.
 
-use super::step::StepOrigin;
-use crate::protocol::device_control::DeviceState;
+use super::step_origin::StepOrigin;
+use crate::drive::device_control::DeviceState;
 use crate::stop_request::StopSignal;
 use std::time::{Duration, SystemTime};
 
