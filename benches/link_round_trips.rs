@@ -18,11 +18,12 @@
 //! Prints `PASS` for a path when every ratio is at least 90 %, else `BELOW TARGET`; exits
 //! non-zero only when the link reports an error.
 
+use drivescript::bus::{MemoryTransport, Peer, WireTime};
 use drivescript::clock::{RealClock, SharedClock};
-use drivescript::link::{Direction, LinkConfig, LinkError, Sd2Link, TelegramObserver};
-use drivescript::protocol::sd2::{Cyclic, DecodeError, Telegram};
-use drivescript::sim::{Sd2Simulator, SimConfig};
-use drivescript::transport::{MemoryTransport, Peer, WireTime};
+use drivescript::family::sd2::codec::{Cyclic, DecodeError, Telegram};
+use drivescript::family::sd2::Sd2Link;
+use drivescript::family::sd2::{Sd2Simulator, SimConfig};
+use drivescript::link::{Direction, LinkConfig, LinkError, TelegramObserver};
 use std::hint::black_box;
 use std::process::ExitCode;
 use std::sync::{Arc, Mutex};
@@ -273,8 +274,8 @@ fn in_process() -> Result<Vec<Row>, Failure> {
 /// Path b: link → serial port on a pseudo-terminal → `SimServer` with wire time in a thread.
 #[cfg(unix)]
 fn through_pty() -> Result<Vec<Row>, Failure> {
+    use drivescript::bus::{SerialSettings, SerialTransport, TransportError};
     use drivescript::sim_server::{PtyEndpoint, SimServer};
-    use drivescript::transport::{SerialSettings, SerialTransport, TransportError};
     use std::sync::atomic::Ordering;
 
     fn port_failure(e: TransportError) -> Failure {

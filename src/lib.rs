@@ -10,13 +10,14 @@
 // Files are named after their one main type, so `drive/drive.rs` holds `Drive`.
 #![allow(clippy::module_inception)]
 
+pub mod bus;
 pub mod cli;
 pub mod clock;
 pub mod dictionary;
 pub mod drive;
+pub mod family;
 pub mod hex;
 pub mod link;
-pub mod protocol;
 pub mod recipe;
 pub mod report;
 pub mod session;
@@ -24,5 +25,4 @@ pub mod sim;
 pub mod sim_server;
 pub mod stop_request;
 pub mod text_file;
-pub mod transport;
 pub mod yaml_tree;

@@ -2,13 +2,14 @@
 //! one: serial port, TCP serial server, or the built-in simulated drive. Opens the link;
 //! must not send anything itself.
 
-use crate::clock::{RealClock, SharedClock, VirtualClock};
-use crate::link::{LinkConfig, Sd2Link};
-use crate::protocol::sd2::{dnc_address, WriteLength};
-use crate::sim::{Sd2Simulator, SimConfig};
-use crate::transport::{
+use crate::bus::{
     MemoryTransport, Peer, SerialSettings, SerialTransport, TcpTransport, Transport, TransportError,
 };
+use crate::clock::{RealClock, SharedClock, VirtualClock};
+use crate::family::sd2::codec::{dnc_address, WriteLength};
+use crate::family::sd2::Sd2Link;
+use crate::family::sd2::{Sd2Simulator, SimConfig};
+use crate::link::LinkConfig;
 use clap::{Args, ValueEnum};
 use std::sync::{Arc, Mutex};
 use std::time::Duration;

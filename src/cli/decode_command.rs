@@ -2,8 +2,9 @@
 
 use super::drive_args::DictionaryArgs;
 use super::{FAILED, INVALID, PASSED};
+use crate::family::sd2::codec::{to_json, Telegram};
+use crate::family::sd2::explain;
 use crate::hex::parse_hex;
-use crate::protocol::sd2::{explain, to_json, Telegram};
 use clap::{Args, ValueEnum};
 use std::io::{BufRead, Write};
 

@@ -5,9 +5,10 @@
 use super::connection_args::{Connection, ConnectionArgs};
 use super::render_diagnostic;
 use crate::dictionary::{BenchLimits, Dictionary, LIMITS_ENV};
-use crate::drive::{Drive, Sd2Access};
+use crate::drive::Drive;
+use crate::family::sd2::Sd2Access;
+use crate::family::sd2::Sd2Simulator;
 use crate::link::TelegramObserver;
-use crate::sim::Sd2Simulator;
 use crate::stop_request::StopRequests;
 use clap::Args;
 use std::path::{Path, PathBuf};

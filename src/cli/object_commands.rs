@@ -351,7 +351,7 @@ pub fn objects(args: &ObjectsArgs) -> i32 {
 }
 
 pub fn ports(args: &PortsArgs) -> i32 {
-    let ports = match crate::transport::list_ports() {
+    let ports = match crate::bus::list_ports() {
         Ok(p) => p,
         Err(e) => {
             eprintln!("error: {e}");

@@ -7,6 +7,7 @@ use super::COMMUNICATION;
 use super::{panic_notice, stop_signals, INVALID, PASSED};
 use crate::clock::SharedClock;
 use crate::dictionary::Quantity;
+use crate::family::sd2::Sd2Simulator;
 use crate::recipe::{
     load_recipe, Observers, Recipe, RecipeInvalid, RunReport, Runner, SafeStopChoice, SafeStopSettings,
 };
@@ -14,7 +15,6 @@ use crate::report::{
     write_html, write_html_unfinished, write_junit, write_junit_unfinished, ConsoleReporter, CsvRecorder,
     ProgressReporter, TelegramFanOut, TraceWriter,
 };
-use crate::sim::Sd2Simulator;
 use crate::stop_request::StopRequests;
 use clap::Args;
 use std::io::{IsTerminal, Write};

@@ -2,10 +2,10 @@
 //! any serial tool (or drivescript with `--port`/`--tcp`) can talk to it.
 
 use super::{stop_signals, COMMUNICATION, INVALID, PASSED};
+use crate::bus::{Peer, TcpTransport, WireTime};
 use crate::clock::RealClock;
-use crate::sim::{Sd2Simulator, SimConfig};
+use crate::family::sd2::{Sd2Simulator, SimConfig};
 use crate::sim_server::SimServer;
-use crate::transport::{Peer, TcpTransport, WireTime};
 use clap::Args;
 use std::io::Write;
 use std::net::TcpListener;
@@ -51,7 +51,7 @@ pub fn run(args: &SimulateArgs) -> i32 {
             eprintln!("error: --dnc-address {a}: a drive has an address of 2..=255");
             return INVALID;
         }
-        None => match crate::protocol::sd2::dnc_address(args.address, false) {
+        None => match crate::family::sd2::codec::dnc_address(args.address, false) {
             Some(a) => a,
             None => {
                 eprintln!(

@@ -20,7 +20,6 @@ mod dictionary_error;
 mod did_you_mean;
 mod format;
 mod object_def;
-mod object_names;
 mod profile;
 mod quantity;
 mod reader;

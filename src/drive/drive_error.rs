@@ -4,8 +4,8 @@
 
 use crate::dictionary::ValueError;
 use crate::drive::device_control::DeviceState;
+use crate::family::sd2::codec::ErrorCode;
 use crate::link::LinkError;
-use crate::protocol::sd2::ErrorCode;
 use std::time::Duration;
 
 #[derive(Debug, thiserror::Error)]

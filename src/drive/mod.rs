@@ -6,12 +6,10 @@ pub mod device_control;
 mod drive;
 mod drive_error;
 mod object_access;
-mod sd2_access;
 mod state_path;
 
 pub use device_control::{DeviceCommand, DeviceState};
 pub use drive::{Drive, Transition};
 pub use drive_error::DriveError;
 pub use object_access::ObjectAccess;
-pub use sd2_access::Sd2Access;
 pub use state_path::{next_step, NextStep};

@@ -1,6 +1,6 @@
 //! Settings of a link: how long to wait, how often to retry, how to frame writes.
 
-use crate::protocol::sd2::{WriteLength, MASTER_ADDRESS};
+use crate::family::sd2::codec::{WriteLength, MASTER_ADDRESS};
 use std::time::Duration;
 
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -1,8 +1,8 @@
 //! The one error type of the link layer: which port, which telegram, what went wrong, and
 //! what to try.
 
-use crate::protocol::sd2::{DecodeError, EncodeError, ErrorCode};
-use crate::transport::TransportError;
+use crate::bus::TransportError;
+use crate::family::sd2::codec::{DecodeError, EncodeError, ErrorCode};
 
 #[derive(Debug, thiserror::Error)]
 pub enum LinkError {

@@ -5,11 +5,9 @@
 mod link_config;
 mod link_error;
 mod link_stats;
-mod sd2_link;
 mod telegram_observer;
 
 pub use link_config::LinkConfig;
 pub use link_error::LinkError;
 pub use link_stats::LinkStats;
-pub use sd2_link::Sd2Link;
 pub use telegram_observer::{Direction, TelegramObserver};

@@ -1,7 +1,7 @@
 //! A hook that sees every telegram a link sends and receives (traces, `-v`), and the
 //! link's own events (timeouts, retries). Observers must not block or fail the link.
 
-use crate::protocol::sd2::{DecodeError, Telegram};
+use crate::family::sd2::codec::{DecodeError, Telegram};
 use std::time::Duration;
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -2,8 +2,8 @@
 //! and `-v` can both watch the one link (which takes a single observer). Adds nothing and
 //! must not block or fail the link itself.
 
+use crate::family::sd2::codec::{DecodeError, Telegram};
 use crate::link::{Direction, TelegramObserver};
-use crate::protocol::sd2::{DecodeError, Telegram};
 use std::time::Duration;
 
 #[derive(Default)]

@@ -12,9 +12,10 @@
 //! raised, and the rest of the run goes on without the trace.
 
 use crate::drive::device_control::{control_word_meaning, DeviceState};
+use crate::family::sd2::codec::{Body, Cyclic, Data, DecodeError, Telegram};
+use crate::family::sd2::ObjectNames;
 use crate::hex::to_hex;
 use crate::link::{Direction, TelegramObserver};
-use crate::protocol::sd2::{Body, Cyclic, Data, DecodeError, ObjectNames, Telegram};
 use std::fmt::Write as _;
 use std::io::Write;
 use std::path::Path;
@@ -309,8 +310,8 @@ fn one_line(text: &str) -> String {
 mod tests {
     use super::*;
     use crate::dictionary::Dictionary;
+    use crate::family::sd2::codec::{ErrorCode, WriteLength};
     use crate::hex::parse_hex;
-    use crate::protocol::sd2::{ErrorCode, WriteLength};
 
     fn names() -> TraceNames {
         Arc::new(Dictionary::builtin("sd2").unwrap())

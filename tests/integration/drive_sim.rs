@@ -2,15 +2,15 @@
 //! dictionary object read back, the documented write telegrams, the state walk, refusals
 //! that send nothing, and every fault injection producing the right retry or error.
 
+use drivescript::bus::{MemoryTransport, Peer};
 use drivescript::clock::{SharedClock, VirtualClock};
 use drivescript::dictionary::{Dictionary, Quantity, Unit};
 use drivescript::drive::device_control::{DeviceCommand, DeviceState};
-use drivescript::drive::{Drive, DriveError, Sd2Access};
+use drivescript::drive::{Drive, DriveError};
+use drivescript::family::sd2::codec::{Body, WriteLength};
+use drivescript::family::sd2::{Sd2Access, Sd2Link, Sd2Simulator, SimConfig};
 use drivescript::hex::to_hex;
-use drivescript::link::{LinkConfig, LinkError, Sd2Link};
-use drivescript::protocol::sd2::{Body, WriteLength};
-use drivescript::sim::{Sd2Simulator, SimConfig};
-use drivescript::transport::{MemoryTransport, Peer};
+use drivescript::link::{LinkConfig, LinkError};
 use std::sync::{Arc, Mutex};
 use std::time::Duration;
 

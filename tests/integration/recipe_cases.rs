@@ -125,7 +125,7 @@ fn run_case(dir: &Path) -> Result<(), String> {
         safe_stop.reconnect_timeout = s.reconnect_timeout.as_deref().map(duration);
     }
     let sim_setup = case.sim.unwrap_or_default();
-    let prepare = move |sim: &Arc<Mutex<drivescript::sim::Sd2Simulator>>, _clock: &SharedClock| {
+    let prepare = move |sim: &Arc<Mutex<drivescript::family::sd2::Sd2Simulator>>, _clock: &SharedClock| {
         let mut sim = sim.lock().expect("simulator lock");
         let f = sim.faults();
         if let Some(at) = &sim_setup.trip_at {

@@ -9,8 +9,8 @@ use drivescript::cli::{
 };
 use drivescript::clock::SharedClock;
 use drivescript::drive::device_control::DeviceState;
-use drivescript::protocol::sd2::{Body, Telegram};
-use drivescript::sim::Sd2Simulator;
+use drivescript::family::sd2::codec::{Body, Telegram};
+use drivescript::family::sd2::Sd2Simulator;
 use drivescript::stop_request::{StopRequests, StopSignal};
 use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex, OnceLock, PoisonError};
@@ -447,10 +447,10 @@ fn a_run_killed_beyond_any_safe_stop_leaves_a_report_that_says_not_finished() {
 #[cfg(unix)]
 #[test]
 fn a_lost_port_is_reopened_and_the_stop_reaches_the_drive() {
+    use drivescript::bus::Peer;
     use drivescript::clock::RealClock;
-    use drivescript::sim::SimConfig;
+    use drivescript::family::sd2::SimConfig;
     use drivescript::sim_server::{PtyEndpoint, SimServer};
-    use drivescript::transport::Peer;
     use std::sync::atomic::Ordering;
 
     let dir = scratch("lost-port");

@@ -1,9 +1,9 @@
 //! Object access for the SD2 family: Read/Write Wide Object over an [`Sd2Link`].
 
-use super::{DriveError, ObjectAccess};
+use super::Sd2Link;
 use crate::clock::SharedClock;
 use crate::dictionary::Address;
-use crate::link::Sd2Link;
+use crate::drive::{DriveError, ObjectAccess};
 
 pub struct Sd2Access {
     link: Sd2Link,

@@ -2,7 +2,7 @@
 //! and the access errors a real SD2 answers before a value is touched. It must not compute
 //! values or change state; the indices, types and scales are the project dictionary's.
 
-use crate::protocol::sd2::ErrorCode;
+use crate::family::sd2::codec::ErrorCode;
 
 pub(crate) const IDENT_STRING: u16 = 22;
 pub(crate) const BUS_VOLTAGE: u16 = 33;

@@ -1,13 +1,12 @@
-//! The Sieb & Meyer SD2 DNC serial protocol: object access (Read/Write Wide Object) and
-//! the DNC 8-byte cyclic telegram with its acyclic service channel.
-//! Facts and quirks: `shared/protocols/sd2-dnc.md`. Pure codec: no I/O, no time.
+//! The SD2 DNC codec: blocks of object access (Read/Write Wide Object) and the DNC 8-byte
+//! cyclic telegram with its acyclic service channel, as typed values and exact bytes.
+//! Facts and quirks: `shared/protocols/sd2-dnc.md`. Pure: no I/O, no time.
 
 mod checksum;
 mod cyclic;
 mod data;
 mod decode_error;
 mod error_code;
-mod explain;
 mod frame_extractor;
 mod json;
 mod reply_check;
@@ -19,7 +18,6 @@ pub use cyclic::{Cyclic, ServiceChannel, ServiceFunction};
 pub use data::Data;
 pub use decode_error::{DecodeError, EncodeError};
 pub use error_code::ErrorCode;
-pub use explain::{explain, ObjectNames};
 pub use frame_extractor::{Extracted, FrameExtractor, Framing};
 pub use json::to_json;
 pub use reply_check::check_reply;

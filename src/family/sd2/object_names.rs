@@ -1,10 +1,8 @@
 //! Lets the SD2 telegram explainer name objects and show values with units from a
 //! dictionary. Formatting only; no I/O.
 
-use super::address::Address;
-use super::dictionary::Dictionary;
-use super::role::Role;
-use crate::protocol::sd2::ObjectNames;
+use super::explain::ObjectNames;
+use crate::dictionary::{Address, Dictionary, Role};
 
 impl ObjectNames for Dictionary {
     fn object_name(&self, index: u16, subindex: u32) -> Option<String> {
@@ -36,7 +34,8 @@ impl Dictionary {
 #[cfg(test)]
 mod tests {
     use crate::dictionary::Dictionary;
-    use crate::protocol::sd2::{explain, ObjectNames, Telegram};
+    use crate::family::sd2::codec::Telegram;
+    use crate::family::sd2::{explain, ObjectNames};
 
     #[test]
     fn names_and_values_for_the_explainer() {

@@ -2,8 +2,8 @@
 //! through `Peer::receive`, and the reply bytes decoded again.
 
 use super::*;
+use crate::family::sd2::codec::{checksum, Data, DecodeError, ServiceFunction};
 use crate::hex::parse_hex;
-use crate::protocol::sd2::{checksum, Data, DecodeError, ServiceFunction};
 
 const SD: DeviceState = DeviceState::SwitchOnDisabled;
 

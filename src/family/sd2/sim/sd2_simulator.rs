@@ -4,18 +4,17 @@
 //! request is decoded and every reply encoded) and must not read a clock of its own: time
 //! is the `now` it is given, so the same bytes at the same times give the same replies.
 
-use super::drive_model::DriveModel;
-use super::fault_injection::FaultInjection;
+use super::sd2_objects;
 use super::service_channel::{
     ServiceAction, ServiceSession, INVALID_SERVICE_DRIVE_ERROR, UNSUPPORTED_ACCESS,
 };
-use super::sim_config::SimConfig;
 use super::sim_objects::{SimObject, CONTROL_WORD};
+use crate::bus::{Peer, PeerReply};
 use crate::drive::device_control::DeviceState;
-use crate::protocol::sd2::{
+use crate::family::sd2::codec::{
     Body, Cyclic, ErrorCode, FrameExtractor, Framing, ServiceChannel, Telegram, WriteLength,
 };
-use crate::transport::{Peer, PeerReply};
+use crate::sim::{DriveModel, FaultInjection, SimConfig};
 use std::time::Duration;
 
 /// A simulated single-axis SD2 drive. See the module docs of `sim` for the model.
@@ -128,16 +127,18 @@ impl Sd2Simulator {
 
     fn answer(&mut self, body: &Body) -> Option<Body> {
         Some(match *body {
-            Body::ReadRequest { index, subindex } => match self.model.read(index, subindex) {
-                Ok(data) => Body::ReadReply {
-                    error: ErrorCode::OK,
-                    data,
-                },
-                Err(error) => Body::ReadReply {
-                    error,
-                    data: Default::default(),
-                },
-            },
+            Body::ReadRequest { index, subindex } => {
+                match sd2_objects::read(&mut self.model, index, subindex) {
+                    Ok(data) => Body::ReadReply {
+                        error: ErrorCode::OK,
+                        data,
+                    },
+                    Err(error) => Body::ReadReply {
+                        error,
+                        data: Default::default(),
+                    },
+                }
+            }
             Body::WriteRequest {
                 index,
                 subindex,
@@ -164,7 +165,7 @@ impl Sd2Simulator {
             self.log_control_word(cw);
             return Ok(());
         }
-        self.model.write(index, subindex, bytes, blocked)?;
+        sd2_objects::write(&mut self.model, index, subindex, bytes, blocked)?;
         if let Some(cw) = control_word {
             self.log_control_word(cw);
         }
@@ -195,9 +196,9 @@ impl Sd2Simulator {
         if !self.disobeys(control_word) {
             self.model.write_control_word(control_word, blocked);
         }
-        self.model.set_speed_reference(request.speed());
+        sd2_objects::set_speed_reference(&mut self.model, request.speed());
         let service = request.service.map(|s| self.serve(&s));
-        let mut reply = self.model.cyclic_reply(request.header);
+        let mut reply = sd2_objects::cyclic_reply(&mut self.model, request.header);
         reply.service = service;
         reply
     }
@@ -205,14 +206,15 @@ impl Sd2Simulator {
     fn serve(&mut self, request: &ServiceChannel) -> ServiceChannel {
         let outcome = match self.service.begin(request) {
             ServiceAction::Resend(reply) => return reply,
-            ServiceAction::Read { index, subindex } => self.model.read(index, subindex).and_then(|data| {
-                let s = data.as_slice();
-                let mut out = [0u8; 4];
-                out.get_mut(..s.len())
-                    .ok_or(UNSUPPORTED_ACCESS)?
-                    .copy_from_slice(s);
-                Ok(out)
-            }),
+            ServiceAction::Read { index, subindex } => sd2_objects::read(&mut self.model, index, subindex)
+                .and_then(|data| {
+                    let s = data.as_slice();
+                    let mut out = [0u8; 4];
+                    out.get_mut(..s.len())
+                        .ok_or(UNSUPPORTED_ACCESS)?
+                        .copy_from_slice(s);
+                    Ok(out)
+                }),
             ServiceAction::Write {
                 index,
                 subindex,

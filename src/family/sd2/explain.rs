@@ -2,7 +2,7 @@
 //! command, object, data as numbers, error text, control and status word bits.
 //! Pure text formatting; object names come from whoever implements [`ObjectNames`].
 
-use super::{switch_of, Body, Cyclic, Data, Telegram, WriteLength, MASTER_ADDRESS};
+use super::codec::{switch_of, Body, Cyclic, Data, Telegram, WriteLength, MASTER_ADDRESS};
 use crate::drive::device_control::{control_word_bits, control_word_meaning, status_word_bits, DeviceState};
 use crate::hex::to_hex;
 use std::fmt::Write as _;
@@ -301,7 +301,7 @@ mod tests {
             dest: 1,
             source: 2,
             body: Body::ReadReply {
-                error: super::super::ErrorCode::OK,
+                error: super::super::codec::ErrorCode::OK,
                 data: Data::new(&[0x37, 0x02]).unwrap(),
             },
         }

@@ -6,14 +6,14 @@
 //! answers this request. Requests seen on the line (RS485 adapters that echo what they
 //! send) are skipped. Must not know object names, units or states.
 
-use super::{Direction, LinkConfig, LinkError, LinkStats, TelegramObserver};
+use crate::bus::{Transport, TransportError};
 use crate::clock::SharedClock;
-use crate::hex::to_hex;
-use crate::protocol::sd2::{
+use crate::family::sd2::codec::{
     check_reply, Body, Cyclic, Data, DecodeError, ErrorCode, FrameExtractor, Framing, Telegram,
 };
+use crate::hex::to_hex;
+use crate::link::{Direction, LinkConfig, LinkError, LinkStats, TelegramObserver};
 use crate::stop_request::StopRequests;
-use crate::transport::{Transport, TransportError};
 use std::sync::Arc;
 use std::time::Duration;
 
@@ -361,9 +361,9 @@ fn describe_request(request: &Telegram, bytes: &[u8]) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::bus::{MemoryTransport, Peer, PeerReply};
     use crate::clock::{Clock, VirtualClock};
-    use crate::protocol::sd2::WriteLength;
-    use crate::transport::{MemoryTransport, Peer, PeerReply};
+    use crate::family::sd2::codec::WriteLength;
     use std::collections::VecDeque;
     use std::sync::{Arc, Mutex};
     use std::time::Duration;

@@ -133,8 +133,8 @@ fn frame_length_by_field(buf: &[u8]) -> Result<Option<usize>, DecodeError> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::family::sd2::codec::{Body, WriteLength};
     use crate::hex::parse_hex;
-    use crate::protocol::sd2::{Body, WriteLength};
     use proptest::prelude::*;
 
     const READ_REPLY: &str = "00 09 01 02 8d 04 00 7f 50 0f 00 84";
@@ -243,7 +243,7 @@ mod tests {
 
         #[test]
         fn garbage_without_zero_bytes_then_a_block(garbage in proptest::collection::vec(1u8..=255, 0..30)) {
-            let t = crate::protocol::sd2::Telegram::write_request(2, 1, 68, 0, &[6, 0]).unwrap();
+            let t = crate::family::sd2::codec::Telegram::write_request(2, 1, 68, 0, &[6, 0]).unwrap();
             let mut x = FrameExtractor::new(Framing::Requests);
             x.push(&garbage);
             x.push(&t.encode(WriteLength::Captured));

@@ -58,7 +58,7 @@ fn mismatch(field: &'static str, expected: String, actual: String) -> DecodeErro
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::protocol::sd2::{Cyclic, Data, ErrorCode, ServiceChannel, ServiceFunction};
+    use crate::family::sd2::codec::{Cyclic, Data, ErrorCode, ServiceChannel, ServiceFunction};
 
     fn read() -> Telegram {
         Telegram::read_request(2, 1, 398, 0)

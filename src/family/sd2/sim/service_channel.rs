@@ -18,7 +18,7 @@
 //! - Function 3 (invalid) trips the drive to fault with drive error 0x0003 and fails
 //!   with 0x88.
 
-use crate::protocol::sd2::{ErrorCode, ServiceChannel, ServiceFunction};
+use crate::family::sd2::codec::{ErrorCode, ServiceChannel, ServiceFunction};
 
 /// Failure bit in the reply's state byte.
 const FAILED: u8 = 0x80;
