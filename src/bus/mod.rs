@@ -1,11 +1,23 @@
-//! Moves bytes between the PC and a drive: serial port, TCP serial server, or the
-//! in-process simulator. Knows nothing about telegrams; framing and checking belong to the
-//! link above. The trait is object-safe so the command line chooses a backend at run time.
+//! Buses between the PC and its drives: byte transports (serial port, TCP serial server,
+//! the in-process simulator) and CAN frame buses, each shareable by several drives on one
+//! line. Knows nothing about telegrams; framing and checking belong to the family's link.
+//! The traits are object-safe so the command line chooses a backend at run time.
 
+mod bus;
+mod can_frame;
+mod frame_bus;
 mod memory;
+mod memory_frame_bus;
 mod serial;
+mod shared_transport;
 mod tcp;
 mod transport_error;
+
+pub use bus::{Bus, BusKind};
+pub use can_frame::CanFrame;
+pub use frame_bus::{FrameBus, SharedFrameBus};
+pub use memory_frame_bus::{FramePeer, MemoryFrameBus};
+pub use shared_transport::SharedTransport;
 
 pub use memory::{MemoryTransport, Peer, PeerReply, WireTime};
 pub use serial::{

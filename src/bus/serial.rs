@@ -79,7 +79,7 @@ pub struct SerialSettings {
 }
 
 impl Default for SerialSettings {
-    /// 57600 8N1, what a Sieb & Meyer SD2 drive ships with.
+    /// 57600 8N1, a common drive default (each family states its own).
     fn default() -> Self {
         SerialSettings {
             baud: 57_600,

@@ -58,7 +58,7 @@ pub fn run(args: &DecodeArgs) -> i32 {
             .map(|(i, h)| (format!("argument {}", i + 1), h.clone()))
             .collect()
     };
-    let names = match args.dictionary.load(None) {
+    let names = match args.dictionary.load() {
         Ok(d) => d,
         Err(text) => {
             eprint!("{text}");

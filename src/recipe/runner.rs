@@ -16,7 +16,7 @@ use super::step::{ObjectRef, SetValue, Step, StepKind};
 use crate::clock::SharedClock;
 use crate::dictionary::Quantity;
 use crate::drive::device_control::DeviceState;
-use crate::drive::{Drive, DriveError};
+use crate::drive::{Drive, DriveError, WriteOutcome};
 use crate::session::{number, Check, Condition, Predicate, Stats};
 use crate::session::{CheckResult, RunReport, Series, StepRecord, Verdict};
 use crate::stop_request::{StopRequests, StopSignal};
@@ -354,8 +354,9 @@ impl<'a> Runner<'a> {
                 }
             }
             StepKind::Set(writes) => {
+                let mut limited = Vec::new();
                 for (object, value) in writes {
-                    match value {
+                    let outcome = match value {
                         SetValue::Number(n) => {
                             let unit = object
                                 .unit
@@ -364,9 +365,19 @@ impl<'a> Runner<'a> {
                             self.drive.write(&object.name, &Quantity::new(*n, unit))?
                         }
                         SetValue::Text(t) => self.drive.write_text(&object.name, t)?,
+                    };
+                    if let WriteOutcome::Limited(stored) = outcome {
+                        limited.push(format!(
+                            "{} limited by the drive (stored raw {stored})",
+                            object.name
+                        ));
                     }
                 }
-                Ok("written".into())
+                if limited.is_empty() {
+                    Ok("written".into())
+                } else {
+                    Ok(format!("written; warning: {}", limited.join(", ")))
+                }
             }
             StepKind::Read(objects) => {
                 let mut shown = Vec::new();

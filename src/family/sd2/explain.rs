@@ -17,6 +17,8 @@ pub trait ObjectNames {
     fn is_control_word(&self, index: u16) -> bool;
     /// True for the device-control status word.
     fn is_status_word(&self, index: u16) -> bool;
+    /// The state a status word shows under the dictionary's profile.
+    fn state_of(&self, status: u16) -> Option<String>;
 }
 
 /// Explains `bytes` (already decoded into `telegram`). `request` is the request this
@@ -271,6 +273,9 @@ mod tests {
         }
         fn is_status_word(&self, index: u16) -> bool {
             index == 67
+        }
+        fn state_of(&self, status: u16) -> Option<String> {
+            crate::drive::DeviceState::from_status_word(status).map(|s| s.to_string())
         }
     }
 

@@ -11,7 +11,8 @@ impl ObjectNames for Dictionary {
 
     fn object_value(&self, index: u16, subindex: u32, data: &[u8]) -> Option<String> {
         let object = self.by_address(index, subindex)?;
-        object.from_raw(data).ok().map(|v| v.to_string())
+        let raw = super::wire_value::decode(data, object.data_type).ok()?;
+        object.value_of(raw).ok().map(|v| v.to_string())
     }
 
     fn is_control_word(&self, index: u16) -> bool {
@@ -20,6 +21,10 @@ impl ObjectNames for Dictionary {
 
     fn is_status_word(&self, index: u16) -> bool {
         self.role_index(Role::StatusWord) == Some(index)
+    }
+
+    fn state_of(&self, status: u16) -> Option<String> {
+        self.profile()?.state_of(status).map(|s| s.to_string())
     }
 }
 

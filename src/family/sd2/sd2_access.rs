@@ -1,9 +1,11 @@
-//! Object access for the SD2 family: Read/Write Wide Object over an [`Sd2Link`].
+//! Object access for the SD2 family: Read/Write Wide Object over an [`Sd2Link`], with the
+//! data field encoded and decoded by [`super::wire_value`].
 
+use super::wire_value;
 use super::Sd2Link;
 use crate::clock::SharedClock;
-use crate::dictionary::Address;
-use crate::drive::{DriveError, ObjectAccess};
+use crate::dictionary::{Address, DataType, RawValue};
+use crate::drive::{AccessError, ObjectAccess, WriteOutcome};
 
 pub struct Sd2Access {
     link: Sd2Link,
@@ -22,21 +24,34 @@ impl Sd2Access {
     pub fn link_mut(&mut self) -> &mut Sd2Link {
         &mut self.link
     }
+
+    fn bad_data(&self, address: &Address, detail: String) -> AccessError {
+        AccessError::UnexpectedReply {
+            port: self.link.port().to_string(),
+            address: self.dest.to_string(),
+            request: format!("read object {address}"),
+            detail,
+        }
+    }
 }
 
 impl ObjectAccess for Sd2Access {
-    fn read(&mut self, address: &Address) -> Result<Vec<u8>, DriveError> {
+    fn read(&mut self, address: &Address, data_type: DataType) -> Result<RawValue, AccessError> {
         let Address::Indexed { index, subindex } = *address;
-        Ok(self
-            .link
-            .read_object(self.dest, index, subindex)?
-            .as_slice()
-            .to_vec())
+        let data = self.link.read_object(self.dest, index, subindex)?;
+        wire_value::decode(data.as_slice(), data_type).map_err(|e| self.bad_data(address, e))
     }
 
-    fn write(&mut self, address: &Address, bytes: &[u8]) -> Result<(), DriveError> {
+    fn write(
+        &mut self,
+        address: &Address,
+        value: &RawValue,
+        data_type: DataType,
+    ) -> Result<WriteOutcome, AccessError> {
         let Address::Indexed { index, subindex } = *address;
-        Ok(self.link.write_object(self.dest, index, subindex, bytes)?)
+        let bytes = wire_value::encode(value, data_type).map_err(AccessError::Encode)?;
+        self.link.write_object(self.dest, index, subindex, &bytes)?;
+        Ok(WriteOutcome::Stored)
     }
 
     fn port(&self) -> String {
@@ -47,7 +62,7 @@ impl ObjectAccess for Sd2Access {
         self.link.clock().clone()
     }
 
-    fn reopen(&mut self) -> Result<(), DriveError> {
-        Ok(self.link.reopen()?)
+    fn reopen(&mut self) -> Result<(), AccessError> {
+        self.link.reopen()
     }
 }

@@ -6,13 +6,15 @@
 //! answers this request. Requests seen on the line (RS485 adapters that echo what they
 //! send) are skipped. Must not know object names, units or states.
 
-use crate::bus::{Transport, TransportError};
+use super::link_config::LinkConfig;
+use crate::bus::{SharedTransport, Transport, TransportError};
 use crate::clock::SharedClock;
+use crate::drive::AccessError;
 use crate::family::sd2::codec::{
     check_reply, Body, Cyclic, Data, DecodeError, ErrorCode, FrameExtractor, Framing, Telegram,
 };
 use crate::hex::to_hex;
-use crate::link::{Direction, LinkConfig, LinkError, LinkStats, TelegramObserver};
+use crate::link::{Direction, LinkStats, TelegramObserver};
 use crate::stop_request::StopRequests;
 use std::sync::Arc;
 use std::time::Duration;
@@ -23,9 +25,12 @@ use std::time::Duration;
 const STOP_GRACE: Duration = Duration::from_millis(20);
 /// After the grace, reply waits look at stop requests this often.
 const STOP_POLL: Duration = Duration::from_millis(10);
+/// What to check when an SD2 drive stays silent.
+const NO_REPLY_HINT: &str = "check the cable, the baud rate, the drive's DNC address (address switch), and that its control channel is set to the serial interface";
 
 pub struct Sd2Link {
-    transport: Box<dyn Transport>,
+    /// Shared with the other drives on the same line; locked for one whole exchange.
+    transport: SharedTransport,
     clock: SharedClock,
     config: LinkConfig,
     extractor: FrameExtractor,
@@ -49,7 +54,7 @@ enum AttemptFailure {
 }
 
 impl Sd2Link {
-    pub fn new(transport: Box<dyn Transport>, clock: SharedClock, config: LinkConfig) -> Self {
+    pub fn new(transport: SharedTransport, clock: SharedClock, config: LinkConfig) -> Self {
         Sd2Link {
             transport,
             clock,
@@ -72,7 +77,7 @@ impl Sd2Link {
     }
 
     /// Closes and opens the port again after it failed; what arrived before is dropped.
-    pub fn reopen(&mut self) -> Result<(), LinkError> {
+    pub fn reopen(&mut self) -> Result<(), AccessError> {
         self.extractor.clear();
         self.event("reopening the port");
         self.transport.reopen()?;
@@ -105,8 +110,11 @@ impl Sd2Link {
 
     /// Sends `request` and returns the reply that answers it, retrying on timeouts and on
     /// corrupt or mismatched replies up to `config.retries` times.
-    pub fn transact(&mut self, request: &Telegram) -> Result<Telegram, LinkError> {
+    pub fn transact(&mut self, request: &Telegram) -> Result<Telegram, AccessError> {
         let bytes = request.encode(self.config.write_length);
+        let shared = self.transport.clone();
+        let mut line = shared.lock();
+        let t: &mut dyn Transport = line.as_mut();
         let attempts = self.config.retries + 1;
         let mut last_refused: Option<(Vec<u8>, DecodeError)> = None;
         for attempt in 1..=attempts {
@@ -115,14 +123,14 @@ impl Sd2Link {
                     return Err(self.interrupted(request, &bytes));
                 }
                 self.stats.retries += 1;
-                self.settle()?;
+                self.settle(t)?;
                 self.event(&format!("retry {} of {}", attempt - 1, self.config.retries));
             }
-            self.flush_input()?;
-            self.transport.write_all(&bytes)?;
+            self.flush_input(t)?;
+            t.write_all(&bytes)?;
             self.stats.requests += 1;
-            self.notify(Direction::Sent, &bytes, &Ok(*request));
-            match self.await_reply(request) {
+            self.notify(Direction::Sent, &bytes);
+            match self.await_reply(t, request) {
                 Ok(reply) => {
                     self.stats.replies += 1;
                     return Ok(reply);
@@ -138,7 +146,7 @@ impl Sd2Link {
                 }
                 Err(AttemptFailure::Transport(e)) => {
                     self.event(&format!("transport failed: {e}"));
-                    return Err(LinkError::Transport(e));
+                    return Err(AccessError::Transport(e));
                 }
                 Err(AttemptFailure::Interrupted) => {
                     self.event("stop requested while waiting for the reply");
@@ -149,26 +157,27 @@ impl Sd2Link {
         let request_text = describe_request(request, &bytes);
         let port = self.transport.name().to_string();
         Err(match last_refused {
-            Some((reply, problem)) => LinkError::BadReply {
+            Some((reply, problem)) => AccessError::BadReply {
                 port,
-                dest: request.dest,
+                address: request.dest.to_string(),
                 request: request_text,
                 reply: to_hex(&reply),
-                problem,
+                problem: problem.to_string(),
                 attempts,
             },
-            None => LinkError::NoReply {
+            None => AccessError::NoReply {
                 port,
-                dest: request.dest,
+                address: request.dest.to_string(),
                 request: request_text,
                 attempts,
                 timeout_ms: self.config.reply_timeout.as_millis(),
+                hint: NO_REPLY_HINT.to_string(),
             },
         })
     }
 
-    /// Reads an object; a reply carrying an error code becomes [`LinkError::DriveRefused`].
-    pub fn read_object(&mut self, dest: u8, index: u16, subindex: u32) -> Result<Data, LinkError> {
+    /// Reads an object; a reply carrying an error code becomes [`AccessError::Refused`].
+    pub fn read_object(&mut self, dest: u8, index: u16, subindex: u32) -> Result<Data, AccessError> {
         let request = Telegram::read_request(dest, self.config.master_address, index, subindex);
         let reply = self.transact(&request)?;
         match reply.body {
@@ -185,8 +194,9 @@ impl Sd2Link {
         index: u16,
         subindex: u32,
         data: &[u8],
-    ) -> Result<(), LinkError> {
-        let request = Telegram::write_request(dest, self.config.master_address, index, subindex, data)?;
+    ) -> Result<(), AccessError> {
+        let request = Telegram::write_request(dest, self.config.master_address, index, subindex, data)
+            .map_err(|e| AccessError::Encode(e.to_string()))?;
         let reply = self.transact(&request)?;
         match reply.body {
             Body::WriteReply { error } if error.is_ok() => Ok(()),
@@ -196,7 +206,7 @@ impl Sd2Link {
     }
 
     /// Exchanges one cyclic telegram and returns the drive's process data.
-    pub fn cyclic(&mut self, dest: u8, cyclic: Cyclic) -> Result<Cyclic, LinkError> {
+    pub fn cyclic(&mut self, dest: u8, cyclic: Cyclic) -> Result<Cyclic, AccessError> {
         let request = Telegram {
             dest,
             source: self.config.master_address,
@@ -216,36 +226,36 @@ impl Sd2Link {
         index: u16,
         subindex: u32,
         code: ErrorCode,
-    ) -> LinkError {
-        LinkError::DriveRefused {
+    ) -> AccessError {
+        AccessError::Refused {
             port: self.transport.name().to_string(),
-            dest,
+            address: dest.to_string(),
             operation,
-            index,
-            subindex,
-            code,
+            object: format!("{index} (subindex {subindex})"),
+            code: u32::from(code.0),
+            text: code.to_string(),
         }
     }
 
-    fn interrupted(&self, request: &Telegram, bytes: &[u8]) -> LinkError {
-        LinkError::Interrupted {
+    fn interrupted(&self, request: &Telegram, bytes: &[u8]) -> AccessError {
+        AccessError::Interrupted {
             port: self.transport.name().to_string(),
-            dest: request.dest,
+            address: request.dest.to_string(),
             request: describe_request(request, bytes),
         }
     }
 
-    fn unexpected(&self, request: &Telegram, reply: &Telegram) -> LinkError {
-        LinkError::UnexpectedReply {
+    fn unexpected(&self, request: &Telegram, reply: &Telegram) -> AccessError {
+        AccessError::UnexpectedReply {
             port: self.transport.name().to_string(),
-            dest: request.dest,
+            address: request.dest.to_string(),
             request: describe_request(request, &request.encode(self.config.write_length)),
             detail: format!("command 0x{:02x}", reply.command()),
         }
     }
 
-    fn flush_input(&mut self) -> Result<(), LinkError> {
-        let dropped = self.transport.discard_input()? + self.extractor.pending().len();
+    fn flush_input(&mut self, t: &mut dyn Transport) -> Result<(), AccessError> {
+        let dropped = t.discard_input()? + self.extractor.pending().len();
         self.extractor.clear();
         if dropped > 0 {
             self.event(&format!("discarded {dropped} stale byte(s) before sending"));
@@ -254,7 +264,7 @@ impl Sd2Link {
     }
 
     /// Listens for `config.settle` and drops whatever arrives (see [`LinkConfig::settle`]).
-    fn settle(&mut self) -> Result<(), LinkError> {
+    fn settle(&mut self, t: &mut dyn Transport) -> Result<(), AccessError> {
         let until = self.clock.now() + self.config.settle;
         let mut dropped = 0;
         loop {
@@ -262,10 +272,10 @@ impl Sd2Link {
             if now >= until {
                 break;
             }
-            match self.transport.read(&mut self.buf, until - now) {
+            match t.read(&mut self.buf, until - now) {
                 Ok(n) => dropped += n,
                 Err(TransportError::Timeout { .. }) => break,
-                Err(e) => return Err(LinkError::Transport(e)),
+                Err(e) => return Err(AccessError::Transport(e)),
             }
         }
         if dropped > 0 {
@@ -274,7 +284,7 @@ impl Sd2Link {
         Ok(())
     }
 
-    fn await_reply(&mut self, request: &Telegram) -> Result<Telegram, AttemptFailure> {
+    fn await_reply(&mut self, t: &mut dyn Transport, request: &Telegram) -> Result<Telegram, AttemptFailure> {
         let sent = self.clock.now();
         let deadline = sent + self.config.reply_timeout;
         loop {
@@ -282,7 +292,7 @@ impl Sd2Link {
                 if block.skipped > 0 {
                     self.event(&format!("skipped {} byte(s) of line noise", block.skipped));
                 }
-                self.notify(Direction::Received, &block.bytes, &block.telegram);
+                self.notify(Direction::Received, &block.bytes);
                 let telegram = match block.telegram {
                     Ok(t) => t,
                     Err(problem) => {
@@ -317,7 +327,7 @@ impl Sd2Link {
                 Some(_) if now - sent < STOP_GRACE => (sent + STOP_GRACE).min(deadline) - now,
                 Some(_) => STOP_POLL.min(deadline - now),
             };
-            match self.transport.read(&mut self.buf, slice) {
+            match t.read(&mut self.buf, slice) {
                 Ok(n) => self.extractor.push(&self.buf[..n]),
                 Err(TransportError::Timeout { .. }) if self.clock.now() >= deadline => {
                     return Err(AttemptFailure::Timeout)
@@ -332,10 +342,10 @@ impl Sd2Link {
         }
     }
 
-    fn notify(&mut self, direction: Direction, bytes: &[u8], decoded: &Result<Telegram, DecodeError>) {
+    fn notify(&mut self, direction: Direction, bytes: &[u8]) {
         let at = self.clock.now();
         if let Some(o) = self.observer.as_mut() {
-            o.telegram(at, direction, bytes, decoded);
+            o.telegram(at, direction, bytes);
         }
     }
 
@@ -361,7 +371,7 @@ fn describe_request(request: &Telegram, bytes: &[u8]) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::bus::{MemoryTransport, Peer, PeerReply};
+    use crate::bus::{MemoryTransport, Peer, PeerReply, SharedTransport};
     use crate::clock::{Clock, VirtualClock};
     use crate::family::sd2::codec::WriteLength;
     use std::collections::VecDeque;
@@ -407,7 +417,11 @@ mod tests {
         }));
         let transport = MemoryTransport::new("scripted", peer.clone(), clock.clone());
         (
-            Sd2Link::new(Box::new(transport), clock.clone(), LinkConfig::default()),
+            Sd2Link::new(
+                SharedTransport::new(Box::new(transport)),
+                clock.clone(),
+                LinkConfig::default(),
+            ),
             peer,
             clock,
         )
@@ -473,7 +487,7 @@ mod tests {
         ]);
         let e = l.read_object(2, 67, 0).unwrap_err();
         let text = e.to_string();
-        assert!(matches!(e, LinkError::BadReply { .. }), "{text}");
+        assert!(matches!(e, AccessError::BadReply { .. }), "{text}");
         assert!(text.contains("source address expected 2, got 4"), "{text}");
         assert_eq!(l.stats().mismatched_replies, 3);
     }
@@ -518,7 +532,7 @@ mod tests {
         .encode(WriteLength::Captured);
         let (mut l, _, _) = link(vec![Some((FAST, refused))]);
         let e = l.write_object(2, 67, 0, &[0, 0]).unwrap_err();
-        assert_eq!(e.drive_code(), Some(ErrorCode(0x8A)));
+        assert!(matches!(e, AccessError::Refused { code: 0x8A, .. }), "{e}");
         assert_eq!(
             e.to_string(),
             "drive 2 on scripted refused to write object 67 (subindex 0): 0x8A attempt to write a read-only object"
@@ -530,13 +544,7 @@ mod tests {
         #[derive(Default)]
         struct Log(Arc<Mutex<Vec<String>>>);
         impl TelegramObserver for Log {
-            fn telegram(
-                &mut self,
-                _: Duration,
-                d: Direction,
-                bytes: &[u8],
-                _: &Result<Telegram, DecodeError>,
-            ) {
+            fn telegram(&mut self, _: Duration, d: Direction, bytes: &[u8]) {
                 self.0
                     .lock()
                     .unwrap()

@@ -14,7 +14,7 @@ use crate::drive::device_control::DeviceState;
 use crate::family::sd2::codec::{
     Body, Cyclic, ErrorCode, FrameExtractor, Framing, ServiceChannel, Telegram, WriteLength,
 };
-use crate::sim::{DriveModel, FaultInjection, SimConfig};
+use crate::sim::{DriveModel, FaultInjection, SimConfig, SimulatedDrive};
 use std::time::Duration;
 
 /// A simulated single-axis SD2 drive. See the module docs of `sim` for the model.
@@ -257,6 +257,30 @@ impl Sd2Simulator {
             at: now + self.config().response_latency + fate.extra_delay,
             bytes,
         })
+    }
+}
+
+impl SimulatedDrive for Sd2Simulator {
+    fn faults(&mut self) -> &mut FaultInjection {
+        &mut self.faults
+    }
+    fn control_words_written(&self) -> Vec<u16> {
+        self.control_words.clone()
+    }
+    fn state(&self) -> DeviceState {
+        self.model.state()
+    }
+    fn speed_rpm(&self, now: Duration) -> f64 {
+        Sd2Simulator::speed_rpm(self, now)
+    }
+    fn set_logging(&mut self, on: bool) {
+        self.logging = on;
+    }
+    fn describe(&self) -> String {
+        Sd2Simulator::describe(self)
+    }
+    fn as_any_mut(&mut self) -> &mut dyn std::any::Any {
+        self
     }
 }
 

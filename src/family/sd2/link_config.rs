@@ -1,4 +1,4 @@
-//! Settings of a link: how long to wait, how often to retry, how to frame writes.
+//! Settings of the SD2 link: how long to wait, how often to retry, how to frame writes.
 
 use crate::family::sd2::codec::{WriteLength, MASTER_ADDRESS};
 use std::time::Duration;
