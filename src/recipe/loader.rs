@@ -9,7 +9,7 @@ use super::recipe::{Param, Recipe, SafeStopChoice};
 use super::step::{ObjectRef, SetValue, Step, StepKind, StepOrigin};
 use crate::dictionary::{DataType, Dictionary, Dimension, ObjectDef, Quantity};
 use crate::drive::device_control::{DeviceCommand, DeviceState};
-use crate::session::{Check, Condition, Predicate, Statistic, Tolerance};
+use crate::session::{show_duration, Check, Condition, Predicate, Statistic, Tolerance};
 use crate::text_file::read_text_file;
 use crate::yaml_tree::{self, Span, Spanned, YamlNode};
 use std::collections::{BTreeMap, HashSet};
@@ -1694,10 +1694,6 @@ fn show_set_value(v: &SetValue, o: &ObjectRef) -> String {
 }
 
 /// `10 min`, `500 ms`, `1h 30m`.
-pub fn show_duration(d: Duration) -> String {
-    humantime::format_duration(d).to_string()
-}
-
 fn limits_help(def: &ObjectDef) -> Option<String> {
     let unit = def.unit.map(|u| format!(" {}", u.symbol())).unwrap_or_default();
     let bench = match def.bench {

@@ -4,7 +4,7 @@
 //! An observer: its write errors are kept for the CLI to report, never fail the run.
 
 use super::trace_writer::create_file;
-use crate::recipe::{number, RunObserver, Step};
+use crate::session::{number, RunObserver, StepInfo};
 use std::path::{Path, PathBuf};
 use std::time::Duration;
 
@@ -62,8 +62,8 @@ impl CsvRecorder {
 }
 
 impl RunObserver for CsvRecorder {
-    fn step_started(&mut self, number: &str, _step: &Step, _phase: &'static str) {
-        self.step = number.to_string();
+    fn step_started(&mut self, step: &StepInfo) {
+        self.step = step.number.clone();
     }
 
     fn sample(&mut self, at: Duration, values: &[(String, Option<String>, f64)]) {
@@ -86,8 +86,7 @@ impl RunObserver for CsvRecorder {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::drive::device_control::DeviceCommand;
-    use crate::recipe::{StepKind, StepOrigin};
+    use crate::session::StepOrigin;
 
     fn temp(name: &str) -> PathBuf {
         std::env::temp_dir()
@@ -95,15 +94,17 @@ mod tests {
             .join("out/samples.csv")
     }
 
-    fn step() -> Step {
-        Step {
-            kind: StepKind::Command(DeviceCommand::Shutdown),
+    fn step(number: &str) -> StepInfo {
+        StepInfo {
+            number: number.into(),
+            label: "sample".into(),
             origin: StepOrigin {
                 path: "r.yaml".into(),
                 line: 3,
                 column: 5,
             },
-            label: "sample".into(),
+            phase: "steps",
+            container: false,
         }
     }
 
@@ -115,7 +116,7 @@ mod tests {
     fn long_format_rows_are_on_disk_while_the_run_goes_on() {
         let path = temp("rows");
         let mut csv = CsvRecorder::create(&path).unwrap();
-        csv.step_started("3", &step(), "steps");
+        csv.step_started(&step("3"));
         csv.sample(
             Duration::from_millis(5_100),
             &[
@@ -130,7 +131,7 @@ mod tests {
              5.100000,3,speed_actual,6000.125,rpm\n\
              5.100000,3,current_actual,2.5,A\n"
         );
-        csv.step_started("7.2", &step(), "steps");
+        csv.step_started(&step("7.2"));
         csv.sample(Duration::from_secs(70), &[row("drive_error", None, 0.0)]);
         let text = std::fs::read_to_string(&path).unwrap();
         assert!(text.ends_with("70.000000,7.2,drive_error,0,\n"), "{text}");

@@ -8,7 +8,7 @@
 use super::console_reporter::{
     check_line, container_line, header_lines, message_line, step_line, summary_lines,
 };
-use crate::recipe::{CheckResult, Recipe, RunObserver, RunReport, Step, StepKind, StepRecord};
+use crate::session::{CheckResult, RunInfo, RunObserver, RunReport, StepInfo, StepRecord};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressFinish, ProgressStyle};
 use std::io::Write;
 use std::time::Duration;
@@ -134,17 +134,18 @@ pub fn progress_text(elapsed: Duration, total: Option<Duration>) -> String {
 }
 
 impl<W: Write> RunObserver for ProgressReporter<W> {
-    fn run_started(&mut self, recipe: &Recipe, drive: &str) {
+    fn run_started(&mut self, recipe: &RunInfo, drive: &str) {
         for line in header_lines(recipe, drive) {
             self.line(&line);
         }
     }
 
-    fn step_started(&mut self, number: &str, step: &Step, phase: &'static str) {
-        if let Some(line) = container_line(number, step, phase) {
+    fn step_started(&mut self, step: &StepInfo) {
+        let (number, phase) = (step.number.as_str(), step.phase);
+        if let Some(line) = container_line(step) {
             self.line(&line);
         }
-        if matches!(step.kind, StepKind::Repeat { .. } | StepKind::Include { .. }) {
+        if step.container {
             self.containers
                 .push((number.to_string(), step.label.clone(), String::new()));
             return;
@@ -226,63 +227,40 @@ impl<W: Write> RunObserver for ProgressReporter<W> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::recipe::{Param, StepOrigin};
     use crate::report::sample_report::{passed_report, speed_check, step};
     use crate::report::ConsoleReporter;
+    use crate::session::StepOrigin;
 
-    fn recipe() -> Recipe {
-        Recipe {
+    fn recipe() -> RunInfo {
+        RunInfo {
+            kind: "recipe",
             name: "Spindle run-in".into(),
-            description: None,
-            drive: "sd2".into(),
             path: "recipes/run-in.yaml".into(),
-            params: vec![Param {
-                name: "speed".into(),
-                value: "6000 rpm".into(),
-                origin: "--set".into(),
-            }],
-            steps: Vec::new(),
-            finally: None,
-            on_fault: Vec::new(),
-            leave_enabled: false,
-            safe_stop: Default::default(),
+            params: vec![("speed".into(), "6000 rpm".into())],
         }
     }
 
-    fn a_step(kind: StepKind, label: &str) -> Step {
-        Step {
-            kind,
+    fn info(number: &str, label: &str, phase: &'static str, container: bool) -> StepInfo {
+        StepInfo {
+            number: number.into(),
+            label: label.into(),
             origin: StepOrigin {
                 path: "recipes/run-in.yaml".into(),
                 line: 7,
                 column: 5,
             },
-            label: label.into(),
+            phase,
+            container,
         }
-    }
-
-    fn repeat() -> Step {
-        a_step(
-            StepKind::Repeat {
-                times: Some(3),
-                duration: None,
-                steps: Vec::new(),
-            },
-            "repeat 3 times",
-        )
-    }
-
-    fn dwell() -> Step {
-        a_step(StepKind::Dwell(Duration::from_secs(60)), "dwell 60 s")
     }
 
     /// The same events to any observer.
     fn play(o: &mut dyn RunObserver) {
         let report = passed_report();
-        o.run_started(&recipe(), "sd2 (simulated)");
-        o.step_started("1", &repeat(), "steps");
+        o.run_started(&recipe(), "drive 2 (simulated)");
+        o.step_started(&info("1", "repeat 3 times", "steps", true));
         o.step_progress("1", Duration::ZERO, None, "iteration 1 of 3");
-        o.step_started("1.1", &dwell(), "steps");
+        o.step_started(&info("1.1", "dwell 60 s", "steps", false));
         o.step_progress("1.1", Duration::from_secs(12), Some(Duration::from_secs(60)), "");
         o.step_finished(&step("1.1", "dwell 60 s", true, "", 0, "steps"));
         o.step_finished(&step(
@@ -299,7 +277,7 @@ mod tests {
             true,
         ));
         o.message("speed_actual = 6000.1 rpm");
-        o.step_started("finally.1", &dwell(), "finally");
+        o.step_started(&info("finally.1", "dwell 60 s", "finally", false));
         o.step_finished(&step(
             "finally.1",
             "disable_operation",
@@ -338,9 +316,9 @@ mod tests {
     #[test]
     fn the_live_line_shows_step_time_values_and_context() {
         let mut p = ProgressReporter::new(Vec::new(), ProgressBar::hidden(), false);
-        p.step_started("4", &repeat(), "steps");
+        p.step_started(&info("4", "repeat 3 times", "steps", true));
         p.step_progress("4", Duration::ZERO, None, "iteration 2 of 3");
-        p.step_started("4.1", &dwell(), "steps");
+        p.step_started(&info("4.1", "dwell 60 s", "steps", false));
         assert_eq!(p.bar().prefix(), "4.1");
         assert_eq!(p.bar().message(), "dwell 60 s [repeat 3 times: iteration 2 of 3]");
         p.step_progress(

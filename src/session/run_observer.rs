@@ -1,15 +1,13 @@
-//! Hooks through which a running recipe reports as it goes (console lines, live progress,
+//! Hooks through which a running recipe or script reports as it goes (console lines, live progress,
 //! streamed CSV). Observers must not fail the run: their own I/O problems are theirs.
 
-use super::recipe::Recipe;
-use super::step::Step;
-use crate::session::{CheckResult, RunReport, StepRecord};
+use super::{CheckResult, RunInfo, RunReport, StepInfo, StepRecord};
 use std::time::Duration;
 
 pub trait RunObserver {
-    fn run_started(&mut self, _recipe: &Recipe, _drive: &str) {}
-    /// A step begins. `number` is its position (`3`, `7.2`).
-    fn step_started(&mut self, _number: &str, _step: &Step, _phase: &'static str) {}
+    fn run_started(&mut self, _run: &RunInfo, _drive: &str) {}
+    /// A step begins.
+    fn step_started(&mut self, _step: &StepInfo) {}
     /// Progress of a long step: elapsed, total (when known) and live values.
     fn step_progress(&mut self, _number: &str, _elapsed: Duration, _total: Option<Duration>, _values: &str) {}
     fn step_finished(&mut self, _record: &StepRecord) {}
@@ -34,13 +32,11 @@ impl<'a> Observers<'a> {
 }
 
 impl RunObserver for Observers<'_> {
-    fn run_started(&mut self, recipe: &Recipe, drive: &str) {
-        self.list.iter_mut().for_each(|o| o.run_started(recipe, drive));
+    fn run_started(&mut self, run: &RunInfo, drive: &str) {
+        self.list.iter_mut().for_each(|o| o.run_started(run, drive));
     }
-    fn step_started(&mut self, number: &str, step: &Step, phase: &'static str) {
-        self.list
-            .iter_mut()
-            .for_each(|o| o.step_started(number, step, phase));
+    fn step_started(&mut self, step: &StepInfo) {
+        self.list.iter_mut().for_each(|o| o.step_started(step));
     }
     fn step_progress(&mut self, number: &str, elapsed: Duration, total: Option<Duration>, values: &str) {
         self.list

@@ -1,16 +1,17 @@
-//! The end of every run: `finally` (or the default safe stop: setpoint 0, wait for
-//! standstill, disable operation, shutdown), then a verification that reads the state and
-//! the speed back, escalates (quick stop, then disable voltage) when the drive did not
-//! obey, and records the truth for the last lines. A lost port is reopened first. Nothing
-//! here may give up silently: what could not be confirmed ends in CHECK THE DRIVE BY HAND.
+//! The end of every run: `on_fault` after a fault, then `finally` (or the default safe
+//! stop: setpoint 0, wait for standstill, disable operation, shutdown), then a verification
+//! that reads the state and the speed back, escalates (quick stop, then disable voltage)
+//! when the drive did not obey, and records the truth for the last lines. A lost port is
+//! reopened first. Nothing here may give up silently: what could not be confirmed ends in
+//! CHECK THE DRIVE BY HAND.
 
-use super::{outcome, round, secs, Runner, Stop};
+use super::session::show_duration;
+use super::session::{round, secs, Session};
+use super::stop::{outcome, Stop};
+use super::{number, ObjectRef, RunReport, SetValue, StepInfo, StepOrigin, Verdict};
 use crate::dictionary::Role;
-use crate::drive::device_control::{DeviceCommand, DeviceState};
-use crate::drive::DriveError;
-use crate::recipe::recipe::Recipe;
-use crate::recipe::step::{ObjectRef, SetValue, Step, StepKind, StepOrigin};
-use crate::session::Verdict;
+use crate::drive::{DeviceCommand, DeviceState, DriveError};
+use crate::stop_request::StopSignal;
 use std::time::Duration;
 
 /// How often the safe stop polls the speed or the state while it waits.
@@ -21,62 +22,7 @@ const DISABLE_VOLTAGE_WAIT: Duration = Duration::from_secs(1);
 const REOPEN_PAUSE: Duration = Duration::from_millis(100);
 const REOPEN_PAUSE_MAX: Duration = Duration::from_secs(2);
 
-/// The default `finally` for a drive with this profile: the speed setpoint to 0 and a
-/// wait for standstill (where the profile names the speed objects), then disable
-/// operation and shutdown.
-pub fn default_finally_steps(
-    path: &str,
-    speed_setpoint: Option<ObjectRef>,
-    speed_actual: Option<(ObjectRef, f64)>,
-    standstill_timeout: Duration,
-) -> Vec<Step> {
-    let origin = StepOrigin {
-        path: path.to_string(),
-        line: 0,
-        column: 0,
-    };
-    let step = |kind: StepKind, label: String| Step {
-        kind,
-        origin: origin.clone(),
-        label: format!("{label} (default finally)"),
-    };
-    let mut steps = Vec::new();
-    if let Some(object) = speed_setpoint {
-        let unit = object
-            .unit
-            .as_deref()
-            .map(|u| format!(" {u}"))
-            .unwrap_or_default();
-        let label = format!("set {} = 0{unit}", object.name);
-        steps.push(step(StepKind::Set(vec![(object, SetValue::Number(0.0))]), label));
-    }
-    if let Some((object, below)) = speed_actual {
-        let unit = object
-            .unit
-            .as_deref()
-            .map(|u| format!(" {u}"))
-            .unwrap_or_default();
-        let label = format!(
-            "wait for standstill: {} within ±{}{unit}, at most {}",
-            object.name,
-            crate::recipe::number(below),
-            crate::recipe::show_duration(standstill_timeout)
-        );
-        steps.push(step(
-            StepKind::Standstill {
-                below,
-                timeout: standstill_timeout,
-            },
-            label,
-        ));
-    }
-    for c in [DeviceCommand::DisableOperation, DeviceCommand::Shutdown] {
-        steps.push(step(StepKind::Command(c), c.id().to_string()));
-    }
-    steps
-}
-
-impl Runner<'_> {
+impl Session<'_> {
     /// The object playing `role` in the profile, as a step names it.
     fn role_ref(&self, role: Role) -> Option<ObjectRef> {
         let name = self.drive.profile().ok()?.object(role)?.to_string();
@@ -100,18 +46,61 @@ impl Runner<'_> {
     }
 
     /// A note for the summary (the console prints them with the final lines).
-    fn note(&mut self, text: String) {
+    pub fn note(&mut self, text: String) {
         self.report.safe_stop.push(text);
+    }
+
+    /// Ends the run: `on_fault` after a drive fault, then `finally` (`None`: the default
+    /// safe stop), the emergency off on a second stop request, and the verification; a
+    /// panic in any of it still ends in the emergency off and the truth. `ended` is why
+    /// the operations stopped (`None`: they all ran). Returns the finished report.
+    pub fn end(
+        mut self,
+        ended: Option<Stop>,
+        leave_enabled: bool,
+        on_fault: Option<&mut dyn FnMut(&mut Session)>,
+        finally: Option<&mut dyn FnMut(&mut Session)>,
+    ) -> RunReport {
+        if let (Some(Stop::Fault(_)), Some(on_fault)) = (&ended, on_fault) {
+            self.stop.acknowledge();
+            self.in_safe_stop = true;
+            let result = self.guarded(|s| {
+                on_fault(s);
+                Ok(())
+            });
+            if let Err(e) = result {
+                let (_, why) = outcome(&Err(e));
+                self.note(format!("on_fault ended early: {why}"));
+            }
+        }
+        let link_lost = matches!(ended, Some(Stop::LinkLost(_)));
+        self.report.verdict = match &ended {
+            None if self.failed_checks => Verdict::Failed,
+            None => Verdict::Passed,
+            Some(Stop::Failed(_)) => Verdict::Failed,
+            Some(Stop::Fault(m) | Stop::Error(m) | Stop::LinkLost(m)) => Verdict::Error(m.clone()),
+            Some(Stop::Interrupted) => Verdict::Interrupted(self.stop.first().unwrap_or(StopSignal::INT)),
+            Some(Stop::Panicked(m)) => Verdict::Panicked(m.clone()),
+        };
+        self.run_safe_stop(finally, link_lost, leave_enabled);
+        self.report.duration = self.clock.now().saturating_sub(self.run_start);
+        self.observer.run_finished(&self.report);
+        self.report
     }
 
     /// `finally` (or the default), the emergency off on a second stop request, and the
     /// verification; a panic in any of it still ends in the emergency off and the truth.
-    pub(super) fn run_safe_stop(&mut self, recipe: &Recipe, link_lost: bool) {
+    fn run_safe_stop(
+        &mut self,
+        finally: Option<&mut dyn FnMut(&mut Session)>,
+        link_lost: bool,
+        leave_enabled: bool,
+    ) {
         self.stop.acknowledge();
         self.in_safe_stop = true;
-        let keep = recipe.leave_enabled && self.report.verdict == Verdict::Passed;
+        let keep = leave_enabled && self.report.verdict == Verdict::Passed;
         let result = self.guarded(|r| {
-            r.safe_stop(recipe, link_lost, keep);
+            r.safe_stop(finally, link_lost, keep);
             Ok(())
         });
         if let Err(e) = result {
@@ -143,7 +132,7 @@ impl Runner<'_> {
         }
     }
 
-    fn safe_stop(&mut self, recipe: &Recipe, link_lost: bool, keep: bool) {
+    fn safe_stop(&mut self, finally: Option<&mut dyn FnMut(&mut Session)>, link_lost: bool, keep: bool) {
         if link_lost && !self.restore_link() {
             self.report.stop_confirmed = false;
             self.note(
@@ -152,63 +141,101 @@ impl Runner<'_> {
             );
             return;
         }
-        let default_finally;
-        let finally: &[Step] = match &recipe.finally {
-            Some(steps) => steps,
-            None => {
-                let actual = self.role_ref(Role::SpeedActual).map(|o| {
-                    let below = self.standstill_in(&o);
-                    (o, below)
-                });
-                default_finally = default_finally_steps(
-                    &recipe.path,
-                    self.role_ref(Role::SpeedSetpoint),
-                    actual,
-                    self.settings.standstill_timeout,
-                );
-                &default_finally
-            }
-        };
-        self.best_effort(finally, "finally");
+        match finally {
+            Some(finally) => finally(self),
+            None => self.default_finally(),
+        }
         if self.interrupted() {
             self.emergency_off();
         }
         self.verify(keep);
     }
 
-    /// Runs steps whatever fails; errors are recorded and the next step is tried. A lost
-    /// port is reopened and the step tried once more. A second stop request abandons the
-    /// rest.
-    pub(super) fn best_effort(&mut self, steps: &[Step], phase: &'static str) {
-        for (i, step) in steps.iter().enumerate() {
+    /// The default `finally`: the speed setpoint to 0 and a wait for standstill (where the
+    /// profile names the speed objects), then disable operation and shutdown; each step
+    /// recorded, a failure noted and the next tried. A second stop request abandons it.
+    fn default_finally(&mut self) {
+        let origin = StepOrigin {
+            path: self.report.recipe_path.clone(),
+            line: 0,
+            column: 0,
+        };
+        type Op = Box<dyn Fn(&mut Session) -> Result<String, Stop>>;
+        let mut ops: Vec<(String, Op)> = Vec::new();
+        if let Some(object) = self.role_ref(Role::SpeedSetpoint) {
+            let unit = object
+                .unit
+                .as_deref()
+                .map(|u| format!(" {u}"))
+                .unwrap_or_default();
+            let label = format!("set {} = 0{unit}", object.name);
+            ops.push((
+                label,
+                Box::new(move |s| s.set(&[(object.clone(), SetValue::Number(0.0))])),
+            ));
+        }
+        if let Some(object) = self.role_ref(Role::SpeedActual) {
+            let below = self.standstill_in(&object);
+            let timeout = self.settings.standstill_timeout;
+            let unit = object
+                .unit
+                .as_deref()
+                .map(|u| format!(" {u}"))
+                .unwrap_or_default();
+            let label = format!(
+                "wait for standstill: {} within ±{}{unit}, at most {}",
+                object.name,
+                number(below),
+                show_duration(timeout)
+            );
+            ops.push((label, Box::new(move |s| s.standstill(below, timeout, "finally"))));
+        }
+        for c in [DeviceCommand::DisableOperation, DeviceCommand::Shutdown] {
+            ops.push((c.id().to_string(), Box::new(move |s| s.command(c))));
+        }
+        for (i, (label, op)) in ops.into_iter().enumerate() {
             if self.interrupted() {
                 self.note(format!(
-                    "{phase} abandoned at step {} (a second stop request)",
+                    "finally abandoned at step {} (a second stop request)",
                     i + 1
                 ));
                 return;
             }
-            let number = format!("{phase}.{}", i + 1);
-            self.observer.step_started(&number, step, phase);
-            let started = self.clock.now();
-            let mut result = self.step(step, &number, phase);
-            if matches!(result, Err(Stop::LinkLost(_))) && self.restore_link() {
-                result = self.step(step, &number, phase);
-            }
-            let (ok, detail) = outcome(&result);
-            if !ok {
-                self.note(format!(
-                    "{phase} step {} ({}) failed: {detail}",
-                    i + 1,
-                    step.label
-                ));
-            }
-            self.record_step(number, step, ok, detail, started, phase);
+            let info = StepInfo {
+                number: format!("finally.{}", i + 1),
+                label: format!("{label} (default finally)"),
+                origin: origin.clone(),
+                phase: "finally",
+                container: false,
+            };
+            self.perform_best_effort(&info, |s| op(s));
         }
     }
 
-    /// The default safe stop's wait for standstill (see [`StepKind::Standstill`]).
-    pub(super) fn standstill(&mut self, below: f64, timeout: Duration, number: &str) -> Result<String, Stop> {
+    /// Runs one step of the safe stop whatever happens: a lost port is reopened and the
+    /// step tried once more; a failure is noted for the summary.
+    pub fn perform_best_effort(
+        &mut self,
+        info: &StepInfo,
+        op: impl Fn(&mut Session) -> Result<String, Stop>,
+    ) {
+        let mut result = self.perform(info, &op);
+        if matches!(result, Err(Stop::LinkLost(_))) && self.restore_link() {
+            result = self.perform(info, &op);
+        }
+        if let Err(e) = result {
+            let (_, detail) = outcome(&Err(e));
+            let n = info.number.rsplit('.').next().unwrap_or(&info.number);
+            self.note(format!(
+                "{} step {n} ({}) failed: {detail}",
+                info.phase, info.label
+            ));
+        }
+    }
+
+    /// While the drive is in operation enabled, polls the actual speed until it is within
+    /// ±`below` (its unit) or `timeout` has passed, showing the speed.
+    pub fn standstill(&mut self, below: f64, timeout: Duration, number: &str) -> Result<String, Stop> {
         let Some(object) = self.role_ref(Role::SpeedActual) else {
             return Ok("skipped: the profile names no actual speed".into());
         };
@@ -231,7 +258,7 @@ impl Runner<'_> {
                 return Err(Stop::Failed(format!(
                     "still at {}{unit} after {}; disabling it anyway, it will coast",
                     round(v),
-                    crate::recipe::show_duration(timeout)
+                    show_duration(timeout)
                 )));
             }
             let live = format!("{} {}{unit}", object.name, round(v));
@@ -241,7 +268,7 @@ impl Runner<'_> {
     }
 
     /// The last resort: disable voltage, which nothing may interrupt.
-    pub(super) fn emergency_off(&mut self) {
+    fn emergency_off(&mut self) {
         self.stop.enter_final_stage();
         let mut result = self.drive.command(DeviceCommand::DisableVoltage);
         if matches!(&result, Err(e) if e.is_link_lost()) && self.restore_link() {
@@ -262,7 +289,7 @@ impl Runner<'_> {
 
     /// Reads the state back; escalates while the drive is still enabled; records the state,
     /// the speed and whether the spindle coasts.
-    pub(super) fn verify(&mut self, keep: bool) {
+    fn verify(&mut self, keep: bool) {
         let mut state = match self.state_with_reconnect() {
             Ok(s) => s,
             Err(e) => {
@@ -388,7 +415,7 @@ impl Runner<'_> {
 
     /// Reopens the port with back-off until it answers or the reconnect time is used up;
     /// reports every attempt. True when the drive answers again.
-    pub(super) fn restore_link(&mut self) -> bool {
+    pub fn restore_link(&mut self) -> bool {
         if self.link_given_up {
             return false;
         }
@@ -421,7 +448,7 @@ impl Runner<'_> {
             if next > give_up {
                 self.note(format!(
                     "gave up reopening {port} after {attempt} attempt(s) in {}",
-                    crate::recipe::show_duration(self.settings.reconnect_timeout)
+                    show_duration(self.settings.reconnect_timeout)
                 ));
                 self.link_given_up = true;
                 return false;
