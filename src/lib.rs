@@ -13,6 +13,7 @@
 pub mod bus;
 pub mod cli;
 pub mod clock;
+pub mod csv_file;
 pub mod dictionary;
 pub mod drive;
 pub mod family;

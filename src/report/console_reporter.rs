@@ -3,7 +3,7 @@
 //! never garbles a log file. The line formats are pub functions so the live progress
 //! display prints exactly the same permanent lines.
 
-use crate::session::{number, CheckResult, RunInfo, RunObserver, RunReport, StepInfo, StepRecord};
+use crate::session::{number, with_unit, CheckResult, RunInfo, RunObserver, RunReport, StepInfo, StepRecord};
 use std::io::Write;
 
 pub struct ConsoleReporter<W: Write> {
@@ -167,11 +167,4 @@ pub fn summary_lines(report: &RunReport, virtual_time: bool) -> Vec<String> {
         report.exit_code()
     ));
     lines
-}
-
-fn with_unit(v: f64, unit: Option<&str>) -> String {
-    match unit {
-        Some(u) => format!("{} {u}", number(v)),
-        None => number(v),
-    }
 }

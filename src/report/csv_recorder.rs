@@ -3,17 +3,16 @@
 //! objects) and flushed row by row, so an aborted run keeps every sample it took.
 //! An observer: its write errors are kept for the CLI to report, never fail the run.
 
-use super::trace_writer::create_file;
+use crate::csv_file::CsvFile;
 use crate::session::{number, RunObserver, StepInfo};
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::time::Duration;
 
 /// The header row.
 pub const CSV_HEADER: [&str; 5] = ["time [s]", "step", "object", "value", "unit"];
 
 pub struct CsvRecorder {
-    writer: csv::Writer<std::fs::File>,
-    path: PathBuf,
+    file: CsvFile,
     /// The number of the step running now (`3`, `7.2`).
     step: String,
     rows: u64,
@@ -24,15 +23,9 @@ impl CsvRecorder {
     /// Creates (truncates) the file, its directory too, and writes the header. An
     /// unwritable path is an error here, before the run starts; the message names the path.
     pub fn create(path: &Path) -> Result<Self, String> {
-        let file = create_file(path)?;
-        let mut writer = csv::WriterBuilder::new().from_writer(file);
-        writer
-            .write_record(CSV_HEADER)
-            .and_then(|()| writer.flush().map_err(csv::Error::from))
-            .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+        let header: Vec<String> = CSV_HEADER.iter().map(|h| h.to_string()).collect();
         Ok(CsvRecorder {
-            writer,
-            path: path.to_path_buf(),
+            file: CsvFile::create(path, &header)?,
             step: String::new(),
             rows: 0,
             error: None,
@@ -40,7 +33,7 @@ impl CsvRecorder {
     }
 
     pub fn path(&self) -> &Path {
-        &self.path
+        self.file.path()
     }
 
     /// Rows written so far (one per sampled value).
@@ -54,10 +47,7 @@ impl CsvRecorder {
     }
 
     fn row(&mut self, record: [&str; 5]) -> Result<(), String> {
-        self.writer
-            .write_record(record)
-            .and_then(|()| self.writer.flush().map_err(csv::Error::from))
-            .map_err(|e| format!("cannot write {}: {e}", self.path.display()))
+        self.file.row(&record)
     }
 }
 
@@ -87,6 +77,7 @@ impl RunObserver for CsvRecorder {
 mod tests {
     use super::*;
     use crate::session::StepOrigin;
+    use std::path::PathBuf;
 
     fn temp(name: &str) -> PathBuf {
         std::env::temp_dir()

@@ -5,8 +5,9 @@
 //! black and white, and escapes every text that comes from recipes, drives or messages.
 
 use super::atomic_write::write_atomically;
-use super::junit_report::{limits_text, with_unit};
+use super::junit_report::limits_text;
 use crate::recipe::{number, CheckResult, RunReport, Series, StepRecord, Verdict};
+use crate::session::with_unit;
 use std::fmt::Write as _;
 use std::path::Path;
 use std::time::Duration;

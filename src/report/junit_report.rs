@@ -5,7 +5,7 @@
 //! Written from the finished report only; never a half-written file.
 
 use super::atomic_write::write_atomically;
-use crate::recipe::{number, CheckResult, RunReport, StepRecord, Verdict};
+use crate::session::{number, with_unit, CheckResult, RunReport, StepRecord, Verdict};
 use quick_junit::{NonSuccessKind, Property, Report, TestCase, TestCaseStatus, TestSuite, XmlString};
 use std::fmt::Write as _;
 use std::path::Path;
@@ -170,13 +170,6 @@ pub(crate) fn limits_text(c: &CheckResult) -> Option<String> {
         (None, Some(hi)) => format!("< {}", with_unit(hi, u)),
         (None, None) => return None,
     })
-}
-
-pub(crate) fn with_unit(v: f64, unit: Option<&str>) -> String {
-    match unit {
-        Some(u) => format!("{} {u}", number(v)),
-        None => number(v),
-    }
 }
 
 /// Steps that failed without a failed check of their own (same place in the recipe).

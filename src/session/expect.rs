@@ -1,7 +1,7 @@
 //! `expect`: named pass/fail checks on a value now, or on a statistic of the last sample
 //! window; each becomes a check in the report.
 
-use super::session::{with_unit, Session};
+use super::session::{value_of, Session};
 use super::stop::Stop;
 use super::{Check, CheckResult, Condition, Stats, StepOrigin};
 
@@ -29,7 +29,7 @@ impl Session<'_> {
                             ok,
                             Some(v),
                             None,
-                            format!("{} {} = {}", c.object.name, stat.id(), with_unit(v, &c.object)),
+                            format!("{} {} = {}", c.object.name, stat.id(), value_of(v, &c.object)),
                         )
                     }
                 }

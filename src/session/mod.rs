@@ -21,7 +21,7 @@ mod step_origin;
 mod stop;
 mod wait_until;
 
-pub use condition::{number, Check, Condition, Predicate, Statistic, Stats, Tolerance};
+pub use condition::{number, with_unit, Check, Condition, Predicate, Statistic, Stats, Tolerance};
 pub use object_ref::ObjectRef;
 pub use run_info::{RunInfo, StepInfo};
 pub use run_observer::{Observers, RunObserver};

@@ -1,6 +1,6 @@
 //! `ramp`: write an object in steps from one value to another at a fixed period.
 
-use super::session::{with_unit, Session};
+use super::session::{value_of, Session};
 use super::stop::{nth_tick, Stop};
 use super::ObjectRef;
 use crate::dictionary::{Quantity, Unit};
@@ -32,7 +32,7 @@ impl Session<'_> {
                 number,
                 self.clock.now() - start,
                 Some(total),
-                &format!("{} = {}", object.name, with_unit(*p, object)),
+                &format!("{} = {}", object.name, value_of(*p, object)),
             );
             self.watch_fault(false)?;
         }

@@ -2,9 +2,11 @@
 //! series, optionally stream them to a CSV file of the step's own.
 
 use super::session::show_duration;
-use super::session::{join_unit, round, Session};
+use super::session::{round, Session};
 use super::stop::{nth_tick, Stop};
+use super::with_unit;
 use super::{number, ObjectRef, Series, Stats};
+use crate::csv_file::CsvFile;
 use std::path::PathBuf;
 use std::time::Duration;
 
@@ -58,7 +60,7 @@ impl Session<'_> {
             self.observer.sample(at, &row);
             let live = row
                 .iter()
-                .map(|(n, u, v)| format!("{n} {}", join_unit(*v, u.as_deref())))
+                .map(|(n, u, v)| format!("{n} {}", with_unit(*v, u.as_deref())))
                 .collect::<Vec<_>>()
                 .join(", ");
             self.observer
@@ -73,9 +75,9 @@ impl Session<'_> {
             summary.push(format!(
                 "{} mean {} min {} max {}",
                 o.name,
-                join_unit(round(s.mean), o.unit.as_deref()),
-                join_unit(round(s.min), o.unit.as_deref()),
-                join_unit(round(s.max), o.unit.as_deref())
+                with_unit(round(s.mean), o.unit.as_deref()),
+                with_unit(round(s.min), o.unit.as_deref()),
+                with_unit(round(s.max), o.unit.as_deref())
             ));
             self.windows.insert(o.name.clone(), values);
             self.report.series.push(Series {
@@ -97,58 +99,26 @@ impl Session<'_> {
     }
 }
 
-/// A `csv:` file of a sample step, written row by row and flushed, so an aborted run keeps
-/// every sample taken.
-struct SampleCsv {
-    writer: csv::Writer<std::fs::File>,
-    path: PathBuf,
-}
+/// A `csv:` file of a sample step: time, then one column per object.
+struct SampleCsv(CsvFile);
 
 impl SampleCsv {
     /// Creates the file with its header, or (`append`) continues one this run started.
     fn open(path: &std::path::Path, objects: &[ObjectRef], append: bool) -> Result<Self, String> {
-        if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
-            std::fs::create_dir_all(dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
+        if append {
+            return CsvFile::append(path).map(SampleCsv);
         }
-        let file = std::fs::OpenOptions::new()
-            .create(true)
-            .append(append)
-            .write(true)
-            .truncate(!append)
-            .open(path)
-            .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
-        let mut writer = csv::Writer::from_writer(file);
-        if !append {
-            let mut header = vec!["time [s]".to_string()];
-            header.extend(objects.iter().map(|o| match &o.unit {
-                Some(u) => format!("{} [{u}]", o.name),
-                None => o.name.clone(),
-            }));
-            writer
-                .write_record(&header)
-                .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
-        }
-        let mut s = SampleCsv {
-            writer,
-            path: path.to_path_buf(),
-        };
-        s.flush()?;
-        Ok(s)
+        let mut header = vec!["time [s]".to_string()];
+        header.extend(objects.iter().map(|o| match &o.unit {
+            Some(u) => format!("{} [{u}]", o.name),
+            None => o.name.clone(),
+        }));
+        CsvFile::create(path, &header).map(SampleCsv)
     }
 
     fn row(&mut self, t: f64, values: &[(String, Option<String>, f64)]) -> Result<(), String> {
         let mut rec = vec![format!("{t:.3}")];
         rec.extend(values.iter().map(|(_, _, v)| number(round(*v))));
-        self.writer
-            .write_record(&rec)
-            .map_err(|e| format!("cannot write {}: {e}", self.path.display()))?;
-        self.flush()
-    }
-
-    fn flush(&mut self) -> Result<(), String> {
-        // csv's flush hands the buffer to the file, which writes it through unbuffered.
-        self.writer
-            .flush()
-            .map_err(|e| format!("cannot write {}: {e}", self.path.display()))
+        self.0.row(&rec)
     }
 }

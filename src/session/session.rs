@@ -6,7 +6,7 @@
 
 use super::stop::{outcome, panic_message, Stop};
 use super::{
-    number, Condition, ObjectRef, Predicate, RunInfo, RunObserver, RunReport, SafeStopSettings, StepInfo,
+    with_unit, Condition, ObjectRef, Predicate, RunInfo, RunObserver, RunReport, SafeStopSettings, StepInfo,
     StepRecord, Verdict,
 };
 use crate::clock::SharedClock;
@@ -271,21 +271,15 @@ impl<'a> Session<'a> {
                     return Ok((predicate.holds_text(&text), v, None));
                 }
                 let v = self.drive.read_number(&object.name)?;
-                Ok((predicate.holds(v), with_unit(v, object), Some(v)))
+                Ok((predicate.holds(v), value_of(v, object), Some(v)))
             }
         }
     }
 }
 
-pub(super) fn with_unit(v: f64, o: &ObjectRef) -> String {
-    join_unit(round(v), o.unit.as_deref())
-}
-
-pub(super) fn join_unit(v: f64, unit: Option<&str>) -> String {
-    match unit {
-        Some(u) => format!("{} {u}", number(v)),
-        None => number(v),
-    }
+/// A measured value of `o`, rounded, with its unit.
+pub(super) fn value_of(v: f64, o: &ObjectRef) -> String {
+    with_unit(round(v), o.unit.as_deref())
 }
 
 /// Three decimals is finer than any scale an engineer reads.
