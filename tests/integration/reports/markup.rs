@@ -1,8 +1,10 @@
 //! Reading the reports back with real parsers: the JUnit file with roxmltree (strict XML
-//! 1.0) and the structure of the common JUnit schema. Each check says what is wrong, so a
-//! test can also show that a broken report is refused.
+//! 1.0) and the structure of the common JUnit schema, the HTML page with html5ever (through
+//! scraper) and its parse errors. Each check says what is wrong, so a test can also show
+//! that a broken report is refused.
 
 use roxmltree::{Document, Node};
+use scraper::{ElementRef, Html, Selector};
 
 pub const XML_DECLARATION: &str = "<?xml version=\"1.0\" encoding=\"UTF-8\"?>";
 
@@ -122,4 +124,103 @@ pub fn case_property<'a>(doc: &'a Document, case: &str, name: &str) -> Option<&'
         .flat_map(|p| p.children())
         .find(|p| p.has_tag_name("property") && p.attribute("name") == Some(name))
         .and_then(|p| p.attribute("value"))
+}
+
+/// The elements an HTML report is made of; anything else got in through text that was not
+/// escaped.
+const HTML_ELEMENTS: &[&str] = &[
+    "html",
+    "head",
+    "meta",
+    "title",
+    "style",
+    "body",
+    "header",
+    "footer",
+    "section",
+    "h1",
+    "h2",
+    "p",
+    "strong",
+    "span",
+    "code",
+    "ul",
+    "li",
+    "table",
+    "thead",
+    "tbody",
+    "tr",
+    "th",
+    "td",
+    "figure",
+    "figcaption",
+    "svg",
+    "g",
+    "line",
+    "polyline",
+    "rect",
+    "text",
+    "clipPath",
+];
+
+/// Parses `text` as an HTML5 document: it must start with the HTML5 doctype, parse without
+/// a single parse error, and hold only the elements the report writes.
+pub fn html(text: &str) -> Result<Html, String> {
+    if !text.starts_with("<!DOCTYPE html>") {
+        return Err("no <!DOCTYPE html> at the start".into());
+    }
+    let doc = Html::parse_document(text);
+    if !doc.errors.is_empty() {
+        return Err(format!("HTML parse errors: {:?}", doc.errors));
+    }
+    for e in doc.root_element().descendent_elements() {
+        let name = e.value().name();
+        if !HTML_ELEMENTS.contains(&name) {
+            return Err(format!("unexpected element <{name}>: {}", e.html()));
+        }
+    }
+    Ok(doc)
+}
+
+pub fn select<'a>(doc: &'a Html, css: &str) -> Vec<ElementRef<'a>> {
+    let selector = Selector::parse(css).unwrap_or_else(|e| panic!("selector {css}: {e}"));
+    doc.select(&selector).collect()
+}
+
+/// Elements by local name (SVG names keep their case: `clipPath`).
+pub fn elements<'a>(doc: &'a Html, name: &str) -> Vec<ElementRef<'a>> {
+    doc.root_element()
+        .descendent_elements()
+        .filter(|e| e.value().name() == name)
+        .collect()
+}
+
+/// The text inside `e`, entities decoded and inner tags dropped.
+pub fn text(e: &ElementRef) -> String {
+    e.text().collect()
+}
+
+/// The texts of the elements `css` selects.
+pub fn texts(doc: &Html, css: &str) -> Vec<String> {
+    select(doc, css).iter().map(text).collect()
+}
+
+/// True when `e` lies inside an element named `name`.
+pub fn inside(e: &ElementRef, name: &str) -> bool {
+    e.ancestors()
+        .filter_map(ElementRef::wrap)
+        .any(|a| a.value().name() == name)
+}
+
+/// The text of each cell of each body row of the table in section `id`.
+pub fn rows(doc: &Html, id: &str) -> Vec<Vec<String>> {
+    select(doc, &format!("section#{id} tbody > tr"))
+        .iter()
+        .map(|row| {
+            row.child_elements()
+                .filter(|c| c.value().name() == "td")
+                .map(|c| text(&c))
+                .collect()
+        })
+        .collect()
 }

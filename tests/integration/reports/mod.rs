@@ -1,6 +1,8 @@
-//! The report writers fed with sample run reports, their files read back with real
-//! parsers.
+//! The report writers (JUnit, HTML, live progress) fed with sample run reports, their files
+//! read back with real XML and HTML parsers.
 
+mod html_report;
 mod junit_report;
 mod markup;
+mod progress_reporter;
 mod sample_reports;
