@@ -3,6 +3,7 @@
 
 mod html_report;
 mod junit_report;
-mod markup;
+pub mod markup;
 mod progress_reporter;
 mod sample_reports;
+mod unfinished_report;
