@@ -6,11 +6,7 @@ mod console_reporter;
 mod csv_recorder;
 mod html_report;
 mod junit_report;
-#[cfg(test)]
-mod markup_check;
 mod progress_reporter;
-#[cfg(test)]
-mod sample_report;
 mod telegram_fan_out;
 mod trace_writer;
 mod unfinished_report;

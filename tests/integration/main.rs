@@ -1,5 +1,5 @@
-//! The one integration test binary: golden vectors, the command line end to end, and
-//! (later) the data-driven recipe cases under `tests/cases/`.
+//! The one integration test binary: golden vectors, the command line end to end, the
+//! data-driven recipe cases under `tests/cases/`, and the report writers.
 
 mod bench_limits;
 mod decode_cli;
@@ -9,6 +9,7 @@ mod examples;
 mod loader_limits;
 mod outputs;
 mod recipe_cases;
+mod reports;
 mod safety;
 mod support;
 mod vectors;

@@ -1,9 +1,11 @@
-//! Test support: run reports as the runner would hand them over, one that passed and one
-//! that ended in a communication error, for the report writers' tests. Only for tests.
+//! Run reports as the runner hands them over, for the report writers' tests: one that
+//! passed and one that ended in a communication error. Each report type is written out
+//! field by field in exactly one function here ([`report`], [`step`], [`check`]), so a
+//! new field of the run report is one edit.
 
-use crate::drive::device_control::DeviceState;
-use crate::recipe::{CheckResult, RunReport, Series, StepOrigin, StepRecord, Verdict};
-use std::time::{Duration, SystemTime, UNIX_EPOCH};
+use drivescript::drive::DeviceState;
+use drivescript::session::{CheckResult, RunReport, Series, StepOrigin, StepRecord, Verdict};
+use std::time::{Duration, UNIX_EPOCH};
 
 pub fn origin(line: usize) -> StepOrigin {
     StepOrigin {
@@ -13,6 +15,7 @@ pub fn origin(line: usize) -> StepOrigin {
     }
 }
 
+/// A step that took 250 ms; step n is written on line 10 + n.
 pub fn step(
     number: &str,
     label: &str,
@@ -24,7 +27,6 @@ pub fn step(
     StepRecord {
         number: number.into(),
         label: label.into(),
-        // Step n is written on line 10 + n.
         origin: origin(10 + number.parse::<usize>().unwrap_or(0)),
         ok,
         detail: detail.into(),
@@ -34,21 +36,64 @@ pub fn step(
     }
 }
 
-pub fn speed_check(name: &str, measured: f64, passed: bool) -> CheckResult {
+/// A check with nothing measured and no limits, written on line 12, done after 1 s in 0.2 s.
+pub fn check(name: &str, passed: bool, message: &str) -> CheckResult {
     CheckResult {
         name: name.into(),
         passed,
-        measured: Some(measured),
+        measured: None,
         measured_text: None,
+        unit: None,
+        low: None,
+        high: None,
+        object: None,
+        statistic: None,
+        message: message.into(),
+        origin: origin(12),
+        at: Duration::from_secs(1),
+        duration: Duration::from_millis(200),
+    }
+}
+
+/// The mean of speed_actual within 5970 .. 6030 rpm, written on line 20.
+pub fn speed_check(name: &str, measured: f64, passed: bool) -> CheckResult {
+    CheckResult {
+        measured: Some(measured),
         unit: Some("rpm".into()),
         low: Some(5970.0),
         high: Some(6030.0),
         object: Some("speed_actual".into()),
         statistic: Some("mean".into()),
-        message: format!("mean {measured} rpm"),
         origin: origin(20),
         at: Duration::from_secs(65),
         duration: Duration::from_millis(1500),
+        ..check(name, passed, &format!("mean {measured} rpm"))
+    }
+}
+
+/// A run of `recipe` from `recipe_path` on `drive`, started 2024-06-10 06:13:20 UTC, that
+/// ended with `verdict` and ran nothing: no steps, checks, series or notes, the drive's
+/// state not read and the safe stop not confirmed.
+pub fn report(recipe: &str, recipe_path: &str, drive: &str, verdict: Verdict) -> RunReport {
+    RunReport {
+        recipe: recipe.into(),
+        recipe_path: recipe_path.into(),
+        drive: drive.into(),
+        identity: None,
+        params: Vec::new(),
+        started_at: UNIX_EPOCH + Duration::from_secs(1_718_000_000),
+        duration: Duration::ZERO,
+        verdict,
+        steps: Vec::new(),
+        checks: Vec::new(),
+        series: Vec::new(),
+        final_state: None,
+        final_speed: None,
+        speed_unit: None,
+        coasting: false,
+        stop_confirmed: false,
+        disobeyed: false,
+        safe_stop: Vec::new(),
     }
 }
 
@@ -61,14 +106,9 @@ pub fn passed_report() -> RunReport {
         })
         .collect();
     RunReport {
-        recipe: "Spindle <run-in> & \"test\"".into(),
-        recipe_path: "recipes/run-in.yaml".into(),
-        drive: "sd2 at /dev/ttyUSB0, address 2".into(),
         identity: Some("SD2S 0362150C".into()),
         params: vec![("speed".into(), "6000 rpm".into())],
-        started_at: UNIX_EPOCH + Duration::from_secs(1_718_000_000),
         duration: Duration::from_millis(66_250),
-        verdict: Verdict::Passed,
         steps: vec![
             step("1", "shutdown", true, "ready to switch on", 0, "steps"),
             step("2", "set speed_setpoint = 6000 rpm", true, "", 250, "steps"),
@@ -93,19 +133,12 @@ pub fn passed_report() -> RunReport {
         checks: vec![
             speed_check("speed_actual mean near 6000 rpm ± 0.5 %", 6000.1, true),
             CheckResult {
-                name: "wait until state operation_enabled".into(),
-                passed: true,
-                measured: None,
                 measured_text: Some("operation enabled".into()),
-                unit: None,
-                low: None,
-                high: None,
-                object: None,
-                statistic: None,
-                message: "operation enabled after 0.2 s".into(),
-                origin: origin(12),
-                at: Duration::from_secs(1),
-                duration: Duration::from_millis(200),
+                ..check(
+                    "wait until state operation_enabled",
+                    true,
+                    "operation enabled after 0.2 s",
+                )
             },
         ],
         series: vec![Series {
@@ -117,24 +150,21 @@ pub fn passed_report() -> RunReport {
         final_state: Some(DeviceState::SwitchedOn),
         final_speed: Some(0.4),
         speed_unit: Some("rpm".into()),
-        coasting: false,
         stop_confirmed: true,
-        disobeyed: false,
         safe_stop: vec!["finally: disable_operation ran".into()],
+        ..report(
+            "Spindle <run-in> & \"test\"",
+            "recipes/run-in.yaml",
+            "sd2 at /dev/ttyUSB0, address 2",
+            Verdict::Passed,
+        )
     }
 }
 
 /// A run that failed one check and then lost the drive: verdict error.
 pub fn error_report() -> RunReport {
     RunReport {
-        recipe: "Acceptance".into(),
-        recipe_path: "recipes/accept.yaml".into(),
-        drive: "sd2 (simulated)".into(),
-        identity: None,
-        params: Vec::new(),
-        started_at: SystemTime::UNIX_EPOCH + Duration::from_secs(1_718_000_000),
         duration: Duration::from_secs(9),
-        verdict: Verdict::Error("no reply within 100 ms from drive 2 <port>".into()),
         steps: vec![
             step("1", "expect speed_actual", false, "mean 5800 rpm", 0, "steps"),
             step(
@@ -151,13 +181,12 @@ pub fn error_report() -> RunReport {
             origin: origin(11),
             ..speed_check("speed & <mean>", 5800.0, false)
         }],
-        series: Vec::new(),
-        final_state: None,
-        final_speed: None,
-        speed_unit: None,
-        coasting: false,
-        stop_confirmed: false,
-        disobeyed: false,
         safe_stop: vec!["the safety net (disable voltage) could not be sent".into()],
+        ..report(
+            "Acceptance",
+            "recipes/accept.yaml",
+            "sd2 (simulated)",
+            Verdict::Error("no reply within 100 ms from drive 2 <port>".into()),
+        )
     }
 }
