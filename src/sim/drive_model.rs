@@ -20,12 +20,12 @@ const BUS_SAG_V_PER_A: f64 = 0.5;
 const POWER_STAGE_RATED_A: f64 = 20.0;
 const CURRENT_NOISE_A: f64 = 0.005;
 /// Highest parameter set (spindle selection).
-pub(crate) const MAX_PARAMETER_SET: u16 = 64;
+pub const MAX_PARAMETER_SET: u16 = 64;
 /// Inside this distance from the target the status word shows "target reached".
 const TARGET_WINDOW_RPM: f64 = 1.0;
 
 #[derive(Debug, Clone)]
-pub(crate) struct DriveModel {
+pub struct DriveModel {
     config: SimConfig,
     machine: DeviceStateMachine,
     motor: Motor,
@@ -37,7 +37,7 @@ pub(crate) struct DriveModel {
 }
 
 impl DriveModel {
-    pub(crate) fn new(config: SimConfig) -> Self {
+    pub fn new(config: SimConfig) -> Self {
         let noise = XorShift64::new(config.seed);
         DriveModel {
             config,
@@ -50,41 +50,41 @@ impl DriveModel {
         }
     }
 
-    pub(crate) fn config(&self) -> &SimConfig {
+    pub fn config(&self) -> &SimConfig {
         &self.config
     }
 
-    pub(crate) fn state(&self) -> DeviceState {
+    pub fn state(&self) -> DeviceState {
         self.machine.state()
     }
 
-    pub(crate) fn setpoint_rpm(&self) -> f64 {
+    pub fn setpoint_rpm(&self) -> f64 {
         self.setpoint_rpm
     }
 
     /// Model speed at the model's time, without noise.
-    pub(crate) fn speed_rpm(&self) -> f64 {
+    pub fn speed_rpm(&self) -> f64 {
         self.motor.speed_at(self.time)
     }
 
     /// Moves the model to `now` (earlier times leave it where it is). The ramp is closed
     /// form, so this costs the same for a microsecond as for an hour.
-    pub(crate) fn advance_to(&mut self, now: Duration) {
+    pub fn advance_to(&mut self, now: Duration) {
         self.time = self.time.max(now);
         self.update();
     }
 
-    pub(crate) fn trip(&mut self, drive_error: u16) {
+    pub fn trip(&mut self, drive_error: u16) {
         self.machine.trip(drive_error);
         self.update();
     }
 
     /// What `control_word` would command now, without carrying it out.
-    pub(crate) fn command_for(&self, control_word: u16) -> DeviceCommand {
+    pub fn command_for(&self, control_word: u16) -> DeviceCommand {
         self.machine.command_for(control_word)
     }
 
-    pub(crate) fn write_control_word(&mut self, control_word: u16, reset_blocked: bool) -> DeviceCommand {
+    pub fn write_control_word(&mut self, control_word: u16, reset_blocked: bool) -> DeviceCommand {
         let command = self.machine.write_control_word(control_word, reset_blocked);
         self.update();
         command
@@ -92,13 +92,13 @@ impl DriveModel {
 
     /// A speed reference given as a fraction of the velocity scaling (1.0 = +100 %), as
     /// cyclic process data carries it; not range-checked, like the drive's own.
-    pub(crate) fn set_speed_fraction(&mut self, fraction: f64) {
+    pub fn set_speed_fraction(&mut self, fraction: f64) {
         self.setpoint_rpm = fraction * self.config.velocity_scaling_rpm;
         self.update();
     }
 
     /// A speed setpoint written as a parameter: refused beyond ± the maximum speed.
-    pub(crate) fn set_setpoint_rpm(&mut self, rpm: f64) -> Result<(), ModelRefusal> {
+    pub fn set_setpoint_rpm(&mut self, rpm: f64) -> Result<(), ModelRefusal> {
         let max = self.config.max_speed_rpm.abs();
         if rpm > max {
             return Err(ModelRefusal::TooHigh);
@@ -111,12 +111,12 @@ impl DriveModel {
         Ok(())
     }
 
-    pub(crate) fn parameter_set(&self) -> u16 {
+    pub fn parameter_set(&self) -> u16 {
         self.parameter_set
     }
 
     /// Selects a parameter set (a spindle): refused out of range, and while enabled.
-    pub(crate) fn set_parameter_set(&mut self, set: u16) -> Result<(), ModelRefusal> {
+    pub fn set_parameter_set(&mut self, set: u16) -> Result<(), ModelRefusal> {
         if set > MAX_PARAMETER_SET {
             return Err(ModelRefusal::OutOfRange);
         }
@@ -127,26 +127,26 @@ impl DriveModel {
         Ok(())
     }
 
-    pub(crate) fn control_word(&self) -> u16 {
+    pub fn control_word(&self) -> u16 {
         self.machine.control_word()
     }
 
-    pub(crate) fn drive_error(&self) -> u16 {
+    pub fn drive_error(&self) -> u16 {
         self.machine.drive_error()
     }
 
-    pub(crate) fn ident(&self) -> &str {
+    pub fn ident(&self) -> &str {
         &self.config.ident
     }
 
     /// DC-link voltage with its sag under load and noise.
-    pub(crate) fn measured_bus_voltage_v(&mut self) -> f64 {
+    pub fn measured_bus_voltage_v(&mut self) -> f64 {
         BUS_VOLTAGE_V - BUS_SAG_V_PER_A * self.current_a().abs()
             + BUS_VOLTAGE_NOISE_V * self.noise.symmetric()
     }
 
     /// Power-stage load in percent of its rated current.
-    pub(crate) fn power_stage_load_percent(&self) -> f64 {
+    pub fn power_stage_load_percent(&self) -> f64 {
         self.current_a().abs() / POWER_STAGE_RATED_A * 100.0
     }
 
@@ -177,14 +177,14 @@ impl DriveModel {
     }
 
     /// The CiA 402 status word of the state (the profile the model's state machine follows).
-    pub(crate) fn status_word(&self) -> u16 {
+    pub fn status_word(&self) -> u16 {
         let at_target = (self.speed_rpm() - self.target_rpm()).abs() < TARGET_WINDOW_RPM;
         self.machine.status_word(at_target)
     }
 
     /// Actual speed as measured: noise while the motor turns or the power stage is on,
     /// an exact 0 for a motor at rest with the power stage off.
-    pub(crate) fn measured_speed_rpm(&mut self) -> f64 {
+    pub fn measured_speed_rpm(&mut self) -> f64 {
         let v = self.speed_rpm();
         if v != 0.0 || self.state().is_powered() {
             v + self.config.noise_rpm * self.noise.symmetric()
@@ -201,7 +201,7 @@ impl DriveModel {
         }
     }
 
-    pub(crate) fn measured_current_a(&mut self) -> f64 {
+    pub fn measured_current_a(&mut self) -> f64 {
         if self.state().is_powered() {
             self.current_a() + CURRENT_NOISE_A * self.noise.symmetric()
         } else {
@@ -212,7 +212,7 @@ impl DriveModel {
 
 /// Why the model refuses a value (each family's front turns it into its own error code).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(crate) enum ModelRefusal {
+pub enum ModelRefusal {
     TooHigh,
     TooLow,
     OutOfRange,

@@ -30,7 +30,7 @@ mod noise;
 mod sim_config;
 mod simulated_drive;
 
-pub(crate) use drive_model::{DriveModel, ModelRefusal};
+pub use drive_model::{DriveModel, ModelRefusal};
 pub use fault_injection::FaultInjection;
 pub use sim_config::SimConfig;
 pub use simulated_drive::SimulatedDrive;

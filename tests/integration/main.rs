@@ -1,6 +1,9 @@
 //! The one integration test binary: golden vectors, the command line end to end, the
 //! data-driven recipe cases under `tests/cases/`, and the report writers.
 
+// As in the library: errors carry structured context and travel on cold paths.
+#![allow(clippy::result_large_err)]
+
 mod bench_limits;
 mod decode_cli;
 mod drive_sim;
@@ -12,4 +15,5 @@ mod recipe_cases;
 mod reports;
 mod safety;
 mod support;
+mod text_family;
 mod vectors;
