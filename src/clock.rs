@@ -5,7 +5,7 @@
 //! second against the simulator with [`VirtualClock`], with identical results.
 //! This module must not know about drives or protocols.
 
-use crate::stop_request::StopRequests;
+use crate::stop_request::{StopRequests, WaitStep};
 use std::fmt::Debug;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::Arc;
@@ -94,20 +94,13 @@ impl Clock for RealClock {
     fn wait_until(&self, deadline: Duration, stop: &StopRequests) -> bool {
         loop {
             let now = self.now();
-            if stop.pending_at(now) {
-                return true;
-            }
-            if now >= deadline {
-                return false;
-            }
-            let until = stop
-                .next_scheduled()
-                .map_or(deadline, |at| at.clamp(now, deadline));
-            let left = until - now;
-            if left > SPIN_BELOW {
-                stop.wait_real(left - SPIN_BELOW);
-            } else {
-                std::hint::spin_loop();
+            match stop.wait_step(now, deadline) {
+                WaitStep::Stopped => return true,
+                WaitStep::Reached => return false,
+                WaitStep::Until(until) if until - now > SPIN_BELOW => {
+                    stop.wait_real(until - now - SPIN_BELOW)
+                }
+                WaitStep::Until(_) => std::hint::spin_loop(),
             }
         }
     }
@@ -177,20 +170,12 @@ impl Clock for VirtualClock {
     fn wait_until(&self, deadline: Duration, stop: &StopRequests) -> bool {
         loop {
             let now = self.now();
-            if stop.pending_at(now) {
-                return true;
-            }
-            if now >= deadline {
-                return false;
-            }
-            // A request scheduled before the deadline ends the jump there, at its time.
-            let until = stop
-                .next_scheduled()
-                .map_or(deadline, |at| at.clamp(now, deadline));
-            self.sleep_until(until);
-            if until == now {
-                // Only a request scheduled for exactly now, which pending_at has delivered.
-                return stop.pending_at(now);
+            match stop.wait_step(now, deadline) {
+                WaitStep::Stopped => return true,
+                WaitStep::Reached => return false,
+                // A request scheduled before the deadline ends the jump there, at its time
+                // (`wait_step` has delivered those due by now, so time always moves on).
+                WaitStep::Until(until) => self.sleep_until(until),
             }
         }
     }

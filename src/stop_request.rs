@@ -61,6 +61,14 @@ impl StopSignal {
     }
 }
 
+/// See [`StopRequests::wait_step`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum WaitStep {
+    Stopped,
+    Reached,
+    Until(Duration),
+}
+
 #[derive(Debug, Default)]
 struct State {
     /// Every request so far, in order of arrival.
@@ -148,6 +156,22 @@ impl StopRequests {
     /// The last resort has started: from now on nothing interrupts a wait.
     pub fn enter_final_stage(&self) {
         self.lock().final_stage = true;
+    }
+
+    /// What a wait until `deadline` does next at clock time `now`: end because a request is
+    /// pending, end because the deadline is reached, or wait until the returned time (the
+    /// deadline, or an earlier scheduled request).
+    pub fn wait_step(&self, now: Duration, deadline: Duration) -> WaitStep {
+        if self.pending_at(now) {
+            return WaitStep::Stopped;
+        }
+        if now >= deadline {
+            return WaitStep::Reached;
+        }
+        WaitStep::Until(
+            self.next_scheduled()
+                .map_or(deadline, |at| at.clamp(now, deadline)),
+        )
     }
 
     /// The next scheduled request after `now`, if any.
