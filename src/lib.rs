@@ -12,6 +12,7 @@
 
 pub mod cli;
 pub mod clock;
+pub mod diag;
 pub mod dictionary;
 pub mod drive;
 pub mod hex;
@@ -23,6 +24,5 @@ pub mod session;
 pub mod sim;
 pub mod sim_server;
 pub mod stop_request;
-pub mod text_file;
 pub mod transport;
 pub mod yaml_tree;

@@ -18,7 +18,7 @@ use super::unit::{Dimension, Unit};
 use super::value::format_number;
 use super::yaml_node::{NodeKind, YamlNode};
 use super::Quantity;
-use crate::text_file::read_text_file;
+use crate::diag::read_text_file;
 use std::ffi::OsStr;
 use std::path::{Path, PathBuf};
 

@@ -6,7 +6,6 @@
 use super::address::Address;
 use super::bench_limits::BenchLimits;
 use super::dictionary_error::DictionaryError;
-use super::did_you_mean::did_you_mean;
 use super::object_def::ObjectDef;
 use super::profile::Profile;
 use super::reader::read;
@@ -15,7 +14,8 @@ use super::text_span::{SourceFile, TextSpan};
 use super::unknown_object::UnknownObject;
 use super::validate::validate;
 use super::yaml_node::YamlNode;
-use crate::text_file::read_text_file;
+use crate::diag::did_you_mean;
+use crate::diag::read_text_file;
 use std::path::Path;
 use std::sync::{Arc, OnceLock};
 

@@ -17,7 +17,6 @@ mod data_type;
 #[allow(clippy::module_inception)]
 mod dictionary;
 mod dictionary_error;
-mod did_you_mean;
 mod format;
 mod object_def;
 mod object_names;
@@ -40,7 +39,6 @@ pub use bench_limits::{BenchLimits, LimitsRoute, LIMITS_ENV, LIMITS_FILE_NAME};
 pub use data_type::{DataType, MAX_STRING_LEN};
 pub use dictionary::Dictionary;
 pub use dictionary_error::DictionaryError;
-pub use did_you_mean::did_you_mean;
 pub use format::Format;
 pub use object_def::ObjectDef;
 pub use profile::{Profile, RoleBinding, StateMask};

@@ -10,7 +10,6 @@ use super::access::Access;
 use super::address::Address;
 use super::data_type::DataType;
 use super::dictionary_error::DictionaryError;
-use super::did_you_mean::{did_you_mean, suggestion_text};
 use super::format::Format;
 use super::object_def::ObjectDef;
 use super::profile::{command_in, stops_keeping_power, Profile, RoleBinding, StateMask};
@@ -18,6 +17,7 @@ use super::role::Role;
 use super::text_span::TextSpan;
 use super::unit::Unit;
 use super::yaml_node::{NodeKind, YamlNode};
+use crate::diag::{did_you_mean, suggestion_text};
 use crate::drive::device_control::{DeviceCommand, DeviceState};
 
 /// What one file holds, as far as it could be read.

@@ -5,11 +5,11 @@
 //! dictionary. Returns the problems; no I/O.
 
 use super::dictionary_error::DictionaryError;
-use super::did_you_mean::{did_you_mean, suggestion_text};
 use super::object_def::ObjectDef;
 use super::profile::Profile;
 use super::reader::BrokenObject;
 use super::text_span::{SourceFile, TextSpan};
+use crate::diag::{did_you_mean, suggestion_text};
 use std::collections::HashMap;
 use std::sync::Arc;
 

@@ -7,10 +7,10 @@ use super::expansion::{Expansion, OverLimit};
 use super::problem::{Problem, RecipeInvalid, RecipeSource};
 use super::recipe::{Param, Recipe, SafeStopChoice};
 use super::step::{ObjectRef, SetValue, Step, StepKind, StepOrigin};
+use crate::diag::read_text_file;
 use crate::dictionary::{DataType, Dictionary, Dimension, ObjectDef, Quantity};
 use crate::drive::device_control::{DeviceCommand, DeviceState};
 use crate::session::{Check, Condition, Predicate, Statistic, Tolerance};
-use crate::text_file::read_text_file;
 use crate::yaml_tree::{self, Span, Spanned, YamlNode};
 use std::collections::{BTreeMap, HashSet};
 use std::path::{Path, PathBuf};
@@ -1723,9 +1723,7 @@ fn is_identifier(s: &str) -> bool {
 
 /// The closest candidate, if any is close (the dictionary's similarity rule).
 fn did_you_mean<'a>(input: &str, candidates: impl Iterator<Item = &'a str>) -> Option<String> {
-    crate::dictionary::did_you_mean(input, candidates)
-        .into_iter()
-        .next()
+    crate::diag::did_you_mean(input, candidates).into_iter().next()
 }
 
 fn yaml_help() -> String {

@@ -86,7 +86,7 @@ fn assert_refused_fast(o: &Outcome, expected: &[&str]) {
 fn oversized_recipe() -> String {
     let mut text = String::from("name: Large\nsteps:\n  - shutdown\n");
     let line = format!("# {}\n", "x".repeat(1000));
-    while text.len() as u64 <= drivescript::text_file::MAX_TEXT_FILE_BYTES {
+    while text.len() as u64 <= drivescript::diag::MAX_TEXT_FILE_BYTES {
         text.push_str(&line);
     }
     text
@@ -176,7 +176,7 @@ fn an_endless_pipe_is_read_only_up_to_the_limit() {
         let block = vec![b'#'; 64 * 1024];
         let mut written = 0u64;
         // Until the reader closes its end (the write fails) or it has had far too much.
-        while written < 64 * drivescript::text_file::MAX_TEXT_FILE_BYTES {
+        while written < 64 * drivescript::diag::MAX_TEXT_FILE_BYTES {
             if pipe.write_all(&block).is_err() {
                 break;
             }
@@ -197,7 +197,7 @@ fn an_endless_pipe_is_read_only_up_to_the_limit() {
     assert_refused_fast(&o, &["the recipe endless.yaml is larger than 8 MiB"]);
     let written = writer.join().expect("writer");
     assert!(
-        written < 2 * drivescript::text_file::MAX_TEXT_FILE_BYTES,
+        written < 2 * drivescript::diag::MAX_TEXT_FILE_BYTES,
         "the reader took {written} bytes"
     );
     let _ = std::fs::remove_dir_all(&dir);
