@@ -25,4 +25,3 @@ pub mod sim;
 pub mod sim_server;
 pub mod stop_request;
 pub mod transport;
-pub mod yaml_tree;

@@ -55,7 +55,7 @@ impl<'d> Reader<'d> {
     /// when it is not a mapping; the other problems leave the fields readable.
     pub fn fields<'n>(&mut self, node: &'n YamlNode, shape: &Shape) -> Option<Fields<'n>> {
         let Some(entries) = node.entries() else {
-            let help = shape.example.map(|e| format!("e.g. `{e}`"));
+            let help = shape.help.clone();
             self.report(
                 expected(node, shape.what, "a mapping (`key: value` lines)").with_optional_help(help),
             );
@@ -134,15 +134,24 @@ impl<'d> Reader<'d> {
         }
     }
 
-    /// A whole number from `lo` to `hi`.
+    /// A whole number from `lo` to `hi` (written in decimal or `0x` hex).
     pub fn int(&mut self, node: &YamlNode, what: &str, lo: i64, hi: i64) -> Option<i64> {
         match node.value {
             YamlValue::Int(i) if (lo..=hi).contains(&i) => Some(i),
-            YamlValue::Int(i) => self.refuse(Diagnostic::at(
-                &node.span,
-                format!("{what} {i} is out of range {lo}..={hi} (0x{lo:x}..=0x{hi:x})"),
-                "out of range",
-            )),
+            YamlValue::Int(i) => {
+                // The range in the notation the number was written in.
+                let hex = node.written().starts_with("0x") || node.written().starts_with("0X");
+                let range = if hex {
+                    format!("{lo}..={hi} (0x{lo:x}..=0x{hi:x})")
+                } else {
+                    format!("{lo}..={hi}")
+                };
+                self.refuse(Diagnostic::at(
+                    &node.span,
+                    format!("{what} {i} is out of range {range}"),
+                    "out of range",
+                ))
+            }
             _ => self.refuse(expected(node, what, "a whole number (decimal or 0x hex)")),
         }
     }
@@ -273,7 +282,7 @@ mod tests {
 
     #[test]
     fn typed_values_say_what_was_expected() {
-        let node = root("t: [1]\nb: yes\ni: 70000\nn: .inf\nl: x\nm: 5\n");
+        let node = root("t: [1]\nb: yes\ni: 70000\nn: .inf\nl: x\nm: 5\nh: 0x10000\n");
         let mut out = Diagnostics::new();
         let mut r = Reader::new(&mut out);
         let f = r.fields(&node, &Shape::any_keys("the file")).unwrap();
@@ -283,6 +292,7 @@ mod tests {
         assert_eq!(r.bool(get("b"), "`b`"), None);
         assert_eq!(r.int(get("i"), "`i`", 0, 0xFFFF), None);
         assert_eq!(r.int(get("m"), "`m`", 0, 0xFFFF), Some(5));
+        assert_eq!(r.int(get("h"), "`h`", 0, 0xFFFF), None);
         assert_eq!(r.number(get("n"), "`n`", "write 1"), None);
         assert_eq!(r.number(get("m"), "`m`", "write 1"), Some(5.0));
         assert!(r.list(get("l"), "`l`", "a list").is_none());
@@ -291,7 +301,8 @@ mod tests {
             [
                 "t.yaml:1:4: `t` must be text, found a list",
                 "t.yaml:2:4: `b` must be true or false, found text",
-                "t.yaml:3:4: `i` 70000 is out of range 0..=65535 (0x0..=0xffff)",
+                "t.yaml:3:4: `i` 70000 is out of range 0..=65535",
+                "t.yaml:7:4: `h` 65536 is out of range 0..=65535 (0x0..=0xffff)",
                 "t.yaml:4:4: `n` must be a finite number, not `.inf`",
                 "t.yaml:5:4: `l` must be a list, found text",
             ]

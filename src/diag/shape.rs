@@ -11,7 +11,8 @@ pub struct Shape<'a> {
     pub(crate) allowed: Option<Vec<&'a str>>,
     /// Each required key and, when known, what to write for it.
     pub(crate) required: Vec<(&'a str, Option<String>)>,
-    pub(crate) example: Option<&'a str>,
+    /// What to write, for a node that is not a mapping at all.
+    pub(crate) help: Option<String>,
     pub(crate) nothing_is_absent: bool,
 }
 
@@ -23,7 +24,7 @@ impl<'a> Shape<'a> {
             what,
             allowed: Some(allowed.to_vec()),
             required: Vec::new(),
-            example: None,
+            help: None,
             nothing_is_absent: false,
         }
     }
@@ -48,9 +49,15 @@ impl<'a> Shape<'a> {
         self
     }
 
-    /// An example shown when the node is not a mapping at all.
-    pub fn example(mut self, example: &'a str) -> Self {
-        self.example = Some(example);
+    /// An example shown when the node is not a mapping at all: ``e.g. `{example}` ``.
+    pub fn example(mut self, example: &str) -> Self {
+        self.help = Some(format!("e.g. `{example}`"));
+        self
+    }
+
+    /// Help shown when the node is not a mapping at all.
+    pub fn help(mut self, help: impl Into<String>) -> Self {
+        self.help = Some(help.into());
         self
     }
 

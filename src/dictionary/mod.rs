@@ -42,6 +42,7 @@ pub use format::Format;
 pub use object_def::ObjectDef;
 pub use profile::{Profile, RoleBinding, StateMask};
 pub use quantity::Quantity;
+pub(crate) use quantity_reader::read_dimensioned;
 pub use role::Role;
 pub use unit::{Dimension, Unit};
 pub use unknown_object::UnknownObject;

@@ -4,8 +4,8 @@
 
 mod expansion;
 mod loader;
-mod problem;
 mod recipe;
+mod recipe_invalid;
 mod run_observer;
 mod runner;
 mod schema;
@@ -15,8 +15,8 @@ pub use crate::session::{number, Check, Condition, Predicate, Statistic, Stats, 
 pub use crate::session::{CheckResult, RunReport, Series, StepRecord, Verdict};
 pub use expansion::{MAX_EXPANDED_STEPS, MAX_INCLUDE_LOADS, MAX_RUN_TIME};
 pub use loader::{load_recipe, load_recipe_text, show_duration, MAX_DURATION, MAX_SAMPLES};
-pub use problem::{Problem, RecipeInvalid, RecipeSource};
 pub use recipe::{Param, Recipe, SafeStopChoice};
+pub use recipe_invalid::RecipeInvalid;
 pub use run_observer::{Observers, RunObserver};
 pub use runner::{default_finally_steps, Runner, SafeStopSettings};
 pub use schema::recipe_schema;
