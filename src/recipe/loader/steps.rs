@@ -14,7 +14,7 @@ mod set;
 mod wait_until;
 
 use super::{did_you_mean, show_duration, Loader};
-use crate::diag::{Spanned, YamlNode, YamlValue};
+use crate::diag::{Span, Spanned, YamlNode, YamlValue};
 use crate::drive::device_control::{DeviceCommand, DeviceState};
 use crate::recipe::step::{Step, StepKind, StepOrigin};
 use std::time::Duration;
@@ -76,22 +76,7 @@ impl Loader<'_, '_> {
                         label: cmd.id().to_string(),
                     });
                 }
-                let commands: Vec<&str> = DeviceCommand::ALL.iter().map(|c| c.id()).collect();
-                let help = did_you_mean(word, commands.iter().copied().chain(STEP_KEYS.iter().copied()))
-                    .map(|s| format!("did you mean `{s}`?"))
-                    .unwrap_or_else(|| {
-                        format!(
-                            "a step is a device command ({}) or one of: {}",
-                            commands.join(", "),
-                            STEP_KEYS.join(", ")
-                        )
-                    });
-                self.problem(
-                    &node.span,
-                    format!("unknown step `{word}`"),
-                    "unknown step",
-                    Some(help),
-                );
+                self.unknown_step(&node.span, word);
                 None
             }
             YamlValue::Map(entries) => {
@@ -148,8 +133,17 @@ impl Loader<'_, '_> {
             "ramp" => self.ramp(body)?,
             "repeat" => self.repeat(body)?,
             "include" => self.include(body)?,
+            word if DeviceCommand::from_id(word).is_some() => {
+                self.problem(
+                    &key.span,
+                    format!("`{word}` takes no settings; write it on its own: `- {word}`"),
+                    "a plain command",
+                    None,
+                );
+                return None;
+            }
             word => {
-                self.unknown_keyword(key, word);
+                self.unknown_step(&key.span, word);
                 return None;
             }
         };
@@ -160,32 +154,19 @@ impl Loader<'_, '_> {
         Some(Step { kind, origin, label })
     }
 
-    fn unknown_keyword(&mut self, key: &Spanned<String>, word: &str) {
-        if DeviceCommand::from_id(word).is_some() {
-            self.problem(
-                &key.span,
-                format!("`{word}` takes no settings; write it on its own: `- {word}`"),
-                "a plain command",
-                None,
-            );
-            return;
-        }
+    /// A word (`- frob`) or keyword (`- frob: …`) that is no step, with the closest one.
+    fn unknown_step(&mut self, span: &Span, word: &str) {
         let commands: Vec<&str> = DeviceCommand::ALL.iter().map(|c| c.id()).collect();
-        let help = did_you_mean(word, STEP_KEYS.iter().copied().chain(commands.iter().copied()))
+        let help = did_you_mean(word, commands.iter().copied().chain(STEP_KEYS.iter().copied()))
             .map(|s| format!("did you mean `{s}`?"))
             .unwrap_or_else(|| {
                 format!(
-                    "steps: {} and the device commands {}",
-                    STEP_KEYS.join(", "),
-                    commands.join(", ")
+                    "a step is a device command ({}) or one of: {}",
+                    commands.join(", "),
+                    STEP_KEYS.join(", ")
                 )
             });
-        self.problem(
-            &key.span,
-            format!("unknown step `{word}`"),
-            "unknown step",
-            Some(help),
-        );
+        self.problem(span, format!("unknown step `{word}`"), "unknown step", Some(help));
     }
 
     /// A device state named by `node`, the value of `what`.
