@@ -268,6 +268,34 @@ fn an_include_fan_out_is_refused_fast_where_it_goes_over() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// A problem far to the right of a long line (a generated file written on one line) made
+/// miette's renderer panic; it is now named in the headline, without a snippet.
+#[test]
+fn problems_far_right_on_a_long_line_are_named_not_drawn() {
+    let dir = temp_dir("wide");
+    let steps = vec!["shutdown"; 9000].join(", ");
+    std::fs::write(
+        dir.join("wide.yaml"),
+        format!("name: Wide\nsteps: [{steps}, frob]\n"),
+    )
+    .expect("write");
+    let gap = " ".repeat(70_000);
+    std::fs::write(
+        dir.join("wide-limits.yaml"),
+        format!("{{ max_speed: 6000 rpm,{gap}max_sped: 1 rpm }}\n"),
+    )
+    .expect("write");
+    std::fs::write(dir.join("small.yaml"), "name: Small\nsteps:\n  - shutdown\n").expect("write");
+    let o = run(&dir, &["check", "wide.yaml"]);
+    assert_refused_fast(&o, &["wide.yaml:2:90009: unknown step `frob`"]);
+    let o = run(&dir, &["check", "small.yaml", "--limits", "wide-limits.yaml"]);
+    assert_refused_fast(
+        &o,
+        &["wide-limits.yaml:1:70023: unknown key `max_sped` in the limits file"],
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 fn load(steps: &str) -> Option<Vec<drivescript::recipe::Step>> {
     let dictionary = Dictionary::builtin("sd2").expect("built-in dictionary");
     let text = format!("name: p\nsteps:\n{steps}");
