@@ -11,6 +11,9 @@ mod steps;
 mod top_keys;
 mod values;
 
+#[cfg(test)]
+mod tests;
+
 use super::expansion::{Expansion, OverLimit};
 use super::recipe::Recipe;
 use super::recipe_invalid::RecipeInvalid;
