@@ -18,11 +18,14 @@
 //! Prints `PASS` for a path when every ratio is at least 90 %, else `BELOW TARGET`; exits
 //! non-zero only when the link reports an error.
 
+use drivescript::bus::{MemoryTransport, Peer, SharedTransport, WireTime};
 use drivescript::clock::{RealClock, SharedClock};
-use drivescript::link::{Direction, LinkConfig, LinkError, Sd2Link, TelegramObserver};
-use drivescript::protocol::sd2::{Cyclic, DecodeError, Telegram};
-use drivescript::sim::{Sd2Simulator, SimConfig};
-use drivescript::transport::{MemoryTransport, Peer, WireTime};
+use drivescript::drive::AccessError;
+use drivescript::family::sd2::codec::Cyclic;
+use drivescript::family::sd2::LinkConfig;
+use drivescript::family::sd2::Sd2Link;
+use drivescript::family::sd2::{Sd2Simulator, SimConfig};
+use drivescript::link::{Direction, TelegramObserver};
 use std::hint::black_box;
 use std::process::ExitCode;
 use std::sync::{Arc, Mutex};
@@ -44,7 +47,7 @@ const TARGET: f64 = 0.90;
 const DRIVE: u8 = 2;
 
 /// What ends a measurement: the link's own error, boxed because it is large.
-type Failure = Box<LinkError>;
+type Failure = Box<AccessError>;
 
 const STATUS_WORD: u16 = 67;
 const SPEED_SETPOINT: u16 = 395;
@@ -161,13 +164,7 @@ fn size_range(min: usize, max: usize) -> String {
 struct TrafficObserver(Arc<Mutex<Traffic>>);
 
 impl TelegramObserver for TrafficObserver {
-    fn telegram(
-        &mut self,
-        _: Duration,
-        direction: Direction,
-        bytes: &[u8],
-        _: &Result<Telegram, DecodeError>,
-    ) {
+    fn telegram(&mut self, _: Duration, direction: Direction, bytes: &[u8]) {
         if let Ok(mut t) = self.0.lock() {
             t.record(direction, bytes.len());
         }
@@ -266,19 +263,23 @@ fn in_process() -> Result<Vec<Row>, Failure> {
     let peer: Arc<Mutex<dyn Peer>> = Arc::new(Mutex::new(simulator()));
     let transport = MemoryTransport::new("in-process simulator", peer, clock.clone())
         .with_wire_time(WireTime::new_8n1(BAUD));
-    let mut link = Sd2Link::new(Box::new(transport), clock.clone(), LinkConfig::default());
+    let mut link = Sd2Link::new(
+        SharedTransport::new(Box::new(transport)),
+        clock.clone(),
+        LinkConfig::default(),
+    );
     measure(&mut link, &clock)
 }
 
 /// Path b: link → serial port on a pseudo-terminal → `SimServer` with wire time in a thread.
 #[cfg(unix)]
 fn through_pty() -> Result<Vec<Row>, Failure> {
+    use drivescript::bus::{SerialSettings, SerialTransport, TransportError};
     use drivescript::sim_server::{PtyEndpoint, SimServer};
-    use drivescript::transport::{SerialSettings, SerialTransport, TransportError};
     use std::sync::atomic::Ordering;
 
     fn port_failure(e: TransportError) -> Failure {
-        Box::new(LinkError::from(e))
+        Box::new(AccessError::from(e))
     }
 
     let clock = RealClock::shared();
@@ -294,7 +295,11 @@ fn through_pty() -> Result<Vec<Row>, Failure> {
     let measured = SerialTransport::open(&path, SerialSettings::with_baud(BAUD))
         .map_err(port_failure)
         .and_then(|port| {
-            let mut link = Sd2Link::new(Box::new(port), clock.clone(), LinkConfig::default());
+            let mut link = Sd2Link::new(
+                SharedTransport::new(Box::new(port)),
+                clock.clone(),
+                LinkConfig::default(),
+            );
             measure(&mut link, &clock)
         });
 

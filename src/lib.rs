@@ -12,18 +12,19 @@
 // Files are named after their one main type, so `drive/drive.rs` holds `Drive`.
 #![allow(clippy::module_inception)]
 
+pub mod bus;
 pub mod cli;
 pub mod clock;
+pub mod csv_file;
 pub mod diag;
 pub mod dictionary;
 pub mod drive;
+pub mod family;
 pub mod hex;
 pub mod link;
-pub mod protocol;
 pub mod recipe;
 pub mod report;
 pub mod session;
 pub mod sim;
 pub mod sim_server;
 pub mod stop_request;
-pub mod transport;

@@ -3,8 +3,8 @@
 //! `--port`/`--tcp`, can talk to it. Optionally charges the time bytes would take on a real
 //! line. Must not interpret telegrams: the peer does that.
 
+use crate::bus::{Peer, Transport, TransportError, WireTime};
 use crate::clock::SharedClock;
-use crate::transport::{Peer, Transport, TransportError, WireTime};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex};
 use std::time::Duration;
@@ -100,7 +100,7 @@ pub struct PtyEndpoint {
     /// The path to give other programs (`/dev/pts/N`).
     pub path: String,
     /// The near end, to pass to [`SimServer::serve`].
-    pub master: crate::transport::SerialTransport,
+    pub master: crate::bus::SerialTransport,
     /// Kept open so the master does not see a hang-up while no program has the path open.
     _slave: serialport::TTYPort,
 }
@@ -131,7 +131,7 @@ impl PtyEndpoint {
                 detail: "the system gave no path for it".into(),
             });
         }
-        let master = crate::transport::SerialTransport::from_port(master, format!("pseudo-terminal {path}"));
+        let master = crate::bus::SerialTransport::from_port(master, format!("pseudo-terminal {path}"));
         Ok(PtyEndpoint {
             path,
             master,
@@ -143,8 +143,8 @@ impl PtyEndpoint {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::bus::PeerReply;
     use crate::clock::RealClock;
-    use crate::transport::PeerReply;
 
     struct Echo;
     impl Peer for Echo {
@@ -165,7 +165,7 @@ mod tests {
         let server = SimServer::new(Arc::new(Mutex::new(Echo)), RealClock::shared());
         let stop = server.stop_flag();
         let handle = std::thread::spawn(move || server.serve(&mut master));
-        let mut port = crate::transport::SerialTransport::open(&path, Default::default()).unwrap();
+        let mut port = crate::bus::SerialTransport::open(&path, Default::default()).unwrap();
         port.write_all(&[0x00, 0x0f]).unwrap();
         let mut got = Vec::new();
         let mut buf = [0u8; 8];

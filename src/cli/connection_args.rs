@@ -1,15 +1,16 @@
 //! How to reach the drive, as command-line options shared by every command that talks to
-//! one: serial port, TCP serial server, or the built-in simulated drive. Opens the link;
-//! must not send anything itself.
+//! one: serial port, TCP serial server, or the built-in simulated drive; the drive's
+//! address in its family's notation; reply timeout, retries and family link options.
+//! Opens the bus; must not send anything itself.
 
-use crate::clock::{RealClock, SharedClock, VirtualClock};
-use crate::link::{LinkConfig, Sd2Link};
-use crate::protocol::sd2::{dnc_address, WriteLength};
-use crate::sim::{Sd2Simulator, SimConfig};
-use crate::transport::{
-    MemoryTransport, Peer, SerialSettings, SerialTransport, TcpTransport, Transport, TransportError,
+use crate::bus::{
+    Bus, BusKind, MemoryFrameBus, MemoryTransport, SerialTransport, SharedFrameBus, SharedTransport,
+    TcpTransport, TransportError,
 };
-use clap::{Args, ValueEnum};
+use crate::clock::{RealClock, SharedClock, VirtualClock};
+use crate::family::{DriveAddress, Family, LinkOptions, SimPeer};
+use crate::sim::{SimConfig, SimulatedDrive};
+use clap::Args;
 use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
@@ -19,150 +20,146 @@ const CONNECT_TIMEOUT: Duration = Duration::from_secs(5);
 #[derive(Debug, Clone, Args)]
 #[command(next_help_heading = "Connection (without --port or --tcp: the built-in simulated drive)")]
 pub struct ConnectionArgs {
-    /// Serial port the drive is on (/dev/ttyUSB0, COM3).
+    /// Serial port the drive is on (/dev/ttyUSB0, /dev/serial/by-id/…, COM3).
     #[arg(long, value_name = "PATH", conflicts_with = "tcp")]
     pub port: Option<String>,
-    /// Baud rate of the serial port (SD2: 57600, 8N1).
-    #[arg(long, value_name = "N", default_value_t = 57_600)]
-    pub baud: u32,
+    /// Baud rate of the serial port [default: the drive family's, e.g. 57600 for SD2].
+    #[arg(long, value_name = "N")]
+    pub baud: Option<u32>,
     /// A serial device server or ser2net in raw TCP mode.
     #[arg(long, value_name = "HOST:PORT")]
     pub tcp: Option<String>,
-    /// The position of the drive's address switch. The DNC address is then
-    /// switch × 2 + 2 (drive A) or switch × 2 + 3 (drive B, with --drive-b).
-    #[arg(long, value_name = "SWITCH", default_value_t = 0)]
-    pub address: u8,
-    /// Address drive B of a double-axis device.
-    #[arg(long)]
-    pub drive_b: bool,
-    /// The raw DNC address (2..=255) instead of the address switch position.
-    #[arg(long, value_name = "N", conflicts_with_all = ["drive_b"])]
-    pub dnc_address: Option<u8>,
-    /// How long to wait for each reply (the vendor's PC tool uses 1 s).
+    /// The drive's address in its family's notation. SD2: the address switch position
+    /// (`0`, the default), `3B` for drive B of a double-axis device, or `dnc:N` for a raw
+    /// DNC address.
+    #[arg(long, value_name = "ADDRESS")]
+    pub address: Option<String>,
+    /// How long to wait for each reply (the SD2 vendor's PC tool uses 1 s).
     #[arg(long, value_name = "DURATION", default_value = "1s", value_parser = parse_duration)]
     pub timeout: Duration,
     /// Further attempts after a lost, corrupt or mismatched reply.
     #[arg(long, value_name = "N", default_value_t = 2)]
     pub retries: u32,
-    /// Length field of Write Wide Object commands: `captured` sends 0x0B as every capture
-    /// from real drives does; `formula` sends 10 + count as the manual's formula says.
-    #[arg(long, value_enum, default_value_t = WriteLengthArg::Captured)]
-    pub write_length: WriteLengthArg,
-}
-
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-pub enum WriteLengthArg {
-    Captured,
-    Formula,
+    /// A setting of the family's link, NAME=VALUE; may be repeated. SD2:
+    /// `write-length=captured` (0x0B in Write Wide Object, as every capture from real drives
+    /// sends; the default) or `write-length=formula` (10 + count, the manual's formula).
+    #[arg(long = "link-option", value_name = "NAME=VALUE", value_parser = parse_link_option)]
+    pub link_options: Vec<(String, String)>,
 }
 
 pub fn parse_duration(text: &str) -> Result<Duration, String> {
     humantime::parse_duration(text.trim()).map_err(|e| format!("{e} (write e.g. 500ms, 1s, 2min)"))
 }
 
-/// An open link to one drive, real or simulated.
+fn parse_link_option(text: &str) -> Result<(String, String), String> {
+    match text.split_once('=') {
+        Some((k, v)) if !k.trim().is_empty() => Ok((k.trim().to_string(), v.trim().to_string())),
+        _ => Err(format!("`{text}`: write NAME=VALUE, e.g. write-length=formula")),
+    }
+}
+
+/// An open bus to one drive, real or simulated.
 pub struct Connection {
-    pub link: Sd2Link,
-    /// The drive's DNC address.
-    pub dest: u8,
+    pub bus: Bus,
+    pub address: DriveAddress,
+    pub clock: SharedClock,
     /// The in-process simulated drive, when no port was given (tests look into it).
-    pub simulator: Option<Arc<Mutex<Sd2Simulator>>>,
+    pub simulator: Option<Arc<Mutex<dyn SimulatedDrive>>>,
     /// For the first line of output: what we are talking to.
     pub description: String,
 }
 
 impl ConnectionArgs {
-    /// The built-in simulated drive at address switch 0, with the default link settings.
+    /// The built-in simulated drive at the family's default address, default link settings.
     pub fn simulated() -> Self {
         ConnectionArgs {
             port: None,
-            baud: 57_600,
+            baud: None,
             tcp: None,
-            address: 0,
-            drive_b: false,
-            dnc_address: None,
+            address: None,
             timeout: Duration::from_secs(1),
             retries: 2,
-            write_length: WriteLengthArg::Captured,
+            link_options: Vec::new(),
         }
-    }
-
-    /// The DNC address the options select.
-    pub fn dnc_address(&self) -> Result<u8, String> {
-        if let Some(raw) = self.dnc_address {
-            if raw < 2 {
-                return Err(format!(
-                    "--dnc-address {raw}: addresses 0 and 1 belong to the master; a drive has 2..=255"
-                ));
-            }
-            return Ok(raw);
-        }
-        dnc_address(self.address, self.drive_b).ok_or_else(|| {
-            format!(
-                "--address {}: switch × 2 + {} exceeds 255; the highest switch position is 126",
-                self.address,
-                2 + u8::from(self.drive_b),
-            )
-        })
     }
 
     pub fn is_simulated(&self) -> bool {
         self.port.is_none() && self.tcp.is_none()
     }
 
-    fn link_config(&self) -> LinkConfig {
-        LinkConfig {
+    pub fn link_options(&self) -> LinkOptions {
+        LinkOptions {
             reply_timeout: self.timeout,
             retries: self.retries,
-            write_length: match self.write_length {
-                WriteLengthArg::Captured => WriteLength::Captured,
-                WriteLengthArg::Formula => WriteLength::Formula,
-            },
-            ..LinkConfig::default()
+            extra: self.link_options.clone(),
         }
     }
 
-    /// Opens the link. `virtual_time` applies to the simulated drive only: waiting then
-    /// costs no real time.
-    pub fn open(&self, virtual_time: bool) -> Result<Connection, TransportError> {
-        let dest = self.dnc_address().map_err(|detail| TransportError::Open {
+    /// The drive's address and the family's link options, checked before anything opens.
+    pub fn check(&self, family: &dyn Family) -> Result<DriveAddress, String> {
+        family.check_link_options(&self.link_options)?;
+        family.parse_drive_address(self.address.as_deref())
+    }
+
+    /// Opens the bus for `family`. `virtual_time` applies to the simulated drive only:
+    /// waiting then costs no real time.
+    pub fn open(&self, family: &dyn Family, virtual_time: bool) -> Result<Connection, TransportError> {
+        let address = self.check(family).map_err(|detail| TransportError::Open {
             port: "the drive".into(),
             detail,
         })?;
-        let (transport, clock, simulator, description): (Box<dyn Transport>, SharedClock, _, String) =
-            match (&self.port, &self.tcp) {
-                (Some(path), _) => {
-                    let t = SerialTransport::open(path, SerialSettings::with_baud(self.baud))?;
-                    let d = format!("drive {dest} on {}", t.name());
-                    (Box::new(t), RealClock::shared(), None, d)
+        let real =
+            || -> (SharedClock, Option<Arc<Mutex<dyn SimulatedDrive>>>) { (RealClock::shared(), None) };
+        let (bus, (clock, simulator), description) = match (&self.port, &self.tcp) {
+            (Some(path), _) => {
+                let mut settings = family.serial_settings();
+                if let Some(baud) = self.baud {
+                    settings.baud = baud;
                 }
-                (None, Some(addr)) => {
-                    let t = TcpTransport::connect(addr, CONNECT_TIMEOUT)?;
-                    let d = format!("drive {dest} on {}", t.name());
-                    (Box::new(t), RealClock::shared(), None, d)
-                }
-                (None, None) => {
-                    let clock: SharedClock = if virtual_time {
-                        Arc::new(VirtualClock::new())
-                    } else {
-                        RealClock::shared()
-                    };
-                    let sim = Arc::new(Mutex::new(Sd2Simulator::new(SimConfig {
-                        address: dest,
-                        ..SimConfig::default()
-                    })));
-                    let peer: Arc<Mutex<dyn Peer>> = sim.clone();
-                    let time = if virtual_time { "virtual time" } else { "real time" };
-                    let d = format!(
-                        "the built-in simulated SD2 drive (DNC address {dest}, {time}; no hardware is moved)"
-                    );
-                    let t = MemoryTransport::new("built-in simulated drive", peer, clock.clone());
-                    (Box::new(t), clock, Some(sim), d)
-                }
-            };
+                let t = SerialTransport::open(path, settings)?;
+                let d = format!("drive {} on {}", address.number, crate::bus::Transport::name(&t));
+                (Bus::Bytes(SharedTransport::new(Box::new(t))), real(), d)
+            }
+            (None, Some(addr)) => {
+                let t = TcpTransport::connect(addr, CONNECT_TIMEOUT)?;
+                let d = format!("drive {} on {}", address.number, crate::bus::Transport::name(&t));
+                (Bus::Bytes(SharedTransport::new(Box::new(t))), real(), d)
+            }
+            (None, None) => {
+                let clock: SharedClock = if virtual_time {
+                    Arc::new(VirtualClock::new())
+                } else {
+                    RealClock::shared()
+                };
+                let device = family.simulator(&address, SimConfig::default());
+                let name = "built-in simulated drive";
+                let bus = match (device.peer, family.bus_kind()) {
+                    (SimPeer::Bytes(peer), _) => Bus::Bytes(SharedTransport::new(Box::new(
+                        MemoryTransport::new(name, peer, clock.clone()),
+                    ))),
+                    (SimPeer::Frames(peer), _) => Bus::Frames(SharedFrameBus::new(Box::new(
+                        MemoryFrameBus::new(name, peer, clock.clone()),
+                    ))),
+                };
+                let time = if virtual_time { "virtual time" } else { "real time" };
+                let d = format!(
+                    "the built-in simulated {} drive ({}, {time}; no hardware is moved)",
+                    family.id().to_uppercase(),
+                    address.shown
+                );
+                (bus, (clock, Some(device.drive)), d)
+            }
+        };
+        if family.bus_kind() == BusKind::Frames && bus.kind() != BusKind::Frames {
+            return Err(TransportError::Open {
+                port: bus.name().to_string(),
+                detail: format!("the {} family talks CAN frames, not a byte stream", family.id()),
+            });
+        }
         Ok(Connection {
-            link: Sd2Link::new(transport, clock, self.link_config()),
-            dest,
+            bus,
+            address,
+            clock,
             simulator,
             description,
         })

@@ -2,9 +2,9 @@
 
 use super::drive_args::DictionaryArgs;
 use super::{FAILED, INVALID, PASSED};
+use crate::family::Registry;
 use crate::hex::parse_hex;
-use crate::protocol::sd2::{explain, to_json, Telegram};
-use clap::{Args, ValueEnum};
+use clap::Args;
 use std::io::{BufRead, Write};
 
 #[derive(Debug, Args)]
@@ -12,23 +12,18 @@ use std::io::{BufRead, Write};
 /// control and status word bits. Hex as `00 0b 02 ...`, `000b02...` or `0x00 0x0b ...`;
 /// one telegram per argument, or per line on standard input when no argument is given.
 pub struct DecodeArgs {
-    /// The protocol the telegrams are in.
-    #[arg(long, value_enum, default_value_t = Protocol::Sd2)]
-    protocol: Protocol,
-    /// One JSON object per telegram (the keys of shared/vectors/sd2-dnc.yaml);
-    /// a rejected telegram is {"reject": "<reason>"}.
+    /// The drive family whose protocol the telegrams are in (default: the family of the
+    /// --drive dictionary).
+    #[arg(long, value_name = "FAMILY")]
+    protocol: Option<String>,
+    /// One JSON object per telegram (the keys of the family's golden vectors, e.g.
+    /// shared/vectors/sd2-dnc.yaml); a rejected telegram is {"reject": "<reason>"}.
     #[arg(long)]
     json: bool,
     /// Telegrams in hex, one per argument. Lines of a `--trace` file are accepted too.
     hex: Vec<String>,
     #[command(flatten)]
     dictionary: DictionaryArgs,
-}
-
-#[derive(Debug, Clone, Copy, ValueEnum)]
-enum Protocol {
-    /// Sieb & Meyer SD2 / SD2S DNC (object access and the 8-byte cyclic telegram).
-    Sd2,
 }
 
 /// Exit code: 0 when every telegram decoded, 1 when any was rejected, 2 for text that is
@@ -57,17 +52,25 @@ pub fn run(args: &DecodeArgs) -> i32 {
             .map(|(i, h)| (format!("argument {}", i + 1), h.clone()))
             .collect()
     };
-    let names = match args.dictionary.load(None) {
+    let names = match args.dictionary.load() {
         Ok(d) => d,
         Err(text) => {
             eprint!("{text}");
             return INVALID;
         }
     };
+    let registry = Registry::builtin();
+    let family = match registry.family(args.protocol.as_deref().unwrap_or(names.family())) {
+        Ok(f) => f,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return INVALID;
+        }
+    };
+    let mut explainer = family.explainer(names);
     let stdout = std::io::stdout();
     let mut out = stdout.lock();
     let mut code = PASSED;
-    let mut last_request: Option<Telegram> = None;
     for (place, line) in &lines {
         let mut text = line.trim();
         // A line of a `--trace` file: only its telegram's hex counts.
@@ -88,27 +91,22 @@ pub fn run(args: &DecodeArgs) -> i32 {
                 continue;
             }
         };
-        let result = Telegram::decode(&bytes);
-        if result.is_err() && code == PASSED {
+        let (written, valid) = if args.json {
+            let (json, valid) = explainer.json(&bytes);
+            (writeln!(out, "{json}"), valid)
+        } else {
+            let (body, valid) = match explainer.explain(&bytes) {
+                Ok(text) => (text, true),
+                Err(e) => (format!("  rejected: {e}\n"), false),
+            };
+            (writeln!(out, "{}\n{body}", crate::hex::to_hex(&bytes)), valid)
+        };
+        if !valid && code == PASSED {
             code = FAILED;
         }
-        let written = if args.json {
-            writeln!(out, "{}", to_json(&result))
-        } else {
-            let body = match &result {
-                Ok(t) => explain(t, &bytes, last_request.as_ref(), names.as_ref()),
-                Err(e) => format!("  rejected: {e}\n"),
-            };
-            writeln!(out, "{}\n{body}", crate::hex::to_hex(&bytes))
-        };
         if written.is_err() {
             // Standard output closed (e.g. piped into `head`): nothing more to say.
             return code;
-        }
-        if let Ok(t) = result {
-            if !t.is_reply() {
-                last_request = Some(t);
-            }
         }
     }
     code

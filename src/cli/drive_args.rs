@@ -5,9 +5,10 @@
 use super::connection_args::{Connection, ConnectionArgs};
 use super::render_diagnostic;
 use crate::dictionary::{BenchLimits, Dictionary, LIMITS_ENV};
-use crate::drive::{Drive, Sd2Access};
+use crate::drive::Drive;
+use crate::family::{LinkContext, Registry};
 use crate::link::TelegramObserver;
-use crate::sim::Sd2Simulator;
+use crate::sim::SimulatedDrive;
 use crate::stop_request::StopRequests;
 use clap::Args;
 use std::path::{Path, PathBuf};
@@ -15,8 +16,9 @@ use std::sync::{Arc, Mutex};
 
 #[derive(Debug, Clone, Args)]
 pub struct DictionaryArgs {
-    /// The drive family, i.e. the built-in dictionary to start from.
-    #[arg(long = "drive", value_name = "FAMILY", default_value = "sd2")]
+    /// The built-in dictionary to start from; it names the drive family (and so the
+    /// protocol) in its `family:`.
+    #[arg(long = "drive", value_name = "DICTIONARY", default_value = "sd2")]
     pub family: String,
     /// A dictionary file that adds objects to the built-in one (or replaces objects of the
     /// same name). May be given several times.
@@ -30,18 +32,17 @@ pub struct DictionaryArgs {
 }
 
 impl DictionaryArgs {
-    /// The built-in dictionary of `family` (or of `--drive`) with the user's files merged
-    /// in. On failure, the rendered diagnostic to print.
-    pub fn load(&self, family: Option<&str>) -> Result<Arc<Dictionary>, String> {
-        self.load_for(family, None)
-    }
-
-    /// [`load`](Self::load) for running or checking `recipe`: a `drivescript-limits.yaml`
-    /// next to it caps the dictionary when neither --limits nor $DRIVESCRIPT_LIMITS names
-    /// a limits file.
-    pub fn load_for(&self, family: Option<&str>, recipe: Option<&Path>) -> Result<Arc<Dictionary>, String> {
-        let family = family.unwrap_or(&self.family);
-        let mut dictionary = Dictionary::builtin(family).map_err(|e| render_diagnostic(&e))?;
+    /// The built-in dictionary `--drive` names (from any family of `registry`) with the
+    /// user's files merged in and the bench limits applied last. For running or checking
+    /// `recipe`, a `drivescript-limits.yaml` next to it caps the dictionary when neither
+    /// --limits nor $DRIVESCRIPT_LIMITS names a limits file. On failure, the rendered
+    /// diagnostic to print.
+    pub fn load_for(&self, registry: &Registry, recipe: Option<&Path>) -> Result<Arc<Dictionary>, String> {
+        let (_, builtin) = registry
+            .dictionary(&self.family)
+            .map_err(|e| format!("error: {e}\n"))?;
+        let mut dictionary =
+            Dictionary::from_yaml(builtin.path, builtin.text).map_err(|e| render_diagnostic(&e))?;
         for path in &self.extra {
             dictionary.extend_from(path).map_err(|e| render_diagnostic(&e))?;
         }
@@ -52,6 +53,11 @@ impl DictionaryArgs {
             dictionary.apply_bench_limits(limits);
         }
         Ok(Arc::new(dictionary))
+    }
+
+    /// [`load_for`](Self::load_for) with the built-in families and no recipe.
+    pub fn load(&self) -> Result<Arc<Dictionary>, String> {
+        self.load_for(&Registry::builtin(), None)
     }
 
     /// The built-in SD2 dictionary and no extra files.
@@ -67,43 +73,43 @@ impl DictionaryArgs {
 /// A drive ready for use, and the simulated drive behind it when there is one.
 pub struct OpenDrive {
     pub drive: Drive,
-    pub simulator: Option<Arc<Mutex<Sd2Simulator>>>,
+    pub simulator: Option<Arc<Mutex<dyn SimulatedDrive>>>,
     pub description: String,
 }
 
-/// Opens the connection and wraps it in the drive API. On failure, the message to print
-/// (exit code 3).
+/// Opens the connection for the family the dictionary names and wraps it in the drive
+/// API, with an optional observer of every telegram (trace file, `-v`) and the stop
+/// requests that end the link's waits. On failure, the message to print (exit code 3).
 pub fn open_drive(
-    connection: &ConnectionArgs,
-    dictionary: Arc<Dictionary>,
-    virtual_time: bool,
-) -> Result<OpenDrive, String> {
-    open_drive_observed(connection, dictionary, virtual_time, None, None)
-}
-
-/// [`open_drive`] with an observer of every telegram (trace file, `-v`).
-pub fn open_drive_observed(
+    registry: &Registry,
     connection: &ConnectionArgs,
     dictionary: Arc<Dictionary>,
     virtual_time: bool,
     observer: Option<Box<dyn TelegramObserver>>,
     stop: Option<Arc<StopRequests>>,
 ) -> Result<OpenDrive, String> {
+    let family = registry
+        .family(dictionary.family())
+        .map_err(|e| format!("error: {e}"))?;
     let Connection {
-        mut link,
-        dest,
+        bus,
+        address,
+        clock,
         simulator,
         description,
-    } = connection.open(virtual_time).map_err(|e| format!("error: {e}"))?;
-    if let Some(o) = observer {
-        link.set_observer(o);
-    }
-    if let Some(s) = stop {
-        link.set_stop_requests(s);
-    }
-    let drive = Drive::new(Box::new(Sd2Access::new(link, dest)), dictionary);
+    } = connection
+        .open(family.as_ref(), virtual_time)
+        .map_err(|e| format!("error: {e}"))?;
+    let context = LinkContext {
+        clock,
+        observer,
+        stop,
+    };
+    let access = family
+        .open(&bus, &address, &connection.link_options(), context)
+        .map_err(|e| format!("error: {e}"))?;
     Ok(OpenDrive {
-        drive,
+        drive: Drive::new(access, dictionary),
         simulator,
         description,
     })

@@ -11,7 +11,7 @@ mod recipe_commands;
 mod simulate_command;
 mod stop_signals;
 
-pub use connection_args::{Connection, ConnectionArgs, WriteLengthArg};
+pub use connection_args::{Connection, ConnectionArgs};
 pub use drive_args::DictionaryArgs;
 pub use recipe_commands::{run_recipe, OutputArgs, RunRequest, RunResult, SafeStopArgs};
 

@@ -6,6 +6,8 @@ use super::{COMMUNICATION, INVALID, PASSED};
 use crate::dictionary::{Dictionary, ObjectDef, Quantity};
 use crate::drive::device_control::{status_word_bits, DeviceState};
 use crate::drive::DriveError;
+use crate::drive::WriteOutcome;
+use crate::family::Registry;
 use clap::Args;
 use serde_json::json;
 use std::sync::Arc;
@@ -72,7 +74,7 @@ pub struct PortsArgs {
 
 /// The dictionary, or the exit code after printing why not.
 fn load_dictionary(args: &DictionaryArgs) -> Result<Arc<Dictionary>, i32> {
-    args.load(None).map_err(|text| {
+    args.load().map_err(|text| {
         eprint!("{text}");
         INVALID
     })
@@ -81,10 +83,11 @@ fn load_dictionary(args: &DictionaryArgs) -> Result<Arc<Dictionary>, i32> {
 /// The drive, or the exit code after printing why not. Says so when it is the simulated
 /// drive, whose state a one-off command cannot keep.
 fn open(connection: &ConnectionArgs, dictionary: Arc<Dictionary>) -> Result<OpenDrive, i32> {
-    let open = open_drive(connection, dictionary, true).map_err(|text| {
-        eprintln!("{text}");
-        COMMUNICATION
-    })?;
+    let open =
+        open_drive(&Registry::builtin(), connection, dictionary, true, None, None).map_err(|text| {
+            eprintln!("{text}");
+            COMMUNICATION
+        })?;
     if open.simulator.is_some() {
         eprintln!(
             "using {}; its state is not kept between commands",
@@ -229,10 +232,13 @@ pub fn write(args: &WriteArgs) -> i32 {
         None => open.drive.write_text(&def.name, &args.value),
     };
     match result {
-        Ok(()) => {
+        Ok(outcome) => {
             match &parsed {
                 Some((q, raw)) => println!("{} = {q} written (raw {raw})", def.name),
                 None => println!("{} = \"{}\" written", def.name, args.value),
+            }
+            if let WriteOutcome::Limited(stored) = outcome {
+                println!("warning: the drive limited the value; it stored raw {stored}");
             }
             PASSED
         }
@@ -351,7 +357,7 @@ pub fn objects(args: &ObjectsArgs) -> i32 {
 }
 
 pub fn ports(args: &PortsArgs) -> i32 {
-    let ports = match crate::transport::list_ports() {
+    let ports = match crate::bus::list_ports() {
         Ok(p) => p,
         Err(e) => {
             eprintln!("error: {e}");

@@ -2,11 +2,12 @@
 //! with the safe stop at every ending.
 
 use super::connection_args::{parse_duration, ConnectionArgs};
-use super::drive_args::{open_drive_observed, DictionaryArgs};
+use super::drive_args::{open_drive, DictionaryArgs};
 use super::COMMUNICATION;
 use super::{panic_notice, stop_signals, INVALID, PASSED};
 use crate::clock::SharedClock;
 use crate::dictionary::Quantity;
+use crate::family::Registry;
 use crate::recipe::{
     load_recipe, Observers, Recipe, RecipeInvalid, RunReport, Runner, SafeStopChoice, SafeStopSettings,
 };
@@ -14,7 +15,7 @@ use crate::report::{
     write_html, write_html_unfinished, write_junit, write_junit_unfinished, ConsoleReporter, CsvRecorder,
     ProgressReporter, TelegramFanOut, TraceWriter,
 };
-use crate::sim::Sd2Simulator;
+use crate::sim::SimulatedDrive;
 use crate::stop_request::StopRequests;
 use clap::Args;
 use std::io::{IsTerminal, Write};
@@ -154,7 +155,7 @@ pub fn check(args: &CheckArgs) -> i32 {
     for path in &args.recipes {
         // Per recipe: each may have its own drivescript-limits.yaml next to it. A broken
         // --dictionary or --limits file is said once, not once per recipe.
-        let dictionary = match args.dictionary.load_for(None, Some(path)) {
+        let dictionary = match args.dictionary.load_for(&Registry::builtin(), Some(path)) {
             Ok(d) => d,
             Err(text) => {
                 if text != last_error {
@@ -202,7 +203,9 @@ fn finally_note(recipe: &Recipe) -> &'static str {
 pub fn run(args: &RunArgs) -> i32 {
     let stop = stop_signals::install(true);
     panic_notice::install();
+    let registry = Registry::builtin();
     let request = RunRequest {
+        registry: &registry,
         recipe: &args.recipe,
         set: &args.set,
         fast: args.fast,
@@ -221,10 +224,12 @@ pub fn run(args: &RunArgs) -> i32 {
 }
 
 /// A hook that gets the simulated drive and the run's clock before the run starts.
-pub type PrepareSimulator = dyn Fn(&Arc<Mutex<Sd2Simulator>>, &SharedClock);
+pub type PrepareSimulator = dyn Fn(&Arc<Mutex<dyn SimulatedDrive>>, &SharedClock);
 
 /// Everything a run needs; the command line fills it from its options, the tests directly.
 pub struct RunRequest<'a> {
+    /// The drive families to pick from (the built-in ones; tests add their own).
+    pub registry: &'a Registry,
     pub recipe: &'a Path,
     pub set: &'a [(String, String)],
     /// Virtual time (simulated drive only).
@@ -249,7 +254,7 @@ pub struct RunResult {
     pub exit_code: i32,
     /// `None` when the run never started (invalid recipe, port not available).
     pub report: Option<RunReport>,
-    pub simulator: Option<Arc<Mutex<Sd2Simulator>>>,
+    pub simulator: Option<Arc<Mutex<dyn SimulatedDrive>>>,
 }
 
 /// Checks and runs a recipe, writing the console output to `out` and problems to `err`.
@@ -259,7 +264,10 @@ pub fn run_recipe(request: &RunRequest, out: &mut dyn Write, err: &mut dyn Write
         report: None,
         simulator: None,
     };
-    let dictionary = match request.dictionary.load_for(None, Some(request.recipe)) {
+    let dictionary = match request
+        .dictionary
+        .load_for(request.registry, Some(request.recipe))
+    {
         Ok(d) => d,
         Err(text) => {
             let _ = write!(err, "{text}");
@@ -280,9 +288,20 @@ pub fn run_recipe(request: &RunRequest, out: &mut dyn Write, err: &mut dyn Write
     // Files are opened before anything is sent: a path that cannot be written is an
     // invalid command line, not a half-run recipe.
     let outputs = request.outputs;
+    let family = match request.registry.family(dictionary.family()) {
+        Ok(f) => f,
+        Err(e) => {
+            let _ = writeln!(err, "error: {e}");
+            return refused(INVALID);
+        }
+    };
+    if let Err(e) = request.connection.check(family.as_ref()) {
+        let _ = writeln!(err, "error: {e}");
+        return refused(INVALID);
+    }
     let mut telegrams = TelegramFanOut::new();
     if let Some(path) = &outputs.trace {
-        match TraceWriter::create(path, dictionary.clone()) {
+        match TraceWriter::create(path, family.explainer(dictionary.clone())) {
             Ok(t) => telegrams.push(Box::new(t)),
             Err(e) => {
                 let _ = writeln!(err, "error: {e}");
@@ -291,7 +310,10 @@ pub fn run_recipe(request: &RunRequest, out: &mut dyn Write, err: &mut dyn Write
         }
     }
     if outputs.verbose {
-        telegrams.push(Box::new(TraceWriter::new(std::io::stderr(), dictionary.clone())));
+        telegrams.push(Box::new(TraceWriter::new(
+            std::io::stderr(),
+            family.explainer(dictionary.clone()),
+        )));
     }
     let mut csv = match &outputs.csv {
         Some(path) => match CsvRecorder::create(path) {
@@ -320,7 +342,8 @@ pub fn run_recipe(request: &RunRequest, out: &mut dyn Write, err: &mut dyn Write
         let _ = writeln!(err, "error: {e}");
         return refused(INVALID);
     }
-    let mut open = match open_drive_observed(
+    let mut open = match open_drive(
+        request.registry,
         request.connection,
         dictionary,
         request.fast,
@@ -388,7 +411,7 @@ pub struct SchemaArgs {
 }
 
 pub fn schema(args: &SchemaArgs) -> i32 {
-    match args.dictionary.load(None) {
+    match args.dictionary.load() {
         Ok(d) => {
             let text = serde_json::to_string_pretty(&crate::recipe::recipe_schema(&d)).unwrap_or_default();
             println!("{text}");

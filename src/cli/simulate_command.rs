@@ -2,23 +2,24 @@
 //! any serial tool (or drivescript with `--port`/`--tcp`) can talk to it.
 
 use super::{stop_signals, COMMUNICATION, INVALID, PASSED};
+use crate::bus::{TcpTransport, WireTime};
 use crate::clock::RealClock;
-use crate::sim::{Sd2Simulator, SimConfig};
+use crate::family::{Registry, SimPeer};
+use crate::sim::SimConfig;
 use crate::sim_server::SimServer;
-use crate::transport::{Peer, TcpTransport, WireTime};
 use clap::Args;
 use std::io::Write;
 use std::net::TcpListener;
 use std::sync::atomic::Ordering;
-use std::sync::{Arc, Mutex};
+use std::sync::PoisonError;
 use std::time::Duration;
 
 #[derive(Debug, Args)]
-/// Serve the simulated SD2 drive on a pseudo-terminal (--pty) or a TCP port (--tcp), until
+/// Serve a simulated drive on a pseudo-terminal (--pty) or a TCP port (--tcp), until
 /// Ctrl-C. The drive keeps its state between connections, like a real one behind a server.
 pub struct SimulateArgs {
-    /// The drive family to simulate.
-    #[arg(long, default_value = "sd2", value_parser = ["sd2"])]
+    /// The built-in dictionary whose drive family to simulate.
+    #[arg(long, value_name = "DICTIONARY", default_value = "sd2")]
     drive: String,
     /// Serve on a new pseudo-terminal; its path is printed on the first line.
     #[arg(long, conflicts_with = "tcp", required_unless_present = "tcp")]
@@ -26,12 +27,9 @@ pub struct SimulateArgs {
     /// Serve on this TCP address, e.g. 127.0.0.1:4001 (raw TCP, like ser2net).
     #[arg(long, value_name = "ADDR")]
     tcp: Option<String>,
-    /// Address switch position of the simulated drive (DNC address = switch × 2 + 2).
-    #[arg(long, value_name = "SWITCH", default_value_t = 0)]
-    address: u8,
-    /// The raw DNC address instead of the switch position.
-    #[arg(long, value_name = "N")]
-    dnc_address: Option<u8>,
+    /// The simulated drive's address in its family's notation (as `run --address`).
+    #[arg(long, value_name = "ADDRESS")]
+    address: Option<String>,
     /// Charge the time bytes take on a real line at --baud (8N1), so throughput can be
     /// measured honestly over a pseudo-terminal.
     #[arg(long)]
@@ -45,30 +43,38 @@ pub struct SimulateArgs {
 }
 
 pub fn run(args: &SimulateArgs) -> i32 {
-    let address = match args.dnc_address {
-        Some(a) if a >= 2 => a,
-        Some(a) => {
-            eprintln!("error: --dnc-address {a}: a drive has an address of 2..=255");
+    let registry = Registry::builtin();
+    let family = match registry.dictionary(&args.drive) {
+        Ok((family, _)) => family,
+        Err(e) => {
+            eprintln!("error: {e}");
             return INVALID;
         }
-        None => match crate::protocol::sd2::dnc_address(args.address, false) {
-            Some(a) => a,
-            None => {
-                eprintln!(
-                    "error: --address {}: the highest switch position is 126",
-                    args.address
-                );
-                return INVALID;
-            }
-        },
     };
-    let sim = Sd2Simulator::new(SimConfig {
-        address,
+    let address = match family.parse_drive_address(args.address.as_deref()) {
+        Ok(a) => a,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return INVALID;
+        }
+    };
+    let config = SimConfig {
         ramp_rpm_per_s: args.ramp,
         ..SimConfig::default()
-    });
-    let description = sim.describe();
-    let peer: Arc<Mutex<dyn Peer>> = Arc::new(Mutex::new(sim));
+    };
+    let device = family.simulator(&address, config);
+    let description = device
+        .drive
+        .lock()
+        .unwrap_or_else(PoisonError::into_inner)
+        .describe();
+    let SimPeer::Bytes(peer) = device.peer else {
+        eprintln!(
+            "error: the {} family's simulated drive speaks CAN frames; --pty and --tcp serve byte streams",
+            family.id()
+        );
+        return INVALID;
+    };
     let mut server = SimServer::new(peer, RealClock::shared());
     if args.wire_time {
         server = server.with_wire_time(WireTime::new_8n1(args.baud));

@@ -19,7 +19,6 @@ mod dictionary;
 mod dictionary_error;
 mod format;
 mod object_def;
-mod object_names;
 mod profile;
 mod quantity;
 mod quantity_reader;

@@ -271,84 +271,45 @@ impl ObjectDef {
         Ok(RawValue::Text(text.to_string()))
     }
 
-    /// Decodes the object's bytes as the drive sends them (little-endian integers of the
-    /// type's size; SD2 strings as `data[0]` = maximum length, then the characters,
-    /// NUL-terminated when shorter). A wrong byte count is refused with expected vs actual.
-    pub fn from_raw(&self, bytes: &[u8]) -> Result<Value, ValueError> {
-        let size = self.data_type.size();
-        let wrong_count = |expected: String| ValueError::WrongByteCount {
-            object: self.name.clone(),
-            data_type: self.data_type,
-            expected,
-            actual: bytes.len(),
-        };
-        if let DataType::String { .. } = self.data_type {
-            let Some((_, chars)) = bytes.split_first() else {
-                return Err(wrong_count(format!("1 to {size}")));
-            };
-            if bytes.len() > size {
-                return Err(wrong_count(format!("1 to {size}")));
+    /// The value as the drive holds it, read with the object's type, scale and unit. A raw
+    /// value of the wrong kind (text for a number, or the reverse) is refused.
+    pub fn value_of(&self, raw: RawValue) -> Result<Value, ValueError> {
+        let width = self.data_type.size();
+        let is_text = matches!(self.data_type, DataType::String { .. });
+        let quantity = match (&raw, is_text) {
+            (RawValue::Text(_), true) => None,
+            (RawValue::Int(count), false) => Some(Quantity::new(self.engineering(*count), self.unit)),
+            // Drives that send decimal text carry the value itself, not a count.
+            (RawValue::Decimal { digits, places }, false) => Some(Quantity::new(
+                *digits as f64 / 10f64.powi(i32::from(*places)),
+                self.unit,
+            )),
+            (RawValue::Text(_) | RawValue::Bytes(_), false) => {
+                return Err(ValueError::TextForNumber {
+                    object: self.name.clone(),
+                    data_type: self.data_type,
+                })
             }
-            let text: Vec<u8> = chars.iter().copied().take_while(|&b| b != 0).collect();
-            return Ok(Value {
-                raw: RawValue::Text(String::from_utf8_lossy(&text).into_owned()),
-                quantity: None,
-                format: Format::Decimal,
-                width: size,
-                decimals: 0,
-            });
-        }
-        if bytes.len() != size {
-            return Err(wrong_count(size.to_string()));
-        }
-        let mut buf = [0u8; 8];
-        buf[..size].copy_from_slice(bytes);
-        let unsigned = u64::from_le_bytes(buf);
-        let raw = if self.data_type.is_signed() {
-            let shift = 64 - 8 * size as u32;
-            ((unsigned << shift) as i64) >> shift
-        } else {
-            unsigned as i64
+            (_, true) => {
+                return Err(ValueError::NumberForText {
+                    object: self.name.clone(),
+                    data_type: self.data_type,
+                })
+            }
         };
+        let decimals = match raw {
+            RawValue::Decimal { places, .. } => usize::from(places),
+            _ if is_text => 0,
+            _ => self.decimals(),
+        };
+        let format = if is_text { Format::Decimal } else { self.format };
         Ok(Value {
-            raw: RawValue::Int(raw),
-            quantity: Some(Quantity::new(self.engineering(raw), self.unit)),
-            format: self.format,
-            width: size,
-            decimals: self.decimals(),
+            raw,
+            quantity,
+            format,
+            width,
+            decimals,
         })
-    }
-
-    /// The bytes to send for `raw`: little-endian in the type's size, or for a string the
-    /// maximum length, the characters and a NUL when shorter than the maximum (the read
-    /// layout; the sources show no string write).
-    ///
-    /// Returns an empty vector when `raw` does not fit the object (text for an integer, a
-    /// count outside the type's range, text too long): no SD2 write accepts zero bytes,
-    /// so a mismatch fails loudly instead of writing a wrapped number. Values from
-    /// [`ObjectDef::to_raw`] and [`ObjectDef::text_to_raw`] always fit.
-    pub fn encode_raw(&self, raw: &RawValue) -> Vec<u8> {
-        match (self.data_type, raw) {
-            (DataType::String { max }, RawValue::Text(text)) => {
-                if text.len() > usize::from(max) || !text.is_ascii() {
-                    return Vec::new();
-                }
-                let mut bytes = Vec::with_capacity(text.len() + 2);
-                bytes.push(max);
-                bytes.extend_from_slice(text.as_bytes());
-                if text.len() < usize::from(max) {
-                    bytes.push(0);
-                }
-                bytes
-            }
-            (data_type, RawValue::Int(count)) => match data_type.range() {
-                Some((lo, hi)) if (lo..=hi).contains(count) => {
-                    count.to_le_bytes()[..data_type.size()].to_vec()
-                }
-                _ => Vec::new(),
-            },
-            (_, RawValue::Text(_)) => Vec::new(),
-        }
     }
 }
 
@@ -371,36 +332,26 @@ mod tests {
         o
     }
 
-    fn bytes_for(o: &ObjectDef, text: &str) -> Vec<u8> {
-        let raw = o.to_raw(&Quantity::parse(text).unwrap()).unwrap();
-        o.encode_raw(&raw)
+    fn counts_for(o: &ObjectDef, text: &str) -> RawValue {
+        o.to_raw(&Quantity::parse(text).unwrap()).unwrap()
     }
 
     #[test]
-    fn speeds_to_bytes() {
+    fn speeds_to_counts() {
         let o = speed_setpoint();
-        assert_eq!(bytes_for(&o, "1000 rpm"), [0x40, 0x42, 0x0f, 0x00]);
-        assert_eq!(bytes_for(&o, "6000 rpm"), [0x80, 0x8d, 0x5b, 0x00]);
-        assert_eq!(bytes_for(&o, "6500 rpm"), 6_500_000i32.to_le_bytes());
-        assert_eq!(bytes_for(&o, "6500 rpm"), [0xa0, 0x2e, 0x63, 0x00]);
-        assert_eq!(bytes_for(&o, "18000 rpm"), 18_000_000i32.to_le_bytes());
-        assert_eq!(bytes_for(&o, "18000 rpm"), [0x80, 0xa8, 0x12, 0x01]);
-        assert_eq!(bytes_for(&o, "6 krpm"), [0x80, 0x8d, 0x5b, 0x00]);
+        let c = RawValue::Int;
+        assert_eq!(counts_for(&o, "1000 rpm"), c(1_000_000));
+        assert_eq!(counts_for(&o, "6000 rpm"), c(6_000_000));
+        assert_eq!(counts_for(&o, "6500 rpm"), c(6_500_000));
+        assert_eq!(counts_for(&o, "18000 rpm"), c(18_000_000));
+        assert_eq!(counts_for(&o, "6 krpm"), c(6_000_000));
+        assert_eq!(counts_for(&o, "6000"), c(6_000_000), "a bare number is in rpm");
+        assert_eq!(counts_for(&o, "-3000 rpm"), c(-3_000_000));
+        assert_eq!(counts_for(&o, "0.0004 rpm"), c(0), "rounds to the nearest count");
+        assert_eq!(counts_for(&o, "0.0005 rpm"), c(1));
         assert_eq!(
-            bytes_for(&o, "6000"),
-            [0x80, 0x8d, 0x5b, 0x00],
-            "a bare number is in rpm"
-        );
-        assert_eq!(bytes_for(&o, "-3000 rpm"), (-3_000_000i32).to_le_bytes());
-        assert_eq!(
-            bytes_for(&o, "0.0004 rpm"),
-            [0, 0, 0, 0],
-            "rounds to the nearest count"
-        );
-        assert_eq!(bytes_for(&o, "0.0005 rpm"), [1, 0, 0, 0]);
-        assert_eq!(
-            bytes_for(&o, "60000 rpm"),
-            60_000_000i32.to_le_bytes(),
+            counts_for(&o, "60000 rpm"),
+            c(60_000_000),
             "the limit itself is allowed"
         );
     }
@@ -525,48 +476,21 @@ mod tests {
     }
 
     #[test]
-    fn from_raw_every_type() {
-        let cases: [(DataType, &[u8], i64); 6] = [
-            (DataType::U8, &[0xff], 255),
-            (DataType::I8, &[0xff], -1),
-            (DataType::U16, &[0x37, 0x02], 0x237),
-            (DataType::I16, &[0x00, 0x80], -32768),
-            (DataType::U32, &[0xff, 0xff, 0xff, 0xff], 4_294_967_295),
-            (DataType::I32, &[0x7f, 0x50, 0x0f, 0x00], 1_003_647),
-        ];
-        for (t, bytes, expected) in cases {
-            let o = ObjectDef::new("x", Address::indexed(1, 0), t, Access::ReadOnly);
-            let v = o.from_raw(bytes).unwrap();
-            assert_eq!(v.raw, RawValue::Int(expected), "{t}");
-            assert_eq!(o.encode_raw(&v.raw), bytes, "{t}");
-        }
-        let v = speed_setpoint().from_raw(&[0x7f, 0x50, 0x0f, 0x00]).unwrap();
+    fn raw_values_read_with_type_scale_and_unit() {
+        let v = speed_setpoint().value_of(RawValue::Int(1_003_647)).unwrap();
         assert_eq!(v.to_string(), "1003.647 rpm");
         assert_eq!(v.number(), Some(1003.647));
-    }
-
-    #[test]
-    fn from_raw_string() {
-        let bytes = [
-            0x20, 0x54, 0x65, 0x73, 0x74, 0x20, 0x4d, 0x6f, 0x74, 0x6f, 0x72, 0x00,
-        ];
-        let v = ident().from_raw(&bytes).unwrap();
-        assert_eq!(v.raw, RawValue::Text("Test Motor".into()));
-        assert_eq!(v.to_string(), "\"Test Motor\"");
-        assert_eq!(ident().from_raw(&[0x20]).unwrap().text(), Some(""));
-        assert_eq!(
-            ident().encode_raw(&RawValue::Text("Test Motor".into())),
-            bytes.to_vec()
-        );
-    }
-
-    #[test]
-    fn wrong_byte_counts_are_refused() {
-        let e = speed_setpoint().from_raw(&[1, 2]).unwrap_err();
-        assert_eq!(e.to_string(), "speed_setpoint (i32) takes 4 bytes, got 2");
-        let e = ident().from_raw(&[]).unwrap_err();
-        assert_eq!(e.to_string(), "ident (string(32)) takes 1 to 33 bytes, got 0");
-        assert!(ident().from_raw(&[0x20; 34]).is_err());
+        let t = ident().value_of(RawValue::Text("Test Motor".into())).unwrap();
+        assert_eq!(t.to_string(), "\"Test Motor\"");
+        let d = speed_setpoint()
+            .value_of(RawValue::Decimal {
+                digits: 15005,
+                places: 1,
+            })
+            .unwrap();
+        assert_eq!(d.to_string(), "1500.5 rpm");
+        assert!(speed_setpoint().value_of(RawValue::Text("x".into())).is_err());
+        assert!(ident().value_of(RawValue::Int(1)).is_err());
     }
 
     #[test]
@@ -594,24 +518,6 @@ mod tests {
     }
 
     #[test]
-    fn encode_refuses_what_does_not_fit() {
-        let cw = ObjectDef::new(
-            "control_word",
-            Address::indexed(68, 0),
-            DataType::U16,
-            Access::ReadWrite,
-        );
-        assert_eq!(cw.encode_raw(&RawValue::Int(70000)), Vec::<u8>::new());
-        assert_eq!(cw.encode_raw(&RawValue::Text("6".into())), Vec::<u8>::new());
-        assert_eq!(ident().encode_raw(&RawValue::Int(6)), Vec::<u8>::new());
-        assert_eq!(
-            ident().encode_raw(&RawValue::Text("x".repeat(40))),
-            Vec::<u8>::new()
-        );
-        assert_eq!(cw.encode_raw(&RawValue::Int(15)), vec![15, 0]);
-    }
-
-    #[test]
     fn access_helpers() {
         assert!(speed_setpoint().writable() && speed_setpoint().readable());
         assert!(!ident().writable() && ident().readable());
@@ -619,10 +525,10 @@ mod tests {
 
     proptest! {
         #[test]
-        fn to_raw_from_raw_round_trip_within_one_count(v in -60000.0f64..=60000.0) {
+        fn to_raw_value_of_round_trip_within_one_count(v in -60000.0f64..=60000.0) {
             let o = speed_setpoint();
             let raw = o.to_raw(&Quantity::new(v, Some(Unit::Rpm))).unwrap();
-            let back = o.from_raw(&o.encode_raw(&raw)).unwrap().number().unwrap();
+            let back = o.value_of(raw.clone()).unwrap().number().unwrap();
             prop_assert!((back - v).abs() <= o.scale, "{} → {:?} → {}", v, raw, back);
         }
 
@@ -636,16 +542,7 @@ mod tests {
             o.unit = Some(Unit::Volt);
             let value = o.engineering(count);
             let raw = o.to_raw(&Quantity::new(value, Some(Unit::Volt))).unwrap();
-            prop_assert_eq!(raw.clone(), RawValue::Int(count));
-            let back = o.from_raw(&o.encode_raw(&raw)).unwrap();
-            prop_assert_eq!(back.raw, RawValue::Int(count));
-        }
-
-        #[test]
-        fn from_raw_never_panics(bytes in prop::collection::vec(any::<u8>(), 0..40), t in 0usize..7) {
-            let data_type = if t == 6 { DataType::String { max: 32 } } else { DataType::INTEGERS[t] };
-            let o = ObjectDef::new("x", Address::indexed(1, 0), data_type, Access::ReadOnly);
-            let _ = o.from_raw(&bytes);
+            prop_assert_eq!(raw, RawValue::Int(count));
         }
     }
 }

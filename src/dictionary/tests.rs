@@ -214,11 +214,11 @@ fn builtin_sd2_loads_and_validates() {
 fn builtin_speeds_to_bytes() {
     let d = Dictionary::builtin("sd2").unwrap();
     let sp = d.lookup("speed_setpoint").unwrap();
-    let bytes = |text: &str| sp.encode_raw(&sp.to_raw(&Quantity::parse(text).unwrap()).unwrap());
-    assert_eq!(bytes("1000 rpm"), [0x40, 0x42, 0x0f, 0x00]);
-    assert_eq!(bytes("6000 rpm"), [0x80, 0x8d, 0x5b, 0x00]);
-    assert_eq!(bytes("6500 rpm"), [0xa0, 0x2e, 0x63, 0x00]);
-    assert_eq!(bytes("18000 rpm"), [0x80, 0xa8, 0x12, 0x01]);
+    let counts = |text: &str| sp.to_raw(&Quantity::parse(text).unwrap()).unwrap();
+    assert_eq!(counts("1000 rpm"), RawValue::Int(1_000_000));
+    assert_eq!(counts("6000 rpm"), RawValue::Int(6_000_000));
+    assert_eq!(counts("6500 rpm"), RawValue::Int(6_500_000));
+    assert_eq!(counts("18000 rpm"), RawValue::Int(18_000_000));
     let e = sp.to_raw(&Quantity::parse("60001 rpm").unwrap()).unwrap_err();
     assert_eq!(
         e.to_string(),
@@ -237,19 +237,12 @@ fn builtin_speeds_to_bytes() {
         .to_string()
         .contains("maximum of parameter_set, 64"));
     let ident = d.lookup("ident").unwrap();
-    let v = ident
-        .from_raw(&[
-            0x20, 0x54, 0x65, 0x73, 0x74, 0x20, 0x4d, 0x6f, 0x74, 0x6f, 0x72, 0x00,
-        ])
-        .unwrap();
+    let v = ident.value_of(RawValue::Text("Test Motor".into())).unwrap();
     assert_eq!(v.to_string(), "\"Test Motor\"");
     let bus = d.lookup("bus_voltage").unwrap();
-    assert_eq!(
-        bus.from_raw(&3253u16.to_le_bytes()).unwrap().to_string(),
-        "325.3 V"
-    );
+    assert_eq!(bus.value_of(RawValue::Int(3253)).unwrap().to_string(), "325.3 V");
     let sw = d.lookup("status_word").unwrap();
-    assert_eq!(sw.from_raw(&[0x37, 0x02]).unwrap().to_string(), "0x0237");
+    assert_eq!(sw.value_of(RawValue::Int(0x237)).unwrap().to_string(), "0x0237");
 }
 
 #[test]

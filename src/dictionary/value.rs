@@ -8,18 +8,25 @@ use super::quantity::Quantity;
 use super::unit::Unit;
 use std::fmt;
 
-/// A value as the drive holds it: a count, or text.
+/// A value as the drive holds it, in the form its family exchanges: a count, an exact
+/// decimal (drives that send `+1500.5` as text), text, or bytes.
 #[derive(Debug, Clone, PartialEq, Eq, Hash)]
 pub enum RawValue {
     Int(i64),
+    /// `digits` × 10^−`places`, exactly: 1500.5 is { digits: 15005, places: 1 }.
+    Decimal {
+        digits: i64,
+        places: u8,
+    },
     Text(String),
+    Bytes(Vec<u8>),
 }
 
 impl RawValue {
     pub fn as_int(&self) -> Option<i64> {
         match self {
             RawValue::Int(i) => Some(*i),
-            RawValue::Text(_) => None,
+            _ => None,
         }
     }
 }
@@ -28,7 +35,20 @@ impl fmt::Display for RawValue {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             RawValue::Int(i) => write!(f, "{i}"),
+            RawValue::Decimal { digits, places } => {
+                let p = usize::from(*places);
+                let sign = if *digits < 0 { "-" } else { "" };
+                let abs = digits.unsigned_abs().to_string();
+                if p == 0 {
+                    write!(f, "{sign}{abs}")
+                } else {
+                    let padded = format!("{abs:0>width$}", width = p + 1);
+                    let (whole, frac) = padded.split_at(padded.len() - p);
+                    write!(f, "{sign}{whole}.{frac}")
+                }
+            }
             RawValue::Text(t) => write!(f, "{t:?}"),
+            RawValue::Bytes(b) => write!(f, "{}", crate::hex::to_hex(b)),
         }
     }
 }
@@ -61,7 +81,7 @@ impl Value {
     pub fn text(&self) -> Option<&str> {
         match &self.raw {
             RawValue::Text(t) => Some(t),
-            RawValue::Int(_) => None,
+            _ => None,
         }
     }
 }
@@ -78,7 +98,8 @@ impl fmt::Display for Value {
                 write!(f, "0x{:0digits$x}", (*i as u64) & mask)
             }
             (RawValue::Int(i), None) => write!(f, "{i}"),
-            (RawValue::Int(_), Some(q)) => {
+            (RawValue::Bytes(_) | RawValue::Decimal { .. }, None) => write!(f, "{}", self.raw),
+            (RawValue::Int(_) | RawValue::Decimal { .. } | RawValue::Bytes(_), Some(q)) => {
                 f.write_str(&format_number(q.value, self.decimals))?;
                 match q.unit {
                     Some(u) => write!(f, " {u}"),
@@ -156,6 +177,14 @@ mod tests {
         assert_eq!(text.to_string(), "\"Test Motor\"");
         assert_eq!(text.text(), Some("Test Motor"));
         assert_eq!(text.number(), None);
+    }
+
+    #[test]
+    fn exact_decimals_print_as_written() {
+        let d = |digits, places| RawValue::Decimal { digits, places }.to_string();
+        assert_eq!(d(15005, 1), "1500.5");
+        assert_eq!(d(-5, 2), "-0.05");
+        assert_eq!(d(42, 0), "42");
     }
 
     #[test]

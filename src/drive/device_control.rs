@@ -1,7 +1,7 @@
-//! The CiA 402-style device-control vocabulary shared by the drive families: states,
-//! commands, and the default control-word values and status-word masks (those of the
-//! SD2 DNC manual). A dictionary's profile may override the numbers; the names are fixed.
-//! Pure data and bit arithmetic; no I/O.
+//! The device-control vocabulary shared by the drive families: states and commands (the
+//! CiA 402 names, which recipes and scripts use whatever the drive), and the CiA 402
+//! profile's control-word values and status-word masks, which a family's dictionary may
+//! use as they are or replace with its own profile. Pure data and bit arithmetic; no I/O.
 
 use std::fmt;
 
@@ -48,7 +48,7 @@ impl DeviceState {
         Self::ALL.into_iter().find(|s| s.id() == id)
     }
 
-    /// The status-word mask and value of the SD2 manual's state table.
+    /// The status-word mask and value of the CiA 402 state table.
     pub fn default_mask_value(self) -> (u16, u16) {
         match self {
             DeviceState::NotReadyToSwitchOn => (0x4F, 0x00),
@@ -125,7 +125,7 @@ impl DeviceCommand {
         Self::ALL.into_iter().find(|c| c.id() == id)
     }
 
-    /// The control-word value of the SD2 manual's command table (don't-care bits 0).
+    /// The control-word value of the CiA 402 command table (don't-care bits 0).
     pub fn default_control_word(self) -> u16 {
         match self {
             DeviceCommand::Shutdown => 6,
@@ -177,7 +177,7 @@ pub fn control_word_bits(control: u16) -> Vec<String> {
     })
 }
 
-/// Names of the set status-word bits the SD2 manual defines; other set bits by number.
+/// Names of the set status-word bits CiA 402 defines; other set bits by number.
 pub fn status_word_bits(status: u16) -> Vec<String> {
     bit_names(status, |bit| match bit {
         0 => Some("ready to switch on"),

@@ -3,11 +3,10 @@
 //! object, read-only, value outside limits) is refused here, before a byte is sent.
 
 use super::state_path::{next_step, NextStep};
-use super::{DriveError, ObjectAccess};
+use super::{AccessError, DriveError, ObjectAccess, WriteOutcome};
 use crate::clock::SharedClock;
 use crate::dictionary::{Dictionary, ObjectDef, Profile, Quantity, RawValue, Role, Value};
 use crate::drive::device_control::{DeviceCommand, DeviceState};
-use crate::link::LinkError;
 use std::sync::Arc;
 use std::time::Duration;
 
@@ -54,7 +53,7 @@ impl Drive {
 
     /// Opens the port again after the line was lost.
     pub fn reopen(&mut self) -> Result<(), DriveError> {
-        self.access.reopen()
+        Ok(self.access.reopen()?)
     }
 
     /// The object definition for a name or alias.
@@ -96,11 +95,11 @@ impl Drive {
                 object: def.name.clone(),
             });
         }
-        let bytes = self
+        let raw = self
             .access
-            .read(&def.address)
+            .read(&def.address, def.data_type)
             .map_err(|e| self.refusal(e, "to read", def))?;
-        def.from_raw(&bytes).map_err(|source| DriveError::BadReply {
+        def.value_of(raw).map_err(|source| DriveError::BadReply {
             object: def.name.clone(),
             source,
         })
@@ -121,7 +120,7 @@ impl Drive {
 
     /// Writes a number with its unit (a bare number is in the object's unit). Refused
     /// before sending when the object is read-only or the value outside its limits.
-    pub fn write(&mut self, name: &str, quantity: &Quantity) -> Result<(), DriveError> {
+    pub fn write(&mut self, name: &str, quantity: &Quantity) -> Result<WriteOutcome, DriveError> {
         let def = self.object(name)?.clone();
         if !def.writable() {
             return Err(DriveError::ReadOnly {
@@ -133,7 +132,7 @@ impl Drive {
     }
 
     /// Writes text to a string object.
-    pub fn write_text(&mut self, name: &str, text: &str) -> Result<(), DriveError> {
+    pub fn write_text(&mut self, name: &str, text: &str) -> Result<WriteOutcome, DriveError> {
         let def = self.object(name)?.clone();
         if !def.writable() {
             return Err(DriveError::ReadOnly {
@@ -144,23 +143,23 @@ impl Drive {
         self.write_raw(&def, &raw)
     }
 
-    fn write_raw(&mut self, def: &ObjectDef, raw: &RawValue) -> Result<(), DriveError> {
-        let bytes = def.encode_raw(raw);
+    fn write_raw(&mut self, def: &ObjectDef, raw: &RawValue) -> Result<WriteOutcome, DriveError> {
         self.access
-            .write(&def.address, &bytes)
+            .write(&def.address, raw, def.data_type)
             .map_err(|e| self.refusal(e, "to write", def))
     }
 
     /// Names the object in a drive's refusal (the link only knows the index).
-    fn refusal(&self, e: DriveError, operation: &'static str, def: &ObjectDef) -> DriveError {
+    fn refusal(&self, e: AccessError, operation: &'static str, def: &ObjectDef) -> DriveError {
         match e {
-            DriveError::Link(LinkError::DriveRefused { port, code, .. }) => DriveError::Refused {
+            AccessError::Refused { port, code, text, .. } => DriveError::Refused {
                 port,
                 operation,
                 object: def.name.clone(),
                 code,
+                text,
             },
-            other => other,
+            other => DriveError::Access(other),
         }
     }
 
@@ -172,7 +171,8 @@ impl Drive {
         if command == DeviceCommand::FaultReset {
             self.write_raw(&control, &RawValue::Int(i64::from(value & !0x80)))?;
         }
-        self.write_raw(&control, &RawValue::Int(i64::from(value)))
+        self.write_raw(&control, &RawValue::Int(i64::from(value)))?;
+        Ok(())
     }
 
     pub fn status_word(&mut self) -> Result<u16, DriveError> {

@@ -2,10 +2,9 @@
 //! error code, with what to do. Refusals (unknown object, read-only, out of limits) are
 //! raised before any byte is sent.
 
+use super::AccessError;
 use crate::dictionary::ValueError;
 use crate::drive::device_control::DeviceState;
-use crate::link::LinkError;
-use crate::protocol::sd2::ErrorCode;
 use std::time::Duration;
 
 #[derive(Debug, thiserror::Error)]
@@ -33,14 +32,16 @@ pub enum DriveError {
     NoRole { family: String, role: &'static str },
 
     #[error(transparent)]
-    Link(#[from] LinkError),
+    Access(#[from] AccessError),
 
-    #[error("{port} refused {operation} {object}: {code}")]
+    #[error("{port} refused {operation} {object}: {text}")]
     Refused {
         port: String,
         operation: &'static str,
         object: String,
-        code: ErrorCode,
+        /// The drive's own error code and its meaning.
+        code: u32,
+        text: String,
     },
 
     #[error("status word 0x{status:04x} matches no state of the profile's state table")]
@@ -92,18 +93,18 @@ fn drive_error_text(code: Option<u16>) -> String {
 impl DriveError {
     /// True for errors where the line or the drive is unreachable (exit code 3 territory).
     pub fn is_communication(&self) -> bool {
-        matches!(self, DriveError::Link(_))
+        matches!(self, DriveError::Access(_))
     }
 
     /// True when the port itself failed (device gone, connection closed), so that only
     /// reopening it can reach the drive again.
     pub fn is_link_lost(&self) -> bool {
-        matches!(self, DriveError::Link(e) if e.is_transport())
+        matches!(self, DriveError::Access(e) if e.is_transport())
     }
 
     /// True when a stop request ended the operation.
     pub fn is_interrupted(&self) -> bool {
-        matches!(self, DriveError::Interrupted) || matches!(self, DriveError::Link(e) if e.is_interrupted())
+        matches!(self, DriveError::Interrupted) || matches!(self, DriveError::Access(e) if e.is_interrupted())
     }
 
     /// True when the drive itself is in fault.

@@ -2,16 +2,16 @@
 //! device-control commands, read the state, walk the state machine. Each protocol family
 //! implements the small [`ObjectAccess`] trait underneath. Knows names and units, not bytes.
 
+mod access_error;
 pub mod device_control;
 mod drive;
 mod drive_error;
 mod object_access;
-mod sd2_access;
 mod state_path;
 
+pub use access_error::AccessError;
 pub use device_control::{DeviceCommand, DeviceState};
 pub use drive::{Drive, Transition};
 pub use drive_error::DriveError;
-pub use object_access::ObjectAccess;
-pub use sd2_access::Sd2Access;
+pub use object_access::{ObjectAccess, WriteOutcome};
 pub use state_path::{next_step, NextStep};

@@ -1,18 +1,37 @@
-//! The small trait each protocol family implements so the drive layer can read and write
-//! objects without knowing bytes on the wire. Implementations own their link.
+//! The small trait each drive family implements so the drive layer can read and write
+//! objects without knowing bytes on the wire: typed raw values in and out, family-neutral
+//! errors. Implementations own (or share) their link.
 
-use super::DriveError;
+use super::AccessError;
 use crate::clock::SharedClock;
-use crate::dictionary::Address;
+use crate::dictionary::{Address, DataType, RawValue};
 
-/// Raw object access: little-endian bytes in, little-endian bytes out.
+/// What a write did. Some drives store a value other than the one sent (Lenze 931:
+/// "written, but limited to X"); that is neither success nor failure.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum WriteOutcome {
+    Stored,
+    /// Written, but the drive stored this value instead.
+    Limited(RawValue),
+}
+
 pub trait ObjectAccess: Send {
-    fn read(&mut self, address: &Address) -> Result<Vec<u8>, DriveError>;
-    fn write(&mut self, address: &Address, bytes: &[u8]) -> Result<(), DriveError>;
-    /// What we are talking to, for messages.
+    fn read(&mut self, address: &Address, data_type: DataType) -> Result<RawValue, AccessError>;
+    fn write(
+        &mut self,
+        address: &Address,
+        value: &RawValue,
+        data_type: DataType,
+    ) -> Result<WriteOutcome, AccessError>;
+    /// Several objects at once; a family with a cyclic channel answers them in one round
+    /// trip. The default reads them one by one.
+    fn read_many(&mut self, objects: &[(Address, DataType)]) -> Vec<Result<RawValue, AccessError>> {
+        objects.iter().map(|(a, t)| self.read(a, *t)).collect()
+    }
+    /// What we are talking to, for messages: `drive 2 on /dev/ttyUSB0 at 57600 8N1`.
     fn port(&self) -> String;
     /// The clock the link waits on (real, or virtual with the simulator).
     fn clock(&self) -> SharedClock;
     /// Opens the port again after the line was lost (see `Transport::reopen`).
-    fn reopen(&mut self) -> Result<(), DriveError>;
+    fn reopen(&mut self) -> Result<(), AccessError>;
 }

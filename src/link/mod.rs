@@ -1,15 +1,11 @@
-//! Request → reply over a transport, for one protocol family at a time: timeouts, bounded
-//! retries, flushing stale input, and checking that a reply answers its request.
-//! Builds telegrams only through `protocol`; knows nothing about object names or units.
+//! What every family's link shares: the observer that sees each telegram (traces, `-v`),
+//! the explainer through which a family says what its telegrams mean, and the counters of
+//! what a link did. Family-neutral: the links themselves live in `family/<id>/`.
 
-mod link_config;
-mod link_error;
 mod link_stats;
-mod sd2_link;
+mod telegram_explainer;
 mod telegram_observer;
 
-pub use link_config::LinkConfig;
-pub use link_error::LinkError;
 pub use link_stats::LinkStats;
-pub use sd2_link::Sd2Link;
+pub use telegram_explainer::TelegramExplainer;
 pub use telegram_observer::{Direction, TelegramObserver};

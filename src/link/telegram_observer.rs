@@ -1,7 +1,7 @@
 //! A hook that sees every telegram a link sends and receives (traces, `-v`), and the
-//! link's own events (timeouts, retries). Observers must not block or fail the link.
+//! link's own events (timeouts, retries). It gets bytes only: what they mean is the
+//! family's [`super::TelegramExplainer`]'s to say. Observers must not block or fail the link.
 
-use crate::protocol::sd2::{DecodeError, Telegram};
 use std::time::Duration;
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -22,13 +22,7 @@ impl Direction {
 
 pub trait TelegramObserver: Send {
     /// A telegram crossed the wire at clock time `at`.
-    fn telegram(
-        &mut self,
-        at: Duration,
-        direction: Direction,
-        bytes: &[u8],
-        decoded: &Result<Telegram, DecodeError>,
-    );
+    fn telegram(&mut self, at: Duration, direction: Direction, bytes: &[u8]);
     /// Something happened on the link that is not a telegram: a timeout, a retry, skipped noise.
     fn event(&mut self, at: Duration, text: &str);
 }

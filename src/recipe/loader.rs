@@ -19,7 +19,7 @@ use super::recipe::Recipe;
 use super::recipe_invalid::RecipeInvalid;
 use crate::diag::{read_source, Diagnostic, Diagnostics, Reader, Source, Span};
 use crate::dictionary::Dictionary;
-use crate::session::StepOrigin;
+use crate::session::{show_duration, StepOrigin};
 use params::ParamValue;
 use std::collections::{BTreeMap, HashSet};
 use std::path::{Path, PathBuf};
@@ -154,11 +154,6 @@ impl Loader<'_, '_> {
             column: span.column(),
         }
     }
-}
-
-/// `10 min`, `500 ms`, `1h 30m`.
-pub fn show_duration(d: Duration) -> String {
-    humantime::format_duration(d).to_string()
 }
 
 /// The closest candidate, if any is close (the one similarity rule of every loader).

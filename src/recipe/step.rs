@@ -4,16 +4,9 @@
 
 use crate::drive::device_control::{DeviceCommand, DeviceState};
 use crate::session::{Check, Condition};
-pub use crate::session::{ObjectRef, StepOrigin};
+pub use crate::session::{ObjectRef, SetValue, StepOrigin};
 use std::path::PathBuf;
 use std::time::Duration;
-
-/// A value to write: a number in the object's unit, or text for string objects.
-#[derive(Debug, Clone, PartialEq)]
-pub enum SetValue {
-    Number(f64),
-    Text(String),
-}
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct Step {
@@ -73,9 +66,6 @@ pub enum StepKind {
     },
     /// Steps of another recipe file, with its parameters already applied.
     Include { path: String, steps: Vec<Step> },
-    /// The default safe stop's wait: while the drive is in operation enabled, poll the
-    /// actual speed until it is within ±`below` (its unit) or `timeout` has passed.
-    Standstill { below: f64, timeout: Duration },
 }
 
 impl Step {
@@ -111,7 +101,6 @@ impl Step {
                 }
             }
             StepKind::Include { steps, .. } => longest_time_of(steps),
-            StepKind::Standstill { timeout, .. } => *timeout,
         }
     }
 
@@ -137,7 +126,6 @@ impl Step {
                 | StepKind::Sample { .. }
                 | StepKind::Repeat { .. }
                 | StepKind::Ramp { .. }
-                | StepKind::Standstill { .. }
         )
     }
 }

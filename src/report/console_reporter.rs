@@ -3,7 +3,7 @@
 //! never garbles a log file. The line formats are pub functions so the live progress
 //! display prints exactly the same permanent lines.
 
-use crate::recipe::{number, CheckResult, Recipe, RunObserver, RunReport, Step, StepKind, StepRecord};
+use crate::session::{number, with_unit, CheckResult, RunInfo, RunObserver, RunReport, StepInfo, StepRecord};
 use std::io::Write;
 
 pub struct ConsoleReporter<W: Write> {
@@ -29,14 +29,14 @@ impl<W: Write> ConsoleReporter<W> {
 }
 
 impl<W: Write> RunObserver for ConsoleReporter<W> {
-    fn run_started(&mut self, recipe: &Recipe, drive: &str) {
+    fn run_started(&mut self, recipe: &RunInfo, drive: &str) {
         for line in header_lines(recipe, drive) {
             self.line(&line);
         }
     }
 
-    fn step_started(&mut self, number: &str, step: &Step, phase: &'static str) {
-        if let Some(line) = container_line(number, step, phase) {
+    fn step_started(&mut self, step: &StepInfo) {
+        if let Some(line) = container_line(step) {
             self.line(&line);
         }
     }
@@ -62,17 +62,18 @@ impl<W: Write> RunObserver for ConsoleReporter<W> {
     }
 }
 
-/// `recipe  NAME (PATH)`, `drive   DRIVE` and, when there are any, `params  a = 1, b = 2`.
-pub fn header_lines(recipe: &Recipe, drive: &str) -> Vec<String> {
+/// `recipe  NAME (PATH)` (or `script`), `drive   DRIVE` and, when there are any,
+/// `params  a = 1, b = 2`.
+pub fn header_lines(run: &RunInfo, drive: &str) -> Vec<String> {
     let mut lines = vec![
-        format!("recipe  {} ({})", recipe.name, recipe.path),
+        format!("{:<7} {} ({})", run.kind, run.name, run.path),
         format!("drive   {drive}"),
     ];
-    if !recipe.params.is_empty() {
-        let params = recipe
+    if !run.params.is_empty() {
+        let params = run
             .params
             .iter()
-            .map(|p| format!("{} = {}", p.name, p.value))
+            .map(|(name, value)| format!("{name} = {value}"))
             .collect::<Vec<_>>()
             .join(", ");
         lines.push(format!("params  {params}"));
@@ -82,12 +83,12 @@ pub fn header_lines(recipe: &Recipe, drive: &str) -> Vec<String> {
 
 /// The announcement of a container step (`repeat`, `include`), so its nested steps read in
 /// order; `None` for every other step.
-pub fn container_line(number: &str, step: &Step, phase: &str) -> Option<String> {
-    if matches!(step.kind, StepKind::Repeat { .. } | StepKind::Include { .. }) {
-        let number = if phase == "steps" {
-            number.to_string()
+pub fn container_line(step: &StepInfo) -> Option<String> {
+    if step.container {
+        let number = if step.phase == "steps" {
+            step.number.clone()
         } else {
-            number.replace('.', " ")
+            step.number.replace('.', " ")
         };
         Some(format!("{number:>6}  ...   {}", step.label))
     } else {
@@ -166,11 +167,4 @@ pub fn summary_lines(report: &RunReport, virtual_time: bool) -> Vec<String> {
         report.exit_code()
     ));
     lines
-}
-
-fn with_unit(v: f64, unit: Option<&str>) -> String {
-    match unit {
-        Some(u) => format!("{} {u}", number(v)),
-        None => number(v),
-    }
 }

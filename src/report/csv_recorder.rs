@@ -3,17 +3,16 @@
 //! objects) and flushed row by row, so an aborted run keeps every sample it took.
 //! An observer: its write errors are kept for the CLI to report, never fail the run.
 
-use super::trace_writer::create_file;
-use crate::recipe::{number, RunObserver, Step};
-use std::path::{Path, PathBuf};
+use crate::csv_file::CsvFile;
+use crate::session::{number, RunObserver, StepInfo};
+use std::path::Path;
 use std::time::Duration;
 
 /// The header row.
 pub const CSV_HEADER: [&str; 5] = ["time [s]", "step", "object", "value", "unit"];
 
 pub struct CsvRecorder {
-    writer: csv::Writer<std::fs::File>,
-    path: PathBuf,
+    file: CsvFile,
     /// The number of the step running now (`3`, `7.2`).
     step: String,
     rows: u64,
@@ -24,15 +23,9 @@ impl CsvRecorder {
     /// Creates (truncates) the file, its directory too, and writes the header. An
     /// unwritable path is an error here, before the run starts; the message names the path.
     pub fn create(path: &Path) -> Result<Self, String> {
-        let file = create_file(path)?;
-        let mut writer = csv::WriterBuilder::new().from_writer(file);
-        writer
-            .write_record(CSV_HEADER)
-            .and_then(|()| writer.flush().map_err(csv::Error::from))
-            .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+        let header: Vec<String> = CSV_HEADER.iter().map(|h| h.to_string()).collect();
         Ok(CsvRecorder {
-            writer,
-            path: path.to_path_buf(),
+            file: CsvFile::create(path, &header)?,
             step: String::new(),
             rows: 0,
             error: None,
@@ -40,7 +33,7 @@ impl CsvRecorder {
     }
 
     pub fn path(&self) -> &Path {
-        &self.path
+        self.file.path()
     }
 
     /// Rows written so far (one per sampled value).
@@ -54,16 +47,13 @@ impl CsvRecorder {
     }
 
     fn row(&mut self, record: [&str; 5]) -> Result<(), String> {
-        self.writer
-            .write_record(record)
-            .and_then(|()| self.writer.flush().map_err(csv::Error::from))
-            .map_err(|e| format!("cannot write {}: {e}", self.path.display()))
+        self.file.row(&record)
     }
 }
 
 impl RunObserver for CsvRecorder {
-    fn step_started(&mut self, number: &str, _step: &Step, _phase: &'static str) {
-        self.step = number.to_string();
+    fn step_started(&mut self, step: &StepInfo) {
+        self.step = step.number.clone();
     }
 
     fn sample(&mut self, at: Duration, values: &[(String, Option<String>, f64)]) {
@@ -86,8 +76,8 @@ impl RunObserver for CsvRecorder {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::drive::device_control::DeviceCommand;
-    use crate::recipe::{StepKind, StepOrigin};
+    use crate::session::StepOrigin;
+    use std::path::PathBuf;
 
     fn temp(name: &str) -> PathBuf {
         std::env::temp_dir()
@@ -95,15 +85,17 @@ mod tests {
             .join("out/samples.csv")
     }
 
-    fn step() -> Step {
-        Step {
-            kind: StepKind::Command(DeviceCommand::Shutdown),
+    fn step(number: &str) -> StepInfo {
+        StepInfo {
+            number: number.into(),
+            label: "sample".into(),
             origin: StepOrigin {
                 path: "r.yaml".into(),
                 line: 3,
                 column: 5,
             },
-            label: "sample".into(),
+            phase: "steps",
+            container: false,
         }
     }
 
@@ -115,7 +107,7 @@ mod tests {
     fn long_format_rows_are_on_disk_while_the_run_goes_on() {
         let path = temp("rows");
         let mut csv = CsvRecorder::create(&path).unwrap();
-        csv.step_started("3", &step(), "steps");
+        csv.step_started(&step("3"));
         csv.sample(
             Duration::from_millis(5_100),
             &[
@@ -130,7 +122,7 @@ mod tests {
              5.100000,3,speed_actual,6000.125,rpm\n\
              5.100000,3,current_actual,2.5,A\n"
         );
-        csv.step_started("7.2", &step(), "steps");
+        csv.step_started(&step("7.2"));
         csv.sample(Duration::from_secs(70), &[row("drive_error", None, 0.0)]);
         let text = std::fs::read_to_string(&path).unwrap();
         assert!(text.ends_with("70.000000,7.2,drive_error,0,\n"), "{text}");

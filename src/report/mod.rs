@@ -6,11 +6,7 @@ mod console_reporter;
 mod csv_recorder;
 mod html_report;
 mod junit_report;
-#[cfg(test)]
-mod markup_check;
 mod progress_reporter;
-#[cfg(test)]
-mod sample_report;
 mod telegram_fan_out;
 mod trace_writer;
 mod unfinished_report;
@@ -24,9 +20,7 @@ pub use html_report::{html_report, write_html, MAX_PLOT_POINTS};
 pub use junit_report::{junit_xml, write_junit};
 pub use progress_reporter::{progress_text, ProgressReporter};
 pub use telegram_fan_out::TelegramFanOut;
-pub use trace_writer::{
-    hex_of_trace_line, is_trace_line, summary as telegram_summary, TraceNames, TraceWriter,
-};
+pub use trace_writer::{hex_of_trace_line, is_trace_line, TraceWriter};
 pub use unfinished_report::{
     html_unfinished, junit_unfinished, write_html_unfinished, write_junit_unfinished,
 };

@@ -8,7 +8,7 @@
 use super::console_reporter::{
     check_line, container_line, header_lines, message_line, step_line, summary_lines,
 };
-use crate::recipe::{CheckResult, Recipe, RunObserver, RunReport, Step, StepKind, StepRecord};
+use crate::session::{CheckResult, RunInfo, RunObserver, RunReport, StepInfo, StepRecord};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressFinish, ProgressStyle};
 use std::io::Write;
 use std::time::Duration;
@@ -134,17 +134,18 @@ pub fn progress_text(elapsed: Duration, total: Option<Duration>) -> String {
 }
 
 impl<W: Write> RunObserver for ProgressReporter<W> {
-    fn run_started(&mut self, recipe: &Recipe, drive: &str) {
+    fn run_started(&mut self, recipe: &RunInfo, drive: &str) {
         for line in header_lines(recipe, drive) {
             self.line(&line);
         }
     }
 
-    fn step_started(&mut self, number: &str, step: &Step, phase: &'static str) {
-        if let Some(line) = container_line(number, step, phase) {
+    fn step_started(&mut self, step: &StepInfo) {
+        let (number, phase) = (step.number.as_str(), step.phase);
+        if let Some(line) = container_line(step) {
             self.line(&line);
         }
-        if matches!(step.kind, StepKind::Repeat { .. } | StepKind::Include { .. }) {
+        if step.container {
             self.containers
                 .push((number.to_string(), step.label.clone(), String::new()));
             return;
@@ -226,150 +227,6 @@ impl<W: Write> RunObserver for ProgressReporter<W> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::recipe::{Param, StepOrigin};
-    use crate::report::sample_report::{passed_report, speed_check, step};
-    use crate::report::ConsoleReporter;
-
-    fn recipe() -> Recipe {
-        Recipe {
-            name: "Spindle run-in".into(),
-            description: None,
-            drive: "sd2".into(),
-            path: "recipes/run-in.yaml".into(),
-            params: vec![Param {
-                name: "speed".into(),
-                value: "6000 rpm".into(),
-                origin: "--set".into(),
-            }],
-            steps: Vec::new(),
-            finally: None,
-            on_fault: Vec::new(),
-            leave_enabled: false,
-            safe_stop: Default::default(),
-        }
-    }
-
-    fn a_step(kind: StepKind, label: &str) -> Step {
-        Step {
-            kind,
-            origin: StepOrigin {
-                path: "recipes/run-in.yaml".into(),
-                line: 7,
-                column: 5,
-            },
-            label: label.into(),
-        }
-    }
-
-    fn repeat() -> Step {
-        a_step(
-            StepKind::Repeat {
-                times: Some(3),
-                duration: None,
-                steps: Vec::new(),
-            },
-            "repeat 3 times",
-        )
-    }
-
-    fn dwell() -> Step {
-        a_step(StepKind::Dwell(Duration::from_secs(60)), "dwell 60 s")
-    }
-
-    /// The same events to any observer.
-    fn play(o: &mut dyn RunObserver) {
-        let report = passed_report();
-        o.run_started(&recipe(), "sd2 (simulated)");
-        o.step_started("1", &repeat(), "steps");
-        o.step_progress("1", Duration::ZERO, None, "iteration 1 of 3");
-        o.step_started("1.1", &dwell(), "steps");
-        o.step_progress("1.1", Duration::from_secs(12), Some(Duration::from_secs(60)), "");
-        o.step_finished(&step("1.1", "dwell 60 s", true, "", 0, "steps"));
-        o.step_finished(&step(
-            "1",
-            "repeat 3 times",
-            true,
-            "3 iteration(s) in 180 s",
-            0,
-            "steps",
-        ));
-        o.check(&speed_check(
-            "speed_actual mean near 6000 rpm ± 0.5 %",
-            6000.1,
-            true,
-        ));
-        o.message("speed_actual = 6000.1 rpm");
-        o.step_started("finally.1", &dwell(), "finally");
-        o.step_finished(&step(
-            "finally.1",
-            "disable_operation",
-            false,
-            "no reply",
-            0,
-            "finally",
-        ));
-        o.run_finished(&report);
-    }
-
-    #[test]
-    fn permanent_lines_are_the_console_lines() {
-        let mut console = ConsoleReporter::new(Vec::new(), true);
-        play(&mut console);
-        let mut progress = ProgressReporter::new(Vec::new(), ProgressBar::hidden(), true);
-        play(&mut progress);
-        let want = String::from_utf8(console.into_inner()).unwrap();
-        let got = String::from_utf8(progress.into_inner()).unwrap();
-        assert_eq!(got, want);
-        // And they say what happened.
-        assert!(
-            got.starts_with("recipe  Spindle run-in (recipes/run-in.yaml)\n"),
-            "{got}"
-        );
-        assert!(got.contains("     1  ...   repeat 3 times\n"), "{got}");
-        assert!(got.contains("   1.1  ok    dwell 60 s\n"), "{got}");
-        assert!(got.contains("        PASS  speed_actual mean near 6000 rpm ± 0.5 %: mean 6000.1 rpm"));
-        assert!(
-            got.contains("finally 1  FAIL  disable_operation  no reply\n"),
-            "{got}"
-        );
-        assert!(got.contains("PASSED — 4 step(s), 2 check(s) passed, 0 failed, 1m 6s 250ms of virtual time"));
-    }
-
-    #[test]
-    fn the_live_line_shows_step_time_values_and_context() {
-        let mut p = ProgressReporter::new(Vec::new(), ProgressBar::hidden(), false);
-        p.step_started("4", &repeat(), "steps");
-        p.step_progress("4", Duration::ZERO, None, "iteration 2 of 3");
-        p.step_started("4.1", &dwell(), "steps");
-        assert_eq!(p.bar().prefix(), "4.1");
-        assert_eq!(p.bar().message(), "dwell 60 s [repeat 3 times: iteration 2 of 3]");
-        p.step_progress(
-            "4.1",
-            Duration::from_millis(12_340),
-            Some(Duration::from_secs(60)),
-            "speed_actual 6001.2 rpm",
-        );
-        assert_eq!(
-            p.bar().message(),
-            "dwell 60 s  12.3 s of 1m, 47.7 s left — speed_actual 6001.2 rpm \
-             [repeat 3 times: iteration 2 of 3]"
-        );
-        assert_eq!(p.bar().length(), Some(60_000));
-        assert_eq!(p.bar().position(), 12_340);
-        // Progress of another step (a stale number) does not overwrite the line.
-        p.step_progress("3", Duration::from_secs(1), None, "x");
-        assert!(p.bar().message().starts_with("dwell 60 s  12.3 s"));
-        p.step_finished(&step("4.1", "dwell 60 s", true, "", 0, "steps"));
-        assert_eq!(p.bar().length(), None);
-        assert_eq!(p.bar().message(), "[repeat 3 times: iteration 2 of 3]");
-        p.step_finished(&step("4", "repeat 3 times", true, "", 0, "steps"));
-        assert_eq!(p.bar().message(), "");
-        let out = String::from_utf8(p.into_inner()).unwrap();
-        assert_eq!(
-            out,
-            "     4  ...   repeat 3 times\n   4.1  ok    dwell 60 s\n     4  ok    repeat 3 times\n"
-        );
-    }
 
     #[test]
     fn long_times_read_as_hours_and_minutes() {

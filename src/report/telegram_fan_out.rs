@@ -3,7 +3,6 @@
 //! must not block or fail the link itself.
 
 use crate::link::{Direction, TelegramObserver};
-use crate::protocol::sd2::{DecodeError, Telegram};
 use std::time::Duration;
 
 #[derive(Default)]
@@ -35,15 +34,9 @@ impl TelegramFanOut {
 }
 
 impl TelegramObserver for TelegramFanOut {
-    fn telegram(
-        &mut self,
-        at: Duration,
-        direction: Direction,
-        bytes: &[u8],
-        decoded: &Result<Telegram, DecodeError>,
-    ) {
+    fn telegram(&mut self, at: Duration, direction: Direction, bytes: &[u8]) {
         for o in &mut self.list {
-            o.telegram(at, direction, bytes, decoded);
+            o.telegram(at, direction, bytes);
         }
     }
 
@@ -61,7 +54,7 @@ mod tests {
 
     struct Log(Arc<Mutex<Vec<String>>>, &'static str);
     impl TelegramObserver for Log {
-        fn telegram(&mut self, at: Duration, d: Direction, bytes: &[u8], _: &Result<Telegram, DecodeError>) {
+        fn telegram(&mut self, at: Duration, d: Direction, bytes: &[u8]) {
             self.0.lock().unwrap().push(format!(
                 "{} {} {} {}",
                 self.1,
@@ -86,12 +79,7 @@ mod tests {
         fan.push(Box::new(Log(log.clone(), "a")));
         fan.push(Box::new(Log(log.clone(), "b")));
         let mut o = fan.into_observer().unwrap();
-        o.telegram(
-            Duration::from_millis(5),
-            Direction::Sent,
-            &[0, 9],
-            &Err(DecodeError::Empty),
-        );
+        o.telegram(Duration::from_millis(5), Direction::Sent, &[0, 9]);
         o.event(Duration::from_millis(6), "retry 1 of 2");
         assert_eq!(
             *log.lock().unwrap(),

@@ -11,35 +11,26 @@
 //! ([`hex_of_trace_line`]). It must not block or fail the link: write errors are kept, not
 //! raised, and the rest of the run goes on without the trace.
 
-use crate::drive::device_control::{control_word_meaning, DeviceState};
 use crate::hex::to_hex;
-use crate::link::{Direction, TelegramObserver};
-use crate::protocol::sd2::{Body, Cyclic, Data, DecodeError, ObjectNames, Telegram};
-use std::fmt::Write as _;
+use crate::link::{Direction, TelegramExplainer, TelegramObserver};
 use std::io::Write;
 use std::path::Path;
-use std::sync::Arc;
 use std::time::Duration;
-
-/// The names the trace uses; a `crate::dictionary::Dictionary` in practice.
-pub type TraceNames = Arc<dyn ObjectNames + Send + Sync>;
 
 pub struct TraceWriter<W: Write + Send> {
     out: W,
-    names: TraceNames,
-    /// The last request sent, so its reply can be read as the object it returns.
-    last_request: Option<Telegram>,
+    /// The family's reading of its telegrams, for the text after `#`.
+    explainer: Box<dyn TelegramExplainer>,
     /// The first write error; after it the trace stays silent.
     error: Option<String>,
 }
 
 impl<W: Write + Send> TraceWriter<W> {
     /// A trace onto `out` (a file, or `std::io::stderr()` for `-v`).
-    pub fn new(out: W, names: TraceNames) -> Self {
+    pub fn new(out: W, explainer: Box<dyn TelegramExplainer>) -> Self {
         TraceWriter {
             out,
-            names,
-            last_request: None,
+            explainer,
             error: None,
         }
     }
@@ -77,9 +68,9 @@ impl<W: Write + Send> TraceWriter<W> {
 impl TraceWriter<std::fs::File> {
     /// Creates (truncates) the trace file, its directory too, and writes a header comment.
     /// An unwritable path is an error here, before anything is sent.
-    pub fn create(path: &Path, names: TraceNames) -> Result<Self, String> {
+    pub fn create(path: &Path, explainer: Box<dyn TelegramExplainer>) -> Result<Self, String> {
         let file = create_file(path)?;
-        let mut trace = TraceWriter::new(file, names);
+        let mut trace = TraceWriter::new(file, explainer);
         trace.comment(
             "drivescript telegram trace: clock seconds, TX (sent) or RX (received), the bytes \
              as in the manual  # meaning",
@@ -93,28 +84,8 @@ impl TraceWriter<std::fs::File> {
 }
 
 impl<W: Write + Send> TelegramObserver for TraceWriter<W> {
-    fn telegram(
-        &mut self,
-        at: Duration,
-        direction: Direction,
-        bytes: &[u8],
-        decoded: &Result<Telegram, DecodeError>,
-    ) {
-        let meaning = match decoded {
-            Ok(t) => {
-                let request = if t.is_reply() {
-                    self.last_request.as_ref()
-                } else {
-                    None
-                };
-                let text = summary(t, request, self.names.as_ref());
-                if !t.is_reply() {
-                    self.last_request = Some(*t);
-                }
-                text
-            }
-            Err(e) => format!("rejected: {}", e.reason()),
-        };
+    fn telegram(&mut self, at: Duration, direction: Direction, bytes: &[u8]) {
+        let meaning = self.explainer.summary(direction, bytes);
         let hex = if bytes.is_empty() {
             "(no bytes)".to_string()
         } else {
@@ -176,420 +147,47 @@ pub fn is_trace_line(line: &str) -> bool {
     seconds && matches!(tokens.next(), Some("TX" | "RX" | "--"))
 }
 
-/// One line saying what a telegram means: `read object 67 status_word`,
-/// `reply status_word = 0x0237 operation enabled`, `write reply ok`. `request` is the
-/// request a reply answers, when known.
-pub fn summary(t: &Telegram, request: Option<&Telegram>, names: &dyn ObjectNames) -> String {
-    match &t.body {
-        Body::ReadRequest { index, subindex } => {
-            format!("read object {}", object(names, *index, *subindex))
-        }
-        Body::WriteRequest {
-            index,
-            subindex,
-            data,
-        } => format!(
-            "write object {} = {}",
-            object(names, *index, *subindex),
-            value(names, Some((*index, *subindex)), data)
-        ),
-        Body::ReadReply { error, data } => {
-            if !error.is_ok() {
-                return format!("read reply {error}");
-            }
-            match request.map(|r| r.body) {
-                Some(Body::ReadRequest { index, subindex }) => format!(
-                    "reply {} = {}",
-                    short_name(names, index, subindex).unwrap_or_else(|| format!("object {index}")),
-                    value(names, Some((index, subindex)), data)
-                ),
-                _ => format!("reply {} (request not seen)", value(names, None, data)),
-            }
-        }
-        Body::WriteReply { error } if error.is_ok() => "write reply ok".into(),
-        Body::WriteReply { error } => format!("write reply {error}"),
-        Body::CyclicRequest(c) => cyclic(c, false, names),
-        Body::CyclicReply(c) => cyclic(c, true, names),
-    }
-}
-
-/// `67 status_word`, `67/1 name`, `9999 (not in the dictionary)`.
-fn object(names: &dyn ObjectNames, index: u16, subindex: u32) -> String {
-    let address = if subindex == 0 {
-        index.to_string()
-    } else {
-        format!("{index}/{subindex}")
-    };
-    match short_name(names, index, subindex) {
-        Some(name) => format!("{address} {name}"),
-        None => format!("{address} (not in the dictionary)"),
-    }
-}
-
-/// The object's name without its alias: `speed_actual`.
-fn short_name(names: &dyn ObjectNames, index: u16, subindex: u32) -> Option<String> {
-    let full = names.object_name(index, subindex)?;
-    Some(full.split(" (").next().unwrap_or(&full).to_string())
-}
-
-fn value(names: &dyn ObjectNames, addr: Option<(u16, u32)>, data: &Data) -> String {
-    let bytes = data.as_slice();
-    let word = match bytes {
-        [lo, hi] => Some(u16::from_le_bytes([*lo, *hi])),
-        _ => None,
-    };
-    let mut text = addr
-        .and_then(|(i, sub)| names.object_value(i, sub, bytes))
-        .unwrap_or_else(|| raw_value(bytes));
-    if let (Some((index, _)), Some(w)) = (addr, word) {
-        if names.is_status_word(index) {
-            let _ = write!(text, " {}", state_text(w));
-        } else if names.is_control_word(index) {
-            let _ = write!(text, " {}", control_word_meaning(w));
-        }
-    }
-    text
-}
-
-fn raw_value(bytes: &[u8]) -> String {
-    match bytes {
-        [] => "no data".into(),
-        [b] => format!("{b}"),
-        [a, b] => format!("{}", u16::from_le_bytes([*a, *b])),
-        [a, b, c, d] => format!("{}", i32::from_le_bytes([*a, *b, *c, *d])),
-        _ => format!("{} bytes", bytes.len()),
-    }
-}
-
-fn state_text(status: u16) -> String {
-    DeviceState::from_status_word(status)
-        .map(|s| s.to_string())
-        .unwrap_or_else(|| "(no state matches)".into())
-}
-
-fn cyclic(c: &Cyclic, reply: bool, names: &dyn ObjectNames) -> String {
-    let w = c.word();
-    let mut s = if reply {
-        format!(
-            "cyclic reply status 0x{w:04x} {}, speed {:.1} %, drive error {}, current {}",
-            state_text(w),
-            c.speed_percent(),
-            c.drive_error(),
-            c.current()
-        )
-    } else {
-        format!(
-            "cyclic control 0x{w:04x} {}, speed {:.1} %",
-            control_word_meaning(w),
-            c.speed_percent()
-        )
-    };
-    if let Some(svc) = &c.service {
-        let what = if reply {
-            "service reply".to_string()
-        } else {
-            format!("service {}", svc.function().id().replace('_', " "))
-        };
-        let _ = write!(
-            s,
-            "; {what} object {} = {}",
-            object(names, svc.index, 0),
-            svc.value()
-        );
-    }
-    s
-}
-
 /// Error texts and events can hold line breaks; a trace line must stay one line.
-fn one_line(text: &str) -> String {
+pub(crate) fn one_line(text: &str) -> String {
     text.split_whitespace().collect::<Vec<_>>().join(" ")
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::dictionary::Dictionary;
-    use crate::hex::parse_hex;
-    use crate::protocol::sd2::{ErrorCode, WriteLength};
 
-    fn names() -> TraceNames {
-        Arc::new(Dictionary::builtin("sd2").unwrap())
-    }
+    /// Says how many bytes it was given, so the line format can be checked alone.
+    struct Counting;
 
-    fn send(trace: &mut TraceWriter<Vec<u8>>, ms: u64, direction: Direction, t: &Telegram) {
-        let bytes = t.encode(WriteLength::Captured);
-        trace.telegram(Duration::from_millis(ms), direction, &bytes, &Ok(*t));
-    }
-
-    fn lines(trace: TraceWriter<Vec<u8>>) -> Vec<String> {
-        String::from_utf8(trace.into_inner())
-            .unwrap()
-            .lines()
-            .map(String::from)
-            .collect()
-    }
-
-    fn read_reply(data: &[u8], error: ErrorCode) -> Telegram {
-        Telegram {
-            dest: 1,
-            source: 2,
-            body: Body::ReadReply {
-                error,
-                data: Data::new(data).unwrap(),
-            },
+    impl TelegramExplainer for Counting {
+        fn summary(&mut self, direction: Direction, bytes: &[u8]) -> String {
+            format!("{} bytes {}\nwrapped", bytes.len(), direction.tag())
+        }
+        fn explain(&mut self, _bytes: &[u8]) -> Result<String, String> {
+            Err("not used".into())
+        }
+        fn json(&mut self, _bytes: &[u8]) -> (serde_json::Value, bool) {
+            (serde_json::Value::Null, false)
         }
     }
 
     #[test]
-    fn read_and_its_reply_are_named() {
-        let mut trace = TraceWriter::new(Vec::new(), names());
-        send(
-            &mut trace,
-            12,
-            Direction::Sent,
-            &Telegram::read_request(2, 1, 67, 0),
-        );
-        send(
-            &mut trace,
-            14,
-            Direction::Received,
-            &read_reply(&[0x37, 0x02], ErrorCode::OK),
-        );
-        let l = lines(trace);
-        assert_eq!(
-            l[0],
-            "    0.012000 TX 00 09 02 01 0d 43 00 00 00 00 00 a3  # read object 67 status_word"
-        );
-        assert!(l[1].starts_with("    0.014000 RX 00 "), "{}", l[1]);
-        assert!(
-            l[1].ends_with("  # reply status_word = 0x0237 operation enabled"),
-            "{}",
-            l[1]
-        );
-    }
-
-    #[test]
-    fn writes_and_write_replies() {
-        let mut trace = TraceWriter::new(Vec::new(), names());
-        let w = Telegram::write_request(2, 1, 395, 0, &6_000_000i32.to_le_bytes()).unwrap();
-        send(&mut trace, 1, Direction::Sent, &w);
-        let ok = Telegram {
-            dest: 1,
-            source: 2,
-            body: Body::WriteReply { error: ErrorCode::OK },
-        };
-        send(&mut trace, 2, Direction::Received, &ok);
-        let cw = Telegram::write_request(2, 1, 68, 0, &[0x06, 0x00]).unwrap();
-        send(&mut trace, 3, Direction::Sent, &cw);
-        let refused = Telegram {
-            body: Body::WriteReply {
-                error: ErrorCode::READ_ONLY,
-            },
-            ..ok
-        };
-        send(&mut trace, 4, Direction::Received, &refused);
-        let l = lines(trace);
-        assert!(
-            l[0].ends_with("# write object 395 speed_setpoint = 6000 rpm"),
-            "{}",
-            l[0]
-        );
-        assert!(l[1].ends_with("# write reply ok"), "{}", l[1]);
-        assert!(
-            l[2].ends_with("# write object 68 control_word = 0x0006 shutdown"),
-            "{}",
-            l[2]
-        );
-        assert!(
-            l[3].ends_with("# write reply 0x8A attempt to write a read-only object"),
-            "{}",
-            l[3]
-        );
-    }
-
-    #[test]
-    fn read_errors_unknown_objects_and_orphan_replies() {
-        let mut trace = TraceWriter::new(Vec::new(), names());
-        send(
-            &mut trace,
-            0,
-            Direction::Received,
-            &read_reply(&[0x7f, 0x50, 0x0f, 0x00], ErrorCode::OK),
-        );
-        send(
-            &mut trace,
-            1,
-            Direction::Sent,
-            &Telegram::read_request(2, 1, 9999, 0),
-        );
-        send(
-            &mut trace,
-            2,
-            Direction::Received,
-            &read_reply(&[], ErrorCode::OBJECT_DOES_NOT_EXIST),
-        );
-        send(
-            &mut trace,
-            3,
-            Direction::Sent,
-            &Telegram::read_request(2, 1, 398, 0),
-        );
-        send(
-            &mut trace,
-            4,
-            Direction::Received,
-            &read_reply(&[0x7f, 0x50, 0x0f, 0x00], ErrorCode::OK),
-        );
-        let l = lines(trace);
-        assert!(l[0].ends_with("# reply 1003647 (request not seen)"), "{}", l[0]);
-        assert!(
-            l[1].ends_with("# read object 9999 (not in the dictionary)"),
-            "{}",
-            l[1]
-        );
-        assert!(
-            l[2].ends_with("# read reply 0x8B object does not exist in the object dictionary"),
-            "{}",
-            l[2]
-        );
-        assert!(l[4].ends_with("# reply speed_actual = 1003.647 rpm"), "{}", l[4]);
-    }
-
-    #[test]
-    fn cyclic_telegrams() {
-        let mut trace = TraceWriter::new(Vec::new(), names());
-        let req = Telegram {
-            dest: 2,
-            source: 1,
-            body: Body::CyclicRequest(Cyclic::request(0x000f, 4095, true)),
-        };
-        send(&mut trace, 0, Direction::Sent, &req);
-        let reply = Telegram {
-            dest: 1,
-            source: 2,
-            body: Body::CyclicReply(Cyclic::reply([0, 0], 0x0237, 4095, 0, 12)),
-        };
-        send(&mut trace, 1, Direction::Received, &reply);
-        let l = lines(trace);
-        assert!(
-            l[0].ends_with("# cyclic control 0x000f enable operation, speed 25.0 %"),
-            "{}",
-            l[0]
-        );
-        assert!(
-            l[1].ends_with(
-                "# cyclic reply status 0x0237 operation enabled, speed 25.0 %, drive error 0, current 12"
-            ),
-            "{}",
-            l[1]
-        );
-    }
-
-    #[test]
-    fn rejected_blocks_and_events() {
-        let mut trace = TraceWriter::new(Vec::new(), names());
-        let bytes = parse_hex("00 09 01 02 8d 02 00 37 02 00").unwrap();
-        let decoded = Telegram::decode(&bytes);
-        trace.telegram(
-            Duration::from_micros(1_500_250),
-            Direction::Received,
-            &bytes,
-            &decoded,
-        );
-        trace.event(Duration::from_secs(2), "no reply within 100 ms\n(retry follows)");
-        trace.comment("a note");
-        let l = lines(trace);
-        assert_eq!(
-            l[0],
-            "    1.500250 RX 00 09 01 02 8d 02 00 37 02 00  # rejected: truncated: needed 12 bytes \
-             (length field 0x09), have 10"
-        );
-        assert_eq!(l[1], "    2.000000 -- no reply within 100 ms (retry follows)");
-        assert_eq!(l[2], "# a note");
-        assert_eq!(hex_of_trace_line(&l[0]), Some("00 09 01 02 8d 02 00 37 02 00"));
-        assert_eq!(hex_of_trace_line(&l[1]), None);
-        assert_eq!(hex_of_trace_line(&l[2]), None);
-    }
-
-    #[test]
-    fn hex_is_read_back_from_every_kind_of_line() {
-        let mut trace = TraceWriter::new(Vec::new(), names());
-        let sent = Telegram::write_request(2, 1, 395, 0, &6_000_000i32.to_le_bytes()).unwrap();
-        send(&mut trace, 7_200_000, Direction::Sent, &sent);
-        // Past the column width (100 h) the line only grows.
-        send(&mut trace, 360_000_000, Direction::Sent, &sent);
-        let l = lines(trace);
-        assert!(l[0].starts_with(" 7200.000000 TX 00 0b "), "{}", l[0]);
-        assert!(l[1].starts_with("360000.000000 TX 00 0b "), "{}", l[1]);
-        assert_eq!(hex_of_trace_line(&l[1]), hex_of_trace_line(&l[0]));
-        let hex = hex_of_trace_line(&l[0]).unwrap();
-        let bytes = parse_hex(hex).unwrap();
-        assert_eq!(Telegram::decode(&bytes).unwrap(), sent);
-
-        assert_eq!(hex_of_trace_line("    0.5 TX 00 0b  # x # y"), Some("00 0b"));
-        assert_eq!(hex_of_trace_line("0.5 RX 00 0b"), Some("00 0b"));
-        assert_eq!(hex_of_trace_line("0.5 RX (no bytes)  # rejected: no bytes"), None);
-        assert_eq!(hex_of_trace_line("# drivescript telegram trace"), None);
-        assert_eq!(hex_of_trace_line("00 0b 02 01"), None);
-        assert_eq!(hex_of_trace_line("0.5 TXT 00"), None);
-        assert_eq!(hex_of_trace_line(""), None);
-
-        for line in [
-            l[0].as_str(),
-            "    2.000000 -- no reply within 100 ms",
-            "# comment",
-        ] {
-            assert!(is_trace_line(line), "{line}");
-        }
-        for line in ["00 09 02 01 0d 43 00", "000902010d", "0x00 0x09", "", "1.5 17 00"] {
-            assert!(!is_trace_line(line), "{line}");
-        }
-    }
-
-    #[test]
-    fn a_trace_file_is_flushed_line_by_line() {
-        let dir = std::env::temp_dir().join(format!("drivescript-trace-{}", std::process::id()));
-        let path = dir.join("sub/run.trace");
-        let mut trace = TraceWriter::create(&path, names()).unwrap();
-        send_file(&mut trace);
-        // Read while the writer is alive: the line is there already.
-        let text = std::fs::read_to_string(&path).unwrap();
-        assert!(text.starts_with("# drivescript telegram trace"), "{text}");
-        let hex: Vec<&str> = text.lines().filter_map(hex_of_trace_line).collect();
-        assert_eq!(hex, vec!["00 09 02 01 0d 43 00 00 00 00 00 a3"]);
-        drop(trace);
-        std::fs::remove_dir_all(&dir).unwrap();
-
-        let err = TraceWriter::create(Path::new("/proc/no/such/dir/x.trace"), names())
-            .err()
-            .unwrap();
-        assert!(err.contains("/proc/no/such/dir"), "{err}");
-    }
-
-    fn send_file(trace: &mut TraceWriter<std::fs::File>) {
-        let t = Telegram::read_request(2, 1, 67, 0);
-        trace.telegram(
-            Duration::ZERO,
-            Direction::Sent,
-            &t.encode(WriteLength::Captured),
-            &Ok(t),
-        );
-    }
-
-    #[test]
-    fn write_errors_do_not_reach_the_link() {
-        struct Broken;
-        impl Write for Broken {
-            fn write(&mut self, _: &[u8]) -> std::io::Result<usize> {
-                Err(std::io::Error::other("disk full"))
-            }
-            fn flush(&mut self) -> std::io::Result<()> {
-                Ok(())
-            }
-        }
-        let mut trace = TraceWriter::new(Broken, names());
-        trace.event(Duration::ZERO, "x");
-        trace.event(Duration::ZERO, "y");
-        assert_eq!(trace.error(), Some("disk full"));
+    fn one_line_per_telegram_and_event_with_the_explainers_words() {
+        let mut trace = TraceWriter::new(Vec::new(), Box::new(Counting));
+        trace.telegram(Duration::from_millis(12), Direction::Sent, &[0x00, 0x09]);
+        trace.telegram(Duration::from_millis(14), Direction::Received, &[]);
+        trace.event(Duration::from_millis(115), "no reply\nwithin 100 ms");
+        trace.comment("a\nb");
+        let text = String::from_utf8(trace.into_inner()).unwrap();
+        let lines: Vec<&str> = text.lines().collect();
+        assert_eq!(lines[0], "    0.012000 TX 00 09  # 2 bytes TX wrapped");
+        assert_eq!(lines[1], "    0.014000 RX (no bytes)  # 0 bytes RX wrapped");
+        assert_eq!(lines[2], "    0.115000 -- no reply within 100 ms");
+        assert_eq!(lines[3..], ["# a", "# b"]);
+        assert_eq!(hex_of_trace_line(lines[0]), Some("00 09"));
+        assert_eq!(hex_of_trace_line(lines[1]), None);
+        assert_eq!(hex_of_trace_line(lines[2]), None);
+        assert!(lines.iter().all(|l| is_trace_line(l)));
+        assert!(!is_trace_line("00 09 02"));
     }
 }

@@ -98,6 +98,14 @@ pub fn number(v: f64) -> String {
     }
 }
 
+/// `6000 rpm`, `325.3 V`, `3`: a number as [`number`] writes it, with its unit if any.
+pub fn with_unit(v: f64, unit: Option<&str>) -> String {
+    match unit {
+        Some(u) => format!("{} {u}", number(v)),
+        None => number(v),
+    }
+}
+
 /// What `wait_until` waits for.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Condition {

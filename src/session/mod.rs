@@ -1,13 +1,33 @@
-//! The run model and the operations that recipes and scripts share: conditions and checks,
-//! what a run did (the report), and where each operation was written. Knows names, units and
-//! states; never bytes, never a family, never YAML.
+//! The run model and the operations that recipes and scripts share: a [`Session`] runs
+//! drive operations (set, read, go_to, wait_until, dwell, sample, expect, ramp) with
+//! stop-request-aware waits and fault watching, reports them through a [`RunObserver`],
+//! and ends every run with the verified safe stop; conditions and checks; what a run did
+//! (the report). Knows names, units and states; never bytes, never a family, never YAML.
 
 mod condition;
+mod expect;
 mod object_ref;
+mod operations;
+mod ramp;
+mod run_info;
+mod run_observer;
 mod run_report;
+mod safe_stop;
+mod safe_stop_settings;
+mod sample;
+mod session;
+mod set_value;
 mod step_origin;
+mod stop;
+mod wait_until;
 
-pub use condition::{number, Check, Condition, Predicate, Statistic, Stats, Tolerance};
+pub use condition::{number, with_unit, Check, Condition, Predicate, Statistic, Stats, Tolerance};
 pub use object_ref::ObjectRef;
+pub use run_info::{RunInfo, StepInfo};
+pub use run_observer::{Observers, RunObserver};
 pub use run_report::{CheckResult, RunReport, Series, StepRecord, Verdict, ERROR_EXIT, PANIC_EXIT};
+pub use safe_stop_settings::SafeStopSettings;
+pub use session::{show_duration, Session};
+pub use set_value::SetValue;
 pub use step_origin::StepOrigin;
+pub use stop::Stop;

@@ -1,5 +1,5 @@
 //! The simulated drive's CiA 402 device-control state machine, exactly per the command and
-//! state tables of `shared/protocols/sd2-dnc.md`: control word in, state and status word out.
+//! CiA 402 state tables (as, for example, `shared/protocols/sd2-dnc.md` gives them): control word in, state and status word out.
 //! It must not know about time, speed ramps or bytes; the caller reports standstill.
 
 use crate::drive::device_control::{DeviceCommand, DeviceState};

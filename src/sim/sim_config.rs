@@ -1,13 +1,14 @@
-//! The simulated SD2 drive's settings: address, timing and the physical constants of the
+//! The simulated drive's settings: its address on the bus, timing and the physical constants of the
 //! motor model. Plain data with the documented defaults; it must not hold any state.
 
 use std::time::Duration;
 
-/// How the simulated drive is set up. `Default` gives a single-axis SD2 at DNC address 2
+/// How the simulated drive is set up. `Default` gives a drive at bus address 2 (for example
+/// an SD2's DNC address of drive A at switch 0)
 /// with a 230 V supply and a light spindle.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SimConfig {
-    /// DNC address the drive answers to (drive A at switch 0 is 2).
+    /// The address the drive answers to, in its family's numbering.
     pub address: u8,
     /// Time from the last byte of a request to the reply. The manual promises at most
     /// 250 µs; 100 µs keeps the simulator well inside that.

@@ -2,15 +2,15 @@
 //! dictionary object read back, the documented write telegrams, the state walk, refusals
 //! that send nothing, and every fault injection producing the right retry or error.
 
+use drivescript::bus::{MemoryTransport, Peer, SharedTransport};
 use drivescript::clock::{SharedClock, VirtualClock};
 use drivescript::dictionary::{Dictionary, Quantity, Unit};
 use drivescript::drive::device_control::{DeviceCommand, DeviceState};
-use drivescript::drive::{Drive, DriveError, Sd2Access};
+use drivescript::drive::AccessError;
+use drivescript::drive::{Drive, DriveError};
+use drivescript::family::sd2::codec::{Body, WriteLength};
+use drivescript::family::sd2::{LinkConfig, Sd2Access, Sd2Link, Sd2Simulator, SimConfig};
 use drivescript::hex::to_hex;
-use drivescript::link::{LinkConfig, LinkError, Sd2Link};
-use drivescript::protocol::sd2::{Body, WriteLength};
-use drivescript::sim::{Sd2Simulator, SimConfig};
-use drivescript::transport::{MemoryTransport, Peer};
 use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
@@ -25,7 +25,11 @@ fn bench() -> Bench {
     let sim = Arc::new(Mutex::new(Sd2Simulator::new(SimConfig::default())));
     let peer: Arc<Mutex<dyn Peer>> = sim.clone();
     let transport = MemoryTransport::new("simulated drive", peer, clock.clone());
-    let link = Sd2Link::new(Box::new(transport), clock.clone(), LinkConfig::default());
+    let link = Sd2Link::new(
+        SharedTransport::new(Box::new(transport)),
+        clock.clone(),
+        LinkConfig::default(),
+    );
     let dictionary = Arc::new(Dictionary::builtin("sd2").expect("the built-in dictionary is valid"));
     Bench {
         drive: Drive::new(Box::new(Sd2Access::new(link, 2)), dictionary),
@@ -267,7 +271,7 @@ fn a_dead_line_is_a_clear_error_after_the_retries() {
     let e = b.drive.read("status_word").unwrap_err();
     assert!(e.is_communication(), "{e}");
     assert!(
-        matches!(e, DriveError::Link(LinkError::NoReply { attempts: 3, .. })),
+        matches!(e, DriveError::Access(AccessError::NoReply { attempts: 3, .. })),
         "{e}"
     );
     assert_eq!(sent(&b).len(), 3);

@@ -1,5 +1,8 @@
-//! The one integration test binary: golden vectors, the command line end to end, and
-//! (later) the data-driven recipe cases under `tests/cases/`.
+//! The one integration test binary: golden vectors, the command line end to end, the
+//! data-driven recipe cases under `tests/cases/`, and the report writers.
+
+// As in the library: errors carry structured context and travel on cold paths.
+#![allow(clippy::result_large_err)]
 
 mod bench_limits;
 mod decode_cli;
@@ -9,6 +12,8 @@ mod examples;
 mod loader_limits;
 mod outputs;
 mod recipe_cases;
+mod reports;
 mod safety;
 mod support;
+mod text_family;
 mod vectors;

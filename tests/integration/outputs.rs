@@ -57,9 +57,11 @@ fn a_run_writes_trace_csv_junit_and_html() {
         "{junit_text}"
     );
     assert!(junit_text.contains("failures=\"0\""));
+    crate::reports::markup::junit(&junit_text).unwrap_or_else(|e| panic!("{e}\n{junit_text}"));
 
     let html_text = std::fs::read_to_string(&html).expect("html");
     assert!(html_text.starts_with("<!DOCTYPE html>"));
+    crate::reports::markup::html(&html_text).unwrap_or_else(|e| panic!("{e}\n{html_text}"));
     assert!(html_text.contains("Spindle acceptance test"));
     assert!(html_text.contains("<polyline"), "plots of the sampled series");
     assert!(

@@ -22,6 +22,8 @@
 use drivescript::cli::{run_recipe, ConnectionArgs, DictionaryArgs, OutputArgs, RunRequest, SafeStopArgs};
 use drivescript::clock::SharedClock;
 use drivescript::drive::device_control::DeviceCommand;
+use drivescript::family::Registry;
+use drivescript::sim::SimulatedDrive;
 use drivescript::stop_request::{StopRequests, StopSignal};
 use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex, PoisonError};
@@ -125,7 +127,7 @@ fn run_case(dir: &Path) -> Result<(), String> {
         safe_stop.reconnect_timeout = s.reconnect_timeout.as_deref().map(duration);
     }
     let sim_setup = case.sim.unwrap_or_default();
-    let prepare = move |sim: &Arc<Mutex<drivescript::sim::Sd2Simulator>>, _clock: &SharedClock| {
+    let prepare = move |sim: &Arc<Mutex<dyn SimulatedDrive>>, _clock: &SharedClock| {
         let mut sim = sim.lock().expect("simulator lock");
         let f = sim.faults();
         if let Some(at) = &sim_setup.trip_at {
@@ -164,7 +166,9 @@ fn run_case(dir: &Path) -> Result<(), String> {
     let dictionary = DictionaryArgs::builtin_sd2();
     let connection = ConnectionArgs::simulated();
     let recipe = dir.join("recipe.yaml");
+    let registry = Registry::builtin();
     let request = RunRequest {
+        registry: &registry,
         recipe: &recipe,
         set: &set,
         fast: true,

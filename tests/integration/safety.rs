@@ -9,8 +9,10 @@ use drivescript::cli::{
 };
 use drivescript::clock::SharedClock;
 use drivescript::drive::device_control::DeviceState;
-use drivescript::protocol::sd2::{Body, Telegram};
-use drivescript::sim::Sd2Simulator;
+use drivescript::family::sd2::codec::{Body, Telegram};
+use drivescript::family::sd2::Sd2Simulator;
+use drivescript::family::Registry;
+use drivescript::sim::SimulatedDrive;
 use drivescript::stop_request::{StopRequests, StopSignal};
 use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex, OnceLock, PoisonError};
@@ -53,13 +55,15 @@ fn run_in_process(
     stop: Arc<StopRequests>,
     clock_slot: Arc<OnceLock<SharedClock>>,
 ) -> RunResult {
-    let prepare = move |_: &Arc<Mutex<Sd2Simulator>>, clock: &SharedClock| {
+    let prepare = move |_: &Arc<Mutex<dyn SimulatedDrive>>, clock: &SharedClock| {
         let _ = clock_slot.set(clock.clone());
     };
     let dictionary = DictionaryArgs::builtin_sd2();
     let connection = ConnectionArgs::simulated();
     let outputs = OutputArgs::default();
+    let registry = Registry::builtin();
     let request = RunRequest {
+        registry: &registry,
         recipe,
         set: &[],
         fast,
@@ -86,8 +90,12 @@ fn run_in_process(
 
 fn received(result: &RunResult) -> Vec<(Duration, Telegram)> {
     let sim = result.simulator.as_ref().expect("simulated drive");
-    let sim = sim.lock().unwrap_or_else(PoisonError::into_inner);
-    sim.received().to_vec()
+    let mut sim = sim.lock().unwrap_or_else(PoisonError::into_inner);
+    let sd2 = sim
+        .as_any_mut()
+        .downcast_mut::<Sd2Simulator>()
+        .expect("an SD2 simulator");
+    sd2.received().to_vec()
 }
 
 const SAMPLE_EVERY_30_S: &str = "name: Sampling every 30 s
@@ -447,10 +455,10 @@ fn a_run_killed_beyond_any_safe_stop_leaves_a_report_that_says_not_finished() {
 #[cfg(unix)]
 #[test]
 fn a_lost_port_is_reopened_and_the_stop_reaches_the_drive() {
+    use drivescript::bus::Peer;
     use drivescript::clock::RealClock;
-    use drivescript::sim::SimConfig;
+    use drivescript::family::sd2::SimConfig;
     use drivescript::sim_server::{PtyEndpoint, SimServer};
-    use drivescript::transport::Peer;
     use std::sync::atomic::Ordering;
 
     let dir = scratch("lost-port");
@@ -489,7 +497,9 @@ steps:
         let mut connection = ConnectionArgs::simulated();
         connection.port = Some(port);
         let outputs = OutputArgs::default();
+        let registry = Registry::builtin();
         let request = RunRequest {
+            registry: &registry,
             recipe: &recipe,
             set: &[],
             fast: false,

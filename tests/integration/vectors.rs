@@ -3,8 +3,8 @@
 //! request byte for byte.
 
 use crate::support::{load_vectors, repo_root, sd2_vectors};
+use drivescript::family::sd2::codec::{to_json, Body, Cyclic, ServiceChannel, Telegram, WriteLength};
 use drivescript::hex::parse_hex;
-use drivescript::protocol::sd2::{to_json, Body, Cyclic, ServiceChannel, Telegram, WriteLength};
 use serde_json::Value;
 
 #[test]

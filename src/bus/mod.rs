@@ -1,0 +1,52 @@
+//! Buses between the PC and its drives: byte transports (serial port, TCP serial server,
+//! the in-process simulator) and CAN frame buses, each shareable by several drives on one
+//! line. Knows nothing about telegrams; framing and checking belong to the family's link.
+//! The traits are object-safe so the command line chooses a backend at run time.
+
+mod bus;
+mod can_frame;
+mod frame_bus;
+mod memory;
+mod memory_frame_bus;
+mod serial;
+mod shared_transport;
+mod tcp;
+mod transport_error;
+
+pub use bus::{Bus, BusKind};
+pub use can_frame::CanFrame;
+pub use frame_bus::{FrameBus, SharedFrameBus};
+pub use memory_frame_bus::{FramePeer, MemoryFrameBus};
+pub use shared_transport::SharedTransport;
+
+pub use memory::{MemoryTransport, Peer, PeerReply, WireTime};
+pub use serial::{
+    list_ports, DataBits, Parity, PortInfo, SerialSettings, SerialTransport, StopBits, UsbInfo,
+};
+pub use tcp::TcpTransport;
+pub use transport_error::TransportError;
+
+use std::time::Duration;
+
+/// A byte pipe to one drive (or one bus).
+pub trait Transport: Send {
+    /// What this transport talks to, for messages: `/dev/ttyUSB0 at 57600 8N1`,
+    /// `tcp 192.0.2.7:4001`, `built-in simulated drive`.
+    fn name(&self) -> &str;
+
+    /// Sends all of `bytes`.
+    fn write_all(&mut self, bytes: &[u8]) -> Result<(), TransportError>;
+
+    /// Waits at most `timeout` for input and returns how many bytes were put into `buf`
+    /// (at least one). Nothing within `timeout` is [`TransportError::Timeout`], never `Ok(0)`.
+    fn read(&mut self, buf: &mut [u8], timeout: Duration) -> Result<usize, TransportError>;
+
+    /// Throws away input that has arrived but not been read (stale replies, line noise);
+    /// returns how many bytes were dropped.
+    fn discard_input(&mut self) -> Result<usize, TransportError>;
+
+    /// Closes and opens the same port again (same path and settings, same address), after
+    /// the line was lost: a USB adapter re-enumerated, a serial server restarted. The safe
+    /// stop uses it to reach a drive that may still be running.
+    fn reopen(&mut self) -> Result<(), TransportError>;
+}

@@ -1,0 +1,92 @@
+//! The seam a drive family plugs in through: its id and built-in dictionaries, how it
+//! writes drive addresses, which bus it needs, how it opens object access on that bus, its
+//! simulated drive, and its telegram explainer. A new family is one folder implementing
+//! this, one dictionary file and one line in the registry.
+
+use crate::bus::{Bus, BusKind, FramePeer, Peer, SerialSettings};
+use crate::clock::SharedClock;
+use crate::dictionary::Dictionary;
+use crate::drive::ObjectAccess;
+use crate::link::{TelegramExplainer, TelegramObserver};
+use crate::sim::{SimConfig, SimulatedDrive};
+use crate::stop_request::StopRequests;
+use std::sync::{Arc, Mutex};
+use std::time::Duration;
+
+/// A dictionary compiled into the binary.
+#[derive(Debug, Clone, Copy)]
+pub struct BuiltinDictionary {
+    /// What `--drive` names: `sd2`.
+    pub name: &'static str,
+    /// Shown in messages: `dictionary/sd2.yaml`.
+    pub path: &'static str,
+    pub text: &'static str,
+}
+
+/// One drive's address on its bus, as the family parsed it from `--address`.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct DriveAddress {
+    /// The number on the wire (SD2: the DNC address).
+    pub number: u32,
+    /// For messages: `DNC address 2 (switch 0, drive A)`.
+    pub shown: String,
+}
+
+/// How the link waits and retries; `extra` holds the NAME=VALUE settings only this family
+/// knows (`--link-option`).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct LinkOptions {
+    pub reply_timeout: Duration,
+    pub retries: u32,
+    pub extra: Vec<(String, String)>,
+}
+
+/// What a link is given besides its bus: the clock, a telegram observer (trace, `-v`) and
+/// the stop requests that end its waits early.
+pub struct LinkContext {
+    pub clock: SharedClock,
+    pub observer: Option<Box<dyn TelegramObserver>>,
+    pub stop: Option<Arc<StopRequests>>,
+}
+
+/// A simulated drive: its family-neutral handle and the peer that speaks its bytes.
+pub struct SimulatedDevice {
+    pub drive: Arc<Mutex<dyn SimulatedDrive>>,
+    pub peer: SimPeer,
+}
+
+pub enum SimPeer {
+    Bytes(Arc<Mutex<dyn Peer>>),
+    Frames(Arc<Mutex<dyn FramePeer>>),
+}
+
+pub trait Family: Send + Sync {
+    /// What a dictionary's `family:` names: `sd2`.
+    fn id(&self) -> &'static str;
+    /// One line for listings: `Sieb & Meyer SD2 / SD2S over the DNC serial protocol`.
+    fn title(&self) -> &'static str;
+    /// The dictionaries compiled in for this family.
+    fn dictionaries(&self) -> &'static [BuiltinDictionary];
+    /// Which kind of bus the family's link needs.
+    fn bus_kind(&self) -> BusKind;
+    /// The line settings a drive of this family ships with (serial families).
+    fn serial_settings(&self) -> SerialSettings;
+    /// `--address` in this family's notation; `None` is the family's default drive.
+    fn parse_drive_address(&self, text: Option<&str>) -> Result<DriveAddress, String>;
+    /// How `--address` is written, for help and messages.
+    fn address_help(&self) -> &'static str;
+    /// Checks the family-specific link options before anything is opened.
+    fn check_link_options(&self, extra: &[(String, String)]) -> Result<(), String>;
+    /// Object access to one drive on `bus`.
+    fn open(
+        &self,
+        bus: &Bus,
+        drive: &DriveAddress,
+        options: &LinkOptions,
+        context: LinkContext,
+    ) -> Result<Box<dyn ObjectAccess>, String>;
+    /// A simulated drive of this family at `drive`, speaking its real bytes.
+    fn simulator(&self, drive: &DriveAddress, config: SimConfig) -> SimulatedDevice;
+    /// Reads this family's telegrams with the objects of `dictionary`.
+    fn explainer(&self, dictionary: Arc<Dictionary>) -> Box<dyn TelegramExplainer>;
+}

@@ -1,0 +1,12 @@
+//! Drive families: one folder per protocol family (codec, link, object access, simulator
+//! front, telegram explainer) and the registry that the command line picks them from.
+//! Nothing outside this folder names a family.
+
+mod family;
+mod registry;
+pub mod sd2;
+
+pub use family::{
+    BuiltinDictionary, DriveAddress, Family, LinkContext, LinkOptions, SimPeer, SimulatedDevice,
+};
+pub use registry::Registry;

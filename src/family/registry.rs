@@ -1,0 +1,92 @@
+//! The families drivescript knows, by id, and their built-in dictionaries by name: the one
+//! place a family is added. Tests add their own families with [`Registry::with`].
+
+use super::{sd2::Sd2Family, BuiltinDictionary, Family};
+use crate::diag::did_you_mean;
+use std::sync::Arc;
+
+#[derive(Clone)]
+pub struct Registry {
+    families: Vec<Arc<dyn Family>>,
+}
+
+impl Registry {
+    /// Every family compiled in.
+    pub fn builtin() -> Registry {
+        Registry {
+            families: vec![Arc::new(Sd2Family)],
+        }
+    }
+
+    /// This registry with one more family (tests plug in families of their own).
+    pub fn with(mut self, family: Arc<dyn Family>) -> Registry {
+        self.families.push(family);
+        self
+    }
+
+    /// The family a dictionary names; the error lists the known ones.
+    pub fn family(&self, id: &str) -> Result<Arc<dyn Family>, String> {
+        self.families
+            .iter()
+            .find(|f| f.id() == id)
+            .cloned()
+            .ok_or_else(|| {
+                let ids: Vec<&str> = self.families.iter().map(|f| f.id()).collect();
+                let hint = suggestion(id, &ids);
+                format!(
+                    "no drive family `{id}`; drivescript knows {}{hint}",
+                    ids.join(", ")
+                )
+            })
+    }
+
+    /// The built-in dictionary `name` (what `--drive` names) and its family.
+    pub fn dictionary(&self, name: &str) -> Result<(Arc<dyn Family>, BuiltinDictionary), String> {
+        for family in &self.families {
+            if let Some(d) = family.dictionaries().iter().find(|d| d.name == name) {
+                return Ok((family.clone(), *d));
+            }
+        }
+        let names = self.dictionary_names();
+        let hint = suggestion(name, &names);
+        Err(format!(
+            "no built-in dictionary `{name}`; there are {}{hint}",
+            names.join(", ")
+        ))
+    }
+
+    /// Every built-in dictionary's name.
+    pub fn dictionary_names(&self) -> Vec<&'static str> {
+        self.families
+            .iter()
+            .flat_map(|f| f.dictionaries().iter().map(|d| d.name))
+            .collect()
+    }
+
+    pub fn families(&self) -> impl Iterator<Item = &Arc<dyn Family>> {
+        self.families.iter()
+    }
+}
+
+fn suggestion(input: &str, candidates: &[&str]) -> String {
+    match did_you_mean(input, candidates.iter().copied()).first() {
+        Some(s) => format!("; did you mean `{s}`?"),
+        None => String::new(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn families_and_dictionaries_are_found_by_name_with_did_you_mean() {
+        let r = Registry::builtin();
+        assert_eq!(r.family("sd2").unwrap().id(), "sd2");
+        let e = r.family("sd3").err().unwrap();
+        assert!(e.contains("did you mean `sd2`"), "{e}");
+        let (family, dictionary) = r.dictionary("sd2").unwrap();
+        assert_eq!((family.id(), dictionary.path), ("sd2", "dictionary/sd2.yaml"));
+        assert!(r.dictionary("lenze").is_err());
+    }
+}

@@ -1,0 +1,182 @@
+//! The SD2 family as the registry sees it: its dictionary, its address notation (the
+//! address switch, drive A or B, or a raw DNC address), 57600 8N1, and how to open an
+//! [`Sd2Access`] over a shared byte bus, simulate a drive and explain telegrams.
+
+use super::codec::{dnc_address, WriteLength};
+use super::{LinkConfig, Sd2Access, Sd2Explainer, Sd2Link, Sd2Simulator};
+use crate::bus::{Bus, BusKind, SerialSettings};
+use crate::dictionary::Dictionary;
+use crate::drive::ObjectAccess;
+use crate::family::{
+    BuiltinDictionary, DriveAddress, Family, LinkContext, LinkOptions, SimPeer, SimulatedDevice,
+};
+use crate::link::TelegramExplainer;
+use crate::sim::SimConfig;
+use std::sync::{Arc, Mutex};
+
+const DICTIONARIES: &[BuiltinDictionary] = &[BuiltinDictionary {
+    name: "sd2",
+    path: "dictionary/sd2.yaml",
+    text: include_str!("../../../dictionary/sd2.yaml"),
+}];
+
+pub struct Sd2Family;
+
+impl Sd2Family {
+    fn write_length(extra: &[(String, String)]) -> Result<WriteLength, String> {
+        let mut choice = WriteLength::Captured;
+        for (name, value) in extra {
+            match (name.as_str(), value.as_str()) {
+                ("write-length", "captured") => choice = WriteLength::Captured,
+                ("write-length", "formula") => choice = WriteLength::Formula,
+                ("write-length", other) => {
+                    return Err(format!(
+                        "--link-option write-length={other}: give `captured` (0x0B, what every capture from real drives sends) or `formula` (10 + count, the manual's formula)"
+                    ))
+                }
+                (other, _) => {
+                    return Err(format!(
+                        "--link-option {other}: the sd2 family knows `write-length=captured|formula`"
+                    ))
+                }
+            }
+        }
+        Ok(choice)
+    }
+}
+
+impl Family for Sd2Family {
+    fn id(&self) -> &'static str {
+        "sd2"
+    }
+
+    fn title(&self) -> &'static str {
+        "Sieb & Meyer SD2 / SD2S over the DNC serial protocol"
+    }
+
+    fn dictionaries(&self) -> &'static [BuiltinDictionary] {
+        DICTIONARIES
+    }
+
+    fn bus_kind(&self) -> BusKind {
+        BusKind::Bytes
+    }
+
+    fn serial_settings(&self) -> SerialSettings {
+        SerialSettings::with_baud(57_600)
+    }
+
+    fn parse_drive_address(&self, text: Option<&str>) -> Result<DriveAddress, String> {
+        let text = text.map(str::trim).unwrap_or("0");
+        let dnc = if let Some(raw) = text.strip_prefix("dnc:") {
+            match raw.trim().parse::<u8>() {
+                Ok(n) if n >= 2 => n,
+                _ => {
+                    return Err(format!(
+                        "--address {text}: addresses 0 and 1 belong to the master; a drive's DNC address is 2..=255"
+                    ))
+                }
+            }
+        } else {
+            let (digits, drive_b) = match text.chars().last() {
+                Some('b' | 'B') => (&text[..text.len() - 1], true),
+                Some('a' | 'A') => (&text[..text.len() - 1], false),
+                _ => (text, false),
+            };
+            let switch: u8 = digits
+                .parse()
+                .map_err(|_| format!("--address {text}: {}", self.address_help()))?;
+            dnc_address(switch, drive_b).ok_or_else(|| {
+                format!(
+                    "--address {text}: switch × 2 + {} exceeds 255; the highest switch position is 126",
+                    2 + u8::from(drive_b)
+                )
+            })?
+        };
+        Ok(DriveAddress {
+            number: u32::from(dnc),
+            shown: format!("DNC address {dnc}"),
+        })
+    }
+
+    fn address_help(&self) -> &'static str {
+        "the drive's address switch position (0..126), with `B` for drive B of a double-axis device (`3B`), or `dnc:N` for a raw DNC address"
+    }
+
+    fn check_link_options(&self, extra: &[(String, String)]) -> Result<(), String> {
+        Self::write_length(extra).map(|_| ())
+    }
+
+    fn open(
+        &self,
+        bus: &Bus,
+        drive: &DriveAddress,
+        options: &LinkOptions,
+        context: LinkContext,
+    ) -> Result<Box<dyn ObjectAccess>, String> {
+        let Bus::Bytes(transport) = bus else {
+            return Err(format!(
+                "the sd2 family talks over a serial line, not over {}",
+                bus.name()
+            ));
+        };
+        let dest = u8::try_from(drive.number)
+            .map_err(|_| format!("DNC address {} is more than 255", drive.number))?;
+        let config = LinkConfig {
+            reply_timeout: options.reply_timeout,
+            retries: options.retries,
+            write_length: Self::write_length(&options.extra)?,
+            ..LinkConfig::default()
+        };
+        let mut link = Sd2Link::new(transport.clone(), context.clock, config);
+        if let Some(o) = context.observer {
+            link.set_observer(o);
+        }
+        if let Some(s) = context.stop {
+            link.set_stop_requests(s);
+        }
+        Ok(Box::new(Sd2Access::new(link, dest)))
+    }
+
+    fn simulator(&self, drive: &DriveAddress, config: SimConfig) -> SimulatedDevice {
+        let address = u8::try_from(drive.number).unwrap_or(config.address);
+        let sim = Arc::new(Mutex::new(Sd2Simulator::new(SimConfig { address, ..config })));
+        SimulatedDevice {
+            drive: sim.clone(),
+            peer: SimPeer::Bytes(sim),
+        }
+    }
+
+    fn explainer(&self, dictionary: Arc<Dictionary>) -> Box<dyn TelegramExplainer> {
+        Box::new(Sd2Explainer::new(dictionary))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn addresses_in_sd2_notation() {
+        let f = Sd2Family;
+        let a = |t: Option<&str>| f.parse_drive_address(t).map(|a| (a.number, a.shown));
+        assert_eq!(a(None), Ok((2, "DNC address 2".into())));
+        assert_eq!(a(Some("5")).unwrap().0, 12);
+        assert_eq!(a(Some("0B")).unwrap().0, 3);
+        assert_eq!(a(Some("dnc:17")).unwrap().0, 17);
+        assert!(a(Some("dnc:1")).unwrap_err().contains("belong to the master"));
+        assert!(a(Some("127B"))
+            .unwrap_err()
+            .contains("highest switch position is 126"));
+        assert!(a(Some("x")).unwrap_err().contains("address switch"));
+    }
+
+    #[test]
+    fn link_options() {
+        let f = Sd2Family;
+        let o = |n: &str, v: &str| vec![(n.to_string(), v.to_string())];
+        assert!(f.check_link_options(&o("write-length", "formula")).is_ok());
+        assert!(f.check_link_options(&o("write-length", "x")).is_err());
+        assert!(f.check_link_options(&o("parity", "even")).is_err());
+    }
+}

@@ -1,0 +1,567 @@
+//! The SD2 DNC link: one request, one checked reply, over any transport.
+//!
+//! Master/slave: the PC sends a block, the addressed drive answers with one block and
+//! never talks unprompted. So before every request, input is discarded (a late reply to an
+//! earlier attempt must not be taken for this one), and a reply is accepted only if it
+//! answers this request. Requests seen on the line (RS485 adapters that echo what they
+//! send) are skipped. Must not know object names, units or states.
+
+use super::link_config::LinkConfig;
+use crate::bus::{SharedTransport, Transport, TransportError};
+use crate::clock::SharedClock;
+use crate::drive::AccessError;
+use crate::family::sd2::codec::{
+    check_reply, Body, Cyclic, Data, DecodeError, ErrorCode, FrameExtractor, Framing, Telegram,
+};
+use crate::hex::to_hex;
+use crate::link::{Direction, LinkStats, TelegramObserver};
+use crate::stop_request::StopRequests;
+use std::sync::Arc;
+use std::time::Duration;
+
+/// A stop request does not cut short the first part of a reply wait: a drive that is
+/// answering at all has answered by then (250 µs turnaround plus the reply's wire time),
+/// so the telegram under way finishes and its answer is not lost.
+const STOP_GRACE: Duration = Duration::from_millis(20);
+/// After the grace, reply waits look at stop requests this often.
+const STOP_POLL: Duration = Duration::from_millis(10);
+/// What to check when an SD2 drive stays silent.
+const NO_REPLY_HINT: &str = "check the cable, the baud rate, the drive's DNC address (address switch), and that its control channel is set to the serial interface";
+
+pub struct Sd2Link {
+    /// Shared with the other drives on the same line; locked for one whole exchange.
+    transport: SharedTransport,
+    clock: SharedClock,
+    config: LinkConfig,
+    extractor: FrameExtractor,
+    observer: Option<Box<dyn TelegramObserver>>,
+    stats: LinkStats,
+    buf: [u8; 256],
+    stop: Option<Arc<StopRequests>>,
+}
+
+/// Why one attempt did not produce a reply.
+enum AttemptFailure {
+    Timeout,
+    Refused {
+        bytes: Vec<u8>,
+        problem: DecodeError,
+    },
+    /// A stop was requested while the drive was silent.
+    Interrupted,
+    /// The port itself failed (closed, unplugged): retrying will not help.
+    Transport(TransportError),
+}
+
+impl Sd2Link {
+    pub fn new(transport: SharedTransport, clock: SharedClock, config: LinkConfig) -> Self {
+        Sd2Link {
+            transport,
+            clock,
+            config,
+            extractor: FrameExtractor::new(Framing::Replies),
+            observer: None,
+            stats: LinkStats::default(),
+            buf: [0; 256],
+            stop: None,
+        }
+    }
+
+    /// Lets stop requests end reply waits and retries early (see [`STOP_GRACE`]).
+    pub fn set_stop_requests(&mut self, stop: Arc<StopRequests>) {
+        self.stop = Some(stop);
+    }
+
+    fn stop_pending(&self) -> bool {
+        self.stop.as_ref().is_some_and(|s| s.pending_at(self.clock.now()))
+    }
+
+    /// Closes and opens the port again after it failed; what arrived before is dropped.
+    pub fn reopen(&mut self) -> Result<(), AccessError> {
+        self.extractor.clear();
+        self.event("reopening the port");
+        self.transport.reopen()?;
+        Ok(())
+    }
+
+    pub fn set_observer(&mut self, observer: Box<dyn TelegramObserver>) {
+        self.observer = Some(observer);
+    }
+
+    pub fn take_observer(&mut self) -> Option<Box<dyn TelegramObserver>> {
+        self.observer.take()
+    }
+
+    pub fn port(&self) -> &str {
+        self.transport.name()
+    }
+
+    pub fn config(&self) -> &LinkConfig {
+        &self.config
+    }
+
+    pub fn stats(&self) -> LinkStats {
+        self.stats
+    }
+
+    pub fn clock(&self) -> &SharedClock {
+        &self.clock
+    }
+
+    /// Sends `request` and returns the reply that answers it, retrying on timeouts and on
+    /// corrupt or mismatched replies up to `config.retries` times.
+    pub fn transact(&mut self, request: &Telegram) -> Result<Telegram, AccessError> {
+        let bytes = request.encode(self.config.write_length);
+        let shared = self.transport.clone();
+        let mut line = shared.lock();
+        let t: &mut dyn Transport = line.as_mut();
+        let attempts = self.config.retries + 1;
+        let mut last_refused: Option<(Vec<u8>, DecodeError)> = None;
+        for attempt in 1..=attempts {
+            if attempt > 1 {
+                if self.stop_pending() {
+                    return Err(self.interrupted(request, &bytes));
+                }
+                self.stats.retries += 1;
+                self.settle(t)?;
+                self.event(&format!("retry {} of {}", attempt - 1, self.config.retries));
+            }
+            self.flush_input(t)?;
+            t.write_all(&bytes)?;
+            self.stats.requests += 1;
+            self.notify(Direction::Sent, &bytes);
+            match self.await_reply(t, request) {
+                Ok(reply) => {
+                    self.stats.replies += 1;
+                    return Ok(reply);
+                }
+                Err(AttemptFailure::Timeout) => {
+                    self.stats.timeouts += 1;
+                    let ms = self.config.reply_timeout.as_millis();
+                    self.event(&format!("no reply within {ms} ms"));
+                }
+                Err(AttemptFailure::Refused { bytes, problem }) => {
+                    self.event(&format!("reply refused: {problem}"));
+                    last_refused = Some((bytes, problem));
+                }
+                Err(AttemptFailure::Transport(e)) => {
+                    self.event(&format!("transport failed: {e}"));
+                    return Err(AccessError::Transport(e));
+                }
+                Err(AttemptFailure::Interrupted) => {
+                    self.event("stop requested while waiting for the reply");
+                    return Err(self.interrupted(request, &bytes));
+                }
+            }
+        }
+        let request_text = describe_request(request, &bytes);
+        let port = self.transport.name().to_string();
+        Err(match last_refused {
+            Some((reply, problem)) => AccessError::BadReply {
+                port,
+                address: request.dest.to_string(),
+                request: request_text,
+                reply: to_hex(&reply),
+                problem: problem.to_string(),
+                attempts,
+            },
+            None => AccessError::NoReply {
+                port,
+                address: request.dest.to_string(),
+                request: request_text,
+                attempts,
+                timeout_ms: self.config.reply_timeout.as_millis(),
+                hint: NO_REPLY_HINT.to_string(),
+            },
+        })
+    }
+
+    /// Reads an object; a reply carrying an error code becomes [`AccessError::Refused`].
+    pub fn read_object(&mut self, dest: u8, index: u16, subindex: u32) -> Result<Data, AccessError> {
+        let request = Telegram::read_request(dest, self.config.master_address, index, subindex);
+        let reply = self.transact(&request)?;
+        match reply.body {
+            Body::ReadReply { error, data } if error.is_ok() => Ok(data),
+            Body::ReadReply { error, .. } => Err(self.refused(dest, "read", index, subindex, error)),
+            _ => Err(self.unexpected(&request, &reply)),
+        }
+    }
+
+    /// Writes an object (1..=48 bytes).
+    pub fn write_object(
+        &mut self,
+        dest: u8,
+        index: u16,
+        subindex: u32,
+        data: &[u8],
+    ) -> Result<(), AccessError> {
+        let request = Telegram::write_request(dest, self.config.master_address, index, subindex, data)
+            .map_err(|e| AccessError::Encode(e.to_string()))?;
+        let reply = self.transact(&request)?;
+        match reply.body {
+            Body::WriteReply { error } if error.is_ok() => Ok(()),
+            Body::WriteReply { error } => Err(self.refused(dest, "write", index, subindex, error)),
+            _ => Err(self.unexpected(&request, &reply)),
+        }
+    }
+
+    /// Exchanges one cyclic telegram and returns the drive's process data.
+    pub fn cyclic(&mut self, dest: u8, cyclic: Cyclic) -> Result<Cyclic, AccessError> {
+        let request = Telegram {
+            dest,
+            source: self.config.master_address,
+            body: Body::CyclicRequest(cyclic),
+        };
+        let reply = self.transact(&request)?;
+        match reply.body {
+            Body::CyclicReply(c) => Ok(c),
+            _ => Err(self.unexpected(&request, &reply)),
+        }
+    }
+
+    fn refused(
+        &self,
+        dest: u8,
+        operation: &'static str,
+        index: u16,
+        subindex: u32,
+        code: ErrorCode,
+    ) -> AccessError {
+        AccessError::Refused {
+            port: self.transport.name().to_string(),
+            address: dest.to_string(),
+            operation,
+            object: format!("{index} (subindex {subindex})"),
+            code: u32::from(code.0),
+            text: code.to_string(),
+        }
+    }
+
+    fn interrupted(&self, request: &Telegram, bytes: &[u8]) -> AccessError {
+        AccessError::Interrupted {
+            port: self.transport.name().to_string(),
+            address: request.dest.to_string(),
+            request: describe_request(request, bytes),
+        }
+    }
+
+    fn unexpected(&self, request: &Telegram, reply: &Telegram) -> AccessError {
+        AccessError::UnexpectedReply {
+            port: self.transport.name().to_string(),
+            address: request.dest.to_string(),
+            request: describe_request(request, &request.encode(self.config.write_length)),
+            detail: format!("command 0x{:02x}", reply.command()),
+        }
+    }
+
+    fn flush_input(&mut self, t: &mut dyn Transport) -> Result<(), AccessError> {
+        let dropped = t.discard_input()? + self.extractor.pending().len();
+        self.extractor.clear();
+        if dropped > 0 {
+            self.event(&format!("discarded {dropped} stale byte(s) before sending"));
+        }
+        Ok(())
+    }
+
+    /// Listens for `config.settle` and drops whatever arrives (see [`LinkConfig::settle`]).
+    fn settle(&mut self, t: &mut dyn Transport) -> Result<(), AccessError> {
+        let until = self.clock.now() + self.config.settle;
+        let mut dropped = 0;
+        loop {
+            let now = self.clock.now();
+            if now >= until {
+                break;
+            }
+            match t.read(&mut self.buf, until - now) {
+                Ok(n) => dropped += n,
+                Err(TransportError::Timeout { .. }) => break,
+                Err(e) => return Err(AccessError::Transport(e)),
+            }
+        }
+        if dropped > 0 {
+            self.event(&format!("dropped {dropped} late byte(s) before retrying"));
+        }
+        Ok(())
+    }
+
+    fn await_reply(&mut self, t: &mut dyn Transport, request: &Telegram) -> Result<Telegram, AttemptFailure> {
+        let sent = self.clock.now();
+        let deadline = sent + self.config.reply_timeout;
+        loop {
+            while let Some(block) = self.extractor.next_block() {
+                if block.skipped > 0 {
+                    self.event(&format!("skipped {} byte(s) of line noise", block.skipped));
+                }
+                self.notify(Direction::Received, &block.bytes);
+                let telegram = match block.telegram {
+                    Ok(t) => t,
+                    Err(problem) => {
+                        self.stats.corrupt_replies += 1;
+                        return Err(AttemptFailure::Refused {
+                            bytes: block.bytes,
+                            problem,
+                        });
+                    }
+                };
+                if !telegram.is_reply() {
+                    // Our own request echoed by a half-duplex adapter, or another master.
+                    continue;
+                }
+                if let Err(problem) = check_reply(request, &telegram) {
+                    self.stats.mismatched_replies += 1;
+                    return Err(AttemptFailure::Refused {
+                        bytes: block.bytes,
+                        problem,
+                    });
+                }
+                return Ok(telegram);
+            }
+            let now = self.clock.now();
+            if now >= deadline {
+                return Err(AttemptFailure::Timeout);
+            }
+            // With stop requests to watch, read in slices so that a silent drive is given
+            // up within STOP_POLL of a request (after the grace).
+            let slice = match &self.stop {
+                None => deadline - now,
+                Some(_) if now - sent < STOP_GRACE => (sent + STOP_GRACE).min(deadline) - now,
+                Some(_) => STOP_POLL.min(deadline - now),
+            };
+            match t.read(&mut self.buf, slice) {
+                Ok(n) => self.extractor.push(&self.buf[..n]),
+                Err(TransportError::Timeout { .. }) if self.clock.now() >= deadline => {
+                    return Err(AttemptFailure::Timeout)
+                }
+                Err(TransportError::Timeout { .. }) => {
+                    if self.clock.now() - sent >= STOP_GRACE && self.stop_pending() {
+                        return Err(AttemptFailure::Interrupted);
+                    }
+                }
+                Err(e) => return Err(AttemptFailure::Transport(e)),
+            }
+        }
+    }
+
+    fn notify(&mut self, direction: Direction, bytes: &[u8]) {
+        let at = self.clock.now();
+        if let Some(o) = self.observer.as_mut() {
+            o.telegram(at, direction, bytes);
+        }
+    }
+
+    fn event(&mut self, text: &str) {
+        let at = self.clock.now();
+        if let Some(o) = self.observer.as_mut() {
+            o.event(at, text);
+        }
+    }
+}
+
+/// `00 09 02 01 0d 43 00 00 00 00 00 a3 (read object 67)`.
+fn describe_request(request: &Telegram, bytes: &[u8]) -> String {
+    let what = match request.body {
+        Body::ReadRequest { index, subindex } => format!("read object {index}/{subindex}"),
+        Body::WriteRequest { index, subindex, .. } => format!("write object {index}/{subindex}"),
+        Body::CyclicRequest(_) => "cyclic telegram".to_string(),
+        _ => "reply".to_string(),
+    };
+    format!("`{}` ({what})", to_hex(bytes))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::bus::{MemoryTransport, Peer, PeerReply, SharedTransport};
+    use crate::clock::{Clock, VirtualClock};
+    use crate::family::sd2::codec::WriteLength;
+    use std::collections::VecDeque;
+    use std::sync::{Arc, Mutex};
+    use std::time::Duration;
+
+    /// Answers each request with the next scripted reply (None = silence).
+    struct Scripted {
+        replies: VecDeque<Option<(Duration, Vec<u8>)>>,
+        received: Vec<Vec<u8>>,
+    }
+
+    impl Peer for Scripted {
+        fn receive(&mut self, bytes: &[u8], now: Duration) -> Vec<PeerReply> {
+            self.received.push(bytes.to_vec());
+            match self.replies.pop_front().flatten() {
+                Some((delay, bytes)) => vec![PeerReply {
+                    at: now + delay,
+                    bytes,
+                }],
+                None => vec![],
+            }
+        }
+    }
+
+    fn status_reply(source: u8) -> Vec<u8> {
+        Telegram {
+            dest: 1,
+            source,
+            body: Body::ReadReply {
+                error: ErrorCode::OK,
+                data: Data::new(&[0x37, 0x02]).unwrap(),
+            },
+        }
+        .encode(WriteLength::Captured)
+    }
+
+    fn link(script: Vec<Option<(Duration, Vec<u8>)>>) -> (Sd2Link, Arc<Mutex<Scripted>>, Arc<VirtualClock>) {
+        let clock = Arc::new(VirtualClock::new());
+        let peer = Arc::new(Mutex::new(Scripted {
+            replies: script.into(),
+            received: vec![],
+        }));
+        let transport = MemoryTransport::new("scripted", peer.clone(), clock.clone());
+        (
+            Sd2Link::new(
+                SharedTransport::new(Box::new(transport)),
+                clock.clone(),
+                LinkConfig::default(),
+            ),
+            peer,
+            clock,
+        )
+    }
+
+    const FAST: Duration = Duration::from_micros(100);
+
+    #[test]
+    fn a_read_returns_the_data() {
+        let (mut l, peer, _) = link(vec![Some((FAST, status_reply(2)))]);
+        let data = l.read_object(2, 67, 0).unwrap();
+        assert_eq!(data.as_slice(), &[0x37, 0x02]);
+        let sent = &peer.lock().unwrap().received;
+        assert_eq!(to_hex(&sent[0]), "00 09 02 01 0d 43 00 00 00 00 00 a3");
+        assert_eq!(l.stats().retries, 0);
+    }
+
+    #[test]
+    fn a_lost_reply_is_retried_after_the_timeout() {
+        let (mut l, peer, clock) = link(vec![None, Some((FAST, status_reply(2)))]);
+        assert!(l.read_object(2, 67, 0).is_ok());
+        assert_eq!(peer.lock().unwrap().received.len(), 2);
+        assert_eq!(l.stats().timeouts, 1);
+        assert_eq!(l.stats().retries, 1);
+        assert!(clock.now() >= Duration::from_secs(1));
+    }
+
+    #[test]
+    fn every_attempt_lost_names_port_drive_and_telegram() {
+        let (mut l, peer, clock) = link(vec![None, None, None]);
+        let e = l.read_object(2, 67, 0).unwrap_err();
+        assert!(e.is_no_reply());
+        let text = e.to_string();
+        assert!(text.contains("no reply from drive 2 on scripted"), "{text}");
+        assert!(
+            text.contains("`00 09 02 01 0d 43 00 00 00 00 00 a3` (read object 67/0)"),
+            "{text}"
+        );
+        assert!(text.contains("3 attempt(s), 1000 ms each"), "{text}");
+        assert_eq!(peer.lock().unwrap().received.len(), 3);
+        // Three timeouts and two settle periods.
+        assert_eq!(clock.now(), Duration::from_millis(3040));
+    }
+
+    #[test]
+    fn a_corrupt_reply_is_retried_without_waiting_the_timeout() {
+        let mut bad = status_reply(2);
+        let last = bad.len() - 1;
+        bad[last] ^= 0xff;
+        let (mut l, _, clock) = link(vec![Some((FAST, bad)), Some((FAST, status_reply(2)))]);
+        assert!(l.read_object(2, 67, 0).is_ok());
+        assert_eq!(l.stats().corrupt_replies, 1);
+        // Only the settle time, not the 1 s reply timeout.
+        assert!(clock.now() < Duration::from_millis(25), "{:?}", clock.now());
+    }
+
+    #[test]
+    fn a_reply_from_the_wrong_drive_is_refused_then_reported() {
+        let (mut l, _, _) = link(vec![
+            Some((FAST, status_reply(4))),
+            Some((FAST, status_reply(4))),
+            Some((FAST, status_reply(4))),
+        ]);
+        let e = l.read_object(2, 67, 0).unwrap_err();
+        let text = e.to_string();
+        assert!(matches!(e, AccessError::BadReply { .. }), "{text}");
+        assert!(text.contains("source address expected 2, got 4"), "{text}");
+        assert_eq!(l.stats().mismatched_replies, 3);
+    }
+
+    #[test]
+    fn a_late_reply_to_an_earlier_attempt_is_discarded() {
+        // First reply arrives after the timeout; the retry must not take it as its own.
+        let late = Telegram {
+            dest: 1,
+            source: 2,
+            body: Body::ReadReply {
+                error: ErrorCode::OK,
+                data: Data::new(&[0xAA, 0xAA]).unwrap(),
+            },
+        }
+        .encode(WriteLength::Captured);
+        let (mut l, _, _) = link(vec![
+            Some((Duration::from_millis(1001), late)),
+            Some((Duration::from_millis(5), status_reply(2))),
+        ]);
+        let data = l.read_object(2, 67, 0).unwrap();
+        assert_eq!(data.as_slice(), &[0x37, 0x02]);
+    }
+
+    #[test]
+    fn an_echo_of_our_own_request_is_skipped() {
+        let mut echo_then_reply = Telegram::read_request(2, 1, 67, 0).encode(WriteLength::Captured);
+        echo_then_reply.extend(status_reply(2));
+        let (mut l, _, _) = link(vec![Some((FAST, echo_then_reply))]);
+        assert!(l.read_object(2, 67, 0).is_ok());
+    }
+
+    #[test]
+    fn a_drive_error_code_is_typed_and_explained() {
+        let refused = Telegram {
+            dest: 1,
+            source: 2,
+            body: Body::WriteReply {
+                error: ErrorCode(0x8A),
+            },
+        }
+        .encode(WriteLength::Captured);
+        let (mut l, _, _) = link(vec![Some((FAST, refused))]);
+        let e = l.write_object(2, 67, 0, &[0, 0]).unwrap_err();
+        assert!(matches!(e, AccessError::Refused { code: 0x8A, .. }), "{e}");
+        assert_eq!(
+            e.to_string(),
+            "drive 2 on scripted refused to write object 67 (subindex 0): 0x8A attempt to write a read-only object"
+        );
+    }
+
+    #[test]
+    fn observer_sees_both_directions() {
+        #[derive(Default)]
+        struct Log(Arc<Mutex<Vec<String>>>);
+        impl TelegramObserver for Log {
+            fn telegram(&mut self, _: Duration, d: Direction, bytes: &[u8]) {
+                self.0
+                    .lock()
+                    .unwrap()
+                    .push(format!("{} {}", d.tag(), to_hex(bytes)));
+            }
+            fn event(&mut self, _: Duration, text: &str) {
+                self.0.lock().unwrap().push(text.to_string());
+            }
+        }
+        let lines = Arc::new(Mutex::new(vec![]));
+        let (mut l, _, _) = link(vec![None, Some((FAST, status_reply(2)))]);
+        l.set_observer(Box::new(Log(lines.clone())));
+        l.read_object(2, 67, 0).unwrap();
+        let lines = lines.lock().unwrap();
+        assert_eq!(lines[0], "TX 00 09 02 01 0d 43 00 00 00 00 00 a3");
+        assert_eq!(lines[1], "no reply within 1000 ms");
+        assert_eq!(lines[2], "retry 1 of 2");
+        assert_eq!(lines[4], format!("RX {}", to_hex(&status_reply(2))));
+    }
+}

@@ -1,0 +1,326 @@
+//! The simulated SD2 drive as a byte-level peer: cuts incoming bytes into blocks, answers
+//! every request addressed to it with the exact reply bytes a drive sends, and applies the
+//! injected faults to those replies. It must not take shortcuts around the codec (every
+//! request is decoded and every reply encoded) and must not read a clock of its own: time
+//! is the `now` it is given, so the same bytes at the same times give the same replies.
+
+use super::sd2_objects;
+use super::service_channel::{
+    ServiceAction, ServiceSession, INVALID_SERVICE_DRIVE_ERROR, UNSUPPORTED_ACCESS,
+};
+use super::sim_objects::{SimObject, CONTROL_WORD};
+use crate::bus::{Peer, PeerReply};
+use crate::drive::device_control::DeviceState;
+use crate::family::sd2::codec::{
+    Body, Cyclic, ErrorCode, FrameExtractor, Framing, ServiceChannel, Telegram, WriteLength,
+};
+use crate::sim::{DriveModel, FaultInjection, SimConfig, SimulatedDrive};
+use std::time::Duration;
+
+/// A simulated single-axis SD2 drive. See the module docs of `sim` for the model.
+#[derive(Debug)]
+pub struct Sd2Simulator {
+    model: DriveModel,
+    extractor: FrameExtractor,
+    faults: FaultInjection,
+    service: ServiceSession,
+    logging: bool,
+    received: Vec<(Duration, Telegram)>,
+    control_words: Vec<u16>,
+    corrupt_blocks: u64,
+}
+
+impl Sd2Simulator {
+    /// A drive just booted: switch on disabled, at rest, setpoint 0.
+    pub fn new(config: SimConfig) -> Self {
+        Sd2Simulator {
+            model: DriveModel::new(config),
+            extractor: FrameExtractor::new(Framing::Requests),
+            faults: FaultInjection::default(),
+            service: ServiceSession::default(),
+            logging: true,
+            received: Vec::new(),
+            control_words: Vec::new(),
+            corrupt_blocks: 0,
+        }
+    }
+
+    pub fn config(&self) -> &SimConfig {
+        self.model.config()
+    }
+
+    /// One line for the command line's first output.
+    pub fn describe(&self) -> String {
+        let c = self.config();
+        format!(
+            "simulated SD2 at DNC address {} (ramp {} rpm/s)",
+            c.address, c.ramp_rpm_per_s
+        )
+    }
+
+    /// Every decoded request addressed to this drive, with the time it arrived.
+    pub fn received(&self) -> &[(Duration, Telegram)] {
+        &self.received
+    }
+
+    /// Every control word accepted, from writes of object 68 (block or service channel)
+    /// and from cyclic telegrams, in order.
+    pub fn control_words_written(&self) -> Vec<u16> {
+        self.control_words.clone()
+    }
+
+    /// Forgets the logs of [`received`](Self::received) and
+    /// [`control_words_written`](Self::control_words_written).
+    pub fn clear_log(&mut self) {
+        self.received.clear();
+        self.control_words.clear();
+    }
+
+    /// Turns the logs on (the default) or off: a long run-in that nobody inspects need not
+    /// keep every telegram in memory.
+    pub fn set_logging(&mut self, on: bool) {
+        self.logging = on;
+    }
+
+    /// Candidate blocks that failed to decode (bad checksum, length or command). A real
+    /// drive cannot trust the header of such a block, so it stays silent and the master
+    /// times out; the count lets a test see that this happened.
+    pub fn corrupt_blocks(&self) -> u64 {
+        self.corrupt_blocks
+    }
+
+    /// The device state as of the last block received.
+    pub fn state(&self) -> DeviceState {
+        self.model.state()
+    }
+
+    /// Model speed (without noise) at `now`, including trips scheduled before `now`.
+    /// Does not advance the drive itself.
+    pub fn speed_rpm(&self, now: Duration) -> f64 {
+        let mut model = self.model.clone();
+        for (at, code) in self.faults.trips_due(now) {
+            model.advance_to(at);
+            model.trip(code);
+        }
+        model.advance_to(now);
+        model.speed_rpm()
+    }
+
+    /// The speed setpoint in rpm, as last written (object 395 or the cyclic reference).
+    pub fn setpoint_rpm(&self) -> f64 {
+        self.model.setpoint_rpm()
+    }
+
+    /// Faults to inject into the next replies or at a given time.
+    pub fn faults(&mut self) -> &mut FaultInjection {
+        &mut self.faults
+    }
+
+    /// Advances the model to `now`, splitting the interval at every scheduled trip.
+    fn advance_to(&mut self, now: Duration) {
+        while let Some((at, code)) = self.faults.take_trip_due(now) {
+            self.model.advance_to(at);
+            self.model.trip(code);
+        }
+        self.model.advance_to(now);
+    }
+
+    fn answer(&mut self, body: &Body) -> Option<Body> {
+        Some(match *body {
+            Body::ReadRequest { index, subindex } => {
+                match sd2_objects::read(&mut self.model, index, subindex) {
+                    Ok(data) => Body::ReadReply {
+                        error: ErrorCode::OK,
+                        data,
+                    },
+                    Err(error) => Body::ReadReply {
+                        error,
+                        data: Default::default(),
+                    },
+                }
+            }
+            Body::WriteRequest {
+                index,
+                subindex,
+                data,
+            } => Body::WriteReply {
+                error: self
+                    .write_object(index, subindex, data.as_slice())
+                    .err()
+                    .unwrap_or(ErrorCode::OK),
+            },
+            Body::CyclicRequest(request) => Body::CyclicReply(self.cyclic(&request)),
+            // A reply on the bus is some other drive's business.
+            Body::ReadReply { .. } | Body::WriteReply { .. } | Body::CyclicReply(_) => return None,
+        })
+    }
+
+    fn write_object(&mut self, index: u16, subindex: u32, bytes: &[u8]) -> Result<(), ErrorCode> {
+        let blocked = self.faults.is_fault_reset_blocked();
+        let control_word = match (index, bytes) {
+            (CONTROL_WORD, &[lo, hi]) => Some(u16::from_le_bytes([lo, hi])),
+            _ => None,
+        };
+        if let Some(cw) = control_word.filter(|cw| self.disobeys(*cw)) {
+            self.log_control_word(cw);
+            return Ok(());
+        }
+        sd2_objects::write(&mut self.model, index, subindex, bytes, blocked)?;
+        if let Some(cw) = control_word {
+            self.log_control_word(cw);
+        }
+        Ok(())
+    }
+
+    fn log_control_word(&mut self, control_word: u16) {
+        if self.logging {
+            self.control_words.push(control_word);
+        }
+    }
+
+    /// True when an injected fault makes the enabled drive ignore what `control_word`
+    /// commands (it still starts up normally, so a recipe can get it running).
+    fn disobeys(&self, control_word: u16) -> bool {
+        matches!(
+            self.model.state(),
+            DeviceState::OperationEnabled | DeviceState::QuickStopActive
+        ) && self.faults.ignores(self.model.command_for(control_word))
+    }
+
+    /// Process data first (control word, then speed reference), then the service channel,
+    /// so the reply's status shows the effect of both.
+    fn cyclic(&mut self, request: &Cyclic) -> Cyclic {
+        let control_word = request.word();
+        self.log_control_word(control_word);
+        let blocked = self.faults.is_fault_reset_blocked();
+        if !self.disobeys(control_word) {
+            self.model.write_control_word(control_word, blocked);
+        }
+        sd2_objects::set_speed_reference(&mut self.model, request.speed());
+        let service = request.service.map(|s| self.serve(&s));
+        let mut reply = sd2_objects::cyclic_reply(&mut self.model, request.header);
+        reply.service = service;
+        reply
+    }
+
+    fn serve(&mut self, request: &ServiceChannel) -> ServiceChannel {
+        let outcome = match self.service.begin(request) {
+            ServiceAction::Resend(reply) => return reply,
+            ServiceAction::Read { index, subindex } => sd2_objects::read(&mut self.model, index, subindex)
+                .and_then(|data| {
+                    let s = data.as_slice();
+                    let mut out = [0u8; 4];
+                    out.get_mut(..s.len())
+                        .ok_or(UNSUPPORTED_ACCESS)?
+                        .copy_from_slice(s);
+                    Ok(out)
+                }),
+            ServiceAction::Write {
+                index,
+                subindex,
+                data,
+                valid,
+            } => {
+                // The object's own size, when the master sent at least that many bytes.
+                let n =
+                    SimObject::find(index)
+                        .map_or(valid, |o| if o.size() <= valid { o.size() } else { valid });
+                self.write_object(index, subindex, &data[..n]).map(|()| data)
+            }
+            ServiceAction::Acknowledge => Ok(request.data),
+            ServiceAction::Invalid => {
+                self.model.trip(INVALID_SERVICE_DRIVE_ERROR);
+                Err(UNSUPPORTED_ACCESS)
+            }
+        };
+        self.service.finish(request, outcome)
+    }
+
+    /// Encodes `reply` and applies the injected faults: `None` when it is dropped.
+    fn send(&mut self, reply: Telegram, now: Duration) -> Option<PeerReply> {
+        let fate = self.faults.next_reply();
+        if fate.dropped {
+            return None;
+        }
+        let mut reply = reply;
+        if fate.wrong_address {
+            reply.source = reply.source.wrapping_add(1);
+        }
+        // Replies are never write commands, so the length-field choice does not apply.
+        let mut bytes = reply.encode(WriteLength::Captured);
+        if fate.corrupt_checksum {
+            if let Some(check) = bytes.last_mut() {
+                *check = !*check;
+            }
+        }
+        Some(PeerReply {
+            at: now + self.config().response_latency + fate.extra_delay,
+            bytes,
+        })
+    }
+}
+
+impl SimulatedDrive for Sd2Simulator {
+    fn faults(&mut self) -> &mut FaultInjection {
+        &mut self.faults
+    }
+    fn control_words_written(&self) -> Vec<u16> {
+        self.control_words.clone()
+    }
+    fn state(&self) -> DeviceState {
+        self.model.state()
+    }
+    fn speed_rpm(&self, now: Duration) -> f64 {
+        Sd2Simulator::speed_rpm(self, now)
+    }
+    fn set_logging(&mut self, on: bool) {
+        self.logging = on;
+    }
+    fn describe(&self) -> String {
+        Sd2Simulator::describe(self)
+    }
+    fn as_any_mut(&mut self) -> &mut dyn std::any::Any {
+        self
+    }
+}
+
+impl Peer for Sd2Simulator {
+    fn receive(&mut self, bytes: &[u8], now: Duration) -> Vec<PeerReply> {
+        if self.faults.take_panic_due(now) {
+            panic!("injected test fault: the simulated drive panics while handling a request");
+        }
+        self.advance_to(now);
+        self.extractor.push(bytes);
+        let mut replies = Vec::new();
+        while let Some(block) = self.extractor.next_block() {
+            let Ok(request) = block.telegram else {
+                self.corrupt_blocks += 1;
+                continue;
+            };
+            if request.dest != self.config().address || request.is_reply() {
+                continue;
+            }
+            if self.logging {
+                self.received.push((now, request));
+            }
+            let Some(body) = self.answer(&request.body) else {
+                continue;
+            };
+            let reply = Telegram {
+                dest: request.source,
+                source: self.config().address,
+                body,
+            };
+            replies.extend(self.send(reply, now));
+        }
+        replies
+    }
+
+    fn reachable(&self, now: Duration) -> bool {
+        self.faults.line_up(now)
+    }
+}
+
+#[cfg(test)]
+#[path = "sd2_simulator_tests.rs"]
+mod tests;

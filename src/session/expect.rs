@@ -1,0 +1,81 @@
+//! `expect`: named pass/fail checks on a value now, or on a statistic of the last sample
+//! window; each becomes a check in the report.
+
+use super::session::{value_of, Session};
+use super::stop::Stop;
+use super::{Check, CheckResult, Condition, Stats, StepOrigin};
+
+impl Session<'_> {
+    /// Named checks, instant or on the last sample window; a failed check is recorded and
+    /// the run goes on (the result text starts with `FAILED`).
+    pub fn expect(&mut self, checks: &[Check], origin: &StepOrigin) -> Result<String, Stop> {
+        let mut failed = Vec::new();
+        for c in checks {
+            let started = self.clock.now();
+            let (passed, measured, text, message) = match c.statistic {
+                Some(stat) => {
+                    let values = self.windows.get(&c.object.name).cloned().unwrap_or_default();
+                    if values.is_empty() {
+                        (
+                            false,
+                            None,
+                            None,
+                            format!("no samples of {} to check", c.object.name),
+                        )
+                    } else {
+                        let v = Stats::of(&values).get(stat);
+                        let ok = c.predicate.holds(v);
+                        (
+                            ok,
+                            Some(v),
+                            None,
+                            format!("{} {} = {}", c.object.name, stat.id(), value_of(v, &c.object)),
+                        )
+                    }
+                }
+                None => {
+                    let cond = Condition::Value {
+                        object: c.object.clone(),
+                        predicate: c.predicate.clone(),
+                    };
+                    let (ok, seen, v) = self.read_condition(&cond)?;
+                    (ok, v, Some(seen.clone()), format!("{} = {seen}", c.object.name))
+                }
+            };
+            let (low, high) = c.predicate.limits();
+            let result = CheckResult {
+                name: c.name.clone(),
+                passed,
+                measured,
+                measured_text: text,
+                unit: c.object.unit.clone(),
+                low,
+                high,
+                object: Some(c.object.name.clone()),
+                statistic: c.statistic.map(|s| s.id().to_string()),
+                message: if passed {
+                    message
+                } else {
+                    format!(
+                        "{message}, expected {}",
+                        c.predicate.describe(c.object.unit.as_deref())
+                    )
+                },
+                origin: origin.clone(),
+                at: self.clock.now(),
+                duration: self.clock.now().saturating_sub(started),
+            };
+            if !passed {
+                self.failed_checks = true;
+                failed.push(result.message.clone());
+            }
+            self.observer.check(&result);
+            self.report.checks.push(result);
+        }
+        if failed.is_empty() {
+            Ok(format!("{} check(s) passed", checks.len()))
+        } else {
+            Ok(format!("FAILED: {}", failed.join("; ")))
+        }
+    }
+}

@@ -1,0 +1,61 @@
+//! Hooks through which a running recipe or script reports as it goes (console lines, live progress,
+//! streamed CSV). Observers must not fail the run: their own I/O problems are theirs.
+
+use super::{CheckResult, RunInfo, RunReport, StepInfo, StepRecord};
+use std::time::Duration;
+
+pub trait RunObserver {
+    fn run_started(&mut self, _run: &RunInfo, _drive: &str) {}
+    /// A step begins.
+    fn step_started(&mut self, _step: &StepInfo) {}
+    /// Progress of a long step: elapsed, total (when known) and live values.
+    fn step_progress(&mut self, _number: &str, _elapsed: Duration, _total: Option<Duration>, _values: &str) {}
+    fn step_finished(&mut self, _record: &StepRecord) {}
+    fn check(&mut self, _result: &CheckResult) {}
+    /// One row of a `sample` step: clock time and (object, value) pairs.
+    fn sample(&mut self, _at: Duration, _values: &[(String, Option<String>, f64)]) {}
+    /// A value read by `read`/`print`, or a message.
+    fn message(&mut self, _text: &str) {}
+    fn run_finished(&mut self, _report: &RunReport) {}
+}
+
+/// Passes every event to each observer in turn.
+#[derive(Default)]
+pub struct Observers<'a> {
+    list: Vec<&'a mut dyn RunObserver>,
+}
+
+impl<'a> Observers<'a> {
+    pub fn push(&mut self, o: &'a mut dyn RunObserver) {
+        self.list.push(o);
+    }
+}
+
+impl RunObserver for Observers<'_> {
+    fn run_started(&mut self, run: &RunInfo, drive: &str) {
+        self.list.iter_mut().for_each(|o| o.run_started(run, drive));
+    }
+    fn step_started(&mut self, step: &StepInfo) {
+        self.list.iter_mut().for_each(|o| o.step_started(step));
+    }
+    fn step_progress(&mut self, number: &str, elapsed: Duration, total: Option<Duration>, values: &str) {
+        self.list
+            .iter_mut()
+            .for_each(|o| o.step_progress(number, elapsed, total, values));
+    }
+    fn step_finished(&mut self, record: &StepRecord) {
+        self.list.iter_mut().for_each(|o| o.step_finished(record));
+    }
+    fn check(&mut self, result: &CheckResult) {
+        self.list.iter_mut().for_each(|o| o.check(result));
+    }
+    fn sample(&mut self, at: Duration, values: &[(String, Option<String>, f64)]) {
+        self.list.iter_mut().for_each(|o| o.sample(at, values));
+    }
+    fn message(&mut self, text: &str) {
+        self.list.iter_mut().for_each(|o| o.message(text));
+    }
+    fn run_finished(&mut self, report: &RunReport) {
+        self.list.iter_mut().for_each(|o| o.run_finished(report));
+    }
+}

@@ -1,0 +1,463 @@
+//! The end of every run: `on_fault` after a fault, then `finally` (or the default safe
+//! stop: setpoint 0, wait for standstill, disable operation, shutdown), then a verification
+//! that reads the state and the speed back, escalates (quick stop, then disable voltage)
+//! when the drive did not obey, and records the truth for the last lines. A lost port is
+//! reopened first. Nothing here may give up silently: what could not be confirmed ends in
+//! CHECK THE DRIVE BY HAND.
+
+use super::session::show_duration;
+use super::session::{round, secs, Session};
+use super::stop::{outcome, Stop};
+use super::{number, ObjectRef, RunReport, SetValue, StepInfo, StepOrigin, Verdict};
+use crate::dictionary::Role;
+use crate::drive::{DeviceCommand, DeviceState, DriveError};
+use crate::stop_request::StopSignal;
+use std::time::Duration;
+
+/// How often the safe stop polls the speed or the state while it waits.
+const STOP_POLL: Duration = Duration::from_millis(100);
+/// How long disable voltage may take to show in the status word.
+const DISABLE_VOLTAGE_WAIT: Duration = Duration::from_secs(1);
+/// First pause between attempts to reopen a lost port; doubled up to [`REOPEN_PAUSE_MAX`].
+const REOPEN_PAUSE: Duration = Duration::from_millis(100);
+const REOPEN_PAUSE_MAX: Duration = Duration::from_secs(2);
+
+impl Session<'_> {
+    /// The object playing `role` in the profile, as a step names it.
+    fn role_ref(&self, role: Role) -> Option<ObjectRef> {
+        let name = self.drive.profile().ok()?.object(role)?.to_string();
+        let def = self.drive.object(&name).ok()?;
+        Some(ObjectRef {
+            name: def.name.clone(),
+            unit: def.unit.map(|u| u.symbol().to_string()),
+        })
+    }
+
+    /// The standstill threshold in the speed object's own unit.
+    fn standstill_in(&self, object: &ObjectRef) -> f64 {
+        let q = self.settings.standstill;
+        object
+            .unit
+            .as_deref()
+            .and_then(crate::dictionary::Unit::from_symbol)
+            .and_then(|u| q.value_in(u))
+            .unwrap_or(q.value)
+            .abs()
+    }
+
+    /// A note for the summary (the console prints them with the final lines).
+    pub fn note(&mut self, text: String) {
+        self.report.safe_stop.push(text);
+    }
+
+    /// Ends the run: `on_fault` after a drive fault, then `finally` (`None`: the default
+    /// safe stop), the emergency off on a second stop request, and the verification; a
+    /// panic in any of it still ends in the emergency off and the truth. `ended` is why
+    /// the operations stopped (`None`: they all ran). Returns the finished report.
+    pub fn end(
+        mut self,
+        ended: Option<Stop>,
+        leave_enabled: bool,
+        on_fault: Option<&mut dyn FnMut(&mut Session)>,
+        finally: Option<&mut dyn FnMut(&mut Session)>,
+    ) -> RunReport {
+        if let (Some(Stop::Fault(_)), Some(on_fault)) = (&ended, on_fault) {
+            self.stop.acknowledge();
+            self.in_safe_stop = true;
+            let result = self.guarded(|s| {
+                on_fault(s);
+                Ok(())
+            });
+            if let Err(e) = result {
+                let (_, why) = outcome(&Err(e));
+                self.note(format!("on_fault ended early: {why}"));
+            }
+        }
+        let link_lost = matches!(ended, Some(Stop::LinkLost(_)));
+        self.report.verdict = match &ended {
+            None if self.failed_checks => Verdict::Failed,
+            None => Verdict::Passed,
+            Some(Stop::Failed(_)) => Verdict::Failed,
+            Some(Stop::Fault(m) | Stop::Error(m) | Stop::LinkLost(m)) => Verdict::Error(m.clone()),
+            Some(Stop::Interrupted) => Verdict::Interrupted(self.stop.first().unwrap_or(StopSignal::INT)),
+            Some(Stop::Panicked(m)) => Verdict::Panicked(m.clone()),
+        };
+        self.run_safe_stop(finally, link_lost, leave_enabled);
+        self.report.duration = self.clock.now().saturating_sub(self.run_start);
+        self.observer.run_finished(&self.report);
+        self.report
+    }
+
+    /// `finally` (or the default), the emergency off on a second stop request, and the
+    /// verification; a panic in any of it still ends in the emergency off and the truth.
+    fn run_safe_stop(
+        &mut self,
+        finally: Option<&mut dyn FnMut(&mut Session)>,
+        link_lost: bool,
+        leave_enabled: bool,
+    ) {
+        self.stop.acknowledge();
+        self.in_safe_stop = true;
+        let keep = leave_enabled && self.report.verdict == Verdict::Passed;
+        let result = self.guarded(|r| {
+            r.safe_stop(finally, link_lost, keep);
+            Ok(())
+        });
+        if let Err(e) = result {
+            let (_, why) = outcome(&Err(e));
+            self.note(format!("the safe stop itself failed: {why}"));
+            let last_resort = self.guarded(|r| {
+                r.emergency_off();
+                r.verify(false);
+                Ok(())
+            });
+            if last_resort.is_err() {
+                self.report.stop_confirmed = false;
+            }
+        }
+        // A stop signal that arrived only during the safe stop still ends the run as
+        // interrupted: CI and supervisors must not read a pass from a killed run.
+        if let (Some(signal), Verdict::Passed | Verdict::Failed) = (self.stop.first(), &self.report.verdict) {
+            self.report.verdict = Verdict::Interrupted(signal);
+        }
+        if self.report.check_by_hand() || self.report.disobeyed {
+            if let Verdict::Passed | Verdict::Failed = self.report.verdict {
+                let why = if self.report.check_by_hand() {
+                    "the safe stop could not be confirmed; CHECK THE DRIVE BY HAND"
+                } else {
+                    "the drive did not obey the stop commands; the stop was escalated"
+                };
+                self.report.verdict = Verdict::Error(why.to_string());
+            }
+        }
+    }
+
+    fn safe_stop(&mut self, finally: Option<&mut dyn FnMut(&mut Session)>, link_lost: bool, keep: bool) {
+        if link_lost && !self.restore_link() {
+            self.report.stop_confirmed = false;
+            self.note(
+                "the drive could not be reached to stop it; it may still be running. CHECK THE DRIVE BY HAND"
+                    .to_string(),
+            );
+            return;
+        }
+        match finally {
+            Some(finally) => finally(self),
+            None => self.default_finally(),
+        }
+        if self.interrupted() {
+            self.emergency_off();
+        }
+        self.verify(keep);
+    }
+
+    /// The default `finally`: the speed setpoint to 0 and a wait for standstill (where the
+    /// profile names the speed objects), then disable operation and shutdown; each step
+    /// recorded, a failure noted and the next tried. A second stop request abandons it.
+    fn default_finally(&mut self) {
+        let origin = StepOrigin {
+            path: self.report.recipe_path.clone(),
+            line: 0,
+            column: 0,
+        };
+        type Op = Box<dyn Fn(&mut Session) -> Result<String, Stop>>;
+        let mut ops: Vec<(String, Op)> = Vec::new();
+        if let Some(object) = self.role_ref(Role::SpeedSetpoint) {
+            let unit = object
+                .unit
+                .as_deref()
+                .map(|u| format!(" {u}"))
+                .unwrap_or_default();
+            let label = format!("set {} = 0{unit}", object.name);
+            ops.push((
+                label,
+                Box::new(move |s| s.set(&[(object.clone(), SetValue::Number(0.0))])),
+            ));
+        }
+        if let Some(object) = self.role_ref(Role::SpeedActual) {
+            let below = self.standstill_in(&object);
+            let timeout = self.settings.standstill_timeout;
+            let unit = object
+                .unit
+                .as_deref()
+                .map(|u| format!(" {u}"))
+                .unwrap_or_default();
+            let label = format!(
+                "wait for standstill: {} within ±{}{unit}, at most {}",
+                object.name,
+                number(below),
+                show_duration(timeout)
+            );
+            ops.push((label, Box::new(move |s| s.standstill(below, timeout, "finally"))));
+        }
+        for c in [DeviceCommand::DisableOperation, DeviceCommand::Shutdown] {
+            ops.push((c.id().to_string(), Box::new(move |s| s.command(c))));
+        }
+        for (i, (label, op)) in ops.into_iter().enumerate() {
+            if self.interrupted() {
+                self.note(format!(
+                    "finally abandoned at step {} (a second stop request)",
+                    i + 1
+                ));
+                return;
+            }
+            let info = StepInfo {
+                number: format!("finally.{}", i + 1),
+                label: format!("{label} (default finally)"),
+                origin: origin.clone(),
+                phase: "finally",
+                container: false,
+            };
+            self.perform_best_effort(&info, |s| op(s));
+        }
+    }
+
+    /// Runs one step of the safe stop whatever happens: a lost port is reopened and the
+    /// step tried once more; a failure is noted for the summary.
+    pub fn perform_best_effort(
+        &mut self,
+        info: &StepInfo,
+        op: impl Fn(&mut Session) -> Result<String, Stop>,
+    ) {
+        let mut result = self.perform(info, &op);
+        if matches!(result, Err(Stop::LinkLost(_))) && self.restore_link() {
+            result = self.perform(info, &op);
+        }
+        if let Err(e) = result {
+            let (_, detail) = outcome(&Err(e));
+            let n = info.number.rsplit('.').next().unwrap_or(&info.number);
+            self.note(format!(
+                "{} step {n} ({}) failed: {detail}",
+                info.phase, info.label
+            ));
+        }
+    }
+
+    /// While the drive is in operation enabled, polls the actual speed until it is within
+    /// ±`below` (its unit) or `timeout` has passed, showing the speed.
+    pub fn standstill(&mut self, below: f64, timeout: Duration, number: &str) -> Result<String, Stop> {
+        let Some(object) = self.role_ref(Role::SpeedActual) else {
+            return Ok("skipped: the profile names no actual speed".into());
+        };
+        let state = self.drive.state()?;
+        if state != DeviceState::OperationEnabled {
+            return Ok(format!(
+                "skipped: the drive is in {state}, where the setpoint does not brake it"
+            ));
+        }
+        let unit = object.unit.clone().map(|u| format!(" {u}")).unwrap_or_default();
+        let started = self.clock.now();
+        let give_up = started.saturating_add(timeout);
+        loop {
+            let v = self.drive.read_number(&object.name)?;
+            let waited = self.clock.now().saturating_sub(started);
+            if v.abs() <= below {
+                return Ok(format!("{}{unit} after {}", round(v), secs(waited)));
+            }
+            if waited >= timeout {
+                return Err(Stop::Failed(format!(
+                    "still at {}{unit} after {}; disabling it anyway, it will coast",
+                    round(v),
+                    show_duration(timeout)
+                )));
+            }
+            let live = format!("{} {}{unit}", object.name, round(v));
+            self.observer.step_progress(number, waited, Some(timeout), &live);
+            self.wait(self.clock.now().saturating_add(STOP_POLL).min(give_up))?;
+        }
+    }
+
+    /// The last resort: disable voltage, which nothing may interrupt.
+    fn emergency_off(&mut self) {
+        self.stop.enter_final_stage();
+        let mut result = self.drive.command(DeviceCommand::DisableVoltage);
+        if matches!(&result, Err(e) if e.is_link_lost()) && self.restore_link() {
+            result = self.drive.command(DeviceCommand::DisableVoltage);
+        }
+        match result {
+            Ok(()) => self.note("power stage switched off at once (disable voltage)".into()),
+            Err(e) => self.note(format!("disable voltage failed: {e}")),
+        }
+    }
+
+    fn state_with_reconnect(&mut self) -> Result<DeviceState, DriveError> {
+        match self.drive.state() {
+            Err(e) if e.is_link_lost() && self.restore_link() => self.drive.state(),
+            other => other,
+        }
+    }
+
+    /// Reads the state back; escalates while the drive is still enabled; records the state,
+    /// the speed and whether the spindle coasts.
+    fn verify(&mut self, keep: bool) {
+        let mut state = match self.state_with_reconnect() {
+            Ok(s) => s,
+            Err(e) => {
+                self.report.stop_confirmed = false;
+                self.report.final_state = None;
+                self.note(format!(
+                    "could not read the drive's state after the safe stop: {e}; CHECK THE DRIVE BY HAND"
+                ));
+                self.read_final_speed();
+                return;
+            }
+        };
+        if !keep {
+            if state == DeviceState::FaultReactionActive {
+                // The drive brakes by itself and then enters fault.
+                state =
+                    self.wait_for_state(DeviceState::FaultReactionActive, self.settings.standstill_timeout);
+            }
+            if matches!(
+                state,
+                DeviceState::OperationEnabled | DeviceState::QuickStopActive
+            ) {
+                state = self.escalate(state);
+            }
+        }
+        self.report.final_state = Some(state);
+        let enabled = matches!(
+            state,
+            DeviceState::OperationEnabled | DeviceState::QuickStopActive
+        );
+        self.report.stop_confirmed = keep || !enabled;
+        if !self.report.stop_confirmed {
+            self.note(format!(
+                "the drive still reports {state} after quick stop and disable voltage; CHECK THE DRIVE BY HAND"
+            ));
+        }
+        self.read_final_speed();
+    }
+
+    /// Quick stop, then disable voltage, each verified by reading the state back.
+    fn escalate(&mut self, state: DeviceState) -> DeviceState {
+        self.report.disobeyed = true;
+        self.note(format!(
+            "the drive still reports {state} after the stop commands: it did not obey; escalating to quick stop"
+        ));
+        let mut state = state;
+        if state == DeviceState::OperationEnabled {
+            match self.drive.command(DeviceCommand::QuickStop) {
+                Ok(()) => {
+                    state = self.wait_for_state(DeviceState::OperationEnabled, DISABLE_VOLTAGE_WAIT);
+                    if state == DeviceState::QuickStopActive {
+                        state = self
+                            .wait_for_state(DeviceState::QuickStopActive, self.settings.standstill_timeout);
+                    }
+                }
+                Err(e) => self.note(format!("quick stop failed: {e}")),
+            }
+        }
+        if matches!(
+            state,
+            DeviceState::OperationEnabled | DeviceState::QuickStopActive
+        ) {
+            self.note(format!(
+                "still {state} after quick stop; switching the power stage off"
+            ));
+            self.emergency_off();
+            state = self.wait_for_state(state, DISABLE_VOLTAGE_WAIT);
+        } else {
+            self.note(format!("after quick stop the drive reports {state}"));
+        }
+        state
+    }
+
+    /// Polls the state until it is no longer `from` or `timeout` has passed; returns the
+    /// last state read (`from` when it could not be read).
+    fn wait_for_state(&mut self, from: DeviceState, timeout: Duration) -> DeviceState {
+        let give_up = self.clock.now().saturating_add(timeout);
+        loop {
+            let state = match self.drive.state() {
+                Ok(s) => s,
+                Err(e) => {
+                    self.note(format!("reading the state failed: {e}"));
+                    return from;
+                }
+            };
+            if state != from || self.clock.now() >= give_up {
+                return state;
+            }
+            // Only the final stage (disable voltage) is shielded from stop requests; a
+            // further request here just ends the wait early.
+            if self
+                .wait(self.clock.now().saturating_add(STOP_POLL).min(give_up))
+                .is_err()
+            {
+                return state;
+            }
+        }
+    }
+
+    fn read_final_speed(&mut self) {
+        let Some(object) = self.role_ref(Role::SpeedActual) else {
+            return;
+        };
+        match self.drive.read_number(&object.name) {
+            Ok(v) => {
+                let powered = self.report.final_state.is_some_and(DeviceState::is_powered);
+                self.report.final_speed = Some(v);
+                self.report.speed_unit = object.unit.clone();
+                self.report.coasting = !powered && v.abs() > self.standstill_in(&object);
+            }
+            Err(e) => self.note(format!("could not read {} after the safe stop: {e}", object.name)),
+        }
+    }
+
+    /// After a reopen: whether the drive answering has the identity read at the start (a
+    /// re-enumerated adapter can come back under a name another one had).
+    fn same_drive(&mut self) -> bool {
+        match self.report.identity.clone() {
+            Some(before) => self.identity().is_none_or(|now| now == before),
+            None => true,
+        }
+    }
+
+    /// Reopens the port with back-off until it answers or the reconnect time is used up;
+    /// reports every attempt. True when the drive answers again.
+    pub fn restore_link(&mut self) -> bool {
+        if self.link_given_up {
+            return false;
+        }
+        let started = self.clock.now();
+        let give_up = started.saturating_add(self.settings.reconnect_timeout);
+        let mut pause = REOPEN_PAUSE;
+        let port = self.drive.port();
+        for attempt in 1u32.. {
+            let result = self.drive.reopen().and_then(|()| self.drive.state());
+            let at = secs(self.clock.now().saturating_sub(started));
+            match result {
+                Ok(_) if !self.same_drive() => {
+                    self.note(format!(
+                        "{port} answers again, but with another drive's identity; the stop is not sent to it. CHECK THE DRIVE BY HAND"
+                    ));
+                    self.link_given_up = true;
+                    return false;
+                }
+                Ok(state) => {
+                    self.note(format!(
+                        "link to {port} restored at attempt {attempt} after {at}; the drive reports {state}"
+                    ));
+                    return true;
+                }
+                Err(e) => self.observer.message(&format!(
+                    "safe stop: reopening {port}, attempt {attempt} after {at}: {e}"
+                )),
+            }
+            let next = self.clock.now().saturating_add(pause);
+            if next > give_up {
+                self.note(format!(
+                    "gave up reopening {port} after {attempt} attempt(s) in {}",
+                    show_duration(self.settings.reconnect_timeout)
+                ));
+                self.link_given_up = true;
+                return false;
+            }
+            // A further stop request does not end the attempts: reaching the drive is
+            // the only way to stop it.
+            self.clock.sleep_until(next);
+            pause = (pause * 2).min(REOPEN_PAUSE_MAX);
+        }
+        false
+    }
+}

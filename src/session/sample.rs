@@ -1,0 +1,124 @@
+//! `sample`: read objects at a fixed period for a time, keep their statistics window and
+//! series, optionally stream them to a CSV file of the step's own.
+
+use super::session::show_duration;
+use super::session::{round, Session};
+use super::stop::{nth_tick, Stop};
+use super::with_unit;
+use super::{number, ObjectRef, Series, Stats};
+use crate::csv_file::CsvFile;
+use std::path::PathBuf;
+use std::time::Duration;
+
+impl Session<'_> {
+    /// Reads `objects` every `every` for `duration`; keeps the window for `expect` and the
+    /// series for the plots; optionally writes a CSV file.
+    pub fn sample(
+        &mut self,
+        objects: &[ObjectRef],
+        every: Duration,
+        duration: Duration,
+        csv: Option<&PathBuf>,
+        number: &str,
+    ) -> Result<String, Stop> {
+        let mut writer = match csv {
+            Some(p) => {
+                let path = self.output_dir.join(p);
+                let append = !self.csv_files.insert(path.clone());
+                Some(SampleCsv::open(&path, objects, append).map_err(Stop::Error)?)
+            }
+            None => None,
+        };
+        let start = self.clock.now();
+        let run_start = self.run_start;
+        let mut series: Vec<Vec<(f64, f64)>> = vec![Vec::new(); objects.len()];
+        let mut k: u32 = 0;
+        let mut late = 0u32;
+        let end = start.saturating_add(duration);
+        loop {
+            let due = nth_tick(start, every, k)?;
+            if due > end {
+                break;
+            }
+            if self.interrupted() {
+                return Err(Stop::Interrupted);
+            }
+            self.wait(due)?;
+            let at = self.clock.now();
+            if at > due.saturating_add(every) {
+                late += 1;
+            }
+            let mut row = Vec::with_capacity(objects.len());
+            for (i, o) in objects.iter().enumerate() {
+                let v = self.drive.read_number(&o.name)?;
+                series[i].push(((at - run_start).as_secs_f64(), v));
+                row.push((o.name.clone(), o.unit.clone(), v));
+            }
+            if let Some(w) = writer.as_mut() {
+                w.row((at - run_start).as_secs_f64(), &row).map_err(Stop::Error)?;
+            }
+            self.observer.sample(at, &row);
+            let live = row
+                .iter()
+                .map(|(n, u, v)| format!("{n} {}", with_unit(*v, u.as_deref())))
+                .collect::<Vec<_>>()
+                .join(", ");
+            self.observer
+                .step_progress(number, at - start, Some(duration), &live);
+            self.watch_fault(false)?;
+            k += 1;
+        }
+        let mut summary = Vec::new();
+        for (i, o) in objects.iter().enumerate() {
+            let values: Vec<f64> = series[i].iter().map(|(_, v)| *v).collect();
+            let s = Stats::of(&values);
+            summary.push(format!(
+                "{} mean {} min {} max {}",
+                o.name,
+                with_unit(round(s.mean), o.unit.as_deref()),
+                with_unit(round(s.min), o.unit.as_deref()),
+                with_unit(round(s.max), o.unit.as_deref())
+            ));
+            self.windows.insert(o.name.clone(), values);
+            self.report.series.push(Series {
+                object: o.name.clone(),
+                unit: o.unit.clone(),
+                step: number.to_string(),
+                points: std::mem::take(&mut series[i]),
+            });
+        }
+        let late_note = if late > 0 {
+            format!(
+                "; {late} sample(s) late: the line is too slow for every {}",
+                show_duration(every)
+            )
+        } else {
+            String::new()
+        };
+        Ok(format!("{k} samples: {}{late_note}", summary.join("; ")))
+    }
+}
+
+/// A `csv:` file of a sample step: time, then one column per object.
+struct SampleCsv(CsvFile);
+
+impl SampleCsv {
+    /// Creates the file with its header, or (`append`) continues one this run started.
+    fn open(path: &std::path::Path, objects: &[ObjectRef], append: bool) -> Result<Self, String> {
+        if append {
+            return CsvFile::append(path).map(SampleCsv);
+        }
+        let mut header = vec!["time [s]".to_string()];
+        header.extend(objects.iter().map(|o| match &o.unit {
+            Some(u) => format!("{} [{u}]", o.name),
+            None => o.name.clone(),
+        }));
+        CsvFile::create(path, &header).map(SampleCsv)
+    }
+
+    fn row(&mut self, t: f64, values: &[(String, Option<String>, f64)]) -> Result<(), String> {
+        let mut rec = vec![format!("{t:.3}")];
+        rec.extend(values.iter().map(|(_, _, v)| number(round(*v))));
+        self.0.row(&rec)
+    }
+}

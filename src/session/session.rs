@@ -1,0 +1,297 @@
+//! A run of drive operations, the same for recipes and scripts: it owns the run report,
+//! reports every operation through a [`RunObserver`], wakes every wait on a stop request,
+//! catches panics, and watches the drive for faults. The operations themselves live in the
+//! files next to this one; the end of every run, the safe stop, in `safe_stop.rs`. Knows
+//! names, units and states; never bytes, never a family, never YAML.
+
+use super::stop::{outcome, panic_message, Stop};
+use super::{
+    with_unit, Condition, ObjectRef, Predicate, RunInfo, RunObserver, RunReport, SafeStopSettings, StepInfo,
+    StepRecord, Verdict,
+};
+use crate::clock::SharedClock;
+use crate::drive::device_control::DeviceState;
+use crate::drive::Drive;
+use crate::stop_request::StopRequests;
+use std::collections::{HashMap, HashSet};
+use std::panic::{catch_unwind, AssertUnwindSafe};
+use std::path::PathBuf;
+use std::time::Duration;
+
+/// How often long operations look at the drive for faults.
+pub(super) const FAULT_WATCH: Duration = Duration::from_millis(100);
+
+pub struct Session<'a> {
+    pub(super) drive: &'a mut Drive,
+    pub(super) observer: &'a mut dyn RunObserver,
+    pub(super) stop: &'a StopRequests,
+    pub(super) settings: SafeStopSettings,
+    pub(super) clock: SharedClock,
+    /// Directory that relative `csv:` paths of sample steps are written to.
+    pub(super) output_dir: PathBuf,
+    /// The last sample window per object.
+    pub(super) windows: HashMap<String, Vec<f64>>,
+    /// CSV files written in this run: a sample step that runs again (in a repeat) appends
+    /// to its file instead of overwriting what the earlier pass recorded.
+    pub(super) csv_files: HashSet<PathBuf>,
+    pub(super) report: RunReport,
+    pub(super) failed_checks: bool,
+    pub(super) last_fault_check: Duration,
+    /// Clock time the run started; series times count from here.
+    pub(super) run_start: Duration,
+    /// Whether the drive was in a fault state when last looked at. Fault watching reacts
+    /// to the drive *entering* a fault during the run; a drive already in fault (at the
+    /// start, or after a step that waited for it) is the run's to reset.
+    pub(super) known_fault: bool,
+    /// `on_fault`, `finally` and the verification run: only a second stop request counts.
+    pub(super) in_safe_stop: bool,
+    /// Reopening the port was tried for the whole reconnect time and failed: later
+    /// failures of the safe stop do not wait for it again.
+    pub(super) link_given_up: bool,
+    run: RunInfo,
+}
+
+impl<'a> Session<'a> {
+    pub fn new(
+        drive: &'a mut Drive,
+        observer: &'a mut dyn RunObserver,
+        stop: &'a StopRequests,
+        run: RunInfo,
+    ) -> Self {
+        let clock = drive.clock().clone();
+        let clock_now = clock.now();
+        let report = RunReport {
+            recipe: run.name.clone(),
+            recipe_path: run.path.clone(),
+            drive: drive.port(),
+            identity: None,
+            params: run.params.clone(),
+            started_at: clock.wall_time(),
+            duration: Duration::ZERO,
+            verdict: Verdict::Passed,
+            steps: Vec::new(),
+            checks: Vec::new(),
+            series: Vec::new(),
+            final_state: None,
+            final_speed: None,
+            speed_unit: None,
+            coasting: false,
+            stop_confirmed: false,
+            disobeyed: false,
+            safe_stop: Vec::new(),
+        };
+        Session {
+            drive,
+            observer,
+            stop,
+            settings: SafeStopSettings::default(),
+            clock,
+            output_dir: PathBuf::from("."),
+            windows: HashMap::new(),
+            csv_files: HashSet::new(),
+            report,
+            failed_checks: false,
+            last_fault_check: Duration::ZERO,
+            run_start: clock_now,
+            known_fault: false,
+            in_safe_stop: false,
+            link_given_up: false,
+            run,
+        }
+    }
+
+    /// How the safe stop waits for standstill and how long it tries to reopen a lost port.
+    pub fn with_settings(mut self, settings: SafeStopSettings) -> Self {
+        self.settings = settings;
+        self
+    }
+
+    /// Where `csv:` files of sample steps go (relative paths).
+    pub fn with_output_dir(mut self, dir: PathBuf) -> Self {
+        self.output_dir = dir;
+        self
+    }
+
+    /// Announces the run and looks at the drive (identity, a fault at the start). Call
+    /// once, before the first operation.
+    pub fn begin(&mut self) {
+        self.run_start = self.clock.now();
+        let run = self.run.clone();
+        self.observer.run_started(&run, &self.report.drive);
+        let _ = self.guarded(|s| {
+            s.look_at_the_drive();
+            Ok(())
+        });
+    }
+
+    pub fn clock(&self) -> &SharedClock {
+        &self.clock
+    }
+
+    /// Runs `f`, turning a panic inside it into [`Stop::Panicked`].
+    pub fn guarded(&mut self, f: impl FnOnce(&mut Self) -> Result<(), Stop>) -> Result<(), Stop> {
+        match catch_unwind(AssertUnwindSafe(|| f(self))) {
+            Ok(result) => result,
+            Err(payload) => Err(Stop::Panicked(panic_message(payload.as_ref()))),
+        }
+    }
+
+    /// Runs one step or operation: announces it, runs `op` (a panic inside is caught, so
+    /// the step it happened in is recorded), records what came of it. A result whose text
+    /// starts with `FAILED` is recorded as failed but lets the run go on (a failed check).
+    pub fn perform(
+        &mut self,
+        info: &StepInfo,
+        op: impl FnOnce(&mut Self) -> Result<String, Stop>,
+    ) -> Result<String, Stop> {
+        self.observer.step_started(info);
+        let started = self.clock.now();
+        let result = match catch_unwind(AssertUnwindSafe(|| op(self))) {
+            Ok(r) => r,
+            Err(payload) => Err(Stop::Panicked(panic_message(payload.as_ref()))),
+        };
+        let (ok, detail) = outcome(&result);
+        let ok = ok && !detail.starts_with("FAILED");
+        self.record_step(info, ok, detail, started);
+        result
+    }
+
+    fn record_step(&mut self, info: &StepInfo, ok: bool, detail: String, started: Duration) {
+        let record = StepRecord {
+            number: info.number.clone(),
+            label: info.label.clone(),
+            origin: info.origin.clone(),
+            ok,
+            detail,
+            started,
+            duration: self.clock.now().saturating_sub(started),
+            phase: info.phase,
+        };
+        self.observer.step_finished(&record);
+        self.report.steps.push(record);
+    }
+
+    /// A line under the current step (a value read, a message).
+    pub fn message(&mut self, text: &str) {
+        self.observer.message(text);
+    }
+
+    /// Progress of a long step: elapsed, total (when known) and live values.
+    pub fn progress(&mut self, number: &str, elapsed: Duration, total: Option<Duration>, values: &str) {
+        self.observer.step_progress(number, elapsed, total, values);
+    }
+
+    /// Identity and fault state at the start, both best effort.
+    fn look_at_the_drive(&mut self) {
+        self.report.identity = self.identity();
+        self.known_fault = matches!(
+            self.drive.state(),
+            Ok(DeviceState::Fault | DeviceState::FaultReactionActive)
+        );
+        if self.known_fault {
+            let code = self
+                .drive
+                .drive_error()
+                .map(|c| format!(" (drive error {c}, 0x{c:04x})"))
+                .unwrap_or_default();
+            self.observer
+                .message(&format!("the drive is in fault at the start{code}"));
+        }
+    }
+
+    pub(super) fn identity(&mut self) -> Option<String> {
+        let name = self.drive.dictionary().lookup("ident").ok()?.name.clone();
+        self.drive.read(&name).ok().map(|v| v.to_string())
+    }
+
+    /// A stop request that nobody answers yet. During the safe stop only a second request
+    /// counts: the first one, arriving while `finally` already runs, asks for what is
+    /// being done anyway.
+    pub fn interrupted(&self) -> bool {
+        let now = self.clock.now();
+        if !self.stop.pending_at(now) {
+            return false;
+        }
+        if self.in_safe_stop && self.stop.count_at(now) < 2 {
+            self.stop.acknowledge();
+            return false;
+        }
+        true
+    }
+
+    /// Waits until `deadline` on the run's clock; a stop request (see
+    /// [`Session::interrupted`]) ends the wait at once.
+    pub fn wait(&self, deadline: Duration) -> Result<(), Stop> {
+        while self.clock.wait_until(deadline, self.stop) {
+            if self.interrupted() {
+                return Err(Stop::Interrupted);
+            }
+        }
+        Ok(())
+    }
+
+    /// Reads the state now and then (at most every [`FAULT_WATCH`], or at once when
+    /// `now`); a fault stops the recipe.
+    pub fn watch_fault(&mut self, now: bool) -> Result<(), Stop> {
+        let t = self.clock.now();
+        if !now && t < self.last_fault_check + FAULT_WATCH {
+            return Ok(());
+        }
+        self.last_fault_check = t;
+        let state = self.drive.state()?;
+        let faulted = matches!(state, DeviceState::Fault | DeviceState::FaultReactionActive);
+        let entered = faulted && !self.known_fault;
+        self.known_fault = faulted;
+        if entered {
+            let code = self.drive.drive_error();
+            let code = match code {
+                Some(c) if c != 0 => format!(" (drive error {c}, 0x{c:04x})"),
+                _ => String::new(),
+            };
+            return Err(Stop::Fault(format!(
+                "drive fault: the drive went to {state}{code}"
+            )));
+        }
+        Ok(())
+    }
+
+    pub(super) fn read_condition(
+        &mut self,
+        condition: &Condition,
+    ) -> Result<(bool, String, Option<f64>), Stop> {
+        match condition {
+            Condition::State(target) => {
+                let state = self.drive.state()?;
+                Ok((state == *target, state.to_string(), None))
+            }
+            Condition::Value { object, predicate } => {
+                if let Predicate::EqualsText(_) = predicate {
+                    let v = self.drive.read(&object.name)?.to_string();
+                    let text = v.trim_matches('"').to_string();
+                    return Ok((predicate.holds_text(&text), v, None));
+                }
+                let v = self.drive.read_number(&object.name)?;
+                Ok((predicate.holds(v), value_of(v, object), Some(v)))
+            }
+        }
+    }
+}
+
+/// A measured value of `o`, rounded, with its unit.
+pub(super) fn value_of(v: f64, o: &ObjectRef) -> String {
+    with_unit(round(v), o.unit.as_deref())
+}
+
+/// Three decimals is finer than any scale an engineer reads.
+pub(super) fn round(v: f64) -> f64 {
+    (v * 1000.0).round() / 1000.0
+}
+
+/// A duration as recipes write it: `2h`, `1m 30s`, `100ms`.
+pub fn show_duration(d: Duration) -> String {
+    humantime::format_duration(d).to_string()
+}
+
+pub(super) fn secs(d: Duration) -> String {
+    format!("{:.2} s", d.as_secs_f64())
+}

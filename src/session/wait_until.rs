@@ -1,0 +1,110 @@
+//! `wait_until`: poll a state or a value until a condition holds, with a timeout, and
+//! record it as a check.
+
+use super::session::show_duration;
+use super::session::{secs, Session};
+use super::stop::Stop;
+use super::{CheckResult, Condition, StepOrigin};
+use crate::drive::DeviceState;
+use std::time::Duration;
+
+impl Session<'_> {
+    /// Polls until `condition` holds; a timeout fails (and stops the run), naming the last
+    /// value seen.
+    pub fn wait_until(
+        &mut self,
+        condition: &Condition,
+        timeout: Duration,
+        every: Duration,
+        origin: &StepOrigin,
+        number: &str,
+    ) -> Result<String, Stop> {
+        let started = self.clock.now();
+        let give_up = started.saturating_add(timeout);
+        loop {
+            let (holds, seen, value) = self.read_condition(condition)?;
+            let waited = self.clock.now().saturating_sub(started);
+            if holds {
+                if matches!(
+                    condition,
+                    Condition::State(DeviceState::Fault | DeviceState::FaultReactionActive)
+                ) {
+                    self.known_fault = true;
+                }
+                self.record_check(
+                    origin,
+                    &condition.to_string(),
+                    true,
+                    value,
+                    Some(seen.clone()),
+                    condition,
+                    None,
+                    started,
+                );
+                return Ok(format!("{seen} after {}", secs(waited)));
+            }
+            if !matches!(condition, Condition::State(DeviceState::Fault)) {
+                self.watch_fault(false)?;
+            }
+            if waited >= timeout {
+                let message = format!(
+                    "timed out after {} waiting for {condition}; last value seen: {seen}",
+                    show_duration(timeout)
+                );
+                self.record_check(
+                    origin,
+                    &condition.to_string(),
+                    false,
+                    value,
+                    Some(seen),
+                    condition,
+                    Some(message.clone()),
+                    started,
+                );
+                return Err(Stop::Failed(message));
+            }
+            if self.interrupted() {
+                return Err(Stop::Interrupted);
+            }
+            self.observer.step_progress(number, waited, Some(timeout), &seen);
+            self.wait(self.clock.now().saturating_add(every).min(give_up))?;
+        }
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn record_check(
+        &mut self,
+        origin: &StepOrigin,
+        name: &str,
+        passed: bool,
+        value: Option<f64>,
+        text: Option<String>,
+        condition: &Condition,
+        message: Option<String>,
+        started: Duration,
+    ) {
+        let (object, unit, (low, high)) = match condition {
+            Condition::State(_) => (None, None, (None, None)),
+            Condition::Value { object, predicate } => {
+                (Some(object.name.clone()), object.unit.clone(), predicate.limits())
+            }
+        };
+        let result = CheckResult {
+            name: format!("wait until {name}"),
+            passed,
+            measured: value,
+            measured_text: text,
+            unit,
+            low,
+            high,
+            object,
+            statistic: None,
+            message: message.unwrap_or_else(|| "reached".into()),
+            origin: origin.clone(),
+            at: self.clock.now(),
+            duration: self.clock.now().saturating_sub(started),
+        };
+        self.observer.check(&result);
+        self.report.checks.push(result);
+    }
+}
