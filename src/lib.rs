@@ -2,6 +2,8 @@
 //!
 //! Data flows one way: `cli` → `recipe`/`script` → `drive` → `link` → `transport`.
 //! The codecs in [`protocol`] are pure; only `transport` touches I/O.
+//! Every file drivescript reads (recipes, dictionaries, limits) is read through [`diag`]: one
+//! diagnostic type and one YAML field reader.
 
 // Errors here carry structured context (port, telegram, object, expected vs. actual) and
 // travel on cold paths of a tool that waits milliseconds per telegram; boxing them would
@@ -14,6 +16,7 @@ pub mod bus;
 pub mod cli;
 pub mod clock;
 pub mod csv_file;
+pub mod diag;
 pub mod dictionary;
 pub mod drive;
 pub mod family;
@@ -25,5 +28,3 @@ pub mod session;
 pub mod sim;
 pub mod sim_server;
 pub mod stop_request;
-pub mod text_file;
-pub mod yaml_tree;

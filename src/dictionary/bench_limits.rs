@@ -1,6 +1,6 @@
 //! A test bench's limits file: the highest speed and current anything may command on this
 //! bench, and where the file was found. Finds and reads the file, checking it with the
-//! dictionary's field reader (every problem located, unknown keys with did-you-mean, units
+//! field reader of every loader (every problem located, unknown keys with did-you-mean, units
 //! of the right dimension). Tightening a dictionary's objects is the dictionary's job.
 //! Its only I/O is reading the file and looking whether one lies next to the recipe; it
 //! must not read the environment (the command line passes `DRIVESCRIPT_LIMITS` in).
@@ -12,15 +12,13 @@
 //! ```
 
 use super::dictionary_error::DictionaryError;
-use super::reader::Reader;
-use super::text_span::SourceFile;
-use super::unit::{Dimension, Unit};
+use super::quantity_reader::read_dimensioned;
+use super::unit::Dimension;
 use super::value::format_number;
-use super::yaml_node::{NodeKind, YamlNode};
-use super::Quantity;
-use crate::text_file::read_text_file;
+use crate::diag::{expected, read_source, Diagnostic, Diagnostics, Reader, Shape, Source, YamlNode};
 use std::ffi::OsStr;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 /// The file looked for next to a recipe when neither `--limits` nor the environment names one.
 pub const LIMITS_FILE_NAME: &str = "drivescript-limits.yaml";
@@ -77,46 +75,45 @@ impl BenchLimits {
 
     /// Reads and checks a limits file; every problem is reported.
     pub fn load(path: &Path, route: LimitsRoute) -> Result<BenchLimits, DictionaryError> {
-        let shown = path.display().to_string();
-        let text = read_text_file(path).map_err(|e| {
+        let source = read_source(path).map_err(|e| {
             let help = e.help().unwrap_or_else(|| match route {
                 LimitsRoute::Flag => "check the path given with --limits".into(),
                 LimitsRoute::Env => format!("check the path in {LIMITS_ENV}"),
                 LimitsRoute::NextToRecipe => format!("check the file {LIMITS_FILE_NAME} next to the recipe"),
             });
-            DictionaryError::unlocated(&shown, e.sentence("the limits file")).with_help(help)
+            Diagnostic::unlocated(path.display().to_string(), e.sentence("the limits file")).with_help(help)
         })?;
-        Self::from_yaml(&shown, &text, route)
+        Self::from_source(&source, route)
     }
 
     /// Checks limits file text; `path` is only used in messages.
     pub fn from_yaml(path: &str, text: &str, route: LimitsRoute) -> Result<BenchLimits, DictionaryError> {
-        if text.trim().is_empty() {
-            return Err(
-                DictionaryError::unlocated(path, "the limits file is empty").with_help(
-                    "write the caps of this bench, e.g. `max_speed: 12000 rpm` and `max_current: 8 A`",
-                ),
-            );
+        Self::from_source(&Source::new(path, text), route)
+    }
+
+    fn from_source(file: &Arc<Source>, route: LimitsRoute) -> Result<BenchLimits, DictionaryError> {
+        let path = file.path();
+        if file.text().trim().is_empty() {
+            return Err(Diagnostic::unlocated(path, "the limits file is empty")
+                .with_help("write the caps of this bench, e.g. `max_speed: 12000 rpm` and `max_current: 8 A`")
+                .into());
         }
-        let file = SourceFile::new(path, text);
-        let root = YamlNode::parse(&file)?;
-        let mut errors = Vec::new();
+        let root = YamlNode::parse(file).map_err(|e| e.diagnostic(path, None))?;
+        let mut errors = Diagnostics::new();
         let mut caps = [None; 2];
-        {
-            let mut reader = Reader::new(&mut errors);
-            let keys: Vec<&str> = KEYS.iter().map(|(k, _)| *k).collect();
-            if let Some(fields) = reader.fields(&root, "the limits file", &keys) {
-                for (i, (key, dimension)) in KEYS.into_iter().enumerate() {
-                    if let Some(node) = fields.get(key) {
-                        caps[i] = cap(&mut reader, node, key, dimension);
-                    }
+        let mut r = Reader::new(&mut errors);
+        let keys: Vec<&str> = KEYS.iter().map(|(k, _)| *k).collect();
+        if let Some(fields) = r.fields(&root, &Shape::new("the limits file", &keys).nothing_is_absent()) {
+            for (i, (key, dimension)) in KEYS.into_iter().enumerate() {
+                if let Some(node) = fields.get(key) {
+                    caps[i] = cap(&mut r, node, key, dimension);
                 }
             }
         }
-        let named_any = matches!(&root.kind, NodeKind::Map(entries) if !entries.is_empty());
+        let named_any = root.entries().is_some_and(|entries| !entries.is_empty());
         if errors.is_empty() && !named_any {
             errors.push(
-                DictionaryError::at(&root.span, "the limits file names no limit", "no limit")
+                Diagnostic::at(&root.span, "the limits file names no limit", "no limit")
                     .with_help("write `max_speed: 12000 rpm`, `max_current: 8 A` or both"),
             );
         }
@@ -167,89 +164,18 @@ impl BenchLimits {
 }
 
 /// One cap in the base unit of `dimension`; `None` after reporting a problem.
-fn cap(reader: &mut Reader, node: &YamlNode, key: &str, dimension: Dimension) -> Option<f64> {
-    let units = Unit::ALL
-        .into_iter()
-        .filter(|u| u.dimension() == dimension)
-        .map(Unit::symbol)
-        .collect::<Vec<_>>()
-        .join(" or ");
-    let example = format!("`{key}: {}`", example_value(dimension));
-    let refuse = |reader: &mut Reader, message: String, label: &str, help: String| {
-        reader.push(DictionaryError::at(&node.span, message, label).with_help(help));
-        None
-    };
-    if node.is_non_finite_number() {
-        return refuse(
-            reader,
-            format!("`{key}` must be a finite number, not `{}`", node.written()),
-            "not finite",
-            format!("write e.g. {example}"),
-        );
+fn cap(r: &mut Reader, node: &YamlNode, key: &str, dimension: Dimension) -> Option<f64> {
+    let what = format!("`{key}`");
+    let example = format!("{key}: {}", example_value(dimension));
+    if r.refuse_non_finite(node, &what, &format!("write e.g. `{example}`")) {
+        return None;
     }
-    let text = match &node.kind {
-        NodeKind::Str(s) => s.clone(),
-        NodeKind::Int(_) | NodeKind::Float(_) => {
-            return refuse(
-                reader,
-                format!("`{key}` {} has no unit", node.written()),
-                "which unit?",
-                format!("write the unit, {units}, e.g. {example}"),
-            )
-        }
-        _ => {
-            return refuse(
-                reader,
-                format!(
-                    "`{key}` must be a {} with its unit, found {}",
-                    dimension.name(),
-                    node.kind_name()
-                ),
-                "expected a value",
-                format!("write e.g. {example}"),
-            )
-        }
+    let Some(text) = node.as_text() else {
+        let wanted = format!("a {} with its unit", dimension.name());
+        r.report(expected(node, &what, &wanted).with_help(format!("write e.g. `{example}`")));
+        return None;
     };
-    let quantity = match Quantity::parse(&text) {
-        Ok(q) => q,
-        Err(e) => {
-            return refuse(
-                reader,
-                format!("`{key}`: {e}"),
-                "not a value",
-                format!("write e.g. {example}"),
-            )
-        }
-    };
-    let Some(unit) = quantity.unit else {
-        return refuse(
-            reader,
-            format!("`{key}` {text} has no unit"),
-            "which unit?",
-            format!("write the unit, {units}, e.g. {example}"),
-        );
-    };
-    let Some(value) = unit.convert(quantity.value, dimension.base()) else {
-        return refuse(
-            reader,
-            format!(
-                "`{key}` is a {}, but {unit} measures {}",
-                dimension.name(),
-                unit.dimension().name()
-            ),
-            "wrong unit",
-            format!("write it in {units}, e.g. {example}"),
-        );
-    };
-    if !value.is_finite() || value < 0.0 {
-        return refuse(
-            reader,
-            format!("`{key}` {text} must be a finite number, 0 or more"),
-            "not a limit",
-            format!("write e.g. {example}"),
-        );
-    }
-    Some(value)
+    read_dimensioned(r, &node.span, key, &text, dimension, &example).map(|(_, value)| value)
 }
 
 fn example_value(dimension: Dimension) -> &'static str {
@@ -272,7 +198,7 @@ mod tests {
         limits(text)
             .expect_err("expected problems")
             .problems()
-            .map(|p| (p.line, p.column, p.message.clone()))
+            .map(|p| (p.line(), p.column(), p.message().to_string()))
             .collect()
     }
 
@@ -298,7 +224,7 @@ mod tests {
             (2, 14, "`max_current` is a current, but rpm measures speed".into())
         );
         let e = limits("max_sped: 6000 rpm\n").unwrap_err();
-        assert!(e.help.as_deref().unwrap_or("").contains("max_speed"), "{e:?}");
+        assert!(e.first().help().unwrap_or("").contains("max_speed"), "{e:?}");
 
         let all = problems("max_speed: 6000\nmax_current: .inf\n");
         assert_eq!(all[0], (1, 12, "`max_speed` 6000 has no unit".into()));
@@ -320,7 +246,10 @@ mod tests {
             problems("- 6000 rpm\n")[0].2,
             "the limits file must be a mapping (`key: value` lines), found a list"
         );
-        assert_eq!(limits("  \n").unwrap_err().message, "the limits file is empty");
+        assert_eq!(
+            limits("  \n").unwrap_err().first().message(),
+            "the limits file is empty"
+        );
     }
 
     #[test]
@@ -351,8 +280,11 @@ mod tests {
         );
         assert_eq!(BenchLimits::find(None, None, None), None);
         let e = BenchLimits::load(&dir.join("missing.yaml"), LimitsRoute::Env).unwrap_err();
-        assert!(e.message.starts_with("cannot read the limits file"), "{e}");
-        assert_eq!(e.help.as_deref(), Some("check the path in DRIVESCRIPT_LIMITS"));
+        assert!(
+            e.first().message().starts_with("cannot read the limits file"),
+            "{e}"
+        );
+        assert_eq!(e.first().help(), Some("check the path in DRIVESCRIPT_LIMITS"));
         std::fs::remove_dir_all(&dir).unwrap();
     }
 }

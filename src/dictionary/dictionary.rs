@@ -6,16 +6,13 @@
 use super::address::Address;
 use super::bench_limits::BenchLimits;
 use super::dictionary_error::DictionaryError;
-use super::did_you_mean::did_you_mean;
 use super::object_def::ObjectDef;
 use super::profile::Profile;
 use super::reader::read;
 use super::role::Role;
-use super::text_span::{SourceFile, TextSpan};
 use super::unknown_object::UnknownObject;
 use super::validate::validate;
-use super::yaml_node::YamlNode;
-use crate::text_file::read_text_file;
+use crate::diag::{did_you_mean, read_source, Diagnostic, Diagnostics, Source, Span, YamlNode};
 use std::path::Path;
 use std::sync::{Arc, OnceLock};
 
@@ -29,7 +26,7 @@ const BUILTIN: &[(&str, &str, &str)] = &[(
 #[derive(Debug, Clone)]
 pub struct Dictionary {
     family: String,
-    family_span: TextSpan,
+    family_span: Span,
     title: String,
     objects: Vec<ObjectDef>,
     profile: Option<Profile>,
@@ -59,11 +56,12 @@ impl Dictionary {
             .position(|(f, _, _)| f.eq_ignore_ascii_case(family))
         else {
             let known: Vec<&str> = Self::builtin_families().collect();
-            return Err(DictionaryError::unlocated(
+            return Err(Diagnostic::unlocated(
                 "",
                 format!("no built-in dictionary for drive family `{family}`"),
             )
-            .with_help(format!("built in: {}", known.join(", "))));
+            .with_help(format!("built in: {}", known.join(", ")))
+            .into());
         };
         match parsed.get(i) {
             Some(result) => result.clone(),
@@ -78,7 +76,7 @@ impl Dictionary {
 
     /// Parses and checks dictionary text; `path` is only used in messages.
     pub fn from_yaml(path: &str, text: &str) -> Result<Dictionary, DictionaryError> {
-        Self::from_source(SourceFile::new(path, text), true)
+        Self::from_source(Source::new(path, text), true)
     }
 
     /// Adds a user's objects (`--dictionary PATH`) to this dictionary. An object whose
@@ -87,9 +85,9 @@ impl Dictionary {
     /// Then everything is checked again (an alias clashing with a built-in name, a profile
     /// role now naming a string …); on any problem `self` is left unchanged.
     pub fn extend(&mut self, other: Dictionary) -> Result<(), DictionaryError> {
-        let prefer = Arc::clone(other.family_span.file());
+        let prefer = Arc::clone(other.family_span.source());
         if !other.family.eq_ignore_ascii_case(&self.family) {
-            return Err(DictionaryError::at(
+            return Err(Diagnostic::at(
                 &other.family_span,
                 format!(
                     "this dictionary is for `{}`; it cannot extend the `{}` dictionary",
@@ -97,7 +95,8 @@ impl Dictionary {
                 ),
                 "other family",
             )
-            .with_help(format!("write `family: {}`", self.family)));
+            .with_help(format!("write `family: {}`", self.family))
+            .into());
         }
         let mut merged = self.clone();
         for object in other.objects {
@@ -132,19 +131,24 @@ impl Dictionary {
     }
 
     fn from_file(path: &Path, check_roles: bool) -> Result<Dictionary, DictionaryError> {
-        let shown = path.display().to_string();
-        let text = read_text_file(path).map_err(|e| {
+        let source = read_source(path).map_err(|e| {
             let help = e
                 .help()
                 .unwrap_or_else(|| "check the path given with --dictionary".into());
-            DictionaryError::unlocated(&shown, e.sentence("the dictionary file")).with_help(help)
+            Diagnostic::unlocated(path.display().to_string(), e.sentence("the dictionary file"))
+                .with_help(help)
         })?;
-        Self::from_source(SourceFile::new(shown, text), check_roles)
+        Self::from_source(source, check_roles)
     }
 
-    fn from_source(file: Arc<SourceFile>, check_roles: bool) -> Result<Dictionary, DictionaryError> {
-        let root = YamlNode::parse(&file)?;
-        let mut problems = Vec::new();
+    fn from_source(file: Arc<Source>, check_roles: bool) -> Result<Dictionary, DictionaryError> {
+        if file.text().trim().is_empty() {
+            return Err(Diagnostic::unlocated(file.path(), "the dictionary file is empty")
+                .with_help("a dictionary starts with `family:` and lists its `objects:`")
+                .into());
+        }
+        let root = YamlNode::parse(&file).map_err(|e| e.diagnostic(file.path(), None))?;
+        let mut problems = Diagnostics::new();
         let contents = read(&root, &mut problems);
         let profile = if check_roles {
             contents.profile.as_ref()

@@ -9,10 +9,10 @@ use super::bench_cap::BenchCap;
 use super::data_type::DataType;
 use super::format::Format;
 use super::quantity::Quantity;
-use super::text_span::TextSpan;
 use super::unit::Unit;
 use super::value::{decimals_of, format_number, RawValue, Value};
 use super::value_error::ValueError;
+use crate::diag::Span;
 
 #[derive(Debug, Clone)]
 pub struct ObjectDef {
@@ -38,10 +38,10 @@ pub struct ObjectDef {
     /// provided by the simulator); `None` when the sources give it.
     pub unconfirmed: Option<String>,
     /// Where the entry is defined (the `- name:` mapping).
-    pub span: TextSpan,
+    pub span: Span,
     /// Where the name and each alias are written (same order as [`ObjectDef::names`]);
     /// empty for objects built in code.
-    pub(crate) name_spans: Vec<TextSpan>,
+    pub(crate) name_spans: Vec<Span>,
 }
 
 impl ObjectDef {
@@ -62,7 +62,7 @@ impl ObjectDef {
             format: Format::Decimal,
             description: String::new(),
             unconfirmed: None,
-            span: TextSpan::unknown(),
+            span: Span::unknown(),
             name_spans: Vec::new(),
         }
     }
@@ -88,7 +88,7 @@ impl ObjectDef {
     }
 
     /// Where the `i`-th of [`ObjectDef::names`] is written (the object's span when unknown).
-    pub(crate) fn name_span(&self, i: usize) -> &TextSpan {
+    pub(crate) fn name_span(&self, i: usize) -> &Span {
         self.name_spans.get(i).unwrap_or(&self.span)
     }
 

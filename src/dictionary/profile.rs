@@ -4,7 +4,7 @@
 //! a file and checking it against the objects is the reader's and validator's job.
 
 use super::role::Role;
-use super::text_span::TextSpan;
+use crate::diag::Span;
 use crate::drive::device_control::{DeviceCommand, DeviceState};
 
 /// An object name assigned to a role, with where the assignment is written.
@@ -12,7 +12,7 @@ use crate::drive::device_control::{DeviceCommand, DeviceState};
 pub struct RoleBinding {
     pub role: Role,
     pub object: String,
-    pub span: TextSpan,
+    pub span: Span,
 }
 
 /// A state's status-word pattern: `status & mask == value`.
@@ -41,7 +41,7 @@ pub struct Profile {
     pub(crate) commands: [u16; 7],
     /// One pattern per state, in the order of [`DeviceState::ALL`].
     pub(crate) states: [StateMask; 8],
-    pub(crate) span: TextSpan,
+    pub(crate) span: Span,
 }
 
 impl Profile {
@@ -55,7 +55,7 @@ impl Profile {
                 let (mask, value) = s.default_mask_value();
                 StateMask { mask, value }
             }),
-            span: TextSpan::unknown(),
+            span: Span::unknown(),
         }
     }
 
@@ -93,7 +93,7 @@ impl Profile {
     }
 
     /// Where the `profile:` mapping is written.
-    pub fn span(&self) -> &TextSpan {
+    pub fn span(&self) -> &Span {
         &self.span
     }
 }

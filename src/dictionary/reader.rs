@@ -1,29 +1,27 @@
-//! Reads a parsed dictionary file (a [`YamlNode`] tree) into objects and a profile,
-//! checking everything one entry can tell on its own: known keys, types, units, access,
-//! scale, limits against the type's range, the profile's commands and state table.
-//! Every problem is recorded with its place; reading goes on so a file reports them all.
-//! Cross-entry checks (duplicate names, profile roles) are the validator's. No I/O.
-//! Its field helpers (known keys with did-you-mean, required keys, text) also read the
-//! bench limits file, so both files speak with one voice.
+//! Reads a parsed dictionary file (a YAML tree) into objects and a profile, checking
+//! everything one entry can tell on its own: known keys, types, units, access, scale,
+//! limits against the type's range, the profile's commands and state table. Every problem
+//! is recorded with its place; reading goes on so a file reports them all. Cross-entry
+//! checks (duplicate names, profile roles) are the validator's. Keys and values are read
+//! with `diag::Reader`, the field reader of every loader. No I/O.
 
 use super::access::Access;
 use super::address::Address;
 use super::data_type::DataType;
-use super::dictionary_error::DictionaryError;
-use super::did_you_mean::{did_you_mean, suggestion_text};
 use super::format::Format;
 use super::object_def::ObjectDef;
 use super::profile::{command_in, stops_keeping_power, Profile, RoleBinding, StateMask};
 use super::role::Role;
-use super::text_span::TextSpan;
 use super::unit::Unit;
-use super::yaml_node::{NodeKind, YamlNode};
+use crate::diag::{
+    did_you_mean, suggestion_text, Diagnostic, Diagnostics, Fields, Reader, Shape, Span, YamlNode,
+};
 use crate::drive::device_control::{DeviceCommand, DeviceState};
 
 /// What one file holds, as far as it could be read.
 pub(crate) struct FileContents {
     pub family: String,
-    pub family_span: TextSpan,
+    pub family_span: Span,
     pub title: String,
     pub objects: Vec<ObjectDef>,
     pub profile: Option<Profile>,
@@ -34,7 +32,7 @@ pub(crate) struct FileContents {
 
 /// The names (name first, then aliases) and their places of an object with problems.
 pub(crate) struct BrokenObject {
-    pub names: Vec<(String, TextSpan)>,
+    pub names: Vec<(String, Span)>,
 }
 
 const TOP_KEYS: &[&str] = &["family", "title", "objects", "profile"];
@@ -54,42 +52,20 @@ const OBJECT_KEYS: &[&str] = &[
     "unconfirmed",
 ];
 const STATE_KEYS: &[&str] = &["mask", "value"];
+const FINITE_HELP: &str = "write a number such as `60000` or `0.001`";
 
-/// Reads `root`, recording every problem in `errors`.
-pub(crate) fn read(root: &YamlNode, errors: &mut Vec<DictionaryError>) -> FileContents {
-    let mut r = Reader { errors };
-    r.document(root)
+/// Reads `root`, recording every problem in `out`.
+pub(crate) fn read(root: &YamlNode, out: &mut Diagnostics) -> FileContents {
+    DictionaryReader { r: Reader::new(out) }.document(root)
 }
 
-pub(crate) struct Reader<'e> {
-    errors: &'e mut Vec<DictionaryError>,
+struct DictionaryReader<'d> {
+    r: Reader<'d>,
 }
 
-/// The entries of a mapping whose keys were all known.
-pub(crate) struct Fields<'n> {
-    node: &'n YamlNode,
-    what: &'static str,
-    entries: Vec<(&'n str, &'n YamlNode, &'n YamlNode)>,
-}
-
-impl<'n> Fields<'n> {
-    /// The value of `key`, absent when missing or written as nothing (`key:` or `~`).
-    pub(crate) fn get(&self, key: &str) -> Option<&'n YamlNode> {
-        self.entries
-            .iter()
-            .find(|(k, _, v)| *k == key && !v.is_null())
-            .map(|(_, _, v)| *v)
-    }
-}
-
-impl<'e> Reader<'e> {
-    /// A reader recording problems in `errors`.
-    pub(crate) fn new(errors: &'e mut Vec<DictionaryError>) -> Self {
-        Reader { errors }
-    }
-
-    pub(crate) fn push(&mut self, e: DictionaryError) {
-        self.errors.push(e);
+impl DictionaryReader<'_> {
+    fn push(&mut self, d: Diagnostic) {
+        self.r.report(d);
     }
 
     fn document(&mut self, root: &YamlNode) -> FileContents {
@@ -101,33 +77,29 @@ impl<'e> Reader<'e> {
             profile: None,
             broken: Vec::new(),
         };
-        let Some(f) = self.fields(root, "the dictionary", TOP_KEYS) else {
+        let shape = Shape::new("the dictionary", TOP_KEYS)
+            .require_as("family", "the protocol family, e.g. `family: sd2`")
+            .require_as("objects", "a list of objects, each starting `- name:`")
+            .nothing_is_absent();
+        let Some(f) = self.r.fields(root, &shape) else {
             return contents;
         };
-        if let Some(node) = self.required(&f, "family", "the protocol family, e.g. `family: sd2`") {
+        if let Some(node) = f.get("family") {
             if let Some(family) = self.identifier(node, "family") {
                 contents.family = family;
                 contents.family_span = node.span.clone();
             }
         }
         if let Some(node) = f.get("title") {
-            contents.title = self.text(node, "title").unwrap_or_default();
+            contents.title = self.r.text(node, "`title`").unwrap_or_default();
         }
-        if let Some(node) = self.required(&f, "objects", "a list of objects, each starting `- name:`") {
-            match &node.kind {
-                NodeKind::Seq(items) => {
-                    for item in items {
-                        match self.object(item) {
-                            Ok(o) => contents.objects.push(o),
-                            Err(broken) => contents.broken.push(broken),
-                        }
-                    }
+        if let Some(node) = f.get("objects") {
+            let wanted = "a list of objects (lines starting `- name:`)";
+            for item in self.r.list(node, "`objects`", wanted).unwrap_or_default() {
+                match self.object(item) {
+                    Ok(o) => contents.objects.push(o),
+                    Err(broken) => contents.broken.push(broken),
                 }
-                _ => self.push(expected(
-                    node,
-                    "`objects`",
-                    "a list of objects (lines starting `- name:`)",
-                )),
             }
         }
         if let Some(node) = f.get("profile") {
@@ -136,78 +108,14 @@ impl<'e> Reader<'e> {
         contents
     }
 
-    /// The mapping's entries; unknown keys are reported (with suggestions) and left out.
-    pub(crate) fn fields<'n>(
-        &mut self,
-        node: &'n YamlNode,
-        what: &'static str,
-        allowed: &[&str],
-    ) -> Option<Fields<'n>> {
-        let NodeKind::Map(entries) = &node.kind else {
-            self.push(expected(node, what, "a mapping (`key: value` lines)"));
-            return None;
-        };
-        let mut known = Vec::new();
-        for (key, value) in entries {
-            let NodeKind::Str(k) = &key.kind else { continue };
-            if allowed.contains(&k.as_str()) {
-                known.push((k.as_str(), key, value));
-            } else {
-                let help = suggestion_text(&did_you_mean(k, allowed.iter().copied()))
-                    .unwrap_or_else(|| format!("the keys of {what} are: {}", allowed.join(", ")));
-                self.push(
-                    DictionaryError::at(&key.span, format!("unknown key `{k}` in {what}"), "unknown key")
-                        .with_help(help),
-                );
-            }
-        }
-        Some(Fields {
-            node,
-            what,
-            entries: known,
-        })
-    }
-
-    /// The value of a required key; reports its absence at the start of the mapping.
-    fn required<'n>(&mut self, f: &Fields<'n>, key: &str, meaning: &str) -> Option<&'n YamlNode> {
-        let found = f.get(key);
-        if found.is_none() {
-            let place = f
-                .entries
-                .iter()
-                .find(|(k, _, _)| *k == key)
-                .map(|(_, k, _)| &k.span)
-                .unwrap_or(&f.node.span);
-            self.push(
-                DictionaryError::at(
-                    place,
-                    format!("{} has no `{key}`", f.what),
-                    format!("`{key}` missing"),
-                )
-                .with_help(format!("add `{key}:` with {meaning}")),
-            );
-        }
-        found
-    }
-
-    fn text(&mut self, node: &YamlNode, what: &str) -> Option<String> {
-        match &node.kind {
-            NodeKind::Str(s) => Some(s.clone()),
-            _ => {
-                self.push(expected(node, &format!("`{what}`"), "text"));
-                None
-            }
-        }
-    }
-
     /// Text of the form `[a-z][a-z0-9_]*`.
     fn identifier(&mut self, node: &YamlNode, what: &str) -> Option<String> {
-        let s = self.text(node, what)?;
+        let s = self.r.text(node, &format!("`{what}`"))?;
         if is_identifier(&s) {
             Some(s)
         } else {
             self.push(
-                DictionaryError::at(
+                Diagnostic::at(
                     &node.span,
                     format!("`{s}` is not a valid {what}"),
                     "not an identifier",
@@ -220,112 +128,76 @@ impl<'e> Reader<'e> {
         }
     }
 
-    fn int(&mut self, node: &YamlNode, what: &str, lo: i128, hi: i128) -> Option<i128> {
-        match node.kind {
-            NodeKind::Int(i) if (lo..=hi).contains(&i) => Some(i),
-            NodeKind::Int(i) => {
-                self.push(DictionaryError::at(
-                    &node.span,
-                    format!("`{what}` {i} is out of range {lo}..={hi} (0x{lo:x}..=0x{hi:x})"),
-                    "out of range",
-                ));
-                None
-            }
-            _ => {
-                self.push(expected(
-                    node,
-                    &format!("`{what}`"),
-                    "a whole number (decimal or 0x hex)",
-                ));
-                None
-            }
-        }
+    fn number(&mut self, node: &YamlNode, what: &str) -> Option<f64> {
+        self.r.number(node, &format!("`{what}`"), FINITE_HELP)
     }
 
-    fn number(&mut self, node: &YamlNode, what: &str) -> Option<f64> {
-        match &node.kind {
-            NodeKind::Int(i) => Some(*i as f64),
-            NodeKind::Float(f) if f.is_finite() => Some(*f),
-            // YAML's `.nan`, `.inf` and numbers too large for a float (`1e400`), which the
-            // parser hands over as text.
-            NodeKind::Float(_) | NodeKind::Str(_) if node.is_non_finite_number() => {
-                self.push(
-                    DictionaryError::at(
-                        &node.span,
-                        format!("`{what}` must be a finite number, not `{}`", node.written()),
-                        "not finite",
-                    )
-                    .with_help("write a number such as `60000` or `0.001`"),
-                );
-                None
-            }
-            _ => {
-                self.push(expected(node, &format!("`{what}`"), "a number"));
-                None
-            }
-        }
+    /// Where the object is: `index` and `subindex`. Kept apart because each drive family
+    /// will write addresses its own way.
+    fn address(&mut self, f: &Fields) -> Option<Address> {
+        let index = f
+            .get("index")
+            .and_then(|n| self.r.int(n, "`index`", 0, u16::MAX.into()));
+        let subindex = match f.get("subindex") {
+            Some(n) => self.r.int(n, "`subindex`", 0, u32::MAX.into()),
+            None => Some(0),
+        };
+        Some(Address::Indexed {
+            index: u16::try_from(index?).ok()?,
+            subindex: u32::try_from(subindex?).ok()?,
+        })
     }
 
     /// One `- name: …` entry; its names when it has problems.
     fn object(&mut self, node: &YamlNode) -> Result<ObjectDef, BrokenObject> {
-        let before = self.errors.len();
+        let before = self.r.count();
+        let shape = Shape::new("an object", OBJECT_KEYS)
+            .require_as("name", "the identifier recipes use, e.g. `speed_setpoint`")
+            .require_as(
+                "index",
+                "the object's 16-bit index, e.g. `index: 395` or `index: 0x18B`",
+            )
+            .require_as("type", "one of u8 i8 u16 i16 u32 i32 string(N)")
+            .require_as("access", "ro (read-only), rw (read-write) or wo (write-only)")
+            .nothing_is_absent();
         let f = self
-            .fields(node, "an object", OBJECT_KEYS)
+            .r
+            .fields(node, &shape)
             .ok_or(BrokenObject { names: Vec::new() })?;
-        let name_node = self.required(&f, "name", "the identifier recipes use, e.g. `speed_setpoint`");
+        let name_node = f.get("name");
         let name = name_node.and_then(|n| self.identifier(n, "object name"));
-        let mut name_spans: Vec<TextSpan> = name_node.map(|n| n.span.clone()).into_iter().collect();
-        let mut names: Vec<(String, TextSpan)> = match name_node.map(|n| (&n.kind, &n.span)) {
-            Some((NodeKind::Str(s), span)) => vec![(s.clone(), span.clone())],
+        let mut name_spans: Vec<Span> = name_node.map(|n| n.span.clone()).into_iter().collect();
+        let mut names: Vec<(String, Span)> = match name_node {
+            Some(YamlNode {
+                value: crate::diag::YamlValue::Str(s),
+                span,
+            }) => vec![(s.clone(), span.clone())],
             _ => Vec::new(),
         };
 
         let mut aliases = Vec::new();
         if let Some(node) = f.get("aliases") {
-            match &node.kind {
-                NodeKind::Seq(items) => {
-                    for item in items {
-                        let Some(alias) = self.text(item, "alias") else {
-                            continue;
-                        };
-                        if is_alias(&alias) {
-                            names.push((alias.clone(), item.span.clone()));
-                            aliases.push(alias);
-                            name_spans.push(item.span.clone());
-                        } else {
-                            self.push(
-                                DictionaryError::at(&item.span, format!("`{alias}` is not a valid alias"), "not a name")
-                                    .with_help("aliases are letters, digits and `_`, starting with a letter, e.g. `SPG_TARGET_VELOCITY_VL_UUNIT`"),
-                            );
-                        }
-                    }
+            let wanted = "a list, e.g. `[target_speed, SPG_TARGET_VELOCITY_VL_UUNIT]`";
+            for item in self.r.list(node, "`aliases`", wanted).unwrap_or_default() {
+                let Some(alias) = self.r.text(item, "`alias`") else {
+                    continue;
+                };
+                if is_alias(&alias) {
+                    names.push((alias.clone(), item.span.clone()));
+                    aliases.push(alias);
+                    name_spans.push(item.span.clone());
+                } else {
+                    self.push(
+                        Diagnostic::at(&item.span, format!("`{alias}` is not a valid alias"), "not a name")
+                            .with_help("aliases are letters, digits and `_`, starting with a letter, e.g. `SPG_TARGET_VELOCITY_VL_UUNIT`"),
+                    );
                 }
-                _ => self.push(expected(
-                    node,
-                    "`aliases`",
-                    "a list, e.g. `[target_speed, SPG_TARGET_VELOCITY_VL_UUNIT]`",
-                )),
             }
         }
 
-        let index = self
-            .required(
-                &f,
-                "index",
-                "the object's 16-bit index, e.g. `index: 395` or `index: 0x18B`",
-            )
-            .and_then(|n| self.int(n, "index", 0, u16::MAX.into()));
-        let subindex = match f.get("subindex") {
-            Some(n) => self.int(n, "subindex", 0, u32::MAX.into()),
-            None => Some(0),
-        };
-
-        let data_type = self
-            .required(&f, "type", "one of u8 i8 u16 i16 u32 i32 string(N)")
-            .and_then(|n| self.data_type(n));
-        let access = self
-            .required(&f, "access", "ro (read-only), rw (read-write) or wo (write-only)")
-            .and_then(|n| self.access(n));
+        let address = self.address(&f);
+        let data_type = f.get("type").and_then(|n| self.data_type(n));
+        let access = f.get("access").and_then(|n| self.access(n));
         let unit = f.get("unit").map(|n| self.unit(n));
         let scale = match f.get("scale") {
             Some(n) => self.scale(n),
@@ -334,31 +206,27 @@ impl<'e> Reader<'e> {
         let min = f.get("min").map(|n| (n, self.number(n, "min")));
         let max = f.get("max").map(|n| (n, self.number(n, "max")));
         let format = f.get("format").and_then(|n| {
-            let id = self.text(n, "format")?;
+            let id = self.r.text(n, "`format`")?;
             let found = Format::from_id(&id);
             if found.is_none() {
                 self.push(
-                    DictionaryError::at(&n.span, format!("unknown format `{id}`"), "not a format").with_help(
+                    Diagnostic::at(&n.span, format!("unknown format `{id}`"), "not a format").with_help(
                         "write `decimal` (the default) or `hex` (for bit fields such as status words)",
                     ),
                 );
             }
             found
         });
-        let description = f.get("description").and_then(|n| self.text(n, "description"));
-        let unconfirmed = f.get("unconfirmed").and_then(|n| self.text(n, "unconfirmed"));
+        let description = f.get("description").and_then(|n| self.r.text(n, "`description`"));
+        let unconfirmed = f.get("unconfirmed").and_then(|n| self.r.text(n, "`unconfirmed`"));
 
         // Keys that make no sense for text.
         if let Some(DataType::String { .. }) = data_type {
             for key in ["unit", "scale", "min", "max", "format"] {
-                if let Some((_, k, _)) = f.entries.iter().find(|(k, _, v)| *k == key && !v.is_null()) {
+                if let Some(k) = f.key(key) {
                     self.push(
-                        DictionaryError::at(
-                            &k.span,
-                            format!("a string object has no `{key}`"),
-                            "not for text",
-                        )
-                        .with_help("units, scale, limits and formats apply to integer types only"),
+                        Diagnostic::at(&k.span, format!("a string object has no `{key}`"), "not for text")
+                            .with_help("units, scale, limits and formats apply to integer types only"),
                     );
                 }
             }
@@ -374,20 +242,12 @@ impl<'e> Reader<'e> {
             }
         }
 
-        let (Some(name), Some(index), Some(subindex), Some(data_type), Some(access), Some(scale)) =
-            (name, index, subindex, data_type, access, scale)
+        let (Some(name), Some(address), Some(data_type), Some(access), Some(scale)) =
+            (name, address, data_type, access, scale)
         else {
             return Err(BrokenObject { names });
         };
-        let mut object = ObjectDef::new(
-            name,
-            Address::Indexed {
-                index: index as u16,
-                subindex: subindex as u32,
-            },
-            data_type,
-            access,
-        );
+        let mut object = ObjectDef::new(name, address, data_type, access);
         object.aliases = aliases;
         object.unit = unit.flatten();
         object.scale = scale;
@@ -398,31 +258,31 @@ impl<'e> Reader<'e> {
         object.name_spans = name_spans;
         object.min = min.and_then(|(_, v)| v);
         object.max = max.and_then(|(_, v)| v);
-        if self.errors.len() > before {
+        if self.r.count() > before {
             return Err(BrokenObject { names });
         }
         Ok(object)
     }
 
     fn data_type(&mut self, node: &YamlNode) -> Option<DataType> {
-        let text = self.text(node, "type")?;
+        let text = self.r.text(node, "`type`")?;
         match DataType::parse(&text) {
             Ok(t) => Some(t),
             Err(message) => {
                 let help = suggestion_text(&did_you_mean(&text, DataType::names()))
                     .unwrap_or_else(|| format!("the types are: {}", DataType::names().join(", ")));
-                self.push(DictionaryError::at(&node.span, message, "not a type").with_help(help));
+                self.push(Diagnostic::at(&node.span, message, "not a type").with_help(help));
                 None
             }
         }
     }
 
     fn access(&mut self, node: &YamlNode) -> Option<Access> {
-        let text = self.text(node, "access")?;
+        let text = self.r.text(node, "`access`")?;
         let found = Access::from_id(&text);
         if found.is_none() {
             self.push(
-                DictionaryError::at(&node.span, format!("unknown access `{text}`"), "not an access")
+                Diagnostic::at(&node.span, format!("unknown access `{text}`"), "not an access")
                     .with_help("write ro (read-only), rw (read-write) or wo (write-only)"),
             );
         }
@@ -431,7 +291,7 @@ impl<'e> Reader<'e> {
 
     /// `Some(None)` never: an unknown unit is an error (`None`).
     fn unit(&mut self, node: &YamlNode) -> Option<Unit> {
-        let text = self.text(node, "unit")?;
+        let text = self.r.text(node, "`unit`")?;
         let found = Unit::from_symbol(&text);
         if found.is_none() {
             let known: Vec<&str> = Unit::symbols().collect();
@@ -443,8 +303,7 @@ impl<'e> Reader<'e> {
                 help = format!("{s} ({help})");
             }
             self.push(
-                DictionaryError::at(&node.span, format!("unknown unit `{text}`"), "not a unit")
-                    .with_help(help),
+                Diagnostic::at(&node.span, format!("unknown unit `{text}`"), "not a unit").with_help(help),
             );
         }
         found
@@ -456,7 +315,7 @@ impl<'e> Reader<'e> {
             Some(scale)
         } else {
             self.push(
-                DictionaryError::at(
+                Diagnostic::at(
                     &node.span,
                     format!("`scale` must be greater than 0, not {scale}"),
                     "not a scale",
@@ -489,7 +348,7 @@ impl<'e> Reader<'e> {
                     object.with_unit(object.engineering(hi))
                 );
                 self.push(
-                    DictionaryError::at(
+                    Diagnostic::at(
                         &node.span,
                         format!(
                             "`{what}` {} is {counts:.0} counts, outside the range of {}: {range}",
@@ -508,7 +367,7 @@ impl<'e> Reader<'e> {
         if let (Some((min_node, Some(lo))), Some((max_node, Some(hi)))) = (min, max) {
             if lo > hi {
                 self.push(
-                    DictionaryError::at(
+                    Diagnostic::at(
                         &min_node.span,
                         format!(
                             "`min` {} is greater than `max` {}",
@@ -525,23 +384,21 @@ impl<'e> Reader<'e> {
     }
 
     fn profile(&mut self, node: &YamlNode) -> Option<Profile> {
-        let before = self.errors.len();
+        let before = self.r.count();
         let mut allowed: Vec<&str> = Role::ALL.iter().map(|r| r.id()).collect();
         allowed.extend(["commands", "states"]);
-        let f = self.fields(node, "the profile", &allowed)?;
+        let mut shape = Shape::new("the profile", &allowed).nothing_is_absent();
+        for role in Role::ALL.into_iter().filter(|r| r.required()) {
+            shape = shape.require_as(role.id(), format!("the name of the object that is the {role}"));
+        }
+        let shape = shape
+            .require_as("commands", "the control-word value of each command")
+            .require_as("states", "the status-word mask and value of each state");
+        let f = self.r.fields(node, &shape)?;
         let mut roles = Vec::new();
         for role in Role::ALL {
-            let value = if role.required() {
-                self.required(
-                    &f,
-                    role.id(),
-                    &format!("the name of the object that is the {role}"),
-                )
-            } else {
-                f.get(role.id())
-            };
-            if let Some(v) = value {
-                if let Some(object) = self.text(v, role.id()) {
+            if let Some(v) = f.get(role.id()) {
+                if let Some(object) = self.r.text(v, &format!("`{}`", role.id())) {
                     roles.push(RoleBinding {
                         role,
                         object,
@@ -550,16 +407,12 @@ impl<'e> Reader<'e> {
                 }
             }
         }
-        let commands = self
-            .required(&f, "commands", "the control-word value of each command")
-            .and_then(|n| self.commands(n));
-        let states = self
-            .required(&f, "states", "the status-word mask and value of each state")
-            .and_then(|n| self.states(n));
+        let commands = f.get("commands").and_then(|n| self.commands(n));
+        let states = f.get("states").and_then(|n| self.states(n));
         let (Some(commands), Some(states)) = (commands, states) else {
             return None;
         };
-        (self.errors.len() == before).then(|| Profile {
+        (self.r.count() == before).then(|| Profile {
             roles,
             commands,
             states,
@@ -569,17 +422,21 @@ impl<'e> Reader<'e> {
 
     fn commands(&mut self, node: &YamlNode) -> Option<[u16; 7]> {
         let allowed: Vec<&str> = DeviceCommand::ALL.iter().map(|c| c.id()).collect();
-        let f = self.fields(node, "the commands", &allowed)?;
-        let mut values = [0u16; 7];
-        let mut nodes: [Option<&YamlNode>; 7] = [None; 7];
-        let mut complete = true;
-        for (i, command) in DeviceCommand::ALL.into_iter().enumerate() {
+        let mut shape = Shape::new("the commands", &allowed).nothing_is_absent();
+        for command in DeviceCommand::ALL {
             let meaning = format!(
                 "its control-word value (the SD2 manual's is {})",
                 command.default_control_word()
             );
-            match self.required(&f, command.id(), &meaning) {
-                Some(n) => match self.int(n, command.id(), 0, u16::MAX.into()) {
+            shape = shape.require_as(command.id(), meaning);
+        }
+        let f = self.r.fields(node, &shape)?;
+        let mut values = [0u16; 7];
+        let mut nodes: [Option<&YamlNode>; 7] = [None; 7];
+        let mut complete = true;
+        for (i, command) in DeviceCommand::ALL.into_iter().enumerate() {
+            match f.get(command.id()) {
+                Some(n) => match self.r.int(n, &format!("`{}`", command.id()), 0, u16::MAX.into()) {
                     Some(v) => {
                         values[i] = v as u16;
                         nodes[i] = Some(n);
@@ -593,11 +450,11 @@ impl<'e> Reader<'e> {
             return None;
         }
         let node_of = |c: DeviceCommand| nodes[DeviceCommand::ALL.iter().position(|x| *x == c).unwrap_or(0)];
-        let before = self.errors.len();
+        let before = self.r.count();
         for kept in [DeviceCommand::EnableOperation, DeviceCommand::SwitchOn] {
             if let (0, Some(node)) = (command_in(&values, kept), node_of(kept)) {
                 self.push(
-                    DictionaryError::at(
+                    Diagnostic::at(
                         &node.span,
                         format!(
                             "`{}` is 0: it sets no control-word bit, so no stop command could undo it",
@@ -624,7 +481,7 @@ impl<'e> Reader<'e> {
                 "switched on"
             };
             self.push(
-                DictionaryError::at(
+                Diagnostic::at(
                     &node.span,
                     format!(
                         "`{}` {v} (0x{v:04X}) keeps every bit of `{}` {k} (0x{k:04X}): this stop command would leave the drive {state}",
@@ -642,19 +499,25 @@ impl<'e> Reader<'e> {
                 ))),
             );
         }
-        (self.errors.len() == before).then_some(values)
+        (self.r.count() == before).then_some(values)
     }
 
     fn states(&mut self, node: &YamlNode) -> Option<[StateMask; 8]> {
         let allowed: Vec<&str> = DeviceState::ALL.iter().map(|s| s.id()).collect();
-        let f = self.fields(node, "the states", &allowed)?;
+        let mut shape = Shape::new("the states", &allowed).nothing_is_absent();
+        for state in DeviceState::ALL {
+            let (m, v) = state.default_mask_value();
+            shape = shape.require_as(
+                state.id(),
+                format!("its mask and value, e.g. `{{ mask: 0x{m:02X}, value: 0x{v:02X} }}`"),
+            );
+        }
+        let f = self.r.fields(node, &shape)?;
         let mut masks = [StateMask { mask: 0, value: 0 }; 8];
         let mut read: Vec<(DeviceState, StateMask, &YamlNode)> = Vec::new();
         let mut complete = true;
         for (i, state) in DeviceState::ALL.into_iter().enumerate() {
-            let (m, v) = state.default_mask_value();
-            let meaning = format!("its mask and value, e.g. `{{ mask: 0x{m:02X}, value: 0x{v:02X} }}`");
-            let Some(n) = self.required(&f, state.id(), &meaning) else {
+            let Some(n) = f.get(state.id()) else {
                 complete = false;
                 continue;
             };
@@ -670,7 +533,7 @@ impl<'e> Reader<'e> {
             for (earlier, esm, enode) in &read[..j] {
                 if let Some(word) = sm.overlap(*esm) {
                     self.push(
-                        DictionaryError::at(
+                        Diagnostic::at(
                             &node.span,
                             format!(
                                 "states `{earlier}` and `{state}` overlap: status word 0x{word:04X} matches both",
@@ -692,11 +555,15 @@ impl<'e> Reader<'e> {
     }
 
     fn state(&mut self, node: &YamlNode, state: DeviceState) -> Option<StateMask> {
-        let f = self.fields(node, "a state", STATE_KEYS)?;
-        let mask_node = self.required(&f, "mask", "the status-word bits this state looks at");
-        let value_node = self.required(&f, "value", "the value of those bits in this state");
-        let mask = mask_node.and_then(|n| self.int(n, "mask", 0, u16::MAX.into()));
-        let value = value_node.and_then(|n| self.int(n, "value", 0, u16::MAX.into()));
+        let shape = Shape::new("a state", STATE_KEYS)
+            .require_as("mask", "the status-word bits this state looks at")
+            .require_as("value", "the value of those bits in this state")
+            .nothing_is_absent();
+        let f = self.r.fields(node, &shape)?;
+        let mask_node = f.get("mask");
+        let value_node = f.get("value");
+        let mask = mask_node.and_then(|n| self.r.int(n, "`mask`", 0, u16::MAX.into()));
+        let value = value_node.and_then(|n| self.r.int(n, "`value`", 0, u16::MAX.into()));
         let (Some(mask_node), Some(value_node), Some(mask), Some(value)) =
             (mask_node, value_node, mask, value)
         else {
@@ -705,7 +572,7 @@ impl<'e> Reader<'e> {
         let (mask, value) = (mask as u16, value as u16);
         if mask == 0 {
             self.push(
-                DictionaryError::at(
+                Diagnostic::at(
                     &mask_node.span,
                     format!(
                         "the mask of `{}` is 0, so every status word would match it",
@@ -719,7 +586,7 @@ impl<'e> Reader<'e> {
         }
         if value & !mask != 0 {
             self.push(
-                DictionaryError::at(
+                Diagnostic::at(
                     &value_node.span,
                     format!(
                         "value 0x{value:02X} of `{}` has bits outside its mask 0x{mask:02X} (0x{:02X}), so no status word can match",
@@ -734,14 +601,6 @@ impl<'e> Reader<'e> {
         }
         Some(StateMask { mask, value })
     }
-}
-
-fn expected(node: &YamlNode, what: &str, wanted: &str) -> DictionaryError {
-    DictionaryError::at(
-        &node.span,
-        format!("{what} must be {wanted}, found {}", node.kind_name()),
-        format!("expected {}", wanted.split(" (").next().unwrap_or(wanted)),
-    )
 }
 
 fn unit_or_counts(object: &ObjectDef) -> String {

@@ -2,6 +2,7 @@
 //! its line and column, collecting all errors, lookup with suggestions, extend.
 
 use super::*;
+use crate::diag::Diagnostic;
 use crate::drive::device_control::{DeviceCommand, DeviceState};
 
 const SD2: &str = include_str!("../../dictionary/sd2.yaml");
@@ -16,21 +17,21 @@ fn problems(text: &str) -> Vec<(usize, usize, String)> {
         Ok(_) => panic!("expected problems in:\n{text}"),
         Err(e) => e
             .problems()
-            .map(|p| (p.line, p.column, p.message.clone()))
+            .map(|p| (p.line(), p.column(), p.message().to_string()))
             .collect(),
     }
 }
 
 /// The single problem of `text`.
-fn problem(text: &str) -> DictionaryError {
+fn problem(text: &str) -> Diagnostic {
     let e = parse(text).expect_err("expected a problem");
     assert_eq!(
         e.count(),
         1,
         "expected one problem, got: {:#?}",
-        e.problems().map(|p| p.located_message()).collect::<Vec<_>>()
+        e.problems().map(|p| p.located()).collect::<Vec<_>>()
     );
-    e
+    e.first().clone()
 }
 
 /// 1-based line and column of the first occurrence of `needle` in `text`.
@@ -44,8 +45,8 @@ fn pos(text: &str, needle: &str) -> (usize, usize) {
     (line, column)
 }
 
-fn at(e: &DictionaryError) -> (usize, usize) {
-    (e.line, e.column)
+fn at(e: &Diagnostic) -> (usize, usize) {
+    (e.line(), e.column())
 }
 
 /// A valid one-object file; `extra` lines are appended to the object.
@@ -304,11 +305,11 @@ fn filter_by_name_alias_and_description() {
 
 #[test]
 fn unknown_builtin_family() {
-    let e = Dictionary::builtin("lenze").unwrap_err();
+    let e = Dictionary::builtin("lenze").unwrap_err().first().clone();
     assert!(e
-        .message
+        .message()
         .contains("no built-in dictionary for drive family `lenze`"));
-    assert_eq!(e.help.as_deref(), Some("built in: sd2"));
+    assert_eq!(e.help(), Some("built in: sd2"));
 }
 
 // ---- validation errors, each with its line and column ----
@@ -327,22 +328,22 @@ fn unknown_type() {
     let text = object("").replace("type: u16", "type: u64");
     let e = problem(&text);
     assert_eq!(at(&e), (5, 11));
-    assert_eq!(e.message, "unknown type `u64`");
+    assert_eq!(e.message(), "unknown type `u64`");
     assert_eq!(e.label(), "not a type");
     let e = problem(&object("").replace("type: u16", "type: string"));
     assert_eq!(at(&e), (5, 11));
-    assert!(e.message.contains("string(32)"));
+    assert!(e.message().contains("string(32)"));
 }
 
 #[test]
 fn unknown_unit() {
     let e = problem(&object("    unit: rpn\n"));
     assert_eq!(at(&e), (7, 11));
-    assert_eq!(e.message, "unknown unit `rpn`");
+    assert_eq!(e.message(), "unknown unit `rpn`");
     assert!(
-        e.help.as_deref().unwrap_or("").starts_with("did you mean `rpm`?"),
+        e.help().unwrap_or("").starts_with("did you mean `rpm`?"),
         "{:?}",
-        e.help
+        e.help()
     );
 }
 
@@ -350,15 +351,15 @@ fn unknown_unit() {
 fn bad_access() {
     let e = problem(&object("").replace("access: ro", "access: read"));
     assert_eq!(at(&e), (6, 13));
-    assert_eq!(e.message, "unknown access `read`");
-    assert!(e.help.as_deref().unwrap_or("").contains("ro (read-only)"));
+    assert_eq!(e.message(), "unknown access `read`");
+    assert!(e.help().unwrap_or("").contains("ro (read-only)"));
 }
 
 #[test]
 fn min_greater_than_max() {
     let e = problem(&object("    min: 10\n    max: 5\n"));
     assert_eq!(at(&e), (7, 10));
-    assert_eq!(e.message, "`min` 10 is greater than `max` 5");
+    assert_eq!(e.message(), "`min` 10 is greater than `max` 5");
 }
 
 #[test]
@@ -376,9 +377,9 @@ fn limits_outside_the_type_after_scaling() {
     let e = problem(&object("    max: 70000\n"));
     assert_eq!(at(&e), (7, 10));
     assert!(
-        e.message.contains("outside the range of u16: 0..=65535"),
+        e.message().contains("outside the range of u16: 0..=65535"),
         "{}",
-        e.message
+        e.message()
     );
 }
 
@@ -386,21 +387,21 @@ fn limits_outside_the_type_after_scaling() {
 fn bad_scale_and_kinds_of_values() {
     let e = problem(&object("    scale: 0\n"));
     assert_eq!(at(&e), (7, 12));
-    assert!(e.message.contains("greater than 0"));
+    assert!(e.message().contains("greater than 0"));
     let e = problem(&object("").replace("index: 1", "index: abc"));
     assert_eq!(at(&e), (4, 12));
     assert_eq!(
-        e.message,
+        e.message(),
         "`index` must be a whole number (decimal or 0x hex), found text"
     );
     let e = problem(&object("").replace("index: 1", "index: 0x10000"));
     assert_eq!(at(&e), (4, 12));
-    assert!(e.message.contains("out of range 0..=65535"), "{}", e.message);
+    assert!(e.message().contains("out of range 0..=65535"), "{}", e.message());
     let e = problem(&object("    subindex: -1\n"));
     assert_eq!(at(&e), (7, 15));
     let e = problem(&object("    aliases: FOO\n"));
     assert_eq!(at(&e), (7, 14));
-    assert!(e.message.starts_with("`aliases` must be a list"));
+    assert!(e.message().starts_with("`aliases` must be a list"));
     let e = problem(&object("    aliases: [\"not ok\"]\n"));
     assert_eq!(at(&e), (7, 15));
     let e = problem(&object("    format: octal\n"));
@@ -411,7 +412,7 @@ fn bad_scale_and_kinds_of_values() {
 fn names_must_be_identifiers() {
     let e = problem(&object("").replace("name: a", "name: Speed"));
     assert_eq!(at(&e), (3, 11));
-    assert_eq!(e.message, "`Speed` is not a valid object name");
+    assert_eq!(e.message(), "`Speed` is not a valid object name");
     let e = problem(&object("").replace("family: sd2", "family: SD-2"));
     assert_eq!(at(&e), (1, 9));
 }
@@ -420,11 +421,11 @@ fn names_must_be_identifiers() {
 fn missing_required_keys() {
     let e = problem(&object("").replace("    index: 1\n", ""));
     assert_eq!(at(&e), (3, 5));
-    assert_eq!(e.message, "an object has no `index`");
-    assert!(e.help.as_deref().unwrap_or("").contains("index: 395"));
+    assert_eq!(e.message(), "an object has no `index`");
+    assert!(e.help().unwrap_or("").contains("index: 395"));
     let e = problem("objects: []\n");
     assert_eq!(at(&e), (1, 1));
-    assert_eq!(e.message, "the dictionary has no `family`");
+    assert_eq!(e.message(), "the dictionary has no `family`");
     let e = problem(&object("").replace("index: 1", "index:"));
     assert_eq!(
         at(&e),
@@ -448,11 +449,11 @@ fn string_objects_take_no_unit_or_limits() {
 fn unknown_keys_with_suggestions() {
     let e = problem(&object("    unti: rpm\n"));
     assert_eq!(at(&e), (7, 5));
-    assert_eq!(e.message, "unknown key `unti` in an object");
-    assert_eq!(e.help.as_deref(), Some("did you mean `unit`?"));
+    assert_eq!(e.message(), "unknown key `unti` in an object");
+    assert_eq!(e.help(), Some("did you mean `unit`?"));
     let e = problem(&format!("{}colour: red\n", object("")));
     assert_eq!(at(&e), (7, 1));
-    assert_eq!(e.message, "unknown key `colour` in the dictionary");
+    assert_eq!(e.message(), "unknown key `colour` in the dictionary");
 }
 
 #[test]
@@ -461,7 +462,7 @@ fn duplicate_names_and_aliases_name_both_places() {
     let e = problem(text);
     assert_eq!(at(&e), (8, 11));
     assert_eq!(
-        e.message,
+        e.message(),
         "`alpha` is the name of `alpha` and already an alias of `a`"
     );
     let mut out = String::new();
@@ -488,17 +489,17 @@ fn duplicate_addresses() {
     );
     let e = problem(&text);
     assert_eq!(at(&e), (7, 5));
-    assert_eq!(e.message, "`b` has the same address as `a`: index 1 (0x0001)");
+    assert_eq!(e.message(), "`b` has the same address as `a`: index 1 (0x0001)");
 }
 
 #[test]
 fn yaml_syntax_errors_are_located() {
     let e = problem("family: sd2\nobjects: [\n  - name: a\n");
-    assert!(e.line >= 2, "{}", e.located_message());
-    assert!(e.message.starts_with("not valid YAML"));
+    assert!(e.line() >= 2, "{}", e.located());
+    assert!(e.message().starts_with("not valid YAML"));
     let e = problem(&object("    unit: V\n    unit: A\n"));
-    assert_eq!(e.line, 8);
-    assert!(e.message.contains("duplicate"));
+    assert_eq!(e.line(), 8);
+    assert!(e.message().contains("duplicate"));
 }
 
 // ---- profile errors ----
@@ -509,11 +510,11 @@ fn profile_role_naming_an_unknown_object() {
     let e = problem(&text);
     assert_eq!(at(&e), pos(&text, "speed_actul"));
     assert_eq!(
-        e.message,
+        e.message(),
         "the profile's speed_actual is `speed_actul`, which is not an object of this dictionary"
     );
     assert_eq!(
-        e.help.as_deref(),
+        e.help(),
         Some("did you mean `speed_actual`, `speed_actual_2` or `speed_setpoint`?")
     );
 }
@@ -523,17 +524,21 @@ fn profile_role_of_the_wrong_type_or_access() {
     let text = SD2.replace("  status_word: status_word\n", "  status_word: ident\n");
     let e = problem(&text);
     assert_eq!(at(&e), pos(&text, "ident\n  speed_setpoint"));
-    assert_eq!(e.message, "the status word must be an integer, not string(32)");
+    assert_eq!(e.message(), "the status word must be an integer, not string(32)");
     let text = SD2.replace("  control_word: control_word\n", "  control_word: status_word\n");
     let e = problem(&text);
     assert_eq!(at(&e), pos(&text, "status_word\n  status_word"));
     assert_eq!(
-        e.message,
+        e.message(),
         "the control word is written by the engine, but `status_word` is read-only (ro)"
     );
     let text = SD2.replace("  status_word: status_word\n", "  status_word: speed_actual\n");
     let e = problem(&text);
-    assert!(e.message.contains("must be 8 or 16 bits wide"), "{}", e.message);
+    assert!(
+        e.message().contains("must be 8 or 16 bits wide"),
+        "{}",
+        e.message()
+    );
 }
 
 #[test]
@@ -564,7 +569,7 @@ fn unknown_command_or_state_names() {
     let text = SD2.replace("    quick_stop: 2\n", "    quick_stop: 2\n    quickstop: 2\n");
     let e = problem(&text);
     assert_eq!(at(&e), pos(&text, "quickstop"));
-    assert_eq!(e.help.as_deref(), Some("did you mean `quick_stop`?"));
+    assert_eq!(e.help(), Some("did you mean `quick_stop`?"));
     let text = SD2.replace(
         "    fault:  ",
         "    faulty: { mask: 0x4F, value: 0x08 }\n    fault:  ",
@@ -583,7 +588,7 @@ fn mask_zero_and_value_outside_the_mask() {
     let (line, column) = pos(&text, "mask: 0,");
     assert_eq!(at(&e), (line, column + 6), "points at the value");
     assert_eq!(
-        e.message,
+        e.message(),
         "the mask of `fault` is 0, so every status word would match it"
     );
     let text = SD2.replace(
@@ -593,7 +598,7 @@ fn mask_zero_and_value_outside_the_mask() {
     let e = problem(&text);
     assert_eq!(at(&e), pos(&text, "0x50"));
     assert_eq!(
-        e.message,
+        e.message(),
         "value 0x50 of `switch_on_disabled` has bits outside its mask 0x4F (0x10), so no status word can match"
     );
     let text = SD2.replace("    shutdown: 6\n", "    shutdown: 0x10000\n");
@@ -612,7 +617,7 @@ fn overlapping_states() {
     let (line, _) = pos(&text, "quick_stop_active:");
     assert_eq!(at(&e), (line, pos(&text, "{ mask: 0x4F, value: 0x07").1));
     assert_eq!(
-        e.message,
+        e.message(),
         "states `operation_enabled` and `quick_stop_active` overlap: status word 0x0027 matches both"
     );
 }
@@ -690,44 +695,43 @@ fn extend_adds_and_replaces() {
 fn extend_refuses_clashes_and_leaves_the_dictionary_unchanged() {
     let mut d = Dictionary::builtin("sd2").unwrap();
     let text = "family: sd2\nobjects:\n  - name: my_speed\n    aliases: [target_speed]\n    index: 600\n    type: i32\n    access: rw\n";
-    let e = d.extend(parse(text).unwrap()).unwrap_err();
+    let e = d.extend(parse(text).unwrap()).unwrap_err().first().clone();
     assert_eq!(
-        (e.path.as_str(), e.line, e.column),
+        (e.path(), e.line(), e.column()),
         ("test.yaml", 4, 15),
         "points into the user's file"
     );
     assert_eq!(
-        e.message,
+        e.message(),
         "`target_speed` is an alias of `my_speed` and already an alias of `speed_setpoint`"
     );
     assert!(
-        e.help
-            .as_deref()
+        e.help()
             .unwrap_or("")
             .contains("first defined here: dictionary/sd2.yaml:"),
         "{:?}",
-        e.help
+        e.help()
     );
     assert!(d.lookup("my_speed").is_err());
 
     let text = "family: sd2\nobjects:\n  - name: speed_copy\n    index: 395\n    type: i32\n    access: rw\n";
-    let e = d.extend(parse(text).unwrap()).unwrap_err();
-    assert_eq!((e.line, e.column), (3, 5));
+    let e = d.extend(parse(text).unwrap()).unwrap_err().first().clone();
+    assert_eq!((e.line(), e.column()), (3, 5));
 
     // Replacing the status word by a string breaks the profile: re-validated.
     let text =
         "family: sd2\nobjects:\n  - name: status_word\n    index: 67\n    type: string(8)\n    access: ro\n";
-    let e = d.extend(parse(text).unwrap()).unwrap_err();
+    let e = d.extend(parse(text).unwrap()).unwrap_err().first().clone();
     assert!(
-        e.message.contains("status word must be an integer"),
+        e.message().contains("status word must be an integer"),
         "{}",
-        e.message
+        e.message()
     );
     assert_eq!(d.lookup("status_word").unwrap().data_type, DataType::U16);
 
     let text = "family: lenze\nobjects: []\n";
-    let e = d.extend(parse(text).unwrap()).unwrap_err();
-    assert_eq!((e.line, e.column), (1, 9));
+    let e = d.extend(parse(text).unwrap()).unwrap_err().first().clone();
+    assert_eq!((e.line(), e.column()), (1, 9));
 }
 
 #[test]
@@ -748,13 +752,16 @@ fn extend_from_a_file_whose_profile_names_builtin_objects() {
         d.role(Role::SpeedActual).map(|o| o.name.as_str()),
         Some("speed_actual_2")
     );
-    let e = Dictionary::load(dir.join("missing.yaml")).unwrap_err();
+    let e = Dictionary::load(dir.join("missing.yaml"))
+        .unwrap_err()
+        .first()
+        .clone();
     assert!(
-        e.message.starts_with("cannot read the dictionary file"),
+        e.message().starts_with("cannot read the dictionary file"),
         "{}",
-        e.message
+        e.message()
     );
-    assert_eq!(e.line, 0);
+    assert_eq!(e.line(), 0);
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
@@ -784,14 +791,11 @@ fn stop_commands_that_keep_the_drive_enabled_are_refused() {
     let e = problem(&text);
     assert_eq!(at(&e), pos(&text, "15\n    enable_operation"));
     assert_eq!(
-        e.message,
+        e.message(),
         "`disable_operation` 15 (0x000F) keeps every bit of `enable_operation` 15 (0x000F): this stop command would leave the drive enabled"
     );
     assert_eq!(e.label(), "keeps the drive running");
-    assert!(
-        e.help.as_deref().unwrap_or("").contains("disable_operation is 7"),
-        "{e:?}"
-    );
+    assert!(e.help().unwrap_or("").contains("disable_operation is 7"), "{e:?}");
 
     // Shutdown keeping switch_on, quick stop keeping enable_operation (extra bits or not).
     let text = SD2
@@ -818,19 +822,26 @@ fn stop_commands_that_keep_the_drive_enabled_are_refused() {
 
     let text = SD2.replace("enable_operation: 15", "enable_operation: 0");
     let e = problem(&text);
-    assert!(e.message.starts_with("`enable_operation` is 0"), "{}", e.message);
+    assert!(
+        e.message().starts_with("`enable_operation` is 0"),
+        "{}",
+        e.message()
+    );
 }
 
 #[test]
 fn a_user_profile_cannot_make_the_stops_keep_the_drive_enabled() {
     let profile = &SD2[SD2.find("profile:").unwrap()..].replace("disable_voltage: 0", "disable_voltage: 15");
     let user = parse(&format!("family: sd2\nobjects: []\n{profile}"));
-    let e = user.expect_err("refused when read, before merging");
+    let e = user
+        .expect_err("refused when read, before merging")
+        .first()
+        .clone();
     assert!(
-        e.message
+        e.message()
             .starts_with("`disable_voltage` 15 (0x000F) keeps every bit"),
         "{}",
-        e.message
+        e.message()
     );
 }
 
@@ -839,7 +850,10 @@ fn limits_that_are_not_finite_are_refused_as_written() {
     for (written, value) in [(".inf", ".inf"), ("1e400", "1e400"), (".nan", ".nan")] {
         let text = object(&format!("    max: {written}\n"));
         let e = problem(&text);
-        assert_eq!(e.message, format!("`max` must be a finite number, not `{value}`"));
+        assert_eq!(
+            e.message(),
+            format!("`max` must be a finite number, not `{value}`")
+        );
         assert_eq!(at(&e), pos(&text, written));
     }
 }

@@ -2,8 +2,8 @@
 //! each with its dimension and its factor to that dimension's base unit. Pure arithmetic;
 //! it knows nothing of objects or raw counts.
 
-use super::did_you_mean::did_you_mean;
 use super::value_error::ValueError;
+use crate::diag::did_you_mean;
 use std::fmt;
 
 /// What a unit measures. Conversion is possible only within one dimension.

@@ -1,7 +1,7 @@
 //! A name that is neither an object nor an alias in the dictionary, with up to three
 //! "did you mean" suggestions. Pure data.
 
-use super::did_you_mean::suggestion_text;
+use crate::diag::suggestion_text;
 use std::fmt;
 
 #[derive(Debug, Clone, PartialEq, Eq)]

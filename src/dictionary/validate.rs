@@ -1,15 +1,12 @@
 //! Checks that need the whole dictionary: names and aliases unique across objects (ignoring
-//! case),
-//! addresses unique, every profile role naming an object of a fitting type and access.
+//! case), addresses unique, every profile role naming an object of a fitting type and access.
 //! Run after reading a file and again after merging a user's file into the built-in
 //! dictionary. Returns the problems; no I/O.
 
-use super::dictionary_error::DictionaryError;
-use super::did_you_mean::{did_you_mean, suggestion_text};
 use super::object_def::ObjectDef;
 use super::profile::Profile;
 use super::reader::BrokenObject;
-use super::text_span::{SourceFile, TextSpan};
+use crate::diag::{did_you_mean, suggestion_text, Diagnostic, Diagnostics, Source, Span};
 use std::collections::HashMap;
 use std::sync::Arc;
 
@@ -21,10 +18,10 @@ pub(crate) fn validate(
     objects: &[ObjectDef],
     profile: Option<&Profile>,
     broken: &[BrokenObject],
-    prefer: Option<&Arc<SourceFile>>,
-) -> Vec<DictionaryError> {
-    let mut errors = Vec::new();
-    let in_preferred = |span: &TextSpan| prefer.is_some_and(|f| Arc::ptr_eq(f, span.file()));
+    prefer: Option<&Arc<Source>>,
+) -> Diagnostics {
+    let mut errors = Diagnostics::new();
+    let in_preferred = |span: &Span| prefer.is_some_and(|f| Arc::ptr_eq(f, span.source()));
 
     let mut entries: Vec<NameEntry> = Vec::new();
     for (oi, object) in objects.iter().enumerate() {
@@ -70,7 +67,7 @@ pub(crate) fn validate(
             (entry, first)
         };
         errors.push(
-            DictionaryError::at(
+            Diagnostic::at(
                 at.span,
                 format!("`{}` is {} and already {}", entry.name, at.role(), other.role()),
                 "defined again here",
@@ -96,7 +93,7 @@ pub(crate) fn validate(
                     (&object.span, &first.span, object, first)
                 };
                 errors.push(
-                    DictionaryError::at(
+                    Diagnostic::at(
                         at,
                         format!(
                             "`{}` has the same address as `{}`: {}",
@@ -126,7 +123,7 @@ pub(crate) fn validate(
                 }
                 let suggestions = did_you_mean(&binding.object, objects.iter().flat_map(|o| o.names()));
                 errors.push(
-                    DictionaryError::at(
+                    Diagnostic::at(
                         &binding.span,
                         format!(
                             "the profile's {} is `{}`, which is not an object of this dictionary",
@@ -141,7 +138,7 @@ pub(crate) fn validate(
             };
             if let Some(problem) = binding.role.type_problem(object.data_type) {
                 errors.push(
-                    DictionaryError::at(
+                    Diagnostic::at(
                         &binding.span,
                         problem,
                         format!("`{}` is {}", object.name, object.data_type),
@@ -156,7 +153,7 @@ pub(crate) fn validate(
             };
             if !ok {
                 errors.push(
-                    DictionaryError::at(
+                    Diagnostic::at(
                         &binding.span,
                         format!(
                             "the {} is {needs} by the engine, but `{}` is {} ({})",
@@ -182,7 +179,7 @@ struct NameEntry<'a> {
     owner_name: &'a str,
     name: &'a str,
     alias: bool,
-    span: &'a TextSpan,
+    span: &'a Span,
 }
 
 impl NameEntry<'_> {

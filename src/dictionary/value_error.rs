@@ -4,8 +4,8 @@
 //! Every message names the object, the limit and the unit. Pure data.
 
 use super::data_type::DataType;
-use super::did_you_mean::suggestion_text;
 use super::unit::Unit;
+use crate::diag::suggestion_text;
 
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum ValueError {

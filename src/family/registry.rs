@@ -2,7 +2,7 @@
 //! place a family is added. Tests add their own families with [`Registry::with`].
 
 use super::{sd2::Sd2Family, BuiltinDictionary, Family};
-use crate::dictionary::did_you_mean;
+use crate::diag::did_you_mean;
 use std::sync::Arc;
 
 #[derive(Clone)]

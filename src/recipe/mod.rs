@@ -4,8 +4,8 @@
 
 mod expansion;
 mod loader;
-mod problem;
 mod recipe;
+mod recipe_invalid;
 mod runner;
 mod schema;
 mod step;
@@ -16,8 +16,8 @@ pub use crate::session::{CheckResult, RunReport, Series, StepRecord, Verdict};
 pub use crate::session::{Observers, RunObserver, SafeStopSettings};
 pub use expansion::{MAX_EXPANDED_STEPS, MAX_INCLUDE_LOADS, MAX_RUN_TIME};
 pub use loader::{load_recipe, load_recipe_text, MAX_DURATION, MAX_SAMPLES};
-pub use problem::{Problem, RecipeInvalid, RecipeSource};
 pub use recipe::{Param, Recipe, SafeStopChoice};
+pub use recipe_invalid::RecipeInvalid;
 pub use runner::Runner;
 pub use schema::recipe_schema;
 pub use step::{ObjectRef, SetValue, Step, StepKind, StepOrigin};

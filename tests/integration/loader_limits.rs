@@ -86,7 +86,7 @@ fn assert_refused_fast(o: &Outcome, expected: &[&str]) {
 fn oversized_recipe() -> String {
     let mut text = String::from("name: Large\nsteps:\n  - shutdown\n");
     let line = format!("# {}\n", "x".repeat(1000));
-    while text.len() as u64 <= drivescript::text_file::MAX_TEXT_FILE_BYTES {
+    while text.len() as u64 <= drivescript::diag::MAX_TEXT_FILE_BYTES {
         text.push_str(&line);
     }
     text
@@ -176,7 +176,7 @@ fn an_endless_pipe_is_read_only_up_to_the_limit() {
         let block = vec![b'#'; 64 * 1024];
         let mut written = 0u64;
         // Until the reader closes its end (the write fails) or it has had far too much.
-        while written < 64 * drivescript::text_file::MAX_TEXT_FILE_BYTES {
+        while written < 64 * drivescript::diag::MAX_TEXT_FILE_BYTES {
             if pipe.write_all(&block).is_err() {
                 break;
             }
@@ -197,7 +197,7 @@ fn an_endless_pipe_is_read_only_up_to_the_limit() {
     assert_refused_fast(&o, &["the recipe endless.yaml is larger than 8 MiB"]);
     let written = writer.join().expect("writer");
     assert!(
-        written < 2 * drivescript::text_file::MAX_TEXT_FILE_BYTES,
+        written < 2 * drivescript::diag::MAX_TEXT_FILE_BYTES,
         "the reader took {written} bytes"
     );
     let _ = std::fs::remove_dir_all(&dir);
@@ -234,9 +234,9 @@ fn alias_bombs_are_refused_fast_in_plain_words() {
     let o = run(&dir, &["check", "small.yaml", "--dictionary", "dict.yaml"]);
     assert_refused_fast(&o, &expected);
     // In-process, the parse alone is far below the 100 ms even in a debug build.
-    let text = alias_bomb("name: Bomb\nsteps: [shutdown]\n");
+    let source = drivescript::diag::Source::new("bomb.yaml", alias_bomb("name: Bomb\nsteps: [shutdown]\n"));
     let started = Instant::now();
-    assert!(drivescript::yaml_tree::parse(&text).is_err());
+    assert!(drivescript::diag::YamlNode::parse(&source).is_err());
     assert!(started.elapsed() < FAST, "{:?}", started.elapsed());
     let _ = std::fs::remove_dir_all(&dir);
 }
@@ -264,6 +264,34 @@ fn an_include_fan_out_is_refused_fast_where_it_goes_over() {
             "f6.yaml:10:14",
             "include number 1001",
         ],
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A problem far to the right of a long line (a generated file written on one line) made
+/// miette's renderer panic; it is now named in the headline, without a snippet.
+#[test]
+fn problems_far_right_on_a_long_line_are_named_not_drawn() {
+    let dir = temp_dir("wide");
+    let steps = vec!["shutdown"; 9000].join(", ");
+    std::fs::write(
+        dir.join("wide.yaml"),
+        format!("name: Wide\nsteps: [{steps}, frob]\n"),
+    )
+    .expect("write");
+    let gap = " ".repeat(70_000);
+    std::fs::write(
+        dir.join("wide-limits.yaml"),
+        format!("{{ max_speed: 6000 rpm,{gap}max_sped: 1 rpm }}\n"),
+    )
+    .expect("write");
+    std::fs::write(dir.join("small.yaml"), "name: Small\nsteps:\n  - shutdown\n").expect("write");
+    let o = run(&dir, &["check", "wide.yaml"]);
+    assert_refused_fast(&o, &["wide.yaml:2:90009: unknown step `frob`"]);
+    let o = run(&dir, &["check", "small.yaml", "--limits", "wide-limits.yaml"]);
+    assert_refused_fast(
+        &o,
+        &["wide-limits.yaml:1:70023: unknown key `max_sped` in the limits file"],
     );
     let _ = std::fs::remove_dir_all(&dir);
 }

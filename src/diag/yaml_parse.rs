@@ -1,88 +1,43 @@
-//! YAML text → a tree of nodes that each know where they stand in the file (byte offset,
-//! length, line, column). Recipe validation walks this tree instead of deserialising
-//! straight into structs, so it can report every problem of a file at once, each at its
-//! place. Parsing only; no meaning is given to any key here.
+//! YAML text → a [`YamlNode`] tree whose every node knows its place, within reading limits
+//! (nesting depth, number of values, alias copies) that hold before memory or the stack
+//! run out. Parsing only; no meaning is given to any key here.
 
+use super::diagnostic::Diagnostic;
+use super::source::Source;
+use super::span::{Span, Spanned};
+use super::yaml_node::{YamlNode, YamlValue};
 use serde::de::{Deserialize, Deserializer, MapAccess, SeqAccess, Visitor};
 use std::fmt;
-
-/// Where a node stands in its file. `offset`/`len` are in bytes; `line`/`column` 1-based.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub struct Span {
-    pub offset: usize,
-    pub len: usize,
-    pub line: usize,
-    pub column: usize,
-}
-
-impl Span {
-    /// For miette labels.
-    pub fn source_span(&self) -> miette::SourceSpan {
-        (self.offset, self.len).into()
-    }
-}
-
-/// A value with its span.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Spanned<T> {
-    pub value: T,
-    pub span: Span,
-}
-
-impl<T> Spanned<T> {
-    pub fn new(value: T, span: Span) -> Self {
-        Spanned { value, span }
-    }
-}
-
-/// A YAML node. Mapping entries keep their order and their keys' spans.
-#[derive(Debug, Clone, PartialEq)]
-pub enum YamlNode {
-    Null,
-    Bool(bool),
-    Int(i64),
-    Float(f64),
-    Str(String),
-    Seq(Vec<Spanned<YamlNode>>),
-    Map(Vec<(Spanned<String>, Spanned<YamlNode>)>),
-}
-
-impl YamlNode {
-    /// What kind of node this is, for messages: "a list", "a number".
-    pub fn kind(&self) -> &'static str {
-        match self {
-            YamlNode::Null => "nothing",
-            YamlNode::Bool(_) => "true/false",
-            YamlNode::Int(_) | YamlNode::Float(_) => "a number",
-            YamlNode::Str(_) => "text",
-            YamlNode::Seq(_) => "a list",
-            YamlNode::Map(_) => "a mapping",
-        }
-    }
-
-    /// The node as text: strings as they are, numbers and booleans written out (YAML turns
-    /// `6000` into a number, but a recipe value `6000` means the same as `"6000"`).
-    pub fn as_text(&self) -> Option<String> {
-        match self {
-            YamlNode::Str(s) => Some(s.clone()),
-            YamlNode::Int(i) => Some(i.to_string()),
-            YamlNode::Float(f) => Some(f.to_string()),
-            YamlNode::Bool(b) => Some(b.to_string()),
-            _ => None,
-        }
-    }
-}
+use std::sync::Arc;
 
 /// YAML that could not be parsed at all, or that goes over a reading limit.
-#[derive(Debug, Clone, PartialEq, Eq)]
+#[derive(Debug, Clone)]
 pub struct YamlError {
     pub message: String,
-    pub span: Span,
+    /// Where the parser stopped; `None` when it could not say.
+    pub span: Option<Span>,
     /// The text is YAML but goes over one of the limits below (an alias bomb, a file of
     /// too many values): the message says which, and is not a syntax error.
     pub over_limit: bool,
     /// What to do, for limits (syntax errors get the caller's help).
     pub help: Option<String>,
+}
+
+impl YamlError {
+    /// The error as a diagnostic: `not valid YAML: …` with `syntax_help` for a syntax
+    /// error, the limit's own sentence and help for a limit.
+    pub fn diagnostic(self, path: &str, syntax_help: Option<String>) -> Diagnostic {
+        let message = if self.over_limit {
+            self.message
+        } else {
+            format!("not valid YAML: {}", self.message)
+        };
+        let d = match &self.span {
+            Some(span) => Diagnostic::at(span, message, "here"),
+            None => Diagnostic::unlocated(path, message),
+        };
+        d.with_optional_help(self.help.or(syntax_help))
+    }
 }
 
 /// Deepest nesting of lists and mappings. Recipes nest a few levels (each `repeat` adds
@@ -97,38 +52,44 @@ pub const MAX_VALUES: usize = 200_000;
 /// after a few milliseconds instead of filling the memory.
 pub const MAX_ALIAS_COPIES: usize = 10_000;
 
-/// Parses `text` into a spanned tree.
-pub fn parse(text: &str) -> Result<Spanned<YamlNode>, YamlError> {
-    if text.trim().is_empty() {
-        return Ok(Spanned::new(YamlNode::Null, Span::default()));
-    }
-    // YAML 1.1 booleans (`yes`, `on`, `n`) would turn names and values into true/false.
-    // `.nan` and `.inf` stay text, so that the reader refuses them where they are used, in
-    // its own words, instead of the whole file failing as "not valid YAML".
-    let options = serde_saphyr::options! {
-        strict_booleans: true,
-        non_finite_float_policy: serde_saphyr::NonFiniteFloatPolicy::AsString,
-        budget: serde_saphyr::budget! {
-            max_depth: MAX_DEPTH,
-            max_nodes: MAX_VALUES,
-        },
-        alias_limits: serde_saphyr::alias_limits! {
-            max_total_replayed_events: MAX_ALIAS_COPIES,
-        },
-    };
-    match serde_saphyr::from_str_with_options::<serde_saphyr::Spanned<Node>>(text, options) {
-        Ok(root) => Ok(convert(root, text)),
-        Err(e) => Err(error_of(&e, text)),
+impl YamlNode {
+    /// Parses the text of `source` into a spanned tree; text of only blanks and comments is
+    /// nothing, at the start of the file.
+    pub fn parse(source: &Arc<Source>) -> Result<YamlNode, YamlError> {
+        let text = source.text();
+        if text.trim().is_empty() {
+            return Ok(YamlNode {
+                value: YamlValue::Null,
+                span: Span::start_of(source),
+            });
+        }
+        // YAML 1.1 booleans (`yes`, `on`, `n`) would turn names and values into true/false.
+        // `.nan` and `.inf` stay text, so that the reader refuses them where they are used,
+        // in its own words, instead of the whole file failing as "not valid YAML".
+        let options = serde_saphyr::options! {
+            strict_booleans: true,
+            non_finite_float_policy: serde_saphyr::NonFiniteFloatPolicy::AsString,
+            budget: serde_saphyr::budget! {
+                max_depth: MAX_DEPTH,
+                max_nodes: MAX_VALUES,
+            },
+            alias_limits: serde_saphyr::alias_limits! {
+                max_total_replayed_events: MAX_ALIAS_COPIES,
+            },
+        };
+        match serde_saphyr::from_str_with_options::<serde_saphyr::Spanned<Node>>(text, options) {
+            Ok(root) => Ok(convert(root, source)),
+            Err(e) => Err(error_of(&e, source)),
+        }
     }
 }
 
-fn error_of(e: &serde_saphyr::Error, text: &str) -> YamlError {
+fn error_of(e: &serde_saphyr::Error, source: &Arc<Source>) -> YamlError {
     use serde_saphyr::MessageFormatter;
     let span = e
         .location()
         .filter(|loc| loc.line() > 0)
-        .map(|loc| span_of_location(&loc, text))
-        .unwrap_or_default();
+        .map(|loc| span_of_location(&loc, source));
     if let Some((message, help)) = limit_message(e) {
         return YamlError {
             message,
@@ -206,7 +167,8 @@ fn limit_message(e: &serde_saphyr::Error) -> Option<(String, String)> {
     })
 }
 
-fn span_of_location(loc: &serde_saphyr::Location, text: &str) -> Span {
+fn span_of_location(loc: &serde_saphyr::Location, source: &Arc<Source>) -> Span {
+    let text = source.text();
     let line = loc.line() as usize;
     let column = loc.column() as usize;
     let span = loc.span();
@@ -215,12 +177,7 @@ fn span_of_location(loc: &serde_saphyr::Location, text: &str) -> Span {
         .map(|o| o as usize)
         .unwrap_or_else(|| offset_of(text, line, column));
     let len = span.byte_len().map(|l| l as usize).unwrap_or(0);
-    Span {
-        offset: offset.min(text.len()),
-        len: len.min(text.len().saturating_sub(offset)),
-        line,
-        column,
-    }
+    Span::new(source, offset, len, line, column)
 }
 
 /// Byte offset of a 1-based line and character column.
@@ -239,30 +196,30 @@ fn offset_of(text: &str, line: usize, column: usize) -> usize {
     text.len()
 }
 
-fn convert(node: serde_saphyr::Spanned<Node>, text: &str) -> Spanned<YamlNode> {
-    let span = span_of_location(&node.referenced, text);
+fn convert(node: serde_saphyr::Spanned<Node>, source: &Arc<Source>) -> YamlNode {
+    let span = span_of_location(&node.referenced, source);
     let value = match node.value {
-        Node::Null => YamlNode::Null,
-        Node::Bool(b) => YamlNode::Bool(b),
-        Node::Int(i) => YamlNode::Int(i),
-        Node::Float(f) => YamlNode::Float(f),
-        Node::Str(s) => YamlNode::Str(s),
-        Node::Seq(items) => YamlNode::Seq(items.into_iter().map(|n| convert(n, text)).collect()),
-        Node::Map(entries) => YamlNode::Map(
+        Node::Null => YamlValue::Null,
+        Node::Bool(b) => YamlValue::Bool(b),
+        Node::Int(i) => YamlValue::Int(i),
+        Node::Float(f) => YamlValue::Float(f),
+        Node::Str(s) => YamlValue::Str(s),
+        Node::Seq(items) => YamlValue::Seq(items.into_iter().map(|n| convert(n, source)).collect()),
+        Node::Map(entries) => YamlValue::Map(
             entries
                 .into_iter()
                 .map(|(k, v)| {
-                    let key_span = span_of_location(&k.referenced, text);
+                    let key_span = span_of_location(&k.referenced, source);
                     let key = match k.value {
                         Node::Str(s) => s,
                         other => plain(&other),
                     };
-                    (Spanned::new(key, key_span), convert(v, text))
+                    (Spanned::new(key, key_span), convert(v, source))
                 })
                 .collect(),
         ),
     };
-    Spanned::new(value, span)
+    YamlNode { value, span }
 }
 
 fn plain(node: &Node) -> String {
@@ -347,11 +304,16 @@ mod tests {
     use super::*;
     use proptest::prelude::*;
 
-    fn map(node: &Spanned<YamlNode>) -> &Vec<(Spanned<String>, Spanned<YamlNode>)> {
-        match &node.value {
-            YamlNode::Map(m) => m,
-            other => panic!("not a map: {other:?}"),
-        }
+    fn parse(text: &str) -> Result<YamlNode, YamlError> {
+        YamlNode::parse(&Source::new("t.yaml", text))
+    }
+
+    fn map(node: &YamlNode) -> &[(Spanned<String>, YamlNode)] {
+        node.entries().unwrap_or_else(|| panic!("not a map: {node:?}"))
+    }
+
+    fn line(e: &YamlError) -> usize {
+        e.span.as_ref().map_or(0, Span::line)
     }
 
     #[test]
@@ -360,29 +322,51 @@ mod tests {
         let root = parse(text).unwrap();
         let m = map(&root);
         assert_eq!(m[0].0.value, "name");
-        assert_eq!(m[0].1.value, YamlNode::Str("Spindle".into()));
-        assert_eq!((m[0].1.span.line, m[0].1.span.column), (1, 7));
-        let YamlNode::Seq(steps) = &m[1].1.value else {
+        assert!(matches!(&m[0].1.value, YamlValue::Str(s) if s == "Spindle"));
+        assert_eq!((m[0].1.span.line(), m[0].1.span.column()), (1, 7));
+        let YamlValue::Seq(steps) = &m[1].1.value else {
             panic!()
         };
-        assert_eq!(steps[0].span.line, 3);
+        assert_eq!(steps[0].span.line(), 3);
         let set = map(&steps[1]);
         let inner = map(&set[0].1);
         let value = &inner[0].1;
+        assert_eq!(value.written(), "\"{{speed}}\"");
+        assert_eq!((value.span.line(), value.span.column()), (4, 28));
+        assert!(matches!(map(&steps[2])[0].1.value, YamlValue::Int(10)));
+    }
+
+    #[test]
+    fn keys_stay_text_and_booleans_are_strict() {
+        let root = parse("family: sd2\nobjects:\n  - index: 0x4F\n    n: yes\n").unwrap();
+        let items = match &map(&root)[1].1.value {
+            YamlValue::Seq(items) => items,
+            other => panic!("{other:?}"),
+        };
+        assert_eq!((items[0].span.line(), items[0].span.column()), (3, 5));
+        let (k, v) = &map(&items[0])[0];
+        assert_eq!(k.value, "index");
+        assert!(matches!(v.value, YamlValue::Int(0x4F)));
         assert_eq!(
-            &text[value.span.offset..value.span.offset + value.span.len],
-            "\"{{speed}}\""
+            (v.span.line(), v.span.column(), v.span.offset(), v.span.len()),
+            (3, 12, 32, 4)
         );
-        assert_eq!((value.span.line, value.span.column), (4, 28));
-        let dwell = map(&steps[2]);
-        assert_eq!(dwell[0].1.value, YamlNode::Int(10));
+        let (k, v) = &map(&items[0])[1];
+        assert_eq!(k.value, "n");
+        assert!(matches!(&v.value, YamlValue::Str(s) if s == "yes"));
     }
 
     #[test]
     fn syntax_errors_are_located() {
         let e = parse("a: [1, 2\nb: 3").unwrap_err();
-        assert_eq!(e.span.line, 2, "{e:?}");
+        assert_eq!(line(&e), 2, "{e:?}");
         assert!(!e.message.contains("-->"), "{}", e.message);
+        let d = parse("a: [1\nb: 2\n").unwrap_err().diagnostic("t.yaml", None);
+        assert_eq!((d.line(), d.column()), (2, 2));
+        assert!(d.message().starts_with("not valid YAML: "), "{}", d.message());
+        let e = parse("a: 1\na: 2\n").unwrap_err();
+        assert_eq!(line(&e), 2);
+        assert!(e.message.contains("duplicate"), "{}", e.message);
     }
 
     #[test]
@@ -398,7 +382,7 @@ mod tests {
         assert!(e.over_limit, "{e:?}");
         assert!(e.message.contains("aliases (`*name`)"), "{}", e.message);
         assert!(!e.message.contains('{'), "internal names leak: {}", e.message);
-        assert!(e.span.line > 1, "located: {e:?}");
+        assert!(line(&e) > 1, "located: {e:?}");
     }
 
     #[test]
@@ -423,8 +407,10 @@ mod tests {
     }
 
     #[test]
-    fn empty_text_is_null() {
-        assert_eq!(parse("  \n").unwrap().value, YamlNode::Null);
+    fn blank_text_is_nothing_at_the_start() {
+        let root = parse("  \n").unwrap();
+        assert!(root.is_null());
+        assert_eq!((root.span.line(), root.span.column()), (1, 1));
     }
 
     proptest! {

@@ -1,5 +1,6 @@
-//! "Did you mean …?" suggestions for misspelt names, units, keys and types.
-//! Pure string similarity (Jaro-Winkler, case-insensitive); no knowledge of dictionaries.
+//! "Did you mean …?" suggestions for misspelt names, units, keys, steps and types, the one
+//! similarity rule of every loader. Pure string similarity (Jaro-Winkler, ignoring case);
+//! it must not know what the names mean.
 
 /// Up to three candidates close to `input`, best first. Case is ignored; each candidate is
 /// returned once, spelt as given.
@@ -20,7 +21,7 @@ pub fn did_you_mean<'a>(input: &str, candidates: impl IntoIterator<Item = &'a st
 const THRESHOLD: f64 = 0.75;
 
 /// `did you mean a, b or c?`, or `None` without suggestions.
-pub(crate) fn suggestion_text(suggestions: &[String]) -> Option<String> {
+pub fn suggestion_text(suggestions: &[String]) -> Option<String> {
     let quoted: Vec<String> = suggestions.iter().map(|s| format!("`{s}`")).collect();
     match quoted.as_slice() {
         [] => None,

@@ -3,9 +3,11 @@
 //! as `/dev/zero` or a huge generated file cannot fill the memory. Only reads bytes and
 //! checks they are UTF-8; it must not know what the text means or how it is shown.
 
+use super::source::Source;
 use std::fs::File;
 use std::io::Read;
 use std::path::Path;
+use std::sync::Arc;
 
 /// The most drivescript reads from one recipe, included file, dictionary or limits file.
 /// The largest real ones are a few tens of kilobytes; 8 MiB leaves room for generated
@@ -74,6 +76,12 @@ pub fn read_text_file(path: &Path) -> Result<String, TextFileError> {
         return Err(TextFileError::TooLarge);
     }
     read_bounded(file, MAX_TEXT_FILE_BYTES)
+}
+
+/// [`read_text_file`] as a [`Source`] named as the path is shown.
+pub fn read_source(path: &Path) -> Result<Arc<Source>, TextFileError> {
+    let text = read_text_file(path)?;
+    Ok(Source::new(path.display().to_string(), text))
 }
 
 /// Reads at most `limit` bytes of `source` as text; more is [`TextFileError::TooLarge`].

@@ -1,0 +1,97 @@
+//! The objects a recipe names: looked up in the dictionary (did-you-mean for a misspelt
+//! name), checked readable, and lists of them (`read`, `sample`'s `objects`). It must not
+//! read values for the objects; that is `values`' job.
+
+use super::Loader;
+use crate::diag::{expected, Span, YamlNode, YamlValue};
+use crate::dictionary::ObjectDef;
+use crate::recipe::step::ObjectRef;
+
+impl Loader<'_, '_> {
+    /// The object called `name` (written at `span`) and the reference steps keep.
+    pub(super) fn object(&mut self, name: &str, span: &Span) -> Option<(ObjectDef, ObjectRef)> {
+        match self.dict.lookup(name) {
+            Ok(def) => {
+                let r = ObjectRef {
+                    name: def.name.clone(),
+                    unit: def.unit.map(|u| u.symbol().to_string()),
+                };
+                Some((def.clone(), r))
+            }
+            Err(e) => {
+                let help = if e.suggestions.is_empty() {
+                    "`drivescript objects` lists the objects of the dictionary".to_string()
+                } else {
+                    format!(
+                        "did you mean {}?",
+                        e.suggestions
+                            .iter()
+                            .map(|s| format!("`{s}`"))
+                            .collect::<Vec<_>>()
+                            .join(" or ")
+                    )
+                };
+                self.problem(
+                    span,
+                    format!("unknown object `{name}` in the {} dictionary", self.dict.family()),
+                    "unknown object",
+                    Some(help),
+                );
+                None
+            }
+        }
+    }
+
+    /// True when `def` can be read; otherwise says so at `span`.
+    pub(super) fn readable(&mut self, def: &ObjectDef, span: &Span) -> bool {
+        if def.readable() {
+            return true;
+        }
+        self.problem(
+            span,
+            format!("{} is write-only and cannot be read", def.name),
+            "write-only",
+            None,
+        );
+        false
+    }
+
+    /// One readable object's name or a list of them, given as the value of `what`.
+    pub(super) fn object_list(&mut self, node: &YamlNode, what: &str) -> Option<Vec<ObjectRef>> {
+        let items = match &node.value {
+            YamlValue::Seq(items) => items.as_slice(),
+            YamlValue::Str(_) => std::slice::from_ref(node),
+            _ => {
+                self.r
+                    .report(expected(node, what, "an object name or a list of them"));
+                return None;
+            }
+        };
+        let mut out = Vec::new();
+        let mut ok = true;
+        for item in items {
+            let Some(name) = self.r.scalar_text(item, "an object name") else {
+                ok = false;
+                continue;
+            };
+            match self.object(&name, &item.span) {
+                Some((def, r)) if self.readable(&def, &item.span) => out.push(r),
+                _ => ok = false,
+            }
+        }
+        if out.is_empty() && ok {
+            self.problem(&node.span, "no object named", "empty", None);
+            return None;
+        }
+        ok.then_some(out)
+    }
+}
+
+/// `speed_actual, current_actual`
+pub(super) fn names(objects: &[ObjectRef]) -> String {
+    objects
+        .iter()
+        .map(|o| o.name.clone())
+        .collect::<Vec<_>>()
+        .join(", ")
+}

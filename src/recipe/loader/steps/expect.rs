@@ -1,0 +1,91 @@
+//! The `expect` step: checks on objects' values now, or on statistics of what an earlier
+//! `sample` step sampled (`{ mean: { near: … } }`), each named for the report. It must not
+//! evaluate the checks.
+
+use crate::diag::{Shape, YamlNode};
+use crate::recipe::loader::Loader;
+use crate::recipe::step::StepKind;
+use crate::session::{Check, Statistic};
+
+impl Loader<'_, '_> {
+    pub(in crate::recipe::loader) fn expect(
+        &mut self,
+        body: &YamlNode,
+        name: Option<&str>,
+    ) -> Option<(StepKind, String)> {
+        let shape =
+            Shape::any_keys("`expect`").example("expect: { speed_actual: { near: 6000 rpm, within: 1 % } }");
+        let f = self.r.fields(body, &shape)?;
+        let mut checks = Vec::new();
+        let mut ok = true;
+        for (k, v) in f.entries() {
+            let Some((def, r)) = self.object(&k.value, &k.span) else {
+                ok = false;
+                continue;
+            };
+            if !self.readable(&def, &k.span) {
+                ok = false;
+                continue;
+            }
+            // `{ mean: { near: ... } }` checks a statistic; `{ near: ... }` the value now.
+            let (stat, pred_node) = match v.entries() {
+                Some([(key, node)]) if Statistic::from_id(&key.value).is_some() => {
+                    let stat = Statistic::from_id(&key.value);
+                    if !self.sampled.contains(&def.name) {
+                        self.problem(
+                            &key.span,
+                            format!(
+                                "no earlier `sample` step samples {}, so there is no {} to check",
+                                def.name,
+                                stat.map(Statistic::id).unwrap_or("value")
+                            ),
+                            "nothing sampled",
+                            Some(format!(
+                                "add `- sample: {{ objects: [{}], every: 100 ms, for: 10 s }}` before this step",
+                                def.name
+                            )),
+                        );
+                        ok = false;
+                        continue;
+                    }
+                    (stat, node)
+                }
+                _ => (None, v),
+            };
+            match self.predicate(&def, pred_node) {
+                Some(p) => {
+                    let stat_text = stat.map(|s| format!("{} ", s.id())).unwrap_or_default();
+                    let default_name = format!("{} {stat_text}{}", def.name, p.describe(r.unit.as_deref()));
+                    let check_name = match name {
+                        Some(n) if f.entries().len() == 1 => n.to_string(),
+                        Some(n) => format!("{n}: {default_name}"),
+                        None => default_name,
+                    };
+                    checks.push(Check {
+                        name: check_name,
+                        object: r,
+                        statistic: stat,
+                        predicate: p,
+                    });
+                }
+                None => ok = false,
+            }
+        }
+        if !ok {
+            return None;
+        }
+        if checks.is_empty() {
+            self.problem(&body.span, "expect names no check", "empty", None);
+            return None;
+        }
+        let label = format!(
+            "expect {}",
+            checks
+                .iter()
+                .map(|c| c.name.clone())
+                .collect::<Vec<_>>()
+                .join("; ")
+        );
+        Some((StepKind::Expect(checks), label))
+    }
+}

@@ -1,0 +1,41 @@
+//! The `go_to` step: a target state (`go_to: operation_enabled`, or with a `timeout` per
+//! transition). It must not plan the path of commands; the session does that when it runs.
+
+use crate::diag::{Shape, YamlNode};
+use crate::drive::device_control::DeviceState;
+use crate::recipe::loader::{Loader, DEFAULT_GO_TO_TIMEOUT};
+use crate::recipe::step::StepKind;
+
+impl Loader<'_, '_> {
+    pub(in crate::recipe::loader) fn go_to(&mut self, body: &YamlNode) -> Option<(StepKind, String)> {
+        let (state_node, what, timeout) = match body.entries() {
+            Some(_) => {
+                let shape = Shape::new("this go_to", &["state", "timeout"]).require(&["state"]);
+                let f = self.r.fields(body, &shape)?;
+                let timeout = match f.get("timeout") {
+                    Some(t) => self.duration(t, "timeout")?,
+                    None => DEFAULT_GO_TO_TIMEOUT,
+                };
+                (f.get("state")?, "`state`", timeout)
+            }
+            None => (body, "`go_to`", DEFAULT_GO_TO_TIMEOUT),
+        };
+        let state = self.state(state_node, what)?;
+        if matches!(
+            state,
+            DeviceState::Fault | DeviceState::FaultReactionActive | DeviceState::NotReadyToSwitchOn
+        ) {
+            self.problem(
+                &state_node.span,
+                format!(
+                    "`{}` is entered by the drive itself, no command leads there",
+                    state.id()
+                ),
+                "cannot be commanded",
+                None,
+            );
+            return None;
+        }
+        Some((StepKind::GoTo { state, timeout }, format!("go to {}", state.id())))
+    }
+}

@@ -1,0 +1,127 @@
+//! A condition on one object's value, shared by `wait_until` and `expect`: exactly one of
+//! `equals`, `above`, `below`, `between`, `near` (with `within`, a tolerance in the
+//! object's unit or in %). It must not know which step asks, nor evaluate anything.
+
+use crate::diag::{Shape, YamlNode, YamlValue};
+use crate::dictionary::{DataType, ObjectDef};
+use crate::recipe::loader::values::FINITE_HELP;
+use crate::recipe::loader::Loader;
+use crate::session::{Predicate, Tolerance};
+
+const OPERATORS: [&str; 5] = ["equals", "above", "below", "between", "near"];
+
+impl Loader<'_, '_> {
+    pub(in crate::recipe::loader) fn predicate(
+        &mut self,
+        def: &ObjectDef,
+        node: &YamlNode,
+    ) -> Option<Predicate> {
+        let allowed = ["equals", "above", "below", "between", "near", "within"];
+        let shape = Shape::new("this condition", &allowed).example("{ near: 6000 rpm, within: 1 % }");
+        let f = self.r.fields(node, &shape)?;
+        let given: Vec<&str> = f
+            .entries()
+            .iter()
+            .map(|(k, _)| k.value.as_str())
+            .filter(|k| OPERATORS.contains(k))
+            .collect();
+        let [op] = given.as_slice() else {
+            self.problem(
+                &node.span,
+                format!(
+                    "a condition on {} has exactly one of equals, above, below, between, near; this has {}",
+                    def.name,
+                    given.len()
+                ),
+                "one condition",
+                Some("e.g. `{ near: 6000 rpm, within: 1 % }` or `{ above: 100 rpm }`".into()),
+            );
+            return None;
+        };
+        let value = f.get(op)?;
+        let what = format!("`{op}`");
+        if *op != "near" {
+            if let Some(w) = f.get("within") {
+                self.problem(&w.span, "`within` goes with `near`", "only with near", None);
+                return None;
+            }
+        }
+        match *op {
+            "equals" if matches!(def.data_type, DataType::String { .. }) => {
+                Some(Predicate::EqualsText(self.text(value, &what)?))
+            }
+            "equals" => Some(Predicate::Equals(self.number_for(def, value, &what, false)?)),
+            "above" => Some(Predicate::Above(self.number_for(def, value, &what, false)?)),
+            "below" => Some(Predicate::Below(self.number_for(def, value, &what, false)?)),
+            "between" => {
+                let YamlValue::Seq(bounds) = &value.value else {
+                    self.problem(
+                        &value.span,
+                        "between takes two values: `between: [5900 rpm, 6100 rpm]`",
+                        "expected [low, high]",
+                        None,
+                    );
+                    return None;
+                };
+                let [low, high] = bounds.as_slice() else {
+                    self.problem(
+                        &value.span,
+                        format!("between takes two values, this has {}", bounds.len()),
+                        "expected [low, high]",
+                        None,
+                    );
+                    return None;
+                };
+                let lo = self.number_for(def, low, "the low end of `between`", false);
+                let hi = self.number_for(def, high, "the high end of `between`", false);
+                Some(Predicate::Between(lo?, hi?))
+            }
+            _ => {
+                let target = self.number_for(def, value, &what, false);
+                let Some(w) = f.get("within") else {
+                    self.problem(
+                        &node.span,
+                        "`near` needs `within`: how close is near enough",
+                        "within missing",
+                        Some("e.g. `within: 1 %` or `within: 20 rpm`".into()),
+                    );
+                    return None;
+                };
+                let tolerance = self.tolerance(def, w);
+                Some(Predicate::Near {
+                    target: target?,
+                    tolerance: tolerance?,
+                })
+            }
+        }
+    }
+
+    /// `within`: a percentage of the target or an amount in the object's unit.
+    fn tolerance(&mut self, def: &ObjectDef, node: &YamlNode) -> Option<Tolerance> {
+        if self.r.refuse_non_finite(node, "`within`", FINITE_HELP) {
+            return None;
+        }
+        let text = self.text(node, "`within`")?;
+        let t = text.trim();
+        if let Some(p) = t.strip_suffix('%') {
+            return match p.trim().parse::<f64>() {
+                Ok(v) if v.is_finite() && v >= 0.0 => Some(Tolerance::Percent(v)),
+                _ => {
+                    self.problem(
+                        &node.span,
+                        format!("`{t}` is not a percentage"),
+                        "expected e.g. 1 %",
+                        None,
+                    );
+                    None
+                }
+            };
+        }
+        let v = self.number_for(def, node, "`within`", false)?;
+        if v < 0.0 {
+            self.problem(&node.span, "a tolerance cannot be negative", "negative", None);
+            return None;
+        }
+        Some(Tolerance::Absolute(v))
+    }
+}

@@ -1,0 +1,70 @@
+//! The `wait_until` step: exactly one condition (a state, or a condition on an object's
+//! value) with its `timeout` and poll interval (`every`, also `poll`). It must not wait.
+
+use crate::diag::{Shape, YamlNode};
+use crate::recipe::loader::{show_duration, Loader, DEFAULT_POLL, DEFAULT_WAIT_TIMEOUT};
+use crate::recipe::step::StepKind;
+use crate::session::Condition;
+
+impl Loader<'_, '_> {
+    pub(in crate::recipe::loader) fn wait_until(&mut self, body: &YamlNode) -> Option<(StepKind, String)> {
+        let shape =
+            Shape::any_keys("`wait_until`").example("wait_until: { state: operation_enabled, timeout: 5 s }");
+        let f = self.r.fields(body, &shape)?;
+        let mut timeout = DEFAULT_WAIT_TIMEOUT;
+        let mut every = DEFAULT_POLL;
+        let mut conditions = Vec::new();
+        let mut ok = true;
+        for (k, v) in f.entries() {
+            match k.value.as_str() {
+                "timeout" => match self.duration(v, "timeout") {
+                    Some(d) => timeout = d,
+                    None => ok = false,
+                },
+                "every" | "poll" => match self.duration(v, "every") {
+                    Some(d) => every = d,
+                    None => ok = false,
+                },
+                "state" => match self.state(v, "`state`") {
+                    Some(s) => conditions.push(Condition::State(s)),
+                    None => ok = false,
+                },
+                name => match self.object(name, &k.span) {
+                    Some((def, r)) if self.readable(&def, &k.span) => match self.predicate(&def, v) {
+                        Some(p) => conditions.push(Condition::Value {
+                            object: r,
+                            predicate: p,
+                        }),
+                        None => ok = false,
+                    },
+                    _ => ok = false,
+                },
+            }
+        }
+        if !ok {
+            return None;
+        }
+        if conditions.len() != 1 {
+            self.problem(
+                &body.span,
+                format!(
+                    "wait_until waits for exactly one condition, this has {}",
+                    conditions.len()
+                ),
+                "one condition",
+                Some("use two wait_until steps to wait for two things".into()),
+            );
+            return None;
+        }
+        let condition = conditions.remove(0);
+        let label = format!("wait until {condition} (timeout {})", show_duration(timeout));
+        Some((
+            StepKind::WaitUntil {
+                condition,
+                timeout,
+                every,
+            },
+            label,
+        ))
+    }
+}

@@ -1,0 +1,67 @@
+//! Tests of the loader's parts on recipe text: every problem at once with its place, and
+//! the meaning of keys given with nothing after them. The recipe cases under `tests/cases/`
+//! cover whole recipes through the command line.
+
+use super::load_recipe_text;
+use crate::dictionary::Dictionary;
+use crate::recipe::{Recipe, RecipeInvalid, StepKind};
+use std::path::Path;
+
+fn load(text: &str) -> Result<Recipe, RecipeInvalid> {
+    let dictionary = Dictionary::builtin("sd2").expect("built-in dictionary");
+    load_recipe_text("r.yaml", text, Path::new("."), &dictionary, &[])
+}
+
+/// `path:line:column: message` of every problem, in the order found.
+fn problems(text: &str) -> Vec<String> {
+    let e = load(text).expect_err("expected problems");
+    e.problems.iter().map(|p| p.located()).collect()
+}
+
+#[test]
+fn every_problem_of_a_file_is_reported_at_its_place() {
+    let text = "nme: x\nsteps:\n  - dwell: 5\n  - sample: { objects: [speed_actual], evry: 1 s, for: 2 s }\n  - repeat: { times: 0, steps: [shutdown] }\n";
+    assert_eq!(
+        problems(text),
+        [
+            "r.yaml:1:1: unknown key `nme` in this recipe",
+            "r.yaml:1:1: this recipe has no `name`",
+            "r.yaml:3:12: dwell: `5` has no unit",
+            "r.yaml:4:40: unknown key `evry` in this sample",
+            "r.yaml:4:13: this sample has no `every`",
+            "r.yaml:5:22: `times` 0 is out of range 1..=4294967295",
+        ]
+    );
+    let e = load(text).unwrap_err();
+    assert_eq!(
+        e.problems.iter().next().and_then(|p| p.help()),
+        Some("did you mean `name`?")
+    );
+    assert!(e
+        .render(false)
+        .ends_with("r.yaml: 6 problems found; nothing was sent to the drive\n"));
+}
+
+#[test]
+fn a_key_with_nothing_after_it_is_a_value() {
+    // `finally:` with nothing asks for no finally steps; without it the default runs.
+    let r = load("name: x\nsteps:\n  - shutdown\nfinally:\n").unwrap();
+    assert_eq!(r.finally, Some(Vec::new()));
+    assert_eq!(load("name: x\nsteps: [shutdown]\n").unwrap().finally, None);
+    assert_eq!(
+        problems("name:\nsteps: [shutdown]\n"),
+        ["r.yaml:1:5: `name` must be text or a number, found nothing"]
+    );
+}
+
+#[test]
+fn parameters_are_substituted_where_values_are_read() {
+    let r = load("name: p\nparams:\n  speed: 1200 rpm\nsteps:\n  - set: { speed_setpoint: \"{{speed}}\" }\n")
+        .unwrap();
+    assert!(matches!(&r.steps[0].kind, StepKind::Set(writes) if writes.len() == 1));
+    assert_eq!(r.steps[0].label, "set speed_setpoint = 1200 rpm");
+    assert_eq!(
+        problems("name: p\nsteps:\n  - dwell: \"{{sttle}}\"\n"),
+        ["r.yaml:3:12: unknown parameter `sttle`"]
+    );
+}

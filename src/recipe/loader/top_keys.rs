@@ -1,0 +1,121 @@
+//! The recipe document itself: its top-level keys (`name`, `drive`, `params`, `steps`,
+//! `finally`, `on_fault`, `leave_enabled`, `safe_stop`), each handed to the part that reads
+//! it. It must not read steps or values itself.
+
+use super::Loader;
+use crate::diag::{Shape, YamlNode};
+use crate::dictionary::{read_dimensioned, Dimension};
+use crate::recipe::recipe::{Recipe, SafeStopChoice};
+
+const TOP_KEYS: &[&str] = &[
+    "name",
+    "description",
+    "drive",
+    "params",
+    "steps",
+    "finally",
+    "on_fault",
+    "leave_enabled",
+    "safe_stop",
+];
+
+impl Loader<'_, '_> {
+    /// The whole file; `None` when it is not a recipe at all (not YAML, not a mapping).
+    pub(super) fn recipe(&mut self, overrides: &[(String, String)]) -> Option<Recipe> {
+        let root = match YamlNode::parse(&self.source) {
+            Ok(root) => root,
+            Err(e) => {
+                let help =
+                    "check indentation (spaces, not tabs) and that every `key:` is followed by a space";
+                self.r.report(e.diagnostic(self.source.path(), Some(help.into())));
+                return None;
+            }
+        };
+        let shape = Shape::new("this recipe", TOP_KEYS)
+            .require(&["name", "steps"])
+            .help("a recipe starts with `name:` and lists its `steps:`");
+        let f = self.r.fields(&root, &shape)?;
+        let name = f
+            .get("name")
+            .and_then(|n| self.r.scalar_text(n, "`name`"))
+            .unwrap_or_default();
+        let description = f
+            .get("description")
+            .and_then(|n| self.r.scalar_text(n, "`description`"));
+        let drive = match f.get("drive") {
+            Some(n) => self.drive_family(n),
+            None => self.dict.family().to_string(),
+        };
+        let leave_enabled = f
+            .get("leave_enabled")
+            .and_then(|n| self.r.bool(n, "`leave_enabled`"))
+            .unwrap_or(false);
+        let safe_stop = f.get("safe_stop").map(|n| self.safe_stop(n)).unwrap_or_default();
+        let params = self.params_section(f.get("params"), overrides);
+        let steps = match f.get("steps") {
+            Some(n) => self.steps(n, "`steps`"),
+            None => Vec::new(),
+        };
+        let finally = f.get("finally").map(|n| self.steps(n, "`finally`"));
+        let on_fault = f
+            .get("on_fault")
+            .map(|n| self.steps(n, "`on_fault`"))
+            .unwrap_or_default();
+        Some(Recipe {
+            name,
+            description,
+            drive,
+            path: self.source.path().to_string(),
+            params,
+            steps,
+            finally,
+            on_fault,
+            leave_enabled,
+            safe_stop,
+        })
+    }
+
+    /// `safe_stop: { timeout: 2 min, standstill: 20 rpm }`.
+    fn safe_stop(&mut self, node: &YamlNode) -> SafeStopChoice {
+        let mut choice = SafeStopChoice::default();
+        let shape = Shape::new("this safe_stop", &["timeout", "standstill"])
+            .example("safe_stop: { timeout: 2 min, standstill: 20 rpm }");
+        let Some(f) = self.r.fields(node, &shape) else {
+            return choice;
+        };
+        if let Some(n) = f.get("timeout") {
+            choice.timeout = self.duration(n, "safe_stop timeout");
+        }
+        if let Some(n) = f.get("standstill") {
+            if let Some(text) = self.text(n, "`standstill`") {
+                let example = "standstill: 20 rpm";
+                choice.standstill = read_dimensioned(
+                    &mut self.r,
+                    &n.span,
+                    "standstill",
+                    text.trim(),
+                    Dimension::Speed,
+                    example,
+                )
+                .map(|(q, _)| q);
+            }
+        }
+        choice
+    }
+
+    fn drive_family(&mut self, node: &YamlNode) -> String {
+        let family = self.r.scalar_text(node, "`drive`").unwrap_or_default();
+        if family != self.dict.family() {
+            self.problem(
+                &node.span,
+                format!(
+                    "this recipe is for drive `{family}`, the dictionary in use is `{}`",
+                    self.dict.family()
+                ),
+                "other drive family",
+                Some(format!("drive families available: {}", self.dict.family())),
+            );
+        }
+        family
+    }
+}
