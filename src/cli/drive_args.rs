@@ -6,7 +6,7 @@ use super::connection_args::{Connection, ConnectionArgs};
 use super::render_diagnostic;
 use crate::dictionary::{BenchLimits, Dictionary, LIMITS_ENV};
 use crate::drive::Drive;
-use crate::family::{LinkContext, Registry};
+use crate::family::{LinkContext, Registry, DEFAULT_DICTIONARY};
 use crate::link::TelegramObserver;
 use crate::sim::SimulatedDrive;
 use crate::stop_request::StopRequests;
@@ -18,7 +18,7 @@ use std::sync::{Arc, Mutex};
 pub struct DictionaryArgs {
     /// The built-in dictionary to start from; it names the drive family (and so the
     /// protocol) in its `family:`.
-    #[arg(long = "drive", value_name = "DICTIONARY", default_value = "sd2")]
+    #[arg(long = "drive", value_name = "DICTIONARY", default_value = DEFAULT_DICTIONARY)]
     pub family: String,
     /// A dictionary file that adds objects to the built-in one (or replaces objects of the
     /// same name). May be given several times.

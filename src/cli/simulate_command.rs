@@ -4,7 +4,7 @@
 use super::{stop_signals, COMMUNICATION, INVALID, PASSED};
 use crate::bus::{TcpTransport, WireTime};
 use crate::clock::RealClock;
-use crate::family::{Registry, SimPeer};
+use crate::family::{Registry, SimPeer, DEFAULT_DICTIONARY};
 use crate::sim::SimConfig;
 use crate::sim_server::SimServer;
 use clap::Args;
@@ -19,7 +19,7 @@ use std::time::Duration;
 /// Ctrl-C. The drive keeps its state between connections, like a real one behind a server.
 pub struct SimulateArgs {
     /// The built-in dictionary whose drive family to simulate.
-    #[arg(long, value_name = "DICTIONARY", default_value = "sd2")]
+    #[arg(long, value_name = "DICTIONARY", default_value = DEFAULT_DICTIONARY)]
     drive: String,
     /// Serve on a new pseudo-terminal; its path is printed on the first line.
     #[arg(long, conflicts_with = "tcp", required_unless_present = "tcp")]

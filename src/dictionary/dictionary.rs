@@ -14,14 +14,7 @@ use super::unknown_object::UnknownObject;
 use super::validate::validate;
 use crate::diag::{did_you_mean, read_source, Diagnostic, Diagnostics, Source, Span, YamlNode};
 use std::path::Path;
-use std::sync::{Arc, OnceLock};
-
-/// The built-in dictionaries: family, path shown in messages, text.
-const BUILTIN: &[(&str, &str, &str)] = &[(
-    "sd2",
-    "dictionary/sd2.yaml",
-    include_str!("../../dictionary/sd2.yaml"),
-)];
+use std::sync::Arc;
 
 #[derive(Debug, Clone)]
 pub struct Dictionary {
@@ -36,39 +29,6 @@ pub struct Dictionary {
 }
 
 impl Dictionary {
-    /// The families with a built-in dictionary.
-    pub fn builtin_families() -> impl Iterator<Item = &'static str> {
-        BUILTIN.iter().map(|(family, _, _)| *family)
-    }
-
-    /// The dictionary compiled into the binary for `family` (`sd2`). Parsed once per
-    /// process; each call returns a copy.
-    pub fn builtin(family: &str) -> Result<Dictionary, DictionaryError> {
-        static PARSED: OnceLock<Vec<Result<Dictionary, DictionaryError>>> = OnceLock::new();
-        let parsed = PARSED.get_or_init(|| {
-            BUILTIN
-                .iter()
-                .map(|(_, path, text)| Self::from_yaml(path, text))
-                .collect()
-        });
-        let Some(i) = BUILTIN
-            .iter()
-            .position(|(f, _, _)| f.eq_ignore_ascii_case(family))
-        else {
-            let known: Vec<&str> = Self::builtin_families().collect();
-            return Err(Diagnostic::unlocated(
-                "",
-                format!("no built-in dictionary for drive family `{family}`"),
-            )
-            .with_help(format!("built in: {}", known.join(", ")))
-            .into());
-        };
-        match parsed.get(i) {
-            Some(result) => result.clone(),
-            None => Self::from_yaml(BUILTIN[i].1, BUILTIN[i].2),
-        }
-    }
-
     /// Reads, parses and checks a dictionary file. Every problem of the file is reported.
     pub fn load(path: impl AsRef<Path>) -> Result<Dictionary, DictionaryError> {
         Self::from_file(path.as_ref(), true)

@@ -47,6 +47,3 @@ pub use unit::{Dimension, Unit};
 pub use unknown_object::UnknownObject;
 pub use value::{RawValue, Value};
 pub use value_error::ValueError;
-
-#[cfg(test)]
-mod tests;

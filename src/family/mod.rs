@@ -9,4 +9,4 @@ pub mod sd2;
 pub use family::{
     BuiltinDictionary, DriveAddress, Family, LinkContext, LinkOptions, SimPeer, SimulatedDevice,
 };
-pub use registry::Registry;
+pub use registry::{Registry, DEFAULT_DICTIONARY};

@@ -2,8 +2,12 @@
 //! place a family is added. Tests add their own families with [`Registry::with`].
 
 use super::{sd2::Sd2Family, BuiltinDictionary, Family};
-use crate::diag::did_you_mean;
+use crate::diag::{did_you_mean, Diagnostic};
+use crate::dictionary::{Dictionary, DictionaryError};
 use std::sync::Arc;
+
+/// The dictionary `--drive` names when it is not given.
+pub const DEFAULT_DICTIONARY: &str = "sd2";
 
 #[derive(Clone)]
 pub struct Registry {
@@ -53,6 +57,14 @@ impl Registry {
             "no built-in dictionary `{name}`; there are {}{hint}",
             names.join(", ")
         ))
+    }
+
+    /// The built-in dictionary `name`, parsed and checked.
+    pub fn load_dictionary(&self, name: &str) -> Result<Dictionary, DictionaryError> {
+        let (_, builtin) = self
+            .dictionary(name)
+            .map_err(|e| DictionaryError::from(Diagnostic::unlocated("", e)))?;
+        Dictionary::from_yaml(builtin.path, builtin.text)
     }
 
     /// Every built-in dictionary's name.

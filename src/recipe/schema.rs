@@ -196,7 +196,9 @@ mod tests {
 
     #[test]
     fn names_objects_states_and_commands() {
-        let d = Dictionary::builtin("sd2").unwrap();
+        let d = crate::family::Registry::builtin()
+            .load_dictionary(crate::family::DEFAULT_DICTIONARY)
+            .unwrap();
         let s = recipe_schema(&d);
         let text = s.to_string();
         for word in [

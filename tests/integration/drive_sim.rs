@@ -4,7 +4,7 @@
 
 use drivescript::bus::{MemoryTransport, Peer, SharedTransport};
 use drivescript::clock::{SharedClock, VirtualClock};
-use drivescript::dictionary::{Dictionary, Quantity, Unit};
+use drivescript::dictionary::{Quantity, Unit};
 use drivescript::drive::device_control::{DeviceCommand, DeviceState};
 use drivescript::drive::AccessError;
 use drivescript::drive::{Drive, DriveError};
@@ -30,7 +30,11 @@ fn bench() -> Bench {
         clock.clone(),
         LinkConfig::default(),
     );
-    let dictionary = Arc::new(Dictionary::builtin("sd2").expect("the built-in dictionary is valid"));
+    let dictionary = Arc::new(
+        drivescript::family::Registry::builtin()
+            .load_dictionary("sd2")
+            .expect("the built-in dictionary is valid"),
+    );
     Bench {
         drive: Drive::new(Box::new(Sd2Access::new(link, 2)), dictionary),
         sim,

@@ -8,7 +8,6 @@
 //! Also property tests: whatever numbers a recipe gives, an accepted recipe keeps the
 //! runner's time arithmetic in range.
 
-use drivescript::dictionary::Dictionary;
 use drivescript::recipe::{
     load_recipe_text, Predicate, StepKind, Tolerance, MAX_DURATION, MAX_RUN_TIME, MAX_SAMPLES,
 };
@@ -297,7 +296,9 @@ fn problems_far_right_on_a_long_line_are_named_not_drawn() {
 }
 
 fn load(steps: &str) -> Option<Vec<drivescript::recipe::Step>> {
-    let dictionary = Dictionary::builtin("sd2").expect("built-in dictionary");
+    let dictionary = drivescript::family::Registry::builtin()
+        .load_dictionary("sd2")
+        .expect("built-in dictionary");
     let text = format!("name: p\nsteps:\n{steps}");
     load_recipe_text("p.yaml", &text, Path::new("."), &dictionary, &[])
         .ok()

@@ -20,3 +20,6 @@ pub use sd2_explainer::Sd2Explainer;
 pub use sd2_family::Sd2Family;
 pub use sd2_link::Sd2Link;
 pub use sim::{Sd2Simulator, SimConfig};
+
+#[cfg(test)]
+mod dictionary_tests;

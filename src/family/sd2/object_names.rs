@@ -38,13 +38,12 @@ impl Dictionary {
 
 #[cfg(test)]
 mod tests {
-    use crate::dictionary::Dictionary;
     use crate::family::sd2::codec::Telegram;
     use crate::family::sd2::{explain, ObjectNames};
 
     #[test]
     fn names_and_values_for_the_explainer() {
-        let d = Dictionary::builtin("sd2").unwrap();
+        let d = crate::family::Registry::builtin().load_dictionary("sd2").unwrap();
         assert_eq!(
             d.object_name(398, 0).as_deref(),
             Some("speed_actual (VCTRL_VELOCITY_ACTUAL_VALUE_UUNIT)")
@@ -63,7 +62,7 @@ mod tests {
 
     #[test]
     fn explained_with_the_dictionary() {
-        let d = Dictionary::builtin("sd2").unwrap();
+        let d = crate::family::Registry::builtin().load_dictionary("sd2").unwrap();
         let bytes = crate::hex::parse_hex("00 0b 02 01 0e 44 00 00 00 00 00 02 06 00 97").unwrap();
         let t = Telegram::decode(&bytes).unwrap();
         let text = explain(&t, &bytes, None, &d);

@@ -192,7 +192,6 @@ fn cyclic(c: &Cyclic, reply: bool, names: &dyn ObjectNames) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::dictionary::Dictionary;
     use crate::family::sd2::codec::{ErrorCode, WriteLength};
     use crate::hex::parse_hex;
     use crate::link::TelegramObserver;
@@ -202,7 +201,9 @@ mod tests {
     use std::time::Duration;
 
     fn explainer() -> Box<dyn TelegramExplainer> {
-        Box::new(Sd2Explainer::new(Arc::new(Dictionary::builtin("sd2").unwrap())))
+        Box::new(Sd2Explainer::new(Arc::new(
+            crate::family::Registry::builtin().load_dictionary("sd2").unwrap(),
+        )))
     }
 
     fn send(trace: &mut TraceWriter<Vec<u8>>, ms: u64, direction: Direction, t: &Telegram) {

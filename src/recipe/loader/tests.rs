@@ -3,12 +3,13 @@
 //! cover whole recipes through the command line.
 
 use super::load_recipe_text;
-use crate::dictionary::Dictionary;
 use crate::recipe::{Recipe, RecipeInvalid, StepKind};
 use std::path::Path;
 
 fn load(text: &str) -> Result<Recipe, RecipeInvalid> {
-    let dictionary = Dictionary::builtin("sd2").expect("built-in dictionary");
+    let dictionary = crate::family::Registry::builtin()
+        .load_dictionary(crate::family::DEFAULT_DICTIONARY)
+        .expect("built-in dictionary");
     load_recipe_text("r.yaml", text, Path::new("."), &dictionary, &[])
 }
 

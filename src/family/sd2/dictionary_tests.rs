@@ -1,11 +1,11 @@
-//! Tests of the dictionary as a whole: the built-in SD2 file, every validation error with
+//! Tests of the dictionary format on the SD2 family's dictionary (the reference file): the built-in file, every validation error with
 //! its line and column, collecting all errors, lookup with suggestions, extend.
 
-use super::*;
 use crate::diag::Diagnostic;
+use crate::dictionary::*;
 use crate::drive::device_control::{DeviceCommand, DeviceState};
 
-const SD2: &str = include_str!("../../dictionary/sd2.yaml");
+const SD2: &str = include_str!("../../../dictionary/sd2.yaml");
 
 fn parse(text: &str) -> Result<Dictionary, DictionaryError> {
     Dictionary::from_yaml("test.yaml", text)
@@ -59,7 +59,9 @@ type Row = (&'static str, u16, DataType, Access, Option<Unit>, f64);
 
 #[test]
 fn builtin_sd2_loads_and_validates() {
-    let d = Dictionary::builtin("sd2").unwrap();
+    let d = crate::family::Registry::builtin()
+        .load_dictionary(crate::family::DEFAULT_DICTIONARY)
+        .unwrap();
     assert_eq!(d.family(), "sd2");
     assert!(d.title().contains("SD2"));
     let names: Vec<&str> = d.objects().map(|o| o.name.as_str()).collect();
@@ -207,12 +209,13 @@ fn builtin_sd2_loads_and_validates() {
         assert_eq!(p.state_mask(s), StateMask { mask, value }, "{s}");
     }
     assert_eq!(p.state_of(0x0237), Some(DeviceState::OperationEnabled));
-    assert!(Dictionary::builtin("SD2").is_ok());
 }
 
 #[test]
 fn builtin_speeds_to_bytes() {
-    let d = Dictionary::builtin("sd2").unwrap();
+    let d = crate::family::Registry::builtin()
+        .load_dictionary(crate::family::DEFAULT_DICTIONARY)
+        .unwrap();
     let sp = d.lookup("speed_setpoint").unwrap();
     let counts = |text: &str| sp.to_raw(&Quantity::parse(text).unwrap()).unwrap();
     assert_eq!(counts("1000 rpm"), RawValue::Int(1_000_000));
@@ -247,7 +250,9 @@ fn builtin_speeds_to_bytes() {
 
 #[test]
 fn lookup_ignores_case_and_knows_aliases() {
-    let d = Dictionary::builtin("sd2").unwrap();
+    let d = crate::family::Registry::builtin()
+        .load_dictionary(crate::family::DEFAULT_DICTIONARY)
+        .unwrap();
     assert_eq!(d.lookup("SPEED_SETPOINT").unwrap().name, "speed_setpoint");
     assert_eq!(
         d.lookup("spg_target_velocity_vl_uunit").unwrap().name,
@@ -264,7 +269,9 @@ fn lookup_ignores_case_and_knows_aliases() {
 
 #[test]
 fn did_you_mean_for_unknown_objects() {
-    let d = Dictionary::builtin("sd2").unwrap();
+    let d = crate::family::Registry::builtin()
+        .load_dictionary(crate::family::DEFAULT_DICTIONARY)
+        .unwrap();
     let e = d.lookup("speed_setpont").unwrap_err();
     assert_eq!(e.suggestions.first().map(String::as_str), Some("speed_setpoint"));
     assert!(e.suggestions.len() <= 3);
@@ -286,7 +293,9 @@ fn did_you_mean_for_unknown_objects() {
 
 #[test]
 fn filter_by_name_alias_and_description() {
-    let d = Dictionary::builtin("sd2").unwrap();
+    let d = crate::family::Registry::builtin()
+        .load_dictionary(crate::family::DEFAULT_DICTIONARY)
+        .unwrap();
     let names = |f: &str| {
         d.filter(f)
             .into_iter()
@@ -301,15 +310,6 @@ fn filter_by_name_alias_and_description() {
     assert_eq!(names("supply"), ["bus_voltage"]);
     assert_eq!(names("").len(), 12);
     assert!(names("nothing like this").is_empty());
-}
-
-#[test]
-fn unknown_builtin_family() {
-    let e = Dictionary::builtin("lenze").unwrap_err().first().clone();
-    assert!(e
-        .message()
-        .contains("no built-in dictionary for drive family `lenze`"));
-    assert_eq!(e.help(), Some("built in: sd2"));
 }
 
 // ---- validation errors, each with its line and column ----
@@ -664,7 +664,9 @@ fn a_broken_object_named_by_the_profile_is_reported_once() {
 
 #[test]
 fn extend_adds_and_replaces() {
-    let mut d = Dictionary::builtin("sd2").unwrap();
+    let mut d = crate::family::Registry::builtin()
+        .load_dictionary(crate::family::DEFAULT_DICTIONARY)
+        .unwrap();
     let user = parse(
         "family: sd2\nobjects:\n  - name: speed_setpoint\n    aliases: [SPG_TARGET_VELOCITY_VL_UUNIT]\n    index: 395\n    type: i32\n    unit: rpm\n    scale: 0.001\n    access: rw\n    min: -24000\n    max: 24000\n  - name: motor_temperature\n    index: 500\n    type: i16\n    access: ro\n",
     )
@@ -693,7 +695,9 @@ fn extend_adds_and_replaces() {
 
 #[test]
 fn extend_refuses_clashes_and_leaves_the_dictionary_unchanged() {
-    let mut d = Dictionary::builtin("sd2").unwrap();
+    let mut d = crate::family::Registry::builtin()
+        .load_dictionary(crate::family::DEFAULT_DICTIONARY)
+        .unwrap();
     let text = "family: sd2\nobjects:\n  - name: my_speed\n    aliases: [target_speed]\n    index: 600\n    type: i32\n    access: rw\n";
     let e = d.extend(parse(text).unwrap()).unwrap_err().first().clone();
     assert_eq!(
@@ -742,7 +746,9 @@ fn extend_from_a_file_whose_profile_names_builtin_objects() {
     let profile = &SD2[SD2.find("profile:").unwrap()..]
         .replace("speed_actual: speed_actual", "speed_actual: speed_actual_2");
     std::fs::write(&path, format!("family: sd2\nobjects: []\n{profile}")).unwrap();
-    let mut d = Dictionary::builtin("sd2").unwrap();
+    let mut d = crate::family::Registry::builtin()
+        .load_dictionary(crate::family::DEFAULT_DICTIONARY)
+        .unwrap();
     assert!(
         Dictionary::load(&path).is_err(),
         "alone, its profile names objects it lacks"
