@@ -38,11 +38,11 @@ impl DictionaryArgs {
     /// --limits nor $DRIVESCRIPT_LIMITS names a limits file. On failure, the rendered
     /// diagnostic to print.
     pub fn load_for(&self, registry: &Registry, recipe: Option<&Path>) -> Result<Arc<Dictionary>, String> {
-        let (_, builtin) = registry
+        let (family, builtin) = registry
             .dictionary(&self.family)
             .map_err(|e| format!("error: {e}\n"))?;
-        let mut dictionary =
-            Dictionary::from_yaml(builtin.path, builtin.text).map_err(|e| render_diagnostic(&e))?;
+        let mut dictionary = Dictionary::from_yaml_for(builtin.path, builtin.text, family.address_parser())
+            .map_err(|e| render_diagnostic(&e))?;
         for path in &self.extra {
             dictionary.extend_from(path).map_err(|e| render_diagnostic(&e))?;
         }

@@ -1,14 +1,20 @@
-//! Where an object lives on the drive. SD2 (and CANopen-like families) address objects by
-//! a 16-bit index and a 32-bit subindex; other families will add their own variants
-//! (menu.parameter, object number, Lenze code). Pure data.
+//! Where an object lives on the drive: a 16-bit index and a 32-bit subindex, which each
+//! family reads in its own way (SD2 and CANopen: index/subindex; a menu.parameter or a
+//! code/subcode family maps its notation onto the pair). A dictionary writes either
+//! `index:`/`subindex:` or `address: TEXT` in the family's notation, which the family's
+//! [`AddressParser`] reads. Pure data.
 
 use std::fmt;
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum Address {
-    /// SD2 DNC: index 0..=65535, subindex for arrays and strings (0 otherwise).
+    /// Index 0..=65535 and subindex (0 for plain objects).
     Indexed { index: u16, subindex: u32 },
 }
+
+/// A family's reading of the `address:` text in its dictionaries; the error says what the
+/// notation is.
+pub type AddressParser = fn(&str) -> Result<Address, String>;
 
 impl Address {
     pub fn indexed(index: u16, subindex: u32) -> Self {

@@ -1,10 +1,11 @@
-//! The data types of object values as they travel on the wire (SD2: all little-endian):
+//! The data types of object values as the drive holds them (each family puts them on its wire):
 //! u8 i8 u16 i16 u32 i32, and strings with a maximum length. Sizes and ranges only;
 //! encoding lives with the object definition.
 
 use std::fmt;
 
-/// Longest string a single SD2 block carries: 48 data bytes, one of them the length byte.
+/// Longest string an object may declare (for example what one SD2 block carries: 48 data
+/// bytes, one of them the length byte).
 pub const MAX_STRING_LEN: u8 = 47;
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -15,8 +16,8 @@ pub enum DataType {
     I16,
     U32,
     I32,
-    /// Characters, at most `max` of them. SD2 sends the maximum length first, then the
-    /// characters, NUL-terminated when shorter than the maximum.
+    /// Characters, at most `max` of them (SD2, for example, sends the maximum length first,
+    /// then the characters, NUL-terminated when shorter than the maximum).
     String {
         max: u8,
     },
@@ -91,7 +92,7 @@ impl DataType {
             return match inner.trim().parse::<u8>() {
                 Ok(max) if (1..=MAX_STRING_LEN).contains(&max) => Ok(DataType::String { max }),
                 _ => Err(format!(
-                    "string length `{}` must be a number from 1 to {MAX_STRING_LEN} (one SD2 block carries 48 bytes, one of them the length)",
+                    "string length `{}` must be a number from 1 to {MAX_STRING_LEN}",
                     inner.trim()
                 )),
             };

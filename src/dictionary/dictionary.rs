@@ -3,7 +3,7 @@
 //! whole. Its only I/O is reading a dictionary file; it knows nothing of transports,
 //! links or protocols beyond object addresses.
 
-use super::address::Address;
+use super::address::{Address, AddressParser};
 use super::bench_limits::BenchLimits;
 use super::dictionary_error::DictionaryError;
 use super::object_def::ObjectDef;
@@ -26,17 +26,30 @@ pub struct Dictionary {
     /// The bench limits in force; applied again after every [`Self::extend`], so no
     /// dictionary added later can raise them.
     bench_limits: Option<BenchLimits>,
+    /// The family's reading of `address:` texts, for the files that extend this one.
+    parse_address: Option<AddressParser>,
 }
 
 impl Dictionary {
     /// Reads, parses and checks a dictionary file. Every problem of the file is reported.
     pub fn load(path: impl AsRef<Path>) -> Result<Dictionary, DictionaryError> {
-        Self::from_file(path.as_ref(), true)
+        Self::from_file(path.as_ref(), true, None)
     }
 
-    /// Parses and checks dictionary text; `path` is only used in messages.
+    /// Parses and checks dictionary text; `path` is only used in messages. Objects give
+    /// `index:`/`subindex:` (an `address:` needs the family: [`Self::from_yaml_for`]).
     pub fn from_yaml(path: &str, text: &str) -> Result<Dictionary, DictionaryError> {
-        Self::from_source(Source::new(path, text), true)
+        Self::from_source(Source::new(path, text), true, None)
+    }
+
+    /// [`from_yaml`](Self::from_yaml) for a family whose `address:` notation `parse_address`
+    /// reads; files that extend the dictionary later are read with it too.
+    pub fn from_yaml_for(
+        path: &str,
+        text: &str,
+        parse_address: AddressParser,
+    ) -> Result<Dictionary, DictionaryError> {
+        Self::from_source(Source::new(path, text), true, Some(parse_address))
     }
 
     /// Adds a user's objects (`--dictionary PATH`) to this dictionary. An object whose
@@ -86,11 +99,15 @@ impl Dictionary {
     /// Reads a user's dictionary file and [`extend`](Self::extend)s this one with it. Its
     /// profile may name objects of this dictionary, so roles are checked after merging.
     pub fn extend_from(&mut self, path: impl AsRef<Path>) -> Result<(), DictionaryError> {
-        let other = Self::from_file(path.as_ref(), false)?;
+        let other = Self::from_file(path.as_ref(), false, self.parse_address)?;
         self.extend(other)
     }
 
-    fn from_file(path: &Path, check_roles: bool) -> Result<Dictionary, DictionaryError> {
+    fn from_file(
+        path: &Path,
+        check_roles: bool,
+        parse_address: Option<AddressParser>,
+    ) -> Result<Dictionary, DictionaryError> {
         let source = read_source(path).map_err(|e| {
             let help = e
                 .help()
@@ -98,10 +115,14 @@ impl Dictionary {
             Diagnostic::unlocated(path.display().to_string(), e.sentence("the dictionary file"))
                 .with_help(help)
         })?;
-        Self::from_source(source, check_roles)
+        Self::from_source(source, check_roles, parse_address)
     }
 
-    fn from_source(file: Arc<Source>, check_roles: bool) -> Result<Dictionary, DictionaryError> {
+    fn from_source(
+        file: Arc<Source>,
+        check_roles: bool,
+        parse_address: Option<AddressParser>,
+    ) -> Result<Dictionary, DictionaryError> {
         if file.text().trim().is_empty() {
             return Err(Diagnostic::unlocated(file.path(), "the dictionary file is empty")
                 .with_help("a dictionary starts with `family:` and lists its `objects:`")
@@ -109,7 +130,7 @@ impl Dictionary {
         }
         let root = YamlNode::parse(&file).map_err(|e| e.diagnostic(file.path(), None))?;
         let mut problems = Diagnostics::new();
-        let contents = read(&root, &mut problems);
+        let contents = read(&root, &mut problems, parse_address);
         let profile = if check_roles {
             contents.profile.as_ref()
         } else {
@@ -126,6 +147,7 @@ impl Dictionary {
             objects: contents.objects,
             profile: contents.profile,
             bench_limits: None,
+            parse_address,
         })
     }
 
@@ -153,7 +175,7 @@ impl Dictionary {
         self.bench_limits.as_ref()
     }
 
-    /// `sd2`
+    /// The drive family this dictionary is for.
     pub fn family(&self) -> &str {
         &self.family
     }
@@ -192,7 +214,7 @@ impl Dictionary {
         names
     }
 
-    /// The object at SD2 `index`/`subindex`.
+    /// The object at `index`/`subindex`.
     pub fn by_address(&self, index: u16, subindex: u32) -> Option<&ObjectDef> {
         let address = Address::Indexed { index, subindex };
         self.objects.iter().find(|o| o.address == address)

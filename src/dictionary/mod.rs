@@ -1,7 +1,7 @@
 //! Object dictionaries: the named objects of a drive family (address, type, unit and scale,
 //! access, limits, aliases) and its device-control profile, read from YAML with every
 //! problem located, plus engineering units and the conversions between quantities and raw
-//! bytes. File format: `dictionary/sd2.yaml` (built in) is the reference.
+//! bytes. File format: each family's built-in dictionary under `dictionary/` is an example.
 //!
 //! A test bench's limits file caps speed and current on top of any dictionary.
 //!
@@ -31,7 +31,7 @@ mod value;
 mod value_error;
 
 pub use access::Access;
-pub use address::Address;
+pub use address::{Address, AddressParser};
 pub use bench_cap::BenchCap;
 pub use bench_limits::{BenchLimits, LimitsRoute, LIMITS_ENV, LIMITS_FILE_NAME};
 pub use data_type::{DataType, MAX_STRING_LEN};

@@ -24,7 +24,7 @@ pub struct ObjectDef {
     pub data_type: DataType,
     /// Engineering unit; `None` for raw counts and bit fields.
     pub unit: Option<Unit>,
-    /// Engineering units per raw count (0.001 for SD2 speeds in rpm).
+    /// Engineering units per raw count (e.g. 0.001 for speeds counted in 0.001 rpm).
     pub scale: f64,
     pub access: Access,
     /// Limits in engineering units (tightened by the bench limits, see [`Self::bench`]).

@@ -45,7 +45,7 @@ pub struct Profile {
 }
 
 impl Profile {
-    /// The SD2 manual's command values and state table (those of
+    /// The CiA 402 command values and state table (those of
     /// [`crate::drive::device_control`]) with the given role assignments.
     pub fn with_defaults(roles: Vec<RoleBinding>) -> Profile {
         Profile {

@@ -6,7 +6,7 @@
 //! with `diag::Reader`, the field reader of every loader. No I/O.
 
 use super::access::Access;
-use super::address::Address;
+use super::address::{Address, AddressParser};
 use super::data_type::DataType;
 use super::format::Format;
 use super::object_def::ObjectDef;
@@ -41,6 +41,7 @@ const OBJECT_KEYS: &[&str] = &[
     "aliases",
     "index",
     "subindex",
+    "address",
     "type",
     "unit",
     "scale",
@@ -54,13 +55,23 @@ const OBJECT_KEYS: &[&str] = &[
 const STATE_KEYS: &[&str] = &["mask", "value"];
 const FINITE_HELP: &str = "write a number such as `60000` or `0.001`";
 
-/// Reads `root`, recording every problem in `out`.
-pub(crate) fn read(root: &YamlNode, out: &mut Diagnostics) -> FileContents {
-    DictionaryReader { r: Reader::new(out) }.document(root)
+/// Reads `root`, recording every problem in `out`; `address:` texts are read with the
+/// family's `parse_address`.
+pub(crate) fn read(
+    root: &YamlNode,
+    out: &mut Diagnostics,
+    parse_address: Option<AddressParser>,
+) -> FileContents {
+    DictionaryReader {
+        r: Reader::new(out),
+        parse_address,
+    }
+    .document(root)
 }
 
 struct DictionaryReader<'d> {
     r: Reader<'d>,
+    parse_address: Option<AddressParser>,
 }
 
 impl DictionaryReader<'_> {
@@ -78,7 +89,7 @@ impl DictionaryReader<'_> {
             broken: Vec::new(),
         };
         let shape = Shape::new("the dictionary", TOP_KEYS)
-            .require_as("family", "the protocol family, e.g. `family: sd2`")
+            .require_as("family", "the drive family, the protocol it speaks")
             .require_as("objects", "a list of objects, each starting `- name:`")
             .nothing_is_absent();
         let Some(f) = self.r.fields(root, &shape) else {
@@ -135,6 +146,45 @@ impl DictionaryReader<'_> {
     /// Where the object is: `index` and `subindex`. Kept apart because each drive family
     /// will write addresses its own way.
     fn address(&mut self, f: &Fields) -> Option<Address> {
+        if let Some(node) = f.get("address") {
+            let text = self.r.scalar_text(node, "`address`")?;
+            let Some(parse) = self.parse_address else {
+                self.push(
+                    Diagnostic::at(
+                        &node.span,
+                        "this dictionary's family has no address notation here",
+                        "not readable",
+                    )
+                    .with_help("write `index:` (and `subindex:`) instead"),
+                );
+                return None;
+            };
+            return match parse(&text) {
+                Ok(address) => Some(address),
+                Err(why) => {
+                    self.push(Diagnostic::at(
+                        &node.span,
+                        format!("address `{text}`: {why}"),
+                        "not an address",
+                    ));
+                    None
+                }
+            };
+        }
+        if f.get("index").is_none() {
+            // A key written with nothing after it is pointed at; otherwise the object.
+            let at = f
+                .entries()
+                .iter()
+                .find(|(k, _)| k.value == "index")
+                .map_or(f.span(), |(k, _)| &k.span);
+            self.push(
+                Diagnostic::at(at, "an object has no `index` (or `address`)", "where is it?").with_help(
+                    "write the object's 16-bit index, e.g. `index: 395` or `index: 0x18B` (and `subindex:`), or `address:` in the family's notation",
+                ),
+            );
+            return None;
+        }
         let index = f
             .get("index")
             .and_then(|n| self.r.int(n, "`index`", 0, u16::MAX.into()));
@@ -153,10 +203,6 @@ impl DictionaryReader<'_> {
         let before = self.r.count();
         let shape = Shape::new("an object", OBJECT_KEYS)
             .require_as("name", "the identifier recipes use, e.g. `speed_setpoint`")
-            .require_as(
-                "index",
-                "the object's 16-bit index, e.g. `index: 395` or `index: 0x18B`",
-            )
             .require_as("type", "one of u8 i8 u16 i16 u32 i32 string(N)")
             .require_as("access", "ro (read-only), rw (read-write) or wo (write-only)")
             .nothing_is_absent();
@@ -425,7 +471,7 @@ impl DictionaryReader<'_> {
         let mut shape = Shape::new("the commands", &allowed).nothing_is_absent();
         for command in DeviceCommand::ALL {
             let meaning = format!(
-                "its control-word value (the SD2 manual's is {})",
+                "its control-word value (the CiA 402 profile's is {})",
                 command.default_control_word()
             );
             shape = shape.require_as(command.id(), meaning);
@@ -463,7 +509,7 @@ impl DictionaryReader<'_> {
                         "sets no bit",
                     )
                     .with_help(format!(
-                        "the SD2 manual's {} is {}",
+                        "the CiA 402 profile's {} is {}",
                         kept.id(),
                         kept.default_control_word()
                     )),
@@ -492,7 +538,7 @@ impl DictionaryReader<'_> {
                 )
                 .also_at(&kept_node.span, kept.id())
                 .with_optional_help(Some(format!(
-                    "a stop command must clear at least one bit of `{}`; the SD2 manual's {} is {}",
+                    "a stop command must clear at least one bit of `{}`; the CiA 402 profile's {} is {}",
                     kept.id(),
                     stop.id(),
                     stop.default_control_word()

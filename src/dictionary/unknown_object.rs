@@ -7,7 +7,7 @@ use std::fmt;
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct UnknownObject {
     pub name: String,
-    /// The dictionary's family, e.g. `sd2`.
+    /// The dictionary's family.
     pub family: String,
     /// Object names, best first (at most three).
     pub suggestions: Vec<String>,

@@ -5,7 +5,7 @@
 
 use crate::bus::{Bus, BusKind, FramePeer, Peer, SerialSettings};
 use crate::clock::SharedClock;
-use crate::dictionary::Dictionary;
+use crate::dictionary::{AddressParser, Dictionary};
 use crate::drive::ObjectAccess;
 use crate::link::{TelegramExplainer, TelegramObserver};
 use crate::sim::{SimConfig, SimulatedDrive};
@@ -71,6 +71,8 @@ pub trait Family: Send + Sync {
     fn bus_kind(&self) -> BusKind;
     /// The line settings a drive of this family ships with (serial families).
     fn serial_settings(&self) -> SerialSettings;
+    /// Reads an object's `address:` text in this family's dictionaries.
+    fn address_parser(&self) -> AddressParser;
     /// `--address` in this family's notation; `None` is the family's default drive.
     fn parse_drive_address(&self, text: Option<&str>) -> Result<DriveAddress, String>;
     /// How `--address` is written, for help and messages.

@@ -61,10 +61,10 @@ impl Registry {
 
     /// The built-in dictionary `name`, parsed and checked.
     pub fn load_dictionary(&self, name: &str) -> Result<Dictionary, DictionaryError> {
-        let (_, builtin) = self
+        let (family, builtin) = self
             .dictionary(name)
             .map_err(|e| DictionaryError::from(Diagnostic::unlocated("", e)))?;
-        Dictionary::from_yaml(builtin.path, builtin.text)
+        Dictionary::from_yaml_for(builtin.path, builtin.text, family.address_parser())
     }
 
     /// Every built-in dictionary's name.

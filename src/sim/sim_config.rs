@@ -3,9 +3,8 @@
 
 use std::time::Duration;
 
-/// How the simulated drive is set up. `Default` gives a drive at bus address 2 (for example
-/// an SD2's DNC address of drive A at switch 0)
-/// with a 230 V supply and a light spindle.
+/// How the simulated drive is set up. `Default` gives a drive at bus address 2 with a
+/// 230 V supply and a light spindle.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SimConfig {
     /// The address the drive answers to, in its family's numbering.

@@ -322,7 +322,7 @@ fn a_profile_whose_stops_keep_the_drive_enabled_is_refused() {
             )),
             "{e}"
         );
-        assert!(e.contains("the SD2 manual's disable_operation is 7"), "{e}");
+        assert!(e.contains("the CiA 402 profile's disable_operation is 7"), "{e}");
         assert!(
             !out(&o).contains("using the built-in"),
             "nothing ran: {}",

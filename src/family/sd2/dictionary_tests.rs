@@ -421,7 +421,7 @@ fn names_must_be_identifiers() {
 fn missing_required_keys() {
     let e = problem(&object("").replace("    index: 1\n", ""));
     assert_eq!(at(&e), (3, 5));
-    assert_eq!(e.message(), "an object has no `index`");
+    assert_eq!(e.message(), "an object has no `index` (or `address`)");
     assert!(e.help().unwrap_or("").contains("index: 395"));
     let e = problem("objects: []\n");
     assert_eq!(at(&e), (1, 1));
@@ -432,6 +432,26 @@ fn missing_required_keys() {
         (4, 5),
         "an empty value counts as missing, pointed at its key"
     );
+}
+
+#[test]
+fn addresses_in_the_familys_notation() {
+    let parse = |text: &str| {
+        Dictionary::from_yaml_for("test.yaml", text, |t| {
+            t.parse::<u16>()
+                .map(|i| Address::indexed(i, 7))
+                .map_err(|_| "a number".to_string())
+        })
+    };
+    let d = parse(&object("").replace("    index: 1\n", "    address: \"12\"\n")).unwrap();
+    assert_eq!(d.lookup("a").unwrap().address, Address::indexed(12, 7));
+    let e = parse(&object("").replace("    index: 1\n", "    address: x1\n")).unwrap_err();
+    let p = e.first();
+    assert_eq!((p.line(), p.column()), (4, 14));
+    assert_eq!(p.message(), "address `x1`: a number");
+    // Without a family's notation an address cannot be read.
+    let e = problem(&object("").replace("    index: 1\n", "    address: \"12\"\n"));
+    assert!(e.message().contains("no address notation"), "{}", e.message());
 }
 
 #[test]

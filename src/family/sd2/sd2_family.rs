@@ -5,7 +5,7 @@
 use super::codec::{dnc_address, WriteLength};
 use super::{LinkConfig, Sd2Access, Sd2Explainer, Sd2Link, Sd2Simulator};
 use crate::bus::{Bus, BusKind, SerialSettings};
-use crate::dictionary::Dictionary;
+use crate::dictionary::{Address, AddressParser, Dictionary};
 use crate::drive::ObjectAccess;
 use crate::family::{
     BuiltinDictionary, DriveAddress, Family, LinkContext, LinkOptions, SimPeer, SimulatedDevice,
@@ -21,6 +21,26 @@ const DICTIONARIES: &[BuiltinDictionary] = &[BuiltinDictionary {
 }];
 
 pub struct Sd2Family;
+
+/// An object's address as the SD2 manual writes it: the index, decimal or `0x` hex, and an
+/// optional `/subindex`: `395`, `0x18B`, `22/3`.
+fn parse_object_address(text: &str) -> Result<Address, String> {
+    let (index, subindex) = text.trim().split_once('/').unwrap_or((text.trim(), "0"));
+    let number = |t: &str| match t
+        .trim()
+        .strip_prefix("0x")
+        .or_else(|| t.trim().strip_prefix("0X"))
+    {
+        Some(hex) => u32::from_str_radix(hex, 16).ok(),
+        None => t.trim().parse::<u32>().ok(),
+    };
+    let help = "write the index and an optional subindex, e.g. `395`, `0x18B` or `22/3`";
+    let index = number(index)
+        .and_then(|i| u16::try_from(i).ok())
+        .ok_or_else(|| format!("not an SD2 object index (0..=65535); {help}"))?;
+    let subindex = number(subindex).ok_or_else(|| format!("not a subindex; {help}"))?;
+    Ok(Address::indexed(index, subindex))
+}
 
 impl Sd2Family {
     fn write_length(extra: &[(String, String)]) -> Result<WriteLength, String> {
@@ -64,6 +84,10 @@ impl Family for Sd2Family {
 
     fn serial_settings(&self) -> SerialSettings {
         SerialSettings::with_baud(57_600)
+    }
+
+    fn address_parser(&self) -> AddressParser {
+        parse_object_address
     }
 
     fn parse_drive_address(&self, text: Option<&str>) -> Result<DriveAddress, String> {
@@ -169,6 +193,15 @@ mod tests {
             .unwrap_err()
             .contains("highest switch position is 126"));
         assert!(a(Some("x")).unwrap_err().contains("address switch"));
+    }
+
+    #[test]
+    fn object_addresses_in_sd2_notation() {
+        assert_eq!(parse_object_address("395"), Ok(Address::indexed(395, 0)));
+        assert_eq!(parse_object_address("0x18B"), Ok(Address::indexed(395, 0)));
+        assert_eq!(parse_object_address(" 22/3 "), Ok(Address::indexed(22, 3)));
+        assert!(parse_object_address("70000").unwrap_err().contains("0..=65535"));
+        assert!(parse_object_address("22/x").unwrap_err().contains("subindex"));
     }
 
     #[test]

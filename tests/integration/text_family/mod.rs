@@ -12,7 +12,7 @@ mod text_simulator;
 
 use drivescript::bus::{Bus, BusKind, SerialSettings};
 use drivescript::cli::{run_recipe, ConnectionArgs, DictionaryArgs, OutputArgs, RunRequest, SafeStopArgs};
-use drivescript::dictionary::Dictionary;
+use drivescript::dictionary::{Address, AddressParser, Dictionary};
 use drivescript::drive::ObjectAccess;
 use drivescript::family::{
     BuiltinDictionary, DriveAddress, Family, LinkContext, LinkOptions, Registry, SimPeer, SimulatedDevice,
@@ -46,6 +46,14 @@ impl Family for TextFamily {
     }
     fn serial_settings(&self) -> SerialSettings {
         SerialSettings::with_baud(9600)
+    }
+    fn address_parser(&self) -> AddressParser {
+        |text| {
+            text.trim()
+                .parse::<u16>()
+                .map(|i| Address::indexed(i, 0))
+                .map_err(|_| "a text-family address is an object number".to_string())
+        }
     }
     fn parse_drive_address(&self, text: Option<&str>) -> Result<DriveAddress, String> {
         let number = text
