@@ -4,7 +4,7 @@
 //! An observer: its write errors are kept for the CLI to report, never fail the run.
 
 use crate::csv_file::CsvFile;
-use crate::session::{number, RunObserver, StepInfo};
+use crate::session::{number, ObjectRef, RunObserver, RunReport, StepInfo};
 use std::path::Path;
 use std::time::Duration;
 
@@ -46,6 +46,13 @@ impl CsvRecorder {
         self.error.as_deref()
     }
 
+    /// Hands every row so far to the file (the run's end does this too).
+    pub fn flush_now(&mut self) {
+        if let Err(e) = self.file.flush() {
+            self.error.get_or_insert(e);
+        }
+    }
+
     fn row(&mut self, record: [&str; 5]) -> Result<(), String> {
         self.file.row(&record)
     }
@@ -56,20 +63,27 @@ impl RunObserver for CsvRecorder {
         self.step = step.number.clone();
     }
 
-    fn sample(&mut self, at: Duration, values: &[(String, Option<String>, f64)]) {
+    fn sample(&mut self, at: Duration, objects: &[ObjectRef], values: &[f64]) {
         if self.error.is_some() {
             return;
         }
         let time = format!("{:.6}", at.as_secs_f64());
-        let step = self.step.clone();
-        for (object, unit, value) in values {
+        let step = std::mem::take(&mut self.step);
+        for (object, value) in objects.iter().zip(values) {
             let value = number(*value);
-            if let Err(e) = self.row([&time, &step, object, &value, unit.as_deref().unwrap_or("")]) {
+            let unit = object.unit.as_deref().unwrap_or("");
+            if let Err(e) = self.row([&time, &step, &object.name, &value, unit]) {
                 self.error = Some(e);
-                return;
+                break;
             }
             self.rows += 1;
         }
+        self.step = step;
+    }
+
+    /// Every ending of a run comes through here (a signal, a panic, a lost link too).
+    fn run_finished(&mut self, _report: &RunReport) {
+        self.flush_now();
     }
 }
 
@@ -99,8 +113,11 @@ mod tests {
         }
     }
 
-    fn row(object: &str, unit: Option<&str>, value: f64) -> (String, Option<String>, f64) {
-        (object.into(), unit.map(String::from), value)
+    fn object(name: &str, unit: Option<&str>) -> ObjectRef {
+        ObjectRef {
+            name: name.into(),
+            unit: unit.map(String::from),
+        }
     }
 
     #[test]
@@ -111,11 +128,18 @@ mod tests {
         csv.sample(
             Duration::from_millis(5_100),
             &[
-                row("speed_actual", Some("rpm"), 6000.125),
-                row("current_actual", Some("A"), 2.5),
+                object("speed_actual", Some("rpm")),
+                object("current_actual", Some("A")),
             ],
+            &[6000.125, 2.5],
         );
-        // Read while the recorder is alive: the rows must already be in the file.
+        // Buffered: not one write per row, but on the disk after a flush (every 250 ms,
+        // and at every ending of the run).
+        assert_eq!(
+            std::fs::read_to_string(&path).unwrap(),
+            "time [s],step,object,value,unit\n"
+        );
+        csv.flush_now();
         assert_eq!(
             std::fs::read_to_string(&path).unwrap(),
             "time [s],step,object,value,unit\n\
@@ -123,7 +147,8 @@ mod tests {
              5.100000,3,current_actual,2.5,A\n"
         );
         csv.step_started(&step("7.2"));
-        csv.sample(Duration::from_secs(70), &[row("drive_error", None, 0.0)]);
+        csv.sample(Duration::from_secs(70), &[object("drive_error", None)], &[0.0]);
+        csv.flush_now();
         let text = std::fs::read_to_string(&path).unwrap();
         assert!(text.ends_with("70.000000,7.2,drive_error,0,\n"), "{text}");
         assert_eq!(csv.rows(), 3);
@@ -146,7 +171,8 @@ mod tests {
     fn names_with_commas_are_quoted() {
         let path = temp("quote");
         let mut csv = CsvRecorder::create(&path).unwrap();
-        csv.sample(Duration::ZERO, &[row("odd,name", Some("\"u\""), 1.0)]);
+        csv.sample(Duration::ZERO, &[object("odd,name", Some("\"u\""))], &[1.0]);
+        csv.flush_now();
         let text = std::fs::read_to_string(&path).unwrap();
         assert!(
             text.ends_with("0.000000,,\"odd,name\",1,\"\"\"u\"\"\"\n"),

@@ -216,6 +216,10 @@ impl<W: Write> RunObserver for ProgressReporter<W> {
         self.line(&message_line(text));
     }
 
+    fn wants_progress(&self) -> bool {
+        true
+    }
+
     fn run_finished(&mut self, report: &RunReport) {
         self.bar.finish_and_clear();
         for line in summary_lines(report, self.virtual_time) {

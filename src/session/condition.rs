@@ -176,30 +176,53 @@ pub struct Check {
     pub predicate: Predicate,
 }
 
-/// Statistics of one sampled series.
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
+/// Statistics of a sample window, kept as the samples arrive (Welford's running mean and
+/// sum of squared deviations), so a window of days costs the same memory as one of seconds.
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Stats {
     pub count: usize,
     pub mean: f64,
     pub min: f64,
     pub max: f64,
-    pub std: f64,
+    /// Sum of squared deviations from the running mean.
+    m2: f64,
+}
+
+impl Default for Stats {
+    fn default() -> Self {
+        Stats {
+            count: 0,
+            mean: 0.0,
+            min: f64::INFINITY,
+            max: f64::NEG_INFINITY,
+            m2: 0.0,
+        }
+    }
 }
 
 impl Stats {
     pub fn of(values: &[f64]) -> Stats {
-        if values.is_empty() {
-            return Stats::default();
-        }
-        let n = values.len() as f64;
-        let mean = values.iter().sum::<f64>() / n;
-        let var = values.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / n;
-        Stats {
-            count: values.len(),
-            mean,
-            min: values.iter().copied().fold(f64::INFINITY, f64::min),
-            max: values.iter().copied().fold(f64::NEG_INFINITY, f64::max),
-            std: var.sqrt(),
+        let mut s = Stats::default();
+        values.iter().for_each(|v| s.push(*v));
+        s
+    }
+
+    /// Takes one more sample.
+    pub fn push(&mut self, v: f64) {
+        self.count += 1;
+        let delta = v - self.mean;
+        self.mean += delta / self.count as f64;
+        self.m2 += delta * (v - self.mean);
+        self.min = self.min.min(v);
+        self.max = self.max.max(v);
+    }
+
+    /// Population standard deviation.
+    pub fn std(&self) -> f64 {
+        if self.count == 0 {
+            0.0
+        } else {
+            (self.m2 / self.count as f64).max(0.0).sqrt()
         }
     }
 
@@ -209,7 +232,7 @@ impl Stats {
             Statistic::Min => self.min,
             Statistic::Max => self.max,
             Statistic::Ripple => self.max - self.min,
-            Statistic::Std => self.std,
+            Statistic::Std => self.std(),
         }
     }
 }
@@ -217,6 +240,21 @@ impl Stats {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn streaming_statistics_match_the_two_pass_ones() {
+        let values: Vec<f64> = (0..10_000)
+            .map(|i| 6000.0 + ((i * 37) % 101) as f64 / 10.0)
+            .collect();
+        let s = Stats::of(&values);
+        let n = values.len() as f64;
+        let mean = values.iter().sum::<f64>() / n;
+        let std = (values.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / n).sqrt();
+        assert!((s.mean - mean).abs() < 1e-9 && (s.std() - std).abs() < 1e-9);
+        assert_eq!((s.min, s.max, s.count), (6000.0, 6010.0, 10_000));
+        assert_eq!(s.get(Statistic::Ripple), 10.0);
+        assert_eq!(Stats::default().std(), 0.0);
+    }
 
     #[test]
     fn near_percent_and_absolute() {
@@ -251,7 +289,7 @@ mod tests {
         let s = Stats::of(&[1.0, 2.0, 3.0, 4.0]);
         assert_eq!((s.count, s.mean, s.min, s.max), (4, 2.5, 1.0, 4.0));
         assert_eq!(s.get(Statistic::Ripple), 3.0);
-        assert!((s.std - 1.118_034).abs() < 1e-6);
+        assert!((s.std() - 1.118_034).abs() < 1e-6);
         assert_eq!(Stats::of(&[]).count, 0);
         assert_eq!(number(6000.0), "6000");
         assert_eq!(number(0.5), "0.5");

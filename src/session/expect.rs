@@ -3,7 +3,7 @@
 
 use super::session::{value_of, Session};
 use super::stop::Stop;
-use super::{Check, CheckResult, Condition, Stats, StepOrigin};
+use super::{Check, CheckResult, Condition, StepOrigin};
 
 impl Session<'_> {
     /// Named checks, instant or on the last sample window; a failed check is recorded and
@@ -14,8 +14,8 @@ impl Session<'_> {
             let started = self.clock.now();
             let (passed, measured, text, message) = match c.statistic {
                 Some(stat) => {
-                    let values = self.windows.get(&c.object.name).cloned().unwrap_or_default();
-                    if values.is_empty() {
+                    let window = self.windows.get(&c.object.name).copied().unwrap_or_default();
+                    if window.count == 0 {
                         (
                             false,
                             None,
@@ -23,7 +23,7 @@ impl Session<'_> {
                             format!("no samples of {} to check", c.object.name),
                         )
                     } else {
-                        let v = Stats::of(&values).get(stat);
+                        let v = window.get(stat);
                         let ok = c.predicate.holds(v);
                         (
                             ok,

@@ -4,6 +4,7 @@
 //! and ends every run with the verified safe stop; conditions and checks; what a run did
 //! (the report). Knows names, units and states; never bytes, never a family, never YAML.
 
+mod bucket_series;
 mod condition;
 mod expect;
 mod object_ref;
@@ -21,6 +22,7 @@ mod step_origin;
 mod stop;
 mod wait_until;
 
+pub use bucket_series::{BucketSeries, SERIES_BUCKETS};
 pub use condition::{number, with_unit, Check, Condition, Predicate, Statistic, Stats, Tolerance};
 pub use object_ref::ObjectRef;
 pub use run_info::{RunInfo, StepInfo};

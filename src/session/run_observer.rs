@@ -1,7 +1,7 @@
 //! Hooks through which a running recipe or script reports as it goes (console lines, live progress,
 //! streamed CSV). Observers must not fail the run: their own I/O problems are theirs.
 
-use super::{CheckResult, RunInfo, RunReport, StepInfo, StepRecord};
+use super::{CheckResult, ObjectRef, RunInfo, RunReport, StepInfo, StepRecord};
 use std::time::Duration;
 
 pub trait RunObserver {
@@ -12,8 +12,12 @@ pub trait RunObserver {
     fn step_progress(&mut self, _number: &str, _elapsed: Duration, _total: Option<Duration>, _values: &str) {}
     fn step_finished(&mut self, _record: &StepRecord) {}
     fn check(&mut self, _result: &CheckResult) {}
-    /// One row of a `sample` step: clock time and (object, value) pairs.
-    fn sample(&mut self, _at: Duration, _values: &[(String, Option<String>, f64)]) {}
+    /// One row of a `sample` step: clock time, and one value per object.
+    fn sample(&mut self, _at: Duration, _objects: &[ObjectRef], _values: &[f64]) {}
+    /// Whether this observer shows live progress (a screen): text for it is built only then.
+    fn wants_progress(&self) -> bool {
+        false
+    }
     /// A value read by `read`/`print`, or a message.
     fn message(&mut self, _text: &str) {}
     fn run_finished(&mut self, _report: &RunReport) {}
@@ -49,8 +53,11 @@ impl RunObserver for Observers<'_> {
     fn check(&mut self, result: &CheckResult) {
         self.list.iter_mut().for_each(|o| o.check(result));
     }
-    fn sample(&mut self, at: Duration, values: &[(String, Option<String>, f64)]) {
-        self.list.iter_mut().for_each(|o| o.sample(at, values));
+    fn sample(&mut self, at: Duration, objects: &[ObjectRef], values: &[f64]) {
+        self.list.iter_mut().for_each(|o| o.sample(at, objects, values));
+    }
+    fn wants_progress(&self) -> bool {
+        self.list.iter().any(|o| o.wants_progress())
     }
     fn message(&mut self, text: &str) {
         self.list.iter_mut().for_each(|o| o.message(text));

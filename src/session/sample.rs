@@ -5,7 +5,7 @@ use super::session::show_duration;
 use super::session::{round, Session};
 use super::stop::{nth_tick, Stop};
 use super::with_unit;
-use super::{number, ObjectRef, Series, Stats};
+use super::{number, BucketSeries, ObjectRef, Series, Stats, SERIES_BUCKETS};
 use crate::csv_file::CsvFile;
 use std::path::PathBuf;
 use std::time::Duration;
@@ -31,7 +31,12 @@ impl Session<'_> {
         };
         let start = self.clock.now();
         let run_start = self.run_start;
-        let mut series: Vec<Vec<(f64, f64)>> = vec![Vec::new(); objects.len()];
+        let origin = (start - run_start).as_secs_f64();
+        let width = (duration.as_secs_f64() / SERIES_BUCKETS as f64).max(every.as_secs_f64());
+        let mut stats = vec![Stats::default(); objects.len()];
+        let mut series: Vec<BucketSeries> =
+            objects.iter().map(|_| BucketSeries::new(origin, width)).collect();
+        let mut values = vec![0.0; objects.len()];
         let mut k: u32 = 0;
         let mut late = 0u32;
         let end = start.saturating_add(duration);
@@ -48,30 +53,36 @@ impl Session<'_> {
             if at > due.saturating_add(every) {
                 late += 1;
             }
-            let mut row = Vec::with_capacity(objects.len());
+            let t = (at - run_start).as_secs_f64();
             for (i, o) in objects.iter().enumerate() {
                 let v = self.drive.read_number(&o.name)?;
-                series[i].push(((at - run_start).as_secs_f64(), v));
-                row.push((o.name.clone(), o.unit.clone(), v));
+                values[i] = v;
+                stats[i].push(v);
+                series[i].push(t, v);
             }
             if let Some(w) = writer.as_mut() {
-                w.row((at - run_start).as_secs_f64(), &row).map_err(Stop::Error)?;
+                w.row(t, &values).map_err(Stop::Error)?;
             }
-            self.observer.sample(at, &row);
-            let live = row
-                .iter()
-                .map(|(n, u, v)| format!("{n} {}", with_unit(*v, u.as_deref())))
-                .collect::<Vec<_>>()
-                .join(", ");
-            self.observer
-                .step_progress(number, at - start, Some(duration), &live);
+            self.observer.sample(at, objects, &values);
+            // The live line is text for a screen; build it only when one shows it.
+            if self.observer.wants_progress() {
+                let live = objects
+                    .iter()
+                    .zip(&values)
+                    .map(|(o, v)| format!("{} {}", o.name, with_unit(*v, o.unit.as_deref())))
+                    .collect::<Vec<_>>()
+                    .join(", ");
+                self.observer
+                    .step_progress(number, at - start, Some(duration), &live);
+            }
             self.watch_fault(false)?;
             k += 1;
         }
+        if let Some(w) = writer.as_mut() {
+            w.flush().map_err(Stop::Error)?;
+        }
         let mut summary = Vec::new();
-        for (i, o) in objects.iter().enumerate() {
-            let values: Vec<f64> = series[i].iter().map(|(_, v)| *v).collect();
-            let s = Stats::of(&values);
+        for ((o, s), points) in objects.iter().zip(stats).zip(series) {
             summary.push(format!(
                 "{} mean {} min {} max {}",
                 o.name,
@@ -79,12 +90,12 @@ impl Session<'_> {
                 with_unit(round(s.min), o.unit.as_deref()),
                 with_unit(round(s.max), o.unit.as_deref())
             ));
-            self.windows.insert(o.name.clone(), values);
+            self.windows.insert(o.name.clone(), s);
             self.report.series.push(Series {
                 object: o.name.clone(),
                 unit: o.unit.clone(),
                 step: number.to_string(),
-                points: std::mem::take(&mut series[i]),
+                points: points.points(),
             });
         }
         let late_note = if late > 0 {
@@ -116,9 +127,13 @@ impl SampleCsv {
         CsvFile::create(path, &header).map(SampleCsv)
     }
 
-    fn row(&mut self, t: f64, values: &[(String, Option<String>, f64)]) -> Result<(), String> {
+    fn row(&mut self, t: f64, values: &[f64]) -> Result<(), String> {
         let mut rec = vec![format!("{t:.3}")];
-        rec.extend(values.iter().map(|(_, _, v)| number(round(*v))));
+        rec.extend(values.iter().map(|v| number(round(*v))));
         self.0.row(&rec)
+    }
+
+    fn flush(&mut self) -> Result<(), String> {
+        self.0.flush()
     }
 }

@@ -6,8 +6,8 @@
 
 use super::stop::{outcome, panic_message, Stop};
 use super::{
-    with_unit, Condition, ObjectRef, Predicate, RunInfo, RunObserver, RunReport, SafeStopSettings, StepInfo,
-    StepRecord, Verdict,
+    with_unit, Condition, ObjectRef, Predicate, RunInfo, RunObserver, RunReport, SafeStopSettings, Stats,
+    StepInfo, StepRecord, Verdict,
 };
 use crate::clock::SharedClock;
 use crate::drive::device_control::DeviceState;
@@ -29,8 +29,8 @@ pub struct Session<'a> {
     pub(super) clock: SharedClock,
     /// Directory that relative `csv:` paths of sample steps are written to.
     pub(super) output_dir: PathBuf,
-    /// The last sample window per object.
-    pub(super) windows: HashMap<String, Vec<f64>>,
+    /// The statistics of the last sample window per object.
+    pub(super) windows: HashMap<String, Stats>,
     /// CSV files written in this run: a sample step that runs again (in a repeat) appends
     /// to its file instead of overwriting what the earlier pass recorded.
     pub(super) csv_files: HashSet<PathBuf>,
