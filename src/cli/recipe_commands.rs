@@ -80,6 +80,9 @@ pub struct SafeStopArgs {
     /// How long to keep trying to reopen a lost port to deliver the safe stop [default: 10s].
     #[arg(long, value_name = "DURATION", value_parser = parse_stop_duration)]
     pub reconnect_timeout: Option<std::time::Duration>,
+    /// Read the status word for fault watching at most this often [default: 100ms].
+    #[arg(long, value_name = "DURATION", value_parser = parse_stop_duration)]
+    pub fault_poll: Option<std::time::Duration>,
 }
 
 impl SafeStopArgs {
@@ -93,6 +96,7 @@ impl SafeStopArgs {
                 .unwrap_or(d.standstill_timeout),
             standstill: self.standstill.or(recipe.standstill).unwrap_or(d.standstill),
             reconnect_timeout: self.reconnect_timeout.unwrap_or(d.reconnect_timeout),
+            fault_poll: self.fault_poll.unwrap_or(d.fault_poll),
         }
     }
 }

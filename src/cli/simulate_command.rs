@@ -63,11 +63,12 @@ pub fn run(args: &SimulateArgs) -> i32 {
         ..SimConfig::default()
     };
     let device = family.simulator(&address, config);
-    let description = device
-        .drive
-        .lock()
-        .unwrap_or_else(PoisonError::into_inner)
-        .describe();
+    let description = {
+        let mut drive = device.drive.lock().unwrap_or_else(PoisonError::into_inner);
+        // A server can run for days and nobody reads its log.
+        drive.set_logging(false);
+        drive.describe()
+    };
     let SimPeer::Bytes(peer) = device.peer else {
         eprintln!(
             "error: the {} family's simulated drive speaks CAN frames; --pty and --tcp serve byte streams",

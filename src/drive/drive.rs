@@ -58,12 +58,7 @@ impl Drive {
 
     /// The object definition for a name or alias.
     pub fn object(&self, name: &str) -> Result<&ObjectDef, DriveError> {
-        self.dictionary
-            .lookup(name)
-            .map_err(|e| DriveError::UnknownObject {
-                name: name.to_string(),
-                suggestions: e.suggestions.clone(),
-            })
+        lookup(&self.dictionary, name)
     }
 
     /// The dictionary's device-control profile (a dictionary without one cannot do
@@ -85,8 +80,10 @@ impl Drive {
 
     /// Reads an object and decodes it with its type, scale and unit.
     pub fn read(&mut self, name: &str) -> Result<Value, DriveError> {
-        let def = self.object(name)?.clone();
-        self.read_def(&def)
+        // The definition is borrowed from a second handle on the dictionary, not copied:
+        // a long run reads millions of times.
+        let dictionary = Arc::clone(&self.dictionary);
+        self.read_def(lookup(&dictionary, name)?)
     }
 
     fn read_def(&mut self, def: &ObjectDef) -> Result<Value, DriveError> {
@@ -107,8 +104,9 @@ impl Drive {
 
     /// Reads an object as a number in its engineering unit.
     pub fn read_number(&mut self, name: &str) -> Result<f64, DriveError> {
-        let def = self.object(name)?.clone();
-        let value = self.read_def(&def)?;
+        let dictionary = Arc::clone(&self.dictionary);
+        let def = lookup(&dictionary, name)?;
+        let value = self.read_def(def)?;
         value.number().ok_or_else(|| DriveError::BadReply {
             object: def.name.clone(),
             source: crate::dictionary::ValueError::TextForNumber {
@@ -266,4 +264,12 @@ impl Drive {
             }
         }
     }
+}
+
+/// The object definition for a name or alias, or the refusal with suggestions.
+fn lookup<'d>(dictionary: &'d Dictionary, name: &str) -> Result<&'d ObjectDef, DriveError> {
+    dictionary.lookup(name).map_err(|e| DriveError::UnknownObject {
+        name: name.to_string(),
+        suggestions: e.suggestions.clone(),
+    })
 }

@@ -93,7 +93,7 @@ fn steps(s: &mut Session, steps: &[Step], prefix: &str, phase: &'static str) -> 
         let info = info(step, number.clone(), phase);
         s.perform(&info, |s| exec(s, step, &number, phase))?;
         if phase == "steps" {
-            s.watch_fault(true)?;
+            s.watch_fault(false)?;
         }
     }
     Ok(())

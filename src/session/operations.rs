@@ -1,7 +1,7 @@
 //! The simple operations: device commands, the state walk, writing and reading objects,
 //! showing a message, and dwelling (a wait that watches for faults).
 
-use super::session::{Session, FAULT_WATCH};
+use super::session::Session;
 use super::stop::Stop;
 use super::{ObjectRef, SetValue};
 use crate::dictionary::{Quantity, Unit};
@@ -93,7 +93,7 @@ impl Session<'_> {
                 return Err(Stop::Interrupted);
             }
             self.observer.step_progress(number, now - start, Some(d), "");
-            self.wait(now.saturating_add(FAULT_WATCH).min(end))?;
+            self.wait(now.saturating_add(self.settings.fault_poll).min(end))?;
         }
     }
 }

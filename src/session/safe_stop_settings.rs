@@ -1,6 +1,7 @@
-//! How the safe stop behaves where a recipe or the command line may choose: how long to
-//! wait for standstill, what counts as standstill, how long to try to reopen a lost port.
-//! Plain data with the documented defaults.
+//! How the safety of a run behaves where a recipe or the command line may choose: how often
+//! the drive is watched for faults, how long the safe stop waits for standstill, what counts
+//! as standstill, how long it tries to reopen a lost port. Plain data with the documented
+//! defaults.
 
 use crate::dictionary::{Quantity, Unit};
 use std::time::Duration;
@@ -15,6 +16,9 @@ pub struct SafeStopSettings {
     pub standstill: Quantity,
     /// How long to keep trying to reopen a lost port to deliver the safe stop.
     pub reconnect_timeout: Duration,
+    /// The status word is read for fault watching at most this often: between steps and
+    /// during waits. Reading it after every step would halve the reads a run can make.
+    pub fault_poll: Duration,
 }
 
 impl Default for SafeStopSettings {
@@ -23,6 +27,7 @@ impl Default for SafeStopSettings {
             standstill_timeout: Duration::from_secs(60),
             standstill: Quantity::new(10.0, Some(Unit::Rpm)),
             reconnect_timeout: Duration::from_secs(10),
+            fault_poll: Duration::from_millis(100),
         }
     }
 }

@@ -18,9 +18,6 @@ use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::PathBuf;
 use std::time::Duration;
 
-/// How often long operations look at the drive for faults.
-pub(super) const FAULT_WATCH: Duration = Duration::from_millis(100);
-
 pub struct Session<'a> {
     pub(super) drive: &'a mut Drive,
     pub(super) observer: &'a mut dyn RunObserver,
@@ -230,11 +227,11 @@ impl<'a> Session<'a> {
         Ok(())
     }
 
-    /// Reads the state now and then (at most every [`FAULT_WATCH`], or at once when
+    /// Reads the state now and then (at most every `settings.fault_poll`, or at once when
     /// `now`); a fault stops the recipe.
     pub fn watch_fault(&mut self, now: bool) -> Result<(), Stop> {
         let t = self.clock.now();
-        if !now && t < self.last_fault_check + FAULT_WATCH {
+        if !now && t < self.last_fault_check.saturating_add(self.settings.fault_poll) {
             return Ok(());
         }
         self.last_fault_check = t;

@@ -58,7 +58,8 @@ impl Sd2Simulator {
         )
     }
 
-    /// Every decoded request addressed to this drive, with the time it arrived.
+    /// The decoded requests addressed to this drive, with the time each arrived: all of
+    /// them up to [`LOG_KEEPS`], then at least the latest [`LOG_KEEPS`].
     pub fn received(&self) -> &[(Duration, Telegram)] {
         &self.received
     }
@@ -174,7 +175,7 @@ impl Sd2Simulator {
 
     fn log_control_word(&mut self, control_word: u16) {
         if self.logging {
-            self.control_words.push(control_word);
+            keep_recent(&mut self.control_words, control_word);
         }
     }
 
@@ -301,7 +302,7 @@ impl Peer for Sd2Simulator {
                 continue;
             }
             if self.logging {
-                self.received.push((now, request));
+                keep_recent(&mut self.received, (now, request));
             }
             let Some(body) = self.answer(&request.body) else {
                 continue;
@@ -319,6 +320,19 @@ impl Peer for Sd2Simulator {
     fn reachable(&self, now: Duration) -> bool {
         self.faults.line_up(now)
     }
+}
+
+/// Most entries each log keeps: a days-long run against the simulated drive must not grow
+/// without bound. The log holds between this many and twice this many of the latest.
+pub const LOG_KEEPS: usize = 10_000;
+
+/// Appends to a log, dropping the oldest half once it holds twice [`LOG_KEEPS`] (amortised,
+/// and the log stays one slice).
+fn keep_recent<T>(log: &mut Vec<T>, entry: T) {
+    if log.len() >= 2 * LOG_KEEPS {
+        log.drain(..LOG_KEEPS);
+    }
+    log.push(entry);
 }
 
 #[cfg(test)]

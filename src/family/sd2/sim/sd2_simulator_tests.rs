@@ -752,3 +752,18 @@ fn a_two_hour_run_in_polled_a_hundred_thousand_times_stays_exact() {
     assert_eq!(s.speed_rpm(now), 12_000.0);
     assert_eq!(s.state(), DeviceState::OperationEnabled);
 }
+
+#[test]
+fn the_request_log_stays_bounded_on_a_long_run() {
+    let mut sim = Sd2Simulator::new(SimConfig::default());
+    let read = Telegram::read_request(2, 1, 67, 0).encode(WriteLength::Captured);
+    for i in 0..(5 * LOG_KEEPS as u64) {
+        sim.receive(&read, Duration::from_millis(i));
+    }
+    assert!(sim.received().len() <= 2 * LOG_KEEPS, "{}", sim.received().len());
+    assert!(sim.received().len() >= LOG_KEEPS);
+    assert_eq!(
+        sim.received().last().map(|(t, _)| *t),
+        Some(Duration::from_millis(5 * LOG_KEEPS as u64 - 1))
+    );
+}
