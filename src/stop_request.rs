@@ -4,6 +4,7 @@
 //! stop runs asks for the power stage to be switched off at once. This module only counts
 //! and wakes; what a request means for a drive is the session's business.
 
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Condvar, Mutex, MutexGuard, PoisonError};
 use std::time::Duration;
 
@@ -83,10 +84,24 @@ struct State {
 }
 
 /// The run's stop requests, shared by the signal watcher, the engine and the link.
-#[derive(Debug, Default)]
+#[derive(Debug)]
 pub struct StopRequests {
     state: Mutex<State>,
     changed: Condvar,
+    /// True until the first request arrives or is scheduled: every wait and every read asks
+    /// whether a stop is pending, millions of times in a long run, and this answers the
+    /// usual "no" without taking the lock.
+    quiet: AtomicBool,
+}
+
+impl Default for StopRequests {
+    fn default() -> Self {
+        StopRequests {
+            state: Mutex::default(),
+            changed: Condvar::new(),
+            quiet: AtomicBool::new(true),
+        }
+    }
 }
 
 impl StopRequests {
@@ -102,7 +117,10 @@ impl StopRequests {
 
     /// A stop request arrives now (a signal, a button).
     pub fn request(&self, signal: StopSignal) {
-        self.lock().received.push(signal);
+        let mut s = self.lock();
+        s.received.push(signal);
+        self.quiet.store(false, Ordering::SeqCst);
+        drop(s);
         self.changed.notify_all();
     }
 
@@ -112,6 +130,7 @@ impl StopRequests {
         let mut s = self.lock();
         let i = s.scheduled.partition_point(|(t, _)| *t <= at);
         s.scheduled.insert(i, (at, signal));
+        self.quiet.store(false, Ordering::SeqCst);
         drop(s);
         self.changed.notify_all();
     }
@@ -129,6 +148,9 @@ impl StopRequests {
 
     /// How many requests arrived by clock time `now`.
     pub fn count_at(&self, now: Duration) -> usize {
+        if self.quiet.load(Ordering::SeqCst) {
+            return 0;
+        }
         let mut s = self.lock();
         Self::deliver_due(&mut s, now);
         s.received.len()
@@ -141,6 +163,9 @@ impl StopRequests {
 
     /// True when a request arrived (by `now`) that nobody has answered yet.
     pub fn pending_at(&self, now: Duration) -> bool {
+        if self.quiet.load(Ordering::SeqCst) {
+            return false;
+        }
         let mut s = self.lock();
         Self::deliver_due(&mut s, now);
         !s.final_stage && s.received.len() > s.acknowledged
@@ -176,6 +201,9 @@ impl StopRequests {
 
     /// The next scheduled request after `now`, if any.
     pub fn next_scheduled(&self) -> Option<Duration> {
+        if self.quiet.load(Ordering::SeqCst) {
+            return None;
+        }
         self.lock().scheduled.first().map(|(at, _)| *at)
     }
 

@@ -80,7 +80,7 @@ pub struct SafeStopArgs {
     /// How long to keep trying to reopen a lost port to deliver the safe stop [default: 10s].
     #[arg(long, value_name = "DURATION", value_parser = parse_stop_duration)]
     pub reconnect_timeout: Option<std::time::Duration>,
-    /// Read the status word for fault watching at most this often [default: 100ms].
+    /// Read the status word for fault watching at most this often [default: 250ms].
     #[arg(long, value_name = "DURATION", value_parser = parse_stop_duration)]
     pub fault_poll: Option<std::time::Duration>,
 }

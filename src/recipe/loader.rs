@@ -37,10 +37,10 @@ pub const DEFAULT_RAMP_EVERY: Duration = Duration::from_millis(100);
 /// hours or days, not years; anything longer is a typo in the number or the unit, and the
 /// cap keeps every sum of durations the run makes far from overflowing.
 pub const MAX_DURATION: Duration = Duration::from_secs(1000 * 24 * 3600);
-/// Most samples one `sample` step may take (`for` / `every` + 1). Each is kept in memory
-/// for the statistics and the plots (16 bytes per object), and the runner counts them in
-/// a `u32`; a million is 28 h at 100 ms.
-pub const MAX_SAMPLES: u64 = 1_000_000;
+/// Most samples one `sample` step may take (`for` / `every` + 1). Memory does not grow
+/// with them (statistics stream, plots keep a fixed number of buckets), but the runner
+/// counts them in a `u32`; a billion is 115 days at 10 ms.
+pub const MAX_SAMPLES: u64 = 1_000_000_000;
 
 /// Loads and validates a recipe file. `overrides` are `--set name=value` pairs.
 pub fn load_recipe(

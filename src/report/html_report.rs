@@ -7,7 +7,7 @@
 use super::atomic_write::write_atomically;
 use super::junit_report::limits_text;
 use crate::recipe::{number, CheckResult, RunReport, Series, StepRecord, Verdict};
-use crate::session::with_unit;
+use crate::session::{with_unit, MAX_RECORDS};
 use std::fmt::Write as _;
 use std::path::Path;
 use std::time::Duration;
@@ -211,7 +211,16 @@ fn steps(h: &mut String, r: &RunReport) {
     for s in &r.steps {
         step_row(h, s);
     }
-    h.push_str("</tbody>\n</table>\n</section>\n");
+    h.push_str("</tbody>\n</table>\n");
+    if r.omitted_steps > 0 || r.omitted_checks > 0 {
+        let _ = writeln!(
+            h,
+            "<p>{} further passed step(s) and {} passed check(s) inside repeats are not listed \
+             (the report keeps {MAX_RECORDS} of each; every failure is listed).</p>",
+            r.omitted_steps, r.omitted_checks
+        );
+    }
+    h.push_str("</section>\n");
 }
 
 fn step_row(h: &mut String, s: &StepRecord) {

@@ -69,8 +69,7 @@ impl Session<'_> {
                 self.failed_checks = true;
                 failed.push(result.message.clone());
             }
-            self.observer.check(&result);
-            self.report.checks.push(result);
+            self.record_check_result(result);
         }
         if failed.is_empty() {
             Ok(format!("{} check(s) passed", checks.len()))

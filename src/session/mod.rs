@@ -27,7 +27,9 @@ pub use condition::{number, with_unit, Check, Condition, Predicate, Statistic, S
 pub use object_ref::ObjectRef;
 pub use run_info::{RunInfo, StepInfo};
 pub use run_observer::{Observers, RunObserver};
-pub use run_report::{CheckResult, RunReport, Series, StepRecord, Verdict, ERROR_EXIT, PANIC_EXIT};
+pub use run_report::{
+    CheckResult, RunReport, Series, StepRecord, Verdict, ERROR_EXIT, MAX_RECORDS, PANIC_EXIT,
+};
 pub use safe_stop_settings::SafeStopSettings;
 pub use session::{show_duration, Session};
 pub use set_value::SetValue;

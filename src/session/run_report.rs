@@ -133,7 +133,15 @@ pub struct RunReport {
     pub disobeyed: bool,
     /// Notes on the safe stop: what ran, what failed, the escalation.
     pub safe_stop: Vec<String>,
+    /// Passed steps and checks inside repeats that were not kept once the report held
+    /// [`MAX_RECORDS`] of each (they were printed as they ran); failures are always kept.
+    pub omitted_steps: u64,
+    pub omitted_checks: u64,
 }
+
+/// Most step records, and most check results, one report keeps: a repeat that runs for
+/// days would otherwise record every nested step once per iteration.
+pub const MAX_RECORDS: usize = 10_000;
 
 impl RunReport {
     /// The process exit code: a panic first (101), then a safe stop that was not confirmed

@@ -17,7 +17,9 @@ pub struct SafeStopSettings {
     /// How long to keep trying to reopen a lost port to deliver the safe stop.
     pub reconnect_timeout: Duration,
     /// The status word is read for fault watching at most this often: between steps and
-    /// during waits. Reading it after every step would halve the reads a run can make.
+    /// during waits. Reading it after every step would halve the reads a run can make; at
+    /// 250 ms it costs 2 % of a 57600 bit/s line, and the drive reacts to its own faults
+    /// at once anyway (this only ends the recipe's steps).
     pub fault_poll: Duration,
 }
 
@@ -27,7 +29,7 @@ impl Default for SafeStopSettings {
             standstill_timeout: Duration::from_secs(60),
             standstill: Quantity::new(10.0, Some(Unit::Rpm)),
             reconnect_timeout: Duration::from_secs(10),
-            fault_poll: Duration::from_millis(100),
+            fault_poll: Duration::from_millis(250),
         }
     }
 }

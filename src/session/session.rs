@@ -6,8 +6,8 @@
 
 use super::stop::{outcome, panic_message, Stop};
 use super::{
-    with_unit, Condition, ObjectRef, Predicate, RunInfo, RunObserver, RunReport, SafeStopSettings, Stats,
-    StepInfo, StepRecord, Verdict,
+    with_unit, CheckResult, Condition, ObjectRef, Predicate, RunInfo, RunObserver, RunReport,
+    SafeStopSettings, Stats, StepInfo, StepRecord, Verdict, MAX_RECORDS,
 };
 use crate::clock::SharedClock;
 use crate::drive::device_control::DeviceState;
@@ -76,6 +76,8 @@ impl<'a> Session<'a> {
             stop_confirmed: false,
             disobeyed: false,
             safe_stop: Vec::new(),
+            omitted_steps: 0,
+            omitted_checks: 0,
         };
         Session {
             drive,
@@ -165,7 +167,22 @@ impl<'a> Session<'a> {
             phase: info.phase,
         };
         self.observer.step_finished(&record);
-        self.report.steps.push(record);
+        let nested = record.phase == "steps" && record.number.contains('.');
+        if record.ok && nested && self.report.steps.len() >= MAX_RECORDS {
+            self.report.omitted_steps += 1;
+        } else {
+            self.report.steps.push(record);
+        }
+    }
+
+    /// Records a check result (see [`MAX_RECORDS`] for what is kept).
+    pub(super) fn record_check_result(&mut self, result: CheckResult) {
+        self.observer.check(&result);
+        if result.passed && self.report.checks.len() >= MAX_RECORDS {
+            self.report.omitted_checks += 1;
+        } else {
+            self.report.checks.push(result);
+        }
     }
 
     /// A line under the current step (a value read, a message).

@@ -104,7 +104,6 @@ impl Session<'_> {
             at: self.clock.now(),
             duration: self.clock.now().saturating_sub(started),
         };
-        self.observer.check(&result);
-        self.report.checks.push(result);
+        self.record_check_result(result);
     }
 }

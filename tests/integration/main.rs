@@ -5,6 +5,7 @@
 #![allow(clippy::result_large_err)]
 
 mod bench_limits;
+mod bounded;
 mod decode_cli;
 mod drive_sim;
 mod end_to_end;

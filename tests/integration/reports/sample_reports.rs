@@ -94,6 +94,8 @@ pub fn report(recipe: &str, recipe_path: &str, drive: &str, verdict: Verdict) ->
         stop_confirmed: false,
         disobeyed: false,
         safe_stop: Vec::new(),
+        omitted_steps: 0,
+        omitted_checks: 0,
     }
 }
 

@@ -1,0 +1,220 @@
+//! Run-in benchmark: what a long run costs, each figure as a ratio against its limit.
+//!
+//! A measurement, not a test (DESIGN: benchmarks report ratios against a stated limit,
+//! never a timed assertion in a test). Run with `cargo bench --bench run_in`. It runs the
+//! release binary as a user would:
+//! - reads/s of `sample` (every 4 ms, faster than the line) and of `repeat` + `read`
+//!   through a real pseudo-terminal served by
+//!   `drivescript simulate --pty --wire-time` at 57600 bit/s, against the wire limit
+//!   `(request + reply bytes) × 10 bit / 57600 bit/s + the simulated drive's 100 µs`
+//!   (goal ≥ 97 %);
+//! - 24 h of sampling two objects at 100 Hz with `--fast`, without and with `--csv`: the
+//!   speed-up over real time (goal ≥ 10 000× without CSV, ≥ 5 000× with it) and the peak
+//!   resident memory (goal < 30 MB), from `wait4`'s resource usage of the child.
+
+use drivescript::family::sd2::codec::{Body, Data, ErrorCode, Telegram, WriteLength};
+use std::io::{BufRead, BufReader};
+use std::path::{Path, PathBuf};
+use std::process::{Command, ExitCode, Stdio};
+use std::time::{Duration, Instant};
+
+const BAUD: f64 = 57_600.0;
+const BITS_PER_BYTE: f64 = 10.0;
+/// The simulated drive's reply latency as `simulate` serves it.
+const DRIVE_LATENCY: f64 = 100e-6;
+/// How long each wire measurement samples or repeats.
+const WIRE_SECONDS: u64 = 10;
+
+fn binary() -> &'static str {
+    env!("CARGO_BIN_EXE_drivescript")
+}
+
+fn scratch() -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("drivescript-bench-run-in-{}", std::process::id()));
+    let _ = std::fs::create_dir_all(&dir);
+    dir
+}
+
+/// The wire limit of one read of a 4-byte object, in reads per second.
+fn read_limit() -> f64 {
+    let request = Telegram::read_request(2, 1, 398, 0)
+        .encode(WriteLength::Captured)
+        .len();
+    let reply = Telegram {
+        dest: 1,
+        source: 2,
+        body: Body::ReadReply {
+            error: ErrorCode::OK,
+            data: Data::new(&[0; 4]).unwrap_or_default(),
+        },
+    }
+    .encode(WriteLength::Captured)
+    .len();
+    1.0 / ((request + reply) as f64 * BITS_PER_BYTE / BAUD + DRIVE_LATENCY)
+}
+
+/// Runs `recipe` with `args`; returns its standard output, wall time and peak RSS in kB.
+fn run(recipe: &Path, args: &[&str]) -> Result<(String, Duration, i64), String> {
+    let started = Instant::now();
+    let child = Command::new(binary())
+        .arg("run")
+        .arg(recipe)
+        .args(args)
+        .arg("--quiet")
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .map_err(|e| format!("cannot start drivescript: {e}"))?;
+    let pid = child.id() as libc::pid_t;
+    let mut output = String::new();
+    if let Some(out) = child.stdout {
+        for line in BufReader::new(out).lines().map_while(Result::ok) {
+            output.push_str(&line);
+            output.push('\n');
+        }
+    }
+    let mut status = 0;
+    // SAFETY: an all-zero rusage is a valid value for wait4 to fill in.
+    let mut usage: libc::rusage = unsafe { std::mem::zeroed() };
+    // SAFETY: waiting for our own child with valid pointers.
+    let waited = unsafe { libc::wait4(pid, &mut status, 0, &mut usage) };
+    if waited != pid {
+        return Err("wait4 failed".into());
+    }
+    Ok((output, started.elapsed(), usage.ru_maxrss))
+}
+
+/// The number before `word` in the first line that has it: `4321 samples`.
+fn count_before(text: &str, word: &str) -> Option<f64> {
+    text.lines().find_map(|l| {
+        let i = l.find(word)?;
+        l[..i].split_whitespace().last()?.parse().ok()
+    })
+}
+
+/// A `drivescript simulate --pty --wire-time`, killed when dropped.
+struct Simulator {
+    child: std::process::Child,
+    path: String,
+}
+
+impl Simulator {
+    fn start() -> Result<Simulator, String> {
+        let mut child = Command::new(binary())
+            .args(["simulate", "--pty", "--wire-time"])
+            .stdout(Stdio::piped())
+            .stderr(Stdio::null())
+            .spawn()
+            .map_err(|e| format!("cannot start the simulator: {e}"))?;
+        let mut line = String::new();
+        let out = child.stdout.take().ok_or("no stdout")?;
+        BufReader::new(out)
+            .read_line(&mut line)
+            .map_err(|e| e.to_string())?;
+        Ok(Simulator {
+            child,
+            path: line.trim().to_string(),
+        })
+    }
+}
+
+impl Drop for Simulator {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+fn main() -> ExitCode {
+    match measure() {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("benchmark failed: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn verdict(ok: bool) -> &'static str {
+    if ok {
+        "meets goal"
+    } else {
+        "BELOW GOAL"
+    }
+}
+
+fn measure() -> Result<(), String> {
+    let dir = scratch();
+    let limit = read_limit();
+    println!("drivescript run-in benchmark (release binary, 2 cores)\n");
+    println!("wire: reads of a 4-byte object through a pty at 57600 bit/s, limit {limit:.1} reads/s");
+    let sample = dir.join("sample.yaml");
+    std::fs::write(
+        &sample,
+        format!(
+            "name: Sample as fast as the line allows\nsteps:\n  - sample: {{ objects: [speed_actual], every: 4 ms, for: {WIRE_SECONDS} s }}\nfinally: []\n"
+        ),
+    )
+    .map_err(|e| e.to_string())?;
+    let repeat = dir.join("repeat.yaml");
+    std::fs::write(
+        &repeat,
+        format!(
+            "name: Read in a loop\nsteps:\n  - repeat: {{ for: {WIRE_SECONDS} s, steps: [ {{ read: speed_actual }} ] }}\nfinally: []\n"
+        ),
+    )
+    .map_err(|e| e.to_string())?;
+    for (what, recipe, word) in [
+        ("sample", &sample, " samples"),
+        ("repeat + read", &repeat, " iteration(s)"),
+    ] {
+        let sim = Simulator::start()?;
+        let (out, wall, _) = run(recipe, &["--port", &sim.path])?;
+        let n = count_before(&out, word).ok_or_else(|| format!("no count in:\n{out}"))?;
+        // Sampling every 4 ms asks for more than the line carries, so the step takes as
+        // long as the reads do: the rate is reads over the whole run's time (which also
+        // holds the start-up of a few ms, so the figure errs low).
+        let rate = n / wall.as_secs_f64();
+        let ratio = rate / limit;
+        println!(
+            "  {what:<14} {rate:>7.1} reads/s = {:>5.1} % of the limit (goal 97 %)  {}",
+            ratio * 100.0,
+            verdict(ratio >= 0.97)
+        );
+    }
+
+    println!("\nlong run: 24 h sampling speed_actual and current_actual every 10 ms, --fast");
+    let long = dir.join("long.yaml");
+    std::fs::write(
+        &long,
+        "name: A day at 100 Hz\nsteps:\n  - go_to: operation_enabled\n  - set: { speed_setpoint: 6000 rpm }\n  - sample: { objects: [speed_actual, current_actual], every: 10 ms, for: 24 h }\n",
+    )
+    .map_err(|e| e.to_string())?;
+    let day = 24.0 * 3600.0;
+    let csv = dir.join("long.csv");
+    let csv_arg = csv.to_string_lossy().to_string();
+    for (what, args, goal) in [
+        ("without CSV", vec!["--fast"], 10_000.0),
+        ("with --csv", vec!["--fast", "--csv", csv_arg.as_str()], 5_000.0),
+    ] {
+        let (out, wall, rss_kb) = run(&long, &args)?;
+        if !out.contains("PASSED") {
+            return Err(format!("the long run did not pass:\n{out}"));
+        }
+        let speed_up = day / wall.as_secs_f64();
+        let rss_mb = rss_kb as f64 / 1024.0;
+        println!(
+            "  {what:<12} {:>7.1} s wall = {speed_up:>7.0}× real time ({:>5.1} % of goal {goal:.0}×)  {}",
+            wall.as_secs_f64(),
+            speed_up / goal * 100.0,
+            verdict(speed_up >= goal)
+        );
+        println!(
+            "  {what:<12} peak RSS {rss_mb:>6.1} MB ({:>5.1} % of the 30 MB limit)  {}",
+            rss_mb / 30.0 * 100.0,
+            verdict(rss_mb < 30.0)
+        );
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+    Ok(())
+}

@@ -1,0 +1,90 @@
+//! Run length costs no memory: counted, not timed. A long sample step keeps a bounded
+//! series per object, and a long repeat a bounded list of step records, with the verdict
+//! and the statistics unchanged.
+
+use drivescript::cli::{run_recipe, ConnectionArgs, DictionaryArgs, OutputArgs, RunRequest, SafeStopArgs};
+use drivescript::family::Registry;
+use drivescript::session::{MAX_RECORDS, SERIES_BUCKETS};
+use drivescript::stop_request::StopRequests;
+use std::sync::Arc;
+
+fn run(name: &str, text: &str) -> (i32, drivescript::session::RunReport) {
+    let dir = std::env::temp_dir().join(format!("drivescript-bounded-{}-{name}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("dir");
+    let recipe = dir.join("recipe.yaml");
+    std::fs::write(&recipe, text).expect("recipe");
+    let registry = Registry::builtin();
+    let dictionary = DictionaryArgs::builtin_sd2();
+    let connection = ConnectionArgs::simulated();
+    let outputs = OutputArgs::default();
+    let request = RunRequest {
+        registry: &registry,
+        recipe: &recipe,
+        set: &[],
+        fast: true,
+        output_dir: dir.clone(),
+        dictionary: &dictionary,
+        connection: &connection,
+        outputs: &outputs,
+        prepare_simulator: None,
+        stop: Arc::new(StopRequests::new()),
+        safe_stop: SafeStopArgs::default(),
+        terminal: false,
+    };
+    let (mut out, mut err) = (Vec::new(), Vec::new());
+    let result = run_recipe(&request, &mut out, &mut err);
+    let _ = std::fs::remove_dir_all(&dir);
+    let report = result
+        .report
+        .unwrap_or_else(|| panic!("{}", String::from_utf8_lossy(&err)));
+    (result.exit_code, report)
+}
+
+#[test]
+fn a_long_sample_step_keeps_a_bounded_series_and_its_peaks() {
+    let (code, report) = run(
+        "sample",
+        "name: Half an hour at 100 Hz
+steps:
+  - go_to: operation_enabled
+  - set: { speed_setpoint: 6000 rpm }
+  - wait_until: { speed_actual: { near: 6000 rpm, within: 1 % }, timeout: 10 s }
+  - sample: { objects: [speed_actual, current_actual], every: 10 ms, for: 30 min }
+  - expect: { speed_actual: { mean: { near: 6000 rpm, within: 0.1 % } } }
+",
+    );
+    assert_eq!(code, 0);
+    assert_eq!(report.series.len(), 2);
+    for s in &report.series {
+        // 180 001 samples each, kept in at most twice the bucket count.
+        assert!(s.points.len() <= 2 * SERIES_BUCKETS, "{} points", s.points.len());
+        assert!(s.points.len() >= SERIES_BUCKETS / 2, "{} points", s.points.len());
+    }
+    let mean = report
+        .checks
+        .iter()
+        .find(|c| c.statistic.as_deref() == Some("mean"))
+        .expect("mean check");
+    assert!((mean.measured.unwrap_or(0.0) - 6000.0).abs() < 1.0);
+}
+
+#[test]
+fn a_long_repeat_keeps_a_bounded_list_of_steps() {
+    let (code, report) = run(
+        "repeat",
+        "name: Many reads
+steps:
+  - repeat: { times: 15000, steps: [ { read: speed_actual } ] }
+",
+    );
+    assert_eq!(code, 0);
+    assert!(
+        report.steps.len() <= MAX_RECORDS + 10,
+        "{} steps",
+        report.steps.len()
+    );
+    assert!(report.omitted_steps >= 5_000, "{} omitted", report.omitted_steps);
+    // The top-level step and the safe stop are always kept.
+    assert!(report.steps.iter().any(|s| s.number == "1"));
+    assert!(report.steps.iter().any(|s| s.phase == "finally"));
+}
