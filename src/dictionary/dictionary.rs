@@ -196,7 +196,12 @@ impl Dictionary {
 
     /// [`lookup`](Self::lookup) without the suggestions.
     pub fn get(&self, name: &str) -> Option<&ObjectDef> {
-        self.objects.iter().find(|o| o.is_named(name))
+        // Recipes resolve aliases to the dictionary's names, so a run's millions of reads
+        // find their object by an exact name; aliases and case are the slower fallback.
+        self.objects
+            .iter()
+            .find(|o| o.name == name)
+            .or_else(|| self.objects.iter().find(|o| o.is_named(name)))
     }
 
     /// Object names close to `name` (compared with names and aliases), best first.
