@@ -217,7 +217,12 @@ pub fn run(args: &RunArgs) -> i32 {
         dictionary: &args.dictionary,
         connection: &args.connection,
         outputs: &args.outputs,
-        prepare_simulator: None,
+        // Nobody reads the simulated drive's request log from the command line.
+        prepare_simulator: Some(&|sim, _| {
+            sim.lock()
+                .unwrap_or_else(std::sync::PoisonError::into_inner)
+                .set_logging(false)
+        }),
         stop: stop.clone(),
         safe_stop: args.safe_stop.clone(),
         terminal: std::io::stdout().is_terminal(),
