@@ -245,20 +245,21 @@ fn decode_frame(bytes: &[u8]) -> Result<Telegram, DecodeError> {
     let len = bytes[1];
     let (dest, source, cmd) = (bytes[2], bytes[3], bytes[4]);
     let payload = &bytes[HEADER..last];
-    let need_len = |expected: u8, what: &str| -> Result<(), DecodeError> {
+    // `what` is only written out for a mismatch: this runs for every telegram of a run.
+    let need_len = |expected: u8, what: &dyn Fn() -> String| -> Result<(), DecodeError> {
         if len == expected {
             Ok(())
         } else {
             Err(DecodeError::LengthMismatch {
                 actual: len,
                 expected: format!("0x{expected:02x}"),
-                what: what.to_string(),
+                what: what(),
             })
         }
     };
     let body = match cmd {
         CMD_READ_WIDE => {
-            need_len(READ_REQUEST_LEN, "a read request")?;
+            need_len(READ_REQUEST_LEN, &|| "a read request".into())?;
             Body::ReadRequest {
                 index: u16::from_le_bytes([payload[0], payload[1]]),
                 subindex: u32::from_le_bytes([payload[2], payload[3], payload[4], payload[5]]),
@@ -280,7 +281,7 @@ fn decode_frame(bytes: &[u8]) -> Result<Telegram, DecodeError> {
                     offset: HEADER,
                 });
             }
-            need_len(5 + count, &format!("a read reply with {count} data bytes"))?;
+            need_len(5 + count, &|| format!("a read reply with {count} data bytes"))?;
             Body::ReadReply {
                 error: ErrorCode(payload[1]),
                 data: Data::new(&payload[2..]).unwrap_or_default(),
@@ -303,7 +304,7 @@ fn decode_frame(bytes: &[u8]) -> Result<Telegram, DecodeError> {
             }
         }
         c if c == CMD_WRITE_WIDE | REPLY_BIT => {
-            need_len(WRITE_REPLY_LEN, "a write reply")?;
+            need_len(WRITE_REPLY_LEN, &|| "a write reply".into())?;
             Body::WriteReply {
                 error: ErrorCode(payload[0]),
             }
