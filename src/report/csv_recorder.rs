@@ -4,7 +4,7 @@
 //! An observer: its write errors are kept for the CLI to report, never fail the run.
 
 use crate::csv_file::CsvFile;
-use crate::session::{number, ObjectRef, RunObserver, RunReport, StepInfo};
+use crate::session::{write_number, ObjectRef, RunObserver, RunReport, StepInfo};
 use std::path::Path;
 use std::time::Duration;
 
@@ -17,6 +17,9 @@ pub struct CsvRecorder {
     step: String,
     rows: u64,
     error: Option<String>,
+    /// Buffers reused for every row: a day at 100 Hz is millions of rows.
+    time_text: String,
+    value_text: String,
 }
 
 impl CsvRecorder {
@@ -29,6 +32,8 @@ impl CsvRecorder {
             step: String::new(),
             rows: 0,
             error: None,
+            time_text: String::new(),
+            value_text: String::new(),
         })
     }
 
@@ -67,10 +72,17 @@ impl RunObserver for CsvRecorder {
         if self.error.is_some() {
             return;
         }
-        let time = format!("{:.6}", at.as_secs_f64());
+        use std::fmt::Write as _;
+        let (mut time, mut value) = (
+            std::mem::take(&mut self.time_text),
+            std::mem::take(&mut self.value_text),
+        );
+        time.clear();
+        let _ = write!(time, "{:.6}", at.as_secs_f64());
         let step = std::mem::take(&mut self.step);
-        for (object, value) in objects.iter().zip(values) {
-            let value = number(*value);
+        for (object, v) in objects.iter().zip(values) {
+            value.clear();
+            write_number(&mut value, *v);
             let unit = object.unit.as_deref().unwrap_or("");
             if let Err(e) = self.row([&time, &step, &object.name, &value, unit]) {
                 self.error = Some(e);
@@ -79,6 +91,7 @@ impl RunObserver for CsvRecorder {
             self.rows += 1;
         }
         self.step = step;
+        (self.time_text, self.value_text) = (time, value);
     }
 
     /// Every ending of a run comes through here (a signal, a panic, a lost link too).

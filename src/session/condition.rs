@@ -90,11 +90,21 @@ impl Predicate {
 
 /// A number without needless digits: 6000, 0.5, 1003.647.
 pub fn number(v: f64) -> String {
+    let mut s = String::new();
+    write_number(&mut s, v);
+    s
+}
+
+/// [`number`] appended to `out`, for writers that reuse one buffer per row.
+pub fn write_number(out: &mut String, v: f64) {
+    use std::fmt::Write as _;
     if v == v.trunc() && v.abs() < 1e15 {
-        format!("{}", v as i64)
+        let _ = write!(out, "{}", v as i64);
     } else {
-        let s = format!("{v:.6}");
-        s.trim_end_matches('0').trim_end_matches('.').to_string()
+        let start = out.len();
+        let _ = write!(out, "{v:.6}");
+        let kept = out[start..].trim_end_matches('0').trim_end_matches('.').len();
+        out.truncate(start + kept);
     }
 }
 

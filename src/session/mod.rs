@@ -23,7 +23,9 @@ mod stop;
 mod wait_until;
 
 pub use bucket_series::{BucketSeries, SERIES_BUCKETS};
-pub use condition::{number, with_unit, Check, Condition, Predicate, Statistic, Stats, Tolerance};
+pub use condition::{
+    number, with_unit, write_number, Check, Condition, Predicate, Statistic, Stats, Tolerance,
+};
 pub use object_ref::ObjectRef;
 pub use run_info::{RunInfo, StepInfo};
 pub use run_observer::{Observers, RunObserver};
