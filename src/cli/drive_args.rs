@@ -15,6 +15,7 @@ use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex};
 
 #[derive(Debug, Clone, Args)]
+#[command(next_help_heading = "Dictionary and bench limits")]
 pub struct DictionaryArgs {
     /// The built-in dictionary to start from; it names the drive family (and so the
     /// protocol) in its `family:`.
