@@ -10,7 +10,10 @@
 //!   (goal ≥ 97 %);
 //! - 24 h of sampling two objects at 100 Hz with `--fast`, without and with `--csv`: the
 //!   speed-up over real time (goal ≥ 10 000× without CSV, ≥ 5 000× with it) and the peak
-//!   resident memory (goal < 30 MB), from `wait4`'s resource usage of the child.
+//!   resident memory (goal < 30 MB), from `wait4`'s resource usage of the child;
+//! - CPU time per read telegram of `repeat` + `read` against the CPU time of a 20-line
+//!   Python/pyserial loop doing the same reads against the same simulated drive (goal
+//!   ≤ 1/5). Needs `pip install pyserial`; says so and skips the figure without it.
 
 use drivescript::family::sd2::codec::{Body, Data, ErrorCode, Telegram, WriteLength};
 use std::io::{BufRead, BufReader};
@@ -35,12 +38,9 @@ fn scratch() -> PathBuf {
     dir
 }
 
-/// The wire limit of one read of a 4-byte object, in reads per second.
-fn read_limit() -> f64 {
-    let request = Telegram::read_request(2, 1, 398, 0)
-        .encode(WriteLength::Captured)
-        .len();
-    let reply = Telegram {
+/// Bytes of the reply to a read of a 4-byte object.
+fn read_reply_len() -> usize {
+    Telegram {
         dest: 1,
         source: 2,
         body: Body::ReadReply {
@@ -49,22 +49,40 @@ fn read_limit() -> f64 {
         },
     }
     .encode(WriteLength::Captured)
-    .len();
-    1.0 / ((request + reply) as f64 * BITS_PER_BYTE / BAUD + DRIVE_LATENCY)
+    .len()
 }
 
-/// Runs `recipe` with `args`; returns its standard output, wall time and peak RSS in kB.
-fn run(recipe: &Path, args: &[&str]) -> Result<(String, Duration, i64), String> {
+/// The wire limit of one read of a 4-byte object, in reads per second.
+fn read_limit() -> f64 {
+    let request = Telegram::read_request(2, 1, 398, 0)
+        .encode(WriteLength::Captured)
+        .len();
+    1.0 / ((request + read_reply_len()) as f64 * BITS_PER_BYTE / BAUD + DRIVE_LATENCY)
+}
+
+/// What a finished child cost.
+struct Cost {
+    wall: Duration,
+    /// User + system CPU time.
+    cpu: Duration,
+    peak_rss_kb: i64,
+}
+
+/// Runs `recipe` with `args`; returns its standard output and what it cost.
+fn run(recipe: &Path, args: &[&str]) -> Result<(String, Cost), String> {
+    let mut command = Command::new(binary());
+    command.arg("run").arg(recipe).args(args).arg("--quiet");
+    measure_child(command)
+}
+
+/// Runs `command` to its end; its standard output and what it cost (from `wait4`).
+fn measure_child(mut command: Command) -> Result<(String, Cost), String> {
     let started = Instant::now();
-    let child = Command::new(binary())
-        .arg("run")
-        .arg(recipe)
-        .args(args)
-        .arg("--quiet")
+    let child = command
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
         .spawn()
-        .map_err(|e| format!("cannot start drivescript: {e}"))?;
+        .map_err(|e| format!("cannot start {command:?}: {e}"))?;
     let pid = child.id() as libc::pid_t;
     let mut output = String::new();
     if let Some(out) = child.stdout {
@@ -81,7 +99,18 @@ fn run(recipe: &Path, args: &[&str]) -> Result<(String, Duration, i64), String> 
     if waited != pid {
         return Err("wait4 failed".into());
     }
-    Ok((output, started.elapsed(), usage.ru_maxrss))
+    if !libc::WIFEXITED(status) || libc::WEXITSTATUS(status) != 0 {
+        return Err(format!("{command:?} failed:\n{output}"));
+    }
+    let time = |t: libc::timeval| Duration::new(t.tv_sec as u64, t.tv_usec as u32 * 1000);
+    Ok((
+        output,
+        Cost {
+            wall: started.elapsed(),
+            cpu: time(usage.ru_utime) + time(usage.ru_stime),
+            peak_rss_kb: usage.ru_maxrss,
+        },
+    ))
 }
 
 /// The number before `word` in the first line that has it: `4321 samples`.
@@ -99,9 +128,10 @@ struct Simulator {
 }
 
 impl Simulator {
-    fn start() -> Result<Simulator, String> {
+    fn start(wire_time: bool) -> Result<Simulator, String> {
         let mut child = Command::new(binary())
-            .args(["simulate", "--pty", "--wire-time"])
+            .args(["simulate", "--pty"])
+            .args(wire_time.then_some("--wire-time"))
             .stdout(Stdio::piped())
             .stderr(Stdio::null())
             .spawn()
@@ -168,8 +198,9 @@ fn measure() -> Result<(), String> {
         ("sample", &sample, " samples"),
         ("repeat + read", &repeat, " iteration(s)"),
     ] {
-        let sim = Simulator::start()?;
-        let (out, wall, _) = run(recipe, &["--port", &sim.path])?;
+        let sim = Simulator::start(true)?;
+        let (out, cost) = run(recipe, &["--port", &sim.path])?;
+        let wall = cost.wall;
         let n = count_before(&out, word).ok_or_else(|| format!("no count in:\n{out}"))?;
         // Sampling every 4 ms asks for more than the line carries, so the step takes as
         // long as the reads do: the rate is reads over the whole run's time (which also
@@ -197,7 +228,8 @@ fn measure() -> Result<(), String> {
         ("without CSV", vec!["--fast"], 10_000.0),
         ("with --csv", vec!["--fast", "--csv", csv_arg.as_str()], 5_000.0),
     ] {
-        let (out, wall, rss_kb) = run(&long, &args)?;
+        let (out, cost) = run(&long, &args)?;
+        let (wall, rss_kb) = (cost.wall, cost.peak_rss_kb);
         if !out.contains("PASSED") {
             return Err(format!("the long run did not pass:\n{out}"));
         }
@@ -215,6 +247,71 @@ fn measure() -> Result<(), String> {
             verdict(rss_mb < 30.0)
         );
     }
+    cpu_per_telegram(&dir)?;
     let _ = std::fs::remove_dir_all(&dir);
+    Ok(())
+}
+
+/// The Python loop the CPU figure compares with: reads one object `n` times.
+const PYSERIAL_LOOP: &str = r#"
+import serial, sys
+port, request, n, reply_len = sys.argv[1], bytes.fromhex(sys.argv[2]), int(sys.argv[3]), int(sys.argv[4])
+line = serial.Serial(port, 57600, timeout=1)
+for _ in range(n):
+    line.reset_input_buffer()
+    line.write(request)
+    if len(line.read(reply_len)) != reply_len:
+        sys.exit("no reply")
+"#;
+
+/// Reads per CPU second of drivescript's `repeat` + `read` and of a pyserial loop, both
+/// against `simulate --pty` without wire time (CPU is what is compared, not the line).
+fn cpu_per_telegram(dir: &Path) -> Result<(), String> {
+    const READS: u32 = 5000;
+    println!("\nCPU per read telegram, {READS} reads of speed_actual against the same simulated drive");
+    let have_pyserial = Command::new("python3")
+        .args(["-c", "import serial"])
+        .stderr(Stdio::null())
+        .status()
+        .is_ok_and(|s| s.success());
+    if !have_pyserial {
+        println!("  skipped: python3 with pyserial is not installed (pip install pyserial)");
+        return Ok(());
+    }
+    let recipe = dir.join("reads.yaml");
+    std::fs::write(
+        &recipe,
+        format!("name: Reads\nsteps:\n  - repeat: {{ times: {READS}, steps: [ {{ read: speed_actual }} ] }}\nfinally: []\n"),
+    )
+    .map_err(|e| e.to_string())?;
+    let sim = Simulator::start(false)?;
+    let (_, ours) = run(&recipe, &["--port", &sim.path])?;
+    drop(sim);
+    let request = Telegram::read_request(2, 1, 398, 0).encode(WriteLength::Captured);
+    let hex: String = request.iter().map(|b| format!("{b:02x}")).collect();
+    let reply_len = read_reply_len();
+    let sim = Simulator::start(false)?;
+    let mut python = Command::new("python3");
+    python.args([
+        "-c",
+        PYSERIAL_LOOP,
+        &sim.path,
+        &hex,
+        &READS.to_string(),
+        &reply_len.to_string(),
+    ]);
+    let (_, theirs) = measure_child(python)?;
+    drop(sim);
+    let per = |c: &Cost| c.cpu.as_secs_f64() / f64::from(READS) * 1e6;
+    let ratio = per(&ours) / per(&theirs);
+    println!(
+        "  drivescript {:>6.1} µs CPU per read, pyserial loop {:>6.1} µs: ratio {ratio:.2} (goal ≤ 0.20)  {}",
+        per(&ours),
+        per(&theirs),
+        verdict(ratio <= 0.2)
+    );
+    println!(
+        "  (drivescript's figure includes its start-up, dictionary and recipe loading, and the fault polls)"
+    );
     Ok(())
 }
