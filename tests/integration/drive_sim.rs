@@ -299,3 +299,65 @@ fn a_drive_refusal_names_the_object_and_the_code() {
     assert!(text.contains("refused to write parameter_set"), "{text}");
     assert!(text.contains("0x9B"), "{text}");
 }
+
+/// Two simulated drives on one line, as on an RS485 bus: every request reaches both, only
+/// the addressed one answers.
+struct Line(Vec<Arc<Mutex<Sd2Simulator>>>);
+
+impl Peer for Line {
+    fn receive(&mut self, bytes: &[u8], now: Duration) -> Vec<drivescript::bus::PeerReply> {
+        self.0
+            .iter()
+            .flat_map(|d| d.lock().unwrap().receive(bytes, now))
+            .collect()
+    }
+}
+
+#[test]
+fn two_drives_share_one_line_and_their_exchanges_never_interleave() {
+    let clock: SharedClock = drivescript::clock::RealClock::shared();
+    let sims: Vec<Arc<Mutex<Sd2Simulator>>> = [2u8, 3]
+        .iter()
+        .map(|&address| {
+            Arc::new(Mutex::new(Sd2Simulator::new(SimConfig {
+                address,
+                ..SimConfig::default()
+            })))
+        })
+        .collect();
+    let peer: Arc<Mutex<dyn Peer>> = Arc::new(Mutex::new(Line(sims.clone())));
+    let line = SharedTransport::new(Box::new(MemoryTransport::new("rs485 line", peer, clock.clone())));
+    let dictionary = Arc::new(
+        drivescript::family::Registry::builtin()
+            .load_dictionary("sd2")
+            .expect("the built-in dictionary is valid"),
+    );
+    let workers: Vec<_> = [(2u8, 1000.0), (3u8, 2000.0)]
+        .into_iter()
+        .map(|(dest, rpm)| {
+            // No retries: an exchange that another drive's broke would fail the test.
+            let config = LinkConfig {
+                retries: 0,
+                ..LinkConfig::default()
+            };
+            let link = Sd2Link::new(line.clone(), clock.clone(), config);
+            let mut drive = Drive::new(Box::new(Sd2Access::new(link, dest)), dictionary.clone());
+            std::thread::spawn(move || {
+                drive
+                    .write("speed_setpoint", &Quantity::new(rpm, Some(Unit::Rpm)))
+                    .expect("write");
+                for _ in 0..300 {
+                    let v = drive.read_number("speed_setpoint").expect("read");
+                    assert_eq!(v, rpm, "drive {dest} read another drive's value");
+                }
+            })
+        })
+        .collect();
+    for w in workers {
+        w.join().expect("a drive's exchanges failed");
+    }
+    assert_eq!(line.users(), 1, "both links are done with the line");
+    for (sim, rpm) in sims.iter().zip([1000.0, 2000.0]) {
+        assert_eq!(sim.lock().unwrap().setpoint_rpm(), rpm);
+    }
+}
