@@ -273,11 +273,13 @@ impl Transport for SerialTransport {
         // at a few milliseconds, too short for a long telegram at a low baud rate.
         let allowed = self.settings.wire_time(bytes.len()) + WRITE_MARGIN;
         let port = self.device()?;
+        // No drain (tcdrain) after the write: the reply timeout that follows covers the
+        // request's own time on the wire, and a drain costs a system call per telegram and
+        // has no timeout of its own.
         let sent = port
             .set_timeout(allowed)
             .map_err(io::Error::from)
-            .and_then(|()| port.write_all(bytes))
-            .and_then(|()| port.flush());
+            .and_then(|()| port.write_all(bytes));
         match sent {
             Ok(()) => Ok(()),
             Err(e) if e.kind() == io::ErrorKind::TimedOut => Err(TransportError::Io {
@@ -324,9 +326,11 @@ impl Transport for SerialTransport {
 
     fn discard_input(&mut self) -> Result<usize, TransportError> {
         let port = self.device()?;
-        let cleared = port
-            .bytes_to_read()
-            .and_then(|pending| port.clear(ClearBuffer::Input).map(|()| pending));
+        // Clearing only when something is there saves a system call per telegram.
+        let cleared = port.bytes_to_read().and_then(|pending| match pending {
+            0 => Ok(0),
+            n => port.clear(ClearBuffer::Input).map(|()| n),
+        });
         let pending = cleared.map_err(|e| self.port_error(&e))?;
         Ok(usize::try_from(pending).unwrap_or(usize::MAX))
     }
