@@ -13,7 +13,7 @@ mod stop_signals;
 
 pub use connection_args::{Connection, ConnectionArgs};
 pub use drive_args::DictionaryArgs;
-pub use recipe_commands::{run_recipe, OutputArgs, RunRequest, RunResult, SafeStopArgs};
+pub use recipe_commands::{run_recipe, OutputArgs, PrepareSimulator, RunRequest, RunResult, SafeStopArgs};
 
 pub use exit_code::*;
 

@@ -2,41 +2,19 @@
 //! series per object, and a long repeat a bounded list of step records, with the verdict
 //! and the statistics unchanged.
 
-use drivescript::cli::{run_recipe, ConnectionArgs, DictionaryArgs, OutputArgs, RunRequest, SafeStopArgs};
-use drivescript::family::Registry;
+use crate::support::InProcessRun;
 use drivescript::session::{MAX_RECORDS, SERIES_BUCKETS};
-use drivescript::stop_request::StopRequests;
-use std::sync::Arc;
 
 fn run(name: &str, text: &str) -> (i32, drivescript::session::RunReport) {
     let dir = std::env::temp_dir().join(format!("drivescript-bounded-{}-{name}", std::process::id()));
     std::fs::create_dir_all(&dir).expect("dir");
     let recipe = dir.join("recipe.yaml");
     std::fs::write(&recipe, text).expect("recipe");
-    let registry = Registry::builtin();
-    let dictionary = DictionaryArgs::builtin_sd2();
-    let connection = ConnectionArgs::simulated();
-    let outputs = OutputArgs::default();
-    let request = RunRequest {
-        registry: &registry,
-        recipe: &recipe,
-        set: &[],
-        fast: true,
-        output_dir: dir.clone(),
-        dictionary: &dictionary,
-        connection: &connection,
-        outputs: &outputs,
-        prepare_simulator: None,
-        stop: Arc::new(StopRequests::new()),
-        safe_stop: SafeStopArgs::default(),
-        terminal: false,
-    };
-    let (mut out, mut err) = (Vec::new(), Vec::new());
-    let result = run_recipe(&request, &mut out, &mut err);
+    let mut run = InProcessRun::new(recipe);
+    run.output_dir = dir.clone();
+    let (result, output) = run.run();
     let _ = std::fs::remove_dir_all(&dir);
-    let report = result
-        .report
-        .unwrap_or_else(|| panic!("{}", String::from_utf8_lossy(&err)));
+    let report = result.report.unwrap_or_else(|| panic!("{output}"));
     (result.exit_code, report)
 }
 

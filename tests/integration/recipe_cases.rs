@@ -19,10 +19,10 @@
 //!
 //! Every case runs in-process against the simulated drive in virtual time.
 
-use drivescript::cli::{run_recipe, ConnectionArgs, DictionaryArgs, OutputArgs, RunRequest, SafeStopArgs};
+use crate::support::InProcessRun;
+use drivescript::cli::SafeStopArgs;
 use drivescript::clock::SharedClock;
 use drivescript::drive::device_control::DeviceCommand;
-use drivescript::family::Registry;
 use drivescript::sim::SimulatedDrive;
 use drivescript::stop_request::{StopRequests, StopSignal};
 use std::path::{Path, PathBuf};
@@ -163,32 +163,13 @@ fn run_case(dir: &Path) -> Result<(), String> {
         "drivescript-case-{}",
         dir.file_name().and_then(|n| n.to_str()).unwrap_or("x")
     ));
-    let dictionary = DictionaryArgs::builtin_sd2();
-    let connection = ConnectionArgs::simulated();
-    let recipe = dir.join("recipe.yaml");
-    let registry = Registry::builtin();
-    let request = RunRequest {
-        registry: &registry,
-        recipe: &recipe,
-        set: &set,
-        fast: true,
-        output_dir,
-        dictionary: &dictionary,
-        connection: &connection,
-        outputs: &OutputArgs::default(),
-        prepare_simulator: Some(&prepare),
-        stop: stop.clone(),
-        safe_stop,
-        terminal: false,
-    };
-    let mut out = Vec::new();
-    let mut err = Vec::new();
-    let result = run_recipe(&request, &mut out, &mut err);
-    let output = format!(
-        "{}{}",
-        String::from_utf8_lossy(&out),
-        String::from_utf8_lossy(&err)
-    );
+    let mut run = InProcessRun::new(dir.join("recipe.yaml"));
+    run.set = set;
+    run.output_dir = output_dir;
+    run.prepare = Some(&prepare);
+    run.stop = stop.clone();
+    run.safe_stop = safe_stop;
+    let (result, output) = run.run();
     let mut problems = Vec::new();
     if result.exit_code != case.exit {
         problems.push(format!("exit code {} (expected {})", result.exit_code, case.exit));

@@ -4,14 +4,12 @@
 //! killed beyond any safe stop, which must leave a report that says so.
 
 use crate::support::repo_root;
-use drivescript::cli::{
-    run_recipe, ConnectionArgs, DictionaryArgs, OutputArgs, RunRequest, RunResult, SafeStopArgs,
-};
+use crate::support::InProcessRun;
+use drivescript::cli::RunResult;
 use drivescript::clock::SharedClock;
 use drivescript::drive::device_control::DeviceState;
 use drivescript::family::sd2::codec::{Body, Telegram};
 use drivescript::family::sd2::Sd2Simulator;
-use drivescript::family::Registry;
 use drivescript::sim::SimulatedDrive;
 use drivescript::stop_request::{StopRequests, StopSignal};
 use std::path::{Path, PathBuf};
@@ -58,32 +56,13 @@ fn run_in_process(
     let prepare = move |_: &Arc<Mutex<dyn SimulatedDrive>>, clock: &SharedClock| {
         let _ = clock_slot.set(clock.clone());
     };
-    let dictionary = DictionaryArgs::builtin_sd2();
-    let connection = ConnectionArgs::simulated();
-    let outputs = OutputArgs::default();
-    let registry = Registry::builtin();
-    let request = RunRequest {
-        registry: &registry,
-        recipe,
-        set: &[],
-        fast,
-        output_dir: std::env::temp_dir(),
-        dictionary: &dictionary,
-        connection: &connection,
-        outputs: &outputs,
-        prepare_simulator: Some(&prepare),
-        stop,
-        safe_stop: SafeStopArgs::default(),
-        terminal: false,
-    };
-    let (mut out, mut err) = (Vec::new(), Vec::new());
-    let result = run_recipe(&request, &mut out, &mut err);
+    let mut run = InProcessRun::new(recipe);
+    run.fast = fast;
+    run.prepare = Some(&prepare);
+    run.stop = stop;
+    let (result, output) = run.run();
     if result.report.is_none() {
-        panic!(
-            "the run did not start: {}{}",
-            String::from_utf8_lossy(&out),
-            String::from_utf8_lossy(&err)
-        );
+        panic!("the run did not start: {output}");
     }
     result
 }
@@ -493,35 +472,11 @@ steps:
     );
     let port = link.to_string_lossy().to_string();
     let runner = std::thread::spawn(move || {
-        let dictionary = DictionaryArgs::builtin_sd2();
-        let mut connection = ConnectionArgs::simulated();
-        connection.port = Some(port);
-        let outputs = OutputArgs::default();
-        let registry = Registry::builtin();
-        let request = RunRequest {
-            registry: &registry,
-            recipe: &recipe,
-            set: &[],
-            fast: false,
-            output_dir: std::env::temp_dir(),
-            dictionary: &dictionary,
-            connection: &connection,
-            outputs: &outputs,
-            prepare_simulator: None,
-            stop: Arc::new(StopRequests::new()),
-            safe_stop: SafeStopArgs::default(),
-            terminal: false,
-        };
-        let (mut out, mut err) = (Vec::new(), Vec::new());
-        let result = run_recipe(&request, &mut out, &mut err);
-        (
-            result.exit_code,
-            format!(
-                "{}{}",
-                String::from_utf8_lossy(&out),
-                String::from_utf8_lossy(&err)
-            ),
-        )
+        let mut run = InProcessRun::new(recipe);
+        run.fast = false;
+        run.connection.port = Some(port);
+        let (result, output) = run.run();
+        (result.exit_code, output)
     });
     let started = Instant::now();
     let state = || sim.lock().unwrap_or_else(PoisonError::into_inner).state();

@@ -51,3 +51,64 @@ pub fn load_vectors(path: &Path) -> Vec<Vector> {
 pub fn sd2_vectors() -> Vec<Vector> {
     load_vectors(&repo_root().join("tests/vectors/sd2-dnc.yaml"))
 }
+
+/// A recipe run in this process, with the command line's defaults: the built-in families,
+/// the built-in SD2 dictionary, the built-in simulated drive, virtual time. Tests change
+/// the fields they need and call [`InProcessRun::run`].
+pub struct InProcessRun<'a> {
+    pub registry: drivescript::family::Registry,
+    pub recipe: PathBuf,
+    pub set: Vec<(String, String)>,
+    pub fast: bool,
+    pub output_dir: PathBuf,
+    pub dictionary: drivescript::cli::DictionaryArgs,
+    pub connection: drivescript::cli::ConnectionArgs,
+    pub outputs: drivescript::cli::OutputArgs,
+    pub prepare: Option<&'a drivescript::cli::PrepareSimulator>,
+    pub stop: std::sync::Arc<drivescript::stop_request::StopRequests>,
+    pub safe_stop: drivescript::cli::SafeStopArgs,
+}
+
+impl<'a> InProcessRun<'a> {
+    pub fn new(recipe: impl Into<PathBuf>) -> Self {
+        InProcessRun {
+            registry: drivescript::family::Registry::builtin(),
+            recipe: recipe.into(),
+            set: Vec::new(),
+            fast: true,
+            output_dir: std::env::temp_dir(),
+            dictionary: drivescript::cli::DictionaryArgs::builtin_sd2(),
+            connection: drivescript::cli::ConnectionArgs::simulated(),
+            outputs: drivescript::cli::OutputArgs::default(),
+            prepare: None,
+            stop: std::sync::Arc::new(drivescript::stop_request::StopRequests::new()),
+            safe_stop: drivescript::cli::SafeStopArgs::default(),
+        }
+    }
+
+    /// Runs it; what it produced and its console output (standard output, then errors).
+    pub fn run(&self) -> (drivescript::cli::RunResult, String) {
+        let request = drivescript::cli::RunRequest {
+            registry: &self.registry,
+            recipe: &self.recipe,
+            set: &self.set,
+            fast: self.fast,
+            output_dir: self.output_dir.clone(),
+            dictionary: &self.dictionary,
+            connection: &self.connection,
+            outputs: &self.outputs,
+            prepare_simulator: self.prepare,
+            stop: self.stop.clone(),
+            safe_stop: self.safe_stop.clone(),
+            terminal: false,
+        };
+        let (mut out, mut err) = (Vec::new(), Vec::new());
+        let result = drivescript::cli::run_recipe(&request, &mut out, &mut err);
+        let output = format!(
+            "{}{}",
+            String::from_utf8_lossy(&out),
+            String::from_utf8_lossy(&err)
+        );
+        (result, output)
+    }
+}

@@ -10,8 +10,8 @@
 mod text_access;
 mod text_simulator;
 
+use crate::support::InProcessRun;
 use drivescript::bus::{Bus, BusKind, SerialSettings};
-use drivescript::cli::{run_recipe, ConnectionArgs, DictionaryArgs, OutputArgs, RunRequest, SafeStopArgs};
 use drivescript::dictionary::{Address, AddressParser, Dictionary};
 use drivescript::drive::ObjectAccess;
 use drivescript::family::{
@@ -19,7 +19,6 @@ use drivescript::family::{
 };
 use drivescript::link::{Direction, TelegramExplainer};
 use drivescript::sim::SimConfig;
-use drivescript::stop_request::StopRequests;
 use std::path::PathBuf;
 use std::sync::{Arc, Mutex, PoisonError};
 
@@ -126,37 +125,11 @@ fn a_test_family_plugs_in_through_the_registry_and_runs_a_recipe() {
     let registry = Registry::builtin().with(Arc::new(TextFamily));
     let recipe = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/integration/text_family/recipe.yaml");
     let trace = std::env::temp_dir().join(format!("drivescript-text-family-{}.trace", std::process::id()));
-    let dictionary = DictionaryArgs {
-        family: "text".into(),
-        extra: Vec::new(),
-        limits: None,
-    };
-    let connection = ConnectionArgs::simulated();
-    let outputs = OutputArgs {
-        trace: Some(trace.clone()),
-        ..OutputArgs::default()
-    };
-    let request = RunRequest {
-        registry: &registry,
-        recipe: &recipe,
-        set: &[],
-        fast: true,
-        output_dir: std::env::temp_dir(),
-        dictionary: &dictionary,
-        connection: &connection,
-        outputs: &outputs,
-        prepare_simulator: None,
-        stop: Arc::new(StopRequests::new()),
-        safe_stop: SafeStopArgs::default(),
-        terminal: false,
-    };
-    let (mut out, mut err) = (Vec::new(), Vec::new());
-    let result = run_recipe(&request, &mut out, &mut err);
-    let output = format!(
-        "{}{}",
-        String::from_utf8_lossy(&out),
-        String::from_utf8_lossy(&err)
-    );
+    let mut run = InProcessRun::new(recipe);
+    run.registry = registry;
+    run.dictionary.family = "text".into();
+    run.outputs.trace = Some(trace.clone());
+    let (result, output) = run.run();
     assert_eq!(result.exit_code, 0, "{output}");
     assert!(
         output.contains("using the built-in simulated TEXT drive (node 1"),
