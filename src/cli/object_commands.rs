@@ -3,7 +3,7 @@
 use super::connection_args::ConnectionArgs;
 use super::drive_args::{open_drive, DictionaryArgs, OpenDrive};
 use super::{COMMUNICATION, INVALID, PASSED};
-use crate::dictionary::{Dictionary, ObjectDef, Quantity};
+use crate::dictionary::{DataType, Dictionary, ObjectDef, Quantity};
 use crate::drive::device_control::{status_word_bits, DeviceState};
 use crate::drive::DriveError;
 use crate::drive::WriteOutcome;
@@ -21,6 +21,10 @@ pub struct ReadArgs {
     /// One JSON array of {object, value, unit, raw}.
     #[arg(long)]
     json: bool,
+    /// The data type of objects named in the family's own notation (`#5.04`, `0x0011`,
+    /// `C00061`) rather than from the dictionary: u8, i8, u16, i16, u32, i32, string(N).
+    #[arg(long = "type", value_name = "TYPE", value_parser = DataType::parse)]
+    data_type: Option<DataType>,
     #[command(flatten)]
     dictionary: DictionaryArgs,
     #[command(flatten)]
@@ -37,6 +41,10 @@ pub struct WriteArgs {
     /// object's own unit.
     #[arg(value_name = "VALUE", allow_hyphen_values = true)]
     value: String,
+    /// The data type of an object named in the family's own notation rather than from
+    /// the dictionary: u8, i8, u16, i16, u32, i32, string(N).
+    #[arg(long = "type", value_name = "TYPE", value_parser = DataType::parse)]
+    data_type: Option<DataType>,
     #[command(flatten)]
     dictionary: DictionaryArgs,
     #[command(flatten)]
@@ -80,6 +88,35 @@ fn load_dictionary(args: &DictionaryArgs) -> Result<Arc<Dictionary>, i32> {
     })
 }
 
+/// The dictionary with an object added for each of `names` it does not list but the
+/// family reads as an address in its own notation (`read '#5.04'`); a name that is
+/// neither stays unknown, for the caller's did-you-mean message.
+fn with_raw_objects(
+    dictionary: Arc<Dictionary>,
+    names: &[String],
+    data_type: Option<DataType>,
+) -> Result<Arc<Dictionary>, i32> {
+    let registry = Registry::builtin();
+    let Ok(family) = registry.family(dictionary.family()) else {
+        return Ok(dictionary);
+    };
+    let mut extended = dictionary;
+    for name in names {
+        if extended.get(name).is_some() {
+            continue;
+        }
+        match family.raw_object(name, data_type) {
+            None => {}
+            Some(Ok(def)) => extended = Arc::new(extended.with_raw_object(def)),
+            Some(Err(text)) => {
+                eprintln!("error: {name}: {text}; nothing was sent");
+                return Err(INVALID);
+            }
+        }
+    }
+    Ok(extended)
+}
+
 /// The drive, or the exit code after printing why not. Says so when it is the simulated
 /// drive, whose state a one-off command cannot keep.
 fn open(connection: &ConnectionArgs, dictionary: Arc<Dictionary>) -> Result<OpenDrive, i32> {
@@ -109,7 +146,9 @@ fn drive_error_code(e: &DriveError) -> i32 {
 }
 
 pub fn read(args: &ReadArgs) -> i32 {
-    let dictionary = match load_dictionary(&args.dictionary) {
+    let dictionary = match load_dictionary(&args.dictionary)
+        .and_then(|d| with_raw_objects(d, &args.names, args.data_type))
+    {
         Ok(d) => d,
         Err(code) => return code,
     };
@@ -183,10 +222,12 @@ fn check_readable(dictionary: &Dictionary, name: &str) -> Result<(), DriveError>
 }
 
 pub fn write(args: &WriteArgs) -> i32 {
-    let dictionary = match load_dictionary(&args.dictionary) {
-        Ok(d) => d,
-        Err(code) => return code,
-    };
+    let names = std::slice::from_ref(&args.name);
+    let dictionary =
+        match load_dictionary(&args.dictionary).and_then(|d| with_raw_objects(d, names, args.data_type)) {
+            Ok(d) => d,
+            Err(code) => return code,
+        };
     // Refusals happen before the port is opened: nothing is sent for a bad value.
     let def = match dictionary.lookup(&args.name) {
         Ok(d) => d.clone(),

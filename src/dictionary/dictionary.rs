@@ -225,6 +225,15 @@ impl Dictionary {
         self.objects.iter().find(|o| o.address == address)
     }
 
+    /// This dictionary with `object` added as it is, for one-off access to an object the
+    /// files do not list (see `Family::raw_object`); names are not checked, so `#5.04`
+    /// is allowed here and nowhere else.
+    pub fn with_raw_object(&self, object: ObjectDef) -> Dictionary {
+        let mut extended = self.clone();
+        extended.objects.push(object);
+        extended
+    }
+
     /// Every object, in file order (a user's new objects after the built-in ones).
     pub fn objects(&self) -> impl Iterator<Item = &ObjectDef> {
         self.objects.iter()

@@ -5,7 +5,7 @@
 
 use crate::bus::{Bus, BusKind, FramePeer, Peer, SerialSettings};
 use crate::clock::SharedClock;
-use crate::dictionary::{AddressParser, Dictionary};
+use crate::dictionary::{AddressParser, DataType, Dictionary, ObjectDef};
 use crate::drive::ObjectAccess;
 use crate::link::{TelegramExplainer, TelegramObserver};
 use crate::sim::{SimConfig, SimulatedDrive};
@@ -91,4 +91,13 @@ pub trait Family: Send + Sync {
     fn simulator(&self, drive: &DriveAddress, config: SimConfig) -> SimulatedDevice;
     /// Reads this family's telegrams with the objects of `dictionary`.
     fn explainer(&self, dictionary: Arc<Dictionary>) -> Box<dyn TelegramExplainer>;
+    /// An object the dictionary does not have, named in this family's own notation
+    /// (`#5.04`, `0x0011`, `C00061`) for one-off `read` and `write`. `None` when `text` is
+    /// not in that notation; `data_type` is the user's `--type`, and the family either
+    /// picks a type its protocol makes safe or refuses, saying that `--type` is needed.
+    /// The returned object is named `text`, read-write, without unit or limits.
+    fn raw_object(&self, text: &str, data_type: Option<DataType>) -> Option<Result<ObjectDef, String>> {
+        let _ = (text, data_type);
+        None
+    }
 }

@@ -72,6 +72,18 @@ fn a_pseudo_terminal_serves_the_simulated_drive() {
     assert_eq!(json[0]["value"], 6000.0);
     assert_eq!(json[0]["unit"], "rpm");
     assert_eq!(json[1]["value"], "Test Motor");
+
+    // An object by its index, as the family writes it, reads the same raw count.
+    let out = drivescript(&["read", "395", "--type", "i32", "--port", port, "--json"], "");
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    let json: serde_json::Value = serde_json::from_str(stdout(&out).trim()).expect("json");
+    assert_eq!(json[0]["object"], "395");
+    assert_eq!(json[0]["raw"], "6000000");
+
+    // Without a type nothing is sent and the message says what to add.
+    let out = drivescript(&["read", "0x18b", "--port", port], "");
+    assert_eq!(out.status.code(), Some(2), "{}", stdout(&out));
+    assert!(stderr(&out).contains("--type"), "{}", stderr(&out));
 }
 
 #[test]

@@ -5,7 +5,7 @@
 use super::codec::{dnc_address, WriteLength};
 use super::{LinkConfig, Sd2Access, Sd2Explainer, Sd2Link, Sd2Simulator};
 use crate::bus::{Bus, BusKind, SerialSettings};
-use crate::dictionary::{Address, AddressParser, Dictionary};
+use crate::dictionary::{Access, Address, AddressParser, DataType, Dictionary, ObjectDef};
 use crate::drive::ObjectAccess;
 use crate::family::{
     BuiltinDictionary, DriveAddress, Family, LinkContext, LinkOptions, SimPeer, SimulatedDevice,
@@ -173,6 +173,21 @@ impl Family for Sd2Family {
 
     fn explainer(&self, dictionary: Arc<Dictionary>) -> Box<dyn TelegramExplainer> {
         Box::new(Sd2Explainer::new(dictionary))
+    }
+
+    fn raw_object(&self, text: &str, data_type: Option<DataType>) -> Option<Result<ObjectDef, String>> {
+        // Dictionary names start with a letter, so a leading digit can only mean an index.
+        if !text.trim().starts_with(|c: char| c.is_ascii_digit()) {
+            return None;
+        }
+        Some(parse_object_address(text).and_then(|address| {
+            let data_type = data_type.ok_or_else(|| {
+                "an SD2 reply gives a value's length but not whether it is signed or text; give the type with --type \
+                 (u8, i8, u16, i16, u32, i32 or string(N))"
+                    .to_string()
+            })?;
+            Ok(ObjectDef::new(text.trim(), address, data_type, Access::ReadWrite))
+        }))
     }
 }
 
