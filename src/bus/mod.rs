@@ -45,6 +45,11 @@ pub trait Transport: Send {
     /// returns how many bytes were dropped.
     fn discard_input(&mut self) -> Result<usize, TransportError>;
 
+    /// The exchange just ended with its reply and nothing after it, so the next
+    /// [`discard_input`](Self::discard_input) need not ask the device whether input is
+    /// waiting (a system call per telegram). Transports with nothing to save ignore it.
+    fn exchange_complete(&mut self) {}
+
     /// Closes and opens the same port again (same path and settings, same address), after
     /// the line was lost: a USB adapter re-enumerated, a serial server restarted. The safe
     /// stop uses it to reach a drive that may still be running.

@@ -146,6 +146,12 @@ pub struct SerialTransport {
     path: String,
     name: String,
     settings: SerialSettings,
+    /// Set by [`Transport::exchange_complete`], used up by the next `discard_input`.
+    input_clean: bool,
+    /// The open device's descriptor, non-blocking, for writes that skip the crate's poll
+    /// for writability (the line's output buffer almost always has room for a telegram).
+    #[cfg(unix)]
+    fd: Option<std::os::fd::RawFd>,
 }
 
 impl SerialTransport {
@@ -158,8 +164,11 @@ impl SerialTransport {
             .flow_control(serialport::FlowControl::None);
 
         #[cfg(unix)]
+        let fd;
+        #[cfg(unix)]
         let port: Box<dyn SerialPort> = {
             let mut port = builder.open_native().map_err(|e| open_error(path, &e))?;
+            fd = nonblocking_fd(&port);
             // The builder already asks for exclusivity, but saying it here keeps the
             // guarantee if the crate's default ever changes: two programs talking on one
             // drive line interleave telegrams and corrupt both conversations.
@@ -176,6 +185,9 @@ impl SerialTransport {
             path: path.to_string(),
             name: format!("{path} at {settings}"),
             settings,
+            input_clean: false,
+            #[cfg(unix)]
+            fd,
         };
         // Opening can catch the tail of an earlier conversation or garbage from the line
         // settling at the new baud rate; none of it can be an answer to us.
@@ -188,11 +200,34 @@ impl SerialTransport {
     #[cfg(unix)]
     pub fn from_port(port: serialport::TTYPort, name: String) -> Self {
         SerialTransport {
+            fd: nonblocking_fd(&port),
             port: Some(Box::new(port)),
             path: name.clone(),
             name,
             settings: SerialSettings::default(),
+            input_clean: false,
         }
+    }
+
+    /// Writes what the device takes without waiting and returns how many bytes that was;
+    /// the rest (a full output buffer, an error to report) goes the crate's way.
+    #[cfg(unix)]
+    fn write_at_once(&mut self, bytes: &[u8]) -> usize {
+        let (Some(fd), Some(_)) = (self.fd, self.port.as_ref()) else {
+            return 0;
+        };
+        let mut done = 0;
+        while done < bytes.len() {
+            let rest = &bytes[done..];
+            // SAFETY: `fd` belongs to the open port (checked above; it is cleared whenever
+            // the port is closed) and `rest` is a valid buffer of `rest.len()` bytes.
+            let n = unsafe { libc::write(fd, rest.as_ptr().cast(), rest.len()) };
+            match usize::try_from(n) {
+                Ok(n) if n > 0 => done += n,
+                _ => break,
+            }
+        }
+        done
     }
 
     /// The line settings this transport was opened with.
@@ -272,6 +307,8 @@ impl Transport for SerialTransport {
         // The port has one timeout for both directions and the last read may have left it
         // at a few milliseconds, too short for a long telegram at a low baud rate.
         let allowed = self.settings.wire_time(bytes.len()) + WRITE_MARGIN;
+        #[cfg(unix)]
+        let bytes = &bytes[self.write_at_once(bytes)..];
         let port = self.device()?;
         // The drain (flush) stays: measured without it, a pty exchange cost about three
         // times the CPU (`cargo bench --bench run_in`, CPU per read telegram).
@@ -325,6 +362,9 @@ impl Transport for SerialTransport {
     }
 
     fn discard_input(&mut self) -> Result<usize, TransportError> {
+        if std::mem::take(&mut self.input_clean) {
+            return Ok(0);
+        }
         let port = self.device()?;
         // Clearing only when something is there saves a system call per telegram.
         let cleared = port.bytes_to_read().and_then(|pending| match pending {
@@ -339,10 +379,38 @@ impl Transport for SerialTransport {
         // The old descriptor holds the exclusive lock on a device that may have come back
         // under the same path (a udev by-id link); it must be closed before the new open.
         drop(self.port.take());
-        let fresh = SerialTransport::open(&self.path, self.settings)?;
-        self.port = fresh.port;
+        self.input_clean = false;
+        #[cfg(unix)]
+        {
+            self.fd = None;
+        }
+        let mut fresh = SerialTransport::open(&self.path, self.settings)?;
+        self.port = fresh.port.take();
+        #[cfg(unix)]
+        {
+            self.fd = fresh.fd;
+        }
         Ok(())
     }
+
+    fn exchange_complete(&mut self) {
+        self.input_clean = true;
+    }
+}
+
+/// The port's descriptor switched to non-blocking, or `None` when that fails (then every
+/// write goes through the crate's poll).
+#[cfg(unix)]
+fn nonblocking_fd(port: &serialport::TTYPort) -> Option<std::os::fd::RawFd> {
+    use std::os::fd::AsRawFd;
+    let fd = port.as_raw_fd();
+    // SAFETY: `fd` is the open descriptor `port` owns; F_GETFL/F_SETFL only change its
+    // status flags. The crate's own reads and writes poll first, so they are unaffected.
+    let set = unsafe {
+        let flags = libc::fcntl(fd, libc::F_GETFL);
+        flags >= 0 && libc::fcntl(fd, libc::F_SETFL, flags | libc::O_NONBLOCK) == 0
+    };
+    set.then_some(fd)
 }
 
 /// How a port is attached, for `drivescript ports`.
@@ -538,6 +606,36 @@ mod tests {
                 }
                 other => panic!("{other:?}"),
             }
+        }
+
+        #[test]
+        fn a_complete_exchange_spares_one_discard_and_only_one() {
+            let (mut t, mut drive) = pair();
+            drive.write_all(&[1, 2, 3]).unwrap();
+            wait_until_pending(&mut t, 3);
+            t.exchange_complete();
+            // The link vouched that nothing stale is waiting: the device is not asked.
+            assert_eq!(t.discard_input().unwrap(), 0);
+            // The next exchange gets no such promise, so the bytes are found and dropped.
+            assert_eq!(t.discard_input().unwrap(), 3);
+        }
+
+        #[test]
+        fn a_telegram_larger_than_one_write_still_arrives_whole() {
+            let (mut t, mut drive) = pair();
+            let telegram: Vec<u8> = (0..=255u8).cycle().take(200_000).collect();
+            let reader = std::thread::spawn(move || {
+                drive.set_timeout(Duration::from_secs(2)).unwrap();
+                let mut got = Vec::new();
+                let mut buf = [0u8; 4096];
+                while got.len() < 200_000 {
+                    let n = drive.read(&mut buf).unwrap();
+                    got.extend_from_slice(&buf[..n]);
+                }
+                got
+            });
+            t.write_all(&telegram).unwrap();
+            assert_eq!(reader.join().unwrap(), telegram);
         }
 
         #[test]

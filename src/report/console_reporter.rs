@@ -5,26 +5,65 @@
 
 use crate::session::{number, with_unit, CheckResult, RunInfo, RunObserver, RunReport, StepInfo, StepRecord};
 use std::io::Write;
+use std::time::{Duration, Instant};
 
 pub struct ConsoleReporter<W: Write> {
-    out: W,
+    /// `None` only after [`ConsoleReporter::into_inner`] took it.
+    out: Option<W>,
     /// Whether the clock is virtual (said in the summary, since durations are simulated).
     virtual_time: bool,
+    /// Lines not written yet. A burst of quick steps (a `repeat` of reads at the wire's
+    /// limit) would otherwise cost a system call per line, as much as the telegram itself.
+    pending: Vec<u8>,
+    last_flush: Instant,
 }
+
+/// How long a line may be held back in a burst; the first line after a quiet spell, and
+/// everything before the run waits (see [`RunObserver::idle`]), goes out at once.
+const HOLD: Duration = Duration::from_millis(250);
+const HOLD_BYTES: usize = 64 * 1024;
 
 impl<W: Write> ConsoleReporter<W> {
     pub fn new(out: W, virtual_time: bool) -> Self {
-        ConsoleReporter { out, virtual_time }
+        ConsoleReporter {
+            out: Some(out),
+            virtual_time,
+            pending: Vec::new(),
+            last_flush: Instant::now().checked_sub(HOLD).unwrap_or_else(Instant::now),
+        }
     }
 
-    pub fn into_inner(self) -> W {
-        self.out
+    pub fn into_inner(mut self) -> W {
+        self.flush();
+        match self.out.take() {
+            Some(out) => out,
+            None => unreachable!("the writer is taken only here, which consumes the reporter"),
+        }
     }
 
     fn line(&mut self, text: &str) {
+        self.pending.extend_from_slice(text.as_bytes());
+        self.pending.push(b'\n');
+        if self.last_flush.elapsed() >= HOLD || self.pending.len() >= HOLD_BYTES {
+            self.flush();
+        }
+    }
+
+    fn flush(&mut self) {
+        self.last_flush = Instant::now();
+        let Some(out) = self.out.as_mut() else { return };
         // A closed pipe (`| head`) must not stop the run or its safe stop.
-        let _ = writeln!(self.out, "{text}");
-        let _ = self.out.flush();
+        if !self.pending.is_empty() {
+            let _ = out.write_all(&self.pending);
+            self.pending.clear();
+        }
+        let _ = out.flush();
+    }
+}
+
+impl<W: Write> Drop for ConsoleReporter<W> {
+    fn drop(&mut self) {
+        self.flush();
     }
 }
 
@@ -58,6 +97,13 @@ impl<W: Write> RunObserver for ConsoleReporter<W> {
     fn run_finished(&mut self, report: &RunReport) {
         for line in summary_lines(report, self.virtual_time) {
             self.line(&line);
+        }
+        self.flush();
+    }
+
+    fn idle(&mut self) {
+        if !self.pending.is_empty() {
+            self.flush();
         }
     }
 }
@@ -167,4 +213,71 @@ pub fn summary_lines(report: &RunReport, virtual_time: bool) -> Vec<String> {
         report.exit_code()
     ));
     lines
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::cell::RefCell;
+    use std::rc::Rc;
+
+    /// Records every write the reporter makes.
+    #[derive(Clone, Default)]
+    struct Writes(Rc<RefCell<Vec<Vec<u8>>>>);
+
+    impl Write for Writes {
+        fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+            self.0.borrow_mut().push(buf.to_vec());
+            Ok(buf.len())
+        }
+        fn flush(&mut self) -> std::io::Result<()> {
+            Ok(())
+        }
+    }
+
+    impl Writes {
+        fn count(&self) -> usize {
+            self.0.borrow().len()
+        }
+        fn text(&self) -> String {
+            String::from_utf8(self.0.borrow().concat()).unwrap()
+        }
+    }
+
+    #[test]
+    fn a_burst_of_lines_goes_out_in_few_writes_and_in_order() {
+        let writes = Writes::default();
+        let mut console = ConsoleReporter::new(writes.clone(), true);
+        let started = Instant::now();
+        for i in 0..10_000 {
+            console.message(&format!("value {i}"));
+        }
+        console.idle();
+        // One write per 250 ms that passed or per 64 KiB held, plus the first line and the
+        // flush before the wait; a write per line would be 10 000.
+        let bytes = writes.text().len();
+        let bound = 2 + started.elapsed().as_millis() as usize / 250 + bytes / HOLD_BYTES;
+        assert!(
+            writes.count() <= bound,
+            "{} writes, at most {bound} expected",
+            writes.count()
+        );
+        let text = writes.text();
+        let lines: Vec<&str> = text.lines().collect();
+        assert_eq!(lines.len(), 10_000);
+        assert!(lines[9_999].ends_with("value 9999"), "{}", lines[9_999]);
+    }
+
+    #[test]
+    fn nothing_is_held_back_before_a_wait_or_after_the_end() {
+        let writes = Writes::default();
+        let mut console = ConsoleReporter::new(writes.clone(), true);
+        console.message("first");
+        console.message("second");
+        console.idle();
+        assert!(writes.text().contains("second"), "{}", writes.text());
+        console.message("third");
+        drop(console);
+        assert!(writes.text().contains("third"), "{}", writes.text());
+    }
 }

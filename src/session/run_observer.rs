@@ -21,6 +21,9 @@ pub trait RunObserver {
     /// A value read by `read`/`print`, or a message.
     fn message(&mut self, _text: &str) {}
     fn run_finished(&mut self, _report: &RunReport) {}
+    /// The run is about to wait (a dwell, a poll or sample interval): output held back to
+    /// save system calls should go out now, so a log never lags behind a quiet drive.
+    fn idle(&mut self) {}
 }
 
 /// Passes every event to each observer in turn.
@@ -64,5 +67,8 @@ impl RunObserver for Observers<'_> {
     }
     fn run_finished(&mut self, report: &RunReport) {
         self.list.iter_mut().for_each(|o| o.run_finished(report));
+    }
+    fn idle(&mut self) {
+        self.list.iter_mut().for_each(|o| o.idle());
     }
 }

@@ -235,7 +235,9 @@ impl<'a> Session<'a> {
 
     /// Waits until `deadline` on the run's clock; a stop request (see
     /// [`Session::interrupted`]) ends the wait at once.
-    pub fn wait(&self, deadline: Duration) -> Result<(), Stop> {
+    pub fn wait(&mut self, deadline: Duration) -> Result<(), Stop> {
+        // Whatever the reporters hold back goes out before the run goes quiet.
+        self.observer.idle();
         while self.clock.wait_until(deadline, self.stop) {
             if self.interrupted() {
                 return Err(Stop::Interrupted);

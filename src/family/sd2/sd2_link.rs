@@ -133,6 +133,9 @@ impl Sd2Link {
             match self.await_reply(t, request) {
                 Ok(reply) => {
                     self.stats.replies += 1;
+                    if self.extractor.pending().is_empty() {
+                        t.exchange_complete();
+                    }
                     return Ok(reply);
                 }
                 Err(AttemptFailure::Timeout) => {
