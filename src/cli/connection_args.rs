@@ -45,6 +45,21 @@ pub struct ConnectionArgs {
     /// sends; the default) or `write-length=formula` (10 + count, the manual's formula).
     #[arg(long = "link-option", value_name = "NAME=VALUE", value_parser = parse_link_option)]
     pub link_options: Vec<(String, String)>,
+    /// Which channel carries commands and values, where the family has several. SD2:
+    /// `object` (Read/Write Wide Object, the default) or `cyclic` (the DNC 8-byte telegram;
+    /// needs --velocity-scaling). Same as `--link-option channel=…`.
+    #[arg(long, value_name = "CHANNEL")]
+    pub channel: Option<String>,
+    /// The speed the cyclic telegram's +100 % stands for (the drive's velocity scaling
+    /// parameter), e.g. 24000rpm.
+    #[arg(long, value_name = "SPEED")]
+    pub velocity_scaling: Option<String>,
+    /// Toggle the cyclic telegram's heartbeat bit (when the drive's heartbeat is on).
+    #[arg(long)]
+    pub heartbeat: bool,
+    /// Longest interval between cyclic telegrams [default: 20ms].
+    #[arg(long, value_name = "DURATION")]
+    pub cycle: Option<String>,
 }
 
 pub fn parse_duration(text: &str) -> Result<Duration, String> {
@@ -80,7 +95,35 @@ impl ConnectionArgs {
             timeout: Duration::from_secs(1),
             retries: 2,
             link_options: Vec::new(),
+            channel: None,
+            velocity_scaling: None,
+            heartbeat: false,
+            cycle: None,
         }
+    }
+
+    /// These arguments with `defaults` (a recipe's `link:`) put before the command line's
+    /// own link options, so the command line wins.
+    pub fn with_defaults(&self, defaults: &[(String, String)]) -> ConnectionArgs {
+        let mut merged = self.clone();
+        let mut options = defaults.to_vec();
+        options.extend(self.link_options.iter().cloned());
+        merged.link_options = options;
+        merged
+    }
+
+    /// `--link-option`s and the options that stand for one (`--channel cyclic` is
+    /// `channel=cyclic`).
+    fn all_link_options(&self) -> Vec<(String, String)> {
+        let mut all = self.link_options.clone();
+        let named = [
+            ("channel", self.channel.clone()),
+            ("velocity-scaling", self.velocity_scaling.clone()),
+            ("heartbeat", self.heartbeat.then(|| "on".to_string())),
+            ("cycle", self.cycle.clone()),
+        ];
+        all.extend(named.into_iter().filter_map(|(k, v)| Some((k.to_string(), v?))));
+        all
     }
 
     pub fn is_simulated(&self) -> bool {
@@ -91,13 +134,13 @@ impl ConnectionArgs {
         LinkOptions {
             reply_timeout: self.timeout,
             retries: self.retries,
-            extra: self.link_options.clone(),
+            extra: self.all_link_options(),
         }
     }
 
     /// The drive's address and the family's link options, checked before anything opens.
     pub fn check(&self, family: &dyn Family) -> Result<DriveAddress, String> {
-        family.check_link_options(&self.link_options)?;
+        family.check_link_options(&self.all_link_options())?;
         family.parse_drive_address(self.address.as_deref())
     }
 

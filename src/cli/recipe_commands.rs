@@ -351,9 +351,22 @@ pub fn run_recipe(request: &RunRequest, out: &mut dyn Write, err: &mut dyn Write
         let _ = writeln!(err, "error: {e}");
         return refused(INVALID);
     }
+    // The recipe's `link:` settings under the command line's, checked before anything is
+    // opened: a wrong setting is an invalid recipe or command line (exit 2), not a
+    // communication failure.
+    let connection = request.connection.with_defaults(&recipe.link);
+    if let Ok(family) = request.registry.family(dictionary.family()) {
+        if let Err(e) = connection.check(family.as_ref()) {
+            let _ = writeln!(
+                err,
+                "error: {e} (link settings come from the recipe's `link:` and the command line)"
+            );
+            return refused(INVALID);
+        }
+    }
     let mut open = match open_drive(
         request.registry,
-        request.connection,
+        &connection,
         dictionary,
         request.fast,
         telegrams.into_observer(),

@@ -102,18 +102,49 @@ impl Drive {
         })
     }
 
+    /// Reads several objects as numbers in their engineering units into `out` (one per
+    /// name), in one round trip where the family's telegram carries them together.
+    pub fn read_numbers(&mut self, names: &[&str], out: &mut [f64]) -> Result<(), DriveError> {
+        let dictionary = Arc::clone(&self.dictionary);
+        let mut defs = Vec::with_capacity(names.len());
+        for name in names {
+            let def = lookup(&dictionary, name)?;
+            if !def.readable() {
+                return Err(DriveError::WriteOnly {
+                    object: def.name.clone(),
+                });
+            }
+            defs.push(def);
+        }
+        if let [def] = defs[..] {
+            let v = self.read_def(def)?;
+            out[0] = number_of(def, &v)?;
+            return Ok(());
+        }
+        let requests: Vec<_> = defs.iter().map(|d| (d.address, d.data_type)).collect();
+        let results = self.access.read_many(&requests);
+        for ((def, result), slot) in defs.iter().zip(results).zip(out.iter_mut()) {
+            let raw = result.map_err(|e| self.refusal(e, "to read", def))?;
+            let value = def.value_of(raw).map_err(|source| DriveError::BadReply {
+                object: def.name.clone(),
+                source,
+            })?;
+            *slot = number_of(def, &value)?;
+        }
+        Ok(())
+    }
+
+    /// Sends what the link must send to stay alive, if due; how long until the next.
+    pub fn keep_alive(&mut self) -> Result<Option<Duration>, DriveError> {
+        Ok(self.access.keep_alive()?)
+    }
+
     /// Reads an object as a number in its engineering unit.
     pub fn read_number(&mut self, name: &str) -> Result<f64, DriveError> {
         let dictionary = Arc::clone(&self.dictionary);
         let def = lookup(&dictionary, name)?;
         let value = self.read_def(def)?;
-        value.number().ok_or_else(|| DriveError::BadReply {
-            object: def.name.clone(),
-            source: crate::dictionary::ValueError::TextForNumber {
-                object: def.name.clone(),
-                data_type: def.data_type,
-            },
-        })
+        number_of(def, &value)
     }
 
     /// Writes a number with its unit (a bare number is in the object's unit). Refused
@@ -271,5 +302,16 @@ fn lookup<'d>(dictionary: &'d Dictionary, name: &str) -> Result<&'d ObjectDef, D
     dictionary.lookup(name).map_err(|e| DriveError::UnknownObject {
         name: name.to_string(),
         suggestions: e.suggestions.clone(),
+    })
+}
+
+/// The engineering number of a value read from `def`; text is an error.
+fn number_of(def: &ObjectDef, value: &Value) -> Result<f64, DriveError> {
+    value.number().ok_or_else(|| DriveError::BadReply {
+        object: def.name.clone(),
+        source: crate::dictionary::ValueError::TextForNumber {
+            object: def.name.clone(),
+            data_type: def.data_type,
+        },
     })
 }

@@ -5,6 +5,7 @@
 use super::AccessError;
 use crate::clock::SharedClock;
 use crate::dictionary::{Address, DataType, RawValue};
+use std::time::Duration;
 
 /// What a write did. Some drives store a value other than the one sent (Lenze 931:
 /// "written, but limited to X"); that is neither success nor failure.
@@ -27,6 +28,12 @@ pub trait ObjectAccess: Send {
     /// trip. The default reads them one by one.
     fn read_many(&mut self, objects: &[(Address, DataType)]) -> Vec<Result<RawValue, AccessError>> {
         objects.iter().map(|(a, t)| self.read(a, *t)).collect()
+    }
+    /// Sends what the channel needs to stay alive, when it is due (a cyclic telegram the
+    /// drive expects at a fixed period), and says how long until it is due again. The
+    /// session calls it while it waits; `None` means nothing needs keeping alive.
+    fn keep_alive(&mut self) -> Result<Option<Duration>, AccessError> {
+        Ok(None)
     }
     /// What we are talking to, for messages: `drive 2 on /dev/ttyUSB0 at 57600 8N1`.
     fn port(&self) -> String;

@@ -40,4 +40,6 @@ pub struct Recipe {
     /// meant to keep turning). Every other ending still stops the drive.
     pub leave_enabled: bool,
     pub safe_stop: SafeStopChoice,
+    /// Settings of the family's link (`link:`), before the command line's.
+    pub link: Vec<(String, String)>,
 }

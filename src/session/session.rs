@@ -238,12 +238,22 @@ impl<'a> Session<'a> {
     pub fn wait(&mut self, deadline: Duration) -> Result<(), Stop> {
         // Whatever the reporters hold back goes out before the run goes quiet.
         self.observer.idle();
-        while self.clock.wait_until(deadline, self.stop) {
-            if self.interrupted() {
-                return Err(Stop::Interrupted);
+        loop {
+            // A channel the drive expects telegrams on is served in between (the cyclic
+            // telegram); the wait is cut into its periods.
+            let until = match self.drive.keep_alive()? {
+                Some(next) => self.clock.now().saturating_add(next).min(deadline),
+                None => deadline,
+            };
+            while self.clock.wait_until(until, self.stop) {
+                if self.interrupted() {
+                    return Err(Stop::Interrupted);
+                }
+            }
+            if until >= deadline {
+                return Ok(());
             }
         }
-        Ok(())
     }
 
     /// Reads the state now and then (at most every `settings.fault_poll`, or at once when

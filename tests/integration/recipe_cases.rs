@@ -15,6 +15,7 @@
 //!   PASSED
 //! control_words: [0, 6, 7, 15, 7, 6]   # exactly the control words the drive received
 //! control_words_end: [7, 6]            # or only the last ones (the safe stop)
+//! control_word_changes: [6, 7, 15, 7, 6] # the same with repeats in a row counted once
 //! ```
 //!
 //! Every case runs in-process against the simulated drive in virtual time.
@@ -52,6 +53,12 @@ struct Case {
     control_words: Option<Vec<u16>>,
     #[serde(default)]
     control_words_end: Option<Vec<u16>>,
+    /// Like `control_words`, with repeats of the same word in a row counted once: the
+    /// cyclic channel sends the control word in every telegram.
+    #[serde(default)]
+    control_word_changes: Option<Vec<u16>>,
+    #[serde(default)]
+    control_word_changes_end: Option<Vec<u16>>,
 }
 
 #[derive(Debug, Default, serde::Deserialize)]
@@ -199,6 +206,20 @@ fn run_case(dir: &Path) -> Result<(), String> {
     if let Some(want) = &case.control_words_end {
         if !words.ends_with(want) {
             problems.push(format!("control words {words:?} do not end with {want:?}"));
+        }
+    }
+    let mut changes = words.clone();
+    changes.dedup();
+    if let Some(want) = &case.control_word_changes {
+        if &changes != want {
+            problems.push(format!("control word changes {changes:?} (expected {want:?})"));
+        }
+    }
+    if let Some(want) = &case.control_word_changes_end {
+        if !changes.ends_with(want) {
+            problems.push(format!(
+                "control word changes {changes:?} do not end with {want:?}"
+            ));
         }
     }
     if problems.is_empty() {

@@ -3,6 +3,8 @@
 //! drive's byte-level front, and the telegram explainer for `decode` and traces.
 
 pub mod codec;
+mod cyclic_access;
+mod cyclic_settings;
 mod explain;
 mod link_config;
 mod object_names;
@@ -13,6 +15,8 @@ mod sd2_link;
 pub mod sim;
 pub mod wire_value;
 
+pub use cyclic_access::Sd2CyclicAccess;
+pub use cyclic_settings::{Channel, CyclicSettings};
 pub use explain::{explain, ObjectNames};
 pub use link_config::LinkConfig;
 pub use sd2_access::Sd2Access;

@@ -17,6 +17,11 @@ impl Sd2Access {
         Sd2Access { link, dest }
     }
 
+    /// The drive's DNC address.
+    pub fn dest(&self) -> u8 {
+        self.dest
+    }
+
     pub fn link(&self) -> &Sd2Link {
         &self.link
     }

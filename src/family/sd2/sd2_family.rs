@@ -3,7 +3,8 @@
 //! [`Sd2Access`] over a shared byte bus, simulate a drive and explain telegrams.
 
 use super::codec::{dnc_address, WriteLength};
-use super::{LinkConfig, Sd2Access, Sd2Explainer, Sd2Link, Sd2Simulator};
+use super::cyclic_settings::{self, Channel};
+use super::{LinkConfig, Sd2Access, Sd2CyclicAccess, Sd2Explainer, Sd2Link, Sd2Simulator};
 use crate::bus::{Bus, BusKind, SerialSettings};
 use crate::dictionary::{Access, Address, AddressParser, DataType, Dictionary, ObjectDef};
 use crate::drive::ObjectAccess;
@@ -54,9 +55,10 @@ impl Sd2Family {
                         "--link-option write-length={other}: give `captured` (0x0B, what every capture from real drives sends) or `formula` (10 + count, the manual's formula)"
                     ))
                 }
+                (other, _) if cyclic_settings::OPTIONS.contains(&other.replace('_', "-").as_str()) => {}
                 (other, _) => {
                     return Err(format!(
-                        "--link-option {other}: the sd2 family knows `write-length=captured|formula`"
+                        "--link-option {other}: the sd2 family knows `write-length=captured|formula`, `channel=object|cyclic`, and for the cyclic channel `velocity-scaling=RPM`, `heartbeat=on|off`, `cycle=DURATION`, `current-scaling=AMPERES_PER_COUNT`"
                     ))
                 }
             }
@@ -128,7 +130,8 @@ impl Family for Sd2Family {
     }
 
     fn check_link_options(&self, extra: &[(String, String)]) -> Result<(), String> {
-        Self::write_length(extra).map(|_| ())
+        Self::write_length(extra)?;
+        Channel::from_options(extra).map(|_| ())
     }
 
     fn open(
@@ -159,7 +162,11 @@ impl Family for Sd2Family {
         if let Some(s) = context.stop {
             link.set_stop_requests(s);
         }
-        Ok(Box::new(Sd2Access::new(link, dest)))
+        let access = Sd2Access::new(link, dest);
+        Ok(match Channel::from_options(&options.extra)? {
+            Channel::Object => Box::new(access),
+            Channel::Cyclic(settings) => Box::new(Sd2CyclicAccess::new(access, settings)),
+        })
     }
 
     fn simulator(&self, drive: &DriveAddress, config: SimConfig) -> SimulatedDevice {

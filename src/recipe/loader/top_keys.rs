@@ -1,9 +1,9 @@
 //! The recipe document itself: its top-level keys (`name`, `drive`, `params`, `steps`,
-//! `finally`, `on_fault`, `leave_enabled`, `safe_stop`), each handed to the part that reads
+//! `finally`, `on_fault`, `leave_enabled`, `safe_stop`, `link`), each handed to the part that reads
 //! it. It must not read steps or values itself.
 
 use super::Loader;
-use crate::diag::{Shape, YamlNode};
+use crate::diag::{expected, Shape, YamlNode};
 use crate::dictionary::{read_dimensioned, Dimension};
 use crate::recipe::recipe::{Recipe, SafeStopChoice};
 
@@ -17,6 +17,7 @@ const TOP_KEYS: &[&str] = &[
     "on_fault",
     "leave_enabled",
     "safe_stop",
+    "link",
 ];
 
 impl Loader<'_, '_> {
@@ -51,6 +52,7 @@ impl Loader<'_, '_> {
             .and_then(|n| self.r.bool(n, "`leave_enabled`"))
             .unwrap_or(false);
         let safe_stop = f.get("safe_stop").map(|n| self.safe_stop(n)).unwrap_or_default();
+        let link = f.get("link").map(|n| self.link(n)).unwrap_or_default();
         let params = self.params_section(f.get("params"), overrides);
         let steps = match f.get("steps") {
             Some(n) => self.steps(n, "`steps`"),
@@ -72,7 +74,29 @@ impl Loader<'_, '_> {
             on_fault,
             leave_enabled,
             safe_stop,
+            link,
         })
+    }
+
+    /// `link: { channel: cyclic, velocity_scaling: 24000 rpm }`: settings of the family's
+    /// link, as `--link-option NAME=VALUE` gives them; the family checks them before the
+    /// port opens, and the command line's win.
+    fn link(&mut self, node: &YamlNode) -> Vec<(String, String)> {
+        let Some(entries) = node.entries() else {
+            self.r.report(expected(
+                node,
+                "`link`",
+                "a mapping of link settings (link: { channel: cyclic, velocity_scaling: 24000 rpm })",
+            ));
+            return Vec::new();
+        };
+        entries
+            .iter()
+            .filter_map(|(key, value)| {
+                let text = self.r.scalar_text(value, "a link setting")?;
+                Some((key.value.clone(), text))
+            })
+            .collect()
     }
 
     /// `safe_stop: { timeout: 2 min, standstill: 20 rpm }`.

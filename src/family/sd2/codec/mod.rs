@@ -14,7 +14,7 @@ mod telegram;
 mod write_length;
 
 pub use checksum::checksum;
-pub use cyclic::{Cyclic, ServiceChannel, ServiceFunction};
+pub use cyclic::{Cyclic, ServiceChannel, ServiceFunction, SPEED_FULL_SCALE};
 pub use data::Data;
 pub use decode_error::{DecodeError, EncodeError};
 pub use error_code::ErrorCode;

@@ -1,0 +1,685 @@
+//! Object access through the DNC 8-byte cyclic telegram: control word and speed reference
+//! go out in every telegram; status word, actual speed, drive error (and, with a stated
+//! scaling, actual current) come back in every reply, so one round trip answers several
+//! reads. Other objects travel in the acyclic service channel of the same telegram; what
+//! the service channel cannot carry (more than 4 bytes, a subindex) goes by object access.
+//!
+//! The last control word and speed reference are repeated, never invented: before the first
+//! telegram both are read from the drive (objects 68 and 395). The telegram is sent at
+//! least every `period` while the session waits (see [`ObjectAccess::keep_alive`]).
+//!
+//! Not in the sources, and therefore this module's own choices (the simulator makes the
+//! same ones, see `sim/service_channel.rs`): a service reply is complete when it echoes
+//! the request's index, toggle and function; state bit 7 set means the access failed with
+//! the SD2 error code in sdata0. Marked in README as unconfirmed on hardware.
+
+use super::codec::{Cyclic, ErrorCode, ServiceChannel, ServiceFunction, SPEED_FULL_SCALE};
+use super::cyclic_settings::CyclicSettings;
+use super::wire_value;
+use super::Sd2Access;
+use crate::clock::SharedClock;
+use crate::dictionary::{Address, DataType, RawValue};
+use crate::drive::{AccessError, ObjectAccess, WriteOutcome};
+use std::time::Duration;
+
+/// Objects the process data carries. 67, 68, 395 and 398 are in the sources; 400 and 401
+/// are the built-in dictionary's (unconfirmed) current and drive-error objects.
+const STATUS_WORD: u16 = 67;
+const CONTROL_WORD: u16 = 68;
+const SPEED_SETPOINT: u16 = 395;
+const SPEED_ACTUAL: u16 = 398;
+const CURRENT_ACTUAL: u16 = 400;
+const DRIVE_ERROR: u16 = 401;
+/// Objects 395 and 398 count 0.001 rpm; 400 counts 0.001 A in the built-in dictionary.
+const COUNTS_PER_RPM: f64 = 1000.0;
+const COUNTS_PER_AMPERE: f64 = 1000.0;
+/// A service reply that has not come after this many telegrams is given up.
+const SERVICE_TELEGRAMS: u32 = 50;
+/// Reply state bit 7: the service failed.
+const SERVICE_FAILED: u8 = 0x80;
+
+pub struct Sd2CyclicAccess {
+    /// The object channel on the same link: start values, and objects the service
+    /// channel cannot carry.
+    object: Sd2Access,
+    settings: CyclicSettings,
+    /// What goes out in every telegram; `None` until read from the drive.
+    output: Option<(u16, i16)>,
+    /// The next telegram's heartbeat toggle.
+    heartbeat: bool,
+    /// The toggle of the last service request (the first request uses the other value,
+    /// as the printed examples do: read with toggle 0, then write with toggle 1).
+    service_toggle: bool,
+    /// Whether a service went through since the channel opened (until then the drive
+    /// may remember another master's toggle).
+    service_used: bool,
+    last_sent: Option<Duration>,
+}
+
+/// A value the cyclic reply carries.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum ProcessValue {
+    Status,
+    Speed,
+    DriveError,
+    Current,
+}
+
+impl Sd2CyclicAccess {
+    pub fn new(object: Sd2Access, settings: CyclicSettings) -> Self {
+        Sd2CyclicAccess {
+            object,
+            settings,
+            output: None,
+            heartbeat: false,
+            service_toggle: true,
+            service_used: false,
+            last_sent: None,
+        }
+    }
+
+    fn dest(&self) -> u8 {
+        self.object.dest()
+    }
+
+    fn process_value(&self, address: &Address) -> Option<ProcessValue> {
+        let Address::Indexed { index, subindex: 0 } = *address else {
+            return None;
+        };
+        match index {
+            STATUS_WORD => Some(ProcessValue::Status),
+            SPEED_ACTUAL => Some(ProcessValue::Speed),
+            DRIVE_ERROR => Some(ProcessValue::DriveError),
+            CURRENT_ACTUAL if self.settings.current_scale_a.is_some() => Some(ProcessValue::Current),
+            _ => None,
+        }
+    }
+
+    /// The service channel carries up to 4 bytes of an object without subindex.
+    fn service_fits(address: &Address, data_type: DataType) -> Option<(u16, u8)> {
+        let Address::Indexed { index, subindex: 0 } = *address else {
+            return None;
+        };
+        let size = u8::try_from(data_type.size())
+            .ok()
+            .filter(|s| *s <= 4 && data_type.is_integer())?;
+        Some((index, size))
+    }
+
+    /// Control word and speed reference as the drive has them now, read once.
+    fn output(&mut self) -> Result<(u16, i16), AccessError> {
+        if let Some(o) = self.output {
+            return Ok(o);
+        }
+        let word = self
+            .object
+            .read(&Address::indexed(CONTROL_WORD, 0), DataType::U16)?;
+        let setpoint = self
+            .object
+            .read(&Address::indexed(SPEED_SETPOINT, 0), DataType::I32)?;
+        let word = word.as_int().and_then(|w| u16::try_from(w).ok()).unwrap_or(0);
+        let rpm = setpoint.as_int().unwrap_or(0) as f64 / COUNTS_PER_RPM;
+        // A setpoint the drive holds beyond the scaling is sent as the nearest the telegram
+        // can carry; it is the drive's own value, not one the user asked for.
+        let reference = self.reference(rpm).unwrap_or(if rpm < 0.0 {
+            -SPEED_FULL_SCALE
+        } else {
+            SPEED_FULL_SCALE
+        });
+        self.output = Some((word, reference));
+        Ok((word, reference))
+    }
+
+    /// The speed reference for `rpm`: a fraction of the velocity scaling, 0x3FFF = +100 %,
+    /// truncated toward zero as in the printed examples (50 % = 0x1FFF, 25 % = 0x0FFF).
+    fn reference(&self, rpm: f64) -> Result<i16, AccessError> {
+        let fraction = rpm / self.settings.velocity_scaling_rpm;
+        if !fraction.is_finite() || fraction.abs() > 1.0 {
+            return Err(AccessError::Encode(format!(
+                "{rpm} rpm is beyond ±100 % of the velocity scaling ({} rpm), the most the cyclic telegram carries; nothing was sent",
+                self.settings.velocity_scaling_rpm
+            )));
+        }
+        Ok((fraction * f64::from(SPEED_FULL_SCALE)).trunc() as i16)
+    }
+
+    /// One cyclic round trip with the current output and, optionally, a service request.
+    fn exchange(&mut self, service: Option<ServiceChannel>) -> Result<Cyclic, AccessError> {
+        let (word, reference) = self.output()?;
+        let mut request = Cyclic::request(word, reference, self.settings.heartbeat && self.heartbeat);
+        request.service = service;
+        if self.settings.heartbeat {
+            self.heartbeat = !self.heartbeat;
+        }
+        let dest = self.dest();
+        self.last_sent = Some(self.object.link().clock().now());
+        self.object.link_mut().cyclic(dest, request)
+    }
+
+    fn value_of(&self, reply: &Cyclic, value: ProcessValue) -> RawValue {
+        let counts = match value {
+            ProcessValue::Status => i64::from(reply.word()),
+            ProcessValue::DriveError => i64::from(reply.drive_error()),
+            ProcessValue::Speed => {
+                let rpm = f64::from(reply.speed()) / f64::from(SPEED_FULL_SCALE)
+                    * self.settings.velocity_scaling_rpm;
+                (rpm * COUNTS_PER_RPM).round() as i64
+            }
+            ProcessValue::Current => {
+                let amps = f64::from(reply.current()) * self.settings.current_scale_a.unwrap_or(0.0);
+                (amps * COUNTS_PER_AMPERE).round() as i64
+            }
+        };
+        RawValue::Int(counts)
+    }
+
+    /// Runs one service (read or write) to completion and returns the reply's data field,
+    /// with the process data of the telegram that completed it.
+    fn service(
+        &mut self,
+        function: ServiceFunction,
+        index: u16,
+        size: u8,
+        data: [u8; 4],
+    ) -> Result<(Cyclic, [u8; 4]), AccessError> {
+        let fresh_start = !self.service_used;
+        match self.service_once(function, index, size, data) {
+            // A drive that still remembers another master's toggle takes the first request
+            // for a repeat and answers the old service: start again with the other toggle.
+            Err(AccessError::BadReply { .. }) if fresh_start => {
+                self.service_once(function, index, size, data)
+            }
+            other => other,
+        }
+    }
+
+    fn service_once(
+        &mut self,
+        function: ServiceFunction,
+        index: u16,
+        size: u8,
+        data: [u8; 4],
+    ) -> Result<(Cyclic, [u8; 4]), AccessError> {
+        self.service_toggle = !self.service_toggle;
+        let request = ServiceChannel::request(self.service_toggle, function, size, index, data);
+        for _ in 0..SERVICE_TELEGRAMS {
+            let reply = self.exchange(Some(request))?;
+            let Some(answer) = reply.service else { continue };
+            if (answer.ctrl & 0x07) != (request.ctrl & 0x07) || answer.index != index {
+                continue;
+            }
+            self.service_used = true;
+            if answer.ctrl & SERVICE_FAILED != 0 {
+                let code = ErrorCode(answer.data[0]);
+                return Err(AccessError::Refused {
+                    port: self.object.link().port().to_string(),
+                    address: self.dest().to_string(),
+                    operation: if function == ServiceFunction::Write {
+                        "write"
+                    } else {
+                        "read"
+                    },
+                    object: format!("{index} (service channel)"),
+                    code: u32::from(code.0),
+                    text: code.to_string(),
+                });
+            }
+            return Ok((reply, answer.data));
+        }
+        Err(AccessError::UnexpectedReply {
+            port: self.object.link().port().to_string(),
+            address: self.dest().to_string(),
+            request: format!("service {} of object {index}", function.id()),
+            detail: format!("no completed service reply in {SERVICE_TELEGRAMS} telegrams"),
+        })
+    }
+
+    fn service_read(
+        &mut self,
+        address: &Address,
+        data_type: DataType,
+    ) -> Option<Result<RawValue, AccessError>> {
+        let (index, size) = Self::service_fits(address, data_type)?;
+        Some(
+            self.service(ServiceFunction::Read, index, size, [0; 4])
+                .and_then(|(_, data)| {
+                    wire_value::decode(&data[..usize::from(size)], data_type).map_err(|detail| {
+                        AccessError::UnexpectedReply {
+                            port: self.object.link().port().to_string(),
+                            address: self.dest().to_string(),
+                            request: format!("service read of object {index}"),
+                            detail,
+                        }
+                    })
+                }),
+        )
+    }
+}
+
+impl ObjectAccess for Sd2CyclicAccess {
+    fn read(&mut self, address: &Address, data_type: DataType) -> Result<RawValue, AccessError> {
+        if let Some(value) = self.process_value(address) {
+            let reply = self.exchange(None)?;
+            return Ok(self.value_of(&reply, value));
+        }
+        match self.service_read(address, data_type) {
+            Some(result) => result,
+            None => self.object.read(address, data_type),
+        }
+    }
+
+    fn write(
+        &mut self,
+        address: &Address,
+        value: &RawValue,
+        data_type: DataType,
+    ) -> Result<WriteOutcome, AccessError> {
+        let (word, reference) = self.output()?;
+        match *address {
+            Address::Indexed {
+                index: CONTROL_WORD,
+                subindex: 0,
+            } => {
+                let new = value
+                    .as_int()
+                    .and_then(|v| u16::try_from(v).ok())
+                    .ok_or_else(|| AccessError::Encode(format!("control word {value} is not 0..=65535")))?;
+                self.output = Some((new, reference));
+                self.exchange(None)?;
+                return Ok(WriteOutcome::Stored);
+            }
+            Address::Indexed {
+                index: SPEED_SETPOINT,
+                subindex: 0,
+            } => {
+                let counts = value
+                    .as_int()
+                    .ok_or_else(|| AccessError::Encode(format!("speed setpoint {value} is not a count")))?;
+                let new = self.reference(counts as f64 / COUNTS_PER_RPM)?;
+                self.output = Some((word, new));
+                self.exchange(None)?;
+                return Ok(WriteOutcome::Stored);
+            }
+            _ => {}
+        }
+        let Some((index, size)) = Self::service_fits(address, data_type) else {
+            return self.object.write(address, value, data_type);
+        };
+        let bytes = wire_value::encode(value, data_type).map_err(AccessError::Encode)?;
+        let mut data = [0u8; 4];
+        data[..bytes.len()].copy_from_slice(&bytes);
+        self.service(ServiceFunction::Write, index, size, data)?;
+        Ok(WriteOutcome::Stored)
+    }
+
+    fn read_many(&mut self, objects: &[(Address, DataType)]) -> Vec<Result<RawValue, AccessError>> {
+        let carried: Vec<Option<ProcessValue>> = objects.iter().map(|(a, _)| self.process_value(a)).collect();
+        if carried.iter().all(Option::is_none) && objects.len() < 2 {
+            return objects.iter().map(|(a, t)| self.read(a, *t)).collect();
+        }
+        // One object that is not process data may ride along in the same telegram.
+        let rider = objects
+            .iter()
+            .zip(&carried)
+            .position(|((a, t), c)| c.is_none() && Self::service_fits(a, *t).is_some());
+        let first = match rider {
+            Some(i) => {
+                let (address, data_type) = objects[i];
+                let (index, size) = Self::service_fits(&address, data_type).unwrap_or((0, 4));
+                self.service(ServiceFunction::Read, index, size, [0; 4])
+                    .map(|(reply, data)| {
+                        let value = wire_value::decode(&data[..usize::from(size)], data_type);
+                        (reply, Some(value))
+                    })
+            }
+            None => self.exchange(None).map(|reply| (reply, None)),
+        };
+        let (reply, ridden) = match first {
+            Ok(r) => r,
+            Err(e) => {
+                let text = e.to_string();
+                let mut out = vec![Err(e)];
+                out.extend((1..objects.len()).map(|_| {
+                    Err(AccessError::UnexpectedReply {
+                        port: self.object.link().port().to_string(),
+                        address: self.dest().to_string(),
+                        request: "cyclic telegram".into(),
+                        detail: text.clone(),
+                    })
+                }));
+                return out;
+            }
+        };
+        let port = self.object.link().port().to_string();
+        let dest = self.dest().to_string();
+        let mut ridden = ridden;
+        objects
+            .iter()
+            .enumerate()
+            .map(|(i, (address, data_type))| {
+                if let Some(value) = carried[i] {
+                    return Ok(self.value_of(&reply, value));
+                }
+                if Some(i) == rider {
+                    if let Some(value) = ridden.take() {
+                        return value.map_err(|detail| AccessError::UnexpectedReply {
+                            port: port.clone(),
+                            address: dest.clone(),
+                            request: format!("service read of object {address}"),
+                            detail,
+                        });
+                    }
+                }
+                self.read(address, *data_type)
+            })
+            .collect()
+    }
+
+    fn keep_alive(&mut self) -> Result<Option<Duration>, AccessError> {
+        let now = self.object.link().clock().now();
+        let period = self.settings.period;
+        let due = self
+            .last_sent
+            .map_or(Duration::ZERO, |t| t.saturating_add(period));
+        if now >= due {
+            self.exchange(None)?;
+            return Ok(Some(period));
+        }
+        Ok(Some(due - now))
+    }
+
+    fn port(&self) -> String {
+        format!("{} (cyclic channel)", self.object.port())
+    }
+
+    fn clock(&self) -> SharedClock {
+        self.object.clock()
+    }
+
+    fn reopen(&mut self) -> Result<(), AccessError> {
+        self.object.reopen()?;
+        // The drive may have been reset: ask it again rather than repeat our memory.
+        self.output = None;
+        self.service_used = false;
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::bus::{MemoryTransport, SharedTransport};
+    use crate::clock::{Clock, VirtualClock};
+    use crate::family::sd2::codec::CMD_CYCLIC;
+    use crate::family::sd2::{LinkConfig, Sd2Link, Sd2Simulator, SimConfig};
+    use crate::link::{Direction, TelegramObserver};
+    use std::sync::{Arc, Mutex};
+
+    /// The cyclic telegrams the engine sent, as bytes.
+    #[derive(Clone, Default)]
+    struct Sent(Arc<Mutex<Vec<Vec<u8>>>>);
+
+    impl TelegramObserver for Sent {
+        fn telegram(&mut self, _at: Duration, direction: Direction, bytes: &[u8]) {
+            if direction == Direction::Sent && bytes.get(4) == Some(&CMD_CYCLIC) {
+                self.0.lock().unwrap().push(bytes.to_vec());
+            }
+        }
+        fn event(&mut self, _at: Duration, _text: &str) {}
+    }
+
+    impl Sent {
+        fn take(&self) -> Vec<String> {
+            std::mem::take(&mut *self.0.lock().unwrap())
+                .iter()
+                .map(|b| crate::hex::to_hex(b))
+                .collect()
+        }
+    }
+
+    struct Bench {
+        access: Sd2CyclicAccess,
+        sent: Sent,
+        clock: Arc<VirtualClock>,
+        sim: Arc<Mutex<Sd2Simulator>>,
+    }
+
+    /// A cyclic access to the simulated drive at DNC address 2 with 24 000 rpm scaling,
+    /// after `prepare` ran over the object channel.
+    fn bench(heartbeat: bool, prepare: &[(u16, RawValue, DataType)]) -> Bench {
+        let clock = Arc::new(VirtualClock::new());
+        let sim = Arc::new(Mutex::new(Sd2Simulator::new(SimConfig::default())));
+        let transport = MemoryTransport::new("sim", sim.clone(), clock.clone());
+        let mut link = Sd2Link::new(
+            SharedTransport::new(Box::new(transport)),
+            clock.clone(),
+            LinkConfig::default(),
+        );
+        let sent = Sent::default();
+        link.set_observer(Box::new(sent.clone()));
+        let mut object = Sd2Access::new(link, 2);
+        for (index, value, data_type) in prepare {
+            object
+                .write(&Address::indexed(*index, 0), value, *data_type)
+                .unwrap();
+        }
+        let settings = CyclicSettings {
+            velocity_scaling_rpm: 24_000.0,
+            period: Duration::from_millis(20),
+            heartbeat,
+            current_scale_a: None,
+        };
+        Bench {
+            access: Sd2CyclicAccess::new(object, settings),
+            sent,
+            clock,
+            sim,
+        }
+    }
+
+    fn vector(name: &str) -> String {
+        let text = std::fs::read_to_string(
+            std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/vectors/sd2-dnc.yaml"),
+        )
+        .or_else(|_| {
+            std::fs::read_to_string(
+                std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/vectors/sd2-dnc.yaml"),
+            )
+        })
+        .unwrap();
+        let at = text
+            .find(&format!("- name: {name}\n"))
+            .unwrap_or_else(|| panic!("no vector {name}"));
+        let line = text[at..].lines().nth(1).unwrap();
+        line.trim()
+            .trim_start_matches("hex: ")
+            .trim_matches('"')
+            .to_string()
+    }
+
+    fn expected(header: u8, word: u16, speed: i16) -> String {
+        use crate::family::sd2::codec::{Body, Telegram, WriteLength};
+        let mut c = Cyclic::request(word, speed, false);
+        c.header[0] = header;
+        let t = Telegram {
+            dest: 2,
+            source: 1,
+            body: Body::CyclicRequest(c),
+        };
+        crate::hex::to_hex(&t.encode(WriteLength::Captured))
+    }
+
+    const WORD: u16 = CONTROL_WORD;
+
+    #[test]
+    fn start_up_and_stop_are_the_printed_telegrams() {
+        // The drive already holds 12 000 rpm (50 % of 24 000): the channel repeats it.
+        let mut b = bench(
+            true,
+            &[(SPEED_SETPOINT, RawValue::Int(12_000_000), DataType::I32)],
+        );
+        let word = Address::indexed(WORD, 0);
+        for command in [6, 7, 15] {
+            b.access
+                .write(&word, &RawValue::Int(command), DataType::U16)
+                .unwrap();
+        }
+        assert_eq!(
+            b.sent.take(),
+            [
+                vector("cyclic telegram, control word 6, speed 0x1fff (50 %)"),
+                vector("cyclic telegram, toggle set, control word 7"),
+                vector("cyclic telegram, control word 15"),
+            ]
+        );
+        // Change speed to 6000 rpm (25 %: 0x0FFF), disable operation, shutdown; the
+        // heartbeat toggle keeps alternating.
+        b.access
+            .write(
+                &Address::indexed(SPEED_SETPOINT, 0),
+                &RawValue::Int(6_000_000),
+                DataType::I32,
+            )
+            .unwrap();
+        b.access.write(&word, &RawValue::Int(7), DataType::U16).unwrap();
+        b.access.write(&word, &RawValue::Int(6), DataType::U16).unwrap();
+        assert_eq!(
+            b.sent.take(),
+            [
+                expected(0x05, 15, 0x0FFF),
+                expected(0x01, 7, 0x0FFF),
+                expected(0x05, 6, 0x0FFF)
+            ]
+        );
+        assert_eq!(
+            b.sim.lock().unwrap().control_words_written(),
+            [6, 7, 15, 15, 7, 6]
+        );
+    }
+
+    #[test]
+    fn service_channel_read_and_write_are_the_printed_telegrams() {
+        let mut b = bench(
+            true,
+            &[
+                (WORD, RawValue::Int(6), DataType::U16),
+                (SPEED_SETPOINT, RawValue::Int(6_000_000), DataType::I32),
+            ],
+        );
+        let load = b.access.read(&Address::indexed(39, 0), DataType::U16).unwrap();
+        b.access
+            .write(&Address::indexed(352, 0), &RawValue::Int(1), DataType::U16)
+            .unwrap();
+        assert_eq!(
+            b.sent.take(),
+            [
+                vector("cyclic telegram with service channel, read object 39"),
+                vector("cyclic telegram with service channel, write object 352 = 1"),
+            ]
+        );
+        // The values are the drive's: the same as the object channel reads.
+        let object = &mut b.access.object;
+        assert_eq!(
+            object.read(&Address::indexed(39, 0), DataType::U16).unwrap(),
+            load
+        );
+        assert_eq!(
+            object.read(&Address::indexed(352, 0), DataType::U16).unwrap(),
+            RawValue::Int(1)
+        );
+    }
+
+    #[test]
+    fn bus_voltage_comes_through_the_service_channel() {
+        let mut b = bench(false, &[]);
+        let via_service = b.access.read(&Address::indexed(33, 0), DataType::U16).unwrap();
+        let sent = b.sent.take();
+        assert_eq!(sent.len(), 1, "{sent:?}");
+        assert!(sent[0].starts_with("00 15 02 01 10"), "{}", sent[0]);
+        let via_object = b
+            .access
+            .object
+            .read(&Address::indexed(33, 0), DataType::U16)
+            .unwrap();
+        // The simulated bus voltage ripples by a few tenths of a volt between reads.
+        let (a, b) = (via_service.as_int().unwrap(), via_object.as_int().unwrap());
+        assert!((a - b).abs() <= 10 && a > 3000, "{a} vs {b}");
+    }
+
+    #[test]
+    fn a_refused_service_names_the_error() {
+        let mut b = bench(false, &[]);
+        // Object 398 is the actual speed: read-only.
+        let e = b
+            .access
+            .write(
+                &Address::indexed(SPEED_ACTUAL + 1000, 0),
+                &RawValue::Int(1),
+                DataType::U16,
+            )
+            .unwrap_err();
+        assert!(matches!(e, AccessError::Refused { .. }), "{e}");
+        assert!(e.to_string().contains("service channel"), "{e}");
+    }
+
+    #[test]
+    fn a_setpoint_beyond_the_scaling_is_refused_before_sending() {
+        let mut b = bench(false, &[]);
+        let e = b
+            .access
+            .write(
+                &Address::indexed(SPEED_SETPOINT, 0),
+                &RawValue::Int(24_001_000),
+                DataType::I32,
+            )
+            .unwrap_err();
+        assert!(e.to_string().contains("beyond ±100 %"), "{e}");
+        assert!(b.sent.take().is_empty());
+        // -100 % exactly is allowed.
+        b.access
+            .write(
+                &Address::indexed(SPEED_SETPOINT, 0),
+                &RawValue::Int(-24_000_000),
+                DataType::I32,
+            )
+            .unwrap();
+        assert_eq!(b.sent.take(), [expected(0x01, 0, -0x3FFF)]);
+    }
+
+    #[test]
+    fn the_telegram_goes_out_every_period_with_the_last_output() {
+        let mut b = bench(false, &[(WORD, RawValue::Int(6), DataType::U16)]);
+        let start = b.clock.now();
+        let mut next = Duration::ZERO;
+        while b.clock.now() < start + Duration::from_secs(1) {
+            if b.clock.now() >= next {
+                let wait = b.access.keep_alive().unwrap().unwrap();
+                next = b.clock.now() + wait;
+            }
+            b.clock.advance(Duration::from_millis(1));
+        }
+        let sent = b.sent.take();
+        // 1 s at 20 ms: 50 telegrams, each repeating control word 6 and speed 0.
+        assert!((50..=51).contains(&sent.len()), "{}", sent.len());
+        assert!(sent.iter().all(|t| *t == expected(0x01, 6, 0)), "{sent:?}");
+    }
+
+    #[test]
+    fn one_round_trip_answers_the_process_values_and_one_service_read() {
+        let mut b = bench(false, &[]);
+        let objects = [
+            (Address::indexed(STATUS_WORD, 0), DataType::U16),
+            (Address::indexed(SPEED_ACTUAL, 0), DataType::I32),
+            (Address::indexed(DRIVE_ERROR, 0), DataType::U16),
+            (Address::indexed(33, 0), DataType::U16),
+        ];
+        let values = b.access.read_many(&objects);
+        assert_eq!(b.sent.take().len(), 1);
+        let status = values[0].as_ref().unwrap().clone();
+        assert_eq!(
+            status,
+            b.access.object.read(&objects[0].0, DataType::U16).unwrap()
+        );
+        assert!(values.iter().all(Result::is_ok), "{values:?}");
+    }
+}
