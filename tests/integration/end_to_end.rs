@@ -202,3 +202,53 @@ fn other_commands_end_quietly_on_a_closed_pipe() {
         String::from_utf8_lossy(&output.stderr)
     );
 }
+
+/// The shipped commissioning recipe gives the same verdict over both SD2 channels through
+/// a real pseudo-terminal, and the cyclic run's telegrams are cyclic ones.
+#[cfg(unix)]
+#[test]
+fn the_cyclic_channel_runs_the_commissioning_recipe_through_a_pty() {
+    let recipe = repo_root().join("recipes/commissioning.yaml");
+    let recipe = recipe.to_string_lossy();
+    let trace = std::env::temp_dir().join(format!("drivescript-cyclic-{}.trace", std::process::id()));
+    let trace_arg = trace.to_string_lossy();
+    for channel in [
+        &[][..],
+        &[
+            "--channel",
+            "cyclic",
+            "--velocity-scaling",
+            "24000rpm",
+            "--trace",
+            &trace_arg,
+        ][..],
+    ] {
+        let sim = Simulator::start(&["--pty"]);
+        let mut args = vec!["run", recipe.as_ref(), "--port", sim.endpoint.as_str()];
+        args.extend_from_slice(channel);
+        let out = drivescript(&args, "");
+        assert_eq!(
+            out.status.code(),
+            Some(0),
+            "{channel:?}\n{}{}",
+            stdout(&out),
+            stderr(&out)
+        );
+        let text = stdout(&out);
+        assert!(text.contains("PASS  speed_actual near 3000 rpm ± 1 %"), "{text}");
+        assert!(
+            text.contains("drive left in ready to switch on at 0 rpm"),
+            "{text}"
+        );
+    }
+    let trace_text = std::fs::read_to_string(&trace).expect("trace written");
+    let _ = std::fs::remove_file(&trace);
+    assert!(
+        trace_text.contains("02 01 10 01 00 0f 00"),
+        "no cyclic enable telegram in the trace"
+    );
+    assert!(
+        !trace_text.contains(" 0e 44 00 "),
+        "a control word went by object access:\n{trace_text}"
+    );
+}
