@@ -22,6 +22,7 @@ pub mod drive;
 pub mod family;
 pub mod hex;
 pub mod link;
+pub mod parameters;
 pub mod recipe;
 pub mod report;
 pub mod session;

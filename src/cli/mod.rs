@@ -7,12 +7,13 @@ mod drive_args;
 mod exit_code;
 mod object_commands;
 mod panic_notice;
+mod parameter_commands;
 mod recipe_commands;
 mod simulate_command;
 mod stop_signals;
 
 pub use connection_args::{Connection, ConnectionArgs};
-pub use drive_args::DictionaryArgs;
+pub use drive_args::{open_drive, DictionaryArgs, OpenDrive};
 pub use recipe_commands::{run_recipe, OutputArgs, PrepareSimulator, RunRequest, RunResult, SafeStopArgs};
 
 pub use exit_code::*;
@@ -38,6 +39,9 @@ enum Command {
     Decode(decode_command::DecodeArgs),
     Simulate(simulate_command::SimulateArgs),
     Ports(object_commands::PortsArgs),
+    Backup(parameter_commands::BackupArgs),
+    Diff(parameter_commands::DiffArgs),
+    Restore(parameter_commands::RestoreArgs),
     Schema(recipe_commands::SchemaArgs),
     Completions(CompletionsArgs),
 }
@@ -69,6 +73,9 @@ pub fn main() -> i32 {
         Command::State(args) => object_commands::state(&args),
         Command::Objects(args) => object_commands::objects(&args),
         Command::Ports(args) => object_commands::ports(&args),
+        Command::Backup(args) => parameter_commands::backup(&args),
+        Command::Diff(args) => parameter_commands::diff(&args),
+        Command::Restore(args) => parameter_commands::restore(&args),
         Command::Schema(args) => recipe_commands::schema(&args),
         Command::Completions(args) => {
             use clap::CommandFactory;

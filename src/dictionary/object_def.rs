@@ -37,6 +37,9 @@ pub struct ObjectDef {
     /// Why the entry is not confirmed by a source (type, unit or index guessed or
     /// provided by the simulator); `None` when the sources give it.
     pub unconfirmed: Option<String>,
+    /// A setting of the drive (`parameter: true`) that `backup` saves and `restore` writes
+    /// back, as opposed to a live value (actual speed), a command or an identity.
+    pub parameter: bool,
     /// Where the entry is defined (the `- name:` mapping).
     pub span: Span,
     /// Where the name and each alias are written (same order as [`ObjectDef::names`]);
@@ -62,6 +65,7 @@ impl ObjectDef {
             format: Format::Decimal,
             description: String::new(),
             unconfirmed: None,
+            parameter: false,
             span: Span::unknown(),
             name_spans: Vec::new(),
         }

@@ -51,6 +51,7 @@ const OBJECT_KEYS: &[&str] = &[
     "format",
     "description",
     "unconfirmed",
+    "parameter",
 ];
 const STATE_KEYS: &[&str] = &["mask", "value"];
 const FINITE_HELP: &str = "write a number such as `60000` or `0.001`";
@@ -265,6 +266,7 @@ impl DictionaryReader<'_> {
         });
         let description = f.get("description").and_then(|n| self.r.text(n, "`description`"));
         let unconfirmed = f.get("unconfirmed").and_then(|n| self.r.text(n, "`unconfirmed`"));
+        let parameter = f.get("parameter").and_then(|n| self.r.bool(n, "`parameter`"));
 
         // Keys that make no sense for text.
         if let Some(DataType::String { .. }) = data_type {
@@ -300,6 +302,7 @@ impl DictionaryReader<'_> {
         object.format = format.unwrap_or_default();
         object.description = description.unwrap_or_default();
         object.unconfirmed = unconfirmed;
+        object.parameter = parameter.unwrap_or(false);
         object.span = node.span.clone();
         object.name_spans = name_spans;
         object.min = min.and_then(|(_, v)| v);

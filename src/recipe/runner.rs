@@ -122,6 +122,9 @@ fn exec(s: &mut Session, step: &Step, number: &str, phase: &'static str) -> Resu
             csv,
         } => s.sample(objects, *every, *duration, csv.as_ref(), number),
         StepKind::Expect(checks) => s.expect(checks, &step.origin),
+        StepKind::ExpectParameters { file, parameters } => {
+            s.expect_parameters(file, parameters, &step.origin)
+        }
         StepKind::Ramp {
             object,
             points,

@@ -154,6 +154,11 @@ pub fn recipe_schema(dictionary: &Dictionary) -> Value {
         ] }),
             "the steps of another recipe file",
         ),
+        keyed(
+            "expect_parameters",
+            json!({ "type": "string", "description": "a file written by `drivescript backup`, relative to this recipe" }),
+            "check that the drive holds a backup's parameters, one check per object",
+        ),
     ];
     json!({
         "$schema": "http://json-schema.org/draft-07/schema#",
@@ -170,6 +175,11 @@ pub fn recipe_schema(dictionary: &Dictionary) -> Value {
             "finally": { "$ref": "#/$defs/steps" },
             "on_fault": { "$ref": "#/$defs/steps" },
             "leave_enabled": { "type": "boolean" },
+            "link": {
+                "type": "object",
+                "description": "Settings of the drive family's link, as --link-option NAME=VALUE gives them (SD2: channel: cyclic, velocity_scaling: 24000 rpm, heartbeat: on, cycle: 20 ms); the command line wins",
+                "additionalProperties": { "type": ["string", "number", "boolean"] }
+            },
             "safe_stop": {
                 "type": "object",
                 "description": "The default safe stop: how long to wait for standstill (setpoint 0) before disabling, and what counts as standstill",

@@ -52,6 +52,11 @@ pub enum StepKind {
     },
     /// Named pass/fail checks.
     Expect(Vec<Check>),
+    /// The drive holds the parameters of a backup: one check per object.
+    ExpectParameters {
+        file: String,
+        parameters: Box<crate::parameters::ParameterFile>,
+    },
     /// Write an object in steps from one value to another.
     Ramp {
         object: ObjectRef,
@@ -78,7 +83,8 @@ impl Step {
             | StepKind::Set(_)
             | StepKind::Read(_)
             | StepKind::Print(_)
-            | StepKind::Expect(_) => Duration::ZERO,
+            | StepKind::Expect(_)
+            | StepKind::ExpectParameters { .. } => Duration::ZERO,
             // Each transition has its own timeout; no walk has more transitions than states.
             StepKind::GoTo { timeout, .. } => timeout.saturating_mul(DeviceState::ALL.len() as u32),
             StepKind::WaitUntil { timeout, every, .. } => timeout.saturating_add(*every),

@@ -7,6 +7,7 @@
 mod bucket_series;
 mod condition;
 mod expect;
+mod expect_parameters;
 mod object_ref;
 mod operations;
 mod ramp;

@@ -8,14 +8,14 @@ use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
 /// A `drivescript simulate` in the background, stopped when dropped.
-struct Simulator {
+pub(crate) struct Simulator {
     child: Child,
     /// The first line it printed: the pty path or the TCP address.
-    endpoint: String,
+    pub(crate) endpoint: String,
 }
 
 impl Simulator {
-    fn start(args: &[&str]) -> Simulator {
+    pub(crate) fn start(args: &[&str]) -> Simulator {
         let mut child = Command::new(env!("CARGO_BIN_EXE_drivescript"))
             .arg("simulate")
             .args(args)

@@ -12,6 +12,7 @@ mod end_to_end;
 mod examples;
 mod loader_limits;
 mod outputs;
+mod parameters;
 mod recipe_cases;
 mod reports;
 mod safety;

@@ -4,6 +4,7 @@
 //! settings itself.
 
 mod expect;
+mod expect_parameters;
 mod go_to;
 mod predicate;
 mod ramp;
@@ -28,6 +29,7 @@ const STEP_KEYS: &[&str] = &[
     "dwell",
     "sample",
     "expect",
+    "expect_parameters",
     "ramp",
     "repeat",
     "include",
@@ -130,6 +132,7 @@ impl Loader<'_, '_> {
             }
             "sample" => self.sample(body)?,
             "expect" => self.expect(body, name.as_deref())?,
+            "expect_parameters" => self.expect_parameters(body)?,
             "ramp" => self.ramp(body)?,
             "repeat" => self.repeat(body)?,
             "include" => self.include(body)?,
@@ -148,7 +151,7 @@ impl Loader<'_, '_> {
             }
         };
         let label = match (&kind, name) {
-            (StepKind::Expect(_), _) | (_, None) => label,
+            (StepKind::Expect(_) | StepKind::ExpectParameters { .. }, _) | (_, None) => label,
             (_, Some(n)) => n,
         };
         Some(Step { kind, origin, label })

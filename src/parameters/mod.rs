@@ -1,0 +1,16 @@
+//! Parameter sets: backup (read every parameter into a YAML file), comparison (a backup
+//! against the live drive or another backup) and restore (plan, then write with read-back).
+//! Works on the family-neutral [`Drive`](crate::drive::Drive) only; the command line
+//! decides what to print and whether to apply.
+
+mod backup;
+mod comparison;
+mod parameter_file;
+mod restore;
+mod utc;
+
+pub use backup::{parameters, raw_text, take, Origin, IDENTITY_OBJECTS};
+pub use comparison::{compare, same, Difference};
+pub use parameter_file::{ParameterFile, Reading, SavedObject, FORMAT_KEY};
+pub use restore::{apply, plan, Outcome, PlannedWrite, Refusal};
+pub use utc::utc_timestamp;

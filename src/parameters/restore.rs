@@ -1,0 +1,178 @@
+//! Restoring a backup: the plan (writable parameters whose live value differs, in the
+//! order the dictionary declares them, each value checked against the dictionary's and the
+//! bench's limits before the first write), and carrying it out with every written object
+//! read back. Writes only what the plan lists; the caller decides whether to apply it and
+//! refuses while the drive is enabled.
+
+use super::backup::raw_text;
+use super::comparison::same;
+use super::parameter_file::{ParameterFile, Reading, SavedObject};
+use crate::dictionary::{ObjectDef, Quantity, RawValue};
+use crate::drive::{Drive, WriteOutcome};
+
+/// One write of the plan.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PlannedWrite {
+    pub name: String,
+    /// The live value now and the backup's, as shown.
+    pub now: String,
+    pub to: String,
+    /// The backup's raw value, which the read-back must match.
+    pub raw: String,
+    value: WriteValue,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+enum WriteValue {
+    Number(Quantity),
+    Text(String),
+}
+
+/// Why a backup's object cannot be restored; any of these stops the restore before the
+/// first write.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Refusal {
+    pub name: String,
+    pub reason: String,
+}
+
+/// The writes that make the live set equal the backup, or every reason it cannot.
+pub fn plan(
+    dictionary: &crate::dictionary::Dictionary,
+    backup: &ParameterFile,
+    live: &ParameterFile,
+) -> Result<Vec<PlannedWrite>, Vec<Refusal>> {
+    let mut writes = Vec::new();
+    let mut refusals = Vec::new();
+    for saved in &backup.objects {
+        if dictionary.get(&saved.name).is_none() {
+            refusals.push(Refusal {
+                name: saved.name.clone(),
+                reason: format!("the {} dictionary has no such object", dictionary.family()),
+            });
+        }
+    }
+    // Dictionary order: a selection object (the parameter set) comes before what it selects.
+    for def in dictionary.objects().filter(|o| o.parameter) {
+        let Some(saved) = backup.objects.iter().find(|o| o.name == def.name) else {
+            continue;
+        };
+        let Some(raw) = saved.raw() else {
+            continue; // Unreadable when the backup was taken: nothing to restore.
+        };
+        let current = live.objects.iter().find(|o| o.name == def.name);
+        if current.is_some_and(|c| same(saved, c, 0.0)) {
+            continue;
+        }
+        if !def.writable() {
+            refusals.push(Refusal {
+                name: def.name.clone(),
+                reason: "differs from the backup but is read-only".into(),
+            });
+            continue;
+        }
+        match value_to_write(def, raw) {
+            Ok(value) => writes.push(PlannedWrite {
+                name: def.name.clone(),
+                now: current.map_or_else(|| "not read".to_string(), shown),
+                to: saved.shown().unwrap_or(raw).to_string(),
+                raw: raw.to_string(),
+                value,
+            }),
+            Err(reason) => refusals.push(Refusal {
+                name: def.name.clone(),
+                reason,
+            }),
+        }
+    }
+    if refusals.is_empty() {
+        Ok(writes)
+    } else {
+        Err(refusals)
+    }
+}
+
+fn shown(o: &SavedObject) -> String {
+    match &o.reading {
+        Reading::Value { shown, .. } => shown.clone(),
+        Reading::Error(e) => format!("unreadable ({e})"),
+    }
+}
+
+/// The backup's raw text as a value to write, checked against the object's type and its
+/// (bench-tightened) limits.
+fn value_to_write(def: &ObjectDef, raw: &str) -> Result<WriteValue, String> {
+    if !def.data_type.is_integer() {
+        def.text_to_raw(raw).map_err(|e| e.to_string())?;
+        return Ok(WriteValue::Text(raw.to_string()));
+    }
+    let count: i64 = raw
+        .trim()
+        .parse()
+        .map_err(|_| format!("raw value `{raw}` is not a whole number of counts"))?;
+    let value = def.value_of(RawValue::Int(count)).map_err(|e| e.to_string())?;
+    let quantity = value
+        .quantity
+        .ok_or_else(|| format!("raw value `{raw}` has no number"))?;
+    // to_raw refuses what is outside the limits, saying which (the dictionary's or the bench's).
+    def.to_raw(&quantity).map_err(|e| e.to_string())?;
+    Ok(WriteValue::Number(quantity))
+}
+
+/// What happened to one planned write.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Outcome {
+    /// Written and read back equal.
+    Written,
+    /// The drive stored another value than the one sent (Lenze 931 "written, but limited").
+    Limited { stored: String },
+    /// Written, but the read-back differs.
+    Mismatch { read_back: String },
+    /// The write failed; nothing after it was written.
+    Failed(String),
+}
+
+/// Carries out `plan` in order. `keep_going()` is asked before each write: a stop request
+/// ends the restore there, and the result lists exactly what was written.
+pub fn apply(
+    drive: &mut Drive,
+    plan: &[PlannedWrite],
+    keep_going: &dyn Fn() -> bool,
+    progress: &mut dyn FnMut(&PlannedWrite, &Outcome),
+) -> Vec<(String, Outcome)> {
+    let mut done = Vec::new();
+    for w in plan {
+        if !keep_going() {
+            break;
+        }
+        let written = match &w.value {
+            WriteValue::Number(q) => drive.write(&w.name, q),
+            WriteValue::Text(t) => drive.write_text(&w.name, t),
+        };
+        let outcome = match written {
+            Err(e) => Outcome::Failed(e.to_string()),
+            Ok(result) => match drive.read(&w.name) {
+                Err(e) => Outcome::Failed(format!("written, but reading it back failed: {e}")),
+                Ok(v) => {
+                    let back = raw_text(&v.raw);
+                    match result {
+                        WriteOutcome::Limited(_) => Outcome::Limited {
+                            stored: v.to_string(),
+                        },
+                        WriteOutcome::Stored if back == w.raw => Outcome::Written,
+                        WriteOutcome::Stored => Outcome::Mismatch {
+                            read_back: v.to_string(),
+                        },
+                    }
+                }
+            },
+        };
+        progress(w, &outcome);
+        let failed = matches!(outcome, Outcome::Failed(_));
+        done.push((w.name.clone(), outcome));
+        if failed {
+            break;
+        }
+    }
+    done
+}

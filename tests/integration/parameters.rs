@@ -1,0 +1,189 @@
+//! Parameter backup, diff and restore against the simulated SD2 drive through a real
+//! pseudo-terminal (the drive keeps its state between commands there), and the restore's
+//! refusals before any write.
+
+use crate::end_to_end::Simulator;
+use crate::support::{drivescript, stderr, stdout};
+use std::path::PathBuf;
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("drivescript-parameters-{}-{name}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("scratch dir");
+    dir
+}
+
+fn run(args: &[&str]) -> (i32, String) {
+    let out = drivescript(args, "");
+    (
+        out.status.code().unwrap_or(-1),
+        format!("{}{}", stdout(&out), stderr(&out)),
+    )
+}
+
+/// A dictionary file that marks the speed setpoint as a parameter too, so a restore has
+/// two writes in dictionary order.
+fn two_parameters(dir: &std::path::Path) -> String {
+    let path = dir.join("more.yaml");
+    std::fs::write(
+        &path,
+        "family: sd2\nobjects:\n  - name: speed_setpoint\n    index: 395\n    type: i32\n    unit: rpm\n    scale: 0.001\n    access: rw\n    min: -30000\n    max: 30000\n    parameter: true\n",
+    )
+    .expect("dictionary written");
+    path.to_string_lossy().to_string()
+}
+
+#[cfg(unix)]
+#[test]
+fn backup_change_diff_restore_diff() {
+    let dir = scratch("round-trip");
+    let sim = Simulator::start(&["--pty"]);
+    let port = sim.endpoint.as_str();
+    let file = dir.join("backup.yaml");
+    let file = file.to_str().expect("utf-8 path");
+    let extra = two_parameters(&dir);
+    let dict = ["--dictionary", extra.as_str(), "--port", port];
+
+    assert_eq!(run(&["write", "speed_setpoint", "1500rpm", "--port", port]).0, 0);
+    let (code, out) = run(&[&["backup", "-o", file][..], &dict[..]].concat());
+    assert_eq!(code, 0, "{out}");
+    let saved = std::fs::read_to_string(file).expect("backup written");
+    assert!(
+        saved.contains("name: parameter_set") && saved.contains("raw: \"1500000\""),
+        "{saved}"
+    );
+    assert!(saved.contains("ident: \"Test Motor\""), "{saved}");
+
+    let (code, out) = run(&[&["diff", file][..], &dict[..]].concat());
+    assert_eq!(code, 0, "{out}");
+
+    assert_eq!(run(&["write", "parameter_set", "7", "--port", port]).0, 0);
+    assert_eq!(run(&["write", "speed_setpoint", "2500rpm", "--port", port]).0, 0);
+    let (code, out) = run(&[&["diff", file][..], &dict[..]].concat());
+    assert_eq!(code, 1, "{out}");
+    assert!(out.contains("parameter_set") && out.contains("drive: 7"), "{out}");
+    assert!(out.contains("2 difference(s)"), "{out}");
+
+    // Without --apply: the plan only, in dictionary order.
+    let (code, out) = run(&[&["restore", file][..], &dict[..]].concat());
+    assert_eq!(code, 0, "{out}");
+    let first = out.find("1. parameter_set: 7 → 0").expect(&out);
+    let second = out.find("2. speed_setpoint: 2500 rpm → 1500 rpm").expect(&out);
+    assert!(first < second);
+    assert!(out.contains("nothing written"), "{out}");
+    assert_eq!(run(&[&["diff", file][..], &dict[..]].concat()).0, 1);
+
+    let (code, out) = run(&[&["restore", file, "--apply"][..], &dict[..]].concat());
+    assert_eq!(code, 0, "{out}");
+    assert!(out.contains("restored 2 parameter(s)"), "{out}");
+    let (code, out) = run(&[&["diff", file][..], &dict[..]].concat());
+    assert_eq!(code, 0, "{out}");
+
+    // Two backups compared with each other.
+    let copy = dir.join("copy.yaml");
+    std::fs::write(
+        &copy,
+        saved
+            .replace("raw: \"1500000\"", "raw: \"1500400\"")
+            .replace("value: \"1500 rpm\"", "value: \"1500.4 rpm\""),
+    )
+    .expect("copy");
+    let copy = copy.to_str().expect("utf-8 path");
+    assert_eq!(run(&["diff", file, copy]).0, 1);
+    assert_eq!(run(&["diff", file, copy, "--tolerance", "0.5"]).0, 0);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[cfg(unix)]
+#[test]
+fn restore_refuses_before_writing() {
+    let dir = scratch("refusals");
+    let sim = Simulator::start(&["--pty"]);
+    let port = sim.endpoint.as_str();
+    let file = dir.join("backup.yaml");
+    let file = file.to_str().expect("utf-8 path");
+    assert_eq!(run(&["backup", "-o", file, "--port", port]).0, 0);
+    let saved = std::fs::read_to_string(file).expect("backup written");
+    assert_eq!(run(&["write", "parameter_set", "7", "--port", port]).0, 0);
+
+    // A value beyond the dictionary's limit (0..64): refused, nothing written.
+    let beyond = dir.join("beyond.yaml");
+    std::fs::write(&beyond, saved.replace("raw: \"0\"", "raw: \"99\"")).expect("edited");
+    let (code, out) = run(&[
+        "restore",
+        beyond.to_str().expect("path"),
+        "--apply",
+        "--port",
+        port,
+    ]);
+    assert_eq!(code, 2, "{out}");
+    assert!(
+        out.contains("parameter_set") && out.contains("nothing was written"),
+        "{out}"
+    );
+
+    // Another drive's identity needs --force.
+    let other = dir.join("other.yaml");
+    std::fs::write(&other, saved.replace("Test Motor", "Other Motor")).expect("edited");
+    let other = other.to_str().expect("path");
+    let (code, out) = run(&["restore", other, "--apply", "--port", port]);
+    assert_eq!(code, 2, "{out}");
+    assert!(
+        out.contains("identity differs") && out.contains("--force"),
+        "{out}"
+    );
+    let (code, _) = run(&["read", "parameter_set", "--port", port, "--json"]);
+    assert_eq!(code, 0);
+
+    // In operation enabled: refused even with --force.
+    for word in ["6", "7", "15"] {
+        assert_eq!(run(&["write", "control_word", word, "--port", port]).0, 0);
+    }
+    let (code, out) = run(&["restore", file, "--apply", "--force", "--port", port]);
+    assert_eq!(code, 2, "{out}");
+    assert!(out.contains("operation enabled"), "{out}");
+    for word in ["7", "6"] {
+        assert_eq!(run(&["write", "control_word", word, "--port", port]).0, 0);
+    }
+    let out = drivescript(&["read", "parameter_set", "--port", port, "--json"], "");
+    assert!(stdout(&out).contains("\"value\":7"), "{}", stdout(&out));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A stop request between writes ends the restore there, and the result lists exactly
+/// what was written.
+#[test]
+fn an_interrupted_restore_says_what_was_written() {
+    use drivescript::cli::{ConnectionArgs, DictionaryArgs};
+    use drivescript::parameters::{self, Origin, Outcome};
+    let dir = scratch("interrupted");
+    let mut dictionary = DictionaryArgs::builtin_sd2();
+    dictionary.extra.push(two_parameters(&dir).into());
+    let dictionary = dictionary.load().expect("dictionary");
+    let connection = ConnectionArgs::simulated();
+    let registry = drivescript::family::Registry::builtin();
+    let mut open = drivescript::cli::open_drive(&registry, &connection, dictionary.clone(), true, None, None)
+        .expect("open");
+    let origin = || Origin {
+        address: "sim".into(),
+        date: String::new(),
+        tool: String::new(),
+    };
+    let (backup, _) = parameters::take(&mut open.drive, origin(), &mut |_, _, _| {}, &|| true);
+    open.drive
+        .write("parameter_set", &"9".parse().expect("quantity"))
+        .expect("write");
+    open.drive
+        .write("speed_setpoint", &"2000 rpm".parse().expect("quantity"))
+        .expect("write");
+    let (live, _) = parameters::take(&mut open.drive, origin(), &mut |_, _, _| {}, &|| true);
+    let plan = parameters::plan(&dictionary, &backup, &live).expect("plan");
+    assert_eq!(plan.len(), 2);
+    let writes = std::cell::Cell::new(0);
+    let done = parameters::apply(&mut open.drive, &plan, &|| writes.get() < 1, &mut |_, _| {
+        writes.set(writes.get() + 1)
+    });
+    assert_eq!(done, [("parameter_set".to_string(), Outcome::Written)]);
+    assert_eq!(open.drive.read_number("parameter_set").expect("read"), 0.0);
+    assert_eq!(open.drive.read_number("speed_setpoint").expect("read"), 2000.0);
+    let _ = std::fs::remove_dir_all(&dir);
+}
