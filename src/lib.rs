@@ -24,6 +24,7 @@ pub mod hex;
 pub mod link;
 pub mod recipe;
 pub mod report;
+pub mod script;
 pub mod session;
 pub mod sim;
 pub mod sim_server;

@@ -8,6 +8,7 @@ mod exit_code;
 mod object_commands;
 mod panic_notice;
 mod recipe_commands;
+mod script_commands;
 mod simulate_command;
 mod stop_signals;
 

@@ -170,6 +170,10 @@ pub fn check(args: &CheckArgs) -> i32 {
                 continue;
             }
         };
+        if crate::script::is_script(path) {
+            code = code.max(super::script_commands::check_script(path, &dictionary, &args.set));
+            continue;
+        }
         match load_recipe(path, &dictionary, &args.set) {
             Ok(recipe) => {
                 println!(
@@ -268,6 +272,9 @@ pub struct RunResult {
 
 /// Checks and runs a recipe, writing the console output to `out` and problems to `err`.
 pub fn run_recipe(request: &RunRequest, out: &mut dyn Write, err: &mut dyn Write) -> RunResult {
+    if crate::script::is_script(request.recipe) {
+        return super::script_commands::run_script(request, out, err);
+    }
     let refused = |code| RunResult {
         exit_code: code,
         report: None,
