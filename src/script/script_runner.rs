@@ -229,6 +229,11 @@ impl Host<'_> {
             Ok(_) if phase == "steps" => s.watch_fault(false).map(|_| answer),
             Ok(_) => Ok(answer),
             Err(e) => {
+                if let Stop::Fault(_) = e {
+                    // The session learns the drive is in fault, so that a script that
+                    // catches the fault and resets it is not told of it again.
+                    let _ = s.watch_fault(true);
+                }
                 if phase != "steps" {
                     let (_, why) = crate::session::outcome(&Err(copy_stop(&e)));
                     s.note(format!("{phase} step {number} ({}) failed: {why}", info.label));
