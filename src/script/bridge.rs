@@ -234,7 +234,7 @@ impl Bridge {
 
     /// `fail("message")`: the run failed; recorded as a step, then the script ends.
     pub fn fail(&self, ctx: &NativeCallContext, message: String) -> Box<EvalAltResult> {
-        let label = format!("fail: {message}");
+        let label = "fail".to_string();
         match self.call(ctx.call_position(), Call::Fail(message.clone()), label) {
             Err(e) if matches!(*e, EvalAltResult::ErrorTerminated(..)) => e,
             _ => {
@@ -242,5 +242,51 @@ impl Bridge {
                 terminated()
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::clock::VirtualClock;
+    use crate::stop_request::StopSignal;
+    use std::sync::mpsc::channel;
+
+    fn bridge(stop: Arc<StopRequests>) -> Bridge {
+        let (tx, _) = channel();
+        let (_, rx) = channel();
+        let dictionary = crate::cli::DictionaryArgs::builtin_sd2()
+            .load_for(&crate::family::Registry::builtin(), None)
+            .expect("dictionary");
+        Bridge::new(tx, rx, dictionary, Vec::new(), stop, VirtualClock::shared())
+    }
+
+    #[test]
+    fn a_stop_request_ends_the_script_and_in_finally_only_a_second_one() {
+        let stop = Arc::new(StopRequests::new());
+        let b = bridge(stop.clone());
+        assert!(b.on_progress(1).is_none());
+        stop.request(StopSignal::INT);
+        assert!(b.on_progress(2).is_some());
+        assert!(matches!(b.take_ending(), Some(Stop::Interrupted)));
+        b.in_finally.store(true, Ordering::Relaxed);
+        stop.acknowledge();
+        assert!(
+            b.on_progress(3).is_none(),
+            "the first request is the safe stop's own"
+        );
+        stop.request(StopSignal::INT);
+        assert!(b.on_progress(4).is_some());
+    }
+
+    #[test]
+    fn the_operation_limit_counts_from_the_last_drive_call() {
+        let b = bridge(Arc::new(StopRequests::new()));
+        let limit = super::super::sandbox::MAX_OPERATIONS_BETWEEN_CALLS;
+        assert!(b.on_progress(limit).is_none());
+        b.operations_at_call.store(limit, Ordering::Relaxed);
+        assert!(b.on_progress(2 * limit).is_none());
+        assert!(b.on_progress(2 * limit + 1).is_some());
+        assert!(matches!(b.take_ending(), Some(Stop::Error(m)) if m.contains("endless loop")));
     }
 }

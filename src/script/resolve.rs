@@ -73,14 +73,7 @@ pub fn readable(dict: &Dictionary, name: &str) -> Result<ObjectRef, Refusal> {
 
 /// A value read in its object's unit, converted to `unit`.
 pub fn unit_for(def_unit: Option<&str>, object: &str, unit: &str) -> Result<(Unit, f64), Refusal> {
-    let to = Unit::parse(unit).map_err(|e| {
-        let symbols: Vec<&str> = Unit::symbols().collect();
-        Refusal::new(
-            format!("`{unit}` is not a unit: {e}"),
-            "not a unit",
-            suggestion_text(&did_you_mean(unit, symbols)),
-        )
-    })?;
+    let to = Unit::parse(unit).map_err(|e| not_a_unit(unit, &e.to_string()))?;
     let own = def_unit.and_then(Unit::from_symbol);
     match own.and_then(|own| own.convert(1.0, to)) {
         Some(factor) => Ok((to, factor)),
@@ -136,14 +129,7 @@ pub fn set_value(dict: &Dictionary, name: &str, value: &Written) -> Result<(Obje
         }
         Written::Number(v, None) => Quantity::new(*v, None),
         Written::Number(v, Some(u)) => {
-            let unit = Unit::parse(u).map_err(|e| {
-                let symbols: Vec<&str> = Unit::symbols().collect();
-                Refusal::new(
-                    format!("`{u}` is not a unit: {e}"),
-                    "not a unit",
-                    suggestion_text(&did_you_mean(u, symbols)),
-                )
-            })?;
+            let unit = Unit::parse(u).map_err(|e| not_a_unit(u, &e.to_string()))?;
             Quantity::new(*v, Some(unit))
         }
     };
@@ -182,6 +168,18 @@ pub fn set_value(dict: &Dictionary, name: &str, value: &Written) -> Result<(Obje
         )
     })?;
     Ok((r, SetValue::Number(in_own)))
+}
+
+/// `rpn` is not a unit; the unit parser's own words, with did-you-mean unless they
+/// already suggest one.
+fn not_a_unit(unit: &str, why: &str) -> Refusal {
+    let help = if why.contains("did you mean") {
+        None
+    } else {
+        let symbols: Vec<&str> = Unit::symbols().collect();
+        suggestion_text(&did_you_mean(unit, symbols))
+    };
+    Refusal::new(format!("`{unit}` is not a unit: {why}"), "not a unit", help)
 }
 
 fn limits_help(def: &ObjectDef) -> Option<String> {

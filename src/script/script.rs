@@ -180,3 +180,85 @@ impl Header {
         header
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::family::Registry;
+
+    fn sd2() -> Arc<Dictionary> {
+        crate::cli::DictionaryArgs::builtin_sd2()
+            .load_for(&Registry::builtin(), None)
+            .expect("the built-in dictionary")
+    }
+
+    fn problems(text: &str, set: &[(String, String)]) -> Vec<String> {
+        match load_script_text("t.rhai", text, &sd2(), set) {
+            Ok(_) => Vec::new(),
+            Err(e) => e.problems.iter().map(|d| d.located()).collect(),
+        }
+    }
+
+    #[test]
+    fn the_header_names_the_script_and_its_drive_family() {
+        let script = load_script_text(
+            "x/sweep.rhai",
+            "//! drive: sd2\n//! name: Sweep\nlet d = drive();\n",
+            &sd2(),
+            &[],
+        )
+        .unwrap_or_else(|e| panic!("{}", e.render(false)));
+        assert_eq!(script.name, "Sweep");
+        assert!(!script.has_finally);
+        let plain = load_script_text("x/sweep.rhai", "let x = 1;\n", &sd2(), &[]).expect("valid");
+        assert_eq!(plain.name, "sweep");
+        assert_eq!(
+            problems("//! drive: lenze-931\nlet x = 1;\n", &[]),
+            ["t.rhai:1:12: this script is for drive `lenze-931`, the dictionary in use is `sd2`"]
+        );
+    }
+
+    #[test]
+    fn finally_takes_the_drive() {
+        let script =
+            load_script_text("t.rhai", "fn finally(d) { d.shutdown(); }\n", &sd2(), &[]).expect("valid");
+        assert!(script.has_finally);
+        let p = problems("fn finally() { }\n", &[]);
+        assert_eq!(
+            p,
+            ["t.rhai:1:4: `finally` must take the drive as its one parameter"]
+        );
+    }
+
+    #[test]
+    fn literal_calls_are_checked_and_computed_ones_left_to_the_run() {
+        assert!(problems("let d = drive();\nlet n = \"speed_\" + \"x\";\nd.read(n);\n", &[]).is_empty());
+        let p = problems(
+            "let d = drive();\nd.read(\"bogus\");\nd.wait_until(\"speed_actual\", |v| v > 1.0, \"3 parsecs\");\nd.set(\"ident\", 5);\nlet s = d.sample([\"speed_actual\"], \"1 s\", \"1 min\");\nlet m = s.mean(\"curent_actual\");\nexpect_near(\"x\", 1.0, 1.0, \"lots\");\n",
+            &[],
+        );
+        assert_eq!(p.len(), 5, "{p:#?}");
+        assert!(p[0].starts_with("t.rhai:2:8: unknown object `bogus`"), "{p:#?}");
+        assert!(
+            p[1].starts_with("t.rhai:3:43: `3 parsecs` is not a duration"),
+            "{p:#?}"
+        );
+        assert!(p[2].starts_with("t.rhai:4:7: ident is read-only"), "{p:#?}");
+        assert!(
+            p[3].starts_with("t.rhai:6:16: unknown object `curent_actual`"),
+            "{p:#?}"
+        );
+        assert!(
+            p[4].starts_with("t.rhai:7:28: `lots` is not a tolerance"),
+            "{p:#?}"
+        );
+    }
+
+    #[test]
+    fn every_set_parameter_must_be_read() {
+        let set = [("speed".to_string(), "4000rpm".to_string())];
+        assert!(problems("let s = param(\"speed\");\n", &set).is_empty());
+        let p = problems("let s = param(\"sped\", 1);\n", &set);
+        assert_eq!(p, ["t.rhai: --set speed: the script reads no parameter `speed`"]);
+    }
+}

@@ -368,7 +368,13 @@ fn ending(
         }
     };
     let mut inner = e.as_ref();
-    while let EvalAltResult::ErrorInFunctionCall(_, _, next, _) = inner {
+    // Where the innermost script function was called: the place to show when the error
+    // inside it has none of its own.
+    let mut called_at = rhai::Position::NONE;
+    while let EvalAltResult::ErrorInFunctionCall(_, _, next, pos) = inner {
+        if !pos.is_none() {
+            called_at = *pos;
+        }
         inner = next;
     }
     match inner {
@@ -376,7 +382,9 @@ fn ending(
         EvalAltResult::ErrorTerminated(_, pos) => match bridge.take_ending().unwrap_or(Stop::Interrupted) {
             // The sandbox's operation limit: a problem of the script, at its place.
             Stop::Error(m) => {
-                let d = match span_at(source, *pos) {
+                let pos = if pos.is_none() { called_at } else { *pos };
+                let span = span_at(source, pos).or_else(|| finally_span(bridge, source));
+                let d = match span {
                     Some(span) => Diagnostic::at(&span, m.clone(), "stopped here")
                         .with_help("a loop must call the drive (read, dwell, ...) or end"),
                     None => Diagnostic::unlocated(source.path(), m.clone()),
@@ -397,6 +405,17 @@ fn ending(
             Ending::Stopped(Stop::Error(d.located()), Some(Box::new(d)))
         }
     }
+}
+
+/// The script's `fn finally` when it runs (Rhai gives no place for a function called
+/// from outside the script).
+fn finally_span(bridge: &Bridge, source: &Arc<Source>) -> Option<crate::diag::Span> {
+    if !bridge.in_finally.load(Ordering::Relaxed) {
+        return None;
+    }
+    let offset = source.text().find("fn finally")?;
+    let index = super::literal_calls::LineIndex::new(source.text());
+    Some(index.span(source, offset, "fn finally".len()))
 }
 
 /// Passes every event on, and keeps the rows of the sample a script asked for.

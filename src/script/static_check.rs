@@ -63,20 +63,24 @@ pub fn check_calls(
             ("set", true) => {
                 let Some((n, span)) = &name else { continue };
                 let value = match (c.args.get(1), c.args.get(2)) {
-                    (Some((Arg::Number(v), vspan)), Some((Arg::Text(u), _))) => {
-                        Some((Written::Number(*v, Some(u.clone())), vspan.clone()))
+                    (Some((Arg::Number(v), vspan)), Some((Arg::Text(u), uspan))) => {
+                        Some((Written::Number(*v, Some(u.clone())), vspan.clone(), uspan.clone()))
                     }
-                    (Some((Arg::Number(v), vspan)), None) => Some((Written::Number(*v, None), vspan.clone())),
-                    (Some((Arg::Text(t), vspan)), None) => Some((Written::Text(t.clone()), vspan.clone())),
+                    (Some((Arg::Number(v), vspan)), None) => {
+                        Some((Written::Number(*v, None), vspan.clone(), vspan.clone()))
+                    }
+                    (Some((Arg::Text(t), vspan)), None) => {
+                        Some((Written::Text(t.clone()), vspan.clone(), vspan.clone()))
+                    }
                     _ => None,
                 };
                 match value {
-                    Some((value, vspan)) => {
+                    Some((value, vspan, uspan)) => {
                         if let Err(r) = resolve::set_value(dict, n, &value) {
-                            let at = if r.label == "unknown object" || r.label == "read-only" {
-                                span
-                            } else {
-                                &vspan
+                            let at = match r.label {
+                                "unknown object" | "read-only" => span,
+                                "not a unit" | "wrong unit" | "no unit here" => &uspan,
+                                _ => &vspan,
                             };
                             refuse(at, r);
                         }

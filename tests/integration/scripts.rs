@@ -469,3 +469,78 @@ fn sigint_during_a_scripts_sample_through_a_pty_stops_the_drive() {
         .collect();
     assert_eq!(words, [7, 6], "control words after the signal");
 }
+
+#[test]
+fn a_scripts_checks_reach_junit_html_and_csv_like_a_recipes() {
+    let dir = scratch("script-reports");
+    let text =
+        "let d = drive();\nd.set(\"speed_setpoint\", 2000.0, \"rpm\");\nd.go_to(\"operation_enabled\");\n\
+                d.wait_until(\"speed_actual\", |v| v > 1980.0, \"10 s\");\n\
+                let s = d.sample([\"speed_actual\", \"current_actual\"], \"100 ms\", \"2 s\");\n\
+                expect_near(\"speed mean\", s.mean(\"speed_actual\"), 2000.0, \"0.5 %\");\n\
+                expect_near(\"too tight\", s.mean(\"speed_actual\"), 2100.0, \"5 rpm\");\n";
+    let mut run = InProcessRun::new(write_script(&dir, text));
+    let (junit, html, csv) = (
+        dir.join("junit.xml"),
+        dir.join("report.html"),
+        dir.join("samples.csv"),
+    );
+    run.outputs.junit = Some(junit.clone());
+    run.outputs.report = Some(html.clone());
+    run.outputs.csv = Some(csv.clone());
+    let (result, output) = run.run();
+    assert_eq!(result.exit_code, 1, "{output}");
+    let junit_text = std::fs::read_to_string(&junit).expect("junit");
+    let doc = roxmltree::Document::parse(&junit_text).expect("well-formed JUnit");
+    let cases: Vec<&str> = doc
+        .descendants()
+        .filter(|n| n.has_tag_name("testcase"))
+        .filter_map(|n| n.attribute("name"))
+        .collect();
+    assert!(cases.iter().any(|c| c.contains("speed mean")), "{junit_text}");
+    assert!(cases.iter().any(|c| c.contains("too tight")), "{junit_text}");
+    let failures = doc.descendants().filter(|n| n.has_tag_name("failure")).count();
+    assert_eq!(failures, 1, "{junit_text}");
+    assert!(junit_text.contains("script.rhai:7:1"), "{junit_text}");
+    let html_text = std::fs::read_to_string(&html).expect("html");
+    assert!(
+        html_text.contains("too tight") && html_text.contains("FAILED"),
+        "html report"
+    );
+    let csv_text = std::fs::read_to_string(&csv).expect("csv");
+    assert!(csv_text.lines().count() > 2 * 20, "{csv_text}");
+}
+
+#[test]
+fn a_second_stop_request_abandons_the_scripts_finally_and_switches_off_at_once() {
+    let stop = Arc::new(StopRequests::new());
+    stop.schedule(Duration::from_secs(5), StopSignal::INT);
+    stop.schedule(Duration::from_secs(8), StopSignal::INT);
+    let text = "let d = drive();\nfn finally(d) {\n    print(\"finally starts\");\n    dwell(\"30 s\");\n    print(\"finally ends\");\n}\n\
+                d.set(\"speed_setpoint\", 2000.0, \"rpm\");\nd.go_to(\"operation_enabled\");\ndwell(\"1 min\");\n";
+    let (result, output) = run_script("second-signal", text, None, stop);
+    assert_eq!(result.exit_code, 130, "{output}");
+    assert!(output.contains("finally starts"), "{output}");
+    assert!(!output.contains("finally ends"), "{output}");
+    assert!(output.contains("power stage switched off at once"), "{output}");
+    assert_eq!(
+        control_words(&result).last(),
+        Some(&0),
+        "disable voltage last:\n{output}"
+    );
+}
+
+#[test]
+fn an_endless_loop_in_the_scripts_finally_is_stopped_and_the_stop_still_verified() {
+    let text = "let d = drive();\nfn finally(d) {\n    d.set(\"speed_setpoint\", 0.0, \"rpm\");\n    let i = 0;\n    loop { i += 1; }\n}\n\
+                d.go_to(\"operation_enabled\");\n";
+    let (result, output) = run_script("finally-loop", text, None, Arc::new(StopRequests::new()));
+    assert!(output.contains("the script's finally ended early"), "{output}");
+    assert!(
+        output.contains("operations without calling the drive"),
+        "{output}"
+    );
+    assert!(output.contains("drive left in"), "{output}");
+    // The verification found the drive still enabled and escalated.
+    assert_eq!(result.exit_code, 3, "{output}");
+}
