@@ -444,9 +444,14 @@ fn register_params(engine: &mut Engine, bridge: &Arc<Bridge>) {
     engine.register_fn("param", move |name: &str, default: Dynamic| -> Dynamic {
         lookup(&b, name).unwrap_or(default)
     });
-    // `number("8000 rpm", "rpm")`: a parameter with a unit as a number in that unit.
-    engine.register_fn("number", |text: &str, unit: &str| -> RhaiResult<f64> {
-        let q = crate::dictionary::Quantity::parse(text).map_err(|e| error(e.to_string()))?;
+    // `number("8000 rpm", "rpm")`: a parameter with a unit as a number in that unit; a
+    // number stays as it is (a parameter given without a unit).
+    engine.register_fn("number", |value: Dynamic, unit: &str| -> RhaiResult<f64> {
+        if let Some(v) = as_number(&value) {
+            return Ok(v);
+        }
+        let text = value.to_string();
+        let q = crate::dictionary::Quantity::parse(&text).map_err(|e| error(e.to_string()))?;
         let to = crate::dictionary::Unit::parse(unit).map_err(|e| error(e.to_string()))?;
         q.value_in(to)
             .ok_or_else(|| error(format!("`{text}` cannot be given in {to}")))
