@@ -341,6 +341,26 @@ mod tests {
         }
     }
 
+    proptest::proptest! {
+        #[test]
+        fn any_text_scans_without_panicking_and_every_place_is_inside_it(text in "\\PC{0,200}") {
+            let source = Source::new("t.rhai", text.as_str());
+            for call in literal_calls(&source) {
+                for span in std::iter::once(&call.span).chain(call.args.iter().map(|(_, s)| s)) {
+                    proptest::prop_assert!(span.offset() + span.len() <= text.len());
+                    proptest::prop_assert!(text.is_char_boundary(span.offset()));
+                    proptest::prop_assert!(span.line() >= 1);
+                }
+            }
+        }
+
+        #[test]
+        fn call_like_text_scans_without_panicking(text in "[a-z.(),\\[\\]\"`'/*\\\\ 0-9_-]{0,120}") {
+            let source = Source::new("t.rhai", text.as_str());
+            let _ = literal_calls(&source);
+        }
+    }
+
     #[test]
     fn rhai_places_map_to_offsets() {
         let text = "ab\nçd(x)\n";

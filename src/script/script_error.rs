@@ -64,6 +64,11 @@ pub fn eval_error(source: &Arc<Source>, e: &EvalAltResult) -> Diagnostic {
         }
     };
     let mut d = at(source, inner.position(), message, "raised here");
+    if let EvalAltResult::ErrorDataRace(..) = inner {
+        d = d.with_help(
+            "a value is used twice at once; a wait_until condition, for example, must not use the drive: it judges the value it is given",
+        );
+    }
     if let EvalAltResult::ErrorFunctionNotFound(..) = inner {
         d = d.with_help(
             "scripts have no file, process or module access; the drive API is listed in the README (Rhai scripts)",
