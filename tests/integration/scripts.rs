@@ -297,7 +297,7 @@ fn a_loop_that_calls_the_drive_runs_past_the_operation_limit() {
 }
 
 #[test]
-fn the_sandbox_refuses_modules_eval_and_file_or_process_access() {
+fn the_sandbox_refuses_modules_eval_file_or_process_access_and_oversized_data() {
     let dir = scratch("sandbox");
     for (name, text, code, said) in [
         ("import", "import \"other\" as o;\n", 2, "modules are disabled"),
