@@ -25,6 +25,8 @@ pub struct LiteralCall {
     pub method: bool,
     pub span: Span,
     pub args: Vec<(Arg, Span)>,
+    /// `d.state() == "fault"`: the text a call's result is compared with (`==`, `!=`).
+    pub compared_with: Option<(String, Span)>,
 }
 
 #[derive(Debug, Clone, PartialEq)]
@@ -56,7 +58,8 @@ pub fn literal_calls(source: &Arc<Source>) -> Vec<LiteralCall> {
             continue;
         }
         let method = i > 0 && tokens[i - 1].kind == Kind::Punct('.');
-        let args = arguments(&tokens[i + 2..])
+        let raw = arguments(&tokens[i + 2..]);
+        let args = raw
             .into_iter()
             .map(|arg| {
                 let first = arg.first().map_or(tokens[i].offset, |t| t.offset);
@@ -64,14 +67,38 @@ pub fn literal_calls(source: &Arc<Source>) -> Vec<LiteralCall> {
                 (classify(arg, &span), span(first, end - first))
             })
             .collect();
+        let compared_with = comparison(&tokens[i + 2..]).map(|t| (t.0.clone(), span(t.1, t.2)));
         calls.push(LiteralCall {
             name: name.clone(),
             method,
             span: span(tokens[i].offset, tokens[i].len),
             args,
+            compared_with,
         });
     }
     calls
+}
+
+/// After a call without arguments (`tokens` start after its `(`): the text literal it is
+/// compared with, with its offset and length.
+fn comparison(tokens: &[Token]) -> Option<(&String, usize, usize)> {
+    match tokens {
+        [Token {
+            kind: Kind::Punct(')'),
+            ..
+        }, Token {
+            kind: Kind::Punct('=' | '!'),
+            ..
+        }, Token {
+            kind: Kind::Punct('='),
+            ..
+        }, Token {
+            kind: Kind::Text(t),
+            offset,
+            len,
+        }, ..] => Some((t, *offset, *len)),
+        _ => None,
+    }
 }
 
 /// The tokens of each argument up to the closing parenthesis.
@@ -322,6 +349,15 @@ mod tests {
         assert!(matches!(calls[4].args[2].0, Arg::Other));
         assert_eq!(calls[5].args.len(), 3);
         assert!(matches!(&calls[5].args[2].0, Arg::Text(t) if t == "30 s"));
+        let source = Source::new(
+            "t.rhai",
+            "if d.state() == \"fault\" || d.state() != \"x\" || d.state() < \"y\" {}",
+        );
+        let compared: Vec<Option<String>> = literal_calls(&source)
+            .into_iter()
+            .map(|c| c.compared_with.map(|(t, _)| t))
+            .collect();
+        assert_eq!(compared, [Some("fault".into()), Some("x".into()), None]);
     }
 
     #[test]

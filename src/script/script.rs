@@ -255,6 +255,13 @@ mod tests {
     }
 
     #[test]
+    fn a_state_a_script_compares_with_must_exist() {
+        assert!(problems("let d = drive();\nif d.state() == \"fault\" {}\n", &[]).is_empty());
+        let p = problems("let d = drive();\nif d.state() != \"faul\" {}\n", &[]);
+        assert_eq!(p, ["t.rhai:2:17: unknown state `faul`"]);
+    }
+
+    #[test]
     fn every_set_parameter_must_be_read() {
         let set = [("speed".to_string(), "4000rpm".to_string())];
         assert!(problems("let s = param(\"speed\");\n", &set).is_empty());

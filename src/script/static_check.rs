@@ -1,6 +1,7 @@
 //! `check` for scripts beyond syntax: every drive call whose words are written as literals
 //! is resolved against the dictionary with the same rules a running script uses
-//! (`resolve`), and each refusal is a located diagnostic with did-you-mean. Also: each
+//! (`resolve`), and each refusal is a located diagnostic with did-you-mean; so is a state
+//! a `d.state()` is compared with (`d.state() == "fault"`). Also: each
 //! `--set` parameter must be read by a `param("name")`. Values a script computes are
 //! checked when the script runs. It must not run the script.
 
@@ -105,6 +106,13 @@ pub fn check_calls(
                         if let Err(r) = resolve::duration(&t) {
                             refuse(&span, r);
                         }
+                    }
+                }
+            }
+            ("state", true) => {
+                if let Some((s, span)) = &c.compared_with {
+                    if let Err(r) = resolve::state(s) {
+                        refuse(span, r);
                     }
                 }
             }
