@@ -25,6 +25,7 @@ pub mod link;
 pub mod parameters;
 pub mod recipe;
 pub mod report;
+pub mod script;
 pub mod session;
 pub mod sim;
 pub mod sim_server;

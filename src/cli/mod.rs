@@ -9,6 +9,7 @@ mod object_commands;
 mod panic_notice;
 mod parameter_commands;
 mod recipe_commands;
+mod script_commands;
 mod simulate_command;
 mod stop_signals;
 

@@ -26,6 +26,7 @@ use std::sync::{Arc, Mutex};
 /// Validate recipes against the dictionary without opening any port: object names, units,
 /// limits, durations, parameters, states, included files, unknown keys. Reports every
 /// problem at once; exit code 2 if there is any.
+/// A `.rhai` file is a Rhai script: its syntax and the drive calls written with literals.
 pub struct CheckArgs {
     #[arg(required = true, value_name = "RECIPE")]
     recipes: Vec<PathBuf>,
@@ -40,6 +41,7 @@ pub struct CheckArgs {
 /// Run a recipe. Without --port or --tcp it runs against the built-in simulated drive and
 /// says so. The recipe is checked first; nothing is sent if it has a problem. Whatever
 /// happens, `finally` runs (default: disable operation, then shutdown).
+/// A `.rhai` file runs as a Rhai script, with the same reports and safe stop.
 pub struct RunArgs {
     #[arg(value_name = "RECIPE")]
     recipe: PathBuf,
@@ -170,6 +172,10 @@ pub fn check(args: &CheckArgs) -> i32 {
                 continue;
             }
         };
+        if crate::script::is_script(path) {
+            code = code.max(super::script_commands::check_script(path, &dictionary, &args.set));
+            continue;
+        }
         match load_recipe(path, &dictionary, &args.set) {
             Ok(recipe) => {
                 println!(
@@ -268,6 +274,9 @@ pub struct RunResult {
 
 /// Checks and runs a recipe, writing the console output to `out` and problems to `err`.
 pub fn run_recipe(request: &RunRequest, out: &mut dyn Write, err: &mut dyn Write) -> RunResult {
+    if crate::script::is_script(request.recipe) {
+        return super::script_commands::run_script(request, out, err);
+    }
     let refused = |code| RunResult {
         exit_code: code,
         report: None,

@@ -77,4 +77,21 @@ impl Session<'_> {
             Ok(format!("FAILED: {}", failed.join("; ")))
         }
     }
+
+    /// A check a front end evaluated itself (a script's `expect`), recorded like the checks
+    /// above: same report, JUnit and HTML; a failure lets the run go on.
+    pub fn expect_result(&mut self, mut result: CheckResult) -> Result<String, Stop> {
+        result.at = self.clock.now();
+        let passed = result.passed;
+        let message = result.message.clone();
+        if !passed {
+            self.failed_checks = true;
+        }
+        self.record_check_result(result);
+        if passed {
+            Ok("1 check(s) passed".into())
+        } else {
+            Ok(format!("FAILED: {message}"))
+        }
+    }
 }

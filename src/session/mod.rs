@@ -37,4 +37,4 @@ pub use safe_stop_settings::SafeStopSettings;
 pub use session::{show_duration, Session};
 pub use set_value::SetValue;
 pub use step_origin::StepOrigin;
-pub use stop::Stop;
+pub use stop::{outcome, Stop};

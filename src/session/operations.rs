@@ -73,6 +73,17 @@ impl Session<'_> {
         Ok(shown.join(", "))
     }
 
+    /// Reads one object as a number in its engineering unit, for a front end that computes
+    /// with it (a script's `read`); not a step of its own.
+    pub fn read_number(&mut self, object: &ObjectRef) -> Result<f64, Stop> {
+        Ok(self.drive.read_number(&object.name)?)
+    }
+
+    /// The drive's state now, for a front end that branches on it; not a step of its own.
+    pub fn state(&mut self) -> Result<DeviceState, Stop> {
+        Ok(self.drive.state()?)
+    }
+
     /// Shows a message.
     pub fn print(&mut self, text: &str) -> Result<String, Stop> {
         self.observer.message(text);

@@ -2,9 +2,10 @@
 //! record it as a check.
 
 use super::session::show_duration;
+use super::session::value_of;
 use super::session::{secs, Session};
 use super::stop::Stop;
-use super::{CheckResult, Condition, StepOrigin};
+use super::{CheckResult, Condition, ObjectRef, StepOrigin};
 use crate::drive::DeviceState;
 use std::time::Duration;
 
@@ -63,6 +64,64 @@ impl Session<'_> {
                 );
                 return Err(Stop::Failed(message));
             }
+            if self.interrupted() {
+                return Err(Stop::Interrupted);
+            }
+            self.observer.step_progress(number, waited, Some(timeout), &seen);
+            self.wait(self.clock.now().saturating_add(every).min(give_up))?;
+        }
+    }
+
+    /// Polls `object` until `holds` (a front end's own condition, such as a script's
+    /// closure) accepts its value; like [`Session::wait_until`] a timeout fails and stops
+    /// the run, and the wait is recorded as a check named `wait until {what}`.
+    #[allow(clippy::too_many_arguments)]
+    pub fn wait_until_value(
+        &mut self,
+        object: &ObjectRef,
+        what: &str,
+        holds: &mut dyn FnMut(f64) -> Result<bool, Stop>,
+        timeout: Duration,
+        every: Duration,
+        origin: &StepOrigin,
+        number: &str,
+    ) -> Result<String, Stop> {
+        let started = self.clock.now();
+        let give_up = started.saturating_add(timeout);
+        loop {
+            let v = self.drive.read_number(&object.name)?;
+            let seen = value_of(v, object);
+            let waited = self.clock.now().saturating_sub(started);
+            let ok = holds(v)?;
+            if ok || waited >= timeout {
+                let message = (!ok).then(|| {
+                    format!(
+                        "timed out after {} waiting for {what}; last value seen: {seen}",
+                        show_duration(timeout)
+                    )
+                });
+                let result = CheckResult {
+                    name: format!("wait until {what}"),
+                    passed: ok,
+                    measured: Some(v),
+                    measured_text: Some(seen.clone()),
+                    unit: object.unit.clone(),
+                    low: None,
+                    high: None,
+                    object: Some(object.name.clone()),
+                    statistic: None,
+                    message: message.clone().unwrap_or_else(|| "reached".into()),
+                    origin: origin.clone(),
+                    at: self.clock.now(),
+                    duration: waited,
+                };
+                self.record_check_result(result);
+                return match message {
+                    None => Ok(format!("{seen} after {}", secs(waited))),
+                    Some(m) => Err(Stop::Failed(m)),
+                };
+            }
+            self.watch_fault(false)?;
             if self.interrupted() {
                 return Err(Stop::Interrupted);
             }

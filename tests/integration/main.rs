@@ -1,5 +1,5 @@
 //! The one integration test binary: golden vectors, the command line end to end, the
-//! data-driven recipe cases under `tests/cases/`, and the report writers.
+//! data-driven recipe cases under `tests/cases/`, Rhai scripts, and the report writers.
 
 // As in the library: errors carry structured context and travel on cold paths.
 #![allow(clippy::result_large_err)]
@@ -16,6 +16,7 @@ mod parameters;
 mod recipe_cases;
 mod reports;
 mod safety;
+mod scripts;
 mod support;
 mod text_family;
 mod vectors;

@@ -17,10 +17,10 @@ use std::sync::{Arc, Mutex, OnceLock, PoisonError};
 use std::time::{Duration, Instant};
 
 /// Object indices of the SD2 dictionary the checks below look for.
-const CONTROL_WORD: u16 = 68;
-const SPEED_SETPOINT: u16 = 395;
+pub(crate) const CONTROL_WORD: u16 = 68;
+pub(crate) const SPEED_SETPOINT: u16 = 395;
 
-fn scratch(name: &str) -> PathBuf {
+pub(crate) fn scratch(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("drivescript-safety-{}-{name}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).expect("scratch dir");
@@ -34,7 +34,7 @@ fn write_recipe(dir: &Path, text: &str) -> PathBuf {
 }
 
 /// The value of a write of `index` (little-endian), if `t` is one.
-fn written(t: &Telegram, index: u16) -> Option<i64> {
+pub(crate) fn written(t: &Telegram, index: u16) -> Option<i64> {
     match &t.body {
         Body::WriteRequest { index: i, data, .. } if *i == index => {
             let b = data.as_slice();
@@ -67,7 +67,7 @@ fn run_in_process(
     result
 }
 
-fn received(result: &RunResult) -> Vec<(Duration, Telegram)> {
+pub(crate) fn received(result: &RunResult) -> Vec<(Duration, Telegram)> {
     let sim = result.simulator.as_ref().expect("simulated drive");
     let mut sim = sim.lock().unwrap_or_else(PoisonError::into_inner);
     let sd2 = sim
@@ -174,14 +174,14 @@ steps:
 
 /// `drivescript simulate --pty` in the background, killed when dropped.
 #[cfg(unix)]
-struct PtySimulator {
+pub(crate) struct PtySimulator {
     child: std::process::Child,
-    path: String,
+    pub(crate) path: String,
 }
 
 #[cfg(unix)]
 impl PtySimulator {
-    fn start() -> PtySimulator {
+    pub(crate) fn start() -> PtySimulator {
         use std::io::BufRead;
         let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_drivescript"))
             .args(["simulate", "--pty"])
@@ -210,7 +210,7 @@ impl Drop for PtySimulator {
 
 /// The control words written in a trace file's TX lines, with their clock seconds.
 #[cfg(unix)]
-fn traced_writes(trace: &str, index: u16) -> Vec<(f64, i64)> {
+pub(crate) fn traced_writes(trace: &str, index: u16) -> Vec<(f64, i64)> {
     trace
         .lines()
         .filter_map(|line| {

@@ -1,0 +1,459 @@
+//! The functions a script calls: `drive()` and its methods (read, read_as, set, the device
+//! commands, state, go_to, wait_until, sample), the sample window's statistics, `dwell`,
+//! `expect`, `expect_near`, `fail`, `print`/`log` and `param`. Each resolves its words
+//! and values against the dictionary (`resolve`), then hands the call to the session
+//! thread through the [`Bridge`]. It must not touch the drive or the session itself.
+
+use super::bridge::{Bridge, RhaiResult};
+use super::exchange::{Answer, Call};
+use super::resolve::{self, Refusal, Written};
+use super::sample_window::SampleWindow;
+use crate::drive::DeviceCommand;
+use crate::session::{CheckResult, Predicate, Statistic, StepOrigin};
+use rhai::{Array, Dynamic, Engine, EvalAltResult, FnPtr, NativeCallContext, Position};
+use std::sync::Arc;
+use std::time::Duration;
+
+/// The connected drive, as a script holds it (`let d = drive();`).
+#[derive(Debug, Clone, Copy)]
+pub struct DriveHandle;
+
+/// Default timeout of each `go_to` transition and poll period of `wait_until` (as recipes).
+const GO_TO_TIMEOUT: Duration = Duration::from_secs(5);
+const POLL: Duration = Duration::from_millis(100);
+
+fn refused(r: Refusal) -> Box<EvalAltResult> {
+    Box::new(EvalAltResult::ErrorRuntime(r.sentence().into(), Position::NONE))
+}
+
+fn error(text: impl Into<String>) -> Box<EvalAltResult> {
+    Box::new(EvalAltResult::ErrorRuntime(text.into().into(), Position::NONE))
+}
+
+/// A number from a Rhai integer or float.
+fn as_number(v: &Dynamic) -> Option<f64> {
+    v.as_float().ok().or_else(|| v.as_int().ok().map(|i| i as f64))
+}
+
+fn number_arg(v: &Dynamic, what: &str) -> RhaiResult<f64> {
+    as_number(v).ok_or_else(|| error(format!("{what} must be a number, not {}", v.type_name())))
+}
+
+fn duration(text: &str) -> RhaiResult<Duration> {
+    resolve::duration(text).map_err(refused)
+}
+
+fn done(answer: Answer) -> RhaiResult<()> {
+    match answer {
+        Answer::Done => Ok(()),
+        _ => Err(error("the session gave an unexpected answer")),
+    }
+}
+
+/// Adds the drive API to `engine`, every call going through `bridge`.
+pub fn register(engine: &mut Engine, bridge: &Arc<Bridge>) {
+    let b = bridge.clone();
+    engine.on_progress(move |count| b.on_progress(count));
+    let b = bridge.clone();
+    engine.on_print(move |text| {
+        let _ = b.call(Position::NONE, Call::Message(text.to_string()), String::new());
+    });
+    let b = bridge.clone();
+    engine.on_debug(move |text, _, _| {
+        let _ = b.call(Position::NONE, Call::Message(text.to_string()), String::new());
+    });
+    engine.register_type_with_name::<DriveHandle>("Drive");
+    engine.register_type_with_name::<SampleWindow>("SampleWindow");
+    engine.register_fn("drive", || DriveHandle);
+
+    let b = bridge.clone();
+    engine.register_fn(
+        "log",
+        move |ctx: NativeCallContext, text: Dynamic| -> RhaiResult<()> {
+            b.call(
+                ctx.call_position(),
+                Call::Message(text.to_string()),
+                String::new(),
+            )
+            .and_then(done)
+        },
+    );
+
+    register_reads(engine, bridge);
+    register_writes(engine, bridge);
+    register_waits(engine, bridge);
+    register_checks(engine, bridge);
+    register_params(engine, bridge);
+}
+
+fn register_reads(engine: &mut Engine, bridge: &Arc<Bridge>) {
+    let b = bridge.clone();
+    engine.register_fn(
+        "read",
+        move |ctx: NativeCallContext, _: &mut DriveHandle, name: &str| -> RhaiResult<f64> {
+            let object = resolve::readable(&b.dictionary, name).map_err(refused)?;
+            match b.call(ctx.call_position(), Call::Read(object), String::new())? {
+                Answer::Number(v) => Ok(v),
+                _ => Err(error("the session gave an unexpected answer")),
+            }
+        },
+    );
+    let b = bridge.clone();
+    engine.register_fn(
+        "read_as",
+        move |ctx: NativeCallContext, _: &mut DriveHandle, name: &str, unit: &str| -> RhaiResult<f64> {
+            let object = resolve::readable(&b.dictionary, name).map_err(refused)?;
+            let (_, factor) =
+                resolve::unit_for(object.unit.as_deref(), &object.name, unit).map_err(refused)?;
+            match b.call(ctx.call_position(), Call::Read(object), String::new())? {
+                Answer::Number(v) => Ok(v * factor),
+                _ => Err(error("the session gave an unexpected answer")),
+            }
+        },
+    );
+    let b = bridge.clone();
+    engine.register_fn(
+        "state",
+        move |ctx: NativeCallContext, _: &mut DriveHandle| -> RhaiResult<String> {
+            match b.call(ctx.call_position(), Call::State, String::new())? {
+                Answer::State(s) => Ok(s.id().to_string()),
+                _ => Err(error("the session gave an unexpected answer")),
+            }
+        },
+    );
+}
+
+fn register_writes(engine: &mut Engine, bridge: &Arc<Bridge>) {
+    let set = |b: &Arc<Bridge>, pos: Position, name: &str, written: Written| -> RhaiResult<()> {
+        let (object, value) = resolve::set_value(&b.dictionary, name, &written).map_err(refused)?;
+        let shown = match &value {
+            crate::session::SetValue::Number(v) => crate::session::with_unit(*v, object.unit.as_deref()),
+            crate::session::SetValue::Text(t) => format!("\"{t}\""),
+        };
+        let label = format!("set {} = {shown}", object.name);
+        b.call(pos, Call::Set(object, value), label).and_then(done)
+    };
+    let b = bridge.clone();
+    engine.register_fn(
+        "set",
+        move |ctx: NativeCallContext, _: &mut DriveHandle, name: &str, value: Dynamic| -> RhaiResult<()> {
+            let written = match as_number(&value) {
+                Some(v) => Written::Number(v, None),
+                None if value.is_string() => Written::Text(value.to_string()),
+                None => {
+                    return Err(error(format!(
+                        "set {name}: give a number or text, not {}",
+                        value.type_name()
+                    )))
+                }
+            };
+            set(&b, ctx.call_position(), name, written)
+        },
+    );
+    let b = bridge.clone();
+    engine.register_fn(
+        "set",
+        move |ctx: NativeCallContext,
+              _: &mut DriveHandle,
+              name: &str,
+              value: Dynamic,
+              unit: &str|
+              -> RhaiResult<()> {
+            let v = number_arg(&value, &format!("the value for {name}"))?;
+            set(
+                &b,
+                ctx.call_position(),
+                name,
+                Written::Number(v, Some(unit.to_string())),
+            )
+        },
+    );
+    for command in DeviceCommand::ALL {
+        let b = bridge.clone();
+        engine.register_fn(
+            command.id(),
+            move |ctx: NativeCallContext, _: &mut DriveHandle| -> RhaiResult<()> {
+                b.call(
+                    ctx.call_position(),
+                    Call::Command(command),
+                    command.id().to_string(),
+                )
+                .and_then(done)
+            },
+        );
+    }
+}
+
+fn register_waits(engine: &mut Engine, bridge: &Arc<Bridge>) {
+    let go_to = |b: &Arc<Bridge>, pos: Position, state: &str, timeout: Duration| -> RhaiResult<()> {
+        let state = resolve::state(state).map_err(refused)?;
+        let label = format!("go_to {}", state.id());
+        b.call(pos, Call::GoTo(state, timeout), label).and_then(done)
+    };
+    let b = bridge.clone();
+    engine.register_fn(
+        "go_to",
+        move |ctx: NativeCallContext, _: &mut DriveHandle, state: &str| -> RhaiResult<()> {
+            go_to(&b, ctx.call_position(), state, GO_TO_TIMEOUT)
+        },
+    );
+    let b = bridge.clone();
+    engine.register_fn(
+        "go_to",
+        move |ctx: NativeCallContext, _: &mut DriveHandle, state: &str, timeout: &str| -> RhaiResult<()> {
+            go_to(&b, ctx.call_position(), state, duration(timeout)?)
+        },
+    );
+    let wait =
+        |b: &Arc<Bridge>, ctx: &NativeCallContext, name: &str, f: &FnPtr, timeout: &str, every: Duration| {
+            let object = resolve::readable(&b.dictionary, name).map_err(refused)?;
+            let timeout = duration(timeout)?;
+            let label = format!(
+                "wait_until {} (the script's condition), at most {}",
+                object.name,
+                crate::session::show_duration(timeout)
+            );
+            b.wait(
+                ctx,
+                Call::WaitUntil {
+                    object,
+                    timeout,
+                    every,
+                },
+                label,
+                f,
+            )
+            .and_then(done)
+        };
+    let b = bridge.clone();
+    engine.register_fn(
+        "wait_until",
+        move |ctx: NativeCallContext,
+              _: &mut DriveHandle,
+              name: &str,
+              f: FnPtr,
+              timeout: &str|
+              -> RhaiResult<()> { wait(&b, &ctx, name, &f, timeout, POLL) },
+    );
+    let b = bridge.clone();
+    engine.register_fn(
+        "wait_until",
+        move |ctx: NativeCallContext,
+              _: &mut DriveHandle,
+              name: &str,
+              f: FnPtr,
+              timeout: &str,
+              every: &str|
+              -> RhaiResult<()> { wait(&b, &ctx, name, &f, timeout, duration(every)?) },
+    );
+    let b = bridge.clone();
+    engine.register_fn(
+        "dwell",
+        move |ctx: NativeCallContext, d: &str| -> RhaiResult<()> {
+            let d = duration(d)?;
+            let label = format!("dwell {}", crate::session::show_duration(d));
+            b.call(ctx.call_position(), Call::Dwell(d), label).and_then(done)
+        },
+    );
+    let b = bridge.clone();
+    engine.register_fn(
+        "sample",
+        move |ctx: NativeCallContext,
+              _: &mut DriveHandle,
+              names: Array,
+              every: &str,
+              time: &str|
+              -> RhaiResult<SampleWindow> {
+            let mut objects = Vec::new();
+            for n in &names {
+                let name = n
+                    .clone()
+                    .into_string()
+                    .map_err(|t| error(format!("sample: object names are text, not {t}")))?;
+                objects.push(resolve::readable(&b.dictionary, &name).map_err(refused)?);
+            }
+            if objects.is_empty() {
+                return Err(error("sample: name at least one object"));
+            }
+            let (every, time) = (duration(every)?, duration(time)?);
+            if time.as_secs_f64() / every.as_secs_f64() > crate::recipe::MAX_SAMPLES as f64 {
+                return Err(error(format!(
+                    "sample: more than {} samples; sample less often or for a shorter time",
+                    crate::recipe::MAX_SAMPLES
+                )));
+            }
+            let label = format!(
+                "sample {} every {} for {}",
+                objects
+                    .iter()
+                    .map(|o| o.name.as_str())
+                    .collect::<Vec<_>>()
+                    .join(", "),
+                crate::session::show_duration(every),
+                crate::session::show_duration(time)
+            );
+            let call = Call::Sample {
+                objects,
+                every,
+                duration: time,
+            };
+            match b.call(ctx.call_position(), call, label)? {
+                Answer::Sampled(windows) => Ok(SampleWindow {
+                    windows,
+                    dictionary: b.dictionary.clone(),
+                }),
+                _ => Err(error("the session gave an unexpected answer")),
+            }
+        },
+    );
+    for (id, statistic) in Statistic::ALL {
+        engine.register_fn(id, move |w: &mut SampleWindow, name: &str| -> RhaiResult<f64> {
+            w.statistic(name, statistic).map_err(error)
+        });
+    }
+    engine.register_fn("count", |w: &mut SampleWindow, name: &str| -> RhaiResult<i64> {
+        Ok(w.window(name).map_err(error)?.stats.count as i64)
+    });
+    engine.register_fn(
+        "values",
+        |w: &mut SampleWindow, name: &str| -> RhaiResult<Array> {
+            Ok(w.values(name)
+                .map_err(error)?
+                .into_iter()
+                .map(Dynamic::from_float)
+                .collect())
+        },
+    );
+}
+
+fn register_checks(engine: &mut Engine, bridge: &Arc<Bridge>) {
+    let expect = |b: &Arc<Bridge>, pos: Position, check: CheckResult| -> RhaiResult<()> {
+        let label = format!("expect {}", check.name);
+        b.call(pos, Call::Expect(Box::new(check)), label).and_then(done)
+    };
+    let plain = |name: &str, passed: bool, measured: Option<&Dynamic>| {
+        let value = measured.and_then(as_number);
+        // Three decimals, as the recipes' checks show numbers.
+        let text = match value {
+            Some(v) => Some(crate::session::number((v * 1000.0).round() / 1000.0)),
+            None => measured.map(|m| m.to_string()),
+        };
+        CheckResult {
+            name: name.to_string(),
+            passed,
+            measured: value,
+            measured_text: text.clone(),
+            unit: None,
+            low: None,
+            high: None,
+            object: None,
+            statistic: None,
+            message: match (&text, passed) {
+                (Some(t), true) => format!("measured {t}"),
+                (Some(t), false) => format!("measured {t}: the script's condition does not hold"),
+                (None, true) => "holds".into(),
+                (None, false) => "the script's condition does not hold".into(),
+            },
+            origin: StepOrigin {
+                path: String::new(),
+                line: 0,
+                column: 0,
+            },
+            at: Duration::ZERO,
+            duration: Duration::ZERO,
+        }
+    };
+    let b = bridge.clone();
+    engine.register_fn(
+        "expect",
+        move |ctx: NativeCallContext, name: &str, passed: bool, measured: Dynamic| -> RhaiResult<()> {
+            expect(&b, ctx.call_position(), plain(name, passed, Some(&measured)))
+        },
+    );
+    let b = bridge.clone();
+    engine.register_fn(
+        "expect",
+        move |ctx: NativeCallContext, name: &str, passed: bool| -> RhaiResult<()> {
+            expect(&b, ctx.call_position(), plain(name, passed, None))
+        },
+    );
+    let b = bridge.clone();
+    engine.register_fn(
+        "expect_near",
+        move |ctx: NativeCallContext,
+              name: &str,
+              measured: Dynamic,
+              target: Dynamic,
+              within: Dynamic|
+              -> RhaiResult<()> {
+            let measured = number_arg(&measured, "expect_near: the measured value")?;
+            let target = number_arg(&target, "expect_near: the target")?;
+            let (tolerance, unit) = match as_number(&within) {
+                Some(t) if t >= 0.0 => (crate::session::Tolerance::Absolute(t), None),
+                _ => resolve::tolerance(&within.to_string()).map_err(refused)?,
+            };
+            let predicate = Predicate::Near { target, tolerance };
+            let passed = measured.is_finite() && predicate.holds(measured);
+            let (low, high) = predicate.limits();
+            let mut check = plain(name, passed, None);
+            check.measured = Some(measured);
+            check.measured_text = None;
+            check.low = low;
+            check.high = high;
+            check.unit = unit.clone();
+            let shown = crate::session::with_unit((measured * 1000.0).round() / 1000.0, unit.as_deref());
+            check.message = if passed {
+                format!("measured {shown}")
+            } else {
+                format!(
+                    "measured {shown}, expected {}",
+                    predicate.describe(unit.as_deref())
+                )
+            };
+            expect(&b, ctx.call_position(), check)
+        },
+    );
+    let b = bridge.clone();
+    engine.register_fn(
+        "fail",
+        move |ctx: NativeCallContext, message: Dynamic| -> RhaiResult<()> {
+            Err(b.fail(&ctx, message.to_string()))
+        },
+    );
+}
+
+fn register_params(engine: &mut Engine, bridge: &Arc<Bridge>) {
+    let lookup = |b: &Bridge, name: &str| {
+        b.params.iter().find(|(n, _)| n == name).map(|(_, v)| {
+            let t = v.trim();
+            match t.parse::<f64>() {
+                Ok(n) if n.is_finite() => Dynamic::from_float(n),
+                _ => Dynamic::from(t.to_string()),
+            }
+        })
+    };
+    let b = bridge.clone();
+    engine.register_fn("param", move |name: &str| -> RhaiResult<Dynamic> {
+        lookup(&b, name).ok_or_else(|| {
+            error(format!(
+                "parameter `{name}` is not set: run with --set {name}=VALUE, or give a default: param(\"{name}\", VALUE)"
+            ))
+        })
+    });
+    let b = bridge.clone();
+    engine.register_fn("param", move |name: &str, default: Dynamic| -> Dynamic {
+        lookup(&b, name).unwrap_or(default)
+    });
+    // `number("8000 rpm", "rpm")`: a parameter with a unit as a number in that unit; a
+    // number stays as it is (a parameter given without a unit).
+    engine.register_fn("number", |value: Dynamic, unit: &str| -> RhaiResult<f64> {
+        if let Some(v) = as_number(&value) {
+            return Ok(v);
+        }
+        let text = value.to_string();
+        let q = crate::dictionary::Quantity::parse(&text).map_err(|e| error(e.to_string()))?;
+        let to = crate::dictionary::Unit::parse(unit).map_err(|e| error(e.to_string()))?;
+        q.value_in(to)
+            .ok_or_else(|| error(format!("`{text}` cannot be given in {to}")))
+    });
+}

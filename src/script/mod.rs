@@ -1,0 +1,26 @@
+//! Rhai scripts: the same drive operations as recipes, with logic, in a sandbox. A script
+//! is checked before it runs (syntax, and the names, units, states and durations it
+//! writes as literals, against the dictionary), then runs on a thread of its own while the
+//! session performs its drive calls, so reports, fault watching and the safe stop are
+//! those of recipes. Knows the drive API and Rhai; never bytes, ports or families.
+
+mod bridge;
+mod drive_api;
+mod exchange;
+mod literal_calls;
+mod resolve;
+mod sample_window;
+mod sandbox;
+mod script;
+mod script_error;
+mod script_invalid;
+mod script_runner;
+mod static_check;
+
+pub use sandbox::{
+    MAX_ARRAY_SIZE, MAX_CALL_LEVELS, MAX_EXPR_DEPTH, MAX_MAP_SIZE, MAX_OPERATIONS_BETWEEN_CALLS,
+    MAX_STRING_SIZE,
+};
+pub use script::{is_script, load_script, load_script_text, Script};
+pub use script_invalid::ScriptInvalid;
+pub use script_runner::ScriptRunner;

@@ -1,0 +1,298 @@
+//! The words and values a script gives the drive API (object names, units, values to
+//! write, durations, states, tolerances), resolved against the dictionary: the same rules
+//! for `check` (on literals, before anything runs) and for a running script (on whatever
+//! the script computed). Each refusal says what is wrong and what to write instead. It
+//! must not talk to a drive.
+
+use crate::diag::{did_you_mean, suggestion_text};
+use crate::dictionary::{DataType, Dictionary, ObjectDef, Quantity, Unit};
+use crate::drive::DeviceState;
+use crate::session::{ObjectRef, SetValue, Tolerance};
+use std::time::Duration;
+
+/// The longest duration a script may give (as for recipes).
+pub use crate::recipe::MAX_DURATION;
+
+/// A refusal: the message, a short label for the underline, and help.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Refusal {
+    pub message: String,
+    pub label: &'static str,
+    pub help: Option<String>,
+}
+
+impl Refusal {
+    fn new(message: impl Into<String>, label: &'static str, help: Option<String>) -> Self {
+        Refusal {
+            message: message.into(),
+            label,
+            help,
+        }
+    }
+
+    /// The message and its help in one sentence (a run-time error a script may catch).
+    pub fn sentence(&self) -> String {
+        match &self.help {
+            Some(h) => format!("{}; {h}", self.message),
+            None => self.message.clone(),
+        }
+    }
+}
+
+/// The object called `name` (or an alias of it).
+pub fn object(dict: &Dictionary, name: &str) -> Result<(ObjectDef, ObjectRef), Refusal> {
+    match dict.lookup(name) {
+        Ok(def) => Ok((
+            def.clone(),
+            ObjectRef {
+                name: def.name.clone(),
+                unit: def.unit.map(|u| u.symbol().to_string()),
+            },
+        )),
+        Err(e) => Err(Refusal::new(
+            format!("unknown object `{name}` in the {} dictionary", dict.family()),
+            "unknown object",
+            Some(e.help()),
+        )),
+    }
+}
+
+/// The object called `name`, which must be readable.
+pub fn readable(dict: &Dictionary, name: &str) -> Result<ObjectRef, Refusal> {
+    let (def, r) = object(dict, name)?;
+    if def.readable() {
+        Ok(r)
+    } else {
+        Err(Refusal::new(
+            format!("{} is write-only and cannot be read", def.name),
+            "write-only",
+            None,
+        ))
+    }
+}
+
+/// A value read in its object's unit, converted to `unit`.
+pub fn unit_for(def_unit: Option<&str>, object: &str, unit: &str) -> Result<(Unit, f64), Refusal> {
+    let to = Unit::parse(unit).map_err(|e| not_a_unit(unit, &e.to_string()))?;
+    let own = def_unit.and_then(Unit::from_symbol);
+    match own.and_then(|own| own.convert(1.0, to)) {
+        Some(factor) => Ok((to, factor)),
+        None => Err(Refusal::new(
+            match own {
+                Some(own) => format!("{to} is not a unit of {object} ({own})"),
+                None => format!("{object} has no unit to convert to {to}"),
+            },
+            "wrong unit",
+            None,
+        )),
+    }
+}
+
+/// What the script asked to write: text, or a number with or without its unit.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Written {
+    Text(String),
+    Number(f64, Option<String>),
+}
+
+/// A write of `value` to `name`: the object must be writable and the value fit its type,
+/// unit and limits (the bench limits too).
+pub fn set_value(dict: &Dictionary, name: &str, value: &Written) -> Result<(ObjectRef, SetValue), Refusal> {
+    let (def, r) = object(dict, name)?;
+    if !def.writable() {
+        return Err(Refusal::new(
+            format!("{} is read-only and cannot be written", def.name),
+            "read-only",
+            None,
+        ));
+    }
+    if let DataType::String { .. } = def.data_type {
+        return match value {
+            Written::Text(t) => match def.text_to_raw(t) {
+                Ok(_) => Ok((r, SetValue::Text(t.clone()))),
+                Err(e) => Err(Refusal::new(
+                    e.to_string(),
+                    "refused before anything is sent",
+                    None,
+                )),
+            },
+            Written::Number(..) => Err(Refusal::new(
+                format!("{} holds text; write a string", def.name),
+                "not text",
+                None,
+            )),
+        };
+    }
+    let quantity = match value {
+        Written::Text(t) => {
+            Quantity::parse(t).map_err(|e| Refusal::new(format!("{}: {e}", def.name), "not a value", None))?
+        }
+        Written::Number(v, None) => Quantity::new(*v, None),
+        Written::Number(v, Some(u)) => {
+            let unit = Unit::parse(u).map_err(|e| not_a_unit(u, &e.to_string()))?;
+            Quantity::new(*v, Some(unit))
+        }
+    };
+    if !quantity.value.is_finite() {
+        return Err(Refusal::new(
+            format!(
+                "{}: {} is not a number that can be written",
+                def.name, quantity.value
+            ),
+            "not finite",
+            None,
+        ));
+    }
+    let in_own = match (quantity.unit, def.unit) {
+        (None, _) => quantity.value,
+        (Some(u), Some(own)) => u.convert(quantity.value, own).ok_or_else(|| {
+            Refusal::new(
+                format!("{u} is not a unit of {} ({own})", def.name),
+                "wrong unit",
+                None,
+            )
+        })?,
+        (Some(u), None) => {
+            return Err(Refusal::new(
+                format!("{} has no unit; write a plain number, not {u}", def.name),
+                "no unit here",
+                None,
+            ))
+        }
+    };
+    def.to_raw(&quantity).map_err(|e| {
+        Refusal::new(
+            e.to_string(),
+            "refused before anything is sent",
+            limits_help(&def),
+        )
+    })?;
+    Ok((r, SetValue::Number(in_own)))
+}
+
+/// `rpn` is not a unit; the unit parser's own words, with did-you-mean unless they
+/// already suggest one.
+fn not_a_unit(unit: &str, why: &str) -> Refusal {
+    let help = if why.contains("did you mean") {
+        None
+    } else {
+        let symbols: Vec<&str> = Unit::symbols().collect();
+        suggestion_text(&did_you_mean(unit, symbols))
+    };
+    Refusal::new(format!("`{unit}` is not a unit: {why}"), "not a unit", help)
+}
+
+fn limits_help(def: &ObjectDef) -> Option<String> {
+    let unit = def.unit.map(|u| format!(" {}", u.symbol())).unwrap_or_default();
+    match (def.min, def.max) {
+        (Some(lo), Some(hi)) => Some(format!("{} accepts {lo}{unit} to {hi}{unit}", def.name)),
+        _ => None,
+    }
+}
+
+/// `500 ms`, `5 s`, `10 min`: longer than zero, at most [`MAX_DURATION`].
+pub fn duration(text: &str) -> Result<Duration, Refusal> {
+    let help =
+        Some("write a duration with its unit, e.g. \"500 ms\", \"5 s\", \"10 min\", \"2 h\"".to_string());
+    match humantime::parse_duration(text.trim()) {
+        Ok(d) if d.is_zero() => Err(Refusal::new("a duration must be longer than zero", "zero", None)),
+        Ok(d) if d > MAX_DURATION => Err(Refusal::new(
+            format!(
+                "`{}` is longer than {} days, the longest duration a script may give",
+                text.trim(),
+                MAX_DURATION.as_secs() / (24 * 3600)
+            ),
+            "too long",
+            help,
+        )),
+        Ok(d) => Ok(d),
+        Err(e) => Err(Refusal::new(
+            format!("`{text}` is not a duration ({e})"),
+            "not a duration",
+            help,
+        )),
+    }
+}
+
+/// A state of the device-control profile: `operation_enabled`.
+pub fn state(text: &str) -> Result<DeviceState, Refusal> {
+    DeviceState::from_id(text).ok_or_else(|| {
+        let ids = DeviceState::ALL.map(DeviceState::id);
+        Refusal::new(
+            format!("unknown state `{text}`"),
+            "unknown state",
+            suggestion_text(&did_you_mean(text, ids)).or_else(|| Some(format!("states: {}", ids.join(", ")))),
+        )
+    })
+}
+
+/// `0.5 %` (of the target) or `5 rpm` / `5` (absolute); with the unit, if one was given.
+pub fn tolerance(text: &str) -> Result<(Tolerance, Option<String>), Refusal> {
+    let t = text.trim();
+    if let Some(p) = t.strip_suffix('%') {
+        return match p.trim().parse::<f64>() {
+            Ok(v) if v.is_finite() && v >= 0.0 => Ok((Tolerance::Percent(v), None)),
+            _ => Err(Refusal::new(
+                format!("`{text}` is not a tolerance"),
+                "not a tolerance",
+                Some("write e.g. \"0.5 %\" or \"5 rpm\"".into()),
+            )),
+        };
+    }
+    match Quantity::parse(t) {
+        Ok(q) if q.value >= 0.0 => Ok((
+            Tolerance::Absolute(q.value),
+            q.unit.map(|u| u.symbol().to_string()),
+        )),
+        _ => Err(Refusal::new(
+            format!("`{text}` is not a tolerance"),
+            "not a tolerance",
+            Some("write e.g. \"0.5 %\" or \"5 rpm\"".into()),
+        )),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::family::Registry;
+
+    fn sd2() -> std::sync::Arc<Dictionary> {
+        crate::cli::DictionaryArgs::builtin_sd2()
+            .load_for(&Registry::builtin(), None)
+            .expect("the built-in dictionary")
+    }
+
+    #[test]
+    fn names_units_values_and_durations() {
+        let d = sd2();
+        let e = object(&d, "speed_actul").unwrap_err();
+        assert!(e.help.unwrap_or_default().contains("speed_actual"));
+        let (r, v) = set_value(&d, "speed_setpoint", &Written::Number(6.0, Some("krpm".into()))).unwrap();
+        assert_eq!((r.name.as_str(), v), ("speed_setpoint", SetValue::Number(6000.0)));
+        let (_, v) = set_value(&d, "speed_setpoint", &Written::Text("6000 rpm".into())).unwrap();
+        assert_eq!(v, SetValue::Number(6000.0));
+        assert_eq!(
+            set_value(&d, "speed_setpoint", &Written::Number(6.0, Some("V".into())))
+                .unwrap_err()
+                .label,
+            "wrong unit"
+        );
+        assert!(set_value(&d, "speed_setpoint", &Written::Number(1e12, None)).is_err());
+        assert_eq!(unit_for(Some("rpm"), "speed_actual", "krpm").unwrap().1, 0.001);
+        assert!(unit_for(Some("rpm"), "speed_actual", "A").is_err());
+        assert_eq!(duration("2 s").unwrap(), Duration::from_secs(2));
+        assert!(duration("2").is_err() && duration("0 s").is_err());
+        assert!(state("operation_enabld")
+            .unwrap_err()
+            .help
+            .unwrap()
+            .contains("operation_enabled"));
+        assert_eq!(tolerance("0.5 %").unwrap().0, Tolerance::Percent(0.5));
+        assert_eq!(
+            tolerance("5 rpm").unwrap(),
+            (Tolerance::Absolute(5.0), Some("rpm".to_string()))
+        );
+        assert!(tolerance("lots").is_err());
+    }
+}

@@ -1,0 +1,271 @@
+//! A checked script: its file, name, drive family line, the compiled program and the
+//! `--set` parameters, and the loading that checks it (syntax in the sandboxed engine,
+//! then the literal drive calls against the dictionary). Every problem is reported at
+//! once; nothing here runs the script or talks to a drive.
+
+use super::literal_calls::{literal_calls, LineIndex};
+use super::sandbox::sandbox;
+use super::script_error::parse_error;
+use super::script_invalid::ScriptInvalid;
+use super::static_check::check_calls;
+use crate::diag::{read_source, Diagnostic, Diagnostics, Source, Span};
+use crate::dictionary::Dictionary;
+use rhai::AST;
+use std::path::Path;
+use std::sync::Arc;
+
+/// True for a file the script front end runs (`.rhai`).
+pub fn is_script(path: &Path) -> bool {
+    path.extension().and_then(|e| e.to_str()) == Some("rhai")
+}
+
+pub struct Script {
+    /// `//! name: ...` in the header, else the file name.
+    pub name: String,
+    pub path: String,
+    pub source: Arc<Source>,
+    pub ast: AST,
+    /// `--set` parameters, as given.
+    pub params: Vec<(String, String)>,
+    /// The script defines `fn finally(d)`, which replaces the default finally.
+    pub has_finally: bool,
+    /// Drive calls written with literal words (for `check`'s summary).
+    pub calls: usize,
+}
+
+/// Loads and checks a script file. `set` are the `--set` parameters.
+pub fn load_script(
+    path: &Path,
+    dictionary: &Dictionary,
+    set: &[(String, String)],
+) -> Result<Script, ScriptInvalid> {
+    let shown = path.display().to_string();
+    match read_source(path) {
+        Ok(source) => load_source(source, dictionary, set),
+        Err(e) => {
+            let start = Span::start_of(&Source::new(shown.as_str(), ""));
+            let help = e.help().unwrap_or_else(|| {
+                "check the path; scripts are Rhai files such as recipes/speed-sweep.rhai".into()
+            });
+            let problem =
+                Diagnostic::at(&start, e.sentence(&format!("the script {shown}")), "").with_help(help);
+            Err(ScriptInvalid {
+                path: shown,
+                problems: std::iter::once(problem).collect(),
+            })
+        }
+    }
+}
+
+/// Checks script text (tests, and files already read).
+pub fn load_script_text(
+    path: &str,
+    text: &str,
+    dictionary: &Dictionary,
+    set: &[(String, String)],
+) -> Result<Script, ScriptInvalid> {
+    load_source(Source::new(path, text), dictionary, set)
+}
+
+fn load_source(
+    source: Arc<Source>,
+    dictionary: &Dictionary,
+    set: &[(String, String)],
+) -> Result<Script, ScriptInvalid> {
+    let path = source.path().to_string();
+    let mut problems = Diagnostics::new();
+    let header = Header::read(&source);
+    if let Some((family, span)) = &header.drive {
+        if family != dictionary.family() {
+            problems.push(
+                Diagnostic::at(
+                    span,
+                    format!(
+                        "this script is for drive `{family}`, the dictionary in use is `{}`",
+                        dictionary.family()
+                    ),
+                    "other drive family",
+                )
+                .with_help(format!(
+                    "run it with --drive {family}, or change the line to `//! drive: {}`",
+                    dictionary.family()
+                )),
+            );
+        }
+    }
+    let ast = match sandbox().compile(source.text()) {
+        Ok(ast) => Some(ast),
+        Err(e) => {
+            problems.push(parse_error(&source, &e));
+            None
+        }
+    };
+    let calls = literal_calls(&source);
+    problems.extend(check_calls(&calls, dictionary, set, &path));
+    let mut has_finally = false;
+    if let Some(ast) = &ast {
+        for f in ast.iter_functions().filter(|f| f.name == "finally") {
+            if f.params.len() == 1 {
+                has_finally = true;
+            } else {
+                let at = calls
+                    .iter()
+                    .find(|c| c.name == "finally" && !c.method)
+                    .map(|c| c.span.clone())
+                    .unwrap_or_else(|| Span::start_of(&source));
+                problems.push(
+                    Diagnostic::at(&at, "`finally` must take the drive as its one parameter", "here")
+                        .with_help("write `fn finally(d) { ... }`"),
+                );
+            }
+        }
+    }
+    match ast {
+        Some(ast) if problems.is_empty() => Ok(Script {
+            name: header.name.unwrap_or_else(|| file_stem(&path)),
+            path,
+            source,
+            ast,
+            params: set.to_vec(),
+            has_finally,
+            calls: calls.len(),
+        }),
+        _ => Err(ScriptInvalid {
+            path,
+            problems: problems.sorted(),
+        }),
+    }
+}
+
+fn file_stem(path: &str) -> String {
+    Path::new(path)
+        .file_stem()
+        .and_then(|s| s.to_str())
+        .unwrap_or(path)
+        .to_string()
+}
+
+/// The `//!` lines at the top: `//! drive: sd2`, `//! name: Speed sweep`.
+struct Header {
+    drive: Option<(String, Span)>,
+    name: Option<String>,
+}
+
+impl Header {
+    fn read(source: &Arc<Source>) -> Header {
+        let mut header = Header {
+            drive: None,
+            name: None,
+        };
+        let index = LineIndex::new(source.text());
+        let mut offset = 0;
+        for line in source.text().split_inclusive('\n') {
+            let Some(rest) = line.trim_start().strip_prefix("//!") else {
+                break;
+            };
+            if let Some((key, value)) = rest.split_once(':') {
+                let value_text = value.trim();
+                match key.trim() {
+                    "drive" if header.drive.is_none() => {
+                        let at = offset + line.find(value_text).unwrap_or(0);
+                        header.drive =
+                            Some((value_text.to_string(), index.span(source, at, value_text.len())));
+                    }
+                    "name" if header.name.is_none() => header.name = Some(value_text.to_string()),
+                    _ => {}
+                }
+            }
+            offset += line.len();
+        }
+        header
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::family::Registry;
+
+    fn sd2() -> Arc<Dictionary> {
+        crate::cli::DictionaryArgs::builtin_sd2()
+            .load_for(&Registry::builtin(), None)
+            .expect("the built-in dictionary")
+    }
+
+    fn problems(text: &str, set: &[(String, String)]) -> Vec<String> {
+        match load_script_text("t.rhai", text, &sd2(), set) {
+            Ok(_) => Vec::new(),
+            Err(e) => e.problems.iter().map(|d| d.located()).collect(),
+        }
+    }
+
+    #[test]
+    fn the_header_names_the_script_and_its_drive_family() {
+        let script = load_script_text(
+            "x/sweep.rhai",
+            "//! drive: sd2\n//! name: Sweep\nlet d = drive();\n",
+            &sd2(),
+            &[],
+        )
+        .unwrap_or_else(|e| panic!("{}", e.render(false)));
+        assert_eq!(script.name, "Sweep");
+        assert!(!script.has_finally);
+        let plain = load_script_text("x/sweep.rhai", "let x = 1;\n", &sd2(), &[]).expect("valid");
+        assert_eq!(plain.name, "sweep");
+        assert_eq!(
+            problems("//! drive: lenze-931\nlet x = 1;\n", &[]),
+            ["t.rhai:1:12: this script is for drive `lenze-931`, the dictionary in use is `sd2`"]
+        );
+    }
+
+    #[test]
+    fn finally_takes_the_drive() {
+        let script =
+            load_script_text("t.rhai", "fn finally(d) { d.shutdown(); }\n", &sd2(), &[]).expect("valid");
+        assert!(script.has_finally);
+        let p = problems("fn finally() { }\n", &[]);
+        assert_eq!(
+            p,
+            ["t.rhai:1:4: `finally` must take the drive as its one parameter"]
+        );
+    }
+
+    #[test]
+    fn literal_calls_are_checked_and_computed_ones_left_to_the_run() {
+        assert!(problems("let d = drive();\nlet n = \"speed_\" + \"x\";\nd.read(n);\n", &[]).is_empty());
+        let p = problems(
+            "let d = drive();\nd.read(\"bogus\");\nd.wait_until(\"speed_actual\", |v| v > 1.0, \"3 parsecs\");\nd.set(\"ident\", 5);\nlet s = d.sample([\"speed_actual\"], \"1 s\", \"1 min\");\nlet m = s.mean(\"curent_actual\");\nexpect_near(\"x\", 1.0, 1.0, \"lots\");\n",
+            &[],
+        );
+        assert_eq!(p.len(), 5, "{p:#?}");
+        assert!(p[0].starts_with("t.rhai:2:8: unknown object `bogus`"), "{p:#?}");
+        assert!(
+            p[1].starts_with("t.rhai:3:43: `3 parsecs` is not a duration"),
+            "{p:#?}"
+        );
+        assert!(p[2].starts_with("t.rhai:4:7: ident is read-only"), "{p:#?}");
+        assert!(
+            p[3].starts_with("t.rhai:6:16: unknown object `curent_actual`"),
+            "{p:#?}"
+        );
+        assert!(
+            p[4].starts_with("t.rhai:7:28: `lots` is not a tolerance"),
+            "{p:#?}"
+        );
+    }
+
+    #[test]
+    fn a_state_a_script_compares_with_must_exist() {
+        assert!(problems("let d = drive();\nif d.state() == \"fault\" {}\n", &[]).is_empty());
+        let p = problems("let d = drive();\nif d.state() != \"faul\" {}\n", &[]);
+        assert_eq!(p, ["t.rhai:2:17: unknown state `faul`"]);
+    }
+
+    #[test]
+    fn every_set_parameter_must_be_read() {
+        let set = [("speed".to_string(), "4000rpm".to_string())];
+        assert!(problems("let s = param(\"speed\");\n", &set).is_empty());
+        let p = problems("let s = param(\"sped\", 1);\n", &set);
+        assert_eq!(p, ["t.rhai: --set speed: the script reads no parameter `speed`"]);
+    }
+}

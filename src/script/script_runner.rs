@@ -1,0 +1,498 @@
+//! Runs a checked script against a drive: the script on a thread of its own in the
+//! sandboxed engine, every drive call performed here by the [`Session`] (so the reports,
+//! the fault watching and the safe stop are those of recipes), and at the end the
+//! session's safe stop with the script's `fn finally(d)` in place of the default finally
+//! when it has one. Each drive call that is a step is numbered `LINE.PASS` (the script
+//! line, and how often that line has run), so loops keep the report bounded like a
+//! recipe's repeat. It must not touch the drive other than through the session.
+
+use super::bridge::{copy as copy_stop, Bridge};
+use super::drive_api::{register, DriveHandle};
+use super::exchange::{Answer, Call, Ending, Request, ToScript, ToSession, Window};
+use super::sandbox::{sandbox, MAX_ARRAY_SIZE};
+use super::script::Script;
+use super::script_error::{eval_error, span_at};
+use crate::diag::{Diagnostic, Diagnostics, Source};
+use crate::drive::Drive;
+use crate::session::{
+    CheckResult, ObjectRef, RunInfo, RunObserver, RunReport, SafeStopSettings, Session, Stats, StepInfo,
+    StepOrigin, StepRecord, Stop,
+};
+use crate::stop_request::StopRequests;
+use rhai::{CallFnOptions, Dynamic, Engine, EvalAltResult, Scope, AST};
+use std::cell::RefCell;
+use std::collections::HashMap;
+use std::io::Write;
+use std::panic::{catch_unwind, AssertUnwindSafe};
+use std::path::PathBuf;
+use std::rc::Rc;
+use std::sync::atomic::Ordering;
+use std::sync::mpsc::{channel, Receiver, Sender};
+use std::sync::Arc;
+use std::time::Duration;
+
+pub struct ScriptRunner<'a> {
+    drive: &'a mut Drive,
+    observer: &'a mut dyn RunObserver,
+    stop: Arc<StopRequests>,
+    settings: SafeStopSettings,
+    output_dir: PathBuf,
+}
+
+impl<'a> ScriptRunner<'a> {
+    pub fn new(drive: &'a mut Drive, observer: &'a mut dyn RunObserver, stop: Arc<StopRequests>) -> Self {
+        ScriptRunner {
+            drive,
+            observer,
+            stop,
+            settings: SafeStopSettings::default(),
+            output_dir: PathBuf::from("."),
+        }
+    }
+
+    /// How the safe stop waits for standstill and how long it tries to reopen a lost port.
+    pub fn with_settings(mut self, settings: SafeStopSettings) -> Self {
+        self.settings = settings;
+        self
+    }
+
+    /// Where files the session writes go (relative paths).
+    pub fn with_output_dir(mut self, dir: PathBuf) -> Self {
+        self.output_dir = dir;
+        self
+    }
+
+    /// Runs the script to the end, whatever happens, and returns what happened. A script
+    /// error is written to `errors` (file:line:column, underlined) when it happens, before
+    /// the safe stop.
+    pub fn run(self, script: &Script, errors: &mut dyn Write) -> RunReport {
+        let dictionary = self.drive.dictionary().clone();
+        let clock = self.drive.clock().clone();
+        let capture = Rc::new(RefCell::new(Capture::default()));
+        let mut tap = Tap {
+            inner: self.observer,
+            capture: capture.clone(),
+        };
+        let info = RunInfo {
+            kind: "script",
+            name: script.name.clone(),
+            path: script.path.clone(),
+            params: script.params.clone(),
+        };
+        let (to_session, from_script) = channel();
+        let (to_script, from_session) = channel();
+        let bridge = Arc::new(Bridge::new(
+            to_session,
+            from_session,
+            dictionary,
+            script.params.clone(),
+            self.stop.clone(),
+            clock,
+        ));
+        let mut engine = sandbox();
+        register(&mut engine, &bridge);
+        let stop = self.stop.clone();
+        let mut session = Session::new(self.drive, &mut tap, &stop, info)
+            .with_settings(self.settings)
+            .with_output_dir(self.output_dir);
+        let mut host = Host {
+            from_script,
+            to_script,
+            capture,
+            passes: HashMap::new(),
+            finally_steps: 0,
+            path: script.path.clone(),
+            errors,
+        };
+        std::thread::scope(|scope| {
+            let worker = {
+                let (ast, source, bridge) = (script.ast.clone(), script.source.clone(), bridge.clone());
+                std::thread::Builder::new()
+                    .name("script".into())
+                    .spawn_scoped(scope, move || script_thread(engine, ast, source, bridge))
+            };
+            session.begin();
+            let ended = match &worker {
+                Ok(_) => host.serve(&mut session, "steps"),
+                Err(e) => Some(Stop::Error(format!("the script could not start: {e}"))),
+            };
+            let mut finally = |s: &mut Session| host.finally(s);
+            let finally: Option<&mut dyn FnMut(&mut Session)> =
+                (script.has_finally && worker.is_ok()).then_some(&mut finally);
+            let report = session.end(ended, false, None, finally);
+            let _ = host.to_script.send(ToScript::Finish);
+            if let Ok(w) = worker {
+                let _ = w.join();
+            }
+            report
+        })
+    }
+}
+
+/// The session thread's side: performs the script's requests.
+struct Host<'e> {
+    from_script: Receiver<ToSession>,
+    to_script: Sender<ToScript>,
+    capture: Rc<RefCell<Capture>>,
+    /// How often each script line made a step.
+    passes: HashMap<usize, u32>,
+    finally_steps: u32,
+    path: String,
+    errors: &'e mut dyn Write,
+}
+
+impl Host<'_> {
+    /// Performs requests until the script (or its `finally`) ends; why it ended early.
+    fn serve(&mut self, s: &mut Session, phase: &'static str) -> Option<Stop> {
+        loop {
+            match self.from_script.recv() {
+                Err(_) => return Some(Stop::Panicked("the script thread ended without a word".into())),
+                Ok(ToSession::Ended(Ending::Completed)) => return None,
+                Ok(ToSession::Ended(Ending::Stopped(stop, diagnostic))) => {
+                    if let Some(d) = diagnostic {
+                        let rendered = Diagnostics::from_iter([*d]).render(false);
+                        let _ = self.errors.write_all(rendered.as_bytes());
+                        let _ = self.errors.flush();
+                    }
+                    return Some(stop);
+                }
+                Ok(ToSession::Holds(_)) => {}
+                Ok(ToSession::Request(r)) => {
+                    let answer = self.perform(s, r, phase);
+                    if self.to_script.send(ToScript::Answer(answer)).is_err() {
+                        return Some(Stop::Panicked("the script thread ended without a word".into()));
+                    }
+                }
+            }
+        }
+    }
+
+    /// The script's `fn finally(d)`, in place of the default finally.
+    fn finally(&mut self, s: &mut Session) {
+        if self.to_script.send(ToScript::RunFinally).is_err() {
+            s.note("the script's finally could not run: the script thread has ended".into());
+            return;
+        }
+        match self.serve(s, "finally") {
+            None => {}
+            Some(Stop::Interrupted) => s.note("finally abandoned (a second stop request)".into()),
+            Some(stop) => {
+                let (_, why) = crate::session::outcome(&Err(stop));
+                s.note(format!("the script's finally ended early: {why}"));
+            }
+        }
+    }
+
+    fn perform(&mut self, s: &mut Session, r: Request, phase: &'static str) -> Result<Answer, Stop> {
+        if let Call::Message(text) = &r.call {
+            s.message(text);
+            return Ok(Answer::Done);
+        }
+        if phase == "steps" && s.interrupted() {
+            return Err(Stop::Interrupted);
+        }
+        match r.call {
+            Call::Read(object) => return s.read_number(&object).map(Answer::Number),
+            Call::State => return s.state().map(Answer::State),
+            _ => {}
+        }
+        let number = match phase {
+            "steps" => {
+                let pass = self.passes.entry(r.line).or_insert(0);
+                *pass += 1;
+                match *pass {
+                    1 => r.line.to_string(),
+                    n => format!("{}.{n}", r.line),
+                }
+            }
+            _ => {
+                self.finally_steps += 1;
+                format!("{phase}.{}", self.finally_steps)
+            }
+        };
+        let origin = StepOrigin {
+            path: self.path.clone(),
+            line: r.line,
+            column: r.column,
+        };
+        let info = StepInfo {
+            number: number.clone(),
+            label: r.label,
+            origin: origin.clone(),
+            phase,
+            container: false,
+        };
+        let mut answer = Answer::Done;
+        let call = r.call;
+        let result = s.perform(&info, |s| self.exec(s, call, &origin, &number, &mut answer));
+        match result {
+            Ok(_) if phase == "steps" => s.watch_fault(false).map(|_| answer),
+            Ok(_) => Ok(answer),
+            Err(e) => {
+                if let Stop::Fault(_) = e {
+                    // The session learns the drive is in fault, so that a script that
+                    // catches the fault and resets it is not told of it again.
+                    let _ = s.watch_fault(true);
+                }
+                if phase != "steps" {
+                    let (_, why) = crate::session::outcome(&Err(copy_stop(&e)));
+                    s.note(format!("{phase} step {number} ({}) failed: {why}", info.label));
+                }
+                Err(e)
+            }
+        }
+    }
+
+    fn exec(
+        &self,
+        s: &mut Session,
+        call: Call,
+        origin: &StepOrigin,
+        number: &str,
+        answer: &mut Answer,
+    ) -> Result<String, Stop> {
+        match call {
+            Call::Command(c) => s.command(c),
+            Call::GoTo(state, timeout) => s.go_to(state, timeout),
+            Call::Set(object, value) => s.set(&[(object, value)]),
+            Call::WaitUntil {
+                object,
+                timeout,
+                every,
+            } => {
+                let what = format!("{} meets the script's condition", object.name);
+                s.wait_until_value(
+                    &object,
+                    &what,
+                    &mut |v| self.ask(v),
+                    timeout,
+                    every,
+                    origin,
+                    number,
+                )
+            }
+            Call::Dwell(d) => {
+                s.dwell(d, number)?;
+                Ok(format!("{} dwelt", crate::session::show_duration(d)))
+            }
+            Call::Sample {
+                objects,
+                every,
+                duration,
+            } => {
+                self.capture.borrow_mut().start(&objects);
+                let result = s.sample(&objects, every, duration, None, number);
+                let windows = self.capture.borrow_mut().finish();
+                *answer = Answer::Sampled(windows);
+                result
+            }
+            Call::Expect(check) => {
+                let check = CheckResult {
+                    origin: origin.clone(),
+                    ..*check
+                };
+                s.expect_result(check)
+            }
+            Call::Fail(message) => Err(Stop::Failed(message)),
+            Call::Read(_) | Call::State | Call::Message(_) => Ok(String::new()),
+        }
+    }
+
+    /// Asks the script whether its `wait_until` condition holds for `value`.
+    fn ask(&self, value: f64) -> Result<bool, Stop> {
+        if self.to_script.send(ToScript::Ask(value)).is_err() {
+            return Err(Stop::Panicked("the script thread ended without a word".into()));
+        }
+        loop {
+            match self.from_script.recv() {
+                Ok(ToSession::Holds(r)) => return r,
+                Ok(ToSession::Request(_)) => {
+                    // A call from inside the condition: conditions judge a value, they
+                    // must not drive. Refused, and the wait ends with it.
+                    let refusal = "a wait_until condition must not call the drive";
+                    let _ = self
+                        .to_script
+                        .send(ToScript::Answer(Err(Stop::Error(refusal.into()))));
+                }
+                Ok(ToSession::Ended(_)) | Err(_) => {
+                    return Err(Stop::Panicked(
+                        "the script thread ended during a wait_until".into(),
+                    ))
+                }
+            }
+        }
+    }
+}
+
+/// Runs the script, then waits to run its `finally` or to finish.
+fn script_thread(engine: Engine, ast: AST, source: Arc<Source>, bridge: Arc<Bridge>) {
+    let mut scope = Scope::new();
+    let result = catch_unwind(AssertUnwindSafe(|| engine.run_ast_with_scope(&mut scope, &ast)));
+    bridge.send(ToSession::Ended(ending(&bridge, &source, result)));
+    loop {
+        match bridge.receive() {
+            Some(ToScript::RunFinally) => {
+                bridge.in_finally.store(true, Ordering::Relaxed);
+                bridge.reset_operations();
+                let _ = bridge.take_ending();
+                let options = CallFnOptions::new().eval_ast(false).rewind_scope(true);
+                let result = catch_unwind(AssertUnwindSafe(|| {
+                    engine
+                        .call_fn_with_options::<Dynamic>(options, &mut scope, &ast, "finally", (DriveHandle,))
+                        .map(|_| ())
+                }));
+                bridge.send(ToSession::Ended(ending(&bridge, &source, result)));
+            }
+            Some(ToScript::Finish) | None => return,
+            Some(ToScript::Answer(_) | ToScript::Ask(_)) => {}
+        }
+    }
+}
+
+/// How a run of the script (or of its `finally`) ended.
+fn ending(
+    bridge: &Bridge,
+    source: &Arc<Source>,
+    result: std::thread::Result<Result<(), Box<EvalAltResult>>>,
+) -> Ending {
+    let e = match result {
+        Ok(Ok(())) => return Ending::Completed,
+        Ok(Err(e)) => e,
+        Err(payload) => {
+            let text = payload
+                .downcast_ref::<&str>()
+                .map(|s| s.to_string())
+                .or_else(|| payload.downcast_ref::<String>().cloned())
+                .unwrap_or_else(|| "a panic without a message".into());
+            return Ending::Stopped(Stop::Panicked(text), None);
+        }
+    };
+    let mut inner = e.as_ref();
+    // Where the innermost script function was called: the place to show when the error
+    // inside it has none of its own.
+    let mut called_at = rhai::Position::NONE;
+    while let EvalAltResult::ErrorInFunctionCall(_, _, next, pos) = inner {
+        if !pos.is_none() {
+            called_at = *pos;
+        }
+        inner = next;
+    }
+    match inner {
+        EvalAltResult::Exit(..) => Ending::Completed,
+        EvalAltResult::ErrorTerminated(_, pos) => match bridge.take_ending().unwrap_or(Stop::Interrupted) {
+            // The sandbox's operation limit: a problem of the script, at its place.
+            Stop::Error(m) => {
+                let pos = if pos.is_none() { called_at } else { *pos };
+                let span = span_at(source, pos).or_else(|| finally_span(bridge, source));
+                let d = match span {
+                    Some(span) => Diagnostic::at(&span, m.clone(), "stopped here")
+                        .with_help("a loop must call the drive (read, dwell, ...) or end"),
+                    None => Diagnostic::unlocated(source.path(), m.clone()),
+                };
+                Ending::Stopped(Stop::Error(d.located()), Some(Box::new(d)))
+            }
+            stop => Ending::Stopped(stop, None),
+        },
+        EvalAltResult::ErrorRuntime(v, _) => {
+            let d = eval_error(source, &e);
+            match bridge.drive_error(&v.to_string()) {
+                Some(stop) => Ending::Stopped(stop, Some(Box::new(d))),
+                None => Ending::Stopped(Stop::Error(d.located()), Some(Box::new(d))),
+            }
+        }
+        _ => {
+            let d = eval_error(source, &e);
+            Ending::Stopped(Stop::Error(d.located()), Some(Box::new(d)))
+        }
+    }
+}
+
+/// The script's `fn finally` when it runs (Rhai gives no place for a function called
+/// from outside the script).
+fn finally_span(bridge: &Bridge, source: &Arc<Source>) -> Option<crate::diag::Span> {
+    if !bridge.in_finally.load(Ordering::Relaxed) {
+        return None;
+    }
+    let offset = source.text().find("fn finally")?;
+    let index = super::literal_calls::LineIndex::new(source.text());
+    Some(index.span(source, offset, "fn finally".len()))
+}
+
+/// Passes every event on, and keeps the rows of the sample a script asked for.
+struct Tap<'a> {
+    inner: &'a mut dyn RunObserver,
+    capture: Rc<RefCell<Capture>>,
+}
+
+impl RunObserver for Tap<'_> {
+    fn run_started(&mut self, run: &RunInfo, drive: &str) {
+        self.inner.run_started(run, drive);
+    }
+    fn step_started(&mut self, step: &StepInfo) {
+        self.inner.step_started(step);
+    }
+    fn step_progress(&mut self, number: &str, elapsed: Duration, total: Option<Duration>, values: &str) {
+        self.inner.step_progress(number, elapsed, total, values);
+    }
+    fn step_finished(&mut self, record: &StepRecord) {
+        self.inner.step_finished(record);
+    }
+    fn check(&mut self, result: &CheckResult) {
+        self.inner.check(result);
+    }
+    fn sample(&mut self, at: Duration, objects: &[ObjectRef], values: &[f64]) {
+        self.capture.borrow_mut().push(values);
+        self.inner.sample(at, objects, values);
+    }
+    fn wants_progress(&self) -> bool {
+        self.inner.wants_progress()
+    }
+    fn message(&mut self, text: &str) {
+        self.inner.message(text);
+    }
+    fn run_finished(&mut self, report: &RunReport) {
+        self.inner.run_finished(report);
+    }
+}
+
+/// The window of the sample being taken: statistics always, values up to a script's
+/// array limit.
+#[derive(Default)]
+struct Capture {
+    windows: Vec<Window>,
+    recording: bool,
+}
+
+impl Capture {
+    fn start(&mut self, objects: &[ObjectRef]) {
+        self.windows = objects
+            .iter()
+            .map(|o| Window {
+                object: o.clone(),
+                stats: Stats::default(),
+                values: Some(Vec::new()),
+            })
+            .collect();
+        self.recording = true;
+    }
+
+    fn push(&mut self, values: &[f64]) {
+        if !self.recording {
+            return;
+        }
+        for (w, v) in self.windows.iter_mut().zip(values) {
+            w.stats.push(*v);
+            if w.values.as_ref().is_some_and(|k| k.len() >= MAX_ARRAY_SIZE) {
+                w.values = None;
+            }
+            if let Some(kept) = w.values.as_mut() {
+                kept.push(*v);
+            }
+        }
+    }
+
+    fn finish(&mut self) -> Vec<Window> {
+        self.recording = false;
+        std::mem::take(&mut self.windows)
+    }
+}

@@ -1,0 +1,174 @@
+//! `check` for scripts beyond syntax: every drive call whose words are written as literals
+//! is resolved against the dictionary with the same rules a running script uses
+//! (`resolve`), and each refusal is a located diagnostic with did-you-mean; so is a state
+//! a `d.state()` is compared with (`d.state() == "fault"`). Also: each
+//! `--set` parameter must be read by a `param("name")`. Values a script computes are
+//! checked when the script runs. It must not run the script.
+
+use super::literal_calls::{Arg, LiteralCall};
+use super::resolve::{self, Refusal, Written};
+use crate::diag::{did_you_mean, suggestion_text, Diagnostic, Span};
+use crate::dictionary::Dictionary;
+use crate::session::Statistic;
+
+/// The problems of `calls`; `set` are the `--set` parameters.
+pub fn check_calls(
+    calls: &[LiteralCall],
+    dict: &Dictionary,
+    set: &[(String, String)],
+    path: &str,
+) -> Vec<Diagnostic> {
+    let mut problems = Vec::new();
+    let mut refuse = |span: &Span, r: Refusal| {
+        problems.push(Diagnostic::at(span, r.message, r.label).with_optional_help(r.help));
+    };
+    let text = |i: usize, c: &LiteralCall| match c.args.get(i) {
+        Some((Arg::Text(t), span)) => Some((t.clone(), span.clone())),
+        _ => None,
+    };
+    let mut params = Vec::new();
+    for c in calls {
+        let name = text(0, c);
+        match (c.name.as_str(), c.method) {
+            ("read" | "wait_until", true) => {
+                if let Some((n, span)) = &name {
+                    if let Err(r) = resolve::readable(dict, n) {
+                        refuse(span, r);
+                    }
+                }
+                if c.name == "wait_until" {
+                    for i in [2, 3] {
+                        if let Some((t, span)) = text(i, c) {
+                            if let Err(r) = resolve::duration(&t) {
+                                refuse(&span, r);
+                            }
+                        }
+                    }
+                }
+            }
+            ("read_as", true) => {
+                if let Some((n, span)) = &name {
+                    match resolve::readable(dict, n) {
+                        Ok(object) => {
+                            if let Some((unit, uspan)) = text(1, c) {
+                                if let Err(r) = resolve::unit_for(object.unit.as_deref(), &object.name, &unit)
+                                {
+                                    refuse(&uspan, r);
+                                }
+                            }
+                        }
+                        Err(r) => refuse(span, r),
+                    }
+                }
+            }
+            ("set", true) => {
+                let Some((n, span)) = &name else { continue };
+                let value = match (c.args.get(1), c.args.get(2)) {
+                    (Some((Arg::Number(v), vspan)), Some((Arg::Text(u), uspan))) => {
+                        Some((Written::Number(*v, Some(u.clone())), vspan.clone(), uspan.clone()))
+                    }
+                    (Some((Arg::Number(v), vspan)), None) => {
+                        Some((Written::Number(*v, None), vspan.clone(), vspan.clone()))
+                    }
+                    (Some((Arg::Text(t), vspan)), None) => {
+                        Some((Written::Text(t.clone()), vspan.clone(), vspan.clone()))
+                    }
+                    _ => None,
+                };
+                match value {
+                    Some((value, vspan, uspan)) => {
+                        if let Err(r) = resolve::set_value(dict, n, &value) {
+                            let at = match r.label {
+                                "unknown object" | "read-only" => span,
+                                "not a unit" | "wrong unit" | "no unit here" => &uspan,
+                                _ => &vspan,
+                            };
+                            refuse(at, r);
+                        }
+                    }
+                    None => {
+                        if let Err(r) = resolve::object(dict, n) {
+                            refuse(span, r);
+                        }
+                    }
+                }
+            }
+            ("sample", true) => {
+                if let Some((Arg::TextList(items), _)) = c.args.first() {
+                    for (n, span) in items {
+                        if let Err(r) = resolve::readable(dict, n) {
+                            refuse(span, r);
+                        }
+                    }
+                }
+                for i in [1, 2] {
+                    if let Some((t, span)) = text(i, c) {
+                        if let Err(r) = resolve::duration(&t) {
+                            refuse(&span, r);
+                        }
+                    }
+                }
+            }
+            ("state", true) => {
+                if let Some((s, span)) = &c.compared_with {
+                    if let Err(r) = resolve::state(s) {
+                        refuse(span, r);
+                    }
+                }
+            }
+            ("go_to", true) => {
+                if let Some((s, span)) = &name {
+                    if let Err(r) = resolve::state(s) {
+                        refuse(span, r);
+                    }
+                }
+                if let Some((t, span)) = text(1, c) {
+                    if let Err(r) = resolve::duration(&t) {
+                        refuse(&span, r);
+                    }
+                }
+            }
+            (m, true) if m == "values" || m == "count" || Statistic::from_id(m).is_some() => {
+                if let Some((n, span)) = &name {
+                    if let Err(r) = resolve::readable(dict, n) {
+                        refuse(span, r);
+                    }
+                }
+            }
+            ("dwell", false) => {
+                if let Some((t, span)) = &name {
+                    if let Err(r) = resolve::duration(t) {
+                        refuse(span, r);
+                    }
+                }
+            }
+            ("expect_near", false) => {
+                if let Some((t, span)) = text(3, c) {
+                    if let Err(r) = resolve::tolerance(&t) {
+                        refuse(&span, r);
+                    }
+                }
+            }
+            ("param", false) => {
+                if let Some((n, _)) = name {
+                    params.push(n);
+                }
+            }
+            _ => {}
+        }
+    }
+    for (name, _) in set {
+        if !params.contains(name) {
+            let help = suggestion_text(&did_you_mean(name, params.iter().map(String::as_str)))
+                .or_else(|| Some("the script reads its parameters with param(\"name\")".into()));
+            problems.push(
+                Diagnostic::unlocated(
+                    path,
+                    format!("--set {name}: the script reads no parameter `{name}`"),
+                )
+                .with_optional_help(help),
+            );
+        }
+    }
+    problems
+}

@@ -1,0 +1,546 @@
+//! Rhai scripts against the simulated drive: the shipped examples check and pass, the
+//! telegrams a script sends, every ending (failed expect, drive fault, script error,
+//! panic, a stop request during `sample` and during pure computation, a signal through a
+//! real pseudo-terminal) runs the safe stop, and the sandbox refuses what it must.
+
+use crate::safety::{received, scratch, written, CONTROL_WORD, SPEED_SETPOINT};
+use crate::support::{drivescript, repo_root, stderr, stdout, InProcessRun};
+use drivescript::cli::RunResult;
+use drivescript::clock::SharedClock;
+use drivescript::sim::SimulatedDrive;
+use drivescript::stop_request::{StopRequests, StopSignal};
+use std::path::{Path, PathBuf};
+use std::sync::{Arc, Mutex, PoisonError};
+use std::time::Duration;
+
+fn write_script(dir: &Path, text: &str) -> PathBuf {
+    let path = dir.join("script.rhai");
+    std::fs::write(&path, text).expect("script written");
+    path
+}
+
+fn control_words(result: &RunResult) -> Vec<u16> {
+    result
+        .simulator
+        .as_ref()
+        .map(|s| {
+            s.lock()
+                .unwrap_or_else(PoisonError::into_inner)
+                .control_words_written()
+        })
+        .unwrap_or_default()
+}
+
+/// Runs `text` as a script in-process (virtual time), with `prepare` for the simulator.
+fn run_script(
+    name: &str,
+    text: &str,
+    prepare: Option<&drivescript::cli::PrepareSimulator>,
+    stop: Arc<StopRequests>,
+) -> (RunResult, String) {
+    let dir = scratch(&format!("script-{name}"));
+    let mut run = InProcessRun::new(write_script(&dir, text));
+    run.prepare = prepare;
+    run.stop = stop;
+    run.output_dir = dir;
+    run.run()
+}
+
+#[test]
+fn every_example_script_checks_and_passes_in_virtual_time() {
+    let mut ran = 0;
+    for entry in std::fs::read_dir(repo_root().join("recipes")).expect("recipes/") {
+        let path = entry.expect("entry").path();
+        if path.extension().and_then(|e| e.to_str()) != Some("rhai") {
+            continue;
+        }
+        let p = path.to_str().expect("utf-8 path");
+        let check = drivescript(&["check", p], "");
+        assert_eq!(check.status.code(), Some(0), "{p}: {}", stderr(&check));
+        assert!(stdout(&check).contains("(script, "), "{p}: {}", stdout(&check));
+        let run = drivescript(&["run", p, "--fast"], "");
+        let shown = format!("{}{}", stdout(&run), stderr(&run));
+        assert_eq!(run.status.code(), Some(0), "{p}:\n{shown}");
+        assert!(stdout(&run).contains("PASSED"), "{p}:\n{shown}");
+        assert!(
+            stdout(&run).contains("drive left in ready to switch on at 0 rpm"),
+            "{p}:\n{shown}"
+        );
+        ran += 1;
+    }
+    assert!(ran >= 3, "only {ran} example scripts");
+}
+
+const START_AND_SPIN: &str = r#"//! drive: sd2
+let d = drive();
+d.shutdown();
+d.switch_on();
+d.set("speed_setpoint", "3000 rpm");
+d.enable_operation();
+d.wait_until("speed_actual", |v| v > 2970.0, "10 s");
+let s = d.sample(["speed_actual"], "100 ms", "2 s");
+expect_near("speed mean", s.mean("speed_actual"), 3000.0, "0.5 %");
+d.set("speed_setpoint", 1.5, "krpm");
+"#;
+
+#[test]
+fn a_script_sends_the_telegrams_its_calls_name_then_the_default_safe_stop() {
+    let (result, output) = run_script("telegrams", START_AND_SPIN, None, Arc::new(StopRequests::new()));
+    assert_eq!(result.exit_code, 0, "{output}");
+    // shutdown, switch_on, enable_operation; then the default finally's disable
+    // operation and shutdown.
+    assert_eq!(control_words(&result), [6, 7, 15, 7, 6], "{output}");
+    let setpoints: Vec<i64> = received(&result)
+        .iter()
+        .filter_map(|(_, t)| written(t, SPEED_SETPOINT))
+        .collect();
+    // 0.001 rpm per count: 3000 rpm, 1.5 krpm, then the safe stop's 0.
+    assert_eq!(setpoints, [3_000_000, 1_500_000, 0], "{output}");
+    for line in [
+        "script  script (",
+        "     3  ok    shutdown  control word 6",
+        "     5  ok    set speed_setpoint = 3000 rpm  written",
+        "PASS  speed mean: measured",
+        "finally 1  ok    set speed_setpoint = 0 rpm (default finally)",
+        "drive left in ready to switch on at 0 rpm",
+        "PASSED — ",
+    ] {
+        assert!(output.contains(line), "missing {line:?}:\n{output}");
+    }
+    let report = result.report.expect("a report");
+    assert_eq!(report.checks.iter().filter(|c| c.name == "speed mean").count(), 1);
+    let check = report
+        .checks
+        .iter()
+        .find(|c| c.name == "speed mean")
+        .expect("check");
+    assert_eq!((check.low, check.high), (Some(2985.0), Some(3015.0)));
+    assert_eq!((check.origin.line, check.origin.column), (9, 1));
+    assert!(check.origin.path.ends_with("script.rhai"));
+}
+
+#[test]
+fn a_loop_numbers_its_steps_by_line_and_pass_and_keeps_them_bounded() {
+    let text = "let d = drive();\nfor i in 0..3 {\n    d.set(\"speed_setpoint\", i * 100, \"rpm\");\n}\n";
+    let (result, output) = run_script("passes", text, None, Arc::new(StopRequests::new()));
+    assert_eq!(result.exit_code, 0, "{output}");
+    let numbers: Vec<String> = result
+        .report
+        .expect("report")
+        .steps
+        .iter()
+        .filter(|s| s.phase == "steps")
+        .map(|s| s.number.clone())
+        .collect();
+    assert_eq!(numbers, ["3", "3.2", "3.3"]);
+}
+
+#[test]
+fn a_failed_expect_fails_the_run_with_exit_1_and_the_drive_is_stopped() {
+    let text = "let d = drive();\nd.go_to(\"operation_enabled\");\nexpect(\"speed is high\", d.read(\"speed_actual\") > 100.0, d.read(\"speed_actual\"));\nprint(\"goes on\");\n";
+    let (result, output) = run_script("failed-expect", text, None, Arc::new(StopRequests::new()));
+    assert_eq!(result.exit_code, 1, "{output}");
+    assert!(output.contains("FAIL  speed is high: measured"), "{output}");
+    assert!(
+        output.contains("goes on"),
+        "a failed expect lets the script go on:\n{output}"
+    );
+    assert!(control_words(&result).ends_with(&[7, 6]), "{output}");
+}
+
+#[test]
+fn fail_ends_the_script_even_inside_try() {
+    let text =
+        "let d = drive();\ntry { fail(\"too slow\"); } catch { print(\"swallowed\"); }\nprint(\"after\");\n";
+    let (result, output) = run_script("fail", text, None, Arc::new(StopRequests::new()));
+    assert_eq!(result.exit_code, 1, "{output}");
+    assert!(
+        !output.contains("swallowed") && !output.contains("after"),
+        "{output}"
+    );
+}
+
+#[test]
+fn a_drive_fault_ends_with_exit_3_at_the_call_with_the_script_line() {
+    let prepare = |sim: &Arc<Mutex<dyn SimulatedDrive>>, _: &SharedClock| {
+        sim.lock()
+            .expect("simulator")
+            .faults()
+            .trip_at(Duration::from_secs(3), 4660);
+    };
+    let text = "let d = drive();\nd.go_to(\"operation_enabled\");\nd.set(\"speed_setpoint\", 2000.0, \"rpm\");\ndwell(\"10 s\");\n";
+    let (result, output) = run_script("fault", text, Some(&prepare), Arc::new(StopRequests::new()));
+    assert_eq!(result.exit_code, 3, "{output}");
+    assert!(output.contains("drive fault"), "{output}");
+    assert!(
+        output.contains("script.rhai:4:1]"),
+        "the diagnostic points at dwell:\n{output}"
+    );
+    assert!(output.contains("4 │ dwell(\"10 s\");"), "{output}");
+}
+
+#[test]
+fn a_fault_caught_by_the_script_can_be_reset_and_the_start_retried() {
+    let prepare = |sim: &Arc<Mutex<dyn SimulatedDrive>>, _: &SharedClock| {
+        sim.lock()
+            .expect("simulator")
+            .faults()
+            .trip_at(Duration::from_millis(1), 4660);
+    };
+    let text = std::fs::read_to_string(repo_root().join("recipes/fault-reset-start.rhai")).expect("example");
+    let (result, output) = run_script("retry", &text, Some(&prepare), Arc::new(StopRequests::new()));
+    assert_eq!(result.exit_code, 0, "{output}");
+    assert!(output.contains("resetting"), "{output}");
+    // The fault reset (128) was sent before the successful start.
+    let words = control_words(&result);
+    let reset = words.iter().position(|w| *w == 128).expect("a fault reset");
+    assert!(words[reset..].contains(&15), "{words:?}");
+}
+
+#[test]
+fn a_script_error_inside_a_drive_call_is_located_and_exits_3_after_the_safe_stop() {
+    let text = "let d = drive();\nd.go_to(\"operation_enabled\");\nlet name = \"speed_\" + \"actul\";\nlet v = d.read(name);\n";
+    let (result, output) = run_script("runtime-error", text, None, Arc::new(StopRequests::new()));
+    assert_eq!(result.exit_code, 3, "{output}");
+    assert!(output.contains("unknown object `speed_actul`"), "{output}");
+    assert!(output.contains("did you mean `speed_actual`"), "{output}");
+    assert!(output.contains("script.rhai:4:11]"), "{output}");
+    assert!(control_words(&result).ends_with(&[7, 6]), "{output}");
+}
+
+#[test]
+fn a_panic_in_the_run_exits_101_after_the_safe_stop() {
+    let prepare = |sim: &Arc<Mutex<dyn SimulatedDrive>>, _: &SharedClock| {
+        sim.lock()
+            .expect("simulator")
+            .faults()
+            .panic_at(Duration::from_secs(2));
+    };
+    let text = "let d = drive();\nd.go_to(\"operation_enabled\");\nd.set(\"speed_setpoint\", 1000.0, \"rpm\");\ndwell(\"5 s\");\n";
+    let (result, output) = run_script("panic", text, Some(&prepare), Arc::new(StopRequests::new()));
+    assert_eq!(result.exit_code, 101, "{output}");
+    assert!(output.contains("panic"), "{output}");
+    assert!(control_words(&result).ends_with(&[7, 6]), "{output}");
+}
+
+#[test]
+fn a_stop_request_during_sample_stops_the_drive_at_once() {
+    let stop = Arc::new(StopRequests::new());
+    let signal_at = Duration::from_millis(4_250);
+    stop.schedule(signal_at, StopSignal::INT);
+    let text =
+        "let d = drive();\nd.set(\"speed_setpoint\", 2000.0, \"rpm\");\nd.go_to(\"operation_enabled\");\n\
+                let s = d.sample([\"speed_actual\"], \"30 s\", \"10 min\");\nprint(\"not reached\");\n";
+    let (result, output) = run_script("signal-sample", text, None, stop);
+    assert_eq!(result.exit_code, 130, "{output}");
+    assert!(!output.contains("not reached"), "{output}");
+    assert!(output.contains("INTERRUPTED"), "{output}");
+    let first_stop = received(&result)
+        .into_iter()
+        .find(|(at, t)| *at >= signal_at && written(t, SPEED_SETPOINT).is_some())
+        .expect("a stop telegram after the signal");
+    assert_eq!(written(&first_stop.1, SPEED_SETPOINT), Some(0));
+    assert!(first_stop.0 - signal_at < Duration::from_millis(50), "{output}");
+    assert!(control_words(&result).ends_with(&[7, 6]), "{output}");
+}
+
+#[test]
+fn a_stop_request_ends_a_script_that_only_computes() {
+    // Real time: the virtual clock stands still while a script computes, so a stop
+    // arrives from another thread, as a signal does, while the loop runs (five million
+    // operations take over a second in a test build; the stop comes after 300 ms).
+    let stop = Arc::new(StopRequests::new());
+    let text = "let d = drive();\nd.go_to(\"operation_enabled\");\nprint(\"computing\");\nlet i = 0;\ntry { while true { i += 1; } } catch { print(\"swallowed\"); }\n";
+    let dir = scratch("script-signal-compute");
+    let mut run = InProcessRun::new(write_script(&dir, text));
+    run.fast = false;
+    run.stop = stop.clone();
+    let sender = std::thread::spawn(move || {
+        std::thread::sleep(Duration::from_millis(300));
+        stop.request(StopSignal::TERM);
+    });
+    let (result, output) = run.run();
+    sender.join().expect("sender");
+    assert_eq!(result.exit_code, 143, "{output}");
+    assert!(
+        output.contains("computing"),
+        "the stop came before the loop:\n{output}"
+    );
+    assert!(!output.contains("swallowed"), "{output}");
+    assert!(
+        !output.contains("operations without calling the drive"),
+        "{output}"
+    );
+    assert!(control_words(&result).ends_with(&[7, 6]), "{output}");
+}
+
+#[test]
+fn an_endless_loop_without_drive_calls_is_stopped_by_the_operation_limit() {
+    let text = "let d = drive();\nd.go_to(\"operation_enabled\");\nlet i = 0;\nloop { i += 1; }\n";
+    let (result, output) = run_script("endless", text, None, Arc::new(StopRequests::new()));
+    assert_eq!(result.exit_code, 3, "{output}");
+    assert!(
+        output.contains("operations without calling the drive (an endless loop?)"),
+        "{output}"
+    );
+    assert!(output.contains("script.rhai:4:"), "{output}");
+    assert!(control_words(&result).ends_with(&[7, 6]), "{output}");
+}
+
+#[test]
+fn a_loop_that_calls_the_drive_runs_past_the_operation_limit() {
+    // 20 000 passes of about 300 operations each: more than the limit in all, but never
+    // that many between two drive calls.
+    let text = "let d = drive();\nlet n = 0;\nfor i in 0..20000 {\n    let x = 0;\n    for k in 0..100 { x += k; }\n    n += d.read(\"speed_actual\") * 0.0 + 1;\n}\nexpect(\"passes\", n == 20000, n);\n";
+    let (result, output) = run_script("long-loop", text, None, Arc::new(StopRequests::new()));
+    assert_eq!(result.exit_code, 0, "{output}");
+}
+
+#[test]
+fn the_sandbox_refuses_modules_eval_file_or_process_access_and_oversized_data() {
+    let dir = scratch("sandbox");
+    for (name, text, code, said) in [
+        ("import", "import \"other\" as o;\n", 2, "modules are disabled"),
+        ("eval", "let x = eval(\"1 + 2\");\n", 2, "`eval` is disabled"),
+        (
+            "file",
+            "let f = open(\"/etc/passwd\");\n",
+            3,
+            "Function not found: open",
+        ),
+        (
+            "read-file",
+            "let t = read_string(\"/etc/passwd\");\n",
+            3,
+            "Function not found: read_string",
+        ),
+        (
+            "process",
+            "system(\"rm -rf /\");\n",
+            3,
+            "Function not found: system",
+        ),
+    ] {
+        let path = dir.join(format!("{name}.rhai"));
+        std::fs::write(&path, text).expect("script");
+        let p = path.to_str().expect("utf-8");
+        if code == 2 {
+            let check = drivescript(&["check", p], "");
+            assert_eq!(check.status.code(), Some(2), "{name}");
+            assert!(stderr(&check).contains(said), "{name}: {}", stderr(&check));
+        }
+        let (result, output) = InProcessRun::new(&path).run();
+        assert_eq!(result.exit_code, code, "{name}:\n{output}");
+        assert!(output.contains(said), "{name}:\n{output}");
+        if code == 2 {
+            assert!(result.simulator.is_none(), "{name}: nothing may be sent");
+        } else {
+            assert!(
+                output.contains("no file, process or module access"),
+                "{name}:\n{output}"
+            );
+        }
+    }
+}
+
+#[test]
+fn check_finds_literal_mistakes_with_places_and_suggestions_without_a_port() {
+    let dir = scratch("check");
+    let path = write_script(
+        &dir,
+        "//! drive: sd2\nlet d = drive();\nd.set(\"speed_setpont\", 3000.0, \"rpm\");\nd.set(\"speed_setpoint\", 300000.0, \"rpm\");\n\
+         d.go_to(\"operation_enabld\", \"5 s\");\ndwell(\"5\");\nlet v = d.read_as(\"speed_actual\", \"A\");\n",
+    );
+    let p = path.to_str().expect("utf-8");
+    // A port that does not exist: check must not try to open it.
+    let check = drivescript(&["check", p, "--set", "sped=1"], "");
+    assert_eq!(check.status.code(), Some(2));
+    let err = stderr(&check);
+    for part in [
+        "script.rhai:3:7]",
+        "did you mean `speed_setpoint`",
+        "above the maximum of speed_setpoint",
+        "did you mean `operation_enabled`",
+        "`5` is not a duration",
+        "A is not a unit of speed_actual",
+        "--set sped: the script reads no parameter `sped`",
+        "6 problems found; nothing was sent to the drive",
+    ] {
+        assert!(err.contains(part), "missing {part:?}:\n{err}");
+    }
+}
+
+#[test]
+fn a_scripts_finally_replaces_the_default_and_the_stop_is_still_verified() {
+    let text = "let d = drive();\nfn finally(d) {\n    d.set(\"speed_setpoint\", 0.0, \"rpm\");\n    d.wait_until(\"speed_actual\", |v| v.abs() < 5.0, \"30 s\");\n    d.quick_stop();\n}\nd.set(\"speed_setpoint\", 1000.0, \"rpm\");\nd.go_to(\"operation_enabled\");\ndwell(\"3 s\");\n";
+    let (result, output) = run_script("finally", text, None, Arc::new(StopRequests::new()));
+    assert!(!output.contains("(default finally)"), "{output}");
+    assert!(output.contains("finally 3  ok    quick_stop"), "{output}");
+    // The verification reads the state back and says the truth.
+    assert!(output.contains("drive left in"), "{output}");
+    let words = control_words(&result);
+    assert_eq!(words.last(), Some(&2), "{words:?}");
+}
+
+#[test]
+fn params_come_from_set() {
+    let dir = scratch("params");
+    let path = write_script(
+        &dir,
+        "let d = drive();\nlet speed = param(\"speed\");\nd.set(\"speed_setpoint\", speed);\nexpect(\"speed\", number(speed, \"rpm\") == 4000.0, speed);\n",
+    );
+    let mut run = InProcessRun::new(&path);
+    run.set = vec![("speed".into(), "4 krpm".into())];
+    let (result, output) = run.run();
+    assert_eq!(result.exit_code, 0, "{output}");
+    assert!(output.contains("params  speed = 4 krpm"), "{output}");
+    assert!(output.contains("set speed_setpoint = 4000 rpm"), "{output}");
+    let (result, output) = InProcessRun::new(&path).run();
+    assert_eq!(result.exit_code, 3, "{output}");
+    assert!(
+        output.contains("parameter `speed` is not set: run with --set speed=VALUE"),
+        "{output}"
+    );
+}
+
+/// A signal to the real binary driving a simulated drive through a pseudo-terminal while
+/// a script samples every 30 s: the drive is stopped at once and the run exits 130.
+#[cfg(unix)]
+#[test]
+fn sigint_during_a_scripts_sample_through_a_pty_stops_the_drive() {
+    use crate::safety::{traced_writes, PtySimulator};
+    use std::io::Read;
+    use std::time::Instant;
+    let sim = PtySimulator::start();
+    let dir = scratch("script-pty");
+    let script = write_script(
+        &dir,
+        "let d = drive();\nd.go_to(\"operation_enabled\", \"2 s\");\nd.set(\"speed_setpoint\", 2000.0, \"rpm\");\n\
+         d.wait_until(\"speed_actual\", |v| v > 1980.0, \"10 s\");\nprint(\"sampling\");\n\
+         let s = d.sample([\"speed_actual\"], \"30 s\", \"10 min\");\n",
+    );
+    let trace = dir.join("run.trace");
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_drivescript"))
+        .arg("run")
+        .arg(&script)
+        .args(["--port", &sim.path, "--trace"])
+        .arg(&trace)
+        .current_dir(repo_root())
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("run starts");
+    let mut out = child.stdout.take().expect("stdout");
+    let mut seen = String::new();
+    let mut buf = [0u8; 512];
+    let started = Instant::now();
+    while !seen.contains("sampling") && started.elapsed() < Duration::from_secs(30) {
+        let n = out.read(&mut buf).expect("read");
+        if n == 0 {
+            break;
+        }
+        seen.push_str(&String::from_utf8_lossy(&buf[..n]));
+    }
+    assert!(seen.contains("sampling"), "{seen}");
+    std::thread::sleep(Duration::from_millis(300));
+    let before = std::fs::read_to_string(&trace).expect("trace").lines().count();
+    let status = std::process::Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .expect("kill runs");
+    assert!(status.success());
+    let mut rest = String::new();
+    out.read_to_string(&mut rest).expect("rest");
+    let code = child.wait().expect("run ends").code();
+    let all = format!("{seen}{rest}");
+    assert_eq!(code, Some(130), "{all}");
+    assert!(all.contains("INTERRUPTED"), "{all}");
+    assert!(all.contains("drive left in ready to switch on at 0 rpm"), "{all}");
+    let trace_text = std::fs::read_to_string(&trace).expect("trace");
+    let after: String = trace_text.lines().skip(before).collect::<Vec<_>>().join("\n");
+    let setpoints: Vec<i64> = traced_writes(&after, SPEED_SETPOINT)
+        .into_iter()
+        .map(|(_, v)| v)
+        .collect();
+    assert_eq!(setpoints.first(), Some(&0), "{after}");
+    let words: Vec<i64> = traced_writes(&after, CONTROL_WORD)
+        .into_iter()
+        .map(|(_, v)| v)
+        .collect();
+    assert_eq!(words, [7, 6], "control words after the signal");
+}
+
+#[test]
+fn a_scripts_checks_reach_junit_html_and_csv_like_a_recipes() {
+    let dir = scratch("script-reports");
+    let text =
+        "let d = drive();\nd.set(\"speed_setpoint\", 2000.0, \"rpm\");\nd.go_to(\"operation_enabled\");\n\
+                d.wait_until(\"speed_actual\", |v| v > 1980.0, \"10 s\");\n\
+                let s = d.sample([\"speed_actual\", \"current_actual\"], \"100 ms\", \"2 s\");\n\
+                expect_near(\"speed mean\", s.mean(\"speed_actual\"), 2000.0, \"0.5 %\");\n\
+                expect_near(\"too tight\", s.mean(\"speed_actual\"), 2100.0, \"5 rpm\");\n";
+    let mut run = InProcessRun::new(write_script(&dir, text));
+    let (junit, html, csv) = (
+        dir.join("junit.xml"),
+        dir.join("report.html"),
+        dir.join("samples.csv"),
+    );
+    run.outputs.junit = Some(junit.clone());
+    run.outputs.report = Some(html.clone());
+    run.outputs.csv = Some(csv.clone());
+    let (result, output) = run.run();
+    assert_eq!(result.exit_code, 1, "{output}");
+    let junit_text = std::fs::read_to_string(&junit).expect("junit");
+    let doc = roxmltree::Document::parse(&junit_text).expect("well-formed JUnit");
+    let cases: Vec<&str> = doc
+        .descendants()
+        .filter(|n| n.has_tag_name("testcase"))
+        .filter_map(|n| n.attribute("name"))
+        .collect();
+    assert!(cases.iter().any(|c| c.contains("speed mean")), "{junit_text}");
+    assert!(cases.iter().any(|c| c.contains("too tight")), "{junit_text}");
+    let failures = doc.descendants().filter(|n| n.has_tag_name("failure")).count();
+    assert_eq!(failures, 1, "{junit_text}");
+    assert!(junit_text.contains("script.rhai:7:1"), "{junit_text}");
+    let html_text = std::fs::read_to_string(&html).expect("html");
+    assert!(
+        html_text.contains("too tight") && html_text.contains("FAILED"),
+        "html report"
+    );
+    let csv_text = std::fs::read_to_string(&csv).expect("csv");
+    assert!(csv_text.lines().count() > 2 * 20, "{csv_text}");
+}
+
+#[test]
+fn a_second_stop_request_abandons_the_scripts_finally_and_switches_off_at_once() {
+    let stop = Arc::new(StopRequests::new());
+    stop.schedule(Duration::from_secs(5), StopSignal::INT);
+    stop.schedule(Duration::from_secs(8), StopSignal::INT);
+    let text = "let d = drive();\nfn finally(d) {\n    print(\"finally starts\");\n    dwell(\"30 s\");\n    print(\"finally ends\");\n}\n\
+                d.set(\"speed_setpoint\", 2000.0, \"rpm\");\nd.go_to(\"operation_enabled\");\ndwell(\"1 min\");\n";
+    let (result, output) = run_script("second-signal", text, None, stop);
+    assert_eq!(result.exit_code, 130, "{output}");
+    assert!(output.contains("finally starts"), "{output}");
+    assert!(!output.contains("finally ends"), "{output}");
+    assert!(output.contains("power stage switched off at once"), "{output}");
+    assert_eq!(
+        control_words(&result).last(),
+        Some(&0),
+        "disable voltage last:\n{output}"
+    );
+}
+
+#[test]
+fn an_endless_loop_in_the_scripts_finally_is_stopped_and_the_stop_still_verified() {
+    let text = "let d = drive();\nfn finally(d) {\n    d.set(\"speed_setpoint\", 0.0, \"rpm\");\n    let i = 0;\n    loop { i += 1; }\n}\n\
+                d.go_to(\"operation_enabled\");\n";
+    let (result, output) = run_script("finally-loop", text, None, Arc::new(StopRequests::new()));
+    assert!(output.contains("the script's finally ended early"), "{output}");
+    assert!(
+        output.contains("operations without calling the drive"),
+        "{output}"
+    );
+    assert!(output.contains("drive left in"), "{output}");
+    // The verification found the drive still enabled and escalated.
+    assert_eq!(result.exit_code, 3, "{output}");
+}
