@@ -13,5 +13,5 @@ pub use access_error::AccessError;
 pub use device_control::{DeviceCommand, DeviceState};
 pub use drive::{Drive, Transition};
 pub use drive_error::DriveError;
-pub use object_access::{ObjectAccess, WriteOutcome};
+pub use object_access::{DriveLimits, ObjectAccess, WriteOutcome};
 pub use state_path::{next_step, NextStep};

@@ -15,6 +15,14 @@ pub enum WriteOutcome {
     Limited(RawValue),
 }
 
+/// The smallest and largest value a drive itself accepts for an object, as it reports
+/// them (Lenze 931: `ON`/`OX`); `None` on a side the drive says has no limit.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct DriveLimits {
+    pub min: Option<RawValue>,
+    pub max: Option<RawValue>,
+}
+
 pub trait ObjectAccess: Send {
     fn read(&mut self, address: &Address, data_type: DataType) -> Result<RawValue, AccessError>;
     fn write(
@@ -27,6 +35,12 @@ pub trait ObjectAccess: Send {
     /// trip. The default reads them one by one.
     fn read_many(&mut self, objects: &[(Address, DataType)]) -> Vec<Result<RawValue, AccessError>> {
         objects.iter().map(|(a, t)| self.read(a, *t)).collect()
+    }
+    /// The drive's own limits of an object, for families whose drives report them; `None`
+    /// (the default) when the family cannot ask.
+    fn limits(&mut self, address: &Address, data_type: DataType) -> Option<Result<DriveLimits, AccessError>> {
+        let _ = (address, data_type);
+        None
     }
     /// What we are talking to, for messages: `drive 2 on /dev/ttyUSB0 at 57600 8N1`.
     fn port(&self) -> String;

@@ -100,4 +100,11 @@ pub trait Family: Send + Sync {
         let _ = (text, data_type);
         None
     }
+    /// A captured telegram written as text in the family's own line notation (ASCII
+    /// protocols: `OR:0011`), as bytes for the explainer; `None` when `text` is not one
+    /// (then `decode` reads it as hex).
+    fn line_telegram(&self, text: &str) -> Option<Vec<u8>> {
+        let _ = text;
+        None
+    }
 }

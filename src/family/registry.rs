@@ -1,7 +1,7 @@
 //! The families drivescript knows, by id, and their built-in dictionaries by name: the one
 //! place a family is added. Tests add their own families with [`Registry::with`].
 
-use super::{sd2::Sd2Family, BuiltinDictionary, Family};
+use super::{lenze_931::Lenze931Family, sd2::Sd2Family, BuiltinDictionary, Family};
 use crate::diag::{did_you_mean, Diagnostic};
 use crate::dictionary::{Dictionary, DictionaryError};
 use std::sync::Arc;
@@ -18,7 +18,7 @@ impl Registry {
     /// Every family compiled in.
     pub fn builtin() -> Registry {
         Registry {
-            families: vec![Arc::new(Sd2Family)],
+            families: vec![Arc::new(Sd2Family), Arc::new(Lenze931Family)],
         }
     }
 
@@ -28,12 +28,15 @@ impl Registry {
         self
     }
 
-    /// The family a dictionary names; the error lists the known ones.
+    /// The family a dictionary names (or the family of the built-in dictionary `id`, so
+    /// that `--protocol lenze-931` works like `--drive lenze-931`); the error lists the
+    /// known ones.
     pub fn family(&self, id: &str) -> Result<Arc<dyn Family>, String> {
         self.families
             .iter()
             .find(|f| f.id() == id)
             .cloned()
+            .or_else(|| self.dictionary(id).ok().map(|(f, _)| f))
             .ok_or_else(|| {
                 let ids: Vec<&str> = self.families.iter().map(|f| f.id()).collect();
                 let hint = suggestion(id, &ids);

@@ -4,3 +4,16 @@
 //! drive's byte-level front, and the explainer for `decode` and traces.
 
 pub mod codec;
+mod lenze_access;
+mod lenze_explainer;
+mod lenze_family;
+mod lenze_link;
+pub mod object_address;
+pub mod sim;
+pub mod wire_value;
+
+pub use lenze_access::LenzeAccess;
+pub use lenze_explainer::{status_bits, LenzeExplainer};
+pub use lenze_family::Lenze931Family;
+pub use lenze_link::{LenzeLink, LinkConfig};
+pub use sim::LenzeSimulator;
