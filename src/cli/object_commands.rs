@@ -69,8 +69,14 @@ pub struct ObjectsArgs {
     filter: Option<String>,
     #[arg(long)]
     json: bool,
+    /// Also read each object's minimum and maximum from the drive (families whose drives
+    /// report them; without --port/--tcp the simulated drive's).
+    #[arg(long)]
+    from_drive: bool,
     #[command(flatten)]
     dictionary: DictionaryArgs,
+    #[command(flatten)]
+    connection: ConnectionArgs,
 }
 
 #[derive(Debug, Args)]
@@ -335,11 +341,25 @@ pub fn objects(args: &ObjectsArgs) -> i32 {
         Some(f) => dictionary.filter(f),
         None => dictionary.objects().collect(),
     };
+    let drive_limits = if args.from_drive {
+        let names: Vec<String> = list.iter().map(|d| d.name.clone()).collect();
+        match super::drive_limits::read_all(&names, dictionary.clone(), &args.connection) {
+            Ok((port, limits)) => Some((port, limits)),
+            Err(e) => {
+                eprintln!("{e}");
+                return COMMUNICATION;
+            }
+        }
+    } else {
+        None
+    };
+    let from_drive = |name: &str| drive_limits.as_ref().and_then(|(_, l)| l.get(name).cloned());
     if args.json {
         let rows: Vec<_> = list
             .iter()
             .map(|d| {
                 json!({
+                    "drive_limits": from_drive(&d.name),
                     "name": d.name, "aliases": d.aliases, "address": d.address.to_string(),
                     "type": d.data_type.to_string(), "unit": d.unit.map(|u| u.symbol()), "scale": d.scale,
                     "access": d.access.id(), "min": d.min, "max": d.max,
@@ -356,6 +376,9 @@ pub fn objects(args: &ObjectsArgs) -> i32 {
         return PASSED;
     }
     println!("{} — {} object(s)", dictionary.title(), list.len());
+    if let Some((port, _)) = &drive_limits {
+        println!("drive limits read from {port} (ON/OX or the family's own commands)");
+    }
     if let Some(limits) = dictionary.bench_limits() {
         println!(
             "bench limits {} ({}); limits marked (bench) are capped by it",
@@ -393,6 +416,9 @@ pub fn objects(args: &ObjectsArgs) -> i32 {
             limits,
             d.aliases.join(", ")
         );
+        if let Some(l) = from_drive(&d.name) {
+            println!("{:<18} drive limits: {l}", "");
+        }
     }
     PASSED
 }

@@ -34,6 +34,11 @@ pub struct CheckArgs {
     set: Vec<(String, String)>,
     #[command(flatten)]
     dictionary: DictionaryArgs,
+    /// With --port or --tcp: also read each written object's minimum and maximum from the
+    /// drive (families whose drives report them) and refuse values outside, before
+    /// anything moves. Only reads are sent. Without them no port is opened.
+    #[command(flatten)]
+    connection: ConnectionArgs,
 }
 
 #[derive(Debug, Args)]
@@ -181,6 +186,13 @@ pub fn check(args: &CheckArgs) -> i32 {
                 );
                 if let Some(limits) = dictionary.bench_limits() {
                     println!("    bench limits {} ({})", limits.summary(), limits.source());
+                }
+                if !args.connection.is_simulated() {
+                    code = code.max(super::drive_limits::check_and_print(
+                        &recipe,
+                        dictionary,
+                        &args.connection,
+                    ));
                 }
             }
             Err(e) => {

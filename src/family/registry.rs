@@ -28,15 +28,12 @@ impl Registry {
         self
     }
 
-    /// The family a dictionary names (or the family of the built-in dictionary `id`, so
-    /// that `--protocol lenze-931` works like `--drive lenze-931`); the error lists the
-    /// known ones.
+    /// The family a dictionary names; the error lists the known ones.
     pub fn family(&self, id: &str) -> Result<Arc<dyn Family>, String> {
         self.families
             .iter()
             .find(|f| f.id() == id)
             .cloned()
-            .or_else(|| self.dictionary(id).ok().map(|(f, _)| f))
             .ok_or_else(|| {
                 let ids: Vec<&str> = self.families.iter().map(|f| f.id()).collect();
                 let hint = suggestion(id, &ids);

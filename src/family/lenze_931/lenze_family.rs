@@ -26,7 +26,7 @@ pub struct Lenze931Family;
 
 impl Family for Lenze931Family {
     fn id(&self) -> &'static str {
-        "lenze_931"
+        "lenze-931"
     }
 
     fn title(&self) -> &'static str {
@@ -66,7 +66,7 @@ impl Family for Lenze931Family {
     fn check_link_options(&self, extra: &[(String, String)]) -> Result<(), String> {
         match extra.first() {
             Some((name, _)) => Err(format!(
-                "--link-option {name}: the lenze_931 family has no link options"
+                "--link-option {name}: the lenze-931 family has no link options"
             )),
             None => Ok(()),
         }
@@ -81,7 +81,7 @@ impl Family for Lenze931Family {
     ) -> Result<Box<dyn ObjectAccess>, String> {
         let Bus::Bytes(transport) = bus else {
             return Err(format!(
-                "the lenze_931 family talks over a serial line, not over {}",
+                "the lenze-931 family talks over a serial line, not over {}",
                 bus.name()
             ));
         };
@@ -137,7 +137,10 @@ impl Family for Lenze931Family {
 
     fn line_telegram(&self, text: &str) -> Option<Vec<u8>> {
         let t = text.trim();
-        (Request::parse(t).is_ok() || Reply::parse(t).is_ok()).then(|| {
+        // A line of the protocol, or text that is no hex either: the explainer says why
+        // it is no 931 line. Hex (a serial monitor's dump of the bytes) is read as hex.
+        let line = Request::parse(t).is_ok() || Reply::parse(t).is_ok() || crate::hex::parse_hex(t).is_err();
+        line.then(|| {
             let mut bytes = t.as_bytes().to_vec();
             bytes.push(super::codec::CR);
             bytes
@@ -193,6 +196,7 @@ mod tests {
         let f = Lenze931Family;
         assert_eq!(f.line_telegram("OR:0011"), Some(b"OR:0011\r".to_vec()));
         assert_eq!(f.line_telegram("OW:FFFF FFFF"), Some(b"OW:FFFF FFFF\r".to_vec()));
-        assert_eq!(f.line_telegram("00 0b 02"), None);
+        assert_eq!(f.line_telegram("4f 52 3a"), None);
+        assert_eq!(f.line_telegram("garbage"), Some(b"garbage\r".to_vec()));
     }
 }
