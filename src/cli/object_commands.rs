@@ -3,11 +3,11 @@
 use super::connection_args::ConnectionArgs;
 use super::drive_args::{open_drive, DictionaryArgs, OpenDrive};
 use super::{COMMUNICATION, INVALID, PASSED};
-use crate::dictionary::{DataType, Dictionary, ObjectDef, Quantity};
+use crate::dictionary::{Address, DataType, Dictionary, ObjectDef, Quantity};
 use crate::drive::device_control::{status_word_bits, DeviceState};
 use crate::drive::DriveError;
 use crate::drive::WriteOutcome;
-use crate::family::Registry;
+use crate::family::{Family, Registry};
 use clap::Args;
 use serde_json::json;
 use std::sync::Arc;
@@ -123,6 +123,14 @@ fn with_raw_objects(
     Ok(extended)
 }
 
+/// An address in the family's own notation where it has one (`0x0011`, `TYPE?`).
+fn shown_address(family: &Option<Arc<dyn Family>>, address: &Address) -> String {
+    family
+        .as_ref()
+        .and_then(|f| f.address_notation(address))
+        .unwrap_or_else(|| address.to_string())
+}
+
 /// The drive, or the exit code after printing why not. Says so when it is the simulated
 /// drive, whose state a one-off command cannot keep.
 fn open(connection: &ConnectionArgs, dictionary: Arc<Dictionary>) -> Result<OpenDrive, i32> {
@@ -165,6 +173,7 @@ pub fn read(args: &ReadArgs) -> i32 {
             return INVALID;
         }
     }
+    let dictionary_family = Registry::builtin().family(dictionary.family()).ok();
     let mut open = match open(&args.connection, dictionary) {
         Ok(o) => o,
         Err(code) => return code,
@@ -207,7 +216,7 @@ pub fn read(args: &ReadArgs) -> i32 {
                 d.name,
                 v.to_string(),
                 v.raw.to_string(),
-                d.address
+                shown_address(&dictionary_family, &d.address)
             );
         }
     }
@@ -337,6 +346,7 @@ pub fn objects(args: &ObjectsArgs) -> i32 {
         Ok(d) => d,
         Err(code) => return code,
     };
+    let family = Registry::builtin().family(dictionary.family()).ok();
     let list: Vec<&ObjectDef> = match &args.filter {
         Some(f) => dictionary.filter(f),
         None => dictionary.objects().collect(),
@@ -360,7 +370,7 @@ pub fn objects(args: &ObjectsArgs) -> i32 {
             .map(|d| {
                 json!({
                     "drive_limits": from_drive(&d.name),
-                    "name": d.name, "aliases": d.aliases, "address": d.address.to_string(),
+                    "name": d.name, "aliases": d.aliases, "address": shown_address(&family, &d.address),
                     "type": d.data_type.to_string(), "unit": d.unit.map(|u| u.symbol()), "scale": d.scale,
                     "access": d.access.id(), "min": d.min, "max": d.max,
                     "bench_limit": d.bench.as_ref().map(|b| b.origin.clone()),
@@ -409,7 +419,7 @@ pub fn objects(args: &ObjectsArgs) -> i32 {
         println!(
             "{:<18} {:<9} {:<11} {:<6} {:<6} {:<22} {}{flag}",
             d.name,
-            d.address.to_string(),
+            shown_address(&family, &d.address),
             d.data_type.to_string(),
             d.unit.map(|u| u.symbol()).unwrap_or(""),
             d.access.id(),

@@ -5,7 +5,7 @@
 
 use crate::bus::{Bus, BusKind, FramePeer, Peer, SerialSettings};
 use crate::clock::SharedClock;
-use crate::dictionary::{AddressParser, DataType, Dictionary, ObjectDef};
+use crate::dictionary::{Address, AddressParser, DataType, Dictionary, ObjectDef};
 use crate::drive::ObjectAccess;
 use crate::link::{TelegramExplainer, TelegramObserver};
 use crate::sim::{SimConfig, SimulatedDrive};
@@ -105,6 +105,12 @@ pub trait Family: Send + Sync {
     /// (then `decode` reads it as hex).
     fn line_telegram(&self, text: &str) -> Option<Vec<u8>> {
         let _ = text;
+        None
+    }
+    /// An object's address in this family's own notation, for listings (`0x0011`,
+    /// `TYPE?`); `None` shows the index/subindex pair.
+    fn address_notation(&self, address: &Address) -> Option<String> {
+        let _ = address;
         None
     }
 }

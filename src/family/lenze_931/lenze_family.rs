@@ -135,6 +135,10 @@ impl Family for Lenze931Family {
         }))
     }
 
+    fn address_notation(&self, address: &crate::dictionary::Address) -> Option<String> {
+        LenzeObject::of(address).map(LenzeObject::notation)
+    }
+
     fn line_telegram(&self, text: &str) -> Option<Vec<u8>> {
         let t = text.trim();
         // A line of the protocol, or text that is no hex either: the explainer says why

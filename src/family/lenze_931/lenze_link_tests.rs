@@ -264,3 +264,45 @@ fn every_other_command_gets_its_reply() {
         assert_eq!(l.exchange(&request).unwrap(), expected, "{request}");
     }
 }
+
+mod properties {
+    use super::*;
+    use proptest::prelude::*;
+
+    fn reply_strategy() -> impl Strategy<Value = Option<Vec<u8>>> {
+        prop_oneof![
+            Just(None),
+            Just(Some(b"OK!\r".to_vec())),
+            Just(Some(b"0010:00000BB8\r".to_vec())),
+            Just(Some(b"0010:00000000\r".to_vec())),
+            Just(Some(b"OW:0000 0005\r".to_vec())),
+            proptest::collection::vec(any::<u8>(), 0..300).prop_map(Some),
+        ]
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(64))]
+
+        /// Whatever comes back, a write is never sent again without a read-back between,
+        /// nothing panics, and the link gives up within its attempts.
+        #[test]
+        fn a_write_is_never_repeated_blind(script in proptest::collection::vec(reply_strategy(), 0..8)) {
+            let script: Vec<Option<&[u8]>> = script.iter().map(|r| r.as_deref()).collect();
+            let (mut l, peer, _) = link(script);
+            let _ = l.exchange(&Request::Write { object: 0x10, value: 3000 });
+            let sent = sent(&peer);
+            prop_assert!(sent.len() <= 5, "{:?}", sent);
+            for pair in sent.windows(2) {
+                prop_assert!(!(pair[0].starts_with("OW") && pair[1].starts_with("OW")), "{:?}", sent);
+            }
+        }
+
+        #[test]
+        fn reads_survive_any_bytes(script in proptest::collection::vec(reply_strategy(), 0..4)) {
+            let script: Vec<Option<&[u8]>> = script.iter().map(|r| r.as_deref()).collect();
+            let (mut l, peer, _) = link(script);
+            let _ = l.exchange(&READ_11);
+            prop_assert!(sent(&peer).len() <= 3);
+        }
+    }
+}
