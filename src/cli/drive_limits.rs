@@ -112,6 +112,10 @@ pub fn check_and_print(recipe: &Recipe, dictionary: Arc<Dictionary>, connection:
             for l in lines {
                 println!("    {l}");
             }
+            println!(
+                "    refused: {} value(s) outside the limits the drive reports",
+                problems.len()
+            );
             for p in &problems {
                 eprintln!("  × {p}");
             }

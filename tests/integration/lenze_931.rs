@@ -386,6 +386,22 @@ fn through_a_pseudo_terminal_raw_access_drive_limits_and_a_run() {
         "{}",
         stdout(&out)
     );
+    // Ramp points are checked too, at the step's place.
+    let ramp = write(
+        &dir,
+        "ramp.yaml",
+        "name: Ramp\ndrive: lenze-931\nsteps:\n  - ramp: { object: speed_setpoint, from: -7000 rpm, to: 0 rpm, rate: 1000 rpm/s }\nfinally: []\n",
+    );
+    let ramp = ramp.to_string_lossy().to_string();
+    let mut args = vec!["check", ramp.as_str()];
+    args.extend(base);
+    let out = drivescript(&args, "");
+    assert_eq!(out.status.code(), Some(2), "{}", stdout(&out));
+    assert!(
+        stderr(&out).contains("ramp.yaml:4:5: ramp speed_setpoint = -7000 rpm is below the minimum the drive reports, -6000 rpm"),
+        "{}",
+        stderr(&out)
+    );
     // Nothing moved: the setpoint is what the raw write left.
     let out = drivescript(
         &["read", "0x0010", "--drive", "lenze-931", "--port", port, "--json"],

@@ -141,6 +141,7 @@ impl LenzeExplainer {
             }
             Reply::Error { command, code } => {
                 let object = asked
+                    .filter(|(c, _)| c == command)
                     .map(|(_, n)| format!(" object {}", self.object_text(n)))
                     .unwrap_or_default();
                 let kind = if code.is_limited() {
@@ -271,6 +272,12 @@ mod tests {
         assert!(text.contains("value     -3000 (0xFFFFF448)"), "{text}");
         let text = x.explain(b"OW:0000 0005").unwrap();
         assert!(text.contains("OW written but limited object 0x0010"), "{text}");
+        x.explain(b"OR:0011").unwrap();
+        let text = x.explain(b"OW:00000005").unwrap();
+        assert!(
+            text.contains("OW written but limited\n"),
+            "a write error does not answer a read: {text}"
+        );
         assert!(
             text.contains("0x00000005 value too high, written but limited"),
             "{text}"
