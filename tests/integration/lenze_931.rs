@@ -109,10 +109,25 @@ fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
 fn the_commissioning_recipe_runs_on_the_simulated_931_with_only_drive_changed() {
     let dir = scratch("commissioning");
     let recipe = commissioning_for_931(&dir);
+    let trace = dir.join("run.trace");
     let mut run = InProcessRun::new(recipe);
     run.dictionary = dictionary_args(Some(completed_template(&dir)));
+    run.outputs.trace = Some(trace.clone());
     let (result, output) = run.run();
     assert_eq!(result.exit_code, 0, "{output}");
+    // The trace shows each line as text with its meaning, and decode reads it back.
+    let trace_text = std::fs::read_to_string(&trace).expect("trace");
+    assert!(
+        trace_text.contains("# OW:0020:0000000F write object 0x0020 control_word; 15 (0x0000000F)"),
+        "{trace_text}"
+    );
+    let out = drivescript(&["decode", "--protocol", "lenze-931"], &trace_text);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    assert!(
+        stdout(&out).contains("request   write object 0x0020\n  value     15 (0x0000000F)"),
+        "{}",
+        stdout(&out)
+    );
     assert!(output.contains("using the built-in simulated"), "{output}");
     assert!(output.contains("ident = \"0931\""), "{output}");
     assert!(

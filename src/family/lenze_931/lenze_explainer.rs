@@ -191,16 +191,20 @@ impl LenzeExplainer {
 }
 
 impl TelegramExplainer for LenzeExplainer {
+    /// The line as text, then what it means: `OR:0011  read object 0x0011 speed_actual`.
     fn summary(&mut self, _direction: Direction, bytes: &[u8]) -> String {
         match self.lines(bytes) {
-            Ok(lines) => lines
-                .iter()
-                .map(|l| {
-                    l.split_once(' ')
-                        .map_or(l.as_str(), |(_, rest)| rest.trim_start())
-                })
-                .collect::<Vec<_>>()
-                .join("; "),
+            Ok(lines) => {
+                let meaning = lines
+                    .iter()
+                    .map(|l| {
+                        l.split_once(' ')
+                            .map_or(l.as_str(), |(_, rest)| rest.trim_start())
+                    })
+                    .collect::<Vec<_>>()
+                    .join("; ");
+                format!("{}  {meaning}", String::from_utf8_lossy(bytes).trim())
+            }
             Err(e) => format!("rejected: {e}"),
         }
     }
@@ -288,7 +292,7 @@ mod tests {
         assert!(text.contains("6000 (0x00001770)"), "{text}");
         assert_eq!(
             x.summary(Direction::Received, b"ERROR!\r"),
-            "ERROR!: the drive does not know the command"
+            "ERROR!  ERROR!: the drive does not know the command"
         );
         assert!(x.explain(b"\xff\r").is_err());
         assert!(x.explain(b"HELLO").unwrap_err().contains("unknown reply"));
