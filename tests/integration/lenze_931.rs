@@ -128,6 +128,30 @@ fn the_commissioning_recipe_runs_on_the_simulated_931_with_only_drive_changed() 
         "{}",
         stdout(&out)
     );
+    // With the user's dictionary, decode names the objects and the status bits.
+    let extra = completed_template(&dir).to_string_lossy().to_string();
+    let out = drivescript(
+        &[
+            "decode",
+            "--drive",
+            "lenze-931",
+            "--dictionary",
+            &extra,
+            "OR:0001",
+            "0001:0000A000",
+        ],
+        "",
+    );
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    let text = stdout(&out);
+    assert!(
+        text.contains("request   read object 0x0001 rs232_stat_sum"),
+        "{text}"
+    );
+    assert!(
+        text.contains("status    13 speed = 0 ± hysteresis, 15 ready for operation"),
+        "{text}"
+    );
     assert!(output.contains("using the built-in simulated"), "{output}");
     assert!(output.contains("ident = \"0931\""), "{output}");
     assert!(
@@ -375,6 +399,24 @@ fn through_a_pseudo_terminal_raw_access_drive_limits_and_a_run() {
     assert!(text.contains("0xfffff448"), "{text}");
     assert!(text.contains("-3000"), "{text}");
     assert!(text.contains("\"0931\""), "{text}");
+    // A CANopen object through the SDO simulation: the status word, little-endian bytes.
+    let out = drivescript(
+        &[
+            "read",
+            "sdo:0x6041/0",
+            "--type",
+            "u16",
+            "--drive",
+            "lenze-931",
+            "--port",
+            port,
+            "--json",
+        ],
+        "",
+    );
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    let json: serde_json::Value = serde_json::from_str(stdout(&out).trim()).expect("json");
+    assert_eq!(json[0]["raw"], "576", "0x0240: switch on disabled");
 
     // The drive's limits refuse an out-of-range recipe before anything moves.
     let recipe = commissioning_for_931(&dir).to_string_lossy().to_string();
