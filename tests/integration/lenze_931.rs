@@ -509,3 +509,39 @@ fn through_a_pseudo_terminal_raw_access_drive_limits_and_a_run() {
         stdout(&out)
     );
 }
+
+#[test]
+fn a_silent_drive_leaves_check_unable_to_read_limits_with_exit_code_3() {
+    let dir = scratch("silent");
+    let recipe = commissioning_for_931(&dir).to_string_lossy().to_string();
+    let dictionary = completed_template(&dir).to_string_lossy().to_string();
+    // A loopback listener that accepts and never answers.
+    let listener = std::net::TcpListener::bind("127.0.0.1:0").expect("bind");
+    let addr = listener.local_addr().expect("addr").to_string();
+    let out = drivescript(
+        &[
+            "check",
+            &recipe,
+            "--drive",
+            "lenze-931",
+            "--dictionary",
+            &dictionary,
+            "--tcp",
+            &addr,
+            "--timeout",
+            "50ms",
+            "--retries",
+            "1",
+        ],
+        "",
+    );
+    assert_eq!(out.status.code(), Some(3), "{}", stdout(&out));
+    let err = stderr(&out);
+    assert!(
+        err.contains("`ON:0010` (read the minimum of object 0x0010)"),
+        "{err}"
+    );
+    assert!(err.contains("2 attempt(s), 50 ms each"), "{err}");
+    assert!(err.contains("the drive's limits could not be read"), "{err}");
+    drop(listener);
+}
