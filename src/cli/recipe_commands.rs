@@ -25,7 +25,9 @@ use std::sync::{Arc, Mutex};
 #[derive(Debug, Args)]
 /// Validate recipes against the dictionary without opening any port: object names, units,
 /// limits, durations, parameters, states, included files, unknown keys. Reports every
-/// problem at once; exit code 2 if there is any.
+/// problem at once; exit code 2 if there is any. With --port or --tcp it also reads the
+/// minimum and maximum of every object the recipe writes from the drive (families whose
+/// drives report them, e.g. lenze-931) and refuses values outside; only reads are sent.
 pub struct CheckArgs {
     #[arg(required = true, value_name = "RECIPE")]
     recipes: Vec<PathBuf>,
@@ -34,9 +36,6 @@ pub struct CheckArgs {
     set: Vec<(String, String)>,
     #[command(flatten)]
     dictionary: DictionaryArgs,
-    /// With --port or --tcp: also read each written object's minimum and maximum from the
-    /// drive (families whose drives report them) and refuse values outside, before
-    /// anything moves. Only reads are sent. Without them no port is opened.
     #[command(flatten)]
     connection: ConnectionArgs,
 }
