@@ -83,7 +83,8 @@ pub fn run(args: &DecodeArgs) -> i32 {
         if text.is_empty() || text.starts_with('#') {
             continue;
         }
-        let bytes = match parse_hex(text) {
+        // ASCII families read captured lines as they are (`OR:0011`), hex otherwise.
+        let bytes = match family.line_telegram(text).map_or_else(|| parse_hex(text), Ok) {
             Ok(b) => b,
             Err(e) => {
                 eprintln!("error: {place}: {e}");

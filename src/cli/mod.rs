@@ -4,6 +4,7 @@
 mod connection_args;
 mod decode_command;
 mod drive_args;
+mod drive_limits;
 mod exit_code;
 mod object_commands;
 mod panic_notice;

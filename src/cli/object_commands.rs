@@ -3,11 +3,11 @@
 use super::connection_args::ConnectionArgs;
 use super::drive_args::{open_drive, DictionaryArgs, OpenDrive};
 use super::{COMMUNICATION, INVALID, PASSED};
-use crate::dictionary::{DataType, Dictionary, ObjectDef, Quantity};
+use crate::dictionary::{Address, DataType, Dictionary, ObjectDef, Quantity};
 use crate::drive::device_control::{status_word_bits, DeviceState};
 use crate::drive::DriveError;
 use crate::drive::WriteOutcome;
-use crate::family::Registry;
+use crate::family::{Family, Registry};
 use clap::Args;
 use serde_json::json;
 use std::sync::Arc;
@@ -69,8 +69,14 @@ pub struct ObjectsArgs {
     filter: Option<String>,
     #[arg(long)]
     json: bool,
+    /// Also read each object's minimum and maximum from the drive (families whose drives
+    /// report them; without --port/--tcp the simulated drive's).
+    #[arg(long)]
+    from_drive: bool,
     #[command(flatten)]
     dictionary: DictionaryArgs,
+    #[command(flatten)]
+    connection: ConnectionArgs,
 }
 
 #[derive(Debug, Args)]
@@ -117,6 +123,14 @@ fn with_raw_objects(
     Ok(extended)
 }
 
+/// An address in the family's own notation where it has one (`0x0011`, `TYPE?`).
+fn shown_address(family: &Option<Arc<dyn Family>>, address: &Address) -> String {
+    family
+        .as_ref()
+        .and_then(|f| f.address_notation(address))
+        .unwrap_or_else(|| address.to_string())
+}
+
 /// The drive, or the exit code after printing why not. Says so when it is the simulated
 /// drive, whose state a one-off command cannot keep.
 fn open(connection: &ConnectionArgs, dictionary: Arc<Dictionary>) -> Result<OpenDrive, i32> {
@@ -159,6 +173,7 @@ pub fn read(args: &ReadArgs) -> i32 {
             return INVALID;
         }
     }
+    let dictionary_family = Registry::builtin().family(dictionary.family()).ok();
     let mut open = match open(&args.connection, dictionary) {
         Ok(o) => o,
         Err(code) => return code,
@@ -201,7 +216,7 @@ pub fn read(args: &ReadArgs) -> i32 {
                 d.name,
                 v.to_string(),
                 v.raw.to_string(),
-                d.address
+                shown_address(&dictionary_family, &d.address)
             );
         }
     }
@@ -331,16 +346,31 @@ pub fn objects(args: &ObjectsArgs) -> i32 {
         Ok(d) => d,
         Err(code) => return code,
     };
+    let family = Registry::builtin().family(dictionary.family()).ok();
     let list: Vec<&ObjectDef> = match &args.filter {
         Some(f) => dictionary.filter(f),
         None => dictionary.objects().collect(),
     };
+    let drive_limits = if args.from_drive {
+        let names: Vec<String> = list.iter().map(|d| d.name.clone()).collect();
+        match super::drive_limits::read_all(&names, dictionary.clone(), &args.connection) {
+            Ok((port, limits)) => Some((port, limits)),
+            Err(e) => {
+                eprintln!("{e}");
+                return COMMUNICATION;
+            }
+        }
+    } else {
+        None
+    };
+    let from_drive = |name: &str| drive_limits.as_ref().and_then(|(_, l)| l.get(name).cloned());
     if args.json {
         let rows: Vec<_> = list
             .iter()
             .map(|d| {
                 json!({
-                    "name": d.name, "aliases": d.aliases, "address": d.address.to_string(),
+                    "drive_limits": from_drive(&d.name),
+                    "name": d.name, "aliases": d.aliases, "address": shown_address(&family, &d.address),
                     "type": d.data_type.to_string(), "unit": d.unit.map(|u| u.symbol()), "scale": d.scale,
                     "access": d.access.id(), "min": d.min, "max": d.max,
                     "bench_limit": d.bench.as_ref().map(|b| b.origin.clone()),
@@ -356,6 +386,9 @@ pub fn objects(args: &ObjectsArgs) -> i32 {
         return PASSED;
     }
     println!("{} — {} object(s)", dictionary.title(), list.len());
+    if let Some((port, _)) = &drive_limits {
+        println!("drive limits read from {port} (ON/OX or the family's own commands)");
+    }
     if let Some(limits) = dictionary.bench_limits() {
         println!(
             "bench limits {} ({}); limits marked (bench) are capped by it",
@@ -386,13 +419,16 @@ pub fn objects(args: &ObjectsArgs) -> i32 {
         println!(
             "{:<18} {:<9} {:<11} {:<6} {:<6} {:<22} {}{flag}",
             d.name,
-            d.address.to_string(),
+            shown_address(&family, &d.address),
             d.data_type.to_string(),
             d.unit.map(|u| u.symbol()).unwrap_or(""),
             d.access.id(),
             limits,
             d.aliases.join(", ")
         );
+        if let Some(l) = from_drive(&d.name) {
+            println!("{:<18} drive limits: {l}", "");
+        }
     }
     PASSED
 }

@@ -25,7 +25,9 @@ use std::sync::{Arc, Mutex};
 #[derive(Debug, Args)]
 /// Validate recipes against the dictionary without opening any port: object names, units,
 /// limits, durations, parameters, states, included files, unknown keys. Reports every
-/// problem at once; exit code 2 if there is any.
+/// problem at once; exit code 2 if there is any. With --port or --tcp it also reads the
+/// minimum and maximum of every object the recipe writes from the drive (families whose
+/// drives report them, e.g. lenze-931) and refuses values outside; only reads are sent.
 /// A `.rhai` file is a Rhai script: its syntax and the drive calls written with literals.
 pub struct CheckArgs {
     #[arg(required = true, value_name = "RECIPE")]
@@ -35,6 +37,8 @@ pub struct CheckArgs {
     set: Vec<(String, String)>,
     #[command(flatten)]
     dictionary: DictionaryArgs,
+    #[command(flatten)]
+    connection: ConnectionArgs,
 }
 
 #[derive(Debug, Args)]
@@ -187,6 +191,13 @@ pub fn check(args: &CheckArgs) -> i32 {
                 );
                 if let Some(limits) = dictionary.bench_limits() {
                     println!("    bench limits {} ({})", limits.summary(), limits.source());
+                }
+                if !args.connection.is_simulated() {
+                    code = code.max(super::drive_limits::check_and_print(
+                        &recipe,
+                        dictionary,
+                        &args.connection,
+                    ));
                 }
             }
             Err(e) => {

@@ -120,10 +120,11 @@ impl DictionaryReader<'_> {
         contents
     }
 
-    /// Text of the form `[a-z][a-z0-9_]*`.
+    /// Text of the form `[a-z][a-z0-9_]*`; a family id may also use `-` (`lenze-931`).
     fn identifier(&mut self, node: &YamlNode, what: &str) -> Option<String> {
         let s = self.r.text(node, &format!("`{what}`"))?;
-        if is_identifier(&s) {
+        let family_id = what == "family" && is_identifier(&s.replace('-', "_"));
+        if is_identifier(&s) || family_id {
             Some(s)
         } else {
             self.push(

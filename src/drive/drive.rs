@@ -23,6 +23,10 @@ pub struct Transition {
     pub after: Duration,
 }
 
+/// An object's limits as the drive reports them, in its unit: minimum and maximum,
+/// `None` on a side the drive says has no limit.
+pub type ValueLimits = (Option<Value>, Option<Value>);
+
 pub struct Drive {
     access: Box<dyn ObjectAccess>,
     dictionary: Arc<Dictionary>,
@@ -190,6 +194,29 @@ impl Drive {
             },
             other => DriveError::Access(other),
         }
+    }
+
+    /// The drive's own minimum and maximum of an object, read from the drive and shown
+    /// with the object's type, scale and unit (`None` on a side the drive says has no
+    /// limit); `None` when the family cannot ask its drives for limits.
+    pub fn limits(&mut self, name: &str) -> Option<Result<ValueLimits, DriveError>> {
+        let def = match self.object(name) {
+            Ok(d) => d.clone(),
+            Err(e) => return Some(Err(e)),
+        };
+        let limits = match self.access.limits(&def.address, def.data_type)? {
+            Ok(l) => l,
+            Err(e) => return Some(Err(self.refusal(e, "to read the limits of", &def))),
+        };
+        let value = |raw: Option<RawValue>| -> Result<Option<Value>, DriveError> {
+            raw.map(|r| def.value_of(r))
+                .transpose()
+                .map_err(|source| DriveError::BadReply {
+                    object: def.name.clone(),
+                    source,
+                })
+        };
+        Some(value(limits.min).and_then(|min| Ok((min, value(limits.max)?))))
     }
 
     /// Writes the control-word value of `command` (the profile's table). A fault reset

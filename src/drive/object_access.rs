@@ -16,6 +16,14 @@ pub enum WriteOutcome {
     Limited(RawValue),
 }
 
+/// The smallest and largest value a drive itself accepts for an object, as it reports
+/// them (Lenze 931: `ON`/`OX`); `None` on a side the drive says has no limit.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct DriveLimits {
+    pub min: Option<RawValue>,
+    pub max: Option<RawValue>,
+}
+
 pub trait ObjectAccess: Send {
     fn read(&mut self, address: &Address, data_type: DataType) -> Result<RawValue, AccessError>;
     fn write(
@@ -34,6 +42,12 @@ pub trait ObjectAccess: Send {
     /// session calls it while it waits; `None` means nothing needs keeping alive.
     fn keep_alive(&mut self) -> Result<Option<Duration>, AccessError> {
         Ok(None)
+    }
+    /// The drive's own limits of an object, for families whose drives report them; `None`
+    /// (the default) when the family cannot ask.
+    fn limits(&mut self, address: &Address, data_type: DataType) -> Option<Result<DriveLimits, AccessError>> {
+        let _ = (address, data_type);
+        None
     }
     /// What we are talking to, for messages: `drive 2 on /dev/ttyUSB0 at 57600 8N1`.
     fn port(&self) -> String;

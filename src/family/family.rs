@@ -5,7 +5,7 @@
 
 use crate::bus::{Bus, BusKind, FramePeer, Peer, SerialSettings};
 use crate::clock::SharedClock;
-use crate::dictionary::{AddressParser, DataType, Dictionary, ObjectDef};
+use crate::dictionary::{Address, AddressParser, DataType, Dictionary, ObjectDef};
 use crate::drive::ObjectAccess;
 use crate::link::{TelegramExplainer, TelegramObserver};
 use crate::sim::{SimConfig, SimulatedDrive};
@@ -98,6 +98,19 @@ pub trait Family: Send + Sync {
     /// The returned object is named `text`, read-write, without unit or limits.
     fn raw_object(&self, text: &str, data_type: Option<DataType>) -> Option<Result<ObjectDef, String>> {
         let _ = (text, data_type);
+        None
+    }
+    /// A captured telegram written as text in the family's own line notation (ASCII
+    /// protocols: `OR:0011`), as bytes for the explainer; `None` when `text` is not one
+    /// (then `decode` reads it as hex).
+    fn line_telegram(&self, text: &str) -> Option<Vec<u8>> {
+        let _ = text;
+        None
+    }
+    /// An object's address in this family's own notation, for listings (`0x0011`,
+    /// `TYPE?`); `None` shows the index/subindex pair.
+    fn address_notation(&self, address: &Address) -> Option<String> {
+        let _ = address;
         None
     }
 }

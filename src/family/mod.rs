@@ -3,6 +3,7 @@
 //! Nothing outside this folder names a family.
 
 mod family;
+pub mod lenze_931;
 mod registry;
 pub mod sd2;
 

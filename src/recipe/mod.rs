@@ -9,6 +9,7 @@ mod recipe_invalid;
 mod runner;
 mod schema;
 mod step;
+mod written_values;
 
 pub use crate::session::show_duration;
 pub use crate::session::{number, Check, Condition, Predicate, Statistic, Stats, Tolerance};
@@ -21,3 +22,4 @@ pub use recipe_invalid::RecipeInvalid;
 pub use runner::Runner;
 pub use schema::recipe_schema;
 pub use step::{ObjectRef, SetValue, Step, StepKind, StepOrigin};
+pub use written_values::{written_values, WrittenValue};

@@ -453,6 +453,9 @@ impl RunObserver for Tap<'_> {
     fn run_finished(&mut self, report: &RunReport) {
         self.inner.run_finished(report);
     }
+    fn idle(&mut self) {
+        self.inner.idle();
+    }
 }
 
 /// The window of the sample being taken: statistics always, values up to a script's

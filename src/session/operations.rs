@@ -3,8 +3,8 @@
 
 use super::session::Session;
 use super::stop::Stop;
-use super::{ObjectRef, SetValue};
-use crate::dictionary::{Quantity, Unit};
+use super::{with_unit, ObjectRef, SetValue};
+use crate::dictionary::{Quantity, RawValue, Unit};
 use crate::drive::{DeviceCommand, DeviceState, WriteOutcome};
 use std::time::Duration;
 
@@ -48,10 +48,9 @@ impl Session<'_> {
                 SetValue::Text(t) => self.drive.write_text(&object.name, t)?,
             };
             if let WriteOutcome::Limited(stored) = outcome {
-                limited.push(format!(
-                    "{} limited by the drive (stored raw {stored})",
-                    object.name
-                ));
+                let line = self.limited_warning(object, value, stored);
+                self.observer.message(&format!("warning: {line}"));
+                limited.push(line);
             }
         }
         if limited.is_empty() {
@@ -59,6 +58,35 @@ impl Session<'_> {
         } else {
             Ok(format!("written; warning: {}", limited.join(", ")))
         }
+    }
+
+    /// What a write the drive limited stored: read back from the drive (what later
+    /// checks will see), else the value the drive reported with the write.
+    pub(super) fn limited_warning(
+        &mut self,
+        object: &ObjectRef,
+        asked: &SetValue,
+        stored: RawValue,
+    ) -> String {
+        let asked = match asked {
+            SetValue::Number(n) => with_unit(*n, object.unit.as_deref()),
+            SetValue::Text(t) => format!("{t:?}"),
+        };
+        let stored = match self.drive.read(&object.name) {
+            Ok(v) => format!("{v} (read back)"),
+            Err(_) => match self
+                .drive
+                .object(&object.name)
+                .map(|d| d.value_of(stored.clone()))
+            {
+                Ok(Ok(v)) => format!("{v} (as the drive reported it; the read-back failed)"),
+                _ => format!("raw {stored} (as the drive reported it; the read-back failed)"),
+            },
+        };
+        format!(
+            "{} = {asked} was limited by the drive, which stored {stored}",
+            object.name
+        )
     }
 
     /// Reads objects and shows each value.

@@ -2,8 +2,9 @@
 
 use super::session::{value_of, Session};
 use super::stop::{nth_tick, Stop};
-use super::ObjectRef;
+use super::{ObjectRef, SetValue};
 use crate::dictionary::{Quantity, Unit};
+use crate::drive::WriteOutcome;
 use std::time::Duration;
 
 impl Session<'_> {
@@ -19,6 +20,8 @@ impl Session<'_> {
         let start = self.clock.now();
         let last = u32::try_from(points.len().saturating_sub(1)).unwrap_or(u32::MAX);
         let total = every.checked_mul(last).unwrap_or(Duration::MAX);
+        // How many points the drive limited, and the warning of the last one.
+        let mut limited: Option<(usize, String)> = None;
         for (i, p) in points.iter().enumerate() {
             let due = nth_tick(start, every, u32::try_from(i).unwrap_or(u32::MAX))?;
             self.wait(due)?;
@@ -27,7 +30,11 @@ impl Session<'_> {
             if self.interrupted() {
                 return Err(Stop::Interrupted);
             }
-            self.drive.write(&object.name, &Quantity::new(*p, unit))?;
+            if let WriteOutcome::Limited(stored) = self.drive.write(&object.name, &Quantity::new(*p, unit))? {
+                let line = self.limited_warning(object, &SetValue::Number(*p), stored);
+                self.observer.message(&format!("warning: {line}"));
+                limited = Some((limited.map_or(0, |(n, _)| n) + 1, line));
+            }
             self.observer.step_progress(
                 number,
                 self.clock.now() - start,
@@ -36,6 +43,12 @@ impl Session<'_> {
             );
             self.watch_fault(false)?;
         }
-        Ok(format!("{} values written", points.len()))
+        Ok(match limited {
+            None => format!("{} values written", points.len()),
+            Some((n, last)) => format!(
+                "{} values written; warning: {n} limited by the drive, the last: {last}",
+                points.len()
+            ),
+        })
     }
 }

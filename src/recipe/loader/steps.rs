@@ -72,6 +72,9 @@ impl Loader<'_, '_> {
         match &node.value {
             YamlValue::Str(word) => {
                 if let Some(cmd) = DeviceCommand::from_id(word) {
+                    if !self.has_profile(&node.span, &format!("`{word}`")) {
+                        return None;
+                    }
                     return Some(Step {
                         kind: StepKind::Command(cmd),
                         origin,
@@ -172,10 +175,30 @@ impl Loader<'_, '_> {
         self.problem(span, format!("unknown step `{word}`"), "unknown step", Some(help));
     }
 
+    /// Device control (commands, states) needs the dictionary's profile; without one the
+    /// step is refused here, before anything is sent, saying what to add.
+    fn has_profile(&mut self, span: &Span, what: &str) -> bool {
+        if self.dict.profile().is_some() {
+            return true;
+        }
+        let family = self.dict.family().to_string();
+        self.problem(
+            span,
+            format!("{what} needs device control, but the {family} dictionary has no `profile:`"),
+            "no device-control profile",
+            Some(
+                "add a `profile:` to a dictionary file given with --dictionary FILE: which objects are the control_word and status_word, the control-word value of each command and the status-word mask and value of each state (the built-in dictionary's comments show a template)"
+                    .into(),
+            ),
+        );
+        false
+    }
+
     /// A device state named by `node`, the value of `what`.
     fn state(&mut self, node: &YamlNode, what: &str) -> Option<DeviceState> {
         let text = self.text(node, what)?;
         match DeviceState::from_id(text.trim()) {
+            Some(_) if !self.has_profile(&node.span, &format!("the state `{}`", text.trim())) => None,
             Some(s) => Some(s),
             None => {
                 let ids: Vec<&str> = DeviceState::ALL.iter().map(|s| s.id()).collect();

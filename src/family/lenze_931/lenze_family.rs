@@ -1,0 +1,206 @@
+//! The Lenze 931 family as the registry sees it: its dictionary, its object notation
+//! (`0x0011`, `TYPE?`, `sdo:0x6041/0`), 9600 8N1 point to point (no drive address), and
+//! how to open a [`LenzeAccess`], simulate a drive and explain lines.
+
+use super::codec::{Reply, Request};
+use super::lenze_link::LinkConfig;
+use super::object_address::{self, LenzeObject};
+use super::{LenzeAccess, LenzeExplainer, LenzeLink, LenzeSimulator};
+use crate::bus::{Bus, BusKind, SerialSettings};
+use crate::dictionary::{Access, AddressParser, DataType, Dictionary, Format, ObjectDef};
+use crate::drive::ObjectAccess;
+use crate::family::{
+    BuiltinDictionary, DriveAddress, Family, LinkContext, LinkOptions, SimPeer, SimulatedDevice,
+};
+use crate::link::TelegramExplainer;
+use crate::sim::SimConfig;
+use std::sync::{Arc, Mutex};
+
+const DICTIONARIES: &[BuiltinDictionary] = &[BuiltinDictionary {
+    name: "lenze-931",
+    path: "dictionary/lenze-931.yaml",
+    text: include_str!("../../../dictionary/lenze-931.yaml"),
+}];
+
+pub struct Lenze931Family;
+
+impl Family for Lenze931Family {
+    fn id(&self) -> &'static str {
+        "lenze-931"
+    }
+
+    fn title(&self) -> &'static str {
+        "Lenze 931E/K servo positioning controllers over the serial ASCII object protocol"
+    }
+
+    fn dictionaries(&self) -> &'static [BuiltinDictionary] {
+        DICTIONARIES
+    }
+
+    fn bus_kind(&self) -> BusKind {
+        BusKind::Bytes
+    }
+
+    fn serial_settings(&self) -> SerialSettings {
+        SerialSettings::with_baud(9600)
+    }
+
+    fn address_parser(&self) -> AddressParser {
+        object_address::parse_address
+    }
+
+    fn parse_drive_address(&self, text: Option<&str>) -> Result<DriveAddress, String> {
+        match text.map(str::trim) {
+            None | Some("") | Some("rs232") | Some("RS232") => Ok(DriveAddress {
+                number: 0,
+                shown: "RS232 (point to point)".into(),
+            }),
+            Some(other) => Err(format!("--address {other}: {}", self.address_help())),
+        }
+    }
+
+    fn address_help(&self) -> &'static str {
+        "the 931's serial interface is RS232 point to point and has no drive address; leave --address out"
+    }
+
+    fn check_link_options(&self, extra: &[(String, String)]) -> Result<(), String> {
+        match extra.first() {
+            Some((name, _)) => Err(format!(
+                "--link-option {name}: the lenze-931 family has no link options"
+            )),
+            None => Ok(()),
+        }
+    }
+
+    fn open(
+        &self,
+        bus: &Bus,
+        _drive: &DriveAddress,
+        options: &LinkOptions,
+        context: LinkContext,
+    ) -> Result<Box<dyn ObjectAccess>, String> {
+        let Bus::Bytes(transport) = bus else {
+            return Err(format!(
+                "the lenze-931 family talks over a serial line, not over {}",
+                bus.name()
+            ));
+        };
+        self.check_link_options(&options.extra)?;
+        let config = LinkConfig {
+            reply_timeout: options.reply_timeout,
+            retries: options.retries,
+            ..LinkConfig::default()
+        };
+        let mut link = LenzeLink::new(transport.clone(), context.clock, config);
+        if let Some(o) = context.observer {
+            link.set_observer(o);
+        }
+        if let Some(s) = context.stop {
+            link.set_stop_requests(s);
+        }
+        Ok(Box::new(LenzeAccess::new(link)))
+    }
+
+    fn simulator(&self, _drive: &DriveAddress, config: SimConfig) -> SimulatedDevice {
+        let sim = Arc::new(Mutex::new(LenzeSimulator::new(config)));
+        SimulatedDevice {
+            drive: sim.clone(),
+            peer: SimPeer::Bytes(sim),
+        }
+    }
+
+    fn explainer(&self, dictionary: Arc<Dictionary>) -> Box<dyn TelegramExplainer> {
+        Box::new(LenzeExplainer::new(dictionary))
+    }
+
+    fn raw_object(&self, text: &str, data_type: Option<DataType>) -> Option<Result<ObjectDef, String>> {
+        let t = text.trim();
+        // Dictionary names are `[a-z][a-z0-9_]*`: a digit, `sdo:` or a `?` cannot be one.
+        let ours = t.starts_with(|c: char| c.is_ascii_digit()) || t.starts_with("sdo:") || t.ends_with('?');
+        if !ours {
+            return None;
+        }
+        Some(object_address::parse(t).map(|object| {
+            let (default_type, access) = match object {
+                LenzeObject::Ident(_) => (DataType::String { max: 32 }, Access::ReadOnly),
+                _ => (DataType::I32, Access::ReadWrite),
+            };
+            let mut def = ObjectDef::new(t, object.address(), data_type.unwrap_or(default_type), access);
+            // Without a dictionary nobody knows what the number means: the signed value
+            // and its 32 bits in hex are both shown (`read` prints the raw value too).
+            if data_type.is_none() && default_type.is_integer() {
+                def.format = Format::Hex;
+            }
+            def
+        }))
+    }
+
+    fn address_notation(&self, address: &crate::dictionary::Address) -> Option<String> {
+        LenzeObject::of(address).map(LenzeObject::notation)
+    }
+
+    fn line_telegram(&self, text: &str) -> Option<Vec<u8>> {
+        let t = text.trim();
+        // A line of the protocol, or text that is no hex either: the explainer says why
+        // it is no 931 line. Hex (a serial monitor's dump of the bytes) is read as hex.
+        let line = Request::parse(t).is_ok() || Reply::parse(t).is_ok() || crate::hex::parse_hex(t).is_err();
+        line.then(|| {
+            let mut bytes = t.as_bytes().to_vec();
+            bytes.push(super::codec::CR);
+            bytes
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::dictionary::Address;
+
+    #[test]
+    fn no_drive_address_and_no_link_options() {
+        let f = Lenze931Family;
+        assert_eq!(
+            f.parse_drive_address(None).unwrap().shown,
+            "RS232 (point to point)"
+        );
+        assert!(f
+            .parse_drive_address(Some("3"))
+            .unwrap_err()
+            .contains("point to point"));
+        assert!(f.check_link_options(&[("x".into(), "y".into())]).is_err());
+        assert_eq!(f.serial_settings(), SerialSettings::with_baud(9600));
+    }
+
+    #[test]
+    fn raw_objects_in_the_manuals_notation() {
+        let f = Lenze931Family;
+        let def = f.raw_object("0x0011", None).unwrap().unwrap();
+        assert_eq!(
+            (def.address, def.data_type, def.format),
+            (Address::indexed(0x11, 0), DataType::I32, Format::Hex)
+        );
+        let def = f.raw_object("0x0011", Some(DataType::U16)).unwrap().unwrap();
+        assert_eq!((def.data_type, def.format), (DataType::U16, Format::Decimal));
+        assert!(f
+            .raw_object("17", None)
+            .unwrap()
+            .unwrap_err()
+            .contains("`0x0017`"));
+        let def = f.raw_object("TYPE?", None).unwrap().unwrap();
+        assert_eq!(
+            (def.data_type, def.access),
+            (DataType::String { max: 32 }, Access::ReadOnly)
+        );
+        assert!(f.raw_object("speed_setpoint", None).is_none());
+    }
+
+    #[test]
+    fn captured_lines_are_telegrams() {
+        let f = Lenze931Family;
+        assert_eq!(f.line_telegram("OR:0011"), Some(b"OR:0011\r".to_vec()));
+        assert_eq!(f.line_telegram("OW:FFFF FFFF"), Some(b"OW:FFFF FFFF\r".to_vec()));
+        assert_eq!(f.line_telegram("4f 52 3a"), None);
+        assert_eq!(f.line_telegram("garbage"), Some(b"garbage\r".to_vec()));
+    }
+}

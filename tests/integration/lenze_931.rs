@@ -1,0 +1,547 @@
+//! The Lenze 931 family end to end: the dictionary template completed with the simulated
+//! drive's object numbers runs the shipped commissioning recipe with only `drive:`
+//! changed; limited writes warn with the stored value and later checks see it; the
+//! drive's own limits refuse an out-of-range recipe before anything moves; without a
+//! profile `check` refuses device control; the safe stop on a stop signal, a lost line and
+//! a drive that ignores commands; and a real pseudo-terminal with `simulate --pty`.
+
+use crate::support::{drivescript, repo_root, stderr, stdout, InProcessRun};
+use drivescript::cli::DictionaryArgs;
+use drivescript::clock::SharedClock;
+use drivescript::drive::{DeviceCommand, DeviceState};
+use drivescript::sim::SimulatedDrive;
+use drivescript::stop_request::{StopRequests, StopSignal};
+use std::io::{BufRead, BufReader};
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Stdio};
+use std::sync::{Arc, Mutex, PoisonError};
+use std::time::Duration;
+
+/// The simulated 931's object numbers (see `src/family/lenze_931/sim/sim_objects.rs`).
+const SIM_NUMBERS: &[(&str, &str)] = &[
+    ("rs232_stat_sum", "0x0001"),
+    ("speed_setpoint", "0x0010"),
+    ("speed_actual", "0x0011"),
+    ("current_actual", "0x0012"),
+    ("bus_voltage", "0x0013"),
+    ("operating_mode", "0x0014"),
+    ("control_word", "0x0020"),
+    ("status_word", "0x0021"),
+    ("drive_error", "0x0022"),
+];
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("drivescript-lenze-{name}-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("scratch dir");
+    dir
+}
+
+/// What a user does with the template in `dictionary/lenze-931.yaml`: copy the lines
+/// between the markers, remove the `# `, fill in every `0x????`.
+fn completed_template(dir: &Path) -> PathBuf {
+    let text = std::fs::read_to_string(repo_root().join("dictionary/lenze-931.yaml")).expect("dictionary");
+    let lines: Vec<&str> = text.lines().collect();
+    let start = lines
+        .iter()
+        .position(|l| *l == "# --- template: copy from here ---")
+        .expect("start marker");
+    let end = lines
+        .iter()
+        .position(|l| *l == "# --- template end ---")
+        .expect("end marker");
+    let mut out = String::new();
+    let mut name = "";
+    let mut unconfirmed = 0;
+    for line in &lines[start + 1..end] {
+        let line = line.strip_prefix("# ").unwrap_or(line.trim_start_matches('#'));
+        if let Some(n) = line.trim().strip_prefix("- name:") {
+            name = SIM_NUMBERS
+                .iter()
+                .find(|(k, _)| *k == n.trim())
+                .map(|(k, _)| *k)
+                .unwrap_or_else(|| panic!("template object {n} has no simulated number"));
+        }
+        if line.trim().starts_with("unconfirmed:") {
+            unconfirmed += 1;
+        }
+        let number = SIM_NUMBERS
+            .iter()
+            .find(|(k, _)| *k == name)
+            .map_or("", |(_, v)| *v);
+        out.push_str(&line.replace("\"0x????\"", &format!("\"{number}\"")));
+        out.push('\n');
+    }
+    assert_eq!(
+        unconfirmed,
+        SIM_NUMBERS.len(),
+        "every template entry says it is unconfirmed"
+    );
+    assert!(!out.contains("0x????"));
+    let path = dir.join("my-931.yaml");
+    std::fs::write(&path, out).expect("write the completed template");
+    path
+}
+
+fn dictionary_args(extra: Option<PathBuf>) -> DictionaryArgs {
+    DictionaryArgs {
+        family: "lenze-931".into(),
+        extra: extra.into_iter().collect(),
+        limits: None,
+    }
+}
+
+/// `recipes/commissioning.yaml` with only `drive:` changed.
+fn commissioning_for_931(dir: &Path) -> PathBuf {
+    let text = std::fs::read_to_string(repo_root().join("recipes/commissioning.yaml")).expect("recipe");
+    assert!(text.contains("drive: sd2"));
+    let path = dir.join("commissioning-931.yaml");
+    std::fs::write(&path, text.replace("drive: sd2", "drive: lenze-931")).expect("write recipe");
+    path
+}
+
+fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
+    let path = dir.join(name);
+    std::fs::write(&path, text).expect("write");
+    path
+}
+
+#[test]
+fn the_commissioning_recipe_runs_on_the_simulated_931_with_only_drive_changed() {
+    let dir = scratch("commissioning");
+    let recipe = commissioning_for_931(&dir);
+    let trace = dir.join("run.trace");
+    let mut run = InProcessRun::new(recipe);
+    run.dictionary = dictionary_args(Some(completed_template(&dir)));
+    run.outputs.trace = Some(trace.clone());
+    let (result, output) = run.run();
+    assert_eq!(result.exit_code, 0, "{output}");
+    // The trace shows each line as text with its meaning, and decode reads it back.
+    let trace_text = std::fs::read_to_string(&trace).expect("trace");
+    assert!(
+        trace_text.contains("# OW:0020:0000000F write object 0x0020 control_word; 15 (0x0000000F)"),
+        "{trace_text}"
+    );
+    let out = drivescript(&["decode", "--protocol", "lenze-931"], &trace_text);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    assert!(
+        stdout(&out).contains("request   write object 0x0020\n  value     15 (0x0000000F)"),
+        "{}",
+        stdout(&out)
+    );
+    // With the user's dictionary, decode names the objects and the status bits.
+    let extra = completed_template(&dir).to_string_lossy().to_string();
+    let out = drivescript(
+        &[
+            "decode",
+            "--drive",
+            "lenze-931",
+            "--dictionary",
+            &extra,
+            "OR:0001",
+            "0001:0000A000",
+        ],
+        "",
+    );
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    let text = stdout(&out);
+    assert!(
+        text.contains("request   read object 0x0001 rs232_stat_sum"),
+        "{text}"
+    );
+    assert!(
+        text.contains("status    13 speed = 0 ± hysteresis, 15 ready for operation"),
+        "{text}"
+    );
+    assert!(output.contains("using the built-in simulated"), "{output}");
+    assert!(output.contains("ident = \"0931\""), "{output}");
+    assert!(
+        output.contains("drive left in ready to switch on at 0 rpm"),
+        "{output}"
+    );
+    let sim = result.simulator.expect("the simulated drive");
+    let words = sim
+        .lock()
+        .unwrap_or_else(PoisonError::into_inner)
+        .control_words_written();
+    assert_eq!(words, vec![6, 7, 15, 7, 6]);
+}
+
+#[test]
+fn a_limited_write_warns_with_the_stored_value_and_expect_sees_it() {
+    let dir = scratch("limited");
+    let recipe = write(
+        &dir,
+        "limited.yaml",
+        "name: Limited\ndrive: lenze-931\nsteps:\n  - set: { speed_setpoint: 8000 rpm }\n  - expect: { speed_setpoint: { equals: 6000 rpm } }\n  - ramp: { object: speed_setpoint, from: 5000 rpm, to: 7000 rpm, rate: 1000 rpm/s }\n  - expect: { speed_setpoint: { equals: 6000 rpm } }\nfinally:\n  - set: { speed_setpoint: 0 rpm }\n",
+    );
+    let mut run = InProcessRun::new(recipe);
+    run.dictionary = dictionary_args(Some(completed_template(&dir)));
+    let (result, output) = run.run();
+    assert_eq!(result.exit_code, 0, "{output}");
+    assert!(
+        output.contains(
+            "warning: speed_setpoint = 8000 rpm was limited by the drive, which stored 6000 rpm (read back)"
+        ),
+        "{output}"
+    );
+    assert!(
+        output.contains("written; warning: speed_setpoint = 8000 rpm was limited"),
+        "{output}"
+    );
+    assert!(
+        output.contains("PASS  speed_setpoint equals 6000 rpm"),
+        "{output}"
+    );
+    // 5000 .. 7000 rpm in 100 rpm steps: the ten points above 6000 rpm were limited.
+    assert!(output.contains("21 values written; warning: 10 limited by the drive, the last: speed_setpoint = 7000 rpm was limited by the drive, which stored 6000 rpm (read back)"), "{output}");
+    assert!(!output.contains("FAIL"), "{output}");
+}
+
+#[test]
+fn a_value_the_drive_refuses_names_the_drives_limit() {
+    let dir = scratch("refused");
+    let recipe = write(
+        &dir,
+        "refused.yaml",
+        "name: Refused\ndrive: lenze-931\nsteps:\n  - set: { operating_mode: 7 }\nfinally: []\n",
+    );
+    let mut run = InProcessRun::new(recipe);
+    run.dictionary = dictionary_args(Some(completed_template(&dir)));
+    let (result, output) = run.run();
+    assert_eq!(result.exit_code, 3, "{output}");
+    assert!(
+        output.contains("0x00000003 value too high, not written; the drive's maximum is 3 (0x00000003, read with OX:0014)"),
+        "{output}"
+    );
+}
+
+#[test]
+fn without_a_profile_check_refuses_device_commands_and_states_saying_what_to_add() {
+    let dir = scratch("no-profile");
+    let recipe = write(
+        &dir,
+        "control.yaml",
+        "name: Needs control\ndrive: lenze-931\nsteps:\n  - read: [ident]\n  - shutdown\n  - go_to: operation_enabled\n  - wait_until: { state: switched_on, timeout: 1 s }\nfinally: []\n",
+    );
+    let path = recipe.to_string_lossy().to_string();
+    let out = drivescript(&["check", &path, "--drive", "lenze-931"], "");
+    assert_eq!(out.status.code(), Some(2), "{}", stdout(&out));
+    let err = stderr(&out);
+    assert!(
+        err.contains("`shutdown` needs device control, but the lenze-931 dictionary has no `profile:`"),
+        "{err}"
+    );
+    assert!(
+        err.contains("the state `operation_enabled` needs device control"),
+        "{err}"
+    );
+    assert!(
+        err.contains("the state `switched_on` needs device control"),
+        "{err}"
+    );
+    assert!(
+        err.contains("add a `profile:` to a dictionary file given with --dictionary FILE"),
+        "{err}"
+    );
+    assert!(err.contains("3 problems found"), "{err}");
+    // The same recipe with the completed template (which has a profile) passes.
+    let extra = completed_template(&dir).to_string_lossy().to_string();
+    let out = drivescript(
+        &["check", &path, "--drive", "lenze-931", "--dictionary", &extra],
+        "",
+    );
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+}
+
+/// Runs the commissioning recipe on the simulated 931 with `prepare` and a stop request.
+fn run_with(
+    recipe: &Path,
+    dictionary: PathBuf,
+    prepare: &drivescript::cli::PrepareSimulator,
+    stop: Arc<StopRequests>,
+) -> (i32, String, Arc<Mutex<dyn SimulatedDrive>>) {
+    let mut run = InProcessRun::new(recipe);
+    run.dictionary = dictionary_args(Some(dictionary));
+    run.prepare = Some(prepare);
+    run.stop = stop;
+    let (result, output) = run.run();
+    let sim = result
+        .simulator
+        .unwrap_or_else(|| panic!("the run did not start: {output}"));
+    (result.exit_code, output, sim)
+}
+
+#[test]
+fn sigint_during_a_run_stops_the_simulated_931_and_verifies_it() {
+    let dir = scratch("sigint");
+    let recipe = commissioning_for_931(&dir);
+    let stop = Arc::new(StopRequests::new());
+    stop.schedule(Duration::from_secs(4), StopSignal::INT);
+    let (code, output, sim) = run_with(&recipe, completed_template(&dir), &|_, _: &SharedClock| {}, stop);
+    assert_eq!(code, 130, "{output}");
+    assert!(
+        output.contains("INTERRUPTED: interrupted by Ctrl-C (SIGINT)"),
+        "{output}"
+    );
+    assert!(output.contains("FAIL  dwell 5s  interrupted"), "{output}");
+    // The recipe's own finally disables without braking, and the last line says so.
+    assert!(
+        output.contains("drive left in ready to switch on at 3000 rpm — STILL COASTING"),
+        "{output}"
+    );
+    let sim = sim.lock().unwrap_or_else(PoisonError::into_inner);
+    assert_eq!(sim.state(), DeviceState::ReadyToSwitchOn);
+    assert_eq!(sim.control_words_written(), vec![6, 7, 15, 7, 6]);
+}
+
+#[test]
+fn a_931_that_ignores_the_stop_commands_is_escalated_and_reported() {
+    let dir = scratch("disobeys");
+    let recipe = commissioning_for_931(&dir);
+    let prepare = |sim: &Arc<Mutex<dyn SimulatedDrive>>, _: &SharedClock| {
+        sim.lock()
+            .unwrap_or_else(PoisonError::into_inner)
+            .faults()
+            .ignore_commands(&[
+                DeviceCommand::DisableOperation,
+                DeviceCommand::Shutdown,
+                DeviceCommand::QuickStop,
+                DeviceCommand::DisableVoltage,
+            ]);
+    };
+    let (code, output, _) = run_with(
+        &recipe,
+        completed_template(&dir),
+        &prepare,
+        Arc::new(StopRequests::new()),
+    );
+    assert_eq!(code, 3, "{output}");
+    assert!(
+        output.contains("it did not obey; escalating to quick stop"),
+        "{output}"
+    );
+    assert!(output.contains("CHECK THE DRIVE BY HAND"), "{output}");
+}
+
+#[test]
+fn a_lost_line_to_the_931_ends_in_the_truth() {
+    let dir = scratch("line-lost");
+    let recipe = commissioning_for_931(&dir);
+    let prepare = |sim: &Arc<Mutex<dyn SimulatedDrive>>, _: &SharedClock| {
+        sim.lock()
+            .unwrap_or_else(PoisonError::into_inner)
+            .faults()
+            .line_down(Duration::from_secs(4), Duration::from_secs(36_000));
+    };
+    let mut run = InProcessRun::new(&recipe);
+    run.dictionary = dictionary_args(Some(completed_template(&dir)));
+    run.prepare = Some(&prepare);
+    run.safe_stop.reconnect_timeout = Some(Duration::from_secs(2));
+    let (result, output) = run.run();
+    assert_eq!(result.exit_code, 3, "{output}");
+    assert!(output.contains("CHECK THE DRIVE BY HAND"), "{output}");
+    assert!(output.contains("drive left in an unknown state"), "{output}");
+}
+
+/// A `drivescript simulate --drive lenze-931 --pty` in the background, killed when dropped.
+struct PtySimulator {
+    child: Child,
+    port: String,
+}
+
+impl PtySimulator {
+    fn start() -> PtySimulator {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_drivescript"))
+            .args(["simulate", "--drive", "lenze-931", "--pty"])
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .expect("simulate starts");
+        let mut line = String::new();
+        BufReader::new(child.stdout.take().expect("stdout"))
+            .read_line(&mut line)
+            .expect("simulate prints its pty");
+        PtySimulator {
+            child,
+            port: line.trim().to_string(),
+        }
+    }
+}
+
+impl Drop for PtySimulator {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+#[cfg(unix)]
+#[test]
+fn through_a_pseudo_terminal_raw_access_drive_limits_and_a_run() {
+    let sim = PtySimulator::start();
+    let port = sim.port.as_str();
+    assert!(port.starts_with("/dev/"), "{port}");
+    let dir = scratch("pty");
+    let dictionary = completed_template(&dir).to_string_lossy().to_string();
+
+    // Raw access without a dictionary entry: signed 32-bit and hex.
+    let out = drivescript(
+        &["write", "0x0010", "-3000", "--drive", "lenze-931", "--port", port],
+        "",
+    );
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    let out = drivescript(
+        &["read", "0x0010", "TYPE?", "--drive", "lenze-931", "--port", port],
+        "",
+    );
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    let text = stdout(&out);
+    assert!(text.contains("0xfffff448"), "{text}");
+    assert!(text.contains("-3000"), "{text}");
+    assert!(text.contains("\"0931\""), "{text}");
+    // A CANopen object through the SDO simulation: the status word, little-endian bytes.
+    let out = drivescript(
+        &[
+            "read",
+            "sdo:0x6041/0",
+            "--type",
+            "u16",
+            "--drive",
+            "lenze-931",
+            "--port",
+            port,
+            "--json",
+        ],
+        "",
+    );
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    let json: serde_json::Value = serde_json::from_str(stdout(&out).trim()).expect("json");
+    assert_eq!(json[0]["raw"], "576", "0x0240: switch on disabled");
+
+    // The drive's limits refuse an out-of-range recipe before anything moves.
+    let recipe = commissioning_for_931(&dir).to_string_lossy().to_string();
+    let base = [
+        "--drive",
+        "lenze-931",
+        "--dictionary",
+        dictionary.as_str(),
+        "--port",
+        port,
+    ];
+    let mut args = vec!["check", recipe.as_str(), "--set", "speed=8000rpm"];
+    args.extend(base);
+    let out = drivescript(&args, "");
+    assert_eq!(out.status.code(), Some(2), "{}\n{}", stdout(&out), stderr(&out));
+    let err = stderr(&out);
+    assert!(
+        err.contains("set speed_setpoint = 8000 rpm is above the maximum the drive reports, 6000 rpm"),
+        "{err}"
+    );
+    assert!(err.contains("nothing was sent to move the drive"), "{err}");
+    assert!(
+        stdout(&out).contains("drive limits of speed_setpoint: -6000 rpm .. 6000 rpm"),
+        "{}",
+        stdout(&out)
+    );
+    // Ramp points are checked too, at the step's place.
+    let ramp = write(
+        &dir,
+        "ramp.yaml",
+        "name: Ramp\ndrive: lenze-931\nsteps:\n  - ramp: { object: speed_setpoint, from: -7000 rpm, to: 0 rpm, rate: 1000 rpm/s }\nfinally: []\n",
+    );
+    let ramp = ramp.to_string_lossy().to_string();
+    let mut args = vec!["check", ramp.as_str()];
+    args.extend(base);
+    let out = drivescript(&args, "");
+    assert_eq!(out.status.code(), Some(2), "{}", stdout(&out));
+    assert!(
+        stderr(&out).contains("ramp.yaml:4:5: ramp speed_setpoint = -7000 rpm is below the minimum the drive reports, -6000 rpm"),
+        "{}",
+        stderr(&out)
+    );
+    // Nothing moved: the setpoint is what the raw write left.
+    let out = drivescript(
+        &["read", "0x0010", "--drive", "lenze-931", "--port", port, "--json"],
+        "",
+    );
+    let json: serde_json::Value = serde_json::from_str(stdout(&out).trim()).expect("json");
+    assert_eq!(json[0]["raw"], "-3000");
+    let out = drivescript(
+        &[
+            "state",
+            "--drive",
+            "lenze-931",
+            "--dictionary",
+            &dictionary,
+            "--port",
+            port,
+        ],
+        "",
+    );
+    assert!(stdout(&out).contains("switch on disabled"), "{}", stdout(&out));
+
+    // Within the limits, check passes and the recipe runs through the pty.
+    let mut args = vec!["check", recipe.as_str()];
+    args.extend(base);
+    let out = drivescript(&args, "");
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    let mut args = vec!["objects", "speed", "--from-drive"];
+    args.extend(base);
+    let out = drivescript(&args, "");
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    assert!(
+        stdout(&out).contains("drive limits: -6000 rpm .. 6000 rpm"),
+        "{}",
+        stdout(&out)
+    );
+    let mut args = vec!["run", recipe.as_str(), "--stop-timeout", "20s"];
+    args.extend(base);
+    let out = drivescript(&args, "");
+    assert_eq!(out.status.code(), Some(0), "{}\n{}", stdout(&out), stderr(&out));
+    assert!(stdout(&out).contains("PASSED"), "{}", stdout(&out));
+
+    // Captured lines explain themselves.
+    let out = drivescript(&["decode", "--protocol", "lenze-931", "OW:0000 0005"], "");
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    assert!(
+        stdout(&out).contains("0x00000005 value too high, written but limited"),
+        "{}",
+        stdout(&out)
+    );
+}
+
+#[test]
+fn a_silent_drive_leaves_check_unable_to_read_limits_with_exit_code_3() {
+    let dir = scratch("silent");
+    let recipe = commissioning_for_931(&dir).to_string_lossy().to_string();
+    let dictionary = completed_template(&dir).to_string_lossy().to_string();
+    // A loopback listener that accepts and never answers.
+    let listener = std::net::TcpListener::bind("127.0.0.1:0").expect("bind");
+    let addr = listener.local_addr().expect("addr").to_string();
+    let out = drivescript(
+        &[
+            "check",
+            &recipe,
+            "--drive",
+            "lenze-931",
+            "--dictionary",
+            &dictionary,
+            "--tcp",
+            &addr,
+            "--timeout",
+            "50ms",
+            "--retries",
+            "1",
+        ],
+        "",
+    );
+    assert_eq!(out.status.code(), Some(3), "{}", stdout(&out));
+    let err = stderr(&out);
+    assert!(
+        err.contains("`ON:0010` (read the minimum of object 0x0010)"),
+        "{err}"
+    );
+    assert!(err.contains("2 attempt(s), 50 ms each"), "{err}");
+    assert!(err.contains("the drive's limits could not be read"), "{err}");
+    drop(listener);
+}
