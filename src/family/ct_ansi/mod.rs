@@ -1,0 +1,6 @@
+//! Control Techniques drives (Unidrive SP, Commander SK, Mentor, Unidrive classic) over the
+//! ANSI x3.28 serial protocol: the pure codec, the link (one message, one checked reply;
+//! group and global writes get none), object access for the drive layer, the simulated
+//! drive's byte-level front, and the message explainer for `decode` and traces.
+
+pub mod codec;
