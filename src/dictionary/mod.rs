@@ -39,7 +39,7 @@ pub use dictionary::Dictionary;
 pub use dictionary_error::DictionaryError;
 pub use format::Format;
 pub use object_def::ObjectDef;
-pub use profile::{Profile, RoleBinding, StateMask};
+pub use profile::{CommandWrite, ObjectWrite, Profile, RoleBinding, StateMask};
 pub use quantity::Quantity;
 pub(crate) use quantity_reader::read_dimensioned;
 pub use role::Role;

@@ -26,6 +26,10 @@ pub struct ObjectDef {
     pub unit: Option<Unit>,
     /// Engineering units per raw count (e.g. 0.001 for speeds counted in 0.001 rpm).
     pub scale: f64,
+    /// Set by `decimals:` for drives that carry values as decimal text (Control
+    /// Techniques: `+1500.5`): the decimal places the drive uses, the scale is 10^−places,
+    /// and values go to the drive as exact [`RawValue::Decimal`], never through a float.
+    pub decimal_places: Option<u8>,
     pub access: Access,
     /// Limits in engineering units (tightened by the bench limits, see [`Self::bench`]).
     pub min: Option<f64>,
@@ -55,6 +59,7 @@ impl ObjectDef {
             data_type,
             unit: None,
             scale: 1.0,
+            decimal_places: None,
             access,
             min: None,
             max: None,
@@ -243,7 +248,15 @@ impl ObjectDef {
                 range,
             });
         }
-        Ok(RawValue::Int(counts as i64))
+        Ok(match self.decimal_places {
+            // Rounded to a whole count above, so the digits are exact: 1500.5 rpm with one
+            // place is 15005 × 10⁻¹ and goes on the wire as `1500.5`.
+            Some(places) => RawValue::Decimal {
+                digits: counts as i64,
+                places,
+            },
+            None => RawValue::Int(counts as i64),
+        })
     }
 
     /// Checks text for a string object: plain printable ASCII, at most the type's maximum.
@@ -523,7 +536,35 @@ mod tests {
         assert!(!ident().writable() && ident().readable());
     }
 
+    fn decimal_speed() -> ObjectDef {
+        let mut o = speed_setpoint();
+        o.scale = 0.1;
+        o.decimal_places = Some(1);
+        o
+    }
+
+    #[test]
+    fn decimal_objects_convert_exactly() {
+        let o = decimal_speed();
+        let d = |digits, places| RawValue::Decimal { digits, places };
+        assert_eq!(counts_for(&o, "1500.5 rpm"), d(15005, 1));
+        assert_eq!(counts_for(&o, "1500.5 rpm").to_string(), "1500.5");
+        assert_eq!(counts_for(&o, "-34.5"), d(-345, 1));
+        assert_eq!(counts_for(&o, "1500.3 rpm").to_string(), "1500.3");
+        assert_eq!(counts_for(&o, "1.5 krpm"), d(15000, 1));
+        let v = o.value_of(d(15005, 1)).unwrap();
+        assert_eq!(v.to_string(), "1500.5 rpm");
+    }
+
     proptest! {
+        #[test]
+        fn decimal_text_round_trips_exactly(tenths in -600_000i64..=600_000) {
+            let o = decimal_speed();
+            let text = RawValue::Decimal { digits: tenths, places: 1 }.to_string();
+            let raw = o.to_raw(&Quantity::parse(&text).unwrap()).unwrap();
+            prop_assert_eq!(raw.to_string(), text);
+        }
+
         #[test]
         fn to_raw_value_of_round_trip_within_one_count(v in -60000.0f64..=60000.0) {
             let o = speed_setpoint();

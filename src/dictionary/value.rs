@@ -26,6 +26,8 @@ impl RawValue {
     pub fn as_int(&self) -> Option<i64> {
         match self {
             RawValue::Int(i) => Some(*i),
+            // A whole decimal (a status word read as text) is an integer too.
+            RawValue::Decimal { digits, places: 0 } => Some(*digits),
             _ => None,
         }
     }
