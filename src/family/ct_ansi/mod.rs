@@ -4,3 +4,10 @@
 //! drive's byte-level front, and the message explainer for `decode` and traces.
 
 pub mod codec;
+mod ct_access;
+mod ct_link;
+mod link_config;
+
+pub use ct_access::CtAccess;
+pub use ct_link::CtLink;
+pub use link_config::CtLinkConfig;
