@@ -38,7 +38,7 @@ pub use data_type::{DataType, MAX_STRING_LEN};
 pub use dictionary::Dictionary;
 pub use dictionary_error::DictionaryError;
 pub use format::Format;
-pub use object_def::ObjectDef;
+pub use object_def::{DecimalPlaces, ObjectDef};
 pub use profile::{CommandWrite, ObjectWrite, Profile, RoleBinding, StateMask};
 pub use quantity::Quantity;
 pub(crate) use quantity_reader::read_dimensioned;

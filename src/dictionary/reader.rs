@@ -311,7 +311,7 @@ impl DictionaryReader<'_> {
         object.aliases = aliases;
         object.unit = unit.flatten();
         object.scale = scale;
-        object.decimal_places = decimals;
+        object.decimal_places = decimals.map(super::object_def::DecimalPlaces::Fixed);
         object.format = format.unwrap_or_default();
         object.description = description.unwrap_or_default();
         object.unconfirmed = unconfirmed;

@@ -92,7 +92,9 @@ impl fmt::Display for Value {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match (&self.raw, self.quantity) {
             (RawValue::Text(t), _) => write!(f, "{t:?}"),
-            (RawValue::Int(i), _) if self.format == Format::Hex && self.unit().is_none() => {
+            (RawValue::Int(i) | RawValue::Decimal { digits: i, places: 0 }, _)
+                if self.format == Format::Hex && self.unit().is_none() =>
+            {
                 let digits = self.width.max(1) * 2;
                 // Negative counts of signed types print as their two's complement.
                 let bits = (self.width.clamp(1, 8) * 8) as u32;
@@ -187,6 +189,18 @@ mod tests {
         assert_eq!(d(15005, 1), "1500.5");
         assert_eq!(d(-5, 2), "-0.05");
         assert_eq!(d(42, 0), "42");
+        let status = Value {
+            raw: RawValue::Decimal { digits: 3, places: 0 },
+            quantity: Some(Quantity::new(3.0, None)),
+            format: Format::Hex,
+            width: 2,
+            decimals: 0,
+        };
+        assert_eq!(
+            status.to_string(),
+            "0x0003",
+            "a whole decimal shows in hex like an integer"
+        );
     }
 
     #[test]

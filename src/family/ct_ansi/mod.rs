@@ -11,3 +11,13 @@ mod link_config;
 pub use ct_access::CtAccess;
 pub use ct_link::CtLink;
 pub use link_config::CtLinkConfig;
+mod ct_explainer;
+mod ct_family;
+pub mod sim;
+
+pub use ct_explainer::CtExplainer;
+pub use ct_family::CtFamily;
+pub use sim::CtSimulator;
+
+#[cfg(test)]
+mod dictionary_tests;
