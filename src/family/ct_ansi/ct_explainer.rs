@@ -81,11 +81,7 @@ impl CtExplainer {
     fn reply(&self, r: &Reply) -> String {
         match *r {
             Reply::Value { parameter, value } => {
-                format!(
-                    "reply {} = {}",
-                    self.name(parameter),
-                    self.value(parameter, value)
-                )
+                format!("{} = {}", self.name(parameter), self.value(parameter, value))
             }
             Reply::Accepted => "ACK: write accepted".into(),
             Reply::Refused => {
@@ -111,19 +107,24 @@ impl TelegramExplainer for CtExplainer {
     fn summary(&mut self, direction: Direction, bytes: &[u8]) -> String {
         let text = match direction {
             Direction::Sent => Request::decode(bytes).map(|r| self.request(&r)),
-            Direction::Received => Reply::decode(bytes).map(|r| self.reply(&r)),
+            Direction::Received => Reply::decode(bytes).map(|r| match r {
+                Reply::Value { .. } => format!("reply {}", self.reply(&r)),
+                _ => self.reply(&r),
+            }),
         };
         text.unwrap_or_else(|e| format!("rejected: {e}"))
     }
 
     fn explain(&mut self, bytes: &[u8]) -> Result<String, String> {
-        let mut out = format!("  message   {}\n", show_bytes(bytes));
+        let shown = show_bytes(bytes);
+        let rejected = |e: super::codec::DecodeError| format!("{e}, in `{shown}`");
+        let mut out = format!("  message   {shown}\n");
         if looks_like_request(bytes) {
-            let r = Request::decode(bytes).map_err(|e| e.to_string())?;
+            let r = Request::decode(bytes).map_err(rejected)?;
             out.push_str(&format!("  request   {}\n", self.request(&r)));
             return Ok(out);
         }
-        let r = Reply::decode(bytes).map_err(|e| e.to_string())?;
+        let r = Reply::decode(bytes).map_err(rejected)?;
         out.push_str(&format!("  reply     {}\n", self.reply(&r)));
         let master = match bytes.first() {
             Some(&ACK) => Some("from the master: read the next parameter"),
