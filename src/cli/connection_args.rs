@@ -215,3 +215,21 @@ impl ConnectionArgs {
         })
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn serial_frame_overrides() {
+        assert_eq!(parse_data_bits("7"), Ok(DataBits::Seven));
+        assert_eq!(parse_data_bits("8"), Ok(DataBits::Eight));
+        assert!(parse_data_bits("9").unwrap_err().contains("7 or 8"));
+        assert_eq!(parse_parity("even"), Ok(Parity::Even));
+        assert_eq!(parse_parity("O"), Ok(Parity::Odd));
+        assert_eq!(parse_parity("none"), Ok(Parity::None));
+        assert!(parse_parity("mark").unwrap_err().contains("none, even or odd"));
+        assert_eq!(parse_stop_bits("2"), Ok(StopBits::Two));
+        assert!(parse_stop_bits("1.5").is_err());
+    }
+}

@@ -81,12 +81,16 @@ impl DictionaryArgs {
 
 /// The built-in dictionary a YAML recipe's top-level `drive:` names, when it names one
 /// (a family id such as `sd2` that is also a dictionary's name counts). Anything that
-/// cannot be read is left to the recipe loader to report.
+/// cannot be read is left to the recipe loader to report; the file is read within the
+/// loader's size limit.
 fn recipe_drive(registry: &Registry, recipe: &Path) -> Option<String> {
     let is_yaml = recipe
         .extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("yaml") || e.eq_ignore_ascii_case("yml"));
-    if !is_yaml {
+    // Only a regular file can be read twice (here and by the loader): a pipe would be
+    // used up by this look.
+    let is_file = std::fs::metadata(recipe).is_ok_and(|m| m.is_file());
+    if !is_yaml || !is_file {
         return None;
     }
     let source = crate::diag::read_source(recipe).ok()?;

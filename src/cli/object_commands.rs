@@ -88,6 +88,15 @@ fn load_dictionary(args: &DictionaryArgs) -> Result<Arc<Dictionary>, i32> {
     })
 }
 
+/// An object's address as the dictionary's family writes it (`#1.21` for Control
+/// Techniques, `index 395 (0x018b)` for SD2).
+fn address_text(dictionary: &Dictionary, address: &crate::dictionary::Address) -> String {
+    match Registry::builtin().family(dictionary.family()) {
+        Ok(family) => family.show_address(address),
+        Err(_) => address.to_string(),
+    }
+}
+
 /// The dictionary with an object added for each of `names` it does not list but the
 /// family reads as an address in its own notation (`read '#5.04'`); a name that is
 /// neither stays unknown, for the caller's did-you-mean message.
@@ -201,7 +210,7 @@ pub fn read(args: &ReadArgs) -> i32 {
                 d.name,
                 v.to_string(),
                 v.raw.to_string(),
-                d.address
+                address_text(&open.drive.dictionary().clone(), &d.address)
             );
         }
     }
@@ -349,7 +358,7 @@ pub fn objects(args: &ObjectsArgs) -> i32 {
             .iter()
             .map(|d| {
                 json!({
-                    "name": d.name, "aliases": d.aliases, "address": d.address.to_string(),
+                    "name": d.name, "aliases": d.aliases, "address": address_text(&dictionary, &d.address),
                     "type": d.data_type.to_string(), "unit": d.unit.map(|u| u.symbol()), "scale": d.scale,
                     "access": d.access.id(), "min": d.min, "max": d.max,
                     "bench_limit": d.bench.as_ref().map(|b| b.origin.clone()),
@@ -395,7 +404,7 @@ pub fn objects(args: &ObjectsArgs) -> i32 {
         println!(
             "{:<18} {:<9} {:<11} {:<6} {:<6} {:<22} {}{flag}",
             d.name,
-            d.address.to_string(),
+            address_text(&dictionary, &d.address),
             d.data_type.to_string(),
             d.unit.map(|u| u.symbol()).unwrap_or(""),
             d.access.id(),

@@ -5,7 +5,7 @@
 
 use crate::bus::{Bus, BusKind, FramePeer, Peer, SerialSettings};
 use crate::clock::SharedClock;
-use crate::dictionary::{AddressParser, DataType, Dictionary, ObjectDef};
+use crate::dictionary::{Address, AddressParser, DataType, Dictionary, ObjectDef};
 use crate::drive::ObjectAccess;
 use crate::link::{TelegramExplainer, TelegramObserver};
 use crate::sim::{SimConfig, SimulatedDrive};
@@ -91,6 +91,11 @@ pub trait Family: Send + Sync {
     fn simulator(&self, drive: &DriveAddress, config: SimConfig) -> SimulatedDevice;
     /// Reads this family's telegrams with the objects of `dictionary`.
     fn explainer(&self, dictionary: Arc<Dictionary>) -> Box<dyn TelegramExplainer>;
+    /// An object's address as this family writes it, for listings (`#1.21`); the default
+    /// is the family-neutral `index 395 (0x018b)`.
+    fn show_address(&self, address: &Address) -> String {
+        address.to_string()
+    }
     /// An object the dictionary does not have, named in this family's own notation
     /// (`#5.04`, `0x0011`, `C00061`) for one-off `read` and `write`. `None` when `text` is
     /// not in that notation; `data_type` is the user's `--type`, and the family either

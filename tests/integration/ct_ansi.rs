@@ -365,7 +365,7 @@ fn ctrl_c_during_a_run_on_the_simulated_ct_drive_stops_it() {
     let mut child = Command::new(env!("CARGO_BIN_EXE_drivescript"))
         .arg("run")
         .arg(&recipe)
-        .args(["--port", &sim.path])
+        .args(["--port", &sim.path, "--baud", "9600", "--parity", "odd"])
         .current_dir(repo_root())
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
@@ -383,6 +383,10 @@ fn ctrl_c_during_a_run_on_the_simulated_ct_drive_stops_it() {
         seen.push_str(&String::from_utf8_lossy(&buf[..n]));
     }
     assert!(seen.contains("set speed_setpoint"), "{seen}");
+    assert!(
+        seen.contains(&format!("drive 1.1 on {} at 9600 7O1", sim.path)),
+        "{seen}"
+    );
     std::thread::sleep(Duration::from_millis(200));
     let status = Command::new("kill")
         .args(["-INT", &child.id().to_string()])

@@ -134,6 +134,15 @@ impl Family for CtFamily {
         Box::new(CtExplainer::new(dictionary))
     }
 
+    /// `#1.21`: menu.parameter, from index = menu and subindex = parameter.
+    fn show_address(&self, address: &Address) -> String {
+        let Address::Indexed { index, subindex } = *address;
+        match (u8::try_from(index), u8::try_from(subindex)) {
+            (Ok(m), Ok(p)) if m <= 99 && p <= 99 => Parameter { menu: m, param: p }.to_string(),
+            _ => address.to_string(),
+        }
+    }
+
     /// `#5.04` or `5.04`. The data field is decimal text with its sign and decimal point,
     /// so no `--type` is needed to read it: the value is shown exactly as the drive sends
     /// it, and a write sends the number exactly as typed (`1500.5` as `1500.5`). The range
@@ -193,6 +202,7 @@ mod tests {
             .unwrap_err()
             .contains("holds a number"));
         assert!(f.raw_object("#5.400", None).unwrap().is_err());
+        assert_eq!(f.show_address(&Address::indexed(5, 4)), "#5.04");
     }
 
     #[test]

@@ -177,7 +177,7 @@ impl Loader<'_, '_> {
             return;
         };
         if !profile.has_command(command) {
-            let family = self.dict.family().to_string();
+            let family = self.dict.name().unwrap_or(self.dict.family()).to_string();
             self.problem(
                 span,
                 format!(
@@ -196,7 +196,7 @@ impl Loader<'_, '_> {
             return;
         };
         if !profile.has_state(state) {
-            let family = self.dict.family().to_string();
+            let family = self.dict.name().unwrap_or(self.dict.family()).to_string();
             self.problem(
                 span,
                 format!(
