@@ -103,7 +103,12 @@ impl fmt::Display for Value {
             }
             (RawValue::Int(i), None) => write!(f, "{i}"),
             (RawValue::Bytes(_) | RawValue::Decimal { .. }, None) => write!(f, "{}", self.raw),
-            (RawValue::Int(_) | RawValue::Decimal { .. } | RawValue::Bytes(_), Some(q)) => {
+            // Exactly as the drive sent it: its trailing zeros are significant (version 1.10).
+            (RawValue::Decimal { .. }, Some(q)) => match q.unit {
+                Some(u) => write!(f, "{} {u}", self.raw),
+                None => write!(f, "{}", self.raw),
+            },
+            (RawValue::Int(_) | RawValue::Bytes(_), Some(q)) => {
                 f.write_str(&format_number(q.value, self.decimals))?;
                 match q.unit {
                     Some(u) => write!(f, " {u}"),

@@ -186,3 +186,34 @@ fn a_reduced_profile_reads_and_unsafe_ones_are_refused() {
         "keeps every bit of `enable_operation`",
     );
 }
+
+#[test]
+fn decimals_are_read_and_checked() {
+    let object = |keys: &str| {
+        Dictionary::from_yaml(
+            "test.yaml",
+            &format!("family: x\nobjects:\n  - {{ name: speed, index: 1, type: i32, access: rw, {keys} }}\n"),
+        )
+    };
+    let d = object("decimals: 2, unit: rpm").unwrap();
+    let o = d.get("speed").unwrap();
+    assert_eq!(
+        (o.decimal_places, o.decimals()),
+        (Some(DecimalPlaces::Fixed(2)), 2)
+    );
+    let raw = o.to_raw(&Quantity::parse("12.34 rpm").unwrap()).unwrap();
+    assert_eq!(raw.to_string(), "12.34");
+    let e = format!("{:?}", object("decimals: 1, scale: 0.1").unwrap_err());
+    assert!(e.contains("give `decimals` or `scale`, not both"), "{e}");
+    let e = format!("{:?}", object("decimals: 11").unwrap_err());
+    assert!(e.contains("decimals"), "{e}");
+    let e = Dictionary::from_yaml(
+        "test.yaml",
+        "family: x\nobjects:\n  - { name: t, index: 1, type: string(8), access: rw, decimals: 1 }\n",
+    )
+    .unwrap_err();
+    assert!(
+        format!("{e:?}").contains("a string object has no `decimals`"),
+        "{e:?}"
+    );
+}
