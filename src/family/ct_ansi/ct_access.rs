@@ -79,7 +79,7 @@ impl ObjectAccess for CtAccess {
                 parameter,
                 format!("the drive has no parameter {parameter} (it answered EOT)"),
             )),
-            other => Err(self.unexpected(format!("read {parameter}"), format!("{other:?}"))),
+            other => Err(self.unexpected(format!("read {parameter}"), shown(other))),
         }
     }
 
@@ -108,7 +108,7 @@ impl ObjectAccess for CtAccess {
             // A group or global write: nobody answers, so nothing more can be known.
             None | Some(Reply::Accepted) => Ok(WriteOutcome::Stored),
             Some(Reply::Refused) => Err(self.refused("write", parameter, nak_text().to_string())),
-            Some(other) => Err(self.unexpected(format!("write {parameter} = {value}"), format!("{other:?}"))),
+            Some(other) => Err(self.unexpected(format!("write {parameter} = {value}"), shown(Some(other)))),
         }
     }
 
@@ -122,5 +122,16 @@ impl ObjectAccess for CtAccess {
 
     fn reopen(&mut self) -> Result<(), AccessError> {
         self.link.reopen()
+    }
+}
+
+/// A reply of the wrong kind, for the message.
+fn shown(reply: Option<Reply>) -> String {
+    match reply {
+        None => "no reply".into(),
+        Some(Reply::Value { parameter, value }) => format!("the value {value} of {parameter}"),
+        Some(Reply::Accepted) => "ACK".into(),
+        Some(Reply::Refused) => "NAK".into(),
+        Some(Reply::NoSuchParameter) => "EOT".into(),
     }
 }

@@ -87,7 +87,8 @@ impl CtSimulator {
         match request {
             Request::Read { address, parameter } => {
                 if address != self.node {
-                    self.not_for_me(address);
+                    // Another drive's (or a colliding group) read: the address is gone.
+                    self.established = None;
                     return None;
                 }
                 Some(self.read(parameter))
@@ -98,7 +99,7 @@ impl CtSimulator {
                 value,
             } => {
                 if !self.node.accepts(address) {
-                    self.not_for_me(address);
+                    self.established = None;
                     return None;
                 }
                 let reply = self.write(parameter, value);
@@ -121,10 +122,6 @@ impl CtSimulator {
             Request::ReadNext => self.established.map(|p| self.read(p.next())),
             Request::ReadPrevious => self.established.map(|p| self.read(p.previous())),
         }
-    }
-
-    fn not_for_me(&mut self, _to: NodeAddress) {
-        self.established = None;
     }
 
     fn read(&mut self, parameter: Parameter) -> Reply {
