@@ -80,7 +80,7 @@ impl DictionaryArgs {
 }
 
 /// The built-in dictionary a YAML recipe's top-level `drive:` names, when it names one
-/// (a family id such as `sd2` that is also a dictionary's name counts). Anything that
+/// (`ct-unidrive-sp`), or the first of the family it names (`ct_ansi`). Anything that
 /// cannot be read is left to the recipe loader to report; the file is read within the
 /// loader's size limit.
 fn recipe_drive(registry: &Registry, recipe: &Path) -> Option<String> {
@@ -99,7 +99,12 @@ fn recipe_drive(registry: &Registry, recipe: &Path) -> Option<String> {
         crate::diag::YamlValue::Str(s) => s.clone(),
         _ => return None,
     };
-    registry.dictionary(&drive).ok().map(|_| drive)
+    if registry.dictionary(&drive).is_ok() {
+        return Some(drive);
+    }
+    // A family id (`ct_ansi`): that family's first built-in dictionary.
+    let family = registry.family(&drive).ok()?;
+    family.dictionaries().first().map(|d| d.name.to_string())
 }
 
 /// A drive ready for use, and the simulated drive behind it when there is one.
