@@ -412,3 +412,20 @@ fn ctrl_c_during_a_run_on_the_simulated_ct_drive_stops_it() {
     let out = drivescript(&["state", "--port", &sim.path, "--drive", "ct-unidrive-sp"], "");
     assert!(stdout(&out).contains("switched on"), "{}", stdout(&out));
 }
+
+#[test]
+fn the_recipe_schema_offers_only_what_the_ct_drive_has() {
+    let out = drivescript(&["schema", "--drive", "ct-unidrive-sp"], "");
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    let schema: Value = serde_json::from_str(&stdout(&out)).unwrap();
+    assert_eq!(
+        schema["properties"]["drive"]["enum"],
+        serde_json::json!(["ct_ansi", "ct-unidrive-sp"])
+    );
+    let text = schema.to_string();
+    assert!(
+        !text.contains("quick_stop") && !text.contains("ready_to_switch_on"),
+        "{text}"
+    );
+    assert!(text.contains("enable_operation") && text.contains("switched_on"));
+}
