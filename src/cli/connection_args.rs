@@ -4,8 +4,8 @@
 //! Opens the bus; must not send anything itself.
 
 use crate::bus::{
-    Bus, BusKind, MemoryFrameBus, MemoryTransport, SerialTransport, SharedFrameBus, SharedTransport,
-    TcpTransport, TransportError,
+    Bus, BusKind, DataBits, MemoryFrameBus, MemoryTransport, Parity, SerialTransport, SharedFrameBus,
+    SharedTransport, StopBits, TcpTransport, TransportError,
 };
 use crate::clock::{RealClock, SharedClock, VirtualClock};
 use crate::family::{DriveAddress, Family, LinkOptions, SimPeer};
@@ -23,15 +23,28 @@ pub struct ConnectionArgs {
     /// Serial port the drive is on (/dev/ttyUSB0, /dev/serial/by-id/…, COM3).
     #[arg(long, value_name = "PATH", conflicts_with = "tcp")]
     pub port: Option<String>,
-    /// Baud rate of the serial port [default: the drive family's, e.g. 57600 for SD2].
+    /// Baud rate of the serial port [default: the drive family's, e.g. 57600 for SD2, 4800
+    /// for Control Techniques].
     #[arg(long, value_name = "N")]
     pub baud: Option<u32>,
+    /// Data bits per character, 7 or 8 [default: the drive family's, e.g. 8 for SD2, 7 for
+    /// Control Techniques].
+    #[arg(long = "data-bits", value_name = "7|8", value_parser = parse_data_bits)]
+    pub data_bits: Option<DataBits>,
+    /// Parity bit [default: the drive family's, e.g. none for SD2, even for Control
+    /// Techniques].
+    #[arg(long, value_name = "none|even|odd", value_parser = parse_parity)]
+    pub parity: Option<Parity>,
+    /// Stop bits, 1 or 2 [default: the drive family's, 1].
+    #[arg(long = "stop-bits", value_name = "1|2", value_parser = parse_stop_bits)]
+    pub stop_bits: Option<StopBits>,
     /// A serial device server or ser2net in raw TCP mode.
     #[arg(long, value_name = "HOST:PORT")]
     pub tcp: Option<String>,
     /// The drive's address in its family's notation. SD2: the address switch position
     /// (`0`, the default), `3B` for drive B of a double-axis device, or `dnc:N` for a raw
-    /// DNC address.
+    /// DNC address. Control Techniques: group.unit (`1.2`, default `1.1`); `G.0` writes to
+    /// a whole group and `0.0` to every drive, with no reply.
     #[arg(long, value_name = "ADDRESS")]
     pub address: Option<String>,
     /// How long to wait for each reply (the SD2 vendor's PC tool uses 1 s).
@@ -66,6 +79,31 @@ pub fn parse_duration(text: &str) -> Result<Duration, String> {
     humantime::parse_duration(text.trim()).map_err(|e| format!("{e} (write e.g. 500ms, 1s, 2min)"))
 }
 
+fn parse_data_bits(text: &str) -> Result<DataBits, String> {
+    match text.trim() {
+        "7" => Ok(DataBits::Seven),
+        "8" => Ok(DataBits::Eight),
+        other => Err(format!("`{other}`: give 7 or 8")),
+    }
+}
+
+fn parse_parity(text: &str) -> Result<Parity, String> {
+    match text.trim().to_ascii_lowercase().as_str() {
+        "none" | "n" => Ok(Parity::None),
+        "even" | "e" => Ok(Parity::Even),
+        "odd" | "o" => Ok(Parity::Odd),
+        other => Err(format!("`{other}`: give none, even or odd")),
+    }
+}
+
+fn parse_stop_bits(text: &str) -> Result<StopBits, String> {
+    match text.trim() {
+        "1" => Ok(StopBits::One),
+        "2" => Ok(StopBits::Two),
+        other => Err(format!("`{other}`: give 1 or 2")),
+    }
+}
+
 fn parse_link_option(text: &str) -> Result<(String, String), String> {
     match text.split_once('=') {
         Some((k, v)) if !k.trim().is_empty() => Ok((k.trim().to_string(), v.trim().to_string())),
@@ -90,6 +128,9 @@ impl ConnectionArgs {
         ConnectionArgs {
             port: None,
             baud: None,
+            data_bits: None,
+            parity: None,
+            stop_bits: None,
             tcp: None,
             address: None,
             timeout: Duration::from_secs(1),
@@ -159,6 +200,15 @@ impl ConnectionArgs {
                 if let Some(baud) = self.baud {
                     settings.baud = baud;
                 }
+                if let Some(bits) = self.data_bits {
+                    settings.data_bits = bits;
+                }
+                if let Some(parity) = self.parity {
+                    settings.parity = parity;
+                }
+                if let Some(stop) = self.stop_bits {
+                    settings.stop_bits = stop;
+                }
                 let t = SerialTransport::open(path, settings)?;
                 let d = format!("drive {} on {}", address.number, crate::bus::Transport::name(&t));
                 (Bus::Bytes(SharedTransport::new(Box::new(t))), real(), d)
@@ -206,5 +256,23 @@ impl ConnectionArgs {
             simulator,
             description,
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn serial_frame_overrides() {
+        assert_eq!(parse_data_bits("7"), Ok(DataBits::Seven));
+        assert_eq!(parse_data_bits("8"), Ok(DataBits::Eight));
+        assert!(parse_data_bits("9").unwrap_err().contains("7 or 8"));
+        assert_eq!(parse_parity("even"), Ok(Parity::Even));
+        assert_eq!(parse_parity("O"), Ok(Parity::Odd));
+        assert_eq!(parse_parity("none"), Ok(Parity::None));
+        assert!(parse_parity("mark").unwrap_err().contains("none, even or odd"));
+        assert_eq!(parse_stop_bits("2"), Ok(StopBits::Two));
+        assert!(parse_stop_bits("1.5").is_err());
     }
 }

@@ -2,18 +2,21 @@
 
 use super::drive_args::DictionaryArgs;
 use super::{FAILED, INVALID, PASSED};
-use crate::family::Registry;
+use crate::dictionary::Dictionary;
+use crate::family::{Family, Registry};
 use crate::hex::parse_hex;
 use clap::Args;
 use std::io::{BufRead, Write};
+use std::sync::Arc;
 
 #[derive(Debug, Args)]
 /// Explain captured telegrams: direction, addresses, command, object, data, error text,
 /// control and status word bits. Hex as `00 0b 02 ...`, `000b02...` or `0x00 0x0b ...`;
 /// one telegram per argument, or per line on standard input when no argument is given.
 pub struct DecodeArgs {
-    /// The drive family whose protocol the telegrams are in (default: the family of the
-    /// --drive dictionary).
+    /// The drive family whose protocol the telegrams are in: `sd2`, `ct_ansi` (also
+    /// `ct-ansi` or the dictionary name `ct-unidrive-sp`) [default: the family of the
+    /// --drive dictionary].
     #[arg(long, value_name = "FAMILY")]
     protocol: Option<String>,
     /// One JSON object per telegram (the keys of the family's golden vectors, e.g.
@@ -52,18 +55,11 @@ pub fn run(args: &DecodeArgs) -> i32 {
             .map(|(i, h)| (format!("argument {}", i + 1), h.clone()))
             .collect()
     };
-    let names = match args.dictionary.load() {
-        Ok(d) => d,
+    let registry = Registry::builtin();
+    let (family, names) = match protocol_and_names(&registry, args) {
+        Ok(found) => found,
         Err(text) => {
             eprint!("{text}");
-            return INVALID;
-        }
-    };
-    let registry = Registry::builtin();
-    let family = match registry.family(args.protocol.as_deref().unwrap_or(names.family())) {
-        Ok(f) => f,
-        Err(e) => {
-            eprintln!("error: {e}");
             return INVALID;
         }
     };
@@ -111,6 +107,48 @@ pub fn run(args: &DecodeArgs) -> i32 {
         }
     }
     code
+}
+
+/// The family `--protocol` names (a family id such as `ct_ansi`, written with `-` or `_`,
+/// or a built-in dictionary such as `ct-unidrive-sp`) and the dictionary whose names the
+/// explanation uses: the --drive dictionary when it is of that family, else the family's
+/// own. On failure, the text to print.
+fn protocol_and_names(
+    registry: &Registry,
+    args: &DecodeArgs,
+) -> Result<(Arc<dyn Family>, Arc<Dictionary>), String> {
+    let Some(protocol) = args.protocol.as_deref() else {
+        let names = args.dictionary.load()?;
+        let family = registry
+            .family(names.family())
+            .map_err(|e| format!("error: {e}\n"))?;
+        return Ok((family, names));
+    };
+    let (family, dictionary) = match registry.family(protocol) {
+        Ok(f) => (f, None),
+        Err(e) => match registry.dictionary(protocol) {
+            Ok((f, d)) => (f, Some(d.name)),
+            Err(_) => match registry.family(&protocol.replace('-', "_")) {
+                Ok(f) => (f, None),
+                Err(_) => return Err(format!("error: {e}\n")),
+            },
+        },
+    };
+    let mut wanted = args.dictionary.clone();
+    match dictionary {
+        Some(name) => wanted.family = name.to_string(),
+        None => {
+            let given_fits = registry
+                .dictionary(&wanted.family)
+                .is_ok_and(|(f, _)| f.id() == family.id());
+            if !given_fits {
+                let first = family.dictionaries().first().map(|d| d.name);
+                wanted.family = first.unwrap_or_default().to_string();
+            }
+        }
+    }
+    let names = wanted.load()?;
+    Ok((family, names))
 }
 
 /// `0b`, `0x0b`, `b`: one byte, as the shell leaves an unquoted telegram.

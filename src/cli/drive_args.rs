@@ -39,11 +39,19 @@ impl DictionaryArgs {
     /// --limits nor $DRIVESCRIPT_LIMITS names a limits file. On failure, the rendered
     /// diagnostic to print.
     pub fn load_for(&self, registry: &Registry, recipe: Option<&Path>) -> Result<Arc<Dictionary>, String> {
-        let (family, builtin) = registry
-            .dictionary(&self.family)
-            .map_err(|e| format!("error: {e}\n"))?;
+        let name = match (
+            self.family.as_str(),
+            recipe.and_then(|r| recipe_drive(registry, r)),
+        ) {
+            // A recipe for another built-in drive picks its dictionary when --drive is left
+            // at the default.
+            (DEFAULT_DICTIONARY, Some(drive)) => drive,
+            (given, _) => given.to_string(),
+        };
+        let (family, builtin) = registry.dictionary(&name).map_err(|e| format!("error: {e}\n"))?;
         let mut dictionary = Dictionary::from_yaml_for(builtin.path, builtin.text, family.address_parser())
-            .map_err(|e| render_diagnostic(&e))?;
+            .map_err(|e| render_diagnostic(&e))?
+            .named(builtin.name);
         for path in &self.extra {
             dictionary.extend_from(path).map_err(|e| render_diagnostic(&e))?;
         }
@@ -69,6 +77,34 @@ impl DictionaryArgs {
             limits: None,
         }
     }
+}
+
+/// The built-in dictionary a YAML recipe's top-level `drive:` names, when it names one
+/// (`ct-unidrive-sp`), or the first of the family it names (`ct_ansi`). Anything that
+/// cannot be read is left to the recipe loader to report; the file is read within the
+/// loader's size limit.
+fn recipe_drive(registry: &Registry, recipe: &Path) -> Option<String> {
+    let is_yaml = recipe
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("yaml") || e.eq_ignore_ascii_case("yml"));
+    // Only a regular file can be read twice (here and by the loader): a pipe would be
+    // used up by this look.
+    let is_file = std::fs::metadata(recipe).is_ok_and(|m| m.is_file());
+    if !is_yaml || !is_file {
+        return None;
+    }
+    let source = crate::diag::read_source(recipe).ok()?;
+    let root = crate::diag::YamlNode::parse(&source).ok()?;
+    let drive = match &root.get("drive")?.value {
+        crate::diag::YamlValue::Str(s) => s.clone(),
+        _ => return None,
+    };
+    if registry.dictionary(&drive).is_ok() {
+        return Some(drive);
+    }
+    // A family id (`ct_ansi`): that family's first built-in dictionary.
+    let family = registry.family(&drive).ok()?;
+    family.dictionaries().first().map(|d| d.name.to_string())
 }
 
 /// A drive ready for use, and the simulated drive behind it when there is one.

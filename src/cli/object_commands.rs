@@ -127,8 +127,7 @@ fn with_raw_objects(
 fn shown_address(family: &Option<Arc<dyn Family>>, address: &Address) -> String {
     family
         .as_ref()
-        .and_then(|f| f.address_notation(address))
-        .unwrap_or_else(|| address.to_string())
+        .map_or_else(|| address.to_string(), |f| f.show_address(address))
 }
 
 /// The drive, or the exit code after printing why not. Says so when it is the simulated
@@ -333,7 +332,16 @@ pub fn state(args: &StateArgs) -> i32 {
             .map(|s| s.to_string())
             .unwrap_or_else(|| "no state of the table matches".into());
         println!("status word 0x{status:04x}: {name}");
-        println!("  bits set: {}", status_word_bits(status).join(", "));
+        // The CiA 402 bit names only where the profile is CiA 402's; other drives' bits
+        // mean other things (the dictionary's description of the status word says what).
+        let bits = match open.drive.profile() {
+            Ok(p) if !p.is_complete() => (0..16)
+                .filter(|b| status & (1 << b) != 0)
+                .map(|b: u32| b.to_string())
+                .collect(),
+            _ => status_word_bits(status),
+        };
+        println!("  bits set: {}", bits.join(", "));
         if let Some(code) = drive_error {
             println!("  drive error: {code}{}", if code == 0 { " (none)" } else { "" });
         }

@@ -28,6 +28,8 @@ pub struct Dictionary {
     bench_limits: Option<BenchLimits>,
     /// The family's reading of `address:` texts, for the files that extend this one.
     parse_address: Option<AddressParser>,
+    /// The built-in dictionary's name (`--drive`, a recipe's `drive:`), when it is one.
+    name: Option<String>,
 }
 
 impl Dictionary {
@@ -148,6 +150,7 @@ impl Dictionary {
             profile: contents.profile,
             bench_limits: None,
             parse_address,
+            name: None,
         })
     }
 
@@ -176,6 +179,18 @@ impl Dictionary {
     }
 
     /// The drive family this dictionary is for.
+    /// Names this dictionary as the built-in one `name` (what `--drive` and a recipe's
+    /// `drive:` say, e.g. `ct-unidrive-sp` for family `ct_ansi`).
+    pub fn named(mut self, name: &str) -> Dictionary {
+        self.name = Some(name.to_string());
+        self
+    }
+
+    /// The built-in dictionary's name, when this is one.
+    pub fn name(&self) -> Option<&str> {
+        self.name.as_deref()
+    }
+
     pub fn family(&self) -> &str {
         &self.family
     }

@@ -14,6 +14,17 @@ use super::value::{decimals_of, format_number, RawValue, Value};
 use super::value_error::ValueError;
 use crate::diag::Span;
 
+/// How many decimal places a decimal-text value is sent with.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum DecimalPlaces {
+    /// The object's own (`decimals:` in the dictionary); the scale is 10^−places.
+    Fixed(u8),
+    /// As many as the value given has (`1500.5` is sent as `1500.5`, `3` as `3`): for an
+    /// object named in the family's notation, whose places no dictionary gives. The scale
+    /// is 1 and the drive judges the value.
+    AsGiven,
+}
+
 #[derive(Debug, Clone)]
 pub struct ObjectDef {
     /// The identifier recipes use: `[a-z][a-z0-9_]*`.
@@ -26,6 +37,9 @@ pub struct ObjectDef {
     pub unit: Option<Unit>,
     /// Engineering units per raw count (e.g. 0.001 for speeds counted in 0.001 rpm).
     pub scale: f64,
+    /// Set for drives that carry values as decimal text (Control Techniques: `+1500.5`):
+    /// values go to the drive as exact [`RawValue::Decimal`], never through a float.
+    pub decimal_places: Option<DecimalPlaces>,
     pub access: Access,
     /// Limits in engineering units (tightened by the bench limits, see [`Self::bench`]).
     pub min: Option<f64>,
@@ -58,6 +72,7 @@ impl ObjectDef {
             data_type,
             unit: None,
             scale: 1.0,
+            decimal_places: None,
             access,
             min: None,
             max: None,
@@ -247,7 +262,19 @@ impl ObjectDef {
                 range,
             });
         }
-        Ok(RawValue::Int(counts as i64))
+        Ok(match self.decimal_places {
+            // Rounded to a whole count above, so the digits are exact: 1500.5 rpm with one
+            // place is 15005 × 10⁻¹ and goes on the wire as `1500.5`.
+            Some(DecimalPlaces::Fixed(places)) => RawValue::Decimal {
+                digits: counts as i64,
+                places,
+            },
+            Some(DecimalPlaces::AsGiven) => as_given(value).ok_or_else(|| ValueError::NotANumber {
+                text: quantity.to_string(),
+                hint: ": more digits than a decimal data field carries (at most 10 decimal places)".into(),
+            })?,
+            None => RawValue::Int(counts as i64),
+        })
     }
 
     /// Checks text for a string object: plain printable ASCII, at most the type's maximum.
@@ -315,6 +342,16 @@ impl ObjectDef {
             decimals,
         })
     }
+}
+
+/// The decimal a value was written as: Rust prints the shortest text that reads back as
+/// the same float, which for a number typed with a few decimals is that number.
+fn as_given(value: f64) -> Option<RawValue> {
+    let text = format!("{value}");
+    let (whole, frac) = text.split_once('.').unwrap_or((&text, ""));
+    let places = u8::try_from(frac.len()).ok().filter(|p| *p <= 10)?;
+    let digits: i64 = format!("{whole}{frac}").parse().ok()?;
+    Some(RawValue::Decimal { digits, places })
 }
 
 #[cfg(test)]
@@ -527,7 +564,46 @@ mod tests {
         assert!(!ident().writable() && ident().readable());
     }
 
+    fn decimal_speed() -> ObjectDef {
+        let mut o = speed_setpoint();
+        o.scale = 0.1;
+        o.decimal_places = Some(DecimalPlaces::Fixed(1));
+        o
+    }
+
+    #[test]
+    fn values_as_given_keep_the_decimals_typed() {
+        let mut o = ObjectDef::new("#1.21", Address::indexed(1, 21), DataType::I32, Access::ReadWrite);
+        o.decimal_places = Some(DecimalPlaces::AsGiven);
+        let d = |digits, places| RawValue::Decimal { digits, places };
+        assert_eq!(counts_for(&o, "1500.5"), d(15005, 1));
+        assert_eq!(counts_for(&o, "-34.55"), d(-3455, 2));
+        assert_eq!(counts_for(&o, "131"), d(131, 0));
+        assert!(o.to_raw(&Quantity::parse("0.000000000001").unwrap()).is_err());
+    }
+
+    #[test]
+    fn decimal_objects_convert_exactly() {
+        let o = decimal_speed();
+        let d = |digits, places| RawValue::Decimal { digits, places };
+        assert_eq!(counts_for(&o, "1500.5 rpm"), d(15005, 1));
+        assert_eq!(counts_for(&o, "1500.5 rpm").to_string(), "1500.5");
+        assert_eq!(counts_for(&o, "-34.5"), d(-345, 1));
+        assert_eq!(counts_for(&o, "1500.3 rpm").to_string(), "1500.3");
+        assert_eq!(counts_for(&o, "1.5 krpm"), d(15000, 1));
+        let v = o.value_of(d(15005, 1)).unwrap();
+        assert_eq!(v.to_string(), "1500.5 rpm");
+    }
+
     proptest! {
+        #[test]
+        fn decimal_text_round_trips_exactly(tenths in -600_000i64..=600_000) {
+            let o = decimal_speed();
+            let text = RawValue::Decimal { digits: tenths, places: 1 }.to_string();
+            let raw = o.to_raw(&Quantity::parse(&text).unwrap()).unwrap();
+            prop_assert_eq!(raw.to_string(), text);
+        }
+
         #[test]
         fn to_raw_value_of_round_trip_within_one_count(v in -60000.0f64..=60000.0) {
             let o = speed_setpoint();

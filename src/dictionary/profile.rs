@@ -1,7 +1,10 @@
 //! A drive family's device-control profile: which objects play the roles (control word,
-//! status word, speed setpoint, …), the control-word value of each command, and the
-//! status-word mask and value of each state. Pure data and bit arithmetic; reading it from
-//! a file and checking it against the objects is the reader's and validator's job.
+//! status word, speed setpoint, …), what each command writes (a control-word value, or a
+//! value to another object), the writes made before every command (a control-word enable),
+//! and the status-word mask and value of each state. A drive without some of the CiA 402
+//! commands or states leaves them out; paths and recipes then use only what it has.
+//! Pure data and bit arithmetic; reading it from a file and checking it against the
+//! objects is the reader's and validator's job.
 
 use super::role::Role;
 use crate::diag::Span;
@@ -34,13 +37,36 @@ impl StateMask {
     }
 }
 
+/// What a command writes: a value to the control word, or (`object`) to another object,
+/// as Control Techniques drives reset a trip by writing 100 to #10.38.
+#[derive(Debug, Clone)]
+pub struct CommandWrite {
+    /// `None`: the control word.
+    pub object: Option<String>,
+    pub value: u16,
+    pub span: Span,
+}
+
+/// A write the profile makes before every command (Control Techniques: the control-word
+/// enable #6.43 = 1, without which the control word does nothing).
+#[derive(Debug, Clone)]
+pub struct ObjectWrite {
+    pub object: String,
+    pub value: u16,
+    pub span: Span,
+}
+
 #[derive(Debug, Clone)]
 pub struct Profile {
     pub(crate) roles: Vec<RoleBinding>,
-    /// One value per command, in the order of [`DeviceCommand::ALL`].
-    pub(crate) commands: [u16; 7],
-    /// One pattern per state, in the order of [`DeviceState::ALL`].
-    pub(crate) states: [StateMask; 8],
+    /// One entry per command, in the order of [`DeviceCommand::ALL`]; `None` where the
+    /// drive has no such command.
+    pub(crate) commands: [Option<CommandWrite>; 7],
+    /// One pattern per state, in the order of [`DeviceState::ALL`]; `None` where the
+    /// drive has no such state (or cannot show it apart from another).
+    pub(crate) states: [Option<StateMask>; 8],
+    /// Written in this order before every command.
+    pub(crate) before_commands: Vec<ObjectWrite>,
     pub(crate) span: Span,
 }
 
@@ -50,11 +76,18 @@ impl Profile {
     pub fn with_defaults(roles: Vec<RoleBinding>) -> Profile {
         Profile {
             roles,
-            commands: DeviceCommand::ALL.map(DeviceCommand::default_control_word),
+            commands: DeviceCommand::ALL.map(|c| {
+                Some(CommandWrite {
+                    object: None,
+                    value: c.default_control_word(),
+                    span: Span::unknown(),
+                })
+            }),
             states: DeviceState::ALL.map(|s| {
                 let (mask, value) = s.default_mask_value();
-                StateMask { mask, value }
+                Some(StateMask { mask, value })
             }),
+            before_commands: Vec::new(),
             span: Span::unknown(),
         }
     }
@@ -72,15 +105,76 @@ impl Profile {
         self.roles.iter()
     }
 
-    /// The control-word value that issues `command`.
+    /// The value `command` writes (0 when the profile has no such command).
     pub fn command_value(&self, command: DeviceCommand) -> u16 {
-        let i = DeviceCommand::ALL.iter().position(|c| *c == command).unwrap_or(0);
-        self.commands[i]
+        self.command(command).map_or(0, |c| c.value)
     }
 
+    /// What `command` writes; `None` when the drive has no such command.
+    pub fn command(&self, command: DeviceCommand) -> Option<&CommandWrite> {
+        let i = DeviceCommand::ALL.iter().position(|c| *c == command)?;
+        self.commands[i].as_ref()
+    }
+
+    pub fn has_command(&self, command: DeviceCommand) -> bool {
+        self.command(command).is_some()
+    }
+
+    /// `control word 131`, or `user_trip = 100` for a command writing another object.
+    pub fn command_text(&self, command: DeviceCommand) -> String {
+        match self.command(command) {
+            Some(CommandWrite {
+                object: Some(o),
+                value,
+                ..
+            }) => format!("{o} = {value}"),
+            Some(c) => format!("control word {}", c.value),
+            None => format!("no {command} command"),
+        }
+    }
+
+    /// The commands the profile has, by id (for messages).
+    pub fn command_ids(&self) -> Vec<&'static str> {
+        DeviceCommand::ALL
+            .into_iter()
+            .filter(|c| self.has_command(*c))
+            .map(DeviceCommand::id)
+            .collect()
+    }
+
+    /// The writes made before every command.
+    pub fn before_commands(&self) -> &[ObjectWrite] {
+        &self.before_commands
+    }
+
+    /// The pattern of `state`; for a state the profile lacks, one no status word matches.
     pub fn state_mask(&self, state: DeviceState) -> StateMask {
-        let i = DeviceState::ALL.iter().position(|s| *s == state).unwrap_or(0);
+        self.state_pattern(state)
+            .unwrap_or(StateMask { mask: 0, value: 1 })
+    }
+
+    /// The pattern of `state`; `None` when the profile has no such state.
+    pub fn state_pattern(&self, state: DeviceState) -> Option<StateMask> {
+        let i = DeviceState::ALL.iter().position(|s| *s == state)?;
         self.states[i]
+    }
+
+    pub fn has_state(&self, state: DeviceState) -> bool {
+        self.state_pattern(state).is_some()
+    }
+
+    /// The states the profile has, by id (for messages).
+    pub fn state_ids(&self) -> Vec<&'static str> {
+        DeviceState::ALL
+            .into_iter()
+            .filter(|s| self.has_state(*s))
+            .map(DeviceState::id)
+            .collect()
+    }
+
+    /// True when the profile has every CiA 402 command and state.
+    pub fn is_complete(&self) -> bool {
+        self.commands.iter().all(Option::is_some) && self.states.iter().all(Option::is_some)
     }
 
     /// The state a status word shows; `None` for a pattern the table does not list.
@@ -88,8 +182,35 @@ impl Profile {
         DeviceState::ALL
             .into_iter()
             .zip(self.states)
-            .find(|(_, m)| m.matches(status))
+            .find(|(_, m)| m.is_some_and(|m| m.matches(status)))
             .map(|(s, _)| s)
+    }
+
+    /// Objects other than the control word that the profile writes, with where each is
+    /// named and what for (the validator checks they exist and are writable integers).
+    pub fn object_writes(&self) -> Vec<(&str, &Span, String)> {
+        let mut out: Vec<(&str, &Span, String)> = self
+            .before_commands
+            .iter()
+            .map(|w| {
+                (
+                    w.object.as_str(),
+                    &w.span,
+                    "written before every command".to_string(),
+                )
+            })
+            .collect();
+        for (command, write) in DeviceCommand::ALL.iter().zip(&self.commands) {
+            if let Some(CommandWrite {
+                object: Some(o),
+                span,
+                ..
+            }) = write
+            {
+                out.push((o.as_str(), span, format!("written by `{}`", command.id())));
+            }
+        }
+        out
     }
 
     /// Where the `profile:` mapping is written.
@@ -102,7 +223,7 @@ impl Profile {
 /// all of: a stop that keeps every bit of `enable_operation` leaves the drive enabled, one
 /// that keeps every bit of `switch_on` leaves it switched on. The rule uses the profile's
 /// own values, so it holds for any family's control word.
-const STOPS: [(DeviceCommand, &[DeviceCommand]); 4] = [
+pub(crate) const STOPS: [(DeviceCommand, &[DeviceCommand]); 4] = [
     (DeviceCommand::DisableOperation, &[DeviceCommand::EnableOperation]),
     (
         DeviceCommand::Shutdown,

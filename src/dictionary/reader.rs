@@ -10,7 +10,9 @@ use super::address::{Address, AddressParser};
 use super::data_type::DataType;
 use super::format::Format;
 use super::object_def::ObjectDef;
-use super::profile::{command_in, stops_keeping_power, Profile, RoleBinding, StateMask};
+use super::profile::{
+    command_in, stops_keeping_power, CommandWrite, ObjectWrite, Profile, RoleBinding, StateMask, STOPS,
+};
 use super::role::Role;
 use super::unit::Unit;
 use crate::diag::{
@@ -45,6 +47,7 @@ const OBJECT_KEYS: &[&str] = &[
     "type",
     "unit",
     "scale",
+    "decimals",
     "access",
     "min",
     "max",
@@ -54,6 +57,15 @@ const OBJECT_KEYS: &[&str] = &[
     "parameter",
 ];
 const STATE_KEYS: &[&str] = &["mask", "value"];
+const WRITE_KEYS: &[&str] = &["object", "value"];
+/// Commands the safe stop sends, so no profile may leave them out.
+const REQUIRED_COMMANDS: [DeviceCommand; 3] = [
+    DeviceCommand::DisableOperation,
+    DeviceCommand::Shutdown,
+    DeviceCommand::DisableVoltage,
+];
+/// States the run (faults) and the safe stop (still enabled?) look for.
+const REQUIRED_STATES: [DeviceState; 2] = [DeviceState::OperationEnabled, DeviceState::Fault];
 const FINITE_HELP: &str = "write a number such as `60000` or `0.001`";
 
 /// Reads `root`, recording every problem in `out`; `address:` texts are read with the
@@ -247,9 +259,11 @@ impl DictionaryReader<'_> {
         let data_type = f.get("type").and_then(|n| self.data_type(n));
         let access = f.get("access").and_then(|n| self.access(n));
         let unit = f.get("unit").map(|n| self.unit(n));
-        let scale = match f.get("scale") {
-            Some(n) => self.scale(n),
-            None => Some(1.0),
+        let decimals = f.get("decimals").and_then(|n| self.decimals(n, &f));
+        let scale = match (f.get("scale"), decimals) {
+            (Some(n), _) => self.scale(n),
+            (None, Some(places)) => Some(10f64.powi(-i32::from(places))),
+            (None, None) => Some(1.0),
         };
         let min = f.get("min").map(|n| (n, self.number(n, "min")));
         let max = f.get("max").map(|n| (n, self.number(n, "max")));
@@ -271,7 +285,7 @@ impl DictionaryReader<'_> {
 
         // Keys that make no sense for text.
         if let Some(DataType::String { .. }) = data_type {
-            for key in ["unit", "scale", "min", "max", "format"] {
+            for key in ["unit", "scale", "decimals", "min", "max", "format"] {
                 if let Some(k) = f.key(key) {
                     self.push(
                         Diagnostic::at(&k.span, format!("a string object has no `{key}`"), "not for text")
@@ -300,6 +314,7 @@ impl DictionaryReader<'_> {
         object.aliases = aliases;
         object.unit = unit.flatten();
         object.scale = scale;
+        object.decimal_places = decimals.map(super::object_def::DecimalPlaces::Fixed);
         object.format = format.unwrap_or_default();
         object.description = description.unwrap_or_default();
         object.unconfirmed = unconfirmed;
@@ -357,6 +372,26 @@ impl DictionaryReader<'_> {
             );
         }
         found
+    }
+
+    /// `decimals: N`: the drive sends the value as decimal text with N places (0..=10: the
+    /// data field of a text protocol holds at most 12 characters with sign and point).
+    /// It sets the scale, so `scale:` beside it is refused.
+    fn decimals(&mut self, node: &YamlNode, f: &Fields) -> Option<u8> {
+        let places = self.r.int(node, "`decimals`", 0, 10)?;
+        if let Some(k) = f.key("scale") {
+            self.push(
+                Diagnostic::at(
+                    &k.span,
+                    "give `decimals` or `scale`, not both",
+                    "scale and decimals",
+                )
+                .also_at(&node.span, "decimals")
+                .with_help("`decimals: 1` already means 0.1 units per count; remove `scale`"),
+            );
+            return None;
+        }
+        u8::try_from(places).ok()
     }
 
     fn scale(&mut self, node: &YamlNode) -> Option<f64> {
@@ -436,7 +471,7 @@ impl DictionaryReader<'_> {
     fn profile(&mut self, node: &YamlNode) -> Option<Profile> {
         let before = self.r.count();
         let mut allowed: Vec<&str> = Role::ALL.iter().map(|r| r.id()).collect();
-        allowed.extend(["commands", "states"]);
+        allowed.extend(["commands", "states", "before_commands"]);
         let mut shape = Shape::new("the profile", &allowed).nothing_is_absent();
         for role in Role::ALL.into_iter().filter(|r| r.required()) {
             shape = shape.require_as(role.id(), format!("the name of the object that is the {role}"));
@@ -457,52 +492,153 @@ impl DictionaryReader<'_> {
                 }
             }
         }
+        let before_commands = match f.get("before_commands") {
+            Some(n) => self.before_commands(n),
+            None => Some(Vec::new()),
+        };
         let commands = f.get("commands").and_then(|n| self.commands(n));
         let states = f.get("states").and_then(|n| self.states(n));
-        let (Some(commands), Some(states)) = (commands, states) else {
+        let (Some(commands), Some(states), Some(before_commands)) = (commands, states, before_commands)
+        else {
             return None;
         };
         (self.r.count() == before).then(|| Profile {
             roles,
             commands,
             states,
+            before_commands,
             span: node.span.clone(),
         })
     }
 
-    fn commands(&mut self, node: &YamlNode) -> Option<[u16; 7]> {
+    /// `before_commands: [{ object: NAME, value: N }, …]`.
+    fn before_commands(&mut self, node: &YamlNode) -> Option<Vec<ObjectWrite>> {
+        let wanted = "a list of writes, e.g. `[{ object: control_word_enable, value: 1 }]`";
+        let items = self.r.list(node, "`before_commands`", wanted)?;
+        let mut writes = Vec::new();
+        let mut complete = true;
+        for item in items {
+            match self.object_write(item, "a write before every command") {
+                Some((object, value)) => writes.push(ObjectWrite {
+                    object,
+                    value,
+                    span: item.span.clone(),
+                }),
+                None => complete = false,
+            }
+        }
+        complete.then_some(writes)
+    }
+
+    /// `{ object: NAME, value: N }`.
+    fn object_write(&mut self, node: &YamlNode, what: &str) -> Option<(String, u16)> {
+        let shape = Shape::new(what, WRITE_KEYS)
+            .require_as("object", "the name of the object to write")
+            .require_as("value", "the value to write (0..=65535)")
+            .nothing_is_absent();
+        let f = self.r.fields(node, &shape)?;
+        let object = f.get("object").and_then(|n| self.r.text(n, "`object`"));
+        let value = f
+            .get("value")
+            .and_then(|n| self.r.int(n, "`value`", 0, u16::MAX.into()));
+        Some((object?, u16::try_from(value?).ok()?))
+    }
+
+    /// `none`: the drive has no such command or state.
+    fn is_none(node: &YamlNode) -> bool {
+        matches!(&node.value, crate::diag::YamlValue::Str(s) if s == "none")
+    }
+
+    fn commands(&mut self, node: &YamlNode) -> Option<[Option<CommandWrite>; 7]> {
         let allowed: Vec<&str> = DeviceCommand::ALL.iter().map(|c| c.id()).collect();
         let mut shape = Shape::new("the commands", &allowed).nothing_is_absent();
         for command in DeviceCommand::ALL {
             let meaning = format!(
-                "its control-word value (the CiA 402 profile's is {})",
+                "its control-word value (the CiA 402 profile's is {}), `{{ object: NAME, value: N }}`, or `none` when the drive has no such command",
                 command.default_control_word()
             );
             shape = shape.require_as(command.id(), meaning);
         }
         let f = self.r.fields(node, &shape)?;
-        let mut values = [0u16; 7];
+        let mut writes: [Option<CommandWrite>; 7] = Default::default();
         let mut nodes: [Option<&YamlNode>; 7] = [None; 7];
         let mut complete = true;
         for (i, command) in DeviceCommand::ALL.into_iter().enumerate() {
-            match f.get(command.id()) {
-                Some(n) => match self.r.int(n, &format!("`{}`", command.id()), 0, u16::MAX.into()) {
-                    Some(v) => {
-                        values[i] = v as u16;
-                        nodes[i] = Some(n);
+            let Some(n) = f.get(command.id()) else {
+                complete = false;
+                continue;
+            };
+            nodes[i] = Some(n);
+            if Self::is_none(n) {
+                if REQUIRED_COMMANDS.contains(&command) {
+                    self.push(
+                        Diagnostic::at(
+                            &n.span,
+                            format!("`{}` cannot be `none`: the safe stop needs it", command.id()),
+                            "required",
+                        )
+                        .with_help(format!(
+                            "every profile has {}; give the control-word value that stops the drive this way",
+                            REQUIRED_COMMANDS.map(DeviceCommand::id).join(", ")
+                        )),
+                    );
+                    complete = false;
+                }
+                continue;
+            }
+            if let crate::diag::YamlValue::Map(_) = n.value {
+                if STOPS.iter().any(|(stop, _)| *stop == command) {
+                    self.push(
+                        Diagnostic::at(
+                            &n.span,
+                            format!("`{}` must write the control word", command.id()),
+                            "a stop command",
+                        )
+                        .with_help("a stop command is checked against the control-word bits it clears; give its control-word value"),
+                    );
+                    complete = false;
+                    continue;
+                }
+                match self.object_write(n, "a command writing another object") {
+                    Some((object, value)) => {
+                        writes[i] = Some(CommandWrite {
+                            object: Some(object),
+                            value,
+                            span: n.span.clone(),
+                        })
                     }
                     None => complete = false,
-                },
+                }
+                continue;
+            }
+            match self.r.int(n, &format!("`{}`", command.id()), 0, u16::MAX.into()) {
+                Some(v) => {
+                    writes[i] = Some(CommandWrite {
+                        object: None,
+                        value: v as u16,
+                        span: n.span.clone(),
+                    })
+                }
                 None => complete = false,
             }
         }
         if !complete {
             return None;
         }
+        // The checks look at control-word values only; a command the drive lacks, or one
+        // writing another object, takes no part (0 is left out by the rule).
+        let values: [u16; 7] = std::array::from_fn(|i| match &writes[i] {
+            Some(CommandWrite {
+                object: None, value, ..
+            }) => *value,
+            _ => 0,
+        });
         let node_of = |c: DeviceCommand| nodes[DeviceCommand::ALL.iter().position(|x| *x == c).unwrap_or(0)];
         let before = self.r.count();
         for kept in [DeviceCommand::EnableOperation, DeviceCommand::SwitchOn] {
-            if let (0, Some(node)) = (command_in(&values, kept), node_of(kept)) {
+            let i = DeviceCommand::ALL.iter().position(|x| *x == kept).unwrap_or(0);
+            let is_control_word = matches!(&writes[i], Some(CommandWrite { object: None, .. }));
+            if let (0, Some(node), true) = (command_in(&values, kept), node_of(kept), is_control_word) {
                 self.push(
                     Diagnostic::at(
                         &node.span,
@@ -549,21 +685,21 @@ impl DictionaryReader<'_> {
                 ))),
             );
         }
-        (self.r.count() == before).then_some(values)
+        (self.r.count() == before).then_some(writes)
     }
 
-    fn states(&mut self, node: &YamlNode) -> Option<[StateMask; 8]> {
+    fn states(&mut self, node: &YamlNode) -> Option<[Option<StateMask>; 8]> {
         let allowed: Vec<&str> = DeviceState::ALL.iter().map(|s| s.id()).collect();
         let mut shape = Shape::new("the states", &allowed).nothing_is_absent();
         for state in DeviceState::ALL {
             let (m, v) = state.default_mask_value();
             shape = shape.require_as(
                 state.id(),
-                format!("its mask and value, e.g. `{{ mask: 0x{m:02X}, value: 0x{v:02X} }}`"),
+                format!("its mask and value, e.g. `{{ mask: 0x{m:02X}, value: 0x{v:02X} }}`, or `none` when the drive does not show it"),
             );
         }
         let f = self.r.fields(node, &shape)?;
-        let mut masks = [StateMask { mask: 0, value: 0 }; 8];
+        let mut masks: [Option<StateMask>; 8] = [None; 8];
         let mut read: Vec<(DeviceState, StateMask, &YamlNode)> = Vec::new();
         let mut complete = true;
         for (i, state) in DeviceState::ALL.into_iter().enumerate() {
@@ -571,13 +707,43 @@ impl DictionaryReader<'_> {
                 complete = false;
                 continue;
             };
+            if Self::is_none(n) {
+                if REQUIRED_STATES.contains(&state) {
+                    self.push(
+                        Diagnostic::at(
+                            &n.span,
+                            format!(
+                                "`{}` cannot be `none`: the run and the safe stop watch for it",
+                                state.id()
+                            ),
+                            "required",
+                        )
+                        .with_help(
+                            "every profile shows operation_enabled and fault; give their mask and value",
+                        ),
+                    );
+                    complete = false;
+                }
+                continue;
+            }
             match self.state(n, state) {
                 Some(sm) => {
-                    masks[i] = sm;
+                    masks[i] = Some(sm);
                     read.push((state, sm, n));
                 }
                 None => complete = false,
             }
+        }
+        if complete
+            && !read
+                .iter()
+                .any(|(s, _, _)| !s.is_powered() && *s != DeviceState::Fault)
+        {
+            self.push(
+                Diagnostic::at(&node.span, "the states have no state where the drive is stopped", "no stopped state")
+                    .with_help("give at least one of switch_on_disabled, ready_to_switch_on and switched_on, so a stop can be confirmed"),
+            );
+            complete = false;
         }
         for (j, (state, sm, node)) in read.iter().enumerate() {
             for (earlier, esm, enode) in &read[..j] {

@@ -111,6 +111,43 @@ pub(crate) fn validate(
     }
 
     if let Some(profile) = profile {
+        for (name, span, what) in profile.object_writes() {
+            let Some(object) = objects.iter().find(|o| o.is_named(name)) else {
+                if broken
+                    .iter()
+                    .any(|b| b.names.iter().any(|(n, _)| n.eq_ignore_ascii_case(name)))
+                {
+                    continue;
+                }
+                let suggestions = did_you_mean(name, objects.iter().flat_map(|o| o.names()));
+                errors.push(
+                    Diagnostic::at(
+                        span,
+                        format!(
+                            "the profile writes `{name}` ({what}), which is not an object of this dictionary"
+                        ),
+                        "unknown object",
+                    )
+                    .with_optional_help(suggestion_text(&suggestions)),
+                );
+                continue;
+            };
+            if !object.data_type.is_integer() || !object.writable() {
+                errors.push(
+                    Diagnostic::at(
+                        span,
+                        format!(
+                            "the profile writes `{}` ({what}), but it is {} {}",
+                            object.name,
+                            object.access.describe(),
+                            object.data_type
+                        ),
+                        "not a writable integer",
+                    )
+                    .also_at(&object.span, "defined here"),
+                );
+            }
+        }
         for binding in profile.bindings() {
             let found = objects.iter().find(|o| o.is_named(&binding.object));
             let Some(object) = found else {

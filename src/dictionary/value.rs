@@ -26,6 +26,8 @@ impl RawValue {
     pub fn as_int(&self) -> Option<i64> {
         match self {
             RawValue::Int(i) => Some(*i),
+            // A whole decimal (a status word read as text) is an integer too.
+            RawValue::Decimal { digits, places: 0 } => Some(*digits),
             _ => None,
         }
     }
@@ -90,7 +92,9 @@ impl fmt::Display for Value {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match (&self.raw, self.quantity) {
             (RawValue::Text(t), _) => write!(f, "{t:?}"),
-            (RawValue::Int(i), _) if self.format == Format::Hex && self.unit().is_none() => {
+            (RawValue::Int(i) | RawValue::Decimal { digits: i, places: 0 }, _)
+                if self.format == Format::Hex && self.unit().is_none() =>
+            {
                 let digits = self.width.max(1) * 2;
                 // Negative counts of signed types print as their two's complement.
                 let bits = (self.width.clamp(1, 8) * 8) as u32;
@@ -99,7 +103,12 @@ impl fmt::Display for Value {
             }
             (RawValue::Int(i), None) => write!(f, "{i}"),
             (RawValue::Bytes(_) | RawValue::Decimal { .. }, None) => write!(f, "{}", self.raw),
-            (RawValue::Int(_) | RawValue::Decimal { .. } | RawValue::Bytes(_), Some(q)) => {
+            // Exactly as the drive sent it: its trailing zeros are significant (version 1.10).
+            (RawValue::Decimal { .. }, Some(q)) => match q.unit {
+                Some(u) => write!(f, "{} {u}", self.raw),
+                None => write!(f, "{}", self.raw),
+            },
+            (RawValue::Int(_) | RawValue::Bytes(_), Some(q)) => {
                 f.write_str(&format_number(q.value, self.decimals))?;
                 match q.unit {
                     Some(u) => write!(f, " {u}"),
@@ -185,6 +194,18 @@ mod tests {
         assert_eq!(d(15005, 1), "1500.5");
         assert_eq!(d(-5, 2), "-0.05");
         assert_eq!(d(42, 0), "42");
+        let status = Value {
+            raw: RawValue::Decimal { digits: 3, places: 0 },
+            quantity: Some(Quantity::new(3.0, None)),
+            format: Format::Hex,
+            width: 2,
+            decimals: 0,
+        };
+        assert_eq!(
+            status.to_string(),
+            "0x0003",
+            "a whole decimal shows in hex like an integer"
+        );
     }
 
     #[test]

@@ -2,7 +2,7 @@
 //! over any protocol family's [`ObjectAccess`]. Everything that can be refused (unknown
 //! object, read-only, value outside limits) is refused here, before a byte is sent.
 
-use super::state_path::{next_step, NextStep};
+use super::state_path::{next_step_in, NextStep};
 use super::{AccessError, DriveError, ObjectAccess, WriteOutcome};
 use crate::clock::SharedClock;
 use crate::dictionary::{Dictionary, ObjectDef, Profile, Quantity, RawValue, Role, Value};
@@ -219,15 +219,39 @@ impl Drive {
         Some(value(limits.min).and_then(|min| Ok((min, value(limits.max)?))))
     }
 
-    /// Writes the control-word value of `command` (the profile's table). A fault reset
-    /// needs a rising edge of bit 7, so the bit is cleared first.
+    /// Writes what `command` writes in the profile: first the profile's writes before
+    /// every command (a control-word enable), then the control-word value, or the value of
+    /// another object for a command that has one. A fault reset on the control word needs
+    /// a rising edge of bit 7, so the bit is cleared first.
     pub fn command(&mut self, command: DeviceCommand) -> Result<(), DriveError> {
-        let control = self.role_object(Role::ControlWord)?;
-        let value = self.profile()?.command_value(command);
-        if command == DeviceCommand::FaultReset {
-            self.write_raw(&control, &RawValue::Int(i64::from(value & !0x80)))?;
+        let profile = self.profile()?;
+        let write = profile
+            .command(command)
+            .cloned()
+            .ok_or_else(|| DriveError::NoCommand {
+                family: self.dictionary.family().to_string(),
+                command,
+                has: profile.command_ids().join(", "),
+            })?;
+        let before = profile.before_commands().to_vec();
+        for w in &before {
+            let def = self.object(&w.object)?.clone();
+            self.write_raw(&def, &RawValue::Int(i64::from(w.value)))?;
         }
-        self.write_raw(&control, &RawValue::Int(i64::from(value)))?;
+        let value = write.value;
+        match &write.object {
+            Some(name) => {
+                let def = self.object(name)?.clone();
+                self.write_raw(&def, &RawValue::Int(i64::from(value)))?;
+            }
+            None => {
+                let control = self.role_object(Role::ControlWord)?;
+                if command == DeviceCommand::FaultReset {
+                    self.write_raw(&control, &RawValue::Int(i64::from(value & !0x80)))?;
+                }
+                self.write_raw(&control, &RawValue::Int(i64::from(value)))?;
+            }
+        }
         Ok(())
     }
 
@@ -263,6 +287,14 @@ impl Drive {
         cancelled: &dyn Fn() -> bool,
     ) -> Result<Vec<Transition>, DriveError> {
         let mut done = Vec::new();
+        let profile = self.profile()?;
+        if !profile.has_state(target) {
+            return Err(DriveError::NoState {
+                family: self.dictionary.family().to_string(),
+                state: target,
+                has: profile.state_ids().join(", "),
+            });
+        }
         let mut state = self.state()?;
         loop {
             if matches!(state, DeviceState::Fault) && target != DeviceState::Fault {
@@ -271,7 +303,7 @@ impl Drive {
                     drive_error: self.drive_error(),
                 });
             }
-            let command = match next_step(state, target) {
+            let command = match next_step_in(self.profile()?, state, target) {
                 NextStep::Arrived => return Ok(done),
                 NextStep::Unreachable => {
                     return Err(DriveError::Unreachable {

@@ -4,7 +4,7 @@
 
 use super::AccessError;
 use crate::dictionary::ValueError;
-use crate::drive::device_control::DeviceState;
+use crate::drive::device_control::{DeviceCommand, DeviceState};
 use std::time::Duration;
 
 #[derive(Debug, thiserror::Error)]
@@ -30,6 +30,20 @@ pub enum DriveError {
 
     #[error("the {family} dictionary's profile names no {role} object, which device control needs")]
     NoRole { family: String, role: &'static str },
+
+    #[error("the {family} dictionary's profile has no {command} command (the drive's commands: {has})")]
+    NoCommand {
+        family: String,
+        command: DeviceCommand,
+        has: String,
+    },
+
+    #[error("the {family} dictionary's profile has no state {state} (the drive's states: {has})")]
+    NoState {
+        family: String,
+        state: DeviceState,
+        has: String,
+    },
 
     #[error(transparent)]
     Access(#[from] AccessError),

@@ -7,7 +7,7 @@ pub mod device_control;
 mod drive;
 mod drive_error;
 mod object_access;
-mod state_path;
+pub mod state_path;
 
 pub use access_error::AccessError;
 pub use device_control::{DeviceCommand, DeviceState};

@@ -1,6 +1,8 @@
 //! Which device-control command moves a drive one step from a state toward a target state,
-//! along the CiA 402 transition graph. Pure; no I/O.
+//! along the CiA 402 transition graph, using only the commands and states the drive's
+//! profile has. Pure; no I/O.
 
+use crate::dictionary::Profile;
 use crate::drive::device_control::{DeviceCommand, DeviceState};
 
 /// What to do next on the way from `from` to `to`.
@@ -43,6 +45,75 @@ pub fn next_step(from: DeviceState, to: DeviceState) -> NextStep {
         (OperationEnabled, SwitchedOn) => NextStep::Command(DisableOperation),
         _ => NextStep::Unreachable,
     }
+}
+
+/// Where `command` takes a drive in `from` on the CiA 402 graph (the drive itself decides in
+/// the end; this is what the walk plans with).
+pub fn transition(from: DeviceState, command: DeviceCommand) -> DeviceState {
+    use DeviceCommand::*;
+    use DeviceState::*;
+    match (from, command) {
+        (Fault, FaultReset) => SwitchOnDisabled,
+        (_, DisableVoltage) => SwitchOnDisabled,
+        (OperationEnabled, QuickStop) => QuickStopActive,
+        (SwitchOnDisabled | SwitchedOn | OperationEnabled, Shutdown) => ReadyToSwitchOn,
+        (ReadyToSwitchOn, SwitchOn) | (OperationEnabled, DisableOperation) => SwitchedOn,
+        (SwitchedOn, EnableOperation) => OperationEnabled,
+        _ => from,
+    }
+}
+
+/// The next step from `from` toward `to` with what `profile` has. A complete profile walks
+/// exactly as [`next_step`]. A drive with fewer commands or states takes the step
+/// [`next_step`] gives when the profile has its command and the state it leads to, and
+/// otherwise the first command of the shortest way through the states it has; a state the
+/// profile lacks is never a target or a stop on the way.
+pub fn next_step_in(profile: &Profile, from: DeviceState, to: DeviceState) -> NextStep {
+    if profile.is_complete() {
+        return next_step(from, to);
+    }
+    let step = next_step(from, to);
+    match step {
+        NextStep::Arrived | NextStep::Wait | NextStep::Unreachable => return step,
+        NextStep::Command(_) if !profile.has_state(to) => return NextStep::Unreachable,
+        NextStep::Command(c) if profile.has_command(c) && profile.has_state(transition(from, c)) => {
+            return step
+        }
+        NextStep::Command(_) => {}
+    }
+    let commands: Vec<DeviceCommand> = DeviceCommand::ALL
+        .into_iter()
+        .filter(|c| profile.has_command(*c))
+        .collect();
+    let mut seen = vec![from];
+    let mut frontier: Vec<(DeviceState, DeviceCommand)> = Vec::new();
+    for &c in &commands {
+        let next = transition(from, c);
+        if profile.has_state(next) && !seen.contains(&next) {
+            if next == to {
+                return NextStep::Command(c);
+            }
+            seen.push(next);
+            frontier.push((next, c));
+        }
+    }
+    while !frontier.is_empty() {
+        let mut further = Vec::new();
+        for (state, first) in frontier {
+            for &c in &commands {
+                let next = transition(state, c);
+                if profile.has_state(next) && !seen.contains(&next) {
+                    if next == to {
+                        return NextStep::Command(first);
+                    }
+                    seen.push(next);
+                    further.push((next, first));
+                }
+            }
+        }
+        frontier = further;
+    }
+    NextStep::Unreachable
 }
 
 #[cfg(test)]

@@ -91,6 +91,12 @@ pub trait Family: Send + Sync {
     fn simulator(&self, drive: &DriveAddress, config: SimConfig) -> SimulatedDevice;
     /// Reads this family's telegrams with the objects of `dictionary`.
     fn explainer(&self, dictionary: Arc<Dictionary>) -> Box<dyn TelegramExplainer>;
+    /// An object's address as this family writes it, for listings (`#1.21`, `0x0011`,
+    /// `TYPE?`); the default
+    /// is the family-neutral `index 395 (0x018b)`.
+    fn show_address(&self, address: &Address) -> String {
+        address.to_string()
+    }
     /// An object the dictionary does not have, named in this family's own notation
     /// (`#5.04`, `0x0011`, `C00061`) for one-off `read` and `write`. `None` when `text` is
     /// not in that notation; `data_type` is the user's `--type`, and the family either
@@ -105,12 +111,6 @@ pub trait Family: Send + Sync {
     /// (then `decode` reads it as hex).
     fn line_telegram(&self, text: &str) -> Option<Vec<u8>> {
         let _ = text;
-        None
-    }
-    /// An object's address in this family's own notation, for listings (`0x0011`,
-    /// `TYPE?`); `None` shows the index/subindex pair.
-    fn address_notation(&self, address: &Address) -> Option<String> {
-        let _ = address;
         None
     }
 }

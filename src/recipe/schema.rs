@@ -17,8 +17,20 @@ pub fn recipe_schema(dictionary: &Dictionary) -> Value {
             writable.push(o.name.clone());
         }
     }
-    let commands: Vec<&str> = DeviceCommand::ALL.iter().map(|c| c.id()).collect();
-    let states: Vec<&str> = DeviceState::ALL.iter().map(|s| s.id()).collect();
+    // Only what the drive's profile has (a Control Techniques drive has no quick stop).
+    let commands: Vec<&str> = match dictionary.profile() {
+        Some(p) => p.command_ids(),
+        None => DeviceCommand::ALL.iter().map(|c| c.id()).collect(),
+    };
+    let states: Vec<&str> = match dictionary.profile() {
+        Some(p) => p.state_ids(),
+        None => DeviceState::ALL.iter().map(|s| s.id()).collect(),
+    };
+    // A recipe names its drive by family (`sd2`) or by built-in dictionary (`ct-unidrive-sp`).
+    let mut drives = vec![dictionary.family()];
+    if let Some(name) = dictionary.name().filter(|n| *n != dictionary.family()) {
+        drives.push(name);
+    }
     let duration = json!({ "type": "string", "description": "a duration with its unit: 500 ms, 5 s, 10 min, 2 h", "pattern": "^\\s*(\\{\\{.*\\}\\}|[0-9.]+\\s*[a-zA-Zµ]+(\\s+[0-9.]+\\s*[a-zA-Zµ]+)*)\\s*$" });
     let value = json!({ "type": ["string", "number"], "description": "a value with its unit (6000 rpm, 1.5 A), a bare number in the object's unit, or {{param}}" });
     let condition = json!({
@@ -169,7 +181,7 @@ pub fn recipe_schema(dictionary: &Dictionary) -> Value {
         "properties": {
             "name": { "type": "string" },
             "description": { "type": "string" },
-            "drive": { "type": "string", "enum": [dictionary.family()] },
+            "drive": { "type": "string", "enum": drives },
             "params": { "type": "object", "additionalProperties": { "type": ["string", "number"] } },
             "steps": { "$ref": "#/$defs/steps" },
             "finally": { "$ref": "#/$defs/steps" },

@@ -12,8 +12,7 @@ impl Session<'_> {
     /// Writes one device-control command.
     pub fn command(&mut self, command: DeviceCommand) -> Result<String, Stop> {
         self.drive.command(command)?;
-        let value = self.drive.profile()?.command_value(command);
-        Ok(format!("control word {value}"))
+        Ok(self.drive.profile()?.command_text(command))
     }
 
     /// Walks the state machine to `state`, each transition within `timeout`.

@@ -135,8 +135,8 @@ impl Family for Lenze931Family {
         }))
     }
 
-    fn address_notation(&self, address: &crate::dictionary::Address) -> Option<String> {
-        LenzeObject::of(address).map(LenzeObject::notation)
+    fn show_address(&self, address: &crate::dictionary::Address) -> String {
+        LenzeObject::of(address).map_or_else(|| address.to_string(), LenzeObject::notation)
     }
 
     fn line_telegram(&self, text: &str) -> Option<Vec<u8>> {

@@ -75,6 +75,7 @@ impl Loader<'_, '_> {
                     if !self.has_profile(&node.span, &format!("`{word}`")) {
                         return None;
                     }
+                    self.check_command(&node.span, cmd);
                     return Some(Step {
                         kind: StepKind::Command(cmd),
                         origin,
@@ -194,12 +195,54 @@ impl Loader<'_, '_> {
         false
     }
 
+    /// A command the dictionary's profile leaves out (the drive has no such command) is
+    /// refused before anything is sent.
+    fn check_command(&mut self, span: &Span, command: DeviceCommand) {
+        let Some(profile) = self.dict.profile() else {
+            return;
+        };
+        if !profile.has_command(command) {
+            let family = self.dict.name().unwrap_or(self.dict.family()).to_string();
+            self.problem(
+                span,
+                format!(
+                    "the {family} drive has no `{}` command (its profile leaves it out)",
+                    command.id()
+                ),
+                "not on this drive",
+                Some(format!("its commands are: {}", profile.command_ids().join(", "))),
+            );
+        }
+    }
+
+    /// A state the dictionary's profile leaves out can be neither reached nor waited for.
+    fn check_state(&mut self, span: &Span, state: DeviceState) {
+        let Some(profile) = self.dict.profile() else {
+            return;
+        };
+        if !profile.has_state(state) {
+            let family = self.dict.name().unwrap_or(self.dict.family()).to_string();
+            self.problem(
+                span,
+                format!(
+                    "the {family} drive does not show the state `{}` (its profile leaves it out)",
+                    state.id()
+                ),
+                "not on this drive",
+                Some(format!("its states are: {}", profile.state_ids().join(", "))),
+            );
+        }
+    }
+
     /// A device state named by `node`, the value of `what`.
     fn state(&mut self, node: &YamlNode, what: &str) -> Option<DeviceState> {
         let text = self.text(node, what)?;
         match DeviceState::from_id(text.trim()) {
             Some(_) if !self.has_profile(&node.span, &format!("the state `{}`", text.trim())) => None,
-            Some(s) => Some(s),
+            Some(s) => {
+                self.check_state(&node.span, s);
+                Some(s)
+            }
             None => {
                 let ids: Vec<&str> = DeviceState::ALL.iter().map(|s| s.id()).collect();
                 let help = did_you_mean(&text, ids.iter().copied())

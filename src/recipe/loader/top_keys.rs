@@ -129,7 +129,8 @@ impl Loader<'_, '_> {
 
     fn drive_family(&mut self, node: &YamlNode) -> String {
         let family = self.r.scalar_text(node, "`drive`").unwrap_or_default();
-        if family != self.dict.family() {
+        // `drive:` names the family (`sd2`) or the built-in dictionary (`ct-unidrive-sp`).
+        if family != self.dict.family() && Some(family.as_str()) != self.dict.name() {
             self.problem(
                 &node.span,
                 format!(

@@ -1,0 +1,214 @@
+//! The Control Techniques family as the registry sees it: the Unidrive SP dictionary,
+//! addresses as group.unit (`1.2`; `G.0` a group, `0.0` every drive), parameters as
+//! menu.parameter (`#1.21`), 7E1 serial, and how to open a [`CtAccess`] over a shared byte
+//! bus, simulate a drive and explain messages.
+
+use super::codec::{NodeAddress, Parameter};
+use super::{CtAccess, CtExplainer, CtLink, CtLinkConfig, CtSimulator};
+use crate::bus::{Bus, BusKind, DataBits, Parity, SerialSettings, StopBits};
+use crate::dictionary::{Access, Address, AddressParser, DataType, DecimalPlaces, Dictionary, ObjectDef};
+use crate::drive::ObjectAccess;
+use crate::family::{
+    BuiltinDictionary, DriveAddress, Family, LinkContext, LinkOptions, SimPeer, SimulatedDevice,
+};
+use crate::link::TelegramExplainer;
+use crate::sim::SimConfig;
+use std::sync::{Arc, Mutex};
+
+const DICTIONARIES: &[BuiltinDictionary] = &[BuiltinDictionary {
+    name: "ct-unidrive-sp",
+    path: "dictionary/ct-unidrive-sp.yaml",
+    text: include_str!("../../../dictionary/ct-unidrive-sp.yaml"),
+}];
+
+/// The classic Unidrive's default; the sources do not give the Unidrive SP's, so it is
+/// only where drivescript starts (`--baud` sets the drive's).
+const DEFAULT_BAUD: u32 = 4800;
+
+/// drivescript's default drive address when `--address` is not given (the sources give no
+/// factory setting).
+const DEFAULT_ADDRESS: &str = "1.1";
+
+pub struct CtFamily;
+
+/// An object's `address:` in a Control Techniques dictionary: `#1.21` → index 1, subindex 21.
+fn parse_object_address(text: &str) -> Result<Address, String> {
+    Parameter::parse(text).map(|p| Address::indexed(u16::from(p.menu), u32::from(p.param)))
+}
+
+impl Family for CtFamily {
+    fn id(&self) -> &'static str {
+        "ct_ansi"
+    }
+
+    fn title(&self) -> &'static str {
+        "Control Techniques (Unidrive SP and others) over the ANSI x3.28 serial protocol"
+    }
+
+    fn dictionaries(&self) -> &'static [BuiltinDictionary] {
+        DICTIONARIES
+    }
+
+    fn bus_kind(&self) -> BusKind {
+        BusKind::Bytes
+    }
+
+    /// 7 data bits, even parity, 1 stop bit (the UD70 frame).
+    fn serial_settings(&self) -> SerialSettings {
+        SerialSettings {
+            baud: DEFAULT_BAUD,
+            data_bits: DataBits::Seven,
+            parity: Parity::Even,
+            stop_bits: StopBits::One,
+        }
+    }
+
+    fn address_parser(&self) -> AddressParser {
+        parse_object_address
+    }
+
+    fn parse_drive_address(&self, text: Option<&str>) -> Result<DriveAddress, String> {
+        let node =
+            NodeAddress::parse(text.unwrap_or(DEFAULT_ADDRESS)).map_err(|e| format!("--address {e}"))?;
+        Ok(DriveAddress {
+            number: node.number(),
+            shown: node.describe(),
+        })
+    }
+
+    fn address_help(&self) -> &'static str {
+        "the drive's serial address as group.unit, e.g. `1.2` (or `12`); `G.0` writes to every drive of group G and `0.0` to every drive, without a reply (writes only)"
+    }
+
+    fn check_link_options(&self, extra: &[(String, String)]) -> Result<(), String> {
+        match extra.first() {
+            Some((name, _)) => Err(format!(
+                "--link-option {name}: the ct_ansi family has no link options (use --baud, --data-bits, --parity, --stop-bits, --timeout, --retries)"
+            )),
+            None => Ok(()),
+        }
+    }
+
+    fn open(
+        &self,
+        bus: &Bus,
+        drive: &DriveAddress,
+        options: &LinkOptions,
+        context: LinkContext,
+    ) -> Result<Box<dyn ObjectAccess>, String> {
+        let Bus::Bytes(transport) = bus else {
+            return Err(format!(
+                "the ct_ansi family talks over a serial line, not over {}",
+                bus.name()
+            ));
+        };
+        let node = NodeAddress::from_number(drive.number)
+            .ok_or_else(|| format!("drive address {} is not group.unit", drive.number))?;
+        let config = CtLinkConfig {
+            reply_timeout: options.reply_timeout,
+            retries: options.retries,
+            ..CtLinkConfig::default()
+        };
+        let mut link = CtLink::new(transport.clone(), context.clock, config);
+        if let Some(o) = context.observer {
+            link.set_observer(o);
+        }
+        if let Some(s) = context.stop {
+            link.set_stop_requests(s);
+        }
+        Ok(Box::new(CtAccess::new(link, node)))
+    }
+
+    fn simulator(&self, drive: &DriveAddress, config: SimConfig) -> SimulatedDevice {
+        let node = NodeAddress::from_number(drive.number)
+            .filter(|n| !n.is_broadcast())
+            .unwrap_or(NodeAddress { group: 1, unit: 1 });
+        let sim = Arc::new(Mutex::new(CtSimulator::new(node, config)));
+        SimulatedDevice {
+            drive: sim.clone(),
+            peer: SimPeer::Bytes(sim),
+        }
+    }
+
+    fn explainer(&self, dictionary: Arc<Dictionary>) -> Box<dyn TelegramExplainer> {
+        Box::new(CtExplainer::new(dictionary))
+    }
+
+    /// `#1.21`: menu.parameter, from index = menu and subindex = parameter.
+    fn show_address(&self, address: &Address) -> String {
+        let Address::Indexed { index, subindex } = *address;
+        match (u8::try_from(index), u8::try_from(subindex)) {
+            (Ok(m), Ok(p)) if m <= 99 && p <= 99 => Parameter { menu: m, param: p }.to_string(),
+            _ => address.to_string(),
+        }
+    }
+
+    /// `#5.04` or `5.04`. The data field is decimal text with its sign and decimal point,
+    /// so no `--type` is needed to read it: the value is shown exactly as the drive sends
+    /// it, and a write sends the number exactly as typed (`1500.5` as `1500.5`). The range
+    /// is that of i32 unless `--type` narrows it; the drive refuses (NAK) what does not fit
+    /// the parameter.
+    fn raw_object(&self, text: &str, data_type: Option<DataType>) -> Option<Result<ObjectDef, String>> {
+        let t = text.trim();
+        if !(t.starts_with('#') || t.starts_with(|c: char| c.is_ascii_digit())) {
+            return None;
+        }
+        Some(parse_object_address(t).and_then(|address| {
+            let data_type = data_type.unwrap_or(DataType::I32);
+            if !data_type.is_integer() {
+                return Err(format!(
+                    "a Control Techniques parameter holds a number, not {data_type}; leave out --type, or give an integer type (u8 … i32) for its range"
+                ));
+            }
+            let mut object = ObjectDef::new(t, address, data_type, Access::ReadWrite);
+            object.decimal_places = Some(DecimalPlaces::AsGiven);
+            Ok(object)
+        }))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn drive_addresses_in_group_unit_notation() {
+        let f = CtFamily;
+        let a = |t: Option<&str>| f.parse_drive_address(t).map(|a| (a.number, a.shown));
+        assert_eq!(a(Some("1.2")), Ok((12, "drive 1.2".into())));
+        assert_eq!(a(Some("12")), Ok((12, "drive 1.2".into())));
+        assert_eq!(a(None), Ok((11, "drive 1.1".into())));
+        assert!(a(Some("1.0")).unwrap().1.contains("group 1"));
+        assert!(a(Some("0.0")).unwrap().1.contains("every drive"));
+        assert!(a(Some("1.23")).unwrap_err().contains("group.unit"));
+        assert_eq!(f.serial_settings().to_string(), "4800 7E1");
+    }
+
+    #[test]
+    fn object_addresses_and_raw_parameters() {
+        assert_eq!(parse_object_address("#1.21"), Ok(Address::indexed(1, 21)));
+        assert_eq!(parse_object_address("10.40"), Ok(Address::indexed(10, 40)));
+        assert!(parse_object_address("1021").is_err());
+        let f = CtFamily;
+        assert!(f.raw_object("speed_actual", None).is_none());
+        let o = f.raw_object("#5.04", None).unwrap().unwrap();
+        assert_eq!((o.address, o.data_type), (Address::indexed(5, 4), DataType::I32));
+        assert_eq!(o.name, "#5.04");
+        let o = f.raw_object("5.04", Some(DataType::U16)).unwrap().unwrap();
+        assert_eq!(o.data_type, DataType::U16);
+        assert!(f
+            .raw_object("#5.04", Some(DataType::String { max: 8 }))
+            .unwrap()
+            .unwrap_err()
+            .contains("holds a number"));
+        assert!(f.raw_object("#5.400", None).unwrap().is_err());
+        assert_eq!(f.show_address(&Address::indexed(5, 4)), "#5.04");
+    }
+
+    #[test]
+    fn link_options_are_refused() {
+        let o = vec![("write-length".to_string(), "captured".to_string())];
+        assert!(CtFamily.check_link_options(&o).is_err());
+        assert!(CtFamily.check_link_options(&[]).is_ok());
+    }
+}

@@ -1,0 +1,31 @@
+//! Settings of the Control Techniques link: how long to wait, how often to retry, and the
+//! pause the drive needs between its reply and the next message.
+
+use std::time::Duration;
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CtLinkConfig {
+    /// How long to wait for a reply. The drive answers about 1 ms after a message, later
+    /// when a menu-11 parameter adds a delay; 1 s covers that and any line speed.
+    pub reply_timeout: Duration,
+    /// Further attempts after a timeout or a corrupt or mismatched reply. Writes to a
+    /// group or every drive (no reply) are never repeated.
+    pub retries: u32,
+    /// Quiet time before every message: the drive holds its transmitter up to 1 ms after
+    /// its reply, and a drive that acted on a group write gets the same pause.
+    pub turnaround: Duration,
+    /// Before a retry, the line is listened to for this long and what arrives is thrown
+    /// away: a late answer to the failed attempt must not pass for the retry's.
+    pub settle: Duration,
+}
+
+impl Default for CtLinkConfig {
+    fn default() -> Self {
+        CtLinkConfig {
+            reply_timeout: Duration::from_secs(1),
+            retries: 2,
+            turnaround: Duration::from_millis(2),
+            settle: Duration::from_millis(20),
+        }
+    }
+}

@@ -1,0 +1,431 @@
+//! The Control Techniques family end to end: the golden messages of the UD70/UD78 manuals
+//! (including the printed one whose block check is wrong), `decode` naming control
+//! characters, the shipped commissioning recipe with only `drive:` changed (in virtual
+//! time and through a real pseudo-terminal), exact decimals on the wire, a group write
+//! that gets no reply and is not repeated, and Ctrl-C during a run on the simulated drive.
+
+use crate::support::{drivescript, load_vectors, repo_root, stderr, stdout, InProcessRun};
+use drivescript::bus::{MemoryTransport, SharedTransport};
+use drivescript::clock::{SharedClock, VirtualClock};
+use drivescript::dictionary::{Address, DataType, RawValue};
+use drivescript::family::ct_ansi::codec::{Reply, Request};
+use drivescript::family::ct_ansi::CtSimulator;
+use drivescript::family::{Family, LinkContext, LinkOptions, Registry, SimPeer};
+use drivescript::hex::parse_hex;
+use drivescript::sim::SimConfig;
+use serde_json::Value;
+use std::io::{BufRead, BufReader, Read};
+use std::path::PathBuf;
+use std::process::{Child, Command, Stdio};
+use std::sync::{Arc, PoisonError};
+use std::time::{Duration, Instant};
+
+fn vectors() -> Vec<crate::support::Vector> {
+    load_vectors(&repo_root().join("tests/vectors/ct-ansi.yaml"))
+}
+
+fn family() -> Arc<dyn Family> {
+    Registry::builtin().family("ct_ansi").expect("the ct_ansi family")
+}
+
+fn explainer() -> Box<dyn drivescript::link::TelegramExplainer> {
+    let dictionary = Registry::builtin()
+        .load_dictionary("ct-unidrive-sp")
+        .expect("the built-in dictionary");
+    family().explainer(Arc::new(dictionary))
+}
+
+#[test]
+fn the_copy_matches_the_shared_vectors() {
+    let shared = repo_root().join("../shared/vectors/ct-ansi.yaml");
+    if shared.exists() {
+        let (copy, original) = (vectors(), load_vectors(&shared));
+        assert_eq!(copy.len(), original.len());
+        for (c, o) in copy.iter().zip(&original) {
+            assert_eq!((&c.name, &c.hex, &c.frame), (&o.name, &o.hex, &o.frame));
+        }
+    }
+}
+
+#[test]
+fn every_vector_decodes_to_its_frame_or_is_rejected() {
+    let vectors = vectors();
+    assert_eq!(vectors.len(), 12);
+    let mut e = explainer();
+    for v in &vectors {
+        let bytes = parse_hex(&v.hex).unwrap();
+        let (got, valid) = e.json(&bytes);
+        if v.frame == Value::String("reject".into()) {
+            assert!(!valid && got.get("reject").is_some(), "{}: {got}", v.name);
+        } else {
+            assert!(valid, "{}: {got}", v.name);
+            assert_eq!(got, v.frame, "{}", v.name);
+        }
+    }
+}
+
+#[test]
+fn rejections_give_the_documented_reason() {
+    let reason = |prefix: &str| {
+        let v = vectors()
+            .into_iter()
+            .find(|v| v.name.starts_with(prefix))
+            .unwrap();
+        Request::decode(&parse_hex(&v.hex).unwrap())
+            .unwrap_err()
+            .to_string()
+    };
+    // "block check: expected 0x21 (!), got 0x31 (1)"
+    assert!(
+        reason("write #1.21 = +76.4 as printed").starts_with("block check: expected 0x21 (!), got 0x31 (1)"),
+        "{}",
+        reason("write #1.21 = +76.4 as printed")
+    );
+    // "address digits not doubled (1 2)"
+    assert!(reason("write with undoubled").starts_with("address digits not doubled (1 2)"));
+}
+
+#[test]
+fn the_encoder_reproduces_the_canonical_messages() {
+    for v in vectors() {
+        let Ok(bytes) = parse_hex(&v.hex) else { continue };
+        // Messages written the way drivescript writes them come out byte for byte.
+        if let Ok(r) = Request::decode(&bytes) {
+            let again = r.encode().unwrap();
+            if v.name.contains("-34.5") || v.name.starts_with("read #") {
+                assert_eq!(again, bytes, "{}", v.name);
+            }
+        }
+        if let Ok(r @ (Reply::Accepted | Reply::Refused | Reply::NoSuchParameter)) = Reply::decode(&bytes) {
+            assert_eq!(r.encode().unwrap(), bytes, "{}", v.name);
+        }
+    }
+}
+
+#[test]
+fn decode_shows_control_characters_by_name_and_rejects_the_printed_example() {
+    for protocol in ["ct-unidrive-sp", "ct-ansi", "ct_ansi"] {
+        let out = drivescript(
+            &[
+                "decode",
+                "--protocol",
+                protocol,
+                "04 31 31 32 32 30 31 32 31 05",
+                "02 30 31 32 31 2d 34 37 2e 36 03 37",
+                "04 32 32 36 36 02 30 31 32 31 2b 30 37 36 2e 34 03 31",
+            ],
+            "",
+        );
+        let text = stdout(&out);
+        assert_eq!(out.status.code(), Some(1), "{text}{}", stderr(&out));
+        assert!(text.contains("message   EOT 11220121 ENQ"), "{text}");
+        assert!(
+            text.contains("request   read #1.21 speed_setpoint of drive 1.2"),
+            "{text}"
+        );
+        assert!(
+            text.contains("reply     #1.21 speed_setpoint = -47.6 rpm"),
+            "{text}"
+        );
+        assert!(
+            text.contains("rejected: block check: expected 0x21 (!), got 0x31 (1) at byte 17, in `EOT 2266 STX 0121+076.4 ETX 1`"),
+            "{text}"
+        );
+    }
+    let out = drivescript(&["decode", "--protocol", "ct-ansi", "06", "15", "04"], "");
+    // Three single bytes given unquoted read as one message; quoted they are three.
+    assert_eq!(out.status.code(), Some(1), "{}", stdout(&out));
+    let out = drivescript(&["decode", "--protocol", "ct-ansi", "--json", "06"], "");
+    assert_eq!(stdout(&out).trim(), r#"{"reply":"ack"}"#);
+}
+
+/// The shipped commissioning recipe with only `drive:` changed.
+fn ct_commissioning(dir: &str) -> PathBuf {
+    let text = std::fs::read_to_string(repo_root().join("recipes/commissioning.yaml")).unwrap();
+    assert!(text.contains("\ndrive: sd2\n"));
+    let dir = std::env::temp_dir().join(format!("drivescript-ct-{dir}-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("commissioning.yaml");
+    std::fs::write(&path, text.replace("\ndrive: sd2\n", "\ndrive: ct-unidrive-sp\n")).unwrap();
+    path
+}
+
+#[test]
+fn the_commissioning_recipe_runs_on_the_simulated_ct_drive_with_exact_decimals() {
+    let recipe = ct_commissioning("virtual");
+    let trace = recipe.with_file_name("run.trace");
+    let mut run = InProcessRun::new(recipe);
+    run.set = vec![("speed".into(), "1500.5rpm".into())];
+    run.outputs.trace = Some(trace.clone());
+    let (result, output) = run.run();
+    assert_eq!(result.exit_code, 0, "{output}");
+    assert!(
+        output.contains("using the built-in simulated CT_ANSI drive (drive 1.1"),
+        "{output}"
+    );
+    assert!(
+        output.contains("go to operation_enabled  enable operation → operation enabled"),
+        "{output}"
+    );
+    assert!(
+        output.contains("finally 1  ok    disable_operation  control word 129"),
+        "{output}"
+    );
+    assert!(
+        output.contains("finally 2  ok    shutdown  control word 128"),
+        "{output}"
+    );
+    assert!(output.contains("drive left in switched on at 0 rpm"), "{output}");
+    let sim = result.simulator.expect("the simulated drive");
+    let words = sim
+        .lock()
+        .unwrap_or_else(PoisonError::into_inner)
+        .control_words_written();
+    assert_eq!(words, vec![131, 129, 128]);
+    // 1500.5 rpm goes on the wire as the text 1500.5, after the control-word enable.
+    let trace = std::fs::read_to_string(&trace).unwrap();
+    assert!(
+        trace.contains("04 31 31 31 31 02 30 31 32 31 31 35 30 30 2e 35 03"),
+        "{trace}"
+    );
+    assert!(
+        trace.contains("write #1.21 speed_setpoint = 1500.5 rpm to drive 1.1"),
+        "{trace}"
+    );
+    assert!(
+        trace.contains("write #6.43 control_word_enable = 1 to drive 1.1"),
+        "{trace}"
+    );
+}
+
+#[test]
+fn raw_parameters_in_the_drives_own_notation() {
+    let out = drivescript(
+        &["read", "#5.04", "5.05", "#11.29", "--drive", "ct-unidrive-sp"],
+        "",
+    );
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    let text = stdout(&out);
+    assert!(text.contains("#5.04"), "{text}");
+    let out = drivescript(&["write", "#1.21", "1500.5", "--drive", "ct-unidrive-sp"], "");
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    assert!(
+        stdout(&out).contains("#1.21 = 1500.5 written (raw 1500.5)"),
+        "{}",
+        stdout(&out)
+    );
+    let out = drivescript(&["read", "#42.42", "--drive", "ct-unidrive-sp"], "");
+    assert_eq!(out.status.code(), Some(3));
+    assert!(
+        stderr(&out).contains("the drive has no parameter #42.42 (it answered EOT)"),
+        "{}",
+        stderr(&out)
+    );
+}
+
+#[test]
+fn a_group_write_gets_no_reply_and_is_not_repeated() {
+    let f = family();
+    let clock: SharedClock = Arc::new(VirtualClock::new());
+    let drive = f.parse_drive_address(Some("1.2")).unwrap();
+    let device = f.simulator(&drive, SimConfig::default());
+    let SimPeer::Bytes(peer) = device.peer else {
+        panic!("a byte peer")
+    };
+    // Even with every reply dropped, the group write neither waits nor retries.
+    device.drive.lock().unwrap().faults().drop_replies(10);
+    let line = SharedTransport::new(Box::new(MemoryTransport::new("line", peer, clock.clone())));
+    let group = f.parse_drive_address(Some("1.0")).unwrap();
+    let options = LinkOptions {
+        reply_timeout: Duration::from_secs(1),
+        retries: 2,
+        extra: vec![],
+    };
+    let context = LinkContext {
+        clock: clock.clone(),
+        observer: None,
+        stop: None,
+    };
+    let mut access = f
+        .open(&drivescript::bus::Bus::Bytes(line), &group, &options, context)
+        .unwrap();
+    let outcome = access
+        .write(
+            &Address::indexed(1, 21),
+            &RawValue::Decimal {
+                digits: 1005,
+                places: 1,
+            },
+            DataType::I32,
+        )
+        .unwrap();
+    assert_eq!(outcome, drivescript::drive::WriteOutcome::Stored);
+    assert!(
+        clock.now() < Duration::from_millis(100),
+        "no reply was waited for: {:?}",
+        clock.now()
+    );
+    let mut sim = device.drive.lock().unwrap();
+    let ct = sim.as_any_mut().downcast_mut::<CtSimulator>().unwrap();
+    assert_eq!(ct.received().len(), 1, "sent once");
+    assert_eq!(ct.setpoint_rpm(), 100.5, "and acted on by drive 1.2");
+    // A read to a group address is refused before anything is sent.
+    drop(sim);
+    let e = access.read(&Address::indexed(1, 21), DataType::I32).unwrap_err();
+    assert!(e.to_string().contains("takes writes only"), "{e}");
+}
+
+/// A `drivescript simulate --drive ct-unidrive-sp --pty` in the background.
+struct PtyDrive {
+    child: Child,
+    path: String,
+}
+
+impl PtyDrive {
+    fn start() -> PtyDrive {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_drivescript"))
+            .args(["simulate", "--drive", "ct-unidrive-sp", "--pty"])
+            .stdout(Stdio::piped())
+            .stderr(Stdio::null())
+            .spawn()
+            .expect("simulate starts");
+        let mut line = String::new();
+        BufReader::new(child.stdout.take().expect("stdout"))
+            .read_line(&mut line)
+            .expect("simulate prints its pty");
+        PtyDrive {
+            child,
+            path: line.trim().to_string(),
+        }
+    }
+}
+
+impl Drop for PtyDrive {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+#[cfg(unix)]
+#[test]
+fn the_commissioning_recipe_runs_through_a_pseudo_terminal() {
+    let sim = PtyDrive::start();
+    let recipe = ct_commissioning("pty");
+    let out = drivescript(&["run", recipe.to_str().unwrap(), "--port", &sim.path], "");
+    let text = stdout(&out);
+    assert_eq!(out.status.code(), Some(0), "{text}{}", stderr(&out));
+    assert!(
+        text.contains(&format!("drive 1.1 on {} at 4800 7E1", sim.path)),
+        "{text}"
+    );
+    assert!(text.contains("drive left in switched on at 0 rpm"), "{text}");
+    // The group address reaches the same drive, without a reply.
+    let out = drivescript(
+        &[
+            "write",
+            "speed_setpoint",
+            "12.5",
+            "--address",
+            "1.0",
+            "--port",
+            &sim.path,
+            "--drive",
+            "ct-unidrive-sp",
+        ],
+        "",
+    );
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    let out = drivescript(
+        &[
+            "read",
+            "speed_setpoint",
+            "--port",
+            &sim.path,
+            "--drive",
+            "ct-unidrive-sp",
+        ],
+        "",
+    );
+    assert!(stdout(&out).contains("12.5 rpm"), "{}", stdout(&out));
+}
+
+#[cfg(unix)]
+#[test]
+fn ctrl_c_during_a_run_on_the_simulated_ct_drive_stops_it() {
+    let sim = PtyDrive::start();
+    let dir = std::env::temp_dir().join(format!("drivescript-ct-sigint-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let recipe = dir.join("run.yaml");
+    std::fs::write(
+        &recipe,
+        "name: CT run\ndrive: ct-unidrive-sp\nsteps:\n  - go_to: { state: operation_enabled, timeout: 2 s }\n  - set: { speed_setpoint: 300 rpm }\n  - dwell: 1 h\n",
+    )
+    .unwrap();
+    let mut child = Command::new(env!("CARGO_BIN_EXE_drivescript"))
+        .arg("run")
+        .arg(&recipe)
+        .args(["--port", &sim.path, "--baud", "9600", "--parity", "odd"])
+        .current_dir(repo_root())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("run starts");
+    let mut out = child.stdout.take().expect("stdout");
+    let mut seen = String::new();
+    let mut buf = [0u8; 256];
+    let start = Instant::now();
+    while !seen.contains("set speed_setpoint") && start.elapsed() < Duration::from_secs(20) {
+        let n = out.read(&mut buf).expect("read");
+        if n == 0 {
+            break;
+        }
+        seen.push_str(&String::from_utf8_lossy(&buf[..n]));
+    }
+    assert!(seen.contains("set speed_setpoint"), "{seen}");
+    assert!(
+        seen.contains(&format!("drive 1.1 on {} at 9600 7O1", sim.path)),
+        "{seen}"
+    );
+    std::thread::sleep(Duration::from_millis(200));
+    let status = Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .expect("kill runs");
+    assert!(status.success());
+    let mut rest = String::new();
+    out.read_to_string(&mut rest).expect("read rest");
+    let code = child.wait().expect("run ends").code();
+    let all = format!("{seen}{rest}");
+    assert_eq!(code, Some(130), "{all}");
+    assert!(
+        all.contains("disable_operation (default finally)  control word 129"),
+        "{all}"
+    );
+    assert!(
+        all.contains("shutdown (default finally)  control word 128"),
+        "{all}"
+    );
+    assert!(all.contains("drive left in switched on"), "{all}");
+    assert!(all.contains("INTERRUPTED"), "{all}");
+    // Read back from the drive itself: stopped.
+    let out = drivescript(&["state", "--port", &sim.path, "--drive", "ct-unidrive-sp"], "");
+    assert!(stdout(&out).contains("switched on"), "{}", stdout(&out));
+}
+
+#[test]
+fn the_recipe_schema_offers_only_what_the_ct_drive_has() {
+    let out = drivescript(&["schema", "--drive", "ct-unidrive-sp"], "");
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    let schema: Value = serde_json::from_str(&stdout(&out)).unwrap();
+    assert_eq!(
+        schema["properties"]["drive"]["enum"],
+        serde_json::json!(["ct_ansi", "ct-unidrive-sp"])
+    );
+    let text = schema.to_string();
+    assert!(
+        !text.contains("quick_stop") && !text.contains("ready_to_switch_on"),
+        "{text}"
+    );
+    assert!(text.contains("enable_operation") && text.contains("switched_on"));
+}
