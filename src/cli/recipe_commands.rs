@@ -9,12 +9,14 @@ use crate::clock::SharedClock;
 use crate::dictionary::Quantity;
 use crate::family::Registry;
 use crate::recipe::{
-    load_recipe, Observers, Recipe, RecipeInvalid, RunReport, Runner, SafeStopChoice, SafeStopSettings,
+    load_recipe, planned_checks, Observers, Recipe, RecipeInvalid, RunReport, Runner, SafeStopChoice,
+    SafeStopSettings,
 };
 use crate::report::{
-    write_html, write_html_unfinished, write_junit, write_junit_unfinished, ConsoleReporter, CsvRecorder,
-    ProgressReporter, TelegramFanOut, TraceWriter,
+    html_not_run, junit_not_run, write_atomically, write_html, write_html_unfinished, write_junit,
+    write_junit_unfinished, ConsoleReporter, CsvRecorder, ProgressReporter, TelegramFanOut, TraceWriter,
 };
+use crate::session::PlannedCheck;
 use crate::sim::SimulatedDrive;
 use crate::stop_request::StopRequests;
 use clap::Args;
@@ -280,42 +282,40 @@ pub fn run_recipe(request: &RunRequest, out: &mut dyn Write, err: &mut dyn Write
         Ok(d) => d,
         Err(text) => {
             let _ = write!(err, "{text}");
-            return refused(INVALID);
+            return not_run(request, None, INVALID, &text, err);
         }
     };
     let recipe = match load_recipe(request.recipe, &dictionary, request.set) {
         Ok(r) => r,
         Err(e) => {
-            let _ = write!(err, "{}", e.render(false));
-            return refused(INVALID);
+            let text = e.render(false);
+            let _ = write!(err, "{text}");
+            return not_run(request, None, INVALID, &text, err);
         }
     };
+    let planned = planned_checks(&recipe);
+    let invalid = |text: String, err: &mut dyn Write| {
+        let _ = writeln!(err, "{text}");
+        not_run(request, Some((&recipe, &planned)), INVALID, &text, err)
+    };
     if request.fast && !request.connection.is_simulated() {
-        let _ = writeln!(err, "error: --fast (virtual time) works only with the built-in simulated drive; a real drive runs in real time");
-        return refused(INVALID);
+        return invalid("error: --fast (virtual time) works only with the built-in simulated drive; a real drive runs in real time".into(), err);
     }
     // Files are opened before anything is sent: a path that cannot be written is an
     // invalid command line, not a half-run recipe.
     let outputs = request.outputs;
     let family = match request.registry.family(dictionary.family()) {
         Ok(f) => f,
-        Err(e) => {
-            let _ = writeln!(err, "error: {e}");
-            return refused(INVALID);
-        }
+        Err(e) => return invalid(format!("error: {e}"), err),
     };
     if let Err(e) = request.connection.check(family.as_ref()) {
-        let _ = writeln!(err, "error: {e}");
-        return refused(INVALID);
+        return invalid(format!("error: {e}"), err);
     }
     let mut telegrams = TelegramFanOut::new();
     if let Some(path) = &outputs.trace {
         match TraceWriter::create(path, family.explainer(dictionary.clone())) {
             Ok(t) => telegrams.push(Box::new(t)),
-            Err(e) => {
-                let _ = writeln!(err, "error: {e}");
-                return refused(INVALID);
-            }
+            Err(e) => return invalid(format!("error: {e}"), err),
         }
     }
     if outputs.verbose {
@@ -327,10 +327,7 @@ pub fn run_recipe(request: &RunRequest, out: &mut dyn Write, err: &mut dyn Write
     let mut csv = match &outputs.csv {
         Some(path) => match CsvRecorder::create(path) {
             Ok(c) => Some(c),
-            Err(e) => {
-                let _ = writeln!(err, "error: {e}");
-                return refused(INVALID);
-            }
+            Err(e) => return invalid(format!("error: {e}"), err),
         },
         None => None,
     };
@@ -362,7 +359,7 @@ pub fn run_recipe(request: &RunRequest, out: &mut dyn Write, err: &mut dyn Write
         Ok(o) => o,
         Err(text) => {
             let _ = writeln!(err, "{text}");
-            return refused(COMMUNICATION);
+            return not_run(request, Some((&recipe, &planned)), COMMUNICATION, &text, err);
         }
     };
     if let (Some(sim), Some(prepare)) = (&open.simulator, request.prepare_simulator) {
@@ -394,7 +391,7 @@ pub fn run_recipe(request: &RunRequest, out: &mut dyn Write, err: &mut dyn Write
         let _ = writeln!(err, "warning: {e}");
     }
     if let Some(path) = &outputs.junit {
-        if let Err(e) = write_junit(&report, path) {
+        if let Err(e) = write_junit(&report, &planned, path) {
             let _ = writeln!(err, "error: {e}");
         }
     }
@@ -407,6 +404,45 @@ pub fn run_recipe(request: &RunRequest, out: &mut dyn Write, err: &mut dyn Write
         exit_code: report.exit_code(),
         report: Some(report),
         simulator: open.simulator,
+    }
+}
+
+/// The JUnit and HTML reports (when asked for) of a run that never started, so that CI
+/// reads this run's failure and not an earlier report; then the result with `code`.
+fn not_run(
+    request: &RunRequest,
+    recipe: Option<(&Recipe, &[PlannedCheck])>,
+    code: i32,
+    why: &str,
+    err: &mut dyn Write,
+) -> RunResult {
+    let path = request.recipe.display().to_string();
+    let (name, recipe_path, planned) = match recipe {
+        Some((r, planned)) => (r.name.clone(), r.path.clone(), planned),
+        None => (path.clone(), path, &[][..]),
+    };
+    let (kind, word) = if code == COMMUNICATION {
+        ("communication", "ERROR")
+    } else {
+        ("invalid", "INVALID")
+    };
+    let why = why.trim_end();
+    let outputs = request.outputs;
+    if let Some(p) = &outputs.junit {
+        let xml = junit_not_run(&name, &recipe_path, kind, why, planned);
+        if let Err(e) = write_atomically(p, &xml) {
+            let _ = writeln!(err, "error: {e}");
+        }
+    }
+    if let Some(p) = &outputs.report {
+        if let Err(e) = write_atomically(p, &html_not_run(&name, &recipe_path, word, why)) {
+            let _ = writeln!(err, "error: {e}");
+        }
+    }
+    RunResult {
+        exit_code: code,
+        report: None,
+        simulator: None,
     }
 }
 

@@ -164,6 +164,7 @@ fn repeat(
             "iteration {n}{}",
             times.map(|t| format!(" of {t}")).unwrap_or_default()
         );
+        s.iteration(n);
         s.progress(number, elapsed, duration, &what);
         steps(s, nested, number, phase)?;
     }

@@ -62,6 +62,8 @@ impl Session<'_> {
                     )
                 },
                 origin: origin.clone(),
+                step: self.place().0,
+                stage: self.place().1,
                 at: self.clock.now(),
                 duration: self.clock.now().saturating_sub(started),
             };

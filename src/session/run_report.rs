@@ -64,6 +64,8 @@ impl Verdict {
 pub struct StepRecord {
     /// `3`, or `7.2.1` inside repeat/include (iteration-independent position).
     pub number: String,
+    /// The number with the iteration of every repeat around it: `4[2].1`.
+    pub id: String,
     pub label: String,
     pub origin: StepOrigin,
     pub ok: bool,
@@ -91,8 +93,26 @@ pub struct CheckResult {
     pub statistic: Option<String>,
     pub message: String,
     pub origin: StepOrigin,
+    /// The iteration-aware id of the step that made the check: `4[2].3`.
+    pub step: String,
+    /// The steps that hold it (`Stage 2, 12000 rpm`, `repeat 3 times #2`); empty at the
+    /// top level.
+    pub stage: String,
     pub at: Duration,
     pub duration: Duration,
+}
+
+/// A check a recipe holds, known before the run: reports show the ones no result answers
+/// as not reached.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PlannedCheck {
+    /// As [`CheckResult::name`] will say it.
+    pub name: String,
+    pub object: Option<String>,
+    pub statistic: Option<String>,
+    /// The steps that hold it, as [`CheckResult::stage`] without iterations.
+    pub stage: String,
+    pub origin: StepOrigin,
 }
 
 /// A sampled series: (time since start in s, value).

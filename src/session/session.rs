@@ -4,6 +4,7 @@
 //! files next to this one; the end of every run, the safe stop, in `safe_stop.rs`. Knows
 //! names, units and states; never bytes, never a family, never YAML.
 
+use super::step_path::StepPath;
 use super::stop::{outcome, panic_message, Stop};
 use super::{
     with_unit, CheckResult, Condition, ObjectRef, Predicate, RunInfo, RunObserver, RunReport,
@@ -45,6 +46,8 @@ pub struct Session<'a> {
     /// Reopening the port was tried for the whole reconnect time and failed: later
     /// failures of the safe stop do not wait for it again.
     pub(super) link_given_up: bool,
+    /// The steps around the current one, for iteration-aware step ids and stages.
+    pub(super) path: StepPath,
     run: RunInfo,
 }
 
@@ -95,6 +98,7 @@ impl<'a> Session<'a> {
             known_fault: false,
             in_safe_stop: false,
             link_given_up: false,
+            path: StepPath::default(),
             run,
         }
     }
@@ -144,6 +148,8 @@ impl<'a> Session<'a> {
         op: impl FnOnce(&mut Self) -> Result<String, Stop>,
     ) -> Result<String, Stop> {
         self.observer.step_started(info);
+        self.path.enter(info);
+        self.observer.step_placed(&self.path.id());
         let started = self.clock.now();
         let result = match catch_unwind(AssertUnwindSafe(|| op(self))) {
             Ok(r) => r,
@@ -152,12 +158,25 @@ impl<'a> Session<'a> {
         let (ok, detail) = outcome(&result);
         let ok = ok && !detail.starts_with("FAILED");
         self.record_step(info, ok, detail, started);
+        self.path.leave();
         result
+    }
+
+    /// The current step (a repeat) begins its `n`th iteration (from 1): the ids of the
+    /// steps inside it carry `[n]`.
+    pub fn iteration(&mut self, n: u32) {
+        self.path.iteration(n);
+    }
+
+    /// The current step's iteration-aware id and the stage that holds it, for checks.
+    pub(super) fn place(&self) -> (String, String) {
+        (self.path.id(), self.path.stage())
     }
 
     fn record_step(&mut self, info: &StepInfo, ok: bool, detail: String, started: Duration) {
         let record = StepRecord {
             number: info.number.clone(),
+            id: self.path.id(),
             label: info.label.clone(),
             origin: info.origin.clone(),
             ok,

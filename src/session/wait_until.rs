@@ -101,6 +101,8 @@ impl Session<'_> {
             statistic: None,
             message: message.unwrap_or_else(|| "reached".into()),
             origin: origin.clone(),
+            step: self.place().0,
+            stage: self.place().1,
             at: self.clock.now(),
             duration: self.clock.now().saturating_sub(started),
         };

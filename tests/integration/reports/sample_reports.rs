@@ -26,6 +26,7 @@ pub fn step(
 ) -> StepRecord {
     StepRecord {
         number: number.into(),
+        id: number.into(),
         label: label.into(),
         origin: origin(10 + number.parse::<usize>().unwrap_or(0)),
         ok,
@@ -50,6 +51,8 @@ pub fn check(name: &str, passed: bool, message: &str) -> CheckResult {
         statistic: None,
         message: message.into(),
         origin: origin(12),
+        step: "2".into(),
+        stage: String::new(),
         at: Duration::from_secs(1),
         duration: Duration::from_millis(200),
     }
@@ -65,6 +68,7 @@ pub fn speed_check(name: &str, measured: f64, passed: bool) -> CheckResult {
         object: Some("speed_actual".into()),
         statistic: Some("mean".into()),
         origin: origin(20),
+        step: "4".into(),
         at: Duration::from_secs(65),
         duration: Duration::from_millis(1500),
         ..check(name, passed, &format!("mean {measured} rpm"))
