@@ -37,6 +37,9 @@ pub struct WriteArgs {
     /// object's own unit.
     #[arg(value_name = "VALUE", allow_hyphen_values = true)]
     value: String,
+    /// The unit, when written apart from the value: `write speed_setpoint 6000 rpm`.
+    #[arg(value_name = "UNIT")]
+    unit: Option<String>,
     #[command(flatten)]
     dictionary: DictionaryArgs,
     #[command(flatten)]
@@ -183,6 +186,11 @@ fn check_readable(dictionary: &Dictionary, name: &str) -> Result<(), DriveError>
 }
 
 pub fn write(args: &WriteArgs) -> i32 {
+    // `6000 rpm` as two arguments is the same value as `6000rpm`.
+    let value = match &args.unit {
+        Some(unit) => format!("{} {unit}", args.value),
+        None => args.value.clone(),
+    };
     let dictionary = match load_dictionary(&args.dictionary) {
         Ok(d) => d,
         Err(code) => return code,
@@ -212,9 +220,9 @@ pub fn write(args: &WriteArgs) -> i32 {
     }
     let is_text = def.data_type.range().is_none();
     let checked = if is_text {
-        def.text_to_raw(&args.value).map(|_| None)
+        def.text_to_raw(&value).map(|_| None)
     } else {
-        Quantity::parse(&args.value).and_then(|q| def.to_raw(&q).map(|raw| Some((q, raw))))
+        Quantity::parse(&value).and_then(|q| def.to_raw(&q).map(|raw| Some((q, raw))))
     };
     let parsed = match checked {
         Ok(p) => p,
@@ -229,13 +237,13 @@ pub fn write(args: &WriteArgs) -> i32 {
     };
     let result = match &parsed {
         Some((q, _)) => open.drive.write(&def.name, q),
-        None => open.drive.write_text(&def.name, &args.value),
+        None => open.drive.write_text(&def.name, &value),
     };
     match result {
         Ok(outcome) => {
             match &parsed {
                 Some((q, raw)) => println!("{} = {q} written (raw {raw})", def.name),
-                None => println!("{} = \"{}\" written", def.name, args.value),
+                None => println!("{} = \"{}\" written", def.name, value),
             }
             if let WriteOutcome::Limited(stored) = outcome {
                 println!("warning: the drive limited the value; it stored raw {stored}");

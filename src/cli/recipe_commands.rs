@@ -13,8 +13,9 @@ use crate::recipe::{
     SafeStopSettings,
 };
 use crate::report::{
-    html_not_run, junit_not_run, write_atomically, write_html, write_html_unfinished, write_junit,
-    write_junit_unfinished, ConsoleReporter, CsvRecorder, ProgressReporter, TelegramFanOut, TraceWriter,
+    color_wanted, html_not_run, junit_not_run, write_atomically, write_html, write_html_unfinished,
+    write_junit, write_junit_unfinished, ConsoleReporter, CsvRecorder, ProgressReporter, TelegramFanOut,
+    TraceWriter,
 };
 use crate::session::PlannedCheck;
 use crate::sim::SimulatedDrive;
@@ -39,12 +40,14 @@ pub struct CheckArgs {
 }
 
 #[derive(Debug, Args)]
-/// Run a recipe. Without --port or --tcp it runs against the built-in simulated drive and
-/// says so. The recipe is checked first; nothing is sent if it has a problem. Whatever
-/// happens, `finally` runs (default: disable operation, then shutdown).
+/// Run recipes. Without --port or --tcp they run against the built-in simulated drive and
+/// say so. Each recipe is checked first; nothing is sent if it has a problem. Whatever
+/// happens, `finally` runs (default: disable operation, then shutdown). Several recipes
+/// run one after the other, each with its own safe stop and reports; the exit code is the
+/// worst of them.
 pub struct RunArgs {
-    #[arg(value_name = "RECIPE")]
-    recipe: PathBuf,
+    #[arg(value_name = "RECIPE", required = true)]
+    recipes: Vec<PathBuf>,
     /// Parameter override, NAME=VALUE (e.g. speed=8000rpm); may be repeated.
     #[arg(long = "set", value_name = "NAME=VALUE", value_parser = parse_set)]
     set: Vec<(String, String)>,
@@ -55,7 +58,8 @@ pub struct RunArgs {
     /// Run in real time (the default; with a real drive always).
     #[arg(long)]
     realtime: bool,
-    /// Directory for `csv:` files named by sample steps (default: the current directory).
+    /// Directory for every output given as a relative path: --junit, --report, --csv,
+    /// --trace and the `csv:` files of sample steps (default: the current directory).
     #[arg(long, value_name = "DIR", default_value = ".")]
     output_dir: PathBuf,
     #[command(flatten)]
@@ -142,6 +146,30 @@ pub struct OutputArgs {
     /// Plain lines only: no live progress bar.
     #[arg(long, alias = "no-progress")]
     pub quiet: bool,
+    /// Colour PASS/FAIL and the verdict: auto (on a terminal, unless NO_COLOR is set),
+    /// always, never.
+    #[arg(long, value_name = "WHEN", value_enum, default_value_t = ColorWhen::Auto)]
+    pub color: ColorWhen,
+}
+
+/// `--color`.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, clap::ValueEnum)]
+pub enum ColorWhen {
+    #[default]
+    Auto,
+    Always,
+    Never,
+}
+
+impl ColorWhen {
+    /// `None` for auto: the terminal and `NO_COLOR` decide.
+    pub fn choice(self) -> Option<bool> {
+        match self {
+            ColorWhen::Auto => None,
+            ColorWhen::Always => Some(true),
+            ColorWhen::Never => Some(false),
+        }
+    }
 }
 
 fn parse_set(text: &str) -> Result<(String, String), String> {
@@ -210,28 +238,130 @@ pub fn run(args: &RunArgs) -> i32 {
     let stop = stop_signals::install(true);
     panic_notice::install();
     let registry = Registry::builtin();
-    let request = RunRequest {
-        registry: &registry,
-        recipe: &args.recipe,
-        set: &args.set,
-        fast: args.fast,
-        output_dir: args.output_dir.clone(),
-        dictionary: &args.dictionary,
-        connection: &args.connection,
-        outputs: &args.outputs,
-        // Nobody reads the simulated drive's request log from the command line.
-        prepare_simulator: Some(&|sim, _| {
-            sim.lock()
-                .unwrap_or_else(std::sync::PoisonError::into_inner)
-                .set_logging(false)
-        }),
-        stop: stop.clone(),
-        safe_stop: args.safe_stop.clone(),
-        terminal: std::io::stdout().is_terminal(),
+    let several = args.recipes.len() > 1;
+    let mut worst = PASSED;
+    let mut verdicts = Vec::new();
+    for (i, recipe) in args.recipes.iter().enumerate() {
+        if several {
+            println!(
+                "{}== recipe {} of {}: {}",
+                if i > 0 { "\n" } else { "" },
+                i + 1,
+                args.recipes.len(),
+                recipe.display()
+            );
+        }
+        let outputs = outputs_for(
+            &args.outputs,
+            &args.output_dir,
+            several.then_some((i + 1, recipe.as_path())),
+        );
+        let request = RunRequest {
+            registry: &registry,
+            recipe,
+            set: &args.set,
+            fast: args.fast,
+            output_dir: args.output_dir.clone(),
+            dictionary: &args.dictionary,
+            connection: &args.connection,
+            outputs: &outputs,
+            // Nobody reads the simulated drive's request log from the command line.
+            prepare_simulator: Some(&|sim, _| {
+                sim.lock()
+                    .unwrap_or_else(std::sync::PoisonError::into_inner)
+                    .set_logging(false)
+            }),
+            stop: stop.clone(),
+            safe_stop: args.safe_stop.clone(),
+            terminal: std::io::stdout().is_terminal(),
+        };
+        let mut stdout = std::io::stdout();
+        let mut stderr = std::io::stderr();
+        let result = run_recipe(&request, &mut stdout, &mut stderr);
+        print_outputs(&outputs, result.report.as_ref());
+        verdicts.push((recipe.display().to_string(), result.exit_code));
+        worst = worse(worst, result.exit_code);
+        // A stop signal or a panic ends the whole command, after this recipe's safe stop.
+        if result.exit_code >= 128 || result.exit_code == crate::session::PANIC_EXIT {
+            break;
+        }
+    }
+    if several {
+        println!("\n== {} recipe(s):", verdicts.len());
+        for (path, code) in &verdicts {
+            println!("   exit code {code}  {path}");
+        }
+        println!("exit code {worst} (the worst of them)");
+    }
+    worst
+}
+
+/// The exit code that says more: a panic, then a stop signal, then 3, 2, 1, 0.
+pub fn worse(a: i32, b: i32) -> i32 {
+    let rank = |c: i32| match c {
+        0 => 0,
+        1 => 1,
+        2 => 2,
+        c if c == crate::session::PANIC_EXIT => 6,
+        c if c >= 128 => 5,
+        _ => 3,
     };
-    let mut stdout = std::io::stdout();
-    let mut stderr = std::io::stderr();
-    run_recipe(&request, &mut stdout, &mut stderr).exit_code
+    if rank(b) > rank(a) {
+        b
+    } else {
+        a
+    }
+}
+
+/// The outputs of one recipe: relative paths under `dir`; with several recipes each file
+/// name gets the recipe's place and name (`junit.xml` → `junit-2-acceptance-test.xml`) so
+/// that no run overwrites another's, even of recipes with the same file name.
+pub fn outputs_for(outputs: &OutputArgs, dir: &Path, recipe: Option<(usize, &Path)>) -> OutputArgs {
+    let place = |p: &Option<PathBuf>| {
+        p.as_ref().map(|p| {
+            let p = match recipe {
+                Some((n, path)) => {
+                    let mut name = p.file_stem().unwrap_or_default().to_os_string();
+                    name.push(format!("-{n}-"));
+                    name.push(path.file_stem().unwrap_or_default());
+                    if let Some(ext) = p.extension() {
+                        name.push(".");
+                        name.push(ext);
+                    }
+                    p.with_file_name(name)
+                }
+                None => p.clone(),
+            };
+            if dir == Path::new(".") {
+                p
+            } else {
+                dir.join(p)
+            }
+        })
+    };
+    OutputArgs {
+        trace: place(&outputs.trace),
+        csv: place(&outputs.csv),
+        junit: place(&outputs.junit),
+        report: place(&outputs.report),
+        ..outputs.clone()
+    }
+}
+
+/// `outputs  junit.xml, report.html, run-in-stage-1.csv`: every file the run wrote.
+fn print_outputs(outputs: &OutputArgs, report: Option<&RunReport>) {
+    let mut files: Vec<String> = [&outputs.trace, &outputs.csv, &outputs.junit, &outputs.report]
+        .into_iter()
+        .flatten()
+        .filter(|p| p.is_file())
+        .map(|p| p.display().to_string())
+        .collect();
+    if let Some(r) = report {
+        files.extend(r.csv_files.iter().cloned());
+    }
+    if !files.is_empty() {
+        println!("outputs {}", files.join(", "));
+    }
 }
 
 /// A hook that gets the simulated drive and the run's clock before the run starts.
@@ -371,8 +501,9 @@ pub fn run_recipe(request: &RunRequest, out: &mut dyn Write, err: &mut dyn Write
     let virtual_time = request.fast && open.simulator.is_some();
     // A live bar only on a terminal, and not while -v writes telegram lines under it.
     let live = request.terminal && !outputs.quiet && !outputs.verbose;
-    let mut console = ConsoleReporter::new(&mut *out, virtual_time);
-    let mut progress = live.then(|| ProgressReporter::stdout(virtual_time));
+    let color = color_wanted(outputs.color.choice(), request.terminal);
+    let mut console = ConsoleReporter::new(&mut *out, virtual_time).with_color(color);
+    let mut progress = live.then(|| ProgressReporter::stdout(virtual_time).with_color(color));
     let report = {
         let mut observers = Observers::default();
         match progress.as_mut() {
@@ -466,5 +597,34 @@ pub fn schema(args: &SchemaArgs) -> i32 {
             eprint!("{text}");
             INVALID
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_worst_exit_code_wins() {
+        let worst = |codes: &[i32]| codes.iter().fold(PASSED, |a, b| worse(a, *b));
+        assert_eq!(worst(&[0, 1, 0]), 1);
+        assert_eq!(worst(&[1, 3, 2]), 3);
+        assert_eq!(worst(&[3, 130, 1]), 130);
+        assert_eq!(worst(&[130, 101]), 101);
+    }
+
+    #[test]
+    fn outputs_of_several_recipes_never_share_a_file() {
+        let outputs = OutputArgs {
+            junit: Some("ci/junit.xml".into()),
+            report: Some("/abs/report.html".into()),
+            ..OutputArgs::default()
+        };
+        let one = outputs_for(&outputs, Path::new("out"), None);
+        assert_eq!(one.junit, Some(PathBuf::from("out/ci/junit.xml")));
+        assert_eq!(one.report, Some(PathBuf::from("/abs/report.html")));
+        let second = outputs_for(&outputs, Path::new("."), Some((2, Path::new("a/x.yaml"))));
+        assert_eq!(second.junit, Some(PathBuf::from("ci/junit-2-x.xml")));
+        assert_eq!(second.report, Some(PathBuf::from("/abs/report-2-x.html")));
     }
 }

@@ -10,11 +10,22 @@ pub struct ConsoleReporter<W: Write> {
     out: W,
     /// Whether the clock is virtual (said in the summary, since durations are simulated).
     virtual_time: bool,
+    color: bool,
 }
 
 impl<W: Write> ConsoleReporter<W> {
     pub fn new(out: W, virtual_time: bool) -> Self {
-        ConsoleReporter { out, virtual_time }
+        ConsoleReporter {
+            out,
+            virtual_time,
+            color: false,
+        }
+    }
+
+    /// PASS/FAIL and the verdict in colour (see [`super::color_wanted`]).
+    pub fn with_color(mut self, color: bool) -> Self {
+        self.color = color;
+        self
     }
 
     pub fn into_inner(self) -> W {
@@ -23,7 +34,11 @@ impl<W: Write> ConsoleReporter<W> {
 
     fn line(&mut self, text: &str) {
         // A closed pipe (`| head`) must not stop the run or its safe stop.
-        let _ = writeln!(self.out, "{text}");
+        let _ = if self.color {
+            writeln!(self.out, "{}", super::paint(text))
+        } else {
+            writeln!(self.out, "{text}")
+        };
         let _ = self.out.flush();
     }
 }

@@ -2,6 +2,7 @@
 //! files handed over afterwards. Reads the run's events and report; never talks to a drive.
 
 mod atomic_write;
+mod console_color;
 mod console_reporter;
 mod csv_recorder;
 mod html_report;
@@ -13,6 +14,7 @@ mod trace_writer;
 mod unfinished_report;
 
 pub use atomic_write::write_atomically;
+pub use console_color::{color_wanted, paint};
 pub use console_reporter::{
     check_line, container_line, header_lines, message_line, step_line, summary_lines, ConsoleReporter,
 };

@@ -27,6 +27,7 @@ pub struct ProgressReporter<W: Write> {
     containers: Vec<(String, String, String)>,
     /// Whether the bar shows a bar (a step with a known total) or only the spinner.
     with_bar: bool,
+    color: bool,
 }
 
 impl ProgressReporter<std::io::Stdout> {
@@ -52,7 +53,14 @@ impl<W: Write> ProgressReporter<W> {
             current: None,
             containers: Vec::new(),
             with_bar: false,
+            color: false,
         }
+    }
+
+    /// PASS/FAIL and the verdict in colour (see [`super::color_wanted`]).
+    pub fn with_color(mut self, color: bool) -> Self {
+        self.color = color;
+        self
     }
 
     /// The live line (for tests and for a caller that wants to tick or hide it).
@@ -67,6 +75,13 @@ impl<W: Write> ProgressReporter<W> {
 
     /// A permanent line above the live one.
     fn line(&mut self, text: &str) {
+        let painted;
+        let text = if self.color {
+            painted = super::paint(text);
+            painted.as_str()
+        } else {
+            text
+        };
         let out = &mut self.out;
         self.bar.suspend(|| {
             // A closed terminal must not stop the run or its safe stop.

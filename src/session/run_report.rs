@@ -157,6 +157,8 @@ pub struct RunReport {
     /// [`MAX_RECORDS`] of each (they were printed as they ran); failures are always kept.
     pub omitted_steps: u64,
     pub omitted_checks: u64,
+    /// The `csv:` files of sample steps this run wrote, by path.
+    pub csv_files: Vec<String>,
 }
 
 /// Most step records, and most check results, one report keeps: a repeat that runs for

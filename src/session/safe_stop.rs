@@ -84,6 +84,9 @@ impl Session<'_> {
         };
         self.run_safe_stop(finally, link_lost, leave_enabled);
         self.report.duration = self.clock.now().saturating_sub(self.run_start);
+        let mut csv_files: Vec<String> = self.csv_files.iter().map(|p| p.display().to_string()).collect();
+        csv_files.sort();
+        self.report.csv_files = csv_files;
         self.observer.run_finished(&self.report);
         self.report
     }

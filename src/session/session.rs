@@ -81,6 +81,7 @@ impl<'a> Session<'a> {
             safe_stop: Vec::new(),
             omitted_steps: 0,
             omitted_checks: 0,
+            csv_files: Vec::new(),
         };
         Session {
             drive,

@@ -6,6 +6,7 @@
 
 mod bench_limits;
 mod bounded;
+mod command_line;
 mod decode_cli;
 mod drive_sim;
 mod end_to_end;

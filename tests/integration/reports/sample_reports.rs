@@ -100,6 +100,7 @@ pub fn report(recipe: &str, recipe_path: &str, drive: &str, verdict: Verdict) ->
         safe_stop: Vec::new(),
         omitted_steps: 0,
         omitted_checks: 0,
+        csv_files: Vec::new(),
     }
 }
 
