@@ -492,6 +492,17 @@ pub fn run_recipe(request: &RunRequest, out: &mut dyn Write, err: &mut dyn Write
             return not_run(request, Some((&recipe, &planned)), COMMUNICATION, &text, err);
         }
     };
+    // A drive that never answers is said once, early, with what to check, instead of
+    // every step and the safe stop each waiting out their retries.
+    if open.simulator.is_none() {
+        if let Err(crate::drive::DriveError::Access(e)) = open.drive.state() {
+            if e.is_no_reply() {
+                let text = silent_drive(request.connection, &e.to_string());
+                let _ = writeln!(err, "{text}");
+                return not_run(request, Some((&recipe, &planned)), COMMUNICATION, &text, err);
+            }
+        }
+    }
     if let (Some(sim), Some(prepare)) = (&open.simulator, request.prepare_simulator) {
         prepare(sim, open.drive.clock());
     }
@@ -536,6 +547,32 @@ pub fn run_recipe(request: &RunRequest, out: &mut dyn Write, err: &mut dyn Write
         report: Some(report),
         simulator: open.simulator,
     }
+}
+
+/// The message for a drive that did not answer its first request, naming the address as
+/// the user typed it and the three likely causes.
+pub fn silent_drive(connection: &ConnectionArgs, detail: &str) -> String {
+    let address = match &connection.address {
+        Some(a) => format!("--address {a}"),
+        None => "no --address, so the family's default address".to_string(),
+    };
+    let line = match (&connection.port, &connection.tcp) {
+        (Some(p), _) => format!("--port {p}"),
+        (None, Some(t)) => format!("--tcp {t}"),
+        (None, None) => "the port".to_string(),
+    };
+    let baud = match connection.baud {
+        Some(b) => format!("--baud {b}"),
+        None => "no --baud, so the family's default".to_string(),
+    };
+    format!(
+        "error: the drive does not answer ({address}, {line}); nothing was written to it and the recipe did not start.\n\
+         The three likely causes:\n  \
+         1. the address: you gave {address}; it must match the drive's address setting (see `drivescript run --help` for the notation)\n  \
+         2. the baud rate: you gave {baud}; it must match the drive's\n  \
+         3. the line: the cable or adapter, RS485 wiring and termination, the drive's power, or a different {line}\n\
+         detail: {detail}"
+    )
 }
 
 /// The JUnit and HTML reports (when asked for) of a run that never started, so that CI

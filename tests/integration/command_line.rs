@@ -174,3 +174,48 @@ fn a_windows_1252_recipe_is_said_plainly() {
     assert!(!err.contains("check the path"), "{err}");
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// A drive at another address never answers: one early message naming the address as
+/// typed and the three likely causes, exit code 3, nothing run, reports written.
+#[test]
+fn a_drive_that_never_answers_gets_one_early_message() {
+    let sim = crate::end_to_end::Simulator::start(&["--tcp", "127.0.0.1:0"]);
+    let dir = temp_dir("silent");
+    let junit = dir.join("junit.xml");
+    let out = drivescript(
+        &[
+            "run",
+            "recipes/identity.yaml",
+            "--tcp",
+            &sim.endpoint,
+            "--address",
+            "1",
+            "--timeout",
+            "50ms",
+            "--retries",
+            "0",
+            "--junit",
+            junit.to_str().unwrap(),
+        ],
+        "",
+    );
+    assert_eq!(out.status.code(), Some(3), "{}", stdout(&out));
+    let err = stderr(&out);
+    assert!(err.contains("the drive does not answer (--address 1,"), "{err}");
+    assert_eq!(err.matches("no reply from").count(), 1, "said once: {err}");
+    for cause in [
+        "1. the address: you gave --address 1",
+        "2. the baud rate",
+        "3. the line",
+    ] {
+        assert!(err.contains(cause), "{cause}: {err}");
+    }
+    assert!(
+        !stdout(&out).contains("     1  "),
+        "no step ran: {}",
+        stdout(&out)
+    );
+    let xml = std::fs::read_to_string(&junit).expect("junit");
+    assert!(xml.contains("the drive does not answer"), "{xml}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -8,14 +8,14 @@ use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
 /// A `drivescript simulate` in the background, stopped when dropped.
-struct Simulator {
+pub struct Simulator {
     child: Child,
     /// The first line it printed: the pty path or the TCP address.
-    endpoint: String,
+    pub endpoint: String,
 }
 
 impl Simulator {
-    fn start(args: &[&str]) -> Simulator {
+    pub fn start(args: &[&str]) -> Simulator {
         let mut child = Command::new(env!("CARGO_BIN_EXE_drivescript"))
             .arg("simulate")
             .args(args)
