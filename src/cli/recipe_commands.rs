@@ -514,7 +514,12 @@ pub fn run_recipe(request: &RunRequest, out: &mut dyn Write, err: &mut dyn Write
     let live = request.terminal && !outputs.quiet && !outputs.verbose;
     let color = color_wanted(outputs.color.choice(), request.terminal);
     let mut console = ConsoleReporter::new(&mut *out, virtual_time).with_color(color);
-    let mut progress = live.then(|| ProgressReporter::stdout(virtual_time).with_color(color));
+    let planned_time = crate::recipe::longest_time_of(&recipe.steps);
+    let mut progress = live.then(|| {
+        ProgressReporter::stdout(virtual_time)
+            .with_color(color)
+            .with_planned(planned_time)
+    });
     let report = {
         let mut observers = Observers::default();
         match progress.as_mut() {

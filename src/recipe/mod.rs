@@ -22,4 +22,4 @@ pub use recipe::{Param, Recipe, SafeStopChoice};
 pub use recipe_invalid::RecipeInvalid;
 pub use runner::Runner;
 pub use schema::recipe_schema;
-pub use step::{ObjectRef, SetValue, Step, StepKind, StepOrigin};
+pub use step::{longest_time_of, ObjectRef, SetValue, Step, StepKind, StepOrigin};
