@@ -9,8 +9,8 @@ use crate::clock::SharedClock;
 use crate::dictionary::Quantity;
 use crate::family::Registry;
 use crate::recipe::{
-    load_recipe, planned_checks, Observers, Recipe, RecipeInvalid, RunReport, Runner, SafeStopChoice,
-    SafeStopSettings,
+    load_recipe, planned_checks, sampled_objects, Observers, Recipe, RecipeInvalid, RunReport, Runner,
+    SafeStopChoice, SafeStopSettings,
 };
 use crate::report::{
     color_wanted, html_not_run, junit_not_run, write_atomically, write_html, write_html_unfinished,
@@ -134,9 +134,14 @@ pub struct OutputArgs {
     /// Write every telegram to FILE as the run goes (`drivescript decode` reads it back).
     #[arg(long, value_name = "FILE")]
     pub trace: Option<PathBuf>,
-    /// Stream every sample to FILE (time, step, object, value, unit), flushed row by row.
+    /// Stream every sample to FILE: time since the start, UTC time, step, object, value,
+    /// unit (one row per value); flushed at least every 250 ms.
     #[arg(long, value_name = "FILE")]
     pub csv: Option<PathBuf>,
+    /// --csv and the `csv:` files of sample steps with one column per object instead of
+    /// one row per value.
+    #[arg(long)]
+    pub csv_wide: bool,
     /// Write a JUnit XML report: one test case per check, for CI servers.
     #[arg(long, value_name = "FILE")]
     pub junit: Option<PathBuf>,
@@ -455,10 +460,12 @@ pub fn run_recipe(request: &RunRequest, out: &mut dyn Write, err: &mut dyn Write
         )));
     }
     let mut csv = match &outputs.csv {
-        Some(path) => match CsvRecorder::create(path) {
-            Ok(c) => Some(c),
-            Err(e) => return invalid(format!("error: {e}"), err),
-        },
+        Some(path) => {
+            match CsvRecorder::create(path, outputs.csv_wide.then_some(&sampled_objects(&recipe)[..])) {
+                Ok(c) => Some(c),
+                Err(e) => return invalid(format!("error: {e}"), err),
+            }
+        }
         None => None,
     };
     // A report left from an earlier run is replaced at once by one that says this run has
@@ -531,6 +538,7 @@ pub fn run_recipe(request: &RunRequest, out: &mut dyn Write, err: &mut dyn Write
         }
         Runner::new(&mut open.drive, &mut observers, &request.stop, &recipe)
             .with_output_dir(request.output_dir.clone())
+            .with_csv_wide(outputs.csv_wide)
             .with_settings(request.safe_stop.settings(&recipe.safe_stop))
             .run(&recipe)
     };

@@ -17,7 +17,7 @@ pub use crate::session::{CheckResult, RunReport, Series, StepRecord, Verdict};
 pub use crate::session::{Observers, RunObserver, SafeStopSettings};
 pub use expansion::{MAX_EXPANDED_STEPS, MAX_INCLUDE_LOADS, MAX_RUN_TIME};
 pub use loader::{load_recipe, load_recipe_text, MAX_DURATION, MAX_SAMPLES};
-pub use planned_checks::planned_checks;
+pub use planned_checks::{planned_checks, sampled_objects};
 pub use recipe::{Param, Recipe, SafeStopChoice};
 pub use recipe_invalid::RecipeInvalid;
 pub use runner::Runner;

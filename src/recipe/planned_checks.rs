@@ -1,10 +1,11 @@
-//! The checks a recipe holds (`expect` checks and `wait_until` conditions of its steps),
-//! with the stage that holds each, so reports can show the ones a run never reached.
-//! Reads the validated recipe only.
+//! What a recipe will check and sample, known before it runs: its checks (`expect` checks
+//! and `wait_until` conditions) with the stage that holds each, so reports can show the
+//! ones a run never reached, and the objects its sample steps read, for the columns of a
+//! wide CSV. Reads the validated recipe only.
 
 use super::recipe::Recipe;
 use super::step::{Step, StepKind};
-use crate::session::{Condition, PlannedCheck};
+use crate::session::{Condition, ObjectRef, PlannedCheck};
 
 /// Every check of the recipe's steps in recipe order (a check inside a repeat once).
 pub fn planned_checks(recipe: &Recipe) -> Vec<PlannedCheck> {
@@ -45,4 +46,27 @@ fn walk(steps: &[Step], stage: &mut Vec<String>, out: &mut Vec<PlannedCheck>) {
             _ => {}
         }
     }
+}
+
+/// The objects the recipe's sample steps read (finally's too), each once, in recipe order.
+pub fn sampled_objects(recipe: &Recipe) -> Vec<ObjectRef> {
+    fn walk(steps: &[Step], out: &mut Vec<ObjectRef>) {
+        for step in steps {
+            match &step.kind {
+                StepKind::Sample { objects, .. } => {
+                    for o in objects {
+                        if !out.iter().any(|seen| seen.name == o.name) {
+                            out.push(o.clone());
+                        }
+                    }
+                }
+                StepKind::Repeat { steps, .. } | StepKind::Include { steps, .. } => walk(steps, out),
+                _ => {}
+            }
+        }
+    }
+    let mut out = Vec::new();
+    walk(&recipe.steps, &mut out);
+    walk(recipe.finally.as_deref().unwrap_or_default(), &mut out);
+    out
 }

@@ -16,6 +16,7 @@ mod run_report;
 mod safe_stop;
 mod safe_stop_settings;
 mod sample;
+mod sample_table;
 mod session;
 mod set_value;
 mod step_origin;
@@ -34,6 +35,7 @@ pub use run_report::{
     CheckResult, PlannedCheck, RunReport, Series, StepRecord, Verdict, ERROR_EXIT, MAX_RECORDS, PANIC_EXIT,
 };
 pub use safe_stop_settings::SafeStopSettings;
+pub use sample_table::{SampleTable, LONG_HEADER};
 pub use session::{show_duration, Session};
 pub use set_value::SetValue;
 pub use step_origin::StepOrigin;

@@ -15,7 +15,7 @@ pub trait RunObserver {
     fn step_progress(&mut self, _number: &str, _elapsed: Duration, _total: Option<Duration>, _values: &str) {}
     fn step_finished(&mut self, _record: &StepRecord) {}
     fn check(&mut self, _result: &CheckResult) {}
-    /// One row of a `sample` step: clock time, and one value per object.
+    /// One row of a `sample` step: the time since the run's start, and one value per object.
     fn sample(&mut self, _at: Duration, _objects: &[ObjectRef], _values: &[f64]) {}
     /// Whether this observer shows live progress (a screen): text for it is built only then.
     fn wants_progress(&self) -> bool {

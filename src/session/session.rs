@@ -48,6 +48,8 @@ pub struct Session<'a> {
     pub(super) link_given_up: bool,
     /// The steps around the current one, for iteration-aware step ids and stages.
     pub(super) path: StepPath,
+    /// `csv:` files of sample steps with one column per object instead of the long layout.
+    pub(super) csv_wide: bool,
     run: RunInfo,
 }
 
@@ -100,6 +102,7 @@ impl<'a> Session<'a> {
             in_safe_stop: false,
             link_given_up: false,
             path: StepPath::default(),
+            csv_wide: false,
             run,
         }
     }
@@ -113,6 +116,12 @@ impl<'a> Session<'a> {
     /// Where `csv:` files of sample steps go (relative paths).
     pub fn with_output_dir(mut self, dir: PathBuf) -> Self {
         self.output_dir = dir;
+        self
+    }
+
+    /// `csv:` files of sample steps with one column per object (`--csv-wide`).
+    pub fn with_csv_wide(mut self, wide: bool) -> Self {
+        self.csv_wide = wide;
         self
     }
 

@@ -219,3 +219,47 @@ fn a_drive_that_never_answers_gets_one_early_message() {
     assert!(xml.contains("the drive does not answer"), "{xml}");
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// `--csv-wide`: one column per object in `--csv` and in the `csv:` files of sample steps,
+/// with the same time, UTC and iteration-aware step columns as the long layout.
+#[test]
+fn csv_wide_gives_one_column_per_object_everywhere() {
+    let dir = temp_dir("wide");
+    let out = drivescript(
+        &[
+            "run",
+            "recipes/spindle-run-in.yaml",
+            "--fast",
+            "--output-dir",
+            dir.to_str().unwrap(),
+            "--csv",
+            "all.csv",
+            "--csv-wide",
+        ],
+        "",
+    );
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    for name in ["all.csv", "run-in-stage-2.csv"] {
+        let mut reader = csv::Reader::from_path(dir.join(name)).expect(name);
+        assert_eq!(
+            reader.headers().unwrap(),
+            &csv::StringRecord::from(vec![
+                "time [s]",
+                "utc",
+                "step",
+                "speed_actual [rpm]",
+                "current_actual [A]"
+            ]),
+            "{name}"
+        );
+        let rows: Vec<csv::StringRecord> = reader.records().map(Result::unwrap).collect();
+        assert!(rows
+            .iter()
+            .all(|r| r.len() == 5 && humantime::parse_rfc3339(&r[1]).is_ok()));
+        if name == "run-in-stage-2.csv" {
+            assert_eq!(rows.len(), 2 * 901);
+            assert_eq!((&rows[0][2], &rows[901][2]), ("8[1].3", "8[2].3"));
+        }
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -47,7 +47,7 @@ fn a_run_writes_trace_csv_junit_and_html() {
     );
 
     let csv_text = std::fs::read_to_string(&csv).expect("csv");
-    assert!(csv_text.starts_with("time [s],step,object,value,unit\n"));
+    assert!(csv_text.starts_with("time [s],utc,step,object,value,unit\n"));
     // Three stages of 20 s at 100 ms, two objects: 3 × 201 × 2 rows.
     assert_eq!(csv_text.lines().count() - 1, 3 * 201 * 2);
 
