@@ -64,6 +64,9 @@ impl Session<'_> {
                 origin: origin.clone(),
                 step: self.place().0,
                 stage: self.place().1,
+                window: c
+                    .statistic
+                    .and_then(|_| self.window_steps.get(&c.object.name).cloned()),
                 at: self.clock.now(),
                 duration: self.clock.now().saturating_sub(started),
             };

@@ -95,6 +95,9 @@ pub struct CheckResult {
     pub origin: StepOrigin,
     /// The iteration-aware id of the step that made the check: `4[2].3`.
     pub step: String,
+    /// For a statistic: the id of the sample step whose window it was computed over (the
+    /// [`Series::step`] it belongs to).
+    pub window: Option<String>,
     /// The steps that hold it (`Stage 2, 12000 rpm`, `repeat 3 times #2`); empty at the
     /// top level.
     pub stage: String,
@@ -120,7 +123,7 @@ pub struct PlannedCheck {
 pub struct Series {
     pub object: String,
     pub unit: Option<String>,
-    /// The step that sampled it.
+    /// The iteration-aware id of the step that sampled it (`8[2].3`).
     pub step: String,
     pub points: Vec<(f64, f64)>,
 }
@@ -159,6 +162,9 @@ pub struct RunReport {
     pub omitted_checks: u64,
     /// The `csv:` files of sample steps this run wrote, by path.
     pub csv_files: Vec<String>,
+    /// The resolution (one count, in its unit) of every object checked or sampled, from
+    /// the dictionary, so reports show values as finely as the drive gives them.
+    pub resolutions: Vec<(String, f64)>,
 }
 
 /// Most step records, and most check results, one report keeps: a repeat that runs for
@@ -208,5 +214,13 @@ impl RunReport {
 
     pub fn checks_failed(&self) -> usize {
         self.checks.iter().filter(|c| !c.passed).count()
+    }
+
+    /// The dictionary's resolution of `object`, when known.
+    pub fn resolution(&self, object: &str) -> Option<f64> {
+        self.resolutions
+            .iter()
+            .find(|(o, _)| o == object)
+            .map(|(_, r)| *r)
     }
 }

@@ -99,10 +99,11 @@ impl Session<'_> {
                 with_unit(round(s.max), o.unit.as_deref())
             ));
             self.windows.insert(o.name.clone(), s);
+            self.window_steps.insert(o.name.clone(), self.path.id());
             self.report.series.push(Series {
                 object: o.name.clone(),
                 unit: o.unit.clone(),
-                step: number.to_string(),
+                step: self.path.id(),
                 points: points.points(),
             });
         }

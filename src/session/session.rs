@@ -27,8 +27,10 @@ pub struct Session<'a> {
     pub(super) clock: SharedClock,
     /// Directory that relative `csv:` paths of sample steps are written to.
     pub(super) output_dir: PathBuf,
-    /// The statistics of the last sample window per object.
+    /// The statistics of the last sample window per object, and the id of the step that
+    /// sampled it.
     pub(super) windows: HashMap<String, Stats>,
+    pub(super) window_steps: HashMap<String, String>,
     /// CSV files written in this run: a sample step that runs again (in a repeat) appends
     /// to its file instead of overwriting what the earlier pass recorded.
     pub(super) csv_files: HashSet<PathBuf>,
@@ -84,6 +86,7 @@ impl<'a> Session<'a> {
             omitted_steps: 0,
             omitted_checks: 0,
             csv_files: Vec::new(),
+            resolutions: Vec::new(),
         };
         Session {
             drive,
@@ -93,6 +96,7 @@ impl<'a> Session<'a> {
             clock,
             output_dir: PathBuf::from("."),
             windows: HashMap::new(),
+            window_steps: HashMap::new(),
             csv_files: HashSet::new(),
             report,
             failed_checks: false,

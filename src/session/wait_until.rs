@@ -103,6 +103,7 @@ impl Session<'_> {
             origin: origin.clone(),
             step: self.place().0,
             stage: self.place().1,
+            window: None,
             at: self.clock.now(),
             duration: self.clock.now().saturating_sub(started),
         };

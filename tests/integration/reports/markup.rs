@@ -176,6 +176,8 @@ const HTML_ELEMENTS: &[&str] = &[
     "h2",
     "p",
     "pre",
+    "colgroup",
+    "col",
     "strong",
     "span",
     "code",

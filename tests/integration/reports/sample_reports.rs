@@ -53,6 +53,7 @@ pub fn check(name: &str, passed: bool, message: &str) -> CheckResult {
         origin: origin(12),
         step: "2".into(),
         stage: String::new(),
+        window: None,
         at: Duration::from_secs(1),
         duration: Duration::from_millis(200),
     }
@@ -69,6 +70,7 @@ pub fn speed_check(name: &str, measured: f64, passed: bool) -> CheckResult {
         statistic: Some("mean".into()),
         origin: origin(20),
         step: "4".into(),
+        window: Some("3".into()),
         at: Duration::from_secs(65),
         duration: Duration::from_millis(1500),
         ..check(name, passed, &format!("mean {measured} rpm"))
@@ -101,6 +103,7 @@ pub fn report(recipe: &str, recipe_path: &str, drive: &str, verdict: Verdict) ->
         omitted_steps: 0,
         omitted_checks: 0,
         csv_files: Vec::new(),
+        resolutions: Vec::new(),
     }
 }
 
