@@ -14,6 +14,7 @@ mod examples;
 mod loader_limits;
 mod outputs;
 mod recipe_cases;
+mod recipe_schema;
 mod reports;
 mod safety;
 mod support;
