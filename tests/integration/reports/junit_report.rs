@@ -1,6 +1,7 @@
 //! `--junit`: the run report as JUnit XML, read back with a real XML parser, held to the
 //! structure Jenkins' junit-10.xsd and Surefire accept, and validated with `xmllint`
-//! against the vendored `tests/junit-10.xsd` where xmllint is installed.
+//! against the vendored `tests/junit-10.xsd` and `tests/surefire-test-report-3.0.xsd`
+//! where xmllint is installed.
 
 use super::markup::{case_out, junit, junit_xsd, xml_elements, XML_DECLARATION};
 use super::sample_reports::{check, error_report, origin, passed_report, speed_check};
@@ -215,9 +216,10 @@ fn interrupted_and_checkless_runs() {
     );
 }
 
-/// Every kind of JUnit file the tool writes passes `xmllint --schema tests/junit-10.xsd`.
+/// Every kind of JUnit file the tool writes passes `xmllint --schema` with Jenkins'
+/// junit-10.xsd, and its suite with Surefire's schema.
 #[test]
-fn every_junit_file_is_valid_against_jenkins_junit_10_xsd() {
+fn every_junit_file_is_valid_against_jenkins_and_surefire_schemas() {
     let mut interrupted = passed_report();
     interrupted.verdict = Verdict::Interrupted(StopSignal::TERM);
     let planned = [planned(

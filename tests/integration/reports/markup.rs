@@ -21,7 +21,7 @@ pub fn junit(xml: &str) -> Result<Document<'_>, String> {
 /// The structure both Jenkins' junit-10.xsd and the Ant/Surefire layout accept:
 /// testsuites[tests, failures, errors] > testsuite[name, tests, failures, errors, skipped,
 /// time] > properties > property[name, value], and testcase[name, classname, time] >
-/// failure|error|skipped[message, type], system-out|system-err. No `properties` or
+/// failure|error[message, type], skipped[message], system-out|system-err. No `properties` or
 /// attributes other than those inside test cases, no `skipped` on testsuites, no suite-level
 /// `system-out`. Times are numbers; text only in failure, error, skipped, system-out and
 /// system-err; each suite's counts agree with its test cases, and the totals with the suites.
@@ -44,7 +44,8 @@ pub fn junit_schema(doc: &Document) -> Result<(), String> {
             "properties" => (&["testsuite"], &[]),
             "property" => (&["properties"], &["name", "value"]),
             "testcase" => (&["testsuite"], &["name", "classname", "time"]),
-            "failure" | "error" | "skipped" => (&["testcase"], &["message", "type"]),
+            "failure" | "error" => (&["testcase"], &["message", "type"]),
+            "skipped" => (&["testcase"], &["message"]),
             "system-out" | "system-err" => (&["testcase"], &[]),
             other => return Err(format!("element <{other}> is not in the JUnit schema")),
         };
@@ -63,7 +64,8 @@ pub fn junit_schema(doc: &Document) -> Result<(), String> {
             "testsuites" => &["name", "tests", "failures", "errors", "time"],
             "testsuite" => &["name", "tests", "failures", "errors", "skipped", "time"],
             "testcase" => &["name", "classname", "time"],
-            "failure" | "error" | "skipped" => &["message", "type"],
+            "failure" | "error" => &["message", "type"],
+            "skipped" => &["message"],
             "property" => &["name", "value"],
             _ => &[],
         };
@@ -139,12 +141,26 @@ pub fn case_out<'a>(doc: &'a Document, case: &str) -> Option<&'a str> {
         .and_then(|n| n.text())
 }
 
-/// `xml` checked with `xmllint --schema tests/junit-10.xsd` (Jenkins' JUnit schema);
-/// `None` when xmllint is not installed (CI installs it: `.ci/run`).
+/// `xml` checked with `xmllint --schema tests/junit-10.xsd` (Jenkins' JUnit schema) and
+/// its `<testsuite>`, the root of a Surefire file, with Maven Surefire's
+/// `tests/surefire-test-report-3.0.xsd`; `None` when xmllint is not installed (CI
+/// installs it: `.ci/run`).
 pub fn junit_xsd(xml: &str) -> Option<Result<(), String>> {
+    let jenkins = xmllint(xml, concat!(env!("CARGO_MANIFEST_DIR"), "/tests/junit-10.xsd"))?;
+    let suite = match (xml.find("<testsuite "), xml.rfind("</testsuite>")) {
+        (Some(a), Some(b)) => format!("{XML_DECLARATION}\n{}", &xml[a..b + "</testsuite>".len()]),
+        _ => return Some(Err("no <testsuite> element".into())),
+    };
+    let surefire = xmllint(
+        &suite,
+        concat!(env!("CARGO_MANIFEST_DIR"), "/tests/surefire-test-report-3.0.xsd"),
+    )?;
+    Some(jenkins.and(surefire.map_err(|e| format!("Surefire: {e}"))))
+}
+
+fn xmllint(xml: &str, xsd: &str) -> Option<Result<(), String>> {
     use std::io::Write;
     use std::process::{Command, Stdio};
-    let xsd = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/junit-10.xsd");
     let mut child = Command::new("xmllint")
         .args(["--noout", "--schema", xsd, "-"])
         .stdin(Stdio::piped())
