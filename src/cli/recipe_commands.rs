@@ -579,7 +579,8 @@ pub fn silent_drive(connection: &ConnectionArgs, detail: &str) -> String {
         None => "no --baud, so the family's default".to_string(),
     };
     format!(
-        "error: the drive does not answer ({address}, {line}); nothing was written to it and the recipe did not start.\n\
+        "error: the drive does not answer ({address}, {line}); nothing was written to it and the recipe did not start. \
+         Its state is unknown to drivescript: if it may still be running from earlier, check it by hand.\n\
          The three likely causes:\n  \
          1. the address: you gave {address}; it must match the drive's address setting (see `drivescript run --help` for the notation)\n  \
          2. the baud rate: you gave {baud}; it must match the drive's\n  \
