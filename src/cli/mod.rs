@@ -5,9 +5,11 @@ mod connection_args;
 mod decode_command;
 mod drive_args;
 mod exit_code;
+mod not_run;
 mod object_commands;
 mod panic_notice;
 mod recipe_commands;
+mod several_runs;
 mod simulate_command;
 mod stop_signals;
 

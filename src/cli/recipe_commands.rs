@@ -3,6 +3,8 @@
 
 use super::connection_args::{parse_duration, ConnectionArgs};
 use super::drive_args::{open_drive, DictionaryArgs};
+use super::not_run::{not_run, silent_drive};
+use super::several_runs::{outputs_for, print_outputs, worse};
 use super::COMMUNICATION;
 use super::{panic_notice, stop_signals, INVALID, PASSED};
 use crate::clock::SharedClock;
@@ -13,11 +15,9 @@ use crate::recipe::{
     SafeStopChoice, SafeStopSettings,
 };
 use crate::report::{
-    color_wanted, html_not_run, junit_not_run, write_atomically, write_html, write_html_unfinished,
-    write_junit, write_junit_unfinished, ConsoleReporter, CsvRecorder, ProgressReporter, TelegramFanOut,
-    TraceWriter,
+    color_wanted, write_html, write_html_unfinished, write_junit, write_junit_unfinished, ConsoleReporter,
+    CsvRecorder, ProgressReporter, TelegramFanOut, TraceWriter,
 };
-use crate::session::PlannedCheck;
 use crate::sim::SimulatedDrive;
 use crate::stop_request::StopRequests;
 use clap::Args;
@@ -301,74 +301,6 @@ pub fn run(args: &RunArgs) -> i32 {
     worst
 }
 
-/// The exit code that says more: a panic, then a stop signal, then 3, 2, 1, 0.
-pub fn worse(a: i32, b: i32) -> i32 {
-    let rank = |c: i32| match c {
-        0 => 0,
-        1 => 1,
-        2 => 2,
-        c if c == crate::session::PANIC_EXIT => 6,
-        c if c >= 128 => 5,
-        _ => 3,
-    };
-    if rank(b) > rank(a) {
-        b
-    } else {
-        a
-    }
-}
-
-/// The outputs of one recipe: relative paths under `dir`; with several recipes each file
-/// name gets the recipe's place and name (`junit.xml` → `junit-2-acceptance-test.xml`) so
-/// that no run overwrites another's, even of recipes with the same file name.
-pub fn outputs_for(outputs: &OutputArgs, dir: &Path, recipe: Option<(usize, &Path)>) -> OutputArgs {
-    let place = |p: &Option<PathBuf>| {
-        p.as_ref().map(|p| {
-            let p = match recipe {
-                Some((n, path)) => {
-                    let mut name = p.file_stem().unwrap_or_default().to_os_string();
-                    name.push(format!("-{n}-"));
-                    name.push(path.file_stem().unwrap_or_default());
-                    if let Some(ext) = p.extension() {
-                        name.push(".");
-                        name.push(ext);
-                    }
-                    p.with_file_name(name)
-                }
-                None => p.clone(),
-            };
-            if dir == Path::new(".") {
-                p
-            } else {
-                dir.join(p)
-            }
-        })
-    };
-    OutputArgs {
-        trace: place(&outputs.trace),
-        csv: place(&outputs.csv),
-        junit: place(&outputs.junit),
-        report: place(&outputs.report),
-        ..outputs.clone()
-    }
-}
-
-/// `outputs  junit.xml, report.html, run-in-stage-1.csv`: every file the run wrote.
-fn print_outputs(outputs: &OutputArgs, report: Option<&RunReport>) {
-    let mut files: Vec<String> = [&outputs.trace, &outputs.csv, &outputs.junit, &outputs.report]
-        .into_iter()
-        .flatten()
-        .filter(|p| p.is_file())
-        .map(|p| p.display().to_string())
-        .collect();
-    if let Some(r) = report {
-        files.extend(r.csv_files.iter().cloned());
-    }
-    if !files.is_empty() {
-        println!("outputs {}", files.join(", "));
-    }
-}
-
 /// A hook that gets the simulated drive and the run's clock before the run starts.
 pub type PrepareSimulator = dyn Fn(&Arc<Mutex<dyn SimulatedDrive>>, &SharedClock);
 
@@ -562,72 +494,6 @@ pub fn run_recipe(request: &RunRequest, out: &mut dyn Write, err: &mut dyn Write
     }
 }
 
-/// The message for a drive that did not answer its first request, naming the address as
-/// the user typed it and the three likely causes.
-pub fn silent_drive(connection: &ConnectionArgs, detail: &str) -> String {
-    let address = match &connection.address {
-        Some(a) => format!("--address {a}"),
-        None => "no --address, so the family's default address".to_string(),
-    };
-    let line = match (&connection.port, &connection.tcp) {
-        (Some(p), _) => format!("--port {p}"),
-        (None, Some(t)) => format!("--tcp {t}"),
-        (None, None) => "the port".to_string(),
-    };
-    let baud = match connection.baud {
-        Some(b) => format!("--baud {b}"),
-        None => "no --baud, so the family's default".to_string(),
-    };
-    format!(
-        "error: the drive does not answer ({address}, {line}); nothing was written to it and the recipe did not start. \
-         Its state is unknown to drivescript: if it may still be running from earlier, check it by hand.\n\
-         The three likely causes:\n  \
-         1. the address: you gave {address}; it must match the drive's address setting (see `drivescript run --help` for the notation)\n  \
-         2. the baud rate: you gave {baud}; it must match the drive's\n  \
-         3. the line: the cable or adapter, RS485 wiring and termination, the drive's power, or a different {line}\n\
-         detail: {detail}"
-    )
-}
-
-/// The JUnit and HTML reports (when asked for) of a run that never started, so that CI
-/// reads this run's failure and not an earlier report; then the result with `code`.
-fn not_run(
-    request: &RunRequest,
-    recipe: Option<(&Recipe, &[PlannedCheck])>,
-    code: i32,
-    why: &str,
-    err: &mut dyn Write,
-) -> RunResult {
-    let path = request.recipe.display().to_string();
-    let (name, recipe_path, planned) = match recipe {
-        Some((r, planned)) => (r.name.clone(), r.path.clone(), planned),
-        None => (path.clone(), path, &[][..]),
-    };
-    let (kind, word) = if code == COMMUNICATION {
-        ("communication", "ERROR")
-    } else {
-        ("invalid", "INVALID")
-    };
-    let why = why.trim_end();
-    let outputs = request.outputs;
-    if let Some(p) = &outputs.junit {
-        let xml = junit_not_run(&name, &recipe_path, kind, why, planned);
-        if let Err(e) = write_atomically(p, &xml) {
-            let _ = writeln!(err, "error: {e}");
-        }
-    }
-    if let Some(p) = &outputs.report {
-        if let Err(e) = write_atomically(p, &html_not_run(&name, &recipe_path, word, why)) {
-            let _ = writeln!(err, "error: {e}");
-        }
-    }
-    RunResult {
-        exit_code: code,
-        report: None,
-        simulator: None,
-    }
-}
-
 #[derive(Debug, Args)]
 /// Print the JSON Schema of recipes, for editor completion of keys, object names and
 /// states. Recipes point their editor at it with a first line
@@ -648,34 +514,5 @@ pub fn schema(args: &SchemaArgs) -> i32 {
             eprint!("{text}");
             INVALID
         }
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn the_worst_exit_code_wins() {
-        let worst = |codes: &[i32]| codes.iter().fold(PASSED, |a, b| worse(a, *b));
-        assert_eq!(worst(&[0, 1, 0]), 1);
-        assert_eq!(worst(&[1, 3, 2]), 3);
-        assert_eq!(worst(&[3, 130, 1]), 130);
-        assert_eq!(worst(&[130, 101]), 101);
-    }
-
-    #[test]
-    fn outputs_of_several_recipes_never_share_a_file() {
-        let outputs = OutputArgs {
-            junit: Some("ci/junit.xml".into()),
-            report: Some("/abs/report.html".into()),
-            ..OutputArgs::default()
-        };
-        let one = outputs_for(&outputs, Path::new("out"), None);
-        assert_eq!(one.junit, Some(PathBuf::from("out/ci/junit.xml")));
-        assert_eq!(one.report, Some(PathBuf::from("/abs/report.html")));
-        let second = outputs_for(&outputs, Path::new("."), Some((2, Path::new("a/x.yaml"))));
-        assert_eq!(second.junit, Some(PathBuf::from("ci/junit-2-x.xml")));
-        assert_eq!(second.report, Some(PathBuf::from("/abs/report-2-x.html")));
     }
 }
