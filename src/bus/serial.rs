@@ -291,6 +291,14 @@ fn open_error(path: &str, e: &serialport::Error) -> TransportError {
         // ENODEV/ENXIO: the node exists but the hardware behind it is gone (an unplugged
         // adapter whose node is still around), which to the user is a missing port.
         _ if description.contains("no such device") => TransportError::PortNotFound { port },
+        // ENOTTY ("Not a typewriter", "Inappropriate ioctl for device"): a file, a pipe or
+        // /dev/null given as the port; the system's word for it means nothing to a user.
+        _ if description.contains("typewriter") || description.contains("inappropriate ioctl") => {
+            TransportError::Open {
+                port,
+                detail: "it is not a serial port (it takes no baud rate or line settings); give the serial device, e.g. /dev/ttyUSB0 or /dev/serial/by-id/…; `drivescript ports` lists this machine's ports".into(),
+            }
+        }
         _ => TransportError::Open {
             port,
             detail: e.description.clone(),

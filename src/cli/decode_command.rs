@@ -23,7 +23,9 @@ pub struct DecodeArgs {
     /// shared/vectors/sd2-dnc.yaml); a rejected telegram is {"reject": "<reason>"}.
     #[arg(long)]
     json: bool,
-    /// Telegrams in hex, one per argument. Lines of a `--trace` file are accepted too.
+    /// Telegrams in hex, one per argument, or files of them (a `--trace` file, a capture
+    /// with one telegram per line).
+    #[arg(value_name = "HEX|FILE")]
     hex: Vec<String>,
     #[command(flatten)]
     dictionary: DictionaryArgs,
@@ -49,11 +51,27 @@ pub fn run(args: &DecodeArgs) -> i32 {
         // `decode 00 0b 02 ...` without quotes: the shell split one telegram into bytes.
         vec![("the arguments".to_string(), args.hex.join(" "))]
     } else {
-        args.hex
-            .iter()
-            .enumerate()
-            .map(|(i, h)| (format!("argument {}", i + 1), h.clone()))
-            .collect()
+        let mut out = Vec::new();
+        for (i, arg) in args.hex.iter().enumerate() {
+            let path = std::path::Path::new(arg);
+            if !path.is_file() {
+                out.push((format!("argument {}", i + 1), arg.clone()));
+                continue;
+            }
+            match read_lines(path) {
+                Ok(lines) => out.extend(
+                    lines
+                        .into_iter()
+                        .enumerate()
+                        .map(|(n, l)| (format!("{arg}:{}", n + 1), l)),
+                ),
+                Err(e) => {
+                    eprintln!("error: {e}");
+                    return INVALID;
+                }
+            }
+        }
+        out
     };
     let registry = Registry::builtin();
     let (family, names) = match protocol_and_names(&registry, args) {
@@ -149,6 +167,28 @@ fn protocol_and_names(
     }
     let names = wanted.load()?;
     Ok((family, names))
+}
+
+/// The lines of a capture file, at most 64 MiB of it; the error says what to do.
+fn read_lines(path: &std::path::Path) -> Result<Vec<String>, String> {
+    use std::io::Read;
+    const MAX: u64 = 64 << 20;
+    let file = std::fs::File::open(path).map_err(|e| format!("cannot read {}: {e}", path.display()))?;
+    let mut bytes = Vec::new();
+    file.take(MAX + 1)
+        .read_to_end(&mut bytes)
+        .map_err(|e| format!("cannot read {}: {e}", path.display()))?;
+    if bytes.len() as u64 > MAX {
+        return Err(format!(
+            "{} is larger than 64 MiB; split it, or pipe it: drivescript decode < FILE",
+            path.display()
+        ));
+    }
+    // Captures from other tools may hold any bytes in comments; the hex is ASCII.
+    Ok(String::from_utf8_lossy(&bytes)
+        .lines()
+        .map(str::to_string)
+        .collect())
 }
 
 /// `0b`, `0x0b`, `b`: one byte, as the shell leaves an unquoted telegram.

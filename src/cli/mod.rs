@@ -6,11 +6,13 @@ mod decode_command;
 mod drive_args;
 mod drive_limits;
 mod exit_code;
+mod not_run;
 mod object_commands;
 mod panic_notice;
 mod parameter_commands;
 mod recipe_commands;
 mod script_commands;
+mod several_runs;
 mod simulate_command;
 mod stop_signals;
 
@@ -22,9 +24,37 @@ pub use exit_code::*;
 
 use clap::{Parser, Subcommand};
 
+/// `drivescript 0.1.0 (commit 1a2b3c4d5e, built 2026-11-22)`, from build.rs.
+const VERSION: &str = concat!(
+    env!("CARGO_PKG_VERSION"),
+    " (commit ",
+    env!("DRIVESCRIPT_COMMIT"),
+    ", built ",
+    env!("DRIVESCRIPT_BUILD_DATE"),
+    ")"
+);
+
+/// Shown under `drivescript --help`: what users type first, and what the exit codes mean.
+const EXAMPLES: &str = "\
+Examples:
+  drivescript run recipes/commissioning.yaml --fast        simulated drive, virtual time
+  drivescript run recipes/acceptance-test.yaml --port /dev/ttyUSB0 --address 1 \\
+      --output-dir out --junit junit.xml --report report.html
+  drivescript run a.yaml b.yaml --fast                     several recipes, one exit code
+  drivescript check recipes/*.yaml                         validate only; nothing is sent
+  drivescript write speed_setpoint 6000 rpm --port /dev/ttyUSB0
+  drivescript decode run.trace                             explain a --trace file
+
+Exit codes:
+  0  passed                    1  an expectation failed
+  2  recipe or command line invalid (nothing was sent)
+  3  communication failure, drive fault, or a safe stop that could not be confirmed
+  128+N  stopped by signal N after the safe stop (130 Ctrl-C, 143 SIGTERM)
+  101  internal error (panic), after the safe stop";
+
 /// Commission and test servo and spindle drives over their serial protocols.
 #[derive(Debug, Parser)]
-#[command(name = "drivescript", version, about, max_term_width = 100)]
+#[command(name = "drivescript", version = VERSION, about, max_term_width = 100, after_help = EXAMPLES)]
 pub struct Cli {
     #[command(subcommand)]
     command: Command,

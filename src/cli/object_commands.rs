@@ -45,6 +45,9 @@ pub struct WriteArgs {
     /// the dictionary: u8, i8, u16, i16, u32, i32, string(N).
     #[arg(long = "type", value_name = "TYPE", value_parser = DataType::parse)]
     data_type: Option<DataType>,
+    /// The unit, when written apart from the value: `write speed_setpoint 6000 rpm`.
+    #[arg(value_name = "UNIT")]
+    unit: Option<String>,
     #[command(flatten)]
     dictionary: DictionaryArgs,
     #[command(flatten)]
@@ -236,6 +239,11 @@ fn check_readable(dictionary: &Dictionary, name: &str) -> Result<(), DriveError>
 }
 
 pub fn write(args: &WriteArgs) -> i32 {
+    // `6000 rpm` as two arguments is the same value as `6000rpm`.
+    let value = match &args.unit {
+        Some(unit) => format!("{} {unit}", args.value),
+        None => args.value.clone(),
+    };
     let names = std::slice::from_ref(&args.name);
     let dictionary =
         match load_dictionary(&args.dictionary).and_then(|d| with_raw_objects(d, names, args.data_type)) {
@@ -267,9 +275,9 @@ pub fn write(args: &WriteArgs) -> i32 {
     }
     let is_text = def.data_type.range().is_none();
     let checked = if is_text {
-        def.text_to_raw(&args.value).map(|_| None)
+        def.text_to_raw(&value).map(|_| None)
     } else {
-        Quantity::parse(&args.value).and_then(|q| def.to_raw(&q).map(|raw| Some((q, raw))))
+        Quantity::parse(&value).and_then(|q| def.to_raw(&q).map(|raw| Some((q, raw))))
     };
     let parsed = match checked {
         Ok(p) => p,
@@ -284,13 +292,13 @@ pub fn write(args: &WriteArgs) -> i32 {
     };
     let result = match &parsed {
         Some((q, _)) => open.drive.write(&def.name, q),
-        None => open.drive.write_text(&def.name, &args.value),
+        None => open.drive.write_text(&def.name, &value),
     };
     match result {
         Ok(outcome) => {
             match &parsed {
                 Some((q, raw)) => println!("{} = {q} written (raw {raw})", def.name),
-                None => println!("{} = \"{}\" written", def.name, args.value),
+                None => println!("{} = \"{}\" written", def.name, value),
             }
             if let WriteOutcome::Limited(stored) = outcome {
                 println!("warning: the drive limited the value; it stored raw {stored}");

@@ -3,17 +3,20 @@
 
 use super::connection_args::{parse_duration, ConnectionArgs};
 use super::drive_args::{open_drive, DictionaryArgs};
+use super::not_run::{not_run, silent_drive};
+use super::several_runs::{outputs_for, print_outputs, worse};
 use super::COMMUNICATION;
 use super::{panic_notice, stop_signals, INVALID, PASSED};
 use crate::clock::SharedClock;
 use crate::dictionary::Quantity;
 use crate::family::Registry;
 use crate::recipe::{
-    load_recipe, Observers, Recipe, RecipeInvalid, RunReport, Runner, SafeStopChoice, SafeStopSettings,
+    load_recipe, planned_checks, sampled_objects, Observers, Recipe, RecipeInvalid, RunReport, Runner,
+    SafeStopChoice, SafeStopSettings,
 };
 use crate::report::{
-    write_html, write_html_unfinished, write_junit, write_junit_unfinished, ConsoleReporter, CsvRecorder,
-    ProgressReporter, TelegramFanOut, TraceWriter,
+    color_wanted, write_html, write_html_unfinished, write_junit, write_junit_unfinished, ConsoleReporter,
+    CsvRecorder, ProgressReporter, TelegramFanOut, TraceWriter,
 };
 use crate::sim::SimulatedDrive;
 use crate::stop_request::StopRequests;
@@ -42,13 +45,15 @@ pub struct CheckArgs {
 }
 
 #[derive(Debug, Args)]
-/// Run a recipe. Without --port or --tcp it runs against the built-in simulated drive and
-/// says so. The recipe is checked first; nothing is sent if it has a problem. Whatever
-/// happens, `finally` runs (default: disable operation, then shutdown).
+/// Run recipes. Without --port or --tcp they run against the built-in simulated drive and
+/// say so. Each recipe is checked first; nothing is sent if it has a problem. Whatever
+/// happens, `finally` runs (default: disable operation, then shutdown). Several recipes
+/// run one after the other, each with its own safe stop and reports; the exit code is the
+/// worst of them.
 /// A `.rhai` file runs as a Rhai script, with the same reports and safe stop.
 pub struct RunArgs {
-    #[arg(value_name = "RECIPE")]
-    recipe: PathBuf,
+    #[arg(value_name = "RECIPE", required = true)]
+    recipes: Vec<PathBuf>,
     /// Parameter override, NAME=VALUE (e.g. speed=8000rpm); may be repeated.
     #[arg(long = "set", value_name = "NAME=VALUE", value_parser = parse_set)]
     set: Vec<(String, String)>,
@@ -59,7 +64,8 @@ pub struct RunArgs {
     /// Run in real time (the default; with a real drive always).
     #[arg(long)]
     realtime: bool,
-    /// Directory for `csv:` files named by sample steps (default: the current directory).
+    /// Directory for every output given as a relative path: --junit, --report, --csv,
+    /// --trace and the `csv:` files of sample steps (default: the current directory).
     #[arg(long, value_name = "DIR", default_value = ".")]
     output_dir: PathBuf,
     #[command(flatten)]
@@ -134,9 +140,14 @@ pub struct OutputArgs {
     /// Write every telegram to FILE as the run goes (`drivescript decode` reads it back).
     #[arg(long, value_name = "FILE")]
     pub trace: Option<PathBuf>,
-    /// Stream every sample to FILE (time, step, object, value, unit), flushed row by row.
+    /// Stream every sample to FILE: time since the start, UTC time, step, object, value,
+    /// unit (one row per value); flushed at least every 250 ms.
     #[arg(long, value_name = "FILE")]
     pub csv: Option<PathBuf>,
+    /// --csv and the `csv:` files of sample steps with one column per object instead of
+    /// one row per value.
+    #[arg(long)]
+    pub csv_wide: bool,
     /// Write a JUnit XML report: one test case per check, for CI servers.
     #[arg(long, value_name = "FILE")]
     pub junit: Option<PathBuf>,
@@ -146,6 +157,30 @@ pub struct OutputArgs {
     /// Plain lines only: no live progress bar.
     #[arg(long, alias = "no-progress")]
     pub quiet: bool,
+    /// Colour PASS/FAIL and the verdict: auto (on a terminal, unless NO_COLOR is set),
+    /// always, never.
+    #[arg(long, value_name = "WHEN", value_enum, default_value_t = ColorWhen::Auto)]
+    pub color: ColorWhen,
+}
+
+/// `--color`.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, clap::ValueEnum)]
+pub enum ColorWhen {
+    #[default]
+    Auto,
+    Always,
+    Never,
+}
+
+impl ColorWhen {
+    /// `None` for auto: the terminal and `NO_COLOR` decide.
+    pub fn choice(self) -> Option<bool> {
+        match self {
+            ColorWhen::Auto => None,
+            ColorWhen::Always => Some(true),
+            ColorWhen::Never => Some(false),
+        }
+    }
 }
 
 fn parse_set(text: &str) -> Result<(String, String), String> {
@@ -225,28 +260,62 @@ pub fn run(args: &RunArgs) -> i32 {
     let stop = stop_signals::install(true);
     panic_notice::install();
     let registry = Registry::builtin();
-    let request = RunRequest {
-        registry: &registry,
-        recipe: &args.recipe,
-        set: &args.set,
-        fast: args.fast,
-        output_dir: args.output_dir.clone(),
-        dictionary: &args.dictionary,
-        connection: &args.connection,
-        outputs: &args.outputs,
-        // Nobody reads the simulated drive's request log from the command line.
-        prepare_simulator: Some(&|sim, _| {
-            sim.lock()
-                .unwrap_or_else(std::sync::PoisonError::into_inner)
-                .set_logging(false)
-        }),
-        stop: stop.clone(),
-        safe_stop: args.safe_stop.clone(),
-        terminal: std::io::stdout().is_terminal(),
-    };
-    let mut stdout = std::io::stdout();
-    let mut stderr = std::io::stderr();
-    run_recipe(&request, &mut stdout, &mut stderr).exit_code
+    let several = args.recipes.len() > 1;
+    let mut worst = PASSED;
+    let mut verdicts = Vec::new();
+    for (i, recipe) in args.recipes.iter().enumerate() {
+        if several {
+            println!(
+                "{}== recipe {} of {}: {}",
+                if i > 0 { "\n" } else { "" },
+                i + 1,
+                args.recipes.len(),
+                recipe.display()
+            );
+        }
+        let outputs = outputs_for(
+            &args.outputs,
+            &args.output_dir,
+            several.then_some((i + 1, recipe.as_path())),
+        );
+        let request = RunRequest {
+            registry: &registry,
+            recipe,
+            set: &args.set,
+            fast: args.fast,
+            output_dir: args.output_dir.clone(),
+            dictionary: &args.dictionary,
+            connection: &args.connection,
+            outputs: &outputs,
+            // Nobody reads the simulated drive's request log from the command line.
+            prepare_simulator: Some(&|sim, _| {
+                sim.lock()
+                    .unwrap_or_else(std::sync::PoisonError::into_inner)
+                    .set_logging(false)
+            }),
+            stop: stop.clone(),
+            safe_stop: args.safe_stop.clone(),
+            terminal: std::io::stdout().is_terminal(),
+        };
+        let mut stdout = std::io::stdout();
+        let mut stderr = std::io::stderr();
+        let result = run_recipe(&request, &mut stdout, &mut stderr);
+        print_outputs(&outputs, result.report.as_ref());
+        verdicts.push((recipe.display().to_string(), result.exit_code));
+        worst = worse(worst, result.exit_code);
+        // A stop signal or a panic ends the whole command, after this recipe's safe stop.
+        if result.exit_code >= 128 || result.exit_code == crate::session::PANIC_EXIT {
+            break;
+        }
+    }
+    if several {
+        println!("\n== {} recipe(s):", verdicts.len());
+        for (path, code) in &verdicts {
+            println!("   exit code {code}  {path}");
+        }
+        println!("exit code {worst} (the worst of them)");
+    }
+    worst
 }
 
 /// A hook that gets the simulated drive and the run's clock before the run starts.
@@ -300,42 +369,40 @@ pub fn run_recipe(request: &RunRequest, out: &mut dyn Write, err: &mut dyn Write
         Ok(d) => d,
         Err(text) => {
             let _ = write!(err, "{text}");
-            return refused(INVALID);
+            return not_run(request, None, INVALID, &text, err);
         }
     };
     let recipe = match load_recipe(request.recipe, &dictionary, request.set) {
         Ok(r) => r,
         Err(e) => {
-            let _ = write!(err, "{}", e.render(false));
-            return refused(INVALID);
+            let text = e.render(false);
+            let _ = write!(err, "{text}");
+            return not_run(request, None, INVALID, &text, err);
         }
     };
+    let planned = planned_checks(&recipe);
+    let invalid = |text: String, err: &mut dyn Write| {
+        let _ = writeln!(err, "{text}");
+        not_run(request, Some((&recipe, &planned)), INVALID, &text, err)
+    };
     if request.fast && !request.connection.is_simulated() {
-        let _ = writeln!(err, "error: --fast (virtual time) works only with the built-in simulated drive; a real drive runs in real time");
-        return refused(INVALID);
+        return invalid("error: --fast (virtual time) works only with the built-in simulated drive; a real drive runs in real time".into(), err);
     }
     // Files are opened before anything is sent: a path that cannot be written is an
     // invalid command line, not a half-run recipe.
     let outputs = request.outputs;
     let family = match request.registry.family(dictionary.family()) {
         Ok(f) => f,
-        Err(e) => {
-            let _ = writeln!(err, "error: {e}");
-            return refused(INVALID);
-        }
+        Err(e) => return invalid(format!("error: {e}"), err),
     };
     if let Err(e) = request.connection.check(family.as_ref()) {
-        let _ = writeln!(err, "error: {e}");
-        return refused(INVALID);
+        return invalid(format!("error: {e}"), err);
     }
     let mut telegrams = TelegramFanOut::new();
     if let Some(path) = &outputs.trace {
         match TraceWriter::create(path, family.explainer(dictionary.clone())) {
             Ok(t) => telegrams.push(Box::new(t)),
-            Err(e) => {
-                let _ = writeln!(err, "error: {e}");
-                return refused(INVALID);
-            }
+            Err(e) => return invalid(format!("error: {e}"), err),
         }
     }
     if outputs.verbose {
@@ -345,13 +412,12 @@ pub fn run_recipe(request: &RunRequest, out: &mut dyn Write, err: &mut dyn Write
         )));
     }
     let mut csv = match &outputs.csv {
-        Some(path) => match CsvRecorder::create(path) {
-            Ok(c) => Some(c),
-            Err(e) => {
-                let _ = writeln!(err, "error: {e}");
-                return refused(INVALID);
+        Some(path) => {
+            match CsvRecorder::create(path, outputs.csv_wide.then_some(&sampled_objects(&recipe)[..])) {
+                Ok(c) => Some(c),
+                Err(e) => return invalid(format!("error: {e}"), err),
             }
-        },
+        }
         None => None,
     };
     // A report left from an earlier run is replaced at once by one that says this run has
@@ -395,9 +461,20 @@ pub fn run_recipe(request: &RunRequest, out: &mut dyn Write, err: &mut dyn Write
         Ok(o) => o,
         Err(text) => {
             let _ = writeln!(err, "{text}");
-            return refused(COMMUNICATION);
+            return not_run(request, Some((&recipe, &planned)), COMMUNICATION, &text, err);
         }
     };
+    // A drive that never answers is said once, early, with what to check, instead of
+    // every step and the safe stop each waiting out their retries.
+    if open.simulator.is_none() {
+        if let Err(crate::drive::DriveError::Access(e)) = open.drive.state() {
+            if e.is_no_reply() {
+                let text = silent_drive(request.connection, &e.to_string());
+                let _ = writeln!(err, "{text}");
+                return not_run(request, Some((&recipe, &planned)), COMMUNICATION, &text, err);
+            }
+        }
+    }
     if let (Some(sim), Some(prepare)) = (&open.simulator, request.prepare_simulator) {
         prepare(sim, open.drive.clock());
     }
@@ -407,8 +484,14 @@ pub fn run_recipe(request: &RunRequest, out: &mut dyn Write, err: &mut dyn Write
     let virtual_time = request.fast && open.simulator.is_some();
     // A live bar only on a terminal, and not while -v writes telegram lines under it.
     let live = request.terminal && !outputs.quiet && !outputs.verbose;
-    let mut console = ConsoleReporter::new(&mut *out, virtual_time);
-    let mut progress = live.then(|| ProgressReporter::stdout(virtual_time));
+    let color = color_wanted(outputs.color.choice(), request.terminal);
+    let mut console = ConsoleReporter::new(&mut *out, virtual_time).with_color(color);
+    let planned_time = crate::recipe::longest_time_of(&recipe.steps);
+    let mut progress = live.then(|| {
+        ProgressReporter::stdout(virtual_time)
+            .with_color(color)
+            .with_planned(planned_time)
+    });
     let report = {
         let mut observers = Observers::default();
         match progress.as_mut() {
@@ -420,6 +503,7 @@ pub fn run_recipe(request: &RunRequest, out: &mut dyn Write, err: &mut dyn Write
         }
         Runner::new(&mut open.drive, &mut observers, &request.stop, &recipe)
             .with_output_dir(request.output_dir.clone())
+            .with_csv_wide(outputs.csv_wide)
             .with_settings(request.safe_stop.settings(&recipe.safe_stop))
             .run(&recipe)
     };
@@ -427,7 +511,7 @@ pub fn run_recipe(request: &RunRequest, out: &mut dyn Write, err: &mut dyn Write
         let _ = writeln!(err, "warning: {e}");
     }
     if let Some(path) = &outputs.junit {
-        if let Err(e) = write_junit(&report, path) {
+        if let Err(e) = write_junit(&report, &planned, path) {
             let _ = writeln!(err, "error: {e}");
         }
     }

@@ -98,7 +98,8 @@ pub fn run_script(request: &RunRequest, out: &mut dyn Write, err: &mut dyn Write
         )));
     }
     let mut csv = match &outputs.csv {
-        Some(path) => match CsvRecorder::create(path) {
+        // A script chooses what it samples as it runs, so its CSV is the long layout.
+        Some(path) => match CsvRecorder::create(path, None) {
             Ok(c) => Some(c),
             Err(e) => {
                 let _ = writeln!(err, "error: {e}");
@@ -165,7 +166,7 @@ pub fn run_script(request: &RunRequest, out: &mut dyn Write, err: &mut dyn Write
         let _ = writeln!(err, "warning: {e}");
     }
     if let Some(path) = &outputs.junit {
-        if let Err(e) = write_junit(&report, path) {
+        if let Err(e) = write_junit(&report, &[], path) {
             let _ = writeln!(err, "error: {e}");
         }
     }

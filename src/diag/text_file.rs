@@ -41,7 +41,9 @@ impl TextFileError {
                 limit_text()
             ),
             TextFileError::NotAFile(kind) => format!("{what} is {kind}, not a file"),
-            TextFileError::NotUtf8 => format!("{what} is not UTF-8 text"),
+            TextFileError::NotUtf8 => format!(
+                "{what} is not UTF-8 text (it was probably saved as Windows-1252 or Latin-1: umlauts, °, µ and ± are stored differently there)"
+            ),
         }
     }
 
@@ -54,7 +56,10 @@ impl TextFileError {
                     .into(),
             ),
             TextFileError::NotAFile(_) => Some("give the path of a YAML file".into()),
-            TextFileError::NotUtf8 => Some("save the file as UTF-8 text".into()),
+            TextFileError::NotUtf8 => Some(
+                "save it as UTF-8 (in the editor's Save As dialog: Encoding UTF-8), or convert it: iconv -f WINDOWS-1252 -t UTF-8 FILE > NEW"
+                    .into(),
+            ),
         }
     }
 }

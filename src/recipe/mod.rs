@@ -4,6 +4,7 @@
 
 mod expansion;
 mod loader;
+mod planned_checks;
 mod recipe;
 mod recipe_invalid;
 mod runner;
@@ -17,9 +18,10 @@ pub use crate::session::{CheckResult, RunReport, Series, StepRecord, Verdict};
 pub use crate::session::{Observers, RunObserver, SafeStopSettings};
 pub use expansion::{MAX_EXPANDED_STEPS, MAX_INCLUDE_LOADS, MAX_RUN_TIME};
 pub use loader::{load_recipe, load_recipe_text, MAX_DURATION, MAX_SAMPLES};
+pub use planned_checks::{planned_checks, sampled_objects};
 pub use recipe::{Param, Recipe, SafeStopChoice};
 pub use recipe_invalid::RecipeInvalid;
 pub use runner::Runner;
 pub use schema::recipe_schema;
-pub use step::{ObjectRef, SetValue, Step, StepKind, StepOrigin};
+pub use step::{longest_time_of, ObjectRef, SetValue, Step, StepKind, StepOrigin};
 pub use written_values::{written_values, WrittenValue};

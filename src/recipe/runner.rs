@@ -51,6 +51,12 @@ impl<'a> Runner<'a> {
         self
     }
 
+    /// `csv:` files of sample steps with one column per object (`--csv-wide`).
+    pub fn with_csv_wide(mut self, wide: bool) -> Self {
+        self.session = self.session.with_csv_wide(wide);
+        self
+    }
+
     /// Runs the recipe to the end, whatever happens, and returns what happened. A panic in
     /// the steps is caught so that the safe stop still runs; the caller exits 101.
     pub fn run(self, recipe: &Recipe) -> RunReport {
@@ -167,6 +173,7 @@ fn repeat(
             "iteration {n}{}",
             times.map(|t| format!(" of {t}")).unwrap_or_default()
         );
+        s.iteration(n);
         s.progress(number, elapsed, duration, &what);
         steps(s, nested, number, phase)?;
     }

@@ -3,18 +3,218 @@
 //! dictionary so editors complete them. Written by hand: the recipe language is externally
 //! tagged YAML whose exact shape a derive could not express. Pure; no I/O.
 
-use crate::dictionary::Dictionary;
+use crate::dictionary::{Dictionary, Dimension, ObjectDef, Unit};
 use crate::drive::device_control::{DeviceCommand, DeviceState};
+use crate::session::number;
 use serde_json::{json, Value};
+
+/// A number as recipes write it.
+const NUMBER: &str = r"-?[0-9]+(\.[0-9]+)?([eE][-+]?[0-9]+)?";
+/// A parameter reference, `{{speed}}`.
+const PARAM: &str = r"\{\{\s*[A-Za-z_][A-Za-z0-9_]*\s*\}\}";
+/// Duration units as the loader (humantime) reads them.
+const DURATION_UNITS: &str = "ns|nsec|us|usec|ms|msec|s|sec|secs|second|seconds|m|min|mins|minute|minutes|h|hr|hrs|hour|hours|d|day|days|w|week|weeks|M|month|months|y|year|years";
+
+/// `rpm` → `[rR][pP][mM]`: units are read regardless of case, and JSON Schema patterns
+/// have no flags.
+fn any_case(symbol: &str) -> String {
+    symbol
+        .chars()
+        .map(|c| {
+            if c.is_ascii_alphabetic() {
+                format!("[{}{}]", c.to_ascii_lowercase(), c.to_ascii_uppercase())
+            } else {
+                regex_escape(c)
+            }
+        })
+        .collect()
+}
+
+fn regex_escape(c: char) -> String {
+    if r"\^$.|?*+()[]{}/".contains(c) {
+        format!("\\{c}")
+    } else {
+        c.to_string()
+    }
+}
+
+/// The units of `dimension`, as a regex alternative.
+fn units_of(dimension: Dimension) -> String {
+    Unit::ALL
+        .iter()
+        .filter(|u| u.dimension() == dimension)
+        .map(|u| any_case(u.symbol()))
+        .collect::<Vec<_>>()
+        .join("|")
+}
+
+/// The `$defs` key of the values of objects in `unit` (`value_speed`, `value_plain`).
+fn value_key(unit: Option<Unit>) -> String {
+    match unit {
+        Some(u) => format!("value_{}", u.dimension().name()),
+        None => "value_plain".into(),
+    }
+}
+
+/// `value_X`, `condition_X` and `check_X` for one dimension (or none).
+fn dimension_defs(defs: &mut serde_json::Map<String, Value>, unit: Option<Unit>) {
+    let key = value_key(unit);
+    let suffix = key.trim_start_matches("value_").to_string();
+    let value = match unit {
+        Some(u) => {
+            let d = u.dimension();
+            let units = units_of(d);
+            let examples: Vec<&str> = Unit::ALL
+                .iter()
+                .filter(|x| x.dimension() == d)
+                .map(|x| x.symbol())
+                .collect();
+            json!({
+                "description": format!("a {} with its unit ({}), a bare number in {}, or {{{{param}}}}", d.name(), examples.join(", "), u.symbol()),
+                "oneOf": [
+                    { "type": "number" },
+                    { "type": "string", "pattern": format!(r"^\s*(({NUMBER})\s*({units})?|{PARAM})\s*$") }
+                ]
+            })
+        }
+        None => json!({
+            "description": "a number in the object's own terms, text for text objects, or {{param}}",
+            "type": ["string", "number"]
+        }),
+    };
+    let value_ref = json!({ "$ref": format!("#/$defs/{key}") });
+    let within_units = match unit {
+        Some(u) => format!("%|{}", units_of(u.dimension())),
+        None => "%".to_string(),
+    };
+    let within = json!({
+        "description": "the tolerance of near: absolute with the object's unit (20 rpm) or relative (1 %)",
+        "oneOf": [
+            { "type": "number", "minimum": 0 },
+            { "type": "string", "pattern": format!(r"^\s*(({NUMBER})\s*({within_units})?|{PARAM})\s*$") }
+        ]
+    });
+    let predicates = json!({
+        "equals": value_ref, "above": value_ref, "below": value_ref,
+        "between": { "type": "array", "items": value_ref, "minItems": 2, "maxItems": 2,
+                     "description": "[low, high], both included" },
+        "near": value_ref, "within": within
+    });
+    // Exactly one predicate; `near` only with `within` and `within` only with `near`.
+    let one_predicate = json!([
+        { "required": ["equals"], "not": { "anyOf": [ { "required": ["above"] }, { "required": ["below"] }, { "required": ["between"] }, { "required": ["near"] }, { "required": ["within"] } ] } },
+        { "required": ["above"], "not": { "anyOf": [ { "required": ["equals"] }, { "required": ["below"] }, { "required": ["between"] }, { "required": ["near"] }, { "required": ["within"] } ] } },
+        { "required": ["below"], "not": { "anyOf": [ { "required": ["equals"] }, { "required": ["above"] }, { "required": ["between"] }, { "required": ["near"] }, { "required": ["within"] } ] } },
+        { "required": ["between"], "not": { "anyOf": [ { "required": ["equals"] }, { "required": ["above"] }, { "required": ["below"] }, { "required": ["near"] }, { "required": ["within"] } ] } },
+        { "required": ["near", "within"], "not": { "anyOf": [ { "required": ["equals"] }, { "required": ["above"] }, { "required": ["below"] }, { "required": ["between"] } ] } }
+    ]);
+    let condition = json!({
+        "type": "object",
+        "description": "exactly one of: equals, above, below, between [low, high], near with within",
+        "properties": predicates,
+        "additionalProperties": false,
+        "oneOf": one_predicate
+    });
+    let condition_ref = json!({ "$ref": format!("#/$defs/condition_{suffix}") });
+    let mut check_props = predicates.as_object().cloned().unwrap_or_default();
+    for stat in ["mean", "min", "max", "ripple", "std"] {
+        check_props.insert(stat.into(), condition_ref.clone());
+    }
+    let check = json!({
+        "type": "object",
+        "description": "a condition on the value now (equals, above, below, between, near + within), or on a statistic of the last sample window (mean, min, max, ripple, std)",
+        "properties": check_props,
+        "additionalProperties": false,
+        "oneOf": [
+            { "oneOf": one_predicate },
+            { "minProperties": 1, "maxProperties": 1, "anyOf": [
+                { "required": ["mean"] }, { "required": ["min"] }, { "required": ["max"] },
+                { "required": ["ripple"] }, { "required": ["std"] } ] }
+        ]
+    });
+    defs.insert(key, value);
+    defs.insert(format!("condition_{suffix}"), condition);
+    defs.insert(format!("check_{suffix}"), check);
+}
+
+/// The hover text of an object: what it is, its unit and resolution, range and access.
+fn object_doc(o: &ObjectDef) -> (String, String) {
+    let unit = o.unit.map(|u| u.symbol().to_string());
+    let u = unit.as_deref().map(|u| format!(" {u}")).unwrap_or_default();
+    let range = match (o.min, o.max) {
+        (Some(lo), Some(hi)) => format!("{}{u} to {}{u}", number(lo), number(hi)),
+        (Some(lo), None) => format!("from {}{u}", number(lo)),
+        (None, Some(hi)) => format!("up to {}{u}", number(hi)),
+        (None, None) => "not limited by the dictionary".into(),
+    };
+    let bench = if o.bench.is_some() { " (bench limit)" } else { "" };
+    let resolution = if o.scale.is_finite() && o.scale > 0.0 {
+        format!("{}{u}", number(o.scale))
+    } else {
+        "—".into()
+    };
+    let description = o.description.trim().trim_end_matches('.');
+    let plain = format!(
+        "{description}{}unit: {}; range: {range}{bench}; {}; resolution {resolution}",
+        if description.is_empty() { "" } else { ". " },
+        unit.as_deref().unwrap_or("none"),
+        o.access.describe()
+    );
+    let mut md = format!("**{}**", o.name);
+    if !o.description.trim().is_empty() {
+        md.push_str(&format!(" — {}", o.description.trim()));
+    }
+    md.push_str(&format!(
+        "\n\n| unit | range | access | resolution |\n|---|---|---|---|\n| {} | {range}{bench} | {} | {resolution} |",
+        unit.as_deref().unwrap_or("none"),
+        o.access.describe()
+    ));
+    if let Some(why) = &o.unconfirmed {
+        md.push_str(&format!("\n\n*Unconfirmed:* {why}"));
+    }
+    (plain, md)
+}
+
+/// `{ "allOf": [ref], description, markdownDescription }`: a reference with the object's
+/// hover text (draft-07 ignores keywords next to a bare `$ref`).
+fn documented(reference: String, doc: &(String, String)) -> Value {
+    json!({
+        "allOf": [ { "$ref": reference } ],
+        "description": doc.0,
+        "markdownDescription": doc.1
+    })
+}
 
 /// The schema for recipes written against `dictionary`.
 pub fn recipe_schema(dictionary: &Dictionary) -> Value {
     let mut names: Vec<String> = Vec::new();
     let mut writable: Vec<String> = Vec::new();
+    let mut defs = serde_json::Map::new();
+    let mut set_props = serde_json::Map::new();
+    let mut check_props = serde_json::Map::new();
+    let mut wait_props = serde_json::Map::new();
+    let mut seen = std::collections::HashSet::new();
     for o in dictionary.objects() {
         names.push(o.name.clone());
+        let key = value_key(o.unit);
+        if seen.insert(key.clone()) {
+            dimension_defs(&mut defs, o.unit);
+        }
+        let suffix = key.trim_start_matches("value_");
+        let doc = object_doc(o);
         if o.writable() {
             writable.push(o.name.clone());
+            set_props.insert(o.name.clone(), documented(format!("#/$defs/{key}"), &doc));
+        }
+        if o.readable() {
+            check_props.insert(
+                o.name.clone(),
+                documented(format!("#/$defs/check_{suffix}"), &doc),
+            );
+            wait_props.insert(
+                o.name.clone(),
+                documented(format!("#/$defs/condition_{suffix}"), &doc),
+            );
         }
     }
     // Only what the drive's profile has (a Control Techniques drive has no quick stop).
@@ -31,64 +231,55 @@ pub fn recipe_schema(dictionary: &Dictionary) -> Value {
     if let Some(name) = dictionary.name().filter(|n| *n != dictionary.family()) {
         drives.push(name);
     }
-    let duration = json!({ "type": "string", "description": "a duration with its unit: 500 ms, 5 s, 10 min, 2 h", "pattern": "^\\s*(\\{\\{.*\\}\\}|[0-9.]+\\s*[a-zA-Zµ]+(\\s+[0-9.]+\\s*[a-zA-Zµ]+)*)\\s*$" });
-    let value = json!({ "type": ["string", "number"], "description": "a value with its unit (6000 rpm, 1.5 A), a bare number in the object's unit, or {{param}}" });
-    let condition = json!({
-        "type": "object",
-        "description": "exactly one of equals, above, below, between, near (with within)",
-        "properties": {
-            "equals": { "$ref": "#/$defs/value" },
-            "above": { "$ref": "#/$defs/value" },
-            "below": { "$ref": "#/$defs/value" },
-            "between": { "type": "array", "items": { "$ref": "#/$defs/value" }, "minItems": 2, "maxItems": 2 },
-            "near": { "$ref": "#/$defs/value" },
-            "within": { "type": ["string", "number"], "description": "absolute (20 rpm) or percent (1 %)" }
-        },
-        "additionalProperties": false
+    let duration = json!({
+        "description": "a duration with its unit: 500 ms, 5 s, 10 min, 2 h, 1h 30min, or {{param}}",
+        "type": "string",
+        "pattern": format!(r"^\s*(([0-9]+\s*({DURATION_UNITS})\s*)+|{PARAM})$")
     });
-    let statistic_condition = json!({
-        "type": "object",
-        "description": "a condition on the object now, or on a statistic of the last sample window",
-        "properties": {
-            "mean": { "$ref": "#/$defs/condition" }, "min": { "$ref": "#/$defs/condition" },
-            "max": { "$ref": "#/$defs/condition" }, "ripple": { "$ref": "#/$defs/condition" },
-            "std": { "$ref": "#/$defs/condition" },
-            "equals": { "$ref": "#/$defs/value" }, "above": { "$ref": "#/$defs/value" },
-            "below": { "$ref": "#/$defs/value" },
-            "between": { "type": "array", "items": { "$ref": "#/$defs/value" }, "minItems": 2, "maxItems": 2 },
-            "near": { "$ref": "#/$defs/value" }, "within": { "type": ["string", "number"] }
-        },
-        "additionalProperties": false
-    });
-    let objects_map = |item: Value, only: &[String]| {
-        let props: serde_json::Map<String, Value> = only.iter().map(|n| (n.clone(), item.clone())).collect();
-        json!({ "type": "object", "properties": props, "additionalProperties": false })
-    };
+    let speed_units = units_of(Dimension::Speed);
     let object_list = json!({
         "oneOf": [
             { "type": "string", "enum": names },
             { "type": "array", "items": { "type": "string", "enum": names } }
         ]
     });
-    let mut wait_props = serde_json::Map::new();
-    wait_props.insert("state".into(), json!({ "type": "string", "enum": states }));
+    wait_props.insert(
+        "state".into(),
+        json!({ "type": "string", "enum": states, "description": "a device-control state to wait for" }),
+    );
     wait_props.insert("timeout".into(), json!({ "$ref": "#/$defs/duration" }));
     wait_props.insert("every".into(), json!({ "$ref": "#/$defs/duration" }));
-    for n in &names {
-        wait_props.insert(n.clone(), json!({ "$ref": "#/$defs/condition" }));
-    }
     let keyed = |key: &str, body: Value, doc: &str| {
         json!({
             "type": "object",
             "description": doc,
-            "properties": { key: body, "name": { "type": "string" } },
+            "properties": { key: body, "name": { "type": "string", "description": "the step's own name in reports (a stage name for include and repeat)" } },
             "required": [key],
             "additionalProperties": false
         })
     };
     let steps_ref = json!({ "$ref": "#/$defs/steps" });
+    let rate_units = format!(
+        "{speed_units}|{}|{}|{}",
+        units_of(Dimension::Voltage),
+        units_of(Dimension::Current),
+        units_of(Dimension::Ratio)
+    );
+    let step_keys = [
+        "go_to",
+        "set",
+        "read",
+        "print",
+        "wait_until",
+        "dwell",
+        "sample",
+        "expect",
+        "ramp",
+        "repeat",
+        "include",
+        "expect_parameters",
+    ];
     let step_variants = vec![
-        json!({ "type": "string", "enum": commands, "description": "a device command: writes the control word" }),
         keyed(
             "go_to",
             json!({ "oneOf": [
@@ -99,7 +290,7 @@ pub fn recipe_schema(dictionary: &Dictionary) -> Value {
         ),
         keyed(
             "set",
-            objects_map(json!({ "$ref": "#/$defs/value" }), &writable),
+            json!({ "type": "object", "properties": set_props, "additionalProperties": false, "minProperties": 1 }),
             "write objects",
         ),
         keyed("read", object_list.clone(), "read objects and show their values"),
@@ -125,7 +316,7 @@ pub fn recipe_schema(dictionary: &Dictionary) -> Value {
                 "properties": {
                     "objects": { "type": "array", "items": { "type": "string", "enum": names } },
                     "every": { "$ref": "#/$defs/duration" }, "for": { "$ref": "#/$defs/duration" },
-                    "csv": { "type": "string" }
+                    "csv": { "type": "string", "description": "a CSV file of this step's samples, relative to --output-dir" }
                 },
                 "required": ["objects", "every", "for"], "additionalProperties": false
             }),
@@ -133,7 +324,7 @@ pub fn recipe_schema(dictionary: &Dictionary) -> Value {
         ),
         keyed(
             "expect",
-            objects_map(statistic_condition, &names),
+            json!({ "type": "object", "properties": check_props, "additionalProperties": false, "minProperties": 1 }),
             "named pass/fail checks",
         ),
         keyed(
@@ -141,9 +332,11 @@ pub fn recipe_schema(dictionary: &Dictionary) -> Value {
             json!({
                 "type": "object",
                 "properties": {
-                    "object": { "type": "string", "enum": writable }, "from": { "$ref": "#/$defs/value" },
-                    "to": { "$ref": "#/$defs/value" }, "step": { "$ref": "#/$defs/value" },
-                    "rate": { "type": "string", "description": "e.g. 1000 rpm/s" }, "every": { "$ref": "#/$defs/duration" }
+                    "object": { "type": "string", "enum": writable }, "from": { "$ref": "#/$defs/value_any" },
+                    "to": { "$ref": "#/$defs/value_any" }, "step": { "$ref": "#/$defs/value_any" },
+                    "rate": { "type": "string", "description": "a change per time with units: 1000 rpm/s, 50 rpm/min",
+                              "pattern": format!(r"^\s*({NUMBER})\s*({rate_units})\s*/\s*(ms|s|min|h)\s*$") },
+                    "every": { "$ref": "#/$defs/duration" }
                 },
                 "required": ["object", "from", "to"], "additionalProperties": false
             }),
@@ -154,7 +347,8 @@ pub fn recipe_schema(dictionary: &Dictionary) -> Value {
             json!({
                 "type": "object",
                 "properties": { "times": { "type": "integer", "minimum": 1 }, "for": { "$ref": "#/$defs/duration" }, "steps": steps_ref },
-                "required": ["steps"], "additionalProperties": false
+                "required": ["steps"], "additionalProperties": false,
+                "oneOf": [ { "required": ["times"], "not": { "required": ["for"] } }, { "required": ["for"], "not": { "required": ["times"] } } ]
             }),
             "run nested steps a number of times or for a duration",
         ),
@@ -172,6 +366,35 @@ pub fn recipe_schema(dictionary: &Dictionary) -> Value {
             "check that the drive holds a backup's parameters, one check per object",
         ),
     ];
+    let mut step_key_names: Vec<&str> = step_keys.to_vec();
+    step_key_names.push("name");
+    defs.insert(
+        "value_any".into(),
+        json!({ "type": ["string", "number"], "description": "a value with the object's unit, a bare number in it, or {{param}}" }),
+    );
+    defs.insert("duration".into(), duration);
+    // A string step is a device command; a map step has one step key (and maybe a name).
+    // Split by type first, so a misspelt key is reported against the list of step keys
+    // instead of as "expected a string".
+    defs.insert(
+        "step".into(),
+        json!({
+            "if": { "type": "string" },
+            "then": { "type": "string", "enum": commands, "description": "a device command: writes the control word",
+                      "errorMessage": format!("a step written alone is a device command: {}", commands.join(", ")) },
+            "else": {
+                "type": "object",
+                "propertyNames": { "enum": step_key_names,
+                                   "errorMessage": format!("a step is one of: {}", step_keys.join(", ")) },
+                "minProperties": 1,
+                "oneOf": step_variants
+            }
+        }),
+    );
+    defs.insert(
+        "steps".into(),
+        json!({ "type": "array", "items": { "$ref": "#/$defs/step" } }),
+    );
     json!({
         "$schema": "http://json-schema.org/draft-07/schema#",
         "title": format!("drivescript recipe ({})", dictionary.title()),
@@ -182,7 +405,8 @@ pub fn recipe_schema(dictionary: &Dictionary) -> Value {
             "name": { "type": "string" },
             "description": { "type": "string" },
             "drive": { "type": "string", "enum": drives },
-            "params": { "type": "object", "additionalProperties": { "type": ["string", "number"] } },
+            "params": { "type": "object", "additionalProperties": { "type": ["string", "number"] },
+                        "description": "parameters used as {{name}} in values; --set name=value overrides them" },
             "steps": { "$ref": "#/$defs/steps" },
             "finally": { "$ref": "#/$defs/steps" },
             "on_fault": { "$ref": "#/$defs/steps" },
@@ -198,17 +422,12 @@ pub fn recipe_schema(dictionary: &Dictionary) -> Value {
                 "additionalProperties": false,
                 "properties": {
                     "timeout": { "$ref": "#/$defs/duration" },
-                    "standstill": { "type": "string", "examples": ["10 rpm"] }
+                    "standstill": { "type": "string", "examples": ["10 rpm"],
+                                    "pattern": format!(r"^\s*({NUMBER})\s*({speed_units})\s*$") }
                 }
             }
         },
-        "$defs": {
-            "duration": duration,
-            "value": value,
-            "condition": condition,
-            "step": { "oneOf": step_variants },
-            "steps": { "type": "array", "items": { "$ref": "#/$defs/step" } }
-        }
+        "$defs": defs
     })
 }
 
@@ -233,8 +452,32 @@ mod tests {
             assert!(text.contains(word), "{word}");
         }
         // Read-only objects are not offered for `set`.
-        let set = &s["$defs"]["step"]["oneOf"][2]["properties"]["set"]["properties"];
+        let set = &s["$defs"]["step"]["else"]["oneOf"][1]["properties"]["set"]["properties"];
         assert!(set.get("speed_setpoint").is_some());
         assert!(set.get("status_word").is_none());
+        // Hover text with unit, range, access and resolution for every object.
+        let md = set["speed_setpoint"]["markdownDescription"].as_str().unwrap();
+        for part in ["**speed_setpoint**", "| rpm |", "read-write", "0.001 rpm"] {
+            assert!(md.contains(part), "{part}: {md}");
+        }
+        let expect = &s["$defs"]["step"]["else"]["oneOf"][7]["properties"]["expect"]["properties"];
+        assert!(expect["status_word"]["markdownDescription"]
+            .as_str()
+            .unwrap()
+            .contains("read-only"));
+        // Values of speed objects take speed units only; durations take time units only.
+        let speed = s["$defs"]["value_speed"]["oneOf"][1]["pattern"].as_str().unwrap();
+        assert!(
+            speed.contains("[rR][pP][mM]") && !speed.contains("[aA]"),
+            "{speed}"
+        );
+        let duration = s["$defs"]["duration"]["pattern"].as_str().unwrap();
+        assert!(
+            duration.contains("|min|") && !duration.contains("parsec"),
+            "{duration}"
+        );
+        // `near` needs `within`.
+        let shapes = s["$defs"]["condition_speed"]["oneOf"].to_string();
+        assert!(shapes.contains(r#"["near","within"]"#), "{shapes}");
     }
 }

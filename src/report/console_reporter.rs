@@ -16,6 +16,7 @@ pub struct ConsoleReporter<W: Write> {
     /// limit) would otherwise cost a system call per line, as much as the telegram itself.
     pending: Vec<u8>,
     last_flush: Instant,
+    color: bool,
 }
 
 /// How long a line may be held back in a burst; the first line after a quiet spell, and
@@ -30,7 +31,14 @@ impl<W: Write> ConsoleReporter<W> {
             virtual_time,
             pending: Vec::new(),
             last_flush: Instant::now().checked_sub(HOLD).unwrap_or_else(Instant::now),
+            color: false,
         }
+    }
+
+    /// PASS/FAIL and the verdict in colour (see [`super::color_wanted`]).
+    pub fn with_color(mut self, color: bool) -> Self {
+        self.color = color;
+        self
     }
 
     pub fn into_inner(mut self) -> W {
@@ -42,7 +50,11 @@ impl<W: Write> ConsoleReporter<W> {
     }
 
     fn line(&mut self, text: &str) {
-        self.pending.extend_from_slice(text.as_bytes());
+        if self.color {
+            self.pending.extend_from_slice(super::paint(text).as_bytes());
+        } else {
+            self.pending.extend_from_slice(text.as_bytes());
+        }
         self.pending.push(b'\n');
         if self.last_flush.elapsed() >= HOLD || self.pending.len() >= HOLD_BYTES {
             self.flush();

@@ -5,7 +5,7 @@
 //! black and white, and escapes every text that comes from recipes, drives or messages.
 
 use super::atomic_write::write_atomically;
-use super::junit_report::limits_text;
+use super::junit_report::{stable_check_name, unexplained_failures, UniqueNames};
 use crate::recipe::{number, CheckResult, RunReport, Series, StepRecord, Verdict};
 use crate::session::{with_unit, MAX_RECORDS};
 use std::fmt::Write as _;
@@ -30,6 +30,7 @@ pub fn html_report(report: &RunReport) -> String {
         esc(&r.recipe)
     );
     header(&mut h, r);
+    failed_summary(&mut h, r);
     checks(&mut h, r);
     plots(&mut h, r);
     steps(&mut h, r);
@@ -53,23 +54,32 @@ body { font-family: system-ui, -apple-system, 'Segoe UI', Roboto, Helvetica, Ari
 h1 { margin-bottom: 0.2em; }
 h2 { border-bottom: 1px solid #999; padding-bottom: 0.1em; margin-top: 1.6em; }
 table { border-collapse: collapse; width: 100%; margin: 0.5em 0; }
-th, td { border: 1px solid #bbb; padding: 0.25em 0.5em; text-align: left; vertical-align: top; }
+th, td { border: 1px solid #bbb; padding: 0.25em 0.5em; text-align: left; vertical-align: top;
+         overflow-wrap: anywhere; }
 th { background: #eee; }
 td.num { text-align: right; font-variant-numeric: tabular-nums; white-space: nowrap; }
 table.facts th { width: 12em; }
+tr.group th { background: #f4f4f4; font-weight: bold; text-align: left; }
+td.step { white-space: nowrap; }
+td.indent-1 { padding-left: 1.5em; } td.indent-2 { padding-left: 2.5em; }
+td.indent-3 { padding-left: 3.5em; }
 .verdict { display: inline-block; font-size: 2.2em; font-weight: bold; letter-spacing: 0.05em;
            padding: 0.15em 0.6em; border: 4px solid; margin: 0.3em 0; }
 .verdict.passed { color: #0a5a1e; background: #dff3e4; border-style: solid; }
-.verdict.failed, .verdict.error, .verdict.interrupted { color: #8b0000; background: #fbe0e0;
-           border-style: double; border-width: 6px; }
+.verdict.failed, .verdict.error, .verdict.interrupted, .verdict.panic { color: #8b0000;
+           background: #fbe0e0; border-style: double; border-width: 6px; }
 .why { font-size: 1.1em; font-weight: bold; }
 .ok { color: #0a5a1e; }
 .fail { color: #8b0000; font-weight: bold; }
 tr.fail td { background: #fdf0f0; }
+section#failures { border: 2px solid #8b0000; padding: 0 1em 0.5em; margin-top: 1em; }
+section#failures h2 { border: none; margin-top: 0.5em; }
 code { font-family: ui-monospace, Menlo, Consolas, monospace; font-size: 0.95em; }
 figure { margin: 1em 0; }
 figcaption { font-size: 0.9em; color: #333; }
-svg.plot { width: 100%; max-width: 760px; height: auto; border: 1px solid #ccc; background: #fff; }
+ul.stat-checks { margin: 0.2em 0 0 0; font-size: 0.9em; }
+svg.plot { display: block; width: 100%; max-width: 760px; height: auto; border: 1px solid #ccc;
+           background: #fff; box-sizing: border-box; }
 svg.plot text { font-family: system-ui, Helvetica, Arial, sans-serif; font-size: 11px; fill: #111; }
 svg.plot .grid { stroke: #ddd; stroke-width: 1; }
 svg.plot .axis { stroke: #111; stroke-width: 1; }
@@ -77,17 +87,26 @@ svg.plot .data { fill: none; stroke: #1f4fa0; stroke-width: 1.5; }
 svg.plot .limit { stroke: #b00000; stroke-width: 1.2; stroke-dasharray: 6 4; }
 svg.plot text.limit-label { fill: #b00000; }
 footer { margin-top: 2em; font-size: 0.8em; color: #555; }
+@page { size: A4; margin: 16mm 14mm 18mm 14mm;
+        @bottom-right { content: 'page ' counter(page) ' of ' counter(pages); font-size: 9pt; } }
 @media print {
-  body { margin: 0; max-width: none; color: #000; }
-  th, tr.fail td, .verdict, .verdict.passed, .verdict.failed, .verdict.error,
+  body { margin: 0; max-width: none; color: #000; font-size: 10pt; padding: 0; }
+  table { table-layout: fixed; font-size: 9pt; }
+  td.num { white-space: normal; }
+  td.time, td.step { white-space: nowrap; font-size: 8.5pt; }
+  tr.group { break-after: avoid; page-break-after: avoid; }
+  th, tr.fail td, tr.group th, .verdict, .verdict.passed, .verdict.failed, .verdict.error,
   .verdict.interrupted, svg.plot { background: none !important; }
   .verdict, .ok, .fail, svg.plot text.limit-label { color: #000 !important; }
-  svg.plot text.limit-label { fill: #000; }
-  svg.plot .data { stroke: #000; }
-  svg.plot .limit { stroke: #000; }
-  figure, table, tr, .verdict { break-inside: avoid; page-break-inside: avoid; }
+  svg.plot text.limit-label { fill: #000; font-style: italic; }
+  svg.plot .data { stroke: #000; stroke-width: 1.2; }
+  svg.plot .limit { stroke: #000; stroke-width: 0.8; stroke-dasharray: 2 3; }
+  svg.plot .grid { stroke: #ccc; }
+  svg.plot { width: 100% !important; max-width: 100%; border-color: #999; }
+  figure, tr, .verdict, section#failures { break-inside: avoid; page-break-inside: avoid; }
   thead { display: table-header-group; }
   h2 { break-after: avoid; page-break-after: avoid; }
+  footer { color: #000; }
 }
 ";
 
@@ -163,6 +182,96 @@ fn header(h: &mut String, r: &RunReport) {
     h.push_str("</table>\n</section>\n");
 }
 
+/// The failed checks and the steps that failed on their own, first thing after the
+/// verdict, so a reader sees at once what to look at.
+fn failed_summary(h: &mut String, r: &RunReport) {
+    let failed: Vec<&CheckResult> = r.checks.iter().filter(|c| !c.passed).collect();
+    let steps = unexplained_failures(r);
+    if failed.is_empty() && steps.is_empty() {
+        return;
+    }
+    h.push_str("<section id=\"failures\">\n<h2>What failed</h2>\n<ul>\n");
+    for c in failed {
+        let stage = if c.stage.is_empty() {
+            String::new()
+        } else {
+            format!("{} / ", c.stage)
+        };
+        let _ = writeln!(
+            h,
+            "<li><span class=\"fail\">FAIL</span> {}{}: measured {}, limits {} — {}</li>",
+            esc(&stage),
+            esc(&check_title(c)),
+            esc(&measured_cell(r, c)),
+            esc(&limits_cell(r, c)),
+            esc(&c.message)
+        );
+    }
+    for s in steps {
+        let _ = writeln!(
+            h,
+            "<li><span class=\"fail\">FAIL</span> step {} {}: {}</li>",
+            esc(&s.id),
+            esc(&s.label),
+            esc(&s.detail)
+        );
+    }
+    h.push_str("</ul>\n</section>\n");
+}
+
+/// A check's name without its limits (they have their own column).
+fn check_title(c: &CheckResult) -> String {
+    stable_check_name(&c.name, c.object.as_deref(), c.statistic.as_deref())
+}
+
+/// Decimals that show one count of the dictionary's resolution: 0.001 → 3, 1 → 0.
+pub fn decimals(resolution: f64) -> usize {
+    if !(resolution.is_finite() && resolution > 0.0) {
+        return 3;
+    }
+    (-(resolution.log10() + 1e-9).floor()).clamp(0.0, 9.0) as usize
+}
+
+/// `v` with its unit at the resolution of `object` (three decimals when unknown, trailing
+/// zeros dropped then).
+fn value_text(r: &RunReport, object: Option<&str>, v: f64, unit: Option<&str>) -> String {
+    let text = match object.and_then(|o| r.resolution(o)) {
+        Some(res) => format!("{v:.*}", decimals(res)),
+        None => number((v * 1000.0).round() / 1000.0),
+    };
+    match unit {
+        Some(u) => format!("{text} {u}"),
+        None => text,
+    }
+}
+
+fn measured_cell(r: &RunReport, c: &CheckResult) -> String {
+    match (c.measured, &c.measured_text) {
+        (Some(v), _) => value_text(r, c.object.as_deref(), v, c.unit.as_deref()),
+        (None, Some(t)) => t.clone(),
+        (None, None) => "—".into(),
+    }
+}
+
+/// `speed-stage.yaml:15:5` for `/long/path/includes/speed-stage.yaml:15:5`: the page is
+/// read beside the recipe; the full place is in the cell's title.
+fn short_origin(origin: &str) -> String {
+    origin.rsplit('/').next().unwrap_or(origin).to_string()
+}
+
+/// Limits as the recipe wrote them (no padding to the resolution).
+fn limits_cell(_r: &RunReport, c: &CheckResult) -> String {
+    let v = |x: f64| number(x);
+    let u = c.unit.as_deref().map(|u| format!(" {u}")).unwrap_or_default();
+    match (c.low, c.high) {
+        (Some(lo), Some(hi)) if lo == hi => format!("= {}{u}", v(lo)),
+        (Some(lo), Some(hi)) => format!("{} .. {}{u}", v(lo), v(hi)),
+        (Some(lo), None) => format!("> {}{u}", v(lo)),
+        (None, Some(hi)) => format!("< {}{u}", v(hi)),
+        (None, None) => "—".into(),
+    }
+}
+
 fn checks(h: &mut String, r: &RunReport) {
     h.push_str("<section id=\"checks\">\n<h2>Checks</h2>\n");
     if r.checks.is_empty() {
@@ -170,32 +279,82 @@ fn checks(h: &mut String, r: &RunReport) {
         return;
     }
     h.push_str(
-        "<table>\n<thead><tr><th>Check</th><th>Measured</th><th>Limits</th><th>Result</th>\
+        "<table>\n<colgroup><col style=\"width:23%\"><col style=\"width:15%\"><col style=\"width:19%\">\
+         <col style=\"width:9%\"><col style=\"width:21%\"><col style=\"width:13%\"></colgroup>\n\
+         <thead><tr><th>Check</th><th>Measured</th><th>Limits</th><th>Result</th>\
          <th>Details</th><th>Where</th></tr></thead>\n<tbody>\n",
     );
+    // Grouped by stage as they ran (a new group where the stage changes); names unique
+    // within their stage.
+    let mut groups: Vec<(&str, Vec<&CheckResult>)> = Vec::new();
     for c in &r.checks {
-        let measured = match (c.measured, &c.measured_text) {
-            (Some(v), _) => with_unit(v, c.unit.as_deref()),
-            (None, Some(t)) => t.clone(),
-            (None, None) => "—".into(),
-        };
-        let (row, mark) = if c.passed {
-            ("pass", "<span class=\"ok\">PASS</span>")
-        } else {
-            ("fail", "<span class=\"fail\">FAIL</span>")
-        };
-        let _ = writeln!(
-            h,
-            "<tr class=\"{row}\"><td>{}</td><td class=\"num\">{}</td><td class=\"num\">{}</td>\
-             <td>{mark}</td><td>{}</td><td><code>{}</code></td></tr>",
-            esc(&c.name),
-            esc(&measured),
-            esc(&limits_text(c).unwrap_or_else(|| "—".into())),
-            esc(&c.message),
-            esc(&c.origin.to_string())
-        );
+        match groups.last_mut() {
+            Some((stage, list)) if *stage == c.stage => list.push(c),
+            _ => groups.push((&c.stage, vec![c])),
+        }
+    }
+    for (stage, group) in groups {
+        let mut names = UniqueNames::default();
+        if !stage.is_empty() {
+            let failed = group.iter().filter(|c| !c.passed).count();
+            let mark = if failed > 0 {
+                format!(" — <span class=\"fail\">{failed} FAILED</span>")
+            } else {
+                String::new()
+            };
+            let _ = writeln!(
+                h,
+                "<tr class=\"group\"><th colspan=\"6\">{}{mark}</th></tr>",
+                esc(stage)
+            );
+        }
+        for c in group {
+            let (row, mark) = if c.passed {
+                ("pass", "<span class=\"ok\">PASS</span>")
+            } else {
+                ("fail", "<span class=\"fail\">FAIL</span>")
+            };
+            let _ = writeln!(
+                h,
+                "<tr class=\"{row}\"><td>{}</td><td class=\"num\">{}</td><td class=\"num\">{}</td>\
+                 <td>{mark}</td><td>{}</td><td><code title=\"{}\">{}</code></td></tr>",
+                esc(&names.unique(check_title(c))),
+                esc(&measured_cell(r, c)),
+                esc(&limits_cell(r, c)),
+                esc(&c.message),
+                esc(&c.origin.to_string()),
+                esc(&short_origin(&c.origin.to_string()))
+            );
+        }
     }
     h.push_str("</tbody>\n</table>\n</section>\n");
+}
+
+/// The steps in the order they ran, each container (repeat, include) before the steps it
+/// holds (the run records it after them, when it ends), with its depth; a container is
+/// marked failed when a step inside it failed.
+pub fn steps_in_order(steps: &[StepRecord]) -> Vec<(&StepRecord, usize, bool)> {
+    let holds = |outer: &StepRecord, inner: &StepRecord| {
+        inner.phase == outer.phase
+            && (inner.id.starts_with(&format!("{}.", outer.id))
+                || inner.id.starts_with(&format!("{}[", outer.id)))
+    };
+    let mut out: Vec<&StepRecord> = Vec::with_capacity(steps.len());
+    for s in steps {
+        let mut at = out.len();
+        while at > 0 && holds(s, out[at - 1]) {
+            at -= 1;
+        }
+        out.insert(at, s);
+    }
+    out.iter()
+        .enumerate()
+        .map(|(i, s)| {
+            let depth = out[..i].iter().filter(|o| holds(o, s)).count();
+            let inner_failed = out[i + 1..].iter().take_while(|o| holds(s, o)).any(|o| !o.ok);
+            (*s, depth, s.ok && !inner_failed)
+        })
+        .collect()
 }
 
 fn steps(h: &mut String, r: &RunReport) {
@@ -205,11 +364,14 @@ fn steps(h: &mut String, r: &RunReport) {
         return;
     }
     h.push_str(
-        "<table>\n<thead><tr><th>#</th><th>Phase</th><th>Step</th><th>Result</th><th>Detail</th>\
+        "<table>\n<colgroup><col style=\"width:7%\"><col style=\"width:8%\"><col style=\"width:24%\">\
+         <col style=\"width:10%\"><col style=\"width:25%\"><col style=\"width:13%\"><col style=\"width:13%\"></colgroup>\n\
+         <thead><tr><th>#</th><th>Phase</th><th>Step</th><th>Result</th><th>Detail</th>\
          <th>Start</th><th>Duration</th></tr></thead>\n<tbody>\n",
     );
-    for s in &r.steps {
-        step_row(h, s);
+    let start = r.steps.iter().map(|s| s.started).min().unwrap_or_default();
+    for (s, depth, ok) in steps_in_order(&r.steps) {
+        step_row(h, s, depth, ok, start);
     }
     h.push_str("</tbody>\n</table>\n");
     if r.omitted_steps > 0 || r.omitted_checks > 0 {
@@ -223,21 +385,22 @@ fn steps(h: &mut String, r: &RunReport) {
     h.push_str("</section>\n");
 }
 
-fn step_row(h: &mut String, s: &StepRecord) {
-    let (row, mark) = if s.ok {
-        ("ok", "<span class=\"ok\">ok</span>")
-    } else {
-        ("fail", "<span class=\"fail\">FAIL</span>")
+fn step_row(h: &mut String, s: &StepRecord, depth: usize, ok: bool, start: Duration) {
+    let (row, mark) = match (s.ok, ok) {
+        (true, true) => ("ok", "<span class=\"ok\">ok</span>"),
+        (true, false) => ("fail", "<span class=\"fail\">FAIL</span> (inside)"),
+        (false, _) => ("fail", "<span class=\"fail\">FAIL</span>"),
     };
+    let indent = depth.min(3);
     let _ = writeln!(
         h,
-        "<tr class=\"{row}\"><td class=\"num\">{}</td><td>{}</td><td>{}</td><td>{mark}</td>\
-         <td>{}</td><td class=\"num\">{}</td><td class=\"num\">{}</td></tr>",
-        esc(&s.number),
+        "<tr class=\"{row}\"><td class=\"num step\">{}</td><td>{}</td><td class=\"indent-{indent}\">{}</td><td>{mark}</td>\
+         <td>{}</td><td class=\"num time\">{}</td><td class=\"num time\">{}</td></tr>",
+        esc(&s.id),
         esc(s.phase),
         esc(&s.label),
         esc(&s.detail),
-        esc(&duration_text(s.started)),
+        esc(&duration_text(s.started.saturating_sub(start))),
         esc(&duration_text(s.duration))
     );
 }
@@ -265,19 +428,30 @@ fn safe_stop(h: &mut String, r: &RunReport) {
     );
 }
 
+/// Whether a check's limits are levels of the plotted value (the value itself, its mean,
+/// min or max) rather than of a statistic about its spread (ripple, std), which is shown
+/// as text under the plot.
+fn is_level(c: &CheckResult) -> bool {
+    matches!(c.statistic.as_deref(), None | Some("mean" | "min" | "max"))
+}
+
 fn plots(h: &mut String, r: &RunReport) {
     if r.series.is_empty() {
         return;
     }
     h.push_str("<section id=\"plots\">\n<h2>Sampled values</h2>\n");
     for (i, s) in r.series.iter().enumerate() {
-        let limits: Vec<&CheckResult> = r
+        // Only the checks computed over this very window.
+        let window: Vec<&CheckResult> = r
             .checks
             .iter()
-            .filter(|c| c.object.as_deref() == Some(s.object.as_str()))
+            .filter(|c| {
+                c.object.as_deref() == Some(s.object.as_str()) && c.window.as_deref() == Some(s.step.as_str())
+            })
             .collect();
+        let levels: Vec<&CheckResult> = window.iter().copied().filter(|c| is_level(c)).collect();
         h.push_str("<figure>\n");
-        h.push_str(&plot_svg(s, &limits, i));
+        h.push_str(&plot_svg(s, &levels, i));
         let shown = downsample(&finite(&s.points)).len();
         let how = if shown < s.points.len() {
             format!(
@@ -289,17 +463,37 @@ fn plots(h: &mut String, r: &RunReport) {
         };
         let _ = writeln!(
             h,
-            "<figcaption>{} sampled by step {}: {}{}</figcaption>\n</figure>",
+            "<figcaption>{} sampled by step {}: {}{}",
             esc(&axis_title(&s.object, s.unit.as_deref())),
             esc(&s.step),
             esc(&how),
-            esc(&stats_text(s))
+            esc(&stats_text(r, s))
         );
+        let spread: Vec<&CheckResult> = window.iter().copied().filter(|c| !is_level(c)).collect();
+        if !spread.is_empty() {
+            h.push_str("<ul class=\"stat-checks\">\n");
+            for c in spread {
+                let mark = if c.passed {
+                    "<span class=\"ok\">PASS</span>"
+                } else {
+                    "<span class=\"fail\">FAIL</span>"
+                };
+                let _ = writeln!(
+                    h,
+                    "<li>{mark} {}: {} (limits {})</li>",
+                    esc(&check_title(c)),
+                    esc(&measured_cell(r, c)),
+                    esc(&limits_cell(r, c))
+                );
+            }
+            h.push_str("</ul>\n");
+        }
+        h.push_str("</figcaption>\n</figure>\n");
     }
     h.push_str("</section>\n");
 }
 
-fn stats_text(s: &Series) -> String {
+fn stats_text(r: &RunReport, s: &Series) -> String {
     let values: Vec<f64> = finite(&s.points).iter().map(|p| p.1).collect();
     if values.is_empty() {
         return String::new();
@@ -308,19 +502,15 @@ fn stats_text(s: &Series) -> String {
     let max = values.iter().copied().fold(f64::NEG_INFINITY, f64::max);
     let mean = values.iter().sum::<f64>() / values.len() as f64;
     let u = s.unit.as_deref();
-    format!(
-        "; min {}, mean {}, max {}",
-        with_unit(min, u),
-        with_unit(round_to(mean, 6), u),
-        with_unit(max, u)
-    )
+    let v = |x: f64| value_text(r, Some(&s.object), x, u);
+    format!("; min {}, mean {}, max {}", v(min), v(mean), v(max))
 }
 
 // Plot geometry (SVG user units).
 const W: f64 = 760.0;
 const H: f64 = 320.0;
 const LEFT: f64 = 80.0;
-const RIGHT: f64 = 130.0;
+const RIGHT: f64 = 165.0;
 const TOP: f64 = 16.0;
 const BOTTOM: f64 = 52.0;
 
@@ -368,7 +558,20 @@ pub fn plot_svg(series: &Series, checks: &[&CheckResult], id: usize) -> String {
     }
 
     let (t0, t1) = padded_range(points.iter().map(|p| p.0), 0.0);
-    let (v0, v1) = padded_range(points.iter().map(|p| p.1).chain(limits.iter().map(|l| l.0)), 0.05);
+    // The data decides the range; a limit close to it widens it, one far off is marked at
+    // the edge, so ±0.5 % of data never shrinks to a flat line under a distant limit.
+    let (d0, d1) = padded_range(points.iter().map(|p| p.1), 0.05);
+    let reach = (d1 - d0) * 0.5;
+    let near: Vec<f64> = limits
+        .iter()
+        .map(|l| l.0)
+        .filter(|v| *v >= d0 - reach && *v <= d1 + reach)
+        .collect();
+    let (v0, v1) = if near.is_empty() {
+        (d0, d1)
+    } else {
+        padded_range(points.iter().map(|p| p.1).chain(near.iter().copied()), 0.05)
+    };
     let (x_left, x_right, y_top, y_bottom) = (LEFT, W - RIGHT, TOP, H - BOTTOM);
     let sx = (x_right - x_left) / (t1 - t0);
     let sy = (y_bottom - y_top) / (v1 - v0);
@@ -441,8 +644,9 @@ pub fn plot_svg(series: &Series, checks: &[&CheckResult], id: usize) -> String {
         let _ = write!(s, "{},{}", number(*t), number(*v));
     }
     s.push_str("\"/>\n");
-    // Limits: dashed lines across, labelled on the right.
-    for (v, _) in &limits {
+    // Limits: dashed lines across inside the range, labelled on the right; a limit outside
+    // the range is a label at the edge it lies beyond, with an arrow.
+    for (v, _) in limits.iter().filter(|(v, _)| (v0..=v1).contains(v)) {
         let py = y(*v);
         let _ = writeln!(
             s,
@@ -450,17 +654,54 @@ pub fn plot_svg(series: &Series, checks: &[&CheckResult], id: usize) -> String {
         );
     }
     s.push_str("</g>\n");
-    for (v, label) in &limits {
+    let mut labels: Vec<(f64, String)> = limits
+        .iter()
+        .map(|(v, label)| {
+            if *v > v1 {
+                (y_top + 4.0, format!("↑ {label}"))
+            } else if *v < v0 {
+                (y_bottom, format!("↓ {label}"))
+            } else {
+                (y(*v) + 4.0, label.clone())
+            }
+        })
+        .collect();
+    spread_labels(&mut labels, 13.0, y_top + 4.0, y_bottom);
+    for (py, label) in &labels {
         let _ = writeln!(
             s,
-            "<text class=\"limit-label\" fill=\"#b00000\" x=\"{:.2}\" y=\"{:.2}\">{}</text>",
+            "<text class=\"limit-label\" fill=\"#b00000\" x=\"{:.2}\" y=\"{py:.2}\">{}</text>",
             x_right + 4.0,
-            y(*v) + 4.0,
             esc(label)
         );
     }
     s.push_str("</svg>\n");
     s
+}
+
+/// Moves label baselines apart so that no two are closer than `gap`, keeping them between
+/// `top` and `bottom` where there is room; the order of the labels is kept.
+pub fn spread_labels(labels: &mut [(f64, String)], gap: f64, top: f64, bottom: f64) {
+    labels.sort_by(|a, b| a.0.total_cmp(&b.0));
+    for i in 1..labels.len() {
+        if labels[i].0 < labels[i - 1].0 + gap {
+            labels[i].0 = labels[i - 1].0 + gap;
+        }
+    }
+    // Pushed past the bottom: shift the whole stack up as far as the top allows.
+    if let Some(last) = labels.last().map(|l| l.0) {
+        let over = (last - bottom).max(0.0);
+        let room = labels.first().map_or(0.0, |l| (l.0 - top).max(0.0));
+        let shift = over.min(room);
+        for l in labels.iter_mut() {
+            l.0 -= shift;
+        }
+        for i in (0..labels.len().saturating_sub(1)).rev() {
+            if labels[i].0 > labels[i + 1].0 - gap {
+                labels[i].0 = labels[i + 1].0 - gap;
+            }
+        }
+    }
 }
 
 fn finite(points: &[(f64, f64)]) -> Vec<(f64, f64)> {
@@ -562,13 +803,12 @@ fn axis_title(object: &str, unit: Option<&str>) -> String {
     }
 }
 
-/// `0.250 s`, or `1h 5m 3s` from a minute on.
-fn duration_text(d: Duration) -> String {
-    if d < Duration::from_secs(60) {
-        format!("{:.3} s", d.as_secs_f64())
-    } else {
-        humantime::format_duration(Duration::from_millis(d.as_millis() as u64)).to_string()
-    }
+/// One format for every duration and time of the page: `0:01:05.250` (h:mm:ss.mmm).
+pub fn duration_text(d: Duration) -> String {
+    let ms = d.as_millis();
+    let (h, rest) = (ms / 3_600_000, ms % 3_600_000);
+    let (m, rest) = (rest / 60_000, rest % 60_000);
+    format!("{h}:{m:02}:{:02}.{:03}", rest / 1000, rest % 1000)
 }
 
 /// Text for HTML content and attribute values.
@@ -604,6 +844,24 @@ mod tests {
         );
         assert!(d.contains(&points[54_321]) && d.contains(&points[77_777]));
         assert!(d.windows(2).all(|w| w[0].0 < w[1].0), "in time order");
+    }
+
+    #[test]
+    fn values_durations_and_labels() {
+        assert_eq!(
+            (decimals(0.001), decimals(0.1), decimals(1.0), decimals(10.0)),
+            (3, 1, 0, 0)
+        );
+        assert_eq!(duration_text(Duration::from_millis(250)), "0:00:00.250");
+        assert_eq!(duration_text(Duration::from_millis(8_465_007)), "2:21:05.007");
+        let mut labels: Vec<(f64, String)> = [(100.0, "a"), (101.0, "b"), (99.0, "c"), (300.0, "d")]
+            .map(|(y, l)| (y, l.to_string()))
+            .into();
+        spread_labels(&mut labels, 13.0, 20.0, 300.0);
+        let ys: Vec<f64> = labels.iter().map(|l| l.0).collect();
+        assert!(ys.windows(2).all(|w| w[1] - w[0] >= 13.0 - 1e-9), "{ys:?}");
+        assert!(ys.iter().all(|y| (20.0..=300.0).contains(y)), "{ys:?}");
+        assert_eq!(labels[0].1, "c", "order kept");
     }
 
     #[test]

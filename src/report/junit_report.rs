@@ -1,141 +1,261 @@
-//! `--junit FILE`: the run report as JUnit XML for CI. One test suite named after the
-//! recipe, one test case per check (measured value, unit and limits as properties and in
-//! the failure), and a test case `run` when the run failed in a way no check shows
-//! (communication error, drive fault, interruption, a step that failed on its own).
-//! Written from the finished report only; never a half-written file.
+//! `--junit FILE`: the run report as JUnit XML for CI, valid against Jenkins' junit-10.xsd
+//! and the Ant/Surefire layout: one test suite named after the recipe, one test case per
+//! check named `stage / check` (stable when a limit or parameter changes: the measured
+//! value and limits go to the message and `system-out`, never into the name), a
+//! `<skipped>` case per check the run never reached, a case `run` when the run failed in a
+//! way no check shows, and a case `safe stop` with the run's log. Written from the
+//! finished report only; never a half-written file.
 
 use super::atomic_write::write_atomically;
-use crate::session::{number, with_unit, CheckResult, RunReport, StepRecord, Verdict};
-use quick_junit::{NonSuccessKind, Property, Report, TestCase, TestCaseStatus, TestSuite, XmlString};
+use super::junit_xml_writer::XmlWriter;
+use crate::session::{number, with_unit, CheckResult, PlannedCheck, RunReport, StepRecord, Verdict};
+use std::collections::HashMap;
 use std::fmt::Write as _;
 use std::path::Path;
 
-/// The JUnit XML of a run.
-pub fn junit_xml(report: &RunReport) -> String {
-    let mut suite = TestSuite::new(report.recipe.as_str());
-    suite.set_time(report.duration);
-    // Common JUnit schema: local time without zone; ours is UTC (the property says so).
-    let started = humantime::format_rfc3339_seconds(report.started_at).to_string();
-    suite.extra.insert(
-        XmlString::new("timestamp"),
-        XmlString::new(started.trim_end_matches('Z')),
-    );
-    suite.add_properties(suite_properties(report, &started));
-    for c in &report.checks {
-        suite.add_test_case(check_case(c, &report.recipe_path));
-    }
-    if let Some(case) = run_case(report) {
-        suite.add_test_case(case);
-    }
-    suite.set_system_out(run_log(report));
+/// One `<testcase>` before it is written.
+pub(crate) struct Case {
+    pub name: String,
+    pub time: f64,
+    /// (element, type, message, text): `failure`, `error` or `skipped`.
+    pub outcome: Option<(&'static str, String, String, String)>,
+    pub out: String,
+}
 
-    let mut junit = Report::new("drivescript");
-    junit.set_time(report.duration);
-    junit.add_test_suite(suite);
-    match junit.to_string() {
-        Ok(xml) => xml,
-        // Serializing into memory only fails on a bug in quick-junit; say so in valid XML.
-        Err(e) => format!(
-            "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<testsuites name=\"drivescript\" tests=\"0\" \
-             failures=\"0\" errors=\"0\"><!-- cannot serialize: {} --></testsuites>\n",
-            e.to_string().replace("--", "- -")
-        ),
+/// The JUnit XML of a run; `planned` are the checks the recipe holds, so that the ones
+/// the run never reached are shown as skipped.
+pub fn junit_xml(report: &RunReport, planned: &[PlannedCheck]) -> String {
+    let r = report;
+    let mut names = UniqueNames::default();
+    let mut cases: Vec<Case> = r.checks.iter().map(|c| check_case(c, &mut names)).collect();
+    cases.extend(not_reached(r, planned, &mut names));
+    if let Some(case) = run_case(r) {
+        cases.push(case);
     }
+    cases.push(safe_stop_case(r));
+    let started = humantime::format_rfc3339_seconds(r.started_at).to_string();
+    suite_xml(
+        &r.recipe,
+        &classname(&r.recipe),
+        r.duration.as_secs_f64(),
+        &suite_properties(r, &started),
+        &cases,
+    )
+}
+
+/// The whole document for one suite of `cases`.
+pub(crate) fn suite_xml(
+    suite: &str,
+    classname: &str,
+    time: f64,
+    properties: &[(String, String)],
+    cases: &[Case],
+) -> String {
+    let count = |kind: &str| {
+        cases
+            .iter()
+            .filter(|c| c.outcome.as_ref().is_some_and(|o| o.0 == kind))
+            .count()
+    };
+    let (tests, failures, errors, skipped) =
+        (cases.len(), count("failure"), count("error"), count("skipped"));
+    let time = format!("{time:.3}");
+    let mut w = XmlWriter::new();
+    w.open(
+        "testsuites",
+        &[
+            ("name", "drivescript"),
+            ("tests", &tests.to_string()),
+            ("failures", &failures.to_string()),
+            ("errors", &errors.to_string()),
+            ("time", &time),
+        ],
+    );
+    w.open(
+        "testsuite",
+        &[
+            ("name", suite),
+            ("tests", &tests.to_string()),
+            ("failures", &failures.to_string()),
+            ("errors", &errors.to_string()),
+            ("skipped", &skipped.to_string()),
+            ("time", &time),
+        ],
+    );
+    if !properties.is_empty() {
+        w.open("properties", &[]);
+        for (name, value) in properties {
+            w.empty("property", &[("name", name), ("value", value)]);
+        }
+        w.close("properties");
+    }
+    for c in cases {
+        w.open(
+            "testcase",
+            &[
+                ("name", &c.name),
+                ("classname", classname),
+                ("time", &format!("{:.3}", c.time)),
+            ],
+        );
+        if let Some((element, kind, message, text)) = &c.outcome {
+            // Surefire's schema gives <skipped> a message but no type.
+            if *element == "skipped" {
+                w.text_element(element, &[("message", message)], text);
+            } else {
+                w.text_element(element, &[("type", kind), ("message", message)], text);
+            }
+        }
+        if !c.out.is_empty() {
+            w.text_element("system-out", &[], &c.out);
+        }
+        w.close("testcase");
+    }
+    w.close("testsuite");
+    w.close("testsuites");
+    w.finish()
 }
 
 /// Writes [`junit_xml`] to `path` atomically (via `path.tmp`), creating the directory.
-pub fn write_junit(report: &RunReport, path: &Path) -> Result<(), String> {
-    write_atomically(path, &junit_xml(report))
+pub fn write_junit(report: &RunReport, planned: &[PlannedCheck], path: &Path) -> Result<(), String> {
+    write_atomically(path, &junit_xml(report, planned))
 }
 
-fn suite_properties(r: &RunReport, started: &str) -> Vec<Property> {
+/// Jenkins reads the part of a classname before its last dot as a package; a recipe name
+/// is one class, whatever it holds.
+pub(crate) fn classname(recipe: &str) -> String {
+    recipe.replace('.', "_")
+}
+
+fn suite_properties(r: &RunReport, started: &str) -> Vec<(String, String)> {
     let mut p = vec![
-        Property::new("recipe", r.recipe.as_str()),
-        Property::new("recipe_path", r.recipe_path.as_str()),
-        Property::new("drive", r.drive.as_str()),
+        ("recipe".to_string(), r.recipe.clone()),
+        ("recipe_path".into(), r.recipe_path.clone()),
+        ("drive".into(), r.drive.clone()),
     ];
     if let Some(id) = &r.identity {
-        p.push(Property::new("drive_identity", id.as_str()));
+        p.push(("drive_identity".into(), id.clone()));
     }
     for (name, value) in &r.params {
-        p.push(Property::new(format!("param.{name}"), value.as_str()));
+        p.push((format!("param.{name}"), value.clone()));
     }
-    p.push(Property::new("started_at_utc", started));
-    p.push(Property::new("verdict", r.verdict.word()));
-    p.push(Property::new("exit_code", r.exit_code().to_string()));
+    p.push(("started_at_utc".into(), started.to_string()));
+    p.push(("verdict".into(), r.verdict.word().into()));
+    p.push(("exit_code".into(), r.exit_code().to_string()));
     if let Some(reason) = r.verdict.reason() {
-        p.push(Property::new("reason", reason));
-    }
-    if let Verdict::Error(m) = &r.verdict {
-        p.push(Property::new("error", m.as_str()));
+        p.push(("reason".into(), reason));
     }
     if let Some(state) = r.final_state {
-        p.push(Property::new("final_state", state.to_string()));
+        p.push(("final_state".into(), state.to_string()));
     }
-    p.push(Property::new("after_safe_stop", r.drive_left()));
-    p.push(Property::new(
-        "safe_stop_confirmed",
+    p.push(("after_safe_stop".into(), r.drive_left()));
+    p.push((
+        "safe_stop_confirmed".into(),
         if r.stop_confirmed {
             "true"
         } else {
             "false: CHECK THE DRIVE BY HAND"
-        },
+        }
+        .into(),
     ));
     p
 }
 
-fn check_case(c: &CheckResult, classname: &str) -> TestCase {
-    let details = check_details(c);
-    let status = if c.passed {
-        TestCaseStatus::success()
+/// The name a check keeps whatever its limits: `speed_actual mean near` for
+/// `speed_actual mean near 6000 rpm ± 0.5 %`; a name the recipe gave stays as written.
+pub fn stable_check_name(name: &str, object: Option<&str>, statistic: Option<&str>) -> String {
+    let (prefix, rest) = match name.strip_prefix("wait until ") {
+        Some(rest) => ("wait until ", rest),
+        None => ("", name),
+    };
+    if let Some(object) = object {
+        let head = match statistic {
+            Some(s) => format!("{object} {s} "),
+            None => format!("{object} "),
+        };
+        if let Some(tail) = rest.strip_prefix(&head) {
+            let kind = tail.split_whitespace().next().unwrap_or("");
+            return format!("{prefix}{head}{kind}").trim_end().to_string();
+        }
+    }
+    name.to_string()
+}
+
+/// `Stage 2, 12000 rpm / speed_actual mean near`.
+fn case_name(stage: &str, check: &str) -> String {
+    if stage.is_empty() {
+        check.to_string()
     } else {
-        let mut s = TestCaseStatus::non_success(NonSuccessKind::Failure);
+        format!("{stage} / {check}")
+    }
+}
+
+/// Names made unique in order of appearance: the second `x` becomes `x (2)`.
+#[derive(Default)]
+pub(crate) struct UniqueNames {
+    seen: HashMap<String, u32>,
+}
+
+impl UniqueNames {
+    pub fn unique(&mut self, name: String) -> String {
+        let n = self.seen.entry(name.clone()).or_insert(0);
+        *n += 1;
+        match *n {
+            1 => name,
+            n => format!("{name} ({n})"),
+        }
+    }
+}
+
+fn check_case(c: &CheckResult, names: &mut UniqueNames) -> Case {
+    let stable = stable_check_name(&c.name, c.object.as_deref(), c.statistic.as_deref());
+    let details = check_details(c);
+    let outcome = (!c.passed).then(|| {
         let mut message = c.message.clone();
-        let (measured, limits) = (measured_text(c), limits_text(c));
-        if let Some(m) = &measured {
+        if let Some(m) = measured_text(c) {
             if !message.contains(m.as_str()) {
                 let _ = write!(message, "; measured {m}");
             }
         }
-        if let Some(l) = &limits {
+        if let Some(l) = limits_text(c) {
             let _ = write!(message, "; limits {l}");
         }
-        s.set_message(message);
-        s.set_type(if c.name.starts_with("wait until") {
+        let kind = if c.name.starts_with("wait until") {
             "wait_until"
         } else {
             "expect"
-        });
-        s.set_description(details.as_str());
-        s
+        };
+        ("failure", kind.to_string(), message, details.clone())
+    });
+    Case {
+        name: names.unique(case_name(&c.stage, &stable)),
+        time: c.duration.as_secs_f64(),
+        outcome,
+        out: details,
+    }
+}
+
+/// Checks of the recipe that no result answers (same place, same check): the run ended
+/// before them.
+fn not_reached(r: &RunReport, planned: &[PlannedCheck], names: &mut UniqueNames) -> Vec<Case> {
+    let reason = match r.verdict {
+        Verdict::Passed => "not reached".to_string(),
+        _ => format!("not reached: the run ended early ({})", r.verdict.word()),
     };
-    let mut case = TestCase::new(c.name.as_str(), status);
-    case.set_classname(classname);
-    case.set_time(c.duration);
-    if let Some(v) = c.measured {
-        case.add_property(Property::new("measured", number(v)));
-    }
-    if let Some(t) = &c.measured_text {
-        case.add_property(Property::new("measured_text", t.as_str()));
-    }
-    if let Some(u) = &c.unit {
-        case.add_property(Property::new("unit", u.as_str()));
-    }
-    if let Some(v) = c.low {
-        case.add_property(Property::new("low", number(v)));
-    }
-    if let Some(v) = c.high {
-        case.add_property(Property::new("high", number(v)));
-    }
-    if let Some(o) = &c.object {
-        case.add_property(Property::new("object", o.as_str()));
-    }
-    if let Some(s) = &c.statistic {
-        case.add_property(Property::new("statistic", s.as_str()));
-    }
-    case.add_property(Property::new("origin", c.origin.to_string()));
-    case.set_system_out(details);
-    case
+    planned
+        .iter()
+        .filter(|p| !r.checks.iter().any(|c| c.origin == p.origin && c.name == p.name))
+        .map(|p| {
+            let stable = stable_check_name(&p.name, p.object.as_deref(), p.statistic.as_deref());
+            let text = format!("check: {} at {}\n", p.name, p.origin);
+            Case {
+                name: names.unique(case_name(&p.stage, &stable)),
+                time: 0.0,
+                outcome: Some(("skipped", "not_reached".into(), reason.clone(), text.clone())),
+                out: String::new(),
+            }
+        })
+        .collect()
 }
 
 /// `measured: 6000.1 rpm`, `limits: 5970 .. 6030 rpm`, the message and where it is written.
@@ -149,6 +269,9 @@ fn check_details(c: &CheckResult) -> String {
     }
     let _ = writeln!(s, "result: {}", c.message);
     let _ = writeln!(s, "check: {} at {}", c.name, c.origin);
+    if !c.step.is_empty() {
+        let _ = writeln!(s, "step: {}", c.step);
+    }
     s
 }
 
@@ -181,60 +304,71 @@ pub(crate) fn unexplained_failures(r: &RunReport) -> Vec<&StepRecord> {
         .collect()
 }
 
-/// The test case `run`: failing when the run failed beyond its checks; passing when the
-/// run has no checks at all (so CI does not see an empty suite); otherwise none.
-fn run_case(r: &RunReport) -> Option<TestCase> {
+/// The test case `run`, failing when the run failed beyond its checks; none otherwise.
+fn run_case(r: &RunReport) -> Option<Case> {
     let unexplained = unexplained_failures(r);
     let (kind, message) = match &r.verdict {
-        Verdict::Error(m) => (NonSuccessKind::Error, format!("ERROR: {m}")),
+        Verdict::Error(m) => ("error", format!("ERROR: {m}")),
         Verdict::Interrupted(s) => (
-            NonSuccessKind::Failure,
+            "failure",
             format!(
                 "INTERRUPTED: the run was interrupted by {} and the safe stop ran",
                 s.describe()
             ),
         ),
         Verdict::Panicked(m) => (
-            NonSuccessKind::Error,
+            "error",
             format!("PANIC: internal error ({m}); the safe stop ran after it"),
         ),
         Verdict::Failed if !unexplained.is_empty() || r.checks_failed() == 0 => {
             let first = unexplained
                 .first()
-                .map(|s| format!(": step {} {}: {}", s.number, s.label, s.detail))
+                .map(|s| format!(": step {} {}: {}", s.id, s.label, s.detail))
                 .unwrap_or_default();
-            (NonSuccessKind::Failure, format!("FAILED{first}"))
+            ("failure", format!("FAILED{first}"))
         }
-        Verdict::Failed | Verdict::Passed => {
-            if !r.checks.is_empty() {
-                return None;
-            }
-            let mut case = TestCase::new("run", TestCaseStatus::success());
-            case.set_classname(r.recipe_path.as_str());
-            case.set_time(r.duration);
-            case.set_system_out(run_log(r));
-            return Some(case);
-        }
+        Verdict::Failed | Verdict::Passed => return None,
     };
     let mut description = String::new();
     for s in &unexplained {
         let _ = writeln!(
             description,
             "step {} ({}) FAIL {}: {} at {}",
-            s.number, s.phase, s.label, s.detail, s.origin
+            s.id, s.phase, s.label, s.detail, s.origin
         );
     }
     for note in &r.safe_stop {
         let _ = writeln!(description, "safe stop: {note}");
     }
-    let mut status = TestCaseStatus::non_success(kind);
-    status.set_message(message);
-    status.set_type(r.verdict.word().to_lowercase());
-    status.set_description(description);
-    let mut case = TestCase::new("run", status);
-    case.set_classname(r.recipe_path.as_str());
-    case.set_time(r.duration);
-    Some(case)
+    Some(Case {
+        name: "run".into(),
+        time: r.duration.as_secs_f64(),
+        outcome: Some((kind, r.verdict.word().to_lowercase(), message, description)),
+        out: String::new(),
+    })
+}
+
+/// The test case `safe stop`: passes when the stop was verified and the drive obeyed;
+/// its `system-out` is the run's log (JUnit readers show it next to the case).
+fn safe_stop_case(r: &RunReport) -> Case {
+    let outcome = (!r.stop_confirmed || r.disobeyed).then(|| {
+        let message = if r.stop_confirmed {
+            format!("the drive did not obey the stop commands; {}", r.drive_left())
+        } else {
+            format!(
+                "CHECK THE DRIVE BY HAND: the safe stop could not be confirmed; {}",
+                r.drive_left()
+            )
+        };
+        let text = r.safe_stop.iter().map(|n| format!("safe stop: {n}\n")).collect();
+        ("failure", "safe_stop".to_string(), message, text)
+    });
+    Case {
+        name: "safe stop".into(),
+        time: 0.0,
+        outcome,
+        out: run_log(r),
+    }
 }
 
 /// Every step as the console showed it, then the safe stop and the verdict.
@@ -247,4 +381,38 @@ fn run_log(r: &RunReport) -> String {
         let _ = writeln!(s, "{line}");
     }
     s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn stable_names_leave_out_limits_and_keep_given_names() {
+        let n = |name, o, s| stable_check_name(name, o, s);
+        assert_eq!(
+            n(
+                "speed_actual mean near 6000 rpm ± 0.5 %",
+                Some("speed_actual"),
+                Some("mean")
+            ),
+            "speed_actual mean near"
+        );
+        assert_eq!(
+            n("wait until speed_actual below 10 rpm", Some("speed_actual"), None),
+            "wait until speed_actual below"
+        );
+        assert_eq!(
+            n("wait until state operation_enabled", None, None),
+            "wait until state operation_enabled"
+        );
+        assert_eq!(
+            n("Spindle is quiet", Some("speed_actual"), Some("std")),
+            "Spindle is quiet"
+        );
+        let mut u = UniqueNames::default();
+        assert_eq!(u.unique("a".into()), "a");
+        assert_eq!(u.unique("a".into()), "a (2)");
+        assert_eq!(u.unique("b".into()), "b");
+    }
 }

@@ -2,25 +2,29 @@
 //! files handed over afterwards. Reads the run's events and report; never talks to a drive.
 
 mod atomic_write;
+mod console_color;
 mod console_reporter;
 mod csv_recorder;
 mod html_report;
 mod junit_report;
+mod junit_xml_writer;
 mod progress_reporter;
 mod telegram_fan_out;
 mod trace_writer;
 mod unfinished_report;
 
 pub use atomic_write::write_atomically;
+pub use console_color::{color_wanted, paint};
 pub use console_reporter::{
     check_line, container_line, header_lines, message_line, step_line, summary_lines, ConsoleReporter,
 };
 pub use csv_recorder::{CsvRecorder, CSV_HEADER};
 pub use html_report::{html_report, write_html, MAX_PLOT_POINTS};
-pub use junit_report::{junit_xml, write_junit};
+pub use junit_report::{junit_xml, stable_check_name, write_junit};
 pub use progress_reporter::{progress_text, ProgressReporter};
 pub use telegram_fan_out::TelegramFanOut;
 pub use trace_writer::{hex_of_trace_line, is_trace_line, TraceWriter};
 pub use unfinished_report::{
-    html_unfinished, junit_unfinished, write_html_unfinished, write_junit_unfinished,
+    html_not_run, html_unfinished, junit_not_run, junit_unfinished, write_html_unfinished,
+    write_junit_unfinished,
 };

@@ -13,8 +13,9 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressFinish, ProgressStyle};
 use std::io::Write;
 use std::time::Duration;
 
-const SPINNER: &str = "{spinner} {prefix:>6}  {wide_msg}";
-const BAR: &str = "{spinner} {prefix:>6}  [{bar:24}] {wide_msg}";
+const SPINNER: &str = "{spinner} {prefix:>6}  {msg}";
+/// Columns the spinner and the step number take before the message.
+const LEAD: usize = 10;
 
 pub struct ProgressReporter<W: Write> {
     /// Where the permanent lines go (the terminal the bar is drawn on).
@@ -27,6 +28,14 @@ pub struct ProgressReporter<W: Write> {
     containers: Vec<(String, String, String)>,
     /// Whether the bar shows a bar (a step with a known total) or only the spinner.
     with_bar: bool,
+    color: bool,
+    /// Terminal columns: the live line never wraps (a wrapped line is redrawn as garbage).
+    width: usize,
+    /// The recipe's longest possible time (every timeout in full), for overall progress.
+    planned: Option<Duration>,
+    /// Run-clock time of the first step's start, and how far finished steps got.
+    first_start: Option<Duration>,
+    done_until: Duration,
 }
 
 impl ProgressReporter<std::io::Stdout> {
@@ -52,7 +61,45 @@ impl<W: Write> ProgressReporter<W> {
             current: None,
             containers: Vec::new(),
             with_bar: false,
+            color: false,
+            width: terminal_width().unwrap_or(80),
+            planned: None,
+            first_start: None,
+            done_until: Duration::ZERO,
         }
+    }
+
+    /// The live line fits `columns` (default: the terminal's, else 80).
+    pub fn with_width(mut self, columns: usize) -> Self {
+        self.width = columns;
+        self
+    }
+
+    /// The run's longest possible time, so the live line shows overall progress.
+    pub fn with_planned(mut self, total: Duration) -> Self {
+        self.planned = Some(total);
+        self
+    }
+
+    /// `run 35m of ≤ 2h 20m`: the planned time counts every timeout in full, so it is an
+    /// upper bound.
+    fn overall(&self, elapsed: Duration) -> Option<String> {
+        let planned = self.planned.filter(|p| !p.is_zero())?;
+        let done = self
+            .done_until
+            .saturating_sub(self.first_start.unwrap_or_default())
+            .saturating_add(elapsed);
+        Some(format!(
+            "run {} of ≤ {}",
+            short_duration(done.min(planned)),
+            short_duration(planned)
+        ))
+    }
+
+    /// PASS/FAIL and the verdict in colour (see [`super::color_wanted`]).
+    pub fn with_color(mut self, color: bool) -> Self {
+        self.color = color;
+        self
     }
 
     /// The live line (for tests and for a caller that wants to tick or hide it).
@@ -67,6 +114,13 @@ impl<W: Write> ProgressReporter<W> {
 
     /// A permanent line above the live one.
     fn line(&mut self, text: &str) {
+        let painted;
+        let text = if self.color {
+            painted = super::paint(text);
+            painted.as_str()
+        } else {
+            text
+        };
         let out = &mut self.out;
         self.bar.suspend(|| {
             // A closed terminal must not stop the run or its safe stop.
@@ -76,10 +130,7 @@ impl<W: Write> ProgressReporter<W> {
     }
 
     fn set_bar(&mut self, with_bar: bool) {
-        if with_bar != self.with_bar {
-            self.bar.set_style(style(if with_bar { BAR } else { SPINNER }));
-            self.with_bar = with_bar;
-        }
+        self.with_bar = with_bar;
     }
 
     /// The containers' progress, appended to the live line: `[repeat 3 times: iteration 2 of 3]`.
@@ -109,6 +160,57 @@ fn display_number(number: &str, phase: &str) -> String {
     } else {
         number.replace('.', " ")
     }
+}
+
+/// The live line within `budget` characters: the parts of `first` (time, live values,
+/// overall progress) joined by ` · `, then `last` (what the step is) with what room is
+/// left; whatever does not fit ends in `…`, the live values before the step's label.
+pub fn fit_line(first: &[String], last: &str, budget: usize) -> String {
+    let mut parts = first.to_vec();
+    let len =
+        |p: &[String]| p.iter().map(|s| s.chars().count()).sum::<usize>() + 3 * p.len().saturating_sub(1);
+    // Too long: the longest part (the live values, as a rule) gives up its end first.
+    if let Some(i) = (0..parts.len()).max_by_key(|&i| parts[i].chars().count()) {
+        let over = len(&parts).saturating_sub(budget);
+        if over > 0 {
+            let keep = parts[i].chars().count().saturating_sub(over).max(8);
+            parts[i] = cut(&parts[i], keep);
+        }
+    }
+    let head = parts.join(" · ");
+    let head_len = head.chars().count();
+    if head_len >= budget {
+        return cut(&head, budget);
+    }
+    let room = budget - head_len;
+    if room <= 4 || last.is_empty() {
+        return head;
+    }
+    format!("{head} · {}", cut(last, room - 3))
+}
+
+/// `text` in at most `n` characters, ending in `…` when cut.
+fn cut(text: &str, n: usize) -> String {
+    if text.chars().count() <= n {
+        return text.to_string();
+    }
+    let mut s: String = text.chars().take(n.saturating_sub(1)).collect();
+    s.push('…');
+    s
+}
+
+/// The columns of the terminal on standard output, when it is one.
+fn terminal_width() -> Option<usize> {
+    #[cfg(unix)]
+    {
+        // SAFETY: TIOCGWINSZ fills a winsize struct we own; a failure leaves it zeroed.
+        let mut size: libc::winsize = unsafe { std::mem::zeroed() };
+        let ok = unsafe { libc::ioctl(libc::STDOUT_FILENO, libc::TIOCGWINSZ, &mut size) } == 0;
+        if ok && size.ws_col > 0 {
+            return Some(usize::from(size.ws_col));
+        }
+    }
+    None
 }
 
 /// `12.3 s` under a minute, then `1h 2m 3s` to the second.
@@ -181,19 +283,25 @@ impl<W: Write> RunObserver for ProgressReporter<W> {
             }
             _ => self.set_bar(false),
         }
-        let values = if values.is_empty() {
-            String::new()
-        } else {
-            format!(" — {values}")
+        let time = match total {
+            Some(t) => format!("{}/{}", short_duration(elapsed.min(t)), short_duration(t)),
+            None => short_duration(elapsed),
         };
-        self.bar.set_message(format!(
-            "{label}  {}{values}{}",
-            progress_text(elapsed, total),
-            self.context()
-        ));
+        let mut first = vec![time];
+        if !values.is_empty() {
+            first.push(values.to_string());
+        }
+        first.extend(self.overall(elapsed));
+        let last = format!("{label}{}", self.context());
+        let budget = self.width.saturating_sub(LEAD).max(20);
+        self.bar.set_message(fit_line(&first, &last, budget));
     }
 
     fn step_finished(&mut self, record: &StepRecord) {
+        self.first_start = Some(self.first_start.map_or(record.started, |f| f.min(record.started)));
+        self.done_until = self
+            .done_until
+            .max(record.started.saturating_add(record.duration));
         if self.containers.last().is_some_and(|c| c.0 == record.number) {
             self.containers.pop();
         }
@@ -231,6 +339,26 @@ impl<W: Write> RunObserver for ProgressReporter<W> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_live_line_keeps_values_and_overall_progress_within_80_columns() {
+        let first = vec![
+            "12m 3s/15m".to_string(),
+            "speed_actual 6000.123 rpm, current_actual 0.481 A".to_string(),
+            "run 35m of ≤ 2h 20m".to_string(),
+        ];
+        let label = "sample speed_actual, current_actual every 1s for 15m [Stage 2: iteration 2 of 2]";
+        let line = fit_line(&first, label, 80 - LEAD);
+        assert!(line.chars().count() <= 80 - LEAD, "{line}");
+        assert!(line.contains("speed_actual 6000.123 rpm, current"), "{line}");
+        assert!(line.contains("run 35m"), "{line}");
+        // Wide terminals show the label too.
+        let wide = fit_line(&first, label, 200);
+        assert!(wide.ends_with("iteration 2 of 2]"), "{wide}");
+        // Too narrow for everything: cut with an ellipsis, never longer.
+        assert_eq!(fit_line(&first, label, 20).chars().count(), 20);
+        assert!(fit_line(&first, label, 20).ends_with('…'));
+    }
 
     #[test]
     fn long_times_read_as_hours_and_minutes() {

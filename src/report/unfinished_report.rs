@@ -1,12 +1,14 @@
-//! The reports written at the start of a run, before anything is sent: a valid JUnit file
-//! with one failing test case and an HTML page, both saying that the run has not finished.
-//! The final reports replace them; a run killed beyond any safe stop (SIGKILL, power loss)
-//! leaves them, so CI reads a failure instead of an earlier run's PASS. Knows nothing of
-//! drives; only the recipe's name and path.
+//! The reports of runs that have no run report: the ones written at the start, before
+//! anything is sent, saying that the run has not finished (the final reports replace
+//! them; a run killed beyond any safe stop — SIGKILL, power loss — leaves them, so CI
+//! reads a failure instead of an earlier run's PASS), and the ones of a run that never
+//! started (an invalid recipe or command line, exit code 2; a drive that cannot be
+//! reached, exit code 3), with the recipe's checks as not run. Knows nothing of drives.
 
 use super::atomic_write::write_atomically;
 use super::html_report::esc;
-use quick_junit::{NonSuccessKind, Report, TestCase, TestCaseStatus, TestSuite};
+use super::junit_report::{classname, stable_check_name, suite_xml, Case, UniqueNames};
+use crate::session::PlannedCheck;
 use std::path::Path;
 
 /// Completes "The run …" in both reports.
@@ -16,24 +18,79 @@ state is unknown to this report, check it";
 
 /// The JUnit XML that stands in for a run still under way.
 pub fn junit_unfinished(recipe: &str, recipe_path: &str) -> String {
-    let mut status = TestCaseStatus::non_success(NonSuccessKind::Failure);
-    status.set_message(format!("NOT FINISHED: the run {NOT_FINISHED}"));
-    status.set_type("not_finished");
-    let mut case = TestCase::new("run", status);
-    case.set_classname(recipe_path);
-    let mut suite = TestSuite::new(recipe);
-    suite.add_test_case(case);
-    let mut junit = Report::new("drivescript");
-    junit.add_test_suite(suite);
-    junit.to_string().unwrap_or_else(|e| {
-        format!(
-            "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<testsuites name=\"drivescript\" tests=\"1\" \
-             failures=\"1\" errors=\"0\"><testsuite name=\"not finished\" tests=\"1\" failures=\"1\" \
-             errors=\"0\"><testcase name=\"run\"><failure message=\"NOT FINISHED\"/></testcase>\
-             </testsuite><!-- {} --></testsuites>\n",
-            e.to_string().replace("--", "- -")
-        )
-    })
+    not_run_junit(
+        recipe,
+        recipe_path,
+        ("failure", "not_finished"),
+        &format!("NOT FINISHED: the run {NOT_FINISHED}"),
+        &[],
+    )
+}
+
+/// The JUnit XML of a run that never started: a case `run` with the error (`kind`
+/// `invalid` or `communication`), and every check of the recipe as skipped.
+pub fn junit_not_run(
+    recipe: &str,
+    recipe_path: &str,
+    kind: &str,
+    message: &str,
+    planned: &[PlannedCheck],
+) -> String {
+    not_run_junit(recipe, recipe_path, ("error", kind), message, planned)
+}
+
+fn not_run_junit(
+    recipe: &str,
+    recipe_path: &str,
+    (element, kind): (&'static str, &str),
+    message: &str,
+    planned: &[PlannedCheck],
+) -> String {
+    let mut names = UniqueNames::default();
+    let mut cases = vec![Case {
+        name: names.unique("run".into()),
+        time: 0.0,
+        outcome: Some((
+            element,
+            kind.to_string(),
+            first_line(message),
+            message.to_string(),
+        )),
+        out: format!("recipe file: {recipe_path}\n"),
+    }];
+    for p in planned {
+        let check = stable_check_name(&p.name, p.object.as_deref(), p.statistic.as_deref());
+        let name = if p.stage.is_empty() {
+            check
+        } else {
+            format!("{} / {check}", p.stage)
+        };
+        cases.push(Case {
+            name: names.unique(name),
+            time: 0.0,
+            outcome: Some((
+                "skipped",
+                "not_run".into(),
+                "not run: the run did not start".into(),
+                format!("check: {} at {}\n", p.name, p.origin),
+            )),
+            out: String::new(),
+        });
+    }
+    let properties = [
+        ("recipe".to_string(), recipe.to_string()),
+        ("recipe_path".to_string(), recipe_path.to_string()),
+    ];
+    suite_xml(recipe, &classname(recipe), 0.0, &properties, &cases)
+}
+
+/// A message's first line (a diagnostic's headline), for the JUnit `message`.
+fn first_line(text: &str) -> String {
+    text.lines()
+        .map(str::trim)
+        .find(|l| !l.is_empty())
+        .unwrap_or("")
+        .to_string()
 }
 
 /// Writes [`junit_unfinished`] to `path` atomically.
@@ -43,22 +100,46 @@ pub fn write_junit_unfinished(recipe: &str, recipe_path: &str, path: &Path) -> R
 
 /// The HTML page that stands in for a run still under way.
 pub fn html_unfinished(recipe: &str, recipe_path: &str) -> String {
+    page(
+        recipe,
+        recipe_path,
+        "not-finished",
+        "NOT FINISHED",
+        &format!("The run {NOT_FINISHED}."),
+        "when the run started; the run replaces it with its report when it ends",
+    )
+}
+
+/// The HTML page of a run that never started: `word` (`INVALID`, `ERROR`) and why.
+pub fn html_not_run(recipe: &str, recipe_path: &str, word: &str, why: &str) -> String {
+    page(
+        recipe,
+        recipe_path,
+        "not-run",
+        &format!("NOT RUN — {word}"),
+        why,
+        "when the run could not start; nothing was sent to the drive by this run",
+    )
+}
+
+fn page(recipe: &str, recipe_path: &str, class: &str, word: &str, why: &str, when: &str) -> String {
     format!(
         "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n\
          <meta name=\"generator\" content=\"drivescript {version}\">\n\
-         <title>{name} — NOT FINISHED</title>\n<style>\n\
+         <title>{name} — {word_text}</title>\n<style>\n\
          body {{ font-family: system-ui, sans-serif; margin: 2em auto; max-width: 60em; }}\n\
          .verdict {{ display: inline-block; font-size: 2.2em; font-weight: bold; color: #8b0000; \
          background: #fbe0e0; padding: 0.1em 0.5em; border: 2px dashed #8b0000; }}\n\
+         pre {{ white-space: pre-wrap; }}\n\
          </style>\n</head>\n<body>\n<header>\n<h1>{name}</h1>\n\
-         <p class=\"verdict not-finished\" id=\"verdict\">✘ NOT FINISHED</p>\n\
-         <p class=\"why\">{why}.</p>\n</header>\n<p>Recipe file: {path}</p>\n\
-         <footer>Written by drivescript {version} when the run started; the run replaces it \
-         with its report when it ends.</footer>\n</body>\n</html>\n",
+         <p class=\"verdict {class}\" id=\"verdict\">✘ {word_text}</p>\n\
+         <pre class=\"why\">{why}</pre>\n</header>\n<p>Recipe file: {path}</p>\n\
+         <footer>Written by drivescript {version} {when}.</footer>\n</body>\n</html>\n",
         version = env!("CARGO_PKG_VERSION"),
         name = esc(recipe),
         path = esc(recipe_path),
-        why = esc(&format!("The run {NOT_FINISHED}")),
+        word_text = esc(word),
+        why = esc(why.trim_end()),
     )
 }
 

@@ -354,6 +354,10 @@ fn register_checks(engine: &mut Engine, bridge: &Arc<Bridge>) {
                 (None, true) => "holds".into(),
                 (None, false) => "the script's condition does not hold".into(),
             },
+            // The session fills in where the check was made.
+            step: String::new(),
+            stage: String::new(),
+            window: None,
             origin: StepOrigin {
                 path: String::new(),
                 line: 0,

@@ -62,6 +62,11 @@ impl Session<'_> {
                     )
                 },
                 origin: origin.clone(),
+                step: self.place().0,
+                stage: self.place().1,
+                window: c
+                    .statistic
+                    .and_then(|_| self.window_steps.get(&c.object.name).cloned()),
                 at: self.clock.now(),
                 duration: self.clock.now().saturating_sub(started),
             };
@@ -82,6 +87,7 @@ impl Session<'_> {
     /// above: same report, JUnit and HTML; a failure lets the run go on.
     pub fn expect_result(&mut self, mut result: CheckResult) -> Result<String, Stop> {
         result.at = self.clock.now();
+        (result.step, result.stage) = self.place();
         let passed = result.passed;
         let message = result.message.clone();
         if !passed {

@@ -17,9 +17,11 @@ mod run_report;
 mod safe_stop;
 mod safe_stop_settings;
 mod sample;
+mod sample_table;
 mod session;
 mod set_value;
 mod step_origin;
+mod step_path;
 mod stop;
 mod wait_until;
 
@@ -31,10 +33,12 @@ pub use object_ref::ObjectRef;
 pub use run_info::{RunInfo, StepInfo};
 pub use run_observer::{Observers, RunObserver};
 pub use run_report::{
-    CheckResult, RunReport, Series, StepRecord, Verdict, ERROR_EXIT, MAX_RECORDS, PANIC_EXIT,
+    CheckResult, PlannedCheck, RunReport, Series, StepRecord, Verdict, ERROR_EXIT, MAX_RECORDS, PANIC_EXIT,
 };
 pub use safe_stop_settings::SafeStopSettings;
+pub use sample_table::{SampleTable, LONG_HEADER};
 pub use session::{show_duration, Session};
 pub use set_value::SetValue;
 pub use step_origin::StepOrigin;
+pub use step_path::StepPath;
 pub use stop::{outcome, Stop};

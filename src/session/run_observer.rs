@@ -8,11 +8,14 @@ pub trait RunObserver {
     fn run_started(&mut self, _run: &RunInfo, _drive: &str) {}
     /// A step begins.
     fn step_started(&mut self, _step: &StepInfo) {}
+    /// Right after `step_started`: the step's id with the iteration of every repeat around
+    /// it (`4[2].1`), for reports that must tell iterations apart.
+    fn step_placed(&mut self, _id: &str) {}
     /// Progress of a long step: elapsed, total (when known) and live values.
     fn step_progress(&mut self, _number: &str, _elapsed: Duration, _total: Option<Duration>, _values: &str) {}
     fn step_finished(&mut self, _record: &StepRecord) {}
     fn check(&mut self, _result: &CheckResult) {}
-    /// One row of a `sample` step: clock time, and one value per object.
+    /// One row of a `sample` step: the time since the run's start, and one value per object.
     fn sample(&mut self, _at: Duration, _objects: &[ObjectRef], _values: &[f64]) {}
     /// Whether this observer shows live progress (a screen): text for it is built only then.
     fn wants_progress(&self) -> bool {
@@ -44,6 +47,9 @@ impl RunObserver for Observers<'_> {
     }
     fn step_started(&mut self, step: &StepInfo) {
         self.list.iter_mut().for_each(|o| o.step_started(step));
+    }
+    fn step_placed(&mut self, id: &str) {
+        self.list.iter_mut().for_each(|o| o.step_placed(id));
     }
     fn step_progress(&mut self, number: &str, elapsed: Duration, total: Option<Duration>, values: &str) {
         self.list

@@ -64,6 +64,8 @@ impl Verdict {
 pub struct StepRecord {
     /// `3`, or `7.2.1` inside repeat/include (iteration-independent position).
     pub number: String,
+    /// The number with the iteration of every repeat around it: `4[2].1`.
+    pub id: String,
     pub label: String,
     pub origin: StepOrigin,
     pub ok: bool,
@@ -91,8 +93,29 @@ pub struct CheckResult {
     pub statistic: Option<String>,
     pub message: String,
     pub origin: StepOrigin,
+    /// The iteration-aware id of the step that made the check: `4[2].3`.
+    pub step: String,
+    /// For a statistic: the id of the sample step whose window it was computed over (the
+    /// [`Series::step`] it belongs to).
+    pub window: Option<String>,
+    /// The steps that hold it (`Stage 2, 12000 rpm`, `repeat 3 times #2`); empty at the
+    /// top level.
+    pub stage: String,
     pub at: Duration,
     pub duration: Duration,
+}
+
+/// A check a recipe holds, known before the run: reports show the ones no result answers
+/// as not reached.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PlannedCheck {
+    /// As [`CheckResult::name`] will say it.
+    pub name: String,
+    pub object: Option<String>,
+    pub statistic: Option<String>,
+    /// The steps that hold it, as [`CheckResult::stage`] without iterations.
+    pub stage: String,
+    pub origin: StepOrigin,
 }
 
 /// A sampled series: (time since start in s, value).
@@ -100,7 +123,7 @@ pub struct CheckResult {
 pub struct Series {
     pub object: String,
     pub unit: Option<String>,
-    /// The step that sampled it.
+    /// The iteration-aware id of the step that sampled it (`8[2].3`).
     pub step: String,
     pub points: Vec<(f64, f64)>,
 }
@@ -137,6 +160,11 @@ pub struct RunReport {
     /// [`MAX_RECORDS`] of each (they were printed as they ran); failures are always kept.
     pub omitted_steps: u64,
     pub omitted_checks: u64,
+    /// The `csv:` files of sample steps this run wrote, by path.
+    pub csv_files: Vec<String>,
+    /// The resolution (one count, in its unit) of every object checked or sampled, from
+    /// the dictionary, so reports show values as finely as the drive gives them.
+    pub resolutions: Vec<(String, f64)>,
 }
 
 /// Most step records, and most check results, one report keeps: a repeat that runs for
@@ -186,5 +214,13 @@ impl RunReport {
 
     pub fn checks_failed(&self) -> usize {
         self.checks.iter().filter(|c| !c.passed).count()
+    }
+
+    /// The dictionary's resolution of `object`, when known.
+    pub fn resolution(&self, object: &str) -> Option<f64> {
+        self.resolutions
+            .iter()
+            .find(|(o, _)| o == object)
+            .map(|(_, r)| *r)
     }
 }

@@ -84,6 +84,24 @@ impl Session<'_> {
         };
         self.run_safe_stop(finally, link_lost, leave_enabled);
         self.report.duration = self.clock.now().saturating_sub(self.run_start);
+        let mut csv_files: Vec<String> = self.csv_files.iter().map(|p| p.display().to_string()).collect();
+        csv_files.sort();
+        self.report.csv_files = csv_files;
+        let mut objects: Vec<String> = self
+            .report
+            .checks
+            .iter()
+            .filter_map(|c| c.object.clone())
+            .collect();
+        objects.extend(self.report.series.iter().map(|s| s.object.clone()));
+        objects.sort();
+        objects.dedup();
+        let dictionary = self.drive.dictionary().clone();
+        self.report.resolutions = objects
+            .into_iter()
+            .filter_map(|o| dictionary.lookup(&o).ok().map(|d| (o, d.scale.abs())))
+            .filter(|(_, r)| r.is_finite() && *r > 0.0)
+            .collect();
         self.observer.run_finished(&self.report);
         self.report
     }

@@ -5,8 +5,7 @@ use super::session::show_duration;
 use super::session::{round, Session};
 use super::stop::{nth_tick, Stop};
 use super::with_unit;
-use super::{number, BucketSeries, ObjectRef, Series, Stats, SERIES_BUCKETS};
-use crate::csv_file::CsvFile;
+use super::{BucketSeries, ObjectRef, SampleTable, Series, Stats, SERIES_BUCKETS};
 use std::path::PathBuf;
 use std::time::Duration;
 
@@ -25,7 +24,8 @@ impl Session<'_> {
             Some(p) => {
                 let path = self.output_dir.join(p);
                 let append = !self.csv_files.insert(path.clone());
-                Some(SampleCsv::open(&path, objects, append).map_err(Stop::Error)?)
+                let wide = self.csv_wide.then_some(objects);
+                Some(SampleTable::open(&path, wide, append).map_err(Stop::Error)?)
             }
             None => None,
         };
@@ -62,10 +62,18 @@ impl Session<'_> {
                 stats[i].push(*v);
                 series[i].push(t, *v);
             }
+            let since_start = at.saturating_sub(run_start);
             if let Some(w) = writer.as_mut() {
-                w.row(t, &values).map_err(Stop::Error)?;
+                w.rows(
+                    since_start,
+                    self.clock.wall_time(),
+                    &self.path.id(),
+                    objects,
+                    &values,
+                )
+                .map_err(Stop::Error)?;
             }
-            self.observer.sample(at, objects, &values);
+            self.observer.sample(since_start, objects, &values);
             // The live line is text for a screen; build it only when one shows it.
             if self.observer.wants_progress() {
                 let live = objects
@@ -93,10 +101,11 @@ impl Session<'_> {
                 with_unit(round(s.max), o.unit.as_deref())
             ));
             self.windows.insert(o.name.clone(), s);
+            self.window_steps.insert(o.name.clone(), self.path.id());
             self.report.series.push(Series {
                 object: o.name.clone(),
                 unit: o.unit.clone(),
-                step: number.to_string(),
+                step: self.path.id(),
                 points: points.points(),
             });
         }
@@ -109,33 +118,5 @@ impl Session<'_> {
             String::new()
         };
         Ok(format!("{k} samples: {}{late_note}", summary.join("; ")))
-    }
-}
-
-/// A `csv:` file of a sample step: time, then one column per object.
-struct SampleCsv(CsvFile);
-
-impl SampleCsv {
-    /// Creates the file with its header, or (`append`) continues one this run started.
-    fn open(path: &std::path::Path, objects: &[ObjectRef], append: bool) -> Result<Self, String> {
-        if append {
-            return CsvFile::append(path).map(SampleCsv);
-        }
-        let mut header = vec!["time [s]".to_string()];
-        header.extend(objects.iter().map(|o| match &o.unit {
-            Some(u) => format!("{} [{u}]", o.name),
-            None => o.name.clone(),
-        }));
-        CsvFile::create(path, &header).map(SampleCsv)
-    }
-
-    fn row(&mut self, t: f64, values: &[f64]) -> Result<(), String> {
-        let mut rec = vec![format!("{t:.3}")];
-        rec.extend(values.iter().map(|v| number(round(*v))));
-        self.0.row(&rec)
-    }
-
-    fn flush(&mut self) -> Result<(), String> {
-        self.0.flush()
     }
 }

@@ -4,6 +4,7 @@
 //! files next to this one; the end of every run, the safe stop, in `safe_stop.rs`. Knows
 //! names, units and states; never bytes, never a family, never YAML.
 
+use super::step_path::StepPath;
 use super::stop::{outcome, panic_message, Stop};
 use super::{
     with_unit, CheckResult, Condition, ObjectRef, Predicate, RunInfo, RunObserver, RunReport,
@@ -26,8 +27,10 @@ pub struct Session<'a> {
     pub(super) clock: SharedClock,
     /// Directory that relative `csv:` paths of sample steps are written to.
     pub(super) output_dir: PathBuf,
-    /// The statistics of the last sample window per object.
+    /// The statistics of the last sample window per object, and the id of the step that
+    /// sampled it.
     pub(super) windows: HashMap<String, Stats>,
+    pub(super) window_steps: HashMap<String, String>,
     /// CSV files written in this run: a sample step that runs again (in a repeat) appends
     /// to its file instead of overwriting what the earlier pass recorded.
     pub(super) csv_files: HashSet<PathBuf>,
@@ -45,6 +48,10 @@ pub struct Session<'a> {
     /// Reopening the port was tried for the whole reconnect time and failed: later
     /// failures of the safe stop do not wait for it again.
     pub(super) link_given_up: bool,
+    /// The steps around the current one, for iteration-aware step ids and stages.
+    pub(super) path: StepPath,
+    /// `csv:` files of sample steps with one column per object instead of the long layout.
+    pub(super) csv_wide: bool,
     run: RunInfo,
 }
 
@@ -78,6 +85,8 @@ impl<'a> Session<'a> {
             safe_stop: Vec::new(),
             omitted_steps: 0,
             omitted_checks: 0,
+            csv_files: Vec::new(),
+            resolutions: Vec::new(),
         };
         Session {
             drive,
@@ -87,6 +96,7 @@ impl<'a> Session<'a> {
             clock,
             output_dir: PathBuf::from("."),
             windows: HashMap::new(),
+            window_steps: HashMap::new(),
             csv_files: HashSet::new(),
             report,
             failed_checks: false,
@@ -95,6 +105,8 @@ impl<'a> Session<'a> {
             known_fault: false,
             in_safe_stop: false,
             link_given_up: false,
+            path: StepPath::default(),
+            csv_wide: false,
             run,
         }
     }
@@ -108,6 +120,12 @@ impl<'a> Session<'a> {
     /// Where `csv:` files of sample steps go (relative paths).
     pub fn with_output_dir(mut self, dir: PathBuf) -> Self {
         self.output_dir = dir;
+        self
+    }
+
+    /// `csv:` files of sample steps with one column per object (`--csv-wide`).
+    pub fn with_csv_wide(mut self, wide: bool) -> Self {
+        self.csv_wide = wide;
         self
     }
 
@@ -144,6 +162,8 @@ impl<'a> Session<'a> {
         op: impl FnOnce(&mut Self) -> Result<String, Stop>,
     ) -> Result<String, Stop> {
         self.observer.step_started(info);
+        self.path.enter(info);
+        self.observer.step_placed(&self.path.id());
         let started = self.clock.now();
         let result = match catch_unwind(AssertUnwindSafe(|| op(self))) {
             Ok(r) => r,
@@ -152,12 +172,25 @@ impl<'a> Session<'a> {
         let (ok, detail) = outcome(&result);
         let ok = ok && !detail.starts_with("FAILED");
         self.record_step(info, ok, detail, started);
+        self.path.leave();
         result
+    }
+
+    /// The current step (a repeat) begins its `n`th iteration (from 1): the ids of the
+    /// steps inside it carry `[n]`.
+    pub fn iteration(&mut self, n: u32) {
+        self.path.iteration(n);
+    }
+
+    /// The current step's iteration-aware id and the stage that holds it, for checks.
+    pub(super) fn place(&self) -> (String, String) {
+        (self.path.id(), self.path.stage())
     }
 
     fn record_step(&mut self, info: &StepInfo, ok: bool, detail: String, started: Duration) {
         let record = StepRecord {
             number: info.number.clone(),
+            id: self.path.id(),
             label: info.label.clone(),
             origin: info.origin.clone(),
             ok,

@@ -46,8 +46,17 @@ fn every_example_recipe_checks_and_passes_in_virtual_time() {
     // The run-in's stage 2 runs twice; its CSV holds both passes under one header.
     let csv = std::fs::read_to_string(out_dir.join("run-in-stage-2.csv")).expect("stage 2 csv");
     assert_eq!(csv.lines().filter(|l| l.starts_with("time")).count(), 1);
-    assert_eq!(csv.lines().count(), 1 + 2 * 901, "15 min at 1 s, twice");
-    assert!(csv.starts_with("time [s],speed_actual [rpm],current_actual [A]\n"));
+    // The long layout: a row per object and sample, the passes told apart by step id.
+    assert_eq!(
+        csv.lines().count(),
+        1 + 2 * 2 * 901,
+        "15 min at 1 s, two objects, twice"
+    );
+    assert!(csv.starts_with("time [s],utc,step,object,value,unit\n"));
+    for pass in ["8[1].3", "8[2].3"] {
+        let rows = csv.lines().filter(|l| l.split(',').nth(2) == Some(pass)).count();
+        assert_eq!(rows, 2 * 901, "{pass}");
+    }
 }
 
 #[test]

@@ -6,6 +6,7 @@
 
 mod bench_limits;
 mod bounded;
+mod command_line;
 mod ct_ansi;
 mod decode_cli;
 mod drive_sim;
@@ -16,6 +17,7 @@ mod loader_limits;
 mod outputs;
 mod parameters;
 mod recipe_cases;
+mod recipe_schema;
 mod reports;
 mod safety;
 mod scripts;

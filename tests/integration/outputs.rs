@@ -47,13 +47,13 @@ fn a_run_writes_trace_csv_junit_and_html() {
     );
 
     let csv_text = std::fs::read_to_string(&csv).expect("csv");
-    assert!(csv_text.starts_with("time [s],step,object,value,unit\n"));
+    assert!(csv_text.starts_with("time [s],utc,step,object,value,unit\n"));
     // Three stages of 20 s at 100 ms, two objects: 3 × 201 × 2 rows.
     assert_eq!(csv_text.lines().count() - 1, 3 * 201 * 2);
 
     let junit_text = std::fs::read_to_string(&junit).expect("junit");
     assert!(
-        junit_text.contains(r#"<testsuite name="Spindle acceptance test" tests="14""#),
+        junit_text.contains(r#"<testsuite name="Spindle acceptance test" tests="15""#),
         "{junit_text}"
     );
     assert!(junit_text.contains("failures=\"0\""));
@@ -88,4 +88,63 @@ fn an_unwritable_output_is_refused_before_anything_is_sent() {
         !stdout(&out).contains("using the built-in"),
         "nothing was started"
     );
+}
+
+/// A run that cannot start still replaces the JUnit and HTML files it was asked for: a
+/// drive that cannot be reached (exit code 3) and an invalid recipe (exit code 2) each give
+/// a valid JUnit file with the reason, the recipe's checks as skipped, and an HTML page.
+#[test]
+fn runs_that_cannot_start_write_junit_and_html() {
+    let dir = std::env::temp_dir().join("drivescript-outputs-not-run");
+    let _ = std::fs::remove_dir_all(&dir);
+    let p = |name: &str| dir.join(name).to_str().expect("utf-8").to_string();
+    let (junit, html) = (p("junit.xml"), p("report.html"));
+    let no_server = drivescript(
+        &[
+            "run",
+            "recipes/acceptance-test.yaml",
+            "--tcp",
+            "127.0.0.1:1",
+            "--junit",
+            &junit,
+            "--report",
+            &html,
+        ],
+        "",
+    );
+    assert_eq!(no_server.status.code(), Some(3), "{}", stderr(&no_server));
+    let xml = std::fs::read_to_string(&junit).expect("junit");
+    let doc = crate::reports::markup::junit(&xml).unwrap_or_else(|e| panic!("{e}\n{xml}"));
+    if let Some(valid) = crate::reports::markup::junit_xsd(&xml) {
+        valid.unwrap_or_else(|e| panic!("{e}\n{xml}"));
+    }
+    let error = crate::reports::markup::xml_elements(&doc, "error")[0];
+    assert_eq!(error.attribute("type"), Some("communication"));
+    assert!(
+        error.attribute("message").unwrap().contains("127.0.0.1:1"),
+        "{xml}"
+    );
+    assert!(xml.contains("skipped=\"14\""), "every check of the recipe: {xml}");
+    let page = std::fs::read_to_string(&html).expect("html");
+    crate::reports::markup::html(&page).unwrap_or_else(|e| panic!("{e}\n{page}"));
+    assert!(page.contains("NOT RUN — ERROR"), "{page}");
+    assert!(page.contains("127.0.0.1:1"), "{page}");
+
+    let bad = dir.join("bad.yaml");
+    std::fs::write(
+        &bad,
+        "name: Bad\ndrive: sd2\nsteps:\n  - set: { speed_setpont: 1 rpm }\n",
+    )
+    .unwrap();
+    let invalid = drivescript(
+        &["run", bad.to_str().unwrap(), "--junit", &junit, "--report", &html],
+        "",
+    );
+    assert_eq!(invalid.status.code(), Some(2), "{}", stderr(&invalid));
+    let xml = std::fs::read_to_string(&junit).expect("junit");
+    crate::reports::markup::junit(&xml).unwrap_or_else(|e| panic!("{e}\n{xml}"));
+    assert!(xml.contains("type=\"invalid\""), "{xml}");
+    assert!(xml.contains("speed_setpont"), "{xml}");
+    let page = std::fs::read_to_string(&html).expect("html");
+    assert!(page.contains("NOT RUN — INVALID"), "{page}");
 }

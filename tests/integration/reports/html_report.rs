@@ -1,9 +1,9 @@
 //! `--report`: the run report as one HTML page, read back with an HTML5 parser.
 
 use super::markup::{elements, html, inside, rows, select, text, texts};
-use super::sample_reports::{error_report, passed_report};
+use super::sample_reports::{error_report, origin, passed_report, step};
 use drivescript::report::{html_report, write_html};
-use drivescript::session::Series;
+use drivescript::session::{CheckResult, Series};
 use scraper::{ElementRef, Html};
 
 const SVG_NAMESPACE: &str = "http://www.w3.org/2000/svg";
@@ -41,7 +41,7 @@ fn the_page_says_what_ran_and_how_it_ended() {
         "SD2S 0362150C",
         "speed = 6000 rpm",
         "2024-06-10 06:13:20 UTC",
-        "1m 6s 250ms",
+        "0:01:06.250",
         "PASSED (exit code 0)",
         "switched on",
     ] {
@@ -58,8 +58,8 @@ fn the_page_says_what_ran_and_how_it_ended() {
             "sample speed_actual every 100 ms for 60 s",
             "ok",
             "mean 6000.1 rpm",
-            "5.000 s",
-            "0.250 s"
+            "0:00:05.000",
+            "0:00:00.250"
         ]
     );
     assert_eq!(steps[4][1], "finally");
@@ -72,12 +72,12 @@ fn the_page_says_what_ran_and_how_it_ended() {
     assert_eq!(
         checks[0],
         vec![
-            "speed_actual mean near 6000 rpm ± 0.5 %",
+            "speed_actual mean near",
             "6000.1 rpm",
             "5970 .. 6030 rpm",
             "PASS",
             "mean 6000.1 rpm",
-            "recipes/run-in.yaml:20:5"
+            "run-in.yaml:20:5"
         ]
     );
     assert_eq!(checks[1][0], "wait until state operation_enabled");
@@ -119,7 +119,10 @@ fn failures_and_errors_stand_out_and_text_is_escaped() {
 
 #[test]
 fn one_plot_per_series_with_data_axes_and_limits() {
-    let r = passed_report();
+    let mut r = passed_report();
+    // Limits close to the data: drawn as levels inside the range.
+    r.checks[0].low = Some(5999.0);
+    r.checks[0].high = Some(6001.0);
     let page = html_report(&r);
     let doc = parse(&page);
     assert_eq!(elements(&doc, "svg").len(), 1);
@@ -155,23 +158,23 @@ fn one_plot_per_series_with_data_axes_and_limits() {
         .collect();
     assert!(svg_texts.contains(&"time [s]".to_string()), "{svg_texts:?}");
     assert!(svg_texts.contains(&"speed_actual [rpm]".to_string()));
-    for tick in ["10", "20", "30", "40", "50", "60", "5970", "6000", "6030"] {
+    for tick in ["10", "20", "30", "40", "50", "60", "5999", "6000", "6001"] {
         assert!(
             svg_texts.contains(&tick.to_string()),
             "tick {tick} in {svg_texts:?}"
         );
     }
-    // The check's limits: dashed lines at 5970 and 6030, labelled.
+    // The check's limits: dashed lines at 5999 and 6001, labelled.
     let limits: Vec<ElementRef> = elements(&doc, "line")
         .into_iter()
         .filter(|e| e.attr("class") == Some("limit"))
         .collect();
     assert_eq!(limits.len(), 2);
     assert!(
-        svg_texts.contains(&"mean ≥ 5970 rpm".to_string()),
+        svg_texts.contains(&"mean ≥ 5999 rpm".to_string()),
         "{svg_texts:?}"
     );
-    assert!(svg_texts.contains(&"mean ≤ 6030 rpm".to_string()));
+    assert!(svg_texts.contains(&"mean ≤ 6001 rpm".to_string()));
     // The lines sit where the polyline's transform puts those values.
     let m: Vec<f64> = transform["matrix(".len()..]
         .trim_end_matches(')')
@@ -180,14 +183,135 @@ fn one_plot_per_series_with_data_axes_and_limits() {
         .collect();
     let y_of = |v: f64| m[3] * v + m[5];
     let ys: Vec<f64> = limits.iter().map(|l| attr(l, "y1")).collect();
-    assert!((ys[0] - y_of(5970.0)).abs() < 0.01, "{ys:?}");
-    assert!((ys[1] - y_of(6030.0)).abs() < 0.01, "{ys:?}");
+    assert!((ys[0] - y_of(5999.0)).abs() < 0.01, "{ys:?}");
+    assert!((ys[1] - y_of(6001.0)).abs() < 0.01, "{ys:?}");
     // Within the plot area, which the data's clip path declares.
     let area = select(&doc, "clipPath > rect")[0];
     let (top, bottom) = (attr(&area, "y"), attr(&area, "y") + attr(&area, "height"));
     assert_eq!((top, bottom), (16.0, 268.0));
     assert!(ys.iter().all(|y| (top..=bottom).contains(y)), "{ys:?}");
     assert!(page.contains("speed_actual [rpm] sampled by step 3: 601 points"));
+}
+
+/// The y range fits the data (±1.5 rpm around 6000), not limits 30 rpm away: those are
+/// labels at the edge, with an arrow, and no line.
+#[test]
+fn far_limits_are_marked_at_the_edge_and_the_data_keeps_the_range() {
+    let page = html_report(&passed_report());
+    let doc = parse(&page);
+    let svg_texts: Vec<String> = elements(&doc, "text")
+        .iter()
+        .filter(|e| inside(e, "svg"))
+        .map(text)
+        .collect();
+    assert!(
+        svg_texts.contains(&"↑ mean ≤ 6030 rpm".to_string()),
+        "{svg_texts:?}"
+    );
+    assert!(
+        svg_texts.contains(&"↓ mean ≥ 5970 rpm".to_string()),
+        "{svg_texts:?}"
+    );
+    assert!(!svg_texts.contains(&"5970".to_string()), "{svg_texts:?}");
+    assert!(svg_texts.contains(&"6000".to_string()), "{svg_texts:?}");
+    assert!(!elements(&doc, "line")
+        .iter()
+        .any(|e| e.attr("class") == Some("limit")));
+}
+
+/// Each plot shows only the checks computed over its own window; a spread statistic
+/// (ripple, std) is text under it, never a level; labels never overlap.
+#[test]
+fn plots_show_their_own_window_checks_and_statistics_as_text() {
+    let mut r = passed_report();
+    let mut second = r.series[0].clone();
+    second.step = "5[2].3".into();
+    r.series.push(second);
+    let ripple = CheckResult {
+        statistic: Some("ripple".into()),
+        measured: Some(2.75),
+        low: None,
+        high: Some(5.0),
+        name: "speed_actual ripple below 5 rpm".into(),
+        window: Some("5[2].3".into()),
+        ..r.checks[0].clone()
+    };
+    let base = r.checks[0].clone();
+    let near = |lo: f64, hi: f64| CheckResult {
+        low: Some(lo),
+        high: Some(hi),
+        window: Some("5[2].3".into()),
+        ..base.clone()
+    };
+    r.checks.push(ripple);
+    r.checks.push(near(5999.0, 6001.0));
+    r.checks.push(near(5999.1, 6000.9));
+    let page = html_report(&r);
+    let doc = parse(&page);
+    let figures = select(&doc, "figure");
+    assert_eq!(figures.len(), 2);
+    let label_texts = |f: &ElementRef| -> Vec<(String, f64)> {
+        f.select(&scraper::Selector::parse("text.limit-label").unwrap())
+            .map(|t| (text(&t), attr(&t, "y")))
+            .collect()
+    };
+    // The first window has only its own check (the far 5970/6030 limits).
+    let first: Vec<String> = label_texts(&figures[0]).into_iter().map(|l| l.0).collect();
+    assert_eq!(first, vec!["↑ mean ≤ 6030 rpm", "↓ mean ≥ 5970 rpm"]);
+    // The second: its two level checks, no ripple level, labels at least 13 px apart.
+    let mut second = label_texts(&figures[1]);
+    assert_eq!(second.len(), 4, "{second:?}");
+    assert!(second.iter().all(|l| !l.0.contains("ripple")), "{second:?}");
+    second.sort_by(|a, b| a.1.total_cmp(&b.1));
+    assert!(
+        second.windows(2).all(|w| w[1].1 - w[0].1 >= 13.0 - 1e-9),
+        "{second:?}"
+    );
+    let caption = text(
+        &figures[1]
+            .select(&scraper::Selector::parse("figcaption").unwrap())
+            .next()
+            .unwrap(),
+    );
+    assert!(
+        caption.contains("PASS speed_actual ripple below: 2.75 rpm (limits < 5 rpm)"),
+        "{caption}"
+    );
+}
+
+/// Failed checks are summed up at the top; checks are grouped by stage; steps are in the
+/// order they ran with each group before its steps, failed when one inside failed.
+#[test]
+fn failures_at_the_top_stages_grouped_and_steps_in_order() {
+    let mut r = error_report();
+    r.checks[0].stage = "Stage 1, 6000 rpm".into();
+    r.steps = vec![
+        step("2.1", "expect speed_actual", false, "mean 5800 rpm", 0, "steps"),
+        step("2", "Stage 1, 6000 rpm", true, "1 steps", 0, "steps"),
+        step("3", "dwell 10 s", false, "no reply", 2_000, "steps"),
+    ];
+    // Step 2.1 is where the failed check is written: its failure is the check's.
+    r.steps[0].origin = origin(11);
+    let page = html_report(&r);
+    let doc = parse(&page);
+    let summary = texts(&doc, "section#failures li");
+    assert_eq!(summary.len(), 2, "{summary:?}");
+    assert!(
+        summary[0].starts_with("FAIL Stage 1, 6000 rpm / speed & <mean>: measured 5800 rpm"),
+        "{summary:?}"
+    );
+    assert!(summary[1].contains("step 3 dwell 10 s: no reply"), "{summary:?}");
+    assert!(page.find("id=\"failures\"").unwrap() < page.find("id=\"checks\"").unwrap());
+    assert_eq!(
+        texts(&doc, "section#checks tr.group th"),
+        vec!["Stage 1, 6000 rpm — 1 FAILED"]
+    );
+    let steps = rows(&doc, "steps");
+    let order: Vec<(&str, &str)> = steps.iter().map(|s| (s[0].as_str(), s[3].as_str())).collect();
+    assert_eq!(
+        order,
+        vec![("2", "FAIL (inside)"), ("2.1", "FAIL"), ("3", "FAIL")]
+    );
 }
 
 #[test]
@@ -268,6 +392,10 @@ fn self_contained_and_print_friendly() {
         page.matches("http://www.w3.org/2000/svg").count()
     );
     assert!(page.contains("@media print"));
+    assert!(
+        page.contains("@page { size: A4;"),
+        "printed pages with margins and numbers"
+    );
     assert!(page.contains("break-inside: avoid"));
     assert!(page.contains("background: none !important"));
 }
@@ -319,4 +447,45 @@ fn a_broken_page_is_refused() {
         let refused = html(&broken).map(|_| ()).unwrap_err();
         assert!(refused.contains(why), "{why:?}: {refused}");
     }
+}
+
+/// Printed by headless Chromium (where installed), the acceptance test's report is a PDF
+/// of a few A4 pages; `tests/render_reports.sh` renders every example report to look at.
+#[test]
+fn chromium_prints_the_report_to_pdf() {
+    let Some(chromium) = ["chromium", "chromium-browser", "google-chrome"]
+        .into_iter()
+        .find(|c| {
+            std::process::Command::new(c)
+                .arg("--version")
+                .output()
+                .is_ok_and(|o| o.status.success())
+        })
+    else {
+        eprintln!("no chromium installed: the PDF rendering is not checked");
+        return;
+    };
+    let dir = std::env::temp_dir().join(format!("drivescript-pdf-{}", std::process::id()));
+    let html = dir.join("report.html");
+    write_html(&passed_report(), &html).unwrap();
+    let pdf = dir.join("report.pdf");
+    let out = std::process::Command::new(chromium)
+        .args([
+            "--headless",
+            "--no-sandbox",
+            "--disable-gpu",
+            "--no-pdf-header-footer",
+        ])
+        .arg(format!("--print-to-pdf={}", pdf.display()))
+        .arg(&html)
+        .output()
+        .expect("chromium runs");
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let bytes = std::fs::read(&pdf).expect("a PDF");
+    assert!(bytes.starts_with(b"%PDF"));
+    let text = String::from_utf8_lossy(&bytes);
+    // A4 pages (595 × 842 points), each with its media box: the @page rule took effect.
+    let pages = text.matches("/MediaBox [0 0 594.9").count();
+    assert!((1..=6).contains(&pages), "{pages} A4 pages");
+    std::fs::remove_dir_all(&dir).unwrap();
 }

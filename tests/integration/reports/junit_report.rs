@@ -1,10 +1,12 @@
-//! `--junit`: the run report as JUnit XML, read back with a real XML parser and checked
-//! against the structure of the common JUnit schema.
+//! `--junit`: the run report as JUnit XML, read back with a real XML parser, held to the
+//! structure Jenkins' junit-10.xsd and Surefire accept, and validated with `xmllint`
+//! against the vendored `tests/junit-10.xsd` and `tests/surefire-test-report-3.0.xsd`
+//! where xmllint is installed.
 
-use super::markup::{case_property, junit, xml_elements, XML_DECLARATION};
-use super::sample_reports::{error_report, passed_report};
-use drivescript::report::{junit_xml, write_junit};
-use drivescript::session::Verdict;
+use super::markup::{case_out, junit, junit_xsd, xml_elements, XML_DECLARATION};
+use super::sample_reports::{check, error_report, origin, passed_report, speed_check};
+use drivescript::report::{junit_not_run, junit_unfinished, junit_xml, write_junit};
+use drivescript::session::{CheckResult, PlannedCheck, Verdict};
 use drivescript::stop_request::StopSignal;
 use roxmltree::Document;
 
@@ -12,47 +14,62 @@ fn parse(xml: &str) -> Document<'_> {
     junit(xml).unwrap_or_else(|e| panic!("{e}\n{xml}"))
 }
 
+fn names<'a>(doc: &'a Document) -> Vec<&'a str> {
+    xml_elements(doc, "testcase")
+        .iter()
+        .filter_map(|c| c.attribute("name"))
+        .collect()
+}
+
+fn planned(
+    name: &str,
+    object: Option<&str>,
+    statistic: Option<&str>,
+    stage: &str,
+    line: usize,
+) -> PlannedCheck {
+    PlannedCheck {
+        name: name.into(),
+        object: object.map(Into::into),
+        statistic: statistic.map(Into::into),
+        stage: stage.into(),
+        origin: origin(line),
+    }
+}
+
 #[test]
-fn a_passed_run_is_one_suite_with_a_case_per_check() {
-    let xml = junit_xml(&passed_report());
+fn a_passed_run_is_one_suite_with_a_case_per_check_and_the_safe_stop() {
+    let xml = junit_xml(&passed_report(), &[]);
     let doc = parse(&xml);
-    assert!(xml.contains("tests=\"2\""), "{xml}");
-    assert!(xml.contains("failures=\"0\""));
     let suites = xml_elements(&doc, "testsuite");
     assert_eq!(suites.len(), 1);
     let suite = suites[0];
     assert_eq!(suite.attribute("name"), Some("Spindle <run-in> & \"test\""));
-    assert_eq!(suite.attribute("tests"), Some("2"));
+    assert_eq!(suite.attribute("tests"), Some("3"));
     assert_eq!(suite.attribute("failures"), Some("0"));
+    assert_eq!(suite.attribute("skipped"), Some("0"));
     assert_eq!(suite.attribute("time"), Some("66.250"));
-    assert_eq!(suite.attribute("timestamp"), Some("2024-06-10T06:13:20"));
-    let cases = xml_elements(&doc, "testcase");
+    // Names without limit values, so CI history survives a changed parameter.
     assert_eq!(
-        cases[0].attribute("name"),
-        Some("speed_actual mean near 6000 rpm ± 0.5 %")
+        names(&doc),
+        vec![
+            "speed_actual mean near",
+            "wait until state operation_enabled",
+            "safe stop"
+        ]
     );
-    assert_eq!(cases[0].attribute("classname"), Some("recipes/run-in.yaml"));
-    assert_eq!(cases[0].attribute("time"), Some("1.500"));
-    assert_eq!(
-        cases[1].attribute("name"),
-        Some("wait until state operation_enabled")
-    );
-    let first = "speed_actual mean near 6000 rpm ± 0.5 %";
-    assert_eq!(case_property(&doc, first, "measured"), Some("6000.1"));
-    assert_eq!(case_property(&doc, first, "unit"), Some("rpm"));
-    assert_eq!(case_property(&doc, first, "low"), Some("5970"));
-    assert_eq!(case_property(&doc, first, "high"), Some("6030"));
-    assert_eq!(
-        case_property(&doc, first, "origin"),
-        Some("recipes/run-in.yaml:20:5")
-    );
-    let out = cases[0]
-        .children()
-        .find(|n| n.has_tag_name("system-out"))
-        .and_then(|n| n.text())
-        .unwrap();
+    let case = xml_elements(&doc, "testcase")[0];
+    // Jenkins splits a classname at its last dot; the recipe name has none to split.
+    assert_eq!(case.attribute("classname"), Some("Spindle <run-in> & \"test\""));
+    assert_eq!(case.attribute("time"), Some("1.500"));
+    let out = case_out(&doc, "speed_actual mean near").unwrap();
     assert!(out.contains("measured: 6000.1 rpm"), "{out}");
-    assert!(out.contains("limits: 5970 .. 6030 rpm"));
+    assert!(out.contains("limits: 5970 .. 6030 rpm"), "{out}");
+    assert!(
+        out.contains("check: speed_actual mean near 6000 rpm ± 0.5 % at recipes/run-in.yaml:20:5"),
+        "{out}"
+    );
+    assert!(out.contains("step: 4"), "{out}");
     let props: Vec<(&str, &str)> = suite
         .children()
         .filter(|n| n.has_tag_name("properties"))
@@ -64,22 +81,44 @@ fn a_passed_run_is_one_suite_with_a_case_per_check() {
     assert!(props.contains(&("verdict", "PASSED")));
     assert!(props.contains(&("started_at_utc", "2024-06-10T06:13:20Z")));
     assert!(props.contains(&("final_state", "switched on")));
-    let log = suite
-        .children()
-        .find(|n| n.has_tag_name("system-out"))
-        .and_then(|n| n.text())
-        .unwrap();
+    let log = case_out(&doc, "safe stop").unwrap();
     assert!(log.contains("safe stop: finally: disable_operation ran"), "{log}");
-    assert!(!xml.contains("<failure") && !xml.contains("<error"));
     assert!(xml_elements(&doc, "failure").is_empty() && xml_elements(&doc, "error").is_empty());
 }
 
 #[test]
+fn names_are_unique_and_carry_the_stage() {
+    let mut r = passed_report();
+    let stage = |n: u32| CheckResult {
+        stage: format!("repeat 2 times #{n} / Stage 2"),
+        ..speed_check("speed_actual mean near 12000 rpm ± 0.5 %", 12000.0, true)
+    };
+    r.checks = vec![
+        stage(1),
+        stage(2),
+        check("Spindle is quiet", true, ""),
+        check("Spindle is quiet", true, ""),
+    ];
+    let xml = junit_xml(&r, &[]);
+    let doc = parse(&xml);
+    assert_eq!(
+        names(&doc),
+        vec![
+            "repeat 2 times #1 / Stage 2 / speed_actual mean near",
+            "repeat 2 times #2 / Stage 2 / speed_actual mean near",
+            "Spindle is quiet",
+            "Spindle is quiet (2)",
+            "safe stop",
+        ]
+    );
+}
+
+#[test]
 fn failed_checks_and_errors_are_failures_ci_sees() {
-    let xml = junit_xml(&error_report());
+    let xml = junit_xml(&error_report(), &[]);
     let doc = parse(&xml);
     assert!(
-        xml.contains("tests=\"2\" skipped=\"0\" failures=\"1\" errors=\"1\""),
+        xml.contains("tests=\"3\" failures=\"2\" errors=\"1\" skipped=\"0\""),
         "{xml}"
     );
     let failure = xml_elements(&doc, "failure")[0];
@@ -88,13 +127,11 @@ fn failed_checks_and_errors_are_failures_ci_sees() {
         Some("mean 5800 rpm; limits 5970 .. 6030 rpm")
     );
     assert_eq!(failure.attribute("type"), Some("expect"));
-    let failure_text = failure.text().unwrap_or("");
-    assert!(failure_text.contains("measured: 5800 rpm"), "{failure_text}");
+    assert!(failure.text().unwrap_or("").contains("measured: 5800 rpm"));
     let run = xml_elements(&doc, "testcase")
         .into_iter()
         .find(|c| c.attribute("name") == Some("run"))
         .unwrap();
-    assert_eq!(run.attribute("classname"), Some("recipes/accept.yaml"));
     let error = xml_elements(&doc, "error")[0];
     assert_eq!(error.parent_element(), Some(run));
     assert_eq!(
@@ -109,11 +146,45 @@ fn failed_checks_and_errors_are_failures_ci_sees() {
     );
     assert!(!error_text.contains("step 1 "), "{error_text}");
     assert!(error_text.contains("safe stop: the safety net"));
+    // The unconfirmed safe stop is a failure of its own.
+    let stop = xml_elements(&doc, "failure")[1];
+    assert!(stop
+        .attribute("message")
+        .unwrap()
+        .starts_with("CHECK THE DRIVE BY HAND"));
     // The check name with markup characters is escaped.
     assert!(xml.contains("name=\"speed &amp; &lt;mean&gt;\""), "{xml}");
+}
+
+#[test]
+fn checks_not_reached_are_skipped() {
+    let r = error_report();
+    let planned = [
+        // Answered by the failed check (same place, same name).
+        planned("speed & <mean>", Some("speed_actual"), Some("mean"), "", 11),
+        planned(
+            "current_actual max below 5 A",
+            Some("current_actual"),
+            Some("max"),
+            "Stage 3",
+            30,
+        ),
+    ];
+    let xml = junit_xml(&r, &planned);
+    let doc = parse(&xml);
+    assert!(
+        xml.contains("tests=\"4\" failures=\"2\" errors=\"1\" skipped=\"1\""),
+        "{xml}"
+    );
+    let skipped = xml_elements(&doc, "skipped");
+    assert_eq!(skipped.len(), 1);
     assert_eq!(
-        xml_elements(&doc, "testcase")[0].attribute("name"),
-        Some("speed & <mean>")
+        skipped[0].parent_element().and_then(|c| c.attribute("name")),
+        Some("Stage 3 / current_actual max below")
+    );
+    assert_eq!(
+        skipped[0].attribute("message"),
+        Some("not reached: the run ended early (ERROR)")
     );
 }
 
@@ -121,25 +192,22 @@ fn failed_checks_and_errors_are_failures_ci_sees() {
 fn interrupted_and_checkless_runs() {
     let mut r = passed_report();
     r.checks.clear();
-    let xml = junit_xml(&r);
+    let xml = junit_xml(&r, &[]);
     let doc = parse(&xml);
-    assert!(xml.contains("<testcase name=\"run\""), "{xml}");
-    assert!(xml.contains("tests=\"1\" skipped=\"0\" failures=\"0\""), "{xml}");
-    assert_eq!(xml_elements(&doc, "testcase")[0].attribute("name"), Some("run"));
+    assert_eq!(names(&doc), vec!["safe stop"]);
 
     r.verdict = Verdict::Interrupted(StopSignal::INT);
     r.steps[2].ok = false;
     r.steps[2].detail = "interrupted".into();
-    let xml = junit_xml(&r);
+    let xml = junit_xml(&r, &[]);
     let doc = parse(&xml);
     let failure = xml_elements(&doc, "failure")[0];
     assert!(failure.attribute("message").unwrap().starts_with("INTERRUPTED"));
-    let failure_text = failure.text().unwrap_or("");
-    assert!(failure_text.contains("sample speed_actual"), "{failure_text}");
+    assert!(failure.text().unwrap_or("").contains("sample speed_actual"));
 
     // Failed without a failed check (e.g. a step refused by the drive).
     r.verdict = Verdict::Failed;
-    let xml = junit_xml(&r);
+    let xml = junit_xml(&r, &[]);
     let doc = parse(&xml);
     let failure = xml_elements(&doc, "failure")[0];
     assert_eq!(
@@ -148,13 +216,58 @@ fn interrupted_and_checkless_runs() {
     );
 }
 
+/// Every kind of JUnit file the tool writes passes `xmllint --schema` with Jenkins'
+/// junit-10.xsd, and its suite with Surefire's schema.
+#[test]
+fn every_junit_file_is_valid_against_jenkins_and_surefire_schemas() {
+    let mut interrupted = passed_report();
+    interrupted.verdict = Verdict::Interrupted(StopSignal::TERM);
+    let planned = [planned(
+        "wait until state operation_enabled",
+        None,
+        None,
+        "Stage <1>",
+        40,
+    )];
+    let files = [
+        junit_xml(&passed_report(), &[]),
+        junit_xml(&error_report(), &planned),
+        junit_xml(&interrupted, &planned),
+        junit_unfinished("Run <in>", "recipes/x.yaml"),
+        junit_not_run(
+            "Run",
+            "recipes/x.yaml",
+            "communication",
+            "error: no reply\nfrom drive 4",
+            &planned,
+        ),
+    ];
+    for xml in &files {
+        parse(xml);
+        match junit_xsd(xml) {
+            None => eprintln!("xmllint is not installed: only the structural check ran"),
+            Some(result) => result.unwrap_or_else(|e| panic!("{e}\n{xml}")),
+        }
+    }
+    // The schema check can fail: what the report wrote before (properties inside a test
+    // case, `skipped` on testsuites) is refused.
+    let old = files[0].replacen(
+        "<testsuites name=\"drivescript\"",
+        "<testsuites skipped=\"0\" name=\"drivescript\"",
+        1,
+    );
+    if let Some(result) = junit_xsd(&old) {
+        assert!(result.unwrap_err().contains("skipped"));
+    }
+}
+
 #[test]
 fn written_atomically() {
     let dir = std::env::temp_dir().join(format!("drivescript-junit-{}", std::process::id()));
     let path = dir.join("ci/junit.xml");
-    write_junit(&error_report(), &path).unwrap();
+    write_junit(&error_report(), &[], &path).unwrap();
     let text = std::fs::read_to_string(&path).unwrap();
-    assert_eq!(text, junit_xml(&error_report()));
+    assert_eq!(text, junit_xml(&error_report(), &[]));
     assert!(!dir.join("ci/junit.xml.tmp").exists());
     std::fs::remove_dir_all(&dir).unwrap();
 }
@@ -163,14 +276,14 @@ fn written_atomically() {
 /// refused, saying why.
 #[test]
 fn a_broken_junit_file_is_refused() {
-    let xml = junit_xml(&error_report());
+    let xml = junit_xml(&error_report(), &[]);
     parse(&xml);
     for (broken, why) in [
         (xml.replacen("&lt;mean&gt;", "<mean>", 1), "not well-formed"),
         (xml.replacen("speed &amp;", "speed &", 1), "not well-formed"),
         (xml.replacen("</testcase>", "", 1), "not well-formed"),
         (
-            xml.replacen(" classname=\"recipes/accept.yaml\"", "", 1),
+            xml.replacen(" classname=\"Acceptance\"", "", 1),
             "<testcase> lacks classname",
         ),
         (
@@ -179,11 +292,11 @@ fn a_broken_junit_file_is_refused() {
         ),
         (
             xml.replacen(
-                "name=\"Acceptance\" tests=\"2\"",
                 "name=\"Acceptance\" tests=\"3\"",
+                "name=\"Acceptance\" tests=\"4\"",
                 1,
             ),
-            "testsuite tests=Some(\"3\"), but it holds 2",
+            "testsuite tests=Some(\"4\"), but it holds 3",
         ),
         (
             xml.replacen("errors=\"1\"", "errors=\"0\"", 1),
@@ -196,6 +309,14 @@ fn a_broken_junit_file_is_refused() {
         (
             xml.replacen("<properties>", "<props/><properties>", 1),
             "element <props> is not in the JUnit schema",
+        ),
+        (
+            xml.replacen("time=\"9.000\">", "time=\"9.000\" timestamp=\"2024\">", 1),
+            "attribute timestamp outside the schemas",
+        ),
+        (
+            xml.replacen("</testsuite>", "<system-out>log</system-out></testsuite>", 1),
+            "<system-out> inside Some(\"testsuite\")",
         ),
         (xml.replacen(XML_DECLARATION, "", 1), "XML declaration"),
     ] {

@@ -91,7 +91,7 @@ fn permanent_lines_are_the_console_lines() {
 
 #[test]
 fn the_live_line_shows_step_time_values_and_context() {
-    let mut p = ProgressReporter::new(Vec::new(), ProgressBar::hidden(), false);
+    let mut p = ProgressReporter::new(Vec::new(), ProgressBar::hidden(), false).with_width(120);
     p.step_started(&info("4", "repeat 3 times", "steps", true));
     p.step_progress("4", Duration::ZERO, None, "iteration 2 of 3");
     p.step_started(&info("4.1", "dwell 60 s", "steps", false));
@@ -105,14 +105,14 @@ fn the_live_line_shows_step_time_values_and_context() {
     );
     assert_eq!(
         p.bar().message(),
-        "dwell 60 s  12.3 s of 1m, 47.7 s left — speed_actual 6001.2 rpm \
+        "12.3 s/1m · speed_actual 6001.2 rpm · dwell 60 s \
          [repeat 3 times: iteration 2 of 3]"
     );
     assert_eq!(p.bar().length(), Some(60_000));
     assert_eq!(p.bar().position(), 12_340);
     // Progress of another step (a stale number) does not overwrite the line.
     p.step_progress("3", Duration::from_secs(1), None, "x");
-    assert!(p.bar().message().starts_with("dwell 60 s  12.3 s"));
+    assert!(p.bar().message().starts_with("12.3 s/1m"));
     p.step_finished(&step("4.1", "dwell 60 s", true, "", 0, "steps"));
     assert_eq!(p.bar().length(), None);
     assert_eq!(p.bar().message(), "[repeat 3 times: iteration 2 of 3]");

@@ -26,6 +26,7 @@ pub fn step(
 ) -> StepRecord {
     StepRecord {
         number: number.into(),
+        id: number.into(),
         label: label.into(),
         origin: origin(10 + number.parse::<usize>().unwrap_or(0)),
         ok,
@@ -50,6 +51,9 @@ pub fn check(name: &str, passed: bool, message: &str) -> CheckResult {
         statistic: None,
         message: message.into(),
         origin: origin(12),
+        step: "2".into(),
+        stage: String::new(),
+        window: None,
         at: Duration::from_secs(1),
         duration: Duration::from_millis(200),
     }
@@ -65,6 +69,8 @@ pub fn speed_check(name: &str, measured: f64, passed: bool) -> CheckResult {
         object: Some("speed_actual".into()),
         statistic: Some("mean".into()),
         origin: origin(20),
+        step: "4".into(),
+        window: Some("3".into()),
         at: Duration::from_secs(65),
         duration: Duration::from_millis(1500),
         ..check(name, passed, &format!("mean {measured} rpm"))
@@ -96,6 +102,8 @@ pub fn report(recipe: &str, recipe_path: &str, drive: &str, verdict: Verdict) ->
         safe_stop: Vec::new(),
         omitted_steps: 0,
         omitted_checks: 0,
+        csv_files: Vec::new(),
+        resolutions: Vec::new(),
     }
 }
 

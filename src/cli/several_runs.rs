@@ -1,0 +1,105 @@
+//! Several recipes in one `run`: each recipe's own output files (so none overwrites
+//! another's), the line that names every file a run wrote, and the exit code of the whole
+//! command (the worst). Only paths and codes; the runs themselves are `run_recipe`'s.
+
+use super::OutputArgs;
+use crate::session::RunReport;
+use std::path::{Path, PathBuf};
+
+/// The exit code that says more: a panic, then a stop signal, then 3, 2, 1, 0.
+pub fn worse(a: i32, b: i32) -> i32 {
+    let rank = |c: i32| match c {
+        0 => 0,
+        1 => 1,
+        2 => 2,
+        c if c == crate::session::PANIC_EXIT => 6,
+        c if c >= 128 => 5,
+        _ => 3,
+    };
+    if rank(b) > rank(a) {
+        b
+    } else {
+        a
+    }
+}
+
+/// The outputs of one recipe: relative paths under `dir`; with several recipes each file
+/// name gets the recipe's place and name (`junit.xml` → `junit-2-acceptance-test.xml`) so
+/// that no run overwrites another's, even of recipes with the same file name.
+pub fn outputs_for(outputs: &OutputArgs, dir: &Path, recipe: Option<(usize, &Path)>) -> OutputArgs {
+    let place = |p: &Option<PathBuf>| {
+        p.as_ref().map(|p| {
+            let p = match recipe {
+                Some((n, path)) => {
+                    let mut name = p.file_stem().unwrap_or_default().to_os_string();
+                    name.push(format!("-{n}-"));
+                    name.push(path.file_stem().unwrap_or_default());
+                    if let Some(ext) = p.extension() {
+                        name.push(".");
+                        name.push(ext);
+                    }
+                    p.with_file_name(name)
+                }
+                None => p.clone(),
+            };
+            if dir == Path::new(".") {
+                p
+            } else {
+                dir.join(p)
+            }
+        })
+    };
+    OutputArgs {
+        trace: place(&outputs.trace),
+        csv: place(&outputs.csv),
+        junit: place(&outputs.junit),
+        report: place(&outputs.report),
+        ..outputs.clone()
+    }
+}
+
+/// `outputs  junit.xml, report.html, run-in-stage-1.csv`: every file the run wrote.
+pub fn print_outputs(outputs: &OutputArgs, report: Option<&RunReport>) {
+    let mut files: Vec<String> = [&outputs.trace, &outputs.csv, &outputs.junit, &outputs.report]
+        .into_iter()
+        .flatten()
+        .filter(|p| p.is_file())
+        .map(|p| p.display().to_string())
+        .collect();
+    if let Some(r) = report {
+        files.extend(r.csv_files.iter().cloned());
+    }
+    if !files.is_empty() {
+        println!("outputs {}", files.join(", "));
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::cli::PASSED;
+
+    #[test]
+    fn the_worst_exit_code_wins() {
+        let worst = |codes: &[i32]| codes.iter().fold(PASSED, |a, b| worse(a, *b));
+        assert_eq!(worst(&[0, 1, 0]), 1);
+        assert_eq!(worst(&[1, 3, 2]), 3);
+        assert_eq!(worst(&[3, 130, 1]), 130);
+        assert_eq!(worst(&[130, 101]), 101);
+    }
+
+    #[test]
+    fn outputs_of_several_recipes_never_share_a_file() {
+        let outputs = OutputArgs {
+            junit: Some("ci/junit.xml".into()),
+            report: Some("/abs/report.html".into()),
+            ..OutputArgs::default()
+        };
+        let one = outputs_for(&outputs, Path::new("out"), None);
+        assert_eq!(one.junit, Some(PathBuf::from("out/ci/junit.xml")));
+        assert_eq!(one.report, Some(PathBuf::from("/abs/report.html")));
+        let second = outputs_for(&outputs, Path::new("."), Some((2, Path::new("a/x.yaml"))));
+        assert_eq!(second.junit, Some(PathBuf::from("ci/junit-2-x.xml")));
+        assert_eq!(second.report, Some(PathBuf::from("/abs/report-2-x.html")));
+    }
+}

@@ -1,0 +1,72 @@
+//! What a recipe will check and sample, known before it runs: its checks (`expect` checks
+//! and `wait_until` conditions) with the stage that holds each, so reports can show the
+//! ones a run never reached, and the objects its sample steps read, for the columns of a
+//! wide CSV. Reads the validated recipe only.
+
+use super::recipe::Recipe;
+use super::step::{Step, StepKind};
+use crate::session::{Condition, ObjectRef, PlannedCheck};
+
+/// Every check of the recipe's steps in recipe order (a check inside a repeat once).
+pub fn planned_checks(recipe: &Recipe) -> Vec<PlannedCheck> {
+    let mut out = Vec::new();
+    walk(&recipe.steps, &mut Vec::new(), &mut out);
+    out
+}
+
+fn walk(steps: &[Step], stage: &mut Vec<String>, out: &mut Vec<PlannedCheck>) {
+    for step in steps {
+        match &step.kind {
+            StepKind::Expect(checks) => {
+                for c in checks {
+                    out.push(PlannedCheck {
+                        name: c.name.clone(),
+                        object: Some(c.object.name.clone()),
+                        statistic: c.statistic.map(|s| s.id().to_string()),
+                        stage: stage.join(" / "),
+                        origin: step.origin.clone(),
+                    });
+                }
+            }
+            StepKind::WaitUntil { condition, .. } => out.push(PlannedCheck {
+                name: format!("wait until {condition}"),
+                object: match condition {
+                    Condition::Value { object, .. } => Some(object.name.clone()),
+                    Condition::State(_) => None,
+                },
+                statistic: None,
+                stage: stage.join(" / "),
+                origin: step.origin.clone(),
+            }),
+            StepKind::Repeat { steps: nested, .. } | StepKind::Include { steps: nested, .. } => {
+                stage.push(step.label.clone());
+                walk(nested, stage, out);
+                stage.pop();
+            }
+            _ => {}
+        }
+    }
+}
+
+/// The objects the recipe's sample steps read (finally's too), each once, in recipe order.
+pub fn sampled_objects(recipe: &Recipe) -> Vec<ObjectRef> {
+    fn walk(steps: &[Step], out: &mut Vec<ObjectRef>) {
+        for step in steps {
+            match &step.kind {
+                StepKind::Sample { objects, .. } => {
+                    for o in objects {
+                        if !out.iter().any(|seen| seen.name == o.name) {
+                            out.push(o.clone());
+                        }
+                    }
+                }
+                StepKind::Repeat { steps, .. } | StepKind::Include { steps, .. } => walk(steps, out),
+                _ => {}
+            }
+        }
+    }
+    let mut out = Vec::new();
+    walk(&recipe.steps, &mut out);
+    walk(recipe.finally.as_deref().unwrap_or_default(), &mut out);
+    out
+}

@@ -1,0 +1,265 @@
+//! The command line as users meet it (issue 17): several recipes in one `run` with the
+//! worst exit code, `--output-dir` and the printed output paths, `decode FILE`, a value
+//! with a space before its unit, colour that follows `--color` and `NO_COLOR`, examples
+//! and exit codes in `--help`, build information in `--version`, and plain messages for
+//! a port that is not a serial port and a recipe that is not UTF-8.
+
+use crate::support::{drivescript, stderr, stdout};
+
+fn temp_dir(name: &str) -> std::path::PathBuf {
+    let dir = std::env::temp_dir().join(format!("drivescript-cli-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    dir
+}
+
+#[test]
+fn several_recipes_run_in_turn_and_the_worst_exit_code_wins() {
+    let dir = temp_dir("several");
+    let out = drivescript(
+        &[
+            "run",
+            "tests/cases/ok/identity/recipe.yaml",
+            "tests/cases/failed/expect_out_of_tolerance/recipe.yaml",
+            "--fast",
+            "--output-dir",
+            dir.to_str().unwrap(),
+            "--junit",
+            "junit.xml",
+        ],
+        "",
+    );
+    let text = stdout(&out);
+    assert_eq!(out.status.code(), Some(1), "{text}{}", stderr(&out));
+    assert!(
+        text.contains("== recipe 1 of 2: tests/cases/ok/identity/recipe.yaml"),
+        "{text}"
+    );
+    assert!(text.contains("== recipe 2 of 2:"), "{text}");
+    assert_eq!(
+        text.matches("drive left in").count(),
+        2,
+        "each its own safe stop: {text}"
+    );
+    assert!(text.contains("exit code 1 (the worst of them)"), "{text}");
+    // One JUnit file per recipe under --output-dir, each announced.
+    let written: Vec<String> = text
+        .lines()
+        .filter_map(|l| l.strip_prefix("outputs "))
+        .map(str::to_string)
+        .collect();
+    assert_eq!(written.len(), 2, "{text}");
+    for path in &written {
+        assert!(path.starts_with(dir.to_str().unwrap()), "{path}");
+        assert!(std::path::Path::new(path).is_file(), "{path}");
+    }
+    assert_ne!(written[0], written[1]);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn sample_csv_files_go_to_the_output_dir_and_are_announced() {
+    let dir = temp_dir("csv");
+    let out = drivescript(
+        &[
+            "run",
+            "recipes/spindle-run-in.yaml",
+            "--fast",
+            "--output-dir",
+            dir.to_str().unwrap(),
+        ],
+        "",
+    );
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    let line = stdout(&out)
+        .lines()
+        .find_map(|l| l.strip_prefix("outputs ").map(str::to_string))
+        .expect("an outputs line");
+    for n in 1..=4 {
+        let file = dir.join(format!("run-in-stage-{n}.csv"));
+        assert!(file.is_file(), "{}", file.display());
+        assert!(line.contains(&file.display().to_string()), "{line}");
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn decode_reads_trace_files() {
+    let dir = temp_dir("decode");
+    let trace = dir.join("run.trace");
+    let out = drivescript(
+        &[
+            "run",
+            "recipes/identity.yaml",
+            "--fast",
+            "--trace",
+            trace.to_str().unwrap(),
+        ],
+        "",
+    );
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    let decoded = drivescript(&["decode", trace.to_str().unwrap(), trace.to_str().unwrap()], "");
+    assert_eq!(decoded.status.code(), Some(0), "{}", stderr(&decoded));
+    let text = stdout(&decoded);
+    assert!(text.contains("read wide object"), "{text}");
+    assert!(
+        !stderr(&decoded).contains("not a hex digit"),
+        "{}",
+        stderr(&decoded)
+    );
+    let once = stdout(&drivescript(&["decode", trace.to_str().unwrap()], ""));
+    assert_eq!(text.len(), 2 * once.len(), "both files decoded");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn write_takes_the_unit_as_its_own_argument() {
+    let out = drivescript(&["write", "speed_setpoint", "6000", "rpm"], "");
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    assert!(
+        stdout(&out).contains("speed_setpoint = 6000 rpm written"),
+        "{}",
+        stdout(&out)
+    );
+}
+
+#[test]
+fn colour_follows_the_color_option_and_is_off_in_pipes() {
+    let run = |extra: &[&str]| {
+        let mut args = vec!["run", "recipes/identity.yaml", "--fast"];
+        args.extend_from_slice(extra);
+        stdout(&drivescript(&args, ""))
+    };
+    assert!(!run(&[]).contains('\x1b'), "a pipe gets no escape codes");
+    let always = run(&["--color", "always"]);
+    assert!(always.contains("\x1b[32mPASSED\x1b[0m"), "{always}");
+    assert!(!run(&["--color", "never"]).contains('\x1b'));
+}
+
+#[test]
+fn help_shows_examples_and_exit_codes_and_version_the_build() {
+    let help = stdout(&drivescript(&["--help"], ""));
+    assert!(help.contains("Examples:"), "{help}");
+    assert!(
+        help.contains("drivescript write speed_setpoint 6000 rpm"),
+        "{help}"
+    );
+    assert!(help.contains("Exit codes:"), "{help}");
+    assert!(help.contains("3  communication failure"), "{help}");
+    let version = stdout(&drivescript(&["--version"], ""));
+    assert!(version.starts_with("drivescript 0."), "{version}");
+    assert!(version.contains("(commit "), "{version}");
+    assert!(version.contains(", built 20"), "{version}");
+}
+
+#[test]
+fn a_file_that_is_no_serial_port_is_said_plainly() {
+    let out = drivescript(&["state", "--port", "/dev/null"], "");
+    assert_ne!(out.status.code(), Some(0));
+    let err = stderr(&out);
+    assert!(err.contains("/dev/null: it is not a serial port"), "{err}");
+    assert!(!err.contains("typewriter"), "{err}");
+}
+
+#[test]
+fn a_windows_1252_recipe_is_said_plainly() {
+    let dir = temp_dir("cp1252");
+    let path = dir.join("prüfung.yaml");
+    std::fs::write(&path, b"name: Pr\xfcfung\ndrive: sd2\nsteps:\n  - shutdown\n").unwrap();
+    let out = drivescript(&["check", path.to_str().unwrap()], "");
+    assert_eq!(out.status.code(), Some(2));
+    let err = stderr(&out);
+    assert!(err.contains("is not UTF-8 text"), "{err}");
+    assert!(err.contains("Windows-1252"), "{err}");
+    assert!(!err.contains("check the path"), "{err}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// A drive at another address never answers: one early message naming the address as
+/// typed and the three likely causes, exit code 3, nothing run, reports written.
+#[test]
+fn a_drive_that_never_answers_gets_one_early_message() {
+    let sim = crate::end_to_end::Simulator::start(&["--tcp", "127.0.0.1:0"]);
+    let dir = temp_dir("silent");
+    let junit = dir.join("junit.xml");
+    let out = drivescript(
+        &[
+            "run",
+            "recipes/identity.yaml",
+            "--tcp",
+            &sim.endpoint,
+            "--address",
+            "1",
+            "--timeout",
+            "50ms",
+            "--retries",
+            "0",
+            "--junit",
+            junit.to_str().unwrap(),
+        ],
+        "",
+    );
+    assert_eq!(out.status.code(), Some(3), "{}", stdout(&out));
+    let err = stderr(&out);
+    assert!(err.contains("the drive does not answer (--address 1,"), "{err}");
+    assert_eq!(err.matches("no reply from").count(), 1, "said once: {err}");
+    for cause in [
+        "1. the address: you gave --address 1",
+        "2. the baud rate",
+        "3. the line",
+    ] {
+        assert!(err.contains(cause), "{cause}: {err}");
+    }
+    assert!(
+        !stdout(&out).contains("     1  "),
+        "no step ran: {}",
+        stdout(&out)
+    );
+    let xml = std::fs::read_to_string(&junit).expect("junit");
+    assert!(xml.contains("the drive does not answer"), "{xml}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// `--csv-wide`: one column per object in `--csv` and in the `csv:` files of sample steps,
+/// with the same time, UTC and iteration-aware step columns as the long layout.
+#[test]
+fn csv_wide_gives_one_column_per_object_everywhere() {
+    let dir = temp_dir("wide");
+    let out = drivescript(
+        &[
+            "run",
+            "recipes/spindle-run-in.yaml",
+            "--fast",
+            "--output-dir",
+            dir.to_str().unwrap(),
+            "--csv",
+            "all.csv",
+            "--csv-wide",
+        ],
+        "",
+    );
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    for name in ["all.csv", "run-in-stage-2.csv"] {
+        let mut reader = csv::Reader::from_path(dir.join(name)).expect(name);
+        assert_eq!(
+            reader.headers().unwrap(),
+            &csv::StringRecord::from(vec![
+                "time [s]",
+                "utc",
+                "step",
+                "speed_actual [rpm]",
+                "current_actual [A]"
+            ]),
+            "{name}"
+        );
+        let rows: Vec<csv::StringRecord> = reader.records().map(Result::unwrap).collect();
+        assert!(rows
+            .iter()
+            .all(|r| r.len() == 5 && humantime::parse_rfc3339(&r[1]).is_ok()));
+        if name == "run-in-stage-2.csv" {
+            assert_eq!(rows.len(), 2 * 901);
+            assert_eq!((&rows[0][2], &rows[901][2]), ("8[1].3", "8[2].3"));
+        }
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
