@@ -3,6 +3,7 @@
 //! Nothing outside this folder names a family.
 
 mod family;
+pub mod lenze_9400;
 mod registry;
 pub mod sd2;
 
