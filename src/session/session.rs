@@ -252,6 +252,10 @@ impl<'a> Session<'a> {
             return Ok(());
         }
         self.last_fault_check = t;
+        if self.drive.profile().is_err() {
+            // Without a device-control profile there is no state to watch.
+            return Ok(());
+        }
         let state = self.drive.state()?;
         let faulted = matches!(state, DeviceState::Fault | DeviceState::FaultReactionActive);
         let entered = faulted && !self.known_fault;

@@ -10,6 +10,7 @@ mod decode_cli;
 mod drive_sim;
 mod end_to_end;
 mod examples;
+mod lenze_9400;
 mod loader_limits;
 mod outputs;
 mod recipe_cases;

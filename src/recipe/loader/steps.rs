@@ -70,6 +70,9 @@ impl Loader<'_, '_> {
         match &node.value {
             YamlValue::Str(word) => {
                 if let Some(cmd) = DeviceCommand::from_id(word) {
+                    if !self.has_profile(&node.span, word) {
+                        return None;
+                    }
                     return Some(Step {
                         kind: StepKind::Command(cmd),
                         origin,
@@ -169,9 +172,30 @@ impl Loader<'_, '_> {
         self.problem(span, format!("unknown step `{word}`"), "unknown step", Some(help));
     }
 
+    /// Device commands and states need the dictionary's device-control profile; without
+    /// one the step is refused here rather than failing after the run started.
+    fn has_profile(&mut self, span: &Span, what: &str) -> bool {
+        if self.dict.profile().is_some() {
+            return true;
+        }
+        self.problem(
+            span,
+            format!(
+                "`{what}` needs device control, and the {} dictionary has no device-control profile",
+                self.dict.family()
+            ),
+            "no device control",
+            Some("read, set, wait for and sample objects instead; device commands and states exist only where the dictionary maps them".into()),
+        );
+        false
+    }
+
     /// A device state named by `node`, the value of `what`.
     fn state(&mut self, node: &YamlNode, what: &str) -> Option<DeviceState> {
         let text = self.text(node, what)?;
+        if !self.has_profile(&node.span, text.trim()) {
+            return None;
+        }
         match DeviceState::from_id(text.trim()) {
             Some(s) => Some(s),
             None => {

@@ -105,7 +105,9 @@ impl Loader<'_, '_> {
 
     fn drive_family(&mut self, node: &YamlNode) -> String {
         let family = self.r.scalar_text(node, "`drive`").unwrap_or_default();
-        if family != self.dict.family() {
+        // `drive:` may name the family (`lenze_9400`) or its dictionary as `--drive` does
+        // (`lenze-9400`): family ids are identifiers, dictionary names use hyphens.
+        if family.replace('-', "_") != self.dict.family() {
             self.problem(
                 &node.span,
                 format!(

@@ -1,0 +1,183 @@
+//! The Lenze 9400 family end to end in-process: the golden SDO frames of the 9400 manuals
+//! through the explainer, the shipped recipe on the simulated node, and the endings of a
+//! run on a dictionary without a device-control profile: a stop signal, a lost adapter
+//! that comes back, one that does not, and one lost in the middle of a segmented transfer.
+
+use crate::support::{load_frame_vectors, repo_root, InProcessRun};
+use drivescript::bus::CanFrame;
+use drivescript::cli::{DictionaryArgs, PrepareSimulator};
+use drivescript::clock::SharedClock;
+use drivescript::dictionary::Dictionary;
+use drivescript::family::{Family, Registry};
+use drivescript::sim::SimulatedDrive;
+use drivescript::stop_request::{StopRequests, StopSignal};
+use std::path::PathBuf;
+use std::sync::{Arc, Mutex};
+use std::time::Duration;
+
+fn lenze() -> DictionaryArgs {
+    DictionaryArgs {
+        family: "lenze-9400".into(),
+        extra: Vec::new(),
+        limits: None,
+    }
+}
+
+fn recipe(name: &str, text: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("drivescript-lenze-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("scratch dir");
+    let path = dir.join("recipe.yaml");
+    std::fs::write(&path, text).expect("recipe written");
+    path
+}
+
+#[test]
+fn the_copy_matches_the_shared_vectors() {
+    let shared = repo_root().join("../shared/vectors/lenze-9400-sdo.yaml");
+    if shared.exists() {
+        let copy = std::fs::read_to_string(repo_root().join("tests/vectors/lenze-9400-sdo.yaml")).unwrap();
+        assert_eq!(copy, std::fs::read_to_string(shared).unwrap());
+    }
+}
+
+#[test]
+fn every_golden_frame_explains_to_its_vector() {
+    let vectors = load_frame_vectors(&repo_root().join("tests/vectors/lenze-9400-sdo.yaml"));
+    assert_eq!(vectors.len(), 9);
+    let registry = Registry::builtin();
+    let family = registry.family("lenze_9400").unwrap();
+    let dictionary = Arc::new(registry.load_dictionary("lenze-9400").unwrap());
+    for v in &vectors {
+        let frame = CanFrame::parse_text(&format!("{} {}", v.id, v.data)).unwrap();
+        let mut explainer = family.explainer(dictionary.clone());
+        let (json, valid) = explainer.json(&frame.to_bytes());
+        assert!(valid, "{}: {json}", v.name);
+        assert_eq!(json, v.frame, "{}", v.name);
+    }
+}
+
+#[test]
+fn the_printed_write_example_is_explained_as_what_it_really_sends() {
+    let registry = Registry::builtin();
+    let family = registry.family("lenze_9400").unwrap();
+    let dictionary: Arc<Dictionary> = Arc::new(registry.load_dictionary("lenze-9400").unwrap());
+    let mut explainer = family.explainer(dictionary);
+    let printed = CanFrame::parse_text("602#23A75F0066000300").unwrap();
+    let text = explainer.explain(&printed.to_bytes()).unwrap();
+    assert!(text.contains("C00088 rated_motor_current"), "{text}");
+    // 0x00030066 = 196710 counts = 19671 A: not the 10.2 A the manual's text means.
+    assert!(text.contains("196710 = 19671 A"), "{text}");
+    let corrected = CanFrame::parse_text("602#23A75F0066000000").unwrap();
+    let text = explainer.explain(&corrected.to_bytes()).unwrap();
+    assert!(text.contains("102 = 10.2 A"), "{text}");
+}
+
+#[test]
+fn the_shipped_recipe_passes_on_the_simulated_node_and_says_there_is_no_device_control() {
+    let mut run = InProcessRun::new(repo_root().join("recipes/lenze-9400-identity.yaml"));
+    run.dictionary = lenze();
+    let (result, output) = run.run();
+    assert_eq!(result.exit_code, 0, "{output}");
+    assert!(output.contains(r#"ident = "05.00.12.07""#), "{output}");
+    assert!(output.contains("rated_motor_current = 10.2 A"), "{output}");
+    assert!(
+        output.contains("safe stop: the lenze_9400 dictionary has no device-control profile"),
+        "{output}"
+    );
+    assert!(!output.contains("CHECK THE DRIVE BY HAND"), "{output}");
+}
+
+const READ_FOR_A_MINUTE: &str = "name: Reading for a minute
+drive: lenze-9400
+steps:
+  - repeat:
+      for: 1 min
+      steps:
+        - read: [ident, heatsink_temperature]
+        - dwell: 1 s
+";
+
+fn with_faults(text: &str, name: &str, stop: Arc<StopRequests>, faults: &PrepareSimulator) -> (i32, String) {
+    let path = recipe(name, text);
+    let mut run = InProcessRun::new(path);
+    run.dictionary = lenze();
+    run.stop = stop;
+    run.prepare = Some(faults);
+    let (result, output) = run.run();
+    (result.exit_code, output)
+}
+
+#[test]
+fn a_stop_signal_ends_the_run_with_the_truth_about_device_control() {
+    let stop = Arc::new(StopRequests::new());
+    stop.schedule(Duration::from_millis(10_500), StopSignal::INT);
+    let nothing = |_: &Arc<Mutex<dyn SimulatedDrive>>, _: &SharedClock| {};
+    let (code, output) = with_faults(READ_FOR_A_MINUTE, "sigint", stop, &nothing);
+    assert_eq!(code, 130, "{output}");
+    assert!(output.contains("no device-control profile"), "{output}");
+    assert!(!output.contains("CHECK THE DRIVE BY HAND"), "{output}");
+    assert!(!output.contains("failed: the lenze_9400 dictionary"), "{output}");
+}
+
+#[test]
+fn an_adapter_that_comes_back_is_reopened_and_the_node_checked_by_its_identity() {
+    let down = |sim: &Arc<Mutex<dyn SimulatedDrive>>, _: &SharedClock| {
+        let mut sim = sim.lock().unwrap();
+        sim.faults()
+            .line_down(Duration::from_millis(5_500), Duration::from_millis(6_500));
+    };
+    let (code, output) = with_faults(
+        READ_FOR_A_MINUTE,
+        "comes-back",
+        Arc::new(StopRequests::new()),
+        &down,
+    );
+    assert_eq!(code, 3, "{output}");
+    assert!(output.contains("the CAN adapter went away"), "{output}");
+    assert!(
+        output.contains("restored at attempt") && output.contains("the drive answers"),
+        "{output}"
+    );
+    assert!(output.contains("no device-control profile"), "{output}");
+    assert!(!output.contains("CHECK THE DRIVE BY HAND"), "{output}");
+}
+
+#[test]
+fn an_adapter_lost_in_the_middle_of_a_segmented_read_ends_in_check_by_hand() {
+    // The identity read at the start and each loop read C00099 in three frames 100 µs
+    // apart; the adapter goes away between the initiate response and the first segment.
+    let down = |sim: &Arc<Mutex<dyn SimulatedDrive>>, clock: &SharedClock| {
+        let start = clock.now();
+        let mut sim = sim.lock().unwrap();
+        sim.faults().line_down(
+            start + Duration::from_micros(150),
+            start + Duration::from_secs(3600),
+        );
+    };
+    let (code, output) = with_faults(
+        READ_FOR_A_MINUTE,
+        "mid-transfer",
+        Arc::new(StopRequests::new()),
+        &down,
+    );
+    assert_eq!(code, 3, "{output}");
+    assert!(output.contains("the CAN adapter went away"), "{output}");
+    assert!(output.contains("CHECK THE DRIVE BY HAND"), "{output}");
+    assert!(output.contains("could not be reached to stop it"), "{output}");
+}
+
+#[test]
+fn the_family_reads_codes_in_dictionaries() {
+    let registry = Registry::builtin();
+    let family = registry.family("lenze_9400").unwrap();
+    let parse = family.address_parser();
+    assert_eq!(
+        parse("C00002/16"),
+        Ok(drivescript::dictionary::Address::indexed(0x5FFD, 16))
+    );
+    let d = registry.load_dictionary("lenze-9400").unwrap();
+    let current = d.get("rated_motor_current").unwrap();
+    assert_eq!(current.scale, 0.1, "factor 10 is 0.1 A per count");
+    let _: &dyn Family = family.as_ref();
+}
