@@ -181,3 +181,142 @@ fn the_family_reads_codes_in_dictionaries() {
     assert_eq!(current.scale, 0.1, "factor 10 is 0.1 A per count");
     let _: &dyn Family = family.as_ref();
 }
+
+/// A `drivescript simulate … --slcan-pty` in the background, stopped when dropped.
+#[cfg(unix)]
+struct SlcanSimulator {
+    child: std::process::Child,
+    path: String,
+}
+
+#[cfg(unix)]
+impl SlcanSimulator {
+    fn start(node: &str) -> SlcanSimulator {
+        use std::io::BufRead;
+        let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_drivescript"))
+            .args([
+                "simulate",
+                "--drive",
+                "lenze-9400",
+                "--address",
+                node,
+                "--slcan-pty",
+            ])
+            .stdout(std::process::Stdio::piped())
+            .stderr(std::process::Stdio::null())
+            .spawn()
+            .expect("simulate starts");
+        let out = child.stdout.take().expect("stdout is piped");
+        let mut line = String::new();
+        std::io::BufReader::new(out)
+            .read_line(&mut line)
+            .expect("simulate prints the pty path");
+        SlcanSimulator {
+            child,
+            path: line.trim().to_string(),
+        }
+    }
+}
+
+#[cfg(unix)]
+impl Drop for SlcanSimulator {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+#[cfg(unix)]
+#[test]
+fn an_slcan_pseudo_terminal_serves_the_simulated_node() {
+    use crate::support::{drivescript, stderr, stdout};
+    let sim = SlcanSimulator::start("12");
+    assert!(sim.path.starts_with("/dev/"), "path {:?}", sim.path);
+    let can = format!("slcan:{}", sim.path);
+    let with = |args: &[&str]| {
+        let mut all = args.to_vec();
+        all.extend([
+            "--drive",
+            "lenze-9400",
+            "--address",
+            "12",
+            "--can",
+            &can,
+            "--timeout",
+            "300ms",
+        ]);
+        drivescript(&all, "")
+    };
+
+    let out = with(&[
+        "read",
+        "ident",
+        "heatsink_temperature",
+        "rated_motor_current",
+        "--json",
+    ]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    let json: serde_json::Value = serde_json::from_str(stdout(&out).trim()).expect("json");
+    assert_eq!(json[0]["value"], "05.00.12.07");
+    assert_eq!(json[1]["value"], 43.0);
+    assert_eq!(json[2]["value"], 10.2);
+    assert_eq!(json[2]["unit"], "A");
+
+    // A raw code with its type; the node keeps it between connections.
+    let out = with(&["write", "C00011", "3000", "--type", "i32"]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    let out = with(&["read", "C00011", "--json"]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    assert!(stdout(&out).contains("3000"), "{}", stdout(&out));
+
+    // An unknown code: the node's abort, named.
+    let out = with(&["read", "C00999"]);
+    assert_eq!(out.status.code(), Some(3), "{}", stdout(&out));
+    let err = stderr(&out);
+    assert!(
+        err.contains("C00999") && err.contains("0x06020000 object does not exist in the object dictionary"),
+        "{err}"
+    );
+
+    // Another node on the same bus stays silent: a clear no-reply error.
+    let out = drivescript(
+        &[
+            "read",
+            "ident",
+            "--drive",
+            "lenze-9400",
+            "--address",
+            "13",
+            "--can",
+            &can,
+            "--timeout",
+            "100ms",
+            "--retries",
+            "0",
+        ],
+        "",
+    );
+    assert_eq!(out.status.code(), Some(3));
+    assert!(
+        stderr(&out).contains("no reply from drive node 13"),
+        "{}",
+        stderr(&out)
+    );
+
+    // A recipe through the adapter.
+    let out = drivescript(
+        &[
+            "run",
+            "recipes/lenze-9400-identity.yaml",
+            "--drive",
+            "lenze-9400",
+            "--address",
+            "12",
+            "--can",
+            &can,
+        ],
+        "",
+    );
+    assert_eq!(out.status.code(), Some(0), "{}{}", stdout(&out), stderr(&out));
+    assert!(stdout(&out).contains("PASSED"), "{}", stdout(&out));
+}

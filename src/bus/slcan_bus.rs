@@ -1,0 +1,182 @@
+//! A CAN bus through an SLCAN (Lawicel) adapter on any byte transport: a USB-serial
+//! adapter, or a pseudo-terminal with the simulated adapter behind it. Opening closes the
+//! channel (in case a previous program left it open), sets the bit rate and opens it;
+//! frames go out as `t…` lines and come back as events of [`SlcanReader`], with the
+//! adapter's acknowledgements passed over and its refusals (BELL) reported. Knows nothing
+//! about what the frames mean.
+
+use super::slcan_codec::{bitrate_command, encode_frame, SlcanEvent, SlcanReader, BITRATES};
+use super::{CanFrame, FrameBus, Transport, TransportError};
+use std::collections::VecDeque;
+use std::time::{Duration, Instant};
+
+/// How long the adapter may take to acknowledge a setup command.
+const SETUP_TIMEOUT: Duration = Duration::from_secs(1);
+/// Frames kept while the link is not reading (a busy bus between two transfers); the
+/// oldest go first.
+const QUEUE_MAX: usize = 1024;
+
+pub struct SlcanBus {
+    transport: Box<dyn Transport>,
+    reader: SlcanReader,
+    name: String,
+    bitrate: u32,
+    frames: VecDeque<CanFrame>,
+    /// The adapter refused something since the last frame was sent.
+    refused: bool,
+    buf: [u8; 256],
+}
+
+impl SlcanBus {
+    /// Opens the CAN channel on `transport` at `bitrate` bit/s.
+    pub fn open(transport: Box<dyn Transport>, bitrate: u32) -> Result<SlcanBus, TransportError> {
+        let name = format!("{}, SLCAN at {} kbit/s", transport.name(), bitrate / 1000);
+        let mut bus = SlcanBus {
+            transport,
+            reader: SlcanReader::new(),
+            name,
+            bitrate,
+            frames: VecDeque::new(),
+            refused: false,
+            buf: [0; 256],
+        };
+        bus.start()?;
+        Ok(bus)
+    }
+
+    /// `C`, `Sn`, `O`: closing may be refused (the channel was closed), the others not.
+    fn start(&mut self) -> Result<(), TransportError> {
+        let rate = bitrate_command(self.bitrate).ok_or_else(|| TransportError::Open {
+            port: self.name.clone(),
+            detail: format!(
+                "SLCAN adapters know the bit rates {BITRATES}, not {} bit/s",
+                self.bitrate
+            ),
+        })?;
+        self.transport.discard_input()?;
+        self.reader.clear();
+        self.frames.clear();
+        self.command("C", true)?;
+        self.command(rate, false)?;
+        self.command("O", false)?;
+        Ok(())
+    }
+
+    /// Sends a setup command and waits for its acknowledgement. Frames arriving meanwhile
+    /// are kept. `may_refuse`: a BELL is an answer too.
+    fn command(&mut self, command: &str, may_refuse: bool) -> Result<(), TransportError> {
+        self.transport.write_all(format!("{command}\r").as_bytes())?;
+        let deadline = Instant::now() + SETUP_TIMEOUT;
+        loop {
+            let now = Instant::now();
+            if now >= deadline {
+                return Err(TransportError::Open {
+                    port: self.name.clone(),
+                    detail: format!(
+                        "the adapter did not acknowledge `{command}` within {} ms; is it an SLCAN (Lawicel) adapter, and is nothing else using it?",
+                        SETUP_TIMEOUT.as_millis()
+                    ),
+                });
+            }
+            let n = match self.transport.read(&mut self.buf, deadline - now) {
+                Ok(n) => n,
+                Err(TransportError::Timeout { .. }) => continue,
+                Err(e) => return Err(e),
+            };
+            let bytes = self.buf[..n].to_vec();
+            for event in self.reader.push(&bytes) {
+                match event {
+                    SlcanEvent::Ack => return Ok(()),
+                    SlcanEvent::Refused if may_refuse => return Ok(()),
+                    SlcanEvent::Refused => {
+                        return Err(TransportError::Open {
+                            port: self.name.clone(),
+                            detail: format!("the adapter refused `{command}` (it answered BELL)"),
+                        })
+                    }
+                    SlcanEvent::Frame(f) => self.keep(f),
+                    SlcanEvent::Remote | SlcanEvent::Other(_) => {}
+                }
+            }
+        }
+    }
+
+    fn keep(&mut self, frame: CanFrame) {
+        if self.frames.len() >= QUEUE_MAX {
+            self.frames.pop_front();
+        }
+        self.frames.push_back(frame);
+    }
+
+    fn refusal(&self) -> TransportError {
+        TransportError::Io {
+            port: self.name.clone(),
+            detail: "the adapter refused to transmit (it answered BELL); check the bit rate, the termination and whether the adapter is bus-off".into(),
+        }
+    }
+}
+
+impl FrameBus for SlcanBus {
+    fn name(&self) -> &str {
+        &self.name
+    }
+
+    fn send(&mut self, frame: &CanFrame) -> Result<(), TransportError> {
+        self.refused = false;
+        self.transport.write_all(&encode_frame(frame))
+    }
+
+    fn receive(&mut self, timeout: Duration) -> Result<CanFrame, TransportError> {
+        let deadline = Instant::now() + timeout;
+        loop {
+            if let Some(f) = self.frames.pop_front() {
+                return Ok(f);
+            }
+            let now = Instant::now();
+            if now >= deadline && !timeout.is_zero() {
+                if self.refused {
+                    return Err(self.refusal());
+                }
+                return Err(TransportError::Timeout {
+                    port: self.name.clone(),
+                    waited: timeout,
+                });
+            }
+            // A zero timeout only takes what is already there.
+            let wait = deadline
+                .saturating_duration_since(now)
+                .max(Duration::from_micros(1));
+            let n = match self.transport.read(&mut self.buf, wait) {
+                Ok(n) => n,
+                Err(TransportError::Timeout { .. }) if timeout.is_zero() => {
+                    return Err(TransportError::Timeout {
+                        port: self.name.clone(),
+                        waited: timeout,
+                    })
+                }
+                Err(TransportError::Timeout { .. }) => continue,
+                Err(e) => return Err(e),
+            };
+            let bytes = self.buf[..n].to_vec();
+            for event in self.reader.push(&bytes) {
+                match event {
+                    SlcanEvent::Frame(f) => self.keep(f),
+                    SlcanEvent::Refused => self.refused = true,
+                    SlcanEvent::Ack | SlcanEvent::Remote | SlcanEvent::Other(_) => {}
+                }
+            }
+        }
+    }
+
+    fn reopen(&mut self) -> Result<(), TransportError> {
+        self.transport.reopen()?;
+        self.start()
+    }
+}
+
+impl Drop for SlcanBus {
+    /// Closes the channel so the adapter is left as it was found.
+    fn drop(&mut self) {
+        let _ = self.transport.write_all(b"C\r");
+    }
+}
