@@ -11,6 +11,8 @@ use std::io::{BufRead, Write};
 /// Explain captured telegrams: direction, addresses, command, object, data, error text,
 /// control and status word bits. Hex as `00 0b 02 ...`, `000b02...` or `0x00 0x0b ...`;
 /// one telegram per argument, or per line on standard input when no argument is given.
+/// CAN families (--protocol lenze-9400) take frames as candump writes them
+/// (`60C#409C5F0000000000`, or a candump log line) or as `ID data…`.
 pub struct DecodeArgs {
     /// The drive family whose protocol the telegrams are in (default: the family of the
     /// --drive dictionary).
@@ -42,8 +44,12 @@ pub fn run(args: &DecodeArgs) -> i32 {
             }
         }
         out
-    } else if args.hex.len() > 1 && args.hex.iter().all(|a| is_single_byte(a)) {
-        // `decode 00 0b 02 ...` without quotes: the shell split one telegram into bytes.
+    } else if args.hex.len() > 1
+        && (is_single_byte(&args.hex[0]) || is_can_id(&args.hex[0]))
+        && args.hex.iter().skip(1).all(|a| is_single_byte(a))
+    {
+        // `decode 00 0b 02 ...` (or `decode 60C 40 9C ...`) without quotes: the shell
+        // split one telegram into bytes.
         vec![("the arguments".to_string(), args.hex.join(" "))]
     } else {
         args.hex
@@ -52,7 +58,7 @@ pub fn run(args: &DecodeArgs) -> i32 {
             .map(|(i, h)| (format!("argument {}", i + 1), h.clone()))
             .collect()
     };
-    let names = match args.dictionary.load() {
+    let mut names = match args.dictionary.load() {
         Ok(d) => d,
         Err(text) => {
             eprint!("{text}");
@@ -60,19 +66,71 @@ pub fn run(args: &DecodeArgs) -> i32 {
         }
     };
     let registry = Registry::builtin();
-    let family = match registry.family(args.protocol.as_deref().unwrap_or(names.family())) {
+    let protocol = args.protocol.as_deref().unwrap_or(names.family());
+    // --protocol names a family (`lenze_9400`) or, as --drive does, its dictionary (`lenze-9400`).
+    let family = match registry
+        .family(protocol)
+        .or_else(|e| registry.dictionary(protocol).map(|(f, _)| f).map_err(|_| e))
+    {
         Ok(f) => f,
         Err(e) => {
             eprintln!("error: {e}");
             return INVALID;
         }
     };
+    if family.id() != names.family() {
+        // The object names come from the protocol's own dictionary, not the default one.
+        if let Some(builtin) = family.dictionaries().first() {
+            match registry.load_dictionary(builtin.name) {
+                Ok(d) => names = std::sync::Arc::new(d),
+                Err(e) => {
+                    eprint!("{}", super::render_diagnostic(&e));
+                    return INVALID;
+                }
+            }
+        }
+    }
+    let frames = family.bus_kind() == crate::bus::BusKind::Frames;
     let mut explainer = family.explainer(names);
     let stdout = std::io::stdout();
     let mut out = stdout.lock();
     let mut code = PASSED;
     for (place, line) in &lines {
         let mut text = line.trim();
+        if frames {
+            // CAN frames: candump's `ID#DATA`, a candump log line, or `ID data…`; a
+            // meaning after `  # ` (a `-v` trace line) is dropped.
+            let frame_text = text.split_once(" #").map_or(text, |(f, _)| f).trim();
+            if frame_text.is_empty() || frame_text.starts_with('#') {
+                continue;
+            }
+            let frame = match crate::bus::CanFrame::parse_text(frame_text) {
+                Ok(f) => f,
+                Err(e) => {
+                    eprintln!("error: {place}: {e}");
+                    code = INVALID;
+                    continue;
+                }
+            };
+            let bytes = frame.to_bytes();
+            let (written, valid) = if args.json {
+                let (json, valid) = explainer.json(&bytes);
+                (writeln!(out, "{json}"), valid)
+            } else {
+                let (body, valid) = match explainer.explain(&bytes) {
+                    Ok(text) => (text, true),
+                    Err(e) => (format!("  rejected: {e}\n"), false),
+                };
+                (writeln!(out, "{}\n{body}", frame.to_candump()), valid)
+            };
+            if !valid && code == PASSED {
+                code = FAILED;
+            }
+            if written.is_err() {
+                return code;
+            }
+            continue;
+        }
         // A line of a `--trace` file: only its telegram's hex counts.
         if crate::report::is_trace_line(text) {
             match crate::report::hex_of_trace_line(text) {
@@ -119,4 +177,9 @@ fn is_single_byte(arg: &str) -> bool {
         .or_else(|| arg.strip_prefix("0X"))
         .unwrap_or(arg);
     (1..=2).contains(&digits.len()) && digits.chars().all(|c| c.is_ascii_hexdigit())
+}
+
+/// `60C`, `18FF0001`: a CAN identifier as candump writes it (3 or 8 hex digits).
+fn is_can_id(arg: &str) -> bool {
+    matches!(arg.len(), 3 | 8) && arg.chars().all(|c| c.is_ascii_hexdigit())
 }

@@ -320,3 +320,93 @@ fn an_slcan_pseudo_terminal_serves_the_simulated_node() {
     assert_eq!(out.status.code(), Some(0), "{}{}", stdout(&out), stderr(&out));
     assert!(stdout(&out).contains("PASSED"), "{}", stdout(&out));
 }
+
+#[test]
+fn decode_reads_candump_frames_and_gives_the_vectors_json() {
+    use crate::support::{drivescript, stdout};
+    let vectors = load_frame_vectors(&repo_root().join("tests/vectors/lenze-9400-sdo.yaml"));
+    let input: String = vectors
+        .iter()
+        .map(|v| format!("{}#{}\n", v.id, v.data.replace(' ', "")))
+        .collect();
+    let out = drivescript(&["decode", "--protocol", "lenze-9400", "--json"], &input);
+    assert_eq!(out.status.code(), Some(0), "{}", stdout(&out));
+    let lines: Vec<serde_json::Value> = stdout(&out)
+        .lines()
+        .map(|l| serde_json::from_str(l).expect("json"))
+        .collect();
+    assert_eq!(lines.len(), vectors.len());
+    for (got, v) in lines.iter().zip(&vectors) {
+        assert_eq!(got, &v.frame, "{}", v.name);
+    }
+    // Unquoted, as the shell splits `ID data…`; and a frame that is no SDO.
+    let out = drivescript(
+        &[
+            "decode",
+            "--protocol",
+            "lenze-9400",
+            "605",
+            "40",
+            "c2",
+            "5f",
+            "00",
+            "00",
+            "00",
+            "00",
+            "00",
+        ],
+        "",
+    );
+    assert_eq!(out.status.code(), Some(0));
+    assert!(
+        stdout(&out).contains("C00061 heatsink_temperature"),
+        "{}",
+        stdout(&out)
+    );
+    let out = drivescript(&["decode", "--protocol", "lenze-9400", "123#00"], "");
+    assert_eq!(out.status.code(), Some(1));
+    assert!(stdout(&out).contains("not an SDO channel"), "{}", stdout(&out));
+}
+
+#[test]
+fn a_trace_is_a_candump_log_that_decode_explains_again() {
+    use crate::support::{drivescript, stdout};
+    let dir = std::env::temp_dir().join(format!("drivescript-lenze-trace-{}", std::process::id()));
+    let trace = dir.join("run.log");
+    let out = drivescript(
+        &[
+            "run",
+            "recipes/lenze-9400-identity.yaml",
+            "--drive",
+            "lenze-9400",
+            "--fast",
+            "--trace",
+            trace.to_str().unwrap(),
+        ],
+        "",
+    );
+    assert_eq!(out.status.code(), Some(0), "{}", stdout(&out));
+    let text = std::fs::read_to_string(&trace).unwrap();
+    let frames: Vec<&str> = text.lines().filter(|l| !l.starts_with('#')).collect();
+    assert!(frames.len() >= 6, "{text}");
+    // Exactly candump -l's shape: (seconds.micros) interface ID#DATA.
+    for line in &frames {
+        let parts: Vec<&str> = line.split(' ').collect();
+        assert_eq!(parts.len(), 3, "{line}");
+        assert!(
+            parts[0].starts_with('(') && parts[0].ends_with(')') && parts[0].len() == 19,
+            "{line}"
+        );
+        assert_eq!(parts[1], "can0");
+        assert!(CanFrame::parse_text(parts[2]).is_ok(), "{line}");
+    }
+    assert_eq!(frames[0], "(0000000000.000000) can0 601#409C5F0000000000");
+    let out = drivescript(&["decode", "--protocol", "lenze-9400"], &text);
+    assert_eq!(out.status.code(), Some(0), "{}", stdout(&out));
+    assert!(
+        stdout(&out).contains("reply C00099 ident: segmented, 11 bytes"),
+        "{}",
+        stdout(&out)
+    );
+    let _ = std::fs::remove_dir_all(dir);
+}
