@@ -35,7 +35,9 @@ impl SocketCanBus {
             },
             _ => TransportError::Open {
                 port: interface.to_string(),
-                detail: format!("{e}; is it a CAN interface, and is it up?"),
+                detail: format!(
+                    "{e}; `ip link show` lists the CAN interfaces (bring one up with `ip link set can0 up type can bitrate 500000`)"
+                ),
             },
         })
     }
@@ -104,5 +106,20 @@ impl FrameBus for SocketCanBus {
     fn reopen(&mut self) -> Result<(), TransportError> {
         self.socket = Self::socket(&self.interface)?;
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_missing_interface_is_named_with_what_to_do() {
+        let e = SocketCanBus::open("nosuchcan7")
+            .err()
+            .expect("no such interface here");
+        let text = e.to_string();
+        assert!(text.contains("nosuchcan7"), "{text}");
+        assert!(text.contains("ip link"), "{text}");
     }
 }

@@ -16,6 +16,7 @@ mod outputs;
 mod recipe_cases;
 mod reports;
 mod safety;
+mod socketcan;
 mod support;
 mod text_family;
 mod vectors;
