@@ -18,7 +18,7 @@ use std::time::Duration;
 const CONNECT_TIMEOUT: Duration = Duration::from_secs(5);
 
 #[derive(Debug, Clone, Args)]
-#[command(next_help_heading = "Connection (without --port or --tcp: the built-in simulated drive)")]
+#[command(next_help_heading = "Connection (without --port, --tcp or --can: the built-in simulated drive)")]
 pub struct ConnectionArgs {
     /// Serial port the drive is on (/dev/ttyUSB0, /dev/serial/by-id/…, COM3).
     #[arg(long, value_name = "PATH", conflicts_with = "tcp")]
@@ -40,7 +40,7 @@ pub struct ConnectionArgs {
     pub bitrate: u32,
     /// The drive's address in its family's notation. SD2: the address switch position
     /// (`0`, the default), `3B` for drive B of a double-axis device, or `dnc:N` for a raw
-    /// DNC address.
+    /// DNC address. Lenze 9400: the CANopen node address 1..127 (C00350; default 1).
     #[arg(long, value_name = "ADDRESS")]
     pub address: Option<String>,
     /// How long to wait for each reply (the SD2 vendor's PC tool uses 1 s).
@@ -156,6 +156,15 @@ impl ConnectionArgs {
         })?;
         let real =
             || -> (SharedClock, Option<Arc<Mutex<dyn SimulatedDrive>>>) { (RealClock::shared(), None) };
+        if family.bus_kind() == BusKind::Frames && !self.is_simulated() && self.can.is_none() {
+            return Err(TransportError::Open {
+                port: self.port.clone().or_else(|| self.tcp.clone()).unwrap_or_default(),
+                detail: format!(
+                    "the {} family talks CAN frames, not a byte stream; give --can slcan:PATH (an SLCAN adapter) or --can socketcan:IF",
+                    family.id()
+                ),
+            });
+        }
         if let Some(can) = &self.can {
             let bus = self.open_can(family, can)?;
             let description = format!("{} on {}", address.shown, bus.name());

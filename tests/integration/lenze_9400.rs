@@ -410,3 +410,47 @@ fn a_trace_is_a_candump_log_that_decode_explains_again() {
     );
     let _ = std::fs::remove_dir_all(dir);
 }
+
+#[cfg(unix)]
+#[test]
+fn an_slcan_adapter_that_goes_away_during_a_run_ends_in_check_by_hand() {
+    use crate::support::{drivescript, stdout};
+    let path = recipe(
+        "slcan-gone",
+        "name: Reading for a while
+drive: lenze-9400
+steps:
+  - repeat:
+      for: 30 s
+      steps:
+        - read: [ident, heatsink_temperature]
+",
+    );
+    let sim = SlcanSimulator::start("12");
+    let can = format!("slcan:{}", sim.path);
+    let killer = std::thread::spawn(move || {
+        std::thread::sleep(Duration::from_millis(1500));
+        drop(sim);
+    });
+    let out = drivescript(
+        &[
+            "run",
+            path.to_str().unwrap(),
+            "--drive",
+            "lenze-9400",
+            "--address",
+            "12",
+            "--can",
+            &can,
+            "--reconnect-timeout",
+            "1s",
+        ],
+        "",
+    );
+    killer.join().unwrap();
+    let text = stdout(&out);
+    assert_eq!(out.status.code(), Some(3), "{text}");
+    assert!(text.contains("the device hung up"), "{text}");
+    assert!(text.contains("gave up reopening node 12"), "{text}");
+    assert!(text.contains("CHECK THE DRIVE BY HAND"), "{text}");
+}

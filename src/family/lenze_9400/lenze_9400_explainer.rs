@@ -378,3 +378,50 @@ impl TelegramExplainer for Lenze9400Explainer {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::family::lenze_9400::Lenze9400Family;
+    use crate::family::Family;
+
+    fn explainer() -> Lenze9400Explainer {
+        let text = Lenze9400Family.dictionaries()[0].text;
+        let d = Dictionary::from_yaml_for(
+            "dictionary/lenze-9400.yaml",
+            text,
+            Lenze9400Family.address_parser(),
+        )
+        .unwrap();
+        Lenze9400Explainer::new(Arc::new(d))
+    }
+
+    fn bytes(text: &str) -> Vec<u8> {
+        CanFrame::parse_text(text).unwrap().to_bytes()
+    }
+
+    #[test]
+    fn segments_are_read_as_the_object_of_their_transfer() {
+        let mut e = explainer();
+        let s = |e: &mut Lenze9400Explainer, t: &str| e.summary(Direction::Received, &bytes(t));
+        assert_eq!(s(&mut e, "60C#409C5F0000000000"), "read C00099 ident → node 12");
+        assert_eq!(
+            s(&mut e, "58C#419C5F000B000000"),
+            "reply C00099 ident: segmented, 11 bytes ← node 12"
+        );
+        assert_eq!(
+            s(&mut e, "58C#17322E3037000000"),
+            "upload segment, toggle 1, 4 byte(s), last of C00099 ident \"2.07\" ← node 12"
+        );
+        assert_eq!(
+            s(&mut e, "585#43C25F002B000000"),
+            "reply C00061 heatsink_temperature = 43 ← node 5"
+        );
+        assert_eq!(
+            s(&mut e, "582#80A75F0031000906"),
+            "abort C00088 rated_motor_current ← node 2: 0x06090031 value of parameter written too high"
+        );
+        assert!(s(&mut e, "700#05").starts_with("rejected: identifier 0x700"));
+        assert!(e.explain(&[1, 2]).is_err());
+    }
+}
