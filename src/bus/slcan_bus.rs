@@ -180,3 +180,62 @@ impl Drop for SlcanBus {
         let _ = self.transport.write_all(b"C\r");
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::bus::{MemoryTransport, Peer, PeerReply};
+    use crate::clock::RealClock;
+    use std::sync::{Arc, Mutex};
+
+    /// An adapter that acknowledges setup commands and answers every transmit as told.
+    struct Adapter {
+        transmit_answer: &'static [u8],
+        lines: Vec<String>,
+    }
+
+    impl Peer for Adapter {
+        fn receive(&mut self, bytes: &[u8], now: Duration) -> Vec<PeerReply> {
+            let text = String::from_utf8_lossy(bytes).into_owned();
+            self.lines.push(text.clone());
+            let bytes = if text.starts_with('t') {
+                self.transmit_answer.to_vec()
+            } else {
+                b"\r".to_vec()
+            };
+            vec![PeerReply { at: now, bytes }]
+        }
+    }
+
+    fn bus(transmit_answer: &'static [u8]) -> (SlcanBus, Arc<Mutex<Adapter>>) {
+        let adapter = Arc::new(Mutex::new(Adapter {
+            transmit_answer,
+            lines: Vec::new(),
+        }));
+        let t = MemoryTransport::new("/dev/ttyACM0", adapter.clone(), RealClock::shared());
+        (SlcanBus::open(Box::new(t), 250_000).unwrap(), adapter)
+    }
+
+    #[test]
+    fn setup_then_frames_with_acknowledgements_and_timestamps_passed_over() {
+        let (mut b, adapter) = bus(b"z\rt58C8419C5F000B0000000F3A\r");
+        assert_eq!(adapter.lock().unwrap().lines, ["C\r", "S5\r", "O\r"]);
+        b.send(&CanFrame::new(0x60C, &[0x40, 0x9C, 0x5F, 0, 0, 0, 0, 0]).unwrap())
+            .unwrap();
+        let f = b.receive(Duration::from_millis(200)).unwrap();
+        assert_eq!(f.to_candump(), "58C#419C5F000B000000");
+        assert!(b.receive(Duration::ZERO).unwrap_err().is_timeout());
+    }
+
+    #[test]
+    fn a_refused_transmit_is_an_adapter_error_not_a_silent_timeout() {
+        let (mut b, _) = bus(b"\x07");
+        b.send(&CanFrame::new(0x60C, &[0x40]).unwrap()).unwrap();
+        let e = b.receive(Duration::from_millis(30)).unwrap_err();
+        assert!(!e.is_timeout());
+        assert!(
+            e.to_string().contains("refused to transmit (it answered BELL)"),
+            "{e}"
+        );
+    }
+}

@@ -131,6 +131,20 @@ pub fn run(args: &DecodeArgs) -> i32 {
             }
             continue;
         }
+        if crate::bus::CanFrame::parse_text(text).is_ok() && (text.starts_with('(') || text.contains('#')) {
+            let can: Vec<&str> = registry
+                .families()
+                .filter(|f| f.bus_kind() == crate::bus::BusKind::Frames)
+                .flat_map(|f| f.dictionaries().iter().map(|d| d.name))
+                .collect();
+            eprintln!(
+                "error: {place}: `{text}` is a CAN frame, not a {} telegram; give --protocol {}",
+                family.id(),
+                can.join(" or --protocol ")
+            );
+            // One frame says it for the whole input.
+            return INVALID;
+        }
         // A line of a `--trace` file: only its telegram's hex counts.
         if crate::report::is_trace_line(text) {
             match crate::report::hex_of_trace_line(text) {

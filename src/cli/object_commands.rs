@@ -80,6 +80,13 @@ pub struct PortsArgs {
     json: bool,
 }
 
+/// An object's address as its family writes it (`C00099 (index 0x5F9C)`).
+fn address_text(dictionary: &Dictionary, address: &crate::dictionary::Address) -> String {
+    Registry::builtin()
+        .family(dictionary.family())
+        .map_or_else(|_| address.to_string(), |f| f.show_address(address))
+}
+
 /// The dictionary, or the exit code after printing why not.
 fn load_dictionary(args: &DictionaryArgs) -> Result<Arc<Dictionary>, i32> {
     args.load().map_err(|text| {
@@ -201,7 +208,7 @@ pub fn read(args: &ReadArgs) -> i32 {
                 d.name,
                 v.to_string(),
                 v.raw.to_string(),
-                d.address
+                address_text(open.drive.dictionary(), &d.address)
             );
         }
     }
@@ -347,7 +354,7 @@ pub fn objects(args: &ObjectsArgs) -> i32 {
             .iter()
             .map(|d| {
                 json!({
-                    "name": d.name, "aliases": d.aliases, "address": d.address.to_string(),
+                    "name": d.name, "aliases": d.aliases, "address": address_text(&dictionary, &d.address),
                     "type": d.data_type.to_string(), "unit": d.unit.map(|u| u.symbol()), "scale": d.scale,
                     "access": d.access.id(), "min": d.min, "max": d.max,
                     "bench_limit": d.bench.as_ref().map(|b| b.origin.clone()),
@@ -393,7 +400,7 @@ pub fn objects(args: &ObjectsArgs) -> i32 {
         println!(
             "{:<18} {:<9} {:<11} {:<6} {:<6} {:<22} {}{flag}",
             d.name,
-            d.address.to_string(),
+            address_text(&dictionary, &d.address),
             d.data_type.to_string(),
             d.unit.map(|u| u.symbol()).unwrap_or(""),
             d.access.id(),

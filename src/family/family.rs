@@ -5,7 +5,7 @@
 
 use crate::bus::{Bus, BusKind, FramePeer, Peer, SerialSettings};
 use crate::clock::SharedClock;
-use crate::dictionary::{AddressParser, DataType, Dictionary, ObjectDef};
+use crate::dictionary::{Address, AddressParser, DataType, Dictionary, ObjectDef};
 use crate::drive::ObjectAccess;
 use crate::link::{TelegramExplainer, TelegramObserver};
 use crate::sim::{SimConfig, SimulatedDrive};
@@ -99,5 +99,10 @@ pub trait Family: Send + Sync {
     fn raw_object(&self, text: &str, data_type: Option<DataType>) -> Option<Result<ObjectDef, String>> {
         let _ = (text, data_type);
         None
+    }
+    /// An object's address for listings, in the family's own notation where it has one
+    /// (`C00099 (index 0x5F9C)`); the default is the index and subindex.
+    fn show_address(&self, address: &Address) -> String {
+        address.to_string()
     }
 }

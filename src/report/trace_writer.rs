@@ -167,13 +167,13 @@ pub fn hex_of_trace_line(line: &str) -> Option<&str> {
     }
 }
 
-/// True for every line a trace holds: telegram lines, link events (`--`), comments (`#`)
-/// and CAN frames in candump's log format (`(0000000000.012345) can0 60C#…`).
+/// True for every line a trace of a byte family holds: telegram lines, link events (`--`)
+/// and comments (`#`). (CAN traces are candump logs, which `decode` reads as frames.)
 /// `decode` reads a trace line's hex with [`hex_of_trace_line`] and skips the others, and
 /// takes any other line as hex itself.
 pub fn is_trace_line(line: &str) -> bool {
     let line = line.trim_start();
-    if line.starts_with('#') || line.starts_with('(') {
+    if line.starts_with('#') {
         return true;
     }
     let mut tokens = line.split_whitespace();
@@ -245,6 +245,6 @@ mod tests {
             text,
             "(0000000000.000000) can0 60C#409C5F0000000000  # 12 bytes RX wrapped\n"
         );
-        assert!(is_trace_line(lines[0]) && hex_of_trace_line(lines[0]).is_none());
+        assert!(!is_trace_line(lines[0]) && hex_of_trace_line(lines[0]).is_none());
     }
 }

@@ -454,3 +454,15 @@ steps:
     assert!(text.contains("gave up reopening node 12"), "{text}");
     assert!(text.contains("CHECK THE DRIVE BY HAND"), "{text}");
 }
+
+#[test]
+fn a_can_trace_decoded_as_a_serial_protocol_says_which_protocol_to_give() {
+    use crate::support::{drivescript, stderr};
+    let out = drivescript(&["decode"], "(0000000000.000000) can0 601#409C5F0000000000\n");
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        stderr(&out).contains("is a CAN frame, not a sd2 telegram; give --protocol lenze-9400"),
+        "{}",
+        stderr(&out)
+    );
+}

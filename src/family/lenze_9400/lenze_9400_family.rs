@@ -157,6 +157,17 @@ impl Family for Lenze9400Family {
             def
         }))
     }
+
+    /// `C00099 (index 0x5F9C)`, `C00002/16 (index 0x5FFD/16)`.
+    fn show_address(&self, address: &Address) -> String {
+        let Address::Indexed { index, subindex } = *address;
+        let code = u8::try_from(subindex).ok().and_then(|s| Code::at(index, s));
+        match (code, subindex) {
+            (Some(code), 0) => format!("{code} (index 0x{index:04X})"),
+            (Some(code), sub) => format!("{code} (index 0x{index:04X}/{sub})"),
+            (None, _) => address.to_string(),
+        }
+    }
 }
 
 #[cfg(test)]
@@ -189,5 +200,13 @@ mod tests {
             (Address::indexed(0x5FF4, 0), true)
         );
         assert!(f.raw_object("C2/999", None).unwrap().is_err());
+        assert_eq!(
+            f.show_address(&Address::indexed(0x5F9C, 0)),
+            "C00099 (index 0x5F9C)"
+        );
+        assert_eq!(
+            f.show_address(&Address::indexed(0x5FFD, 16)),
+            "C00002/16 (index 0x5FFD/16)"
+        );
     }
 }
