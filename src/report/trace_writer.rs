@@ -124,6 +124,12 @@ impl<W: Write + Send> TelegramObserver for TraceWriter<W> {
     /// candump's log format, `(0000000000.012345) can0 60C#409C5F0000000000`, with the
     /// meaning after `  # ` only on a terminal.
     fn frame(&mut self, at: Duration, direction: Direction, frame: &CanFrame) {
+        if !self.candump && !self.frame_meanings {
+            self.comment(
+                "CAN frames follow in candump's log format; explain them with \
+                 `drivescript decode --protocol DRIVE < FILE` (DRIVE as given to --drive)",
+            );
+        }
         self.candump = true;
         let mut line = format!(
             "({:010}.{:06}) {TRACE_CAN_INTERFACE} {}",
@@ -236,8 +242,9 @@ mod tests {
         file.event(Duration::from_millis(115), "no response");
         let text = String::from_utf8(file.into_inner()).unwrap();
         let lines: Vec<&str> = text.lines().collect();
-        assert_eq!(lines[0], "(0000000000.012345) can0 60C#409C5F0000000000");
-        assert_eq!(lines[1], "#     0.115000 -- no response");
+        assert!(lines[0].starts_with("# CAN frames follow in candump's log format"));
+        assert_eq!(lines[1], "(0000000000.012345) can0 60C#409C5F0000000000");
+        assert_eq!(lines[2], "#     0.115000 -- no response");
         let mut terminal = TraceWriter::new(Vec::new(), Box::new(Counting));
         terminal.frame(Duration::ZERO, Direction::Received, &frame);
         let text = String::from_utf8(terminal.into_inner()).unwrap();
@@ -245,6 +252,6 @@ mod tests {
             text,
             "(0000000000.000000) can0 60C#409C5F0000000000  # 12 bytes RX wrapped\n"
         );
-        assert!(!is_trace_line(lines[0]) && hex_of_trace_line(lines[0]).is_none());
+        assert!(!is_trace_line(lines[1]) && hex_of_trace_line(lines[1]).is_none());
     }
 }

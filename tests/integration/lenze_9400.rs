@@ -466,3 +466,21 @@ fn a_can_trace_decoded_as_a_serial_protocol_says_which_protocol_to_give() {
         stderr(&out)
     );
 }
+
+#[test]
+fn the_commissioning_recipe_is_refused_for_a_drive_without_device_control() {
+    use crate::support::{drivescript, stderr};
+    let text = std::fs::read_to_string(repo_root().join("recipes/commissioning.yaml"))
+        .unwrap()
+        .replace("drive: sd2", "drive: lenze-9400");
+    let path = recipe("commissioning", &text);
+    let out = drivescript(&["check", path.to_str().unwrap(), "--drive", "lenze-9400"], "");
+    assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
+    let err = stderr(&out);
+    assert!(
+        err.contains("`operation_enabled` needs device control, and the lenze_9400 dictionary has no device-control profile"),
+        "{err}"
+    );
+    assert!(err.contains("`disable_operation` needs device control"), "{err}");
+    assert!(err.contains("nothing was sent to the drive"), "{err}");
+}
