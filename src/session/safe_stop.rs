@@ -170,9 +170,10 @@ impl Session<'_> {
     fn without_device_control(&mut self) {
         self.report.final_state = None;
         self.report.stop_confirmed = true;
+        self.report.no_device_control = true;
         self.note(format!(
-            "the {} dictionary has no device-control profile: drivescript sent no device command \
-             and has none to stop the drive with; its power stage is as its terminals or PLC left it",
+            "the {} dictionary has no device-control profile: there is no stop command to send; \
+             the drive's power stage is as its terminals or PLC left it",
             self.drive.dictionary().family()
         ));
     }

@@ -75,6 +75,7 @@ impl<'a> Session<'a> {
             coasting: false,
             stop_confirmed: false,
             disobeyed: false,
+            no_device_control: false,
             safe_stop: Vec::new(),
             omitted_steps: 0,
             omitted_checks: 0,

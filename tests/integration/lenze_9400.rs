@@ -85,6 +85,10 @@ fn the_shipped_recipe_passes_on_the_simulated_node_and_says_there_is_no_device_c
         output.contains("safe stop: the lenze_9400 dictionary has no device-control profile"),
         "{output}"
     );
+    assert!(
+        output.contains("drive state not known: the dictionary has no device-control profile"),
+        "{output}"
+    );
     assert!(!output.contains("CHECK THE DRIVE BY HAND"), "{output}");
 }
 
@@ -165,6 +169,7 @@ fn an_adapter_lost_in_the_middle_of_a_segmented_read_ends_in_check_by_hand() {
     assert!(output.contains("the CAN adapter went away"), "{output}");
     assert!(output.contains("CHECK THE DRIVE BY HAND"), "{output}");
     assert!(output.contains("could not be reached to stop it"), "{output}");
+    assert!(output.contains("drive left in an unknown state"), "{output}");
 }
 
 #[test]
