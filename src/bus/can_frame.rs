@@ -98,13 +98,11 @@ impl CanFrame {
     pub fn parse_text(text: &str) -> Result<CanFrame, String> {
         let mut t = text.trim();
         if t.starts_with('(') {
-            // A candump log line: the timestamp and the interface name come first.
-            let mut parts = t.splitn(3, char::is_whitespace);
-            let _time = parts.next();
-            let _interface = parts.next();
-            t = parts
-                .next()
-                .map(str::trim)
+            // A candump log line: the timestamp and the interface name come first;
+            // anything after the frame is not read.
+            t = t
+                .split_whitespace()
+                .nth(2)
                 .ok_or_else(|| format!("`{text}`: a candump log line is `(TIME) INTERFACE ID#DATA`"))?;
         }
         let (id_text, data_text) = match t.split_once('#') {
@@ -164,6 +162,7 @@ mod tests {
             "60C#409C5F0000000000",
             "60c#409c5f0000000000",
             "(1700000000.123456) can0 60C#409C5F0000000000",
+            "(1700000000.123456)  can0   60C#409C5F0000000000  # a note",
             "60C 40 9c 5f 00 00 00 00 00",
             "0x60C 409C5F0000000000",
         ] {
