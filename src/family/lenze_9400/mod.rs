@@ -4,14 +4,14 @@
 //! for `decode` and traces.
 
 pub mod codec;
+mod lenze_9400_access;
 mod lenze_9400_explainer;
 mod lenze_9400_family;
-mod lenze_access;
 mod sdo_link;
 pub mod sdo_value;
 pub mod sim;
 
+pub use lenze_9400_access::Lenze9400Access;
 pub use lenze_9400_explainer::Lenze9400Explainer;
 pub use lenze_9400_family::Lenze9400Family;
-pub use lenze_access::Lenze9400Access;
 pub use sdo_link::{object_text, SdoLink, SdoLinkConfig};
