@@ -12,6 +12,8 @@ use std::time::{Duration, Instant};
 
 /// How long the adapter may take to acknowledge a setup command.
 const SETUP_TIMEOUT: Duration = Duration::from_secs(1);
+/// Quiet time before the set-up is tried again.
+const SETTLE: Duration = Duration::from_millis(50);
 /// Frames kept while the link is not reading (a busy bus between two transfers); the
 /// oldest go first.
 const QUEUE_MAX: usize = 1024;
@@ -45,6 +47,9 @@ impl SlcanBus {
     }
 
     /// `C`, `Sn`, `O`: closing may be refused (the channel was closed), the others not.
+    /// A refusal is tried once more after the line settled: an acknowledgement still on
+    /// its way from the previous program's last command would otherwise be taken as the
+    /// answer to `C`, and the answer to `C` as a refusal of `Sn`.
     fn start(&mut self) -> Result<(), TransportError> {
         let rate = bitrate_command(self.bitrate).ok_or_else(|| TransportError::Open {
             port: self.name.clone(),
@@ -53,13 +58,21 @@ impl SlcanBus {
                 self.bitrate
             ),
         })?;
-        self.transport.discard_input()?;
-        self.reader.clear();
-        self.frames.clear();
-        self.command("C", true)?;
-        self.command(rate, false)?;
-        self.command("O", false)?;
-        Ok(())
+        let mut attempt = 0;
+        loop {
+            attempt += 1;
+            self.transport.discard_input()?;
+            self.reader.clear();
+            self.frames.clear();
+            let result = self
+                .command("C", true)
+                .and_then(|()| self.command(rate, false))
+                .and_then(|()| self.command("O", false));
+            match result {
+                Err(TransportError::Open { .. }) if attempt < 2 => std::thread::sleep(SETTLE),
+                other => return other,
+            }
+        }
     }
 
     /// Sends a setup command and waits for its acknowledgement. Frames arriving meanwhile
@@ -84,19 +97,30 @@ impl SlcanBus {
                 Err(e) => return Err(e),
             };
             let bytes = self.buf[..n].to_vec();
+            // Frames that came with the answer are kept; the first answer counts.
+            let mut answer = None;
             for event in self.reader.push(&bytes) {
                 match event {
-                    SlcanEvent::Ack => return Ok(()),
-                    SlcanEvent::Refused if may_refuse => return Ok(()),
+                    SlcanEvent::Ack => {
+                        answer.get_or_insert(true);
+                    }
                     SlcanEvent::Refused => {
-                        return Err(TransportError::Open {
-                            port: self.name.clone(),
-                            detail: format!("the adapter refused `{command}` (it answered BELL)"),
-                        })
+                        answer.get_or_insert(false);
                     }
                     SlcanEvent::Frame(f) => self.keep(f),
                     SlcanEvent::Remote | SlcanEvent::Other(_) => {}
                 }
+            }
+            match answer {
+                Some(true) => return Ok(()),
+                Some(false) if may_refuse => return Ok(()),
+                Some(false) => {
+                    return Err(TransportError::Open {
+                        port: self.name.clone(),
+                        detail: format!("the adapter refused `{command}` (it answered BELL)"),
+                    })
+                }
+                None => {}
             }
         }
     }
@@ -192,26 +216,41 @@ mod tests {
     struct Adapter {
         transmit_answer: &'static [u8],
         lines: Vec<String>,
+        stale_ack: bool,
     }
 
     impl Peer for Adapter {
         fn receive(&mut self, bytes: &[u8], now: Duration) -> Vec<PeerReply> {
             let text = String::from_utf8_lossy(bytes).into_owned();
             self.lines.push(text.clone());
-            let bytes = if text.starts_with('t') {
-                self.transmit_answer.to_vec()
+            let answers: Vec<&[u8]> = if text.starts_with('t') {
+                vec![self.transmit_answer]
+            } else if text == "C\r" && self.lines.len() == 1 && self.stale_ack {
+                // The previous program's close is answered just now, then this one's.
+                vec![b"\r", b"\x07"]
             } else {
-                b"\r".to_vec()
+                vec![b"\r"]
             };
-            vec![PeerReply { at: now, bytes }]
+            answers
+                .into_iter()
+                .map(|bytes| PeerReply {
+                    at: now,
+                    bytes: bytes.to_vec(),
+                })
+                .collect()
         }
     }
 
     fn bus(transmit_answer: &'static [u8]) -> (SlcanBus, Arc<Mutex<Adapter>>) {
-        let adapter = Arc::new(Mutex::new(Adapter {
+        with_adapter(Adapter {
             transmit_answer,
             lines: Vec::new(),
-        }));
+            stale_ack: false,
+        })
+    }
+
+    fn with_adapter(adapter: Adapter) -> (SlcanBus, Arc<Mutex<Adapter>>) {
+        let adapter = Arc::new(Mutex::new(adapter));
         let t = MemoryTransport::new("/dev/ttyACM0", adapter.clone(), RealClock::shared());
         (SlcanBus::open(Box::new(t), 250_000).unwrap(), adapter)
     }
@@ -225,6 +264,20 @@ mod tests {
         let f = b.receive(Duration::from_millis(200)).unwrap();
         assert_eq!(f.to_candump(), "58C#419C5F000B000000");
         assert!(b.receive(Duration::ZERO).unwrap_err().is_timeout());
+    }
+
+    #[test]
+    fn a_late_acknowledgement_of_the_previous_program_does_not_fail_the_setup() {
+        let (_, adapter) = with_adapter(Adapter {
+            transmit_answer: b"z\r",
+            lines: Vec::new(),
+            stale_ack: true,
+        });
+        assert_eq!(
+            adapter.lock().unwrap().lines,
+            ["C\r", "S5\r", "C\r", "S5\r", "O\r", "C\r"],
+            "the set-up again after the refusal, then the close on drop"
+        );
     }
 
     #[test]
