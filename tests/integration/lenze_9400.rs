@@ -187,6 +187,12 @@ fn the_family_reads_codes_in_dictionaries() {
     let _: &dyn Family = family.as_ref();
 }
 
+/// The SLCAN pseudo-terminal tests run one at a time: the one that loses its adapter
+/// reopens the freed pseudo-terminal path for a while, which the other's simulator may
+/// have been given meanwhile.
+#[cfg(unix)]
+static SLCAN_PTY_TESTS: std::sync::Mutex<()> = std::sync::Mutex::new(());
+
 /// A `drivescript simulate … --slcan-pty` in the background, stopped when dropped.
 #[cfg(unix)]
 struct SlcanSimulator {
@@ -235,6 +241,9 @@ impl Drop for SlcanSimulator {
 #[test]
 fn an_slcan_pseudo_terminal_serves_the_simulated_node() {
     use crate::support::{drivescript, stderr, stdout};
+    let _one_at_a_time = SLCAN_PTY_TESTS
+        .lock()
+        .unwrap_or_else(std::sync::PoisonError::into_inner);
     let sim = SlcanSimulator::start("12");
     assert!(sim.path.starts_with("/dev/"), "path {:?}", sim.path);
     let can = format!("slcan:{}", sim.path);
@@ -301,7 +310,7 @@ fn an_slcan_pseudo_terminal_serves_the_simulated_node() {
         ],
         "",
     );
-    assert_eq!(out.status.code(), Some(3));
+    assert_eq!(out.status.code(), Some(3), "{}{}", stdout(&out), stderr(&out));
     assert!(
         stderr(&out).contains("no reply from drive node 13"),
         "{}",
@@ -420,6 +429,9 @@ fn a_trace_is_a_candump_log_that_decode_explains_again() {
 #[test]
 fn an_slcan_adapter_that_goes_away_during_a_run_ends_in_check_by_hand() {
     use std::io::{BufRead, Read};
+    let _one_at_a_time = SLCAN_PTY_TESTS
+        .lock()
+        .unwrap_or_else(std::sync::PoisonError::into_inner);
     let path = recipe(
         "slcan-gone",
         "name: Reading for a while
@@ -444,7 +456,7 @@ steps:
             "--address",
             "37",
         ])
-        .args(["--can", &can, "--reconnect-timeout", "1s"])
+        .args(["--can", &can, "--reconnect-timeout", "300ms"])
         .current_dir(repo_root())
         .stdout(std::process::Stdio::piped())
         .stderr(std::process::Stdio::null())
