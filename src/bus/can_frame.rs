@@ -1,5 +1,7 @@
 //! One CAN frame: an 11-bit (or 29-bit extended) identifier and up to 8 data bytes. Plain
-//! data for frame buses; what the identifier means is the family's business.
+//! data for frame buses; what the identifier means is the family's business. Also the
+//! frame's text forms (candump `60C#409C5F0000000000`, a candump log line, or `ID data…`)
+//! and the byte string that observers and explainers, which take bytes, receive.
 
 /// A classic CAN data frame.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -14,6 +16,16 @@ impl CanFrame {
     /// A standard (11-bit) frame; `None` when the identifier or the data do not fit.
     pub fn new(id: u32, data: &[u8]) -> Option<CanFrame> {
         Self::build(id, false, data)
+    }
+
+    /// A standard frame of 8 data bytes; the identifier is cut to its 11 bits.
+    pub fn standard8(id: u32, data: [u8; 8]) -> CanFrame {
+        CanFrame {
+            id: id & 0x7FF,
+            extended: false,
+            len: 8,
+            data,
+        }
     }
 
     /// An extended (29-bit) frame.
@@ -41,9 +53,147 @@ impl CanFrame {
     }
 }
 
+/// Bit 31 of the identifier word in [`CanFrame::to_bytes`]: an extended frame.
+const EXTENDED_FLAG: u32 = 0x8000_0000;
+
+impl CanFrame {
+    /// The frame as one byte string for observers and explainers: the identifier as 4
+    /// bytes big-endian (bit 31 set for an extended frame), then the data.
+    pub fn to_bytes(&self) -> Vec<u8> {
+        let word = self.id | if self.extended { EXTENDED_FLAG } else { 0 };
+        let mut out = word.to_be_bytes().to_vec();
+        out.extend_from_slice(self.data());
+        out
+    }
+
+    /// The inverse of [`to_bytes`](Self::to_bytes); `None` when `bytes` is no such string.
+    pub fn from_bytes(bytes: &[u8]) -> Option<CanFrame> {
+        let (word, data) = bytes.split_first_chunk::<4>()?;
+        let word = u32::from_be_bytes(*word);
+        if word & EXTENDED_FLAG != 0 {
+            Self::extended(word & !EXTENDED_FLAG, data)
+        } else {
+            Self::new(word, data)
+        }
+    }
+
+    /// candump's compact form: `60C#409C5F0000000000` (8 hex digits of identifier for an
+    /// extended frame).
+    pub fn to_candump(&self) -> String {
+        let mut out = if self.extended {
+            format!("{:08X}#", self.id)
+        } else {
+            format!("{:03X}#", self.id)
+        };
+        for b in self.data() {
+            out.push_str(&format!("{b:02X}"));
+        }
+        out
+    }
+
+    /// Reads a frame as engineers paste it: candump's `60C#409C5F00…`, a candump log line
+    /// `(1700000000.123456) can0 60C#409C…`, or `60C 40 9C 5F 00 …` (identifier, then data
+    /// bytes in any hex form). Identifiers of more than 3 digits are extended. The error
+    /// says what is wrong where.
+    pub fn parse_text(text: &str) -> Result<CanFrame, String> {
+        let mut t = text.trim();
+        if t.starts_with('(') {
+            // A candump log line: the timestamp and the interface name come first;
+            // anything after the frame is not read.
+            t = t
+                .split_whitespace()
+                .nth(2)
+                .ok_or_else(|| format!("`{text}`: a candump log line is `(TIME) INTERFACE ID#DATA`"))?;
+        }
+        let (id_text, data_text) = match t.split_once('#') {
+            Some((id, data)) => (id.trim(), data.trim()),
+            None => t
+                .split_once(char::is_whitespace)
+                .map(|(id, data)| (id, data.trim()))
+                .unwrap_or((t, "")),
+        };
+        if data_text.starts_with('R') || data_text.starts_with('#') {
+            return Err(format!(
+                "`{t}`: remote and CAN FD frames carry no SDO data; give a data frame `ID#DATA`"
+            ));
+        }
+        let hex_id = id_text
+            .strip_prefix("0x")
+            .or_else(|| id_text.strip_prefix("0X"))
+            .unwrap_or(id_text);
+        if hex_id.is_empty() || hex_id.len() > 8 || !hex_id.bytes().all(|b| b.is_ascii_hexdigit()) {
+            return Err(format!(
+                "`{id_text}` is not a CAN identifier: write 3 hex digits (11-bit, e.g. 60C) or 8 (29-bit), then `#` and the data"
+            ));
+        }
+        let id = u32::from_str_radix(hex_id, 16).map_err(|e| format!("`{id_text}`: {e}"))?;
+        let data = if data_text.is_empty() {
+            Vec::new()
+        } else {
+            crate::hex::parse_hex(data_text).map_err(|e| format!("the data `{data_text}`: {e}"))?
+        };
+        if data.len() > 8 {
+            return Err(format!(
+                "a CAN frame carries at most 8 data bytes, got {}",
+                data.len()
+            ));
+        }
+        let frame = if hex_id.len() > 3 {
+            CanFrame::extended(id, &data)
+        } else {
+            CanFrame::new(id, &data)
+        };
+        frame.ok_or_else(|| {
+            format!("identifier 0x{id:X} does not fit 11 bits; write 8 hex digits for an extended frame")
+        })
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+    use proptest::prelude::*;
+
+    #[test]
+    fn text_forms() {
+        let f = CanFrame::new(0x60C, &[0x40, 0x9C, 0x5F, 0, 0, 0, 0, 0]).unwrap();
+        assert_eq!(f.to_candump(), "60C#409C5F0000000000");
+        for text in [
+            "60C#409C5F0000000000",
+            "60c#409c5f0000000000",
+            "(1700000000.123456) can0 60C#409C5F0000000000",
+            "(1700000000.123456)  can0   60C#409C5F0000000000  # a note",
+            "60C 40 9c 5f 00 00 00 00 00",
+            "0x60C 409C5F0000000000",
+        ] {
+            assert_eq!(CanFrame::parse_text(text), Ok(f), "{text}");
+        }
+        assert!(CanFrame::parse_text("60C#R").unwrap_err().contains("remote"));
+        assert!(CanFrame::parse_text("XYZ#00")
+            .unwrap_err()
+            .contains("not a CAN identifier"));
+        assert!(CanFrame::parse_text("800#00").unwrap_err().contains("11 bits"));
+        assert!(CanFrame::parse_text("601#000102030405060708")
+            .unwrap_err()
+            .contains("at most 8"));
+        let ext = CanFrame::parse_text("18FF0001#01").unwrap();
+        assert!(ext.extended);
+        assert_eq!(ext.to_candump(), "18FF0001#01");
+    }
+
+    proptest! {
+        #[test]
+        fn bytes_and_candump_round_trip(id in 0u32..0x800, ext_id in 0u32..0x2000_0000, extended: bool, data in proptest::collection::vec(any::<u8>(), 0..=8)) {
+            let f = if extended { CanFrame::extended(ext_id, &data) } else { CanFrame::new(id, &data) }.unwrap();
+            prop_assert_eq!(CanFrame::from_bytes(&f.to_bytes()), Some(f));
+            prop_assert_eq!(CanFrame::parse_text(&f.to_candump()), Ok(f));
+        }
+
+        #[test]
+        fn any_text_is_parsed_or_refused(text in "\\PC{0,40}") {
+            let _ = CanFrame::parse_text(&text);
+        }
+    }
 
     #[test]
     fn identifiers_and_lengths_are_checked() {

@@ -14,6 +14,13 @@ pub trait FramePeer: Send {
     /// `frame` was on the bus at clock time `now`; returns the frames the node sends back,
     /// each with the clock time it is on the bus.
     fn receive(&mut self, frame: &CanFrame, now: Duration) -> Vec<(Duration, CanFrame)>;
+
+    /// Whether the adapter to the node is there at `now` (see `Peer::reachable`): a
+    /// simulated node with an injected lost line says no for a while, and the bus then
+    /// fails as an unplugged adapter does.
+    fn reachable(&self, _now: Duration) -> bool {
+        true
+    }
 }
 
 pub struct MemoryFrameBus {
@@ -41,16 +48,28 @@ impl FrameBus for MemoryFrameBus {
 
     fn send(&mut self, frame: &CanFrame) -> Result<(), TransportError> {
         let now = self.clock.now();
-        let replies = self
-            .peer
-            .lock()
-            .unwrap_or_else(PoisonError::into_inner)
-            .receive(frame, now);
+        let replies = {
+            let mut peer = self.peer.lock().unwrap_or_else(PoisonError::into_inner);
+            if !peer.reachable(now) {
+                return Err(self.adapter_lost());
+            }
+            peer.receive(frame, now)
+        };
         self.pending.extend(replies);
         Ok(())
     }
 
     fn receive(&mut self, timeout: Duration) -> Result<CanFrame, TransportError> {
+        let now = self.clock.now();
+        if !self
+            .peer
+            .lock()
+            .unwrap_or_else(PoisonError::into_inner)
+            .reachable(now)
+        {
+            self.pending.clear();
+            return Err(self.adapter_lost());
+        }
         let deadline = self.clock.now().saturating_add(timeout);
         match self.pending.front() {
             Some(&(at, _)) if at <= deadline => {
@@ -74,8 +93,29 @@ impl FrameBus for MemoryFrameBus {
     }
 
     fn reopen(&mut self) -> Result<(), TransportError> {
+        let now = self.clock.now();
+        if !self
+            .peer
+            .lock()
+            .unwrap_or_else(PoisonError::into_inner)
+            .reachable(now)
+        {
+            return Err(TransportError::Open {
+                port: self.name.clone(),
+                detail: "the simulated CAN adapter is still gone".into(),
+            });
+        }
         self.pending.clear();
         Ok(())
+    }
+}
+
+impl MemoryFrameBus {
+    fn adapter_lost(&self) -> TransportError {
+        TransportError::Io {
+            port: self.name.clone(),
+            detail: "the CAN adapter went away (the simulated line is down)".into(),
+        }
     }
 }
 

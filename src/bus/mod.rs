@@ -10,6 +10,11 @@ mod memory;
 mod memory_frame_bus;
 mod serial;
 mod shared_transport;
+mod slcan_adapter;
+mod slcan_bus;
+pub mod slcan_codec;
+#[cfg(target_os = "linux")]
+mod socketcan_bus;
 mod tcp;
 mod transport_error;
 
@@ -18,6 +23,25 @@ pub use can_frame::CanFrame;
 pub use frame_bus::{FrameBus, SharedFrameBus};
 pub use memory_frame_bus::{FramePeer, MemoryFrameBus};
 pub use shared_transport::SharedTransport;
+pub use slcan_adapter::SlcanAdapter;
+pub use slcan_bus::SlcanBus;
+#[cfg(target_os = "linux")]
+pub use socketcan_bus::SocketCanBus;
+
+/// A SocketCAN interface as a frame bus (Linux only; elsewhere a clear refusal).
+pub fn open_socketcan(interface: &str) -> Result<Box<dyn FrameBus>, TransportError> {
+    #[cfg(target_os = "linux")]
+    {
+        Ok(Box::new(SocketCanBus::open(interface)?))
+    }
+    #[cfg(not(target_os = "linux"))]
+    {
+        Err(TransportError::Open {
+            port: interface.to_string(),
+            detail: "SocketCAN exists only on Linux; use an SLCAN adapter with --can slcan:PORT".into(),
+        })
+    }
+}
 
 pub use memory::{MemoryTransport, Peer, PeerReply, WireTime};
 pub use serial::{

@@ -5,7 +5,7 @@
 
 use crate::bus::{
     Bus, BusKind, DataBits, MemoryFrameBus, MemoryTransport, Parity, SerialTransport, SharedFrameBus,
-    SharedTransport, StopBits, TcpTransport, TransportError,
+    SharedTransport, SlcanBus, StopBits, TcpTransport, TransportError,
 };
 use crate::clock::{RealClock, SharedClock, VirtualClock};
 use crate::family::{DriveAddress, Family, LinkOptions, SimPeer};
@@ -18,7 +18,7 @@ use std::time::Duration;
 const CONNECT_TIMEOUT: Duration = Duration::from_secs(5);
 
 #[derive(Debug, Clone, Args)]
-#[command(next_help_heading = "Connection (without --port or --tcp: the built-in simulated drive)")]
+#[command(next_help_heading = "Connection (without --port, --tcp or --can: the built-in simulated drive)")]
 pub struct ConnectionArgs {
     /// Serial port the drive is on (/dev/ttyUSB0, /dev/serial/by-id/…, COM3).
     #[arg(long, value_name = "PATH", conflicts_with = "tcp")]
@@ -41,10 +41,20 @@ pub struct ConnectionArgs {
     /// A serial device server or ser2net in raw TCP mode.
     #[arg(long, value_name = "HOST:PORT")]
     pub tcp: Option<String>,
+    /// A CAN bus, for drive families on CAN (lenze-9400): `slcan:PATH` for a USB-serial
+    /// SLCAN (Lawicel) adapter or a pseudo-terminal, `socketcan:IF` for a Linux CAN
+    /// interface (can0, vcan0).
+    #[arg(long, value_name = "slcan:PATH|socketcan:IF", value_parser = parse_can, conflicts_with_all = ["port", "tcp"])]
+    pub can: Option<CanSpec>,
+    /// CAN bit rate for an SLCAN adapter: 10k, 20k, 50k, 100k, 125k, 250k, 500k, 800k or
+    /// 1M (SocketCAN interfaces keep the rate `ip link` gave them).
+    #[arg(long, value_name = "RATE", default_value = "500k", value_parser = parse_bitrate)]
+    pub bitrate: u32,
     /// The drive's address in its family's notation. SD2: the address switch position
     /// (`0`, the default), `3B` for drive B of a double-axis device, or `dnc:N` for a raw
     /// DNC address. Control Techniques: group.unit (`1.2`, default `1.1`); `G.0` writes to
     /// a whole group and `0.0` to every drive, with no reply.
+    /// DNC address. Lenze 9400: the CANopen node address 1..127 (C00350; default 1).
     #[arg(long, value_name = "ADDRESS")]
     pub address: Option<String>,
     /// How long to wait for each reply (the SD2 vendor's PC tool uses 1 s).
@@ -104,6 +114,41 @@ fn parse_stop_bits(text: &str) -> Result<StopBits, String> {
     }
 }
 
+/// Where the CAN bus is: an SLCAN adapter's serial port or a SocketCAN interface.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum CanSpec {
+    Slcan(String),
+    SocketCan(String),
+}
+
+fn parse_can(text: &str) -> Result<CanSpec, String> {
+    match text.trim().split_once(':') {
+        Some(("slcan", path)) if !path.is_empty() => Ok(CanSpec::Slcan(path.to_string())),
+        Some(("socketcan", interface)) if !interface.is_empty() => Ok(CanSpec::SocketCan(interface.to_string())),
+        _ => Err(format!(
+            "`{text}`: write slcan:PATH (an SLCAN adapter, e.g. slcan:/dev/ttyACM0) or socketcan:IF (e.g. socketcan:can0)"
+        )),
+    }
+}
+
+/// `500k`, `1M`, `125000`.
+pub fn parse_bitrate(text: &str) -> Result<u32, String> {
+    let t = text.trim();
+    let (digits, factor) = if let Some(d) = t.strip_suffix(['k', 'K']) {
+        (d, 1_000)
+    } else if let Some(d) = t.strip_suffix('M') {
+        (d, 1_000_000)
+    } else {
+        (t, 1)
+    };
+    digits
+        .parse::<u32>()
+        .ok()
+        .and_then(|n| n.checked_mul(factor))
+        .filter(|&n| n > 0)
+        .ok_or_else(|| format!("`{text}` is not a bit rate; write e.g. 500k, 1M or 125000"))
+}
+
 fn parse_link_option(text: &str) -> Result<(String, String), String> {
     match text.split_once('=') {
         Some((k, v)) if !k.trim().is_empty() => Ok((k.trim().to_string(), v.trim().to_string())),
@@ -132,6 +177,8 @@ impl ConnectionArgs {
             parity: None,
             stop_bits: None,
             tcp: None,
+            can: None,
+            bitrate: 500_000,
             address: None,
             timeout: Duration::from_secs(1),
             retries: 2,
@@ -168,7 +215,7 @@ impl ConnectionArgs {
     }
 
     pub fn is_simulated(&self) -> bool {
-        self.port.is_none() && self.tcp.is_none()
+        self.port.is_none() && self.tcp.is_none() && self.can.is_none()
     }
 
     pub fn link_options(&self) -> LinkOptions {
@@ -194,6 +241,26 @@ impl ConnectionArgs {
         })?;
         let real =
             || -> (SharedClock, Option<Arc<Mutex<dyn SimulatedDrive>>>) { (RealClock::shared(), None) };
+        if family.bus_kind() == BusKind::Frames && !self.is_simulated() && self.can.is_none() {
+            return Err(TransportError::Open {
+                port: self.port.clone().or_else(|| self.tcp.clone()).unwrap_or_default(),
+                detail: format!(
+                    "the {} family talks CAN frames, not a byte stream; give --can slcan:PATH (an SLCAN adapter) or --can socketcan:IF",
+                    family.id()
+                ),
+            });
+        }
+        if let Some(can) = &self.can {
+            let bus = self.open_can(family, can)?;
+            let description = format!("{} on {}", address.shown, bus.name());
+            return Ok(Connection {
+                bus,
+                address,
+                clock: RealClock::shared(),
+                simulator: None,
+                description,
+            });
+        }
         let (bus, (clock, simulator), description) = match (&self.port, &self.tcp) {
             (Some(path), _) => {
                 let mut settings = family.serial_settings();
@@ -246,7 +313,10 @@ impl ConnectionArgs {
         if family.bus_kind() == BusKind::Frames && bus.kind() != BusKind::Frames {
             return Err(TransportError::Open {
                 port: bus.name().to_string(),
-                detail: format!("the {} family talks CAN frames, not a byte stream", family.id()),
+                detail: format!(
+                    "the {} family talks CAN frames, not a byte stream; give --can slcan:PATH or --can socketcan:IF",
+                    family.id()
+                ),
             });
         }
         Ok(Connection {
@@ -256,6 +326,35 @@ impl ConnectionArgs {
             simulator,
             description,
         })
+    }
+
+    /// The CAN bus `--can` names, for a family that talks CAN frames.
+    fn open_can(&self, family: &dyn Family, can: &CanSpec) -> Result<Bus, TransportError> {
+        let name = match can {
+            CanSpec::Slcan(path) => path.clone(),
+            CanSpec::SocketCan(interface) => interface.clone(),
+        };
+        if family.bus_kind() != BusKind::Frames {
+            return Err(TransportError::Open {
+                port: name,
+                detail: format!(
+                    "the {} family talks over a serial line, not CAN; give --port or --tcp",
+                    family.id()
+                ),
+            });
+        }
+        let bus: Box<dyn crate::bus::FrameBus> = match can {
+            CanSpec::Slcan(path) => {
+                let mut settings = family.serial_settings();
+                if let Some(baud) = self.baud {
+                    settings.baud = baud;
+                }
+                let port = SerialTransport::open(path, settings)?;
+                Box::new(SlcanBus::open(Box::new(port), self.bitrate)?)
+            }
+            CanSpec::SocketCan(interface) => crate::bus::open_socketcan(interface)?,
+        };
+        Ok(Bus::Frames(SharedFrameBus::new(bus)))
     }
 }
 

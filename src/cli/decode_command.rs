@@ -13,6 +13,8 @@ use std::sync::Arc;
 /// Explain captured telegrams: direction, addresses, command, object, data, error text,
 /// control and status word bits. Hex as `00 0b 02 ...`, `000b02...` or `0x00 0x0b ...`;
 /// one telegram per argument, or per line on standard input when no argument is given.
+/// CAN families (--protocol lenze-9400) take frames as candump writes them
+/// (`60C#409C5F0000000000`, or a candump log line) or as `ID data…`.
 pub struct DecodeArgs {
     /// The drive family whose protocol the telegrams are in: `sd2`, `ct_ansi` (also
     /// `ct-ansi` or the dictionary name `ct-unidrive-sp`) [default: the family of the
@@ -47,8 +49,12 @@ pub fn run(args: &DecodeArgs) -> i32 {
             }
         }
         out
-    } else if args.hex.len() > 1 && args.hex.iter().all(|a| is_single_byte(a)) {
-        // `decode 00 0b 02 ...` without quotes: the shell split one telegram into bytes.
+    } else if args.hex.len() > 1
+        && (is_single_byte(&args.hex[0]) || is_can_id(&args.hex[0]))
+        && args.hex.iter().skip(1).all(|a| is_single_byte(a))
+    {
+        // `decode 00 0b 02 ...` (or `decode 60C 40 9C ...`) without quotes: the shell
+        // split one telegram into bytes.
         vec![("the arguments".to_string(), args.hex.join(" "))]
     } else {
         let mut out = Vec::new();
@@ -81,12 +87,61 @@ pub fn run(args: &DecodeArgs) -> i32 {
             return INVALID;
         }
     };
+    let frames = family.bus_kind() == crate::bus::BusKind::Frames;
     let mut explainer = family.explainer(names);
     let stdout = std::io::stdout();
     let mut out = stdout.lock();
     let mut code = PASSED;
     for (place, line) in &lines {
         let mut text = line.trim();
+        if frames {
+            // CAN frames: candump's `ID#DATA`, a candump log line, or `ID data…`; a
+            // meaning after `  # ` (a `-v` trace line) is dropped.
+            let frame_text = text.split_once(" #").map_or(text, |(f, _)| f).trim();
+            if frame_text.is_empty() || frame_text.starts_with('#') {
+                continue;
+            }
+            let frame = match crate::bus::CanFrame::parse_text(frame_text) {
+                Ok(f) => f,
+                Err(e) => {
+                    eprintln!("error: {place}: {e}");
+                    code = INVALID;
+                    continue;
+                }
+            };
+            let bytes = frame.to_bytes();
+            let (written, valid) = if args.json {
+                let (json, valid) = explainer.json(&bytes);
+                (writeln!(out, "{json}"), valid)
+            } else {
+                let (body, valid) = match explainer.explain(&bytes) {
+                    Ok(text) => (text, true),
+                    Err(e) => (format!("  rejected: {e}\n"), false),
+                };
+                (writeln!(out, "{}\n{body}", frame.to_candump()), valid)
+            };
+            if !valid && code == PASSED {
+                code = FAILED;
+            }
+            if written.is_err() {
+                return code;
+            }
+            continue;
+        }
+        if crate::bus::CanFrame::parse_text(text).is_ok() && (text.starts_with('(') || text.contains('#')) {
+            let can: Vec<&str> = registry
+                .families()
+                .filter(|f| f.bus_kind() == crate::bus::BusKind::Frames)
+                .flat_map(|f| f.dictionaries().iter().map(|d| d.name))
+                .collect();
+            eprintln!(
+                "error: {place}: `{text}` is a CAN frame, not a {} telegram; give --protocol {}",
+                family.id(),
+                can.join(" or --protocol ")
+            );
+            // One frame says it for the whole input.
+            return INVALID;
+        }
         // A line of a `--trace` file: only its telegram's hex counts.
         if crate::report::is_trace_line(text) {
             match crate::report::hex_of_trace_line(text) {
@@ -198,4 +253,9 @@ fn is_single_byte(arg: &str) -> bool {
         .or_else(|| arg.strip_prefix("0X"))
         .unwrap_or(arg);
     (1..=2).contains(&digits.len()) && digits.chars().all(|c| c.is_ascii_hexdigit())
+}
+
+/// `60C`, `18FF0001`: a CAN identifier as candump writes it (3 or 8 hex digits).
+fn is_can_id(arg: &str) -> bool {
+    matches!(arg.len(), 3 | 8) && arg.chars().all(|c| c.is_ascii_hexdigit())
 }

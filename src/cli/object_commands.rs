@@ -245,11 +245,14 @@ pub fn write(args: &WriteArgs) -> i32 {
         None => args.value.clone(),
     };
     let names = std::slice::from_ref(&args.name);
-    let dictionary =
-        match load_dictionary(&args.dictionary).and_then(|d| with_raw_objects(d, names, args.data_type)) {
-            Ok(d) => d,
-            Err(code) => return code,
-        };
+    let mut raw = false;
+    let dictionary = match load_dictionary(&args.dictionary).and_then(|d| {
+        raw = d.get(&args.name).is_none();
+        with_raw_objects(d, names, args.data_type)
+    }) {
+        Ok(d) => d,
+        Err(code) => return code,
+    };
     // Refusals happen before the port is opened: nothing is sent for a bad value.
     let def = match dictionary.lookup(&args.name) {
         Ok(d) => d.clone(),
@@ -271,6 +274,10 @@ pub fn write(args: &WriteArgs) -> i32 {
                 object: def.name.clone()
             }
         );
+        if raw && args.data_type.is_none() {
+            // A family may read its own notation without a type but not write it.
+            eprintln!("help: give the object's type with --type (u8, i8, u16, i16, u32, i32 or string(N)) to write an object the dictionary does not list");
+        }
         return INVALID;
     }
     let is_text = def.data_type.range().is_none();

@@ -2,7 +2,7 @@
 //! any serial tool (or drivescript with `--port`/`--tcp`) can talk to it.
 
 use super::{stop_signals, COMMUNICATION, INVALID, PASSED};
-use crate::bus::{TcpTransport, WireTime};
+use crate::bus::{Peer, SlcanAdapter, TcpTransport, WireTime};
 use crate::clock::RealClock;
 use crate::family::{Registry, SimPeer, DEFAULT_DICTIONARY};
 use crate::sim::SimConfig;
@@ -11,7 +11,7 @@ use clap::Args;
 use std::io::Write;
 use std::net::TcpListener;
 use std::sync::atomic::Ordering;
-use std::sync::PoisonError;
+use std::sync::{Arc, Mutex, PoisonError};
 use std::time::Duration;
 
 #[derive(Debug, Args)]
@@ -22,8 +22,13 @@ pub struct SimulateArgs {
     #[arg(long, value_name = "DICTIONARY", default_value = DEFAULT_DICTIONARY)]
     drive: String,
     /// Serve on a new pseudo-terminal; its path is printed on the first line.
-    #[arg(long, conflicts_with = "tcp", required_unless_present = "tcp")]
+    #[arg(long, conflicts_with_all = ["tcp", "slcan_pty"], required_unless_present_any = ["tcp", "slcan_pty"])]
     pty: bool,
+    /// For a drive family on CAN (lenze-9400): serve the simulated node behind a simulated
+    /// SLCAN adapter on a new pseudo-terminal; its path is printed on the first line, for
+    /// `--can slcan:PATH`.
+    #[arg(long, conflicts_with = "tcp")]
+    slcan_pty: bool,
     /// Serve on this TCP address, e.g. 127.0.0.1:4001 (raw TCP, like ser2net).
     #[arg(long, value_name = "ADDR")]
     tcp: Option<String>,
@@ -69,12 +74,23 @@ pub fn run(args: &SimulateArgs) -> i32 {
         drive.set_logging(false);
         drive.describe()
     };
-    let SimPeer::Bytes(peer) = device.peer else {
-        eprintln!(
-            "error: the {} family's simulated drive speaks CAN frames; --pty and --tcp serve byte streams",
-            family.id()
-        );
-        return INVALID;
+    let peer: Arc<Mutex<dyn Peer>> = match (device.peer, args.slcan_pty) {
+        (SimPeer::Bytes(peer), false) => peer,
+        (SimPeer::Frames(node), true) => Arc::new(Mutex::new(SlcanAdapter::new(node))),
+        (SimPeer::Frames(_), false) => {
+            eprintln!(
+                "error: the {} family's simulated drive speaks CAN frames; serve it with --slcan-pty (--pty and --tcp serve byte streams)",
+                family.id()
+            );
+            return INVALID;
+        }
+        (SimPeer::Bytes(_), true) => {
+            eprintln!(
+                "error: the {} family talks over a serial line, not CAN; serve it with --pty or --tcp",
+                family.id()
+            );
+            return INVALID;
+        }
     };
     let mut server = SimServer::new(peer, RealClock::shared());
     if args.wire_time {
@@ -95,8 +111,21 @@ pub fn run(args: &SimulateArgs) -> i32 {
         String::new()
     };
 
-    if args.pty {
-        serve_pty(&server, &description, &wire)
+    if args.pty || args.slcan_pty {
+        let hint = if args.slcan_pty {
+            let address = args
+                .address
+                .as_deref()
+                .map(|a| format!(" --address {a}"))
+                .unwrap_or_default();
+            format!(
+                "drivescript read ident --drive {}{address} --can slcan:",
+                args.drive
+            )
+        } else {
+            "drivescript state --port ".to_string()
+        };
+        serve_pty(&server, &description, &wire, &hint)
     } else if let Some(addr) = &args.tcp {
         serve_tcp(&server, addr, &description, &wire, &stop)
     } else {
@@ -106,7 +135,7 @@ pub fn run(args: &SimulateArgs) -> i32 {
 }
 
 #[cfg(unix)]
-fn serve_pty(server: &SimServer, description: &str, wire: &str) -> i32 {
+fn serve_pty(server: &SimServer, description: &str, wire: &str, hint: &str) -> i32 {
     let pty = match crate::sim_server::PtyEndpoint::open() {
         Ok(p) => p,
         Err(e) => {
@@ -117,7 +146,7 @@ fn serve_pty(server: &SimServer, description: &str, wire: &str) -> i32 {
     // The path alone on the first line, so scripts can read it.
     println!("{}", pty.path);
     eprintln!("{description} on {}{wire}; Ctrl-C to stop", pty.path);
-    eprintln!("try: drivescript state --port {}", pty.path);
+    eprintln!("try: {hint}{}", pty.path);
     let _ = std::io::stdout().flush();
     let mut master = pty.master;
     match server.serve(&mut master) {
@@ -133,7 +162,7 @@ fn serve_pty(server: &SimServer, description: &str, wire: &str) -> i32 {
 }
 
 #[cfg(not(unix))]
-fn serve_pty(_: &SimServer, _: &str, _: &str) -> i32 {
+fn serve_pty(_: &SimServer, _: &str, _: &str, _: &str) -> i32 {
     eprintln!("error: --pty needs a Unix pseudo-terminal; use --tcp 127.0.0.1:4001 here");
     INVALID
 }

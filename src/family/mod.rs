@@ -5,6 +5,7 @@
 pub mod ct_ansi;
 mod family;
 pub mod lenze_931;
+pub mod lenze_9400;
 mod registry;
 pub mod sd2;
 

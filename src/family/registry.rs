@@ -1,7 +1,10 @@
 //! The families drivescript knows, by id, and their built-in dictionaries by name: the one
 //! place a family is added. Tests add their own families with [`Registry::with`].
 
-use super::{ct_ansi::CtFamily, lenze_931::Lenze931Family, sd2::Sd2Family, BuiltinDictionary, Family};
+use super::{
+    ct_ansi::CtFamily, lenze_931::Lenze931Family, lenze_9400::Lenze9400Family, sd2::Sd2Family,
+    BuiltinDictionary, Family,
+};
 use crate::diag::{did_you_mean, Diagnostic};
 use crate::dictionary::{Dictionary, DictionaryError};
 use std::sync::Arc;
@@ -18,7 +21,12 @@ impl Registry {
     /// Every family compiled in.
     pub fn builtin() -> Registry {
         Registry {
-            families: vec![Arc::new(Sd2Family), Arc::new(CtFamily), Arc::new(Lenze931Family)],
+            families: vec![
+                Arc::new(Sd2Family),
+                Arc::new(CtFamily),
+                Arc::new(Lenze931Family),
+                Arc::new(Lenze9400Family),
+            ],
         }
     }
 

@@ -11,6 +11,7 @@
 //! ([`hex_of_trace_line`]). It must not block or fail the link: write errors are kept, not
 //! raised, and the rest of the run goes on without the trace.
 
+use crate::bus::CanFrame;
 use crate::hex::to_hex;
 use crate::link::{Direction, TelegramExplainer, TelegramObserver};
 use std::io::Write;
@@ -23,7 +24,16 @@ pub struct TraceWriter<W: Write + Send> {
     explainer: Box<dyn TelegramExplainer>,
     /// The first write error; after it the trace stays silent.
     error: Option<String>,
+    /// CAN frames went by: the trace is in candump's log format, events become comments.
+    candump: bool,
+    /// Whether CAN frame lines carry their meaning after `#` (on a terminal, `-v`); a
+    /// file keeps them exactly as candump writes them so CAN tools can read it.
+    frame_meanings: bool,
 }
+
+/// The interface name CAN frame lines carry (candump's log names one; `canplayer
+/// vcan0=can0 -I FILE` replays such a trace on another interface).
+pub const TRACE_CAN_INTERFACE: &str = "can0";
 
 impl<W: Write + Send> TraceWriter<W> {
     /// A trace onto `out` (a file, or `std::io::stderr()` for `-v`).
@@ -32,6 +42,8 @@ impl<W: Write + Send> TraceWriter<W> {
             out,
             explainer,
             error: None,
+            candump: false,
+            frame_meanings: true,
         }
     }
 
@@ -71,6 +83,7 @@ impl TraceWriter<std::fs::File> {
     pub fn create(path: &Path, explainer: Box<dyn TelegramExplainer>) -> Result<Self, String> {
         let file = create_file(path)?;
         let mut trace = TraceWriter::new(file, explainer);
+        trace.frame_meanings = false;
         trace.comment(
             "drivescript telegram trace: clock seconds, TX (sent) or RX (received), the bytes \
              as in the manual  # meaning",
@@ -100,7 +113,35 @@ impl<W: Write + Send> TelegramObserver for TraceWriter<W> {
     }
 
     fn event(&mut self, at: Duration, text: &str) {
-        self.line(&format!("{:>12.6} -- {}", at.as_secs_f64(), one_line(text)));
+        let comment = if self.candump { "# " } else { "" };
+        self.line(&format!(
+            "{comment}{:>12.6} -- {}",
+            at.as_secs_f64(),
+            one_line(text)
+        ));
+    }
+
+    /// candump's log format, `(0000000000.012345) can0 60C#409C5F0000000000`, with the
+    /// meaning after `  # ` only on a terminal.
+    fn frame(&mut self, at: Duration, direction: Direction, frame: &CanFrame) {
+        if !self.candump && !self.frame_meanings {
+            self.comment(
+                "CAN frames follow in candump's log format; explain them with \
+                 `drivescript decode --protocol DRIVE < FILE` (DRIVE as given to --drive)",
+            );
+        }
+        self.candump = true;
+        let mut line = format!(
+            "({:010}.{:06}) {TRACE_CAN_INTERFACE} {}",
+            at.as_secs(),
+            at.subsec_micros(),
+            frame.to_candump()
+        );
+        if self.frame_meanings {
+            let meaning = self.explainer.summary(direction, &frame.to_bytes());
+            line.push_str(&format!("  # {}", one_line(&meaning)));
+        }
+        self.line(&line);
     }
 }
 
@@ -132,7 +173,8 @@ pub fn hex_of_trace_line(line: &str) -> Option<&str> {
     }
 }
 
-/// True for every line a trace holds: telegram lines, link events (`--`) and comments (`#`).
+/// True for every line a trace of a byte family holds: telegram lines, link events (`--`)
+/// and comments (`#`). (CAN traces are candump logs, which `decode` reads as frames.)
 /// `decode` reads a trace line's hex with [`hex_of_trace_line`] and skips the others, and
 /// takes any other line as hex itself.
 pub fn is_trace_line(line: &str) -> bool {
@@ -189,5 +231,27 @@ mod tests {
         assert_eq!(hex_of_trace_line(lines[2]), None);
         assert!(lines.iter().all(|l| is_trace_line(l)));
         assert!(!is_trace_line("00 09 02"));
+    }
+
+    #[test]
+    fn can_frames_in_candump_log_format_and_events_as_comments() {
+        let frame = CanFrame::new(0x60C, &[0x40, 0x9C, 0x5F, 0, 0, 0, 0, 0]).unwrap();
+        let mut file = TraceWriter::new(Vec::new(), Box::new(Counting));
+        file.frame_meanings = false;
+        file.frame(Duration::from_micros(12_345), Direction::Sent, &frame);
+        file.event(Duration::from_millis(115), "no response");
+        let text = String::from_utf8(file.into_inner()).unwrap();
+        let lines: Vec<&str> = text.lines().collect();
+        assert!(lines[0].starts_with("# CAN frames follow in candump's log format"));
+        assert_eq!(lines[1], "(0000000000.012345) can0 60C#409C5F0000000000");
+        assert_eq!(lines[2], "#     0.115000 -- no response");
+        let mut terminal = TraceWriter::new(Vec::new(), Box::new(Counting));
+        terminal.frame(Duration::ZERO, Direction::Received, &frame);
+        let text = String::from_utf8(terminal.into_inner()).unwrap();
+        assert_eq!(
+            text,
+            "(0000000000.000000) can0 60C#409C5F0000000000  # 12 bytes RX wrapped\n"
+        );
+        assert!(!is_trace_line(lines[1]) && hex_of_trace_line(lines[1]).is_none());
     }
 }

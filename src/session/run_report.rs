@@ -154,6 +154,9 @@ pub struct RunReport {
     pub stop_confirmed: bool,
     /// The drive did not obey the stop commands and the stop was escalated.
     pub disobeyed: bool,
+    /// The dictionary has no device-control profile: drivescript could neither command
+    /// the drive nor read its state, so the end says that instead of a state.
+    pub no_device_control: bool,
     /// Notes on the safe stop: what ran, what failed, the escalation.
     pub safe_stop: Vec<String>,
     /// Passed steps and checks inside repeats that were not kept once the report held
@@ -185,6 +188,9 @@ impl RunReport {
     /// The truth about the drive after the safe stop, in one line: its state, its speed,
     /// and whether it is still coasting.
     pub fn drive_left(&self) -> String {
+        if self.no_device_control && self.final_state.is_none() && self.stop_confirmed {
+            return "drive state not known: the dictionary has no device-control profile, so drivescript neither commanded nor stopped the drive".to_string();
+        }
         let state = match self.final_state {
             Some(s) => s.to_string(),
             None => "an unknown state (it could not be read back)".to_string(),

@@ -159,14 +159,61 @@ impl Session<'_> {
             );
             return;
         }
+        let device_control = self.has_device_control();
         match finally {
             Some(finally) => finally(self),
-            None => self.default_finally(),
+            None if device_control => self.default_finally(),
+            None => {}
+        }
+        if !device_control {
+            self.without_device_control();
+            return;
         }
         if self.interrupted() {
             self.emergency_off();
         }
         self.verify(keep);
+    }
+
+    /// Whether the dictionary has a device-control profile. Without one drivescript can
+    /// neither command the drive nor read its state, so it cannot have enabled it either.
+    fn has_device_control(&self) -> bool {
+        self.drive.profile().is_ok()
+    }
+
+    /// The end of a run on a drive without device control: no stop command exists and no
+    /// state can be read back, which is said plainly instead of failing commands that the
+    /// dictionary does not have. The drive answered (a lost link is restored first, or the
+    /// run ends in CHECK THE DRIVE BY HAND before this), so the stop counts as confirmed.
+    fn without_device_control(&mut self) {
+        self.report.final_state = None;
+        self.report.stop_confirmed = true;
+        self.report.no_device_control = true;
+        self.note(format!(
+            "the {} dictionary has no device-control profile: there is no stop command to send; \
+             the drive's power stage is as its terminals or PLC left it",
+            self.drive.dictionary().family()
+        ));
+    }
+
+    /// After a reopen: what shows that the drive answers again — its state, or without a
+    /// device-control profile its identity (or, without that, the port being open).
+    fn answer_after_reopen(&mut self) -> Result<String, DriveError> {
+        if self.has_device_control() {
+            return self.drive.state().map(|s| format!("the drive reports {s}"));
+        }
+        match self
+            .drive
+            .dictionary()
+            .lookup("ident")
+            .ok()
+            .map(|d| d.name.clone())
+        {
+            Some(name) => self.drive.read(&name).map(|_| {
+                "the drive answers (its state cannot be read without a device-control profile)".into()
+            }),
+            None => Ok("the port is open again (no device-control profile to read the drive's state)".into()),
+        }
     }
 
     /// The default `finally`: the speed setpoint to 0 and a wait for standstill (where the
@@ -442,7 +489,7 @@ impl Session<'_> {
         let mut pause = REOPEN_PAUSE;
         let port = self.drive.port();
         for attempt in 1u32.. {
-            let result = self.drive.reopen().and_then(|()| self.drive.state());
+            let result = self.drive.reopen().and_then(|()| self.answer_after_reopen());
             let at = secs(self.clock.now().saturating_sub(started));
             match result {
                 Ok(_) if !self.same_drive() => {
@@ -452,9 +499,9 @@ impl Session<'_> {
                     self.link_given_up = true;
                     return false;
                 }
-                Ok(state) => {
+                Ok(answer) => {
                     self.note(format!(
-                        "link to {port} restored at attempt {attempt} after {at}; the drive reports {state}"
+                        "link to {port} restored at attempt {attempt} after {at}; {answer}"
                     ));
                     return true;
                 }

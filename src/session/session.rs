@@ -82,6 +82,7 @@ impl<'a> Session<'a> {
             coasting: false,
             stop_confirmed: false,
             disobeyed: false,
+            no_device_control: false,
             safe_stop: Vec::new(),
             omitted_steps: 0,
             omitted_checks: 0,
@@ -297,6 +298,10 @@ impl<'a> Session<'a> {
             return Ok(());
         }
         self.last_fault_check = t;
+        if self.drive.profile().is_err() {
+            // Without a device-control profile there is no state to watch.
+            return Ok(());
+        }
         let state = self.drive.state()?;
         let faulted = matches!(state, DeviceState::Fault | DeviceState::FaultReactionActive);
         let entered = faulted && !self.known_fault;

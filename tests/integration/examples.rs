@@ -16,7 +16,14 @@ fn every_example_recipe_checks_and_passes_in_virtual_time() {
             continue;
         }
         let p = path.to_str().expect("utf-8 path");
-        let check = drivescript(&["check", p], "");
+        // Each recipe runs with the built-in dictionary its `drive:` names.
+        let text = std::fs::read_to_string(&path).expect("recipe");
+        let drive = text
+            .lines()
+            .find_map(|l| l.strip_prefix("drive:"))
+            .map(|d| d.split('#').next().unwrap_or("").trim().to_string())
+            .expect("a `drive:` line");
+        let check = drivescript(&["check", p, "--drive", &drive], "");
         assert_eq!(check.status.code(), Some(0), "{p}: {}", stderr(&check));
         let run = drivescript(
             &[
@@ -25,6 +32,8 @@ fn every_example_recipe_checks_and_passes_in_virtual_time() {
                 "--fast",
                 "--output-dir",
                 out_dir.to_str().expect("utf-8"),
+                "--drive",
+                &drive,
             ],
             "",
         );
@@ -37,7 +46,8 @@ fn every_example_recipe_checks_and_passes_in_virtual_time() {
         );
         assert!(stdout(&run).contains("PASSED"), "{p}");
         assert!(
-            stdout(&run).contains("using the built-in simulated SD2 drive"),
+            stdout(&run).contains("using the built-in simulated ")
+                && stdout(&run).contains(&format!("{} drive", drive.replace('-', "_").to_uppercase())),
             "{p}"
         );
         ran += 1;

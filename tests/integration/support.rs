@@ -48,6 +48,20 @@ pub fn load_vectors(path: &Path) -> Vec<Vector> {
     serde_saphyr::from_str(&text).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
 }
 
+/// One entry of `lenze-9400-sdo.yaml`: a CAN frame and what it decodes to.
+#[derive(Debug, serde::Deserialize)]
+pub struct FrameVector {
+    pub name: String,
+    pub id: String,
+    pub data: String,
+    pub frame: serde_json::Value,
+}
+
+pub fn load_frame_vectors(path: &Path) -> Vec<FrameVector> {
+    let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    serde_saphyr::from_str(&text).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+}
+
 pub fn sd2_vectors() -> Vec<Vector> {
     load_vectors(&repo_root().join("tests/vectors/sd2-dnc.yaml"))
 }

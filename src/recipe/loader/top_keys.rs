@@ -129,8 +129,13 @@ impl Loader<'_, '_> {
 
     fn drive_family(&mut self, node: &YamlNode) -> String {
         let family = self.r.scalar_text(node, "`drive`").unwrap_or_default();
-        // `drive:` names the family (`sd2`) or the built-in dictionary (`ct-unidrive-sp`).
-        if family != self.dict.family() && Some(family.as_str()) != self.dict.name() {
+        // `drive:` names the family (`sd2`, `lenze_9400`) or its built-in dictionary as
+        // `--drive` does (`ct-unidrive-sp`, `lenze-9400`): family ids are identifiers,
+        // dictionary names use hyphens.
+        if family != self.dict.family()
+            && Some(family.as_str()) != self.dict.name()
+            && family.replace('-', "_") != self.dict.family()
+        {
             self.problem(
                 &node.span,
                 format!(

@@ -99,6 +99,7 @@ pub fn report(recipe: &str, recipe_path: &str, drive: &str, verdict: Verdict) ->
         coasting: false,
         stop_confirmed: false,
         disobeyed: false,
+        no_device_control: false,
         safe_stop: Vec::new(),
         omitted_steps: 0,
         omitted_checks: 0,

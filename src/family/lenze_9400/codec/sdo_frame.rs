@@ -1,0 +1,487 @@
+//! The 8 data bytes of an SDO frame, both ways: [`SdoRequest`] (client → node, on
+//! 0x600 + node) and [`SdoResponse`] (node → client, on 0x580 + node). Byte 1 is the
+//! command specifier, bytes 2–4 the multiplexer (index little-endian, subindex), bytes 5–8
+//! a value, a length or an abort code; segments carry 7 data bytes after the command.
+//! The same command byte means different things in the two directions (0x60 is an upload
+//! segment request and a download response), so the direction decides the decoder. Block
+//! transfers are not used by the 9400 sources and are refused with the reason. Pure.
+
+use super::AbortCode;
+use std::fmt;
+
+/// An SDO frame always carries 8 data bytes.
+pub const SDO_LEN: usize = 8;
+
+/// What the client sends.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum SdoRequest {
+    /// 0x40: read (initiate upload).
+    UploadInitiate { index: u16, subindex: u8 },
+    /// 0x60 / 0x70: the next upload segment, toggle bit 4.
+    UploadSegment { toggle: bool },
+    /// 0x23 / 0x27 / 0x2B / 0x2F (size indicated) or 0x22: write up to 4 bytes at once.
+    DownloadExpedited {
+        index: u16,
+        subindex: u8,
+        data: [u8; 4],
+        /// 1..=4 when indicated.
+        size: Option<u8>,
+    },
+    /// 0x21 (size indicated) / 0x20: write in segments.
+    DownloadInitiate {
+        index: u16,
+        subindex: u8,
+        size: Option<u32>,
+    },
+    /// 0x00..0x1F: one download segment of 1..=7 bytes.
+    DownloadSegment { toggle: bool, data: Vec<u8>, last: bool },
+    /// 0x80 with the abort code.
+    Abort {
+        index: u16,
+        subindex: u8,
+        code: AbortCode,
+    },
+}
+
+/// What the node answers.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum SdoResponse {
+    /// 0x43 / 0x47 / 0x4B / 0x4F (size indicated) or 0x42: the value, up to 4 bytes.
+    UploadExpedited {
+        index: u16,
+        subindex: u8,
+        data: [u8; 4],
+        size: Option<u8>,
+    },
+    /// 0x41 (size in bytes 5..8) or 0x40: the value follows in segments.
+    UploadInitiate {
+        index: u16,
+        subindex: u8,
+        size: Option<u32>,
+    },
+    /// 0x00..0x1F: one upload segment of 0..=7 bytes.
+    UploadSegment { toggle: bool, data: Vec<u8>, last: bool },
+    /// 0x60: the write (or its start) was accepted.
+    DownloadInitiate { index: u16, subindex: u8 },
+    /// 0x20 / 0x30: a download segment was accepted.
+    DownloadSegment { toggle: bool },
+    /// 0x80 with the abort code.
+    Abort {
+        index: u16,
+        subindex: u8,
+        code: AbortCode,
+    },
+}
+
+/// Why 8 bytes are not a valid SDO frame: what was expected where, and what came.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum SdoDecodeError {
+    #[error("an SDO frame carries 8 data bytes, got {0}")]
+    Length(usize),
+    #[error("command byte 0x{command:02x} (byte 1): {problem}")]
+    Command { command: u8, problem: &'static str },
+}
+
+fn mux(bytes: &[u8; SDO_LEN]) -> (u16, u8) {
+    (u16::from_le_bytes([bytes[1], bytes[2]]), bytes[3])
+}
+
+fn value4(bytes: &[u8; SDO_LEN]) -> [u8; 4] {
+    [bytes[4], bytes[5], bytes[6], bytes[7]]
+}
+
+fn with_mux(command: u8, index: u16, subindex: u8, tail: [u8; 4]) -> [u8; SDO_LEN] {
+    let [lo, hi] = index.to_le_bytes();
+    [command, lo, hi, subindex, tail[0], tail[1], tail[2], tail[3]]
+}
+
+/// Bits 2–3 of an expedited command: 4 − size. `None` size means "not indicated" (s = 0).
+fn expedited_command(base: u8, size: Option<u8>) -> u8 {
+    match size {
+        Some(n) if (1..=4).contains(&n) => base | ((4 - n) << 2) | 0b11,
+        _ => base | 0b10,
+    }
+}
+
+fn expedited_size(command: u8) -> Option<u8> {
+    (command & 1 == 1).then(|| 4 - ((command >> 2) & 0b11))
+}
+
+/// `000t nnnc`: a segment of 7 − n bytes.
+fn segment_command(toggle: bool, len: usize, last: bool) -> u8 {
+    let unused = 7u8.saturating_sub(len.min(7) as u8);
+    (u8::from(toggle) << 4) | (unused << 1) | u8::from(last)
+}
+
+fn segment_data(bytes: &[u8; SDO_LEN]) -> Vec<u8> {
+    let unused = usize::from((bytes[0] >> 1) & 0b111);
+    bytes[1..SDO_LEN - unused].to_vec()
+}
+
+fn fixed(bytes: &[u8]) -> Result<&[u8; SDO_LEN], SdoDecodeError> {
+    bytes.try_into().map_err(|_| SdoDecodeError::Length(bytes.len()))
+}
+
+fn refuse(command: u8, problem: &'static str) -> SdoDecodeError {
+    SdoDecodeError::Command { command, problem }
+}
+
+impl SdoRequest {
+    pub fn encode(&self) -> [u8; SDO_LEN] {
+        match self {
+            SdoRequest::UploadInitiate { index, subindex } => with_mux(0x40, *index, *subindex, [0; 4]),
+            SdoRequest::UploadSegment { toggle } => [0x60 | (u8::from(*toggle) << 4), 0, 0, 0, 0, 0, 0, 0],
+            SdoRequest::DownloadExpedited {
+                index,
+                subindex,
+                data,
+                size,
+            } => with_mux(expedited_command(0x20, *size), *index, *subindex, *data),
+            SdoRequest::DownloadInitiate {
+                index,
+                subindex,
+                size,
+            } => {
+                let command = if size.is_some() { 0x21 } else { 0x20 };
+                with_mux(command, *index, *subindex, size.unwrap_or(0).to_le_bytes())
+            }
+            SdoRequest::DownloadSegment { toggle, data, last } => {
+                let mut out = [0u8; SDO_LEN];
+                out[0] = segment_command(*toggle, data.len(), *last);
+                let n = data.len().min(7);
+                out[1..=n].copy_from_slice(&data[..n]);
+                out
+            }
+            SdoRequest::Abort {
+                index,
+                subindex,
+                code,
+            } => with_mux(0x80, *index, *subindex, code.to_bytes()),
+        }
+    }
+
+    pub fn decode(bytes: &[u8]) -> Result<SdoRequest, SdoDecodeError> {
+        let b = fixed(bytes)?;
+        let command = b[0];
+        let (index, subindex) = mux(b);
+        Ok(match command >> 5 {
+            0 => SdoRequest::DownloadSegment {
+                toggle: command & 0x10 != 0,
+                data: segment_data(b),
+                last: command & 1 == 1,
+            },
+            1 if command & 0x10 != 0 => {
+                return Err(refuse(command, "bit 4 must be 0 in an initiate download request"))
+            }
+            1 if command & 0b10 != 0 => SdoRequest::DownloadExpedited {
+                index,
+                subindex,
+                data: value4(b),
+                size: expedited_size(command),
+            },
+            1 => SdoRequest::DownloadInitiate {
+                index,
+                subindex,
+                size: (command & 1 == 1).then(|| u32::from_le_bytes(value4(b))),
+            },
+            2 if command & 0x1F == 0 => SdoRequest::UploadInitiate { index, subindex },
+            2 => return Err(refuse(command, "a read request is 0x40; the low bits must be 0")),
+            3 if command & 0x0F == 0 => SdoRequest::UploadSegment {
+                toggle: command & 0x10 != 0,
+            },
+            3 => return Err(refuse(command, "an upload segment request is 0x60 or 0x70")),
+            4 if command == 0x80 => SdoRequest::Abort {
+                index,
+                subindex,
+                code: AbortCode(u32::from_le_bytes(value4(b))),
+            },
+            4 => return Err(refuse(command, "an abort is 0x80")),
+            _ => {
+                return Err(refuse(
+                    command,
+                    "block transfers (command specifier 5 and 6) are not used with the 9400",
+                ))
+            }
+        })
+    }
+
+    /// The multiplexer the request names (`None` for segments).
+    pub fn object(&self) -> Option<(u16, u8)> {
+        match *self {
+            SdoRequest::UploadInitiate { index, subindex }
+            | SdoRequest::DownloadExpedited { index, subindex, .. }
+            | SdoRequest::DownloadInitiate { index, subindex, .. }
+            | SdoRequest::Abort { index, subindex, .. } => Some((index, subindex)),
+            SdoRequest::UploadSegment { .. } | SdoRequest::DownloadSegment { .. } => None,
+        }
+    }
+}
+
+impl SdoResponse {
+    pub fn encode(&self) -> [u8; SDO_LEN] {
+        match self {
+            SdoResponse::UploadExpedited {
+                index,
+                subindex,
+                data,
+                size,
+            } => with_mux(expedited_command(0x40, *size), *index, *subindex, *data),
+            SdoResponse::UploadInitiate {
+                index,
+                subindex,
+                size,
+            } => {
+                let command = if size.is_some() { 0x41 } else { 0x40 };
+                with_mux(command, *index, *subindex, size.unwrap_or(0).to_le_bytes())
+            }
+            SdoResponse::UploadSegment { toggle, data, last } => {
+                let mut out = [0u8; SDO_LEN];
+                out[0] = segment_command(*toggle, data.len(), *last);
+                let n = data.len().min(7);
+                out[1..=n].copy_from_slice(&data[..n]);
+                out
+            }
+            SdoResponse::DownloadInitiate { index, subindex } => with_mux(0x60, *index, *subindex, [0; 4]),
+            SdoResponse::DownloadSegment { toggle } => [0x20 | (u8::from(*toggle) << 4), 0, 0, 0, 0, 0, 0, 0],
+            SdoResponse::Abort {
+                index,
+                subindex,
+                code,
+            } => with_mux(0x80, *index, *subindex, code.to_bytes()),
+        }
+    }
+
+    pub fn decode(bytes: &[u8]) -> Result<SdoResponse, SdoDecodeError> {
+        let b = fixed(bytes)?;
+        let command = b[0];
+        let (index, subindex) = mux(b);
+        Ok(match command >> 5 {
+            0 => SdoResponse::UploadSegment {
+                toggle: command & 0x10 != 0,
+                data: segment_data(b),
+                last: command & 1 == 1,
+            },
+            1 if command & 0x0F == 0 => SdoResponse::DownloadSegment {
+                toggle: command & 0x10 != 0,
+            },
+            1 => return Err(refuse(command, "a download segment response is 0x20 or 0x30")),
+            2 if command & 0x10 != 0 => return Err(refuse(command, "bit 4 must be 0 in a read response")),
+            2 if command & 0b10 != 0 => SdoResponse::UploadExpedited {
+                index,
+                subindex,
+                data: value4(b),
+                size: expedited_size(command),
+            },
+            2 => SdoResponse::UploadInitiate {
+                index,
+                subindex,
+                size: (command & 1 == 1).then(|| u32::from_le_bytes(value4(b))),
+            },
+            3 if command == 0x60 => SdoResponse::DownloadInitiate { index, subindex },
+            3 => return Err(refuse(command, "a write response is 0x60")),
+            4 if command == 0x80 => SdoResponse::Abort {
+                index,
+                subindex,
+                code: AbortCode(u32::from_le_bytes(value4(b))),
+            },
+            4 => return Err(refuse(command, "an abort is 0x80")),
+            _ => {
+                return Err(refuse(
+                    command,
+                    "block transfers (command specifier 5 and 6) are not used with the 9400",
+                ))
+            }
+        })
+    }
+
+    /// The multiplexer the response names (`None` for segments).
+    pub fn object(&self) -> Option<(u16, u8)> {
+        match *self {
+            SdoResponse::UploadExpedited { index, subindex, .. }
+            | SdoResponse::UploadInitiate { index, subindex, .. }
+            | SdoResponse::DownloadInitiate { index, subindex }
+            | SdoResponse::Abort { index, subindex, .. } => Some((index, subindex)),
+            SdoResponse::UploadSegment { .. } | SdoResponse::DownloadSegment { .. } => None,
+        }
+    }
+}
+
+impl fmt::Display for SdoRequest {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            SdoRequest::UploadInitiate { .. } => f.write_str("read request"),
+            SdoRequest::UploadSegment { toggle } => {
+                write!(f, "upload segment request, toggle {}", u8::from(*toggle))
+            }
+            SdoRequest::DownloadExpedited { size, .. } => match size {
+                Some(n) => write!(f, "write request, {n} byte(s)"),
+                None => f.write_str("write request, size not indicated"),
+            },
+            SdoRequest::DownloadInitiate { size, .. } => match size {
+                Some(n) => write!(f, "segmented write request, {n} byte(s)"),
+                None => f.write_str("segmented write request, size not indicated"),
+            },
+            SdoRequest::DownloadSegment { toggle, data, last } => write!(
+                f,
+                "download segment, toggle {}, {} byte(s){}",
+                u8::from(*toggle),
+                data.len(),
+                if *last { ", last" } else { "" }
+            ),
+            SdoRequest::Abort { code, .. } => write!(f, "abort {code}"),
+        }
+    }
+}
+
+impl fmt::Display for SdoResponse {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            SdoResponse::UploadExpedited { size, .. } => match size {
+                Some(n) => write!(f, "read response, {n} byte(s)"),
+                None => f.write_str("read response, size not indicated"),
+            },
+            SdoResponse::UploadInitiate { size, .. } => match size {
+                Some(n) => write!(f, "read response, segmented, {n} byte(s)"),
+                None => f.write_str("read response, segmented, size not indicated"),
+            },
+            SdoResponse::UploadSegment { toggle, data, last } => write!(
+                f,
+                "upload segment, toggle {}, {} byte(s){}",
+                u8::from(*toggle),
+                data.len(),
+                if *last { ", last" } else { "" }
+            ),
+            SdoResponse::DownloadInitiate { .. } => f.write_str("write response (accepted)"),
+            SdoResponse::DownloadSegment { toggle } => {
+                write!(f, "download segment response, toggle {}", u8::from(*toggle))
+            }
+            SdoResponse::Abort { code, .. } => write!(f, "abort {code}"),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::hex::{parse_hex, to_hex};
+    use proptest::prelude::*;
+
+    #[test]
+    fn the_manuals_worked_examples_byte_for_byte() {
+        // Firmware read C00099 of node 12.
+        let read = SdoRequest::UploadInitiate {
+            index: 0x5F9C,
+            subindex: 0,
+        };
+        assert_eq!(to_hex(&read.encode()), "40 9c 5f 00 00 00 00 00");
+        assert_eq!(
+            SdoResponse::decode(&parse_hex("41 9c 5f 00 0b 00 00 00").unwrap()),
+            Ok(SdoResponse::UploadInitiate {
+                index: 0x5F9C,
+                subindex: 0,
+                size: Some(11)
+            })
+        );
+        // Heatsink temperature C00061 of node 5: 43 °C.
+        assert_eq!(
+            SdoResponse::decode(&parse_hex("43 c2 5f 00 2b 00 00 00").unwrap()),
+            Ok(SdoResponse::UploadExpedited {
+                index: 0x5FC2,
+                subindex: 0,
+                data: [0x2b, 0, 0, 0],
+                size: Some(4)
+            })
+        );
+        // Write C00088 = 102: the corrected bytes (the manuals print 66 00 03 00).
+        let write = SdoRequest::DownloadExpedited {
+            index: 0x5FA7,
+            subindex: 0,
+            data: 102u32.to_le_bytes(),
+            size: Some(4),
+        };
+        assert_eq!(to_hex(&write.encode()), "23 a7 5f 00 66 00 00 00");
+        assert_ne!(to_hex(&write.encode()), "23 a7 5f 00 66 00 03 00");
+        assert_eq!(
+            SdoResponse::decode(&parse_hex("60 a7 5f 00 00 00 00 00").unwrap()),
+            Ok(SdoResponse::DownloadInitiate {
+                index: 0x5FA7,
+                subindex: 0
+            })
+        );
+        assert_eq!(
+            SdoResponse::decode(&parse_hex("80 9c 5f 00 41 00 04 06").unwrap()),
+            Ok(SdoResponse::Abort {
+                index: 0x5F9C,
+                subindex: 0,
+                code: AbortCode(0x0604_0041)
+            })
+        );
+    }
+
+    #[test]
+    fn size_bits_of_expedited_transfers() {
+        for (size, command) in [
+            (Some(4), 0x43),
+            (Some(3), 0x47),
+            (Some(2), 0x4B),
+            (Some(1), 0x4F),
+            (None, 0x42),
+        ] {
+            let r = SdoResponse::UploadExpedited {
+                index: 1,
+                subindex: 0,
+                data: [0; 4],
+                size,
+            };
+            assert_eq!(r.encode()[0], command);
+            assert_eq!(SdoResponse::decode(&r.encode()), Ok(r));
+        }
+        for (size, command) in [(Some(4), 0x23), (Some(2), 0x2B), (Some(1), 0x2F), (None, 0x22)] {
+            let r = SdoRequest::DownloadExpedited {
+                index: 1,
+                subindex: 0,
+                data: [0; 4],
+                size,
+            };
+            assert_eq!(r.encode()[0], command);
+        }
+    }
+
+    #[test]
+    fn segments_carry_seven_bytes_less_the_unused_ones() {
+        let last = SdoResponse::UploadSegment {
+            toggle: true,
+            data: b".yy3".to_vec(),
+            last: true,
+        };
+        // 3 unused bytes → n = 3, bit 0 last, toggle 1: 0001 0111.
+        assert_eq!(last.encode()[0], 0x17);
+        assert_eq!(SdoResponse::decode(&last.encode()), Ok(last));
+        assert_eq!(
+            SdoRequest::UploadSegment { toggle: true }.encode(),
+            [0x70, 0, 0, 0, 0, 0, 0, 0]
+        );
+    }
+
+    #[test]
+    fn wrong_lengths_and_block_transfers_are_refused_with_the_reason() {
+        assert_eq!(SdoResponse::decode(&[0x43, 0, 0]), Err(SdoDecodeError::Length(3)));
+        let e = SdoResponse::decode(&[0xC0, 0, 0, 0, 0, 0, 0, 0]).unwrap_err();
+        assert!(e.to_string().contains("block transfers"), "{e}");
+        assert!(SdoResponse::decode(&[0x61, 0, 0, 0, 0, 0, 0, 0]).is_err());
+    }
+
+    proptest! {
+        #[test]
+        fn response_decoder_never_panics_and_round_trips(bytes in proptest::collection::vec(any::<u8>(), 0..12)) {
+            if let Ok(r) = SdoResponse::decode(&bytes) {
+                // Unused bytes of a segment and reserved value bytes may differ; the
+                // decoded meaning must not.
+                prop_assert_eq!(SdoResponse::decode(&r.encode()), Ok(r));
+            }
+            if let Ok(r) = SdoRequest::decode(&bytes) {
+                prop_assert_eq!(SdoRequest::decode(&r.encode()), Ok(r));
+            }
+        }
+    }
+}

@@ -1,0 +1,66 @@
+//! Object access for the Lenze 9400: SDO uploads and downloads over an [`SdoLink`], with
+//! values converted by [`super::sdo_value`].
+
+use super::sdo_link::{object_text, SdoLink};
+use super::sdo_value;
+use crate::clock::SharedClock;
+use crate::dictionary::{Address, DataType, RawValue};
+use crate::drive::{AccessError, ObjectAccess, WriteOutcome};
+
+pub struct Lenze9400Access {
+    link: SdoLink,
+}
+
+impl Lenze9400Access {
+    pub fn new(link: SdoLink) -> Self {
+        Lenze9400Access { link }
+    }
+
+    pub fn link(&self) -> &SdoLink {
+        &self.link
+    }
+
+    fn subindex(address: &Address) -> Result<(u16, u8), AccessError> {
+        let Address::Indexed { index, subindex } = *address;
+        let sub = u8::try_from(subindex)
+            .map_err(|_| AccessError::Encode(format!("SDO subindexes are 0..=255, not {subindex}")))?;
+        Ok((index, sub))
+    }
+}
+
+impl ObjectAccess for Lenze9400Access {
+    fn read(&mut self, address: &Address, data_type: DataType) -> Result<RawValue, AccessError> {
+        let (index, subindex) = Self::subindex(address)?;
+        let value = self.link.upload(index, subindex)?;
+        sdo_value::decode(&value, data_type).map_err(|detail| AccessError::UnexpectedReply {
+            port: self.link.port().to_string(),
+            address: format!("node {}", self.link.node()),
+            request: format!("read {}", object_text(index, subindex)),
+            detail,
+        })
+    }
+
+    fn write(
+        &mut self,
+        address: &Address,
+        value: &RawValue,
+        data_type: DataType,
+    ) -> Result<WriteOutcome, AccessError> {
+        let (index, subindex) = Self::subindex(address)?;
+        let bytes = sdo_value::encode(value, data_type).map_err(AccessError::Encode)?;
+        self.link.download(index, subindex, &bytes)?;
+        Ok(WriteOutcome::Stored)
+    }
+
+    fn port(&self) -> String {
+        format!("node {} on {}", self.link.node(), self.link.port())
+    }
+
+    fn clock(&self) -> SharedClock {
+        self.link.clock().clone()
+    }
+
+    fn reopen(&mut self) -> Result<(), AccessError> {
+        self.link.reopen()
+    }
+}

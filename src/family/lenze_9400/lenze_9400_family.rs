@@ -1,0 +1,212 @@
+//! The Lenze 9400 family as the registry sees it: its dictionary, code addressing
+//! (`C00099`, `C00002/16`), node addresses 1..=127 on a CAN frame bus, and how to open an
+//! SDO link, simulate a node and explain frames.
+
+use super::codec::Code;
+use super::sdo_link::{SdoLink, SdoLinkConfig};
+use super::sim::Lenze9400Simulator;
+use super::{Lenze9400Access, Lenze9400Explainer};
+use crate::bus::{Bus, BusKind, SerialSettings};
+use crate::dictionary::{Access, Address, AddressParser, DataType, Dictionary, ObjectDef};
+use crate::drive::ObjectAccess;
+use crate::family::{
+    BuiltinDictionary, DriveAddress, Family, LinkContext, LinkOptions, SimPeer, SimulatedDevice,
+};
+use crate::link::TelegramExplainer;
+use crate::sim::SimConfig;
+use std::sync::{Arc, Mutex};
+
+const DICTIONARIES: &[BuiltinDictionary] = &[BuiltinDictionary {
+    name: "lenze-9400",
+    path: "dictionary/lenze-9400.yaml",
+    text: include_str!("../../../dictionary/lenze-9400.yaml"),
+}];
+
+/// The node `--address` means when it is not given. The sources give no default node
+/// address for the 9400 (C00350 sets it); 1 is CANopen's lowest.
+const DEFAULT_NODE: u8 = 1;
+
+pub struct Lenze9400Family;
+
+/// A dictionary's `address:` (and `read`/`write` raw notation): a Lenze code.
+fn parse_code_address(text: &str) -> Result<Address, String> {
+    let code = Code::parse(text)?;
+    Ok(Address::indexed(code.index(), u32::from(code.subcode)))
+}
+
+impl Family for Lenze9400Family {
+    fn id(&self) -> &'static str {
+        "lenze_9400"
+    }
+
+    fn title(&self) -> &'static str {
+        "Lenze 9400 over CANopen SDO (SLCAN adapter or SocketCAN)"
+    }
+
+    fn dictionaries(&self) -> &'static [BuiltinDictionary] {
+        DICTIONARIES
+    }
+
+    fn bus_kind(&self) -> BusKind {
+        BusKind::Frames
+    }
+
+    /// SLCAN adapters on USB ignore the serial rate; 115200 8N1 suits those on a real UART.
+    fn serial_settings(&self) -> SerialSettings {
+        SerialSettings::with_baud(115_200)
+    }
+
+    fn address_parser(&self) -> AddressParser {
+        parse_code_address
+    }
+
+    fn parse_drive_address(&self, text: Option<&str>) -> Result<DriveAddress, String> {
+        let node = match text.map(str::trim) {
+            None => DEFAULT_NODE,
+            Some(t) => match t.parse::<u8>() {
+                Ok(n) if (1..=127).contains(&n) => n,
+                _ => return Err(format!("--address {t}: {}", self.address_help())),
+            },
+        };
+        Ok(DriveAddress {
+            number: u32::from(node),
+            shown: format!("CAN node {node}"),
+        })
+    }
+
+    fn address_help(&self) -> &'static str {
+        "the drive's CANopen node address 1..127 (code C00350; default 1)"
+    }
+
+    fn check_link_options(&self, extra: &[(String, String)]) -> Result<(), String> {
+        match extra.first() {
+            None => Ok(()),
+            Some((name, _)) => Err(format!(
+                "--link-option {name}: the lenze_9400 family has no link options"
+            )),
+        }
+    }
+
+    fn open(
+        &self,
+        bus: &Bus,
+        drive: &DriveAddress,
+        options: &LinkOptions,
+        context: LinkContext,
+    ) -> Result<Box<dyn ObjectAccess>, String> {
+        let Bus::Frames(frames) = bus else {
+            return Err(format!(
+                "the Lenze 9400 is reached over CAN, not over the byte stream {}; give --can slcan:PATH or --can socketcan:IF",
+                bus.name()
+            ));
+        };
+        let node = u8::try_from(drive.number)
+            .ok()
+            .filter(|n| (1..=127).contains(n))
+            .ok_or_else(|| format!("CAN node {} is outside 1..127", drive.number))?;
+        let config = SdoLinkConfig {
+            reply_timeout: options.reply_timeout,
+            retries: options.retries,
+        };
+        let mut link = SdoLink::new(frames.clone(), context.clock, node, config);
+        if let Some(o) = context.observer {
+            link.set_observer(o);
+        }
+        if let Some(s) = context.stop {
+            link.set_stop_requests(s);
+        }
+        Ok(Box::new(Lenze9400Access::new(link)))
+    }
+
+    fn simulator(&self, drive: &DriveAddress, config: SimConfig) -> SimulatedDevice {
+        let node = u8::try_from(drive.number).unwrap_or(DEFAULT_NODE);
+        let sim = Arc::new(Mutex::new(Lenze9400Simulator::new(node, config)));
+        SimulatedDevice {
+            drive: sim.clone(),
+            peer: SimPeer::Frames(sim),
+        }
+    }
+
+    fn explainer(&self, dictionary: Arc<Dictionary>) -> Box<dyn TelegramExplainer> {
+        Box::new(Lenze9400Explainer::new(dictionary))
+    }
+
+    /// `C00061`, `C00002/16`. Without `--type` the object is read-only and typed `i32`:
+    /// the node indicates each value's size, and the access reads narrower values widened
+    /// as signed (see `sdo_value`); a write needs `--type`, because a wrong width is
+    /// refused by the node at best and misread at worst.
+    fn raw_object(&self, text: &str, data_type: Option<DataType>) -> Option<Result<ObjectDef, String>> {
+        let t = text.trim();
+        // Dictionary names are lower case, so `C` and a digit can only be a code.
+        if !(t.starts_with('C') && t[1..].starts_with(|c: char| c.is_ascii_digit())) {
+            return None;
+        }
+        Some(parse_code_address(t).map(|address| {
+            let mut def = match data_type {
+                Some(dt) => ObjectDef::new(t, address, dt, Access::ReadWrite),
+                None => {
+                    let mut d = ObjectDef::new(t, address, DataType::I32, Access::ReadOnly);
+                    d.unconfirmed = Some(
+                        "no --type given: read with the size the drive indicates (signed); give --type (u8, i8, u16, i16, u32, i32 or string(N)) to write it"
+                            .into(),
+                    );
+                    d
+                }
+            };
+            def.description = format!("Lenze code {t} (not in the dictionary)");
+            def
+        }))
+    }
+
+    /// `C00099 (index 0x5F9C)`, `C00002/16 (index 0x5FFD/16)`.
+    fn show_address(&self, address: &Address) -> String {
+        let Address::Indexed { index, subindex } = *address;
+        let code = u8::try_from(subindex).ok().and_then(|s| Code::at(index, s));
+        match (code, subindex) {
+            (Some(code), 0) => format!("{code} (index 0x{index:04X})"),
+            (Some(code), sub) => format!("{code} (index 0x{index:04X}/{sub})"),
+            (None, _) => address.to_string(),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn node_addresses() {
+        let f = Lenze9400Family;
+        let a = |t: Option<&str>| f.parse_drive_address(t).map(|a| (a.number, a.shown));
+        assert_eq!(a(None), Ok((1, "CAN node 1".into())));
+        assert_eq!(a(Some("12")), Ok((12, "CAN node 12".into())));
+        assert!(a(Some("0")).unwrap_err().contains("1..127"));
+        assert!(a(Some("128")).is_err());
+        assert!(a(Some("x")).is_err());
+    }
+
+    #[test]
+    fn raw_codes_need_a_type_to_be_written() {
+        let f = Lenze9400Family;
+        assert!(f.raw_object("speed", None).is_none());
+        assert!(f.raw_object("c99", None).is_none());
+        let read = f.raw_object("C00061", None).unwrap().unwrap();
+        assert_eq!(read.address, Address::indexed(0x5FC2, 0));
+        assert!(!read.writable());
+        assert!(read.unconfirmed.unwrap().contains("--type"));
+        let write = f.raw_object("C11", Some(DataType::I32)).unwrap().unwrap();
+        assert_eq!(
+            (write.address, write.writable()),
+            (Address::indexed(0x5FF4, 0), true)
+        );
+        assert!(f.raw_object("C2/999", None).unwrap().is_err());
+        assert_eq!(
+            f.show_address(&Address::indexed(0x5F9C, 0)),
+            "C00099 (index 0x5F9C)"
+        );
+        assert_eq!(
+            f.show_address(&Address::indexed(0x5FFD, 16)),
+            "C00002/16 (index 0x5FFD/16)"
+        );
+    }
+}

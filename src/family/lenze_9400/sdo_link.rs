@@ -1,0 +1,676 @@
+//! The Lenze 9400 SDO link: one transfer at a time to one node over a shared CAN frame
+//! bus, with reply timeouts, retries and stop-aware waits.
+//!
+//! Only frames with the identifier 0x580 + node are responses; everything else on the bus
+//! (other nodes, other services) is passed over. The bus is locked for a whole transfer,
+//! so the segments of two nodes' transfers never interleave. A response that breaks the
+//! protocol (wrong toggle bit, unknown command) is answered with an abort, as CiA 301
+//! asks, and the transfer is tried again; so is a transfer whose node fell silent (after
+//! an abort with the timeout code when it was in the middle of its segments). A lost
+//! adapter ends the transfer at once with the transport error: only reopening can help.
+//! Must not know object names, units or states.
+
+use super::codec::{request_id, response_id, AbortCode, Code, SdoClient, SdoRequest, SdoStep, Uploaded};
+use crate::bus::{CanFrame, FrameBus, SharedFrameBus, TransportError};
+use crate::clock::SharedClock;
+use crate::drive::AccessError;
+use crate::link::{Direction, LinkStats, TelegramObserver};
+use crate::stop_request::StopRequests;
+use std::sync::Arc;
+use std::time::Duration;
+
+/// A stop request does not cut short the first part of a response wait (see the SD2
+/// link): a node that answers at all has answered by then.
+const STOP_GRACE: Duration = Duration::from_millis(20);
+/// After the grace, waits look at stop requests this often.
+const STOP_POLL: Duration = Duration::from_millis(10);
+/// Frames already waiting before a transfer starts are dropped, at most this many (a busy
+/// bus must not keep the link draining forever).
+const DRAIN_MAX: usize = 64;
+/// What to check when the node stays silent.
+const NO_REPLY_HINT: &str = "check the node address (C00350), the bit rate, the CAN wiring and termination, and that the adapter is open on the right bus";
+
+/// How the link waits and retries.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct SdoLinkConfig {
+    /// Longest wait for each response.
+    pub reply_timeout: Duration,
+    /// Further attempts of a whole transfer after a timeout or a protocol error.
+    pub retries: u32,
+}
+
+impl Default for SdoLinkConfig {
+    fn default() -> Self {
+        SdoLinkConfig {
+            reply_timeout: Duration::from_secs(1),
+            retries: 2,
+        }
+    }
+}
+
+pub struct SdoLink {
+    bus: SharedFrameBus,
+    clock: SharedClock,
+    node: u8,
+    config: SdoLinkConfig,
+    observer: Option<Box<dyn TelegramObserver>>,
+    stop: Option<Arc<StopRequests>>,
+    stats: LinkStats,
+}
+
+/// Why one attempt ended without a result.
+enum AttemptFailure {
+    Timeout,
+    Protocol { frame: CanFrame, problem: String },
+    Interrupted,
+    Transport(TransportError),
+}
+
+/// How one wait for a response ended.
+enum Wait {
+    Frame(CanFrame),
+    Timeout,
+    Interrupted,
+}
+
+impl SdoLink {
+    pub fn new(bus: SharedFrameBus, clock: SharedClock, node: u8, config: SdoLinkConfig) -> Self {
+        SdoLink {
+            bus,
+            clock,
+            node,
+            config,
+            observer: None,
+            stop: None,
+            stats: LinkStats::default(),
+        }
+    }
+
+    pub fn set_observer(&mut self, observer: Box<dyn TelegramObserver>) {
+        self.observer = Some(observer);
+    }
+
+    pub fn set_stop_requests(&mut self, stop: Arc<StopRequests>) {
+        self.stop = Some(stop);
+    }
+
+    pub fn node(&self) -> u8 {
+        self.node
+    }
+
+    pub fn port(&self) -> &str {
+        self.bus.name()
+    }
+
+    pub fn clock(&self) -> &SharedClock {
+        &self.clock
+    }
+
+    pub fn stats(&self) -> LinkStats {
+        self.stats
+    }
+
+    /// Opens the bus again after the adapter was lost.
+    pub fn reopen(&mut self) -> Result<(), AccessError> {
+        self.event("reopening the CAN adapter");
+        self.bus.lock().reopen()?;
+        Ok(())
+    }
+
+    /// Reads an object (expedited or segmented, as the node chooses).
+    pub fn upload(&mut self, index: u16, subindex: u8) -> Result<Uploaded, AccessError> {
+        let step = self.transfer("read", index, subindex, &|| {
+            Some(SdoClient::upload(index, subindex))
+        })?;
+        match step {
+            SdoStep::Uploaded(u) => Ok(u),
+            other => Err(self.unexpected("read", index, subindex, &other)),
+        }
+    }
+
+    /// Writes an object: expedited up to 4 bytes, segmented beyond.
+    pub fn download(&mut self, index: u16, subindex: u8, data: &[u8]) -> Result<(), AccessError> {
+        if SdoClient::download(index, subindex, data).is_none() {
+            return Err(AccessError::Encode(format!(
+                "an SDO write carries 1 to {} bytes, not {}",
+                super::codec::MAX_TRANSFER,
+                data.len()
+            )));
+        }
+        let step = self.transfer("write", index, subindex, &|| {
+            SdoClient::download(index, subindex, data)
+        })?;
+        match step {
+            SdoStep::Downloaded => Ok(()),
+            other => Err(self.unexpected("write", index, subindex, &other)),
+        }
+    }
+
+    fn transfer(
+        &mut self,
+        operation: &'static str,
+        index: u16,
+        subindex: u8,
+        start: &dyn Fn() -> Option<(SdoClient, SdoRequest)>,
+    ) -> Result<SdoStep, AccessError> {
+        let shared = self.bus.clone();
+        let mut guard = shared.lock();
+        let bus: &mut dyn FrameBus = guard.as_mut();
+        let attempts = self.config.retries + 1;
+        let mut last_protocol: Option<(CanFrame, String)> = None;
+        let mut first_request = None;
+        for attempt in 1..=attempts {
+            if attempt > 1 {
+                if self.stop_pending() {
+                    return Err(self.interrupted(operation, index, subindex, first_request.as_ref()));
+                }
+                self.stats.retries += 1;
+                self.event(&format!("retry {} of {}", attempt - 1, self.config.retries));
+            }
+            let Some((mut client, request)) = start() else {
+                return Err(AccessError::Encode(
+                    "the value does not fit an SDO transfer".into(),
+                ));
+            };
+            let first = self.frame_of(&request);
+            first_request.get_or_insert(first);
+            self.drain(bus)?;
+            match self.attempt(bus, &mut client, request) {
+                Ok(SdoStep::Aborted(code)) => {
+                    return Err(self.refused(operation, index, subindex, code));
+                }
+                Ok(step) => {
+                    self.stats.replies += 1;
+                    return Ok(step);
+                }
+                Err(AttemptFailure::Timeout) => {
+                    self.stats.timeouts += 1;
+                    let ms = self.config.reply_timeout.as_millis();
+                    self.event(&format!("no response within {ms} ms"));
+                }
+                Err(AttemptFailure::Protocol { frame, problem }) => {
+                    self.stats.corrupt_replies += 1;
+                    self.event(&format!("response refused: {problem}"));
+                    last_protocol = Some((frame, problem));
+                }
+                Err(AttemptFailure::Interrupted) => {
+                    self.event("stop requested while waiting for the response");
+                    return Err(self.interrupted(operation, index, subindex, first_request.as_ref()));
+                }
+                Err(AttemptFailure::Transport(e)) => {
+                    self.event(&format!("CAN adapter failed: {e}"));
+                    return Err(AccessError::Transport(e));
+                }
+            }
+        }
+        let request = describe(operation, index, subindex, first_request.as_ref());
+        let port = self.bus.name().to_string();
+        Err(match last_protocol {
+            Some((frame, problem)) => AccessError::BadReply {
+                port,
+                address: self.address(),
+                request,
+                reply: frame.to_candump(),
+                problem,
+                attempts,
+            },
+            None => AccessError::NoReply {
+                port,
+                address: self.address(),
+                request,
+                attempts,
+                timeout_ms: self.config.reply_timeout.as_millis(),
+                hint: NO_REPLY_HINT.to_string(),
+            },
+        })
+    }
+
+    /// One run of a transfer from its first request to its end.
+    fn attempt(
+        &mut self,
+        bus: &mut dyn FrameBus,
+        client: &mut SdoClient,
+        first: SdoRequest,
+    ) -> Result<SdoStep, AttemptFailure> {
+        let mut request = first;
+        let mut started = false;
+        loop {
+            self.send(bus, &request).map_err(AttemptFailure::Transport)?;
+            self.stats.requests += 1;
+            let step = loop {
+                let frame = match self.wait(bus) {
+                    Ok(Wait::Frame(f)) => f,
+                    Ok(Wait::Timeout) => {
+                        if started {
+                            // The node is in the middle of the transfer: free it.
+                            let _ = self.send(bus, &client.timeout_abort());
+                        }
+                        return Err(AttemptFailure::Timeout);
+                    }
+                    Ok(Wait::Interrupted) => {
+                        if started {
+                            let _ = self.send(bus, &client.timeout_abort());
+                        }
+                        return Err(AttemptFailure::Interrupted);
+                    }
+                    Err(e) => return Err(AttemptFailure::Transport(e)),
+                };
+                match client.on_bytes(frame.data()) {
+                    SdoStep::Ignored(why) => {
+                        self.stats.mismatched_replies += 1;
+                        self.event(&format!("passed over {}: {why}", frame.to_candump()));
+                    }
+                    SdoStep::Failed { problem, abort } => {
+                        if let Some(abort) = abort {
+                            self.send(bus, &abort).map_err(AttemptFailure::Transport)?;
+                        }
+                        return Err(AttemptFailure::Protocol { frame, problem });
+                    }
+                    step => break step,
+                }
+            };
+            match step {
+                SdoStep::Send(next) => {
+                    started = true;
+                    request = next;
+                }
+                done => return Ok(done),
+            }
+        }
+    }
+
+    /// Waits for the next frame from this node, passing over every other frame.
+    fn wait(&mut self, bus: &mut dyn FrameBus) -> Result<Wait, TransportError> {
+        let sent = self.clock.now();
+        let deadline = sent + self.config.reply_timeout;
+        let expected = response_id(self.node);
+        loop {
+            let now = self.clock.now();
+            if now >= deadline {
+                return Ok(Wait::Timeout);
+            }
+            let slice = match &self.stop {
+                None => deadline - now,
+                Some(_) if now - sent < STOP_GRACE => (sent + STOP_GRACE).min(deadline) - now,
+                Some(_) => STOP_POLL.min(deadline - now),
+            };
+            match bus.receive(slice) {
+                Ok(frame) if frame.id == expected && !frame.extended => {
+                    self.notify(Direction::Received, &frame);
+                    return Ok(Wait::Frame(frame));
+                }
+                Ok(_) => {}
+                Err(TransportError::Timeout { .. }) => {
+                    let now = self.clock.now();
+                    if now >= deadline {
+                        return Ok(Wait::Timeout);
+                    }
+                    if now - sent >= STOP_GRACE && self.stop_pending() {
+                        return Ok(Wait::Interrupted);
+                    }
+                }
+                Err(e) => return Err(e),
+            }
+        }
+    }
+
+    /// Drops what arrived before this transfer (a late response to an earlier attempt).
+    fn drain(&mut self, bus: &mut dyn FrameBus) -> Result<(), AccessError> {
+        let mut dropped = 0;
+        for _ in 0..DRAIN_MAX {
+            match bus.receive(Duration::ZERO) {
+                Ok(f) if f.id == response_id(self.node) => dropped += 1,
+                Ok(_) => {}
+                Err(TransportError::Timeout { .. }) => break,
+                Err(e) => return Err(AccessError::Transport(e)),
+            }
+        }
+        if dropped > 0 {
+            self.event(&format!("dropped {dropped} late response(s) before sending"));
+        }
+        Ok(())
+    }
+
+    fn frame_of(&self, request: &SdoRequest) -> CanFrame {
+        CanFrame::standard8(request_id(self.node), request.encode())
+    }
+
+    fn send(&mut self, bus: &mut dyn FrameBus, request: &SdoRequest) -> Result<(), TransportError> {
+        let frame = self.frame_of(request);
+        bus.send(&frame)?;
+        self.notify(Direction::Sent, &frame);
+        Ok(())
+    }
+
+    fn stop_pending(&self) -> bool {
+        self.stop.as_ref().is_some_and(|s| s.pending_at(self.clock.now()))
+    }
+
+    fn address(&self) -> String {
+        format!("node {}", self.node)
+    }
+
+    fn refused(&self, operation: &'static str, index: u16, subindex: u8, code: AbortCode) -> AccessError {
+        AccessError::Refused {
+            port: self.bus.name().to_string(),
+            address: self.address(),
+            operation,
+            object: object_text(index, subindex),
+            code: code.0,
+            text: format!("SDO abort {code}"),
+        }
+    }
+
+    fn interrupted(
+        &self,
+        operation: &'static str,
+        index: u16,
+        subindex: u8,
+        first: Option<&CanFrame>,
+    ) -> AccessError {
+        AccessError::Interrupted {
+            port: self.bus.name().to_string(),
+            address: self.address(),
+            request: describe(operation, index, subindex, first),
+        }
+    }
+
+    fn unexpected(&self, operation: &'static str, index: u16, subindex: u8, step: &SdoStep) -> AccessError {
+        AccessError::UnexpectedReply {
+            port: self.bus.name().to_string(),
+            address: self.address(),
+            request: describe(operation, index, subindex, None),
+            detail: format!("the transfer ended as {step:?}"),
+        }
+    }
+
+    fn notify(&mut self, direction: Direction, frame: &CanFrame) {
+        let at = self.clock.now();
+        if let Some(o) = self.observer.as_mut() {
+            o.frame(at, direction, frame);
+        }
+    }
+
+    fn event(&mut self, text: &str) {
+        let at = self.clock.now();
+        if let Some(o) = self.observer.as_mut() {
+            o.event(at, text);
+        }
+    }
+}
+
+/// `C00099 (index 0x5F9C, subindex 0)`, or the index alone outside the codes' range.
+pub fn object_text(index: u16, subindex: u8) -> String {
+    match Code::at(index, subindex) {
+        Some(code) => format!("{code} (index 0x{index:04X}, subindex {subindex})"),
+        None => format!("index 0x{index:04X}, subindex {subindex}"),
+    }
+}
+
+/// `` `60C#409C5F0000000000` (read C00099 (index 0x5F9C, subindex 0)) ``.
+fn describe(operation: &str, index: u16, subindex: u8, first: Option<&CanFrame>) -> String {
+    let what = format!("{operation} {}", object_text(index, subindex));
+    match first {
+        Some(f) => format!("`{}` ({what})", f.to_candump()),
+        None => what,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::bus::{FramePeer, MemoryFrameBus};
+    use crate::clock::{Clock, VirtualClock};
+    use crate::family::lenze_9400::sim::Lenze9400Simulator;
+    use crate::hex::parse_hex;
+    use crate::sim::{SimConfig, SimulatedDrive};
+    use std::collections::VecDeque;
+    use std::sync::Mutex;
+
+    const FAST: Duration = Duration::from_micros(200);
+
+    /// Answers each request with the next scripted frames (id, hex); an empty entry is silence.
+    struct Scripted {
+        replies: VecDeque<Vec<(u32, &'static str)>>,
+        received: Vec<String>,
+    }
+
+    impl FramePeer for Scripted {
+        fn receive(&mut self, frame: &CanFrame, now: Duration) -> Vec<(Duration, CanFrame)> {
+            self.received.push(frame.to_candump());
+            self.replies
+                .pop_front()
+                .unwrap_or_default()
+                .into_iter()
+                .map(|(id, hex)| {
+                    let data: [u8; 8] = parse_hex(hex).unwrap().try_into().unwrap();
+                    (now + FAST, CanFrame::standard8(id, data))
+                })
+                .collect()
+        }
+    }
+
+    fn scripted(node: u8, replies: Vec<Vec<(u32, &'static str)>>) -> (SdoLink, Arc<Mutex<Scripted>>) {
+        let clock = Arc::new(VirtualClock::new());
+        let peer = Arc::new(Mutex::new(Scripted {
+            replies: replies.into(),
+            received: vec![],
+        }));
+        let bus = MemoryFrameBus::new("scripted", peer.clone(), clock.clone());
+        let link = SdoLink::new(
+            SharedFrameBus::new(Box::new(bus)),
+            clock,
+            node,
+            SdoLinkConfig::default(),
+        );
+        (link, peer)
+    }
+
+    fn simulated(node: u8) -> (SdoLink, Arc<Mutex<Lenze9400Simulator>>, Arc<VirtualClock>) {
+        let clock = Arc::new(VirtualClock::new());
+        let sim = Arc::new(Mutex::new(Lenze9400Simulator::new(node, SimConfig::default())));
+        let bus = MemoryFrameBus::new("memory", sim.clone(), clock.clone());
+        let link = SdoLink::new(
+            SharedFrameBus::new(Box::new(bus)),
+            clock.clone(),
+            node,
+            SdoLinkConfig::default(),
+        );
+        (link, sim, clock)
+    }
+
+    #[test]
+    fn segmented_upload_of_eleven_characters_in_two_segments() {
+        let (mut link, peer) = scripted(
+            12,
+            vec![
+                vec![(0x58C, "41 9c 5f 00 0b 00 00 00")],
+                vec![(0x58C, "00 30 35 2e 30 30 2e 31")],
+                vec![(0x58C, "17 32 2e 30 37 00 00 00")],
+            ],
+        );
+        let value = link.upload(0x5F9C, 0).unwrap();
+        assert_eq!(value.data, b"05.00.12.07");
+        assert_eq!(
+            peer.lock().unwrap().received,
+            [
+                "60C#409C5F0000000000",
+                "60C#6000000000000000",
+                "60C#7000000000000000"
+            ]
+        );
+    }
+
+    #[test]
+    fn the_simulated_node_answers_the_worked_examples() {
+        let (mut link, _, _) = simulated(12);
+        assert_eq!(link.upload(0x5F9C, 0).unwrap().data, b"05.00.12.07");
+        let (mut link, _, _) = simulated(5);
+        assert_eq!(link.upload(0x5FC2, 0).unwrap().data, [0x2b, 0, 0, 0]);
+        let (mut link, sim, _) = simulated(2);
+        link.download(0x5FA7, 0, &102i32.to_le_bytes()).unwrap();
+        assert_eq!(sim.lock().unwrap().codes().rated_current, 102);
+    }
+
+    #[test]
+    fn an_abort_names_the_code_and_the_abort_text() {
+        let (mut link, _, _) = simulated(12);
+        let e = link.upload(0x5FFF - 999, 0).unwrap_err();
+        assert!(
+            matches!(
+                e,
+                AccessError::Refused {
+                    code: 0x0602_0000,
+                    ..
+                }
+            ),
+            "{e}"
+        );
+        assert_eq!(
+            e.to_string(),
+            "drive node 12 on memory refused to read object C00999 (index 0x5C18, subindex 0): \
+             SDO abort 0x06020000 object does not exist in the object dictionary"
+        );
+        let (mut link, _) = scripted(12, vec![vec![(0x58C, "80 9c 5f 00 41 00 04 06")]]);
+        let e = link.upload(0x5F9C, 0).unwrap_err().to_string();
+        assert!(
+            e.contains("C00099") && e.contains("0x06040041 object cannot be mapped to the PDO"),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn only_frames_from_0x580_plus_node_are_responses() {
+        // Another node's response and our own request echoed come first.
+        let (mut link, _) = scripted(
+            5,
+            vec![vec![
+                (0x586, "43 c2 5f 00 99 00 00 00"),
+                (0x605, "40 c2 5f 00 00 00 00 00"),
+                (0x585, "43 c2 5f 00 2b 00 00 00"),
+            ]],
+        );
+        assert_eq!(link.upload(0x5FC2, 0).unwrap().data, [0x2b, 0, 0, 0]);
+        assert_eq!(link.stats().retries, 0);
+    }
+
+    #[test]
+    fn a_wrong_toggle_bit_is_aborted_and_the_transfer_retried() {
+        let (mut link, peer) = scripted(
+            12,
+            vec![
+                vec![(0x58C, "41 9c 5f 00 0b 00 00 00")],
+                vec![(0x58C, "10 30 35 2e 30 30 2e 31")],
+                vec![], // the abort is not answered
+                vec![(0x58C, "41 9c 5f 00 0b 00 00 00")],
+                vec![(0x58C, "00 30 35 2e 30 30 2e 31")],
+                vec![(0x58C, "17 32 2e 30 37 00 00 00")],
+            ],
+        );
+        assert_eq!(link.upload(0x5F9C, 0).unwrap().data, b"05.00.12.07");
+        let sent = peer.lock().unwrap().received.clone();
+        assert_eq!(
+            sent[2], "60C#809C5F0000000305",
+            "abort with 0x05030000 toggle bit"
+        );
+        assert_eq!(link.stats().retries, 1);
+    }
+
+    #[test]
+    fn every_attempt_broken_reports_the_last_response_and_the_problem() {
+        let bad = vec![(0x58C, "c1 9c 5f 00 0b 00 00 00")];
+        let (mut link, _) = scripted(12, vec![bad.clone(), vec![], bad.clone(), vec![], bad, vec![]]);
+        let e = link.upload(0x5F9C, 0).unwrap_err();
+        assert!(matches!(e, AccessError::BadReply { attempts: 3, .. }), "{e}");
+        let text = e.to_string();
+        assert!(text.contains("58C#C19C5F000B000000"), "{text}");
+        assert!(text.contains("block transfers"), "{text}");
+    }
+
+    #[test]
+    fn a_node_silent_mid_transfer_is_aborted_with_the_timeout_code_then_retried() {
+        // The initiate response arrives, the first segment's is lost.
+        let (mut l2, peer) = scripted(
+            12,
+            vec![
+                vec![(0x58C, "41 9c 5f 00 0b 00 00 00")],
+                vec![],
+                vec![],
+                vec![(0x58C, "41 9c 5f 00 0b 00 00 00")],
+                vec![(0x58C, "00 30 35 2e 30 30 2e 31")],
+                vec![(0x58C, "17 32 2e 30 37 00 00 00")],
+            ],
+        );
+        assert_eq!(l2.upload(0x5F9C, 0).unwrap().data, b"05.00.12.07");
+        let sent = peer.lock().unwrap().received.clone();
+        assert_eq!(
+            sent[2], "60C#809C5F0000000405",
+            "abort with 0x05040000 SDO timeout"
+        );
+        assert_eq!(l2.stats().timeouts, 1);
+        // Every attempt lost: a clear no-reply error after three attempts of 1 s.
+        let (mut link, sim, clock) = simulated(12);
+        sim.lock().unwrap().faults().drop_replies(10);
+        let e = link.upload(0x5FC2, 0).unwrap_err();
+        assert!(e.is_no_reply());
+        let text = e.to_string();
+        assert!(text.contains("no reply from drive node 12 on memory"), "{text}");
+        assert!(text.contains("`60C#40C25F0000000000` (read C00061"), "{text}");
+        assert!(clock.now() >= Duration::from_secs(3));
+    }
+
+    /// A bus whose adapter is unplugged after `sends` frames.
+    struct Unplugged {
+        inner: MemoryFrameBus,
+        sends: usize,
+    }
+
+    impl FrameBus for Unplugged {
+        fn name(&self) -> &str {
+            "slcan /dev/ttyACM0"
+        }
+        fn send(&mut self, frame: &CanFrame) -> Result<(), TransportError> {
+            if self.sends == 0 {
+                return Err(TransportError::Io {
+                    port: "slcan /dev/ttyACM0".into(),
+                    detail: "the device was unplugged".into(),
+                });
+            }
+            self.sends -= 1;
+            self.inner.send(frame)
+        }
+        fn receive(&mut self, timeout: Duration) -> Result<CanFrame, TransportError> {
+            self.inner.receive(timeout)
+        }
+        fn reopen(&mut self) -> Result<(), TransportError> {
+            Err(TransportError::PortNotFound {
+                port: "/dev/ttyACM0".into(),
+            })
+        }
+    }
+
+    #[test]
+    fn a_lost_adapter_mid_transfer_ends_it_at_once_with_the_adapters_error() {
+        let clock = Arc::new(VirtualClock::new());
+        let sim = Arc::new(Mutex::new(Lenze9400Simulator::new(12, SimConfig::default())));
+        let bus = Unplugged {
+            inner: MemoryFrameBus::new("memory", sim, clock.clone()),
+            sends: 2,
+        };
+        let mut link = SdoLink::new(
+            SharedFrameBus::new(Box::new(bus)),
+            clock.clone(),
+            12,
+            SdoLinkConfig::default(),
+        );
+        let e = link.upload(0x5F9C, 0).unwrap_err();
+        assert!(e.is_transport(), "{e}");
+        assert_eq!(
+            e.to_string(),
+            "I/O error on slcan /dev/ttyACM0: the device was unplugged"
+        );
+        // No retry and no reply timeout was waited for.
+        assert!(clock.now() < Duration::from_millis(10), "{:?}", clock.now());
+        assert!(link.reopen().unwrap_err().to_string().contains("does not exist"));
+    }
+}

@@ -1,0 +1,153 @@
+//! Raw values as SDO carries them: integers little-endian, strings as their characters
+//! (VISIBLE_STRING, no length byte; trailing NULs a node pads with are dropped). Pure.
+//!
+//! The rule for reading with the size the node indicates: a value of exactly the type's
+//! width is read as the type; a narrower one (a 2-byte code read as `i32`, the type a raw
+//! `read C…` without `--type` assumes) is widened with the type's signedness, so give
+//! `--type u16` to read a 16-bit unsigned code above 32767 right; a wider one is refused
+//! (length mismatch). Without a size indication the type's width is taken from the 4 bytes.
+
+use super::codec::Uploaded;
+use crate::dictionary::{DataType, RawValue};
+
+/// Decodes an uploaded value as `data_type`; the error says expected vs. actual.
+pub fn decode(value: &Uploaded, data_type: DataType) -> Result<RawValue, String> {
+    let bytes = value.data.as_slice();
+    if let DataType::String { max } = data_type {
+        let text: &[u8] = match bytes.iter().rposition(|&b| b != 0) {
+            Some(end) => &bytes[..=end],
+            None => &[],
+        };
+        if text.len() > usize::from(max) {
+            return Err(format!(
+                "{data_type} holds at most {max} characters, the node sent {}",
+                text.len()
+            ));
+        }
+        return Ok(RawValue::Text(String::from_utf8_lossy(text).into_owned()));
+    }
+    let size = data_type.size();
+    if value.segmented {
+        return Err(format!(
+            "the node sent {} bytes in segments (a string or a block parameter), not a {data_type}; read it with --type string(N)",
+            bytes.len()
+        ));
+    }
+    let used = if value.size_indicated {
+        bytes.len()
+    } else {
+        size.min(bytes.len())
+    };
+    if used > size || used == 0 {
+        return Err(format!(
+            "{data_type} takes {size} byte(s), the node indicated {used} (length mismatch)"
+        ));
+    }
+    let mut buf = [0u8; 8];
+    buf[..used].copy_from_slice(&bytes[..used]);
+    let unsigned = u64::from_le_bytes(buf);
+    Ok(RawValue::Int(if data_type.is_signed() {
+        let shift = 64 - 8 * used as u32;
+        ((unsigned << shift) as i64) >> shift
+    } else {
+        unsigned as i64
+    }))
+}
+
+/// The bytes to write for `raw`: an integer in the type's width, text as its characters.
+/// What does not fit the type is refused instead of being sent wrapped.
+pub fn encode(raw: &RawValue, data_type: DataType) -> Result<Vec<u8>, String> {
+    match (data_type, raw) {
+        (DataType::String { max }, RawValue::Text(text)) => {
+            if text.is_empty() || text.len() > usize::from(max) || !text.is_ascii() {
+                return Err(format!(
+                    "{text:?} does not fit {data_type} (1..={max} ASCII characters)"
+                ));
+            }
+            Ok(text.as_bytes().to_vec())
+        }
+        (data_type, RawValue::Int(count)) => match data_type.range() {
+            Some((lo, hi)) if (lo..=hi).contains(count) => {
+                Ok(count.to_le_bytes()[..data_type.size()].to_vec())
+            }
+            _ => Err(format!("{count} does not fit {data_type}")),
+        },
+        (_, other) => Err(format!("{other} cannot be sent as {data_type}")),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    fn expedited(data: &[u8], size_indicated: bool) -> Uploaded {
+        Uploaded {
+            data: data.to_vec(),
+            size_indicated,
+            segmented: false,
+        }
+    }
+
+    #[test]
+    fn the_size_rule() {
+        assert_eq!(
+            decode(&expedited(&[0x2b, 0, 0, 0], true), DataType::I32),
+            Ok(RawValue::Int(43))
+        );
+        assert_eq!(
+            decode(&expedited(&[0xff, 0xff], true), DataType::I32),
+            Ok(RawValue::Int(-1))
+        );
+        assert_eq!(
+            decode(&expedited(&[0xff, 0xff], true), DataType::U32),
+            Ok(RawValue::Int(65535))
+        );
+        assert_eq!(
+            decode(&expedited(&[0x34, 0x12, 0xaa, 0xbb], false), DataType::U16),
+            Ok(RawValue::Int(0x1234))
+        );
+        assert!(decode(&expedited(&[1, 0, 0, 0], true), DataType::U16)
+            .unwrap_err()
+            .contains("length mismatch"));
+        let text = Uploaded {
+            data: b"05.00.12.07".to_vec(),
+            size_indicated: true,
+            segmented: true,
+        };
+        assert_eq!(
+            decode(&text, DataType::String { max: 11 }),
+            Ok(RawValue::Text("05.00.12.07".into()))
+        );
+        assert!(decode(&text, DataType::String { max: 8 }).is_err());
+        assert!(decode(&text, DataType::I32)
+            .unwrap_err()
+            .contains("--type string"));
+    }
+
+    #[test]
+    fn encoding_refuses_what_does_not_fit() {
+        assert_eq!(
+            encode(&RawValue::Int(102), DataType::I32),
+            Ok(vec![0x66, 0, 0, 0])
+        );
+        assert_eq!(
+            encode(&RawValue::Int(3000), DataType::I32),
+            Ok(vec![0xb8, 0x0b, 0, 0])
+        );
+        assert!(encode(&RawValue::Int(70000), DataType::U16).is_err());
+        assert!(encode(&RawValue::Text("ab".into()), DataType::U16).is_err());
+        assert_eq!(
+            encode(&RawValue::Text("ab".into()), DataType::String { max: 4 }),
+            Ok(b"ab".to_vec())
+        );
+    }
+
+    proptest! {
+        #[test]
+        fn integers_round_trip(v in any::<i32>()) {
+            let bytes = encode(&RawValue::Int(v.into()), DataType::I32).unwrap();
+            prop_assert_eq!(decode(&expedited(&bytes, true), DataType::I32), Ok(RawValue::Int(v.into())));
+        }
+    }
+}

@@ -1,0 +1,516 @@
+//! The Lenze 9400 family end to end in-process: the golden SDO frames of the 9400 manuals
+//! through the explainer, the shipped recipe on the simulated node, and the endings of a
+//! run on a dictionary without a device-control profile: a stop signal, a lost adapter
+//! that comes back, one that does not, and one lost in the middle of a segmented transfer.
+
+use crate::support::{load_frame_vectors, repo_root, InProcessRun};
+use drivescript::bus::CanFrame;
+use drivescript::cli::{DictionaryArgs, PrepareSimulator};
+use drivescript::clock::SharedClock;
+use drivescript::dictionary::Dictionary;
+use drivescript::family::{Family, Registry};
+use drivescript::sim::SimulatedDrive;
+use drivescript::stop_request::{StopRequests, StopSignal};
+use std::path::PathBuf;
+use std::sync::{Arc, Mutex};
+use std::time::Duration;
+
+fn lenze() -> DictionaryArgs {
+    DictionaryArgs {
+        family: "lenze-9400".into(),
+        extra: Vec::new(),
+        limits: None,
+    }
+}
+
+fn recipe(name: &str, text: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("drivescript-lenze-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("scratch dir");
+    let path = dir.join("recipe.yaml");
+    std::fs::write(&path, text).expect("recipe written");
+    path
+}
+
+#[test]
+fn the_copy_matches_the_shared_vectors() {
+    let shared = repo_root().join("../shared/vectors/lenze-9400-sdo.yaml");
+    if shared.exists() {
+        let copy = std::fs::read_to_string(repo_root().join("tests/vectors/lenze-9400-sdo.yaml")).unwrap();
+        assert_eq!(copy, std::fs::read_to_string(shared).unwrap());
+    }
+}
+
+#[test]
+fn every_golden_frame_explains_to_its_vector() {
+    let vectors = load_frame_vectors(&repo_root().join("tests/vectors/lenze-9400-sdo.yaml"));
+    assert_eq!(vectors.len(), 9);
+    let registry = Registry::builtin();
+    let family = registry.family("lenze_9400").unwrap();
+    let dictionary = Arc::new(registry.load_dictionary("lenze-9400").unwrap());
+    for v in &vectors {
+        let frame = CanFrame::parse_text(&format!("{} {}", v.id, v.data)).unwrap();
+        let mut explainer = family.explainer(dictionary.clone());
+        let (json, valid) = explainer.json(&frame.to_bytes());
+        assert!(valid, "{}: {json}", v.name);
+        assert_eq!(json, v.frame, "{}", v.name);
+    }
+}
+
+#[test]
+fn the_printed_write_example_is_explained_as_what_it_really_sends() {
+    let registry = Registry::builtin();
+    let family = registry.family("lenze_9400").unwrap();
+    let dictionary: Arc<Dictionary> = Arc::new(registry.load_dictionary("lenze-9400").unwrap());
+    let mut explainer = family.explainer(dictionary);
+    let printed = CanFrame::parse_text("602#23A75F0066000300").unwrap();
+    let text = explainer.explain(&printed.to_bytes()).unwrap();
+    assert!(text.contains("C00088 rated_motor_current"), "{text}");
+    // 0x00030066 = 196710 counts = 19671 A: not the 10.2 A the manual's text means.
+    assert!(text.contains("196710 = 19671 A"), "{text}");
+    let corrected = CanFrame::parse_text("602#23A75F0066000000").unwrap();
+    let text = explainer.explain(&corrected.to_bytes()).unwrap();
+    assert!(text.contains("102 = 10.2 A"), "{text}");
+}
+
+#[test]
+fn the_shipped_recipe_passes_on_the_simulated_node_and_says_there_is_no_device_control() {
+    let mut run = InProcessRun::new(repo_root().join("recipes/lenze-9400-identity.yaml"));
+    run.dictionary = lenze();
+    let (result, output) = run.run();
+    assert_eq!(result.exit_code, 0, "{output}");
+    assert!(output.contains(r#"ident = "05.00.12.07""#), "{output}");
+    assert!(output.contains("rated_motor_current = 10.2 A"), "{output}");
+    assert!(
+        output.contains("safe stop: the lenze_9400 dictionary has no device-control profile"),
+        "{output}"
+    );
+    assert!(
+        output.contains("drive state not known: the dictionary has no device-control profile"),
+        "{output}"
+    );
+    assert!(!output.contains("CHECK THE DRIVE BY HAND"), "{output}");
+}
+
+const READ_FOR_A_MINUTE: &str = "name: Reading for a minute
+drive: lenze-9400
+steps:
+  - repeat:
+      for: 1 min
+      steps:
+        - read: [ident, heatsink_temperature]
+        - dwell: 1 s
+";
+
+fn with_faults(text: &str, name: &str, stop: Arc<StopRequests>, faults: &PrepareSimulator) -> (i32, String) {
+    let path = recipe(name, text);
+    let mut run = InProcessRun::new(path);
+    run.dictionary = lenze();
+    run.stop = stop;
+    run.prepare = Some(faults);
+    let (result, output) = run.run();
+    (result.exit_code, output)
+}
+
+#[test]
+fn a_stop_signal_ends_the_run_with_the_truth_about_device_control() {
+    let stop = Arc::new(StopRequests::new());
+    stop.schedule(Duration::from_millis(10_500), StopSignal::INT);
+    let nothing = |_: &Arc<Mutex<dyn SimulatedDrive>>, _: &SharedClock| {};
+    let (code, output) = with_faults(READ_FOR_A_MINUTE, "sigint", stop, &nothing);
+    assert_eq!(code, 130, "{output}");
+    assert!(output.contains("no device-control profile"), "{output}");
+    assert!(!output.contains("CHECK THE DRIVE BY HAND"), "{output}");
+    assert!(!output.contains("failed: the lenze_9400 dictionary"), "{output}");
+}
+
+#[test]
+fn an_adapter_that_comes_back_is_reopened_and_the_node_checked_by_its_identity() {
+    let down = |sim: &Arc<Mutex<dyn SimulatedDrive>>, _: &SharedClock| {
+        let mut sim = sim.lock().unwrap();
+        sim.faults()
+            .line_down(Duration::from_millis(5_500), Duration::from_millis(6_500));
+    };
+    let (code, output) = with_faults(
+        READ_FOR_A_MINUTE,
+        "comes-back",
+        Arc::new(StopRequests::new()),
+        &down,
+    );
+    assert_eq!(code, 3, "{output}");
+    assert!(output.contains("the CAN adapter went away"), "{output}");
+    assert!(
+        output.contains("restored at attempt") && output.contains("the drive answers"),
+        "{output}"
+    );
+    assert!(output.contains("no device-control profile"), "{output}");
+    assert!(!output.contains("CHECK THE DRIVE BY HAND"), "{output}");
+}
+
+#[test]
+fn an_adapter_lost_in_the_middle_of_a_segmented_read_ends_in_check_by_hand() {
+    // The identity read at the start and each loop read C00099 in three frames 100 µs
+    // apart; the adapter goes away between the initiate response and the first segment.
+    let down = |sim: &Arc<Mutex<dyn SimulatedDrive>>, clock: &SharedClock| {
+        let start = clock.now();
+        let mut sim = sim.lock().unwrap();
+        sim.faults().line_down(
+            start + Duration::from_micros(150),
+            start + Duration::from_secs(3600),
+        );
+    };
+    let (code, output) = with_faults(
+        READ_FOR_A_MINUTE,
+        "mid-transfer",
+        Arc::new(StopRequests::new()),
+        &down,
+    );
+    assert_eq!(code, 3, "{output}");
+    assert!(output.contains("the CAN adapter went away"), "{output}");
+    assert!(output.contains("CHECK THE DRIVE BY HAND"), "{output}");
+    assert!(output.contains("could not be reached to stop it"), "{output}");
+    assert!(output.contains("drive left in an unknown state"), "{output}");
+}
+
+#[test]
+fn the_family_reads_codes_in_dictionaries() {
+    let registry = Registry::builtin();
+    let family = registry.family("lenze_9400").unwrap();
+    let parse = family.address_parser();
+    assert_eq!(
+        parse("C00002/16"),
+        Ok(drivescript::dictionary::Address::indexed(0x5FFD, 16))
+    );
+    let d = registry.load_dictionary("lenze-9400").unwrap();
+    let current = d.get("rated_motor_current").unwrap();
+    assert_eq!(current.scale, 0.1, "factor 10 is 0.1 A per count");
+    let _: &dyn Family = family.as_ref();
+}
+
+/// The SLCAN pseudo-terminal tests run one at a time: the one that loses its adapter
+/// reopens the freed pseudo-terminal path for a while, which the other's simulator may
+/// have been given meanwhile.
+#[cfg(unix)]
+static SLCAN_PTY_TESTS: std::sync::Mutex<()> = std::sync::Mutex::new(());
+
+/// A `drivescript simulate … --slcan-pty` in the background, stopped when dropped.
+#[cfg(unix)]
+struct SlcanSimulator {
+    child: std::process::Child,
+    path: String,
+}
+
+#[cfg(unix)]
+impl SlcanSimulator {
+    fn start(node: &str) -> SlcanSimulator {
+        use std::io::BufRead;
+        let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_drivescript"))
+            .args([
+                "simulate",
+                "--drive",
+                "lenze-9400",
+                "--address",
+                node,
+                "--slcan-pty",
+            ])
+            .stdout(std::process::Stdio::piped())
+            .stderr(std::process::Stdio::null())
+            .spawn()
+            .expect("simulate starts");
+        let out = child.stdout.take().expect("stdout is piped");
+        let mut line = String::new();
+        std::io::BufReader::new(out)
+            .read_line(&mut line)
+            .expect("simulate prints the pty path");
+        SlcanSimulator {
+            child,
+            path: line.trim().to_string(),
+        }
+    }
+}
+
+#[cfg(unix)]
+impl Drop for SlcanSimulator {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+#[cfg(unix)]
+#[test]
+fn an_slcan_pseudo_terminal_serves_the_simulated_node() {
+    use crate::support::{drivescript, stderr, stdout};
+    let _one_at_a_time = SLCAN_PTY_TESTS
+        .lock()
+        .unwrap_or_else(std::sync::PoisonError::into_inner);
+    let sim = SlcanSimulator::start("12");
+    assert!(sim.path.starts_with("/dev/"), "path {:?}", sim.path);
+    let can = format!("slcan:{}", sim.path);
+    let with = |args: &[&str]| {
+        let mut all = args.to_vec();
+        all.extend([
+            "--drive",
+            "lenze-9400",
+            "--address",
+            "12",
+            "--can",
+            &can,
+            "--timeout",
+            "300ms",
+        ]);
+        drivescript(&all, "")
+    };
+
+    let out = with(&[
+        "read",
+        "ident",
+        "heatsink_temperature",
+        "rated_motor_current",
+        "--json",
+    ]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    let json: serde_json::Value = serde_json::from_str(stdout(&out).trim()).expect("json");
+    assert_eq!(json[0]["value"], "05.00.12.07");
+    assert_eq!(json[1]["value"], 43.0);
+    assert_eq!(json[2]["value"], 10.2);
+    assert_eq!(json[2]["unit"], "A");
+
+    // A raw code with its type; the node keeps it between connections.
+    let out = with(&["write", "C00011", "3000", "--type", "i32"]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    let out = with(&["read", "C00011", "--json"]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    assert!(stdout(&out).contains("3000"), "{}", stdout(&out));
+
+    // An unknown code: the node's abort, named.
+    let out = with(&["read", "C00999"]);
+    assert_eq!(out.status.code(), Some(3), "{}", stdout(&out));
+    let err = stderr(&out);
+    assert!(
+        err.contains("C00999") && err.contains("0x06020000 object does not exist in the object dictionary"),
+        "{err}"
+    );
+
+    // Another node on the same bus stays silent: a clear no-reply error.
+    let out = drivescript(
+        &[
+            "read",
+            "ident",
+            "--drive",
+            "lenze-9400",
+            "--address",
+            "13",
+            "--can",
+            &can,
+            "--timeout",
+            "100ms",
+            "--retries",
+            "0",
+        ],
+        "",
+    );
+    assert_eq!(out.status.code(), Some(3), "{}{}", stdout(&out), stderr(&out));
+    assert!(
+        stderr(&out).contains("no reply from drive node 13"),
+        "{}",
+        stderr(&out)
+    );
+
+    // A recipe through the adapter.
+    let out = drivescript(
+        &[
+            "run",
+            "recipes/lenze-9400-identity.yaml",
+            "--drive",
+            "lenze-9400",
+            "--address",
+            "12",
+            "--can",
+            &can,
+        ],
+        "",
+    );
+    assert_eq!(out.status.code(), Some(0), "{}{}", stdout(&out), stderr(&out));
+    assert!(stdout(&out).contains("PASSED"), "{}", stdout(&out));
+}
+
+#[test]
+fn decode_reads_candump_frames_and_gives_the_vectors_json() {
+    use crate::support::{drivescript, stdout};
+    let vectors = load_frame_vectors(&repo_root().join("tests/vectors/lenze-9400-sdo.yaml"));
+    let input: String = vectors
+        .iter()
+        .map(|v| format!("{}#{}\n", v.id, v.data.replace(' ', "")))
+        .collect();
+    let out = drivescript(&["decode", "--protocol", "lenze-9400", "--json"], &input);
+    assert_eq!(out.status.code(), Some(0), "{}", stdout(&out));
+    let lines: Vec<serde_json::Value> = stdout(&out)
+        .lines()
+        .map(|l| serde_json::from_str(l).expect("json"))
+        .collect();
+    assert_eq!(lines.len(), vectors.len());
+    for (got, v) in lines.iter().zip(&vectors) {
+        assert_eq!(got, &v.frame, "{}", v.name);
+    }
+    // Unquoted, as the shell splits `ID data…`; and a frame that is no SDO.
+    let out = drivescript(
+        &[
+            "decode",
+            "--protocol",
+            "lenze-9400",
+            "605",
+            "40",
+            "c2",
+            "5f",
+            "00",
+            "00",
+            "00",
+            "00",
+            "00",
+        ],
+        "",
+    );
+    assert_eq!(out.status.code(), Some(0));
+    assert!(
+        stdout(&out).contains("C00061 heatsink_temperature"),
+        "{}",
+        stdout(&out)
+    );
+    let out = drivescript(&["decode", "--protocol", "lenze-9400", "123#00"], "");
+    assert_eq!(out.status.code(), Some(1));
+    assert!(stdout(&out).contains("not an SDO channel"), "{}", stdout(&out));
+}
+
+#[test]
+fn a_trace_is_a_candump_log_that_decode_explains_again() {
+    use crate::support::{drivescript, stdout};
+    let dir = std::env::temp_dir().join(format!("drivescript-lenze-trace-{}", std::process::id()));
+    let trace = dir.join("run.log");
+    let out = drivescript(
+        &[
+            "run",
+            "recipes/lenze-9400-identity.yaml",
+            "--drive",
+            "lenze-9400",
+            "--fast",
+            "--trace",
+            trace.to_str().unwrap(),
+        ],
+        "",
+    );
+    assert_eq!(out.status.code(), Some(0), "{}", stdout(&out));
+    let text = std::fs::read_to_string(&trace).unwrap();
+    let frames: Vec<&str> = text.lines().filter(|l| !l.starts_with('#')).collect();
+    assert!(frames.len() >= 6, "{text}");
+    // Exactly candump -l's shape: (seconds.micros) interface ID#DATA.
+    for line in &frames {
+        let parts: Vec<&str> = line.split(' ').collect();
+        assert_eq!(parts.len(), 3, "{line}");
+        assert!(
+            parts[0].starts_with('(') && parts[0].ends_with(')') && parts[0].len() == 19,
+            "{line}"
+        );
+        assert_eq!(parts[1], "can0");
+        assert!(CanFrame::parse_text(parts[2]).is_ok(), "{line}");
+    }
+    assert_eq!(frames[0], "(0000000000.000000) can0 601#409C5F0000000000");
+    let out = drivescript(&["decode", "--protocol", "lenze-9400"], &text);
+    assert_eq!(out.status.code(), Some(0), "{}", stdout(&out));
+    assert!(
+        stdout(&out).contains("reply C00099 ident: segmented, 11 bytes"),
+        "{}",
+        stdout(&out)
+    );
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+#[cfg(unix)]
+#[test]
+fn an_slcan_adapter_that_goes_away_during_a_run_ends_in_check_by_hand() {
+    use std::io::{BufRead, Read};
+    let _one_at_a_time = SLCAN_PTY_TESTS
+        .lock()
+        .unwrap_or_else(std::sync::PoisonError::into_inner);
+    let path = recipe(
+        "slcan-gone",
+        "name: Reading for a while
+drive: lenze-9400
+steps:
+  - repeat:
+      for: 30 s
+      steps:
+        - read: [ident, heatsink_temperature]
+",
+    );
+    // Node 37, which no other test simulates: when the pseudo-terminal's number is given
+    // to another test's simulator meanwhile, reopening it must not find this node there.
+    let sim = SlcanSimulator::start("37");
+    let can = format!("slcan:{}", sim.path);
+    let mut run = std::process::Command::new(env!("CARGO_BIN_EXE_drivescript"))
+        .args([
+            "run",
+            path.to_str().unwrap(),
+            "--drive",
+            "lenze-9400",
+            "--address",
+            "37",
+        ])
+        .args(["--can", &can, "--reconnect-timeout", "300ms"])
+        .current_dir(repo_root())
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .expect("run starts");
+    let mut out = std::io::BufReader::new(run.stdout.take().expect("stdout is piped"));
+    // Once reads have gone through the adapter, it goes away.
+    let mut text = String::new();
+    while !text.contains("  ok  ") {
+        let mut line = String::new();
+        if out.read_line(&mut line).expect("run output") == 0 {
+            break;
+        }
+        text.push_str(&line);
+    }
+    drop(sim);
+    out.read_to_string(&mut text).expect("the rest of the output");
+    let status = run.wait().expect("run ends");
+    assert_eq!(status.code(), Some(3), "{text}");
+    // Where the hang-up shows (a read or a write) decides the wording of the port's error.
+    assert!(
+        text.contains(&format!("I/O error on {}", can.trim_start_matches("slcan:"))),
+        "{text}"
+    );
+    assert!(text.contains("gave up reopening node 37"), "{text}");
+    assert!(text.contains("CHECK THE DRIVE BY HAND"), "{text}");
+}
+
+#[test]
+fn a_can_trace_decoded_as_a_serial_protocol_says_which_protocol_to_give() {
+    use crate::support::{drivescript, stderr};
+    let out = drivescript(&["decode"], "(0000000000.000000) can0 601#409C5F0000000000\n");
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        stderr(&out).contains("is a CAN frame, not a sd2 telegram; give --protocol lenze-9400"),
+        "{}",
+        stderr(&out)
+    );
+}
+
+#[test]
+fn the_commissioning_recipe_is_refused_for_a_drive_without_device_control() {
+    use crate::support::{drivescript, stderr};
+    let text = std::fs::read_to_string(repo_root().join("recipes/commissioning.yaml"))
+        .unwrap()
+        .replace("drive: sd2", "drive: lenze-9400");
+    let path = recipe("commissioning", &text);
+    let out = drivescript(&["check", path.to_str().unwrap(), "--drive", "lenze-9400"], "");
+    assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
+    let err = stderr(&out);
+    assert!(
+        err.contains("the state `operation_enabled` needs device control, but the lenze_9400 dictionary has no `profile:`"),
+        "{err}"
+    );
+    assert!(err.contains("`disable_operation` needs device control"), "{err}");
+    assert!(err.contains("nothing was sent to the drive"), "{err}");
+}
