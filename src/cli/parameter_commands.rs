@@ -289,6 +289,31 @@ fn identity_mismatches(backup: &ParameterFile, drive: &mut Drive) -> Vec<String>
         .collect()
 }
 
+/// The planned writes outside the limits the drive itself reports, as lines to print.
+fn beyond_drive_limits(drive: &mut Drive, plan: &[parameters::PlannedWrite]) -> Vec<String> {
+    let mut out = Vec::new();
+    for w in plan {
+        let (Some(value), Some(Ok((min, max)))) = (w.number(), drive.limits(&w.name)) else {
+            continue;
+        };
+        let low = min.as_ref().and_then(|v| v.number()).is_some_and(|m| value < m);
+        let high = max.as_ref().and_then(|v| v.number()).is_some_and(|m| value > m);
+        if low || high {
+            let shown = |v: &Option<crate::dictionary::Value>| {
+                v.as_ref().map_or("none".to_string(), ToString::to_string)
+            };
+            out.push(format!(
+                "{}: {} is outside the drive's limits {} .. {}",
+                w.name,
+                w.to,
+                shown(&min),
+                shown(&max)
+            ));
+        }
+    }
+    out
+}
+
 pub fn restore(args: &RestoreArgs) -> i32 {
     let backup = match load(&args.file) {
         Ok(f) => f,
@@ -361,6 +386,19 @@ pub fn restore(args: &RestoreArgs) -> i32 {
         );
         return PASSED;
     }
+    // The drive's own limits (Lenze 931 `ON`/`OX`), where the family can ask, before the
+    // first write.
+    let beyond = beyond_drive_limits(&mut open.drive, &plan);
+    if !beyond.is_empty() {
+        for line in &beyond {
+            eprintln!("error: {line}");
+        }
+        eprintln!(
+            "{} value(s) outside the drive's own limits; nothing was written",
+            beyond.len()
+        );
+        return INVALID;
+    }
     println!("plan: {} write(s), in this order", plan.len());
     for (i, w) in plan.iter().enumerate() {
         println!("  {}. {}: {} → {}", i + 1, w.name, w.now, w.to);
@@ -416,14 +454,21 @@ pub fn restore(args: &RestoreArgs) -> i32 {
         );
         return stop.first().map_or(COMMUNICATION, |s| s.exit_code());
     }
-    if args.store {
-        eprintln!(
-            "warning: the {} family has no documented command to store parameters in non-volatile memory; they are written but not stored",
-            dictionary.family()
-        );
-    }
     if failed {
         return COMMUNICATION;
+    }
+    if args.store {
+        match open.drive.store_parameters() {
+            None => eprintln!(
+                "warning: the {} family has no documented command to store parameters in non-volatile memory; they are written but not stored",
+                dictionary.family()
+            ),
+            Some(Ok(())) => println!("parameters stored in the drive's non-volatile memory"),
+            Some(Err(e)) => {
+                eprintln!("error: the parameters are written but storing them failed: {e}");
+                return COMMUNICATION;
+            }
+        }
     }
     if short > 0 {
         println!(

@@ -138,6 +138,14 @@ impl Drive {
         Ok(())
     }
 
+    /// Stores the parameters in the drive's non-volatile memory; `None` where the family
+    /// has no documented command for it.
+    pub fn store_parameters(&mut self) -> Option<Result<(), DriveError>> {
+        self.access
+            .store_parameters()
+            .map(|r| r.map_err(DriveError::Access))
+    }
+
     /// Sends what the link must send to stay alive, if due; how long until the next.
     pub fn keep_alive(&mut self) -> Result<Option<Duration>, DriveError> {
         Ok(self.access.keep_alive()?)

@@ -49,6 +49,12 @@ pub trait ObjectAccess: Send {
         let _ = (address, data_type);
         None
     }
+    /// Stores the drive's parameters in its non-volatile memory, where the protocol has a
+    /// documented command for it (Lenze 931 `SAVE!`); `None` (the default) where it has
+    /// none.
+    fn store_parameters(&mut self) -> Option<Result<(), AccessError>> {
+        None
+    }
     /// What we are talking to, for messages: `drive 2 on /dev/ttyUSB0 at 57600 8N1`.
     fn port(&self) -> String;
     /// The clock the link waits on (real, or virtual with the simulator).

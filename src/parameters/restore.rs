@@ -22,6 +22,16 @@ pub struct PlannedWrite {
     value: WriteValue,
 }
 
+impl PlannedWrite {
+    /// The number to write in the object's unit; `None` for text.
+    pub fn number(&self) -> Option<f64> {
+        match &self.value {
+            WriteValue::Number(q) => Some(q.value),
+            WriteValue::Text(_) => None,
+        }
+    }
+}
+
 #[derive(Debug, Clone, PartialEq)]
 enum WriteValue {
     Number(Quantity),

@@ -545,3 +545,57 @@ fn a_silent_drive_leaves_check_unable_to_read_limits_with_exit_code_3() {
     assert!(err.contains("the drive's limits could not be read"), "{err}");
     drop(listener);
 }
+
+/// Backup, diff and restore on the simulated 931: the drive's own limits (`ON`/`OX`) refuse
+/// a value before any write, and `--store` sends `SAVE!`.
+#[cfg(unix)]
+#[test]
+fn parameters_round_trip_with_the_drives_limits_and_save() {
+    let sim = PtySimulator::start();
+    let port = sim.port.as_str();
+    let dir = scratch("parameters");
+    let dictionary = completed_template(&dir).to_string_lossy().to_string();
+    let file = dir.join("backup.yaml").to_string_lossy().to_string();
+    let with = |args: &[&str]| {
+        let mut all: Vec<&str> = args.to_vec();
+        all.extend([
+            "--drive",
+            "lenze-931",
+            "--dictionary",
+            &dictionary,
+            "--port",
+            port,
+        ]);
+        let out = drivescript(&all, "");
+        (out.status.code(), format!("{}{}", stdout(&out), stderr(&out)))
+    };
+    let (code, out) = with(&["write", "operating_mode", "1"]);
+    assert_eq!(code, Some(0), "{out}");
+    let (code, out) = with(&["backup", "-o", &file]);
+    assert_eq!(code, Some(0), "{out}");
+    let (code, out) = with(&["write", "operating_mode", "2"]);
+    assert_eq!(code, Some(0), "{out}");
+    let (code, out) = with(&["diff", &file]);
+    assert_eq!(code, Some(1), "{out}");
+
+    // A value beyond the drive's maximum (3) is refused before anything is written.
+    let beyond = dir.join("beyond.yaml");
+    let saved = std::fs::read_to_string(&file).expect("backup");
+    std::fs::write(&beyond, saved.replace("raw: \"1\"", "raw: \"7\"")).expect("edited");
+    let beyond = beyond.to_string_lossy().to_string();
+    let (code, out) = with(&["restore", &beyond, "--apply"]);
+    assert_eq!(code, Some(2), "{out}");
+    assert!(out.contains("outside the drive's limits"), "{out}");
+    let (code, out) = with(&["read", "operating_mode", "--json"]);
+    assert_eq!(code, Some(0), "{out}");
+    assert!(out.contains("\"value\":2"), "nothing was written: {out}");
+
+    let (code, out) = with(&["restore", &file, "--apply", "--store"]);
+    assert_eq!(code, Some(0), "{out}");
+    assert!(
+        out.contains("parameters stored in the drive's non-volatile memory"),
+        "{out}"
+    );
+    let (code, out) = with(&["diff", &file]);
+    assert_eq!(code, Some(0), "{out}");
+}

@@ -227,6 +227,15 @@ impl ObjectAccess for LenzeAccess {
         })())
     }
 
+    fn store_parameters(&mut self) -> Option<Result<(), AccessError>> {
+        let request = Request::Save;
+        Some(match self.link.exchange(&request) {
+            Ok(Reply::Done) => Ok(()),
+            Ok(other) => Err(self.unexpected(&request, format!("`{}`", other.text()))),
+            Err(e) => Err(e),
+        })
+    }
+
     fn port(&self) -> String {
         format!("the 931 on {}", self.link.port())
     }
