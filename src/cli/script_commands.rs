@@ -77,7 +77,9 @@ pub fn run_script(request: &RunRequest, out: &mut dyn Write, err: &mut dyn Write
             return refused(INVALID);
         }
     };
-    if let Err(e) = request.connection.check(family.as_ref()) {
+    // The script's `//! link:` settings under the command line's, as for a recipe.
+    let connection = request.connection.with_defaults(&script.link);
+    if let Err(e) = connection.check(family.as_ref()) {
         let _ = writeln!(err, "error: {e}");
         return refused(INVALID);
     }
@@ -126,7 +128,7 @@ pub fn run_script(request: &RunRequest, out: &mut dyn Write, err: &mut dyn Write
     }
     let mut open = match super::drive_args::open_drive(
         request.registry,
-        request.connection,
+        &connection,
         dictionary,
         request.fast,
         telegrams.into_observer(),

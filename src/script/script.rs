@@ -31,6 +31,9 @@ pub struct Script {
     pub has_finally: bool,
     /// Drive calls written with literal words (for `check`'s summary).
     pub calls: usize,
+    /// `//! link: channel=cyclic, velocity_scaling=24000rpm`: settings of the family's
+    /// link, as a recipe's `link:` gives them (the command line wins).
+    pub link: Vec<(String, String)>,
 }
 
 /// Loads and checks a script file. `set` are the `--set` parameters.
@@ -123,6 +126,7 @@ fn load_source(
     match ast {
         Some(ast) if problems.is_empty() => Ok(Script {
             name: header.name.unwrap_or_else(|| file_stem(&path)),
+            link: header.link,
             path,
             source,
             ast,
@@ -149,6 +153,7 @@ fn file_stem(path: &str) -> String {
 struct Header {
     drive: Option<(String, Span)>,
     name: Option<String>,
+    link: Vec<(String, String)>,
 }
 
 impl Header {
@@ -156,6 +161,7 @@ impl Header {
         let mut header = Header {
             drive: None,
             name: None,
+            link: Vec::new(),
         };
         let index = LineIndex::new(source.text());
         let mut offset = 0;
@@ -172,6 +178,11 @@ impl Header {
                             Some((value_text.to_string(), index.span(source, at, value_text.len())));
                     }
                     "name" if header.name.is_none() => header.name = Some(value_text.to_string()),
+                    // The family checks names and values before the port opens.
+                    "link" => header.link.extend(value_text.split(',').filter_map(|setting| {
+                        let (k, v) = setting.split_once('=')?;
+                        Some((k.trim().to_string(), v.trim().to_string()))
+                    })),
                     _ => {}
                 }
             }

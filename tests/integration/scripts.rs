@@ -544,3 +544,26 @@ fn an_endless_loop_in_the_scripts_finally_is_stopped_and_the_stop_still_verified
     // The verification found the drive still enabled and escalated.
     assert_eq!(result.exit_code, 3, "{output}");
 }
+
+/// `//! link:` in a script's header chooses the SD2 cyclic channel as a recipe's `link:`
+/// does; a wrong setting is refused before anything is sent.
+#[test]
+fn a_scripts_header_chooses_the_cyclic_channel() {
+    let dir = scratch("script-link");
+    let body = "let d = drive();\nd.go_to(\"operation_enabled\", \"5 s\");\nd.set(\"speed_setpoint\", 6000.0, \"rpm\");\n\
+                d.wait_until(\"speed_actual\", |v| v > 5900.0, \"30 s\");\n\
+                let s = d.sample([\"speed_actual\"], \"100 ms\", \"2 s\");\n\
+                expect_near(\"speed mean\", s.mean(\"speed_actual\"), 6000.0, \"0.5 %\");\n";
+    let good = write_script(
+        &dir,
+        &format!("//! drive: sd2\n//! link: channel=cyclic, velocity_scaling=24000rpm\n{body}"),
+    );
+    let out = drivescript(&["run", good.to_str().expect("path"), "--fast"], "");
+    assert_eq!(out.status.code(), Some(0), "{}{}", stdout(&out), stderr(&out));
+    assert!(stdout(&out).contains("(cyclic channel)"), "{}", stdout(&out));
+    let bad = dir.join("bad.rhai");
+    std::fs::write(&bad, format!("//! drive: sd2\n//! link: channel=cyclic\n{body}")).expect("script");
+    let out = drivescript(&["run", bad.to_str().expect("path"), "--fast"], "");
+    assert_eq!(out.status.code(), Some(2), "{}", stdout(&out));
+    assert!(stderr(&out).contains("--velocity-scaling"), "{}", stderr(&out));
+}
