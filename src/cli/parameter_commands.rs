@@ -10,7 +10,7 @@ use crate::dictionary::Dictionary;
 use crate::drive::device_control::DeviceState;
 use crate::drive::Drive;
 use crate::family::Registry;
-use crate::parameters::{self, Difference, Origin, Outcome, ParameterFile};
+use crate::parameters::{self, Difference, Origin, Outcome, ParameterFile, Reading, SavedObject};
 use crate::report::write_atomically;
 use crate::stop_request::StopRequests;
 use clap::Args;
@@ -26,6 +26,12 @@ pub struct BackupArgs {
     /// Where to write the backup [default: standard output].
     #[arg(short, long, value_name = "FILE")]
     output: Option<PathBuf>,
+    /// Also every object the drive itself lists beyond the dictionary, named in the
+    /// family's notation (Control Techniques: every #menu.parameter the drive answers;
+    /// they are compared by `diff` but not written by `restore`, whose access and limits
+    /// are unknown).
+    #[arg(long)]
+    all: bool,
     #[command(flatten)]
     dictionary: DictionaryArgs,
     #[command(flatten)]
@@ -107,18 +113,37 @@ fn open(
 }
 
 /// The live parameters, read with progress on standard error.
+/// With `all`, the objects the drive lists beyond the dictionary are added, named in the
+/// family's notation (`#5.04`).
 fn read_live(
     open: &mut OpenDrive,
     connection: &ConnectionArgs,
     stop: &StopRequests,
+    all: bool,
 ) -> Result<ParameterFile, i32> {
     let origin = origin(connection, open);
-    let (file, complete) = parameters::take(
+    let (mut file, mut complete) = parameters::take(
         &mut open.drive,
         origin,
         &mut |i, n, name| eprintln!("reading {}/{n}: {name}", i + 1),
         &|| stop.first().is_none(),
     );
+    // Addresses as the family writes them (`#1.06`, `C00088`).
+    let dictionary = open.drive.dictionary().clone();
+    if let Ok(family) = Registry::builtin().family(dictionary.family()) {
+        for o in &mut file.objects {
+            if let Some(def) = dictionary.get(&o.name) {
+                o.address = family.show_address(&def.address);
+            }
+        }
+    }
+    if all && complete {
+        match scan_beyond_dictionary(open, stop) {
+            Ok(extra) => file.objects.extend(extra),
+            Err(code) => return Err(code),
+        }
+        complete = stop.first().is_none();
+    }
     match stop.first() {
         Some(signal) if !complete => {
             eprintln!(
@@ -130,6 +155,45 @@ fn read_live(
         }
         _ => Ok(file),
     }
+}
+
+/// The objects the drive lists (`--all`) at addresses the dictionary does not know; those
+/// it knows are saved by name already, or are live values and commands.
+fn scan_beyond_dictionary(open: &mut OpenDrive, stop: &StopRequests) -> Result<Vec<SavedObject>, i32> {
+    let dictionary = open.drive.dictionary().clone();
+    let family = Registry::builtin().family(dictionary.family()).ok();
+    let listed = match open.drive.list_objects(&|| stop.first().is_none(), &mut |text| {
+        eprintln!("scanning {text}")
+    }) {
+        None => {
+            eprintln!(
+                "error: --all: the {} family's drives cannot list their objects; only the dictionary's parameters can be saved",
+                dictionary.family()
+            );
+            return Err(INVALID);
+        }
+        Some(Err(e)) => {
+            eprintln!("error: scanning the drive's objects failed: {e}");
+            return Err(COMMUNICATION);
+        }
+        Some(Ok(list)) => list,
+    };
+    Ok(listed
+        .into_iter()
+        .filter(|(address, _)| !dictionary.objects().any(|o| o.address == *address))
+        .map(|(address, raw)| SavedObject {
+            name: family
+                .as_ref()
+                .map_or_else(|| address.to_string(), |f| f.show_address(&address)),
+            address: family
+                .as_ref()
+                .map_or_else(|| address.to_string(), |f| f.show_address(&address)),
+            reading: Reading::Value {
+                shown: raw.to_string(),
+                raw: parameters::raw_text(&raw),
+            },
+        })
+        .collect())
 }
 
 /// The dictionary a backup's names come from: the one it names, with the user's files and
@@ -172,7 +236,7 @@ pub fn backup(args: &BackupArgs) -> i32 {
         Ok(o) => o,
         Err(code) => return code,
     };
-    let file = match read_live(&mut open, &args.connection, &stop) {
+    let file = match read_live(&mut open, &args.connection, &stop, args.all) {
         Ok(f) => f,
         Err(code) => return code,
     };
@@ -243,7 +307,12 @@ pub fn diff(args: &DiffArgs) -> i32 {
                 Ok(o) => o,
                 Err(code) => return code,
             };
-            let mut live = match read_live(&mut open, &args.connection, &stop) {
+            // A backup taken with --all holds objects beyond the dictionary: scan again.
+            let all = left
+                .objects
+                .iter()
+                .any(|o| open.drive.dictionary().get(&o.name).is_none());
+            let mut live = match read_live(&mut open, &args.connection, &stop, all) {
                 Ok(f) => f,
                 Err(code) => return code,
             };
@@ -362,10 +431,18 @@ pub fn restore(args: &RestoreArgs) -> i32 {
             return INVALID;
         }
     }
-    let live = match read_live(&mut open, &args.connection, &stop) {
+    let live = match read_live(&mut open, &args.connection, &stop, false) {
         Ok(f) => f,
         Err(code) => return code,
     };
+    let skipped = parameters::skipped(&dictionary, &backup);
+    if !skipped.is_empty() {
+        println!(
+            "not restored, being beyond the {} dictionary (access and limits unknown): {}",
+            dictionary.family(),
+            skipped.join(", ")
+        );
+    }
     let plan = match parameters::plan(&dictionary, &backup, &live) {
         Ok(p) => p,
         Err(refusals) => {

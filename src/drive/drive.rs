@@ -138,6 +138,18 @@ impl Drive {
         Ok(())
     }
 
+    /// Every object the drive can list, with its value (see [`ObjectAccess::list_objects`]);
+    /// `None` where the family cannot.
+    pub fn list_objects(
+        &mut self,
+        keep_going: &dyn Fn() -> bool,
+        progress: &mut dyn FnMut(&str),
+    ) -> Option<Result<Vec<(crate::dictionary::Address, RawValue)>, DriveError>> {
+        self.access
+            .list_objects(keep_going, progress)
+            .map(|r| r.map_err(DriveError::Access))
+    }
+
     /// Stores the parameters in the drive's non-volatile memory; `None` where the family
     /// has no documented command for it.
     pub fn store_parameters(&mut self) -> Option<Result<(), DriveError>> {

@@ -49,6 +49,18 @@ pub trait ObjectAccess: Send {
         let _ = (address, data_type);
         None
     }
+    /// Every object the drive itself can list, with its value, for `backup --all`
+    /// (Control Techniques: `ACK` reads the next parameter); `keep_going()` is asked
+    /// between reads, `progress(text)` says where the scan is. `None` (the default) for a
+    /// family whose drives cannot list their objects.
+    fn list_objects(
+        &mut self,
+        keep_going: &dyn Fn() -> bool,
+        progress: &mut dyn FnMut(&str),
+    ) -> Option<Result<Vec<(Address, RawValue)>, AccessError>> {
+        let _ = (keep_going, progress);
+        None
+    }
     /// Stores the drive's parameters in its non-volatile memory, where the protocol has a
     /// documented command for it (Lenze 931 `SAVE!`); `None` (the default) where it has
     /// none.

@@ -71,7 +71,11 @@ pub fn take(
     }
     let file = ParameterFile {
         family: drive.dictionary().family().to_string(),
-        dictionary: drive.dictionary().family().to_string(),
+        dictionary: drive
+            .dictionary()
+            .name()
+            .unwrap_or(drive.dictionary().family())
+            .to_string(),
         address: origin.address,
         identity,
         date: origin.date,

@@ -12,5 +12,5 @@ mod utc;
 pub use backup::{parameters, raw_text, take, Origin, IDENTITY_OBJECTS};
 pub use comparison::{compare, same, Difference};
 pub use parameter_file::{ParameterFile, Reading, SavedObject, FORMAT_KEY};
-pub use restore::{apply, plan, Outcome, PlannedWrite, Refusal};
+pub use restore::{apply, plan, skipped, Outcome, PlannedWrite, Refusal};
 pub use utc::utc_timestamp;

@@ -88,7 +88,7 @@ impl ParameterFile {
             out.push_str("objects:\n");
         }
         for o in &self.objects {
-            out.push_str(&format!("  - name: {}\n", o.name));
+            out.push_str(&format!("  - name: {}\n", quoted(&o.name)));
             out.push_str(&format!("    address: {}\n", quoted(&o.address)));
             match &o.reading {
                 Reading::Value { shown, raw } => {

@@ -54,14 +54,8 @@ pub fn plan(
 ) -> Result<Vec<PlannedWrite>, Vec<Refusal>> {
     let mut writes = Vec::new();
     let mut refusals = Vec::new();
-    for saved in &backup.objects {
-        if dictionary.get(&saved.name).is_none() {
-            refusals.push(Refusal {
-                name: saved.name.clone(),
-                reason: format!("the {} dictionary has no such object", dictionary.family()),
-            });
-        }
-    }
+    // Objects beyond the dictionary (a `backup --all` scan) have no known access or limits:
+    // `diff` compares them, `restore` leaves them alone (see `skipped`).
     // Dictionary order: a selection object (the parameter set) comes before what it selects.
     for def in dictionary.objects().filter(|o| o.parameter) {
         let Some(saved) = backup.objects.iter().find(|o| o.name == def.name) else {
@@ -116,17 +110,47 @@ fn value_to_write(def: &ObjectDef, raw: &str) -> Result<WriteValue, String> {
         def.text_to_raw(raw).map_err(|e| e.to_string())?;
         return Ok(WriteValue::Text(raw.to_string()));
     }
-    let count: i64 = raw
-        .trim()
-        .parse()
-        .map_err(|_| format!("raw value `{raw}` is not a whole number of counts"))?;
-    let value = def.value_of(RawValue::Int(count)).map_err(|e| e.to_string())?;
+    let parsed = parse_raw(raw).ok_or_else(|| format!("raw value `{raw}` is not a number"))?;
+    let value = def.value_of(parsed).map_err(|e| e.to_string())?;
     let quantity = value
         .quantity
         .ok_or_else(|| format!("raw value `{raw}` has no number"))?;
     // to_raw refuses what is outside the limits, saying which (the dictionary's or the bench's).
     def.to_raw(&quantity).map_err(|e| e.to_string())?;
     Ok(WriteValue::Number(quantity))
+}
+
+/// The backup's objects the dictionary does not know, which a restore does not write.
+pub fn skipped<'a>(dictionary: &crate::dictionary::Dictionary, backup: &'a ParameterFile) -> Vec<&'a str> {
+    backup
+        .objects
+        .iter()
+        .filter(|o| dictionary.get(&o.name).is_none())
+        .map(|o| o.name.as_str())
+        .collect()
+}
+
+/// A backup's raw number: whole counts (`6000000`) or an exact decimal as the drive sent
+/// it (`1500.5`, Control Techniques).
+fn parse_raw(text: &str) -> Option<RawValue> {
+    let t = text.trim();
+    match t.split_once('.') {
+        None => t.parse().ok().map(RawValue::Int),
+        Some((whole, frac)) => {
+            if frac.is_empty() || !frac.chars().all(|c| c.is_ascii_digit()) {
+                return None;
+            }
+            let places = u8::try_from(frac.len()).ok()?;
+            let digits: i64 = format!("{whole}{frac}").parse().ok()?;
+            // `-0.5`: the sign belongs to the whole value.
+            let digits = if whole.starts_with('-') && digits > 0 {
+                -digits
+            } else {
+                digits
+            };
+            Some(RawValue::Decimal { digits, places })
+        }
+    }
 }
 
 /// What happened to one planned write.
@@ -185,4 +209,39 @@ pub fn apply(
         }
     }
     done
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn raw_numbers_read_back_exactly() {
+        assert_eq!(parse_raw("6000000"), Some(RawValue::Int(6_000_000)));
+        assert_eq!(parse_raw("-12"), Some(RawValue::Int(-12)));
+        assert_eq!(
+            parse_raw("1500.5"),
+            Some(RawValue::Decimal {
+                digits: 15005,
+                places: 1
+            })
+        );
+        assert_eq!(
+            parse_raw("-0.50"),
+            Some(RawValue::Decimal {
+                digits: -50,
+                places: 2
+            })
+        );
+        assert_eq!(
+            parse_raw("60000.0"),
+            Some(RawValue::Decimal {
+                digits: 600000,
+                places: 1
+            })
+        );
+        for bad in ["", "1.", ".5x", "abc", "1.2.3"] {
+            assert_eq!(parse_raw(bad), None, "{bad}");
+        }
+    }
 }

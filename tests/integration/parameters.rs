@@ -48,7 +48,7 @@ fn backup_change_diff_restore_diff() {
     assert_eq!(code, 0, "{out}");
     let saved = std::fs::read_to_string(file).expect("backup written");
     assert!(
-        saved.contains("name: parameter_set") && saved.contains("raw: \"1500000\""),
+        saved.contains("name: \"parameter_set\"") && saved.contains("raw: \"1500000\""),
         "{saved}"
     );
     assert!(saved.contains("ident: \"Test Motor\""), "{saved}");
@@ -185,5 +185,56 @@ fn an_interrupted_restore_says_what_was_written() {
     assert_eq!(done, [("parameter_set".to_string(), Outcome::Written)]);
     assert_eq!(open.drive.read_number("parameter_set").expect("read"), 0.0);
     assert_eq!(open.drive.read_number("speed_setpoint").expect("read"), 2000.0);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// `backup --all` on a Control Techniques drive scans every menu with the ACK short
+/// command and saves the parameters beyond the dictionary too; `diff` compares them,
+/// `restore` writes the dictionary's and names the ones it leaves alone.
+#[cfg(unix)]
+#[test]
+fn a_control_techniques_scan_saves_and_compares_parameters_beyond_the_dictionary() {
+    let dir = scratch("ct-all");
+    let sim = Simulator::start(&["--drive", "ct-unidrive-sp", "--pty"]);
+    let port = sim.endpoint.as_str();
+    let file = dir.join("all.yaml");
+    let file = file.to_str().expect("utf-8 path");
+    let ct = ["--drive", "ct-unidrive-sp", "--port", port];
+    let (code, out) = run(&[&["backup", "--all", "-o", file][..], &ct[..]].concat());
+    assert_eq!(code, 0, "{out}");
+    let saved = std::fs::read_to_string(file).expect("backup");
+    assert!(
+        saved.contains("name: \"max_speed\"") && saved.contains("address: \"#1.06\""),
+        "{saved}"
+    );
+    assert!(
+        saved.contains("name: \"#2.11\""),
+        "a parameter beyond the dictionary: {saved}"
+    );
+    assert!(
+        !saved.contains("name: \"#3.02\""),
+        "a live value the dictionary knows is not saved: {saved}"
+    );
+
+    // Two backups compared: the scanned parameter is compared like any other (a scan of
+    // every menu takes a while, so the second set is the first one edited).
+    let changed = dir.join("changed.yaml");
+    std::fs::write(
+        &changed,
+        saved
+            .replace("raw: \"2.000\"", "raw: \"3.500\"")
+            .replace("value: \"2.000\"", "value: \"3.500\""),
+    )
+    .expect("edited");
+    let (code, out) = run(&["diff", file, changed.to_str().expect("path")]);
+    assert_eq!(code, 1, "{out}");
+    assert!(out.contains("#2.11") && out.contains("3.500"), "{out}");
+
+    assert_eq!(run(&[&["write", "max_speed", "2500"][..], &ct[..]].concat()).0, 0);
+
+    let (code, out) = run(&[&["restore", file, "--apply"][..], &ct[..]].concat());
+    assert_eq!(code, 0, "{out}");
+    assert!(out.contains("not restored") && out.contains("#2.11"), "{out}");
+    assert!(out.contains("wrote max_speed"), "{out}");
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -35,6 +35,48 @@ impl CtAccess {
             })
     }
 
+    /// One menu, read from #M.00 on with `ACK` (read next). A reply names its parameter, so
+    /// an `ACK` whose answer was lost and that the link sent again (the drive then moved on
+    /// twice) shows as a gap, which is read again with the full address.
+    fn scan_menu(&mut self, menu: u8, found: &mut Vec<(Address, RawValue)>) -> Result<(), AccessError> {
+        let Some(first) = Parameter::new(menu, 0) else {
+            return Ok(());
+        };
+        let mut reply = self.link.transact(&Request::Read {
+            address: self.node,
+            parameter: first,
+        })?;
+        let mut expected = first;
+        loop {
+            match reply {
+                Some(Reply::Value { parameter, value }) if parameter == expected => {
+                    found.push((
+                        Address::indexed(u16::from(parameter.menu), u32::from(parameter.param)),
+                        RawValue::Decimal {
+                            digits: value.digits,
+                            places: value.places,
+                        },
+                    ));
+                }
+                // Skipped: read the one expected with its full address before going on.
+                Some(Reply::Value { .. }) => {
+                    reply = self.link.transact(&Request::Read {
+                        address: self.node,
+                        parameter: expected,
+                    })?;
+                    continue;
+                }
+                // No such parameter (EOT); the drive still moves on with the next ACK.
+                _ => {}
+            }
+            if expected.param == 99 {
+                return Ok(());
+            }
+            expected = expected.next();
+            reply = self.link.transact(&Request::ReadNext)?;
+        }
+    }
+
     fn refused(&self, operation: &'static str, parameter: Parameter, text: String) -> AccessError {
         AccessError::Refused {
             port: self.link.port().to_string(),
@@ -110,6 +152,31 @@ impl ObjectAccess for CtAccess {
             Some(Reply::Refused) => Err(self.refused("write", parameter, nak_text().to_string())),
             Some(other) => Err(self.unexpected(format!("write {parameter} = {value}"), shown(Some(other)))),
         }
+    }
+
+    fn list_objects(
+        &mut self,
+        keep_going: &dyn Fn() -> bool,
+        progress: &mut dyn FnMut(&str),
+    ) -> Option<Result<Vec<(Address, RawValue)>, AccessError>> {
+        if self.node.is_broadcast() {
+            return Some(Err(AccessError::Encode(
+                "a scan reads, so it needs one drive's address (G.U with U 1..9)".into(),
+            )));
+        }
+        // The sources give no list of menus, so every menu number a message can carry is
+        // asked (0..99, each #M.00..#M.99); a menu the drive lacks answers EOT throughout.
+        let mut found = Vec::new();
+        for menu in 0..=99u8 {
+            if !keep_going() {
+                break;
+            }
+            progress(&format!("menu {menu}: {} parameter(s) so far", found.len()));
+            if let Err(e) = self.scan_menu(menu, &mut found) {
+                return Some(Err(e));
+            }
+        }
+        Some(Ok(found))
     }
 
     fn port(&self) -> String {

@@ -291,7 +291,7 @@ impl CtLink {
 }
 
 /// Whether `reply` is an answer to `request`: a read gets the value of the same parameter
-/// or EOT, a write gets ACK or NAK.
+/// or EOT, a short read (ACK, NAK, BS) a value or EOT, a write ACK or NAK.
 fn answers(request: &Request, reply: &Reply) -> Result<(), String> {
     match (request, reply) {
         (Request::Read { parameter, .. }, Reply::Value { parameter: got, .. }) if got != parameter => {
@@ -303,7 +303,9 @@ fn answers(request: &Request, reply: &Reply) -> Result<(), String> {
             Err(format!("{} to a read (expected the value or EOT)", kind(other)))
         }
         (Request::Write { .. }, other) => Err(format!("{} to a write (expected ACK or NAK)", kind(other))),
-        (_, Reply::Value { .. }) => Ok(()),
+        // A short command's answer is a normal read reply: a value, or EOT for a parameter
+        // the drive does not have.
+        (_, Reply::Value { .. } | Reply::NoSuchParameter) => Ok(()),
         (_, other) => Err(format!("{} to a short read command", kind(other))),
     }
 }

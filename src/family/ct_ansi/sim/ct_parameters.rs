@@ -1,6 +1,9 @@
 //! The parameters of the simulated Unidrive SP: which menu.parameter reads what from the
 //! drive model, and what a write does to it. Values are exact decimals with the places the
 //! dictionary gives. No bytes here: the simulator front decodes and encodes.
+//! Besides the dictionary's parameters it keeps two plain stored ones, the ramp rates
+//! #2.11 and #2.21 (no effect on the model), so a scan (`backup --all`) finds parameters
+//! no dictionary lists.
 
 use crate::drive::device_control::DeviceState;
 use crate::family::ct_ansi::codec::{DataValue, Parameter};
@@ -39,6 +42,9 @@ pub enum Effect {
 #[derive(Debug, Clone)]
 pub struct CtParameters {
     max_speed: DataValue,
+    reference_selector: i64,
+    /// #2.11 acceleration and #2.21 deceleration rate, stored only.
+    ramp_rates: [DataValue; 2],
     drive_enable: i64,
     sequencing_latch: i64,
     control_word: u16,
@@ -50,6 +56,8 @@ impl CtParameters {
     pub fn new(max_speed_rpm: f64) -> Self {
         CtParameters {
             max_speed: DataValue::new((max_speed_rpm * 10.0).round() as i64, 1),
+            reference_selector: 3,
+            ramp_rates: [DataValue::new(2000, 3), DataValue::new(2000, 3)],
             drive_enable: 1,
             sequencing_latch: 0,
             control_word: 0,
@@ -104,7 +112,9 @@ impl CtParameters {
         let bit = |n: u16| whole(i64::from(Self::status_word(model) >> n & 1));
         Some(match (p.menu, p.param) {
             (1, 6) => self.max_speed,
-            (1, 14) => whole(3),
+            (1, 14) => whole(self.reference_selector),
+            (2, 11) => self.ramp_rates[0],
+            (2, 21) => self.ramp_rates[1],
             (1, 21) => tenths(model.setpoint_rpm()),
             (3, 2) => tenths(model.measured_speed_rpm()),
             (4, 1) => DataValue::new((model.measured_current_a() * 100.0).round() as i64, 2),
@@ -142,8 +152,10 @@ impl CtParameters {
                 }
                 self.max_speed = max;
             }
-            (1, 14) => {
-                whole(0..=5)?;
+            (1, 14) => self.reference_selector = whole(0..=5)?,
+            (2, 11) | (2, 21) => {
+                let rate = v.with_places(3).filter(|r| (0..=3_200_000).contains(&r.digits));
+                self.ramp_rates[usize::from(p.param == 21)] = rate.ok_or(Refusal::OutOfRange)?;
             }
             (1, 21) => {
                 let rpm = v.digits as f64 / 10f64.powi(i32::from(v.places));
