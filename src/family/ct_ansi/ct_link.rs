@@ -13,7 +13,7 @@ use crate::bus::{SharedTransport, Transport, TransportError};
 use crate::clock::SharedClock;
 use crate::drive::AccessError;
 use crate::hex::to_hex;
-use crate::link::{Direction, LinkStats, TelegramObserver};
+use crate::link::{Direction, LinkCore, LinkStats, ReplyWait, TelegramObserver};
 use crate::stop_request::StopRequests;
 use std::sync::Arc;
 use std::time::Duration;
@@ -21,8 +21,6 @@ use std::time::Duration;
 /// A stop request does not cut short the first part of a reply wait: a drive that answers
 /// at all has answered by then, so the exchange under way finishes.
 const STOP_GRACE: Duration = Duration::from_millis(20);
-/// After the grace, reply waits look at stop requests this often.
-const STOP_POLL: Duration = Duration::from_millis(10);
 /// What to check when a Control Techniques drive stays silent.
 const NO_REPLY_HINT: &str = "check the cable (RS485 A/B), the baud rate and parity (--baud, --parity: the drive's serial mode), the drive's serial address (--address G.U), and that the echo of the RS485 adapter is off";
 /// What a NAK can mean; the drive does not say which.
@@ -30,13 +28,10 @@ const NAK_TEXT: &str = "the drive answered NAK: the value is out of range or inv
 
 pub struct CtLink {
     transport: SharedTransport,
-    clock: SharedClock,
     config: CtLinkConfig,
-    observer: Option<Box<dyn TelegramObserver>>,
-    stats: LinkStats,
-    stop: Option<Arc<StopRequests>>,
+    /// Clock, observer, stop requests, counters and the listening every link shares.
+    core: LinkCore,
     pending: Vec<u8>,
-    buf: [u8; 64],
     /// When the line was last busy (our message or the drive's reply).
     quiet_from: Duration,
 }
@@ -53,24 +48,20 @@ impl CtLink {
     pub fn new(transport: SharedTransport, clock: SharedClock, config: CtLinkConfig) -> Self {
         CtLink {
             transport,
-            clock,
+            core: LinkCore::new(clock, STOP_GRACE),
             config,
-            observer: None,
-            stats: LinkStats::default(),
-            stop: None,
             pending: Vec::new(),
-            buf: [0; 64],
             quiet_from: Duration::ZERO,
         }
     }
 
     pub fn set_observer(&mut self, observer: Box<dyn TelegramObserver>) {
-        self.observer = Some(observer);
+        self.core.set_observer(observer);
     }
 
     /// Lets stop requests end reply waits and retries early (see [`STOP_GRACE`]).
     pub fn set_stop_requests(&mut self, stop: Arc<StopRequests>) {
-        self.stop = Some(stop);
+        self.core.set_stop_requests(stop);
     }
 
     pub fn port(&self) -> &str {
@@ -78,11 +69,11 @@ impl CtLink {
     }
 
     pub fn clock(&self) -> &SharedClock {
-        &self.clock
+        &self.core.clock
     }
 
     pub fn stats(&self) -> LinkStats {
-        self.stats
+        self.core.stats
     }
 
     pub fn config(&self) -> &CtLinkConfig {
@@ -92,13 +83,9 @@ impl CtLink {
     /// Closes and opens the port again after it failed; what arrived before is dropped.
     pub fn reopen(&mut self) -> Result<(), AccessError> {
         self.pending.clear();
-        self.event("reopening the port");
+        self.core.event("reopening the port");
         self.transport.reopen()?;
         Ok(())
-    }
-
-    fn stop_pending(&self) -> bool {
-        self.stop.as_ref().is_some_and(|s| s.pending_at(self.clock.now()))
     }
 
     /// Sends `request` and returns the reply that answers it; `None` for a write to a
@@ -111,43 +98,45 @@ impl CtLink {
         let t: &mut dyn Transport = line.as_mut();
         if target.is_some_and(NodeAddress::is_broadcast) {
             self.send(t, &bytes)?;
-            self.event("group or global write: no drive answers, so it is sent once and not repeated");
-            self.quiet_from = self.clock.now();
+            self.core
+                .event("group or global write: no drive answers, so it is sent once and not repeated");
+            self.quiet_from = self.core.clock.now();
             return Ok(None);
         }
         let attempts = self.config.retries + 1;
         let mut last_refused: Option<(Vec<u8>, String)> = None;
         for attempt in 1..=attempts {
             if attempt > 1 {
-                if self.stop_pending() {
+                if self.core.stop_pending() {
                     return Err(self.interrupted(request, &bytes));
                 }
-                self.stats.retries += 1;
-                self.settle(t)?;
-                self.event(&format!("retry {} of {}", attempt - 1, self.config.retries));
+                self.core.stats.retries += 1;
+                self.core.settle(t, self.config.settle)?;
+                self.core
+                    .event(&format!("retry {} of {}", attempt - 1, self.config.retries));
             }
             self.send(t, &bytes)?;
             match self.await_reply(t, request) {
                 Ok(reply) => {
-                    self.stats.replies += 1;
-                    self.quiet_from = self.clock.now();
+                    self.core.stats.replies += 1;
+                    self.quiet_from = self.core.clock.now();
                     return Ok(Some(reply));
                 }
                 Err(AttemptFailure::Timeout) => {
-                    self.stats.timeouts += 1;
+                    self.core.stats.timeouts += 1;
                     let ms = self.config.reply_timeout.as_millis();
-                    self.event(&format!("no reply within {ms} ms"));
+                    self.core.event(&format!("no reply within {ms} ms"));
                 }
                 Err(AttemptFailure::Refused { bytes, problem }) => {
-                    self.event(&format!("reply refused: {problem}"));
+                    self.core.event(&format!("reply refused: {problem}"));
                     last_refused = Some((bytes, problem));
                 }
                 Err(AttemptFailure::Transport(e)) => {
-                    self.event(&format!("transport failed: {e}"));
+                    self.core.event(&format!("transport failed: {e}"));
                     return Err(AccessError::Transport(e));
                 }
                 Err(AttemptFailure::Interrupted) => {
-                    self.event("stop requested while waiting for the reply");
+                    self.core.event("stop requested while waiting for the reply");
                     return Err(self.interrupted(request, &bytes));
                 }
             }
@@ -177,41 +166,23 @@ impl CtLink {
 
     /// The turnaround pause, stale input dropped, then the message.
     fn send(&mut self, t: &mut dyn Transport, bytes: &[u8]) -> Result<(), AccessError> {
-        self.clock.sleep_until(self.quiet_from + self.config.turnaround);
+        self.core
+            .clock
+            .sleep_until(self.quiet_from + self.config.turnaround);
         let dropped = t.discard_input()? + self.pending.len();
         self.pending.clear();
         if dropped > 0 {
-            self.event(&format!("discarded {dropped} stale byte(s) before sending"));
+            self.core
+                .event(&format!("discarded {dropped} stale byte(s) before sending"));
         }
         t.write_all(bytes)?;
-        self.stats.requests += 1;
-        self.notify(Direction::Sent, bytes);
-        Ok(())
-    }
-
-    /// Listens for `config.settle` and drops whatever arrives.
-    fn settle(&mut self, t: &mut dyn Transport) -> Result<(), AccessError> {
-        let until = self.clock.now() + self.config.settle;
-        let mut dropped = 0;
-        loop {
-            let now = self.clock.now();
-            if now >= until {
-                break;
-            }
-            match t.read(&mut self.buf, until - now) {
-                Ok(n) => dropped += n,
-                Err(TransportError::Timeout { .. }) => break,
-                Err(e) => return Err(AccessError::Transport(e)),
-            }
-        }
-        if dropped > 0 {
-            self.event(&format!("dropped {dropped} late byte(s) before retrying"));
-        }
+        self.core.stats.requests += 1;
+        self.core.notify(Direction::Sent, bytes);
         Ok(())
     }
 
     fn await_reply(&mut self, t: &mut dyn Transport, request: &Request) -> Result<Reply, AttemptFailure> {
-        let sent = self.clock.now();
+        let sent = self.core.clock.now();
         let deadline = sent + self.config.reply_timeout;
         loop {
             loop {
@@ -219,21 +190,21 @@ impl CtLink {
                     Split::Incomplete => break,
                     Split::Noise(n) => {
                         self.pending.drain(..n);
-                        self.event(&format!("skipped {n} byte(s) of line noise"));
+                        self.core.event(&format!("skipped {n} byte(s) of line noise"));
                     }
                     Split::Message(n) => {
                         let bytes: Vec<u8> = self.pending.drain(..n).collect();
-                        self.notify(Direction::Received, &bytes);
+                        self.core.notify(Direction::Received, &bytes);
                         return match Reply::decode(&bytes) {
                             Ok(reply) => match answers(request, &reply) {
                                 Ok(()) => Ok(reply),
                                 Err(problem) => {
-                                    self.stats.mismatched_replies += 1;
+                                    self.core.stats.mismatched_replies += 1;
                                     Err(AttemptFailure::Refused { bytes, problem })
                                 }
                             },
                             Err(problem) => {
-                                self.stats.corrupt_replies += 1;
+                                self.core.stats.corrupt_replies += 1;
                                 Err(AttemptFailure::Refused {
                                     bytes,
                                     problem: problem.to_string(),
@@ -243,26 +214,11 @@ impl CtLink {
                     }
                 }
             }
-            let now = self.clock.now();
-            if now >= deadline {
-                return Err(AttemptFailure::Timeout);
-            }
-            let slice = match &self.stop {
-                None => deadline - now,
-                Some(_) if now - sent < STOP_GRACE => (sent + STOP_GRACE).min(deadline) - now,
-                Some(_) => STOP_POLL.min(deadline - now),
-            };
-            match t.read(&mut self.buf, slice) {
-                Ok(n) => self.pending.extend_from_slice(&self.buf[..n]),
-                Err(TransportError::Timeout { .. }) if self.clock.now() >= deadline => {
-                    return Err(AttemptFailure::Timeout)
-                }
-                Err(TransportError::Timeout { .. }) => {
-                    if self.clock.now() - sent >= STOP_GRACE && self.stop_pending() {
-                        return Err(AttemptFailure::Interrupted);
-                    }
-                }
-                Err(e) => return Err(AttemptFailure::Transport(e)),
+            match self.core.read_reply(t, sent, deadline) {
+                Ok(bytes) => self.pending.extend_from_slice(bytes),
+                Err(ReplyWait::Timeout) => return Err(AttemptFailure::Timeout),
+                Err(ReplyWait::Interrupted) => return Err(AttemptFailure::Interrupted),
+                Err(ReplyWait::Transport(e)) => return Err(AttemptFailure::Transport(e)),
             }
         }
     }
@@ -272,20 +228,6 @@ impl CtLink {
             port: self.transport.name().to_string(),
             address: address_text(request),
             request: describe(request, bytes),
-        }
-    }
-
-    fn notify(&mut self, direction: Direction, bytes: &[u8]) {
-        let at = self.clock.now();
-        if let Some(o) = self.observer.as_mut() {
-            o.telegram(at, direction, bytes);
-        }
-    }
-
-    fn event(&mut self, text: &str) {
-        let at = self.clock.now();
-        if let Some(o) = self.observer.as_mut() {
-            o.event(at, text);
         }
     }
 }

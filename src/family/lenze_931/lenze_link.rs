@@ -16,7 +16,7 @@ use super::codec::{check_reply, DecodeError, LineExtractor, ObjectCommand, Reply
 use crate::bus::{SharedTransport, Transport, TransportError};
 use crate::clock::SharedClock;
 use crate::drive::AccessError;
-use crate::link::{Direction, LinkStats, TelegramObserver};
+use crate::link::{Direction, LinkCore, LinkStats, ReplyWait, TelegramObserver};
 use crate::stop_request::StopRequests;
 use std::sync::Arc;
 use std::time::Duration;
@@ -24,8 +24,6 @@ use std::time::Duration;
 /// A stop request does not cut short the first part of a reply wait, so the exchange under
 /// way finishes (a 9600-baud reply of 14 characters takes about 15 ms on the wire).
 const STOP_GRACE: Duration = Duration::from_millis(30);
-/// After the grace, reply waits look at stop requests this often.
-const STOP_POLL: Duration = Duration::from_millis(10);
 /// What to check when a 931 stays silent.
 const NO_REPLY_HINT: &str = "check the RS232 cable (TxD/RxD crossed), the baud rate (the 931 ships at 9600 8N1) and that the drive is powered";
 
@@ -53,13 +51,10 @@ impl Default for LinkConfig {
 
 pub struct LenzeLink {
     transport: SharedTransport,
-    clock: SharedClock,
     config: LinkConfig,
     extractor: LineExtractor,
-    observer: Option<Box<dyn TelegramObserver>>,
-    stats: LinkStats,
-    buf: [u8; 256],
-    stop: Option<Arc<StopRequests>>,
+    /// Clock, observer, stop requests, counters and the listening every link shares.
+    core: LinkCore,
 }
 
 /// Why one attempt did not produce a reply.
@@ -74,22 +69,18 @@ impl LenzeLink {
     pub fn new(transport: SharedTransport, clock: SharedClock, config: LinkConfig) -> Self {
         LenzeLink {
             transport,
-            clock,
+            core: LinkCore::new(clock, STOP_GRACE),
             config,
             extractor: LineExtractor::new(),
-            observer: None,
-            stats: LinkStats::default(),
-            buf: [0; 256],
-            stop: None,
         }
     }
 
     pub fn set_stop_requests(&mut self, stop: Arc<StopRequests>) {
-        self.stop = Some(stop);
+        self.core.set_stop_requests(stop);
     }
 
     pub fn set_observer(&mut self, observer: Box<dyn TelegramObserver>) {
-        self.observer = Some(observer);
+        self.core.set_observer(observer);
     }
 
     pub fn port(&self) -> &str {
@@ -97,23 +88,19 @@ impl LenzeLink {
     }
 
     pub fn clock(&self) -> &SharedClock {
-        &self.clock
+        &self.core.clock
     }
 
     pub fn stats(&self) -> LinkStats {
-        self.stats
+        self.core.stats
     }
 
     /// Closes and opens the port again after it failed; what arrived before is dropped.
     pub fn reopen(&mut self) -> Result<(), AccessError> {
         self.extractor.clear();
-        self.event("reopening the port");
+        self.core.event("reopening the port");
         self.transport.reopen()?;
         Ok(())
-    }
-
-    fn stop_pending(&self) -> bool {
-        self.stop.as_ref().is_some_and(|s| s.pending_at(self.clock.now()))
     }
 
     /// Sends `request` and returns the reply that answers it, retrying as the module docs
@@ -190,20 +177,20 @@ impl LenzeLink {
             if attempt == attempts {
                 break;
             }
-            self.settle(t)?;
-            self.event(&format!(
+            self.core.settle(t, self.config.settle)?;
+            self.core.event(&format!(
                 "the reply to {} was lost: reading object 0x{object:04X} back before sending the write again",
                 request.text()
             ));
             match self.attempt(t, &read_back) {
                 Ok(Reply::Value { value: held, .. }) if held == value => {
-                    self.event(&format!(
+                    self.core.event(&format!(
                         "object 0x{object:04X} holds 0x{held:08X}: the write took effect; not sent again"
                     ));
                     return Ok(Reply::Ok);
                 }
                 Ok(Reply::Value { value: held, .. }) => {
-                    self.event(&format!("object 0x{object:04X} holds 0x{held:08X}, not 0x{value:08X}: sending the write again"));
+                    self.core.event(&format!("object 0x{object:04X} holds 0x{held:08X}, not 0x{value:08X}: sending the write again"));
                 }
                 Ok(other) => {
                     return Err(self.unknown_outcome(
@@ -242,12 +229,13 @@ impl LenzeLink {
         request: &Request,
         attempt: u32,
     ) -> Result<(), AccessError> {
-        if self.stop_pending() {
+        if self.core.stop_pending() {
             return Err(self.interrupted(request));
         }
-        self.stats.retries += 1;
-        self.settle(t)?;
-        self.event(&format!("retry {} of {}", attempt - 1, self.config.retries));
+        self.core.stats.retries += 1;
+        self.core.settle(t, self.config.settle)?;
+        self.core
+            .event(&format!("retry {} of {}", attempt - 1, self.config.retries));
         Ok(())
     }
 
@@ -257,25 +245,25 @@ impl LenzeLink {
             return Err(AttemptFailure::Transport(e));
         }
         t.write_all(&bytes).map_err(AttemptFailure::Transport)?;
-        self.stats.requests += 1;
-        self.notify(Direction::Sent, &bytes);
+        self.core.stats.requests += 1;
+        self.core.notify(Direction::Sent, &bytes);
         let result = self.await_reply(t, request);
         match &result {
-            Ok(_) => self.stats.replies += 1,
+            Ok(_) => self.core.stats.replies += 1,
             Err(AttemptFailure::Timeout) => {
-                self.stats.timeouts += 1;
+                self.core.stats.timeouts += 1;
                 let ms = self.config.reply_timeout.as_millis();
-                self.event(&format!("no reply within {ms} ms"));
+                self.core.event(&format!("no reply within {ms} ms"));
             }
-            Err(AttemptFailure::Bad { problem, .. }) => self.event(&format!("reply refused: {problem}")),
-            Err(AttemptFailure::Transport(e)) => self.event(&format!("transport failed: {e}")),
-            Err(AttemptFailure::Interrupted) => self.event("stop requested while waiting for the reply"),
+            Err(AttemptFailure::Bad { problem, .. }) => self.core.event(&format!("reply refused: {problem}")),
+            Err(AttemptFailure::Transport(e)) => self.core.event(&format!("transport failed: {e}")),
+            Err(AttemptFailure::Interrupted) => self.core.event("stop requested while waiting for the reply"),
         }
         result
     }
 
     fn await_reply(&mut self, t: &mut dyn Transport, request: &Request) -> Result<Reply, AttemptFailure> {
-        let sent = self.clock.now();
+        let sent = self.core.clock.now();
         let deadline = sent + self.config.reply_timeout;
         let echo = request.text();
         // An SDO write is answered with its own text: the first copy is taken as the reply.
@@ -285,53 +273,38 @@ impl LenzeLink {
                 if !line.bytes.is_empty() {
                     let mut shown = line.bytes.clone();
                     shown.push(super::codec::CR);
-                    self.notify(Direction::Received, &shown);
+                    self.core.notify(Direction::Received, &shown);
                 }
                 let text = match line.text {
                     Ok(text) => text,
                     Err(problem) => {
-                        self.stats.corrupt_replies += 1;
+                        self.core.stats.corrupt_replies += 1;
                         let shown = String::from_utf8_lossy(&line.bytes).into_owned();
                         return Err(AttemptFailure::Bad { line: shown, problem });
                     }
                 };
                 if echo_possible && text == echo {
-                    self.event("skipped the echo of the request");
+                    self.core.event("skipped the echo of the request");
                     continue;
                 }
                 let reply = match Reply::parse_for(request, &text) {
                     Ok(r) => r,
                     Err(problem) => {
-                        self.stats.corrupt_replies += 1;
+                        self.core.stats.corrupt_replies += 1;
                         return Err(AttemptFailure::Bad { line: text, problem });
                     }
                 };
                 if let Err(problem) = check_reply(request, &reply) {
-                    self.stats.mismatched_replies += 1;
+                    self.core.stats.mismatched_replies += 1;
                     return Err(AttemptFailure::Bad { line: text, problem });
                 }
                 return Ok(reply);
             }
-            let now = self.clock.now();
-            if now >= deadline {
-                return Err(AttemptFailure::Timeout);
-            }
-            let slice = match &self.stop {
-                None => deadline - now,
-                Some(_) if now - sent < STOP_GRACE => (sent + STOP_GRACE).min(deadline) - now,
-                Some(_) => STOP_POLL.min(deadline - now),
-            };
-            match t.read(&mut self.buf, slice) {
-                Ok(n) => self.extractor.push(&self.buf[..n]),
-                Err(TransportError::Timeout { .. }) if self.clock.now() >= deadline => {
-                    return Err(AttemptFailure::Timeout)
-                }
-                Err(TransportError::Timeout { .. }) => {
-                    if self.clock.now() - sent >= STOP_GRACE && self.stop_pending() {
-                        return Err(AttemptFailure::Interrupted);
-                    }
-                }
-                Err(e) => return Err(AttemptFailure::Transport(e)),
+            match self.core.read_reply(t, sent, deadline) {
+                Ok(bytes) => self.extractor.push(bytes),
+                Err(ReplyWait::Timeout) => return Err(AttemptFailure::Timeout),
+                Err(ReplyWait::Interrupted) => return Err(AttemptFailure::Interrupted),
+                Err(ReplyWait::Transport(e)) => return Err(AttemptFailure::Transport(e)),
             }
         }
     }
@@ -340,29 +313,8 @@ impl LenzeLink {
         let dropped = t.discard_input()? + self.extractor.pending();
         self.extractor.clear();
         if dropped > 0 {
-            self.event(&format!("discarded {dropped} stale byte(s) before sending"));
-        }
-        Ok(())
-    }
-
-    /// Listens for `config.settle` and drops whatever arrives.
-    fn settle(&mut self, t: &mut dyn Transport) -> Result<(), AccessError> {
-        let until = self.clock.now() + self.config.settle;
-        let mut dropped = 0;
-        loop {
-            let now = self.clock.now();
-            if now >= until {
-                break;
-            }
-            match t.read(&mut self.buf, until - now) {
-                Ok(n) => dropped += n,
-                Err(TransportError::Timeout { .. }) => break,
-                Err(e) => return Err(AccessError::Transport(e)),
-            }
-        }
-        self.extractor.clear();
-        if dropped > 0 {
-            self.event(&format!("dropped {dropped} late byte(s) before the next request"));
+            self.core
+                .event(&format!("discarded {dropped} stale byte(s) before sending"));
         }
         Ok(())
     }
@@ -428,20 +380,6 @@ impl LenzeLink {
             hint: format!(
                 "{why}, so whether the drive stored the value is unknown and the write was not sent again; read the object before writing it again; {NO_REPLY_HINT}"
             ),
-        }
-    }
-
-    fn notify(&mut self, direction: Direction, bytes: &[u8]) {
-        let at = self.clock.now();
-        if let Some(o) = self.observer.as_mut() {
-            o.telegram(at, direction, bytes);
-        }
-    }
-
-    fn event(&mut self, text: &str) {
-        let at = self.clock.now();
-        if let Some(o) = self.observer.as_mut() {
-            o.event(at, text);
         }
     }
 }

@@ -14,7 +14,7 @@ use crate::family::sd2::codec::{
     check_reply, Body, Cyclic, Data, DecodeError, ErrorCode, FrameExtractor, Framing, Telegram,
 };
 use crate::hex::to_hex;
-use crate::link::{Direction, LinkStats, TelegramObserver};
+use crate::link::{Direction, LinkCore, LinkStats, ReplyWait, TelegramObserver};
 use crate::stop_request::StopRequests;
 use std::sync::Arc;
 use std::time::Duration;
@@ -23,21 +23,16 @@ use std::time::Duration;
 /// answering at all has answered by then (250 µs turnaround plus the reply's wire time),
 /// so the telegram under way finishes and its answer is not lost.
 const STOP_GRACE: Duration = Duration::from_millis(20);
-/// After the grace, reply waits look at stop requests this often.
-const STOP_POLL: Duration = Duration::from_millis(10);
 /// What to check when an SD2 drive stays silent.
 const NO_REPLY_HINT: &str = "check the cable, the baud rate, the drive's DNC address (address switch), and that its control channel is set to the serial interface";
 
 pub struct Sd2Link {
     /// Shared with the other drives on the same line; locked for one whole exchange.
     transport: SharedTransport,
-    clock: SharedClock,
     config: LinkConfig,
     extractor: FrameExtractor,
-    observer: Option<Box<dyn TelegramObserver>>,
-    stats: LinkStats,
-    buf: [u8; 256],
-    stop: Option<Arc<StopRequests>>,
+    /// Clock, observer, stop requests, counters and the listening every link shares.
+    core: LinkCore,
 }
 
 /// Why one attempt did not produce a reply.
@@ -57,39 +52,31 @@ impl Sd2Link {
     pub fn new(transport: SharedTransport, clock: SharedClock, config: LinkConfig) -> Self {
         Sd2Link {
             transport,
-            clock,
+            core: LinkCore::new(clock, STOP_GRACE),
             config,
             extractor: FrameExtractor::new(Framing::Replies),
-            observer: None,
-            stats: LinkStats::default(),
-            buf: [0; 256],
-            stop: None,
         }
     }
 
     /// Lets stop requests end reply waits and retries early (see [`STOP_GRACE`]).
     pub fn set_stop_requests(&mut self, stop: Arc<StopRequests>) {
-        self.stop = Some(stop);
-    }
-
-    fn stop_pending(&self) -> bool {
-        self.stop.as_ref().is_some_and(|s| s.pending_at(self.clock.now()))
+        self.core.set_stop_requests(stop);
     }
 
     /// Closes and opens the port again after it failed; what arrived before is dropped.
     pub fn reopen(&mut self) -> Result<(), AccessError> {
         self.extractor.clear();
-        self.event("reopening the port");
+        self.core.event("reopening the port");
         self.transport.reopen()?;
         Ok(())
     }
 
     pub fn set_observer(&mut self, observer: Box<dyn TelegramObserver>) {
-        self.observer = Some(observer);
+        self.core.set_observer(observer);
     }
 
     pub fn take_observer(&mut self) -> Option<Box<dyn TelegramObserver>> {
-        self.observer.take()
+        self.core.take_observer()
     }
 
     pub fn port(&self) -> &str {
@@ -101,11 +88,11 @@ impl Sd2Link {
     }
 
     pub fn stats(&self) -> LinkStats {
-        self.stats
+        self.core.stats
     }
 
     pub fn clock(&self) -> &SharedClock {
-        &self.clock
+        &self.core.clock
     }
 
     /// Sends `request` and returns the reply that answers it, retrying on timeouts and on
@@ -119,40 +106,41 @@ impl Sd2Link {
         let mut last_refused: Option<(Vec<u8>, DecodeError)> = None;
         for attempt in 1..=attempts {
             if attempt > 1 {
-                if self.stop_pending() {
+                if self.core.stop_pending() {
                     return Err(self.interrupted(request, &bytes));
                 }
-                self.stats.retries += 1;
-                self.settle(t)?;
-                self.event(&format!("retry {} of {}", attempt - 1, self.config.retries));
+                self.core.stats.retries += 1;
+                self.core.settle(t, self.config.settle)?;
+                self.core
+                    .event(&format!("retry {} of {}", attempt - 1, self.config.retries));
             }
             self.flush_input(t)?;
             t.write_all(&bytes)?;
-            self.stats.requests += 1;
-            self.notify(Direction::Sent, &bytes);
+            self.core.stats.requests += 1;
+            self.core.notify(Direction::Sent, &bytes);
             match self.await_reply(t, request) {
                 Ok(reply) => {
-                    self.stats.replies += 1;
+                    self.core.stats.replies += 1;
                     if self.extractor.pending().is_empty() {
                         t.exchange_complete();
                     }
                     return Ok(reply);
                 }
                 Err(AttemptFailure::Timeout) => {
-                    self.stats.timeouts += 1;
+                    self.core.stats.timeouts += 1;
                     let ms = self.config.reply_timeout.as_millis();
-                    self.event(&format!("no reply within {ms} ms"));
+                    self.core.event(&format!("no reply within {ms} ms"));
                 }
                 Err(AttemptFailure::Refused { bytes, problem }) => {
-                    self.event(&format!("reply refused: {problem}"));
+                    self.core.event(&format!("reply refused: {problem}"));
                     last_refused = Some((bytes, problem));
                 }
                 Err(AttemptFailure::Transport(e)) => {
-                    self.event(&format!("transport failed: {e}"));
+                    self.core.event(&format!("transport failed: {e}"));
                     return Err(AccessError::Transport(e));
                 }
                 Err(AttemptFailure::Interrupted) => {
-                    self.event("stop requested while waiting for the reply");
+                    self.core.event("stop requested while waiting for the reply");
                     return Err(self.interrupted(request, &bytes));
                 }
             }
@@ -261,45 +249,26 @@ impl Sd2Link {
         let dropped = t.discard_input()? + self.extractor.pending().len();
         self.extractor.clear();
         if dropped > 0 {
-            self.event(&format!("discarded {dropped} stale byte(s) before sending"));
-        }
-        Ok(())
-    }
-
-    /// Listens for `config.settle` and drops whatever arrives (see [`LinkConfig::settle`]).
-    fn settle(&mut self, t: &mut dyn Transport) -> Result<(), AccessError> {
-        let until = self.clock.now() + self.config.settle;
-        let mut dropped = 0;
-        loop {
-            let now = self.clock.now();
-            if now >= until {
-                break;
-            }
-            match t.read(&mut self.buf, until - now) {
-                Ok(n) => dropped += n,
-                Err(TransportError::Timeout { .. }) => break,
-                Err(e) => return Err(AccessError::Transport(e)),
-            }
-        }
-        if dropped > 0 {
-            self.event(&format!("dropped {dropped} late byte(s) before retrying"));
+            self.core
+                .event(&format!("discarded {dropped} stale byte(s) before sending"));
         }
         Ok(())
     }
 
     fn await_reply(&mut self, t: &mut dyn Transport, request: &Telegram) -> Result<Telegram, AttemptFailure> {
-        let sent = self.clock.now();
+        let sent = self.core.clock.now();
         let deadline = sent + self.config.reply_timeout;
         loop {
             while let Some(block) = self.extractor.next_block() {
                 if block.skipped > 0 {
-                    self.event(&format!("skipped {} byte(s) of line noise", block.skipped));
+                    self.core
+                        .event(&format!("skipped {} byte(s) of line noise", block.skipped));
                 }
-                self.notify(Direction::Received, &block.bytes);
+                self.core.notify(Direction::Received, &block.bytes);
                 let telegram = match block.telegram {
                     Ok(t) => t,
                     Err(problem) => {
-                        self.stats.corrupt_replies += 1;
+                        self.core.stats.corrupt_replies += 1;
                         return Err(AttemptFailure::Refused {
                             bytes: block.bytes,
                             problem,
@@ -311,7 +280,7 @@ impl Sd2Link {
                     continue;
                 }
                 if let Err(problem) = check_reply(request, &telegram) {
-                    self.stats.mismatched_replies += 1;
+                    self.core.stats.mismatched_replies += 1;
                     return Err(AttemptFailure::Refused {
                         bytes: block.bytes,
                         problem,
@@ -319,43 +288,12 @@ impl Sd2Link {
                 }
                 return Ok(telegram);
             }
-            let now = self.clock.now();
-            if now >= deadline {
-                return Err(AttemptFailure::Timeout);
+            match self.core.read_reply(t, sent, deadline) {
+                Ok(bytes) => self.extractor.push(bytes),
+                Err(ReplyWait::Timeout) => return Err(AttemptFailure::Timeout),
+                Err(ReplyWait::Interrupted) => return Err(AttemptFailure::Interrupted),
+                Err(ReplyWait::Transport(e)) => return Err(AttemptFailure::Transport(e)),
             }
-            // With stop requests to watch, read in slices so that a silent drive is given
-            // up within STOP_POLL of a request (after the grace).
-            let slice = match &self.stop {
-                None => deadline - now,
-                Some(_) if now - sent < STOP_GRACE => (sent + STOP_GRACE).min(deadline) - now,
-                Some(_) => STOP_POLL.min(deadline - now),
-            };
-            match t.read(&mut self.buf, slice) {
-                Ok(n) => self.extractor.push(&self.buf[..n]),
-                Err(TransportError::Timeout { .. }) if self.clock.now() >= deadline => {
-                    return Err(AttemptFailure::Timeout)
-                }
-                Err(TransportError::Timeout { .. }) => {
-                    if self.clock.now() - sent >= STOP_GRACE && self.stop_pending() {
-                        return Err(AttemptFailure::Interrupted);
-                    }
-                }
-                Err(e) => return Err(AttemptFailure::Transport(e)),
-            }
-        }
-    }
-
-    fn notify(&mut self, direction: Direction, bytes: &[u8]) {
-        let at = self.clock.now();
-        if let Some(o) = self.observer.as_mut() {
-            o.telegram(at, direction, bytes);
-        }
-    }
-
-    fn event(&mut self, text: &str) {
-        let at = self.clock.now();
-        if let Some(o) = self.observer.as_mut() {
-            o.event(at, text);
         }
     }
 }

@@ -1,0 +1,134 @@
+//! What every byte-stream family's link shares around its own framing: the clock, the
+//! telegram observer, the stop requests, the counters, and the two ways of listening to
+//! the line (for a reply, in slices that let a stop request end the wait; and to let late
+//! bytes settle before a retry). It must not know any family's telegrams.
+
+use super::{Direction, LinkStats, TelegramObserver};
+use crate::bus::{Transport, TransportError};
+use crate::clock::SharedClock;
+use crate::drive::AccessError;
+use crate::stop_request::StopRequests;
+use std::sync::Arc;
+use std::time::Duration;
+
+/// While waiting for a reply after the grace, the line is read in slices this long so a
+/// stop request is seen within it.
+const STOP_POLL: Duration = Duration::from_millis(10);
+
+/// How listening for a reply ended without bytes.
+#[derive(Debug)]
+pub enum ReplyWait {
+    /// The reply's time is over.
+    Timeout,
+    /// A stop was requested (after the grace).
+    Interrupted,
+    Transport(TransportError),
+}
+
+pub struct LinkCore {
+    pub clock: SharedClock,
+    pub stats: LinkStats,
+    observer: Option<Box<dyn TelegramObserver>>,
+    stop: Option<Arc<StopRequests>>,
+    /// A telegram under way gets this long for its reply before a stop request ends the
+    /// wait, so the drive's answer to a command already sent is still read.
+    grace: Duration,
+    buf: [u8; 256],
+}
+
+impl LinkCore {
+    pub fn new(clock: SharedClock, grace: Duration) -> Self {
+        LinkCore {
+            clock,
+            stats: LinkStats::default(),
+            observer: None,
+            stop: None,
+            grace,
+            buf: [0; 256],
+        }
+    }
+
+    pub fn set_observer(&mut self, observer: Box<dyn TelegramObserver>) {
+        self.observer = Some(observer);
+    }
+
+    pub fn take_observer(&mut self) -> Option<Box<dyn TelegramObserver>> {
+        self.observer.take()
+    }
+
+    pub fn set_stop_requests(&mut self, stop: Arc<StopRequests>) {
+        self.stop = Some(stop);
+    }
+
+    pub fn stop_pending(&self) -> bool {
+        self.stop.as_ref().is_some_and(|s| s.pending_at(self.clock.now()))
+    }
+
+    pub fn notify(&mut self, direction: Direction, bytes: &[u8]) {
+        let at = self.clock.now();
+        if let Some(o) = self.observer.as_mut() {
+            o.telegram(at, direction, bytes);
+        }
+    }
+
+    pub fn event(&mut self, text: &str) {
+        let at = self.clock.now();
+        if let Some(o) = self.observer.as_mut() {
+            o.event(at, text);
+        }
+    }
+
+    /// Reads what has arrived of a reply to a request sent at `sent`, waiting at most until
+    /// `deadline` and, once the grace is over, in slices that end early for a stop request.
+    /// `Ok(bytes)` may be empty: a slice passed without bytes and without a stop.
+    pub fn read_reply(
+        &mut self,
+        t: &mut dyn Transport,
+        sent: Duration,
+        deadline: Duration,
+    ) -> Result<&[u8], ReplyWait> {
+        let now = self.clock.now();
+        if now >= deadline {
+            return Err(ReplyWait::Timeout);
+        }
+        let slice = match &self.stop {
+            None => deadline - now,
+            Some(_) if now - sent < self.grace => (sent + self.grace).min(deadline) - now,
+            Some(_) => STOP_POLL.min(deadline - now),
+        };
+        match t.read(&mut self.buf, slice) {
+            Ok(n) => Ok(&self.buf[..n]),
+            Err(TransportError::Timeout { .. }) if self.clock.now() >= deadline => Err(ReplyWait::Timeout),
+            Err(TransportError::Timeout { .. }) => {
+                if self.clock.now() - sent >= self.grace && self.stop_pending() {
+                    Err(ReplyWait::Interrupted)
+                } else {
+                    Ok(&[])
+                }
+            }
+            Err(e) => Err(ReplyWait::Transport(e)),
+        }
+    }
+
+    /// Listens for `settle` and drops whatever arrives: the protocols have no sequence
+    /// numbers, so a late answer to a failed attempt would be taken for the retry's.
+    pub fn settle(&mut self, t: &mut dyn Transport, settle: Duration) -> Result<(), AccessError> {
+        let until = self.clock.now() + settle;
+        let mut dropped = 0;
+        loop {
+            let now = self.clock.now();
+            if now >= until {
+                break;
+            }
+            match t.read(&mut self.buf, until - now) {
+                Ok(n) => dropped += n,
+                Err(TransportError::Timeout { .. }) => break,
+                Err(e) => return Err(AccessError::Transport(e)),
+            }
+        }
+        if dropped > 0 {
+            self.event(&format!("dropped {dropped} late byte(s) before retrying"));
+        }
+        Ok(())
+    }
+}
