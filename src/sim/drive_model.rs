@@ -37,6 +37,19 @@ pub struct DriveModel {
 }
 
 impl DriveModel {
+    /// The speed (without noise) at `now`, with the trips `faults` schedules up to then
+    /// applied, leaving this model as it is: what a test or the safe stop's final line asks
+    /// between requests.
+    pub fn speed_at(&self, faults: &super::FaultInjection, now: Duration) -> f64 {
+        let mut model = self.clone();
+        for (at, code) in faults.trips_due(now) {
+            model.advance_to(at);
+            model.trip(code);
+        }
+        model.advance_to(now);
+        model.speed_rpm()
+    }
+
     pub fn new(config: SimConfig) -> Self {
         let noise = XorShift64::new(config.seed);
         DriveModel {

@@ -27,10 +27,12 @@ mod drive_model;
 mod fault_injection;
 mod motor;
 mod noise;
+mod request_log;
 mod sim_config;
 mod simulated_drive;
 
 pub use drive_model::{DriveModel, ModelRefusal};
 pub use fault_injection::FaultInjection;
+pub use request_log::{keep_recent, LOG_KEEPS};
 pub use sim_config::SimConfig;
 pub use simulated_drive::SimulatedDrive;

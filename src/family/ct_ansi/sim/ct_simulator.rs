@@ -10,15 +10,13 @@ use crate::drive::device_control::{DeviceCommand, DeviceState};
 use crate::family::ct_ansi::codec::{
     split, DataValue, NodeAddress, Parameter, Reply, Request, Sender, Split,
 };
-use crate::sim::{DriveModel, FaultInjection, SimConfig, SimulatedDrive};
+use crate::sim::{keep_recent, DriveModel, FaultInjection, SimConfig, SimulatedDrive};
 use std::time::Duration;
 
 /// #6.42, whose accepted values are logged.
 const CONTROL_WORD: Parameter = Parameter { menu: 6, param: 42 };
 /// The earliest a drive answers after a message.
 const TURNAROUND: Duration = Duration::from_millis(1);
-/// Most entries each log keeps (between this many and twice this many of the latest).
-pub const LOG_KEEPS: usize = 10_000;
 
 #[derive(Debug)]
 pub struct CtSimulator {
@@ -268,13 +266,7 @@ impl SimulatedDrive for CtSimulator {
         self.model.state()
     }
     fn speed_rpm(&self, now: Duration) -> f64 {
-        let mut model = self.model.clone();
-        for (at, code) in self.faults.trips_due(now) {
-            model.advance_to(at);
-            model.trip(code);
-        }
-        model.advance_to(now);
-        model.speed_rpm()
+        self.model.speed_at(&self.faults, now)
     }
     fn set_logging(&mut self, on: bool) {
         self.logging = on;
@@ -285,13 +277,6 @@ impl SimulatedDrive for CtSimulator {
     fn as_any_mut(&mut self) -> &mut dyn std::any::Any {
         self
     }
-}
-
-fn keep_recent<T>(log: &mut Vec<T>, entry: T) {
-    if log.len() >= 2 * LOG_KEEPS {
-        log.drain(..LOG_KEEPS);
-    }
-    log.push(entry);
 }
 
 #[cfg(test)]

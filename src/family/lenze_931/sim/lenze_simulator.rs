@@ -6,16 +6,13 @@ use super::sim_objects::SimObject;
 use crate::bus::{Peer, PeerReply};
 use crate::drive::device_control::DeviceState;
 use crate::family::lenze_931::codec::{BootState, ErrorCode, LineExtractor, ObjectCommand, Reply, Request};
-use crate::sim::{DriveModel, FaultInjection, SimConfig, SimulatedDrive};
+use crate::sim::{keep_recent, DriveModel, FaultInjection, SimConfig, SimulatedDrive};
 use std::time::Duration;
 
 /// CANopen objects the SDO simulation answers: control word, status word, actual speed.
 const SDO_CONTROL_WORD: (u16, u8) = (0x6040, 0);
 const SDO_STATUS_WORD: (u16, u8) = (0x6041, 0);
 const SDO_SPEED_ACTUAL: (u16, u8) = (0x606C, 0);
-
-/// Most control words kept in the log (see [`LenzeSimulator::control_words_written`]).
-const LOG_KEEPS: usize = 10_000;
 
 #[derive(Debug)]
 pub struct LenzeSimulator {
@@ -284,13 +281,7 @@ impl SimulatedDrive for LenzeSimulator {
         self.model.state()
     }
     fn speed_rpm(&self, now: Duration) -> f64 {
-        let mut model = self.model.clone();
-        for (at, code) in self.faults.trips_due(now) {
-            model.advance_to(at);
-            model.trip(code);
-        }
-        model.advance_to(now);
-        model.speed_rpm()
+        self.model.speed_at(&self.faults, now)
     }
     fn set_logging(&mut self, on: bool) {
         self.logging = on;
@@ -304,13 +295,6 @@ impl SimulatedDrive for LenzeSimulator {
     fn as_any_mut(&mut self) -> &mut dyn std::any::Any {
         self
     }
-}
-
-fn keep_recent<T>(log: &mut Vec<T>, entry: T) {
-    if log.len() >= 2 * LOG_KEEPS {
-        log.drain(..LOG_KEEPS);
-    }
-    log.push(entry);
 }
 
 #[cfg(test)]

@@ -16,13 +16,10 @@ use crate::drive::DeviceState;
 use crate::family::lenze_9400::codec::{
     request_id, response_id, AbortCode, SdoRequest, SdoResponse, MAX_TRANSFER,
 };
-use crate::sim::{DriveModel, FaultInjection, SimConfig, SimulatedDrive};
+use crate::sim::{DriveModel, FaultInjection, SimConfig, SimulatedDrive, LOG_KEEPS};
 use std::time::Duration;
 
 pub use super::sim_codes::FIRMWARE_VERSION;
-
-/// Most requests the log keeps (twice this at most, then the oldest half goes).
-const LOG_KEEPS: usize = 10_000;
 
 #[derive(Debug, Clone)]
 enum Transfer {
@@ -300,13 +297,7 @@ impl SimulatedDrive for Lenze9400Simulator {
         self.model.state()
     }
     fn speed_rpm(&self, now: Duration) -> f64 {
-        let mut model = self.model.clone();
-        for (at, code) in self.faults.trips_due(now) {
-            model.advance_to(at);
-            model.trip(code);
-        }
-        model.advance_to(now);
-        model.speed_rpm()
+        self.model.speed_at(&self.faults, now)
     }
     fn set_logging(&mut self, on: bool) {
         self.logging = on;

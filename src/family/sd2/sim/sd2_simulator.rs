@@ -14,7 +14,7 @@ use crate::drive::device_control::DeviceState;
 use crate::family::sd2::codec::{
     Body, Cyclic, ErrorCode, FrameExtractor, Framing, ServiceChannel, Telegram, WriteLength,
 };
-use crate::sim::{DriveModel, FaultInjection, SimConfig, SimulatedDrive};
+use crate::sim::{keep_recent, DriveModel, FaultInjection, SimConfig, SimulatedDrive};
 use std::time::Duration;
 
 /// A simulated single-axis SD2 drive. See the module docs of `sim` for the model.
@@ -98,13 +98,7 @@ impl Sd2Simulator {
     /// Model speed (without noise) at `now`, including trips scheduled before `now`.
     /// Does not advance the drive itself.
     pub fn speed_rpm(&self, now: Duration) -> f64 {
-        let mut model = self.model.clone();
-        for (at, code) in self.faults.trips_due(now) {
-            model.advance_to(at);
-            model.trip(code);
-        }
-        model.advance_to(now);
-        model.speed_rpm()
+        self.model.speed_at(&self.faults, now)
     }
 
     /// The speed setpoint in rpm, as last written (object 395 or the cyclic reference).
@@ -320,19 +314,6 @@ impl Peer for Sd2Simulator {
     fn reachable(&self, now: Duration) -> bool {
         self.faults.line_up(now)
     }
-}
-
-/// Most entries each log keeps: a days-long run against the simulated drive must not grow
-/// without bound. The log holds between this many and twice this many of the latest.
-pub const LOG_KEEPS: usize = 10_000;
-
-/// Appends to a log, dropping the oldest half once it holds twice [`LOG_KEEPS`] (amortised,
-/// and the log stays one slice).
-fn keep_recent<T>(log: &mut Vec<T>, entry: T) {
-    if log.len() >= 2 * LOG_KEEPS {
-        log.drain(..LOG_KEEPS);
-    }
-    log.push(entry);
 }
 
 #[cfg(test)]

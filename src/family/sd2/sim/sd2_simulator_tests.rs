@@ -4,6 +4,7 @@
 use super::*;
 use crate::family::sd2::codec::{checksum, Data, DecodeError, ServiceFunction};
 use crate::hex::parse_hex;
+use crate::sim::LOG_KEEPS;
 
 const SD: DeviceState = DeviceState::SwitchOnDisabled;
 
