@@ -14,9 +14,9 @@ use drivescript::family::{Family, LinkContext, LinkOptions, Registry, SimPeer};
 use drivescript::hex::parse_hex;
 use drivescript::sim::SimConfig;
 use serde_json::Value;
-use std::io::{BufRead, BufReader, Read};
+use std::io::Read;
 use std::path::PathBuf;
-use std::process::{Child, Command, Stdio};
+use std::process::{Command, Stdio};
 use std::sync::{Arc, PoisonError};
 use std::time::{Duration, Instant};
 
@@ -275,48 +275,16 @@ fn a_group_write_gets_no_reply_and_is_not_repeated() {
     assert!(e.to_string().contains("takes writes only"), "{e}");
 }
 
-/// A `drivescript simulate --drive ct-unidrive-sp --pty` in the background.
-struct PtyDrive {
-    child: Child,
-    path: String,
-}
-
-impl PtyDrive {
-    fn start() -> PtyDrive {
-        let mut child = Command::new(env!("CARGO_BIN_EXE_drivescript"))
-            .args(["simulate", "--drive", "ct-unidrive-sp", "--pty"])
-            .stdout(Stdio::piped())
-            .stderr(Stdio::null())
-            .spawn()
-            .expect("simulate starts");
-        let mut line = String::new();
-        BufReader::new(child.stdout.take().expect("stdout"))
-            .read_line(&mut line)
-            .expect("simulate prints its pty");
-        PtyDrive {
-            child,
-            path: line.trim().to_string(),
-        }
-    }
-}
-
-impl Drop for PtyDrive {
-    fn drop(&mut self) {
-        let _ = self.child.kill();
-        let _ = self.child.wait();
-    }
-}
-
 #[cfg(unix)]
 #[test]
 fn the_commissioning_recipe_runs_through_a_pseudo_terminal() {
-    let sim = PtyDrive::start();
+    let sim = crate::end_to_end::Simulator::start(&["--drive", "ct-unidrive-sp", "--pty"]);
     let recipe = ct_commissioning("pty");
-    let out = drivescript(&["run", recipe.to_str().unwrap(), "--port", &sim.path], "");
+    let out = drivescript(&["run", recipe.to_str().unwrap(), "--port", &sim.endpoint], "");
     let text = stdout(&out);
     assert_eq!(out.status.code(), Some(0), "{text}{}", stderr(&out));
     assert!(
-        text.contains(&format!("drive 1.1 on {} at 4800 7E1", sim.path)),
+        text.contains(&format!("drive 1.1 on {} at 4800 7E1", sim.endpoint)),
         "{text}"
     );
     assert!(text.contains("drive left in switched on at 0 rpm"), "{text}");
@@ -329,7 +297,7 @@ fn the_commissioning_recipe_runs_through_a_pseudo_terminal() {
             "--address",
             "1.0",
             "--port",
-            &sim.path,
+            &sim.endpoint,
             "--drive",
             "ct-unidrive-sp",
         ],
@@ -341,7 +309,7 @@ fn the_commissioning_recipe_runs_through_a_pseudo_terminal() {
             "read",
             "speed_setpoint",
             "--port",
-            &sim.path,
+            &sim.endpoint,
             "--drive",
             "ct-unidrive-sp",
         ],
@@ -353,7 +321,7 @@ fn the_commissioning_recipe_runs_through_a_pseudo_terminal() {
 #[cfg(unix)]
 #[test]
 fn ctrl_c_during_a_run_on_the_simulated_ct_drive_stops_it() {
-    let sim = PtyDrive::start();
+    let sim = crate::end_to_end::Simulator::start(&["--drive", "ct-unidrive-sp", "--pty"]);
     let dir = std::env::temp_dir().join(format!("drivescript-ct-sigint-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let recipe = dir.join("run.yaml");
@@ -365,7 +333,7 @@ fn ctrl_c_during_a_run_on_the_simulated_ct_drive_stops_it() {
     let mut child = Command::new(env!("CARGO_BIN_EXE_drivescript"))
         .arg("run")
         .arg(&recipe)
-        .args(["--port", &sim.path, "--baud", "9600", "--parity", "odd"])
+        .args(["--port", &sim.endpoint, "--baud", "9600", "--parity", "odd"])
         .current_dir(repo_root())
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
@@ -384,7 +352,7 @@ fn ctrl_c_during_a_run_on_the_simulated_ct_drive_stops_it() {
     }
     assert!(seen.contains("set speed_setpoint"), "{seen}");
     assert!(
-        seen.contains(&format!("drive 1.1 on {} at 9600 7O1", sim.path)),
+        seen.contains(&format!("drive 1.1 on {} at 9600 7O1", sim.endpoint)),
         "{seen}"
     );
     std::thread::sleep(Duration::from_millis(200));
@@ -409,7 +377,10 @@ fn ctrl_c_during_a_run_on_the_simulated_ct_drive_stops_it() {
     assert!(all.contains("drive left in switched on"), "{all}");
     assert!(all.contains("INTERRUPTED"), "{all}");
     // Read back from the drive itself: stopped.
-    let out = drivescript(&["state", "--port", &sim.path, "--drive", "ct-unidrive-sp"], "");
+    let out = drivescript(
+        &["state", "--port", &sim.endpoint, "--drive", "ct-unidrive-sp"],
+        "",
+    );
     assert!(stdout(&out).contains("switched on"), "{}", stdout(&out));
 }
 

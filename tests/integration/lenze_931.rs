@@ -11,9 +11,7 @@ use drivescript::clock::SharedClock;
 use drivescript::drive::{DeviceCommand, DeviceState};
 use drivescript::sim::SimulatedDrive;
 use drivescript::stop_request::{StopRequests, StopSignal};
-use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
-use std::process::{Child, Command, Stdio};
 use std::sync::{Arc, Mutex, PoisonError};
 use std::time::Duration;
 
@@ -343,43 +341,11 @@ fn a_lost_line_to_the_931_ends_in_the_truth() {
     assert!(output.contains("drive left in an unknown state"), "{output}");
 }
 
-/// A `drivescript simulate --drive lenze-931 --pty` in the background, killed when dropped.
-struct PtySimulator {
-    child: Child,
-    port: String,
-}
-
-impl PtySimulator {
-    fn start() -> PtySimulator {
-        let mut child = Command::new(env!("CARGO_BIN_EXE_drivescript"))
-            .args(["simulate", "--drive", "lenze-931", "--pty"])
-            .stdout(Stdio::piped())
-            .stderr(Stdio::piped())
-            .spawn()
-            .expect("simulate starts");
-        let mut line = String::new();
-        BufReader::new(child.stdout.take().expect("stdout"))
-            .read_line(&mut line)
-            .expect("simulate prints its pty");
-        PtySimulator {
-            child,
-            port: line.trim().to_string(),
-        }
-    }
-}
-
-impl Drop for PtySimulator {
-    fn drop(&mut self) {
-        let _ = self.child.kill();
-        let _ = self.child.wait();
-    }
-}
-
 #[cfg(unix)]
 #[test]
 fn through_a_pseudo_terminal_raw_access_drive_limits_and_a_run() {
-    let sim = PtySimulator::start();
-    let port = sim.port.as_str();
+    let sim = crate::end_to_end::Simulator::start(&["--drive", "lenze-931", "--pty"]);
+    let port = sim.endpoint.as_str();
     assert!(port.starts_with("/dev/"), "{port}");
     let dir = scratch("pty");
     let dictionary = completed_template(&dir).to_string_lossy().to_string();
@@ -551,8 +517,8 @@ fn a_silent_drive_leaves_check_unable_to_read_limits_with_exit_code_3() {
 #[cfg(unix)]
 #[test]
 fn parameters_round_trip_with_the_drives_limits_and_save() {
-    let sim = PtySimulator::start();
-    let port = sim.port.as_str();
+    let sim = crate::end_to_end::Simulator::start(&["--drive", "lenze-931", "--pty"]);
+    let port = sim.endpoint.as_str();
     let dir = scratch("parameters");
     let dictionary = completed_template(&dir).to_string_lossy().to_string();
     let file = dir.join("backup.yaml").to_string_lossy().to_string();
