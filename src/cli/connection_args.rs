@@ -53,8 +53,8 @@ pub struct ConnectionArgs {
     /// The drive's address in its family's notation. SD2: the address switch position
     /// (`0`, the default), `3B` for drive B of a double-axis device, or `dnc:N` for a raw
     /// DNC address. Control Techniques: group.unit (`1.2`, default `1.1`); `G.0` writes to
-    /// a whole group and `0.0` to every drive, with no reply.
-    /// DNC address. Lenze 9400: the CANopen node address 1..127 (C00350; default 1).
+    /// a whole group and `0.0` to every drive, with no reply. Lenze 931: none (one drive
+    /// per RS232 line). Lenze 9400: the CANopen node address 1..127 (C00350; default 1).
     #[arg(long, value_name = "ADDRESS")]
     pub address: Option<String>,
     /// How long to wait for each reply (the SD2 vendor's PC tool uses 1 s).
