@@ -364,7 +364,7 @@ pub struct RunRequest<'a> {
     pub connection: &'a ConnectionArgs,
     pub outputs: &'a OutputArgs,
     /// Called with the simulated drive and the run's clock before the run (tests inject
-    /// faults here).
+    /// faults here); with `drives:`, once for each simulated drive in the order declared.
     pub prepare_simulator: Option<&'a PrepareSimulator>,
     /// Stop requests (signals, or scheduled by tests).
     pub stop: Arc<StopRequests>,
@@ -605,9 +605,11 @@ fn run_several(
             }
         }
     }
-    // Tests inject faults into the first declared drive's simulator.
-    if let (Some((_, sim)), Some(prepare)) = (open.simulators.first(), request.prepare_simulator) {
-        prepare(sim, &open.clock);
+    // Every simulated drive, in the order declared (tests inject faults into one).
+    if let Some(prepare) = request.prepare_simulator {
+        for (_, sim) in &open.simulators {
+            prepare(sim, &open.clock);
+        }
     }
     if !open.simulators.is_empty() {
         let _ = writeln!(out, "using {}", open.description);
