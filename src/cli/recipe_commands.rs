@@ -583,7 +583,7 @@ fn run_several(
         &recipe.drives,
         drive_dicts,
         request.fast,
-        &mut |_| telegrams.tap(),
+        &mut |name| telegrams.tap(name),
         Some(request.stop.clone()),
     ) {
         Ok(o) => o,

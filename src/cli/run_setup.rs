@@ -33,36 +33,56 @@ pub fn telegram_outputs(
 }
 
 /// One trace shared by the links of several drives: each drive's link gets a tap that
-/// writes into it, a line at a time.
+/// writes into it, a line at a time, and says which drive the telegrams that follow are
+/// of whenever the drive changes (`-- drive `left``).
 #[derive(Clone)]
-pub struct SharedTelegrams(Arc<Mutex<TelegramFanOut>>);
+pub struct SharedTelegrams(Arc<Mutex<(TelegramFanOut, String)>>);
 
 impl SharedTelegrams {
     pub fn new(telegrams: TelegramFanOut) -> Self {
-        SharedTelegrams(Arc::new(Mutex::new(telegrams)))
+        SharedTelegrams(Arc::new(Mutex::new((telegrams, String::new()))))
     }
 
-    /// A drive's observer, or `None` when nothing is traced.
-    pub fn tap(&self) -> Option<Box<dyn TelegramObserver>> {
-        let empty = self.0.lock().unwrap_or_else(PoisonError::into_inner).is_empty();
-        (!empty).then(|| Box::new(self.clone()) as Box<dyn TelegramObserver>)
+    /// The observer of the drive called `name`, or `None` when nothing is traced.
+    pub fn tap(&self, name: &str) -> Option<Box<dyn TelegramObserver>> {
+        let empty = self.0.lock().unwrap_or_else(PoisonError::into_inner).0.is_empty();
+        (!empty).then(|| {
+            Box::new(Tap {
+                shared: self.clone(),
+                name: name.to_string(),
+            }) as Box<dyn TelegramObserver>
+        })
     }
 }
 
-impl TelegramObserver for SharedTelegrams {
+struct Tap {
+    shared: SharedTelegrams,
+    name: String,
+}
+
+impl Tap {
+    fn with(&self, at: Duration, f: impl FnOnce(&mut TelegramFanOut)) {
+        let mut guard = self.shared.0.lock().unwrap_or_else(PoisonError::into_inner);
+        let (telegrams, last) = &mut *guard;
+        if *last != self.name {
+            telegrams.event(at, &format!("drive `{}`", self.name));
+            last.clone_from(&self.name);
+        }
+        f(telegrams);
+    }
+}
+
+impl TelegramObserver for Tap {
     fn telegram(&mut self, at: Duration, direction: Direction, bytes: &[u8]) {
-        let mut t = self.0.lock().unwrap_or_else(PoisonError::into_inner);
-        t.telegram(at, direction, bytes);
+        self.with(at, |t| t.telegram(at, direction, bytes));
     }
 
     fn event(&mut self, at: Duration, text: &str) {
-        let mut t = self.0.lock().unwrap_or_else(PoisonError::into_inner);
-        t.event(at, text);
+        self.with(at, |t| t.event(at, text));
     }
 
     fn frame(&mut self, at: Duration, direction: Direction, frame: &crate::bus::CanFrame) {
-        let mut t = self.0.lock().unwrap_or_else(PoisonError::into_inner);
-        t.frame(at, direction, frame);
+        self.with(at, |t| t.frame(at, direction, frame));
     }
 }
 

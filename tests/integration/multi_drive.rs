@@ -43,7 +43,8 @@ fn state_of(sim: &Arc<Mutex<dyn SimulatedDrive>>) -> DeviceState {
     sim.lock().unwrap_or_else(PoisonError::into_inner).state()
 }
 
-/// The (TX, RX) byte rows of a trace file, in order.
+/// The (TX, RX) byte rows of a trace file, in order (the lines that name the drive, and
+/// other events, left out).
 fn trace_rows(trace: &str) -> Vec<(String, Vec<u8>)> {
     trace
         .lines()
@@ -51,6 +52,9 @@ fn trace_rows(trace: &str) -> Vec<(String, Vec<u8>)> {
             let mut tokens = line.split_whitespace();
             tokens.next()?.parse::<f64>().ok()?;
             let direction = tokens.next()?.to_string();
+            if direction != "TX" && direction != "RX" {
+                return None;
+            }
             let bytes = tokens
                 .take_while(|t| *t != "#")
                 .map(|t| u8::from_str_radix(t, 16))
@@ -120,7 +124,12 @@ fn two_drives_on_one_pty_reach_their_own_speeds_and_never_interleave() {
         text.contains("right: drive left in ready to switch on at 0 rpm; left: drive left in ready to switch on at 0 rpm"),
         "{text}"
     );
-    assert_never_interleaved(&std::fs::read_to_string(&trace).expect("trace"));
+    let trace = std::fs::read_to_string(&trace).expect("trace");
+    assert!(
+        trace.contains("-- drive `left`") && trace.contains("-- drive `right`"),
+        "{trace}"
+    );
+    assert_never_interleaved(&trace);
 }
 
 /// Ctrl-C during the sample of a run on a real pseudo-terminal: both drives stopped, the
