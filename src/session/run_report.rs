@@ -205,24 +205,7 @@ impl RunReport {
     /// and whether it is still coasting.
     pub fn drive_left(&self) -> String {
         if !self.drive_ends.is_empty() {
-            return self
-                .drive_ends
-                .iter()
-                .map(|e| {
-                    let one = RunReport {
-                        final_state: e.final_state,
-                        final_speed: e.final_speed,
-                        speed_unit: e.speed_unit.clone(),
-                        coasting: e.coasting,
-                        stop_confirmed: e.stop_confirmed,
-                        no_device_control: e.no_device_control,
-                        drive_ends: Vec::new(),
-                        ..self.clone()
-                    };
-                    format!("{}: {}", e.name, one.drive_left())
-                })
-                .collect::<Vec<_>>()
-                .join("; ");
+            return self.drive_left_lines().join("; ");
         }
         if self.no_device_control && self.final_state.is_none() && self.stop_confirmed {
             return "drive state not known: the dictionary has no device-control profile, so drivescript neither commanded nor stopped the drive".to_string();
@@ -243,6 +226,33 @@ impl RunReport {
             ""
         };
         format!("drive left in {state}{speed}{coasting}")
+    }
+
+    /// [`RunReport::drive_left`] as one line per drive (`right: drive left in …`) for a
+    /// run with several drives, in the order they were stopped.
+    pub fn drive_left_lines(&self) -> Vec<String> {
+        if self.drive_ends.is_empty() {
+            return vec![self.drive_left()];
+        }
+        self.drive_ends
+            .iter()
+            .map(|e| {
+                let one = RunReport {
+                    final_state: e.final_state,
+                    final_speed: e.final_speed,
+                    speed_unit: e.speed_unit.clone(),
+                    coasting: e.coasting,
+                    stop_confirmed: e.stop_confirmed,
+                    no_device_control: e.no_device_control,
+                    drive_ends: Vec::new(),
+                    steps: Vec::new(),
+                    checks: Vec::new(),
+                    series: Vec::new(),
+                    ..self.clone()
+                };
+                format!("{}: {}", e.name, one.drive_left())
+            })
+            .collect()
     }
 
     /// True when the last word must be CHECK THE DRIVE BY HAND.

@@ -121,7 +121,7 @@ fn two_drives_on_one_pty_reach_their_own_speeds_and_never_interleave() {
         "{text}"
     );
     assert!(
-        text.contains("right: drive left in ready to switch on at 0 rpm; left: drive left in ready to switch on at 0 rpm"),
+        text.contains("right: drive left in ready to switch on at 0 rpm\nleft: drive left in ready to switch on at 0 rpm\n"),
         "{text}"
     );
     let trace = std::fs::read_to_string(&trace).expect("trace");
@@ -181,7 +181,7 @@ fn ctrl_c_on_a_pty_stops_both_drives_each_verified() {
         .expect("left stopped");
     assert!(right < left, "{seen}");
     assert!(
-        seen.contains("right: drive left in ready to switch on at 0 rpm; left: drive left in ready to switch on at 0 rpm"),
+        seen.contains("right: drive left in ready to switch on at 0 rpm\nleft: drive left in ready to switch on at 0 rpm\n"),
         "{seen}"
     );
     for address in ["dnc:2", "dnc:3"] {

@@ -177,3 +177,90 @@ impl<'a> Loader<'a, '_> {
         all
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use crate::diag::Source;
+    use crate::dictionary::Dictionary;
+    use crate::recipe::{Recipe, RecipeInvalid, StepKind};
+    use std::path::Path;
+    use std::sync::Arc;
+
+    fn dictionary(name: &str) -> Arc<Dictionary> {
+        Arc::new(
+            crate::family::Registry::builtin()
+                .load_dictionary(name)
+                .expect("built-in dictionary"),
+        )
+    }
+
+    fn load(text: &str) -> Result<Recipe, RecipeInvalid> {
+        let drives = vec![
+            ("left".to_string(), dictionary("sd2")),
+            ("right".to_string(), dictionary("ct-unidrive-sp")),
+        ];
+        let first = drives[0].1.clone();
+        super::super::load_source_for(Source::new("r.yaml", text), Path::new("."), &first, &drives, &[])
+    }
+
+    fn problems(text: &str) -> Vec<String> {
+        let e = load(text).expect_err("expected problems");
+        e.problems.iter().map(|p| p.located()).collect()
+    }
+
+    const HEAD: &str = "name: x\ndrives:\n  left: { drive: sd2, address: dnc:2 }\n  right: { drive: ct-unidrive-sp, port: /dev/ttyUSB1 }\nsteps:\n";
+
+    #[test]
+    fn drives_steps_name_their_drive_and_are_checked_against_its_dictionary() {
+        let recipe = load(&format!(
+            "{HEAD}  - shutdown\n  - enable_operation: right\n  - go_to: {{ drive: left, state: operation_enabled }}\n  - set: {{ left.speed_setpoint: 1000 rpm }}\n"
+        ))
+        .expect("valid");
+        assert_eq!(recipe.drives.len(), 2);
+        assert_eq!(recipe.drives[0].address.as_deref(), Some("dnc:2"));
+        assert!(recipe.drives[0].on_command_line_connection());
+        assert_eq!(recipe.drives[1].port.as_deref(), Some("/dev/ttyUSB1"));
+        assert!(matches!(recipe.steps[0].kind, StepKind::Command(_, None)));
+        assert!(matches!(&recipe.steps[1].kind, StepKind::Command(_, Some(d)) if d == "right"));
+        assert!(matches!(&recipe.steps[2].kind, StepKind::GoTo { drive: Some(d), .. } if d == "left"));
+        match &recipe.steps[3].kind {
+            StepKind::Set(writes) => assert_eq!(writes[0].0.name, "left.speed_setpoint"),
+            other => panic!("{other:?}"),
+        }
+    }
+
+    #[test]
+    fn wrong_drive_references_are_problems_at_their_place() {
+        assert_eq!(
+            problems(&format!(
+                "{HEAD}  - read: [lfet.speed_actual, speed_actual]\n  - disable_operation: rihgt\n  - go_to: {{ drive: nobody, state: switched_on }}\n"
+            )),
+            [
+                "r.yaml:6:12: unknown drive `lfet`",
+                "r.yaml:6:31: `speed_actual` does not say which drive it is on",
+                "r.yaml:7:24: unknown drive `rihgt`",
+                "r.yaml:8:21: unknown drive `nobody`",
+            ]
+        );
+    }
+
+    #[test]
+    fn one_drive_and_several_drives_do_not_mix() {
+        let text = "name: x\ndrive: sd2\ndrives:\n  left: { drive: sd2 }\n  Right: { drive: sd2 }\n  right: { drive: sd2, port: a, tcp: b }\nsteps:\n  - shutdown\n";
+        let found = problems(text);
+        assert!(
+            found.iter().any(|p| p.contains("`Right` cannot name a drive")),
+            "{found:?}"
+        );
+        assert!(
+            found.iter().any(|p| p.contains("names more than one connection")),
+            "{found:?}"
+        );
+        assert!(
+            found
+                .iter()
+                .any(|p| p.contains("either one `drive:` or several `drives:`")),
+            "{found:?}"
+        );
+    }
+}
