@@ -7,6 +7,9 @@
 
 use super::connection_args::{CanSpec, ConnectionArgs};
 use super::drive_args::DictionaryArgs;
+use super::not_run::silent_drive;
+use super::recipe_commands::RunRequest;
+use super::run_setup::{telegram_outputs, SharedTelegrams};
 use crate::bus::{
     Bus, BusKind, FramePeer, FramePeerLine, MemoryFrameBus, MemoryTransport, Peer, PeerLine, SharedFrameBus,
     SharedTransport,
@@ -279,4 +282,72 @@ pub fn check_drives(
         seen.push((decl.name.clone(), address.number, key));
     }
     Ok(())
+}
+
+/// Before anything opens, for a run (recipe or script) with several drives: `--fast` only
+/// with every drive simulated, each drive's address and link settings, and the one trace
+/// for all of them (its telegrams are explained with the first drive's family, so drives
+/// of different families are not traced together). On failure, the message (exit code 2).
+pub fn several_checked(
+    request: &RunRequest,
+    connection: &ConnectionArgs,
+    decls: &[DriveDecl],
+    dictionaries: &[(String, Arc<Dictionary>)],
+) -> Result<SharedTelegrams, String> {
+    let outputs = request.outputs;
+    if request.fast && decls.iter().any(|d| !d.on_command_line_connection()) {
+        return Err("error: --fast (virtual time) works only when every drive is simulated; a drive with its own port runs in real time".into());
+    }
+    check_drives(request.registry, connection, decls, dictionaries)?;
+    let (first, first_dict) = (&dictionaries[0].0, dictionaries[0].1.clone());
+    let families: std::collections::BTreeSet<&str> = dictionaries.iter().map(|(_, d)| d.family()).collect();
+    if families.len() > 1 && (outputs.trace.is_some() || outputs.verbose) {
+        return Err(format!(
+            "error: --trace and -v explain the telegrams of one drive family; these drives are of {} (drive `{first}` first)",
+            families.into_iter().collect::<Vec<_>>().join(" and ")
+        ));
+    }
+    let family = request
+        .registry
+        .family(first_dict.family())
+        .map_err(|e| format!("error: {e}"))?;
+    telegram_outputs(outputs, &|| family.explainer(first_dict.clone())).map(SharedTelegrams::new)
+}
+
+/// Opens the drives checked by [`several_checked`], says early when one never answers,
+/// and hands every simulated drive, in the order declared, to the run's
+/// `prepare_simulator`. On failure, the message (exit code 3).
+pub fn several_opened(
+    request: &RunRequest,
+    connection: &ConnectionArgs,
+    decls: &[DriveDecl],
+    dictionaries: &[(String, Arc<Dictionary>)],
+    telegrams: &SharedTelegrams,
+) -> Result<OpenDrives, String> {
+    let mut open = open_drives(
+        request.registry,
+        connection,
+        decls,
+        dictionaries,
+        request.fast,
+        &mut |name| telegrams.tap(name),
+        Some(request.stop.clone()),
+    )?;
+    // A drive that never answers is said once, early, as for one drive.
+    for (name, drive) in &mut open.drives {
+        if let Err(crate::drive::DriveError::Access(e)) = drive.state() {
+            if e.is_no_reply() {
+                return Err(format!(
+                    "drive `{name}`: {}",
+                    silent_drive(request.connection, &e.to_string())
+                ));
+            }
+        }
+    }
+    if let Some(prepare) = request.prepare_simulator {
+        for (_, sim) in &open.simulators {
+            prepare(sim, &open.clock);
+        }
+    }
+    Ok(open)
 }

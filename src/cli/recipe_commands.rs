@@ -3,11 +3,9 @@
 
 use super::connection_args::{parse_duration, ConnectionArgs};
 use super::drive_args::{open_drive, DictionaryArgs};
-use super::drive_set::{check_drives, drive_dictionaries, open_drives};
+use super::drive_set::{drive_dictionaries, several_checked, several_opened};
 use super::not_run::{not_run, silent_drive};
-use super::run_setup::{
-    finish_reports, observed, open_csv, telegram_outputs, write_placeholders, Look, SharedTelegrams,
-};
+use super::run_setup::{finish_reports, observed, open_csv, telegram_outputs, write_placeholders, Look};
 use super::several_runs::{outputs_for, print_outputs, worse};
 use super::COMMUNICATION;
 use super::{panic_notice, stop_signals, INVALID, PASSED};
@@ -545,28 +543,8 @@ fn run_several(
     };
     let outputs = request.outputs;
     let connection = request.connection.with_defaults(&recipe.link);
-    if request.fast && recipe.drives.iter().any(|d| !d.on_command_line_connection()) {
-        return invalid("error: --fast (virtual time) works only when every drive is simulated; a drive with its own port runs in real time".into(), err);
-    }
-    if let Err(text) = check_drives(request.registry, &connection, &recipe.drives, drive_dicts) {
-        return invalid(text, err);
-    }
-    // One trace for every drive: its lines are explained with the first drive's family,
-    // so drives of different families are not traced together (yet).
-    let (first, first_dict) = (&drive_dicts[0].0, drive_dicts[0].1.clone());
-    let families: std::collections::BTreeSet<&str> = drive_dicts.iter().map(|(_, d)| d.family()).collect();
-    if families.len() > 1 && (outputs.trace.is_some() || outputs.verbose) {
-        return invalid(format!(
-            "error: --trace and -v explain the telegrams of one drive family; this recipe's drives are of {} (drive `{first}` first)",
-            families.into_iter().collect::<Vec<_>>().join(" and ")
-        ), err);
-    }
-    let family = match request.registry.family(first_dict.family()) {
-        Ok(f) => f,
-        Err(e) => return invalid(format!("error: {e}"), err),
-    };
-    let telegrams = match telegram_outputs(outputs, &|| family.explainer(first_dict.clone())) {
-        Ok(t) => SharedTelegrams::new(t),
+    let telegrams = match several_checked(request, &connection, &recipe.drives, drive_dicts) {
+        Ok(t) => t,
         Err(text) => return invalid(text, err),
     };
     let mut csv = match open_csv(outputs, outputs.csv_wide.then_some(&sampled_objects(recipe)[..])) {
@@ -577,40 +555,13 @@ fn run_several(
         let _ = writeln!(err, "{text}");
         return RunResult::refused(INVALID);
     }
-    let mut open = match open_drives(
-        request.registry,
-        &connection,
-        &recipe.drives,
-        drive_dicts,
-        request.fast,
-        &mut |name| telegrams.tap(name),
-        Some(request.stop.clone()),
-    ) {
+    let mut open = match several_opened(request, &connection, &recipe.drives, drive_dicts, &telegrams) {
         Ok(o) => o,
         Err(text) => {
             let _ = writeln!(err, "{text}");
             return not_run(request, Some((recipe, planned)), COMMUNICATION, &text, err);
         }
     };
-    // A drive that never answers is said once, early, as for one drive.
-    for (name, drive) in &mut open.drives {
-        if let Err(crate::drive::DriveError::Access(e)) = drive.state() {
-            if e.is_no_reply() {
-                let text = format!(
-                    "drive `{name}`: {}",
-                    silent_drive(request.connection, &e.to_string())
-                );
-                let _ = writeln!(err, "{text}");
-                return not_run(request, Some((recipe, planned)), COMMUNICATION, &text, err);
-            }
-        }
-    }
-    // Every simulated drive, in the order declared (tests inject faults into one).
-    if let Some(prepare) = request.prepare_simulator {
-        for (_, sim) in &open.simulators {
-            prepare(sim, &open.clock);
-        }
-    }
     if !open.simulators.is_empty() {
         let _ = writeln!(out, "using {}", open.description);
     }

@@ -2,18 +2,35 @@
 //! and safe stop as recipes, with the script front end in place of the recipe interpreter.
 //! `check` never opens a port. Turns results into text and exit codes.
 
+use super::drive_set::{drive_dictionaries, several_checked, several_opened};
 use super::recipe_commands::{RunRequest, RunResult};
 use super::run_setup::{finish_reports, observed, open_csv, telegram_outputs, write_placeholders, Look};
 use super::{COMMUNICATION, INVALID, PASSED};
 use crate::dictionary::Dictionary;
 use crate::recipe::SafeStopChoice;
-use crate::script::{load_script, ScriptRunner};
+use crate::script::{declared_script_drives, load_script_for, Script, ScriptRunner};
 use std::io::{IsTerminal, Write};
 use std::path::Path;
+use std::sync::Arc;
 
 /// Checks one script against `dictionary`; prints `ok` or its problems; the exit code.
 pub fn check_script(path: &Path, dictionary: &Dictionary, set: &[(String, String)]) -> i32 {
-    match load_script(path, dictionary, set) {
+    // A script with `//! drives:` is checked against each drive's own dictionary.
+    let declared = declared_script_drives(path);
+    let drive_dicts = if declared.is_empty() {
+        Vec::new()
+    } else {
+        let args = crate::cli::DictionaryArgs::builtin_sd2();
+        match drive_dictionaries(&args, &crate::family::Registry::builtin(), path, &declared) {
+            Ok(d) => d,
+            Err(text) => {
+                eprint!("{text}");
+                return INVALID;
+            }
+        }
+    };
+    let dictionary = drive_dicts.first().map_or(dictionary, |(_, d)| d.as_ref());
+    match load_script_for(path, dictionary, &drive_dicts, set) {
         Ok(script) => {
             println!(
                 "ok  {} — {} (script, {} calls{})",
@@ -46,17 +63,25 @@ pub fn run_script(request: &RunRequest, out: &mut dyn Write, err: &mut dyn Write
         let _ = writeln!(err, "{text}");
         RunResult::refused(code)
     };
-    let dictionary = match request
-        .dictionary
-        .load_for(request.registry, Some(request.recipe))
-    {
+    // A script with `//! drives:` names a dictionary per drive; the first is the script's.
+    let declared = declared_script_drives(request.recipe);
+    let loaded = if declared.is_empty() {
+        request
+            .dictionary
+            .load_for(request.registry, Some(request.recipe))
+            .map(|d| (d, Vec::new()))
+    } else {
+        drive_dictionaries(request.dictionary, request.registry, request.recipe, &declared)
+            .map(|all| (all[0].1.clone(), all))
+    };
+    let (dictionary, drive_dicts) = match loaded {
         Ok(d) => d,
         Err(text) => {
             let _ = write!(err, "{text}");
             return RunResult::refused(INVALID);
         }
     };
-    let script = match load_script(request.recipe, &dictionary, request.set) {
+    let script = match load_script_for(request.recipe, &dictionary, &drive_dicts, request.set) {
         Ok(s) => s,
         Err(e) => {
             let _ = write!(err, "{}", e.render(false));
@@ -65,6 +90,9 @@ pub fn run_script(request: &RunRequest, out: &mut dyn Write, err: &mut dyn Write
     };
     if request.fast && !request.connection.is_simulated() {
         return refused("error: --fast (virtual time) works only with the built-in simulated drive; a real drive runs in real time".into(), INVALID, err);
+    }
+    if !script.drives.is_empty() {
+        return run_several(request, &script, &drive_dicts, out, err);
     }
     let outputs = request.outputs;
     let family = match request.registry.family(dictionary.family()) {
@@ -121,5 +149,56 @@ pub fn run_script(request: &RunRequest, out: &mut dyn Write, err: &mut dyn Write
             .map(|s| (String::new(), s.clone()))
             .collect(),
         simulator: open.simulator,
+    }
+}
+
+/// A script with `//! drives:`: the drives opened as a recipe's `drives:` are (those on
+/// the command line's connection on one bus), `drive("left")` in the script each of them.
+fn run_several(
+    request: &RunRequest,
+    script: &Script,
+    drive_dicts: &[(String, Arc<Dictionary>)],
+    out: &mut dyn Write,
+    err: &mut dyn Write,
+) -> RunResult {
+    let refused = |text: String, code, err: &mut dyn Write| {
+        let _ = writeln!(err, "{text}");
+        RunResult::refused(code)
+    };
+    let outputs = request.outputs;
+    let connection = request.connection;
+    let telegrams = match several_checked(request, connection, &script.drives, drive_dicts) {
+        Ok(t) => t,
+        Err(text) => return refused(text, INVALID, err),
+    };
+    let mut csv = match open_csv(outputs, None) {
+        Ok(c) => c,
+        Err(text) => return refused(text, INVALID, err),
+    };
+    if let Err(text) = write_placeholders(outputs, &script.name, &script.path) {
+        return refused(text, INVALID, err);
+    }
+    let mut open = match several_opened(request, connection, &script.drives, drive_dicts, &telegrams) {
+        Ok(o) => o,
+        Err(text) => return refused(text, COMMUNICATION, err),
+    };
+    if !open.simulators.is_empty() {
+        let _ = writeln!(out, "using {}", open.description);
+    }
+    let virtual_time = request.fast && !open.simulators.is_empty();
+    let look = Look::of(outputs, request.terminal, virtual_time, false, None);
+    let report = observed(out, &look, csv.as_mut(), |observers| {
+        let drives = open.drives.iter_mut().map(|(n, d)| (n.clone(), d)).collect();
+        ScriptRunner::with_drives(drives, observers, request.stop.clone())
+            .with_output_dir(request.output_dir.clone())
+            .with_settings(request.safe_stop.settings(&SafeStopChoice::default()))
+            .run(script, err)
+    });
+    finish_reports(&report, &[], csv.as_ref(), outputs, err);
+    RunResult {
+        exit_code: report.exit_code(),
+        report: Some(report),
+        simulator: open.simulators.first().map(|(_, s)| s.clone()),
+        simulators: open.simulators,
     }
 }

@@ -79,7 +79,7 @@ impl<'a> Session<'a> {
             .map(|(name, drive)| SessionDrive::new(name, drive))
             .collect();
         let clock = drives[0].drive.clock().clone();
-        let port = if drives.len() == 1 {
+        let port = if drives.len() == 1 && drives[0].name.is_empty() {
             drives[0].drive.port()
         } else {
             drives
@@ -185,9 +185,10 @@ impl<'a> Session<'a> {
         &mut self.drives[self.current]
     }
 
-    /// Whether the run has several named drives.
+    /// Whether the run's drives are named (a recipe's `drives:`, even with one entry):
+    /// objects then carry the drive's name (`left.speed_actual`).
     pub fn several_drives(&self) -> bool {
-        self.drives.len() > 1
+        self.drives.len() > 1 || self.drives.iter().any(|d| !d.name.is_empty())
     }
 
     /// Makes the drive called `name` the current one.

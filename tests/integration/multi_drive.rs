@@ -363,3 +363,73 @@ steps:
     );
     assert!(result.report.is_none());
 }
+
+const TWO_AXES_SCRIPT: &str = r#"//! name: Two axes from a script
+//! drives: left = sd2 @ dnc:2, right = sd2 @ dnc:3
+let left = drive("left");
+let right = drive("right");
+drive().shutdown();
+left.set("speed_setpoint", 1000.0, "rpm");
+right.set("speed_setpoint", 2000.0, "rpm");
+left.go_to("operation_enabled");
+right.go_to("operation_enabled");
+dwell("2 s");
+let w = left.sample(["speed_actual"], "100 ms", "1 s");
+expect_near("left speed", w.mean("speed_actual"), 1000.0, 10.0);
+expect_near("right speed", right.read("speed_actual"), 2000.0, 20.0);
+print(`right is ${right.state()}`);
+DRIVE_CALL
+"#;
+
+fn write_script(dir: &Path, text: &str) -> PathBuf {
+    let path = dir.join("script.rhai");
+    std::fs::write(&path, text).expect("script written");
+    path
+}
+
+#[test]
+fn a_script_drives_each_named_drive_and_stops_both() {
+    let dir = scratch("multi-script");
+    let script = write_script(&dir, &TWO_AXES_SCRIPT.replace("DRIVE_CALL", ""));
+    let (result, output) = run_in_process(&script, Arc::new(StopRequests::new()), &|_, _| {});
+    assert_eq!(result.exit_code, 0, "{output}");
+    assert!(output.contains("PASS  left speed: measured 1000"), "{output}");
+    assert!(output.contains("PASS  right speed: measured 1999.9"), "{output}");
+    assert!(output.contains("right is operation_enabled"), "{output}");
+    assert!(
+        output.contains("shutdown  left: control word 6; right: control word 6"),
+        "{output}"
+    );
+    for (name, sim) in &result.simulators {
+        assert_eq!(state_of(sim), DeviceState::ReadyToSwitchOn, "{name}: {output}");
+    }
+}
+
+#[test]
+fn a_script_naming_an_unknown_drive_or_no_drive_is_told_which_there_are() {
+    let dir = scratch("multi-script-typo");
+    let script = write_script(
+        &dir,
+        &TWO_AXES_SCRIPT.replace("DRIVE_CALL", "drive(\"rigth\").read(\"speed_actual\");"),
+    );
+    let (result, output) = run_in_process(&script, Arc::new(StopRequests::new()), &|_, _| {});
+    assert_ne!(result.exit_code, 0, "{output}");
+    assert!(
+        output.contains("no drive called `rigth` in this script; did you mean `right`?"),
+        "{output}"
+    );
+    let script = write_script(
+        &dir,
+        &TWO_AXES_SCRIPT.replace("DRIVE_CALL", "drive().read(\"speed_actual\");"),
+    );
+    let (result, output) = run_in_process(&script, Arc::new(StopRequests::new()), &|_, _| {});
+    assert_ne!(result.exit_code, 0, "{output}");
+    assert!(
+        output.contains("this script has several drives (left, right): name the drive"),
+        "{output}"
+    );
+    // Either way both drives are stopped.
+    for (name, sim) in &result.simulators {
+        assert_eq!(state_of(sim), DeviceState::ReadyToSwitchOn, "{name}: {output}");
+    }
+}
