@@ -210,7 +210,12 @@ pub fn check(args: &CheckArgs) -> i32 {
             }
         };
         if crate::script::is_script(path) {
-            code = code.max(super::script_commands::check_script(path, &dictionary, &args.set));
+            code = code.max(super::script_commands::check_script(
+                path,
+                &dictionary,
+                &args.dictionary,
+                &args.set,
+            ));
             continue;
         }
         // A recipe with `drives:` is checked against each drive's own dictionary.

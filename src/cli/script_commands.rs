@@ -14,14 +14,25 @@ use std::path::Path;
 use std::sync::Arc;
 
 /// Checks one script against `dictionary`; prints `ok` or its problems; the exit code.
-pub fn check_script(path: &Path, dictionary: &Dictionary, set: &[(String, String)]) -> i32 {
+/// `dictionary_args` (the command line's `--dictionary`, `--limits`) load the dictionary of
+/// each drive a script's `//! drives:` declares.
+pub fn check_script(
+    path: &Path,
+    dictionary: &Dictionary,
+    dictionary_args: &super::drive_args::DictionaryArgs,
+    set: &[(String, String)],
+) -> i32 {
     // A script with `//! drives:` is checked against each drive's own dictionary.
     let declared = declared_script_drives(path);
     let drive_dicts = if declared.is_empty() {
         Vec::new()
     } else {
-        let args = crate::cli::DictionaryArgs::builtin_sd2();
-        match drive_dictionaries(&args, &crate::family::Registry::builtin(), path, &declared) {
+        match drive_dictionaries(
+            dictionary_args,
+            &crate::family::Registry::builtin(),
+            path,
+            &declared,
+        ) {
             Ok(d) => d,
             Err(text) => {
                 eprint!("{text}");

@@ -433,3 +433,30 @@ fn a_script_naming_an_unknown_drive_or_no_drive_is_told_which_there_are() {
         assert_eq!(state_of(sim), DeviceState::ReadyToSwitchOn, "{name}: {output}");
     }
 }
+
+#[test]
+fn the_bench_limits_cap_every_drive_of_a_recipe_and_of_a_script() {
+    let dir = scratch("multi-limits");
+    let limits = dir.join("limits.yaml");
+    std::fs::write(&limits, "max_speed: 1500 rpm\n").expect("limits written");
+    let recipe = write_recipe(&dir, &TWO_AXES.replace("SAMPLE_FOR", "1 s"));
+    let script = write_script(&dir, &TWO_AXES_SCRIPT.replace("DRIVE_CALL", ""));
+    for file in [&recipe, &script] {
+        let out = drivescript(
+            &[
+                "check",
+                file.to_str().expect("utf-8 path"),
+                "--limits",
+                limits.to_str().expect("utf-8 path"),
+            ],
+            "",
+        );
+        let text = stderr(&out);
+        assert_eq!(out.status.code(), Some(2), "{text}");
+        assert!(
+            text.contains("2000 rpm exceeds the bench limit 1500 rpm of speed_setpoint"),
+            "{text}"
+        );
+        assert!(text.contains("1 problem"), "{text}");
+    }
+}
