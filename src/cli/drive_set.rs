@@ -298,6 +298,12 @@ pub fn several_checked(
     if request.fast && decls.iter().any(|d| !d.on_command_line_connection()) {
         return Err("error: --fast (virtual time) works only when every drive is simulated; a drive with its own port runs in real time".into());
     }
+    if let Some(address) = &connection.address {
+        return Err(format!(
+            "error: --address {address} names one drive; with several drives each gives its own `address:` (drives: {})",
+            decls.iter().map(|d| d.name.as_str()).collect::<Vec<_>>().join(", ")
+        ));
+    }
     check_drives(request.registry, connection, decls, dictionaries)?;
     let (first, first_dict) = (&dictionaries[0].0, dictionaries[0].1.clone());
     let families: std::collections::BTreeSet<&str> = dictionaries.iter().map(|(_, d)| d.family()).collect();
