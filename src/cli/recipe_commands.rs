@@ -457,7 +457,11 @@ pub fn run_recipe(request: &RunRequest, out: &mut dyn Write, err: &mut dyn Write
         Ok(t) => t,
         Err(text) => return invalid(text, err),
     };
-    let mut csv = match open_csv(outputs, outputs.csv_wide.then_some(&sampled_objects(&recipe)[..])) {
+    let mut csv = match open_csv(
+        outputs,
+        outputs.csv_wide.then_some(&sampled_objects(&recipe)[..]),
+        false,
+    ) {
         Ok(c) => c,
         Err(text) => return invalid(text, err),
     };
@@ -552,7 +556,11 @@ fn run_several(
         Ok(t) => t,
         Err(text) => return invalid(text, err),
     };
-    let mut csv = match open_csv(outputs, outputs.csv_wide.then_some(&sampled_objects(recipe)[..])) {
+    let mut csv = match open_csv(
+        outputs,
+        outputs.csv_wide.then_some(&sampled_objects(recipe)[..]),
+        true,
+    ) {
         Ok(c) => c,
         Err(text) => return invalid(text, err),
     };

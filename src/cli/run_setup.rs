@@ -86,10 +86,15 @@ impl TelegramObserver for Tap {
     }
 }
 
-/// The `--csv` recorder (`wide`: its columns), when asked for.
-pub fn open_csv(outputs: &OutputArgs, wide: Option<&[ObjectRef]>) -> Result<Option<CsvRecorder>, String> {
+/// The `--csv` recorder (`wide`: its columns; `drives`: a run with several drives, whose
+/// long layout has a `drive` column), when asked for.
+pub fn open_csv(
+    outputs: &OutputArgs,
+    wide: Option<&[ObjectRef]>,
+    drives: bool,
+) -> Result<Option<CsvRecorder>, String> {
     match &outputs.csv {
-        Some(path) => CsvRecorder::create(path, wide)
+        Some(path) => CsvRecorder::create_for(path, wide, drives)
             .map(Some)
             .map_err(|e| format!("error: {e}")),
         None => Ok(None),

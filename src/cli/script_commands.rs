@@ -118,7 +118,7 @@ pub fn run_script(request: &RunRequest, out: &mut dyn Write, err: &mut dyn Write
         Err(text) => return refused(text, INVALID, err),
     };
     // A script chooses what it samples as it runs, so its CSV is the long layout.
-    let mut csv = match open_csv(outputs, None) {
+    let mut csv = match open_csv(outputs, None, false) {
         Ok(c) => c,
         Err(text) => return refused(text, INVALID, err),
     };
@@ -182,7 +182,7 @@ fn run_several(
         Ok(t) => t,
         Err(text) => return refused(text, INVALID, err),
     };
-    let mut csv = match open_csv(outputs, None) {
+    let mut csv = match open_csv(outputs, None, true) {
         Ok(c) => c,
         Err(text) => return refused(text, INVALID, err),
     };

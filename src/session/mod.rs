@@ -38,7 +38,7 @@ pub use run_report::{
     PANIC_EXIT,
 };
 pub use safe_stop_settings::SafeStopSettings;
-pub use sample_table::{SampleTable, LONG_HEADER};
+pub use sample_table::{SampleTable, LONG_HEADER, LONG_HEADER_DRIVES};
 pub use session::{show_duration, Session};
 pub use set_value::SetValue;
 pub use step_origin::StepOrigin;

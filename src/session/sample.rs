@@ -66,7 +66,7 @@ impl Session<'_> {
                 let path = self.output_dir.join(p);
                 let append = !self.csv_files.insert(path.clone());
                 let wide = self.csv_wide.then_some(objects);
-                Some(SampleTable::open(&path, wide, append).map_err(Stop::Error)?)
+                Some(SampleTable::open_for(&path, wide, append, self.several_drives()).map_err(Stop::Error)?)
             }
             None => None,
         };

@@ -298,9 +298,22 @@ steps:
       feed.speed_actual: { mean: { near: 500 rpm, within: 1 % } }
 ",
     );
-    let (result, output) = run_in_process(&recipe, Arc::new(StopRequests::new()), &|_, _| {});
+    let csv = dir.join("run.csv");
+    let mut run = InProcessRun::new(&recipe);
+    run.outputs.csv = Some(csv.clone());
+    let (result, output) = run.run();
     assert_eq!(result.exit_code, 0, "{output}");
     assert!(output.contains("spindle SD2 (DNC address 2)"), "{output}");
+    // The long CSV layout names the drive in a column of its own.
+    let rows = std::fs::read_to_string(&csv).expect("csv");
+    let mut lines = rows.lines();
+    assert_eq!(lines.next(), Some("time [s],utc,step,drive,object,value,unit"));
+    let first: Vec<&str> = lines.next().expect("a row").split(',').collect();
+    assert_eq!(first[2..5], ["5", "spindle", "speed_actual"], "{rows}");
+    assert!(
+        rows.lines().any(|l| l.contains(",5,feed,speed_actual,")),
+        "{rows}"
+    );
     assert!(output.contains("feed CT_ANSI (drive 1.2)"), "{output}");
     let report = result.report.expect("a report");
     assert_eq!(report.drive_ends.len(), 2);
