@@ -68,9 +68,5 @@ pub fn not_run(
             let _ = writeln!(err, "error: {e}");
         }
     }
-    RunResult {
-        exit_code: code,
-        report: None,
-        simulator: None,
-    }
+    RunResult::refused(code)
 }

@@ -3,7 +3,9 @@
 
 use super::connection_args::{parse_duration, ConnectionArgs};
 use super::drive_args::{open_drive, DictionaryArgs};
+use super::drive_set::{drive_dictionaries, several_checked, several_opened};
 use super::not_run::{not_run, silent_drive};
+use super::run_setup::{finish_reports, observed, open_csv, telegram_outputs, write_placeholders, Look};
 use super::several_runs::{outputs_for, print_outputs, worse};
 use super::COMMUNICATION;
 use super::{panic_notice, stop_signals, INVALID, PASSED};
@@ -11,12 +13,8 @@ use crate::clock::SharedClock;
 use crate::dictionary::Quantity;
 use crate::family::Registry;
 use crate::recipe::{
-    load_recipe, planned_checks, sampled_objects, Observers, Recipe, RecipeInvalid, RunReport, Runner,
-    SafeStopChoice, SafeStopSettings,
-};
-use crate::report::{
-    color_wanted, write_html, write_html_unfinished, write_junit, write_junit_unfinished, ConsoleReporter,
-    CsvRecorder, ProgressReporter, TelegramFanOut, TraceWriter,
+    declared_drives, load_recipe_for, planned_checks, sampled_objects, Recipe, RecipeInvalid, RunReport,
+    Runner, SafeStopChoice, SafeStopSettings,
 };
 use crate::sim::SimulatedDrive;
 use crate::stop_request::StopRequests;
@@ -212,10 +210,45 @@ pub fn check(args: &CheckArgs) -> i32 {
             }
         };
         if crate::script::is_script(path) {
-            code = code.max(super::script_commands::check_script(path, &dictionary, &args.set));
+            code = code.max(super::script_commands::check_script(
+                path,
+                &dictionary,
+                &args.dictionary,
+                &args.set,
+            ));
             continue;
         }
-        match load_recipe(path, &dictionary, &args.set) {
+        // A recipe with `drives:` is checked against each drive's own dictionary.
+        let declared = declared_drives(path);
+        let drive_dicts = if declared.is_empty() {
+            Vec::new()
+        } else {
+            match drive_dictionaries(&args.dictionary, &Registry::builtin(), path, &declared) {
+                Ok(d) => d,
+                Err(text) => {
+                    eprint!("{text}");
+                    code = INVALID;
+                    continue;
+                }
+            }
+        };
+        let dictionary = drive_dicts.first().map_or(dictionary, |(_, d)| d.clone());
+        match load_recipe_for(path, &dictionary, &drive_dicts, &args.set) {
+            Ok(recipe) if !recipe.drives.is_empty() => {
+                println!(
+                    "ok  {} — {} ({} steps{}, drives {})",
+                    path.display(),
+                    recipe.name,
+                    count_steps(&recipe),
+                    finally_note(&recipe),
+                    recipe
+                        .drives
+                        .iter()
+                        .map(|d| format!("{}: {}", d.name, d.drive))
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                );
+            }
             Ok(recipe) => {
                 println!(
                     "ok  {} — {} ({} steps{})",
@@ -334,7 +367,7 @@ pub struct RunRequest<'a> {
     pub connection: &'a ConnectionArgs,
     pub outputs: &'a OutputArgs,
     /// Called with the simulated drive and the run's clock before the run (tests inject
-    /// faults here).
+    /// faults here); with `drives:`, once for each simulated drive in the order declared.
     pub prepare_simulator: Option<&'a PrepareSimulator>,
     /// Stop requests (signals, or scheduled by tests).
     pub stop: Arc<StopRequests>,
@@ -349,7 +382,22 @@ pub struct RunResult {
     pub exit_code: i32,
     /// `None` when the run never started (invalid recipe, port not available).
     pub report: Option<RunReport>,
+    /// The simulated drive (the first declared one of a recipe with `drives:`).
     pub simulator: Option<Arc<Mutex<dyn SimulatedDrive>>>,
+    /// Every simulated drive by the recipe's name for it (empty name: the one drive).
+    pub simulators: Vec<(String, Arc<Mutex<dyn SimulatedDrive>>)>,
+}
+
+impl RunResult {
+    /// A run that never started.
+    pub fn refused(exit_code: i32) -> Self {
+        RunResult {
+            exit_code,
+            report: None,
+            simulator: None,
+            simulators: Vec::new(),
+        }
+    }
 }
 
 /// Checks and runs a recipe, writing the console output to `out` and problems to `err`.
@@ -357,22 +405,26 @@ pub fn run_recipe(request: &RunRequest, out: &mut dyn Write, err: &mut dyn Write
     if crate::script::is_script(request.recipe) {
         return super::script_commands::run_script(request, out, err);
     }
-    let refused = |code| RunResult {
-        exit_code: code,
-        report: None,
-        simulator: None,
+    let refused = |code| RunResult::refused(code);
+    // A recipe with `drives:` names a dictionary per drive; the first is the recipe's.
+    let declared = declared_drives(request.recipe);
+    let loaded = if declared.is_empty() {
+        request
+            .dictionary
+            .load_for(request.registry, Some(request.recipe))
+            .map(|d| (d, Vec::new()))
+    } else {
+        drive_dictionaries(request.dictionary, request.registry, request.recipe, &declared)
+            .map(|all| (all[0].1.clone(), all))
     };
-    let dictionary = match request
-        .dictionary
-        .load_for(request.registry, Some(request.recipe))
-    {
+    let (dictionary, drive_dicts) = match loaded {
         Ok(d) => d,
         Err(text) => {
             let _ = write!(err, "{text}");
             return not_run(request, None, INVALID, &text, err);
         }
     };
-    let recipe = match load_recipe(request.recipe, &dictionary, request.set) {
+    let recipe = match load_recipe_for(request.recipe, &dictionary, &drive_dicts, request.set) {
         Ok(r) => r,
         Err(e) => {
             let text = e.render(false);
@@ -388,6 +440,9 @@ pub fn run_recipe(request: &RunRequest, out: &mut dyn Write, err: &mut dyn Write
     if request.fast && !request.connection.is_simulated() {
         return invalid("error: --fast (virtual time) works only with the built-in simulated drive; a real drive runs in real time".into(), err);
     }
+    if !recipe.drives.is_empty() {
+        return run_several(request, &recipe, &drive_dicts, &planned, out, err);
+    }
     // Files are opened before anything is sent: a path that cannot be written is an
     // invalid command line, not a half-run recipe.
     let outputs = request.outputs;
@@ -398,43 +453,20 @@ pub fn run_recipe(request: &RunRequest, out: &mut dyn Write, err: &mut dyn Write
     if let Err(e) = request.connection.check(family.as_ref()) {
         return invalid(format!("error: {e}"), err);
     }
-    let mut telegrams = TelegramFanOut::new();
-    if let Some(path) = &outputs.trace {
-        match TraceWriter::create(path, family.explainer(dictionary.clone())) {
-            Ok(t) => telegrams.push(Box::new(t)),
-            Err(e) => return invalid(format!("error: {e}"), err),
-        }
-    }
-    if outputs.verbose {
-        telegrams.push(Box::new(TraceWriter::new(
-            std::io::stderr(),
-            family.explainer(dictionary.clone()),
-        )));
-    }
-    let mut csv = match &outputs.csv {
-        Some(path) => {
-            match CsvRecorder::create(path, outputs.csv_wide.then_some(&sampled_objects(&recipe)[..])) {
-                Ok(c) => Some(c),
-                Err(e) => return invalid(format!("error: {e}"), err),
-            }
-        }
-        None => None,
+    let telegrams = match telegram_outputs(outputs, &|| family.explainer(dictionary.clone())) {
+        Ok(t) => t,
+        Err(text) => return invalid(text, err),
     };
-    // A report left from an earlier run is replaced at once by one that says this run has
-    // not finished: a run killed beyond any safe stop (SIGKILL, power loss) must never
-    // leave an old PASS for CI to read.
-    let placeholders = [
-        outputs
-            .junit
-            .as_ref()
-            .map(|p| write_junit_unfinished(&recipe.name, &recipe.path, p)),
-        outputs
-            .report
-            .as_ref()
-            .map(|p| write_html_unfinished(&recipe.name, &recipe.path, p)),
-    ];
-    if let Some(e) = placeholders.into_iter().flatten().find_map(Result::err) {
-        let _ = writeln!(err, "error: {e}");
+    let mut csv = match open_csv(
+        outputs,
+        outputs.csv_wide.then_some(&sampled_objects(&recipe)[..]),
+        false,
+    ) {
+        Ok(c) => c,
+        Err(text) => return invalid(text, err),
+    };
+    if let Err(text) = write_placeholders(outputs, &recipe.name, &recipe.path) {
+        let _ = writeln!(err, "{text}");
         return refused(INVALID);
     }
     // The recipe's `link:` settings under the command line's, checked before anything is
@@ -482,48 +514,87 @@ pub fn run_recipe(request: &RunRequest, out: &mut dyn Write, err: &mut dyn Write
         let _ = writeln!(out, "using {}", open.description);
     }
     let virtual_time = request.fast && open.simulator.is_some();
-    // A live bar only on a terminal, and not while -v writes telegram lines under it.
-    let live = request.terminal && !outputs.quiet && !outputs.verbose;
-    let color = color_wanted(outputs.color.choice(), request.terminal);
-    let mut console = ConsoleReporter::new(&mut *out, virtual_time).with_color(color);
     let planned_time = crate::recipe::longest_time_of(&recipe.steps);
-    let mut progress = live.then(|| {
-        ProgressReporter::stdout(virtual_time)
-            .with_color(color)
-            .with_planned(planned_time)
-    });
-    let report = {
-        let mut observers = Observers::default();
-        match progress.as_mut() {
-            Some(p) => observers.push(p),
-            None => observers.push(&mut console),
-        }
-        if let Some(c) = csv.as_mut() {
-            observers.push(c);
-        }
-        Runner::new(&mut open.drive, &mut observers, &request.stop, &recipe)
+    let look = Look::of(outputs, request.terminal, virtual_time, true, Some(planned_time));
+    let report = observed(out, &look, csv.as_mut(), |observers| {
+        Runner::new(&mut open.drive, observers, &request.stop, &recipe)
             .with_output_dir(request.output_dir.clone())
             .with_csv_wide(outputs.csv_wide)
             .with_settings(request.safe_stop.settings(&recipe.safe_stop))
             .run(&recipe)
-    };
-    if let Some(e) = csv.as_ref().and_then(|c| c.error()) {
-        let _ = writeln!(err, "warning: {e}");
-    }
-    if let Some(path) = &outputs.junit {
-        if let Err(e) = write_junit(&report, &planned, path) {
-            let _ = writeln!(err, "error: {e}");
-        }
-    }
-    if let Some(path) = &outputs.report {
-        if let Err(e) = write_html(&report, path) {
-            let _ = writeln!(err, "error: {e}");
-        }
-    }
+    });
+    finish_reports(&report, &planned, csv.as_ref(), outputs, err);
     RunResult {
         exit_code: report.exit_code(),
         report: Some(report),
+        simulators: open
+            .simulator
+            .iter()
+            .map(|s| (String::new(), s.clone()))
+            .collect(),
         simulator: open.simulator,
+    }
+}
+
+/// A recipe with `drives:`: every drive opened (the ones on one connection on one bus),
+/// then the same reports and safe stop as for one drive, over all of them.
+fn run_several(
+    request: &RunRequest,
+    recipe: &Recipe,
+    drive_dicts: &[(String, Arc<crate::dictionary::Dictionary>)],
+    planned: &[crate::session::PlannedCheck],
+    out: &mut dyn Write,
+    err: &mut dyn Write,
+) -> RunResult {
+    let invalid = |text: String, err: &mut dyn Write| {
+        let _ = writeln!(err, "{text}");
+        not_run(request, Some((recipe, planned)), INVALID, &text, err)
+    };
+    let outputs = request.outputs;
+    let connection = request.connection.with_defaults(&recipe.link);
+    let telegrams = match several_checked(request, &connection, &recipe.drives, drive_dicts) {
+        Ok(t) => t,
+        Err(text) => return invalid(text, err),
+    };
+    let mut csv = match open_csv(
+        outputs,
+        outputs.csv_wide.then_some(&sampled_objects(recipe)[..]),
+        true,
+    ) {
+        Ok(c) => c,
+        Err(text) => return invalid(text, err),
+    };
+    if let Err(text) = write_placeholders(outputs, &recipe.name, &recipe.path) {
+        let _ = writeln!(err, "{text}");
+        return RunResult::refused(INVALID);
+    }
+    let mut open = match several_opened(request, &connection, &recipe.drives, drive_dicts, &telegrams) {
+        Ok(o) => o,
+        Err(text) => {
+            let _ = writeln!(err, "{text}");
+            return not_run(request, Some((recipe, planned)), COMMUNICATION, &text, err);
+        }
+    };
+    if !open.simulators.is_empty() {
+        let _ = writeln!(out, "using {}", open.description);
+    }
+    let virtual_time = request.fast && !open.simulators.is_empty();
+    let planned_time = crate::recipe::longest_time_of(&recipe.steps);
+    let look = Look::of(outputs, request.terminal, virtual_time, true, Some(planned_time));
+    let report = observed(out, &look, csv.as_mut(), |observers| {
+        let drives = open.drives.iter_mut().map(|(n, d)| (n.clone(), d)).collect();
+        Runner::with_drives(drives, observers, &request.stop, recipe)
+            .with_output_dir(request.output_dir.clone())
+            .with_csv_wide(outputs.csv_wide)
+            .with_settings(request.safe_stop.settings(&recipe.safe_stop))
+            .run(recipe)
+    });
+    finish_reports(&report, planned, csv.as_ref(), outputs, err);
+    RunResult {
+        exit_code: report.exit_code(),
+        report: Some(report),
+        simulator: open.simulators.first().map(|(_, s)| s.clone()),
+        simulators: open.simulators,
     }
 }
 

@@ -2,21 +2,46 @@
 //! and safe stop as recipes, with the script front end in place of the recipe interpreter.
 //! `check` never opens a port. Turns results into text and exit codes.
 
+use super::drive_set::{drive_dictionaries, several_checked, several_opened};
 use super::recipe_commands::{RunRequest, RunResult};
+use super::run_setup::{finish_reports, observed, open_csv, telegram_outputs, write_placeholders, Look};
 use super::{COMMUNICATION, INVALID, PASSED};
 use crate::dictionary::Dictionary;
-use crate::recipe::{Observers, SafeStopChoice};
-use crate::report::{
-    write_html, write_html_unfinished, write_junit, write_junit_unfinished, ConsoleReporter, CsvRecorder,
-    ProgressReporter, TelegramFanOut, TraceWriter,
-};
-use crate::script::{load_script, ScriptRunner};
+use crate::recipe::SafeStopChoice;
+use crate::script::{declared_script_drives, load_script_for, Script, ScriptRunner};
 use std::io::{IsTerminal, Write};
 use std::path::Path;
+use std::sync::Arc;
 
 /// Checks one script against `dictionary`; prints `ok` or its problems; the exit code.
-pub fn check_script(path: &Path, dictionary: &Dictionary, set: &[(String, String)]) -> i32 {
-    match load_script(path, dictionary, set) {
+/// `dictionary_args` (the command line's `--dictionary`, `--limits`) load the dictionary of
+/// each drive a script's `//! drives:` declares.
+pub fn check_script(
+    path: &Path,
+    dictionary: &Dictionary,
+    dictionary_args: &super::drive_args::DictionaryArgs,
+    set: &[(String, String)],
+) -> i32 {
+    // A script with `//! drives:` is checked against each drive's own dictionary.
+    let declared = declared_script_drives(path);
+    let drive_dicts = if declared.is_empty() {
+        Vec::new()
+    } else {
+        match drive_dictionaries(
+            dictionary_args,
+            &crate::family::Registry::builtin(),
+            path,
+            &declared,
+        ) {
+            Ok(d) => d,
+            Err(text) => {
+                eprint!("{text}");
+                return INVALID;
+            }
+        }
+    };
+    let dictionary = drive_dicts.first().map_or(dictionary, |(_, d)| d.as_ref());
+    match load_script_for(path, dictionary, &drive_dicts, set) {
         Ok(script) => {
             println!(
                 "ok  {} — {} (script, {} calls{})",
@@ -42,89 +67,65 @@ pub fn check_script(path: &Path, dictionary: &Dictionary, set: &[(String, String
 }
 
 /// Checks and runs a script, writing the console output to `out` and problems to `err`.
+/// The set-up around the session is the recipes' (`run_setup`); a script's problems
+/// before the run write no not-run reports, and its console is not coloured.
 pub fn run_script(request: &RunRequest, out: &mut dyn Write, err: &mut dyn Write) -> RunResult {
-    let refused = |code| RunResult {
-        exit_code: code,
-        report: None,
-        simulator: None,
+    let refused = |text: String, code, err: &mut dyn Write| {
+        let _ = writeln!(err, "{text}");
+        RunResult::refused(code)
     };
-    let dictionary = match request
-        .dictionary
-        .load_for(request.registry, Some(request.recipe))
-    {
+    // A script with `//! drives:` names a dictionary per drive; the first is the script's.
+    let declared = declared_script_drives(request.recipe);
+    let loaded = if declared.is_empty() {
+        request
+            .dictionary
+            .load_for(request.registry, Some(request.recipe))
+            .map(|d| (d, Vec::new()))
+    } else {
+        drive_dictionaries(request.dictionary, request.registry, request.recipe, &declared)
+            .map(|all| (all[0].1.clone(), all))
+    };
+    let (dictionary, drive_dicts) = match loaded {
         Ok(d) => d,
         Err(text) => {
             let _ = write!(err, "{text}");
-            return refused(INVALID);
+            return RunResult::refused(INVALID);
         }
     };
-    let script = match load_script(request.recipe, &dictionary, request.set) {
+    let script = match load_script_for(request.recipe, &dictionary, &drive_dicts, request.set) {
         Ok(s) => s,
         Err(e) => {
             let _ = write!(err, "{}", e.render(false));
-            return refused(INVALID);
+            return RunResult::refused(INVALID);
         }
     };
     if request.fast && !request.connection.is_simulated() {
-        let _ = writeln!(err, "error: --fast (virtual time) works only with the built-in simulated drive; a real drive runs in real time");
-        return refused(INVALID);
+        return refused("error: --fast (virtual time) works only with the built-in simulated drive; a real drive runs in real time".into(), INVALID, err);
+    }
+    if !script.drives.is_empty() {
+        return run_several(request, &script, &drive_dicts, out, err);
     }
     let outputs = request.outputs;
     let family = match request.registry.family(dictionary.family()) {
         Ok(f) => f,
-        Err(e) => {
-            let _ = writeln!(err, "error: {e}");
-            return refused(INVALID);
-        }
+        Err(e) => return refused(format!("error: {e}"), INVALID, err),
     };
     // The script's `//! link:` settings under the command line's, as for a recipe.
     let connection = request.connection.with_defaults(&script.link);
     if let Err(e) = connection.check(family.as_ref()) {
-        let _ = writeln!(err, "error: {e}");
-        return refused(INVALID);
+        return refused(format!("error: {e}"), INVALID, err);
     }
-    let mut telegrams = TelegramFanOut::new();
-    if let Some(path) = &outputs.trace {
-        match TraceWriter::create(path, family.explainer(dictionary.clone())) {
-            Ok(t) => telegrams.push(Box::new(t)),
-            Err(e) => {
-                let _ = writeln!(err, "error: {e}");
-                return refused(INVALID);
-            }
-        }
-    }
-    if outputs.verbose {
-        telegrams.push(Box::new(TraceWriter::new(
-            std::io::stderr(),
-            family.explainer(dictionary.clone()),
-        )));
-    }
-    let mut csv = match &outputs.csv {
-        // A script chooses what it samples as it runs, so its CSV is the long layout.
-        Some(path) => match CsvRecorder::create(path, None) {
-            Ok(c) => Some(c),
-            Err(e) => {
-                let _ = writeln!(err, "error: {e}");
-                return refused(INVALID);
-            }
-        },
-        None => None,
+    let telegrams = match telegram_outputs(outputs, &|| family.explainer(dictionary.clone())) {
+        Ok(t) => t,
+        Err(text) => return refused(text, INVALID, err),
     };
-    // As for recipes: an old report is replaced at once by one saying this run has not
-    // finished, so a run killed beyond any safe stop never leaves an old PASS.
-    let placeholders = [
-        outputs
-            .junit
-            .as_ref()
-            .map(|p| write_junit_unfinished(&script.name, &script.path, p)),
-        outputs
-            .report
-            .as_ref()
-            .map(|p| write_html_unfinished(&script.name, &script.path, p)),
-    ];
-    if let Some(e) = placeholders.into_iter().flatten().find_map(Result::err) {
-        let _ = writeln!(err, "error: {e}");
-        return refused(INVALID);
+    // A script chooses what it samples as it runs, so its CSV is the long layout.
+    let mut csv = match open_csv(outputs, None, false) {
+        Ok(c) => c,
+        Err(text) => return refused(text, INVALID, err),
+    };
+    if let Err(text) = write_placeholders(outputs, &script.name, &script.path) {
+        return refused(text, INVALID, err);
     }
     let mut open = match super::drive_args::open_drive(
         request.registry,
@@ -135,10 +136,7 @@ pub fn run_script(request: &RunRequest, out: &mut dyn Write, err: &mut dyn Write
         Some(request.stop.clone()),
     ) {
         Ok(o) => o,
-        Err(text) => {
-            let _ = writeln!(err, "{text}");
-            return refused(COMMUNICATION);
-        }
+        Err(text) => return refused(text, COMMUNICATION, err),
     };
     if let (Some(sim), Some(prepare)) = (&open.simulator, request.prepare_simulator) {
         prepare(sim, open.drive.clock());
@@ -147,39 +145,75 @@ pub fn run_script(request: &RunRequest, out: &mut dyn Write, err: &mut dyn Write
         let _ = writeln!(out, "using {}", open.description);
     }
     let virtual_time = request.fast && open.simulator.is_some();
-    let live = request.terminal && !outputs.quiet && !outputs.verbose;
-    let mut console = ConsoleReporter::new(&mut *out, virtual_time);
-    let mut progress = live.then(|| ProgressReporter::stdout(virtual_time));
-    let report = {
-        let mut observers = Observers::default();
-        match progress.as_mut() {
-            Some(p) => observers.push(p),
-            None => observers.push(&mut console),
-        }
-        if let Some(c) = csv.as_mut() {
-            observers.push(c);
-        }
-        ScriptRunner::new(&mut open.drive, &mut observers, request.stop.clone())
+    let look = Look::of(outputs, request.terminal, virtual_time, false, None);
+    let report = observed(out, &look, csv.as_mut(), |observers| {
+        ScriptRunner::new(&mut open.drive, observers, request.stop.clone())
             .with_output_dir(request.output_dir.clone())
             .with_settings(request.safe_stop.settings(&SafeStopChoice::default()))
             .run(&script, err)
-    };
-    if let Some(e) = csv.as_ref().and_then(|c| c.error()) {
-        let _ = writeln!(err, "warning: {e}");
-    }
-    if let Some(path) = &outputs.junit {
-        if let Err(e) = write_junit(&report, &[], path) {
-            let _ = writeln!(err, "error: {e}");
-        }
-    }
-    if let Some(path) = &outputs.report {
-        if let Err(e) = write_html(&report, path) {
-            let _ = writeln!(err, "error: {e}");
-        }
-    }
+    });
+    finish_reports(&report, &[], csv.as_ref(), outputs, err);
     RunResult {
         exit_code: report.exit_code(),
         report: Some(report),
+        simulators: open
+            .simulator
+            .iter()
+            .map(|s| (String::new(), s.clone()))
+            .collect(),
         simulator: open.simulator,
+    }
+}
+
+/// A script with `//! drives:`: the drives opened as a recipe's `drives:` are (those on
+/// the command line's connection on one bus), `drive("left")` in the script each of them.
+fn run_several(
+    request: &RunRequest,
+    script: &Script,
+    drive_dicts: &[(String, Arc<Dictionary>)],
+    out: &mut dyn Write,
+    err: &mut dyn Write,
+) -> RunResult {
+    let refused = |text: String, code, err: &mut dyn Write| {
+        let _ = writeln!(err, "{text}");
+        RunResult::refused(code)
+    };
+    let outputs = request.outputs;
+    // The script's `//! link:` settings under the command line's, as for one drive.
+    let merged = request.connection.with_defaults(&script.link);
+    let connection = &merged;
+    let telegrams = match several_checked(request, connection, &script.drives, drive_dicts) {
+        Ok(t) => t,
+        Err(text) => return refused(text, INVALID, err),
+    };
+    let mut csv = match open_csv(outputs, None, true) {
+        Ok(c) => c,
+        Err(text) => return refused(text, INVALID, err),
+    };
+    if let Err(text) = write_placeholders(outputs, &script.name, &script.path) {
+        return refused(text, INVALID, err);
+    }
+    let mut open = match several_opened(request, connection, &script.drives, drive_dicts, &telegrams) {
+        Ok(o) => o,
+        Err(text) => return refused(text, COMMUNICATION, err),
+    };
+    if !open.simulators.is_empty() {
+        let _ = writeln!(out, "using {}", open.description);
+    }
+    let virtual_time = request.fast && !open.simulators.is_empty();
+    let look = Look::of(outputs, request.terminal, virtual_time, false, None);
+    let report = observed(out, &look, csv.as_mut(), |observers| {
+        let drives = open.drives.iter_mut().map(|(n, d)| (n.clone(), d)).collect();
+        ScriptRunner::with_drives(drives, observers, request.stop.clone())
+            .with_output_dir(request.output_dir.clone())
+            .with_settings(request.safe_stop.settings(&SafeStopChoice::default()))
+            .run(script, err)
+    });
+    finish_reports(&report, &[], csv.as_ref(), outputs, err);
+    RunResult {
+        exit_code: report.exit_code(),
+        report: Some(report),
+        simulator: open.simulators.first().map(|(_, s)| s.clone()),
+        simulators: open.simulators,
     }
 }

@@ -2,7 +2,7 @@
 //! any serial tool (or drivescript with `--port`/`--tcp`) can talk to it.
 
 use super::{stop_signals, COMMUNICATION, INVALID, PASSED};
-use crate::bus::{Peer, SlcanAdapter, TcpTransport, WireTime};
+use crate::bus::{FramePeer, FramePeerLine, Peer, PeerLine, SlcanAdapter, TcpTransport, WireTime};
 use crate::clock::RealClock;
 use crate::family::{Registry, SimPeer, DEFAULT_DICTIONARY};
 use crate::sim::SimConfig;
@@ -32,7 +32,9 @@ pub struct SimulateArgs {
     /// Serve on this TCP address, e.g. 127.0.0.1:4001 (raw TCP, like ser2net).
     #[arg(long, value_name = "ADDR")]
     tcp: Option<String>,
-    /// The simulated drive's address in its family's notation (as `run --address`).
+    /// The simulated drive's address in its family's notation (as `run --address`);
+    /// several, comma-separated (`0,1`, `dnc:2,dnc:3`), serve one simulated drive each on
+    /// the one line, as drives on an RS485 line or nodes on a CAN bus.
     #[arg(long, value_name = "ADDRESS")]
     address: Option<String>,
     /// Charge the time bytes take on a real line at --baud (8N1), so throughput can be
@@ -56,35 +58,70 @@ pub fn run(args: &SimulateArgs) -> i32 {
             return INVALID;
         }
     };
-    let address = match family.parse_drive_address(args.address.as_deref()) {
-        Ok(a) => a,
-        Err(e) => {
-            eprintln!("error: {e}");
-            return INVALID;
-        }
+    // Several addresses (`0,1`, `dnc:2,dnc:3`): one simulated drive each, all on the one
+    // line, each answering at its own address.
+    let texts: Vec<Option<&str>> = match args.address.as_deref() {
+        Some(list) => list.split(',').map(|a| Some(a.trim())).collect(),
+        None => vec![None],
     };
+    let mut addresses = Vec::new();
+    for text in texts {
+        match family.parse_drive_address(text) {
+            Ok(a)
+                if addresses
+                    .iter()
+                    .any(|b: &crate::family::DriveAddress| b.number == a.number) =>
+            {
+                eprintln!("error: --address names {} twice", a.shown);
+                return INVALID;
+            }
+            Ok(a) => addresses.push(a),
+            Err(e) => {
+                eprintln!("error: {e}");
+                return INVALID;
+            }
+        }
+    }
     let config = SimConfig {
         ramp_rpm_per_s: args.ramp,
         ..SimConfig::default()
     };
-    let device = family.simulator(&address, config);
-    let description = {
-        let mut drive = device.drive.lock().unwrap_or_else(PoisonError::into_inner);
-        // A server can run for days and nobody reads its log.
-        drive.set_logging(false);
-        drive.describe()
-    };
-    let peer: Arc<Mutex<dyn Peer>> = match (device.peer, args.slcan_pty) {
-        (SimPeer::Bytes(peer), false) => peer,
-        (SimPeer::Frames(node), true) => Arc::new(Mutex::new(SlcanAdapter::new(node))),
-        (SimPeer::Frames(_), false) => {
+    let mut descriptions = Vec::new();
+    let mut bytes: Vec<Arc<Mutex<dyn Peer>>> = Vec::new();
+    let mut frames: Vec<Arc<Mutex<dyn FramePeer>>> = Vec::new();
+    for address in &addresses {
+        let device = family.simulator(address, config.clone());
+        {
+            let mut drive = device.drive.lock().unwrap_or_else(PoisonError::into_inner);
+            // A server can run for days and nobody reads its log.
+            drive.set_logging(false);
+            descriptions.push(drive.describe());
+        }
+        match device.peer {
+            SimPeer::Bytes(p) => bytes.push(p),
+            SimPeer::Frames(p) => frames.push(p),
+        }
+    }
+    let description = descriptions.join(" and ");
+    let peer: Arc<Mutex<dyn Peer>> = match (frames.is_empty(), args.slcan_pty) {
+        (true, false) if bytes.len() == 1 => bytes.remove(0),
+        (true, false) => Arc::new(Mutex::new(PeerLine(bytes))),
+        (false, true) => {
+            let node: Arc<Mutex<dyn FramePeer>> = if frames.len() == 1 {
+                frames.remove(0)
+            } else {
+                Arc::new(Mutex::new(FramePeerLine(frames)))
+            };
+            Arc::new(Mutex::new(SlcanAdapter::new(node)))
+        }
+        (false, false) => {
             eprintln!(
                 "error: the {} family's simulated drive speaks CAN frames; serve it with --slcan-pty (--pty and --tcp serve byte streams)",
                 family.id()
             );
             return INVALID;
         }
-        (SimPeer::Bytes(_), true) => {
+        (true, true) => {
             eprintln!(
                 "error: the {} family talks over a serial line, not CAN; serve it with --pty or --tcp",
                 family.id()

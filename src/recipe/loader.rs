@@ -4,6 +4,7 @@
 //! recorded with its place through `diag::Reader`, and reading goes on, so a check reports
 //! them all. Never talks to a drive.
 
+mod drives;
 mod includes;
 mod objects;
 mod params;
@@ -20,6 +21,7 @@ use super::recipe_invalid::RecipeInvalid;
 use crate::diag::{read_source, Diagnostic, Diagnostics, Reader, Source, Span};
 use crate::dictionary::Dictionary;
 use crate::session::{show_duration, StepOrigin};
+pub use drives::{declared_drives, DriveDictionaries};
 use params::ParamValue;
 use std::collections::{BTreeMap, HashSet};
 use std::path::{Path, PathBuf};
@@ -73,6 +75,31 @@ pub fn load_recipe(
     )
 }
 
+/// Loads and validates a recipe that may declare several drives (`drives:`): `drives`
+/// holds the dictionary of each (see [`declared_drives`]); `dictionary` is the first's, or
+/// the one dictionary of a recipe without `drives:`.
+pub fn load_recipe_for(
+    path: &Path,
+    dictionary: &Dictionary,
+    drives: &[(String, Arc<Dictionary>)],
+    overrides: &[(String, String)],
+) -> Result<Recipe, RecipeInvalid> {
+    if drives.is_empty() {
+        return load_recipe(path, dictionary, overrides);
+    }
+    let source = match read_source(path) {
+        Ok(source) => source,
+        Err(_) => return load_recipe(path, dictionary, overrides),
+    };
+    load_source_for(
+        source,
+        path.parent().unwrap_or(Path::new(".")),
+        dictionary,
+        drives,
+        overrides,
+    )
+}
+
 /// Validates recipe text; `base_dir` resolves `include` paths.
 pub fn load_recipe_text(
     path: &str,
@@ -90,11 +117,22 @@ fn load_source(
     dictionary: &Dictionary,
     overrides: &[(String, String)],
 ) -> Result<Recipe, RecipeInvalid> {
+    load_source_for(source, base_dir, dictionary, &[], overrides)
+}
+
+fn load_source_for(
+    source: Arc<Source>,
+    base_dir: &Path,
+    dictionary: &Dictionary,
+    drives: &[(String, Arc<Dictionary>)],
+    overrides: &[(String, String)],
+) -> Result<Recipe, RecipeInvalid> {
     let mut problems = Diagnostics::new();
     let mut expansion = Expansion::default();
     let path = source.path().to_string();
     let recipe = Loader {
         dict: dictionary,
+        drive_dicts: drives,
         include_chain: vec![canonical(&base_dir.join(file_name(&path)))],
         source,
         r: Reader::new(&mut problems),
@@ -120,7 +158,11 @@ fn canonical(p: &Path) -> PathBuf {
 
 /// Reads one recipe file (the top one or an included one).
 struct Loader<'a, 'p> {
+    /// The dictionary object names are looked up in: the recipe's one, or while a step
+    /// naming a drive is read, that drive's.
     dict: &'a Dictionary,
+    /// Each named drive's dictionary (`drives:`); empty for a recipe with one `drive:`.
+    drive_dicts: &'a [(String, Arc<Dictionary>)],
     source: Arc<Source>,
     r: Reader<'p>,
     /// Included files and steps so far, over every level of includes.

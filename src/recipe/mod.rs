@@ -2,6 +2,7 @@
 //! problem at once, with did-you-mean), and the interpreter that hands their steps to the
 //! session's operations. Knows nothing about bytes, ports or families.
 
+mod drive_decl;
 mod expansion;
 mod loader;
 mod planned_checks;
@@ -16,8 +17,12 @@ pub use crate::session::show_duration;
 pub use crate::session::{number, Check, Condition, Predicate, Statistic, Stats, Tolerance};
 pub use crate::session::{CheckResult, RunReport, Series, StepRecord, Verdict};
 pub use crate::session::{Observers, RunObserver, SafeStopSettings};
+pub use drive_decl::DriveDecl;
 pub use expansion::{MAX_EXPANDED_STEPS, MAX_INCLUDE_LOADS, MAX_RUN_TIME};
-pub use loader::{load_recipe, load_recipe_text, MAX_DURATION, MAX_SAMPLES};
+pub use loader::{
+    declared_drives, load_recipe, load_recipe_for, load_recipe_text, DriveDictionaries, MAX_DURATION,
+    MAX_SAMPLES,
+};
 pub use planned_checks::{planned_checks, sampled_objects};
 pub use recipe::{Param, Recipe, SafeStopChoice};
 pub use recipe_invalid::RecipeInvalid;

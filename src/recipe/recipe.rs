@@ -1,6 +1,7 @@
 //! A validated recipe: its name, parameters as resolved, the steps, and what runs when the
 //! steps end (`finally`) or the drive faults (`on_fault`).
 
+use super::drive_decl::DriveDecl;
 use super::step::Step;
 use crate::dictionary::Quantity;
 use std::time::Duration;
@@ -42,4 +43,7 @@ pub struct Recipe {
     pub safe_stop: SafeStopChoice,
     /// Settings of the family's link (`link:`), before the command line's.
     pub link: Vec<(String, String)>,
+    /// The named drives of `drives:`, in the order written; empty for a recipe with one
+    /// `drive:`.
+    pub drives: Vec<DriveDecl>,
 }

@@ -24,6 +24,17 @@ impl<'a> Runner<'a> {
         stop: &'a StopRequests,
         recipe: &Recipe,
     ) -> Self {
+        Self::with_drives(vec![(String::new(), drive)], observer, stop, recipe)
+    }
+
+    /// A runner for a recipe with `drives:`: each drive under the name the recipe gives it
+    /// (all on one clock). With one unnamed drive this is [`Runner::new`].
+    pub fn with_drives(
+        drives: Vec<(String, &'a mut Drive)>,
+        observer: &'a mut dyn RunObserver,
+        stop: &'a StopRequests,
+        recipe: &Recipe,
+    ) -> Self {
         let run = RunInfo {
             kind: "recipe",
             name: recipe.name.clone(),
@@ -35,7 +46,7 @@ impl<'a> Runner<'a> {
                 .collect(),
         };
         Runner {
-            session: Session::new(drive, observer, stop, run),
+            session: Session::with_drives(drives, observer, stop, run),
         }
     }
 
@@ -107,8 +118,18 @@ fn steps(s: &mut Session, steps: &[Step], prefix: &str, phase: &'static str) -> 
 
 fn exec(s: &mut Session, step: &Step, number: &str, phase: &'static str) -> Result<String, Stop> {
     match &step.kind {
-        StepKind::Command(c) => s.command(*c),
-        StepKind::GoTo { state, timeout } => s.go_to(*state, *timeout),
+        StepKind::Command(c, None) => s.command_all(*c),
+        StepKind::Command(c, Some(drive)) => s.command_on(drive, *c),
+        StepKind::GoTo {
+            state,
+            timeout,
+            drive: None,
+        } => s.go_to_all(*state, *timeout),
+        StepKind::GoTo {
+            state,
+            timeout,
+            drive: Some(drive),
+        } => s.go_to_on(drive, *state, *timeout),
         StepKind::Set(writes) => s.set(writes),
         StepKind::Read(objects) => s.read(objects),
         StepKind::Print(text) => s.print(text),

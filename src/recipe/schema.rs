@@ -411,6 +411,23 @@ pub fn recipe_schema(dictionary: &Dictionary) -> Value {
             "finally": { "$ref": "#/$defs/steps" },
             "on_fault": { "$ref": "#/$defs/steps" },
             "leave_enabled": { "type": "boolean" },
+            "drives": {
+                "type": "object",
+                "description": "Several named drives instead of one `drive:`; steps then name objects as `left.speed_setpoint`, commands as `- enable_operation: left` (a bare command goes to every drive) and `go_to: { drive: left, state: … }`",
+                "propertyNames": { "pattern": "^[a-z][a-z0-9_]*$" },
+                "additionalProperties": {
+                    "type": "object",
+                    "required": ["drive"],
+                    "additionalProperties": false,
+                    "properties": {
+                        "drive": { "type": "string", "description": "the built-in dictionary or family: sd2, ct-unidrive-sp, lenze-931, lenze-9400" },
+                        "address": { "type": ["string", "integer"], "description": "the address in the family's notation (SD2: 0, 3B, dnc:2; Control Techniques: 1.2; Lenze 9400: node 1..127)" },
+                        "port": { "type": "string", "description": "its own serial port (default: the command line's connection, shared)" },
+                        "tcp": { "type": "string", "description": "its own TCP serial server HOST:PORT" },
+                        "can": { "type": "string", "description": "its own CAN bus: slcan:PATH or socketcan:IF" }
+                    }
+                }
+            },
             "link": {
                 "type": "object",
                 "description": "Settings of the drive family's link, as --link-option NAME=VALUE gives them (SD2: channel: cyclic, velocity_scaling: 24000 rpm, heartbeat: on, cycle: 20 ms); the command line wins",

@@ -25,10 +25,16 @@ pub fn longest_time_of(steps: &[Step]) -> Duration {
 
 #[derive(Debug, Clone, PartialEq)]
 pub enum StepKind {
-    /// Write one device-control command to the control word.
-    Command(DeviceCommand),
-    /// Walk the state machine to a state, each transition within `timeout`.
-    GoTo { state: DeviceState, timeout: Duration },
+    /// Write one device-control command to the control word of the named drive (`None`:
+    /// every drive of the recipe).
+    Command(DeviceCommand, Option<String>),
+    /// Walk the state machine of the named drive (`None`: every drive, one after the
+    /// other) to a state, each transition within `timeout`.
+    GoTo {
+        state: DeviceState,
+        timeout: Duration,
+        drive: Option<String>,
+    },
     /// Write objects, in the order written.
     Set(Vec<(ObjectRef, SetValue)>),
     /// Read objects and show their values.
@@ -79,7 +85,7 @@ impl Step {
     /// times in a run can overflow.
     pub fn longest_time(&self) -> Duration {
         match &self.kind {
-            StepKind::Command(_)
+            StepKind::Command(..)
             | StepKind::Set(_)
             | StepKind::Read(_)
             | StepKind::Print(_)

@@ -200,7 +200,7 @@ pub fn summary_lines(report: &RunReport, virtual_time: bool) -> Vec<String> {
     for note in &report.safe_stop {
         lines.push(format!("safe stop: {note}"));
     }
-    lines.push(report.drive_left());
+    lines.extend(report.drive_left_lines());
     if report.check_by_hand() {
         lines.push("CHECK THE DRIVE BY HAND: the safe stop could not be confirmed (see above)".to_string());
     }

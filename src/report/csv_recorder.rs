@@ -26,8 +26,14 @@ impl CsvRecorder {
     /// layout, or (`wide`) one column per object of `wide`. An unwritable path is an error
     /// here, before the run starts; the message names the path.
     pub fn create(path: &Path, wide: Option<&[ObjectRef]>) -> Result<Self, String> {
+        Self::create_for(path, wide, false)
+    }
+
+    /// [`CsvRecorder::create`] for a run with several drives (`drives`): the long layout
+    /// then has a `drive` column.
+    pub fn create_for(path: &Path, wide: Option<&[ObjectRef]>, drives: bool) -> Result<Self, String> {
         Ok(CsvRecorder {
-            table: SampleTable::open(path, wide, false)?,
+            table: SampleTable::open_for(path, wide, false, drives)?,
             step: String::new(),
             started: SystemTime::now(),
             rows: 0,

@@ -22,6 +22,8 @@ pub struct Bridge {
     to_session: Mutex<Sender<ToSession>>,
     from_session: Mutex<Receiver<ToScript>>,
     pub dictionary: Arc<Dictionary>,
+    /// Each named drive's dictionary (`//! drives:`); empty for a script with one drive.
+    pub drives: Vec<(String, Arc<Dictionary>)>,
     /// `--set` parameters.
     pub params: Vec<(String, String)>,
     stop: Arc<StopRequests>,
@@ -61,6 +63,12 @@ fn terminated() -> Box<EvalAltResult> {
 }
 
 impl Bridge {
+    /// The named drives' dictionaries, for a script with several drives.
+    pub fn with_drives(mut self, drives: Vec<(String, Arc<Dictionary>)>) -> Self {
+        self.drives = drives;
+        self
+    }
+
     pub fn new(
         to_session: Sender<ToSession>,
         from_session: Receiver<ToScript>,
@@ -73,6 +81,7 @@ impl Bridge {
             to_session: Mutex::new(to_session),
             from_session: Mutex::new(from_session),
             dictionary,
+            drives: Vec::new(),
             params,
             stop,
             clock,

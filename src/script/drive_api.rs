@@ -9,14 +9,52 @@ use super::exchange::{Answer, Call};
 use super::resolve::{self, Refusal, Written};
 use super::sample_window::SampleWindow;
 use crate::drive::DeviceCommand;
-use crate::session::{CheckResult, Predicate, Statistic, StepOrigin};
+use crate::session::{CheckResult, ObjectRef, Predicate, Statistic, StepOrigin};
 use rhai::{Array, Dynamic, Engine, EvalAltResult, FnPtr, NativeCallContext, Position};
 use std::sync::Arc;
 use std::time::Duration;
 
-/// The connected drive, as a script holds it (`let d = drive();`).
-#[derive(Debug, Clone, Copy)]
-pub struct DriveHandle;
+/// A drive as a script holds it: `let d = drive();` (the one drive; in a script with
+/// several, commands to it go to every drive) or `let left = drive("left");`.
+#[derive(Debug, Clone, Default)]
+pub struct DriveHandle {
+    pub name: Option<String>,
+}
+
+/// The dictionary objects of `h` are looked up in, and the prefix its objects carry
+/// (`left.`; empty for the one drive).
+fn dictionary_of(b: &Bridge, h: &DriveHandle) -> RhaiResult<(Arc<crate::dictionary::Dictionary>, String)> {
+    match (&h.name, b.drives.is_empty()) {
+        (None, true) => Ok((b.dictionary.clone(), String::new())),
+        (None, false) => Err(error(format!(
+            "this script has several drives ({}): name the drive, e.g. drive(\"{}\")",
+            b.drives
+                .iter()
+                .map(|(n, _)| n.as_str())
+                .collect::<Vec<_>>()
+                .join(", "),
+            b.drives[0].0
+        ))),
+        (Some(name), _) => b
+            .drives
+            .iter()
+            .find(|(n, _)| n == name)
+            .map(|(_, d)| (d.clone(), format!("{name}.")))
+            .ok_or_else(|| error(format!("no drive called `{name}` in this script"))),
+    }
+}
+
+/// `readable` (or another lookup) on `h`'s dictionary, the object named with `h`'s prefix.
+fn on_drive(
+    b: &Bridge,
+    h: &DriveHandle,
+    lookup: impl FnOnce(&crate::dictionary::Dictionary) -> Result<ObjectRef, Refusal>,
+) -> RhaiResult<ObjectRef> {
+    let (dictionary, prefix) = dictionary_of(b, h)?;
+    let mut object = lookup(&dictionary).map_err(refused)?;
+    object.name = format!("{prefix}{}", object.name);
+    Ok(object)
+}
 
 /// Default timeout of each `go_to` transition and poll period of `wait_until` (as recipes).
 const GO_TO_TIMEOUT: Duration = Duration::from_secs(5);
@@ -64,7 +102,22 @@ pub fn register(engine: &mut Engine, bridge: &Arc<Bridge>) {
     });
     engine.register_type_with_name::<DriveHandle>("Drive");
     engine.register_type_with_name::<SampleWindow>("SampleWindow");
-    engine.register_fn("drive", || DriveHandle);
+    engine.register_fn("drive", DriveHandle::default);
+    let b = bridge.clone();
+    engine.register_fn("drive", move |name: &str| -> RhaiResult<DriveHandle> {
+        if b.drives.iter().any(|(n, _)| n == name) {
+            return Ok(DriveHandle {
+                name: Some(name.to_string()),
+            });
+        }
+        let names: Vec<&str> = b.drives.iter().map(|(n, _)| n.as_str()).collect();
+        let help = match crate::diag::did_you_mean(name, names.iter().copied()).first() {
+            Some(s) => format!("; did you mean `{s}`?"),
+            None if names.is_empty() => "; this script has one drive: drive()".to_string(),
+            None => format!("; its drives are {}", names.join(", ")),
+        };
+        Err(error(format!("no drive called `{name}` in this script{help}")))
+    });
 
     let b = bridge.clone();
     engine.register_fn(
@@ -90,8 +143,8 @@ fn register_reads(engine: &mut Engine, bridge: &Arc<Bridge>) {
     let b = bridge.clone();
     engine.register_fn(
         "read",
-        move |ctx: NativeCallContext, _: &mut DriveHandle, name: &str| -> RhaiResult<f64> {
-            let object = resolve::readable(&b.dictionary, name).map_err(refused)?;
+        move |ctx: NativeCallContext, h: &mut DriveHandle, name: &str| -> RhaiResult<f64> {
+            let object = on_drive(&b, h, |d| resolve::readable(d, name))?;
             match b.call(ctx.call_position(), Call::Read(object), String::new())? {
                 Answer::Number(v) => Ok(v),
                 _ => Err(error("the session gave an unexpected answer")),
@@ -101,8 +154,8 @@ fn register_reads(engine: &mut Engine, bridge: &Arc<Bridge>) {
     let b = bridge.clone();
     engine.register_fn(
         "read_as",
-        move |ctx: NativeCallContext, _: &mut DriveHandle, name: &str, unit: &str| -> RhaiResult<f64> {
-            let object = resolve::readable(&b.dictionary, name).map_err(refused)?;
+        move |ctx: NativeCallContext, h: &mut DriveHandle, name: &str, unit: &str| -> RhaiResult<f64> {
+            let object = on_drive(&b, h, |d| resolve::readable(d, name))?;
             let (_, factor) =
                 resolve::unit_for(object.unit.as_deref(), &object.name, unit).map_err(refused)?;
             match b.call(ctx.call_position(), Call::Read(object), String::new())? {
@@ -114,8 +167,8 @@ fn register_reads(engine: &mut Engine, bridge: &Arc<Bridge>) {
     let b = bridge.clone();
     engine.register_fn(
         "state",
-        move |ctx: NativeCallContext, _: &mut DriveHandle| -> RhaiResult<String> {
-            match b.call(ctx.call_position(), Call::State, String::new())? {
+        move |ctx: NativeCallContext, h: &mut DriveHandle| -> RhaiResult<String> {
+            match b.call(ctx.call_position(), Call::State(h.name.clone()), String::new())? {
                 Answer::State(s) => Ok(s.id().to_string()),
                 _ => Err(error("the session gave an unexpected answer")),
             }
@@ -124,19 +177,22 @@ fn register_reads(engine: &mut Engine, bridge: &Arc<Bridge>) {
 }
 
 fn register_writes(engine: &mut Engine, bridge: &Arc<Bridge>) {
-    let set = |b: &Arc<Bridge>, pos: Position, name: &str, written: Written| -> RhaiResult<()> {
-        let (object, value) = resolve::set_value(&b.dictionary, name, &written).map_err(refused)?;
-        let shown = match &value {
-            crate::session::SetValue::Number(v) => crate::session::with_unit(*v, object.unit.as_deref()),
-            crate::session::SetValue::Text(t) => format!("\"{t}\""),
+    let set =
+        |b: &Arc<Bridge>, h: &DriveHandle, pos: Position, name: &str, written: Written| -> RhaiResult<()> {
+            let (dictionary, prefix) = dictionary_of(b, h)?;
+            let (mut object, value) = resolve::set_value(&dictionary, name, &written).map_err(refused)?;
+            object.name = format!("{prefix}{}", object.name);
+            let shown = match &value {
+                crate::session::SetValue::Number(v) => crate::session::with_unit(*v, object.unit.as_deref()),
+                crate::session::SetValue::Text(t) => format!("\"{t}\""),
+            };
+            let label = format!("set {} = {shown}", object.name);
+            b.call(pos, Call::Set(object, value), label).and_then(done)
         };
-        let label = format!("set {} = {shown}", object.name);
-        b.call(pos, Call::Set(object, value), label).and_then(done)
-    };
     let b = bridge.clone();
     engine.register_fn(
         "set",
-        move |ctx: NativeCallContext, _: &mut DriveHandle, name: &str, value: Dynamic| -> RhaiResult<()> {
+        move |ctx: NativeCallContext, h: &mut DriveHandle, name: &str, value: Dynamic| -> RhaiResult<()> {
             let written = match as_number(&value) {
                 Some(v) => Written::Number(v, None),
                 None if value.is_string() => Written::Text(value.to_string()),
@@ -147,14 +203,14 @@ fn register_writes(engine: &mut Engine, bridge: &Arc<Bridge>) {
                     )))
                 }
             };
-            set(&b, ctx.call_position(), name, written)
+            set(&b, h, ctx.call_position(), name, written)
         },
     );
     let b = bridge.clone();
     engine.register_fn(
         "set",
         move |ctx: NativeCallContext,
-              _: &mut DriveHandle,
+              h: &mut DriveHandle,
               name: &str,
               value: Dynamic,
               unit: &str|
@@ -162,6 +218,7 @@ fn register_writes(engine: &mut Engine, bridge: &Arc<Bridge>) {
             let v = number_arg(&value, &format!("the value for {name}"))?;
             set(
                 &b,
+                h,
                 ctx.call_position(),
                 name,
                 Written::Number(v, Some(unit.to_string())),
@@ -172,79 +229,89 @@ fn register_writes(engine: &mut Engine, bridge: &Arc<Bridge>) {
         let b = bridge.clone();
         engine.register_fn(
             command.id(),
-            move |ctx: NativeCallContext, _: &mut DriveHandle| -> RhaiResult<()> {
-                b.call(
-                    ctx.call_position(),
-                    Call::Command(command),
-                    command.id().to_string(),
-                )
-                .and_then(done)
+            move |ctx: NativeCallContext, h: &mut DriveHandle| -> RhaiResult<()> {
+                let label = match &h.name {
+                    Some(n) => format!("{} {n}", command.id()),
+                    None => command.id().to_string(),
+                };
+                b.call(ctx.call_position(), Call::Command(command, h.name.clone()), label)
+                    .and_then(done)
             },
         );
     }
 }
 
 fn register_waits(engine: &mut Engine, bridge: &Arc<Bridge>) {
-    let go_to = |b: &Arc<Bridge>, pos: Position, state: &str, timeout: Duration| -> RhaiResult<()> {
-        let state = resolve::state(state).map_err(refused)?;
-        let label = format!("go_to {}", state.id());
-        b.call(pos, Call::GoTo(state, timeout), label).and_then(done)
-    };
-    let b = bridge.clone();
-    engine.register_fn(
-        "go_to",
-        move |ctx: NativeCallContext, _: &mut DriveHandle, state: &str| -> RhaiResult<()> {
-            go_to(&b, ctx.call_position(), state, GO_TO_TIMEOUT)
-        },
-    );
-    let b = bridge.clone();
-    engine.register_fn(
-        "go_to",
-        move |ctx: NativeCallContext, _: &mut DriveHandle, state: &str, timeout: &str| -> RhaiResult<()> {
-            go_to(&b, ctx.call_position(), state, duration(timeout)?)
-        },
-    );
-    let wait =
-        |b: &Arc<Bridge>, ctx: &NativeCallContext, name: &str, f: &FnPtr, timeout: &str, every: Duration| {
-            let object = resolve::readable(&b.dictionary, name).map_err(refused)?;
-            let timeout = duration(timeout)?;
-            let label = format!(
-                "wait_until {} (the script's condition), at most {}",
-                object.name,
-                crate::session::show_duration(timeout)
-            );
-            b.wait(
-                ctx,
-                Call::WaitUntil {
-                    object,
-                    timeout,
-                    every,
-                },
-                label,
-                f,
-            )
-            .and_then(done)
+    let go_to =
+        |b: &Arc<Bridge>, h: &DriveHandle, pos: Position, state: &str, timeout: Duration| -> RhaiResult<()> {
+            let state = resolve::state(state).map_err(refused)?;
+            let label = match &h.name {
+                Some(n) => format!("go_to {} ({n})", state.id()),
+                None => format!("go_to {}", state.id()),
+            };
+            b.call(pos, Call::GoTo(state, timeout, h.name.clone()), label)
+                .and_then(done)
         };
     let b = bridge.clone();
     engine.register_fn(
+        "go_to",
+        move |ctx: NativeCallContext, h: &mut DriveHandle, state: &str| -> RhaiResult<()> {
+            go_to(&b, h, ctx.call_position(), state, GO_TO_TIMEOUT)
+        },
+    );
+    let b = bridge.clone();
+    engine.register_fn(
+        "go_to",
+        move |ctx: NativeCallContext, h: &mut DriveHandle, state: &str, timeout: &str| -> RhaiResult<()> {
+            go_to(&b, h, ctx.call_position(), state, duration(timeout)?)
+        },
+    );
+    let wait = |b: &Arc<Bridge>,
+                h: &DriveHandle,
+                ctx: &NativeCallContext,
+                name: &str,
+                f: &FnPtr,
+                timeout: &str,
+                every: Duration| {
+        let object = on_drive(b, h, |d| resolve::readable(d, name))?;
+        let timeout = duration(timeout)?;
+        let label = format!(
+            "wait_until {} (the script's condition), at most {}",
+            object.name,
+            crate::session::show_duration(timeout)
+        );
+        b.wait(
+            ctx,
+            Call::WaitUntil {
+                object,
+                timeout,
+                every,
+            },
+            label,
+            f,
+        )
+        .and_then(done)
+    };
+    let b = bridge.clone();
+    engine.register_fn(
         "wait_until",
         move |ctx: NativeCallContext,
-              _: &mut DriveHandle,
+              h: &mut DriveHandle,
               name: &str,
               f: FnPtr,
               timeout: &str|
-              -> RhaiResult<()> { wait(&b, &ctx, name, &f, timeout, POLL) },
+              -> RhaiResult<()> { wait(&b, h, &ctx, name, &f, timeout, POLL) },
     );
     let b = bridge.clone();
     engine.register_fn(
         "wait_until",
         move |ctx: NativeCallContext,
-              _: &mut DriveHandle,
+              h: &mut DriveHandle,
               name: &str,
               f: FnPtr,
               timeout: &str,
               every: &str|
-              -> RhaiResult<()> { wait(&b, &ctx, name, &f, timeout, duration(every)?) },
+              -> RhaiResult<()> { wait(&b, h, &ctx, name, &f, timeout, duration(every)?) },
     );
     let b = bridge.clone();
     engine.register_fn(
@@ -259,7 +326,7 @@ fn register_waits(engine: &mut Engine, bridge: &Arc<Bridge>) {
     engine.register_fn(
         "sample",
         move |ctx: NativeCallContext,
-              _: &mut DriveHandle,
+              h: &mut DriveHandle,
               names: Array,
               every: &str,
               time: &str|
@@ -270,7 +337,7 @@ fn register_waits(engine: &mut Engine, bridge: &Arc<Bridge>) {
                     .clone()
                     .into_string()
                     .map_err(|t| error(format!("sample: object names are text, not {t}")))?;
-                objects.push(resolve::readable(&b.dictionary, &name).map_err(refused)?);
+                objects.push(on_drive(&b, h, |d| resolve::readable(d, &name))?);
             }
             if objects.is_empty() {
                 return Err(error("sample: name at least one object"));

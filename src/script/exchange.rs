@@ -11,13 +11,15 @@ use std::time::Duration;
 /// One drive operation, resolved and checked on the script side.
 #[derive(Debug)]
 pub enum Call {
-    Command(DeviceCommand),
-    GoTo(DeviceState, Duration),
+    /// To the named drive (`None`: every drive of the run).
+    Command(DeviceCommand, Option<String>),
+    /// The named drive (`None`: every drive, one after the other).
+    GoTo(DeviceState, Duration, Option<String>),
     Set(ObjectRef, SetValue),
     /// A query: not a step of its own.
     Read(ObjectRef),
-    /// A query: not a step of its own.
-    State,
+    /// A query: not a step of its own. The named drive's (`None`: the one drive's).
+    State(Option<String>),
     WaitUntil {
         object: ObjectRef,
         timeout: Duration,

@@ -21,9 +21,18 @@ impl SampleWindow {
             .lookup(name)
             .map(|d| d.name.clone())
             .unwrap_or_else(|_| name.to_string());
+        // A drive's sample (`drive("left").sample(...)`) names its objects `left.speed_actual`;
+        // the script names them as it sampled them.
+        let suffix = format!(".{canonical}");
+        let mut of_a_drive = self.windows.iter().filter(|w| w.object.name.ends_with(&suffix));
+        let by_drive = match (of_a_drive.next(), of_a_drive.next()) {
+            (Some(w), None) => Some(w),
+            _ => None,
+        };
         self.windows
             .iter()
             .find(|w| w.object.name == canonical)
+            .or(by_drive)
             .ok_or_else(|| {
                 let sampled: Vec<&str> = self.windows.iter().map(|w| w.object.name.as_str()).collect();
                 format!(

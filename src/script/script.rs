@@ -10,6 +10,7 @@ use super::script_invalid::ScriptInvalid;
 use super::static_check::check_calls;
 use crate::diag::{read_source, Diagnostic, Diagnostics, Source, Span};
 use crate::dictionary::Dictionary;
+use crate::recipe::DriveDecl;
 use rhai::AST;
 use std::path::Path;
 use std::sync::Arc;
@@ -34,6 +35,39 @@ pub struct Script {
     /// `//! link: channel=cyclic, velocity_scaling=24000rpm`: settings of the family's
     /// link, as a recipe's `link:` gives them (the command line wins).
     pub link: Vec<(String, String)>,
+    /// The named drives of `//! drives: left = sd2 @ dnc:2, right = sd2 @ dnc:3`; empty
+    /// for a script with one drive.
+    pub drives: Vec<DriveDecl>,
+}
+
+/// The drives a script's header declares and the dictionary each names, read before the
+/// script is loaded so that each drive's dictionary can be loaded first.
+pub fn declared_script_drives(path: &Path) -> Vec<(String, String)> {
+    match read_source(path) {
+        Ok(source) => Header::read(&source)
+            .drives
+            .into_iter()
+            .map(|d| (d.name, d.drive))
+            .collect(),
+        Err(_) => Vec::new(),
+    }
+}
+
+/// Loads and checks a script that may declare several drives: `drives` holds each one's
+/// dictionary; `dictionary` is the first's, or the one of a script with one drive.
+pub fn load_script_for(
+    path: &Path,
+    dictionary: &Dictionary,
+    drives: &[(String, Arc<Dictionary>)],
+    set: &[(String, String)],
+) -> Result<Script, ScriptInvalid> {
+    if drives.is_empty() {
+        return load_script(path, dictionary, set);
+    }
+    match read_source(path) {
+        Ok(source) => load_source_for(source, dictionary, drives, set),
+        Err(_) => load_script(path, dictionary, set),
+    }
 }
 
 /// Loads and checks a script file. `set` are the `--set` parameters.
@@ -75,9 +109,36 @@ fn load_source(
     dictionary: &Dictionary,
     set: &[(String, String)],
 ) -> Result<Script, ScriptInvalid> {
+    load_source_for(source, dictionary, &[], set)
+}
+
+fn load_source_for(
+    source: Arc<Source>,
+    dictionary: &Dictionary,
+    drives: &[(String, Arc<Dictionary>)],
+    set: &[(String, String)],
+) -> Result<Script, ScriptInvalid> {
     let path = source.path().to_string();
     let mut problems = Diagnostics::new();
     let header = Header::read(&source);
+    for (decl, span) in header.drives.iter().zip(&header.drive_spans) {
+        if !drives.iter().any(|(n, _)| *n == decl.name) {
+            problems.push(
+                Diagnostic::at(span, format!("no dictionary was loaded for drive `{}`", decl.name), "drive")
+                    .with_help("write each drive as `name = DICTIONARY @ ADDRESS`, e.g. `//! drives: left = sd2 @ dnc:2, right = sd2 @ dnc:3`"),
+            );
+        }
+    }
+    if let (Some((_, span)), false) = (&header.drive, header.drives.is_empty()) {
+        problems.push(
+            Diagnostic::at(
+                span,
+                "a script names either one `drive:` or several `drives:`, not both",
+                "drive and drives",
+            )
+            .with_help("name this drive in the `drives:` line"),
+        );
+    }
     if let Some((family, span)) = &header.drive {
         if family != dictionary.family() {
             problems.push(
@@ -104,7 +165,23 @@ fn load_source(
         }
     };
     let calls = literal_calls(&source);
-    problems.extend(check_calls(&calls, dictionary, set, &path));
+    if drives.is_empty() {
+        problems.extend(check_calls(&calls, dictionary, set, &path));
+    } else {
+        // Which drive a call goes to is known only when the script runs: a literal is a
+        // problem when no drive's dictionary takes it (the run refuses the others before
+        // anything is sent).
+        let runs: Vec<Vec<Diagnostic>> = drives
+            .iter()
+            .map(|(_, d)| check_calls(&calls, d, set, &path))
+            .collect();
+        let place = |d: &Diagnostic| d.located().split(": ").next().unwrap_or_default().to_string();
+        for d in runs[0].iter() {
+            if runs.iter().all(|r| r.iter().any(|o| place(o) == place(d))) {
+                problems.push(d.clone());
+            }
+        }
+    }
     let mut has_finally = false;
     if let Some(ast) = &ast {
         for f in ast.iter_functions().filter(|f| f.name == "finally") {
@@ -133,6 +210,7 @@ fn load_source(
             params: set.to_vec(),
             has_finally,
             calls: calls.len(),
+            drives: header.drives,
         }),
         _ => Err(ScriptInvalid {
             path,
@@ -149,11 +227,15 @@ fn file_stem(path: &str) -> String {
         .to_string()
 }
 
-/// The `//!` lines at the top: `//! drive: sd2`, `//! name: Speed sweep`.
+/// The `//!` lines at the top: `//! drive: sd2`, `//! name: Speed sweep`,
+/// `//! drives: left = sd2 @ dnc:2, right = sd2 @ dnc:3`.
 struct Header {
     drive: Option<(String, Span)>,
     name: Option<String>,
     link: Vec<(String, String)>,
+    drives: Vec<DriveDecl>,
+    /// Where each of `drives` is written.
+    drive_spans: Vec<Span>,
 }
 
 impl Header {
@@ -162,6 +244,8 @@ impl Header {
             drive: None,
             name: None,
             link: Vec::new(),
+            drives: Vec::new(),
+            drive_spans: Vec::new(),
         };
         let index = LineIndex::new(source.text());
         let mut offset = 0;
@@ -183,6 +267,26 @@ impl Header {
                         let (k, v) = setting.split_once('=')?;
                         Some((k.trim().to_string(), v.trim().to_string()))
                     })),
+                    "drives" if header.drives.is_empty() => {
+                        let at = offset + line.find(value_text).unwrap_or(0);
+                        let span = index.span(source, at, value_text.len());
+                        for entry in value_text.split(',').filter(|e| !e.trim().is_empty()) {
+                            let (name, rest) = entry.split_once('=').unwrap_or((entry, ""));
+                            let (drive, address) = match rest.split_once('@') {
+                                Some((d, a)) => (d.trim(), Some(a.trim().to_string())),
+                                None => (rest.trim(), None),
+                            };
+                            header.drives.push(DriveDecl {
+                                name: name.trim().to_string(),
+                                drive: drive.to_string(),
+                                address,
+                                port: None,
+                                tcp: None,
+                                can: None,
+                            });
+                            header.drive_spans.push(span.clone());
+                        }
+                    }
                     _ => {}
                 }
             }

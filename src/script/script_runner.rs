@@ -32,7 +32,8 @@ use std::sync::Arc;
 use std::time::Duration;
 
 pub struct ScriptRunner<'a> {
-    drive: &'a mut Drive,
+    /// The one drive (unnamed), or the script's named drives.
+    drives: Vec<(String, &'a mut Drive)>,
     observer: &'a mut dyn RunObserver,
     stop: Arc<StopRequests>,
     settings: SafeStopSettings,
@@ -41,8 +42,18 @@ pub struct ScriptRunner<'a> {
 
 impl<'a> ScriptRunner<'a> {
     pub fn new(drive: &'a mut Drive, observer: &'a mut dyn RunObserver, stop: Arc<StopRequests>) -> Self {
+        Self::with_drives(vec![(String::new(), drive)], observer, stop)
+    }
+
+    /// A runner for a script with `//! drives:`: each drive under its name (all on one
+    /// clock); `drive("left")` in the script is that drive.
+    pub fn with_drives(
+        drives: Vec<(String, &'a mut Drive)>,
+        observer: &'a mut dyn RunObserver,
+        stop: Arc<StopRequests>,
+    ) -> Self {
         ScriptRunner {
-            drive,
+            drives,
             observer,
             stop,
             settings: SafeStopSettings::default(),
@@ -66,8 +77,14 @@ impl<'a> ScriptRunner<'a> {
     /// error is written to `errors` (file:line:column, underlined) when it happens, before
     /// the safe stop.
     pub fn run(self, script: &Script, errors: &mut dyn Write) -> RunReport {
-        let dictionary = self.drive.dictionary().clone();
-        let clock = self.drive.clock().clone();
+        let dictionary = self.drives[0].1.dictionary().clone();
+        let clock = self.drives[0].1.clock().clone();
+        let named: Vec<(String, Arc<crate::dictionary::Dictionary>)> = self
+            .drives
+            .iter()
+            .filter(|(n, _)| !n.is_empty())
+            .map(|(n, d)| (n.clone(), d.dictionary().clone()))
+            .collect();
         let capture = Rc::new(RefCell::new(Capture::default()));
         let mut tap = Tap {
             inner: self.observer,
@@ -81,18 +98,21 @@ impl<'a> ScriptRunner<'a> {
         };
         let (to_session, from_script) = channel();
         let (to_script, from_session) = channel();
-        let bridge = Arc::new(Bridge::new(
-            to_session,
-            from_session,
-            dictionary,
-            script.params.clone(),
-            self.stop.clone(),
-            clock,
-        ));
+        let bridge = Arc::new(
+            Bridge::new(
+                to_session,
+                from_session,
+                dictionary,
+                script.params.clone(),
+                self.stop.clone(),
+                clock,
+            )
+            .with_drives(named),
+        );
         let mut engine = sandbox();
         register(&mut engine, &bridge);
         let stop = self.stop.clone();
-        let mut session = Session::new(self.drive, &mut tap, &stop, info)
+        let mut session = Session::with_drives(self.drives, &mut tap, &stop, info)
             .with_settings(self.settings)
             .with_output_dir(self.output_dir);
         let mut host = Host {
@@ -193,7 +213,12 @@ impl Host<'_> {
         }
         match r.call {
             Call::Read(object) => return s.read_number(&object).map(Answer::Number),
-            Call::State => return s.state().map(Answer::State),
+            Call::State(drive) => {
+                if let Some(d) = &drive {
+                    s.select(d)?;
+                }
+                return s.state().map(Answer::State);
+            }
             _ => {}
         }
         let number = match phase {
@@ -252,8 +277,10 @@ impl Host<'_> {
         answer: &mut Answer,
     ) -> Result<String, Stop> {
         match call {
-            Call::Command(c) => s.command(c),
-            Call::GoTo(state, timeout) => s.go_to(state, timeout),
+            Call::Command(c, None) => s.command_all(c),
+            Call::Command(c, Some(d)) => s.command_on(&d, c),
+            Call::GoTo(state, timeout, None) => s.go_to_all(state, timeout),
+            Call::GoTo(state, timeout, Some(d)) => s.go_to_on(&d, state, timeout),
             Call::Set(object, value) => s.set(&[(object, value)]),
             Call::WaitUntil {
                 object,
@@ -294,7 +321,7 @@ impl Host<'_> {
                 s.expect_result(check)
             }
             Call::Fail(message) => Err(Stop::Failed(message)),
-            Call::Read(_) | Call::State | Call::Message(_) => Ok(String::new()),
+            Call::Read(_) | Call::State(_) | Call::Message(_) => Ok(String::new()),
         }
     }
 
@@ -338,7 +365,13 @@ fn script_thread(engine: Engine, ast: AST, source: Arc<Source>, bridge: Arc<Brid
                 let options = CallFnOptions::new().eval_ast(false).rewind_scope(true);
                 let result = catch_unwind(AssertUnwindSafe(|| {
                     engine
-                        .call_fn_with_options::<Dynamic>(options, &mut scope, &ast, "finally", (DriveHandle,))
+                        .call_fn_with_options::<Dynamic>(
+                            options,
+                            &mut scope,
+                            &ast,
+                            "finally",
+                            (DriveHandle::default(),),
+                        )
                         .map(|_| ())
                 }));
                 bridge.send(ToSession::Ended(ending(&bridge, &source, result)));

@@ -21,7 +21,7 @@ impl Session<'_> {
                 // Unreadable when the backup was taken: there is nothing to compare with.
                 continue;
             };
-            let value = self.drive.read(&saved.name)?;
+            let value = self.drive().read(&saved.name)?;
             let live = SavedObject {
                 name: saved.name.clone(),
                 address: saved.address.clone(),

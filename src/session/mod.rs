@@ -19,6 +19,7 @@ mod safe_stop_settings;
 mod sample;
 mod sample_table;
 mod session;
+mod session_drive;
 mod set_value;
 mod step_origin;
 mod step_path;
@@ -33,10 +34,11 @@ pub use object_ref::ObjectRef;
 pub use run_info::{RunInfo, StepInfo};
 pub use run_observer::{Observers, RunObserver};
 pub use run_report::{
-    CheckResult, PlannedCheck, RunReport, Series, StepRecord, Verdict, ERROR_EXIT, MAX_RECORDS, PANIC_EXIT,
+    CheckResult, DriveEnd, PlannedCheck, RunReport, Series, StepRecord, Verdict, ERROR_EXIT, MAX_RECORDS,
+    PANIC_EXIT,
 };
 pub use safe_stop_settings::SafeStopSettings;
-pub use sample_table::{SampleTable, LONG_HEADER};
+pub use sample_table::{SampleTable, LONG_HEADER, LONG_HEADER_DRIVES};
 pub use session::{show_duration, Session};
 pub use set_value::SetValue;
 pub use step_origin::StepOrigin;

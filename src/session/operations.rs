@@ -9,10 +9,56 @@ use crate::drive::{DeviceCommand, DeviceState, WriteOutcome};
 use std::time::Duration;
 
 impl Session<'_> {
-    /// Writes one device-control command.
+    /// Writes one device-control command to the current drive.
     pub fn command(&mut self, command: DeviceCommand) -> Result<String, Stop> {
-        self.drive.command(command)?;
-        Ok(self.drive.profile()?.command_text(command))
+        self.drive().command(command)?;
+        if command == DeviceCommand::EnableOperation {
+            self.enable_count += 1;
+            let order = self.enable_count;
+            self.cur().enabled_order = order;
+        }
+        Ok(self.drive_ref().profile()?.command_text(command))
+    }
+
+    /// Writes one device-control command to the drive called `drive`.
+    pub fn command_on(&mut self, drive: &str, command: DeviceCommand) -> Result<String, Stop> {
+        self.select(drive)?;
+        self.command(command)
+    }
+
+    /// Writes one device-control command to every drive of the run, in the order declared
+    /// (the one drive of a single-drive run); the first failure ends the step.
+    pub fn command_all(&mut self, command: DeviceCommand) -> Result<String, Stop> {
+        if !self.several_drives() {
+            return self.command(command);
+        }
+        let mut done = Vec::new();
+        for i in 0..self.drives.len() {
+            self.current = i;
+            let text = self.command(command)?;
+            done.push(format!("{}: {text}", self.drives[i].name));
+        }
+        Ok(done.join("; "))
+    }
+
+    /// [`Session::go_to`] on the drive called `drive`.
+    pub fn go_to_on(&mut self, drive: &str, state: DeviceState, timeout: Duration) -> Result<String, Stop> {
+        self.select(drive)?;
+        self.go_to(state, timeout)
+    }
+
+    /// [`Session::go_to`] on every drive of the run, one after the other.
+    pub fn go_to_all(&mut self, state: DeviceState, timeout: Duration) -> Result<String, Stop> {
+        if !self.several_drives() {
+            return self.go_to(state, timeout);
+        }
+        let mut done = Vec::new();
+        for i in 0..self.drives.len() {
+            self.current = i;
+            let text = self.go_to(state, timeout)?;
+            done.push(format!("{}: {text}", self.drives[i].name));
+        }
+        Ok(done.join("; "))
     }
 
     /// Walks the state machine to `state`, each transition within `timeout`.
@@ -20,10 +66,15 @@ impl Session<'_> {
         // The same rule as `interrupted`, without borrowing the session, whose drive the
         // walk borrows.
         let (stop, clock, in_safe_stop) = (self.stop, self.clock.clone(), self.in_safe_stop);
-        let transitions = self.drive.go_to(state, timeout, &move || {
+        let transitions = self.drive().go_to(state, timeout, &move || {
             let now = clock.now();
             stop.pending_at(now) && !(in_safe_stop && stop.count_at(now) < 2)
         })?;
+        if state == DeviceState::OperationEnabled {
+            self.enable_count += 1;
+            let order = self.enable_count;
+            self.cur().enabled_order = order;
+        }
         if transitions.is_empty() {
             Ok(format!("already {state}"))
         } else {
@@ -39,12 +90,13 @@ impl Session<'_> {
     pub fn set(&mut self, writes: &[(ObjectRef, SetValue)]) -> Result<String, Stop> {
         let mut limited = Vec::new();
         for (object, value) in writes {
+            let name = self.select_object(&object.name)?;
             let outcome = match value {
                 SetValue::Number(n) => {
                     let unit = object.unit.as_deref().and_then(Unit::from_symbol);
-                    self.drive.write(&object.name, &Quantity::new(*n, unit))?
+                    self.drive().write(name, &Quantity::new(*n, unit))?
                 }
-                SetValue::Text(t) => self.drive.write_text(&object.name, t)?,
+                SetValue::Text(t) => self.drive().write_text(name, t)?,
             };
             if let WriteOutcome::Limited(stored) = outcome {
                 let line = self.limited_warning(object, value, stored);
@@ -71,13 +123,13 @@ impl Session<'_> {
             SetValue::Number(n) => with_unit(*n, object.unit.as_deref()),
             SetValue::Text(t) => format!("{t:?}"),
         };
-        let stored = match self.drive.read(&object.name) {
+        let name = object
+            .name
+            .split_once('.')
+            .map_or(object.name.as_str(), |(_, o)| o);
+        let stored = match self.drive().read(name) {
             Ok(v) => format!("{v} (read back)"),
-            Err(_) => match self
-                .drive
-                .object(&object.name)
-                .map(|d| d.value_of(stored.clone()))
-            {
+            Err(_) => match self.drive_ref().object(name).map(|d| d.value_of(stored.clone())) {
                 Ok(Ok(v)) => format!("{v} (as the drive reported it; the read-back failed)"),
                 _ => format!("raw {stored} (as the drive reported it; the read-back failed)"),
             },
@@ -92,7 +144,8 @@ impl Session<'_> {
     pub fn read(&mut self, objects: &[ObjectRef]) -> Result<String, Stop> {
         let mut shown = Vec::new();
         for o in objects {
-            let v = self.drive.read(&o.name)?;
+            let name = self.select_object(&o.name)?;
+            let v = self.drive().read(name)?;
             let line = format!("{} = {v}", o.name);
             self.observer.message(&line);
             shown.push(line);
@@ -103,12 +156,13 @@ impl Session<'_> {
     /// Reads one object as a number in its engineering unit, for a front end that computes
     /// with it (a script's `read`); not a step of its own.
     pub fn read_number(&mut self, object: &ObjectRef) -> Result<f64, Stop> {
-        Ok(self.drive.read_number(&object.name)?)
+        let name = self.select_object(&object.name)?;
+        Ok(self.drive().read_number(name)?)
     }
 
     /// The drive's state now, for a front end that branches on it; not a step of its own.
     pub fn state(&mut self) -> Result<DeviceState, Stop> {
-        Ok(self.drive.state()?)
+        Ok(self.drive().state()?)
     }
 
     /// Shows a message.

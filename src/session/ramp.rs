@@ -30,7 +30,8 @@ impl Session<'_> {
             if self.interrupted() {
                 return Err(Stop::Interrupted);
             }
-            if let WriteOutcome::Limited(stored) = self.drive.write(&object.name, &Quantity::new(*p, unit))? {
+            let name = self.select_object(&object.name)?;
+            if let WriteOutcome::Limited(stored) = self.drive().write(name, &Quantity::new(*p, unit))? {
                 let line = self.limited_warning(object, &SetValue::Number(*p), stored);
                 self.observer.message(&format!("warning: {line}"));
                 limited = Some((limited.map_or(0, |(n, _)| n) + 1, line));

@@ -168,6 +168,22 @@ pub struct RunReport {
     /// The resolution (one count, in its unit) of every object checked or sampled, from
     /// the dictionary, so reports show values as finely as the drive gives them.
     pub resolutions: Vec<(String, f64)>,
+    /// One entry per drive, in the order they were stopped, for a run with several drives
+    /// (empty for one drive: the fields above say it).
+    pub drive_ends: Vec<DriveEnd>,
+}
+
+/// How one drive of a run with several drives was left.
+#[derive(Debug, Clone, PartialEq)]
+pub struct DriveEnd {
+    /// The name the recipe gives the drive.
+    pub name: String,
+    pub final_state: Option<DeviceState>,
+    pub final_speed: Option<f64>,
+    pub speed_unit: Option<String>,
+    pub coasting: bool,
+    pub stop_confirmed: bool,
+    pub no_device_control: bool,
 }
 
 /// Most step records, and most check results, one report keeps: a repeat that runs for
@@ -188,6 +204,9 @@ impl RunReport {
     /// The truth about the drive after the safe stop, in one line: its state, its speed,
     /// and whether it is still coasting.
     pub fn drive_left(&self) -> String {
+        if !self.drive_ends.is_empty() {
+            return self.drive_left_lines().join("; ");
+        }
         if self.no_device_control && self.final_state.is_none() && self.stop_confirmed {
             return "drive state not known: the dictionary has no device-control profile, so drivescript neither commanded nor stopped the drive".to_string();
         }
@@ -207,6 +226,33 @@ impl RunReport {
             ""
         };
         format!("drive left in {state}{speed}{coasting}")
+    }
+
+    /// [`RunReport::drive_left`] as one line per drive (`right: drive left in …`) for a
+    /// run with several drives, in the order they were stopped.
+    pub fn drive_left_lines(&self) -> Vec<String> {
+        if self.drive_ends.is_empty() {
+            return vec![self.drive_left()];
+        }
+        self.drive_ends
+            .iter()
+            .map(|e| {
+                let one = RunReport {
+                    final_state: e.final_state,
+                    final_speed: e.final_speed,
+                    speed_unit: e.speed_unit.clone(),
+                    coasting: e.coasting,
+                    stop_confirmed: e.stop_confirmed,
+                    no_device_control: e.no_device_control,
+                    drive_ends: Vec::new(),
+                    steps: Vec::new(),
+                    checks: Vec::new(),
+                    series: Vec::new(),
+                    ..self.clone()
+                };
+                format!("{}: {}", e.name, one.drive_left())
+            })
+            .collect()
     }
 
     /// True when the last word must be CHECK THE DRIVE BY HAND.

@@ -8,7 +8,7 @@
 use super::session::show_duration;
 use super::session::{round, secs, Session};
 use super::stop::{outcome, Stop};
-use super::{number, ObjectRef, RunReport, SetValue, StepInfo, StepOrigin, Verdict};
+use super::{number, DriveEnd, ObjectRef, RunReport, SetValue, StepInfo, StepOrigin, Verdict};
 use crate::dictionary::Role;
 use crate::drive::{DeviceCommand, DeviceState, DriveError};
 use crate::stop_request::StopSignal;
@@ -25,8 +25,8 @@ const REOPEN_PAUSE_MAX: Duration = Duration::from_secs(2);
 impl Session<'_> {
     /// The object playing `role` in the profile, as a step names it.
     fn role_ref(&self, role: Role) -> Option<ObjectRef> {
-        let name = self.drive.profile().ok()?.object(role)?.to_string();
-        let def = self.drive.object(&name).ok()?;
+        let name = self.drive_ref().profile().ok()?.object(role)?.to_string();
+        let def = self.drive_ref().object(&name).ok()?;
         Some(ObjectRef {
             name: def.name.clone(),
             unit: def.unit.map(|u| u.symbol().to_string()),
@@ -96,10 +96,26 @@ impl Session<'_> {
         objects.extend(self.report.series.iter().map(|s| s.object.clone()));
         objects.sort();
         objects.dedup();
-        let dictionary = self.drive.dictionary().clone();
+        let dictionaries: Vec<(String, std::sync::Arc<crate::dictionary::Dictionary>)> = self
+            .drives
+            .iter()
+            .map(|d| (d.name.clone(), d.drive.dictionary().clone()))
+            .collect();
+        let several = self.several_drives();
         self.report.resolutions = objects
             .into_iter()
-            .filter_map(|o| dictionary.lookup(&o).ok().map(|d| (o, d.scale.abs())))
+            .filter_map(|o| {
+                let (drive, name) = match o.split_once('.') {
+                    Some((drive, name)) if several => (drive, name),
+                    _ => ("", o.as_str()),
+                };
+                let (_, dictionary) = dictionaries
+                    .iter()
+                    .find(|(n, _)| n == drive)
+                    .or(dictionaries.first())?;
+                let scale = dictionary.lookup(name).ok()?.scale.abs();
+                Some((o, scale))
+            })
             .filter(|(_, r)| r.is_finite() && *r > 0.0)
             .collect();
         self.observer.run_finished(&self.report);
@@ -151,6 +167,83 @@ impl Session<'_> {
     }
 
     fn safe_stop(&mut self, finally: Option<&mut dyn FnMut(&mut Session)>, link_lost: bool, keep: bool) {
+        if self.several_drives() {
+            self.safe_stop_all(finally, link_lost, keep);
+        } else {
+            self.safe_stop_one(finally, link_lost, keep);
+        }
+    }
+
+    /// The safe stop of a run with several drives: every drive reached again after a lost
+    /// link, the recipe's `finally` once (its steps name their drives) or the default for
+    /// each drive, last enabled first, then each drive verified as a single drive is, and
+    /// one line per drive for the end.
+    fn safe_stop_all(&mut self, finally: Option<&mut dyn FnMut(&mut Session)>, link_lost: bool, keep: bool) {
+        let order = self.stop_order();
+        let mut reachable = vec![true; self.drives.len()];
+        if link_lost {
+            for &i in &order {
+                self.current = i;
+                if !self.restore_link() {
+                    reachable[i] = false;
+                    let called = self.cur().called();
+                    self.note(format!(
+                        "{called} could not be reached to stop it; it may still be running. CHECK THE DRIVE BY HAND"
+                    ));
+                }
+            }
+        }
+        match finally {
+            Some(finally) => finally(self),
+            None => {
+                let mut number = 0;
+                for &i in &order {
+                    self.current = i;
+                    if reachable[i] && self.has_device_control() && !self.interrupted() {
+                        number = self.default_finally(number);
+                    }
+                }
+            }
+        }
+        let emergency = self.interrupted();
+        let mut ends = Vec::new();
+        for &i in &order {
+            self.current = i;
+            let r = &mut self.report;
+            (r.final_state, r.final_speed, r.speed_unit) = (None, None, None);
+            (r.coasting, r.stop_confirmed, r.no_device_control) = (false, false, false);
+            if !reachable[i] {
+                // Said above; the end line says the state is not known.
+            } else if !self.has_device_control() {
+                self.without_device_control();
+            } else {
+                if emergency {
+                    self.emergency_off();
+                }
+                self.verify(keep);
+            }
+            let r = &self.report;
+            ends.push(DriveEnd {
+                name: self.drives[i].name.clone(),
+                final_state: r.final_state,
+                final_speed: r.final_speed,
+                speed_unit: r.speed_unit.clone(),
+                coasting: r.coasting,
+                stop_confirmed: r.stop_confirmed,
+                no_device_control: r.no_device_control,
+            });
+        }
+        let r = &mut self.report;
+        r.stop_confirmed = ends.iter().all(|e| e.stop_confirmed);
+        r.coasting = ends.iter().any(|e| e.coasting);
+        r.no_device_control = ends.iter().all(|e| e.no_device_control);
+        r.final_state = ends.first().and_then(|e| e.final_state);
+        r.final_speed = ends.first().and_then(|e| e.final_speed);
+        r.speed_unit = ends.first().and_then(|e| e.speed_unit.clone());
+        r.drive_ends = ends;
+    }
+
+    fn safe_stop_one(&mut self, finally: Option<&mut dyn FnMut(&mut Session)>, link_lost: bool, keep: bool) {
         if link_lost && !self.restore_link() {
             self.report.stop_confirmed = false;
             self.note(
@@ -162,7 +255,9 @@ impl Session<'_> {
         let device_control = self.has_device_control();
         match finally {
             Some(finally) => finally(self),
-            None if device_control => self.default_finally(),
+            None if device_control => {
+                self.default_finally(0);
+            }
             None => {}
         }
         if !device_control {
@@ -178,7 +273,7 @@ impl Session<'_> {
     /// Whether the dictionary has a device-control profile. Without one drivescript can
     /// neither command the drive nor read its state, so it cannot have enabled it either.
     fn has_device_control(&self) -> bool {
-        self.drive.profile().is_ok()
+        self.drive_ref().profile().is_ok()
     }
 
     /// The end of a run on a drive without device control: no stop command exists and no
@@ -192,7 +287,7 @@ impl Session<'_> {
         self.note(format!(
             "the {} dictionary has no device-control profile: there is no stop command to send; \
              the drive's power stage is as its terminals or PLC left it",
-            self.drive.dictionary().family()
+            self.drive_ref().dictionary().family()
         ));
     }
 
@@ -200,26 +295,28 @@ impl Session<'_> {
     /// device-control profile its identity (or, without that, the port being open).
     fn answer_after_reopen(&mut self) -> Result<String, DriveError> {
         if self.has_device_control() {
-            return self.drive.state().map(|s| format!("the drive reports {s}"));
+            return self.drive().state().map(|s| format!("the drive reports {s}"));
         }
         match self
-            .drive
+            .drive_ref()
             .dictionary()
             .lookup("ident")
             .ok()
             .map(|d| d.name.clone())
         {
-            Some(name) => self.drive.read(&name).map(|_| {
+            Some(name) => self.drive().read(&name).map(|_| {
                 "the drive answers (its state cannot be read without a device-control profile)".into()
             }),
             None => Ok("the port is open again (no device-control profile to read the drive's state)".into()),
         }
     }
 
-    /// The default `finally`: the speed setpoint to 0 and a wait for standstill (where the
-    /// profile names the speed objects), then disable operation and shutdown; each step
-    /// recorded, a failure noted and the next tried. A second stop request abandons it.
-    fn default_finally(&mut self) {
+    /// The default `finally` of the current drive: the speed setpoint to 0 and a wait for
+    /// standstill (where the profile names the speed objects), then disable operation and
+    /// shutdown; each step recorded, a failure noted and the next tried. A second stop
+    /// request abandons it. Its steps are numbered after `done` earlier ones (of other
+    /// drives); returns the number of the last.
+    fn default_finally(&mut self, done: usize) -> usize {
         let origin = StepOrigin {
             path: self.report.recipe_path.clone(),
             line: 0,
@@ -258,23 +355,30 @@ impl Session<'_> {
         for c in [DeviceCommand::DisableOperation, DeviceCommand::Shutdown] {
             ops.push((c.id().to_string(), Box::new(move |s| s.command(c))));
         }
+        let on = match self.several_drives() {
+            true => format!("{}: ", self.cur().name),
+            false => String::new(),
+        };
+        let count = ops.len();
         for (i, (label, op)) in ops.into_iter().enumerate() {
+            let i = done + i;
             if self.interrupted() {
                 self.note(format!(
                     "finally abandoned at step {} (a second stop request)",
                     i + 1
                 ));
-                return;
+                return i;
             }
             let info = StepInfo {
                 number: format!("finally.{}", i + 1),
-                label: format!("{label} (default finally)"),
+                label: format!("{on}{label} (default finally)"),
                 origin: origin.clone(),
                 phase: "finally",
                 container: false,
             };
             self.perform_best_effort(&info, |s| op(s));
         }
+        done + count
     }
 
     /// Runs one step of the safe stop whatever happens: a lost port is reopened and the
@@ -304,7 +408,7 @@ impl Session<'_> {
         let Some(object) = self.role_ref(Role::SpeedActual) else {
             return Ok("skipped: the profile names no actual speed".into());
         };
-        let state = self.drive.state()?;
+        let state = self.drive().state()?;
         if state != DeviceState::OperationEnabled {
             return Ok(format!(
                 "skipped: the drive is in {state}, where the setpoint does not brake it"
@@ -314,7 +418,7 @@ impl Session<'_> {
         let started = self.clock.now();
         let give_up = started.saturating_add(timeout);
         loop {
-            let v = self.drive.read_number(&object.name)?;
+            let v = self.drive().read_number(&object.name)?;
             let waited = self.clock.now().saturating_sub(started);
             if v.abs() <= below {
                 return Ok(format!("{}{unit} after {}", round(v), secs(waited)));
@@ -335,9 +439,9 @@ impl Session<'_> {
     /// The last resort: disable voltage, which nothing may interrupt.
     fn emergency_off(&mut self) {
         self.stop.enter_final_stage();
-        let mut result = self.drive.command(DeviceCommand::DisableVoltage);
+        let mut result = self.drive().command(DeviceCommand::DisableVoltage);
         if matches!(&result, Err(e) if e.is_link_lost()) && self.restore_link() {
-            result = self.drive.command(DeviceCommand::DisableVoltage);
+            result = self.drive().command(DeviceCommand::DisableVoltage);
         }
         match result {
             Ok(()) => self.note("power stage switched off at once (disable voltage)".into()),
@@ -346,8 +450,8 @@ impl Session<'_> {
     }
 
     fn state_with_reconnect(&mut self) -> Result<DeviceState, DriveError> {
-        match self.drive.state() {
-            Err(e) if e.is_link_lost() && self.restore_link() => self.drive.state(),
+        match self.drive().state() {
+            Err(e) if e.is_link_lost() && self.restore_link() => self.drive().state(),
             other => other,
         }
     }
@@ -402,7 +506,7 @@ impl Session<'_> {
         ));
         let mut state = state;
         if state == DeviceState::OperationEnabled {
-            match self.drive.command(DeviceCommand::QuickStop) {
+            match self.drive().command(DeviceCommand::QuickStop) {
                 Ok(()) => {
                     state = self.wait_for_state(DeviceState::OperationEnabled, DISABLE_VOLTAGE_WAIT);
                     if state == DeviceState::QuickStopActive {
@@ -433,7 +537,7 @@ impl Session<'_> {
     fn wait_for_state(&mut self, from: DeviceState, timeout: Duration) -> DeviceState {
         let give_up = self.clock.now().saturating_add(timeout);
         loop {
-            let state = match self.drive.state() {
+            let state = match self.drive().state() {
                 Ok(s) => s,
                 Err(e) => {
                     self.note(format!("reading the state failed: {e}"));
@@ -458,7 +562,7 @@ impl Session<'_> {
         let Some(object) = self.role_ref(Role::SpeedActual) else {
             return;
         };
-        match self.drive.read_number(&object.name) {
+        match self.drive().read_number(&object.name) {
             Ok(v) => {
                 let powered = self.report.final_state.is_some_and(DeviceState::is_powered);
                 self.report.final_speed = Some(v);
@@ -472,7 +576,7 @@ impl Session<'_> {
     /// After a reopen: whether the drive answering has the identity read at the start (a
     /// re-enumerated adapter can come back under a name another one had).
     fn same_drive(&mut self) -> bool {
-        match self.report.identity.clone() {
+        match self.cur().identity.clone() {
             Some(before) => self.identity().is_none_or(|now| now == before),
             None => true,
         }
@@ -481,22 +585,22 @@ impl Session<'_> {
     /// Reopens the port with back-off until it answers or the reconnect time is used up;
     /// reports every attempt. True when the drive answers again.
     pub fn restore_link(&mut self) -> bool {
-        if self.link_given_up {
+        if self.cur().link_given_up {
             return false;
         }
         let started = self.clock.now();
         let give_up = started.saturating_add(self.settings.reconnect_timeout);
         let mut pause = REOPEN_PAUSE;
-        let port = self.drive.port();
+        let port = self.drive_ref().port();
         for attempt in 1u32.. {
-            let result = self.drive.reopen().and_then(|()| self.answer_after_reopen());
+            let result = self.drive().reopen().and_then(|()| self.answer_after_reopen());
             let at = secs(self.clock.now().saturating_sub(started));
             match result {
                 Ok(_) if !self.same_drive() => {
                     self.note(format!(
                         "{port} answers again, but with another drive's identity; the stop is not sent to it. CHECK THE DRIVE BY HAND"
                     ));
-                    self.link_given_up = true;
+                    self.cur().link_given_up = true;
                     return false;
                 }
                 Ok(answer) => {
@@ -515,7 +619,7 @@ impl Session<'_> {
                     "gave up reopening {port} after {attempt} attempt(s) in {}",
                     show_duration(self.settings.reconnect_timeout)
                 ));
-                self.link_given_up = true;
+                self.cur().link_given_up = true;
                 return false;
             }
             // A further stop request does not end the attempts: reaching the drive is

@@ -9,7 +9,48 @@ use super::{BucketSeries, ObjectRef, SampleTable, Series, Stats, SERIES_BUCKETS}
 use std::path::PathBuf;
 use std::time::Duration;
 
+/// The objects of one drive in a sample: the drive's index, the objects' places in the
+/// step's list, and their names in the drive's dictionary.
+type ReadGroup = (usize, Vec<usize>, Vec<String>);
+
 impl Session<'_> {
+    /// The objects of a sample grouped by drive, so that each drive is read in one go.
+    fn read_groups(&mut self, objects: &[ObjectRef]) -> Result<Vec<ReadGroup>, Stop> {
+        let mut groups: Vec<ReadGroup> = Vec::new();
+        for (i, o) in objects.iter().enumerate() {
+            let name = self.select_object(&o.name)?.to_string();
+            match groups.iter_mut().find(|g| g.0 == self.current) {
+                Some(g) => {
+                    g.1.push(i);
+                    g.2.push(name);
+                }
+                None => groups.push((self.current, vec![i], vec![name])),
+            }
+        }
+        Ok(groups)
+    }
+
+    /// One sample of every group into `values` (in the step's order of objects).
+    fn read_grouped(&mut self, groups: &[ReadGroup], values: &mut [f64]) -> Result<(), Stop> {
+        if let [(drive, _, names)] = groups {
+            // One drive: straight into `values`, as the objects are in its order.
+            let names: Vec<&str> = names.iter().map(String::as_str).collect();
+            self.current = *drive;
+            self.drive().read_numbers(&names, values)?;
+            return Ok(());
+        }
+        for (drive, places, names) in groups {
+            let names: Vec<&str> = names.iter().map(String::as_str).collect();
+            let mut got = vec![0.0; names.len()];
+            self.current = *drive;
+            self.drive().read_numbers(&names, &mut got)?;
+            for (place, v) in places.iter().zip(got) {
+                values[*place] = v;
+            }
+        }
+        Ok(())
+    }
+
     /// Reads `objects` every `every` for `duration`; keeps the window for `expect` and the
     /// series for the plots; optionally writes a CSV file.
     pub fn sample(
@@ -25,7 +66,7 @@ impl Session<'_> {
                 let path = self.output_dir.join(p);
                 let append = !self.csv_files.insert(path.clone());
                 let wide = self.csv_wide.then_some(objects);
-                Some(SampleTable::open(&path, wide, append).map_err(Stop::Error)?)
+                Some(SampleTable::open_for(&path, wide, append, self.several_drives()).map_err(Stop::Error)?)
             }
             None => None,
         };
@@ -37,7 +78,7 @@ impl Session<'_> {
         let mut series: Vec<BucketSeries> =
             objects.iter().map(|_| BucketSeries::new(origin, width)).collect();
         let mut values = vec![0.0; objects.len()];
-        let names: Vec<&str> = objects.iter().map(|o| o.name.as_str()).collect();
+        let groups = self.read_groups(objects)?;
         let mut k: u32 = 0;
         let mut late = 0u32;
         let end = start.saturating_add(duration);
@@ -57,7 +98,7 @@ impl Session<'_> {
             let t = (at - run_start).as_secs_f64();
             // All at once: a family whose telegram carries several values answers them in
             // one round trip.
-            self.drive.read_numbers(&names, &mut values)?;
+            self.read_grouped(&groups, &mut values)?;
             for (i, v) in values.iter().enumerate() {
                 stats[i].push(*v);
                 series[i].push(t, *v);

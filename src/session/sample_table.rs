@@ -13,11 +13,16 @@ use std::time::{Duration, SystemTime};
 
 /// The columns of the long layout.
 pub const LONG_HEADER: [&str; 6] = ["time [s]", "utc", "step", "object", "value", "unit"];
+/// The long layout of a run with several drives: the drive's name in a column of its own.
+pub const LONG_HEADER_DRIVES: [&str; 7] = ["time [s]", "utc", "step", "drive", "object", "value", "unit"];
 
 pub struct SampleTable {
     file: CsvFile,
     /// The object columns of the wide layout; `None` for the long one.
     wide: Option<Vec<ObjectRef>>,
+    /// The long layout with a `drive` column (a run with several drives, whose objects
+    /// are named `left.speed_actual`).
+    drive_column: bool,
     /// Buffers reused for every row: a day at 100 Hz is millions of rows.
     time: String,
     utc: String,
@@ -44,14 +49,30 @@ impl SampleTable {
     /// Creates (truncates) `path` with its header, or (`append`) continues a file this run
     /// started. The error names the path.
     pub fn open(path: &Path, wide: Option<&[ObjectRef]>, append: bool) -> Result<Self, String> {
+        Self::open_for(path, wide, append, false)
+    }
+
+    /// [`SampleTable::open`] for a run with several drives (`drives`): the long layout
+    /// then has a `drive` column and the object's own name.
+    pub fn open_for(
+        path: &Path,
+        wide: Option<&[ObjectRef]>,
+        append: bool,
+        drives: bool,
+    ) -> Result<Self, String> {
+        let drive_column = drives && wide.is_none();
         let file = if append {
             CsvFile::append(path)?
+        } else if drive_column {
+            let header: Vec<String> = LONG_HEADER_DRIVES.iter().map(|h| h.to_string()).collect();
+            CsvFile::create(path, &header)?
         } else {
             CsvFile::create(path, &Self::header(wide))?
         };
         Ok(SampleTable {
             file,
             wide: wide.map(<[ObjectRef]>::to_vec),
+            drive_column,
             time: String::new(),
             utc: String::new(),
             value: String::new(),
@@ -84,8 +105,16 @@ impl SampleTable {
                     self.value.clear();
                     write_number(&mut self.value, *v);
                     let unit = object.unit.as_deref().unwrap_or("");
-                    self.file
-                        .row(&[&self.time, &self.utc, step, &object.name, &self.value, unit])?;
+                    match object.name.split_once('.') {
+                        Some((drive, name)) if self.drive_column => {
+                            self.file
+                                .row(&[&self.time, &self.utc, step, drive, name, &self.value, unit])?
+                        }
+                        _ => {
+                            self.file
+                                .row(&[&self.time, &self.utc, step, &object.name, &self.value, unit])?
+                        }
+                    }
                 }
                 Ok(objects.len().min(values.len()) as u64)
             }
@@ -164,5 +193,34 @@ mod tests {
              0.000,2024-06-10T06:13:20.250Z,2,,0.5\n"
         );
         std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn with_several_drives_the_long_layout_names_the_drive_in_its_own_column() {
+        let dir =
+            std::env::temp_dir().join(format!("drivescript-sample-table-drives-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("d.csv");
+        let objects = [
+            object("left.speed_actual", Some("rpm")),
+            object("right.speed_actual", Some("rpm")),
+        ];
+        let mut t = SampleTable::open_for(&path, None, false, true).unwrap();
+        t.rows(
+            Duration::from_millis(1500),
+            SystemTime::UNIX_EPOCH,
+            "4",
+            &objects,
+            &[1.0, 2.0],
+        )
+        .unwrap();
+        t.flush().unwrap();
+        assert_eq!(
+            std::fs::read_to_string(&path).unwrap(),
+            "time [s],utc,step,drive,object,value,unit\n\
+             1.500,1970-01-01T00:00:00.000Z,4,left,speed_actual,1,rpm\n\
+             1.500,1970-01-01T00:00:00.000Z,4,right,speed_actual,2,rpm\n"
+        );
     }
 }

@@ -4,6 +4,7 @@
 //! files next to this one; the end of every run, the safe stop, in `safe_stop.rs`. Knows
 //! names, units and states; never bytes, never a family, never YAML.
 
+use super::session_drive::SessionDrive;
 use super::step_path::StepPath;
 use super::stop::{outcome, panic_message, Stop};
 use super::{
@@ -20,7 +21,13 @@ use std::path::PathBuf;
 use std::time::Duration;
 
 pub struct Session<'a> {
-    pub(super) drive: &'a mut Drive,
+    /// The drives of the run: one (named ``) for a single-drive recipe or script, or the
+    /// recipe's named drives in the order declared.
+    pub(super) drives: Vec<SessionDrive<'a>>,
+    /// The drive that commands, state reads and the safe stop's steps go to now.
+    pub(super) current: usize,
+    /// Counts enabling commands, to order the drives for the safe stop.
+    pub(super) enable_count: u64,
     pub(super) observer: &'a mut dyn RunObserver,
     pub(super) stop: &'a StopRequests,
     pub(super) settings: SafeStopSettings,
@@ -39,15 +46,8 @@ pub struct Session<'a> {
     pub(super) last_fault_check: Duration,
     /// Clock time the run started; series times count from here.
     pub(super) run_start: Duration,
-    /// Whether the drive was in a fault state when last looked at. Fault watching reacts
-    /// to the drive *entering* a fault during the run; a drive already in fault (at the
-    /// start, or after a step that waited for it) is the run's to reset.
-    pub(super) known_fault: bool,
     /// `on_fault`, `finally` and the verification run: only a second stop request counts.
     pub(super) in_safe_stop: bool,
-    /// Reopening the port was tried for the whole reconnect time and failed: later
-    /// failures of the safe stop do not wait for it again.
-    pub(super) link_given_up: bool,
     /// The steps around the current one, for iteration-aware step ids and stages.
     pub(super) path: StepPath,
     /// `csv:` files of sample steps with one column per object instead of the long layout.
@@ -62,12 +62,37 @@ impl<'a> Session<'a> {
         stop: &'a StopRequests,
         run: RunInfo,
     ) -> Self {
-        let clock = drive.clock().clone();
+        Self::with_drives(vec![(String::new(), drive)], observer, stop, run)
+    }
+
+    /// A run over several named drives (a recipe's `drives:`), which must share one clock.
+    /// Objects are then named `left.speed_actual`; the first drive names the report's port
+    /// line together with the others.
+    pub fn with_drives(
+        drives: Vec<(String, &'a mut Drive)>,
+        observer: &'a mut dyn RunObserver,
+        stop: &'a StopRequests,
+        run: RunInfo,
+    ) -> Self {
+        let drives: Vec<SessionDrive<'a>> = drives
+            .into_iter()
+            .map(|(name, drive)| SessionDrive::new(name, drive))
+            .collect();
+        let clock = drives[0].drive.clock().clone();
+        let port = if drives.len() == 1 && drives[0].name.is_empty() {
+            drives[0].drive.port()
+        } else {
+            drives
+                .iter()
+                .map(|d| format!("{}: {}", d.name, d.drive.port()))
+                .collect::<Vec<_>>()
+                .join(", ")
+        };
         let clock_now = clock.now();
         let report = RunReport {
             recipe: run.name.clone(),
             recipe_path: run.path.clone(),
-            drive: drive.port(),
+            drive: port,
             identity: None,
             params: run.params.clone(),
             started_at: clock.wall_time(),
@@ -88,9 +113,12 @@ impl<'a> Session<'a> {
             omitted_checks: 0,
             csv_files: Vec::new(),
             resolutions: Vec::new(),
+            drive_ends: Vec::new(),
         };
         Session {
-            drive,
+            drives,
+            current: 0,
+            enable_count: 0,
             observer,
             stop,
             settings: SafeStopSettings::default(),
@@ -103,9 +131,7 @@ impl<'a> Session<'a> {
             failed_checks: false,
             last_fault_check: Duration::ZERO,
             run_start: clock_now,
-            known_fault: false,
             in_safe_stop: false,
-            link_given_up: false,
             path: StepPath::default(),
             csv_wide: false,
             run,
@@ -144,6 +170,65 @@ impl<'a> Session<'a> {
 
     pub fn clock(&self) -> &SharedClock {
         &self.clock
+    }
+
+    /// The current drive (see [`Session::select`]).
+    pub(super) fn drive(&mut self) -> &mut Drive {
+        &mut *self.drives[self.current].drive
+    }
+
+    pub(super) fn drive_ref(&self) -> &Drive {
+        &*self.drives[self.current].drive
+    }
+
+    pub(super) fn cur(&mut self) -> &mut SessionDrive<'a> {
+        &mut self.drives[self.current]
+    }
+
+    /// Whether the run's drives are named (a recipe's `drives:`, even with one entry):
+    /// objects then carry the drive's name (`left.speed_actual`).
+    pub fn several_drives(&self) -> bool {
+        self.drives.len() > 1 || self.drives.iter().any(|d| !d.name.is_empty())
+    }
+
+    /// Makes the drive called `name` the current one.
+    pub fn select(&mut self, name: &str) -> Result<(), Stop> {
+        match self.drives.iter().position(|d| d.name == name) {
+            Some(i) => {
+                self.current = i;
+                Ok(())
+            }
+            None => Err(Stop::Error(format!(
+                "no drive called `{name}` in this run (drives: {})",
+                self.drive_names().join(", ")
+            ))),
+        }
+    }
+
+    pub(super) fn drive_names(&self) -> Vec<String> {
+        self.drives.iter().map(|d| d.name.clone()).collect()
+    }
+
+    /// Makes the drive an object reference names (`left.speed_actual`) the current one and
+    /// returns the object's name in that drive's dictionary. A name without a drive is the
+    /// current drive's (the only drive's in a single-drive run).
+    pub(super) fn select_object<'n>(&mut self, name: &'n str) -> Result<&'n str, Stop> {
+        match name.split_once('.') {
+            Some((drive, object)) if self.several_drives() => {
+                self.select(drive)?;
+                Ok(object)
+            }
+            _ => Ok(name),
+        }
+    }
+
+    /// The indexes of the drives in the order the safe stop takes them: the last enabled
+    /// first, then the ones never enabled in declaration order.
+    pub(super) fn stop_order(&self) -> Vec<usize> {
+        let mut order: Vec<usize> = (0..self.drives.len()).collect();
+        // Stable: drives never enabled (0) keep their declared order, after the others.
+        order.sort_by_key(|&i| std::cmp::Reverse(self.drives[i].enabled_order));
+        order
     }
 
     /// Runs `f`, turning a panic inside it into [`Stop::Panicked`].
@@ -231,25 +316,35 @@ impl<'a> Session<'a> {
 
     /// Identity and fault state at the start, both best effort.
     fn look_at_the_drive(&mut self) {
-        self.report.identity = self.identity();
-        self.known_fault = matches!(
-            self.drive.state(),
-            Ok(DeviceState::Fault | DeviceState::FaultReactionActive)
-        );
-        if self.known_fault {
-            let code = self
-                .drive
-                .drive_error()
-                .map(|c| format!(" (drive error {c}, 0x{c:04x})"))
-                .unwrap_or_default();
-            self.observer
-                .message(&format!("the drive is in fault at the start{code}"));
+        for i in 0..self.drives.len() {
+            self.current = i;
+            let identity = self.identity();
+            self.cur().identity = identity.clone();
+            if i == 0 {
+                self.report.identity = identity;
+            }
+            let faulted = matches!(
+                self.drive().state(),
+                Ok(DeviceState::Fault | DeviceState::FaultReactionActive)
+            );
+            self.cur().known_fault = faulted;
+            if faulted {
+                let code = self
+                    .drive()
+                    .drive_error()
+                    .map(|c| format!(" (drive error {c}, 0x{c:04x})"))
+                    .unwrap_or_default();
+                let called = self.drives[i].called();
+                self.observer
+                    .message(&format!("{called} is in fault at the start{code}"));
+            }
         }
+        self.current = 0;
     }
 
     pub(super) fn identity(&mut self) -> Option<String> {
-        let name = self.drive.dictionary().lookup("ident").ok()?.name.clone();
-        self.drive.read(&name).ok().map(|v| v.to_string())
+        let name = self.drive().dictionary().lookup("ident").ok()?.name.clone();
+        self.drive().read(&name).ok().map(|v| v.to_string())
     }
 
     /// A stop request that nobody answers yet. During the safe stop only a second request
@@ -275,10 +370,12 @@ impl<'a> Session<'a> {
         loop {
             // A channel the drive expects telegrams on is served in between (the cyclic
             // telegram); the wait is cut into its periods.
-            let until = match self.drive.keep_alive()? {
-                Some(next) => self.clock.now().saturating_add(next).min(deadline),
-                None => deadline,
-            };
+            let mut until = deadline;
+            for i in 0..self.drives.len() {
+                if let Some(next) = self.drives[i].drive.keep_alive()? {
+                    until = until.min(self.clock.now().saturating_add(next));
+                }
+            }
             while self.clock.wait_until(until, self.stop) {
                 if self.interrupted() {
                     return Err(Stop::Interrupted);
@@ -290,30 +387,42 @@ impl<'a> Session<'a> {
         }
     }
 
-    /// Reads the state now and then (at most every `settings.fault_poll`, or at once when
-    /// `now`); a fault stops the recipe.
+    /// Reads the state of every drive now and then (at most every `settings.fault_poll`,
+    /// or at once when `now`); a fault on any of them stops the run.
     pub fn watch_fault(&mut self, now: bool) -> Result<(), Stop> {
         let t = self.clock.now();
         if !now && t < self.last_fault_check.saturating_add(self.settings.fault_poll) {
             return Ok(());
         }
         self.last_fault_check = t;
-        if self.drive.profile().is_err() {
+        let current = self.current;
+        for i in 0..self.drives.len() {
+            self.current = i;
+            // On a fault the faulted drive stays the current one.
+            self.watch_fault_of_current()?;
+        }
+        self.current = current;
+        Ok(())
+    }
+
+    fn watch_fault_of_current(&mut self) -> Result<(), Stop> {
+        if self.drive().profile().is_err() {
             // Without a device-control profile there is no state to watch.
             return Ok(());
         }
-        let state = self.drive.state()?;
+        let state = self.drive().state()?;
         let faulted = matches!(state, DeviceState::Fault | DeviceState::FaultReactionActive);
-        let entered = faulted && !self.known_fault;
-        self.known_fault = faulted;
+        let entered = faulted && !self.cur().known_fault;
+        self.cur().known_fault = faulted;
         if entered {
-            let code = self.drive.drive_error();
+            let code = self.drive().drive_error();
             let code = match code {
                 Some(c) if c != 0 => format!(" (drive error {c}, 0x{c:04x})"),
                 _ => String::new(),
             };
+            let called = self.cur().called();
             return Err(Stop::Fault(format!(
-                "drive fault: the drive went to {state}{code}"
+                "drive fault: {called} went to {state}{code}"
             )));
         }
         Ok(())
@@ -324,17 +433,28 @@ impl<'a> Session<'a> {
         condition: &Condition,
     ) -> Result<(bool, String, Option<f64>), Stop> {
         match condition {
+            // Every drive of the run in the state (the one drive of a single-drive run).
             Condition::State(target) => {
-                let state = self.drive.state()?;
-                Ok((state == *target, state.to_string(), None))
+                let mut all = true;
+                let mut seen = Vec::new();
+                for i in 0..self.drives.len() {
+                    let state = self.drives[i].drive.state()?;
+                    all &= state == *target;
+                    seen.push(match self.several_drives() {
+                        true => format!("{}: {state}", self.drives[i].name),
+                        false => state.to_string(),
+                    });
+                }
+                Ok((all, seen.join(", "), None))
             }
             Condition::Value { object, predicate } => {
+                let name = self.select_object(&object.name)?;
                 if let Predicate::EqualsText(_) = predicate {
-                    let v = self.drive.read(&object.name)?.to_string();
+                    let v = self.drive().read(name)?.to_string();
                     let text = v.trim_matches('"').to_string();
                     return Ok((predicate.holds_text(&text), v, None));
                 }
-                let v = self.drive.read_number(&object.name)?;
+                let v = self.drive().read_number(name)?;
                 Ok((predicate.holds(v), value_of(v, object), Some(v)))
             }
         }

@@ -30,7 +30,9 @@ impl Session<'_> {
                     condition,
                     Condition::State(DeviceState::Fault | DeviceState::FaultReactionActive)
                 ) {
-                    self.known_fault = true;
+                    for d in &mut self.drives {
+                        d.known_fault = true;
+                    }
                 }
                 self.record_check(
                     origin,
@@ -89,7 +91,8 @@ impl Session<'_> {
         let started = self.clock.now();
         let give_up = started.saturating_add(timeout);
         loop {
-            let v = self.drive.read_number(&object.name)?;
+            let name = self.select_object(&object.name)?;
+            let v = self.drive().read_number(name)?;
             let seen = value_of(v, object);
             let waited = self.clock.now().saturating_sub(started);
             let ok = holds(v)?;

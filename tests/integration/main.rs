@@ -15,6 +15,7 @@ mod examples;
 mod lenze_931;
 mod lenze_9400;
 mod loader_limits;
+mod multi_drive;
 mod outputs;
 mod parameters;
 mod recipe_cases;

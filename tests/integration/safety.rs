@@ -182,9 +182,15 @@ pub(crate) struct PtySimulator {
 #[cfg(unix)]
 impl PtySimulator {
     pub(crate) fn start() -> PtySimulator {
+        Self::start_with(&[])
+    }
+
+    /// `drivescript simulate --pty ARGS` (e.g. `--address dnc:2,dnc:3`).
+    pub(crate) fn start_with(args: &[&str]) -> PtySimulator {
         use std::io::BufRead;
         let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_drivescript"))
             .args(["simulate", "--pty"])
+            .args(args)
             .stdout(std::process::Stdio::piped())
             .stderr(std::process::Stdio::null())
             .spawn()

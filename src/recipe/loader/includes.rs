@@ -76,6 +76,7 @@ impl Loader<'_, '_> {
         include_chain.push(canon);
         let mut inner = Loader {
             dict: self.dict,
+            drive_dicts: self.drive_dicts,
             source,
             r: Reader::new(self.r.diagnostics()),
             expansion: self.expansion,

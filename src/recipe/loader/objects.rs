@@ -9,7 +9,37 @@ use crate::recipe::step::ObjectRef;
 
 impl Loader<'_, '_> {
     /// The object called `name` (written at `span`) and the reference steps keep.
+    /// In a recipe with `drives:` the name is `drive.object` and the object is looked up
+    /// in that drive's dictionary; the reference keeps the drive's name in front.
     pub(super) fn object(&mut self, name: &str, span: &Span) -> Option<(ObjectDef, ObjectRef)> {
+        if self.several_drives() {
+            let Some((drive, object)) = name.split_once('.') else {
+                let first = self
+                    .drive_dicts
+                    .first()
+                    .map(|(n, _)| n.clone())
+                    .unwrap_or_default();
+                self.problem(
+                    span,
+                    format!("`{name}` does not say which drive it is on"),
+                    "which drive?",
+                    Some(format!("this recipe has several drives: write the drive's name in front, e.g. `{first}.{name}`")),
+                );
+                return None;
+            };
+            let found = self.on_drive(drive, span, |l| l.lookup_object(object, span))??;
+            let (def, r) = found;
+            let r = ObjectRef {
+                name: format!("{drive}.{}", r.name),
+                unit: r.unit,
+            };
+            return Some((def, r));
+        }
+        self.lookup_object(name, span)
+    }
+
+    /// The object called `name` in the dictionary in use.
+    fn lookup_object(&mut self, name: &str, span: &Span) -> Option<(ObjectDef, ObjectRef)> {
         match self.dict.lookup(name) {
             Ok(def) => {
                 let r = ObjectRef {

@@ -72,12 +72,19 @@ impl Loader<'_, '_> {
         match &node.value {
             YamlValue::Str(word) => {
                 if let Some(cmd) = DeviceCommand::from_id(word) {
-                    if !self.has_profile(&node.span, &format!("`{word}`")) {
+                    // A bare command goes to every drive: each must have it.
+                    let ok = self.on_every_drive(|l| {
+                        if !l.has_profile(&node.span, &format!("`{word}`")) {
+                            return false;
+                        }
+                        l.check_command(&node.span, cmd);
+                        true
+                    });
+                    if !ok {
                         return None;
                     }
-                    self.check_command(&node.span, cmd);
                     return Some(Step {
-                        kind: StepKind::Command(cmd),
+                        kind: StepKind::Command(cmd, None),
                         origin,
                         label: cmd.id().to_string(),
                     });
@@ -124,6 +131,9 @@ impl Loader<'_, '_> {
         name: Option<String>,
         origin: StepOrigin,
     ) -> Option<Step> {
+        if let Some(cmd) = DeviceCommand::from_id(&key.value) {
+            return self.command_on_drive(cmd, body, origin);
+        }
         let (kind, label) = match key.value.as_str() {
             "go_to" => self.go_to(body)?,
             "set" => self.set(body)?,
@@ -174,6 +184,35 @@ impl Loader<'_, '_> {
                 )
             });
         self.problem(span, format!("unknown step `{word}`"), "unknown step", Some(help));
+    }
+
+    /// `- enable_operation: left`: a command to one named drive.
+    fn command_on_drive(&mut self, cmd: DeviceCommand, body: &YamlNode, origin: StepOrigin) -> Option<Step> {
+        let drive = self.r.scalar_text(body, "the drive to command")?;
+        if !self.several_drives() {
+            self.problem(
+                &body.span,
+                format!(
+                    "`{}: {drive}` names a drive, but this recipe has no `drives:`",
+                    cmd.id()
+                ),
+                "no such drive",
+                Some(format!("write `- {}` for the recipe's one drive", cmd.id())),
+            );
+            return None;
+        }
+        let ok = self.on_drive(&drive, &body.span, |l| {
+            if !l.has_profile(&body.span, &format!("`{}`", cmd.id())) {
+                return false;
+            }
+            l.check_command(&body.span, cmd);
+            true
+        })?;
+        ok.then(|| Step {
+            kind: StepKind::Command(cmd, Some(drive.clone())),
+            origin,
+            label: format!("{} {drive}", cmd.id()),
+        })
     }
 
     /// Device control (commands, states) needs the dictionary's profile; without one the

@@ -1,5 +1,5 @@
 //! The recipe document itself: its top-level keys (`name`, `drive`, `params`, `steps`,
-//! `finally`, `on_fault`, `leave_enabled`, `safe_stop`, `link`), each handed to the part that reads
+//! `finally`, `on_fault`, `leave_enabled`, `safe_stop`, `link`, `drives`), each handed to the part that reads
 //! it. It must not read steps or values itself.
 
 use super::Loader;
@@ -18,6 +18,7 @@ const TOP_KEYS: &[&str] = &[
     "leave_enabled",
     "safe_stop",
     "link",
+    "drives",
 ];
 
 impl Loader<'_, '_> {
@@ -43,9 +44,22 @@ impl Loader<'_, '_> {
         let description = f
             .get("description")
             .and_then(|n| self.r.scalar_text(n, "`description`"));
-        let drive = match f.get("drive") {
-            Some(n) => self.drive_family(n),
-            None => self.dict.family().to_string(),
+        let drives = f
+            .get("drives")
+            .map(|n| self.drives_section(n))
+            .unwrap_or_default();
+        if let (Some(one), Some(_)) = (f.get("drive"), f.get("drives")) {
+            self.problem(
+                &one.span,
+                "a recipe names either one `drive:` or several `drives:`, not both",
+                "drive and drives",
+                Some("move this drive into `drives:` with a name".into()),
+            );
+        }
+        let drive = match (f.get("drive"), drives.first()) {
+            (Some(n), _) => self.drive_family(n),
+            (None, Some(first)) => first.drive.clone(),
+            (None, None) => self.dict.family().to_string(),
         };
         let leave_enabled = f
             .get("leave_enabled")
@@ -75,6 +89,7 @@ impl Loader<'_, '_> {
             leave_enabled,
             safe_stop,
             link,
+            drives,
         })
     }
 

@@ -105,6 +105,7 @@ pub fn report(recipe: &str, recipe_path: &str, drive: &str, verdict: Verdict) ->
         omitted_checks: 0,
         csv_files: Vec::new(),
         resolutions: Vec::new(),
+        drive_ends: Vec::new(),
     }
 }
 

@@ -31,18 +31,18 @@ impl Loader<'_, '_> {
             let (stat, pred_node) = match v.entries() {
                 Some([(key, node)]) if Statistic::from_id(&key.value).is_some() => {
                     let stat = Statistic::from_id(&key.value);
-                    if !self.sampled.contains(&def.name) {
+                    if !self.sampled.contains(&r.name) {
                         self.problem(
                             &key.span,
                             format!(
                                 "no earlier `sample` step samples {}, so there is no {} to check",
-                                def.name,
+                                r.name,
                                 stat.map(Statistic::id).unwrap_or("value")
                             ),
                             "nothing sampled",
                             Some(format!(
                                 "add `- sample: {{ objects: [{}], every: 100 ms, for: 10 s }}` before this step",
-                                def.name
+                                r.name
                             )),
                         );
                         ok = false;
@@ -55,7 +55,7 @@ impl Loader<'_, '_> {
             match self.predicate(&def, pred_node) {
                 Some(p) => {
                     let stat_text = stat.map(|s| format!("{} ", s.id())).unwrap_or_default();
-                    let default_name = format!("{} {stat_text}{}", def.name, p.describe(r.unit.as_deref()));
+                    let default_name = format!("{} {stat_text}{}", r.name, p.describe(r.unit.as_deref()));
                     let check_name = match name {
                         Some(n) if f.entries().len() == 1 => n.to_string(),
                         Some(n) => format!("{n}: {default_name}"),

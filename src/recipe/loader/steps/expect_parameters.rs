@@ -14,6 +14,15 @@ impl Loader<'_, '_> {
         body: &YamlNode,
     ) -> Option<(StepKind, String)> {
         let file = self.text(body, "`expect_parameters`")?;
+        if self.several_drives() {
+            self.problem(
+                &body.span,
+                "`expect_parameters` compares one drive with a backup, and this recipe has several drives",
+                "which drive?",
+                Some("check each drive's parameters in a recipe of its own (`drivescript diff` compares one drive with a backup)".into()),
+            );
+            return None;
+        }
         let path = self.base_dir.join(&file);
         let parameters = match ParameterFile::load(&path) {
             Ok(p) => p,

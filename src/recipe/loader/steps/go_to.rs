@@ -8,19 +8,37 @@ use crate::recipe::step::StepKind;
 
 impl Loader<'_, '_> {
     pub(in crate::recipe::loader) fn go_to(&mut self, body: &YamlNode) -> Option<(StepKind, String)> {
-        let (state_node, what, timeout) = match body.entries() {
+        let (state_node, what, timeout, drive) = match body.entries() {
             Some(_) => {
-                let shape = Shape::new("this go_to", &["state", "timeout"]).require(&["state"]);
+                let shape = Shape::new("this go_to", &["state", "timeout", "drive"]).require(&["state"]);
                 let f = self.r.fields(body, &shape)?;
                 let timeout = match f.get("timeout") {
                     Some(t) => self.duration(t, "timeout")?,
                     None => DEFAULT_GO_TO_TIMEOUT,
                 };
-                (f.get("state")?, "`state`", timeout)
+                let drive = match f.get("drive") {
+                    Some(n) => Some((self.r.scalar_text(n, "`drive`")?, n.span.clone())),
+                    None => None,
+                };
+                (f.get("state")?, "`state`", timeout, drive)
             }
-            None => (body, "`go_to`", DEFAULT_GO_TO_TIMEOUT),
+            None => (body, "`go_to`", DEFAULT_GO_TO_TIMEOUT, None),
         };
-        let state = self.state(state_node, what)?;
+        let state = match &drive {
+            Some((name, span)) => self.on_drive(name, span, |l| l.state(state_node, what))??,
+            None => {
+                let mut found = None;
+                let ok = self.on_every_drive(|l| {
+                    found = l.state(state_node, what);
+                    found.is_some()
+                });
+                if !ok {
+                    return None;
+                }
+                found?
+            }
+        };
+        let drive = drive.map(|(name, _)| name);
         if matches!(
             state,
             DeviceState::Fault | DeviceState::FaultReactionActive | DeviceState::NotReadyToSwitchOn
@@ -36,6 +54,17 @@ impl Loader<'_, '_> {
             );
             return None;
         }
-        Some((StepKind::GoTo { state, timeout }, format!("go to {}", state.id())))
+        let label = match &drive {
+            Some(d) => format!("go to {} ({d})", state.id()),
+            None => format!("go to {}", state.id()),
+        };
+        Some((
+            StepKind::GoTo {
+                state,
+                timeout,
+                drive,
+            },
+            label,
+        ))
     }
 }

@@ -1,0 +1,475 @@
+//! Several drives in one recipe (issue 18): two simulated SD2 drives on one pseudo-terminal
+//! reach their own speeds, and their telegrams never interleave on the line; a fault on one
+//! stops both; a stop signal stops both, the last enabled first, each verified; two drives
+//! of different families, each on its own line; `check` names unknown drives with
+//! did-you-mean.
+
+use crate::safety::scratch;
+use crate::support::{drivescript, repo_root, stderr, stdout, InProcessRun};
+use drivescript::clock::SharedClock;
+use drivescript::drive::device_control::DeviceState;
+use drivescript::sim::SimulatedDrive;
+use drivescript::stop_request::{StopRequests, StopSignal};
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::{Arc, Mutex, PoisonError};
+use std::time::{Duration, Instant};
+
+const TWO_AXES: &str = "name: Two axes
+drives:
+  left:  { drive: sd2, address: dnc:2 }
+  right: { drive: sd2, address: dnc:3 }
+steps:
+  - shutdown
+  - set: { left.speed_setpoint: 1000 rpm, right.speed_setpoint: 2000 rpm }
+  - enable_operation: left
+  - go_to: { drive: right, state: operation_enabled }
+  - go_to: operation_enabled
+  - wait_until: { left.speed_actual: { near: 1000 rpm, within: 1 % }, timeout: 30 s }
+  - wait_until: { right.speed_actual: { near: 2000 rpm, within: 1 % }, timeout: 30 s }
+  - sample: { objects: [left.speed_actual, right.speed_actual], every: 100 ms, for: SAMPLE_FOR }
+  - expect:
+      left.speed_actual: { mean: { near: 1000 rpm, within: 1 % } }
+      right.speed_actual: { mean: { near: 2000 rpm, within: 1 % } }
+";
+
+fn write_recipe(dir: &Path, text: &str) -> PathBuf {
+    let path = dir.join("recipe.yaml");
+    std::fs::write(&path, text).expect("recipe written");
+    path
+}
+
+fn state_of(sim: &Arc<Mutex<dyn SimulatedDrive>>) -> DeviceState {
+    sim.lock().unwrap_or_else(PoisonError::into_inner).state()
+}
+
+/// The (TX, RX) byte rows of a trace file, in order (the lines that name the drive, and
+/// other events, left out).
+fn trace_rows(trace: &str) -> Vec<(String, Vec<u8>)> {
+    trace
+        .lines()
+        .filter_map(|line| {
+            let mut tokens = line.split_whitespace();
+            tokens.next()?.parse::<f64>().ok()?;
+            let direction = tokens.next()?.to_string();
+            if direction != "TX" && direction != "RX" {
+                return None;
+            }
+            let bytes = tokens
+                .take_while(|t| *t != "#")
+                .map(|t| u8::from_str_radix(t, 16))
+                .collect::<Result<Vec<u8>, _>>()
+                .ok()?;
+            Some((direction, bytes))
+        })
+        .collect()
+}
+
+/// Every request is answered, by the drive it was sent to, before the next request goes
+/// out: SD2 requests carry the destination in byte 2, replies the sender in byte 3.
+fn assert_never_interleaved(trace: &str) {
+    let rows = trace_rows(trace);
+    assert!(rows.len() > 20, "too short a trace: {trace}");
+    let mut asked: Option<u8> = None;
+    let mut addresses = std::collections::BTreeSet::new();
+    for (direction, bytes) in rows {
+        match (direction.as_str(), asked) {
+            ("TX", None) => {
+                asked = Some(bytes[2]);
+                addresses.insert(bytes[2]);
+            }
+            ("RX", Some(to)) => {
+                assert_eq!(bytes[3], to, "a reply from another drive than the one asked");
+                asked = None;
+            }
+            (d, a) => panic!("{d} while {a:?} was awaiting its reply: the line interleaved"),
+        }
+    }
+    assert_eq!(
+        addresses.into_iter().collect::<Vec<_>>(),
+        vec![2, 3],
+        "both drives were asked"
+    );
+}
+
+#[cfg(unix)]
+#[test]
+fn two_drives_on_one_pty_reach_their_own_speeds_and_never_interleave() {
+    let sim = crate::safety::PtySimulator::start_with(&["--address", "dnc:2,dnc:3"]);
+    let dir = scratch("multi-pty");
+    let recipe = write_recipe(&dir, &TWO_AXES.replace("SAMPLE_FOR", "1 s"));
+    let trace = dir.join("run.trace");
+    let out = drivescript(
+        &[
+            "run",
+            recipe.to_str().expect("utf-8 path"),
+            "--port",
+            &sim.path,
+            "--trace",
+            trace.to_str().expect("utf-8 path"),
+        ],
+        "",
+    );
+    let text = stdout(&out);
+    assert_eq!(out.status.code(), Some(0), "{text}{}", stderr(&out));
+    assert!(
+        text.contains("PASS  left.speed_actual mean near 1000 rpm"),
+        "{text}"
+    );
+    assert!(
+        text.contains("PASS  right.speed_actual mean near 2000 rpm"),
+        "{text}"
+    );
+    assert!(
+        text.contains("right: drive left in ready to switch on at 0 rpm\nleft: drive left in ready to switch on at 0 rpm\n"),
+        "{text}"
+    );
+    let trace = std::fs::read_to_string(&trace).expect("trace");
+    assert!(
+        trace.contains("-- drive `left`") && trace.contains("-- drive `right`"),
+        "{trace}"
+    );
+    assert_never_interleaved(&trace);
+}
+
+/// Ctrl-C during the sample of a run on a real pseudo-terminal: both drives stopped, the
+/// last enabled first, each read back; and afterwards each reports it by itself.
+#[cfg(unix)]
+#[test]
+fn ctrl_c_on_a_pty_stops_both_drives_each_verified() {
+    use std::io::Read;
+    let sim = crate::safety::PtySimulator::start_with(&["--address", "dnc:2,dnc:3"]);
+    let dir = scratch("multi-pty-ctrl-c");
+    let recipe = write_recipe(&dir, &TWO_AXES.replace("SAMPLE_FOR", "10 min"));
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_drivescript"))
+        .arg("run")
+        .arg(&recipe)
+        .args(["--port", &sim.path])
+        .current_dir(repo_root())
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("run starts");
+    let mut out = child.stdout.take().expect("stdout");
+    let mut seen = String::new();
+    let mut buf = [0u8; 512];
+    let started = Instant::now();
+    while !seen.contains("wait until right.speed_actual") && started.elapsed() < Duration::from_secs(30) {
+        let n = out.read(&mut buf).expect("read");
+        if n == 0 {
+            break;
+        }
+        seen.push_str(&String::from_utf8_lossy(&buf[..n]));
+    }
+    assert!(seen.contains("wait until right.speed_actual"), "{seen}");
+    std::thread::sleep(Duration::from_millis(500));
+    let status = std::process::Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .expect("kill runs");
+    assert!(status.success());
+    out.read_to_string(&mut seen).expect("the rest of the output");
+    let code = child.wait().expect("the run ends").code();
+    assert_eq!(code, Some(130), "{seen}");
+    assert!(!seen.contains("CHECK THE DRIVE BY HAND"), "{seen}");
+    // The last enabled (right) is stopped first.
+    let right = seen
+        .find("right: set speed_setpoint = 0 rpm")
+        .expect("right stopped");
+    let left = seen
+        .find("left: set speed_setpoint = 0 rpm")
+        .expect("left stopped");
+    assert!(right < left, "{seen}");
+    assert!(
+        seen.contains("right: drive left in ready to switch on at 0 rpm\nleft: drive left in ready to switch on at 0 rpm\n"),
+        "{seen}"
+    );
+    for address in ["dnc:2", "dnc:3"] {
+        let state = drivescript(&["state", "--port", &sim.path, "--address", address], "");
+        let text = stdout(&state);
+        assert!(
+            text.contains("ready to switch on"),
+            "{address}: {text}{}",
+            stderr(&state)
+        );
+    }
+}
+
+/// Runs `recipe` in-process in virtual time; `prepare` sees each simulated drive in the
+/// order declared.
+fn run_in_process(
+    recipe: &Path,
+    stop: Arc<StopRequests>,
+    prepare: &drivescript::cli::PrepareSimulator,
+) -> (drivescript::cli::RunResult, String) {
+    let mut run = InProcessRun::new(recipe);
+    run.stop = stop;
+    run.prepare = Some(prepare);
+    run.run()
+}
+
+#[test]
+fn a_fault_on_one_drive_runs_on_fault_and_stops_both() {
+    let dir = scratch("multi-fault");
+    let recipe = write_recipe(
+        &dir,
+        "name: Fault on the left
+drives:
+  left:  { drive: sd2, address: dnc:2 }
+  right: { drive: sd2, address: dnc:3 }
+steps:
+  - set: { left.speed_setpoint: 1000 rpm, right.speed_setpoint: 2000 rpm }
+  - go_to: operation_enabled
+  - dwell: 1 min
+on_fault:
+  - print: the left drive tripped
+",
+    );
+    let calls = AtomicUsize::new(0);
+    let prepare = move |sim: &Arc<Mutex<dyn SimulatedDrive>>, _: &SharedClock| {
+        if calls.fetch_add(1, Ordering::SeqCst) == 0 {
+            let mut sim = sim.lock().unwrap_or_else(PoisonError::into_inner);
+            sim.faults().trip_at(Duration::from_secs(10), 4660);
+        }
+    };
+    let (result, output) = run_in_process(&recipe, Arc::new(StopRequests::new()), &prepare);
+    assert_eq!(result.exit_code, 3, "{output}");
+    assert!(output.contains("drive fault: drive `left` went to"), "{output}");
+    assert!(output.contains("the left drive tripped"), "{output}");
+    let report = result.report.expect("a report");
+    assert_eq!(report.drive_ends.len(), 2, "{output}");
+    assert!(report.drive_ends.iter().all(|e| e.stop_confirmed), "{output}");
+    assert_eq!(result.simulators.len(), 2);
+    for (name, sim) in &result.simulators {
+        let state = state_of(sim);
+        assert!(
+            !matches!(
+                state,
+                DeviceState::OperationEnabled | DeviceState::QuickStopActive
+            ),
+            "{name} still {state}: {output}"
+        );
+    }
+    // The right drive, not faulted, was stopped the normal way.
+    assert!(
+        output.contains("right: disable_operation (default finally)"),
+        "{output}"
+    );
+}
+
+#[test]
+fn a_stop_signal_stops_both_drives_last_enabled_first() {
+    let dir = scratch("multi-signal");
+    let recipe = write_recipe(&dir, &TWO_AXES.replace("SAMPLE_FOR", "1 h"));
+    let stop = Arc::new(StopRequests::new());
+    stop.schedule(Duration::from_secs(30), StopSignal::INT);
+    let (result, output) = run_in_process(&recipe, stop, &|_, _| {});
+    assert_eq!(result.exit_code, 130, "{output}");
+    let report = result.report.expect("a report");
+    let names: Vec<&str> = report.drive_ends.iter().map(|e| e.name.as_str()).collect();
+    assert_eq!(names, vec!["right", "left"], "{output}");
+    for end in &report.drive_ends {
+        assert!(end.stop_confirmed, "{output}");
+        assert_eq!(end.final_state, Some(DeviceState::ReadyToSwitchOn), "{output}");
+        assert!(end.final_speed.is_some_and(|v| v.abs() < 10.0), "{output}");
+    }
+    for (name, sim) in &result.simulators {
+        assert_eq!(state_of(sim), DeviceState::ReadyToSwitchOn, "{name}: {output}");
+    }
+}
+
+#[test]
+fn drives_of_two_families_each_on_its_own_line_reach_their_speeds() {
+    let dir = scratch("multi-families");
+    let recipe = write_recipe(
+        &dir,
+        "name: Spindle and feed
+drives:
+  spindle: { drive: sd2, address: dnc:2 }
+  feed:    { drive: ct-unidrive-sp, address: \"1.2\" }
+steps:
+  - go_to: operation_enabled
+  - set: { spindle.speed_setpoint: 3000 rpm, feed.speed_setpoint: 500 rpm }
+  - wait_until: { spindle.speed_actual: { near: 3000 rpm, within: 1 % }, timeout: 30 s }
+  - wait_until: { feed.speed_actual: { near: 500 rpm, within: 1 % }, timeout: 30 s }
+  - sample: { objects: [spindle.speed_actual, feed.speed_actual], every: 100 ms, for: 2 s }
+  - expect:
+      spindle.speed_actual: { mean: { near: 3000 rpm, within: 1 % } }
+      feed.speed_actual: { mean: { near: 500 rpm, within: 1 % } }
+",
+    );
+    let csv = dir.join("run.csv");
+    let mut run = InProcessRun::new(&recipe);
+    run.outputs.csv = Some(csv.clone());
+    let (result, output) = run.run();
+    assert_eq!(result.exit_code, 0, "{output}");
+    assert!(output.contains("spindle SD2 (DNC address 2)"), "{output}");
+    // The long CSV layout names the drive in a column of its own.
+    let rows = std::fs::read_to_string(&csv).expect("csv");
+    let mut lines = rows.lines();
+    assert_eq!(lines.next(), Some("time [s],utc,step,drive,object,value,unit"));
+    let first: Vec<&str> = lines.next().expect("a row").split(',').collect();
+    assert_eq!(first[2..5], ["5", "spindle", "speed_actual"], "{rows}");
+    assert!(
+        rows.lines().any(|l| l.contains(",5,feed,speed_actual,")),
+        "{rows}"
+    );
+    assert!(output.contains("feed CT_ANSI (drive 1.2)"), "{output}");
+    let report = result.report.expect("a report");
+    assert_eq!(report.drive_ends.len(), 2);
+    assert!(report.drive_ends.iter().all(|e| e.stop_confirmed));
+    let series: Vec<&str> = report.series.iter().map(|s| s.object.as_str()).collect();
+    assert_eq!(series, vec!["spindle.speed_actual", "feed.speed_actual"]);
+}
+
+#[test]
+fn check_names_unknown_drives_and_objects_without_a_drive() {
+    let dir = scratch("multi-check");
+    let recipe = write_recipe(
+        &dir,
+        "name: Typos
+drives:
+  left:  { drive: sd2, address: dnc:2 }
+  right: { drive: ct-unidrive-sp }
+steps:
+  - set: { lfet.speed_setpoint: 1000 rpm, right.sped_setpoint: 2000 rpm }
+  - enable_operation: rihgt
+  - read: [speed_actual]
+",
+    );
+    let out = drivescript(&["check", recipe.to_str().expect("utf-8 path")], "");
+    let text = stderr(&out);
+    assert_eq!(out.status.code(), Some(2), "{text}");
+    assert!(text.contains("unknown drive `lfet`"), "{text}");
+    assert!(text.contains("did you mean `left`?"), "{text}");
+    assert!(
+        text.contains("unknown object `sped_setpoint` in the ct_ansi dictionary"),
+        "{text}"
+    );
+    assert!(text.contains("unknown drive `rihgt`"), "{text}");
+    assert!(text.contains("did you mean `right`?"), "{text}");
+    assert!(
+        text.contains("`speed_actual` does not say which drive it is on"),
+        "{text}"
+    );
+    assert!(text.contains("4 problems"), "{text}");
+}
+
+#[test]
+fn two_drives_at_one_address_on_one_line_are_refused_before_anything_is_sent() {
+    let dir = scratch("multi-same-address");
+    let recipe = write_recipe(
+        &dir,
+        "name: Same address
+drives:
+  left:  { drive: sd2, address: dnc:2 }
+  right: { drive: sd2, address: dnc:2 }
+steps:
+  - shutdown
+",
+    );
+    let (result, output) = run_in_process(&recipe, Arc::new(StopRequests::new()), &|_, _| {});
+    assert_eq!(result.exit_code, 2, "{output}");
+    assert!(
+        output.contains("drives `left` and `right` are both at"),
+        "{output}"
+    );
+    assert!(result.report.is_none());
+}
+
+const TWO_AXES_SCRIPT: &str = r#"//! name: Two axes from a script
+//! drives: left = sd2 @ dnc:2, right = sd2 @ dnc:3
+let left = drive("left");
+let right = drive("right");
+drive().shutdown();
+left.set("speed_setpoint", 1000.0, "rpm");
+right.set("speed_setpoint", 2000.0, "rpm");
+left.go_to("operation_enabled");
+right.go_to("operation_enabled");
+dwell("2 s");
+let w = left.sample(["speed_actual"], "100 ms", "1 s");
+expect_near("left speed", w.mean("speed_actual"), 1000.0, 10.0);
+expect_near("right speed", right.read("speed_actual"), 2000.0, 20.0);
+print(`right is ${right.state()}`);
+DRIVE_CALL
+"#;
+
+fn write_script(dir: &Path, text: &str) -> PathBuf {
+    let path = dir.join("script.rhai");
+    std::fs::write(&path, text).expect("script written");
+    path
+}
+
+#[test]
+fn a_script_drives_each_named_drive_and_stops_both() {
+    let dir = scratch("multi-script");
+    let script = write_script(&dir, &TWO_AXES_SCRIPT.replace("DRIVE_CALL", ""));
+    let (result, output) = run_in_process(&script, Arc::new(StopRequests::new()), &|_, _| {});
+    assert_eq!(result.exit_code, 0, "{output}");
+    assert!(output.contains("PASS  left speed: measured 1000"), "{output}");
+    assert!(output.contains("PASS  right speed: measured 1999.9"), "{output}");
+    assert!(output.contains("right is operation_enabled"), "{output}");
+    assert!(
+        output.contains("shutdown  left: control word 6; right: control word 6"),
+        "{output}"
+    );
+    for (name, sim) in &result.simulators {
+        assert_eq!(state_of(sim), DeviceState::ReadyToSwitchOn, "{name}: {output}");
+    }
+}
+
+#[test]
+fn a_script_naming_an_unknown_drive_or_no_drive_is_told_which_there_are() {
+    let dir = scratch("multi-script-typo");
+    let script = write_script(
+        &dir,
+        &TWO_AXES_SCRIPT.replace("DRIVE_CALL", "drive(\"rigth\").read(\"speed_actual\");"),
+    );
+    let (result, output) = run_in_process(&script, Arc::new(StopRequests::new()), &|_, _| {});
+    assert_ne!(result.exit_code, 0, "{output}");
+    assert!(
+        output.contains("no drive called `rigth` in this script; did you mean `right`?"),
+        "{output}"
+    );
+    let script = write_script(
+        &dir,
+        &TWO_AXES_SCRIPT.replace("DRIVE_CALL", "drive().read(\"speed_actual\");"),
+    );
+    let (result, output) = run_in_process(&script, Arc::new(StopRequests::new()), &|_, _| {});
+    assert_ne!(result.exit_code, 0, "{output}");
+    assert!(
+        output.contains("this script has several drives (left, right): name the drive"),
+        "{output}"
+    );
+    // Either way both drives are stopped.
+    for (name, sim) in &result.simulators {
+        assert_eq!(state_of(sim), DeviceState::ReadyToSwitchOn, "{name}: {output}");
+    }
+}
+
+#[test]
+fn the_bench_limits_cap_every_drive_of_a_recipe_and_of_a_script() {
+    let dir = scratch("multi-limits");
+    let limits = dir.join("limits.yaml");
+    std::fs::write(&limits, "max_speed: 1500 rpm\n").expect("limits written");
+    let recipe = write_recipe(&dir, &TWO_AXES.replace("SAMPLE_FOR", "1 s"));
+    let script = write_script(&dir, &TWO_AXES_SCRIPT.replace("DRIVE_CALL", ""));
+    for file in [&recipe, &script] {
+        let out = drivescript(
+            &[
+                "check",
+                file.to_str().expect("utf-8 path"),
+                "--limits",
+                limits.to_str().expect("utf-8 path"),
+            ],
+            "",
+        );
+        let text = stderr(&out);
+        assert_eq!(out.status.code(), Some(2), "{text}");
+        assert!(
+            text.contains("2000 rpm exceeds the bench limit 1500 rpm of speed_setpoint"),
+            "{text}"
+        );
+        assert!(text.contains("1 problem"), "{text}");
+    }
+}
