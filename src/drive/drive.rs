@@ -27,6 +27,13 @@ pub struct Transition {
 /// `None` on a side the drive says has no limit.
 pub type ValueLimits = (Option<Value>, Option<Value>);
 
+/// Objects a `sample` reads again and again, looked up once (see [`Drive::read_set`]).
+#[derive(Debug, Clone)]
+pub struct ReadSet {
+    defs: Vec<ObjectDef>,
+    requests: Vec<(crate::dictionary::Address, crate::dictionary::DataType)>,
+}
+
 pub struct Drive {
     access: Box<dyn ObjectAccess>,
     dictionary: Arc<Dictionary>,
@@ -106,28 +113,33 @@ impl Drive {
         })
     }
 
-    /// Reads several objects as numbers in their engineering units into `out` (one per
-    /// name), in one round trip where the family's telegram carries them together.
-    pub fn read_numbers(&mut self, names: &[&str], out: &mut [f64]) -> Result<(), DriveError> {
-        let dictionary = Arc::clone(&self.dictionary);
+    /// Objects to read together again and again (a `sample`), looked up and checked
+    /// readable once.
+    pub fn read_set(&self, names: &[&str]) -> Result<ReadSet, DriveError> {
         let mut defs = Vec::with_capacity(names.len());
         for name in names {
-            let def = lookup(&dictionary, name)?;
+            let def = lookup(&self.dictionary, name)?;
             if !def.readable() {
                 return Err(DriveError::WriteOnly {
                     object: def.name.clone(),
                 });
             }
-            defs.push(def);
+            defs.push(def.clone());
         }
-        if let [def] = defs[..] {
+        let requests = defs.iter().map(|d| (d.address, d.data_type)).collect();
+        Ok(ReadSet { defs, requests })
+    }
+
+    /// Reads a [`ReadSet`] as numbers in the objects' engineering units into `out` (one
+    /// per object), in one round trip where the family's telegram carries them together.
+    pub fn read_set_numbers(&mut self, set: &ReadSet, out: &mut [f64]) -> Result<(), DriveError> {
+        if let ([def], [slot]) = (&set.defs[..], &mut out[..]) {
             let v = self.read_def(def)?;
-            out[0] = number_of(def, &v)?;
+            *slot = number_of(def, &v)?;
             return Ok(());
         }
-        let requests: Vec<_> = defs.iter().map(|d| (d.address, d.data_type)).collect();
-        let results = self.access.read_many(&requests);
-        for ((def, result), slot) in defs.iter().zip(results).zip(out.iter_mut()) {
+        let results = self.access.read_many(&set.requests);
+        for ((def, result), slot) in set.defs.iter().zip(results).zip(out.iter_mut()) {
             let raw = result.map_err(|e| self.refusal(e, "to read", def))?;
             let value = def.value_of(raw).map_err(|source| DriveError::BadReply {
                 object: def.name.clone(),

@@ -11,7 +11,7 @@ pub mod state_path;
 
 pub use access_error::AccessError;
 pub use device_control::{DeviceCommand, DeviceState};
-pub use drive::{Drive, Transition, ValueLimits};
+pub use drive::{Drive, ReadSet, Transition, ValueLimits};
 pub use drive_error::DriveError;
 pub use object_access::{DriveLimits, ObjectAccess, WriteOutcome};
 pub use state_path::{next_step, NextStep};

@@ -6,46 +6,59 @@ use super::session::{round, Session};
 use super::stop::{nth_tick, Stop};
 use super::with_unit;
 use super::{BucketSeries, ObjectRef, SampleTable, Series, Stats, SERIES_BUCKETS};
+use crate::drive::ReadSet;
 use std::path::PathBuf;
 use std::time::Duration;
 
 /// The objects of one drive in a sample: the drive's index, the objects' places in the
-/// step's list, and their names in the drive's dictionary.
-type ReadGroup = (usize, Vec<usize>, Vec<String>);
+/// step's list, and the objects looked up once in the drive's dictionary.
+type ReadGroup = (usize, Vec<usize>, ReadSet);
 
 impl Session<'_> {
     /// The objects of a sample grouped by drive, so that each drive is read in one go.
     fn read_groups(&mut self, objects: &[ObjectRef]) -> Result<Vec<ReadGroup>, Stop> {
-        let mut groups: Vec<ReadGroup> = Vec::new();
+        let mut grouped: Vec<(usize, Vec<usize>, Vec<String>)> = Vec::new();
         for (i, o) in objects.iter().enumerate() {
             let name = self.select_object(&o.name)?.to_string();
-            match groups.iter_mut().find(|g| g.0 == self.current) {
+            match grouped.iter_mut().find(|g| g.0 == self.current) {
                 Some(g) => {
                     g.1.push(i);
                     g.2.push(name);
                 }
-                None => groups.push((self.current, vec![i], vec![name])),
+                None => grouped.push((self.current, vec![i], vec![name])),
             }
+        }
+        let mut groups = Vec::with_capacity(grouped.len());
+        for (drive, places, names) in grouped {
+            self.current = drive;
+            let names: Vec<&str> = names.iter().map(String::as_str).collect();
+            let set = self.drive().read_set(&names)?;
+            groups.push((drive, places, set));
         }
         Ok(groups)
     }
 
-    /// One sample of every group into `values` (in the step's order of objects).
-    fn read_grouped(&mut self, groups: &[ReadGroup], values: &mut [f64]) -> Result<(), Stop> {
-        if let [(drive, _, names)] = groups {
+    /// One sample of every group into `values` (in the step's order of objects); `scratch`
+    /// holds a group's values on the way.
+    fn read_grouped(
+        &mut self,
+        groups: &[ReadGroup],
+        values: &mut [f64],
+        scratch: &mut Vec<f64>,
+    ) -> Result<(), Stop> {
+        if let [(drive, _, set)] = groups {
             // One drive: straight into `values`, as the objects are in its order.
-            let names: Vec<&str> = names.iter().map(String::as_str).collect();
             self.current = *drive;
-            self.drive().read_numbers(&names, values)?;
+            self.drive().read_set_numbers(set, values)?;
             return Ok(());
         }
-        for (drive, places, names) in groups {
-            let names: Vec<&str> = names.iter().map(String::as_str).collect();
-            let mut got = vec![0.0; names.len()];
+        for (drive, places, set) in groups {
+            scratch.clear();
+            scratch.resize(places.len(), 0.0);
             self.current = *drive;
-            self.drive().read_numbers(&names, &mut got)?;
-            for (place, v) in places.iter().zip(got) {
-                values[*place] = v;
+            self.drive().read_set_numbers(set, scratch)?;
+            for (place, v) in places.iter().zip(scratch.iter()) {
+                values[*place] = *v;
             }
         }
         Ok(())
@@ -79,6 +92,7 @@ impl Session<'_> {
             objects.iter().map(|_| BucketSeries::new(origin, width)).collect();
         let mut values = vec![0.0; objects.len()];
         let groups = self.read_groups(objects)?;
+        let mut scratch = Vec::new();
         let mut k: u32 = 0;
         let mut late = 0u32;
         let end = start.saturating_add(duration);
@@ -98,7 +112,7 @@ impl Session<'_> {
             let t = (at - run_start).as_secs_f64();
             // All at once: a family whose telegram carries several values answers them in
             // one round trip.
-            self.read_grouped(&groups, &mut values)?;
+            self.read_grouped(&groups, &mut values, &mut scratch)?;
             for (i, v) in values.iter().enumerate() {
                 stats[i].push(*v);
                 series[i].push(t, *v);
