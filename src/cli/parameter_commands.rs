@@ -358,6 +358,30 @@ fn identity_mismatches(backup: &ParameterFile, drive: &mut Drive) -> Vec<String>
         .collect()
 }
 
+/// Refuses (with the exit code, after saying why) while the drive's power stage may be on
+/// or the motor braking: some parameters change the motor's behaviour at once.
+fn refuse_while_powered(drive: &mut Drive, force: bool) -> Result<(), i32> {
+    match drive.state() {
+        Ok(
+            state @ (DeviceState::OperationEnabled
+            | DeviceState::QuickStopActive
+            | DeviceState::FaultReactionActive),
+        ) => {
+            eprintln!("error: the drive is in {state}; disable it first (drivescript run a recipe that ends with shutdown, or the drive's own controls); nothing was written");
+            Err(INVALID)
+        }
+        Ok(_) => Ok(()),
+        Err(e) if !force => {
+            eprintln!("error: cannot tell whether the drive is enabled ({e}); make sure it is disabled and give --force; nothing was written");
+            Err(INVALID)
+        }
+        Err(e) => {
+            eprintln!("warning: cannot tell whether the drive is enabled ({e}); going on because of --force");
+            Ok(())
+        }
+    }
+}
+
 /// The planned writes outside the limits the drive itself reports, as lines to print.
 fn beyond_drive_limits(drive: &mut Drive, plan: &[parameters::PlannedWrite]) -> Vec<String> {
     let mut out = Vec::new();
@@ -406,20 +430,8 @@ pub fn restore(args: &RestoreArgs) -> i32 {
         Ok(o) => o,
         Err(code) => return code,
     };
-    // The drive must not be running: some parameters change the motor's behaviour at once.
-    match open.drive.state() {
-        Ok(DeviceState::OperationEnabled) => {
-            eprintln!("error: the drive is in operation enabled; disable it first (drivescript run a recipe that ends with shutdown, or the drive's own controls); nothing was written");
-            return INVALID;
-        }
-        Ok(_) => {}
-        Err(e) if !args.force => {
-            eprintln!("error: cannot tell whether the drive is enabled ({e}); make sure it is disabled and give --force; nothing was written");
-            return INVALID;
-        }
-        Err(e) => {
-            eprintln!("warning: cannot tell whether the drive is enabled ({e}); going on because of --force")
-        }
+    if let Err(code) = refuse_while_powered(&mut open.drive, args.force) {
+        return code;
     }
     let mismatches = identity_mismatches(&backup, &mut open.drive);
     if !mismatches.is_empty() {
@@ -484,6 +496,10 @@ pub fn restore(args: &RestoreArgs) -> i32 {
         println!("nothing written; give --apply to carry out the plan");
         return PASSED;
     }
+    // Asked again just before the first write: reading the live set took a while.
+    if let Err(code) = refuse_while_powered(&mut open.drive, args.force) {
+        return code;
+    }
     let done = parameters::apply(
         &mut open.drive,
         &plan,
@@ -533,6 +549,15 @@ pub fn restore(args: &RestoreArgs) -> i32 {
     }
     if failed {
         return COMMUNICATION;
+    }
+    // A stop during the last write: everything is written, but nothing is stored.
+    if let Some(signal) = stop.first() {
+        println!(
+            "interrupted by {} after the last write: all {} written, nothing stored",
+            signal.describe(),
+            plan.len()
+        );
+        return signal.exit_code();
     }
     if args.store {
         match open.drive.store_parameters() {

@@ -129,6 +129,9 @@ pub struct Look {
     pub color: bool,
     /// The longest the run can take, for the bar (recipes know it).
     pub planned: Option<Duration>,
+    /// `-v` writes telegram lines to standard error as they happen; step lines then go out
+    /// at once too, so a merged log keeps them in order.
+    pub verbose: bool,
 }
 
 impl Look {
@@ -145,6 +148,7 @@ impl Look {
             live: terminal && !outputs.quiet && !outputs.verbose,
             color: colored && color_wanted(outputs.color.choice(), terminal),
             planned,
+            verbose: outputs.verbose,
         }
     }
 }
@@ -156,7 +160,9 @@ pub fn observed(
     csv: Option<&mut CsvRecorder>,
     run: impl FnOnce(&mut Observers) -> RunReport,
 ) -> RunReport {
-    let mut console = ConsoleReporter::new(&mut *out, look.virtual_time).with_color(look.color);
+    let mut console = ConsoleReporter::new(&mut *out, look.virtual_time)
+        .with_color(look.color)
+        .holding(!look.verbose);
     let mut progress = look.live.then(|| {
         let p = ProgressReporter::stdout(look.virtual_time).with_color(look.color);
         match look.planned {

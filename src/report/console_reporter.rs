@@ -17,6 +17,9 @@ pub struct ConsoleReporter<W: Write> {
     pending: Vec<u8>,
     last_flush: Instant,
     color: bool,
+    /// Whether lines may be held back at all (not while telegram lines go to another
+    /// stream as they happen, see [`ConsoleReporter::holding`]).
+    hold: bool,
 }
 
 /// How long a line may be held back in a burst; the first line after a quiet spell, and
@@ -32,7 +35,15 @@ impl<W: Write> ConsoleReporter<W> {
             pending: Vec::new(),
             last_flush: Instant::now().checked_sub(HOLD).unwrap_or_else(Instant::now),
             color: false,
+            hold: true,
         }
+    }
+
+    /// Whether a burst of lines may be held back (the default); `false` writes every line
+    /// at once, for a console interleaved with `-v` telegram lines on standard error.
+    pub fn holding(mut self, hold: bool) -> Self {
+        self.hold = hold;
+        self
     }
 
     /// PASS/FAIL and the verdict in colour (see [`super::color_wanted`]).
@@ -56,7 +67,7 @@ impl<W: Write> ConsoleReporter<W> {
             self.pending.extend_from_slice(text.as_bytes());
         }
         self.pending.push(b'\n');
-        if self.last_flush.elapsed() >= HOLD || self.pending.len() >= HOLD_BYTES {
+        if !self.hold || self.last_flush.elapsed() >= HOLD || self.pending.len() >= HOLD_BYTES {
             self.flush();
         }
     }
@@ -278,6 +289,16 @@ mod tests {
         let lines: Vec<&str> = text.lines().collect();
         assert_eq!(lines.len(), 10_000);
         assert!(lines[9_999].ends_with("value 9999"), "{}", lines[9_999]);
+    }
+
+    #[test]
+    fn without_holding_every_line_goes_out_at_once() {
+        let writes = Writes::default();
+        let mut console = ConsoleReporter::new(writes.clone(), true).holding(false);
+        for i in 0..10 {
+            console.message(&format!("value {i}"));
+            assert!(writes.text().contains(&format!("value {i}")), "{}", writes.text());
+        }
     }
 
     #[test]

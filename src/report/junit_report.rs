@@ -145,7 +145,8 @@ fn suite_properties(r: &RunReport, started: &str) -> Vec<(String, String)> {
     if let Some(reason) = r.verdict.reason() {
         p.push(("reason".into(), reason));
     }
-    if let Some(state) = r.final_state {
+    // One state for one drive; with several, `after_safe_stop` names each drive's.
+    if let (Some(state), true) = (r.final_state, r.drive_ends.len() <= 1) {
         p.push(("final_state".into(), state.to_string()));
     }
     p.push(("after_safe_stop".into(), r.drive_left()));

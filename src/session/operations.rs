@@ -9,14 +9,22 @@ use crate::drive::{DeviceCommand, DeviceState, WriteOutcome};
 use std::time::Duration;
 
 impl Session<'_> {
+    /// Marks the current drive as the latest enabled: the safe stop stops the last
+    /// enabled first.
+    fn note_enabled(&mut self) {
+        self.enable_count += 1;
+        let order = self.enable_count;
+        self.cur().enabled_order = order;
+    }
+
     /// Writes one device-control command to the current drive.
     pub fn command(&mut self, command: DeviceCommand) -> Result<String, Stop> {
-        self.drive().command(command)?;
+        // Counted before sending: a drive whose enable was sent but not answered (a stop
+        // signal, a lost reply) may be running and is stopped first.
         if command == DeviceCommand::EnableOperation {
-            self.enable_count += 1;
-            let order = self.enable_count;
-            self.cur().enabled_order = order;
+            self.note_enabled();
         }
+        self.drive().command(command)?;
         Ok(self.drive_ref().profile()?.command_text(command))
     }
 
@@ -66,15 +74,13 @@ impl Session<'_> {
         // The same rule as `interrupted`, without borrowing the session, whose drive the
         // walk borrows.
         let (stop, clock, in_safe_stop) = (self.stop, self.clock.clone(), self.in_safe_stop);
+        if state == DeviceState::OperationEnabled {
+            self.note_enabled();
+        }
         let transitions = self.drive().go_to(state, timeout, &move || {
             let now = clock.now();
             stop.pending_at(now) && !(in_safe_stop && stop.count_at(now) < 2)
         })?;
-        if state == DeviceState::OperationEnabled {
-            self.enable_count += 1;
-            let order = self.enable_count;
-            self.cur().enabled_order = order;
-        }
         if transitions.is_empty() {
             Ok(format!("already {state}"))
         } else {

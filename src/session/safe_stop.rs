@@ -140,13 +140,17 @@ impl Session<'_> {
         if let Err(e) = result {
             let (_, why) = outcome(&Err(e));
             self.note(format!("the safe stop itself failed: {why}"));
-            let last_resort = self.guarded(|r| {
-                r.emergency_off();
-                r.verify(false);
-                Ok(())
-            });
-            if last_resort.is_err() {
-                self.report.stop_confirmed = false;
+            // Every drive, each on its own: one that fails must not keep the others on.
+            for i in self.stop_order() {
+                self.current = i;
+                let last_resort = self.guarded(|r| {
+                    r.emergency_off();
+                    r.verify(false);
+                    Ok(())
+                });
+                if last_resort.is_err() {
+                    self.report.stop_confirmed = false;
+                }
             }
         }
         // A stop signal that arrived only during the safe stop still ends the run as

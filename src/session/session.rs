@@ -372,8 +372,16 @@ impl<'a> Session<'a> {
             // telegram); the wait is cut into its periods.
             let mut until = deadline;
             for i in 0..self.drives.len() {
-                if let Some(next) = self.drives[i].drive.keep_alive()? {
-                    until = until.min(self.clock.now().saturating_add(next));
+                if self.drives[i].link_given_up {
+                    continue;
+                }
+                match self.drives[i].drive.keep_alive() {
+                    Ok(Some(next)) => until = until.min(self.clock.now().saturating_add(next)),
+                    Ok(None) => {}
+                    // In the safe stop one drive's lost channel must not end the waits that
+                    // stop the others; its own steps report the loss.
+                    Err(_) if self.in_safe_stop => {}
+                    Err(e) => return Err(e.into()),
                 }
             }
             while self.clock.wait_until(until, self.stop) {

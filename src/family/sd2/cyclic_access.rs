@@ -54,6 +54,8 @@ pub struct Sd2CyclicAccess {
     /// may remember another master's toggle).
     service_used: bool,
     last_sent: Option<Duration>,
+    /// Set by a reopen: the next output read from the drive is sent with speed 0.
+    resume_stopped: bool,
 }
 
 /// A value the cyclic reply carries.
@@ -75,6 +77,7 @@ impl Sd2CyclicAccess {
             service_toggle: true,
             service_used: false,
             last_sent: None,
+            resume_stopped: false,
         }
     }
 
@@ -118,7 +121,10 @@ impl Sd2CyclicAccess {
             .object
             .read(&Address::indexed(SPEED_SETPOINT, 0), DataType::I32)?;
         let word = word.as_int().and_then(|w| u16::try_from(w).ok()).unwrap_or(0);
-        let rpm = setpoint.as_int().unwrap_or(0) as f64 / COUNTS_PER_RPM;
+        let mut rpm = setpoint.as_int().unwrap_or(0) as f64 / COUNTS_PER_RPM;
+        if std::mem::take(&mut self.resume_stopped) {
+            rpm = 0.0;
+        }
         // A setpoint the drive holds beyond the scaling is sent as the nearest the telegram
         // can carry; it is the drive's own value, not one the user asked for.
         let reference = self.reference(rpm).unwrap_or(if rpm < 0.0 {
@@ -326,11 +332,26 @@ impl ObjectAccess for Sd2CyclicAccess {
             Some(i) => {
                 let (address, data_type) = objects[i];
                 let (index, size) = Self::service_fits(&address, data_type).unwrap_or((0, 4));
-                self.service(ServiceFunction::Read, index, size, [0; 4])
-                    .map(|(reply, data)| {
-                        let value = wire_value::decode(&data[..usize::from(size)], data_type);
-                        (reply, Some(value))
-                    })
+                match self.service(ServiceFunction::Read, index, size, [0; 4]) {
+                    Ok((reply, data)) => {
+                        let value =
+                            wire_value::decode(&data[..usize::from(size)], data_type).map_err(|detail| {
+                                AccessError::UnexpectedReply {
+                                    port: self.object.link().port().to_string(),
+                                    address: self.dest().to_string(),
+                                    request: format!("service read of object {address}"),
+                                    detail,
+                                }
+                            });
+                        Ok((reply, Some(value)))
+                    }
+                    // The drive refused that one object: the process values still come,
+                    // and only the refused object fails.
+                    Err(refused @ AccessError::Refused { .. }) => {
+                        self.exchange(None).map(|reply| (reply, Some(Err(refused))))
+                    }
+                    Err(e) => Err(e),
+                }
             }
             None => self.exchange(None).map(|reply| (reply, None)),
         };
@@ -350,8 +371,6 @@ impl ObjectAccess for Sd2CyclicAccess {
                 return out;
             }
         };
-        let port = self.object.link().port().to_string();
-        let dest = self.dest().to_string();
         let mut ridden = ridden;
         objects
             .iter()
@@ -362,12 +381,7 @@ impl ObjectAccess for Sd2CyclicAccess {
                 }
                 if Some(i) == rider {
                     if let Some(value) = ridden.take() {
-                        return value.map_err(|detail| AccessError::UnexpectedReply {
-                            port: port.clone(),
-                            address: dest.clone(),
-                            request: format!("service read of object {address}"),
-                            detail,
-                        });
+                        return value;
                     }
                 }
                 self.read(address, *data_type)
@@ -398,8 +412,12 @@ impl ObjectAccess for Sd2CyclicAccess {
 
     fn reopen(&mut self) -> Result<(), AccessError> {
         self.object.reopen()?;
-        // The drive may have been reset: ask it again rather than repeat our memory.
+        // The drive may have been reset: ask it again rather than repeat our memory. A
+        // reopen happens only in the safe stop, so the channel does not resume the old
+        // speed: it sends 0, which a drive still enabled brakes to under control (clearing
+        // the enable instead would let the spindle coast), and the stop goes on from there.
         self.output = None;
+        self.resume_stopped = true;
         self.service_used = false;
         Ok(())
     }
@@ -662,6 +680,42 @@ mod tests {
         // 1 s at 20 ms: 50 telegrams, each repeating control word 6 and speed 0.
         assert!((50..=51).contains(&sent.len()), "{}", sent.len());
         assert!(sent.iter().all(|t| *t == expected(0x01, 6, 0)), "{sent:?}");
+    }
+
+    #[test]
+    fn a_refused_rider_fails_alone() {
+        let mut b = bench(false, &[]);
+        let objects = [
+            (Address::indexed(STATUS_WORD, 0), DataType::U16),
+            (Address::indexed(SPEED_ACTUAL + 1000, 0), DataType::U16),
+        ];
+        let values = b.access.read_many(&objects);
+        assert!(values[0].is_ok(), "{values:?}");
+        assert!(
+            matches!(values[1], Err(AccessError::Refused { .. })),
+            "{values:?}"
+        );
+    }
+
+    #[test]
+    fn after_a_reopen_the_channel_does_not_resume_the_old_speed() {
+        let mut b = bench(
+            false,
+            &[(SPEED_SETPOINT, RawValue::Int(6_000_000), DataType::I32)],
+        );
+        let word = Address::indexed(WORD, 0);
+        for command in [6, 7, 15] {
+            b.access
+                .write(&word, &RawValue::Int(command), DataType::U16)
+                .unwrap();
+        }
+        b.sent.take();
+        b.access.reopen().unwrap();
+        b.access
+            .read(&Address::indexed(STATUS_WORD, 0), DataType::U16)
+            .unwrap();
+        // The drive's control word as it holds it, and speed 0.
+        assert_eq!(b.sent.take(), [expected(0x01, 15, 0)]);
     }
 
     #[test]

@@ -121,7 +121,9 @@ impl Sd2Link {
             match self.await_reply(t, request) {
                 Ok(reply) => {
                     self.core.stats.replies += 1;
-                    if self.extractor.pending().is_empty() {
+                    // Only a first attempt answered with nothing after it vouches for a
+                    // clean line: after a retry, the failed attempt's reply may still come.
+                    if attempt == 1 && self.extractor.pending().is_empty() {
                         t.exchange_complete();
                     }
                     return Ok(reply);
