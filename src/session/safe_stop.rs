@@ -178,6 +178,19 @@ impl Session<'_> {
         }
     }
 
+    /// Reopens the current drive's link after it was lost; `false` (and a note saying to
+    /// check the drive by hand) when it cannot be reached.
+    fn reach_again(&mut self) -> bool {
+        if self.restore_link() {
+            return true;
+        }
+        let called = self.cur().called();
+        self.note(format!(
+            "{called} could not be reached to stop it; it may still be running. CHECK THE DRIVE BY HAND"
+        ));
+        false
+    }
+
     /// The safe stop of a run with several drives: every drive reached again after a lost
     /// link, the recipe's `finally` once (its steps name their drives) or the default for
     /// each drive, last enabled first, then each drive verified as a single drive is, and
@@ -185,24 +198,28 @@ impl Session<'_> {
     fn safe_stop_all(&mut self, finally: Option<&mut dyn FnMut(&mut Session)>, link_lost: bool, keep: bool) {
         let order = self.stop_order();
         let mut reachable = vec![true; self.drives.len()];
-        if link_lost {
-            for &i in &order {
-                self.current = i;
-                if !self.restore_link() {
-                    reachable[i] = false;
-                    let called = self.cur().called();
-                    self.note(format!(
-                        "{called} could not be reached to stop it; it may still be running. CHECK THE DRIVE BY HAND"
-                    ));
-                }
-            }
-        }
         match finally {
-            Some(finally) => finally(self),
+            // The recipe's `finally` names its drives in any order: every drive is reached
+            // again first.
+            Some(finally) => {
+                if link_lost {
+                    for &i in &order {
+                        self.current = i;
+                        reachable[i] = self.reach_again();
+                    }
+                }
+                finally(self)
+            }
+            // The default stops one drive after the other: each is reached again just
+            // before its own stop, so a drive that cannot be reached does not hold up the
+            // stop of the drives before it in the order.
             None => {
                 let mut number = 0;
                 for &i in &order {
                     self.current = i;
+                    if link_lost {
+                        reachable[i] = self.reach_again();
+                    }
                     if reachable[i] && self.has_device_control() && !self.interrupted() {
                         number = self.default_finally(number);
                     }
