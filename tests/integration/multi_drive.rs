@@ -473,3 +473,43 @@ fn the_bench_limits_cap_every_drive_of_a_recipe_and_of_a_script() {
         assert!(text.contains("1 problem"), "{text}");
     }
 }
+
+/// A drive on its own line that cannot be reached again does not hold up the stop of the
+/// drive stopped before it: the spindle (enabled last, so stopped first) is brought to
+/// standstill and shut down before the feed's reconnect attempts run out.
+#[test]
+fn an_unreachable_drive_does_not_hold_up_the_others_stop() {
+    let dir = scratch("multi-unreachable");
+    let recipe = write_recipe(
+        &dir,
+        "name: Feed line lost for good
+drives:
+  spindle: { drive: sd2, address: dnc:2 }
+  feed:    { drive: ct-unidrive-sp, address: \"1.2\" }
+steps:
+  - go_to: { drive: feed, state: operation_enabled }
+  - go_to: { drive: spindle, state: operation_enabled }
+  - set: { spindle.speed_setpoint: 3000 rpm, feed.speed_setpoint: 500 rpm }
+  - dwell: 1 h
+",
+    );
+    // The hook is called once per simulated drive, in declared order: the second is the feed.
+    let calls = AtomicUsize::new(0);
+    let prepare = move |sim: &Arc<Mutex<dyn SimulatedDrive>>, _clock: &SharedClock| {
+        if calls.fetch_add(1, Ordering::SeqCst) == 1 {
+            let mut sim = sim.lock().unwrap_or_else(PoisonError::into_inner);
+            sim.faults()
+                .line_down(Duration::from_secs(20), Duration::from_secs(100_000));
+        }
+    };
+    let (result, output) = run_in_process(&recipe, Arc::new(StopRequests::new()), &prepare);
+    assert_eq!(result.exit_code, 3, "{output}");
+    let spindle_stopped = output
+        .find("spindle: shutdown (default finally)")
+        .unwrap_or_else(|| panic!("the spindle is stopped: {output}"));
+    let feed_given_up = output
+        .find("drive `feed` could not be reached to stop it")
+        .unwrap_or_else(|| panic!("the feed is reported unreachable: {output}"));
+    assert!(spindle_stopped < feed_given_up, "{output}");
+    assert!(output.contains("CHECK THE DRIVE BY HAND"), "{output}");
+}
