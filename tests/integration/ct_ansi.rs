@@ -4,7 +4,7 @@
 //! time and through a real pseudo-terminal), exact decimals on the wire, a group write
 //! that gets no reply and is not repeated, and Ctrl-C during a run on the simulated drive.
 
-use crate::support::{drivescript, load_vectors, repo_root, stderr, stdout, InProcessRun};
+use crate::support::{drivescript, load_vectors, repo_root, stderr, stdout, InProcessRun, LiveRun};
 use drivescript::bus::{MemoryTransport, SharedTransport};
 use drivescript::clock::{SharedClock, VirtualClock};
 use drivescript::dictionary::{Address, DataType, RawValue};
@@ -14,11 +14,9 @@ use drivescript::family::{Family, LinkContext, LinkOptions, Registry, SimPeer};
 use drivescript::hex::parse_hex;
 use drivescript::sim::SimConfig;
 use serde_json::Value;
-use std::io::Read;
 use std::path::PathBuf;
-use std::process::{Command, Stdio};
 use std::sync::{Arc, PoisonError};
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 fn vectors() -> Vec<crate::support::Vector> {
     load_vectors(&repo_root().join("tests/vectors/ct-ansi.yaml"))
@@ -330,41 +328,25 @@ fn ctrl_c_during_a_run_on_the_simulated_ct_drive_stops_it() {
         "name: CT run\ndrive: ct-unidrive-sp\nsteps:\n  - go_to: { state: operation_enabled, timeout: 2 s }\n  - set: { speed_setpoint: 300 rpm }\n  - dwell: 1 h\n",
     )
     .unwrap();
-    let mut child = Command::new(env!("CARGO_BIN_EXE_drivescript"))
-        .arg("run")
-        .arg(&recipe)
-        .args(["--port", &sim.endpoint, "--baud", "9600", "--parity", "odd"])
-        .current_dir(repo_root())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("run starts");
-    let mut out = child.stdout.take().expect("stdout");
-    let mut seen = String::new();
-    let mut buf = [0u8; 256];
-    let start = Instant::now();
-    while !seen.contains("set speed_setpoint") && start.elapsed() < Duration::from_secs(20) {
-        let n = out.read(&mut buf).expect("read");
-        if n == 0 {
-            break;
-        }
-        seen.push_str(&String::from_utf8_lossy(&buf[..n]));
-    }
-    assert!(seen.contains("set speed_setpoint"), "{seen}");
+    let recipe = recipe.to_string_lossy().to_string();
+    let mut run = LiveRun::start([
+        "run",
+        recipe.as_str(),
+        "--port",
+        &sim.endpoint,
+        "--baud",
+        "9600",
+        "--parity",
+        "odd",
+    ]);
+    let seen = run.wait_for("set speed_setpoint").to_string();
     assert!(
         seen.contains(&format!("drive 1.1 on {} at 9600 7O1", sim.endpoint)),
         "{seen}"
     );
     std::thread::sleep(Duration::from_millis(200));
-    let status = Command::new("kill")
-        .args(["-INT", &child.id().to_string()])
-        .status()
-        .expect("kill runs");
-    assert!(status.success());
-    let mut rest = String::new();
-    out.read_to_string(&mut rest).expect("read rest");
-    let code = child.wait().expect("run ends").code();
-    let all = format!("{seen}{rest}");
+    run.signal("INT");
+    let (code, all) = run.finish();
     assert_eq!(code, Some(130), "{all}");
     assert!(
         all.contains("disable_operation (default finally)  control word 129"),

@@ -2,10 +2,9 @@
 //! pseudo-terminal, `simulate --tcp` on loopback, and Ctrl-C (SIGINT) during a real-time
 //! run, which must still run `finally` and exit with 130.
 
-use crate::support::{drivescript, repo_root, stderr, stdout};
-use std::io::{BufRead, BufReader, Read};
+use crate::support::{drivescript, repo_root, stderr, stdout, LiveRun};
+use std::io::{BufRead, BufReader};
 use std::process::{Child, Command, Stdio};
-use std::time::{Duration, Instant};
 
 /// A `drivescript simulate` in the background, stopped when dropped.
 pub(crate) struct Simulator {
@@ -127,35 +126,11 @@ fn a_drive_that_does_not_answer_is_exit_code_3_naming_the_telegram() {
 #[cfg(unix)]
 #[test]
 fn ctrl_c_during_a_run_stops_safely_and_exits_130() {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_drivescript"))
-        .args(["run", "tests/cases/interrupted/ctrl_c_during_run_in/recipe.yaml"])
-        .current_dir(repo_root())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("run starts");
-    let mut out = child.stdout.take().expect("stdout");
+    let mut run = LiveRun::start(["run", "tests/cases/interrupted/ctrl_c_during_run_in/recipe.yaml"]);
     // Wait until the dwell has begun (the second step's line is printed), then press Ctrl-C.
-    let mut seen = String::new();
-    let start = Instant::now();
-    let mut buf = [0u8; 256];
-    while !seen.contains("set speed_setpoint") && start.elapsed() < Duration::from_secs(20) {
-        let n = out.read(&mut buf).expect("read");
-        if n == 0 {
-            break;
-        }
-        seen.push_str(&String::from_utf8_lossy(&buf[..n]));
-    }
-    assert!(seen.contains("set speed_setpoint"), "{seen}");
-    let status = Command::new("kill")
-        .args(["-INT", &child.id().to_string()])
-        .status()
-        .expect("kill runs");
-    assert!(status.success());
-    let mut rest = String::new();
-    out.read_to_string(&mut rest).expect("read rest");
-    let code = child.wait().expect("run ends").code();
-    let all = format!("{seen}{rest}");
+    run.wait_for("set speed_setpoint");
+    run.signal("INT");
+    let (code, all) = run.finish();
     assert_eq!(code, Some(130), "{all}");
     // The press lands in the dwell or just before it starts; either way the steps stop.
     assert!(!all.contains("ok    dwell"), "{all}");

@@ -5,7 +5,7 @@
 //! did-you-mean.
 
 use crate::safety::scratch;
-use crate::support::{drivescript, repo_root, stderr, stdout, InProcessRun};
+use crate::support::{drivescript, stderr, stdout, InProcessRun, LiveRun};
 use drivescript::clock::SharedClock;
 use drivescript::drive::device_control::DeviceState;
 use drivescript::sim::SimulatedDrive;
@@ -13,7 +13,7 @@ use drivescript::stop_request::{StopRequests, StopSignal};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex, PoisonError};
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 const TWO_AXES: &str = "name: Two axes
 drives:
@@ -137,39 +137,15 @@ fn two_drives_on_one_pty_reach_their_own_speeds_and_never_interleave() {
 #[cfg(unix)]
 #[test]
 fn ctrl_c_on_a_pty_stops_both_drives_each_verified() {
-    use std::io::Read;
     let sim = crate::safety::PtySimulator::start_with(&["--address", "dnc:2,dnc:3"]);
     let dir = scratch("multi-pty-ctrl-c");
     let recipe = write_recipe(&dir, &TWO_AXES.replace("SAMPLE_FOR", "10 min"));
-    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_drivescript"))
-        .arg("run")
-        .arg(&recipe)
-        .args(["--port", &sim.path])
-        .current_dir(repo_root())
-        .stdout(std::process::Stdio::piped())
-        .stderr(std::process::Stdio::piped())
-        .spawn()
-        .expect("run starts");
-    let mut out = child.stdout.take().expect("stdout");
-    let mut seen = String::new();
-    let mut buf = [0u8; 512];
-    let started = Instant::now();
-    while !seen.contains("wait until right.speed_actual") && started.elapsed() < Duration::from_secs(30) {
-        let n = out.read(&mut buf).expect("read");
-        if n == 0 {
-            break;
-        }
-        seen.push_str(&String::from_utf8_lossy(&buf[..n]));
-    }
-    assert!(seen.contains("wait until right.speed_actual"), "{seen}");
+    let recipe = recipe.to_string_lossy().to_string();
+    let mut run = LiveRun::start(["run", recipe.as_str(), "--port", &sim.path]);
+    run.wait_for("wait until right.speed_actual");
     std::thread::sleep(Duration::from_millis(500));
-    let status = std::process::Command::new("kill")
-        .args(["-INT", &child.id().to_string()])
-        .status()
-        .expect("kill runs");
-    assert!(status.success());
-    out.read_to_string(&mut seen).expect("the rest of the output");
-    let code = child.wait().expect("the run ends").code();
+    run.signal("INT");
+    let (code, seen) = run.finish();
     assert_eq!(code, Some(130), "{seen}");
     assert!(!seen.contains("CHECK THE DRIVE BY HAND"), "{seen}");
     // The last enabled (right) is stopped first.

@@ -3,8 +3,8 @@
 //! ramp that must not write after a stop, a port that goes away and comes back, and a run
 //! killed beyond any safe stop, which must leave a report that says so.
 
-use crate::support::repo_root;
 use crate::support::InProcessRun;
+use crate::support::LiveRun;
 use drivescript::cli::RunResult;
 use drivescript::clock::SharedClock;
 use drivescript::drive::device_control::DeviceState;
@@ -241,7 +241,6 @@ pub(crate) fn traced_writes(trace: &str, index: u16) -> Vec<(f64, i64)> {
 /// exit code, the stop telegrams, the drive's state and both reports.
 #[cfg(unix)]
 fn signal_through_a_pty(signal: StopSignal, second: Option<StopSignal>) {
-    use std::io::Read;
     let sim = PtySimulator::start();
     let dir = scratch(&format!("pty-{}-{}", signal.name, second.map_or("", |s| s.name)));
     let recipe = write_recipe(&dir, SAMPLE_EVERY_30_S);
@@ -252,46 +251,26 @@ fn signal_through_a_pty(signal: StopSignal, second: Option<StopSignal>) {
     );
     // An earlier run's pass, which must not survive this run's end.
     std::fs::write(&junit, "<testsuites tests=\"1\" failures=\"0\"/>").expect("old junit");
-    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_drivescript"))
-        .arg("run")
-        .arg(&recipe)
-        .args(["--port", &sim.path, "--junit"])
-        .arg(&junit)
-        .arg("--report")
-        .arg(&html)
-        .arg("--trace")
-        .arg(&trace)
-        .current_dir(repo_root())
-        .stdout(std::process::Stdio::piped())
-        .stderr(std::process::Stdio::piped())
-        .spawn()
-        .expect("run starts");
-    let mut out = child.stdout.take().expect("stdout");
-    let mut seen = String::new();
-    let mut buf = [0u8; 512];
-    let started = Instant::now();
-    while !seen.contains("wait until speed_actual") && started.elapsed() < Duration::from_secs(30) {
-        let n = out.read(&mut buf).expect("read");
-        if n == 0 {
-            break;
-        }
-        seen.push_str(&String::from_utf8_lossy(&buf[..n]));
-    }
-    assert!(seen.contains("wait until speed_actual"), "{seen}");
+    let mut run = LiveRun::start([
+        std::ffi::OsStr::new("run"),
+        recipe.as_os_str(),
+        "--port".as_ref(),
+        sim.path.as_ref(),
+        "--junit".as_ref(),
+        junit.as_os_str(),
+        "--report".as_ref(),
+        html.as_os_str(),
+        "--trace".as_ref(),
+        trace.as_os_str(),
+    ]);
+    run.wait_for("wait until speed_actual");
     let placeholder = std::fs::read_to_string(&junit).expect("junit exists during the run");
     assert!(placeholder.contains("NOT FINISHED"), "{placeholder}");
     // The sample step has taken its first sample and now waits 30 s.
     std::thread::sleep(Duration::from_millis(300));
     let before = std::fs::read_to_string(&trace).expect("trace").lines().count();
     let sent = Instant::now();
-    let kill = |s: StopSignal| {
-        let status = std::process::Command::new("kill")
-            .arg(format!("-{}", &s.name[3..]))
-            .arg(child.id().to_string())
-            .status()
-            .expect("kill runs");
-        assert!(status.success());
-    };
+    let kill = |s: StopSignal| run.signal(&s.name[3..]);
     kill(signal);
     // The first telegram after the signal, seen in the trace as it is flushed.
     let latency = loop {
@@ -311,10 +290,7 @@ fn signal_through_a_pty(signal: StopSignal, second: Option<StopSignal>) {
         std::thread::sleep(Duration::from_millis(300));
         kill(s);
     }
-    let mut rest = String::new();
-    out.read_to_string(&mut rest).expect("rest");
-    let code = child.wait().expect("run ends").code();
-    let all = format!("{seen}{rest}");
+    let (code, all) = run.finish();
     assert_eq!(code, Some(signal.exit_code()), "{all}");
     assert!(
         latency < Duration::from_millis(100),

@@ -4,7 +4,7 @@
 //! real pseudo-terminal) runs the safe stop, and the sandbox refuses what it must.
 
 use crate::safety::{received, scratch, written, CONTROL_WORD, SPEED_SETPOINT};
-use crate::support::{drivescript, repo_root, stderr, stdout, InProcessRun};
+use crate::support::{drivescript, repo_root, stderr, stdout, InProcessRun, LiveRun};
 use drivescript::cli::RunResult;
 use drivescript::clock::SharedClock;
 use drivescript::sim::SimulatedDrive;
@@ -409,8 +409,6 @@ fn params_come_from_set() {
 #[test]
 fn sigint_during_a_scripts_sample_through_a_pty_stops_the_drive() {
     use crate::safety::{traced_writes, PtySimulator};
-    use std::io::Read;
-    use std::time::Instant;
     let sim = PtySimulator::start();
     let dir = scratch("script-pty");
     let script = write_script(
@@ -420,39 +418,19 @@ fn sigint_during_a_scripts_sample_through_a_pty_stops_the_drive() {
          let s = d.sample([\"speed_actual\"], \"30 s\", \"10 min\");\n",
     );
     let trace = dir.join("run.trace");
-    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_drivescript"))
-        .arg("run")
-        .arg(&script)
-        .args(["--port", &sim.path, "--trace"])
-        .arg(&trace)
-        .current_dir(repo_root())
-        .stdout(std::process::Stdio::piped())
-        .stderr(std::process::Stdio::piped())
-        .spawn()
-        .expect("run starts");
-    let mut out = child.stdout.take().expect("stdout");
-    let mut seen = String::new();
-    let mut buf = [0u8; 512];
-    let started = Instant::now();
-    while !seen.contains("sampling") && started.elapsed() < Duration::from_secs(30) {
-        let n = out.read(&mut buf).expect("read");
-        if n == 0 {
-            break;
-        }
-        seen.push_str(&String::from_utf8_lossy(&buf[..n]));
-    }
-    assert!(seen.contains("sampling"), "{seen}");
+    let mut run = LiveRun::start([
+        std::ffi::OsStr::new("run"),
+        script.as_os_str(),
+        "--port".as_ref(),
+        sim.path.as_ref(),
+        "--trace".as_ref(),
+        trace.as_os_str(),
+    ]);
+    run.wait_for("sampling");
     std::thread::sleep(Duration::from_millis(300));
     let before = std::fs::read_to_string(&trace).expect("trace").lines().count();
-    let status = std::process::Command::new("kill")
-        .args(["-INT", &child.id().to_string()])
-        .status()
-        .expect("kill runs");
-    assert!(status.success());
-    let mut rest = String::new();
-    out.read_to_string(&mut rest).expect("rest");
-    let code = child.wait().expect("run ends").code();
-    let all = format!("{seen}{rest}");
+    run.signal("INT");
+    let (code, all) = run.finish();
     assert_eq!(code, Some(130), "{all}");
     assert!(all.contains("INTERRUPTED"), "{all}");
     assert!(all.contains("drive left in ready to switch on at 0 rpm"), "{all}");

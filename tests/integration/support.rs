@@ -126,3 +126,69 @@ impl<'a> InProcessRun<'a> {
         (result, output)
     }
 }
+
+/// `drivescript ARGS` running in the background (from the repository root), its standard
+/// output read as it comes: for the tests that signal a run in the middle.
+pub struct LiveRun {
+    child: std::process::Child,
+    out: std::process::ChildStdout,
+    seen: String,
+}
+
+impl LiveRun {
+    pub fn start<I, S>(args: I) -> LiveRun
+    where
+        I: IntoIterator<Item = S>,
+        S: AsRef<std::ffi::OsStr>,
+    {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_drivescript"))
+            .args(args)
+            .current_dir(repo_root())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .expect("the run starts");
+        let out = child.stdout.take().expect("stdout is piped");
+        LiveRun {
+            child,
+            out,
+            seen: String::new(),
+        }
+    }
+
+    /// Reads the output until it holds `text` (at most 30 s); fails the test otherwise.
+    pub fn wait_for(&mut self, text: &str) -> &str {
+        use std::io::Read;
+        let started = std::time::Instant::now();
+        let mut buf = [0u8; 512];
+        while !self.seen.contains(text) && started.elapsed() < std::time::Duration::from_secs(30) {
+            let n = self.out.read(&mut buf).expect("read the run's output");
+            if n == 0 {
+                break;
+            }
+            self.seen.push_str(&String::from_utf8_lossy(&buf[..n]));
+        }
+        assert!(self.seen.contains(text), "{}", self.seen);
+        &self.seen
+    }
+
+    /// Sends signal `name` (`INT`, `TERM`, …) to the run.
+    pub fn signal(&self, name: &str) {
+        let status = Command::new("kill")
+            .arg(format!("-{name}"))
+            .arg(self.child.id().to_string())
+            .status()
+            .expect("kill runs");
+        assert!(status.success());
+    }
+
+    /// Waits for the run to end: its exit code and all it wrote to standard output.
+    pub fn finish(mut self) -> (Option<i32>, String) {
+        use std::io::Read;
+        self.out
+            .read_to_string(&mut self.seen)
+            .expect("the rest of the output");
+        let code = self.child.wait().expect("the run ends").code();
+        (code, self.seen)
+    }
+}
