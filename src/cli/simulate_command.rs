@@ -188,7 +188,10 @@ fn serve_pty(server: &SimServer, description: &str, wire: &str, hint: &str) -> i
     let mut master = pty.master;
     match server.serve(&mut master) {
         Ok(stats) => {
-            eprintln!("stopped after {} replies", stats.replies);
+            eprintln!(
+                "stopped after {} replies ({} bytes received, {} bytes sent)",
+                stats.replies, stats.bytes_in, stats.bytes_out
+            );
             PASSED
         }
         Err(e) => {

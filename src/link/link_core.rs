@@ -64,17 +64,17 @@ impl LinkCore {
         self.stop.as_ref().is_some_and(|s| s.pending_at(self.clock.now()))
     }
 
+    // The clock is read only for an observer: without a trace it would be read twice per
+    // telegram for nothing.
     pub fn notify(&mut self, direction: Direction, bytes: &[u8]) {
-        let at = self.clock.now();
         if let Some(o) = self.observer.as_mut() {
-            o.telegram(at, direction, bytes);
+            o.telegram(self.clock.now(), direction, bytes);
         }
     }
 
     pub fn event(&mut self, text: &str) {
-        let at = self.clock.now();
         if let Some(o) = self.observer.as_mut() {
-            o.event(at, text);
+            o.event(self.clock.now(), text);
         }
     }
 

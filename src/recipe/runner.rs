@@ -189,13 +189,15 @@ fn repeat(
             break;
         }
         n += 1;
-        let elapsed = s.clock().now().saturating_sub(start);
-        let what = format!(
-            "iteration {n}{}",
-            times.map(|t| format!(" of {t}")).unwrap_or_default()
-        );
         s.iteration(n);
-        s.progress(number, elapsed, duration, &what);
+        if s.wants_progress() {
+            let elapsed = s.clock().now().saturating_sub(start);
+            let what = match times {
+                Some(t) => format!("iteration {n} of {t}"),
+                None => format!("iteration {n}"),
+            };
+            s.progress(number, elapsed, duration, &what);
+        }
         steps(s, nested, number, phase)?;
     }
     let took = s.clock().now().saturating_sub(start);

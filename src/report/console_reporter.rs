@@ -167,18 +167,18 @@ pub fn container_line(step: &StepInfo) -> Option<String> {
 
 /// `     3  ok    switch_on  switched on`.
 pub fn step_line(r: &StepRecord) -> String {
+    use std::fmt::Write as _;
     let mark = if r.ok { "ok  " } else { "FAIL" };
-    let number = if r.phase == "steps" {
-        r.number.clone()
-    } else {
-        r.number.replace('.', " ")
+    let mut line = String::with_capacity(16 + r.label.len() + r.detail.len());
+    let _ = match r.phase {
+        "steps" => write!(line, "{:>6}  {mark}  {}", r.number, r.label),
+        _ => write!(line, "{:>6}  {mark}  {}", r.number.replace('.', " "), r.label),
     };
-    let detail = if r.detail.is_empty() {
-        String::new()
-    } else {
-        format!("  {}", r.detail)
-    };
-    format!("{number:>6}  {mark}  {}{detail}", r.label)
+    if !r.detail.is_empty() {
+        line.push_str("  ");
+        line.push_str(&r.detail);
+    }
+    line
 }
 
 /// `        PASS  name: message (limits 5940 .. 6060 rpm)`; `None` for `wait until` checks,

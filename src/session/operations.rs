@@ -6,6 +6,7 @@ use super::stop::Stop;
 use super::{with_unit, ObjectRef, SetValue};
 use crate::dictionary::{Quantity, RawValue, Unit};
 use crate::drive::{DeviceCommand, DeviceState, WriteOutcome};
+use std::fmt::Write as _;
 use std::time::Duration;
 
 impl Session<'_> {
@@ -148,15 +149,17 @@ impl Session<'_> {
 
     /// Reads objects and shows each value.
     pub fn read(&mut self, objects: &[ObjectRef]) -> Result<String, Stop> {
-        let mut shown = Vec::new();
+        // The step's own line shows the values; a line per value as well would say it twice.
+        let mut shown = String::new();
         for o in objects {
             let name = self.select_object(&o.name)?;
             let v = self.drive().read(name)?;
-            let line = format!("{} = {v}", o.name);
-            self.observer.message(&line);
-            shown.push(line);
+            if !shown.is_empty() {
+                shown.push_str(", ");
+            }
+            let _ = write!(shown, "{} = {v}", o.name);
         }
-        Ok(shown.join(", "))
+        Ok(shown)
     }
 
     /// Reads one object as a number in its engineering unit, for a front end that computes

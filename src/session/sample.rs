@@ -96,6 +96,12 @@ impl Session<'_> {
         let mut k: u32 = 0;
         let mut late = 0u32;
         let end = start.saturating_add(duration);
+        // The step's id is the same for every row; building it per row would cost an
+        // allocation per sample.
+        let id = match writer {
+            Some(_) => self.path.id(),
+            None => String::new(),
+        };
         loop {
             let due = nth_tick(start, every, k)?;
             if due > end {
@@ -119,14 +125,8 @@ impl Session<'_> {
             }
             let since_start = at.saturating_sub(run_start);
             if let Some(w) = writer.as_mut() {
-                w.rows(
-                    since_start,
-                    self.clock.wall_time(),
-                    &self.path.id(),
-                    objects,
-                    &values,
-                )
-                .map_err(Stop::Error)?;
+                w.rows(since_start, self.clock.wall_time(), &id, objects, &values)
+                    .map_err(Stop::Error)?;
             }
             self.observer.sample(since_start, objects, &values);
             // The live line is text for a screen; build it only when one shows it.
@@ -165,8 +165,9 @@ impl Session<'_> {
             });
         }
         let late_note = if late > 0 {
+            let took = self.clock.now().saturating_sub(start).as_secs_f64();
             format!(
-                "; {late} sample(s) late: the line is too slow for every {}",
+                "; {late} sample(s) late, the step took {took:.2} s: the line is too slow for every {}",
                 show_duration(every)
             )
         } else {

@@ -249,7 +249,8 @@ impl<'a> Session<'a> {
     ) -> Result<String, Stop> {
         self.observer.step_started(info);
         self.path.enter(info);
-        self.observer.step_placed(&self.path.id());
+        let id = self.path.id();
+        self.observer.step_placed(&id);
         let started = self.clock.now();
         let result = match catch_unwind(AssertUnwindSafe(|| op(self))) {
             Ok(r) => r,
@@ -257,7 +258,7 @@ impl<'a> Session<'a> {
         };
         let (ok, detail) = outcome(&result);
         let ok = ok && !detail.starts_with("FAILED");
-        self.record_step(info, ok, detail, started);
+        self.record_step(info, id, ok, detail, started);
         self.path.leave();
         result
     }
@@ -273,10 +274,10 @@ impl<'a> Session<'a> {
         (self.path.id(), self.path.stage())
     }
 
-    fn record_step(&mut self, info: &StepInfo, ok: bool, detail: String, started: Duration) {
+    fn record_step(&mut self, info: &StepInfo, id: String, ok: bool, detail: String, started: Duration) {
         let record = StepRecord {
             number: info.number.clone(),
-            id: self.path.id(),
+            id,
             label: info.label.clone(),
             origin: info.origin.clone(),
             ok,
@@ -307,6 +308,11 @@ impl<'a> Session<'a> {
     /// A line under the current step (a value read, a message).
     pub fn message(&mut self, text: &str) {
         self.observer.message(text);
+    }
+
+    /// Whether anything shows progress; nothing is built for a screen that is not there.
+    pub fn wants_progress(&self) -> bool {
+        self.observer.wants_progress()
     }
 
     /// Progress of a long step: elapsed, total (when known) and live values.

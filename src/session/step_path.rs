@@ -4,6 +4,7 @@
 //! stage that holds them. Plain bookkeeping; knows no drive and no output format.
 
 use super::StepInfo;
+use std::fmt::Write as _;
 
 #[derive(Debug, Clone)]
 struct Frame {
@@ -24,7 +25,11 @@ impl StepPath {
     pub fn enter(&mut self, step: &StepInfo) {
         self.frames.push(Frame {
             number: step.number.clone(),
-            label: step.label.clone(),
+            // Only containers name a stage; the label of any other step is never asked for.
+            label: match step.container {
+                true => step.label.clone(),
+                false => String::new(),
+            },
             container: step.container,
             iteration: None,
         });
@@ -52,7 +57,7 @@ impl StepPath {
                 None => id.push_str(&f.number),
                 Some(p) => {
                     if let Some(n) = p.iteration {
-                        id.push_str(&format!("[{n}]"));
+                        let _ = write!(id, "[{n}]");
                     }
                     let own = f.number.rsplit('.').next().unwrap_or(&f.number);
                     id.push('.');
