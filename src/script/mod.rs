@@ -13,6 +13,7 @@ mod sample_window;
 mod sandbox;
 mod script;
 mod script_error;
+mod script_header;
 mod script_invalid;
 mod script_runner;
 mod static_check;

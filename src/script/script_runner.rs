@@ -38,6 +38,7 @@ pub struct ScriptRunner<'a> {
     stop: Arc<StopRequests>,
     settings: SafeStopSettings,
     output_dir: PathBuf,
+    csv_wide: bool,
 }
 
 impl<'a> ScriptRunner<'a> {
@@ -58,6 +59,7 @@ impl<'a> ScriptRunner<'a> {
             stop,
             settings: SafeStopSettings::default(),
             output_dir: PathBuf::from("."),
+            csv_wide: false,
         }
     }
 
@@ -70,6 +72,12 @@ impl<'a> ScriptRunner<'a> {
     /// Where files the session writes go (relative paths).
     pub fn with_output_dir(mut self, dir: PathBuf) -> Self {
         self.output_dir = dir;
+        self
+    }
+
+    /// The `csv:` files of `sample` with one column per object (`--csv-wide`).
+    pub fn with_csv_wide(mut self, wide: bool) -> Self {
+        self.csv_wide = wide;
         self
     }
 
@@ -114,7 +122,8 @@ impl<'a> ScriptRunner<'a> {
         let stop = self.stop.clone();
         let mut session = Session::with_drives(self.drives, &mut tap, &stop, info)
             .with_settings(self.settings)
-            .with_output_dir(self.output_dir);
+            .with_output_dir(self.output_dir)
+            .with_csv_wide(self.csv_wide);
         let mut host = Host {
             from_script,
             to_script,
@@ -139,7 +148,7 @@ impl<'a> ScriptRunner<'a> {
             let mut finally = |s: &mut Session| host.finally(s);
             let finally: Option<&mut dyn FnMut(&mut Session)> =
                 (script.has_finally && worker.is_ok()).then_some(&mut finally);
-            let report = session.end(ended, false, None, finally);
+            let report = session.end(ended, script.leave_enabled, None, finally);
             let _ = host.to_script.send(ToScript::Finish);
             if let Ok(w) = worker {
                 let _ = w.join();
