@@ -311,6 +311,27 @@ mod tests {
     }
 
     #[test]
+    fn a_samples_csv_file_is_text_under_the_output_directory() {
+        let ok =
+            "let d = drive();\nlet s = d.sample([\"speed_actual\"], \"1 s\", \"1 min\", \"sweep.csv\");\n";
+        assert!(problems(ok, &[]).is_empty());
+        let computed =
+            "let d = drive();\nlet s = d.sample([\"speed_actual\"], \"1 s\", \"1 min\", `s${1}.csv`);\n";
+        assert!(problems(computed, &[]).is_empty());
+        let p = problems(
+            "let d = drive();\nlet s = d.sample([\"speed_actual\"], \"1 s\", \"1 min\", \"../x.csv\");\nlet t = d.sample([\"speed_actual\"], \"1 s\", \"1 min\", 5);\n",
+            &[],
+        );
+        assert_eq!(
+            p,
+            [
+                "t.rhai:2:52: `../x.csv` is outside the output directory",
+                "t.rhai:3:52: the csv file of a sample is named with text",
+            ]
+        );
+    }
+
+    #[test]
     fn a_state_a_script_compares_with_must_exist() {
         assert!(problems("let d = drive();\nif d.state() == \"fault\" {}\n", &[]).is_empty());
         let p = problems("let d = drive();\nif d.state() != \"faul\" {}\n", &[]);

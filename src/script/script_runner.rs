@@ -315,9 +315,10 @@ impl Host<'_> {
                 objects,
                 every,
                 duration,
+                csv,
             } => {
                 self.capture.borrow_mut().start(&objects);
-                let result = s.sample(&objects, every, duration, None, number);
+                let result = s.sample(&objects, every, duration, csv.as_ref(), number);
                 let windows = self.capture.borrow_mut().finish();
                 *answer = Answer::Sampled(windows);
                 result
