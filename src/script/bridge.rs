@@ -61,6 +61,25 @@ pub fn copy(stop: &Stop) -> Stop {
     }
 }
 
+/// A `wait_until` condition's error in one line, with the place it was raised (the run's
+/// diagnostic shows it underlined).
+fn condition_failed(e: &EvalAltResult) -> String {
+    let mut inner = e;
+    while let EvalAltResult::ErrorInFunctionCall(_, _, next, _) = inner {
+        inner = next;
+    }
+    let text = match inner {
+        EvalAltResult::ErrorRuntime(v, _) => v.to_string(),
+        other => other.to_string(),
+    };
+    match (inner.position().line(), inner.position().position()) {
+        (Some(line), Some(column)) if !text.contains("(line ") => {
+            format!("the condition failed at line {line}, column {column}: {text}")
+        }
+        _ => format!("the condition failed: {text}"),
+    }
+}
+
 /// Rhai's uncatchable end of a script.
 fn terminated() -> Box<EvalAltResult> {
     Box::new(EvalAltResult::ErrorTerminated(Dynamic::UNIT, Position::NONE))
@@ -233,7 +252,7 @@ impl Bridge {
             Err(e) => {
                 let stop = match *e {
                     EvalAltResult::ErrorTerminated(..) => self.take_ending().unwrap_or(Stop::Interrupted),
-                    _ => Stop::Error(e.to_string()),
+                    _ => Stop::Error(condition_failed(&e)),
                 };
                 *lock(&self.condition_error) = Some(e);
                 self.end_with(copy(&stop));

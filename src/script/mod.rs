@@ -6,6 +6,7 @@
 
 mod bridge;
 mod drive_api;
+mod drive_in_condition;
 mod exchange;
 mod literal_calls;
 mod resolve;

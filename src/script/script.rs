@@ -3,6 +3,7 @@
 //! then the literal drive calls against the dictionary). Every problem is reported at
 //! once; nothing here runs the script or talks to a drive.
 
+use super::drive_in_condition::conditions_using_the_drive;
 use super::literal_calls::literal_calls;
 use super::sandbox::sandbox;
 use super::script_error::parse_error;
@@ -173,6 +174,7 @@ fn load_source_for(
         }
     };
     let calls = literal_calls(&source);
+    problems.extend(conditions_using_the_drive(&source));
     if drives.is_empty() {
         problems.extend(check_calls(&calls, dictionary, set, &path));
     } else {

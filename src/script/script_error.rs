@@ -3,6 +3,7 @@
 //! underlined, and the functions the error passed through. It must not decide what an
 //! error means for the run (that is the runner's job).
 
+use super::drive_in_condition::data_race;
 use super::literal_calls::LineIndex;
 use crate::diag::{Diagnostic, Source, Span};
 use rhai::{EvalAltResult, ParseError, Position};
@@ -63,11 +64,21 @@ pub fn eval_error(source: &Arc<Source>, e: &EvalAltResult) -> Diagnostic {
             text.strip_suffix(&place).unwrap_or(&text).to_string()
         }
     };
-    let mut d = at(source, inner.position(), message, "raised here");
-    if let EvalAltResult::ErrorDataRace(..) = inner {
-        d = d.with_help(
+    let mut d = match inner {
+        // Rhai gives this refusal no place: the text shows where it comes from.
+        EvalAltResult::ErrorDataRace(what, pos)
+            if what.contains("'wait_until'") && span_at(source, *pos).is_none() =>
+        {
+            data_race(source)
+        }
+        _ => at(source, inner.position(), message, "raised here"),
+    };
+    if let EvalAltResult::ErrorDataRace(what, _) = inner {
+        if !what.contains("'wait_until'") {
+            d = d.with_help(
             "a value is used twice at once; a wait_until condition, for example, must not use the drive: it judges the value it is given",
         );
+        }
     }
     if let EvalAltResult::ErrorFunctionNotFound(..) = inner {
         d = d.with_help(
@@ -76,7 +87,12 @@ pub fn eval_error(source: &Arc<Source>, e: &EvalAltResult) -> Diagnostic {
     }
     for (name, pos) in through {
         if let Some(span) = span_at(source, pos) {
-            d = d.also_at(&span, format!("in `{name}`, called here"));
+            // Rhai names a closure `anon$…`.
+            let called = match name.starts_with("anon$") {
+                true => "in a closure, called here".to_string(),
+                false => format!("in `{name}`, called here"),
+            };
+            d = d.also_at(&span, called);
         }
     }
     d

@@ -158,6 +158,9 @@ impl<'a> ScriptRunner<'a> {
     }
 }
 
+/// The refusal of a drive call made inside a `wait_until` condition.
+const CONDITION_CALLS_THE_DRIVE: &str = "a wait_until condition must not call the drive: it judges the value it is given; read any other value before the wait";
+
 /// The session thread's side: performs the script's requests.
 struct Host<'e> {
     from_script: Receiver<ToSession>,
@@ -346,10 +349,9 @@ impl Host<'_> {
                 Ok(ToSession::Request(_)) => {
                     // A call from inside the condition: conditions judge a value, they
                     // must not drive. Refused, and the wait ends with it.
-                    let refusal = "a wait_until condition must not call the drive";
-                    let _ = self
-                        .to_script
-                        .send(ToScript::Answer(Err(Stop::Error(refusal.into()))));
+                    let _ = self.to_script.send(ToScript::Answer(Err(Stop::Error(
+                        CONDITION_CALLS_THE_DRIVE.into(),
+                    ))));
                 }
                 Ok(ToSession::Ended(_)) | Err(_) => {
                     return Err(Stop::Panicked(
@@ -439,6 +441,10 @@ fn ending(
         EvalAltResult::ErrorRuntime(v, _) => {
             let d = eval_error(source, &e);
             match bridge.drive_error(&v.to_string()) {
+                // The script's own mistake, not the drive's: said at its place.
+                Some(Stop::Error(m)) if m == CONDITION_CALLS_THE_DRIVE => {
+                    Ending::Stopped(Stop::Error(d.located()), Some(Box::new(d)))
+                }
                 Some(stop) => Ending::Stopped(stop, Some(Box::new(d))),
                 None => Ending::Stopped(Stop::Error(d.located()), Some(Box::new(d))),
             }

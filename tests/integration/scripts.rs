@@ -642,3 +642,77 @@ fn a_scripts_csv_file_outside_the_output_directory_is_refused() {
     assert!(output.contains("drive left in ready to switch on"), "{output}");
     assert!(!dir.parent().expect("a parent").join("escape.csv").exists());
 }
+
+/// A `wait_until` condition that uses the drive the wait is called on: `check` finds it
+/// where the condition uses the drive (Rhai would refuse the call as a data race with no
+/// place), and `run` sends nothing.
+#[test]
+fn check_finds_a_wait_until_condition_that_uses_the_drive() {
+    let dir = scratch("script-condition-drive");
+    let path = write_script(
+        &dir,
+        "//! drive: sd2\nlet d = drive();\nd.set(\"speed_setpoint\", 2000.0, \"rpm\");\nd.go_to(\"operation_enabled\");\n\
+         d.wait_until(\"speed_actual\", |v| v > d.read(\"speed_setpoint\") - 10.0, \"10 s\");\n",
+    );
+    let p = path.to_str().expect("utf-8");
+    let check = drivescript(&["check", p], "");
+    assert_eq!(check.status.code(), Some(2));
+    let err = stderr(&check);
+    for part in [
+        "a wait_until condition must not use the drive: `d` is used inside the condition",
+        "script.rhai:5:3]",
+        "the drive, inside the condition",
+        "in this wait_until",
+        "let target = d.read(\"speed_setpoint\");",
+    ] {
+        assert!(err.contains(part), "missing {part:?}:\n{err}");
+    }
+    let (result, output) = InProcessRun::new(&path).run();
+    assert_eq!(result.exit_code, 2, "{output}");
+    assert!(output.contains("nothing was sent to the drive"), "{output}");
+    assert!(result.simulator.is_none(), "no drive opened: {output}");
+}
+
+/// A condition the text does not show (kept in an array) still gets a place: Rhai's data
+/// race refusal, which has none, is shown at the wait it came from; the safe stop runs.
+#[test]
+fn a_data_race_in_wait_until_is_located_at_the_wait_and_the_drive_is_stopped() {
+    let text =
+        "let d = drive();\nd.set(\"speed_setpoint\", 2000.0, \"rpm\");\nd.go_to(\"operation_enabled\");\n\
+                let conditions = [|v| v > d.read(\"speed_setpoint\") - 10.0];\n\
+                d.wait_until(\"speed_actual\", conditions[0], \"10 s\");\n";
+    let (result, output) = run_script("data-race", text, None, Arc::new(StopRequests::new()));
+    assert_eq!(result.exit_code, 3, "{output}");
+    assert!(output.contains("script.rhai:5:3]"), "{output}");
+    assert!(
+        output.contains("the wait_until condition holds the drive the wait is called on"),
+        "{output}"
+    );
+    assert!(output.contains("or wait on that object itself"), "{output}");
+    assert!(!output.contains("Data race detected"), "{output}");
+    assert!(output.contains("drive left in ready to switch on"), "{output}");
+    assert!(control_words(&result).ends_with(&[7, 6]), "{output}");
+}
+
+/// A condition that calls another drive handle (made in a function, so the text does not
+/// show it) is refused at the call inside the condition, located, and the drive stopped.
+#[test]
+fn a_condition_that_calls_the_drive_is_refused_at_its_place() {
+    let text =
+        "let d = drive();\nd.set(\"speed_setpoint\", 2000.0, \"rpm\");\nd.go_to(\"operation_enabled\");\n\
+                fn above_setpoint(d) { |v| v > d.read(\"speed_setpoint\") - 10.0 }\n\
+                d.wait_until(\"speed_actual\", above_setpoint(d), \"10 s\");\n";
+    let (result, output) = run_script("condition-calls", text, None, Arc::new(StopRequests::new()));
+    assert_eq!(result.exit_code, 3, "{output}");
+    assert!(output.contains("script.rhai:4:34]"), "{output}");
+    assert!(
+        output.contains("ERROR: ")
+            && output.contains("script.rhai:4:34: a wait_until condition must not call the drive"),
+        "{output}"
+    );
+    assert!(
+        output.contains("read any other value before the wait"),
+        "{output}"
+    );
+    assert!(control_words(&result).ends_with(&[7, 6]), "{output}");
+}
