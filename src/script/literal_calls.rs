@@ -493,6 +493,12 @@ mod tests {
         #[test]
         fn any_text_scans_without_panicking_and_every_place_is_inside_it(text in "\\PC{0,200}") {
             let source = Source::new("t.rhai", text.as_str());
+            let closures = assigned_closures(&source);
+            let closure_spans = closures.iter().flat_map(|(_, words)| words.iter().map(|(_, s)| s.clone()));
+            for span in closure_spans {
+                proptest::prop_assert!(span.offset() + span.len() <= text.len());
+                proptest::prop_assert!(text.is_char_boundary(span.offset()));
+            }
             for call in literal_calls(&source) {
                 for span in std::iter::once(&call.span).chain(call.args.iter().map(|(_, s)| s)) {
                     proptest::prop_assert!(span.offset() + span.len() <= text.len());

@@ -111,4 +111,31 @@ mod tests {
         assert_eq!(span.written(), "\"speed\"");
         assert!(span_at(&source, Position::NONE).is_none());
     }
+
+    #[test]
+    fn rhais_data_race_in_wait_until_is_placed_at_the_wait() {
+        let source = Source::new(
+            "s.rhai",
+            "let d = drive();\nlet c = [|v| v > d.read(\"x\")];\nd.wait_until(\"speed_actual\", c[0], \"1 s\");\n",
+        );
+        let race =
+            EvalAltResult::ErrorDataRace("argument #2 of function 'wait_until'".into(), Position::NONE);
+        let d = eval_error(&source, &race);
+        assert!(
+            d.located()
+                .starts_with("s.rhai:3:3: the wait_until condition holds the drive"),
+            "{}",
+            d.located()
+        );
+        // Another data race keeps Rhai's words and gets the general help.
+        let other =
+            EvalAltResult::ErrorDataRace("argument #1 of function 'push'".into(), Position::new(2, 9));
+        let d = eval_error(&source, &other);
+        assert!(
+            d.located().starts_with("s.rhai:2:9: Data race detected"),
+            "{}",
+            d.located()
+        );
+        assert!(d.help().is_some_and(|h| h.contains("used twice at once")));
+    }
 }
