@@ -63,7 +63,8 @@ pub struct RunArgs {
     #[arg(long)]
     realtime: bool,
     /// Directory for every output given as a relative path: --junit, --report, --csv,
-    /// --trace and the `csv:` files of sample steps (default: the current directory).
+    /// --trace and the `csv:` files of sample steps (and of a script's `sample`) (default:
+    /// the current directory).
     #[arg(long, value_name = "DIR", default_value = ".")]
     output_dir: PathBuf,
     #[command(flatten)]
@@ -142,8 +143,8 @@ pub struct OutputArgs {
     /// unit (one row per value); flushed at least every 250 ms.
     #[arg(long, value_name = "FILE")]
     pub csv: Option<PathBuf>,
-    /// --csv and the `csv:` files of sample steps with one column per object instead of
-    /// one row per value.
+    /// --csv and the `csv:` files of sample steps (and of a script's `sample`) with one
+    /// column per object instead of one row per value.
     #[arg(long)]
     pub csv_wide: bool,
     /// Write a JUnit XML report: one test case per check, for CI servers.

@@ -7,7 +7,6 @@ use super::recipe_commands::{RunRequest, RunResult};
 use super::run_setup::{finish_reports, observed, open_csv, telegram_outputs, write_placeholders, Look};
 use super::{COMMUNICATION, INVALID, PASSED};
 use crate::dictionary::Dictionary;
-use crate::recipe::SafeStopChoice;
 use crate::script::{declared_script_drives, load_script_for, Script, ScriptRunner};
 use std::io::{IsTerminal, Write};
 use std::path::Path;
@@ -149,7 +148,8 @@ pub fn run_script(request: &RunRequest, out: &mut dyn Write, err: &mut dyn Write
     let report = observed(out, &look, csv.as_mut(), |observers| {
         ScriptRunner::new(&mut open.drive, observers, request.stop.clone())
             .with_output_dir(request.output_dir.clone())
-            .with_settings(request.safe_stop.settings(&SafeStopChoice::default()))
+            .with_csv_wide(outputs.csv_wide)
+            .with_settings(request.safe_stop.settings(&script.safe_stop))
             .run(&script, err)
     });
     finish_reports(&report, &[], csv.as_ref(), outputs, err);
@@ -206,7 +206,8 @@ fn run_several(
         let drives = open.drives.iter_mut().map(|(n, d)| (n.clone(), d)).collect();
         ScriptRunner::with_drives(drives, observers, request.stop.clone())
             .with_output_dir(request.output_dir.clone())
-            .with_settings(request.safe_stop.settings(&SafeStopChoice::default()))
+            .with_csv_wide(outputs.csv_wide)
+            .with_settings(request.safe_stop.settings(&script.safe_stop))
             .run(script, err)
     });
     finish_reports(&report, &[], csv.as_ref(), outputs, err);

@@ -12,6 +12,8 @@ use crate::dictionary::Dictionary;
 use crate::session::Stop;
 use crate::stop_request::StopRequests;
 use rhai::{Dynamic, EvalAltResult, FnPtr, NativeCallContext, Position};
+use std::collections::HashSet;
+use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::mpsc::{Receiver, Sender};
 use std::sync::{Arc, Mutex, PoisonError};
@@ -39,6 +41,8 @@ pub struct Bridge {
     condition_error: Mutex<Option<Box<EvalAltResult>>>,
     operations: AtomicU64,
     operations_at_call: AtomicU64,
+    /// The CSV files `sample` was given, for the sandbox's limit on how many.
+    csv_files: Mutex<HashSet<PathBuf>>,
 }
 
 fn lock<T>(m: &Mutex<T>) -> std::sync::MutexGuard<'_, T> {
@@ -54,6 +58,25 @@ pub fn copy(stop: &Stop) -> Stop {
         Stop::Error(m) => Stop::Error(m.clone()),
         Stop::Interrupted => Stop::Interrupted,
         Stop::Panicked(m) => Stop::Panicked(m.clone()),
+    }
+}
+
+/// A `wait_until` condition's error in one line, with the place it was raised (the run's
+/// diagnostic shows it underlined).
+fn condition_failed(e: &EvalAltResult) -> String {
+    let mut inner = e;
+    while let EvalAltResult::ErrorInFunctionCall(_, _, next, _) = inner {
+        inner = next;
+    }
+    let text = match inner {
+        EvalAltResult::ErrorRuntime(v, _) => v.to_string(),
+        other => other.to_string(),
+    };
+    match (inner.position().line(), inner.position().position()) {
+        (Some(line), Some(column)) if !text.contains("(line ") => {
+            format!("the condition failed at line {line}, column {column}: {text}")
+        }
+        _ => format!("the condition failed: {text}"),
     }
 }
 
@@ -91,6 +114,7 @@ impl Bridge {
             condition_error: Mutex::new(None),
             operations: AtomicU64::new(0),
             operations_at_call: AtomicU64::new(0),
+            csv_files: Mutex::new(HashSet::new()),
         }
     }
 
@@ -115,6 +139,21 @@ impl Bridge {
             return Some(Dynamic::UNIT);
         }
         None
+    }
+
+    /// Counts a CSV file `sample` writes; refused beyond the sandbox's limit of files per
+    /// run (a script computes its names, so a loop could otherwise fill a directory).
+    pub fn csv_file(&self, path: &Path) -> Result<(), String> {
+        let mut files = lock(&self.csv_files);
+        if !files.contains(path) && files.len() >= super::sandbox::MAX_CSV_FILES {
+            return Err(format!(
+                "sample: a script may write at most {} CSV files; {} would be one more",
+                super::sandbox::MAX_CSV_FILES,
+                path.display()
+            ));
+        }
+        files.insert(path.to_path_buf());
+        Ok(())
     }
 
     /// The script's `finally` starts a new count (Rhai counts each evaluation from zero).
@@ -213,7 +252,7 @@ impl Bridge {
             Err(e) => {
                 let stop = match *e {
                     EvalAltResult::ErrorTerminated(..) => self.take_ending().unwrap_or(Stop::Interrupted),
-                    _ => Stop::Error(e.to_string()),
+                    _ => Stop::Error(condition_failed(&e)),
                 };
                 *lock(&self.condition_error) = Some(e);
                 self.end_with(copy(&stop));
@@ -286,6 +325,19 @@ mod tests {
         );
         stop.request(StopSignal::INT);
         assert!(b.on_progress(4).is_some());
+    }
+
+    #[test]
+    fn a_script_writes_a_bounded_number_of_csv_files() {
+        let b = bridge(Arc::new(StopRequests::new()));
+        let limit = super::super::sandbox::MAX_CSV_FILES;
+        for i in 0..limit {
+            assert!(b.csv_file(Path::new(&format!("f{i}.csv"))).is_ok());
+        }
+        // The same file again is no new file.
+        assert!(b.csv_file(Path::new("f0.csv")).is_ok());
+        let e = b.csv_file(Path::new("one-more.csv")).unwrap_err();
+        assert!(e.contains("at most"), "{e}");
     }
 
     #[test]

@@ -1,5 +1,5 @@
 //! The functions a script calls: `drive()` and its methods (read, read_as, set, the device
-//! commands, state, go_to, wait_until, sample), the sample window's statistics, `dwell`,
+//! commands, state, go_to, wait_until, sample with its optional CSV file), the sample window's statistics, `dwell`,
 //! `expect`, `expect_near`, `fail`, `print`/`log` and `param`. Each resolves its words
 //! and values against the dictionary (`resolve`), then hands the call to the session
 //! thread through the [`Bridge`]. It must not touch the drive or the session itself.
@@ -11,6 +11,7 @@ use super::sample_window::SampleWindow;
 use crate::drive::DeviceCommand;
 use crate::session::{CheckResult, ObjectRef, Predicate, Statistic, StepOrigin};
 use rhai::{Array, Dynamic, Engine, EvalAltResult, FnPtr, NativeCallContext, Position};
+use std::path::PathBuf;
 use std::sync::Arc;
 use std::time::Duration;
 
@@ -330,47 +331,26 @@ fn register_waits(engine: &mut Engine, bridge: &Arc<Bridge>) {
               names: Array,
               every: &str,
               time: &str|
+              -> RhaiResult<SampleWindow> { sample(&b, h, &ctx, names, every, time, None) },
+    );
+    let b = bridge.clone();
+    engine.register_fn(
+        "sample",
+        move |ctx: NativeCallContext,
+              h: &mut DriveHandle,
+              names: Array,
+              every: &str,
+              time: &str,
+              csv: Dynamic|
               -> RhaiResult<SampleWindow> {
-            let mut objects = Vec::new();
-            for n in &names {
-                let name = n
-                    .clone()
-                    .into_string()
-                    .map_err(|t| error(format!("sample: object names are text, not {t}")))?;
-                objects.push(on_drive(&b, h, |d| resolve::readable(d, &name))?);
-            }
-            if objects.is_empty() {
-                return Err(error("sample: name at least one object"));
-            }
-            let (every, time) = (duration(every)?, duration(time)?);
-            if time.as_secs_f64() / every.as_secs_f64() > crate::recipe::MAX_SAMPLES as f64 {
-                return Err(error(format!(
-                    "sample: more than {} samples; sample less often or for a shorter time",
-                    crate::recipe::MAX_SAMPLES
-                )));
-            }
-            let label = format!(
-                "sample {} every {} for {}",
-                objects
-                    .iter()
-                    .map(|o| o.name.as_str())
-                    .collect::<Vec<_>>()
-                    .join(", "),
-                crate::session::show_duration(every),
-                crate::session::show_duration(time)
-            );
-            let call = Call::Sample {
-                objects,
-                every,
-                duration: time,
-            };
-            match b.call(ctx.call_position(), call, label)? {
-                Answer::Sampled(windows) => Ok(SampleWindow {
-                    windows,
-                    dictionary: b.dictionary.clone(),
-                }),
-                _ => Err(error("the session gave an unexpected answer")),
-            }
+            let name = csv.into_string().map_err(|t| {
+                error(format!(
+                    "sample: the csv file is named with text (\"sweep.csv\"), not {t}"
+                ))
+            })?;
+            let path = resolve::csv_file(&name).map_err(refused)?;
+            b.csv_file(&path).map_err(error)?;
+            sample(&b, h, &ctx, names, every, time, Some(path))
         },
     );
     for (id, statistic) in Statistic::ALL {
@@ -391,6 +371,60 @@ fn register_waits(engine: &mut Engine, bridge: &Arc<Bridge>) {
                 .collect())
         },
     );
+}
+
+/// `d.sample(["speed_actual"], "100 ms", "20 s")`, with its rows also written to `csv`
+/// when given.
+fn sample(
+    b: &Bridge,
+    h: &DriveHandle,
+    ctx: &NativeCallContext,
+    names: Array,
+    every: &str,
+    time: &str,
+    csv: Option<PathBuf>,
+) -> RhaiResult<SampleWindow> {
+    let mut objects = Vec::new();
+    for n in &names {
+        let name = n
+            .clone()
+            .into_string()
+            .map_err(|t| error(format!("sample: object names are text, not {t}")))?;
+        objects.push(on_drive(b, h, |d| resolve::readable(d, &name))?);
+    }
+    if objects.is_empty() {
+        return Err(error("sample: name at least one object"));
+    }
+    let (every, time) = (duration(every)?, duration(time)?);
+    if time.as_secs_f64() / every.as_secs_f64() > crate::recipe::MAX_SAMPLES as f64 {
+        return Err(error(format!(
+            "sample: more than {} samples; sample less often or for a shorter time",
+            crate::recipe::MAX_SAMPLES
+        )));
+    }
+    let label = format!(
+        "sample {} every {} for {}",
+        objects
+            .iter()
+            .map(|o| o.name.as_str())
+            .collect::<Vec<_>>()
+            .join(", "),
+        crate::session::show_duration(every),
+        crate::session::show_duration(time)
+    );
+    let call = Call::Sample {
+        objects,
+        every,
+        duration: time,
+        csv,
+    };
+    match b.call(ctx.call_position(), call, label)? {
+        Answer::Sampled(windows) => Ok(SampleWindow {
+            windows,
+            dictionary: b.dictionary.clone(),
+        }),
+        _ => Err(error("the session gave an unexpected answer")),
+    }
 }
 
 fn register_checks(engine: &mut Engine, bridge: &Arc<Bridge>) {

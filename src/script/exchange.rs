@@ -6,6 +6,7 @@
 use crate::diag::Diagnostic;
 use crate::drive::{DeviceCommand, DeviceState};
 use crate::session::{CheckResult, ObjectRef, SetValue, Stop};
+use std::path::PathBuf;
 use std::time::Duration;
 
 /// One drive operation, resolved and checked on the script side.
@@ -30,6 +31,9 @@ pub enum Call {
         objects: Vec<ObjectRef>,
         every: Duration,
         duration: Duration,
+        /// The sample's rows also go to this file (under `--output-dir`), as a recipe
+        /// sample step's `csv:`.
+        csv: Option<PathBuf>,
     },
     Expect(Box<CheckResult>),
     Fail(String),

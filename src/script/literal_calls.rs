@@ -14,7 +14,10 @@ pub enum Arg {
     Number(f64),
     /// `["speed_actual", "current_actual"]`: a list of text literals only.
     TextList(Vec<(String, Span)>),
-    /// Anything else (a variable, an expression, a closure).
+    /// `|v| v > limit`: the names its body uses (variables and functions, not methods or
+    /// its own parameters), each where it is written.
+    Closure(Vec<(String, Span)>),
+    /// Anything else (a variable, an expression).
     Other,
 }
 
@@ -27,6 +30,10 @@ pub struct LiteralCall {
     pub args: Vec<(Arg, Span)>,
     /// `d.state() == "fault"`: the text a call's result is compared with (`==`, `!=`).
     pub compared_with: Option<(String, Span)>,
+    /// `d` of `d.read(…)`: the variable a method is called on.
+    pub receiver: Option<String>,
+    /// `d` of `let d = drive();`: the variable the call's result is given to.
+    pub assigned_to: Option<String>,
 }
 
 #[derive(Debug, Clone, PartialEq)]
@@ -68,15 +75,92 @@ pub fn literal_calls(source: &Arc<Source>) -> Vec<LiteralCall> {
             })
             .collect();
         let compared_with = comparison(&tokens[i + 2..]).map(|t| (t.0.clone(), span(t.1, t.2)));
+        let ident_at = |k: Option<usize>| match k.and_then(|k| tokens.get(k)).map(|t| &t.kind) {
+            Some(Kind::Ident(v)) => Some(v.clone()),
+            _ => None,
+        };
+        let receiver = method.then(|| ident_at(i.checked_sub(2))).flatten();
+        let assigned = i >= 2 && tokens[i - 1].kind == Kind::Punct('=');
+        let assigned_to = assigned.then(|| ident_at(i.checked_sub(2))).flatten();
         calls.push(LiteralCall {
             name: name.clone(),
             method,
             span: span(tokens[i].offset, tokens[i].len),
             args,
             compared_with,
+            receiver,
+            assigned_to,
         });
     }
     calls
+}
+
+/// The closures a script gives to a variable (`let ready = |v| v > limit;`): the variable,
+/// and the names the closure's body uses as [`Arg::Closure`] has them.
+pub fn assigned_closures(source: &Arc<Source>) -> Vec<(String, Vec<(String, Span)>)> {
+    let tokens = tokens(source.text());
+    let lines = LineIndex::new(source.text());
+    let span = |offset: usize, len: usize| lines.span(source, offset, len);
+    let mut out = Vec::new();
+    for i in 2..tokens.len() {
+        let (Kind::Ident(name), Kind::Punct('='), Kind::Punct('|')) =
+            (&tokens[i - 2].kind, &tokens[i - 1].kind, &tokens[i].kind)
+        else {
+            continue;
+        };
+        // The closure ends at the `;` (or the bracket that closes around it).
+        let mut depth = 0usize;
+        let mut end = tokens.len();
+        for (k, t) in tokens.iter().enumerate().skip(i) {
+            match t.kind {
+                Kind::Punct('(' | '[' | '{') => depth += 1,
+                Kind::Punct(')' | ']' | '}') if depth == 0 => {
+                    end = k;
+                    break;
+                }
+                Kind::Punct(')' | ']' | '}') => depth -= 1,
+                Kind::Punct(';') if depth == 0 => {
+                    end = k;
+                    break;
+                }
+                _ => {}
+            }
+        }
+        if let Some(words) = closure_words(&tokens[i..end], &span) {
+            out.push((name.clone(), words));
+        }
+    }
+    out
+}
+
+/// The names a closure's body uses (not methods, not its parameters); `None` when `arg`
+/// is not a closure.
+fn closure_words(arg: &[Token], span: &dyn Fn(usize, usize) -> Span) -> Option<Vec<(String, Span)>> {
+    if arg.first()?.kind != Kind::Punct('|') {
+        return None;
+    }
+    let close = 1 + arg[1..].iter().position(|t| t.kind == Kind::Punct('|'))?;
+    let params: Vec<&str> = arg[1..close]
+        .iter()
+        .filter_map(|t| match &t.kind {
+            Kind::Ident(p) => Some(p.as_str()),
+            _ => None,
+        })
+        .collect();
+    let body = &arg[close + 1..];
+    let words = body
+        .iter()
+        .enumerate()
+        .filter_map(|(k, t)| match &t.kind {
+            Kind::Ident(w)
+                if !params.contains(&w.as_str()) && (k == 0 || body[k - 1].kind != Kind::Punct('.')) =>
+            {
+                Some((w.clone(), span(t.offset, t.len)))
+            }
+            _ => None,
+        })
+        .collect();
+    Some(words)
 }
 
 /// After a call without arguments (`tokens` start after its `(`): the text literal it is
@@ -127,6 +211,9 @@ fn arguments(tokens: &[Token]) -> Vec<&[Token]> {
 }
 
 fn classify(arg: &[Token], span: &dyn Fn(usize, usize) -> Span) -> Arg {
+    if let Some(words) = closure_words(arg, span) {
+        return Arg::Closure(words);
+    }
     match arg {
         [Token {
             kind: Kind::Text(t), ..
@@ -361,6 +448,30 @@ mod tests {
     }
 
     #[test]
+    fn a_closure_argument_names_what_its_body_uses() {
+        let text = "let d = drive();\nlet limit = 5.0;\nd.wait_until(\"speed_actual\", |v| v > limit + d.read(\"x\"), \"1 s\");\n\
+                    let ready = || drive().state() == \"fault\";\n";
+        let source = Source::new("t.rhai", text);
+        let calls = literal_calls(&source);
+        assert_eq!(calls[0].assigned_to.as_deref(), Some("d"));
+        let wait = calls.iter().find(|c| c.name == "wait_until").expect("wait_until");
+        assert_eq!(wait.receiver.as_deref(), Some("d"));
+        match &wait.args[1].0 {
+            Arg::Closure(words) => {
+                let names: Vec<&str> = words.iter().map(|(w, _)| w.as_str()).collect();
+                assert_eq!(names, ["limit", "d"]);
+                assert_eq!((words[1].1.line(), words[1].1.column()), (3, 46));
+            }
+            other => panic!("{other:?}"),
+        }
+        let assigned = assigned_closures(&source);
+        assert_eq!(assigned.len(), 1);
+        assert_eq!(assigned[0].0, "ready");
+        let names: Vec<&str> = assigned[0].1.iter().map(|(w, _)| w.as_str()).collect();
+        assert_eq!(names, ["drive"]);
+    }
+
+    #[test]
     fn any_text_is_scanned_without_panicking() {
         for text in [
             "\"unterminated",
@@ -374,6 +485,7 @@ mod tests {
         ] {
             let source = Source::new("t.rhai", text);
             let _ = literal_calls(&source);
+            let _ = assigned_closures(&source);
         }
     }
 
@@ -381,6 +493,12 @@ mod tests {
         #[test]
         fn any_text_scans_without_panicking_and_every_place_is_inside_it(text in "\\PC{0,200}") {
             let source = Source::new("t.rhai", text.as_str());
+            let closures = assigned_closures(&source);
+            let closure_spans = closures.iter().flat_map(|(_, words)| words.iter().map(|(_, s)| s.clone()));
+            for span in closure_spans {
+                proptest::prop_assert!(span.offset() + span.len() <= text.len());
+                proptest::prop_assert!(text.is_char_boundary(span.offset()));
+            }
             for call in literal_calls(&source) {
                 for span in std::iter::once(&call.span).chain(call.args.iter().map(|(_, s)| s)) {
                     proptest::prop_assert!(span.offset() + span.len() <= text.len());
@@ -391,9 +509,10 @@ mod tests {
         }
 
         #[test]
-        fn call_like_text_scans_without_panicking(text in "[a-z.(),\\[\\]\"`'/*\\\\ 0-9_-]{0,120}") {
+        fn call_like_text_scans_without_panicking(text in "[a-z.(),|=;{}\\[\\]\"`'/*\\\\ 0-9_-]{0,120}") {
             let source = Source::new("t.rhai", text.as_str());
             let _ = literal_calls(&source);
+            let _ = assigned_closures(&source);
         }
     }
 

@@ -6,6 +6,7 @@
 
 mod bridge;
 mod drive_api;
+mod drive_in_condition;
 mod exchange;
 mod literal_calls;
 mod resolve;
@@ -13,13 +14,14 @@ mod sample_window;
 mod sandbox;
 mod script;
 mod script_error;
+mod script_header;
 mod script_invalid;
 mod script_runner;
 mod static_check;
 
 pub use sandbox::{
-    MAX_ARRAY_SIZE, MAX_CALL_LEVELS, MAX_EXPR_DEPTH, MAX_MAP_SIZE, MAX_OPERATIONS_BETWEEN_CALLS,
-    MAX_STRING_SIZE,
+    MAX_ARRAY_SIZE, MAX_CALL_LEVELS, MAX_CSV_FILES, MAX_EXPR_DEPTH, MAX_MAP_SIZE,
+    MAX_OPERATIONS_BETWEEN_CALLS, MAX_STRING_SIZE,
 };
 pub use script::{declared_script_drives, is_script, load_script, load_script_for, load_script_text, Script};
 pub use script_invalid::ScriptInvalid;

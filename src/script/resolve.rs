@@ -8,6 +8,7 @@ use crate::diag::{did_you_mean, suggestion_text};
 use crate::dictionary::{DataType, Dictionary, ObjectDef, Quantity, Unit};
 use crate::drive::DeviceState;
 use crate::session::{ObjectRef, SetValue, Tolerance};
+use std::path::{Component, Path, PathBuf};
 use std::time::Duration;
 
 /// The longest duration a script may give (as for recipes).
@@ -214,6 +215,33 @@ pub fn duration(text: &str) -> Result<Duration, Refusal> {
     }
 }
 
+/// The `csv` file of a `sample`, as a recipe's `csv:` names it: relative paths go under
+/// `--output-dir`. A script computes its names and runs in a sandbox without file access,
+/// so a name must stay inside that directory: relative, without `..`.
+pub fn csv_file(text: &str) -> Result<PathBuf, Refusal> {
+    let path = Path::new(text);
+    let inside = path
+        .components()
+        .all(|c| matches!(c, Component::Normal(_) | Component::CurDir));
+    if text.trim().is_empty() || path.file_name().is_none() {
+        return Err(Refusal::new(
+            format!("`{text}` is not a file name"),
+            "not a file name",
+            Some("name the CSV file, e.g. \"sweep.csv\"".into()),
+        ));
+    }
+    if !inside {
+        return Err(Refusal::new(
+            format!("`{text}` is outside the output directory"),
+            "outside --output-dir",
+            Some(
+                "a script writes its CSV files under --output-dir: give a relative name without `..`, e.g. \"sweep.csv\" or \"run-in/stage-1.csv\"".into(),
+            ),
+        ));
+    }
+    Ok(path.to_path_buf())
+}
+
 /// A state of the device-control profile: `operation_enabled`.
 pub fn state(text: &str) -> Result<DeviceState, Refusal> {
     DeviceState::from_id(text).ok_or_else(|| {
@@ -294,5 +322,24 @@ mod tests {
             (Tolerance::Absolute(5.0), Some("rpm".to_string()))
         );
         assert!(tolerance("lots").is_err());
+    }
+
+    #[test]
+    fn a_csv_file_stays_under_the_output_directory() {
+        assert_eq!(csv_file("sweep.csv").unwrap(), PathBuf::from("sweep.csv"));
+        assert_eq!(
+            csv_file("run-in/stage-1.csv").unwrap(),
+            PathBuf::from("run-in/stage-1.csv")
+        );
+        for outside in ["/tmp/x.csv", "../x.csv", "a/../../x.csv"] {
+            assert_eq!(
+                csv_file(outside).unwrap_err().label,
+                "outside --output-dir",
+                "{outside}"
+            );
+        }
+        for nothing in ["", "  ", ".", ".."] {
+            assert!(csv_file(nothing).is_err(), "{nothing:?}");
+        }
     }
 }

@@ -1,6 +1,7 @@
 //! The Rhai engine a script runs in: no modules (the crate is built with `no_module`), no
 //! `eval`, no file system or process access (Rhai has none unless given, and nothing here
-//! gives it), and limits on call depth, expression depth and the sizes of strings, arrays
+//! gives it; `sample` writes its CSV files only under `--output-dir`, at most
+//! [`MAX_CSV_FILES`]), and limits on call depth, expression depth and the sizes of strings, arrays
 //! and maps. The operation limit counts operations *between drive calls*, so an endless
 //! loop that never talks to the drive ends with a clear message while a run-in that loops
 //! for hours (talking to the drive) does not. It must not know the drive API.
@@ -23,6 +24,8 @@ pub const MAX_MAP_SIZE: usize = 10_000;
 /// Variables in scope and functions a script may define.
 pub const MAX_VARIABLES: usize = 1_000;
 pub const MAX_FUNCTIONS: usize = 256;
+/// CSV files one run's `sample` calls may write (each under `--output-dir`).
+pub const MAX_CSV_FILES: usize = 1_000;
 
 /// The sandboxed engine without the drive API (enough to parse a script for `check`).
 pub fn sandbox() -> Engine {

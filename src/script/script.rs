@@ -1,16 +1,18 @@
-//! A checked script: its file, name, drive family line, the compiled program and the
-//! `--set` parameters, and the loading that checks it (syntax in the sandboxed engine,
+//! A checked script: its file, name, header (`script_header`), the compiled program and
+//! the `--set` parameters, and the loading that checks it (syntax in the sandboxed engine,
 //! then the literal drive calls against the dictionary). Every problem is reported at
 //! once; nothing here runs the script or talks to a drive.
 
-use super::literal_calls::{literal_calls, LineIndex};
+use super::drive_in_condition::conditions_using_the_drive;
+use super::literal_calls::literal_calls;
 use super::sandbox::sandbox;
 use super::script_error::parse_error;
+use super::script_header::Header;
 use super::script_invalid::ScriptInvalid;
 use super::static_check::check_calls;
 use crate::diag::{read_source, Diagnostic, Diagnostics, Source, Span};
 use crate::dictionary::Dictionary;
-use crate::recipe::DriveDecl;
+use crate::recipe::{DriveDecl, SafeStopChoice};
 use rhai::AST;
 use std::path::Path;
 use std::sync::Arc;
@@ -38,6 +40,12 @@ pub struct Script {
     /// The named drives of `//! drives: left = sd2 @ dnc:2, right = sd2 @ dnc:3`; empty
     /// for a script with one drive.
     pub drives: Vec<DriveDecl>,
+    /// `//! leave_enabled: true`: after a successful run the drive is left as the script
+    /// left it, as a recipe's `leave_enabled: true`.
+    pub leave_enabled: bool,
+    /// `//! safe_stop: timeout=2 min, standstill=20 rpm`, as a recipe's `safe_stop:`
+    /// (the command line's options win).
+    pub safe_stop: SafeStopChoice,
 }
 
 /// The drives a script's header declares and the dictionary each names, read before the
@@ -120,7 +128,8 @@ fn load_source_for(
 ) -> Result<Script, ScriptInvalid> {
     let path = source.path().to_string();
     let mut problems = Diagnostics::new();
-    let header = Header::read(&source);
+    let mut header = Header::read(&source);
+    problems.extend(std::mem::take(&mut header.problems));
     for (decl, span) in header.drives.iter().zip(&header.drive_spans) {
         if !drives.iter().any(|(n, _)| *n == decl.name) {
             problems.push(
@@ -165,6 +174,7 @@ fn load_source_for(
         }
     };
     let calls = literal_calls(&source);
+    problems.extend(conditions_using_the_drive(&source));
     if drives.is_empty() {
         problems.extend(check_calls(&calls, dictionary, set, &path));
     } else {
@@ -211,6 +221,8 @@ fn load_source_for(
             has_finally,
             calls: calls.len(),
             drives: header.drives,
+            leave_enabled: header.leave_enabled,
+            safe_stop: header.safe_stop,
         }),
         _ => Err(ScriptInvalid {
             path,
@@ -225,75 +237,6 @@ fn file_stem(path: &str) -> String {
         .and_then(|s| s.to_str())
         .unwrap_or(path)
         .to_string()
-}
-
-/// The `//!` lines at the top: `//! drive: sd2`, `//! name: Speed sweep`,
-/// `//! drives: left = sd2 @ dnc:2, right = sd2 @ dnc:3`.
-struct Header {
-    drive: Option<(String, Span)>,
-    name: Option<String>,
-    link: Vec<(String, String)>,
-    drives: Vec<DriveDecl>,
-    /// Where each of `drives` is written.
-    drive_spans: Vec<Span>,
-}
-
-impl Header {
-    fn read(source: &Arc<Source>) -> Header {
-        let mut header = Header {
-            drive: None,
-            name: None,
-            link: Vec::new(),
-            drives: Vec::new(),
-            drive_spans: Vec::new(),
-        };
-        let index = LineIndex::new(source.text());
-        let mut offset = 0;
-        for line in source.text().split_inclusive('\n') {
-            let Some(rest) = line.trim_start().strip_prefix("//!") else {
-                break;
-            };
-            if let Some((key, value)) = rest.split_once(':') {
-                let value_text = value.trim();
-                match key.trim() {
-                    "drive" if header.drive.is_none() => {
-                        let at = offset + line.find(value_text).unwrap_or(0);
-                        header.drive =
-                            Some((value_text.to_string(), index.span(source, at, value_text.len())));
-                    }
-                    "name" if header.name.is_none() => header.name = Some(value_text.to_string()),
-                    // The family checks names and values before the port opens.
-                    "link" => header.link.extend(value_text.split(',').filter_map(|setting| {
-                        let (k, v) = setting.split_once('=')?;
-                        Some((k.trim().to_string(), v.trim().to_string()))
-                    })),
-                    "drives" if header.drives.is_empty() => {
-                        let at = offset + line.find(value_text).unwrap_or(0);
-                        let span = index.span(source, at, value_text.len());
-                        for entry in value_text.split(',').filter(|e| !e.trim().is_empty()) {
-                            let (name, rest) = entry.split_once('=').unwrap_or((entry, ""));
-                            let (drive, address) = match rest.split_once('@') {
-                                Some((d, a)) => (d.trim(), Some(a.trim().to_string())),
-                                None => (rest.trim(), None),
-                            };
-                            header.drives.push(DriveDecl {
-                                name: name.trim().to_string(),
-                                drive: drive.to_string(),
-                                address,
-                                port: None,
-                                tcp: None,
-                                can: None,
-                            });
-                            header.drive_spans.push(span.clone());
-                        }
-                    }
-                    _ => {}
-                }
-            }
-            offset += line.len();
-        }
-        header
-    }
 }
 
 #[cfg(test)]
@@ -366,6 +309,27 @@ mod tests {
         assert!(
             p[4].starts_with("t.rhai:7:28: `lots` is not a tolerance"),
             "{p:#?}"
+        );
+    }
+
+    #[test]
+    fn a_samples_csv_file_is_text_under_the_output_directory() {
+        let ok =
+            "let d = drive();\nlet s = d.sample([\"speed_actual\"], \"1 s\", \"1 min\", \"sweep.csv\");\n";
+        assert!(problems(ok, &[]).is_empty());
+        let computed =
+            "let d = drive();\nlet s = d.sample([\"speed_actual\"], \"1 s\", \"1 min\", `s${1}.csv`);\n";
+        assert!(problems(computed, &[]).is_empty());
+        let p = problems(
+            "let d = drive();\nlet s = d.sample([\"speed_actual\"], \"1 s\", \"1 min\", \"../x.csv\");\nlet t = d.sample([\"speed_actual\"], \"1 s\", \"1 min\", 5);\n",
+            &[],
+        );
+        assert_eq!(
+            p,
+            [
+                "t.rhai:2:52: `../x.csv` is outside the output directory",
+                "t.rhai:3:52: the csv file of a sample is named with text",
+            ]
         );
     }
 

@@ -3,6 +3,7 @@
 //! underlined, and the functions the error passed through. It must not decide what an
 //! error means for the run (that is the runner's job).
 
+use super::drive_in_condition::data_race;
 use super::literal_calls::LineIndex;
 use crate::diag::{Diagnostic, Source, Span};
 use rhai::{EvalAltResult, ParseError, Position};
@@ -63,11 +64,21 @@ pub fn eval_error(source: &Arc<Source>, e: &EvalAltResult) -> Diagnostic {
             text.strip_suffix(&place).unwrap_or(&text).to_string()
         }
     };
-    let mut d = at(source, inner.position(), message, "raised here");
-    if let EvalAltResult::ErrorDataRace(..) = inner {
-        d = d.with_help(
+    let mut d = match inner {
+        // Rhai gives this refusal no place: the text shows where it comes from.
+        EvalAltResult::ErrorDataRace(what, pos)
+            if what.contains("'wait_until'") && span_at(source, *pos).is_none() =>
+        {
+            data_race(source)
+        }
+        _ => at(source, inner.position(), message, "raised here"),
+    };
+    if let EvalAltResult::ErrorDataRace(what, _) = inner {
+        if !what.contains("'wait_until'") {
+            d = d.with_help(
             "a value is used twice at once; a wait_until condition, for example, must not use the drive: it judges the value it is given",
         );
+        }
     }
     if let EvalAltResult::ErrorFunctionNotFound(..) = inner {
         d = d.with_help(
@@ -76,7 +87,12 @@ pub fn eval_error(source: &Arc<Source>, e: &EvalAltResult) -> Diagnostic {
     }
     for (name, pos) in through {
         if let Some(span) = span_at(source, pos) {
-            d = d.also_at(&span, format!("in `{name}`, called here"));
+            // Rhai names a closure `anon$…`.
+            let called = match name.starts_with("anon$") {
+                true => "in a closure, called here".to_string(),
+                false => format!("in `{name}`, called here"),
+            };
+            d = d.also_at(&span, called);
         }
     }
     d
@@ -94,5 +110,32 @@ mod tests {
         let span = span_at(&source, Position::new(2, 8)).expect("a span");
         assert_eq!(span.written(), "\"speed\"");
         assert!(span_at(&source, Position::NONE).is_none());
+    }
+
+    #[test]
+    fn rhais_data_race_in_wait_until_is_placed_at_the_wait() {
+        let source = Source::new(
+            "s.rhai",
+            "let d = drive();\nlet c = [|v| v > d.read(\"x\")];\nd.wait_until(\"speed_actual\", c[0], \"1 s\");\n",
+        );
+        let race =
+            EvalAltResult::ErrorDataRace("argument #2 of function 'wait_until'".into(), Position::NONE);
+        let d = eval_error(&source, &race);
+        assert!(
+            d.located()
+                .starts_with("s.rhai:3:3: the wait_until condition holds the drive"),
+            "{}",
+            d.located()
+        );
+        // Another data race keeps Rhai's words and gets the general help.
+        let other =
+            EvalAltResult::ErrorDataRace("argument #1 of function 'push'".into(), Position::new(2, 9));
+        let d = eval_error(&source, &other);
+        assert!(
+            d.located().starts_with("s.rhai:2:9: Data race detected"),
+            "{}",
+            d.located()
+        );
+        assert!(d.help().is_some_and(|h| h.contains("used twice at once")));
     }
 }

@@ -38,6 +38,7 @@ pub struct ScriptRunner<'a> {
     stop: Arc<StopRequests>,
     settings: SafeStopSettings,
     output_dir: PathBuf,
+    csv_wide: bool,
 }
 
 impl<'a> ScriptRunner<'a> {
@@ -58,6 +59,7 @@ impl<'a> ScriptRunner<'a> {
             stop,
             settings: SafeStopSettings::default(),
             output_dir: PathBuf::from("."),
+            csv_wide: false,
         }
     }
 
@@ -70,6 +72,12 @@ impl<'a> ScriptRunner<'a> {
     /// Where files the session writes go (relative paths).
     pub fn with_output_dir(mut self, dir: PathBuf) -> Self {
         self.output_dir = dir;
+        self
+    }
+
+    /// The `csv:` files of `sample` with one column per object (`--csv-wide`).
+    pub fn with_csv_wide(mut self, wide: bool) -> Self {
+        self.csv_wide = wide;
         self
     }
 
@@ -114,7 +122,8 @@ impl<'a> ScriptRunner<'a> {
         let stop = self.stop.clone();
         let mut session = Session::with_drives(self.drives, &mut tap, &stop, info)
             .with_settings(self.settings)
-            .with_output_dir(self.output_dir);
+            .with_output_dir(self.output_dir)
+            .with_csv_wide(self.csv_wide);
         let mut host = Host {
             from_script,
             to_script,
@@ -139,7 +148,7 @@ impl<'a> ScriptRunner<'a> {
             let mut finally = |s: &mut Session| host.finally(s);
             let finally: Option<&mut dyn FnMut(&mut Session)> =
                 (script.has_finally && worker.is_ok()).then_some(&mut finally);
-            let report = session.end(ended, false, None, finally);
+            let report = session.end(ended, script.leave_enabled, None, finally);
             let _ = host.to_script.send(ToScript::Finish);
             if let Ok(w) = worker {
                 let _ = w.join();
@@ -148,6 +157,9 @@ impl<'a> ScriptRunner<'a> {
         })
     }
 }
+
+/// The refusal of a drive call made inside a `wait_until` condition.
+const CONDITION_CALLS_THE_DRIVE: &str = "a wait_until condition must not call the drive: it judges the value it is given; read any other value before the wait";
 
 /// The session thread's side: performs the script's requests.
 struct Host<'e> {
@@ -306,9 +318,10 @@ impl Host<'_> {
                 objects,
                 every,
                 duration,
+                csv,
             } => {
                 self.capture.borrow_mut().start(&objects);
-                let result = s.sample(&objects, every, duration, None, number);
+                let result = s.sample(&objects, every, duration, csv.as_ref(), number);
                 let windows = self.capture.borrow_mut().finish();
                 *answer = Answer::Sampled(windows);
                 result
@@ -336,10 +349,9 @@ impl Host<'_> {
                 Ok(ToSession::Request(_)) => {
                     // A call from inside the condition: conditions judge a value, they
                     // must not drive. Refused, and the wait ends with it.
-                    let refusal = "a wait_until condition must not call the drive";
-                    let _ = self
-                        .to_script
-                        .send(ToScript::Answer(Err(Stop::Error(refusal.into()))));
+                    let _ = self.to_script.send(ToScript::Answer(Err(Stop::Error(
+                        CONDITION_CALLS_THE_DRIVE.into(),
+                    ))));
                 }
                 Ok(ToSession::Ended(_)) | Err(_) => {
                     return Err(Stop::Panicked(
@@ -429,6 +441,10 @@ fn ending(
         EvalAltResult::ErrorRuntime(v, _) => {
             let d = eval_error(source, &e);
             match bridge.drive_error(&v.to_string()) {
+                // The script's own mistake, not the drive's: said at its place.
+                Some(Stop::Error(m)) if m == CONDITION_CALLS_THE_DRIVE => {
+                    Ending::Stopped(Stop::Error(d.located()), Some(Box::new(d)))
+                }
                 Some(stop) => Ending::Stopped(stop, Some(Box::new(d))),
                 None => Ending::Stopped(Stop::Error(d.located()), Some(Box::new(d))),
             }

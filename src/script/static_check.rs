@@ -108,6 +108,25 @@ pub fn check_calls(
                         }
                     }
                 }
+                match c.args.get(3) {
+                    Some((Arg::Text(t), span)) => {
+                        if let Err(r) = resolve::csv_file(t) {
+                            refuse(span, r);
+                        }
+                    }
+                    Some((Arg::Number(_) | Arg::TextList(_), span)) => refuse(
+                        span,
+                        Refusal {
+                            message: "the csv file of a sample is named with text".into(),
+                            label: "not text",
+                            help: Some(
+                                "e.g. d.sample([\"speed_actual\"], \"100 ms\", \"20 s\", \"sweep.csv\")"
+                                    .into(),
+                            ),
+                        },
+                    ),
+                    _ => {}
+                }
             }
             ("state", true) => {
                 if let Some((s, span)) = &c.compared_with {

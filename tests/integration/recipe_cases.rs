@@ -1,5 +1,5 @@
 //! Data-driven recipe cases: every folder `tests/cases/<group>/<case>/` holds `recipe.yaml`
-//! (and any files it includes) and `case.yaml`:
+//! (and any files it includes), or a Rhai script `script.rhai` in its place, and `case.yaml`:
 //!
 //! ```yaml
 //! exit: 0                      # expected exit code
@@ -170,7 +170,12 @@ fn run_case(dir: &Path) -> Result<(), String> {
         "drivescript-case-{}",
         dir.file_name().and_then(|n| n.to_str()).unwrap_or("x")
     ));
-    let mut run = InProcessRun::new(dir.join("recipe.yaml"));
+    // A script case runs the same way and is held to the same expectations.
+    let file = match dir.join("script.rhai") {
+        script if script.exists() => script,
+        _ => dir.join("recipe.yaml"),
+    };
+    let mut run = InProcessRun::new(file);
     run.set = set;
     run.output_dir = output_dir;
     run.prepare = Some(&prepare);

@@ -95,6 +95,10 @@ fn the_schema_accepts_good_recipes_and_refuses_bad_units_durations_and_shapes() 
     for kind in ["ok", "failed", "error", "interrupted"] {
         for e in std::fs::read_dir(root.join("tests/cases").join(kind)).unwrap() {
             let path = e.unwrap().path().join("recipe.yaml");
+            // A script case (`script.rhai`) has no YAML for the schema.
+            if !path.exists() {
+                continue;
+            }
             // The schema is one dictionary's: a recipe with `drives:` names objects of
             // several (`left.speed_setpoint`), which it does not enumerate.
             let several = std::fs::read_to_string(&path).is_ok_and(|t| t.contains("\ndrives:"));

@@ -545,3 +545,174 @@ fn a_scripts_header_chooses_the_cyclic_channel() {
     assert_eq!(out.status.code(), Some(2), "{}", stdout(&out));
     assert!(stderr(&out).contains("--velocity-scaling"), "{}", stderr(&out));
 }
+
+/// `d.sample(…, "file.csv")` writes that sample's rows as a recipe sample step's `csv:`
+/// does: the same layout, under `--output-dir`, continued by a later pass of the same line.
+#[test]
+fn a_samples_csv_file_holds_its_rows_in_the_recipes_layout() {
+    let dir = scratch("script-sample-csv");
+    let text = "let d = drive();\nd.set(\"speed_setpoint\", 2000.0, \"rpm\");\nd.go_to(\"operation_enabled\");\n\
+                d.wait_until(\"speed_actual\", |v| v > 1980.0, \"10 s\");\n\
+                for pass in 0..2 { let s = d.sample([\"speed_actual\", \"current_actual\"], \"100 ms\", \"1 s\", \"runs/speed.csv\"); }\n";
+    let mut run = InProcessRun::new(write_script(&dir, text));
+    run.output_dir = dir.clone();
+    let (result, output) = run.run();
+    assert_eq!(result.exit_code, 0, "{output}");
+    let report = result.report.as_ref().expect("a report");
+    let path = dir.join("runs/speed.csv");
+    assert_eq!(report.csv_files, [path.display().to_string()], "{output}");
+    let mut reader = csv::Reader::from_path(&path).expect("the sample's csv file");
+    assert_eq!(
+        reader.headers().expect("a header"),
+        &csv::StringRecord::from(vec!["time [s]", "utc", "step", "object", "value", "unit"])
+    );
+    let rows: Vec<csv::StringRecord> = reader.records().map(Result::unwrap).collect();
+    // 11 samples of two objects, twice.
+    assert_eq!(rows.len(), 2 * 11 * 2, "{rows:?}");
+    let steps: Vec<&str> = rows.iter().map(|r| &r[2]).collect();
+    assert!(steps[..22].iter().all(|s| *s == "5"), "{steps:?}");
+    assert!(steps[22..].iter().all(|s| *s == "5.2"), "{steps:?}");
+    for pair in rows.chunks(2) {
+        assert_eq!((&pair[0][3], &pair[0][5]), ("speed_actual", "rpm"));
+        assert_eq!((&pair[1][3], &pair[1][5]), ("current_actual", "A"));
+        assert_eq!(pair[0][0], pair[1][0], "one time per sample");
+        assert!(humantime::parse_rfc3339(&pair[0][1]).is_ok(), "{pair:?}");
+        let speed: f64 = pair[0][4].parse().expect("a number");
+        assert!((speed - 2000.0).abs() < 20.0, "{pair:?}");
+    }
+    let times: Vec<f64> = rows
+        .iter()
+        .step_by(2)
+        .map(|r| r[0].parse().expect("time"))
+        .collect();
+    assert!(
+        times[..11].windows(2).all(|w| ((w[1] - w[0]) - 0.1).abs() < 1e-6),
+        "{times:?}"
+    );
+}
+
+/// `--csv-wide` gives a script's sample file one column per object, as a recipe's.
+#[test]
+fn csv_wide_gives_a_scripts_sample_file_one_column_per_object() {
+    let dir = scratch("script-sample-csv-wide");
+    let text = "let d = drive();\nlet s = d.sample([\"speed_actual\", \"current_actual\"], \"100 ms\", \"1 s\", \"wide.csv\");\n";
+    let mut run = InProcessRun::new(write_script(&dir, text));
+    run.output_dir = dir.clone();
+    run.outputs.csv_wide = true;
+    let (result, output) = run.run();
+    assert_eq!(result.exit_code, 0, "{output}");
+    let mut reader = csv::Reader::from_path(dir.join("wide.csv")).expect("wide.csv");
+    assert_eq!(
+        reader.headers().expect("a header"),
+        &csv::StringRecord::from(vec![
+            "time [s]",
+            "utc",
+            "step",
+            "speed_actual [rpm]",
+            "current_actual [A]"
+        ])
+    );
+    let rows: Vec<csv::StringRecord> = reader.records().map(Result::unwrap).collect();
+    assert_eq!(rows.len(), 11);
+    assert!(rows.iter().all(|r| r.len() == 5 && &r[2] == "2"), "{rows:?}");
+}
+
+/// A script writes only under `--output-dir`: a literal name outside is refused by the
+/// check, a computed one when the script gets there (located, after the safe stop).
+#[test]
+fn a_scripts_csv_file_outside_the_output_directory_is_refused() {
+    let dir = scratch("script-sample-csv-outside");
+    let literal =
+        "let d = drive();\nlet s = d.sample([\"speed_actual\"], \"100 ms\", \"1 s\", \"../escape.csv\");\n";
+    let path = write_script(&dir, literal);
+    let check = drivescript(&["check", path.to_str().expect("utf-8")], "");
+    assert_eq!(check.status.code(), Some(2));
+    let err = stderr(&check);
+    assert!(err.contains("script.rhai:2:53]"), "{err}");
+    assert!(
+        err.contains("`../escape.csv` is outside the output directory"),
+        "{err}"
+    );
+    let computed = "let d = drive();\nd.go_to(\"operation_enabled\");\nlet up = \"..\";\n\
+                    let s = d.sample([\"speed_actual\"], \"100 ms\", \"1 s\", up + \"/escape.csv\");\n";
+    let (result, output) = run_script("csv-outside", computed, None, Arc::new(StopRequests::new()));
+    assert_eq!(result.exit_code, 3, "{output}");
+    assert!(output.contains("script.rhai:4:"), "{output}");
+    assert!(output.contains("is outside the output directory"), "{output}");
+    assert!(output.contains("drive left in ready to switch on"), "{output}");
+    assert!(!dir.parent().expect("a parent").join("escape.csv").exists());
+}
+
+/// A `wait_until` condition that uses the drive the wait is called on: `check` finds it
+/// where the condition uses the drive (Rhai would refuse the call as a data race with no
+/// place), and `run` sends nothing.
+#[test]
+fn check_finds_a_wait_until_condition_that_uses_the_drive() {
+    let dir = scratch("script-condition-drive");
+    let path = write_script(
+        &dir,
+        "//! drive: sd2\nlet d = drive();\nd.set(\"speed_setpoint\", 2000.0, \"rpm\");\nd.go_to(\"operation_enabled\");\n\
+         d.wait_until(\"speed_actual\", |v| v > d.read(\"speed_setpoint\") - 10.0, \"10 s\");\n",
+    );
+    let p = path.to_str().expect("utf-8");
+    let check = drivescript(&["check", p], "");
+    assert_eq!(check.status.code(), Some(2));
+    let err = stderr(&check);
+    for part in [
+        "a wait_until condition must not use the drive: `d` is used inside the condition",
+        "script.rhai:5:3]",
+        "the drive, inside the condition",
+        "in this wait_until",
+        "let target = d.read(\"speed_setpoint\");",
+    ] {
+        assert!(err.contains(part), "missing {part:?}:\n{err}");
+    }
+    let (result, output) = InProcessRun::new(&path).run();
+    assert_eq!(result.exit_code, 2, "{output}");
+    assert!(output.contains("nothing was sent to the drive"), "{output}");
+    assert!(result.simulator.is_none(), "no drive opened: {output}");
+}
+
+/// A condition the text does not show (kept in an array) still gets a place: Rhai's data
+/// race refusal, which has none, is shown at the wait it came from; the safe stop runs.
+#[test]
+fn a_data_race_in_wait_until_is_located_at_the_wait_and_the_drive_is_stopped() {
+    let text =
+        "let d = drive();\nd.set(\"speed_setpoint\", 2000.0, \"rpm\");\nd.go_to(\"operation_enabled\");\n\
+                let conditions = [|v| v > d.read(\"speed_setpoint\") - 10.0];\n\
+                d.wait_until(\"speed_actual\", conditions[0], \"10 s\");\n";
+    let (result, output) = run_script("data-race", text, None, Arc::new(StopRequests::new()));
+    assert_eq!(result.exit_code, 3, "{output}");
+    assert!(output.contains("script.rhai:5:3]"), "{output}");
+    assert!(
+        output.contains("the wait_until condition holds the drive the wait is called on"),
+        "{output}"
+    );
+    assert!(output.contains("or wait on that object itself"), "{output}");
+    assert!(!output.contains("Data race detected"), "{output}");
+    assert!(output.contains("drive left in ready to switch on"), "{output}");
+    assert!(control_words(&result).ends_with(&[7, 6]), "{output}");
+}
+
+/// A condition that calls another drive handle (made in a function, so the text does not
+/// show it) is refused at the call inside the condition, located, and the drive stopped.
+#[test]
+fn a_condition_that_calls_the_drive_is_refused_at_its_place() {
+    let text =
+        "let d = drive();\nd.set(\"speed_setpoint\", 2000.0, \"rpm\");\nd.go_to(\"operation_enabled\");\n\
+                fn above_setpoint(d) { |v| v > d.read(\"speed_setpoint\") - 10.0 }\n\
+                d.wait_until(\"speed_actual\", above_setpoint(d), \"10 s\");\n";
+    let (result, output) = run_script("condition-calls", text, None, Arc::new(StopRequests::new()));
+    assert_eq!(result.exit_code, 3, "{output}");
+    assert!(output.contains("script.rhai:4:34]"), "{output}");
+    assert!(
+        output.contains("ERROR: ")
+            && output.contains("script.rhai:4:34: a wait_until condition must not call the drive"),
+        "{output}"
+    );
+    assert!(
+        output.contains("read any other value before the wait"),
+        "{output}"
+    );
+    assert!(control_words(&result).ends_with(&[7, 6]), "{output}");
+}
