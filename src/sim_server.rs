@@ -12,12 +12,6 @@ use std::time::Duration;
 /// How often the serve loop looks at the stop flag while the line is quiet.
 const POLL: Duration = Duration::from_millis(50);
 
-/// With wire time, how long after a reply the server looks for the next request without
-/// sleeping. Waking from a sleep takes tens of microseconds on a busy machine, and the
-/// emulation would charge that to the line: a master that answers at once (a run at the
-/// wire's limit) would look slower than it is. Bounded, so an idle server sleeps.
-const WATCH_AFTER_REPLY: Duration = Duration::from_millis(1);
-
 /// What one `serve` call did.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct ServeStats {
@@ -61,13 +55,8 @@ impl SimServer {
         let mut buf = [0u8; 512];
         let mut input_busy_until = Duration::ZERO;
         let mut output_busy_until = Duration::ZERO;
-        let mut watch_until = Duration::ZERO;
         while !self.stop.load(Ordering::SeqCst) {
-            let wait = match self.wire.is_some() && self.clock.now() < watch_until {
-                true => Duration::ZERO,
-                false => POLL,
-            };
-            let n = match io.read(&mut buf, wait) {
+            let n = match io.read(&mut buf, POLL) {
                 Ok(n) => n,
                 Err(TransportError::Timeout { .. }) => continue,
                 Err(TransportError::Closed { .. }) => break,
@@ -98,7 +87,6 @@ impl SimServer {
                 io.write_all(&reply.bytes)?;
                 stats.bytes_out += reply.bytes.len() as u64;
                 stats.replies += 1;
-                watch_until = self.clock.now() + WATCH_AFTER_REPLY;
             }
         }
         Ok(stats)
