@@ -32,8 +32,15 @@ const BAUD: f64 = 57_600.0;
 const BITS_PER_BYTE: f64 = 10.0;
 /// The simulated drive's reply latency as `simulate` serves it.
 const DRIVE_LATENCY: f64 = 100e-6;
-/// How long each wire measurement samples or repeats.
-const WIRE_SECONDS: u64 = 10;
+/// How long each wire measurement samples or repeats, and how many rounds of them.
+const WIRE_SECONDS: u64 = 5;
+const WIRE_ROUNDS: usize = 3;
+
+/// The middle value (of an odd count; the upper middle of an even one).
+fn median(values: &mut [f64]) -> f64 {
+    values.sort_by(f64::total_cmp);
+    values.get(values.len() / 2).copied().unwrap_or(f64::NAN)
+}
 
 fn binary() -> &'static str {
     env!("CARGO_BIN_EXE_drivescript")
@@ -153,6 +160,51 @@ struct Simulator {
     path: String,
 }
 
+/// CPUs for the CPU comparison: the simulator on one, the program measured on another.
+/// Where the scheduler puts two processes that wake each other changes the cost of every
+/// wake-up (another CPU's caches, an interrupt between CPUs), and it changes from run to
+/// run; fixed places make the three programs' figures comparable. `None` on a machine
+/// with one CPU.
+fn cpu_places() -> Option<(usize, usize)> {
+    (std::thread::available_parallelism().map_or(1, |n| n.get()) >= 2).then_some((0, 1))
+}
+
+/// Makes `command` run on `cpu` only.
+fn pin(command: &mut Command, cpu: usize) {
+    use std::os::unix::process::CommandExt;
+    // SAFETY: only sched_setaffinity, which is async-signal-safe, runs in the child
+    // between fork and exec.
+    unsafe {
+        command.pre_exec(move || {
+            set_cpu(cpu);
+            Ok(())
+        });
+    }
+}
+
+/// Keeps the calling thread (or the process after fork) on `cpu`; returns whether it could.
+fn set_cpu(cpu: usize) -> bool {
+    // SAFETY: a zeroed cpu_set_t is empty; CPU_SET and sched_setaffinity get valid pointers.
+    unsafe {
+        let mut set: libc::cpu_set_t = std::mem::zeroed();
+        libc::CPU_SET(cpu, &mut set);
+        libc::sched_setaffinity(0, std::mem::size_of::<libc::cpu_set_t>(), &set) == 0
+    }
+}
+
+/// Lets the calling thread run on every CPU again.
+fn unpin() {
+    let n = std::thread::available_parallelism().map_or(1, |n| n.get());
+    // SAFETY: as in `set_cpu`.
+    unsafe {
+        let mut set: libc::cpu_set_t = std::mem::zeroed();
+        for cpu in 0..n {
+            libc::CPU_SET(cpu, &mut set);
+        }
+        libc::sched_setaffinity(0, std::mem::size_of::<libc::cpu_set_t>(), &set);
+    }
+}
+
 /// What the simulator served, from its last line: `stopped after N replies (B bytes
 /// received, C bytes sent)`.
 struct Served {
@@ -162,7 +214,16 @@ struct Served {
 
 impl Simulator {
     fn start(wire_time: bool) -> Result<Simulator, String> {
-        let mut child = Command::new(binary())
+        Self::start_on(wire_time, None)
+    }
+
+    /// A simulator that runs on `cpu` only (see [`pin`]).
+    fn start_on(wire_time: bool, cpu: Option<usize>) -> Result<Simulator, String> {
+        let mut command = Command::new(binary());
+        if let Some(cpu) = cpu {
+            pin(&mut command, cpu);
+        }
+        let mut child = command
             .args(["simulate", "--pty"])
             .args(wire_time.then_some("--wire-time"))
             .stdout(Stdio::piped())
@@ -437,11 +498,11 @@ fn bare_loop(_path: &str, _load: Load) -> Result<Bare, String> {
     Err("the bare loop is written for Linux".into())
 }
 
-/// The run whose total CPU is the median of `runs` of `measure`.
-fn median_of(runs: usize, mut measure: impl FnMut() -> Result<Cost, String>) -> Result<Cost, String> {
-    let mut costs = (0..runs).map(|_| measure()).collect::<Result<Vec<_>, _>>()?;
+/// The run whose total CPU is the median.
+fn median_cost(mut costs: Vec<Cost>) -> Cost {
     costs.sort_by_key(|c| c.user + c.system);
-    Ok(costs.swap_remove(runs / 2))
+    let middle = costs.len() / 2;
+    costs.swap_remove(middle)
 }
 
 /// CPU per read telegram of drivescript's `repeat` + `read`, of a pyserial loop and of the
@@ -449,10 +510,11 @@ fn median_of(runs: usize, mut measure: impl FnMut() -> Result<Cost, String>) -> 
 /// not the line). Each program's start-up is part of its figure.
 fn cpu_per_telegram(dir: &Path) -> Result<(), String> {
     const READS: u32 = 5000;
-    const RUNS: usize = 3;
+    const RUNS: usize = 5;
     println!(
-        "\nCPU per read telegram, {READS} reads of speed_actual against the same simulated drive (median of {RUNS} runs)"
+        "\nCPU per read telegram, {READS} reads of speed_actual against the same simulated drive (median of {RUNS} runs;"
     );
+    println!("the simulator on CPU 0 and the program measured on CPU 1, so that each wake-up costs the same for all)");
     let have_pyserial = Command::new("python3")
         .args(["-c", "import serial"])
         .stderr(Stdio::null())
@@ -468,29 +530,47 @@ fn cpu_per_telegram(dir: &Path) -> Result<(), String> {
         format!("name: Reads\nsteps:\n  - repeat: {{ times: {READS}, steps: [ {{ read: speed_actual }} ] }}\nfinally: []\n"),
     )
     .map_err(|e| e.to_string())?;
-    let ours = median_of(RUNS, || {
-        let sim = Simulator::start(false)?;
-        run(&recipe, &["--port", &sim.path]).map(|(_, cost)| cost)
-    })?;
     let request = Telegram::read_request(2, 1, 398, 0).encode(WriteLength::Captured);
     let hex: String = request.iter().map(|b| format!("{b:02x}")).collect();
-    let reply_len = read_reply_len();
-    let theirs = median_of(RUNS, || {
-        let sim = Simulator::start(false)?;
+    let reply_len = read_reply_len().to_string();
+    let reads = READS.to_string();
+    // The three take turns, so a busy spell of the machine falls on all of them alike.
+    let (mut ours, mut theirs, mut bares) = (Vec::new(), Vec::new(), Vec::new());
+    let places = cpu_places();
+    let (sim_cpu, program_cpu) = (places.map(|p| p.0), places.map(|p| p.1));
+    for _ in 0..RUNS {
+        let sim = Simulator::start_on(false, sim_cpu)?;
+        let mut ds = Command::new(binary());
+        ds.arg("run").arg(&recipe).args(["--port", &sim.path, "--quiet"]);
+        if let Some(cpu) = program_cpu {
+            pin(&mut ds, cpu);
+        }
+        ours.push(measure_child(ds)?.1);
+        drop(sim);
+        let sim = Simulator::start_on(false, sim_cpu)?;
         let mut python = Command::new("python3");
-        python.args([
-            "-c",
-            PYSERIAL_LOOP,
-            &sim.path,
-            &hex,
-            &READS.to_string(),
-            &reply_len.to_string(),
-        ]);
-        measure_child(python).map(|(_, cost)| cost)
-    })?;
-    let sim = Simulator::start(false)?;
-    let bare = bare_loop(&sim.path, Load::Reads(READS))?;
-    drop(sim);
+        python.args(["-c", PYSERIAL_LOOP, &sim.path, &hex, &reads, &reply_len]);
+        if let Some(cpu) = program_cpu {
+            pin(&mut python, cpu);
+        }
+        theirs.push(measure_child(python)?.1);
+        drop(sim);
+        let sim = Simulator::start_on(false, sim_cpu)?;
+        let pinned = program_cpu.is_some_and(set_cpu);
+        let bare = bare_loop(&sim.path, Load::Reads(READS));
+        if pinned {
+            unpin();
+        }
+        let bare = bare?;
+        drop(sim);
+        bares.push(Cost {
+            wall: Duration::ZERO,
+            user: bare.user,
+            system: bare.system,
+            peak_rss_kb: 0,
+        });
+    }
+    let (ours, theirs, bare) = (median_cost(ours), median_cost(theirs), median_cost(bares));
     let per = |d: Duration| d.as_secs_f64() / f64::from(READS) * 1e6;
     let floor = per(bare.user + bare.system);
     println!("                       all   own work (above the bare loop)   user space / kernel");
@@ -545,29 +625,40 @@ fn wire_rate(dir: &Path) -> Result<(), String> {
         ),
     )
     .map_err(|e| e.to_string())?;
-    let sim = Simulator::start(true)?;
-    let bare = bare_loop(&sim.path, Load::For(Duration::from_secs(WIRE_SECONDS)))?;
-    drop(sim);
-    println!(
-        "  bare loop      {:>7.1} reads/s = {:>5.1} % of the limit: write, poll, read, no engine; the most this rig allows",
-        bare.rate,
-        bare.rate / limit * 100.0
-    );
-    for (what, recipe, word) in [
+    // The three measurements take turns, so a busy spell of the machine falls on all of
+    // them alike; each figure is the median of its rounds.
+    let mut bare_rates = Vec::new();
+    let mut runs: [Vec<(f64, f64)>; 2] = [Vec::new(), Vec::new()];
+    let kinds = [
         ("sample", &sample, " samples"),
         ("repeat + read", &repeat, " iteration(s)"),
-    ] {
+    ];
+    for _ in 0..WIRE_ROUNDS {
         let sim = Simulator::start(true)?;
-        let (out, cost) = run(recipe, &["--port", &sim.path])?;
-        let served = sim.stop()?;
-        let n = count_before(&out, word).ok_or_else(|| format!("no count in:\n{out}"))?;
-        // Sampling every 4 ms asks for more than the line carries, so the step takes as
-        // long as the reads do; its own time leaves out the program's start and end.
-        let seconds = step_seconds(&out).unwrap_or(cost.wall.as_secs_f64());
-        let rate = n / seconds;
+        bare_rates.push(bare_loop(&sim.path, Load::For(Duration::from_secs(WIRE_SECONDS)))?.rate);
+        drop(sim);
+        for (k, (_, recipe, word)) in kinds.iter().enumerate() {
+            let sim = Simulator::start(true)?;
+            let (out, cost) = run(recipe, &["--port", &sim.path])?;
+            let served = sim.stop()?;
+            let n = count_before(&out, word).ok_or_else(|| format!("no count in:\n{out}"))?;
+            // Sampling every 4 ms asks for more than the line carries, so the step takes
+            // as long as the reads do; its own time leaves out the program's start and end.
+            let seconds = step_seconds(&out).unwrap_or(cost.wall.as_secs_f64());
+            let busy = (served.bytes * BITS_PER_BYTE / BAUD + served.replies * DRIVE_LATENCY)
+                / cost.wall.as_secs_f64();
+            runs[k].push((n / seconds, busy));
+        }
+    }
+    let bare = median(&mut bare_rates);
+    println!(
+        "  bare loop      {bare:>7.1} reads/s = {:>5.1} % of the limit: write, poll, read, no engine; the most this rig allows",
+        bare / limit * 100.0
+    );
+    for ((what, _, _), rounds) in kinds.iter().zip(runs.iter_mut()) {
+        let rate = median(&mut rounds.iter().map(|r| r.0).collect::<Vec<_>>());
+        let busy = median(&mut rounds.iter().map(|r| r.1).collect::<Vec<_>>());
         let ratio = rate / limit;
-        let busy =
-            (served.bytes * BITS_PER_BYTE / BAUD + served.replies * DRIVE_LATENCY) / cost.wall.as_secs_f64();
         println!(
             "  {what:<14} {rate:>7.1} reads/s = {:>5.1} % of the limit (goal 97 %)  {}",
             ratio * 100.0,
@@ -576,11 +667,11 @@ fn wire_rate(dir: &Path) -> Result<(), String> {
         println!(
             "  {:<14} = {:>5.1} % of the bare loop; the line was busy {:.1} % of the whole run (reads, status polls, start and end)",
             "",
-            rate / bare.rate * 100.0,
+            rate / bare * 100.0,
             busy * 100.0
         );
     }
-
+    println!("  (median of {WIRE_ROUNDS} rounds of {WIRE_SECONDS} s each)");
     Ok(())
 }
 

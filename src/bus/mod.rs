@@ -63,6 +63,13 @@ pub trait Transport: Send {
     /// Sends all of `bytes`.
     fn write_all(&mut self, bytes: &[u8]) -> Result<(), TransportError>;
 
+    /// How long the last write may still be on its way after `write_all` returned: a
+    /// serial port hands the bytes to its driver and returns before the line has carried
+    /// them, and no reply can start before they are out. Reply timeouts start after it.
+    fn still_sending(&self) -> Duration {
+        Duration::ZERO
+    }
+
     /// Waits at most `timeout` for input and returns how many bytes were put into `buf`
     /// (at least one). Nothing within `timeout` is [`TransportError::Timeout`], never `Ok(0)`.
     fn read(&mut self, buf: &mut [u8], timeout: Duration) -> Result<usize, TransportError>;

@@ -121,17 +121,15 @@ impl fmt::Display for Value {
 
 /// `value` with at most `decimals` places, trailing zeros dropped: 6000, 325.3, 1003.647.
 pub(crate) fn format_number(value: f64, decimals: usize) -> String {
-    let text = format!("{value:.decimals$}");
-    let text = if text.contains('.') {
-        text.trim_end_matches('0').trim_end_matches('.').to_string()
-    } else {
-        text
-    };
-    if text == "-0" {
-        "0".into()
-    } else {
-        text
+    let mut text = format!("{value:.decimals$}");
+    if text.contains('.') {
+        let kept = text.trim_end_matches('0').trim_end_matches('.').len();
+        text.truncate(kept);
     }
+    if text == "-0" {
+        text.remove(0);
+    }
+    text
 }
 
 /// Decimal places needed to show every multiple of `scale` exactly (0.001 → 3, 0.5 → 1);

@@ -107,8 +107,8 @@ fn steps(s: &mut Session, steps: &[Step], prefix: &str, phase: &'static str) -> 
         } else {
             format!("{prefix}.{}", i + 1)
         };
-        let info = info(step, number.clone(), phase);
-        s.perform(&info, |s| exec(s, step, &number, phase))?;
+        let info = info(step, number, phase);
+        s.perform(&info, |s| exec(s, step, &info.number, phase))?;
         if phase == "steps" {
             s.watch_fault(false)?;
         }
@@ -217,7 +217,7 @@ fn best_effort(s: &mut Session, list: &[Step], phase: &'static str) {
             return;
         }
         let number = format!("{phase}.{}", i + 1);
-        let info = info(step, number.clone(), phase);
-        s.perform_best_effort(&info, |s| exec(s, step, &number, phase));
+        let info = info(step, number, phase);
+        s.perform_best_effort(&info, |s| exec(s, step, &info.number, phase));
     }
 }

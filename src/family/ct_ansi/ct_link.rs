@@ -183,7 +183,7 @@ impl CtLink {
 
     fn await_reply(&mut self, t: &mut dyn Transport, request: &Request) -> Result<Reply, AttemptFailure> {
         let sent = self.core.clock.now();
-        let deadline = sent + self.config.reply_timeout;
+        let deadline = sent + t.still_sending() + self.config.reply_timeout;
         loop {
             loop {
                 match split(&self.pending, Sender::Drive) {

@@ -264,7 +264,7 @@ impl LenzeLink {
 
     fn await_reply(&mut self, t: &mut dyn Transport, request: &Request) -> Result<Reply, AttemptFailure> {
         let sent = self.core.clock.now();
-        let deadline = sent + self.config.reply_timeout;
+        let deadline = sent + t.still_sending() + self.config.reply_timeout;
         let echo = request.text();
         // An SDO write is answered with its own text: the first copy is taken as the reply.
         let echo_possible = !matches!(request, Request::SdoWrite { .. });

@@ -259,7 +259,7 @@ impl Sd2Link {
 
     fn await_reply(&mut self, t: &mut dyn Transport, request: &Telegram) -> Result<Telegram, AttemptFailure> {
         let sent = self.core.clock.now();
-        let deadline = sent + self.config.reply_timeout;
+        let deadline = sent + t.still_sending() + self.config.reply_timeout;
         loop {
             while let Some(block) = self.extractor.next_block() {
                 if block.skipped > 0 {
@@ -371,6 +371,57 @@ mod tests {
     }
 
     const FAST: Duration = Duration::from_micros(100);
+
+    /// A transport whose writes are still on the line for `sending` after they return.
+    struct StillSending(MemoryTransport, Duration);
+
+    impl Transport for StillSending {
+        fn name(&self) -> &str {
+            self.0.name()
+        }
+        fn write_all(&mut self, bytes: &[u8]) -> Result<(), crate::bus::TransportError> {
+            self.0.write_all(bytes)
+        }
+        fn still_sending(&self) -> Duration {
+            self.1
+        }
+        fn read(&mut self, buf: &mut [u8], timeout: Duration) -> Result<usize, crate::bus::TransportError> {
+            self.0.read(buf, timeout)
+        }
+        fn discard_input(&mut self) -> Result<usize, crate::bus::TransportError> {
+            self.0.discard_input()
+        }
+        fn reopen(&mut self) -> Result<(), crate::bus::TransportError> {
+            self.0.reopen()
+        }
+    }
+
+    /// A read answered 30 ms after the request left, with a reply timeout of 20 ms: in time
+    /// only when the request itself took 15 ms on the line.
+    fn late_reply(sending: Duration) -> Result<Telegram, AccessError> {
+        let clock = Arc::new(VirtualClock::new());
+        let peer = Arc::new(Mutex::new(Scripted {
+            replies: vec![Some((Duration::from_millis(30), status_reply(2)))].into(),
+            received: vec![],
+        }));
+        let transport = StillSending(MemoryTransport::new("scripted", peer, clock.clone()), sending);
+        let config = LinkConfig {
+            reply_timeout: Duration::from_millis(20),
+            retries: 0,
+            ..LinkConfig::default()
+        };
+        let mut link = Sd2Link::new(SharedTransport::new(Box::new(transport)), clock, config);
+        link.transact(&Telegram::read_request(2, 1, 67, 0))
+    }
+
+    #[test]
+    fn the_reply_timeout_starts_when_the_request_is_off_the_line() {
+        assert!(late_reply(Duration::from_millis(15)).is_ok());
+        assert!(matches!(
+            late_reply(Duration::ZERO),
+            Err(AccessError::NoReply { .. })
+        ));
+    }
 
     #[test]
     fn a_read_returns_the_data() {
