@@ -33,6 +33,8 @@ pub struct Sd2Link {
     extractor: FrameExtractor,
     /// Clock, observer, stop requests, counters and the listening every link shares.
     core: LinkCore,
+    /// The request being sent, kept between exchanges: a long run sends millions.
+    request_bytes: Vec<u8>,
 }
 
 /// Why one attempt did not produce a reply.
@@ -55,6 +57,7 @@ impl Sd2Link {
             core: LinkCore::new(clock, STOP_GRACE),
             config,
             extractor: FrameExtractor::new(Framing::Replies),
+            request_bytes: Vec::new(),
         }
     }
 
@@ -98,7 +101,15 @@ impl Sd2Link {
     /// Sends `request` and returns the reply that answers it, retrying on timeouts and on
     /// corrupt or mismatched replies up to `config.retries` times.
     pub fn transact(&mut self, request: &Telegram) -> Result<Telegram, AccessError> {
-        let bytes = request.encode(self.config.write_length);
+        let mut bytes = std::mem::take(&mut self.request_bytes);
+        bytes.clear();
+        request.encode_into(&mut bytes, self.config.write_length);
+        let result = self.send_and_await(request, &bytes);
+        self.request_bytes = bytes;
+        result
+    }
+
+    fn send_and_await(&mut self, request: &Telegram, bytes: &[u8]) -> Result<Telegram, AccessError> {
         let shared = self.transport.clone();
         let mut line = shared.lock();
         let t: &mut dyn Transport = line.as_mut();
@@ -107,7 +118,7 @@ impl Sd2Link {
         for attempt in 1..=attempts {
             if attempt > 1 {
                 if self.core.stop_pending() {
-                    return Err(self.interrupted(request, &bytes));
+                    return Err(self.interrupted(request, bytes));
                 }
                 self.core.stats.retries += 1;
                 self.core.settle(t, self.config.settle)?;
@@ -115,9 +126,9 @@ impl Sd2Link {
                     .event(&format!("retry {} of {}", attempt - 1, self.config.retries));
             }
             self.flush_input(t)?;
-            t.write_all(&bytes)?;
+            t.write_all(bytes)?;
             self.core.stats.requests += 1;
-            self.core.notify(Direction::Sent, &bytes);
+            self.core.notify(Direction::Sent, bytes);
             match self.await_reply(t, request) {
                 Ok(reply) => {
                     self.core.stats.replies += 1;
@@ -143,11 +154,11 @@ impl Sd2Link {
                 }
                 Err(AttemptFailure::Interrupted) => {
                     self.core.event("stop requested while waiting for the reply");
-                    return Err(self.interrupted(request, &bytes));
+                    return Err(self.interrupted(request, bytes));
                 }
             }
         }
-        let request_text = describe_request(request, &bytes);
+        let request_text = describe_request(request, bytes);
         let port = self.transport.name().to_string();
         Err(match last_refused {
             Some((reply, problem)) => AccessError::BadReply {
