@@ -623,7 +623,11 @@ pub struct SchemaArgs {
 pub fn schema(args: &SchemaArgs) -> i32 {
     match args.dictionary.load() {
         Ok(d) => {
-            let text = serde_json::to_string_pretty(&crate::recipe::recipe_schema(&d)).unwrap_or_default();
+            let text = serde_json::to_string_pretty(&crate::recipe::recipe_schema(
+                &d,
+                &Registry::builtin().address_keys(),
+            ))
+            .unwrap_or_default();
             println!("{text}");
             PASSED
         }

@@ -109,7 +109,11 @@ impl<'a> Loader<'a, '_> {
                     .and_then(|n| self.r.scalar_text(n, &format!("`{key}`")))
             };
             let drive = text("drive").unwrap_or_default();
-            let address = text("address");
+            // As written: `address: 1.10` is group 1, unit 10, not the number 1.1.
+            let address = match f.get("address") {
+                Some(n) if matches!(n.value, YamlValue::Float(_)) => Some(n.written().trim().to_string()),
+                _ => text("address"),
+            };
             let (port, tcp, can) = (text("port"), text("tcp"), text("can"));
             let address = match own_keys {
                 Some(keys) => self.address_from_keys(&name, keys, &f, address),
@@ -413,6 +417,11 @@ mod tests {
         .expect("valid");
         assert_eq!(recipe.drives[0].address.as_deref(), Some("dnc:2"));
         assert_eq!(recipe.drives[1].address.as_deref(), Some("1.2"));
+        let recipe = load(
+            "name: x\ndrives:\n  left: { drive: sd2 }\n  right: { drive: ct-unidrive-sp, address: 1.10 }\nsteps:\n  - shutdown\n",
+        )
+        .expect("valid");
+        assert_eq!(recipe.drives[1].address.as_deref(), Some("1.10"));
         for (axis, address) in [("a", "0A"), ("b", "0B"), ("B", "0B")] {
             let recipe = load(&format!(
                 "name: x\ndrives:\n  left: {{ drive: sd2, address: 0, axis: {axis} }}\n  right: {{ drive: ct-unidrive-sp }}\nsteps:\n  - shutdown\n"
