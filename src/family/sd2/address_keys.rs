@@ -42,9 +42,9 @@ fn to_address(address: Option<&str>, given: &[(&str, &str)]) -> Result<String, K
             Ok(n) if n >= 2 => Ok(format!("dnc:{n}")),
             _ => Err(problem(
                 "dnc_address",
-                format!("`dnc_address: {value}` is not a drive's DNC address"),
+                format!("`{value}` is not a drive's DNC address"),
                 "not 2..=255",
-                "a drive's DNC address is 2..=255 (0 and 1 belong to the master); for the address switch write `address: N`",
+                "a drive's DNC address is 2..=255; 0 and 1 belong to the master",
             )),
         };
     }

@@ -467,7 +467,7 @@ mod tests {
         let found = problems_with_help(&format!("  left: {{ drive: sd2, dnc_address: 1 }}\n{right}"));
         assert_eq!(found.len(), 1, "{found:?}");
         assert!(
-            found[0].starts_with("r.yaml:3:36: `dnc_address: 1` is not a drive's DNC address | a drive's DNC address is 2..=255"),
+            found[0].starts_with("r.yaml:3:36: `1` is not a drive's DNC address | a drive's DNC address is 2..=255; 0 and 1 belong to the master"),
             "{found:?}"
         );
         let found = problems_with_help(&format!("  left: {{ drive: sd2, address: 0, axis: c }}\n{right}"));
