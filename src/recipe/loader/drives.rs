@@ -101,8 +101,11 @@ impl<'a> Loader<'a, '_> {
             let Some(f) = self.r.fields(body, &shape) else {
                 continue;
             };
-            for key in &foreign {
-                self.foreign_address_key(&name, family.as_deref(), key, &f.key(key).map(|k| k.span.clone()));
+            // Without the drive's dictionary (said below) its family is unknown.
+            if let Some(family) = family.as_deref() {
+                for key in &foreign {
+                    self.foreign_address_key(&name, family, key, &f.key(key).map(|k| k.span.clone()));
+                }
             }
             let mut text = |key: &str| {
                 f.get(key)
@@ -154,7 +157,7 @@ impl<'a> Loader<'a, '_> {
 
     /// A key another family reads as a drive's address (`dnc_address`) on drive `name` of
     /// `family`: says which families take it and how this drive's address is written.
-    fn foreign_address_key(&mut self, name: &str, family: Option<&str>, key: &str, span: &Option<Span>) {
+    fn foreign_address_key(&mut self, name: &str, family: &str, key: &str, span: &Option<Span>) {
         let Some(span) = span else {
             return;
         };
@@ -164,9 +167,7 @@ impl<'a> Loader<'a, '_> {
             .iter()
             .map(|(f, _)| f.family)
             .collect();
-        let mine = family.and_then(|f| self.address_keys.of(f));
-        let family = family.unwrap_or("its");
-        let own = mine.map_or(String::new(), |m| {
+        let own = self.address_keys.of(family).map_or(String::new(), |m| {
             let keys: Vec<&str> = m.keys.keys.iter().map(|k| k.name).collect();
             let keys = if keys.is_empty() {
                 String::new()
