@@ -3,6 +3,7 @@
 //! address in its family's notation; reply timeout, retries and family link options.
 //! Opens the bus; must not send anything itself.
 
+use super::address_key_flags::DNC_ADDRESS;
 use crate::bus::{
     Bus, BusKind, DataBits, MemoryFrameBus, MemoryTransport, Parity, SerialTransport, SharedFrameBus,
     SharedTransport, SlcanBus, StopBits, TcpTransport, TransportError,
@@ -57,6 +58,10 @@ pub struct ConnectionArgs {
     /// per RS232 line). Lenze 9400: the CANopen node address 1..127 (C00350; default 1).
     #[arg(long, value_name = "ADDRESS")]
     pub address: Option<String>,
+    /// The drive's raw DNC address, for families whose drives have one (SD2): the same as
+    /// `--address dnc:N`, and a recipe's `dnc_address: N`.
+    #[arg(long = "dnc-address", value_name = "N", conflicts_with = "address")]
+    pub dnc_address: Option<String>,
     /// How long to wait for each reply (the SD2 vendor's PC tool uses 1 s).
     #[arg(long, value_name = "DURATION", default_value = "1s", value_parser = parse_duration)]
     pub timeout: Duration,
@@ -180,6 +185,7 @@ impl ConnectionArgs {
             can: None,
             bitrate: 500_000,
             address: None,
+            dnc_address: None,
             timeout: Duration::from_secs(1),
             retries: 2,
             link_options: Vec::new(),
@@ -229,7 +235,26 @@ impl ConnectionArgs {
     /// The drive's address and the family's link options, checked before anything opens.
     pub fn check(&self, family: &dyn Family) -> Result<DriveAddress, String> {
         family.check_link_options(&self.all_link_options())?;
-        family.parse_drive_address(self.address.as_deref())
+        family.parse_drive_address(self.address_for(family)?.as_deref())
+    }
+
+    /// The address in `family`'s notation: `--address` as given, or `--dnc-address N` as
+    /// the family writes it (`dnc:N`); `None`: the family's default.
+    pub fn address_for(&self, family: &dyn Family) -> Result<Option<String>, String> {
+        match &self.dnc_address {
+            Some(n) => DNC_ADDRESS.address(family, n).map(Some),
+            None => Ok(self.address.clone()),
+        }
+    }
+
+    /// The address option as the user typed it, for messages: `--address 3B`,
+    /// `--dnc-address 2`.
+    pub fn address_given(&self) -> Option<String> {
+        match (&self.address, &self.dnc_address) {
+            (Some(a), _) => Some(format!("--address {a}")),
+            (None, Some(n)) => Some(format!("{} {n}", DNC_ADDRESS.flag)),
+            (None, None) => None,
+        }
     }
 
     /// Opens the bus for `family`. `virtual_time` applies to the simulated drive only:

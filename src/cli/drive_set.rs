@@ -298,9 +298,9 @@ pub fn several_checked(
     if request.fast && decls.iter().any(|d| !d.on_command_line_connection()) {
         return Err("error: --fast (virtual time) works only when every drive is simulated; a drive with its own port runs in real time".into());
     }
-    if let Some(address) = &connection.address {
+    if let Some(address) = connection.address_given() {
         return Err(format!(
-            "error: --address {address} names one drive; with several drives each gives its own `address:` (drives: {})",
+            "error: {address} names one drive; with several drives each gives its own `address:` (drives: {})",
             decls.iter().map(|d| d.name.as_str()).collect::<Vec<_>>().join(", ")
         ));
     }

@@ -1,6 +1,7 @@
 //! The command line: argument parsing and one module per subcommand. Turns results into
 //! text and exit codes; must not build telegrams or touch ports itself.
 
+mod address_key_flags;
 mod connection_args;
 mod decode_command;
 mod drive_args;

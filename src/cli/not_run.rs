@@ -12,10 +12,9 @@ use std::io::Write;
 /// The message for a drive that did not answer its first request, naming the address as
 /// the user typed it and the three likely causes.
 pub fn silent_drive(connection: &ConnectionArgs, detail: &str) -> String {
-    let address = match &connection.address {
-        Some(a) => format!("--address {a}"),
-        None => "no --address, so the family's default address".to_string(),
-    };
+    let address = connection
+        .address_given()
+        .unwrap_or_else(|| "no --address, so the family's default address".to_string());
     let line = match (&connection.port, &connection.tcp) {
         (Some(p), _) => format!("--port {p}"),
         (None, Some(t)) => format!("--tcp {t}"),

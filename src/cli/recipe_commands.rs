@@ -234,7 +234,13 @@ pub fn check(args: &CheckArgs) -> i32 {
             }
         };
         let dictionary = drive_dicts.first().map_or(dictionary, |(_, d)| d.clone());
-        match load_recipe_for(path, &dictionary, &drive_dicts, &args.set) {
+        match load_recipe_for(
+            path,
+            &dictionary,
+            &drive_dicts,
+            &Registry::builtin().address_keys(),
+            &args.set,
+        ) {
             Ok(recipe) if !recipe.drives.is_empty() => {
                 println!(
                     "ok  {} — {} ({} steps{}, drives {})",
@@ -425,7 +431,13 @@ pub fn run_recipe(request: &RunRequest, out: &mut dyn Write, err: &mut dyn Write
             return not_run(request, None, INVALID, &text, err);
         }
     };
-    let recipe = match load_recipe_for(request.recipe, &dictionary, &drive_dicts, request.set) {
+    let recipe = match load_recipe_for(
+        request.recipe,
+        &dictionary,
+        &drive_dicts,
+        &request.registry.address_keys(),
+        request.set,
+    ) {
         Ok(r) => r,
         Err(e) => {
             let text = e.render(false);
@@ -611,7 +623,11 @@ pub struct SchemaArgs {
 pub fn schema(args: &SchemaArgs) -> i32 {
     match args.dictionary.load() {
         Ok(d) => {
-            let text = serde_json::to_string_pretty(&crate::recipe::recipe_schema(&d)).unwrap_or_default();
+            let text = serde_json::to_string_pretty(&crate::recipe::recipe_schema(
+                &d,
+                &Registry::builtin().address_keys(),
+            ))
+            .unwrap_or_default();
             println!("{text}");
             PASSED
         }

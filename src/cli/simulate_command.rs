@@ -1,6 +1,7 @@
 //! `drivescript simulate`: serves the simulated drive on a pseudo-terminal or a TCP port so
 //! any serial tool (or drivescript with `--port`/`--tcp`) can talk to it.
 
+use super::address_key_flags::DNC_ADDRESS;
 use super::{stop_signals, COMMUNICATION, INVALID, PASSED};
 use crate::bus::{FramePeer, FramePeerLine, Peer, PeerLine, SlcanAdapter, TcpTransport, WireTime};
 use crate::clock::RealClock;
@@ -37,6 +38,10 @@ pub struct SimulateArgs {
     /// the one line, as drives on an RS485 line or nodes on a CAN bus.
     #[arg(long, value_name = "ADDRESS")]
     address: Option<String>,
+    /// Raw DNC addresses, for families whose drives have one (SD2), comma-separated: `2,3`
+    /// is `--address dnc:2,dnc:3`.
+    #[arg(long = "dnc-address", value_name = "N,…", conflicts_with = "address")]
+    dnc_address: Option<String>,
     /// Charge the time bytes take on a real line at --baud (8N1), so throughput can be
     /// measured honestly over a pseudo-terminal.
     #[arg(long)]
@@ -60,7 +65,17 @@ pub fn run(args: &SimulateArgs) -> i32 {
     };
     // Several addresses (`0,1`, `dnc:2,dnc:3`): one simulated drive each, all on the one
     // line, each answering at its own address.
-    let texts: Vec<Option<&str>> = match args.address.as_deref() {
+    let given = match &args.dnc_address {
+        Some(list) => match DNC_ADDRESS.addresses(family.as_ref(), list) {
+            Ok(addresses) => Some(addresses),
+            Err(e) => {
+                eprintln!("error: {e}");
+                return INVALID;
+            }
+        },
+        None => args.address.clone(),
+    };
+    let texts: Vec<Option<&str>> = match given.as_deref() {
         Some(list) => list.split(',').map(|a| Some(a.trim())).collect(),
         None => vec![None],
     };
@@ -150,8 +165,7 @@ pub fn run(args: &SimulateArgs) -> i32 {
 
     if args.pty || args.slcan_pty {
         let hint = if args.slcan_pty {
-            let address = args
-                .address
+            let address = given
                 .as_deref()
                 .map(|a| format!(" --address {a}"))
                 .unwrap_or_default();

@@ -3,6 +3,7 @@
 //! implements the small [`ObjectAccess`] trait underneath. Knows names and units, not bytes.
 
 mod access_error;
+mod address_keys;
 pub mod device_control;
 mod drive;
 mod drive_error;
@@ -10,6 +11,9 @@ mod object_access;
 pub mod state_path;
 
 pub use access_error::AccessError;
+pub use address_keys::{
+    AddressKey, AddressKeyTable, AddressKeys, FamilyAddressKeys, KeyProblem, KeyUse, KeyValues, ToAddress,
+};
 pub use device_control::{DeviceCommand, DeviceState};
 pub use drive::{Drive, ReadSet, Transition, ValueLimits};
 pub use drive_error::DriveError;

@@ -6,7 +6,7 @@
 use crate::bus::{Bus, BusKind, FramePeer, Peer, SerialSettings};
 use crate::clock::SharedClock;
 use crate::dictionary::{Address, AddressParser, DataType, Dictionary, ObjectDef};
-use crate::drive::ObjectAccess;
+use crate::drive::{AddressKeys, ObjectAccess};
 use crate::link::{TelegramExplainer, TelegramObserver};
 use crate::sim::{SimConfig, SimulatedDrive};
 use crate::stop_request::StopRequests;
@@ -77,6 +77,13 @@ pub trait Family: Send + Sync {
     fn parse_drive_address(&self, text: Option<&str>) -> Result<DriveAddress, String>;
     /// How `--address` is written, for help and messages.
     fn address_help(&self) -> &'static str;
+    /// Keys besides `address:` a `drives:` entry may give for this family's drives
+    /// (`dnc_address: 2`), and how their values become an address in its notation; the
+    /// keys that replace `address:` also have a command-line flag (`--dnc-address`).
+    /// None by default.
+    fn address_keys(&self) -> AddressKeys {
+        AddressKeys::NONE
+    }
     /// Checks the family-specific link options before anything is opened.
     fn check_link_options(&self, extra: &[(String, String)]) -> Result<(), String>;
     /// Object access to one drive on `bus`.

@@ -7,6 +7,7 @@ use super::{
 };
 use crate::diag::{did_you_mean, Diagnostic};
 use crate::dictionary::{Dictionary, DictionaryError};
+use crate::drive::{AddressKeyTable, FamilyAddressKeys};
 use std::sync::Arc;
 
 /// The dictionary `--drive` names when it is not given.
@@ -81,6 +82,24 @@ impl Registry {
             .iter()
             .flat_map(|f| f.dictionaries().iter().map(|d| d.name))
             .collect()
+    }
+
+    /// Every family's address notation and address keys, for the recipe loader, the
+    /// schema and the command line (which must not name a family).
+    pub fn address_keys(&self) -> AddressKeyTable {
+        AddressKeyTable::new(
+            self.families
+                .iter()
+                .map(|f| FamilyAddressKeys {
+                    family: f.id(),
+                    drive_names: std::iter::once(f.id())
+                        .chain(f.dictionaries().iter().map(|d| d.name).filter(|n| *n != f.id()))
+                        .collect(),
+                    address_help: f.address_help(),
+                    keys: f.address_keys(),
+                })
+                .collect(),
+        )
     }
 
     pub fn families(&self) -> impl Iterator<Item = &Arc<dyn Family>> {

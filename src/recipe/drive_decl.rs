@@ -9,8 +9,9 @@ pub struct DriveDecl {
     pub name: String,
     /// The built-in dictionary or family it names (`sd2`, `ct-unidrive-sp`).
     pub drive: String,
-    /// The address in the family's notation (`dnc:2`, `3B`, `1.2`); `None`: the family's
-    /// default, or `--address`.
+    /// The address in the family's notation (`dnc:2`, `3B`, `1.2`), also when the recipe
+    /// wrote it with the family's address keys (`dnc_address: 2` is `dnc:2`); `None`: the
+    /// family's default, or `--address`.
     pub address: Option<String>,
     /// Its own serial port, TCP serial server or CAN bus (`slcan:PATH`, `socketcan:IF`);
     /// all `None`: the command line's connection, shared with the other drives on it.

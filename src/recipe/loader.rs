@@ -20,6 +20,7 @@ use super::recipe::Recipe;
 use super::recipe_invalid::RecipeInvalid;
 use crate::diag::{read_source, Diagnostic, Diagnostics, Reader, Source, Span};
 use crate::dictionary::Dictionary;
+use crate::drive::AddressKeyTable;
 use crate::session::{show_duration, StepOrigin};
 pub use drives::{declared_drives, DriveDictionaries};
 use params::ParamValue;
@@ -82,6 +83,7 @@ pub fn load_recipe_for(
     path: &Path,
     dictionary: &Dictionary,
     drives: &[(String, Arc<Dictionary>)],
+    address_keys: &AddressKeyTable,
     overrides: &[(String, String)],
 ) -> Result<Recipe, RecipeInvalid> {
     if drives.is_empty() {
@@ -95,7 +97,7 @@ pub fn load_recipe_for(
         source,
         path.parent().unwrap_or(Path::new(".")),
         dictionary,
-        drives,
+        (drives, address_keys),
         overrides,
     )
 }
@@ -117,14 +119,21 @@ fn load_source(
     dictionary: &Dictionary,
     overrides: &[(String, String)],
 ) -> Result<Recipe, RecipeInvalid> {
-    load_source_for(source, base_dir, dictionary, &[], overrides)
+    load_source_for(
+        source,
+        base_dir,
+        dictionary,
+        (&[], &AddressKeyTable::default()),
+        overrides,
+    )
 }
 
+/// `drives`: each named drive's dictionary, and every family's address keys.
 fn load_source_for(
     source: Arc<Source>,
     base_dir: &Path,
     dictionary: &Dictionary,
-    drives: &[(String, Arc<Dictionary>)],
+    (drives, address_keys): (&[(String, Arc<Dictionary>)], &AddressKeyTable),
     overrides: &[(String, String)],
 ) -> Result<Recipe, RecipeInvalid> {
     let mut problems = Diagnostics::new();
@@ -133,6 +142,7 @@ fn load_source_for(
     let recipe = Loader {
         dict: dictionary,
         drive_dicts: drives,
+        address_keys,
         include_chain: vec![canonical(&base_dir.join(file_name(&path)))],
         source,
         r: Reader::new(&mut problems),
@@ -163,6 +173,8 @@ struct Loader<'a, 'p> {
     dict: &'a Dictionary,
     /// Each named drive's dictionary (`drives:`); empty for a recipe with one `drive:`.
     drive_dicts: &'a [(String, Arc<Dictionary>)],
+    /// Every family's keys besides `address:` in a `drives:` entry (`dnc_address`).
+    address_keys: &'a AddressKeyTable,
     source: Arc<Source>,
     r: Reader<'p>,
     /// Included files and steps so far, over every level of includes.

@@ -5,6 +5,7 @@
 
 use crate::dictionary::{Dictionary, Dimension, ObjectDef, Unit};
 use crate::drive::device_control::{DeviceCommand, DeviceState};
+use crate::drive::{AddressKeyTable, KeyUse, KeyValues};
 use crate::session::number;
 use serde_json::{json, Value};
 
@@ -186,7 +187,8 @@ fn documented(reference: String, doc: &(String, String)) -> Value {
 }
 
 /// The schema for recipes written against `dictionary`.
-pub fn recipe_schema(dictionary: &Dictionary) -> Value {
+/// `address_keys`: every family's keys besides `address:` in a `drives:` entry.
+pub fn recipe_schema(dictionary: &Dictionary, address_keys: &AddressKeyTable) -> Value {
     let mut names: Vec<String> = Vec::new();
     let mut writable: Vec<String> = Vec::new();
     let mut defs = serde_json::Map::new();
@@ -415,18 +417,7 @@ pub fn recipe_schema(dictionary: &Dictionary) -> Value {
                 "type": "object",
                 "description": "Several named drives instead of one `drive:`; steps then name objects as `left.speed_setpoint`, commands as `- enable_operation: left` (a bare command goes to every drive) and `go_to: { drive: left, state: … }`",
                 "propertyNames": { "pattern": "^[a-z][a-z0-9_]*$" },
-                "additionalProperties": {
-                    "type": "object",
-                    "required": ["drive"],
-                    "additionalProperties": false,
-                    "properties": {
-                        "drive": { "type": "string", "description": "the built-in dictionary or family: sd2, ct-unidrive-sp, lenze-931, lenze-9400" },
-                        "address": { "type": ["string", "integer"], "description": "the address in the family's notation (SD2: 0, 3B, dnc:2; Control Techniques: 1.2; Lenze 9400: node 1..127)" },
-                        "port": { "type": "string", "description": "its own serial port (default: the command line's connection, shared)" },
-                        "tcp": { "type": "string", "description": "its own TCP serial server HOST:PORT" },
-                        "can": { "type": "string", "description": "its own CAN bus: slcan:PATH or socketcan:IF" }
-                    }
-                }
+                "additionalProperties": drive_entry(address_keys)
             },
             "link": {
                 "type": "object",
@@ -448,6 +439,70 @@ pub fn recipe_schema(dictionary: &Dictionary) -> Value {
     })
 }
 
+/// One `drives:` entry: the keys every drive has, and each family's address keys, offered
+/// only for a `drive:` of that family, never with `address:` where they stand instead of
+/// it, and never without `address:` where they qualify it.
+fn drive_entry(address_keys: &AddressKeyTable) -> Value {
+    let mut props = serde_json::Map::new();
+    props.insert("drive".into(), json!({ "type": "string", "description": "the built-in dictionary or family: sd2, ct-unidrive-sp, lenze-931, lenze-9400" }));
+    props.insert("address".into(), json!({ "type": ["string", "number"], "description": "the address in the family's notation (SD2: 0, 3B, dnc:2; Control Techniques: 1.2; Lenze 9400: node 1..127)" }));
+    props.insert("port".into(), json!({ "type": "string", "description": "its own serial port (default: the command line's connection, shared)" }));
+    props.insert(
+        "tcp".into(),
+        json!({ "type": "string", "description": "its own TCP serial server HOST:PORT" }),
+    );
+    props.insert(
+        "can".into(),
+        json!({ "type": "string", "description": "its own CAN bus: slcan:PATH or socketcan:IF" }),
+    );
+    let mut rules = Vec::new();
+    let mut dependencies = serde_json::Map::new();
+    for name in address_keys.all_key_names() {
+        let takers = address_keys.families_with(name);
+        let drives: Vec<&str> = takers
+            .iter()
+            .flat_map(|(f, _)| f.drive_names.iter().copied())
+            .collect();
+        let description = takers
+            .iter()
+            .map(|(f, k)| format!("{}: {}", f.family, k.meaning))
+            .collect::<Vec<_>>()
+            .join("; ");
+        let Some((_, key)) = takers.first() else {
+            continue;
+        };
+        let mut value = match key.values {
+            KeyValues::Number { min, max } => json!({ "type": "integer", "minimum": min, "maximum": max }),
+            KeyValues::OneOf(values) => json!({ "type": "string", "enum": values }),
+        };
+        value["description"] = json!(description);
+        props.insert(name.into(), value);
+        rules.push(json!({
+            "if": { "properties": { "drive": { "not": { "enum": drives } } } },
+            "then": { "properties": { name: false } }
+        }));
+        match key.usage {
+            KeyUse::InsteadOfAddress => rules.push(json!({ "not": { "required": ["address", name] } })),
+            KeyUse::WithAddress => {
+                dependencies.insert(name.into(), json!(["address"]));
+            }
+        }
+    }
+    let mut entry = json!({
+        "type": "object",
+        "required": ["drive"],
+        "additionalProperties": false,
+        "properties": props
+    });
+    if !rules.is_empty() {
+        entry["allOf"] = json!(rules);
+    }
+    if !dependencies.is_empty() {
+        entry["dependencies"] = Value::Object(dependencies);
+    }
+    entry
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -457,7 +512,7 @@ mod tests {
         let d = crate::family::Registry::builtin()
             .load_dictionary(crate::family::DEFAULT_DICTIONARY)
             .unwrap();
-        let s = recipe_schema(&d);
+        let s = recipe_schema(&d, &crate::family::Registry::builtin().address_keys());
         let text = s.to_string();
         for word in [
             "speed_setpoint",
@@ -496,5 +551,36 @@ mod tests {
         // `near` needs `within`.
         let shapes = s["$defs"]["condition_speed"]["oneOf"].to_string();
         assert!(shapes.contains(r#"["near","within"]"#), "{shapes}");
+    }
+
+    #[test]
+    fn drives_entries_offer_each_familys_address_keys_for_its_drives_only() {
+        let registry = crate::family::Registry::builtin();
+        let d = registry.load_dictionary("ct-unidrive-sp").unwrap();
+        // Whatever dictionary the schema is printed for, a `drives:` entry may be any family's.
+        let s = recipe_schema(&d, &registry.address_keys());
+        let entry = &s["properties"]["drives"]["additionalProperties"];
+        assert_eq!(entry["properties"]["dnc_address"]["minimum"], 2);
+        assert_eq!(entry["properties"]["dnc_address"]["maximum"], 255);
+        assert!(entry["properties"]["dnc_address"]["description"]
+            .as_str()
+            .unwrap()
+            .starts_with("sd2: the drive's raw DNC address"));
+        assert_eq!(entry["properties"]["axis"]["enum"], json!(["a", "b", "A", "B"]));
+        assert_eq!(entry["dependencies"]["axis"], json!(["address"]));
+        let rules = entry["allOf"].to_string();
+        assert!(
+            rules.contains(r#"{"if":{"properties":{"drive":{"not":{"enum":["sd2"]}}}},"then":{"properties":{"dnc_address":false}}}"#),
+            "{rules}"
+        );
+        assert!(
+            rules.contains(r#"{"not":{"required":["address","dnc_address"]}}"#),
+            "{rules}"
+        );
+        // Without address keys in the table, an entry has the keys every drive has.
+        let plain = recipe_schema(&d, &AddressKeyTable::default());
+        let entry = &plain["properties"]["drives"]["additionalProperties"];
+        assert!(entry["properties"].get("dnc_address").is_none());
+        assert!(entry.get("allOf").is_none());
     }
 }

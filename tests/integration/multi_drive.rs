@@ -132,6 +132,123 @@ fn two_drives_on_one_pty_reach_their_own_speeds_and_never_interleave() {
     assert_never_interleaved(&trace);
 }
 
+/// Issue 18's spelling end to end: `simulate --dnc-address 2,3` serves drives at DNC
+/// addresses 2 and 3, and a recipe naming them `dnc_address: 2` and `address: 0, axis: b`
+/// (switch 0, drive B: DNC address 3) drives both on that pty; `--dnc-address 3` reaches
+/// drive B alone afterwards.
+#[cfg(unix)]
+#[test]
+fn the_issue_spelling_of_addresses_on_a_pty_served_with_dnc_address() {
+    let sim = crate::safety::PtySimulator::start_with(&["--dnc-address", "2,3"]);
+    let dir = scratch("multi-pty-dnc-address");
+    let text = TWO_AXES
+        .replace("SAMPLE_FOR", "1 s")
+        .replace("{ drive: sd2, address: dnc:2 }", "{ drive: sd2, dnc_address: 2 }")
+        .replace(
+            "{ drive: sd2, address: dnc:3 }",
+            "{ drive: sd2, address: 0, axis: b }",
+        );
+    assert!(
+        text.contains("dnc_address: 2") && text.contains("axis: b"),
+        "{text}"
+    );
+    let recipe = write_recipe(&dir, &text);
+    let trace = dir.join("run.trace");
+    let out = drivescript(
+        &[
+            "run",
+            recipe.to_str().expect("utf-8 path"),
+            "--port",
+            &sim.path,
+            "--trace",
+            trace.to_str().expect("utf-8 path"),
+        ],
+        "",
+    );
+    let shown = stdout(&out);
+    assert_eq!(out.status.code(), Some(0), "{shown}{}", stderr(&out));
+    assert!(
+        shown.contains("PASS  left.speed_actual mean near 1000 rpm"),
+        "{shown}"
+    );
+    assert!(
+        shown.contains("PASS  right.speed_actual mean near 2000 rpm"),
+        "{shown}"
+    );
+    // Requests went to DNC addresses 2 and 3 and nowhere else, one at a time.
+    assert_never_interleaved(&std::fs::read_to_string(&trace).expect("trace"));
+    let state = drivescript(&["state", "--port", &sim.path, "--dnc-address", "3"], "");
+    assert_eq!(state.status.code(), Some(0), "{}", stderr(&state));
+    assert!(
+        stdout(&state).contains("ready to switch on"),
+        "{}",
+        stdout(&state)
+    );
+    // With a recipe of several drives, one address on the command line is refused.
+    let out = drivescript(
+        &[
+            "run",
+            recipe.to_str().expect("utf-8 path"),
+            "--port",
+            &sim.path,
+            "--dnc-address",
+            "2",
+        ],
+        "",
+    );
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        stderr(&out).contains("--dnc-address 2 names one drive; with several drives each gives its own"),
+        "{}",
+        stderr(&out)
+    );
+}
+
+#[test]
+fn dnc_address_is_refused_with_address_and_for_a_family_without_dnc_addresses() {
+    let both = drivescript(&["simulate", "--pty", "--dnc-address", "2", "--address", "0"], "");
+    assert_eq!(both.status.code(), Some(2));
+    assert!(
+        stderr(&both).contains("'--dnc-address <N,…>' cannot be used with '--address <ADDRESS>'"),
+        "{}",
+        stderr(&both)
+    );
+    let both = drivescript(&["state", "--dnc-address", "2", "--address", "0"], "");
+    assert_eq!(both.status.code(), Some(2));
+    assert!(stderr(&both).contains("cannot be used with"), "{}", stderr(&both));
+    let ct = drivescript(
+        &[
+            "simulate",
+            "--pty",
+            "--drive",
+            "ct-unidrive-sp",
+            "--dnc-address",
+            "2",
+        ],
+        "",
+    );
+    assert_eq!(ct.status.code(), Some(2));
+    assert!(
+        stderr(&ct).contains("error: --dnc-address is for drives of the sd2 family; a ct_ansi drive has no `dnc_address`: give --address, "),
+        "{}",
+        stderr(&ct)
+    );
+    let ct = drivescript(&["state", "--drive", "ct-unidrive-sp", "--dnc-address", "2"], "");
+    assert_ne!(ct.status.code(), Some(0));
+    assert!(
+        stderr(&ct).contains("--dnc-address is for drives of the sd2 family"),
+        "{}",
+        stderr(&ct)
+    );
+    let master = drivescript(&["simulate", "--pty", "--dnc-address", "2,1"], "");
+    assert_eq!(master.status.code(), Some(2));
+    assert!(
+        stderr(&master).contains("error: --dnc-address 1: `1` is not a drive's DNC address"),
+        "{}",
+        stderr(&master)
+    );
+}
+
 /// Ctrl-C during the sample of a run on a real pseudo-terminal: both drives stopped, the
 /// last enabled first, each read back; and afterwards each reports it by itself.
 #[cfg(unix)]

@@ -144,3 +144,50 @@ fn the_schema_accepts_good_recipes_and_refuses_bad_units_durations_and_shapes() 
     );
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// The issue's spelling of drive addresses (`dnc_address: 2`, `address: 0` with `axis: b`)
+/// passes the schema of any dictionary; `dnc_address` with `address:`, `axis` without it,
+/// either on a drive of another family, and values out of range do not.
+#[test]
+fn the_schema_offers_sd2_address_keys_in_drives_entries() {
+    if !python_with_jsonschema() {
+        eprintln!("python3 with jsonschema and yaml is not installed: the schema is not validated");
+        return;
+    }
+    let dir = std::env::temp_dir().join(format!("drivescript-schema-keys-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let write = |name: &str, drives: &str| {
+        let p = dir.join(name);
+        std::fs::write(&p, format!("name: X\ndrives:\n{drives}steps:\n  - shutdown\n")).unwrap();
+        p
+    };
+    let good = [
+        write(
+            "issue.yaml",
+            "  left: { drive: sd2, dnc_address: 2 }\n  right: { drive: sd2, address: 0, axis: b }\n  feed: { drive: ct-unidrive-sp, address: 1.2 }\n",
+        ),
+        write("notation.yaml", "  left: { drive: sd2, address: dnc:2 }\n  right: { drive: sd2, address: 0B }\n"),
+    ];
+    for drive in ["sd2", "ct-unidrive-sp"] {
+        for (path, errors) in validate_against(drive, &good) {
+            assert!(errors.is_empty(), "{drive}: {path}: {errors:?}");
+        }
+    }
+    let bad = [
+        write(
+            "both.yaml",
+            "  left: { drive: sd2, address: dnc:2, dnc_address: 2 }\n",
+        ),
+        write("axis_alone.yaml", "  left: { drive: sd2, axis: b }\n"),
+        write(
+            "other_family.yaml",
+            "  feed: { drive: ct-unidrive-sp, dnc_address: 2 }\n",
+        ),
+        write("master.yaml", "  left: { drive: sd2, dnc_address: 1 }\n"),
+        write("axis_c.yaml", "  left: { drive: sd2, address: 0, axis: c }\n"),
+    ];
+    for (path, errors) in validate_against("sd2", &bad) {
+        assert!(!errors.is_empty(), "{path} passed the schema");
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -2,6 +2,7 @@
 //! link (one request, one checked reply), object access for the drive layer, the simulated
 //! drive's byte-level front, and the telegram explainer for `decode` and traces.
 
+mod address_keys;
 pub mod codec;
 mod cyclic_access;
 mod cyclic_settings;
@@ -15,6 +16,7 @@ mod sd2_link;
 pub mod sim;
 pub mod wire_value;
 
+pub use address_keys::SD2_ADDRESS_KEYS;
 pub use cyclic_access::Sd2CyclicAccess;
 pub use cyclic_settings::{Channel, CyclicSettings};
 pub use explain::{explain, ObjectNames};

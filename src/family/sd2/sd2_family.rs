@@ -7,7 +7,7 @@ use super::cyclic_settings::{self, Channel};
 use super::{LinkConfig, Sd2Access, Sd2CyclicAccess, Sd2Explainer, Sd2Link, Sd2Simulator};
 use crate::bus::{Bus, BusKind, SerialSettings};
 use crate::dictionary::{Access, Address, AddressParser, DataType, Dictionary, ObjectDef};
-use crate::drive::ObjectAccess;
+use crate::drive::{AddressKeys, ObjectAccess};
 use crate::family::{
     BuiltinDictionary, DriveAddress, Family, LinkContext, LinkOptions, SimPeer, SimulatedDevice,
 };
@@ -127,6 +127,10 @@ impl Family for Sd2Family {
 
     fn address_help(&self) -> &'static str {
         "the drive's address switch position (0..126), with `B` for drive B of a double-axis device (`3B`), or `dnc:N` for a raw DNC address"
+    }
+
+    fn address_keys(&self) -> AddressKeys {
+        super::SD2_ADDRESS_KEYS
     }
 
     fn check_link_options(&self, extra: &[(String, String)]) -> Result<(), String> {

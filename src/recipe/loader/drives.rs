@@ -4,8 +4,9 @@
 //! must not open anything; the command line does.
 
 use super::{did_you_mean, Loader};
-use crate::diag::{expected, read_source, Shape, Span, YamlNode, YamlValue};
+use crate::diag::{expected, read_source, Fields, Shape, Span, YamlNode, YamlValue};
 use crate::dictionary::Dictionary;
+use crate::drive::{AddressKey, AddressKeys, KeyUse};
 use crate::recipe::drive_decl::DriveDecl;
 use std::path::Path;
 use std::sync::Arc;
@@ -72,24 +73,62 @@ impl<'a> Loader<'a, '_> {
                 );
                 continue;
             }
-            let shape = Shape::new("this drive", DRIVE_KEYS)
+            let family = self
+                .drive_dicts
+                .iter()
+                .find(|(n, _)| *n == name)
+                .map(|(_, d)| d.family().to_string());
+            let own_keys = family
+                .as_deref()
+                .and_then(|f| self.address_keys.of(f))
+                .map(|f| f.keys);
+            // Keys of other families are said below with what this drive takes instead;
+            // did-you-mean offers this drive's own keys.
+            let mut allowed: Vec<&str> = DRIVE_KEYS.to_vec();
+            allowed.extend(own_keys.iter().flat_map(|k| k.keys.iter().map(|k| k.name)));
+            let entry_keys = body.entries().unwrap_or_default();
+            let foreign: Vec<&str> = self
+                .address_keys
+                .all_key_names()
+                .into_iter()
+                .filter(|k| !allowed.contains(k) && entry_keys.iter().any(|(e, _)| e.value == *k))
+                .collect();
+            let mut shape_keys = allowed.clone();
+            shape_keys.extend(&foreign);
+            let shape = Shape::new("this drive", &shape_keys)
                 .require(&["drive"])
                 .example("left: { drive: sd2, address: dnc:2 }");
             let Some(f) = self.r.fields(body, &shape) else {
                 continue;
             };
+            // Without the drive's dictionary (said below) its family is unknown.
+            if let Some(family) = family.as_deref() {
+                for key in &foreign {
+                    self.foreign_address_key(&name, family, key, &f.key(key).map(|k| k.span.clone()));
+                }
+            }
             let mut text = |key: &str| {
                 f.get(key)
                     .and_then(|n| self.r.scalar_text(n, &format!("`{key}`")))
             };
             let drive = text("drive").unwrap_or_default();
+            // As written: `address: 1.10` is group 1, unit 10, not the number 1.1.
+            let address = match f.get("address") {
+                Some(n) if matches!(n.value, YamlValue::Float(_)) => Some(n.written().trim().to_string()),
+                _ => text("address"),
+            };
+            let (port, tcp, can) = (text("port"), text("tcp"), text("can"));
+            let address = match own_keys {
+                Some(keys) => self.address_from_keys(&name, keys, &f, address),
+                None => address,
+            };
             let decl = DriveDecl {
                 name: name.clone(),
                 drive,
-                address: text("address"),
-                port: text("port"),
-                tcp: text("tcp"),
-                can: text("can"),
+                address,
+                port,
+                tcp,
+                can,
             };
             let own = [&decl.port, &decl.tcp, &decl.can]
                 .iter()
@@ -114,6 +153,115 @@ impl<'a> Loader<'a, '_> {
             out.push(decl);
         }
         out
+    }
+
+    /// A key another family reads as a drive's address (`dnc_address`) on drive `name` of
+    /// `family`: says which families take it and how this drive's address is written.
+    fn foreign_address_key(&mut self, name: &str, family: &str, key: &str, span: &Option<Span>) {
+        let Some(span) = span else {
+            return;
+        };
+        let takers: Vec<&str> = self
+            .address_keys
+            .families_with(key)
+            .iter()
+            .map(|(f, _)| f.family)
+            .collect();
+        let own = self.address_keys.of(family).map_or(String::new(), |m| {
+            let keys: Vec<&str> = m.keys.keys.iter().map(|k| k.name).collect();
+            let keys = if keys.is_empty() {
+                String::new()
+            } else {
+                format!(" (or {})", keys.join(", "))
+            };
+            format!(
+                "; drive `{name}` ({family}) takes `address:`{keys}: {}",
+                m.address_help
+            )
+        });
+        self.problem(
+            span,
+            format!("drive `{name}` is a {family} drive, which has no `{key}`"),
+            "not a key of this drive's family",
+            Some(format!(
+                "`{key}` is an address key of {} drives{own}",
+                takers.join(", ")
+            )),
+        );
+    }
+
+    /// The address of a `drives:` entry from `address:` and the family's own address keys
+    /// (`dnc_address: 2`, `address: 0` with `axis: b`), in the family's notation; problems
+    /// at the key they concern.
+    fn address_from_keys(
+        &mut self,
+        name: &str,
+        keys: AddressKeys,
+        f: &Fields,
+        address: Option<String>,
+    ) -> Option<String> {
+        // (key, value as written, where the key is), in file order.
+        let mut given: Vec<(&'static AddressKey, String, Span)> = Vec::new();
+        for (k, node) in f.entries() {
+            let Some(key) = keys.key(&k.value) else {
+                continue;
+            };
+            if let Some(value) = self.r.scalar_text(node, &format!("`{}`", key.name)) {
+                given.push((key, value, k.span.clone()));
+            }
+        }
+        if given.is_empty() {
+            return address;
+        }
+        let address_key = f.key("address");
+        let mut ok = true;
+        // The one that comes second in the file is the problem: the first was meant.
+        let mut instead: Vec<(&str, &Span)> = address_key.iter().map(|k| ("address", &k.span)).collect();
+        for (key, value, span) in &given {
+            match key.usage {
+                KeyUse::InsteadOfAddress => instead.push((key.name, span)),
+                KeyUse::WithAddress if address_key.is_none() => {
+                    ok = false;
+                    self.problem(
+                        span,
+                        format!("`{}: {value}` of drive `{name}` needs `address:`", key.name),
+                        "without address:",
+                        Some(format!(
+                            "`{}` is {}; give `address:` with it",
+                            key.name, key.meaning
+                        )),
+                    );
+                }
+                KeyUse::WithAddress => {}
+            }
+        }
+        instead.sort_by_key(|(_, span)| span.offset());
+        if let [(first, _), (second, span), ..] = instead.as_slice() {
+            ok = false;
+            let (first, second, span) = (first.to_string(), second.to_string(), (*span).clone());
+            self.problem(
+                &span,
+                format!("drive `{name}` gives both `{first}` and `{second}`"),
+                "a second address",
+                Some(format!(
+                    "give one of them: `{second}` stands instead of `{first}`"
+                )),
+            );
+        }
+        if !ok {
+            return address;
+        }
+        let pairs: Vec<(&str, &str)> = given.iter().map(|(k, v, _)| (k.name, v.as_str())).collect();
+        match (keys.to_address)(address.as_deref(), &pairs) {
+            Ok(text) => Some(text),
+            Err(problem) => {
+                let span = f
+                    .get(&problem.key)
+                    .map_or_else(|| f.span().clone(), |n| n.span.clone());
+                self.problem(&span, problem.message, problem.label, problem.help);
+                address
+            }
+        }
     }
 
     /// Whether the recipe declares named drives (then every object and command names one).
@@ -200,7 +348,14 @@ mod tests {
             ("right".to_string(), dictionary("ct-unidrive-sp")),
         ];
         let first = drives[0].1.clone();
-        super::super::load_source_for(Source::new("r.yaml", text), Path::new("."), &first, &drives, &[])
+        let keys = crate::family::Registry::builtin().address_keys();
+        super::super::load_source_for(
+            Source::new("r.yaml", text),
+            Path::new("."),
+            &first,
+            (&drives, &keys),
+            &[],
+        )
     }
 
     fn problems(text: &str) -> Vec<String> {
@@ -241,6 +396,114 @@ mod tests {
                 "r.yaml:7:24: unknown drive `rihgt`",
                 "r.yaml:8:21: unknown drive `nobody`",
             ]
+        );
+    }
+
+    /// Problems with their place and help, for a recipe whose drives are all SD2 but
+    /// `right` (Control Techniques).
+    fn problems_with_help(drives: &str) -> Vec<String> {
+        let text = format!("name: x\ndrives:\n{drives}steps:\n  - shutdown\n");
+        let e = load(&text).expect_err("expected problems");
+        e.problems
+            .iter()
+            .map(|p| format!("{} | {}", p.located(), p.help().unwrap_or_default()))
+            .collect()
+    }
+
+    #[test]
+    fn the_issue_spelling_of_sd2_addresses_becomes_the_notation() {
+        let recipe = load(
+            "name: x\ndrives:\n  left: { drive: sd2, dnc_address: 2 }\n  right: { drive: ct-unidrive-sp, address: 1.2 }\nsteps:\n  - shutdown\n",
+        )
+        .expect("valid");
+        assert_eq!(recipe.drives[0].address.as_deref(), Some("dnc:2"));
+        assert_eq!(recipe.drives[1].address.as_deref(), Some("1.2"));
+        let recipe = load(
+            "name: x\ndrives:\n  left: { drive: sd2 }\n  right: { drive: ct-unidrive-sp, address: 1.10 }\nsteps:\n  - shutdown\n",
+        )
+        .expect("valid");
+        assert_eq!(recipe.drives[1].address.as_deref(), Some("1.10"));
+        for (axis, address) in [("a", "0A"), ("b", "0B"), ("B", "0B")] {
+            let recipe = load(&format!(
+                "name: x\ndrives:\n  left: {{ drive: sd2, address: 0, axis: {axis} }}\n  right: {{ drive: ct-unidrive-sp }}\nsteps:\n  - shutdown\n"
+            ))
+            .expect("valid");
+            assert_eq!(recipe.drives[0].address.as_deref(), Some(address));
+        }
+        // The family's own notation is unchanged.
+        let recipe = load(&format!("{HEAD}  - shutdown\n")).expect("valid");
+        assert_eq!(recipe.drives[0].address.as_deref(), Some("dnc:2"));
+    }
+
+    #[test]
+    fn address_keys_given_wrongly_are_problems_at_their_key() {
+        let right = "  right: { drive: ct-unidrive-sp }\n";
+        assert_eq!(
+            problems_with_help(&format!("  left: {{ drive: sd2, address: dnc:2, dnc_address: 2 }}\n{right}")),
+            ["r.yaml:3:39: drive `left` gives both `address` and `dnc_address` | give one of them: `dnc_address` stands instead of `address`"]
+        );
+        assert_eq!(
+            problems_with_help(&format!("  left: {{ drive: sd2, dnc_address: 2, address: dnc:2 }}\n{right}")),
+            ["r.yaml:3:39: drive `left` gives both `dnc_address` and `address` | give one of them: `address` stands instead of `dnc_address`"]
+        );
+        let found = problems_with_help(&format!("  left: {{ drive: sd2, axis: b }}\n{right}"));
+        assert_eq!(found.len(), 1, "{found:?}");
+        assert!(
+            found[0].starts_with("r.yaml:3:23: `axis: b` of drive `left` needs `address:` | `axis` is the axis of a double-axis device"),
+            "{found:?}"
+        );
+        let found = problems_with_help(&format!(
+            "  left: {{ drive: sd2, dnc_address: 2, axis: b }}\n{right}"
+        ));
+        assert_eq!(found.len(), 1, "{found:?}");
+        assert!(
+            found[0].starts_with("r.yaml:3:39: `axis: b` of drive `left` needs `address:`"),
+            "{found:?}"
+        );
+    }
+
+    #[test]
+    fn address_key_values_are_checked_by_the_family_at_their_value() {
+        let right = "  right: { drive: ct-unidrive-sp }\n";
+        let found = problems_with_help(&format!("  left: {{ drive: sd2, dnc_address: 1 }}\n{right}"));
+        assert_eq!(found.len(), 1, "{found:?}");
+        assert!(
+            found[0].starts_with("r.yaml:3:36: `1` is not a drive's DNC address | a drive's DNC address is 2..=255; 0 and 1 belong to the master"),
+            "{found:?}"
+        );
+        let found = problems_with_help(&format!("  left: {{ drive: sd2, address: 0, axis: c }}\n{right}"));
+        assert!(
+            found[0].starts_with("r.yaml:3:41: `axis: c` is not an axis of a double-axis SD2 device | write `axis: a` or `axis: b`"),
+            "{found:?}"
+        );
+        let found = problems_with_help(&format!(
+            "  left: {{ drive: sd2, address: 3B, axis: b }}\n{right}"
+        ));
+        assert!(
+            found[0].starts_with(
+                "r.yaml:3:32: with `axis:`, `address: 3B` must be the address switch position alone"
+            ),
+            "{found:?}"
+        );
+    }
+
+    #[test]
+    fn address_keys_of_another_family_and_misspelt_keys_say_what_to_write() {
+        let found = problems_with_help(
+            "  left: { drive: sd2, dnc_adress: 2 }\n  right: { drive: ct-unidrive-sp, dnc_address: 3, axis: b }\n",
+        );
+        assert_eq!(found.len(), 3, "{found:?}");
+        assert_eq!(
+            found[0],
+            "r.yaml:3:23: unknown key `dnc_adress` in this drive | did you mean `dnc_address` or `address`?"
+        );
+        assert!(
+            found[1].starts_with("r.yaml:4:35: drive `right` is a ct_ansi drive, which has no `dnc_address` | `dnc_address` is an address key of sd2 drives; drive `right` (ct_ansi) takes `address:`: "),
+            "{found:?}"
+        );
+        assert!(
+            found[2].starts_with("r.yaml:4:51: drive `right` is a ct_ansi drive, which has no `axis` | `axis` is an address key of sd2 drives"),
+            "{found:?}"
         );
     }
 

@@ -77,6 +77,7 @@ impl Loader<'_, '_> {
         let mut inner = Loader {
             dict: self.dict,
             drive_dicts: self.drive_dicts,
+            address_keys: self.address_keys,
             source,
             r: Reader::new(self.r.diagnostics()),
             expansion: self.expansion,
