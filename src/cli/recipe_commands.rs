@@ -216,6 +216,7 @@ pub fn check(args: &CheckArgs) -> i32 {
                 &dictionary,
                 &args.dictionary,
                 &args.set,
+                &args.connection,
             ));
             continue;
         }
@@ -514,6 +515,15 @@ pub fn run_recipe(request: &RunRequest, out: &mut dyn Write, err: &mut dyn Write
     if open.simulator.is_some() {
         let _ = writeln!(out, "using {}", open.description);
     }
+    if let Err(code) = within_drive_limits(
+        &crate::recipe::written_values(&recipe),
+        &mut open.drive,
+        &recipe.path,
+        out,
+        err,
+    ) {
+        return not_run(request, Some((&recipe, &planned)), code.0, &code.1, err);
+    }
     let virtual_time = request.fast && open.simulator.is_some();
     let planned_time = crate::recipe::longest_time_of(&recipe.steps);
     let look = Look::of(outputs, request.terminal, virtual_time, true, Some(planned_time));
@@ -534,6 +544,24 @@ pub fn run_recipe(request: &RunRequest, out: &mut dyn Write, err: &mut dyn Write
             .map(|s| (String::new(), s.clone()))
             .collect(),
         simulator: open.simulator,
+    }
+}
+
+/// Before the first telegram that moves anything: the values `values` write compared with
+/// the limits the drive itself reports, as `check --port` compares them (families whose
+/// drives report none are asked nothing and nothing is said). `Err` holds the exit code
+/// and the reason for the not-run reports, already said on `err`.
+pub fn within_drive_limits(
+    values: &[crate::recipe::WrittenValue],
+    drive: &mut crate::drive::Drive,
+    path: &str,
+    out: &mut dyn Write,
+    err: &mut dyn Write,
+) -> Result<(), (i32, String)> {
+    let check = super::drive_limits::compare(values, drive);
+    match super::drive_limits::report(&check, path, false, out, err) {
+        (PASSED, _) => Ok(()),
+        (code, why) => Err((code, why)),
     }
 }
 
