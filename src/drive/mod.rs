@@ -6,6 +6,7 @@ mod access_error;
 pub mod device_control;
 mod drive;
 mod drive_error;
+mod maintenance;
 mod object_access;
 pub mod state_path;
 
@@ -13,5 +14,6 @@ pub use access_error::AccessError;
 pub use device_control::{DeviceCommand, DeviceState};
 pub use drive::{Drive, ReadSet, Transition, ValueLimits};
 pub use drive_error::DriveError;
+pub use maintenance::{MaintenanceAction, MaintenanceOutcome};
 pub use object_access::{DriveLimits, ObjectAccess, WriteOutcome};
 pub use state_path::{next_step, NextStep};

@@ -28,7 +28,7 @@ const SIM_NUMBERS: &[(&str, &str)] = &[
     ("drive_error", "0x0022"),
 ];
 
-fn scratch(name: &str) -> PathBuf {
+pub(crate) fn scratch(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("drivescript-lenze-{name}-{}", std::process::id()));
     std::fs::create_dir_all(&dir).expect("scratch dir");
     dir
@@ -36,7 +36,7 @@ fn scratch(name: &str) -> PathBuf {
 
 /// What a user does with the template in `dictionary/lenze-931.yaml`: copy the lines
 /// between the markers, remove the `# `, fill in every `0x????`.
-fn completed_template(dir: &Path) -> PathBuf {
+pub(crate) fn completed_template(dir: &Path) -> PathBuf {
     let text = std::fs::read_to_string(repo_root().join("dictionary/lenze-931.yaml")).expect("dictionary");
     let lines: Vec<&str> = text.lines().collect();
     let start = lines
@@ -80,7 +80,7 @@ fn completed_template(dir: &Path) -> PathBuf {
     path
 }
 
-fn dictionary_args(extra: Option<PathBuf>) -> DictionaryArgs {
+pub(crate) fn dictionary_args(extra: Option<PathBuf>) -> DictionaryArgs {
     DictionaryArgs {
         family: "lenze-931".into(),
         extra: extra.into_iter().collect(),
