@@ -29,7 +29,8 @@ use std::sync::{Arc, Mutex};
 /// problem at once; exit code 2 if there is any. With --port or --tcp it also reads the
 /// minimum and maximum of every object the recipe writes from the drive (families whose
 /// drives report them, e.g. lenze-931) and refuses values outside; only reads are sent.
-/// A `.rhai` file is a Rhai script: its syntax and the drive calls written with literals.
+/// A `.rhai` file is a Rhai script: its syntax and the drive calls written with literals
+/// (with --port, its literal values against the drive's limits too).
 pub struct CheckArgs {
     #[arg(required = true, value_name = "RECIPE")]
     recipes: Vec<PathBuf>,
@@ -47,7 +48,9 @@ pub struct CheckArgs {
 /// say so. Each recipe is checked first; nothing is sent if it has a problem. Whatever
 /// happens, `finally` runs (default: disable operation, then shutdown). Several recipes
 /// run one after the other, each with its own safe stop and reports; the exit code is the
-/// worst of them.
+/// worst of them. Before anything moves, every value the recipe writes (a script's
+/// literal values too) is compared with the limits the drive itself reports, where its
+/// family's drives report them (lenze-931); a value outside refuses the run (exit code 2).
 /// A `.rhai` file runs as a Rhai script, with the same reports and safe stop.
 pub struct RunArgs {
     #[arg(value_name = "RECIPE", required = true)]
