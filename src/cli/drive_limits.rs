@@ -34,7 +34,13 @@ pub fn compare(values: &[WrittenValue], drive: &mut Drive) -> Result<DriveCheck,
     let mut limits: BTreeMap<String, Result<Option<Limits>, String>> = BTreeMap::new();
     for w in values {
         if !limits.contains_key(&w.object.name) {
-            let l = read_limits(drive, &w.object.name);
+            // `left.speed_setpoint` in a recipe with `drives:`: the drive's own name.
+            let own = w
+                .object
+                .name
+                .split_once('.')
+                .map_or(w.object.name.as_str(), |(_, o)| o);
+            let l = read_limits(drive, own);
             if let Err(e) = &l {
                 if let Some(e) = e.strip_prefix("unreachable: ") {
                     return Err(e.to_string());
@@ -214,4 +220,62 @@ fn read_limits(drive: &mut Drive, name: &str) -> Result<Option<Limits>, String> 
 fn show((min, max): &Limits) -> String {
     let side = |v: &Option<Value>, open: &str| v.as_ref().map_or(open.to_string(), |v| v.to_string());
     format!("{} .. {}", side(min, "no minimum"), side(max, "no maximum"))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::recipe::{ObjectRef, StepOrigin};
+
+    /// The simulated 931 with one object at the simulator's speed-setpoint number.
+    fn simulated_931() -> Drive {
+        let registry = Registry::builtin();
+        let family = registry.family("lenze-931").unwrap();
+        let text = "family: lenze-931\nobjects:\n  - name: speed_setpoint\n    address: \"0x0010\"\n    type: i32\n    unit: rpm\n    access: rw\n";
+        let dictionary = Dictionary::from_yaml_for("t.yaml", text, family.address_parser()).unwrap();
+        open_drive(
+            &registry,
+            &ConnectionArgs::simulated(),
+            Arc::new(dictionary),
+            true,
+            None,
+            None,
+        )
+        .unwrap()
+        .drive
+    }
+
+    fn written(name: &str, value: f64) -> WrittenValue {
+        WrittenValue {
+            object: ObjectRef {
+                name: name.into(),
+                unit: Some("rpm".into()),
+            },
+            value,
+            origin: StepOrigin {
+                path: "r.yaml".into(),
+                line: 7,
+                column: 5,
+            },
+            step: "set",
+        }
+    }
+
+    #[test]
+    fn a_drives_own_name_is_looked_up_and_the_recipes_name_shown() {
+        let mut drive = simulated_931();
+        let check = compare(
+            &[
+                written("axis.speed_setpoint", 100.0),
+                written("axis.speed_setpoint", 7000.0),
+            ],
+            &mut drive,
+        )
+        .unwrap();
+        assert_eq!(check.read.len(), 1, "each object once: {:?}", check.read);
+        assert_eq!(
+            check.problems,
+            ["r.yaml:7:5: set axis.speed_setpoint = 7000 rpm is above the maximum the drive reports, 6000 rpm"]
+        );
+    }
 }

@@ -610,6 +610,19 @@ fn run_several(
     if !open.simulators.is_empty() {
         let _ = writeln!(out, "using {}", open.description);
     }
+    // Each drive's limits for the values written to it (`left.speed_setpoint`).
+    let written = crate::recipe::written_values(recipe);
+    for (name, drive) in open.drives.iter_mut() {
+        let prefix = format!("{name}.");
+        let own: Vec<_> = written
+            .iter()
+            .filter(|w| w.object.name.starts_with(&prefix))
+            .cloned()
+            .collect();
+        if let Err((code, why)) = within_drive_limits(&own, drive, &recipe.path, out, err) {
+            return not_run(request, Some((recipe, planned)), code, &why, err);
+        }
+    }
     let virtual_time = request.fast && !open.simulators.is_empty();
     let planned_time = crate::recipe::longest_time_of(&recipe.steps);
     let look = Look::of(outputs, request.terminal, virtual_time, true, Some(planned_time));
