@@ -67,13 +67,30 @@ pub struct MaintainResult {
 }
 
 pub fn maintain(args: &MaintainArgs) -> i32 {
-    let mut ask = |question: &str| -> bool {
+    let stop = stop_signals::install(false);
+    let waiting = stop.clone();
+    let mut ask = move |question: &str| -> bool {
         eprint!("{question} ");
         let _ = std::io::stderr().flush();
-        let mut answer = String::new();
-        // A line at most: the answer is `yes` or anything else.
-        let read = std::io::stdin().lock().take(256).read_line(&mut answer);
-        read.is_ok() && answer.trim() == "yes"
+        // The line is read on a thread of its own, so that Ctrl-C ends the wait at once
+        // (the signal handler only records the request).
+        let (tx, rx) = std::sync::mpsc::channel();
+        std::thread::spawn(move || {
+            let mut answer = String::new();
+            // A line at most: the answer is `yes` or anything else.
+            let read = std::io::stdin().lock().take(256).read_line(&mut answer);
+            let _ = tx.send(read.is_ok() && answer.trim() == "yes");
+        });
+        loop {
+            match rx.recv_timeout(std::time::Duration::from_millis(50)) {
+                Ok(yes) => return yes,
+                Err(std::sync::mpsc::RecvTimeoutError::Timeout) if waiting.first().is_none() => {}
+                Err(_) => {
+                    eprintln!();
+                    return false;
+                }
+            }
+        }
     };
     let terminal = std::io::stdin().is_terminal() && std::io::stderr().is_terminal();
     let request = MaintainRequest {
@@ -84,7 +101,7 @@ pub fn maintain(args: &MaintainArgs) -> i32 {
         value: args.value.as_deref(),
         force: args.force,
         confirm: if terminal { Some(&mut ask) } else { None },
-        stop: stop_signals::install(false),
+        stop,
         prepare_simulator: None,
     };
     run_maintain(request, &mut std::io::stdout(), &mut std::io::stderr()).exit_code
@@ -207,6 +224,10 @@ pub fn run_maintain(
                 let question =
                     format!("{shown} on {port}: {why}. The drive is in {state}. Type yes to go on:");
                 let confirmed = request.confirm.as_mut().is_some_and(|ask| ask(&question));
+                if let Some(signal) = request.stop.first() {
+                    let _ = writeln!(err, "stopped by {}; nothing was sent", signal.describe());
+                    return done(signal.exit_code());
+                }
                 if !confirmed {
                     return refused(
                         match request.confirm {
@@ -241,6 +262,10 @@ pub fn run_maintain(
         (Some(what), Some(n)) => format!("{} with {what} {n}", action.command),
         _ => action.command.to_string(),
     };
+    if let Some(signal) = request.stop.first() {
+        let _ = writeln!(err, "stopped by {}; nothing was sent", signal.describe());
+        return done(signal.exit_code());
+    }
     let _ = writeln!(out, "{shown}: sending {sent} to {port}");
     match open.drive.maintain(action.name, argument) {
         None => {
@@ -269,7 +294,8 @@ pub fn run_maintain(
                 };
                 let _ = writeln!(err, "{hint}");
             }
-            done(COMMUNICATION)
+            // A stop signal ends the wait for the reply: the signal's exit code.
+            done(request.stop.first().map_or(COMMUNICATION, |s| s.exit_code()))
         }
     }
 }

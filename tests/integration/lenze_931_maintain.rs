@@ -414,3 +414,37 @@ fn through_a_pseudo_terminal_baud_changes_the_rate_and_says_how_to_reconnect() {
     assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
     assert!(stdout(&out).contains("\"0931\""), "{}", stdout(&out));
 }
+
+#[test]
+fn ctrl_c_at_the_question_sends_nothing_and_exits_130() {
+    let dir = scratch("maintain-ctrl-c");
+    let with_profile = dictionary_args(Some(completed_template(&dir)));
+    let stop = Arc::new(StopRequests::new());
+    let signalled = stop.clone();
+    let mut ask = |_: &str| {
+        signalled.request(drivescript::stop_request::StopSignal::INT);
+        false
+    };
+    let request = MaintainRequest {
+        registry: &Registry::builtin(),
+        dictionary: &with_profile,
+        connection: &ConnectionArgs::simulated(),
+        action: Some("reset"),
+        value: None,
+        force: false,
+        confirm: Some(&mut ask),
+        stop,
+        prepare_simulator: None,
+    };
+    let (mut out, mut err) = (Vec::new(), Vec::new());
+    let result = run_maintain(request, &mut out, &mut err);
+    let err = String::from_utf8_lossy(&err);
+    assert_eq!(result.exit_code, 130, "{err}");
+    assert!(
+        err.contains("stopped by Ctrl-C (SIGINT); nothing was sent"),
+        "{err}"
+    );
+    let sim = result.simulator.expect("simulated");
+    let requests = with_lenze(&sim, |s| s.requests().to_vec());
+    assert!(!requests.iter().any(|r| r == "RESET!"), "{requests:?}");
+}
