@@ -9,7 +9,7 @@ use super::drive_args::{open_drive, DictionaryArgs};
 use super::parameter_commands::is_powered;
 use super::{stop_signals, COMMUNICATION, INVALID, PASSED};
 use crate::diag::{did_you_mean, suggestion_text};
-use crate::drive::{DriveError, MaintenanceAction};
+use crate::drive::{AccessError, DriveError, MaintenanceAction};
 use crate::family::Registry;
 use crate::sim::SimulatedDrive;
 use crate::stop_request::StopRequests;
@@ -281,15 +281,17 @@ pub fn run_maintain(
         }
         Some(Err(e)) => {
             let _ = writeln!(err, "error: {shown} failed: {e}");
-            let no_reply = matches!(&e, DriveError::Access(a) if a.is_no_reply());
-            if no_reply {
+            // No reply, or one that could not be read (at another rate it is garbage):
+            // the drive may have acted.
+            let unknown = matches!(&e, DriveError::Access(a) if a.is_no_reply() || matches!(a, AccessError::BadReply { .. }));
+            if unknown {
                 let hint = match argument.filter(|_| action.changes_line_rate) {
                     Some(rate) => format!(
                         "the drive may already talk at the new rate: try again with --baud {rate} (e.g. `drivescript maintain --drive {} … --baud {rate}`) before repeating {shown}",
                         family.id()
                     ),
                     None => format!(
-                        "whether the drive carried out {shown} is unknown (a restart can take longer than --timeout): check the drive before repeating it"
+                        "whether the drive carried out {shown} is unknown: check the drive before repeating it (a drive that restarts may answer later than --timeout allows)"
                     ),
                 };
                 let _ = writeln!(err, "{hint}");

@@ -269,7 +269,7 @@ fn a_lost_or_garbled_reply_is_not_repeated_and_says_what_to_check() {
     assert_eq!(o.requests, ["RESET!"], "sent once");
     assert!(o.err.contains("error: reset failed: no reply"), "{}", o.err);
     assert!(
-        o.err.contains("whether the drive carried out reset is unknown (a restart can take longer than --timeout): check the drive before repeating it"),
+        o.err.contains("whether the drive carried out reset is unknown: check the drive before repeating it (a drive that restarts may answer later than --timeout allows)"),
         "{}",
         o.err
     );
@@ -308,6 +308,11 @@ fn a_lost_or_garbled_reply_is_not_repeated_and_says_what_to_check() {
     assert_eq!(o.requests, ["SEP!"]);
     assert!(o.err.contains("error: load failed:"), "{}", o.err);
     assert!(o.err.contains("it is not sent again"), "{}", o.err);
+    assert!(
+        o.err.contains("whether the drive carried out load is unknown"),
+        "{}",
+        o.err
+    );
 }
 
 #[test]
