@@ -1,62 +1,70 @@
 //! Limits learnt from the drive itself, for families whose drives report them (Lenze 931:
-//! `ON`/`OX`): `check --port` compares every number a recipe writes with them before
-//! anything moves, and `objects --from-drive` shows them. Only reads are sent.
+//! `ON`/`OX`): `check --port` and `run` compare every number a recipe (or a script, as a
+//! literal) writes with them before anything moves, and `objects --from-drive` shows
+//! them. Only reads are sent; a family whose drives report no limits is asked nothing.
 
 use super::connection_args::ConnectionArgs;
 use super::drive_args::{open_drive, OpenDrive};
 use crate::dictionary::{Dictionary, Value};
 use crate::drive::Drive;
 use crate::family::Registry;
-use crate::recipe::{number, written_values, Recipe};
+use crate::recipe::{number, written_values, Recipe, WrittenValue};
 use std::collections::BTreeMap;
+use std::io::Write;
 use std::sync::Arc;
 
-/// What comparing a recipe with the drive's limits came to.
-pub enum DriveCheck {
-    /// Every value lies within; the lines say which limits were read.
-    Within(Vec<String>),
+/// What comparing the written values with the drive's limits came to.
+#[derive(Debug, Default)]
+pub struct DriveCheck {
+    /// The limits read, one line per object.
+    pub read: Vec<String>,
+    /// Objects whose limits the family's drives do not report.
+    pub not_reported: Vec<String>,
     /// Values outside (or objects whose limits the drive refused to give): one line each.
-    Outside(Vec<String>, Vec<String>),
-    /// The drive could not be reached; nothing was checked.
-    Unreachable(String),
+    pub problems: Vec<String>,
 }
 
 use crate::drive::ValueLimits as Limits;
 
-/// Opens the drive named by `connection` and checks `recipe`'s values against the limits
-/// it reports.
-pub fn check_recipe(recipe: &Recipe, dictionary: Arc<Dictionary>, connection: &ConnectionArgs) -> DriveCheck {
-    let mut open = match open(connection, dictionary) {
-        Ok(o) => o,
-        Err(e) => return DriveCheck::Unreachable(e),
-    };
-    let port = open.drive.port();
-    let values = written_values(recipe);
+/// Reads the drive's limits of every object `values` write (each object once) and
+/// compares each value with them; `Err` when the drive could not be reached. Sends
+/// nothing at all for a family whose drives report no limits.
+pub fn compare(values: &[WrittenValue], drive: &mut Drive) -> Result<DriveCheck, String> {
+    let port = drive.port();
     let mut limits: BTreeMap<String, Result<Option<Limits>, String>> = BTreeMap::new();
-    for w in &values {
+    for w in values {
         if !limits.contains_key(&w.object.name) {
-            let l = read_limits(&mut open.drive, &w.object.name);
+            // `left.speed_setpoint` in a recipe with `drives:`: the drive's own name.
+            let own = w
+                .object
+                .name
+                .split_once('.')
+                .map_or(w.object.name.as_str(), |(_, o)| o);
+            let l = read_limits(drive, own);
             if let Err(e) = &l {
-                if e.starts_with("unreachable: ") {
-                    return DriveCheck::Unreachable(e.trim_start_matches("unreachable: ").to_string());
+                if let Some(e) = e.strip_prefix("unreachable: ") {
+                    return Err(e.to_string());
                 }
             }
             limits.insert(w.object.name.clone(), l);
         }
     }
-    let mut lines = Vec::new();
-    let mut problems = Vec::new();
+    let mut check = DriveCheck::default();
     for (name, l) in &limits {
         match l {
-            Ok(Some(l)) => lines.push(format!("drive limits of {name}: {} (read from {port})", show(l))),
-            Ok(None) => lines.push(format!(
+            Ok(Some(l)) => check
+                .read
+                .push(format!("drive limits of {name}: {} (read from {port})", show(l))),
+            Ok(None) => check.not_reported.push(format!(
                 "drive limits of {name}: the {} family's drives do not report limits; the dictionary's were checked",
-                open.drive.dictionary().family()
+                drive.dictionary().family()
             )),
-            Err(e) => problems.push(format!("cannot read the drive's limits of {name}: {e}")),
+            Err(e) => check
+                .problems
+                .push(format!("cannot read the drive's limits of {name}: {e}")),
         }
     }
-    for w in &values {
+    for w in values {
         let Some(Ok(Some((min, max)))) = limits.get(&w.object.name) else {
             continue;
         };
@@ -79,62 +87,92 @@ pub fn check_recipe(recipe: &Recipe, dictionary: Arc<Dictionary>, connection: &C
             beyond.then(|| limit.as_ref().map(|v| v.to_string()).unwrap_or_default())
         };
         if let Some(limit) = outside(max, true) {
-            problems.push(format!(
+            check.problems.push(format!(
                 "{place}: {} {} = {value} is above the maximum the drive reports, {limit}",
                 w.step, w.object.name
             ));
         }
         if let Some(limit) = outside(min, false) {
-            problems.push(format!(
+            check.problems.push(format!(
                 "{place}: {} {} = {value} is below the minimum the drive reports, {limit}",
                 w.step, w.object.name
             ));
         }
     }
-    if problems.is_empty() {
-        DriveCheck::Within(lines)
-    } else {
-        DriveCheck::Outside(lines, problems)
+    Ok(check)
+}
+
+/// Says what `check` came to, as `check --port` and `run` both say it: the limits read
+/// (and, with `not_reported`, the objects whose limits the family's drives do not
+/// report) on `out`, each value outside with its place and the drive's limit on `err`.
+/// The exit code: 0 within, 2 for values outside, 3 for a drive that could not be
+/// reached; with it, the error line (also written to `err`) for the not-run reports.
+pub fn report(
+    check: &Result<DriveCheck, String>,
+    path: &str,
+    not_reported: bool,
+    out: &mut dyn Write,
+    err: &mut dyn Write,
+) -> (i32, String) {
+    match check {
+        Ok(check) => {
+            let lines = check
+                .read
+                .iter()
+                .chain(check.not_reported.iter().filter(|_| not_reported));
+            for l in lines {
+                let _ = writeln!(out, "    {l}");
+            }
+            if check.problems.is_empty() {
+                return (super::PASSED, String::new());
+            }
+            let _ = writeln!(
+                out,
+                "    refused: {} value(s) outside the limits the drive reports",
+                check.problems.len()
+            );
+            for p in &check.problems {
+                let _ = writeln!(err, "  × {p}");
+            }
+            let text = format!(
+                "error: {} value(s) of {path} lie outside the limits the drive reports; nothing was sent to move the drive. Lower the value, or change the drive's limit first",
+                check.problems.len()
+            );
+            let _ = writeln!(err, "{text}");
+            let mut why = check.problems.iter().fold(String::new(), |mut s, p| {
+                s.push_str(&format!("× {p}\n"));
+                s
+            });
+            why.push_str(&text);
+            (super::INVALID, why)
+        }
+        Err(e) => {
+            let _ = writeln!(err, "{e}");
+            let text = format!(
+                "error: the drive's limits could not be read; {path} was checked against the dictionary only"
+            );
+            let _ = writeln!(err, "{text}");
+            (super::COMMUNICATION, format!("{e}\n{text}"))
+        }
     }
 }
 
 /// [`check_recipe`] with its lines printed; the exit code (2 for values outside, 3 for
 /// a drive that could not be reached).
 pub fn check_and_print(recipe: &Recipe, dictionary: Arc<Dictionary>, connection: &ConnectionArgs) -> i32 {
-    match check_recipe(recipe, dictionary, connection) {
-        DriveCheck::Within(lines) => {
-            for l in lines {
-                println!("    {l}");
-            }
-            super::PASSED
-        }
-        DriveCheck::Outside(lines, problems) => {
-            for l in lines {
-                println!("    {l}");
-            }
-            println!(
-                "    refused: {} value(s) outside the limits the drive reports",
-                problems.len()
-            );
-            for p in &problems {
-                eprintln!("  × {p}");
-            }
-            eprintln!(
-                "error: {} value(s) of {} lie outside the limits the drive reports; nothing was sent to move the drive. Lower the value, or change the drive's limit first",
-                problems.len(),
-                recipe.path
-            );
-            super::INVALID
-        }
-        DriveCheck::Unreachable(e) => {
-            eprintln!("{e}");
-            eprintln!(
-                "error: the drive's limits could not be read; {} was checked against the dictionary only",
-                recipe.path
-            );
-            super::COMMUNICATION
-        }
-    }
+    check_values_and_print(&written_values(recipe), &recipe.path, dictionary, connection)
+}
+
+/// [`check_and_print`] for the values of a file other than a recipe (a script's literal
+/// writes).
+pub fn check_values_and_print(
+    values: &[WrittenValue],
+    path: &str,
+    dictionary: Arc<Dictionary>,
+    connection: &ConnectionArgs,
+) -> i32 {
+    let check = open(connection, dictionary).and_then(|mut open| compare(values, &mut open.drive));
+    report(&check, path, true, &mut std::io::stdout(), &mut std::io::stderr()).0
 }
 
 /// The drive's limits of each of `names`, as text for a listing (`-6000 rpm .. 6000 rpm`,
@@ -182,4 +220,62 @@ fn read_limits(drive: &mut Drive, name: &str) -> Result<Option<Limits>, String> 
 fn show((min, max): &Limits) -> String {
     let side = |v: &Option<Value>, open: &str| v.as_ref().map_or(open.to_string(), |v| v.to_string());
     format!("{} .. {}", side(min, "no minimum"), side(max, "no maximum"))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::recipe::{ObjectRef, StepOrigin};
+
+    /// The simulated 931 with one object at the simulator's speed-setpoint number.
+    fn simulated_931() -> Drive {
+        let registry = Registry::builtin();
+        let family = registry.family("lenze-931").unwrap();
+        let text = "family: lenze-931\nobjects:\n  - name: speed_setpoint\n    address: \"0x0010\"\n    type: i32\n    unit: rpm\n    access: rw\n";
+        let dictionary = Dictionary::from_yaml_for("t.yaml", text, family.address_parser()).unwrap();
+        open_drive(
+            &registry,
+            &ConnectionArgs::simulated(),
+            Arc::new(dictionary),
+            true,
+            None,
+            None,
+        )
+        .unwrap()
+        .drive
+    }
+
+    fn written(name: &str, value: f64) -> WrittenValue {
+        WrittenValue {
+            object: ObjectRef {
+                name: name.into(),
+                unit: Some("rpm".into()),
+            },
+            value,
+            origin: StepOrigin {
+                path: "r.yaml".into(),
+                line: 7,
+                column: 5,
+            },
+            step: "set",
+        }
+    }
+
+    #[test]
+    fn a_drives_own_name_is_looked_up_and_the_recipes_name_shown() {
+        let mut drive = simulated_931();
+        let check = compare(
+            &[
+                written("axis.speed_setpoint", 100.0),
+                written("axis.speed_setpoint", 7000.0),
+            ],
+            &mut drive,
+        )
+        .unwrap();
+        assert_eq!(check.read.len(), 1, "each object once: {:?}", check.read);
+        assert_eq!(
+            check.problems,
+            ["r.yaml:7:5: set axis.speed_setpoint = 7000 rpm is above the maximum the drive reports, 6000 rpm"]
+        );
+    }
 }

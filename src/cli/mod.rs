@@ -8,6 +8,7 @@ mod drive_args;
 mod drive_limits;
 mod drive_set;
 mod exit_code;
+mod maintain_command;
 mod not_run;
 mod object_commands;
 mod panic_notice;
@@ -21,6 +22,7 @@ mod stop_signals;
 
 pub use connection_args::{Connection, ConnectionArgs};
 pub use drive_args::{open_drive, DictionaryArgs, OpenDrive};
+pub use maintain_command::{run_maintain, MaintainRequest, MaintainResult};
 pub use recipe_commands::{run_recipe, OutputArgs, PrepareSimulator, RunRequest, RunResult, SafeStopArgs};
 
 pub use exit_code::*;
@@ -77,6 +79,7 @@ enum Command {
     Backup(parameter_commands::BackupArgs),
     Diff(parameter_commands::DiffArgs),
     Restore(parameter_commands::RestoreArgs),
+    Maintain(maintain_command::MaintainArgs),
     Schema(recipe_commands::SchemaArgs),
     Completions(CompletionsArgs),
 }
@@ -111,6 +114,7 @@ pub fn main() -> i32 {
         Command::Backup(args) => parameter_commands::backup(&args),
         Command::Diff(args) => parameter_commands::diff(&args),
         Command::Restore(args) => parameter_commands::restore(&args),
+        Command::Maintain(args) => maintain_command::maintain(&args),
         Command::Schema(args) => recipe_commands::schema(&args),
         Command::Completions(args) => {
             use clap::CommandFactory;

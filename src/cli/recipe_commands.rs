@@ -29,7 +29,8 @@ use std::sync::{Arc, Mutex};
 /// problem at once; exit code 2 if there is any. With --port or --tcp it also reads the
 /// minimum and maximum of every object the recipe writes from the drive (families whose
 /// drives report them, e.g. lenze-931) and refuses values outside; only reads are sent.
-/// A `.rhai` file is a Rhai script: its syntax and the drive calls written with literals.
+/// A `.rhai` file is a Rhai script: its syntax and the drive calls written with literals
+/// (with --port, its literal values against the drive's limits too).
 pub struct CheckArgs {
     #[arg(required = true, value_name = "RECIPE")]
     recipes: Vec<PathBuf>,
@@ -47,7 +48,9 @@ pub struct CheckArgs {
 /// say so. Each recipe is checked first; nothing is sent if it has a problem. Whatever
 /// happens, `finally` runs (default: disable operation, then shutdown). Several recipes
 /// run one after the other, each with its own safe stop and reports; the exit code is the
-/// worst of them.
+/// worst of them. Before anything moves, every value the recipe writes (a script's
+/// literal values too) is compared with the limits the drive itself reports, where its
+/// family's drives report them (lenze-931); a value outside refuses the run (exit code 2).
 /// A `.rhai` file runs as a Rhai script, with the same reports and safe stop.
 pub struct RunArgs {
     #[arg(value_name = "RECIPE", required = true)]
@@ -216,6 +219,7 @@ pub fn check(args: &CheckArgs) -> i32 {
                 &dictionary,
                 &args.dictionary,
                 &args.set,
+                &args.connection,
             ));
             continue;
         }
@@ -526,6 +530,15 @@ pub fn run_recipe(request: &RunRequest, out: &mut dyn Write, err: &mut dyn Write
     if open.simulator.is_some() {
         let _ = writeln!(out, "using {}", open.description);
     }
+    if let Err(code) = within_drive_limits(
+        &crate::recipe::written_values(&recipe),
+        &mut open.drive,
+        &recipe.path,
+        out,
+        err,
+    ) {
+        return not_run(request, Some((&recipe, &planned)), code.0, &code.1, err);
+    }
     let virtual_time = request.fast && open.simulator.is_some();
     let planned_time = crate::recipe::longest_time_of(&recipe.steps);
     let look = Look::of(outputs, request.terminal, virtual_time, true, Some(planned_time));
@@ -546,6 +559,24 @@ pub fn run_recipe(request: &RunRequest, out: &mut dyn Write, err: &mut dyn Write
             .map(|s| (String::new(), s.clone()))
             .collect(),
         simulator: open.simulator,
+    }
+}
+
+/// Before the first telegram that moves anything: the values `values` write compared with
+/// the limits the drive itself reports, as `check --port` compares them (families whose
+/// drives report none are asked nothing and nothing is said). `Err` holds the exit code
+/// and the reason for the not-run reports, already said on `err`.
+pub fn within_drive_limits(
+    values: &[crate::recipe::WrittenValue],
+    drive: &mut crate::drive::Drive,
+    path: &str,
+    out: &mut dyn Write,
+    err: &mut dyn Write,
+) -> Result<(), (i32, String)> {
+    let check = super::drive_limits::compare(values, drive);
+    match super::drive_limits::report(&check, path, false, out, err) {
+        (PASSED, _) => Ok(()),
+        (code, why) => Err((code, why)),
     }
 }
 
@@ -590,6 +621,19 @@ fn run_several(
     };
     if !open.simulators.is_empty() {
         let _ = writeln!(out, "using {}", open.description);
+    }
+    // Each drive's limits for the values written to it (`left.speed_setpoint`).
+    let written = crate::recipe::written_values(recipe);
+    for (name, drive) in open.drives.iter_mut() {
+        let prefix = format!("{name}.");
+        let own: Vec<_> = written
+            .iter()
+            .filter(|w| w.object.name.starts_with(&prefix))
+            .cloned()
+            .collect();
+        if let Err((code, why)) = within_drive_limits(&own, drive, &recipe.path, out, err) {
+            return not_run(request, Some((recipe, planned)), code, &why, err);
+        }
     }
     let virtual_time = request.fast && !open.simulators.is_empty();
     let planned_time = crate::recipe::longest_time_of(&recipe.steps);

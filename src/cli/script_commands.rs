@@ -20,6 +20,7 @@ pub fn check_script(
     dictionary: &Dictionary,
     dictionary_args: &super::drive_args::DictionaryArgs,
     set: &[(String, String)],
+    connection: &super::ConnectionArgs,
 ) -> i32 {
     // A script with `//! drives:` is checked against each drive's own dictionary.
     let declared = declared_script_drives(path);
@@ -56,7 +57,15 @@ pub fn check_script(
             if let Some(limits) = dictionary.bench_limits() {
                 println!("    bench limits {} ({})", limits.summary(), limits.source());
             }
-            PASSED
+            if connection.is_simulated() || script.written.is_empty() {
+                return PASSED;
+            }
+            super::drive_limits::check_values_and_print(
+                &script.written,
+                &script.path,
+                Arc::new(dictionary.clone()),
+                connection,
+            )
         }
         Err(e) => {
             eprint!("{}", e.render(std::io::stderr().is_terminal()));
@@ -142,6 +151,11 @@ pub fn run_script(request: &RunRequest, out: &mut dyn Write, err: &mut dyn Write
     }
     if open.simulator.is_some() {
         let _ = writeln!(out, "using {}", open.description);
+    }
+    if let Err((code, _)) =
+        super::recipe_commands::within_drive_limits(&script.written, &mut open.drive, &script.path, out, err)
+    {
+        return RunResult::refused(code);
     }
     let virtual_time = request.fast && open.simulator.is_some();
     let look = Look::of(outputs, request.terminal, virtual_time, false, None);

@@ -170,6 +170,18 @@ impl Drive {
             .map(|r| r.map_err(DriveError::Access))
     }
 
+    /// Carries out a maintenance action of the family by its name; `None` where the family
+    /// has none.
+    pub fn maintain(
+        &mut self,
+        action: &str,
+        argument: Option<u32>,
+    ) -> Option<Result<super::MaintenanceOutcome, DriveError>> {
+        self.access
+            .maintain(action, argument)
+            .map(|r| r.map_err(DriveError::Access))
+    }
+
     /// Sends what the link must send to stay alive, if due; how long until the next.
     pub fn keep_alive(&mut self) -> Result<Option<Duration>, DriveError> {
         Ok(self.access.keep_alive()?)

@@ -7,6 +7,7 @@ mod address_keys;
 pub mod device_control;
 mod drive;
 mod drive_error;
+mod maintenance;
 mod object_access;
 pub mod state_path;
 
@@ -17,5 +18,6 @@ pub use address_keys::{
 pub use device_control::{DeviceCommand, DeviceState};
 pub use drive::{Drive, ReadSet, Transition, ValueLimits};
 pub use drive_error::DriveError;
+pub use maintenance::{MaintenanceAction, MaintenanceOutcome};
 pub use object_access::{DriveLimits, ObjectAccess, WriteOutcome};
 pub use state_path::{next_step, NextStep};

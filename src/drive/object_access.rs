@@ -67,6 +67,17 @@ pub trait ObjectAccess: Send {
     fn store_parameters(&mut self) -> Option<Result<(), AccessError>> {
         None
     }
+    /// Carries out one of the family's maintenance actions (`Family::maintenance_actions`)
+    /// by its name, with its number where it takes one; sent once, never repeated. `None`
+    /// (the default) for a family that has none.
+    fn maintain(
+        &mut self,
+        action: &str,
+        argument: Option<u32>,
+    ) -> Option<Result<super::MaintenanceOutcome, AccessError>> {
+        let _ = (action, argument);
+        None
+    }
     /// What we are talking to, for messages: `drive 2 on /dev/ttyUSB0 at 57600 8N1`.
     fn port(&self) -> String;
     /// The clock the link waits on (real, or virtual with the simulator).

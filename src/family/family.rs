@@ -120,4 +120,9 @@ pub trait Family: Send + Sync {
         let _ = text;
         None
     }
+    /// The maintenance actions this family's drives offer (`drivescript maintain`),
+    /// carried out through `ObjectAccess::maintain`; none by default.
+    fn maintenance_actions(&self) -> &'static [crate::drive::MaintenanceAction] {
+        &[]
+    }
 }

@@ -9,7 +9,7 @@ use super::sandbox::sandbox;
 use super::script_error::parse_error;
 use super::script_header::Header;
 use super::script_invalid::ScriptInvalid;
-use super::static_check::check_calls;
+use super::static_check::{check_calls, literal_writes};
 use crate::diag::{read_source, Diagnostic, Diagnostics, Source, Span};
 use crate::dictionary::Dictionary;
 use crate::recipe::{DriveDecl, SafeStopChoice};
@@ -34,6 +34,10 @@ pub struct Script {
     pub has_finally: bool,
     /// Drive calls written with literal words (for `check`'s summary).
     pub calls: usize,
+    /// The numbers the script's literal `set` calls write, in the object's unit, for the
+    /// run's comparison with the limits the drive itself reports (one drive only: with
+    /// `//! drives:`, which drive a call goes to is known only as the script runs).
+    pub written: Vec<crate::recipe::WrittenValue>,
     /// `//! link: channel=cyclic, velocity_scaling=24000rpm`: settings of the family's
     /// link, as a recipe's `link:` gives them (the command line wins).
     pub link: Vec<(String, String)>,
@@ -220,6 +224,11 @@ fn load_source_for(
             params: set.to_vec(),
             has_finally,
             calls: calls.len(),
+            written: if drives.is_empty() {
+                literal_writes(&calls, dictionary)
+            } else {
+                Vec::new()
+            },
             drives: header.drives,
             leave_enabled: header.leave_enabled,
             safe_stop: header.safe_stop,

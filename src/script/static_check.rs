@@ -11,6 +11,39 @@ use crate::diag::{did_you_mean, suggestion_text, Diagnostic, Span};
 use crate::dictionary::Dictionary;
 use crate::session::Statistic;
 
+/// The numbers written by `set` calls whose object, value and unit are all literals and
+/// which the dictionary takes, in the object's unit, each at its value's place. Other
+/// calls are left to [`check_calls`] (their problems) and to the run (computed values).
+pub fn literal_writes(calls: &[LiteralCall], dict: &Dictionary) -> Vec<crate::recipe::WrittenValue> {
+    let mut out = Vec::new();
+    for c in calls.iter().filter(|c| c.name == "set" && c.method) {
+        let (Some((Arg::Text(name), _)), Some((Arg::Number(v), vspan))) = (c.args.first(), c.args.get(1))
+        else {
+            continue;
+        };
+        let unit = match c.args.get(2) {
+            Some((Arg::Text(u), _)) => Some(u.clone()),
+            None => None,
+            Some(_) => continue,
+        };
+        if let Ok((object, crate::recipe::SetValue::Number(value))) =
+            resolve::set_value(dict, name, &Written::Number(*v, unit))
+        {
+            out.push(crate::recipe::WrittenValue {
+                object,
+                value,
+                origin: crate::recipe::StepOrigin {
+                    path: vspan.path().to_string(),
+                    line: vspan.line(),
+                    column: vspan.column(),
+                },
+                step: "set",
+            });
+        }
+    }
+    out
+}
+
 /// The problems of `calls`; `set` are the `--set` parameters.
 pub fn check_calls(
     calls: &[LiteralCall],

@@ -28,7 +28,7 @@ const SIM_NUMBERS: &[(&str, &str)] = &[
     ("drive_error", "0x0022"),
 ];
 
-fn scratch(name: &str) -> PathBuf {
+pub(crate) fn scratch(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("drivescript-lenze-{name}-{}", std::process::id()));
     std::fs::create_dir_all(&dir).expect("scratch dir");
     dir
@@ -36,7 +36,7 @@ fn scratch(name: &str) -> PathBuf {
 
 /// What a user does with the template in `dictionary/lenze-931.yaml`: copy the lines
 /// between the markers, remove the `# `, fill in every `0x????`.
-fn completed_template(dir: &Path) -> PathBuf {
+pub(crate) fn completed_template(dir: &Path) -> PathBuf {
     let text = std::fs::read_to_string(repo_root().join("dictionary/lenze-931.yaml")).expect("dictionary");
     let lines: Vec<&str> = text.lines().collect();
     let start = lines
@@ -80,7 +80,7 @@ fn completed_template(dir: &Path) -> PathBuf {
     path
 }
 
-fn dictionary_args(extra: Option<PathBuf>) -> DictionaryArgs {
+pub(crate) fn dictionary_args(extra: Option<PathBuf>) -> DictionaryArgs {
     DictionaryArgs {
         family: "lenze-931".into(),
         extra: extra.into_iter().collect(),
@@ -166,13 +166,15 @@ fn the_commissioning_recipe_runs_on_the_simulated_931_with_only_drive_changed() 
 
 #[test]
 fn a_limited_write_warns_with_the_stored_value_and_expect_sees_it() {
+    // A literal beyond the drive's limits is refused before the run (see below), so the
+    // limited write is reached with a value the script computes.
     let dir = scratch("limited");
-    let recipe = write(
+    let script = write(
         &dir,
-        "limited.yaml",
-        "name: Limited\ndrive: lenze-931\nsteps:\n  - set: { speed_setpoint: 8000 rpm }\n  - expect: { speed_setpoint: { equals: 6000 rpm } }\n  - ramp: { object: speed_setpoint, from: 5000 rpm, to: 7000 rpm, rate: 1000 rpm/s }\n  - expect: { speed_setpoint: { equals: 6000 rpm } }\nfinally:\n  - set: { speed_setpoint: 0 rpm }\n",
+        "limited.rhai",
+        "//! drive: lenze-931\nlet d = drive();\nlet high = 4000.0 * 2.0;\nd.set(\"speed_setpoint\", high, \"rpm\");\nlet stored = d.read(\"speed_setpoint\");\nexpect(\"speed_setpoint equals 6000 rpm\", stored == 6000.0, stored);\nd.set(\"speed_setpoint\", 0.0, \"rpm\");\n",
     );
-    let mut run = InProcessRun::new(recipe);
+    let mut run = InProcessRun::new(script);
     run.dictionary = dictionary_args(Some(completed_template(&dir)));
     let (result, output) = run.run();
     assert_eq!(result.exit_code, 0, "{output}");
@@ -183,27 +185,21 @@ fn a_limited_write_warns_with_the_stored_value_and_expect_sees_it() {
         "{output}"
     );
     assert!(
-        output.contains("written; warning: speed_setpoint = 8000 rpm was limited"),
-        "{output}"
-    );
-    assert!(
         output.contains("PASS  speed_setpoint equals 6000 rpm"),
         "{output}"
     );
-    // 5000 .. 7000 rpm in 100 rpm steps: the ten points above 6000 rpm were limited.
-    assert!(output.contains("21 values written; warning: 10 limited by the drive, the last: speed_setpoint = 7000 rpm was limited by the drive, which stored 6000 rpm (read back)"), "{output}");
     assert!(!output.contains("FAIL"), "{output}");
 }
 
 #[test]
 fn a_value_the_drive_refuses_names_the_drives_limit() {
     let dir = scratch("refused");
-    let recipe = write(
+    let script = write(
         &dir,
-        "refused.yaml",
-        "name: Refused\ndrive: lenze-931\nsteps:\n  - set: { operating_mode: 7 }\nfinally: []\n",
+        "refused.rhai",
+        "//! drive: lenze-931\nlet d = drive();\nlet mode = 3 + 4;\nd.set(\"operating_mode\", mode);\n",
     );
-    let mut run = InProcessRun::new(recipe);
+    let mut run = InProcessRun::new(script);
     run.dictionary = dictionary_args(Some(completed_template(&dir)));
     let (result, output) = run.run();
     assert_eq!(result.exit_code, 3, "{output}");
@@ -211,6 +207,110 @@ fn a_value_the_drive_refuses_names_the_drives_limit() {
         output.contains("0x00000003 value too high, not written; the drive's maximum is 3 (0x00000003, read with OX:0014)"),
         "{output}"
     );
+}
+
+type SharedSim = Arc<Mutex<dyn SimulatedDrive>>;
+
+/// Runs `path` on the simulated 931 (with the completed template) and returns the exit
+/// code, the output and every request line the drive received, in order.
+fn run_and_record(dir: &Path, path: PathBuf) -> (i32, String, Vec<String>) {
+    let captured: Arc<Mutex<Option<SharedSim>>> = Arc::new(Mutex::new(None));
+    let keep = captured.clone();
+    let prepare = move |sim: &Arc<Mutex<dyn SimulatedDrive>>, _: &SharedClock| {
+        *keep.lock().unwrap_or_else(PoisonError::into_inner) = Some(sim.clone());
+    };
+    let mut run = InProcessRun::new(path);
+    run.dictionary = dictionary_args(Some(completed_template(dir)));
+    run.prepare = Some(&prepare);
+    let (result, output) = run.run();
+    let sim = captured
+        .lock()
+        .unwrap_or_else(PoisonError::into_inner)
+        .clone()
+        .expect("the drive was opened");
+    let mut sim = sim.lock().unwrap_or_else(PoisonError::into_inner);
+    let lenze = sim
+        .as_any_mut()
+        .downcast_mut::<drivescript::family::lenze_931::LenzeSimulator>()
+        .expect("a simulated 931");
+    (result.exit_code, output, lenze.requests().to_vec())
+}
+
+#[test]
+fn a_run_outside_the_drives_limits_is_refused_before_any_write_telegram() {
+    let dir = scratch("run-limits");
+    let recipe = write(
+        &dir,
+        "outside.yaml",
+        "name: Outside\ndrive: lenze-931\nsteps:\n  - read: [ident]\n  - set: { operating_mode: 2 }\n  - set: { speed_setpoint: 8000 rpm }\n  - ramp: { object: speed_setpoint, from: -7000 rpm, to: 0 rpm, rate: 1000 rpm/s }\nfinally:\n  - set: { speed_setpoint: 0 rpm }\n",
+    );
+    let (code, output, requests) = run_and_record(&dir, recipe);
+    assert_eq!(code, 2, "{output}");
+    // Each object written is asked for its limits once, and nothing else is sent.
+    assert_eq!(requests, ["ON:0014", "OX:0014", "ON:0010", "OX:0010"], "{output}");
+    assert!(
+        output.contains("drive limits of speed_setpoint: -6000 rpm .. 6000 rpm (read from the 931 on"),
+        "{output}"
+    );
+    assert!(
+        output.contains("outside.yaml:6:5: set speed_setpoint = 8000 rpm is above the maximum the drive reports, 6000 rpm"),
+        "{output}"
+    );
+    assert!(
+        output.contains("outside.yaml:7:5: ramp speed_setpoint = -7000 rpm is below the minimum the drive reports, -6000 rpm"),
+        "{output}"
+    );
+    assert!(output.contains("error: 2 value(s) of "), "{output}");
+    assert!(
+        output.contains(
+            "nothing was sent to move the drive. Lower the value, or change the drive's limit first"
+        ),
+        "{output}"
+    );
+    assert!(!output.contains("PASSED"), "{output}");
+
+    // A script's literal values are compared the same way, at their place.
+    let script = write(
+        &dir,
+        "outside.rhai",
+        "//! drive: lenze-931\nlet d = drive();\nd.set(\"operating_mode\", 9);\nd.set(\"speed_setpoint\", 100.0, \"rpm\");\n",
+    );
+    let (code, output, requests) = run_and_record(&dir, script);
+    assert_eq!(code, 2, "{output}");
+    assert_eq!(requests, ["ON:0014", "OX:0014", "ON:0010", "OX:0010"], "{output}");
+    assert!(
+        output
+            .contains("outside.rhai:3:25: set operating_mode = 9 is above the maximum the drive reports, 3"),
+        "{output}"
+    );
+}
+
+#[test]
+fn a_run_within_the_drives_limits_reads_them_first_and_passes() {
+    let dir = scratch("run-within");
+    let recipe = write(
+        &dir,
+        "within.yaml",
+        "name: Within\ndrive: lenze-931\nsteps:\n  - set: { speed_setpoint: 5000 rpm }\n  - ramp: { object: speed_setpoint, from: 5000 rpm, to: -6000 rpm, rate: 10000 rpm/s }\n  - expect: { speed_setpoint: { equals: -6000 rpm } }\nfinally:\n  - set: { speed_setpoint: 0 rpm }\n",
+    );
+    let (code, output, requests) = run_and_record(&dir, recipe);
+    assert_eq!(code, 0, "{output}");
+    // The limits are read first, before the run's own reads (the identity) and writes.
+    assert_eq!(requests[..2], ["ON:0010", "OX:0010"], "{output}");
+    let first_write = requests
+        .iter()
+        .position(|r| r.starts_with("OW:"))
+        .expect("a write");
+    assert_eq!(requests[first_write], "OW:0010:00001388", "{requests:?}");
+    assert!(!requests[2..]
+        .iter()
+        .any(|r| r.starts_with("ON:") || r.starts_with("OX:")));
+    assert!(!output.contains("warning"), "{output}");
+    assert!(
+        output.contains("drive limits of speed_setpoint: -6000 rpm .. 6000 rpm"),
+        "{output}"
+    );
+    assert!(output.contains("PASSED"), "{output}");
 }
 
 #[test]
@@ -409,6 +509,36 @@ fn through_a_pseudo_terminal_raw_access_drive_limits_and_a_run() {
         "{}",
         stdout(&out)
     );
+    // `run` compares the same way before anything moves, and so does `check` for a
+    // script's literal values.
+    let mut args = vec!["run", recipe.as_str(), "--set", "speed=8000rpm"];
+    args.extend(base);
+    let out = drivescript(&args, "");
+    assert_eq!(out.status.code(), Some(2), "{}\n{}", stdout(&out), stderr(&out));
+    assert!(
+        stderr(&out)
+            .contains("set speed_setpoint = 8000 rpm is above the maximum the drive reports, 6000 rpm"),
+        "{}",
+        stderr(&out)
+    );
+    assert!(!stdout(&out).contains("recipe  "), "{}", stdout(&out));
+    let script = write(
+        &dir,
+        "fast.rhai",
+        "//! drive: lenze-931\nlet d = drive();\nd.set(\"speed_setpoint\", 6500.0, \"rpm\");\n",
+    );
+    let script = script.to_string_lossy().to_string();
+    let mut args = vec!["check", script.as_str()];
+    args.extend(base);
+    let out = drivescript(&args, "");
+    assert_eq!(out.status.code(), Some(2), "{}\n{}", stdout(&out), stderr(&out));
+    assert!(
+        stderr(&out).contains(
+            "fast.rhai:3:25: set speed_setpoint = 6500 rpm is above the maximum the drive reports, 6000 rpm"
+        ),
+        "{}",
+        stderr(&out)
+    );
     // Ramp points are checked too, at the step's place.
     let ramp = write(
         &dir,
@@ -564,4 +694,19 @@ fn parameters_round_trip_with_the_drives_limits_and_save() {
     );
     let (code, out) = with(&["diff", &file]);
     assert_eq!(code, Some(0), "{out}");
+}
+
+#[test]
+fn an_sd2_run_asks_nothing_about_drive_limits() {
+    // SD2 drives report no limits: the run's comparison sends nothing and says nothing.
+    // 84 requests is what the commissioning recipe sent before `run` compared limits.
+    let dir = scratch("sd2-count");
+    let trace = dir.join("sd2.trace");
+    let mut run = InProcessRun::new(repo_root().join("recipes/commissioning.yaml"));
+    run.outputs.trace = Some(trace.clone());
+    let (result, output) = run.run();
+    assert_eq!(result.exit_code, 0, "{output}");
+    let text = std::fs::read_to_string(&trace).expect("trace");
+    assert_eq!(text.lines().filter(|l| l.contains(" TX ")).count(), 84, "{text}");
+    assert!(!output.contains("drive limits"), "{output}");
 }

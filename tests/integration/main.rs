@@ -13,6 +13,7 @@ mod drive_sim;
 mod end_to_end;
 mod examples;
 mod lenze_931;
+mod lenze_931_maintain;
 mod lenze_9400;
 mod loader_limits;
 mod multi_drive;

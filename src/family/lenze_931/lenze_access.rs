@@ -10,7 +10,7 @@ use super::wire_value;
 use super::LenzeLink;
 use crate::clock::SharedClock;
 use crate::dictionary::{Address, DataType, RawValue};
-use crate::drive::{AccessError, DriveLimits, ObjectAccess, WriteOutcome};
+use crate::drive::{AccessError, DriveLimits, MaintenanceOutcome, ObjectAccess, WriteOutcome};
 
 pub struct LenzeAccess {
     link: LenzeLink,
@@ -233,6 +233,45 @@ impl ObjectAccess for LenzeAccess {
             Ok(Reply::Done) => Ok(()),
             Ok(other) => Err(self.unexpected(&request, format!("`{}`", other.text()))),
             Err(e) => Err(e),
+        })
+    }
+
+    fn maintain(
+        &mut self,
+        action: &str,
+        argument: Option<u32>,
+    ) -> Option<Result<MaintenanceOutcome, AccessError>> {
+        let request = match super::maintenance::request(action, argument) {
+            Ok(r) => r,
+            Err(e) => return Some(Err(AccessError::Encode(e))),
+        };
+        let reply = match self.link.exchange(&request) {
+            Ok(r) => r,
+            Err(e) => return Some(Err(e)),
+        };
+        Some(match (&request, reply) {
+            (Request::Reset | Request::Init, Reply::SwitchOn(text)) => Ok(MaintenanceOutcome {
+                reply: text,
+                line_rate: None,
+            }),
+            (Request::Sep, Reply::Done) => Ok(MaintenanceOutcome {
+                reply: "DONE".into(),
+                line_rate: None,
+            }),
+            (Request::Baud(rate), Reply::Ok) => Ok(MaintenanceOutcome {
+                reply: "OK!".into(),
+                line_rate: Some(*rate),
+            }),
+            (_, Reply::UnknownCommand) => Err(AccessError::Refused {
+                port: self.link.port().to_string(),
+                address: "RS232".into(),
+                operation: "carry out",
+                object: request.text(),
+                code: 0,
+                text: "the drive answered ERROR! (it does not know the command; older firmware may lack it)"
+                    .into(),
+            }),
+            (_, other) => Err(self.unexpected(&request, format!("`{}`", other.text()))),
         })
     }
 

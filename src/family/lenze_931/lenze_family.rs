@@ -29,6 +29,10 @@ impl Family for Lenze931Family {
         "lenze-931"
     }
 
+    fn maintenance_actions(&self) -> &'static [crate::drive::MaintenanceAction] {
+        super::maintenance::ACTIONS
+    }
+
     fn title(&self) -> &'static str {
         "Lenze 931E/K servo positioning controllers over the serial ASCII object protocol"
     }

@@ -306,3 +306,45 @@ mod properties {
         }
     }
 }
+
+#[test]
+fn maintenance_actions_read_error_and_unknown_replies_as_failures() {
+    use crate::drive::ObjectAccess;
+    use crate::family::lenze_931::LenzeAccess;
+    // ERROR!: the drive does not know the command.
+    let (l, peer, _) = link(vec![Some(b"ERROR!\r")]);
+    let e = LenzeAccess::new(l).maintain("reset", None).unwrap().unwrap_err();
+    assert!(
+        e.to_string()
+            .contains("refused to carry out object RESET!: the drive answered ERROR!"),
+        "{e}"
+    );
+    assert_eq!(sent(&peer), ["RESET!"]);
+    // A reply other than the documented one, sent once and not again.
+    let (l, peer, _) = link(vec![Some(b"OK!\r"), Some(b"DONE\r")]);
+    let e = LenzeAccess::new(l).maintain("load", None).unwrap().unwrap_err();
+    assert!(
+        e.to_string()
+            .contains("\"OK!\" does not answer \"SEP!\": expected `DONE`"),
+        "{e}"
+    );
+    assert!(e.to_string().contains("it is not sent again"), "{e}");
+    assert_eq!(sent(&peer), ["SEP!"]);
+    let (l, _, _) = link(vec![Some(b"DONE\r")]);
+    assert!(LenzeAccess::new(l)
+        .maintain("baud", Some(19200))
+        .unwrap()
+        .is_err());
+    // Whatever a switch-on message says is taken as it, word for word.
+    let (l, _, _) = link(vec![Some(b"LENZE 931 V1.0\r")]);
+    let outcome = LenzeAccess::new(l).maintain("init", None).unwrap().unwrap();
+    assert_eq!(outcome.reply, "LENZE 931 V1.0");
+    assert_eq!(outcome.line_rate, None);
+    // A value the codec cannot send is refused before anything is sent.
+    let (l, peer, _) = link(vec![]);
+    assert!(LenzeAccess::new(l)
+        .maintain("baud", Some(2_000_000))
+        .unwrap()
+        .is_err());
+    assert!(sent(&peer).is_empty());
+}

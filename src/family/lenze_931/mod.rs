@@ -8,6 +8,7 @@ mod lenze_access;
 mod lenze_explainer;
 mod lenze_family;
 mod lenze_link;
+mod maintenance;
 pub mod object_address;
 pub mod sim;
 pub mod wire_value;

@@ -24,6 +24,10 @@ pub struct LenzeSimulator {
     requests: Vec<String>,
     echo: bool,
     crlf: bool,
+    /// The operating mode `SAVE!` stored and `SEP!` loads (the simulator's flash).
+    flash_mode: u16,
+    /// The rate `BAUDbbbb` set last (a pty or TCP line has no rate to change).
+    line_rate: u32,
 }
 
 impl LenzeSimulator {
@@ -38,6 +42,8 @@ impl LenzeSimulator {
             requests: Vec::new(),
             echo: false,
             crlf: false,
+            flash_mode: 0,
+            line_rate: 9600,
         }
     }
 
@@ -60,6 +66,17 @@ impl LenzeSimulator {
         self.model.setpoint_rpm()
     }
 
+    /// The operating mode (the drive model's parameter set).
+    pub fn operating_mode(&self) -> u16 {
+        self.model.parameter_set()
+    }
+
+    /// The baud rate the last `BAUDbbbb` set (9600 until then); the simulated line itself
+    /// keeps working at any rate.
+    pub fn line_rate(&self) -> u32 {
+        self.line_rate
+    }
+
     fn advance_to(&mut self, now: Duration) {
         while let Some((at, code)) = self.faults.take_trip_due(now) {
             self.model.advance_to(at);
@@ -72,7 +89,10 @@ impl LenzeSimulator {
         match *request {
             Request::Read { command, object } => self.read(command, object),
             Request::Write { object, value } => self.write(object, value),
-            Request::Baud(_) => Reply::Ok,
+            Request::Baud(rate) => {
+                self.line_rate = rate;
+                Reply::Ok
+            }
             Request::Boot => Reply::Boot(BootState::Application),
             Request::Bus => Reply::Bus {
                 status: "0000".into(),
@@ -80,16 +100,24 @@ impl LenzeSimulator {
                 baud: "0500".into(),
                 mode: "0000".into(),
             },
-            Request::Init => {
-                let _ = self.model.set_setpoint_rpm(0.0);
-                let _ = self.model.set_parameter_set(0);
-                Reply::SwitchOn("931 SIMULATED: default parameter set loaded".into())
-            }
-            Request::Reset => {
+            // Both restart the drive with the default parameter set: a switch-on message
+            // is what the manual says either answers with.
+            Request::Init | Request::Reset => {
                 self.model = DriveModel::new(self.model.config().clone());
-                Reply::SwitchOn("931 SIMULATED: reset".into())
+                Reply::SwitchOn(match request {
+                    Request::Init => "931 SIMULATED: default parameter set loaded".into(),
+                    _ => "931 SIMULATED: reset".into(),
+                })
             }
-            Request::Save | Request::Sep => Reply::Done,
+            Request::Save => {
+                self.flash_mode = self.model.parameter_set();
+                Reply::Done
+            }
+            Request::Sep => {
+                // The model keeps its mode while enabled, as for a write of the mode.
+                let _ = self.model.set_parameter_set(self.flash_mode);
+                Reply::Done
+            }
             Request::Type => Reply::Type("0931".into()),
             Request::Version => Reply::Version {
                 status: "0000".into(),

@@ -116,3 +116,29 @@ fn echo_crlf_and_injected_reply_faults() {
     s.faults().wrong_address(1);
     assert_eq!(ask(&mut s, "OR:0010"), "0011:00000001\r");
 }
+
+#[test]
+fn maintenance_commands_restore_defaults_load_the_flash_and_take_the_rate() {
+    let mut s = sim();
+    ask(&mut s, "OW:0014:00000002");
+    assert_eq!(ask(&mut s, "SAVE!"), "DONE\r");
+    ask(&mut s, "OW:0014:00000001");
+    assert_eq!(ask(&mut s, "SEP!"), "DONE\r");
+    assert_eq!(s.operating_mode(), 2, "SEP! loads what SAVE! stored");
+    ask(&mut s, "OW:0010:00000064");
+    ask(&mut s, "OW:0020:00000006");
+    assert_eq!(s.state(), DeviceState::ReadyToSwitchOn);
+    assert_eq!(
+        ask(&mut s, "INIT!"),
+        "931 SIMULATED: default parameter set loaded\r"
+    );
+    assert_eq!(s.operating_mode(), 0);
+    assert_eq!(ask(&mut s, "OR:0010"), "0010:00000000\r");
+    assert_eq!(s.state(), DeviceState::SwitchOnDisabled);
+    ask(&mut s, "OW:0014:00000003");
+    assert_eq!(ask(&mut s, "RESET!"), "931 SIMULATED: reset\r");
+    assert_eq!(s.operating_mode(), 0);
+    assert_eq!(s.line_rate(), 9600);
+    assert_eq!(ask(&mut s, "BAUD19200"), "OK!\r");
+    assert_eq!(s.line_rate(), 19200);
+}

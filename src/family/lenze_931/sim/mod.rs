@@ -10,6 +10,12 @@
 //!   beyond the operating mode's range is refused (codes 2/3), and while enabled refused
 //!   with code 9; a control-word value that is no known command is refused with code 8.
 //! - Garbage and over-long lines are answered `ERROR!`, like any unknown command.
+//! - `INIT!` and `RESET!` both restart the drive model with its defaults (switch on
+//!   disabled, setpoint 0, operating mode 0) and answer a switch-on message of the
+//!   simulator's own (`931 SIMULATED: …`; a real drive's text is not in the sources).
+//!   `SAVE!` keeps the operating mode as the flash's; `SEP!` loads it back. `BAUDbbbb`
+//!   is answered `OK!` and remembered ([`LenzeSimulator::line_rate`]); the simulated line
+//!   keeps working at any rate.
 //! - Injected faults: a dropped reply is not sent; a "corrupt" reply has one character
 //!   replaced by `#` (ASCII lines have no checksum); a "wrong address" value reply names
 //!   the next object number. [`LenzeSimulator::set_echo`] and

@@ -1,0 +1,455 @@
+//! `drivescript maintain` on the simulated Lenze 931, in virtual time: each action's
+//! command line and the drive's reply, the refusals (no --force where the state cannot be
+//! read; an enabled drive even with --force; no confirmation), a lost or garbled reply,
+//! the family's list of destructive actions, and one action through a real pty.
+
+use crate::lenze_931::{completed_template, dictionary_args, scratch};
+use crate::support::{drivescript, stderr, stdout};
+use drivescript::bus::Peer;
+use drivescript::cli::{run_maintain, ConnectionArgs, DictionaryArgs, MaintainRequest};
+use drivescript::family::lenze_931::LenzeSimulator;
+use drivescript::family::Registry;
+use drivescript::sim::SimulatedDrive;
+use drivescript::stop_request::StopRequests;
+use std::sync::{Arc, Mutex, PoisonError};
+use std::time::Duration;
+
+/// What one `maintain` did: exit code, standard output, errors, and the request lines
+/// the simulated drive received after `setup` (lines sent to it first).
+struct Outcome {
+    code: i32,
+    out: String,
+    err: String,
+    requests: Vec<String>,
+    mode: u16,
+    line_rate: u32,
+}
+
+fn with_lenze<T>(sim: &Arc<Mutex<dyn SimulatedDrive>>, f: impl FnOnce(&mut LenzeSimulator) -> T) -> T {
+    let mut sim = sim.lock().unwrap_or_else(PoisonError::into_inner);
+    f(sim
+        .as_any_mut()
+        .downcast_mut::<LenzeSimulator>()
+        .expect("a simulated 931"))
+}
+
+fn maintain(
+    dictionary: &DictionaryArgs,
+    action: &str,
+    value: Option<&str>,
+    force: bool,
+    confirm: Option<bool>,
+    setup: &[&str],
+    prepare: &dyn Fn(&mut LenzeSimulator),
+) -> Outcome {
+    let setup_count = Mutex::new(0);
+    let before = |sim: &Arc<Mutex<dyn SimulatedDrive>>| {
+        with_lenze(sim, |s| {
+            for line in setup {
+                s.receive(format!("{line}\r").as_bytes(), Duration::ZERO);
+            }
+            *setup_count.lock().unwrap_or_else(PoisonError::into_inner) = s.requests().len();
+            prepare(s);
+        })
+    };
+    let mut asked = Vec::new();
+    let mut ask = |question: &str| {
+        asked.push(question.to_string());
+        confirm.unwrap_or(false)
+    };
+    let request = MaintainRequest {
+        registry: &Registry::builtin(),
+        dictionary,
+        connection: &ConnectionArgs::simulated(),
+        action: Some(action),
+        value,
+        force,
+        confirm: confirm.map(|_| &mut ask as &mut dyn FnMut(&str) -> bool),
+        stop: Arc::new(StopRequests::new()),
+        prepare_simulator: Some(&before),
+    };
+    let (mut out, mut err) = (Vec::new(), Vec::new());
+    let result = run_maintain(request, &mut out, &mut err);
+    let sim = result.simulator.expect("the simulated drive was opened");
+    let skip = *setup_count.lock().unwrap_or_else(PoisonError::into_inner);
+    let (requests, mode, line_rate) = with_lenze(&sim, |s| {
+        (s.requests()[skip..].to_vec(), s.operating_mode(), s.line_rate())
+    });
+    let mut err = String::from_utf8_lossy(&err).to_string();
+    if confirm.is_some() {
+        err.push_str(&format!("asked: {asked:?}\n"));
+    }
+    Outcome {
+        code: result.exit_code,
+        out: String::from_utf8_lossy(&out).to_string(),
+        err,
+        requests,
+        mode,
+        line_rate,
+    }
+}
+
+fn builtin() -> DictionaryArgs {
+    dictionary_args(None)
+}
+
+fn no_prepare(_: &mut LenzeSimulator) {}
+
+#[test]
+fn each_action_sends_its_command_once_and_reads_the_documented_reply() {
+    let reset = maintain(
+        &builtin(),
+        "reset",
+        None,
+        true,
+        None,
+        &["OW:0014:00000003"],
+        &no_prepare,
+    );
+    assert_eq!(reset.code, 0, "{}{}", reset.out, reset.err);
+    assert_eq!(reset.requests, ["RESET!"]);
+    assert!(
+        reset.out.contains("reset: sending RESET! to the 931 on"),
+        "{}",
+        reset.out
+    );
+    assert!(
+        reset
+            .out
+            .contains("done: the drive answered `931 SIMULATED: reset`"),
+        "{}",
+        reset.out
+    );
+    assert_eq!(reset.mode, 0, "the reset drive has its default operating mode");
+
+    let init = maintain(
+        &builtin(),
+        "init",
+        None,
+        true,
+        None,
+        &["OW:0014:00000002"],
+        &no_prepare,
+    );
+    assert_eq!(init.code, 0, "{}{}", init.out, init.err);
+    assert_eq!(init.requests, ["INIT!"]);
+    assert!(
+        init.out
+            .contains("done: the drive answered `931 SIMULATED: default parameter set loaded`"),
+        "{}",
+        init.out
+    );
+    assert_eq!(init.mode, 0, "the default parameter set is back");
+
+    // SEP! loads what SAVE! stored in flash, over the mode written since.
+    let load = maintain(
+        &builtin(),
+        "load",
+        None,
+        true,
+        None,
+        &["OW:0014:00000002", "SAVE!", "OW:0014:00000001"],
+        &no_prepare,
+    );
+    assert_eq!(load.code, 0, "{}{}", load.out, load.err);
+    assert_eq!(load.requests, ["SEP!"]);
+    assert!(load.out.contains("load: sending SEP! to"), "{}", load.out);
+    assert!(
+        load.out.contains("done: the drive answered `DONE`"),
+        "{}",
+        load.out
+    );
+    assert_eq!(load.mode, 2);
+
+    let baud = maintain(&builtin(), "baud", Some("19200"), true, None, &[], &no_prepare);
+    assert_eq!(baud.code, 0, "{}{}", baud.out, baud.err);
+    assert_eq!(baud.requests, ["BAUD19200"]);
+    assert_eq!(baud.line_rate, 19200);
+    assert!(
+        baud.out
+            .contains("baud 19200: sending BAUDbbbb with RATE 19200 to"),
+        "{}",
+        baud.out
+    );
+    assert!(
+        baud.out.contains("done: the drive answered `OK!`"),
+        "{}",
+        baud.out
+    );
+    assert!(
+        baud.out
+            .contains("the drive now talks at 19200 baud, not at the rate used so far"),
+        "{}",
+        baud.out
+    );
+    // Without a profile each of them says plainly that the state cannot be checked.
+    assert!(
+        baud.err.contains("warning: the drive's state cannot be checked: the lenze-931 dictionary has no device-control profile"),
+        "{}",
+        baud.err
+    );
+}
+
+#[test]
+fn without_force_nothing_is_sent_where_the_state_cannot_be_read() {
+    for (action, value) in [
+        ("reset", None),
+        ("init", None),
+        ("load", None),
+        ("baud", Some("19200")),
+    ] {
+        let o = maintain(&builtin(), action, value, false, Some(true), &[], &no_prepare);
+        assert_eq!(o.code, 2, "{action}: {}{}", o.out, o.err);
+        assert!(o.requests.is_empty(), "{action}: {:?}", o.requests);
+        assert!(
+            o.err.contains("the drive's state cannot be checked: the lenze-931 dictionary has no device-control profile, so drivescript cannot tell whether the drive is enabled. Make sure the drive is disabled and the motor at rest, then give --force; nothing was sent"),
+            "{action}: {}",
+            o.err
+        );
+        // A confirmation cannot stand in for the state: nobody was asked.
+        assert!(o.err.contains("asked: []"), "{}", o.err);
+    }
+}
+
+#[test]
+fn with_a_profile_an_enabled_drive_is_refused_and_a_disabled_one_confirmed() {
+    let dir = scratch("maintain-profile");
+    let with_profile = dictionary_args(Some(completed_template(&dir)));
+    let enable = ["OW:0020:00000006", "OW:0020:00000007", "OW:0020:0000000F"];
+    let o = maintain(&with_profile, "reset", None, true, None, &enable, &no_prepare);
+    assert_eq!(o.code, 2, "{}{}", o.out, o.err);
+    assert!(
+        o.err.contains("error: the drive is in operation enabled, and reset is refused while it is enabled (the drive restarts)"),
+        "{}",
+        o.err
+    );
+    assert!(!o.requests.iter().any(|r| r == "RESET!"), "{:?}", o.requests);
+
+    // Disabled: no --force and nobody to ask is a refusal; a typed no too; a yes sends.
+    let o = maintain(&with_profile, "init", None, false, None, &[], &no_prepare);
+    assert_eq!(o.code, 2, "{}", o.err);
+    assert!(
+        o.err.contains("init is destructive (the default parameter set replaces the parameters in use): give --force, or run it on a terminal to confirm; nothing was sent"),
+        "{}",
+        o.err
+    );
+    assert!(!o.requests.iter().any(|r| r == "INIT!"), "{:?}", o.requests);
+    let o = maintain(&with_profile, "init", None, false, Some(false), &[], &no_prepare);
+    assert_eq!(o.code, 2, "{}", o.err);
+    assert!(
+        o.err.contains("error: init was not confirmed; nothing was sent"),
+        "{}",
+        o.err
+    );
+    assert!(
+        o.err
+            .contains("The drive is in switch on disabled. Type yes to go on:"),
+        "{}",
+        o.err
+    );
+    let o = maintain(&with_profile, "init", None, false, Some(true), &[], &no_prepare);
+    assert_eq!(o.code, 0, "{}{}", o.out, o.err);
+    assert_eq!(o.requests.last().map(String::as_str), Some("INIT!"));
+}
+
+#[test]
+fn a_lost_or_garbled_reply_is_not_repeated_and_says_what_to_check() {
+    let o = maintain(
+        &builtin(),
+        "reset",
+        None,
+        true,
+        None,
+        &[],
+        &|s: &mut LenzeSimulator| {
+            s.faults().drop_replies(5);
+        },
+    );
+    assert_eq!(o.code, 3, "{}{}", o.out, o.err);
+    assert_eq!(o.requests, ["RESET!"], "sent once");
+    assert!(o.err.contains("error: reset failed: no reply"), "{}", o.err);
+    assert!(
+        o.err.contains("whether the drive carried out reset is unknown: check the drive before repeating it (a drive that restarts may answer later than --timeout allows)"),
+        "{}",
+        o.err
+    );
+    let o = maintain(
+        &builtin(),
+        "baud",
+        Some("38400"),
+        true,
+        None,
+        &[],
+        &|s: &mut LenzeSimulator| {
+            s.faults().drop_replies(5);
+        },
+    );
+    assert_eq!(o.code, 3, "{}{}", o.out, o.err);
+    assert_eq!(o.requests, ["BAUD38400"]);
+    assert!(
+        o.err
+            .contains("the drive may already talk at the new rate: try again with --baud 38400"),
+        "{}",
+        o.err
+    );
+    // A reply that is not the documented one (`DONE` with a character lost).
+    let o = maintain(
+        &builtin(),
+        "load",
+        None,
+        true,
+        None,
+        &[],
+        &|s: &mut LenzeSimulator| {
+            s.faults().corrupt_checksum(1);
+        },
+    );
+    assert_eq!(o.code, 3, "{}{}", o.out, o.err);
+    assert_eq!(o.requests, ["SEP!"]);
+    assert!(o.err.contains("error: load failed:"), "{}", o.err);
+    assert!(o.err.contains("it is not sent again"), "{}", o.err);
+    assert!(
+        o.err.contains("whether the drive carried out load is unknown"),
+        "{}",
+        o.err
+    );
+}
+
+#[test]
+fn the_family_says_which_actions_it_has_and_which_are_destructive() {
+    let registry = Registry::builtin();
+    let lenze = registry.family("lenze-931").expect("lenze-931");
+    let actions: Vec<(&str, bool)> = lenze
+        .maintenance_actions()
+        .iter()
+        .map(|a| (a.name, a.destructive.is_some()))
+        .collect();
+    assert_eq!(
+        actions,
+        [("reset", true), ("init", true), ("load", true), ("baud", true)]
+    );
+    for other in ["sd2", "ct_ansi", "lenze_9400"] {
+        let family = registry.family(other).expect(other);
+        assert!(family.maintenance_actions().is_empty(), "{other}");
+    }
+    let out = drivescript(&["maintain", "--drive", "lenze-931"], "");
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    assert!(
+        stdout(&out).contains("  baud RATE  BAUDbbbb  set the baud rate; the drive answers OK!"),
+        "{}",
+        stdout(&out)
+    );
+    assert!(
+        stdout(&out).contains("destructive: the drive restarts; needs --force or a confirmation"),
+        "{}",
+        stdout(&out)
+    );
+    let out = drivescript(&["maintain", "--drive", "sd2", "reset"], "");
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        stderr(&out).contains("error: the sd2 family has no maintenance actions; nothing was sent"),
+        "{}",
+        stderr(&out)
+    );
+    let out = drivescript(&["maintain", "--drive", "lenze-931", "rest", "--force"], "");
+    assert_eq!(out.status.code(), Some(2));
+    assert!(stderr(&out).contains("did you mean `reset`?"), "{}", stderr(&out));
+}
+
+#[cfg(unix)]
+#[test]
+fn through_a_pseudo_terminal_baud_changes_the_rate_and_says_how_to_reconnect() {
+    let sim = crate::end_to_end::Simulator::start(&["--drive", "lenze-931", "--pty"]);
+    let port = sim.endpoint.as_str();
+    // Not on a terminal and without --force: refused, nothing sent.
+    let out = drivescript(
+        &[
+            "maintain",
+            "baud",
+            "19200",
+            "--drive",
+            "lenze-931",
+            "--port",
+            port,
+        ],
+        "yes\n",
+    );
+    assert_eq!(out.status.code(), Some(2), "{}", stdout(&out));
+    assert!(
+        stderr(&out).contains("then give --force; nothing was sent"),
+        "{}",
+        stderr(&out)
+    );
+    let out = drivescript(
+        &[
+            "maintain",
+            "baud",
+            "19200",
+            "--force",
+            "--drive",
+            "lenze-931",
+            "--port",
+            port,
+        ],
+        "",
+    );
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    let text = stdout(&out);
+    assert!(text.contains("done: the drive answered `OK!`"), "{text}");
+    assert!(
+        text.contains(&format!(
+            "the drive now talks at 19200 baud, not at the rate used so far: reconnect with --port {port} --baud 19200 on every command from now on"
+        )),
+        "{text}"
+    );
+    // The simulated line keeps working: the next command at the new rate is answered.
+    let out = drivescript(
+        &[
+            "read",
+            "TYPE?",
+            "--drive",
+            "lenze-931",
+            "--port",
+            port,
+            "--baud",
+            "19200",
+        ],
+        "",
+    );
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    assert!(stdout(&out).contains("\"0931\""), "{}", stdout(&out));
+}
+
+#[test]
+fn ctrl_c_at_the_question_sends_nothing_and_exits_130() {
+    let dir = scratch("maintain-ctrl-c");
+    let with_profile = dictionary_args(Some(completed_template(&dir)));
+    let stop = Arc::new(StopRequests::new());
+    let signalled = stop.clone();
+    let mut ask = |_: &str| {
+        signalled.request(drivescript::stop_request::StopSignal::INT);
+        false
+    };
+    let request = MaintainRequest {
+        registry: &Registry::builtin(),
+        dictionary: &with_profile,
+        connection: &ConnectionArgs::simulated(),
+        action: Some("reset"),
+        value: None,
+        force: false,
+        confirm: Some(&mut ask),
+        stop,
+        prepare_simulator: None,
+    };
+    let (mut out, mut err) = (Vec::new(), Vec::new());
+    let result = run_maintain(request, &mut out, &mut err);
+    let err = String::from_utf8_lossy(&err);
+    assert_eq!(result.exit_code, 130, "{err}");
+    assert!(
+        err.contains("stopped by Ctrl-C (SIGINT); nothing was sent"),
+        "{err}"
+    );
+    let sim = result.simulator.expect("simulated");
+    let requests = with_lenze(&sim, |s| s.requests().to_vec());
+    assert!(!requests.iter().any(|r| r == "RESET!"), "{requests:?}");
+}
