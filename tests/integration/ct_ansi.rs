@@ -137,6 +137,23 @@ fn decode_shows_control_characters_by_name_and_rejects_the_printed_example() {
     assert_eq!(stdout(&out).trim(), r#"{"reply":"ack"}"#);
 }
 
+#[test]
+fn decode_reads_a_hex_data_field_and_names_a_bad_hex_digit_by_its_byte() {
+    let good = "02 30 36 32 31 58 38 33 03 55";
+    let bad = "02 30 36 32 31 58 38 47 03 21";
+    let out = drivescript(&["decode", "--protocol", "ct-ansi", good, bad], "");
+    let text = stdout(&out);
+    assert_eq!(out.status.code(), Some(1), "{text}{}", stderr(&out));
+    assert!(text.contains("= 131"), "{text}");
+    assert!(text.contains("data      `X83`: hexadecimal"), "{text}");
+    assert!(
+        text.contains("rejected: byte 7: expected a hex digit (0-9, A-F) after X, got 'G'"),
+        "{text}"
+    );
+    let out = drivescript(&["decode", "--protocol", "ct-ansi", "--json", good], "");
+    assert!(stdout(&out).contains(r#""value":"131""#), "{}", stdout(&out));
+}
+
 /// The shipped commissioning recipe with only `drive:` changed.
 fn ct_commissioning(dir: &str) -> PathBuf {
     let text = std::fs::read_to_string(repo_root().join("recipes/commissioning.yaml")).unwrap();
