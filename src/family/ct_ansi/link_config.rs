@@ -17,6 +17,12 @@ pub struct CtLinkConfig {
     /// Before a retry, the line is listened to for this long and what arrives is thrown
     /// away: a late answer to the failed attempt must not pass for the retry's.
     pub settle: Duration,
+    /// On a line not yet known to echo, how long after a message has left a lone `EOT` must
+    /// stand alone to count as the drive's answer (a missing parameter) rather than the
+    /// start of the adapter's echo of the message. The echo is on the line while the
+    /// message is; this covers the latency of USB serial adapters, which hand received
+    /// bytes on in batches (commonly every 16 ms).
+    pub echo_wait: Duration,
 }
 
 impl Default for CtLinkConfig {
@@ -26,6 +32,7 @@ impl Default for CtLinkConfig {
             retries: 2,
             turnaround: Duration::from_millis(2),
             settle: Duration::from_millis(20),
+            echo_wait: Duration::from_millis(50),
         }
     }
 }
