@@ -292,6 +292,42 @@ fn a_group_write_gets_no_reply_and_is_not_repeated() {
 
 #[cfg(unix)]
 #[test]
+fn the_commissioning_recipe_runs_behind_an_adapter_that_echoes() {
+    let sim = crate::end_to_end::Simulator::start(&["--drive", "ct-unidrive-sp", "--pty", "--echo"]);
+    let recipe = ct_commissioning("echo");
+    let out = drivescript(
+        &["run", recipe.to_str().unwrap(), "--port", &sim.endpoint, "-v"],
+        "",
+    );
+    let (text, trace) = (stdout(&out), stderr(&out));
+    assert_eq!(out.status.code(), Some(0), "{text}{trace}");
+    assert!(text.contains("drive left in switched on at 0 rpm"), "{text}");
+    assert!(trace.contains("echo of our message skipped: EOT 1111"), "{trace}");
+    assert!(
+        !trace.contains("retry"),
+        "no echo is taken for a bad reply: {trace}"
+    );
+    // A read of a parameter the drive lacks: its EOT comes after the echo's.
+    let out = drivescript(
+        &[
+            "read",
+            "#9.99",
+            "--port",
+            &sim.endpoint,
+            "--drive",
+            "ct-unidrive-sp",
+        ],
+        "",
+    );
+    let text = format!("{}{}", stdout(&out), stderr(&out));
+    assert!(
+        text.contains("has no parameter #9.99 (it answered EOT)"),
+        "{text}"
+    );
+}
+
+#[cfg(unix)]
+#[test]
 fn the_commissioning_recipe_runs_through_a_pseudo_terminal() {
     let sim = crate::end_to_end::Simulator::start(&["--drive", "ct-unidrive-sp", "--pty"]);
     let recipe = ct_commissioning("pty");
