@@ -238,6 +238,66 @@ fn raw_parameters_in_the_drives_own_notation() {
     );
 }
 
+/// A drive that accepts every write (ACK) and reads nothing; it notes what reached it.
+struct AcceptsWrites(Vec<Vec<u8>>);
+
+impl drivescript::bus::Peer for AcceptsWrites {
+    fn receive(&mut self, bytes: &[u8], now: Duration) -> Vec<drivescript::bus::PeerReply> {
+        self.0.push(bytes.to_vec());
+        vec![drivescript::bus::PeerReply {
+            at: now + Duration::from_millis(1),
+            bytes: vec![0x06],
+        }]
+    }
+}
+
+#[test]
+fn a_write_of_the_baud_rate_parameter_waits_20_ms_and_says_to_restart_with_baud() {
+    let f = family();
+    let clock = Arc::new(VirtualClock::new());
+    let peer = Arc::new(std::sync::Mutex::new(AcceptsWrites(Vec::new())));
+    let line = SharedTransport::new(Box::new(MemoryTransport::new(
+        "line",
+        peer.clone(),
+        clock.clone(),
+    )));
+    let options = LinkOptions {
+        reply_timeout: Duration::from_secs(1),
+        retries: 2,
+        extra: vec![("baud-parameter".to_string(), "#11.25".to_string())],
+    };
+    let context = LinkContext {
+        clock: clock.clone(),
+        observer: None,
+        stop: None,
+    };
+    let drive = f.parse_drive_address(Some("1.2")).unwrap();
+    let mut access = f
+        .open(&drivescript::bus::Bus::Bytes(line), &drive, &options, context)
+        .unwrap();
+    let e = access
+        .write(&Address::indexed(11, 25), &RawValue::Int(6), DataType::I32)
+        .unwrap_err()
+        .to_string();
+    // The turnaround (2 ms), the ACK at the old rate (1 ms), then the drive's 20 ms.
+    assert_eq!(drivescript::clock::Clock::now(&*clock), Duration::from_millis(23));
+    assert!(
+        e.contains("the write of #11.25 = 6 was accepted (ACK), and drivescript waited 20 ms"),
+        "{e}"
+    );
+    assert!(e.contains("restart drivescript with --baud"), "{e}");
+    let e = access
+        .read(&Address::indexed(1, 21), DataType::I32)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("changed the drive's baud rate"), "{e}");
+    assert_eq!(
+        peer.lock().unwrap().0.len(),
+        1,
+        "nothing sent at the old rate after it"
+    );
+}
+
 #[test]
 fn a_group_write_gets_no_reply_and_is_not_repeated() {
     let f = family();

@@ -18,7 +18,7 @@
 
 use super::codec::{show_bytes, split, NodeAddress, Reply, Request, Sender, Split, EOT};
 use super::echo::{match_echo, EchoMatch};
-use super::link_config::CtLinkConfig;
+use super::link_config::{CtLinkConfig, BAUD_CHANGE_WAIT};
 use crate::bus::{SharedTransport, Transport, TransportError};
 use crate::clock::SharedClock;
 use crate::drive::AccessError;
@@ -49,6 +49,8 @@ pub struct CtLink {
     line_echoes: Option<bool>,
     /// How much of the echo of its message the last attempt saw, for the no-reply message.
     attempt_echo: Option<EchoSeen>,
+    /// The write that changed the drive's baud rate: from then on nothing is sent.
+    rate_changed: Option<String>,
 }
 
 /// The echo an attempt saw.
@@ -77,6 +79,7 @@ impl CtLink {
             quiet_from: Duration::ZERO,
             line_echoes: None,
             attempt_echo: None,
+            rate_changed: None,
         }
     }
 
@@ -117,6 +120,47 @@ impl CtLink {
     /// Sends `request` and returns the reply that answers it; `None` for a write to a
     /// group or every drive, which no drive answers.
     pub fn transact(&mut self, request: &Request) -> Result<Option<Reply>, AccessError> {
+        if let Some(write) = &self.rate_changed {
+            return Err(self.line_changed(request, format!(
+                "{write} changed the drive's baud rate, so drivescript sends nothing more at the rate the port was opened with; restart drivescript with --baud set to the new rate"
+            )));
+        }
+        let reply = self.exchange(request)?;
+        let baud_write = match *request {
+            Request::Write { parameter, value, .. } if Some(parameter) == self.config.baud_parameter => {
+                Some(format!("the write of {parameter} = {value}"))
+            }
+            _ => None,
+        };
+        let (Some(write), None | Some(Reply::Accepted)) = (baud_write, reply) else {
+            return Ok(reply);
+        };
+        // The drive answered at the old rate (or a group did not answer); it needs the wait
+        // before it talks at the new one.
+        self.core.clock.sleep(BAUD_CHANGE_WAIT);
+        self.quiet_from = self.core.clock.now();
+        let ms = BAUD_CHANGE_WAIT.as_millis();
+        self.core.event(&format!(
+            "{write} was accepted: waited {ms} ms for the drive's new baud rate; nothing more is sent at the old one"
+        ));
+        let text = format!(
+            "{write} was accepted{}, and drivescript waited {ms} ms as the drive needs after a baud-rate change: the drive now talks at the rate that value selects, not at the rate the port was opened with. Nothing more is sent to it; restart drivescript with --baud set to the new rate",
+            if reply.is_none() { " (a group or global write: no drive answers)" } else { " (ACK)" }
+        );
+        self.rate_changed = Some(write);
+        Err(self.line_changed(request, text))
+    }
+
+    fn line_changed(&self, request: &Request, text: String) -> AccessError {
+        AccessError::LineChanged {
+            port: self.transport.name().to_string(),
+            address: address_text(request),
+            text,
+        }
+    }
+
+    /// One message and the reply that answers it, with the retries.
+    fn exchange(&mut self, request: &Request) -> Result<Option<Reply>, AccessError> {
         let bytes = request.encode().map_err(AccessError::Encode)?;
         let target = target_of(request);
         let shared = self.transport.clone();
@@ -833,5 +877,71 @@ mod tests {
         );
         assert_eq!(l.link.stats().echoes, 2);
         assert_eq!(l.peer.lock().unwrap().received, 2);
+    }
+
+    fn baud_link(script: Vec<Option<Vec<u8>>>) -> (CtLink, Arc<Mutex<Scripted>>, Arc<VirtualClock>) {
+        let (l, peer, clock) = link(script);
+        let config = CtLinkConfig {
+            baud_parameter: Parameter::new(11, 25),
+            ..CtLinkConfig::default()
+        };
+        let transport = l.transport.clone();
+        (CtLink::new(transport, clock.clone(), config), peer, clock)
+    }
+
+    fn write_to(menu: u8, param: u8, unit: u8, digits: i64) -> Request {
+        Request::Write {
+            address: Some(NodeAddress::new(1, unit).unwrap()),
+            parameter: Parameter::new(menu, param).unwrap(),
+            value: DataValue::new(digits, 0),
+        }
+    }
+
+    #[test]
+    fn an_accepted_baud_rate_write_waits_20_ms_and_then_nothing_more_is_sent() {
+        let (mut l, peer, clock) = baud_link(vec![Some(vec![ACK]), Some(vec![ACK])]);
+        // Another parameter: no wait beyond the turnaround and the 1 ms answer.
+        l.transact(&write_to(1, 21, 2, 15)).unwrap();
+        let before = clock.now();
+        let e = l.transact(&write_to(11, 25, 2, 6)).unwrap_err();
+        // Turnaround 2 ms, the ACK 1 ms later (at the old rate), then the 20 ms wait.
+        assert_eq!(clock.now() - before, Duration::from_millis(2 + 1 + 20));
+        let text = e.to_string();
+        assert!(text.starts_with("drive 1.2 on scripted: the write of #11.25 = 6 was accepted (ACK), and drivescript waited 20 ms"), "{text}");
+        assert!(
+            text.contains("restart drivescript with --baud set to the new rate"),
+            "{text}"
+        );
+        // Later messages are not sent at the old rate, and fail at once.
+        let at = clock.now();
+        let e = l.transact(&read_121()).unwrap_err().to_string();
+        assert!(
+            e.contains("the write of #11.25 = 6 changed the drive's baud rate"),
+            "{e}"
+        );
+        assert_eq!(clock.now(), at);
+        assert_eq!(peer.lock().unwrap().received.len(), 2);
+    }
+
+    #[test]
+    fn a_refused_baud_rate_write_changes_nothing() {
+        let (mut l, _, clock) = baud_link(vec![Some(vec![NAK]), Some(value_reply(1, 21, 1))]);
+        let before = clock.now();
+        assert_eq!(
+            l.transact(&write_to(11, 25, 2, 99)).unwrap(),
+            Some(Reply::Refused)
+        );
+        assert_eq!(clock.now() - before, Duration::from_millis(3));
+        assert!(l.transact(&read_121()).is_ok());
+    }
+
+    #[test]
+    fn a_group_baud_rate_write_also_waits_before_giving_up_the_line() {
+        let (mut l, peer, clock) = baud_link(vec![None]);
+        let before = clock.now();
+        let e = l.transact(&write_to(11, 25, 0, 6)).unwrap_err().to_string();
+        assert_eq!(clock.now() - before, Duration::from_millis(2 + 20));
+        assert!(e.contains("(a group or global write: no drive answers)"), "{e}");
+        assert_eq!(peer.lock().unwrap().received.len(), 1);
     }
 }

@@ -1,7 +1,12 @@
 //! Settings of the Control Techniques link: how long to wait, how often to retry, and the
 //! pause the drive needs between its reply and the next message.
 
+use super::codec::Parameter;
 use std::time::Duration;
+
+/// After a write that changes the drive's baud rate, its reply still comes at the old rate
+/// and the drive needs at least 20 ms before it talks at the new one (the notes).
+pub const BAUD_CHANGE_WAIT: Duration = Duration::from_millis(20);
 
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct CtLinkConfig {
@@ -23,6 +28,10 @@ pub struct CtLinkConfig {
     /// message is; this covers the latency of USB serial adapters, which hand received
     /// bytes on in batches (commonly every 16 ms).
     pub echo_wait: Duration,
+    /// The parameter that sets the drive's serial baud rate (`--link-option
+    /// baud-parameter=#M.PP`): the notes do not say which one it is, so the user names it.
+    /// An accepted write to it makes the link wait [`BAUD_CHANGE_WAIT`] and then stop.
+    pub baud_parameter: Option<Parameter>,
 }
 
 impl Default for CtLinkConfig {
@@ -33,6 +42,7 @@ impl Default for CtLinkConfig {
             turnaround: Duration::from_millis(2),
             settle: Duration::from_millis(20),
             echo_wait: Duration::from_millis(50),
+            baud_parameter: None,
         }
     }
 }
