@@ -64,4 +64,70 @@ mod tests {
         assert_eq!(match_echo(&[ACK], &[ACK]), EchoMatch::Whole);
         assert_eq!(match_echo(&[EOT], &[NAK]), EchoMatch::NotEcho);
     }
+
+    mod properties {
+        use super::super::*;
+        use crate::family::ct_ansi::codec::{DataValue, NodeAddress, Parameter, Reply, Request, EOT};
+        use proptest::prelude::*;
+
+        fn request() -> impl Strategy<Value = Request> {
+            let addr = (0u8..=9, 1u8..=9).prop_map(|(g, u)| NodeAddress { group: g, unit: u });
+            let par = (0u8..=99, 0u8..=99).prop_map(|(m, p)| Parameter { menu: m, param: p });
+            let value = (-99_999i64..99_999, 0u8..=3).prop_map(|(d, p)| DataValue::new(d, p));
+            prop_oneof![
+                (addr.clone(), par.clone())
+                    .prop_map(|(address, parameter)| Request::Read { address, parameter }),
+                (proptest::option::of(addr), par, value).prop_map(|(address, parameter, value)| {
+                    Request::Write {
+                        address,
+                        parameter,
+                        value,
+                    }
+                }),
+                Just(Request::ReadAgain),
+                Just(Request::ReadNext),
+                Just(Request::ReadPrevious),
+            ]
+        }
+
+        fn reply() -> impl Strategy<Value = Reply> {
+            let par = (0u8..=99, 0u8..=99).prop_map(|(m, p)| Parameter { menu: m, param: p });
+            let value = (-99_999i64..99_999, 0u8..=3).prop_map(|(d, p)| DataValue::new(d, p));
+            prop_oneof![
+                (par, value).prop_map(|(parameter, value)| Reply::Value { parameter, value }),
+                Just(Reply::Accepted),
+                Just(Reply::Refused),
+                Just(Reply::NoSuchParameter),
+            ]
+        }
+
+        proptest! {
+            /// No answer a drive gives to a request passes for the echo of that request: it
+            /// never matches it whole, and a start of it only as the lone EOT the link decides.
+            #[test]
+            fn no_answer_is_ever_an_echo(request in request(), reply in reply()) {
+                // What the protocol lets a drive answer: a write ACK or NAK, a read (also a
+                // short one) a value or EOT.
+                let is_write = matches!(request, Request::Write { .. });
+                let is_ack_or_nak = matches!(reply, Reply::Accepted | Reply::Refused);
+                prop_assume!(is_write == is_ack_or_nak);
+                let sent = request.encode().unwrap();
+                let answer = reply.encode().unwrap();
+                match match_echo(&answer, &sent) {
+                    EchoMatch::Whole => prop_assert!(false, "{:?} matched {:?}", reply, request),
+                    EchoMatch::Prefix(_) => prop_assert_eq!(answer, vec![EOT]),
+                    _ => {}
+                }
+            }
+
+            /// The echo followed by any reply is recognised whole, whatever follows.
+            #[test]
+            fn an_echo_followed_by_a_reply_is_whole(request in request(), reply in reply()) {
+                let sent = request.encode().unwrap();
+                let mut line = sent.clone();
+                line.extend(reply.encode().unwrap());
+                prop_assert_eq!(match_echo(&line, &sent), EchoMatch::Whole);
+            }
+        }
+    }
 }
