@@ -125,12 +125,26 @@ impl CtLink {
                 "{write} changed the drive's baud rate, so drivescript sends nothing more at the rate the port was opened with; restart drivescript with --baud set to the new rate"
             )));
         }
-        let reply = self.exchange(request)?;
         let baud_write = match *request {
             Request::Write { parameter, value, .. } if Some(parameter) == self.config.baud_parameter => {
                 Some(format!("the write of {parameter} = {value}"))
             }
             _ => None,
+        };
+        let reply = match (self.exchange(request), &baud_write) {
+            // Whether the drive took it is not known: the next messages go out at the old
+            // rate, which is right if it did not.
+            (Err(AccessError::NoReply { port, address, request, attempts, timeout_ms, hint }), Some(write)) => {
+                return Err(AccessError::NoReply {
+                    port,
+                    address,
+                    request,
+                    attempts,
+                    timeout_ms,
+                    hint: format!("{hint}; if {write} reached the drive, it now talks at the new baud rate: then restart drivescript with --baud set to it"),
+                })
+            }
+            (result, _) => result?,
         };
         let (Some(write), None | Some(Reply::Accepted)) = (baud_write, reply) else {
             return Ok(reply);
@@ -943,5 +957,18 @@ mod tests {
         assert_eq!(clock.now() - before, Duration::from_millis(2 + 20));
         assert!(e.contains("(a group or global write: no drive answers)"), "{e}");
         assert_eq!(peer.lock().unwrap().received.len(), 1);
+    }
+
+    #[test]
+    fn an_unanswered_baud_rate_write_says_the_rate_may_have_changed() {
+        let (mut l, _, _) = baud_link(vec![None, None, None, Some(value_reply(1, 21, 1))]);
+        let e = l.transact(&write_to(11, 25, 2, 6)).unwrap_err();
+        assert!(e.is_no_reply(), "{e}");
+        assert!(
+            e.to_string().ends_with("if the write of #11.25 = 6 reached the drive, it now talks at the new baud rate: then restart drivescript with --baud set to it"),
+            "{e}"
+        );
+        // Not known to have changed: the link still talks at the rate it has.
+        assert!(l.transact(&read_121()).is_ok());
     }
 }
