@@ -336,7 +336,17 @@ impl CtLink {
                             wait_until = echo_window_end.min(deadline);
                         }
                     }
-                    EchoMatch::NotEcho => echo_open = false,
+                    EchoMatch::NotEcho => match split(&self.pending, Sender::Drive) {
+                        // Noise before anything that could be a reply: the echo may still
+                        // follow it, and its EOT must not be read as the drive's.
+                        Split::Noise(n) => {
+                            self.pending.drain(..n);
+                            clean = false;
+                            self.core.event(&format!("skipped {n} byte(s) of line noise"));
+                            continue;
+                        }
+                        _ => echo_open = false,
+                    },
                     EchoMatch::Nothing => {}
                 }
             }
@@ -970,5 +980,19 @@ mod tests {
         );
         // Not known to have changed: the link still talks at the rate it has.
         assert!(l.transact(&read_121()).is_ok());
+    }
+
+    #[test]
+    fn noise_before_the_echo_does_not_turn_its_eot_into_an_answer() {
+        let mut l = timed(vec![vec![
+            (0, Piece::Bytes(vec![0x00, 0x7f])),
+            (0, Piece::Echo(ALL)),
+            (1, Piece::Bytes(value_reply(1, 21, 15005))),
+        ]]);
+        assert!(matches!(
+            l.link.transact(&read_121()),
+            Ok(Some(Reply::Value { .. }))
+        ));
+        assert_eq!(l.link.stats().echoes, 1);
     }
 }
