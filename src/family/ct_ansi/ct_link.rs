@@ -995,4 +995,62 @@ mod tests {
         ));
         assert_eq!(l.link.stats().echoes, 1);
     }
+
+    mod properties {
+        use super::*;
+        use proptest::prelude::*;
+
+        fn exchange() -> impl Strategy<Value = (Request, Reply)> {
+            let par = (0u8..=99, 0u8..=99).prop_map(|(m, p)| Parameter { menu: m, param: p });
+            let value = (-99_999i64..99_999, 0u8..=3).prop_map(|(d, p)| DataValue::new(d, p));
+            let address = (0u8..=9, 1u8..=9).prop_map(|(g, u)| NodeAddress { group: g, unit: u });
+            prop_oneof![
+                (address.clone(), par.clone(), value.clone(), any::<bool>()).prop_map(
+                    |(address, parameter, value, missing)| {
+                        let reply = if missing {
+                            Reply::NoSuchParameter
+                        } else {
+                            Reply::Value { parameter, value }
+                        };
+                        (Request::Read { address, parameter }, reply)
+                    }
+                ),
+                (proptest::option::of(address), par, value, any::<bool>()).prop_map(
+                    |(address, parameter, value, ok)| {
+                        let reply = if ok { Reply::Accepted } else { Reply::Refused };
+                        (
+                            Request::Write {
+                                address,
+                                parameter,
+                                value,
+                            },
+                            reply,
+                        )
+                    }
+                ),
+            ]
+        }
+
+        proptest! {
+            /// With or without an echo, with or without noise before it, whatever the
+            /// drive answers is what the link returns: never the echo.
+            #[test]
+            fn the_answer_is_the_drives_never_the_echo(
+                (request, reply) in exchange(),
+                echo in any::<bool>(),
+                noise in proptest::collection::vec(0x20u8..0x7f, 0..3),
+                delay in 1u64..80,
+            ) {
+                let mut pieces = vec![(0, Piece::Bytes(noise))];
+                if echo {
+                    pieces.push((0, Piece::Echo(ALL)));
+                }
+                pieces.push((delay, Piece::Bytes(reply.encode().unwrap())));
+                let mut l = timed(vec![pieces]);
+                prop_assert_eq!(l.link.transact(&request).unwrap(), Some(reply));
+                prop_assert_eq!(l.link.stats().echoes, u64::from(echo));
+                prop_assert_eq!(l.link.stats().retries, 0);
+            }
+        }
+    }
 }
