@@ -23,7 +23,7 @@ pub use bus::{Bus, BusKind};
 pub use can_frame::CanFrame;
 pub use frame_bus::{FrameBus, SharedFrameBus};
 pub use memory_frame_bus::{FramePeer, MemoryFrameBus};
-pub use peer_line::{FramePeerLine, PeerLine};
+pub use peer_line::{EchoingLine, FramePeerLine, PeerLine};
 pub use shared_transport::SharedTransport;
 pub use slcan_adapter::SlcanAdapter;
 pub use slcan_bus::SlcanBus;

@@ -31,6 +31,33 @@ impl Peer for PeerLine {
     }
 }
 
+/// A line behind a half-duplex RS485 adapter with echo on: every byte the master sends
+/// comes back to it as it arrives, before any answer of the peers behind.
+pub struct EchoingLine(pub Arc<Mutex<dyn Peer>>);
+
+impl Peer for EchoingLine {
+    fn receive(&mut self, bytes: &[u8], now: Duration) -> Vec<PeerReply> {
+        let mut replies = vec![PeerReply {
+            at: now,
+            bytes: bytes.to_vec(),
+        }];
+        replies.extend(
+            self.0
+                .lock()
+                .unwrap_or_else(PoisonError::into_inner)
+                .receive(bytes, now),
+        );
+        replies
+    }
+
+    fn reachable(&self, now: Duration) -> bool {
+        self.0
+            .lock()
+            .unwrap_or_else(PoisonError::into_inner)
+            .reachable(now)
+    }
+}
+
 /// Frame peers (CAN nodes) on one bus.
 pub struct FramePeerLine(pub Vec<Arc<Mutex<dyn FramePeer>>>);
 
@@ -82,5 +109,19 @@ mod tests {
         assert_eq!(replies[0].bytes, vec![3, 0xAA]);
         assert!(line.receive(&[4], Duration::ZERO).is_empty());
         assert!(line.reachable(Duration::ZERO));
+    }
+
+    #[test]
+    fn an_echoing_line_hands_the_bytes_back_before_the_answer() {
+        let mut line = EchoingLine(Arc::new(Mutex::new(Echo(3))));
+        let now = Duration::from_millis(7);
+        let replies = line.receive(&[3, 1], now);
+        assert_eq!((replies[0].at, replies[0].bytes.clone()), (now, vec![3, 1]));
+        assert_eq!(replies[1].bytes, vec![3, 0xAA]);
+        assert_eq!(
+            line.receive(&[4], now).len(),
+            1,
+            "the echo even when nobody answers"
+        );
     }
 }

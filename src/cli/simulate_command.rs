@@ -3,7 +3,9 @@
 
 use super::address_key_flags::DNC_ADDRESS;
 use super::{stop_signals, COMMUNICATION, INVALID, PASSED};
-use crate::bus::{FramePeer, FramePeerLine, Peer, PeerLine, SlcanAdapter, TcpTransport, WireTime};
+use crate::bus::{
+    EchoingLine, FramePeer, FramePeerLine, Peer, PeerLine, SlcanAdapter, TcpTransport, WireTime,
+};
 use crate::clock::RealClock;
 use crate::family::{Registry, SimPeer, DEFAULT_DICTIONARY};
 use crate::sim::SimConfig;
@@ -49,6 +51,10 @@ pub struct SimulateArgs {
     /// Baud rate for --wire-time.
     #[arg(long, value_name = "N", default_value_t = 57_600)]
     baud: u32,
+    /// Hand every byte the master sends back to it before the drive's answer, as a
+    /// half-duplex RS485 adapter with echo on does (serial lines only).
+    #[arg(long, conflicts_with = "slcan_pty")]
+    echo: bool,
     /// Speed ramp of the simulated motor.
     #[arg(long, value_name = "RPM_PER_S", default_value_t = 2000.0)]
     ramp: f64,
@@ -117,7 +123,10 @@ pub fn run(args: &SimulateArgs) -> i32 {
             SimPeer::Frames(p) => frames.push(p),
         }
     }
-    let description = descriptions.join(" and ");
+    let mut description = descriptions.join(" and ");
+    if args.echo {
+        description.push_str(", behind an RS485 adapter that echoes");
+    }
     let peer: Arc<Mutex<dyn Peer>> = match (frames.is_empty(), args.slcan_pty) {
         (true, false) if bytes.len() == 1 => bytes.remove(0),
         (true, false) => Arc::new(Mutex::new(PeerLine(bytes))),
@@ -143,6 +152,11 @@ pub fn run(args: &SimulateArgs) -> i32 {
             );
             return INVALID;
         }
+    };
+    let peer: Arc<Mutex<dyn Peer>> = if args.echo {
+        Arc::new(Mutex::new(EchoingLine(peer)))
+    } else {
+        peer
     };
     let mut server = SimServer::new(peer, RealClock::shared());
     if args.wire_time {

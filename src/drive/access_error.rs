@@ -54,6 +54,15 @@ pub enum AccessError {
     #[error("cannot build the telegram: {0}")]
     Encode(String),
 
+    /// The drive no longer talks the way the port was opened (a write changed its baud
+    /// rate): nothing more is sent to it.
+    #[error("drive {address} on {port}: {text}")]
+    LineChanged {
+        port: String,
+        address: String,
+        text: String,
+    },
+
     #[error("stopped waiting for drive {address} on {port} to answer {request}: a stop was requested")]
     Interrupted {
         port: String,

@@ -9,4 +9,6 @@ pub struct LinkStats {
     pub timeouts: u64,
     pub corrupt_replies: u64,
     pub mismatched_replies: u64,
+    /// Our own messages handed back by a half-duplex RS485 adapter and skipped.
+    pub echoes: u64,
 }

@@ -137,6 +137,23 @@ fn decode_shows_control_characters_by_name_and_rejects_the_printed_example() {
     assert_eq!(stdout(&out).trim(), r#"{"reply":"ack"}"#);
 }
 
+#[test]
+fn decode_reads_a_hex_data_field_and_names_a_bad_hex_digit_by_its_byte() {
+    let good = "02 30 36 32 31 58 38 33 03 55";
+    let bad = "02 30 36 32 31 58 38 47 03 21";
+    let out = drivescript(&["decode", "--protocol", "ct-ansi", good, bad], "");
+    let text = stdout(&out);
+    assert_eq!(out.status.code(), Some(1), "{text}{}", stderr(&out));
+    assert!(text.contains("= 131"), "{text}");
+    assert!(text.contains("data      `X83`: hexadecimal"), "{text}");
+    assert!(
+        text.contains("rejected: byte 7: expected a hex digit (0-9, A-F) after X, got 'G'"),
+        "{text}"
+    );
+    let out = drivescript(&["decode", "--protocol", "ct-ansi", "--json", good], "");
+    assert!(stdout(&out).contains(r#""value":"131""#), "{}", stdout(&out));
+}
+
 /// The shipped commissioning recipe with only `drive:` changed.
 fn ct_commissioning(dir: &str) -> PathBuf {
     let text = std::fs::read_to_string(repo_root().join("recipes/commissioning.yaml")).unwrap();
@@ -221,6 +238,66 @@ fn raw_parameters_in_the_drives_own_notation() {
     );
 }
 
+/// A drive that accepts every write (ACK) and reads nothing; it notes what reached it.
+struct AcceptsWrites(Vec<Vec<u8>>);
+
+impl drivescript::bus::Peer for AcceptsWrites {
+    fn receive(&mut self, bytes: &[u8], now: Duration) -> Vec<drivescript::bus::PeerReply> {
+        self.0.push(bytes.to_vec());
+        vec![drivescript::bus::PeerReply {
+            at: now + Duration::from_millis(1),
+            bytes: vec![0x06],
+        }]
+    }
+}
+
+#[test]
+fn a_write_of_the_baud_rate_parameter_waits_20_ms_and_says_to_restart_with_baud() {
+    let f = family();
+    let clock = Arc::new(VirtualClock::new());
+    let peer = Arc::new(std::sync::Mutex::new(AcceptsWrites(Vec::new())));
+    let line = SharedTransport::new(Box::new(MemoryTransport::new(
+        "line",
+        peer.clone(),
+        clock.clone(),
+    )));
+    let options = LinkOptions {
+        reply_timeout: Duration::from_secs(1),
+        retries: 2,
+        extra: vec![("baud-parameter".to_string(), "#11.25".to_string())],
+    };
+    let context = LinkContext {
+        clock: clock.clone(),
+        observer: None,
+        stop: None,
+    };
+    let drive = f.parse_drive_address(Some("1.2")).unwrap();
+    let mut access = f
+        .open(&drivescript::bus::Bus::Bytes(line), &drive, &options, context)
+        .unwrap();
+    let e = access
+        .write(&Address::indexed(11, 25), &RawValue::Int(6), DataType::I32)
+        .unwrap_err()
+        .to_string();
+    // The turnaround (2 ms), the ACK at the old rate (1 ms), then the drive's 20 ms.
+    assert_eq!(drivescript::clock::Clock::now(&*clock), Duration::from_millis(23));
+    assert!(
+        e.contains("the write of #11.25 = 6 was accepted (ACK), and drivescript waited 20 ms"),
+        "{e}"
+    );
+    assert!(e.contains("restart drivescript with --baud"), "{e}");
+    let e = access
+        .read(&Address::indexed(1, 21), DataType::I32)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("changed the drive's baud rate"), "{e}");
+    assert_eq!(
+        peer.lock().unwrap().0.len(),
+        1,
+        "nothing sent at the old rate after it"
+    );
+}
+
 #[test]
 fn a_group_write_gets_no_reply_and_is_not_repeated() {
     let f = family();
@@ -271,6 +348,42 @@ fn a_group_write_gets_no_reply_and_is_not_repeated() {
     drop(sim);
     let e = access.read(&Address::indexed(1, 21), DataType::I32).unwrap_err();
     assert!(e.to_string().contains("takes writes only"), "{e}");
+}
+
+#[cfg(unix)]
+#[test]
+fn the_commissioning_recipe_runs_behind_an_adapter_that_echoes() {
+    let sim = crate::end_to_end::Simulator::start(&["--drive", "ct-unidrive-sp", "--pty", "--echo"]);
+    let recipe = ct_commissioning("echo");
+    let out = drivescript(
+        &["run", recipe.to_str().unwrap(), "--port", &sim.endpoint, "-v"],
+        "",
+    );
+    let (text, trace) = (stdout(&out), stderr(&out));
+    assert_eq!(out.status.code(), Some(0), "{text}{trace}");
+    assert!(text.contains("drive left in switched on at 0 rpm"), "{text}");
+    assert!(trace.contains("echo of our message skipped: EOT 1111"), "{trace}");
+    assert!(
+        !trace.contains("retry"),
+        "no echo is taken for a bad reply: {trace}"
+    );
+    // A read of a parameter the drive lacks: its EOT comes after the echo's.
+    let out = drivescript(
+        &[
+            "read",
+            "#9.99",
+            "--port",
+            &sim.endpoint,
+            "--drive",
+            "ct-unidrive-sp",
+        ],
+        "",
+    );
+    let text = format!("{}{}", stdout(&out), stderr(&out));
+    assert!(
+        text.contains("has no parameter #9.99 (it answered EOT)"),
+        "{text}"
+    );
 }
 
 #[cfg(unix)]

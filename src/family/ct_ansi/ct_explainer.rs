@@ -4,7 +4,9 @@
 //! means different things from the master and from the drive, so a message of unknown
 //! direction says both. Formatting only.
 
-use super::codec::{show_bytes, DataValue, NodeAddress, Parameter, Reply, Request, ACK, BS, EOT, NAK, STX};
+use super::codec::{
+    show_bytes, DataValue, NodeAddress, Parameter, Reply, Request, ACK, BS, EOT, ETX, NAK, STX,
+};
 use crate::dictionary::{Dictionary, Role};
 use crate::link::{Direction, TelegramExplainer};
 use serde_json::{json, Value};
@@ -99,6 +101,25 @@ fn looks_like_request(bytes: &[u8]) -> bool {
     matches!(bytes, [EOT, _, ..] | [BS])
 }
 
+/// A line saying the value was written in hex (`X83`), for a well-formed message whose
+/// data field is `X` + hex digits; empty otherwise.
+fn hex_note(bytes: &[u8]) -> String {
+    let Some(stx) = bytes.iter().position(|b| *b == STX) else {
+        return String::new();
+    };
+    let field = bytes.get(stx + 5..).unwrap_or_default();
+    let field = &field[..field.iter().position(|b| *b == ETX).unwrap_or(field.len())];
+    let text = String::from_utf8_lossy(field);
+    if text.trim_start().starts_with('X') {
+        format!(
+            "  data      `{}`: hexadecimal (older drives accept it in writes; drivescript writes decimal)\n",
+            text.trim_start()
+        )
+    } else {
+        String::new()
+    }
+}
+
 fn address_json(a: NodeAddress) -> String {
     a.to_string()
 }
@@ -122,10 +143,12 @@ impl TelegramExplainer for CtExplainer {
         if looks_like_request(bytes) {
             let r = Request::decode(bytes).map_err(rejected)?;
             out.push_str(&format!("  request   {}\n", self.request(&r)));
+            out.push_str(&hex_note(bytes));
             return Ok(out);
         }
         let r = Reply::decode(bytes).map_err(rejected)?;
         out.push_str(&format!("  reply     {}\n", self.reply(&r)));
+        out.push_str(&hex_note(bytes));
         let master = match bytes.first() {
             Some(&ACK) => Some("from the master: read the next parameter"),
             Some(&NAK) => Some("from the master: read the same parameter again"),

@@ -36,6 +36,26 @@ fn parse_object_address(text: &str) -> Result<Address, String> {
     Parameter::parse(text).map(|p| Address::indexed(u16::from(p.menu), u32::from(p.param)))
 }
 
+/// `--link-option baud-parameter=#M.PP`: the parameter that sets the drive's serial baud
+/// rate. The notes say a drive answers a baud-rate change at the old rate and needs 20 ms,
+/// but not which parameter it is, so the user names it (the dictionary has no such object).
+fn baud_parameter(extra: &[(String, String)]) -> Result<Option<Parameter>, String> {
+    let mut found = None;
+    for (name, value) in extra {
+        match name.replace('_', "-").as_str() {
+            "baud-parameter" => {
+                found = Some(Parameter::parse(value).map_err(|e| format!("--link-option {name}: {e}"))?)
+            }
+            _ => {
+                return Err(format!(
+                    "--link-option {name}: the ct_ansi family knows only `baud-parameter=#M.PP` (the parameter that sets the drive's baud rate); the line is set with --baud, --data-bits, --parity, --stop-bits, --timeout, --retries"
+                ))
+            }
+        }
+    }
+    Ok(found)
+}
+
 impl Family for CtFamily {
     fn id(&self) -> &'static str {
         "ct_ansi"
@@ -81,12 +101,7 @@ impl Family for CtFamily {
     }
 
     fn check_link_options(&self, extra: &[(String, String)]) -> Result<(), String> {
-        match extra.first() {
-            Some((name, _)) => Err(format!(
-                "--link-option {name}: the ct_ansi family has no link options (use --baud, --data-bits, --parity, --stop-bits, --timeout, --retries)"
-            )),
-            None => Ok(()),
-        }
+        baud_parameter(extra).map(|_| ())
     }
 
     fn open(
@@ -107,6 +122,7 @@ impl Family for CtFamily {
         let config = CtLinkConfig {
             reply_timeout: options.reply_timeout,
             retries: options.retries,
+            baud_parameter: baud_parameter(&options.extra)?,
             ..CtLinkConfig::default()
         };
         let mut link = CtLink::new(transport.clone(), context.clock, config);
@@ -206,9 +222,27 @@ mod tests {
     }
 
     #[test]
-    fn link_options_are_refused() {
-        let o = vec![("write-length".to_string(), "captured".to_string())];
-        assert!(CtFamily.check_link_options(&o).is_err());
+    fn the_only_link_option_names_the_baud_rate_parameter() {
+        let o = |name: &str, value: &str| vec![(name.to_string(), value.to_string())];
+        let e = CtFamily
+            .check_link_options(&o("write-length", "captured"))
+            .unwrap_err();
+        assert!(e.contains("knows only `baud-parameter=#M.PP`"), "{e}");
         assert!(CtFamily.check_link_options(&[]).is_ok());
+        assert_eq!(
+            baud_parameter(&o("baud-parameter", "#11.25")),
+            Ok(Parameter::new(11, 25))
+        );
+        assert_eq!(
+            baud_parameter(&o("baud_parameter", "11.25")),
+            Ok(Parameter::new(11, 25))
+        );
+        let e = CtFamily
+            .check_link_options(&o("baud-parameter", "1125"))
+            .unwrap_err();
+        assert!(
+            e.starts_with("--link-option baud-parameter: `1125` is not a parameter"),
+            "{e}"
+        );
     }
 }

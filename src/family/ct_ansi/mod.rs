@@ -6,6 +6,7 @@
 pub mod codec;
 mod ct_access;
 mod ct_link;
+mod echo;
 mod link_config;
 
 pub use ct_access::CtAccess;

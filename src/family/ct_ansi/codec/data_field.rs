@@ -1,7 +1,15 @@
 //! The data field: a decimal number as text, at most 12 characters with sign and decimal
 //! point. Kept exact as digits and decimal places (`-47.6` is −476 × 10⁻¹), never through a
 //! float. Replies of the Unidrive SP always carry a sign; older drives print leading zeros
-//! (`-0047.6`) or a space for `+`, and writes may have leading spaces: all are read. Pure.
+//! (`-0047.6`) or a space for `+`, and writes may have leading spaces: all are read.
+//!
+//! Hexadecimal: the notes say older drives also accept `X` followed by hex digits in a
+//! write. Such a field is read here in either direction (`decode` of another master's
+//! capture, or a drive that answers that way: a reply in hex is not in the notes, reading
+//! it is only tolerance). It is a whole number without sign or decimal point; the notes
+//! say nothing of negative numbers in hex, so the digits are read as an unsigned value and
+//! a sign before `X` is refused. Lower-case hex digits are read too [I]. drivescript itself
+//! always writes decimal: every drive takes it, and hex only older ones. Pure.
 
 use super::decode_error::DecodeError;
 use std::fmt;
@@ -39,13 +47,23 @@ impl DataValue {
             Some(start) => &field[start..],
             None => return Err(bad("no digits")),
         };
+        let start = field.len() - body.len();
+        if body.first() == Some(&b'X') {
+            return parse_hex(&body[1..], offset + start + 1, bad);
+        }
         let (negative, body) = match body.first() {
             Some(b'-') => (true, &body[1..]),
             Some(b'+') => (false, &body[1..]),
             _ => (false, body),
         };
-        if body.first().is_some_and(|b| *b == b'X' || *b == b'x') {
-            return Err(bad("hexadecimal data (X…) is not supported; write decimal"));
+        match body.first() {
+            Some(b'X') => {
+                return Err(bad(
+                    "a sign before X: hexadecimal data is `X` and hex digits only",
+                ))
+            }
+            Some(b'x') => return Err(bad("hexadecimal data starts with an upper-case `X`")),
+            _ => {}
         }
         if body.is_empty() {
             return Err(bad("no digits"));
@@ -76,7 +94,7 @@ impl DataValue {
         })
     }
 
-    /// The field as a write sends it: `1500.5`, `-34.5` (no `+`: the sign is optional).
+    /// The field as a write sends it (always decimal, never `X` + hex): `1500.5`, `-34.5` (no `+`: the sign is optional).
     pub fn write_field(self) -> Result<Vec<u8>, String> {
         self.field(false)
     }
@@ -110,6 +128,30 @@ impl DataValue {
             (self.digits % factor == 0).then(|| DataValue::new(self.digits / factor, places))
         }
     }
+}
+
+/// The hex digits after `X`, the first at byte `offset` of the message: a whole number.
+fn parse_hex(
+    digits: &[u8],
+    offset: usize,
+    bad: impl Fn(&'static str) -> DecodeError,
+) -> Result<DataValue, DecodeError> {
+    if digits.is_empty() {
+        return Err(bad("no hex digits after X"));
+    }
+    let mut value: i64 = 0;
+    for (i, &b) in digits.iter().enumerate() {
+        let Some(d) = char::from(b).to_digit(16) else {
+            return Err(DecodeError::Unexpected {
+                offset: offset + i,
+                expected: "a hex digit (0-9, A-F) after X",
+                actual: b,
+            });
+        };
+        // At most 11 hex digits fit in 12 characters: 44 bits, far inside i64.
+        value = value * 16 + i64::from(d);
+    }
+    Ok(DataValue::new(value, 0))
 }
 
 impl fmt::Display for DataValue {
@@ -157,7 +199,9 @@ mod tests {
             ("5.", "never first or last"),
             ("1.2.3", "more than one"),
             ("1 2", "only digits"),
-            ("X1F", "hexadecimal"),
+            ("-X1F", "a sign before X"),
+            ("x1F", "upper-case `X`"),
+            ("X", "no hex digits"),
             ("+-1", "only digits"),
         ] {
             let e = parse(text).unwrap_err().to_string();
@@ -167,6 +211,48 @@ mod tests {
             parse("+1234567890.1"),
             Err(DecodeError::DataTooLong { len: 13, .. })
         ));
+    }
+
+    #[test]
+    fn hexadecimal_fields_are_whole_numbers() {
+        assert_eq!(parse("X1F"), Ok(DataValue::new(31, 0)));
+        assert_eq!(parse("X00ff"), Ok(DataValue::new(255, 0)));
+        assert_eq!(parse("  X83"), Ok(DataValue::new(131, 0)), "leading spaces");
+        assert_eq!(parse("XFFFFFFFFFFF"), Ok(DataValue::new(0xFFF_FFFF_FFFF, 0)));
+        assert!(matches!(
+            parse("X123456789ABC"),
+            Err(DecodeError::DataTooLong { len: 13, .. })
+        ));
+    }
+
+    #[test]
+    fn a_bad_hex_digit_is_named_with_its_byte_offset() {
+        // The field starts at byte 5 of `STX 0121 X1G ETX`: X at 5, `1` at 6, `G` at 7.
+        let e = DataValue::parse(b"X1G", 5).unwrap_err();
+        assert_eq!(
+            e,
+            DecodeError::Unexpected {
+                offset: 7,
+                expected: "a hex digit (0-9, A-F) after X",
+                actual: b'G'
+            }
+        );
+        assert_eq!(
+            e.to_string(),
+            "byte 7: expected a hex digit (0-9, A-F) after X, got 'G'"
+        );
+        let e = DataValue::parse(b" X1.5", 5).unwrap_err();
+        assert!(
+            matches!(
+                e,
+                DecodeError::Unexpected {
+                    offset: 8,
+                    actual: b'.',
+                    ..
+                }
+            ),
+            "{e}"
+        );
     }
 
     #[test]

@@ -408,6 +408,38 @@ mod tests {
     }
 
     #[test]
+    fn a_hex_data_field_is_read_in_both_directions() {
+        let mut reply = bytes("STX 0621X83 ETX");
+        reply.push(bcc(&reply[1..]));
+        let value = Reply::Value {
+            parameter: p("6.21"),
+            value: DataValue::new(131, 0),
+        };
+        assert_eq!(Reply::decode(&reply), Ok(value));
+        let mut write = bytes("EOT 1122 STX 0642X83 ETX");
+        write.push(bcc(&write[6..]));
+        assert!(matches!(
+            Request::decode(&write),
+            Ok(Request::Write { value, .. }) if value == DataValue::new(131, 0)
+        ));
+        // The bad digit is named at its place in the message: STX, 4 digits, X, then `G`.
+        let mut bad = bytes("STX 0621X8G ETX");
+        bad.push(bcc(&bad[1..]));
+        let e = Reply::decode(&bad).unwrap_err().to_string();
+        assert_eq!(e, "byte 7: expected a hex digit (0-9, A-F) after X, got 'G'");
+        // drivescript writes decimal only.
+        let sent = Request::Write {
+            address: Some(a("1.2")),
+            parameter: p("6.42"),
+            value: DataValue::new(131, 0),
+        };
+        assert_eq!(
+            sent.encode().unwrap()[..14],
+            bytes("EOT 1122 STX 0642131 ETX")[..]
+        );
+    }
+
+    #[test]
     fn malformed_messages_say_what_and_where() {
         let cases: [(&[u8], &str); 8] = [
             (&[], "no bytes"),

@@ -77,3 +77,59 @@ proptest! {
         prop_assert_ne!(Reply::decode(&bytes), Ok(reply));
     }
 }
+
+/// The byte offset a decode error names, if any.
+fn error_offset(e: &DecodeError) -> Option<usize> {
+    match *e {
+        DecodeError::Unexpected { offset, .. }
+        | DecodeError::BadData { offset, .. }
+        | DecodeError::DataTooLong { offset, .. } => Some(offset),
+        _ => None,
+    }
+}
+
+proptest! {
+    #[test]
+    fn hex_fields_read_as_whole_numbers(value in 0i64..0x100_0000_0000, lower in any::<bool>(), spaces in 0usize..3, at in 0usize..40) {
+        let digits = if lower { format!("{value:x}") } else { format!("{value:X}") };
+        let text = format!("{}X{digits}", " ".repeat(spaces));
+        prop_assume!(text.len() <= MAX_DATA_LEN);
+        prop_assert_eq!(DataValue::parse(text.as_bytes(), at), Ok(DataValue::new(value, 0)));
+    }
+
+    #[test]
+    fn a_bad_hex_digit_is_refused_at_its_own_byte(value in 0i64..0x1000_0000, at in 0usize..40, bad in "[G-Zg-z.+ -]", place in any::<prop::sample::Index>()) {
+        let mut text = format!("X{value:X}").into_bytes();
+        let i = 1 + place.index(text.len());
+        text.insert(i, bad.as_bytes()[0]);
+        prop_assume!(text.len() <= MAX_DATA_LEN);
+        let e = DataValue::parse(&text, at).unwrap_err();
+        prop_assert_eq!(error_offset(&e), Some(at + i), "{}", e);
+    }
+
+    #[test]
+    fn decimal_fields_in_every_spelling(value in value(), zeros in 0usize..3, style in 0u8..3, spaces in 0usize..3) {
+        // `+0047.6`, ` 47.6` (a space for +), `47.6`; leading zeros; leading spaces.
+        let abs = DataValue::new(value.digits.abs(), value.places).to_string();
+        let sign = match (value.digits < 0, style) {
+            (true, _) => "-",
+            (false, 0) => "+",
+            (false, 1) => " ",
+            (false, _) => "",
+        };
+        let text = format!("{}{sign}{}{abs}", " ".repeat(spaces), "0".repeat(zeros));
+        prop_assume!(text.len() <= MAX_DATA_LEN);
+        prop_assert_eq!(DataValue::parse(text.as_bytes(), 0), Ok(value));
+    }
+
+    #[test]
+    fn any_field_is_read_or_refused_with_an_offset_inside_it(text in "[ +\\-.0-9A-Fa-fXx]{0,14}", at in 0usize..40) {
+        match DataValue::parse(text.as_bytes(), at) {
+            Ok(v) => prop_assert!(text.len() <= MAX_DATA_LEN && v.places <= 11),
+            Err(e) => {
+                let offset = error_offset(&e).unwrap_or(at);
+                prop_assert!(offset >= at && offset < at + text.len().max(1), "{} at {}", e, offset);
+            }
+        }
+    }
+}
