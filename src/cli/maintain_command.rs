@@ -6,7 +6,6 @@
 
 use super::connection_args::ConnectionArgs;
 use super::drive_args::{open_drive, DictionaryArgs};
-use super::parameter_commands::is_powered;
 use super::{stop_signals, COMMUNICATION, INVALID, PASSED};
 use crate::diag::{did_you_mean, suggestion_text};
 use crate::drive::{AccessError, DriveError, MaintenanceAction};
@@ -217,7 +216,7 @@ pub fn run_maintain(
             done(INVALID)
         };
         match state {
-            Ok(state) if is_powered(state) => {
+            Ok(state) if state.is_powered() => {
                 return refused(format!("the drive is in {state}, and {shown} is refused while it is enabled ({why}); disable it first (a recipe that ends with shutdown, or the drive's own controls)"), err);
             }
             Ok(state) if !request.force => {
@@ -236,6 +235,20 @@ pub fn run_maintain(
                         },
                         err,
                     );
+                }
+                // The question may have waited long: someone may have enabled the drive
+                // meanwhile (its own terminals, a PLC).
+                match open.drive.state() {
+                    Ok(state) if state.is_powered() => {
+                        return refused(format!("the drive went to {state} while the question was open, and {shown} is refused while it is enabled ({why})"), err);
+                    }
+                    Ok(_) => {}
+                    Err(e) => {
+                        return refused(
+                            format!("the drive's state could not be read again after the confirmation ({e})"),
+                            err,
+                        );
+                    }
                 }
             }
             Ok(_) => {}
@@ -283,7 +296,9 @@ pub fn run_maintain(
             let _ = writeln!(err, "error: {shown} failed: {e}");
             // No reply, or one that could not be read (at another rate it is garbage):
             // the drive may have acted.
-            let unknown = matches!(&e, DriveError::Access(a) if a.is_no_reply() || matches!(a, AccessError::BadReply { .. }));
+            // A stop signal ends the wait for an answer to a command already sent: unknown too.
+            let unknown = matches!(&e, DriveError::Interrupted)
+                || matches!(&e, DriveError::Access(a) if a.is_no_reply() || matches!(a, AccessError::BadReply { .. } | AccessError::Interrupted { .. }));
             if unknown {
                 let hint = match argument.filter(|_| action.changes_line_rate) {
                     Some(rate) => format!(

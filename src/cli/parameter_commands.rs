@@ -7,7 +7,6 @@ use super::drive_args::{open_drive, DictionaryArgs, OpenDrive};
 use super::stop_signals;
 use super::{COMMUNICATION, FAILED, INVALID, PASSED};
 use crate::dictionary::Dictionary;
-use crate::drive::device_control::DeviceState;
 use crate::drive::Drive;
 use crate::family::Registry;
 use crate::parameters::{self, Difference, Origin, Outcome, ParameterFile, Reading, SavedObject};
@@ -364,20 +363,11 @@ fn identity_mismatches(backup: &ParameterFile, drive: &mut Drive) -> Vec<String>
         .collect()
 }
 
-/// True in the states where the power stage may be on or the motor braking: `restore`
-/// and destructive `maintain` actions are refused in them.
-pub(super) fn is_powered(state: DeviceState) -> bool {
-    matches!(
-        state,
-        DeviceState::OperationEnabled | DeviceState::QuickStopActive | DeviceState::FaultReactionActive
-    )
-}
-
 /// Refuses (with the exit code, after saying why) while the drive's power stage may be on
 /// or the motor braking: some parameters change the motor's behaviour at once.
 fn refuse_while_powered(drive: &mut Drive, force: bool) -> Result<(), i32> {
     match drive.state() {
-        Ok(state) if is_powered(state) => {
+        Ok(state) if state.is_powered() => {
             eprintln!("error: the drive is in {state}; disable it first (drivescript run a recipe that ends with shutdown, or the drive's own controls); nothing was written");
             Err(INVALID)
         }

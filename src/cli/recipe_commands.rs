@@ -534,6 +534,7 @@ pub fn run_recipe(request: &RunRequest, out: &mut dyn Write, err: &mut dyn Write
         &crate::recipe::written_values(&recipe),
         &mut open.drive,
         &recipe.path,
+        &request.stop,
         out,
         err,
     ) {
@@ -570,10 +571,21 @@ pub fn within_drive_limits(
     values: &[crate::recipe::WrittenValue],
     drive: &mut crate::drive::Drive,
     path: &str,
+    stop: &StopRequests,
     out: &mut dyn Write,
     err: &mut dyn Write,
 ) -> Result<(), (i32, String)> {
     let check = super::drive_limits::compare(values, drive);
+    // A stop signal while the limits were read ends the run with that signal's code; the
+    // unanswered read is no communication failure.
+    if let (Err(_), Some(signal)) = (&check, stop.first()) {
+        let why = format!(
+            "stopped by {} while the drive's limits were read; nothing was sent to move the drive",
+            signal.describe()
+        );
+        let _ = writeln!(err, "{why}");
+        return Err((signal.exit_code(), why));
+    }
     match super::drive_limits::report(&check, path, false, out, err) {
         (PASSED, _) => Ok(()),
         (code, why) => Err((code, why)),
@@ -631,7 +643,7 @@ fn run_several(
             .filter(|w| w.object.name.starts_with(&prefix))
             .cloned()
             .collect();
-        if let Err((code, why)) = within_drive_limits(&own, drive, &recipe.path, out, err) {
+        if let Err((code, why)) = within_drive_limits(&own, drive, &recipe.path, &request.stop, out, err) {
             return not_run(request, Some((recipe, planned)), code, &why, err);
         }
     }

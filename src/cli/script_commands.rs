@@ -152,9 +152,14 @@ pub fn run_script(request: &RunRequest, out: &mut dyn Write, err: &mut dyn Write
     if open.simulator.is_some() {
         let _ = writeln!(out, "using {}", open.description);
     }
-    if let Err((code, _)) =
-        super::recipe_commands::within_drive_limits(&script.written, &mut open.drive, &script.path, out, err)
-    {
+    if let Err((code, _)) = super::recipe_commands::within_drive_limits(
+        &script.written,
+        &mut open.drive,
+        &script.path,
+        &request.stop,
+        out,
+        err,
+    ) {
         return RunResult::refused(code);
     }
     let virtual_time = request.fast && open.simulator.is_some();

@@ -221,9 +221,30 @@ impl Drive {
     }
 
     fn write_raw(&mut self, def: &ObjectDef, raw: &RawValue) -> Result<WriteOutcome, DriveError> {
+        if self.access.changes_line(&def.address) {
+            self.refuse_line_change_while_powered(def)?;
+        }
         self.access
             .write(&def.address, raw, def.data_type)
             .map_err(|e| self.refusal(e, "to write", def))
+    }
+
+    /// A write after which the drive talks differently goes only to a drive known to be
+    /// without power: one that is running could not be stopped any more.
+    fn refuse_line_change_while_powered(&mut self, def: &ObjectDef) -> Result<(), DriveError> {
+        let why = match self.state() {
+            Ok(state) if !state.is_powered() => return Ok(()),
+            Ok(state) => format!("the drive is in {state}"),
+            Err(DriveError::NoRole { .. }) => {
+                "the dictionary has no device-control profile, so whether the drive is powered cannot be checked".to_string()
+            }
+            Err(DriveError::Interrupted) => return Err(DriveError::Interrupted),
+            Err(e) => format!("the drive's state could not be read ({e})"),
+        };
+        Err(DriveError::LineChangeRefused {
+            object: def.name.clone(),
+            why,
+        })
     }
 
     /// Names the object in a drive's refusal (the link only knows the index).

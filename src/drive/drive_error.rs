@@ -81,6 +81,9 @@ pub enum DriveError {
 
     #[error("interrupted")]
     Interrupted,
+
+    #[error("{object} changes how the drive talks on the line, after which nothing could reach it at the old settings, not even a stop; {why}; nothing was sent. Disable the drive first (shutdown), then write it as a one-off `drivescript write`")]
+    LineChangeRefused { object: String, why: String },
 }
 
 fn suggest(s: &[String]) -> String {

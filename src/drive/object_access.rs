@@ -43,6 +43,13 @@ pub trait ObjectAccess: Send {
     fn keep_alive(&mut self) -> Result<Option<Duration>, AccessError> {
         Ok(None)
     }
+    /// Whether writing this object changes how the drive talks on the line (a baud-rate
+    /// parameter): after it, nothing can reach the drive at the old settings, not even a
+    /// stop, so the drive layer writes it only to a drive that is not powered.
+    fn changes_line(&self, address: &Address) -> bool {
+        let _ = address;
+        false
+    }
     /// The drive's own limits of an object, for families whose drives report them; `None`
     /// (the default) when the family cannot ask.
     fn limits(&mut self, address: &Address, data_type: DataType) -> Option<Result<DriveLimits, AccessError>> {

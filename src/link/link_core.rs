@@ -78,7 +78,8 @@ impl LinkCore {
         }
     }
 
-    /// Reads what has arrived of a reply to a request sent at `sent`, waiting at most until
+    /// Reads what has arrived of a reply to a request that left the line at `sent` (a
+    /// time that may still lie ahead while its bytes are on their way), waiting at most until
     /// `deadline` and, once the grace is over, in slices that end early for a stop request.
     /// `Ok(bytes)` may be empty: a slice passed without bytes and without a stop.
     pub fn read_reply(
@@ -93,14 +94,16 @@ impl LinkCore {
         }
         let slice = match &self.stop {
             None => deadline - now,
-            Some(_) if now - sent < self.grace => (sent + self.grace).min(deadline) - now,
+            Some(_) if now.saturating_sub(sent) < self.grace => {
+                (sent + self.grace).min(deadline).saturating_sub(now)
+            }
             Some(_) => STOP_POLL.min(deadline - now),
         };
         match t.read(&mut self.buf, slice) {
             Ok(n) => Ok(&self.buf[..n]),
             Err(TransportError::Timeout { .. }) if self.clock.now() >= deadline => Err(ReplyWait::Timeout),
             Err(TransportError::Timeout { .. }) => {
-                if self.clock.now() - sent >= self.grace && self.stop_pending() {
+                if self.clock.now().saturating_sub(sent) >= self.grace && self.stop_pending() {
                     Err(ReplyWait::Interrupted)
                 } else {
                     Ok(&[])

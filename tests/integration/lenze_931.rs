@@ -710,3 +710,34 @@ fn an_sd2_run_asks_nothing_about_drive_limits() {
     assert_eq!(text.lines().filter(|l| l.contains(" TX ")).count(), 84, "{text}");
     assert!(!output.contains("drive limits"), "{output}");
 }
+
+#[test]
+fn ctrl_c_while_the_drives_limits_are_read_ends_with_130_and_nothing_moved() {
+    let dir = scratch("run-limits-ctrl-c");
+    let recipe = write(
+        &dir,
+        "silent.yaml",
+        "name: Silent\ndrive: lenze-931\nsteps:\n  - set: { speed_setpoint: 100 rpm }\n",
+    );
+    let prepare = |sim: &Arc<Mutex<dyn SimulatedDrive>>, _: &SharedClock| {
+        let mut sim = sim.lock().unwrap_or_else(PoisonError::into_inner);
+        let lenze = sim
+            .as_any_mut()
+            .downcast_mut::<drivescript::family::lenze_931::LenzeSimulator>()
+            .expect("a simulated 931");
+        lenze.faults().drop_replies(100);
+    };
+    let mut run = InProcessRun::new(recipe);
+    run.dictionary = dictionary_args(Some(completed_template(&dir)));
+    run.prepare = Some(&prepare);
+    run.stop.schedule(
+        Duration::from_millis(300),
+        drivescript::stop_request::StopSignal::INT,
+    );
+    let (result, output) = run.run();
+    assert_eq!(result.exit_code, 130, "{output}");
+    assert!(
+        output.contains("stopped by Ctrl-C (SIGINT) while the drive's limits were read; nothing was sent to move the drive"),
+        "{output}"
+    );
+}

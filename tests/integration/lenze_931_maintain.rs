@@ -453,3 +453,80 @@ fn ctrl_c_at_the_question_sends_nothing_and_exits_130() {
     let requests = with_lenze(&sim, |s| s.requests().to_vec());
     assert!(!requests.iter().any(|r| r == "RESET!"), "{requests:?}");
 }
+
+#[test]
+fn a_drive_enabled_while_the_question_was_open_is_refused_after_the_yes() {
+    let dir = scratch("maintain-enabled-meanwhile");
+    let with_profile = dictionary_args(Some(completed_template(&dir)));
+    let drive: Mutex<Option<Arc<Mutex<dyn SimulatedDrive>>>> = Mutex::new(None);
+    let before = |sim: &Arc<Mutex<dyn SimulatedDrive>>| {
+        *drive.lock().unwrap_or_else(PoisonError::into_inner) = Some(sim.clone());
+    };
+    // Someone enables the drive at its own terminal while the question waits; then yes.
+    let mut ask = |_: &str| {
+        if let Some(sim) = drive.lock().unwrap_or_else(PoisonError::into_inner).as_ref() {
+            with_lenze(sim, |s| {
+                for line in ["OW:0020:00000006", "OW:0020:00000007", "OW:0020:0000000F"] {
+                    s.receive(format!("{line}\r").as_bytes(), Duration::ZERO);
+                }
+            });
+        }
+        true
+    };
+    let request = MaintainRequest {
+        registry: &Registry::builtin(),
+        dictionary: &with_profile,
+        connection: &ConnectionArgs::simulated(),
+        action: Some("init"),
+        value: None,
+        force: false,
+        confirm: Some(&mut ask),
+        stop: Arc::new(StopRequests::new()),
+        prepare_simulator: Some(&before),
+    };
+    let (mut out, mut err) = (Vec::new(), Vec::new());
+    let result = run_maintain(request, &mut out, &mut err);
+    let err = String::from_utf8_lossy(&err);
+    assert_eq!(result.exit_code, 2, "{err}");
+    assert!(
+        err.contains("the drive went to operation enabled while the question was open, and init is refused while it is enabled"),
+        "{err}"
+    );
+    let sim = result.simulator.expect("simulated");
+    let requests = with_lenze(&sim, |s| s.requests().to_vec());
+    assert!(!requests.iter().any(|r| r == "INIT!"), "{requests:?}");
+}
+
+#[test]
+fn a_stop_while_waiting_for_the_answer_says_the_outcome_is_unknown() {
+    let stop = Arc::new(StopRequests::new());
+    // The drive is silent; Ctrl-C comes while drivescript waits for its answer.
+    stop.schedule(
+        Duration::from_millis(200),
+        drivescript::stop_request::StopSignal::INT,
+    );
+    let prepare = |sim: &Arc<Mutex<dyn SimulatedDrive>>| {
+        with_lenze(sim, |s| {
+            s.faults().drop_replies(5);
+        });
+    };
+    let request = MaintainRequest {
+        registry: &Registry::builtin(),
+        dictionary: &builtin(),
+        connection: &ConnectionArgs::simulated(),
+        action: Some("reset"),
+        value: None,
+        force: true,
+        confirm: None,
+        stop,
+        prepare_simulator: Some(&prepare),
+    };
+    let (mut out, mut err) = (Vec::new(), Vec::new());
+    let result = run_maintain(request, &mut out, &mut err);
+    let err = String::from_utf8_lossy(&err);
+    assert_eq!(result.exit_code, 130, "{err}");
+    assert!(
+        err.contains("whether the drive carried out reset is unknown"),
+        "{err}"
+    );
+}

@@ -99,6 +99,11 @@ impl CtAccess {
 }
 
 impl ObjectAccess for CtAccess {
+    fn changes_line(&self, address: &Address) -> bool {
+        self.link.config().baud_parameter.is_some()
+            && self.parameter(address).ok() == self.link.config().baud_parameter
+    }
+
     fn read(&mut self, address: &Address, _data_type: DataType) -> Result<RawValue, AccessError> {
         let parameter = self.parameter(address)?;
         if self.node.is_broadcast() {

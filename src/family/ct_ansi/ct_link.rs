@@ -151,7 +151,9 @@ impl CtLink {
         };
         // The drive answered at the old rate (or a group did not answer); it needs the wait
         // before it talks at the new one.
-        self.core.clock.sleep(BAUD_CHANGE_WAIT);
+        // From when the write has left the line (a group write's bytes may still be on it).
+        let from = self.quiet_from.max(self.core.clock.now());
+        self.core.clock.sleep_until(from + BAUD_CHANGE_WAIT);
         self.quiet_from = self.core.clock.now();
         let ms = BAUD_CHANGE_WAIT.as_millis();
         self.core.event(&format!(
@@ -184,7 +186,14 @@ impl CtLink {
             self.send(t, &bytes)?;
             self.core
                 .event("group or global write: no drive answers, so it is sent once and not repeated");
-            self.quiet_from = self.core.clock.now();
+            // The line is quiet once the message has left it and, where the adapter may echo,
+            // once its echo is back too; the next message's discard then takes the whole echo,
+            // whose tail would otherwise read like a value reply of the same parameter.
+            let echo = match self.line_echoes {
+                Some(false) => Duration::ZERO,
+                _ => self.config.echo_wait,
+            };
+            self.quiet_from = self.core.clock.now() + t.still_sending() + echo;
             return Ok(None);
         }
         let attempts = self.config.retries + 1;
@@ -226,6 +235,9 @@ impl CtLink {
                 }
                 Err(AttemptFailure::Interrupted) => {
                     self.core.event("stop requested while waiting for the reply");
+                    // The next message (the safe stop's) waits for the line: the drive may
+                    // still answer this one.
+                    self.quiet_from = self.quiet_from.max(self.core.clock.now() + t.still_sending());
                     return Err(self.interrupted(request, &bytes));
                 }
             }
@@ -387,7 +399,7 @@ impl CtLink {
                     }
                 }
             }
-            let got = match self.core.read_reply(t, sent, wait_until) {
+            let got = match self.core.read_reply(t, left_at, wait_until) {
                 Ok(bytes) => {
                     self.pending.extend_from_slice(bytes);
                     continue;
@@ -718,6 +730,30 @@ mod tests {
         }
     }
 
+    /// A group write's echo comes back late on a slow adapter; its tail reads exactly like
+    /// a value reply of the same parameter, so it must be gone before the next message.
+    #[test]
+    fn a_late_echo_of_a_group_write_is_never_the_next_reads_reply() {
+        let group_write = Request::Write {
+            address: Some(NodeAddress::new(1, 0).unwrap()),
+            parameter: Parameter::new(1, 21).unwrap(),
+            value: DataValue::new(15005, 1),
+        };
+        let mut l = timed(vec![
+            vec![(5, Piece::Echo(ALL))],
+            vec![(0, Piece::Echo(ALL)), (10, Piece::Bytes(value_reply(1, 21, 42)))],
+        ]);
+        assert_eq!(l.link.transact(&group_write).unwrap(), None);
+        let reply = l.link.transact(&read_121()).unwrap();
+        assert_eq!(
+            reply,
+            Some(Reply::Value {
+                parameter: Parameter::new(1, 21).unwrap(),
+                value: DataValue::new(42, 1)
+            })
+        );
+    }
+
     #[test]
     fn the_echo_of_a_read_is_skipped_counted_and_traced() {
         let mut l = timed(vec![echo_then(value_reply(1, 21, 15005))]);
@@ -964,7 +1000,9 @@ mod tests {
         let (mut l, peer, clock) = baud_link(vec![None]);
         let before = clock.now();
         let e = l.transact(&write_to(11, 25, 0, 6)).unwrap_err().to_string();
-        assert_eq!(clock.now() - before, Duration::from_millis(2 + 20));
+        // Turnaround, then the echo window of a line not yet known not to echo (the group
+        // write's quiet time), then the drive's 20 ms.
+        assert_eq!(clock.now() - before, Duration::from_millis(2 + 50 + 20));
         assert!(e.contains("(a group or global write: no drive answers)"), "{e}");
         assert_eq!(peer.lock().unwrap().received.len(), 1);
     }

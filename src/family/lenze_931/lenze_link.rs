@@ -263,8 +263,9 @@ impl LenzeLink {
     }
 
     fn await_reply(&mut self, t: &mut dyn Transport, request: &Request) -> Result<Reply, AttemptFailure> {
-        let sent = self.core.clock.now();
-        let deadline = sent + t.still_sending() + self.config.reply_timeout;
+        // The reply timeout and the stop grace count from when the request has left the line.
+        let sent = self.core.clock.now() + t.still_sending();
+        let deadline = sent + self.config.reply_timeout;
         let echo = request.text();
         // An SDO write is answered with its own text: the first copy is taken as the reply.
         let echo_possible = !matches!(request, Request::SdoWrite { .. });

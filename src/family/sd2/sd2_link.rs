@@ -269,8 +269,9 @@ impl Sd2Link {
     }
 
     fn await_reply(&mut self, t: &mut dyn Transport, request: &Telegram) -> Result<Telegram, AttemptFailure> {
-        let sent = self.core.clock.now();
-        let deadline = sent + t.still_sending() + self.config.reply_timeout;
+        // The reply timeout and the stop grace count from when the request has left the line.
+        let sent = self.core.clock.now() + t.still_sending();
+        let deadline = sent + self.config.reply_timeout;
         loop {
             while let Some(block) = self.extractor.next_block() {
                 if block.skipped > 0 {
@@ -423,6 +424,30 @@ mod tests {
         };
         let mut link = Sd2Link::new(SharedTransport::new(Box::new(transport)), clock, config);
         link.transact(&Telegram::read_request(2, 1, 67, 0))
+    }
+
+    /// A stop request while the request is still on the line does not cut the wait for
+    /// its answer: the grace counts from when the request has left, as the reply timeout.
+    #[test]
+    fn the_stop_grace_starts_when_the_request_is_off_the_line() {
+        let clock = Arc::new(VirtualClock::new());
+        let peer = Arc::new(Mutex::new(Scripted {
+            replies: vec![Some((Duration::from_millis(45), status_reply(2)))].into(),
+            received: vec![],
+        }));
+        let transport = StillSending(
+            MemoryTransport::new("scripted", peer, clock.clone()),
+            Duration::from_millis(40),
+        );
+        let mut link = Sd2Link::new(
+            SharedTransport::new(Box::new(transport)),
+            clock,
+            LinkConfig::default(),
+        );
+        let stop = Arc::new(StopRequests::new());
+        stop.schedule(Duration::from_millis(25), crate::stop_request::StopSignal::INT);
+        link.set_stop_requests(stop);
+        assert!(link.transact(&Telegram::read_request(2, 1, 67, 0)).is_ok());
     }
 
     #[test]
