@@ -22,7 +22,7 @@ mod stop_signals;
 
 pub use connection_args::{Connection, ConnectionArgs};
 pub use drive_args::{open_drive, DictionaryArgs, OpenDrive};
-pub use maintain_command::{run_maintain, MaintainRequest, MaintainResult};
+pub use maintain_command::{run_maintain, MaintainRequest, MaintainResult, PrepareMaintained};
 pub use recipe_commands::{run_recipe, OutputArgs, PrepareSimulator, RunRequest, RunResult, SafeStopArgs};
 
 pub use exit_code::*;

@@ -6,12 +6,12 @@
 use crate::lenze_931::{completed_template, dictionary_args, scratch};
 use crate::support::{drivescript, stderr, stdout};
 use drivescript::bus::Peer;
-use drivescript::cli::{run_maintain, ConnectionArgs, DictionaryArgs, MaintainRequest};
+use drivescript::cli::{run_maintain, ConnectionArgs, DictionaryArgs, MaintainRequest, PrepareMaintained};
 use drivescript::family::lenze_931::LenzeSimulator;
 use drivescript::family::Registry;
 use drivescript::sim::SimulatedDrive;
 use drivescript::stop_request::StopRequests;
-use std::sync::{Arc, Mutex, PoisonError};
+use std::sync::{Arc, Mutex, OnceLock, PoisonError};
 use std::time::Duration;
 
 /// What one `maintain` did: exit code, standard output, errors, and the request lines
@@ -87,6 +87,43 @@ fn maintain(
         mode,
         line_rate,
     }
+}
+
+/// Runs one `maintain` on the simulated 931 with what a test needs to vary: who answers
+/// the question, the stop requests and what is done to the simulated drive first. Returns
+/// the exit code, the errors and every request line the drive received.
+fn run_request<'a>(
+    dictionary: &'a DictionaryArgs,
+    action: &'a str,
+    force: bool,
+    confirm: Option<&'a mut (dyn FnMut(&str) -> bool + 'a)>,
+    stop: Arc<StopRequests>,
+    prepare: Option<&'a PrepareMaintained<'a>>,
+) -> (i32, String, Vec<String>) {
+    static REGISTRY: OnceLock<Registry> = OnceLock::new();
+    static CONNECTION: OnceLock<ConnectionArgs> = OnceLock::new();
+    let request = MaintainRequest {
+        registry: REGISTRY.get_or_init(Registry::builtin),
+        dictionary,
+        connection: CONNECTION.get_or_init(ConnectionArgs::simulated),
+        action: Some(action),
+        value: None,
+        force,
+        confirm,
+        stop,
+        prepare_simulator: prepare,
+    };
+    let (mut out, mut err) = (Vec::new(), Vec::new());
+    let result = run_maintain(request, &mut out, &mut err);
+    let requests = result
+        .simulator
+        .map(|sim| with_lenze(&sim, |s| s.requests().to_vec()))
+        .unwrap_or_default();
+    (
+        result.exit_code,
+        String::from_utf8_lossy(&err).to_string(),
+        requests,
+    )
 }
 
 fn builtin() -> DictionaryArgs {
@@ -430,27 +467,12 @@ fn ctrl_c_at_the_question_sends_nothing_and_exits_130() {
         signalled.request(drivescript::stop_request::StopSignal::INT);
         false
     };
-    let request = MaintainRequest {
-        registry: &Registry::builtin(),
-        dictionary: &with_profile,
-        connection: &ConnectionArgs::simulated(),
-        action: Some("reset"),
-        value: None,
-        force: false,
-        confirm: Some(&mut ask),
-        stop,
-        prepare_simulator: None,
-    };
-    let (mut out, mut err) = (Vec::new(), Vec::new());
-    let result = run_maintain(request, &mut out, &mut err);
-    let err = String::from_utf8_lossy(&err);
-    assert_eq!(result.exit_code, 130, "{err}");
+    let (code, err, requests) = run_request(&with_profile, "reset", false, Some(&mut ask), stop, None);
+    assert_eq!(code, 130, "{err}");
     assert!(
         err.contains("stopped by Ctrl-C (SIGINT); nothing was sent"),
         "{err}"
     );
-    let sim = result.simulator.expect("simulated");
-    let requests = with_lenze(&sim, |s| s.requests().to_vec());
     assert!(!requests.iter().any(|r| r == "RESET!"), "{requests:?}");
 }
 
@@ -473,27 +495,14 @@ fn a_drive_enabled_while_the_question_was_open_is_refused_after_the_yes() {
         }
         true
     };
-    let request = MaintainRequest {
-        registry: &Registry::builtin(),
-        dictionary: &with_profile,
-        connection: &ConnectionArgs::simulated(),
-        action: Some("init"),
-        value: None,
-        force: false,
-        confirm: Some(&mut ask),
-        stop: Arc::new(StopRequests::new()),
-        prepare_simulator: Some(&before),
-    };
-    let (mut out, mut err) = (Vec::new(), Vec::new());
-    let result = run_maintain(request, &mut out, &mut err);
-    let err = String::from_utf8_lossy(&err);
-    assert_eq!(result.exit_code, 2, "{err}");
+    let stop = Arc::new(StopRequests::new());
+    let (code, err, requests) =
+        run_request(&with_profile, "init", false, Some(&mut ask), stop, Some(&before));
+    assert_eq!(code, 2, "{err}");
     assert!(
         err.contains("the drive went to operation enabled while the question was open, and init is refused while it is enabled"),
         "{err}"
     );
-    let sim = result.simulator.expect("simulated");
-    let requests = with_lenze(&sim, |s| s.requests().to_vec());
     assert!(!requests.iter().any(|r| r == "INIT!"), "{requests:?}");
 }
 
@@ -510,21 +519,8 @@ fn a_stop_while_waiting_for_the_answer_says_the_outcome_is_unknown() {
             s.faults().drop_replies(5);
         });
     };
-    let request = MaintainRequest {
-        registry: &Registry::builtin(),
-        dictionary: &builtin(),
-        connection: &ConnectionArgs::simulated(),
-        action: Some("reset"),
-        value: None,
-        force: true,
-        confirm: None,
-        stop,
-        prepare_simulator: Some(&prepare),
-    };
-    let (mut out, mut err) = (Vec::new(), Vec::new());
-    let result = run_maintain(request, &mut out, &mut err);
-    let err = String::from_utf8_lossy(&err);
-    assert_eq!(result.exit_code, 130, "{err}");
+    let (code, err, _) = run_request(&builtin(), "reset", true, None, stop, Some(&prepare));
+    assert_eq!(code, 130, "{err}");
     assert!(
         err.contains("whether the drive carried out reset is unknown"),
         "{err}"
