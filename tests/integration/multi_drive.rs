@@ -92,12 +92,19 @@ fn assert_never_interleaved(trace: &str) {
     );
 }
 
+/// Runs `recipe_text` (two drives at DNC addresses 2 and 3) through a pty served by
+/// `simulate sim_args`, with a trace: both drives reach their own speeds and the requests
+/// never interleave. Returns the simulator (still serving), the recipe, the output and the
+/// trace.
 #[cfg(unix)]
-#[test]
-fn two_drives_on_one_pty_reach_their_own_speeds_and_never_interleave() {
-    let sim = crate::safety::PtySimulator::start_with(&["--address", "dnc:2,dnc:3"]);
-    let dir = scratch("multi-pty");
-    let recipe = write_recipe(&dir, &TWO_AXES.replace("SAMPLE_FOR", "1 s"));
+fn two_axes_on_a_pty(
+    sim_args: &[&str],
+    name: &str,
+    recipe_text: &str,
+) -> (crate::safety::PtySimulator, std::path::PathBuf, String, String) {
+    let sim = crate::safety::PtySimulator::start_with(sim_args);
+    let dir = scratch(name);
+    let recipe = write_recipe(&dir, recipe_text);
     let trace = dir.join("run.trace");
     let out = drivescript(
         &[
@@ -120,16 +127,28 @@ fn two_drives_on_one_pty_reach_their_own_speeds_and_never_interleave() {
         text.contains("PASS  right.speed_actual mean near 2000 rpm"),
         "{text}"
     );
+    let trace = std::fs::read_to_string(&trace).expect("trace");
+    // Requests went to DNC addresses 2 and 3 and nowhere else, one at a time.
+    assert_never_interleaved(&trace);
+    (sim, recipe, text, trace)
+}
+
+#[cfg(unix)]
+#[test]
+fn two_drives_on_one_pty_reach_their_own_speeds_and_never_interleave() {
+    let (_sim, _, text, trace) = two_axes_on_a_pty(
+        &["--address", "dnc:2,dnc:3"],
+        "multi-pty",
+        &TWO_AXES.replace("SAMPLE_FOR", "1 s"),
+    );
     assert!(
         text.contains("right: drive left in ready to switch on at 0 rpm\nleft: drive left in ready to switch on at 0 rpm\n"),
         "{text}"
     );
-    let trace = std::fs::read_to_string(&trace).expect("trace");
     assert!(
         trace.contains("-- drive `left`") && trace.contains("-- drive `right`"),
         "{trace}"
     );
-    assert_never_interleaved(&trace);
 }
 
 /// Issue 18's spelling end to end: `simulate --dnc-address 2,3` serves drives at DNC
@@ -139,8 +158,6 @@ fn two_drives_on_one_pty_reach_their_own_speeds_and_never_interleave() {
 #[cfg(unix)]
 #[test]
 fn the_issue_spelling_of_addresses_on_a_pty_served_with_dnc_address() {
-    let sim = crate::safety::PtySimulator::start_with(&["--dnc-address", "2,3"]);
-    let dir = scratch("multi-pty-dnc-address");
     let text = TWO_AXES
         .replace("SAMPLE_FOR", "1 s")
         .replace("{ drive: sd2, address: dnc:2 }", "{ drive: sd2, dnc_address: 2 }")
@@ -152,31 +169,7 @@ fn the_issue_spelling_of_addresses_on_a_pty_served_with_dnc_address() {
         text.contains("dnc_address: 2") && text.contains("axis: b"),
         "{text}"
     );
-    let recipe = write_recipe(&dir, &text);
-    let trace = dir.join("run.trace");
-    let out = drivescript(
-        &[
-            "run",
-            recipe.to_str().expect("utf-8 path"),
-            "--port",
-            &sim.path,
-            "--trace",
-            trace.to_str().expect("utf-8 path"),
-        ],
-        "",
-    );
-    let shown = stdout(&out);
-    assert_eq!(out.status.code(), Some(0), "{shown}{}", stderr(&out));
-    assert!(
-        shown.contains("PASS  left.speed_actual mean near 1000 rpm"),
-        "{shown}"
-    );
-    assert!(
-        shown.contains("PASS  right.speed_actual mean near 2000 rpm"),
-        "{shown}"
-    );
-    // Requests went to DNC addresses 2 and 3 and nowhere else, one at a time.
-    assert_never_interleaved(&std::fs::read_to_string(&trace).expect("trace"));
+    let (sim, recipe, _, _) = two_axes_on_a_pty(&["--dnc-address", "2,3"], "multi-pty-dnc-address", &text);
     let state = drivescript(&["state", "--port", &sim.path, "--dnc-address", "3"], "");
     assert_eq!(state.status.code(), Some(0), "{}", stderr(&state));
     assert!(
