@@ -46,7 +46,12 @@ pub struct CheckArgs {
 #[derive(Debug, Args)]
 /// Run recipes. Without --port or --tcp they run against the built-in simulated drive and
 /// say so. Each recipe is checked first; nothing is sent if it has a problem. Whatever
-/// happens, `finally` runs (default: disable operation, then shutdown). Several recipes
+/// happens, the safe stop runs: a drive still enabled and turning gets the speed setpoint
+/// 0 and is waited for until it stands still (--stop-timeout, --standstill) before
+/// anything disables it, then `finally` runs (default: disable operation, then shutdown),
+/// then the state and speed are read back and the stop escalated if the drive did not
+/// obey. Only a recipe's `safe_stop: { brake_to_standstill: false }` skips the braking
+/// (check says so); a second stop signal switches the power stage off at once. Several recipes
 /// run one after the other, each with its own safe stop and reports; the exit code is the
 /// worst of them. Before anything moves, every value the recipe writes (a script's
 /// literal values too) is compared with the limits the drive itself reports, where its
@@ -84,8 +89,8 @@ pub struct RunArgs {
 #[derive(Debug, Clone, Default, Args)]
 #[command(next_help_heading = "Safe stop")]
 pub struct SafeStopArgs {
-    /// How long the default safe stop waits, setpoint at 0, for standstill before it
-    /// disables the drive [default: 60s].
+    /// How long the safe stop waits, setpoint at 0, for standstill before it disables
+    /// the drive (also before a recipe's own finally) [default: 60s].
     #[arg(long, value_name = "DURATION", value_parser = parse_stop_duration)]
     pub stop_timeout: Option<std::time::Duration>,
     /// Speeds within ± this count as standstill [default: 10rpm].
@@ -109,6 +114,7 @@ impl SafeStopArgs {
                 .or(recipe.timeout)
                 .unwrap_or(d.standstill_timeout),
             standstill: self.standstill.or(recipe.standstill).unwrap_or(d.standstill),
+            brake_to_standstill: recipe.no_brake_at.is_none(),
             reconnect_timeout: self.reconnect_timeout.unwrap_or(d.reconnect_timeout),
             fault_poll: self.fault_poll.unwrap_or(d.fault_poll),
         }
@@ -259,6 +265,7 @@ pub fn check(args: &CheckArgs) -> i32 {
                         .collect::<Vec<_>>()
                         .join(", ")
                 );
+                print_safe_stop_choices(path, &recipe.safe_stop);
             }
             Ok(recipe) => {
                 println!(
@@ -268,6 +275,7 @@ pub fn check(args: &CheckArgs) -> i32 {
                     count_steps(&recipe),
                     finally_note(&recipe)
                 );
+                print_safe_stop_choices(path, &recipe.safe_stop);
                 if let Some(limits) = dictionary.bench_limits() {
                     println!("    bench limits {} ({})", limits.summary(), limits.source());
                 }
@@ -290,6 +298,18 @@ pub fn check(args: &CheckArgs) -> i32 {
 
 fn count_steps(recipe: &Recipe) -> usize {
     recipe.steps.len()
+}
+
+/// What `check` says about a recipe's or script's opt-out from braking, so that it is
+/// never silent.
+pub(super) fn print_safe_stop_choices(path: &std::path::Path, choice: &SafeStopChoice) {
+    if let Some((line, column)) = choice.no_brake_at {
+        println!(
+            "    safe stop does not brake: brake_to_standstill is false at {}:{line}:{column}; \
+             a drive still turning at the end is disabled at speed and coasts",
+            path.display()
+        );
+    }
 }
 
 fn finally_note(recipe: &Recipe) -> &'static str {

@@ -9,10 +9,13 @@ use std::time::Duration;
 /// The recipe's own choices for the safe stop (`safe_stop:`); the command line's win.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct SafeStopChoice {
-    /// How long the default safe stop waits for standstill.
+    /// How long the safe stop waits for standstill.
     pub timeout: Option<Duration>,
     /// Speeds within ± this count as standstill.
     pub standstill: Option<Quantity>,
+    /// Where the recipe opts out of braking to standstill before the stop commands
+    /// (`brake_to_standstill: false`), as line and column; `None`: the safe stop brakes.
+    pub no_brake_at: Option<(usize, usize)>,
 }
 
 /// A parameter as it was finally resolved (declared default or `--set`).
@@ -33,7 +36,8 @@ pub struct Recipe {
     pub path: String,
     pub params: Vec<Param>,
     pub steps: Vec<Step>,
-    /// `None`: the safe default (disable operation, then shutdown). `Some(empty)`: the
+    /// `None`: the safe default (brake to standstill, disable operation, then shutdown).
+    /// Either way the safe stop brakes a turning drive first. `Some(empty)`: the
     /// recipe explicitly asks for nothing to run.
     pub finally: Option<Vec<Step>>,
     pub on_fault: Vec<Step>,

@@ -426,10 +426,12 @@ pub fn recipe_schema(dictionary: &Dictionary, address_keys: &AddressKeyTable) ->
             },
             "safe_stop": {
                 "type": "object",
-                "description": "The default safe stop: how long to wait for standstill (setpoint 0) before disabling, and what counts as standstill",
+                "description": "The safe stop: how long to wait for standstill (setpoint 0) before disabling, what counts as standstill, and whether a turning drive is braked before any disable (also before the recipe's own finally)",
                 "additionalProperties": false,
                 "properties": {
                     "timeout": { "$ref": "#/$defs/duration" },
+                    "brake_to_standstill": { "type": "boolean", "default": true,
+                        "description": "true (default): a drive still enabled and turning at the end gets the speed setpoint 0 and is waited for until it stands still before anything disables it, the recipe's own finally included. false: it is disabled at speed and coasts (for a drive that brakes by itself on disable); check says so" },
                     "standstill": { "type": "string", "examples": ["10 rpm"],
                                     "pattern": format!(r"^\s*({NUMBER})\s*({speed_units})\s*$") }
                 }

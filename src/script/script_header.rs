@@ -13,7 +13,7 @@ use std::sync::Arc;
 /// The keys a script's header may give.
 pub const HEADER_KEYS: &[&str] = &["drive", "drives", "name", "link", "leave_enabled", "safe_stop"];
 /// The settings of `//! safe_stop:`, as a recipe's `safe_stop:` has them.
-const SAFE_STOP_KEYS: &[&str] = &["timeout", "standstill"];
+const SAFE_STOP_KEYS: &[&str] = &["timeout", "standstill", "brake_to_standstill"];
 const SAFE_STOP_EXAMPLE: &str = "//! safe_stop: timeout=2 min, standstill=20 rpm";
 
 /// `//! drive: sd2`, `//! name: Speed sweep`, `//! link: channel=cyclic, …`,
@@ -239,7 +239,22 @@ fn safe_stop(e: &Entry, span: &dyn Fn(usize, usize) -> Span, problems: &mut Diag
             continue;
         };
         let value_span = span(value_at, value.len());
-        if s.key == "timeout" {
+        if s.key == "brake_to_standstill" {
+            match value {
+                "true" | "True" | "TRUE" => {}
+                "false" | "False" | "FALSE" => {
+                    choice.no_brake_at = Some((value_span.line(), value_span.column()))
+                }
+                other => problems.push(
+                    Diagnostic::at(
+                        &value_span,
+                        format!("`brake_to_standstill` must be true or false, found `{other}`"),
+                        "true or false",
+                    )
+                    .with_help("write `brake_to_standstill=false` to disable a turning drive without braking it first"),
+                ),
+            }
+        } else if s.key == "timeout" {
             match super::resolve::duration(value) {
                 Ok(d) => choice.timeout = Some(d),
                 Err(r) => problems.push(
@@ -290,6 +305,24 @@ mod tests {
         let plain = read("//! drive: sd2\nlet d = drive();\n");
         assert!(!plain.leave_enabled);
         assert_eq!(plain.safe_stop, SafeStopChoice::default());
+    }
+
+    #[test]
+    fn brake_to_standstill_false_is_an_opt_out_with_its_place() {
+        let h = read("//! drive: sd2\n//! safe_stop: timeout=2 s, brake_to_standstill=false\n");
+        assert!(h.problems.is_empty(), "{}", h.problems.render(false));
+        assert_eq!(h.safe_stop.no_brake_at, Some((2, 49)));
+        let on = read("//! drive: sd2\n//! safe_stop: brake_to_standstill=true\n");
+        assert_eq!(on.safe_stop.no_brake_at, None);
+        let p: Vec<String> = read("//! safe_stop: brake_to_standstill=no\n")
+            .problems
+            .iter()
+            .map(|d| d.located())
+            .collect();
+        assert_eq!(
+            p,
+            ["t.rhai:1:36: `brake_to_standstill` must be true or false, found `no`"]
+        );
     }
 
     #[test]

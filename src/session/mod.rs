@@ -4,6 +4,7 @@
 //! and ends every run with the verified safe stop; conditions and checks; what a run did
 //! (the report). Knows names, units and states; never bytes, never a family, never YAML.
 
+mod brake;
 mod bucket_series;
 mod condition;
 mod expect;

@@ -1,21 +1,23 @@
-//! The end of every run: `on_fault` after a fault, then `finally` (or the default safe
-//! stop: setpoint 0, wait for standstill, disable operation, shutdown), then a verification
+//! The end of every run: `on_fault` after a fault, then the brake of a drive still turning
+//! (setpoint 0, wait for standstill; `brake.rs`) and `finally` (or the default safe stop:
+//! setpoint 0, wait for standstill, disable operation, shutdown), then a verification
 //! that reads the state and the speed back, escalates (quick stop, then disable voltage)
 //! when the drive did not obey, and records the truth for the last lines. A lost port is
 //! reopened first. Nothing here may give up silently: what could not be confirmed ends in
 //! CHECK THE DRIVE BY HAND.
 
+use super::brake::StopStep;
 use super::session::show_duration;
-use super::session::{round, secs, Session};
+use super::session::{secs, Session};
 use super::stop::{outcome, Stop};
-use super::{number, DriveEnd, ObjectRef, RunReport, SetValue, StepInfo, StepOrigin, Verdict};
+use super::{DriveEnd, ObjectRef, RunReport, StepInfo, Verdict};
 use crate::dictionary::Role;
 use crate::drive::{DeviceCommand, DeviceState, DriveError};
 use crate::stop_request::StopSignal;
 use std::time::Duration;
 
 /// How often the safe stop polls the speed or the state while it waits.
-const STOP_POLL: Duration = Duration::from_millis(100);
+pub(super) const STOP_POLL: Duration = Duration::from_millis(100);
 /// How long disable voltage may take to show in the status word.
 const DISABLE_VOLTAGE_WAIT: Duration = Duration::from_secs(1);
 /// First pause between attempts to reopen a lost port; doubled up to [`REOPEN_PAUSE_MAX`].
@@ -24,7 +26,7 @@ const REOPEN_PAUSE_MAX: Duration = Duration::from_secs(2);
 
 impl Session<'_> {
     /// The object playing `role` in the profile, as a step names it.
-    fn role_ref(&self, role: Role) -> Option<ObjectRef> {
+    pub(super) fn role_ref(&self, role: Role) -> Option<ObjectRef> {
         let name = self.drive_ref().profile().ok()?.object(role)?.to_string();
         let def = self.drive_ref().object(&name).ok()?;
         Some(ObjectRef {
@@ -34,7 +36,7 @@ impl Session<'_> {
     }
 
     /// The standstill threshold in the speed object's own unit.
-    fn standstill_in(&self, object: &ObjectRef) -> f64 {
+    pub(super) fn standstill_in(&self, object: &ObjectRef) -> f64 {
         let q = self.settings.standstill;
         object
             .unit
@@ -208,6 +210,7 @@ impl Session<'_> {
                         reachable[i] = self.reach_again();
                     }
                 }
+                self.brake_before_finally(&order, &reachable);
                 finally(self)
             }
             // The default stops one drive after the other: each is reached again just
@@ -275,7 +278,11 @@ impl Session<'_> {
         }
         let device_control = self.has_device_control();
         match finally {
-            Some(finally) => finally(self),
+            Some(finally) => {
+                let reachable = vec![true; self.drives.len()];
+                self.brake_before_finally(&[self.current], &reachable);
+                finally(self)
+            }
             None if device_control => {
                 self.default_finally(0);
             }
@@ -332,74 +339,24 @@ impl Session<'_> {
         }
     }
 
-    /// The default `finally` of the current drive: the speed setpoint to 0 and a wait for
-    /// standstill (where the profile names the speed objects), then disable operation and
-    /// shutdown; each step recorded, a failure noted and the next tried. A second stop
-    /// request abandons it. Its steps are numbered after `done` earlier ones (of other
-    /// drives); returns the number of the last.
+    /// The default `finally` of the current drive: the brake (the speed setpoint to 0 and a
+    /// wait for standstill, where the profile names the speed objects and the recipe does
+    /// not opt out), then disable operation and shutdown; numbered after `done` earlier
+    /// steps (of other drives); returns the number of the last.
     fn default_finally(&mut self, done: usize) -> usize {
-        let origin = StepOrigin {
-            path: self.report.recipe_path.clone(),
-            line: 0,
-            column: 0,
-        };
-        type Op = Box<dyn Fn(&mut Session) -> Result<String, Stop>>;
-        let mut ops: Vec<(String, Op)> = Vec::new();
-        if let Some(object) = self.role_ref(Role::SpeedSetpoint) {
-            let unit = object
-                .unit
-                .as_deref()
-                .map(|u| format!(" {u}"))
-                .unwrap_or_default();
-            let label = format!("set {} = 0{unit}", object.name);
-            ops.push((
-                label,
-                Box::new(move |s| s.set(&[(object.clone(), SetValue::Number(0.0))])),
-            ));
-        }
-        if let Some(object) = self.role_ref(Role::SpeedActual) {
-            let below = self.standstill_in(&object);
-            let timeout = self.settings.standstill_timeout;
-            let unit = object
-                .unit
-                .as_deref()
-                .map(|u| format!(" {u}"))
-                .unwrap_or_default();
-            let label = format!(
-                "wait for standstill: {} within ±{}{unit}, at most {}",
-                object.name,
-                number(below),
-                show_duration(timeout)
-            );
-            ops.push((label, Box::new(move |s| s.standstill(below, timeout, "finally"))));
+        let mut steps = Vec::new();
+        if self.settings.brake_to_standstill {
+            steps.extend(self.setpoint_zero_step());
+            steps.extend(self.standstill_step("finally"));
         }
         for c in [DeviceCommand::DisableOperation, DeviceCommand::Shutdown] {
-            ops.push((c.id().to_string(), Box::new(move |s| s.command(c))));
+            steps.push(StopStep {
+                drive: self.current,
+                label: c.id().to_string(),
+                op: Box::new(move |s| s.command(c)),
+            });
         }
-        let on = match self.several_drives() {
-            true => format!("{}: ", self.cur().name),
-            false => String::new(),
-        };
-        let count = ops.len();
-        for (i, (label, op)) in ops.into_iter().enumerate() {
-            let i = done + i;
-            if self.interrupted() {
-                self.note(format!(
-                    "finally abandoned at step {} (a second stop request)",
-                    i + 1
-                ));
-                return i;
-            }
-            let info = StepInfo {
-                number: format!("finally.{}", i + 1),
-                label: format!("{on}{label} (default finally)"),
-                origin: origin.clone(),
-                phase: "finally",
-                container: false,
-            };
-            self.perform_best_effort(&info, |s| op(s));
-        }
-        done + count
+        self.perform_stop_steps(steps, "finally", " (default finally)", done)
     }
 
     /// Runs one step of the safe stop whatever happens: a lost port is reopened and the
@@ -420,40 +377,6 @@ impl Session<'_> {
                 "{} step {n} ({}) failed: {detail}",
                 info.phase, info.label
             ));
-        }
-    }
-
-    /// While the drive is in operation enabled, polls the actual speed until it is within
-    /// ±`below` (its unit) or `timeout` has passed, showing the speed.
-    pub fn standstill(&mut self, below: f64, timeout: Duration, number: &str) -> Result<String, Stop> {
-        let Some(object) = self.role_ref(Role::SpeedActual) else {
-            return Ok("skipped: the profile names no actual speed".into());
-        };
-        let state = self.drive().state()?;
-        if state != DeviceState::OperationEnabled {
-            return Ok(format!(
-                "skipped: the drive is in {state}, where the setpoint does not brake it"
-            ));
-        }
-        let unit = object.unit.clone().map(|u| format!(" {u}")).unwrap_or_default();
-        let started = self.clock.now();
-        let give_up = started.saturating_add(timeout);
-        loop {
-            let v = self.drive().read_number(&object.name)?;
-            let waited = self.clock.now().saturating_sub(started);
-            if v.abs() <= below {
-                return Ok(format!("{}{unit} after {}", round(v), secs(waited)));
-            }
-            if waited >= timeout {
-                return Err(Stop::Failed(format!(
-                    "still at {}{unit} after {}; disabling it anyway, it will coast",
-                    round(v),
-                    show_duration(timeout)
-                )));
-            }
-            let live = format!("{} {}{unit}", object.name, round(v));
-            self.observer.step_progress(number, waited, Some(timeout), &live);
-            self.wait(self.clock.now().saturating_add(STOP_POLL).min(give_up))?;
         }
     }
 

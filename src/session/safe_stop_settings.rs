@@ -14,6 +14,11 @@ pub struct SafeStopSettings {
     pub standstill_timeout: Duration,
     /// Speeds within ± this count as standstill.
     pub standstill: Quantity,
+    /// Whether the safe stop brakes a turning drive (setpoint 0, wait for standstill)
+    /// before anything disables it, a recipe's own `finally` included. Only a recipe's
+    /// explicit `safe_stop: { brake_to_standstill: false }` turns it off (a drive that
+    /// brakes by itself on disable, or a finally that stops it its own way).
+    pub brake_to_standstill: bool,
     /// How long to keep trying to reopen a lost port to deliver the safe stop.
     pub reconnect_timeout: Duration,
     /// The status word is read for fault watching at most this often: between steps and
@@ -28,6 +33,7 @@ impl Default for SafeStopSettings {
         SafeStopSettings {
             standstill_timeout: Duration::from_secs(60),
             standstill: Quantity::new(10.0, Some(Unit::Rpm)),
+            brake_to_standstill: true,
             reconnect_timeout: Duration::from_secs(10),
             fault_poll: Duration::from_millis(250),
         }

@@ -382,11 +382,16 @@ fn sigint_during_a_run_stops_the_simulated_931_and_verifies_it() {
         "{output}"
     );
     assert!(output.contains("FAIL  dwell 5s  interrupted"), "{output}");
-    // The recipe's own finally disables without braking, and the last line says so.
+    // The safe stop brakes the spindle before the recipe's own finally disables it.
     assert!(
-        output.contains("drive left in ready to switch on at 3000 rpm — STILL COASTING"),
+        output.contains("brake 2  ok    wait for standstill: speed_actual within ±10 rpm"),
         "{output}"
     );
+    assert!(
+        output.contains("drive left in ready to switch on at 0 rpm"),
+        "{output}"
+    );
+    assert!(!output.contains("STILL COASTING"), "{output}");
     let sim = sim.lock().unwrap_or_else(PoisonError::into_inner);
     assert_eq!(sim.state(), DeviceState::ReadyToSwitchOn);
     assert_eq!(sim.control_words_written(), vec![6, 7, 15, 7, 6]);
@@ -699,7 +704,8 @@ fn parameters_round_trip_with_the_drives_limits_and_save() {
 #[test]
 fn an_sd2_run_asks_nothing_about_drive_limits() {
     // SD2 drives report no limits: the run's comparison sends nothing and says nothing.
-    // 84 requests is what the commissioning recipe sent before `run` compared limits.
+    // 84 requests is what the commissioning recipe sent before `run` compared limits, 87
+    // since the safe stop reads state, speed and setpoint to know whether to brake first.
     let dir = scratch("sd2-count");
     let trace = dir.join("sd2.trace");
     let mut run = InProcessRun::new(repo_root().join("recipes/commissioning.yaml"));
@@ -707,7 +713,7 @@ fn an_sd2_run_asks_nothing_about_drive_limits() {
     let (result, output) = run.run();
     assert_eq!(result.exit_code, 0, "{output}");
     let text = std::fs::read_to_string(&trace).expect("trace");
-    assert_eq!(text.lines().filter(|l| l.contains(" TX ")).count(), 84, "{text}");
+    assert_eq!(text.lines().filter(|l| l.contains(" TX ")).count(), 87, "{text}");
     assert!(!output.contains("drive limits"), "{output}");
 }
 

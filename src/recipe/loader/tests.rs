@@ -44,6 +44,26 @@ fn every_problem_of_a_file_is_reported_at_its_place() {
 }
 
 #[test]
+fn brake_to_standstill_false_opts_out_at_its_place() {
+    let off = load("name: x\nsafe_stop: { timeout: 2 s, brake_to_standstill: false }\nsteps: [shutdown]\n")
+        .unwrap();
+    assert_eq!(off.safe_stop.no_brake_at, Some((2, 49)));
+    let on = load("name: x\nsafe_stop: { brake_to_standstill: true }\nsteps: [shutdown]\n").unwrap();
+    assert_eq!(on.safe_stop.no_brake_at, None);
+    assert_eq!(
+        load("name: x\nsteps: [shutdown]\n")
+            .unwrap()
+            .safe_stop
+            .no_brake_at,
+        None
+    );
+    assert_eq!(
+        problems("name: x\nsafe_stop: { brake_to_standstill: sometimes }\nsteps: [shutdown]\n"),
+        ["r.yaml:2:35: `brake_to_standstill` must be true or false, found text"]
+    );
+}
+
+#[test]
 fn a_key_with_nothing_after_it_is_a_value() {
     // `finally:` with nothing asks for no finally steps; without it the default runs.
     let r = load("name: x\nsteps:\n  - shutdown\nfinally:\n").unwrap();

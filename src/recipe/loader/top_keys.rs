@@ -114,16 +114,24 @@ impl Loader<'_, '_> {
             .collect()
     }
 
-    /// `safe_stop: { timeout: 2 min, standstill: 20 rpm }`.
+    /// `safe_stop: { timeout: 2 min, standstill: 20 rpm, brake_to_standstill: false }`.
     fn safe_stop(&mut self, node: &YamlNode) -> SafeStopChoice {
         let mut choice = SafeStopChoice::default();
-        let shape = Shape::new("this safe_stop", &["timeout", "standstill"])
-            .example("safe_stop: { timeout: 2 min, standstill: 20 rpm }");
+        let shape = Shape::new(
+            "this safe_stop",
+            &["timeout", "standstill", "brake_to_standstill"],
+        )
+        .example("safe_stop: { timeout: 2 min, standstill: 20 rpm }");
         let Some(f) = self.r.fields(node, &shape) else {
             return choice;
         };
         if let Some(n) = f.get("timeout") {
             choice.timeout = self.duration(n, "safe_stop timeout");
+        }
+        if let Some(n) = f.get("brake_to_standstill") {
+            if self.r.bool(n, "`brake_to_standstill`") == Some(false) {
+                choice.no_brake_at = Some((n.span.line(), n.span.column()));
+            }
         }
         if let Some(n) = f.get("standstill") {
             if let Some(text) = self.text(n, "`standstill`") {
