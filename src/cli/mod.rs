@@ -18,6 +18,7 @@ mod run_setup;
 mod script_commands;
 mod several_runs;
 mod simulate_command;
+mod stop_command;
 mod stop_signals;
 
 pub use connection_args::{Connection, ConnectionArgs};
@@ -48,6 +49,7 @@ Examples:
   drivescript run a.yaml b.yaml --fast                     several recipes, one exit code
   drivescript check recipes/*.yaml                         validate only; nothing is sent
   drivescript write speed_setpoint 6000 rpm --port /dev/ttyUSB0
+  drivescript stop --port /dev/ttyUSB0                     brake, disable and verify a drive
   drivescript decode run.trace                             explain a --trace file
 
 Exit codes:
@@ -72,6 +74,7 @@ enum Command {
     Read(object_commands::ReadArgs),
     Write(object_commands::WriteArgs),
     State(object_commands::StateArgs),
+    Stop(stop_command::StopArgs),
     Objects(object_commands::ObjectsArgs),
     Decode(decode_command::DecodeArgs),
     Simulate(simulate_command::SimulateArgs),
@@ -109,6 +112,7 @@ pub fn main() -> i32 {
         Command::Read(args) => object_commands::read(&args),
         Command::Write(args) => object_commands::write(&args),
         Command::State(args) => object_commands::state(&args),
+        Command::Stop(args) => stop_command::stop(&args),
         Command::Objects(args) => object_commands::objects(&args),
         Command::Ports(args) => object_commands::ports(&args),
         Command::Backup(args) => parameter_commands::backup(&args),

@@ -265,7 +265,7 @@ pub fn check(args: &CheckArgs) -> i32 {
                         .collect::<Vec<_>>()
                         .join(", ")
                 );
-                print_safe_stop_choices(path, &recipe.safe_stop);
+                print_safe_stop_choices(path, &recipe.safe_stop, recipe.leave_enabled);
             }
             Ok(recipe) => {
                 println!(
@@ -275,7 +275,7 @@ pub fn check(args: &CheckArgs) -> i32 {
                     count_steps(&recipe),
                     finally_note(&recipe)
                 );
-                print_safe_stop_choices(path, &recipe.safe_stop);
+                print_safe_stop_choices(path, &recipe.safe_stop, recipe.leave_enabled);
                 if let Some(limits) = dictionary.bench_limits() {
                     println!("    bench limits {} ({})", limits.summary(), limits.source());
                 }
@@ -300,9 +300,15 @@ fn count_steps(recipe: &Recipe) -> usize {
     recipe.steps.len()
 }
 
-/// What `check` says about a recipe's or script's opt-out from braking, so that it is
-/// never silent.
-pub(super) fn print_safe_stop_choices(path: &std::path::Path, choice: &SafeStopChoice) {
+/// What `check` says about a recipe's or script's opt-out from braking and about
+/// `leave_enabled`, so that neither is silent.
+pub(super) fn print_safe_stop_choices(path: &std::path::Path, choice: &SafeStopChoice, leave_enabled: bool) {
+    if leave_enabled {
+        println!(
+            "    leave_enabled: a run that succeeds leaves the drive as its steps left it (no brake, \
+             no finally); every other ending stops it. `drivescript stop` stops it later"
+        );
+    }
     if let Some((line, column)) = choice.no_brake_at {
         println!(
             "    safe stop does not brake: brake_to_standstill is false at {}:{line}:{column}; \

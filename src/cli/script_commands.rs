@@ -54,7 +54,7 @@ pub fn check_script(
                     ", default finally"
                 }
             );
-            super::recipe_commands::print_safe_stop_choices(path, &script.safe_stop);
+            super::recipe_commands::print_safe_stop_choices(path, &script.safe_stop, script.leave_enabled);
             if let Some(limits) = dictionary.bench_limits() {
                 println!("    bench limits {} ({})", limits.summary(), limits.source());
             }

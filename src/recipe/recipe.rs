@@ -42,7 +42,8 @@ pub struct Recipe {
     pub finally: Option<Vec<Step>>,
     pub on_fault: Vec<Step>,
     /// After a successful run, leave the drive as the steps left it (e.g. a spindle that is
-    /// meant to keep turning). Every other ending still stops the drive.
+    /// meant to keep turning): neither the brake nor `finally` runs then. Every other
+    /// ending still stops the drive, with `finally` (or the default).
     pub leave_enabled: bool,
     pub safe_stop: SafeStopChoice,
     /// Settings of the family's link (`link:`), before the command line's.

@@ -412,7 +412,8 @@ pub fn recipe_schema(dictionary: &Dictionary, address_keys: &AddressKeyTable) ->
             "steps": { "$ref": "#/$defs/steps" },
             "finally": { "$ref": "#/$defs/steps" },
             "on_fault": { "$ref": "#/$defs/steps" },
-            "leave_enabled": { "type": "boolean" },
+            "leave_enabled": { "type": "boolean", "default": false,
+                "description": "true: a run that succeeds leaves the drive as its steps left it (no brake, no finally, the default's or the recipe's); every other ending stops it. `drivescript stop` stops it later" },
             "drives": {
                 "type": "object",
                 "description": "Several named drives instead of one `drive:`; steps then name objects as `left.speed_setpoint`, commands as `- enable_operation: left` (a bare command goes to every drive) and `go_to: { drive: left, state: … }`",

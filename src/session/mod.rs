@@ -10,6 +10,7 @@ mod condition;
 mod expect;
 mod expect_parameters;
 mod object_ref;
+mod one_off_stop;
 mod operations;
 mod ramp;
 mod run_info;
@@ -32,6 +33,7 @@ pub use condition::{
     number, with_unit, write_number, Check, Condition, Predicate, Statistic, Stats, Tolerance,
 };
 pub use object_ref::ObjectRef;
+pub use one_off_stop::{stop_drive, OneOffStopError};
 pub use run_info::{RunInfo, StepInfo};
 pub use run_observer::{Observers, RunObserver};
 pub use run_report::{

@@ -203,6 +203,10 @@ impl Session<'_> {
         match finally {
             // The recipe's `finally` names its drives in any order: every drive is reached
             // again first.
+            // A run that succeeded with `leave_enabled: true` keeps its drives as the
+            // steps left them: neither the brake nor any finally; the verification still
+            // reads each back.
+            _ if keep => {}
             Some(finally) => {
                 if link_lost {
                     for &i in &order {
@@ -278,6 +282,7 @@ impl Session<'_> {
         }
         let device_control = self.has_device_control();
         match finally {
+            _ if keep => {}
             Some(finally) => {
                 let reachable = vec![true; self.drives.len()];
                 self.brake_before_finally(&[self.current], &reachable);

@@ -26,6 +26,7 @@ mod reports;
 mod safety;
 mod scripts;
 mod socketcan;
+mod stop_command;
 mod support;
 mod text_family;
 mod vectors;

@@ -1,0 +1,107 @@
+//! `drivescript stop`: the verified safe stop of a drive a recipe left running (brake to
+//! standstill, disable operation, shutdown, read back, escalate), with the connection
+//! options of the other one-off commands. Only parses and prints: the stop itself is the
+//! library's (`session::stop_drive`).
+
+use super::drive_args::{open_drive, DictionaryArgs};
+use super::not_run::silent_drive;
+use super::{panic_notice, stop_signals, ConnectionArgs, SafeStopArgs, COMMUNICATION, INVALID};
+use crate::family::Registry;
+use crate::recipe::SafeStopChoice;
+use crate::report::{step_line, summary_lines};
+use crate::session::{stop_drive, OneOffStopError, RunObserver, StepRecord, Verdict};
+use clap::Args;
+
+#[derive(Debug, Args)]
+/// Stop a drive safely, e.g. one a recipe left running with `leave_enabled: true`: the
+/// speed setpoint to 0 and a wait for standstill (--stop-timeout, --standstill), then
+/// disable operation and shutdown, then the state and speed read back (escalating to quick
+/// stop and disable voltage if the drive does not obey). Exit codes as `run`: 0 stopped
+/// and confirmed, 3 not confirmed or not obeyed (CHECK THE DRIVE BY HAND), 128 + N after
+/// a stop signal (a second one switches the power stage off at once).
+pub struct StopArgs {
+    #[command(flatten)]
+    safe_stop: SafeStopArgs,
+    #[command(flatten)]
+    dictionary: DictionaryArgs,
+    #[command(flatten)]
+    connection: ConnectionArgs,
+}
+
+/// Prints each step of the stop as it ends and what else the stop says.
+struct StopLines;
+
+impl RunObserver for StopLines {
+    fn step_finished(&mut self, record: &StepRecord) {
+        println!("{}", step_line(record));
+    }
+    fn message(&mut self, text: &str) {
+        println!("{text}");
+    }
+}
+
+pub fn stop(args: &StopArgs) -> i32 {
+    let stop = stop_signals::install(true);
+    panic_notice::install();
+    let dictionary = match args.dictionary.load() {
+        Ok(d) => d,
+        Err(text) => {
+            eprint!("{text}");
+            return INVALID;
+        }
+    };
+    let registry = Registry::builtin();
+    let mut open = match open_drive(
+        &registry,
+        &args.connection,
+        dictionary,
+        false,
+        None,
+        Some(stop.clone()),
+    ) {
+        Ok(o) => o,
+        Err(text) => {
+            eprintln!("{text}");
+            return COMMUNICATION;
+        }
+    };
+    if open.simulator.is_some() {
+        println!(
+            "using {}; its state is not kept between commands",
+            open.description
+        );
+    }
+    println!("stop    {}", open.description);
+    let settings = args.safe_stop.settings(&SafeStopChoice::default());
+    match stop_drive(&mut open.drive, &mut StopLines, &stop, settings) {
+        Ok(report) => {
+            let mut lines = summary_lines(&report, false);
+            // The run's verdict line counts steps and checks, which a stop has none of.
+            lines.pop();
+            for line in lines {
+                println!("{line}");
+            }
+            let code = report.exit_code();
+            let word = match (&report.verdict, code) {
+                (Verdict::Passed, 0) => "STOPPED".to_string(),
+                (v, _) => match v.reason() {
+                    Some(why) => format!("{}: {why}", v.word()),
+                    None => v.word().to_string(),
+                },
+            };
+            println!("{word} — exit code {code}");
+            code
+        }
+        Err(OneOffStopError::Silent(e)) => {
+            let text = silent_drive(&args.connection, &e.to_string());
+            eprintln!(
+                "{}",
+                text.replace(
+                    "nothing was written to it and the recipe did not start",
+                    "nothing was sent to stop it",
+                )
+            );
+            COMMUNICATION
+        }
+    }
+}
