@@ -11,6 +11,7 @@ use crate::recipe::SafeStopChoice;
 use crate::report::{step_line, summary_lines};
 use crate::session::{stop_drive, OneOffStopError, RunObserver, StepRecord, Verdict};
 use clap::Args;
+use std::io::Write;
 
 #[derive(Debug, Args)]
 /// Stop a drive safely, e.g. one a recipe left running with `leave_enabled: true`: the
@@ -28,15 +29,17 @@ pub struct StopArgs {
     connection: ConnectionArgs,
 }
 
-/// Prints each step of the stop as it ends and what else the stop says.
+/// Prints each step of the stop as it ends and what else the stop says. Written with
+/// `writeln!`, never `println!`: after SIGHUP the terminal is gone, and a failed write must
+/// not panic in the middle of the stop.
 struct StopLines;
 
 impl RunObserver for StopLines {
     fn step_finished(&mut self, record: &StepRecord) {
-        println!("{}", step_line(record));
+        let _ = writeln!(std::io::stdout(), "{}", step_line(record));
     }
     fn message(&mut self, text: &str) {
-        println!("{text}");
+        let _ = writeln!(std::io::stdout(), "{text}");
     }
 }
 
@@ -65,13 +68,12 @@ pub fn stop(args: &StopArgs) -> i32 {
             return COMMUNICATION;
         }
     };
-    if open.simulator.is_some() {
-        println!(
-            "using {}; its state is not kept between commands",
-            open.description
-        );
-    }
-    println!("stop    {}", open.description);
+    // The simulated drive is a fresh one for each command: nothing of an earlier run.
+    let fresh = match open.simulator {
+        Some(_) => "; its state is not kept between commands",
+        None => "",
+    };
+    let _ = writeln!(std::io::stdout(), "stop    {}{fresh}", open.description);
     let settings = args.safe_stop.settings(&SafeStopChoice::default());
     match stop_drive(&mut open.drive, &mut StopLines, &stop, settings) {
         Ok(report) => {
@@ -79,7 +81,7 @@ pub fn stop(args: &StopArgs) -> i32 {
             // The run's verdict line counts steps and checks, which a stop has none of.
             lines.pop();
             for line in lines {
-                println!("{line}");
+                let _ = writeln!(std::io::stdout(), "{line}");
             }
             let code = report.exit_code();
             let word = match (&report.verdict, code) {
@@ -89,7 +91,7 @@ pub fn stop(args: &StopArgs) -> i32 {
                     None => v.word().to_string(),
                 },
             };
-            println!("{word} — exit code {code}");
+            let _ = writeln!(std::io::stdout(), "{word} — exit code {code}");
             code
         }
         Err(OneOffStopError::Silent(e)) => {
