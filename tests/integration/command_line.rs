@@ -4,7 +4,7 @@
 //! and exit codes in `--help`, build information in `--version`, and plain messages for
 //! a port that is not a serial port and a recipe that is not UTF-8.
 
-use crate::support::{drivescript, stderr, stdout};
+use crate::support::{assert_has, assert_lacks, drivescript, stderr, stdout};
 
 fn temp_dir(name: &str) -> std::path::PathBuf {
     let dir = std::env::temp_dir().join(format!("drivescript-cli-{name}-{}", std::process::id()));
@@ -31,17 +31,19 @@ fn several_recipes_run_in_turn_and_the_worst_exit_code_wins() {
     );
     let text = stdout(&out);
     assert_eq!(out.status.code(), Some(1), "{text}{}", stderr(&out));
-    assert!(
-        text.contains("== recipe 1 of 2: tests/cases/ok/identity/recipe.yaml"),
-        "{text}"
+    assert_has(
+        &text,
+        &[
+            "== recipe 1 of 2: tests/cases/ok/identity/recipe.yaml",
+            "== recipe 2 of 2:",
+        ],
     );
-    assert!(text.contains("== recipe 2 of 2:"), "{text}");
     assert_eq!(
         text.matches("drive left in").count(),
         2,
         "each its own safe stop: {text}"
     );
-    assert!(text.contains("exit code 1 (the worst of them)"), "{text}");
+    assert_has(&text, &["exit code 1 (the worst of them)"]);
     // One JUnit file per recipe under --output-dir, each announced.
     let written: Vec<String> = text
         .lines()
@@ -101,12 +103,8 @@ fn decode_reads_trace_files() {
     let decoded = drivescript(&["decode", trace.to_str().unwrap(), trace.to_str().unwrap()], "");
     assert_eq!(decoded.status.code(), Some(0), "{}", stderr(&decoded));
     let text = stdout(&decoded);
-    assert!(text.contains("read wide object"), "{text}");
-    assert!(
-        !stderr(&decoded).contains("not a hex digit"),
-        "{}",
-        stderr(&decoded)
-    );
+    assert_has(&text, &["read wide object"]);
+    assert_lacks(&stderr(&decoded), &["not a hex digit"]);
     let once = stdout(&drivescript(&["decode", trace.to_str().unwrap()], ""));
     assert_eq!(text.len(), 2 * once.len(), "both files decoded");
     std::fs::remove_dir_all(&dir).unwrap();
@@ -116,11 +114,7 @@ fn decode_reads_trace_files() {
 fn write_takes_the_unit_as_its_own_argument() {
     let out = drivescript(&["write", "speed_setpoint", "6000", "rpm"], "");
     assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
-    assert!(
-        stdout(&out).contains("speed_setpoint = 6000 rpm written"),
-        "{}",
-        stdout(&out)
-    );
+    assert_has(&stdout(&out), &["speed_setpoint = 6000 rpm written"]);
 }
 
 #[test]
@@ -132,24 +126,25 @@ fn colour_follows_the_color_option_and_is_off_in_pipes() {
     };
     assert!(!run(&[]).contains('\x1b'), "a pipe gets no escape codes");
     let always = run(&["--color", "always"]);
-    assert!(always.contains("\x1b[32mPASSED\x1b[0m"), "{always}");
+    assert_has(&always, &["\x1b[32mPASSED\x1b[0m"]);
     assert!(!run(&["--color", "never"]).contains('\x1b'));
 }
 
 #[test]
 fn help_shows_examples_and_exit_codes_and_version_the_build() {
     let help = stdout(&drivescript(&["--help"], ""));
-    assert!(help.contains("Examples:"), "{help}");
-    assert!(
-        help.contains("drivescript write speed_setpoint 6000 rpm"),
-        "{help}"
+    assert_has(
+        &help,
+        &[
+            "Examples:",
+            "drivescript write speed_setpoint 6000 rpm",
+            "Exit codes:",
+            "3  communication failure",
+        ],
     );
-    assert!(help.contains("Exit codes:"), "{help}");
-    assert!(help.contains("3  communication failure"), "{help}");
     let version = stdout(&drivescript(&["--version"], ""));
     assert!(version.starts_with("drivescript 0."), "{version}");
-    assert!(version.contains("(commit "), "{version}");
-    assert!(version.contains(", built 20"), "{version}");
+    assert_has(&version, &["(commit ", ", built 20"]);
 }
 
 #[test]
@@ -157,8 +152,8 @@ fn a_file_that_is_no_serial_port_is_said_plainly() {
     let out = drivescript(&["state", "--port", "/dev/null"], "");
     assert_ne!(out.status.code(), Some(0));
     let err = stderr(&out);
-    assert!(err.contains("/dev/null: it is not a serial port"), "{err}");
-    assert!(!err.contains("typewriter"), "{err}");
+    assert_has(&err, &["/dev/null: it is not a serial port"]);
+    assert_lacks(&err, &["typewriter"]);
 }
 
 #[test]
@@ -169,9 +164,8 @@ fn a_windows_1252_recipe_is_said_plainly() {
     let out = drivescript(&["check", path.to_str().unwrap()], "");
     assert_eq!(out.status.code(), Some(2));
     let err = stderr(&out);
-    assert!(err.contains("is not UTF-8 text"), "{err}");
-    assert!(err.contains("Windows-1252"), "{err}");
-    assert!(!err.contains("check the path"), "{err}");
+    assert_has(&err, &["is not UTF-8 text", "Windows-1252"]);
+    assert_lacks(&err, &["check the path"]);
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
@@ -201,7 +195,7 @@ fn a_drive_that_never_answers_gets_one_early_message() {
     );
     assert_eq!(out.status.code(), Some(3), "{}", stdout(&out));
     let err = stderr(&out);
-    assert!(err.contains("the drive does not answer (--address 1,"), "{err}");
+    assert_has(&err, &["the drive does not answer (--address 1,"]);
     assert_eq!(err.matches("no reply from").count(), 1, "said once: {err}");
     for cause in [
         "1. the address: you gave --address 1",
@@ -216,7 +210,7 @@ fn a_drive_that_never_answers_gets_one_early_message() {
         stdout(&out)
     );
     let xml = std::fs::read_to_string(&junit).expect("junit");
-    assert!(xml.contains("the drive does not answer"), "{xml}");
+    assert_has(&xml, &["the drive does not answer"]);
     std::fs::remove_dir_all(&dir).unwrap();
 }
 

@@ -2,7 +2,7 @@
 //! pseudo-terminal, `simulate --tcp` on loopback, and Ctrl-C (SIGINT) during a real-time
 //! run, which must still run `finally` and exit with 130.
 
-use crate::support::{drivescript, repo_root, stderr, stdout, LiveRun};
+use crate::support::{assert_has, assert_lacks, drivescript, repo_root, stderr, stdout, LiveRun};
 use std::io::{BufRead, BufReader};
 use std::process::{Child, Command, Stdio};
 
@@ -50,18 +50,13 @@ fn a_pseudo_terminal_serves_the_simulated_drive() {
 
     let out = drivescript(&["state", "--port", port], "");
     assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
-    assert!(
-        stdout(&out).contains("status word 0x0240: switch on disabled"),
-        "{}",
-        stdout(&out)
-    );
+    assert_has(&stdout(&out), &["status word 0x0240: switch on disabled"]);
 
     let out = drivescript(&["write", "speed_setpoint", "6000rpm", "--port", port], "");
     assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
-    assert!(
-        stdout(&out).contains("speed_setpoint = 6000 rpm written (raw 6000000)"),
-        "{}",
-        stdout(&out)
+    assert_has(
+        &stdout(&out),
+        &["speed_setpoint = 6000 rpm written (raw 6000000)"],
     );
 
     // The simulated drive keeps its state between connections, like a real one.
@@ -82,7 +77,7 @@ fn a_pseudo_terminal_serves_the_simulated_drive() {
     // Without a type nothing is sent and the message says what to add.
     let out = drivescript(&["read", "0x18b", "--port", port], "");
     assert_eq!(out.status.code(), Some(2), "{}", stdout(&out));
-    assert!(stderr(&out).contains("--type"), "{}", stderr(&out));
+    assert_has(&stderr(&out), &["--type"]);
 }
 
 #[test]
@@ -95,7 +90,7 @@ fn tcp_on_loopback_serves_the_simulated_drive() {
     );
     let out = drivescript(&["state", "--tcp", &sim.endpoint], "");
     assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
-    assert!(stdout(&out).contains("switch on disabled"), "{}", stdout(&out));
+    assert_has(&stdout(&out), &["switch on disabled"]);
 }
 
 #[test]
@@ -103,8 +98,10 @@ fn a_missing_port_says_which_and_what_to_do() {
     let out = drivescript(&["state", "--port", "/dev/does-not-exist-ds"], "");
     assert_eq!(out.status.code(), Some(3));
     let err = stderr(&out);
-    assert!(err.contains("/dev/does-not-exist-ds does not exist"), "{err}");
-    assert!(err.contains("drivescript ports"), "{err}");
+    assert_has(
+        &err,
+        &["/dev/does-not-exist-ds does not exist", "drivescript ports"],
+    );
 }
 
 #[test]
@@ -118,8 +115,13 @@ fn a_drive_that_does_not_answer_is_exit_code_3_naming_the_telegram() {
     );
     assert_eq!(out.status.code(), Some(3));
     let err = stderr(&out);
-    assert!(err.contains("no reply from drive 2 on tcp"), "{err}");
-    assert!(err.contains("00 09 02 01 0d 43 00 00 00 00 00 a3"), "{err}");
+    assert_has(
+        &err,
+        &[
+            "no reply from drive 2 on tcp",
+            "00 09 02 01 0d 43 00 00 00 00 00 a3",
+        ],
+    );
     drop(listener);
 }
 
@@ -133,10 +135,15 @@ fn ctrl_c_during_a_run_stops_safely_and_exits_130() {
     let (code, all) = run.finish();
     assert_eq!(code, Some(130), "{all}");
     // The press lands in the dwell or just before it starts; either way the steps stop.
-    assert!(!all.contains("ok    dwell"), "{all}");
-    assert!(all.contains("finally 3  ok    shutdown"), "{all}");
-    assert!(all.contains("drive left in ready to switch on"), "{all}");
-    assert!(all.contains("INTERRUPTED"), "{all}");
+    assert_lacks(&all, &["ok    dwell"]);
+    assert_has(
+        &all,
+        &[
+            "finally 3  ok    shutdown",
+            "drive left in ready to switch on",
+            "INTERRUPTED",
+        ],
+    );
 }
 
 #[cfg(unix)]
@@ -210,10 +217,12 @@ fn the_cyclic_channel_runs_the_commissioning_recipe_through_a_pty() {
             stderr(&out)
         );
         let text = stdout(&out);
-        assert!(text.contains("PASS  speed_actual near 3000 rpm ± 1 %"), "{text}");
-        assert!(
-            text.contains("drive left in ready to switch on at 0 rpm"),
-            "{text}"
+        assert_has(
+            &text,
+            &[
+                "PASS  speed_actual near 3000 rpm ± 1 %",
+                "drive left in ready to switch on at 0 rpm",
+            ],
         );
     }
     let trace_text = std::fs::read_to_string(&trace).expect("trace written");

@@ -5,7 +5,7 @@
 //! profile `check` refuses device control; the safe stop on a stop signal, a lost line and
 //! a drive that ignores commands; and a real pseudo-terminal with `simulate --pty`.
 
-use crate::support::{drivescript, repo_root, stderr, stdout, InProcessRun};
+use crate::support::{assert_has, assert_lacks, drivescript, repo_root, stderr, stdout, InProcessRun};
 use drivescript::cli::DictionaryArgs;
 use drivescript::clock::SharedClock;
 use drivescript::drive::{DeviceCommand, DeviceState};
@@ -115,16 +115,15 @@ fn the_commissioning_recipe_runs_on_the_simulated_931_with_only_drive_changed() 
     assert_eq!(result.exit_code, 0, "{output}");
     // The trace shows each line as text with its meaning, and decode reads it back.
     let trace_text = std::fs::read_to_string(&trace).expect("trace");
-    assert!(
-        trace_text.contains("# OW:0020:0000000F write object 0x0020 control_word; 15 (0x0000000F)"),
-        "{trace_text}"
+    assert_has(
+        &trace_text,
+        &["# OW:0020:0000000F write object 0x0020 control_word; 15 (0x0000000F)"],
     );
     let out = drivescript(&["decode", "--protocol", "lenze-931"], &trace_text);
     assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
-    assert!(
-        stdout(&out).contains("request   write object 0x0020\n  value     15 (0x0000000F)"),
-        "{}",
-        stdout(&out)
+    assert_has(
+        &stdout(&out),
+        &["request   write object 0x0020\n  value     15 (0x0000000F)"],
     );
     // With the user's dictionary, decode names the objects and the status bits.
     let extra = completed_template(&dir).to_string_lossy().to_string();
@@ -142,19 +141,20 @@ fn the_commissioning_recipe_runs_on_the_simulated_931_with_only_drive_changed() 
     );
     assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
     let text = stdout(&out);
-    assert!(
-        text.contains("request   read object 0x0001 rs232_stat_sum"),
-        "{text}"
+    assert_has(
+        &text,
+        &[
+            "request   read object 0x0001 rs232_stat_sum",
+            "status    13 speed = 0 ± hysteresis, 15 ready for operation",
+        ],
     );
-    assert!(
-        text.contains("status    13 speed = 0 ± hysteresis, 15 ready for operation"),
-        "{text}"
-    );
-    assert!(output.contains("using the built-in simulated"), "{output}");
-    assert!(output.contains("ident = \"0931\""), "{output}");
-    assert!(
-        output.contains("drive left in ready to switch on at 0 rpm"),
-        "{output}"
+    assert_has(
+        &output,
+        &[
+            "using the built-in simulated",
+            "ident = \"0931\"",
+            "drive left in ready to switch on at 0 rpm",
+        ],
     );
     let sim = result.simulator.expect("the simulated drive");
     let words = sim
@@ -178,17 +178,14 @@ fn a_limited_write_warns_with_the_stored_value_and_expect_sees_it() {
     run.dictionary = dictionary_args(Some(completed_template(&dir)));
     let (result, output) = run.run();
     assert_eq!(result.exit_code, 0, "{output}");
-    assert!(
-        output.contains(
-            "warning: speed_setpoint = 8000 rpm was limited by the drive, which stored 6000 rpm (read back)"
-        ),
-        "{output}"
+    assert_has(
+        &output,
+        &[
+            "warning: speed_setpoint = 8000 rpm was limited by the drive, which stored 6000 rpm (read back)",
+            "PASS  speed_setpoint equals 6000 rpm",
+        ],
     );
-    assert!(
-        output.contains("PASS  speed_setpoint equals 6000 rpm"),
-        "{output}"
-    );
-    assert!(!output.contains("FAIL"), "{output}");
+    assert_lacks(&output, &["FAIL"]);
 }
 
 #[test]
@@ -203,10 +200,7 @@ fn a_value_the_drive_refuses_names_the_drives_limit() {
     run.dictionary = dictionary_args(Some(completed_template(&dir)));
     let (result, output) = run.run();
     assert_eq!(result.exit_code, 3, "{output}");
-    assert!(
-        output.contains("0x00000003 value too high, not written; the drive's maximum is 3 (0x00000003, read with OX:0014)"),
-        "{output}"
-    );
+    assert_has(&output, &["0x00000003 value too high, not written; the drive's maximum is 3 (0x00000003, read with OX:0014)"]);
 }
 
 type SharedSim = Arc<Mutex<dyn SimulatedDrive>>;
@@ -248,26 +242,8 @@ fn a_run_outside_the_drives_limits_is_refused_before_any_write_telegram() {
     assert_eq!(code, 2, "{output}");
     // Each object written is asked for its limits once, and nothing else is sent.
     assert_eq!(requests, ["ON:0014", "OX:0014", "ON:0010", "OX:0010"], "{output}");
-    assert!(
-        output.contains("drive limits of speed_setpoint: -6000 rpm .. 6000 rpm (read from the 931 on"),
-        "{output}"
-    );
-    assert!(
-        output.contains("outside.yaml:6:5: set speed_setpoint = 8000 rpm is above the maximum the drive reports, 6000 rpm"),
-        "{output}"
-    );
-    assert!(
-        output.contains("outside.yaml:7:5: ramp speed_setpoint = -7000 rpm is below the minimum the drive reports, -6000 rpm"),
-        "{output}"
-    );
-    assert!(output.contains("error: 2 value(s) of "), "{output}");
-    assert!(
-        output.contains(
-            "nothing was sent to move the drive. Lower the value, or change the drive's limit first"
-        ),
-        "{output}"
-    );
-    assert!(!output.contains("PASSED"), "{output}");
+    assert_has(&output, &["drive limits of speed_setpoint: -6000 rpm .. 6000 rpm (read from the 931 on", "outside.yaml:6:5: set speed_setpoint = 8000 rpm is above the maximum the drive reports, 6000 rpm", "outside.yaml:7:5: ramp speed_setpoint = -7000 rpm is below the minimum the drive reports, -6000 rpm", "error: 2 value(s) of ", "nothing was sent to move the drive. Lower the value, or change the drive's limit first"]);
+    assert_lacks(&output, &["PASSED"]);
 
     // A script's literal values are compared the same way, at their place.
     let script = write(
@@ -278,10 +254,9 @@ fn a_run_outside_the_drives_limits_is_refused_before_any_write_telegram() {
     let (code, output, requests) = run_and_record(&dir, script);
     assert_eq!(code, 2, "{output}");
     assert_eq!(requests, ["ON:0014", "OX:0014", "ON:0010", "OX:0010"], "{output}");
-    assert!(
-        output
-            .contains("outside.rhai:3:25: set operating_mode = 9 is above the maximum the drive reports, 3"),
-        "{output}"
+    assert_has(
+        &output,
+        &["outside.rhai:3:25: set operating_mode = 9 is above the maximum the drive reports, 3"],
     );
 }
 
@@ -305,12 +280,11 @@ fn a_run_within_the_drives_limits_reads_them_first_and_passes() {
     assert!(!requests[2..]
         .iter()
         .any(|r| r.starts_with("ON:") || r.starts_with("OX:")));
-    assert!(!output.contains("warning"), "{output}");
-    assert!(
-        output.contains("drive limits of speed_setpoint: -6000 rpm .. 6000 rpm"),
-        "{output}"
+    assert_lacks(&output, &["warning"]);
+    assert_has(
+        &output,
+        &["drive limits of speed_setpoint: -6000 rpm .. 6000 rpm", "PASSED"],
     );
-    assert!(output.contains("PASSED"), "{output}");
 }
 
 #[test]
@@ -325,23 +299,16 @@ fn without_a_profile_check_refuses_device_commands_and_states_saying_what_to_add
     let out = drivescript(&["check", &path, "--drive", "lenze-931"], "");
     assert_eq!(out.status.code(), Some(2), "{}", stdout(&out));
     let err = stderr(&out);
-    assert!(
-        err.contains("`shutdown` needs device control, but the lenze-931 dictionary has no `profile:`"),
-        "{err}"
+    assert_has(
+        &err,
+        &[
+            "`shutdown` needs device control, but the lenze-931 dictionary has no `profile:`",
+            "the state `operation_enabled` needs device control",
+            "the state `switched_on` needs device control",
+            "add a `profile:` to a dictionary file given with --dictionary FILE",
+            "3 problems found",
+        ],
     );
-    assert!(
-        err.contains("the state `operation_enabled` needs device control"),
-        "{err}"
-    );
-    assert!(
-        err.contains("the state `switched_on` needs device control"),
-        "{err}"
-    );
-    assert!(
-        err.contains("add a `profile:` to a dictionary file given with --dictionary FILE"),
-        "{err}"
-    );
-    assert!(err.contains("3 problems found"), "{err}");
     // The same recipe with the completed template (which has a profile) passes.
     let extra = completed_template(&dir).to_string_lossy().to_string();
     let out = drivescript(
@@ -377,15 +344,17 @@ fn sigint_during_a_run_stops_the_simulated_931_and_verifies_it() {
     stop.schedule(Duration::from_secs(4), StopSignal::INT);
     let (code, output, sim) = run_with(&recipe, completed_template(&dir), &|_, _: &SharedClock| {}, stop);
     assert_eq!(code, 130, "{output}");
-    assert!(
-        output.contains("INTERRUPTED: interrupted by Ctrl-C (SIGINT)"),
-        "{output}"
+    assert_has(
+        &output,
+        &[
+            "INTERRUPTED: interrupted by Ctrl-C (SIGINT)",
+            "FAIL  dwell 5s  interrupted",
+        ],
     );
-    assert!(output.contains("FAIL  dwell 5s  interrupted"), "{output}");
     // The recipe's own finally disables without braking, and the last line says so.
-    assert!(
-        output.contains("drive left in ready to switch on at 3000 rpm — STILL COASTING"),
-        "{output}"
+    assert_has(
+        &output,
+        &["drive left in ready to switch on at 3000 rpm — STILL COASTING"],
     );
     let sim = sim.lock().unwrap_or_else(PoisonError::into_inner);
     assert_eq!(sim.state(), DeviceState::ReadyToSwitchOn);
@@ -414,11 +383,13 @@ fn a_931_that_ignores_the_stop_commands_is_escalated_and_reported() {
         Arc::new(StopRequests::new()),
     );
     assert_eq!(code, 3, "{output}");
-    assert!(
-        output.contains("it did not obey; escalating to quick stop"),
-        "{output}"
+    assert_has(
+        &output,
+        &[
+            "it did not obey; escalating to quick stop",
+            "CHECK THE DRIVE BY HAND",
+        ],
     );
-    assert!(output.contains("CHECK THE DRIVE BY HAND"), "{output}");
 }
 
 #[test]
@@ -437,8 +408,10 @@ fn a_lost_line_to_the_931_ends_in_the_truth() {
     run.safe_stop.reconnect_timeout = Some(Duration::from_secs(2));
     let (result, output) = run.run();
     assert_eq!(result.exit_code, 3, "{output}");
-    assert!(output.contains("CHECK THE DRIVE BY HAND"), "{output}");
-    assert!(output.contains("drive left in an unknown state"), "{output}");
+    assert_has(
+        &output,
+        &["CHECK THE DRIVE BY HAND", "drive left in an unknown state"],
+    );
 }
 
 #[cfg(unix)]
@@ -462,9 +435,7 @@ fn through_a_pseudo_terminal_raw_access_drive_limits_and_a_run() {
     );
     assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
     let text = stdout(&out);
-    assert!(text.contains("0xfffff448"), "{text}");
-    assert!(text.contains("-3000"), "{text}");
-    assert!(text.contains("\"0931\""), "{text}");
+    assert_has(&text, &["0xfffff448", "-3000", "\"0931\""]);
     // A CANopen object through the SDO simulation: the status word, little-endian bytes.
     let out = drivescript(
         &[
@@ -499,15 +470,16 @@ fn through_a_pseudo_terminal_raw_access_drive_limits_and_a_run() {
     let out = drivescript(&args, "");
     assert_eq!(out.status.code(), Some(2), "{}\n{}", stdout(&out), stderr(&out));
     let err = stderr(&out);
-    assert!(
-        err.contains("set speed_setpoint = 8000 rpm is above the maximum the drive reports, 6000 rpm"),
-        "{err}"
+    assert_has(
+        &err,
+        &[
+            "set speed_setpoint = 8000 rpm is above the maximum the drive reports, 6000 rpm",
+            "nothing was sent to move the drive",
+        ],
     );
-    assert!(err.contains("nothing was sent to move the drive"), "{err}");
-    assert!(
-        stdout(&out).contains("drive limits of speed_setpoint: -6000 rpm .. 6000 rpm"),
-        "{}",
-        stdout(&out)
+    assert_has(
+        &stdout(&out),
+        &["drive limits of speed_setpoint: -6000 rpm .. 6000 rpm"],
     );
     // `run` compares the same way before anything moves, and so does `check` for a
     // script's literal values.
@@ -515,13 +487,11 @@ fn through_a_pseudo_terminal_raw_access_drive_limits_and_a_run() {
     args.extend(base);
     let out = drivescript(&args, "");
     assert_eq!(out.status.code(), Some(2), "{}\n{}", stdout(&out), stderr(&out));
-    assert!(
-        stderr(&out)
-            .contains("set speed_setpoint = 8000 rpm is above the maximum the drive reports, 6000 rpm"),
-        "{}",
-        stderr(&out)
+    assert_has(
+        &stderr(&out),
+        &["set speed_setpoint = 8000 rpm is above the maximum the drive reports, 6000 rpm"],
     );
-    assert!(!stdout(&out).contains("recipe  "), "{}", stdout(&out));
+    assert_lacks(&stdout(&out), &["recipe  "]);
     let script = write(
         &dir,
         "fast.rhai",
@@ -532,12 +502,9 @@ fn through_a_pseudo_terminal_raw_access_drive_limits_and_a_run() {
     args.extend(base);
     let out = drivescript(&args, "");
     assert_eq!(out.status.code(), Some(2), "{}\n{}", stdout(&out), stderr(&out));
-    assert!(
-        stderr(&out).contains(
-            "fast.rhai:3:25: set speed_setpoint = 6500 rpm is above the maximum the drive reports, 6000 rpm"
-        ),
-        "{}",
-        stderr(&out)
+    assert_has(
+        &stderr(&out),
+        &["fast.rhai:3:25: set speed_setpoint = 6500 rpm is above the maximum the drive reports, 6000 rpm"],
     );
     // Ramp points are checked too, at the step's place.
     let ramp = write(
@@ -550,11 +517,7 @@ fn through_a_pseudo_terminal_raw_access_drive_limits_and_a_run() {
     args.extend(base);
     let out = drivescript(&args, "");
     assert_eq!(out.status.code(), Some(2), "{}", stdout(&out));
-    assert!(
-        stderr(&out).contains("ramp.yaml:4:5: ramp speed_setpoint = -7000 rpm is below the minimum the drive reports, -6000 rpm"),
-        "{}",
-        stderr(&out)
-    );
+    assert_has(&stderr(&out), &["ramp.yaml:4:5: ramp speed_setpoint = -7000 rpm is below the minimum the drive reports, -6000 rpm"]);
     // Nothing moved: the setpoint is what the raw write left.
     let out = drivescript(
         &["read", "0x0010", "--drive", "lenze-931", "--port", port, "--json"],
@@ -574,7 +537,7 @@ fn through_a_pseudo_terminal_raw_access_drive_limits_and_a_run() {
         ],
         "",
     );
-    assert!(stdout(&out).contains("switch on disabled"), "{}", stdout(&out));
+    assert_has(&stdout(&out), &["switch on disabled"]);
 
     // Within the limits, check passes and the recipe runs through the pty.
     let mut args = vec!["check", recipe.as_str()];
@@ -585,25 +548,17 @@ fn through_a_pseudo_terminal_raw_access_drive_limits_and_a_run() {
     args.extend(base);
     let out = drivescript(&args, "");
     assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
-    assert!(
-        stdout(&out).contains("drive limits: -6000 rpm .. 6000 rpm"),
-        "{}",
-        stdout(&out)
-    );
+    assert_has(&stdout(&out), &["drive limits: -6000 rpm .. 6000 rpm"]);
     let mut args = vec!["run", recipe.as_str(), "--stop-timeout", "20s"];
     args.extend(base);
     let out = drivescript(&args, "");
     assert_eq!(out.status.code(), Some(0), "{}\n{}", stdout(&out), stderr(&out));
-    assert!(stdout(&out).contains("PASSED"), "{}", stdout(&out));
+    assert_has(&stdout(&out), &["PASSED"]);
 
     // Captured lines explain themselves.
     let out = drivescript(&["decode", "--protocol", "lenze-931", "OW:0000 0005"], "");
     assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
-    assert!(
-        stdout(&out).contains("0x00000005 value too high, written but limited"),
-        "{}",
-        stdout(&out)
-    );
+    assert_has(&stdout(&out), &["0x00000005 value too high, written but limited"]);
 }
 
 #[test]
@@ -633,12 +588,14 @@ fn a_silent_drive_leaves_check_unable_to_read_limits_with_exit_code_3() {
     );
     assert_eq!(out.status.code(), Some(3), "{}", stdout(&out));
     let err = stderr(&out);
-    assert!(
-        err.contains("`ON:0010` (read the minimum of object 0x0010)"),
-        "{err}"
+    assert_has(
+        &err,
+        &[
+            "`ON:0010` (read the minimum of object 0x0010)",
+            "2 attempt(s), 50 ms each",
+            "the drive's limits could not be read",
+        ],
     );
-    assert!(err.contains("2 attempt(s), 50 ms each"), "{err}");
-    assert!(err.contains("the drive's limits could not be read"), "{err}");
     drop(listener);
 }
 
@@ -681,17 +638,14 @@ fn parameters_round_trip_with_the_drives_limits_and_save() {
     let beyond = beyond.to_string_lossy().to_string();
     let (code, out) = with(&["restore", &beyond, "--apply"]);
     assert_eq!(code, Some(2), "{out}");
-    assert!(out.contains("outside the drive's limits"), "{out}");
+    assert_has(&out, &["outside the drive's limits"]);
     let (code, out) = with(&["read", "operating_mode", "--json"]);
     assert_eq!(code, Some(0), "{out}");
     assert!(out.contains("\"value\":2"), "nothing was written: {out}");
 
     let (code, out) = with(&["restore", &file, "--apply", "--store"]);
     assert_eq!(code, Some(0), "{out}");
-    assert!(
-        out.contains("parameters stored in the drive's non-volatile memory"),
-        "{out}"
-    );
+    assert_has(&out, &["parameters stored in the drive's non-volatile memory"]);
     let (code, out) = with(&["diff", &file]);
     assert_eq!(code, Some(0), "{out}");
 }
@@ -708,7 +662,7 @@ fn an_sd2_run_asks_nothing_about_drive_limits() {
     assert_eq!(result.exit_code, 0, "{output}");
     let text = std::fs::read_to_string(&trace).expect("trace");
     assert_eq!(text.lines().filter(|l| l.contains(" TX ")).count(), 84, "{text}");
-    assert!(!output.contains("drive limits"), "{output}");
+    assert_lacks(&output, &["drive limits"]);
 }
 
 #[test]
@@ -736,8 +690,5 @@ fn ctrl_c_while_the_drives_limits_are_read_ends_with_130_and_nothing_moved() {
     );
     let (result, output) = run.run();
     assert_eq!(result.exit_code, 130, "{output}");
-    assert!(
-        output.contains("stopped by Ctrl-C (SIGINT) while the drive's limits were read; nothing was sent to move the drive"),
-        "{output}"
-    );
+    assert_has(&output, &["stopped by Ctrl-C (SIGINT) while the drive's limits were read; nothing was sent to move the drive"]);
 }

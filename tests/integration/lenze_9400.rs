@@ -3,7 +3,7 @@
 //! run on a dictionary without a device-control profile: a stop signal, a lost adapter
 //! that comes back, one that does not, and one lost in the middle of a segmented transfer.
 
-use crate::support::{load_frame_vectors, repo_root, InProcessRun};
+use crate::support::{assert_has, assert_lacks, load_frame_vectors, repo_root, InProcessRun};
 use drivescript::bus::CanFrame;
 use drivescript::cli::{DictionaryArgs, PrepareSimulator};
 use drivescript::clock::SharedClock;
@@ -65,12 +65,12 @@ fn the_printed_write_example_is_explained_as_what_it_really_sends() {
     let mut explainer = family.explainer(dictionary);
     let printed = CanFrame::parse_text("602#23A75F0066000300").unwrap();
     let text = explainer.explain(&printed.to_bytes()).unwrap();
-    assert!(text.contains("C00088 rated_motor_current"), "{text}");
+    assert_has(&text, &["C00088 rated_motor_current"]);
     // 0x00030066 = 196710 counts = 19671 A: not the 10.2 A the manual's text means.
-    assert!(text.contains("196710 = 19671 A"), "{text}");
+    assert_has(&text, &["196710 = 19671 A"]);
     let corrected = CanFrame::parse_text("602#23A75F0066000000").unwrap();
     let text = explainer.explain(&corrected.to_bytes()).unwrap();
-    assert!(text.contains("102 = 10.2 A"), "{text}");
+    assert_has(&text, &["102 = 10.2 A"]);
 }
 
 #[test]
@@ -80,16 +80,15 @@ fn the_shipped_recipe_passes_on_the_simulated_node_and_says_there_is_no_device_c
     let (result, output) = run.run();
     assert_eq!(result.exit_code, 0, "{output}");
     assert!(output.contains(r#"ident = "05.00.12.07""#), "{output}");
-    assert!(output.contains("rated_motor_current = 10.2 A"), "{output}");
-    assert!(
-        output.contains("safe stop: the lenze_9400 dictionary has no device-control profile"),
-        "{output}"
+    assert_has(
+        &output,
+        &[
+            "rated_motor_current = 10.2 A",
+            "safe stop: the lenze_9400 dictionary has no device-control profile",
+            "drive state not known: the dictionary has no device-control profile",
+        ],
     );
-    assert!(
-        output.contains("drive state not known: the dictionary has no device-control profile"),
-        "{output}"
-    );
-    assert!(!output.contains("CHECK THE DRIVE BY HAND"), "{output}");
+    assert_lacks(&output, &["CHECK THE DRIVE BY HAND"]);
 }
 
 const READ_FOR_A_MINUTE: &str = "name: Reading for a minute
@@ -119,9 +118,11 @@ fn a_stop_signal_ends_the_run_with_the_truth_about_device_control() {
     let nothing = |_: &Arc<Mutex<dyn SimulatedDrive>>, _: &SharedClock| {};
     let (code, output) = with_faults(READ_FOR_A_MINUTE, "sigint", stop, &nothing);
     assert_eq!(code, 130, "{output}");
-    assert!(output.contains("no device-control profile"), "{output}");
-    assert!(!output.contains("CHECK THE DRIVE BY HAND"), "{output}");
-    assert!(!output.contains("failed: the lenze_9400 dictionary"), "{output}");
+    assert_has(&output, &["no device-control profile"]);
+    assert_lacks(
+        &output,
+        &["CHECK THE DRIVE BY HAND", "failed: the lenze_9400 dictionary"],
+    );
 }
 
 #[test]
@@ -138,13 +139,13 @@ fn an_adapter_that_comes_back_is_reopened_and_the_node_checked_by_its_identity()
         &down,
     );
     assert_eq!(code, 3, "{output}");
-    assert!(output.contains("the CAN adapter went away"), "{output}");
+    assert_has(&output, &["the CAN adapter went away"]);
     assert!(
         output.contains("restored at attempt") && output.contains("the drive answers"),
         "{output}"
     );
-    assert!(output.contains("no device-control profile"), "{output}");
-    assert!(!output.contains("CHECK THE DRIVE BY HAND"), "{output}");
+    assert_has(&output, &["no device-control profile"]);
+    assert_lacks(&output, &["CHECK THE DRIVE BY HAND"]);
 }
 
 #[test]
@@ -166,10 +167,15 @@ fn an_adapter_lost_in_the_middle_of_a_segmented_read_ends_in_check_by_hand() {
         &down,
     );
     assert_eq!(code, 3, "{output}");
-    assert!(output.contains("the CAN adapter went away"), "{output}");
-    assert!(output.contains("CHECK THE DRIVE BY HAND"), "{output}");
-    assert!(output.contains("could not be reached to stop it"), "{output}");
-    assert!(output.contains("drive left in an unknown state"), "{output}");
+    assert_has(
+        &output,
+        &[
+            "the CAN adapter went away",
+            "CHECK THE DRIVE BY HAND",
+            "could not be reached to stop it",
+            "drive left in an unknown state",
+        ],
+    );
 }
 
 #[test]
@@ -281,7 +287,7 @@ fn an_slcan_pseudo_terminal_serves_the_simulated_node() {
     assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
     let out = with(&["read", "C00011", "--json"]);
     assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
-    assert!(stdout(&out).contains("3000"), "{}", stdout(&out));
+    assert_has(&stdout(&out), &["3000"]);
 
     // An unknown code: the node's abort, named.
     let out = with(&["read", "C00999"]);
@@ -311,11 +317,7 @@ fn an_slcan_pseudo_terminal_serves_the_simulated_node() {
         "",
     );
     assert_eq!(out.status.code(), Some(3), "{}{}", stdout(&out), stderr(&out));
-    assert!(
-        stderr(&out).contains("no reply from drive node 13"),
-        "{}",
-        stderr(&out)
-    );
+    assert_has(&stderr(&out), &["no reply from drive node 13"]);
 
     // A recipe through the adapter.
     let out = drivescript(
@@ -332,7 +334,7 @@ fn an_slcan_pseudo_terminal_serves_the_simulated_node() {
         "",
     );
     assert_eq!(out.status.code(), Some(0), "{}{}", stdout(&out), stderr(&out));
-    assert!(stdout(&out).contains("PASSED"), "{}", stdout(&out));
+    assert_has(&stdout(&out), &["PASSED"]);
 }
 
 #[test]
@@ -372,14 +374,10 @@ fn decode_reads_candump_frames_and_gives_the_vectors_json() {
         "",
     );
     assert_eq!(out.status.code(), Some(0));
-    assert!(
-        stdout(&out).contains("C00061 heatsink_temperature"),
-        "{}",
-        stdout(&out)
-    );
+    assert_has(&stdout(&out), &["C00061 heatsink_temperature"]);
     let out = drivescript(&["decode", "--protocol", "lenze-9400", "123#00"], "");
     assert_eq!(out.status.code(), Some(1));
-    assert!(stdout(&out).contains("not an SDO channel"), "{}", stdout(&out));
+    assert_has(&stdout(&out), &["not an SDO channel"]);
 }
 
 #[test]
@@ -417,11 +415,7 @@ fn a_trace_is_a_candump_log_that_decode_explains_again() {
     assert_eq!(frames[0], "(0000000000.000000) can0 601#409C5F0000000000");
     let out = drivescript(&["decode", "--protocol", "lenze-9400"], &text);
     assert_eq!(out.status.code(), Some(0), "{}", stdout(&out));
-    assert!(
-        stdout(&out).contains("reply C00099 ident: segmented, 11 bytes"),
-        "{}",
-        stdout(&out)
-    );
+    assert_has(&stdout(&out), &["reply C00099 ident: segmented, 11 bytes"]);
     let _ = std::fs::remove_dir_all(dir);
 }
 
@@ -477,12 +471,14 @@ steps:
     let status = run.wait().expect("run ends");
     assert_eq!(status.code(), Some(3), "{text}");
     // Where the hang-up shows (a read or a write) decides the wording of the port's error.
-    assert!(
-        text.contains(&format!("I/O error on {}", can.trim_start_matches("slcan:"))),
-        "{text}"
+    assert_has(
+        &text,
+        &[
+            &format!("I/O error on {}", can.trim_start_matches("slcan:")),
+            "gave up reopening node 37",
+            "CHECK THE DRIVE BY HAND",
+        ],
     );
-    assert!(text.contains("gave up reopening node 37"), "{text}");
-    assert!(text.contains("CHECK THE DRIVE BY HAND"), "{text}");
 }
 
 #[test]
@@ -490,10 +486,9 @@ fn a_can_trace_decoded_as_a_serial_protocol_says_which_protocol_to_give() {
     use crate::support::{drivescript, stderr};
     let out = drivescript(&["decode"], "(0000000000.000000) can0 601#409C5F0000000000\n");
     assert_eq!(out.status.code(), Some(2));
-    assert!(
-        stderr(&out).contains("is a CAN frame, not a sd2 telegram; give --protocol lenze-9400"),
-        "{}",
-        stderr(&out)
+    assert_has(
+        &stderr(&out),
+        &["is a CAN frame, not a sd2 telegram; give --protocol lenze-9400"],
     );
 }
 
@@ -507,10 +502,5 @@ fn the_commissioning_recipe_is_refused_for_a_drive_without_device_control() {
     let out = drivescript(&["check", path.to_str().unwrap(), "--drive", "lenze-9400"], "");
     assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
     let err = stderr(&out);
-    assert!(
-        err.contains("the state `operation_enabled` needs device control, but the lenze_9400 dictionary has no `profile:`"),
-        "{err}"
-    );
-    assert!(err.contains("`disable_operation` needs device control"), "{err}");
-    assert!(err.contains("nothing was sent to the drive"), "{err}");
+    assert_has(&err, &["the state `operation_enabled` needs device control, but the lenze_9400 dictionary has no `profile:`", "`disable_operation` needs device control", "nothing was sent to the drive"]);
 }

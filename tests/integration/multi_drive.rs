@@ -5,7 +5,7 @@
 //! did-you-mean.
 
 use crate::safety::scratch;
-use crate::support::{drivescript, stderr, stdout, InProcessRun, LiveRun};
+use crate::support::{assert_has, assert_lacks, drivescript, stderr, stdout, InProcessRun, LiveRun};
 use drivescript::clock::SharedClock;
 use drivescript::drive::device_control::DeviceState;
 use drivescript::sim::SimulatedDrive;
@@ -119,13 +119,12 @@ fn two_axes_on_a_pty(
     );
     let text = stdout(&out);
     assert_eq!(out.status.code(), Some(0), "{text}{}", stderr(&out));
-    assert!(
-        text.contains("PASS  left.speed_actual mean near 1000 rpm"),
-        "{text}"
-    );
-    assert!(
-        text.contains("PASS  right.speed_actual mean near 2000 rpm"),
-        "{text}"
+    assert_has(
+        &text,
+        &[
+            "PASS  left.speed_actual mean near 1000 rpm",
+            "PASS  right.speed_actual mean near 2000 rpm",
+        ],
     );
     let trace = std::fs::read_to_string(&trace).expect("trace");
     // Requests went to DNC addresses 2 and 3 and nowhere else, one at a time.
@@ -141,10 +140,7 @@ fn two_drives_on_one_pty_reach_their_own_speeds_and_never_interleave() {
         "multi-pty",
         &TWO_AXES.replace("SAMPLE_FOR", "1 s"),
     );
-    assert!(
-        text.contains("right: drive left in ready to switch on at 0 rpm\nleft: drive left in ready to switch on at 0 rpm\n"),
-        "{text}"
-    );
+    assert_has(&text, &["right: drive left in ready to switch on at 0 rpm\nleft: drive left in ready to switch on at 0 rpm\n"]);
     assert!(
         trace.contains("-- drive `left`") && trace.contains("-- drive `right`"),
         "{trace}"
@@ -172,11 +168,7 @@ fn the_issue_spelling_of_addresses_on_a_pty_served_with_dnc_address() {
     let (sim, recipe, _, _) = two_axes_on_a_pty(&["--dnc-address", "2,3"], "multi-pty-dnc-address", &text);
     let state = drivescript(&["state", "--port", &sim.path, "--dnc-address", "3"], "");
     assert_eq!(state.status.code(), Some(0), "{}", stderr(&state));
-    assert!(
-        stdout(&state).contains("ready to switch on"),
-        "{}",
-        stdout(&state)
-    );
+    assert_has(&stdout(&state), &["ready to switch on"]);
     // With a recipe of several drives, one address on the command line is refused.
     let out = drivescript(
         &[
@@ -190,10 +182,9 @@ fn the_issue_spelling_of_addresses_on_a_pty_served_with_dnc_address() {
         "",
     );
     assert_eq!(out.status.code(), Some(2));
-    assert!(
-        stderr(&out).contains("--dnc-address 2 names one drive; with several drives each gives its own"),
-        "{}",
-        stderr(&out)
+    assert_has(
+        &stderr(&out),
+        &["--dnc-address 2 names one drive; with several drives each gives its own"],
     );
 }
 
@@ -201,14 +192,13 @@ fn the_issue_spelling_of_addresses_on_a_pty_served_with_dnc_address() {
 fn dnc_address_is_refused_with_address_and_for_a_family_without_dnc_addresses() {
     let both = drivescript(&["simulate", "--pty", "--dnc-address", "2", "--address", "0"], "");
     assert_eq!(both.status.code(), Some(2));
-    assert!(
-        stderr(&both).contains("'--dnc-address <N,…>' cannot be used with '--address <ADDRESS>'"),
-        "{}",
-        stderr(&both)
+    assert_has(
+        &stderr(&both),
+        &["'--dnc-address <N,…>' cannot be used with '--address <ADDRESS>'"],
     );
     let both = drivescript(&["state", "--dnc-address", "2", "--address", "0"], "");
     assert_eq!(both.status.code(), Some(2));
-    assert!(stderr(&both).contains("cannot be used with"), "{}", stderr(&both));
+    assert_has(&stderr(&both), &["cannot be used with"]);
     let ct = drivescript(
         &[
             "simulate",
@@ -221,24 +211,15 @@ fn dnc_address_is_refused_with_address_and_for_a_family_without_dnc_addresses() 
         "",
     );
     assert_eq!(ct.status.code(), Some(2));
-    assert!(
-        stderr(&ct).contains("error: --dnc-address is for drives of the sd2 family; a ct_ansi drive has no `dnc_address`: give --address, "),
-        "{}",
-        stderr(&ct)
-    );
+    assert_has(&stderr(&ct), &["error: --dnc-address is for drives of the sd2 family; a ct_ansi drive has no `dnc_address`: give --address, "]);
     let ct = drivescript(&["state", "--drive", "ct-unidrive-sp", "--dnc-address", "2"], "");
     assert_ne!(ct.status.code(), Some(0));
-    assert!(
-        stderr(&ct).contains("--dnc-address is for drives of the sd2 family"),
-        "{}",
-        stderr(&ct)
-    );
+    assert_has(&stderr(&ct), &["--dnc-address is for drives of the sd2 family"]);
     let master = drivescript(&["simulate", "--pty", "--dnc-address", "2,1"], "");
     assert_eq!(master.status.code(), Some(2));
-    assert!(
-        stderr(&master).contains("error: --dnc-address 1: `1` is not a drive's DNC address"),
-        "{}",
-        stderr(&master)
+    assert_has(
+        &stderr(&master),
+        &["error: --dnc-address 1: `1` is not a drive's DNC address"],
     );
 }
 
@@ -257,7 +238,7 @@ fn ctrl_c_on_a_pty_stops_both_drives_each_verified() {
     run.signal("INT");
     let (code, seen) = run.finish();
     assert_eq!(code, Some(130), "{seen}");
-    assert!(!seen.contains("CHECK THE DRIVE BY HAND"), "{seen}");
+    assert_lacks(&seen, &["CHECK THE DRIVE BY HAND"]);
     // The last enabled (right) is stopped first.
     let right = seen
         .find("right: set speed_setpoint = 0 rpm")
@@ -266,10 +247,7 @@ fn ctrl_c_on_a_pty_stops_both_drives_each_verified() {
         .find("left: set speed_setpoint = 0 rpm")
         .expect("left stopped");
     assert!(right < left, "{seen}");
-    assert!(
-        seen.contains("right: drive left in ready to switch on at 0 rpm\nleft: drive left in ready to switch on at 0 rpm\n"),
-        "{seen}"
-    );
+    assert_has(&seen, &["right: drive left in ready to switch on at 0 rpm\nleft: drive left in ready to switch on at 0 rpm\n"]);
     for address in ["dnc:2", "dnc:3"] {
         let state = drivescript(&["state", "--port", &sim.path, "--address", address], "");
         let text = stdout(&state);
@@ -320,8 +298,10 @@ on_fault:
     };
     let (result, output) = run_in_process(&recipe, Arc::new(StopRequests::new()), &prepare);
     assert_eq!(result.exit_code, 3, "{output}");
-    assert!(output.contains("drive fault: drive `left` went to"), "{output}");
-    assert!(output.contains("the left drive tripped"), "{output}");
+    assert_has(
+        &output,
+        &["drive fault: drive `left` went to", "the left drive tripped"],
+    );
     let report = result.report.expect("a report");
     assert_eq!(report.drive_ends.len(), 2, "{output}");
     assert!(report.drive_ends.iter().all(|e| e.stop_confirmed), "{output}");
@@ -337,10 +317,7 @@ on_fault:
         );
     }
     // The right drive, not faulted, was stopped the normal way.
-    assert!(
-        output.contains("right: disable_operation (default finally)"),
-        "{output}"
-    );
+    assert_has(&output, &["right: disable_operation (default finally)"]);
 }
 
 #[test]
@@ -389,7 +366,7 @@ steps:
     run.outputs.csv = Some(csv.clone());
     let (result, output) = run.run();
     assert_eq!(result.exit_code, 0, "{output}");
-    assert!(output.contains("spindle SD2 (DNC address 2)"), "{output}");
+    assert_has(&output, &["spindle SD2 (DNC address 2)"]);
     // The long CSV layout names the drive in a column of its own.
     let rows = std::fs::read_to_string(&csv).expect("csv");
     let mut lines = rows.lines();
@@ -400,7 +377,7 @@ steps:
         rows.lines().any(|l| l.contains(",5,feed,speed_actual,")),
         "{rows}"
     );
-    assert!(output.contains("feed CT_ANSI (drive 1.2)"), "{output}");
+    assert_has(&output, &["feed CT_ANSI (drive 1.2)"]);
     let report = result.report.expect("a report");
     assert_eq!(report.drive_ends.len(), 2);
     assert!(report.drive_ends.iter().all(|e| e.stop_confirmed));
@@ -426,19 +403,18 @@ steps:
     let out = drivescript(&["check", recipe.to_str().expect("utf-8 path")], "");
     let text = stderr(&out);
     assert_eq!(out.status.code(), Some(2), "{text}");
-    assert!(text.contains("unknown drive `lfet`"), "{text}");
-    assert!(text.contains("did you mean `left`?"), "{text}");
-    assert!(
-        text.contains("unknown object `sped_setpoint` in the ct_ansi dictionary"),
-        "{text}"
+    assert_has(
+        &text,
+        &[
+            "unknown drive `lfet`",
+            "did you mean `left`?",
+            "unknown object `sped_setpoint` in the ct_ansi dictionary",
+            "unknown drive `rihgt`",
+            "did you mean `right`?",
+            "`speed_actual` does not say which drive it is on",
+            "4 problems",
+        ],
     );
-    assert!(text.contains("unknown drive `rihgt`"), "{text}");
-    assert!(text.contains("did you mean `right`?"), "{text}");
-    assert!(
-        text.contains("`speed_actual` does not say which drive it is on"),
-        "{text}"
-    );
-    assert!(text.contains("4 problems"), "{text}");
 }
 
 #[test]
@@ -456,10 +432,7 @@ steps:
     );
     let (result, output) = run_in_process(&recipe, Arc::new(StopRequests::new()), &|_, _| {});
     assert_eq!(result.exit_code, 2, "{output}");
-    assert!(
-        output.contains("drives `left` and `right` are both at"),
-        "{output}"
-    );
+    assert_has(&output, &["drives `left` and `right` are both at"]);
     assert!(result.report.is_none());
 }
 
@@ -492,12 +465,14 @@ fn a_script_drives_each_named_drive_and_stops_both() {
     let script = write_script(&dir, &TWO_AXES_SCRIPT.replace("DRIVE_CALL", ""));
     let (result, output) = run_in_process(&script, Arc::new(StopRequests::new()), &|_, _| {});
     assert_eq!(result.exit_code, 0, "{output}");
-    assert!(output.contains("PASS  left speed: measured 1000"), "{output}");
-    assert!(output.contains("PASS  right speed: measured 1999.9"), "{output}");
-    assert!(output.contains("right is operation_enabled"), "{output}");
-    assert!(
-        output.contains("shutdown  left: control word 6; right: control word 6"),
-        "{output}"
+    assert_has(
+        &output,
+        &[
+            "PASS  left speed: measured 1000",
+            "PASS  right speed: measured 1999.9",
+            "right is operation_enabled",
+            "shutdown  left: control word 6; right: control word 6",
+        ],
     );
     for (name, sim) in &result.simulators {
         assert_eq!(state_of(sim), DeviceState::ReadyToSwitchOn, "{name}: {output}");
@@ -513,9 +488,9 @@ fn a_script_naming_an_unknown_drive_or_no_drive_is_told_which_there_are() {
     );
     let (result, output) = run_in_process(&script, Arc::new(StopRequests::new()), &|_, _| {});
     assert_ne!(result.exit_code, 0, "{output}");
-    assert!(
-        output.contains("no drive called `rigth` in this script; did you mean `right`?"),
-        "{output}"
+    assert_has(
+        &output,
+        &["no drive called `rigth` in this script; did you mean `right`?"],
     );
     let script = write_script(
         &dir,
@@ -523,9 +498,9 @@ fn a_script_naming_an_unknown_drive_or_no_drive_is_told_which_there_are() {
     );
     let (result, output) = run_in_process(&script, Arc::new(StopRequests::new()), &|_, _| {});
     assert_ne!(result.exit_code, 0, "{output}");
-    assert!(
-        output.contains("this script has several drives (left, right): name the drive"),
-        "{output}"
+    assert_has(
+        &output,
+        &["this script has several drives (left, right): name the drive"],
     );
     // Either way both drives are stopped.
     for (name, sim) in &result.simulators {
@@ -552,11 +527,13 @@ fn the_bench_limits_cap_every_drive_of_a_recipe_and_of_a_script() {
         );
         let text = stderr(&out);
         assert_eq!(out.status.code(), Some(2), "{text}");
-        assert!(
-            text.contains("2000 rpm exceeds the bench limit 1500 rpm of speed_setpoint"),
-            "{text}"
+        assert_has(
+            &text,
+            &[
+                "2000 rpm exceeds the bench limit 1500 rpm of speed_setpoint",
+                "1 problem",
+            ],
         );
-        assert!(text.contains("1 problem"), "{text}");
     }
 }
 
@@ -597,5 +574,5 @@ steps:
         .find("drive `feed` could not be reached to stop it")
         .unwrap_or_else(|| panic!("the feed is reported unreachable: {output}"));
     assert!(spindle_stopped < feed_given_up, "{output}");
-    assert!(output.contains("CHECK THE DRIVE BY HAND"), "{output}");
+    assert_has(&output, &["CHECK THE DRIVE BY HAND"]);
 }

@@ -2,7 +2,7 @@
 //! HTML report, written for a real run of the acceptance recipe; and an unwritable output
 //! path refused before anything is sent.
 
-use crate::support::{drivescript, stderr, stdout};
+use crate::support::{assert_has, drivescript, stderr, stdout};
 
 #[test]
 fn a_run_writes_trace_csv_junit_and_html() {
@@ -83,7 +83,7 @@ fn an_unwritable_output_is_refused_before_anything_is_sent() {
         "",
     );
     assert_eq!(out.status.code(), Some(2), "{}", stdout(&out));
-    assert!(stderr(&out).contains("/proc/no/such/dir"), "{}", stderr(&out));
+    assert_has(&stderr(&out), &["/proc/no/such/dir"]);
     assert!(
         !stdout(&out).contains("using the built-in"),
         "nothing was started"
@@ -127,8 +127,7 @@ fn runs_that_cannot_start_write_junit_and_html() {
     assert!(xml.contains("skipped=\"14\""), "every check of the recipe: {xml}");
     let page = std::fs::read_to_string(&html).expect("html");
     crate::reports::markup::html(&page).unwrap_or_else(|e| panic!("{e}\n{page}"));
-    assert!(page.contains("NOT RUN — ERROR"), "{page}");
-    assert!(page.contains("127.0.0.1:1"), "{page}");
+    assert_has(&page, &["NOT RUN — ERROR", "127.0.0.1:1"]);
 
     let bad = dir.join("bad.yaml");
     std::fs::write(
@@ -143,8 +142,7 @@ fn runs_that_cannot_start_write_junit_and_html() {
     assert_eq!(invalid.status.code(), Some(2), "{}", stderr(&invalid));
     let xml = std::fs::read_to_string(&junit).expect("junit");
     crate::reports::markup::junit(&xml).unwrap_or_else(|e| panic!("{e}\n{xml}"));
-    assert!(xml.contains("type=\"invalid\""), "{xml}");
-    assert!(xml.contains("speed_setpont"), "{xml}");
+    assert_has(&xml, &["type=\"invalid\"", "speed_setpont"]);
     let page = std::fs::read_to_string(&html).expect("html");
-    assert!(page.contains("NOT RUN — INVALID"), "{page}");
+    assert_has(&page, &["NOT RUN — INVALID"]);
 }

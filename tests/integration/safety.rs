@@ -3,8 +3,7 @@
 //! ramp that must not write after a stop, a port that goes away and comes back, and a run
 //! killed beyond any safe stop, which must leave a report that says so.
 
-use crate::support::InProcessRun;
-use crate::support::LiveRun;
+use crate::support::{assert_has, assert_lacks, InProcessRun, LiveRun};
 use drivescript::cli::RunResult;
 use drivescript::clock::SharedClock;
 use drivescript::drive::device_control::DeviceState;
@@ -265,7 +264,7 @@ fn signal_through_a_pty(signal: StopSignal, second: Option<StopSignal>) {
     ]);
     run.wait_for("wait until speed_actual");
     let placeholder = std::fs::read_to_string(&junit).expect("junit exists during the run");
-    assert!(placeholder.contains("NOT FINISHED"), "{placeholder}");
+    assert_has(&placeholder, &["NOT FINISHED"]);
     // The sample step has taken its first sample and now waits 30 s.
     std::thread::sleep(Duration::from_millis(300));
     let before = std::fs::read_to_string(&trace).expect("trace").lines().count();
@@ -297,22 +296,24 @@ fn signal_through_a_pty(signal: StopSignal, second: Option<StopSignal>) {
         "{}: the stop telegram came {latency:?} after the signal",
         signal.name
     );
-    assert!(
-        all.contains(&format!("INTERRUPTED: interrupted by {}", signal.describe())),
-        "{all}"
+    assert_has(
+        &all,
+        &[&format!("INTERRUPTED: interrupted by {}", signal.describe())],
     );
     let (words, state_after) = match second {
         None => {
-            assert!(all.contains("drive left in ready to switch on at 0 rpm"), "{all}");
+            assert_has(&all, &["drive left in ready to switch on at 0 rpm"]);
             (vec![7, 6], "ready to switch on")
         }
         Some(_) => {
-            assert!(
-                all.contains("power stage switched off at once (disable voltage)"),
-                "{all}"
+            assert_has(
+                &all,
+                &[
+                    "power stage switched off at once (disable voltage)",
+                    "drive left in switch on disabled at",
+                    "STILL COASTING",
+                ],
             );
-            assert!(all.contains("drive left in switch on disabled at"), "{all}");
-            assert!(all.contains("STILL COASTING"), "{all}");
             (vec![0], "switch on disabled")
         }
     };
@@ -326,13 +327,10 @@ fn signal_through_a_pty(signal: StopSignal, second: Option<StopSignal>) {
     .collect();
     assert_eq!(after, words, "control words after the signal");
     let junit_text = std::fs::read_to_string(&junit).expect("junit");
-    assert!(
-        junit_text.contains("INTERRUPTED: the run was interrupted by"),
-        "{junit_text}"
-    );
-    assert!(!junit_text.contains("NOT FINISHED"), "{junit_text}");
+    assert_has(&junit_text, &["INTERRUPTED: the run was interrupted by"]);
+    assert_lacks(&junit_text, &["NOT FINISHED"]);
     let html_text = std::fs::read_to_string(&html).expect("html");
-    assert!(html_text.contains("INTERRUPTED"), "{html_text}");
+    assert_has(&html_text, &["INTERRUPTED"]);
     assert!(html_text.contains(signal.describe()), "{html_text}");
     // The simulated drive keeps its state: ask it.
     let state = crate::support::drivescript(&["state", "--port", &sim.path], "");
@@ -403,8 +401,7 @@ fn a_run_killed_beyond_any_safe_stop_leaves_a_report_that_says_not_finished() {
     child.kill().expect("SIGKILL");
     let _ = child.wait();
     let junit_text = std::fs::read_to_string(&junit).expect("junit");
-    assert!(junit_text.contains("failures=\"1\""), "{junit_text}");
-    assert!(junit_text.contains("NOT FINISHED"), "{junit_text}");
+    assert_has(&junit_text, &["failures=\"1\"", "NOT FINISHED"]);
     assert!(std::fs::read_to_string(&html)
         .expect("html")
         .contains("NOT FINISHED"));
@@ -493,9 +490,14 @@ steps:
     second_flag.store(true, Ordering::SeqCst);
     second_server.join().expect("second server");
     assert_eq!(code, 3, "{output}");
-    assert!(output.contains("reopening"), "{output}");
-    assert!(output.contains("restored at attempt"), "{output}");
-    assert!(output.contains("drive left in ready to switch on"), "{output}");
+    assert_has(
+        &output,
+        &[
+            "reopening",
+            "restored at attempt",
+            "drive left in ready to switch on",
+        ],
+    );
     assert_eq!(state(), DeviceState::ReadyToSwitchOn, "{output}");
     let words = sim
         .lock()

@@ -192,3 +192,19 @@ impl LiveRun {
         (code, self.seen)
     }
 }
+
+/// Fails the test, showing all of `text`, unless `text` holds every one of `parts`.
+#[track_caller]
+pub fn assert_has(text: &str, parts: &[&str]) {
+    for part in parts {
+        assert!(text.contains(part), "expected {part:?} in:\n{text}");
+    }
+}
+
+/// Fails the test, showing all of `text`, if `text` holds any of `parts`.
+#[track_caller]
+pub fn assert_lacks(text: &str, parts: &[&str]) {
+    for part in parts {
+        assert!(!text.contains(part), "did not expect {part:?} in:\n{text}");
+    }
+}

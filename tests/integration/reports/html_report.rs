@@ -2,6 +2,7 @@
 
 use super::markup::{elements, html, inside, rows, select, text, texts};
 use super::sample_reports::{error_report, origin, passed_report, step};
+use crate::support::assert_has;
 use drivescript::report::{html_report, write_html};
 use drivescript::session::{CheckResult, Series};
 use scraper::{ElementRef, Html};
@@ -273,9 +274,9 @@ fn plots_show_their_own_window_checks_and_statistics_as_text() {
             .next()
             .unwrap(),
     );
-    assert!(
-        caption.contains("PASS speed_actual ripple below: 2.75 rpm (limits < 5 rpm)"),
-        "{caption}"
+    assert_has(
+        &caption,
+        &["PASS speed_actual ripple below: 2.75 rpm (limits < 5 rpm)"],
     );
 }
 
