@@ -4,7 +4,7 @@
 //! and exit codes in `--help`, build information in `--version`, and plain messages for
 //! a port that is not a serial port and a recipe that is not UTF-8.
 
-use crate::support::{assert_has, assert_lacks, drivescript, stderr, stdout};
+use crate::support::{assert_has, assert_lacks, cli, drivescript, stderr, stdout};
 
 fn temp_dir(name: &str) -> std::path::PathBuf {
     let dir = std::env::temp_dir().join(format!("drivescript-cli-{name}-{}", std::process::id()));
@@ -16,7 +16,7 @@ fn temp_dir(name: &str) -> std::path::PathBuf {
 #[test]
 fn several_recipes_run_in_turn_and_the_worst_exit_code_wins() {
     let dir = temp_dir("several");
-    let out = drivescript(
+    let text = cli(
         &[
             "run",
             "tests/cases/ok/identity/recipe.yaml",
@@ -27,10 +27,9 @@ fn several_recipes_run_in_turn_and_the_worst_exit_code_wins() {
             "--junit",
             "junit.xml",
         ],
-        "",
-    );
-    let text = stdout(&out);
-    assert_eq!(out.status.code(), Some(1), "{text}{}", stderr(&out));
+        1,
+    )
+    .stdout;
     assert_has(
         &text,
         &[
@@ -62,7 +61,7 @@ fn several_recipes_run_in_turn_and_the_worst_exit_code_wins() {
 #[test]
 fn sample_csv_files_go_to_the_output_dir_and_are_announced() {
     let dir = temp_dir("csv");
-    let out = drivescript(
+    let out = cli(
         &[
             "run",
             "recipes/spindle-run-in.yaml",
@@ -70,10 +69,10 @@ fn sample_csv_files_go_to_the_output_dir_and_are_announced() {
             "--output-dir",
             dir.to_str().unwrap(),
         ],
-        "",
+        0,
     );
-    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
-    let line = stdout(&out)
+    let line = out
+        .stdout
         .lines()
         .find_map(|l| l.strip_prefix("outputs ").map(str::to_string))
         .expect("an outputs line");
@@ -89,7 +88,7 @@ fn sample_csv_files_go_to_the_output_dir_and_are_announced() {
 fn decode_reads_trace_files() {
     let dir = temp_dir("decode");
     let trace = dir.join("run.trace");
-    let out = drivescript(
+    cli(
         &[
             "run",
             "recipes/identity.yaml",
@@ -97,9 +96,8 @@ fn decode_reads_trace_files() {
             "--trace",
             trace.to_str().unwrap(),
         ],
-        "",
+        0,
     );
-    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
     let decoded = drivescript(&["decode", trace.to_str().unwrap(), trace.to_str().unwrap()], "");
     assert_eq!(decoded.status.code(), Some(0), "{}", stderr(&decoded));
     let text = stdout(&decoded);
@@ -112,9 +110,8 @@ fn decode_reads_trace_files() {
 
 #[test]
 fn write_takes_the_unit_as_its_own_argument() {
-    let out = drivescript(&["write", "speed_setpoint", "6000", "rpm"], "");
-    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
-    assert_has(&stdout(&out), &["speed_setpoint = 6000 rpm written"]);
+    let out = cli(&["write", "speed_setpoint", "6000", "rpm"], 0);
+    assert_has(&out.stdout, &["speed_setpoint = 6000 rpm written"]);
 }
 
 #[test]
@@ -161,9 +158,7 @@ fn a_windows_1252_recipe_is_said_plainly() {
     let dir = temp_dir("cp1252");
     let path = dir.join("prüfung.yaml");
     std::fs::write(&path, b"name: Pr\xfcfung\ndrive: sd2\nsteps:\n  - shutdown\n").unwrap();
-    let out = drivescript(&["check", path.to_str().unwrap()], "");
-    assert_eq!(out.status.code(), Some(2));
-    let err = stderr(&out);
+    let err = cli(&["check", path.to_str().unwrap()], 2).stderr;
     assert_has(&err, &["is not UTF-8 text", "Windows-1252"]);
     assert_lacks(&err, &["check the path"]);
     std::fs::remove_dir_all(&dir).unwrap();
@@ -176,7 +171,7 @@ fn a_drive_that_never_answers_gets_one_early_message() {
     let sim = crate::end_to_end::Simulator::start(&["--tcp", "127.0.0.1:0"]);
     let dir = temp_dir("silent");
     let junit = dir.join("junit.xml");
-    let out = drivescript(
+    let out = cli(
         &[
             "run",
             "recipes/identity.yaml",
@@ -191,10 +186,9 @@ fn a_drive_that_never_answers_gets_one_early_message() {
             "--junit",
             junit.to_str().unwrap(),
         ],
-        "",
+        3,
     );
-    assert_eq!(out.status.code(), Some(3), "{}", stdout(&out));
-    let err = stderr(&out);
+    let err = out.stderr;
     assert_has(&err, &["the drive does not answer (--address 1,"]);
     assert_eq!(err.matches("no reply from").count(), 1, "said once: {err}");
     for cause in [
@@ -204,11 +198,7 @@ fn a_drive_that_never_answers_gets_one_early_message() {
     ] {
         assert!(err.contains(cause), "{cause}: {err}");
     }
-    assert!(
-        !stdout(&out).contains("     1  "),
-        "no step ran: {}",
-        stdout(&out)
-    );
+    assert!(!out.stdout.contains("     1  "), "no step ran: {}", out.stdout);
     let xml = std::fs::read_to_string(&junit).expect("junit");
     assert_has(&xml, &["the drive does not answer"]);
     std::fs::remove_dir_all(&dir).unwrap();
@@ -219,7 +209,7 @@ fn a_drive_that_never_answers_gets_one_early_message() {
 #[test]
 fn csv_wide_gives_one_column_per_object_everywhere() {
     let dir = temp_dir("wide");
-    let out = drivescript(
+    cli(
         &[
             "run",
             "recipes/spindle-run-in.yaml",
@@ -230,9 +220,8 @@ fn csv_wide_gives_one_column_per_object_everywhere() {
             "all.csv",
             "--csv-wide",
         ],
-        "",
+        0,
     );
-    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
     for name in ["all.csv", "run-in-stage-2.csv"] {
         let mut reader = csv::Reader::from_path(dir.join(name)).expect(name);
         assert_eq!(

@@ -5,7 +5,7 @@
 //! that gets no reply and is not repeated, and Ctrl-C during a run on the simulated drive.
 
 use crate::support::{
-    assert_has, drivescript, load_vectors, repo_root, stderr, stdout, InProcessRun, LiveRun,
+    assert_has, cli, drivescript, load_vectors, repo_root, stderr, stdout, InProcessRun, LiveRun,
 };
 use drivescript::bus::{MemoryTransport, SharedTransport};
 use drivescript::clock::{SharedClock, VirtualClock};
@@ -105,7 +105,7 @@ fn the_encoder_reproduces_the_canonical_messages() {
 #[test]
 fn decode_shows_control_characters_by_name_and_rejects_the_printed_example() {
     for protocol in ["ct-unidrive-sp", "ct-ansi", "ct_ansi"] {
-        let out = drivescript(
+        let text = cli(
             &[
                 "decode",
                 "--protocol",
@@ -114,10 +114,9 @@ fn decode_shows_control_characters_by_name_and_rejects_the_printed_example() {
                 "02 30 31 32 31 2d 34 37 2e 36 03 37",
                 "04 32 32 36 36 02 30 31 32 31 2b 30 37 36 2e 34 03 31",
             ],
-            "",
-        );
-        let text = stdout(&out);
-        assert_eq!(out.status.code(), Some(1), "{text}{}", stderr(&out));
+            1,
+        )
+        .stdout;
         assert_has(&text, &["message   EOT 11220121 ENQ", "request   read #1.21 speed_setpoint of drive 1.2", "reply     #1.21 speed_setpoint = -47.6 rpm", "rejected: block check: expected 0x21 (!), got 0x31 (1) at byte 17, in `EOT 2266 STX 0121+076.4 ETX 1`"]);
     }
     let out = drivescript(&["decode", "--protocol", "ct-ansi", "06", "15", "04"], "");
@@ -131,9 +130,7 @@ fn decode_shows_control_characters_by_name_and_rejects_the_printed_example() {
 fn decode_reads_a_hex_data_field_and_names_a_bad_hex_digit_by_its_byte() {
     let good = "02 30 36 32 31 58 38 33 03 55";
     let bad = "02 30 36 32 31 58 38 47 03 21";
-    let out = drivescript(&["decode", "--protocol", "ct-ansi", good, bad], "");
-    let text = stdout(&out);
-    assert_eq!(out.status.code(), Some(1), "{text}{}", stderr(&out));
+    let text = cli(&["decode", "--protocol", "ct-ansi", good, bad], 1).stdout;
     assert_has(
         &text,
         &[
@@ -196,20 +193,17 @@ fn the_commissioning_recipe_runs_on_the_simulated_ct_drive_with_exact_decimals()
 
 #[test]
 fn raw_parameters_in_the_drives_own_notation() {
-    let out = drivescript(
+    let text = cli(
         &["read", "#5.04", "5.05", "#11.29", "--drive", "ct-unidrive-sp"],
-        "",
-    );
-    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
-    let text = stdout(&out);
+        0,
+    )
+    .stdout;
     assert_has(&text, &["#5.04"]);
-    let out = drivescript(&["write", "#1.21", "1500.5", "--drive", "ct-unidrive-sp"], "");
-    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
-    assert_has(&stdout(&out), &["#1.21 = 1500.5 written (raw 1500.5)"]);
-    let out = drivescript(&["read", "#42.42", "--drive", "ct-unidrive-sp"], "");
-    assert_eq!(out.status.code(), Some(3));
+    let out = cli(&["write", "#1.21", "1500.5", "--drive", "ct-unidrive-sp"], 0);
+    assert_has(&out.stdout, &["#1.21 = 1500.5 written (raw 1500.5)"]);
+    let out = cli(&["read", "#42.42", "--drive", "ct-unidrive-sp"], 3);
     assert_has(
-        &stderr(&out),
+        &out.stderr,
         &["the drive has no parameter #42.42 (it answered EOT)"],
     );
 }
@@ -366,9 +360,7 @@ fn the_commissioning_recipe_runs_behind_an_adapter_that_echoes() {
 fn the_commissioning_recipe_runs_through_a_pseudo_terminal() {
     let sim = crate::end_to_end::Simulator::start(&["--drive", "ct-unidrive-sp", "--pty"]);
     let recipe = ct_commissioning("pty");
-    let out = drivescript(&["run", recipe.to_str().unwrap(), "--port", &sim.endpoint], "");
-    let text = stdout(&out);
-    assert_eq!(out.status.code(), Some(0), "{text}{}", stderr(&out));
+    let text = cli(&["run", recipe.to_str().unwrap(), "--port", &sim.endpoint], 0).stdout;
     assert_has(
         &text,
         &[
@@ -377,7 +369,7 @@ fn the_commissioning_recipe_runs_through_a_pseudo_terminal() {
         ],
     );
     // The group address reaches the same drive, without a reply.
-    let out = drivescript(
+    cli(
         &[
             "write",
             "speed_setpoint",
@@ -389,9 +381,8 @@ fn the_commissioning_recipe_runs_through_a_pseudo_terminal() {
             "--drive",
             "ct-unidrive-sp",
         ],
-        "",
+        0,
     );
-    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
     let out = drivescript(
         &[
             "read",
@@ -454,9 +445,8 @@ fn ctrl_c_during_a_run_on_the_simulated_ct_drive_stops_it() {
 
 #[test]
 fn the_recipe_schema_offers_only_what_the_ct_drive_has() {
-    let out = drivescript(&["schema", "--drive", "ct-unidrive-sp"], "");
-    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
-    let schema: Value = serde_json::from_str(&stdout(&out)).unwrap();
+    let out = cli(&["schema", "--drive", "ct-unidrive-sp"], 0);
+    let schema: Value = serde_json::from_str(&out.stdout).unwrap();
     assert_eq!(
         schema["properties"]["drive"]["enum"],
         serde_json::json!(["ct_ansi", "ct-unidrive-sp"])

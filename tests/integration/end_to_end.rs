@@ -2,7 +2,7 @@
 //! pseudo-terminal, `simulate --tcp` on loopback, and Ctrl-C (SIGINT) during a real-time
 //! run, which must still run `finally` and exit with 130.
 
-use crate::support::{assert_has, assert_lacks, drivescript, repo_root, stderr, stdout, LiveRun};
+use crate::support::{assert_has, assert_lacks, cli, repo_root, LiveRun};
 use std::io::{BufRead, BufReader};
 use std::process::{Child, Command, Stdio};
 
@@ -48,36 +48,28 @@ fn a_pseudo_terminal_serves_the_simulated_drive() {
     assert!(sim.endpoint.starts_with("/dev/"), "endpoint {:?}", sim.endpoint);
     let port = sim.endpoint.as_str();
 
-    let out = drivescript(&["state", "--port", port], "");
-    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
-    assert_has(&stdout(&out), &["status word 0x0240: switch on disabled"]);
+    let out = cli(&["state", "--port", port], 0);
+    assert_has(&out.stdout, &["status word 0x0240: switch on disabled"]);
 
-    let out = drivescript(&["write", "speed_setpoint", "6000rpm", "--port", port], "");
-    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
-    assert_has(
-        &stdout(&out),
-        &["speed_setpoint = 6000 rpm written (raw 6000000)"],
-    );
+    let out = cli(&["write", "speed_setpoint", "6000rpm", "--port", port], 0);
+    assert_has(&out.stdout, &["speed_setpoint = 6000 rpm written (raw 6000000)"]);
 
     // The simulated drive keeps its state between connections, like a real one.
-    let out = drivescript(&["read", "speed_setpoint", "ident", "--port", port, "--json"], "");
-    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
-    let json: serde_json::Value = serde_json::from_str(stdout(&out).trim()).expect("json");
+    let out = cli(&["read", "speed_setpoint", "ident", "--port", port, "--json"], 0);
+    let json: serde_json::Value = serde_json::from_str(out.stdout.trim()).expect("json");
     assert_eq!(json[0]["value"], 6000.0);
     assert_eq!(json[0]["unit"], "rpm");
     assert_eq!(json[1]["value"], "Test Motor");
 
     // An object by its index, as the family writes it, reads the same raw count.
-    let out = drivescript(&["read", "395", "--type", "i32", "--port", port, "--json"], "");
-    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
-    let json: serde_json::Value = serde_json::from_str(stdout(&out).trim()).expect("json");
+    let out = cli(&["read", "395", "--type", "i32", "--port", port, "--json"], 0);
+    let json: serde_json::Value = serde_json::from_str(out.stdout.trim()).expect("json");
     assert_eq!(json[0]["object"], "395");
     assert_eq!(json[0]["raw"], "6000000");
 
     // Without a type nothing is sent and the message says what to add.
-    let out = drivescript(&["read", "0x18b", "--port", port], "");
-    assert_eq!(out.status.code(), Some(2), "{}", stdout(&out));
-    assert_has(&stderr(&out), &["--type"]);
+    let out = cli(&["read", "0x18b", "--port", port], 2);
+    assert_has(&out.stderr, &["--type"]);
 }
 
 #[test]
@@ -88,16 +80,13 @@ fn tcp_on_loopback_serves_the_simulated_drive() {
         "endpoint {:?}",
         sim.endpoint
     );
-    let out = drivescript(&["state", "--tcp", &sim.endpoint], "");
-    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
-    assert_has(&stdout(&out), &["switch on disabled"]);
+    let out = cli(&["state", "--tcp", &sim.endpoint], 0);
+    assert_has(&out.stdout, &["switch on disabled"]);
 }
 
 #[test]
 fn a_missing_port_says_which_and_what_to_do() {
-    let out = drivescript(&["state", "--port", "/dev/does-not-exist-ds"], "");
-    assert_eq!(out.status.code(), Some(3));
-    let err = stderr(&out);
+    let err = cli(&["state", "--port", "/dev/does-not-exist-ds"], 3).stderr;
     assert_has(
         &err,
         &["/dev/does-not-exist-ds does not exist", "drivescript ports"],
@@ -109,12 +98,11 @@ fn a_drive_that_does_not_answer_is_exit_code_3_naming_the_telegram() {
     // A loopback listener that accepts and never answers.
     let listener = std::net::TcpListener::bind("127.0.0.1:0").expect("bind");
     let addr = listener.local_addr().expect("addr").to_string();
-    let out = drivescript(
+    let err = cli(
         &["state", "--tcp", &addr, "--timeout", "50ms", "--retries", "1"],
-        "",
-    );
-    assert_eq!(out.status.code(), Some(3));
-    let err = stderr(&out);
+        3,
+    )
+    .stderr;
     assert_has(
         &err,
         &[
@@ -208,15 +196,7 @@ fn the_cyclic_channel_runs_the_commissioning_recipe_through_a_pty() {
         let sim = Simulator::start(&["--pty"]);
         let mut args = vec!["run", recipe.as_ref(), "--port", sim.endpoint.as_str()];
         args.extend_from_slice(channel);
-        let out = drivescript(&args, "");
-        assert_eq!(
-            out.status.code(),
-            Some(0),
-            "{channel:?}\n{}{}",
-            stdout(&out),
-            stderr(&out)
-        );
-        let text = stdout(&out);
+        let text = cli(&args, 0).stdout;
         assert_has(
             &text,
             &[

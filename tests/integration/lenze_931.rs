@@ -5,7 +5,7 @@
 //! profile `check` refuses device control; the safe stop on a stop signal, a lost line and
 //! a drive that ignores commands; and a real pseudo-terminal with `simulate --pty`.
 
-use crate::support::{assert_has, assert_lacks, drivescript, repo_root, stderr, stdout, InProcessRun};
+use crate::support::{assert_has, assert_lacks, cli, drivescript, repo_root, stderr, stdout, InProcessRun};
 use drivescript::cli::DictionaryArgs;
 use drivescript::clock::SharedClock;
 use drivescript::drive::{DeviceCommand, DeviceState};
@@ -127,7 +127,7 @@ fn the_commissioning_recipe_runs_on_the_simulated_931_with_only_drive_changed() 
     );
     // With the user's dictionary, decode names the objects and the status bits.
     let extra = completed_template(&dir).to_string_lossy().to_string();
-    let out = drivescript(
+    let text = cli(
         &[
             "decode",
             "--drive",
@@ -137,10 +137,9 @@ fn the_commissioning_recipe_runs_on_the_simulated_931_with_only_drive_changed() 
             "OR:0001",
             "0001:0000A000",
         ],
-        "",
-    );
-    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
-    let text = stdout(&out);
+        0,
+    )
+    .stdout;
     assert_has(
         &text,
         &[
@@ -296,9 +295,7 @@ fn without_a_profile_check_refuses_device_commands_and_states_saying_what_to_add
         "name: Needs control\ndrive: lenze-931\nsteps:\n  - read: [ident]\n  - shutdown\n  - go_to: operation_enabled\n  - wait_until: { state: switched_on, timeout: 1 s }\nfinally: []\n",
     );
     let path = recipe.to_string_lossy().to_string();
-    let out = drivescript(&["check", &path, "--drive", "lenze-931"], "");
-    assert_eq!(out.status.code(), Some(2), "{}", stdout(&out));
-    let err = stderr(&out);
+    let err = cli(&["check", &path, "--drive", "lenze-931"], 2).stderr;
     assert_has(
         &err,
         &[
@@ -311,11 +308,10 @@ fn without_a_profile_check_refuses_device_commands_and_states_saying_what_to_add
     );
     // The same recipe with the completed template (which has a profile) passes.
     let extra = completed_template(&dir).to_string_lossy().to_string();
-    let out = drivescript(
+    cli(
         &["check", &path, "--drive", "lenze-931", "--dictionary", &extra],
-        "",
+        0,
     );
-    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
 }
 
 /// Runs the commissioning recipe on the simulated 931 with `prepare` and a stop request.
@@ -424,17 +420,15 @@ fn through_a_pseudo_terminal_raw_access_drive_limits_and_a_run() {
     let dictionary = completed_template(&dir).to_string_lossy().to_string();
 
     // Raw access without a dictionary entry: signed 32-bit and hex.
-    let out = drivescript(
+    cli(
         &["write", "0x0010", "-3000", "--drive", "lenze-931", "--port", port],
-        "",
+        0,
     );
-    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
-    let out = drivescript(
+    let text = cli(
         &["read", "0x0010", "TYPE?", "--drive", "lenze-931", "--port", port],
-        "",
-    );
-    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
-    let text = stdout(&out);
+        0,
+    )
+    .stdout;
     assert_has(&text, &["0xfffff448", "-3000", "\"0931\""]);
     // A CANopen object through the SDO simulation: the status word, little-endian bytes.
     let out = drivescript(
@@ -467,9 +461,8 @@ fn through_a_pseudo_terminal_raw_access_drive_limits_and_a_run() {
     ];
     let mut args = vec!["check", recipe.as_str(), "--set", "speed=8000rpm"];
     args.extend(base);
-    let out = drivescript(&args, "");
-    assert_eq!(out.status.code(), Some(2), "{}\n{}", stdout(&out), stderr(&out));
-    let err = stderr(&out);
+    let out = cli(&args, 2);
+    let err = out.stderr;
     assert_has(
         &err,
         &[
@@ -478,20 +471,19 @@ fn through_a_pseudo_terminal_raw_access_drive_limits_and_a_run() {
         ],
     );
     assert_has(
-        &stdout(&out),
+        &out.stdout,
         &["drive limits of speed_setpoint: -6000 rpm .. 6000 rpm"],
     );
     // `run` compares the same way before anything moves, and so does `check` for a
     // script's literal values.
     let mut args = vec!["run", recipe.as_str(), "--set", "speed=8000rpm"];
     args.extend(base);
-    let out = drivescript(&args, "");
-    assert_eq!(out.status.code(), Some(2), "{}\n{}", stdout(&out), stderr(&out));
+    let out = cli(&args, 2);
     assert_has(
-        &stderr(&out),
+        &out.stderr,
         &["set speed_setpoint = 8000 rpm is above the maximum the drive reports, 6000 rpm"],
     );
-    assert_lacks(&stdout(&out), &["recipe  "]);
+    assert_lacks(&out.stdout, &["recipe  "]);
     let script = write(
         &dir,
         "fast.rhai",
@@ -500,10 +492,9 @@ fn through_a_pseudo_terminal_raw_access_drive_limits_and_a_run() {
     let script = script.to_string_lossy().to_string();
     let mut args = vec!["check", script.as_str()];
     args.extend(base);
-    let out = drivescript(&args, "");
-    assert_eq!(out.status.code(), Some(2), "{}\n{}", stdout(&out), stderr(&out));
+    let out = cli(&args, 2);
     assert_has(
-        &stderr(&out),
+        &out.stderr,
         &["fast.rhai:3:25: set speed_setpoint = 6500 rpm is above the maximum the drive reports, 6000 rpm"],
     );
     // Ramp points are checked too, at the step's place.
@@ -515,9 +506,8 @@ fn through_a_pseudo_terminal_raw_access_drive_limits_and_a_run() {
     let ramp = ramp.to_string_lossy().to_string();
     let mut args = vec!["check", ramp.as_str()];
     args.extend(base);
-    let out = drivescript(&args, "");
-    assert_eq!(out.status.code(), Some(2), "{}", stdout(&out));
-    assert_has(&stderr(&out), &["ramp.yaml:4:5: ramp speed_setpoint = -7000 rpm is below the minimum the drive reports, -6000 rpm"]);
+    let out = cli(&args, 2);
+    assert_has(&out.stderr, &["ramp.yaml:4:5: ramp speed_setpoint = -7000 rpm is below the minimum the drive reports, -6000 rpm"]);
     // Nothing moved: the setpoint is what the raw write left.
     let out = drivescript(
         &["read", "0x0010", "--drive", "lenze-931", "--port", port, "--json"],
@@ -542,23 +532,19 @@ fn through_a_pseudo_terminal_raw_access_drive_limits_and_a_run() {
     // Within the limits, check passes and the recipe runs through the pty.
     let mut args = vec!["check", recipe.as_str()];
     args.extend(base);
-    let out = drivescript(&args, "");
-    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    cli(&args, 0);
     let mut args = vec!["objects", "speed", "--from-drive"];
     args.extend(base);
-    let out = drivescript(&args, "");
-    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
-    assert_has(&stdout(&out), &["drive limits: -6000 rpm .. 6000 rpm"]);
+    let out = cli(&args, 0);
+    assert_has(&out.stdout, &["drive limits: -6000 rpm .. 6000 rpm"]);
     let mut args = vec!["run", recipe.as_str(), "--stop-timeout", "20s"];
     args.extend(base);
-    let out = drivescript(&args, "");
-    assert_eq!(out.status.code(), Some(0), "{}\n{}", stdout(&out), stderr(&out));
-    assert_has(&stdout(&out), &["PASSED"]);
+    let out = cli(&args, 0);
+    assert_has(&out.stdout, &["PASSED"]);
 
     // Captured lines explain themselves.
-    let out = drivescript(&["decode", "--protocol", "lenze-931", "OW:0000 0005"], "");
-    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
-    assert_has(&stdout(&out), &["0x00000005 value too high, written but limited"]);
+    let out = cli(&["decode", "--protocol", "lenze-931", "OW:0000 0005"], 0);
+    assert_has(&out.stdout, &["0x00000005 value too high, written but limited"]);
 }
 
 #[test]
@@ -569,7 +555,7 @@ fn a_silent_drive_leaves_check_unable_to_read_limits_with_exit_code_3() {
     // A loopback listener that accepts and never answers.
     let listener = std::net::TcpListener::bind("127.0.0.1:0").expect("bind");
     let addr = listener.local_addr().expect("addr").to_string();
-    let out = drivescript(
+    let err = cli(
         &[
             "check",
             &recipe,
@@ -584,10 +570,9 @@ fn a_silent_drive_leaves_check_unable_to_read_limits_with_exit_code_3() {
             "--retries",
             "1",
         ],
-        "",
-    );
-    assert_eq!(out.status.code(), Some(3), "{}", stdout(&out));
-    let err = stderr(&out);
+        3,
+    )
+    .stderr;
     assert_has(
         &err,
         &[

@@ -4,7 +4,7 @@
 //! the family's list of destructive actions, and one action through a real pty.
 
 use crate::lenze_931::{completed_template, dictionary_args, scratch};
-use crate::support::{assert_has, drivescript, stderr, stdout};
+use crate::support::{assert_has, cli, drivescript, stderr, stdout};
 use drivescript::bus::Peer;
 use drivescript::cli::{run_maintain, ConnectionArgs, DictionaryArgs, MaintainRequest, PrepareMaintained};
 use drivescript::family::lenze_931::LenzeSimulator;
@@ -329,24 +329,21 @@ fn the_family_says_which_actions_it_has_and_which_are_destructive() {
         let family = registry.family(other).expect(other);
         assert!(family.maintenance_actions().is_empty(), "{other}");
     }
-    let out = drivescript(&["maintain", "--drive", "lenze-931"], "");
-    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    let out = cli(&["maintain", "--drive", "lenze-931"], 0);
     assert_has(
-        &stdout(&out),
+        &out.stdout,
         &[
             "  baud RATE  BAUDbbbb  set the baud rate; the drive answers OK!",
             "destructive: the drive restarts; needs --force or a confirmation",
         ],
     );
-    let out = drivescript(&["maintain", "--drive", "sd2", "reset"], "");
-    assert_eq!(out.status.code(), Some(2));
+    let out = cli(&["maintain", "--drive", "sd2", "reset"], 2);
     assert_has(
-        &stderr(&out),
+        &out.stderr,
         &["error: the sd2 family has no maintenance actions; nothing was sent"],
     );
-    let out = drivescript(&["maintain", "--drive", "lenze-931", "rest", "--force"], "");
-    assert_eq!(out.status.code(), Some(2));
-    assert_has(&stderr(&out), &["did you mean `reset`?"]);
+    let out = cli(&["maintain", "--drive", "lenze-931", "rest", "--force"], 2);
+    assert_has(&out.stderr, &["did you mean `reset`?"]);
 }
 
 #[cfg(unix)]
@@ -369,7 +366,7 @@ fn through_a_pseudo_terminal_baud_changes_the_rate_and_says_how_to_reconnect() {
     );
     assert_eq!(out.status.code(), Some(2), "{}", stdout(&out));
     assert_has(&stderr(&out), &["then give --force; nothing was sent"]);
-    let out = drivescript(
+    let text = cli(
         &[
             "maintain",
             "baud",
@@ -380,15 +377,14 @@ fn through_a_pseudo_terminal_baud_changes_the_rate_and_says_how_to_reconnect() {
             "--port",
             port,
         ],
-        "",
-    );
-    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
-    let text = stdout(&out);
+        0,
+    )
+    .stdout;
     assert_has(&text, &["done: the drive answered `OK!`", &format!(
             "the drive now talks at 19200 baud, not at the rate used so far: reconnect with --port {port} --baud 19200 on every command from now on"
         )]);
     // The simulated line keeps working: the next command at the new rate is answered.
-    let out = drivescript(
+    let out = cli(
         &[
             "read",
             "TYPE?",
@@ -399,10 +395,9 @@ fn through_a_pseudo_terminal_baud_changes_the_rate_and_says_how_to_reconnect() {
             "--baud",
             "19200",
         ],
-        "",
+        0,
     );
-    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
-    assert_has(&stdout(&out), &["\"0931\""]);
+    assert_has(&out.stdout, &["\"0931\""]);
 }
 
 #[test]

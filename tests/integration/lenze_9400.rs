@@ -3,7 +3,7 @@
 //! run on a dictionary without a device-control profile: a stop signal, a lost adapter
 //! that comes back, one that does not, and one lost in the middle of a segmented transfer.
 
-use crate::support::{assert_has, assert_lacks, load_frame_vectors, repo_root, InProcessRun};
+use crate::support::{assert_has, assert_lacks, cli, load_frame_vectors, repo_root, InProcessRun};
 use drivescript::bus::CanFrame;
 use drivescript::cli::{DictionaryArgs, PrepareSimulator};
 use drivescript::clock::SharedClock;
@@ -299,7 +299,7 @@ fn an_slcan_pseudo_terminal_serves_the_simulated_node() {
     );
 
     // Another node on the same bus stays silent: a clear no-reply error.
-    let out = drivescript(
+    let out = cli(
         &[
             "read",
             "ident",
@@ -314,13 +314,12 @@ fn an_slcan_pseudo_terminal_serves_the_simulated_node() {
             "--retries",
             "0",
         ],
-        "",
+        3,
     );
-    assert_eq!(out.status.code(), Some(3), "{}{}", stdout(&out), stderr(&out));
-    assert_has(&stderr(&out), &["no reply from drive node 13"]);
+    assert_has(&out.stderr, &["no reply from drive node 13"]);
 
     // A recipe through the adapter.
-    let out = drivescript(
+    let out = cli(
         &[
             "run",
             "recipes/lenze-9400-identity.yaml",
@@ -331,10 +330,9 @@ fn an_slcan_pseudo_terminal_serves_the_simulated_node() {
             "--can",
             &can,
         ],
-        "",
+        0,
     );
-    assert_eq!(out.status.code(), Some(0), "{}{}", stdout(&out), stderr(&out));
-    assert_has(&stdout(&out), &["PASSED"]);
+    assert_has(&out.stdout, &["PASSED"]);
 }
 
 #[test]
@@ -356,7 +354,7 @@ fn decode_reads_candump_frames_and_gives_the_vectors_json() {
         assert_eq!(got, &v.frame, "{}", v.name);
     }
     // Unquoted, as the shell splits `ID data…`; and a frame that is no SDO.
-    let out = drivescript(
+    let out = cli(
         &[
             "decode",
             "--protocol",
@@ -371,13 +369,11 @@ fn decode_reads_candump_frames_and_gives_the_vectors_json() {
             "00",
             "00",
         ],
-        "",
+        0,
     );
-    assert_eq!(out.status.code(), Some(0));
-    assert_has(&stdout(&out), &["C00061 heatsink_temperature"]);
-    let out = drivescript(&["decode", "--protocol", "lenze-9400", "123#00"], "");
-    assert_eq!(out.status.code(), Some(1));
-    assert_has(&stdout(&out), &["not an SDO channel"]);
+    assert_has(&out.stdout, &["C00061 heatsink_temperature"]);
+    let out = cli(&["decode", "--protocol", "lenze-9400", "123#00"], 1);
+    assert_has(&out.stdout, &["not an SDO channel"]);
 }
 
 #[test]
@@ -385,7 +381,7 @@ fn a_trace_is_a_candump_log_that_decode_explains_again() {
     use crate::support::{drivescript, stdout};
     let dir = std::env::temp_dir().join(format!("drivescript-lenze-trace-{}", std::process::id()));
     let trace = dir.join("run.log");
-    let out = drivescript(
+    cli(
         &[
             "run",
             "recipes/lenze-9400-identity.yaml",
@@ -395,9 +391,8 @@ fn a_trace_is_a_candump_log_that_decode_explains_again() {
             "--trace",
             trace.to_str().unwrap(),
         ],
-        "",
+        0,
     );
-    assert_eq!(out.status.code(), Some(0), "{}", stdout(&out));
     let text = std::fs::read_to_string(&trace).unwrap();
     let frames: Vec<&str> = text.lines().filter(|l| !l.starts_with('#')).collect();
     assert!(frames.len() >= 6, "{text}");
@@ -494,13 +489,10 @@ fn a_can_trace_decoded_as_a_serial_protocol_says_which_protocol_to_give() {
 
 #[test]
 fn the_commissioning_recipe_is_refused_for_a_drive_without_device_control() {
-    use crate::support::{drivescript, stderr};
     let text = std::fs::read_to_string(repo_root().join("recipes/commissioning.yaml"))
         .unwrap()
         .replace("drive: sd2", "drive: lenze-9400");
     let path = recipe("commissioning", &text);
-    let out = drivescript(&["check", path.to_str().unwrap(), "--drive", "lenze-9400"], "");
-    assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
-    let err = stderr(&out);
+    let err = cli(&["check", path.to_str().unwrap(), "--drive", "lenze-9400"], 2).stderr;
     assert_has(&err, &["the state `operation_enabled` needs device control, but the lenze_9400 dictionary has no `profile:`", "`disable_operation` needs device control", "nothing was sent to the drive"]);
 }

@@ -5,7 +5,7 @@
 //! did-you-mean.
 
 use crate::safety::scratch;
-use crate::support::{assert_has, assert_lacks, drivescript, stderr, stdout, InProcessRun, LiveRun};
+use crate::support::{assert_has, assert_lacks, cli, drivescript, stderr, stdout, InProcessRun, LiveRun};
 use drivescript::clock::SharedClock;
 use drivescript::drive::device_control::DeviceState;
 use drivescript::sim::SimulatedDrive;
@@ -106,7 +106,7 @@ fn two_axes_on_a_pty(
     let dir = scratch(name);
     let recipe = write_recipe(&dir, recipe_text);
     let trace = dir.join("run.trace");
-    let out = drivescript(
+    let text = cli(
         &[
             "run",
             recipe.to_str().expect("utf-8 path"),
@@ -115,10 +115,9 @@ fn two_axes_on_a_pty(
             "--trace",
             trace.to_str().expect("utf-8 path"),
         ],
-        "",
-    );
-    let text = stdout(&out);
-    assert_eq!(out.status.code(), Some(0), "{text}{}", stderr(&out));
+        0,
+    )
+    .stdout;
     assert_has(
         &text,
         &[
@@ -166,11 +165,10 @@ fn the_issue_spelling_of_addresses_on_a_pty_served_with_dnc_address() {
         "{text}"
     );
     let (sim, recipe, _, _) = two_axes_on_a_pty(&["--dnc-address", "2,3"], "multi-pty-dnc-address", &text);
-    let state = drivescript(&["state", "--port", &sim.path, "--dnc-address", "3"], "");
-    assert_eq!(state.status.code(), Some(0), "{}", stderr(&state));
-    assert_has(&stdout(&state), &["ready to switch on"]);
+    let state = cli(&["state", "--port", &sim.path, "--dnc-address", "3"], 0);
+    assert_has(&state.stdout, &["ready to switch on"]);
     // With a recipe of several drives, one address on the command line is refused.
-    let out = drivescript(
+    let out = cli(
         &[
             "run",
             recipe.to_str().expect("utf-8 path"),
@@ -179,27 +177,24 @@ fn the_issue_spelling_of_addresses_on_a_pty_served_with_dnc_address() {
             "--dnc-address",
             "2",
         ],
-        "",
+        2,
     );
-    assert_eq!(out.status.code(), Some(2));
     assert_has(
-        &stderr(&out),
+        &out.stderr,
         &["--dnc-address 2 names one drive; with several drives each gives its own"],
     );
 }
 
 #[test]
 fn dnc_address_is_refused_with_address_and_for_a_family_without_dnc_addresses() {
-    let both = drivescript(&["simulate", "--pty", "--dnc-address", "2", "--address", "0"], "");
-    assert_eq!(both.status.code(), Some(2));
+    let both = cli(&["simulate", "--pty", "--dnc-address", "2", "--address", "0"], 2);
     assert_has(
-        &stderr(&both),
+        &both.stderr,
         &["'--dnc-address <N,…>' cannot be used with '--address <ADDRESS>'"],
     );
-    let both = drivescript(&["state", "--dnc-address", "2", "--address", "0"], "");
-    assert_eq!(both.status.code(), Some(2));
-    assert_has(&stderr(&both), &["cannot be used with"]);
-    let ct = drivescript(
+    let both = cli(&["state", "--dnc-address", "2", "--address", "0"], 2);
+    assert_has(&both.stderr, &["cannot be used with"]);
+    let ct = cli(
         &[
             "simulate",
             "--pty",
@@ -208,17 +203,15 @@ fn dnc_address_is_refused_with_address_and_for_a_family_without_dnc_addresses() 
             "--dnc-address",
             "2",
         ],
-        "",
+        2,
     );
-    assert_eq!(ct.status.code(), Some(2));
-    assert_has(&stderr(&ct), &["error: --dnc-address is for drives of the sd2 family; a ct_ansi drive has no `dnc_address`: give --address, "]);
+    assert_has(&ct.stderr, &["error: --dnc-address is for drives of the sd2 family; a ct_ansi drive has no `dnc_address`: give --address, "]);
     let ct = drivescript(&["state", "--drive", "ct-unidrive-sp", "--dnc-address", "2"], "");
     assert_ne!(ct.status.code(), Some(0));
     assert_has(&stderr(&ct), &["--dnc-address is for drives of the sd2 family"]);
-    let master = drivescript(&["simulate", "--pty", "--dnc-address", "2,1"], "");
-    assert_eq!(master.status.code(), Some(2));
+    let master = cli(&["simulate", "--pty", "--dnc-address", "2,1"], 2);
     assert_has(
-        &stderr(&master),
+        &master.stderr,
         &["error: --dnc-address 1: `1` is not a drive's DNC address"],
     );
 }

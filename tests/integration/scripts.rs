@@ -5,7 +5,7 @@
 
 use crate::safety::{received, scratch, written, CONTROL_WORD, SPEED_SETPOINT};
 use crate::support::{
-    assert_has, assert_lacks, drivescript, repo_root, stderr, stdout, InProcessRun, LiveRun,
+    assert_has, assert_lacks, cli, drivescript, repo_root, stderr, stdout, InProcessRun, LiveRun,
 };
 use drivescript::cli::RunResult;
 use drivescript::clock::SharedClock;
@@ -57,9 +57,8 @@ fn every_example_script_checks_and_passes_in_virtual_time() {
             continue;
         }
         let p = path.to_str().expect("utf-8 path");
-        let check = drivescript(&["check", p], "");
-        assert_eq!(check.status.code(), Some(0), "{p}: {}", stderr(&check));
-        assert!(stdout(&check).contains("(script, "), "{p}: {}", stdout(&check));
+        let check = cli(&["check", p], 0);
+        assert!(check.stdout.contains("(script, "), "{p}: {}", check.stdout);
         let run = drivescript(&["run", p, "--fast"], "");
         let shown = format!("{}{}", stdout(&run), stderr(&run));
         assert_eq!(run.status.code(), Some(0), "{p}:\n{shown}");
@@ -330,9 +329,8 @@ fn the_sandbox_refuses_modules_eval_file_or_process_access_and_oversized_data() 
         std::fs::write(&path, text).expect("script");
         let p = path.to_str().expect("utf-8");
         if code == 2 {
-            let check = drivescript(&["check", p], "");
-            assert_eq!(check.status.code(), Some(2), "{name}");
-            assert!(stderr(&check).contains(said), "{name}: {}", stderr(&check));
+            let check = cli(&["check", p], 2);
+            assert!(check.stderr.contains(said), "{name}: {}", check.stderr);
         }
         let (result, output) = InProcessRun::new(&path).run();
         assert_eq!(result.exit_code, code, "{name}:\n{output}");
@@ -358,9 +356,7 @@ fn check_finds_literal_mistakes_with_places_and_suggestions_without_a_port() {
     );
     let p = path.to_str().expect("utf-8");
     // A port that does not exist: check must not try to open it.
-    let check = drivescript(&["check", p, "--set", "sped=1"], "");
-    assert_eq!(check.status.code(), Some(2));
-    let err = stderr(&check);
+    let err = cli(&["check", p, "--set", "sped=1"], 2).stderr;
     for part in [
         "script.rhai:3:7]",
         "did you mean `speed_setpoint`",
@@ -547,14 +543,12 @@ fn a_scripts_header_chooses_the_cyclic_channel() {
         &dir,
         &format!("//! drive: sd2\n//! link: channel=cyclic, velocity_scaling=24000rpm\n{body}"),
     );
-    let out = drivescript(&["run", good.to_str().expect("path"), "--fast"], "");
-    assert_eq!(out.status.code(), Some(0), "{}{}", stdout(&out), stderr(&out));
-    assert_has(&stdout(&out), &["(cyclic channel)"]);
+    let out = cli(&["run", good.to_str().expect("path"), "--fast"], 0);
+    assert_has(&out.stdout, &["(cyclic channel)"]);
     let bad = dir.join("bad.rhai");
     std::fs::write(&bad, format!("//! drive: sd2\n//! link: channel=cyclic\n{body}")).expect("script");
-    let out = drivescript(&["run", bad.to_str().expect("path"), "--fast"], "");
-    assert_eq!(out.status.code(), Some(2), "{}", stdout(&out));
-    assert_has(&stderr(&out), &["--velocity-scaling"]);
+    let out = cli(&["run", bad.to_str().expect("path"), "--fast"], 2);
+    assert_has(&out.stderr, &["--velocity-scaling"]);
 }
 
 /// `d.sample(…, "file.csv")` writes that sample's rows as a recipe sample step's `csv:`
@@ -636,9 +630,7 @@ fn a_scripts_csv_file_outside_the_output_directory_is_refused() {
     let literal =
         "let d = drive();\nlet s = d.sample([\"speed_actual\"], \"100 ms\", \"1 s\", \"../escape.csv\");\n";
     let path = write_script(&dir, literal);
-    let check = drivescript(&["check", path.to_str().expect("utf-8")], "");
-    assert_eq!(check.status.code(), Some(2));
-    let err = stderr(&check);
+    let err = cli(&["check", path.to_str().expect("utf-8")], 2).stderr;
     assert_has(
         &err,
         &[
@@ -673,9 +665,7 @@ fn check_finds_a_wait_until_condition_that_uses_the_drive() {
          d.wait_until(\"speed_actual\", |v| v > d.read(\"speed_setpoint\") - 10.0, \"10 s\");\n",
     );
     let p = path.to_str().expect("utf-8");
-    let check = drivescript(&["check", p], "");
-    assert_eq!(check.status.code(), Some(2));
-    let err = stderr(&check);
+    let err = cli(&["check", p], 2).stderr;
     for part in [
         "a wait_until condition must not use the drive: `d` is used inside the condition",
         "script.rhai:5:3]",

@@ -27,6 +27,25 @@ pub fn drivescript(args: &[&str], stdin: &str) -> Output {
     child.wait_with_output().expect("drivescript finishes")
 }
 
+/// What a finished `drivescript` run wrote, as text.
+pub struct Ran {
+    pub stdout: String,
+    pub stderr: String,
+}
+
+/// Runs `drivescript ARGS` with no input and fails the test, showing both outputs, unless
+/// it exits with `code`.
+#[track_caller]
+pub fn cli(args: &[&str], code: i32) -> Ran {
+    let out = drivescript(args, "");
+    let ran = Ran {
+        stdout: stdout(&out),
+        stderr: stderr(&out),
+    };
+    assert_eq!(out.status.code(), Some(code), "{}{}", ran.stdout, ran.stderr);
+    ran
+}
+
 pub fn stdout(o: &Output) -> String {
     String::from_utf8_lossy(&o.stdout).into_owned()
 }
@@ -44,6 +63,12 @@ pub struct Vector {
 }
 
 pub fn load_vectors(path: &Path) -> Vec<Vector> {
+    load_yaml(path)
+}
+
+/// A YAML file of test vectors read into `T`; a file that is missing or does not fit fails
+/// the test naming it.
+fn load_yaml<T: serde::de::DeserializeOwned>(path: &Path) -> T {
     let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
     serde_saphyr::from_str(&text).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
 }
@@ -58,8 +83,7 @@ pub struct FrameVector {
 }
 
 pub fn load_frame_vectors(path: &Path) -> Vec<FrameVector> {
-    let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-    serde_saphyr::from_str(&text).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+    load_yaml(path)
 }
 
 pub fn sd2_vectors() -> Vec<Vector> {
