@@ -4,18 +4,11 @@
 //! and exit codes in `--help`, build information in `--version`, and plain messages for
 //! a port that is not a serial port and a recipe that is not UTF-8.
 
-use crate::support::{assert_has, assert_lacks, cli, drivescript, stderr, stdout};
-
-fn temp_dir(name: &str) -> std::path::PathBuf {
-    let dir = std::env::temp_dir().join(format!("drivescript-cli-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).expect("temp dir");
-    dir
-}
+use crate::support::{assert_has, assert_lacks, cli, drivescript, scratch, stderr, stdout};
 
 #[test]
 fn several_recipes_run_in_turn_and_the_worst_exit_code_wins() {
-    let dir = temp_dir("several");
+    let dir = scratch("several");
     let text = cli(
         &[
             "run",
@@ -60,7 +53,7 @@ fn several_recipes_run_in_turn_and_the_worst_exit_code_wins() {
 
 #[test]
 fn sample_csv_files_go_to_the_output_dir_and_are_announced() {
-    let dir = temp_dir("csv");
+    let dir = scratch("csv");
     let out = cli(
         &[
             "run",
@@ -86,7 +79,7 @@ fn sample_csv_files_go_to_the_output_dir_and_are_announced() {
 
 #[test]
 fn decode_reads_trace_files() {
-    let dir = temp_dir("decode");
+    let dir = scratch("decode");
     let trace = dir.join("run.trace");
     cli(
         &[
@@ -155,7 +148,7 @@ fn a_file_that_is_no_serial_port_is_said_plainly() {
 
 #[test]
 fn a_windows_1252_recipe_is_said_plainly() {
-    let dir = temp_dir("cp1252");
+    let dir = scratch("cp1252");
     let path = dir.join("prüfung.yaml");
     std::fs::write(&path, b"name: Pr\xfcfung\ndrive: sd2\nsteps:\n  - shutdown\n").unwrap();
     let err = cli(&["check", path.to_str().unwrap()], 2).stderr;
@@ -168,8 +161,8 @@ fn a_windows_1252_recipe_is_said_plainly() {
 /// typed and the three likely causes, exit code 3, nothing run, reports written.
 #[test]
 fn a_drive_that_never_answers_gets_one_early_message() {
-    let sim = crate::end_to_end::Simulator::start(&["--tcp", "127.0.0.1:0"]);
-    let dir = temp_dir("silent");
+    let sim = crate::support::Simulator::start(&["--tcp", "127.0.0.1:0"]);
+    let dir = scratch("silent");
     let junit = dir.join("junit.xml");
     let out = cli(
         &[
@@ -208,7 +201,7 @@ fn a_drive_that_never_answers_gets_one_early_message() {
 /// with the same time, UTC and iteration-aware step columns as the long layout.
 #[test]
 fn csv_wide_gives_one_column_per_object_everywhere() {
-    let dir = temp_dir("wide");
+    let dir = scratch("wide");
     cli(
         &[
             "run",

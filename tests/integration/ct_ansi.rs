@@ -5,7 +5,8 @@
 //! that gets no reply and is not repeated, and Ctrl-C during a run on the simulated drive.
 
 use crate::support::{
-    assert_has, cli, drivescript, load_vectors, repo_root, stderr, stdout, InProcessRun, LiveRun,
+    assert_has, cli, control_words, drivescript, load_vectors, repo_root, stderr, stdout, InProcessRun,
+    LiveRun,
 };
 use drivescript::bus::{MemoryTransport, SharedTransport};
 use drivescript::clock::{SharedClock, VirtualClock};
@@ -17,7 +18,7 @@ use drivescript::hex::parse_hex;
 use drivescript::sim::SimConfig;
 use serde_json::Value;
 use std::path::PathBuf;
-use std::sync::{Arc, PoisonError};
+use std::sync::Arc;
 use std::time::Duration;
 
 fn vectors() -> Vec<crate::support::Vector> {
@@ -173,12 +174,7 @@ fn the_commissioning_recipe_runs_on_the_simulated_ct_drive_with_exact_decimals()
             "drive left in switched on at 0 rpm",
         ],
     );
-    let sim = result.simulator.expect("the simulated drive");
-    let words = sim
-        .lock()
-        .unwrap_or_else(PoisonError::into_inner)
-        .control_words_written();
-    assert_eq!(words, vec![131, 129, 128]);
+    assert_eq!(control_words(&result), vec![131, 129, 128]);
     // 1500.5 rpm goes on the wire as the text 1500.5, after the control-word enable.
     let trace = std::fs::read_to_string(&trace).unwrap();
     assert_has(
@@ -325,7 +321,7 @@ fn a_group_write_gets_no_reply_and_is_not_repeated() {
 #[cfg(unix)]
 #[test]
 fn the_commissioning_recipe_runs_behind_an_adapter_that_echoes() {
-    let sim = crate::end_to_end::Simulator::start(&["--drive", "ct-unidrive-sp", "--pty", "--echo"]);
+    let sim = crate::support::Simulator::start(&["--drive", "ct-unidrive-sp", "--pty", "--echo"]);
     let recipe = ct_commissioning("echo");
     let out = drivescript(
         &["run", recipe.to_str().unwrap(), "--port", &sim.endpoint, "-v"],
@@ -358,7 +354,7 @@ fn the_commissioning_recipe_runs_behind_an_adapter_that_echoes() {
 #[cfg(unix)]
 #[test]
 fn the_commissioning_recipe_runs_through_a_pseudo_terminal() {
-    let sim = crate::end_to_end::Simulator::start(&["--drive", "ct-unidrive-sp", "--pty"]);
+    let sim = crate::support::Simulator::start(&["--drive", "ct-unidrive-sp", "--pty"]);
     let recipe = ct_commissioning("pty");
     let text = cli(&["run", recipe.to_str().unwrap(), "--port", &sim.endpoint], 0).stdout;
     assert_has(
@@ -400,7 +396,7 @@ fn the_commissioning_recipe_runs_through_a_pseudo_terminal() {
 #[cfg(unix)]
 #[test]
 fn ctrl_c_during_a_run_on_the_simulated_ct_drive_stops_it() {
-    let sim = crate::end_to_end::Simulator::start(&["--drive", "ct-unidrive-sp", "--pty"]);
+    let sim = crate::support::Simulator::start(&["--drive", "ct-unidrive-sp", "--pty"]);
     let dir = std::env::temp_dir().join(format!("drivescript-ct-sigint-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let recipe = dir.join("run.yaml");

@@ -2,44 +2,9 @@
 //! pseudo-terminal, `simulate --tcp` on loopback, and Ctrl-C (SIGINT) during a real-time
 //! run, which must still run `finally` and exit with 130.
 
-use crate::support::{assert_has, assert_lacks, cli, repo_root, LiveRun};
+use crate::support::{assert_has, assert_lacks, cli, repo_root, LiveRun, Simulator};
 use std::io::{BufRead, BufReader};
-use std::process::{Child, Command, Stdio};
-
-/// A `drivescript simulate` in the background, stopped when dropped.
-pub(crate) struct Simulator {
-    child: Child,
-    /// The first line it printed: the pty path or the TCP address.
-    pub(crate) endpoint: String,
-}
-
-impl Simulator {
-    pub(crate) fn start(args: &[&str]) -> Simulator {
-        let mut child = Command::new(env!("CARGO_BIN_EXE_drivescript"))
-            .arg("simulate")
-            .args(args)
-            .stdout(Stdio::piped())
-            .stderr(Stdio::piped())
-            .spawn()
-            .expect("simulate starts");
-        let out = child.stdout.take().expect("stdout is piped");
-        let mut line = String::new();
-        BufReader::new(out)
-            .read_line(&mut line)
-            .expect("simulate prints its endpoint");
-        Simulator {
-            child,
-            endpoint: line.trim().to_string(),
-        }
-    }
-}
-
-impl Drop for Simulator {
-    fn drop(&mut self) {
-        let _ = self.child.kill();
-        let _ = self.child.wait();
-    }
-}
+use std::process::{Command, Stdio};
 
 #[cfg(unix)]
 #[test]

@@ -5,7 +5,10 @@
 //! profile `check` refuses device control; the safe stop on a stop signal, a lost line and
 //! a drive that ignores commands; and a real pseudo-terminal with `simulate --pty`.
 
-use crate::support::{assert_has, assert_lacks, cli, drivescript, repo_root, stderr, stdout, InProcessRun};
+use crate::support::{
+    assert_has, assert_lacks, cli, control_words, drivescript, repo_root, scratch, stderr, stdout,
+    write_file, InProcessRun,
+};
 use drivescript::cli::DictionaryArgs;
 use drivescript::clock::SharedClock;
 use drivescript::drive::{DeviceCommand, DeviceState};
@@ -27,12 +30,6 @@ const SIM_NUMBERS: &[(&str, &str)] = &[
     ("status_word", "0x0021"),
     ("drive_error", "0x0022"),
 ];
-
-pub(crate) fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("drivescript-lenze-{name}-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("scratch dir");
-    dir
-}
 
 /// What a user does with the template in `dictionary/lenze-931.yaml`: copy the lines
 /// between the markers, remove the `# `, fill in every `0x????`.
@@ -97,12 +94,6 @@ fn commissioning_for_931(dir: &Path) -> PathBuf {
     path
 }
 
-fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
-    let path = dir.join(name);
-    std::fs::write(&path, text).expect("write");
-    path
-}
-
 #[test]
 fn the_commissioning_recipe_runs_on_the_simulated_931_with_only_drive_changed() {
     let dir = scratch("commissioning");
@@ -155,12 +146,7 @@ fn the_commissioning_recipe_runs_on_the_simulated_931_with_only_drive_changed() 
             "drive left in ready to switch on at 0 rpm",
         ],
     );
-    let sim = result.simulator.expect("the simulated drive");
-    let words = sim
-        .lock()
-        .unwrap_or_else(PoisonError::into_inner)
-        .control_words_written();
-    assert_eq!(words, vec![6, 7, 15, 7, 6]);
+    assert_eq!(control_words(&result), vec![6, 7, 15, 7, 6]);
 }
 
 #[test]
@@ -168,7 +154,7 @@ fn a_limited_write_warns_with_the_stored_value_and_expect_sees_it() {
     // A literal beyond the drive's limits is refused before the run (see below), so the
     // limited write is reached with a value the script computes.
     let dir = scratch("limited");
-    let script = write(
+    let script = write_file(
         &dir,
         "limited.rhai",
         "//! drive: lenze-931\nlet d = drive();\nlet high = 4000.0 * 2.0;\nd.set(\"speed_setpoint\", high, \"rpm\");\nlet stored = d.read(\"speed_setpoint\");\nexpect(\"speed_setpoint equals 6000 rpm\", stored == 6000.0, stored);\nd.set(\"speed_setpoint\", 0.0, \"rpm\");\n",
@@ -190,7 +176,7 @@ fn a_limited_write_warns_with_the_stored_value_and_expect_sees_it() {
 #[test]
 fn a_value_the_drive_refuses_names_the_drives_limit() {
     let dir = scratch("refused");
-    let script = write(
+    let script = write_file(
         &dir,
         "refused.rhai",
         "//! drive: lenze-931\nlet d = drive();\nlet mode = 3 + 4;\nd.set(\"operating_mode\", mode);\n",
@@ -232,7 +218,7 @@ fn run_and_record(dir: &Path, path: PathBuf) -> (i32, String, Vec<String>) {
 #[test]
 fn a_run_outside_the_drives_limits_is_refused_before_any_write_telegram() {
     let dir = scratch("run-limits");
-    let recipe = write(
+    let recipe = write_file(
         &dir,
         "outside.yaml",
         "name: Outside\ndrive: lenze-931\nsteps:\n  - read: [ident]\n  - set: { operating_mode: 2 }\n  - set: { speed_setpoint: 8000 rpm }\n  - ramp: { object: speed_setpoint, from: -7000 rpm, to: 0 rpm, rate: 1000 rpm/s }\nfinally:\n  - set: { speed_setpoint: 0 rpm }\n",
@@ -245,7 +231,7 @@ fn a_run_outside_the_drives_limits_is_refused_before_any_write_telegram() {
     assert_lacks(&output, &["PASSED"]);
 
     // A script's literal values are compared the same way, at their place.
-    let script = write(
+    let script = write_file(
         &dir,
         "outside.rhai",
         "//! drive: lenze-931\nlet d = drive();\nd.set(\"operating_mode\", 9);\nd.set(\"speed_setpoint\", 100.0, \"rpm\");\n",
@@ -262,7 +248,7 @@ fn a_run_outside_the_drives_limits_is_refused_before_any_write_telegram() {
 #[test]
 fn a_run_within_the_drives_limits_reads_them_first_and_passes() {
     let dir = scratch("run-within");
-    let recipe = write(
+    let recipe = write_file(
         &dir,
         "within.yaml",
         "name: Within\ndrive: lenze-931\nsteps:\n  - set: { speed_setpoint: 5000 rpm }\n  - ramp: { object: speed_setpoint, from: 5000 rpm, to: -6000 rpm, rate: 10000 rpm/s }\n  - expect: { speed_setpoint: { equals: -6000 rpm } }\nfinally:\n  - set: { speed_setpoint: 0 rpm }\n",
@@ -289,7 +275,7 @@ fn a_run_within_the_drives_limits_reads_them_first_and_passes() {
 #[test]
 fn without_a_profile_check_refuses_device_commands_and_states_saying_what_to_add() {
     let dir = scratch("no-profile");
-    let recipe = write(
+    let recipe = write_file(
         &dir,
         "control.yaml",
         "name: Needs control\ndrive: lenze-931\nsteps:\n  - read: [ident]\n  - shutdown\n  - go_to: operation_enabled\n  - wait_until: { state: switched_on, timeout: 1 s }\nfinally: []\n",
@@ -413,7 +399,7 @@ fn a_lost_line_to_the_931_ends_in_the_truth() {
 #[cfg(unix)]
 #[test]
 fn through_a_pseudo_terminal_raw_access_drive_limits_and_a_run() {
-    let sim = crate::end_to_end::Simulator::start(&["--drive", "lenze-931", "--pty"]);
+    let sim = crate::support::Simulator::start(&["--drive", "lenze-931", "--pty"]);
     let port = sim.endpoint.as_str();
     assert!(port.starts_with("/dev/"), "{port}");
     let dir = scratch("pty");
@@ -484,7 +470,7 @@ fn through_a_pseudo_terminal_raw_access_drive_limits_and_a_run() {
         &["set speed_setpoint = 8000 rpm is above the maximum the drive reports, 6000 rpm"],
     );
     assert_lacks(&out.stdout, &["recipe  "]);
-    let script = write(
+    let script = write_file(
         &dir,
         "fast.rhai",
         "//! drive: lenze-931\nlet d = drive();\nd.set(\"speed_setpoint\", 6500.0, \"rpm\");\n",
@@ -498,7 +484,7 @@ fn through_a_pseudo_terminal_raw_access_drive_limits_and_a_run() {
         &["fast.rhai:3:25: set speed_setpoint = 6500 rpm is above the maximum the drive reports, 6000 rpm"],
     );
     // Ramp points are checked too, at the step's place.
-    let ramp = write(
+    let ramp = write_file(
         &dir,
         "ramp.yaml",
         "name: Ramp\ndrive: lenze-931\nsteps:\n  - ramp: { object: speed_setpoint, from: -7000 rpm, to: 0 rpm, rate: 1000 rpm/s }\nfinally: []\n",
@@ -589,7 +575,7 @@ fn a_silent_drive_leaves_check_unable_to_read_limits_with_exit_code_3() {
 #[cfg(unix)]
 #[test]
 fn parameters_round_trip_with_the_drives_limits_and_save() {
-    let sim = crate::end_to_end::Simulator::start(&["--drive", "lenze-931", "--pty"]);
+    let sim = crate::support::Simulator::start(&["--drive", "lenze-931", "--pty"]);
     let port = sim.endpoint.as_str();
     let dir = scratch("parameters");
     let dictionary = completed_template(&dir).to_string_lossy().to_string();
@@ -653,7 +639,7 @@ fn an_sd2_run_asks_nothing_about_drive_limits() {
 #[test]
 fn ctrl_c_while_the_drives_limits_are_read_ends_with_130_and_nothing_moved() {
     let dir = scratch("run-limits-ctrl-c");
-    let recipe = write(
+    let recipe = write_file(
         &dir,
         "silent.yaml",
         "name: Silent\ndrive: lenze-931\nsteps:\n  - set: { speed_setpoint: 100 rpm }\n",

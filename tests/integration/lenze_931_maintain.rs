@@ -3,8 +3,8 @@
 //! read; an enabled drive even with --force; no confirmation), a lost or garbled reply,
 //! the family's list of destructive actions, and one action through a real pty.
 
-use crate::lenze_931::{completed_template, dictionary_args, scratch};
-use crate::support::{assert_has, cli, drivescript, stderr, stdout};
+use crate::lenze_931::{completed_template, dictionary_args};
+use crate::support::{assert_has, cli, drivescript, scratch, stderr, stdout};
 use drivescript::bus::Peer;
 use drivescript::cli::{run_maintain, ConnectionArgs, DictionaryArgs, MaintainRequest, PrepareMaintained};
 use drivescript::family::lenze_931::LenzeSimulator;
@@ -349,7 +349,7 @@ fn the_family_says_which_actions_it_has_and_which_are_destructive() {
 #[cfg(unix)]
 #[test]
 fn through_a_pseudo_terminal_baud_changes_the_rate_and_says_how_to_reconnect() {
-    let sim = crate::end_to_end::Simulator::start(&["--drive", "lenze-931", "--pty"]);
+    let sim = crate::support::Simulator::start(&["--drive", "lenze-931", "--pty"]);
     let port = sim.endpoint.as_str();
     // Not on a terminal and without --force: refused, nothing sent.
     let out = drivescript(

@@ -3,7 +3,7 @@
 //! run on a dictionary without a device-control profile: a stop signal, a lost adapter
 //! that comes back, one that does not, and one lost in the middle of a segmented transfer.
 
-use crate::support::{assert_has, assert_lacks, cli, load_frame_vectors, repo_root, InProcessRun};
+use crate::support::{assert_has, assert_lacks, cli, load_frame_vectors, repo_root, InProcessRun, Simulator};
 use drivescript::bus::CanFrame;
 use drivescript::cli::{DictionaryArgs, PrepareSimulator};
 use drivescript::clock::SharedClock;
@@ -199,48 +199,10 @@ fn the_family_reads_codes_in_dictionaries() {
 #[cfg(unix)]
 static SLCAN_PTY_TESTS: std::sync::Mutex<()> = std::sync::Mutex::new(());
 
-/// A `drivescript simulate … --slcan-pty` in the background, stopped when dropped.
+/// `drivescript simulate` of a 9400 node `node` behind a simulated SLCAN adapter on a pty.
 #[cfg(unix)]
-struct SlcanSimulator {
-    child: std::process::Child,
-    path: String,
-}
-
-#[cfg(unix)]
-impl SlcanSimulator {
-    fn start(node: &str) -> SlcanSimulator {
-        use std::io::BufRead;
-        let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_drivescript"))
-            .args([
-                "simulate",
-                "--drive",
-                "lenze-9400",
-                "--address",
-                node,
-                "--slcan-pty",
-            ])
-            .stdout(std::process::Stdio::piped())
-            .stderr(std::process::Stdio::null())
-            .spawn()
-            .expect("simulate starts");
-        let out = child.stdout.take().expect("stdout is piped");
-        let mut line = String::new();
-        std::io::BufReader::new(out)
-            .read_line(&mut line)
-            .expect("simulate prints the pty path");
-        SlcanSimulator {
-            child,
-            path: line.trim().to_string(),
-        }
-    }
-}
-
-#[cfg(unix)]
-impl Drop for SlcanSimulator {
-    fn drop(&mut self) {
-        let _ = self.child.kill();
-        let _ = self.child.wait();
-    }
+fn slcan_simulator(node: &str) -> Simulator {
+    Simulator::start(&["--drive", "lenze-9400", "--address", node, "--slcan-pty"])
 }
 
 #[cfg(unix)]
@@ -250,9 +212,9 @@ fn an_slcan_pseudo_terminal_serves_the_simulated_node() {
     let _one_at_a_time = SLCAN_PTY_TESTS
         .lock()
         .unwrap_or_else(std::sync::PoisonError::into_inner);
-    let sim = SlcanSimulator::start("12");
-    assert!(sim.path.starts_with("/dev/"), "path {:?}", sim.path);
-    let can = format!("slcan:{}", sim.path);
+    let sim = slcan_simulator("12");
+    assert!(sim.endpoint.starts_with("/dev/"), "path {:?}", sim.endpoint);
+    let can = format!("slcan:{}", sim.endpoint);
     let with = |args: &[&str]| {
         let mut all = args.to_vec();
         all.extend([
@@ -434,8 +396,8 @@ steps:
     );
     // Node 37, which no other test simulates: when the pseudo-terminal's number is given
     // to another test's simulator meanwhile, reopening it must not find this node there.
-    let sim = SlcanSimulator::start("37");
-    let can = format!("slcan:{}", sim.path);
+    let sim = slcan_simulator("37");
+    let can = format!("slcan:{}", sim.endpoint);
     let mut run = std::process::Command::new(env!("CARGO_BIN_EXE_drivescript"))
         .args([
             "run",

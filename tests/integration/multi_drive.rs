@@ -4,13 +4,15 @@
 //! of different families, each on its own line; `check` names unknown drives with
 //! did-you-mean.
 
-use crate::safety::scratch;
-use crate::support::{assert_has, assert_lacks, cli, drivescript, stderr, stdout, InProcessRun, LiveRun};
+use crate::support::{
+    assert_has, assert_lacks, cli, drivescript, scratch, stderr, stdout, write_file, InProcessRun, LiveRun,
+    Simulator,
+};
 use drivescript::clock::SharedClock;
 use drivescript::drive::device_control::DeviceState;
 use drivescript::sim::SimulatedDrive;
 use drivescript::stop_request::{StopRequests, StopSignal};
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex, PoisonError};
 use std::time::Duration;
@@ -32,12 +34,6 @@ steps:
       left.speed_actual: { mean: { near: 1000 rpm, within: 1 % } }
       right.speed_actual: { mean: { near: 2000 rpm, within: 1 % } }
 ";
-
-fn write_recipe(dir: &Path, text: &str) -> PathBuf {
-    let path = dir.join("recipe.yaml");
-    std::fs::write(&path, text).expect("recipe written");
-    path
-}
 
 fn state_of(sim: &Arc<Mutex<dyn SimulatedDrive>>) -> DeviceState {
     sim.lock().unwrap_or_else(PoisonError::into_inner).state()
@@ -101,17 +97,17 @@ fn two_axes_on_a_pty(
     sim_args: &[&str],
     name: &str,
     recipe_text: &str,
-) -> (crate::safety::PtySimulator, std::path::PathBuf, String, String) {
-    let sim = crate::safety::PtySimulator::start_with(sim_args);
+) -> (Simulator, std::path::PathBuf, String, String) {
+    let sim = Simulator::pty(sim_args);
     let dir = scratch(name);
-    let recipe = write_recipe(&dir, recipe_text);
+    let recipe = write_file(&dir, "recipe.yaml", recipe_text);
     let trace = dir.join("run.trace");
     let text = cli(
         &[
             "run",
             recipe.to_str().expect("utf-8 path"),
             "--port",
-            &sim.path,
+            &sim.endpoint,
             "--trace",
             trace.to_str().expect("utf-8 path"),
         ],
@@ -165,7 +161,7 @@ fn the_issue_spelling_of_addresses_on_a_pty_served_with_dnc_address() {
         "{text}"
     );
     let (sim, recipe, _, _) = two_axes_on_a_pty(&["--dnc-address", "2,3"], "multi-pty-dnc-address", &text);
-    let state = cli(&["state", "--port", &sim.path, "--dnc-address", "3"], 0);
+    let state = cli(&["state", "--port", &sim.endpoint, "--dnc-address", "3"], 0);
     assert_has(&state.stdout, &["ready to switch on"]);
     // With a recipe of several drives, one address on the command line is refused.
     let out = cli(
@@ -173,7 +169,7 @@ fn the_issue_spelling_of_addresses_on_a_pty_served_with_dnc_address() {
             "run",
             recipe.to_str().expect("utf-8 path"),
             "--port",
-            &sim.path,
+            &sim.endpoint,
             "--dnc-address",
             "2",
         ],
@@ -221,11 +217,11 @@ fn dnc_address_is_refused_with_address_and_for_a_family_without_dnc_addresses() 
 #[cfg(unix)]
 #[test]
 fn ctrl_c_on_a_pty_stops_both_drives_each_verified() {
-    let sim = crate::safety::PtySimulator::start_with(&["--address", "dnc:2,dnc:3"]);
+    let sim = Simulator::pty(&["--address", "dnc:2,dnc:3"]);
     let dir = scratch("multi-pty-ctrl-c");
-    let recipe = write_recipe(&dir, &TWO_AXES.replace("SAMPLE_FOR", "10 min"));
+    let recipe = write_file(&dir, "recipe.yaml", &TWO_AXES.replace("SAMPLE_FOR", "10 min"));
     let recipe = recipe.to_string_lossy().to_string();
-    let mut run = LiveRun::start(["run", recipe.as_str(), "--port", &sim.path]);
+    let mut run = LiveRun::start(["run", recipe.as_str(), "--port", &sim.endpoint]);
     run.wait_for("wait until right.speed_actual");
     std::thread::sleep(Duration::from_millis(500));
     run.signal("INT");
@@ -242,7 +238,7 @@ fn ctrl_c_on_a_pty_stops_both_drives_each_verified() {
     assert!(right < left, "{seen}");
     assert_has(&seen, &["right: drive left in ready to switch on at 0 rpm\nleft: drive left in ready to switch on at 0 rpm\n"]);
     for address in ["dnc:2", "dnc:3"] {
-        let state = drivescript(&["state", "--port", &sim.path, "--address", address], "");
+        let state = drivescript(&["state", "--port", &sim.endpoint, "--address", address], "");
         let text = stdout(&state);
         assert!(
             text.contains("ready to switch on"),
@@ -268,8 +264,9 @@ fn run_in_process(
 #[test]
 fn a_fault_on_one_drive_runs_on_fault_and_stops_both() {
     let dir = scratch("multi-fault");
-    let recipe = write_recipe(
+    let recipe = write_file(
         &dir,
+        "recipe.yaml",
         "name: Fault on the left
 drives:
   left:  { drive: sd2, address: dnc:2 }
@@ -316,7 +313,7 @@ on_fault:
 #[test]
 fn a_stop_signal_stops_both_drives_last_enabled_first() {
     let dir = scratch("multi-signal");
-    let recipe = write_recipe(&dir, &TWO_AXES.replace("SAMPLE_FOR", "1 h"));
+    let recipe = write_file(&dir, "recipe.yaml", &TWO_AXES.replace("SAMPLE_FOR", "1 h"));
     let stop = Arc::new(StopRequests::new());
     stop.schedule(Duration::from_secs(30), StopSignal::INT);
     let (result, output) = run_in_process(&recipe, stop, &|_, _| {});
@@ -337,8 +334,9 @@ fn a_stop_signal_stops_both_drives_last_enabled_first() {
 #[test]
 fn drives_of_two_families_each_on_its_own_line_reach_their_speeds() {
     let dir = scratch("multi-families");
-    let recipe = write_recipe(
+    let recipe = write_file(
         &dir,
+        "recipe.yaml",
         "name: Spindle and feed
 drives:
   spindle: { drive: sd2, address: dnc:2 }
@@ -381,8 +379,9 @@ steps:
 #[test]
 fn check_names_unknown_drives_and_objects_without_a_drive() {
     let dir = scratch("multi-check");
-    let recipe = write_recipe(
+    let recipe = write_file(
         &dir,
+        "recipe.yaml",
         "name: Typos
 drives:
   left:  { drive: sd2, address: dnc:2 }
@@ -413,8 +412,9 @@ steps:
 #[test]
 fn two_drives_at_one_address_on_one_line_are_refused_before_anything_is_sent() {
     let dir = scratch("multi-same-address");
-    let recipe = write_recipe(
+    let recipe = write_file(
         &dir,
+        "recipe.yaml",
         "name: Same address
 drives:
   left:  { drive: sd2, address: dnc:2 }
@@ -446,16 +446,10 @@ print(`right is ${right.state()}`);
 DRIVE_CALL
 "#;
 
-fn write_script(dir: &Path, text: &str) -> PathBuf {
-    let path = dir.join("script.rhai");
-    std::fs::write(&path, text).expect("script written");
-    path
-}
-
 #[test]
 fn a_script_drives_each_named_drive_and_stops_both() {
     let dir = scratch("multi-script");
-    let script = write_script(&dir, &TWO_AXES_SCRIPT.replace("DRIVE_CALL", ""));
+    let script = write_file(&dir, "script.rhai", &TWO_AXES_SCRIPT.replace("DRIVE_CALL", ""));
     let (result, output) = run_in_process(&script, Arc::new(StopRequests::new()), &|_, _| {});
     assert_eq!(result.exit_code, 0, "{output}");
     assert_has(
@@ -475,8 +469,9 @@ fn a_script_drives_each_named_drive_and_stops_both() {
 #[test]
 fn a_script_naming_an_unknown_drive_or_no_drive_is_told_which_there_are() {
     let dir = scratch("multi-script-typo");
-    let script = write_script(
+    let script = write_file(
         &dir,
+        "script.rhai",
         &TWO_AXES_SCRIPT.replace("DRIVE_CALL", "drive(\"rigth\").read(\"speed_actual\");"),
     );
     let (result, output) = run_in_process(&script, Arc::new(StopRequests::new()), &|_, _| {});
@@ -485,8 +480,9 @@ fn a_script_naming_an_unknown_drive_or_no_drive_is_told_which_there_are() {
         &output,
         &["no drive called `rigth` in this script; did you mean `right`?"],
     );
-    let script = write_script(
+    let script = write_file(
         &dir,
+        "script.rhai",
         &TWO_AXES_SCRIPT.replace("DRIVE_CALL", "drive().read(\"speed_actual\");"),
     );
     let (result, output) = run_in_process(&script, Arc::new(StopRequests::new()), &|_, _| {});
@@ -506,8 +502,8 @@ fn the_bench_limits_cap_every_drive_of_a_recipe_and_of_a_script() {
     let dir = scratch("multi-limits");
     let limits = dir.join("limits.yaml");
     std::fs::write(&limits, "max_speed: 1500 rpm\n").expect("limits written");
-    let recipe = write_recipe(&dir, &TWO_AXES.replace("SAMPLE_FOR", "1 s"));
-    let script = write_script(&dir, &TWO_AXES_SCRIPT.replace("DRIVE_CALL", ""));
+    let recipe = write_file(&dir, "recipe.yaml", &TWO_AXES.replace("SAMPLE_FOR", "1 s"));
+    let script = write_file(&dir, "script.rhai", &TWO_AXES_SCRIPT.replace("DRIVE_CALL", ""));
     for file in [&recipe, &script] {
         let out = drivescript(
             &[
@@ -536,8 +532,9 @@ fn the_bench_limits_cap_every_drive_of_a_recipe_and_of_a_script() {
 #[test]
 fn an_unreachable_drive_does_not_hold_up_the_others_stop() {
     let dir = scratch("multi-unreachable");
-    let recipe = write_recipe(
+    let recipe = write_file(
         &dir,
+        "recipe.yaml",
         "name: Feed line lost for good
 drives:
   spindle: { drive: sd2, address: dnc:2 }

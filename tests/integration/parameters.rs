@@ -2,15 +2,8 @@
 //! pseudo-terminal (the drive keeps its state between commands there), and the restore's
 //! refusals before any write.
 
-use crate::end_to_end::Simulator;
-use crate::support::{assert_has, drivescript, stderr, stdout};
-use std::path::PathBuf;
-
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("drivescript-parameters-{}-{name}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("scratch dir");
-    dir
-}
+use crate::support::Simulator;
+use crate::support::{assert_has, drivescript, scratch, stderr, stdout};
 
 fn run(args: &[&str]) -> (i32, String) {
     let out = drivescript(args, "");

@@ -3,35 +3,17 @@
 //! panic, a stop request during `sample` and during pure computation, a signal through a
 //! real pseudo-terminal) runs the safe stop, and the sandbox refuses what it must.
 
-use crate::safety::{received, scratch, written, CONTROL_WORD, SPEED_SETPOINT};
+use crate::safety::{received, written, CONTROL_WORD, SPEED_SETPOINT};
 use crate::support::{
-    assert_has, assert_lacks, cli, drivescript, repo_root, stderr, stdout, InProcessRun, LiveRun,
+    assert_has, assert_lacks, cli, control_words, drivescript, repo_root, scratch, stderr, stdout,
+    write_file, InProcessRun, LiveRun,
 };
 use drivescript::cli::RunResult;
 use drivescript::clock::SharedClock;
 use drivescript::sim::SimulatedDrive;
 use drivescript::stop_request::{StopRequests, StopSignal};
-use std::path::{Path, PathBuf};
-use std::sync::{Arc, Mutex, PoisonError};
+use std::sync::{Arc, Mutex};
 use std::time::Duration;
-
-fn write_script(dir: &Path, text: &str) -> PathBuf {
-    let path = dir.join("script.rhai");
-    std::fs::write(&path, text).expect("script written");
-    path
-}
-
-fn control_words(result: &RunResult) -> Vec<u16> {
-    result
-        .simulator
-        .as_ref()
-        .map(|s| {
-            s.lock()
-                .unwrap_or_else(PoisonError::into_inner)
-                .control_words_written()
-        })
-        .unwrap_or_default()
-}
 
 /// Runs `text` as a script in-process (virtual time), with `prepare` for the simulator.
 fn run_script(
@@ -41,7 +23,7 @@ fn run_script(
     stop: Arc<StopRequests>,
 ) -> (RunResult, String) {
     let dir = scratch(&format!("script-{name}"));
-    let mut run = InProcessRun::new(write_script(&dir, text));
+    let mut run = InProcessRun::new(write_file(&dir, "script.rhai", text));
     run.prepare = prepare;
     run.stop = stop;
     run.output_dir = dir;
@@ -258,7 +240,7 @@ fn a_stop_request_ends_a_script_that_only_computes() {
     let stop = Arc::new(StopRequests::new());
     let text = "let d = drive();\nd.go_to(\"operation_enabled\");\nprint(\"computing\");\nlet i = 0;\ntry { while true { i += 1; } } catch { print(\"swallowed\"); }\n";
     let dir = scratch("script-signal-compute");
-    let mut run = InProcessRun::new(write_script(&dir, text));
+    let mut run = InProcessRun::new(write_file(&dir, "script.rhai", text));
     run.fast = false;
     run.stop = stop.clone();
     let sender = std::thread::spawn(move || {
@@ -349,8 +331,9 @@ fn the_sandbox_refuses_modules_eval_file_or_process_access_and_oversized_data() 
 #[test]
 fn check_finds_literal_mistakes_with_places_and_suggestions_without_a_port() {
     let dir = scratch("check");
-    let path = write_script(
+    let path = write_file(
         &dir,
+        "script.rhai",
         "//! drive: sd2\nlet d = drive();\nd.set(\"speed_setpont\", 3000.0, \"rpm\");\nd.set(\"speed_setpoint\", 300000.0, \"rpm\");\n\
          d.go_to(\"operation_enabld\", \"5 s\");\ndwell(\"5\");\nlet v = d.read_as(\"speed_actual\", \"A\");\n",
     );
@@ -386,8 +369,9 @@ fn a_scripts_finally_replaces_the_default_and_the_stop_is_still_verified() {
 #[test]
 fn params_come_from_set() {
     let dir = scratch("params");
-    let path = write_script(
+    let path = write_file(
         &dir,
+        "script.rhai",
         "let d = drive();\nlet speed = param(\"speed\");\nd.set(\"speed_setpoint\", speed);\nexpect(\"speed\", number(speed, \"rpm\") == 4000.0, speed);\n",
     );
     let mut run = InProcessRun::new(&path);
@@ -411,11 +395,13 @@ fn params_come_from_set() {
 #[cfg(unix)]
 #[test]
 fn sigint_during_a_scripts_sample_through_a_pty_stops_the_drive() {
-    use crate::safety::{traced_writes, PtySimulator};
-    let sim = PtySimulator::start();
+    use crate::safety::traced_writes;
+    use crate::support::Simulator;
+    let sim = Simulator::pty(&[]);
     let dir = scratch("script-pty");
-    let script = write_script(
+    let script = write_file(
         &dir,
+        "script.rhai",
         "let d = drive();\nd.go_to(\"operation_enabled\", \"2 s\");\nd.set(\"speed_setpoint\", 2000.0, \"rpm\");\n\
          d.wait_until(\"speed_actual\", |v| v > 1980.0, \"10 s\");\nprint(\"sampling\");\n\
          let s = d.sample([\"speed_actual\"], \"30 s\", \"10 min\");\n",
@@ -425,7 +411,7 @@ fn sigint_during_a_scripts_sample_through_a_pty_stops_the_drive() {
         std::ffi::OsStr::new("run"),
         script.as_os_str(),
         "--port".as_ref(),
-        sim.path.as_ref(),
+        sim.endpoint.as_ref(),
         "--trace".as_ref(),
         trace.as_os_str(),
     ]);
@@ -462,7 +448,7 @@ fn a_scripts_checks_reach_junit_html_and_csv_like_a_recipes() {
                 let s = d.sample([\"speed_actual\", \"current_actual\"], \"100 ms\", \"2 s\");\n\
                 expect_near(\"speed mean\", s.mean(\"speed_actual\"), 2000.0, \"0.5 %\");\n\
                 expect_near(\"too tight\", s.mean(\"speed_actual\"), 2100.0, \"5 rpm\");\n";
-    let mut run = InProcessRun::new(write_script(&dir, text));
+    let mut run = InProcessRun::new(write_file(&dir, "script.rhai", text));
     let (junit, html, csv) = (
         dir.join("junit.xml"),
         dir.join("report.html"),
@@ -539,8 +525,9 @@ fn a_scripts_header_chooses_the_cyclic_channel() {
                 d.wait_until(\"speed_actual\", |v| v > 5900.0, \"30 s\");\n\
                 let s = d.sample([\"speed_actual\"], \"100 ms\", \"2 s\");\n\
                 expect_near(\"speed mean\", s.mean(\"speed_actual\"), 6000.0, \"0.5 %\");\n";
-    let good = write_script(
+    let good = write_file(
         &dir,
+        "script.rhai",
         &format!("//! drive: sd2\n//! link: channel=cyclic, velocity_scaling=24000rpm\n{body}"),
     );
     let out = cli(&["run", good.to_str().expect("path"), "--fast"], 0);
@@ -559,7 +546,7 @@ fn a_samples_csv_file_holds_its_rows_in_the_recipes_layout() {
     let text = "let d = drive();\nd.set(\"speed_setpoint\", 2000.0, \"rpm\");\nd.go_to(\"operation_enabled\");\n\
                 d.wait_until(\"speed_actual\", |v| v > 1980.0, \"10 s\");\n\
                 for pass in 0..2 { let s = d.sample([\"speed_actual\", \"current_actual\"], \"100 ms\", \"1 s\", \"runs/speed.csv\"); }\n";
-    let mut run = InProcessRun::new(write_script(&dir, text));
+    let mut run = InProcessRun::new(write_file(&dir, "script.rhai", text));
     run.output_dir = dir.clone();
     let (result, output) = run.run();
     assert_eq!(result.exit_code, 0, "{output}");
@@ -601,7 +588,7 @@ fn a_samples_csv_file_holds_its_rows_in_the_recipes_layout() {
 fn csv_wide_gives_a_scripts_sample_file_one_column_per_object() {
     let dir = scratch("script-sample-csv-wide");
     let text = "let d = drive();\nlet s = d.sample([\"speed_actual\", \"current_actual\"], \"100 ms\", \"1 s\", \"wide.csv\");\n";
-    let mut run = InProcessRun::new(write_script(&dir, text));
+    let mut run = InProcessRun::new(write_file(&dir, "script.rhai", text));
     run.output_dir = dir.clone();
     run.outputs.csv_wide = true;
     let (result, output) = run.run();
@@ -629,7 +616,7 @@ fn a_scripts_csv_file_outside_the_output_directory_is_refused() {
     let dir = scratch("script-sample-csv-outside");
     let literal =
         "let d = drive();\nlet s = d.sample([\"speed_actual\"], \"100 ms\", \"1 s\", \"../escape.csv\");\n";
-    let path = write_script(&dir, literal);
+    let path = write_file(&dir, "script.rhai", literal);
     let err = cli(&["check", path.to_str().expect("utf-8")], 2).stderr;
     assert_has(
         &err,
@@ -659,8 +646,9 @@ fn a_scripts_csv_file_outside_the_output_directory_is_refused() {
 #[test]
 fn check_finds_a_wait_until_condition_that_uses_the_drive() {
     let dir = scratch("script-condition-drive");
-    let path = write_script(
+    let path = write_file(
         &dir,
+        "script.rhai",
         "//! drive: sd2\nlet d = drive();\nd.set(\"speed_setpoint\", 2000.0, \"rpm\");\nd.go_to(\"operation_enabled\");\n\
          d.wait_until(\"speed_actual\", |v| v > d.read(\"speed_setpoint\") - 10.0, \"10 s\");\n",
     );

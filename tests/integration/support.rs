@@ -27,6 +27,27 @@ pub fn drivescript(args: &[&str], stdin: &str) -> Output {
     child.wait_with_output().expect("drivescript finishes")
 }
 
+/// A fresh, empty folder for a test's files, `drivescript-FILE-NAME-PID` in the system's
+/// temporary folder, FILE the calling test file, so tests of different files never share
+/// one.
+#[track_caller]
+pub fn scratch(name: &str) -> PathBuf {
+    let file = Path::new(std::panic::Location::caller().file())
+        .file_stem()
+        .map_or_else(String::new, |s| s.to_string_lossy().into_owned());
+    let dir = std::env::temp_dir().join(format!("drivescript-{file}-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("scratch dir");
+    dir
+}
+
+/// Writes `text` to `dir/name`; the file's path.
+pub fn write_file(dir: &Path, name: &str, text: &str) -> PathBuf {
+    let path = dir.join(name);
+    std::fs::write(&path, text).expect("file written");
+    path
+}
+
 /// What a finished `drivescript` run wrote, as text.
 pub struct Ran {
     pub stdout: String,
@@ -148,6 +169,60 @@ impl<'a> InProcessRun<'a> {
             String::from_utf8_lossy(&err)
         );
         (result, output)
+    }
+}
+
+/// The control words the run's simulated drive received, in order; none when the run
+/// opened no simulated drive.
+pub fn control_words(result: &drivescript::cli::RunResult) -> Vec<u16> {
+    result
+        .simulator
+        .as_ref()
+        .map(|s| {
+            s.lock()
+                .unwrap_or_else(std::sync::PoisonError::into_inner)
+                .control_words_written()
+        })
+        .unwrap_or_default()
+}
+
+/// A `drivescript simulate ARGS` in the background, stopped when dropped.
+pub struct Simulator {
+    child: std::process::Child,
+    /// The first line it printed: the pty path or the TCP address.
+    pub endpoint: String,
+}
+
+impl Simulator {
+    pub fn start(args: &[&str]) -> Simulator {
+        use std::io::BufRead;
+        let mut child = Command::new(env!("CARGO_BIN_EXE_drivescript"))
+            .arg("simulate")
+            .args(args)
+            .stdout(Stdio::piped())
+            .stderr(Stdio::null())
+            .spawn()
+            .expect("simulate starts");
+        let mut line = String::new();
+        std::io::BufReader::new(child.stdout.take().expect("stdout is piped"))
+            .read_line(&mut line)
+            .expect("simulate prints its endpoint");
+        Simulator {
+            child,
+            endpoint: line.trim().to_string(),
+        }
+    }
+
+    /// `drivescript simulate --pty ARGS` (e.g. `--address dnc:2,dnc:3`).
+    pub fn pty(args: &[&str]) -> Simulator {
+        Simulator::start(&[&["--pty"], args].concat())
+    }
+}
+
+impl Drop for Simulator {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
     }
 }
 
