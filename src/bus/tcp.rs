@@ -206,9 +206,9 @@ impl Transport for TcpTransport {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use std::time::Instant;
     use std::net::TcpListener;
     use std::thread;
+    use std::time::Instant;
 
     const LOOPBACK: &str = "127.0.0.1:0";
 
