@@ -2,6 +2,7 @@
 //! measured value and limits, every sampled series, and how the run ended. Plain data for
 //! the console, JUnit, CSV and HTML reports; no formatting and no I/O here.
 
+use super::condition::Stats;
 use super::step_origin::StepOrigin;
 use crate::drive::device_control::DeviceState;
 use crate::stop_request::StopSignal;
@@ -125,7 +126,12 @@ pub struct Series {
     pub unit: Option<String>,
     /// The iteration-aware id of the step that sampled it (`8[2].3`).
     pub step: String,
+    /// What the plot draws; after more samples than the run keeps per series, the lowest
+    /// and highest of each interval only.
     pub points: Vec<(f64, f64)>,
+    /// The count and statistics of every sample the step took, as its checks saw them;
+    /// `None` when `points` are all the samples.
+    pub samples: Option<Stats>,
 }
 
 #[derive(Debug, Clone, PartialEq)]

@@ -33,13 +33,11 @@ pub fn plots(h: &mut String, r: &RunReport) {
         h.push_str("<figure>\n");
         h.push_str(&plot_svg(s, &levels, i));
         let shown = downsample(&finite(&s.points)).len();
-        let how = if shown < s.points.len() {
-            format!(
-                "{shown} of {} points shown (min and max of each interval)",
-                s.points.len()
-            )
+        let all = s.samples.map_or(s.points.len(), |w| w.count);
+        let how = if shown < all {
+            format!("{shown} of {all} points shown (min and max of each interval)")
         } else {
-            format!("{} points", s.points.len())
+            format!("{all} points")
         };
         let _ = writeln!(
             h,
@@ -73,14 +71,21 @@ pub fn plots(h: &mut String, r: &RunReport) {
     h.push_str("</section>\n");
 }
 
+/// The window's min, mean and max: of every sample when the run kept them, else of the
+/// points.
 fn stats_text(r: &RunReport, s: &Series) -> String {
-    let values: Vec<f64> = finite(&s.points).iter().map(|p| p.1).collect();
-    if values.is_empty() {
-        return String::new();
-    }
-    let min = values.iter().copied().fold(f64::INFINITY, f64::min);
-    let max = values.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-    let mean = values.iter().sum::<f64>() / values.len() as f64;
+    let (min, mean, max) = match s.samples {
+        Some(w) if w.count > 0 => (w.min, w.mean, w.max),
+        _ => {
+            let values: Vec<f64> = finite(&s.points).iter().map(|p| p.1).collect();
+            if values.is_empty() {
+                return String::new();
+            }
+            let min = values.iter().copied().fold(f64::INFINITY, f64::min);
+            let max = values.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+            (min, values.iter().sum::<f64>() / values.len() as f64, max)
+        }
+    };
     let u = s.unit.as_deref();
     let v = |x: f64| value_text(r, Some(&s.object), x, u);
     format!("; min {}, mean {}, max {}", v(min), v(mean), v(max))

@@ -142,6 +142,7 @@ pub fn passed_report() -> RunReport {
             unit: Some("rpm".into()),
             step: "3".into(),
             points,
+            samples: None,
         }],
         final_state: Some(DeviceState::SwitchedOn),
         final_speed: Some(0.4),
