@@ -160,6 +160,9 @@ fn failed_summary(h: &mut String, r: &RunReport) {
     h.push_str("</ul>\n</section>\n");
 }
 
+/// The heading of checks that are in no repeat or include, after some that are.
+const OUTSIDE_STAGES: &str = "not in a repeat or include";
+
 fn checks(h: &mut String, r: &RunReport) {
     h.push_str("<section id=\"checks\">\n<h2>Checks</h2>\n");
     if r.checks.is_empty() {
@@ -181,9 +184,16 @@ fn checks(h: &mut String, r: &RunReport) {
             _ => groups.push((&c.stage, vec![c])),
         }
     }
-    for (stage, group) in groups {
+    for (k, (stage, group)) in groups.into_iter().enumerate() {
         let mut names = UniqueNames::default();
-        if !stage.is_empty() {
+        // Checks outside any repeat or include get a heading of their own once a group
+        // stands before them, or they would read as part of that group.
+        let heading = match stage {
+            "" if k > 0 => Some(OUTSIDE_STAGES),
+            "" => None,
+            s => Some(s),
+        };
+        if let Some(stage) = heading {
             let failed = group.iter().filter(|c| !c.passed).count();
             let mark = if failed > 0 {
                 format!(" — <span class=\"fail\">{failed} FAILED</span>")

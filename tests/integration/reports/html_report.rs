@@ -531,3 +531,34 @@ steps:
         ],
     );
 }
+
+/// A check after a repeat is not listed under the repeat's last pass: once a group heading
+/// stands before them, checks outside any repeat or include get a heading of their own.
+#[test]
+fn checks_after_a_repeat_are_not_under_its_last_pass() {
+    let mut r = passed_report();
+    let base = r.checks[0].clone();
+    r.checks = ["repeat 2 times (2 steps) #1", "repeat 2 times (2 steps) #2", ""]
+        .iter()
+        .map(|stage| CheckResult {
+            stage: stage.to_string(),
+            ..base.clone()
+        })
+        .collect();
+    let doc = parse(&html_report(&r));
+    assert_eq!(
+        texts(&doc, "section#checks tr.group th"),
+        vec![
+            "repeat 2 times (2 steps) #1",
+            "repeat 2 times (2 steps) #2",
+            "not in a repeat or include"
+        ]
+    );
+    let last_two: Vec<String> = select(&doc, "section#checks tbody > tr")
+        .iter()
+        .rev()
+        .take(2)
+        .map(|row| row.value().attr("class").unwrap_or_default().to_string())
+        .collect();
+    assert_eq!(last_two, ["pass", "group"]);
+}
