@@ -1,4 +1,6 @@
-//! Helpers shared by the integration tests: running the built binary, loading vectors.
+//! Helpers shared by the integration tests: running the built binary (to its end, in the
+//! background, or as a simulator), in-process runs, scratch folders, assertions on output
+//! text, and loading vectors.
 
 use std::io::Write;
 use std::path::{Path, PathBuf};

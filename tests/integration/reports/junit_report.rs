@@ -65,7 +65,7 @@ fn a_passed_run_is_one_suite_with_a_case_per_check_and_the_safe_stop() {
     assert_eq!(case.attribute("time"), Some("1.500"));
     let out = case_out(&doc, "speed_actual mean near").unwrap();
     assert_has(
-        &out,
+        out,
         &[
             "measured: 6000.1 rpm",
             "limits: 5970 .. 6030 rpm",
@@ -85,7 +85,7 @@ fn a_passed_run_is_one_suite_with_a_case_per_check_and_the_safe_stop() {
     assert!(props.contains(&("started_at_utc", "2024-06-10T06:13:20Z")));
     assert!(props.contains(&("final_state", "switched on")));
     let log = case_out(&doc, "safe stop").unwrap();
-    assert_has(&log, &["safe stop: finally: disable_operation ran"]);
+    assert_has(log, &["safe stop: finally: disable_operation ran"]);
     assert!(xml_elements(&doc, "failure").is_empty() && xml_elements(&doc, "error").is_empty());
 }
 
@@ -140,8 +140,8 @@ fn failed_checks_and_errors_are_failures_ci_sees() {
     );
     // The step explained by its failed check is not repeated; the other one is.
     let error_text = error.text().unwrap_or("");
-    assert_has(&error_text, &["step 2 (steps) FAIL dwell 10 s"]);
-    assert_lacks(&error_text, &["step 1 "]);
+    assert_has(error_text, &["step 2 (steps) FAIL dwell 10 s"]);
+    assert_lacks(error_text, &["step 1 "]);
     assert!(error_text.contains("safe stop: the safety net"));
     // The unconfirmed safe stop is a failure of its own.
     let stop = xml_elements(&doc, "failure")[1];
