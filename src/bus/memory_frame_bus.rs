@@ -60,7 +60,7 @@ impl FrameBus for MemoryFrameBus {
     }
 
     fn receive(&mut self, timeout: Duration) -> Result<CanFrame, TransportError> {
-        if !self.peer_reachable() {
+        if !self.reachable() {
             self.pending.clear();
             return Err(self.adapter_lost());
         }
@@ -87,7 +87,7 @@ impl FrameBus for MemoryFrameBus {
     }
 
     fn reopen(&mut self) -> Result<(), TransportError> {
-        if !self.peer_reachable() {
+        if !self.reachable() {
             return Err(TransportError::Open {
                 port: self.name.clone(),
                 detail: "the simulated CAN adapter is still gone".into(),
@@ -100,7 +100,7 @@ impl FrameBus for MemoryFrameBus {
 
 impl MemoryFrameBus {
     /// Whether the simulated adapter is there now (a fault can take it away for a while).
-    fn peer_reachable(&self) -> bool {
+    fn reachable(&self) -> bool {
         let now = self.clock.now();
         self.peer
             .lock()

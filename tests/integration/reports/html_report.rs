@@ -2,7 +2,7 @@
 
 use super::markup::{elements, html, inside, rows, select, text, texts};
 use super::sample_reports::{error_report, origin, passed_report, step};
-use crate::support::{assert_has, scratch, write_file, InProcessRun};
+use crate::support::assert_has;
 use drivescript::report::{html_report, write_html};
 use drivescript::session::{CheckResult, Series};
 use scraper::{ElementRef, Html};
@@ -490,46 +490,6 @@ fn chromium_prints_the_report_to_pdf() {
     let pages = text.matches("/MediaBox [0 0 594.9").count();
     assert!((1..=6).contains(&pages), "{pages} A4 pages");
     std::fs::remove_dir_all(&dir).unwrap();
-}
-
-/// A window of more samples than the run keeps for its plot: the caption gives the
-/// statistics of every sample the step took, as the checks do, and says how many of them
-/// the plot shows.
-#[test]
-fn a_bucketed_window_is_captioned_with_all_its_samples() {
-    let dir = scratch("bucketed");
-    let recipe = write_file(
-        &dir,
-        "recipe.yaml",
-        "name: Bucketed
-steps:
-  - go_to: operation_enabled
-  - set: { speed_setpoint: 6000 rpm }
-  - wait_until: { speed_actual: { near: 6000 rpm, within: 1 % }, timeout: 10 s }
-  - sample: { objects: [speed_actual], every: 10 ms, for: 18 s }
-  - expect: { speed_actual: { mean: { near: 6000 rpm, within: 1 % } } }
-",
-    );
-    let mut run = InProcessRun::new(recipe);
-    run.output_dir = dir;
-    let (result, output) = run.run();
-    let report = result.report.unwrap_or_else(|| panic!("{output}"));
-    assert_has(&output, &["1801 samples"]);
-    let kept = report.series[0].points.len();
-    assert!(kept < 1801, "{kept} points kept");
-    let doc = parse(&html_report(&report));
-    let caption = texts(&doc, "figcaption").remove(0);
-    let mean_check = rows(&doc, "checks")
-        .into_iter()
-        .find(|row| row[0].contains("mean"))
-        .expect("the mean check's row");
-    assert_has(
-        &caption,
-        &[
-            &format!("{kept} of 1801 points shown (min and max of each interval)"),
-            &format!("mean {},", mean_check[1]),
-        ],
-    );
 }
 
 /// A check after a repeat is not listed under the repeat's last pass: once a group heading
