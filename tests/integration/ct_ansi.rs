@@ -5,8 +5,8 @@
 //! that gets no reply and is not repeated, and Ctrl-C during a run on the simulated drive.
 
 use crate::support::{
-    assert_has, cli, control_words, drivescript, load_vectors, repo_root, stderr, stdout, InProcessRun,
-    LiveRun,
+    assert_has, assert_matches_shared, cli, control_words, drivescript, load_vectors, repo_root, stderr,
+    stdout, InProcessRun, LiveRun,
 };
 use drivescript::bus::{MemoryTransport, SharedTransport};
 use drivescript::clock::{SharedClock, VirtualClock};
@@ -38,14 +38,7 @@ fn explainer() -> Box<dyn drivescript::link::TelegramExplainer> {
 
 #[test]
 fn the_copy_matches_the_shared_vectors() {
-    let shared = repo_root().join("../shared/vectors/ct-ansi.yaml");
-    if shared.exists() {
-        let (copy, original) = (vectors(), load_vectors(&shared));
-        assert_eq!(copy.len(), original.len());
-        for (c, o) in copy.iter().zip(&original) {
-            assert_eq!((&c.name, &c.hex, &c.frame), (&o.name, &o.hex, &o.frame));
-        }
-    }
+    assert_matches_shared(&vectors(), "ct-ansi.yaml");
 }
 
 #[test]

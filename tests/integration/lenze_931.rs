@@ -159,10 +159,8 @@ fn a_limited_write_warns_with_the_stored_value_and_expect_sees_it() {
         "limited.rhai",
         "//! drive: lenze-931\nlet d = drive();\nlet high = 4000.0 * 2.0;\nd.set(\"speed_setpoint\", high, \"rpm\");\nlet stored = d.read(\"speed_setpoint\");\nexpect(\"speed_setpoint equals 6000 rpm\", stored == 6000.0, stored);\nd.set(\"speed_setpoint\", 0.0, \"rpm\");\n",
     );
-    let mut run = InProcessRun::new(script);
-    run.dictionary = dictionary_args(Some(completed_template(&dir)));
-    let (result, output) = run.run();
-    assert_eq!(result.exit_code, 0, "{output}");
+    let (code, output, _) = run_and_record(&dir, script);
+    assert_eq!(code, 0, "{output}");
     assert_has(
         &output,
         &[
@@ -181,10 +179,8 @@ fn a_value_the_drive_refuses_names_the_drives_limit() {
         "refused.rhai",
         "//! drive: lenze-931\nlet d = drive();\nlet mode = 3 + 4;\nd.set(\"operating_mode\", mode);\n",
     );
-    let mut run = InProcessRun::new(script);
-    run.dictionary = dictionary_args(Some(completed_template(&dir)));
-    let (result, output) = run.run();
-    assert_eq!(result.exit_code, 3, "{output}");
+    let (code, output, _) = run_and_record(&dir, script);
+    assert_eq!(code, 3, "{output}");
     assert_has(&output, &["0x00000003 value too high, not written; the drive's maximum is 3 (0x00000003, read with OX:0014)"]);
 }
 

@@ -89,6 +89,20 @@ pub fn load_vectors(path: &Path) -> Vec<Vector> {
     load_yaml(path)
 }
 
+/// The repository's copy of a vector file holds exactly the vectors of the shared original
+/// `../shared/vectors/NAME`, where that is there to compare with.
+#[track_caller]
+pub fn assert_matches_shared(copy: &[Vector], name: &str) {
+    let shared = repo_root().join("../shared/vectors").join(name);
+    if shared.exists() {
+        let original = load_vectors(&shared);
+        assert_eq!(copy.len(), original.len());
+        for (c, o) in copy.iter().zip(&original) {
+            assert_eq!((&c.name, &c.hex, &c.frame), (&o.name, &o.hex, &o.frame));
+        }
+    }
+}
+
 /// A YAML file of test vectors read into `T`; a file that is missing or does not fit fails
 /// the test naming it.
 fn load_yaml<T: serde::de::DeserializeOwned>(path: &Path) -> T {
