@@ -101,11 +101,8 @@ impl FrameBus for MemoryFrameBus {
 impl MemoryFrameBus {
     /// Whether the simulated adapter is there now (a fault can take it away for a while).
     fn reachable(&self) -> bool {
-        let now = self.clock.now();
-        self.peer
-            .lock()
-            .unwrap_or_else(PoisonError::into_inner)
-            .reachable(now)
+        let peer = self.peer.lock().unwrap_or_else(PoisonError::into_inner);
+        peer.reachable(self.clock.now())
     }
 
     fn adapter_lost(&self) -> TransportError {
