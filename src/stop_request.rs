@@ -16,23 +16,15 @@ pub struct StopSignal {
 }
 
 impl StopSignal {
-    pub const HUP: StopSignal = StopSignal {
-        number: 1,
-        name: "SIGHUP",
-    };
-    pub const INT: StopSignal = StopSignal {
-        number: 2,
-        name: "SIGINT",
-    };
-    pub const QUIT: StopSignal = StopSignal {
-        number: 3,
-        name: "SIGQUIT",
-    };
-    pub const TERM: StopSignal = StopSignal {
-        number: 15,
-        name: "SIGTERM",
-    };
+    pub const HUP: StopSignal = StopSignal::posix(1, "SIGHUP");
+    pub const INT: StopSignal = StopSignal::posix(2, "SIGINT");
+    pub const QUIT: StopSignal = StopSignal::posix(3, "SIGQUIT");
+    pub const TERM: StopSignal = StopSignal::posix(15, "SIGTERM");
     pub const ALL: [StopSignal; 4] = [Self::INT, Self::TERM, Self::HUP, Self::QUIT];
+
+    const fn posix(number: i32, name: &'static str) -> StopSignal {
+        StopSignal { number, name }
+    }
 
     /// The signal with this number, if it is one of the four stop signals.
     pub fn from_number(number: i32) -> Option<StopSignal> {

@@ -60,13 +60,7 @@ impl FrameBus for MemoryFrameBus {
     }
 
     fn receive(&mut self, timeout: Duration) -> Result<CanFrame, TransportError> {
-        let now = self.clock.now();
-        if !self
-            .peer
-            .lock()
-            .unwrap_or_else(PoisonError::into_inner)
-            .reachable(now)
-        {
+        if !self.reachable() {
             self.pending.clear();
             return Err(self.adapter_lost());
         }
@@ -93,13 +87,7 @@ impl FrameBus for MemoryFrameBus {
     }
 
     fn reopen(&mut self) -> Result<(), TransportError> {
-        let now = self.clock.now();
-        if !self
-            .peer
-            .lock()
-            .unwrap_or_else(PoisonError::into_inner)
-            .reachable(now)
-        {
+        if !self.reachable() {
             return Err(TransportError::Open {
                 port: self.name.clone(),
                 detail: "the simulated CAN adapter is still gone".into(),
@@ -111,6 +99,12 @@ impl FrameBus for MemoryFrameBus {
 }
 
 impl MemoryFrameBus {
+    /// Whether the simulated adapter is there now (a fault can take it away for a while).
+    fn reachable(&self) -> bool {
+        let peer = self.peer.lock().unwrap_or_else(PoisonError::into_inner);
+        peer.reachable(self.clock.now())
+    }
+
     fn adapter_lost(&self) -> TransportError {
         TransportError::Io {
             port: self.name.clone(),

@@ -9,6 +9,7 @@ mod frame_bus;
 mod memory;
 mod memory_frame_bus;
 mod peer_line;
+mod read_within;
 mod serial;
 mod shared_transport;
 mod slcan_adapter;

@@ -4,11 +4,12 @@
 //! [`TransportError`]s that name the port and say what to try. It must not interpret,
 //! frame or retry telegrams; that is the link's job.
 
+use super::read_within::read_within;
 use super::{Transport, TransportError};
 use serialport::{ClearBuffer, SerialPort};
 use std::fmt;
 use std::io::{self, Read, Write};
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 /// Bits of data per character.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -347,33 +348,28 @@ impl Transport for SerialTransport {
     }
 
     fn read(&mut self, buf: &mut [u8], timeout: Duration) -> Result<usize, TransportError> {
-        if buf.is_empty() {
-            return Ok(0);
-        }
-        let deadline = Instant::now() + timeout;
-        loop {
-            let left = deadline.saturating_duration_since(Instant::now());
+        let read = read_within(buf, timeout, |buf, left| {
             let port = self.device()?;
             let read = port
                 .set_timeout(left)
                 .map_err(io::Error::from)
                 .and_then(|()| port.read(buf));
             match read {
-                Ok(n) if n > 0 => return Ok(n),
+                Ok(n) if n > 0 => Ok(Some(n)),
                 // A signal or a zero-length read is not an answer; keep waiting while the
                 // caller's time lasts.
-                Ok(_) => {}
-                Err(e) if e.kind() == io::ErrorKind::Interrupted => {}
-                Err(e) if e.kind() == io::ErrorKind::TimedOut || e.kind() == io::ErrorKind::WouldBlock => {}
-                Err(e) => return Err(self.io_error(&e)),
+                Ok(_) => Ok(None),
+                Err(e) if e.kind() == io::ErrorKind::Interrupted => Ok(None),
+                Err(e) if e.kind() == io::ErrorKind::TimedOut || e.kind() == io::ErrorKind::WouldBlock => {
+                    Ok(None)
+                }
+                Err(e) => Err(self.io_error(&e)),
             }
-            if Instant::now() >= deadline {
-                return Err(TransportError::Timeout {
-                    port: self.name.clone(),
-                    waited: timeout,
-                });
-            }
-        }
+        })?;
+        read.ok_or_else(|| TransportError::Timeout {
+            port: self.name.clone(),
+            waited: timeout,
+        })
     }
 
     fn still_sending(&self) -> Duration {
@@ -491,6 +487,7 @@ pub fn list_ports() -> Result<Vec<PortInfo>, TransportError> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use std::time::Instant;
 
     #[test]
     fn default_settings_display_as_8n1() {

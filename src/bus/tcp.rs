@@ -4,10 +4,11 @@
 //! byte pipe like the serial port. It must not speak Telnet/RFC 2217 or interpret, frame or
 //! retry telegrams; that is the link's job.
 
+use super::read_within::read_within;
 use super::{Transport, TransportError};
 use std::io::{self, Read, Write};
 use std::net::{SocketAddr, TcpStream, ToSocketAddrs};
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 /// `set_read_timeout` rejects a zero duration (it would mean "block forever").
 const MIN_READ_TIMEOUT: Duration = Duration::from_millis(1);
@@ -156,32 +157,23 @@ impl Transport for TcpTransport {
     }
 
     fn read(&mut self, buf: &mut [u8], timeout: Duration) -> Result<usize, TransportError> {
-        if buf.is_empty() {
-            return Ok(0);
-        }
-        let deadline = Instant::now() + timeout;
-        loop {
-            let left = deadline
-                .saturating_duration_since(Instant::now())
-                .max(MIN_READ_TIMEOUT);
+        let read = read_within(buf, timeout, |buf, left| {
             self.stream
-                .set_read_timeout(Some(left))
+                .set_read_timeout(Some(left.max(MIN_READ_TIMEOUT)))
                 .map_err(|e| self.io_error(&e))?;
             match self.stream.read(buf) {
-                Ok(0) => return Err(self.closed()),
-                Ok(n) => return Ok(n),
-                Err(e) if e.kind() == io::ErrorKind::Interrupted => {}
-                Err(e) if matches!(e.kind(), io::ErrorKind::WouldBlock | io::ErrorKind::TimedOut) => {}
-                Err(e) if Self::is_disconnect(&e) => return Err(self.closed()),
-                Err(e) => return Err(self.io_error(&e)),
+                Ok(0) => Err(self.closed()),
+                Ok(n) => Ok(Some(n)),
+                Err(e) if e.kind() == io::ErrorKind::Interrupted => Ok(None),
+                Err(e) if matches!(e.kind(), io::ErrorKind::WouldBlock | io::ErrorKind::TimedOut) => Ok(None),
+                Err(e) if Self::is_disconnect(&e) => Err(self.closed()),
+                Err(e) => Err(self.io_error(&e)),
             }
-            if Instant::now() >= deadline {
-                return Err(TransportError::Timeout {
-                    port: self.name.clone(),
-                    waited: timeout,
-                });
-            }
-        }
+        })?;
+        read.ok_or_else(|| TransportError::Timeout {
+            port: self.name.clone(),
+            waited: timeout,
+        })
     }
 
     fn discard_input(&mut self) -> Result<usize, TransportError> {
@@ -216,6 +208,7 @@ mod tests {
     use super::*;
     use std::net::TcpListener;
     use std::thread;
+    use std::time::Instant;
 
     const LOOPBACK: &str = "127.0.0.1:0";
 

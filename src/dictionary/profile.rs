@@ -301,23 +301,10 @@ mod tests {
 
     #[test]
     fn overlap_gives_a_word_matching_both() {
-        let a = StateMask {
-            mask: 0x4F,
-            value: 0x00,
-        };
-        let b = StateMask {
-            mask: 0x6F,
-            value: 0x21,
-        };
+        let m = |mask, value| StateMask { mask, value };
+        let (a, b) = (m(0x4F, 0x00), m(0x6F, 0x21));
         assert_eq!(a.overlap(b), None);
-        let c = StateMask {
-            mask: 0x0F,
-            value: 0x07,
-        };
-        let d = StateMask {
-            mask: 0x60,
-            value: 0x20,
-        };
+        let (c, d) = (m(0x0F, 0x07), m(0x60, 0x20));
         let w = c.overlap(d).unwrap();
         assert!(c.matches(w) && d.matches(w));
     }

@@ -121,7 +121,8 @@ mod tests {
     use super::*;
     use DeviceState::*;
 
-    /// Follows the path with an ideal drive (every command takes effect at once).
+    /// Follows the path with an ideal drive (every command takes effect at once, as
+    /// [`transition`] plans).
     fn walk(mut from: DeviceState, to: DeviceState) -> Vec<DeviceCommand> {
         let mut commands = Vec::new();
         for _ in 0..10 {
@@ -129,25 +130,12 @@ mod tests {
                 NextStep::Arrived => return commands,
                 NextStep::Command(c) => {
                     commands.push(c);
-                    from = ideal(from, c);
+                    from = transition(from, c);
                 }
                 other => panic!("{from:?} → {to:?}: {other:?}"),
             }
         }
         panic!("no arrival from {from:?} to {to:?}: {commands:?}");
-    }
-
-    fn ideal(from: DeviceState, c: DeviceCommand) -> DeviceState {
-        use DeviceCommand::*;
-        match (from, c) {
-            (Fault, FaultReset) => SwitchOnDisabled,
-            (_, DisableVoltage) => SwitchOnDisabled,
-            (OperationEnabled, QuickStop) => QuickStopActive,
-            (SwitchOnDisabled | SwitchedOn | OperationEnabled, Shutdown) => ReadyToSwitchOn,
-            (ReadyToSwitchOn, SwitchOn) | (OperationEnabled, DisableOperation) => SwitchedOn,
-            (SwitchedOn, EnableOperation) => OperationEnabled,
-            _ => from,
-        }
     }
 
     #[test]

@@ -28,6 +28,7 @@ use std::collections::{BTreeMap, HashSet};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::time::Duration;
+pub(super) use steps::STEP_KEYS;
 
 /// Default `timeout` of `wait_until` and of each `go_to` transition.
 pub const DEFAULT_WAIT_TIMEOUT: Duration = Duration::from_secs(10);

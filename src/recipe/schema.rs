@@ -3,6 +3,7 @@
 //! dictionary so editors complete them. Written by hand: the recipe language is externally
 //! tagged YAML whose exact shape a derive could not express. Pure; no I/O.
 
+use super::loader::STEP_KEYS;
 use crate::dictionary::{Dictionary, Dimension, ObjectDef, Unit};
 use crate::drive::device_control::{DeviceCommand, DeviceState};
 use crate::drive::{AddressKeyTable, KeyUse, KeyValues};
@@ -267,20 +268,7 @@ pub fn recipe_schema(dictionary: &Dictionary, address_keys: &AddressKeyTable) ->
         units_of(Dimension::Current),
         units_of(Dimension::Ratio)
     );
-    let step_keys = [
-        "go_to",
-        "set",
-        "read",
-        "print",
-        "wait_until",
-        "dwell",
-        "sample",
-        "expect",
-        "ramp",
-        "repeat",
-        "include",
-        "expect_parameters",
-    ];
+    let step_keys = STEP_KEYS;
     let step_variants = vec![
         keyed(
             "go_to",

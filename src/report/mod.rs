@@ -5,7 +5,7 @@ mod atomic_write;
 mod console_color;
 mod console_reporter;
 mod csv_recorder;
-mod html_report;
+mod html;
 mod junit_report;
 mod junit_xml_writer;
 mod progress_reporter;
@@ -19,7 +19,7 @@ pub use console_reporter::{
     check_line, container_line, header_lines, message_line, step_line, summary_lines, ConsoleReporter,
 };
 pub use csv_recorder::{CsvRecorder, CSV_HEADER};
-pub use html_report::{html_report, write_html, MAX_PLOT_POINTS};
+pub use html::{html_report, write_html, MAX_PLOT_POINTS};
 pub use junit_report::{junit_xml, stable_check_name, write_junit};
 pub use progress_reporter::{progress_text, ProgressReporter};
 pub use telegram_fan_out::TelegramFanOut;

@@ -6,7 +6,7 @@
 //! reached, exit code 3), with the recipe's checks as not run. Knows nothing of drives.
 
 use super::atomic_write::write_atomically;
-use super::html_report::esc;
+use super::html::esc;
 use super::junit_report::{classname, stable_check_name, suite_xml, Case, UniqueNames};
 use crate::session::PlannedCheck;
 use std::path::Path;

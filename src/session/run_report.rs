@@ -2,6 +2,7 @@
 //! measured value and limits, every sampled series, and how the run ended. Plain data for
 //! the console, JUnit, CSV and HTML reports; no formatting and no I/O here.
 
+use super::condition::Stats;
 use super::step_origin::StepOrigin;
 use crate::drive::device_control::DeviceState;
 use crate::stop_request::StopSignal;
@@ -125,7 +126,12 @@ pub struct Series {
     pub unit: Option<String>,
     /// The iteration-aware id of the step that sampled it (`8[2].3`).
     pub step: String,
+    /// What the plot draws; after more samples than the run keeps per series, the lowest
+    /// and highest of each interval only.
     pub points: Vec<(f64, f64)>,
+    /// The count and statistics of every sample the step took, as its checks saw them;
+    /// `None` when `points` are all the samples.
+    pub samples: Option<Stats>,
 }
 
 #[derive(Debug, Clone, PartialEq)]
@@ -191,6 +197,44 @@ pub struct DriveEnd {
 pub const MAX_RECORDS: usize = 10_000;
 
 impl RunReport {
+    /// The report of a run that has just started: passed so far, nothing recorded, the
+    /// drive's state not read and the safe stop not (yet) confirmed. Every other field a
+    /// run fills in as it goes.
+    pub fn started(
+        recipe: String,
+        recipe_path: String,
+        drive: String,
+        params: Vec<(String, String)>,
+        started_at: SystemTime,
+    ) -> RunReport {
+        RunReport {
+            recipe,
+            recipe_path,
+            drive,
+            identity: None,
+            params,
+            started_at,
+            duration: Duration::ZERO,
+            verdict: Verdict::Passed,
+            steps: Vec::new(),
+            checks: Vec::new(),
+            series: Vec::new(),
+            final_state: None,
+            final_speed: None,
+            speed_unit: None,
+            coasting: false,
+            stop_confirmed: false,
+            disobeyed: false,
+            no_device_control: false,
+            safe_stop: Vec::new(),
+            omitted_steps: 0,
+            omitted_checks: 0,
+            csv_files: Vec::new(),
+            resolutions: Vec::new(),
+            drive_ends: Vec::new(),
+        }
+    }
+
     /// The process exit code: a panic first (101), then a safe stop that was not confirmed
     /// or a drive that did not obey (3), then the verdict's own.
     pub fn exit_code(&self) -> i32 {

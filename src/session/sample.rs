@@ -162,6 +162,7 @@ impl Session<'_> {
                 unit: o.unit.clone(),
                 step: self.path.id(),
                 points: points.points(),
+                samples: Some(s),
             });
         }
         let late_note = if late > 0 {

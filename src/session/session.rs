@@ -9,7 +9,7 @@ use super::step_path::StepPath;
 use super::stop::{outcome, panic_message, Stop};
 use super::{
     with_unit, CheckResult, Condition, ObjectRef, Predicate, RunInfo, RunObserver, RunReport,
-    SafeStopSettings, Stats, StepInfo, StepRecord, Verdict, MAX_RECORDS,
+    SafeStopSettings, Stats, StepInfo, StepRecord, MAX_RECORDS,
 };
 use crate::clock::SharedClock;
 use crate::drive::device_control::DeviceState;
@@ -89,32 +89,13 @@ impl<'a> Session<'a> {
                 .join(", ")
         };
         let clock_now = clock.now();
-        let report = RunReport {
-            recipe: run.name.clone(),
-            recipe_path: run.path.clone(),
-            drive: port,
-            identity: None,
-            params: run.params.clone(),
-            started_at: clock.wall_time(),
-            duration: Duration::ZERO,
-            verdict: Verdict::Passed,
-            steps: Vec::new(),
-            checks: Vec::new(),
-            series: Vec::new(),
-            final_state: None,
-            final_speed: None,
-            speed_unit: None,
-            coasting: false,
-            stop_confirmed: false,
-            disobeyed: false,
-            no_device_control: false,
-            safe_stop: Vec::new(),
-            omitted_steps: 0,
-            omitted_checks: 0,
-            csv_files: Vec::new(),
-            resolutions: Vec::new(),
-            drive_ends: Vec::new(),
-        };
+        let report = RunReport::started(
+            run.name.clone(),
+            run.path.clone(),
+            port,
+            run.params.clone(),
+            clock.wall_time(),
+        );
         Session {
             drives,
             current: 0,

@@ -4,6 +4,7 @@
 //! can raise it. A user profile whose stop commands keep the drive enabled is refused.
 //! Through the binary, so the environment variable is the child's alone.
 
+use crate::support::assert_has;
 use drivescript::dictionary::LIMITS_ENV;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
@@ -263,9 +264,9 @@ fn a_user_dictionary_cannot_raise_the_limit() {
     let o = with(&["objects"]);
     assert_eq!(o.status.code(), Some(0), "{}", err(&o));
     let listing = out(&o);
-    assert!(
-        listing.contains("bench limits max_speed 6000 rpm, max_current 8 A (limits file l.yaml)"),
-        "{listing}"
+    assert_has(
+        &listing,
+        &["bench limits max_speed 6000 rpm, max_current 8 A (limits file l.yaml)"],
     );
     let row = |name: &str| {
         listing
@@ -316,13 +317,9 @@ fn a_profile_whose_stops_keep_the_drive_enabled_is_refused() {
         let o = run(&dir, args, None);
         assert_eq!(o.status.code(), Some(2), "{args:?}: {}{}", out(&o), err(&o));
         let e = err(&o);
-        assert!(
-            e.contains(&format!(
+        assert_has(&e, &[&format!(
                 "user.yaml:{line}:24: `disable_operation` 15 (0x000F) keeps every bit of `enable_operation` 15 (0x000F): this stop command would leave the drive enabled"
-            )),
-            "{e}"
-        );
-        assert!(e.contains("the CiA 402 profile's disable_operation is 7"), "{e}");
+            ), "the CiA 402 profile's disable_operation is 7"]);
         assert!(
             !out(&o).contains("using the built-in"),
             "nothing ran: {}",

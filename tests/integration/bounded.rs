@@ -2,7 +2,9 @@
 //! series per object, and a long repeat a bounded list of step records, with the verdict
 //! and the statistics unchanged.
 
-use crate::support::InProcessRun;
+use crate::reports::markup::{html, rows, texts};
+use crate::support::{assert_has, InProcessRun};
+use drivescript::report::html_report;
 use drivescript::session::{MAX_RECORDS, SERIES_BUCKETS};
 
 fn run(name: &str, text: &str) -> (i32, drivescript::session::RunReport) {
@@ -44,6 +46,42 @@ steps:
         .find(|c| c.statistic.as_deref() == Some("mean"))
         .expect("mean check");
     assert!((mean.measured.unwrap_or(0.0) - 6000.0).abs() < 1.0);
+}
+
+/// A window of more samples than the run keeps for its plot: the HTML caption gives the
+/// statistics of every sample the step took, as the checks do, and says how many of them
+/// the plot shows.
+#[test]
+fn a_bucketed_window_is_captioned_with_all_its_samples() {
+    let (code, report) = run(
+        "caption",
+        "name: Bucketed
+steps:
+  - go_to: operation_enabled
+  - set: { speed_setpoint: 6000 rpm }
+  - wait_until: { speed_actual: { near: 6000 rpm, within: 1 % }, timeout: 10 s }
+  - sample: { objects: [speed_actual], every: 10 ms, for: 18 s }
+  - expect: { speed_actual: { mean: { near: 6000 rpm, within: 1 % } } }
+",
+    );
+    assert_eq!(code, 0);
+    assert!(report.steps.iter().any(|s| s.detail.starts_with("1801 samples")));
+    let kept = report.series[0].points.len();
+    assert!(kept < 1801, "{kept} points kept");
+    let page = html_report(&report);
+    let doc = html(&page).unwrap_or_else(|e| panic!("{e}"));
+    let caption = texts(&doc, "figcaption").remove(0);
+    let mean_check = rows(&doc, "checks")
+        .into_iter()
+        .find(|row| row[0].contains("mean"))
+        .expect("the mean check's row");
+    assert_has(
+        &caption,
+        &[
+            &format!("{kept} of 1801 points shown (min and max of each interval)"),
+            &format!("mean {},", mean_check[1]),
+        ],
+    );
 }
 
 #[test]

@@ -4,19 +4,12 @@
 //! and exit codes in `--help`, build information in `--version`, and plain messages for
 //! a port that is not a serial port and a recipe that is not UTF-8.
 
-use crate::support::{drivescript, stderr, stdout};
-
-fn temp_dir(name: &str) -> std::path::PathBuf {
-    let dir = std::env::temp_dir().join(format!("drivescript-cli-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).expect("temp dir");
-    dir
-}
+use crate::support::{assert_has, assert_lacks, cli, drivescript, scratch, stderr, stdout};
 
 #[test]
 fn several_recipes_run_in_turn_and_the_worst_exit_code_wins() {
-    let dir = temp_dir("several");
-    let out = drivescript(
+    let dir = scratch("several");
+    let text = cli(
         &[
             "run",
             "tests/cases/ok/identity/recipe.yaml",
@@ -27,21 +20,22 @@ fn several_recipes_run_in_turn_and_the_worst_exit_code_wins() {
             "--junit",
             "junit.xml",
         ],
-        "",
+        1,
+    )
+    .stdout;
+    assert_has(
+        &text,
+        &[
+            "== recipe 1 of 2: tests/cases/ok/identity/recipe.yaml",
+            "== recipe 2 of 2:",
+        ],
     );
-    let text = stdout(&out);
-    assert_eq!(out.status.code(), Some(1), "{text}{}", stderr(&out));
-    assert!(
-        text.contains("== recipe 1 of 2: tests/cases/ok/identity/recipe.yaml"),
-        "{text}"
-    );
-    assert!(text.contains("== recipe 2 of 2:"), "{text}");
     assert_eq!(
         text.matches("drive left in").count(),
         2,
         "each its own safe stop: {text}"
     );
-    assert!(text.contains("exit code 1 (the worst of them)"), "{text}");
+    assert_has(&text, &["exit code 1 (the worst of them)"]);
     // One JUnit file per recipe under --output-dir, each announced.
     let written: Vec<String> = text
         .lines()
@@ -59,8 +53,8 @@ fn several_recipes_run_in_turn_and_the_worst_exit_code_wins() {
 
 #[test]
 fn sample_csv_files_go_to_the_output_dir_and_are_announced() {
-    let dir = temp_dir("csv");
-    let out = drivescript(
+    let dir = scratch("csv");
+    let out = cli(
         &[
             "run",
             "recipes/spindle-run-in.yaml",
@@ -68,10 +62,10 @@ fn sample_csv_files_go_to_the_output_dir_and_are_announced() {
             "--output-dir",
             dir.to_str().unwrap(),
         ],
-        "",
+        0,
     );
-    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
-    let line = stdout(&out)
+    let line = out
+        .stdout
         .lines()
         .find_map(|l| l.strip_prefix("outputs ").map(str::to_string))
         .expect("an outputs line");
@@ -85,9 +79,9 @@ fn sample_csv_files_go_to_the_output_dir_and_are_announced() {
 
 #[test]
 fn decode_reads_trace_files() {
-    let dir = temp_dir("decode");
+    let dir = scratch("decode");
     let trace = dir.join("run.trace");
-    let out = drivescript(
+    cli(
         &[
             "run",
             "recipes/identity.yaml",
@@ -95,18 +89,13 @@ fn decode_reads_trace_files() {
             "--trace",
             trace.to_str().unwrap(),
         ],
-        "",
+        0,
     );
-    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
     let decoded = drivescript(&["decode", trace.to_str().unwrap(), trace.to_str().unwrap()], "");
     assert_eq!(decoded.status.code(), Some(0), "{}", stderr(&decoded));
     let text = stdout(&decoded);
-    assert!(text.contains("read wide object"), "{text}");
-    assert!(
-        !stderr(&decoded).contains("not a hex digit"),
-        "{}",
-        stderr(&decoded)
-    );
+    assert_has(&text, &["read wide object"]);
+    assert_lacks(&stderr(&decoded), &["not a hex digit"]);
     let once = stdout(&drivescript(&["decode", trace.to_str().unwrap()], ""));
     assert_eq!(text.len(), 2 * once.len(), "both files decoded");
     std::fs::remove_dir_all(&dir).unwrap();
@@ -114,13 +103,8 @@ fn decode_reads_trace_files() {
 
 #[test]
 fn write_takes_the_unit_as_its_own_argument() {
-    let out = drivescript(&["write", "speed_setpoint", "6000", "rpm"], "");
-    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
-    assert!(
-        stdout(&out).contains("speed_setpoint = 6000 rpm written"),
-        "{}",
-        stdout(&out)
-    );
+    let out = cli(&["write", "speed_setpoint", "6000", "rpm"], 0);
+    assert_has(&out.stdout, &["speed_setpoint = 6000 rpm written"]);
 }
 
 #[test]
@@ -132,24 +116,25 @@ fn colour_follows_the_color_option_and_is_off_in_pipes() {
     };
     assert!(!run(&[]).contains('\x1b'), "a pipe gets no escape codes");
     let always = run(&["--color", "always"]);
-    assert!(always.contains("\x1b[32mPASSED\x1b[0m"), "{always}");
+    assert_has(&always, &["\x1b[32mPASSED\x1b[0m"]);
     assert!(!run(&["--color", "never"]).contains('\x1b'));
 }
 
 #[test]
 fn help_shows_examples_and_exit_codes_and_version_the_build() {
     let help = stdout(&drivescript(&["--help"], ""));
-    assert!(help.contains("Examples:"), "{help}");
-    assert!(
-        help.contains("drivescript write speed_setpoint 6000 rpm"),
-        "{help}"
+    assert_has(
+        &help,
+        &[
+            "Examples:",
+            "drivescript write speed_setpoint 6000 rpm",
+            "Exit codes:",
+            "3  communication failure",
+        ],
     );
-    assert!(help.contains("Exit codes:"), "{help}");
-    assert!(help.contains("3  communication failure"), "{help}");
     let version = stdout(&drivescript(&["--version"], ""));
     assert!(version.starts_with("drivescript 0."), "{version}");
-    assert!(version.contains("(commit "), "{version}");
-    assert!(version.contains(", built 20"), "{version}");
+    assert_has(&version, &["(commit ", ", built 20"]);
 }
 
 #[test]
@@ -157,21 +142,18 @@ fn a_file_that_is_no_serial_port_is_said_plainly() {
     let out = drivescript(&["state", "--port", "/dev/null"], "");
     assert_ne!(out.status.code(), Some(0));
     let err = stderr(&out);
-    assert!(err.contains("/dev/null: it is not a serial port"), "{err}");
-    assert!(!err.contains("typewriter"), "{err}");
+    assert_has(&err, &["/dev/null: it is not a serial port"]);
+    assert_lacks(&err, &["typewriter"]);
 }
 
 #[test]
 fn a_windows_1252_recipe_is_said_plainly() {
-    let dir = temp_dir("cp1252");
+    let dir = scratch("cp1252");
     let path = dir.join("prüfung.yaml");
     std::fs::write(&path, b"name: Pr\xfcfung\ndrive: sd2\nsteps:\n  - shutdown\n").unwrap();
-    let out = drivescript(&["check", path.to_str().unwrap()], "");
-    assert_eq!(out.status.code(), Some(2));
-    let err = stderr(&out);
-    assert!(err.contains("is not UTF-8 text"), "{err}");
-    assert!(err.contains("Windows-1252"), "{err}");
-    assert!(!err.contains("check the path"), "{err}");
+    let err = cli(&["check", path.to_str().unwrap()], 2).stderr;
+    assert_has(&err, &["is not UTF-8 text", "Windows-1252"]);
+    assert_lacks(&err, &["check the path"]);
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
@@ -179,10 +161,10 @@ fn a_windows_1252_recipe_is_said_plainly() {
 /// typed and the three likely causes, exit code 3, nothing run, reports written.
 #[test]
 fn a_drive_that_never_answers_gets_one_early_message() {
-    let sim = crate::end_to_end::Simulator::start(&["--tcp", "127.0.0.1:0"]);
-    let dir = temp_dir("silent");
+    let sim = crate::support::Simulator::start(&["--tcp", "127.0.0.1:0"]);
+    let dir = scratch("silent");
     let junit = dir.join("junit.xml");
-    let out = drivescript(
+    let out = cli(
         &[
             "run",
             "recipes/identity.yaml",
@@ -197,11 +179,10 @@ fn a_drive_that_never_answers_gets_one_early_message() {
             "--junit",
             junit.to_str().unwrap(),
         ],
-        "",
+        3,
     );
-    assert_eq!(out.status.code(), Some(3), "{}", stdout(&out));
-    let err = stderr(&out);
-    assert!(err.contains("the drive does not answer (--address 1,"), "{err}");
+    let err = out.stderr;
+    assert_has(&err, &["the drive does not answer (--address 1,"]);
     assert_eq!(err.matches("no reply from").count(), 1, "said once: {err}");
     for cause in [
         "1. the address: you gave --address 1",
@@ -210,13 +191,9 @@ fn a_drive_that_never_answers_gets_one_early_message() {
     ] {
         assert!(err.contains(cause), "{cause}: {err}");
     }
-    assert!(
-        !stdout(&out).contains("     1  "),
-        "no step ran: {}",
-        stdout(&out)
-    );
+    assert!(!out.stdout.contains("     1  "), "no step ran: {}", out.stdout);
     let xml = std::fs::read_to_string(&junit).expect("junit");
-    assert!(xml.contains("the drive does not answer"), "{xml}");
+    assert_has(&xml, &["the drive does not answer"]);
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
@@ -224,8 +201,8 @@ fn a_drive_that_never_answers_gets_one_early_message() {
 /// with the same time, UTC and iteration-aware step columns as the long layout.
 #[test]
 fn csv_wide_gives_one_column_per_object_everywhere() {
-    let dir = temp_dir("wide");
-    let out = drivescript(
+    let dir = scratch("wide");
+    cli(
         &[
             "run",
             "recipes/spindle-run-in.yaml",
@@ -236,9 +213,8 @@ fn csv_wide_gives_one_column_per_object_everywhere() {
             "all.csv",
             "--csv-wide",
         ],
-        "",
+        0,
     );
-    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
     for name in ["all.csv", "run-in-stage-2.csv"] {
         let mut reader = csv::Reader::from_path(dir.join(name)).expect(name);
         assert_eq!(

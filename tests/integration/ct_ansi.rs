@@ -4,7 +4,10 @@
 //! time and through a real pseudo-terminal), exact decimals on the wire, a group write
 //! that gets no reply and is not repeated, and Ctrl-C during a run on the simulated drive.
 
-use crate::support::{drivescript, load_vectors, repo_root, stderr, stdout, InProcessRun, LiveRun};
+use crate::support::{
+    assert_has, assert_matches_shared, cli, control_words, drivescript, load_vectors, repo_root, stderr,
+    stdout, InProcessRun, LiveRun,
+};
 use drivescript::bus::{MemoryTransport, SharedTransport};
 use drivescript::clock::{SharedClock, VirtualClock};
 use drivescript::dictionary::{Address, DataType, RawValue};
@@ -15,7 +18,7 @@ use drivescript::hex::parse_hex;
 use drivescript::sim::SimConfig;
 use serde_json::Value;
 use std::path::PathBuf;
-use std::sync::{Arc, PoisonError};
+use std::sync::Arc;
 use std::time::Duration;
 
 fn vectors() -> Vec<crate::support::Vector> {
@@ -35,14 +38,7 @@ fn explainer() -> Box<dyn drivescript::link::TelegramExplainer> {
 
 #[test]
 fn the_copy_matches_the_shared_vectors() {
-    let shared = repo_root().join("../shared/vectors/ct-ansi.yaml");
-    if shared.exists() {
-        let (copy, original) = (vectors(), load_vectors(&shared));
-        assert_eq!(copy.len(), original.len());
-        for (c, o) in copy.iter().zip(&original) {
-            assert_eq!((&c.name, &c.hex, &c.frame), (&o.name, &o.hex, &o.frame));
-        }
-    }
+    assert_matches_shared(&vectors(), "ct-ansi.yaml");
 }
 
 #[test]
@@ -103,7 +99,7 @@ fn the_encoder_reproduces_the_canonical_messages() {
 #[test]
 fn decode_shows_control_characters_by_name_and_rejects_the_printed_example() {
     for protocol in ["ct-unidrive-sp", "ct-ansi", "ct_ansi"] {
-        let out = drivescript(
+        let text = cli(
             &[
                 "decode",
                 "--protocol",
@@ -112,23 +108,10 @@ fn decode_shows_control_characters_by_name_and_rejects_the_printed_example() {
                 "02 30 31 32 31 2d 34 37 2e 36 03 37",
                 "04 32 32 36 36 02 30 31 32 31 2b 30 37 36 2e 34 03 31",
             ],
-            "",
-        );
-        let text = stdout(&out);
-        assert_eq!(out.status.code(), Some(1), "{text}{}", stderr(&out));
-        assert!(text.contains("message   EOT 11220121 ENQ"), "{text}");
-        assert!(
-            text.contains("request   read #1.21 speed_setpoint of drive 1.2"),
-            "{text}"
-        );
-        assert!(
-            text.contains("reply     #1.21 speed_setpoint = -47.6 rpm"),
-            "{text}"
-        );
-        assert!(
-            text.contains("rejected: block check: expected 0x21 (!), got 0x31 (1) at byte 17, in `EOT 2266 STX 0121+076.4 ETX 1`"),
-            "{text}"
-        );
+            1,
+        )
+        .stdout;
+        assert_has(&text, &["message   EOT 11220121 ENQ", "request   read #1.21 speed_setpoint of drive 1.2", "reply     #1.21 speed_setpoint = -47.6 rpm", "rejected: block check: expected 0x21 (!), got 0x31 (1) at byte 17, in `EOT 2266 STX 0121+076.4 ETX 1`"]);
     }
     let out = drivescript(&["decode", "--protocol", "ct-ansi", "06", "15", "04"], "");
     // Three single bytes given unquoted read as one message; quoted they are three.
@@ -141,14 +124,14 @@ fn decode_shows_control_characters_by_name_and_rejects_the_printed_example() {
 fn decode_reads_a_hex_data_field_and_names_a_bad_hex_digit_by_its_byte() {
     let good = "02 30 36 32 31 58 38 33 03 55";
     let bad = "02 30 36 32 31 58 38 47 03 21";
-    let out = drivescript(&["decode", "--protocol", "ct-ansi", good, bad], "");
-    let text = stdout(&out);
-    assert_eq!(out.status.code(), Some(1), "{text}{}", stderr(&out));
-    assert!(text.contains("= 131"), "{text}");
-    assert!(text.contains("data      `X83`: hexadecimal"), "{text}");
-    assert!(
-        text.contains("rejected: byte 7: expected a hex digit (0-9, A-F) after X, got 'G'"),
-        "{text}"
+    let text = cli(&["decode", "--protocol", "ct-ansi", good, bad], 1).stdout;
+    assert_has(
+        &text,
+        &[
+            "= 131",
+            "data      `X83`: hexadecimal",
+            "rejected: byte 7: expected a hex digit (0-9, A-F) after X, got 'G'",
+        ],
     );
     let out = drivescript(&["decode", "--protocol", "ct-ansi", "--json", good], "");
     assert!(stdout(&out).contains(r#""value":"131""#), "{}", stdout(&out));
@@ -174,67 +157,43 @@ fn the_commissioning_recipe_runs_on_the_simulated_ct_drive_with_exact_decimals()
     run.outputs.trace = Some(trace.clone());
     let (result, output) = run.run();
     assert_eq!(result.exit_code, 0, "{output}");
-    assert!(
-        output.contains("using the built-in simulated CT_ANSI drive (drive 1.1"),
-        "{output}"
+    assert_has(
+        &output,
+        &[
+            "using the built-in simulated CT_ANSI drive (drive 1.1",
+            "go to operation_enabled  enable operation → operation enabled",
+            "finally 1  ok    disable_operation  control word 129",
+            "finally 2  ok    shutdown  control word 128",
+            "drive left in switched on at 0 rpm",
+        ],
     );
-    assert!(
-        output.contains("go to operation_enabled  enable operation → operation enabled"),
-        "{output}"
-    );
-    assert!(
-        output.contains("finally 1  ok    disable_operation  control word 129"),
-        "{output}"
-    );
-    assert!(
-        output.contains("finally 2  ok    shutdown  control word 128"),
-        "{output}"
-    );
-    assert!(output.contains("drive left in switched on at 0 rpm"), "{output}");
-    let sim = result.simulator.expect("the simulated drive");
-    let words = sim
-        .lock()
-        .unwrap_or_else(PoisonError::into_inner)
-        .control_words_written();
-    assert_eq!(words, vec![131, 129, 128]);
+    assert_eq!(control_words(&result), vec![131, 129, 128]);
     // 1500.5 rpm goes on the wire as the text 1500.5, after the control-word enable.
     let trace = std::fs::read_to_string(&trace).unwrap();
-    assert!(
-        trace.contains("04 31 31 31 31 02 30 31 32 31 31 35 30 30 2e 35 03"),
-        "{trace}"
-    );
-    assert!(
-        trace.contains("write #1.21 speed_setpoint = 1500.5 rpm to drive 1.1"),
-        "{trace}"
-    );
-    assert!(
-        trace.contains("write #6.43 control_word_enable = 1 to drive 1.1"),
-        "{trace}"
+    assert_has(
+        &trace,
+        &[
+            "04 31 31 31 31 02 30 31 32 31 31 35 30 30 2e 35 03",
+            "write #1.21 speed_setpoint = 1500.5 rpm to drive 1.1",
+            "write #6.43 control_word_enable = 1 to drive 1.1",
+        ],
     );
 }
 
 #[test]
 fn raw_parameters_in_the_drives_own_notation() {
-    let out = drivescript(
+    let text = cli(
         &["read", "#5.04", "5.05", "#11.29", "--drive", "ct-unidrive-sp"],
-        "",
-    );
-    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
-    let text = stdout(&out);
-    assert!(text.contains("#5.04"), "{text}");
-    let out = drivescript(&["write", "#1.21", "1500.5", "--drive", "ct-unidrive-sp"], "");
-    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
-    assert!(
-        stdout(&out).contains("#1.21 = 1500.5 written (raw 1500.5)"),
-        "{}",
-        stdout(&out)
-    );
-    let out = drivescript(&["read", "#42.42", "--drive", "ct-unidrive-sp"], "");
-    assert_eq!(out.status.code(), Some(3));
-    assert!(
-        stderr(&out).contains("the drive has no parameter #42.42 (it answered EOT)"),
-        "{}",
-        stderr(&out)
+        0,
+    )
+    .stdout;
+    assert_has(&text, &["#5.04"]);
+    let out = cli(&["write", "#1.21", "1500.5", "--drive", "ct-unidrive-sp"], 0);
+    assert_has(&out.stdout, &["#1.21 = 1500.5 written (raw 1500.5)"]);
+    let out = cli(&["read", "#42.42", "--drive", "ct-unidrive-sp"], 3);
+    assert_has(
+        &out.stderr,
+        &["the drive has no parameter #42.42 (it answered EOT)"],
     );
 }
 
@@ -281,16 +240,18 @@ fn a_write_of_the_baud_rate_parameter_waits_20_ms_and_says_to_restart_with_baud(
         .to_string();
     // The turnaround (2 ms), the ACK at the old rate (1 ms), then the drive's 20 ms.
     assert_eq!(drivescript::clock::Clock::now(&*clock), Duration::from_millis(23));
-    assert!(
-        e.contains("the write of #11.25 = 6 was accepted (ACK), and drivescript waited 20 ms"),
-        "{e}"
+    assert_has(
+        &e,
+        &[
+            "the write of #11.25 = 6 was accepted (ACK), and drivescript waited 20 ms",
+            "restart drivescript with --baud",
+        ],
     );
-    assert!(e.contains("restart drivescript with --baud"), "{e}");
     let e = access
         .read(&Address::indexed(1, 21), DataType::I32)
         .unwrap_err()
         .to_string();
-    assert!(e.contains("changed the drive's baud rate"), "{e}");
+    assert_has(&e, &["changed the drive's baud rate"]);
     assert_eq!(
         peer.lock().unwrap().0.len(),
         1,
@@ -353,7 +314,7 @@ fn a_group_write_gets_no_reply_and_is_not_repeated() {
 #[cfg(unix)]
 #[test]
 fn the_commissioning_recipe_runs_behind_an_adapter_that_echoes() {
-    let sim = crate::end_to_end::Simulator::start(&["--drive", "ct-unidrive-sp", "--pty", "--echo"]);
+    let sim = crate::support::Simulator::start(&["--drive", "ct-unidrive-sp", "--pty", "--echo"]);
     let recipe = ct_commissioning("echo");
     let out = drivescript(
         &["run", recipe.to_str().unwrap(), "--port", &sim.endpoint, "-v"],
@@ -361,8 +322,8 @@ fn the_commissioning_recipe_runs_behind_an_adapter_that_echoes() {
     );
     let (text, trace) = (stdout(&out), stderr(&out));
     assert_eq!(out.status.code(), Some(0), "{text}{trace}");
-    assert!(text.contains("drive left in switched on at 0 rpm"), "{text}");
-    assert!(trace.contains("echo of our message skipped: EOT 1111"), "{trace}");
+    assert_has(&text, &["drive left in switched on at 0 rpm"]);
+    assert_has(&trace, &["echo of our message skipped: EOT 1111"]);
     assert!(
         !trace.contains("retry"),
         "no echo is taken for a bad reply: {trace}"
@@ -380,27 +341,24 @@ fn the_commissioning_recipe_runs_behind_an_adapter_that_echoes() {
         "",
     );
     let text = format!("{}{}", stdout(&out), stderr(&out));
-    assert!(
-        text.contains("has no parameter #9.99 (it answered EOT)"),
-        "{text}"
-    );
+    assert_has(&text, &["has no parameter #9.99 (it answered EOT)"]);
 }
 
 #[cfg(unix)]
 #[test]
 fn the_commissioning_recipe_runs_through_a_pseudo_terminal() {
-    let sim = crate::end_to_end::Simulator::start(&["--drive", "ct-unidrive-sp", "--pty"]);
+    let sim = crate::support::Simulator::start(&["--drive", "ct-unidrive-sp", "--pty"]);
     let recipe = ct_commissioning("pty");
-    let out = drivescript(&["run", recipe.to_str().unwrap(), "--port", &sim.endpoint], "");
-    let text = stdout(&out);
-    assert_eq!(out.status.code(), Some(0), "{text}{}", stderr(&out));
-    assert!(
-        text.contains(&format!("drive 1.1 on {} at 4800 7E1", sim.endpoint)),
-        "{text}"
+    let text = cli(&["run", recipe.to_str().unwrap(), "--port", &sim.endpoint], 0).stdout;
+    assert_has(
+        &text,
+        &[
+            &format!("drive 1.1 on {} at 4800 7E1", sim.endpoint),
+            "drive left in switched on at 0 rpm",
+        ],
     );
-    assert!(text.contains("drive left in switched on at 0 rpm"), "{text}");
     // The group address reaches the same drive, without a reply.
-    let out = drivescript(
+    cli(
         &[
             "write",
             "speed_setpoint",
@@ -412,9 +370,8 @@ fn the_commissioning_recipe_runs_through_a_pseudo_terminal() {
             "--drive",
             "ct-unidrive-sp",
         ],
-        "",
+        0,
     );
-    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
     let out = drivescript(
         &[
             "read",
@@ -426,13 +383,13 @@ fn the_commissioning_recipe_runs_through_a_pseudo_terminal() {
         ],
         "",
     );
-    assert!(stdout(&out).contains("12.5 rpm"), "{}", stdout(&out));
+    assert_has(&stdout(&out), &["12.5 rpm"]);
 }
 
 #[cfg(unix)]
 #[test]
 fn ctrl_c_during_a_run_on_the_simulated_ct_drive_stops_it() {
-    let sim = crate::end_to_end::Simulator::start(&["--drive", "ct-unidrive-sp", "--pty"]);
+    let sim = crate::support::Simulator::start(&["--drive", "ct-unidrive-sp", "--pty"]);
     let dir = std::env::temp_dir().join(format!("drivescript-ct-sigint-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let recipe = dir.join("run.yaml");
@@ -453,37 +410,32 @@ fn ctrl_c_during_a_run_on_the_simulated_ct_drive_stops_it() {
         "odd",
     ]);
     let seen = run.wait_for("set speed_setpoint").to_string();
-    assert!(
-        seen.contains(&format!("drive 1.1 on {} at 9600 7O1", sim.endpoint)),
-        "{seen}"
-    );
+    assert_has(&seen, &[&format!("drive 1.1 on {} at 9600 7O1", sim.endpoint)]);
     std::thread::sleep(Duration::from_millis(200));
     run.signal("INT");
     let (code, all) = run.finish();
     assert_eq!(code, Some(130), "{all}");
-    assert!(
-        all.contains("disable_operation (default finally)  control word 129"),
-        "{all}"
+    assert_has(
+        &all,
+        &[
+            "disable_operation (default finally)  control word 129",
+            "shutdown (default finally)  control word 128",
+            "drive left in switched on",
+            "INTERRUPTED",
+        ],
     );
-    assert!(
-        all.contains("shutdown (default finally)  control word 128"),
-        "{all}"
-    );
-    assert!(all.contains("drive left in switched on"), "{all}");
-    assert!(all.contains("INTERRUPTED"), "{all}");
     // Read back from the drive itself: stopped.
     let out = drivescript(
         &["state", "--port", &sim.endpoint, "--drive", "ct-unidrive-sp"],
         "",
     );
-    assert!(stdout(&out).contains("switched on"), "{}", stdout(&out));
+    assert_has(&stdout(&out), &["switched on"]);
 }
 
 #[test]
 fn the_recipe_schema_offers_only_what_the_ct_drive_has() {
-    let out = drivescript(&["schema", "--drive", "ct-unidrive-sp"], "");
-    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
-    let schema: Value = serde_json::from_str(&stdout(&out)).unwrap();
+    let out = cli(&["schema", "--drive", "ct-unidrive-sp"], 0);
+    let schema: Value = serde_json::from_str(&out.stdout).unwrap();
     assert_eq!(
         schema["properties"]["drive"]["enum"],
         serde_json::json!(["ct_ansi", "ct-unidrive-sp"])

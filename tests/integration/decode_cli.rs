@@ -1,7 +1,7 @@
 //! `drivescript decode` end to end: the printed telegrams with the right meaning, JSON that
 //! matches the vectors field for field, exit codes.
 
-use crate::support::{drivescript, sd2_vectors, stderr, stdout};
+use crate::support::{assert_has, cli, drivescript, sd2_vectors, stderr, stdout};
 use serde_json::Value;
 
 #[test]
@@ -35,7 +35,7 @@ fn json_output_matches_the_vectors_field_for_field() {
 
 #[test]
 fn all_accepted_forms_of_hex_and_exit_zero() {
-    let out = drivescript(
+    let text = cli(
         &[
             "decode",
             "--protocol",
@@ -44,19 +44,17 @@ fn all_accepted_forms_of_hex_and_exit_zero() {
             "000401028e006a",
             "0x00 0x09 0x02 0x01 0x0d 0x8e 0x01 0x00 0x00 0x00 0x00 0x57",
         ],
-        "",
-    );
-    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
-    let text = stdout(&out);
-    assert!(text.contains("control   15: enable operation"), "{text}");
-    assert!(
-        text.contains("reply     write wide object (cmd 0x8e), drive 2 (switch 0, drive A) → PC (1)"),
-        "{text}"
-    );
-    assert!(text.contains("error     0x00 no error"), "{text}");
-    assert!(
-        text.contains("398 (0x018e) speed_actual (VCTRL_VELOCITY_ACTUAL_VALUE_UUNIT)"),
-        "{text}"
+        0,
+    )
+    .stdout;
+    assert_has(
+        &text,
+        &[
+            "control   15: enable operation",
+            "reply     write wide object (cmd 0x8e), drive 2 (switch 0, drive A) → PC (1)",
+            "error     0x00 no error",
+            "398 (0x018e) speed_actual (VCTRL_VELOCITY_ACTUAL_VALUE_UUNIT)",
+        ],
     );
 }
 
@@ -68,25 +66,21 @@ fn a_reply_is_read_as_the_object_its_request_asked_for() {
     );
     assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
     let text = stdout(&out);
-    assert!(text.contains("status    0x6637: operation enabled"), "{text}");
+    assert_has(&text, &["status    0x6637: operation enabled"]);
 }
 
 #[test]
 fn rejected_telegram_says_why_and_exits_one() {
-    let out = drivescript(&["decode", "00 0d 02 01 10 05 00 07 00 ff 1f 00 00 00 00 05"], "");
-    assert_eq!(out.status.code(), Some(1));
-    assert!(stdout(&out).contains("rejected: bad checksum at byte 15: expected 0xb5, got 0x05"));
+    let out = cli(&["decode", "00 0d 02 01 10 05 00 07 00 ff 1f 00 00 00 00 05"], 1);
+    assert!(out
+        .stdout
+        .contains("rejected: bad checksum at byte 15: expected 0xb5, got 0x05"));
 }
 
 #[test]
 fn text_that_is_not_hex_is_a_usage_error() {
-    let out = drivescript(&["decode", "00 0g"], "");
-    assert_eq!(out.status.code(), Some(2));
-    assert!(
-        stderr(&out).contains("argument 1: 'g' at column 5 is not a hex digit"),
-        "{}",
-        stderr(&out)
-    );
+    let out = cli(&["decode", "00 0g"], 2);
+    assert_has(&out.stderr, &["argument 1: 'g' at column 5 is not a hex digit"]);
 }
 
 #[test]
@@ -96,10 +90,8 @@ fn an_unquoted_telegram_is_one_telegram() {
         .collect();
     let mut args = vec!["decode"];
     args.extend(bytes);
-    let out = drivescript(&args, "");
-    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
-    let text = stdout(&out);
-    assert!(text.contains("control   6: shutdown"), "{text}");
+    let text = cli(&args, 0).stdout;
+    assert_has(&text, &["control   6: shutdown"]);
     assert_eq!(text.matches("request").count(), 1, "{text}");
 }
 
@@ -110,23 +102,22 @@ fn objects_are_named_from_the_dictionary() {
         "",
     );
     let text = stdout(&out);
-    assert!(
-        text.contains("395 (0x018b) speed_setpoint (SPG_TARGET_VELOCITY_VL_UUNIT)"),
-        "{text}"
+    assert_has(
+        &text,
+        &[
+            "395 (0x018b) speed_setpoint (SPG_TARGET_VELOCITY_VL_UUNIT)",
+            "= 6000 rpm",
+        ],
     );
-    assert!(text.contains("= 6000 rpm"), "{text}");
 }
 
 #[test]
 fn completions_for_every_shell_name_the_subcommands() {
     for shell in ["bash", "zsh", "fish", "powershell"] {
-        let out = drivescript(&["completions", shell], "");
-        assert_eq!(out.status.code(), Some(0), "{shell}: {}", stderr(&out));
-        let text = stdout(&out);
+        let text = cli(&["completions", shell], 0).stdout;
         for sub in ["run", "check", "decode", "simulate", "objects"] {
             assert!(text.contains(sub), "{shell} completion lacks {sub}");
         }
     }
-    let out = drivescript(&["completions", "tcsh"], "");
-    assert_eq!(out.status.code(), Some(2));
+    cli(&["completions", "tcsh"], 2);
 }

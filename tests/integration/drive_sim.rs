@@ -2,6 +2,7 @@
 //! dictionary object read back, the documented write telegrams, the state walk, refusals
 //! that send nothing, and every fault injection producing the right retry or error.
 
+use crate::support::assert_has;
 use drivescript::bus::{MemoryTransport, Peer, SharedTransport};
 use drivescript::clock::{SharedClock, VirtualClock};
 use drivescript::dictionary::{Quantity, Unit};
@@ -296,8 +297,7 @@ fn a_drive_refusal_names_the_object_and_the_code() {
         .write("parameter_set", &Quantity::new(2.0, None))
         .unwrap_err();
     let text = e.to_string();
-    assert!(text.contains("refused to write parameter_set"), "{text}");
-    assert!(text.contains("0x9B"), "{text}");
+    assert_has(&text, &["refused to write parameter_set", "0x9B"]);
 }
 
 /// Two simulated drives on one line, as on an RS485 bus: every request reaches both, only

@@ -2,44 +2,9 @@
 //! pseudo-terminal, `simulate --tcp` on loopback, and Ctrl-C (SIGINT) during a real-time
 //! run, which must still run `finally` and exit with 130.
 
-use crate::support::{drivescript, repo_root, stderr, stdout, LiveRun};
+use crate::support::{assert_has, assert_lacks, cli, repo_root, LiveRun, Simulator};
 use std::io::{BufRead, BufReader};
-use std::process::{Child, Command, Stdio};
-
-/// A `drivescript simulate` in the background, stopped when dropped.
-pub(crate) struct Simulator {
-    child: Child,
-    /// The first line it printed: the pty path or the TCP address.
-    pub(crate) endpoint: String,
-}
-
-impl Simulator {
-    pub(crate) fn start(args: &[&str]) -> Simulator {
-        let mut child = Command::new(env!("CARGO_BIN_EXE_drivescript"))
-            .arg("simulate")
-            .args(args)
-            .stdout(Stdio::piped())
-            .stderr(Stdio::piped())
-            .spawn()
-            .expect("simulate starts");
-        let out = child.stdout.take().expect("stdout is piped");
-        let mut line = String::new();
-        BufReader::new(out)
-            .read_line(&mut line)
-            .expect("simulate prints its endpoint");
-        Simulator {
-            child,
-            endpoint: line.trim().to_string(),
-        }
-    }
-}
-
-impl Drop for Simulator {
-    fn drop(&mut self) {
-        let _ = self.child.kill();
-        let _ = self.child.wait();
-    }
-}
+use std::process::{Command, Stdio};
 
 #[cfg(unix)]
 #[test]
@@ -48,41 +13,28 @@ fn a_pseudo_terminal_serves_the_simulated_drive() {
     assert!(sim.endpoint.starts_with("/dev/"), "endpoint {:?}", sim.endpoint);
     let port = sim.endpoint.as_str();
 
-    let out = drivescript(&["state", "--port", port], "");
-    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
-    assert!(
-        stdout(&out).contains("status word 0x0240: switch on disabled"),
-        "{}",
-        stdout(&out)
-    );
+    let out = cli(&["state", "--port", port], 0);
+    assert_has(&out.stdout, &["status word 0x0240: switch on disabled"]);
 
-    let out = drivescript(&["write", "speed_setpoint", "6000rpm", "--port", port], "");
-    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
-    assert!(
-        stdout(&out).contains("speed_setpoint = 6000 rpm written (raw 6000000)"),
-        "{}",
-        stdout(&out)
-    );
+    let out = cli(&["write", "speed_setpoint", "6000rpm", "--port", port], 0);
+    assert_has(&out.stdout, &["speed_setpoint = 6000 rpm written (raw 6000000)"]);
 
     // The simulated drive keeps its state between connections, like a real one.
-    let out = drivescript(&["read", "speed_setpoint", "ident", "--port", port, "--json"], "");
-    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
-    let json: serde_json::Value = serde_json::from_str(stdout(&out).trim()).expect("json");
+    let out = cli(&["read", "speed_setpoint", "ident", "--port", port, "--json"], 0);
+    let json: serde_json::Value = serde_json::from_str(out.stdout.trim()).expect("json");
     assert_eq!(json[0]["value"], 6000.0);
     assert_eq!(json[0]["unit"], "rpm");
     assert_eq!(json[1]["value"], "Test Motor");
 
     // An object by its index, as the family writes it, reads the same raw count.
-    let out = drivescript(&["read", "395", "--type", "i32", "--port", port, "--json"], "");
-    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
-    let json: serde_json::Value = serde_json::from_str(stdout(&out).trim()).expect("json");
+    let out = cli(&["read", "395", "--type", "i32", "--port", port, "--json"], 0);
+    let json: serde_json::Value = serde_json::from_str(out.stdout.trim()).expect("json");
     assert_eq!(json[0]["object"], "395");
     assert_eq!(json[0]["raw"], "6000000");
 
     // Without a type nothing is sent and the message says what to add.
-    let out = drivescript(&["read", "0x18b", "--port", port], "");
-    assert_eq!(out.status.code(), Some(2), "{}", stdout(&out));
-    assert!(stderr(&out).contains("--type"), "{}", stderr(&out));
+    let out = cli(&["read", "0x18b", "--port", port], 2);
+    assert_has(&out.stderr, &["--type"]);
 }
 
 #[test]
@@ -93,18 +45,17 @@ fn tcp_on_loopback_serves_the_simulated_drive() {
         "endpoint {:?}",
         sim.endpoint
     );
-    let out = drivescript(&["state", "--tcp", &sim.endpoint], "");
-    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
-    assert!(stdout(&out).contains("switch on disabled"), "{}", stdout(&out));
+    let out = cli(&["state", "--tcp", &sim.endpoint], 0);
+    assert_has(&out.stdout, &["switch on disabled"]);
 }
 
 #[test]
 fn a_missing_port_says_which_and_what_to_do() {
-    let out = drivescript(&["state", "--port", "/dev/does-not-exist-ds"], "");
-    assert_eq!(out.status.code(), Some(3));
-    let err = stderr(&out);
-    assert!(err.contains("/dev/does-not-exist-ds does not exist"), "{err}");
-    assert!(err.contains("drivescript ports"), "{err}");
+    let err = cli(&["state", "--port", "/dev/does-not-exist-ds"], 3).stderr;
+    assert_has(
+        &err,
+        &["/dev/does-not-exist-ds does not exist", "drivescript ports"],
+    );
 }
 
 #[test]
@@ -112,14 +63,18 @@ fn a_drive_that_does_not_answer_is_exit_code_3_naming_the_telegram() {
     // A loopback listener that accepts and never answers.
     let listener = std::net::TcpListener::bind("127.0.0.1:0").expect("bind");
     let addr = listener.local_addr().expect("addr").to_string();
-    let out = drivescript(
+    let err = cli(
         &["state", "--tcp", &addr, "--timeout", "50ms", "--retries", "1"],
-        "",
+        3,
+    )
+    .stderr;
+    assert_has(
+        &err,
+        &[
+            "no reply from drive 2 on tcp",
+            "00 09 02 01 0d 43 00 00 00 00 00 a3",
+        ],
     );
-    assert_eq!(out.status.code(), Some(3));
-    let err = stderr(&out);
-    assert!(err.contains("no reply from drive 2 on tcp"), "{err}");
-    assert!(err.contains("00 09 02 01 0d 43 00 00 00 00 00 a3"), "{err}");
     drop(listener);
 }
 
@@ -133,10 +88,15 @@ fn ctrl_c_during_a_run_stops_safely_and_exits_130() {
     let (code, all) = run.finish();
     assert_eq!(code, Some(130), "{all}");
     // The press lands in the dwell or just before it starts; either way the steps stop.
-    assert!(!all.contains("ok    dwell"), "{all}");
-    assert!(all.contains("finally 3  ok    shutdown"), "{all}");
-    assert!(all.contains("drive left in ready to switch on"), "{all}");
-    assert!(all.contains("INTERRUPTED"), "{all}");
+    assert_lacks(&all, &["ok    dwell"]);
+    assert_has(
+        &all,
+        &[
+            "finally 3  ok    shutdown",
+            "drive left in ready to switch on",
+            "INTERRUPTED",
+        ],
+    );
 }
 
 #[cfg(unix)]
@@ -201,19 +161,13 @@ fn the_cyclic_channel_runs_the_commissioning_recipe_through_a_pty() {
         let sim = Simulator::start(&["--pty"]);
         let mut args = vec!["run", recipe.as_ref(), "--port", sim.endpoint.as_str()];
         args.extend_from_slice(channel);
-        let out = drivescript(&args, "");
-        assert_eq!(
-            out.status.code(),
-            Some(0),
-            "{channel:?}\n{}{}",
-            stdout(&out),
-            stderr(&out)
-        );
-        let text = stdout(&out);
-        assert!(text.contains("PASS  speed_actual near 3000 rpm ± 1 %"), "{text}");
-        assert!(
-            text.contains("drive left in ready to switch on at 0 rpm"),
-            "{text}"
+        let text = cli(&args, 0).stdout;
+        assert_has(
+            &text,
+            &[
+                "PASS  speed_actual near 3000 rpm ± 1 %",
+                "drive left in ready to switch on at 0 rpm",
+            ],
         );
     }
     let trace_text = std::fs::read_to_string(&trace).expect("trace written");

@@ -5,7 +5,10 @@
 //! profile `check` refuses device control; the safe stop on a stop signal, a lost line and
 //! a drive that ignores commands; and a real pseudo-terminal with `simulate --pty`.
 
-use crate::support::{drivescript, repo_root, stderr, stdout, InProcessRun};
+use crate::support::{
+    assert_has, assert_lacks, cli, control_words, drivescript, repo_root, scratch, stderr, stdout,
+    write_file, InProcessRun,
+};
 use drivescript::cli::DictionaryArgs;
 use drivescript::clock::SharedClock;
 use drivescript::drive::{DeviceCommand, DeviceState};
@@ -27,12 +30,6 @@ const SIM_NUMBERS: &[(&str, &str)] = &[
     ("status_word", "0x0021"),
     ("drive_error", "0x0022"),
 ];
-
-pub(crate) fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("drivescript-lenze-{name}-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("scratch dir");
-    dir
-}
 
 /// What a user does with the template in `dictionary/lenze-931.yaml`: copy the lines
 /// between the markers, remove the `# `, fill in every `0x????`.
@@ -97,12 +94,6 @@ fn commissioning_for_931(dir: &Path) -> PathBuf {
     path
 }
 
-fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
-    let path = dir.join(name);
-    std::fs::write(&path, text).expect("write");
-    path
-}
-
 #[test]
 fn the_commissioning_recipe_runs_on_the_simulated_931_with_only_drive_changed() {
     let dir = scratch("commissioning");
@@ -115,20 +106,19 @@ fn the_commissioning_recipe_runs_on_the_simulated_931_with_only_drive_changed() 
     assert_eq!(result.exit_code, 0, "{output}");
     // The trace shows each line as text with its meaning, and decode reads it back.
     let trace_text = std::fs::read_to_string(&trace).expect("trace");
-    assert!(
-        trace_text.contains("# OW:0020:0000000F write object 0x0020 control_word; 15 (0x0000000F)"),
-        "{trace_text}"
+    assert_has(
+        &trace_text,
+        &["# OW:0020:0000000F write object 0x0020 control_word; 15 (0x0000000F)"],
     );
     let out = drivescript(&["decode", "--protocol", "lenze-931"], &trace_text);
     assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
-    assert!(
-        stdout(&out).contains("request   write object 0x0020\n  value     15 (0x0000000F)"),
-        "{}",
-        stdout(&out)
+    assert_has(
+        &stdout(&out),
+        &["request   write object 0x0020\n  value     15 (0x0000000F)"],
     );
     // With the user's dictionary, decode names the objects and the status bits.
     let extra = completed_template(&dir).to_string_lossy().to_string();
-    let out = drivescript(
+    let text = cli(
         &[
             "decode",
             "--drive",
@@ -138,30 +128,25 @@ fn the_commissioning_recipe_runs_on_the_simulated_931_with_only_drive_changed() 
             "OR:0001",
             "0001:0000A000",
         ],
-        "",
+        0,
+    )
+    .stdout;
+    assert_has(
+        &text,
+        &[
+            "request   read object 0x0001 rs232_stat_sum",
+            "status    13 speed = 0 ± hysteresis, 15 ready for operation",
+        ],
     );
-    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
-    let text = stdout(&out);
-    assert!(
-        text.contains("request   read object 0x0001 rs232_stat_sum"),
-        "{text}"
+    assert_has(
+        &output,
+        &[
+            "using the built-in simulated",
+            "ident = \"0931\"",
+            "drive left in ready to switch on at 0 rpm",
+        ],
     );
-    assert!(
-        text.contains("status    13 speed = 0 ± hysteresis, 15 ready for operation"),
-        "{text}"
-    );
-    assert!(output.contains("using the built-in simulated"), "{output}");
-    assert!(output.contains("ident = \"0931\""), "{output}");
-    assert!(
-        output.contains("drive left in ready to switch on at 0 rpm"),
-        "{output}"
-    );
-    let sim = result.simulator.expect("the simulated drive");
-    let words = sim
-        .lock()
-        .unwrap_or_else(PoisonError::into_inner)
-        .control_words_written();
-    assert_eq!(words, vec![6, 7, 15, 7, 6]);
+    assert_eq!(control_words(&result), vec![6, 7, 15, 7, 6]);
 }
 
 #[test]
@@ -169,44 +154,34 @@ fn a_limited_write_warns_with_the_stored_value_and_expect_sees_it() {
     // A literal beyond the drive's limits is refused before the run (see below), so the
     // limited write is reached with a value the script computes.
     let dir = scratch("limited");
-    let script = write(
+    let script = write_file(
         &dir,
         "limited.rhai",
         "//! drive: lenze-931\nlet d = drive();\nlet high = 4000.0 * 2.0;\nd.set(\"speed_setpoint\", high, \"rpm\");\nlet stored = d.read(\"speed_setpoint\");\nexpect(\"speed_setpoint equals 6000 rpm\", stored == 6000.0, stored);\nd.set(\"speed_setpoint\", 0.0, \"rpm\");\n",
     );
-    let mut run = InProcessRun::new(script);
-    run.dictionary = dictionary_args(Some(completed_template(&dir)));
-    let (result, output) = run.run();
-    assert_eq!(result.exit_code, 0, "{output}");
-    assert!(
-        output.contains(
-            "warning: speed_setpoint = 8000 rpm was limited by the drive, which stored 6000 rpm (read back)"
-        ),
-        "{output}"
+    let (code, output, _) = run_and_record(&dir, script);
+    assert_eq!(code, 0, "{output}");
+    assert_has(
+        &output,
+        &[
+            "warning: speed_setpoint = 8000 rpm was limited by the drive, which stored 6000 rpm (read back)",
+            "PASS  speed_setpoint equals 6000 rpm",
+        ],
     );
-    assert!(
-        output.contains("PASS  speed_setpoint equals 6000 rpm"),
-        "{output}"
-    );
-    assert!(!output.contains("FAIL"), "{output}");
+    assert_lacks(&output, &["FAIL"]);
 }
 
 #[test]
 fn a_value_the_drive_refuses_names_the_drives_limit() {
     let dir = scratch("refused");
-    let script = write(
+    let script = write_file(
         &dir,
         "refused.rhai",
         "//! drive: lenze-931\nlet d = drive();\nlet mode = 3 + 4;\nd.set(\"operating_mode\", mode);\n",
     );
-    let mut run = InProcessRun::new(script);
-    run.dictionary = dictionary_args(Some(completed_template(&dir)));
-    let (result, output) = run.run();
-    assert_eq!(result.exit_code, 3, "{output}");
-    assert!(
-        output.contains("0x00000003 value too high, not written; the drive's maximum is 3 (0x00000003, read with OX:0014)"),
-        "{output}"
-    );
+    let (code, output, _) = run_and_record(&dir, script);
+    assert_eq!(code, 3, "{output}");
+    assert_has(&output, &["0x00000003 value too high, not written; the drive's maximum is 3 (0x00000003, read with OX:0014)"]);
 }
 
 type SharedSim = Arc<Mutex<dyn SimulatedDrive>>;
@@ -239,7 +214,7 @@ fn run_and_record(dir: &Path, path: PathBuf) -> (i32, String, Vec<String>) {
 #[test]
 fn a_run_outside_the_drives_limits_is_refused_before_any_write_telegram() {
     let dir = scratch("run-limits");
-    let recipe = write(
+    let recipe = write_file(
         &dir,
         "outside.yaml",
         "name: Outside\ndrive: lenze-931\nsteps:\n  - read: [ident]\n  - set: { operating_mode: 2 }\n  - set: { speed_setpoint: 8000 rpm }\n  - ramp: { object: speed_setpoint, from: -7000 rpm, to: 0 rpm, rate: 1000 rpm/s }\nfinally:\n  - set: { speed_setpoint: 0 rpm }\n",
@@ -248,29 +223,11 @@ fn a_run_outside_the_drives_limits_is_refused_before_any_write_telegram() {
     assert_eq!(code, 2, "{output}");
     // Each object written is asked for its limits once, and nothing else is sent.
     assert_eq!(requests, ["ON:0014", "OX:0014", "ON:0010", "OX:0010"], "{output}");
-    assert!(
-        output.contains("drive limits of speed_setpoint: -6000 rpm .. 6000 rpm (read from the 931 on"),
-        "{output}"
-    );
-    assert!(
-        output.contains("outside.yaml:6:5: set speed_setpoint = 8000 rpm is above the maximum the drive reports, 6000 rpm"),
-        "{output}"
-    );
-    assert!(
-        output.contains("outside.yaml:7:5: ramp speed_setpoint = -7000 rpm is below the minimum the drive reports, -6000 rpm"),
-        "{output}"
-    );
-    assert!(output.contains("error: 2 value(s) of "), "{output}");
-    assert!(
-        output.contains(
-            "nothing was sent to move the drive. Lower the value, or change the drive's limit first"
-        ),
-        "{output}"
-    );
-    assert!(!output.contains("PASSED"), "{output}");
+    assert_has(&output, &["drive limits of speed_setpoint: -6000 rpm .. 6000 rpm (read from the 931 on", "outside.yaml:6:5: set speed_setpoint = 8000 rpm is above the maximum the drive reports, 6000 rpm", "outside.yaml:7:5: ramp speed_setpoint = -7000 rpm is below the minimum the drive reports, -6000 rpm", "error: 2 value(s) of ", "nothing was sent to move the drive. Lower the value, or change the drive's limit first"]);
+    assert_lacks(&output, &["PASSED"]);
 
     // A script's literal values are compared the same way, at their place.
-    let script = write(
+    let script = write_file(
         &dir,
         "outside.rhai",
         "//! drive: lenze-931\nlet d = drive();\nd.set(\"operating_mode\", 9);\nd.set(\"speed_setpoint\", 100.0, \"rpm\");\n",
@@ -278,17 +235,16 @@ fn a_run_outside_the_drives_limits_is_refused_before_any_write_telegram() {
     let (code, output, requests) = run_and_record(&dir, script);
     assert_eq!(code, 2, "{output}");
     assert_eq!(requests, ["ON:0014", "OX:0014", "ON:0010", "OX:0010"], "{output}");
-    assert!(
-        output
-            .contains("outside.rhai:3:25: set operating_mode = 9 is above the maximum the drive reports, 3"),
-        "{output}"
+    assert_has(
+        &output,
+        &["outside.rhai:3:25: set operating_mode = 9 is above the maximum the drive reports, 3"],
     );
 }
 
 #[test]
 fn a_run_within_the_drives_limits_reads_them_first_and_passes() {
     let dir = scratch("run-within");
-    let recipe = write(
+    let recipe = write_file(
         &dir,
         "within.yaml",
         "name: Within\ndrive: lenze-931\nsteps:\n  - set: { speed_setpoint: 5000 rpm }\n  - ramp: { object: speed_setpoint, from: 5000 rpm, to: -6000 rpm, rate: 10000 rpm/s }\n  - expect: { speed_setpoint: { equals: -6000 rpm } }\nfinally:\n  - set: { speed_setpoint: 0 rpm }\n",
@@ -305,50 +261,39 @@ fn a_run_within_the_drives_limits_reads_them_first_and_passes() {
     assert!(!requests[2..]
         .iter()
         .any(|r| r.starts_with("ON:") || r.starts_with("OX:")));
-    assert!(!output.contains("warning"), "{output}");
-    assert!(
-        output.contains("drive limits of speed_setpoint: -6000 rpm .. 6000 rpm"),
-        "{output}"
+    assert_lacks(&output, &["warning"]);
+    assert_has(
+        &output,
+        &["drive limits of speed_setpoint: -6000 rpm .. 6000 rpm", "PASSED"],
     );
-    assert!(output.contains("PASSED"), "{output}");
 }
 
 #[test]
 fn without_a_profile_check_refuses_device_commands_and_states_saying_what_to_add() {
     let dir = scratch("no-profile");
-    let recipe = write(
+    let recipe = write_file(
         &dir,
         "control.yaml",
         "name: Needs control\ndrive: lenze-931\nsteps:\n  - read: [ident]\n  - shutdown\n  - go_to: operation_enabled\n  - wait_until: { state: switched_on, timeout: 1 s }\nfinally: []\n",
     );
     let path = recipe.to_string_lossy().to_string();
-    let out = drivescript(&["check", &path, "--drive", "lenze-931"], "");
-    assert_eq!(out.status.code(), Some(2), "{}", stdout(&out));
-    let err = stderr(&out);
-    assert!(
-        err.contains("`shutdown` needs device control, but the lenze-931 dictionary has no `profile:`"),
-        "{err}"
+    let err = cli(&["check", &path, "--drive", "lenze-931"], 2).stderr;
+    assert_has(
+        &err,
+        &[
+            "`shutdown` needs device control, but the lenze-931 dictionary has no `profile:`",
+            "the state `operation_enabled` needs device control",
+            "the state `switched_on` needs device control",
+            "add a `profile:` to a dictionary file given with --dictionary FILE",
+            "3 problems found",
+        ],
     );
-    assert!(
-        err.contains("the state `operation_enabled` needs device control"),
-        "{err}"
-    );
-    assert!(
-        err.contains("the state `switched_on` needs device control"),
-        "{err}"
-    );
-    assert!(
-        err.contains("add a `profile:` to a dictionary file given with --dictionary FILE"),
-        "{err}"
-    );
-    assert!(err.contains("3 problems found"), "{err}");
     // The same recipe with the completed template (which has a profile) passes.
     let extra = completed_template(&dir).to_string_lossy().to_string();
-    let out = drivescript(
+    cli(
         &["check", &path, "--drive", "lenze-931", "--dictionary", &extra],
-        "",
+        0,
     );
-    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
 }
 
 /// Runs the commissioning recipe on the simulated 931 with `prepare` and a stop request.
@@ -377,21 +322,22 @@ fn sigint_during_a_run_stops_the_simulated_931_and_verifies_it() {
     stop.schedule(Duration::from_secs(4), StopSignal::INT);
     let (code, output, sim) = run_with(&recipe, completed_template(&dir), &|_, _: &SharedClock| {}, stop);
     assert_eq!(code, 130, "{output}");
-    assert!(
-        output.contains("INTERRUPTED: interrupted by Ctrl-C (SIGINT)"),
-        "{output}"
+    assert_has(
+        &output,
+        &[
+            "INTERRUPTED: interrupted by Ctrl-C (SIGINT)",
+            "FAIL  dwell 5s  interrupted",
+        ],
     );
-    assert!(output.contains("FAIL  dwell 5s  interrupted"), "{output}");
     // The safe stop brakes the spindle before the recipe's own finally disables it.
-    assert!(
-        output.contains("brake 2  ok    wait for standstill: speed_actual within ±10 rpm"),
-        "{output}"
+    assert_has(
+        &output,
+        &[
+            "brake 2  ok    wait for standstill: speed_actual within ±10 rpm",
+            "drive left in ready to switch on at 0 rpm",
+        ],
     );
-    assert!(
-        output.contains("drive left in ready to switch on at 0 rpm"),
-        "{output}"
-    );
-    assert!(!output.contains("STILL COASTING"), "{output}");
+    assert_lacks(&output, &["STILL COASTING"]);
     let sim = sim.lock().unwrap_or_else(PoisonError::into_inner);
     assert_eq!(sim.state(), DeviceState::ReadyToSwitchOn);
     assert_eq!(sim.control_words_written(), vec![6, 7, 15, 7, 6]);
@@ -419,11 +365,13 @@ fn a_931_that_ignores_the_stop_commands_is_escalated_and_reported() {
         Arc::new(StopRequests::new()),
     );
     assert_eq!(code, 3, "{output}");
-    assert!(
-        output.contains("it did not obey; escalating to quick stop"),
-        "{output}"
+    assert_has(
+        &output,
+        &[
+            "it did not obey; escalating to quick stop",
+            "CHECK THE DRIVE BY HAND",
+        ],
     );
-    assert!(output.contains("CHECK THE DRIVE BY HAND"), "{output}");
 }
 
 #[test]
@@ -442,34 +390,32 @@ fn a_lost_line_to_the_931_ends_in_the_truth() {
     run.safe_stop.reconnect_timeout = Some(Duration::from_secs(2));
     let (result, output) = run.run();
     assert_eq!(result.exit_code, 3, "{output}");
-    assert!(output.contains("CHECK THE DRIVE BY HAND"), "{output}");
-    assert!(output.contains("drive left in an unknown state"), "{output}");
+    assert_has(
+        &output,
+        &["CHECK THE DRIVE BY HAND", "drive left in an unknown state"],
+    );
 }
 
 #[cfg(unix)]
 #[test]
 fn through_a_pseudo_terminal_raw_access_drive_limits_and_a_run() {
-    let sim = crate::end_to_end::Simulator::start(&["--drive", "lenze-931", "--pty"]);
+    let sim = crate::support::Simulator::start(&["--drive", "lenze-931", "--pty"]);
     let port = sim.endpoint.as_str();
     assert!(port.starts_with("/dev/"), "{port}");
     let dir = scratch("pty");
     let dictionary = completed_template(&dir).to_string_lossy().to_string();
 
     // Raw access without a dictionary entry: signed 32-bit and hex.
-    let out = drivescript(
+    cli(
         &["write", "0x0010", "-3000", "--drive", "lenze-931", "--port", port],
-        "",
+        0,
     );
-    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
-    let out = drivescript(
+    let text = cli(
         &["read", "0x0010", "TYPE?", "--drive", "lenze-931", "--port", port],
-        "",
-    );
-    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
-    let text = stdout(&out);
-    assert!(text.contains("0xfffff448"), "{text}");
-    assert!(text.contains("-3000"), "{text}");
-    assert!(text.contains("\"0931\""), "{text}");
+        0,
+    )
+    .stdout;
+    assert_has(&text, &["0xfffff448", "-3000", "\"0931\""]);
     // A CANopen object through the SDO simulation: the status word, little-endian bytes.
     let out = drivescript(
         &[
@@ -501,33 +447,30 @@ fn through_a_pseudo_terminal_raw_access_drive_limits_and_a_run() {
     ];
     let mut args = vec!["check", recipe.as_str(), "--set", "speed=8000rpm"];
     args.extend(base);
-    let out = drivescript(&args, "");
-    assert_eq!(out.status.code(), Some(2), "{}\n{}", stdout(&out), stderr(&out));
-    let err = stderr(&out);
-    assert!(
-        err.contains("set speed_setpoint = 8000 rpm is above the maximum the drive reports, 6000 rpm"),
-        "{err}"
+    let out = cli(&args, 2);
+    let err = out.stderr;
+    assert_has(
+        &err,
+        &[
+            "set speed_setpoint = 8000 rpm is above the maximum the drive reports, 6000 rpm",
+            "nothing was sent to move the drive",
+        ],
     );
-    assert!(err.contains("nothing was sent to move the drive"), "{err}");
-    assert!(
-        stdout(&out).contains("drive limits of speed_setpoint: -6000 rpm .. 6000 rpm"),
-        "{}",
-        stdout(&out)
+    assert_has(
+        &out.stdout,
+        &["drive limits of speed_setpoint: -6000 rpm .. 6000 rpm"],
     );
     // `run` compares the same way before anything moves, and so does `check` for a
     // script's literal values.
     let mut args = vec!["run", recipe.as_str(), "--set", "speed=8000rpm"];
     args.extend(base);
-    let out = drivescript(&args, "");
-    assert_eq!(out.status.code(), Some(2), "{}\n{}", stdout(&out), stderr(&out));
-    assert!(
-        stderr(&out)
-            .contains("set speed_setpoint = 8000 rpm is above the maximum the drive reports, 6000 rpm"),
-        "{}",
-        stderr(&out)
+    let out = cli(&args, 2);
+    assert_has(
+        &out.stderr,
+        &["set speed_setpoint = 8000 rpm is above the maximum the drive reports, 6000 rpm"],
     );
-    assert!(!stdout(&out).contains("recipe  "), "{}", stdout(&out));
-    let script = write(
+    assert_lacks(&out.stdout, &["recipe  "]);
+    let script = write_file(
         &dir,
         "fast.rhai",
         "//! drive: lenze-931\nlet d = drive();\nd.set(\"speed_setpoint\", 6500.0, \"rpm\");\n",
@@ -535,17 +478,13 @@ fn through_a_pseudo_terminal_raw_access_drive_limits_and_a_run() {
     let script = script.to_string_lossy().to_string();
     let mut args = vec!["check", script.as_str()];
     args.extend(base);
-    let out = drivescript(&args, "");
-    assert_eq!(out.status.code(), Some(2), "{}\n{}", stdout(&out), stderr(&out));
-    assert!(
-        stderr(&out).contains(
-            "fast.rhai:3:25: set speed_setpoint = 6500 rpm is above the maximum the drive reports, 6000 rpm"
-        ),
-        "{}",
-        stderr(&out)
+    let out = cli(&args, 2);
+    assert_has(
+        &out.stderr,
+        &["fast.rhai:3:25: set speed_setpoint = 6500 rpm is above the maximum the drive reports, 6000 rpm"],
     );
     // Ramp points are checked too, at the step's place.
-    let ramp = write(
+    let ramp = write_file(
         &dir,
         "ramp.yaml",
         "name: Ramp\ndrive: lenze-931\nsteps:\n  - ramp: { object: speed_setpoint, from: -7000 rpm, to: 0 rpm, rate: 1000 rpm/s }\nfinally: []\n",
@@ -553,13 +492,8 @@ fn through_a_pseudo_terminal_raw_access_drive_limits_and_a_run() {
     let ramp = ramp.to_string_lossy().to_string();
     let mut args = vec!["check", ramp.as_str()];
     args.extend(base);
-    let out = drivescript(&args, "");
-    assert_eq!(out.status.code(), Some(2), "{}", stdout(&out));
-    assert!(
-        stderr(&out).contains("ramp.yaml:4:5: ramp speed_setpoint = -7000 rpm is below the minimum the drive reports, -6000 rpm"),
-        "{}",
-        stderr(&out)
-    );
+    let out = cli(&args, 2);
+    assert_has(&out.stderr, &["ramp.yaml:4:5: ramp speed_setpoint = -7000 rpm is below the minimum the drive reports, -6000 rpm"]);
     // Nothing moved: the setpoint is what the raw write left.
     let out = drivescript(
         &["read", "0x0010", "--drive", "lenze-931", "--port", port, "--json"],
@@ -579,36 +513,24 @@ fn through_a_pseudo_terminal_raw_access_drive_limits_and_a_run() {
         ],
         "",
     );
-    assert!(stdout(&out).contains("switch on disabled"), "{}", stdout(&out));
+    assert_has(&stdout(&out), &["switch on disabled"]);
 
     // Within the limits, check passes and the recipe runs through the pty.
     let mut args = vec!["check", recipe.as_str()];
     args.extend(base);
-    let out = drivescript(&args, "");
-    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    cli(&args, 0);
     let mut args = vec!["objects", "speed", "--from-drive"];
     args.extend(base);
-    let out = drivescript(&args, "");
-    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
-    assert!(
-        stdout(&out).contains("drive limits: -6000 rpm .. 6000 rpm"),
-        "{}",
-        stdout(&out)
-    );
+    let out = cli(&args, 0);
+    assert_has(&out.stdout, &["drive limits: -6000 rpm .. 6000 rpm"]);
     let mut args = vec!["run", recipe.as_str(), "--stop-timeout", "20s"];
     args.extend(base);
-    let out = drivescript(&args, "");
-    assert_eq!(out.status.code(), Some(0), "{}\n{}", stdout(&out), stderr(&out));
-    assert!(stdout(&out).contains("PASSED"), "{}", stdout(&out));
+    let out = cli(&args, 0);
+    assert_has(&out.stdout, &["PASSED"]);
 
     // Captured lines explain themselves.
-    let out = drivescript(&["decode", "--protocol", "lenze-931", "OW:0000 0005"], "");
-    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
-    assert!(
-        stdout(&out).contains("0x00000005 value too high, written but limited"),
-        "{}",
-        stdout(&out)
-    );
+    let out = cli(&["decode", "--protocol", "lenze-931", "OW:0000 0005"], 0);
+    assert_has(&out.stdout, &["0x00000005 value too high, written but limited"]);
 }
 
 #[test]
@@ -619,7 +541,7 @@ fn a_silent_drive_leaves_check_unable_to_read_limits_with_exit_code_3() {
     // A loopback listener that accepts and never answers.
     let listener = std::net::TcpListener::bind("127.0.0.1:0").expect("bind");
     let addr = listener.local_addr().expect("addr").to_string();
-    let out = drivescript(
+    let err = cli(
         &[
             "check",
             &recipe,
@@ -634,16 +556,17 @@ fn a_silent_drive_leaves_check_unable_to_read_limits_with_exit_code_3() {
             "--retries",
             "1",
         ],
-        "",
+        3,
+    )
+    .stderr;
+    assert_has(
+        &err,
+        &[
+            "`ON:0010` (read the minimum of object 0x0010)",
+            "2 attempt(s), 50 ms each",
+            "the drive's limits could not be read",
+        ],
     );
-    assert_eq!(out.status.code(), Some(3), "{}", stdout(&out));
-    let err = stderr(&out);
-    assert!(
-        err.contains("`ON:0010` (read the minimum of object 0x0010)"),
-        "{err}"
-    );
-    assert!(err.contains("2 attempt(s), 50 ms each"), "{err}");
-    assert!(err.contains("the drive's limits could not be read"), "{err}");
     drop(listener);
 }
 
@@ -652,7 +575,7 @@ fn a_silent_drive_leaves_check_unable_to_read_limits_with_exit_code_3() {
 #[cfg(unix)]
 #[test]
 fn parameters_round_trip_with_the_drives_limits_and_save() {
-    let sim = crate::end_to_end::Simulator::start(&["--drive", "lenze-931", "--pty"]);
+    let sim = crate::support::Simulator::start(&["--drive", "lenze-931", "--pty"]);
     let port = sim.endpoint.as_str();
     let dir = scratch("parameters");
     let dictionary = completed_template(&dir).to_string_lossy().to_string();
@@ -686,17 +609,14 @@ fn parameters_round_trip_with_the_drives_limits_and_save() {
     let beyond = beyond.to_string_lossy().to_string();
     let (code, out) = with(&["restore", &beyond, "--apply"]);
     assert_eq!(code, Some(2), "{out}");
-    assert!(out.contains("outside the drive's limits"), "{out}");
+    assert_has(&out, &["outside the drive's limits"]);
     let (code, out) = with(&["read", "operating_mode", "--json"]);
     assert_eq!(code, Some(0), "{out}");
     assert!(out.contains("\"value\":2"), "nothing was written: {out}");
 
     let (code, out) = with(&["restore", &file, "--apply", "--store"]);
     assert_eq!(code, Some(0), "{out}");
-    assert!(
-        out.contains("parameters stored in the drive's non-volatile memory"),
-        "{out}"
-    );
+    assert_has(&out, &["parameters stored in the drive's non-volatile memory"]);
     let (code, out) = with(&["diff", &file]);
     assert_eq!(code, Some(0), "{out}");
 }
@@ -714,13 +634,13 @@ fn an_sd2_run_asks_nothing_about_drive_limits() {
     assert_eq!(result.exit_code, 0, "{output}");
     let text = std::fs::read_to_string(&trace).expect("trace");
     assert_eq!(text.lines().filter(|l| l.contains(" TX ")).count(), 87, "{text}");
-    assert!(!output.contains("drive limits"), "{output}");
+    assert_lacks(&output, &["drive limits"]);
 }
 
 #[test]
 fn ctrl_c_while_the_drives_limits_are_read_ends_with_130_and_nothing_moved() {
     let dir = scratch("run-limits-ctrl-c");
-    let recipe = write(
+    let recipe = write_file(
         &dir,
         "silent.yaml",
         "name: Silent\ndrive: lenze-931\nsteps:\n  - set: { speed_setpoint: 100 rpm }\n",
@@ -742,8 +662,5 @@ fn ctrl_c_while_the_drives_limits_are_read_ends_with_130_and_nothing_moved() {
     );
     let (result, output) = run.run();
     assert_eq!(result.exit_code, 130, "{output}");
-    assert!(
-        output.contains("stopped by Ctrl-C (SIGINT) while the drive's limits were read; nothing was sent to move the drive"),
-        "{output}"
-    );
+    assert_has(&output, &["stopped by Ctrl-C (SIGINT) while the drive's limits were read; nothing was sent to move the drive"]);
 }

@@ -3,8 +3,8 @@
 //! read; an enabled drive even with --force; no confirmation), a lost or garbled reply,
 //! the family's list of destructive actions, and one action through a real pty.
 
-use crate::lenze_931::{completed_template, dictionary_args, scratch};
-use crate::support::{drivescript, stderr, stdout};
+use crate::lenze_931::{completed_template, dictionary_args};
+use crate::support::{assert_has, cli, drivescript, scratch, stderr, stdout};
 use drivescript::bus::Peer;
 use drivescript::cli::{run_maintain, ConnectionArgs, DictionaryArgs, MaintainRequest, PrepareMaintained};
 use drivescript::family::lenze_931::LenzeSimulator;
@@ -145,17 +145,12 @@ fn each_action_sends_its_command_once_and_reads_the_documented_reply() {
     );
     assert_eq!(reset.code, 0, "{}{}", reset.out, reset.err);
     assert_eq!(reset.requests, ["RESET!"]);
-    assert!(
-        reset.out.contains("reset: sending RESET! to the 931 on"),
-        "{}",
-        reset.out
-    );
-    assert!(
-        reset
-            .out
-            .contains("done: the drive answered `931 SIMULATED: reset`"),
-        "{}",
-        reset.out
+    assert_has(
+        &reset.out,
+        &[
+            "reset: sending RESET! to the 931 on",
+            "done: the drive answered `931 SIMULATED: reset`",
+        ],
     );
     assert_eq!(reset.mode, 0, "the reset drive has its default operating mode");
 
@@ -170,11 +165,9 @@ fn each_action_sends_its_command_once_and_reads_the_documented_reply() {
     );
     assert_eq!(init.code, 0, "{}{}", init.out, init.err);
     assert_eq!(init.requests, ["INIT!"]);
-    assert!(
-        init.out
-            .contains("done: the drive answered `931 SIMULATED: default parameter set loaded`"),
-        "{}",
-        init.out
+    assert_has(
+        &init.out,
+        &["done: the drive answered `931 SIMULATED: default parameter set loaded`"],
     );
     assert_eq!(init.mode, 0, "the default parameter set is back");
 
@@ -190,11 +183,9 @@ fn each_action_sends_its_command_once_and_reads_the_documented_reply() {
     );
     assert_eq!(load.code, 0, "{}{}", load.out, load.err);
     assert_eq!(load.requests, ["SEP!"]);
-    assert!(load.out.contains("load: sending SEP! to"), "{}", load.out);
-    assert!(
-        load.out.contains("done: the drive answered `DONE`"),
-        "{}",
-        load.out
+    assert_has(
+        &load.out,
+        &["load: sending SEP! to", "done: the drive answered `DONE`"],
     );
     assert_eq!(load.mode, 2);
 
@@ -202,29 +193,16 @@ fn each_action_sends_its_command_once_and_reads_the_documented_reply() {
     assert_eq!(baud.code, 0, "{}{}", baud.out, baud.err);
     assert_eq!(baud.requests, ["BAUD19200"]);
     assert_eq!(baud.line_rate, 19200);
-    assert!(
-        baud.out
-            .contains("baud 19200: sending BAUDbbbb with RATE 19200 to"),
-        "{}",
-        baud.out
-    );
-    assert!(
-        baud.out.contains("done: the drive answered `OK!`"),
-        "{}",
-        baud.out
-    );
-    assert!(
-        baud.out
-            .contains("the drive now talks at 19200 baud, not at the rate used so far"),
-        "{}",
-        baud.out
+    assert_has(
+        &baud.out,
+        &[
+            "baud 19200: sending BAUDbbbb with RATE 19200 to",
+            "done: the drive answered `OK!`",
+            "the drive now talks at 19200 baud, not at the rate used so far",
+        ],
     );
     // Without a profile each of them says plainly that the state cannot be checked.
-    assert!(
-        baud.err.contains("warning: the drive's state cannot be checked: the lenze-931 dictionary has no device-control profile"),
-        "{}",
-        baud.err
-    );
+    assert_has(&baud.err, &["warning: the drive's state cannot be checked: the lenze-931 dictionary has no device-control profile"]);
 }
 
 #[test]
@@ -244,7 +222,7 @@ fn without_force_nothing_is_sent_where_the_state_cannot_be_read() {
             o.err
         );
         // A confirmation cannot stand in for the state: nobody was asked.
-        assert!(o.err.contains("asked: []"), "{}", o.err);
+        assert_has(&o.err, &["asked: []"]);
     }
 }
 
@@ -255,34 +233,22 @@ fn with_a_profile_an_enabled_drive_is_refused_and_a_disabled_one_confirmed() {
     let enable = ["OW:0020:00000006", "OW:0020:00000007", "OW:0020:0000000F"];
     let o = maintain(&with_profile, "reset", None, true, None, &enable, &no_prepare);
     assert_eq!(o.code, 2, "{}{}", o.out, o.err);
-    assert!(
-        o.err.contains("error: the drive is in operation enabled, and reset is refused while it is enabled (the drive restarts)"),
-        "{}",
-        o.err
-    );
+    assert_has(&o.err, &["error: the drive is in operation enabled, and reset is refused while it is enabled (the drive restarts)"]);
     assert!(!o.requests.iter().any(|r| r == "RESET!"), "{:?}", o.requests);
 
     // Disabled: no --force and nobody to ask is a refusal; a typed no too; a yes sends.
     let o = maintain(&with_profile, "init", None, false, None, &[], &no_prepare);
     assert_eq!(o.code, 2, "{}", o.err);
-    assert!(
-        o.err.contains("init is destructive (the default parameter set replaces the parameters in use): give --force, or run it on a terminal to confirm; nothing was sent"),
-        "{}",
-        o.err
-    );
+    assert_has(&o.err, &["init is destructive (the default parameter set replaces the parameters in use): give --force, or run it on a terminal to confirm; nothing was sent"]);
     assert!(!o.requests.iter().any(|r| r == "INIT!"), "{:?}", o.requests);
     let o = maintain(&with_profile, "init", None, false, Some(false), &[], &no_prepare);
     assert_eq!(o.code, 2, "{}", o.err);
-    assert!(
-        o.err.contains("error: init was not confirmed; nothing was sent"),
-        "{}",
-        o.err
-    );
-    assert!(
-        o.err
-            .contains("The drive is in switch on disabled. Type yes to go on:"),
-        "{}",
-        o.err
+    assert_has(
+        &o.err,
+        &[
+            "error: init was not confirmed; nothing was sent",
+            "The drive is in switch on disabled. Type yes to go on:",
+        ],
     );
     let o = maintain(&with_profile, "init", None, false, Some(true), &[], &no_prepare);
     assert_eq!(o.code, 0, "{}{}", o.out, o.err);
@@ -304,12 +270,7 @@ fn a_lost_or_garbled_reply_is_not_repeated_and_says_what_to_check() {
     );
     assert_eq!(o.code, 3, "{}{}", o.out, o.err);
     assert_eq!(o.requests, ["RESET!"], "sent once");
-    assert!(o.err.contains("error: reset failed: no reply"), "{}", o.err);
-    assert!(
-        o.err.contains("whether the drive carried out reset is unknown: check the drive before repeating it (a drive that restarts may answer later than --timeout allows)"),
-        "{}",
-        o.err
-    );
+    assert_has(&o.err, &["error: reset failed: no reply", "whether the drive carried out reset is unknown: check the drive before repeating it (a drive that restarts may answer later than --timeout allows)"]);
     let o = maintain(
         &builtin(),
         "baud",
@@ -323,11 +284,9 @@ fn a_lost_or_garbled_reply_is_not_repeated_and_says_what_to_check() {
     );
     assert_eq!(o.code, 3, "{}{}", o.out, o.err);
     assert_eq!(o.requests, ["BAUD38400"]);
-    assert!(
-        o.err
-            .contains("the drive may already talk at the new rate: try again with --baud 38400"),
-        "{}",
-        o.err
+    assert_has(
+        &o.err,
+        &["the drive may already talk at the new rate: try again with --baud 38400"],
     );
     // A reply that is not the documented one (`DONE` with a character lost).
     let o = maintain(
@@ -343,12 +302,13 @@ fn a_lost_or_garbled_reply_is_not_repeated_and_says_what_to_check() {
     );
     assert_eq!(o.code, 3, "{}{}", o.out, o.err);
     assert_eq!(o.requests, ["SEP!"]);
-    assert!(o.err.contains("error: load failed:"), "{}", o.err);
-    assert!(o.err.contains("it is not sent again"), "{}", o.err);
-    assert!(
-        o.err.contains("whether the drive carried out load is unknown"),
-        "{}",
-        o.err
+    assert_has(
+        &o.err,
+        &[
+            "error: load failed:",
+            "it is not sent again",
+            "whether the drive carried out load is unknown",
+        ],
     );
 }
 
@@ -369,34 +329,27 @@ fn the_family_says_which_actions_it_has_and_which_are_destructive() {
         let family = registry.family(other).expect(other);
         assert!(family.maintenance_actions().is_empty(), "{other}");
     }
-    let out = drivescript(&["maintain", "--drive", "lenze-931"], "");
-    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
-    assert!(
-        stdout(&out).contains("  baud RATE  BAUDbbbb  set the baud rate; the drive answers OK!"),
-        "{}",
-        stdout(&out)
+    let out = cli(&["maintain", "--drive", "lenze-931"], 0);
+    assert_has(
+        &out.stdout,
+        &[
+            "  baud RATE  BAUDbbbb  set the baud rate; the drive answers OK!",
+            "destructive: the drive restarts; needs --force or a confirmation",
+        ],
     );
-    assert!(
-        stdout(&out).contains("destructive: the drive restarts; needs --force or a confirmation"),
-        "{}",
-        stdout(&out)
+    let out = cli(&["maintain", "--drive", "sd2", "reset"], 2);
+    assert_has(
+        &out.stderr,
+        &["error: the sd2 family has no maintenance actions; nothing was sent"],
     );
-    let out = drivescript(&["maintain", "--drive", "sd2", "reset"], "");
-    assert_eq!(out.status.code(), Some(2));
-    assert!(
-        stderr(&out).contains("error: the sd2 family has no maintenance actions; nothing was sent"),
-        "{}",
-        stderr(&out)
-    );
-    let out = drivescript(&["maintain", "--drive", "lenze-931", "rest", "--force"], "");
-    assert_eq!(out.status.code(), Some(2));
-    assert!(stderr(&out).contains("did you mean `reset`?"), "{}", stderr(&out));
+    let out = cli(&["maintain", "--drive", "lenze-931", "rest", "--force"], 2);
+    assert_has(&out.stderr, &["did you mean `reset`?"]);
 }
 
 #[cfg(unix)]
 #[test]
 fn through_a_pseudo_terminal_baud_changes_the_rate_and_says_how_to_reconnect() {
-    let sim = crate::end_to_end::Simulator::start(&["--drive", "lenze-931", "--pty"]);
+    let sim = crate::support::Simulator::start(&["--drive", "lenze-931", "--pty"]);
     let port = sim.endpoint.as_str();
     // Not on a terminal and without --force: refused, nothing sent.
     let out = drivescript(
@@ -412,12 +365,8 @@ fn through_a_pseudo_terminal_baud_changes_the_rate_and_says_how_to_reconnect() {
         "yes\n",
     );
     assert_eq!(out.status.code(), Some(2), "{}", stdout(&out));
-    assert!(
-        stderr(&out).contains("then give --force; nothing was sent"),
-        "{}",
-        stderr(&out)
-    );
-    let out = drivescript(
+    assert_has(&stderr(&out), &["then give --force; nothing was sent"]);
+    let text = cli(
         &[
             "maintain",
             "baud",
@@ -428,19 +377,14 @@ fn through_a_pseudo_terminal_baud_changes_the_rate_and_says_how_to_reconnect() {
             "--port",
             port,
         ],
-        "",
-    );
-    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
-    let text = stdout(&out);
-    assert!(text.contains("done: the drive answered `OK!`"), "{text}");
-    assert!(
-        text.contains(&format!(
+        0,
+    )
+    .stdout;
+    assert_has(&text, &["done: the drive answered `OK!`", &format!(
             "the drive now talks at 19200 baud, not at the rate used so far: reconnect with --port {port} --baud 19200 on every command from now on"
-        )),
-        "{text}"
-    );
+        )]);
     // The simulated line keeps working: the next command at the new rate is answered.
-    let out = drivescript(
+    let out = cli(
         &[
             "read",
             "TYPE?",
@@ -451,10 +395,9 @@ fn through_a_pseudo_terminal_baud_changes_the_rate_and_says_how_to_reconnect() {
             "--baud",
             "19200",
         ],
-        "",
+        0,
     );
-    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
-    assert!(stdout(&out).contains("\"0931\""), "{}", stdout(&out));
+    assert_has(&out.stdout, &["\"0931\""]);
 }
 
 #[test]
@@ -469,10 +412,7 @@ fn ctrl_c_at_the_question_sends_nothing_and_exits_130() {
     };
     let (code, err, requests) = run_request(&with_profile, "reset", false, Some(&mut ask), stop, None);
     assert_eq!(code, 130, "{err}");
-    assert!(
-        err.contains("stopped by Ctrl-C (SIGINT); nothing was sent"),
-        "{err}"
-    );
+    assert_has(&err, &["stopped by Ctrl-C (SIGINT); nothing was sent"]);
     assert!(!requests.iter().any(|r| r == "RESET!"), "{requests:?}");
 }
 
@@ -499,10 +439,7 @@ fn a_drive_enabled_while_the_question_was_open_is_refused_after_the_yes() {
     let (code, err, requests) =
         run_request(&with_profile, "init", false, Some(&mut ask), stop, Some(&before));
     assert_eq!(code, 2, "{err}");
-    assert!(
-        err.contains("the drive went to operation enabled while the question was open, and init is refused while it is enabled"),
-        "{err}"
-    );
+    assert_has(&err, &["the drive went to operation enabled while the question was open, and init is refused while it is enabled"]);
     assert!(!requests.iter().any(|r| r == "INIT!"), "{requests:?}");
 }
 
@@ -521,8 +458,5 @@ fn a_stop_while_waiting_for_the_answer_says_the_outcome_is_unknown() {
     };
     let (code, err, _) = run_request(&builtin(), "reset", true, None, stop, Some(&prepare));
     assert_eq!(code, 130, "{err}");
-    assert!(
-        err.contains("whether the drive carried out reset is unknown"),
-        "{err}"
-    );
+    assert_has(&err, &["whether the drive carried out reset is unknown"]);
 }

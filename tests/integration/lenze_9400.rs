@@ -3,7 +3,7 @@
 //! run on a dictionary without a device-control profile: a stop signal, a lost adapter
 //! that comes back, one that does not, and one lost in the middle of a segmented transfer.
 
-use crate::support::{load_frame_vectors, repo_root, InProcessRun};
+use crate::support::{assert_has, assert_lacks, cli, load_frame_vectors, repo_root, InProcessRun, Simulator};
 use drivescript::bus::CanFrame;
 use drivescript::cli::{DictionaryArgs, PrepareSimulator};
 use drivescript::clock::SharedClock;
@@ -65,12 +65,12 @@ fn the_printed_write_example_is_explained_as_what_it_really_sends() {
     let mut explainer = family.explainer(dictionary);
     let printed = CanFrame::parse_text("602#23A75F0066000300").unwrap();
     let text = explainer.explain(&printed.to_bytes()).unwrap();
-    assert!(text.contains("C00088 rated_motor_current"), "{text}");
+    assert_has(&text, &["C00088 rated_motor_current"]);
     // 0x00030066 = 196710 counts = 19671 A: not the 10.2 A the manual's text means.
-    assert!(text.contains("196710 = 19671 A"), "{text}");
+    assert_has(&text, &["196710 = 19671 A"]);
     let corrected = CanFrame::parse_text("602#23A75F0066000000").unwrap();
     let text = explainer.explain(&corrected.to_bytes()).unwrap();
-    assert!(text.contains("102 = 10.2 A"), "{text}");
+    assert_has(&text, &["102 = 10.2 A"]);
 }
 
 #[test]
@@ -80,16 +80,15 @@ fn the_shipped_recipe_passes_on_the_simulated_node_and_says_there_is_no_device_c
     let (result, output) = run.run();
     assert_eq!(result.exit_code, 0, "{output}");
     assert!(output.contains(r#"ident = "05.00.12.07""#), "{output}");
-    assert!(output.contains("rated_motor_current = 10.2 A"), "{output}");
-    assert!(
-        output.contains("safe stop: the lenze_9400 dictionary has no device-control profile"),
-        "{output}"
+    assert_has(
+        &output,
+        &[
+            "rated_motor_current = 10.2 A",
+            "safe stop: the lenze_9400 dictionary has no device-control profile",
+            "drive state not known: the dictionary has no device-control profile",
+        ],
     );
-    assert!(
-        output.contains("drive state not known: the dictionary has no device-control profile"),
-        "{output}"
-    );
-    assert!(!output.contains("CHECK THE DRIVE BY HAND"), "{output}");
+    assert_lacks(&output, &["CHECK THE DRIVE BY HAND"]);
 }
 
 const READ_FOR_A_MINUTE: &str = "name: Reading for a minute
@@ -119,9 +118,11 @@ fn a_stop_signal_ends_the_run_with_the_truth_about_device_control() {
     let nothing = |_: &Arc<Mutex<dyn SimulatedDrive>>, _: &SharedClock| {};
     let (code, output) = with_faults(READ_FOR_A_MINUTE, "sigint", stop, &nothing);
     assert_eq!(code, 130, "{output}");
-    assert!(output.contains("no device-control profile"), "{output}");
-    assert!(!output.contains("CHECK THE DRIVE BY HAND"), "{output}");
-    assert!(!output.contains("failed: the lenze_9400 dictionary"), "{output}");
+    assert_has(&output, &["no device-control profile"]);
+    assert_lacks(
+        &output,
+        &["CHECK THE DRIVE BY HAND", "failed: the lenze_9400 dictionary"],
+    );
 }
 
 #[test]
@@ -138,13 +139,13 @@ fn an_adapter_that_comes_back_is_reopened_and_the_node_checked_by_its_identity()
         &down,
     );
     assert_eq!(code, 3, "{output}");
-    assert!(output.contains("the CAN adapter went away"), "{output}");
+    assert_has(&output, &["the CAN adapter went away"]);
     assert!(
         output.contains("restored at attempt") && output.contains("the drive answers"),
         "{output}"
     );
-    assert!(output.contains("no device-control profile"), "{output}");
-    assert!(!output.contains("CHECK THE DRIVE BY HAND"), "{output}");
+    assert_has(&output, &["no device-control profile"]);
+    assert_lacks(&output, &["CHECK THE DRIVE BY HAND"]);
 }
 
 #[test]
@@ -166,10 +167,15 @@ fn an_adapter_lost_in_the_middle_of_a_segmented_read_ends_in_check_by_hand() {
         &down,
     );
     assert_eq!(code, 3, "{output}");
-    assert!(output.contains("the CAN adapter went away"), "{output}");
-    assert!(output.contains("CHECK THE DRIVE BY HAND"), "{output}");
-    assert!(output.contains("could not be reached to stop it"), "{output}");
-    assert!(output.contains("drive left in an unknown state"), "{output}");
+    assert_has(
+        &output,
+        &[
+            "the CAN adapter went away",
+            "CHECK THE DRIVE BY HAND",
+            "could not be reached to stop it",
+            "drive left in an unknown state",
+        ],
+    );
 }
 
 #[test]
@@ -193,48 +199,10 @@ fn the_family_reads_codes_in_dictionaries() {
 #[cfg(unix)]
 static SLCAN_PTY_TESTS: std::sync::Mutex<()> = std::sync::Mutex::new(());
 
-/// A `drivescript simulate … --slcan-pty` in the background, stopped when dropped.
+/// `drivescript simulate` of a 9400 node `node` behind a simulated SLCAN adapter on a pty.
 #[cfg(unix)]
-struct SlcanSimulator {
-    child: std::process::Child,
-    path: String,
-}
-
-#[cfg(unix)]
-impl SlcanSimulator {
-    fn start(node: &str) -> SlcanSimulator {
-        use std::io::BufRead;
-        let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_drivescript"))
-            .args([
-                "simulate",
-                "--drive",
-                "lenze-9400",
-                "--address",
-                node,
-                "--slcan-pty",
-            ])
-            .stdout(std::process::Stdio::piped())
-            .stderr(std::process::Stdio::null())
-            .spawn()
-            .expect("simulate starts");
-        let out = child.stdout.take().expect("stdout is piped");
-        let mut line = String::new();
-        std::io::BufReader::new(out)
-            .read_line(&mut line)
-            .expect("simulate prints the pty path");
-        SlcanSimulator {
-            child,
-            path: line.trim().to_string(),
-        }
-    }
-}
-
-#[cfg(unix)]
-impl Drop for SlcanSimulator {
-    fn drop(&mut self) {
-        let _ = self.child.kill();
-        let _ = self.child.wait();
-    }
+fn slcan_simulator(node: &str) -> Simulator {
+    Simulator::start(&["--drive", "lenze-9400", "--address", node, "--slcan-pty"])
 }
 
 #[cfg(unix)]
@@ -244,9 +212,9 @@ fn an_slcan_pseudo_terminal_serves_the_simulated_node() {
     let _one_at_a_time = SLCAN_PTY_TESTS
         .lock()
         .unwrap_or_else(std::sync::PoisonError::into_inner);
-    let sim = SlcanSimulator::start("12");
-    assert!(sim.path.starts_with("/dev/"), "path {:?}", sim.path);
-    let can = format!("slcan:{}", sim.path);
+    let sim = slcan_simulator("12");
+    assert!(sim.endpoint.starts_with("/dev/"), "path {:?}", sim.endpoint);
+    let can = format!("slcan:{}", sim.endpoint);
     let with = |args: &[&str]| {
         let mut all = args.to_vec();
         all.extend([
@@ -281,7 +249,7 @@ fn an_slcan_pseudo_terminal_serves_the_simulated_node() {
     assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
     let out = with(&["read", "C00011", "--json"]);
     assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
-    assert!(stdout(&out).contains("3000"), "{}", stdout(&out));
+    assert_has(&stdout(&out), &["3000"]);
 
     // An unknown code: the node's abort, named.
     let out = with(&["read", "C00999"]);
@@ -293,7 +261,7 @@ fn an_slcan_pseudo_terminal_serves_the_simulated_node() {
     );
 
     // Another node on the same bus stays silent: a clear no-reply error.
-    let out = drivescript(
+    let out = cli(
         &[
             "read",
             "ident",
@@ -308,17 +276,12 @@ fn an_slcan_pseudo_terminal_serves_the_simulated_node() {
             "--retries",
             "0",
         ],
-        "",
+        3,
     );
-    assert_eq!(out.status.code(), Some(3), "{}{}", stdout(&out), stderr(&out));
-    assert!(
-        stderr(&out).contains("no reply from drive node 13"),
-        "{}",
-        stderr(&out)
-    );
+    assert_has(&out.stderr, &["no reply from drive node 13"]);
 
     // A recipe through the adapter.
-    let out = drivescript(
+    let out = cli(
         &[
             "run",
             "recipes/lenze-9400-identity.yaml",
@@ -329,10 +292,9 @@ fn an_slcan_pseudo_terminal_serves_the_simulated_node() {
             "--can",
             &can,
         ],
-        "",
+        0,
     );
-    assert_eq!(out.status.code(), Some(0), "{}{}", stdout(&out), stderr(&out));
-    assert!(stdout(&out).contains("PASSED"), "{}", stdout(&out));
+    assert_has(&out.stdout, &["PASSED"]);
 }
 
 #[test]
@@ -354,7 +316,7 @@ fn decode_reads_candump_frames_and_gives_the_vectors_json() {
         assert_eq!(got, &v.frame, "{}", v.name);
     }
     // Unquoted, as the shell splits `ID data…`; and a frame that is no SDO.
-    let out = drivescript(
+    let out = cli(
         &[
             "decode",
             "--protocol",
@@ -369,17 +331,11 @@ fn decode_reads_candump_frames_and_gives_the_vectors_json() {
             "00",
             "00",
         ],
-        "",
+        0,
     );
-    assert_eq!(out.status.code(), Some(0));
-    assert!(
-        stdout(&out).contains("C00061 heatsink_temperature"),
-        "{}",
-        stdout(&out)
-    );
-    let out = drivescript(&["decode", "--protocol", "lenze-9400", "123#00"], "");
-    assert_eq!(out.status.code(), Some(1));
-    assert!(stdout(&out).contains("not an SDO channel"), "{}", stdout(&out));
+    assert_has(&out.stdout, &["C00061 heatsink_temperature"]);
+    let out = cli(&["decode", "--protocol", "lenze-9400", "123#00"], 1);
+    assert_has(&out.stdout, &["not an SDO channel"]);
 }
 
 #[test]
@@ -387,7 +343,7 @@ fn a_trace_is_a_candump_log_that_decode_explains_again() {
     use crate::support::{drivescript, stdout};
     let dir = std::env::temp_dir().join(format!("drivescript-lenze-trace-{}", std::process::id()));
     let trace = dir.join("run.log");
-    let out = drivescript(
+    cli(
         &[
             "run",
             "recipes/lenze-9400-identity.yaml",
@@ -397,9 +353,8 @@ fn a_trace_is_a_candump_log_that_decode_explains_again() {
             "--trace",
             trace.to_str().unwrap(),
         ],
-        "",
+        0,
     );
-    assert_eq!(out.status.code(), Some(0), "{}", stdout(&out));
     let text = std::fs::read_to_string(&trace).unwrap();
     let frames: Vec<&str> = text.lines().filter(|l| !l.starts_with('#')).collect();
     assert!(frames.len() >= 6, "{text}");
@@ -417,11 +372,7 @@ fn a_trace_is_a_candump_log_that_decode_explains_again() {
     assert_eq!(frames[0], "(0000000000.000000) can0 601#409C5F0000000000");
     let out = drivescript(&["decode", "--protocol", "lenze-9400"], &text);
     assert_eq!(out.status.code(), Some(0), "{}", stdout(&out));
-    assert!(
-        stdout(&out).contains("reply C00099 ident: segmented, 11 bytes"),
-        "{}",
-        stdout(&out)
-    );
+    assert_has(&stdout(&out), &["reply C00099 ident: segmented, 11 bytes"]);
     let _ = std::fs::remove_dir_all(dir);
 }
 
@@ -445,8 +396,8 @@ steps:
     );
     // Node 37, which no other test simulates: when the pseudo-terminal's number is given
     // to another test's simulator meanwhile, reopening it must not find this node there.
-    let sim = SlcanSimulator::start("37");
-    let can = format!("slcan:{}", sim.path);
+    let sim = slcan_simulator("37");
+    let can = format!("slcan:{}", sim.endpoint);
     let mut run = std::process::Command::new(env!("CARGO_BIN_EXE_drivescript"))
         .args([
             "run",
@@ -477,12 +428,14 @@ steps:
     let status = run.wait().expect("run ends");
     assert_eq!(status.code(), Some(3), "{text}");
     // Where the hang-up shows (a read or a write) decides the wording of the port's error.
-    assert!(
-        text.contains(&format!("I/O error on {}", can.trim_start_matches("slcan:"))),
-        "{text}"
+    assert_has(
+        &text,
+        &[
+            &format!("I/O error on {}", can.trim_start_matches("slcan:")),
+            "gave up reopening node 37",
+            "CHECK THE DRIVE BY HAND",
+        ],
     );
-    assert!(text.contains("gave up reopening node 37"), "{text}");
-    assert!(text.contains("CHECK THE DRIVE BY HAND"), "{text}");
 }
 
 #[test]
@@ -490,27 +443,18 @@ fn a_can_trace_decoded_as_a_serial_protocol_says_which_protocol_to_give() {
     use crate::support::{drivescript, stderr};
     let out = drivescript(&["decode"], "(0000000000.000000) can0 601#409C5F0000000000\n");
     assert_eq!(out.status.code(), Some(2));
-    assert!(
-        stderr(&out).contains("is a CAN frame, not a sd2 telegram; give --protocol lenze-9400"),
-        "{}",
-        stderr(&out)
+    assert_has(
+        &stderr(&out),
+        &["is a CAN frame, not a sd2 telegram; give --protocol lenze-9400"],
     );
 }
 
 #[test]
 fn the_commissioning_recipe_is_refused_for_a_drive_without_device_control() {
-    use crate::support::{drivescript, stderr};
     let text = std::fs::read_to_string(repo_root().join("recipes/commissioning.yaml"))
         .unwrap()
         .replace("drive: sd2", "drive: lenze-9400");
     let path = recipe("commissioning", &text);
-    let out = drivescript(&["check", path.to_str().unwrap(), "--drive", "lenze-9400"], "");
-    assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
-    let err = stderr(&out);
-    assert!(
-        err.contains("the state `operation_enabled` needs device control, but the lenze_9400 dictionary has no `profile:`"),
-        "{err}"
-    );
-    assert!(err.contains("`disable_operation` needs device control"), "{err}");
-    assert!(err.contains("nothing was sent to the drive"), "{err}");
+    let err = cli(&["check", path.to_str().unwrap(), "--drive", "lenze-9400"], 2).stderr;
+    assert_has(&err, &["the state `operation_enabled` needs device control, but the lenze_9400 dictionary has no `profile:`", "`disable_operation` needs device control", "nothing was sent to the drive"]);
 }

@@ -8,11 +8,12 @@
 //! Also property tests: whatever numbers a recipe gives, an accepted recipe keeps the
 //! runner's time arithmetic in range.
 
+use crate::support::scratch;
 use drivescript::recipe::{
     load_recipe_text, Predicate, StepKind, Tolerance, MAX_DURATION, MAX_RUN_TIME, MAX_SAMPLES,
 };
 use proptest::prelude::*;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
@@ -59,13 +60,6 @@ fn run(dir: &Path, args: &[&str]) -> Outcome {
     }
 }
 
-fn temp_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("drivescript-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).expect("temp dir");
-    dir
-}
-
 fn assert_refused_fast(o: &Outcome, expected: &[&str]) {
     assert_eq!(o.code, Some(2), "{}", o.stderr);
     for e in expected {
@@ -93,7 +87,7 @@ fn oversized_recipe() -> String {
 
 #[test]
 fn recipes_includes_and_dictionaries_over_8_mib_are_refused() {
-    let dir = temp_dir("large");
+    let dir = scratch("large");
     std::fs::write(dir.join("large.yaml"), oversized_recipe()).expect("write");
     std::fs::write(
         dir.join("includes.yaml"),
@@ -127,7 +121,7 @@ fn recipes_includes_and_dictionaries_over_8_mib_are_refused() {
 #[cfg(unix)]
 #[test]
 fn dev_zero_is_refused_at_once_as_recipe_include_and_dictionary() {
-    let dir = temp_dir("dev-zero");
+    let dir = scratch("dev-zero");
     std::fs::write(dir.join("small.yaml"), "name: Small\nsteps:\n  - shutdown\n").expect("write");
     std::fs::write(
         dir.join("zero.yaml"),
@@ -161,7 +155,7 @@ fn dev_zero_is_refused_at_once_as_recipe_include_and_dictionary() {
 fn an_endless_pipe_is_read_only_up_to_the_limit() {
     use std::io::Write;
     use std::os::unix::ffi::OsStrExt;
-    let dir = temp_dir("fifo");
+    let dir = scratch("fifo");
     let fifo = dir.join("endless.yaml");
     let c_path = std::ffi::CString::new(fifo.as_os_str().as_bytes()).expect("path");
     // SAFETY: a valid NUL-terminated path; mkfifo only creates a file system entry.
@@ -215,7 +209,7 @@ fn alias_bomb(head: &str) -> String {
 
 #[test]
 fn alias_bombs_are_refused_fast_in_plain_words() {
-    let dir = temp_dir("alias-bomb");
+    let dir = scratch("alias-bomb");
     std::fs::write(
         dir.join("bomb.yaml"),
         alias_bomb("name: Bomb\nsteps: [shutdown]\n"),
@@ -242,7 +236,7 @@ fn alias_bombs_are_refused_fast_in_plain_words() {
 
 #[test]
 fn an_include_fan_out_is_refused_fast_where_it_goes_over() {
-    let dir = temp_dir("fan-out");
+    let dir = scratch("fan-out");
     // Eight files, each including the next ten times: 10^7 loads if nothing stopped it.
     for level in 0..8 {
         let mut text = format!("name: level {level}\nsteps:\n");
@@ -271,7 +265,7 @@ fn an_include_fan_out_is_refused_fast_where_it_goes_over() {
 /// miette's renderer panic; it is now named in the headline, without a snippet.
 #[test]
 fn problems_far_right_on_a_long_line_are_named_not_drawn() {
-    let dir = temp_dir("wide");
+    let dir = scratch("wide");
     let steps = vec!["shutdown"; 9000].join(", ");
     std::fs::write(
         dir.join("wide.yaml"),

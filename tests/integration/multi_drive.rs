@@ -4,13 +4,15 @@
 //! of different families, each on its own line; `check` names unknown drives with
 //! did-you-mean.
 
-use crate::safety::scratch;
-use crate::support::{drivescript, stderr, stdout, InProcessRun, LiveRun};
+use crate::support::{
+    assert_has, assert_lacks, cli, drivescript, scratch, stderr, stdout, write_file, InProcessRun, LiveRun,
+    Simulator,
+};
 use drivescript::clock::SharedClock;
 use drivescript::drive::device_control::DeviceState;
 use drivescript::sim::SimulatedDrive;
 use drivescript::stop_request::{StopRequests, StopSignal};
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex, PoisonError};
 use std::time::Duration;
@@ -32,12 +34,6 @@ steps:
       left.speed_actual: { mean: { near: 1000 rpm, within: 1 % } }
       right.speed_actual: { mean: { near: 2000 rpm, within: 1 % } }
 ";
-
-fn write_recipe(dir: &Path, text: &str) -> PathBuf {
-    let path = dir.join("recipe.yaml");
-    std::fs::write(&path, text).expect("recipe written");
-    path
-}
 
 fn state_of(sim: &Arc<Mutex<dyn SimulatedDrive>>) -> DeviceState {
     sim.lock().unwrap_or_else(PoisonError::into_inner).state()
@@ -101,31 +97,29 @@ fn two_axes_on_a_pty(
     sim_args: &[&str],
     name: &str,
     recipe_text: &str,
-) -> (crate::safety::PtySimulator, std::path::PathBuf, String, String) {
-    let sim = crate::safety::PtySimulator::start_with(sim_args);
+) -> (Simulator, std::path::PathBuf, String, String) {
+    let sim = Simulator::pty(sim_args);
     let dir = scratch(name);
-    let recipe = write_recipe(&dir, recipe_text);
+    let recipe = write_file(&dir, "recipe.yaml", recipe_text);
     let trace = dir.join("run.trace");
-    let out = drivescript(
+    let text = cli(
         &[
             "run",
             recipe.to_str().expect("utf-8 path"),
             "--port",
-            &sim.path,
+            &sim.endpoint,
             "--trace",
             trace.to_str().expect("utf-8 path"),
         ],
-        "",
-    );
-    let text = stdout(&out);
-    assert_eq!(out.status.code(), Some(0), "{text}{}", stderr(&out));
-    assert!(
-        text.contains("PASS  left.speed_actual mean near 1000 rpm"),
-        "{text}"
-    );
-    assert!(
-        text.contains("PASS  right.speed_actual mean near 2000 rpm"),
-        "{text}"
+        0,
+    )
+    .stdout;
+    assert_has(
+        &text,
+        &[
+            "PASS  left.speed_actual mean near 1000 rpm",
+            "PASS  right.speed_actual mean near 2000 rpm",
+        ],
     );
     let trace = std::fs::read_to_string(&trace).expect("trace");
     // Requests went to DNC addresses 2 and 3 and nowhere else, one at a time.
@@ -141,10 +135,7 @@ fn two_drives_on_one_pty_reach_their_own_speeds_and_never_interleave() {
         "multi-pty",
         &TWO_AXES.replace("SAMPLE_FOR", "1 s"),
     );
-    assert!(
-        text.contains("right: drive left in ready to switch on at 0 rpm\nleft: drive left in ready to switch on at 0 rpm\n"),
-        "{text}"
-    );
+    assert_has(&text, &["right: drive left in ready to switch on at 0 rpm\nleft: drive left in ready to switch on at 0 rpm\n"]);
     assert!(
         trace.contains("-- drive `left`") && trace.contains("-- drive `right`"),
         "{trace}"
@@ -170,46 +161,36 @@ fn the_issue_spelling_of_addresses_on_a_pty_served_with_dnc_address() {
         "{text}"
     );
     let (sim, recipe, _, _) = two_axes_on_a_pty(&["--dnc-address", "2,3"], "multi-pty-dnc-address", &text);
-    let state = drivescript(&["state", "--port", &sim.path, "--dnc-address", "3"], "");
-    assert_eq!(state.status.code(), Some(0), "{}", stderr(&state));
-    assert!(
-        stdout(&state).contains("ready to switch on"),
-        "{}",
-        stdout(&state)
-    );
+    let state = cli(&["state", "--port", &sim.endpoint, "--dnc-address", "3"], 0);
+    assert_has(&state.stdout, &["ready to switch on"]);
     // With a recipe of several drives, one address on the command line is refused.
-    let out = drivescript(
+    let out = cli(
         &[
             "run",
             recipe.to_str().expect("utf-8 path"),
             "--port",
-            &sim.path,
+            &sim.endpoint,
             "--dnc-address",
             "2",
         ],
-        "",
+        2,
     );
-    assert_eq!(out.status.code(), Some(2));
-    assert!(
-        stderr(&out).contains("--dnc-address 2 names one drive; with several drives each gives its own"),
-        "{}",
-        stderr(&out)
+    assert_has(
+        &out.stderr,
+        &["--dnc-address 2 names one drive; with several drives each gives its own"],
     );
 }
 
 #[test]
 fn dnc_address_is_refused_with_address_and_for_a_family_without_dnc_addresses() {
-    let both = drivescript(&["simulate", "--pty", "--dnc-address", "2", "--address", "0"], "");
-    assert_eq!(both.status.code(), Some(2));
-    assert!(
-        stderr(&both).contains("'--dnc-address <N,…>' cannot be used with '--address <ADDRESS>'"),
-        "{}",
-        stderr(&both)
+    let both = cli(&["simulate", "--pty", "--dnc-address", "2", "--address", "0"], 2);
+    assert_has(
+        &both.stderr,
+        &["'--dnc-address <N,…>' cannot be used with '--address <ADDRESS>'"],
     );
-    let both = drivescript(&["state", "--dnc-address", "2", "--address", "0"], "");
-    assert_eq!(both.status.code(), Some(2));
-    assert!(stderr(&both).contains("cannot be used with"), "{}", stderr(&both));
-    let ct = drivescript(
+    let both = cli(&["state", "--dnc-address", "2", "--address", "0"], 2);
+    assert_has(&both.stderr, &["cannot be used with"]);
+    let ct = cli(
         &[
             "simulate",
             "--pty",
@@ -218,27 +199,16 @@ fn dnc_address_is_refused_with_address_and_for_a_family_without_dnc_addresses() 
             "--dnc-address",
             "2",
         ],
-        "",
+        2,
     );
-    assert_eq!(ct.status.code(), Some(2));
-    assert!(
-        stderr(&ct).contains("error: --dnc-address is for drives of the sd2 family; a ct_ansi drive has no `dnc_address`: give --address, "),
-        "{}",
-        stderr(&ct)
-    );
+    assert_has(&ct.stderr, &["error: --dnc-address is for drives of the sd2 family; a ct_ansi drive has no `dnc_address`: give --address, "]);
     let ct = drivescript(&["state", "--drive", "ct-unidrive-sp", "--dnc-address", "2"], "");
     assert_ne!(ct.status.code(), Some(0));
-    assert!(
-        stderr(&ct).contains("--dnc-address is for drives of the sd2 family"),
-        "{}",
-        stderr(&ct)
-    );
-    let master = drivescript(&["simulate", "--pty", "--dnc-address", "2,1"], "");
-    assert_eq!(master.status.code(), Some(2));
-    assert!(
-        stderr(&master).contains("error: --dnc-address 1: `1` is not a drive's DNC address"),
-        "{}",
-        stderr(&master)
+    assert_has(&stderr(&ct), &["--dnc-address is for drives of the sd2 family"]);
+    let master = cli(&["simulate", "--pty", "--dnc-address", "2,1"], 2);
+    assert_has(
+        &master.stderr,
+        &["error: --dnc-address 1: `1` is not a drive's DNC address"],
     );
 }
 
@@ -247,17 +217,17 @@ fn dnc_address_is_refused_with_address_and_for_a_family_without_dnc_addresses() 
 #[cfg(unix)]
 #[test]
 fn ctrl_c_on_a_pty_stops_both_drives_each_verified() {
-    let sim = crate::safety::PtySimulator::start_with(&["--address", "dnc:2,dnc:3"]);
+    let sim = Simulator::pty(&["--address", "dnc:2,dnc:3"]);
     let dir = scratch("multi-pty-ctrl-c");
-    let recipe = write_recipe(&dir, &TWO_AXES.replace("SAMPLE_FOR", "10 min"));
+    let recipe = write_file(&dir, "recipe.yaml", &TWO_AXES.replace("SAMPLE_FOR", "10 min"));
     let recipe = recipe.to_string_lossy().to_string();
-    let mut run = LiveRun::start(["run", recipe.as_str(), "--port", &sim.path]);
+    let mut run = LiveRun::start(["run", recipe.as_str(), "--port", &sim.endpoint]);
     run.wait_for("wait until right.speed_actual");
     std::thread::sleep(Duration::from_millis(500));
     run.signal("INT");
     let (code, seen) = run.finish();
     assert_eq!(code, Some(130), "{seen}");
-    assert!(!seen.contains("CHECK THE DRIVE BY HAND"), "{seen}");
+    assert_lacks(&seen, &["CHECK THE DRIVE BY HAND"]);
     // The last enabled (right) is stopped first.
     let right = seen
         .find("right: set speed_setpoint = 0 rpm")
@@ -266,12 +236,9 @@ fn ctrl_c_on_a_pty_stops_both_drives_each_verified() {
         .find("left: set speed_setpoint = 0 rpm")
         .expect("left stopped");
     assert!(right < left, "{seen}");
-    assert!(
-        seen.contains("right: drive left in ready to switch on at 0 rpm\nleft: drive left in ready to switch on at 0 rpm\n"),
-        "{seen}"
-    );
+    assert_has(&seen, &["right: drive left in ready to switch on at 0 rpm\nleft: drive left in ready to switch on at 0 rpm\n"]);
     for address in ["dnc:2", "dnc:3"] {
-        let state = drivescript(&["state", "--port", &sim.path, "--address", address], "");
+        let state = drivescript(&["state", "--port", &sim.endpoint, "--address", address], "");
         let text = stdout(&state);
         assert!(
             text.contains("ready to switch on"),
@@ -297,8 +264,9 @@ fn run_in_process(
 #[test]
 fn a_fault_on_one_drive_runs_on_fault_and_stops_both() {
     let dir = scratch("multi-fault");
-    let recipe = write_recipe(
+    let recipe = write_file(
         &dir,
+        "recipe.yaml",
         "name: Fault on the left
 drives:
   left:  { drive: sd2, address: dnc:2 }
@@ -320,8 +288,10 @@ on_fault:
     };
     let (result, output) = run_in_process(&recipe, Arc::new(StopRequests::new()), &prepare);
     assert_eq!(result.exit_code, 3, "{output}");
-    assert!(output.contains("drive fault: drive `left` went to"), "{output}");
-    assert!(output.contains("the left drive tripped"), "{output}");
+    assert_has(
+        &output,
+        &["drive fault: drive `left` went to", "the left drive tripped"],
+    );
     let report = result.report.expect("a report");
     assert_eq!(report.drive_ends.len(), 2, "{output}");
     assert!(report.drive_ends.iter().all(|e| e.stop_confirmed), "{output}");
@@ -337,16 +307,13 @@ on_fault:
         );
     }
     // The right drive, not faulted, was stopped the normal way.
-    assert!(
-        output.contains("right: disable_operation (default finally)"),
-        "{output}"
-    );
+    assert_has(&output, &["right: disable_operation (default finally)"]);
 }
 
 #[test]
 fn a_stop_signal_stops_both_drives_last_enabled_first() {
     let dir = scratch("multi-signal");
-    let recipe = write_recipe(&dir, &TWO_AXES.replace("SAMPLE_FOR", "1 h"));
+    let recipe = write_file(&dir, "recipe.yaml", &TWO_AXES.replace("SAMPLE_FOR", "1 h"));
     let stop = Arc::new(StopRequests::new());
     stop.schedule(Duration::from_secs(30), StopSignal::INT);
     let (result, output) = run_in_process(&recipe, stop, &|_, _| {});
@@ -367,8 +334,9 @@ fn a_stop_signal_stops_both_drives_last_enabled_first() {
 #[test]
 fn drives_of_two_families_each_on_its_own_line_reach_their_speeds() {
     let dir = scratch("multi-families");
-    let recipe = write_recipe(
+    let recipe = write_file(
         &dir,
+        "recipe.yaml",
         "name: Spindle and feed
 drives:
   spindle: { drive: sd2, address: dnc:2 }
@@ -389,7 +357,7 @@ steps:
     run.outputs.csv = Some(csv.clone());
     let (result, output) = run.run();
     assert_eq!(result.exit_code, 0, "{output}");
-    assert!(output.contains("spindle SD2 (DNC address 2)"), "{output}");
+    assert_has(&output, &["spindle SD2 (DNC address 2)"]);
     // The long CSV layout names the drive in a column of its own.
     let rows = std::fs::read_to_string(&csv).expect("csv");
     let mut lines = rows.lines();
@@ -400,7 +368,7 @@ steps:
         rows.lines().any(|l| l.contains(",5,feed,speed_actual,")),
         "{rows}"
     );
-    assert!(output.contains("feed CT_ANSI (drive 1.2)"), "{output}");
+    assert_has(&output, &["feed CT_ANSI (drive 1.2)"]);
     let report = result.report.expect("a report");
     assert_eq!(report.drive_ends.len(), 2);
     assert!(report.drive_ends.iter().all(|e| e.stop_confirmed));
@@ -411,8 +379,9 @@ steps:
 #[test]
 fn check_names_unknown_drives_and_objects_without_a_drive() {
     let dir = scratch("multi-check");
-    let recipe = write_recipe(
+    let recipe = write_file(
         &dir,
+        "recipe.yaml",
         "name: Typos
 drives:
   left:  { drive: sd2, address: dnc:2 }
@@ -426,26 +395,26 @@ steps:
     let out = drivescript(&["check", recipe.to_str().expect("utf-8 path")], "");
     let text = stderr(&out);
     assert_eq!(out.status.code(), Some(2), "{text}");
-    assert!(text.contains("unknown drive `lfet`"), "{text}");
-    assert!(text.contains("did you mean `left`?"), "{text}");
-    assert!(
-        text.contains("unknown object `sped_setpoint` in the ct_ansi dictionary"),
-        "{text}"
+    assert_has(
+        &text,
+        &[
+            "unknown drive `lfet`",
+            "did you mean `left`?",
+            "unknown object `sped_setpoint` in the ct_ansi dictionary",
+            "unknown drive `rihgt`",
+            "did you mean `right`?",
+            "`speed_actual` does not say which drive it is on",
+            "4 problems",
+        ],
     );
-    assert!(text.contains("unknown drive `rihgt`"), "{text}");
-    assert!(text.contains("did you mean `right`?"), "{text}");
-    assert!(
-        text.contains("`speed_actual` does not say which drive it is on"),
-        "{text}"
-    );
-    assert!(text.contains("4 problems"), "{text}");
 }
 
 #[test]
 fn two_drives_at_one_address_on_one_line_are_refused_before_anything_is_sent() {
     let dir = scratch("multi-same-address");
-    let recipe = write_recipe(
+    let recipe = write_file(
         &dir,
+        "recipe.yaml",
         "name: Same address
 drives:
   left:  { drive: sd2, address: dnc:2 }
@@ -456,10 +425,7 @@ steps:
     );
     let (result, output) = run_in_process(&recipe, Arc::new(StopRequests::new()), &|_, _| {});
     assert_eq!(result.exit_code, 2, "{output}");
-    assert!(
-        output.contains("drives `left` and `right` are both at"),
-        "{output}"
-    );
+    assert_has(&output, &["drives `left` and `right` are both at"]);
     assert!(result.report.is_none());
 }
 
@@ -480,24 +446,20 @@ print(`right is ${right.state()}`);
 DRIVE_CALL
 "#;
 
-fn write_script(dir: &Path, text: &str) -> PathBuf {
-    let path = dir.join("script.rhai");
-    std::fs::write(&path, text).expect("script written");
-    path
-}
-
 #[test]
 fn a_script_drives_each_named_drive_and_stops_both() {
     let dir = scratch("multi-script");
-    let script = write_script(&dir, &TWO_AXES_SCRIPT.replace("DRIVE_CALL", ""));
+    let script = write_file(&dir, "script.rhai", &TWO_AXES_SCRIPT.replace("DRIVE_CALL", ""));
     let (result, output) = run_in_process(&script, Arc::new(StopRequests::new()), &|_, _| {});
     assert_eq!(result.exit_code, 0, "{output}");
-    assert!(output.contains("PASS  left speed: measured 1000"), "{output}");
-    assert!(output.contains("PASS  right speed: measured 1999.9"), "{output}");
-    assert!(output.contains("right is operation_enabled"), "{output}");
-    assert!(
-        output.contains("shutdown  left: control word 6; right: control word 6"),
-        "{output}"
+    assert_has(
+        &output,
+        &[
+            "PASS  left speed: measured 1000",
+            "PASS  right speed: measured 1999.9",
+            "right is operation_enabled",
+            "shutdown  left: control word 6; right: control word 6",
+        ],
     );
     for (name, sim) in &result.simulators {
         assert_eq!(state_of(sim), DeviceState::ReadyToSwitchOn, "{name}: {output}");
@@ -507,25 +469,27 @@ fn a_script_drives_each_named_drive_and_stops_both() {
 #[test]
 fn a_script_naming_an_unknown_drive_or_no_drive_is_told_which_there_are() {
     let dir = scratch("multi-script-typo");
-    let script = write_script(
+    let script = write_file(
         &dir,
+        "script.rhai",
         &TWO_AXES_SCRIPT.replace("DRIVE_CALL", "drive(\"rigth\").read(\"speed_actual\");"),
     );
     let (result, output) = run_in_process(&script, Arc::new(StopRequests::new()), &|_, _| {});
     assert_ne!(result.exit_code, 0, "{output}");
-    assert!(
-        output.contains("no drive called `rigth` in this script; did you mean `right`?"),
-        "{output}"
+    assert_has(
+        &output,
+        &["no drive called `rigth` in this script; did you mean `right`?"],
     );
-    let script = write_script(
+    let script = write_file(
         &dir,
+        "script.rhai",
         &TWO_AXES_SCRIPT.replace("DRIVE_CALL", "drive().read(\"speed_actual\");"),
     );
     let (result, output) = run_in_process(&script, Arc::new(StopRequests::new()), &|_, _| {});
     assert_ne!(result.exit_code, 0, "{output}");
-    assert!(
-        output.contains("this script has several drives (left, right): name the drive"),
-        "{output}"
+    assert_has(
+        &output,
+        &["this script has several drives (left, right): name the drive"],
     );
     // Either way both drives are stopped.
     for (name, sim) in &result.simulators {
@@ -538,8 +502,8 @@ fn the_bench_limits_cap_every_drive_of_a_recipe_and_of_a_script() {
     let dir = scratch("multi-limits");
     let limits = dir.join("limits.yaml");
     std::fs::write(&limits, "max_speed: 1500 rpm\n").expect("limits written");
-    let recipe = write_recipe(&dir, &TWO_AXES.replace("SAMPLE_FOR", "1 s"));
-    let script = write_script(&dir, &TWO_AXES_SCRIPT.replace("DRIVE_CALL", ""));
+    let recipe = write_file(&dir, "recipe.yaml", &TWO_AXES.replace("SAMPLE_FOR", "1 s"));
+    let script = write_file(&dir, "script.rhai", &TWO_AXES_SCRIPT.replace("DRIVE_CALL", ""));
     for file in [&recipe, &script] {
         let out = drivescript(
             &[
@@ -552,11 +516,13 @@ fn the_bench_limits_cap_every_drive_of_a_recipe_and_of_a_script() {
         );
         let text = stderr(&out);
         assert_eq!(out.status.code(), Some(2), "{text}");
-        assert!(
-            text.contains("2000 rpm exceeds the bench limit 1500 rpm of speed_setpoint"),
-            "{text}"
+        assert_has(
+            &text,
+            &[
+                "2000 rpm exceeds the bench limit 1500 rpm of speed_setpoint",
+                "1 problem",
+            ],
         );
-        assert!(text.contains("1 problem"), "{text}");
     }
 }
 
@@ -566,8 +532,9 @@ fn the_bench_limits_cap_every_drive_of_a_recipe_and_of_a_script() {
 #[test]
 fn an_unreachable_drive_does_not_hold_up_the_others_stop() {
     let dir = scratch("multi-unreachable");
-    let recipe = write_recipe(
+    let recipe = write_file(
         &dir,
+        "recipe.yaml",
         "name: Feed line lost for good
 drives:
   spindle: { drive: sd2, address: dnc:2 }
@@ -597,5 +564,5 @@ steps:
         .find("drive `feed` could not be reached to stop it")
         .unwrap_or_else(|| panic!("the feed is reported unreachable: {output}"));
     assert!(spindle_stopped < feed_given_up, "{output}");
-    assert!(output.contains("CHECK THE DRIVE BY HAND"), "{output}");
+    assert_has(&output, &["CHECK THE DRIVE BY HAND"]);
 }

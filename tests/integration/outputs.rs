@@ -2,7 +2,7 @@
 //! HTML report, written for a real run of the acceptance recipe; and an unwritable output
 //! path refused before anything is sent.
 
-use crate::support::{drivescript, stderr, stdout};
+use crate::support::{assert_has, cli, drivescript, stderr, stdout};
 
 #[test]
 fn a_run_writes_trace_csv_junit_and_html() {
@@ -10,7 +10,7 @@ fn a_run_writes_trace_csv_junit_and_html() {
     let _ = std::fs::remove_dir_all(&dir);
     let p = |name: &str| dir.join(name).to_str().expect("utf-8").to_string();
     let (trace, csv, junit, html) = (p("trace.txt"), p("samples.csv"), p("junit.xml"), p("report.html"));
-    let out = drivescript(
+    cli(
         &[
             "run",
             "recipes/acceptance-test.yaml",
@@ -24,9 +24,8 @@ fn a_run_writes_trace_csv_junit_and_html() {
             "--report",
             &html,
         ],
-        "",
+        0,
     );
-    assert_eq!(out.status.code(), Some(0), "{}{}", stdout(&out), stderr(&out));
 
     let trace_text = std::fs::read_to_string(&trace).expect("trace");
     assert!(
@@ -72,7 +71,7 @@ fn a_run_writes_trace_csv_junit_and_html() {
 
 #[test]
 fn an_unwritable_output_is_refused_before_anything_is_sent() {
-    let out = drivescript(
+    let out = cli(
         &[
             "run",
             "recipes/commissioning.yaml",
@@ -80,14 +79,10 @@ fn an_unwritable_output_is_refused_before_anything_is_sent() {
             "--csv",
             "/proc/no/such/dir/x.csv",
         ],
-        "",
+        2,
     );
-    assert_eq!(out.status.code(), Some(2), "{}", stdout(&out));
-    assert!(stderr(&out).contains("/proc/no/such/dir"), "{}", stderr(&out));
-    assert!(
-        !stdout(&out).contains("using the built-in"),
-        "nothing was started"
-    );
+    assert_has(&out.stderr, &["/proc/no/such/dir"]);
+    assert!(!out.stdout.contains("using the built-in"), "nothing was started");
 }
 
 /// A run that cannot start still replaces the JUnit and HTML files it was asked for: a
@@ -99,7 +94,7 @@ fn runs_that_cannot_start_write_junit_and_html() {
     let _ = std::fs::remove_dir_all(&dir);
     let p = |name: &str| dir.join(name).to_str().expect("utf-8").to_string();
     let (junit, html) = (p("junit.xml"), p("report.html"));
-    let no_server = drivescript(
+    cli(
         &[
             "run",
             "recipes/acceptance-test.yaml",
@@ -110,9 +105,8 @@ fn runs_that_cannot_start_write_junit_and_html() {
             "--report",
             &html,
         ],
-        "",
+        3,
     );
-    assert_eq!(no_server.status.code(), Some(3), "{}", stderr(&no_server));
     let xml = std::fs::read_to_string(&junit).expect("junit");
     let doc = crate::reports::markup::junit(&xml).unwrap_or_else(|e| panic!("{e}\n{xml}"));
     if let Some(valid) = crate::reports::markup::junit_xsd(&xml) {
@@ -127,8 +121,7 @@ fn runs_that_cannot_start_write_junit_and_html() {
     assert!(xml.contains("skipped=\"14\""), "every check of the recipe: {xml}");
     let page = std::fs::read_to_string(&html).expect("html");
     crate::reports::markup::html(&page).unwrap_or_else(|e| panic!("{e}\n{page}"));
-    assert!(page.contains("NOT RUN — ERROR"), "{page}");
-    assert!(page.contains("127.0.0.1:1"), "{page}");
+    assert_has(&page, &["NOT RUN — ERROR", "127.0.0.1:1"]);
 
     let bad = dir.join("bad.yaml");
     std::fs::write(
@@ -143,8 +136,7 @@ fn runs_that_cannot_start_write_junit_and_html() {
     assert_eq!(invalid.status.code(), Some(2), "{}", stderr(&invalid));
     let xml = std::fs::read_to_string(&junit).expect("junit");
     crate::reports::markup::junit(&xml).unwrap_or_else(|e| panic!("{e}\n{xml}"));
-    assert!(xml.contains("type=\"invalid\""), "{xml}");
-    assert!(xml.contains("speed_setpont"), "{xml}");
+    assert_has(&xml, &["type=\"invalid\"", "speed_setpont"]);
     let page = std::fs::read_to_string(&html).expect("html");
-    assert!(page.contains("NOT RUN — INVALID"), "{page}");
+    assert_has(&page, &["NOT RUN — INVALID"]);
 }

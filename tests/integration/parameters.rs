@@ -2,15 +2,8 @@
 //! pseudo-terminal (the drive keeps its state between commands there), and the restore's
 //! refusals before any write.
 
-use crate::end_to_end::Simulator;
-use crate::support::{drivescript, stderr, stdout};
-use std::path::PathBuf;
-
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("drivescript-parameters-{}-{name}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("scratch dir");
-    dir
-}
+use crate::support::Simulator;
+use crate::support::{assert_has, drivescript, scratch, stderr, stdout};
 
 fn run(args: &[&str]) -> (i32, String) {
     let out = drivescript(args, "");
@@ -51,7 +44,7 @@ fn backup_change_diff_restore_diff() {
         saved.contains("name: \"parameter_set\"") && saved.contains("raw: \"1500000\""),
         "{saved}"
     );
-    assert!(saved.contains("ident: \"Test Motor\""), "{saved}");
+    assert_has(&saved, &["ident: \"Test Motor\""]);
 
     let (code, out) = run(&[&["diff", file][..], &dict[..]].concat());
     assert_eq!(code, 0, "{out}");
@@ -61,7 +54,7 @@ fn backup_change_diff_restore_diff() {
     let (code, out) = run(&[&["diff", file][..], &dict[..]].concat());
     assert_eq!(code, 1, "{out}");
     assert!(out.contains("parameter_set") && out.contains("drive: 7"), "{out}");
-    assert!(out.contains("2 difference(s)"), "{out}");
+    assert_has(&out, &["2 difference(s)"]);
 
     // Without --apply: the plan only, in dictionary order.
     let (code, out) = run(&[&["restore", file][..], &dict[..]].concat());
@@ -69,12 +62,12 @@ fn backup_change_diff_restore_diff() {
     let first = out.find("1. parameter_set: 7 → 0").expect(&out);
     let second = out.find("2. speed_setpoint: 2500 rpm → 1500 rpm").expect(&out);
     assert!(first < second);
-    assert!(out.contains("nothing written"), "{out}");
+    assert_has(&out, &["nothing written"]);
     assert_eq!(run(&[&["diff", file][..], &dict[..]].concat()).0, 1);
 
     let (code, out) = run(&[&["restore", file, "--apply"][..], &dict[..]].concat());
     assert_eq!(code, 0, "{out}");
-    assert!(out.contains("restored 2 parameter(s)"), "{out}");
+    assert_has(&out, &["restored 2 parameter(s)"]);
     let (code, out) = run(&[&["diff", file][..], &dict[..]].concat());
     assert_eq!(code, 0, "{out}");
 
@@ -140,12 +133,12 @@ fn restore_refuses_before_writing() {
     }
     let (code, out) = run(&["restore", file, "--apply", "--force", "--port", port]);
     assert_eq!(code, 2, "{out}");
-    assert!(out.contains("operation enabled"), "{out}");
+    assert_has(&out, &["operation enabled"]);
     for word in ["7", "6"] {
         assert_eq!(run(&["write", "control_word", word, "--port", port]).0, 0);
     }
     let out = drivescript(&["read", "parameter_set", "--port", port, "--json"], "");
-    assert!(stdout(&out).contains("\"value\":7"), "{}", stdout(&out));
+    assert_has(&stdout(&out), &["\"value\":7"]);
     let _ = std::fs::remove_dir_all(&dir);
 }
 
@@ -235,6 +228,6 @@ fn a_control_techniques_scan_saves_and_compares_parameters_beyond_the_dictionary
     let (code, out) = run(&[&["restore", file, "--apply"][..], &ct[..]].concat());
     assert_eq!(code, 0, "{out}");
     assert!(out.contains("not restored") && out.contains("#2.11"), "{out}");
-    assert!(out.contains("wrote max_speed"), "{out}");
+    assert_has(&out, &["wrote max_speed"]);
     let _ = std::fs::remove_dir_all(&dir);
 }

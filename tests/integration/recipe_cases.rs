@@ -20,14 +20,14 @@
 //!
 //! Every case runs in-process against the simulated drive in virtual time.
 
-use crate::support::InProcessRun;
+use crate::support::{control_words, InProcessRun};
 use drivescript::cli::SafeStopArgs;
 use drivescript::clock::SharedClock;
 use drivescript::drive::device_control::DeviceCommand;
 use drivescript::sim::SimulatedDrive;
 use drivescript::stop_request::{StopRequests, StopSignal};
 use std::path::{Path, PathBuf};
-use std::sync::{Arc, Mutex, PoisonError};
+use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
 #[derive(Debug, serde::Deserialize)]
@@ -194,15 +194,7 @@ fn run_case(dir: &Path) -> Result<(), String> {
             break;
         }
     }
-    let words = result
-        .simulator
-        .as_ref()
-        .map(|s| {
-            s.lock()
-                .unwrap_or_else(PoisonError::into_inner)
-                .control_words_written()
-        })
-        .unwrap_or_default();
+    let words = control_words(&result);
     if let Some(want) = &case.control_words {
         if &words != want {
             problems.push(format!("control words {words:?} (expected {want:?})"));

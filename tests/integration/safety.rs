@@ -3,8 +3,7 @@
 //! ramp that must not write after a stop, a port that goes away and comes back, and a run
 //! killed beyond any safe stop, which must leave a report that says so.
 
-use crate::support::InProcessRun;
-use crate::support::LiveRun;
+use crate::support::{assert_has, assert_lacks, scratch, write_file, InProcessRun, LiveRun, Simulator};
 use drivescript::cli::RunResult;
 use drivescript::clock::SharedClock;
 use drivescript::drive::device_control::DeviceState;
@@ -12,26 +11,13 @@ use drivescript::family::sd2::codec::{Body, Telegram};
 use drivescript::family::sd2::Sd2Simulator;
 use drivescript::sim::SimulatedDrive;
 use drivescript::stop_request::{StopRequests, StopSignal};
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::sync::{Arc, Mutex, OnceLock, PoisonError};
 use std::time::{Duration, Instant};
 
 /// Object indices of the SD2 dictionary the checks below look for.
 pub(crate) const CONTROL_WORD: u16 = 68;
 pub(crate) const SPEED_SETPOINT: u16 = 395;
-
-pub(crate) fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("drivescript-safety-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).expect("scratch dir");
-    dir
-}
-
-fn write_recipe(dir: &Path, text: &str) -> PathBuf {
-    let path = dir.join("recipe.yaml");
-    std::fs::write(&path, text).expect("recipe written");
-    path
-}
 
 /// The value of a write of `index` (little-endian), if `t` is one.
 pub(crate) fn written(t: &Telegram, index: u16) -> Option<i64> {
@@ -88,7 +74,7 @@ steps:
 #[test]
 fn in_virtual_time_the_stop_starts_at_the_signal_not_at_the_next_sample() {
     let dir = scratch("virtual-latency");
-    let recipe = write_recipe(&dir, SAMPLE_EVERY_30_S);
+    let recipe = write_file(&dir, "recipe.yaml", SAMPLE_EVERY_30_S);
     let stop = Arc::new(StopRequests::new());
     let signal_at = Duration::from_millis(45_250);
     stop.schedule(signal_at, StopSignal::TERM);
@@ -106,7 +92,7 @@ fn in_virtual_time_the_stop_starts_at_the_signal_not_at_the_next_sample() {
 #[test]
 fn in_real_time_a_signal_during_a_30_s_sample_interval_stops_within_100_ms() {
     let dir = scratch("real-latency");
-    let recipe = write_recipe(&dir, SAMPLE_EVERY_30_S);
+    let recipe = write_file(&dir, "recipe.yaml", SAMPLE_EVERY_30_S);
     let stop = Arc::new(StopRequests::new());
     let clock_slot: Arc<OnceLock<SharedClock>> = Arc::new(OnceLock::new());
     let (sender_stop, sender_clock) = (stop.clone(), clock_slot.clone());
@@ -140,8 +126,9 @@ fn in_real_time_a_signal_during_a_30_s_sample_interval_stops_within_100_ms() {
 #[test]
 fn a_ramp_writes_no_further_setpoint_after_a_stop_request() {
     let dir = scratch("ramp");
-    let recipe = write_recipe(
+    let recipe = write_file(
         &dir,
+        "recipe.yaml",
         "name: Ramp
 steps:
   - go_to: operation_enabled
@@ -172,48 +159,6 @@ steps:
     assert_eq!(before, vec![1_000_000, 2_000_000, 3_000_000, 4_000_000]);
 }
 
-/// `drivescript simulate --pty` in the background, killed when dropped.
-#[cfg(unix)]
-pub(crate) struct PtySimulator {
-    child: std::process::Child,
-    pub(crate) path: String,
-}
-
-#[cfg(unix)]
-impl PtySimulator {
-    pub(crate) fn start() -> PtySimulator {
-        Self::start_with(&[])
-    }
-
-    /// `drivescript simulate --pty ARGS` (e.g. `--address dnc:2,dnc:3`).
-    pub(crate) fn start_with(args: &[&str]) -> PtySimulator {
-        use std::io::BufRead;
-        let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_drivescript"))
-            .args(["simulate", "--pty"])
-            .args(args)
-            .stdout(std::process::Stdio::piped())
-            .stderr(std::process::Stdio::null())
-            .spawn()
-            .expect("simulate starts");
-        let mut line = String::new();
-        std::io::BufReader::new(child.stdout.take().expect("stdout"))
-            .read_line(&mut line)
-            .expect("simulate prints its pty");
-        PtySimulator {
-            child,
-            path: line.trim().to_string(),
-        }
-    }
-}
-
-#[cfg(unix)]
-impl Drop for PtySimulator {
-    fn drop(&mut self) {
-        let _ = self.child.kill();
-        let _ = self.child.wait();
-    }
-}
-
 /// The control words written in a trace file's TX lines, with their clock seconds.
 #[cfg(unix)]
 pub(crate) fn traced_writes(trace: &str, index: u16) -> Vec<(f64, i64)> {
@@ -241,9 +186,9 @@ pub(crate) fn traced_writes(trace: &str, index: u16) -> Vec<(f64, i64)> {
 /// exit code, the stop telegrams, the drive's state and both reports.
 #[cfg(unix)]
 fn signal_through_a_pty(signal: StopSignal, second: Option<StopSignal>) {
-    let sim = PtySimulator::start();
+    let sim = Simulator::pty(&[]);
     let dir = scratch(&format!("pty-{}-{}", signal.name, second.map_or("", |s| s.name)));
-    let recipe = write_recipe(&dir, SAMPLE_EVERY_30_S);
+    let recipe = write_file(&dir, "recipe.yaml", SAMPLE_EVERY_30_S);
     let (junit, html, trace) = (
         dir.join("junit.xml"),
         dir.join("report.html"),
@@ -255,7 +200,7 @@ fn signal_through_a_pty(signal: StopSignal, second: Option<StopSignal>) {
         std::ffi::OsStr::new("run"),
         recipe.as_os_str(),
         "--port".as_ref(),
-        sim.path.as_ref(),
+        sim.endpoint.as_ref(),
         "--junit".as_ref(),
         junit.as_os_str(),
         "--report".as_ref(),
@@ -265,7 +210,7 @@ fn signal_through_a_pty(signal: StopSignal, second: Option<StopSignal>) {
     ]);
     run.wait_for("wait until speed_actual");
     let placeholder = std::fs::read_to_string(&junit).expect("junit exists during the run");
-    assert!(placeholder.contains("NOT FINISHED"), "{placeholder}");
+    assert_has(&placeholder, &["NOT FINISHED"]);
     // The sample step has taken its first sample and now waits 30 s.
     std::thread::sleep(Duration::from_millis(300));
     let before = std::fs::read_to_string(&trace).expect("trace").lines().count();
@@ -297,22 +242,24 @@ fn signal_through_a_pty(signal: StopSignal, second: Option<StopSignal>) {
         "{}: the stop telegram came {latency:?} after the signal",
         signal.name
     );
-    assert!(
-        all.contains(&format!("INTERRUPTED: interrupted by {}", signal.describe())),
-        "{all}"
+    assert_has(
+        &all,
+        &[&format!("INTERRUPTED: interrupted by {}", signal.describe())],
     );
     let (words, state_after) = match second {
         None => {
-            assert!(all.contains("drive left in ready to switch on at 0 rpm"), "{all}");
+            assert_has(&all, &["drive left in ready to switch on at 0 rpm"]);
             (vec![7, 6], "ready to switch on")
         }
         Some(_) => {
-            assert!(
-                all.contains("power stage switched off at once (disable voltage)"),
-                "{all}"
+            assert_has(
+                &all,
+                &[
+                    "power stage switched off at once (disable voltage)",
+                    "drive left in switch on disabled at",
+                    "STILL COASTING",
+                ],
             );
-            assert!(all.contains("drive left in switch on disabled at"), "{all}");
-            assert!(all.contains("STILL COASTING"), "{all}");
             (vec![0], "switch on disabled")
         }
     };
@@ -326,16 +273,13 @@ fn signal_through_a_pty(signal: StopSignal, second: Option<StopSignal>) {
     .collect();
     assert_eq!(after, words, "control words after the signal");
     let junit_text = std::fs::read_to_string(&junit).expect("junit");
-    assert!(
-        junit_text.contains("INTERRUPTED: the run was interrupted by"),
-        "{junit_text}"
-    );
-    assert!(!junit_text.contains("NOT FINISHED"), "{junit_text}");
+    assert_has(&junit_text, &["INTERRUPTED: the run was interrupted by"]);
+    assert_lacks(&junit_text, &["NOT FINISHED"]);
     let html_text = std::fs::read_to_string(&html).expect("html");
-    assert!(html_text.contains("INTERRUPTED"), "{html_text}");
+    assert_has(&html_text, &["INTERRUPTED"]);
     assert!(html_text.contains(signal.describe()), "{html_text}");
     // The simulated drive keeps its state: ask it.
-    let state = crate::support::drivescript(&["state", "--port", &sim.path], "");
+    let state = crate::support::drivescript(&["state", "--port", &sim.endpoint], "");
     let shown = crate::support::stdout(&state);
     assert!(shown.contains(state_after), "{shown}");
 }
@@ -374,7 +318,7 @@ fn a_second_signal_through_a_pty_switches_the_power_stage_off_at_once() {
 #[test]
 fn a_run_killed_beyond_any_safe_stop_leaves_a_report_that_says_not_finished() {
     let dir = scratch("sigkill");
-    let recipe = write_recipe(&dir, SAMPLE_EVERY_30_S);
+    let recipe = write_file(&dir, "recipe.yaml", SAMPLE_EVERY_30_S);
     let (junit, html) = (dir.join("junit.xml"), dir.join("report.html"));
     std::fs::write(&junit, "<testsuites tests=\"1\" failures=\"0\"/>").expect("old junit");
     std::fs::write(&html, "<p>PASSED</p>").expect("old html");
@@ -403,8 +347,7 @@ fn a_run_killed_beyond_any_safe_stop_leaves_a_report_that_says_not_finished() {
     child.kill().expect("SIGKILL");
     let _ = child.wait();
     let junit_text = std::fs::read_to_string(&junit).expect("junit");
-    assert!(junit_text.contains("failures=\"1\""), "{junit_text}");
-    assert!(junit_text.contains("NOT FINISHED"), "{junit_text}");
+    assert_has(&junit_text, &["failures=\"1\"", "NOT FINISHED"]);
     assert!(std::fs::read_to_string(&html)
         .expect("html")
         .contains("NOT FINISHED"));
@@ -443,8 +386,9 @@ fn a_lost_port_is_reopened_and_the_stop_reaches_the_drive() {
     std::os::unix::fs::symlink(&first.path, &link).expect("symlink");
     let (first_flag, first_server) = serve(first);
 
-    let recipe = write_recipe(
+    let recipe = write_file(
         &dir,
+        "recipe.yaml",
         "name: Run-in
 steps:
   - go_to: operation_enabled
@@ -493,9 +437,14 @@ steps:
     second_flag.store(true, Ordering::SeqCst);
     second_server.join().expect("second server");
     assert_eq!(code, 3, "{output}");
-    assert!(output.contains("reopening"), "{output}");
-    assert!(output.contains("restored at attempt"), "{output}");
-    assert!(output.contains("drive left in ready to switch on"), "{output}");
+    assert_has(
+        &output,
+        &[
+            "reopening",
+            "restored at attempt",
+            "drive left in ready to switch on",
+        ],
+    );
     assert_eq!(state(), DeviceState::ReadyToSwitchOn, "{output}");
     let words = sim
         .lock()

@@ -3,33 +3,17 @@
 //! panic, a stop request during `sample` and during pure computation, a signal through a
 //! real pseudo-terminal) runs the safe stop, and the sandbox refuses what it must.
 
-use crate::safety::{received, scratch, written, CONTROL_WORD, SPEED_SETPOINT};
-use crate::support::{drivescript, repo_root, stderr, stdout, InProcessRun, LiveRun};
+use crate::safety::{received, written, CONTROL_WORD, SPEED_SETPOINT};
+use crate::support::{
+    assert_has, assert_lacks, cli, control_words, drivescript, repo_root, scratch, stderr, stdout,
+    write_file, InProcessRun, LiveRun,
+};
 use drivescript::cli::RunResult;
 use drivescript::clock::SharedClock;
 use drivescript::sim::SimulatedDrive;
 use drivescript::stop_request::{StopRequests, StopSignal};
-use std::path::{Path, PathBuf};
-use std::sync::{Arc, Mutex, PoisonError};
+use std::sync::{Arc, Mutex};
 use std::time::Duration;
-
-fn write_script(dir: &Path, text: &str) -> PathBuf {
-    let path = dir.join("script.rhai");
-    std::fs::write(&path, text).expect("script written");
-    path
-}
-
-fn control_words(result: &RunResult) -> Vec<u16> {
-    result
-        .simulator
-        .as_ref()
-        .map(|s| {
-            s.lock()
-                .unwrap_or_else(PoisonError::into_inner)
-                .control_words_written()
-        })
-        .unwrap_or_default()
-}
 
 /// Runs `text` as a script in-process (virtual time), with `prepare` for the simulator.
 fn run_script(
@@ -39,7 +23,7 @@ fn run_script(
     stop: Arc<StopRequests>,
 ) -> (RunResult, String) {
     let dir = scratch(&format!("script-{name}"));
-    let mut run = InProcessRun::new(write_script(&dir, text));
+    let mut run = InProcessRun::new(write_file(&dir, "script.rhai", text));
     run.prepare = prepare;
     run.stop = stop;
     run.output_dir = dir;
@@ -55,9 +39,8 @@ fn every_example_script_checks_and_passes_in_virtual_time() {
             continue;
         }
         let p = path.to_str().expect("utf-8 path");
-        let check = drivescript(&["check", p], "");
-        assert_eq!(check.status.code(), Some(0), "{p}: {}", stderr(&check));
-        assert!(stdout(&check).contains("(script, "), "{p}: {}", stdout(&check));
+        let check = cli(&["check", p], 0);
+        assert!(check.stdout.contains("(script, "), "{p}: {}", check.stdout);
         let run = drivescript(&["run", p, "--fast"], "");
         let shown = format!("{}{}", stdout(&run), stderr(&run));
         assert_eq!(run.status.code(), Some(0), "{p}:\n{shown}");
@@ -140,7 +123,7 @@ fn a_failed_expect_fails_the_run_with_exit_1_and_the_drive_is_stopped() {
     let text = "let d = drive();\nd.go_to(\"operation_enabled\");\nexpect(\"speed is high\", d.read(\"speed_actual\") > 100.0, d.read(\"speed_actual\"));\nprint(\"goes on\");\n";
     let (result, output) = run_script("failed-expect", text, None, Arc::new(StopRequests::new()));
     assert_eq!(result.exit_code, 1, "{output}");
-    assert!(output.contains("FAIL  speed is high: measured"), "{output}");
+    assert_has(&output, &["FAIL  speed is high: measured"]);
     assert!(
         output.contains("goes on"),
         "a failed expect lets the script go on:\n{output}"
@@ -171,12 +154,12 @@ fn a_drive_fault_ends_with_exit_3_at_the_call_with_the_script_line() {
     let text = "let d = drive();\nd.go_to(\"operation_enabled\");\nd.set(\"speed_setpoint\", 2000.0, \"rpm\");\ndwell(\"10 s\");\n";
     let (result, output) = run_script("fault", text, Some(&prepare), Arc::new(StopRequests::new()));
     assert_eq!(result.exit_code, 3, "{output}");
-    assert!(output.contains("drive fault"), "{output}");
+    assert_has(&output, &["drive fault"]);
     assert!(
         output.contains("script.rhai:4:1]"),
         "the diagnostic points at dwell:\n{output}"
     );
-    assert!(output.contains("4 │ dwell(\"10 s\");"), "{output}");
+    assert_has(&output, &["4 │ dwell(\"10 s\");"]);
 }
 
 #[test]
@@ -190,7 +173,7 @@ fn a_fault_caught_by_the_script_can_be_reset_and_the_start_retried() {
     let text = std::fs::read_to_string(repo_root().join("recipes/fault-reset-start.rhai")).expect("example");
     let (result, output) = run_script("retry", &text, Some(&prepare), Arc::new(StopRequests::new()));
     assert_eq!(result.exit_code, 0, "{output}");
-    assert!(output.contains("resetting"), "{output}");
+    assert_has(&output, &["resetting"]);
     // The fault reset (128) was sent before the successful start.
     let words = control_words(&result);
     let reset = words.iter().position(|w| *w == 128).expect("a fault reset");
@@ -202,9 +185,14 @@ fn a_script_error_inside_a_drive_call_is_located_and_exits_3_after_the_safe_stop
     let text = "let d = drive();\nd.go_to(\"operation_enabled\");\nlet name = \"speed_\" + \"actul\";\nlet v = d.read(name);\n";
     let (result, output) = run_script("runtime-error", text, None, Arc::new(StopRequests::new()));
     assert_eq!(result.exit_code, 3, "{output}");
-    assert!(output.contains("unknown object `speed_actul`"), "{output}");
-    assert!(output.contains("did you mean `speed_actual`"), "{output}");
-    assert!(output.contains("script.rhai:4:11]"), "{output}");
+    assert_has(
+        &output,
+        &[
+            "unknown object `speed_actul`",
+            "did you mean `speed_actual`",
+            "script.rhai:4:11]",
+        ],
+    );
     assert!(control_words(&result).ends_with(&[7, 6]), "{output}");
 }
 
@@ -219,7 +207,7 @@ fn a_panic_in_the_run_exits_101_after_the_safe_stop() {
     let text = "let d = drive();\nd.go_to(\"operation_enabled\");\nd.set(\"speed_setpoint\", 1000.0, \"rpm\");\ndwell(\"5 s\");\n";
     let (result, output) = run_script("panic", text, Some(&prepare), Arc::new(StopRequests::new()));
     assert_eq!(result.exit_code, 101, "{output}");
-    assert!(output.contains("panic"), "{output}");
+    assert_has(&output, &["panic"]);
     assert!(control_words(&result).ends_with(&[7, 6]), "{output}");
 }
 
@@ -233,8 +221,8 @@ fn a_stop_request_during_sample_stops_the_drive_at_once() {
                 let s = d.sample([\"speed_actual\"], \"30 s\", \"10 min\");\nprint(\"not reached\");\n";
     let (result, output) = run_script("signal-sample", text, None, stop);
     assert_eq!(result.exit_code, 130, "{output}");
-    assert!(!output.contains("not reached"), "{output}");
-    assert!(output.contains("INTERRUPTED"), "{output}");
+    assert_lacks(&output, &["not reached"]);
+    assert_has(&output, &["INTERRUPTED"]);
     let first_stop = received(&result)
         .into_iter()
         .find(|(at, t)| *at >= signal_at && written(t, SPEED_SETPOINT).is_some())
@@ -252,7 +240,7 @@ fn a_stop_request_ends_a_script_that_only_computes() {
     let stop = Arc::new(StopRequests::new());
     let text = "let d = drive();\nd.go_to(\"operation_enabled\");\nprint(\"computing\");\nlet i = 0;\ntry { while true { i += 1; } } catch { print(\"swallowed\"); }\n";
     let dir = scratch("script-signal-compute");
-    let mut run = InProcessRun::new(write_script(&dir, text));
+    let mut run = InProcessRun::new(write_file(&dir, "script.rhai", text));
     run.fast = false;
     run.stop = stop.clone();
     let sender = std::thread::spawn(move || {
@@ -266,11 +254,7 @@ fn a_stop_request_ends_a_script_that_only_computes() {
         output.contains("computing"),
         "the stop came before the loop:\n{output}"
     );
-    assert!(!output.contains("swallowed"), "{output}");
-    assert!(
-        !output.contains("operations without calling the drive"),
-        "{output}"
-    );
+    assert_lacks(&output, &["swallowed", "operations without calling the drive"]);
     assert!(control_words(&result).ends_with(&[7, 6]), "{output}");
 }
 
@@ -279,11 +263,13 @@ fn an_endless_loop_without_drive_calls_is_stopped_by_the_operation_limit() {
     let text = "let d = drive();\nd.go_to(\"operation_enabled\");\nlet i = 0;\nloop { i += 1; }\n";
     let (result, output) = run_script("endless", text, None, Arc::new(StopRequests::new()));
     assert_eq!(result.exit_code, 3, "{output}");
-    assert!(
-        output.contains("operations without calling the drive (an endless loop?)"),
-        "{output}"
+    assert_has(
+        &output,
+        &[
+            "operations without calling the drive (an endless loop?)",
+            "script.rhai:4:",
+        ],
     );
-    assert!(output.contains("script.rhai:4:"), "{output}");
     assert!(control_words(&result).ends_with(&[7, 6]), "{output}");
 }
 
@@ -325,9 +311,8 @@ fn the_sandbox_refuses_modules_eval_file_or_process_access_and_oversized_data() 
         std::fs::write(&path, text).expect("script");
         let p = path.to_str().expect("utf-8");
         if code == 2 {
-            let check = drivescript(&["check", p], "");
-            assert_eq!(check.status.code(), Some(2), "{name}");
-            assert!(stderr(&check).contains(said), "{name}: {}", stderr(&check));
+            let check = cli(&["check", p], 2);
+            assert!(check.stderr.contains(said), "{name}: {}", check.stderr);
         }
         let (result, output) = InProcessRun::new(&path).run();
         assert_eq!(result.exit_code, code, "{name}:\n{output}");
@@ -346,16 +331,15 @@ fn the_sandbox_refuses_modules_eval_file_or_process_access_and_oversized_data() 
 #[test]
 fn check_finds_literal_mistakes_with_places_and_suggestions_without_a_port() {
     let dir = scratch("check");
-    let path = write_script(
+    let path = write_file(
         &dir,
+        "script.rhai",
         "//! drive: sd2\nlet d = drive();\nd.set(\"speed_setpont\", 3000.0, \"rpm\");\nd.set(\"speed_setpoint\", 300000.0, \"rpm\");\n\
          d.go_to(\"operation_enabld\", \"5 s\");\ndwell(\"5\");\nlet v = d.read_as(\"speed_actual\", \"A\");\n",
     );
     let p = path.to_str().expect("utf-8");
     // A port that does not exist: check must not try to open it.
-    let check = drivescript(&["check", p, "--set", "sped=1"], "");
-    assert_eq!(check.status.code(), Some(2));
-    let err = stderr(&check);
+    let err = cli(&["check", p, "--set", "sped=1"], 2).stderr;
     for part in [
         "script.rhai:3:7]",
         "did you mean `speed_setpoint`",
@@ -374,10 +358,10 @@ fn check_finds_literal_mistakes_with_places_and_suggestions_without_a_port() {
 fn a_scripts_finally_replaces_the_default_and_the_stop_is_still_verified() {
     let text = "let d = drive();\nfn finally(d) {\n    d.set(\"speed_setpoint\", 0.0, \"rpm\");\n    d.wait_until(\"speed_actual\", |v| v.abs() < 5.0, \"30 s\");\n    d.quick_stop();\n}\nd.set(\"speed_setpoint\", 1000.0, \"rpm\");\nd.go_to(\"operation_enabled\");\ndwell(\"3 s\");\n";
     let (result, output) = run_script("finally", text, None, Arc::new(StopRequests::new()));
-    assert!(!output.contains("(default finally)"), "{output}");
-    assert!(output.contains("finally 3  ok    quick_stop"), "{output}");
+    assert_lacks(&output, &["(default finally)"]);
+    assert_has(&output, &["finally 3  ok    quick_stop"]);
     // The verification reads the state back and says the truth.
-    assert!(output.contains("drive left in"), "{output}");
+    assert_has(&output, &["drive left in"]);
     let words = control_words(&result);
     assert_eq!(words.last(), Some(&2), "{words:?}");
 }
@@ -385,21 +369,24 @@ fn a_scripts_finally_replaces_the_default_and_the_stop_is_still_verified() {
 #[test]
 fn params_come_from_set() {
     let dir = scratch("params");
-    let path = write_script(
+    let path = write_file(
         &dir,
+        "script.rhai",
         "let d = drive();\nlet speed = param(\"speed\");\nd.set(\"speed_setpoint\", speed);\nexpect(\"speed\", number(speed, \"rpm\") == 4000.0, speed);\n",
     );
     let mut run = InProcessRun::new(&path);
     run.set = vec![("speed".into(), "4 krpm".into())];
     let (result, output) = run.run();
     assert_eq!(result.exit_code, 0, "{output}");
-    assert!(output.contains("params  speed = 4 krpm"), "{output}");
-    assert!(output.contains("set speed_setpoint = 4000 rpm"), "{output}");
+    assert_has(
+        &output,
+        &["params  speed = 4 krpm", "set speed_setpoint = 4000 rpm"],
+    );
     let (result, output) = InProcessRun::new(&path).run();
     assert_eq!(result.exit_code, 3, "{output}");
-    assert!(
-        output.contains("parameter `speed` is not set: run with --set speed=VALUE"),
-        "{output}"
+    assert_has(
+        &output,
+        &["parameter `speed` is not set: run with --set speed=VALUE"],
     );
 }
 
@@ -408,11 +395,13 @@ fn params_come_from_set() {
 #[cfg(unix)]
 #[test]
 fn sigint_during_a_scripts_sample_through_a_pty_stops_the_drive() {
-    use crate::safety::{traced_writes, PtySimulator};
-    let sim = PtySimulator::start();
+    use crate::safety::traced_writes;
+    use crate::support::Simulator;
+    let sim = Simulator::pty(&[]);
     let dir = scratch("script-pty");
-    let script = write_script(
+    let script = write_file(
         &dir,
+        "script.rhai",
         "let d = drive();\nd.go_to(\"operation_enabled\", \"2 s\");\nd.set(\"speed_setpoint\", 2000.0, \"rpm\");\n\
          d.wait_until(\"speed_actual\", |v| v > 1980.0, \"10 s\");\nprint(\"sampling\");\n\
          let s = d.sample([\"speed_actual\"], \"30 s\", \"10 min\");\n",
@@ -422,7 +411,7 @@ fn sigint_during_a_scripts_sample_through_a_pty_stops_the_drive() {
         std::ffi::OsStr::new("run"),
         script.as_os_str(),
         "--port".as_ref(),
-        sim.path.as_ref(),
+        sim.endpoint.as_ref(),
         "--trace".as_ref(),
         trace.as_os_str(),
     ]);
@@ -432,8 +421,10 @@ fn sigint_during_a_scripts_sample_through_a_pty_stops_the_drive() {
     run.signal("INT");
     let (code, all) = run.finish();
     assert_eq!(code, Some(130), "{all}");
-    assert!(all.contains("INTERRUPTED"), "{all}");
-    assert!(all.contains("drive left in ready to switch on at 0 rpm"), "{all}");
+    assert_has(
+        &all,
+        &["INTERRUPTED", "drive left in ready to switch on at 0 rpm"],
+    );
     let trace_text = std::fs::read_to_string(&trace).expect("trace");
     let after: String = trace_text.lines().skip(before).collect::<Vec<_>>().join("\n");
     let setpoints: Vec<i64> = traced_writes(&after, SPEED_SETPOINT)
@@ -457,7 +448,7 @@ fn a_scripts_checks_reach_junit_html_and_csv_like_a_recipes() {
                 let s = d.sample([\"speed_actual\", \"current_actual\"], \"100 ms\", \"2 s\");\n\
                 expect_near(\"speed mean\", s.mean(\"speed_actual\"), 2000.0, \"0.5 %\");\n\
                 expect_near(\"too tight\", s.mean(\"speed_actual\"), 2100.0, \"5 rpm\");\n";
-    let mut run = InProcessRun::new(write_script(&dir, text));
+    let mut run = InProcessRun::new(write_file(&dir, "script.rhai", text));
     let (junit, html, csv) = (
         dir.join("junit.xml"),
         dir.join("report.html"),
@@ -479,7 +470,7 @@ fn a_scripts_checks_reach_junit_html_and_csv_like_a_recipes() {
     assert!(cases.iter().any(|c| c.contains("too tight")), "{junit_text}");
     let failures = doc.descendants().filter(|n| n.has_tag_name("failure")).count();
     assert_eq!(failures, 1, "{junit_text}");
-    assert!(junit_text.contains("script.rhai:7:1"), "{junit_text}");
+    assert_has(&junit_text, &["script.rhai:7:1"]);
     let html_text = std::fs::read_to_string(&html).expect("html");
     assert!(
         html_text.contains("too tight") && html_text.contains("FAILED"),
@@ -498,9 +489,9 @@ fn a_second_stop_request_abandons_the_scripts_finally_and_switches_off_at_once()
                 d.set(\"speed_setpoint\", 2000.0, \"rpm\");\nd.go_to(\"operation_enabled\");\ndwell(\"1 min\");\n";
     let (result, output) = run_script("second-signal", text, None, stop);
     assert_eq!(result.exit_code, 130, "{output}");
-    assert!(output.contains("finally starts"), "{output}");
-    assert!(!output.contains("finally ends"), "{output}");
-    assert!(output.contains("power stage switched off at once"), "{output}");
+    assert_has(&output, &["finally starts"]);
+    assert_lacks(&output, &["finally ends"]);
+    assert_has(&output, &["power stage switched off at once"]);
     assert_eq!(
         control_words(&result).last(),
         Some(&0),
@@ -513,12 +504,14 @@ fn an_endless_loop_in_the_scripts_finally_is_stopped_and_the_stop_still_verified
     let text = "let d = drive();\nfn finally(d) {\n    d.set(\"speed_setpoint\", 0.0, \"rpm\");\n    let i = 0;\n    loop { i += 1; }\n}\n\
                 d.go_to(\"operation_enabled\");\n";
     let (result, output) = run_script("finally-loop", text, None, Arc::new(StopRequests::new()));
-    assert!(output.contains("the script's finally ended early"), "{output}");
-    assert!(
-        output.contains("operations without calling the drive"),
-        "{output}"
+    assert_has(
+        &output,
+        &[
+            "the script's finally ended early",
+            "operations without calling the drive",
+            "drive left in",
+        ],
     );
-    assert!(output.contains("drive left in"), "{output}");
     // The verification found the drive still enabled and escalated.
     assert_eq!(result.exit_code, 3, "{output}");
 }
@@ -532,18 +525,17 @@ fn a_scripts_header_chooses_the_cyclic_channel() {
                 d.wait_until(\"speed_actual\", |v| v > 5900.0, \"30 s\");\n\
                 let s = d.sample([\"speed_actual\"], \"100 ms\", \"2 s\");\n\
                 expect_near(\"speed mean\", s.mean(\"speed_actual\"), 6000.0, \"0.5 %\");\n";
-    let good = write_script(
+    let good = write_file(
         &dir,
+        "script.rhai",
         &format!("//! drive: sd2\n//! link: channel=cyclic, velocity_scaling=24000rpm\n{body}"),
     );
-    let out = drivescript(&["run", good.to_str().expect("path"), "--fast"], "");
-    assert_eq!(out.status.code(), Some(0), "{}{}", stdout(&out), stderr(&out));
-    assert!(stdout(&out).contains("(cyclic channel)"), "{}", stdout(&out));
+    let out = cli(&["run", good.to_str().expect("path"), "--fast"], 0);
+    assert_has(&out.stdout, &["(cyclic channel)"]);
     let bad = dir.join("bad.rhai");
     std::fs::write(&bad, format!("//! drive: sd2\n//! link: channel=cyclic\n{body}")).expect("script");
-    let out = drivescript(&["run", bad.to_str().expect("path"), "--fast"], "");
-    assert_eq!(out.status.code(), Some(2), "{}", stdout(&out));
-    assert!(stderr(&out).contains("--velocity-scaling"), "{}", stderr(&out));
+    let out = cli(&["run", bad.to_str().expect("path"), "--fast"], 2);
+    assert_has(&out.stderr, &["--velocity-scaling"]);
 }
 
 /// `d.sample(…, "file.csv")` writes that sample's rows as a recipe sample step's `csv:`
@@ -554,7 +546,7 @@ fn a_samples_csv_file_holds_its_rows_in_the_recipes_layout() {
     let text = "let d = drive();\nd.set(\"speed_setpoint\", 2000.0, \"rpm\");\nd.go_to(\"operation_enabled\");\n\
                 d.wait_until(\"speed_actual\", |v| v > 1980.0, \"10 s\");\n\
                 for pass in 0..2 { let s = d.sample([\"speed_actual\", \"current_actual\"], \"100 ms\", \"1 s\", \"runs/speed.csv\"); }\n";
-    let mut run = InProcessRun::new(write_script(&dir, text));
+    let mut run = InProcessRun::new(write_file(&dir, "script.rhai", text));
     run.output_dir = dir.clone();
     let (result, output) = run.run();
     assert_eq!(result.exit_code, 0, "{output}");
@@ -596,7 +588,7 @@ fn a_samples_csv_file_holds_its_rows_in_the_recipes_layout() {
 fn csv_wide_gives_a_scripts_sample_file_one_column_per_object() {
     let dir = scratch("script-sample-csv-wide");
     let text = "let d = drive();\nlet s = d.sample([\"speed_actual\", \"current_actual\"], \"100 ms\", \"1 s\", \"wide.csv\");\n";
-    let mut run = InProcessRun::new(write_script(&dir, text));
+    let mut run = InProcessRun::new(write_file(&dir, "script.rhai", text));
     run.output_dir = dir.clone();
     run.outputs.csv_wide = true;
     let (result, output) = run.run();
@@ -624,22 +616,27 @@ fn a_scripts_csv_file_outside_the_output_directory_is_refused() {
     let dir = scratch("script-sample-csv-outside");
     let literal =
         "let d = drive();\nlet s = d.sample([\"speed_actual\"], \"100 ms\", \"1 s\", \"../escape.csv\");\n";
-    let path = write_script(&dir, literal);
-    let check = drivescript(&["check", path.to_str().expect("utf-8")], "");
-    assert_eq!(check.status.code(), Some(2));
-    let err = stderr(&check);
-    assert!(err.contains("script.rhai:2:53]"), "{err}");
-    assert!(
-        err.contains("`../escape.csv` is outside the output directory"),
-        "{err}"
+    let path = write_file(&dir, "script.rhai", literal);
+    let err = cli(&["check", path.to_str().expect("utf-8")], 2).stderr;
+    assert_has(
+        &err,
+        &[
+            "script.rhai:2:53]",
+            "`../escape.csv` is outside the output directory",
+        ],
     );
     let computed = "let d = drive();\nd.go_to(\"operation_enabled\");\nlet up = \"..\";\n\
                     let s = d.sample([\"speed_actual\"], \"100 ms\", \"1 s\", up + \"/escape.csv\");\n";
     let (result, output) = run_script("csv-outside", computed, None, Arc::new(StopRequests::new()));
     assert_eq!(result.exit_code, 3, "{output}");
-    assert!(output.contains("script.rhai:4:"), "{output}");
-    assert!(output.contains("is outside the output directory"), "{output}");
-    assert!(output.contains("drive left in ready to switch on"), "{output}");
+    assert_has(
+        &output,
+        &[
+            "script.rhai:4:",
+            "is outside the output directory",
+            "drive left in ready to switch on",
+        ],
+    );
     assert!(!dir.parent().expect("a parent").join("escape.csv").exists());
 }
 
@@ -649,15 +646,14 @@ fn a_scripts_csv_file_outside_the_output_directory_is_refused() {
 #[test]
 fn check_finds_a_wait_until_condition_that_uses_the_drive() {
     let dir = scratch("script-condition-drive");
-    let path = write_script(
+    let path = write_file(
         &dir,
+        "script.rhai",
         "//! drive: sd2\nlet d = drive();\nd.set(\"speed_setpoint\", 2000.0, \"rpm\");\nd.go_to(\"operation_enabled\");\n\
          d.wait_until(\"speed_actual\", |v| v > d.read(\"speed_setpoint\") - 10.0, \"10 s\");\n",
     );
     let p = path.to_str().expect("utf-8");
-    let check = drivescript(&["check", p], "");
-    assert_eq!(check.status.code(), Some(2));
-    let err = stderr(&check);
+    let err = cli(&["check", p], 2).stderr;
     for part in [
         "a wait_until condition must not use the drive: `d` is used inside the condition",
         "script.rhai:5:3]",
@@ -669,7 +665,7 @@ fn check_finds_a_wait_until_condition_that_uses_the_drive() {
     }
     let (result, output) = InProcessRun::new(&path).run();
     assert_eq!(result.exit_code, 2, "{output}");
-    assert!(output.contains("nothing was sent to the drive"), "{output}");
+    assert_has(&output, &["nothing was sent to the drive"]);
     assert!(result.simulator.is_none(), "no drive opened: {output}");
 }
 
@@ -683,14 +679,16 @@ fn a_data_race_in_wait_until_is_located_at_the_wait_and_the_drive_is_stopped() {
                 d.wait_until(\"speed_actual\", conditions[0], \"10 s\");\n";
     let (result, output) = run_script("data-race", text, None, Arc::new(StopRequests::new()));
     assert_eq!(result.exit_code, 3, "{output}");
-    assert!(output.contains("script.rhai:5:3]"), "{output}");
-    assert!(
-        output.contains("the wait_until condition holds the drive the wait is called on"),
-        "{output}"
+    assert_has(
+        &output,
+        &[
+            "script.rhai:5:3]",
+            "the wait_until condition holds the drive the wait is called on",
+            "or wait on that object itself",
+        ],
     );
-    assert!(output.contains("or wait on that object itself"), "{output}");
-    assert!(!output.contains("Data race detected"), "{output}");
-    assert!(output.contains("drive left in ready to switch on"), "{output}");
+    assert_lacks(&output, &["Data race detected"]);
+    assert_has(&output, &["drive left in ready to switch on"]);
     assert!(control_words(&result).ends_with(&[7, 6]), "{output}");
 }
 
@@ -704,15 +702,12 @@ fn a_condition_that_calls_the_drive_is_refused_at_its_place() {
                 d.wait_until(\"speed_actual\", above_setpoint(d), \"10 s\");\n";
     let (result, output) = run_script("condition-calls", text, None, Arc::new(StopRequests::new()));
     assert_eq!(result.exit_code, 3, "{output}");
-    assert!(output.contains("script.rhai:4:34]"), "{output}");
+    assert_has(&output, &["script.rhai:4:34]"]);
     assert!(
         output.contains("ERROR: ")
             && output.contains("script.rhai:4:34: a wait_until condition must not call the drive"),
         "{output}"
     );
-    assert!(
-        output.contains("read any other value before the wait"),
-        "{output}"
-    );
+    assert_has(&output, &["read any other value before the wait"]);
     assert!(control_words(&result).ends_with(&[7, 6]), "{output}");
 }

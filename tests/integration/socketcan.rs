@@ -6,7 +6,7 @@
 
 #![cfg(target_os = "linux")]
 
-use crate::support::{drivescript, stderr, stdout};
+use crate::support::{assert_has, cli, drivescript, stderr, stdout};
 use drivescript::bus::{FrameBus, FramePeer, SocketCanBus};
 use drivescript::family::lenze_9400::sim::Lenze9400Simulator;
 use drivescript::sim::SimConfig;
@@ -92,13 +92,12 @@ fn socketcan_reaches_a_simulated_node_on_a_virtual_can_interface() {
     stop.store(true, Ordering::SeqCst);
     let _ = node.join();
     assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
-    assert!(stdout(&out).contains("05.00.12.07"), "{}", stdout(&out));
-    assert!(stdout(&out).contains("43"), "{}", stdout(&out));
+    assert_has(&stdout(&out), &["05.00.12.07", "43"]);
 }
 
 #[test]
 fn a_missing_interface_is_a_clear_error_before_anything_is_sent() {
-    let out = drivescript(
+    let out = cli(
         &[
             "read",
             "ident",
@@ -107,8 +106,7 @@ fn a_missing_interface_is_a_clear_error_before_anything_is_sent() {
             "--can",
             "socketcan:nosuchcan7",
         ],
-        "",
+        3,
     );
-    assert_eq!(out.status.code(), Some(3), "{}", stdout(&out));
-    assert!(stderr(&out).contains("nosuchcan7"), "{}", stderr(&out));
+    assert_has(&out.stderr, &["nosuchcan7"]);
 }

@@ -1,4 +1,6 @@
-//! Helpers shared by the integration tests: running the built binary, loading vectors.
+//! Helpers shared by the integration tests: running the built binary (to its end, in the
+//! background, or as a simulator), in-process runs, scratch folders, assertions on output
+//! text, and loading vectors.
 
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -27,6 +29,46 @@ pub fn drivescript(args: &[&str], stdin: &str) -> Output {
     child.wait_with_output().expect("drivescript finishes")
 }
 
+/// A fresh, empty folder for a test's files, `drivescript-FILE-NAME-PID` in the system's
+/// temporary folder, FILE the calling test file, so tests of different files never share
+/// one.
+#[track_caller]
+pub fn scratch(name: &str) -> PathBuf {
+    let file = Path::new(std::panic::Location::caller().file())
+        .file_stem()
+        .map_or_else(String::new, |s| s.to_string_lossy().into_owned());
+    let dir = std::env::temp_dir().join(format!("drivescript-{file}-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("scratch dir");
+    dir
+}
+
+/// Writes `text` to `dir/name`; the file's path.
+pub fn write_file(dir: &Path, name: &str, text: &str) -> PathBuf {
+    let path = dir.join(name);
+    std::fs::write(&path, text).expect("file written");
+    path
+}
+
+/// What a finished `drivescript` run wrote, as text.
+pub struct Ran {
+    pub stdout: String,
+    pub stderr: String,
+}
+
+/// Runs `drivescript ARGS` with no input and fails the test, showing both outputs, unless
+/// it exits with `code`.
+#[track_caller]
+pub fn cli(args: &[&str], code: i32) -> Ran {
+    let out = drivescript(args, "");
+    let ran = Ran {
+        stdout: stdout(&out),
+        stderr: stderr(&out),
+    };
+    assert_eq!(out.status.code(), Some(code), "{}{}", ran.stdout, ran.stderr);
+    ran
+}
+
 pub fn stdout(o: &Output) -> String {
     String::from_utf8_lossy(&o.stdout).into_owned()
 }
@@ -44,6 +86,26 @@ pub struct Vector {
 }
 
 pub fn load_vectors(path: &Path) -> Vec<Vector> {
+    load_yaml(path)
+}
+
+/// The repository's copy of a vector file holds exactly the vectors of the shared original
+/// `../shared/vectors/NAME`, where that is there to compare with.
+#[track_caller]
+pub fn assert_matches_shared(copy: &[Vector], name: &str) {
+    let shared = repo_root().join("../shared/vectors").join(name);
+    if shared.exists() {
+        let original = load_vectors(&shared);
+        assert_eq!(copy.len(), original.len());
+        for (c, o) in copy.iter().zip(&original) {
+            assert_eq!((&c.name, &c.hex, &c.frame), (&o.name, &o.hex, &o.frame));
+        }
+    }
+}
+
+/// A YAML file of test vectors read into `T`; a file that is missing or does not fit fails
+/// the test naming it.
+fn load_yaml<T: serde::de::DeserializeOwned>(path: &Path) -> T {
     let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
     serde_saphyr::from_str(&text).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
 }
@@ -58,8 +120,7 @@ pub struct FrameVector {
 }
 
 pub fn load_frame_vectors(path: &Path) -> Vec<FrameVector> {
-    let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-    serde_saphyr::from_str(&text).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+    load_yaml(path)
 }
 
 pub fn sd2_vectors() -> Vec<Vector> {
@@ -127,6 +188,60 @@ impl<'a> InProcessRun<'a> {
     }
 }
 
+/// The control words the run's simulated drive received, in order; none when the run
+/// opened no simulated drive.
+pub fn control_words(result: &drivescript::cli::RunResult) -> Vec<u16> {
+    result
+        .simulator
+        .as_ref()
+        .map(|s| {
+            s.lock()
+                .unwrap_or_else(std::sync::PoisonError::into_inner)
+                .control_words_written()
+        })
+        .unwrap_or_default()
+}
+
+/// A `drivescript simulate ARGS` in the background, stopped when dropped.
+pub struct Simulator {
+    child: std::process::Child,
+    /// The first line it printed: the pty path or the TCP address.
+    pub endpoint: String,
+}
+
+impl Simulator {
+    pub fn start(args: &[&str]) -> Simulator {
+        use std::io::BufRead;
+        let mut child = Command::new(env!("CARGO_BIN_EXE_drivescript"))
+            .arg("simulate")
+            .args(args)
+            .stdout(Stdio::piped())
+            .stderr(Stdio::null())
+            .spawn()
+            .expect("simulate starts");
+        let mut line = String::new();
+        std::io::BufReader::new(child.stdout.take().expect("stdout is piped"))
+            .read_line(&mut line)
+            .expect("simulate prints its endpoint");
+        Simulator {
+            child,
+            endpoint: line.trim().to_string(),
+        }
+    }
+
+    /// `drivescript simulate --pty ARGS` (e.g. `--address dnc:2,dnc:3`).
+    pub fn pty(args: &[&str]) -> Simulator {
+        Simulator::start(&[&["--pty"], args].concat())
+    }
+}
+
+impl Drop for Simulator {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
 /// `drivescript ARGS` running in the background (from the repository root), its standard
 /// output read as it comes: for the tests that signal a run in the middle.
 pub struct LiveRun {
@@ -190,5 +305,21 @@ impl LiveRun {
             .expect("the rest of the output");
         let code = self.child.wait().expect("the run ends").code();
         (code, self.seen)
+    }
+}
+
+/// Fails the test, showing all of `text`, unless `text` holds every one of `parts`.
+#[track_caller]
+pub fn assert_has(text: &str, parts: &[&str]) {
+    for part in parts {
+        assert!(text.contains(part), "expected {part:?} in:\n{text}");
+    }
+}
+
+/// Fails the test, showing all of `text`, if `text` holds any of `parts`.
+#[track_caller]
+pub fn assert_lacks(text: &str, parts: &[&str]) {
+    for part in parts {
+        assert!(!text.contains(part), "did not expect {part:?} in:\n{text}");
     }
 }

@@ -2,22 +2,14 @@
 //! for the stated reason), and the encoder, fed the frame's fields, reproduces every
 //! request byte for byte.
 
-use crate::support::{load_vectors, repo_root, sd2_vectors};
+use crate::support::{assert_matches_shared, sd2_vectors};
 use drivescript::family::sd2::codec::{to_json, Body, Cyclic, ServiceChannel, Telegram, WriteLength};
 use drivescript::hex::parse_hex;
 use serde_json::Value;
 
 #[test]
 fn the_copy_matches_the_shared_vectors() {
-    let shared = repo_root().join("../shared/vectors/sd2-dnc.yaml");
-    if shared.exists() {
-        let copy = sd2_vectors();
-        let original = load_vectors(&shared);
-        assert_eq!(copy.len(), original.len());
-        for (c, o) in copy.iter().zip(&original) {
-            assert_eq!((&c.name, &c.hex, &c.frame), (&o.name, &o.hex, &o.frame));
-        }
-    }
+    assert_matches_shared(&sd2_vectors(), "sd2-dnc.yaml");
 }
 
 #[test]

@@ -20,7 +20,8 @@ use crate::drive::device_control::{DeviceCommand, DeviceState};
 use crate::recipe::step::{Step, StepKind, StepOrigin};
 use std::time::Duration;
 
-const STEP_KEYS: &[&str] = &[
+/// Every step keyword, for the loader's suggestions and the JSON Schema's list alike.
+pub(in crate::recipe) const STEP_KEYS: &[&str] = &[
     "go_to",
     "set",
     "read",
@@ -29,10 +30,10 @@ const STEP_KEYS: &[&str] = &[
     "dwell",
     "sample",
     "expect",
-    "expect_parameters",
     "ramp",
     "repeat",
     "include",
+    "expect_parameters",
 ];
 
 impl Loader<'_, '_> {

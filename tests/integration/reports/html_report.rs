@@ -2,6 +2,7 @@
 
 use super::markup::{elements, html, inside, rows, select, text, texts};
 use super::sample_reports::{error_report, origin, passed_report, step};
+use crate::support::assert_has;
 use drivescript::report::{html_report, write_html};
 use drivescript::session::{CheckResult, Series};
 use scraper::{ElementRef, Html};
@@ -273,9 +274,9 @@ fn plots_show_their_own_window_checks_and_statistics_as_text() {
             .next()
             .unwrap(),
     );
-    assert!(
-        caption.contains("PASS speed_actual ripple below: 2.75 rpm (limits < 5 rpm)"),
-        "{caption}"
+    assert_has(
+        &caption,
+        &["PASS speed_actual ripple below: 2.75 rpm (limits < 5 rpm)"],
     );
 }
 
@@ -348,6 +349,7 @@ fn degenerate_series_still_plot() {
         unit: Some("°C".into()),
         step: "9".into(),
         points: vec![(f64::NAN, 1.0)],
+        samples: None,
     });
     let page = html_report(&r);
     let doc = parse(&page);
@@ -488,4 +490,35 @@ fn chromium_prints_the_report_to_pdf() {
     let pages = text.matches("/MediaBox [0 0 594.9").count();
     assert!((1..=6).contains(&pages), "{pages} A4 pages");
     std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// A check after a repeat is not listed under the repeat's last pass: once a group heading
+/// stands before them, checks outside any repeat or include get a heading of their own.
+#[test]
+fn checks_after_a_repeat_are_not_under_its_last_pass() {
+    let mut r = passed_report();
+    let base = r.checks[0].clone();
+    r.checks = ["repeat 2 times (2 steps) #1", "repeat 2 times (2 steps) #2", ""]
+        .iter()
+        .map(|stage| CheckResult {
+            stage: stage.to_string(),
+            ..base.clone()
+        })
+        .collect();
+    let doc = parse(&html_report(&r));
+    assert_eq!(
+        texts(&doc, "section#checks tr.group th"),
+        vec![
+            "repeat 2 times (2 steps) #1",
+            "repeat 2 times (2 steps) #2",
+            "not in a repeat or include"
+        ]
+    );
+    let last_two: Vec<String> = select(&doc, "section#checks tbody > tr")
+        .iter()
+        .rev()
+        .take(2)
+        .map(|row| row.value().attr("class").unwrap_or_default().to_string())
+        .collect();
+    assert_eq!(last_two, ["pass", "group"]);
 }

@@ -5,6 +5,7 @@
 
 use super::markup::{case_out, junit, junit_xsd, xml_elements, XML_DECLARATION};
 use super::sample_reports::{check, error_report, origin, passed_report, speed_check};
+use crate::support::{assert_has, assert_lacks};
 use drivescript::report::{junit_not_run, junit_unfinished, junit_xml, write_junit};
 use drivescript::session::{CheckResult, PlannedCheck, Verdict};
 use drivescript::stop_request::StopSignal;
@@ -63,13 +64,15 @@ fn a_passed_run_is_one_suite_with_a_case_per_check_and_the_safe_stop() {
     assert_eq!(case.attribute("classname"), Some("Spindle <run-in> & \"test\""));
     assert_eq!(case.attribute("time"), Some("1.500"));
     let out = case_out(&doc, "speed_actual mean near").unwrap();
-    assert!(out.contains("measured: 6000.1 rpm"), "{out}");
-    assert!(out.contains("limits: 5970 .. 6030 rpm"), "{out}");
-    assert!(
-        out.contains("check: speed_actual mean near 6000 rpm ± 0.5 % at recipes/run-in.yaml:20:5"),
-        "{out}"
+    assert_has(
+        out,
+        &[
+            "measured: 6000.1 rpm",
+            "limits: 5970 .. 6030 rpm",
+            "check: speed_actual mean near 6000 rpm ± 0.5 % at recipes/run-in.yaml:20:5",
+            "step: 4",
+        ],
     );
-    assert!(out.contains("step: 4"), "{out}");
     let props: Vec<(&str, &str)> = suite
         .children()
         .filter(|n| n.has_tag_name("properties"))
@@ -82,7 +85,7 @@ fn a_passed_run_is_one_suite_with_a_case_per_check_and_the_safe_stop() {
     assert!(props.contains(&("started_at_utc", "2024-06-10T06:13:20Z")));
     assert!(props.contains(&("final_state", "switched on")));
     let log = case_out(&doc, "safe stop").unwrap();
-    assert!(log.contains("safe stop: finally: disable_operation ran"), "{log}");
+    assert_has(log, &["safe stop: finally: disable_operation ran"]);
     assert!(xml_elements(&doc, "failure").is_empty() && xml_elements(&doc, "error").is_empty());
 }
 
@@ -117,10 +120,7 @@ fn names_are_unique_and_carry_the_stage() {
 fn failed_checks_and_errors_are_failures_ci_sees() {
     let xml = junit_xml(&error_report(), &[]);
     let doc = parse(&xml);
-    assert!(
-        xml.contains("tests=\"3\" failures=\"2\" errors=\"1\" skipped=\"0\""),
-        "{xml}"
-    );
+    assert_has(&xml, &["tests=\"3\" failures=\"2\" errors=\"1\" skipped=\"0\""]);
     let failure = xml_elements(&doc, "failure")[0];
     assert_eq!(
         failure.attribute("message"),
@@ -140,11 +140,8 @@ fn failed_checks_and_errors_are_failures_ci_sees() {
     );
     // The step explained by its failed check is not repeated; the other one is.
     let error_text = error.text().unwrap_or("");
-    assert!(
-        error_text.contains("step 2 (steps) FAIL dwell 10 s"),
-        "{error_text}"
-    );
-    assert!(!error_text.contains("step 1 "), "{error_text}");
+    assert_has(error_text, &["step 2 (steps) FAIL dwell 10 s"]);
+    assert_lacks(error_text, &["step 1 "]);
     assert!(error_text.contains("safe stop: the safety net"));
     // The unconfirmed safe stop is a failure of its own.
     let stop = xml_elements(&doc, "failure")[1];
@@ -153,7 +150,7 @@ fn failed_checks_and_errors_are_failures_ci_sees() {
         .unwrap()
         .starts_with("CHECK THE DRIVE BY HAND"));
     // The check name with markup characters is escaped.
-    assert!(xml.contains("name=\"speed &amp; &lt;mean&gt;\""), "{xml}");
+    assert_has(&xml, &["name=\"speed &amp; &lt;mean&gt;\""]);
 }
 
 #[test]
@@ -172,10 +169,7 @@ fn checks_not_reached_are_skipped() {
     ];
     let xml = junit_xml(&r, &planned);
     let doc = parse(&xml);
-    assert!(
-        xml.contains("tests=\"4\" failures=\"2\" errors=\"1\" skipped=\"1\""),
-        "{xml}"
-    );
+    assert_has(&xml, &["tests=\"4\" failures=\"2\" errors=\"1\" skipped=\"1\""]);
     let skipped = xml_elements(&doc, "skipped");
     assert_eq!(skipped.len(), 1);
     assert_eq!(

@@ -1,7 +1,7 @@
 //! Run reports as the runner hands them over, for the report writers' tests: one that
-//! passed and one that ended in a communication error. Each report type is written out
-//! field by field in exactly one function here ([`report`], [`step`], [`check`]), so a
-//! new field of the run report is one edit.
+//! passed and one that ended in a communication error. A run report starts as the library
+//! starts one ([`report`]); steps and checks are written out field by field in exactly one
+//! function each ([`step`], [`check`]), so a new field is one edit.
 
 use drivescript::drive::DeviceState;
 use drivescript::session::{CheckResult, RunReport, Series, StepOrigin, StepRecord, Verdict};
@@ -82,30 +82,14 @@ pub fn speed_check(name: &str, measured: f64, passed: bool) -> CheckResult {
 /// state not read and the safe stop not confirmed.
 pub fn report(recipe: &str, recipe_path: &str, drive: &str, verdict: Verdict) -> RunReport {
     RunReport {
-        recipe: recipe.into(),
-        recipe_path: recipe_path.into(),
-        drive: drive.into(),
-        identity: None,
-        params: Vec::new(),
-        started_at: UNIX_EPOCH + Duration::from_secs(1_718_000_000),
-        duration: Duration::ZERO,
         verdict,
-        steps: Vec::new(),
-        checks: Vec::new(),
-        series: Vec::new(),
-        final_state: None,
-        final_speed: None,
-        speed_unit: None,
-        coasting: false,
-        stop_confirmed: false,
-        disobeyed: false,
-        no_device_control: false,
-        safe_stop: Vec::new(),
-        omitted_steps: 0,
-        omitted_checks: 0,
-        csv_files: Vec::new(),
-        resolutions: Vec::new(),
-        drive_ends: Vec::new(),
+        ..RunReport::started(
+            recipe.into(),
+            recipe_path.into(),
+            drive.into(),
+            Vec::new(),
+            UNIX_EPOCH + Duration::from_secs(1_718_000_000),
+        )
     }
 }
 
@@ -158,6 +142,7 @@ pub fn passed_report() -> RunReport {
             unit: Some("rpm".into()),
             step: "3".into(),
             points,
+            samples: None,
         }],
         final_state: Some(DeviceState::SwitchedOn),
         final_speed: Some(0.4),

@@ -7,10 +7,10 @@
 //! `R 4` reads object 4 → `= 5999` (a decimal integer), `W 3 6000` writes → `ok`;
 //! a refusal is `! CODE TEXT`.
 
+use crate::support::{assert_has, control_words, InProcessRun};
 mod text_access;
 mod text_simulator;
 
-use crate::support::InProcessRun;
 use drivescript::bus::{Bus, BusKind, SerialSettings};
 use drivescript::dictionary::{Address, AddressParser, Dictionary};
 use drivescript::drive::ObjectAccess;
@@ -20,7 +20,7 @@ use drivescript::family::{
 use drivescript::link::{Direction, TelegramExplainer};
 use drivescript::sim::SimConfig;
 use std::path::PathBuf;
-use std::sync::{Arc, Mutex, PoisonError};
+use std::sync::{Arc, Mutex};
 
 const DICTIONARIES: &[BuiltinDictionary] = &[BuiltinDictionary {
     name: "text",
@@ -131,30 +131,18 @@ fn a_test_family_plugs_in_through_the_registry_and_runs_a_recipe() {
     run.outputs.trace = Some(trace.clone());
     let (result, output) = run.run();
     assert_eq!(result.exit_code, 0, "{output}");
-    assert!(
-        output.contains("using the built-in simulated TEXT drive (node 1"),
-        "{output}"
+    assert_has(
+        &output,
+        &[
+            "using the built-in simulated TEXT drive (node 1",
+            "finally 1  ok    set speed_setpoint = 0 rpm (default finally)",
+            "drive left in ready to switch on at 0 rpm",
+            "PASSED",
+        ],
     );
-    assert!(
-        output.contains("finally 1  ok    set speed_setpoint = 0 rpm (default finally)"),
-        "{output}"
-    );
-    assert!(
-        output.contains("drive left in ready to switch on at 0 rpm"),
-        "{output}"
-    );
-    assert!(output.contains("PASSED"), "{output}");
-    let sim = result.simulator.expect("the simulated drive");
-    let words = sim
-        .lock()
-        .unwrap_or_else(PoisonError::into_inner)
-        .control_words_written();
-    assert_eq!(words, vec![6, 7, 15, 7, 6]);
+    assert_eq!(control_words(&result), vec![6, 7, 15, 7, 6]);
     // The trace reads the family's telegrams with the family's own explainer.
     let trace_text = std::fs::read_to_string(&trace).expect("trace");
-    assert!(
-        trace_text.contains("TX 57 20 33 20 33 30 30 30 0d  # W 3 3000"),
-        "{trace_text}"
-    );
+    assert_has(&trace_text, &["TX 57 20 33 20 33 30 30 30 0d  # W 3 3000"]);
     let _ = std::fs::remove_file(&trace);
 }

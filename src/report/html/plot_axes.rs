@@ -1,0 +1,76 @@
+//! The axes of a plot: the value and time ranges with their margins, round tick values,
+//! the time unit that suits a span, and an axis' title. Pure arithmetic and text.
+
+/// The range of `values`, widened by `pad` of its width on each side; never empty.
+pub fn padded_range(values: impl Iterator<Item = f64>, pad: f64) -> (f64, f64) {
+    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+    for v in values {
+        lo = lo.min(v);
+        hi = hi.max(v);
+    }
+    if !lo.is_finite() || !hi.is_finite() {
+        return (0.0, 1.0);
+    }
+    if hi - lo <= f64::EPSILON * hi.abs().max(1.0) {
+        let half = (lo.abs() * 0.01).max(0.5);
+        return (lo - half, hi + half);
+    }
+    let margin = (hi - lo) * pad;
+    (lo - margin, hi + margin)
+}
+
+/// Four to nine round tick values (1, 2 or 5 × 10^n apart) inside `lo..=hi`.
+pub fn ticks(lo: f64, hi: f64) -> Vec<f64> {
+    let raw = (hi - lo) / 8.0;
+    if raw <= 0.0 || !raw.is_finite() {
+        return vec![lo];
+    }
+    let magnitude = 10f64.powf(raw.log10().floor());
+    let step = [1.0, 2.0, 5.0, 10.0]
+        .iter()
+        .map(|m| m * magnitude)
+        .find(|s| *s >= raw)
+        .unwrap_or(10.0 * magnitude);
+    let first = (lo / step).ceil() as i64;
+    let last = (hi / step).floor() as i64;
+    (first..=last).map(|k| k as f64 * step).collect()
+}
+
+/// `v` rounded to `decimals` places, so that a tick reads 0.3 rather than 0.30000000000000004.
+pub fn round_to(v: f64, decimals: i32) -> f64 {
+    let f = 10f64.powi(decimals);
+    (v * f).round() / f
+}
+
+/// Seconds for short series, minutes or hours for run-ins.
+pub fn time_unit(span_s: f64) -> (&'static str, f64) {
+    if span_s > 3.0 * 3600.0 {
+        ("h", 3600.0)
+    } else if span_s > 600.0 {
+        ("min", 60.0)
+    } else {
+        ("s", 1.0)
+    }
+}
+
+/// `speed_actual [rpm]`: the object with its unit, as axes and captions name a series.
+pub fn axis_title(object: &str, unit: Option<&str>) -> String {
+    match unit {
+        Some(u) => format!("{object} [{u}]"),
+        None => object.to_string(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn ticks_are_round() {
+        assert_eq!(ticks(0.0, 10.0), vec![0.0, 2.0, 4.0, 6.0, 8.0, 10.0]);
+        assert_eq!(
+            ticks(5967.0, 6033.0),
+            vec![5970.0, 5980.0, 5990.0, 6000.0, 6010.0, 6020.0, 6030.0]
+        );
+    }
+}

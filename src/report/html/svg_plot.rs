@@ -1,0 +1,282 @@
+//! One SVG line plot of a sampled series with the limits of its checks, drawn in data
+//! coordinates, and the reduction of long series to the points it draws. Knows nothing of
+//! the page around it; the axes' ranges and ticks come from [`super::plot_axes`].
+
+use super::html_text::esc;
+use super::plot_axes::{axis_title, padded_range, round_to, ticks, time_unit};
+use crate::recipe::{number, CheckResult, Series};
+use crate::session::with_unit;
+use std::fmt::Write as _;
+
+/// Most points a plot's polyline holds; longer series keep the min and max of each bucket.
+pub const MAX_PLOT_POINTS: usize = 2000;
+// Plot geometry (SVG user units).
+const W: f64 = 760.0;
+const H: f64 = 320.0;
+const LEFT: f64 = 80.0;
+const RIGHT: f64 = 165.0;
+const TOP: f64 = 16.0;
+const BOTTOM: f64 = 52.0;
+
+/// An SVG line plot of a series with the limits of `checks`. The polyline's `points` hold
+/// the data itself (time in s, value); a transform maps them onto the plot area.
+pub fn plot_svg(series: &Series, checks: &[&CheckResult], id: usize) -> String {
+    let mut s = String::new();
+    let title = axis_title(&series.object, series.unit.as_deref());
+    let _ = writeln!(
+        s,
+        "<svg class=\"plot\" xmlns=\"http://www.w3.org/2000/svg\" viewBox=\"0 0 {W} {H}\" \
+         font-family=\"Helvetica, Arial, sans-serif\" font-size=\"11\" \
+         width=\"{W}\" height=\"{H}\" role=\"img\" aria-label=\"{}\">",
+        esc(&format!("{title} over time"))
+    );
+    let _ = writeln!(s, "<title>{}</title>", esc(&format!("{title} over time")));
+    let points = finite(&series.points);
+    if points.is_empty() {
+        let _ = writeln!(
+            s,
+            "<text x=\"{}\" y=\"{}\" text-anchor=\"middle\">no samples</text>\n</svg>",
+            W / 2.0,
+            H / 2.0
+        );
+        return s;
+    }
+    // Limits of the checks on this object: (value, label), each value once.
+    let mut limits: Vec<(f64, String)> = Vec::new();
+    for c in checks {
+        let stat = c.statistic.clone().map(|s| format!("{s} ")).unwrap_or_default();
+        let u = c.unit.as_deref().or(series.unit.as_deref());
+        let marks: Vec<(f64, String)> = match (c.low, c.high) {
+            (Some(lo), Some(hi)) if lo == hi => vec![(lo, format!("{stat}= {}", with_unit(lo, u)))],
+            (lo, hi) => lo
+                .map(|v| (v, format!("{stat}≥ {}", with_unit(v, u))))
+                .into_iter()
+                .chain(hi.map(|v| (v, format!("{stat}≤ {}", with_unit(v, u)))))
+                .collect(),
+        };
+        for (v, label) in marks {
+            if v.is_finite() && !limits.iter().any(|(w, _)| *w == v) {
+                limits.push((v, label));
+            }
+        }
+    }
+
+    let (t0, t1) = padded_range(points.iter().map(|p| p.0), 0.0);
+    // The data decides the range; a limit close to it widens it, one far off is marked at
+    // the edge, so ±0.5 % of data never shrinks to a flat line under a distant limit.
+    let (d0, d1) = padded_range(points.iter().map(|p| p.1), 0.05);
+    let reach = (d1 - d0) * 0.5;
+    let near: Vec<f64> = limits
+        .iter()
+        .map(|l| l.0)
+        .filter(|v| *v >= d0 - reach && *v <= d1 + reach)
+        .collect();
+    let (v0, v1) = if near.is_empty() {
+        (d0, d1)
+    } else {
+        padded_range(points.iter().map(|p| p.1).chain(near.iter().copied()), 0.05)
+    };
+    let (x_left, x_right, y_top, y_bottom) = (LEFT, W - RIGHT, TOP, H - BOTTOM);
+    let sx = (x_right - x_left) / (t1 - t0);
+    let sy = (y_bottom - y_top) / (v1 - v0);
+    let x = |t: f64| x_left + (t - t0) * sx;
+    let y = |v: f64| y_bottom - (v - v0) * sy;
+
+    // Grid and tick labels.
+    let (time_unit, time_div) = time_unit(t1 - t0);
+    for tick in ticks(t0 / time_div, t1 / time_div) {
+        let px = x(tick * time_div);
+        let _ = writeln!(
+            s,
+            "<line class=\"grid\" stroke=\"#ddd\" x1=\"{px:.2}\" y1=\"{y_top}\" x2=\"{px:.2}\" y2=\"{y_bottom}\"/>\
+             <text x=\"{px:.2}\" y=\"{:.2}\" text-anchor=\"middle\">{}</text>",
+            y_bottom + 16.0,
+            number(round_to(tick, 9))
+        );
+    }
+    for tick in ticks(v0, v1) {
+        let py = y(tick);
+        let _ = writeln!(
+            s,
+            "<line class=\"grid\" stroke=\"#ddd\" x1=\"{x_left}\" y1=\"{py:.2}\" x2=\"{x_right}\" y2=\"{py:.2}\"/>\
+             <text x=\"{:.2}\" y=\"{:.2}\" text-anchor=\"end\">{}</text>",
+            x_left - 6.0,
+            py + 4.0,
+            number(round_to(tick, 9))
+        );
+    }
+    // Axes and their titles.
+    let _ = writeln!(
+        s,
+        "<line class=\"axis\" stroke=\"#111\" x1=\"{x_left}\" y1=\"{y_bottom}\" x2=\"{x_right}\" y2=\"{y_bottom}\"/>\
+         <line class=\"axis\" stroke=\"#111\" x1=\"{x_left}\" y1=\"{y_top}\" x2=\"{x_left}\" y2=\"{y_bottom}\"/>"
+    );
+    let _ = writeln!(
+        s,
+        "<text class=\"axis-title\" x=\"{:.2}\" y=\"{:.2}\" text-anchor=\"middle\">time [{time_unit}]</text>",
+        (x_left + x_right) / 2.0,
+        H - 12.0
+    );
+    let (tx, ty) = (16.0, (y_top + y_bottom) / 2.0);
+    let _ = writeln!(
+        s,
+        "<text class=\"axis-title\" x=\"{tx}\" y=\"{ty:.2}\" text-anchor=\"middle\" \
+         transform=\"rotate(-90 {tx} {ty:.2})\">{}</text>",
+        esc(&title)
+    );
+
+    // The data, clipped to the plot area, in data coordinates.
+    let _ = writeln!(
+        s,
+        "<clipPath id=\"plot-area-{id}\"><rect x=\"{x_left}\" y=\"{y_top}\" width=\"{:.2}\" height=\"{:.2}\"/></clipPath>",
+        x_right - x_left,
+        y_bottom - y_top
+    );
+    let _ = write!(
+        s,
+        "<g clip-path=\"url(#plot-area-{id})\">\n<polyline class=\"data\" fill=\"none\" stroke=\"#1f4fa0\" stroke-width=\"1.5\" \
+         vector-effect=\"non-scaling-stroke\" \
+         transform=\"matrix({sx} 0 0 {} {} {})\" points=\"",
+        -sy,
+        x_left - t0 * sx,
+        y_bottom + v0 * sy
+    );
+    for (k, (t, v)) in downsample(&points).iter().enumerate() {
+        if k > 0 {
+            s.push(' ');
+        }
+        let _ = write!(s, "{},{}", number(*t), number(*v));
+    }
+    s.push_str("\"/>\n");
+    // Limits: dashed lines across inside the range, labelled on the right; a limit outside
+    // the range is a label at the edge it lies beyond, with an arrow.
+    for (v, _) in limits.iter().filter(|(v, _)| (v0..=v1).contains(v)) {
+        let py = y(*v);
+        let _ = writeln!(
+            s,
+            "<line class=\"limit\" stroke=\"#b00000\" stroke-dasharray=\"6 4\" x1=\"{x_left}\" y1=\"{py:.2}\" x2=\"{x_right}\" y2=\"{py:.2}\"/>"
+        );
+    }
+    s.push_str("</g>\n");
+    let mut labels: Vec<(f64, String)> = limits
+        .iter()
+        .map(|(v, label)| {
+            if *v > v1 {
+                (y_top + 4.0, format!("↑ {label}"))
+            } else if *v < v0 {
+                (y_bottom, format!("↓ {label}"))
+            } else {
+                (y(*v) + 4.0, label.clone())
+            }
+        })
+        .collect();
+    spread_labels(&mut labels, 13.0, y_top + 4.0, y_bottom);
+    for (py, label) in &labels {
+        let _ = writeln!(
+            s,
+            "<text class=\"limit-label\" fill=\"#b00000\" x=\"{:.2}\" y=\"{py:.2}\">{}</text>",
+            x_right + 4.0,
+            esc(label)
+        );
+    }
+    s.push_str("</svg>\n");
+    s
+}
+
+/// Moves label baselines apart so that no two are closer than `gap`, keeping them between
+/// `top` and `bottom` where there is room; the order of the labels is kept.
+pub fn spread_labels(labels: &mut [(f64, String)], gap: f64, top: f64, bottom: f64) {
+    labels.sort_by(|a, b| a.0.total_cmp(&b.0));
+    for i in 1..labels.len() {
+        if labels[i].0 < labels[i - 1].0 + gap {
+            labels[i].0 = labels[i - 1].0 + gap;
+        }
+    }
+    // Pushed past the bottom: shift the whole stack up as far as the top allows.
+    if let Some(last) = labels.last().map(|l| l.0) {
+        let over = (last - bottom).max(0.0);
+        let room = labels.first().map_or(0.0, |l| (l.0 - top).max(0.0));
+        let shift = over.min(room);
+        for l in labels.iter_mut() {
+            l.0 -= shift;
+        }
+        for i in (0..labels.len().saturating_sub(1)).rev() {
+            if labels[i].0 > labels[i + 1].0 - gap {
+                labels[i].0 = labels[i + 1].0 - gap;
+            }
+        }
+    }
+}
+
+pub fn finite(points: &[(f64, f64)]) -> Vec<(f64, f64)> {
+    points
+        .iter()
+        .copied()
+        .filter(|(t, v)| t.is_finite() && v.is_finite())
+        .collect()
+}
+
+/// At most [`MAX_PLOT_POINTS`] points: all of them, or per bucket of consecutive points
+/// its minimum and maximum in time order, so peaks stay visible.
+pub fn downsample(points: &[(f64, f64)]) -> Vec<(f64, f64)> {
+    if points.len() <= MAX_PLOT_POINTS {
+        return points.to_vec();
+    }
+    let buckets = MAX_PLOT_POINTS / 2;
+    let mut out = Vec::with_capacity(MAX_PLOT_POINTS);
+    for b in 0..buckets {
+        let start = b * points.len() / buckets;
+        let end = ((b + 1) * points.len() / buckets).min(points.len());
+        let chunk = &points[start..end];
+        if chunk.is_empty() {
+            continue;
+        }
+        let (mut lo, mut hi) = (0, 0);
+        for (i, p) in chunk.iter().enumerate() {
+            if p.1 < chunk[lo].1 {
+                lo = i;
+            }
+            if p.1 > chunk[hi].1 {
+                hi = i;
+            }
+        }
+        let (a, b) = if lo <= hi { (lo, hi) } else { (hi, lo) };
+        out.push(chunk[a]);
+        if b != a {
+            out.push(chunk[b]);
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn long_series_are_downsampled_keeping_peaks() {
+        let mut points: Vec<(f64, f64)> = (0..100_000).map(|i| (f64::from(i) * 0.01, 1.0)).collect();
+        points[54_321].1 = 99.0;
+        points[77_777].1 = -42.0;
+        let d = downsample(&points);
+        assert!(
+            d.len() <= MAX_PLOT_POINTS && d.len() > MAX_PLOT_POINTS / 2,
+            "{}",
+            d.len()
+        );
+        assert!(d.contains(&points[54_321]) && d.contains(&points[77_777]));
+        assert!(d.windows(2).all(|w| w[0].0 < w[1].0), "in time order");
+    }
+
+    #[test]
+    fn labels_are_spread() {
+        let mut labels: Vec<(f64, String)> = [(100.0, "a"), (101.0, "b"), (99.0, "c"), (300.0, "d")]
+            .map(|(y, l)| (y, l.to_string()))
+            .into();
+        spread_labels(&mut labels, 13.0, 20.0, 300.0);
+        let ys: Vec<f64> = labels.iter().map(|l| l.0).collect();
+        assert!(ys.windows(2).all(|w| w[1] - w[0] >= 13.0 - 1e-9), "{ys:?}");
+        assert!(ys.iter().all(|y| (20.0..=300.0).contains(y)), "{ys:?}");
+        assert_eq!(labels[0].1, "c", "order kept");
+    }
+}
