@@ -7,9 +7,9 @@
 use crate::support::{drivescript, stdout};
 
 #[cfg(unix)]
-use crate::safety::{traced_writes, PtySimulator, CONTROL_WORD, SPEED_SETPOINT};
+use crate::safety::{traced_writes, CONTROL_WORD, SPEED_SETPOINT};
 #[cfg(unix)]
-use crate::support::{repo_root, LiveRun};
+use crate::support::{repo_root, LiveRun, Simulator};
 #[cfg(unix)]
 use std::path::{Path, PathBuf};
 #[cfg(unix)]
@@ -70,15 +70,15 @@ fn control_words(trace: &str) -> Vec<(usize, i64)> {
 /// what went wrong (the test collects every recipe's outcome before it fails).
 #[cfg(unix)]
 fn ctrl_c_while_turning(recipe: &Path) -> Result<(), String> {
-    let sim = PtySimulator::start();
+    let sim = Simulator::pty(&[]);
     let name = recipe.file_stem().and_then(|s| s.to_str()).unwrap_or("recipe");
-    let dir = crate::safety::scratch(&format!("shipped-{name}"));
+    let dir = crate::support::scratch(&format!("shipped-{name}"));
     let trace = dir.join("run.trace");
     let run = LiveRun::start([
         std::ffi::OsStr::new("run"),
         recipe.as_os_str(),
         "--port".as_ref(),
-        sim.path.as_ref(),
+        sim.endpoint.as_ref(),
         "--trace".as_ref(),
         trace.as_os_str(),
         "--output-dir".as_ref(),

@@ -5,8 +5,8 @@
 
 #![cfg(unix)]
 
-use crate::safety::{scratch, PtySimulator};
 use crate::support::{drivescript, stderr, stdout, LiveRun};
+use crate::support::{scratch, Simulator};
 use std::time::{Duration, Instant};
 
 const KEEP_TURNING: &str = "name: Keep turning
@@ -19,26 +19,26 @@ steps:
 
 /// A simulated drive on a pty that a recipe with `leave_enabled: true` left enabled at
 /// 6000 rpm.
-fn drive_left_turning(name: &str) -> PtySimulator {
-    let sim = PtySimulator::start();
+fn drive_left_turning(name: &str) -> Simulator {
+    let sim = Simulator::pty(&[]);
     let dir = scratch(name);
     let recipe = dir.join("keep.yaml");
     std::fs::write(&recipe, KEEP_TURNING).expect("recipe");
-    let out = drivescript(&["run", &recipe.to_string_lossy(), "--port", &sim.path], "");
+    let out = drivescript(&["run", &recipe.to_string_lossy(), "--port", &sim.endpoint], "");
     let text = stdout(&out);
     assert_eq!(out.status.code(), Some(0), "{text}");
     assert!(text.contains("drive left in operation enabled at "), "{text}");
     sim
 }
 
-fn state_of(sim: &PtySimulator) -> String {
-    stdout(&drivescript(&["state", "--port", &sim.path], ""))
+fn state_of(sim: &Simulator) -> String {
+    stdout(&drivescript(&["state", "--port", &sim.endpoint], ""))
 }
 
 #[test]
 fn stop_brakes_a_drive_a_recipe_left_running_and_verifies_it() {
     let sim = drive_left_turning("stop-plain");
-    let out = drivescript(&["stop", "--port", &sim.path], "");
+    let out = drivescript(&["stop", "--port", &sim.endpoint], "");
     let text = stdout(&out);
     assert_eq!(out.status.code(), Some(0), "{text}{}", stderr(&out));
     let order = [
@@ -65,7 +65,7 @@ fn stop_brakes_a_drive_a_recipe_left_running_and_verifies_it() {
 /// code and the output, after checking the drive's state with `state`.
 fn interrupted_stop(name: &str, second: Option<&str>, state_after: &str) -> (Option<i32>, String) {
     let sim = drive_left_turning(name);
-    let mut run = LiveRun::start(["stop", "--port", &sim.path]);
+    let mut run = LiveRun::start(["stop", "--port", &sim.endpoint]);
     run.wait_for("finally 1  ok");
     std::thread::sleep(Duration::from_millis(300));
     run.signal("INT");
@@ -84,7 +84,7 @@ fn interrupted_stop(name: &str, second: Option<&str>, state_after: &str) -> (Opt
     (code, text)
 }
 
-fn assert_state(sim: &PtySimulator, state: &str) {
+fn assert_state(sim: &Simulator, state: &str) {
     let shown = state_of(sim);
     assert!(shown.contains(state), "{shown}");
 }
@@ -123,13 +123,13 @@ fn a_second_signal_during_stop_switches_the_power_stage_off_at_once() {
 #[test]
 fn stop_on_a_port_where_no_drive_answers_says_so_at_once_with_exit_code_3() {
     // The simulated drive answers at DNC address 9 only: the default address 2 is silent.
-    let sim = PtySimulator::start_with(&["--address", "dnc:9"]);
+    let sim = Simulator::pty(&["--address", "dnc:9"]);
     let started = Instant::now();
     let out = drivescript(
         &[
             "stop",
             "--port",
-            &sim.path,
+            &sim.endpoint,
             "--timeout",
             "100ms",
             "--retries",
