@@ -23,7 +23,7 @@ pub struct Refusal {
 }
 
 impl Refusal {
-    fn new(message: impl Into<String>, label: &'static str, help: Option<String>) -> Self {
+    pub(super) fn new(message: impl Into<String>, label: &'static str, help: Option<String>) -> Self {
         Refusal {
             message: message.into(),
             label,

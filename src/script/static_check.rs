@@ -2,10 +2,12 @@
 //! is resolved against the dictionary with the same rules a running script uses
 //! (`resolve`), and each refusal is a located diagnostic with did-you-mean; so is a state
 //! a `d.state()` is compared with (`d.state() == "fault"`). Also: each
-//! `--set` parameter must be read by a `param("name")`. Values a script computes are
+//! `--set` parameter must be read by a `param("name")`, in a type its default allows
+//! (`param_value`). Values a script computes are
 //! checked when the script runs. It must not run the script.
 
 use super::literal_calls::{Arg, LiteralCall};
+use super::param_value::{param_value, ParamKind};
 use super::resolve::{self, Refusal, Written};
 use crate::diag::{did_you_mean, suggestion_text, Diagnostic, Span};
 use crate::dictionary::Dictionary;
@@ -203,6 +205,17 @@ pub fn check_calls(
             }
             ("param", false) => {
                 if let Some((n, _)) = name {
+                    if let Some((_, given)) = set.iter().find(|(s, _)| *s == n) {
+                        match param_kind(c) {
+                            Ok(Some(kind)) => {
+                                if let Err(r) = param_value(&n, given, kind) {
+                                    refuse(&c.span, r);
+                                }
+                            }
+                            Ok(None) => {}
+                            Err((span, r)) => refuse(&span, r),
+                        }
+                    }
                     params.push(n);
                 }
             }
@@ -223,4 +236,25 @@ pub fn check_calls(
         }
     }
     problems
+}
+
+/// The kind of value a `param(…)` call asks for, from its literal default and unit;
+/// `None` when they are computed (the run converts the value then).
+fn param_kind(c: &LiteralCall) -> Result<Option<ParamKind>, (Span, Refusal)> {
+    match (c.args.get(1), c.args.get(2)) {
+        (None, _) => Ok(Some(ParamKind::Any)),
+        (Some(_), Some((Arg::Text(unit), span))) => match crate::dictionary::Unit::parse(unit) {
+            Ok(unit) => Ok(Some(ParamKind::InUnit(unit))),
+            Err(e) => Err((
+                span.clone(),
+                Refusal {
+                    message: format!("`{unit}` is not a unit: {e}"),
+                    label: "not a unit",
+                    help: None,
+                },
+            )),
+        },
+        (Some(_), Some(_)) => Ok(None),
+        (Some((_, default)), None) => Ok(ParamKind::of_literal(default.written())),
+    }
 }
