@@ -19,6 +19,7 @@ mod script_header;
 mod script_invalid;
 mod script_runner;
 mod static_check;
+mod unknown_calls;
 
 pub use sandbox::{
     MAX_ARRAY_SIZE, MAX_CALL_LEVELS, MAX_CSV_FILES, MAX_EXPR_DEPTH, MAX_MAP_SIZE,
