@@ -572,7 +572,8 @@ fn register_params(engine: &mut Engine, bridge: &Arc<Bridge>) {
     engine.register_fn(
         "param",
         move |name: &str, default: Dynamic, unit: &str| -> RhaiResult<Dynamic> {
-            let unit = crate::dictionary::Unit::parse(unit).map_err(|e| error(e.to_string()))?;
+            let unit = crate::dictionary::Unit::parse(unit)
+                .map_err(|e| refused(resolve::not_a_unit(unit, &e.to_string())))?;
             let default = number_arg(&default, &format!("the default of parameter `{name}`"))?;
             Ok(lookup(&b, name, ParamKind::InUnit(unit))?.unwrap_or(Dynamic::from_float(default)))
         },

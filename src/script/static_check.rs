@@ -205,16 +205,15 @@ pub fn check_calls(
             }
             ("param", false) => {
                 if let Some((n, _)) = name {
-                    if let Some((_, given)) = set.iter().find(|(s, _)| *s == n) {
-                        match param_kind(c) {
-                            Ok(Some(kind)) => {
-                                if let Err(r) = param_value(&n, given, kind) {
-                                    refuse(&c.span, r);
-                                }
+                    match param_kind(c) {
+                        Ok(Some(kind)) => {
+                            let given = set.iter().find(|(s, _)| *s == n);
+                            if let Some(Err(r)) = given.map(|(_, v)| param_value(&n, v, kind)) {
+                                refuse(&c.span, r);
                             }
-                            Ok(None) => {}
-                            Err((span, r)) => refuse(&span, r),
                         }
+                        Ok(None) => {}
+                        Err((span, r)) => refuse(&span, r),
                     }
                     params.push(n);
                 }
@@ -243,16 +242,17 @@ pub fn check_calls(
 fn param_kind(c: &LiteralCall) -> Result<Option<ParamKind>, (Span, Refusal)> {
     match (c.args.get(1), c.args.get(2)) {
         (None, _) => Ok(Some(ParamKind::Any)),
+        (Some((Arg::Text(_) | Arg::TextList(_) | Arg::Closure(_), span)), Some((Arg::Text(_), _))) => Err((
+            span.clone(),
+            Refusal {
+                message: "the default of a parameter with a unit is a number in that unit".into(),
+                label: "not a number",
+                help: Some("e.g. param(\"top\", 12000.0, \"rpm\")".into()),
+            },
+        )),
         (Some(_), Some((Arg::Text(unit), span))) => match crate::dictionary::Unit::parse(unit) {
             Ok(unit) => Ok(Some(ParamKind::InUnit(unit))),
-            Err(e) => Err((
-                span.clone(),
-                Refusal {
-                    message: format!("`{unit}` is not a unit: {e}"),
-                    label: "not a unit",
-                    help: None,
-                },
-            )),
+            Err(e) => Err((span.clone(), resolve::not_a_unit(unit, &e.to_string()))),
         },
         (Some(_), Some(_)) => Ok(None),
         (Some((_, default)), None) => Ok(ParamKind::of_literal(default.written())),
