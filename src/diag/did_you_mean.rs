@@ -1,6 +1,6 @@
 //! "Did you mean …?" suggestions for misspelt names, units, keys, steps and types, the one
-//! similarity rule of every loader. Pure string similarity (Jaro-Winkler, ignoring case);
-//! it must not know what the names mean.
+//! similarity rule of every loader. Pure string similarity (Jaro-Winkler, ignoring case,
+//! and one typing slip for short words); it must not know what the names mean.
 
 /// Up to three candidates close to `input`, best first. Case is ignored; each candidate is
 /// returned once, spelt as given.
@@ -8,7 +8,17 @@ pub fn did_you_mean<'a>(input: &str, candidates: impl IntoIterator<Item = &'a st
     let needle = input.to_ascii_lowercase();
     let mut scored: Vec<(f64, &str)> = Vec::new();
     for candidate in candidates {
-        let score = strsim::jaro_winkler(&needle, &candidate.to_ascii_lowercase());
+        let folded = candidate.to_ascii_lowercase();
+        let mut score = strsim::jaro_winkler(&needle, &folded);
+        // Jaro-Winkler only matches letters near their place, so a swapped pair in a short
+        // word (`rmp`) scores low although it is one slip away; it is suggested after the
+        // close names.
+        if score < THRESHOLD
+            && needle.chars().count() >= SLIP_MIN_LEN
+            && strsim::osa_distance(&needle, &folded) <= 1
+        {
+            score = THRESHOLD;
+        }
         if score >= THRESHOLD && !scored.iter().any(|(_, c)| c.eq_ignore_ascii_case(candidate)) {
             scored.push((score, candidate));
         }
@@ -19,6 +29,9 @@ pub fn did_you_mean<'a>(input: &str, candidates: impl IntoIterator<Item = &'a st
 
 /// Similarity below which a candidate is not worth suggesting.
 const THRESHOLD: f64 = 0.75;
+/// Shorter input than this is not matched by one slip: every one-letter unit is one slip
+/// away from any other letter.
+const SLIP_MIN_LEN: usize = 3;
 
 /// `did you mean a, b or c?`, or `None` without suggestions.
 pub fn suggestion_text(suggestions: &[String]) -> Option<String> {
@@ -47,6 +60,21 @@ mod tests {
             Some("rpm")
         );
         assert!(did_you_mean("zzzz", names).is_empty());
+    }
+
+    #[test]
+    fn one_slip_in_a_short_word_is_suggested() {
+        let units = ["rpm", "krpm", "%", "V", "mV", "A", "mA", "s", "ms", "min", "h"];
+        assert_eq!(
+            did_you_mean("rmp", units).first().map(String::as_str),
+            Some("rpm")
+        );
+        assert_eq!(
+            did_you_mean("mni", units).first().map(String::as_str),
+            Some("min")
+        );
+        assert!(did_you_mean("x", units).is_empty());
+        assert!(did_you_mean("zzz", units).is_empty());
     }
 
     #[test]

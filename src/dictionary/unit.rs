@@ -191,6 +191,12 @@ mod tests {
             }
             other => panic!("{other:?}"),
         }
+        match Unit::parse("rmp") {
+            Err(ValueError::UnknownUnit { suggestions, .. }) => {
+                assert_eq!(suggestions.first().map(String::as_str), Some("rpm"));
+            }
+            other => panic!("{other:?}"),
+        }
         let text = Unit::parse("furlong").unwrap_err().to_string();
         assert!(
             text.contains("known units: rpm, krpm, %, V, mV, A, mA, s, ms, min, h"),

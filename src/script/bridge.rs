@@ -118,6 +118,22 @@ impl Bridge {
         }
     }
 
+    /// A bridge with no session behind it, for `check`: the drive API can be registered
+    /// on it so that the names a script may call are known; a call through it answers
+    /// that the session is gone (nothing is ever sent).
+    pub fn detached(dictionary: Arc<Dictionary>) -> Self {
+        let (to_session, _) = std::sync::mpsc::channel();
+        let (_, from_session) = std::sync::mpsc::channel();
+        Bridge::new(
+            to_session,
+            from_session,
+            dictionary,
+            Vec::new(),
+            Arc::new(StopRequests::new()),
+            crate::clock::RealClock::shared(),
+        )
+    }
+
     /// Rhai's progress hook, after every operation: `Some` ends the script. A stop request
     /// ends it (in `finally`, only a second one), and so does the operation limit.
     pub fn on_progress(&self, count: u64) -> Option<Dynamic> {

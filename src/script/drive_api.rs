@@ -6,6 +6,7 @@
 
 use super::bridge::{Bridge, RhaiResult};
 use super::exchange::{Answer, Call};
+use super::param_value::{param_value, ParamKind, ParamValue};
 use super::resolve::{self, Refusal, Written};
 use super::sample_window::SampleWindow;
 use crate::drive::DeviceCommand;
@@ -528,27 +529,55 @@ fn register_checks(engine: &mut Engine, bridge: &Arc<Bridge>) {
 }
 
 fn register_params(engine: &mut Engine, bridge: &Arc<Bridge>) {
-    let lookup = |b: &Bridge, name: &str| {
-        b.params.iter().find(|(n, _)| n == name).map(|(_, v)| {
-            let t = v.trim();
-            match t.parse::<f64>() {
-                Ok(n) if n.is_finite() => Dynamic::from_float(n),
-                _ => Dynamic::from(t.to_string()),
-            }
-        })
+    let lookup = |b: &Bridge, name: &str, kind: ParamKind| -> RhaiResult<Option<Dynamic>> {
+        let Some((_, given)) = b.params.iter().find(|(n, _)| n == name) else {
+            return Ok(None);
+        };
+        Ok(Some(match param_value(name, given, kind).map_err(refused)? {
+            ParamValue::Number(n) => Dynamic::from_float(n),
+            ParamValue::Integer(n) => Dynamic::from_int(n),
+            ParamValue::Bool(v) => Dynamic::from_bool(v),
+            ParamValue::Text(t) => Dynamic::from(t),
+        }))
     };
     let b = bridge.clone();
     engine.register_fn("param", move |name: &str| -> RhaiResult<Dynamic> {
-        lookup(&b, name).ok_or_else(|| {
+        lookup(&b, name, ParamKind::Any)?.ok_or_else(|| {
             error(format!(
                 "parameter `{name}` is not set: run with --set {name}=VALUE, or give a default: param(\"{name}\", VALUE)"
             ))
         })
     });
     let b = bridge.clone();
-    engine.register_fn("param", move |name: &str, default: Dynamic| -> Dynamic {
-        lookup(&b, name).unwrap_or(default)
-    });
+    engine.register_fn(
+        "param",
+        move |name: &str, default: Dynamic| -> RhaiResult<Dynamic> {
+            let kind = if default.is_float() {
+                ParamKind::Number
+            } else if default.is_int() {
+                ParamKind::Integer
+            } else if default.is_bool() {
+                ParamKind::Bool
+            } else if default.is_string() {
+                ParamKind::Text
+            } else {
+                ParamKind::Any
+            };
+            Ok(lookup(&b, name, kind)?.unwrap_or(default))
+        },
+    );
+    // `param("top", 18000.0, "rpm")`: a number in the unit the script works in, whatever
+    // unit the `--set` value is written in.
+    let b = bridge.clone();
+    engine.register_fn(
+        "param",
+        move |name: &str, default: Dynamic, unit: &str| -> RhaiResult<Dynamic> {
+            let unit = crate::dictionary::Unit::parse(unit)
+                .map_err(|e| refused(resolve::not_a_unit(unit, &e.to_string())))?;
+            let default = number_arg(&default, &format!("the default of parameter `{name}`"))?;
+            Ok(lookup(&b, name, ParamKind::InUnit(unit))?.unwrap_or(Dynamic::from_float(default)))
+        },
+    );
     // `number("8000 rpm", "rpm")`: a parameter with a unit as a number in that unit; a
     // number stays as it is (a parameter given without a unit).
     engine.register_fn("number", |value: Dynamic, unit: &str| -> RhaiResult<f64> {

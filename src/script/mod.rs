@@ -9,6 +9,7 @@ mod drive_api;
 mod drive_in_condition;
 mod exchange;
 mod literal_calls;
+mod param_value;
 mod resolve;
 mod sample_window;
 mod sandbox;
@@ -18,6 +19,7 @@ mod script_header;
 mod script_invalid;
 mod script_runner;
 mod static_check;
+mod unknown_calls;
 
 pub use sandbox::{
     MAX_ARRAY_SIZE, MAX_CALL_LEVELS, MAX_CSV_FILES, MAX_EXPR_DEPTH, MAX_MAP_SIZE,

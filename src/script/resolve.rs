@@ -23,7 +23,7 @@ pub struct Refusal {
 }
 
 impl Refusal {
-    fn new(message: impl Into<String>, label: &'static str, help: Option<String>) -> Self {
+    pub(super) fn new(message: impl Into<String>, label: &'static str, help: Option<String>) -> Self {
         Refusal {
             message: message.into(),
             label,
@@ -173,7 +173,7 @@ pub fn set_value(dict: &Dictionary, name: &str, value: &Written) -> Result<(Obje
 
 /// `rpn` is not a unit; the unit parser's own words, with did-you-mean unless they
 /// already suggest one.
-fn not_a_unit(unit: &str, why: &str) -> Refusal {
+pub(super) fn not_a_unit(unit: &str, why: &str) -> Refusal {
     let help = if why.contains("did you mean") {
         None
     } else {

@@ -1,8 +1,11 @@
 //! A checked script: its file, name, header (`script_header`), the compiled program and
 //! the `--set` parameters, and the loading that checks it (syntax in the sandboxed engine,
-//! then the literal drive calls against the dictionary). Every problem is reported at
+//! calls of functions no one provides, then the literal drive calls against the
+//! dictionary). Every problem is reported at
 //! once; nothing here runs the script or talks to a drive.
 
+use super::bridge::Bridge;
+use super::drive_api::register;
 use super::drive_in_condition::conditions_using_the_drive;
 use super::literal_calls::literal_calls;
 use super::sandbox::sandbox;
@@ -10,6 +13,7 @@ use super::script_error::parse_error;
 use super::script_header::Header;
 use super::script_invalid::ScriptInvalid;
 use super::static_check::{check_calls, literal_writes};
+use super::unknown_calls::unknown_calls;
 use crate::diag::{read_source, Diagnostic, Diagnostics, Source, Span};
 use crate::dictionary::Dictionary;
 use crate::recipe::{DriveDecl, SafeStopChoice};
@@ -171,7 +175,15 @@ fn load_source_for(
         }
     }
     let ast = match sandbox().compile(source.text()) {
-        Ok(ast) => Some(ast),
+        Ok(ast) => {
+            let mut engine = sandbox();
+            register(
+                &mut engine,
+                &Arc::new(Bridge::detached(Arc::new(dictionary.clone()))),
+            );
+            problems.extend(unknown_calls(&ast, &engine, &source));
+            Some(ast)
+        }
         Err(e) => {
             problems.push(parse_error(&source, &e));
             None

@@ -2,10 +2,12 @@
 //! is resolved against the dictionary with the same rules a running script uses
 //! (`resolve`), and each refusal is a located diagnostic with did-you-mean; so is a state
 //! a `d.state()` is compared with (`d.state() == "fault"`). Also: each
-//! `--set` parameter must be read by a `param("name")`. Values a script computes are
+//! `--set` parameter must be read by a `param("name")`, in a type its default allows
+//! (`param_value`). Values a script computes are
 //! checked when the script runs. It must not run the script.
 
 use super::literal_calls::{Arg, LiteralCall};
+use super::param_value::{param_value, ParamKind};
 use super::resolve::{self, Refusal, Written};
 use crate::diag::{did_you_mean, suggestion_text, Diagnostic, Span};
 use crate::dictionary::Dictionary;
@@ -203,6 +205,16 @@ pub fn check_calls(
             }
             ("param", false) => {
                 if let Some((n, _)) = name {
+                    match param_kind(c) {
+                        Ok(Some(kind)) => {
+                            let given = set.iter().find(|(s, _)| *s == n);
+                            if let Some(Err(r)) = given.map(|(_, v)| param_value(&n, v, kind)) {
+                                refuse(&c.span, r);
+                            }
+                        }
+                        Ok(None) => {}
+                        Err((span, r)) => refuse(&span, r),
+                    }
                     params.push(n);
                 }
             }
@@ -223,4 +235,26 @@ pub fn check_calls(
         }
     }
     problems
+}
+
+/// The kind of value a `param(…)` call asks for, from its literal default and unit;
+/// `None` when they are computed (the run converts the value then).
+fn param_kind(c: &LiteralCall) -> Result<Option<ParamKind>, (Span, Refusal)> {
+    match (c.args.get(1), c.args.get(2)) {
+        (None, _) => Ok(Some(ParamKind::Any)),
+        (Some((Arg::Text(_) | Arg::TextList(_) | Arg::Closure(_), span)), Some((Arg::Text(_), _))) => Err((
+            span.clone(),
+            Refusal {
+                message: "the default of a parameter with a unit is a number in that unit".into(),
+                label: "not a number",
+                help: Some("e.g. param(\"top\", 12000.0, \"rpm\")".into()),
+            },
+        )),
+        (Some(_), Some((Arg::Text(unit), span))) => match crate::dictionary::Unit::parse(unit) {
+            Ok(unit) => Ok(Some(ParamKind::InUnit(unit))),
+            Err(e) => Err((span.clone(), resolve::not_a_unit(unit, &e.to_string()))),
+        },
+        (Some(_), Some(_)) => Ok(None),
+        (Some((_, default)), None) => Ok(ParamKind::of_literal(default.written())),
+    }
 }

@@ -108,6 +108,16 @@ fn write_takes_the_unit_as_its_own_argument() {
 }
 
 #[test]
+fn write_suggests_the_unit_meant() {
+    let out = drivescript(&["write", "speed_setpoint", "6000", "rmp"], "");
+    assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
+    let text = stderr(&out);
+    assert!(text.contains("unknown unit `rmp`"), "{text}");
+    assert!(text.contains("did you mean `rpm`?"), "{text}");
+    assert!(text.contains("nothing was sent"), "{text}");
+}
+
+#[test]
 fn colour_follows_the_color_option_and_is_off_in_pipes() {
     let run = |extra: &[&str]| {
         let mut args = vec!["run", "recipes/identity.yaml", "--fast"];

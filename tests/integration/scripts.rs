@@ -291,20 +291,27 @@ fn the_sandbox_refuses_modules_eval_file_or_process_access_and_oversized_data() 
         (
             "file",
             "let f = open(\"/etc/passwd\");\n",
-            3,
-            "Function not found: open",
+            2,
+            "unknown function `open`",
         ),
         (
             "read-file",
             "let t = read_string(\"/etc/passwd\");\n",
-            3,
-            "Function not found: read_string",
+            2,
+            "unknown function `read_string`",
         ),
         (
             "process",
             "system(\"rm -rf /\");\n",
+            2,
+            "unknown function `system`",
+        ),
+        // A function named only at run time is not there either.
+        (
+            "computed",
+            "let f = Fn(\"open\");\nf.call(\"/etc/passwd\");\n",
             3,
-            "Function not found: system",
+            "Function not found: open",
         ),
     ] {
         let path = dir.join(format!("{name}.rhai"));
@@ -319,13 +326,39 @@ fn the_sandbox_refuses_modules_eval_file_or_process_access_and_oversized_data() 
         assert!(output.contains(said), "{name}:\n{output}");
         if code == 2 {
             assert!(result.simulator.is_none(), "{name}: nothing may be sent");
-        } else {
+        }
+        // The help names what a script can call, unless a close name of the API is meant.
+        let close = output.contains("did you mean `read");
+        if (said.starts_with("unknown function") && !close) || code == 3 {
             assert!(
                 output.contains("no file, process or module access"),
                 "{name}:\n{output}"
             );
         }
     }
+}
+
+#[test]
+fn run_refuses_a_misspelt_call_before_it_opens_the_port() {
+    let dir = scratch("misspelt");
+    let path = write_script(
+        &dir,
+        "//! drive: sd2\nlet d = drive();\nd.go_to(\"operation_enabled\");\nlet w = d.sampel([\"speed_actual\"], \"100 ms\", \"1 s\");\n",
+    );
+    let p = path.to_str().expect("utf-8");
+    // A port that does not exist: the script is refused before anything tries to open it.
+    let run = drivescript(&["run", p, "--port", "/dev/drivescript-no-such-port"], "");
+    assert_eq!(run.status.code(), Some(2), "{}", stderr(&run));
+    let err = stderr(&run);
+    for part in [
+        "script.rhai:4:11]",
+        "unknown method `sampel`",
+        "did you mean `sample`?",
+        "nothing was sent",
+    ] {
+        assert!(err.contains(part), "{part}: {err}");
+    }
+    assert!(!err.contains("no-such-port"), "{err}");
 }
 
 #[test]
