@@ -341,8 +341,9 @@ fn the_sandbox_refuses_modules_eval_file_or_process_access_and_oversized_data() 
 #[test]
 fn run_refuses_a_misspelt_call_before_it_opens_the_port() {
     let dir = scratch("misspelt");
-    let path = write_script(
+    let path = write_file(
         &dir,
+        "script.rhai",
         "//! drive: sd2\nlet d = drive();\nd.go_to(\"operation_enabled\");\nlet w = d.sampel([\"speed_actual\"], \"100 ms\", \"1 s\");\n",
     );
     let p = path.to_str().expect("utf-8");
