@@ -25,6 +25,7 @@ pub mod link;
 pub mod parameters;
 pub mod recipe;
 pub mod report;
+pub mod run;
 pub mod script;
 pub mod session;
 pub mod sim;

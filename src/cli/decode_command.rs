@@ -1,10 +1,10 @@
 //! `drivescript decode`: explains captured telegrams, one per argument or per input line.
 
-use super::drive_args::DictionaryArgs;
-use super::{FAILED, INVALID, PASSED};
 use crate::dictionary::Dictionary;
 use crate::family::{Family, Registry};
 use crate::hex::parse_hex;
+use crate::run::DictionaryArgs;
+use crate::run::{FAILED, INVALID, PASSED};
 use clap::Args;
 use std::io::{BufRead, Write};
 use std::sync::Arc;

@@ -4,12 +4,13 @@
 //! `--force`, or a typed `yes` on a terminal when the state was read and is safe. Knows no
 //! family's commands: the family names its actions and carries them out.
 
-use super::connection_args::ConnectionArgs;
-use super::drive_args::{open_drive, DictionaryArgs};
-use super::{stop_signals, COMMUNICATION, INVALID, PASSED};
+use super::stop_signals;
 use crate::diag::{did_you_mean, suggestion_text};
 use crate::drive::{AccessError, DriveError, MaintenanceAction};
 use crate::family::Registry;
+use crate::run::ConnectionArgs;
+use crate::run::{open_drive, DictionaryArgs};
+use crate::run::{COMMUNICATION, INVALID, PASSED};
 use crate::sim::SimulatedDrive;
 use crate::stop_request::StopRequests;
 use clap::Args;

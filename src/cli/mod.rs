@@ -1,31 +1,19 @@
 //! The command line: argument parsing and one module per subcommand. Turns results into
 //! text and exit codes; must not build telegrams or touch ports itself.
 
-mod address_key_flags;
-mod connection_args;
 mod decode_command;
-mod drive_args;
-mod drive_limits;
-mod drive_set;
-mod exit_code;
 mod maintain_command;
-mod not_run;
 mod object_commands;
 mod panic_notice;
 mod parameter_commands;
 mod recipe_commands;
-mod run_setup;
 mod script_commands;
-mod several_runs;
 mod simulate_command;
 mod stop_signals;
 
-pub use connection_args::{Connection, ConnectionArgs};
-pub use drive_args::{open_drive, DictionaryArgs, OpenDrive};
 pub use maintain_command::{run_maintain, MaintainRequest, MaintainResult, PrepareMaintained};
-pub use recipe_commands::{run_recipe, OutputArgs, PrepareSimulator, RunRequest, RunResult, SafeStopArgs};
 
-pub use exit_code::*;
+use crate::run::{INVALID, PASSED};
 
 use clap::{Parser, Subcommand};
 
@@ -140,20 +128,4 @@ fn quiet_on_closed_pipe() {
     unsafe {
         libc::signal(libc::SIGPIPE, libc::SIG_DFL);
     }
-}
-
-/// A diagnostic rendered for standard error: with colours on a terminal, plain otherwise
-/// (CI logs), always with the file:line:column snippet header.
-pub fn render_diagnostic(d: &dyn miette::Diagnostic) -> String {
-    use std::io::IsTerminal;
-    let handler = if std::io::stderr().is_terminal() {
-        miette::GraphicalReportHandler::new()
-    } else {
-        miette::GraphicalReportHandler::new_themed(miette::GraphicalTheme::unicode_nocolor())
-    };
-    let mut out = String::new();
-    if handler.render_report(&mut out, d).is_err() {
-        out = format!("error: {d}\n");
-    }
-    out
 }

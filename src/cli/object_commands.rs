@@ -1,13 +1,13 @@
 //! One-off object access: `read`, `write`, `state`, `objects`, `ports`.
 
-use super::connection_args::ConnectionArgs;
-use super::drive_args::{open_drive, DictionaryArgs, OpenDrive};
-use super::{COMMUNICATION, INVALID, PASSED};
 use crate::dictionary::{Address, DataType, Dictionary, ObjectDef, Quantity};
 use crate::drive::device_control::{status_word_bits, DeviceState};
 use crate::drive::DriveError;
 use crate::drive::WriteOutcome;
 use crate::family::{Family, Registry};
+use crate::run::ConnectionArgs;
+use crate::run::{open_drive, DictionaryArgs, OpenDrive};
+use crate::run::{COMMUNICATION, INVALID, PASSED};
 use clap::Args;
 use serde_json::json;
 use std::sync::Arc;
@@ -376,7 +376,7 @@ pub fn objects(args: &ObjectsArgs) -> i32 {
     };
     let drive_limits = if args.from_drive {
         let names: Vec<String> = list.iter().map(|d| d.name.clone()).collect();
-        match super::drive_limits::read_all(&names, dictionary.clone(), &args.connection) {
+        match crate::run::drive_limits::read_all(&names, dictionary.clone(), &args.connection) {
             Ok((port, limits)) => Some((port, limits)),
             Err(e) => {
                 eprintln!("{e}");

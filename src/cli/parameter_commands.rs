@@ -2,15 +2,15 @@
 //! the live drive or another file, and written back after a printed plan. Prints and
 //! decides exit codes; the reading, comparing and writing are `crate::parameters`'.
 
-use super::connection_args::ConnectionArgs;
-use super::drive_args::{open_drive, DictionaryArgs, OpenDrive};
 use super::stop_signals;
-use super::{COMMUNICATION, FAILED, INVALID, PASSED};
 use crate::dictionary::Dictionary;
 use crate::drive::Drive;
 use crate::family::Registry;
 use crate::parameters::{self, Difference, Origin, Outcome, ParameterFile, Reading, SavedObject};
 use crate::report::write_atomically;
+use crate::run::ConnectionArgs;
+use crate::run::{open_drive, DictionaryArgs, OpenDrive};
+use crate::run::{COMMUNICATION, FAILED, INVALID, PASSED};
 use crate::stop_request::StopRequests;
 use clap::Args;
 use std::path::PathBuf;

@@ -1,13 +1,14 @@
 //! `drivescript simulate`: serves the simulated drive on a pseudo-terminal or a TCP port so
 //! any serial tool (or drivescript with `--port`/`--tcp`) can talk to it.
 
-use super::address_key_flags::DNC_ADDRESS;
-use super::{stop_signals, COMMUNICATION, INVALID, PASSED};
+use super::stop_signals;
 use crate::bus::{
     EchoingLine, FramePeer, FramePeerLine, Peer, PeerLine, SlcanAdapter, TcpTransport, WireTime,
 };
 use crate::clock::RealClock;
 use crate::family::{Registry, SimPeer, DEFAULT_DICTIONARY};
+use crate::run::DNC_ADDRESS;
+use crate::run::{COMMUNICATION, INVALID, PASSED};
 use crate::sim::SimConfig;
 use crate::sim_server::SimServer;
 use clap::Args;

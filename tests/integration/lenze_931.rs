@@ -6,9 +6,9 @@
 //! a drive that ignores commands; and a real pseudo-terminal with `simulate --pty`.
 
 use crate::support::{drivescript, repo_root, stderr, stdout, InProcessRun};
-use drivescript::cli::DictionaryArgs;
 use drivescript::clock::SharedClock;
 use drivescript::drive::{DeviceCommand, DeviceState};
+use drivescript::run::DictionaryArgs;
 use drivescript::sim::SimulatedDrive;
 use drivescript::stop_request::{StopRequests, StopSignal};
 use std::path::{Path, PathBuf};
@@ -213,7 +213,7 @@ type SharedSim = Arc<Mutex<dyn SimulatedDrive>>;
 
 /// Runs `path` on the simulated 931 (with the completed template) and returns the exit
 /// code, the output and every request line the drive received, in order.
-fn run_and_record(dir: &Path, path: PathBuf) -> (i32, String, Vec<String>) {
+pub(crate) fn run_and_record(dir: &Path, path: PathBuf) -> (i32, String, Vec<String>) {
     let captured: Arc<Mutex<Option<SharedSim>>> = Arc::new(Mutex::new(None));
     let keep = captured.clone();
     let prepare = move |sim: &Arc<Mutex<dyn SimulatedDrive>>, _: &SharedClock| {
@@ -355,7 +355,7 @@ fn without_a_profile_check_refuses_device_commands_and_states_saying_what_to_add
 fn run_with(
     recipe: &Path,
     dictionary: PathBuf,
-    prepare: &drivescript::cli::PrepareSimulator,
+    prepare: &drivescript::run::PrepareSimulator,
     stop: Arc<StopRequests>,
 ) -> (i32, String, Arc<Mutex<dyn SimulatedDrive>>) {
     let mut run = InProcessRun::new(recipe);

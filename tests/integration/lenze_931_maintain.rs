@@ -6,9 +6,10 @@
 use crate::lenze_931::{completed_template, dictionary_args, scratch};
 use crate::support::{drivescript, stderr, stdout};
 use drivescript::bus::Peer;
-use drivescript::cli::{run_maintain, ConnectionArgs, DictionaryArgs, MaintainRequest, PrepareMaintained};
+use drivescript::cli::{run_maintain, MaintainRequest, PrepareMaintained};
 use drivescript::family::lenze_931::LenzeSimulator;
 use drivescript::family::Registry;
+use drivescript::run::{ConnectionArgs, DictionaryArgs};
 use drivescript::sim::SimulatedDrive;
 use drivescript::stop_request::StopRequests;
 use std::sync::{Arc, Mutex, OnceLock, PoisonError};

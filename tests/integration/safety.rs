@@ -5,11 +5,11 @@
 
 use crate::support::InProcessRun;
 use crate::support::LiveRun;
-use drivescript::cli::RunResult;
 use drivescript::clock::SharedClock;
 use drivescript::drive::device_control::DeviceState;
 use drivescript::family::sd2::codec::{Body, Telegram};
 use drivescript::family::sd2::Sd2Simulator;
+use drivescript::run::RunResult;
 use drivescript::sim::SimulatedDrive;
 use drivescript::stop_request::{StopRequests, StopSignal};
 use std::path::{Path, PathBuf};

@@ -5,8 +5,8 @@
 
 use crate::safety::{received, scratch, written, CONTROL_WORD, SPEED_SETPOINT};
 use crate::support::{drivescript, repo_root, stderr, stdout, InProcessRun, LiveRun};
-use drivescript::cli::RunResult;
 use drivescript::clock::SharedClock;
+use drivescript::run::RunResult;
 use drivescript::sim::SimulatedDrive;
 use drivescript::stop_request::{StopRequests, StopSignal};
 use std::path::{Path, PathBuf};
@@ -35,7 +35,7 @@ fn control_words(result: &RunResult) -> Vec<u16> {
 fn run_script(
     name: &str,
     text: &str,
-    prepare: Option<&drivescript::cli::PrepareSimulator>,
+    prepare: Option<&drivescript::run::PrepareSimulator>,
     stop: Arc<StopRequests>,
 ) -> (RunResult, String) {
     let dir = scratch(&format!("script-{name}"));

@@ -8,8 +8,8 @@
 use super::connection_args::{CanSpec, ConnectionArgs};
 use super::drive_args::DictionaryArgs;
 use super::not_run::silent_drive;
-use super::recipe_commands::RunRequest;
 use super::run_setup::{telegram_outputs, SharedTelegrams};
+use super::RunRequest;
 use crate::bus::{
     Bus, BusKind, FramePeer, FramePeerLine, MemoryFrameBus, MemoryTransport, Peer, PeerLine, SharedFrameBus,
     SharedTransport,
@@ -288,7 +288,7 @@ pub fn check_drives(
 /// with every drive simulated, each drive's address and link settings, and the one trace
 /// for all of them (its telegrams are explained with the first drive's family, so drives
 /// of different families are not traced together). On failure, the message (exit code 2).
-pub fn several_checked(
+pub fn named_drives_checked(
     request: &RunRequest,
     connection: &ConnectionArgs,
     decls: &[DriveDecl],
@@ -320,10 +320,10 @@ pub fn several_checked(
     telegram_outputs(outputs, &|| family.explainer(first_dict.clone())).map(SharedTelegrams::new)
 }
 
-/// Opens the drives checked by [`several_checked`], says early when one never answers,
+/// Opens the drives checked by [`named_drives_checked`], says early when one never answers,
 /// and hands every simulated drive, in the order declared, to the run's
 /// `prepare_simulator`. On failure, the message (exit code 3).
-pub fn several_opened(
+pub fn named_drives_opened(
     request: &RunRequest,
     connection: &ConnectionArgs,
     decls: &[DriveDecl],

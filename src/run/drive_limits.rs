@@ -9,6 +9,7 @@ use crate::dictionary::{Dictionary, Value};
 use crate::drive::Drive;
 use crate::family::Registry;
 use crate::recipe::{number, written_values, Recipe, WrittenValue};
+use crate::stop_request::StopRequests;
 use std::collections::BTreeMap;
 use std::io::Write;
 use std::sync::Arc;
@@ -154,6 +155,35 @@ pub fn report(
             let _ = writeln!(err, "{text}");
             (super::COMMUNICATION, format!("{e}\n{text}"))
         }
+    }
+}
+
+/// Before the first telegram that moves anything: the values `values` write compared with
+/// the limits the drive itself reports, as `check --port` compares them (families whose
+/// drives report none are asked nothing and nothing is said). `Err` holds the exit code
+/// and the reason for the not-run reports, already said on `err`.
+pub fn within_drive_limits(
+    values: &[WrittenValue],
+    drive: &mut Drive,
+    path: &str,
+    stop: &StopRequests,
+    out: &mut dyn Write,
+    err: &mut dyn Write,
+) -> Result<(), (i32, String)> {
+    let check = compare(values, drive);
+    // A stop signal while the limits were read ends the run with that signal's code; the
+    // unanswered read is no communication failure.
+    if let (Err(_), Some(signal)) = (&check, stop.first()) {
+        let why = format!(
+            "stopped by {} while the drive's limits were read; nothing was sent to move the drive",
+            signal.describe()
+        );
+        let _ = writeln!(err, "{why}");
+        return Err((signal.exit_code(), why));
+    }
+    match report(&check, path, false, out, err) {
+        (super::PASSED, _) => Ok(()),
+        (code, why) => Err((code, why)),
     }
 }
 

@@ -3,8 +3,8 @@
 //! for, so CI reads this run's failure and never an earlier report, and words the message
 //! for a drive that does not answer.
 
+use super::run_plan::RunPlan;
 use super::{ConnectionArgs, RunRequest, RunResult, COMMUNICATION};
-use crate::recipe::Recipe;
 use crate::report::{html_not_run, junit_not_run, write_atomically};
 use crate::session::PlannedCheck;
 use std::io::Write;
@@ -39,14 +39,14 @@ pub fn silent_drive(connection: &ConnectionArgs, detail: &str) -> String {
 /// reads this run's failure and not an earlier report; then the result with `code`.
 pub fn not_run(
     request: &RunRequest,
-    recipe: Option<(&Recipe, &[PlannedCheck])>,
+    plan: Option<(&RunPlan, &[PlannedCheck])>,
     code: i32,
     why: &str,
     err: &mut dyn Write,
 ) -> RunResult {
-    let path = request.recipe.display().to_string();
-    let (name, recipe_path, planned) = match recipe {
-        Some((r, planned)) => (r.name.clone(), r.path.clone(), planned),
+    let path = request.file.display().to_string();
+    let (name, recipe_path, planned) = match plan {
+        Some((p, planned)) => (p.name().to_string(), p.path().to_string(), planned),
         None => (path.clone(), path, &[][..]),
     };
     let (kind, word) = if code == COMMUNICATION {

@@ -3,7 +3,7 @@
 //! command that talks to a drive.
 
 use super::connection_args::{Connection, ConnectionArgs};
-use super::render_diagnostic;
+use crate::diag::render_diagnostic;
 use crate::dictionary::{BenchLimits, Dictionary, LIMITS_ENV};
 use crate::drive::Drive;
 use crate::family::{LinkContext, Registry, DEFAULT_DICTIONARY};
@@ -69,10 +69,10 @@ impl DictionaryArgs {
         self.load_for(&Registry::builtin(), None)
     }
 
-    /// The built-in SD2 dictionary and no extra files.
-    pub fn builtin_sd2() -> Self {
+    /// The dictionary `--drive` names when it is not given, and no extra files.
+    pub fn builtin_default() -> Self {
         DictionaryArgs {
-            family: "sd2".into(),
+            family: DEFAULT_DICTIONARY.into(),
             extra: Vec::new(),
             limits: None,
         }

@@ -1,0 +1,169 @@
+//! One run pipeline for recipes and scripts: what a script used to skip because it ran
+//! through a copy of the recipe's pipeline — the comparison with the drive's own limits
+//! for named drives, the early word about a drive that never answers, and the not-run
+//! JUnit and HTML reports of a run that cannot start.
+
+use crate::lenze_931::{run_and_record, scratch};
+use crate::support::{drivescript, stderr};
+use std::path::{Path, PathBuf};
+
+fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
+    let path = dir.join(name);
+    std::fs::write(&path, text).expect("write");
+    path
+}
+
+/// A script with `//! drives:` has its literal values compared with the limits each
+/// named drive reports, as a recipe with `drives:` does, before anything moves. (Only
+/// the 931 reports limits, and it has one drive per line, so the drive is one.)
+#[test]
+fn a_script_with_named_drives_is_refused_by_a_drive_limit_before_anything_moves() {
+    let dir = scratch("script-drives-limits");
+    let script = write(
+        &dir,
+        "named.rhai",
+        "//! drives: axis = lenze-931\nlet axis = drive(\"axis\");\naxis.set(\"operating_mode\", 9);\naxis.set(\"speed_setpoint\", 100.0, \"rpm\");\n",
+    );
+    let (code, output, requests) = run_and_record(&dir, script);
+    assert_eq!(code, 2, "{output}");
+    // The state read that tells a silent drive early, then each object's limits once.
+    assert_eq!(
+        requests,
+        ["OR:0021", "ON:0014", "OX:0014", "ON:0010", "OX:0010"],
+        "{output}"
+    );
+    assert!(
+        output.contains(
+            "named.rhai:3:28: set axis.operating_mode = 9 is above the maximum the drive reports, 3"
+        ),
+        "{output}"
+    );
+    assert!(output.contains("nothing was sent to move the drive"), "{output}");
+}
+
+/// A script on a drive that never answers is told so once, before it starts, with what
+/// to check, as a recipe is; its JUnit file says why.
+#[test]
+fn a_script_against_a_drive_that_never_answers_says_so_early() {
+    let sim = crate::end_to_end::Simulator::start(&["--tcp", "127.0.0.1:0"]);
+    let dir = scratch("script-silent");
+    let script = write(
+        &dir,
+        "silent.rhai",
+        "let d = drive();\nprint(d.read(\"speed_actual\"));\n",
+    );
+    let junit = dir.join("junit.xml");
+    let out = drivescript(
+        &[
+            "run",
+            script.to_str().unwrap(),
+            "--tcp",
+            &sim.endpoint,
+            "--address",
+            "1",
+            "--timeout",
+            "50ms",
+            "--retries",
+            "0",
+            "--junit",
+            junit.to_str().unwrap(),
+        ],
+        "",
+    );
+    assert_eq!(out.status.code(), Some(3), "{}", stderr(&out));
+    let err = stderr(&out);
+    assert!(err.contains("the drive does not answer (--address 1,"), "{err}");
+    assert_eq!(err.matches("no reply from").count(), 1, "said once: {err}");
+    let xml = std::fs::read_to_string(&junit).expect("junit");
+    assert!(xml.contains("the drive does not answer"), "{xml}");
+}
+
+/// A script that cannot start (invalid, or its port cannot be opened) replaces the JUnit
+/// and HTML files it was asked for with ones that say why, as a recipe does.
+#[test]
+fn a_refused_script_writes_its_not_run_junit_and_html() {
+    let dir = scratch("script-not-run");
+    let p = |name: &str| dir.join(name).to_str().expect("utf-8").to_string();
+    let (junit, html) = (p("junit.xml"), p("report.html"));
+    let bad = write(
+        &dir,
+        "bad.rhai",
+        "let d = drive();\nd.set(\"speed_setpont\", 1.0, \"rpm\");\n",
+    );
+    let invalid = drivescript(
+        &["run", bad.to_str().unwrap(), "--junit", &junit, "--report", &html],
+        "",
+    );
+    assert_eq!(invalid.status.code(), Some(2), "{}", stderr(&invalid));
+    let xml = std::fs::read_to_string(&junit).expect("junit");
+    crate::reports::markup::junit(&xml).unwrap_or_else(|e| panic!("{e}\n{xml}"));
+    assert!(xml.contains("type=\"invalid\""), "{xml}");
+    assert!(xml.contains("speed_setpont"), "{xml}");
+    let page = std::fs::read_to_string(&html).expect("html");
+    assert!(page.contains("NOT RUN — INVALID"), "{page}");
+
+    let good = write(
+        &dir,
+        "good.rhai",
+        "let d = drive();\nprint(d.read(\"speed_actual\"));\n",
+    );
+    let no_server = drivescript(
+        &[
+            "run",
+            good.to_str().unwrap(),
+            "--tcp",
+            "127.0.0.1:1",
+            "--junit",
+            &junit,
+            "--report",
+            &html,
+        ],
+        "",
+    );
+    assert_eq!(no_server.status.code(), Some(3), "{}", stderr(&no_server));
+    let xml = std::fs::read_to_string(&junit).expect("junit");
+    assert!(xml.contains("type=\"communication\""), "{xml}");
+    assert!(xml.contains("127.0.0.1:1"), "{xml}");
+    let page = std::fs::read_to_string(&html).expect("html");
+    assert!(page.contains("NOT RUN — ERROR"), "{page}");
+}
+
+/// What a further observer of the run gets: every check and the finished report, after
+/// the console, for a recipe and for a script alike.
+#[derive(Default)]
+struct Tally {
+    checks: Vec<String>,
+    finished: Option<String>,
+}
+
+impl drivescript::session::RunObserver for Tally {
+    fn check(&mut self, result: &drivescript::session::CheckResult) {
+        self.checks.push(result.name.clone());
+    }
+    fn run_finished(&mut self, report: &drivescript::session::RunReport) {
+        self.finished = Some(report.recipe.clone());
+    }
+}
+
+#[test]
+fn an_observer_given_with_the_request_sees_every_check_of_a_recipe_and_a_script() {
+    let dir = scratch("observers");
+    let script = write(
+        &dir,
+        "tally.rhai",
+        "let d = drive();\nexpect_near(\"zero\", d.read(\"speed_actual\"), 0.0, 5.0);\n",
+    );
+    let recipe = crate::support::repo_root().join("tests/cases/ok/commissioning/recipe.yaml");
+    for file in [recipe, script] {
+        let tally = std::sync::Arc::new(std::sync::Mutex::new(Tally::default()));
+        let mut run = crate::support::InProcessRun::new(&file);
+        run.observers.push(tally.clone());
+        let (result, output) = run.run();
+        let report = result.report.expect("the run started");
+        let tally = tally.lock().expect("not poisoned");
+        let names: Vec<String> = report.checks.iter().map(|c| c.name.clone()).collect();
+        assert!(!names.is_empty(), "{output}");
+        assert_eq!(tally.checks, names, "{output}");
+        assert_eq!(tally.finished.as_deref(), Some(report.recipe.as_str()));
+    }
+}
