@@ -11,8 +11,6 @@ mod script_commands;
 mod simulate_command;
 mod stop_signals;
 
-pub use maintain_command::{run_maintain, MaintainRequest, MaintainResult, PrepareMaintained};
-
 use crate::run::{INVALID, PASSED};
 
 use clap::{Parser, Subcommand};

@@ -79,14 +79,7 @@ pub struct RestoreArgs {
 fn origin(connection: &ConnectionArgs, open: &OpenDrive) -> Origin {
     Origin {
         address: connection
-            .address
-            .clone()
-            .or_else(|| {
-                connection
-                    .dnc_address
-                    .as_ref()
-                    .map(|n| format!("dnc_address {n}"))
-            })
+            .address_recorded()
             .map_or_else(|| open.drive.port(), |a| format!("{a} ({})", open.drive.port())),
         date: parameters::utc_timestamp(SystemTime::now()),
         tool: format!("drivescript {}", env!("CARGO_PKG_VERSION")),

@@ -249,6 +249,16 @@ impl ConnectionArgs {
         }
     }
 
+    /// The address as a parameter backup records it: `--address` as given, or the address
+    /// key a flag stands for with its value (`dnc_address 2`).
+    pub fn address_recorded(&self) -> Option<String> {
+        self.address.clone().or_else(|| {
+            self.dnc_address
+                .as_ref()
+                .map(|n| format!("{} {n}", DNC_ADDRESS.key))
+        })
+    }
+
     /// The address option as the user typed it, for messages: `--address 3B`,
     /// `--dnc-address 2`.
     pub fn address_given(&self) -> Option<String> {

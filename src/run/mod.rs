@@ -12,6 +12,7 @@ mod drive_args;
 pub mod drive_limits;
 mod drive_set;
 mod exit_code;
+mod maintain;
 mod not_run;
 mod output_args;
 mod pipeline;
@@ -26,6 +27,7 @@ pub use connection_args::{parse_bitrate, parse_duration, CanSpec, Connection, Co
 pub use drive_args::{open_drive, DictionaryArgs, OpenDrive};
 pub use drive_set::drive_dictionaries;
 pub use exit_code::*;
+pub use maintain::{run_maintain, MaintainRequest, MaintainResult, PrepareMaintained};
 pub use output_args::{ColorWhen, OutputArgs};
 pub use pipeline::run;
 pub use run_many::{outputs_for, run_many, worse};
