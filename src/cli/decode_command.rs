@@ -35,7 +35,7 @@ pub struct DecodeArgs {
 
 /// Exit code: 0 when every telegram decoded, 1 when any was rejected, 2 for text that is
 /// not hex at all.
-pub fn run(args: &DecodeArgs) -> i32 {
+pub fn run(args: &DecodeArgs, registry: &Registry) -> i32 {
     let lines: Vec<(String, String)> = if args.hex.is_empty() {
         let stdin = std::io::stdin();
         let mut out = Vec::new();
@@ -79,8 +79,7 @@ pub fn run(args: &DecodeArgs) -> i32 {
         }
         out
     };
-    let registry = Registry::builtin();
-    let (family, names) = match protocol_and_names(&registry, args) {
+    let (family, names) = match protocol_and_names(registry, args) {
         Ok(found) => found,
         Err(text) => {
             eprint!("{text}");
@@ -191,7 +190,7 @@ fn protocol_and_names(
     args: &DecodeArgs,
 ) -> Result<(Arc<dyn Family>, Arc<Dictionary>), String> {
     let Some(protocol) = args.protocol.as_deref() else {
-        let names = args.dictionary.load()?;
+        let names = args.dictionary.load_for(registry, None)?;
         let family = registry
             .family(names.family())
             .map_err(|e| format!("error: {e}\n"))?;
@@ -220,7 +219,7 @@ fn protocol_and_names(
             }
         }
     }
-    let names = wanted.load()?;
+    let names = wanted.load_for(registry, None)?;
     Ok((family, names))
 }
 

@@ -32,7 +32,7 @@ pub struct MaintainArgs {
     connection: ConnectionArgs,
 }
 
-pub fn maintain(args: &MaintainArgs) -> i32 {
+pub fn maintain(args: &MaintainArgs, registry: &Registry) -> i32 {
     let stop = stop_signals::install(false);
     let waiting = stop.clone();
     let mut ask = move |question: &str| -> bool {
@@ -60,7 +60,7 @@ pub fn maintain(args: &MaintainArgs) -> i32 {
     };
     let terminal = std::io::stdin().is_terminal() && std::io::stderr().is_terminal();
     let request = MaintainRequest {
-        registry: &Registry::builtin(),
+        registry,
         dictionary: &args.dictionary,
         connection: &args.connection,
         action: args.action.as_deref(),

@@ -11,6 +11,7 @@ mod script_commands;
 mod simulate_command;
 mod stop_signals;
 
+use crate::family::Registry;
 use crate::run::{INVALID, PASSED};
 
 use clap::{Parser, Subcommand};
@@ -77,8 +78,9 @@ struct CompletionsArgs {
     shell: clap_complete::Shell,
 }
 
-/// Runs the command line and returns the process exit code.
-pub fn main() -> i32 {
+/// Runs the command line with the drive families of `registry` and returns the process
+/// exit code.
+pub fn main(registry: &Registry) -> i32 {
     let cli = match Cli::try_parse() {
         Ok(cli) => cli,
         Err(e) => {
@@ -90,18 +92,18 @@ pub fn main() -> i32 {
         quiet_on_closed_pipe();
     }
     match cli.command {
-        Command::Run(args) => recipe_commands::run(&args),
-        Command::Check(args) => recipe_commands::check(&args),
-        Command::Read(args) => object_commands::read(&args),
-        Command::Write(args) => object_commands::write(&args),
-        Command::State(args) => object_commands::state(&args),
-        Command::Objects(args) => object_commands::objects(&args),
+        Command::Run(args) => recipe_commands::run(&args, registry),
+        Command::Check(args) => recipe_commands::check(&args, registry),
+        Command::Read(args) => object_commands::read(&args, registry),
+        Command::Write(args) => object_commands::write(&args, registry),
+        Command::State(args) => object_commands::state(&args, registry),
+        Command::Objects(args) => object_commands::objects(&args, registry),
         Command::Ports(args) => object_commands::ports(&args),
-        Command::Backup(args) => parameter_commands::backup(&args),
-        Command::Diff(args) => parameter_commands::diff(&args),
-        Command::Restore(args) => parameter_commands::restore(&args),
-        Command::Maintain(args) => maintain_command::maintain(&args),
-        Command::Schema(args) => recipe_commands::schema(&args),
+        Command::Backup(args) => parameter_commands::backup(&args, registry),
+        Command::Diff(args) => parameter_commands::diff(&args, registry),
+        Command::Restore(args) => parameter_commands::restore(&args, registry),
+        Command::Maintain(args) => maintain_command::maintain(&args, registry),
+        Command::Schema(args) => recipe_commands::schema(&args, registry),
         Command::Completions(args) => {
             use clap::CommandFactory;
             use std::io::Write;
@@ -110,8 +112,8 @@ pub fn main() -> i32 {
             let _ = std::io::stdout().write_all(&script);
             PASSED
         }
-        Command::Decode(args) => decode_command::run(&args),
-        Command::Simulate(args) => simulate_command::run(&args),
+        Command::Decode(args) => decode_command::run(&args, registry),
+        Command::Simulate(args) => simulate_command::run(&args, registry),
     }
 }
 

@@ -80,13 +80,13 @@ fn print_invalid(e: &RecipeInvalid) {
     eprint!("{}", e.render(std::io::stderr().is_terminal()));
 }
 
-pub fn check(args: &CheckArgs) -> i32 {
+pub fn check(args: &CheckArgs, registry: &Registry) -> i32 {
     let mut code = PASSED;
     let mut last_error = String::new();
     for path in &args.recipes {
         // Per recipe: each may have its own drivescript-limits.yaml next to it. A broken
         // --dictionary or --limits file is said once, not once per recipe.
-        let dictionary = match args.dictionary.load_for(&Registry::builtin(), Some(path)) {
+        let dictionary = match args.dictionary.load_for(registry, Some(path)) {
             Ok(d) => d,
             Err(text) => {
                 if text != last_error {
@@ -99,6 +99,7 @@ pub fn check(args: &CheckArgs) -> i32 {
         };
         if crate::script::is_script(path) {
             code = code.max(super::script_commands::check_script(
+                registry,
                 path,
                 &dictionary,
                 &args.dictionary,
@@ -112,7 +113,7 @@ pub fn check(args: &CheckArgs) -> i32 {
         let drive_dicts = if declared.is_empty() {
             Vec::new()
         } else {
-            match drive_dictionaries(&args.dictionary, &Registry::builtin(), path, &declared) {
+            match drive_dictionaries(&args.dictionary, registry, path, &declared) {
                 Ok(d) => d,
                 Err(text) => {
                     eprint!("{text}");
@@ -126,7 +127,7 @@ pub fn check(args: &CheckArgs) -> i32 {
             path,
             &dictionary,
             &drive_dicts,
-            &Registry::builtin().address_keys(),
+            &registry.address_keys(),
             &args.set,
         ) {
             Ok(recipe) if !recipe.drives.is_empty() => {
@@ -157,6 +158,7 @@ pub fn check(args: &CheckArgs) -> i32 {
                 }
                 if !args.connection.is_simulated() {
                     code = code.max(crate::run::drive_limits::check_and_print(
+                        registry,
                         &recipe,
                         dictionary,
                         &args.connection,
@@ -184,12 +186,11 @@ fn finally_note(recipe: &Recipe) -> &'static str {
     }
 }
 
-pub fn run(args: &RunArgs) -> i32 {
+pub fn run(args: &RunArgs, registry: &Registry) -> i32 {
     let stop = stop_signals::install(true);
     panic_notice::install();
-    let registry = Registry::builtin();
     let request = RunRequest {
-        registry: &registry,
+        registry,
         file: std::path::Path::new(""),
         set: &args.set,
         fast: args.fast,
@@ -225,14 +226,12 @@ pub struct SchemaArgs {
     dictionary: DictionaryArgs,
 }
 
-pub fn schema(args: &SchemaArgs) -> i32 {
-    match args.dictionary.load() {
+pub fn schema(args: &SchemaArgs, registry: &Registry) -> i32 {
+    match args.dictionary.load_for(registry, None) {
         Ok(d) => {
-            let text = serde_json::to_string_pretty(&crate::recipe::recipe_schema(
-                &d,
-                &Registry::builtin().address_keys(),
-            ))
-            .unwrap_or_default();
+            let text =
+                serde_json::to_string_pretty(&crate::recipe::recipe_schema(&d, &registry.address_keys()))
+                    .unwrap_or_default();
             println!("{text}");
             PASSED
         }

@@ -4,6 +4,7 @@
 //! results into text and exit codes.
 
 use crate::dictionary::Dictionary;
+use crate::family::Registry;
 use crate::run::{drive_dictionaries, ConnectionArgs, DictionaryArgs, INVALID, PASSED};
 use crate::script::{declared_script_drives, load_script_for};
 use std::io::IsTerminal;
@@ -14,6 +15,7 @@ use std::sync::Arc;
 /// `dictionary_args` (the command line's `--dictionary`, `--limits`) load the dictionary of
 /// each drive a script's `//! drives:` declares.
 pub fn check_script(
+    registry: &Registry,
     path: &Path,
     dictionary: &Dictionary,
     dictionary_args: &DictionaryArgs,
@@ -25,12 +27,7 @@ pub fn check_script(
     let drive_dicts = if declared.is_empty() {
         Vec::new()
     } else {
-        match drive_dictionaries(
-            dictionary_args,
-            &crate::family::Registry::builtin(),
-            path,
-            &declared,
-        ) {
+        match drive_dictionaries(dictionary_args, registry, path, &declared) {
             Ok(d) => d,
             Err(text) => {
                 eprint!("{text}");
@@ -59,6 +56,7 @@ pub fn check_script(
                 return PASSED;
             }
             crate::run::drive_limits::check_values_and_print(
+                registry,
                 &script.written,
                 &script.path,
                 Arc::new(dictionary.clone()),

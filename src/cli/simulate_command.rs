@@ -61,8 +61,7 @@ pub struct SimulateArgs {
     ramp: f64,
 }
 
-pub fn run(args: &SimulateArgs) -> i32 {
-    let registry = Registry::builtin();
+pub fn run(args: &SimulateArgs, registry: &Registry) -> i32 {
     let family = match registry.dictionary(&args.drive) {
         Ok((family, _)) => family,
         Err(e) => {
@@ -73,7 +72,7 @@ pub fn run(args: &SimulateArgs) -> i32 {
     // Several addresses (`0,1`, `dnc:2,dnc:3`): one simulated drive each, all on the one
     // line, each answering at its own address.
     let given = match &args.dnc_address {
-        Some(list) => match DNC_ADDRESS.addresses(family.as_ref(), list) {
+        Some(list) => match DNC_ADDRESS.addresses(registry, family.as_ref(), list) {
             Ok(addresses) => Some(addresses),
             Err(e) => {
                 eprintln!("error: {e}");

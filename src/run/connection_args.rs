@@ -9,7 +9,7 @@ use crate::bus::{
     SharedTransport, SlcanBus, StopBits, TcpTransport, TransportError,
 };
 use crate::clock::{RealClock, SharedClock, VirtualClock};
-use crate::family::{DriveAddress, Family, LinkOptions, SimPeer};
+use crate::family::{DriveAddress, Family, LinkOptions, Registry, SimPeer};
 use crate::sim::{SimConfig, SimulatedDrive};
 use clap::Args;
 use std::sync::{Arc, Mutex};
@@ -235,16 +235,16 @@ impl ConnectionArgs {
     }
 
     /// The drive's address and the family's link options, checked before anything opens.
-    pub fn check(&self, family: &dyn Family) -> Result<DriveAddress, String> {
+    pub fn check(&self, registry: &Registry, family: &dyn Family) -> Result<DriveAddress, String> {
         family.check_link_options(&self.all_link_options())?;
-        family.parse_drive_address(self.address_for(family)?.as_deref())
+        family.parse_drive_address(self.address_for(registry, family)?.as_deref())
     }
 
     /// The address in `family`'s notation: `--address` as given, or `--dnc-address N` as
     /// the family writes it (`dnc:N`); `None`: the family's default.
-    pub fn address_for(&self, family: &dyn Family) -> Result<Option<String>, String> {
+    pub fn address_for(&self, registry: &Registry, family: &dyn Family) -> Result<Option<String>, String> {
         match &self.dnc_address {
-            Some(n) => DNC_ADDRESS.address(family, n).map(Some),
+            Some(n) => DNC_ADDRESS.address(registry, family, n).map(Some),
             None => Ok(self.address.clone()),
         }
     }
@@ -271,11 +271,18 @@ impl ConnectionArgs {
 
     /// Opens the bus for `family`. `virtual_time` applies to the simulated drive only:
     /// waiting then costs no real time.
-    pub fn open(&self, family: &dyn Family, virtual_time: bool) -> Result<Connection, TransportError> {
-        let address = self.check(family).map_err(|detail| TransportError::Open {
-            port: "the drive".into(),
-            detail,
-        })?;
+    pub fn open(
+        &self,
+        registry: &Registry,
+        family: &dyn Family,
+        virtual_time: bool,
+    ) -> Result<Connection, TransportError> {
+        let address = self
+            .check(registry, family)
+            .map_err(|detail| TransportError::Open {
+                port: "the drive".into(),
+                detail,
+            })?;
         let real =
             || -> (SharedClock, Option<Arc<Mutex<dyn SimulatedDrive>>>) { (RealClock::shared(), None) };
         if family.bus_kind() == BusKind::Frames && !self.is_simulated() && self.can.is_none() {

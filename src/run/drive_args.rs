@@ -6,7 +6,7 @@ use super::connection_args::{Connection, ConnectionArgs};
 use crate::diag::render_diagnostic;
 use crate::dictionary::{BenchLimits, Dictionary, LIMITS_ENV};
 use crate::drive::Drive;
-use crate::family::{LinkContext, Registry, DEFAULT_DICTIONARY};
+use crate::family::{Family, LinkContext, Registry, DEFAULT_DICTIONARY};
 use crate::link::TelegramObserver;
 use crate::sim::SimulatedDrive;
 use crate::stop_request::StopRequests;
@@ -64,11 +64,6 @@ impl DictionaryArgs {
         Ok(Arc::new(dictionary))
     }
 
-    /// [`load_for`](Self::load_for) with the built-in families and no recipe.
-    pub fn load(&self) -> Result<Arc<Dictionary>, String> {
-        self.load_for(&Registry::builtin(), None)
-    }
-
     /// The dictionary `--drive` names when it is not given, and no extra files.
     pub fn builtin_default() -> Self {
         DictionaryArgs {
@@ -112,6 +107,8 @@ pub struct OpenDrive {
     pub drive: Drive,
     pub simulator: Option<Arc<Mutex<dyn SimulatedDrive>>>,
     pub description: String,
+    /// The drive's family (for addresses in its own notation).
+    pub family: Arc<dyn Family>,
 }
 
 /// Opens the connection for the family the dictionary names and wraps it in the drive
@@ -135,7 +132,7 @@ pub fn open_drive(
         simulator,
         description,
     } = connection
-        .open(family.as_ref(), virtual_time)
+        .open(registry, family.as_ref(), virtual_time)
         .map_err(|e| format!("error: {e}"))?;
     let context = LinkContext {
         clock,
@@ -149,5 +146,6 @@ pub fn open_drive(
         drive: Drive::new(access, dictionary),
         simulator,
         description,
+        family,
     })
 }

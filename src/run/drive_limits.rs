@@ -189,30 +189,43 @@ pub fn within_drive_limits(
 
 /// [`check_recipe`] with its lines printed; the exit code (2 for values outside, 3 for
 /// a drive that could not be reached).
-pub fn check_and_print(recipe: &Recipe, dictionary: Arc<Dictionary>, connection: &ConnectionArgs) -> i32 {
-    check_values_and_print(&written_values(recipe), &recipe.path, dictionary, connection)
+pub fn check_and_print(
+    registry: &Registry,
+    recipe: &Recipe,
+    dictionary: Arc<Dictionary>,
+    connection: &ConnectionArgs,
+) -> i32 {
+    check_values_and_print(
+        registry,
+        &written_values(recipe),
+        &recipe.path,
+        dictionary,
+        connection,
+    )
 }
 
 /// [`check_and_print`] for the values of a file other than a recipe (a script's literal
 /// writes).
 pub fn check_values_and_print(
+    registry: &Registry,
     values: &[WrittenValue],
     path: &str,
     dictionary: Arc<Dictionary>,
     connection: &ConnectionArgs,
 ) -> i32 {
-    let check = open(connection, dictionary).and_then(|mut open| compare(values, &mut open.drive));
+    let check = open(registry, connection, dictionary).and_then(|mut open| compare(values, &mut open.drive));
     report(&check, path, true, &mut std::io::stdout(), &mut std::io::stderr()).0
 }
 
 /// The drive's limits of each of `names`, as text for a listing (`-6000 rpm .. 6000 rpm`,
 /// `not reported`, or why they could not be read), and what was asked.
 pub fn read_all(
+    registry: &Registry,
     names: &[String],
     dictionary: Arc<Dictionary>,
     connection: &ConnectionArgs,
 ) -> Result<(String, BTreeMap<String, String>), String> {
-    let mut open = open(connection, dictionary)?;
+    let mut open = open(registry, connection, dictionary)?;
     let mut out = BTreeMap::new();
     for name in names {
         let text = match read_limits(&mut open.drive, name) {
@@ -228,8 +241,12 @@ pub fn read_all(
     Ok((open.drive.port(), out))
 }
 
-fn open(connection: &ConnectionArgs, dictionary: Arc<Dictionary>) -> Result<OpenDrive, String> {
-    let open = open_drive(&Registry::builtin(), connection, dictionary, true, None, None)?;
+fn open(
+    registry: &Registry,
+    connection: &ConnectionArgs,
+    dictionary: Arc<Dictionary>,
+) -> Result<OpenDrive, String> {
+    let open = open_drive(registry, connection, dictionary, true, None, None)?;
     if open.simulator.is_some() {
         eprintln!("using {}: its limits, not a real drive's", open.description);
     }

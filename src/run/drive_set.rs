@@ -146,7 +146,7 @@ pub fn open_drives(
                     (None, String::new())
                 } else {
                     let opened = args
-                        .open(family.as_ref(), false)
+                        .open(registry, family.as_ref(), false)
                         .map_err(|e| format!("error: drive `{}`: {e}", decl.name))?;
                     let d = opened.bus.name().to_string();
                     (Some(opened.bus), d)

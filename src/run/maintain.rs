@@ -106,7 +106,7 @@ pub fn run_maintain(
         }
         (None, None) => None,
     };
-    if let Err(e) = request.connection.check(family.as_ref()) {
+    if let Err(e) = request.connection.check(request.registry, family.as_ref()) {
         let _ = writeln!(err, "error: {e}");
         return done(INVALID);
     }

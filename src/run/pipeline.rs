@@ -118,9 +118,9 @@ fn checked(
         .map_err(|e| format!("error: {e}"))?;
     request
         .connection
-        .check(family.as_ref())
+        .check(request.registry, family.as_ref())
         .map_err(|e| format!("error: {e}"))?;
-    connection.check(family.as_ref()).map_err(|e| {
+    connection.check(request.registry, family.as_ref()).map_err(|e| {
         format!("error: {e} (link settings come from the recipe's `link:` and the command line)")
     })?;
     telegram_outputs(request.outputs, &|| family.explainer(dictionary.clone())).map(Telegrams::One)

@@ -158,9 +158,9 @@ fn an_interrupted_restore_says_what_was_written() {
     let dir = scratch("interrupted");
     let mut dictionary = DictionaryArgs::builtin_default();
     dictionary.extra.push(two_parameters(&dir).into());
-    let dictionary = dictionary.load().expect("dictionary");
-    let connection = ConnectionArgs::simulated();
     let registry = drivescript::family::Registry::builtin();
+    let dictionary = dictionary.load_for(&registry, None).expect("dictionary");
+    let connection = ConnectionArgs::simulated();
     let mut open = drivescript::run::open_drive(&registry, &connection, dictionary.clone(), true, None, None)
         .expect("open");
     let origin = || Origin {
