@@ -379,7 +379,13 @@ pub fn objects(args: &ObjectsArgs, registry: &Registry) -> i32 {
     };
     let drive_limits = if args.from_drive {
         let names: Vec<String> = list.iter().map(|d| d.name.clone()).collect();
-        match crate::run::drive_limits::read_all(registry, &names, dictionary.clone(), &args.connection) {
+        match crate::run::drive_limits::read_all(
+            registry,
+            &names,
+            dictionary.clone(),
+            &args.connection,
+            &mut std::io::stderr(),
+        ) {
             Ok((port, limits)) => Some((port, limits)),
             Err(e) => {
                 eprintln!("{e}");
@@ -428,9 +434,11 @@ pub fn objects(args: &ObjectsArgs, registry: &Registry) -> i32 {
     );
     for d in list {
         let limits = match (d.min, d.max) {
-            (Some(lo), Some(hi)) => format!("{} .. {}", crate::recipe::number(lo), crate::recipe::number(hi)),
-            (Some(lo), None) => format!(">= {}", crate::recipe::number(lo)),
-            (None, Some(hi)) => format!("<= {}", crate::recipe::number(hi)),
+            (Some(lo), Some(hi)) => {
+                format!("{} .. {}", crate::session::number(lo), crate::session::number(hi))
+            }
+            (Some(lo), None) => format!(">= {}", crate::session::number(lo)),
+            (None, Some(hi)) => format!("<= {}", crate::session::number(hi)),
             (None, None) => String::new(),
         };
         let limits = match &d.bench {

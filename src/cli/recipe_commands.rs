@@ -4,9 +4,10 @@
 use super::{panic_notice, stop_signals};
 use crate::family::Registry;
 use crate::recipe::{declared_drives, load_recipe_for, Recipe, RecipeInvalid};
+use crate::run::drive_limits::check_against_drive;
 use crate::run::{
-    drive_dictionaries, run_many, ConnectionArgs, DictionaryArgs, OutputArgs, RunRequest, SafeStopArgs,
-    INVALID, PASSED,
+    drive_dictionaries, run_many, BadValue, ConnectionArgs, DictionaryArgs, OutputArgs, RunRequest,
+    SafeStopArgs, INVALID, PASSED,
 };
 use clap::Args;
 use std::io::IsTerminal;
@@ -69,10 +70,12 @@ pub struct RunArgs {
     connection: ConnectionArgs,
 }
 
-fn parse_set(text: &str) -> Result<(String, String), String> {
+fn parse_set(text: &str) -> Result<(String, String), BadValue> {
     match text.split_once('=') {
         Some((k, v)) if !k.trim().is_empty() => Ok((k.trim().to_string(), v.trim().to_string())),
-        _ => Err(format!("`{text}`: write NAME=VALUE, e.g. speed=8000rpm")),
+        _ => Err(BadValue(format!(
+            "`{text}`: write NAME=VALUE, e.g. speed=8000rpm"
+        ))),
     }
 }
 
@@ -88,7 +91,8 @@ pub fn check(args: &CheckArgs, registry: &Registry) -> i32 {
         // --dictionary or --limits file is said once, not once per recipe.
         let dictionary = match args.dictionary.load_for(registry, Some(path)) {
             Ok(d) => d,
-            Err(text) => {
+            Err(e) => {
+                let text = e.to_string();
                 if text != last_error {
                     eprint!("{text}");
                     last_error = text;
@@ -157,11 +161,14 @@ pub fn check(args: &CheckArgs, registry: &Registry) -> i32 {
                     println!("    bench limits {} ({})", limits.summary(), limits.source());
                 }
                 if !args.connection.is_simulated() {
-                    code = code.max(crate::run::drive_limits::check_and_print(
+                    code = code.max(check_against_drive(
                         registry,
-                        &recipe,
+                        &crate::recipe::written_values(&recipe),
+                        &recipe.path,
                         dictionary,
                         &args.connection,
+                        &mut std::io::stdout(),
+                        &mut std::io::stderr(),
                     ));
                 }
             }

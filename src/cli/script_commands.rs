@@ -55,12 +55,14 @@ pub fn check_script(
             if connection.is_simulated() || script.written.is_empty() {
                 return PASSED;
             }
-            crate::run::drive_limits::check_values_and_print(
+            crate::run::drive_limits::check_against_drive(
                 registry,
                 &script.written,
                 &script.path,
                 Arc::new(dictionary.clone()),
                 connection,
+                &mut std::io::stdout(),
+                &mut std::io::stderr(),
             )
         }
         Err(e) => {

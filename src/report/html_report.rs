@@ -6,7 +6,7 @@
 
 use super::atomic_write::write_atomically;
 use super::junit_report::{stable_check_name, unexplained_failures, UniqueNames};
-use crate::recipe::{number, CheckResult, RunReport, Series, StepRecord, Verdict};
+use crate::session::{number, CheckResult, RunReport, Series, StepRecord, Verdict};
 use crate::session::{with_unit, MAX_RECORDS};
 use std::fmt::Write as _;
 use std::path::Path;

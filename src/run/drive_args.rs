@@ -3,7 +3,7 @@
 //! command that talks to a drive.
 
 use super::connection_args::{Connection, ConnectionArgs};
-use crate::diag::render_diagnostic;
+use super::RunError;
 use crate::dictionary::{BenchLimits, Dictionary, LIMITS_ENV};
 use crate::drive::Drive;
 use crate::family::{Family, LinkContext, Registry, DEFAULT_DICTIONARY};
@@ -38,7 +38,7 @@ impl DictionaryArgs {
     /// `recipe`, a `drivescript-limits.yaml` next to it caps the dictionary when neither
     /// --limits nor $DRIVESCRIPT_LIMITS names a limits file. On failure, the rendered
     /// diagnostic to print.
-    pub fn load_for(&self, registry: &Registry, recipe: Option<&Path>) -> Result<Arc<Dictionary>, String> {
+    pub fn load_for(&self, registry: &Registry, recipe: Option<&Path>) -> Result<Arc<Dictionary>, RunError> {
         let name = match (
             self.family.as_str(),
             recipe.and_then(|r| recipe_drive(registry, r)),
@@ -48,17 +48,18 @@ impl DictionaryArgs {
             (DEFAULT_DICTIONARY, Some(drive)) => drive,
             (given, _) => given.to_string(),
         };
-        let (family, builtin) = registry.dictionary(&name).map_err(|e| format!("error: {e}\n"))?;
-        let mut dictionary = Dictionary::from_yaml_for(builtin.path, builtin.text, family.address_parser())
-            .map_err(|e| render_diagnostic(&e))?
+        let (family, builtin) = registry
+            .dictionary(&name)
+            .map_err(|e| RunError::Invalid(format!("error: {e}\n")))?;
+        let mut dictionary = Dictionary::from_yaml_for(builtin.path, builtin.text, family.address_parser())?
             .named(builtin.name);
         for path in &self.extra {
-            dictionary.extend_from(path).map_err(|e| render_diagnostic(&e))?;
+            dictionary.extend_from(path)?;
         }
         // Last, so that no dictionary above can raise the bench's limits.
         let env = std::env::var_os(LIMITS_ENV);
         if let Some((path, route)) = BenchLimits::find(self.limits.as_deref(), env.as_deref(), recipe) {
-            let limits = BenchLimits::load(&path, route).map_err(|e| render_diagnostic(&e))?;
+            let limits = BenchLimits::load(&path, route)?;
             dictionary.apply_bench_limits(limits);
         }
         Ok(Arc::new(dictionary))
@@ -121,10 +122,10 @@ pub fn open_drive(
     virtual_time: bool,
     observer: Option<Box<dyn TelegramObserver>>,
     stop: Option<Arc<StopRequests>>,
-) -> Result<OpenDrive, String> {
+) -> Result<OpenDrive, RunError> {
     let family = registry
         .family(dictionary.family())
-        .map_err(|e| format!("error: {e}"))?;
+        .map_err(|e| RunError::Invalid(format!("error: {e}")))?;
     let Connection {
         bus,
         address,
@@ -133,7 +134,7 @@ pub fn open_drive(
         description,
     } = connection
         .open(registry, family.as_ref(), virtual_time)
-        .map_err(|e| format!("error: {e}"))?;
+        .map_err(|e| RunError::Unreachable(format!("error: {e}")))?;
     let context = LinkContext {
         clock,
         observer,
@@ -141,7 +142,7 @@ pub fn open_drive(
     };
     let access = family
         .open(&bus, &address, &connection.link_options(), context)
-        .map_err(|e| format!("error: {e}"))?;
+        .map_err(|e| RunError::Unreachable(format!("error: {e}")))?;
     Ok(OpenDrive {
         drive: Drive::new(access, dictionary),
         simulator,

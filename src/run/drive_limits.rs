@@ -5,10 +5,12 @@
 
 use super::connection_args::ConnectionArgs;
 use super::drive_args::{open_drive, OpenDrive};
+use super::RunError;
 use crate::dictionary::{Dictionary, Value};
-use crate::drive::Drive;
+use crate::drive::{Drive, DriveError};
 use crate::family::Registry;
-use crate::recipe::{number, written_values, Recipe, WrittenValue};
+use crate::recipe::WrittenValue;
+use crate::session::number;
 use crate::stop_request::StopRequests;
 use std::collections::BTreeMap;
 use std::io::Write;
@@ -30,9 +32,9 @@ use crate::drive::ValueLimits as Limits;
 /// Reads the drive's limits of every object `values` write (each object once) and
 /// compares each value with them; `Err` when the drive could not be reached. Sends
 /// nothing at all for a family whose drives report no limits.
-pub fn compare(values: &[WrittenValue], drive: &mut Drive) -> Result<DriveCheck, String> {
+pub fn compare(values: &[WrittenValue], drive: &mut Drive) -> Result<DriveCheck, RunError> {
     let port = drive.port();
-    let mut limits: BTreeMap<String, Result<Option<Limits>, String>> = BTreeMap::new();
+    let mut limits: BTreeMap<String, Result<Option<Limits>, DriveError>> = BTreeMap::new();
     for w in values {
         if !limits.contains_key(&w.object.name) {
             // `left.speed_setpoint` in a recipe with `drives:`: the drive's own name.
@@ -43,8 +45,8 @@ pub fn compare(values: &[WrittenValue], drive: &mut Drive) -> Result<DriveCheck,
                 .map_or(w.object.name.as_str(), |(_, o)| o);
             let l = read_limits(drive, own);
             if let Err(e) = &l {
-                if let Some(e) = e.strip_prefix("unreachable: ") {
-                    return Err(e.to_string());
+                if e.is_communication() {
+                    return Err(RunError::Unreachable(e.to_string()));
                 }
             }
             limits.insert(w.object.name.clone(), l);
@@ -109,7 +111,7 @@ pub fn compare(values: &[WrittenValue], drive: &mut Drive) -> Result<DriveCheck,
 /// The exit code: 0 within, 2 for values outside, 3 for a drive that could not be
 /// reached; with it, the error line (also written to `err`) for the not-run reports.
 pub fn report(
-    check: &Result<DriveCheck, String>,
+    check: &Result<DriveCheck, RunError>,
     path: &str,
     not_reported: bool,
     out: &mut dyn Write,
@@ -187,35 +189,25 @@ pub fn within_drive_limits(
     }
 }
 
-/// [`check_recipe`] with its lines printed; the exit code (2 for values outside, 3 for
-/// a drive that could not be reached).
-pub fn check_and_print(
-    registry: &Registry,
-    recipe: &Recipe,
-    dictionary: Arc<Dictionary>,
-    connection: &ConnectionArgs,
-) -> i32 {
-    check_values_and_print(
-        registry,
-        &written_values(recipe),
-        &recipe.path,
-        dictionary,
-        connection,
-    )
-}
-
-/// [`check_and_print`] for the values of a file other than a recipe (a script's literal
-/// writes).
-pub fn check_values_and_print(
+/// `check --port`: opens the drive, compares `values` (a recipe's, or a script's
+/// literal ones) with its limits and says what it came to on `out` and `err`; the exit
+/// code (2 for values outside, 3 for a drive that could not be reached).
+pub fn check_against_drive(
     registry: &Registry,
     values: &[WrittenValue],
     path: &str,
     dictionary: Arc<Dictionary>,
     connection: &ConnectionArgs,
+    out: &mut dyn Write,
+    err: &mut dyn Write,
 ) -> i32 {
-    let check = open(registry, connection, dictionary).and_then(|mut open| compare(values, &mut open.drive));
-    report(&check, path, true, &mut std::io::stdout(), &mut std::io::stderr()).0
+    let check =
+        open(registry, connection, dictionary, err).and_then(|mut open| compare(values, &mut open.drive));
+    report(&check, path, true, out, err).0
 }
+
+/// Each object's limits as text for a listing, by the object's name.
+pub type LimitsByName = BTreeMap<String, String>;
 
 /// The drive's limits of each of `names`, as text for a listing (`-6000 rpm .. 6000 rpm`,
 /// `not reported`, or why they could not be read), and what was asked.
@@ -224,16 +216,15 @@ pub fn read_all(
     names: &[String],
     dictionary: Arc<Dictionary>,
     connection: &ConnectionArgs,
-) -> Result<(String, BTreeMap<String, String>), String> {
-    let mut open = open(registry, connection, dictionary)?;
+    err: &mut dyn Write,
+) -> Result<(String, LimitsByName), RunError> {
+    let mut open = open(registry, connection, dictionary, err)?;
     let mut out = BTreeMap::new();
     for name in names {
         let text = match read_limits(&mut open.drive, name) {
             Ok(Some(l)) => show(&l),
             Ok(None) => "not reported".to_string(),
-            Err(e) if e.starts_with("unreachable: ") => {
-                return Err(e.trim_start_matches("unreachable: ").to_string())
-            }
+            Err(e) if e.is_communication() => return Err(RunError::Unreachable(e.to_string())),
             Err(e) => format!("error: {e}"),
         };
         out.insert(name.clone(), text);
@@ -245,23 +236,18 @@ fn open(
     registry: &Registry,
     connection: &ConnectionArgs,
     dictionary: Arc<Dictionary>,
-) -> Result<OpenDrive, String> {
+    err: &mut dyn Write,
+) -> Result<OpenDrive, RunError> {
     let open = open_drive(registry, connection, dictionary, true, None, None)?;
     if open.simulator.is_some() {
-        eprintln!("using {}: its limits, not a real drive's", open.description);
+        let _ = writeln!(err, "using {}: its limits, not a real drive's", open.description);
     }
     Ok(open)
 }
 
-/// One object's limits; an error that means the drive cannot be reached at all is
-/// prefixed `unreachable: `.
-fn read_limits(drive: &mut Drive, name: &str) -> Result<Option<Limits>, String> {
-    match drive.limits(name) {
-        None => Ok(None),
-        Some(Ok(l)) => Ok(Some(l)),
-        Some(Err(e)) if e.is_communication() => Err(format!("unreachable: {e}")),
-        Some(Err(e)) => Err(e.to_string()),
-    }
+/// One object's limits; `None` where the family's drives report none.
+fn read_limits(drive: &mut Drive, name: &str) -> Result<Option<Limits>, DriveError> {
+    drive.limits(name).transpose()
 }
 
 fn show((min, max): &Limits) -> String {
@@ -272,7 +258,7 @@ fn show((min, max): &Limits) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::recipe::{ObjectRef, StepOrigin};
+    use crate::session::{ObjectRef, StepOrigin};
 
     /// The simulated 931 with one object at the simulator's speed-setpoint number.
     fn simulated_931() -> Drive {

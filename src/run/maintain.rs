@@ -4,7 +4,7 @@
 //! read, only with `force`) and, without `force`, a confirmation by whoever the caller
 //! asks. Knows no family's commands: the family names its actions and carries them out.
 
-use super::{open_drive, ConnectionArgs, DictionaryArgs, COMMUNICATION, INVALID, PASSED};
+use super::{open_drive, ConnectionArgs, DictionaryArgs, RunError, COMMUNICATION, INVALID, PASSED};
 use crate::diag::{did_you_mean, suggestion_text};
 use crate::drive::{AccessError, DriveError, MaintenanceAction};
 use crate::family::Registry;
@@ -269,21 +269,21 @@ fn find<'a>(
     family: &str,
     actions: &'a [MaintenanceAction],
     name: &str,
-) -> Result<&'a MaintenanceAction, String> {
+) -> Result<&'a MaintenanceAction, RunError> {
     if actions.is_empty() {
-        return Err(format!(
+        return Err(RunError::Invalid(format!(
             "error: the {family} family has no maintenance actions; nothing was sent"
-        ));
+        )));
     }
     actions.iter().find(|a| a.name == name).ok_or_else(|| {
         let names: Vec<&str> = actions.iter().map(|a| a.name).collect();
         let hint = suggestion_text(&did_you_mean(name, names.iter().copied()))
             .map(|s| format!(" {s}"))
             .unwrap_or_default();
-        format!(
+        RunError::Invalid(format!(
             "error: {family} has no maintenance action `{name}`;{hint} the actions are: {}; nothing was sent",
             names.join(", ")
-        )
+        ))
     })
 }
 

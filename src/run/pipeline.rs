@@ -9,7 +9,7 @@ use super::drive_set::{named_drives_checked, named_drives_opened, OpenDrives};
 use super::not_run::{not_run, silent_drive};
 use super::run_plan::{LoadedPlan, RunPlan, SessionSettings};
 use super::run_setup::{finish_reports, observed, open_csv, telegram_outputs, write_placeholders, Look};
-use super::{open_drive, ConnectionArgs, RunRequest, RunResult, COMMUNICATION, INVALID};
+use super::{open_drive, ConnectionArgs, RunError, RunRequest, RunResult, COMMUNICATION, INVALID};
 use crate::report::TelegramFanOut;
 use std::io::Write;
 
@@ -18,7 +18,8 @@ use std::io::Write;
 pub fn run(request: &RunRequest, out: &mut dyn Write, err: &mut dyn Write) -> RunResult {
     let loaded = match RunPlan::load(request) {
         Ok(l) => l,
-        Err(text) => {
+        Err(e) => {
+            let text = e.to_string();
             let _ = write!(err, "{text}");
             return not_run(request, None, INVALID, &text, err);
         }
@@ -39,7 +40,7 @@ pub fn run(request: &RunRequest, out: &mut dyn Write, err: &mut dyn Write) -> Ru
     let several = !plan.drives().is_empty();
     let telegrams = match checked(request, &loaded, &connection) {
         Ok(t) => t,
-        Err(text) => return refuse(INVALID, &text, err),
+        Err(e) => return refuse(INVALID, &e.to_string(), err),
     };
     // Files are opened before anything is sent: a path that cannot be written is an
     // invalid command line, not a half-run file.
@@ -47,15 +48,15 @@ pub fn run(request: &RunRequest, out: &mut dyn Write, err: &mut dyn Write) -> Ru
     let wide = plan.wide_columns().filter(|_| outputs.csv_wide);
     let mut csv = match open_csv(outputs, wide.as_deref(), several) {
         Ok(c) => c,
-        Err(text) => return refuse(INVALID, &text, err),
+        Err(e) => return refuse(INVALID, &e.to_string(), err),
     };
-    if let Err(text) = write_placeholders(outputs, plan.name(), plan.path()) {
-        let _ = writeln!(err, "{text}");
+    if let Err(e) = write_placeholders(outputs, plan.name(), plan.path()) {
+        let _ = writeln!(err, "{e}");
         return RunResult::refused(INVALID);
     }
     let mut open = match opened(request, &loaded, &connection, telegrams) {
         Ok(o) => o,
-        Err(text) => return refuse(COMMUNICATION, &text, err),
+        Err(e) => return refuse(COMMUNICATION, &e.to_string(), err),
     };
     if !open.simulators.is_empty() {
         let _ = writeln!(out, "using {}", open.description);
@@ -105,7 +106,7 @@ fn checked(
     request: &RunRequest,
     loaded: &LoadedPlan,
     connection: &ConnectionArgs,
-) -> Result<Telegrams, String> {
+) -> Result<Telegrams, RunError> {
     let drives = loaded.plan.drives();
     if !drives.is_empty() {
         return named_drives_checked(request, connection, drives, &loaded.drive_dictionaries)
@@ -115,13 +116,15 @@ fn checked(
     let family = request
         .registry
         .family(dictionary.family())
-        .map_err(|e| format!("error: {e}"))?;
+        .map_err(|e| RunError::Invalid(format!("error: {e}")))?;
     request
         .connection
         .check(request.registry, family.as_ref())
-        .map_err(|e| format!("error: {e}"))?;
+        .map_err(|e| RunError::Invalid(format!("error: {e}")))?;
     connection.check(request.registry, family.as_ref()).map_err(|e| {
-        format!("error: {e} (link settings come from the recipe's `link:` and the command line)")
+        RunError::Invalid(format!(
+            "error: {e} (link settings come from the recipe's `link:` and the command line)"
+        ))
     })?;
     telegram_outputs(request.outputs, &|| family.explainer(dictionary.clone())).map(Telegrams::One)
 }
@@ -139,7 +142,7 @@ fn opened(
     loaded: &LoadedPlan,
     connection: &ConnectionArgs,
     telegrams: Telegrams,
-) -> Result<OpenDrives, String> {
+) -> Result<OpenDrives, RunError> {
     let telegrams = match telegrams {
         Telegrams::Shared(shared) => {
             return named_drives_opened(
@@ -165,7 +168,10 @@ fn opened(
     if open.simulator.is_none() {
         if let Err(crate::drive::DriveError::Access(e)) = open.drive.state() {
             if e.is_no_reply() {
-                return Err(silent_drive(request.connection, &e.to_string()));
+                return Err(RunError::Unreachable(silent_drive(
+                    request.connection,
+                    &e.to_string(),
+                )));
             }
         }
     }

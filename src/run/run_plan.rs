@@ -4,7 +4,7 @@
 //! (a recipe its checks and its longest time); everything around them is the pipeline's.
 //! Loads and answers; must not open a drive.
 
-use super::{drive_dictionaries, RunRequest};
+use super::{drive_dictionaries, RunError, RunRequest};
 use crate::dictionary::Dictionary;
 use crate::drive::Drive;
 use crate::recipe::{
@@ -44,8 +44,8 @@ pub struct SessionSettings {
 impl RunPlan {
     /// Loads `request.file` (a `.rhai` file is a script) with each drive's dictionary: the
     /// one `--drive` names (or the file's own `drive:`), or one per named drive. On failure
-    /// the rendered problem, to be said as it is (exit code 2).
-    pub fn load(request: &RunRequest) -> Result<LoadedPlan, String> {
+    /// the problem, rendered to be said as it is (exit code 2).
+    pub fn load(request: &RunRequest) -> Result<LoadedPlan, RunError> {
         let path = request.file;
         let script = is_script(path);
         // A file with named drives names a dictionary per drive; the first is the file's.
@@ -64,7 +64,7 @@ impl RunPlan {
         let plan = if script {
             load_script_for(path, &dictionary, &drive_dicts, request.set)
                 .map(RunPlan::Script)
-                .map_err(|e| e.render(false))?
+                .map_err(|e| RunError::Invalid(e.render(false)))?
         } else {
             load_recipe_for(
                 path,
@@ -74,7 +74,7 @@ impl RunPlan {
                 request.set,
             )
             .map(RunPlan::Recipe)
-            .map_err(|e| e.render(false))?
+            .map_err(|e| RunError::Invalid(e.render(false)))?
         };
         Ok(LoadedPlan {
             plan,

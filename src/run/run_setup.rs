@@ -4,7 +4,7 @@
 //! and the observers list, and the JUnit and HTML reports at the end. Must not open a
 //! drive or decide exit codes.
 
-use super::{OutputArgs, SharedObserver};
+use super::{OutputArgs, RunError, SharedObserver};
 use crate::link::{Direction, TelegramExplainer, TelegramObserver};
 use crate::report::{
     color_wanted, write_html, write_html_unfinished, write_junit, write_junit_unfinished, ConsoleReporter,
@@ -22,10 +22,11 @@ use std::time::Duration;
 pub fn telegram_outputs(
     outputs: &OutputArgs,
     explainer: &dyn Fn() -> Box<dyn TelegramExplainer>,
-) -> Result<TelegramFanOut, String> {
+) -> Result<TelegramFanOut, RunError> {
     let mut telegrams = TelegramFanOut::new();
     if let Some(path) = &outputs.trace {
-        let t = TraceWriter::create(path, explainer()).map_err(|e| format!("error: {e}"))?;
+        let t =
+            TraceWriter::create(path, explainer()).map_err(|e| RunError::Invalid(format!("error: {e}")))?;
         telegrams.push(Box::new(t));
     }
     if outputs.verbose {
@@ -94,11 +95,11 @@ pub fn open_csv(
     outputs: &OutputArgs,
     wide: Option<&[ObjectRef]>,
     drives: bool,
-) -> Result<Option<CsvRecorder>, String> {
+) -> Result<Option<CsvRecorder>, RunError> {
     match &outputs.csv {
         Some(path) => CsvRecorder::create_for(path, wide, drives)
             .map(Some)
-            .map_err(|e| format!("error: {e}")),
+            .map_err(|e| RunError::Invalid(format!("error: {e}"))),
         None => Ok(None),
     }
 }
@@ -106,7 +107,7 @@ pub fn open_csv(
 /// A report left from an earlier run is replaced at once by one that says this run has
 /// not finished: a run killed beyond any safe stop (SIGKILL, power loss) must never leave
 /// an old PASS for CI to read.
-pub fn write_placeholders(outputs: &OutputArgs, name: &str, path: &str) -> Result<(), String> {
+pub fn write_placeholders(outputs: &OutputArgs, name: &str, path: &str) -> Result<(), RunError> {
     let placeholders = [
         outputs
             .junit
@@ -118,7 +119,7 @@ pub fn write_placeholders(outputs: &OutputArgs, name: &str, path: &str) -> Resul
             .map(|p| write_html_unfinished(name, path, p)),
     ];
     match placeholders.into_iter().flatten().find_map(Result::err) {
-        Some(e) => Err(format!("error: {e}")),
+        Some(e) => Err(RunError::Invalid(format!("error: {e}"))),
         None => Ok(()),
     }
 }

@@ -4,6 +4,7 @@
 use crate::dictionary::Quantity;
 use crate::recipe::SafeStopChoice;
 use crate::run::connection_args::parse_duration;
+use crate::run::BadValue;
 use crate::session::SafeStopSettings;
 use clap::Args;
 
@@ -43,18 +44,20 @@ impl SafeStopArgs {
 }
 
 /// A safe-stop wait from the command line: at least a millisecond, at most a day.
-fn parse_stop_duration(text: &str) -> Result<std::time::Duration, String> {
+fn parse_stop_duration(text: &str) -> Result<std::time::Duration, BadValue> {
     let d = parse_duration(text)?;
     if d.is_zero() || d > std::time::Duration::from_secs(24 * 3600) {
-        return Err(format!("`{text}`: give a duration between 1ms and 24h"));
+        return Err(BadValue(format!("`{text}`: give a duration between 1ms and 24h")));
     }
     Ok(d)
 }
 
-fn parse_speed(text: &str) -> Result<Quantity, String> {
-    let q = Quantity::parse(text).map_err(|e| e.to_string())?;
+fn parse_speed(text: &str) -> Result<Quantity, BadValue> {
+    let q = Quantity::parse(text).map_err(|e| BadValue(e.to_string()))?;
     match q.unit {
         Some(u) if u.dimension() == crate::dictionary::Dimension::Speed && q.value >= 0.0 => Ok(q),
-        _ => Err(format!("`{text}`: give a speed with its unit, e.g. 10rpm")),
+        _ => Err(BadValue(format!(
+            "`{text}`: give a speed with its unit, e.g. 10rpm"
+        ))),
     }
 }

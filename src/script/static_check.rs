@@ -26,13 +26,13 @@ pub fn literal_writes(calls: &[LiteralCall], dict: &Dictionary) -> Vec<crate::re
             None => None,
             Some(_) => continue,
         };
-        if let Ok((object, crate::recipe::SetValue::Number(value))) =
+        if let Ok((object, crate::session::SetValue::Number(value))) =
             resolve::set_value(dict, name, &Written::Number(*v, unit))
         {
             out.push(crate::recipe::WrittenValue {
                 object,
                 value,
-                origin: crate::recipe::StepOrigin {
+                origin: crate::session::StepOrigin {
                     path: vspan.path().to_string(),
                     line: vspan.line(),
                     column: vspan.column(),
