@@ -1,5 +1,10 @@
-//! The command line: argument parsing and one module per subcommand. Turns results into
-//! text and exit codes; must not build telegrams or touch ports itself.
+//! The command line: argument parsing and one module per subcommand. Each subcommand
+//! fills the library's requests from its options, calls the library (`run` for runs, checks
+//! and maintenance; `drive`, `parameters`, `report` directly for the one-off commands) with
+//! the registry `main` built, and turns the results into text and exit codes; plus the
+//! process-wide parts: stop signals and the panic notice. Must not build telegrams, touch
+//! ports, name a family, or define a type the library needs; nothing in the library
+//! imports it.
 
 mod decode_command;
 mod maintain_command;

@@ -1,4 +1,4 @@
-//! Opening the drives of a recipe with `drives:`: each drive's dictionary, then one bus
+//! Opening the named drives of a file (a recipe's `drives:`, a script's `//! drives:`): each drive's dictionary, then one bus
 //! per connection — the drives on the command line's connection share ONE bus (one
 //! `SharedTransport` or frame bus), so its link serialises their requests; a drive with
 //! its own `port:`/`tcp:`/`can:` gets its own. Without a port every drive on the command
@@ -17,7 +17,7 @@ use crate::bus::{
 use crate::clock::{RealClock, SharedClock, VirtualClock};
 use crate::dictionary::Dictionary;
 use crate::drive::Drive;
-use crate::family::{Family, LinkContext, Registry, SimPeer};
+use crate::family::{DriveAddress, Family, LinkContext, Registry, SimPeer};
 use crate::link::TelegramObserver;
 use crate::recipe::DriveDecl;
 use crate::sim::{SimConfig, SimulatedDrive};
@@ -130,14 +130,7 @@ pub fn open_drives(
     let mut planned = Vec::new();
     let mut simulators = Vec::new();
     for decl in decls {
-        let dictionary = dictionary_of(dictionaries, &decl.name)?;
-        let family = registry
-            .family(dictionary.family())
-            .map_err(|e| RunError::Invalid(format!("error: {e}")))?;
-        let args = connection_of(decl, line)?;
-        let address = family
-            .parse_drive_address(decl.address.as_deref())
-            .map_err(|e| RunError::Invalid(format!("error: drive `{}`: {e}", decl.name)))?;
+        let (dictionary, family, args, address) = placed(registry, line, decl, dictionaries)?;
         let key = bus_key(&args, family.id());
         let index = match buses.iter().position(|b| b.0 == key) {
             Some(i) => i,
@@ -230,6 +223,31 @@ pub fn open_drives(
     })
 }
 
+/// Where a declared drive is: its dictionary, family, connection (its link settings
+/// checked) and address.
+type Placed = (Arc<Dictionary>, Arc<dyn Family>, ConnectionArgs, DriveAddress);
+
+/// [`Placed`] for `decl`.
+fn placed(
+    registry: &Registry,
+    line: &ConnectionArgs,
+    decl: &DriveDecl,
+    dictionaries: &[(String, Arc<Dictionary>)],
+) -> Result<Placed, RunError> {
+    let dictionary = dictionary_of(dictionaries, &decl.name)?;
+    let family = registry
+        .family(dictionary.family())
+        .map_err(|e| RunError::Invalid(format!("error: {e}")))?;
+    let args = connection_of(decl, line)?;
+    family
+        .check_link_options(&args.link_options().extra)
+        .map_err(|e| RunError::Invalid(format!("error: drive `{}`: {e}", decl.name)))?;
+    let address = family
+        .parse_drive_address(decl.address.as_deref())
+        .map_err(|e| RunError::Invalid(format!("error: drive `{}`: {e}", decl.name)))?;
+    Ok((dictionary, family, args, address))
+}
+
 fn dictionary_of(
     dictionaries: &[(String, Arc<Dictionary>)],
     name: &str,
@@ -266,17 +284,7 @@ pub fn check_drives(
 ) -> Result<(), RunError> {
     let mut seen: Vec<(String, u32, String)> = Vec::new();
     for decl in decls {
-        let dictionary = dictionary_of(dictionaries, &decl.name)?;
-        let family = registry
-            .family(dictionary.family())
-            .map_err(|e| RunError::Invalid(format!("error: {e}")))?;
-        let args = connection_of(decl, line)?;
-        family
-            .check_link_options(&args.link_options().extra)
-            .map_err(|e| RunError::Invalid(format!("error: drive `{}`: {e}", decl.name)))?;
-        let address = family
-            .parse_drive_address(decl.address.as_deref())
-            .map_err(|e| RunError::Invalid(format!("error: drive `{}`: {e}", decl.name)))?;
+        let (_, family, args, address) = placed(registry, line, decl, dictionaries)?;
         let key = bus_key(&args, family.id());
         if let Some((other, _, _)) = seen.iter().find(|(_, n, k)| *n == address.number && *k == key) {
             return Err(RunError::Invalid(format!(

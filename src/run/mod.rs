@@ -1,10 +1,22 @@
-//! The application layer: everything a command does with a drive above the session, one
-//! way each. A run (recipe or script) is one [`RunPlan`] taken through one pipeline,
-//! [`run`]; [`run_many`] runs several files. Also what every command shares to reach a
-//! drive: the dictionary choice with bench limits ([`DictionaryArgs`]), the connection
-//! ([`ConnectionArgs`]), opening it ([`open_drive`]), the drive-limit comparison and the
-//! exit codes. Must not parse a command line or print to the process's own streams
-//! except through the writers it is given.
+//! The application layer, between the command line and the session. One run of a recipe
+//! or a script is one [`RunPlan`] taken through one pipeline, [`run`]: load and check the
+//! file against each drive's dictionary, open the output files (with placeholders that
+//! replace an earlier run's reports at once), open the drives (one, or each named one; the
+//! ones on one line share one bus), say early when one never answers, compare every value
+//! the file is known to write with the limits the drive itself reports, run with the safe
+//! stop at every ending, and write the console, CSV, trace, JUnit and HTML reports; a run
+//! that never starts writes its not-run JUnit and HTML. [`run_many`] runs several files,
+//! each with its own outputs, to the worst exit code. Features that follow a run plug in as
+//! [`RunRequest::observers`]. Also what every command shares to reach a drive: the
+//! dictionary with its bench limits ([`DictionaryArgs`]), the connection
+//! ([`ConnectionArgs`], address-key flags such as `--dnc-address`), [`open_drive`], the
+//! maintenance flow over the drive layer's interlock ([`run_maintain`]), typed errors
+//! ([`RunError`]) and the exit codes.
+//!
+//! Must not parse a command line (the option structs derive clap's `Args` so that `cli`
+//! can flatten them, nothing more), must not name a family, and writes only to the
+//! writers it is given (except the `-v` telegram lines and the live progress bar, which
+//! belong to the process's standard error and terminal).
 
 mod address_key_flags;
 mod connection_args;

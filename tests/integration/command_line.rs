@@ -179,13 +179,19 @@ fn a_windows_1252_recipe_is_said_plainly() {
 /// typed and the three likely causes, exit code 3, nothing run, reports written.
 #[test]
 fn a_drive_that_never_answers_gets_one_early_message() {
+    said_early_that_the_drive_does_not_answer("recipes/identity.yaml", "silent");
+}
+
+/// Runs `file` (a recipe or a script) against a drive that never answers: it is said
+/// once, before anything runs, with the three likely causes, and in the JUnit file.
+pub(crate) fn said_early_that_the_drive_does_not_answer(file: &str, name: &str) {
     let sim = crate::end_to_end::Simulator::start(&["--tcp", "127.0.0.1:0"]);
-    let dir = temp_dir("silent");
+    let dir = temp_dir(name);
     let junit = dir.join("junit.xml");
     let out = drivescript(
         &[
             "run",
-            "recipes/identity.yaml",
+            file,
             "--tcp",
             &sim.endpoint,
             "--address",

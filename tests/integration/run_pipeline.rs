@@ -4,7 +4,6 @@
 //! JUnit and HTML reports of a run that cannot start.
 
 use crate::lenze_931::{run_and_record, scratch};
-use crate::support::{drivescript, stderr};
 use std::path::{Path, PathBuf};
 
 fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
@@ -45,37 +44,16 @@ fn a_script_with_named_drives_is_refused_by_a_drive_limit_before_anything_moves(
 /// to check, as a recipe is; its JUnit file says why.
 #[test]
 fn a_script_against_a_drive_that_never_answers_says_so_early() {
-    let sim = crate::end_to_end::Simulator::start(&["--tcp", "127.0.0.1:0"]);
     let dir = scratch("script-silent");
     let script = write(
         &dir,
         "silent.rhai",
         "let d = drive();\nprint(d.read(\"speed_actual\"));\n",
     );
-    let junit = dir.join("junit.xml");
-    let out = drivescript(
-        &[
-            "run",
-            script.to_str().unwrap(),
-            "--tcp",
-            &sim.endpoint,
-            "--address",
-            "1",
-            "--timeout",
-            "50ms",
-            "--retries",
-            "0",
-            "--junit",
-            junit.to_str().unwrap(),
-        ],
-        "",
+    crate::command_line::said_early_that_the_drive_does_not_answer(
+        script.to_str().expect("utf-8"),
+        "script-silent",
     );
-    assert_eq!(out.status.code(), Some(3), "{}", stderr(&out));
-    let err = stderr(&out);
-    assert!(err.contains("the drive does not answer (--address 1,"), "{err}");
-    assert_eq!(err.matches("no reply from").count(), 1, "said once: {err}");
-    let xml = std::fs::read_to_string(&junit).expect("junit");
-    assert!(xml.contains("the drive does not answer"), "{xml}");
 }
 
 /// A script that cannot start (invalid, or its port cannot be opened) replaces the JUnit
@@ -90,42 +68,14 @@ fn a_refused_script_writes_its_not_run_junit_and_html() {
         "bad.rhai",
         "let d = drive();\nd.set(\"speed_setpont\", 1.0, \"rpm\");\n",
     );
-    let invalid = drivescript(
-        &["run", bad.to_str().unwrap(), "--junit", &junit, "--report", &html],
-        "",
-    );
-    assert_eq!(invalid.status.code(), Some(2), "{}", stderr(&invalid));
-    let xml = std::fs::read_to_string(&junit).expect("junit");
-    crate::reports::markup::junit(&xml).unwrap_or_else(|e| panic!("{e}\n{xml}"));
-    assert!(xml.contains("type=\"invalid\""), "{xml}");
-    assert!(xml.contains("speed_setpont"), "{xml}");
-    let page = std::fs::read_to_string(&html).expect("html");
-    assert!(page.contains("NOT RUN — INVALID"), "{page}");
+    crate::outputs::invalid_run_writes_not_run_reports(&bad, &junit, &html);
 
     let good = write(
         &dir,
         "good.rhai",
         "let d = drive();\nprint(d.read(\"speed_actual\"));\n",
     );
-    let no_server = drivescript(
-        &[
-            "run",
-            good.to_str().unwrap(),
-            "--tcp",
-            "127.0.0.1:1",
-            "--junit",
-            &junit,
-            "--report",
-            &html,
-        ],
-        "",
-    );
-    assert_eq!(no_server.status.code(), Some(3), "{}", stderr(&no_server));
-    let xml = std::fs::read_to_string(&junit).expect("junit");
-    assert!(xml.contains("type=\"communication\""), "{xml}");
-    assert!(xml.contains("127.0.0.1:1"), "{xml}");
-    let page = std::fs::read_to_string(&html).expect("html");
-    assert!(page.contains("NOT RUN — ERROR"), "{page}");
+    crate::outputs::unreachable_run_writes_not_run_reports(good.to_str().expect("utf-8"), &junit, &html);
 }
 
 /// What a further observer of the run gets: every check and the finished report, after
