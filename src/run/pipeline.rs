@@ -123,7 +123,8 @@ fn checked(
         .map_err(|e| RunError::Invalid(format!("error: {e}")))?;
     connection.check(request.registry, family.as_ref()).map_err(|e| {
         RunError::Invalid(format!(
-            "error: {e} (link settings come from the recipe's `link:` and the command line)"
+            "error: {e} (link settings come from {} and the command line)",
+            loaded.plan.link_source()
         ))
     })?;
     telegram_outputs(request.outputs, &|| family.explainer(dictionary.clone())).map(Telegrams::One)

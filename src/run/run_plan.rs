@@ -106,6 +106,14 @@ impl RunPlan {
         }
     }
 
+    /// Where [`link`](Self::link) is written, for messages.
+    pub fn link_source(&self) -> &'static str {
+        match self {
+            RunPlan::Recipe(_) => "the recipe's `link:`",
+            RunPlan::Script(_) => "the script's `//! link:`",
+        }
+    }
+
     /// The named drives; empty for a plan with one drive.
     pub fn drives(&self) -> &[DriveDecl] {
         match self {

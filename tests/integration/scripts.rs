@@ -544,6 +544,12 @@ fn a_scripts_header_chooses_the_cyclic_channel() {
     let out = drivescript(&["run", bad.to_str().expect("path"), "--fast"], "");
     assert_eq!(out.status.code(), Some(2), "{}", stdout(&out));
     assert!(stderr(&out).contains("--velocity-scaling"), "{}", stderr(&out));
+    // Said as for a recipe, naming where the setting is written.
+    assert!(
+        stderr(&out).contains("(link settings come from the script's `//! link:` and the command line)"),
+        "{}",
+        stderr(&out)
+    );
 }
 
 /// `d.sample(…, "file.csv")` writes that sample's rows as a recipe sample step's `csv:`
