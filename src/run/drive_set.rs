@@ -358,7 +358,7 @@ pub fn named_drives_opened(
             if e.is_no_reply() {
                 return Err(RunError::Unreachable(format!(
                     "drive `{name}`: {}",
-                    silent_drive(request.connection, &e.to_string())
+                    silent_drive(request, &e.to_string())
                 )));
             }
         }

@@ -4,14 +4,20 @@
 //! for a drive that does not answer.
 
 use super::run_plan::RunPlan;
-use super::{ConnectionArgs, RunRequest, RunResult, COMMUNICATION};
+use super::{RunRequest, RunResult, COMMUNICATION};
 use crate::report::{html_not_run, junit_not_run, write_atomically};
 use crate::session::PlannedCheck;
 use std::io::Write;
 
 /// The message for a drive that did not answer its first request, naming the address as
 /// the user typed it and the three likely causes.
-pub fn silent_drive(connection: &ConnectionArgs, detail: &str) -> String {
+pub fn silent_drive(request: &RunRequest, detail: &str) -> String {
+    let connection = request.connection;
+    let what = if crate::script::is_script(request.file) {
+        "script"
+    } else {
+        "recipe"
+    };
     let address = connection
         .address_given()
         .unwrap_or_else(|| "no --address, so the family's default address".to_string());
@@ -25,7 +31,7 @@ pub fn silent_drive(connection: &ConnectionArgs, detail: &str) -> String {
         None => "no --baud, so the family's default".to_string(),
     };
     format!(
-        "error: the drive does not answer ({address}, {line}); nothing was written to it and the recipe did not start. \
+        "error: the drive does not answer ({address}, {line}); nothing was written to it and the {what} did not start. \
          Its state is unknown to drivescript: if it may still be running from earlier, check it by hand.\n\
          The three likely causes:\n  \
          1. the address: you gave {address}; it must match the drive's address setting (see `drivescript run --help` for the notation)\n  \

@@ -169,10 +169,7 @@ fn opened(
     if open.simulator.is_none() {
         if let Err(crate::drive::DriveError::Access(e)) = open.drive.state() {
             if e.is_no_reply() {
-                return Err(RunError::Unreachable(silent_drive(
-                    request.connection,
-                    &e.to_string(),
-                )));
+                return Err(RunError::Unreachable(silent_drive(request, &e.to_string())));
             }
         }
     }

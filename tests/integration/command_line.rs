@@ -179,12 +179,14 @@ fn a_windows_1252_recipe_is_said_plainly() {
 /// typed and the three likely causes, exit code 3, nothing run, reports written.
 #[test]
 fn a_drive_that_never_answers_gets_one_early_message() {
-    said_early_that_the_drive_does_not_answer("recipes/identity.yaml", "silent");
+    let err = said_early_that_the_drive_does_not_answer("recipes/identity.yaml", "silent");
+    assert!(err.contains("the recipe did not start"), "{err}");
 }
 
 /// Runs `file` (a recipe or a script) against a drive that never answers: it is said
-/// once, before anything runs, with the three likely causes, and in the JUnit file.
-pub(crate) fn said_early_that_the_drive_does_not_answer(file: &str, name: &str) {
+/// once, before anything runs, with the three likely causes, and in the JUnit file; what
+/// it said on standard error.
+pub(crate) fn said_early_that_the_drive_does_not_answer(file: &str, name: &str) -> String {
     let sim = crate::end_to_end::Simulator::start(&["--tcp", "127.0.0.1:0"]);
     let dir = temp_dir(name);
     let junit = dir.join("junit.xml");
@@ -224,6 +226,7 @@ pub(crate) fn said_early_that_the_drive_does_not_answer(file: &str, name: &str) 
     let xml = std::fs::read_to_string(&junit).expect("junit");
     assert!(xml.contains("the drive does not answer"), "{xml}");
     std::fs::remove_dir_all(&dir).unwrap();
+    err
 }
 
 /// `--csv-wide`: one column per object in `--csv` and in the `csv:` files of sample steps,

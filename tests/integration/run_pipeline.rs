@@ -50,10 +50,11 @@ fn a_script_against_a_drive_that_never_answers_says_so_early() {
         "silent.rhai",
         "let d = drive();\nprint(d.read(\"speed_actual\"));\n",
     );
-    crate::command_line::said_early_that_the_drive_does_not_answer(
+    let err = crate::command_line::said_early_that_the_drive_does_not_answer(
         script.to_str().expect("utf-8"),
         "script-silent",
     );
+    assert!(err.contains("the script did not start"), "{err}");
 }
 
 /// A script that cannot start (invalid, or its port cannot be opened) replaces the JUnit
