@@ -7,7 +7,7 @@
 
 use super::connection_args::{CanSpec, ConnectionArgs};
 use super::drive_args::DictionaryArgs;
-use super::not_run::silent_drive;
+use super::not_run::silent_drive_of;
 use super::run_setup::{telegram_outputs, SharedTelegrams};
 use super::{RunError, RunRequest};
 use crate::bus::{
@@ -358,7 +358,7 @@ pub fn named_drives_opened(
             if e.is_no_reply() {
                 return Err(RunError::Unreachable(format!(
                     "drive `{name}`: {}",
-                    silent_drive(request, &e.to_string())
+                    silent_drive_of(request, &e.to_string())
                 )));
             }
         }

@@ -4,20 +4,15 @@
 //! for a drive that does not answer.
 
 use super::run_plan::RunPlan;
-use super::{RunRequest, RunResult, COMMUNICATION};
+use super::{ConnectionArgs, RunRequest, RunResult, COMMUNICATION};
 use crate::report::{html_not_run, junit_not_run, write_atomically};
 use crate::session::PlannedCheck;
 use std::io::Write;
 
 /// The message for a drive that did not answer its first request, naming the address as
 /// the user typed it and the three likely causes.
-pub fn silent_drive(request: &RunRequest, detail: &str) -> String {
-    let connection = request.connection;
-    let what = if crate::script::is_script(request.file) {
-        "script"
-    } else {
-        "recipe"
-    };
+/// `what` is what did not start (`recipe`, `script`).
+pub fn silent_drive(connection: &ConnectionArgs, what: &str, detail: &str) -> String {
     let address = connection
         .address_given()
         .unwrap_or_else(|| "no --address, so the family's default address".to_string());
@@ -39,6 +34,16 @@ pub fn silent_drive(request: &RunRequest, detail: &str) -> String {
          3. the line: the cable or adapter, RS485 wiring and termination, the drive's power, or a different {line}\n\
          detail: {detail}"
     )
+}
+
+/// [`silent_drive`] for the file of `request`.
+pub fn silent_drive_of(request: &RunRequest, detail: &str) -> String {
+    let what = if crate::script::is_script(request.file) {
+        "script"
+    } else {
+        "recipe"
+    };
+    silent_drive(request.connection, what, detail)
 }
 
 /// The JUnit and HTML reports (when asked for) of a run that never started, so that CI

@@ -6,7 +6,7 @@
 
 use super::drive_limits::within_drive_limits;
 use super::drive_set::{named_drives_checked, named_drives_opened, OpenDrives};
-use super::not_run::{not_run, silent_drive};
+use super::not_run::{not_run, silent_drive_of};
 use super::run_plan::{LoadedPlan, RunPlan, SessionSettings};
 use super::run_setup::{finish_reports, observed, open_csv, telegram_outputs, write_placeholders, Look};
 use super::{open_drive, ConnectionArgs, RunError, RunRequest, RunResult, COMMUNICATION, INVALID};
@@ -169,7 +169,7 @@ fn opened(
     if open.simulator.is_none() {
         if let Err(crate::drive::DriveError::Access(e)) = open.drive.state() {
             if e.is_no_reply() {
-                return Err(RunError::Unreachable(silent_drive(request, &e.to_string())));
+                return Err(RunError::Unreachable(silent_drive_of(request, &e.to_string())));
             }
         }
     }
