@@ -1,9 +1,15 @@
 //! drivescript: a recipe engine for commissioning and testing servo and spindle drives.
 //!
-//! Data flows one way: `cli` → `recipe`/`script` → `drive` → `link` → `transport`.
-//! The codecs in [`protocol`] are pure; only `transport` touches I/O.
-//! Every file drivescript reads (recipes, dictionaries, limits) is read through [`diag`]: one
-//! diagnostic type and one YAML field reader.
+//! Data flows one way: `main` (builds the [`family::Registry`] once) → [`cli`] (parses,
+//! prints, exit codes) → [`run`] (the application layer: one pipeline for a recipe or a
+//! script, the policies around it) → [`recipe`]/[`script`] (turn a file into session
+//! operations) → [`session`] (operations, the verified safe stop, the run report) →
+//! [`drive`] (names, units, limits, device control, the maintenance interlock) →
+//! `family/<id>` (codec, link on the shared [`link`] core, object access, simulator front)
+//! → [`bus`] (byte transports and CAN frame buses). The codecs are pure; only `bus`
+//! touches I/O. [`report`] turns session events and telegrams into console lines, CSV,
+//! traces, JUnit and HTML. Every file drivescript reads (recipes, dictionaries, limits) is
+//! read through [`diag`]: one diagnostic type and one YAML field reader.
 
 // Errors here carry structured context (port, telegram, object, expected vs. actual) and
 // travel on cold paths of a tool that waits milliseconds per telegram; boxing them would
@@ -25,6 +31,7 @@ pub mod link;
 pub mod parameters;
 pub mod recipe;
 pub mod report;
+pub mod run;
 pub mod script;
 pub mod session;
 pub mod sim;

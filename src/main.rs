@@ -1,4 +1,6 @@
-//! The `drivescript` binary: parses the command line and hands over to the library.
+//! The `drivescript` binary: builds the registry of drive families once and hands the
+//! command line over to the library.
 fn main() {
-    std::process::exit(drivescript::cli::main());
+    let registry = drivescript::family::Registry::builtin();
+    std::process::exit(drivescript::cli::main(&registry));
 }

@@ -1,10 +1,10 @@
 //! `drivescript decode`: explains captured telegrams, one per argument or per input line.
 
-use super::drive_args::DictionaryArgs;
-use super::{FAILED, INVALID, PASSED};
 use crate::dictionary::Dictionary;
 use crate::family::{Family, Registry};
 use crate::hex::parse_hex;
+use crate::run::DictionaryArgs;
+use crate::run::{RunError, FAILED, INVALID, PASSED};
 use clap::Args;
 use std::io::{BufRead, Write};
 use std::sync::Arc;
@@ -35,7 +35,7 @@ pub struct DecodeArgs {
 
 /// Exit code: 0 when every telegram decoded, 1 when any was rejected, 2 for text that is
 /// not hex at all.
-pub fn run(args: &DecodeArgs) -> i32 {
+pub fn run(args: &DecodeArgs, registry: &Registry) -> i32 {
     let lines: Vec<(String, String)> = if args.hex.is_empty() {
         let stdin = std::io::stdin();
         let mut out = Vec::new();
@@ -79,8 +79,7 @@ pub fn run(args: &DecodeArgs) -> i32 {
         }
         out
     };
-    let registry = Registry::builtin();
-    let (family, names) = match protocol_and_names(&registry, args) {
+    let (family, names) = match protocol_and_names(registry, args) {
         Ok(found) => found,
         Err(text) => {
             eprint!("{text}");
@@ -189,12 +188,12 @@ pub fn run(args: &DecodeArgs) -> i32 {
 fn protocol_and_names(
     registry: &Registry,
     args: &DecodeArgs,
-) -> Result<(Arc<dyn Family>, Arc<Dictionary>), String> {
+) -> Result<(Arc<dyn Family>, Arc<Dictionary>), RunError> {
     let Some(protocol) = args.protocol.as_deref() else {
-        let names = args.dictionary.load()?;
+        let names = args.dictionary.load_for(registry, None)?;
         let family = registry
             .family(names.family())
-            .map_err(|e| format!("error: {e}\n"))?;
+            .map_err(|e| RunError::Invalid(format!("error: {e}\n")))?;
         return Ok((family, names));
     };
     let (family, dictionary) = match registry.family(protocol) {
@@ -203,7 +202,7 @@ fn protocol_and_names(
             Ok((f, d)) => (f, Some(d.name)),
             Err(_) => match registry.family(&protocol.replace('-', "_")) {
                 Ok(f) => (f, None),
-                Err(_) => return Err(format!("error: {e}\n")),
+                Err(_) => return Err(RunError::Invalid(format!("error: {e}\n"))),
             },
         },
     };
@@ -220,24 +219,37 @@ fn protocol_and_names(
             }
         }
     }
-    let names = wanted.load()?;
+    let names = wanted.load_for(registry, None)?;
     Ok((family, names))
 }
 
+/// A capture file that cannot be decoded as a whole.
+#[derive(Debug, thiserror::Error)]
+enum CaptureError {
+    #[error("cannot read {}: {source}", path.display())]
+    Unreadable {
+        path: std::path::PathBuf,
+        source: std::io::Error,
+    },
+    #[error("{} is larger than 64 MiB; split it, or pipe it: drivescript decode < FILE", path.display())]
+    TooLarge { path: std::path::PathBuf },
+}
+
 /// The lines of a capture file, at most 64 MiB of it; the error says what to do.
-fn read_lines(path: &std::path::Path) -> Result<Vec<String>, String> {
+fn read_lines(path: &std::path::Path) -> Result<Vec<String>, CaptureError> {
     use std::io::Read;
     const MAX: u64 = 64 << 20;
-    let file = std::fs::File::open(path).map_err(|e| format!("cannot read {}: {e}", path.display()))?;
+    let unreadable = |source| CaptureError::Unreadable {
+        path: path.to_path_buf(),
+        source,
+    };
+    let file = std::fs::File::open(path).map_err(unreadable)?;
     let mut bytes = Vec::new();
-    file.take(MAX + 1)
-        .read_to_end(&mut bytes)
-        .map_err(|e| format!("cannot read {}: {e}", path.display()))?;
+    file.take(MAX + 1).read_to_end(&mut bytes).map_err(unreadable)?;
     if bytes.len() as u64 > MAX {
-        return Err(format!(
-            "{} is larger than 64 MiB; split it, or pipe it: drivescript decode < FILE",
-            path.display()
-        ));
+        return Err(CaptureError::TooLarge {
+            path: path.to_path_buf(),
+        });
     }
     // Captures from other tools may hold any bytes in comments; the hex is ASCII.
     Ok(String::from_utf8_lossy(&bytes)

@@ -1,32 +1,25 @@
-//! The command line: argument parsing and one module per subcommand. Turns results into
-//! text and exit codes; must not build telegrams or touch ports itself.
+//! The command line: argument parsing and one module per subcommand. Each subcommand
+//! fills the library's requests from its options, calls the library (`run` for runs, checks
+//! and maintenance; `drive`, `parameters`, `report` directly for the one-off commands) with
+//! the registry `main` built, and turns the results into text and exit codes; plus the
+//! process-wide parts: stop signals and the panic notice. Must not build telegrams, touch
+//! ports, name a family, or define a type the library needs; nothing in the library
+//! imports it.
 
-mod address_key_flags;
-mod connection_args;
 mod decode_command;
-mod drive_args;
-mod drive_limits;
-mod drive_set;
-mod exit_code;
 mod maintain_command;
-mod not_run;
 mod object_commands;
 mod panic_notice;
 mod parameter_commands;
 mod recipe_commands;
-mod run_setup;
+mod safe_stop_notes;
 mod script_commands;
-mod several_runs;
 mod simulate_command;
 mod stop_command;
 mod stop_signals;
 
-pub use connection_args::{Connection, ConnectionArgs};
-pub use drive_args::{open_drive, DictionaryArgs, OpenDrive};
-pub use maintain_command::{run_maintain, MaintainRequest, MaintainResult, PrepareMaintained};
-pub use recipe_commands::{run_recipe, OutputArgs, PrepareSimulator, RunRequest, RunResult, SafeStopArgs};
-
-pub use exit_code::*;
+use crate::family::Registry;
+use crate::run::{INVALID, PASSED};
 
 use clap::{Parser, Subcommand};
 
@@ -94,8 +87,9 @@ struct CompletionsArgs {
     shell: clap_complete::Shell,
 }
 
-/// Runs the command line and returns the process exit code.
-pub fn main() -> i32 {
+/// Runs the command line with the drive families of `registry` and returns the process
+/// exit code.
+pub fn main(registry: &Registry) -> i32 {
     let cli = match Cli::try_parse() {
         Ok(cli) => cli,
         Err(e) => {
@@ -107,19 +101,19 @@ pub fn main() -> i32 {
         quiet_on_closed_pipe();
     }
     match cli.command {
-        Command::Run(args) => recipe_commands::run(&args),
-        Command::Check(args) => recipe_commands::check(&args),
-        Command::Read(args) => object_commands::read(&args),
-        Command::Write(args) => object_commands::write(&args),
-        Command::State(args) => object_commands::state(&args),
-        Command::Stop(args) => stop_command::stop(&args),
-        Command::Objects(args) => object_commands::objects(&args),
+        Command::Run(args) => recipe_commands::run(&args, registry),
+        Command::Check(args) => recipe_commands::check(&args, registry),
+        Command::Read(args) => object_commands::read(&args, registry),
+        Command::Write(args) => object_commands::write(&args, registry),
+        Command::State(args) => object_commands::state(&args, registry),
+        Command::Stop(args) => stop_command::stop(&args, registry),
+        Command::Objects(args) => object_commands::objects(&args, registry),
         Command::Ports(args) => object_commands::ports(&args),
-        Command::Backup(args) => parameter_commands::backup(&args),
-        Command::Diff(args) => parameter_commands::diff(&args),
-        Command::Restore(args) => parameter_commands::restore(&args),
-        Command::Maintain(args) => maintain_command::maintain(&args),
-        Command::Schema(args) => recipe_commands::schema(&args),
+        Command::Backup(args) => parameter_commands::backup(&args, registry),
+        Command::Diff(args) => parameter_commands::diff(&args, registry),
+        Command::Restore(args) => parameter_commands::restore(&args, registry),
+        Command::Maintain(args) => maintain_command::maintain(&args, registry),
+        Command::Schema(args) => recipe_commands::schema(&args, registry),
         Command::Completions(args) => {
             use clap::CommandFactory;
             use std::io::Write;
@@ -128,8 +122,8 @@ pub fn main() -> i32 {
             let _ = std::io::stdout().write_all(&script);
             PASSED
         }
-        Command::Decode(args) => decode_command::run(&args),
-        Command::Simulate(args) => simulate_command::run(&args),
+        Command::Decode(args) => decode_command::run(&args, registry),
+        Command::Simulate(args) => simulate_command::run(&args, registry),
     }
 }
 
@@ -144,20 +138,4 @@ fn quiet_on_closed_pipe() {
     unsafe {
         libc::signal(libc::SIGPIPE, libc::SIG_DFL);
     }
-}
-
-/// A diagnostic rendered for standard error: with colours on a terminal, plain otherwise
-/// (CI logs), always with the file:line:column snippet header.
-pub fn render_diagnostic(d: &dyn miette::Diagnostic) -> String {
-    use std::io::IsTerminal;
-    let handler = if std::io::stderr().is_terminal() {
-        miette::GraphicalReportHandler::new()
-    } else {
-        miette::GraphicalReportHandler::new_themed(miette::GraphicalTheme::unicode_nocolor())
-    };
-    let mut out = String::new();
-    if handler.render_report(&mut out, d).is_err() {
-        out = format!("error: {d}\n");
-    }
-    out
 }

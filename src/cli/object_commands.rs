@@ -1,13 +1,13 @@
 //! One-off object access: `read`, `write`, `state`, `objects`, `ports`.
 
-use super::connection_args::ConnectionArgs;
-use super::drive_args::{open_drive, DictionaryArgs, OpenDrive};
-use super::{COMMUNICATION, INVALID, PASSED};
 use crate::dictionary::{Address, DataType, Dictionary, ObjectDef, Quantity};
 use crate::drive::device_control::{status_word_bits, DeviceState};
 use crate::drive::DriveError;
 use crate::drive::WriteOutcome;
 use crate::family::{Family, Registry};
+use crate::run::ConnectionArgs;
+use crate::run::{open_drive, DictionaryArgs, OpenDrive};
+use crate::run::{COMMUNICATION, INVALID, PASSED};
 use clap::Args;
 use serde_json::json;
 use std::sync::Arc;
@@ -90,8 +90,8 @@ pub struct PortsArgs {
 }
 
 /// The dictionary, or the exit code after printing why not.
-fn load_dictionary(args: &DictionaryArgs) -> Result<Arc<Dictionary>, i32> {
-    args.load().map_err(|text| {
+fn load_dictionary(args: &DictionaryArgs, registry: &Registry) -> Result<Arc<Dictionary>, i32> {
+    args.load_for(registry, None).map_err(|text| {
         eprint!("{text}");
         INVALID
     })
@@ -101,11 +101,11 @@ fn load_dictionary(args: &DictionaryArgs) -> Result<Arc<Dictionary>, i32> {
 /// family reads as an address in its own notation (`read '#5.04'`); a name that is
 /// neither stays unknown, for the caller's did-you-mean message.
 fn with_raw_objects(
+    registry: &Registry,
     dictionary: Arc<Dictionary>,
     names: &[String],
     data_type: Option<DataType>,
 ) -> Result<Arc<Dictionary>, i32> {
-    let registry = Registry::builtin();
     let Ok(family) = registry.family(dictionary.family()) else {
         return Ok(dictionary);
     };
@@ -135,12 +135,15 @@ fn shown_address(family: &Option<Arc<dyn Family>>, address: &Address) -> String 
 
 /// The drive, or the exit code after printing why not. Says so when it is the simulated
 /// drive, whose state a one-off command cannot keep.
-fn open(connection: &ConnectionArgs, dictionary: Arc<Dictionary>) -> Result<OpenDrive, i32> {
-    let open =
-        open_drive(&Registry::builtin(), connection, dictionary, true, None, None).map_err(|text| {
-            eprintln!("{text}");
-            COMMUNICATION
-        })?;
+fn open(
+    registry: &Registry,
+    connection: &ConnectionArgs,
+    dictionary: Arc<Dictionary>,
+) -> Result<OpenDrive, i32> {
+    let open = open_drive(registry, connection, dictionary, true, None, None).map_err(|text| {
+        eprintln!("{text}");
+        COMMUNICATION
+    })?;
     if open.simulator.is_some() {
         eprintln!(
             "using {}; its state is not kept between commands",
@@ -161,9 +164,9 @@ fn drive_error_code(e: &DriveError) -> i32 {
     }
 }
 
-pub fn read(args: &ReadArgs) -> i32 {
-    let dictionary = match load_dictionary(&args.dictionary)
-        .and_then(|d| with_raw_objects(d, &args.names, args.data_type))
+pub fn read(args: &ReadArgs, registry: &Registry) -> i32 {
+    let dictionary = match load_dictionary(&args.dictionary, registry)
+        .and_then(|d| with_raw_objects(registry, d, &args.names, args.data_type))
     {
         Ok(d) => d,
         Err(code) => return code,
@@ -175,8 +178,8 @@ pub fn read(args: &ReadArgs) -> i32 {
             return INVALID;
         }
     }
-    let dictionary_family = Registry::builtin().family(dictionary.family()).ok();
-    let mut open = match open(&args.connection, dictionary) {
+    let dictionary_family = registry.family(dictionary.family()).ok();
+    let mut open = match open(registry, &args.connection, dictionary) {
         Ok(o) => o,
         Err(code) => return code,
     };
@@ -238,7 +241,7 @@ fn check_readable(dictionary: &Dictionary, name: &str) -> Result<(), DriveError>
     Ok(())
 }
 
-pub fn write(args: &WriteArgs) -> i32 {
+pub fn write(args: &WriteArgs, registry: &Registry) -> i32 {
     // `6000 rpm` as two arguments is the same value as `6000rpm`.
     let value = match &args.unit {
         Some(unit) => format!("{} {unit}", args.value),
@@ -246,9 +249,9 @@ pub fn write(args: &WriteArgs) -> i32 {
     };
     let names = std::slice::from_ref(&args.name);
     let mut raw = false;
-    let dictionary = match load_dictionary(&args.dictionary).and_then(|d| {
+    let dictionary = match load_dictionary(&args.dictionary, registry).and_then(|d| {
         raw = d.get(&args.name).is_none();
-        with_raw_objects(d, names, args.data_type)
+        with_raw_objects(registry, d, names, args.data_type)
     }) {
         Ok(d) => d,
         Err(code) => return code,
@@ -293,7 +296,7 @@ pub fn write(args: &WriteArgs) -> i32 {
             return INVALID;
         }
     };
-    let mut open = match open(&args.connection, dictionary) {
+    let mut open = match open(registry, &args.connection, dictionary) {
         Ok(o) => o,
         Err(code) => return code,
     };
@@ -319,12 +322,12 @@ pub fn write(args: &WriteArgs) -> i32 {
     }
 }
 
-pub fn state(args: &StateArgs) -> i32 {
-    let dictionary = match load_dictionary(&args.dictionary) {
+pub fn state(args: &StateArgs, registry: &Registry) -> i32 {
+    let dictionary = match load_dictionary(&args.dictionary, registry) {
         Ok(d) => d,
         Err(code) => return code,
     };
-    let mut open = match open(&args.connection, dictionary) {
+    let mut open = match open(registry, &args.connection, dictionary) {
         Ok(o) => o,
         Err(code) => return code,
     };
@@ -364,19 +367,25 @@ pub fn state(args: &StateArgs) -> i32 {
     PASSED
 }
 
-pub fn objects(args: &ObjectsArgs) -> i32 {
-    let dictionary = match load_dictionary(&args.dictionary) {
+pub fn objects(args: &ObjectsArgs, registry: &Registry) -> i32 {
+    let dictionary = match load_dictionary(&args.dictionary, registry) {
         Ok(d) => d,
         Err(code) => return code,
     };
-    let family = Registry::builtin().family(dictionary.family()).ok();
+    let family = registry.family(dictionary.family()).ok();
     let list: Vec<&ObjectDef> = match &args.filter {
         Some(f) => dictionary.filter(f),
         None => dictionary.objects().collect(),
     };
     let drive_limits = if args.from_drive {
         let names: Vec<String> = list.iter().map(|d| d.name.clone()).collect();
-        match super::drive_limits::read_all(&names, dictionary.clone(), &args.connection) {
+        match crate::run::drive_limits::read_all(
+            registry,
+            &names,
+            dictionary.clone(),
+            &args.connection,
+            &mut std::io::stderr(),
+        ) {
             Ok((port, limits)) => Some((port, limits)),
             Err(e) => {
                 eprintln!("{e}");
@@ -425,9 +434,11 @@ pub fn objects(args: &ObjectsArgs) -> i32 {
     );
     for d in list {
         let limits = match (d.min, d.max) {
-            (Some(lo), Some(hi)) => format!("{} .. {}", crate::recipe::number(lo), crate::recipe::number(hi)),
-            (Some(lo), None) => format!(">= {}", crate::recipe::number(lo)),
-            (None, Some(hi)) => format!("<= {}", crate::recipe::number(hi)),
+            (Some(lo), Some(hi)) => {
+                format!("{} .. {}", crate::session::number(lo), crate::session::number(hi))
+            }
+            (Some(lo), None) => format!(">= {}", crate::session::number(lo)),
+            (None, Some(hi)) => format!("<= {}", crate::session::number(hi)),
             (None, None) => String::new(),
         };
         let limits = match &d.bench {

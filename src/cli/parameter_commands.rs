@@ -2,15 +2,15 @@
 //! the live drive or another file, and written back after a printed plan. Prints and
 //! decides exit codes; the reading, comparing and writing are `crate::parameters`'.
 
-use super::connection_args::ConnectionArgs;
-use super::drive_args::{open_drive, DictionaryArgs, OpenDrive};
 use super::stop_signals;
-use super::{COMMUNICATION, FAILED, INVALID, PASSED};
 use crate::dictionary::Dictionary;
 use crate::drive::Drive;
 use crate::family::Registry;
 use crate::parameters::{self, Difference, Origin, Outcome, ParameterFile, Reading, SavedObject};
 use crate::report::write_atomically;
+use crate::run::ConnectionArgs;
+use crate::run::{open_drive, DictionaryArgs, OpenDrive};
+use crate::run::{COMMUNICATION, FAILED, INVALID, PASSED};
 use crate::stop_request::StopRequests;
 use clap::Args;
 use std::path::PathBuf;
@@ -79,14 +79,7 @@ pub struct RestoreArgs {
 fn origin(connection: &ConnectionArgs, open: &OpenDrive) -> Origin {
     Origin {
         address: connection
-            .address
-            .clone()
-            .or_else(|| {
-                connection
-                    .dnc_address
-                    .as_ref()
-                    .map(|n| format!("dnc_address {n}"))
-            })
+            .address_recorded()
             .map_or_else(|| open.drive.port(), |a| format!("{a} ({})", open.drive.port())),
         date: parameters::utc_timestamp(SystemTime::now()),
         tool: format!("drivescript {}", env!("CARGO_PKG_VERSION")),
@@ -95,22 +88,16 @@ fn origin(connection: &ConnectionArgs, open: &OpenDrive) -> Origin {
 
 /// Opens the drive for a parameter command, saying so when it is the simulated one.
 fn open(
+    registry: &Registry,
     connection: &ConnectionArgs,
     dictionary: Arc<Dictionary>,
     stop: &Arc<StopRequests>,
 ) -> Result<OpenDrive, i32> {
-    let open = open_drive(
-        &Registry::builtin(),
-        connection,
-        dictionary,
-        true,
-        None,
-        Some(stop.clone()),
-    )
-    .map_err(|text| {
-        eprintln!("{text}");
-        COMMUNICATION
-    })?;
+    let open =
+        open_drive(registry, connection, dictionary, true, None, Some(stop.clone())).map_err(|text| {
+            eprintln!("{text}");
+            COMMUNICATION
+        })?;
     if open.simulator.is_some() {
         eprintln!("using {}", open.description);
     }
@@ -135,11 +122,9 @@ fn read_live(
     );
     // Addresses as the family writes them (`#1.06`, `C00088`).
     let dictionary = open.drive.dictionary().clone();
-    if let Ok(family) = Registry::builtin().family(dictionary.family()) {
-        for o in &mut file.objects {
-            if let Some(def) = dictionary.get(&o.name) {
-                o.address = family.show_address(&def.address);
-            }
+    for o in &mut file.objects {
+        if let Some(def) = dictionary.get(&o.name) {
+            o.address = open.family.show_address(&def.address);
         }
     }
     if all && complete {
@@ -166,7 +151,7 @@ fn read_live(
 /// it knows are saved by name already, or are live values and commands.
 fn scan_beyond_dictionary(open: &mut OpenDrive, stop: &StopRequests) -> Result<Vec<SavedObject>, i32> {
     let dictionary = open.drive.dictionary().clone();
-    let family = Registry::builtin().family(dictionary.family()).ok();
+    let family = open.family.clone();
     let listed = match open.drive.list_objects(&|| stop.first().is_none(), &mut |text| {
         eprintln!("scanning {text}")
     }) {
@@ -187,12 +172,8 @@ fn scan_beyond_dictionary(open: &mut OpenDrive, stop: &StopRequests) -> Result<V
         .into_iter()
         .filter(|(address, _)| !dictionary.objects().any(|o| o.address == *address))
         .map(|(address, raw)| SavedObject {
-            name: family
-                .as_ref()
-                .map_or_else(|| address.to_string(), |f| f.show_address(&address)),
-            address: family
-                .as_ref()
-                .map_or_else(|| address.to_string(), |f| f.show_address(&address)),
+            name: family.show_address(&address),
+            address: family.show_address(&address),
             reading: Reading::Value {
                 shown: raw.to_string(),
                 raw: parameters::raw_text(&raw),
@@ -203,12 +184,16 @@ fn scan_beyond_dictionary(open: &mut OpenDrive, stop: &StopRequests) -> Result<V
 
 /// The dictionary a backup's names come from: the one it names, with the user's files and
 /// bench limits.
-fn dictionary_for(args: &DictionaryArgs, backup: &ParameterFile) -> Result<Arc<Dictionary>, i32> {
+fn dictionary_for(
+    registry: &Registry,
+    args: &DictionaryArgs,
+    backup: &ParameterFile,
+) -> Result<Arc<Dictionary>, i32> {
     let mut args = args.clone();
     if !backup.dictionary.is_empty() {
         args.family = backup.dictionary.clone();
     }
-    args.load().map_err(|text| {
+    args.load_for(registry, None).map_err(|text| {
         eprint!("{text}");
         INVALID
     })
@@ -221,8 +206,8 @@ fn load(path: &std::path::Path) -> Result<ParameterFile, i32> {
     })
 }
 
-pub fn backup(args: &BackupArgs) -> i32 {
-    let dictionary = match args.dictionary.load() {
+pub fn backup(args: &BackupArgs, registry: &Registry) -> i32 {
+    let dictionary = match args.dictionary.load_for(registry, None) {
         Ok(d) => d,
         Err(text) => {
             eprint!("{text}");
@@ -237,7 +222,7 @@ pub fn backup(args: &BackupArgs) -> i32 {
         return INVALID;
     }
     let stop = stop_signals::install(false);
-    let mut open = match open(&args.connection, dictionary, &stop) {
+    let mut open = match open(registry, &args.connection, dictionary, &stop) {
         Ok(o) => o,
         Err(code) => return code,
     };
@@ -284,7 +269,7 @@ fn print_differences(differences: &[Difference], left: &str, right: &str) {
     }
 }
 
-pub fn diff(args: &DiffArgs) -> i32 {
+pub fn diff(args: &DiffArgs, registry: &Registry) -> i32 {
     let Some(first) = args.files.first() else {
         return INVALID;
     };
@@ -303,12 +288,12 @@ pub fn diff(args: &DiffArgs) -> i32 {
             Err(code) => return code,
         },
         None => {
-            let dictionary = match dictionary_for(&args.dictionary, &left) {
+            let dictionary = match dictionary_for(registry, &args.dictionary, &left) {
                 Ok(d) => d,
                 Err(code) => return code,
             };
             let stop = stop_signals::install(false);
-            let mut open = match open(&args.connection, dictionary, &stop) {
+            let mut open = match open(registry, &args.connection, dictionary, &stop) {
                 Ok(o) => o,
                 Err(code) => return code,
             };
@@ -408,12 +393,12 @@ fn beyond_drive_limits(drive: &mut Drive, plan: &[parameters::PlannedWrite]) -> 
     out
 }
 
-pub fn restore(args: &RestoreArgs) -> i32 {
+pub fn restore(args: &RestoreArgs, registry: &Registry) -> i32 {
     let backup = match load(&args.file) {
         Ok(f) => f,
         Err(code) => return code,
     };
-    let dictionary = match dictionary_for(&args.dictionary, &backup) {
+    let dictionary = match dictionary_for(registry, &args.dictionary, &backup) {
         Ok(d) => d,
         Err(code) => return code,
     };
@@ -427,7 +412,7 @@ pub fn restore(args: &RestoreArgs) -> i32 {
         return INVALID;
     }
     let stop = stop_signals::install(false);
-    let mut open = match open(&args.connection, dictionary.clone(), &stop) {
+    let mut open = match open(registry, &args.connection, dictionary.clone(), &stop) {
         Ok(o) => o,
         Err(code) => return code,
     };

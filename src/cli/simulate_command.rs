@@ -1,13 +1,14 @@
 //! `drivescript simulate`: serves the simulated drive on a pseudo-terminal or a TCP port so
 //! any serial tool (or drivescript with `--port`/`--tcp`) can talk to it.
 
-use super::address_key_flags::DNC_ADDRESS;
-use super::{stop_signals, COMMUNICATION, INVALID, PASSED};
+use super::stop_signals;
 use crate::bus::{
     EchoingLine, FramePeer, FramePeerLine, Peer, PeerLine, SlcanAdapter, TcpTransport, WireTime,
 };
 use crate::clock::RealClock;
 use crate::family::{Registry, SimPeer, DEFAULT_DICTIONARY};
+use crate::run::DNC_ADDRESS;
+use crate::run::{COMMUNICATION, INVALID, PASSED};
 use crate::sim::SimConfig;
 use crate::sim_server::SimServer;
 use clap::Args;
@@ -60,8 +61,7 @@ pub struct SimulateArgs {
     ramp: f64,
 }
 
-pub fn run(args: &SimulateArgs) -> i32 {
-    let registry = Registry::builtin();
+pub fn run(args: &SimulateArgs, registry: &Registry) -> i32 {
     let family = match registry.dictionary(&args.drive) {
         Ok((family, _)) => family,
         Err(e) => {
@@ -72,7 +72,7 @@ pub fn run(args: &SimulateArgs) -> i32 {
     // Several addresses (`0,1`, `dnc:2,dnc:3`): one simulated drive each, all on the one
     // line, each answering at its own address.
     let given = match &args.dnc_address {
-        Some(list) => match DNC_ADDRESS.addresses(family.as_ref(), list) {
+        Some(list) => match DNC_ADDRESS.addresses(registry, family.as_ref(), list) {
             Ok(addresses) => Some(addresses),
             Err(e) => {
                 eprintln!("error: {e}");

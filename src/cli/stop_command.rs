@@ -3,12 +3,13 @@
 //! options of the other one-off commands. Only parses and prints: the stop itself is the
 //! library's (`session::stop_drive`).
 
-use super::drive_args::{open_drive, DictionaryArgs};
-use super::not_run::silent_drive;
-use super::{panic_notice, stop_signals, ConnectionArgs, SafeStopArgs, COMMUNICATION, INVALID};
+use super::{panic_notice, stop_signals};
 use crate::family::Registry;
 use crate::recipe::SafeStopChoice;
 use crate::report::{step_line, summary_lines};
+use crate::run::{
+    open_drive, silent_drive, ConnectionArgs, DictionaryArgs, SafeStopArgs, COMMUNICATION, INVALID,
+};
 use crate::session::{stop_drive, OneOffStopError, RunObserver, StepRecord, Verdict};
 use clap::Args;
 use std::io::Write;
@@ -43,19 +44,18 @@ impl RunObserver for StopLines {
     }
 }
 
-pub fn stop(args: &StopArgs) -> i32 {
+pub fn stop(args: &StopArgs, registry: &Registry) -> i32 {
     let stop = stop_signals::install(true);
     panic_notice::install();
-    let dictionary = match args.dictionary.load() {
+    let dictionary = match args.dictionary.load_for(registry, None) {
         Ok(d) => d,
         Err(text) => {
             eprint!("{text}");
             return INVALID;
         }
     };
-    let registry = Registry::builtin();
     let mut open = match open_drive(
-        &registry,
+        registry,
         &args.connection,
         dictionary,
         false,
@@ -95,11 +95,11 @@ pub fn stop(args: &StopArgs) -> i32 {
             code
         }
         Err(OneOffStopError::Silent(e)) => {
-            let text = silent_drive(&args.connection, &e.to_string());
+            let text = silent_drive(&args.connection, "stop", &e.to_string());
             eprintln!(
                 "{}",
                 text.replace(
-                    "nothing was written to it and the recipe did not start",
+                    "nothing was written to it and the stop did not start",
                     "nothing was sent to stop it",
                 )
             );

@@ -90,6 +90,20 @@ pub fn report_handler(colour: bool) -> miette::GraphicalReportHandler {
     }
 }
 
+/// A diagnostic rendered for standard error: with colours on a terminal, plain otherwise
+/// (CI logs), always with the file:line:column snippet header.
+pub fn render_diagnostic(d: &dyn miette::Diagnostic) -> String {
+    use std::io::IsTerminal;
+    let mut out = String::new();
+    if report_handler(std::io::stderr().is_terminal())
+        .render_report(&mut out, d)
+        .is_err()
+    {
+        out = format!("error: {d}\n");
+    }
+    out
+}
+
 /// A problem headed by its bare message, since its snippet's header already says
 /// `path:line:column`; one without a snippet says its file and place in the headline.
 #[derive(Debug)]

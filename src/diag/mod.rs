@@ -19,7 +19,7 @@ mod yaml_node;
 mod yaml_parse;
 
 pub use diagnostic::Diagnostic;
-pub use diagnostics::{report_handler, Diagnostics};
+pub use diagnostics::{render_diagnostic, report_handler, Diagnostics};
 pub use did_you_mean::{did_you_mean, suggestion_text};
 pub use fields::Fields;
 pub use reader::{expected, Reader};

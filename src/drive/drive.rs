@@ -170,15 +170,55 @@ impl Drive {
             .map(|r| r.map_err(DriveError::Access))
     }
 
-    /// Carries out a maintenance action of the family by its name; `None` where the family
-    /// has none.
+    /// The interlock of maintenance actions: a destructive `action` is cleared only after
+    /// the drive's state is read, now, and refused while the drive is enabled, whatever
+    /// else is said; where the state cannot be read, only `force` clears it. A harmless
+    /// action is cleared without a read.
+    pub fn clear_for_maintenance(
+        &mut self,
+        action: &super::MaintenanceAction,
+        argument: Option<u32>,
+        force: bool,
+    ) -> Result<super::MaintenanceClearance, DriveError> {
+        let mut clearance = super::MaintenanceClearance {
+            action: *action,
+            argument,
+            state: None,
+            unchecked: None,
+        };
+        let Some(why) = action.destructive else {
+            return Ok(clearance);
+        };
+        match self.state() {
+            Ok(state) if state.is_powered() => Err(DriveError::EnabledForMaintenance {
+                action: clearance.shown(),
+                state,
+                why,
+            }),
+            Ok(state) => {
+                clearance.state = Some(state);
+                Ok(clearance)
+            }
+            Err(cause) if force => {
+                clearance.unchecked = Some(super::drive_error::state_unknown(&cause));
+                Ok(clearance)
+            }
+            Err(cause) => Err(DriveError::MaintenanceStateUnknown {
+                action: clearance.shown(),
+                why,
+                cause: Box::new(cause),
+            }),
+        }
+    }
+
+    /// Carries out the maintenance action `clearance` was given for; `None` where the
+    /// family has no such action.
     pub fn maintain(
         &mut self,
-        action: &str,
-        argument: Option<u32>,
+        clearance: super::MaintenanceClearance,
     ) -> Option<Result<super::MaintenanceOutcome, DriveError>> {
         self.access
-            .maintain(action, argument)
+            .maintain(clearance.action.name, clearance.argument)
             .map(|r| r.map_err(DriveError::Access))
     }
 

@@ -48,6 +48,23 @@ pub enum DriveError {
     #[error(transparent)]
     Access(#[from] AccessError),
 
+    /// A destructive maintenance action while the drive is enabled: never sent.
+    #[error("the drive is in {state}, and {action} is refused while it is enabled ({why})")]
+    EnabledForMaintenance {
+        action: String,
+        state: DeviceState,
+        why: &'static str,
+    },
+
+    /// A destructive maintenance action on a drive whose state cannot be read, without
+    /// `force`: never sent.
+    #[error("{action} is destructive ({why}), and {}", state_unknown(cause))]
+    MaintenanceStateUnknown {
+        action: String,
+        why: &'static str,
+        cause: Box<DriveError>,
+    },
+
     #[error("{port} refused {operation} {object}: {text}")]
     Refused {
         port: String,
@@ -127,5 +144,17 @@ impl DriveError {
     /// True when the drive itself is in fault.
     pub fn is_fault(&self) -> bool {
         matches!(self, DriveError::Fault { .. })
+    }
+}
+
+/// Why nobody can tell whether the drive is enabled, from the error of reading its state.
+pub fn state_unknown(cause: &DriveError) -> String {
+    match cause {
+        DriveError::NoRole { family, .. } => format!(
+            "the drive's state cannot be checked: the {family} dictionary has no device-control profile, so drivescript cannot tell whether the drive is enabled"
+        ),
+        other => format!(
+            "the drive's state cannot be read ({other}), so drivescript cannot tell whether the drive is enabled"
+        ),
     }
 }

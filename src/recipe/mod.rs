@@ -13,10 +13,6 @@ mod schema;
 mod step;
 mod written_values;
 
-pub use crate::session::show_duration;
-pub use crate::session::{number, Check, Condition, Predicate, Statistic, Stats, Tolerance};
-pub use crate::session::{CheckResult, RunReport, Series, StepRecord, Verdict};
-pub use crate::session::{Observers, RunObserver, SafeStopSettings};
 pub use drive_decl::DriveDecl;
 pub use expansion::{MAX_EXPANDED_STEPS, MAX_INCLUDE_LOADS, MAX_RUN_TIME};
 pub use loader::{
@@ -28,5 +24,5 @@ pub use recipe::{Param, Recipe, SafeStopChoice};
 pub use recipe_invalid::RecipeInvalid;
 pub use runner::Runner;
 pub use schema::recipe_schema;
-pub use step::{longest_time_of, ObjectRef, SetValue, Step, StepKind, StepOrigin};
+pub use step::{longest_time_of, Step, StepKind};
 pub use written_values::{written_values, WrittenValue};

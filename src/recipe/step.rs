@@ -4,7 +4,7 @@
 
 use crate::drive::device_control::{DeviceCommand, DeviceState};
 use crate::session::{Check, Condition};
-pub use crate::session::{ObjectRef, SetValue, StepOrigin};
+use crate::session::{ObjectRef, SetValue, StepOrigin};
 use std::path::PathBuf;
 use std::time::Duration;
 

@@ -4,7 +4,8 @@
 //! dictionary's). Pure: it walks the recipe, never a drive.
 
 use super::recipe::Recipe;
-use super::step::{ObjectRef, SetValue, Step, StepKind, StepOrigin};
+use super::step::{Step, StepKind};
+use crate::session::{ObjectRef, SetValue, StepOrigin};
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct WrittenValue {

@@ -319,9 +319,11 @@ mod tests {
     fn bridge(stop: Arc<StopRequests>) -> Bridge {
         let (tx, _) = channel();
         let (_, rx) = channel();
-        let dictionary = crate::cli::DictionaryArgs::builtin_sd2()
-            .load_for(&crate::family::Registry::builtin(), None)
-            .expect("dictionary");
+        let dictionary = std::sync::Arc::new(
+            crate::family::Registry::builtin()
+                .load_dictionary("sd2")
+                .expect("dictionary"),
+        );
         Bridge::new(tx, rx, dictionary, Vec::new(), stop, VirtualClock::shared())
     }
 

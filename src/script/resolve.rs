@@ -283,12 +283,13 @@ pub fn tolerance(text: &str) -> Result<(Tolerance, Option<String>), Refusal> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::family::Registry;
 
     fn sd2() -> std::sync::Arc<Dictionary> {
-        crate::cli::DictionaryArgs::builtin_sd2()
-            .load_for(&Registry::builtin(), None)
-            .expect("the built-in dictionary")
+        std::sync::Arc::new(
+            crate::family::Registry::builtin()
+                .load_dictionary("sd2")
+                .expect("the built-in dictionary"),
+        )
     }
 
     #[test]

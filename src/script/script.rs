@@ -12,7 +12,7 @@ use super::sandbox::sandbox;
 use super::script_error::parse_error;
 use super::script_header::Header;
 use super::script_invalid::ScriptInvalid;
-use super::static_check::{check_calls, literal_writes};
+use super::static_check::{check_calls, literal_writes, named_literal_writes};
 use super::unknown_calls::unknown_calls;
 use crate::diag::{read_source, Diagnostic, Diagnostics, Source, Span};
 use crate::dictionary::Dictionary;
@@ -39,8 +39,9 @@ pub struct Script {
     /// Drive calls written with literal words (for `check`'s summary).
     pub calls: usize,
     /// The numbers the script's literal `set` calls write, in the object's unit, for the
-    /// run's comparison with the limits the drive itself reports (one drive only: with
-    /// `//! drives:`, which drive a call goes to is known only as the script runs).
+    /// run's comparison with the limits the drive itself reports. With `//! drives:`, the
+    /// calls on a variable given one named drive (`let left = drive("left")`), named
+    /// `left.speed_setpoint`; which drive other calls go to is known only as it runs.
     pub written: Vec<crate::recipe::WrittenValue>,
     /// `//! link: channel=cyclic, velocity_scaling=24000rpm`: settings of the family's
     /// link, as a recipe's `link:` gives them (the command line wins).
@@ -239,7 +240,7 @@ fn load_source_for(
             written: if drives.is_empty() {
                 literal_writes(&calls, dictionary)
             } else {
-                Vec::new()
+                named_literal_writes(&calls, drives)
             },
             drives: header.drives,
             leave_enabled: header.leave_enabled,
@@ -263,12 +264,13 @@ fn file_stem(path: &str) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::family::Registry;
 
     fn sd2() -> Arc<Dictionary> {
-        crate::cli::DictionaryArgs::builtin_sd2()
-            .load_for(&Registry::builtin(), None)
-            .expect("the built-in dictionary")
+        std::sync::Arc::new(
+            crate::family::Registry::builtin()
+                .load_dictionary("sd2")
+                .expect("the built-in dictionary"),
+        )
     }
 
     fn problems(text: &str, set: &[(String, String)]) -> Vec<String> {
@@ -276,6 +278,27 @@ mod tests {
             Ok(_) => Vec::new(),
             Err(e) => e.problems.iter().map(|d| d.located()).collect(),
         }
+    }
+
+    /// With named drives, a literal write on a variable given one drive is compared with
+    /// that drive's limits, named as a recipe names it; a variable given both is not.
+    #[test]
+    fn named_drives_literal_writes_belong_to_the_drive_their_variable_names() {
+        let text = "//! drives: left = sd2 @ dnc:2, right = sd2 @ dnc:3\nlet l = drive(\"left\");\nlet r = drive(\"right\");\nlet x = drive(\"left\");\nx = drive(\"right\");\nr.set(\"speed_setpoint\", 2000.0, \"rpm\");\nl.set(\"speed_setpoint\", 1000.0, \"rpm\");\nx.set(\"speed_setpoint\", 3000.0, \"rpm\");\n";
+        let drives = vec![("left".to_string(), sd2()), ("right".to_string(), sd2())];
+        let script = load_source_for(Source::new("two.rhai", text), &sd2(), &drives, &[]).expect("valid");
+        let written: Vec<(String, f64, usize)> = script
+            .written
+            .iter()
+            .map(|w| (w.object.name.clone(), w.value, w.origin.line))
+            .collect();
+        assert_eq!(
+            written,
+            [
+                ("right.speed_setpoint".to_string(), 2000.0, 6),
+                ("left.speed_setpoint".to_string(), 1000.0, 7)
+            ]
+        );
     }
 
     #[test]

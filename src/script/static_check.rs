@@ -28,13 +28,13 @@ pub fn literal_writes(calls: &[LiteralCall], dict: &Dictionary) -> Vec<crate::re
             None => None,
             Some(_) => continue,
         };
-        if let Ok((object, crate::recipe::SetValue::Number(value))) =
+        if let Ok((object, crate::session::SetValue::Number(value))) =
             resolve::set_value(dict, name, &Written::Number(*v, unit))
         {
             out.push(crate::recipe::WrittenValue {
                 object,
                 value,
-                origin: crate::recipe::StepOrigin {
+                origin: crate::session::StepOrigin {
                     path: vspan.path().to_string(),
                     line: vspan.line(),
                     column: vspan.column(),
@@ -43,6 +43,45 @@ pub fn literal_writes(calls: &[LiteralCall], dict: &Dictionary) -> Vec<crate::re
             });
         }
     }
+    out
+}
+
+/// [`literal_writes`] for a script with `//! drives:`: the `set` calls on a variable the
+/// script gives one named drive (`let left = drive("left");`), each taken by that drive's
+/// dictionary and named as a recipe with `drives:` names it (`left.speed_setpoint`), in
+/// text order. A variable given several drives, or a drive whose name is not a literal,
+/// is left to the run, where each value still meets its drive's dictionary.
+pub fn named_literal_writes(
+    calls: &[LiteralCall],
+    drives: &[(String, std::sync::Arc<Dictionary>)],
+) -> Vec<crate::recipe::WrittenValue> {
+    let mut bound: Vec<(&str, Option<&str>)> = Vec::new();
+    for c in calls.iter().filter(|c| c.name == "drive" && !c.method) {
+        let (Some(var), Some((Arg::Text(name), _))) = (&c.assigned_to, c.args.first()) else {
+            continue;
+        };
+        match bound.iter_mut().find(|(v, _)| v == var) {
+            Some((_, drive)) if *drive != Some(name.as_str()) => *drive = None,
+            Some(_) => {}
+            None => bound.push((var, Some(name))),
+        }
+    }
+    let mut out = Vec::new();
+    for (var, drive) in bound {
+        let Some((name, dict)) = drive.and_then(|d| drives.iter().find(|(n, _)| n == d)) else {
+            continue;
+        };
+        let own: Vec<LiteralCall> = calls
+            .iter()
+            .filter(|c| c.receiver.as_deref() == Some(var))
+            .cloned()
+            .collect();
+        out.extend(literal_writes(&own, dict).into_iter().map(|mut w| {
+            w.object.name = format!("{name}.{}", w.object.name);
+            w
+        }));
+    }
+    out.sort_by_key(|w| (w.origin.line, w.origin.column));
     out
 }
 

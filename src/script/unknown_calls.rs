@@ -132,7 +132,7 @@ mod tests {
     use crate::script::sandbox::sandbox;
 
     fn problems(text: &str) -> Vec<String> {
-        let dictionary = crate::cli::DictionaryArgs::builtin_sd2()
+        let dictionary = crate::run::DictionaryArgs::builtin_default()
             .load_for(&Registry::builtin(), None)
             .expect("the built-in dictionary");
         let source = Source::new("s.rhai", text);

@@ -171,13 +171,21 @@ fn a_windows_1252_recipe_is_said_plainly() {
 /// typed and the three likely causes, exit code 3, nothing run, reports written.
 #[test]
 fn a_drive_that_never_answers_gets_one_early_message() {
+    let err = said_early_that_the_drive_does_not_answer("recipes/identity.yaml", "silent");
+    assert_has(&err, &["the recipe did not start"]);
+}
+
+/// Runs `file` (a recipe or a script) against a drive that never answers: it is said
+/// once, before anything runs, with the three likely causes, and in the JUnit file; what
+/// it said on standard error.
+pub(crate) fn said_early_that_the_drive_does_not_answer(file: &str, name: &str) -> String {
     let sim = crate::support::Simulator::start(&["--tcp", "127.0.0.1:0"]);
-    let dir = scratch("silent");
+    let dir = scratch(name);
     let junit = dir.join("junit.xml");
     let out = cli(
         &[
             "run",
-            "recipes/identity.yaml",
+            file,
             "--tcp",
             &sim.endpoint,
             "--address",
@@ -205,6 +213,7 @@ fn a_drive_that_never_answers_gets_one_early_message() {
     let xml = std::fs::read_to_string(&junit).expect("junit");
     assert_has(&xml, &["the drive does not answer"]);
     std::fs::remove_dir_all(&dir).unwrap();
+    err
 }
 
 /// `--csv-wide`: one column per object in `--csv` and in the `csv:` files of sample steps,

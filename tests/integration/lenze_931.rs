@@ -9,9 +9,9 @@ use crate::support::{
     assert_has, assert_lacks, cli, control_words, drivescript, repo_root, scratch, stderr, stdout,
     write_file, InProcessRun,
 };
-use drivescript::cli::DictionaryArgs;
 use drivescript::clock::SharedClock;
 use drivescript::drive::{DeviceCommand, DeviceState};
+use drivescript::run::DictionaryArgs;
 use drivescript::sim::SimulatedDrive;
 use drivescript::stop_request::{StopRequests, StopSignal};
 use std::path::{Path, PathBuf};
@@ -188,7 +188,7 @@ type SharedSim = Arc<Mutex<dyn SimulatedDrive>>;
 
 /// Runs `path` on the simulated 931 (with the completed template) and returns the exit
 /// code, the output and every request line the drive received, in order.
-fn run_and_record(dir: &Path, path: PathBuf) -> (i32, String, Vec<String>) {
+pub(crate) fn run_and_record(dir: &Path, path: PathBuf) -> (i32, String, Vec<String>) {
     let captured: Arc<Mutex<Option<SharedSim>>> = Arc::new(Mutex::new(None));
     let keep = captured.clone();
     let prepare = move |sim: &Arc<Mutex<dyn SimulatedDrive>>, _: &SharedClock| {
@@ -300,7 +300,7 @@ fn without_a_profile_check_refuses_device_commands_and_states_saying_what_to_add
 fn run_with(
     recipe: &Path,
     dictionary: PathBuf,
-    prepare: &drivescript::cli::PrepareSimulator,
+    prepare: &drivescript::run::PrepareSimulator,
     stop: Arc<StopRequests>,
 ) -> (i32, String, Arc<Mutex<dyn SimulatedDrive>>) {
     let mut run = InProcessRun::new(recipe);

@@ -6,9 +6,12 @@
 use crate::lenze_931::{completed_template, dictionary_args};
 use crate::support::{assert_has, cli, drivescript, scratch, stderr, stdout};
 use drivescript::bus::Peer;
-use drivescript::cli::{run_maintain, ConnectionArgs, DictionaryArgs, MaintainRequest, PrepareMaintained};
-use drivescript::family::lenze_931::LenzeSimulator;
+use drivescript::drive::{DeviceState, DriveError};
+use drivescript::family::lenze_931::{Lenze931Family, LenzeSimulator};
+use drivescript::family::Family;
 use drivescript::family::Registry;
+use drivescript::run::{run_maintain, MaintainRequest, PrepareMaintained};
+use drivescript::run::{ConnectionArgs, DictionaryArgs};
 use drivescript::sim::SimulatedDrive;
 use drivescript::stop_request::StopRequests;
 use std::sync::{Arc, Mutex, OnceLock, PoisonError};
@@ -459,4 +462,57 @@ fn a_stop_while_waiting_for_the_answer_says_the_outcome_is_unknown() {
     let (code, err, _) = run_request(&builtin(), "reset", true, None, stop, Some(&prepare));
     assert_eq!(code, 130, "{err}");
     assert_has(&err, &["whether the drive carried out reset is unknown"]);
+}
+
+/// The interlock belongs to the drive layer: any caller that opens a drive gets it, not
+/// only `maintain`. An enabled drive refuses a destructive action even with `force`, and
+/// nothing is sent; disabled, the clearance carries the state it was given in.
+#[test]
+fn the_drive_layer_refuses_a_destructive_action_while_the_drive_is_enabled() {
+    let dir = scratch("maintain-drive-layer");
+    let dictionary = dictionary_args(Some(completed_template(&dir)))
+        .load_for(&Registry::builtin(), None)
+        .expect("dictionary");
+    let mut open = drivescript::run::open_drive(
+        &Registry::builtin(),
+        &ConnectionArgs::simulated(),
+        dictionary,
+        true,
+        None,
+        None,
+    )
+    .expect("the simulated 931 opens");
+    let sim = open.simulator.clone().expect("simulated");
+    let reset = *Lenze931Family
+        .maintenance_actions()
+        .iter()
+        .find(|a| a.name == "reset")
+        .expect("reset");
+    let clearance = open
+        .drive
+        .clear_for_maintenance(&reset, None, true)
+        .expect("a disabled drive is cleared");
+    assert_eq!(clearance.state(), Some(DeviceState::SwitchOnDisabled));
+    with_lenze(&sim, |s| {
+        for line in ["OW:0020:00000006", "OW:0020:00000007", "OW:0020:0000000F"] {
+            s.receive(format!("{line}\r").as_bytes(), Duration::ZERO);
+        }
+    });
+    let before = with_lenze(&sim, |s| s.requests().len());
+    let e = open
+        .drive
+        .clear_for_maintenance(&reset, None, true)
+        .expect_err("an enabled drive is refused, --force or not");
+    assert!(
+        matches!(
+            e,
+            DriveError::EnabledForMaintenance {
+                state: DeviceState::OperationEnabled,
+                ..
+            }
+        ),
+        "{e}"
+    );
+    let sent = with_lenze(&sim, |s| s.requests()[before..].to_vec());
+    assert_eq!(sent, ["OR:0021"], "only the state was read");
 }

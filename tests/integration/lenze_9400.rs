@@ -5,10 +5,10 @@
 
 use crate::support::{assert_has, assert_lacks, cli, load_frame_vectors, repo_root, InProcessRun, Simulator};
 use drivescript::bus::CanFrame;
-use drivescript::cli::{DictionaryArgs, PrepareSimulator};
 use drivescript::clock::SharedClock;
 use drivescript::dictionary::Dictionary;
 use drivescript::family::{Family, Registry};
+use drivescript::run::{DictionaryArgs, PrepareSimulator};
 use drivescript::sim::SimulatedDrive;
 use drivescript::stop_request::{StopRequests, StopSignal};
 use std::path::PathBuf;

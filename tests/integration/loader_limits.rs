@@ -9,9 +9,8 @@
 //! runner's time arithmetic in range.
 
 use crate::support::scratch;
-use drivescript::recipe::{
-    load_recipe_text, Predicate, StepKind, Tolerance, MAX_DURATION, MAX_RUN_TIME, MAX_SAMPLES,
-};
+use drivescript::recipe::{load_recipe_text, StepKind, MAX_DURATION, MAX_RUN_TIME, MAX_SAMPLES};
+use drivescript::session::{Predicate, Tolerance};
 use proptest::prelude::*;
 use std::path::Path;
 use std::process::{Command, Stdio};
@@ -376,7 +375,7 @@ proptest! {
             let StepKind::WaitUntil { condition, .. } = &steps[1].kind else {
                 panic!("a wait step")
             };
-            if let drivescript::recipe::Condition::Value { predicate: Predicate::Near { target, tolerance }, .. } = condition {
+            if let drivescript::session::Condition::Value { predicate: Predicate::Near { target, tolerance }, .. } = condition {
                 prop_assert!(target.is_finite());
                 let Tolerance::Percent(p) = tolerance else { panic!("a percentage") };
                 prop_assert!(p.is_finite());

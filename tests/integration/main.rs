@@ -23,6 +23,7 @@ mod parameters;
 mod recipe_cases;
 mod recipe_schema;
 mod reports;
+mod run_pipeline;
 mod safety;
 mod scripts;
 mod socketcan;

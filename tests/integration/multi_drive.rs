@@ -253,8 +253,8 @@ fn ctrl_c_on_a_pty_stops_both_drives_each_verified() {
 fn run_in_process(
     recipe: &Path,
     stop: Arc<StopRequests>,
-    prepare: &drivescript::cli::PrepareSimulator,
-) -> (drivescript::cli::RunResult, String) {
+    prepare: &drivescript::run::PrepareSimulator,
+) -> (drivescript::run::RunResult, String) {
     let mut run = InProcessRun::new(recipe);
     run.stop = stop;
     run.prepare = Some(prepare);

@@ -94,20 +94,7 @@ fn runs_that_cannot_start_write_junit_and_html() {
     let _ = std::fs::remove_dir_all(&dir);
     let p = |name: &str| dir.join(name).to_str().expect("utf-8").to_string();
     let (junit, html) = (p("junit.xml"), p("report.html"));
-    cli(
-        &[
-            "run",
-            "recipes/acceptance-test.yaml",
-            "--tcp",
-            "127.0.0.1:1",
-            "--junit",
-            &junit,
-            "--report",
-            &html,
-        ],
-        3,
-    );
-    let xml = std::fs::read_to_string(&junit).expect("junit");
+    let xml = unreachable_run_writes_not_run_reports("recipes/acceptance-test.yaml", &junit, &html);
     let doc = crate::reports::markup::junit(&xml).unwrap_or_else(|e| panic!("{e}\n{xml}"));
     if let Some(valid) = crate::reports::markup::junit_xsd(&xml) {
         valid.unwrap_or_else(|e| panic!("{e}\n{xml}"));
@@ -129,14 +116,45 @@ fn runs_that_cannot_start_write_junit_and_html() {
         "name: Bad\ndrive: sd2\nsteps:\n  - set: { speed_setpont: 1 rpm }\n",
     )
     .unwrap();
+    invalid_run_writes_not_run_reports(&bad, &junit, &html);
+}
+
+/// Runs `file` (a recipe or a script) on a port nobody listens at: exit code 3, and
+/// the JUnit and HTML files say why; the JUnit text, for more checks.
+pub(crate) fn unreachable_run_writes_not_run_reports(file: &str, junit: &str, html: &str) -> String {
+    let no_server = drivescript(
+        &[
+            "run",
+            file,
+            "--tcp",
+            "127.0.0.1:1",
+            "--junit",
+            junit,
+            "--report",
+            html,
+        ],
+        "",
+    );
+    assert_eq!(no_server.status.code(), Some(3), "{}", stderr(&no_server));
+    let xml = std::fs::read_to_string(junit).expect("junit");
+    assert!(xml.contains("type=\"communication\""), "{xml}");
+    assert!(xml.contains("127.0.0.1:1"), "{xml}");
+    let page = std::fs::read_to_string(html).expect("html");
+    assert!(page.contains("NOT RUN — ERROR"), "{page}");
+    xml
+}
+
+/// Runs `bad` (a recipe or a script that writes `speed_setpont`): exit code 2, and the
+/// JUnit and HTML files say it was invalid and why.
+pub(crate) fn invalid_run_writes_not_run_reports(bad: &std::path::Path, junit: &str, html: &str) {
     let invalid = drivescript(
-        &["run", bad.to_str().unwrap(), "--junit", &junit, "--report", &html],
+        &["run", bad.to_str().unwrap(), "--junit", junit, "--report", html],
         "",
     );
     assert_eq!(invalid.status.code(), Some(2), "{}", stderr(&invalid));
-    let xml = std::fs::read_to_string(&junit).expect("junit");
+    let xml = std::fs::read_to_string(junit).expect("junit");
     crate::reports::markup::junit(&xml).unwrap_or_else(|e| panic!("{e}\n{xml}"));
     assert_has(&xml, &["type=\"invalid\"", "speed_setpont"]);
-    let page = std::fs::read_to_string(&html).expect("html");
+    let page = std::fs::read_to_string(html).expect("html");
     assert_has(&page, &["NOT RUN — INVALID"]);
 }

@@ -146,15 +146,15 @@ fn restore_refuses_before_writing() {
 /// what was written.
 #[test]
 fn an_interrupted_restore_says_what_was_written() {
-    use drivescript::cli::{ConnectionArgs, DictionaryArgs};
     use drivescript::parameters::{self, Origin, Outcome};
+    use drivescript::run::{ConnectionArgs, DictionaryArgs};
     let dir = scratch("interrupted");
-    let mut dictionary = DictionaryArgs::builtin_sd2();
+    let mut dictionary = DictionaryArgs::builtin_default();
     dictionary.extra.push(two_parameters(&dir).into());
-    let dictionary = dictionary.load().expect("dictionary");
-    let connection = ConnectionArgs::simulated();
     let registry = drivescript::family::Registry::builtin();
-    let mut open = drivescript::cli::open_drive(&registry, &connection, dictionary.clone(), true, None, None)
+    let dictionary = dictionary.load_for(&registry, None).expect("dictionary");
+    let connection = ConnectionArgs::simulated();
+    let mut open = drivescript::run::open_drive(&registry, &connection, dictionary.clone(), true, None, None)
         .expect("open");
     let origin = || Origin {
         address: "sim".into(),

@@ -21,9 +21,9 @@
 //! Every case runs in-process against the simulated drive in virtual time.
 
 use crate::support::{control_words, InProcessRun};
-use drivescript::cli::SafeStopArgs;
 use drivescript::clock::SharedClock;
 use drivescript::drive::device_control::DeviceCommand;
+use drivescript::run::SafeStopArgs;
 use drivescript::sim::SimulatedDrive;
 use drivescript::stop_request::{StopRequests, StopSignal};
 use std::path::{Path, PathBuf};

@@ -4,11 +4,11 @@
 //! killed beyond any safe stop, which must leave a report that says so.
 
 use crate::support::{assert_has, assert_lacks, scratch, write_file, InProcessRun, LiveRun, Simulator};
-use drivescript::cli::RunResult;
 use drivescript::clock::SharedClock;
 use drivescript::drive::device_control::DeviceState;
 use drivescript::family::sd2::codec::{Body, Telegram};
 use drivescript::family::sd2::Sd2Simulator;
+use drivescript::run::RunResult;
 use drivescript::sim::SimulatedDrive;
 use drivescript::stop_request::{StopRequests, StopSignal};
 use std::path::Path;

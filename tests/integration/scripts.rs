@@ -8,8 +8,8 @@ use crate::support::{
     assert_has, assert_lacks, cli, control_words, drivescript, repo_root, scratch, stderr, stdout,
     write_file, InProcessRun, LiveRun,
 };
-use drivescript::cli::RunResult;
 use drivescript::clock::SharedClock;
+use drivescript::run::RunResult;
 use drivescript::sim::SimulatedDrive;
 use drivescript::stop_request::{StopRequests, StopSignal};
 use std::sync::{Arc, Mutex};
@@ -19,7 +19,7 @@ use std::time::Duration;
 fn run_script(
     name: &str,
     text: &str,
-    prepare: Option<&drivescript::cli::PrepareSimulator>,
+    prepare: Option<&drivescript::run::PrepareSimulator>,
     stop: Arc<StopRequests>,
 ) -> (RunResult, String) {
     let dir = scratch(&format!("script-{name}"));
@@ -570,6 +570,11 @@ fn a_scripts_header_chooses_the_cyclic_channel() {
     std::fs::write(&bad, format!("//! drive: sd2\n//! link: channel=cyclic\n{body}")).expect("script");
     let out = cli(&["run", bad.to_str().expect("path"), "--fast"], 2);
     assert_has(&out.stderr, &["--velocity-scaling"]);
+    // Said as for a recipe, naming where the setting is written.
+    assert_has(
+        &out.stderr,
+        &["(link settings come from the script's `//! link:` and the command line)"],
+    );
 }
 
 /// `d.sample(…, "file.csv")` writes that sample's rows as a recipe sample step's `csv:`

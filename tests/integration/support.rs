@@ -136,12 +136,13 @@ pub struct InProcessRun<'a> {
     pub set: Vec<(String, String)>,
     pub fast: bool,
     pub output_dir: PathBuf,
-    pub dictionary: drivescript::cli::DictionaryArgs,
-    pub connection: drivescript::cli::ConnectionArgs,
-    pub outputs: drivescript::cli::OutputArgs,
-    pub prepare: Option<&'a drivescript::cli::PrepareSimulator>,
+    pub dictionary: drivescript::run::DictionaryArgs,
+    pub connection: drivescript::run::ConnectionArgs,
+    pub outputs: drivescript::run::OutputArgs,
+    pub prepare: Option<&'a drivescript::run::PrepareSimulator>,
     pub stop: std::sync::Arc<drivescript::stop_request::StopRequests>,
-    pub safe_stop: drivescript::cli::SafeStopArgs,
+    pub safe_stop: drivescript::run::SafeStopArgs,
+    pub observers: Vec<drivescript::run::SharedObserver>,
 }
 
 impl<'a> InProcessRun<'a> {
@@ -152,20 +153,21 @@ impl<'a> InProcessRun<'a> {
             set: Vec::new(),
             fast: true,
             output_dir: std::env::temp_dir(),
-            dictionary: drivescript::cli::DictionaryArgs::builtin_sd2(),
-            connection: drivescript::cli::ConnectionArgs::simulated(),
-            outputs: drivescript::cli::OutputArgs::default(),
+            dictionary: drivescript::run::DictionaryArgs::builtin_default(),
+            connection: drivescript::run::ConnectionArgs::simulated(),
+            outputs: drivescript::run::OutputArgs::default(),
             prepare: None,
             stop: std::sync::Arc::new(drivescript::stop_request::StopRequests::new()),
-            safe_stop: drivescript::cli::SafeStopArgs::default(),
+            safe_stop: drivescript::run::SafeStopArgs::default(),
+            observers: Vec::new(),
         }
     }
 
     /// Runs it; what it produced and its console output (standard output, then errors).
-    pub fn run(&self) -> (drivescript::cli::RunResult, String) {
-        let request = drivescript::cli::RunRequest {
+    pub fn run(&self) -> (drivescript::run::RunResult, String) {
+        let request = drivescript::run::RunRequest {
             registry: &self.registry,
-            recipe: &self.recipe,
+            file: &self.recipe,
             set: &self.set,
             fast: self.fast,
             output_dir: self.output_dir.clone(),
@@ -176,9 +178,10 @@ impl<'a> InProcessRun<'a> {
             stop: self.stop.clone(),
             safe_stop: self.safe_stop.clone(),
             terminal: false,
+            observers: self.observers.clone(),
         };
         let (mut out, mut err) = (Vec::new(), Vec::new());
-        let result = drivescript::cli::run_recipe(&request, &mut out, &mut err);
+        let result = drivescript::run::run(&request, &mut out, &mut err);
         let output = format!(
             "{}{}",
             String::from_utf8_lossy(&out),
@@ -190,7 +193,7 @@ impl<'a> InProcessRun<'a> {
 
 /// The control words the run's simulated drive received, in order; none when the run
 /// opened no simulated drive.
-pub fn control_words(result: &drivescript::cli::RunResult) -> Vec<u16> {
+pub fn control_words(result: &drivescript::run::RunResult) -> Vec<u16> {
     result
         .simulator
         .as_ref()

@@ -5,7 +5,7 @@
 use super::Loader;
 use crate::diag::{expected, Span, YamlNode, YamlValue};
 use crate::dictionary::ObjectDef;
-use crate::recipe::step::ObjectRef;
+use crate::session::ObjectRef;
 
 impl Loader<'_, '_> {
     /// The object called `name` (written at `span`) and the reference steps keep.

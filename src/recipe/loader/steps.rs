@@ -17,7 +17,8 @@ mod wait_until;
 use super::{did_you_mean, show_duration, Loader};
 use crate::diag::{Span, Spanned, YamlNode, YamlValue};
 use crate::drive::device_control::{DeviceCommand, DeviceState};
-use crate::recipe::step::{Step, StepKind, StepOrigin};
+use crate::recipe::step::{Step, StepKind};
+use crate::session::StepOrigin;
 use std::time::Duration;
 
 /// Every step keyword, for the loader's suggestions and the JSON Schema's list alike.

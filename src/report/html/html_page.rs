@@ -6,10 +6,10 @@
 
 use super::html_text::{check_title, duration_text, esc, limits_cell, measured_cell, short_origin};
 use super::plot_section::plots;
-use crate::recipe::{CheckResult, RunReport, StepRecord, Verdict};
 use crate::report::atomic_write::write_atomically;
 use crate::report::junit_report::{unexplained_failures, UniqueNames};
 use crate::session::MAX_RECORDS;
+use crate::session::{CheckResult, RunReport, StepRecord, Verdict};
 use std::fmt::Write as _;
 use std::path::Path;
 use std::time::Duration;

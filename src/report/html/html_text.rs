@@ -1,8 +1,8 @@
 //! How a value, a check's measurement and limits, a place and a duration are written on
 //! the HTML page, and the escaping of every text put into it. Pure text; builds no markup.
 
-use crate::recipe::{number, CheckResult, RunReport};
 use crate::report::junit_report::stable_check_name;
+use crate::session::{number, CheckResult, RunReport};
 use std::time::Duration;
 
 /// A check's name without its limits (they have their own column).

@@ -5,7 +5,7 @@
 use super::html_text::{check_title, esc, limits_cell, measured_cell, value_text};
 use super::plot_axes::axis_title;
 use super::svg_plot::{downsample, finite, plot_svg};
-use crate::recipe::{CheckResult, RunReport, Series};
+use crate::session::{CheckResult, RunReport, Series};
 use std::fmt::Write as _;
 
 /// Whether a check's limits are levels of the plotted value (the value itself, its mean,

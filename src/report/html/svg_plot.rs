@@ -4,8 +4,8 @@
 
 use super::html_text::esc;
 use super::plot_axes::{axis_title, padded_range, round_to, ticks, time_unit};
-use crate::recipe::{number, CheckResult, Series};
 use crate::session::with_unit;
+use crate::session::{number, CheckResult, Series};
 use std::fmt::Write as _;
 
 /// Most points a plot's polyline holds; longer series keep the min and max of each bucket.

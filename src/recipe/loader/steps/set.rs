@@ -4,7 +4,8 @@
 use crate::diag::{Shape, YamlNode};
 use crate::dictionary::DataType;
 use crate::recipe::loader::Loader;
-use crate::recipe::step::{ObjectRef, SetValue, StepKind};
+use crate::recipe::step::StepKind;
+use crate::session::{ObjectRef, SetValue};
 
 impl Loader<'_, '_> {
     pub(in crate::recipe::loader) fn set(&mut self, body: &YamlNode) -> Option<(StepKind, String)> {

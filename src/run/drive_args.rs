@@ -3,10 +3,10 @@
 //! command that talks to a drive.
 
 use super::connection_args::{Connection, ConnectionArgs};
-use super::render_diagnostic;
+use super::RunError;
 use crate::dictionary::{BenchLimits, Dictionary, LIMITS_ENV};
 use crate::drive::Drive;
-use crate::family::{LinkContext, Registry, DEFAULT_DICTIONARY};
+use crate::family::{Family, LinkContext, Registry, DEFAULT_DICTIONARY};
 use crate::link::TelegramObserver;
 use crate::sim::SimulatedDrive;
 use crate::stop_request::StopRequests;
@@ -38,7 +38,7 @@ impl DictionaryArgs {
     /// `recipe`, a `drivescript-limits.yaml` next to it caps the dictionary when neither
     /// --limits nor $DRIVESCRIPT_LIMITS names a limits file. On failure, the rendered
     /// diagnostic to print.
-    pub fn load_for(&self, registry: &Registry, recipe: Option<&Path>) -> Result<Arc<Dictionary>, String> {
+    pub fn load_for(&self, registry: &Registry, recipe: Option<&Path>) -> Result<Arc<Dictionary>, RunError> {
         let name = match (
             self.family.as_str(),
             recipe.and_then(|r| recipe_drive(registry, r)),
@@ -48,31 +48,27 @@ impl DictionaryArgs {
             (DEFAULT_DICTIONARY, Some(drive)) => drive,
             (given, _) => given.to_string(),
         };
-        let (family, builtin) = registry.dictionary(&name).map_err(|e| format!("error: {e}\n"))?;
-        let mut dictionary = Dictionary::from_yaml_for(builtin.path, builtin.text, family.address_parser())
-            .map_err(|e| render_diagnostic(&e))?
+        let (family, builtin) = registry
+            .dictionary(&name)
+            .map_err(|e| RunError::Invalid(format!("error: {e}\n")))?;
+        let mut dictionary = Dictionary::from_yaml_for(builtin.path, builtin.text, family.address_parser())?
             .named(builtin.name);
         for path in &self.extra {
-            dictionary.extend_from(path).map_err(|e| render_diagnostic(&e))?;
+            dictionary.extend_from(path)?;
         }
         // Last, so that no dictionary above can raise the bench's limits.
         let env = std::env::var_os(LIMITS_ENV);
         if let Some((path, route)) = BenchLimits::find(self.limits.as_deref(), env.as_deref(), recipe) {
-            let limits = BenchLimits::load(&path, route).map_err(|e| render_diagnostic(&e))?;
+            let limits = BenchLimits::load(&path, route)?;
             dictionary.apply_bench_limits(limits);
         }
         Ok(Arc::new(dictionary))
     }
 
-    /// [`load_for`](Self::load_for) with the built-in families and no recipe.
-    pub fn load(&self) -> Result<Arc<Dictionary>, String> {
-        self.load_for(&Registry::builtin(), None)
-    }
-
-    /// The built-in SD2 dictionary and no extra files.
-    pub fn builtin_sd2() -> Self {
+    /// The dictionary `--drive` names when it is not given, and no extra files.
+    pub fn builtin_default() -> Self {
         DictionaryArgs {
-            family: "sd2".into(),
+            family: DEFAULT_DICTIONARY.into(),
             extra: Vec::new(),
             limits: None,
         }
@@ -112,6 +108,8 @@ pub struct OpenDrive {
     pub drive: Drive,
     pub simulator: Option<Arc<Mutex<dyn SimulatedDrive>>>,
     pub description: String,
+    /// The drive's family (for addresses in its own notation).
+    pub family: Arc<dyn Family>,
 }
 
 /// Opens the connection for the family the dictionary names and wraps it in the drive
@@ -124,10 +122,10 @@ pub fn open_drive(
     virtual_time: bool,
     observer: Option<Box<dyn TelegramObserver>>,
     stop: Option<Arc<StopRequests>>,
-) -> Result<OpenDrive, String> {
+) -> Result<OpenDrive, RunError> {
     let family = registry
         .family(dictionary.family())
-        .map_err(|e| format!("error: {e}"))?;
+        .map_err(|e| RunError::Invalid(format!("error: {e}")))?;
     let Connection {
         bus,
         address,
@@ -135,8 +133,8 @@ pub fn open_drive(
         simulator,
         description,
     } = connection
-        .open(family.as_ref(), virtual_time)
-        .map_err(|e| format!("error: {e}"))?;
+        .open(registry, family.as_ref(), virtual_time)
+        .map_err(|e| RunError::Unreachable(format!("error: {e}")))?;
     let context = LinkContext {
         clock,
         observer,
@@ -144,10 +142,11 @@ pub fn open_drive(
     };
     let access = family
         .open(&bus, &address, &connection.link_options(), context)
-        .map_err(|e| format!("error: {e}"))?;
+        .map_err(|e| RunError::Unreachable(format!("error: {e}")))?;
     Ok(OpenDrive {
         drive: Drive::new(access, dictionary),
         simulator,
         description,
+        family,
     })
 }

@@ -5,10 +5,13 @@
 
 use super::connection_args::ConnectionArgs;
 use super::drive_args::{open_drive, OpenDrive};
+use super::RunError;
 use crate::dictionary::{Dictionary, Value};
-use crate::drive::Drive;
+use crate::drive::{Drive, DriveError};
 use crate::family::Registry;
-use crate::recipe::{number, written_values, Recipe, WrittenValue};
+use crate::recipe::WrittenValue;
+use crate::session::number;
+use crate::stop_request::StopRequests;
 use std::collections::BTreeMap;
 use std::io::Write;
 use std::sync::Arc;
@@ -29,9 +32,9 @@ use crate::drive::ValueLimits as Limits;
 /// Reads the drive's limits of every object `values` write (each object once) and
 /// compares each value with them; `Err` when the drive could not be reached. Sends
 /// nothing at all for a family whose drives report no limits.
-pub fn compare(values: &[WrittenValue], drive: &mut Drive) -> Result<DriveCheck, String> {
+pub fn compare(values: &[WrittenValue], drive: &mut Drive) -> Result<DriveCheck, RunError> {
     let port = drive.port();
-    let mut limits: BTreeMap<String, Result<Option<Limits>, String>> = BTreeMap::new();
+    let mut limits: BTreeMap<String, Result<Option<Limits>, DriveError>> = BTreeMap::new();
     for w in values {
         if !limits.contains_key(&w.object.name) {
             // `left.speed_setpoint` in a recipe with `drives:`: the drive's own name.
@@ -42,8 +45,8 @@ pub fn compare(values: &[WrittenValue], drive: &mut Drive) -> Result<DriveCheck,
                 .map_or(w.object.name.as_str(), |(_, o)| o);
             let l = read_limits(drive, own);
             if let Err(e) = &l {
-                if let Some(e) = e.strip_prefix("unreachable: ") {
-                    return Err(e.to_string());
+                if e.is_communication() {
+                    return Err(RunError::Unreachable(e.to_string()));
                 }
             }
             limits.insert(w.object.name.clone(), l);
@@ -108,7 +111,7 @@ pub fn compare(values: &[WrittenValue], drive: &mut Drive) -> Result<DriveCheck,
 /// The exit code: 0 within, 2 for values outside, 3 for a drive that could not be
 /// reached; with it, the error line (also written to `err`) for the not-run reports.
 pub fn report(
-    check: &Result<DriveCheck, String>,
+    check: &Result<DriveCheck, RunError>,
     path: &str,
     not_reported: bool,
     out: &mut dyn Write,
@@ -157,40 +160,71 @@ pub fn report(
     }
 }
 
-/// [`check_recipe`] with its lines printed; the exit code (2 for values outside, 3 for
-/// a drive that could not be reached).
-pub fn check_and_print(recipe: &Recipe, dictionary: Arc<Dictionary>, connection: &ConnectionArgs) -> i32 {
-    check_values_and_print(&written_values(recipe), &recipe.path, dictionary, connection)
+/// Before the first telegram that moves anything: the values `values` write compared with
+/// the limits the drive itself reports, as `check --port` compares them (families whose
+/// drives report none are asked nothing and nothing is said). `Err` holds the exit code
+/// and the reason for the not-run reports, already said on `err`.
+pub fn within_drive_limits(
+    values: &[WrittenValue],
+    drive: &mut Drive,
+    path: &str,
+    stop: &StopRequests,
+    out: &mut dyn Write,
+    err: &mut dyn Write,
+) -> Result<(), (i32, String)> {
+    let check = compare(values, drive);
+    // A stop signal while the limits were read ends the run with that signal's code; the
+    // unanswered read is no communication failure.
+    if let (Err(_), Some(signal)) = (&check, stop.first()) {
+        let why = format!(
+            "stopped by {} while the drive's limits were read; nothing was sent to move the drive",
+            signal.describe()
+        );
+        let _ = writeln!(err, "{why}");
+        return Err((signal.exit_code(), why));
+    }
+    match report(&check, path, false, out, err) {
+        (super::PASSED, _) => Ok(()),
+        (code, why) => Err((code, why)),
+    }
 }
 
-/// [`check_and_print`] for the values of a file other than a recipe (a script's literal
-/// writes).
-pub fn check_values_and_print(
+/// `check --port`: opens the drive, compares `values` (a recipe's, or a script's
+/// literal ones) with its limits and says what it came to on `out` and `err`; the exit
+/// code (2 for values outside, 3 for a drive that could not be reached).
+pub fn check_against_drive(
+    registry: &Registry,
     values: &[WrittenValue],
     path: &str,
     dictionary: Arc<Dictionary>,
     connection: &ConnectionArgs,
+    out: &mut dyn Write,
+    err: &mut dyn Write,
 ) -> i32 {
-    let check = open(connection, dictionary).and_then(|mut open| compare(values, &mut open.drive));
-    report(&check, path, true, &mut std::io::stdout(), &mut std::io::stderr()).0
+    let check =
+        open(registry, connection, dictionary, err).and_then(|mut open| compare(values, &mut open.drive));
+    report(&check, path, true, out, err).0
 }
+
+/// Each object's limits as text for a listing, by the object's name.
+pub type LimitsByName = BTreeMap<String, String>;
 
 /// The drive's limits of each of `names`, as text for a listing (`-6000 rpm .. 6000 rpm`,
 /// `not reported`, or why they could not be read), and what was asked.
 pub fn read_all(
+    registry: &Registry,
     names: &[String],
     dictionary: Arc<Dictionary>,
     connection: &ConnectionArgs,
-) -> Result<(String, BTreeMap<String, String>), String> {
-    let mut open = open(connection, dictionary)?;
+    err: &mut dyn Write,
+) -> Result<(String, LimitsByName), RunError> {
+    let mut open = open(registry, connection, dictionary, err)?;
     let mut out = BTreeMap::new();
     for name in names {
         let text = match read_limits(&mut open.drive, name) {
             Ok(Some(l)) => show(&l),
             Ok(None) => "not reported".to_string(),
-            Err(e) if e.starts_with("unreachable: ") => {
-                return Err(e.trim_start_matches("unreachable: ").to_string())
-            }
+            Err(e) if e.is_communication() => return Err(RunError::Unreachable(e.to_string())),
             Err(e) => format!("error: {e}"),
         };
         out.insert(name.clone(), text);
@@ -198,23 +232,22 @@ pub fn read_all(
     Ok((open.drive.port(), out))
 }
 
-fn open(connection: &ConnectionArgs, dictionary: Arc<Dictionary>) -> Result<OpenDrive, String> {
-    let open = open_drive(&Registry::builtin(), connection, dictionary, true, None, None)?;
+fn open(
+    registry: &Registry,
+    connection: &ConnectionArgs,
+    dictionary: Arc<Dictionary>,
+    err: &mut dyn Write,
+) -> Result<OpenDrive, RunError> {
+    let open = open_drive(registry, connection, dictionary, true, None, None)?;
     if open.simulator.is_some() {
-        eprintln!("using {}: its limits, not a real drive's", open.description);
+        let _ = writeln!(err, "using {}: its limits, not a real drive's", open.description);
     }
     Ok(open)
 }
 
-/// One object's limits; an error that means the drive cannot be reached at all is
-/// prefixed `unreachable: `.
-fn read_limits(drive: &mut Drive, name: &str) -> Result<Option<Limits>, String> {
-    match drive.limits(name) {
-        None => Ok(None),
-        Some(Ok(l)) => Ok(Some(l)),
-        Some(Err(e)) if e.is_communication() => Err(format!("unreachable: {e}")),
-        Some(Err(e)) => Err(e.to_string()),
-    }
+/// One object's limits; `None` where the family's drives report none.
+fn read_limits(drive: &mut Drive, name: &str) -> Result<Option<Limits>, DriveError> {
+    drive.limits(name).transpose()
 }
 
 fn show((min, max): &Limits) -> String {
@@ -225,7 +258,7 @@ fn show((min, max): &Limits) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::recipe::{ObjectRef, StepOrigin};
+    use crate::session::{ObjectRef, StepOrigin};
 
     /// The simulated 931 with one object at the simulator's speed-setpoint number.
     fn simulated_931() -> Drive {

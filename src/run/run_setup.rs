@@ -4,14 +4,16 @@
 //! and the observers list, and the JUnit and HTML reports at the end. Must not open a
 //! drive or decide exit codes.
 
-use super::recipe_commands::OutputArgs;
+use super::{OutputArgs, RunError, SharedObserver};
 use crate::link::{Direction, TelegramExplainer, TelegramObserver};
-use crate::recipe::{ObjectRef, Observers, RunReport};
 use crate::report::{
     color_wanted, write_html, write_html_unfinished, write_junit, write_junit_unfinished, ConsoleReporter,
     CsvRecorder, ProgressReporter, TelegramFanOut, TraceWriter,
 };
 use crate::session::PlannedCheck;
+use crate::session::{
+    CheckResult, ObjectRef, Observers, RunInfo, RunObserver, RunReport, StepInfo, StepRecord,
+};
 use std::io::Write;
 use std::sync::{Arc, Mutex, PoisonError};
 use std::time::Duration;
@@ -20,10 +22,11 @@ use std::time::Duration;
 pub fn telegram_outputs(
     outputs: &OutputArgs,
     explainer: &dyn Fn() -> Box<dyn TelegramExplainer>,
-) -> Result<TelegramFanOut, String> {
+) -> Result<TelegramFanOut, RunError> {
     let mut telegrams = TelegramFanOut::new();
     if let Some(path) = &outputs.trace {
-        let t = TraceWriter::create(path, explainer()).map_err(|e| format!("error: {e}"))?;
+        let t =
+            TraceWriter::create(path, explainer()).map_err(|e| RunError::Invalid(format!("error: {e}")))?;
         telegrams.push(Box::new(t));
     }
     if outputs.verbose {
@@ -92,11 +95,11 @@ pub fn open_csv(
     outputs: &OutputArgs,
     wide: Option<&[ObjectRef]>,
     drives: bool,
-) -> Result<Option<CsvRecorder>, String> {
+) -> Result<Option<CsvRecorder>, RunError> {
     match &outputs.csv {
         Some(path) => CsvRecorder::create_for(path, wide, drives)
             .map(Some)
-            .map_err(|e| format!("error: {e}")),
+            .map_err(|e| RunError::Invalid(format!("error: {e}"))),
         None => Ok(None),
     }
 }
@@ -104,7 +107,7 @@ pub fn open_csv(
 /// A report left from an earlier run is replaced at once by one that says this run has
 /// not finished: a run killed beyond any safe stop (SIGKILL, power loss) must never leave
 /// an old PASS for CI to read.
-pub fn write_placeholders(outputs: &OutputArgs, name: &str, path: &str) -> Result<(), String> {
+pub fn write_placeholders(outputs: &OutputArgs, name: &str, path: &str) -> Result<(), RunError> {
     let placeholders = [
         outputs
             .junit
@@ -116,7 +119,7 @@ pub fn write_placeholders(outputs: &OutputArgs, name: &str, path: &str) -> Resul
             .map(|p| write_html_unfinished(name, path, p)),
     ];
     match placeholders.into_iter().flatten().find_map(Result::err) {
-        Some(e) => Err(format!("error: {e}")),
+        Some(e) => Err(RunError::Invalid(format!("error: {e}"))),
         None => Ok(()),
     }
 }
@@ -158,6 +161,7 @@ pub fn observed(
     out: &mut dyn Write,
     look: &Look,
     csv: Option<&mut CsvRecorder>,
+    shared: &[SharedObserver],
     run: impl FnOnce(&mut Observers) -> RunReport,
 ) -> RunReport {
     let mut console = ConsoleReporter::new(&mut *out, look.virtual_time)
@@ -178,7 +182,57 @@ pub fn observed(
     if let Some(c) = csv {
         observers.push(c);
     }
+    let mut shared: Vec<Locked> = shared.iter().map(|o| Locked(o.as_ref())).collect();
+    for o in shared.iter_mut() {
+        observers.push(o);
+    }
     run(&mut observers)
+}
+
+/// A shared observer, locked for each event (a poisoned lock still gets it: an observer
+/// must never fail the run).
+struct Locked<'a>(&'a Mutex<dyn RunObserver>);
+
+impl Locked<'_> {
+    fn with<T>(&self, f: impl FnOnce(&mut dyn RunObserver) -> T) -> T {
+        f(&mut *self.0.lock().unwrap_or_else(PoisonError::into_inner))
+    }
+}
+
+impl RunObserver for Locked<'_> {
+    fn run_started(&mut self, run: &RunInfo, drive: &str) {
+        self.with(|o| o.run_started(run, drive));
+    }
+    fn step_started(&mut self, step: &StepInfo) {
+        self.with(|o| o.step_started(step));
+    }
+    fn step_placed(&mut self, id: &str) {
+        self.with(|o| o.step_placed(id));
+    }
+    fn step_progress(&mut self, number: &str, elapsed: Duration, total: Option<Duration>, values: &str) {
+        self.with(|o| o.step_progress(number, elapsed, total, values));
+    }
+    fn step_finished(&mut self, record: &StepRecord) {
+        self.with(|o| o.step_finished(record));
+    }
+    fn check(&mut self, result: &CheckResult) {
+        self.with(|o| o.check(result));
+    }
+    fn sample(&mut self, at: Duration, objects: &[ObjectRef], values: &[f64]) {
+        self.with(|o| o.sample(at, objects, values));
+    }
+    fn wants_progress(&self) -> bool {
+        self.with(|o| o.wants_progress())
+    }
+    fn message(&mut self, text: &str) {
+        self.with(|o| o.message(text));
+    }
+    fn run_finished(&mut self, report: &RunReport) {
+        self.with(|o| o.run_finished(report));
+    }
+    fn idle(&mut self) {
+        self.with(|o| o.idle());
+    }
 }
 
 /// After the run: a CSV write error as a warning, then the JUnit and HTML reports.

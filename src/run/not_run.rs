@@ -3,15 +3,16 @@
 //! for, so CI reads this run's failure and never an earlier report, and words the message
 //! for a drive that does not answer.
 
+use super::run_plan::RunPlan;
 use super::{ConnectionArgs, RunRequest, RunResult, COMMUNICATION};
-use crate::recipe::Recipe;
 use crate::report::{html_not_run, junit_not_run, write_atomically};
 use crate::session::PlannedCheck;
 use std::io::Write;
 
 /// The message for a drive that did not answer its first request, naming the address as
 /// the user typed it and the three likely causes.
-pub fn silent_drive(connection: &ConnectionArgs, detail: &str) -> String {
+/// `what` is what did not start (`recipe`, `script`).
+pub fn silent_drive(connection: &ConnectionArgs, what: &str, detail: &str) -> String {
     let address = connection
         .address_given()
         .unwrap_or_else(|| "no --address, so the family's default address".to_string());
@@ -25,7 +26,7 @@ pub fn silent_drive(connection: &ConnectionArgs, detail: &str) -> String {
         None => "no --baud, so the family's default".to_string(),
     };
     format!(
-        "error: the drive does not answer ({address}, {line}); nothing was written to it and the recipe did not start. \
+        "error: the drive does not answer ({address}, {line}); nothing was written to it and the {what} did not start. \
          Its state is unknown to drivescript: if it may still be running from earlier, check it by hand.\n\
          The three likely causes:\n  \
          1. the address: you gave {address}; it must match the drive's address setting (see `drivescript run --help` for the notation)\n  \
@@ -35,18 +36,28 @@ pub fn silent_drive(connection: &ConnectionArgs, detail: &str) -> String {
     )
 }
 
+/// [`silent_drive`] for the file of `request`.
+pub fn silent_drive_of(request: &RunRequest, detail: &str) -> String {
+    let what = if crate::script::is_script(request.file) {
+        "script"
+    } else {
+        "recipe"
+    };
+    silent_drive(request.connection, what, detail)
+}
+
 /// The JUnit and HTML reports (when asked for) of a run that never started, so that CI
 /// reads this run's failure and not an earlier report; then the result with `code`.
 pub fn not_run(
     request: &RunRequest,
-    recipe: Option<(&Recipe, &[PlannedCheck])>,
+    plan: Option<(&RunPlan, &[PlannedCheck])>,
     code: i32,
     why: &str,
     err: &mut dyn Write,
 ) -> RunResult {
-    let path = request.recipe.display().to_string();
-    let (name, recipe_path, planned) = match recipe {
-        Some((r, planned)) => (r.name.clone(), r.path.clone(), planned),
+    let path = request.file.display().to_string();
+    let (name, recipe_path, planned) = match plan {
+        Some((p, planned)) => (p.name().to_string(), p.path().to_string(), planned),
         None => (path.clone(), path, &[][..]),
     };
     let (kind, word) = if code == COMMUNICATION {

@@ -4,12 +4,13 @@
 //! Opens the bus; must not send anything itself.
 
 use super::address_key_flags::DNC_ADDRESS;
+use super::{BadValue, RunError};
 use crate::bus::{
     Bus, BusKind, DataBits, MemoryFrameBus, MemoryTransport, Parity, SerialTransport, SharedFrameBus,
     SharedTransport, SlcanBus, StopBits, TcpTransport, TransportError,
 };
 use crate::clock::{RealClock, SharedClock, VirtualClock};
-use crate::family::{DriveAddress, Family, LinkOptions, SimPeer};
+use crate::family::{DriveAddress, Family, LinkOptions, Registry, SimPeer};
 use crate::sim::{SimConfig, SimulatedDrive};
 use clap::Args;
 use std::sync::{Arc, Mutex};
@@ -92,32 +93,32 @@ pub struct ConnectionArgs {
     pub cycle: Option<String>,
 }
 
-pub fn parse_duration(text: &str) -> Result<Duration, String> {
-    humantime::parse_duration(text.trim()).map_err(|e| format!("{e} (write e.g. 500ms, 1s, 2min)"))
+pub fn parse_duration(text: &str) -> Result<Duration, BadValue> {
+    humantime::parse_duration(text.trim()).map_err(|e| BadValue(format!("{e} (write e.g. 500ms, 1s, 2min)")))
 }
 
-fn parse_data_bits(text: &str) -> Result<DataBits, String> {
+fn parse_data_bits(text: &str) -> Result<DataBits, BadValue> {
     match text.trim() {
         "7" => Ok(DataBits::Seven),
         "8" => Ok(DataBits::Eight),
-        other => Err(format!("`{other}`: give 7 or 8")),
+        other => Err(BadValue(format!("`{other}`: give 7 or 8"))),
     }
 }
 
-fn parse_parity(text: &str) -> Result<Parity, String> {
+fn parse_parity(text: &str) -> Result<Parity, BadValue> {
     match text.trim().to_ascii_lowercase().as_str() {
         "none" | "n" => Ok(Parity::None),
         "even" | "e" => Ok(Parity::Even),
         "odd" | "o" => Ok(Parity::Odd),
-        other => Err(format!("`{other}`: give none, even or odd")),
+        other => Err(BadValue(format!("`{other}`: give none, even or odd"))),
     }
 }
 
-fn parse_stop_bits(text: &str) -> Result<StopBits, String> {
+fn parse_stop_bits(text: &str) -> Result<StopBits, BadValue> {
     match text.trim() {
         "1" => Ok(StopBits::One),
         "2" => Ok(StopBits::Two),
-        other => Err(format!("`{other}`: give 1 or 2")),
+        other => Err(BadValue(format!("`{other}`: give 1 or 2"))),
     }
 }
 
@@ -128,18 +129,18 @@ pub enum CanSpec {
     SocketCan(String),
 }
 
-fn parse_can(text: &str) -> Result<CanSpec, String> {
+fn parse_can(text: &str) -> Result<CanSpec, BadValue> {
     match text.trim().split_once(':') {
         Some(("slcan", path)) if !path.is_empty() => Ok(CanSpec::Slcan(path.to_string())),
         Some(("socketcan", interface)) if !interface.is_empty() => Ok(CanSpec::SocketCan(interface.to_string())),
-        _ => Err(format!(
+        _ => Err(BadValue(format!(
             "`{text}`: write slcan:PATH (an SLCAN adapter, e.g. slcan:/dev/ttyACM0) or socketcan:IF (e.g. socketcan:can0)"
-        )),
+        ))),
     }
 }
 
 /// `500k`, `1M`, `125000`.
-pub fn parse_bitrate(text: &str) -> Result<u32, String> {
+pub fn parse_bitrate(text: &str) -> Result<u32, BadValue> {
     let t = text.trim();
     let (digits, factor) = if let Some(d) = t.strip_suffix(['k', 'K']) {
         (d, 1_000)
@@ -153,13 +154,19 @@ pub fn parse_bitrate(text: &str) -> Result<u32, String> {
         .ok()
         .and_then(|n| n.checked_mul(factor))
         .filter(|&n| n > 0)
-        .ok_or_else(|| format!("`{text}` is not a bit rate; write e.g. 500k, 1M or 125000"))
+        .ok_or_else(|| {
+            BadValue(format!(
+                "`{text}` is not a bit rate; write e.g. 500k, 1M or 125000"
+            ))
+        })
 }
 
-fn parse_link_option(text: &str) -> Result<(String, String), String> {
+fn parse_link_option(text: &str) -> Result<(String, String), BadValue> {
     match text.split_once('=') {
         Some((k, v)) if !k.trim().is_empty() => Ok((k.trim().to_string(), v.trim().to_string())),
-        _ => Err(format!("`{text}`: write NAME=VALUE, e.g. write-length=formula")),
+        _ => Err(BadValue(format!(
+            "`{text}`: write NAME=VALUE, e.g. write-length=formula"
+        ))),
     }
 }
 
@@ -235,18 +242,32 @@ impl ConnectionArgs {
     }
 
     /// The drive's address and the family's link options, checked before anything opens.
-    pub fn check(&self, family: &dyn Family) -> Result<DriveAddress, String> {
-        family.check_link_options(&self.all_link_options())?;
-        family.parse_drive_address(self.address_for(family)?.as_deref())
+    pub fn check(&self, registry: &Registry, family: &dyn Family) -> Result<DriveAddress, RunError> {
+        family
+            .check_link_options(&self.all_link_options())
+            .map_err(RunError::Invalid)?;
+        family
+            .parse_drive_address(self.address_for(registry, family)?.as_deref())
+            .map_err(RunError::Invalid)
     }
 
     /// The address in `family`'s notation: `--address` as given, or `--dnc-address N` as
     /// the family writes it (`dnc:N`); `None`: the family's default.
-    pub fn address_for(&self, family: &dyn Family) -> Result<Option<String>, String> {
+    pub fn address_for(&self, registry: &Registry, family: &dyn Family) -> Result<Option<String>, RunError> {
         match &self.dnc_address {
-            Some(n) => DNC_ADDRESS.address(family, n).map(Some),
+            Some(n) => DNC_ADDRESS.address(registry, family, n).map(Some),
             None => Ok(self.address.clone()),
         }
+    }
+
+    /// The address as a parameter backup records it: `--address` as given, or the address
+    /// key a flag stands for with its value (`dnc_address 2`).
+    pub fn address_recorded(&self) -> Option<String> {
+        self.address.clone().or_else(|| {
+            self.dnc_address
+                .as_ref()
+                .map(|n| format!("{} {n}", DNC_ADDRESS.key))
+        })
     }
 
     /// The address option as the user typed it, for messages: `--address 3B`,
@@ -261,11 +282,18 @@ impl ConnectionArgs {
 
     /// Opens the bus for `family`. `virtual_time` applies to the simulated drive only:
     /// waiting then costs no real time.
-    pub fn open(&self, family: &dyn Family, virtual_time: bool) -> Result<Connection, TransportError> {
-        let address = self.check(family).map_err(|detail| TransportError::Open {
-            port: "the drive".into(),
-            detail,
-        })?;
+    pub fn open(
+        &self,
+        registry: &Registry,
+        family: &dyn Family,
+        virtual_time: bool,
+    ) -> Result<Connection, TransportError> {
+        let address = self
+            .check(registry, family)
+            .map_err(|detail| TransportError::Open {
+                port: "the drive".into(),
+                detail: detail.to_string(),
+            })?;
         let real =
             || -> (SharedClock, Option<Arc<Mutex<dyn SimulatedDrive>>>) { (RealClock::shared(), None) };
         if family.bus_kind() == BusKind::Frames && !self.is_simulated() && self.can.is_none() {
@@ -393,11 +421,11 @@ mod tests {
     fn serial_frame_overrides() {
         assert_eq!(parse_data_bits("7"), Ok(DataBits::Seven));
         assert_eq!(parse_data_bits("8"), Ok(DataBits::Eight));
-        assert!(parse_data_bits("9").unwrap_err().contains("7 or 8"));
+        assert!(parse_data_bits("9").unwrap_err().0.contains("7 or 8"));
         assert_eq!(parse_parity("even"), Ok(Parity::Even));
         assert_eq!(parse_parity("O"), Ok(Parity::Odd));
         assert_eq!(parse_parity("none"), Ok(Parity::None));
-        assert!(parse_parity("mark").unwrap_err().contains("none, even or odd"));
+        assert!(parse_parity("mark").unwrap_err().0.contains("none, even or odd"));
         assert_eq!(parse_stop_bits("2"), Ok(StopBits::Two));
         assert!(parse_stop_bits("1.5").is_err());
     }

@@ -1,10 +1,63 @@
-//! Several recipes in one `run`: each recipe's own output files (so none overwrites
-//! another's), the line that names every file a run wrote, and the exit code of the whole
-//! command (the worst). Only paths and codes; the runs themselves are `run_recipe`'s.
+//! Several files (recipes or scripts) in one `run`, one after the other: each file's own
+//! output files (so none overwrites another's), the line that names every file a run
+//! wrote, and the exit code of the whole command (the worst). The runs themselves are
+//! the pipeline's.
 
-use super::OutputArgs;
+use super::{OutputArgs, RunRequest};
 use crate::session::RunReport;
+use std::io::Write;
 use std::path::{Path, PathBuf};
+
+/// Runs each of `files` with `base`'s settings (its `file` and its output paths are
+/// replaced for each), writing the console output to `out` and problems to `err`; the
+/// worst exit code. A stop signal or a panic ends the whole command, after that file's
+/// safe stop.
+pub fn run_many(files: &[PathBuf], base: &RunRequest, out: &mut dyn Write, err: &mut dyn Write) -> i32 {
+    let several = files.len() > 1;
+    let mut worst = super::PASSED;
+    let mut verdicts = Vec::new();
+    for (i, file) in files.iter().enumerate() {
+        if several {
+            let _ = writeln!(
+                out,
+                "{}== recipe {} of {}: {}",
+                if i > 0 { "\n" } else { "" },
+                i + 1,
+                files.len(),
+                file.display()
+            );
+        }
+        let outputs = outputs_for(
+            base.outputs,
+            &base.output_dir,
+            several.then_some((i + 1, file.as_path())),
+        );
+        let request = RunRequest {
+            file,
+            outputs: &outputs,
+            output_dir: base.output_dir.clone(),
+            stop: base.stop.clone(),
+            safe_stop: base.safe_stop.clone(),
+            observers: base.observers.clone(),
+            ..*base
+        };
+        let result = super::run(&request, out, err);
+        print_outputs(&outputs, result.report.as_ref(), out);
+        verdicts.push((file.display().to_string(), result.exit_code));
+        worst = worse(worst, result.exit_code);
+        if result.exit_code >= 128 || result.exit_code == crate::session::PANIC_EXIT {
+            break;
+        }
+    }
+    if several {
+        let _ = writeln!(out, "\n== {} recipe(s):", verdicts.len());
+        for (path, code) in &verdicts {
+            let _ = writeln!(out, "   exit code {code}  {path}");
+        }
+        let _ = writeln!(out, "exit code {worst} (the worst of them)");
+    }
+    worst
+}
 
 /// The exit code that says more: a panic, then a stop signal, then 3, 2, 1, 0.
 pub fn worse(a: i32, b: i32) -> i32 {
@@ -59,7 +112,7 @@ pub fn outputs_for(outputs: &OutputArgs, dir: &Path, recipe: Option<(usize, &Pat
 }
 
 /// `outputs  junit.xml, report.html, run-in-stage-1.csv`: every file the run wrote.
-pub fn print_outputs(outputs: &OutputArgs, report: Option<&RunReport>) {
+fn print_outputs(outputs: &OutputArgs, report: Option<&RunReport>, out: &mut dyn Write) {
     let mut files: Vec<String> = [&outputs.trace, &outputs.csv, &outputs.junit, &outputs.report]
         .into_iter()
         .flatten()
@@ -70,14 +123,14 @@ pub fn print_outputs(outputs: &OutputArgs, report: Option<&RunReport>) {
         files.extend(r.csv_files.iter().cloned());
     }
     if !files.is_empty() {
-        println!("outputs {}", files.join(", "));
+        let _ = writeln!(out, "outputs {}", files.join(", "));
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::cli::PASSED;
+    use crate::run::PASSED;
 
     #[test]
     fn the_worst_exit_code_wins() {

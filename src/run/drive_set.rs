@@ -1,4 +1,4 @@
-//! Opening the drives of a recipe with `drives:`: each drive's dictionary, then one bus
+//! Opening the named drives of a file (a recipe's `drives:`, a script's `//! drives:`): each drive's dictionary, then one bus
 //! per connection — the drives on the command line's connection share ONE bus (one
 //! `SharedTransport` or frame bus), so its link serialises their requests; a drive with
 //! its own `port:`/`tcp:`/`can:` gets its own. Without a port every drive on the command
@@ -7,9 +7,9 @@
 
 use super::connection_args::{CanSpec, ConnectionArgs};
 use super::drive_args::DictionaryArgs;
-use super::not_run::silent_drive;
-use super::recipe_commands::RunRequest;
+use super::not_run::silent_drive_of;
 use super::run_setup::{telegram_outputs, SharedTelegrams};
+use super::{RunError, RunRequest};
 use crate::bus::{
     Bus, BusKind, FramePeer, FramePeerLine, MemoryFrameBus, MemoryTransport, Peer, PeerLine, SharedFrameBus,
     SharedTransport,
@@ -17,7 +17,7 @@ use crate::bus::{
 use crate::clock::{RealClock, SharedClock, VirtualClock};
 use crate::dictionary::Dictionary;
 use crate::drive::Drive;
-use crate::family::{Family, LinkContext, Registry, SimPeer};
+use crate::family::{DriveAddress, Family, LinkContext, Registry, SimPeer};
 use crate::link::TelegramObserver;
 use crate::recipe::DriveDecl;
 use crate::sim::{SimConfig, SimulatedDrive};
@@ -32,7 +32,7 @@ pub fn drive_dictionaries(
     registry: &Registry,
     recipe: &Path,
     declared: &[(String, String)],
-) -> Result<Vec<(String, Arc<Dictionary>)>, String> {
+) -> Result<Vec<(String, Arc<Dictionary>)>, RunError> {
     declared
         .iter()
         .map(|(name, drive)| {
@@ -45,7 +45,7 @@ pub fn drive_dictionaries(
                         .first()
                         .map(|d| d.name.to_string())
                         .unwrap_or_default(),
-                    Err(e) => return Err(format!("error: drive `{name}`: {e}\n")),
+                    Err(e) => return Err(RunError::Invalid(format!("error: drive `{name}`: {e}\n"))),
                 },
             };
             let one = DictionaryArgs {
@@ -54,7 +54,7 @@ pub fn drive_dictionaries(
             };
             let loaded = one
                 .load_for(registry, Some(recipe))
-                .map_err(|e| format!("drive `{name}`: {e}"))?;
+                .map_err(|e| e.of_drive(name))?;
             Ok((name.clone(), loaded))
         })
         .collect()
@@ -70,7 +70,7 @@ pub struct OpenDrives {
 }
 
 /// Where a drive is: the command line's connection, or its own.
-fn connection_of(decl: &DriveDecl, line: &ConnectionArgs) -> Result<ConnectionArgs, String> {
+fn connection_of(decl: &DriveDecl, line: &ConnectionArgs) -> Result<ConnectionArgs, RunError> {
     let mut args = line.clone();
     if decl.on_command_line_connection() {
         return Ok(args);
@@ -83,10 +83,10 @@ fn connection_of(decl: &DriveDecl, line: &ConnectionArgs) -> Result<ConnectionAr
                 CanSpec::SocketCan(interface.to_string())
             }
             _ => {
-                return Err(format!(
+                return Err(RunError::Invalid(format!(
                     "drive `{}`: can: {can}: write slcan:PATH or socketcan:IF",
                     decl.name
-                ))
+                )))
             }
         });
     }
@@ -118,7 +118,7 @@ pub fn open_drives(
     virtual_time: bool,
     observer: &mut dyn FnMut(&str) -> Option<Box<dyn TelegramObserver>>,
     stop: Option<Arc<StopRequests>>,
-) -> Result<OpenDrives, String> {
+) -> Result<OpenDrives, RunError> {
     let all_simulated = decls.iter().all(|d| d.on_command_line_connection()) && line.is_simulated();
     let clock: SharedClock = if all_simulated && virtual_time {
         Arc::new(VirtualClock::new())
@@ -130,14 +130,7 @@ pub fn open_drives(
     let mut planned = Vec::new();
     let mut simulators = Vec::new();
     for decl in decls {
-        let dictionary = dictionary_of(dictionaries, &decl.name)?;
-        let family = registry
-            .family(dictionary.family())
-            .map_err(|e| format!("error: {e}"))?;
-        let args = connection_of(decl, line)?;
-        let address = family
-            .parse_drive_address(decl.address.as_deref())
-            .map_err(|e| format!("error: drive `{}`: {e}", decl.name))?;
+        let (dictionary, family, args, address) = placed(registry, line, decl, dictionaries)?;
         let key = bus_key(&args, family.id());
         let index = match buses.iter().position(|b| b.0 == key) {
             Some(i) => i,
@@ -146,8 +139,8 @@ pub fn open_drives(
                     (None, String::new())
                 } else {
                     let opened = args
-                        .open(family.as_ref(), false)
-                        .map_err(|e| format!("error: drive `{}`: {e}", decl.name))?;
+                        .open(registry, family.as_ref(), false)
+                        .map_err(|e| RunError::Unreachable(format!("error: drive `{}`: {e}", decl.name)))?;
                     let d = opened.bus.name().to_string();
                     (Some(opened.bus), d)
                 };
@@ -206,7 +199,9 @@ pub fn open_drives(
     let mut drives = Vec::new();
     for (name, dictionary, family, args, address, index) in planned {
         let Some(bus) = buses[index].1.clone() else {
-            return Err(format!("error: drive `{name}`: its bus could not be opened"));
+            return Err(RunError::Invalid(format!(
+                "error: drive `{name}`: its bus could not be opened"
+            )));
         };
         check_bus_kind(family.as_ref(), &bus, &name)?;
         let context = LinkContext {
@@ -216,7 +211,7 @@ pub fn open_drives(
         };
         let access = family
             .open(&bus, &address, &args.link_options(), context)
-            .map_err(|e| format!("error: drive `{name}`: {e}"))?;
+            .map_err(|e| RunError::Unreachable(format!("error: drive `{name}`: {e}")))?;
         drives.push((name, Drive::new(access, dictionary)));
     }
     let description = buses.iter().map(|b| b.3.clone()).collect::<Vec<_>>().join("; ");
@@ -228,15 +223,43 @@ pub fn open_drives(
     })
 }
 
-fn dictionary_of(dictionaries: &[(String, Arc<Dictionary>)], name: &str) -> Result<Arc<Dictionary>, String> {
+/// Where a declared drive is: its dictionary, family, connection (its link settings
+/// checked) and address.
+type Placed = (Arc<Dictionary>, Arc<dyn Family>, ConnectionArgs, DriveAddress);
+
+/// [`Placed`] for `decl`.
+fn placed(
+    registry: &Registry,
+    line: &ConnectionArgs,
+    decl: &DriveDecl,
+    dictionaries: &[(String, Arc<Dictionary>)],
+) -> Result<Placed, RunError> {
+    let dictionary = dictionary_of(dictionaries, &decl.name)?;
+    let family = registry
+        .family(dictionary.family())
+        .map_err(|e| RunError::Invalid(format!("error: {e}")))?;
+    let args = connection_of(decl, line)?;
+    family
+        .check_link_options(&args.link_options().extra)
+        .map_err(|e| RunError::Invalid(format!("error: drive `{}`: {e}", decl.name)))?;
+    let address = family
+        .parse_drive_address(decl.address.as_deref())
+        .map_err(|e| RunError::Invalid(format!("error: drive `{}`: {e}", decl.name)))?;
+    Ok((dictionary, family, args, address))
+}
+
+fn dictionary_of(
+    dictionaries: &[(String, Arc<Dictionary>)],
+    name: &str,
+) -> Result<Arc<Dictionary>, RunError> {
     dictionaries
         .iter()
         .find(|(n, _)| n == name)
         .map(|(_, d)| d.clone())
-        .ok_or_else(|| format!("error: no dictionary was loaded for drive `{name}`"))
+        .ok_or_else(|| RunError::Invalid(format!("error: no dictionary was loaded for drive `{name}`")))
 }
 
-fn check_bus_kind(family: &dyn Family, bus: &Bus, name: &str) -> Result<(), String> {
+fn check_bus_kind(family: &dyn Family, bus: &Bus, name: &str) -> Result<(), RunError> {
     if family.bus_kind() == bus.kind() {
         return Ok(());
     }
@@ -244,11 +267,11 @@ fn check_bus_kind(family: &dyn Family, bus: &Bus, name: &str) -> Result<(), Stri
         BusKind::Frames => "a CAN bus (can: slcan:PATH or socketcan:IF)",
         BusKind::Bytes => "a serial line (port: or tcp:)",
     };
-    Err(format!(
+    Err(RunError::Invalid(format!(
         "error: drive `{name}` ({}) needs {wanted}, and its connection {} is not one; give it its own",
         family.id(),
         bus.name()
-    ))
+    )))
 }
 
 /// Checks every drive's address and link settings, and that no two drives on one line
@@ -258,26 +281,16 @@ pub fn check_drives(
     line: &ConnectionArgs,
     decls: &[DriveDecl],
     dictionaries: &[(String, Arc<Dictionary>)],
-) -> Result<(), String> {
+) -> Result<(), RunError> {
     let mut seen: Vec<(String, u32, String)> = Vec::new();
     for decl in decls {
-        let dictionary = dictionary_of(dictionaries, &decl.name)?;
-        let family = registry
-            .family(dictionary.family())
-            .map_err(|e| format!("error: {e}"))?;
-        let args = connection_of(decl, line)?;
-        family
-            .check_link_options(&args.link_options().extra)
-            .map_err(|e| format!("error: drive `{}`: {e}", decl.name))?;
-        let address = family
-            .parse_drive_address(decl.address.as_deref())
-            .map_err(|e| format!("error: drive `{}`: {e}", decl.name))?;
+        let (_, family, args, address) = placed(registry, line, decl, dictionaries)?;
         let key = bus_key(&args, family.id());
         if let Some((other, _, _)) = seen.iter().find(|(_, n, k)| *n == address.number && *k == key) {
-            return Err(format!(
+            return Err(RunError::Invalid(format!(
                 "error: drives `{other}` and `{}` are both at {} on one line; give each its own `address:`",
                 decl.name, address.shown
-            ));
+            )));
         }
         seen.push((decl.name.clone(), address.number, key));
     }
@@ -288,48 +301,48 @@ pub fn check_drives(
 /// with every drive simulated, each drive's address and link settings, and the one trace
 /// for all of them (its telegrams are explained with the first drive's family, so drives
 /// of different families are not traced together). On failure, the message (exit code 2).
-pub fn several_checked(
+pub fn named_drives_checked(
     request: &RunRequest,
     connection: &ConnectionArgs,
     decls: &[DriveDecl],
     dictionaries: &[(String, Arc<Dictionary>)],
-) -> Result<SharedTelegrams, String> {
+) -> Result<SharedTelegrams, RunError> {
     let outputs = request.outputs;
     if request.fast && decls.iter().any(|d| !d.on_command_line_connection()) {
-        return Err("error: --fast (virtual time) works only when every drive is simulated; a drive with its own port runs in real time".into());
+        return Err(RunError::Invalid("error: --fast (virtual time) works only when every drive is simulated; a drive with its own port runs in real time".into()));
     }
     if let Some(address) = connection.address_given() {
-        return Err(format!(
+        return Err(RunError::Invalid(format!(
             "error: {address} names one drive; with several drives each gives its own `address:` (drives: {})",
             decls.iter().map(|d| d.name.as_str()).collect::<Vec<_>>().join(", ")
-        ));
+        )));
     }
     check_drives(request.registry, connection, decls, dictionaries)?;
     let (first, first_dict) = (&dictionaries[0].0, dictionaries[0].1.clone());
     let families: std::collections::BTreeSet<&str> = dictionaries.iter().map(|(_, d)| d.family()).collect();
     if families.len() > 1 && (outputs.trace.is_some() || outputs.verbose) {
-        return Err(format!(
+        return Err(RunError::Invalid(format!(
             "error: --trace and -v explain the telegrams of one drive family; these drives are of {} (drive `{first}` first)",
             families.into_iter().collect::<Vec<_>>().join(" and ")
-        ));
+        )));
     }
     let family = request
         .registry
         .family(first_dict.family())
-        .map_err(|e| format!("error: {e}"))?;
+        .map_err(|e| RunError::Invalid(format!("error: {e}")))?;
     telegram_outputs(outputs, &|| family.explainer(first_dict.clone())).map(SharedTelegrams::new)
 }
 
-/// Opens the drives checked by [`several_checked`], says early when one never answers,
+/// Opens the drives checked by [`named_drives_checked`], says early when one never answers,
 /// and hands every simulated drive, in the order declared, to the run's
 /// `prepare_simulator`. On failure, the message (exit code 3).
-pub fn several_opened(
+pub fn named_drives_opened(
     request: &RunRequest,
     connection: &ConnectionArgs,
     decls: &[DriveDecl],
     dictionaries: &[(String, Arc<Dictionary>)],
     telegrams: &SharedTelegrams,
-) -> Result<OpenDrives, String> {
+) -> Result<OpenDrives, RunError> {
     let mut open = open_drives(
         request.registry,
         connection,
@@ -343,10 +356,10 @@ pub fn several_opened(
     for (name, drive) in &mut open.drives {
         if let Err(crate::drive::DriveError::Access(e)) = drive.state() {
             if e.is_no_reply() {
-                return Err(format!(
+                return Err(RunError::Unreachable(format!(
                     "drive `{name}`: {}",
-                    silent_drive(request.connection, &e.to_string())
-                ));
+                    silent_drive_of(request, &e.to_string())
+                )));
             }
         }
     }

@@ -1,0 +1,51 @@
+//! The application layer, between the command line and the session. One run of a recipe
+//! or a script is one [`RunPlan`] taken through one pipeline, [`run`]: load and check the
+//! file against each drive's dictionary, open the output files (with placeholders that
+//! replace an earlier run's reports at once), open the drives (one, or each named one; the
+//! ones on one line share one bus), say early when one never answers, compare every value
+//! the file is known to write with the limits the drive itself reports, run with the safe
+//! stop at every ending, and write the console, CSV, trace, JUnit and HTML reports; a run
+//! that never starts writes its not-run JUnit and HTML. [`run_many`] runs several files,
+//! each with its own outputs, to the worst exit code. Features that follow a run plug in as
+//! [`RunRequest::observers`]. Also what every command shares to reach a drive: the
+//! dictionary with its bench limits ([`DictionaryArgs`]), the connection
+//! ([`ConnectionArgs`], address-key flags such as `--dnc-address`), [`open_drive`], the
+//! maintenance flow over the drive layer's interlock ([`run_maintain`]), typed errors
+//! ([`RunError`]) and the exit codes.
+//!
+//! Must not parse a command line (the option structs derive clap's `Args` so that `cli`
+//! can flatten them, nothing more), must not name a family, and writes only to the
+//! writers it is given (except the `-v` telegram lines and the live progress bar, which
+//! belong to the process's standard error and terminal).
+
+mod address_key_flags;
+mod connection_args;
+mod drive_args;
+pub mod drive_limits;
+mod drive_set;
+mod exit_code;
+mod maintain;
+mod not_run;
+mod output_args;
+mod pipeline;
+mod run_error;
+mod run_many;
+mod run_plan;
+mod run_request;
+mod run_setup;
+mod safe_stop_args;
+
+pub use address_key_flags::{AddressKeyFlag, DNC_ADDRESS};
+pub use connection_args::{parse_bitrate, parse_duration, CanSpec, Connection, ConnectionArgs};
+pub use drive_args::{open_drive, DictionaryArgs, OpenDrive};
+pub use drive_set::drive_dictionaries;
+pub use exit_code::*;
+pub use maintain::{run_maintain, MaintainRequest, MaintainResult, PrepareMaintained};
+pub use not_run::silent_drive;
+pub use output_args::{ColorWhen, OutputArgs};
+pub use pipeline::run;
+pub use run_error::{BadValue, RunError};
+pub use run_many::{outputs_for, run_many, worse};
+pub use run_plan::{LoadedPlan, RunPlan};
+pub use run_request::{PrepareSimulator, RunRequest, RunResult, SharedObserver};
+pub use safe_stop_args::SafeStopArgs;

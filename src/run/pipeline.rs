@@ -1,0 +1,186 @@
+//! The one run pipeline, for a recipe or a script with one drive or several: load and
+//! check, open the output files, open the drives, say early when one never answers,
+//! compare the values written with the drive's own limits, run with the safe stop at every
+//! ending, and write every report. A run that cannot start still writes its not-run JUnit
+//! and HTML reports. Decides exit codes; must not parse a command line.
+
+use super::drive_limits::within_drive_limits;
+use super::drive_set::{named_drives_checked, named_drives_opened, OpenDrives};
+use super::not_run::{not_run, silent_drive_of};
+use super::run_plan::{LoadedPlan, RunPlan, SessionSettings};
+use super::run_setup::{finish_reports, observed, open_csv, telegram_outputs, write_placeholders, Look};
+use super::{open_drive, ConnectionArgs, RunError, RunRequest, RunResult, COMMUNICATION, INVALID};
+use crate::report::TelegramFanOut;
+use std::io::Write;
+
+/// Checks and runs `request.file`, writing the console output to `out` and problems to
+/// `err`.
+pub fn run(request: &RunRequest, out: &mut dyn Write, err: &mut dyn Write) -> RunResult {
+    let loaded = match RunPlan::load(request) {
+        Ok(l) => l,
+        Err(e) => {
+            let text = e.to_string();
+            let _ = write!(err, "{text}");
+            return not_run(request, None, INVALID, &text, err);
+        }
+    };
+    let plan = &loaded.plan;
+    let planned = plan.planned_checks();
+    let refuse = |code: i32, text: &str, err: &mut dyn Write| {
+        let _ = writeln!(err, "{text}");
+        not_run(request, Some((plan, &planned)), code, text, err)
+    };
+    if request.fast && !request.connection.is_simulated() {
+        return refuse(INVALID, "error: --fast (virtual time) works only with the built-in simulated drive; a real drive runs in real time", err);
+    }
+    // The file's link settings under the command line's, checked before anything is
+    // opened: a wrong setting is an invalid file or command line (exit 2), not a
+    // communication failure.
+    let connection = request.connection.with_defaults(plan.link());
+    let several = !plan.drives().is_empty();
+    let telegrams = match checked(request, &loaded, &connection) {
+        Ok(t) => t,
+        Err(e) => return refuse(INVALID, &e.to_string(), err),
+    };
+    // Files are opened before anything is sent: a path that cannot be written is an
+    // invalid command line, not a half-run file.
+    let outputs = request.outputs;
+    let wide = plan.wide_columns().filter(|_| outputs.csv_wide);
+    let mut csv = match open_csv(outputs, wide.as_deref(), several) {
+        Ok(c) => c,
+        Err(e) => return refuse(INVALID, &e.to_string(), err),
+    };
+    if let Err(e) = write_placeholders(outputs, plan.name(), plan.path()) {
+        let _ = writeln!(err, "{e}");
+        return RunResult::refused(INVALID);
+    }
+    let mut open = match opened(request, &loaded, &connection, telegrams) {
+        Ok(o) => o,
+        Err(e) => return refuse(COMMUNICATION, &e.to_string(), err),
+    };
+    if !open.simulators.is_empty() {
+        let _ = writeln!(out, "using {}", open.description);
+    }
+    // Each drive's limits for the values written to it (`left.speed_setpoint`).
+    let written = plan.written_values();
+    for (name, drive) in open.drives.iter_mut() {
+        let prefix = format!("{name}.");
+        let own: Vec<_> = written
+            .iter()
+            .filter(|w| name.is_empty() || w.object.name.starts_with(&prefix))
+            .cloned()
+            .collect();
+        if let Err((code, why)) = within_drive_limits(&own, drive, plan.path(), &request.stop, out, err) {
+            return not_run(request, Some((plan, &planned)), code, &why, err);
+        }
+    }
+    let virtual_time = request.fast && !open.simulators.is_empty();
+    let look = Look::of(
+        outputs,
+        request.terminal,
+        virtual_time,
+        plan.colored(),
+        plan.planned_time(),
+    );
+    let settings = SessionSettings {
+        safe_stop: request.safe_stop.settings(plan.safe_stop()),
+        output_dir: request.output_dir.clone(),
+        csv_wide: outputs.csv_wide,
+    };
+    let report = observed(out, &look, csv.as_mut(), &request.observers, |observers| {
+        let drives = open.drives.iter_mut().map(|(n, d)| (n.clone(), d)).collect();
+        plan.run(drives, observers, &request.stop, settings, err)
+    });
+    finish_reports(&report, &planned, csv.as_ref(), outputs, err);
+    RunResult {
+        exit_code: report.exit_code(),
+        report: Some(report),
+        simulator: open.simulators.first().map(|(_, s)| s.clone()),
+        simulators: open.simulators,
+    }
+}
+
+/// Before anything opens: the drives' addresses and link settings, and the `--trace` and
+/// `-v` outputs. On failure, the message (exit code 2).
+fn checked(
+    request: &RunRequest,
+    loaded: &LoadedPlan,
+    connection: &ConnectionArgs,
+) -> Result<Telegrams, RunError> {
+    let drives = loaded.plan.drives();
+    if !drives.is_empty() {
+        return named_drives_checked(request, connection, drives, &loaded.drive_dictionaries)
+            .map(Telegrams::Shared);
+    }
+    let dictionary = &loaded.dictionary;
+    let family = request
+        .registry
+        .family(dictionary.family())
+        .map_err(|e| RunError::Invalid(format!("error: {e}")))?;
+    request
+        .connection
+        .check(request.registry, family.as_ref())
+        .map_err(|e| RunError::Invalid(format!("error: {e}")))?;
+    connection.check(request.registry, family.as_ref()).map_err(|e| {
+        RunError::Invalid(format!(
+            "error: {e} (link settings come from {} and the command line)",
+            loaded.plan.link_source()
+        ))
+    })?;
+    telegram_outputs(request.outputs, &|| family.explainer(dictionary.clone())).map(Telegrams::One)
+}
+
+/// The telegram outputs of a run: one drive's, or shared by several drives.
+enum Telegrams {
+    One(TelegramFanOut),
+    Shared(super::run_setup::SharedTelegrams),
+}
+
+/// Opens the drives, says early when one never answers, and hands each simulated drive
+/// to the request's `prepare_simulator`. On failure, the message (exit code 3).
+fn opened(
+    request: &RunRequest,
+    loaded: &LoadedPlan,
+    connection: &ConnectionArgs,
+    telegrams: Telegrams,
+) -> Result<OpenDrives, RunError> {
+    let telegrams = match telegrams {
+        Telegrams::Shared(shared) => {
+            return named_drives_opened(
+                request,
+                connection,
+                loaded.plan.drives(),
+                &loaded.drive_dictionaries,
+                &shared,
+            )
+        }
+        Telegrams::One(t) => t,
+    };
+    let mut open = open_drive(
+        request.registry,
+        connection,
+        loaded.dictionary.clone(),
+        request.fast,
+        telegrams.into_observer(),
+        Some(request.stop.clone()),
+    )?;
+    // A drive that never answers is said once, early, with what to check, instead of
+    // every step and the safe stop each waiting out their retries.
+    if open.simulator.is_none() {
+        if let Err(crate::drive::DriveError::Access(e)) = open.drive.state() {
+            if e.is_no_reply() {
+                return Err(RunError::Unreachable(silent_drive_of(request, &e.to_string())));
+            }
+        }
+    }
+    if let (Some(sim), Some(prepare)) = (&open.simulator, request.prepare_simulator) {
+        prepare(sim, open.drive.clock());
+    }
+    let clock = open.drive.clock().clone();
+    Ok(OpenDrives {
+        drives: vec![(String::new(), open.drive)],
+        simulators: open.simulator.map(|s| (String::new(), s)).into_iter().collect(),
+        description: open.description,
+        clock,
+    })
+}

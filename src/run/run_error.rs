@@ -1,0 +1,52 @@
+//! Why a run (or any command of the application layer) could not go on, as one type: the
+//! caller tells an invalid file or setting (nothing was sent, exit code 2) from a drive or
+//! port that cannot be reached (exit code 3) by the variant, and prints its text as it is.
+//! The texts of the layers below (the family seam still speaks in sentences) are carried
+//! in these variants until those layers give types of their own.
+
+use crate::dictionary::DictionaryError;
+
+#[derive(Debug, thiserror::Error)]
+pub enum RunError {
+    /// The file, a dictionary, a setting or the command line is wrong; nothing was sent.
+    #[error("{0}")]
+    Invalid(String),
+    /// A port cannot be opened, or a drive cannot be reached or does not answer.
+    #[error("{0}")]
+    Unreachable(String),
+    /// A dictionary or bench-limits file with problems, rendered with their places.
+    #[error("{}", crate::diag::render_diagnostic(.0))]
+    Dictionary(#[from] DictionaryError),
+    /// Something went wrong for one of several named drives.
+    #[error("drive `{drive}`: {source}")]
+    Drive {
+        drive: String,
+        #[source]
+        source: Box<RunError>,
+    },
+}
+
+impl RunError {
+    /// The exit code of DESIGN.md for a run that ends here.
+    pub fn exit_code(&self) -> i32 {
+        match self {
+            RunError::Unreachable(_) => super::COMMUNICATION,
+            RunError::Drive { source, .. } => source.exit_code(),
+            RunError::Invalid(_) | RunError::Dictionary(_) => super::INVALID,
+        }
+    }
+
+    /// This error, said of the named drive `drive`.
+    pub fn of_drive(self, drive: &str) -> RunError {
+        RunError::Drive {
+            drive: drive.to_string(),
+            source: Box::new(self),
+        }
+    }
+}
+
+/// A command-line value that cannot be used, with what to write instead (clap prints it
+/// after the option's name).
+#[derive(Debug, PartialEq, Eq, thiserror::Error)]
+#[error("{0}")]
+pub struct BadValue(pub String);

@@ -1,0 +1,196 @@
+//! What a run performs: a recipe or a script, loaded and checked against the dictionary of
+//! each of its drives. The two differ only in how they produce the session's operations
+//! (the recipe interpreter or the Rhai engine) and in what they know before they run
+//! (a recipe its checks and its longest time); everything around them is the pipeline's.
+//! Loads and answers; must not open a drive.
+
+use super::{drive_dictionaries, RunError, RunRequest};
+use crate::dictionary::Dictionary;
+use crate::drive::Drive;
+use crate::recipe::{
+    declared_drives, load_recipe_for, longest_time_of, planned_checks, sampled_objects, written_values,
+    DriveDecl, Recipe, Runner, SafeStopChoice, WrittenValue,
+};
+use crate::script::{declared_script_drives, is_script, load_script_for, Script, ScriptRunner};
+use crate::session::{ObjectRef, PlannedCheck, RunObserver, RunReport, SafeStopSettings};
+use crate::stop_request::StopRequests;
+use std::io::Write;
+use std::path::PathBuf;
+use std::sync::Arc;
+use std::time::Duration;
+
+/// A recipe or a script, ready to run.
+pub enum RunPlan {
+    Recipe(Recipe),
+    Script(Script),
+}
+
+/// A plan with the dictionaries it was checked against.
+pub struct LoadedPlan {
+    pub plan: RunPlan,
+    /// The dictionary of a plan with one drive, or the first named drive's.
+    pub dictionary: Arc<Dictionary>,
+    /// Each named drive's dictionary (empty for a plan with one drive).
+    pub drive_dictionaries: Vec<(String, Arc<Dictionary>)>,
+}
+
+/// How the session is run: the settings every plan gets from the request.
+pub struct SessionSettings {
+    pub safe_stop: SafeStopSettings,
+    pub output_dir: PathBuf,
+    pub csv_wide: bool,
+}
+
+impl RunPlan {
+    /// Loads `request.file` (a `.rhai` file is a script) with each drive's dictionary: the
+    /// one `--drive` names (or the file's own `drive:`), or one per named drive. On failure
+    /// the problem, rendered to be said as it is (exit code 2).
+    pub fn load(request: &RunRequest) -> Result<LoadedPlan, RunError> {
+        let path = request.file;
+        let script = is_script(path);
+        // A file with named drives names a dictionary per drive; the first is the file's.
+        let declared = if script {
+            declared_script_drives(path)
+        } else {
+            declared_drives(path)
+        };
+        let (dictionary, drive_dicts) = if declared.is_empty() {
+            let d = request.dictionary.load_for(request.registry, Some(path))?;
+            (d, Vec::new())
+        } else {
+            let all = drive_dictionaries(request.dictionary, request.registry, path, &declared)?;
+            (all[0].1.clone(), all)
+        };
+        let plan = if script {
+            load_script_for(path, &dictionary, &drive_dicts, request.set)
+                .map(RunPlan::Script)
+                .map_err(|e| RunError::Invalid(e.render(false)))?
+        } else {
+            load_recipe_for(
+                path,
+                &dictionary,
+                &drive_dicts,
+                &request.registry.address_keys(),
+                request.set,
+            )
+            .map(RunPlan::Recipe)
+            .map_err(|e| RunError::Invalid(e.render(false)))?
+        };
+        Ok(LoadedPlan {
+            plan,
+            dictionary,
+            drive_dictionaries: drive_dicts,
+        })
+    }
+
+    pub fn name(&self) -> &str {
+        match self {
+            RunPlan::Recipe(r) => &r.name,
+            RunPlan::Script(s) => &s.name,
+        }
+    }
+
+    /// The file as the reports name it.
+    pub fn path(&self) -> &str {
+        match self {
+            RunPlan::Recipe(r) => &r.path,
+            RunPlan::Script(s) => &s.path,
+        }
+    }
+
+    /// The file's own link settings (`link:`, `//! link:`), under the command line's.
+    pub fn link(&self) -> &[(String, String)] {
+        match self {
+            RunPlan::Recipe(r) => &r.link,
+            RunPlan::Script(s) => &s.link,
+        }
+    }
+
+    /// Where [`link`](Self::link) is written, for messages.
+    pub fn link_source(&self) -> &'static str {
+        match self {
+            RunPlan::Recipe(_) => "the recipe's `link:`",
+            RunPlan::Script(_) => "the script's `//! link:`",
+        }
+    }
+
+    /// The named drives; empty for a plan with one drive.
+    pub fn drives(&self) -> &[DriveDecl] {
+        match self {
+            RunPlan::Recipe(r) => &r.drives,
+            RunPlan::Script(s) => &s.drives,
+        }
+    }
+
+    pub fn safe_stop(&self) -> &SafeStopChoice {
+        match self {
+            RunPlan::Recipe(r) => &r.safe_stop,
+            RunPlan::Script(s) => &s.safe_stop,
+        }
+    }
+
+    /// The checks known before the run (a recipe's; a script's appear as it runs), for the
+    /// JUnit report of a run that ends early or never starts.
+    pub fn planned_checks(&self) -> Vec<PlannedCheck> {
+        match self {
+            RunPlan::Recipe(r) => planned_checks(r),
+            RunPlan::Script(_) => Vec::new(),
+        }
+    }
+
+    /// The columns of `--csv-wide`; `None` for a script, which chooses what it samples as
+    /// it runs, so its `--csv` keeps the long layout.
+    pub fn wide_columns(&self) -> Option<Vec<ObjectRef>> {
+        match self {
+            RunPlan::Recipe(r) => Some(sampled_objects(r)),
+            RunPlan::Script(_) => None,
+        }
+    }
+
+    /// Every number the plan is known to write before it runs, each named as the drive
+    /// limits are looked up (`left.speed_setpoint` with named drives).
+    pub fn written_values(&self) -> Vec<WrittenValue> {
+        match self {
+            RunPlan::Recipe(r) => written_values(r),
+            RunPlan::Script(s) => s.written.clone(),
+        }
+    }
+
+    /// The longest the run can take, for the live bar (a recipe knows it).
+    pub fn planned_time(&self) -> Option<Duration> {
+        match self {
+            RunPlan::Recipe(r) => Some(longest_time_of(&r.steps)),
+            RunPlan::Script(_) => None,
+        }
+    }
+
+    /// Whether the console colours PASS and FAIL (a script's lines are its own `print`s
+    /// among them, and stay plain).
+    pub fn colored(&self) -> bool {
+        matches!(self, RunPlan::Recipe(_))
+    }
+
+    /// Runs the plan on `drives` (one unnamed drive, or each named one) to the end,
+    /// whatever happens, the safe stop included. A script's own problems go to `err`.
+    pub fn run(
+        &self,
+        drives: Vec<(String, &mut Drive)>,
+        observer: &mut dyn RunObserver,
+        stop: &Arc<StopRequests>,
+        settings: SessionSettings,
+        err: &mut dyn Write,
+    ) -> RunReport {
+        match self {
+            RunPlan::Recipe(recipe) => Runner::with_drives(drives, observer, stop, recipe)
+                .with_output_dir(settings.output_dir)
+                .with_csv_wide(settings.csv_wide)
+                .with_settings(settings.safe_stop)
+                .run(recipe),
+            RunPlan::Script(script) => ScriptRunner::with_drives(drives, observer, stop.clone())
+                .with_output_dir(settings.output_dir)
+                .with_csv_wide(settings.csv_wide)
+                .with_settings(settings.safe_stop)
+                .run(script, err),
+        }
+    }
+}

@@ -1,0 +1,114 @@
+//! One run pipeline for recipes and scripts: what a script used to skip because it ran
+//! through a copy of the recipe's pipeline — the comparison with the drive's own limits
+//! for named drives, the early word about a drive that never answers, and the not-run
+//! JUnit and HTML reports of a run that cannot start.
+
+use crate::lenze_931::run_and_record;
+use crate::support::{scratch, write_file};
+
+/// A script with `//! drives:` has its literal values compared with the limits each
+/// named drive reports, as a recipe with `drives:` does, before anything moves. (Only
+/// the 931 reports limits, and it has one drive per line, so the drive is one.)
+#[test]
+fn a_script_with_named_drives_is_refused_by_a_drive_limit_before_anything_moves() {
+    let dir = scratch("script-drives-limits");
+    let script = write_file(
+        &dir,
+        "named.rhai",
+        "//! drives: axis = lenze-931\nlet axis = drive(\"axis\");\naxis.set(\"operating_mode\", 9);\naxis.set(\"speed_setpoint\", 100.0, \"rpm\");\n",
+    );
+    let (code, output, requests) = run_and_record(&dir, script);
+    assert_eq!(code, 2, "{output}");
+    // The state read that tells a silent drive early, then each object's limits once.
+    assert_eq!(
+        requests,
+        ["OR:0021", "ON:0014", "OX:0014", "ON:0010", "OX:0010"],
+        "{output}"
+    );
+    assert!(
+        output.contains(
+            "named.rhai:3:28: set axis.operating_mode = 9 is above the maximum the drive reports, 3"
+        ),
+        "{output}"
+    );
+    assert!(output.contains("nothing was sent to move the drive"), "{output}");
+}
+
+/// A script on a drive that never answers is told so once, before it starts, with what
+/// to check, as a recipe is; its JUnit file says why.
+#[test]
+fn a_script_against_a_drive_that_never_answers_says_so_early() {
+    let dir = scratch("script-silent");
+    let script = write_file(
+        &dir,
+        "silent.rhai",
+        "let d = drive();\nprint(d.read(\"speed_actual\"));\n",
+    );
+    let err = crate::command_line::said_early_that_the_drive_does_not_answer(
+        script.to_str().expect("utf-8"),
+        "script-silent",
+    );
+    assert!(err.contains("the script did not start"), "{err}");
+}
+
+/// A script that cannot start (invalid, or its port cannot be opened) replaces the JUnit
+/// and HTML files it was asked for with ones that say why, as a recipe does.
+#[test]
+fn a_refused_script_writes_its_not_run_junit_and_html() {
+    let dir = scratch("script-not-run");
+    let p = |name: &str| dir.join(name).to_str().expect("utf-8").to_string();
+    let (junit, html) = (p("junit.xml"), p("report.html"));
+    let bad = write_file(
+        &dir,
+        "bad.rhai",
+        "let d = drive();\nd.set(\"speed_setpont\", 1.0, \"rpm\");\n",
+    );
+    crate::outputs::invalid_run_writes_not_run_reports(&bad, &junit, &html);
+
+    let good = write_file(
+        &dir,
+        "good.rhai",
+        "let d = drive();\nprint(d.read(\"speed_actual\"));\n",
+    );
+    crate::outputs::unreachable_run_writes_not_run_reports(good.to_str().expect("utf-8"), &junit, &html);
+}
+
+/// What a further observer of the run gets: every check and the finished report, after
+/// the console, for a recipe and for a script alike.
+#[derive(Default)]
+struct Tally {
+    checks: Vec<String>,
+    finished: Option<String>,
+}
+
+impl drivescript::session::RunObserver for Tally {
+    fn check(&mut self, result: &drivescript::session::CheckResult) {
+        self.checks.push(result.name.clone());
+    }
+    fn run_finished(&mut self, report: &drivescript::session::RunReport) {
+        self.finished = Some(report.recipe.clone());
+    }
+}
+
+#[test]
+fn an_observer_given_with_the_request_sees_every_check_of_a_recipe_and_a_script() {
+    let dir = scratch("observers");
+    let script = write_file(
+        &dir,
+        "tally.rhai",
+        "let d = drive();\nexpect_near(\"zero\", d.read(\"speed_actual\"), 0.0, 5.0);\n",
+    );
+    let recipe = crate::support::repo_root().join("tests/cases/ok/commissioning/recipe.yaml");
+    for file in [recipe, script] {
+        let tally = std::sync::Arc::new(std::sync::Mutex::new(Tally::default()));
+        let mut run = crate::support::InProcessRun::new(&file);
+        run.observers.push(tally.clone());
+        let (result, output) = run.run();
+        let report = result.report.expect("the run started");
+        let tally = tally.lock().expect("not poisoned");
+        let names: Vec<String> = report.checks.iter().map(|c| c.name.clone()).collect();
+        assert!(!names.is_empty(), "{output}");
+        assert_eq!(tally.checks, names, "{output}");
+        assert_eq!(tally.finished.as_deref(), Some(report.recipe.as_str()));
+    }
+}
