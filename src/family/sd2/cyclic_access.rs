@@ -431,6 +431,7 @@ mod tests {
     use crate::family::sd2::codec::CMD_CYCLIC;
     use crate::family::sd2::{LinkConfig, Sd2Link, Sd2Simulator, SimConfig};
     use crate::link::{Direction, TelegramObserver};
+    use crate::sim::SimulatedDrive;
     use std::sync::{Arc, Mutex};
 
     /// The cyclic telegrams the engine sent, as bytes.
