@@ -43,15 +43,7 @@ pub fn decode(value: &Uploaded, data_type: DataType) -> Result<RawValue, String>
             "{data_type} takes {size} byte(s), the node indicated {used} (length mismatch)"
         ));
     }
-    let mut buf = [0u8; 8];
-    buf[..used].copy_from_slice(&bytes[..used]);
-    let unsigned = u64::from_le_bytes(buf);
-    Ok(RawValue::Int(if data_type.is_signed() {
-        let shift = 64 - 8 * used as u32;
-        ((unsigned << shift) as i64) >> shift
-    } else {
-        unsigned as i64
-    }))
+    Ok(RawValue::Int(data_type.from_le_bytes(&bytes[..used])))
 }
 
 /// The bytes to write for `raw`: an integer in the type's width, text as its characters.
@@ -66,12 +58,9 @@ pub fn encode(raw: &RawValue, data_type: DataType) -> Result<Vec<u8>, String> {
             }
             Ok(text.as_bytes().to_vec())
         }
-        (data_type, RawValue::Int(count)) => match data_type.range() {
-            Some((lo, hi)) if (lo..=hi).contains(count) => {
-                Ok(count.to_le_bytes()[..data_type.size()].to_vec())
-            }
-            _ => Err(format!("{count} does not fit {data_type}")),
-        },
+        (data_type, RawValue::Int(count)) => data_type
+            .to_le_bytes(*count)
+            .ok_or_else(|| format!("{count} does not fit {data_type}")),
         (_, other) => Err(format!("{other} cannot be sent as {data_type}")),
     }
 }

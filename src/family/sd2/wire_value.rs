@@ -21,15 +21,7 @@ pub fn decode(bytes: &[u8], data_type: DataType) -> Result<RawValue, String> {
     if bytes.len() != size {
         return Err(wrong_count(size.to_string()));
     }
-    let mut buf = [0u8; 8];
-    buf[..size].copy_from_slice(bytes);
-    let unsigned = u64::from_le_bytes(buf);
-    Ok(RawValue::Int(if data_type.is_signed() {
-        let shift = 64 - 8 * size as u32;
-        ((unsigned << shift) as i64) >> shift
-    } else {
-        unsigned as i64
-    }))
+    Ok(RawValue::Int(data_type.from_le_bytes(bytes)))
 }
 
 /// The data field for `raw`. A value that does not fit the type (text for an integer, a
@@ -49,12 +41,9 @@ pub fn encode(raw: &RawValue, data_type: DataType) -> Result<Vec<u8>, String> {
             }
             Ok(bytes)
         }
-        (data_type, RawValue::Int(count)) => match data_type.range() {
-            Some((lo, hi)) if (lo..=hi).contains(count) => {
-                Ok(count.to_le_bytes()[..data_type.size()].to_vec())
-            }
-            _ => Err(format!("{count} does not fit {data_type}")),
-        },
+        (data_type, RawValue::Int(count)) => data_type
+            .to_le_bytes(*count)
+            .ok_or_else(|| format!("{count} does not fit {data_type}")),
         (_, other) => Err(format!("{other} cannot be sent as {data_type}")),
     }
 }
