@@ -23,7 +23,10 @@ use crate::bus::{SharedTransport, Transport, TransportError};
 use crate::clock::SharedClock;
 use crate::drive::AccessError;
 use crate::hex::to_hex;
-use crate::link::{Direction, LinkCore, LinkStats, ReplyWait, TelegramObserver};
+use crate::link::{
+    AttemptFailure, CoreLink, Direction, ExchangeText, LinkCore, LinkStats, Refusal, ReplyWait, RetryPlan,
+    TelegramObserver,
+};
 use crate::stop_request::StopRequests;
 use std::sync::Arc;
 use std::time::Duration;
@@ -61,13 +64,8 @@ enum EchoSeen {
     Part(usize),
 }
 
-/// Why one attempt did not produce a reply.
-enum AttemptFailure {
-    Timeout,
-    Refused { bytes: Vec<u8>, problem: String },
-    Interrupted,
-    Transport(TransportError),
-}
+/// A reply that does not answer: its bytes and why.
+type Refused = Refusal<Vec<u8>, String>;
 
 impl CtLink {
     pub fn new(transport: SharedTransport, clock: SharedClock, config: CtLinkConfig) -> Self {
@@ -196,77 +194,42 @@ impl CtLink {
             self.quiet_from = self.core.clock.now() + t.still_sending() + echo;
             return Ok(None);
         }
-        let attempts = self.config.retries + 1;
-        let mut last_refused: Option<(Vec<u8>, String)> = None;
-        for attempt in 1..=attempts {
-            if attempt > 1 {
-                if self.core.stop_pending() {
-                    return Err(self.interrupted(request, &bytes));
-                }
-                self.core.stats.retries += 1;
-                self.core.settle(t, self.config.settle)?;
-                self.core
-                    .event(&format!("retry {} of {}", attempt - 1, self.config.retries));
-            }
-            self.send(t, &bytes)?;
-            match self.await_reply(t, request, &bytes) {
+        let c = &self.config;
+        let plan = RetryPlan::new(c.retries, c.settle, c.reply_timeout);
+        plan.run(self, t, |link, t, _| {
+            link.send(t, &bytes).map_err(AttemptFailure::Transport)?;
+            match link.await_reply(t, request, &bytes) {
                 Ok(reply) => {
-                    self.core.stats.replies += 1;
-                    self.quiet_from = self.core.clock.now();
-                    return Ok(Some(reply));
-                }
-                Err(AttemptFailure::Timeout) => {
-                    self.core.stats.timeouts += 1;
-                    let ms = self.config.reply_timeout.as_millis();
-                    let after = match self.attempt_echo {
-                        Some(EchoSeen::Whole) => " after the echo of our message",
-                        Some(EchoSeen::Part(_)) => " after part of the echo of our message",
-                        None => "",
-                    };
-                    self.core.event(&format!("no reply within {ms} ms{after}"));
-                }
-                Err(AttemptFailure::Refused { bytes, problem }) => {
-                    self.core.event(&format!("reply refused: {problem}"));
-                    last_refused = Some((bytes, problem));
-                }
-                Err(AttemptFailure::Transport(e)) => {
-                    self.core.event(&format!("transport failed: {e}"));
-                    return Err(AccessError::Transport(e));
+                    link.quiet_from = link.core.clock.now();
+                    Ok(Some(reply))
                 }
                 Err(AttemptFailure::Interrupted) => {
-                    self.core.event("stop requested while waiting for the reply");
                     // The next message (the safe stop's) waits for the line: the drive may
                     // still answer this one.
-                    self.quiet_from = self.quiet_from.max(self.core.clock.now() + t.still_sending());
-                    return Err(self.interrupted(request, &bytes));
+                    link.quiet_from = link.quiet_from.max(link.core.clock.now() + t.still_sending());
+                    Err(AttemptFailure::Interrupted)
                 }
+                Err(failure) => Err(failure),
             }
-        }
-        let port = self.transport.name().to_string();
-        let address = address_text(request);
-        let request_text = describe(request, &bytes);
-        Err(match last_refused {
-            Some((reply, problem)) => AccessError::BadReply {
-                port,
-                address,
-                request: request_text,
-                reply: format!("`{}` ({})", to_hex(&reply), show_bytes(&reply)),
-                problem,
-                attempts,
-            },
-            None => AccessError::NoReply {
-                port,
-                address,
-                request: request_text,
-                attempts,
-                timeout_ms: self.config.reply_timeout.as_millis(),
+        })
+        .map_err(|unanswered| {
+            let text = ExchangeText {
+                port: self.transport.name().to_string(),
+                address: address_text(request),
+                request: describe(request, &bytes),
                 hint: self.no_reply_hint(),
-            },
+            };
+            unanswered.into_error(text, plan.reply_timeout, |r| {
+                (
+                    format!("`{}` ({})", to_hex(&r.reply), show_bytes(&r.reply)),
+                    r.problem,
+                )
+            })
         })
     }
 
     /// The turnaround pause, stale input dropped, then the message.
-    fn send(&mut self, t: &mut dyn Transport, bytes: &[u8]) -> Result<(), AccessError> {
+    fn send(&mut self, t: &mut dyn Transport, bytes: &[u8]) -> Result<(), TransportError> {
         self.core
             .clock
             .sleep_until(self.quiet_from + self.config.turnaround);
@@ -300,7 +263,7 @@ impl CtLink {
         t: &mut dyn Transport,
         request: &Request,
         sent_bytes: &[u8],
-    ) -> Result<Reply, AttemptFailure> {
+    ) -> Result<Reply, AttemptFailure<Refused>> {
         let sent = self.core.clock.now();
         let left_at = sent + t.still_sending();
         let deadline = left_at + self.config.reply_timeout;
@@ -384,15 +347,18 @@ impl CtLink {
                                     }
                                     Err(problem) => {
                                         self.core.stats.mismatched_replies += 1;
-                                        Err(AttemptFailure::Refused { bytes, problem })
+                                        Err(AttemptFailure::Bad(Refusal {
+                                            reply: bytes,
+                                            problem,
+                                        }))
                                     }
                                 },
                                 Err(problem) => {
                                     self.core.stats.corrupt_replies += 1;
-                                    Err(AttemptFailure::Refused {
-                                        bytes,
+                                    Err(AttemptFailure::Bad(Refusal {
+                                        reply: bytes,
                                         problem: problem.to_string(),
-                                    })
+                                    }))
                                 }
                             };
                         }
@@ -413,10 +379,14 @@ impl CtLink {
                     if echo_open && !self.pending.is_empty() {
                         self.attempt_echo = Some(EchoSeen::Part(self.pending.len()));
                     }
-                    return Err(AttemptFailure::Timeout);
+                    let note = match self.attempt_echo {
+                        Some(EchoSeen::Whole) => " after the echo of our message",
+                        Some(EchoSeen::Part(_)) => " after part of the echo of our message",
+                        None => "",
+                    };
+                    return Err(AttemptFailure::Timeout { note });
                 }
-                ReplyWait::Interrupted => return Err(AttemptFailure::Interrupted),
-                ReplyWait::Transport(e) => return Err(AttemptFailure::Transport(e)),
+                wait => return Err(wait.into()),
             }
         }
     }
@@ -435,13 +405,11 @@ impl CtLink {
         };
         self.core.event(&text);
     }
+}
 
-    fn interrupted(&self, request: &Request, bytes: &[u8]) -> AccessError {
-        AccessError::Interrupted {
-            port: self.transport.name().to_string(),
-            address: address_text(request),
-            request: describe(request, bytes),
-        }
+impl CoreLink for CtLink {
+    fn core(&mut self) -> &mut LinkCore {
+        &mut self.core
     }
 }
 
