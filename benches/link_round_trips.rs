@@ -25,7 +25,7 @@ use drivescript::family::sd2::codec::Cyclic;
 use drivescript::family::sd2::LinkConfig;
 use drivescript::family::sd2::Sd2Link;
 use drivescript::family::sd2::{Sd2Simulator, SimConfig};
-use drivescript::link::{Direction, TelegramObserver};
+use drivescript::link::{CoreLink, Direction, TelegramObserver};
 use drivescript::sim::SimulatedDrive;
 use std::hint::black_box;
 use std::process::ExitCode;

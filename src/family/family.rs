@@ -3,11 +3,11 @@
 //! simulated drive, and its telegram explainer. A new family is one folder implementing
 //! this, one dictionary file and one line in the registry.
 
-use crate::bus::{Bus, BusKind, FramePeer, Peer, SerialSettings};
+use crate::bus::{Bus, BusKind, FramePeer, Peer, SerialSettings, SharedTransport};
 use crate::clock::SharedClock;
 use crate::dictionary::{Address, AddressParser, DataType, Dictionary, ObjectDef};
 use crate::drive::{AddressKeys, ObjectAccess};
-use crate::link::{TelegramExplainer, TelegramObserver};
+use crate::link::{CoreLink, TelegramExplainer, TelegramObserver};
 use crate::sim::{SimConfig, SimulatedDrive};
 use crate::stop_request::StopRequests;
 use std::sync::{Arc, Mutex};
@@ -49,10 +49,57 @@ pub struct LinkContext {
     pub stop: Option<Arc<StopRequests>>,
 }
 
+impl LinkContext {
+    /// Builds a link on this context's clock and hands it the observer and the stop
+    /// requests: what every family's `open` does, done once.
+    pub fn link<L: CoreLink>(self, make: impl FnOnce(SharedClock) -> L) -> L {
+        let mut link = make(self.clock);
+        let core = link.core();
+        if let Some(o) = self.observer {
+            core.set_observer(o);
+        }
+        if let Some(s) = self.stop {
+            core.set_stop_requests(s);
+        }
+        link
+    }
+}
+
+/// The byte line of `bus` for a family (`family` its id) that talks over a serial line.
+pub fn serial_line(bus: &Bus, family: &str) -> Result<SharedTransport, String> {
+    match bus {
+        Bus::Bytes(transport) => Ok(transport.clone()),
+        Bus::Frames(_) => Err(format!(
+            "the {family} family talks over a serial line, not over {}",
+            bus.name()
+        )),
+    }
+}
+
 /// A simulated drive: its family-neutral handle and the peer that speaks its bytes.
 pub struct SimulatedDevice {
     pub drive: Arc<Mutex<dyn SimulatedDrive>>,
     pub peer: SimPeer,
+}
+
+impl SimulatedDevice {
+    /// A simulated drive on a byte line.
+    pub fn bytes<S: SimulatedDrive + Peer + 'static>(sim: S) -> Self {
+        let sim = Arc::new(Mutex::new(sim));
+        SimulatedDevice {
+            drive: sim.clone(),
+            peer: SimPeer::Bytes(sim),
+        }
+    }
+
+    /// A simulated node on a CAN bus.
+    pub fn frames<S: SimulatedDrive + FramePeer + 'static>(sim: S) -> Self {
+        let sim = Arc::new(Mutex::new(sim));
+        SimulatedDevice {
+            drive: sim.clone(),
+            peer: SimPeer::Frames(sim),
+        }
+    }
 }
 
 pub enum SimPeer {
@@ -84,8 +131,17 @@ pub trait Family: Send + Sync {
     fn address_keys(&self) -> AddressKeys {
         AddressKeys::NONE
     }
-    /// Checks the family-specific link options before anything is opened.
-    fn check_link_options(&self, extra: &[(String, String)]) -> Result<(), String>;
+    /// Checks the family-specific link options before anything is opened; by default the
+    /// family has none and refuses every one.
+    fn check_link_options(&self, extra: &[(String, String)]) -> Result<(), String> {
+        match extra.first() {
+            Some((name, _)) => Err(format!(
+                "--link-option {name}: the {} family has no link options",
+                self.id()
+            )),
+            None => Ok(()),
+        }
+    }
     /// Object access to one drive on `bus`.
     fn open(
         &self,

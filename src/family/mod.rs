@@ -10,6 +10,6 @@ mod registry;
 pub mod sd2;
 
 pub use family::{
-    BuiltinDictionary, DriveAddress, Family, LinkContext, LinkOptions, SimPeer, SimulatedDevice,
+    serial_line, BuiltinDictionary, DriveAddress, Family, LinkContext, LinkOptions, SimPeer, SimulatedDevice,
 };
 pub use registry::{Registry, DEFAULT_DICTIONARY};

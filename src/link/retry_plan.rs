@@ -4,15 +4,41 @@
 //! only its attempt (encode, send, classify what comes back) and its timing; it must not
 //! loop itself. Must not know any family's telegrams.
 
-use super::LinkCore;
+use super::{LinkCore, LinkStats, TelegramObserver};
 use crate::bus::{FrameBus, Transport, TransportError};
+use crate::clock::SharedClock;
 use crate::drive::AccessError;
+use crate::stop_request::StopRequests;
 use std::fmt::Display;
+use std::sync::Arc;
 use std::time::Duration;
 
-/// A link built on [`LinkCore`]: what the retry loop and a family's `open` reach through.
+/// A link built on [`LinkCore`]: what the retry loop and a family's `open` reach through,
+/// and the wiring every link offers (observer, stop requests, counters, clock).
 pub trait CoreLink {
     fn core(&mut self) -> &mut LinkCore;
+    fn core_ref(&self) -> &LinkCore;
+
+    fn set_observer(&mut self, observer: Box<dyn TelegramObserver>) {
+        self.core().set_observer(observer);
+    }
+
+    fn take_observer(&mut self) -> Option<Box<dyn TelegramObserver>> {
+        self.core().take_observer()
+    }
+
+    /// Lets stop requests end reply waits and retries early (after the family's grace).
+    fn set_stop_requests(&mut self, stop: Arc<StopRequests>) {
+        self.core().set_stop_requests(stop);
+    }
+
+    fn stats(&self) -> LinkStats {
+        self.core_ref().stats
+    }
+
+    fn clock(&self) -> &SharedClock {
+        &self.core_ref().clock
+    }
 }
 
 /// What a link listens to between attempts: a byte line lets late bytes settle and drops

@@ -9,11 +9,11 @@ use crate::bus::{Bus, BusKind, DataBits, Parity, SerialSettings, StopBits};
 use crate::dictionary::{Access, Address, AddressParser, DataType, DecimalPlaces, Dictionary, ObjectDef};
 use crate::drive::ObjectAccess;
 use crate::family::{
-    BuiltinDictionary, DriveAddress, Family, LinkContext, LinkOptions, SimPeer, SimulatedDevice,
+    serial_line, BuiltinDictionary, DriveAddress, Family, LinkContext, LinkOptions, SimulatedDevice,
 };
 use crate::link::TelegramExplainer;
 use crate::sim::SimConfig;
-use std::sync::{Arc, Mutex};
+use std::sync::Arc;
 
 const DICTIONARIES: &[BuiltinDictionary] = &[BuiltinDictionary {
     name: "ct-unidrive-sp",
@@ -111,12 +111,7 @@ impl Family for CtFamily {
         options: &LinkOptions,
         context: LinkContext,
     ) -> Result<Box<dyn ObjectAccess>, String> {
-        let Bus::Bytes(transport) = bus else {
-            return Err(format!(
-                "the ct_ansi family talks over a serial line, not over {}",
-                bus.name()
-            ));
-        };
+        let transport = serial_line(bus, self.id())?;
         let node = NodeAddress::from_number(drive.number)
             .ok_or_else(|| format!("drive address {} is not group.unit", drive.number))?;
         let config = CtLinkConfig {
@@ -125,13 +120,7 @@ impl Family for CtFamily {
             baud_parameter: baud_parameter(&options.extra)?,
             ..CtLinkConfig::default()
         };
-        let mut link = CtLink::new(transport.clone(), context.clock, config);
-        if let Some(o) = context.observer {
-            link.set_observer(o);
-        }
-        if let Some(s) = context.stop {
-            link.set_stop_requests(s);
-        }
+        let link = context.link(|clock| CtLink::new(transport, clock, config));
         Ok(Box::new(CtAccess::new(link, node)))
     }
 
@@ -139,11 +128,7 @@ impl Family for CtFamily {
         let node = NodeAddress::from_number(drive.number)
             .filter(|n| !n.is_broadcast())
             .unwrap_or(NodeAddress { group: 1, unit: 1 });
-        let sim = Arc::new(Mutex::new(CtSimulator::new(node, config)));
-        SimulatedDevice {
-            drive: sim.clone(),
-            peer: SimPeer::Bytes(sim),
-        }
+        SimulatedDevice::bytes(CtSimulator::new(node, config))
     }
 
     fn explainer(&self, dictionary: Arc<Dictionary>) -> Box<dyn TelegramExplainer> {

@@ -24,11 +24,8 @@ use crate::clock::SharedClock;
 use crate::drive::AccessError;
 use crate::hex::to_hex;
 use crate::link::{
-    AttemptFailure, CoreLink, Direction, ExchangeText, LinkCore, LinkStats, Refusal, ReplyWait, RetryPlan,
-    TelegramObserver,
+    AttemptFailure, CoreLink, Direction, ExchangeText, LinkCore, Refusal, ReplyWait, RetryPlan,
 };
-use crate::stop_request::StopRequests;
-use std::sync::Arc;
 use std::time::Duration;
 
 /// A stop request does not cut short the first part of a reply wait: a drive that answers
@@ -81,25 +78,8 @@ impl CtLink {
         }
     }
 
-    pub fn set_observer(&mut self, observer: Box<dyn TelegramObserver>) {
-        self.core.set_observer(observer);
-    }
-
-    /// Lets stop requests end reply waits and retries early (see [`STOP_GRACE`]).
-    pub fn set_stop_requests(&mut self, stop: Arc<StopRequests>) {
-        self.core.set_stop_requests(stop);
-    }
-
     pub fn port(&self) -> &str {
         self.transport.name()
-    }
-
-    pub fn clock(&self) -> &SharedClock {
-        &self.core.clock
-    }
-
-    pub fn stats(&self) -> LinkStats {
-        self.core.stats
     }
 
     pub fn config(&self) -> &CtLinkConfig {
@@ -411,6 +391,9 @@ impl CoreLink for CtLink {
     fn core(&mut self) -> &mut LinkCore {
         &mut self.core
     }
+    fn core_ref(&self) -> &LinkCore {
+        &self.core
+    }
 }
 
 /// Whether `reply` is an answer to `request`: a read gets the value of the same parameter
@@ -477,7 +460,9 @@ mod tests {
     use crate::bus::{MemoryTransport, Peer, PeerReply};
     use crate::clock::{Clock, VirtualClock};
     use crate::family::ct_ansi::codec::{DataValue, Parameter, ACK, NAK};
+    use crate::link::TelegramObserver;
     use std::collections::VecDeque;
+    use std::sync::Arc;
     use std::sync::Mutex;
 
     /// Answers each message with the next scripted reply (None = silence).

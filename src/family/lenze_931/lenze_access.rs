@@ -11,6 +11,7 @@ use super::LenzeLink;
 use crate::clock::SharedClock;
 use crate::dictionary::{Address, DataType, RawValue};
 use crate::drive::{AccessError, DriveLimits, MaintenanceOutcome, ObjectAccess, WriteOutcome};
+use crate::link::CoreLink;
 
 pub struct LenzeAccess {
     link: LenzeLink,

@@ -10,11 +10,11 @@ use crate::bus::{Bus, BusKind, SerialSettings};
 use crate::dictionary::{Access, AddressParser, DataType, Dictionary, Format, ObjectDef};
 use crate::drive::ObjectAccess;
 use crate::family::{
-    BuiltinDictionary, DriveAddress, Family, LinkContext, LinkOptions, SimPeer, SimulatedDevice,
+    serial_line, BuiltinDictionary, DriveAddress, Family, LinkContext, LinkOptions, SimulatedDevice,
 };
 use crate::link::TelegramExplainer;
 use crate::sim::SimConfig;
-use std::sync::{Arc, Mutex};
+use std::sync::Arc;
 
 const DICTIONARIES: &[BuiltinDictionary] = &[BuiltinDictionary {
     name: "lenze-931",
@@ -67,15 +67,6 @@ impl Family for Lenze931Family {
         "the 931's serial interface is RS232 point to point and has no drive address; leave --address out"
     }
 
-    fn check_link_options(&self, extra: &[(String, String)]) -> Result<(), String> {
-        match extra.first() {
-            Some((name, _)) => Err(format!(
-                "--link-option {name}: the lenze-931 family has no link options"
-            )),
-            None => Ok(()),
-        }
-    }
-
     fn open(
         &self,
         bus: &Bus,
@@ -83,34 +74,19 @@ impl Family for Lenze931Family {
         options: &LinkOptions,
         context: LinkContext,
     ) -> Result<Box<dyn ObjectAccess>, String> {
-        let Bus::Bytes(transport) = bus else {
-            return Err(format!(
-                "the lenze-931 family talks over a serial line, not over {}",
-                bus.name()
-            ));
-        };
+        let transport = serial_line(bus, self.id())?;
         self.check_link_options(&options.extra)?;
         let config = LinkConfig {
             reply_timeout: options.reply_timeout,
             retries: options.retries,
             ..LinkConfig::default()
         };
-        let mut link = LenzeLink::new(transport.clone(), context.clock, config);
-        if let Some(o) = context.observer {
-            link.set_observer(o);
-        }
-        if let Some(s) = context.stop {
-            link.set_stop_requests(s);
-        }
+        let link = context.link(|clock| LenzeLink::new(transport, clock, config));
         Ok(Box::new(LenzeAccess::new(link)))
     }
 
     fn simulator(&self, _drive: &DriveAddress, config: SimConfig) -> SimulatedDevice {
-        let sim = Arc::new(Mutex::new(LenzeSimulator::new(config)));
-        SimulatedDevice {
-            drive: sim.clone(),
-            peer: SimPeer::Bytes(sim),
-        }
+        SimulatedDevice::bytes(LenzeSimulator::new(config))
     }
 
     fn explainer(&self, dictionary: Arc<Dictionary>) -> Box<dyn TelegramExplainer> {

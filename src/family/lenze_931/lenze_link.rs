@@ -17,11 +17,8 @@ use crate::bus::{SharedTransport, Transport, TransportError};
 use crate::clock::SharedClock;
 use crate::drive::AccessError;
 use crate::link::{
-    AttemptFailure, CoreLink, Direction, ExchangeText, LinkCore, LinkStats, Refusal, RetryPlan,
-    TelegramObserver, Unanswered,
+    AttemptFailure, CoreLink, Direction, ExchangeText, LinkCore, Refusal, RetryPlan, Unanswered,
 };
-use crate::stop_request::StopRequests;
-use std::sync::Arc;
 use std::time::Duration;
 
 /// A stop request does not cut short the first part of a reply wait, so the exchange under
@@ -77,24 +74,8 @@ impl LenzeLink {
         }
     }
 
-    pub fn set_stop_requests(&mut self, stop: Arc<StopRequests>) {
-        self.core.set_stop_requests(stop);
-    }
-
-    pub fn set_observer(&mut self, observer: Box<dyn TelegramObserver>) {
-        self.core.set_observer(observer);
-    }
-
     pub fn port(&self) -> &str {
         self.transport.name()
-    }
-
-    pub fn clock(&self) -> &SharedClock {
-        &self.core.clock
-    }
-
-    pub fn stats(&self) -> LinkStats {
-        self.core.stats
     }
 
     /// Closes and opens the port again after it failed; what arrived before is dropped.
@@ -327,6 +308,9 @@ impl LenzeLink {
 impl CoreLink for LenzeLink {
     fn core(&mut self) -> &mut LinkCore {
         &mut self.core
+    }
+    fn core_ref(&self) -> &LinkCore {
+        &self.core
     }
 }
 

@@ -6,6 +6,7 @@ use super::sdo_value;
 use crate::clock::SharedClock;
 use crate::dictionary::{Address, DataType, RawValue};
 use crate::drive::{AccessError, ObjectAccess, WriteOutcome};
+use crate::link::CoreLink;
 
 pub struct Lenze9400Access {
     link: SdoLink,

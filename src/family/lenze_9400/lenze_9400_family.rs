@@ -9,12 +9,10 @@ use super::{Lenze9400Access, Lenze9400Explainer};
 use crate::bus::{Bus, BusKind, SerialSettings};
 use crate::dictionary::{Access, Address, AddressParser, DataType, Dictionary, ObjectDef};
 use crate::drive::ObjectAccess;
-use crate::family::{
-    BuiltinDictionary, DriveAddress, Family, LinkContext, LinkOptions, SimPeer, SimulatedDevice,
-};
+use crate::family::{BuiltinDictionary, DriveAddress, Family, LinkContext, LinkOptions, SimulatedDevice};
 use crate::link::TelegramExplainer;
 use crate::sim::SimConfig;
-use std::sync::{Arc, Mutex};
+use std::sync::Arc;
 
 const DICTIONARIES: &[BuiltinDictionary] = &[BuiltinDictionary {
     name: "lenze-9400",
@@ -78,15 +76,6 @@ impl Family for Lenze9400Family {
         "the drive's CANopen node address 1..127 (code C00350; default 1)"
     }
 
-    fn check_link_options(&self, extra: &[(String, String)]) -> Result<(), String> {
-        match extra.first() {
-            None => Ok(()),
-            Some((name, _)) => Err(format!(
-                "--link-option {name}: the lenze_9400 family has no link options"
-            )),
-        }
-    }
-
     fn open(
         &self,
         bus: &Bus,
@@ -108,23 +97,13 @@ impl Family for Lenze9400Family {
             reply_timeout: options.reply_timeout,
             retries: options.retries,
         };
-        let mut link = SdoLink::new(frames.clone(), context.clock, node, config);
-        if let Some(o) = context.observer {
-            link.set_observer(o);
-        }
-        if let Some(s) = context.stop {
-            link.set_stop_requests(s);
-        }
+        let link = context.link(|clock| SdoLink::new(frames.clone(), clock, node, config));
         Ok(Box::new(Lenze9400Access::new(link)))
     }
 
     fn simulator(&self, drive: &DriveAddress, config: SimConfig) -> SimulatedDevice {
         let node = u8::try_from(drive.number).unwrap_or(DEFAULT_NODE);
-        let sim = Arc::new(Mutex::new(Lenze9400Simulator::new(node, config)));
-        SimulatedDevice {
-            drive: sim.clone(),
-            peer: SimPeer::Frames(sim),
-        }
+        SimulatedDevice::frames(Lenze9400Simulator::new(node, config))
     }
 
     fn explainer(&self, dictionary: Arc<Dictionary>) -> Box<dyn TelegramExplainer> {

@@ -15,11 +15,8 @@ use crate::bus::{CanFrame, FrameBus, SharedFrameBus, TransportError};
 use crate::clock::SharedClock;
 use crate::drive::AccessError;
 use crate::link::{
-    AttemptFailure, CoreLink, Direction, ExchangeText, LinkCore, LinkStats, Refusal, ReplyWait, RetryPlan,
-    TelegramObserver,
+    AttemptFailure, CoreLink, Direction, ExchangeText, LinkCore, Refusal, ReplyWait, RetryPlan,
 };
-use crate::stop_request::StopRequests;
-use std::sync::Arc;
 use std::time::Duration;
 
 /// A stop request does not cut short the first part of a response wait (see the SD2
@@ -70,28 +67,12 @@ impl SdoLink {
         }
     }
 
-    pub fn set_observer(&mut self, observer: Box<dyn TelegramObserver>) {
-        self.core.set_observer(observer);
-    }
-
-    pub fn set_stop_requests(&mut self, stop: Arc<StopRequests>) {
-        self.core.set_stop_requests(stop);
-    }
-
     pub fn node(&self) -> u8 {
         self.node
     }
 
     pub fn port(&self) -> &str {
         self.bus.name()
-    }
-
-    pub fn clock(&self) -> &SharedClock {
-        &self.core.clock
-    }
-
-    pub fn stats(&self) -> LinkStats {
-        self.core.stats
     }
 
     /// Opens the bus again after the adapter was lost.
@@ -308,6 +289,9 @@ impl CoreLink for SdoLink {
     fn core(&mut self) -> &mut LinkCore {
         &mut self.core
     }
+    fn core_ref(&self) -> &LinkCore {
+        &self.core
+    }
 }
 
 /// `C00099 (index 0x5F9C, subindex 0)`, or the index alone outside the codes' range.
@@ -336,6 +320,7 @@ mod tests {
     use crate::hex::parse_hex;
     use crate::sim::{SimConfig, SimulatedDrive};
     use std::collections::VecDeque;
+    use std::sync::Arc;
     use std::sync::Mutex;
 
     const FAST: Duration = Duration::from_micros(200);

@@ -20,6 +20,7 @@ use super::Sd2Access;
 use crate::clock::SharedClock;
 use crate::dictionary::{Address, DataType, RawValue};
 use crate::drive::{AccessError, ObjectAccess, WriteOutcome};
+use crate::link::CoreLink;
 use std::time::Duration;
 
 /// Objects the process data carries. 67, 68, 395 and 398 are in the sources; 400 and 401

@@ -6,6 +6,7 @@ use super::Sd2Link;
 use crate::clock::SharedClock;
 use crate::dictionary::{Address, DataType, RawValue};
 use crate::drive::{AccessError, ObjectAccess, WriteOutcome};
+use crate::link::CoreLink;
 
 pub struct Sd2Access {
     link: Sd2Link,

@@ -9,11 +9,11 @@ use crate::bus::{Bus, BusKind, SerialSettings};
 use crate::dictionary::{Access, Address, AddressParser, DataType, Dictionary, ObjectDef};
 use crate::drive::{AddressKeys, ObjectAccess};
 use crate::family::{
-    BuiltinDictionary, DriveAddress, Family, LinkContext, LinkOptions, SimPeer, SimulatedDevice,
+    serial_line, BuiltinDictionary, DriveAddress, Family, LinkContext, LinkOptions, SimulatedDevice,
 };
 use crate::link::TelegramExplainer;
 use crate::sim::SimConfig;
-use std::sync::{Arc, Mutex};
+use std::sync::Arc;
 
 const DICTIONARIES: &[BuiltinDictionary] = &[BuiltinDictionary {
     name: "sd2",
@@ -145,12 +145,7 @@ impl Family for Sd2Family {
         options: &LinkOptions,
         context: LinkContext,
     ) -> Result<Box<dyn ObjectAccess>, String> {
-        let Bus::Bytes(transport) = bus else {
-            return Err(format!(
-                "the sd2 family talks over a serial line, not over {}",
-                bus.name()
-            ));
-        };
+        let transport = serial_line(bus, self.id())?;
         let dest = u8::try_from(drive.number)
             .map_err(|_| format!("DNC address {} is more than 255", drive.number))?;
         let config = LinkConfig {
@@ -159,13 +154,7 @@ impl Family for Sd2Family {
             write_length: Self::write_length(&options.extra)?,
             ..LinkConfig::default()
         };
-        let mut link = Sd2Link::new(transport.clone(), context.clock, config);
-        if let Some(o) = context.observer {
-            link.set_observer(o);
-        }
-        if let Some(s) = context.stop {
-            link.set_stop_requests(s);
-        }
+        let link = context.link(|clock| Sd2Link::new(transport, clock, config));
         let access = Sd2Access::new(link, dest);
         Ok(match Channel::from_options(&options.extra)? {
             Channel::Object => Box::new(access),
@@ -175,11 +164,7 @@ impl Family for Sd2Family {
 
     fn simulator(&self, drive: &DriveAddress, config: SimConfig) -> SimulatedDevice {
         let address = u8::try_from(drive.number).unwrap_or(config.address);
-        let sim = Arc::new(Mutex::new(Sd2Simulator::new(SimConfig { address, ..config })));
-        SimulatedDevice {
-            drive: sim.clone(),
-            peer: SimPeer::Bytes(sim),
-        }
+        SimulatedDevice::bytes(Sd2Simulator::new(SimConfig { address, ..config }))
     }
 
     fn explainer(&self, dictionary: Arc<Dictionary>) -> Box<dyn TelegramExplainer> {

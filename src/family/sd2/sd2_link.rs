@@ -14,12 +14,7 @@ use crate::family::sd2::codec::{
     check_reply, Body, Cyclic, Data, DecodeError, ErrorCode, FrameExtractor, Framing, Telegram,
 };
 use crate::hex::to_hex;
-use crate::link::{
-    AttemptFailure, CoreLink, Direction, ExchangeText, LinkCore, LinkStats, Refusal, RetryPlan,
-    TelegramObserver,
-};
-use crate::stop_request::StopRequests;
-use std::sync::Arc;
+use crate::link::{AttemptFailure, CoreLink, Direction, ExchangeText, LinkCore, Refusal, RetryPlan};
 use std::time::Duration;
 
 /// A stop request does not cut short the first part of a reply wait: a drive that is
@@ -54,11 +49,6 @@ impl Sd2Link {
         }
     }
 
-    /// Lets stop requests end reply waits and retries early (see [`STOP_GRACE`]).
-    pub fn set_stop_requests(&mut self, stop: Arc<StopRequests>) {
-        self.core.set_stop_requests(stop);
-    }
-
     /// Closes and opens the port again after it failed; what arrived before is dropped.
     pub fn reopen(&mut self) -> Result<(), AccessError> {
         self.extractor.clear();
@@ -67,28 +57,12 @@ impl Sd2Link {
         Ok(())
     }
 
-    pub fn set_observer(&mut self, observer: Box<dyn TelegramObserver>) {
-        self.core.set_observer(observer);
-    }
-
-    pub fn take_observer(&mut self) -> Option<Box<dyn TelegramObserver>> {
-        self.core.take_observer()
-    }
-
     pub fn port(&self) -> &str {
         self.transport.name()
     }
 
     pub fn config(&self) -> &LinkConfig {
         &self.config
-    }
-
-    pub fn stats(&self) -> LinkStats {
-        self.core.stats
-    }
-
-    pub fn clock(&self) -> &SharedClock {
-        &self.core.clock
     }
 
     /// Sends `request` and returns the reply that answers it, retrying on timeouts and on
@@ -264,6 +238,9 @@ impl CoreLink for Sd2Link {
     fn core(&mut self) -> &mut LinkCore {
         &mut self.core
     }
+    fn core_ref(&self) -> &LinkCore {
+        &self.core
+    }
 }
 
 /// `00 09 02 01 0d 43 00 00 00 00 00 a3 (read object 67)`.
@@ -283,6 +260,8 @@ mod tests {
     use crate::bus::{MemoryTransport, Peer, PeerReply, SharedTransport};
     use crate::clock::{Clock, VirtualClock};
     use crate::family::sd2::codec::WriteLength;
+    use crate::link::TelegramObserver;
+    use crate::stop_request::StopRequests;
     use std::collections::VecDeque;
     use std::sync::{Arc, Mutex};
     use std::time::Duration;

@@ -15,12 +15,12 @@ use drivescript::bus::{Bus, BusKind, SerialSettings};
 use drivescript::dictionary::{Address, AddressParser, Dictionary};
 use drivescript::drive::ObjectAccess;
 use drivescript::family::{
-    BuiltinDictionary, DriveAddress, Family, LinkContext, LinkOptions, Registry, SimPeer, SimulatedDevice,
+    serial_line, BuiltinDictionary, DriveAddress, Family, LinkContext, LinkOptions, Registry, SimulatedDevice,
 };
 use drivescript::link::{Direction, TelegramExplainer};
 use drivescript::sim::SimConfig;
 use std::path::PathBuf;
-use std::sync::{Arc, Mutex, PoisonError};
+use std::sync::{Arc, PoisonError};
 
 const DICTIONARIES: &[BuiltinDictionary] = &[BuiltinDictionary {
     name: "text",
@@ -67,12 +67,6 @@ impl Family for TextFamily {
     fn address_help(&self) -> &'static str {
         "the node number"
     }
-    fn check_link_options(&self, extra: &[(String, String)]) -> Result<(), String> {
-        match extra.first() {
-            Some((name, _)) => Err(format!("--link-option {name}: the text family has none")),
-            None => Ok(()),
-        }
-    }
     fn open(
         &self,
         bus: &Bus,
@@ -80,22 +74,15 @@ impl Family for TextFamily {
         options: &LinkOptions,
         context: LinkContext,
     ) -> Result<Box<dyn ObjectAccess>, String> {
-        let Bus::Bytes(line) = bus else {
-            return Err("the text family needs a byte line".into());
-        };
         Ok(Box::new(text_access::TextAccess::new(
-            line.clone(),
+            serial_line(bus, self.id())?,
             drive.number,
             options.reply_timeout,
             context,
         )))
     }
     fn simulator(&self, _drive: &DriveAddress, config: SimConfig) -> SimulatedDevice {
-        let sim = Arc::new(Mutex::new(text_simulator::TextSimulator::new(config)));
-        SimulatedDevice {
-            drive: sim.clone(),
-            peer: SimPeer::Bytes(sim),
-        }
+        SimulatedDevice::bytes(text_simulator::TextSimulator::new(config))
     }
     fn explainer(&self, _dictionary: Arc<Dictionary>) -> Box<dyn TelegramExplainer> {
         Box::new(TextExplainer)
