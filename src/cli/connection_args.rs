@@ -237,7 +237,7 @@ impl ConnectionArgs {
     /// The drive's address and the family's link options, checked before anything opens.
     pub fn check(&self, family: &dyn Family) -> Result<DriveAddress, String> {
         family.check_link_options(&self.all_link_options())?;
-        family.parse_drive_address(self.address_for(family)?.as_deref())
+        Ok(family.parse_drive_address(self.address_for(family)?.as_deref())?)
     }
 
     /// The address in `family`'s notation: `--address` as given, or `--dnc-address N` as

@@ -3,6 +3,7 @@
 //! simulated drive, and its telegram explainer. A new family is one folder implementing
 //! this, one dictionary file and one line in the registry.
 
+use super::FamilyError;
 use crate::bus::{Bus, BusKind, FramePeer, Peer, SerialSettings, SharedTransport};
 use crate::clock::SharedClock;
 use crate::dictionary::{Address, AddressParser, DataType, Dictionary, ObjectDef};
@@ -66,13 +67,13 @@ impl LinkContext {
 }
 
 /// The byte line of `bus` for a family (`family` its id) that talks over a serial line.
-pub fn serial_line(bus: &Bus, family: &str) -> Result<SharedTransport, String> {
+pub fn serial_line(bus: &Bus, family: &str) -> Result<SharedTransport, FamilyError> {
     match bus {
         Bus::Bytes(transport) => Ok(transport.clone()),
-        Bus::Frames(_) => Err(format!(
+        Bus::Frames(_) => Err(FamilyError::WrongBus(format!(
             "the {family} family talks over a serial line, not over {}",
             bus.name()
-        )),
+        ))),
     }
 }
 
@@ -121,7 +122,7 @@ pub trait Family: Send + Sync {
     /// Reads an object's `address:` text in this family's dictionaries.
     fn address_parser(&self) -> AddressParser;
     /// `--address` in this family's notation; `None` is the family's default drive.
-    fn parse_drive_address(&self, text: Option<&str>) -> Result<DriveAddress, String>;
+    fn parse_drive_address(&self, text: Option<&str>) -> Result<DriveAddress, FamilyError>;
     /// How `--address` is written, for help and messages.
     fn address_help(&self) -> &'static str;
     /// Keys besides `address:` a `drives:` entry may give for this family's drives
@@ -133,12 +134,12 @@ pub trait Family: Send + Sync {
     }
     /// Checks the family-specific link options before anything is opened; by default the
     /// family has none and refuses every one.
-    fn check_link_options(&self, extra: &[(String, String)]) -> Result<(), String> {
+    fn check_link_options(&self, extra: &[(String, String)]) -> Result<(), FamilyError> {
         match extra.first() {
-            Some((name, _)) => Err(format!(
+            Some((name, _)) => Err(FamilyError::LinkOption(format!(
                 "--link-option {name}: the {} family has no link options",
                 self.id()
-            )),
+            ))),
             None => Ok(()),
         }
     }
@@ -149,7 +150,7 @@ pub trait Family: Send + Sync {
         drive: &DriveAddress,
         options: &LinkOptions,
         context: LinkContext,
-    ) -> Result<Box<dyn ObjectAccess>, String>;
+    ) -> Result<Box<dyn ObjectAccess>, FamilyError>;
     /// A simulated drive of this family at `drive`, speaking its real bytes.
     fn simulator(&self, drive: &DriveAddress, config: SimConfig) -> SimulatedDevice;
     /// Reads this family's telegrams with the objects of `dictionary`.
@@ -165,7 +166,7 @@ pub trait Family: Send + Sync {
     /// not in that notation; `data_type` is the user's `--type`, and the family either
     /// picks a type its protocol makes safe or refuses, saying that `--type` is needed.
     /// The returned object is named `text`, read-write, without unit or limits.
-    fn raw_object(&self, text: &str, data_type: Option<DataType>) -> Option<Result<ObjectDef, String>> {
+    fn raw_object(&self, text: &str, data_type: Option<DataType>) -> Option<Result<ObjectDef, FamilyError>> {
         let _ = (text, data_type);
         None
     }

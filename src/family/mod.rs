@@ -4,6 +4,7 @@
 
 pub mod ct_ansi;
 mod family;
+mod family_error;
 pub mod lenze_931;
 pub mod lenze_9400;
 mod registry;
@@ -12,4 +13,5 @@ pub mod sd2;
 pub use family::{
     serial_line, BuiltinDictionary, DriveAddress, Family, LinkContext, LinkOptions, SimPeer, SimulatedDevice,
 };
+pub use family_error::FamilyError;
 pub use registry::{Registry, DEFAULT_DICTIONARY};

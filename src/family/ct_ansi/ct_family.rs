@@ -9,7 +9,8 @@ use crate::bus::{Bus, BusKind, DataBits, Parity, SerialSettings, StopBits};
 use crate::dictionary::{Access, Address, AddressParser, DataType, DecimalPlaces, Dictionary, ObjectDef};
 use crate::drive::ObjectAccess;
 use crate::family::{
-    serial_line, BuiltinDictionary, DriveAddress, Family, LinkContext, LinkOptions, SimulatedDevice,
+    serial_line, BuiltinDictionary, DriveAddress, Family, FamilyError, LinkContext, LinkOptions,
+    SimulatedDevice,
 };
 use crate::link::TelegramExplainer;
 use crate::sim::SimConfig;
@@ -39,17 +40,17 @@ fn parse_object_address(text: &str) -> Result<Address, String> {
 /// `--link-option baud-parameter=#M.PP`: the parameter that sets the drive's serial baud
 /// rate. The notes say a drive answers a baud-rate change at the old rate and needs 20 ms,
 /// but not which parameter it is, so the user names it (the dictionary has no such object).
-fn baud_parameter(extra: &[(String, String)]) -> Result<Option<Parameter>, String> {
+fn baud_parameter(extra: &[(String, String)]) -> Result<Option<Parameter>, FamilyError> {
     let mut found = None;
     for (name, value) in extra {
         match name.replace('_', "-").as_str() {
             "baud-parameter" => {
-                found = Some(Parameter::parse(value).map_err(|e| format!("--link-option {name}: {e}"))?)
+                found = Some(Parameter::parse(value).map_err(|e| FamilyError::LinkOption(format!("--link-option {name}: {e}")))?)
             }
             _ => {
-                return Err(format!(
+                return Err(FamilyError::LinkOption(format!(
                     "--link-option {name}: the ct_ansi family knows only `baud-parameter=#M.PP` (the parameter that sets the drive's baud rate); the line is set with --baud, --data-bits, --parity, --stop-bits, --timeout, --retries"
-                ))
+                )))
             }
         }
     }
@@ -87,9 +88,9 @@ impl Family for CtFamily {
         parse_object_address
     }
 
-    fn parse_drive_address(&self, text: Option<&str>) -> Result<DriveAddress, String> {
-        let node =
-            NodeAddress::parse(text.unwrap_or(DEFAULT_ADDRESS)).map_err(|e| format!("--address {e}"))?;
+    fn parse_drive_address(&self, text: Option<&str>) -> Result<DriveAddress, FamilyError> {
+        let node = NodeAddress::parse(text.unwrap_or(DEFAULT_ADDRESS))
+            .map_err(|e| FamilyError::DriveAddress(format!("--address {e}")))?;
         Ok(DriveAddress {
             number: node.number(),
             shown: node.describe(),
@@ -100,7 +101,7 @@ impl Family for CtFamily {
         "the drive's serial address as group.unit, e.g. `1.2` (or `12`); `G.0` writes to every drive of group G and `0.0` to every drive, without a reply (writes only)"
     }
 
-    fn check_link_options(&self, extra: &[(String, String)]) -> Result<(), String> {
+    fn check_link_options(&self, extra: &[(String, String)]) -> Result<(), FamilyError> {
         baud_parameter(extra).map(|_| ())
     }
 
@@ -110,10 +111,11 @@ impl Family for CtFamily {
         drive: &DriveAddress,
         options: &LinkOptions,
         context: LinkContext,
-    ) -> Result<Box<dyn ObjectAccess>, String> {
+    ) -> Result<Box<dyn ObjectAccess>, FamilyError> {
         let transport = serial_line(bus, self.id())?;
-        let node = NodeAddress::from_number(drive.number)
-            .ok_or_else(|| format!("drive address {} is not group.unit", drive.number))?;
+        let node = NodeAddress::from_number(drive.number).ok_or_else(|| {
+            FamilyError::DriveAddress(format!("drive address {} is not group.unit", drive.number))
+        })?;
         let config = CtLinkConfig {
             reply_timeout: options.reply_timeout,
             retries: options.retries,
@@ -149,17 +151,17 @@ impl Family for CtFamily {
     /// it, and a write sends the number exactly as typed (`1500.5` as `1500.5`). The range
     /// is that of i32 unless `--type` narrows it; the drive refuses (NAK) what does not fit
     /// the parameter.
-    fn raw_object(&self, text: &str, data_type: Option<DataType>) -> Option<Result<ObjectDef, String>> {
+    fn raw_object(&self, text: &str, data_type: Option<DataType>) -> Option<Result<ObjectDef, FamilyError>> {
         let t = text.trim();
         if !(t.starts_with('#') || t.starts_with(|c: char| c.is_ascii_digit())) {
             return None;
         }
-        Some(parse_object_address(t).and_then(|address| {
+        Some(parse_object_address(t).map_err(FamilyError::Object).and_then(|address| {
             let data_type = data_type.unwrap_or(DataType::I32);
             if !data_type.is_integer() {
-                return Err(format!(
+                return Err(FamilyError::Object(format!(
                     "a Control Techniques parameter holds a number, not {data_type}; leave out --type, or give an integer type (u8 … i32) for its range"
-                ));
+                )));
             }
             let mut object = ObjectDef::new(t, address, data_type, Access::ReadWrite);
             object.decimal_places = Some(DecimalPlaces::AsGiven);
@@ -181,7 +183,7 @@ mod tests {
         assert_eq!(a(None), Ok((11, "drive 1.1".into())));
         assert!(a(Some("1.0")).unwrap().1.contains("group 1"));
         assert!(a(Some("0.0")).unwrap().1.contains("every drive"));
-        assert!(a(Some("1.23")).unwrap_err().contains("group.unit"));
+        assert!(a(Some("1.23")).unwrap_err().to_string().contains("group.unit"));
         assert_eq!(f.serial_settings().to_string(), "4800 7E1");
     }
 
@@ -201,6 +203,7 @@ mod tests {
             .raw_object("#5.04", Some(DataType::String { max: 8 }))
             .unwrap()
             .unwrap_err()
+            .to_string()
             .contains("holds a number"));
         assert!(f.raw_object("#5.400", None).unwrap().is_err());
         assert_eq!(f.show_address(&Address::indexed(5, 4)), "#5.04");
@@ -211,7 +214,8 @@ mod tests {
         let o = |name: &str, value: &str| vec![(name.to_string(), value.to_string())];
         let e = CtFamily
             .check_link_options(&o("write-length", "captured"))
-            .unwrap_err();
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("knows only `baud-parameter=#M.PP`"), "{e}");
         assert!(CtFamily.check_link_options(&[]).is_ok());
         assert_eq!(
@@ -224,7 +228,8 @@ mod tests {
         );
         let e = CtFamily
             .check_link_options(&o("baud-parameter", "1125"))
-            .unwrap_err();
+            .unwrap_err()
+            .to_string();
         assert!(
             e.starts_with("--link-option baud-parameter: `1125` is not a parameter"),
             "{e}"

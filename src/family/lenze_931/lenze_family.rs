@@ -10,7 +10,8 @@ use crate::bus::{Bus, BusKind, SerialSettings};
 use crate::dictionary::{Access, AddressParser, DataType, Dictionary, Format, ObjectDef};
 use crate::drive::ObjectAccess;
 use crate::family::{
-    serial_line, BuiltinDictionary, DriveAddress, Family, LinkContext, LinkOptions, SimulatedDevice,
+    serial_line, BuiltinDictionary, DriveAddress, Family, FamilyError, LinkContext, LinkOptions,
+    SimulatedDevice,
 };
 use crate::link::TelegramExplainer;
 use crate::sim::SimConfig;
@@ -53,13 +54,16 @@ impl Family for Lenze931Family {
         object_address::parse_address
     }
 
-    fn parse_drive_address(&self, text: Option<&str>) -> Result<DriveAddress, String> {
+    fn parse_drive_address(&self, text: Option<&str>) -> Result<DriveAddress, FamilyError> {
         match text.map(str::trim) {
             None | Some("") | Some("rs232") | Some("RS232") => Ok(DriveAddress {
                 number: 0,
                 shown: "RS232 (point to point)".into(),
             }),
-            Some(other) => Err(format!("--address {other}: {}", self.address_help())),
+            Some(other) => Err(FamilyError::DriveAddress(format!(
+                "--address {other}: {}",
+                self.address_help()
+            ))),
         }
     }
 
@@ -73,7 +77,7 @@ impl Family for Lenze931Family {
         _drive: &DriveAddress,
         options: &LinkOptions,
         context: LinkContext,
-    ) -> Result<Box<dyn ObjectAccess>, String> {
+    ) -> Result<Box<dyn ObjectAccess>, FamilyError> {
         let transport = serial_line(bus, self.id())?;
         self.check_link_options(&options.extra)?;
         let config = LinkConfig {
@@ -93,26 +97,31 @@ impl Family for Lenze931Family {
         Box::new(LenzeExplainer::new(dictionary))
     }
 
-    fn raw_object(&self, text: &str, data_type: Option<DataType>) -> Option<Result<ObjectDef, String>> {
+    fn raw_object(&self, text: &str, data_type: Option<DataType>) -> Option<Result<ObjectDef, FamilyError>> {
         let t = text.trim();
         // Dictionary names are `[a-z][a-z0-9_]*`: a digit, `sdo:` or a `?` cannot be one.
         let ours = t.starts_with(|c: char| c.is_ascii_digit()) || t.starts_with("sdo:") || t.ends_with('?');
         if !ours {
             return None;
         }
-        Some(object_address::parse(t).map(|object| {
-            let (default_type, access) = match object {
-                LenzeObject::Ident(_) => (DataType::String { max: 32 }, Access::ReadOnly),
-                _ => (DataType::I32, Access::ReadWrite),
-            };
-            let mut def = ObjectDef::new(t, object.address(), data_type.unwrap_or(default_type), access);
-            // Without a dictionary nobody knows what the number means: the signed value
-            // and its 32 bits in hex are both shown (`read` prints the raw value too).
-            if data_type.is_none() && default_type.is_integer() {
-                def.format = Format::Hex;
-            }
-            def
-        }))
+        Some(
+            object_address::parse(t)
+                .map_err(FamilyError::Object)
+                .map(|object| {
+                    let (default_type, access) = match object {
+                        LenzeObject::Ident(_) => (DataType::String { max: 32 }, Access::ReadOnly),
+                        _ => (DataType::I32, Access::ReadWrite),
+                    };
+                    let mut def =
+                        ObjectDef::new(t, object.address(), data_type.unwrap_or(default_type), access);
+                    // Without a dictionary nobody knows what the number means: the signed value
+                    // and its 32 bits in hex are both shown (`read` prints the raw value too).
+                    if data_type.is_none() && default_type.is_integer() {
+                        def.format = Format::Hex;
+                    }
+                    def
+                }),
+        )
     }
 
     fn show_address(&self, address: &crate::dictionary::Address) -> String {
@@ -147,6 +156,7 @@ mod tests {
         assert!(f
             .parse_drive_address(Some("3"))
             .unwrap_err()
+            .to_string()
             .contains("point to point"));
         assert!(f.check_link_options(&[("x".into(), "y".into())]).is_err());
         assert_eq!(f.serial_settings(), SerialSettings::with_baud(9600));
@@ -166,6 +176,7 @@ mod tests {
             .raw_object("17", None)
             .unwrap()
             .unwrap_err()
+            .to_string()
             .contains("`0x0017`"));
         let def = f.raw_object("TYPE?", None).unwrap().unwrap();
         assert_eq!(

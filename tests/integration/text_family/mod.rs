@@ -15,7 +15,8 @@ use drivescript::bus::{Bus, BusKind, SerialSettings};
 use drivescript::dictionary::{Address, AddressParser, Dictionary};
 use drivescript::drive::ObjectAccess;
 use drivescript::family::{
-    serial_line, BuiltinDictionary, DriveAddress, Family, LinkContext, LinkOptions, Registry, SimulatedDevice,
+    serial_line, BuiltinDictionary, DriveAddress, Family, FamilyError, LinkContext, LinkOptions, Registry,
+    SimulatedDevice,
 };
 use drivescript::link::{Direction, TelegramExplainer};
 use drivescript::sim::SimConfig;
@@ -54,11 +55,11 @@ impl Family for TextFamily {
                 .map_err(|_| "a text-family address is an object number".to_string())
         }
     }
-    fn parse_drive_address(&self, text: Option<&str>) -> Result<DriveAddress, String> {
+    fn parse_drive_address(&self, text: Option<&str>) -> Result<DriveAddress, FamilyError> {
         let number = text
             .unwrap_or("1")
             .parse::<u32>()
-            .map_err(|_| format!("--address {text:?}: a number"))?;
+            .map_err(|_| FamilyError::DriveAddress(format!("--address {text:?}: a number")))?;
         Ok(DriveAddress {
             number,
             shown: format!("node {number}"),
@@ -73,7 +74,7 @@ impl Family for TextFamily {
         drive: &DriveAddress,
         options: &LinkOptions,
         context: LinkContext,
-    ) -> Result<Box<dyn ObjectAccess>, String> {
+    ) -> Result<Box<dyn ObjectAccess>, FamilyError> {
         Ok(Box::new(text_access::TextAccess::new(
             serial_line(bus, self.id())?,
             drive.number,
