@@ -31,7 +31,7 @@ mod value;
 mod value_error;
 
 pub use access::Access;
-pub use address::{Address, AddressParser};
+pub use address::{Address, AddressError, AddressParser};
 pub use bench_cap::BenchCap;
 pub use bench_limits::{BenchLimits, LimitsRoute, LIMITS_ENV, LIMITS_FILE_NAME};
 pub use data_type::{DataType, MAX_STRING_LEN};

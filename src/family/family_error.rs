@@ -30,3 +30,9 @@ impl From<FamilyError> for String {
         e.to_string()
     }
 }
+
+impl From<crate::dictionary::AddressError> for FamilyError {
+    fn from(e: crate::dictionary::AddressError) -> Self {
+        FamilyError::Object(e.reason)
+    }
+}

@@ -12,5 +12,5 @@ mod telegram_observer;
 pub use link_core::{LinkCore, ReplyWait};
 pub use link_stats::LinkStats;
 pub use retry_plan::{AttemptFailure, CoreLink, ExchangeText, Refusal, RetryPlan, Settle, Unanswered};
-pub use telegram_explainer::TelegramExplainer;
+pub use telegram_explainer::{ExplainError, TelegramExplainer};
 pub use telegram_observer::{Direction, TelegramObserver};

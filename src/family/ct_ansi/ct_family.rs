@@ -6,7 +6,9 @@
 use super::codec::{NodeAddress, Parameter};
 use super::{CtAccess, CtExplainer, CtLink, CtLinkConfig, CtSimulator};
 use crate::bus::{Bus, BusKind, DataBits, Parity, SerialSettings, StopBits};
-use crate::dictionary::{Access, Address, AddressParser, DataType, DecimalPlaces, Dictionary, ObjectDef};
+use crate::dictionary::{
+    Access, Address, AddressError, AddressParser, DataType, DecimalPlaces, Dictionary, ObjectDef,
+};
 use crate::drive::ObjectAccess;
 use crate::family::{
     serial_line, BuiltinDictionary, DriveAddress, Family, FamilyError, LinkContext, LinkOptions,
@@ -33,7 +35,7 @@ const DEFAULT_ADDRESS: &str = "1.1";
 pub struct CtFamily;
 
 /// An object's `address:` in a Control Techniques dictionary: `#1.21` → index 1, subindex 21.
-fn parse_object_address(text: &str) -> Result<Address, String> {
+fn parse_object_address(text: &str) -> Result<Address, AddressError> {
     Parameter::parse(text).map(|p| Address::indexed(u16::from(p.menu), u32::from(p.param)))
 }
 
@@ -156,7 +158,7 @@ impl Family for CtFamily {
         if !(t.starts_with('#') || t.starts_with(|c: char| c.is_ascii_digit())) {
             return None;
         }
-        Some(parse_object_address(t).map_err(FamilyError::Object).and_then(|address| {
+        Some(parse_object_address(t).map_err(FamilyError::from).and_then(|address| {
             let data_type = data_type.unwrap_or(DataType::I32);
             if !data_type.is_integer() {
                 return Err(FamilyError::Object(format!(

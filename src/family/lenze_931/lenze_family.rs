@@ -104,24 +104,19 @@ impl Family for Lenze931Family {
         if !ours {
             return None;
         }
-        Some(
-            object_address::parse(t)
-                .map_err(FamilyError::Object)
-                .map(|object| {
-                    let (default_type, access) = match object {
-                        LenzeObject::Ident(_) => (DataType::String { max: 32 }, Access::ReadOnly),
-                        _ => (DataType::I32, Access::ReadWrite),
-                    };
-                    let mut def =
-                        ObjectDef::new(t, object.address(), data_type.unwrap_or(default_type), access);
-                    // Without a dictionary nobody knows what the number means: the signed value
-                    // and its 32 bits in hex are both shown (`read` prints the raw value too).
-                    if data_type.is_none() && default_type.is_integer() {
-                        def.format = Format::Hex;
-                    }
-                    def
-                }),
-        )
+        Some(object_address::parse(t).map_err(FamilyError::from).map(|object| {
+            let (default_type, access) = match object {
+                LenzeObject::Ident(_) => (DataType::String { max: 32 }, Access::ReadOnly),
+                _ => (DataType::I32, Access::ReadWrite),
+            };
+            let mut def = ObjectDef::new(t, object.address(), data_type.unwrap_or(default_type), access);
+            // Without a dictionary nobody knows what the number means: the signed value
+            // and its 32 bits in hex are both shown (`read` prints the raw value too).
+            if data_type.is_none() && default_type.is_integer() {
+                def.format = Format::Hex;
+            }
+            def
+        }))
     }
 
     fn show_address(&self, address: &crate::dictionary::Address) -> String {

@@ -7,7 +7,7 @@ use super::sdo_link::{SdoLink, SdoLinkConfig};
 use super::sim::Lenze9400Simulator;
 use super::{Lenze9400Access, Lenze9400Explainer};
 use crate::bus::{Bus, BusKind, SerialSettings};
-use crate::dictionary::{Access, Address, AddressParser, DataType, Dictionary, ObjectDef};
+use crate::dictionary::{Access, Address, AddressError, AddressParser, DataType, Dictionary, ObjectDef};
 use crate::drive::ObjectAccess;
 use crate::family::{
     BuiltinDictionary, DriveAddress, Family, FamilyError, LinkContext, LinkOptions, SimulatedDevice,
@@ -29,7 +29,7 @@ const DEFAULT_NODE: u8 = 1;
 pub struct Lenze9400Family;
 
 /// A dictionary's `address:` (and `read`/`write` raw notation): a Lenze code.
-fn parse_code_address(text: &str) -> Result<Address, String> {
+fn parse_code_address(text: &str) -> Result<Address, AddressError> {
     let code = Code::parse(text)?;
     Ok(Address::indexed(code.index(), u32::from(code.subcode)))
 }
@@ -129,7 +129,7 @@ impl Family for Lenze9400Family {
         if !(t.starts_with('C') && t[1..].starts_with(|c: char| c.is_ascii_digit())) {
             return None;
         }
-        Some(parse_code_address(t).map_err(FamilyError::Object).map(|address| {
+        Some(parse_code_address(t).map_err(FamilyError::from).map(|address| {
             let mut def = match data_type {
                 Some(dt) => ObjectDef::new(t, address, dt, Access::ReadWrite),
                 None => {

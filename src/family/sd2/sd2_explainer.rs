@@ -9,7 +9,7 @@ use super::codec::{switch_of, to_json, Body, Cyclic, Data, Telegram, WriteLength
 use super::object_names::ObjectNames;
 use crate::drive::device_control::{control_word_bits, control_word_meaning, status_word_bits, DeviceState};
 use crate::hex::to_hex;
-use crate::link::{Direction, TelegramExplainer};
+use crate::link::{Direction, ExplainError, TelegramExplainer};
 use std::fmt::Write as _;
 use std::sync::Arc;
 
@@ -52,7 +52,7 @@ impl TelegramExplainer for Sd2Explainer {
         }
     }
 
-    fn explain(&mut self, bytes: &[u8]) -> Result<String, String> {
+    fn explain(&mut self, bytes: &[u8]) -> Result<String, ExplainError> {
         let t = Telegram::decode(bytes).map_err(|e| e.to_string())?;
         let request = self.context(&t);
         Ok(explain(&t, bytes, request.as_ref(), self.names.as_ref()))

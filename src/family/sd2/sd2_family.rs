@@ -6,7 +6,7 @@ use super::codec::{dnc_address, WriteLength};
 use super::cyclic_settings::{self, Channel};
 use super::{LinkConfig, Sd2Access, Sd2CyclicAccess, Sd2Explainer, Sd2Link, Sd2Simulator};
 use crate::bus::{Bus, BusKind, SerialSettings};
-use crate::dictionary::{Access, Address, AddressParser, DataType, Dictionary, ObjectDef};
+use crate::dictionary::{Access, Address, AddressError, AddressParser, DataType, Dictionary, ObjectDef};
 use crate::drive::{AddressKeys, ObjectAccess};
 use crate::family::{
     serial_line, BuiltinDictionary, DriveAddress, Family, FamilyError, LinkContext, LinkOptions,
@@ -26,7 +26,7 @@ pub struct Sd2Family;
 
 /// An object's address as the SD2 manual writes it: the index, decimal or `0x` hex, and an
 /// optional `/subindex`: `395`, `0x18B`, `22/3`.
-fn parse_object_address(text: &str) -> Result<Address, String> {
+fn parse_object_address(text: &str) -> Result<Address, AddressError> {
     let (index, subindex) = text.trim().split_once('/').unwrap_or((text.trim(), "0"));
     let number = |t: &str| match t
         .trim()
@@ -178,7 +178,7 @@ impl Family for Sd2Family {
         if !text.trim().starts_with(|c: char| c.is_ascii_digit()) {
             return None;
         }
-        Some(parse_object_address(text).map_err(FamilyError::Object).and_then(|address| {
+        Some(parse_object_address(text).map_err(FamilyError::from).and_then(|address| {
             let data_type = data_type.ok_or_else(|| {
                 FamilyError::Object(
                     "an SD2 reply gives a value's length but not whether it is signed or text; give the type with --type \

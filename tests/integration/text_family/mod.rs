@@ -18,7 +18,7 @@ use drivescript::family::{
     serial_line, BuiltinDictionary, DriveAddress, Family, FamilyError, LinkContext, LinkOptions, Registry,
     SimulatedDevice,
 };
-use drivescript::link::{Direction, TelegramExplainer};
+use drivescript::link::{Direction, ExplainError, TelegramExplainer};
 use drivescript::sim::SimConfig;
 use std::path::PathBuf;
 use std::sync::{Arc, PoisonError};
@@ -52,7 +52,7 @@ impl Family for TextFamily {
             text.trim()
                 .parse::<u16>()
                 .map(|i| Address::indexed(i, 0))
-                .map_err(|_| "a text-family address is an object number".to_string())
+                .map_err(|_| "a text-family address is an object number".to_string().into())
         }
     }
     fn parse_drive_address(&self, text: Option<&str>) -> Result<DriveAddress, FamilyError> {
@@ -97,7 +97,7 @@ impl TelegramExplainer for TextExplainer {
     fn summary(&mut self, _direction: Direction, bytes: &[u8]) -> String {
         String::from_utf8_lossy(bytes).trim().to_string()
     }
-    fn explain(&mut self, bytes: &[u8]) -> Result<String, String> {
+    fn explain(&mut self, bytes: &[u8]) -> Result<String, ExplainError> {
         Ok(format!("  line {}\n", String::from_utf8_lossy(bytes).trim()))
     }
     fn json(&mut self, bytes: &[u8]) -> (serde_json::Value, bool) {
