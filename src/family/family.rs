@@ -17,7 +17,9 @@ use std::time::Duration;
 /// A dictionary compiled into the binary.
 #[derive(Debug, Clone, Copy)]
 pub struct BuiltinDictionary {
-    /// What `--drive` names: `sd2`.
+    /// The dictionary's name, what `--drive` and a recipe's `drive:` name: the file's stem,
+    /// kebab-case (`sd2`, `ct-unidrive-sp`, `lenze-931`). Not a family id: the dictionary
+    /// names its family inside, with `family:`.
     pub name: &'static str,
     /// Shown in messages: `dictionary/sd2.yaml`.
     pub path: &'static str,
@@ -109,7 +111,8 @@ pub enum SimPeer {
 }
 
 pub trait Family: Send + Sync {
-    /// What a dictionary's `family:` names: `sd2`.
+    /// The family id: what a dictionary's `family:` names (`sd2`, `ct_ansi`, `lenze-931`,
+    /// `lenze_9400`). Users name dictionaries (`--drive ct-unidrive-sp`), not families.
     fn id(&self) -> &'static str;
     /// One line for listings: `Sieb & Meyer SD2 / SD2S over the DNC serial protocol`.
     fn title(&self) -> &'static str;
