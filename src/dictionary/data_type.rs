@@ -77,7 +77,8 @@ impl DataType {
         }
     }
 
-    /// Parses a dictionary's `type:` value. The error says what is accepted.
+    /// Parses a dictionary's `type:` value. The error says what is accepted. (Text: the
+    /// reader puts it in a located diagnostic and `--type` in its argument error.)
     pub fn parse(text: &str) -> Result<DataType, String> {
         let t = text.trim();
         if let Some(found) = Self::INTEGERS.into_iter().find(|d| d.name() == t) {

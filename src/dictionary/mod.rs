@@ -29,6 +29,7 @@ mod unknown_object;
 mod validate;
 mod value;
 mod value_error;
+mod wire_value_error;
 
 pub use access::Access;
 pub use address::{Address, AddressError, AddressParser};
@@ -47,3 +48,4 @@ pub use unit::{Dimension, Unit};
 pub use unknown_object::UnknownObject;
 pub use value::{RawValue, Value};
 pub use value_error::ValueError;
+pub use wire_value_error::WireValueError;

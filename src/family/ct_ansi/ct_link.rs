@@ -151,7 +151,7 @@ impl CtLink {
 
     /// One message and the reply that answers it, with the retries.
     fn exchange(&mut self, request: &Request) -> Result<Option<Reply>, AccessError> {
-        let bytes = request.encode().map_err(AccessError::Encode)?;
+        let bytes = request.encode().map_err(|e| AccessError::Encode(e.to_string()))?;
         let target = target_of(request);
         let shared = self.transport.clone();
         let mut line = shared.lock();
@@ -232,7 +232,8 @@ impl CoreLink for CtLink {
 }
 
 /// Whether `reply` is an answer to `request`: a read gets the value of the same parameter
-/// or EOT, a short read (ACK, NAK, BS) a value or EOT, a write ACK or NAK.
+/// or EOT, a short read (ACK, NAK, BS) a value or EOT, a write ACK or NAK. (The reason is
+/// text: it becomes the problem of a `Refusal`, shown as it is.)
 fn answers(request: &Request, reply: &Reply) -> Result<(), String> {
     match (request, reply) {
         (Request::Read { parameter, .. }, Reply::Value { parameter: got, .. }) if got != parameter => {

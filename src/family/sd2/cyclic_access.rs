@@ -255,7 +255,7 @@ impl Sd2CyclicAccess {
                             port: self.object.link().port().to_string(),
                             address: self.dest().to_string(),
                             request: format!("service read of object {index}"),
-                            detail,
+                            detail: detail.to_string(),
                         }
                     })
                 }),
@@ -312,7 +312,7 @@ impl ObjectAccess for Sd2CyclicAccess {
         let Some((index, size)) = Self::service_fits(address, data_type) else {
             return self.object.write(address, value, data_type);
         };
-        let bytes = wire_value::encode(value, data_type).map_err(AccessError::Encode)?;
+        let bytes = wire_value::encode(value, data_type).map_err(|e| AccessError::Encode(e.to_string()))?;
         let mut data = [0u8; 4];
         data[..bytes.len()].copy_from_slice(&bytes);
         self.service(ServiceFunction::Write, index, size, data)?;
@@ -341,7 +341,7 @@ impl ObjectAccess for Sd2CyclicAccess {
                                     port: self.object.link().port().to_string(),
                                     address: self.dest().to_string(),
                                     request: format!("service read of object {address}"),
-                                    detail,
+                                    detail: detail.to_string(),
                                 }
                             });
                         Ok((reply, Some(value)))
