@@ -14,7 +14,22 @@ pub enum Address {
 
 /// A family's reading of the `address:` text in its dictionaries; the error says what the
 /// notation is.
-pub type AddressParser = fn(&str) -> Result<Address, String>;
+pub type AddressParser = fn(&str) -> Result<Address, AddressError>;
+
+/// An object address not in the family's notation: the dictionary entry (or the object
+/// named on the command line) is wrong, not the drive.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("{reason}")]
+pub struct AddressError {
+    /// What is wrong and how the notation goes.
+    pub reason: String,
+}
+
+impl From<String> for AddressError {
+    fn from(reason: String) -> Self {
+        AddressError { reason }
+    }
+}
 
 impl Address {
     pub fn indexed(index: u16, subindex: u32) -> Self {

@@ -77,7 +77,8 @@ impl DataType {
         }
     }
 
-    /// Parses a dictionary's `type:` value. The error says what is accepted.
+    /// Parses a dictionary's `type:` value. The error says what is accepted. (Text: the
+    /// reader puts it in a located diagnostic and `--type` in its argument error.)
     pub fn parse(text: &str) -> Result<DataType, String> {
         let t = text.trim();
         if let Some(found) = Self::INTEGERS.into_iter().find(|d| d.name() == t) {
@@ -101,6 +102,30 @@ impl DataType {
     }
 
     /// The type names a dictionary may use, for suggestions and help texts.
+    /// A little-endian integer of 1 to 8 `bytes`, widened with this type's signedness (the
+    /// layout SD2 blocks and CANopen SDO share).
+    pub fn from_le_bytes(self, bytes: &[u8]) -> i64 {
+        let used = bytes.len().min(8);
+        let mut buf = [0u8; 8];
+        buf[..used].copy_from_slice(&bytes[..used]);
+        let unsigned = u64::from_le_bytes(buf);
+        if self.is_signed() && used > 0 {
+            let shift = 64 - 8 * used as u32;
+            ((unsigned << shift) as i64) >> shift
+        } else {
+            unsigned as i64
+        }
+    }
+
+    /// `count` little-endian in this type's width; `None` when it is outside the type's
+    /// range (it is refused, never sent wrapped).
+    pub fn to_le_bytes(self, count: i64) -> Option<Vec<u8>> {
+        let (lo, hi) = self.range()?;
+        (lo..=hi)
+            .contains(&count)
+            .then(|| count.to_le_bytes()[..self.size()].to_vec())
+    }
+
     pub fn names() -> [&'static str; 7] {
         ["u8", "i8", "u16", "i16", "u32", "i32", "string(32)"]
     }
@@ -115,6 +140,16 @@ impl fmt::Display for DataType {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn little_endian_integers_widen_with_the_types_signedness() {
+        assert_eq!(DataType::I32.from_le_bytes(&[0xff, 0xff]), -1);
+        assert_eq!(DataType::U32.from_le_bytes(&[0xff, 0xff]), 0xffff);
+        assert_eq!(DataType::I8.from_le_bytes(&[0x80]), -128);
+        assert_eq!(DataType::I16.to_le_bytes(-2), Some(vec![0xfe, 0xff]));
+        assert_eq!(DataType::U8.to_le_bytes(256), None);
+        assert_eq!(DataType::String { max: 3 }.to_le_bytes(1), None);
+    }
 
     #[test]
     fn sizes_and_ranges() {

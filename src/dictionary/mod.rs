@@ -29,9 +29,10 @@ mod unknown_object;
 mod validate;
 mod value;
 mod value_error;
+mod wire_value_error;
 
 pub use access::Access;
-pub use address::{Address, AddressParser};
+pub use address::{Address, AddressError, AddressParser};
 pub use bench_cap::BenchCap;
 pub use bench_limits::{BenchLimits, LimitsRoute, LIMITS_ENV, LIMITS_FILE_NAME};
 pub use data_type::{DataType, MAX_STRING_LEN};
@@ -47,3 +48,4 @@ pub use unit::{Dimension, Unit};
 pub use unknown_object::UnknownObject;
 pub use value::{RawValue, Value};
 pub use value_error::ValueError;
+pub use wire_value_error::WireValueError;

@@ -3,11 +3,12 @@
 //! simulated drive, and its telegram explainer. A new family is one folder implementing
 //! this, one dictionary file and one line in the registry.
 
-use crate::bus::{Bus, BusKind, FramePeer, Peer, SerialSettings};
+use super::FamilyError;
+use crate::bus::{Bus, BusKind, FramePeer, Peer, SerialSettings, SharedTransport};
 use crate::clock::SharedClock;
 use crate::dictionary::{Address, AddressParser, DataType, Dictionary, ObjectDef};
 use crate::drive::{AddressKeys, ObjectAccess};
-use crate::link::{TelegramExplainer, TelegramObserver};
+use crate::link::{CoreLink, TelegramExplainer, TelegramObserver};
 use crate::sim::{SimConfig, SimulatedDrive};
 use crate::stop_request::StopRequests;
 use std::sync::{Arc, Mutex};
@@ -16,7 +17,9 @@ use std::time::Duration;
 /// A dictionary compiled into the binary.
 #[derive(Debug, Clone, Copy)]
 pub struct BuiltinDictionary {
-    /// What `--drive` names: `sd2`.
+    /// The dictionary's name, what `--drive` and a recipe's `drive:` name: the file's stem,
+    /// kebab-case (`sd2`, `ct-unidrive-sp`, `lenze-931`). Not a family id: the dictionary
+    /// names its family inside, with `family:`.
     pub name: &'static str,
     /// Shown in messages: `dictionary/sd2.yaml`.
     pub path: &'static str,
@@ -49,10 +52,57 @@ pub struct LinkContext {
     pub stop: Option<Arc<StopRequests>>,
 }
 
+impl LinkContext {
+    /// Builds a link on this context's clock and hands it the observer and the stop
+    /// requests: what every family's `open` does, done once.
+    pub fn link<L: CoreLink>(self, make: impl FnOnce(SharedClock) -> L) -> L {
+        let mut link = make(self.clock);
+        let core = link.core();
+        if let Some(o) = self.observer {
+            core.set_observer(o);
+        }
+        if let Some(s) = self.stop {
+            core.set_stop_requests(s);
+        }
+        link
+    }
+}
+
+/// The byte line of `bus` for a family (`family` its id) that talks over a serial line.
+pub fn serial_line(bus: &Bus, family: &str) -> Result<SharedTransport, FamilyError> {
+    match bus {
+        Bus::Bytes(transport) => Ok(transport.clone()),
+        Bus::Frames(_) => Err(FamilyError::WrongBus(format!(
+            "the {family} family talks over a serial line, not over {}",
+            bus.name()
+        ))),
+    }
+}
+
 /// A simulated drive: its family-neutral handle and the peer that speaks its bytes.
 pub struct SimulatedDevice {
     pub drive: Arc<Mutex<dyn SimulatedDrive>>,
     pub peer: SimPeer,
+}
+
+impl SimulatedDevice {
+    /// A simulated drive on a byte line.
+    pub fn bytes<S: SimulatedDrive + Peer + 'static>(sim: S) -> Self {
+        let sim = Arc::new(Mutex::new(sim));
+        SimulatedDevice {
+            drive: sim.clone(),
+            peer: SimPeer::Bytes(sim),
+        }
+    }
+
+    /// A simulated node on a CAN bus.
+    pub fn frames<S: SimulatedDrive + FramePeer + 'static>(sim: S) -> Self {
+        let sim = Arc::new(Mutex::new(sim));
+        SimulatedDevice {
+            drive: sim.clone(),
+            peer: SimPeer::Frames(sim),
+        }
+    }
 }
 
 pub enum SimPeer {
@@ -61,7 +111,8 @@ pub enum SimPeer {
 }
 
 pub trait Family: Send + Sync {
-    /// What a dictionary's `family:` names: `sd2`.
+    /// The family id: what a dictionary's `family:` names (`sd2`, `ct_ansi`, `lenze-931`,
+    /// `lenze_9400`). Users name dictionaries (`--drive ct-unidrive-sp`), not families.
     fn id(&self) -> &'static str;
     /// One line for listings: `Sieb & Meyer SD2 / SD2S over the DNC serial protocol`.
     fn title(&self) -> &'static str;
@@ -74,7 +125,7 @@ pub trait Family: Send + Sync {
     /// Reads an object's `address:` text in this family's dictionaries.
     fn address_parser(&self) -> AddressParser;
     /// `--address` in this family's notation; `None` is the family's default drive.
-    fn parse_drive_address(&self, text: Option<&str>) -> Result<DriveAddress, String>;
+    fn parse_drive_address(&self, text: Option<&str>) -> Result<DriveAddress, FamilyError>;
     /// How `--address` is written, for help and messages.
     fn address_help(&self) -> &'static str;
     /// Keys besides `address:` a `drives:` entry may give for this family's drives
@@ -84,8 +135,17 @@ pub trait Family: Send + Sync {
     fn address_keys(&self) -> AddressKeys {
         AddressKeys::NONE
     }
-    /// Checks the family-specific link options before anything is opened.
-    fn check_link_options(&self, extra: &[(String, String)]) -> Result<(), String>;
+    /// Checks the family-specific link options before anything is opened; by default the
+    /// family has none and refuses every one.
+    fn check_link_options(&self, extra: &[(String, String)]) -> Result<(), FamilyError> {
+        match extra.first() {
+            Some((name, _)) => Err(FamilyError::LinkOption(format!(
+                "--link-option {name}: the {} family has no link options",
+                self.id()
+            ))),
+            None => Ok(()),
+        }
+    }
     /// Object access to one drive on `bus`.
     fn open(
         &self,
@@ -93,7 +153,7 @@ pub trait Family: Send + Sync {
         drive: &DriveAddress,
         options: &LinkOptions,
         context: LinkContext,
-    ) -> Result<Box<dyn ObjectAccess>, String>;
+    ) -> Result<Box<dyn ObjectAccess>, FamilyError>;
     /// A simulated drive of this family at `drive`, speaking its real bytes.
     fn simulator(&self, drive: &DriveAddress, config: SimConfig) -> SimulatedDevice;
     /// Reads this family's telegrams with the objects of `dictionary`.
@@ -109,7 +169,7 @@ pub trait Family: Send + Sync {
     /// not in that notation; `data_type` is the user's `--type`, and the family either
     /// picks a type its protocol makes safe or refuses, saying that `--type` is needed.
     /// The returned object is named `text`, read-write, without unit or limits.
-    fn raw_object(&self, text: &str, data_type: Option<DataType>) -> Option<Result<ObjectDef, String>> {
+    fn raw_object(&self, text: &str, data_type: Option<DataType>) -> Option<Result<ObjectDef, FamilyError>> {
         let _ = (text, data_type);
         None
     }

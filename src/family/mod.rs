@@ -4,12 +4,14 @@
 
 pub mod ct_ansi;
 mod family;
+mod family_error;
 pub mod lenze_931;
 pub mod lenze_9400;
 mod registry;
 pub mod sd2;
 
 pub use family::{
-    BuiltinDictionary, DriveAddress, Family, LinkContext, LinkOptions, SimPeer, SimulatedDevice,
+    serial_line, BuiltinDictionary, DriveAddress, Family, LinkContext, LinkOptions, SimPeer, SimulatedDevice,
 };
+pub use family_error::FamilyError;
 pub use registry::{Registry, DEFAULT_DICTIONARY};

@@ -1,6 +1,7 @@
 //! The families drivescript knows, by id, and their built-in dictionaries by name: the one
 //! place a family is added. Tests add their own families with [`Registry::with`].
 
+use super::FamilyError;
 use super::{
     ct_ansi::CtFamily, lenze_931::Lenze931Family, lenze_9400::Lenze9400Family, sd2::Sd2Family,
     BuiltinDictionary, Family,
@@ -38,7 +39,7 @@ impl Registry {
     }
 
     /// The family a dictionary names; the error lists the known ones.
-    pub fn family(&self, id: &str) -> Result<Arc<dyn Family>, String> {
+    pub fn family(&self, id: &str) -> Result<Arc<dyn Family>, FamilyError> {
         self.families
             .iter()
             .find(|f| f.id() == id)
@@ -46,15 +47,15 @@ impl Registry {
             .ok_or_else(|| {
                 let ids: Vec<&str> = self.families.iter().map(|f| f.id()).collect();
                 let hint = suggestion(id, &ids);
-                format!(
+                FamilyError::Unknown(format!(
                     "no drive family `{id}`; drivescript knows {}{hint}",
                     ids.join(", ")
-                )
+                ))
             })
     }
 
     /// The built-in dictionary `name` (what `--drive` names) and its family.
-    pub fn dictionary(&self, name: &str) -> Result<(Arc<dyn Family>, BuiltinDictionary), String> {
+    pub fn dictionary(&self, name: &str) -> Result<(Arc<dyn Family>, BuiltinDictionary), FamilyError> {
         for family in &self.families {
             if let Some(d) = family.dictionaries().iter().find(|d| d.name == name) {
                 return Ok((family.clone(), *d));
@@ -62,10 +63,10 @@ impl Registry {
         }
         let names = self.dictionary_names();
         let hint = suggestion(name, &names);
-        Err(format!(
+        Err(FamilyError::Unknown(format!(
             "no built-in dictionary `{name}`; there are {}{hint}",
             names.join(", ")
-        ))
+        )))
     }
 
     /// The built-in dictionary `name`, parsed and checked.
@@ -122,7 +123,7 @@ mod tests {
     fn families_and_dictionaries_are_found_by_name_with_did_you_mean() {
         let r = Registry::builtin();
         assert_eq!(r.family("sd2").unwrap().id(), "sd2");
-        let e = r.family("sd3").err().unwrap();
+        let e = r.family("sd3").err().unwrap().to_string();
         assert!(e.contains("did you mean `sd2`"), "{e}");
         let (family, dictionary) = r.dictionary("sd2").unwrap();
         assert_eq!((family.id(), dictionary.path), ("sd2", "dictionary/sd2.yaml"));

@@ -1,10 +1,10 @@
-//! What every byte-stream family's link shares around its own framing: the clock, the
-//! telegram observer, the stop requests, the counters, and the two ways of listening to
-//! the line (for a reply, in slices that let a stop request end the wait; and to let late
-//! bytes settle before a retry). It must not know any family's telegrams.
+//! What every family's link shares around its own framing: the clock, the telegram
+//! observer, the stop requests, the counters, and the ways of listening to the line (for a
+//! reply, in slices that let a stop request end the wait, over bytes or CAN frames; and to
+//! let late bytes settle before a retry). It must not know any family's telegrams.
 
 use super::{Direction, LinkStats, TelegramObserver};
-use crate::bus::{Transport, TransportError};
+use crate::bus::{CanFrame, Transport, TransportError};
 use crate::clock::SharedClock;
 use crate::drive::AccessError;
 use crate::stop_request::StopRequests;
@@ -23,6 +23,16 @@ pub enum ReplyWait {
     /// A stop was requested (after the grace).
     Interrupted,
     Transport(TransportError),
+}
+
+impl<B> From<ReplyWait> for super::AttemptFailure<B> {
+    fn from(wait: ReplyWait) -> Self {
+        match wait {
+            ReplyWait::Timeout => super::AttemptFailure::Timeout { note: "" },
+            ReplyWait::Interrupted => super::AttemptFailure::Interrupted,
+            ReplyWait::Transport(e) => super::AttemptFailure::Transport(e),
+        }
+    }
 }
 
 pub struct LinkCore {
@@ -72,9 +82,45 @@ impl LinkCore {
         }
     }
 
+    pub fn notify_frame(&mut self, direction: Direction, frame: &CanFrame) {
+        if let Some(o) = self.observer.as_mut() {
+            o.frame(self.clock.now(), direction, frame);
+        }
+    }
+
     pub fn event(&mut self, text: &str) {
         if let Some(o) = self.observer.as_mut() {
             o.event(self.clock.now(), text);
+        }
+    }
+
+    /// How long the next read of a reply wait may block, for a request that left the line
+    /// at `sent`: the whole rest without stop requests, the rest of the grace within it,
+    /// then slices that let a stop request end the wait. `None` once `deadline` has passed.
+    pub fn next_slice(&self, sent: Duration, deadline: Duration) -> Option<Duration> {
+        let now = self.clock.now();
+        if now >= deadline {
+            return None;
+        }
+        Some(match &self.stop {
+            None => deadline - now,
+            Some(_) if now.saturating_sub(sent) < self.grace => {
+                (sent + self.grace).min(deadline).saturating_sub(now)
+            }
+            Some(_) => STOP_POLL.min(deadline - now),
+        })
+    }
+
+    /// After a slice passed without anything: whether the wait ends (its time is over, or a
+    /// stop was requested after the grace); `None` to listen on.
+    pub fn after_quiet(&self, sent: Duration, deadline: Duration) -> Option<ReplyWait> {
+        let now = self.clock.now();
+        if now >= deadline {
+            Some(ReplyWait::Timeout)
+        } else if now.saturating_sub(sent) >= self.grace && self.stop_pending() {
+            Some(ReplyWait::Interrupted)
+        } else {
+            None
         }
     }
 
@@ -88,27 +134,13 @@ impl LinkCore {
         sent: Duration,
         deadline: Duration,
     ) -> Result<&[u8], ReplyWait> {
-        let now = self.clock.now();
-        if now >= deadline {
-            return Err(ReplyWait::Timeout);
-        }
-        let slice = match &self.stop {
-            None => deadline - now,
-            Some(_) if now.saturating_sub(sent) < self.grace => {
-                (sent + self.grace).min(deadline).saturating_sub(now)
-            }
-            Some(_) => STOP_POLL.min(deadline - now),
-        };
+        let slice = self.next_slice(sent, deadline).ok_or(ReplyWait::Timeout)?;
         match t.read(&mut self.buf, slice) {
             Ok(n) => Ok(&self.buf[..n]),
-            Err(TransportError::Timeout { .. }) if self.clock.now() >= deadline => Err(ReplyWait::Timeout),
-            Err(TransportError::Timeout { .. }) => {
-                if self.clock.now().saturating_sub(sent) >= self.grace && self.stop_pending() {
-                    Err(ReplyWait::Interrupted)
-                } else {
-                    Ok(&[])
-                }
-            }
+            Err(TransportError::Timeout { .. }) => match self.after_quiet(sent, deadline) {
+                Some(end) => Err(end),
+                None => Ok(&[]),
+            },
             Err(e) => Err(ReplyWait::Transport(e)),
         }
     }

@@ -5,12 +5,26 @@
 
 use super::Direction;
 
+/// Why bytes are no valid telegram of the family (`rejected: REASON`). There is one kind:
+/// the reason is text for the person reading a capture.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("{reason}")]
+pub struct ExplainError {
+    pub reason: String,
+}
+
+impl From<String> for ExplainError {
+    fn from(reason: String) -> Self {
+        ExplainError { reason }
+    }
+}
+
 pub trait TelegramExplainer: Send {
     /// One line: `read object 67 status_word`, `reply status_word = 0x0237 operation
     /// enabled`, or `rejected: REASON` for bytes that are no valid telegram.
     fn summary(&mut self, direction: Direction, bytes: &[u8]) -> String;
     /// The full explanation (several lines), or the reason the bytes are no valid telegram.
-    fn explain(&mut self, bytes: &[u8]) -> Result<String, String>;
+    fn explain(&mut self, bytes: &[u8]) -> Result<String, ExplainError>;
     /// The telegram as one JSON object (the keys of the family's golden vectors), or
     /// `{"reject": REASON}`. The second value is false when it was rejected.
     fn json(&mut self, bytes: &[u8]) -> (serde_json::Value, bool);

@@ -205,8 +205,8 @@ mod tests {
         fn summary(&mut self, direction: Direction, bytes: &[u8]) -> String {
             format!("{} bytes {}\nwrapped", bytes.len(), direction.tag())
         }
-        fn explain(&mut self, _bytes: &[u8]) -> Result<String, String> {
-            Err("not used".into())
+        fn explain(&mut self, _bytes: &[u8]) -> Result<String, crate::link::ExplainError> {
+            Err(String::from("not used").into())
         }
         fn json(&mut self, _bytes: &[u8]) -> (serde_json::Value, bool) {
             (serde_json::Value::Null, false)

@@ -243,12 +243,8 @@ impl ConnectionArgs {
 
     /// The drive's address and the family's link options, checked before anything opens.
     pub fn check(&self, registry: &Registry, family: &dyn Family) -> Result<DriveAddress, RunError> {
-        family
-            .check_link_options(&self.all_link_options())
-            .map_err(RunError::Invalid)?;
-        family
-            .parse_drive_address(self.address_for(registry, family)?.as_deref())
-            .map_err(RunError::Invalid)
+        family.check_link_options(&self.all_link_options())?;
+        Ok(family.parse_drive_address(self.address_for(registry, family)?.as_deref())?)
     }
 
     /// The address in `family`'s notation: `--address` as given, or `--dnc-address N` as

@@ -1,10 +1,11 @@
 //! Why a run (or any command of the application layer) could not go on, as one type: the
 //! caller tells an invalid file or setting (nothing was sent, exit code 2) from a drive or
 //! port that cannot be reached (exit code 3) by the variant, and prints its text as it is.
-//! The texts of the layers below (the family seam still speaks in sentences) are carried
-//! in these variants until those layers give types of their own.
+//! The typed errors of the layers below (a family's refusal of an address or a link
+//! setting, a dictionary with problems) keep their type inside.
 
 use crate::dictionary::DictionaryError;
+use crate::family::FamilyError;
 
 #[derive(Debug, thiserror::Error)]
 pub enum RunError {
@@ -17,6 +18,10 @@ pub enum RunError {
     /// A dictionary or bench-limits file with problems, rendered with their places.
     #[error("{}", crate::diag::render_diagnostic(.0))]
     Dictionary(#[from] DictionaryError),
+    /// The drive's family refused an address, a link setting, the bus or an object in its
+    /// notation; nothing was sent.
+    #[error("{0}")]
+    Family(#[from] FamilyError),
     /// Something went wrong for one of several named drives.
     #[error("drive `{drive}`: {source}")]
     Drive {
@@ -32,7 +37,7 @@ impl RunError {
         match self {
             RunError::Unreachable(_) => super::COMMUNICATION,
             RunError::Drive { source, .. } => source.exit_code(),
-            RunError::Invalid(_) | RunError::Dictionary(_) => super::INVALID,
+            RunError::Invalid(_) | RunError::Dictionary(_) | RunError::Family(_) => super::INVALID,
         }
     }
 

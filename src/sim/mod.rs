@@ -29,10 +29,12 @@ mod motor;
 mod noise;
 mod request_log;
 mod sim_config;
+mod sim_core;
 mod simulated_drive;
 
 pub use drive_model::{DriveModel, ModelRefusal};
 pub use fault_injection::FaultInjection;
 pub use request_log::{keep_recent, LOG_KEEPS};
 pub use sim_config::SimConfig;
+pub use sim_core::{SimCore, SimFront};
 pub use simulated_drive::SimulatedDrive;

@@ -12,6 +12,7 @@ use drivescript::drive::{Drive, DriveError};
 use drivescript::family::sd2::codec::{Body, WriteLength};
 use drivescript::family::sd2::{LinkConfig, Sd2Access, Sd2Link, Sd2Simulator, SimConfig};
 use drivescript::hex::to_hex;
+use drivescript::sim::SimulatedDrive;
 use std::sync::{Arc, Mutex};
 use std::time::Duration;
 

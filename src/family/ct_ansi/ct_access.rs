@@ -7,6 +7,7 @@ use super::ct_link::{nak_text, CtLink};
 use crate::clock::SharedClock;
 use crate::dictionary::{Address, DataType, RawValue};
 use crate::drive::{AccessError, ObjectAccess, WriteOutcome};
+use crate::link::CoreLink;
 
 pub struct CtAccess {
     link: CtLink,

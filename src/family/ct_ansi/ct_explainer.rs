@@ -8,7 +8,7 @@ use super::codec::{
     show_bytes, DataValue, NodeAddress, Parameter, Reply, Request, ACK, BS, EOT, ETX, NAK, STX,
 };
 use crate::dictionary::{Dictionary, Role};
-use crate::link::{Direction, TelegramExplainer};
+use crate::link::{Direction, ExplainError, TelegramExplainer};
 use serde_json::{json, Value};
 use std::sync::Arc;
 
@@ -136,7 +136,7 @@ impl TelegramExplainer for CtExplainer {
         text.unwrap_or_else(|e| format!("rejected: {e}"))
     }
 
-    fn explain(&mut self, bytes: &[u8]) -> Result<String, String> {
+    fn explain(&mut self, bytes: &[u8]) -> Result<String, ExplainError> {
         let shown = show_bytes(bytes);
         let rejected = |e: super::codec::DecodeError| format!("{e}, in `{shown}`");
         let mut out = format!("  message   {shown}\n");

@@ -6,14 +6,17 @@
 use super::codec::{NodeAddress, Parameter};
 use super::{CtAccess, CtExplainer, CtLink, CtLinkConfig, CtSimulator};
 use crate::bus::{Bus, BusKind, DataBits, Parity, SerialSettings, StopBits};
-use crate::dictionary::{Access, Address, AddressParser, DataType, DecimalPlaces, Dictionary, ObjectDef};
+use crate::dictionary::{
+    Access, Address, AddressError, AddressParser, DataType, DecimalPlaces, Dictionary, ObjectDef,
+};
 use crate::drive::ObjectAccess;
 use crate::family::{
-    BuiltinDictionary, DriveAddress, Family, LinkContext, LinkOptions, SimPeer, SimulatedDevice,
+    serial_line, BuiltinDictionary, DriveAddress, Family, FamilyError, LinkContext, LinkOptions,
+    SimulatedDevice,
 };
 use crate::link::TelegramExplainer;
 use crate::sim::SimConfig;
-use std::sync::{Arc, Mutex};
+use std::sync::Arc;
 
 const DICTIONARIES: &[BuiltinDictionary] = &[BuiltinDictionary {
     name: "ct-unidrive-sp",
@@ -32,24 +35,24 @@ const DEFAULT_ADDRESS: &str = "1.1";
 pub struct CtFamily;
 
 /// An object's `address:` in a Control Techniques dictionary: `#1.21` → index 1, subindex 21.
-fn parse_object_address(text: &str) -> Result<Address, String> {
+fn parse_object_address(text: &str) -> Result<Address, AddressError> {
     Parameter::parse(text).map(|p| Address::indexed(u16::from(p.menu), u32::from(p.param)))
 }
 
 /// `--link-option baud-parameter=#M.PP`: the parameter that sets the drive's serial baud
 /// rate. The notes say a drive answers a baud-rate change at the old rate and needs 20 ms,
 /// but not which parameter it is, so the user names it (the dictionary has no such object).
-fn baud_parameter(extra: &[(String, String)]) -> Result<Option<Parameter>, String> {
+fn baud_parameter(extra: &[(String, String)]) -> Result<Option<Parameter>, FamilyError> {
     let mut found = None;
     for (name, value) in extra {
         match name.replace('_', "-").as_str() {
             "baud-parameter" => {
-                found = Some(Parameter::parse(value).map_err(|e| format!("--link-option {name}: {e}"))?)
+                found = Some(Parameter::parse(value).map_err(|e| FamilyError::LinkOption(format!("--link-option {name}: {e}")))?)
             }
             _ => {
-                return Err(format!(
+                return Err(FamilyError::LinkOption(format!(
                     "--link-option {name}: the ct_ansi family knows only `baud-parameter=#M.PP` (the parameter that sets the drive's baud rate); the line is set with --baud, --data-bits, --parity, --stop-bits, --timeout, --retries"
-                ))
+                )))
             }
         }
     }
@@ -87,9 +90,9 @@ impl Family for CtFamily {
         parse_object_address
     }
 
-    fn parse_drive_address(&self, text: Option<&str>) -> Result<DriveAddress, String> {
-        let node =
-            NodeAddress::parse(text.unwrap_or(DEFAULT_ADDRESS)).map_err(|e| format!("--address {e}"))?;
+    fn parse_drive_address(&self, text: Option<&str>) -> Result<DriveAddress, FamilyError> {
+        let node = NodeAddress::parse(text.unwrap_or(DEFAULT_ADDRESS))
+            .map_err(|e| FamilyError::DriveAddress(format!("--address {e}")))?;
         Ok(DriveAddress {
             number: node.number(),
             shown: node.describe(),
@@ -100,7 +103,7 @@ impl Family for CtFamily {
         "the drive's serial address as group.unit, e.g. `1.2` (or `12`); `G.0` writes to every drive of group G and `0.0` to every drive, without a reply (writes only)"
     }
 
-    fn check_link_options(&self, extra: &[(String, String)]) -> Result<(), String> {
+    fn check_link_options(&self, extra: &[(String, String)]) -> Result<(), FamilyError> {
         baud_parameter(extra).map(|_| ())
     }
 
@@ -110,28 +113,18 @@ impl Family for CtFamily {
         drive: &DriveAddress,
         options: &LinkOptions,
         context: LinkContext,
-    ) -> Result<Box<dyn ObjectAccess>, String> {
-        let Bus::Bytes(transport) = bus else {
-            return Err(format!(
-                "the ct_ansi family talks over a serial line, not over {}",
-                bus.name()
-            ));
-        };
-        let node = NodeAddress::from_number(drive.number)
-            .ok_or_else(|| format!("drive address {} is not group.unit", drive.number))?;
+    ) -> Result<Box<dyn ObjectAccess>, FamilyError> {
+        let transport = serial_line(bus, self.id())?;
+        let node = NodeAddress::from_number(drive.number).ok_or_else(|| {
+            FamilyError::DriveAddress(format!("drive address {} is not group.unit", drive.number))
+        })?;
         let config = CtLinkConfig {
             reply_timeout: options.reply_timeout,
             retries: options.retries,
             baud_parameter: baud_parameter(&options.extra)?,
             ..CtLinkConfig::default()
         };
-        let mut link = CtLink::new(transport.clone(), context.clock, config);
-        if let Some(o) = context.observer {
-            link.set_observer(o);
-        }
-        if let Some(s) = context.stop {
-            link.set_stop_requests(s);
-        }
+        let link = context.link(|clock| CtLink::new(transport, clock, config));
         Ok(Box::new(CtAccess::new(link, node)))
     }
 
@@ -139,11 +132,7 @@ impl Family for CtFamily {
         let node = NodeAddress::from_number(drive.number)
             .filter(|n| !n.is_broadcast())
             .unwrap_or(NodeAddress { group: 1, unit: 1 });
-        let sim = Arc::new(Mutex::new(CtSimulator::new(node, config)));
-        SimulatedDevice {
-            drive: sim.clone(),
-            peer: SimPeer::Bytes(sim),
-        }
+        SimulatedDevice::bytes(CtSimulator::new(node, config))
     }
 
     fn explainer(&self, dictionary: Arc<Dictionary>) -> Box<dyn TelegramExplainer> {
@@ -164,17 +153,17 @@ impl Family for CtFamily {
     /// it, and a write sends the number exactly as typed (`1500.5` as `1500.5`). The range
     /// is that of i32 unless `--type` narrows it; the drive refuses (NAK) what does not fit
     /// the parameter.
-    fn raw_object(&self, text: &str, data_type: Option<DataType>) -> Option<Result<ObjectDef, String>> {
+    fn raw_object(&self, text: &str, data_type: Option<DataType>) -> Option<Result<ObjectDef, FamilyError>> {
         let t = text.trim();
         if !(t.starts_with('#') || t.starts_with(|c: char| c.is_ascii_digit())) {
             return None;
         }
-        Some(parse_object_address(t).and_then(|address| {
+        Some(parse_object_address(t).map_err(FamilyError::from).and_then(|address| {
             let data_type = data_type.unwrap_or(DataType::I32);
             if !data_type.is_integer() {
-                return Err(format!(
+                return Err(FamilyError::Object(format!(
                     "a Control Techniques parameter holds a number, not {data_type}; leave out --type, or give an integer type (u8 … i32) for its range"
-                ));
+                )));
             }
             let mut object = ObjectDef::new(t, address, data_type, Access::ReadWrite);
             object.decimal_places = Some(DecimalPlaces::AsGiven);
@@ -196,7 +185,7 @@ mod tests {
         assert_eq!(a(None), Ok((11, "drive 1.1".into())));
         assert!(a(Some("1.0")).unwrap().1.contains("group 1"));
         assert!(a(Some("0.0")).unwrap().1.contains("every drive"));
-        assert!(a(Some("1.23")).unwrap_err().contains("group.unit"));
+        assert!(a(Some("1.23")).unwrap_err().to_string().contains("group.unit"));
         assert_eq!(f.serial_settings().to_string(), "4800 7E1");
     }
 
@@ -216,6 +205,7 @@ mod tests {
             .raw_object("#5.04", Some(DataType::String { max: 8 }))
             .unwrap()
             .unwrap_err()
+            .to_string()
             .contains("holds a number"));
         assert!(f.raw_object("#5.400", None).unwrap().is_err());
         assert_eq!(f.show_address(&Address::indexed(5, 4)), "#5.04");
@@ -226,7 +216,8 @@ mod tests {
         let o = |name: &str, value: &str| vec![(name.to_string(), value.to_string())];
         let e = CtFamily
             .check_link_options(&o("write-length", "captured"))
-            .unwrap_err();
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("knows only `baud-parameter=#M.PP`"), "{e}");
         assert!(CtFamily.check_link_options(&[]).is_ok());
         assert_eq!(
@@ -239,7 +230,8 @@ mod tests {
         );
         let e = CtFamily
             .check_link_options(&o("baud-parameter", "1125"))
-            .unwrap_err();
+            .unwrap_err()
+            .to_string();
         assert!(
             e.starts_with("--link-option baud-parameter: `1125` is not a parameter"),
             "{e}"

@@ -11,6 +11,7 @@ use super::LenzeLink;
 use crate::clock::SharedClock;
 use crate::dictionary::{Address, DataType, RawValue};
 use crate::drive::{AccessError, DriveLimits, MaintenanceOutcome, ObjectAccess, WriteOutcome};
+use crate::link::CoreLink;
 
 pub struct LenzeAccess {
     link: LenzeLink,
@@ -137,16 +138,15 @@ impl ObjectAccess for LenzeAccess {
         match self.object(address)? {
             LenzeObject::Communication(number) => match self.object_command(ObjectCommand::Read, number)? {
                 Ok(bits) => wire_value::decode(bits, data_type)
-                    .map_err(|e| self.unexpected(&Request::read(ObjectCommand::Read, number), e)),
+                    .map_err(|e| self.unexpected(&Request::read(ObjectCommand::Read, number), e.to_string())),
                 Err(code) => Err(self.refused("read", LenzeObject::Communication(number), code, None)),
             },
             LenzeObject::Ident(ident) => self.read_ident(ident, data_type),
             object @ LenzeObject::CanOpen { index, subindex } => {
                 let request = Request::SdoRead { index, subindex };
                 match self.link.exchange(&request)? {
-                    Reply::Sdo { data, .. } => {
-                        wire_value::decode_bytes(&data, data_type).map_err(|e| self.unexpected(&request, e))
-                    }
+                    Reply::Sdo { data, .. } => wire_value::decode_bytes(&data, data_type)
+                        .map_err(|e| self.unexpected(&request, e.to_string())),
                     Reply::UnknownCommand => Err(self.unknown_command("read", object)),
                     other => Err(self.unexpected(&request, format!("`{}`", other.text()))),
                 }
@@ -162,7 +162,8 @@ impl ObjectAccess for LenzeAccess {
     ) -> Result<WriteOutcome, AccessError> {
         match self.object(address)? {
             object @ LenzeObject::Communication(number) => {
-                let bits = wire_value::encode(value, data_type).map_err(AccessError::Encode)?;
+                let bits =
+                    wire_value::encode(value, data_type).map_err(|e| AccessError::Encode(e.to_string()))?;
                 let request = Request::Write {
                     object: number,
                     value: bits,
@@ -183,7 +184,8 @@ impl ObjectAccess for LenzeAccess {
                 }
             }
             object @ LenzeObject::CanOpen { index, subindex } => {
-                let data = wire_value::encode_bytes(value, data_type).map_err(AccessError::Encode)?;
+                let data = wire_value::encode_bytes(value, data_type)
+                    .map_err(|e| AccessError::Encode(e.to_string()))?;
                 let request = Request::SdoWrite {
                     index,
                     subindex,
@@ -210,7 +212,7 @@ impl ObjectAccess for LenzeAccess {
             match access.object_command(command, number)? {
                 Ok(bits) => wire_value::decode(bits, data_type)
                     .map(Some)
-                    .map_err(|e| access.unexpected(&Request::read(command, number), e)),
+                    .map_err(|e| access.unexpected(&Request::read(command, number), e.to_string())),
                 Err(ErrorCode::NO_LOWER_LIMIT | ErrorCode::NO_UPPER_LIMIT) => Ok(None),
                 Err(code) => Err(access.refused(
                     "read the limits of",

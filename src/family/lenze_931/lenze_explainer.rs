@@ -6,7 +6,7 @@
 use super::codec::{ErrorCode, ObjectCommand, Reply, Request};
 use super::object_address::LenzeObject;
 use crate::dictionary::Dictionary;
-use crate::link::{Direction, TelegramExplainer};
+use crate::link::{Direction, ExplainError, TelegramExplainer};
 use serde_json::json;
 use std::sync::Arc;
 
@@ -83,7 +83,7 @@ impl LenzeExplainer {
     }
 
     /// Lines of the full explanation; the first is the summary.
-    fn lines(&mut self, bytes: &[u8]) -> Result<Vec<String>, String> {
+    fn lines(&mut self, bytes: &[u8]) -> Result<Vec<String>, ExplainError> {
         let text = std::str::from_utf8(bytes)
             .map_err(|_| "not ASCII text: a 931 line is printable ASCII ended by CR".to_string())?;
         let line = text.trim_matches(|c| c == '\r' || c == '\n');
@@ -209,7 +209,7 @@ impl TelegramExplainer for LenzeExplainer {
         }
     }
 
-    fn explain(&mut self, bytes: &[u8]) -> Result<String, String> {
+    fn explain(&mut self, bytes: &[u8]) -> Result<String, ExplainError> {
         let line = String::from_utf8_lossy(bytes).trim().to_string();
         let lines = self.lines(bytes)?;
         let mut out = format!("  line      {line}\n");
@@ -223,7 +223,7 @@ impl TelegramExplainer for LenzeExplainer {
         let line = String::from_utf8_lossy(bytes).trim().to_string();
         let request = Request::parse(&line).ok();
         match self.lines(bytes) {
-            Err(e) => (json!({ "reject": e }), false),
+            Err(e) => (json!({ "reject": e.reason }), false),
             Ok(lines) => {
                 let mut v = json!({ "line": line, "explain": lines });
                 if let Some(r) = request {
@@ -295,7 +295,7 @@ mod tests {
             "ERROR!  ERROR!: the drive does not know the command"
         );
         assert!(x.explain(b"\xff\r").is_err());
-        assert!(x.explain(b"HELLO").unwrap_err().contains("unknown reply"));
+        assert!(x.explain(b"HELLO").unwrap_err().reason.contains("unknown reply"));
     }
 
     #[test]

@@ -10,11 +10,12 @@ use crate::bus::{Bus, BusKind, SerialSettings};
 use crate::dictionary::{Access, AddressParser, DataType, Dictionary, Format, ObjectDef};
 use crate::drive::ObjectAccess;
 use crate::family::{
-    BuiltinDictionary, DriveAddress, Family, LinkContext, LinkOptions, SimPeer, SimulatedDevice,
+    serial_line, BuiltinDictionary, DriveAddress, Family, FamilyError, LinkContext, LinkOptions,
+    SimulatedDevice,
 };
 use crate::link::TelegramExplainer;
 use crate::sim::SimConfig;
-use std::sync::{Arc, Mutex};
+use std::sync::Arc;
 
 const DICTIONARIES: &[BuiltinDictionary] = &[BuiltinDictionary {
     name: "lenze-931",
@@ -53,27 +54,21 @@ impl Family for Lenze931Family {
         object_address::parse_address
     }
 
-    fn parse_drive_address(&self, text: Option<&str>) -> Result<DriveAddress, String> {
+    fn parse_drive_address(&self, text: Option<&str>) -> Result<DriveAddress, FamilyError> {
         match text.map(str::trim) {
             None | Some("") | Some("rs232") | Some("RS232") => Ok(DriveAddress {
                 number: 0,
                 shown: "RS232 (point to point)".into(),
             }),
-            Some(other) => Err(format!("--address {other}: {}", self.address_help())),
+            Some(other) => Err(FamilyError::DriveAddress(format!(
+                "--address {other}: {}",
+                self.address_help()
+            ))),
         }
     }
 
     fn address_help(&self) -> &'static str {
         "the 931's serial interface is RS232 point to point and has no drive address; leave --address out"
-    }
-
-    fn check_link_options(&self, extra: &[(String, String)]) -> Result<(), String> {
-        match extra.first() {
-            Some((name, _)) => Err(format!(
-                "--link-option {name}: the lenze-931 family has no link options"
-            )),
-            None => Ok(()),
-        }
     }
 
     fn open(
@@ -82,49 +77,34 @@ impl Family for Lenze931Family {
         _drive: &DriveAddress,
         options: &LinkOptions,
         context: LinkContext,
-    ) -> Result<Box<dyn ObjectAccess>, String> {
-        let Bus::Bytes(transport) = bus else {
-            return Err(format!(
-                "the lenze-931 family talks over a serial line, not over {}",
-                bus.name()
-            ));
-        };
+    ) -> Result<Box<dyn ObjectAccess>, FamilyError> {
+        let transport = serial_line(bus, self.id())?;
         self.check_link_options(&options.extra)?;
         let config = LinkConfig {
             reply_timeout: options.reply_timeout,
             retries: options.retries,
             ..LinkConfig::default()
         };
-        let mut link = LenzeLink::new(transport.clone(), context.clock, config);
-        if let Some(o) = context.observer {
-            link.set_observer(o);
-        }
-        if let Some(s) = context.stop {
-            link.set_stop_requests(s);
-        }
+        let link = context.link(|clock| LenzeLink::new(transport, clock, config));
         Ok(Box::new(LenzeAccess::new(link)))
     }
 
     fn simulator(&self, _drive: &DriveAddress, config: SimConfig) -> SimulatedDevice {
-        let sim = Arc::new(Mutex::new(LenzeSimulator::new(config)));
-        SimulatedDevice {
-            drive: sim.clone(),
-            peer: SimPeer::Bytes(sim),
-        }
+        SimulatedDevice::bytes(LenzeSimulator::new(config))
     }
 
     fn explainer(&self, dictionary: Arc<Dictionary>) -> Box<dyn TelegramExplainer> {
         Box::new(LenzeExplainer::new(dictionary))
     }
 
-    fn raw_object(&self, text: &str, data_type: Option<DataType>) -> Option<Result<ObjectDef, String>> {
+    fn raw_object(&self, text: &str, data_type: Option<DataType>) -> Option<Result<ObjectDef, FamilyError>> {
         let t = text.trim();
         // Dictionary names are `[a-z][a-z0-9_]*`: a digit, `sdo:` or a `?` cannot be one.
         let ours = t.starts_with(|c: char| c.is_ascii_digit()) || t.starts_with("sdo:") || t.ends_with('?');
         if !ours {
             return None;
         }
-        Some(object_address::parse(t).map(|object| {
+        Some(object_address::parse(t).map_err(FamilyError::from).map(|object| {
             let (default_type, access) = match object {
                 LenzeObject::Ident(_) => (DataType::String { max: 32 }, Access::ReadOnly),
                 _ => (DataType::I32, Access::ReadWrite),
@@ -171,6 +151,7 @@ mod tests {
         assert!(f
             .parse_drive_address(Some("3"))
             .unwrap_err()
+            .to_string()
             .contains("point to point"));
         assert!(f.check_link_options(&[("x".into(), "y".into())]).is_err());
         assert_eq!(f.serial_settings(), SerialSettings::with_baud(9600));
@@ -190,6 +171,7 @@ mod tests {
             .raw_object("17", None)
             .unwrap()
             .unwrap_err()
+            .to_string()
             .contains("`0x0017`"));
         let def = f.raw_object("TYPE?", None).unwrap().unwrap();
         assert_eq!(

@@ -16,9 +16,9 @@ use super::codec::{check_reply, DecodeError, LineExtractor, ObjectCommand, Reply
 use crate::bus::{SharedTransport, Transport, TransportError};
 use crate::clock::SharedClock;
 use crate::drive::AccessError;
-use crate::link::{Direction, LinkCore, LinkStats, ReplyWait, TelegramObserver};
-use crate::stop_request::StopRequests;
-use std::sync::Arc;
+use crate::link::{
+    AttemptFailure, CoreLink, Direction, ExchangeText, LinkCore, Refusal, RetryPlan, Unanswered,
+};
 use std::time::Duration;
 
 /// A stop request does not cut short the first part of a reply wait, so the exchange under
@@ -57,13 +57,12 @@ pub struct LenzeLink {
     core: LinkCore,
 }
 
-/// Why one attempt did not produce a reply.
-enum AttemptFailure {
-    Timeout,
-    Bad { line: String, problem: DecodeError },
-    Interrupted,
-    Transport(TransportError),
-}
+/// A reply line that does not answer: the line and why.
+type Refused = Refusal<String, DecodeError>;
+
+/// Why a request that changes the drive is sent only once.
+const SENT_ONCE: &str =
+    "it is not sent again, because doing it twice is not the same as once; check the drive before repeating it";
 
 impl LenzeLink {
     pub fn new(transport: SharedTransport, clock: SharedClock, config: LinkConfig) -> Self {
@@ -75,24 +74,8 @@ impl LenzeLink {
         }
     }
 
-    pub fn set_stop_requests(&mut self, stop: Arc<StopRequests>) {
-        self.core.set_stop_requests(stop);
-    }
-
-    pub fn set_observer(&mut self, observer: Box<dyn TelegramObserver>) {
-        self.core.set_observer(observer);
-    }
-
     pub fn port(&self) -> &str {
         self.transport.name()
-    }
-
-    pub fn clock(&self) -> &SharedClock {
-        &self.core.clock
-    }
-
-    pub fn stats(&self) -> LinkStats {
-        self.core.stats
     }
 
     /// Closes and opens the port again after it failed; what arrived before is dropped.
@@ -116,40 +99,20 @@ impl LenzeLink {
         }
     }
 
+    fn plan(&self, retries: u32) -> RetryPlan {
+        RetryPlan::new(retries, self.config.settle, self.config.reply_timeout)
+    }
+
     fn read(&mut self, t: &mut dyn Transport, request: &Request) -> Result<Reply, AccessError> {
-        let attempts = self.config.retries + 1;
-        let mut last_bad = None;
-        for attempt in 1..=attempts {
-            if attempt > 1 {
-                self.before_retry(t, request, attempt)?;
-            }
-            match self.attempt(t, request) {
-                Ok(reply) => return Ok(reply),
-                Err(AttemptFailure::Bad { line, problem }) => last_bad = Some((line, problem)),
-                Err(AttemptFailure::Timeout) => {}
-                Err(f) => return Err(self.fatal(f, request)),
-            }
-        }
-        Err(self.gave_up(request, attempts, last_bad, None))
+        self.plan(self.config.retries)
+            .run(self, t, |link, t, _| link.attempt(t, request))
+            .map_err(|u| self.unanswered(u, request, None))
     }
 
     fn exchange_once(&mut self, t: &mut dyn Transport, request: &Request) -> Result<Reply, AccessError> {
-        match self.attempt(t, request) {
-            Ok(reply) => Ok(reply),
-            Err(AttemptFailure::Bad { line, problem }) => Err(self.gave_up(
-                request,
-                1,
-                Some((line, problem)),
-                Some("it is not sent again, because doing it twice is not the same as once; check the drive before repeating it"),
-            )),
-            Err(AttemptFailure::Timeout) => Err(self.gave_up(
-                request,
-                1,
-                None,
-                Some("it is not sent again, because doing it twice is not the same as once; check the drive before repeating it"),
-            )),
-            Err(f) => Err(self.fatal(f, request)),
-        }
+        self.plan(0)
+            .run(self, t, |link, t, _| link.attempt(t, request))
+            .map_err(|u| self.unanswered(u, request, Some(SENT_ONCE)))
     }
 
     /// A write, repeated only after a read-back showed that the drive does not hold the
@@ -161,108 +124,88 @@ impl LenzeLink {
         object: u16,
         value: u32,
     ) -> Result<Reply, AccessError> {
-        let attempts = self.config.retries + 1;
-        let mut last_bad = None;
+        let plan = self.plan(self.config.retries);
         let read_back = Request::read(ObjectCommand::Read, object);
-        for attempt in 1..=attempts {
-            if attempt > 1 {
-                self.before_retry(t, request, attempt)?;
-            }
-            match self.attempt(t, request) {
-                Ok(reply) => return Ok(reply),
-                Err(AttemptFailure::Bad { line, problem }) => last_bad = Some((line, problem)),
-                Err(AttemptFailure::Timeout) => {}
-                Err(f) => return Err(self.fatal(f, request)),
-            }
-            if attempt == attempts {
-                break;
-            }
-            self.core.settle(t, self.config.settle)?;
-            self.core.event(&format!(
-                "the reply to {} was lost: reading object 0x{object:04X} back before sending the write again",
-                request.text()
-            ));
-            match self.attempt(t, &read_back) {
-                Ok(Reply::Value { value: held, .. }) if held == value => {
-                    self.core.event(&format!(
-                        "object 0x{object:04X} holds 0x{held:08X}: the write took effect; not sent again"
-                    ));
-                    return Ok(Reply::Ok);
-                }
-                Ok(Reply::Value { value: held, .. }) => {
-                    self.core.event(&format!("object 0x{object:04X} holds 0x{held:08X}, not 0x{value:08X}: sending the write again"));
-                }
-                Ok(other) => {
-                    return Err(self.unknown_outcome(
-                        request,
-                        &format!(
-                            "the read-back {} was answered with {}",
-                            read_back.text(),
-                            other.text()
-                        ),
-                    ));
-                }
-                Err(AttemptFailure::Timeout) => {
-                    return Err(self.unknown_outcome(
-                        request,
-                        &format!("the read-back {} got no reply either", read_back.text()),
-                    ));
-                }
-                Err(AttemptFailure::Bad { line, problem }) => {
-                    return Err(self.unknown_outcome(
-                        request,
-                        &format!(
-                            "the read-back {} got the bad reply {line:?} ({problem})",
-                            read_back.text()
-                        ),
-                    ));
-                }
-                Err(f) => return Err(self.fatal(f, request)),
-            }
-        }
-        Err(self.gave_up(request, attempts, last_bad, None))
+        plan.run_with_step(
+            self,
+            t,
+            |link, t| link.read_back(t, &plan, request, &read_back, object, value),
+            |link, t, _| link.attempt(t, request),
+        )
+        .map_err(|u| self.unanswered(u, request, None))
     }
 
-    fn before_retry(
+    /// After a write whose reply was lost: `Some` when the drive holds the value (the write
+    /// took effect), `None` when the write is to be sent again.
+    fn read_back(
+        &mut self,
+        t: &mut dyn Transport,
+        plan: &RetryPlan,
+        request: &Request,
+        read_back: &Request,
+        object: u16,
+        value: u32,
+    ) -> Result<Option<Reply>, AccessError> {
+        self.core.settle(t, self.config.settle)?;
+        self.core.event(&format!(
+            "the reply to {} was lost: reading object 0x{object:04X} back before sending the write again",
+            request.text()
+        ));
+        let result = self.attempt(t, read_back);
+        plan.record(&mut self.core, &result);
+        let why = match result {
+            Ok(Reply::Value { value: held, .. }) if held == value => {
+                self.core.event(&format!(
+                    "object 0x{object:04X} holds 0x{held:08X}: the write took effect; not sent again"
+                ));
+                return Ok(Some(Reply::Ok));
+            }
+            Ok(Reply::Value { value: held, .. }) => {
+                self.core.event(&format!(
+                    "object 0x{object:04X} holds 0x{held:08X}, not 0x{value:08X}: sending the write again"
+                ));
+                return Ok(None);
+            }
+            Ok(other) => format!(
+                "the read-back {} was answered with {}",
+                read_back.text(),
+                other.text()
+            ),
+            Err(AttemptFailure::Timeout { .. }) => {
+                format!("the read-back {} got no reply either", read_back.text())
+            }
+            Err(AttemptFailure::Bad(r)) => format!(
+                "the read-back {} got the bad reply {:?} ({})",
+                read_back.text(),
+                r.reply,
+                r.problem
+            ),
+            Err(AttemptFailure::Transport(e)) => return Err(AccessError::Transport(e)),
+            Err(AttemptFailure::Interrupted) => {
+                return Err(self.unanswered(Unanswered::Interrupted, request, None))
+            }
+        };
+        Err(self.unknown_outcome(request, &why))
+    }
+
+    fn attempt(
         &mut self,
         t: &mut dyn Transport,
         request: &Request,
-        attempt: u32,
-    ) -> Result<(), AccessError> {
-        if self.core.stop_pending() {
-            return Err(self.interrupted(request));
-        }
-        self.core.stats.retries += 1;
-        self.core.settle(t, self.config.settle)?;
-        self.core
-            .event(&format!("retry {} of {}", attempt - 1, self.config.retries));
-        Ok(())
-    }
-
-    fn attempt(&mut self, t: &mut dyn Transport, request: &Request) -> Result<Reply, AttemptFailure> {
+    ) -> Result<Reply, AttemptFailure<Refused>> {
         let bytes = request.encode();
-        if let Err(e) = self.flush_input(t) {
-            return Err(AttemptFailure::Transport(e));
-        }
+        self.flush_input(t).map_err(AttemptFailure::Transport)?;
         t.write_all(&bytes).map_err(AttemptFailure::Transport)?;
         self.core.stats.requests += 1;
         self.core.notify(Direction::Sent, &bytes);
-        let result = self.await_reply(t, request);
-        match &result {
-            Ok(_) => self.core.stats.replies += 1,
-            Err(AttemptFailure::Timeout) => {
-                self.core.stats.timeouts += 1;
-                let ms = self.config.reply_timeout.as_millis();
-                self.core.event(&format!("no reply within {ms} ms"));
-            }
-            Err(AttemptFailure::Bad { problem, .. }) => self.core.event(&format!("reply refused: {problem}")),
-            Err(AttemptFailure::Transport(e)) => self.core.event(&format!("transport failed: {e}")),
-            Err(AttemptFailure::Interrupted) => self.core.event("stop requested while waiting for the reply"),
-        }
-        result
+        self.await_reply(t, request)
     }
 
-    fn await_reply(&mut self, t: &mut dyn Transport, request: &Request) -> Result<Reply, AttemptFailure> {
+    fn await_reply(
+        &mut self,
+        t: &mut dyn Transport,
+        request: &Request,
+    ) -> Result<Reply, AttemptFailure<Refused>> {
         // The reply timeout and the stop grace count from when the request has left the line.
         let sent = self.core.clock.now() + t.still_sending();
         let deadline = sent + self.config.reply_timeout;
@@ -281,7 +224,10 @@ impl LenzeLink {
                     Err(problem) => {
                         self.core.stats.corrupt_replies += 1;
                         let shown = String::from_utf8_lossy(&line.bytes).into_owned();
-                        return Err(AttemptFailure::Bad { line: shown, problem });
+                        return Err(AttemptFailure::Bad(Refusal {
+                            reply: shown,
+                            problem,
+                        }));
                     }
                 };
                 if echo_possible && text == echo {
@@ -292,20 +238,18 @@ impl LenzeLink {
                     Ok(r) => r,
                     Err(problem) => {
                         self.core.stats.corrupt_replies += 1;
-                        return Err(AttemptFailure::Bad { line: text, problem });
+                        return Err(AttemptFailure::Bad(Refusal { reply: text, problem }));
                     }
                 };
                 if let Err(problem) = check_reply(request, &reply) {
                     self.core.stats.mismatched_replies += 1;
-                    return Err(AttemptFailure::Bad { line: text, problem });
+                    return Err(AttemptFailure::Bad(Refusal { reply: text, problem }));
                 }
                 return Ok(reply);
             }
             match self.core.read_reply(t, sent, deadline) {
                 Ok(bytes) => self.extractor.push(bytes),
-                Err(ReplyWait::Timeout) => return Err(AttemptFailure::Timeout),
-                Err(ReplyWait::Interrupted) => return Err(AttemptFailure::Interrupted),
-                Err(ReplyWait::Transport(e)) => return Err(AttemptFailure::Transport(e)),
+                Err(wait) => return Err(wait.into()),
             }
         }
     }
@@ -320,53 +264,29 @@ impl LenzeLink {
         Ok(())
     }
 
-    fn fatal(&mut self, failure: AttemptFailure, request: &Request) -> AccessError {
-        match failure {
-            AttemptFailure::Transport(e) => AccessError::Transport(e),
-            _ => self.interrupted(request),
-        }
-    }
-
-    fn interrupted(&self, request: &Request) -> AccessError {
-        AccessError::Interrupted {
+    /// The error of an exchange that got no answer; `note` says why it was not repeated.
+    fn unanswered(
+        &self,
+        unanswered: Unanswered<Refused>,
+        request: &Request,
+        note: Option<&str>,
+    ) -> AccessError {
+        let text = ExchangeText {
             port: self.port().to_string(),
             address: "RS232".into(),
             request: describe(request),
-        }
-    }
-
-    fn gave_up(
-        &self,
-        request: &Request,
-        attempts: u32,
-        last_bad: Option<(String, DecodeError)>,
-        note: Option<&str>,
-    ) -> AccessError {
-        let port = self.port().to_string();
-        match last_bad {
-            Some((line, problem)) => AccessError::BadReply {
-                port,
-                address: "RS232".into(),
-                request: describe(request),
-                reply: format!("{line:?}"),
-                problem: match note {
-                    Some(n) => format!("{problem}; {n}"),
-                    None => problem.to_string(),
-                },
-                attempts,
+            hint: match note {
+                Some(n) => format!("{n}; {NO_REPLY_HINT}"),
+                None => NO_REPLY_HINT.to_string(),
             },
-            None => AccessError::NoReply {
-                port,
-                address: "RS232".into(),
-                request: describe(request),
-                attempts,
-                timeout_ms: self.config.reply_timeout.as_millis(),
-                hint: match note {
-                    Some(n) => format!("{n}; {NO_REPLY_HINT}"),
-                    None => NO_REPLY_HINT.to_string(),
-                },
-            },
-        }
+        };
+        unanswered.into_error(text, self.config.reply_timeout, |r| {
+            let problem = match note {
+                Some(n) => format!("{}; {n}", r.problem),
+                None => r.problem.to_string(),
+            };
+            (format!("{:?}", r.reply), problem)
+        })
     }
 
     /// A write whose reply was lost and whose read-back failed: whether the drive holds
@@ -382,6 +302,15 @@ impl LenzeLink {
                 "{why}, so whether the drive stored the value is unknown and the write was not sent again; read the object before writing it again; {NO_REPLY_HINT}"
             ),
         }
+    }
+}
+
+impl CoreLink for LenzeLink {
+    fn core(&mut self) -> &mut LinkCore {
+        &mut self.core
+    }
+    fn core_ref(&self) -> &LinkCore {
+        &self.core
     }
 }
 

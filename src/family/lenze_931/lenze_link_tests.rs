@@ -6,6 +6,7 @@ use crate::bus::{MemoryTransport, Peer, PeerReply};
 use crate::clock::{Clock, VirtualClock};
 use crate::family::lenze_931::codec::ErrorCode;
 use std::collections::VecDeque;
+use std::sync::Arc;
 use std::sync::Mutex;
 
 /// Answers each request line with the next scripted reply (None = silence).

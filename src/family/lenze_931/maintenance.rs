@@ -47,6 +47,7 @@ pub const ACTIONS: &[MaintenanceAction] = &[
 ];
 
 /// The request of the action named `name` with its argument; `Err` says what is wrong.
+/// (Text, not a typed error: `Drive::maintain` carries it as the refusal's reason.)
 pub fn request(name: &str, argument: Option<u32>) -> Result<Request, String> {
     match (name, argument) {
         ("reset", None) => Ok(Request::Reset),

@@ -7,7 +7,7 @@
 //! (number, 0); a CANopen object (index, 0x100 + subindex); an identification command
 //! (0, 0x1000 + n). Pure.
 
-use crate::dictionary::Address;
+use crate::dictionary::{Address, AddressError};
 
 /// Subindexes from here on are CANopen objects (subindex + this).
 const SDO_BASE: u32 = 0x100;
@@ -88,7 +88,7 @@ impl LenzeObject {
 const HELP: &str = "write a communication object number in hex as the manual gives it (`0x0011`), an identification command (`TYPE?`, `VERSION?`, `BOOT?`, `BUS?`), or a CANopen object `sdo:0x6041/0`";
 
 /// Reads the notation (see the module docs); the error says what is accepted.
-pub fn parse(text: &str) -> Result<LenzeObject, String> {
+pub fn parse(text: &str) -> Result<LenzeObject, AddressError> {
     let t = text.trim();
     if let Some(i) = Ident::ALL
         .into_iter()
@@ -100,23 +100,27 @@ pub fn parse(text: &str) -> Result<LenzeObject, String> {
         let (index, subindex) = rest.split_once('/').unwrap_or((rest, "0"));
         let index = hex_number(index)
             .and_then(|n| u16::try_from(n).ok())
-            .ok_or_else(|| format!("`{t}`: the CANopen index is 0x0000..=0xFFFF; {HELP}"))?;
+            .ok_or_else(|| {
+                AddressError::from(format!("`{t}`: the CANopen index is 0x0000..=0xFFFF; {HELP}"))
+            })?;
         let subindex = number(subindex)
             .and_then(|n| u8::try_from(n).ok())
-            .ok_or_else(|| format!("`{t}`: the CANopen subindex is 0..=255; {HELP}"))?;
+            .ok_or_else(|| AddressError::from(format!("`{t}`: the CANopen subindex is 0..=255; {HELP}")))?;
         return Ok(LenzeObject::CanOpen { index, subindex });
     }
     if let Some(n) = hex_number(t) {
-        return u16::try_from(n)
-            .map(LenzeObject::Communication)
-            .map_err(|_| format!("`{t}`: object numbers have 4 hex digits (0x0000..=0xFFFF)"));
+        return u16::try_from(n).map(LenzeObject::Communication).map_err(|_| {
+            AddressError::from(format!(
+                "`{t}`: object numbers have 4 hex digits (0x0000..=0xFFFF)"
+            ))
+        });
     }
     if !t.is_empty() && t.chars().all(|c| c.is_ascii_digit()) {
-        return Err(format!(
+        return Err(AddressError::from(format!(
             "`{t}`: the manual gives object numbers in hex, so a number without `0x` is ambiguous; write `0x{t:0>4}` for hex {t}"
-        ));
+        )));
     }
-    Err(format!("`{t}` is not a 931 object; {HELP}"))
+    Err(AddressError::from(format!("`{t}` is not a 931 object; {HELP}")))
 }
 
 fn hex_number(t: &str) -> Option<u32> {
@@ -135,7 +139,7 @@ fn number(t: &str) -> Option<u32> {
 }
 
 /// The dictionary reader's view: the notation as an address.
-pub fn parse_address(text: &str) -> Result<Address, String> {
+pub fn parse_address(text: &str) -> Result<Address, AddressError> {
     parse(text).map(LenzeObject::address)
 }
 
@@ -177,9 +181,12 @@ mod tests {
 
     #[test]
     fn refusals_say_what_to_write() {
-        assert!(parse("17").unwrap_err().contains("write `0x0017` for hex 17"));
-        assert!(parse("0x10000").unwrap_err().contains("4 hex digits"));
-        assert!(parse("sdo:0x6041/300").unwrap_err().contains("0..=255"));
-        assert!(parse("speed").unwrap_err().contains("`0x0011`"));
+        assert!(parse("17")
+            .unwrap_err()
+            .reason
+            .contains("write `0x0017` for hex 17"));
+        assert!(parse("0x10000").unwrap_err().reason.contains("4 hex digits"));
+        assert!(parse("sdo:0x6041/300").unwrap_err().reason.contains("0..=255"));
+        assert!(parse("speed").unwrap_err().reason.contains("`0x0011`"));
     }
 }

@@ -2,14 +2,14 @@
 //! `DDDDDDDD` of the object commands (two's complement for signed types [I]) and the hex
 //! bytes of the SDO simulation (read as CANopen's little-endian order [I]). Pure.
 
-use crate::dictionary::{DataType, RawValue};
+use crate::dictionary::{DataType, RawValue, WireValueError};
 
 /// The 32 bits of `DDDDDDDD` as a value of `data_type`; refused when they do not fit it.
-pub fn decode(bits: u32, data_type: DataType) -> Result<RawValue, String> {
+pub fn decode(bits: u32, data_type: DataType) -> Result<RawValue, WireValueError> {
     let Some((lo, hi)) = data_type.range() else {
-        return Err(format!(
+        return Err(WireValueError::Malformed(format!(
             "the drive sent the number 0x{bits:08X}, but the object's type is {data_type}; give it an integer type"
-        ));
+        )));
     };
     let value = if data_type.is_signed() {
         i64::from(bits as i32)
@@ -17,46 +17,53 @@ pub fn decode(bits: u32, data_type: DataType) -> Result<RawValue, String> {
         i64::from(bits)
     };
     if value < lo || value > hi {
-        return Err(format!(
+        return Err(WireValueError::Malformed(format!(
             "0x{bits:08X} ({value}) does not fit the object's type {data_type} ({lo}..={hi})"
-        ));
+        )));
     }
     Ok(RawValue::Int(value))
 }
 
 /// A value for `OW:NNNN:DDDDDDDD`.
-pub fn encode(value: &RawValue, data_type: DataType) -> Result<u32, String> {
+pub fn encode(value: &RawValue, data_type: DataType) -> Result<u32, WireValueError> {
     let RawValue::Int(n) = value else {
-        return Err(format!(
+        return Err(WireValueError::Unfit(format!(
             "a 931 object holds a 32-bit number; {value} cannot be written to it"
-        ));
+        )));
     };
     let fits = data_type.range().is_some_and(|(lo, hi)| (lo..=hi).contains(n));
     if !fits {
-        return Err(format!("{n} is outside the range of the type {data_type}"));
+        return Err(WireValueError::Unfit(format!(
+            "{n} is outside the range of the type {data_type}"
+        )));
     }
     if data_type.is_signed() {
         i32::try_from(*n)
             .map(|v| v as u32)
-            .map_err(|_| format!("{n} does not fit 32 bits"))
+            .map_err(|_| WireValueError::Unfit(format!("{n} does not fit 32 bits")))
     } else {
-        u32::try_from(*n).map_err(|_| format!("{n} does not fit 32 bits"))
+        u32::try_from(*n).map_err(|_| WireValueError::Unfit(format!("{n} does not fit 32 bits")))
     }
 }
 
 /// SDO data as a value of `data_type`: integers little-endian (at most 4 bytes), text as
 /// ASCII up to the first NUL.
-pub fn decode_bytes(data: &[u8], data_type: DataType) -> Result<RawValue, String> {
+pub fn decode_bytes(data: &[u8], data_type: DataType) -> Result<RawValue, WireValueError> {
     if let DataType::String { .. } = data_type {
         let end = data.iter().position(|b| *b == 0).unwrap_or(data.len());
         let text = &data[..end];
         if !text.iter().all(|b| b.is_ascii_graphic() || *b == b' ') {
-            return Err("the SDO data is not printable ASCII text".into());
+            return Err(WireValueError::Malformed(
+                "the SDO data is not printable ASCII text".into(),
+            ));
         }
         return Ok(RawValue::Text(String::from_utf8_lossy(text).into_owned()));
     }
     if data.is_empty() || data.len() > 4 {
-        return Err(format!("{} data byte(s) cannot be a 32-bit number", data.len()));
+        return Err(WireValueError::Malformed(format!(
+            "{} data byte(s) cannot be a 32-bit number",
+            data.len()
+        )));
     }
     let mut bits = 0u32;
     for (i, b) in data.iter().enumerate() {
@@ -69,7 +76,7 @@ pub fn decode_bytes(data: &[u8], data_type: DataType) -> Result<RawValue, String
 }
 
 /// A value as SDO data: the type's width, little-endian.
-pub fn encode_bytes(value: &RawValue, data_type: DataType) -> Result<Vec<u8>, String> {
+pub fn encode_bytes(value: &RawValue, data_type: DataType) -> Result<Vec<u8>, WireValueError> {
     let bits = encode(value, data_type)?;
     Ok(bits.to_le_bytes()[..data_type.size().min(4)].to_vec())
 }
@@ -86,6 +93,7 @@ mod tests {
         assert_eq!(decode(0xFFFF_FFFF, DataType::I16), Ok(RawValue::Int(-1)));
         assert!(decode(0x0001_0000, DataType::U16)
             .unwrap_err()
+            .to_string()
             .contains("does not fit"));
         assert!(decode(1, DataType::String { max: 8 }).is_err());
         assert_eq!(encode(&RawValue::Int(-3000), DataType::I32), Ok(0xFFFF_F448));

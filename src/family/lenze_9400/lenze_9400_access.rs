@@ -6,6 +6,7 @@ use super::sdo_value;
 use crate::clock::SharedClock;
 use crate::dictionary::{Address, DataType, RawValue};
 use crate::drive::{AccessError, ObjectAccess, WriteOutcome};
+use crate::link::CoreLink;
 
 pub struct Lenze9400Access {
     link: SdoLink,
@@ -36,7 +37,7 @@ impl ObjectAccess for Lenze9400Access {
             port: self.link.port().to_string(),
             address: format!("node {}", self.link.node()),
             request: format!("read {}", object_text(index, subindex)),
-            detail,
+            detail: detail.to_string(),
         })
     }
 
@@ -47,7 +48,7 @@ impl ObjectAccess for Lenze9400Access {
         data_type: DataType,
     ) -> Result<WriteOutcome, AccessError> {
         let (index, subindex) = Self::subindex(address)?;
-        let bytes = sdo_value::encode(value, data_type).map_err(AccessError::Encode)?;
+        let bytes = sdo_value::encode(value, data_type).map_err(|e| AccessError::Encode(e.to_string()))?;
         self.link.download(index, subindex, &bytes)?;
         Ok(WriteOutcome::Stored)
     }

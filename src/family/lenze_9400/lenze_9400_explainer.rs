@@ -9,7 +9,7 @@ use super::codec::{AbortCode, Code, SdoRequest, SdoResponse};
 use crate::bus::CanFrame;
 use crate::dictionary::{Dictionary, RawValue};
 use crate::hex::to_hex;
-use crate::link::{Direction, TelegramExplainer};
+use crate::link::{Direction, ExplainError, TelegramExplainer};
 use serde_json::{json, Map, Value};
 use std::collections::HashMap;
 use std::sync::Arc;
@@ -34,7 +34,7 @@ impl Lenze9400Explainer {
         }
     }
 
-    fn read(&mut self, bytes: &[u8]) -> Result<(CanFrame, Sdo), String> {
+    fn read(&mut self, bytes: &[u8]) -> Result<(CanFrame, Sdo), ExplainError> {
         let frame = CanFrame::from_bytes(bytes).ok_or_else(|| {
             "not a CAN frame; give it as ID#DATA (e.g. 60C#409C5F0000000000) or ID and data bytes".to_string()
         })?;
@@ -42,7 +42,8 @@ impl Lenze9400Explainer {
             return Err(format!(
                 "{:08X} is an extended (29-bit) identifier; SDO uses 11-bit identifiers 0x581..0x5FF and 0x601..0x67F",
                 frame.id
-            ));
+            )
+            .into());
         }
         let sdo = match frame.id {
             0x601..=0x67F => Sdo::Request {
@@ -56,7 +57,8 @@ impl Lenze9400Explainer {
             id => {
                 return Err(format!(
                     "identifier 0x{id:03X} is not an SDO channel (requests 0x600 + node, responses 0x580 + node, node 1..127)"
-                ))
+                )
+                .into())
             }
         };
         // Remember the object each transfer is about.
@@ -322,7 +324,7 @@ impl TelegramExplainer for Lenze9400Explainer {
         }
     }
 
-    fn explain(&mut self, bytes: &[u8]) -> Result<String, String> {
+    fn explain(&mut self, bytes: &[u8]) -> Result<String, ExplainError> {
         let (frame, sdo) = self.read(bytes)?;
         let mut out = String::new();
         let (role, node, command) = match &sdo {
@@ -374,7 +376,7 @@ impl TelegramExplainer for Lenze9400Explainer {
     fn json(&mut self, bytes: &[u8]) -> (Value, bool) {
         match self.read(bytes) {
             Ok((_, sdo)) => (to_json(&sdo), true),
-            Err(e) => (json!({ "reject": e }), false),
+            Err(e) => (json!({ "reject": e.reason }), false),
         }
     }
 }

@@ -7,14 +7,14 @@ use super::sdo_link::{SdoLink, SdoLinkConfig};
 use super::sim::Lenze9400Simulator;
 use super::{Lenze9400Access, Lenze9400Explainer};
 use crate::bus::{Bus, BusKind, SerialSettings};
-use crate::dictionary::{Access, Address, AddressParser, DataType, Dictionary, ObjectDef};
+use crate::dictionary::{Access, Address, AddressError, AddressParser, DataType, Dictionary, ObjectDef};
 use crate::drive::ObjectAccess;
 use crate::family::{
-    BuiltinDictionary, DriveAddress, Family, LinkContext, LinkOptions, SimPeer, SimulatedDevice,
+    BuiltinDictionary, DriveAddress, Family, FamilyError, LinkContext, LinkOptions, SimulatedDevice,
 };
 use crate::link::TelegramExplainer;
 use crate::sim::SimConfig;
-use std::sync::{Arc, Mutex};
+use std::sync::Arc;
 
 const DICTIONARIES: &[BuiltinDictionary] = &[BuiltinDictionary {
     name: "lenze-9400",
@@ -29,7 +29,7 @@ const DEFAULT_NODE: u8 = 1;
 pub struct Lenze9400Family;
 
 /// A dictionary's `address:` (and `read`/`write` raw notation): a Lenze code.
-fn parse_code_address(text: &str) -> Result<Address, String> {
+fn parse_code_address(text: &str) -> Result<Address, AddressError> {
     let code = Code::parse(text)?;
     Ok(Address::indexed(code.index(), u32::from(code.subcode)))
 }
@@ -60,12 +60,17 @@ impl Family for Lenze9400Family {
         parse_code_address
     }
 
-    fn parse_drive_address(&self, text: Option<&str>) -> Result<DriveAddress, String> {
+    fn parse_drive_address(&self, text: Option<&str>) -> Result<DriveAddress, FamilyError> {
         let node = match text.map(str::trim) {
             None => DEFAULT_NODE,
             Some(t) => match t.parse::<u8>() {
                 Ok(n) if (1..=127).contains(&n) => n,
-                _ => return Err(format!("--address {t}: {}", self.address_help())),
+                _ => {
+                    return Err(FamilyError::DriveAddress(format!(
+                        "--address {t}: {}",
+                        self.address_help()
+                    )))
+                }
             },
         };
         Ok(DriveAddress {
@@ -78,53 +83,36 @@ impl Family for Lenze9400Family {
         "the drive's CANopen node address 1..127 (code C00350; default 1)"
     }
 
-    fn check_link_options(&self, extra: &[(String, String)]) -> Result<(), String> {
-        match extra.first() {
-            None => Ok(()),
-            Some((name, _)) => Err(format!(
-                "--link-option {name}: the lenze_9400 family has no link options"
-            )),
-        }
-    }
-
     fn open(
         &self,
         bus: &Bus,
         drive: &DriveAddress,
         options: &LinkOptions,
         context: LinkContext,
-    ) -> Result<Box<dyn ObjectAccess>, String> {
+    ) -> Result<Box<dyn ObjectAccess>, FamilyError> {
         let Bus::Frames(frames) = bus else {
-            return Err(format!(
+            return Err(FamilyError::WrongBus(format!(
                 "the Lenze 9400 is reached over CAN, not over the byte stream {}; give --can slcan:PATH or --can socketcan:IF",
                 bus.name()
-            ));
+            )));
         };
         let node = u8::try_from(drive.number)
             .ok()
             .filter(|n| (1..=127).contains(n))
-            .ok_or_else(|| format!("CAN node {} is outside 1..127", drive.number))?;
+            .ok_or_else(|| {
+                FamilyError::DriveAddress(format!("CAN node {} is outside 1..127", drive.number))
+            })?;
         let config = SdoLinkConfig {
             reply_timeout: options.reply_timeout,
             retries: options.retries,
         };
-        let mut link = SdoLink::new(frames.clone(), context.clock, node, config);
-        if let Some(o) = context.observer {
-            link.set_observer(o);
-        }
-        if let Some(s) = context.stop {
-            link.set_stop_requests(s);
-        }
+        let link = context.link(|clock| SdoLink::new(frames.clone(), clock, node, config));
         Ok(Box::new(Lenze9400Access::new(link)))
     }
 
     fn simulator(&self, drive: &DriveAddress, config: SimConfig) -> SimulatedDevice {
         let node = u8::try_from(drive.number).unwrap_or(DEFAULT_NODE);
-        let sim = Arc::new(Mutex::new(Lenze9400Simulator::new(node, config)));
-        SimulatedDevice {
-            drive: sim.clone(),
-            peer: SimPeer::Frames(sim),
-        }
+        SimulatedDevice::frames(Lenze9400Simulator::new(node, config))
     }
 
     fn explainer(&self, dictionary: Arc<Dictionary>) -> Box<dyn TelegramExplainer> {
@@ -135,13 +123,13 @@ impl Family for Lenze9400Family {
     /// the node indicates each value's size, and the access reads narrower values widened
     /// as signed (see `sdo_value`); a write needs `--type`, because a wrong width is
     /// refused by the node at best and misread at worst.
-    fn raw_object(&self, text: &str, data_type: Option<DataType>) -> Option<Result<ObjectDef, String>> {
+    fn raw_object(&self, text: &str, data_type: Option<DataType>) -> Option<Result<ObjectDef, FamilyError>> {
         let t = text.trim();
         // Dictionary names are lower case, so `C` and a digit can only be a code.
         if !(t.starts_with('C') && t[1..].starts_with(|c: char| c.is_ascii_digit())) {
             return None;
         }
-        Some(parse_code_address(t).map(|address| {
+        Some(parse_code_address(t).map_err(FamilyError::from).map(|address| {
             let mut def = match data_type {
                 Some(dt) => ObjectDef::new(t, address, dt, Access::ReadWrite),
                 None => {
@@ -180,7 +168,7 @@ mod tests {
         let a = |t: Option<&str>| f.parse_drive_address(t).map(|a| (a.number, a.shown));
         assert_eq!(a(None), Ok((1, "CAN node 1".into())));
         assert_eq!(a(Some("12")), Ok((12, "CAN node 12".into())));
-        assert!(a(Some("0")).unwrap_err().contains("1..127"));
+        assert!(a(Some("0")).unwrap_err().to_string().contains("1..127"));
         assert!(a(Some("128")).is_err());
         assert!(a(Some("x")).is_err());
     }

@@ -14,16 +14,14 @@ use super::codec::{request_id, response_id, AbortCode, Code, SdoClient, SdoReque
 use crate::bus::{CanFrame, FrameBus, SharedFrameBus, TransportError};
 use crate::clock::SharedClock;
 use crate::drive::AccessError;
-use crate::link::{Direction, LinkStats, TelegramObserver};
-use crate::stop_request::StopRequests;
-use std::sync::Arc;
+use crate::link::{
+    AttemptFailure, CoreLink, Direction, ExchangeText, LinkCore, Refusal, ReplyWait, RetryPlan,
+};
 use std::time::Duration;
 
 /// A stop request does not cut short the first part of a response wait (see the SD2
 /// link): a node that answers at all has answered by then.
 const STOP_GRACE: Duration = Duration::from_millis(20);
-/// After the grace, waits look at stop requests this often.
-const STOP_POLL: Duration = Duration::from_millis(10);
 /// Frames already waiting before a transfer starts are dropped, at most this many (a busy
 /// bus must not keep the link draining forever).
 const DRAIN_MAX: usize = 64;
@@ -50,48 +48,23 @@ impl Default for SdoLinkConfig {
 
 pub struct SdoLink {
     bus: SharedFrameBus,
-    clock: SharedClock,
     node: u8,
     config: SdoLinkConfig,
-    observer: Option<Box<dyn TelegramObserver>>,
-    stop: Option<Arc<StopRequests>>,
-    stats: LinkStats,
+    /// Clock, observer, stop requests, counters and the listening every link shares.
+    core: LinkCore,
 }
 
-/// Why one attempt ended without a result.
-enum AttemptFailure {
-    Timeout,
-    Protocol { frame: CanFrame, problem: String },
-    Interrupted,
-    Transport(TransportError),
-}
-
-/// How one wait for a response ended.
-enum Wait {
-    Frame(CanFrame),
-    Timeout,
-    Interrupted,
-}
+/// A response that breaks the protocol: the frame and why.
+type Refused = Refusal<CanFrame, String>;
 
 impl SdoLink {
     pub fn new(bus: SharedFrameBus, clock: SharedClock, node: u8, config: SdoLinkConfig) -> Self {
         SdoLink {
             bus,
-            clock,
             node,
             config,
-            observer: None,
-            stop: None,
-            stats: LinkStats::default(),
+            core: LinkCore::new(clock, STOP_GRACE),
         }
-    }
-
-    pub fn set_observer(&mut self, observer: Box<dyn TelegramObserver>) {
-        self.observer = Some(observer);
-    }
-
-    pub fn set_stop_requests(&mut self, stop: Arc<StopRequests>) {
-        self.stop = Some(stop);
     }
 
     pub fn node(&self) -> u8 {
@@ -102,17 +75,9 @@ impl SdoLink {
         self.bus.name()
     }
 
-    pub fn clock(&self) -> &SharedClock {
-        &self.clock
-    }
-
-    pub fn stats(&self) -> LinkStats {
-        self.stats
-    }
-
     /// Opens the bus again after the adapter was lost.
     pub fn reopen(&mut self) -> Result<(), AccessError> {
-        self.event("reopening the CAN adapter");
+        self.core.event("reopening the CAN adapter");
         self.bus.lock().reopen()?;
         Ok(())
     }
@@ -153,76 +118,41 @@ impl SdoLink {
         subindex: u8,
         start: &dyn Fn() -> Option<(SdoClient, SdoRequest)>,
     ) -> Result<SdoStep, AccessError> {
+        let Some(first) = start() else {
+            return Err(AccessError::Encode(
+                "the value does not fit an SDO transfer".into(),
+            ));
+        };
+        let first_frame = self.frame_of(&first.1);
         let shared = self.bus.clone();
         let mut guard = shared.lock();
         let bus: &mut dyn FrameBus = guard.as_mut();
-        let attempts = self.config.retries + 1;
-        let mut last_protocol: Option<(CanFrame, String)> = None;
-        let mut first_request = None;
-        for attempt in 1..=attempts {
-            if attempt > 1 {
-                if self.stop_pending() {
-                    return Err(self.interrupted(operation, index, subindex, first_request.as_ref()));
-                }
-                self.stats.retries += 1;
-                self.event(&format!("retry {} of {}", attempt - 1, self.config.retries));
-            }
-            let Some((mut client, request)) = start() else {
-                return Err(AccessError::Encode(
-                    "the value does not fit an SDO transfer".into(),
-                ));
-            };
-            let first = self.frame_of(&request);
-            first_request.get_or_insert(first);
-            self.drain(bus)?;
-            match self.attempt(bus, &mut client, request) {
-                Ok(SdoStep::Aborted(code)) => {
-                    return Err(self.refused(operation, index, subindex, code));
-                }
-                Ok(step) => {
-                    self.stats.replies += 1;
-                    return Ok(step);
-                }
-                Err(AttemptFailure::Timeout) => {
-                    self.stats.timeouts += 1;
-                    let ms = self.config.reply_timeout.as_millis();
-                    self.event(&format!("no response within {ms} ms"));
-                }
-                Err(AttemptFailure::Protocol { frame, problem }) => {
-                    self.stats.corrupt_replies += 1;
-                    self.event(&format!("response refused: {problem}"));
-                    last_protocol = Some((frame, problem));
-                }
-                Err(AttemptFailure::Interrupted) => {
-                    self.event("stop requested while waiting for the response");
-                    return Err(self.interrupted(operation, index, subindex, first_request.as_ref()));
-                }
-                Err(AttemptFailure::Transport(e)) => {
-                    self.event(&format!("CAN adapter failed: {e}"));
-                    return Err(AccessError::Transport(e));
-                }
-            }
+        let plan = RetryPlan {
+            reply_word: "response",
+            line_word: "CAN adapter",
+            ..RetryPlan::new(self.config.retries, Duration::ZERO, self.config.reply_timeout)
+        };
+        let step = plan
+            .run(self, bus, |link, bus, _| {
+                // Each attempt is the whole transfer again, from its first request.
+                let (mut client, request) = first.clone();
+                link.drain(bus).map_err(AttemptFailure::Transport)?;
+                link.attempt(bus, &mut client, request)
+            })
+            .map_err(|unanswered| {
+                let text = ExchangeText {
+                    port: self.bus.name().to_string(),
+                    address: self.address(),
+                    request: describe(operation, index, subindex, Some(&first_frame)),
+                    hint: NO_REPLY_HINT.to_string(),
+                };
+                unanswered.into_error(text, plan.reply_timeout, |r| (r.reply.to_candump(), r.problem))
+            })?;
+        match step {
+            // The node's answer: not retried.
+            SdoStep::Aborted(code) => Err(self.refused(operation, index, subindex, code)),
+            step => Ok(step),
         }
-        let request = describe(operation, index, subindex, first_request.as_ref());
-        let port = self.bus.name().to_string();
-        Err(match last_protocol {
-            Some((frame, problem)) => AccessError::BadReply {
-                port,
-                address: self.address(),
-                request,
-                reply: frame.to_candump(),
-                problem,
-                attempts,
-            },
-            None => AccessError::NoReply {
-                port,
-                address: self.address(),
-                request,
-                attempts,
-                timeout_ms: self.config.reply_timeout.as_millis(),
-                hint: NO_REPLY_HINT.to_string(),
-            },
-        })
     }
 
     /// One run of a transfer from its first request to its end.
@@ -231,40 +161,39 @@ impl SdoLink {
         bus: &mut dyn FrameBus,
         client: &mut SdoClient,
         first: SdoRequest,
-    ) -> Result<SdoStep, AttemptFailure> {
+    ) -> Result<SdoStep, AttemptFailure<Refused>> {
         let mut request = first;
         let mut started = false;
         loop {
             self.send(bus, &request).map_err(AttemptFailure::Transport)?;
-            self.stats.requests += 1;
+            self.core.stats.requests += 1;
             let step = loop {
                 let frame = match self.wait(bus) {
-                    Ok(Wait::Frame(f)) => f,
-                    Ok(Wait::Timeout) => {
+                    Ok(f) => f,
+                    Err(ReplyWait::Transport(e)) => return Err(AttemptFailure::Transport(e)),
+                    Err(end) => {
                         if started {
                             // The node is in the middle of the transfer: free it.
                             let _ = self.send(bus, &client.timeout_abort());
                         }
-                        return Err(AttemptFailure::Timeout);
+                        return Err(end.into());
                     }
-                    Ok(Wait::Interrupted) => {
-                        if started {
-                            let _ = self.send(bus, &client.timeout_abort());
-                        }
-                        return Err(AttemptFailure::Interrupted);
-                    }
-                    Err(e) => return Err(AttemptFailure::Transport(e)),
                 };
                 match client.on_bytes(frame.data()) {
                     SdoStep::Ignored(why) => {
-                        self.stats.mismatched_replies += 1;
-                        self.event(&format!("passed over {}: {why}", frame.to_candump()));
+                        self.core.stats.mismatched_replies += 1;
+                        self.core
+                            .event(&format!("passed over {}: {why}", frame.to_candump()));
                     }
                     SdoStep::Failed { problem, abort } => {
                         if let Some(abort) = abort {
                             self.send(bus, &abort).map_err(AttemptFailure::Transport)?;
                         }
-                        return Err(AttemptFailure::Protocol { frame, problem });
+                        self.core.stats.corrupt_replies += 1;
+                        return Err(AttemptFailure::Bad(Refusal {
+                            reply: frame,
+                            problem,
+                        }));
                     }
                     step => break step,
                 }
@@ -280,53 +209,42 @@ impl SdoLink {
     }
 
     /// Waits for the next frame from this node, passing over every other frame.
-    fn wait(&mut self, bus: &mut dyn FrameBus) -> Result<Wait, TransportError> {
-        let sent = self.clock.now();
+    fn wait(&mut self, bus: &mut dyn FrameBus) -> Result<CanFrame, ReplyWait> {
+        let sent = self.core.clock.now();
         let deadline = sent + self.config.reply_timeout;
         let expected = response_id(self.node);
         loop {
-            let now = self.clock.now();
-            if now >= deadline {
-                return Ok(Wait::Timeout);
-            }
-            let slice = match &self.stop {
-                None => deadline - now,
-                Some(_) if now - sent < STOP_GRACE => (sent + STOP_GRACE).min(deadline) - now,
-                Some(_) => STOP_POLL.min(deadline - now),
-            };
+            let slice = self.core.next_slice(sent, deadline).ok_or(ReplyWait::Timeout)?;
             match bus.receive(slice) {
                 Ok(frame) if frame.id == expected && !frame.extended => {
-                    self.notify(Direction::Received, &frame);
-                    return Ok(Wait::Frame(frame));
+                    self.core.notify_frame(Direction::Received, &frame);
+                    return Ok(frame);
                 }
                 Ok(_) => {}
                 Err(TransportError::Timeout { .. }) => {
-                    let now = self.clock.now();
-                    if now >= deadline {
-                        return Ok(Wait::Timeout);
-                    }
-                    if now - sent >= STOP_GRACE && self.stop_pending() {
-                        return Ok(Wait::Interrupted);
+                    if let Some(end) = self.core.after_quiet(sent, deadline) {
+                        return Err(end);
                     }
                 }
-                Err(e) => return Err(e),
+                Err(e) => return Err(ReplyWait::Transport(e)),
             }
         }
     }
 
     /// Drops what arrived before this transfer (a late response to an earlier attempt).
-    fn drain(&mut self, bus: &mut dyn FrameBus) -> Result<(), AccessError> {
+    fn drain(&mut self, bus: &mut dyn FrameBus) -> Result<(), TransportError> {
         let mut dropped = 0;
         for _ in 0..DRAIN_MAX {
             match bus.receive(Duration::ZERO) {
                 Ok(f) if f.id == response_id(self.node) => dropped += 1,
                 Ok(_) => {}
                 Err(TransportError::Timeout { .. }) => break,
-                Err(e) => return Err(AccessError::Transport(e)),
+                Err(e) => return Err(e),
             }
         }
         if dropped > 0 {
-            self.event(&format!("dropped {dropped} late response(s) before sending"));
+            self.core
+                .event(&format!("dropped {dropped} late response(s) before sending"));
         }
         Ok(())
     }
@@ -338,12 +256,8 @@ impl SdoLink {
     fn send(&mut self, bus: &mut dyn FrameBus, request: &SdoRequest) -> Result<(), TransportError> {
         let frame = self.frame_of(request);
         bus.send(&frame)?;
-        self.notify(Direction::Sent, &frame);
+        self.core.notify_frame(Direction::Sent, &frame);
         Ok(())
-    }
-
-    fn stop_pending(&self) -> bool {
-        self.stop.as_ref().is_some_and(|s| s.pending_at(self.clock.now()))
     }
 
     fn address(&self) -> String {
@@ -361,20 +275,6 @@ impl SdoLink {
         }
     }
 
-    fn interrupted(
-        &self,
-        operation: &'static str,
-        index: u16,
-        subindex: u8,
-        first: Option<&CanFrame>,
-    ) -> AccessError {
-        AccessError::Interrupted {
-            port: self.bus.name().to_string(),
-            address: self.address(),
-            request: describe(operation, index, subindex, first),
-        }
-    }
-
     fn unexpected(&self, operation: &'static str, index: u16, subindex: u8, step: &SdoStep) -> AccessError {
         AccessError::UnexpectedReply {
             port: self.bus.name().to_string(),
@@ -383,19 +283,14 @@ impl SdoLink {
             detail: format!("the transfer ended as {step:?}"),
         }
     }
+}
 
-    fn notify(&mut self, direction: Direction, frame: &CanFrame) {
-        let at = self.clock.now();
-        if let Some(o) = self.observer.as_mut() {
-            o.frame(at, direction, frame);
-        }
+impl CoreLink for SdoLink {
+    fn core(&mut self) -> &mut LinkCore {
+        &mut self.core
     }
-
-    fn event(&mut self, text: &str) {
-        let at = self.clock.now();
-        if let Some(o) = self.observer.as_mut() {
-            o.event(at, text);
-        }
+    fn core_ref(&self) -> &LinkCore {
+        &self.core
     }
 }
 
@@ -425,6 +320,7 @@ mod tests {
     use crate::hex::parse_hex;
     use crate::sim::{SimConfig, SimulatedDrive};
     use std::collections::VecDeque;
+    use std::sync::Arc;
     use std::sync::Mutex;
 
     const FAST: Duration = Duration::from_micros(200);

@@ -8,10 +8,10 @@
 //! (length mismatch). Without a size indication the type's width is taken from the 4 bytes.
 
 use super::codec::Uploaded;
-use crate::dictionary::{DataType, RawValue};
+use crate::dictionary::{DataType, RawValue, WireValueError};
 
 /// Decodes an uploaded value as `data_type`; the error says expected vs. actual.
-pub fn decode(value: &Uploaded, data_type: DataType) -> Result<RawValue, String> {
+pub fn decode(value: &Uploaded, data_type: DataType) -> Result<RawValue, WireValueError> {
     let bytes = value.data.as_slice();
     if let DataType::String { max } = data_type {
         let text: &[u8] = match bytes.iter().rposition(|&b| b != 0) {
@@ -19,19 +19,19 @@ pub fn decode(value: &Uploaded, data_type: DataType) -> Result<RawValue, String>
             None => &[],
         };
         if text.len() > usize::from(max) {
-            return Err(format!(
+            return Err(WireValueError::Malformed(format!(
                 "{data_type} holds at most {max} characters, the node sent {}",
                 text.len()
-            ));
+            )));
         }
         return Ok(RawValue::Text(String::from_utf8_lossy(text).into_owned()));
     }
     let size = data_type.size();
     if value.segmented {
-        return Err(format!(
+        return Err(WireValueError::Malformed(format!(
             "the node sent {} bytes in segments (a string or a block parameter), not a {data_type}; read it with --type string(N)",
             bytes.len()
-        ));
+        )));
     }
     let used = if value.size_indicated {
         bytes.len()
@@ -39,40 +39,31 @@ pub fn decode(value: &Uploaded, data_type: DataType) -> Result<RawValue, String>
         size.min(bytes.len())
     };
     if used > size || used == 0 {
-        return Err(format!(
+        return Err(WireValueError::Malformed(format!(
             "{data_type} takes {size} byte(s), the node indicated {used} (length mismatch)"
-        ));
+        )));
     }
-    let mut buf = [0u8; 8];
-    buf[..used].copy_from_slice(&bytes[..used]);
-    let unsigned = u64::from_le_bytes(buf);
-    Ok(RawValue::Int(if data_type.is_signed() {
-        let shift = 64 - 8 * used as u32;
-        ((unsigned << shift) as i64) >> shift
-    } else {
-        unsigned as i64
-    }))
+    Ok(RawValue::Int(data_type.from_le_bytes(&bytes[..used])))
 }
 
 /// The bytes to write for `raw`: an integer in the type's width, text as its characters.
 /// What does not fit the type is refused instead of being sent wrapped.
-pub fn encode(raw: &RawValue, data_type: DataType) -> Result<Vec<u8>, String> {
+pub fn encode(raw: &RawValue, data_type: DataType) -> Result<Vec<u8>, WireValueError> {
     match (data_type, raw) {
         (DataType::String { max }, RawValue::Text(text)) => {
             if text.is_empty() || text.len() > usize::from(max) || !text.is_ascii() {
-                return Err(format!(
+                return Err(WireValueError::Unfit(format!(
                     "{text:?} does not fit {data_type} (1..={max} ASCII characters)"
-                ));
+                )));
             }
             Ok(text.as_bytes().to_vec())
         }
-        (data_type, RawValue::Int(count)) => match data_type.range() {
-            Some((lo, hi)) if (lo..=hi).contains(count) => {
-                Ok(count.to_le_bytes()[..data_type.size()].to_vec())
-            }
-            _ => Err(format!("{count} does not fit {data_type}")),
-        },
-        (_, other) => Err(format!("{other} cannot be sent as {data_type}")),
+        (data_type, RawValue::Int(count)) => data_type
+            .to_le_bytes(*count)
+            .ok_or_else(|| WireValueError::Unfit(format!("{count} does not fit {data_type}"))),
+        (_, other) => Err(WireValueError::Unfit(format!(
+            "{other} cannot be sent as {data_type}"
+        ))),
     }
 }
 
@@ -109,6 +100,7 @@ mod tests {
         );
         assert!(decode(&expedited(&[1, 0, 0, 0], true), DataType::U16)
             .unwrap_err()
+            .to_string()
             .contains("length mismatch"));
         let text = Uploaded {
             data: b"05.00.12.07".to_vec(),
@@ -122,6 +114,7 @@ mod tests {
         assert!(decode(&text, DataType::String { max: 8 }).is_err());
         assert!(decode(&text, DataType::I32)
             .unwrap_err()
+            .to_string()
             .contains("--type string"));
     }
 

@@ -93,7 +93,7 @@ mod tests {
 
     fn number(address: Option<&str>, given: &[(&str, &str)]) -> Result<u32, String> {
         let text = to_address(address, given).map_err(|p| format!("{}: {}", p.key, p.message))?;
-        Sd2Family.parse_drive_address(Some(&text)).map(|a| a.number)
+        Ok(Sd2Family.parse_drive_address(Some(&text))?.number)
     }
 
     #[test]

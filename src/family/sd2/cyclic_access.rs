@@ -20,6 +20,7 @@ use super::Sd2Access;
 use crate::clock::SharedClock;
 use crate::dictionary::{Address, DataType, RawValue};
 use crate::drive::{AccessError, ObjectAccess, WriteOutcome};
+use crate::link::CoreLink;
 use std::time::Duration;
 
 /// Objects the process data carries. 67, 68, 395 and 398 are in the sources; 400 and 401
@@ -254,7 +255,7 @@ impl Sd2CyclicAccess {
                             port: self.object.link().port().to_string(),
                             address: self.dest().to_string(),
                             request: format!("service read of object {index}"),
-                            detail,
+                            detail: detail.to_string(),
                         }
                     })
                 }),
@@ -311,7 +312,7 @@ impl ObjectAccess for Sd2CyclicAccess {
         let Some((index, size)) = Self::service_fits(address, data_type) else {
             return self.object.write(address, value, data_type);
         };
-        let bytes = wire_value::encode(value, data_type).map_err(AccessError::Encode)?;
+        let bytes = wire_value::encode(value, data_type).map_err(|e| AccessError::Encode(e.to_string()))?;
         let mut data = [0u8; 4];
         data[..bytes.len()].copy_from_slice(&bytes);
         self.service(ServiceFunction::Write, index, size, data)?;
@@ -340,7 +341,7 @@ impl ObjectAccess for Sd2CyclicAccess {
                                     port: self.object.link().port().to_string(),
                                     address: self.dest().to_string(),
                                     request: format!("service read of object {address}"),
-                                    detail,
+                                    detail: detail.to_string(),
                                 }
                             });
                         Ok((reply, Some(value)))
@@ -431,6 +432,7 @@ mod tests {
     use crate::family::sd2::codec::CMD_CYCLIC;
     use crate::family::sd2::{LinkConfig, Sd2Link, Sd2Simulator, SimConfig};
     use crate::link::{Direction, TelegramObserver};
+    use crate::sim::SimulatedDrive;
     use std::sync::{Arc, Mutex};
 
     /// The cyclic telegrams the engine sent, as bytes.

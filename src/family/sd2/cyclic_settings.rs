@@ -4,6 +4,7 @@
 //! `--velocity-scaling`, `--heartbeat`, `--cycle` which set the same options). Pure parsing.
 
 use crate::dictionary::{Quantity, Unit};
+use crate::family::FamilyError;
 use std::time::Duration;
 
 /// Which channel carries control word, setpoint and actual values.
@@ -45,7 +46,7 @@ pub const OPTIONS: [&str; 5] = [
 
 impl Channel {
     /// The channel the options ask for; an error names the option and what it accepts.
-    pub fn from_options(extra: &[(String, String)]) -> Result<Channel, String> {
+    pub fn from_options(extra: &[(String, String)]) -> Result<Channel, FamilyError> {
         let mut cyclic = false;
         let mut scaling = None;
         let mut period = DEFAULT_PERIOD;
@@ -58,9 +59,9 @@ impl Channel {
                     "object" => cyclic = false,
                     "cyclic" => cyclic = true,
                     other => {
-                        return Err(format!(
+                        return Err(FamilyError::LinkOption(format!(
                             "channel={other}: the SD2 channels are `object` (Read/Write Wide Object) and `cyclic` (DNC 8-byte telegram)"
-                        ))
+                        )))
                     }
                 },
                 "velocity-scaling" => scaling = Some(rpm(value)?),
@@ -68,7 +69,7 @@ impl Channel {
                     heartbeat = match value {
                         "on" | "true" | "yes" | "1" => true,
                         "off" | "false" | "no" | "0" => false,
-                        other => return Err(format!("heartbeat={other}: give `on` or `off`")),
+                        other => return Err(FamilyError::LinkOption(format!("heartbeat={other}: give `on` or `off`"))),
                     }
                 }
                 "cycle" => period = cycle(value)?,
@@ -80,7 +81,7 @@ impl Channel {
             return Ok(Channel::Object);
         }
         let velocity_scaling_rpm = scaling.ok_or_else(|| {
-            "the cyclic channel carries speeds as fractions of the drive's velocity scaling; give it with --velocity-scaling (e.g. 24000rpm, the drive parameter's value)".to_string()
+            FamilyError::LinkOption("the cyclic channel carries speeds as fractions of the drive's velocity scaling; give it with --velocity-scaling (e.g. 24000rpm, the drive parameter's value)".to_string())
         })?;
         Ok(Channel::Cyclic(CyclicSettings {
             velocity_scaling_rpm,
@@ -91,34 +92,39 @@ impl Channel {
     }
 }
 
-fn quantity(name: &str, value: &str, unit: Unit) -> Result<f64, String> {
-    let q = Quantity::parse(value).map_err(|e| format!("{name}={value}: {e}"))?;
+fn quantity(name: &str, value: &str, unit: Unit) -> Result<f64, FamilyError> {
+    let q = Quantity::parse(value).map_err(|e| FamilyError::LinkOption(format!("{name}={value}: {e}")))?;
     let converted = match q.unit {
-        Some(u) => u
-            .convert(q.value, unit)
-            .ok_or_else(|| format!("{name}={value}: give it in {}", unit.symbol()))?,
+        Some(u) => u.convert(q.value, unit).ok_or_else(|| {
+            FamilyError::LinkOption(format!("{name}={value}: give it in {}", unit.symbol()))
+        })?,
         None => q.value,
     };
     if converted.is_finite() && converted > 0.0 {
         Ok(converted)
     } else {
-        Err(format!("{name}={value}: must be more than 0 {}", unit.symbol()))
+        Err(FamilyError::LinkOption(format!(
+            "{name}={value}: must be more than 0 {}",
+            unit.symbol()
+        )))
     }
 }
 
-fn rpm(value: &str) -> Result<f64, String> {
+fn rpm(value: &str) -> Result<f64, FamilyError> {
     quantity("velocity-scaling", value, Unit::Rpm)
 }
 
-fn amps(value: &str) -> Result<f64, String> {
+fn amps(value: &str) -> Result<f64, FamilyError> {
     quantity("current-scaling", value, Unit::Ampere)
 }
 
-fn cycle(value: &str) -> Result<Duration, String> {
+fn cycle(value: &str) -> Result<Duration, FamilyError> {
     let d = humantime::parse_duration(&value.replace(' ', ""))
-        .map_err(|e| format!("cycle={value}: {e} (e.g. 20ms)"))?;
+        .map_err(|e| FamilyError::LinkOption(format!("cycle={value}: {e} (e.g. 20ms)")))?;
     if d < Duration::from_millis(1) || d > Duration::from_secs(1) {
-        return Err(format!("cycle={value}: give 1 ms to 1 s"));
+        return Err(FamilyError::LinkOption(format!(
+            "cycle={value}: give 1 ms to 1 s"
+        )));
     }
     Ok(d)
 }
@@ -138,7 +144,9 @@ mod tests {
 
     #[test]
     fn cyclic_needs_the_velocity_scaling() {
-        let e = Channel::from_options(&opts(&[("channel", "cyclic")])).unwrap_err();
+        let e = Channel::from_options(&opts(&[("channel", "cyclic")]))
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("--velocity-scaling"), "{e}");
     }
 
@@ -173,7 +181,8 @@ mod tests {
                 ("velocity-scaling", "24000rpm"),
                 (name, value),
             ]))
-            .unwrap_err();
+            .unwrap_err()
+            .to_string();
             assert!(e.contains(says), "{name}={value}: {e}");
         }
     }

@@ -440,7 +440,7 @@ fn addresses_in_the_familys_notation() {
         Dictionary::from_yaml_for("test.yaml", text, |t| {
             t.parse::<u16>()
                 .map(|i| Address::indexed(i, 7))
-                .map_err(|_| "a number".to_string())
+                .map_err(|_| "a number".to_string().into())
         })
     };
     let d = parse(&object("").replace("    index: 1\n", "    address: \"12\"\n")).unwrap();

@@ -1,8 +1,21 @@
-//! Lets the SD2 telegram explainer name objects and show values with units from a
-//! dictionary. Formatting only; no I/O.
+//! What the SD2 telegram explainer asks about objects ([`ObjectNames`]), and the answers a
+//! dictionary gives: names, values with units, states. Formatting only; no I/O.
 
-use super::explain::ObjectNames;
 use crate::dictionary::{Address, Dictionary, Role};
+
+/// What the explainer needs to know about objects (a dictionary, or nothing).
+pub trait ObjectNames {
+    /// A readable name for the object, e.g. `control_word (DEV_CTRL_CONTROL_WORD)`.
+    fn object_name(&self, index: u16, subindex: u32) -> Option<String>;
+    /// The object's value with its unit, e.g. `1003.647 rpm`, from its raw bytes.
+    fn object_value(&self, index: u16, subindex: u32, data: &[u8]) -> Option<String>;
+    /// True for the device-control control word.
+    fn is_control_word(&self, index: u16) -> bool;
+    /// True for the device-control status word.
+    fn is_status_word(&self, index: u16) -> bool;
+    /// The state a status word shows under the dictionary's profile.
+    fn state_of(&self, status: u16) -> Option<String>;
+}
 
 impl ObjectNames for Dictionary {
     fn object_name(&self, index: u16, subindex: u32) -> Option<String> {

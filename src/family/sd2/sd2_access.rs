@@ -6,6 +6,7 @@ use super::Sd2Link;
 use crate::clock::SharedClock;
 use crate::dictionary::{Address, DataType, RawValue};
 use crate::drive::{AccessError, ObjectAccess, WriteOutcome};
+use crate::link::CoreLink;
 
 pub struct Sd2Access {
     link: Sd2Link,
@@ -44,7 +45,7 @@ impl ObjectAccess for Sd2Access {
     fn read(&mut self, address: &Address, data_type: DataType) -> Result<RawValue, AccessError> {
         let Address::Indexed { index, subindex } = *address;
         let data = self.link.read_object(self.dest, index, subindex)?;
-        wire_value::decode(data.as_slice(), data_type).map_err(|e| self.bad_data(address, e))
+        wire_value::decode(data.as_slice(), data_type).map_err(|e| self.bad_data(address, e.to_string()))
     }
 
     fn write(
@@ -54,7 +55,7 @@ impl ObjectAccess for Sd2Access {
         data_type: DataType,
     ) -> Result<WriteOutcome, AccessError> {
         let Address::Indexed { index, subindex } = *address;
-        let bytes = wire_value::encode(value, data_type).map_err(AccessError::Encode)?;
+        let bytes = wire_value::encode(value, data_type).map_err(|e| AccessError::Encode(e.to_string()))?;
         self.link.write_object(self.dest, index, subindex, &bytes)?;
         Ok(WriteOutcome::Stored)
     }

@@ -1,12 +1,15 @@
 //! The SD2 family's [`TelegramExplainer`]: one line per telegram for traces and `-v`
 //! (`read object 67 status_word`, `reply status_word = 0x0237 operation enabled`), and the
-//! full explanation and vector JSON for `decode`. Objects are named, values shown with units
-//! and states read with the dictionary's profile. Formatting only.
+//! full explanation ([`explain`]: direction, addresses, command, object, data as numbers,
+//! error text, control and status word bits) and vector JSON for `decode`. Objects are
+//! named, values shown with units and states read with the dictionary's profile.
+//! Formatting only; object names come from whoever implements [`ObjectNames`].
 
-use super::codec::{to_json, Body, Cyclic, Data, Telegram};
-use super::explain::{explain, ObjectNames};
-use crate::drive::device_control::control_word_meaning;
-use crate::link::{Direction, TelegramExplainer};
+use super::codec::{switch_of, to_json, Body, Cyclic, Data, Telegram, WriteLength, MASTER_ADDRESS};
+use super::object_names::ObjectNames;
+use crate::drive::device_control::{control_word_bits, control_word_meaning, status_word_bits, DeviceState};
+use crate::hex::to_hex;
+use crate::link::{Direction, ExplainError, TelegramExplainer};
 use std::fmt::Write as _;
 use std::sync::Arc;
 
@@ -49,7 +52,7 @@ impl TelegramExplainer for Sd2Explainer {
         }
     }
 
-    fn explain(&mut self, bytes: &[u8]) -> Result<String, String> {
+    fn explain(&mut self, bytes: &[u8]) -> Result<String, ExplainError> {
         let t = Telegram::decode(bytes).map_err(|e| e.to_string())?;
         let request = self.context(&t);
         Ok(explain(&t, bytes, request.as_ref(), self.names.as_ref()))
@@ -189,286 +192,245 @@ fn cyclic(c: &Cyclic, reply: bool, names: &dyn ObjectNames) -> String {
     s
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::family::sd2::codec::{ErrorCode, WriteLength};
-    use crate::hex::parse_hex;
-    use crate::link::TelegramObserver;
-    use crate::report::{hex_of_trace_line, is_trace_line, TraceWriter};
-    use std::io::Write;
-    use std::path::Path;
-    use std::time::Duration;
+/// Explains `bytes` (already decoded into `telegram`). `request` is the request this
+/// telegram answers, when known, so a read reply can be read as the object it returns.
+pub fn explain(
+    telegram: &Telegram,
+    bytes: &[u8],
+    request: Option<&Telegram>,
+    names: &dyn ObjectNames,
+) -> String {
+    let mut s = String::new();
+    let t = telegram;
+    let (direction, what) = match t.body {
+        Body::ReadRequest { .. } | Body::ReadReply { .. } => (t.is_reply(), "read wide object"),
+        Body::WriteRequest { .. } | Body::WriteReply { .. } => (t.is_reply(), "write wide object"),
+        Body::CyclicRequest(_) | Body::CyclicReply(_) => (t.is_reply(), "DNC 8-byte cyclic telegram"),
+    };
+    let kind = if direction { "reply" } else { "request" };
+    line(
+        &mut s,
+        kind,
+        format!(
+            "{what} (cmd 0x{:02x}), {} → {}",
+            t.command(),
+            party(t.source),
+            party(t.dest)
+        ),
+    );
 
-    fn explainer() -> Box<dyn TelegramExplainer> {
-        Box::new(Sd2Explainer::new(Arc::new(
-            crate::family::Registry::builtin().load_dictionary("sd2").unwrap(),
-        )))
-    }
-
-    fn send(trace: &mut TraceWriter<Vec<u8>>, ms: u64, direction: Direction, t: &Telegram) {
-        let bytes = t.encode(WriteLength::Captured);
-        trace.telegram(Duration::from_millis(ms), direction, &bytes);
-    }
-
-    fn lines(trace: TraceWriter<Vec<u8>>) -> Vec<String> {
-        String::from_utf8(trace.into_inner())
-            .unwrap()
-            .lines()
-            .map(String::from)
-            .collect()
-    }
-
-    fn read_reply(data: &[u8], error: ErrorCode) -> Telegram {
-        Telegram {
-            dest: 1,
-            source: 2,
-            body: Body::ReadReply {
-                error,
-                data: Data::new(data).unwrap(),
-            },
+    match &t.body {
+        Body::ReadRequest { index, subindex } => {
+            line(&mut s, "object", object_full(names, *index, *subindex));
         }
-    }
-
-    #[test]
-    fn read_and_its_reply_are_named() {
-        let mut trace = TraceWriter::new(Vec::new(), explainer());
-        send(
-            &mut trace,
-            12,
-            Direction::Sent,
-            &Telegram::read_request(2, 1, 67, 0),
-        );
-        send(
-            &mut trace,
-            14,
-            Direction::Received,
-            &read_reply(&[0x37, 0x02], ErrorCode::OK),
-        );
-        let l = lines(trace);
-        assert_eq!(
-            l[0],
-            "    0.012000 TX 00 09 02 01 0d 43 00 00 00 00 00 a3  # read object 67 status_word"
-        );
-        assert!(l[1].starts_with("    0.014000 RX 00 "), "{}", l[1]);
-        assert!(
-            l[1].ends_with("  # reply status_word = 0x0237 operation enabled"),
-            "{}",
-            l[1]
-        );
-    }
-
-    #[test]
-    fn writes_and_write_replies() {
-        let mut trace = TraceWriter::new(Vec::new(), explainer());
-        let w = Telegram::write_request(2, 1, 395, 0, &6_000_000i32.to_le_bytes()).unwrap();
-        send(&mut trace, 1, Direction::Sent, &w);
-        let ok = Telegram {
-            dest: 1,
-            source: 2,
-            body: Body::WriteReply { error: ErrorCode::OK },
-        };
-        send(&mut trace, 2, Direction::Received, &ok);
-        let cw = Telegram::write_request(2, 1, 68, 0, &[0x06, 0x00]).unwrap();
-        send(&mut trace, 3, Direction::Sent, &cw);
-        let refused = Telegram {
-            body: Body::WriteReply {
-                error: ErrorCode::READ_ONLY,
-            },
-            ..ok
-        };
-        send(&mut trace, 4, Direction::Received, &refused);
-        let l = lines(trace);
-        assert!(
-            l[0].ends_with("# write object 395 speed_setpoint = 6000 rpm"),
-            "{}",
-            l[0]
-        );
-        assert!(l[1].ends_with("# write reply ok"), "{}", l[1]);
-        assert!(
-            l[2].ends_with("# write object 68 control_word = 0x0006 shutdown"),
-            "{}",
-            l[2]
-        );
-        assert!(
-            l[3].ends_with("# write reply 0x8A attempt to write a read-only object"),
-            "{}",
-            l[3]
-        );
-    }
-
-    #[test]
-    fn read_errors_unknown_objects_and_orphan_replies() {
-        let mut trace = TraceWriter::new(Vec::new(), explainer());
-        send(
-            &mut trace,
-            0,
-            Direction::Received,
-            &read_reply(&[0x7f, 0x50, 0x0f, 0x00], ErrorCode::OK),
-        );
-        send(
-            &mut trace,
-            1,
-            Direction::Sent,
-            &Telegram::read_request(2, 1, 9999, 0),
-        );
-        send(
-            &mut trace,
-            2,
-            Direction::Received,
-            &read_reply(&[], ErrorCode::OBJECT_DOES_NOT_EXIST),
-        );
-        send(
-            &mut trace,
-            3,
-            Direction::Sent,
-            &Telegram::read_request(2, 1, 398, 0),
-        );
-        send(
-            &mut trace,
-            4,
-            Direction::Received,
-            &read_reply(&[0x7f, 0x50, 0x0f, 0x00], ErrorCode::OK),
-        );
-        let l = lines(trace);
-        assert!(l[0].ends_with("# reply 1003647 (request not seen)"), "{}", l[0]);
-        assert!(
-            l[1].ends_with("# read object 9999 (not in the dictionary)"),
-            "{}",
-            l[1]
-        );
-        assert!(
-            l[2].ends_with("# read reply 0x8B object does not exist in the object dictionary"),
-            "{}",
-            l[2]
-        );
-        assert!(l[4].ends_with("# reply speed_actual = 1003.647 rpm"), "{}", l[4]);
-    }
-
-    #[test]
-    fn cyclic_telegrams() {
-        let mut trace = TraceWriter::new(Vec::new(), explainer());
-        let req = Telegram {
-            dest: 2,
-            source: 1,
-            body: Body::CyclicRequest(Cyclic::request(0x000f, 4095, true)),
-        };
-        send(&mut trace, 0, Direction::Sent, &req);
-        let reply = Telegram {
-            dest: 1,
-            source: 2,
-            body: Body::CyclicReply(Cyclic::reply([0, 0], 0x0237, 4095, 0, 12)),
-        };
-        send(&mut trace, 1, Direction::Received, &reply);
-        let l = lines(trace);
-        assert!(
-            l[0].ends_with("# cyclic control 0x000f enable operation, speed 25.0 %"),
-            "{}",
-            l[0]
-        );
-        assert!(
-            l[1].ends_with(
-                "# cyclic reply status 0x0237 operation enabled, speed 25.0 %, drive error 0, current 12"
-            ),
-            "{}",
-            l[1]
-        );
-    }
-
-    #[test]
-    fn rejected_blocks_and_events() {
-        let mut trace = TraceWriter::new(Vec::new(), explainer());
-        let bytes = parse_hex("00 09 01 02 8d 02 00 37 02 00").unwrap();
-        trace.telegram(Duration::from_micros(1_500_250), Direction::Received, &bytes);
-        trace.event(Duration::from_secs(2), "no reply within 100 ms\n(retry follows)");
-        trace.comment("a note");
-        let l = lines(trace);
-        assert_eq!(
-            l[0],
-            "    1.500250 RX 00 09 01 02 8d 02 00 37 02 00  # rejected: truncated: needed 12 bytes \
-             (length field 0x09), have 10"
-        );
-        assert_eq!(l[1], "    2.000000 -- no reply within 100 ms (retry follows)");
-        assert_eq!(l[2], "# a note");
-        assert_eq!(hex_of_trace_line(&l[0]), Some("00 09 01 02 8d 02 00 37 02 00"));
-        assert_eq!(hex_of_trace_line(&l[1]), None);
-        assert_eq!(hex_of_trace_line(&l[2]), None);
-    }
-
-    #[test]
-    fn hex_is_read_back_from_every_kind_of_line() {
-        let mut trace = TraceWriter::new(Vec::new(), explainer());
-        let sent = Telegram::write_request(2, 1, 395, 0, &6_000_000i32.to_le_bytes()).unwrap();
-        send(&mut trace, 7_200_000, Direction::Sent, &sent);
-        // Past the column width (100 h) the line only grows.
-        send(&mut trace, 360_000_000, Direction::Sent, &sent);
-        let l = lines(trace);
-        assert!(l[0].starts_with(" 7200.000000 TX 00 0b "), "{}", l[0]);
-        assert!(l[1].starts_with("360000.000000 TX 00 0b "), "{}", l[1]);
-        assert_eq!(hex_of_trace_line(&l[1]), hex_of_trace_line(&l[0]));
-        let hex = hex_of_trace_line(&l[0]).unwrap();
-        let bytes = parse_hex(hex).unwrap();
-        assert_eq!(Telegram::decode(&bytes).unwrap(), sent);
-
-        assert_eq!(hex_of_trace_line("    0.5 TX 00 0b  # x # y"), Some("00 0b"));
-        assert_eq!(hex_of_trace_line("0.5 RX 00 0b"), Some("00 0b"));
-        assert_eq!(hex_of_trace_line("0.5 RX (no bytes)  # rejected: no bytes"), None);
-        assert_eq!(hex_of_trace_line("# drivescript telegram trace"), None);
-        assert_eq!(hex_of_trace_line("00 0b 02 01"), None);
-        assert_eq!(hex_of_trace_line("0.5 TXT 00"), None);
-        assert_eq!(hex_of_trace_line(""), None);
-
-        for line in [
-            l[0].as_str(),
-            "    2.000000 -- no reply within 100 ms",
-            "# comment",
-        ] {
-            assert!(is_trace_line(line), "{line}");
-        }
-        for line in ["00 09 02 01 0d 43 00", "000902010d", "0x00 0x09", "", "1.5 17 00"] {
-            assert!(!is_trace_line(line), "{line}");
-        }
-    }
-
-    #[test]
-    fn a_trace_file_is_flushed_line_by_line() {
-        let dir = std::env::temp_dir().join(format!("drivescript-trace-{}", std::process::id()));
-        let path = dir.join("sub/run.trace");
-        let mut trace = TraceWriter::create(&path, explainer()).unwrap();
-        send_file(&mut trace);
-        // Read while the writer is alive: the line is there already.
-        let text = std::fs::read_to_string(&path).unwrap();
-        assert!(text.starts_with("# drivescript telegram trace"), "{text}");
-        let hex: Vec<&str> = text.lines().filter_map(hex_of_trace_line).collect();
-        assert_eq!(hex, vec!["00 09 02 01 0d 43 00 00 00 00 00 a3"]);
-        drop(trace);
-        std::fs::remove_dir_all(&dir).unwrap();
-
-        let err = TraceWriter::create(Path::new("/proc/no/such/dir/x.trace"), explainer())
-            .err()
-            .unwrap();
-        assert!(err.contains("/proc/no/such/dir"), "{err}");
-    }
-
-    fn send_file(trace: &mut TraceWriter<std::fs::File>) {
-        let t = Telegram::read_request(2, 1, 67, 0);
-        trace.telegram(Duration::ZERO, Direction::Sent, &t.encode(WriteLength::Captured));
-    }
-
-    #[test]
-    fn write_errors_do_not_reach_the_link() {
-        struct Broken;
-        impl Write for Broken {
-            fn write(&mut self, _: &[u8]) -> std::io::Result<usize> {
-                Err(std::io::Error::other("disk full"))
+        Body::WriteRequest {
+            index,
+            subindex,
+            data,
+        } => {
+            line(&mut s, "object", object_full(names, *index, *subindex));
+            line(&mut s, "data", data_text(names, Some((*index, *subindex)), data));
+            if names.is_control_word(*index) {
+                if let Some(cw) = word(data) {
+                    line(&mut s, "control", control_text(cw));
+                }
             }
-            fn flush(&mut self) -> std::io::Result<()> {
-                Ok(())
+            if let Some(&len) = bytes.get(1) {
+                let formula = WriteLength::Formula.field(data.len());
+                let how = if len == WriteLength::Captured.field(data.len()) && len != formula {
+                    format!("as captured from real drives (the manual's formula gives 0x{formula:02x})")
+                } else {
+                    "the manual's formula, 10 + count".to_string()
+                };
+                line(&mut s, "length", format!("0x{len:02x} {how}"));
             }
         }
-        let mut trace = TraceWriter::new(Broken, explainer());
-        trace.event(Duration::ZERO, "x");
-        trace.event(Duration::ZERO, "y");
-        assert_eq!(trace.error(), Some("disk full"));
+        Body::ReadReply { error, data } => {
+            line(&mut s, "error", error.to_string());
+            let addr = match request.map(|r| r.body) {
+                Some(Body::ReadRequest { index, subindex }) => Some((index, subindex)),
+                _ => None,
+            };
+            if let Some((index, subindex)) = addr {
+                line(&mut s, "object", object_full(names, index, subindex));
+            }
+            if !data.is_empty() {
+                line(&mut s, "data", data_text(names, addr, data));
+                if let (Some((index, _)), Some(sw)) = (addr, word(data)) {
+                    if names.is_status_word(index) {
+                        line(&mut s, "status", status_text(sw));
+                    }
+                }
+            }
+        }
+        Body::WriteReply { error } => line(&mut s, "error", error.to_string()),
+        Body::CyclicRequest(c) => cyclic_text(&mut s, c, false, names),
+        Body::CyclicReply(c) => cyclic_text(&mut s, c, true, names),
+    }
+    if let Some(&check) = bytes.last() {
+        line(&mut s, "check", format!("0x{check:02x} ok"));
+    }
+    s
+}
+
+fn line(s: &mut String, label: &str, text: String) {
+    let _ = writeln!(s, "  {label:<9} {text}");
+}
+
+fn party(address: u8) -> String {
+    if address <= MASTER_ADDRESS {
+        return format!("PC ({address})");
+    }
+    match switch_of(address) {
+        Some((switch, letter)) => format!("drive {address} (switch {switch}, drive {letter})"),
+        None => format!("drive {address}"),
     }
 }
+
+fn object_full(names: &dyn ObjectNames, index: u16, subindex: u32) -> String {
+    let name = names
+        .object_name(index, subindex)
+        .map(|n| format!(" {n}"))
+        .unwrap_or_else(|| " (not in the dictionary)".into());
+    format!("{index} (0x{index:04x}){name}, subindex {subindex}")
+}
+
+fn word(data: &Data) -> Option<u16> {
+    match data.as_slice() {
+        [lo, hi] => Some(u16::from_le_bytes([*lo, *hi])),
+        _ => None,
+    }
+}
+
+fn data_text(names: &dyn ObjectNames, addr: Option<(u16, u32)>, data: &Data) -> String {
+    let bytes = data.as_slice();
+    let mut text = format!(
+        "{} ({} byte{})",
+        to_hex(bytes),
+        bytes.len(),
+        if bytes.len() == 1 { "" } else { "s" }
+    );
+    if let Some(value) = addr.and_then(|(i, sub)| names.object_value(i, sub, bytes)) {
+        let _ = write!(text, " = {value}");
+        return text;
+    }
+    match bytes {
+        [b] => {
+            let _ = write!(text, " = {b} (u8)");
+        }
+        [a, b] => {
+            let u = u16::from_le_bytes([*a, *b]);
+            let _ = write!(text, " = {u} (u16), {} (i16)", u as i16);
+        }
+        [a, b, c, d] => {
+            let u = u32::from_le_bytes([*a, *b, *c, *d]);
+            let _ = write!(text, " = {} (i32), {u} (u32)", u as i32);
+        }
+        _ => {}
+    }
+    if let Some(string) = as_string(bytes) {
+        let _ = write!(text, " = \"{string}\" (string)");
+    }
+    text
+}
+
+/// SD2 strings: data[0] is the maximum length, then the characters, NUL-terminated when
+/// shorter than the maximum.
+pub(crate) fn as_string(bytes: &[u8]) -> Option<String> {
+    let (&max, rest) = bytes.split_first()?;
+    if rest.is_empty() || usize::from(max) < rest.iter().take_while(|&&b| b != 0).count() {
+        return None;
+    }
+    let text: Vec<u8> = rest.iter().copied().take_while(|&b| b != 0).collect();
+    if text.is_empty() || !text.iter().all(|b| b.is_ascii_graphic() || *b == b' ') {
+        return None;
+    }
+    String::from_utf8(text).ok()
+}
+
+fn control_text(cw: u16) -> String {
+    format!(
+        "{cw}: {} (bits set: {})",
+        control_word_meaning(cw),
+        list(control_word_bits(cw))
+    )
+}
+
+fn status_text(sw: u16) -> String {
+    let state = DeviceState::from_status_word(sw)
+        .map(|s| s.to_string())
+        .unwrap_or_else(|| "no state of the table matches".into());
+    format!("0x{sw:04x}: {state} (bits set: {})", list(status_word_bits(sw)))
+}
+
+fn list(items: Vec<String>) -> String {
+    if items.is_empty() {
+        "none".into()
+    } else {
+        items.join(", ")
+    }
+}
+
+fn cyclic_text(s: &mut String, c: &Cyclic, reply: bool, names: &dyn ObjectNames) {
+    let toggle = if c.toggle() {
+        "heartbeat toggle set"
+    } else {
+        "heartbeat toggle clear"
+    };
+    line(s, "header", format!("{} ({toggle})", to_hex(&c.header)));
+    if reply {
+        line(s, "status", status_text(c.word()));
+        line(
+            s,
+            "speed",
+            format!(
+                "{} = {:.1} % of the velocity scaling (actual)",
+                c.speed(),
+                c.speed_percent()
+            ),
+        );
+        line(s, "error", format!("drive error {}", c.drive_error()));
+        line(s, "current", format!("{} (drive scaling)", c.current()));
+    } else {
+        line(s, "control", control_text(c.word()));
+        line(
+            s,
+            "speed",
+            format!(
+                "{} = {:.1} % of the velocity scaling (reference)",
+                c.speed(),
+                c.speed_percent()
+            ),
+        );
+    }
+    if let Some(svc) = &c.service {
+        let head = if reply {
+            format!("state 0x{:02x}", svc.ctrl)
+        } else {
+            format!(
+                "ctrl 0x{:02x}: {} object, toggle {}, {} valid byte{}",
+                svc.ctrl,
+                svc.function().id().replace('_', " "),
+                u8::from(svc.toggle()),
+                svc.valid_bytes(),
+                if svc.valid_bytes() == 1 { "" } else { "s" }
+            )
+        };
+        let reserved = if svc.reserved != 0 {
+            format!(" (reserved byte 0x{:02x} is not zero)", svc.reserved)
+        } else {
+            String::new()
+        };
+        line(s, "service", format!("{head}{reserved}"));
+        line(s, "object", object_full(names, svc.index, 0));
+        line(s, "data", format!("{} = {}", to_hex(&svc.data), svc.value()));
+    }
+}
+
+#[cfg(test)]
+#[path = "sd2_explainer_tests.rs"]
+mod tests;
+
+#[cfg(test)]
+#[path = "sd2_explanation_tests.rs"]
+mod explanation_tests;

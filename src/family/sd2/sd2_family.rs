@@ -6,14 +6,15 @@ use super::codec::{dnc_address, WriteLength};
 use super::cyclic_settings::{self, Channel};
 use super::{LinkConfig, Sd2Access, Sd2CyclicAccess, Sd2Explainer, Sd2Link, Sd2Simulator};
 use crate::bus::{Bus, BusKind, SerialSettings};
-use crate::dictionary::{Access, Address, AddressParser, DataType, Dictionary, ObjectDef};
+use crate::dictionary::{Access, Address, AddressError, AddressParser, DataType, Dictionary, ObjectDef};
 use crate::drive::{AddressKeys, ObjectAccess};
 use crate::family::{
-    BuiltinDictionary, DriveAddress, Family, LinkContext, LinkOptions, SimPeer, SimulatedDevice,
+    serial_line, BuiltinDictionary, DriveAddress, Family, FamilyError, LinkContext, LinkOptions,
+    SimulatedDevice,
 };
 use crate::link::TelegramExplainer;
 use crate::sim::SimConfig;
-use std::sync::{Arc, Mutex};
+use std::sync::Arc;
 
 const DICTIONARIES: &[BuiltinDictionary] = &[BuiltinDictionary {
     name: "sd2",
@@ -25,7 +26,7 @@ pub struct Sd2Family;
 
 /// An object's address as the SD2 manual writes it: the index, decimal or `0x` hex, and an
 /// optional `/subindex`: `395`, `0x18B`, `22/3`.
-fn parse_object_address(text: &str) -> Result<Address, String> {
+fn parse_object_address(text: &str) -> Result<Address, AddressError> {
     let (index, subindex) = text.trim().split_once('/').unwrap_or((text.trim(), "0"));
     let number = |t: &str| match t
         .trim()
@@ -44,22 +45,22 @@ fn parse_object_address(text: &str) -> Result<Address, String> {
 }
 
 impl Sd2Family {
-    fn write_length(extra: &[(String, String)]) -> Result<WriteLength, String> {
+    fn write_length(extra: &[(String, String)]) -> Result<WriteLength, FamilyError> {
         let mut choice = WriteLength::Captured;
         for (name, value) in extra {
             match (name.as_str(), value.as_str()) {
                 ("write-length", "captured") => choice = WriteLength::Captured,
                 ("write-length", "formula") => choice = WriteLength::Formula,
                 ("write-length", other) => {
-                    return Err(format!(
+                    return Err(FamilyError::LinkOption(format!(
                         "--link-option write-length={other}: give `captured` (0x0B, what every capture from real drives sends) or `formula` (10 + count, the manual's formula)"
-                    ))
+                    )))
                 }
                 (other, _) if cyclic_settings::OPTIONS.contains(&other.replace('_', "-").as_str()) => {}
                 (other, _) => {
-                    return Err(format!(
+                    return Err(FamilyError::LinkOption(format!(
                         "--link-option {other}: the sd2 family knows `write-length=captured|formula`, `channel=object|cyclic`, and for the cyclic channel `velocity-scaling=RPM`, `heartbeat=on|off`, `cycle=DURATION`, `current-scaling=AMPERES_PER_COUNT`"
-                    ))
+                    )))
                 }
             }
         }
@@ -92,15 +93,15 @@ impl Family for Sd2Family {
         parse_object_address
     }
 
-    fn parse_drive_address(&self, text: Option<&str>) -> Result<DriveAddress, String> {
+    fn parse_drive_address(&self, text: Option<&str>) -> Result<DriveAddress, FamilyError> {
         let text = text.map(str::trim).unwrap_or("0");
         let dnc = if let Some(raw) = text.strip_prefix("dnc:") {
             match raw.trim().parse::<u8>() {
                 Ok(n) if n >= 2 => n,
                 _ => {
-                    return Err(format!(
+                    return Err(FamilyError::DriveAddress(format!(
                         "--address {text}: addresses 0 and 1 belong to the master; a drive's DNC address is 2..=255"
-                    ))
+                    )))
                 }
             }
         } else {
@@ -109,14 +110,14 @@ impl Family for Sd2Family {
                 Some('a' | 'A') => (&text[..text.len() - 1], false),
                 _ => (text, false),
             };
-            let switch: u8 = digits
-                .parse()
-                .map_err(|_| format!("--address {text}: {}", self.address_help()))?;
+            let switch: u8 = digits.parse().map_err(|_| {
+                FamilyError::DriveAddress(format!("--address {text}: {}", self.address_help()))
+            })?;
             dnc_address(switch, drive_b).ok_or_else(|| {
-                format!(
+                FamilyError::DriveAddress(format!(
                     "--address {text}: switch × 2 + {} exceeds 255; the highest switch position is 126",
                     2 + u8::from(drive_b)
-                )
+                ))
             })?
         };
         Ok(DriveAddress {
@@ -133,7 +134,7 @@ impl Family for Sd2Family {
         super::SD2_ADDRESS_KEYS
     }
 
-    fn check_link_options(&self, extra: &[(String, String)]) -> Result<(), String> {
+    fn check_link_options(&self, extra: &[(String, String)]) -> Result<(), FamilyError> {
         Self::write_length(extra)?;
         Channel::from_options(extra).map(|_| ())
     }
@@ -144,28 +145,18 @@ impl Family for Sd2Family {
         drive: &DriveAddress,
         options: &LinkOptions,
         context: LinkContext,
-    ) -> Result<Box<dyn ObjectAccess>, String> {
-        let Bus::Bytes(transport) = bus else {
-            return Err(format!(
-                "the sd2 family talks over a serial line, not over {}",
-                bus.name()
-            ));
-        };
-        let dest = u8::try_from(drive.number)
-            .map_err(|_| format!("DNC address {} is more than 255", drive.number))?;
+    ) -> Result<Box<dyn ObjectAccess>, FamilyError> {
+        let transport = serial_line(bus, self.id())?;
+        let dest = u8::try_from(drive.number).map_err(|_| {
+            FamilyError::DriveAddress(format!("DNC address {} is more than 255", drive.number))
+        })?;
         let config = LinkConfig {
             reply_timeout: options.reply_timeout,
             retries: options.retries,
             write_length: Self::write_length(&options.extra)?,
             ..LinkConfig::default()
         };
-        let mut link = Sd2Link::new(transport.clone(), context.clock, config);
-        if let Some(o) = context.observer {
-            link.set_observer(o);
-        }
-        if let Some(s) = context.stop {
-            link.set_stop_requests(s);
-        }
+        let link = context.link(|clock| Sd2Link::new(transport, clock, config));
         let access = Sd2Access::new(link, dest);
         Ok(match Channel::from_options(&options.extra)? {
             Channel::Object => Box::new(access),
@@ -175,27 +166,25 @@ impl Family for Sd2Family {
 
     fn simulator(&self, drive: &DriveAddress, config: SimConfig) -> SimulatedDevice {
         let address = u8::try_from(drive.number).unwrap_or(config.address);
-        let sim = Arc::new(Mutex::new(Sd2Simulator::new(SimConfig { address, ..config })));
-        SimulatedDevice {
-            drive: sim.clone(),
-            peer: SimPeer::Bytes(sim),
-        }
+        SimulatedDevice::bytes(Sd2Simulator::new(SimConfig { address, ..config }))
     }
 
     fn explainer(&self, dictionary: Arc<Dictionary>) -> Box<dyn TelegramExplainer> {
         Box::new(Sd2Explainer::new(dictionary))
     }
 
-    fn raw_object(&self, text: &str, data_type: Option<DataType>) -> Option<Result<ObjectDef, String>> {
+    fn raw_object(&self, text: &str, data_type: Option<DataType>) -> Option<Result<ObjectDef, FamilyError>> {
         // Dictionary names start with a letter, so a leading digit can only mean an index.
         if !text.trim().starts_with(|c: char| c.is_ascii_digit()) {
             return None;
         }
-        Some(parse_object_address(text).and_then(|address| {
+        Some(parse_object_address(text).map_err(FamilyError::from).and_then(|address| {
             let data_type = data_type.ok_or_else(|| {
-                "an SD2 reply gives a value's length but not whether it is signed or text; give the type with --type \
-                 (u8, i8, u16, i16, u32, i32 or string(N))"
-                    .to_string()
+                FamilyError::Object(
+                    "an SD2 reply gives a value's length but not whether it is signed or text; give the type with --type \
+                     (u8, i8, u16, i16, u32, i32 or string(N))"
+                        .to_string(),
+                )
             })?;
             Ok(ObjectDef::new(text.trim(), address, data_type, Access::ReadWrite))
         }))
@@ -207,6 +196,28 @@ mod tests {
     use super::*;
 
     #[test]
+    fn refusals_say_which_input_was_wrong() {
+        let f = Sd2Family;
+        assert!(matches!(
+            f.parse_drive_address(Some("dnc:1")),
+            Err(FamilyError::DriveAddress(_))
+        ));
+        let option = [("write-length".to_string(), "long".to_string())];
+        assert!(matches!(
+            f.check_link_options(&option),
+            Err(FamilyError::LinkOption(_))
+        ));
+        assert!(matches!(
+            f.raw_object("395", None),
+            Some(Err(FamilyError::Object(_)))
+        ));
+        assert!(matches!(
+            f.raw_object("99999", Some(DataType::U8)),
+            Some(Err(FamilyError::Object(_)))
+        ));
+    }
+
+    #[test]
     fn addresses_in_sd2_notation() {
         let f = Sd2Family;
         let a = |t: Option<&str>| f.parse_drive_address(t).map(|a| (a.number, a.shown));
@@ -214,11 +225,15 @@ mod tests {
         assert_eq!(a(Some("5")).unwrap().0, 12);
         assert_eq!(a(Some("0B")).unwrap().0, 3);
         assert_eq!(a(Some("dnc:17")).unwrap().0, 17);
-        assert!(a(Some("dnc:1")).unwrap_err().contains("belong to the master"));
+        assert!(a(Some("dnc:1"))
+            .unwrap_err()
+            .to_string()
+            .contains("belong to the master"));
         assert!(a(Some("127B"))
             .unwrap_err()
+            .to_string()
             .contains("highest switch position is 126"));
-        assert!(a(Some("x")).unwrap_err().contains("address switch"));
+        assert!(a(Some("x")).unwrap_err().to_string().contains("address switch"));
     }
 
     #[test]
@@ -226,8 +241,14 @@ mod tests {
         assert_eq!(parse_object_address("395"), Ok(Address::indexed(395, 0)));
         assert_eq!(parse_object_address("0x18B"), Ok(Address::indexed(395, 0)));
         assert_eq!(parse_object_address(" 22/3 "), Ok(Address::indexed(22, 3)));
-        assert!(parse_object_address("70000").unwrap_err().contains("0..=65535"));
-        assert!(parse_object_address("22/x").unwrap_err().contains("subindex"));
+        assert!(parse_object_address("70000")
+            .unwrap_err()
+            .to_string()
+            .contains("0..=65535"));
+        assert!(parse_object_address("22/x")
+            .unwrap_err()
+            .to_string()
+            .contains("subindex"));
     }
 
     #[test]

@@ -14,9 +14,7 @@ use crate::family::sd2::codec::{
     check_reply, Body, Cyclic, Data, DecodeError, ErrorCode, FrameExtractor, Framing, Telegram,
 };
 use crate::hex::to_hex;
-use crate::link::{Direction, LinkCore, LinkStats, ReplyWait, TelegramObserver};
-use crate::stop_request::StopRequests;
-use std::sync::Arc;
+use crate::link::{AttemptFailure, CoreLink, Direction, ExchangeText, LinkCore, Refusal, RetryPlan};
 use std::time::Duration;
 
 /// A stop request does not cut short the first part of a reply wait: a drive that is
@@ -37,18 +35,8 @@ pub struct Sd2Link {
     request_bytes: Vec<u8>,
 }
 
-/// Why one attempt did not produce a reply.
-enum AttemptFailure {
-    Timeout,
-    Refused {
-        bytes: Vec<u8>,
-        problem: DecodeError,
-    },
-    /// A stop was requested while the drive was silent.
-    Interrupted,
-    /// The port itself failed (closed, unplugged): retrying will not help.
-    Transport(TransportError),
-}
+/// A reply that does not answer: its bytes and why.
+type Refused = Refusal<Vec<u8>, DecodeError>;
 
 impl Sd2Link {
     pub fn new(transport: SharedTransport, clock: SharedClock, config: LinkConfig) -> Self {
@@ -61,11 +49,6 @@ impl Sd2Link {
         }
     }
 
-    /// Lets stop requests end reply waits and retries early (see [`STOP_GRACE`]).
-    pub fn set_stop_requests(&mut self, stop: Arc<StopRequests>) {
-        self.core.set_stop_requests(stop);
-    }
-
     /// Closes and opens the port again after it failed; what arrived before is dropped.
     pub fn reopen(&mut self) -> Result<(), AccessError> {
         self.extractor.clear();
@@ -74,28 +57,12 @@ impl Sd2Link {
         Ok(())
     }
 
-    pub fn set_observer(&mut self, observer: Box<dyn TelegramObserver>) {
-        self.core.set_observer(observer);
-    }
-
-    pub fn take_observer(&mut self) -> Option<Box<dyn TelegramObserver>> {
-        self.core.take_observer()
-    }
-
     pub fn port(&self) -> &str {
         self.transport.name()
     }
 
     pub fn config(&self) -> &LinkConfig {
         &self.config
-    }
-
-    pub fn stats(&self) -> LinkStats {
-        self.core.stats
-    }
-
-    pub fn clock(&self) -> &SharedClock {
-        &self.core.clock
     }
 
     /// Sends `request` and returns the reply that answers it, retrying on timeouts and on
@@ -113,70 +80,31 @@ impl Sd2Link {
         let shared = self.transport.clone();
         let mut line = shared.lock();
         let t: &mut dyn Transport = line.as_mut();
-        let attempts = self.config.retries + 1;
-        let mut last_refused: Option<(Vec<u8>, DecodeError)> = None;
-        for attempt in 1..=attempts {
-            if attempt > 1 {
-                if self.core.stop_pending() {
-                    return Err(self.interrupted(request, bytes));
-                }
-                self.core.stats.retries += 1;
-                self.core.settle(t, self.config.settle)?;
-                self.core
-                    .event(&format!("retry {} of {}", attempt - 1, self.config.retries));
+        let c = &self.config;
+        let plan = RetryPlan::new(c.retries, c.settle, c.reply_timeout);
+        plan.run(self, t, |link, t, attempt| {
+            link.flush_input(t).map_err(AttemptFailure::Transport)?;
+            t.write_all(bytes).map_err(AttemptFailure::Transport)?;
+            link.core.stats.requests += 1;
+            link.core.notify(Direction::Sent, bytes);
+            let reply = link.await_reply(t, request)?;
+            // Only a first attempt answered with nothing after it vouches for a clean
+            // line: after a retry, the failed attempt's reply may still come.
+            if attempt == 1 && link.extractor.pending().is_empty() {
+                t.exchange_complete();
             }
-            self.flush_input(t)?;
-            t.write_all(bytes)?;
-            self.core.stats.requests += 1;
-            self.core.notify(Direction::Sent, bytes);
-            match self.await_reply(t, request) {
-                Ok(reply) => {
-                    self.core.stats.replies += 1;
-                    // Only a first attempt answered with nothing after it vouches for a
-                    // clean line: after a retry, the failed attempt's reply may still come.
-                    if attempt == 1 && self.extractor.pending().is_empty() {
-                        t.exchange_complete();
-                    }
-                    return Ok(reply);
-                }
-                Err(AttemptFailure::Timeout) => {
-                    self.core.stats.timeouts += 1;
-                    let ms = self.config.reply_timeout.as_millis();
-                    self.core.event(&format!("no reply within {ms} ms"));
-                }
-                Err(AttemptFailure::Refused { bytes, problem }) => {
-                    self.core.event(&format!("reply refused: {problem}"));
-                    last_refused = Some((bytes, problem));
-                }
-                Err(AttemptFailure::Transport(e)) => {
-                    self.core.event(&format!("transport failed: {e}"));
-                    return Err(AccessError::Transport(e));
-                }
-                Err(AttemptFailure::Interrupted) => {
-                    self.core.event("stop requested while waiting for the reply");
-                    return Err(self.interrupted(request, bytes));
-                }
-            }
-        }
-        let request_text = describe_request(request, bytes);
-        let port = self.transport.name().to_string();
-        Err(match last_refused {
-            Some((reply, problem)) => AccessError::BadReply {
-                port,
+            Ok(reply)
+        })
+        .map_err(|unanswered| {
+            let text = ExchangeText {
+                port: self.transport.name().to_string(),
                 address: request.dest.to_string(),
-                request: request_text,
-                reply: to_hex(&reply),
-                problem: problem.to_string(),
-                attempts,
-            },
-            None => AccessError::NoReply {
-                port,
-                address: request.dest.to_string(),
-                request: request_text,
-                attempts,
-                timeout_ms: self.config.reply_timeout.as_millis(),
+                request: describe_request(request, bytes),
                 hint: NO_REPLY_HINT.to_string(),
-            },
+            };
+            unanswered.into_error(text, plan.reply_timeout, |r| {
+                (to_hex(&r.reply), r.problem.to_string())
+            })
         })
     }
 
@@ -241,14 +169,6 @@ impl Sd2Link {
         }
     }
 
-    fn interrupted(&self, request: &Telegram, bytes: &[u8]) -> AccessError {
-        AccessError::Interrupted {
-            port: self.transport.name().to_string(),
-            address: request.dest.to_string(),
-            request: describe_request(request, bytes),
-        }
-    }
-
     fn unexpected(&self, request: &Telegram, reply: &Telegram) -> AccessError {
         AccessError::UnexpectedReply {
             port: self.transport.name().to_string(),
@@ -258,7 +178,7 @@ impl Sd2Link {
         }
     }
 
-    fn flush_input(&mut self, t: &mut dyn Transport) -> Result<(), AccessError> {
+    fn flush_input(&mut self, t: &mut dyn Transport) -> Result<(), TransportError> {
         let dropped = t.discard_input()? + self.extractor.pending().len();
         self.extractor.clear();
         if dropped > 0 {
@@ -268,7 +188,11 @@ impl Sd2Link {
         Ok(())
     }
 
-    fn await_reply(&mut self, t: &mut dyn Transport, request: &Telegram) -> Result<Telegram, AttemptFailure> {
+    fn await_reply(
+        &mut self,
+        t: &mut dyn Transport,
+        request: &Telegram,
+    ) -> Result<Telegram, AttemptFailure<Refused>> {
         // The reply timeout and the stop grace count from when the request has left the line.
         let sent = self.core.clock.now() + t.still_sending();
         let deadline = sent + self.config.reply_timeout;
@@ -283,10 +207,10 @@ impl Sd2Link {
                     Ok(t) => t,
                     Err(problem) => {
                         self.core.stats.corrupt_replies += 1;
-                        return Err(AttemptFailure::Refused {
-                            bytes: block.bytes,
+                        return Err(AttemptFailure::Bad(Refusal {
+                            reply: block.bytes,
                             problem,
-                        });
+                        }));
                     }
                 };
                 if !telegram.is_reply() {
@@ -295,20 +219,27 @@ impl Sd2Link {
                 }
                 if let Err(problem) = check_reply(request, &telegram) {
                     self.core.stats.mismatched_replies += 1;
-                    return Err(AttemptFailure::Refused {
-                        bytes: block.bytes,
+                    return Err(AttemptFailure::Bad(Refusal {
+                        reply: block.bytes,
                         problem,
-                    });
+                    }));
                 }
                 return Ok(telegram);
             }
             match self.core.read_reply(t, sent, deadline) {
                 Ok(bytes) => self.extractor.push(bytes),
-                Err(ReplyWait::Timeout) => return Err(AttemptFailure::Timeout),
-                Err(ReplyWait::Interrupted) => return Err(AttemptFailure::Interrupted),
-                Err(ReplyWait::Transport(e)) => return Err(AttemptFailure::Transport(e)),
+                Err(wait) => return Err(wait.into()),
             }
         }
+    }
+}
+
+impl CoreLink for Sd2Link {
+    fn core(&mut self) -> &mut LinkCore {
+        &mut self.core
+    }
+    fn core_ref(&self) -> &LinkCore {
+        &self.core
     }
 }
 
@@ -329,6 +260,8 @@ mod tests {
     use crate::bus::{MemoryTransport, Peer, PeerReply, SharedTransport};
     use crate::clock::{Clock, VirtualClock};
     use crate::family::sd2::codec::WriteLength;
+    use crate::link::TelegramObserver;
+    use crate::stop_request::StopRequests;
     use std::collections::VecDeque;
     use std::sync::{Arc, Mutex};
     use std::time::Duration;

@@ -2,12 +2,14 @@
 //! type's size; strings as `data[0]` = maximum length, then the characters, NUL-terminated
 //! when shorter (the read layout; the sources show no string write). Pure.
 
-use crate::dictionary::{DataType, RawValue};
+use crate::dictionary::{DataType, RawValue, WireValueError};
 
 /// Decodes a data field; a wrong byte count is refused with expected vs. actual.
-pub fn decode(bytes: &[u8], data_type: DataType) -> Result<RawValue, String> {
+pub fn decode(bytes: &[u8], data_type: DataType) -> Result<RawValue, WireValueError> {
     let size = data_type.size();
-    let wrong_count = |expected: String| format!("{data_type} takes {expected} bytes, got {}", bytes.len());
+    let wrong_count = |expected: String| {
+        WireValueError::Malformed(format!("{data_type} takes {expected} bytes, got {}", bytes.len()))
+    };
     if let DataType::String { .. } = data_type {
         let Some((_, chars)) = bytes.split_first() else {
             return Err(wrong_count(format!("1 to {size}")));
@@ -21,25 +23,19 @@ pub fn decode(bytes: &[u8], data_type: DataType) -> Result<RawValue, String> {
     if bytes.len() != size {
         return Err(wrong_count(size.to_string()));
     }
-    let mut buf = [0u8; 8];
-    buf[..size].copy_from_slice(bytes);
-    let unsigned = u64::from_le_bytes(buf);
-    Ok(RawValue::Int(if data_type.is_signed() {
-        let shift = 64 - 8 * size as u32;
-        ((unsigned << shift) as i64) >> shift
-    } else {
-        unsigned as i64
-    }))
+    Ok(RawValue::Int(data_type.from_le_bytes(bytes)))
 }
 
 /// The data field for `raw`. A value that does not fit the type (text for an integer, a
 /// count outside the type's range, text too long or not ASCII) is refused instead of
 /// being written wrapped.
-pub fn encode(raw: &RawValue, data_type: DataType) -> Result<Vec<u8>, String> {
+pub fn encode(raw: &RawValue, data_type: DataType) -> Result<Vec<u8>, WireValueError> {
     match (data_type, raw) {
         (DataType::String { max }, RawValue::Text(text)) => {
             if text.len() > usize::from(max) || !text.is_ascii() {
-                return Err(format!("{text:?} does not fit {data_type}"));
+                return Err(WireValueError::Unfit(format!(
+                    "{text:?} does not fit {data_type}"
+                )));
             }
             let mut bytes = Vec::with_capacity(text.len() + 2);
             bytes.push(max);
@@ -49,13 +45,12 @@ pub fn encode(raw: &RawValue, data_type: DataType) -> Result<Vec<u8>, String> {
             }
             Ok(bytes)
         }
-        (data_type, RawValue::Int(count)) => match data_type.range() {
-            Some((lo, hi)) if (lo..=hi).contains(count) => {
-                Ok(count.to_le_bytes()[..data_type.size()].to_vec())
-            }
-            _ => Err(format!("{count} does not fit {data_type}")),
-        },
-        (_, other) => Err(format!("{other} cannot be sent as {data_type}")),
+        (data_type, RawValue::Int(count)) => data_type
+            .to_le_bytes(*count)
+            .ok_or_else(|| WireValueError::Unfit(format!("{count} does not fit {data_type}"))),
+        (_, other) => Err(WireValueError::Unfit(format!(
+            "{other} cannot be sent as {data_type}"
+        ))),
     }
 }
 
@@ -99,12 +94,12 @@ mod tests {
     fn wrong_byte_counts_are_refused() {
         assert_eq!(
             decode(&[1, 2], DataType::I32).unwrap_err(),
-            "i32 takes 4 bytes, got 2"
+            WireValueError::Malformed("i32 takes 4 bytes, got 2".into())
         );
         let ident = DataType::String { max: 32 };
         assert_eq!(
             decode(&[], ident).unwrap_err(),
-            "string(32) takes 1 to 33 bytes, got 0"
+            WireValueError::Malformed("string(32) takes 1 to 33 bytes, got 0".into())
         );
         assert!(decode(&[0x20; 34], ident).is_err());
     }

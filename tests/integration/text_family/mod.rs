@@ -15,12 +15,13 @@ use drivescript::bus::{Bus, BusKind, SerialSettings};
 use drivescript::dictionary::{Address, AddressParser, Dictionary};
 use drivescript::drive::ObjectAccess;
 use drivescript::family::{
-    BuiltinDictionary, DriveAddress, Family, LinkContext, LinkOptions, Registry, SimPeer, SimulatedDevice,
+    serial_line, BuiltinDictionary, DriveAddress, Family, FamilyError, LinkContext, LinkOptions, Registry,
+    SimulatedDevice,
 };
-use drivescript::link::{Direction, TelegramExplainer};
+use drivescript::link::{Direction, ExplainError, TelegramExplainer};
 use drivescript::sim::SimConfig;
 use std::path::PathBuf;
-use std::sync::{Arc, Mutex};
+use std::sync::Arc;
 
 const DICTIONARIES: &[BuiltinDictionary] = &[BuiltinDictionary {
     name: "text",
@@ -51,14 +52,14 @@ impl Family for TextFamily {
             text.trim()
                 .parse::<u16>()
                 .map(|i| Address::indexed(i, 0))
-                .map_err(|_| "a text-family address is an object number".to_string())
+                .map_err(|_| "a text-family address is an object number".to_string().into())
         }
     }
-    fn parse_drive_address(&self, text: Option<&str>) -> Result<DriveAddress, String> {
+    fn parse_drive_address(&self, text: Option<&str>) -> Result<DriveAddress, FamilyError> {
         let number = text
             .unwrap_or("1")
             .parse::<u32>()
-            .map_err(|_| format!("--address {text:?}: a number"))?;
+            .map_err(|_| FamilyError::DriveAddress(format!("--address {text:?}: a number")))?;
         Ok(DriveAddress {
             number,
             shown: format!("node {number}"),
@@ -67,35 +68,22 @@ impl Family for TextFamily {
     fn address_help(&self) -> &'static str {
         "the node number"
     }
-    fn check_link_options(&self, extra: &[(String, String)]) -> Result<(), String> {
-        match extra.first() {
-            Some((name, _)) => Err(format!("--link-option {name}: the text family has none")),
-            None => Ok(()),
-        }
-    }
     fn open(
         &self,
         bus: &Bus,
         drive: &DriveAddress,
         options: &LinkOptions,
         context: LinkContext,
-    ) -> Result<Box<dyn ObjectAccess>, String> {
-        let Bus::Bytes(line) = bus else {
-            return Err("the text family needs a byte line".into());
-        };
+    ) -> Result<Box<dyn ObjectAccess>, FamilyError> {
         Ok(Box::new(text_access::TextAccess::new(
-            line.clone(),
+            serial_line(bus, self.id())?,
             drive.number,
             options.reply_timeout,
             context,
         )))
     }
     fn simulator(&self, _drive: &DriveAddress, config: SimConfig) -> SimulatedDevice {
-        let sim = Arc::new(Mutex::new(text_simulator::TextSimulator::new(config)));
-        SimulatedDevice {
-            drive: sim.clone(),
-            peer: SimPeer::Bytes(sim),
-        }
+        SimulatedDevice::bytes(text_simulator::TextSimulator::new(config))
     }
     fn explainer(&self, _dictionary: Arc<Dictionary>) -> Box<dyn TelegramExplainer> {
         Box::new(TextExplainer)
@@ -109,7 +97,7 @@ impl TelegramExplainer for TextExplainer {
     fn summary(&mut self, _direction: Direction, bytes: &[u8]) -> String {
         String::from_utf8_lossy(bytes).trim().to_string()
     }
-    fn explain(&mut self, bytes: &[u8]) -> Result<String, String> {
+    fn explain(&mut self, bytes: &[u8]) -> Result<String, ExplainError> {
         Ok(format!("  line {}\n", String::from_utf8_lossy(bytes).trim()))
     }
     fn json(&mut self, bytes: &[u8]) -> (serde_json::Value, bool) {

@@ -1,65 +1,69 @@
 //! Object access for the test-only text family: one request line, one reply line, over a
 //! shared byte line, within the reply timeout.
 
-use drivescript::bus::{SharedTransport, TransportError};
+use drivescript::bus::{SharedTransport, Transport};
 use drivescript::clock::SharedClock;
 use drivescript::dictionary::{Address, DataType, RawValue};
 use drivescript::drive::{AccessError, ObjectAccess, WriteOutcome};
 use drivescript::family::LinkContext;
-use drivescript::link::{Direction, TelegramObserver};
+use drivescript::link::{AttemptFailure, CoreLink, Direction, ExchangeText, LinkCore, RetryPlan};
+use std::convert::Infallible;
 use std::time::Duration;
 
 pub struct TextAccess {
     line: SharedTransport,
     node: u32,
-    timeout: Duration,
-    clock: SharedClock,
-    observer: Option<Box<dyn TelegramObserver>>,
+    plan: RetryPlan,
+    core: LinkCore,
+}
+
+impl CoreLink for TextAccess {
+    fn core(&mut self) -> &mut LinkCore {
+        &mut self.core
+    }
+    fn core_ref(&self) -> &LinkCore {
+        &self.core
+    }
 }
 
 impl TextAccess {
     pub fn new(line: SharedTransport, node: u32, timeout: Duration, context: LinkContext) -> Self {
-        TextAccess {
+        context.link(|clock| TextAccess {
             line,
             node,
-            timeout,
-            clock: context.clock,
-            observer: context.observer,
-        }
+            plan: RetryPlan::new(0, Duration::ZERO, timeout),
+            core: LinkCore::new(clock, Duration::ZERO),
+        })
     }
 
     fn exchange(&mut self, request: String) -> Result<String, AccessError> {
         let bytes = format!("{request}\r").into_bytes();
-        let mut reply = Vec::new();
-        {
-            let mut t = self.line.lock();
-            t.discard_input()?;
-            t.write_all(&bytes)?;
-            let deadline = self.clock.now() + self.timeout;
-            let mut buf = [0u8; 64];
-            while !reply.ends_with(b"\r") {
-                let left = deadline.saturating_sub(self.clock.now());
-                match t.read(&mut buf, left) {
-                    Ok(n) => reply.extend_from_slice(&buf[..n]),
-                    Err(TransportError::Timeout { .. }) => {
-                        return Err(AccessError::NoReply {
-                            port: self.line.name().to_string(),
-                            address: self.node.to_string(),
-                            request,
-                            attempts: 1,
-                            timeout_ms: self.timeout.as_millis(),
-                            hint: "check the test".into(),
-                        })
-                    }
-                    Err(e) => return Err(e.into()),
+        let shared = self.line.clone();
+        let mut line = shared.lock();
+        let t: &mut dyn Transport = line.as_mut();
+        let plan = self.plan;
+        let reply = plan
+            .run(self, t, |link, t, _| {
+                t.discard_input().map_err(AttemptFailure::Transport)?;
+                t.write_all(&bytes).map_err(AttemptFailure::Transport)?;
+                link.core.notify(Direction::Sent, &bytes);
+                let sent = link.core.clock.now();
+                let mut reply = Vec::new();
+                while !reply.ends_with(b"\r") {
+                    reply.extend_from_slice(link.core.read_reply(t, sent, sent + plan.reply_timeout)?);
                 }
-            }
-        }
-        let now = self.clock.now();
-        if let Some(o) = self.observer.as_mut() {
-            o.telegram(now, Direction::Sent, &bytes);
-            o.telegram(now, Direction::Received, &reply);
-        }
+                link.core.notify(Direction::Received, &reply);
+                Ok::<_, AttemptFailure<Infallible>>(reply)
+            })
+            .map_err(|unanswered| {
+                let text = ExchangeText {
+                    port: self.line.name().to_string(),
+                    address: self.node.to_string(),
+                    request: request.clone(),
+                    hint: "check the test".into(),
+                };
+                unanswered.into_error(text, plan.reply_timeout, |never| match never {})
+            })?;
         let text = String::from_utf8_lossy(&reply).trim().to_string();
         match text.strip_prefix("! ") {
             Some(refusal) => {
@@ -113,7 +117,7 @@ impl ObjectAccess for TextAccess {
     }
 
     fn clock(&self) -> SharedClock {
-        self.clock.clone()
+        self.core.clock.clone()
     }
 
     fn reopen(&mut self) -> Result<(), AccessError> {

@@ -2,23 +2,18 @@
 //! family-neutral drive model, as any family's simulator front does.
 
 use drivescript::bus::{Peer, PeerReply};
-use drivescript::drive::DeviceState;
-use drivescript::sim::{DriveModel, FaultInjection, SimConfig, SimulatedDrive};
+use drivescript::sim::{SimConfig, SimCore, SimFront};
 use std::time::Duration;
 
 pub struct TextSimulator {
-    model: DriveModel,
-    faults: FaultInjection,
-    control_words: Vec<u16>,
+    core: SimCore<()>,
     pending: Vec<u8>,
 }
 
 impl TextSimulator {
     pub fn new(config: SimConfig) -> Self {
         TextSimulator {
-            model: DriveModel::new(config),
-            faults: FaultInjection::default(),
-            control_words: Vec::new(),
+            core: SimCore::new(config),
             pending: Vec::new(),
         }
     }
@@ -26,19 +21,19 @@ impl TextSimulator {
     fn answer(&mut self, line: &str) -> String {
         let words: Vec<&str> = line.split_whitespace().collect();
         match words.as_slice() {
-            ["R", "2"] => format!("= {}", self.model.status_word()),
-            ["R", "1"] => format!("= {}", self.model.control_word()),
-            ["R", "3"] => format!("= {}", self.model.setpoint_rpm().round()),
-            ["R", "4"] => format!("= {}", self.model.measured_speed_rpm().round()),
+            ["R", "2"] => format!("= {}", self.core.model.status_word()),
+            ["R", "1"] => format!("= {}", self.core.model.control_word()),
+            ["R", "3"] => format!("= {}", self.core.model.setpoint_rpm().round()),
+            ["R", "4"] => format!("= {}", self.core.model.measured_speed_rpm().round()),
             ["W", "1", v] => match v.parse::<u16>() {
                 Ok(cw) => {
-                    self.control_words.push(cw);
-                    self.model.write_control_word(cw, false);
+                    self.core.log_control_word(cw);
+                    self.core.model.write_control_word(cw, false);
                     "ok".into()
                 }
                 Err(_) => "! 2 not a number".into(),
             },
-            ["W", "3", v] => match v.parse::<f64>().map(|rpm| self.model.set_setpoint_rpm(rpm)) {
+            ["W", "3", v] => match v.parse::<f64>().map(|rpm| self.core.model.set_setpoint_rpm(rpm)) {
                 Ok(Ok(())) => "ok".into(),
                 Ok(Err(_)) => "! 3 out of range".into(),
                 Err(_) => "! 2 not a number".into(),
@@ -50,7 +45,7 @@ impl TextSimulator {
 
 impl Peer for TextSimulator {
     fn receive(&mut self, bytes: &[u8], now: Duration) -> Vec<PeerReply> {
-        self.model.advance_to(now);
+        self.core.model.advance_to(now);
         self.pending.extend_from_slice(bytes);
         let mut replies = Vec::new();
         while let Some(end) = self.pending.iter().position(|&b| b == b'\r') {
@@ -65,24 +60,15 @@ impl Peer for TextSimulator {
     }
 }
 
-impl SimulatedDrive for TextSimulator {
-    fn faults(&mut self) -> &mut FaultInjection {
-        &mut self.faults
+impl SimFront for TextSimulator {
+    type Logged = ();
+    fn core(&self) -> &SimCore<()> {
+        &self.core
     }
-    fn control_words_written(&self) -> Vec<u16> {
-        self.control_words.clone()
+    fn core_mut(&mut self) -> &mut SimCore<()> {
+        &mut self.core
     }
-    fn state(&self) -> DeviceState {
-        self.model.state()
-    }
-    fn speed_rpm(&self, _now: Duration) -> f64 {
-        self.model.speed_rpm()
-    }
-    fn set_logging(&mut self, _on: bool) {}
-    fn describe(&self) -> String {
+    fn describe_drive(&self) -> String {
         "simulated text drive".into()
-    }
-    fn as_any_mut(&mut self) -> &mut dyn std::any::Any {
-        self
     }
 }

@@ -12,6 +12,7 @@
 //! always writes decimal: every drive takes it, and hex only older ones. Pure.
 
 use super::decode_error::DecodeError;
+use crate::dictionary::WireValueError;
 use std::fmt;
 
 /// Longest data field, sign and decimal point included.
@@ -95,25 +96,25 @@ impl DataValue {
     }
 
     /// The field as a write sends it (always decimal, never `X` + hex): `1500.5`, `-34.5` (no `+`: the sign is optional).
-    pub fn write_field(self) -> Result<Vec<u8>, String> {
+    pub fn write_field(self) -> Result<Vec<u8>, WireValueError> {
         self.field(false)
     }
 
     /// The field as a Unidrive SP reply carries it: always with a sign, `+1500.5`.
-    pub fn reply_field(self) -> Result<Vec<u8>, String> {
+    pub fn reply_field(self) -> Result<Vec<u8>, WireValueError> {
         self.field(true)
     }
 
-    fn field(self, plus: bool) -> Result<Vec<u8>, String> {
+    fn field(self, plus: bool) -> Result<Vec<u8>, WireValueError> {
         let mut text = self.to_string();
         if plus && self.digits >= 0 {
             text.insert(0, '+');
         }
         if text.len() > MAX_DATA_LEN {
-            return Err(format!(
+            return Err(WireValueError::Unfit(format!(
                 "{self} needs {} characters; the data field holds at most {MAX_DATA_LEN}",
                 text.len()
-            ));
+            )));
         }
         Ok(text.into_bytes())
     }

@@ -10,6 +10,7 @@ use super::data_field::{DataValue, MAX_DATA_LEN};
 use super::decode_error::DecodeError;
 use super::node_address::NodeAddress;
 use super::parameter::Parameter;
+use crate::dictionary::WireValueError;
 
 /// What the master sends.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -49,7 +50,7 @@ pub enum Reply {
 }
 
 impl Request {
-    pub fn encode(&self) -> Result<Vec<u8>, String> {
+    pub fn encode(&self) -> Result<Vec<u8>, WireValueError> {
         Ok(match *self {
             Request::Read { address, parameter } => {
                 let mut b = vec![EOT];
@@ -130,7 +131,7 @@ impl Request {
 
 impl Reply {
     /// A Unidrive SP reply: values always with a sign.
-    pub fn encode(&self) -> Result<Vec<u8>, String> {
+    pub fn encode(&self) -> Result<Vec<u8>, WireValueError> {
         Ok(match *self {
             Reply::Value { parameter, value } => data_block(parameter, &value.reply_field()?),
             Reply::Accepted => vec![ACK],

@@ -14,7 +14,8 @@ impl NodeAddress {
         (group <= 9 && unit <= 9).then_some(NodeAddress { group, unit })
     }
 
-    /// `1.2` or `12`; the error says what the notation is.
+    /// `1.2` or `12`; the error says what the notation is. (Text: the family wraps it into
+    /// `FamilyError::DriveAddress`, the one place it is reported.)
     pub fn parse(text: &str) -> Result<NodeAddress, String> {
         let t = text.trim();
         let digits: Vec<u8> = t.bytes().filter(|b| *b != b'.').collect();

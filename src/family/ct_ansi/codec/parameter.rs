@@ -1,5 +1,6 @@
 //! A parameter as menu.parameter (`#1.21`), sent as four digits (`0121`). Pure.
 
+use crate::dictionary::AddressError;
 use std::fmt;
 
 /// Menu and parameter, each 0..=99 (every source sends two digits each).
@@ -15,13 +16,13 @@ impl Parameter {
     }
 
     /// `#1.21`, `1.21`, `#10.40`, `01.21`; the error says what the notation is.
-    pub fn parse(text: &str) -> Result<Parameter, String> {
+    pub fn parse(text: &str) -> Result<Parameter, AddressError> {
         let t = text.trim();
         let t = t.strip_prefix('#').unwrap_or(t);
         let help = "write menu.parameter, e.g. `#1.21` or `10.40` (menu and parameter 0..99)";
         let (menu, param) = t
             .split_once('.')
-            .ok_or_else(|| format!("`{text}` is not a parameter; {help}"))?;
+            .ok_or_else(|| AddressError::from(format!("`{text}` is not a parameter; {help}")))?;
         let number = |s: &str| -> Option<u8> {
             (!s.is_empty() && s.len() <= 2 && s.bytes().all(|b| b.is_ascii_digit()))
                 .then(|| s.parse().ok())
@@ -29,7 +30,7 @@ impl Parameter {
         };
         match (number(menu), number(param)) {
             (Some(m), Some(p)) => Ok(Parameter { menu: m, param: p }),
-            _ => Err(format!("`{text}` is not a parameter; {help}")),
+            _ => Err(AddressError::from(format!("`{text}` is not a parameter; {help}"))),
         }
     }
 

@@ -10,7 +10,7 @@ use crate::drive::device_control::{DeviceCommand, DeviceState};
 use crate::family::ct_ansi::codec::{
     split, DataValue, NodeAddress, Parameter, Reply, Request, Sender, Split,
 };
-use crate::sim::{keep_recent, DriveModel, FaultInjection, SimConfig, SimulatedDrive};
+use crate::sim::{SimConfig, SimCore, SimFront};
 use std::time::Duration;
 
 /// #6.42, whose accepted values are logged.
@@ -21,16 +21,14 @@ const TURNAROUND: Duration = Duration::from_millis(1);
 #[derive(Debug)]
 pub struct CtSimulator {
     node: NodeAddress,
-    model: DriveModel,
+    /// The model, the faults and the logs: the decoded messages that reached this drive
+    /// (its own address, its group or all) and the values #6.42 accepted.
+    core: SimCore<(Duration, Request)>,
     parameters: CtParameters,
-    faults: FaultInjection,
     pending: Vec<u8>,
     /// The parameter of the last completed read or write to this drive: rewrites and short
     /// commands are valid while it is set.
     established: Option<Parameter>,
-    logging: bool,
-    received: Vec<(Duration, Request)>,
-    control_words: Vec<u16>,
 }
 
 impl CtSimulator {
@@ -39,14 +37,10 @@ impl CtSimulator {
         let parameters = CtParameters::new(config.max_speed_rpm);
         CtSimulator {
             node,
-            model: DriveModel::new(config),
+            core: SimCore::new(config),
             parameters,
-            faults: FaultInjection::default(),
             pending: Vec::new(),
             established: None,
-            logging: true,
-            received: Vec::new(),
-            control_words: Vec::new(),
         }
     }
 
@@ -56,28 +50,20 @@ impl CtSimulator {
 
     /// The decoded messages that reached this drive (its own address, its group or all).
     pub fn received(&self) -> &[(Duration, Request)] {
-        &self.received
+        self.core.requests()
     }
 
     pub fn setpoint_rpm(&self) -> f64 {
-        self.model.setpoint_rpm()
-    }
-
-    pub fn describe(&self) -> String {
-        format!(
-            "simulated Unidrive SP at serial address {} (ramp {} rpm/s)",
-            self.node,
-            self.model.config().ramp_rpm_per_s
-        )
+        self.core.model.setpoint_rpm()
     }
 
     fn advance_to(&mut self, now: Duration) {
-        while let Some((at, code)) = self.faults.take_trip_due(now) {
-            self.model.advance_to(at);
-            self.model.trip(code);
+        while let Some((at, code)) = self.core.faults.take_trip_due(now) {
+            self.core.model.advance_to(at);
+            self.core.model.trip(code);
             self.parameters.note_trip(code);
         }
-        self.model.advance_to(now);
+        self.core.model.advance_to(now);
     }
 
     /// The reply to one message, `None` when the drive stays silent.
@@ -125,7 +111,7 @@ impl CtSimulator {
     fn read(&mut self, parameter: Parameter) -> Reply {
         // Even a read of a parameter that does not exist establishes the address.
         self.established = Some(parameter);
-        match self.parameters.read(&mut self.model, parameter) {
+        match self.parameters.read(&mut self.core.model, parameter) {
             Some(value) => Reply::Value { parameter, value },
             None => Reply::NoSuchParameter,
         }
@@ -133,20 +119,20 @@ impl CtSimulator {
 
     fn write(&mut self, parameter: Parameter, value: DataValue) -> Reply {
         self.established = Some(parameter);
-        match self.parameters.write(&mut self.model, parameter, value) {
+        match self.parameters.write(&mut self.core.model, parameter, value) {
             Ok(Effect::None) => {}
             Ok(Effect::Control(cw)) => self.control(cw),
             Ok(Effect::Reset) => {
-                let blocked = self.faults.is_fault_reset_blocked();
-                if matches!(self.model.state(), DeviceState::Fault) {
-                    self.model.write_control_word(0, blocked);
-                    self.model.write_control_word(0x80, blocked);
+                let blocked = self.core.faults.is_fault_reset_blocked();
+                if matches!(self.core.model.state(), DeviceState::Fault) {
+                    self.core.model.write_control_word(0, blocked);
+                    self.core.model.write_control_word(0x80, blocked);
                 }
             }
             Err(Refusal::NoSuchParameter | Refusal::ReadOnly | Refusal::OutOfRange) => return Reply::Refused,
         }
         if parameter == CONTROL_WORD {
-            self.log_control_word(self.parameters.control_word());
+            self.core.log_control_word(self.parameters.control_word());
         }
         Reply::Accepted
     }
@@ -160,16 +146,12 @@ impl CtSimulator {
             DeviceState::SwitchedOn => DeviceCommand::DisableOperation,
             _ => DeviceCommand::EnableOperation,
         };
-        if matches!(
-            self.model.state(),
-            DeviceState::OperationEnabled | DeviceState::QuickStopActive
-        ) && self.faults.ignores(command)
-        {
+        if self.core.disobeys(command) {
             return;
         }
-        let blocked = self.faults.is_fault_reset_blocked();
+        let blocked = self.core.faults.is_fault_reset_blocked();
         for _ in 0..3 {
-            let word = match (self.model.state(), target) {
+            let word = match (self.core.model.state(), target) {
                 (from, to) if from == to => return,
                 (_, DeviceState::SwitchOnDisabled) => 0,
                 (DeviceState::SwitchOnDisabled, _) => 6,
@@ -178,19 +160,13 @@ impl CtSimulator {
                 // Tripped or braking: the control word waits for the reset.
                 _ => return,
             };
-            self.model.write_control_word(word, blocked);
-        }
-    }
-
-    fn log_control_word(&mut self, cw: u16) {
-        if self.logging {
-            keep_recent(&mut self.control_words, cw);
+            self.core.model.write_control_word(word, blocked);
         }
     }
 
     /// Encodes `reply` and applies the injected faults: `None` when it is dropped.
     fn send(&mut self, reply: Reply, now: Duration) -> Option<PeerReply> {
-        let fate = self.faults.next_reply();
+        let fate = self.core.faults.next_reply();
         if fate.dropped {
             return None;
         }
@@ -201,7 +177,7 @@ impl CtSimulator {
             }
         }
         Some(PeerReply {
-            at: now + TURNAROUND.max(self.model.config().response_latency) + fate.extra_delay,
+            at: now + TURNAROUND.max(self.core.model.config().response_latency) + fate.extra_delay,
             bytes,
         })
     }
@@ -209,11 +185,9 @@ impl CtSimulator {
 
 impl Peer for CtSimulator {
     fn receive(&mut self, bytes: &[u8], now: Duration) -> Vec<PeerReply> {
-        if self.faults.take_panic_due(now) {
-            panic!("injected test fault: the simulated drive panics while handling a request");
-        }
+        self.core.panic_if_due(now);
         self.advance_to(now);
-        self.parameters.note_trip(self.model.drive_error());
+        self.parameters.note_trip(self.core.model.drive_error());
         self.pending.extend_from_slice(bytes);
         let mut replies = Vec::new();
         loop {
@@ -238,8 +212,8 @@ impl Peer for CtSimulator {
                         } => self.node.accepts(address),
                         _ => self.established.is_some(),
                     };
-                    if mine && self.logging {
-                        keep_recent(&mut self.received, (now, request));
+                    if mine {
+                        self.core.log_request((now, request));
                     }
                     if let Some(reply) = self.answer(request) {
                         replies.extend(self.send(reply, now));
@@ -251,31 +225,24 @@ impl Peer for CtSimulator {
     }
 
     fn reachable(&self, now: Duration) -> bool {
-        self.faults.line_up(now)
+        self.core.faults.line_up(now)
     }
 }
 
-impl SimulatedDrive for CtSimulator {
-    fn faults(&mut self) -> &mut FaultInjection {
-        &mut self.faults
+impl SimFront for CtSimulator {
+    type Logged = (Duration, Request);
+    fn core(&self) -> &SimCore<Self::Logged> {
+        &self.core
     }
-    fn control_words_written(&self) -> Vec<u16> {
-        self.control_words.clone()
+    fn core_mut(&mut self) -> &mut SimCore<Self::Logged> {
+        &mut self.core
     }
-    fn state(&self) -> DeviceState {
-        self.model.state()
-    }
-    fn speed_rpm(&self, now: Duration) -> f64 {
-        self.model.speed_at(&self.faults, now)
-    }
-    fn set_logging(&mut self, on: bool) {
-        self.logging = on;
-    }
-    fn describe(&self) -> String {
-        CtSimulator::describe(self)
-    }
-    fn as_any_mut(&mut self) -> &mut dyn std::any::Any {
-        self
+    fn describe_drive(&self) -> String {
+        format!(
+            "simulated Unidrive SP at serial address {} (ramp {} rpm/s)",
+            self.node,
+            self.core.model.config().ramp_rpm_per_s
+        )
     }
 }
 

@@ -1,5 +1,6 @@
 use super::*;
 use crate::family::ct_ansi::codec::{DataValue, ACK, EOT, NAK};
+use crate::sim::SimulatedDrive;
 
 fn sim() -> CtSimulator {
     CtSimulator::new(NodeAddress::new(1, 2).unwrap(), SimConfig::default())

@@ -4,9 +4,8 @@
 
 use super::sim_objects::SimObject;
 use crate::bus::{Peer, PeerReply};
-use crate::drive::device_control::DeviceState;
 use crate::family::lenze_931::codec::{BootState, ErrorCode, LineExtractor, ObjectCommand, Reply, Request};
-use crate::sim::{keep_recent, DriveModel, FaultInjection, SimConfig, SimulatedDrive};
+use crate::sim::{DriveModel, SimConfig, SimCore, SimFront};
 use std::time::Duration;
 
 /// CANopen objects the SDO simulation answers: control word, status word, actual speed.
@@ -16,12 +15,9 @@ const SDO_SPEED_ACTUAL: (u16, u8) = (0x606C, 0);
 
 #[derive(Debug)]
 pub struct LenzeSimulator {
-    model: DriveModel,
+    /// The model, the faults and the logs (the request lines, the control words).
+    core: SimCore<String>,
     extractor: LineExtractor,
-    faults: FaultInjection,
-    logging: bool,
-    control_words: Vec<u16>,
-    requests: Vec<String>,
     echo: bool,
     crlf: bool,
     /// The operating mode `SAVE!` stored and `SEP!` loads (the simulator's flash).
@@ -34,12 +30,8 @@ impl LenzeSimulator {
     /// A drive just switched on: switch on disabled, at rest, setpoint 0.
     pub fn new(config: SimConfig) -> Self {
         LenzeSimulator {
-            model: DriveModel::new(config),
+            core: SimCore::new(config),
             extractor: LineExtractor::new(),
-            faults: FaultInjection::default(),
-            logging: true,
-            control_words: Vec::new(),
-            requests: Vec::new(),
             echo: false,
             crlf: false,
             flash_mode: 0,
@@ -59,30 +51,22 @@ impl LenzeSimulator {
 
     /// The request lines received, in order (while logging is on; the latest 10 000).
     pub fn requests(&self) -> &[String] {
-        &self.requests
+        self.core.requests()
     }
 
     pub fn setpoint_rpm(&self) -> f64 {
-        self.model.setpoint_rpm()
+        self.core.model.setpoint_rpm()
     }
 
     /// The operating mode (the drive model's parameter set).
     pub fn operating_mode(&self) -> u16 {
-        self.model.parameter_set()
+        self.core.model.parameter_set()
     }
 
     /// The baud rate the last `BAUDbbbb` set (9600 until then); the simulated line itself
     /// keeps working at any rate.
     pub fn line_rate(&self) -> u32 {
         self.line_rate
-    }
-
-    fn advance_to(&mut self, now: Duration) {
-        while let Some((at, code)) = self.faults.take_trip_due(now) {
-            self.model.advance_to(at);
-            self.model.trip(code);
-        }
-        self.model.advance_to(now);
     }
 
     fn answer(&mut self, request: &Request) -> Reply {
@@ -103,19 +87,19 @@ impl LenzeSimulator {
             // Both restart the drive with the default parameter set: a switch-on message
             // is what the manual says either answers with.
             Request::Init | Request::Reset => {
-                self.model = DriveModel::new(self.model.config().clone());
+                self.core.model = DriveModel::new(self.core.model.config().clone());
                 Reply::SwitchOn(match request {
                     Request::Init => "931 SIMULATED: default parameter set loaded".into(),
                     _ => "931 SIMULATED: reset".into(),
                 })
             }
             Request::Save => {
-                self.flash_mode = self.model.parameter_set();
+                self.flash_mode = self.core.model.parameter_set();
                 Reply::Done
             }
             Request::Sep => {
                 // The model keeps its mode while enabled, as for a write of the mode.
-                let _ = self.model.set_parameter_set(self.flash_mode);
+                let _ = self.core.model.set_parameter_set(self.flash_mode);
                 Reply::Done
             }
             Request::Type => Reply::Type("0931".into()),
@@ -125,9 +109,9 @@ impl LenzeSimulator {
             },
             Request::SdoRead { index, subindex } => {
                 let data = match (index, subindex) {
-                    SDO_CONTROL_WORD => self.model.control_word().to_le_bytes().to_vec(),
-                    SDO_STATUS_WORD => self.model.status_word().to_le_bytes().to_vec(),
-                    SDO_SPEED_ACTUAL => (self.model.measured_speed_rpm().round() as i32)
+                    SDO_CONTROL_WORD => self.core.model.control_word().to_le_bytes().to_vec(),
+                    SDO_STATUS_WORD => self.core.model.status_word().to_le_bytes().to_vec(),
+                    SDO_SPEED_ACTUAL => (self.core.model.measured_speed_rpm().round() as i32)
                         .to_le_bytes()
                         .to_vec(),
                     _ => return Reply::UnknownCommand,
@@ -163,8 +147,8 @@ impl LenzeSimulator {
             return error(ErrorCode::NO_OBJECT);
         };
         let value = match command {
-            ObjectCommand::Read | ObjectCommand::Write => object.read(&mut self.model),
-            ObjectCommand::Internal => object.internal(&mut self.model),
+            ObjectCommand::Read | ObjectCommand::Write => object.read(&mut self.core.model),
+            ObjectCommand::Internal => object.internal(&mut self.core.model),
             ObjectCommand::Min => match object.limits().0 {
                 Some(v) => v,
                 None => return error(ErrorCode::NO_LOWER_LIMIT),
@@ -191,17 +175,17 @@ impl LenzeSimulator {
         let value = i64::from(bits as i32);
         if object == SimObject::ControlWord {
             if let Ok(cw) = u16::try_from(value) {
-                if self.disobeys(cw) {
-                    self.log_control_word(cw);
+                if self.core.disobeys_word(cw) {
+                    self.core.log_control_word(cw);
                     return Reply::Ok;
                 }
             }
         }
-        let blocked = self.faults.is_fault_reset_blocked();
-        match object.write(&mut self.model, value, blocked) {
+        let blocked = self.core.faults.is_fault_reset_blocked();
+        match object.write(&mut self.core.model, value, blocked) {
             Ok(limited) => {
                 if object == SimObject::ControlWord {
-                    self.log_control_word(value as u16);
+                    self.core.log_control_word(value as u16);
                 }
                 match limited {
                     Some(code) => error(code),
@@ -213,29 +197,16 @@ impl LenzeSimulator {
     }
 
     fn control_word(&mut self, cw: u16) {
-        self.log_control_word(cw);
-        if !self.disobeys(cw) {
-            let blocked = self.faults.is_fault_reset_blocked();
-            self.model.write_control_word(cw, blocked);
-        }
-    }
-
-    fn disobeys(&self, control_word: u16) -> bool {
-        matches!(
-            self.model.state(),
-            DeviceState::OperationEnabled | DeviceState::QuickStopActive
-        ) && self.faults.ignores(self.model.command_for(control_word))
-    }
-
-    fn log_control_word(&mut self, cw: u16) {
-        if self.logging {
-            keep_recent(&mut self.control_words, cw);
+        self.core.log_control_word(cw);
+        if !self.core.disobeys_word(cw) {
+            let blocked = self.core.faults.is_fault_reset_blocked();
+            self.core.model.write_control_word(cw, blocked);
         }
     }
 
     /// The reply's bytes with the injected faults applied; `None` when it is dropped.
     fn send(&mut self, reply: &Reply, now: Duration) -> Option<PeerReply> {
-        let fate = self.faults.next_reply();
+        let fate = self.core.faults.next_reply();
         if fate.dropped {
             return None;
         }
@@ -257,7 +228,7 @@ impl LenzeSimulator {
             bytes.push(b'\n');
         }
         Some(PeerReply {
-            at: now + self.model.config().response_latency + fate.extra_delay,
+            at: now + self.core.model.config().response_latency + fate.extra_delay,
             bytes,
         })
     }
@@ -265,10 +236,8 @@ impl LenzeSimulator {
 
 impl Peer for LenzeSimulator {
     fn receive(&mut self, bytes: &[u8], now: Duration) -> Vec<PeerReply> {
-        if self.faults.take_panic_due(now) {
-            panic!("injected test fault: the simulated drive panics while handling a request");
-        }
-        self.advance_to(now);
+        self.core.panic_if_due(now);
+        self.core.advance_to(now);
         self.extractor.push(bytes);
         let mut replies = Vec::new();
         while let Some(line) = self.extractor.next_line() {
@@ -279,9 +248,7 @@ impl Peer for LenzeSimulator {
             }
             let reply = match line.text.as_deref().map(Request::parse) {
                 Ok(Ok(request)) => {
-                    if self.logging {
-                        keep_recent(&mut self.requests, request.text());
-                    }
+                    self.core.log_request(request.text());
                     self.answer(&request)
                 }
                 // Garbage, an over-long line or an unknown command: what any unknown
@@ -294,34 +261,23 @@ impl Peer for LenzeSimulator {
     }
 
     fn reachable(&self, now: Duration) -> bool {
-        self.faults.line_up(now)
+        self.core.faults.line_up(now)
     }
 }
 
-impl SimulatedDrive for LenzeSimulator {
-    fn faults(&mut self) -> &mut FaultInjection {
-        &mut self.faults
+impl SimFront for LenzeSimulator {
+    type Logged = String;
+    fn core(&self) -> &SimCore<Self::Logged> {
+        &self.core
     }
-    fn control_words_written(&self) -> Vec<u16> {
-        self.control_words.clone()
+    fn core_mut(&mut self) -> &mut SimCore<Self::Logged> {
+        &mut self.core
     }
-    fn state(&self) -> DeviceState {
-        self.model.state()
-    }
-    fn speed_rpm(&self, now: Duration) -> f64 {
-        self.model.speed_at(&self.faults, now)
-    }
-    fn set_logging(&mut self, on: bool) {
-        self.logging = on;
-    }
-    fn describe(&self) -> String {
+    fn describe_drive(&self) -> String {
         format!(
             "simulated Lenze 931 on RS232 (ramp {} rpm/s; object numbers are the simulator's own, see dictionary/lenze-931.yaml)",
-            self.model.config().ramp_rpm_per_s
+            self.core.model.config().ramp_rpm_per_s
         )
-    }
-    fn as_any_mut(&mut self) -> &mut dyn std::any::Any {
-        self
     }
 }
 

@@ -2,7 +2,8 @@
 //! produce, limited writes, limits, garbage, echo and CR LF.
 
 use super::*;
-use crate::sim::SimConfig;
+use crate::drive::DeviceState;
+use crate::sim::{SimConfig, SimulatedDrive};
 
 fn ask(sim: &mut LenzeSimulator, line: &str) -> String {
     let mut bytes = line.as_bytes().to_vec();

@@ -1,6 +1,7 @@
 //! Lenze codes as the manuals write them — `C00099`, `C99`, `C00002/16` — and their place
 //! in the CANopen object dictionary: index = 0x5FFF − code, subindex = subcode. Pure.
 
+use crate::dictionary::AddressError;
 use std::fmt;
 
 /// The index the code numbers count down from (24575).
@@ -35,33 +36,41 @@ impl Code {
     }
 
     /// Reads `C00099`, `C99`, `c2/16`, `C00002/16`; the error says how codes are written.
-    pub fn parse(text: &str) -> Result<Code, String> {
+    pub fn parse(text: &str) -> Result<Code, AddressError> {
         let help = "write a Lenze code as C followed by its number and an optional /subcode, e.g. `C00099`, `C99` or `C00002/16`";
         let t = text.trim();
         let rest = t
             .strip_prefix('C')
             .or_else(|| t.strip_prefix('c'))
-            .ok_or_else(|| format!("`{t}` is not a Lenze code; {help}"))?;
+            .ok_or_else(|| AddressError::from(format!("`{t}` is not a Lenze code; {help}")))?;
         let (number, subcode) = rest.split_once('/').unwrap_or((rest, "0"));
         let digits = |s: &str| !s.is_empty() && s.len() <= 5 && s.bytes().all(|b| b.is_ascii_digit());
         if !digits(number) {
-            return Err(format!("`{t}`: the code number must be 1 to 5 digits; {help}"));
+            return Err(AddressError::from(format!(
+                "`{t}`: the code number must be 1 to 5 digits; {help}"
+            )));
         }
         if !digits(subcode) {
-            return Err(format!("`{t}`: the subcode must be a number 0..=255; {help}"));
+            return Err(AddressError::from(format!(
+                "`{t}`: the subcode must be a number 0..=255; {help}"
+            )));
         }
-        let number: u32 = number.parse().map_err(|_| format!("`{t}`: {help}"))?;
-        let subcode: u8 = subcode
+        let number: u32 = number
             .parse()
-            .map_err(|_| format!("`{t}`: the subcode must be 0..=255 (it is the CANopen subindex)"))?;
+            .map_err(|_| AddressError::from(format!("`{t}`: {help}")))?;
+        let subcode: u8 = subcode.parse().map_err(|_| {
+            AddressError::from(format!(
+                "`{t}`: the subcode must be 0..=255 (it is the CANopen subindex)"
+            ))
+        })?;
         u16::try_from(number)
             .ok()
             .and_then(|n| Code::new(n, subcode))
             .ok_or_else(|| {
-                format!(
+                AddressError::from(format!(
                     "`{t}`: codes go up to C{:05} (index 0x{LOWEST_CODE_INDEX:04X}); higher numbers fall outside the parameter area",
                     CODE_BASE - LOWEST_CODE_INDEX
-                )
+                ))
             })
     }
 }
@@ -98,11 +107,14 @@ mod tests {
 
     #[test]
     fn bad_codes_say_how_to_write_them() {
-        assert!(Code::parse("99").unwrap_err().contains("C00099"));
-        assert!(Code::parse("C").unwrap_err().contains("1 to 5 digits"));
-        assert!(Code::parse("C2/300").unwrap_err().contains("0..=255"));
-        assert!(Code::parse("C2/x").unwrap_err().contains("subcode"));
-        assert!(Code::parse("C20000").unwrap_err().contains("C16383"));
+        assert!(Code::parse("99").unwrap_err().to_string().contains("C00099"));
+        assert!(Code::parse("C")
+            .unwrap_err()
+            .to_string()
+            .contains("1 to 5 digits"));
+        assert!(Code::parse("C2/300").unwrap_err().to_string().contains("0..=255"));
+        assert!(Code::parse("C2/x").unwrap_err().to_string().contains("subcode"));
+        assert!(Code::parse("C20000").unwrap_err().to_string().contains("C16383"));
         assert!(Code::parse("C123456").is_err());
     }
 }

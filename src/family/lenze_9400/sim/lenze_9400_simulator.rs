@@ -12,11 +12,10 @@
 
 use super::sim_codes::{Place, SimCodes};
 use crate::bus::{CanFrame, FramePeer};
-use crate::drive::DeviceState;
 use crate::family::lenze_9400::codec::{
     request_id, response_id, AbortCode, SdoRequest, SdoResponse, MAX_TRANSFER,
 };
-use crate::sim::{DriveModel, FaultInjection, SimConfig, SimulatedDrive, LOG_KEEPS};
+use crate::sim::{SimConfig, SimCore, SimFront};
 use std::time::Duration;
 
 pub use super::sim_codes::FIRMWARE_VERSION;
@@ -40,26 +39,22 @@ enum Transfer {
 
 #[derive(Debug)]
 pub struct Lenze9400Simulator {
-    model: DriveModel,
+    /// The model, the faults and the log of decoded requests (no control words: the 9400
+    /// is not commanded through a control word here, it has no profile).
+    core: SimCore<(Duration, SdoRequest)>,
     node: u8,
     codes: SimCodes,
-    faults: FaultInjection,
     transfer: Transfer,
-    logging: bool,
-    received: Vec<(Duration, SdoRequest)>,
 }
 
 impl Lenze9400Simulator {
     /// A node just powered up at `node` (1..=127).
     pub fn new(node: u8, config: SimConfig) -> Self {
         Lenze9400Simulator {
-            model: DriveModel::new(config),
+            core: SimCore::new(config),
             node,
             codes: SimCodes::default(),
-            faults: FaultInjection::default(),
             transfer: Transfer::Idle,
-            logging: true,
-            received: Vec::new(),
         }
     }
 
@@ -69,20 +64,12 @@ impl Lenze9400Simulator {
 
     /// The requests decoded, with the time each arrived (the latest ones, bounded).
     pub fn received(&self) -> &[(Duration, SdoRequest)] {
-        &self.received
+        self.core.requests()
     }
 
     /// The stored codes (rated current, reference speed, enable).
     pub fn codes(&self) -> &SimCodes {
         &self.codes
-    }
-
-    fn advance_to(&mut self, now: Duration) {
-        while let Some((at, code)) = self.faults.take_trip_due(now) {
-            self.model.advance_to(at);
-            self.model.trip(code);
-        }
-        self.model.advance_to(now);
     }
 
     fn answer(&mut self, request: &SdoRequest) -> Option<SdoResponse> {
@@ -96,7 +83,7 @@ impl Lenze9400Simulator {
             (SdoRequest::Abort { .. }, _) => return None,
             (&SdoRequest::UploadInitiate { index, subindex }, _) => {
                 let place = (index, subindex);
-                match self.codes.read(&mut self.model, place) {
+                match self.codes.read(&mut self.core.model, place) {
                     Err(code) => abort(place, code),
                     Ok(data) if data.len() <= 4 => {
                         let mut value = [0u8; 4];
@@ -229,7 +216,7 @@ impl Lenze9400Simulator {
 
     /// The response as a frame, with the injected faults: `None` when it is dropped.
     fn send(&mut self, response: &SdoResponse, now: Duration) -> Option<(Duration, CanFrame)> {
-        let fate = self.faults.next_reply();
+        let fate = self.core.faults.next_reply();
         if fate.dropped {
             return None;
         }
@@ -242,20 +229,18 @@ impl Lenze9400Simulator {
         } else {
             response_id(self.node)
         };
-        let at = now + self.model.config().response_latency + fate.extra_delay;
+        let at = now + self.core.model.config().response_latency + fate.extra_delay;
         Some((at, CanFrame::standard8(id, data)))
     }
 }
 
 impl FramePeer for Lenze9400Simulator {
     fn receive(&mut self, frame: &CanFrame, now: Duration) -> Vec<(Duration, CanFrame)> {
-        if self.faults.take_panic_due(now) {
-            panic!("injected test fault: the simulated drive panics while handling a request");
-        }
+        self.core.panic_if_due(now);
         if frame.extended || frame.id != request_id(self.node) {
             return Vec::new();
         }
-        self.advance_to(now);
+        self.core.advance_to(now);
         let request = match SdoRequest::decode(frame.data()) {
             Ok(r) => r,
             Err(_) => {
@@ -268,12 +253,7 @@ impl FramePeer for Lenze9400Simulator {
                 return self.send(&response, now).into_iter().collect();
             }
         };
-        if self.logging {
-            if self.received.len() >= 2 * LOG_KEEPS {
-                self.received.drain(..LOG_KEEPS);
-            }
-            self.received.push((now, request.clone()));
-        }
+        self.core.log_request((now, request.clone()));
         match self.answer(&request) {
             Some(response) => self.send(&response, now).into_iter().collect(),
             None => Vec::new(),
@@ -281,35 +261,23 @@ impl FramePeer for Lenze9400Simulator {
     }
 
     fn reachable(&self, now: Duration) -> bool {
-        self.faults.line_up(now)
+        self.core.faults.line_up(now)
     }
 }
 
-impl SimulatedDrive for Lenze9400Simulator {
-    fn faults(&mut self) -> &mut FaultInjection {
-        &mut self.faults
+impl SimFront for Lenze9400Simulator {
+    type Logged = (Duration, SdoRequest);
+    fn core(&self) -> &SimCore<Self::Logged> {
+        &self.core
     }
-    fn control_words_written(&self) -> Vec<u16> {
-        // The 9400 is not commanded through a control word here (no profile).
-        Vec::new()
+    fn core_mut(&mut self) -> &mut SimCore<Self::Logged> {
+        &mut self.core
     }
-    fn state(&self) -> DeviceState {
-        self.model.state()
-    }
-    fn speed_rpm(&self, now: Duration) -> f64 {
-        self.model.speed_at(&self.faults, now)
-    }
-    fn set_logging(&mut self, on: bool) {
-        self.logging = on;
-    }
-    fn describe(&self) -> String {
+    fn describe_drive(&self) -> String {
         format!(
             "simulated Lenze 9400 at CAN node {} (firmware {FIRMWARE_VERSION})",
             self.node
         )
-    }
-    fn as_any_mut(&mut self) -> &mut dyn std::any::Any {
-        self
     }
 }
 

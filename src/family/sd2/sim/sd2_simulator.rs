@@ -10,23 +10,21 @@ use super::service_channel::{
 };
 use super::sim_objects::{SimObject, CONTROL_WORD};
 use crate::bus::{Peer, PeerReply};
-use crate::drive::device_control::DeviceState;
 use crate::family::sd2::codec::{
     Body, Cyclic, ErrorCode, FrameExtractor, Framing, ServiceChannel, Telegram, WriteLength,
 };
-use crate::sim::{keep_recent, DriveModel, FaultInjection, SimConfig, SimulatedDrive};
+use crate::sim::{SimConfig, SimCore, SimFront};
 use std::time::Duration;
 
 /// A simulated single-axis SD2 drive. See the module docs of `sim` for the model.
 #[derive(Debug)]
 pub struct Sd2Simulator {
-    model: DriveModel,
+    /// The model, the faults and the logs: the decoded requests addressed to this drive
+    /// with the time each arrived, and every control word accepted (object 68 by block or
+    /// service channel, and cyclic telegrams).
+    core: SimCore<(Duration, Telegram)>,
     extractor: FrameExtractor,
-    faults: FaultInjection,
     service: ServiceSession,
-    logging: bool,
-    received: Vec<(Duration, Telegram)>,
-    control_words: Vec<u16>,
     corrupt_blocks: u64,
 }
 
@@ -34,53 +32,26 @@ impl Sd2Simulator {
     /// A drive just booted: switch on disabled, at rest, setpoint 0.
     pub fn new(config: SimConfig) -> Self {
         Sd2Simulator {
-            model: DriveModel::new(config),
+            core: SimCore::new(config),
             extractor: FrameExtractor::new(Framing::Requests),
-            faults: FaultInjection::default(),
             service: ServiceSession::default(),
-            logging: true,
-            received: Vec::new(),
-            control_words: Vec::new(),
             corrupt_blocks: 0,
         }
     }
 
     pub fn config(&self) -> &SimConfig {
-        self.model.config()
-    }
-
-    /// One line for the command line's first output.
-    pub fn describe(&self) -> String {
-        let c = self.config();
-        format!(
-            "simulated SD2 at DNC address {} (ramp {} rpm/s)",
-            c.address, c.ramp_rpm_per_s
-        )
+        self.core.model.config()
     }
 
     /// The decoded requests addressed to this drive, with the time each arrived: all of
-    /// them up to [`LOG_KEEPS`], then at least the latest [`LOG_KEEPS`].
+    /// them up to [`LOG_KEEPS`](crate::sim::LOG_KEEPS), then at least the latest ones.
     pub fn received(&self) -> &[(Duration, Telegram)] {
-        &self.received
+        self.core.requests()
     }
 
-    /// Every control word accepted, from writes of object 68 (block or service channel)
-    /// and from cyclic telegrams, in order.
-    pub fn control_words_written(&self) -> Vec<u16> {
-        self.control_words.clone()
-    }
-
-    /// Forgets the logs of [`received`](Self::received) and
-    /// [`control_words_written`](Self::control_words_written).
+    /// Forgets the logs of [`received`](Self::received) and of the control words.
     pub fn clear_log(&mut self) {
-        self.received.clear();
-        self.control_words.clear();
-    }
-
-    /// Turns the logs on (the default) or off: a long run-in that nobody inspects need not
-    /// keep every telegram in memory.
-    pub fn set_logging(&mut self, on: bool) {
-        self.logging = on;
+        self.core.clear_log();
     }
 
     /// Candidate blocks that failed to decode (bad checksum, length or command). A real
@@ -90,40 +61,15 @@ impl Sd2Simulator {
         self.corrupt_blocks
     }
 
-    /// The device state as of the last block received.
-    pub fn state(&self) -> DeviceState {
-        self.model.state()
-    }
-
-    /// Model speed (without noise) at `now`, including trips scheduled before `now`.
-    /// Does not advance the drive itself.
-    pub fn speed_rpm(&self, now: Duration) -> f64 {
-        self.model.speed_at(&self.faults, now)
-    }
-
     /// The speed setpoint in rpm, as last written (object 395 or the cyclic reference).
     pub fn setpoint_rpm(&self) -> f64 {
-        self.model.setpoint_rpm()
-    }
-
-    /// Faults to inject into the next replies or at a given time.
-    pub fn faults(&mut self) -> &mut FaultInjection {
-        &mut self.faults
-    }
-
-    /// Advances the model to `now`, splitting the interval at every scheduled trip.
-    fn advance_to(&mut self, now: Duration) {
-        while let Some((at, code)) = self.faults.take_trip_due(now) {
-            self.model.advance_to(at);
-            self.model.trip(code);
-        }
-        self.model.advance_to(now);
+        self.core.model.setpoint_rpm()
     }
 
     fn answer(&mut self, body: &Body) -> Option<Body> {
         Some(match *body {
             Body::ReadRequest { index, subindex } => {
-                match sd2_objects::read(&mut self.model, index, subindex) {
+                match sd2_objects::read(&mut self.core.model, index, subindex) {
                     Ok(data) => Body::ReadReply {
                         error: ErrorCode::OK,
                         data,
@@ -151,49 +97,34 @@ impl Sd2Simulator {
     }
 
     fn write_object(&mut self, index: u16, subindex: u32, bytes: &[u8]) -> Result<(), ErrorCode> {
-        let blocked = self.faults.is_fault_reset_blocked();
+        let blocked = self.core.faults.is_fault_reset_blocked();
         let control_word = match (index, bytes) {
             (CONTROL_WORD, &[lo, hi]) => Some(u16::from_le_bytes([lo, hi])),
             _ => None,
         };
-        if let Some(cw) = control_word.filter(|cw| self.disobeys(*cw)) {
-            self.log_control_word(cw);
+        if let Some(cw) = control_word.filter(|cw| self.core.disobeys_word(*cw)) {
+            self.core.log_control_word(cw);
             return Ok(());
         }
-        sd2_objects::write(&mut self.model, index, subindex, bytes, blocked)?;
+        sd2_objects::write(&mut self.core.model, index, subindex, bytes, blocked)?;
         if let Some(cw) = control_word {
-            self.log_control_word(cw);
+            self.core.log_control_word(cw);
         }
         Ok(())
-    }
-
-    fn log_control_word(&mut self, control_word: u16) {
-        if self.logging {
-            keep_recent(&mut self.control_words, control_word);
-        }
-    }
-
-    /// True when an injected fault makes the enabled drive ignore what `control_word`
-    /// commands (it still starts up normally, so a recipe can get it running).
-    fn disobeys(&self, control_word: u16) -> bool {
-        matches!(
-            self.model.state(),
-            DeviceState::OperationEnabled | DeviceState::QuickStopActive
-        ) && self.faults.ignores(self.model.command_for(control_word))
     }
 
     /// Process data first (control word, then speed reference), then the service channel,
     /// so the reply's status shows the effect of both.
     fn cyclic(&mut self, request: &Cyclic) -> Cyclic {
         let control_word = request.word();
-        self.log_control_word(control_word);
-        let blocked = self.faults.is_fault_reset_blocked();
-        if !self.disobeys(control_word) {
-            self.model.write_control_word(control_word, blocked);
+        self.core.log_control_word(control_word);
+        let blocked = self.core.faults.is_fault_reset_blocked();
+        if !self.core.disobeys_word(control_word) {
+            self.core.model.write_control_word(control_word, blocked);
         }
-        sd2_objects::set_speed_reference(&mut self.model, request.speed());
+        sd2_objects::set_speed_reference(&mut self.core.model, request.speed());
         let service = request.service.map(|s| self.serve(&s));
-        let mut reply = sd2_objects::cyclic_reply(&mut self.model, request.header);
+        let mut reply = sd2_objects::cyclic_reply(&mut self.core.model, request.header);
         reply.service = service;
         reply
     }
@@ -201,15 +132,16 @@ impl Sd2Simulator {
     fn serve(&mut self, request: &ServiceChannel) -> ServiceChannel {
         let outcome = match self.service.begin(request) {
             ServiceAction::Resend(reply) => return reply,
-            ServiceAction::Read { index, subindex } => sd2_objects::read(&mut self.model, index, subindex)
-                .and_then(|data| {
+            ServiceAction::Read { index, subindex } => {
+                sd2_objects::read(&mut self.core.model, index, subindex).and_then(|data| {
                     let s = data.as_slice();
                     let mut out = [0u8; 4];
                     out.get_mut(..s.len())
                         .ok_or(UNSUPPORTED_ACCESS)?
                         .copy_from_slice(s);
                     Ok(out)
-                }),
+                })
+            }
             ServiceAction::Write {
                 index,
                 subindex,
@@ -224,7 +156,7 @@ impl Sd2Simulator {
             }
             ServiceAction::Acknowledge => Ok(request.data),
             ServiceAction::Invalid => {
-                self.model.trip(INVALID_SERVICE_DRIVE_ERROR);
+                self.core.model.trip(INVALID_SERVICE_DRIVE_ERROR);
                 Err(UNSUPPORTED_ACCESS)
             }
         };
@@ -233,7 +165,7 @@ impl Sd2Simulator {
 
     /// Encodes `reply` and applies the injected faults: `None` when it is dropped.
     fn send(&mut self, reply: Telegram, now: Duration) -> Option<PeerReply> {
-        let fate = self.faults.next_reply();
+        let fate = self.core.faults.next_reply();
         if fate.dropped {
             return None;
         }
@@ -255,36 +187,27 @@ impl Sd2Simulator {
     }
 }
 
-impl SimulatedDrive for Sd2Simulator {
-    fn faults(&mut self) -> &mut FaultInjection {
-        &mut self.faults
+impl SimFront for Sd2Simulator {
+    type Logged = (Duration, Telegram);
+    fn core(&self) -> &SimCore<Self::Logged> {
+        &self.core
     }
-    fn control_words_written(&self) -> Vec<u16> {
-        self.control_words.clone()
+    fn core_mut(&mut self) -> &mut SimCore<Self::Logged> {
+        &mut self.core
     }
-    fn state(&self) -> DeviceState {
-        self.model.state()
-    }
-    fn speed_rpm(&self, now: Duration) -> f64 {
-        Sd2Simulator::speed_rpm(self, now)
-    }
-    fn set_logging(&mut self, on: bool) {
-        self.logging = on;
-    }
-    fn describe(&self) -> String {
-        Sd2Simulator::describe(self)
-    }
-    fn as_any_mut(&mut self) -> &mut dyn std::any::Any {
-        self
+    fn describe_drive(&self) -> String {
+        let c = self.config();
+        format!(
+            "simulated SD2 at DNC address {} (ramp {} rpm/s)",
+            c.address, c.ramp_rpm_per_s
+        )
     }
 }
 
 impl Peer for Sd2Simulator {
     fn receive(&mut self, bytes: &[u8], now: Duration) -> Vec<PeerReply> {
-        if self.faults.take_panic_due(now) {
-            panic!("injected test fault: the simulated drive panics while handling a request");
-        }
-        self.advance_to(now);
+        self.core.panic_if_due(now);
+        self.core.advance_to(now);
         self.extractor.push(bytes);
         let mut replies = Vec::new();
         while let Some(block) = self.extractor.next_block() {
@@ -295,9 +218,7 @@ impl Peer for Sd2Simulator {
             if request.dest != self.config().address || request.is_reply() {
                 continue;
             }
-            if self.logging {
-                keep_recent(&mut self.received, (now, request));
-            }
+            self.core.log_request((now, request));
             let Some(body) = self.answer(&request.body) else {
                 continue;
             };
@@ -312,7 +233,7 @@ impl Peer for Sd2Simulator {
     }
 
     fn reachable(&self, now: Duration) -> bool {
-        self.faults.line_up(now)
+        self.core.faults.line_up(now)
     }
 }
 

@@ -2,9 +2,10 @@
 //! through `Peer::receive`, and the reply bytes decoded again.
 
 use super::*;
+use crate::drive::DeviceState;
 use crate::family::sd2::codec::{checksum, Data, DecodeError, ServiceFunction};
 use crate::hex::parse_hex;
-use crate::sim::LOG_KEEPS;
+use crate::sim::{SimulatedDrive, LOG_KEEPS};
 
 const SD: DeviceState = DeviceState::SwitchOnDisabled;
 

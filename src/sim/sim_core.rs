@@ -1,0 +1,131 @@
+//! What every family's simulator front shares around its own bytes: the drive model, the
+//! injected faults, the bounded logs of what it was sent and of the control words it took,
+//! and the [`SimulatedDrive`] answers built from them. A front implements [`SimFront`] and
+//! gets [`SimulatedDrive`]; it must not repeat any of this. Nothing here knows bytes.
+
+use super::{keep_recent, DriveModel, FaultInjection, SimConfig, SimulatedDrive};
+use crate::drive::{DeviceCommand, DeviceState};
+use std::any::Any;
+use std::time::Duration;
+
+/// The family-neutral half of a simulated drive; `E` is what the front logs per request
+/// (a decoded telegram with its time, a request line).
+#[derive(Debug)]
+pub struct SimCore<E> {
+    pub model: DriveModel,
+    pub faults: FaultInjection,
+    logging: bool,
+    requests: Vec<E>,
+    control_words: Vec<u16>,
+}
+
+impl<E> SimCore<E> {
+    /// A drive just switched on: the model's first state, no faults, logging on.
+    pub fn new(config: SimConfig) -> Self {
+        SimCore {
+            model: DriveModel::new(config),
+            faults: FaultInjection::default(),
+            logging: true,
+            requests: Vec::new(),
+            control_words: Vec::new(),
+        }
+    }
+
+    /// Moves the model to `now`, tripping at every injected trip due on the way.
+    pub fn advance_to(&mut self, now: Duration) {
+        while let Some((at, code)) = self.faults.take_trip_due(now) {
+            self.model.advance_to(at);
+            self.model.trip(code);
+        }
+        self.model.advance_to(now);
+    }
+
+    /// The injected panic, when it is due: a front calls this first for every request.
+    pub fn panic_if_due(&mut self, now: Duration) {
+        if self.faults.take_panic_due(now) {
+            panic!("injected test fault: the simulated drive panics while handling a request");
+        }
+    }
+
+    /// True when an injected fault makes the enabled drive ignore `command` (it still
+    /// starts up normally, so a recipe can get it running).
+    pub fn disobeys(&self, command: DeviceCommand) -> bool {
+        matches!(
+            self.model.state(),
+            DeviceState::OperationEnabled | DeviceState::QuickStopActive
+        ) && self.faults.ignores(command)
+    }
+
+    /// [`disobeys`](Self::disobeys) the command `control_word` gives.
+    pub fn disobeys_word(&self, control_word: u16) -> bool {
+        self.disobeys(self.model.command_for(control_word))
+    }
+
+    /// Keeps `entry` in the request log (while logging is on; the latest entries only).
+    pub fn log_request(&mut self, entry: E) {
+        if self.logging {
+            keep_recent(&mut self.requests, entry);
+        }
+    }
+
+    /// Keeps `control_word` in the control-word log (while logging is on).
+    pub fn log_control_word(&mut self, control_word: u16) {
+        if self.logging {
+            keep_recent(&mut self.control_words, control_word);
+        }
+    }
+
+    /// What the drive was sent, in order (while logging is on; the latest 10 000 at least).
+    pub fn requests(&self) -> &[E] {
+        &self.requests
+    }
+
+    pub fn control_words(&self) -> &[u16] {
+        &self.control_words
+    }
+
+    /// Forgets both logs.
+    pub fn clear_log(&mut self) {
+        self.requests.clear();
+        self.control_words.clear();
+    }
+
+    pub fn set_logging(&mut self, on: bool) {
+        self.logging = on;
+    }
+}
+
+/// A family's simulator front: its own bytes around a [`SimCore`].
+pub trait SimFront: Send + 'static {
+    /// What the front logs per request.
+    type Logged;
+    fn core(&self) -> &SimCore<Self::Logged>;
+    fn core_mut(&mut self) -> &mut SimCore<Self::Logged>;
+    /// One line for the command line's first output.
+    fn describe_drive(&self) -> String;
+}
+
+impl<T: SimFront> SimulatedDrive for T {
+    fn faults(&mut self) -> &mut FaultInjection {
+        &mut self.core_mut().faults
+    }
+    fn control_words_written(&self) -> Vec<u16> {
+        self.core().control_words().to_vec()
+    }
+    fn state(&self) -> DeviceState {
+        self.core().model.state()
+    }
+    fn speed_rpm(&self, now: Duration) -> f64 {
+        let core = self.core();
+        core.model.speed_at(&core.faults, now)
+    }
+    fn set_logging(&mut self, on: bool) {
+        self.core_mut().set_logging(on);
+    }
+    fn describe(&self) -> String {
+        self.describe_drive()
+    }
+    fn as_any_mut(&mut self) -> &mut dyn Any {
+        self
+    }
+}
