@@ -694,9 +694,9 @@ fn run_several(
 }
 
 #[derive(Debug, Args)]
-/// Print the JSON Schema of recipes, for editor completion of keys, object names and
-/// states. Recipes point their editor at it with a first line
-/// `# yaml-language-server: $schema=../recipe.schema.json`.
+/// Print the JSON Schema of recipes for one dictionary, for editor completion of keys,
+/// object names and states. Recipes point their editor at it with a first line
+/// `# yaml-language-server: $schema=../schemas/sd2.schema.json`.
 pub struct SchemaArgs {
     #[command(flatten)]
     dictionary: DictionaryArgs,
