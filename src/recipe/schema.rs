@@ -5,7 +5,6 @@
 
 use super::loader::STEP_KEYS;
 use crate::dictionary::{Dictionary, Dimension, ObjectDef, Unit};
-use crate::drive::device_control::{DeviceCommand, DeviceState};
 use crate::drive::{AddressKeyTable, KeyUse, KeyValues};
 use crate::session::number;
 use serde_json::{json, Value};
@@ -240,14 +239,30 @@ pub fn recipe_schema(dictionary: &Dictionary, address_keys: &AddressKeyTable) ->
             );
         }
     }
-    // Only what the drive's profile has (a Control Techniques drive has no quick stop).
-    let commands: Vec<&str> = match dictionary.profile() {
-        Some(p) => p.command_ids(),
-        None => DeviceCommand::ALL.iter().map(|c| c.id()).collect(),
+    // Only what the drive's profile has (a Control Techniques drive has no quick stop), and
+    // nothing without one: `check` refuses device commands and states then.
+    let (commands, states): (Vec<&str>, Vec<&str>) = match dictionary.profile() {
+        Some(p) => (p.command_ids(), p.state_ids()),
+        None => (Vec::new(), Vec::new()),
     };
-    let states: Vec<&str> = match dictionary.profile() {
-        Some(p) => p.state_ids(),
-        None => DeviceState::ALL.iter().map(|s| s.id()).collect(),
+    let no_profile = format!(
+        "needs device control, but the {} dictionary has no `profile:`",
+        dictionary.family()
+    );
+    let state = |doc: &str| {
+        let mut state = json!({ "type": "string", "enum": states, "description": doc });
+        if states.is_empty() {
+            state["errorMessage"] = json!(format!("a state {no_profile}"));
+        }
+        state
+    };
+    let command_message = if commands.is_empty() {
+        format!("a device command {no_profile}")
+    } else {
+        format!(
+            "a step written alone is a device command: {}",
+            commands.join(", ")
+        )
     };
     // A recipe names its drive by family (`sd2`) or by built-in dictionary (`ct-unidrive-sp`).
     let mut drives = vec![dictionary.family()];
@@ -272,10 +287,7 @@ pub fn recipe_schema(dictionary: &Dictionary, address_keys: &AddressKeyTable) ->
             { "type": "array", "items": { "type": "string", "enum": names } }
         ]
     });
-    wait_props.insert(
-        "state".into(),
-        json!({ "type": "string", "enum": states, "description": "a device-control state to wait for" }),
-    );
+    wait_props.insert("state".into(), state("a device-control state to wait for"));
     wait_props.insert("timeout".into(), json!({ "$ref": "#/$defs/duration" }));
     wait_props.insert("every".into(), json!({ "$ref": "#/$defs/duration" }));
     // The key's own schema carries the description too: an editor shows a key's hover from
@@ -308,8 +320,8 @@ pub fn recipe_schema(dictionary: &Dictionary, address_keys: &AddressKeyTable) ->
         keyed(
             "go_to",
             json!({ "oneOf": [
-            { "type": "string", "enum": states },
-            { "type": "object", "properties": { "state": { "type": "string", "enum": states }, "timeout": { "$ref": "#/$defs/duration" } }, "required": ["state"], "additionalProperties": false }
+            state("the state to walk to"),
+            { "type": "object", "properties": { "state": state("the state to walk to"), "timeout": { "$ref": "#/$defs/duration" } }, "required": ["state"], "additionalProperties": false }
         ] }),
             "Walk the state machine to a state by the shortest sequence of device commands: `go_to: operation_enabled`, or `{ state: operation_enabled, timeout: 5 s }` (default 5 s per transition)",
         ),
@@ -416,7 +428,7 @@ pub fn recipe_schema(dictionary: &Dictionary, address_keys: &AddressKeyTable) ->
             "defaultSnippets": snippets,
             "if": { "type": "string" },
             "then": { "type": "string", "enum": commands, "description": command_doc,
-                      "errorMessage": format!("a step written alone is a device command: {}", commands.join(", ")) },
+                      "errorMessage": command_message },
             "else": {
                 "type": "object",
                 "propertyNames": { "enum": step_key_names,
@@ -647,6 +659,29 @@ mod tests {
                 .collect::<Vec<_>>()
         );
         assert!(snippets.contains(&"disable_operation"), "{snippets:?}");
+    }
+
+    /// Without a device-control profile `check` refuses device commands and states, so the
+    /// schema offers none and says why.
+    #[test]
+    fn offers_no_device_command_or_state_without_a_profile() {
+        let registry = crate::family::Registry::builtin();
+        let d = registry.load_dictionary("lenze-9400").unwrap();
+        assert!(d.profile().is_none());
+        let s = recipe_schema(&d, &registry.address_keys());
+        let step = &s["$defs"]["step"];
+        assert_eq!(step["defaultSnippets"], json!([]));
+        assert_eq!(step["then"]["enum"], json!([]));
+        assert_eq!(
+            step["then"]["errorMessage"],
+            "a device command needs device control, but the lenze_9400 dictionary has no `profile:`"
+        );
+        let go_to = &step["else"]["oneOf"][0]["properties"]["go_to"]["oneOf"][0];
+        assert_eq!(go_to["enum"], json!([]));
+        assert!(go_to["errorMessage"]
+            .as_str()
+            .unwrap()
+            .starts_with("a state needs device control"));
     }
 
     #[test]

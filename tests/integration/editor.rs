@@ -20,9 +20,14 @@ fn server() -> Option<LanguageServer> {
 
 /// An SD2 recipe being written in `recipes/`: its modeline as the shipped ones have it.
 fn draft(steps: &str) -> String {
+    draft_for("sd2", steps)
+}
+
+/// A recipe for the built-in dictionary `drive` being written in `recipes/`.
+fn draft_for(drive: &str, steps: &str) -> String {
     format!(
-        "# yaml-language-server: $schema=../schemas/sd2.schema.json\n\
-         name: Draft\ndrive: sd2\nsteps:\n{steps}"
+        "# yaml-language-server: $schema=../schemas/{drive}.schema.json\n\
+         name: Draft\ndrive: {drive}\nsteps:\n{steps}"
     )
 }
 
@@ -164,6 +169,14 @@ fn completing_an_object_inserts_its_key_and_an_empty_step_offers_device_commands
             );
         }
     }
+    // A drive without a device-control profile has no device commands to offer.
+    let text = draft_for("lenze-9400", "  - \n");
+    let uri = server.open(&buffer("no-profile"), &text);
+    let items = server.completion(&uri, position(&text, "  - \n", Some(4)));
+    assert!(
+        !items.iter().any(|(label, _)| label == "shutdown") && !items.is_empty(),
+        "{items:?}"
+    );
 }
 
 #[test]
@@ -187,5 +200,18 @@ fn a_value_that_does_not_match_is_explained_in_words_not_as_a_pattern() {
             format!("7: {speed}"),
             "8: expected a change per time with units: 1000 rpm/s, 50 rpm/min".to_string(),
         ]
+    );
+}
+
+/// A device command where the drive has no device-control profile is marked as `check`
+/// refuses it, with the reason.
+#[test]
+fn a_device_command_without_a_profile_is_marked_with_the_reason() {
+    let Some(mut server) = server() else { return };
+    let text = draft_for("lenze-9400", "  - read: [ident]\n  - shutdown\n");
+    let uri = server.open(&buffer("no-profile-command"), &text);
+    assert_eq!(
+        server.diagnostics(&uri),
+        ["6: a device command needs device control, but the lenze_9400 dictionary has no `profile:`"]
     );
 }
