@@ -232,9 +232,9 @@ pub fn run(args: &RunArgs, registry: &Registry) -> i32 {
 }
 
 #[derive(Debug, Args)]
-/// Print the JSON Schema of recipes, for editor completion of keys, object names and
-/// states. Recipes point their editor at it with a first line
-/// `# yaml-language-server: $schema=../recipe.schema.json`.
+/// Print the JSON Schema of recipes for one dictionary, for editor completion of keys,
+/// object names and states. Recipes point their editor at it with a first line
+/// `# yaml-language-server: $schema=../schemas/sd2.schema.json`.
 pub struct SchemaArgs {
     #[command(flatten)]
     dictionary: DictionaryArgs,

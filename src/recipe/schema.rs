@@ -5,17 +5,31 @@
 
 use super::loader::STEP_KEYS;
 use crate::dictionary::{Dictionary, Dimension, ObjectDef, Unit};
-use crate::drive::device_control::{DeviceCommand, DeviceState};
 use crate::drive::{AddressKeyTable, KeyUse, KeyValues};
 use crate::session::number;
 use serde_json::{json, Value};
 
+/// The hover text of a step's `name:`.
+const STEP_NAME_DOC: &str = "the step's own name in reports (a stage name for include and repeat)";
 /// A number as recipes write it.
 const NUMBER: &str = r"-?[0-9]+(\.[0-9]+)?([eE][-+]?[0-9]+)?";
 /// A parameter reference, `{{speed}}`.
 const PARAM: &str = r"\{\{\s*[A-Za-z_][A-Za-z0-9_]*\s*\}\}";
 /// Duration units as the loader (humantime) reads them.
 const DURATION_UNITS: &str = "ns|nsec|us|usec|ms|msec|s|sec|secs|second|seconds|m|min|mins|minute|minutes|h|hr|hrs|hour|hours|d|day|days|w|week|weeks|M|month|months|y|year|years";
+
+/// Text matching `regex` (with `numbers`, a bare number too: a pattern applies to text
+/// only), described by `what`: the hover text, and the message editors show for text that
+/// does not match instead of the regex (yaml-language-server's `patternErrorMessage`).
+/// The `type` also lets an editor complete `name: ` for a key taking it.
+fn written_as(what: &str, regex: String, numbers: bool) -> Value {
+    json!({
+        "type": if numbers { json!(["string", "number"]) } else { json!("string") },
+        "description": what,
+        "pattern": regex,
+        "patternErrorMessage": format!("expected {what}")
+    })
+}
 
 /// `rpm` → `[rR][pP][mM]`: units are read regardless of case, and JSON Schema patterns
 /// have no flags.
@@ -71,13 +85,17 @@ fn dimension_defs(defs: &mut serde_json::Map<String, Value>, unit: Option<Unit>)
                 .filter(|x| x.dimension() == d)
                 .map(|x| x.symbol())
                 .collect();
-            json!({
-                "description": format!("a {} with its unit ({}), a bare number in {}, or {{{{param}}}}", d.name(), examples.join(", "), u.symbol()),
-                "oneOf": [
-                    { "type": "number" },
-                    { "type": "string", "pattern": format!(r"^\s*(({NUMBER})\s*({units})?|{PARAM})\s*$") }
-                ]
-            })
+            let description = format!(
+                "a {} with its unit ({}), a bare number in {}, or {{{{param}}}}",
+                d.name(),
+                examples.join(", "),
+                u.symbol()
+            );
+            written_as(
+                &description,
+                format!(r"^\s*(({NUMBER})\s*({units})?|{PARAM})\s*$"),
+                true,
+            )
         }
         None => json!({
             "description": "a number in the object's own terms, text for text objects, or {{param}}",
@@ -89,13 +107,12 @@ fn dimension_defs(defs: &mut serde_json::Map<String, Value>, unit: Option<Unit>)
         Some(u) => format!("%|{}", units_of(u.dimension())),
         None => "%".to_string(),
     };
-    let within = json!({
-        "description": "the tolerance of near: absolute with the object's unit (20 rpm) or relative (1 %)",
-        "oneOf": [
-            { "type": "number", "minimum": 0 },
-            { "type": "string", "pattern": format!(r"^\s*(({NUMBER})\s*({within_units})?|{PARAM})\s*$") }
-        ]
-    });
+    let mut within = written_as(
+        "the tolerance of near: absolute with the object's unit (20 rpm) or relative (1 %)",
+        format!(r"^\s*(({NUMBER})\s*({within_units})?|{PARAM})\s*$"),
+        true,
+    );
+    within["minimum"] = json!(0);
     let predicates = json!({
         "equals": value_ref, "above": value_ref, "below": value_ref,
         "between": { "type": "array", "items": value_ref, "minItems": 2, "maxItems": 2,
@@ -177,11 +194,13 @@ fn object_doc(o: &ObjectDef) -> (String, String) {
     (plain, md)
 }
 
-/// `{ "allOf": [ref], description, markdownDescription }`: a reference with the object's
-/// hover text (draft-07 ignores keywords next to a bare `$ref`).
+/// A reference with the object's hover text beside it. Draft-07 validators ignore keywords
+/// next to a `$ref`, which costs nothing here: these are annotations, not constraints, and
+/// editors show them (an `allOf` wrapper would put the referenced value's generic text
+/// first).
 fn documented(reference: String, doc: &(String, String)) -> Value {
     json!({
-        "allOf": [ { "$ref": reference } ],
+        "$ref": reference,
         "description": doc.0,
         "markdownDescription": doc.1
     })
@@ -220,43 +239,66 @@ pub fn recipe_schema(dictionary: &Dictionary, address_keys: &AddressKeyTable) ->
             );
         }
     }
-    // Only what the drive's profile has (a Control Techniques drive has no quick stop).
-    let commands: Vec<&str> = match dictionary.profile() {
-        Some(p) => p.command_ids(),
-        None => DeviceCommand::ALL.iter().map(|c| c.id()).collect(),
+    // Only what the drive's profile has (a Control Techniques drive has no quick stop), and
+    // nothing without one: `check` refuses device commands and states then.
+    let (commands, states): (Vec<&str>, Vec<&str>) = match dictionary.profile() {
+        Some(p) => (p.command_ids(), p.state_ids()),
+        None => (Vec::new(), Vec::new()),
     };
-    let states: Vec<&str> = match dictionary.profile() {
-        Some(p) => p.state_ids(),
-        None => DeviceState::ALL.iter().map(|s| s.id()).collect(),
+    let no_profile = format!(
+        "needs device control, but the {} dictionary has no `profile:`",
+        dictionary.family()
+    );
+    let state = |doc: &str| {
+        let mut state = json!({ "type": "string", "enum": states, "description": doc });
+        if states.is_empty() {
+            state["errorMessage"] = json!(format!("a state {no_profile}"));
+        }
+        state
+    };
+    let command_message = if commands.is_empty() {
+        format!("a device command {no_profile}")
+    } else {
+        format!(
+            "a step written alone is a device command: {}",
+            commands.join(", ")
+        )
     };
     // A recipe names its drive by family (`sd2`) or by built-in dictionary (`ct-unidrive-sp`).
     let mut drives = vec![dictionary.family()];
     if let Some(name) = dictionary.name().filter(|n| *n != dictionary.family()) {
         drives.push(name);
     }
-    let duration = json!({
-        "description": "a duration with its unit: 500 ms, 5 s, 10 min, 2 h, 1h 30min, or {{param}}",
-        "type": "string",
-        "pattern": format!(r"^\s*(([0-9]+\s*({DURATION_UNITS})\s*)+|{PARAM})$")
-    });
+    let duration = written_as(
+        "a duration with its unit: 500 ms, 5 s, 10 min, 2 h, 1h 30min, or {{param}}",
+        format!(r"^\s*(([0-9]+\s*({DURATION_UNITS})\s*)+|{PARAM})$"),
+        false,
+    );
     let speed_units = units_of(Dimension::Speed);
+    let mut standstill = written_as(
+        "a speed with its unit up to which the drive counts as standing still: 10 rpm",
+        format!(r"^\s*({NUMBER})\s*({speed_units})\s*$"),
+        false,
+    );
+    standstill["examples"] = json!(["10 rpm"]);
     let object_list = json!({
         "oneOf": [
             { "type": "string", "enum": names },
             { "type": "array", "items": { "type": "string", "enum": names } }
         ]
     });
-    wait_props.insert(
-        "state".into(),
-        json!({ "type": "string", "enum": states, "description": "a device-control state to wait for" }),
-    );
+    wait_props.insert("state".into(), state("a device-control state to wait for"));
     wait_props.insert("timeout".into(), json!({ "$ref": "#/$defs/duration" }));
     wait_props.insert("every".into(), json!({ "$ref": "#/$defs/duration" }));
-    let keyed = |key: &str, body: Value, doc: &str| {
+    // The key's own schema carries the description too: an editor shows a key's hover from
+    // the schema of its value.
+    let keyed = |key: &str, mut body: Value, doc: &str| {
+        body["description"] = json!(doc);
+        body["markdownDescription"] = json!(doc);
         json!({
             "type": "object",
             "description": doc,
-            "properties": { key: body, "name": { "type": "string", "description": "the step's own name in reports (a stage name for include and repeat)" } },
+            "properties": { key: body, "name": { "type": "string", "description": STEP_NAME_DOC } },
             "required": [key],
             "additionalProperties": false
         })
@@ -268,36 +310,45 @@ pub fn recipe_schema(dictionary: &Dictionary, address_keys: &AddressKeyTable) ->
         units_of(Dimension::Current),
         units_of(Dimension::Ratio)
     );
+    let rate = written_as(
+        "a change per time with units: 1000 rpm/s, 50 rpm/min",
+        format!(r"^\s*({NUMBER})\s*({rate_units})\s*/\s*(ms|s|min|h)\s*$"),
+        false,
+    );
     let step_keys = STEP_KEYS;
     let step_variants = vec![
         keyed(
             "go_to",
             json!({ "oneOf": [
-            { "type": "string", "enum": states },
-            { "type": "object", "properties": { "state": { "type": "string", "enum": states }, "timeout": { "$ref": "#/$defs/duration" } }, "required": ["state"], "additionalProperties": false }
+            state("the state to walk to"),
+            { "type": "object", "properties": { "state": state("the state to walk to"), "timeout": { "$ref": "#/$defs/duration" } }, "required": ["state"], "additionalProperties": false }
         ] }),
-            "walk the state machine to a state",
+            "Walk the state machine to a state by the shortest sequence of device commands: `go_to: operation_enabled`, or `{ state: operation_enabled, timeout: 5 s }` (default 5 s per transition)",
         ),
         keyed(
             "set",
             json!({ "type": "object", "properties": set_props, "additionalProperties": false, "minProperties": 1 }),
-            "write objects",
+            "Write objects: `set: { speed_setpoint: 6000 rpm }`; each value is checked against its object's unit and range before anything is sent",
         ),
-        keyed("read", object_list.clone(), "read objects and show their values"),
+        keyed(
+            "read",
+            object_list.clone(),
+            "Read objects and show their values: `read: [speed_actual, bus_voltage]`",
+        ),
         keyed(
             "print",
             json!({ "oneOf": [ { "type": "string" }, object_list.clone() ] }),
-            "show a message, or values",
+            "Show a message (`print: text`), or read objects and show their values as read does",
         ),
         keyed(
             "wait_until",
             json!({ "type": "object", "properties": wait_props, "additionalProperties": false }),
-            "poll until a state or a condition holds; fails after timeout",
+            "Poll until a state (`state: operation_enabled`) or a condition on an object holds (`speed_actual: { near: 6000 rpm, within: 1 % }`); fails after `timeout` (default 10 s), polling `every` (default 100 ms)",
         ),
         keyed(
             "dwell",
             json!({ "$ref": "#/$defs/duration" }),
-            "wait, watching for drive faults",
+            "Wait for a duration, watching for drive faults: `dwell: 5 s`",
         ),
         keyed(
             "sample",
@@ -310,12 +361,12 @@ pub fn recipe_schema(dictionary: &Dictionary, address_keys: &AddressKeyTable) ->
                 },
                 "required": ["objects", "every", "for"], "additionalProperties": false
             }),
-            "read objects periodically, keep statistics, optionally to CSV",
+            "Read `objects` `every` interval `for` a duration and keep their statistics (mean, min, max, ripple, std) for the `expect` steps after it; `csv:` also writes the samples to a file",
         ),
         keyed(
             "expect",
             json!({ "type": "object", "properties": check_props, "additionalProperties": false, "minProperties": 1 }),
-            "named pass/fail checks",
+            "Pass/fail checks, each named in the reports, on the value now or on a statistic of the last sample window: `expect: { speed_actual: { mean: { near: 6000 rpm, within: 0.5 % } } }`; a failed check fails the run (exit code 1)",
         ),
         keyed(
             "ramp",
@@ -324,13 +375,12 @@ pub fn recipe_schema(dictionary: &Dictionary, address_keys: &AddressKeyTable) ->
                 "properties": {
                     "object": { "type": "string", "enum": writable }, "from": { "$ref": "#/$defs/value_any" },
                     "to": { "$ref": "#/$defs/value_any" }, "step": { "$ref": "#/$defs/value_any" },
-                    "rate": { "type": "string", "description": "a change per time with units: 1000 rpm/s, 50 rpm/min",
-                              "pattern": format!(r"^\s*({NUMBER})\s*({rate_units})\s*/\s*(ms|s|min|h)\s*$") },
+                    "rate": rate,
                     "every": { "$ref": "#/$defs/duration" }
                 },
                 "required": ["object", "from", "to"], "additionalProperties": false
             }),
-            "write an object in steps from one value to another",
+            "Write an object in steps from `from` to `to`, one write `every` interval (default 100 ms): by `step` each, or at a `rate` (1000 rpm/s)",
         ),
         keyed(
             "repeat",
@@ -340,7 +390,7 @@ pub fn recipe_schema(dictionary: &Dictionary, address_keys: &AddressKeyTable) ->
                 "required": ["steps"], "additionalProperties": false,
                 "oneOf": [ { "required": ["times"], "not": { "required": ["for"] } }, { "required": ["for"], "not": { "required": ["times"] } } ]
             }),
-            "run nested steps a number of times or for a duration",
+            "Run nested `steps` a number of `times`, or again and again `for` a duration",
         ),
         keyed(
             "include",
@@ -348,12 +398,12 @@ pub fn recipe_schema(dictionary: &Dictionary, address_keys: &AddressKeyTable) ->
             { "type": "string" },
             { "type": "object", "properties": { "file": { "type": "string" }, "params": { "type": "object" } }, "required": ["file"], "additionalProperties": false }
         ] }),
-            "the steps of another recipe file",
+            "Run the steps of another recipe file, relative to this one: `include: stage.yaml`, or `{ file: stage.yaml, params: { speed: 6000 rpm } }` with parameters of its own",
         ),
         keyed(
             "expect_parameters",
             json!({ "type": "string", "description": "a file written by `drivescript backup`, relative to this recipe" }),
-            "check that the drive holds a backup's parameters, one check per object",
+            "Check that the drive holds a backup's parameters (a file written by `drivescript backup`, relative to this recipe), one check per object",
         ),
     ];
     let mut step_key_names: Vec<&str> = step_keys.to_vec();
@@ -365,13 +415,20 @@ pub fn recipe_schema(dictionary: &Dictionary, address_keys: &AddressKeyTable) ->
     defs.insert("duration".into(), duration);
     // A string step is a device command; a map step has one step key (and maybe a name).
     // Split by type first, so a misspelt key is reported against the list of step keys
-    // instead of as "expected a string".
+    // instead of as "expected a string". An editor offers neither branch's values on an
+    // empty step, so the commands are offered as snippets too.
+    let command_doc = "a device command: writes the control word";
+    let snippets: Vec<Value> = commands
+        .iter()
+        .map(|c| json!({ "label": c, "description": command_doc, "body": c }))
+        .collect();
     defs.insert(
         "step".into(),
         json!({
+            "defaultSnippets": snippets,
             "if": { "type": "string" },
-            "then": { "type": "string", "enum": commands, "description": "a device command: writes the control word",
-                      "errorMessage": format!("a step written alone is a device command: {}", commands.join(", ")) },
+            "then": { "type": "string", "enum": commands, "description": command_doc,
+                      "errorMessage": command_message },
             "else": {
                 "type": "object",
                 "propertyNames": { "enum": step_key_names,
@@ -392,20 +449,21 @@ pub fn recipe_schema(dictionary: &Dictionary, address_keys: &AddressKeyTable) ->
         "required": ["name", "steps"],
         "additionalProperties": false,
         "properties": {
-            "name": { "type": "string" },
-            "description": { "type": "string" },
-            "drive": { "type": "string", "enum": drives },
+            "name": { "type": "string", "description": "the recipe's name in the console, JUnit and HTML reports" },
+            "description": { "type": "string", "description": "what the recipe does, for its reader" },
+            "drive": { "type": "string", "enum": drives,
+                       "description": format!("the drive family (or built-in dictionary) the recipe is written for; this schema is the one of {}", dictionary.title()) },
             "params": { "type": "object", "additionalProperties": { "type": ["string", "number"] },
                         "description": "parameters used as {{name}} in values; --set name=value overrides them" },
-            "steps": { "$ref": "#/$defs/steps" },
-            "finally": { "$ref": "#/$defs/steps" },
-            "on_fault": { "$ref": "#/$defs/steps" },
+            "steps": { "$ref": "#/$defs/steps", "description": "the steps, in order: device commands (`- shutdown`) and steps with one key (`- set: { speed_setpoint: 6000 rpm }`)" },
+            "finally": { "$ref": "#/$defs/steps", "description": "steps run at every ending, after a turning drive is braked to standstill; they replace the default stop (disable operation, shutdown), never the verification that follows" },
+            "on_fault": { "$ref": "#/$defs/steps", "description": "steps run when the drive faults during a step, before the safe stop" },
             "leave_enabled": { "type": "boolean", "default": false,
                 "description": "true: a run that succeeds leaves the drive as its steps left it (no brake, no finally, the default's or the recipe's); every other ending stops it. `drivescript stop` stops it later" },
             "drives": {
                 "type": "object",
                 "description": "Several named drives instead of one `drive:`; steps then name objects as `left.speed_setpoint`, commands as `- enable_operation: left` (a bare command goes to every drive) and `go_to: { drive: left, state: … }`",
-                "propertyNames": { "pattern": "^[a-z][a-z0-9_]*$" },
+                "propertyNames": written_as("a drive name: lower-case letters, digits and _, starting with a letter", "^[a-z][a-z0-9_]*$".into(), false),
                 "additionalProperties": drive_entry(address_keys)
             },
             "link": {
@@ -421,8 +479,7 @@ pub fn recipe_schema(dictionary: &Dictionary, address_keys: &AddressKeyTable) ->
                     "timeout": { "$ref": "#/$defs/duration" },
                     "brake_to_standstill": { "type": "boolean", "default": true,
                         "description": "true (default): a drive still enabled and turning at the end gets the speed setpoint 0 and is waited for until it stands still before anything disables it, the recipe's own finally included. false: it is disabled at speed and coasts (for a drive that brakes by itself on disable); check says so" },
-                    "standstill": { "type": "string", "examples": ["10 rpm"],
-                                    "pattern": format!(r"^\s*({NUMBER})\s*({speed_units})\s*$") }
+                    "standstill": standstill
                 }
             }
         },
@@ -529,7 +586,7 @@ mod tests {
             .unwrap()
             .contains("read-only"));
         // Values of speed objects take speed units only; durations take time units only.
-        let speed = s["$defs"]["value_speed"]["oneOf"][1]["pattern"].as_str().unwrap();
+        let speed = s["$defs"]["value_speed"]["pattern"].as_str().unwrap();
         assert!(
             speed.contains("[rR][pP][mM]") && !speed.contains("[aA]"),
             "{speed}"
@@ -542,6 +599,89 @@ mod tests {
         // `near` needs `within`.
         let shapes = s["$defs"]["condition_speed"]["oneOf"].to_string();
         assert!(shapes.contains(r#"["near","within"]"#), "{shapes}");
+    }
+
+    /// What an editor needs beyond validation: the object's own hover text beside its
+    /// `$ref` (not under an `allOf` whose referenced text comes first), a description on
+    /// every step key, a `type` on every value so completing a key inserts `key: `, words
+    /// instead of regexes for a value that does not match, and the device commands offered
+    /// on an empty step.
+    #[test]
+    fn gives_editors_hover_texts_key_types_pattern_messages_and_commands() {
+        let registry = crate::family::Registry::builtin();
+        let d = registry
+            .load_dictionary(crate::family::DEFAULT_DICTIONARY)
+            .unwrap();
+        let s = recipe_schema(&d, &registry.address_keys());
+        let variants = s["$defs"]["step"]["else"]["oneOf"].as_array().unwrap();
+        let set = &variants[1]["properties"]["set"]["properties"]["speed_setpoint"];
+        assert_eq!(set["$ref"], "#/$defs/value_speed");
+        assert!(set.get("allOf").is_none(), "{set}");
+        assert!(set["description"].as_str().unwrap().contains("rpm"), "{set}");
+        for variant in variants {
+            let props = variant["properties"].as_object().unwrap();
+            for (key, body) in props {
+                let doc = body["description"].as_str().unwrap_or_default();
+                assert!(doc.len() > 20, "step key `{key}` has no description: {body}");
+            }
+        }
+        for def in [
+            "value_speed",
+            "value_plain",
+            "value_any",
+            "condition_speed",
+            "check_speed",
+            "duration",
+        ] {
+            assert!(s["$defs"][def].get("type").is_some(), "{def} has no type");
+        }
+        assert_eq!(
+            s["$defs"]["duration"]["patternErrorMessage"],
+            "expected a duration with its unit: 500 ms, 5 s, 10 min, 2 h, 1h 30min, or {{param}}"
+        );
+        assert!(s["$defs"]["value_speed"]["patternErrorMessage"]
+            .as_str()
+            .unwrap()
+            .starts_with("expected a speed with its unit (rpm"));
+        let snippets: Vec<&str> = s["$defs"]["step"]["defaultSnippets"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|x| x["body"].as_str().unwrap())
+            .collect();
+        assert_eq!(
+            snippets,
+            s["$defs"]["step"]["then"]["enum"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|x| x.as_str().unwrap())
+                .collect::<Vec<_>>()
+        );
+        assert!(snippets.contains(&"disable_operation"), "{snippets:?}");
+    }
+
+    /// Without a device-control profile `check` refuses device commands and states, so the
+    /// schema offers none and says why.
+    #[test]
+    fn offers_no_device_command_or_state_without_a_profile() {
+        let registry = crate::family::Registry::builtin();
+        let d = registry.load_dictionary("lenze-9400").unwrap();
+        assert!(d.profile().is_none());
+        let s = recipe_schema(&d, &registry.address_keys());
+        let step = &s["$defs"]["step"];
+        assert_eq!(step["defaultSnippets"], json!([]));
+        assert_eq!(step["then"]["enum"], json!([]));
+        assert_eq!(
+            step["then"]["errorMessage"],
+            "a device command needs device control, but the lenze_9400 dictionary has no `profile:`"
+        );
+        let go_to = &step["else"]["oneOf"][0]["properties"]["go_to"]["oneOf"][0];
+        assert_eq!(go_to["enum"], json!([]));
+        assert!(go_to["errorMessage"]
+            .as_str()
+            .unwrap()
+            .starts_with("a state needs device control"));
     }
 
     #[test]

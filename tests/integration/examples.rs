@@ -1,8 +1,10 @@
 //! The shipped example recipes stay valid and pass against the simulated drive, the
-//! committed `recipe.schema.json` is what `drivescript schema` prints, and sample CSV files
-//! keep every pass of a repeated stage.
+//! committed schemas (`schemas/`, one per built-in dictionary) are what `drivescript schema`
+//! prints and each recipe points at its own, and sample CSV files keep every pass of a
+//! repeated stage.
 
 use crate::support::{cli, drivescript, repo_root, stderr, stdout};
+use drivescript::family::{Registry, DEFAULT_DICTIONARY};
 
 #[test]
 fn every_example_recipe_checks_and_passes_in_virtual_time() {
@@ -68,15 +70,59 @@ fn every_example_recipe_checks_and_passes_in_virtual_time() {
     }
 }
 
+/// `schemas/NAME.schema.json` for every built-in dictionary, each what `drivescript schema
+/// --drive NAME` prints, and no other schema.
 #[test]
-fn the_committed_schema_is_current() {
-    let out = drivescript(&["schema"], "");
-    assert_eq!(out.status.code(), Some(0));
-    let committed =
-        std::fs::read_to_string(repo_root().join("recipe.schema.json")).expect("recipe.schema.json");
-    assert_eq!(
-        committed.trim(),
-        stdout(&out).trim(),
-        "recipe.schema.json is out of date: run `cargo run -- schema > recipe.schema.json`"
-    );
+fn the_committed_schemas_are_current() {
+    let names = Registry::builtin().dictionary_names();
+    for name in &names {
+        let out = drivescript(&["schema", "--drive", name], "");
+        assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+        let path = repo_root().join("schemas").join(format!("{name}.schema.json"));
+        let committed = std::fs::read_to_string(&path).unwrap_or_default();
+        assert_eq!(
+            committed.trim(),
+            stdout(&out).trim(),
+            "schemas/{name}.schema.json is out of date: run \
+             `cargo run -- schema --drive {name} > schemas/{name}.schema.json`"
+        );
+    }
+    let mut shipped: Vec<String> = std::fs::read_dir(repo_root().join("schemas"))
+        .expect("schemas/")
+        .map(|e| e.expect("entry").file_name().to_string_lossy().into_owned())
+        .collect();
+    shipped.sort();
+    let mut expected: Vec<String> = names.iter().map(|n| format!("{n}.schema.json")).collect();
+    expected.sort();
+    assert_eq!(shipped, expected, "one schema per built-in dictionary");
+}
+
+/// Every shipped recipe's first line points an editor at the schema of the dictionary its
+/// `drive:` names (an included file without one: the default dictionary's), so an editor
+/// completes and checks the objects that drive has.
+#[test]
+fn every_shipped_recipe_points_at_the_schema_of_its_drive() {
+    let mut seen = 0;
+    for (dir, up) in [("recipes", "../"), ("recipes/includes", "../../")] {
+        for entry in std::fs::read_dir(repo_root().join(dir)).expect("recipes/") {
+            let path = entry.expect("entry").path();
+            if path.extension().and_then(|e| e.to_str()) != Some("yaml") {
+                continue;
+            }
+            let text = std::fs::read_to_string(&path).expect("recipe");
+            let drive = text
+                .lines()
+                .find_map(|l| l.strip_prefix("drive:"))
+                .map(|d| d.split('#').next().unwrap_or("").trim())
+                .unwrap_or(DEFAULT_DICTIONARY);
+            assert_eq!(
+                text.lines().next(),
+                Some(format!("# yaml-language-server: $schema={up}schemas/{drive}.schema.json").as_str()),
+                "{}",
+                path.display()
+            );
+            seen += 1;
+        }
+    }
+    assert!(seen >= 6, "only {seen} shipped recipes");
 }
