@@ -9,7 +9,7 @@ use super::connection_args::{CanSpec, ConnectionArgs};
 use super::drive_args::DictionaryArgs;
 use super::not_run::silent_drive;
 use super::recipe_commands::RunRequest;
-use super::run_setup::{telegram_outputs, SharedTelegrams};
+use super::run_setup::{telegram_outputs, trace_header, SharedTelegrams};
 use crate::bus::{
     Bus, BusKind, FramePeer, FramePeerLine, MemoryFrameBus, MemoryTransport, Peer, PeerLine, SharedFrameBus,
     SharedTransport,
@@ -317,7 +317,18 @@ pub fn several_checked(
         .registry
         .family(first_dict.family())
         .map_err(|e| format!("error: {e}"))?;
-    telegram_outputs(outputs, &|| family.explainer(first_dict.clone())).map(SharedTelegrams::new)
+    let addresses = decls
+        .iter()
+        .map(|d| format!("{} {}", d.name, d.address.as_deref().unwrap_or("(default)")));
+    let address = addresses.collect::<Vec<_>>().join(", ");
+    let header = trace_header(
+        family.as_ref(),
+        &first_dict,
+        &request.dictionary.extra,
+        connection,
+        address,
+    );
+    telegram_outputs(outputs, family.as_ref(), &first_dict, &header).map(SharedTelegrams::new)
 }
 
 /// Opens the drives checked by [`several_checked`], says early when one never answers,

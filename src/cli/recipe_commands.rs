@@ -5,7 +5,9 @@ use super::connection_args::{parse_duration, ConnectionArgs};
 use super::drive_args::{open_drive, DictionaryArgs};
 use super::drive_set::{drive_dictionaries, several_checked, several_opened};
 use super::not_run::{not_run, silent_drive};
-use super::run_setup::{finish_reports, observed, open_csv, telegram_outputs, write_placeholders, Look};
+use super::run_setup::{
+    finish_reports, observed, open_csv, telegram_outputs, trace_header, write_placeholders, Look,
+};
 use super::several_runs::{outputs_for, print_outputs, worse};
 use super::COMMUNICATION;
 use super::{panic_notice, stop_signals, INVALID, PASSED};
@@ -493,10 +495,18 @@ pub fn run_recipe(request: &RunRequest, out: &mut dyn Write, err: &mut dyn Write
         Ok(f) => f,
         Err(e) => return invalid(format!("error: {e}"), err),
     };
-    if let Err(e) = request.connection.check(family.as_ref()) {
-        return invalid(format!("error: {e}"), err);
-    }
-    let telegrams = match telegram_outputs(outputs, &|| family.explainer(dictionary.clone())) {
+    let address = match request.connection.check(family.as_ref()) {
+        Ok(a) => a.shown,
+        Err(e) => return invalid(format!("error: {e}"), err),
+    };
+    let header = trace_header(
+        family.as_ref(),
+        &dictionary,
+        &request.dictionary.extra,
+        request.connection,
+        address,
+    );
+    let telegrams = match telegram_outputs(outputs, family.as_ref(), &dictionary, &header) {
         Ok(t) => t,
         Err(text) => return invalid(text, err),
     };

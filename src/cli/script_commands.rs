@@ -4,7 +4,9 @@
 
 use super::drive_set::{drive_dictionaries, several_checked, several_opened};
 use super::recipe_commands::{RunRequest, RunResult};
-use super::run_setup::{finish_reports, observed, open_csv, telegram_outputs, write_placeholders, Look};
+use super::run_setup::{
+    finish_reports, observed, open_csv, telegram_outputs, trace_header, write_placeholders, Look,
+};
 use super::{COMMUNICATION, INVALID, PASSED};
 use crate::dictionary::Dictionary;
 use crate::script::{declared_script_drives, load_script_for, Script, ScriptRunner};
@@ -121,10 +123,18 @@ pub fn run_script(request: &RunRequest, out: &mut dyn Write, err: &mut dyn Write
     };
     // The script's `//! link:` settings under the command line's, as for a recipe.
     let connection = request.connection.with_defaults(&script.link);
-    if let Err(e) = connection.check(family.as_ref()) {
-        return refused(format!("error: {e}"), INVALID, err);
-    }
-    let telegrams = match telegram_outputs(outputs, &|| family.explainer(dictionary.clone())) {
+    let address = match connection.check(family.as_ref()) {
+        Ok(a) => a.shown,
+        Err(e) => return refused(format!("error: {e}"), INVALID, err),
+    };
+    let header = trace_header(
+        family.as_ref(),
+        &dictionary,
+        &request.dictionary.extra,
+        &connection,
+        address,
+    );
+    let telegrams = match telegram_outputs(outputs, family.as_ref(), &dictionary, &header) {
         Ok(t) => t,
         Err(text) => return refused(text, INVALID, err),
     };

@@ -29,4 +29,5 @@ mod socketcan;
 mod stop_command;
 mod support;
 mod text_family;
+mod trace_decode;
 mod vectors;

@@ -195,7 +195,7 @@ mod tests {
     use crate::family::sd2::codec::{ErrorCode, WriteLength};
     use crate::hex::parse_hex;
     use crate::link::TelegramObserver;
-    use crate::report::{hex_of_trace_line, is_trace_line, TraceWriter};
+    use crate::report::{hex_of_trace_line, is_trace_line, TraceHeader, TraceWriter};
     use std::io::Write;
     use std::path::Path;
     use std::time::Duration;
@@ -434,7 +434,7 @@ mod tests {
     fn a_trace_file_is_flushed_line_by_line() {
         let dir = std::env::temp_dir().join(format!("drivescript-trace-{}", std::process::id()));
         let path = dir.join("sub/run.trace");
-        let mut trace = TraceWriter::create(&path, explainer()).unwrap();
+        let mut trace = TraceWriter::create(&path, &TraceHeader::default(), false, explainer()).unwrap();
         send_file(&mut trace);
         // Read while the writer is alive: the line is there already.
         let text = std::fs::read_to_string(&path).unwrap();
@@ -444,9 +444,14 @@ mod tests {
         drop(trace);
         std::fs::remove_dir_all(&dir).unwrap();
 
-        let err = TraceWriter::create(Path::new("/proc/no/such/dir/x.trace"), explainer())
-            .err()
-            .unwrap();
+        let err = TraceWriter::create(
+            Path::new("/proc/no/such/dir/x.trace"),
+            &TraceHeader::default(),
+            false,
+            explainer(),
+        )
+        .err()
+        .unwrap();
         assert!(err.contains("/proc/no/such/dir"), "{err}");
     }
 
