@@ -1,4 +1,5 @@
-//! `drivescript decode`: explains captured telegrams, one per argument or per input line.
+//! `drivescript decode`: explains captured telegrams, one per argument or per input line, as the
+//! drive a `--trace` file's header names unless --protocol or --drive says otherwise.
 
 use super::drive_args::DictionaryArgs;
 use super::{FAILED, INVALID, PASSED};

@@ -299,4 +299,30 @@ mod tests {
         );
         assert!(!is_trace_line(lines[1]) && hex_of_trace_line(lines[1]).is_none());
     }
+
+    #[test]
+    fn a_can_trace_file_holds_frames_only_and_its_notes_the_header_and_events() {
+        let dir = std::env::temp_dir().join(format!("drivescript-can-trace-{}", std::process::id()));
+        let path = dir.join("run.log");
+        let header = TraceHeader {
+            drive: "lenze-9400".into(),
+            address: "CAN node 12".into(),
+            ..TraceHeader::default()
+        };
+        let mut trace = TraceWriter::create(&path, &header, true, Box::new(Counting)).unwrap();
+        let frame = CanFrame::new(0x60C, &[0x40, 0x9C, 0x5F, 0, 0, 0, 0, 0]).unwrap();
+        trace.event(Duration::ZERO, "drive `left`");
+        trace.frame(Duration::from_micros(100), Direction::Sent, &frame);
+        trace.event(Duration::from_millis(115), "no response");
+        drop(trace);
+        let text = std::fs::read_to_string(&path).unwrap();
+        assert_eq!(text, "(0000000000.000100) can0 60C#409C5F0000000000\n");
+        let notes = std::fs::read_to_string(trace_notes_path(&path)).unwrap();
+        assert_eq!(TraceHeader::read(notes.lines()), Some(header));
+        assert!(
+            notes.ends_with("    0.000000 -- drive `left`\n    0.115000 -- no response\n"),
+            "{notes}"
+        );
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
 }
