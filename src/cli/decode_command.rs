@@ -1,8 +1,10 @@
-//! `drivescript decode`: explains captured telegrams, one per argument or per input line.
+//! `drivescript decode`: explains captured telegrams, one per argument or per input line, as the
+//! drive a `--trace` file's header names unless --protocol or --drive says otherwise.
 
 use crate::dictionary::Dictionary;
-use crate::family::{Family, Registry};
+use crate::family::{Family, Registry, DEFAULT_DICTIONARY};
 use crate::hex::parse_hex;
+use crate::report::{trace_notes_path, TraceHeader};
 use crate::run::DictionaryArgs;
 use crate::run::{RunError, FAILED, INVALID, PASSED};
 use clap::Args;
@@ -17,8 +19,9 @@ use std::sync::Arc;
 /// (`60C#409C5F0000000000`, or a candump log line) or as `ID data…`.
 pub struct DecodeArgs {
     /// The drive family whose protocol the telegrams are in: `sd2`, `ct_ansi` (also
-    /// `ct-ansi` or the dictionary name `ct-unidrive-sp`) [default: the family of the
-    /// --drive dictionary].
+    /// `ct-ansi` or the dictionary name `ct-unidrive-sp`) [default: the drive a `--trace`
+    /// file's header names (a CAN trace's: in FILE.meta), else the family of the --drive
+    /// dictionary; a candump log without a header: the CAN family].
     #[arg(long, value_name = "FAMILY")]
     protocol: Option<String>,
     /// One JSON object per telegram (the keys of the family's golden vectors, e.g.
@@ -36,6 +39,8 @@ pub struct DecodeArgs {
 /// Exit code: 0 when every telegram decoded, 1 when any was rejected, 2 for text that is
 /// not hex at all.
 pub fn run(args: &DecodeArgs, registry: &Registry) -> i32 {
+    // Where a trace's own header was found, and what it says.
+    let mut headers: Vec<(String, TraceHeader)> = Vec::new();
     let lines: Vec<(String, String)> = if args.hex.is_empty() {
         let stdin = std::io::stdin();
         let mut out = Vec::new();
@@ -48,6 +53,9 @@ pub fn run(args: &DecodeArgs, registry: &Registry) -> i32 {
                 }
             }
         }
+        headers.extend(
+            TraceHeader::read(out.iter().map(|(_, l)| l.as_str())).map(|h| ("standard input".to_string(), h)),
+        );
         out
     } else if args.hex.len() > 1
         && (is_single_byte(&args.hex[0]) || is_can_id(&args.hex[0]))
@@ -65,12 +73,15 @@ pub fn run(args: &DecodeArgs, registry: &Registry) -> i32 {
                 continue;
             }
             match read_lines(path) {
-                Ok(lines) => out.extend(
-                    lines
-                        .into_iter()
-                        .enumerate()
-                        .map(|(n, l)| (format!("{arg}:{}", n + 1), l)),
-                ),
+                Ok(lines) => {
+                    headers.extend(trace_header_of(path, &lines).map(|h| (arg.clone(), h)));
+                    out.extend(
+                        lines
+                            .into_iter()
+                            .enumerate()
+                            .map(|(n, l)| (format!("{arg}:{}", n + 1), l)),
+                    );
+                }
                 Err(e) => {
                     eprintln!("error: {e}");
                     return INVALID;
@@ -79,7 +90,8 @@ pub fn run(args: &DecodeArgs, registry: &Registry) -> i32 {
         }
         out
     };
-    let (family, names) = match protocol_and_names(registry, args) {
+    let recorded = recorded_drive(registry, args, &headers, &lines);
+    let (family, names) = match protocol_and_names(registry, args, recorded.as_ref()) {
         Ok(found) => found,
         Err(text) => {
             eprint!("{text}");
@@ -97,7 +109,7 @@ pub fn run(args: &DecodeArgs, registry: &Registry) -> i32 {
             // CAN frames: candump's `ID#DATA`, a candump log line, or `ID data…`; a
             // meaning after `  # ` (a `-v` trace line) is dropped.
             let frame_text = text.split_once(" #").map_or(text, |(f, _)| f).trim();
-            if frame_text.is_empty() || frame_text.starts_with('#') {
+            if frame_text.is_empty() || crate::report::is_trace_line(frame_text) {
                 continue;
             }
             let frame = match crate::bus::CanFrame::parse_text(frame_text) {
@@ -188,9 +200,10 @@ pub fn run(args: &DecodeArgs, registry: &Registry) -> i32 {
 fn protocol_and_names(
     registry: &Registry,
     args: &DecodeArgs,
+    recorded: Option<&DictionaryArgs>,
 ) -> Result<(Arc<dyn Family>, Arc<Dictionary>), RunError> {
     let Some(protocol) = args.protocol.as_deref() else {
-        let names = args.dictionary.load_for(registry, None)?;
+        let names = recorded.unwrap_or(&args.dictionary).load_for(registry, None)?;
         let family = registry
             .family(names.family())
             .map_err(|e| RunError::Invalid(format!("error: {e}\n")))?;
@@ -221,6 +234,72 @@ fn protocol_and_names(
     }
     let names = wanted.load_for(registry, None)?;
     Ok((family, names))
+}
+
+/// The drive the input itself names when neither --protocol nor --drive does: the first
+/// trace header found, else for a candump log without one (standard input; a log from
+/// another tool) the one CAN family. Says so when the flags contradict a header.
+fn recorded_drive(
+    registry: &Registry,
+    args: &DecodeArgs,
+    headers: &[(String, TraceHeader)],
+    lines: &[(String, String)],
+) -> Option<DictionaryArgs> {
+    let flags = args.protocol.is_some() || args.dictionary.family != DEFAULT_DICTIONARY;
+    let family_of = |drive: &str| registry.dictionary(drive).map(|(f, _)| f.id()).ok();
+    for (source, header) in headers.iter().skip(1) {
+        if header.drive != headers[0].1.drive {
+            eprintln!(
+                "note: {source} is a trace of --drive {}, {} of --drive {}; all is explained as one",
+                header.drive, headers[0].0, headers[0].1.drive
+            );
+        }
+    }
+    if flags {
+        if let Some((source, header)) = headers.first() {
+            let given = args.protocol.as_deref().unwrap_or(&args.dictionary.family);
+            let given_family = registry
+                .family(&given.replace('-', "_"))
+                .map(|f| f.id())
+                .ok()
+                .or_else(|| family_of(given));
+            if given_family != family_of(&header.drive) {
+                eprintln!(
+                    "note: {source} is a trace of --drive {}, but its telegrams are explained as {given} as given; leave out --protocol and --drive to explain them as recorded",
+                    header.drive
+                );
+            }
+        }
+        return None;
+    }
+    let mut wanted = args.dictionary.clone();
+    if let Some((_, header)) = headers.first() {
+        wanted.family.clone_from(&header.drive);
+        wanted.extra.extend(header.dictionaries.iter().cloned());
+        return Some(wanted);
+    }
+    let first = lines
+        .iter()
+        .map(|(_, l)| l.trim())
+        .find(|l| !l.is_empty() && !l.starts_with('#'))?;
+    let candump_log = first.starts_with('(') && crate::bus::CanFrame::parse_text(first).is_ok();
+    let mut can = registry
+        .families()
+        .filter(|f| f.bus_kind() == crate::bus::BusKind::Frames);
+    let (only, none_more) = (can.next()?, can.next().is_none());
+    let dictionary = only.dictionaries().first()?;
+    (candump_log && none_more).then(|| {
+        wanted.family = dictionary.name.to_string();
+        wanted
+    })
+}
+
+/// The header of a trace file: at its top, or for a CAN trace in its notes file.
+fn trace_header_of(path: &std::path::Path, lines: &[String]) -> Option<TraceHeader> {
+    TraceHeader::read(lines.iter().map(String::as_str)).or_else(|| {
+        let notes = read_lines(&trace_notes_path(path)).ok()?;
+        TraceHeader::read(notes.iter().map(String::as_str))
+    })
 }
 
 /// A capture file that cannot be decoded as a whole.

@@ -10,6 +10,7 @@ mod junit_report;
 mod junit_xml_writer;
 mod progress_reporter;
 mod telegram_fan_out;
+mod trace_header;
 mod trace_writer;
 mod unfinished_report;
 
@@ -23,6 +24,7 @@ pub use html::{html_report, write_html, MAX_PLOT_POINTS};
 pub use junit_report::{junit_xml, stable_check_name, write_junit};
 pub use progress_reporter::{progress_text, ProgressReporter};
 pub use telegram_fan_out::TelegramFanOut;
+pub use trace_header::{trace_notes_path, TraceHeader};
 pub use trace_writer::{hex_of_trace_line, is_trace_line, TraceWriter};
 pub use unfinished_report::{
     html_not_run, html_unfinished, junit_not_run, junit_unfinished, write_html_unfinished,

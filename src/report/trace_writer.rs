@@ -8,9 +8,13 @@
 //! ```
 //!
 //! The hex between the TX/RX tag and `#` is what `drivescript decode` reads back
-//! ([`hex_of_trace_line`]). It must not block or fail the link: write errors are kept, not
+//! ([`hex_of_trace_line`]), with the [`TraceHeader`] at the top saying which drive's
+//! telegrams they are. A CAN trace file holds frames only, as a candump log (python-can's
+//! reader accepts nothing else); its header and link events go to the notes file next to
+//! it ([`trace_notes_path`]). It must not block or fail the link: write errors are kept, not
 //! raised, and the rest of the run goes on without the trace.
 
+use super::trace_header::{trace_notes_path, TraceHeader};
 use crate::bus::CanFrame;
 use crate::hex::to_hex;
 use crate::link::{Direction, TelegramExplainer, TelegramObserver};
@@ -29,6 +33,9 @@ pub struct TraceWriter<W: Write + Send> {
     /// Whether CAN frame lines carry their meaning after `#` (on a terminal, `-v`); a
     /// file keeps them exactly as candump writes them so CAN tools can read it.
     frame_meanings: bool,
+    /// Where comments and link events go when they must not go into `out` (a CAN trace
+    /// file: its notes file).
+    notes: Option<W>,
 }
 
 /// The interface name CAN frame lines carry (candump's log names one; `canplayer
@@ -44,13 +51,14 @@ impl<W: Write + Send> TraceWriter<W> {
             error: None,
             candump: false,
             frame_meanings: true,
+            notes: None,
         }
     }
 
     /// Writes `# text` (ignored by `decode` and [`hex_of_trace_line`]).
     pub fn comment(&mut self, text: &str) {
         for line in text.lines() {
-            self.line(&format!("# {line}"));
+            self.note(&format!("# {line}"));
         }
     }
 
@@ -64,31 +72,64 @@ impl<W: Write + Send> TraceWriter<W> {
     }
 
     fn line(&mut self, text: &str) {
-        if self.error.is_some() {
-            return;
-        }
-        let result = self
-            .out
-            .write_all(format!("{text}\n").as_bytes())
-            .and_then(|()| self.out.flush());
-        if let Err(e) = result {
+        let result = write_line(&mut self.out, text);
+        self.keep_error(result);
+    }
+
+    /// A comment or link event: into the notes file when there is one.
+    fn note(&mut self, text: &str) {
+        let result = match &mut self.notes {
+            Some(notes) => write_line(notes, text),
+            None => write_line(&mut self.out, text),
+        };
+        self.keep_error(result);
+    }
+
+    fn keep_error(&mut self, result: std::io::Result<()>) {
+        if let (Err(e), None) = (result, &self.error) {
             self.error = Some(e.to_string());
         }
     }
 }
 
+fn write_line(out: &mut impl Write, text: &str) -> std::io::Result<()> {
+    out.write_all(format!("{text}\n").as_bytes())
+        .and_then(|()| out.flush())
+}
+
 impl TraceWriter<std::fs::File> {
-    /// Creates (truncates) the trace file, its directory too, and writes a header comment.
-    /// An unwritable path is an error here, before anything is sent.
-    pub fn create(path: &Path, explainer: Box<dyn TelegramExplainer>) -> Result<Self, String> {
+    /// Creates (truncates) the trace file, its directory too, and writes the header
+    /// comments: into the file, or for a trace of CAN `frames` into its notes file (also
+    /// created). An unwritable path is an error here, before anything is sent.
+    pub fn create(
+        path: &Path,
+        header: &TraceHeader,
+        frames: bool,
+        explainer: Box<dyn TelegramExplainer>,
+    ) -> Result<Self, String> {
         let file = create_file(path)?;
         let mut trace = TraceWriter::new(file, explainer);
         trace.frame_meanings = false;
-        trace.comment(
-            "drivescript telegram trace: clock seconds, TX (sent) or RX (received), the bytes \
-             as in the manual  # meaning",
-        );
-        trace.comment("`drivescript decode < FILE` explains every telegram in full");
+        let name = path.file_name().map_or(path, Path::new).display();
+        if frames {
+            trace.notes = Some(create_file(&trace_notes_path(path))?);
+            trace.candump = true;
+            trace.comment(&format!(
+                "drivescript trace notes: the drive and line of the CAN frames in {name} \
+                 (candump's log format), and the link events"
+            ));
+        } else {
+            trace.comment(
+                "drivescript telegram trace: clock seconds, TX (sent) or RX (received), the \
+                 bytes as in the manual  # meaning",
+            );
+        }
+        trace.comment(&format!(
+            "`drivescript decode {name}` explains every telegram in full with the drive below"
+        ));
+        for line in header.lines() {
+            trace.comment(&line);
+        }
         match trace.error.take() {
             Some(e) => Err(format!("cannot write {}: {e}", path.display())),
             None => Ok(trace),
@@ -113,8 +154,12 @@ impl<W: Write + Send> TelegramObserver for TraceWriter<W> {
     }
 
     fn event(&mut self, at: Duration, text: &str) {
-        let comment = if self.candump { "# " } else { "" };
-        self.line(&format!(
+        let comment = if self.candump && self.notes.is_none() {
+            "# "
+        } else {
+            ""
+        };
+        self.note(&format!(
             "{comment}{:>12.6} -- {}",
             at.as_secs_f64(),
             one_line(text)
@@ -253,5 +298,31 @@ mod tests {
             "(0000000000.000000) can0 60C#409C5F0000000000  # 12 bytes RX wrapped\n"
         );
         assert!(!is_trace_line(lines[1]) && hex_of_trace_line(lines[1]).is_none());
+    }
+
+    #[test]
+    fn a_can_trace_file_holds_frames_only_and_its_notes_the_header_and_events() {
+        let dir = std::env::temp_dir().join(format!("drivescript-can-trace-{}", std::process::id()));
+        let path = dir.join("run.log");
+        let header = TraceHeader {
+            drive: "lenze-9400".into(),
+            address: "CAN node 12".into(),
+            ..TraceHeader::default()
+        };
+        let mut trace = TraceWriter::create(&path, &header, true, Box::new(Counting)).unwrap();
+        let frame = CanFrame::new(0x60C, &[0x40, 0x9C, 0x5F, 0, 0, 0, 0, 0]).unwrap();
+        trace.event(Duration::ZERO, "drive `left`");
+        trace.frame(Duration::from_micros(100), Direction::Sent, &frame);
+        trace.event(Duration::from_millis(115), "no response");
+        drop(trace);
+        let text = std::fs::read_to_string(&path).unwrap();
+        assert_eq!(text, "(0000000000.000100) can0 60C#409C5F0000000000\n");
+        let notes = std::fs::read_to_string(trace_notes_path(&path)).unwrap();
+        assert_eq!(TraceHeader::read(notes.lines()), Some(header));
+        assert!(
+            notes.ends_with("    0.000000 -- drive `left`\n    0.115000 -- no response\n"),
+            "{notes}"
+        );
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 }

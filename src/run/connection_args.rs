@@ -6,8 +6,8 @@
 use super::address_key_flags::DNC_ADDRESS;
 use super::{BadValue, RunError};
 use crate::bus::{
-    Bus, BusKind, DataBits, MemoryFrameBus, MemoryTransport, Parity, SerialTransport, SharedFrameBus,
-    SharedTransport, SlcanBus, StopBits, TcpTransport, TransportError,
+    Bus, BusKind, DataBits, MemoryFrameBus, MemoryTransport, Parity, SerialSettings, SerialTransport,
+    SharedFrameBus, SharedTransport, SlcanBus, StopBits, TcpTransport, TransportError,
 };
 use crate::clock::{RealClock, SharedClock, VirtualClock};
 use crate::family::{DriveAddress, Family, LinkOptions, Registry, SimPeer};
@@ -276,6 +276,45 @@ impl ConnectionArgs {
         }
     }
 
+    /// The family's serial settings with the ones given here over them.
+    fn serial_settings(&self, family: &dyn Family) -> SerialSettings {
+        let mut settings = family.serial_settings();
+        if let Some(baud) = self.baud {
+            settings.baud = baud;
+        }
+        if let Some(bits) = self.data_bits {
+            settings.data_bits = bits;
+        }
+        if let Some(parity) = self.parity {
+            settings.parity = parity;
+        }
+        if let Some(stop) = self.stop_bits {
+            settings.stop_bits = stop;
+        }
+        settings
+    }
+
+    /// The line these arguments open for `family`, in words (a trace's header).
+    pub fn line_text(&self, family: &dyn Family) -> String {
+        let bus = match (&self.port, &self.tcp, &self.can) {
+            (Some(path), _, _) => format!("serial {path}, {}", self.serial_settings(family)),
+            (None, Some(addr), _) => format!("TCP serial server {addr}"),
+            (None, None, Some(CanSpec::Slcan(path))) => {
+                format!("CAN via SLCAN adapter {path} at {} bit/s", self.bitrate)
+            }
+            (None, None, Some(CanSpec::SocketCan(interface))) => format!("CAN via SocketCAN {interface}"),
+            (None, None, None) => "the built-in simulated drive".to_string(),
+        };
+        let mut text = format!(
+            "{bus}; reply timeout {:?}, {} retries",
+            self.timeout, self.retries
+        );
+        for (name, value) in self.all_link_options() {
+            text.push_str(&format!("; {name}={value}"));
+        }
+        text
+    }
+
     /// Opens the bus for `family`. `virtual_time` applies to the simulated drive only:
     /// waiting then costs no real time.
     pub fn open(
@@ -314,20 +353,7 @@ impl ConnectionArgs {
         }
         let (bus, (clock, simulator), description) = match (&self.port, &self.tcp) {
             (Some(path), _) => {
-                let mut settings = family.serial_settings();
-                if let Some(baud) = self.baud {
-                    settings.baud = baud;
-                }
-                if let Some(bits) = self.data_bits {
-                    settings.data_bits = bits;
-                }
-                if let Some(parity) = self.parity {
-                    settings.parity = parity;
-                }
-                if let Some(stop) = self.stop_bits {
-                    settings.stop_bits = stop;
-                }
-                let t = SerialTransport::open(path, settings)?;
+                let t = SerialTransport::open(path, self.serial_settings(family))?;
                 let d = format!("drive {} on {}", address.number, crate::bus::Transport::name(&t));
                 (Bus::Bytes(SharedTransport::new(Box::new(t))), real(), d)
             }

@@ -8,7 +8,7 @@
 use super::connection_args::{CanSpec, ConnectionArgs};
 use super::drive_args::DictionaryArgs;
 use super::not_run::silent_drive_of;
-use super::run_setup::{telegram_outputs, SharedTelegrams};
+use super::run_setup::{telegram_outputs, trace_header, SharedTelegrams};
 use super::{RunError, RunRequest};
 use crate::bus::{
     Bus, BusKind, FramePeer, FramePeerLine, MemoryFrameBus, MemoryTransport, Peer, PeerLine, SharedFrameBus,
@@ -330,7 +330,18 @@ pub fn named_drives_checked(
         .registry
         .family(first_dict.family())
         .map_err(|e| RunError::Invalid(format!("error: {e}")))?;
-    telegram_outputs(outputs, &|| family.explainer(first_dict.clone())).map(SharedTelegrams::new)
+    let addresses = decls
+        .iter()
+        .map(|d| format!("{} {}", d.name, d.address.as_deref().unwrap_or("(default)")));
+    let address = addresses.collect::<Vec<_>>().join(", ");
+    let header = trace_header(
+        family.as_ref(),
+        &first_dict,
+        &request.dictionary.extra,
+        connection,
+        address,
+    );
+    telegram_outputs(outputs, family.as_ref(), &first_dict, &header).map(SharedTelegrams::new)
 }
 
 /// Opens the drives checked by [`named_drives_checked`], says early when one never answers,

@@ -8,7 +8,9 @@ use super::drive_limits::within_drive_limits;
 use super::drive_set::{named_drives_checked, named_drives_opened, OpenDrives};
 use super::not_run::{not_run, silent_drive_of};
 use super::run_plan::{LoadedPlan, RunPlan, SessionSettings};
-use super::run_setup::{finish_reports, observed, open_csv, telegram_outputs, write_placeholders, Look};
+use super::run_setup::{
+    finish_reports, observed, open_csv, telegram_outputs, trace_header, write_placeholders, Look,
+};
 use super::{open_drive, ConnectionArgs, RunError, RunRequest, RunResult, COMMUNICATION, INVALID};
 use crate::report::TelegramFanOut;
 use std::io::Write;
@@ -121,13 +123,20 @@ fn checked(
         .connection
         .check(request.registry, family.as_ref())
         .map_err(|e| RunError::Invalid(format!("error: {e}")))?;
-    connection.check(request.registry, family.as_ref()).map_err(|e| {
+    let address = connection.check(request.registry, family.as_ref()).map_err(|e| {
         RunError::Invalid(format!(
             "error: {e} (link settings come from {} and the command line)",
             loaded.plan.link_source()
         ))
     })?;
-    telegram_outputs(request.outputs, &|| family.explainer(dictionary.clone())).map(Telegrams::One)
+    let header = trace_header(
+        family.as_ref(),
+        dictionary,
+        &request.dictionary.extra,
+        connection,
+        address.shown,
+    );
+    telegram_outputs(request.outputs, family.as_ref(), dictionary, &header).map(Telegrams::One)
 }
 
 /// The telegram outputs of a run: one drive's, or shared by several drives.

@@ -4,11 +4,13 @@
 //! and the observers list, and the JUnit and HTML reports at the end. Must not open a
 //! drive or decide exit codes.
 
-use super::{OutputArgs, RunError, SharedObserver};
-use crate::link::{Direction, TelegramExplainer, TelegramObserver};
+use super::{ConnectionArgs, OutputArgs, RunError, SharedObserver};
+use crate::dictionary::Dictionary;
+use crate::family::Family;
+use crate::link::{Direction, TelegramObserver};
 use crate::report::{
     color_wanted, write_html, write_html_unfinished, write_junit, write_junit_unfinished, ConsoleReporter,
-    CsvRecorder, ProgressReporter, TelegramFanOut, TraceWriter,
+    CsvRecorder, ProgressReporter, TelegramFanOut, TraceHeader, TraceWriter,
 };
 use crate::session::PlannedCheck;
 use crate::session::{
@@ -18,21 +20,50 @@ use std::io::Write;
 use std::sync::{Arc, Mutex, PoisonError};
 use std::time::Duration;
 
-/// The `--trace` file and `-v` lines, each explaining telegrams with `explainer()`.
+/// The `--trace` file (with `header` at its top) and `-v` lines, explaining the telegrams
+/// of `family` with `dictionary`.
 pub fn telegram_outputs(
     outputs: &OutputArgs,
-    explainer: &dyn Fn() -> Box<dyn TelegramExplainer>,
+    family: &dyn Family,
+    dictionary: &Arc<Dictionary>,
+    header: &TraceHeader,
 ) -> Result<TelegramFanOut, RunError> {
     let mut telegrams = TelegramFanOut::new();
+    let frames = family.bus_kind() == crate::bus::BusKind::Frames;
     if let Some(path) = &outputs.trace {
-        let t =
-            TraceWriter::create(path, explainer()).map_err(|e| RunError::Invalid(format!("error: {e}")))?;
+        let t = TraceWriter::create(path, header, frames, family.explainer(dictionary.clone()))
+            .map_err(|e| RunError::Invalid(format!("error: {e}")))?;
         telegrams.push(Box::new(t));
     }
     if outputs.verbose {
-        telegrams.push(Box::new(TraceWriter::new(std::io::stderr(), explainer())));
+        telegrams.push(Box::new(TraceWriter::new(
+            std::io::stderr(),
+            family.explainer(dictionary.clone()),
+        )));
     }
     Ok(telegrams)
+}
+
+/// What a trace says about the run it records, so that `decode` explains it without
+/// flags: the dictionary (and `--dictionary` files, as absolute paths), `address` and the
+/// line `connection` opens.
+pub fn trace_header(
+    family: &dyn Family,
+    dictionary: &Dictionary,
+    extra: &[std::path::PathBuf],
+    connection: &ConnectionArgs,
+    address: String,
+) -> TraceHeader {
+    let first = family.dictionaries().first().map_or(family.id(), |d| d.name);
+    TraceHeader {
+        drive: dictionary.name().unwrap_or(first).to_string(),
+        dictionaries: extra
+            .iter()
+            .map(|p| std::fs::canonicalize(p).unwrap_or_else(|_| p.clone()))
+            .collect(),
+        address,
+        line: connection.line_text(family),
+    }
 }
 
 /// One trace shared by the links of several drives: each drive's link gets a tap that

@@ -32,4 +32,5 @@ mod socketcan;
 mod stop_command;
 mod support;
 mod text_family;
+mod trace_decode;
 mod vectors;

@@ -4,7 +4,7 @@ use super::*;
 use crate::family::sd2::codec::{ErrorCode, WriteLength};
 use crate::hex::parse_hex;
 use crate::link::TelegramObserver;
-use crate::report::{hex_of_trace_line, is_trace_line, TraceWriter};
+use crate::report::{hex_of_trace_line, is_trace_line, TraceHeader, TraceWriter};
 use std::io::Write;
 use std::path::Path;
 use std::time::Duration;
@@ -243,7 +243,7 @@ fn hex_is_read_back_from_every_kind_of_line() {
 fn a_trace_file_is_flushed_line_by_line() {
     let dir = std::env::temp_dir().join(format!("drivescript-trace-{}", std::process::id()));
     let path = dir.join("sub/run.trace");
-    let mut trace = TraceWriter::create(&path, explainer()).unwrap();
+    let mut trace = TraceWriter::create(&path, &TraceHeader::default(), false, explainer()).unwrap();
     send_file(&mut trace);
     // Read while the writer is alive: the line is there already.
     let text = std::fs::read_to_string(&path).unwrap();
@@ -253,9 +253,14 @@ fn a_trace_file_is_flushed_line_by_line() {
     drop(trace);
     std::fs::remove_dir_all(&dir).unwrap();
 
-    let err = TraceWriter::create(Path::new("/proc/no/such/dir/x.trace"), explainer())
-        .err()
-        .unwrap();
+    let err = TraceWriter::create(
+        Path::new("/proc/no/such/dir/x.trace"),
+        &TraceHeader::default(),
+        false,
+        explainer(),
+    )
+    .err()
+    .unwrap();
     assert!(err.contains("/proc/no/such/dir"), "{err}");
 }
 
