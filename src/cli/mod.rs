@@ -13,7 +13,6 @@ mod panic_notice;
 mod parameter_commands;
 mod recipe_commands;
 mod safe_stop_notes;
-mod script_commands;
 mod simulate_command;
 mod stop_command;
 mod stop_signals;

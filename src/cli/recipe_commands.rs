@@ -1,17 +1,16 @@
-//! `drivescript check` and `drivescript run`: validate recipes without a port, and run one
-//! with the safe stop at every ending.
+//! `drivescript check` and `drivescript run`: validate recipes and scripts without a port
+//! (`run::check`), and run them with the safe stop at every ending (`run::run_many`).
+//! Parses and prints; the checks and the run are the library's.
 
 use super::{panic_notice, safe_stop_notes, stop_signals};
 use crate::family::Registry;
-use crate::recipe::{declared_drives, load_recipe_for, Recipe, RecipeInvalid};
-use crate::run::drive_limits::check_against_drive;
 use crate::run::{
-    drive_dictionaries, run_many, BadValue, ConnectionArgs, DictionaryArgs, OutputArgs, RunRequest,
-    SafeStopArgs, INVALID, PASSED,
+    self, drive_limits, run_many, BadValue, CheckRequest, Checked, ConnectionArgs, DictionaryArgs,
+    OutputArgs, RunPlan, RunRequest, SafeStopArgs, INVALID, PASSED,
 };
 use clap::Args;
 use std::io::IsTerminal;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 #[derive(Debug, Args)]
 /// Validate recipes against the dictionary without opening any port: object names, units,
@@ -84,119 +83,86 @@ fn parse_set(text: &str) -> Result<(String, String), BadValue> {
     }
 }
 
-fn print_invalid(e: &RecipeInvalid) {
-    eprint!("{}", e.render(std::io::stderr().is_terminal()));
-}
-
 pub fn check(args: &CheckArgs, registry: &Registry) -> i32 {
+    let colour = std::io::stderr().is_terminal();
     let mut code = PASSED;
     let mut last_error = String::new();
     for path in &args.recipes {
-        // Per recipe: each may have its own drivescript-limits.yaml next to it. A broken
-        // --dictionary or --limits file is said once, not once per recipe.
-        let dictionary = match args.dictionary.load_for(registry, Some(path)) {
-            Ok(d) => d,
+        // Per file: each may have its own drivescript-limits.yaml next to it.
+        let request = CheckRequest {
+            registry,
+            file: path,
+            set: &args.set,
+            dictionary: &args.dictionary,
+            connection: &args.connection,
+        };
+        match run::check(&request, &mut std::io::stderr()) {
+            Ok(checked) => code = code.max(print_checked(path, &checked)),
             Err(e) => {
-                let text = e.to_string();
+                // A broken --dictionary or --limits file is said once, not once per file.
+                let text = e.render(colour);
                 if text != last_error {
                     eprint!("{text}");
                     last_error = text;
                 }
-                code = INVALID;
-                continue;
-            }
-        };
-        if crate::script::is_script(path) {
-            code = code.max(super::script_commands::check_script(
-                registry,
-                path,
-                &dictionary,
-                &args.dictionary,
-                &args.set,
-                &args.connection,
-            ));
-            continue;
-        }
-        // A recipe with `drives:` is checked against each drive's own dictionary.
-        let declared = declared_drives(path);
-        let drive_dicts = if declared.is_empty() {
-            Vec::new()
-        } else {
-            match drive_dictionaries(&args.dictionary, registry, path, &declared) {
-                Ok(d) => d,
-                Err(text) => {
-                    eprint!("{text}");
-                    code = INVALID;
-                    continue;
-                }
-            }
-        };
-        let dictionary = drive_dicts.first().map_or(dictionary, |(_, d)| d.clone());
-        match load_recipe_for(
-            path,
-            &dictionary,
-            &drive_dicts,
-            &registry.address_keys(),
-            &args.set,
-        ) {
-            Ok(recipe) if !recipe.drives.is_empty() => {
-                println!(
-                    "ok  {} — {} ({} steps{}, drives {})",
-                    path.display(),
-                    recipe.name,
-                    count_steps(&recipe),
-                    finally_note(&recipe),
-                    recipe
-                        .drives
-                        .iter()
-                        .map(|d| format!("{}: {}", d.name, d.drive))
-                        .collect::<Vec<_>>()
-                        .join(", ")
-                );
-                safe_stop_notes::print(path, &recipe.safe_stop, recipe.leave_enabled);
-            }
-            Ok(recipe) => {
-                println!(
-                    "ok  {} — {} ({} steps{})",
-                    path.display(),
-                    recipe.name,
-                    count_steps(&recipe),
-                    finally_note(&recipe)
-                );
-                safe_stop_notes::print(path, &recipe.safe_stop, recipe.leave_enabled);
-                if let Some(limits) = dictionary.bench_limits() {
-                    println!("    bench limits {} ({})", limits.summary(), limits.source());
-                }
-                if !args.connection.is_simulated() {
-                    code = code.max(check_against_drive(
-                        registry,
-                        &crate::recipe::written_values(&recipe),
-                        &recipe.path,
-                        dictionary,
-                        &args.connection,
-                        &mut std::io::stdout(),
-                        &mut std::io::stderr(),
-                    ));
-                }
-            }
-            Err(e) => {
-                print_invalid(&e);
-                code = INVALID;
+                code = code.max(e.exit_code());
             }
         }
     }
     code
 }
 
-fn count_steps(recipe: &Recipe) -> usize {
-    recipe.steps.len()
-}
-
-fn finally_note(recipe: &Recipe) -> &'static str {
-    match &recipe.finally {
-        None => ", default finally",
-        Some(s) if s.is_empty() => ", empty finally",
-        Some(_) => "",
+/// `ok  path — name (…)`, the notes on how it ends, the bench limits and what the drive's
+/// own limits came to; the exit code.
+fn print_checked(path: &Path, checked: &Checked) -> i32 {
+    let plan = &checked.loaded.plan;
+    let what = match plan {
+        RunPlan::Recipe(recipe) => {
+            let finally = match &recipe.finally {
+                None => ", default finally",
+                Some(s) if s.is_empty() => ", empty finally",
+                Some(_) => "",
+            };
+            let drives = recipe
+                .drives
+                .iter()
+                .map(|d| format!("{}: {}", d.name, d.drive))
+                .collect::<Vec<_>>()
+                .join(", ");
+            let drives = if drives.is_empty() {
+                drives
+            } else {
+                format!(", drives {drives}")
+            };
+            format!("{} steps{finally}{drives}", recipe.steps.len())
+        }
+        RunPlan::Script(script) => format!(
+            "script, {} calls{}",
+            script.calls,
+            if script.has_finally {
+                ", its own finally"
+            } else {
+                ", default finally"
+            }
+        ),
+    };
+    println!("ok  {} — {} ({what})", path.display(), plan.name());
+    safe_stop_notes::print(path, plan.safe_stop(), plan.leave_enabled());
+    if let Some(limits) = checked.bench_limits() {
+        println!("    bench limits {} ({})", limits.summary(), limits.source());
+    }
+    match &checked.drive_limits {
+        Some(compared) => {
+            drive_limits::report(
+                compared,
+                plan.path(),
+                true,
+                &mut std::io::stdout(),
+                &mut std::io::stderr(),
+            )
+            .0
+        }
+        None => PASSED,
     }
 }
 

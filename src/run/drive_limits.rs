@@ -189,21 +189,17 @@ pub fn within_drive_limits(
     }
 }
 
-/// `check --port`: opens the drive, compares `values` (a recipe's, or a script's
-/// literal ones) with its limits and says what it came to on `out` and `err`; the exit
-/// code (2 for values outside, 3 for a drive that could not be reached).
-pub fn check_against_drive(
+/// `check --port`: opens the drive and compares `values` (a recipe's, or a script's
+/// literal ones) with its limits; `Err` when the drive could not be reached. Only reads
+/// are sent.
+pub fn against_drive(
     registry: &Registry,
     values: &[WrittenValue],
-    path: &str,
     dictionary: Arc<Dictionary>,
     connection: &ConnectionArgs,
-    out: &mut dyn Write,
     err: &mut dyn Write,
-) -> i32 {
-    let check =
-        open(registry, connection, dictionary, err).and_then(|mut open| compare(values, &mut open.drive));
-    report(&check, path, true, out, err).0
+) -> Result<DriveCheck, RunError> {
+    open(registry, connection, dictionary, err).and_then(|mut open| compare(values, &mut open.drive))
 }
 
 /// Each object's limits as text for a listing, by the object's name.

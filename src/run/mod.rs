@@ -6,8 +6,9 @@
 //! the file is known to write with the limits the drive itself reports, run with the safe
 //! stop at every ending, and write the console, CSV, trace, JUnit and HTML reports; a run
 //! that never starts writes its not-run JUnit and HTML. [`run_many`] runs several files,
-//! each with its own outputs, to the worst exit code. Features that follow a run plug in as
-//! [`RunRequest::observers`]. Also what every command shares to reach a drive: the
+//! each with its own outputs, to the worst exit code. [`check`] loads a file the way a run
+//! does and, given a port, compares what it writes with the drive's own limits, for
+//! `check` to say. Features that follow a run plug in as [`RunRequest::observers`]. Also what every command shares to reach a drive: the
 //! dictionary with its bench limits ([`DictionaryArgs`]), the connection
 //! ([`ConnectionArgs`], address-key flags such as `--dnc-address`), [`open_drive`], the
 //! maintenance flow over the drive layer's interlock ([`run_maintain`]), typed errors
@@ -19,6 +20,7 @@
 //! belong to the process's standard error and terminal).
 
 mod address_key_flags;
+mod check;
 mod connection_args;
 mod drive_args;
 pub mod drive_limits;
@@ -36,6 +38,7 @@ mod run_setup;
 mod safe_stop_args;
 
 pub use address_key_flags::{AddressKeyFlag, DNC_ADDRESS};
+pub use check::{check, CheckRequest, Checked};
 pub use connection_args::{parse_bitrate, parse_duration, CanSpec, Connection, ConnectionArgs};
 pub use drive_args::{open_drive, DictionaryArgs, OpenDrive};
 pub use drive_set::drive_dictionaries;

@@ -6,6 +6,8 @@
 
 use crate::dictionary::DictionaryError;
 use crate::family::FamilyError;
+use crate::recipe::RecipeInvalid;
+use crate::script::ScriptInvalid;
 
 #[derive(Debug, thiserror::Error)]
 pub enum RunError {
@@ -15,6 +17,13 @@ pub enum RunError {
     /// A port cannot be opened, or a drive cannot be reached or does not answer.
     #[error("{0}")]
     Unreachable(String),
+    /// A recipe with problems, each at its place; kept whole so that a terminal can show
+    /// them in colour.
+    #[error("{}", .0.render(false))]
+    Recipe(#[from] RecipeInvalid),
+    /// A script with problems, as a recipe's.
+    #[error("{}", .0.render(false))]
+    Script(#[from] ScriptInvalid),
     /// A dictionary or bench-limits file with problems, rendered with their places.
     #[error("{}", crate::diag::render_diagnostic(.0))]
     Dictionary(#[from] DictionaryError),
@@ -37,7 +46,21 @@ impl RunError {
         match self {
             RunError::Unreachable(_) => super::COMMUNICATION,
             RunError::Drive { source, .. } => source.exit_code(),
-            RunError::Invalid(_) | RunError::Dictionary(_) | RunError::Family(_) => super::INVALID,
+            RunError::Invalid(_)
+            | RunError::Recipe(_)
+            | RunError::Script(_)
+            | RunError::Dictionary(_)
+            | RunError::Family(_) => super::INVALID,
+        }
+    }
+
+    /// The text to print: a recipe's or a script's problems in colour for a terminal
+    /// (`colour`), anything else as it is.
+    pub fn render(&self, colour: bool) -> String {
+        match self {
+            RunError::Recipe(e) => e.render(colour),
+            RunError::Script(e) => e.render(colour),
+            e => e.to_string(),
         }
     }
 

@@ -4,9 +4,10 @@
 //! (a recipe its checks and its longest time); everything around them is the pipeline's.
 //! Loads and answers; must not open a drive.
 
-use super::{drive_dictionaries, RunError, RunRequest};
+use super::{drive_dictionaries, DictionaryArgs, RunError, RunRequest};
 use crate::dictionary::Dictionary;
 use crate::drive::Drive;
+use crate::family::Registry;
 use crate::recipe::{
     declared_drives, load_recipe_for, longest_time_of, planned_checks, sampled_objects, written_values,
     DriveDecl, Recipe, Runner, SafeStopChoice, WrittenValue,
@@ -15,7 +16,7 @@ use crate::script::{declared_script_drives, is_script, load_script_for, Script, 
 use crate::session::{ObjectRef, PlannedCheck, RunObserver, RunReport, SafeStopSettings};
 use crate::stop_request::StopRequests;
 use std::io::Write;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::time::Duration;
 
@@ -44,9 +45,19 @@ pub struct SessionSettings {
 impl RunPlan {
     /// Loads `request.file` (a `.rhai` file is a script) with each drive's dictionary: the
     /// one `--drive` names (or the file's own `drive:`), or one per named drive. On failure
-    /// the problem, rendered to be said as it is (exit code 2).
+    /// the problem (exit code 2): a recipe's or a script's with every place.
     pub fn load(request: &RunRequest) -> Result<LoadedPlan, RunError> {
-        let path = request.file;
+        Self::load_file(request.registry, request.file, request.set, request.dictionary)
+    }
+
+    /// [`load`](Self::load) of `path` with the `--set` overrides `set` and the dictionary
+    /// options `dictionary`: what `run` and `check` both load a file with.
+    pub fn load_file(
+        registry: &Registry,
+        path: &Path,
+        set: &[(String, String)],
+        dictionary: &DictionaryArgs,
+    ) -> Result<LoadedPlan, RunError> {
         let script = is_script(path);
         // A file with named drives names a dictionary per drive; the first is the file's.
         let declared = if script {
@@ -54,31 +65,26 @@ impl RunPlan {
         } else {
             declared_drives(path)
         };
-        let (dictionary, drive_dicts) = if declared.is_empty() {
-            let d = request.dictionary.load_for(request.registry, Some(path))?;
-            (d, Vec::new())
+        let (one, drive_dicts) = if declared.is_empty() {
+            (dictionary.load_for(registry, Some(path))?, Vec::new())
         } else {
-            let all = drive_dictionaries(request.dictionary, request.registry, path, &declared)?;
+            let all = drive_dictionaries(dictionary, registry, path, &declared)?;
             (all[0].1.clone(), all)
         };
         let plan = if script {
-            load_script_for(path, &dictionary, &drive_dicts, request.set)
-                .map(RunPlan::Script)
-                .map_err(|e| RunError::Invalid(e.render(false)))?
+            RunPlan::Script(load_script_for(path, &one, &drive_dicts, set)?)
         } else {
-            load_recipe_for(
+            RunPlan::Recipe(load_recipe_for(
                 path,
-                &dictionary,
+                &one,
                 &drive_dicts,
-                &request.registry.address_keys(),
-                request.set,
-            )
-            .map(RunPlan::Recipe)
-            .map_err(|e| RunError::Invalid(e.render(false)))?
+                &registry.address_keys(),
+                set,
+            )?)
         };
         Ok(LoadedPlan {
             plan,
-            dictionary,
+            dictionary: one,
             drive_dictionaries: drive_dicts,
         })
     }
@@ -126,6 +132,15 @@ impl RunPlan {
         match self {
             RunPlan::Recipe(r) => &r.safe_stop,
             RunPlan::Script(s) => &s.safe_stop,
+        }
+    }
+
+    /// `leave_enabled: true` (`//! leave_enabled: true`): a run that succeeds leaves the
+    /// drive as it was left.
+    pub fn leave_enabled(&self) -> bool {
+        match self {
+            RunPlan::Recipe(r) => r.leave_enabled,
+            RunPlan::Script(s) => s.leave_enabled,
         }
     }
 

@@ -526,6 +526,30 @@ fn the_bench_limits_cap_every_drive_of_a_recipe_and_of_a_script() {
     }
 }
 
+/// `check` names the bench limits it checked a recipe with `drives:` against, as it does
+/// for one drive and for a script: every drive of the file is capped by the same file.
+#[test]
+fn check_names_the_bench_limits_of_a_recipe_with_drives() {
+    let dir = scratch("multi-limits-named");
+    let limits = dir.join("limits.yaml");
+    std::fs::write(&limits, "max_speed: 2500 rpm\n").expect("limits written");
+    let recipe = write_file(&dir, "recipe.yaml", &TWO_AXES.replace("SAMPLE_FOR", "1 s"));
+    let limits = limits.to_str().expect("utf-8 path");
+    let out = drivescript(
+        &["check", recipe.to_str().expect("utf-8 path"), "--limits", limits],
+        "",
+    );
+    let text = stdout(&out);
+    assert_eq!(out.status.code(), Some(0), "{text}{}", stderr(&out));
+    assert_has(
+        &text,
+        &[
+            "drives left: sd2, right: sd2",
+            &format!("bench limits max_speed 2500 rpm (limits file {limits})"),
+        ],
+    );
+}
+
 /// A drive on its own line that cannot be reached again does not hold up the stop of the
 /// drive stopped before it: the spindle (enabled last, so stopped first) is brought to
 /// standstill and shut down before the feed's reconnect attempts run out.
