@@ -348,22 +348,18 @@ fn identity_mismatches(backup: &ParameterFile, drive: &mut Drive) -> Vec<String>
         .collect()
 }
 
-/// Refuses (with the exit code, after saying why) while the drive's power stage may be on
-/// or the motor braking: some parameters change the motor's behaviour at once.
+/// The library's restore interlock, said: the exit code of a refusal, or a warning where
+/// `--force` let a state that cannot be read through.
 fn refuse_while_powered(drive: &mut Drive, force: bool) -> Result<(), i32> {
-    match drive.state() {
-        Ok(state) if state.is_powered() => {
-            eprintln!("error: the drive is in {state}; disable it first (drivescript run a recipe that ends with shutdown, or the drive's own controls); nothing was written");
-            Err(INVALID)
-        }
-        Ok(_) => Ok(()),
-        Err(e) if !force => {
-            eprintln!("error: cannot tell whether the drive is enabled ({e}); make sure it is disabled and give --force; nothing was written");
-            Err(INVALID)
-        }
-        Err(e) => {
+    match parameters::clear_for_restore(drive, force) {
+        Ok(None) => Ok(()),
+        Ok(Some(e)) => {
             eprintln!("warning: cannot tell whether the drive is enabled ({e}); going on because of --force");
             Ok(())
+        }
+        Err(refused) => {
+            eprintln!("error: {refused}");
+            Err(INVALID)
         }
     }
 }
@@ -482,13 +478,12 @@ pub fn restore(args: &RestoreArgs, registry: &Registry) -> i32 {
         println!("nothing written; give --apply to carry out the plan");
         return PASSED;
     }
-    // Asked again just before the first write: reading the live set took a while.
-    if let Err(code) = refuse_while_powered(&mut open.drive, args.force) {
-        return code;
-    }
+    // `apply` asks the interlock again just before the first write: reading the live set
+    // took a while.
     let done = parameters::apply(
         &mut open.drive,
         &plan,
+        args.force,
         &|| stop.first().is_none(),
         &mut |w, outcome| match outcome {
             Outcome::Written => println!("  wrote {} = {}", w.name, w.to),
@@ -504,6 +499,13 @@ pub fn restore(args: &RestoreArgs, registry: &Registry) -> i32 {
             Outcome::Failed(e) => println!("  FAILED {}: {e}", w.name),
         },
     );
+    let done = match done {
+        Ok(done) => done,
+        Err(refused) => {
+            eprintln!("error: {refused}");
+            return INVALID;
+        }
+    };
     let failed = done.iter().any(|(_, o)| matches!(o, Outcome::Failed(_)));
     let short = done
         .iter()

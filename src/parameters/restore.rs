@@ -1,14 +1,15 @@
 //! Restoring a backup: the plan (writable parameters whose live value differs, in the
 //! order the dictionary declares them, each value checked against the dictionary's and the
 //! bench's limits before the first write), and carrying it out with every written object
-//! read back. Writes only what the plan lists; the caller decides whether to apply it and
-//! refuses while the drive is enabled.
+//! read back. Writes only what the plan lists, and never while the drive's power stage may
+//! be on (the interlock [`clear_for_restore`], which [`apply`] asks itself before the first
+//! write); the caller decides whether to apply the plan.
 
 use super::backup::raw_text;
 use super::comparison::same;
 use super::parameter_file::{ParameterFile, Reading, SavedObject};
 use crate::dictionary::{ObjectDef, Quantity, RawValue};
-use crate::drive::{Drive, WriteOutcome};
+use crate::drive::{DeviceState, Drive, DriveError, WriteOutcome};
 
 /// One write of the plan.
 #[derive(Debug, Clone, PartialEq)]
@@ -153,6 +154,30 @@ fn parse_raw(text: &str) -> Option<RawValue> {
     }
 }
 
+/// Why a restore was refused before anything was written.
+#[derive(Debug, thiserror::Error)]
+pub enum RestoreRefused {
+    /// The power stage may be on or the motor braking: some parameters change the
+    /// motor's behaviour at once.
+    #[error("the drive is in {state}; disable it first (drivescript run a recipe that ends with shutdown, or the drive's own controls); nothing was written")]
+    Powered { state: DeviceState },
+    /// The state cannot be read, and `force` was not given.
+    #[error("cannot tell whether the drive is enabled ({cause}); make sure it is disabled and give --force; nothing was written")]
+    StateUnknown { cause: DriveError },
+}
+
+/// The restore's interlock, asked now: refused while the drive is powered, whatever
+/// `force` says; where the state cannot be read, only `force` clears it, and the answer
+/// is then why it was not checked (for a warning).
+pub fn clear_for_restore(drive: &mut Drive, force: bool) -> Result<Option<DriveError>, RestoreRefused> {
+    match drive.state() {
+        Ok(state) if state.is_powered() => Err(RestoreRefused::Powered { state }),
+        Ok(_) => Ok(None),
+        Err(cause) if force => Ok(Some(cause)),
+        Err(cause) => Err(RestoreRefused::StateUnknown { cause }),
+    }
+}
+
 /// What happened to one planned write.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Outcome {
@@ -166,14 +191,18 @@ pub enum Outcome {
     Failed(String),
 }
 
-/// Carries out `plan` in order. `keep_going()` is asked before each write: a stop request
-/// ends the restore there, and the result lists exactly what was written.
+/// Carries out `plan` in order, after the interlock [`clear_for_restore`] is asked again
+/// just before the first write (with `force` for a state that cannot be read).
+/// `keep_going()` is asked before each write: a stop request ends the restore there, and
+/// the result lists exactly what was written.
 pub fn apply(
     drive: &mut Drive,
     plan: &[PlannedWrite],
+    force: bool,
     keep_going: &dyn Fn() -> bool,
     progress: &mut dyn FnMut(&PlannedWrite, &Outcome),
-) -> Vec<(String, Outcome)> {
+) -> Result<Vec<(String, Outcome)>, RestoreRefused> {
+    clear_for_restore(drive, force)?;
     let mut done = Vec::new();
     for w in plan {
         if !keep_going() {
@@ -208,7 +237,7 @@ pub fn apply(
             break;
         }
     }
-    done
+    Ok(done)
 }
 
 #[cfg(test)]

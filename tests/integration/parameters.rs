@@ -172,13 +172,63 @@ fn an_interrupted_restore_says_what_was_written() {
     let plan = parameters::plan(&dictionary, &backup, &live).expect("plan");
     assert_eq!(plan.len(), 2);
     let writes = std::cell::Cell::new(0);
-    let done = parameters::apply(&mut open.drive, &plan, &|| writes.get() < 1, &mut |_, _| {
-        writes.set(writes.get() + 1)
-    });
+    let done = parameters::apply(
+        &mut open.drive,
+        &plan,
+        false,
+        &|| writes.get() < 1,
+        &mut |_, _| writes.set(writes.get() + 1),
+    )
+    .expect("a disabled drive is cleared for the restore");
     assert_eq!(done, [("parameter_set".to_string(), Outcome::Written)]);
     assert_eq!(open.drive.read_number("parameter_set").expect("read"), 0.0);
     assert_eq!(open.drive.read_number("speed_setpoint").expect("read"), 2000.0);
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The restore interlock is the library's: `apply` itself refuses a drive in operation
+/// enabled, even with `force`, and writes nothing.
+#[test]
+fn a_restore_is_refused_by_the_library_while_the_drive_is_enabled() {
+    use drivescript::drive::DeviceState;
+    use drivescript::parameters::{self, Origin, RestoreRefused};
+    use drivescript::run::{ConnectionArgs, DictionaryArgs};
+    let registry = drivescript::family::Registry::builtin();
+    let dictionary = DictionaryArgs::builtin_default()
+        .load_for(&registry, None)
+        .expect("dictionary");
+    let connection = ConnectionArgs::simulated();
+    let mut open = drivescript::run::open_drive(&registry, &connection, dictionary.clone(), true, None, None)
+        .expect("open");
+    let origin = || Origin {
+        address: "sim".into(),
+        date: String::new(),
+        tool: String::new(),
+    };
+    let (backup, _) = parameters::take(&mut open.drive, origin(), &mut |_, _, _| {}, &|| true);
+    open.drive
+        .write("parameter_set", &"9".parse().expect("quantity"))
+        .expect("write");
+    let (live, _) = parameters::take(&mut open.drive, origin(), &mut |_, _, _| {}, &|| true);
+    let plan = parameters::plan(&dictionary, &backup, &live).expect("plan");
+    assert!(!plan.is_empty());
+    for word in ["6", "7", "15"] {
+        open.drive
+            .write("control_word", &word.parse().expect("quantity"))
+            .expect("control word");
+    }
+    assert_eq!(open.drive.state().expect("state"), DeviceState::OperationEnabled);
+    for force in [false, true] {
+        let refused = parameters::clear_for_restore(&mut open.drive, force).expect_err("refused");
+        assert!(matches!(refused, RestoreRefused::Powered { .. }), "{refused}");
+        let mut progress = 0;
+        let refused = parameters::apply(&mut open.drive, &plan, force, &|| true, &mut |_, _| progress += 1)
+            .expect_err("refused");
+        assert!(refused.to_string().contains("operation enabled"), "{refused}");
+        assert!(refused.to_string().contains("nothing was written"), "{refused}");
+        assert_eq!(progress, 0);
+    }
+    assert_eq!(open.drive.read_number("parameter_set").expect("read"), 9.0);
 }
 
 /// `backup --all` on a Control Techniques drive scans every menu with the ACK short
