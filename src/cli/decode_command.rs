@@ -4,6 +4,7 @@
 use crate::dictionary::Dictionary;
 use crate::family::{Family, Registry, DEFAULT_DICTIONARY};
 use crate::hex::parse_hex;
+use crate::link::TelegramExplainer;
 use crate::report::{trace_notes_path, TraceHeader};
 use crate::run::DictionaryArgs;
 use crate::run::{RunError, FAILED, INVALID, PASSED};
@@ -120,21 +121,15 @@ pub fn run(args: &DecodeArgs, registry: &Registry) -> i32 {
                     continue;
                 }
             };
-            let bytes = frame.to_bytes();
-            let (written, valid) = if args.json {
-                let (json, valid) = explainer.json(&bytes);
-                (writeln!(out, "{json}"), valid)
-            } else {
-                let (body, valid) = match explainer.explain(&bytes) {
-                    Ok(text) => (text, true),
-                    Err(e) => (format!("  rejected: {e}\n"), false),
-                };
-                (writeln!(out, "{}\n{body}", frame.to_candump()), valid)
-            };
-            if !valid && code == PASSED {
-                code = FAILED;
-            }
-            if written.is_err() {
+            let heading = frame.to_candump();
+            if !explain_one(
+                explainer.as_mut(),
+                &frame.to_bytes(),
+                &heading,
+                args.json,
+                &mut out,
+                &mut code,
+            ) {
                 return code;
             }
             continue;
@@ -172,25 +167,47 @@ pub fn run(args: &DecodeArgs, registry: &Registry) -> i32 {
                 continue;
             }
         };
-        let (written, valid) = if args.json {
-            let (json, valid) = explainer.json(&bytes);
-            (writeln!(out, "{json}"), valid)
-        } else {
-            let (body, valid) = match explainer.explain(&bytes) {
-                Ok(text) => (text, true),
-                Err(e) => (format!("  rejected: {e}\n"), false),
-            };
-            (writeln!(out, "{}\n{body}", crate::hex::to_hex(&bytes)), valid)
-        };
-        if !valid && code == PASSED {
-            code = FAILED;
-        }
-        if written.is_err() {
+        let heading = crate::hex::to_hex(&bytes);
+        if !explain_one(
+            explainer.as_mut(),
+            &bytes,
+            &heading,
+            args.json,
+            &mut out,
+            &mut code,
+        ) {
             // Standard output closed (e.g. piped into `head`): nothing more to say.
             return code;
         }
     }
     code
+}
+
+/// Writes one telegram under `heading` (its hex, or the CAN frame as candump writes it)
+/// with its explanation, or its JSON line. A rejected telegram makes a passing `code`
+/// FAILED; `false` when standard output is closed.
+fn explain_one(
+    explainer: &mut dyn TelegramExplainer,
+    bytes: &[u8],
+    heading: &str,
+    json: bool,
+    out: &mut dyn Write,
+    code: &mut i32,
+) -> bool {
+    let (written, valid) = if json {
+        let (json, valid) = explainer.json(bytes);
+        (writeln!(out, "{json}"), valid)
+    } else {
+        let (body, valid) = match explainer.explain(bytes) {
+            Ok(text) => (text, true),
+            Err(e) => (format!("  rejected: {e}\n"), false),
+        };
+        (writeln!(out, "{heading}\n{body}"), valid)
+    };
+    if !valid && *code == PASSED {
+        *code = FAILED;
+    }
+    written.is_ok()
 }
 
 /// The family `--protocol` names (a family id such as `ct_ansi`, written with `-` or `_`,

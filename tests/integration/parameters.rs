@@ -4,6 +4,8 @@
 
 use crate::support::Simulator;
 use crate::support::{assert_has, drivescript, scratch, stderr, stdout};
+use drivescript::parameters::{self, Origin, PlannedWrite};
+use drivescript::run::{ConnectionArgs, DictionaryArgs, OpenDrive};
 
 fn run(args: &[&str]) -> (i32, String) {
     let out = drivescript(args, "");
@@ -142,15 +144,9 @@ fn restore_refuses_before_writing() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-/// A stop request between writes ends the restore there, and the result lists exactly
-/// what was written.
-#[test]
-fn an_interrupted_restore_says_what_was_written() {
-    use drivescript::parameters::{self, Origin, Outcome};
-    use drivescript::run::{ConnectionArgs, DictionaryArgs};
-    let dir = scratch("interrupted");
-    let mut dictionary = DictionaryArgs::builtin_default();
-    dictionary.extra.push(two_parameters(&dir).into());
+/// The simulated drive with `dictionary`, and the plan that restores what it held before
+/// `changes` were written to it.
+fn planned_restore(dictionary: &DictionaryArgs, changes: &[(&str, &str)]) -> (OpenDrive, Vec<PlannedWrite>) {
     let registry = drivescript::family::Registry::builtin();
     let dictionary = dictionary.load_for(&registry, None).expect("dictionary");
     let connection = ConnectionArgs::simulated();
@@ -162,14 +158,28 @@ fn an_interrupted_restore_says_what_was_written() {
         tool: String::new(),
     };
     let (backup, _) = parameters::take(&mut open.drive, origin(), &mut |_, _, _| {}, &|| true);
-    open.drive
-        .write("parameter_set", &"9".parse().expect("quantity"))
-        .expect("write");
-    open.drive
-        .write("speed_setpoint", &"2000 rpm".parse().expect("quantity"))
-        .expect("write");
+    for (name, value) in changes {
+        open.drive
+            .write(name, &value.parse().expect("quantity"))
+            .expect("write");
+    }
     let (live, _) = parameters::take(&mut open.drive, origin(), &mut |_, _, _| {}, &|| true);
     let plan = parameters::plan(&dictionary, &backup, &live).expect("plan");
+    (open, plan)
+}
+
+/// A stop request between writes ends the restore there, and the result lists exactly
+/// what was written.
+#[test]
+fn an_interrupted_restore_says_what_was_written() {
+    use drivescript::parameters::Outcome;
+    let dir = scratch("interrupted");
+    let mut dictionary = DictionaryArgs::builtin_default();
+    dictionary.extra.push(two_parameters(&dir).into());
+    let (mut open, plan) = planned_restore(
+        &dictionary,
+        &[("parameter_set", "9"), ("speed_setpoint", "2000 rpm")],
+    );
     assert_eq!(plan.len(), 2);
     let writes = std::cell::Cell::new(0);
     let done = parameters::apply(
@@ -191,26 +201,8 @@ fn an_interrupted_restore_says_what_was_written() {
 #[test]
 fn a_restore_is_refused_by_the_library_while_the_drive_is_enabled() {
     use drivescript::drive::DeviceState;
-    use drivescript::parameters::{self, Origin, RestoreRefused};
-    use drivescript::run::{ConnectionArgs, DictionaryArgs};
-    let registry = drivescript::family::Registry::builtin();
-    let dictionary = DictionaryArgs::builtin_default()
-        .load_for(&registry, None)
-        .expect("dictionary");
-    let connection = ConnectionArgs::simulated();
-    let mut open = drivescript::run::open_drive(&registry, &connection, dictionary.clone(), true, None, None)
-        .expect("open");
-    let origin = || Origin {
-        address: "sim".into(),
-        date: String::new(),
-        tool: String::new(),
-    };
-    let (backup, _) = parameters::take(&mut open.drive, origin(), &mut |_, _, _| {}, &|| true);
-    open.drive
-        .write("parameter_set", &"9".parse().expect("quantity"))
-        .expect("write");
-    let (live, _) = parameters::take(&mut open.drive, origin(), &mut |_, _, _| {}, &|| true);
-    let plan = parameters::plan(&dictionary, &backup, &live).expect("plan");
+    use drivescript::parameters::RestoreRefused;
+    let (mut open, plan) = planned_restore(&DictionaryArgs::builtin_default(), &[("parameter_set", "9")]);
     assert!(!plan.is_empty());
     for word in ["6", "7", "15"] {
         open.drive
