@@ -221,14 +221,14 @@ fn protocol_and_names(
     };
     let mut wanted = args.dictionary.clone();
     match dictionary {
-        Some(name) => wanted.family = name.to_string(),
+        Some(name) => wanted.name = name.to_string(),
         None => {
             let given_fits = registry
-                .dictionary(&wanted.family)
+                .dictionary(&wanted.name)
                 .is_ok_and(|(f, _)| f.id() == family.id());
             if !given_fits {
                 let first = family.dictionaries().first().map(|d| d.name);
-                wanted.family = first.unwrap_or_default().to_string();
+                wanted.name = first.unwrap_or_default().to_string();
             }
         }
     }
@@ -245,7 +245,7 @@ fn recorded_drive(
     headers: &[(String, TraceHeader)],
     lines: &[(String, String)],
 ) -> Option<DictionaryArgs> {
-    let flags = args.protocol.is_some() || args.dictionary.family != DEFAULT_DICTIONARY;
+    let flags = args.protocol.is_some() || args.dictionary.name != DEFAULT_DICTIONARY;
     let family_of = |drive: &str| registry.dictionary(drive).map(|(f, _)| f.id()).ok();
     for (source, header) in headers.iter().skip(1) {
         if header.drive != headers[0].1.drive {
@@ -257,7 +257,7 @@ fn recorded_drive(
     }
     if flags {
         if let Some((source, header)) = headers.first() {
-            let given = args.protocol.as_deref().unwrap_or(&args.dictionary.family);
+            let given = args.protocol.as_deref().unwrap_or(&args.dictionary.name);
             let given_family = registry
                 .family(&given.replace('-', "_"))
                 .map(|f| f.id())
@@ -274,7 +274,7 @@ fn recorded_drive(
     }
     let mut wanted = args.dictionary.clone();
     if let Some((_, header)) = headers.first() {
-        wanted.family.clone_from(&header.drive);
+        wanted.name.clone_from(&header.drive);
         wanted.extra.extend(header.dictionaries.iter().cloned());
         return Some(wanted);
     }
@@ -289,7 +289,7 @@ fn recorded_drive(
     let (only, none_more) = (can.next()?, can.next().is_none());
     let dictionary = only.dictionaries().first()?;
     (candump_log && none_more).then(|| {
-        wanted.family = dictionary.name.to_string();
+        wanted.name = dictionary.name.to_string();
         wanted
     })
 }

@@ -69,6 +69,21 @@ impl Registry {
         )))
     }
 
+    /// The built-in dictionary a recipe's or script's `drive:` means: the dictionary it
+    /// names (`ct-unidrive-sp`), or for a family id (`ct-ansi`) that family's first one.
+    pub fn dictionary_for_drive(&self, drive: &str) -> Result<&'static str, FamilyError> {
+        match self.dictionary(drive) {
+            Ok((_, d)) => Ok(d.name),
+            Err(not_a_dictionary) => {
+                let family = self.family(drive).map_err(|_| not_a_dictionary)?;
+                let first = family.dictionaries().first().map(|d| d.name);
+                first.ok_or_else(|| {
+                    FamilyError::Unknown(format!("the {drive} family has no built-in dictionary"))
+                })
+            }
+        }
+    }
+
     /// The built-in dictionary `name`, parsed and checked.
     pub fn load_dictionary(&self, name: &str) -> Result<Dictionary, DictionaryError> {
         let (family, builtin) = self
@@ -128,5 +143,18 @@ mod tests {
         let (family, dictionary) = r.dictionary("sd2").unwrap();
         assert_eq!((family.id(), dictionary.path), ("sd2", "dictionary/sd2.yaml"));
         assert!(r.dictionary("lenze").is_err());
+    }
+
+    #[test]
+    fn a_drive_names_a_dictionary_or_a_family_whose_first_dictionary_it_means() {
+        let r = Registry::builtin();
+        assert_eq!(
+            r.dictionary_for_drive("ct-unidrive-sp").unwrap(),
+            "ct-unidrive-sp"
+        );
+        let family = r.dictionary("ct-unidrive-sp").unwrap().0.id();
+        assert_eq!(r.dictionary_for_drive(family).unwrap(), "ct-unidrive-sp");
+        let e = r.dictionary_for_drive("ct-unidrive").unwrap_err().to_string();
+        assert!(e.starts_with("no built-in dictionary `ct-unidrive`"), "{e}");
     }
 }

@@ -17,7 +17,7 @@ use std::time::Duration;
 
 fn lenze() -> DictionaryArgs {
     DictionaryArgs {
-        family: "lenze-9400".into(),
+        name: "lenze-9400".into(),
         extra: Vec::new(),
         limits: None,
     }
@@ -84,7 +84,7 @@ fn the_shipped_recipe_passes_on_the_simulated_node_and_says_there_is_no_device_c
         &output,
         &[
             "rated_motor_current = 10.2 A",
-            "safe stop: the lenze_9400 dictionary has no device-control profile",
+            "safe stop: the lenze-9400 dictionary has no device-control profile",
             "drive state not known: the dictionary has no device-control profile",
         ],
     );
@@ -461,5 +461,5 @@ fn the_commissioning_recipe_is_refused_for_a_drive_without_device_control() {
         .replace("drive: sd2", "drive: lenze-9400");
     let path = recipe("commissioning", &text);
     let err = cli(&["check", path.to_str().unwrap(), "--drive", "lenze-9400"], 2).stderr;
-    assert_has(&err, &["the state `operation_enabled` needs device control, but the lenze_9400 dictionary has no `profile:`", "`disable_operation` needs device control", "nothing was sent to the drive"]);
+    assert_has(&err, &["the state `operation_enabled` needs device control, but the lenze-9400 dictionary has no `profile:`", "`disable_operation` needs device control", "nothing was sent to the drive"]);
 }

@@ -400,7 +400,7 @@ steps:
         &[
             "unknown drive `lfet`",
             "did you mean `left`?",
-            "unknown object `sped_setpoint` in the ct_ansi dictionary",
+            "unknown object `sped_setpoint` in the ct-unidrive-sp dictionary",
             "unknown drive `rihgt`",
             "did you mean `right`?",
             "`speed_actual` does not say which drive it is on",
