@@ -18,8 +18,8 @@ use std::sync::Arc;
 /// CAN families (--protocol lenze-9400) take frames as candump writes them
 /// (`60C#409C5F0000000000`, or a candump log line) or as `ID data…`.
 pub struct DecodeArgs {
-    /// The drive family whose protocol the telegrams are in: `sd2`, `ct_ansi` (also
-    /// `ct-ansi` or the dictionary name `ct-unidrive-sp`) [default: the drive a `--trace`
+    /// The drive family whose protocol the telegrams are in, by its id (`sd2`, `ct-ansi`,
+    /// `lenze-931`, `lenze-9400`) or by a dictionary of it (`ct-unidrive-sp`) [default: the drive a `--trace`
     /// file's header names (a CAN trace's: in FILE.meta), else the family of the --drive
     /// dictionary; a candump log without a header: the CAN family].
     #[arg(long, value_name = "FAMILY")]
@@ -193,8 +193,8 @@ pub fn run(args: &DecodeArgs, registry: &Registry) -> i32 {
     code
 }
 
-/// The family `--protocol` names (a family id such as `ct_ansi`, written with `-` or `_`,
-/// or a built-in dictionary such as `ct-unidrive-sp`) and the dictionary whose names the
+/// The family `--protocol` names (a family id such as `ct-ansi`, also in its former
+/// spelling `ct_ansi`, or a built-in dictionary such as `ct-unidrive-sp`) and the dictionary whose names the
 /// explanation uses: the --drive dictionary when it is of that family, else the family's
 /// own. On failure, the text to print.
 fn protocol_and_names(
@@ -213,10 +213,7 @@ fn protocol_and_names(
         Ok(f) => (f, None),
         Err(e) => match registry.dictionary(protocol) {
             Ok((f, d)) => (f, Some(d.name)),
-            Err(_) => match registry.family(&protocol.replace('-', "_")) {
-                Ok(f) => (f, None),
-                Err(_) => return Err(RunError::Invalid(format!("error: {e}\n"))),
-            },
+            Err(_) => return Err(RunError::Invalid(format!("error: {e}\n"))),
         },
     };
     let mut wanted = args.dictionary.clone();
@@ -259,7 +256,7 @@ fn recorded_drive(
         if let Some((source, header)) = headers.first() {
             let given = args.protocol.as_deref().unwrap_or(&args.dictionary.name);
             let given_family = registry
-                .family(&given.replace('-', "_"))
+                .family(given)
                 .map(|f| f.id())
                 .ok()
                 .or_else(|| family_of(given));

@@ -91,11 +91,25 @@ fn print_invalid(e: &RecipeInvalid) {
 pub fn check(args: &CheckArgs, registry: &Registry) -> i32 {
     let mut code = PASSED;
     let mut last_error = String::new();
+    let mut noted: Vec<String> = Vec::new();
     for path in &args.recipes {
         // Per recipe: each may have its own drivescript-limits.yaml next to it. A broken
-        // --dictionary or --limits file is said once, not once per recipe.
+        // --dictionary or --limits file is said once, not once per recipe, and so is a note
+        // on a --dictionary file.
         let dictionary = match args.dictionary.load_for(registry, Some(path)) {
-            Ok(d) => d,
+            Ok(d) => {
+                for note in d.notes() {
+                    let text = format!("note: {}", note.located());
+                    if !noted.contains(&text) {
+                        eprintln!("{text}");
+                        if let Some(help) = note.help() {
+                            eprintln!("  help: {help}");
+                        }
+                        noted.push(text);
+                    }
+                }
+                d
+            }
             Err(e) => {
                 let text = e.to_string();
                 if text != last_error {

@@ -6,6 +6,7 @@
 use super::address::{Address, AddressParser};
 use super::bench_limits::BenchLimits;
 use super::dictionary_error::DictionaryError;
+use super::family_id::family_id;
 use super::object_def::ObjectDef;
 use super::profile::Profile;
 use super::reader::read;
@@ -31,6 +32,9 @@ pub struct Dictionary {
     /// What `--drive`, a recipe's `drive:` and messages call this dictionary: its file's
     /// name without `.yaml` (`ct-unidrive-sp`), which for a built-in one is its name.
     name: String,
+    /// What works but should be written otherwise, in this file and the files that
+    /// extended it (a family id's former spelling); `check` shows them.
+    notes: Vec<Diagnostic>,
 }
 
 impl Dictionary {
@@ -62,7 +66,7 @@ impl Dictionary {
     /// role now naming a string …); on any problem `self` is left unchanged.
     pub fn extend(&mut self, other: Dictionary) -> Result<(), DictionaryError> {
         let prefer = Arc::clone(other.family_span.source());
-        if !other.family.eq_ignore_ascii_case(&self.family) {
+        if other.family != self.family {
             return Err(Diagnostic::at(
                 &other.family_span,
                 format!(
@@ -88,6 +92,7 @@ impl Dictionary {
         if other.profile.is_some() {
             merged.profile = other.profile;
         }
+        merged.notes.extend(other.notes);
         let problems = validate(&merged.objects, merged.profile.as_ref(), &[], Some(&prefer));
         if let Some(e) = DictionaryError::collect(problems) {
             return Err(e);
@@ -152,6 +157,7 @@ impl Dictionary {
             bench_limits: None,
             parse_address,
             name: file_stem(file.path()),
+            notes: contents.notes,
         })
     }
 
@@ -194,7 +200,13 @@ impl Dictionary {
     /// True when a recipe's or script's `drive:` fits this dictionary: it names the
     /// dictionary itself or the family it is for.
     pub fn is_for_drive(&self, drive: &str) -> bool {
-        drive == self.name || drive == self.family
+        drive == self.name || family_id(drive) == self.family
+    }
+
+    /// What works but should be written otherwise (an old `family:` spelling), each at
+    /// its place, for `check` to show.
+    pub fn notes(&self) -> &[Diagnostic] {
+        &self.notes
     }
 
     pub fn title(&self) -> &str {

@@ -7,7 +7,7 @@ use super::{
     BuiltinDictionary, Family,
 };
 use crate::diag::{did_you_mean, Diagnostic};
-use crate::dictionary::{Dictionary, DictionaryError};
+use crate::dictionary::{family_id, Dictionary, DictionaryError};
 use crate::drive::{AddressKeyTable, FamilyAddressKeys};
 use std::sync::Arc;
 
@@ -38,11 +38,13 @@ impl Registry {
         self
     }
 
-    /// The family a dictionary names; the error lists the known ones.
+    /// The family a dictionary names, also in the former spelling of its id (`ct_ansi`
+    /// for `ct-ansi`, see [`family_id`]); the error lists the known ones.
     pub fn family(&self, id: &str) -> Result<Arc<dyn Family>, FamilyError> {
+        let wanted = family_id(id);
         self.families
             .iter()
-            .find(|f| f.id() == id)
+            .find(|f| f.id() == wanted)
             .cloned()
             .ok_or_else(|| {
                 let ids: Vec<&str> = self.families.iter().map(|f| f.id()).collect();
@@ -143,6 +145,32 @@ mod tests {
         let (family, dictionary) = r.dictionary("sd2").unwrap();
         assert_eq!((family.id(), dictionary.path), ("sd2", "dictionary/sd2.yaml"));
         assert!(r.dictionary("lenze").is_err());
+    }
+
+    /// One spelling: every family id is kebab-case like the dictionary names, and every
+    /// built-in dictionary's `family:` is its family's id as written.
+    #[test]
+    fn family_ids_and_dictionary_family_values_are_kebab_case() {
+        let r = Registry::builtin();
+        for family in r.families() {
+            assert!(
+                crate::dictionary::is_family_id(family.id()),
+                "family id `{}`",
+                family.id()
+            );
+            for builtin in family.dictionaries() {
+                let d = r.load_dictionary(builtin.name).unwrap();
+                assert_eq!(d.family(), family.id(), "{}", builtin.path);
+                assert!(d.notes().is_empty(), "{}: {:?}", builtin.path, d.notes());
+                assert!(
+                    builtin.text.contains(&format!("\nfamily: {}\n", family.id())),
+                    "{}",
+                    builtin.path
+                );
+            }
+        }
+        assert_eq!(r.family("ct_ansi").unwrap().id(), "ct-ansi");
+        assert_eq!(r.family("lenze_9400").unwrap().id(), "lenze-9400");
     }
 
     #[test]
