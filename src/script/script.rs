@@ -338,6 +338,8 @@ mod tests {
             check(&format!("//! drive: {}\nlet x = 1;\n", ct.family())),
             Vec::<String>::new()
         );
+        // A script written before family ids were unified.
+        assert_eq!(check("//! drive: ct_ansi\nlet x = 1;\n"), Vec::<String>::new());
         assert_eq!(
             check("//! drive: sd2\nlet x = 1;\n"),
             ["t.rhai:1:12: this script is for drive `sd2`, the dictionary in use is `ct-unidrive-sp`"]
