@@ -19,8 +19,8 @@ use std::sync::Arc;
 /// CAN families (--protocol lenze-9400) take frames as candump writes them
 /// (`60C#409C5F0000000000`, or a candump log line) or as `ID data…`.
 pub struct DecodeArgs {
-    /// The drive family whose protocol the telegrams are in: `sd2`, `ct_ansi` (also
-    /// `ct-ansi` or the dictionary name `ct-unidrive-sp`) [default: the drive a `--trace`
+    /// The drive family whose protocol the telegrams are in, by its id (`sd2`, `ct-ansi`,
+    /// `lenze-931`, `lenze-9400`) or by a dictionary of it (`ct-unidrive-sp`) [default: the drive a `--trace`
     /// file's header names (a CAN trace's: in FILE.meta), else the family of the --drive
     /// dictionary; a candump log without a header: the CAN family].
     #[arg(long, value_name = "FAMILY")]
@@ -210,8 +210,8 @@ fn explain_one(
     written.is_ok()
 }
 
-/// The family `--protocol` names (a family id such as `ct_ansi`, written with `-` or `_`,
-/// or a built-in dictionary such as `ct-unidrive-sp`) and the dictionary whose names the
+/// The family `--protocol` names (a family id such as `ct-ansi`, also in its former
+/// spelling `ct_ansi`, or a built-in dictionary such as `ct-unidrive-sp`) and the dictionary whose names the
 /// explanation uses: the --drive dictionary when it is of that family, else the family's
 /// own. On failure, the text to print.
 fn protocol_and_names(
@@ -230,22 +230,19 @@ fn protocol_and_names(
         Ok(f) => (f, None),
         Err(e) => match registry.dictionary(protocol) {
             Ok((f, d)) => (f, Some(d.name)),
-            Err(_) => match registry.family(&protocol.replace('-', "_")) {
-                Ok(f) => (f, None),
-                Err(_) => return Err(RunError::Invalid(format!("error: {e}\n"))),
-            },
+            Err(_) => return Err(RunError::Invalid(format!("error: {e}\n"))),
         },
     };
     let mut wanted = args.dictionary.clone();
     match dictionary {
-        Some(name) => wanted.family = name.to_string(),
+        Some(name) => wanted.name = name.to_string(),
         None => {
             let given_fits = registry
-                .dictionary(&wanted.family)
+                .dictionary(&wanted.name)
                 .is_ok_and(|(f, _)| f.id() == family.id());
             if !given_fits {
                 let first = family.dictionaries().first().map(|d| d.name);
-                wanted.family = first.unwrap_or_default().to_string();
+                wanted.name = first.unwrap_or_default().to_string();
             }
         }
     }
@@ -262,7 +259,7 @@ fn recorded_drive(
     headers: &[(String, TraceHeader)],
     lines: &[(String, String)],
 ) -> Option<DictionaryArgs> {
-    let flags = args.protocol.is_some() || args.dictionary.family != DEFAULT_DICTIONARY;
+    let flags = args.protocol.is_some() || args.dictionary.name != DEFAULT_DICTIONARY;
     let family_of = |drive: &str| registry.dictionary(drive).map(|(f, _)| f.id()).ok();
     for (source, header) in headers.iter().skip(1) {
         if header.drive != headers[0].1.drive {
@@ -274,9 +271,9 @@ fn recorded_drive(
     }
     if flags {
         if let Some((source, header)) = headers.first() {
-            let given = args.protocol.as_deref().unwrap_or(&args.dictionary.family);
+            let given = args.protocol.as_deref().unwrap_or(&args.dictionary.name);
             let given_family = registry
-                .family(&given.replace('-', "_"))
+                .family(given)
                 .map(|f| f.id())
                 .ok()
                 .or_else(|| family_of(given));
@@ -291,7 +288,7 @@ fn recorded_drive(
     }
     let mut wanted = args.dictionary.clone();
     if let Some((_, header)) = headers.first() {
-        wanted.family.clone_from(&header.drive);
+        wanted.name.clone_from(&header.drive);
         wanted.extra.extend(header.dictionaries.iter().cloned());
         return Some(wanted);
     }
@@ -306,7 +303,7 @@ fn recorded_drive(
     let (only, none_more) = (can.next()?, can.next().is_none());
     let dictionary = only.dictionaries().first()?;
     (candump_log && none_more).then(|| {
-        wanted.family = dictionary.name.to_string();
+        wanted.name = dictionary.name.to_string();
         wanted
     })
 }

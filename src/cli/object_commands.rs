@@ -414,7 +414,7 @@ pub fn objects(args: &ObjectsArgs, registry: &Registry) -> i32 {
         return PASSED;
     }
     if list.is_empty() {
-        eprintln!("no object of the {} dictionary matches", dictionary.family());
+        eprintln!("no object of the {} dictionary matches", dictionary.name());
         return PASSED;
     }
     println!("{} — {} object(s)", dictionary.title(), list.len());

@@ -191,7 +191,7 @@ fn dictionary_for(
 ) -> Result<Arc<Dictionary>, i32> {
     let mut args = args.clone();
     if !backup.dictionary.is_empty() {
-        args.family = backup.dictionary.clone();
+        args.name = backup.dictionary.clone();
     }
     args.load_for(registry, None).map_err(|text| {
         eprint!("{text}");
@@ -217,7 +217,7 @@ pub fn backup(args: &BackupArgs, registry: &Registry) -> i32 {
     if !dictionary.objects().any(|o| o.parameter) {
         eprintln!(
             "error: the {} dictionary marks no object as a parameter; add `parameter: true` to the objects to save (--dictionary FILE)",
-            dictionary.family()
+            dictionary.name()
         );
         return INVALID;
     }
@@ -433,7 +433,7 @@ pub fn restore(args: &RestoreArgs, registry: &Registry) -> i32 {
     if !skipped.is_empty() {
         println!(
             "not restored, being beyond the {} dictionary (access and limits unknown): {}",
-            dictionary.family(),
+            dictionary.name(),
             skipped.join(", ")
         );
     }

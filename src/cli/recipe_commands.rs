@@ -87,8 +87,10 @@ pub fn check(args: &CheckArgs, registry: &Registry) -> i32 {
     let colour = std::io::stderr().is_terminal();
     let mut code = PASSED;
     let mut last_error = String::new();
+    let mut noted: Vec<String> = Vec::new();
     for path in &args.recipes {
-        // Per file: each may have its own drivescript-limits.yaml next to it.
+        // Per file: each may have its own drivescript-limits.yaml next to it. A note on a
+        // --dictionary file is said once, not once per file.
         let request = CheckRequest {
             registry,
             file: path,
@@ -97,7 +99,21 @@ pub fn check(args: &CheckArgs, registry: &Registry) -> i32 {
             connection: &args.connection,
         };
         match run::check(&request, &mut std::io::stderr()) {
-            Ok(checked) => code = code.max(print_checked(path, &checked)),
+            Ok(checked) => {
+                let dictionaries = std::iter::once(&checked.loaded.dictionary)
+                    .chain(checked.loaded.drive_dictionaries.iter().map(|(_, d)| d));
+                for note in dictionaries.flat_map(|d| d.notes()) {
+                    let text = format!("note: {}", note.located());
+                    if !noted.contains(&text) {
+                        eprintln!("{text}");
+                        if let Some(help) = note.help() {
+                            eprintln!("  help: {help}");
+                        }
+                        noted.push(text);
+                    }
+                }
+                code = code.max(print_checked(path, &checked))
+            }
             Err(e) => {
                 // A broken --dictionary or --limits file is said once, not once per file.
                 let text = e.render(colour);

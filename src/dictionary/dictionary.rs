@@ -6,6 +6,7 @@
 use super::address::{Address, AddressParser};
 use super::bench_limits::BenchLimits;
 use super::dictionary_error::DictionaryError;
+use super::family_id::family_id;
 use super::object_def::ObjectDef;
 use super::profile::Profile;
 use super::reader::read;
@@ -28,8 +29,12 @@ pub struct Dictionary {
     bench_limits: Option<BenchLimits>,
     /// The family's reading of `address:` texts, for the files that extend this one.
     parse_address: Option<AddressParser>,
-    /// The built-in dictionary's name (`--drive`, a recipe's `drive:`), when it is one.
-    name: Option<String>,
+    /// What `--drive`, a recipe's `drive:` and messages call this dictionary: its file's
+    /// name without `.yaml` (`ct-unidrive-sp`), which for a built-in one is its name.
+    name: String,
+    /// What works but should be written otherwise, in this file and the files that
+    /// extended it (a family id's former spelling); `check` shows them.
+    notes: Vec<Diagnostic>,
 }
 
 impl Dictionary {
@@ -61,7 +66,7 @@ impl Dictionary {
     /// role now naming a string …); on any problem `self` is left unchanged.
     pub fn extend(&mut self, other: Dictionary) -> Result<(), DictionaryError> {
         let prefer = Arc::clone(other.family_span.source());
-        if !other.family.eq_ignore_ascii_case(&self.family) {
+        if other.family != self.family {
             return Err(Diagnostic::at(
                 &other.family_span,
                 format!(
@@ -87,6 +92,7 @@ impl Dictionary {
         if other.profile.is_some() {
             merged.profile = other.profile;
         }
+        merged.notes.extend(other.notes);
         let problems = validate(&merged.objects, merged.profile.as_ref(), &[], Some(&prefer));
         if let Some(e) = DictionaryError::collect(problems) {
             return Err(e);
@@ -150,7 +156,8 @@ impl Dictionary {
             profile: contents.profile,
             bench_limits: None,
             parse_address,
-            name: None,
+            name: file_stem(file.path()),
+            notes: contents.notes,
         })
     }
 
@@ -178,21 +185,28 @@ impl Dictionary {
         self.bench_limits.as_ref()
     }
 
-    /// The drive family this dictionary is for.
-    /// Names this dictionary as the built-in one `name` (what `--drive` and a recipe's
-    /// `drive:` say, e.g. `ct-unidrive-sp` for family `ct_ansi`).
-    pub fn named(mut self, name: &str) -> Dictionary {
-        self.name = Some(name.to_string());
-        self
+    /// This dictionary's name: what `--drive` and a recipe's `drive:` say and what messages
+    /// call it (`ct-unidrive-sp`), not the family it is for (see [`Self::family`]).
+    pub fn name(&self) -> &str {
+        &self.name
     }
 
-    /// The built-in dictionary's name, when this is one.
-    pub fn name(&self) -> Option<&str> {
-        self.name.as_deref()
-    }
-
+    /// The id of the drive family this dictionary is for (its `family:`, e.g. `ct-ansi`):
+    /// which protocol to speak, not what to call the dictionary.
     pub fn family(&self) -> &str {
         &self.family
+    }
+
+    /// True when a recipe's or script's `drive:` fits this dictionary: it names the
+    /// dictionary itself or the family it is for.
+    pub fn is_for_drive(&self, drive: &str) -> bool {
+        drive == self.name || family_id(drive) == self.family
+    }
+
+    /// What works but should be written otherwise (an old `family:` spelling), each at
+    /// its place, for `check` to show.
+    pub fn notes(&self) -> &[Diagnostic] {
+        &self.notes
     }
 
     pub fn title(&self) -> &str {
@@ -204,7 +218,7 @@ impl Dictionary {
     pub fn lookup(&self, name: &str) -> Result<&ObjectDef, UnknownObject> {
         self.get(name).ok_or_else(|| UnknownObject {
             name: name.to_string(),
-            family: self.family.clone(),
+            dictionary: self.name.clone(),
             suggestions: self.suggest(name),
         })
     }
@@ -278,4 +292,11 @@ impl Dictionary {
     pub fn role(&self, role: Role) -> Option<&ObjectDef> {
         self.get(self.profile.as_ref()?.object(role)?)
     }
+}
+/// A dictionary file's name without its folder and extension: `dictionary/sd2.yaml` → `sd2`.
+fn file_stem(path: &str) -> String {
+    Path::new(path)
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_else(|| path.to_string())
 }

@@ -8,6 +8,7 @@
 use super::access::Access;
 use super::address::{Address, AddressParser};
 use super::data_type::DataType;
+use super::family_id::{family_id, is_family_id, is_former_spelling};
 use super::format::Format;
 use super::object_def::ObjectDef;
 use super::profile::{
@@ -30,6 +31,8 @@ pub(crate) struct FileContents {
     /// Objects left out because they had problems: their names still take part in the
     /// duplicate check, and a profile naming one gets no second, misleading error.
     pub broken: Vec<BrokenObject>,
+    /// What works but should be written otherwise (a family id's former spelling).
+    pub notes: Vec<Diagnostic>,
 }
 
 /// The names (name first, then aliases) and their places of an object with problems.
@@ -100,6 +103,7 @@ impl DictionaryReader<'_> {
             objects: Vec::new(),
             profile: None,
             broken: Vec::new(),
+            notes: Vec::new(),
         };
         let shape = Shape::new("the dictionary", TOP_KEYS)
             .require_as("family", "the drive family, the protocol it speaks")
@@ -109,7 +113,7 @@ impl DictionaryReader<'_> {
             return contents;
         };
         if let Some(node) = f.get("family") {
-            if let Some(family) = self.identifier(node, "family") {
+            if let Some(family) = self.family(node, &mut contents.notes) {
                 contents.family = family;
                 contents.family_span = node.span.clone();
             }
@@ -133,10 +137,40 @@ impl DictionaryReader<'_> {
     }
 
     /// Text of the form `[a-z][a-z0-9_]*`; a family id may also use `-` (`lenze-931`).
+    /// The family id `family:` names. The former spelling (`ct_ansi`) is read as the id
+    /// (`ct-ansi`) with a note saying what to write, so files in the field keep working.
+    fn family(&mut self, node: &YamlNode, notes: &mut Vec<Diagnostic>) -> Option<String> {
+        let written = self.r.text(node, "`family`")?;
+        let id = family_id(&written);
+        if !is_family_id(&id) {
+            self.push(
+                Diagnostic::at(
+                    &node.span,
+                    format!("`{written}` is not a family id"),
+                    "not a family id",
+                )
+                .with_help("a family id is lower-case letters and digits joined by `-`, e.g. `ct-ansi`"),
+            );
+            return None;
+        }
+        if is_former_spelling(&written) {
+            notes.push(
+                Diagnostic::at(
+                    &node.span,
+                    format!(
+                        "`family: {written}` is the former spelling of the family id `{id}`; it still works"
+                    ),
+                    "former spelling",
+                )
+                .with_help(format!("write `family: {id}`")),
+            );
+        }
+        Some(id)
+    }
+
     fn identifier(&mut self, node: &YamlNode, what: &str) -> Option<String> {
         let s = self.r.text(node, &format!("`{what}`"))?;
-        let family_id = what == "family" && is_identifier(&s.replace('-', "_"));
-        if is_identifier(&s) || family_id {
+        if is_identifier(&s) {
             Some(s)
         } else {
             self.push(

@@ -76,14 +76,14 @@ impl Drive {
     /// device control).
     pub fn profile(&self) -> Result<&Profile, DriveError> {
         self.dictionary.profile().ok_or_else(|| DriveError::NoRole {
-            family: self.dictionary.family().to_string(),
+            dictionary: self.dictionary.name().to_string(),
             role: "profile",
         })
     }
 
     fn role_object(&self, role: Role) -> Result<ObjectDef, DriveError> {
         let name = self.profile()?.object(role).ok_or_else(|| DriveError::NoRole {
-            family: self.dictionary.family().to_string(),
+            dictionary: self.dictionary.name().to_string(),
             role: role.id(),
         })?;
         Ok(self.object(name)?.clone())
@@ -334,7 +334,7 @@ impl Drive {
             .command(command)
             .cloned()
             .ok_or_else(|| DriveError::NoCommand {
-                family: self.dictionary.family().to_string(),
+                dictionary: self.dictionary.name().to_string(),
                 command,
                 has: profile.command_ids().join(", "),
             })?;
@@ -395,7 +395,7 @@ impl Drive {
         let profile = self.profile()?;
         if !profile.has_state(target) {
             return Err(DriveError::NoState {
-                family: self.dictionary.family().to_string(),
+                dictionary: self.dictionary.name().to_string(),
                 state: target,
                 has: profile.state_ids().join(", "),
             });

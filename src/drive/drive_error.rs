@@ -28,19 +28,19 @@ pub enum DriveError {
         source: ValueError,
     },
 
-    #[error("the {family} dictionary's profile names no {role} object, which device control needs")]
-    NoRole { family: String, role: &'static str },
+    #[error("the {dictionary} dictionary's profile names no {role} object, which device control needs")]
+    NoRole { dictionary: String, role: &'static str },
 
-    #[error("the {family} dictionary's profile has no {command} command (the drive's commands: {has})")]
+    #[error("the {dictionary} dictionary's profile has no {command} command (the drive's commands: {has})")]
     NoCommand {
-        family: String,
+        dictionary: String,
         command: DeviceCommand,
         has: String,
     },
 
-    #[error("the {family} dictionary's profile has no state {state} (the drive's states: {has})")]
+    #[error("the {dictionary} dictionary's profile has no state {state} (the drive's states: {has})")]
     NoState {
-        family: String,
+        dictionary: String,
         state: DeviceState,
         has: String,
     },
@@ -150,8 +150,8 @@ impl DriveError {
 /// Why nobody can tell whether the drive is enabled, from the error of reading its state.
 pub fn state_unknown(cause: &DriveError) -> String {
     match cause {
-        DriveError::NoRole { family, .. } => format!(
-            "the drive's state cannot be checked: the {family} dictionary has no device-control profile, so drivescript cannot tell whether the drive is enabled"
+        DriveError::NoRole { dictionary, .. } => format!(
+            "the drive's state cannot be checked: the {dictionary} dictionary has no device-control profile, so drivescript cannot tell whether the drive is enabled"
         ),
         other => format!(
             "the drive's state cannot be read ({other}), so drivescript cannot tell whether the drive is enabled"

@@ -111,8 +111,9 @@ pub enum SimPeer {
 }
 
 pub trait Family: Send + Sync {
-    /// The family id: what a dictionary's `family:` names (`sd2`, `ct_ansi`, `lenze-931`,
-    /// `lenze_9400`). Users name dictionaries (`--drive ct-unidrive-sp`), not families.
+    /// The family id: what a dictionary's `family:` names, in kebab-case like dictionary
+    /// names (`sd2`, `ct-ansi`, `lenze-931`, `lenze-9400`). Users name dictionaries
+    /// (`--drive ct-unidrive-sp`), and each dictionary names its family.
     fn id(&self) -> &'static str;
     /// One line for listings: `Sieb & Meyer SD2 / SD2S over the DNC serial protocol`.
     fn title(&self) -> &'static str;

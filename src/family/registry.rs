@@ -7,7 +7,7 @@ use super::{
     BuiltinDictionary, Family,
 };
 use crate::diag::{did_you_mean, Diagnostic};
-use crate::dictionary::{Dictionary, DictionaryError};
+use crate::dictionary::{family_id, Dictionary, DictionaryError};
 use crate::drive::{AddressKeyTable, FamilyAddressKeys};
 use std::sync::Arc;
 
@@ -38,11 +38,13 @@ impl Registry {
         self
     }
 
-    /// The family a dictionary names; the error lists the known ones.
+    /// The family a dictionary names, also in the former spelling of its id (`ct_ansi`
+    /// for `ct-ansi`, see [`family_id`]); the error lists the known ones.
     pub fn family(&self, id: &str) -> Result<Arc<dyn Family>, FamilyError> {
+        let wanted = family_id(id);
         self.families
             .iter()
-            .find(|f| f.id() == id)
+            .find(|f| f.id() == wanted)
             .cloned()
             .ok_or_else(|| {
                 let ids: Vec<&str> = self.families.iter().map(|f| f.id()).collect();
@@ -67,6 +69,21 @@ impl Registry {
             "no built-in dictionary `{name}`; there are {}{hint}",
             names.join(", ")
         )))
+    }
+
+    /// The built-in dictionary a recipe's or script's `drive:` means: the dictionary it
+    /// names (`ct-unidrive-sp`), or for a family id (`ct-ansi`) that family's first one.
+    pub fn dictionary_for_drive(&self, drive: &str) -> Result<&'static str, FamilyError> {
+        match self.dictionary(drive) {
+            Ok((_, d)) => Ok(d.name),
+            Err(not_a_dictionary) => {
+                let family = self.family(drive).map_err(|_| not_a_dictionary)?;
+                let first = family.dictionaries().first().map(|d| d.name);
+                first.ok_or_else(|| {
+                    FamilyError::Unknown(format!("the {drive} family has no built-in dictionary"))
+                })
+            }
+        }
     }
 
     /// The built-in dictionary `name`, parsed and checked.
@@ -128,5 +145,44 @@ mod tests {
         let (family, dictionary) = r.dictionary("sd2").unwrap();
         assert_eq!((family.id(), dictionary.path), ("sd2", "dictionary/sd2.yaml"));
         assert!(r.dictionary("lenze").is_err());
+    }
+
+    /// One spelling: every family id is kebab-case like the dictionary names, and every
+    /// built-in dictionary's `family:` is its family's id as written.
+    #[test]
+    fn family_ids_and_dictionary_family_values_are_kebab_case() {
+        let r = Registry::builtin();
+        for family in r.families() {
+            assert!(
+                crate::dictionary::is_family_id(family.id()),
+                "family id `{}`",
+                family.id()
+            );
+            for builtin in family.dictionaries() {
+                let d = r.load_dictionary(builtin.name).unwrap();
+                assert_eq!(d.family(), family.id(), "{}", builtin.path);
+                assert!(d.notes().is_empty(), "{}: {:?}", builtin.path, d.notes());
+                assert!(
+                    builtin.text.contains(&format!("\nfamily: {}\n", family.id())),
+                    "{}",
+                    builtin.path
+                );
+            }
+        }
+        assert_eq!(r.family("ct_ansi").unwrap().id(), "ct-ansi");
+        assert_eq!(r.family("lenze_9400").unwrap().id(), "lenze-9400");
+    }
+
+    #[test]
+    fn a_drive_names_a_dictionary_or_a_family_whose_first_dictionary_it_means() {
+        let r = Registry::builtin();
+        assert_eq!(
+            r.dictionary_for_drive("ct-unidrive-sp").unwrap(),
+            "ct-unidrive-sp"
+        );
+        let family = r.dictionary("ct-unidrive-sp").unwrap().0.id();
+        assert_eq!(r.dictionary_for_drive(family).unwrap(), "ct-unidrive-sp");
+        let e = r.dictionary_for_drive("ct-unidrive").unwrap_err().to_string();
+        assert!(e.starts_with("no built-in dictionary `ct-unidrive`"), "{e}");
     }
 }

@@ -71,11 +71,7 @@ pub fn take(
     }
     let file = ParameterFile {
         family: drive.dictionary().family().to_string(),
-        dictionary: drive
-            .dictionary()
-            .name()
-            .unwrap_or(drive.dictionary().family())
-            .to_string(),
+        dictionary: drive.dictionary().name().to_string(),
         address: origin.address,
         identity,
         date: origin.date,

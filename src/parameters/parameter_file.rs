@@ -147,7 +147,8 @@ fn read_file(r: &mut Reader, root: &YamlNode) -> Option<ParameterFile> {
         r.int(n, "the format version", FORMAT_VERSION, FORMAT_VERSION);
     }
     let text = |r: &mut Reader, key: &str| f.get(key).and_then(|n| r.scalar_text(n, key)).unwrap_or_default();
-    let family = text(r, "family");
+    // Backups taken before family ids were unified say `ct_ansi`: read as `ct-ansi`.
+    let family = crate::dictionary::family_id(&text(r, "family"));
     let dictionary = text(r, "dictionary");
     let address = text(r, "address");
     let date = text(r, "date");
@@ -258,6 +259,13 @@ mod tests {
         let text = f.to_yaml();
         let back = ParameterFile::parse(&Source::new("backup.yaml", text.as_str())).unwrap();
         assert_eq!(back, f);
+    }
+
+    #[test]
+    fn a_former_family_id_reads_as_todays() {
+        let text = "drivescript_parameters: 1\nfamily: ct_ansi\nobjects:\n  - name: a\n    raw: \"1\"\n";
+        let file = ParameterFile::parse(&Source::new("old.yaml", text)).unwrap();
+        assert_eq!(file.family, "ct-ansi");
     }
 
     #[test]

@@ -247,7 +247,7 @@ pub fn recipe_schema(dictionary: &Dictionary, address_keys: &AddressKeyTable) ->
     };
     let no_profile = format!(
         "needs device control, but the {} dictionary has no `profile:`",
-        dictionary.family()
+        dictionary.name()
     );
     let state = |doc: &str| {
         let mut state = json!({ "type": "string", "enum": states, "description": doc });
@@ -266,8 +266,8 @@ pub fn recipe_schema(dictionary: &Dictionary, address_keys: &AddressKeyTable) ->
     };
     // A recipe names its drive by family (`sd2`) or by built-in dictionary (`ct-unidrive-sp`).
     let mut drives = vec![dictionary.family()];
-    if let Some(name) = dictionary.name().filter(|n| *n != dictionary.family()) {
-        drives.push(name);
+    if dictionary.name() != dictionary.family() {
+        drives.push(dictionary.name());
     }
     let duration = written_as(
         "a duration with its unit: 500 ms, 5 s, 10 min, 2 h, 1h 30min, or {{param}}",
@@ -674,7 +674,7 @@ mod tests {
         assert_eq!(step["then"]["enum"], json!([]));
         assert_eq!(
             step["then"]["errorMessage"],
-            "a device command needs device control, but the lenze_9400 dictionary has no `profile:`"
+            "a device command needs device control, but the lenze-9400 dictionary has no `profile:`"
         );
         let go_to = &step["else"]["oneOf"][0]["properties"]["go_to"]["oneOf"][0];
         assert_eq!(go_to["enum"], json!([]));

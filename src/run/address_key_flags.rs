@@ -84,13 +84,13 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(e.starts_with("--dnc-address 1: ") && e.contains("2..=255"), "{e}");
-        let ct = registry.family("ct_ansi").unwrap();
+        let ct = registry.family("ct-ansi").unwrap();
         let e = DNC_ADDRESS
             .address(&registry, ct.as_ref(), "2")
             .unwrap_err()
             .to_string();
         assert!(
-            e.starts_with("--dnc-address is for drives of the sd2 family; a ct_ansi drive has no `dnc_address`: give --address, "),
+            e.starts_with("--dnc-address is for drives of the sd2 family; a ct-ansi drive has no `dnc_address`: give --address, "),
             "{e}"
         );
     }

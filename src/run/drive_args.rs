@@ -17,10 +17,11 @@ use std::sync::{Arc, Mutex};
 #[derive(Debug, Clone, Args)]
 #[command(next_help_heading = "Dictionary and bench limits")]
 pub struct DictionaryArgs {
-    /// The built-in dictionary to start from; it names the drive family (and so the
-    /// protocol) in its `family:`.
-    #[arg(long = "drive", value_name = "DICTIONARY", default_value = DEFAULT_DICTIONARY)]
-    pub family: String,
+    /// The built-in dictionary to start from, by its name: sd2, ct-unidrive-sp, lenze-931,
+    /// lenze-9400. The drive family its `family:` names picks the protocol
+    /// (`ct-unidrive-sp` is a dictionary of the `ct-ansi` family).
+    #[arg(id = "drive", long = "drive", value_name = "DICTIONARY", default_value = DEFAULT_DICTIONARY)]
+    pub name: String,
     /// A dictionary file that adds objects to the built-in one (or replaces objects of the
     /// same name). May be given several times.
     #[arg(long = "dictionary", value_name = "PATH")]
@@ -39,10 +40,7 @@ impl DictionaryArgs {
     /// --limits nor $DRIVESCRIPT_LIMITS names a limits file. On failure, the rendered
     /// diagnostic to print.
     pub fn load_for(&self, registry: &Registry, recipe: Option<&Path>) -> Result<Arc<Dictionary>, RunError> {
-        let name = match (
-            self.family.as_str(),
-            recipe.and_then(|r| recipe_drive(registry, r)),
-        ) {
+        let name = match (self.name.as_str(), recipe.and_then(|r| recipe_drive(registry, r))) {
             // A recipe for another built-in drive picks its dictionary when --drive is left
             // at the default.
             (DEFAULT_DICTIONARY, Some(drive)) => drive,
@@ -51,8 +49,7 @@ impl DictionaryArgs {
         let (family, builtin) = registry
             .dictionary(&name)
             .map_err(|e| RunError::Invalid(format!("error: {e}\n")))?;
-        let mut dictionary = Dictionary::from_yaml_for(builtin.path, builtin.text, family.address_parser())?
-            .named(builtin.name);
+        let mut dictionary = Dictionary::from_yaml_for(builtin.path, builtin.text, family.address_parser())?;
         for path in &self.extra {
             dictionary.extend_from(path)?;
         }
@@ -68,15 +65,15 @@ impl DictionaryArgs {
     /// The dictionary `--drive` names when it is not given, and no extra files.
     pub fn builtin_default() -> Self {
         DictionaryArgs {
-            family: DEFAULT_DICTIONARY.into(),
+            name: DEFAULT_DICTIONARY.into(),
             extra: Vec::new(),
             limits: None,
         }
     }
 }
 
-/// The built-in dictionary a YAML recipe's top-level `drive:` names, when it names one
-/// (`ct-unidrive-sp`), or the first of the family it names (`ct_ansi`). Anything that
+/// The built-in dictionary a YAML recipe's top-level `drive:` means
+/// ([`Registry::dictionary_for_drive`]). Anything that
 /// cannot be read is left to the recipe loader to report; the file is read within the
 /// loader's size limit.
 fn recipe_drive(registry: &Registry, recipe: &Path) -> Option<String> {
@@ -95,12 +92,7 @@ fn recipe_drive(registry: &Registry, recipe: &Path) -> Option<String> {
         crate::diag::YamlValue::Str(s) => s.clone(),
         _ => return None,
     };
-    if registry.dictionary(&drive).is_ok() {
-        return Some(drive);
-    }
-    // A family id (`ct_ansi`): that family's first built-in dictionary.
-    let family = registry.family(&drive).ok()?;
-    family.dictionaries().first().map(|d| d.name.to_string())
+    registry.dictionary_for_drive(&drive).ok().map(str::to_string)
 }
 
 /// A drive ready for use, and the simulated drive behind it when there is one.
@@ -149,4 +141,23 @@ pub fn open_drive(
         description,
         family,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use clap::{Args, Command};
+
+    /// `--drive`'s help lists the dictionaries by name, every built-in one and only those.
+    #[test]
+    fn drive_help_lists_every_builtin_dictionary() {
+        let command = DictionaryArgs::augment_args(Command::new("t"));
+        let arg = command
+            .get_arguments()
+            .find(|a| a.get_long() == Some("drive"))
+            .unwrap();
+        let help = arg.get_help().map(|h| h.to_string()).unwrap_or_default();
+        let names = Registry::builtin().dictionary_names().join(", ");
+        assert!(help.contains(&format!("by its name: {names}.")), "{help}");
+    }
 }

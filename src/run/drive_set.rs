@@ -36,20 +36,11 @@ pub fn drive_dictionaries(
     declared
         .iter()
         .map(|(name, drive)| {
-            // A family id (`ct_ansi`) stands for that family's first built-in dictionary.
-            let dictionary = match registry.dictionary(drive) {
-                Ok(_) => drive.clone(),
-                Err(_) => match registry.family(drive) {
-                    Ok(f) => f
-                        .dictionaries()
-                        .first()
-                        .map(|d| d.name.to_string())
-                        .unwrap_or_default(),
-                    Err(e) => return Err(RunError::Invalid(format!("error: drive `{name}`: {e}\n"))),
-                },
-            };
+            let dictionary = registry
+                .dictionary_for_drive(drive)
+                .map_err(|e| RunError::Invalid(format!("error: drive `{name}`: {e}\n")))?;
             let one = DictionaryArgs {
-                family: dictionary,
+                name: dictionary.to_string(),
                 ..args.clone()
             };
             let loaded = one

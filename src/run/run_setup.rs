@@ -54,9 +54,8 @@ pub fn trace_header(
     connection: &ConnectionArgs,
     address: String,
 ) -> TraceHeader {
-    let first = family.dictionaries().first().map_or(family.id(), |d| d.name);
     TraceHeader {
-        drive: dictionary.name().unwrap_or(first).to_string(),
+        drive: dictionary.name().to_string(),
         dictionaries: extra
             .iter()
             .map(|p| std::fs::canonicalize(p).unwrap_or_else(|_| p.clone()))

@@ -51,7 +51,7 @@ pub fn object(dict: &Dictionary, name: &str) -> Result<(ObjectDef, ObjectRef), R
             },
         )),
         Err(e) => Err(Refusal::new(
-            format!("unknown object `{name}` in the {} dictionary", dict.family()),
+            format!("unknown object `{name}` in the {} dictionary", dict.name()),
             "unknown object",
             Some(e.help()),
         )),

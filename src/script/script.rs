@@ -157,20 +157,17 @@ fn load_source_for(
             .with_help("name this drive in the `drives:` line"),
         );
     }
-    if let Some((family, span)) = &header.drive {
-        if family != dictionary.family() {
+    if let Some((drive, span)) = &header.drive {
+        if !dictionary.is_for_drive(drive) {
+            let name = dictionary.name();
             problems.push(
                 Diagnostic::at(
                     span,
-                    format!(
-                        "this script is for drive `{family}`, the dictionary in use is `{}`",
-                        dictionary.family()
-                    ),
+                    format!("this script is for drive `{drive}`, the dictionary in use is `{name}`"),
                     "other drive family",
                 )
                 .with_help(format!(
-                    "run it with --drive {family}, or change the line to `//! drive: {}`",
-                    dictionary.family()
+                    "run it with --drive and the dictionary it is for, or change the line to `//! drive: {name}`"
                 )),
             );
         }
@@ -317,6 +314,35 @@ mod tests {
         assert_eq!(
             problems("//! drive: lenze-931\nlet x = 1;\n", &[]),
             ["t.rhai:1:12: this script is for drive `lenze-931`, the dictionary in use is `sd2`"]
+        );
+    }
+
+    /// `//! drive:` names a dictionary (what --drive takes) or its family; the message
+    /// names the dictionary in use, not its family.
+    #[test]
+    fn the_header_drive_is_a_dictionary_or_its_family_and_messages_name_the_dictionary() {
+        let ct = Arc::new(
+            crate::family::Registry::builtin()
+                .load_dictionary("ct-unidrive-sp")
+                .expect("the built-in dictionary"),
+        );
+        let check = |text: &str| match load_script_text("t.rhai", text, &ct, &[]) {
+            Ok(_) => Vec::new(),
+            Err(e) => e.problems.iter().map(|d| d.located()).collect(),
+        };
+        assert_eq!(
+            check("//! drive: ct-unidrive-sp\nlet x = 1;\n"),
+            Vec::<String>::new()
+        );
+        assert_eq!(
+            check(&format!("//! drive: {}\nlet x = 1;\n", ct.family())),
+            Vec::<String>::new()
+        );
+        // A script written before family ids were unified.
+        assert_eq!(check("//! drive: ct_ansi\nlet x = 1;\n"), Vec::<String>::new());
+        assert_eq!(
+            check("//! drive: sd2\nlet x = 1;\n"),
+            ["t.rhai:1:12: this script is for drive `sd2`, the dictionary in use is `ct-unidrive-sp`"]
         );
     }
 

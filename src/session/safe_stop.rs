@@ -320,7 +320,7 @@ impl Session<'_> {
         self.note(format!(
             "the {} dictionary has no device-control profile: there is no stop command to send; \
              the drive's power stage is as its terminals or PLC left it",
-            self.drive_ref().dictionary().family()
+            self.drive_ref().dictionary().name()
         ));
     }
 

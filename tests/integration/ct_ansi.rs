@@ -5,8 +5,8 @@
 //! that gets no reply and is not repeated, and Ctrl-C during a run on the simulated drive.
 
 use crate::support::{
-    assert_has, assert_matches_shared, cli, control_words, drivescript, load_vectors, repo_root, stderr,
-    stdout, InProcessRun, LiveRun,
+    assert_has, assert_matches_shared, cli, control_words, drivescript, load_vectors, repo_root, scratch,
+    stderr, stdout, write_file, InProcessRun, LiveRun,
 };
 use drivescript::bus::{MemoryTransport, SharedTransport};
 use drivescript::clock::{SharedClock, VirtualClock};
@@ -26,7 +26,7 @@ fn vectors() -> Vec<crate::support::Vector> {
 }
 
 fn family() -> Arc<dyn Family> {
-    Registry::builtin().family("ct_ansi").expect("the ct_ansi family")
+    Registry::builtin().family("ct-ansi").expect("the ct-ansi family")
 }
 
 fn explainer() -> Box<dyn drivescript::link::TelegramExplainer> {
@@ -160,7 +160,7 @@ fn the_commissioning_recipe_runs_on_the_simulated_ct_drive_with_exact_decimals()
     assert_has(
         &output,
         &[
-            "using the built-in simulated CT_ANSI drive (drive 1.1",
+            "using the built-in simulated CT-ANSI drive (drive 1.1",
             "go to operation_enabled  enable operation → operation enabled",
             "finally 1  ok    disable_operation  control word 129",
             "finally 2  ok    shutdown  control word 128",
@@ -178,6 +178,36 @@ fn the_commissioning_recipe_runs_on_the_simulated_ct_drive_with_exact_decimals()
             "write #6.43 control_word_enable = 1 to drive 1.1",
         ],
     );
+}
+
+/// Files in the field written before family ids were unified (`ct_ansi`): a recipe's
+/// `drive:` and a user dictionary's `family:` still work; `check` notes where the
+/// dictionary spells the old id and what to write instead.
+#[test]
+fn files_with_the_former_family_id_still_work_and_check_notes_the_new_spelling() {
+    let dir = scratch("former-id");
+    let recipe = write_file(
+        &dir,
+        "old.yaml",
+        "name: old\ndrive: ct_ansi\nsteps:\n  - read: [feedback]\n",
+    );
+    let mine = write_file(
+        &dir,
+        "mine.yaml",
+        "# ours\nfamily: ct_ansi\nobjects:\n  - name: speed_actual\n    aliases: [feedback]\n    address: \"#3.02\"\n    type: i32\n    decimals: 1\n    unit: rpm\n    access: ro\n",
+    );
+    let (recipe, mine) = (recipe.to_str().unwrap(), mine.to_str().unwrap());
+    let out = cli(&["check", recipe, "--dictionary", mine], 0);
+    assert_has(&out.stdout, &["ok  "]);
+    assert_has(
+        &out.stderr,
+        &[
+            &format!("note: {mine}:2:9: `family: ct_ansi` is the former spelling of the family id `ct-ansi`; it still works"),
+            "  help: write `family: ct-ansi`",
+        ],
+    );
+    let run = cli(&["run", recipe, "--dictionary", mine], 0);
+    assert_has(&run.stdout, &["read speed_actual"]);
 }
 
 #[test]
@@ -438,7 +468,7 @@ fn the_recipe_schema_offers_only_what_the_ct_drive_has() {
     let schema: Value = serde_json::from_str(&out.stdout).unwrap();
     assert_eq!(
         schema["properties"]["drive"]["enum"],
-        serde_json::json!(["ct_ansi", "ct-unidrive-sp"])
+        serde_json::json!(["ct-ansi", "ct-unidrive-sp"])
     );
     let text = schema.to_string();
     assert!(

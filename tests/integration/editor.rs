@@ -212,6 +212,6 @@ fn a_device_command_without_a_profile_is_marked_with_the_reason() {
     let uri = server.open(&buffer("no-profile-command"), &text);
     assert_eq!(
         server.diagnostics(&uri),
-        ["6: a device command needs device control, but the lenze_9400 dictionary has no `profile:`"]
+        ["6: a device command needs device control, but the lenze-9400 dictionary has no `profile:`"]
     );
 }

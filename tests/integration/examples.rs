@@ -48,7 +48,7 @@ fn every_example_recipe_checks_and_passes_in_virtual_time() {
         assert!(stdout(&run).contains("PASSED"), "{p}");
         assert!(
             stdout(&run).contains("using the built-in simulated ")
-                && stdout(&run).contains(&format!("{} drive", drive.replace('-', "_").to_uppercase())),
+                && stdout(&run).contains(&format!("{} drive", drive.to_uppercase())),
             "{p}"
         );
         ran += 1;

@@ -79,7 +79,7 @@ pub(crate) fn completed_template(dir: &Path) -> PathBuf {
 
 pub(crate) fn dictionary_args(extra: Option<PathBuf>) -> DictionaryArgs {
     DictionaryArgs {
-        family: "lenze-931".into(),
+        name: "lenze-931".into(),
         extra: extra.into_iter().collect(),
         limits: None,
     }

@@ -328,7 +328,7 @@ fn the_family_says_which_actions_it_has_and_which_are_destructive() {
         actions,
         [("reset", true), ("init", true), ("load", true), ("baud", true)]
     );
-    for other in ["sd2", "ct_ansi", "lenze_9400"] {
+    for other in ["sd2", "ct-ansi", "lenze-9400"] {
         let family = registry.family(other).expect(other);
         assert!(family.maintenance_actions().is_empty(), "{other}");
     }

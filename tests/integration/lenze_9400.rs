@@ -17,7 +17,7 @@ use std::time::Duration;
 
 fn lenze() -> DictionaryArgs {
     DictionaryArgs {
-        family: "lenze-9400".into(),
+        name: "lenze-9400".into(),
         extra: Vec::new(),
         limits: None,
     }
@@ -46,7 +46,7 @@ fn every_golden_frame_explains_to_its_vector() {
     let vectors = load_frame_vectors(&repo_root().join("tests/vectors/lenze-9400-sdo.yaml"));
     assert_eq!(vectors.len(), 9);
     let registry = Registry::builtin();
-    let family = registry.family("lenze_9400").unwrap();
+    let family = registry.family("lenze-9400").unwrap();
     let dictionary = Arc::new(registry.load_dictionary("lenze-9400").unwrap());
     for v in &vectors {
         let frame = CanFrame::parse_text(&format!("{} {}", v.id, v.data)).unwrap();
@@ -60,7 +60,7 @@ fn every_golden_frame_explains_to_its_vector() {
 #[test]
 fn the_printed_write_example_is_explained_as_what_it_really_sends() {
     let registry = Registry::builtin();
-    let family = registry.family("lenze_9400").unwrap();
+    let family = registry.family("lenze-9400").unwrap();
     let dictionary: Arc<Dictionary> = Arc::new(registry.load_dictionary("lenze-9400").unwrap());
     let mut explainer = family.explainer(dictionary);
     let printed = CanFrame::parse_text("602#23A75F0066000300").unwrap();
@@ -84,7 +84,7 @@ fn the_shipped_recipe_passes_on_the_simulated_node_and_says_there_is_no_device_c
         &output,
         &[
             "rated_motor_current = 10.2 A",
-            "safe stop: the lenze_9400 dictionary has no device-control profile",
+            "safe stop: the lenze-9400 dictionary has no device-control profile",
             "drive state not known: the dictionary has no device-control profile",
         ],
     );
@@ -121,7 +121,7 @@ fn a_stop_signal_ends_the_run_with_the_truth_about_device_control() {
     assert_has(&output, &["no device-control profile"]);
     assert_lacks(
         &output,
-        &["CHECK THE DRIVE BY HAND", "failed: the lenze_9400 dictionary"],
+        &["CHECK THE DRIVE BY HAND", "failed: the lenze-9400 dictionary"],
     );
 }
 
@@ -181,7 +181,7 @@ fn an_adapter_lost_in_the_middle_of_a_segmented_read_ends_in_check_by_hand() {
 #[test]
 fn the_family_reads_codes_in_dictionaries() {
     let registry = Registry::builtin();
-    let family = registry.family("lenze_9400").unwrap();
+    let family = registry.family("lenze-9400").unwrap();
     let parse = family.address_parser();
     assert_eq!(
         parse("C00002/16"),
@@ -461,5 +461,5 @@ fn the_commissioning_recipe_is_refused_for_a_drive_without_device_control() {
         .replace("drive: sd2", "drive: lenze-9400");
     let path = recipe("commissioning", &text);
     let err = cli(&["check", path.to_str().unwrap(), "--drive", "lenze-9400"], 2).stderr;
-    assert_has(&err, &["the state `operation_enabled` needs device control, but the lenze_9400 dictionary has no `profile:`", "`disable_operation` needs device control", "nothing was sent to the drive"]);
+    assert_has(&err, &["the state `operation_enabled` needs device control, but the lenze-9400 dictionary has no `profile:`", "`disable_operation` needs device control", "nothing was sent to the drive"]);
 }

@@ -201,7 +201,7 @@ fn dnc_address_is_refused_with_address_and_for_a_family_without_dnc_addresses() 
         ],
         2,
     );
-    assert_has(&ct.stderr, &["error: --dnc-address is for drives of the sd2 family; a ct_ansi drive has no `dnc_address`: give --address, "]);
+    assert_has(&ct.stderr, &["error: --dnc-address is for drives of the sd2 family; a ct-ansi drive has no `dnc_address`: give --address, "]);
     let ct = drivescript(&["state", "--drive", "ct-unidrive-sp", "--dnc-address", "2"], "");
     assert_ne!(ct.status.code(), Some(0));
     assert_has(&stderr(&ct), &["--dnc-address is for drives of the sd2 family"]);
@@ -368,7 +368,7 @@ steps:
         rows.lines().any(|l| l.contains(",5,feed,speed_actual,")),
         "{rows}"
     );
-    assert_has(&output, &["feed CT_ANSI (drive 1.2)"]);
+    assert_has(&output, &["feed CT-ANSI (drive 1.2)"]);
     let report = result.report.expect("a report");
     assert_eq!(report.drive_ends.len(), 2);
     assert!(report.drive_ends.iter().all(|e| e.stop_confirmed));
@@ -400,7 +400,7 @@ steps:
         &[
             "unknown drive `lfet`",
             "did you mean `left`?",
-            "unknown object `sped_setpoint` in the ct_ansi dictionary",
+            "unknown object `sped_setpoint` in the ct-unidrive-sp dictionary",
             "unknown drive `rihgt`",
             "did you mean `right`?",
             "`speed_actual` does not say which drive it is on",

@@ -51,7 +51,7 @@ fn baud_parameter(extra: &[(String, String)]) -> Result<Option<Parameter>, Famil
             }
             _ => {
                 return Err(FamilyError::LinkOption(format!(
-                    "--link-option {name}: the ct_ansi family knows only `baud-parameter=#M.PP` (the parameter that sets the drive's baud rate); the line is set with --baud, --data-bits, --parity, --stop-bits, --timeout, --retries"
+                    "--link-option {name}: the ct-ansi family knows only `baud-parameter=#M.PP` (the parameter that sets the drive's baud rate); the line is set with --baud, --data-bits, --parity, --stop-bits, --timeout, --retries"
                 )))
             }
         }
@@ -61,7 +61,7 @@ fn baud_parameter(extra: &[(String, String)]) -> Result<Option<Parameter>, Famil
 
 impl Family for CtFamily {
     fn id(&self) -> &'static str {
-        "ct_ansi"
+        "ct-ansi"
     }
 
     fn title(&self) -> &'static str {

@@ -17,7 +17,7 @@ fn ct() -> Dictionary {
 #[test]
 fn every_parameter_gives_its_decimal_places() {
     let d = ct();
-    assert_eq!(d.family(), "ct_ansi");
+    assert_eq!(d.family(), "ct-ansi");
     for o in d.objects() {
         assert!(
             matches!(o.decimal_places, Some(DecimalPlaces::Fixed(_))),
@@ -215,5 +215,31 @@ fn decimals_are_read_and_checked() {
     assert!(
         format!("{e:?}").contains("a string object has no `decimals`"),
         "{e:?}"
+    );
+}
+
+/// A user's file written before family ids were unified (`family: ct_ansi`) still extends
+/// the dictionary, with a note at its `family:` naming today's spelling for `check`.
+#[test]
+fn a_user_file_with_the_former_family_id_extends_with_a_note() {
+    let mut d = ct();
+    let user = Dictionary::from_yaml(
+        "mine.yaml",
+        "family: ct_ansi\nobjects:\n  - name: motor_temperature\n    index: 500\n    type: i16\n    access: ro\n",
+    )
+    .unwrap_or_else(|e| panic!("{e:?}"));
+    assert_eq!(user.family(), "ct-ansi");
+    d.extend(user).unwrap_or_else(|e| panic!("{e:?}"));
+    assert!(d.lookup("motor_temperature").is_ok());
+    let notes: Vec<String> = d.notes().iter().map(|n| n.located()).collect();
+    assert_eq!(
+        notes,
+        ["mine.yaml:1:9: `family: ct_ansi` is the former spelling of the family id `ct-ansi`; it still works"]
+    );
+    assert_eq!(d.notes()[0].help(), Some("write `family: ct-ansi`"));
+    let wrong = Dictionary::from_yaml("bad.yaml", "family: Ct.Ansi\nobjects: []\n").unwrap_err();
+    assert!(
+        format!("{wrong:?}").contains("`Ct.Ansi` is not a family id"),
+        "{wrong:?}"
     );
 }

@@ -36,7 +36,7 @@ fn parse_code_address(text: &str) -> Result<Address, AddressError> {
 
 impl Family for Lenze9400Family {
     fn id(&self) -> &'static str {
-        "lenze_9400"
+        "lenze-9400"
     }
 
     fn title(&self) -> &'static str {

@@ -498,11 +498,11 @@ mod tests {
             "r.yaml:3:23: unknown key `dnc_adress` in this drive | did you mean `dnc_address` or `address`?"
         );
         assert!(
-            found[1].starts_with("r.yaml:4:35: drive `right` is a ct_ansi drive, which has no `dnc_address` | `dnc_address` is an address key of sd2 drives; drive `right` (ct_ansi) takes `address:`: "),
+            found[1].starts_with("r.yaml:4:35: drive `right` is a ct-ansi drive, which has no `dnc_address` | `dnc_address` is an address key of sd2 drives; drive `right` (ct-ansi) takes `address:`: "),
             "{found:?}"
         );
         assert!(
-            found[2].starts_with("r.yaml:4:51: drive `right` is a ct_ansi drive, which has no `axis` | `axis` is an address key of sd2 drives"),
+            found[2].starts_with("r.yaml:4:51: drive `right` is a ct-ansi drive, which has no `axis` | `axis` is an address key of sd2 drives"),
             "{found:?}"
         );
     }

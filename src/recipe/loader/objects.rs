@@ -63,7 +63,7 @@ impl Loader<'_, '_> {
                 };
                 self.problem(
                     span,
-                    format!("unknown object `{name}` in the {} dictionary", self.dict.family()),
+                    format!("unknown object `{name}` in the {} dictionary", self.dict.name()),
                     "unknown object",
                     Some(help),
                 );

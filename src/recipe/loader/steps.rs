@@ -223,10 +223,10 @@ impl Loader<'_, '_> {
         if self.dict.profile().is_some() {
             return true;
         }
-        let family = self.dict.family().to_string();
+        let dictionary = self.dict.name().to_string();
         self.problem(
             span,
-            format!("{what} needs device control, but the {family} dictionary has no `profile:`"),
+            format!("{what} needs device control, but the {dictionary} dictionary has no `profile:`"),
             "no device-control profile",
             Some(
                 "add a `profile:` to a dictionary file given with --dictionary FILE: which objects are the control_word and status_word, the control-word value of each command and the status-word mask and value of each state (the built-in dictionary's comments show a template)"
@@ -243,11 +243,11 @@ impl Loader<'_, '_> {
             return;
         };
         if !profile.has_command(command) {
-            let family = self.dict.name().unwrap_or(self.dict.family()).to_string();
+            let dictionary = self.dict.name().to_string();
             self.problem(
                 span,
                 format!(
-                    "the {family} drive has no `{}` command (its profile leaves it out)",
+                    "the {dictionary} drive has no `{}` command (its profile leaves it out)",
                     command.id()
                 ),
                 "not on this drive",
@@ -262,11 +262,11 @@ impl Loader<'_, '_> {
             return;
         };
         if !profile.has_state(state) {
-            let family = self.dict.name().unwrap_or(self.dict.family()).to_string();
+            let dictionary = self.dict.name().to_string();
             self.problem(
                 span,
                 format!(
-                    "the {family} drive does not show the state `{}` (its profile leaves it out)",
+                    "the {dictionary} drive does not show the state `{}` (its profile leaves it out)",
                     state.id()
                 ),
                 "not on this drive",

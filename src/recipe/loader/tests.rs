@@ -86,3 +86,47 @@ fn parameters_are_substituted_where_values_are_read() {
         ["r.yaml:3:12: unknown parameter `sttle`"]
     );
 }
+
+fn load_for(dictionary: &str, text: &str) -> Result<Recipe, RecipeInvalid> {
+    let dictionary = crate::family::Registry::builtin()
+        .load_dictionary(dictionary)
+        .expect("built-in dictionary");
+    load_recipe_text("r.yaml", text, Path::new("."), &dictionary, &[])
+}
+
+/// `drive:` names a dictionary or its family; messages name the dictionary in use (what
+/// --drive takes), never its family id.
+#[test]
+fn messages_name_the_dictionary_not_its_family() {
+    assert!(load_for(
+        "ct-unidrive-sp",
+        "name: x\ndrive: ct-unidrive-sp\nsteps: [shutdown]\n"
+    )
+    .is_ok());
+    let family = crate::family::Registry::builtin()
+        .load_dictionary("ct-unidrive-sp")
+        .unwrap()
+        .family()
+        .to_string();
+    assert!(load_for(
+        "ct-unidrive-sp",
+        &format!("name: x\ndrive: {family}\nsteps: [shutdown]\n")
+    )
+    .is_ok());
+    let located = |dictionary: &str, text: &str| -> Vec<String> {
+        let e = load_for(dictionary, text).expect_err("expected problems");
+        e.problems.iter().map(|p| p.located()).collect()
+    };
+    assert_eq!(
+        located("ct-unidrive-sp", "name: x\ndrive: sd2\nsteps: [shutdown]\n"),
+        ["r.yaml:2:8: this recipe is for drive `sd2`, the dictionary in use is `ct-unidrive-sp`"]
+    );
+    assert_eq!(
+        located("lenze-9400", "name: x\nsteps: [shutdown]\n"),
+        ["r.yaml:2:9: `shutdown` needs device control, but the lenze-9400 dictionary has no `profile:`"]
+    );
+    assert_eq!(
+        located("ct-unidrive-sp", "name: x\nsteps:\n  - read: nothing_here\n"),
+        ["r.yaml:3:11: unknown object `nothing_here` in the ct-unidrive-sp dictionary"]
+    );
+}

@@ -151,24 +151,18 @@ impl Loader<'_, '_> {
     }
 
     fn drive_family(&mut self, node: &YamlNode) -> String {
-        let family = self.r.scalar_text(node, "`drive`").unwrap_or_default();
-        // `drive:` names the family (`sd2`, `lenze_9400`) or its built-in dictionary as
-        // `--drive` does (`ct-unidrive-sp`, `lenze-9400`): family ids are identifiers,
-        // dictionary names use hyphens.
-        if family != self.dict.family()
-            && Some(family.as_str()) != self.dict.name()
-            && family.replace('-', "_") != self.dict.family()
-        {
+        let drive = self.r.scalar_text(node, "`drive`").unwrap_or_default();
+        if !self.dict.is_for_drive(&drive) {
+            let dictionary = self.dict.name();
             self.problem(
                 &node.span,
-                format!(
-                    "this recipe is for drive `{family}`, the dictionary in use is `{}`",
-                    self.dict.family()
-                ),
+                format!("this recipe is for drive `{drive}`, the dictionary in use is `{dictionary}`"),
                 "other drive family",
-                Some(format!("drive families available: {}", self.dict.family())),
+                Some(format!(
+                    "leave out --drive (a recipe's `drive:` picks its dictionary), or write `drive: {dictionary}`"
+                )),
             );
         }
-        family
+        drive
     }
 }

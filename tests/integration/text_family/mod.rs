@@ -115,7 +115,7 @@ fn a_test_family_plugs_in_through_the_registry_and_runs_a_recipe() {
     let trace = std::env::temp_dir().join(format!("drivescript-text-family-{}.trace", std::process::id()));
     let mut run = InProcessRun::new(recipe);
     run.registry = registry;
-    run.dictionary.family = "text".into();
+    run.dictionary.name = "text".into();
     run.outputs.trace = Some(trace.clone());
     let (result, output) = run.run();
     assert_eq!(result.exit_code, 0, "{output}");

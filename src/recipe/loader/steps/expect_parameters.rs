@@ -60,7 +60,7 @@ impl Loader<'_, '_> {
                 &body.span,
                 format!(
                     "{file} names object(s) the {} dictionary cannot read: {}",
-                    self.dict.family(),
+                    self.dict.name(),
                     unknown.join(", ")
                 ),
                 "unknown objects",
