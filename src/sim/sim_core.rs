@@ -95,6 +95,22 @@ impl<E> SimCore<E> {
     }
 }
 
+/// The [`SimFront`] accessors of a front that keeps its [`SimCore`] in a field `core`,
+/// written inside its `impl SimFront`: `sim_front_core!((Duration, Request));` logs each
+/// request as its time and the decoded request.
+#[macro_export]
+macro_rules! sim_front_core {
+    ($logged:ty) => {
+        type Logged = $logged;
+        fn core(&self) -> &$crate::sim::SimCore<Self::Logged> {
+            &self.core
+        }
+        fn core_mut(&mut self) -> &mut $crate::sim::SimCore<Self::Logged> {
+            &mut self.core
+        }
+    };
+}
+
 /// A family's simulator front: its own bytes around a [`SimCore`].
 pub trait SimFront: Send + 'static {
     /// What the front logs per request.

@@ -266,13 +266,7 @@ impl Peer for LenzeSimulator {
 }
 
 impl SimFront for LenzeSimulator {
-    type Logged = String;
-    fn core(&self) -> &SimCore<Self::Logged> {
-        &self.core
-    }
-    fn core_mut(&mut self) -> &mut SimCore<Self::Logged> {
-        &mut self.core
-    }
+    crate::sim_front_core!(String);
     fn describe_drive(&self) -> String {
         format!(
             "simulated Lenze 931 on RS232 (ramp {} rpm/s; object numbers are the simulator's own, see dictionary/lenze-931.yaml)",

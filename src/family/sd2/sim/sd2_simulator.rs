@@ -188,13 +188,7 @@ impl Sd2Simulator {
 }
 
 impl SimFront for Sd2Simulator {
-    type Logged = (Duration, Telegram);
-    fn core(&self) -> &SimCore<Self::Logged> {
-        &self.core
-    }
-    fn core_mut(&mut self) -> &mut SimCore<Self::Logged> {
-        &mut self.core
-    }
+    crate::sim_front_core!((Duration, Telegram));
     fn describe_drive(&self) -> String {
         let c = self.config();
         format!(
