@@ -6,6 +6,7 @@ pub mod ct_ansi;
 mod family;
 mod family_error;
 mod family_info;
+pub(crate) mod le_integer;
 pub mod lenze_931;
 pub mod lenze_9400;
 mod registry;

@@ -47,6 +47,13 @@ impl<E> SimCore<E> {
         }
     }
 
+    /// What a front does first with every request it takes: the injected panic when it is
+    /// due, then the model moved to `now`.
+    pub fn take_request_at(&mut self, now: Duration) {
+        self.panic_if_due(now);
+        self.advance_to(now);
+    }
+
     /// True when an injected fault makes the enabled drive ignore `command` (it still
     /// starts up normally, so a recipe can get it running).
     pub fn disobeys(&self, command: DeviceCommand) -> bool {

@@ -29,6 +29,12 @@ impl Peer for Scripted {
     }
 }
 
+/// `OW:0010:00000BB8`, the write the lost-reply tests send.
+const WRITE_3000: Request = Request::Write {
+    object: 0x10,
+    value: 3000,
+};
+
 fn link(script: Vec<Option<&[u8]>>) -> (LenzeLink, Arc<Mutex<Scripted>>, Arc<VirtualClock>) {
     let clock = Arc::new(VirtualClock::new());
     let peer = Arc::new(Mutex::new(Scripted {
@@ -149,10 +155,7 @@ fn an_over_long_line_is_a_bad_reply_and_memory_stays_bounded() {
 
 #[test]
 fn a_lost_write_reply_is_read_back_and_not_sent_again_when_stored() {
-    let write = Request::Write {
-        object: 0x10,
-        value: 3000,
-    };
+    let write = WRITE_3000;
     let (mut l, peer, _) = link(vec![None, Some(b"0010:00000BB8\r")]);
     assert_eq!(l.exchange(&write).unwrap(), Reply::Ok);
     assert_eq!(sent(&peer), vec!["OW:0010:00000BB8", "OR:0010"]);
@@ -160,10 +163,7 @@ fn a_lost_write_reply_is_read_back_and_not_sent_again_when_stored() {
 
 #[test]
 fn a_lost_write_reply_is_read_back_before_the_write_is_sent_again() {
-    let write = Request::Write {
-        object: 0x10,
-        value: 3000,
-    };
+    let write = WRITE_3000;
     let (mut l, peer, _) = link(vec![None, Some(b"0010:00000000\r"), Some(b"OK!\r")]);
     assert_eq!(l.exchange(&write).unwrap(), Reply::Ok);
     assert_eq!(
@@ -174,10 +174,7 @@ fn a_lost_write_reply_is_read_back_before_the_write_is_sent_again() {
 
 #[test]
 fn a_garbled_write_reply_is_read_back_too() {
-    let write = Request::Write {
-        object: 0x10,
-        value: 3000,
-    };
+    let write = WRITE_3000;
     let (mut l, peer, _) = link(vec![Some(b"O#!\r"), Some(b"0010:00000BB8\r")]);
     assert_eq!(l.exchange(&write).unwrap(), Reply::Ok);
     assert_eq!(sent(&peer), vec!["OW:0010:00000BB8", "OR:0010"]);
@@ -185,10 +182,7 @@ fn a_garbled_write_reply_is_read_back_too() {
 
 #[test]
 fn a_write_is_not_sent_again_when_the_read_back_fails() {
-    let write = Request::Write {
-        object: 0x10,
-        value: 3000,
-    };
+    let write = WRITE_3000;
     let (mut l, peer, _) = link(vec![None, None, Some(b"OK!\r")]);
     let e = l.exchange(&write).unwrap_err();
     assert_eq!(sent(&peer), vec!["OW:0010:00000BB8", "OR:0010"]);
@@ -290,7 +284,7 @@ mod properties {
         fn a_write_is_never_repeated_blind(script in proptest::collection::vec(reply_strategy(), 0..8)) {
             let script: Vec<Option<&[u8]>> = script.iter().map(|r| r.as_deref()).collect();
             let (mut l, peer, _) = link(script);
-            let _ = l.exchange(&Request::Write { object: 0x10, value: 3000 });
+            let _ = l.exchange(&WRITE_3000);
             let sent = sent(&peer);
             prop_assert!(sent.len() <= 5, "{:?}", sent);
             for pair in sent.windows(2) {

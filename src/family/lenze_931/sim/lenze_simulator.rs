@@ -236,8 +236,7 @@ impl LenzeSimulator {
 
 impl Peer for LenzeSimulator {
     fn receive(&mut self, bytes: &[u8], now: Duration) -> Vec<PeerReply> {
-        self.core.panic_if_due(now);
-        self.core.advance_to(now);
+        self.core.take_request_at(now);
         self.extractor.push(bytes);
         let mut replies = Vec::new();
         while let Some(line) = self.extractor.next_line() {

@@ -200,8 +200,7 @@ impl SimFront for Sd2Simulator {
 
 impl Peer for Sd2Simulator {
     fn receive(&mut self, bytes: &[u8], now: Duration) -> Vec<PeerReply> {
-        self.core.panic_if_due(now);
-        self.core.advance_to(now);
+        self.core.take_request_at(now);
         self.extractor.push(bytes);
         let mut replies = Vec::new();
         while let Some(block) = self.extractor.next_block() {
