@@ -94,6 +94,24 @@ impl LinkCore {
         }
     }
 
+    /// Drops the input waiting on the line before a request, together with the `unread`
+    /// bytes the link's own framing still held, and says so when there were any: a late
+    /// reply to an earlier request must not be taken for this one's.
+    pub fn drop_stale_input(&mut self, t: &mut dyn Transport, unread: usize) -> Result<(), TransportError> {
+        let dropped = t.discard_input()? + unread;
+        if dropped > 0 {
+            self.event(&format!("discarded {dropped} stale byte(s) before sending"));
+        }
+        Ok(())
+    }
+
+    /// When the request just written has left the line, and when its reply's time is over:
+    /// the reply timeout and the stop grace count from the last byte, not the write.
+    pub fn reply_window(&self, t: &dyn Transport, reply_timeout: Duration) -> (Duration, Duration) {
+        let sent = self.clock.now() + t.still_sending();
+        (sent, sent + reply_timeout)
+    }
+
     /// How long the next read of a reply wait may block, for a request that left the line
     /// at `sent`: the whole rest without stop requests, the rest of the grace within it,
     /// then slices that let a stop request end the wait. `None` once `deadline` has passed.
