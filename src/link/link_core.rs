@@ -1,7 +1,8 @@
 //! What every family's link shares around its own framing: the clock, the telegram
-//! observer, the stop requests, the counters, and the ways of listening to the line (for a
-//! reply, in slices that let a stop request end the wait, over bytes or CAN frames; and to
-//! let late bytes settle before a retry). It must not know any family's telegrams.
+//! observer, the stop requests, the counters, and the ways of listening to the line (stale
+//! input dropped before a request; the reply window from the end of sending; the reply, in
+//! slices that let a stop request end the wait, over bytes or CAN frames; and late bytes
+//! let settle before a retry). It must not know any family's telegrams.
 
 use super::{Direction, LinkStats, TelegramObserver};
 use crate::bus::{CanFrame, Transport, TransportError};
