@@ -59,37 +59,24 @@ const READ_11: Request = Request::Read {
     object: 0x11,
 };
 
+/// The reply to `READ_11`.
+fn value_11(value: u32) -> Reply {
+    Reply::Value { object: 0x11, value }
+}
+
 #[test]
 fn a_read_returns_the_value() {
     let (mut l, peer, _) = link(vec![Some(b"0011:00000BB8\r")]);
-    assert_eq!(
-        l.exchange(&READ_11).unwrap(),
-        Reply::Value {
-            object: 0x11,
-            value: 3000
-        }
-    );
+    assert_eq!(l.exchange(&READ_11).unwrap(), value_11(3000));
     assert_eq!(sent(&peer), vec!["OR:0011"]);
 }
 
 #[test]
 fn stray_lf_and_an_echo_are_tolerated() {
     let (mut l, _, _) = link(vec![Some(b"OR:0011\r\n\n0011:00000BB8\r\n")]);
-    assert_eq!(
-        l.exchange(&READ_11).unwrap(),
-        Reply::Value {
-            object: 0x11,
-            value: 3000
-        }
-    );
+    assert_eq!(l.exchange(&READ_11).unwrap(), value_11(3000));
     let (mut l, _, _) = link(vec![Some(b"\nOR:0011\r0011:\n00000001\r")]);
-    assert_eq!(
-        l.exchange(&READ_11).unwrap(),
-        Reply::Value {
-            object: 0x11,
-            value: 1
-        }
-    );
+    assert_eq!(l.exchange(&READ_11).unwrap(), value_11(1));
 }
 
 #[test]
@@ -144,13 +131,7 @@ fn an_over_long_line_is_a_bad_reply_and_memory_stays_bounded() {
     let mut long_then_ok = vec![b'7'; 500];
     long_then_ok.extend_from_slice(b"\r");
     let (mut l, _, _) = link(vec![Some(&long_then_ok), Some(b"0011:00000002\r")]);
-    assert_eq!(
-        l.exchange(&READ_11).unwrap(),
-        Reply::Value {
-            object: 0x11,
-            value: 2
-        }
-    );
+    assert_eq!(l.exchange(&READ_11).unwrap(), value_11(2));
 }
 
 #[test]
