@@ -3,7 +3,7 @@
 //! simulated drive, and its telegram explainer. A new family is one folder implementing
 //! this, one dictionary file and one line in the registry.
 
-use super::FamilyError;
+use super::{FamilyError, FamilyInfo};
 use crate::bus::{Bus, BusKind, FramePeer, Peer, SerialSettings, SharedTransport};
 use crate::clock::SharedClock;
 use crate::dictionary::{Address, AddressParser, DataType, Dictionary, ObjectDef};
@@ -25,6 +25,25 @@ pub struct BuiltinDictionary {
     pub path: &'static str,
     pub text: &'static str,
 }
+
+/// A dictionary file compiled in: `builtin_dictionary!("sd2")` is `dictionary/sd2.yaml`;
+/// a second argument gives another path below the crate (a test family's own file).
+#[macro_export]
+macro_rules! builtin_dictionary {
+    ($name:literal) => {
+        $crate::builtin_dictionary!($name, concat!("dictionary/", $name, ".yaml"))
+    };
+    ($name:literal, $path:expr) => {
+        $crate::family::BuiltinDictionary {
+            name: $name,
+            path: $path,
+            text: include_str!(concat!(env!("CARGO_MANIFEST_DIR"), "/", $path)),
+        }
+    };
+}
+
+/// What `Family::open` gives: object access to one drive, or why there is none.
+pub type Opened = Result<Box<dyn ObjectAccess>, FamilyError>;
 
 /// One drive's address on its bus, as the family parsed it from `--address`.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -111,24 +130,40 @@ pub enum SimPeer {
 }
 
 pub trait Family: Send + Sync {
+    /// The family's facts: id, title, dictionaries, bus, line settings, address notations.
+    fn info(&self) -> FamilyInfo;
     /// The family id: what a dictionary's `family:` names, in kebab-case like dictionary
     /// names (`sd2`, `ct-ansi`, `lenze-931`, `lenze-9400`). Users name dictionaries
     /// (`--drive ct-unidrive-sp`), and each dictionary names its family.
-    fn id(&self) -> &'static str;
+    fn id(&self) -> &'static str {
+        self.info().id
+    }
     /// One line for listings: `Sieb & Meyer SD2 / SD2S over the DNC serial protocol`.
-    fn title(&self) -> &'static str;
+    fn title(&self) -> &'static str {
+        self.info().title
+    }
     /// The dictionaries compiled in for this family.
-    fn dictionaries(&self) -> &'static [BuiltinDictionary];
+    fn dictionaries(&self) -> &'static [BuiltinDictionary] {
+        self.info().dictionaries
+    }
     /// Which kind of bus the family's link needs.
-    fn bus_kind(&self) -> BusKind;
+    fn bus_kind(&self) -> BusKind {
+        self.info().bus_kind
+    }
     /// The line settings a drive of this family ships with (serial families).
-    fn serial_settings(&self) -> SerialSettings;
+    fn serial_settings(&self) -> SerialSettings {
+        self.info().serial_settings
+    }
     /// Reads an object's `address:` text in this family's dictionaries.
-    fn address_parser(&self) -> AddressParser;
+    fn address_parser(&self) -> AddressParser {
+        self.info().address_parser
+    }
     /// `--address` in this family's notation; `None` is the family's default drive.
     fn parse_drive_address(&self, text: Option<&str>) -> Result<DriveAddress, FamilyError>;
     /// How `--address` is written, for help and messages.
-    fn address_help(&self) -> &'static str;
+    fn address_help(&self) -> &'static str {
+        self.info().address_help
+    }
     /// Keys besides `address:` a `drives:` entry may give for this family's drives
     /// (`dnc_address: 2`), and how their values become an address in its notation; the
     /// keys that replace `address:` also have a command-line flag (`--dnc-address`).
@@ -148,13 +183,7 @@ pub trait Family: Send + Sync {
         }
     }
     /// Object access to one drive on `bus`.
-    fn open(
-        &self,
-        bus: &Bus,
-        drive: &DriveAddress,
-        options: &LinkOptions,
-        context: LinkContext,
-    ) -> Result<Box<dyn ObjectAccess>, FamilyError>;
+    fn open(&self, bus: &Bus, drive: &DriveAddress, options: &LinkOptions, context: LinkContext) -> Opened;
     /// A simulated drive of this family at `drive`, speaking its real bytes.
     fn simulator(&self, drive: &DriveAddress, config: SimConfig) -> SimulatedDevice;
     /// Reads this family's telegrams with the objects of `dictionary`.

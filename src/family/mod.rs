@@ -5,13 +5,17 @@
 pub mod ct_ansi;
 mod family;
 mod family_error;
+mod family_info;
+pub(crate) mod le_integer;
 pub mod lenze_931;
 pub mod lenze_9400;
 mod registry;
 pub mod sd2;
 
 pub use family::{
-    serial_line, BuiltinDictionary, DriveAddress, Family, LinkContext, LinkOptions, SimPeer, SimulatedDevice,
+    serial_line, BuiltinDictionary, DriveAddress, Family, LinkContext, LinkOptions, Opened, SimPeer,
+    SimulatedDevice,
 };
 pub use family_error::FamilyError;
+pub use family_info::FamilyInfo;
 pub use registry::{Registry, DEFAULT_DICTIONARY};

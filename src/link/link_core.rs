@@ -1,7 +1,8 @@
 //! What every family's link shares around its own framing: the clock, the telegram
-//! observer, the stop requests, the counters, and the ways of listening to the line (for a
-//! reply, in slices that let a stop request end the wait, over bytes or CAN frames; and to
-//! let late bytes settle before a retry). It must not know any family's telegrams.
+//! observer, the stop requests, the counters, and the ways of listening to the line (stale
+//! input dropped before a request; the reply window from the end of sending; the reply, in
+//! slices that let a stop request end the wait, over bytes or CAN frames; and late bytes
+//! let settle before a retry). It must not know any family's telegrams.
 
 use super::{Direction, LinkStats, TelegramObserver};
 use crate::bus::{CanFrame, Transport, TransportError};
@@ -92,6 +93,24 @@ impl LinkCore {
         if let Some(o) = self.observer.as_mut() {
             o.event(self.clock.now(), text);
         }
+    }
+
+    /// Drops the input waiting on the line before a request, together with the `unread`
+    /// bytes the link's own framing still held, and says so when there were any: a late
+    /// reply to an earlier request must not be taken for this one's.
+    pub fn drop_stale_input(&mut self, t: &mut dyn Transport, unread: usize) -> Result<(), TransportError> {
+        let dropped = t.discard_input()? + unread;
+        if dropped > 0 {
+            self.event(&format!("discarded {dropped} stale byte(s) before sending"));
+        }
+        Ok(())
+    }
+
+    /// When the request just written has left the line, and when its reply's time is over:
+    /// the reply timeout and the stop grace count from the last byte, not the write.
+    pub fn reply_window(&self, t: &dyn Transport, reply_timeout: Duration) -> (Duration, Duration) {
+        let sent = self.clock.now() + t.still_sending();
+        (sent, sent + reply_timeout)
     }
 
     /// How long the next read of a reply wait may block, for a request that left the line

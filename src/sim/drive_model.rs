@@ -233,18 +233,22 @@ pub enum ModelRefusal {
 }
 
 #[cfg(test)]
+impl DriveModel {
+    /// Switches the drive on through control words 6, 7 and 15, as a test's first step.
+    pub(crate) fn enable_for_test(&mut self) {
+        for cw in [6, 7, 15] {
+            self.write_control_word(cw, false);
+        }
+        assert_eq!(self.state(), DeviceState::OperationEnabled);
+    }
+}
+
+#[cfg(test)]
 mod tests {
     use super::*;
 
     fn secs(s: f64) -> Duration {
         Duration::from_secs_f64(s)
-    }
-
-    fn enable(m: &mut DriveModel) {
-        for cw in [6, 7, 15] {
-            m.write_control_word(cw, false);
-        }
-        assert_eq!(m.state(), DeviceState::OperationEnabled);
     }
 
     #[test]
@@ -256,7 +260,7 @@ mod tests {
         let v = m.measured_bus_voltage_v();
         assert!((325.0..=325.6).contains(&v), "{v}");
         m.set_setpoint_rpm(10_000.0).unwrap();
-        enable(&mut m);
+        m.enable_for_test();
         m.advance_to(secs(10.0));
         assert!((m.measured_speed_rpm() - 10_000.0).abs() <= 0.5);
         assert!((m.measured_current_a() - 0.8).abs() <= 0.005);
@@ -271,7 +275,7 @@ mod tests {
         assert_eq!(m.set_setpoint_rpm(-70_000.0), Err(ModelRefusal::TooLow));
         assert_eq!(m.set_parameter_set(64), Ok(()));
         assert_eq!(m.set_parameter_set(65), Err(ModelRefusal::OutOfRange));
-        enable(&mut m);
+        m.enable_for_test();
         assert_eq!(m.set_parameter_set(1), Err(ModelRefusal::NotInThisState));
         assert_eq!(m.parameter_set(), 64);
     }
@@ -279,7 +283,7 @@ mod tests {
     #[test]
     fn quick_stop_at_rest_ends_at_once() {
         let mut m = DriveModel::new(SimConfig::default());
-        enable(&mut m);
+        m.enable_for_test();
         m.write_control_word(2, false);
         assert_eq!(m.state(), DeviceState::SwitchOnDisabled);
     }

@@ -47,6 +47,13 @@ impl<E> SimCore<E> {
         }
     }
 
+    /// What a front does first with every request it takes: the injected panic when it is
+    /// due, then the model moved to `now`.
+    pub fn take_request_at(&mut self, now: Duration) {
+        self.panic_if_due(now);
+        self.advance_to(now);
+    }
+
     /// True when an injected fault makes the enabled drive ignore `command` (it still
     /// starts up normally, so a recipe can get it running).
     pub fn disobeys(&self, command: DeviceCommand) -> bool {
@@ -93,6 +100,22 @@ impl<E> SimCore<E> {
     pub fn set_logging(&mut self, on: bool) {
         self.logging = on;
     }
+}
+
+/// The [`SimFront`] accessors of a front that keeps its [`SimCore`] in a field `core`,
+/// written inside its `impl SimFront`: `sim_front_core!((Duration, Request));` logs each
+/// request as its time and the decoded request.
+#[macro_export]
+macro_rules! sim_front_core {
+    ($logged:ty) => {
+        type Logged = $logged;
+        fn core(&self) -> &$crate::sim::SimCore<Self::Logged> {
+            &self.core
+        }
+        fn core_mut(&mut self) -> &mut $crate::sim::SimCore<Self::Logged> {
+            &mut self.core
+        }
+    };
 }
 
 /// A family's simulator front: its own bytes around a [`SimCore`].

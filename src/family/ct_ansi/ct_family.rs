@@ -5,24 +5,15 @@
 
 use super::codec::{NodeAddress, Parameter};
 use super::{CtAccess, CtExplainer, CtLink, CtLinkConfig, CtSimulator};
-use crate::bus::{Bus, BusKind, DataBits, Parity, SerialSettings, StopBits};
-use crate::dictionary::{
-    Access, Address, AddressError, AddressParser, DataType, DecimalPlaces, Dictionary, ObjectDef,
-};
-use crate::drive::ObjectAccess;
+use crate::bus::{Bus, DataBits, Parity, SerialSettings, StopBits};
+use crate::dictionary::{Access, Address, AddressError, DataType, DecimalPlaces, Dictionary, ObjectDef};
 use crate::family::{
-    serial_line, BuiltinDictionary, DriveAddress, Family, FamilyError, LinkContext, LinkOptions,
+    serial_line, DriveAddress, Family, FamilyError, FamilyInfo, LinkContext, LinkOptions, Opened,
     SimulatedDevice,
 };
 use crate::link::TelegramExplainer;
 use crate::sim::SimConfig;
 use std::sync::Arc;
-
-const DICTIONARIES: &[BuiltinDictionary] = &[BuiltinDictionary {
-    name: "ct-unidrive-sp",
-    path: "dictionary/ct-unidrive-sp.yaml",
-    text: include_str!("../../../dictionary/ct-unidrive-sp.yaml"),
-}];
 
 /// The classic Unidrive's default; the sources do not give the Unidrive SP's, so it is
 /// only where drivescript starts (`--baud` sets the drive's).
@@ -33,6 +24,8 @@ const DEFAULT_BAUD: u32 = 4800;
 const DEFAULT_ADDRESS: &str = "1.1";
 
 pub struct CtFamily;
+
+const ADDRESS_HELP: &str = "the drive's serial address as group.unit, e.g. `1.2` (or `12`); `G.0` writes to every drive of group G and `0.0` to every drive, without a reply (writes only)";
 
 /// An object's `address:` in a Control Techniques dictionary: `#1.21` → index 1, subindex 21.
 fn parse_object_address(text: &str) -> Result<Address, AddressError> {
@@ -60,34 +53,19 @@ fn baud_parameter(extra: &[(String, String)]) -> Result<Option<Parameter>, Famil
 }
 
 impl Family for CtFamily {
-    fn id(&self) -> &'static str {
-        "ct-ansi"
-    }
-
-    fn title(&self) -> &'static str {
-        "Control Techniques (Unidrive SP and others) over the ANSI x3.28 serial protocol"
-    }
-
-    fn dictionaries(&self) -> &'static [BuiltinDictionary] {
-        DICTIONARIES
-    }
-
-    fn bus_kind(&self) -> BusKind {
-        BusKind::Bytes
-    }
-
-    /// 7 data bits, even parity, 1 stop bit (the UD70 frame).
-    fn serial_settings(&self) -> SerialSettings {
-        SerialSettings {
+    fn info(&self) -> FamilyInfo {
+        let title = "Control Techniques (Unidrive SP and others) over the ANSI x3.28 serial protocol";
+        // 7 data bits, even parity, 1 stop bit (the UD70 frame).
+        let line = SerialSettings {
             baud: DEFAULT_BAUD,
             data_bits: DataBits::Seven,
             parity: Parity::Even,
             stop_bits: StopBits::One,
-        }
-    }
-
-    fn address_parser(&self) -> AddressParser {
-        parse_object_address
+        };
+        FamilyInfo::new("ct-ansi", title, parse_object_address)
+            .dictionaries(&[crate::builtin_dictionary!("ct-unidrive-sp")])
+            .serial(line)
+            .address_help(ADDRESS_HELP)
     }
 
     fn parse_drive_address(&self, text: Option<&str>) -> Result<DriveAddress, FamilyError> {
@@ -99,21 +77,11 @@ impl Family for CtFamily {
         })
     }
 
-    fn address_help(&self) -> &'static str {
-        "the drive's serial address as group.unit, e.g. `1.2` (or `12`); `G.0` writes to every drive of group G and `0.0` to every drive, without a reply (writes only)"
-    }
-
     fn check_link_options(&self, extra: &[(String, String)]) -> Result<(), FamilyError> {
         baud_parameter(extra).map(|_| ())
     }
 
-    fn open(
-        &self,
-        bus: &Bus,
-        drive: &DriveAddress,
-        options: &LinkOptions,
-        context: LinkContext,
-    ) -> Result<Box<dyn ObjectAccess>, FamilyError> {
+    fn open(&self, bus: &Bus, drive: &DriveAddress, options: &LinkOptions, context: LinkContext) -> Opened {
         let transport = serial_line(bus, self.id())?;
         let node = NodeAddress::from_number(drive.number).ok_or_else(|| {
             FamilyError::DriveAddress(format!("drive address {} is not group.unit", drive.number))

@@ -209,12 +209,8 @@ impl CtLink {
         self.core
             .clock
             .sleep_until(self.quiet_from + self.config.turnaround);
-        let dropped = t.discard_input()? + self.pending.len();
+        self.core.drop_stale_input(t, self.pending.len())?;
         self.pending.clear();
-        if dropped > 0 {
-            self.core
-                .event(&format!("discarded {dropped} stale byte(s) before sending"));
-        }
         t.write_all(bytes)?;
         self.core.stats.requests += 1;
         self.core.notify(Direction::Sent, bytes);

@@ -6,52 +6,29 @@ use super::codec::{Reply, Request};
 use super::lenze_link::LinkConfig;
 use super::object_address::{self, LenzeObject};
 use super::{LenzeAccess, LenzeExplainer, LenzeLink, LenzeSimulator};
-use crate::bus::{Bus, BusKind, SerialSettings};
-use crate::dictionary::{Access, AddressParser, DataType, Dictionary, Format, ObjectDef};
-use crate::drive::ObjectAccess;
+use crate::bus::{Bus, SerialSettings};
+use crate::dictionary::{Access, DataType, Dictionary, Format, ObjectDef};
 use crate::family::{
-    serial_line, BuiltinDictionary, DriveAddress, Family, FamilyError, LinkContext, LinkOptions,
+    serial_line, DriveAddress, Family, FamilyError, FamilyInfo, LinkContext, LinkOptions, Opened,
     SimulatedDevice,
 };
 use crate::link::TelegramExplainer;
 use crate::sim::SimConfig;
 use std::sync::Arc;
 
-const DICTIONARIES: &[BuiltinDictionary] = &[BuiltinDictionary {
-    name: "lenze-931",
-    path: "dictionary/lenze-931.yaml",
-    text: include_str!("../../../dictionary/lenze-931.yaml"),
-}];
-
 pub struct Lenze931Family;
 
 impl Family for Lenze931Family {
-    fn id(&self) -> &'static str {
-        "lenze-931"
+    fn info(&self) -> FamilyInfo {
+        let title = "Lenze 931E/K servo positioning controllers over the serial ASCII object protocol";
+        FamilyInfo::new("lenze-931", title, object_address::parse_address)
+            .dictionaries(&[crate::builtin_dictionary!("lenze-931")])
+            .serial(SerialSettings::with_baud(9600))
+            .address_help("the 931's serial interface is RS232 point to point and has no drive address; leave --address out")
     }
 
     fn maintenance_actions(&self) -> &'static [crate::drive::MaintenanceAction] {
         super::maintenance::ACTIONS
-    }
-
-    fn title(&self) -> &'static str {
-        "Lenze 931E/K servo positioning controllers over the serial ASCII object protocol"
-    }
-
-    fn dictionaries(&self) -> &'static [BuiltinDictionary] {
-        DICTIONARIES
-    }
-
-    fn bus_kind(&self) -> BusKind {
-        BusKind::Bytes
-    }
-
-    fn serial_settings(&self) -> SerialSettings {
-        SerialSettings::with_baud(9600)
-    }
-
-    fn address_parser(&self) -> AddressParser {
-        object_address::parse_address
     }
 
     fn parse_drive_address(&self, text: Option<&str>) -> Result<DriveAddress, FamilyError> {
@@ -67,17 +44,7 @@ impl Family for Lenze931Family {
         }
     }
 
-    fn address_help(&self) -> &'static str {
-        "the 931's serial interface is RS232 point to point and has no drive address; leave --address out"
-    }
-
-    fn open(
-        &self,
-        bus: &Bus,
-        _drive: &DriveAddress,
-        options: &LinkOptions,
-        context: LinkContext,
-    ) -> Result<Box<dyn ObjectAccess>, FamilyError> {
+    fn open(&self, bus: &Bus, _drive: &DriveAddress, options: &LinkOptions, context: LinkContext) -> Opened {
         let transport = serial_line(bus, self.id())?;
         self.check_link_options(&options.extra)?;
         let config = LinkConfig {

@@ -206,9 +206,7 @@ impl LenzeLink {
         t: &mut dyn Transport,
         request: &Request,
     ) -> Result<Reply, AttemptFailure<Refused>> {
-        // The reply timeout and the stop grace count from when the request has left the line.
-        let sent = self.core.clock.now() + t.still_sending();
-        let deadline = sent + self.config.reply_timeout;
+        let (sent, deadline) = self.core.reply_window(t, self.config.reply_timeout);
         let echo = request.text();
         // An SDO write is answered with its own text: the first copy is taken as the reply.
         let echo_possible = !matches!(request, Request::SdoWrite { .. });
@@ -255,12 +253,8 @@ impl LenzeLink {
     }
 
     fn flush_input(&mut self, t: &mut dyn Transport) -> Result<(), TransportError> {
-        let dropped = t.discard_input()? + self.extractor.pending();
+        self.core.drop_stale_input(t, self.extractor.pending())?;
         self.extractor.clear();
-        if dropped > 0 {
-            self.core
-                .event(&format!("discarded {dropped} stale byte(s) before sending"));
-        }
         Ok(())
     }
 

@@ -29,6 +29,12 @@ impl Peer for Scripted {
     }
 }
 
+/// `OW:0010:00000BB8`, the write the lost-reply tests send.
+const WRITE_3000: Request = Request::Write {
+    object: 0x10,
+    value: 3000,
+};
+
 fn link(script: Vec<Option<&[u8]>>) -> (LenzeLink, Arc<Mutex<Scripted>>, Arc<VirtualClock>) {
     let clock = Arc::new(VirtualClock::new());
     let peer = Arc::new(Mutex::new(Scripted {
@@ -53,37 +59,24 @@ const READ_11: Request = Request::Read {
     object: 0x11,
 };
 
+/// The reply to `READ_11`.
+fn value_11(value: u32) -> Reply {
+    Reply::Value { object: 0x11, value }
+}
+
 #[test]
 fn a_read_returns_the_value() {
     let (mut l, peer, _) = link(vec![Some(b"0011:00000BB8\r")]);
-    assert_eq!(
-        l.exchange(&READ_11).unwrap(),
-        Reply::Value {
-            object: 0x11,
-            value: 3000
-        }
-    );
+    assert_eq!(l.exchange(&READ_11).unwrap(), value_11(3000));
     assert_eq!(sent(&peer), vec!["OR:0011"]);
 }
 
 #[test]
 fn stray_lf_and_an_echo_are_tolerated() {
     let (mut l, _, _) = link(vec![Some(b"OR:0011\r\n\n0011:00000BB8\r\n")]);
-    assert_eq!(
-        l.exchange(&READ_11).unwrap(),
-        Reply::Value {
-            object: 0x11,
-            value: 3000
-        }
-    );
+    assert_eq!(l.exchange(&READ_11).unwrap(), value_11(3000));
     let (mut l, _, _) = link(vec![Some(b"\nOR:0011\r0011:\n00000001\r")]);
-    assert_eq!(
-        l.exchange(&READ_11).unwrap(),
-        Reply::Value {
-            object: 0x11,
-            value: 1
-        }
-    );
+    assert_eq!(l.exchange(&READ_11).unwrap(), value_11(1));
 }
 
 #[test]
@@ -138,21 +131,12 @@ fn an_over_long_line_is_a_bad_reply_and_memory_stays_bounded() {
     let mut long_then_ok = vec![b'7'; 500];
     long_then_ok.extend_from_slice(b"\r");
     let (mut l, _, _) = link(vec![Some(&long_then_ok), Some(b"0011:00000002\r")]);
-    assert_eq!(
-        l.exchange(&READ_11).unwrap(),
-        Reply::Value {
-            object: 0x11,
-            value: 2
-        }
-    );
+    assert_eq!(l.exchange(&READ_11).unwrap(), value_11(2));
 }
 
 #[test]
 fn a_lost_write_reply_is_read_back_and_not_sent_again_when_stored() {
-    let write = Request::Write {
-        object: 0x10,
-        value: 3000,
-    };
+    let write = WRITE_3000;
     let (mut l, peer, _) = link(vec![None, Some(b"0010:00000BB8\r")]);
     assert_eq!(l.exchange(&write).unwrap(), Reply::Ok);
     assert_eq!(sent(&peer), vec!["OW:0010:00000BB8", "OR:0010"]);
@@ -160,10 +144,7 @@ fn a_lost_write_reply_is_read_back_and_not_sent_again_when_stored() {
 
 #[test]
 fn a_lost_write_reply_is_read_back_before_the_write_is_sent_again() {
-    let write = Request::Write {
-        object: 0x10,
-        value: 3000,
-    };
+    let write = WRITE_3000;
     let (mut l, peer, _) = link(vec![None, Some(b"0010:00000000\r"), Some(b"OK!\r")]);
     assert_eq!(l.exchange(&write).unwrap(), Reply::Ok);
     assert_eq!(
@@ -174,10 +155,7 @@ fn a_lost_write_reply_is_read_back_before_the_write_is_sent_again() {
 
 #[test]
 fn a_garbled_write_reply_is_read_back_too() {
-    let write = Request::Write {
-        object: 0x10,
-        value: 3000,
-    };
+    let write = WRITE_3000;
     let (mut l, peer, _) = link(vec![Some(b"O#!\r"), Some(b"0010:00000BB8\r")]);
     assert_eq!(l.exchange(&write).unwrap(), Reply::Ok);
     assert_eq!(sent(&peer), vec!["OW:0010:00000BB8", "OR:0010"]);
@@ -185,10 +163,7 @@ fn a_garbled_write_reply_is_read_back_too() {
 
 #[test]
 fn a_write_is_not_sent_again_when_the_read_back_fails() {
-    let write = Request::Write {
-        object: 0x10,
-        value: 3000,
-    };
+    let write = WRITE_3000;
     let (mut l, peer, _) = link(vec![None, None, Some(b"OK!\r")]);
     let e = l.exchange(&write).unwrap_err();
     assert_eq!(sent(&peer), vec!["OW:0010:00000BB8", "OR:0010"]);
@@ -290,7 +265,7 @@ mod properties {
         fn a_write_is_never_repeated_blind(script in proptest::collection::vec(reply_strategy(), 0..8)) {
             let script: Vec<Option<&[u8]>> = script.iter().map(|r| r.as_deref()).collect();
             let (mut l, peer, _) = link(script);
-            let _ = l.exchange(&Request::Write { object: 0x10, value: 3000 });
+            let _ = l.exchange(&WRITE_3000);
             let sent = sent(&peer);
             prop_assert!(sent.len() <= 5, "{:?}", sent);
             for pair in sent.windows(2) {

@@ -90,6 +90,17 @@ impl Lenze9400Explainer {
     }
 
     /// `43`, `102 = 10.2 A`, from the value bytes and the object's definition if known.
+    /// `C00011 speed_setpoint = 1500`: an expedited transfer's object and value, in the
+    /// size it indicates (all four bytes when it does not).
+    fn assignment(&self, index: u16, subindex: u8, data: &[u8; 4], size: Option<u8>) -> String {
+        let n = usize::from(size.unwrap_or(4));
+        format!(
+            "{} = {}",
+            self.object(index, subindex),
+            self.value(index, subindex, &data[..n])
+        )
+    }
+
     fn value(&self, index: u16, subindex: u8, data: &[u8]) -> String {
         let mut buf = [0u8; 8];
         let n = data.len().min(8);
@@ -136,12 +147,7 @@ impl Lenze9400Explainer {
                         data,
                         size,
                     } => {
-                        let n = usize::from(size.unwrap_or(4));
-                        format!(
-                            "write {} = {} {to}",
-                            self.object(*index, *subindex),
-                            self.value(*index, *subindex, &data[..n])
-                        )
+                        format!("write {} {to}", self.assignment(*index, *subindex, data, *size))
                     }
                     SdoRequest::Abort {
                         index,
@@ -162,12 +168,7 @@ impl Lenze9400Explainer {
                         data,
                         size,
                     } => {
-                        let n = usize::from(size.unwrap_or(4));
-                        format!(
-                            "reply {} = {} {from}",
-                            self.object(*index, *subindex),
-                            self.value(*index, *subindex, &data[..n])
-                        )
+                        format!("reply {} {from}", self.assignment(*index, *subindex, data, *size))
                     }
                     SdoResponse::UploadInitiate {
                         index,

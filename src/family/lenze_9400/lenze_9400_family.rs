@@ -6,21 +6,14 @@ use super::codec::Code;
 use super::sdo_link::{SdoLink, SdoLinkConfig};
 use super::sim::Lenze9400Simulator;
 use super::{Lenze9400Access, Lenze9400Explainer};
-use crate::bus::{Bus, BusKind, SerialSettings};
-use crate::dictionary::{Access, Address, AddressError, AddressParser, DataType, Dictionary, ObjectDef};
-use crate::drive::ObjectAccess;
+use crate::bus::{Bus, SerialSettings};
+use crate::dictionary::{Access, Address, AddressError, DataType, Dictionary, ObjectDef};
 use crate::family::{
-    BuiltinDictionary, DriveAddress, Family, FamilyError, LinkContext, LinkOptions, SimulatedDevice,
+    DriveAddress, Family, FamilyError, FamilyInfo, LinkContext, LinkOptions, Opened, SimulatedDevice,
 };
 use crate::link::TelegramExplainer;
 use crate::sim::SimConfig;
 use std::sync::Arc;
-
-const DICTIONARIES: &[BuiltinDictionary] = &[BuiltinDictionary {
-    name: "lenze-9400",
-    path: "dictionary/lenze-9400.yaml",
-    text: include_str!("../../../dictionary/lenze-9400.yaml"),
-}];
 
 /// The node `--address` means when it is not given. The sources give no default node
 /// address for the 9400 (C00350 sets it); 1 is CANopen's lowest.
@@ -35,29 +28,14 @@ fn parse_code_address(text: &str) -> Result<Address, AddressError> {
 }
 
 impl Family for Lenze9400Family {
-    fn id(&self) -> &'static str {
-        "lenze-9400"
-    }
-
-    fn title(&self) -> &'static str {
-        "Lenze 9400 over CANopen SDO (SLCAN adapter or SocketCAN)"
-    }
-
-    fn dictionaries(&self) -> &'static [BuiltinDictionary] {
-        DICTIONARIES
-    }
-
-    fn bus_kind(&self) -> BusKind {
-        BusKind::Frames
-    }
-
-    /// SLCAN adapters on USB ignore the serial rate; 115200 8N1 suits those on a real UART.
-    fn serial_settings(&self) -> SerialSettings {
-        SerialSettings::with_baud(115_200)
-    }
-
-    fn address_parser(&self) -> AddressParser {
-        parse_code_address
+    fn info(&self) -> FamilyInfo {
+        let title = "Lenze 9400 over CANopen SDO (SLCAN adapter or SocketCAN)";
+        // SLCAN adapters on USB ignore the serial rate; 115200 8N1 suits those on a real UART.
+        FamilyInfo::new("lenze-9400", title, parse_code_address)
+            .dictionaries(&[crate::builtin_dictionary!("lenze-9400")])
+            .frames()
+            .serial(SerialSettings::with_baud(115_200))
+            .address_help("the drive's CANopen node address 1..127 (code C00350; default 1)")
     }
 
     fn parse_drive_address(&self, text: Option<&str>) -> Result<DriveAddress, FamilyError> {
@@ -79,17 +57,7 @@ impl Family for Lenze9400Family {
         })
     }
 
-    fn address_help(&self) -> &'static str {
-        "the drive's CANopen node address 1..127 (code C00350; default 1)"
-    }
-
-    fn open(
-        &self,
-        bus: &Bus,
-        drive: &DriveAddress,
-        options: &LinkOptions,
-        context: LinkContext,
-    ) -> Result<Box<dyn ObjectAccess>, FamilyError> {
+    fn open(&self, bus: &Bus, drive: &DriveAddress, options: &LinkOptions, context: LinkContext) -> Opened {
         let Bus::Frames(frames) = bus else {
             return Err(FamilyError::WrongBus(format!(
                 "the Lenze 9400 is reached over CAN, not over the byte stream {}; give --can slcan:PATH or --can socketcan:IF",

@@ -58,12 +58,7 @@ pub fn encode(raw: &RawValue, data_type: DataType) -> Result<Vec<u8>, WireValueE
             }
             Ok(text.as_bytes().to_vec())
         }
-        (data_type, RawValue::Int(count)) => data_type
-            .to_le_bytes(*count)
-            .ok_or_else(|| WireValueError::Unfit(format!("{count} does not fit {data_type}"))),
-        (_, other) => Err(WireValueError::Unfit(format!(
-            "{other} cannot be sent as {data_type}"
-        ))),
+        (data_type, raw) => crate::family::le_integer::encode(raw, data_type),
     }
 }
 

@@ -15,6 +15,11 @@ fn explainer() -> Box<dyn TelegramExplainer> {
     )))
 }
 
+/// Line `i` of the trace ends with `end`; the message shows the whole line when not.
+fn ends(l: &[String], i: usize, end: &str) {
+    assert!(l[i].ends_with(end), "{}", l[i]);
+}
+
 fn send(trace: &mut TraceWriter<Vec<u8>>, ms: u64, direction: Direction, t: &Telegram) {
     let bytes = t.encode(WriteLength::Captured);
     trace.telegram(Duration::from_millis(ms), direction, &bytes);
@@ -60,11 +65,7 @@ fn read_and_its_reply_are_named() {
         "    0.012000 TX 00 09 02 01 0d 43 00 00 00 00 00 a3  # read object 67 status_word"
     );
     assert!(l[1].starts_with("    0.014000 RX 00 "), "{}", l[1]);
-    assert!(
-        l[1].ends_with("  # reply status_word = 0x0237 operation enabled"),
-        "{}",
-        l[1]
-    );
+    ends(&l, 1, "  # reply status_word = 0x0237 operation enabled");
 }
 
 #[test]
@@ -88,22 +89,10 @@ fn writes_and_write_replies() {
     };
     send(&mut trace, 4, Direction::Received, &refused);
     let l = lines(trace);
-    assert!(
-        l[0].ends_with("# write object 395 speed_setpoint = 6000 rpm"),
-        "{}",
-        l[0]
-    );
-    assert!(l[1].ends_with("# write reply ok"), "{}", l[1]);
-    assert!(
-        l[2].ends_with("# write object 68 control_word = 0x0006 shutdown"),
-        "{}",
-        l[2]
-    );
-    assert!(
-        l[3].ends_with("# write reply 0x8A attempt to write a read-only object"),
-        "{}",
-        l[3]
-    );
+    ends(&l, 0, "# write object 395 speed_setpoint = 6000 rpm");
+    ends(&l, 1, "# write reply ok");
+    ends(&l, 2, "# write object 68 control_word = 0x0006 shutdown");
+    ends(&l, 3, "# write reply 0x8A attempt to write a read-only object");
 }
 
 #[test]
@@ -140,18 +129,14 @@ fn read_errors_unknown_objects_and_orphan_replies() {
         &read_reply(&[0x7f, 0x50, 0x0f, 0x00], ErrorCode::OK),
     );
     let l = lines(trace);
-    assert!(l[0].ends_with("# reply 1003647 (request not seen)"), "{}", l[0]);
-    assert!(
-        l[1].ends_with("# read object 9999 (not in the dictionary)"),
-        "{}",
-        l[1]
+    ends(&l, 0, "# reply 1003647 (request not seen)");
+    ends(&l, 1, "# read object 9999 (not in the dictionary)");
+    ends(
+        &l,
+        2,
+        "# read reply 0x8B object does not exist in the object dictionary",
     );
-    assert!(
-        l[2].ends_with("# read reply 0x8B object does not exist in the object dictionary"),
-        "{}",
-        l[2]
-    );
-    assert!(l[4].ends_with("# reply speed_actual = 1003.647 rpm"), "{}", l[4]);
+    ends(&l, 4, "# reply speed_actual = 1003.647 rpm");
 }
 
 #[test]
@@ -170,11 +155,7 @@ fn cyclic_telegrams() {
     };
     send(&mut trace, 1, Direction::Received, &reply);
     let l = lines(trace);
-    assert!(
-        l[0].ends_with("# cyclic control 0x000f enable operation, speed 25.0 %"),
-        "{}",
-        l[0]
-    );
+    ends(&l, 0, "# cyclic control 0x000f enable operation, speed 25.0 %");
     assert!(
         l[1].ends_with(
             "# cyclic reply status 0x0237 operation enabled, speed 25.0 %, drive error 0, current 12"

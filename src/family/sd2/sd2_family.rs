@@ -5,24 +5,20 @@
 use super::codec::{dnc_address, WriteLength};
 use super::cyclic_settings::{self, Channel};
 use super::{LinkConfig, Sd2Access, Sd2CyclicAccess, Sd2Explainer, Sd2Link, Sd2Simulator};
-use crate::bus::{Bus, BusKind, SerialSettings};
-use crate::dictionary::{Access, Address, AddressError, AddressParser, DataType, Dictionary, ObjectDef};
-use crate::drive::{AddressKeys, ObjectAccess};
+use crate::bus::{Bus, SerialSettings};
+use crate::dictionary::{Access, Address, AddressError, DataType, Dictionary, ObjectDef};
+use crate::drive::AddressKeys;
 use crate::family::{
-    serial_line, BuiltinDictionary, DriveAddress, Family, FamilyError, LinkContext, LinkOptions,
+    serial_line, DriveAddress, Family, FamilyError, FamilyInfo, LinkContext, LinkOptions, Opened,
     SimulatedDevice,
 };
 use crate::link::TelegramExplainer;
 use crate::sim::SimConfig;
 use std::sync::Arc;
 
-const DICTIONARIES: &[BuiltinDictionary] = &[BuiltinDictionary {
-    name: "sd2",
-    path: "dictionary/sd2.yaml",
-    text: include_str!("../../../dictionary/sd2.yaml"),
-}];
-
 pub struct Sd2Family;
+
+const ADDRESS_HELP: &str = "the drive's address switch position (0..126), with `B` for drive B of a double-axis device (`3B`), or `dnc:N` for a raw DNC address";
 
 /// An object's address as the SD2 manual writes it: the index, decimal or `0x` hex, and an
 /// optional `/subindex`: `395`, `0x18B`, `22/3`.
@@ -69,28 +65,15 @@ impl Sd2Family {
 }
 
 impl Family for Sd2Family {
-    fn id(&self) -> &'static str {
-        "sd2"
-    }
-
-    fn title(&self) -> &'static str {
-        "Sieb & Meyer SD2 / SD2S over the DNC serial protocol"
-    }
-
-    fn dictionaries(&self) -> &'static [BuiltinDictionary] {
-        DICTIONARIES
-    }
-
-    fn bus_kind(&self) -> BusKind {
-        BusKind::Bytes
-    }
-
-    fn serial_settings(&self) -> SerialSettings {
-        SerialSettings::with_baud(57_600)
-    }
-
-    fn address_parser(&self) -> AddressParser {
-        parse_object_address
+    fn info(&self) -> FamilyInfo {
+        FamilyInfo::new(
+            "sd2",
+            "Sieb & Meyer SD2 / SD2S over the DNC serial protocol",
+            parse_object_address,
+        )
+        .dictionaries(&[crate::builtin_dictionary!("sd2")])
+        .serial(SerialSettings::with_baud(57_600))
+        .address_help(ADDRESS_HELP)
     }
 
     fn parse_drive_address(&self, text: Option<&str>) -> Result<DriveAddress, FamilyError> {
@@ -126,10 +109,6 @@ impl Family for Sd2Family {
         })
     }
 
-    fn address_help(&self) -> &'static str {
-        "the drive's address switch position (0..126), with `B` for drive B of a double-axis device (`3B`), or `dnc:N` for a raw DNC address"
-    }
-
     fn address_keys(&self) -> AddressKeys {
         super::SD2_ADDRESS_KEYS
     }
@@ -139,13 +118,7 @@ impl Family for Sd2Family {
         Channel::from_options(extra).map(|_| ())
     }
 
-    fn open(
-        &self,
-        bus: &Bus,
-        drive: &DriveAddress,
-        options: &LinkOptions,
-        context: LinkContext,
-    ) -> Result<Box<dyn ObjectAccess>, FamilyError> {
+    fn open(&self, bus: &Bus, drive: &DriveAddress, options: &LinkOptions, context: LinkContext) -> Opened {
         let transport = serial_line(bus, self.id())?;
         let dest = u8::try_from(drive.number).map_err(|_| {
             FamilyError::DriveAddress(format!("DNC address {} is more than 255", drive.number))

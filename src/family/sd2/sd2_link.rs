@@ -179,12 +179,8 @@ impl Sd2Link {
     }
 
     fn flush_input(&mut self, t: &mut dyn Transport) -> Result<(), TransportError> {
-        let dropped = t.discard_input()? + self.extractor.pending().len();
+        self.core.drop_stale_input(t, self.extractor.pending().len())?;
         self.extractor.clear();
-        if dropped > 0 {
-            self.core
-                .event(&format!("discarded {dropped} stale byte(s) before sending"));
-        }
         Ok(())
     }
 
@@ -193,9 +189,7 @@ impl Sd2Link {
         t: &mut dyn Transport,
         request: &Telegram,
     ) -> Result<Telegram, AttemptFailure<Refused>> {
-        // The reply timeout and the stop grace count from when the request has left the line.
-        let sent = self.core.clock.now() + t.still_sending();
-        let deadline = sent + self.config.reply_timeout;
+        let (sent, deadline) = self.core.reply_window(t, self.config.reply_timeout);
         loop {
             while let Some(block) = self.extractor.next_block() {
                 if block.skipped > 0 {

@@ -11,11 +11,10 @@ use crate::support::{assert_has, control_words, InProcessRun};
 mod text_access;
 mod text_simulator;
 
-use drivescript::bus::{Bus, BusKind, SerialSettings};
-use drivescript::dictionary::{Address, AddressParser, Dictionary};
-use drivescript::drive::ObjectAccess;
+use drivescript::bus::{Bus, SerialSettings};
+use drivescript::dictionary::{Address, Dictionary};
 use drivescript::family::{
-    serial_line, BuiltinDictionary, DriveAddress, Family, FamilyError, LinkContext, LinkOptions, Registry,
+    serial_line, DriveAddress, Family, FamilyError, FamilyInfo, LinkContext, LinkOptions, Opened, Registry,
     SimulatedDevice,
 };
 use drivescript::link::{Direction, ExplainError, TelegramExplainer};
@@ -23,38 +22,25 @@ use drivescript::sim::SimConfig;
 use std::path::PathBuf;
 use std::sync::Arc;
 
-const DICTIONARIES: &[BuiltinDictionary] = &[BuiltinDictionary {
-    name: "text",
-    path: "tests/integration/text_family/text.yaml",
-    text: include_str!("text.yaml"),
-}];
-
 pub struct TextFamily;
 
 impl Family for TextFamily {
-    fn id(&self) -> &'static str {
-        "text"
-    }
-    fn title(&self) -> &'static str {
-        "Test family: a trivial text protocol"
-    }
-    fn dictionaries(&self) -> &'static [BuiltinDictionary] {
-        DICTIONARIES
-    }
-    fn bus_kind(&self) -> BusKind {
-        BusKind::Bytes
-    }
-    fn serial_settings(&self) -> SerialSettings {
-        SerialSettings::with_baud(9600)
-    }
-    fn address_parser(&self) -> AddressParser {
-        |text| {
+    fn info(&self) -> FamilyInfo {
+        let parse = |text: &str| {
             text.trim()
                 .parse::<u16>()
                 .map(|i| Address::indexed(i, 0))
                 .map_err(|_| "a text-family address is an object number".to_string().into())
-        }
+        };
+        FamilyInfo::new("text", "Test family: a trivial text protocol", parse)
+            .dictionaries(&[drivescript::builtin_dictionary!(
+                "text",
+                "tests/integration/text_family/text.yaml"
+            )])
+            .serial(SerialSettings::with_baud(9600))
+            .address_help("the node number")
     }
+
     fn parse_drive_address(&self, text: Option<&str>) -> Result<DriveAddress, FamilyError> {
         let number = text
             .unwrap_or("1")
@@ -65,16 +51,7 @@ impl Family for TextFamily {
             shown: format!("node {number}"),
         })
     }
-    fn address_help(&self) -> &'static str {
-        "the node number"
-    }
-    fn open(
-        &self,
-        bus: &Bus,
-        drive: &DriveAddress,
-        options: &LinkOptions,
-        context: LinkContext,
-    ) -> Result<Box<dyn ObjectAccess>, FamilyError> {
+    fn open(&self, bus: &Bus, drive: &DriveAddress, options: &LinkOptions, context: LinkContext) -> Opened {
         Ok(Box::new(text_access::TextAccess::new(
             serial_line(bus, self.id())?,
             drive.number,

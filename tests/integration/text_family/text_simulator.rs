@@ -61,13 +61,7 @@ impl Peer for TextSimulator {
 }
 
 impl SimFront for TextSimulator {
-    type Logged = ();
-    fn core(&self) -> &SimCore<()> {
-        &self.core
-    }
-    fn core_mut(&mut self) -> &mut SimCore<()> {
-        &mut self.core
-    }
+    drivescript::sim_front_core!(());
     fn describe_drive(&self) -> String {
         "simulated text drive".into()
     }

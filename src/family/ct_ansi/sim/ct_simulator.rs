@@ -230,13 +230,7 @@ impl Peer for CtSimulator {
 }
 
 impl SimFront for CtSimulator {
-    type Logged = (Duration, Request);
-    fn core(&self) -> &SimCore<Self::Logged> {
-        &self.core
-    }
-    fn core_mut(&mut self) -> &mut SimCore<Self::Logged> {
-        &mut self.core
-    }
+    crate::sim_front_core!((Duration, Request));
     fn describe_drive(&self) -> String {
         format!(
             "simulated Unidrive SP at serial address {} (ramp {} rpm/s)",

@@ -236,8 +236,7 @@ impl LenzeSimulator {
 
 impl Peer for LenzeSimulator {
     fn receive(&mut self, bytes: &[u8], now: Duration) -> Vec<PeerReply> {
-        self.core.panic_if_due(now);
-        self.core.advance_to(now);
+        self.core.take_request_at(now);
         self.extractor.push(bytes);
         let mut replies = Vec::new();
         while let Some(line) = self.extractor.next_line() {
@@ -266,13 +265,7 @@ impl Peer for LenzeSimulator {
 }
 
 impl SimFront for LenzeSimulator {
-    type Logged = String;
-    fn core(&self) -> &SimCore<Self::Logged> {
-        &self.core
-    }
-    fn core_mut(&mut self) -> &mut SimCore<Self::Logged> {
-        &mut self.core
-    }
+    crate::sim_front_core!(String);
     fn describe_drive(&self) -> String {
         format!(
             "simulated Lenze 931 on RS232 (ramp {} rpm/s; object numbers are the simulator's own, see dictionary/lenze-931.yaml)",

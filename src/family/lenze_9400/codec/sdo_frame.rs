@@ -113,6 +113,22 @@ fn segment_command(toggle: bool, len: usize, last: bool) -> u8 {
     (u8::from(toggle) << 4) | (unused << 1) | u8::from(last)
 }
 
+/// A segment in either direction: its command byte, then up to seven bytes of data.
+fn segment_frame(toggle: bool, data: &[u8], last: bool) -> [u8; SDO_LEN] {
+    let mut out = [0u8; SDO_LEN];
+    out[0] = segment_command(toggle, data.len(), last);
+    let n = data.len().min(7);
+    out[1..=n].copy_from_slice(&data[..n]);
+    out
+}
+
+/// A non-expedited initiate in either direction: `base`, with bit 0 set when the size is
+/// indicated (then in the four data bytes).
+fn initiate_frame(base: u8, index: u16, subindex: u8, size: Option<u32>) -> [u8; SDO_LEN] {
+    let command = if size.is_some() { base | 1 } else { base };
+    with_mux(command, index, subindex, size.unwrap_or(0).to_le_bytes())
+}
+
 fn segment_data(bytes: &[u8; SDO_LEN]) -> Vec<u8> {
     let unused = usize::from((bytes[0] >> 1) & 0b111);
     bytes[1..SDO_LEN - unused].to_vec()
@@ -120,6 +136,27 @@ fn segment_data(bytes: &[u8; SDO_LEN]) -> Vec<u8> {
 
 fn fixed(bytes: &[u8]) -> Result<&[u8; SDO_LEN], SdoDecodeError> {
     bytes.try_into().map_err(|_| SdoDecodeError::Length(bytes.len()))
+}
+
+/// The size an initiate frame indicates (bit 0 set), in both directions.
+fn indicated_size(command: u8, bytes: &[u8; SDO_LEN]) -> Option<u32> {
+    (command & 1 == 1).then(|| u32::from_le_bytes(value4(bytes)))
+}
+
+/// The code of an abort (command specifier 4), which is 0x80 in both directions.
+fn abort_code(command: u8, bytes: &[u8; SDO_LEN]) -> Result<AbortCode, SdoDecodeError> {
+    match command {
+        0x80 => Ok(AbortCode(u32::from_le_bytes(value4(bytes)))),
+        _ => Err(refuse(command, "an abort is 0x80")),
+    }
+}
+
+/// Command specifiers 5 and 6, in both directions.
+fn block_transfer(command: u8) -> SdoDecodeError {
+    refuse(
+        command,
+        "block transfers (command specifier 5 and 6) are not used with the 9400",
+    )
 }
 
 fn refuse(command: u8, problem: &'static str) -> SdoDecodeError {
@@ -141,17 +178,8 @@ impl SdoRequest {
                 index,
                 subindex,
                 size,
-            } => {
-                let command = if size.is_some() { 0x21 } else { 0x20 };
-                with_mux(command, *index, *subindex, size.unwrap_or(0).to_le_bytes())
-            }
-            SdoRequest::DownloadSegment { toggle, data, last } => {
-                let mut out = [0u8; SDO_LEN];
-                out[0] = segment_command(*toggle, data.len(), *last);
-                let n = data.len().min(7);
-                out[1..=n].copy_from_slice(&data[..n]);
-                out
-            }
+            } => initiate_frame(0x20, *index, *subindex, *size),
+            SdoRequest::DownloadSegment { toggle, data, last } => segment_frame(*toggle, data, *last),
             SdoRequest::Abort {
                 index,
                 subindex,
@@ -182,7 +210,7 @@ impl SdoRequest {
             1 => SdoRequest::DownloadInitiate {
                 index,
                 subindex,
-                size: (command & 1 == 1).then(|| u32::from_le_bytes(value4(b))),
+                size: indicated_size(command, b),
             },
             2 if command & 0x1F == 0 => SdoRequest::UploadInitiate { index, subindex },
             2 => return Err(refuse(command, "a read request is 0x40; the low bits must be 0")),
@@ -190,18 +218,12 @@ impl SdoRequest {
                 toggle: command & 0x10 != 0,
             },
             3 => return Err(refuse(command, "an upload segment request is 0x60 or 0x70")),
-            4 if command == 0x80 => SdoRequest::Abort {
+            4 => SdoRequest::Abort {
                 index,
                 subindex,
-                code: AbortCode(u32::from_le_bytes(value4(b))),
+                code: abort_code(command, b)?,
             },
-            4 => return Err(refuse(command, "an abort is 0x80")),
-            _ => {
-                return Err(refuse(
-                    command,
-                    "block transfers (command specifier 5 and 6) are not used with the 9400",
-                ))
-            }
+            _ => return Err(block_transfer(command)),
         })
     }
 
@@ -230,17 +252,8 @@ impl SdoResponse {
                 index,
                 subindex,
                 size,
-            } => {
-                let command = if size.is_some() { 0x41 } else { 0x40 };
-                with_mux(command, *index, *subindex, size.unwrap_or(0).to_le_bytes())
-            }
-            SdoResponse::UploadSegment { toggle, data, last } => {
-                let mut out = [0u8; SDO_LEN];
-                out[0] = segment_command(*toggle, data.len(), *last);
-                let n = data.len().min(7);
-                out[1..=n].copy_from_slice(&data[..n]);
-                out
-            }
+            } => initiate_frame(0x40, *index, *subindex, *size),
+            SdoResponse::UploadSegment { toggle, data, last } => segment_frame(*toggle, data, *last),
             SdoResponse::DownloadInitiate { index, subindex } => with_mux(0x60, *index, *subindex, [0; 4]),
             SdoResponse::DownloadSegment { toggle } => [0x20 | (u8::from(*toggle) << 4), 0, 0, 0, 0, 0, 0, 0],
             SdoResponse::Abort {
@@ -275,22 +288,16 @@ impl SdoResponse {
             2 => SdoResponse::UploadInitiate {
                 index,
                 subindex,
-                size: (command & 1 == 1).then(|| u32::from_le_bytes(value4(b))),
+                size: indicated_size(command, b),
             },
             3 if command == 0x60 => SdoResponse::DownloadInitiate { index, subindex },
             3 => return Err(refuse(command, "a write response is 0x60")),
-            4 if command == 0x80 => SdoResponse::Abort {
+            4 => SdoResponse::Abort {
                 index,
                 subindex,
-                code: AbortCode(u32::from_le_bytes(value4(b))),
+                code: abort_code(command, b)?,
             },
-            4 => return Err(refuse(command, "an abort is 0x80")),
-            _ => {
-                return Err(refuse(
-                    command,
-                    "block transfers (command specifier 5 and 6) are not used with the 9400",
-                ))
-            }
+            _ => return Err(block_transfer(command)),
         })
     }
 

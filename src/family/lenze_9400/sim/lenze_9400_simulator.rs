@@ -266,13 +266,7 @@ impl FramePeer for Lenze9400Simulator {
 }
 
 impl SimFront for Lenze9400Simulator {
-    type Logged = (Duration, SdoRequest);
-    fn core(&self) -> &SimCore<Self::Logged> {
-        &self.core
-    }
-    fn core_mut(&mut self) -> &mut SimCore<Self::Logged> {
-        &mut self.core
-    }
+    crate::sim_front_core!((Duration, SdoRequest));
     fn describe_drive(&self) -> String {
         format!(
             "simulated Lenze 9400 at CAN node {} (firmware {FIRMWARE_VERSION})",

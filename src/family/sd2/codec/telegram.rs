@@ -470,30 +470,24 @@ mod tests {
                 .contains("0x0b (as captured) or 0x0c (manual formula)"),
             "{e}"
         );
-        // A read request of the wrong size.
-        let b = with_check(vec![0, 7, 2, 1, 0x0d, 0x44, 0, 0, 0]);
-        assert!(matches!(
-            Telegram::decode(&b),
-            Err(DecodeError::LengthMismatch { .. })
-        ));
-        // Cyclic telegram of an unknown size.
-        let b = with_check(vec![0, 5, 2, 1, 0x10, 1, 0]);
-        assert!(matches!(
-            Telegram::decode(&b),
-            Err(DecodeError::LengthMismatch { .. })
-        ));
-        // Read reply with no count byte at all.
-        let b = with_check(vec![0, 3, 1, 2, 0x8d]);
-        assert!(matches!(
-            Telegram::decode(&b),
-            Err(DecodeError::LengthMismatch { .. })
-        ));
-        // Write reply of the wrong size.
-        let b = with_check(vec![0, 5, 1, 2, 0x8e, 0, 0]);
-        assert!(matches!(
-            Telegram::decode(&b),
-            Err(DecodeError::LengthMismatch { .. })
-        ));
+        // Sizes that do not fit the command.
+        for bytes in [
+            // A read request of the wrong size.
+            vec![0, 7, 2, 1, 0x0d, 0x44, 0, 0, 0],
+            // Cyclic telegram of an unknown size.
+            vec![0, 5, 2, 1, 0x10, 1, 0],
+            // Read reply with no count byte at all.
+            vec![0, 3, 1, 2, 0x8d],
+            // Write reply of the wrong size.
+            vec![0, 5, 1, 2, 0x8e, 0, 0],
+        ] {
+            let b = with_check(bytes);
+            let decoded = Telegram::decode(&b);
+            assert!(
+                matches!(decoded, Err(DecodeError::LengthMismatch { .. })),
+                "{b:02x?}"
+            );
+        }
     }
 
     #[test]

@@ -148,13 +148,6 @@ mod tests {
         Duration::from_secs_f64(s)
     }
 
-    fn enable(m: &mut DriveModel) {
-        for cw in [6, 7, 15] {
-            m.write_control_word(cw, false);
-        }
-        assert_eq!(m.state(), DeviceState::OperationEnabled);
-    }
-
     #[test]
     fn every_object_has_a_value_of_its_size_or_is_write_only() {
         let mut m = model();
@@ -177,7 +170,7 @@ mod tests {
         let v = u16_of(read(&mut m, BUS_VOLTAGE, 0).unwrap());
         assert!((3250..=3256).contains(&v), "{v}");
         write(&mut m, SPEED_SETPOINT, 0, &10_000_000i32.to_le_bytes(), false).unwrap();
-        enable(&mut m);
+        m.enable_for_test();
         m.advance_to(secs(10.0));
         let speed = i32_of(read(&mut m, ACTUAL_SPEED, 0).unwrap());
         assert!((speed - 10_000_000).abs() <= 500, "{speed}");
@@ -202,7 +195,7 @@ mod tests {
             write(&mut m, PARAMETER_SET, 0, &65u16.to_le_bytes(), false),
             Err(ErrorCode::RANGE_EXCEEDED)
         );
-        enable(&mut m);
+        m.enable_for_test();
         assert_eq!(
             write(&mut m, PARAMETER_SET, 0, &1u16.to_le_bytes(), false),
             Err(ErrorCode::STATE_OF_CONTROL)
@@ -213,7 +206,7 @@ mod tests {
     #[test]
     fn quick_stop_at_rest_ends_at_once() {
         let mut m = model();
-        enable(&mut m);
+        m.enable_for_test();
         m.write_control_word(2, false);
         assert_eq!(m.state(), DeviceState::SwitchOnDisabled);
     }

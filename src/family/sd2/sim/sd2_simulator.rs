@@ -188,13 +188,7 @@ impl Sd2Simulator {
 }
 
 impl SimFront for Sd2Simulator {
-    type Logged = (Duration, Telegram);
-    fn core(&self) -> &SimCore<Self::Logged> {
-        &self.core
-    }
-    fn core_mut(&mut self) -> &mut SimCore<Self::Logged> {
-        &mut self.core
-    }
+    crate::sim_front_core!((Duration, Telegram));
     fn describe_drive(&self) -> String {
         let c = self.config();
         format!(
@@ -206,8 +200,7 @@ impl SimFront for Sd2Simulator {
 
 impl Peer for Sd2Simulator {
     fn receive(&mut self, bytes: &[u8], now: Duration) -> Vec<PeerReply> {
-        self.core.panic_if_due(now);
-        self.core.advance_to(now);
+        self.core.take_request_at(now);
         self.extractor.push(bytes);
         let mut replies = Vec::new();
         while let Some(block) = self.extractor.next_block() {

@@ -107,6 +107,13 @@ fn hex(s: &str) -> Vec<u8> {
     parse_hex(s).expect("valid hex")
 }
 
+/// The telegram `s` with its check byte appended.
+fn with_checksum(s: &str) -> Vec<u8> {
+    let mut bytes = hex(s);
+    bytes.push(checksum(&bytes[1..]));
+    bytes
+}
+
 #[test]
 fn boots_into_switch_on_disabled() {
     let mut s = sim();
@@ -539,9 +546,10 @@ fn cyclic_telegram_golden_bytes() {
         &hex("00 0d 02 01 10 01 00 06 00 ff 1f 00 00 00 00 ba"),
         Duration::ZERO,
     );
-    let mut expected = hex("00 0d 01 02 90 01 00 31 02 00 00 00 00 00 00");
-    expected.push(checksum(&expected[1..]));
-    assert_eq!(r[0].bytes, expected);
+    assert_eq!(
+        r[0].bytes,
+        with_checksum("00 0d 01 02 90 01 00 31 02 00 00 00 00 00 00")
+    );
     assert!((s.setpoint_rpm() - 8191.0 / 16383.0 * 24000.0).abs() < 1e-9);
     // Header echoed, toggle and all.
     let r = s.receive(
@@ -601,9 +609,10 @@ fn service_channel_golden_requests() {
         &hex("00 15 02 01 10 05 00 06 00 ff 0f 00 00 00 00 00 0d 60 01 01 00 00 00 4f"),
         Duration::ZERO,
     );
-    let mut expected = hex("00 15 01 02 90 05 00 31 02 00 00 00 00 00 00 00 0d 60 01 01 00 00 00");
-    expected.push(checksum(&expected[1..]));
-    assert_eq!(r[0].bytes, expected);
+    assert_eq!(
+        r[0].bytes,
+        with_checksum("00 15 01 02 90 05 00 31 02 00 00 00 00 00 00 00 0d 60 01 01 00 00 00")
+    );
     assert_eq!(read_u16(&mut s, 352, Duration::ZERO), 1);
 }
 
