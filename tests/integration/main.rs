@@ -14,6 +14,7 @@ mod drive_sim;
 mod editor;
 mod end_to_end;
 mod examples;
+mod hints;
 mod language_server;
 mod lenze_931;
 mod lenze_931_maintain;

@@ -232,6 +232,40 @@ impl Simulator {
         }
     }
 
+    /// [`Simulator::start`], and the command its `try:` line offers (without `try: `);
+    /// the rest of its standard error is drained so it never blocks.
+    pub fn start_with_hint(args: &[&str]) -> (Simulator, String) {
+        use std::io::BufRead;
+        let mut child = Command::new(env!("CARGO_BIN_EXE_drivescript"))
+            .arg("simulate")
+            .args(args)
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .expect("simulate starts");
+        let mut line = String::new();
+        std::io::BufReader::new(child.stdout.take().expect("stdout is piped"))
+            .read_line(&mut line)
+            .expect("simulate prints its endpoint");
+        let mut err = std::io::BufReader::new(child.stderr.take().expect("stderr is piped"));
+        let mut hint = String::new();
+        let mut seen = String::new();
+        while err.read_line(&mut seen).unwrap_or(0) > 0 {
+            if let Some(h) = seen.trim().strip_prefix("try: ") {
+                hint = h.to_string();
+                break;
+            }
+            seen.clear();
+        }
+        assert!(!hint.is_empty(), "simulate offers a `try:` line: {seen}");
+        std::thread::spawn(move || std::io::copy(&mut err, &mut std::io::sink()));
+        let sim = Simulator {
+            child,
+            endpoint: line.trim().to_string(),
+        };
+        (sim, hint)
+    }
+
     /// `drivescript simulate --pty ARGS` (e.g. `--address dnc:2,dnc:3`).
     pub fn pty(args: &[&str]) -> Simulator {
         Simulator::start(&[&["--pty"], args].concat())
