@@ -5,7 +5,7 @@ use crate::drive::device_control::{status_word_bits, DeviceState};
 use crate::drive::DriveError;
 use crate::drive::WriteOutcome;
 use crate::family::{Family, Registry};
-use crate::run::ConnectionArgs;
+use crate::run::{another_family, ConnectionArgs};
 use crate::run::{open_drive, DictionaryArgs, OpenDrive};
 use crate::run::{COMMUNICATION, INVALID, PASSED};
 use clap::Args;
@@ -153,6 +153,16 @@ fn open(
     Ok(open)
 }
 
+/// Prints a drive error, with the likely wrong `--drive` when the drive did not answer
+/// (a drive of another family stays silent), and gives its exit code.
+fn failed(e: &DriveError, registry: &Registry, open: &OpenDrive) -> i32 {
+    eprintln!("error: {e}");
+    if matches!(e, DriveError::Access(a) if a.is_no_reply()) {
+        eprintln!("help: {}", another_family(registry, open.drive.dictionary()));
+    }
+    drive_error_code(e)
+}
+
 /// Exit code of a drive error: refused before sending → 2, otherwise 3.
 fn drive_error_code(e: &DriveError) -> i32 {
     match e {
@@ -194,10 +204,7 @@ pub fn read(args: &ReadArgs, registry: &Registry) -> i32 {
         };
         match open.drive.read(name) {
             Ok(v) => rows.push((def, v)),
-            Err(e) => {
-                eprintln!("error: {e}");
-                return drive_error_code(&e);
-            }
+            Err(e) => return failed(&e, registry, &open),
         }
     }
     if args.json {
@@ -315,10 +322,7 @@ pub fn write(args: &WriteArgs, registry: &Registry) -> i32 {
             }
             PASSED
         }
-        Err(e) => {
-            eprintln!("error: {e}");
-            drive_error_code(&e)
-        }
+        Err(e) => failed(&e, registry, &open),
     }
 }
 
@@ -333,10 +337,7 @@ pub fn state(args: &StateArgs, registry: &Registry) -> i32 {
     };
     let status = match open.drive.status_word() {
         Ok(s) => s,
-        Err(e) => {
-            eprintln!("error: {e}");
-            return drive_error_code(&e);
-        }
+        Err(e) => return failed(&e, registry, &open),
     };
     let state = open.drive.profile().ok().and_then(|p| p.state_of(status));
     let drive_error = open.drive.drive_error();

@@ -41,3 +41,59 @@ fn the_tcp_hint_names_the_dictionary_too() {
     assert!(hint.contains("--drive ct-unidrive-sp --tcp 127.0.0.1:"), "{hint}");
     cli(&words(&hint), 0);
 }
+
+/// A one-off command with the default dictionary against a Unidrive SP: the error names a
+/// wrong `--drive` as the likely cause and the dictionary to give.
+#[test]
+fn a_silent_drive_names_a_wrong_drive_flag() {
+    let sim = Simulator::start(&["--drive", "ct-unidrive-sp", "--tcp", "127.0.0.1:0"]);
+    let quick = ["--tcp", &sim.endpoint, "--timeout", "50ms", "--retries", "0"];
+    let err = cli(&[&["state"][..], &quick].concat(), 3).stderr;
+    assert!(
+        err.contains("help: drivescript spoke Sieb & Meyer SD2")
+            && err.contains("give the drive's own dictionary with --drive")
+            && err.contains("ct-unidrive-sp"),
+        "{err}"
+    );
+    // A recipe: the fourth likely cause, and the spoken family's own advice said once.
+    let err = cli(&[&["run", "recipes/identity.yaml"][..], &quick].concat(), 3).stderr;
+    assert!(
+        err.contains("4. the drive family: drivescript spoke Sieb & Meyer SD2"),
+        "{err}"
+    );
+    assert_eq!(
+        err.matches("the drive's DNC address (address switch)").count(),
+        1,
+        "{err}"
+    );
+}
+
+/// The advice for a silent drive is the family's own: a Unidrive SP's serial address, not
+/// an SD2's DNC address.
+#[test]
+fn the_advice_for_a_silent_drive_is_its_familys_own() {
+    let sim = Simulator::start(&["--tcp", "127.0.0.1:0"]);
+    let quick = ["--tcp", &sim.endpoint, "--timeout", "50ms", "--retries", "0"];
+    let err = cli(&[&["state", "--drive", "ct-unidrive-sp"][..], &quick].concat(), 3).stderr;
+    assert!(
+        err.contains("the drive's serial address (--address G.U)"),
+        "{err}"
+    );
+    assert!(!err.contains("DNC"), "no SD2 advice for a CT drive: {err}");
+    let dir = std::env::temp_dir().join(format!("drivescript-hints-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let ct = dir.join("ct.yaml");
+    std::fs::write(
+        &ct,
+        "name: CT identity\ndrive: ct-unidrive-sp\nsteps:\n  - read: [ident]\n",
+    )
+    .unwrap();
+    let err = cli(&[&["run", ct.to_str().unwrap()][..], &quick].concat(), 3).stderr;
+    assert!(
+        err.contains("For a drive of this family: check the cable (RS485 A/B)"),
+        "{err}"
+    );
+    assert!(err.contains("(the drive's serial address as group.unit"), "{err}");
+    assert!(!err.contains("DNC"), "no SD2 advice for a CT drive: {err}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}

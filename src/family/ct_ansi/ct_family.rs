@@ -103,6 +103,10 @@ impl Family for CtFamily {
         "the drive's serial address as group.unit, e.g. `1.2` (or `12`); `G.0` writes to every drive of group G and `0.0` to every drive, without a reply (writes only)"
     }
 
+    fn no_reply_advice(&self) -> &'static str {
+        super::ct_link::NO_REPLY_HINT
+    }
+
     fn check_link_options(&self, extra: &[(String, String)]) -> Result<(), FamilyError> {
         baud_parameter(extra).map(|_| ())
     }

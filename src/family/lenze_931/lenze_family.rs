@@ -71,6 +71,10 @@ impl Family for Lenze931Family {
         "the 931's serial interface is RS232 point to point and has no drive address; leave --address out"
     }
 
+    fn no_reply_advice(&self) -> &'static str {
+        super::lenze_link::NO_REPLY_HINT
+    }
+
     fn open(
         &self,
         bus: &Bus,

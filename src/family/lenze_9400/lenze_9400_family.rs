@@ -83,6 +83,10 @@ impl Family for Lenze9400Family {
         "the drive's CANopen node address 1..127 (code C00350; default 1)"
     }
 
+    fn no_reply_advice(&self) -> &'static str {
+        super::sdo_link::NO_REPLY_HINT
+    }
+
     fn open(
         &self,
         bus: &Bus,

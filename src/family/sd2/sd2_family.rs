@@ -130,6 +130,10 @@ impl Family for Sd2Family {
         "the drive's address switch position (0..126), with `B` for drive B of a double-axis device (`3B`), or `dnc:N` for a raw DNC address"
     }
 
+    fn no_reply_advice(&self) -> &'static str {
+        super::sd2_link::NO_REPLY_HINT
+    }
+
     fn address_keys(&self) -> AddressKeys {
         super::SD2_ADDRESS_KEYS
     }
