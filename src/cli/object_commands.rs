@@ -153,10 +153,41 @@ fn open(
     Ok(open)
 }
 
+/// Says which side of a number's range the dictionary does not give, so that a value
+/// checked only against the object's type is not taken for one checked against the
+/// drive's limits; `None` for text and for an object with both limits.
+fn unchecked_range(def: &ObjectDef) -> Option<String> {
+    let unit = def.unit.map(|u| format!(" {}", u.symbol())).unwrap_or_default();
+    let limit = |v: f64| format!("{}{unit}", crate::session::number(v));
+    let text = match (def.min, def.max) {
+        _ if def.data_type.range().is_none() => return None,
+        (Some(_), Some(_)) => return None,
+        (None, None) => format!(
+            "the dictionary gives no range for it, so the value was checked against its type ({}) only, not against the drive's range",
+            def.data_type
+        ),
+        (None, Some(hi)) => format!(
+            "the dictionary gives its maximum ({}) but no minimum, so the value was not checked against the drive's lower limit",
+            limit(hi)
+        ),
+        (Some(lo), None) => format!(
+            "the dictionary gives its minimum ({}) but no maximum, so the value was not checked against the drive's upper limit",
+            limit(lo)
+        ),
+    };
+    Some(format!(
+        "note: {}: {text}; the drive may still refuse it",
+        def.name
+    ))
+}
+
 /// Prints a drive error, with the likely wrong `--drive` when the drive did not answer
 /// (a drive of another family stays silent), and gives its exit code.
 fn failed(e: &DriveError, registry: &Registry, open: &OpenDrive) -> i32 {
-    eprintln!("error: {e}");
+    match e {
+        DriveError::Access(a) if a.is_unsent() => eprintln!("error: {e}; nothing was sent"),
+        _ => eprintln!("error: {e}"),
+    }
     if matches!(e, DriveError::Access(a) if a.is_no_reply()) {
         eprintln!("help: {}", another_family(registry, open.drive.dictionary()));
     }
@@ -170,6 +201,7 @@ fn drive_error_code(e: &DriveError) -> i32 {
         | DriveError::ReadOnly { .. }
         | DriveError::WriteOnly { .. }
         | DriveError::Value(_) => INVALID,
+        DriveError::Access(a) if a.is_unsent() => INVALID,
         _ => COMMUNICATION,
     }
 }
@@ -303,6 +335,9 @@ pub fn write(args: &WriteArgs, registry: &Registry) -> i32 {
             return INVALID;
         }
     };
+    if let Some(note) = unchecked_range(&def) {
+        println!("{note}");
+    }
     let mut open = match open(registry, &args.connection, dictionary) {
         Ok(o) => o,
         Err(code) => return code,
@@ -313,9 +348,17 @@ pub fn write(args: &WriteArgs, registry: &Registry) -> i32 {
     };
     match result {
         Ok(outcome) => {
-            match &parsed {
-                Some((q, raw)) => println!("{} = {q} written (raw {raw})", def.name),
-                None => println!("{} = \"{}\" written", def.name, value),
+            let (shown, raw) = match &parsed {
+                Some((q, raw)) => (q.to_string(), format!(" (raw {raw})")),
+                None => (format!("\"{value}\""), String::new()),
+            };
+            match open.drive.group() {
+                // No drive answers a group write: sent is all that is known.
+                Some(group) => println!(
+                    "{} = {shown}{raw} sent to {group}, not confirmed: no drive answers a write to a group address; read it back at one drive's address to check",
+                    def.name
+                ),
+                None => println!("{} = {shown} written{raw}", def.name),
             }
             if let WriteOutcome::Limited(stored) = outcome {
                 println!("warning: the drive limited the value; it stored raw {stored}");

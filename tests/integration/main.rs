@@ -35,3 +35,4 @@ mod support;
 mod text_family;
 mod trace_decode;
 mod vectors;
+mod write_refusals;
