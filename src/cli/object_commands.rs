@@ -271,6 +271,7 @@ fn check_readable(dictionary: &Dictionary, name: &str) -> Result<(), DriveError>
     let def = dictionary.lookup(name).map_err(|e| DriveError::UnknownObject {
         name: name.to_string(),
         suggestions: e.suggestions.clone(),
+        drive: e.drive.clone(),
     })?;
     if !def.readable() {
         return Err(DriveError::WriteOnly {
@@ -303,7 +304,8 @@ pub fn write(args: &WriteArgs, registry: &Registry) -> i32 {
                 "error: {}",
                 DriveError::UnknownObject {
                     name: args.name.clone(),
-                    suggestions: e.suggestions.clone()
+                    suggestions: e.suggestions.clone(),
+                    drive: e.drive.clone(),
                 }
             );
             return INVALID;

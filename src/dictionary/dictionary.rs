@@ -205,6 +205,7 @@ impl Dictionary {
         self.get(name).ok_or_else(|| UnknownObject {
             name: name.to_string(),
             family: self.family.clone(),
+            drive: self.name.clone(),
             suggestions: self.suggest(name),
         })
     }

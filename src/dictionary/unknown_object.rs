@@ -9,6 +9,8 @@ pub struct UnknownObject {
     pub name: String,
     /// The dictionary's family.
     pub family: String,
+    /// The built-in dictionary's name, what `--drive` takes (`ct-unidrive-sp`).
+    pub drive: Option<String>,
     /// Object names, best first (at most three).
     pub suggestions: Vec<String>,
 }
@@ -16,8 +18,17 @@ pub struct UnknownObject {
 impl UnknownObject {
     /// `did you mean `speed_setpoint`?`, or a pointer to `drivescript objects`.
     pub fn help(&self) -> String {
-        suggestion_text(&self.suggestions)
-            .unwrap_or_else(|| format!("`drivescript objects --drive {}` lists the objects", self.family))
+        suggestion_text(&self.suggestions).unwrap_or_else(|| objects_command(self.drive.as_deref()))
+    }
+}
+
+/// Where to see a dictionary's objects: `drivescript objects` with the `--drive` that
+/// names it (the family id is no `--drive` value), or with the same flags when it is
+/// not a built-in one.
+pub fn objects_command(drive: Option<&str>) -> String {
+    match drive {
+        Some(name) => format!("`drivescript objects --drive {name}` lists the objects"),
+        None => "`drivescript objects` with the same --drive and --dictionary lists the objects".to_string(),
     }
 }
 

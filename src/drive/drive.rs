@@ -472,6 +472,7 @@ fn lookup<'d>(dictionary: &'d Dictionary, name: &str) -> Result<&'d ObjectDef, D
     dictionary.lookup(name).map_err(|e| DriveError::UnknownObject {
         name: name.to_string(),
         suggestions: e.suggestions.clone(),
+        drive: e.drive.clone(),
     })
 }
 

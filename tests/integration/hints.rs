@@ -97,3 +97,32 @@ fn the_advice_for_a_silent_drive_is_its_familys_own() {
     assert!(!err.contains("DNC"), "no SD2 advice for a CT drive: {err}");
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// An unknown object points at the objects of the dictionary in use, with the `--drive`
+/// that names it (not the family id, which `--drive` does not take, and not the default
+/// dictionary's objects), from the command line and from a recipe.
+#[test]
+fn an_unknown_object_points_at_the_objects_of_the_dictionary_in_use() {
+    let err = cli(&["read", "nothing_like_it", "--drive", "ct-unidrive-sp"], 2).stderr;
+    assert!(
+        err.contains("`drivescript objects --drive ct-unidrive-sp` lists the objects"),
+        "{err}"
+    );
+    let dir = std::env::temp_dir().join(format!("drivescript-hints-objects-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let recipe = dir.join("r.yaml");
+    std::fs::write(
+        &recipe,
+        "name: x\ndrive: lenze-931\nsteps:\n  - read: [nothing_like_it]\n",
+    )
+    .unwrap();
+    let err = cli(&["check", recipe.to_str().unwrap()], 2).stderr;
+    assert!(
+        err.contains("`drivescript objects --drive lenze-931` lists the objects"),
+        "{err}"
+    );
+    // The hint works as printed.
+    let listed = cli(&["objects", "--drive", "lenze-931"], 0).stdout;
+    assert!(listed.contains("Lenze"), "{listed}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
