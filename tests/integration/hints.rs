@@ -2,7 +2,16 @@
 //! it serves when copied as printed, and a drive that does not answer gets its own
 //! family's advice, with another family's drive on the line among the likely causes.
 
-use crate::support::{cli, drivescript, stderr, stdout, Simulator};
+use crate::support::{cli, drivescript, scratch, stderr, stdout, Simulator};
+
+/// A recipe for the dictionary `drive` that reads `object`, in a scratch folder.
+fn recipe(name: &str, drive: &str, object: &str) -> (std::path::PathBuf, std::path::PathBuf) {
+    let dir = scratch(name);
+    let file = dir.join("r.yaml");
+    let text = format!("name: {name}\ndrive: {drive}\nsteps:\n  - read: [{object}]\n");
+    std::fs::write(&file, text).expect("recipe");
+    (dir, file)
+}
 
 /// The words of a `try:` hint, as a shell would split them.
 fn words(hint: &str) -> Vec<&str> {
@@ -80,14 +89,7 @@ fn the_advice_for_a_silent_drive_is_its_familys_own() {
         "{err}"
     );
     assert!(!err.contains("DNC"), "no SD2 advice for a CT drive: {err}");
-    let dir = std::env::temp_dir().join(format!("drivescript-hints-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let ct = dir.join("ct.yaml");
-    std::fs::write(
-        &ct,
-        "name: CT identity\ndrive: ct-unidrive-sp\nsteps:\n  - read: [ident]\n",
-    )
-    .unwrap();
+    let (dir, ct) = recipe("ct", "ct-unidrive-sp", "ident");
     let err = cli(&[&["run", ct.to_str().unwrap()][..], &quick].concat(), 3).stderr;
     assert!(
         err.contains("For a drive of this family: check the cable (RS485 A/B)"),
@@ -108,14 +110,7 @@ fn an_unknown_object_points_at_the_objects_of_the_dictionary_in_use() {
         err.contains("`drivescript objects --drive ct-unidrive-sp` lists the objects"),
         "{err}"
     );
-    let dir = std::env::temp_dir().join(format!("drivescript-hints-objects-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let recipe = dir.join("r.yaml");
-    std::fs::write(
-        &recipe,
-        "name: x\ndrive: lenze-931\nsteps:\n  - read: [nothing_like_it]\n",
-    )
-    .unwrap();
+    let (dir, recipe) = recipe("objects", "lenze-931", "nothing_like_it");
     let err = cli(&["check", recipe.to_str().unwrap()], 2).stderr;
     assert!(
         err.contains("`drivescript objects --drive lenze-931` lists the objects"),

@@ -214,40 +214,15 @@ pub struct Simulator {
 
 impl Simulator {
     pub fn start(args: &[&str]) -> Simulator {
-        use std::io::BufRead;
-        let mut child = Command::new(env!("CARGO_BIN_EXE_drivescript"))
-            .arg("simulate")
-            .args(args)
-            .stdout(Stdio::piped())
-            .stderr(Stdio::null())
-            .spawn()
-            .expect("simulate starts");
-        let mut line = String::new();
-        std::io::BufReader::new(child.stdout.take().expect("stdout is piped"))
-            .read_line(&mut line)
-            .expect("simulate prints its endpoint");
-        Simulator {
-            child,
-            endpoint: line.trim().to_string(),
-        }
+        Simulator::spawn(args, Stdio::null())
     }
 
     /// [`Simulator::start`], and the command its `try:` line offers (without `try: `);
     /// the rest of its standard error is drained so it never blocks.
     pub fn start_with_hint(args: &[&str]) -> (Simulator, String) {
         use std::io::BufRead;
-        let mut child = Command::new(env!("CARGO_BIN_EXE_drivescript"))
-            .arg("simulate")
-            .args(args)
-            .stdout(Stdio::piped())
-            .stderr(Stdio::piped())
-            .spawn()
-            .expect("simulate starts");
-        let mut line = String::new();
-        std::io::BufReader::new(child.stdout.take().expect("stdout is piped"))
-            .read_line(&mut line)
-            .expect("simulate prints its endpoint");
-        let mut err = std::io::BufReader::new(child.stderr.take().expect("stderr is piped"));
+        let mut sim = Simulator::spawn(args, Stdio::piped());
+        let mut err = std::io::BufReader::new(sim.child.stderr.take().expect("stderr is piped"));
         let mut hint = String::new();
         let mut seen = String::new();
         while err.read_line(&mut seen).unwrap_or(0) > 0 {
@@ -259,11 +234,26 @@ impl Simulator {
         }
         assert!(!hint.is_empty(), "simulate offers a `try:` line: {seen}");
         std::thread::spawn(move || std::io::copy(&mut err, &mut std::io::sink()));
-        let sim = Simulator {
+        (sim, hint)
+    }
+
+    fn spawn(args: &[&str], stderr: Stdio) -> Simulator {
+        use std::io::BufRead;
+        let mut child = Command::new(env!("CARGO_BIN_EXE_drivescript"))
+            .arg("simulate")
+            .args(args)
+            .stdout(Stdio::piped())
+            .stderr(stderr)
+            .spawn()
+            .expect("simulate starts");
+        let mut line = String::new();
+        std::io::BufReader::new(child.stdout.take().expect("stdout is piped"))
+            .read_line(&mut line)
+            .expect("simulate prints its endpoint");
+        Simulator {
             child,
             endpoint: line.trim().to_string(),
-        };
-        (sim, hint)
+        }
     }
 
     /// `drivescript simulate --pty ARGS` (e.g. `--address dnc:2,dnc:3`).
