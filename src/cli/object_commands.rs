@@ -5,7 +5,7 @@ use crate::drive::device_control::{status_word_bits, DeviceState};
 use crate::drive::DriveError;
 use crate::drive::WriteOutcome;
 use crate::family::{Family, Registry};
-use crate::run::ConnectionArgs;
+use crate::run::{another_family, ConnectionArgs};
 use crate::run::{open_drive, DictionaryArgs, OpenDrive};
 use crate::run::{COMMUNICATION, INVALID, PASSED};
 use clap::Args;
@@ -153,6 +153,47 @@ fn open(
     Ok(open)
 }
 
+/// Says which side of a number's range the dictionary does not give, so that a value
+/// checked only against the object's type is not taken for one checked against the
+/// drive's limits; `None` for text and for an object with both limits.
+fn unchecked_range(def: &ObjectDef) -> Option<String> {
+    let unit = def.unit.map(|u| format!(" {}", u.symbol())).unwrap_or_default();
+    let limit = |v: f64| format!("{}{unit}", crate::session::number(v));
+    let text = match (def.min, def.max) {
+        _ if def.data_type.range().is_none() => return None,
+        (Some(_), Some(_)) => return None,
+        (None, None) => format!(
+            "the dictionary gives no range for it, so the value was checked against its type ({}) only, not against the drive's range",
+            def.data_type
+        ),
+        (None, Some(hi)) => format!(
+            "the dictionary gives its maximum ({}) but no minimum, so the value was not checked against the drive's lower limit",
+            limit(hi)
+        ),
+        (Some(lo), None) => format!(
+            "the dictionary gives its minimum ({}) but no maximum, so the value was not checked against the drive's upper limit",
+            limit(lo)
+        ),
+    };
+    Some(format!(
+        "note: {}: {text}; the drive may still refuse it",
+        def.name
+    ))
+}
+
+/// Prints a drive error, with the likely wrong `--drive` when the drive did not answer
+/// (a drive of another family stays silent), and gives its exit code.
+fn failed(e: &DriveError, registry: &Registry, open: &OpenDrive) -> i32 {
+    match e {
+        DriveError::Access(a) if a.is_unsent() => eprintln!("error: {e}; nothing was sent"),
+        _ => eprintln!("error: {e}"),
+    }
+    if matches!(e, DriveError::Access(a) if a.is_no_reply()) {
+        eprintln!("help: {}", another_family(registry, open.drive.dictionary()));
+    }
+    drive_error_code(e)
+}
+
 /// Exit code of a drive error: refused before sending → 2, otherwise 3.
 fn drive_error_code(e: &DriveError) -> i32 {
     match e {
@@ -160,6 +201,7 @@ fn drive_error_code(e: &DriveError) -> i32 {
         | DriveError::ReadOnly { .. }
         | DriveError::WriteOnly { .. }
         | DriveError::Value(_) => INVALID,
+        DriveError::Access(a) if a.is_unsent() => INVALID,
         _ => COMMUNICATION,
     }
 }
@@ -194,10 +236,7 @@ pub fn read(args: &ReadArgs, registry: &Registry) -> i32 {
         };
         match open.drive.read(name) {
             Ok(v) => rows.push((def, v)),
-            Err(e) => {
-                eprintln!("error: {e}");
-                return drive_error_code(&e);
-            }
+            Err(e) => return failed(&e, registry, &open),
         }
     }
     if args.json {
@@ -232,6 +271,7 @@ fn check_readable(dictionary: &Dictionary, name: &str) -> Result<(), DriveError>
     let def = dictionary.lookup(name).map_err(|e| DriveError::UnknownObject {
         name: name.to_string(),
         suggestions: e.suggestions.clone(),
+        drive: Some(e.dictionary.clone()),
     })?;
     if !def.readable() {
         return Err(DriveError::WriteOnly {
@@ -264,7 +304,8 @@ pub fn write(args: &WriteArgs, registry: &Registry) -> i32 {
                 "error: {}",
                 DriveError::UnknownObject {
                     name: args.name.clone(),
-                    suggestions: e.suggestions.clone()
+                    suggestions: e.suggestions.clone(),
+                    drive: Some(e.dictionary.clone()),
                 }
             );
             return INVALID;
@@ -296,6 +337,9 @@ pub fn write(args: &WriteArgs, registry: &Registry) -> i32 {
             return INVALID;
         }
     };
+    if let Some(note) = unchecked_range(&def) {
+        println!("{note}");
+    }
     let mut open = match open(registry, &args.connection, dictionary) {
         Ok(o) => o,
         Err(code) => return code,
@@ -306,19 +350,24 @@ pub fn write(args: &WriteArgs, registry: &Registry) -> i32 {
     };
     match result {
         Ok(outcome) => {
-            match &parsed {
-                Some((q, raw)) => println!("{} = {q} written (raw {raw})", def.name),
-                None => println!("{} = \"{}\" written", def.name, value),
+            let (shown, raw) = match &parsed {
+                Some((q, raw)) => (q.to_string(), format!(" (raw {raw})")),
+                None => (format!("\"{value}\""), String::new()),
+            };
+            match open.drive.group() {
+                // No drive answers a group write: sent is all that is known.
+                Some(group) => println!(
+                    "{} = {shown}{raw} sent to {group}, not confirmed: no drive answers a write to a group address; read it back at one drive's address to check",
+                    def.name
+                ),
+                None => println!("{} = {shown} written{raw}", def.name),
             }
             if let WriteOutcome::Limited(stored) = outcome {
                 println!("warning: the drive limited the value; it stored raw {stored}");
             }
             PASSED
         }
-        Err(e) => {
-            eprintln!("error: {e}");
-            drive_error_code(&e)
-        }
+        Err(e) => failed(&e, registry, &open),
     }
 }
 
@@ -333,10 +382,7 @@ pub fn state(args: &StateArgs, registry: &Registry) -> i32 {
     };
     let status = match open.drive.status_word() {
         Ok(s) => s,
-        Err(e) => {
-            eprintln!("error: {e}");
-            return drive_error_code(&e);
-        }
+        Err(e) => return failed(&e, registry, &open),
     };
     let state = open.drive.profile().ok().and_then(|p| p.state_of(status));
     let drive_error = open.drive.drive_error();

@@ -6,7 +6,8 @@ use crate::bus::{
     EchoingLine, FramePeer, FramePeerLine, Peer, PeerLine, SlcanAdapter, TcpTransport, WireTime,
 };
 use crate::clock::RealClock;
-use crate::family::{Registry, SimPeer, DEFAULT_DICTIONARY};
+use crate::dictionary::Role;
+use crate::family::{DriveAddress, Family, Registry, SimPeer, DEFAULT_DICTIONARY};
 use crate::run::DNC_ADDRESS;
 use crate::run::{COMMUNICATION, INVALID, PASSED};
 use crate::sim::SimConfig;
@@ -88,11 +89,7 @@ pub fn run(args: &SimulateArgs, registry: &Registry) -> i32 {
     let mut addresses = Vec::new();
     for text in texts {
         match family.parse_drive_address(text) {
-            Ok(a)
-                if addresses
-                    .iter()
-                    .any(|b: &crate::family::DriveAddress| b.number == a.number) =>
-            {
+            Ok(a) if addresses.iter().any(|b: &DriveAddress| b.number == a.number) => {
                 eprintln!("error: --address names {} twice", a.shown);
                 return INVALID;
             }
@@ -177,25 +174,54 @@ pub fn run(args: &SimulateArgs, registry: &Registry) -> i32 {
         String::new()
     };
 
+    let hint = try_hint(args, registry, family.as_ref(), given.as_deref(), &addresses);
     if args.pty || args.slcan_pty {
-        let hint = if args.slcan_pty {
-            let address = given
-                .as_deref()
-                .map(|a| format!(" --address {a}"))
-                .unwrap_or_default();
-            format!(
-                "drivescript read ident --drive {}{address} --can slcan:",
-                args.drive
-            )
-        } else {
-            "drivescript state --port ".to_string()
-        };
         serve_pty(&server, &description, &wire, &hint)
     } else if let Some(addr) = &args.tcp {
-        serve_tcp(&server, addr, &description, &wire, &stop)
+        serve_tcp(&server, addr, &description, &wire, &hint, &stop)
     } else {
         eprintln!("error: give --pty or --tcp ADDR");
         INVALID
+    }
+}
+
+/// The command that talks to the simulated drive as served, without its endpoint: every
+/// flag it needs besides `--port`/`--tcp`/`--can` (the dictionary, the first drive's
+/// address and the baud rate of `--wire-time` where they are not the defaults), so that
+/// copying it reaches this drive and not the default family's at its default address.
+fn try_hint(
+    args: &SimulateArgs,
+    registry: &Registry,
+    family: &dyn Family,
+    given: Option<&str>,
+    addresses: &[DriveAddress],
+) -> String {
+    let mut flags = String::new();
+    if args.drive != DEFAULT_DICTIONARY {
+        flags.push_str(&format!(" --drive {}", args.drive));
+    }
+    let default = family.parse_drive_address(None).ok().map(|a| a.number);
+    let first = given.and_then(|list| list.split(',').next()).map(str::trim);
+    if let (Some(text), Some(a)) = (first, addresses.first()) {
+        if Some(a.number) != default {
+            flags.push_str(&format!(" --address {text}"));
+        }
+    }
+    if args.wire_time && args.baud != family.serial_settings().baud {
+        flags.push_str(&format!(" --baud {}", args.baud));
+    }
+    // `state` only where the dictionary says how to read the state; every built-in
+    // dictionary has `ident`.
+    let has_state = registry
+        .load_dictionary(&args.drive)
+        .is_ok_and(|d| d.role(Role::StatusWord).is_some());
+    let command = if has_state { "state" } else { "read ident" };
+    if args.slcan_pty {
+        format!("drivescript {command}{flags} --can slcan:")
+    } else if args.tcp.is_some() {
+        format!("drivescript {command}{flags}")
+    } else {
+        format!("drivescript {command}{flags} --port ")
     }
 }
 
@@ -240,6 +266,7 @@ fn serve_tcp(
     addr: &str,
     description: &str,
     wire: &str,
+    hint: &str,
     stop: &std::sync::atomic::AtomicBool,
 ) -> i32 {
     let listener = match TcpListener::bind(addr) {
@@ -255,7 +282,7 @@ fn serve_tcp(
         .unwrap_or_else(|_| addr.to_string());
     println!("{local}");
     eprintln!("{description} on tcp {local}{wire}; Ctrl-C to stop");
-    eprintln!("try: drivescript state --tcp {local}");
+    eprintln!("try: {hint} --tcp {local}");
     let _ = std::io::stdout().flush();
     if listener.set_nonblocking(true).is_err() {
         eprintln!("error: cannot poll the listening socket");

@@ -95,7 +95,13 @@ pub fn stop(args: &StopArgs, registry: &Registry) -> i32 {
             code
         }
         Err(OneOffStopError::Silent(e)) => {
-            let text = silent_drive(&args.connection, "stop", &e.to_string());
+            let text = silent_drive(
+                registry,
+                open.drive.dictionary(),
+                &args.connection,
+                "stop",
+                &e.to_string(),
+            );
             eprintln!(
                 "{}",
                 text.replace(

@@ -47,7 +47,7 @@ pub use quantity::Quantity;
 pub(crate) use quantity_reader::read_dimensioned;
 pub use role::Role;
 pub use unit::{Dimension, Unit};
-pub use unknown_object::UnknownObject;
+pub use unknown_object::{objects_command, UnknownObject};
 pub use value::{RawValue, Value};
 pub use value_error::ValueError;
 pub use wire_value_error::WireValueError;

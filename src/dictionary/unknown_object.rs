@@ -16,12 +16,17 @@ pub struct UnknownObject {
 impl UnknownObject {
     /// `did you mean `speed_setpoint`?`, or a pointer to `drivescript objects`.
     pub fn help(&self) -> String {
-        suggestion_text(&self.suggestions).unwrap_or_else(|| {
-            format!(
-                "`drivescript objects --drive {}` lists the objects",
-                self.dictionary
-            )
-        })
+        suggestion_text(&self.suggestions).unwrap_or_else(|| objects_command(Some(&self.dictionary)))
+    }
+}
+
+/// Where to see a dictionary's objects: `drivescript objects` with the `--drive` that
+/// names it (the family id is no `--drive` value), or with the same flags when it is
+/// not a built-in one.
+pub fn objects_command(drive: Option<&str>) -> String {
+    match drive {
+        Some(name) => format!("`drivescript objects --drive {name}` lists the objects"),
+        None => "`drivescript objects` with the same --drive and --dictionary lists the objects".to_string(),
     }
 }
 

@@ -83,6 +83,12 @@ impl AccessError {
         matches!(self, AccessError::Interrupted { .. })
     }
 
+    /// True when the request was refused before anything was sent: it cannot be written
+    /// as a telegram (a read to a group address, a parameter the protocol cannot name).
+    pub fn is_unsent(&self) -> bool {
+        matches!(self, AccessError::Encode(_))
+    }
+
     /// True when nothing usable came back at all (line down, drive off).
     pub fn is_no_reply(&self) -> bool {
         matches!(self, AccessError::NoReply { .. })

@@ -58,6 +58,12 @@ impl Drive {
         &self.clock
     }
 
+    /// The drives a group address reaches, when the drive was opened at one: writes to
+    /// them are sent without a reply, so none is confirmed.
+    pub fn group(&self) -> Option<String> {
+        self.access.group()
+    }
+
     pub fn port(&self) -> String {
         self.access.port()
     }
@@ -466,6 +472,7 @@ fn lookup<'d>(dictionary: &'d Dictionary, name: &str) -> Result<&'d ObjectDef, D
     dictionary.lookup(name).map_err(|e| DriveError::UnknownObject {
         name: name.to_string(),
         suggestions: e.suggestions.clone(),
+        drive: Some(e.dictionary.clone()),
     })
 }
 

@@ -9,8 +9,13 @@ use std::time::Duration;
 
 #[derive(Debug, thiserror::Error)]
 pub enum DriveError {
-    #[error("unknown object `{name}`{}", suggest(suggestions))]
-    UnknownObject { name: String, suggestions: Vec<String> },
+    #[error("unknown object `{name}`{}", suggest(suggestions, drive.as_deref()))]
+    UnknownObject {
+        name: String,
+        suggestions: Vec<String>,
+        /// The built-in dictionary's name, for the `--drive` of `drivescript objects`.
+        drive: Option<String>,
+    },
 
     #[error("{object} is read-only; nothing was sent")]
     ReadOnly { object: String },
@@ -103,9 +108,9 @@ pub enum DriveError {
     LineChangeRefused { object: String, why: String },
 }
 
-fn suggest(s: &[String]) -> String {
+fn suggest(s: &[String], drive: Option<&str>) -> String {
     if s.is_empty() {
-        "; `drivescript objects` lists the objects".into()
+        format!("; {}", crate::dictionary::objects_command(drive))
     } else {
         format!(
             "; did you mean {}?",

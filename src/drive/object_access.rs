@@ -85,6 +85,12 @@ pub trait ObjectAccess: Send {
         let _ = (action, argument);
         None
     }
+    /// The drives addressed at once when the address is a group's (Control Techniques
+    /// `1.0`: `every drive of group 1 (group address 1.0)`): none of them answers a write,
+    /// so nothing can confirm it. `None` (the default) for one drive's address.
+    fn group(&self) -> Option<String> {
+        None
+    }
     /// What we are talking to, for messages: `drive 2 on /dev/ttyUSB0 at 57600 8N1`.
     fn port(&self) -> String;
     /// The clock the link waits on (real, or virtual with the simulator).

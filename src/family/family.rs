@@ -164,6 +164,12 @@ pub trait Family: Send + Sync {
     fn address_help(&self) -> &'static str {
         self.info().address_help
     }
+    /// What to check when a drive of this family does not answer, in its own terms (how
+    /// its address is set, its line settings); the link says the same in its no-reply
+    /// error. The default names only what every family has.
+    fn no_reply_advice(&self) -> &'static str {
+        "check the cable, the baud rate (--baud) and the drive's address (--address)"
+    }
     /// Keys besides `address:` a `drives:` entry may give for this family's drives
     /// (`dnc_address: 2`), and how their values become an address in its notation; the
     /// keys that replace `address:` also have a command-line flag (`--dnc-address`).

@@ -360,7 +360,7 @@ pub fn named_drives_opened(
             if e.is_no_reply() {
                 return Err(RunError::Unreachable(format!(
                     "drive `{name}`: {}",
-                    silent_drive_of(request, &e.to_string())
+                    silent_drive_of(request, drive.dictionary(), &e.to_string())
                 )));
             }
         }

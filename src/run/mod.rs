@@ -44,7 +44,7 @@ pub use drive_args::{open_drive, DictionaryArgs, OpenDrive};
 pub use drive_set::drive_dictionaries;
 pub use exit_code::*;
 pub use maintain::{run_maintain, MaintainRequest, MaintainResult, PrepareMaintained};
-pub use not_run::silent_drive;
+pub use not_run::{another_family, silent_drive};
 pub use output_args::{ColorWhen, OutputArgs};
 pub use pipeline::run;
 pub use run_error::{BadValue, RunError};

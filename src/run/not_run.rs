@@ -5,14 +5,25 @@
 
 use super::run_plan::RunPlan;
 use super::{ConnectionArgs, RunRequest, RunResult, COMMUNICATION};
+use crate::bus::BusKind;
+use crate::dictionary::Dictionary;
+use crate::family::Registry;
 use crate::report::{html_not_run, junit_not_run, write_atomically};
 use crate::session::PlannedCheck;
 use std::io::Write;
 
 /// The message for a drive that did not answer its first request, naming the address as
-/// the user typed it and the three likely causes.
+/// the user typed it, the four likely causes (another family's drive on the line among
+/// them) and the family's own advice. `dictionary` is the one drivescript spoke with;
 /// `what` is what did not start (`recipe`, `script`).
-pub fn silent_drive(connection: &ConnectionArgs, what: &str, detail: &str) -> String {
+pub fn silent_drive(
+    registry: &Registry,
+    dictionary: &Dictionary,
+    connection: &ConnectionArgs,
+    what: &str,
+    detail: &str,
+) -> String {
+    let family = registry.family(dictionary.family()).ok();
     let address = connection
         .address_given()
         .unwrap_or_else(|| "no --address, so the family's default address".to_string());
@@ -21,29 +32,61 @@ pub fn silent_drive(connection: &ConnectionArgs, what: &str, detail: &str) -> St
         (None, Some(t)) => format!("--tcp {t}"),
         (None, None) => "the port".to_string(),
     };
-    let baud = match connection.baud {
-        Some(b) => format!("--baud {b}"),
-        None => "no --baud, so the family's default".to_string(),
+    let baud = match (connection.baud, &family) {
+        (Some(b), _) => format!("--baud {b}"),
+        (None, Some(f)) if f.bus_kind() == BusKind::Bytes => {
+            format!("no --baud, so the family's default {}", f.serial_settings())
+        }
+        (None, _) => "no --baud, so the family's default".to_string(),
     };
+    let notation = family
+        .as_ref()
+        .map_or("see `drivescript run --help` for the notation", |f| {
+            f.address_help()
+        });
+    let advice = family.as_ref().map(|f| f.no_reply_advice());
+    // The link's no-reply error already ends with the same advice: say it once.
+    let detail = advice
+        .and_then(|a| detail.strip_suffix(a))
+        .map_or(detail, |d| d.trim_end_matches([';', ' ']));
+    let advice = advice
+        .map(|a| format!("For a drive of this family: {a}\n"))
+        .unwrap_or_default();
     format!(
         "error: the drive does not answer ({address}, {line}); nothing was written to it and the {what} did not start. \
          Its state is unknown to drivescript: if it may still be running from earlier, check it by hand.\n\
-         The three likely causes:\n  \
-         1. the address: you gave {address}; it must match the drive's address setting (see `drivescript run --help` for the notation)\n  \
+         The likely causes:\n  \
+         1. the address: you gave {address}; it must match the drive's address setting ({notation})\n  \
          2. the baud rate: you gave {baud}; it must match the drive's\n  \
-         3. the line: the cable or adapter, RS485 wiring and termination, the drive's power, or a different {line}\n\
-         detail: {detail}"
+         3. the line: the cable or adapter, RS485 wiring and termination, the drive's power, or a different {line}\n  \
+         4. the drive family: {}\n\
+         {advice}detail: {detail}",
+        another_family(registry, dictionary)
     )
 }
 
-/// [`silent_drive`] for the file of `request`.
-pub fn silent_drive_of(request: &RunRequest, detail: &str) -> String {
+/// A drive of another family on the line as the cause of silence: which family and
+/// dictionary drivescript spoke, and how to name the right one.
+pub fn another_family(registry: &Registry, dictionary: &Dictionary) -> String {
+    let spoken = format!("the `{}` dictionary", dictionary.name());
+    let title = registry
+        .family(dictionary.family())
+        .map_or_else(|_| dictionary.family().to_string(), |f| f.title().to_string());
+    format!(
+        "drivescript spoke {title} with {spoken}; a drive of another family on the line does not answer that: \
+         give the drive's own dictionary with --drive (a recipe: `drive:`); built in: {}",
+        registry.dictionary_names().join(", ")
+    )
+}
+
+/// [`silent_drive`] for the file of `request`, whose drive spoke with `dictionary`.
+pub fn silent_drive_of(request: &RunRequest, dictionary: &Dictionary, detail: &str) -> String {
     let what = if crate::script::is_script(request.file) {
         "script"
     } else {
         "recipe"
     };
-    silent_drive(request.connection, what, detail)
+    silent_drive(request.registry, dictionary, request.connection, what, detail)
 }
 
 /// The JUnit and HTML reports (when asked for) of a run that never started, so that CI

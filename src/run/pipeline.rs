@@ -178,7 +178,11 @@ fn opened(
     if open.simulator.is_none() {
         if let Err(crate::drive::DriveError::Access(e)) = open.drive.state() {
             if e.is_no_reply() {
-                return Err(RunError::Unreachable(silent_drive_of(request, &e.to_string())));
+                return Err(RunError::Unreachable(silent_drive_of(
+                    request,
+                    open.drive.dictionary(),
+                    &e.to_string(),
+                )));
             }
         }
     }

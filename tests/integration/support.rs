@@ -214,12 +214,36 @@ pub struct Simulator {
 
 impl Simulator {
     pub fn start(args: &[&str]) -> Simulator {
+        Simulator::spawn(args, Stdio::null())
+    }
+
+    /// [`Simulator::start`], and the command its `try:` line offers (without `try: `);
+    /// the rest of its standard error is drained so it never blocks.
+    pub fn start_with_hint(args: &[&str]) -> (Simulator, String) {
+        use std::io::BufRead;
+        let mut sim = Simulator::spawn(args, Stdio::piped());
+        let mut err = std::io::BufReader::new(sim.child.stderr.take().expect("stderr is piped"));
+        let mut hint = String::new();
+        let mut seen = String::new();
+        while err.read_line(&mut seen).unwrap_or(0) > 0 {
+            if let Some(h) = seen.trim().strip_prefix("try: ") {
+                hint = h.to_string();
+                break;
+            }
+            seen.clear();
+        }
+        assert!(!hint.is_empty(), "simulate offers a `try:` line: {seen}");
+        std::thread::spawn(move || std::io::copy(&mut err, &mut std::io::sink()));
+        (sim, hint)
+    }
+
+    fn spawn(args: &[&str], stderr: Stdio) -> Simulator {
         use std::io::BufRead;
         let mut child = Command::new(env!("CARGO_BIN_EXE_drivescript"))
             .arg("simulate")
             .args(args)
             .stdout(Stdio::piped())
-            .stderr(Stdio::null())
+            .stderr(stderr)
             .spawn()
             .expect("simulate starts");
         let mut line = String::new();

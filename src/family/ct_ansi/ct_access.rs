@@ -185,6 +185,10 @@ impl ObjectAccess for CtAccess {
         Some(Ok(found))
     }
 
+    fn group(&self) -> Option<String> {
+        self.node.is_broadcast().then(|| self.node.describe())
+    }
+
     fn port(&self) -> String {
         format!("{} on {}", self.node.describe(), self.link.port())
     }

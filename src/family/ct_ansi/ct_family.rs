@@ -77,6 +77,10 @@ impl Family for CtFamily {
         })
     }
 
+    fn no_reply_advice(&self) -> &'static str {
+        super::ct_link::NO_REPLY_HINT
+    }
+
     fn check_link_options(&self, extra: &[(String, String)]) -> Result<(), FamilyError> {
         baud_parameter(extra).map(|_| ())
     }

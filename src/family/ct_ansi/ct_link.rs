@@ -32,7 +32,8 @@ use std::time::Duration;
 /// at all has answered by then, so the exchange under way finishes.
 const STOP_GRACE: Duration = Duration::from_millis(20);
 /// What to check when a Control Techniques drive stays silent.
-const NO_REPLY_HINT: &str = "check the cable (RS485 A/B), the baud rate and parity (--baud, --parity: the drive's serial mode) and the drive's serial address (--address G.U)";
+/// What to check when the drive does not answer; also the family's `no_reply_advice`.
+pub(super) const NO_REPLY_HINT: &str = "check the cable (RS485 A/B), the baud rate and parity (--baud, --parity: the drive's serial mode) and the drive's serial address (--address G.U)";
 /// What a NAK can mean; the drive does not say which.
 const NAK_TEXT: &str = "the drive answered NAK: the value is out of range or invalid, the parameter is read-only or does not exist, or the message arrived damaged";
 

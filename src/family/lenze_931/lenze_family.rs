@@ -44,6 +44,10 @@ impl Family for Lenze931Family {
         }
     }
 
+    fn no_reply_advice(&self) -> &'static str {
+        super::lenze_link::NO_REPLY_HINT
+    }
+
     fn open(&self, bus: &Bus, _drive: &DriveAddress, options: &LinkOptions, context: LinkContext) -> Opened {
         let transport = serial_line(bus, self.id())?;
         self.check_link_options(&options.extra)?;

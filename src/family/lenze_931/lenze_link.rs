@@ -25,7 +25,8 @@ use std::time::Duration;
 /// way finishes (a 9600-baud reply of 14 characters takes about 15 ms on the wire).
 const STOP_GRACE: Duration = Duration::from_millis(30);
 /// What to check when a 931 stays silent.
-const NO_REPLY_HINT: &str = "check the RS232 cable (TxD/RxD crossed), the baud rate (the 931 ships at 9600 8N1) and that the drive is powered";
+/// What to check when the drive does not answer; also the family's `no_reply_advice`.
+pub(super) const NO_REPLY_HINT: &str = "check the RS232 cable (TxD/RxD crossed), the baud rate (the 931 ships at 9600 8N1) and that the drive is powered";
 
 /// How the link waits and retries.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -57,6 +57,10 @@ impl Family for Lenze9400Family {
         })
     }
 
+    fn no_reply_advice(&self) -> &'static str {
+        super::sdo_link::NO_REPLY_HINT
+    }
+
     fn open(&self, bus: &Bus, drive: &DriveAddress, options: &LinkOptions, context: LinkContext) -> Opened {
         let Bus::Frames(frames) = bus else {
             return Err(FamilyError::WrongBus(format!(

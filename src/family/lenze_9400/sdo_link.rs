@@ -26,7 +26,8 @@ const STOP_GRACE: Duration = Duration::from_millis(20);
 /// bus must not keep the link draining forever).
 const DRAIN_MAX: usize = 64;
 /// What to check when the node stays silent.
-const NO_REPLY_HINT: &str = "check the node address (C00350), the bit rate, the CAN wiring and termination, and that the adapter is open on the right bus";
+/// What to check when the drive does not answer; also the family's `no_reply_advice`.
+pub(super) const NO_REPLY_HINT: &str = "check the node address (C00350), the bit rate, the CAN wiring and termination, and that the adapter is open on the right bus";
 
 /// How the link waits and retries.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -109,6 +109,10 @@ impl Family for Sd2Family {
         })
     }
 
+    fn no_reply_advice(&self) -> &'static str {
+        super::sd2_link::NO_REPLY_HINT
+    }
+
     fn address_keys(&self) -> AddressKeys {
         super::SD2_ADDRESS_KEYS
     }

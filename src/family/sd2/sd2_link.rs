@@ -22,7 +22,8 @@ use std::time::Duration;
 /// so the telegram under way finishes and its answer is not lost.
 const STOP_GRACE: Duration = Duration::from_millis(20);
 /// What to check when an SD2 drive stays silent.
-const NO_REPLY_HINT: &str = "check the cable, the baud rate, the drive's DNC address (address switch), and that its control channel is set to the serial interface";
+/// What to check when the drive does not answer; also the family's `no_reply_advice`.
+pub(super) const NO_REPLY_HINT: &str = "check the cable, the baud rate, the drive's DNC address (address switch), and that its control channel is set to the serial interface";
 
 pub struct Sd2Link {
     /// Shared with the other drives on the same line; locked for one whole exchange.

@@ -50,7 +50,7 @@ impl Loader<'_, '_> {
             }
             Err(e) => {
                 let help = if e.suggestions.is_empty() {
-                    "`drivescript objects` lists the objects of the dictionary".to_string()
+                    crate::dictionary::objects_command(Some(self.dict.name()))
                 } else {
                     format!(
                         "did you mean {}?",

@@ -38,6 +38,10 @@ pub enum Effect {
     Reset,
 }
 
+/// The most #1.06 can be: SPEED_LIMIT_MAX, at most 40000.0 rpm (Unidrive SP Advanced User
+/// Guide, table 4-1), as in the dictionary; a drive model allowed more still stops here.
+const SPEED_LIMIT_MAX_RPM: f64 = 40_000.0;
+
 /// The parameters the drive stores itself (the others are read from the model).
 #[derive(Debug, Clone)]
 pub struct CtParameters {
@@ -55,7 +59,7 @@ pub struct CtParameters {
 impl CtParameters {
     pub fn new(max_speed_rpm: f64) -> Self {
         CtParameters {
-            max_speed: DataValue::new((max_speed_rpm * 10.0).round() as i64, 1),
+            max_speed: DataValue::new((max_speed_rpm.min(SPEED_LIMIT_MAX_RPM) * 10.0).round() as i64, 1),
             reference_selector: 3,
             ramp_rates: [DataValue::new(2000, 3), DataValue::new(2000, 3)],
             drive_enable: 1,
@@ -147,7 +151,8 @@ impl CtParameters {
         match (p.menu, p.param) {
             (1, 6) => {
                 let max = v.with_places(1).ok_or(Refusal::OutOfRange)?;
-                if max.digits < 0 || max.digits as f64 / 10.0 > model.config().max_speed_rpm {
+                let limit = model.config().max_speed_rpm.min(SPEED_LIMIT_MAX_RPM);
+                if max.digits < 0 || max.digits as f64 / 10.0 > limit {
                     return Err(Refusal::OutOfRange);
                 }
                 self.max_speed = max;
