@@ -198,6 +198,18 @@ impl Loader<'_, '_> {
         self.r.problem(span, message, label, help);
     }
 
+    /// Records a problem and gives up on the part being read (the one way a part refuses).
+    fn refuse<T>(
+        &mut self,
+        span: &Span,
+        message: impl Into<String>,
+        label: impl Into<String>,
+        help: Option<String>,
+    ) -> Option<T> {
+        self.problem(span, message, label, help);
+        None
+    }
+
     fn over_limit(&mut self, span: &Span, over: OverLimit) {
         self.problem(span, over.message, over.label, Some(over.help));
     }

@@ -4,7 +4,7 @@
 //! must not open anything; the command line does.
 
 use super::{did_you_mean, Loader};
-use crate::diag::{expected, read_source, Fields, Shape, Span, YamlNode, YamlValue};
+use crate::diag::{read_source, Fields, Shape, Span, YamlNode, YamlValue};
 use crate::dictionary::Dictionary;
 use crate::drive::{AddressKey, AddressKeys, KeyUse};
 use crate::recipe::drive_decl::DriveDecl;
@@ -46,12 +46,11 @@ pub fn declared_drives(path: &Path) -> Vec<(String, String)> {
 impl<'a> Loader<'a, '_> {
     /// `drives: { left: { drive: sd2, address: dnc:2 }, … }`.
     pub(super) fn drives_section(&mut self, node: &YamlNode) -> Vec<DriveDecl> {
-        let Some(entries) = node.entries() else {
-            self.r.report(expected(
-                node,
-                "`drives`",
-                "a mapping of named drives (drives: { left: { drive: sd2, address: dnc:2 } })",
-            ));
+        let Some(entries) = self.r.mapping(
+            node,
+            "`drives`",
+            "a mapping of named drives (drives: { left: { drive: sd2, address: dnc:2 } })",
+        ) else {
             return Vec::new();
         };
         if entries.is_empty() {

@@ -101,7 +101,7 @@ impl Loader<'_, '_> {
                     .filter(|k| k.value != "name")
                     .collect();
                 let [key] = keys.as_slice() else {
-                    self.problem(
+                    return self.refuse(
                         &node.span,
                         format!(
                             "a step has one keyword (and optionally `name`), this one has {}",
@@ -110,7 +110,6 @@ impl Loader<'_, '_> {
                         "one step per list item",
                         Some("start each step with its own `- `".into()),
                     );
-                    return None;
                 };
                 let body = node.get(&key.value)?;
                 let name = node
@@ -153,13 +152,12 @@ impl Loader<'_, '_> {
             "repeat" => self.repeat(body)?,
             "include" => self.include(body)?,
             word if DeviceCommand::from_id(word).is_some() => {
-                self.problem(
+                return self.refuse(
                     &key.span,
                     format!("`{word}` takes no settings; write it on its own: `- {word}`"),
                     "a plain command",
                     None,
                 );
-                return None;
             }
             word => {
                 self.unknown_step(&key.span, word);
@@ -192,7 +190,7 @@ impl Loader<'_, '_> {
     fn command_on_drive(&mut self, cmd: DeviceCommand, body: &YamlNode, origin: StepOrigin) -> Option<Step> {
         let drive = self.r.scalar_text(body, "the drive to command")?;
         if !self.several_drives() {
-            self.problem(
+            return self.refuse(
                 &body.span,
                 format!(
                     "`{}: {drive}` names a drive, but this recipe has no `drives:`",
@@ -201,7 +199,6 @@ impl Loader<'_, '_> {
                 "no such drive",
                 Some(format!("write `- {}` for the recipe's one drive", cmd.id())),
             );
-            return None;
         }
         let ok = self.on_drive(&drive, &body.span, |l| {
             if !l.has_profile(&body.span, &format!("`{}`", cmd.id())) {
