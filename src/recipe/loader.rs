@@ -17,7 +17,7 @@ mod tests;
 
 use super::expansion::{Expansion, OverLimit};
 use super::recipe::Recipe;
-use super::recipe_invalid::RecipeInvalid;
+use super::RecipeInvalid;
 use crate::diag::{read_source, Diagnostic, Diagnostics, Reader, Source, Span};
 use crate::dictionary::Dictionary;
 use crate::drive::AddressKeyTable;

@@ -16,6 +16,7 @@ mod wait_until;
 
 use super::{did_you_mean, show_duration, Loader};
 use crate::diag::{Span, Spanned, YamlNode, YamlValue};
+use crate::dictionary::Profile;
 use crate::drive::device_control::{DeviceCommand, DeviceState};
 use crate::recipe::step::{Step, StepKind};
 use crate::session::StepOrigin;
@@ -236,40 +237,33 @@ impl Loader<'_, '_> {
     /// A command the dictionary's profile leaves out (the drive has no such command) is
     /// refused before anything is sent.
     fn check_command(&mut self, span: &Span, command: DeviceCommand) {
-        let Some(profile) = self.dict.profile() else {
-            return;
-        };
-        if !profile.has_command(command) {
-            let family = self.dict.name().unwrap_or(self.dict.family()).to_string();
-            self.problem(
-                span,
-                format!(
-                    "the {family} drive has no `{}` command (its profile leaves it out)",
-                    command.id()
-                ),
-                "not on this drive",
-                Some(format!("its commands are: {}", profile.command_ids().join(", "))),
-            );
-        }
+        let lacks = format!("has no `{}` command", command.id());
+        self.check_profile(span, &lacks, |p| {
+            (!p.has_command(command)).then(|| format!("its commands are: {}", p.command_ids().join(", ")))
+        });
     }
 
     /// A state the dictionary's profile leaves out can be neither reached nor waited for.
     fn check_state(&mut self, span: &Span, state: DeviceState) {
-        let Some(profile) = self.dict.profile() else {
+        let lacks = format!("does not show the state `{}`", state.id());
+        self.check_profile(span, &lacks, |p| {
+            (!p.has_state(state)).then(|| format!("its states are: {}", p.state_ids().join(", ")))
+        });
+    }
+
+    /// Refuses what the dictionary's profile leaves out: `missing` gives the help (what the
+    /// profile has instead) when the profile lacks it.
+    fn check_profile(&mut self, span: &Span, lacks: &str, missing: impl Fn(&Profile) -> Option<String>) {
+        let Some(help) = self.dict.profile().and_then(missing) else {
             return;
         };
-        if !profile.has_state(state) {
-            let family = self.dict.name().unwrap_or(self.dict.family()).to_string();
-            self.problem(
-                span,
-                format!(
-                    "the {family} drive does not show the state `{}` (its profile leaves it out)",
-                    state.id()
-                ),
-                "not on this drive",
-                Some(format!("its states are: {}", profile.state_ids().join(", "))),
-            );
-        }
+        let family = self.dict.name().unwrap_or(self.dict.family()).to_string();
+        self.problem(
+            span,
+            format!("the {family} drive {lacks} (its profile leaves it out)"),
+            "not on this drive",
+            Some(help),
+        );
     }
 
     /// A device state named by `node`, the value of `what`.
