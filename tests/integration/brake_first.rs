@@ -42,26 +42,27 @@ fn shipped_recipes_that_enable() -> Vec<PathBuf> {
 /// The speed values (rpm) of the trace's speed_actual replies, each with its line number.
 #[cfg(unix)]
 fn speed_replies(trace: &str) -> Vec<(usize, f64)> {
-    trace
-        .lines()
-        .enumerate()
-        .filter_map(|(i, line)| {
-            let (_, after) = line.split_once("# reply speed_actual = ")?;
-            Some((i, after.split_whitespace().next()?.parse().ok()?))
-        })
-        .collect()
+    numbered(trace, |line| {
+        let (_, after) = line.split_once("# reply speed_actual = ")?;
+        after.split_whitespace().next()?.parse().ok()
+    })
 }
 
 /// The line numbers and values of the control words written in the trace.
 #[cfg(unix)]
 fn control_words(trace: &str) -> Vec<(usize, i64)> {
+    numbered(trace, |line| {
+        Some(traced_writes(line, CONTROL_WORD).into_iter().next()?.1)
+    })
+}
+
+/// What `find` finds in the trace's lines, each with its line number.
+#[cfg(unix)]
+fn numbered<T>(trace: &str, find: impl Fn(&str) -> Option<T>) -> Vec<(usize, T)> {
     trace
         .lines()
         .enumerate()
-        .filter_map(|(i, line)| {
-            let (_, v) = traced_writes(line, CONTROL_WORD).into_iter().next()?;
-            Some((i, v))
-        })
+        .filter_map(|(i, line)| Some((i, find(line)?)))
         .collect()
 }
 
