@@ -75,16 +75,11 @@ fn ctrl_c_while_turning(recipe: &Path) -> Result<(), String> {
     let name = recipe.file_stem().and_then(|s| s.to_str()).unwrap_or("recipe");
     let dir = crate::support::scratch(&format!("shipped-{name}"));
     let trace = dir.join("run.trace");
-    let run = LiveRun::start([
-        std::ffi::OsStr::new("run"),
-        recipe.as_os_str(),
-        "--port".as_ref(),
-        sim.endpoint.as_ref(),
-        "--trace".as_ref(),
-        trace.as_os_str(),
-        "--output-dir".as_ref(),
-        dir.as_os_str(),
-    ]);
+    let run = LiveRun::run_on(
+        recipe,
+        &sim.endpoint,
+        &[("--trace", &trace), ("--output-dir", &dir)],
+    );
     let started = Instant::now();
     loop {
         let text = std::fs::read_to_string(&trace).unwrap_or_default();

@@ -59,8 +59,8 @@ fn edited_copy(
 #[cfg(unix)]
 #[test]
 fn backup_change_diff_restore_diff() {
-    let bench = on_a_pty("round-trip", &["--pty"], "backup.yaml");
-    let (dir, file, port) = (&bench.0, bench.2.as_str(), bench.1.endpoint.as_str());
+    let (dir, sim, file) = on_a_pty("round-trip", &["--pty"], "backup.yaml");
+    let (file, port) = (file.as_str(), sim.endpoint.as_str());
     let extra = two_parameters(&dir);
     let dict = ["--dictionary", extra.as_str(), "--port", port];
 
@@ -115,8 +115,8 @@ fn backup_change_diff_restore_diff() {
 #[cfg(unix)]
 #[test]
 fn restore_refuses_before_writing() {
-    let bench = on_a_pty("refusals", &["--pty"], "backup.yaml");
-    let (dir, file, port) = (&bench.0, bench.2.as_str(), bench.1.endpoint.as_str());
+    let (dir, sim, file) = on_a_pty("refusals", &["--pty"], "backup.yaml");
+    let (file, port) = (file.as_str(), sim.endpoint.as_str());
     assert_eq!(run(&["backup", "-o", file, "--port", port]).0, 0);
     let saved = std::fs::read_to_string(file).expect("backup written");
     assert_eq!(run(&["write", "parameter_set", "7", "--port", port]).0, 0);
@@ -210,8 +210,8 @@ fn an_interrupted_restore_says_what_was_written() {
 #[cfg(unix)]
 #[test]
 fn a_control_techniques_scan_saves_and_compares_parameters_beyond_the_dictionary() {
-    let bench = on_a_pty("ct-all", &["--drive", "ct-unidrive-sp", "--pty"], "all.yaml");
-    let (dir, file, port) = (&bench.0, bench.2.as_str(), bench.1.endpoint.as_str());
+    let (dir, sim, file) = on_a_pty("ct-all", &["--drive", "ct-unidrive-sp", "--pty"], "all.yaml");
+    let (file, port) = (file.as_str(), sim.endpoint.as_str());
     let ct = ["--drive", "ct-unidrive-sp", "--port", port];
     let (code, out) = run(&[&["backup", "--all", "-o", file][..], &ct[..]].concat());
     assert_eq!(code, 0, "{out}");

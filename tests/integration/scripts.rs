@@ -441,14 +441,7 @@ fn sigint_during_a_scripts_sample_through_a_pty_stops_the_drive() {
          let s = d.sample([\"speed_actual\"], \"30 s\", \"10 min\");\n",
     );
     let trace = dir.join("run.trace");
-    let mut run = LiveRun::start([
-        std::ffi::OsStr::new("run"),
-        script.as_os_str(),
-        "--port".as_ref(),
-        sim.endpoint.as_ref(),
-        "--trace".as_ref(),
-        trace.as_os_str(),
-    ]);
+    let mut run = LiveRun::run_on(&script, &sim.endpoint, &[("--trace", &trace)]);
     run.wait_for("sampling");
     std::thread::sleep(Duration::from_millis(300));
     let before = std::fs::read_to_string(&trace).expect("trace").lines().count();

@@ -254,6 +254,16 @@ pub struct LiveRun {
 }
 
 impl LiveRun {
+    /// `drivescript run FILE --port PORT`, then flags that each take a path (`--trace`).
+    pub fn run_on(file: &Path, port: &str, path_flags: &[(&str, &Path)]) -> LiveRun {
+        let mut args: Vec<&std::ffi::OsStr> =
+            vec!["run".as_ref(), file.as_os_str(), "--port".as_ref(), port.as_ref()];
+        for (flag, path) in path_flags {
+            args.extend([flag.as_ref(), path.as_os_str()]);
+        }
+        LiveRun::start(args)
+    }
+
     pub fn start<I, S>(args: I) -> LiveRun
     where
         I: IntoIterator<Item = S>,
