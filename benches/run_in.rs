@@ -353,12 +353,11 @@ fn channels(dir: &Path) -> Result<(), String> {
     );
     // Every 2 ms asks for more than either channel carries: each of the 1001 samples is
     // taken as soon as the line allows, so the rate is samples over the run's time.
-    let recipe = dir.join("four.yaml");
-    std::fs::write(
-        &recipe,
+    let recipe = write_recipe(
+        dir,
+        "four.yaml",
         "name: Four values as fast as the line allows\nsteps:\n  - sample: { objects: [status_word, speed_actual, drive_error, current_actual], every: 2 ms, for: 2 s }\nfinally: []\n",
-    )
-    .map_err(|e| e.to_string())?;
+    )?;
     // The simulator counts the cyclic current in 0.01 A (its own choice; the sources do
     // not give the drive's scaling, so the user states it).
     let cyclic_args = [
@@ -524,12 +523,13 @@ fn cpu_per_telegram(dir: &Path) -> Result<(), String> {
         println!("  skipped: python3 with pyserial is not installed (pip install pyserial)");
         return Ok(());
     }
-    let recipe = dir.join("reads.yaml");
-    std::fs::write(
-        &recipe,
-        format!("name: Reads\nsteps:\n  - repeat: {{ times: {READS}, steps: [ {{ read: speed_actual }} ] }}\nfinally: []\n"),
-    )
-    .map_err(|e| e.to_string())?;
+    let recipe = write_recipe(
+        dir,
+        "reads.yaml",
+        format!(
+            "name: Reads\nsteps:\n  - repeat: {{ times: {READS}, steps: [ {{ read: speed_actual }} ] }}\nfinally: []\n"
+        ),
+    )?;
     let request = Telegram::read_request(2, 1, 398, 0).encode(WriteLength::Captured);
     let hex: String = request.iter().map(|b| format!("{b:02x}")).collect();
     let reply_len = read_reply_len().to_string();
@@ -609,22 +609,20 @@ fn cpu_per_telegram(dir: &Path) -> Result<(), String> {
 fn wire_rate(dir: &Path) -> Result<(), String> {
     let limit = read_limit();
     println!("wire: reads of a 4-byte object through a pty at 57600 bit/s, limit {limit:.1} reads/s");
-    let sample = dir.join("sample.yaml");
-    std::fs::write(
-        &sample,
+    let sample = write_recipe(
+        dir,
+        "sample.yaml",
         format!(
             "name: Sample as fast as the line allows\nsteps:\n  - sample: {{ objects: [speed_actual], every: 4 ms, for: {WIRE_SECONDS} s }}\nfinally: []\n"
         ),
-    )
-    .map_err(|e| e.to_string())?;
-    let repeat = dir.join("repeat.yaml");
-    std::fs::write(
-        &repeat,
+    )?;
+    let repeat = write_recipe(
+        dir,
+        "repeat.yaml",
         format!(
             "name: Read in a loop\nsteps:\n  - repeat: {{ for: {WIRE_SECONDS} s, steps: [ {{ read: speed_actual }} ] }}\nfinally: []\n"
         ),
-    )
-    .map_err(|e| e.to_string())?;
+    )?;
     // The three measurements take turns, so a busy spell of the machine falls on all of
     // them alike; each figure is the median of its rounds.
     let mut bare_rates = Vec::new();
@@ -678,12 +676,11 @@ fn wire_rate(dir: &Path) -> Result<(), String> {
 /// 24 h at 100 Hz in virtual time, without and with CSV.
 fn long_run(dir: &Path) -> Result<(), String> {
     println!("\nlong run: 24 h sampling speed_actual and current_actual every 10 ms, --fast");
-    let long = dir.join("long.yaml");
-    std::fs::write(
-        &long,
+    let long = write_recipe(
+        dir,
+        "long.yaml",
         "name: A day at 100 Hz\nsteps:\n  - go_to: operation_enabled\n  - set: { speed_setpoint: 6000 rpm }\n  - sample: { objects: [speed_actual, current_actual], every: 10 ms, for: 24 h }\n",
-    )
-    .map_err(|e| e.to_string())?;
+    )?;
     let day = 24.0 * 3600.0;
     let csv = dir.join("long.csv");
     let csv_arg = csv.to_string_lossy().to_string();
@@ -711,4 +708,11 @@ fn long_run(dir: &Path) -> Result<(), String> {
         );
     }
     Ok(())
+}
+
+/// Writes a recipe for a measurement into the scratch folder.
+fn write_recipe(dir: &Path, name: &str, text: impl AsRef<str>) -> Result<PathBuf, String> {
+    let path = dir.join(name);
+    std::fs::write(&path, text.as_ref()).map_err(|e| e.to_string())?;
+    Ok(path)
 }

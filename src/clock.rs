@@ -25,7 +25,19 @@ pub trait Clock: Send + Sync + Debug {
     /// Waits until `deadline` or until a stop request is pending, whichever comes first;
     /// true when it was the stop request. Every wait of the engine goes through here, so a
     /// stop request wakes it at once instead of when the step would have woken anyway.
-    fn wait_until(&self, deadline: Duration, stop: &StopRequests) -> bool;
+    fn wait_until(&self, deadline: Duration, stop: &StopRequests) -> bool {
+        loop {
+            let now = self.now();
+            match stop.wait_step(now, deadline) {
+                WaitStep::Stopped => return true,
+                WaitStep::Reached => return false,
+                WaitStep::Until(until) => self.wait_step_until(now, until, stop),
+            }
+        }
+    }
+    /// One step of [`Clock::wait_until`]: towards `until` (the deadline or the time of a
+    /// scheduled stop request), from `now`; it may return early, and is asked again.
+    fn wait_step_until(&self, now: Duration, until: Duration, stop: &StopRequests);
 
     /// Waits for `duration`.
     fn sleep(&self, duration: Duration) {
@@ -91,17 +103,11 @@ impl Clock for RealClock {
         }
     }
 
-    fn wait_until(&self, deadline: Duration, stop: &StopRequests) -> bool {
-        loop {
-            let now = self.now();
-            match stop.wait_step(now, deadline) {
-                WaitStep::Stopped => return true,
-                WaitStep::Reached => return false,
-                WaitStep::Until(until) if until - now > SPIN_BELOW => {
-                    stop.wait_real(until - now - SPIN_BELOW)
-                }
-                WaitStep::Until(_) => std::hint::spin_loop(),
-            }
+    fn wait_step_until(&self, now: Duration, until: Duration, stop: &StopRequests) {
+        if until - now > SPIN_BELOW {
+            stop.wait_real(until - now - SPIN_BELOW)
+        } else {
+            std::hint::spin_loop()
         }
     }
 
@@ -167,17 +173,10 @@ impl Clock for VirtualClock {
         self.nanos.fetch_max(saturating_nanos(deadline), Ordering::SeqCst);
     }
 
-    fn wait_until(&self, deadline: Duration, stop: &StopRequests) -> bool {
-        loop {
-            let now = self.now();
-            match stop.wait_step(now, deadline) {
-                WaitStep::Stopped => return true,
-                WaitStep::Reached => return false,
-                // A request scheduled before the deadline ends the jump there, at its time
-                // (`wait_step` has delivered those due by now, so time always moves on).
-                WaitStep::Until(until) => self.sleep_until(until),
-            }
-        }
+    fn wait_step_until(&self, _now: Duration, until: Duration, _stop: &StopRequests) {
+        // A request scheduled before the deadline ends the jump there, at its time
+        // (`wait_step` has delivered those due by now, so time always moves on).
+        self.sleep_until(until);
     }
 
     fn is_virtual(&self) -> bool {

@@ -11,7 +11,7 @@ mod memory_frame_bus;
 mod peer_line;
 mod read_within;
 mod serial;
-mod shared_transport;
+mod shared;
 mod slcan_adapter;
 mod slcan_bus;
 pub mod slcan_codec;
@@ -22,10 +22,10 @@ mod transport_error;
 
 pub use bus::{Bus, BusKind};
 pub use can_frame::CanFrame;
-pub use frame_bus::{FrameBus, SharedFrameBus};
+pub use frame_bus::FrameBus;
 pub use memory_frame_bus::{FramePeer, MemoryFrameBus};
 pub use peer_line::{EchoingLine, FramePeerLine, PeerLine};
-pub use shared_transport::SharedTransport;
+pub use shared::{Named, Shared, SharedFrameBus, SharedTransport};
 pub use slcan_adapter::SlcanAdapter;
 pub use slcan_bus::SlcanBus;
 #[cfg(target_os = "linux")]

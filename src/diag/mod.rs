@@ -1,7 +1,8 @@
 //! Diagnostics and the YAML field reader shared by every loader (recipes, dictionaries,
 //! limits files): the file read within limits ([`Source`], `read_source`), places in it
 //! ([`Span`]), one problem with its place, label and help ([`Diagnostic`]) and all of a
-//! check's problems at once ([`Diagnostics`]), rendered by miette; the spanned YAML tree
+//! check's problems at once ([`Diagnostics`]), rendered by miette, and a file refused with
+//! them ([`FileInvalid`]); the spanned YAML tree
 //! ([`YamlNode`]) and the reader that checks mappings against a [`Shape`] and reads typed
 //! values ([`Reader`], [`Fields`]). It must not know what any file means: recipes,
 //! dictionaries and limits files give their keys and their words.
@@ -10,6 +11,7 @@ mod diagnostic;
 mod diagnostics;
 mod did_you_mean;
 mod fields;
+mod file_invalid;
 mod reader;
 mod shape;
 mod source;
@@ -22,6 +24,7 @@ pub use diagnostic::Diagnostic;
 pub use diagnostics::{render_diagnostic, report_handler, Diagnostics};
 pub use did_you_mean::{did_you_mean, suggestion_text};
 pub use fields::Fields;
+pub use file_invalid::FileInvalid;
 pub use reader::{expected, Reader};
 pub use shape::Shape;
 pub use source::Source;

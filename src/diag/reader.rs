@@ -10,7 +10,7 @@ use super::diagnostics::Diagnostics;
 use super::did_you_mean::{did_you_mean, suggestion_text};
 use super::fields::Fields;
 use super::shape::Shape;
-use super::span::Span;
+use super::span::{Span, Spanned};
 use super::yaml_node::{YamlNode, YamlValue};
 use std::collections::HashSet;
 
@@ -189,6 +189,20 @@ impl<'d> Reader<'d> {
         match &node.value {
             YamlValue::Seq(items) => Some(items),
             _ => self.refuse(expected(node, what, wanted)),
+        }
+    }
+
+    /// The entries of a mapping whose keys are free (names the file chooses); `wanted`
+    /// describes it for the message, with an example.
+    pub fn mapping<'n>(
+        &mut self,
+        node: &'n YamlNode,
+        what: &str,
+        wanted: &str,
+    ) -> Option<&'n [(Spanned<String>, YamlNode)]> {
+        match node.entries() {
+            Some(entries) => Some(entries),
+            None => self.refuse(expected(node, what, wanted)),
         }
     }
 

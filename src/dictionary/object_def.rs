@@ -217,33 +217,11 @@ impl ObjectDef {
         let counts = self.counts_of(value);
         let rounded = self.engineering(counts.clamp(i64::MIN as f64, i64::MAX as f64) as i64);
         let tolerance = self.scale * 1e-6;
-        if let Some(max) = self.max {
-            if rounded > max + tolerance {
-                let (object, value, limit) = (self.name.clone(), given, self.with_unit(max));
-                return Err(match &self.bench {
-                    Some(b) if b.max => ValueError::AboveBenchLimit {
-                        object,
-                        value,
-                        limit,
-                        origin: b.origin.clone(),
-                    },
-                    _ => ValueError::AboveMax { object, value, limit },
-                });
-            }
+        if let Some(max) = self.max.filter(|max| rounded > max + tolerance) {
+            return Err(self.beyond(given, max, true));
         }
-        if let Some(min) = self.min {
-            if rounded < min - tolerance {
-                let (object, value, limit) = (self.name.clone(), given, self.with_unit(min));
-                return Err(match &self.bench {
-                    Some(b) if b.min => ValueError::BelowBenchLimit {
-                        object,
-                        value,
-                        limit,
-                        origin: b.origin.clone(),
-                    },
-                    _ => ValueError::BelowMin { object, value, limit },
-                });
-            }
+        if let Some(min) = self.min.filter(|min| rounded < min - tolerance) {
+            return Err(self.beyond(given, min, false));
         }
         if counts < lo as f64 || counts > hi as f64 {
             let mut range = format!(
@@ -275,6 +253,30 @@ impl ObjectDef {
             })?,
             None => RawValue::Int(counts as i64),
         })
+    }
+
+    /// The refusal of `value` beyond `limit`, above the maximum or below the minimum; it
+    /// names the bench limits file when that set the limit.
+    fn beyond(&self, value: String, limit: f64, above: bool) -> ValueError {
+        let (object, limit) = (self.name.clone(), self.with_unit(limit));
+        let bench = self.bench.as_ref().filter(|b| if above { b.max } else { b.min });
+        let origin = bench.map(|b| b.origin.clone());
+        match (origin, above) {
+            (Some(origin), true) => ValueError::AboveBenchLimit {
+                object,
+                value,
+                limit,
+                origin,
+            },
+            (Some(origin), false) => ValueError::BelowBenchLimit {
+                object,
+                value,
+                limit,
+                origin,
+            },
+            (None, true) => ValueError::AboveMax { object, value, limit },
+            (None, false) => ValueError::BelowMin { object, value, limit },
+        }
     }
 
     /// Checks text for a string object: plain printable ASCII, at most the type's maximum.
@@ -359,18 +361,32 @@ mod tests {
     use super::*;
     use proptest::prelude::*;
 
-    fn speed_setpoint() -> ObjectDef {
-        let mut o = ObjectDef::new(
-            "speed_setpoint",
-            Address::indexed(395, 0),
-            DataType::I32,
-            Access::ReadWrite,
-        );
-        o.unit = Some(Unit::Rpm);
+    /// An i32 object counting thousandths of `unit`.
+    fn milli(name: &str, index: u16, access: Access, unit: Unit) -> ObjectDef {
+        let mut o = ObjectDef::new(name, Address::indexed(index, 0), DataType::I32, access);
+        o.unit = Some(unit);
         o.scale = 0.001;
+        o
+    }
+
+    fn control_word() -> ObjectDef {
+        ObjectDef::new(
+            "control_word",
+            Address::indexed(68, 0),
+            DataType::U16,
+            Access::ReadWrite,
+        )
+    }
+
+    fn speed_setpoint() -> ObjectDef {
+        let mut o = milli("speed_setpoint", 395, Access::ReadWrite, Unit::Rpm);
         o.min = Some(-60000.0);
         o.max = Some(60000.0);
         o
+    }
+
+    fn refused(o: &ObjectDef, text: &str) -> ValueError {
+        o.to_raw(&Quantity::parse(text).unwrap()).unwrap_err()
     }
 
     fn counts_for(o: &ObjectDef, text: &str) -> RawValue {
@@ -400,16 +416,18 @@ mod tests {
     #[test]
     fn limits_are_refused_with_the_limit_and_unit() {
         let o = speed_setpoint();
-        let e = o.to_raw(&Quantity::parse("70000 rpm").unwrap()).unwrap_err();
-        assert_eq!(
-            e.to_string(),
-            "70000 rpm is above the maximum of speed_setpoint, 60000 rpm"
-        );
-        let e = o.to_raw(&Quantity::parse("-61 krpm").unwrap()).unwrap_err();
-        assert_eq!(
-            e.to_string(),
-            "-61 krpm (-61000 rpm) is below the minimum of speed_setpoint, -60000 rpm"
-        );
+        for (given, refusal) in [
+            (
+                "70000 rpm",
+                "70000 rpm is above the maximum of speed_setpoint, 60000 rpm",
+            ),
+            (
+                "-61 krpm",
+                "-61 krpm (-61000 rpm) is below the minimum of speed_setpoint, -60000 rpm",
+            ),
+        ] {
+            assert_eq!(refused(&o, given).to_string(), refusal);
+        }
     }
 
     #[test]
@@ -417,12 +435,12 @@ mod tests {
         let mut o = speed_setpoint();
         o.cap_at(6000.0, "limits file /x/drivescript-limits.yaml");
         assert_eq!((o.min, o.max), (Some(-6000.0), Some(6000.0)));
-        let e = o.to_raw(&Quantity::parse("6500 rpm").unwrap()).unwrap_err();
+        let e = refused(&o, "6500 rpm");
         assert_eq!(
             e.to_string(),
             "6500 rpm exceeds the bench limit 6000 rpm of speed_setpoint (limits file /x/drivescript-limits.yaml)"
         );
-        let e = o.to_raw(&Quantity::parse("-6.5 krpm").unwrap()).unwrap_err();
+        let e = refused(&o, "-6.5 krpm");
         assert!(
             e.to_string()
                 .starts_with("-6.5 krpm (-6500 rpm) is below the bench limit -6000 rpm"),
@@ -441,7 +459,7 @@ mod tests {
         o.min = Some(0.0);
         o.cap_at(6000.0, "limits file b.yaml");
         assert_eq!((o.min, o.max), (Some(0.0), Some(6000.0)));
-        let e = o.to_raw(&Quantity::parse("-1 rpm").unwrap()).unwrap_err();
+        let e = refused(&o, "-1 rpm");
         assert!(matches!(e, ValueError::BelowMin { .. }), "{e}");
     }
 
@@ -450,18 +468,13 @@ mod tests {
         let mut o = speed_setpoint();
         o.min = None;
         o.max = None;
-        let e = o.to_raw(&Quantity::parse("3000000 rpm").unwrap()).unwrap_err();
+        let e = refused(&o, "3000000 rpm");
         assert_eq!(
             e.to_string(),
             "3000000 rpm is 3000000000 counts, outside the range of speed_setpoint's type i32: \
              -2147483.648 rpm..=2147483.647 rpm (-2147483648..=2147483647 counts)"
         );
-        let cw = ObjectDef::new(
-            "control_word",
-            Address::indexed(68, 0),
-            DataType::U16,
-            Access::ReadWrite,
-        );
+        let cw = control_word();
         let e = cw.to_raw(&Quantity::new(-1.0, None)).unwrap_err();
         assert_eq!(
             e.to_string(),
@@ -475,15 +488,8 @@ mod tests {
 
     #[test]
     fn wrong_units_are_refused() {
-        let mut current = ObjectDef::new(
-            "current_actual",
-            Address::indexed(400, 0),
-            DataType::I32,
-            Access::ReadOnly,
-        );
-        current.unit = Some(Unit::Ampere);
-        current.scale = 0.001;
-        let e = current.to_raw(&Quantity::parse("6000 rpm").unwrap()).unwrap_err();
+        let current = milli("current_actual", 400, Access::ReadOnly, Unit::Ampere);
+        let e = refused(&current, "6000 rpm");
         assert!(
             e.to_string()
                 .starts_with("rpm is not a unit of current_actual (A)"),
@@ -493,13 +499,8 @@ mod tests {
             current.to_raw(&Quantity::parse("1500 mA").unwrap()),
             Ok(RawValue::Int(1500))
         );
-        let cw = ObjectDef::new(
-            "control_word",
-            Address::indexed(68, 0),
-            DataType::U16,
-            Access::ReadWrite,
-        );
-        let e = cw.to_raw(&Quantity::parse("6 rpm").unwrap()).unwrap_err();
+        let cw = control_word();
+        let e = refused(&cw, "6 rpm");
         assert_eq!(
             e.to_string(),
             "rpm given, but control_word has no unit: give a plain number"

@@ -206,40 +206,25 @@ mod tests {
 
     #[test]
     fn observed_status_words_map_to_their_states() {
-        assert_eq!(
-            DeviceState::from_status_word(0x7231),
-            Some(DeviceState::ReadyToSwitchOn)
-        );
-        assert_eq!(
-            DeviceState::from_status_word(0x7233),
-            Some(DeviceState::SwitchedOn)
-        );
-        assert_eq!(
-            DeviceState::from_status_word(0x7237),
-            Some(DeviceState::OperationEnabled)
-        );
-        assert_eq!(
-            DeviceState::from_status_word(0x6637),
-            Some(DeviceState::OperationEnabled)
-        );
-        assert_eq!(
-            DeviceState::from_status_word(0x0040),
-            Some(DeviceState::SwitchOnDisabled)
-        );
-        assert_eq!(
-            DeviceState::from_status_word(0x0007),
-            Some(DeviceState::QuickStopActive)
-        );
-        assert_eq!(
-            DeviceState::from_status_word(0x000F),
-            Some(DeviceState::FaultReactionActive)
-        );
-        assert_eq!(DeviceState::from_status_word(0x0008), Some(DeviceState::Fault));
-        assert_eq!(
-            DeviceState::from_status_word(0x0000),
-            Some(DeviceState::NotReadyToSwitchOn)
-        );
-        assert_eq!(DeviceState::from_status_word(0x0001), None);
+        use DeviceState::*;
+        for (status_word, state) in [
+            (0x7231, Some(ReadyToSwitchOn)),
+            (0x7233, Some(SwitchedOn)),
+            (0x7237, Some(OperationEnabled)),
+            (0x6637, Some(OperationEnabled)),
+            (0x0040, Some(SwitchOnDisabled)),
+            (0x0007, Some(QuickStopActive)),
+            (0x000F, Some(FaultReactionActive)),
+            (0x0008, Some(Fault)),
+            (0x0000, Some(NotReadyToSwitchOn)),
+            (0x0001, None),
+        ] {
+            assert_eq!(
+                DeviceState::from_status_word(status_word),
+                state,
+                "{status_word:#06x}"
+            );
+        }
     }
 
     #[test]

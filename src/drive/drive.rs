@@ -244,26 +244,27 @@ impl Drive {
     /// Writes a number with its unit (a bare number is in the object's unit). Refused
     /// before sending when the object is read-only or the value outside its limits.
     pub fn write(&mut self, name: &str, quantity: &Quantity) -> Result<WriteOutcome, DriveError> {
-        let def = self.object(name)?.clone();
-        if !def.writable() {
-            return Err(DriveError::ReadOnly {
-                object: def.name.clone(),
-            });
-        }
+        let def = self.writable_object(name)?;
         let raw = def.to_raw(quantity)?;
         self.write_raw(&def, &raw)
     }
 
     /// Writes text to a string object.
     pub fn write_text(&mut self, name: &str, text: &str) -> Result<WriteOutcome, DriveError> {
-        let def = self.object(name)?.clone();
+        let def = self.writable_object(name)?;
+        let raw = def.text_to_raw(text)?;
+        self.write_raw(&def, &raw)
+    }
+
+    /// The object `name`, refused when it is read-only (before anything is sent).
+    fn writable_object(&self, name: &str) -> Result<ObjectDef, DriveError> {
+        let def = self.object(name)?;
         if !def.writable() {
             return Err(DriveError::ReadOnly {
                 object: def.name.clone(),
             });
         }
-        let raw = def.text_to_raw(text)?;
-        self.write_raw(&def, &raw)
+        Ok(def.clone())
     }
 
     fn write_raw(&mut self, def: &ObjectDef, raw: &RawValue) -> Result<WriteOutcome, DriveError> {

@@ -86,28 +86,21 @@ pub fn next_step_in(profile: &Profile, from: DeviceState, to: DeviceState) -> Ne
         .filter(|c| profile.has_command(*c))
         .collect();
     let mut seen = vec![from];
-    let mut frontier: Vec<(DeviceState, DeviceCommand)> = Vec::new();
-    for &c in &commands {
-        let next = transition(from, c);
-        if profile.has_state(next) && !seen.contains(&next) {
-            if next == to {
-                return NextStep::Command(c);
-            }
-            seen.push(next);
-            frontier.push((next, c));
-        }
-    }
+    // Each state reached with the first command of the shortest path to it (none yet for
+    // `from` itself).
+    let mut frontier: Vec<(DeviceState, Option<DeviceCommand>)> = vec![(from, None)];
     while !frontier.is_empty() {
         let mut further = Vec::new();
         for (state, first) in frontier {
             for &c in &commands {
                 let next = transition(state, c);
+                let first = first.unwrap_or(c);
                 if profile.has_state(next) && !seen.contains(&next) {
                     if next == to {
                         return NextStep::Command(first);
                     }
                     seen.push(next);
-                    further.push((next, first));
+                    further.push((next, Some(first)));
                 }
             }
         }

@@ -49,15 +49,12 @@ impl Expansion {
     /// Counts one include about to be loaded.
     pub fn load(&mut self) -> Result<(), OverLimit> {
         self.loads += 1;
-        if self.loads <= MAX_INCLUDE_LOADS {
-            return Ok(());
-        }
-        self.over = true;
-        Err(OverLimit {
+        let loads = self.loads;
+        self.within(loads <= MAX_INCLUDE_LOADS, || OverLimit {
             message: format!(
                 "this include goes over {MAX_INCLUDE_LOADS} included files for one recipe (a file counts each time it is included, includes of includes too)"
             ),
-            label: format!("include number {}", self.loads),
+            label: format!("include number {loads}"),
             help: "includes multiply when included files include others several times; run a file several times with `repeat: { times: N, steps: [ { include: FILE } ] }`".into(),
         })
     }
@@ -82,17 +79,23 @@ impl Expansion {
     /// Counts one step about to be read.
     pub fn step(&mut self) -> Result<(), OverLimit> {
         self.steps += 1;
-        if self.steps <= MAX_EXPANDED_STEPS {
-            return Ok(());
-        }
-        self.over = true;
-        Err(OverLimit {
+        let steps = self.steps;
+        self.within(steps <= MAX_EXPANDED_STEPS, || OverLimit {
             message: format!(
                 "this recipe has more than {MAX_EXPANDED_STEPS} steps with its includes expanded"
             ),
-            label: format!("step number {}", self.steps),
+            label: format!("step number {steps}"),
             help: "repeat steps with `repeat` instead of writing them out, and check for files included many times".into(),
         })
+    }
+
+    /// A count still `within` its limit is fine; one over it stops the reading.
+    fn within(&mut self, within: bool, over: impl FnOnce() -> OverLimit) -> Result<(), OverLimit> {
+        if within {
+            return Ok(());
+        }
+        self.over = true;
+        Err(over())
     }
 }
 

@@ -17,7 +17,7 @@ mod tests;
 
 use super::expansion::{Expansion, OverLimit};
 use super::recipe::Recipe;
-use super::recipe_invalid::RecipeInvalid;
+use super::RecipeInvalid;
 use crate::diag::{read_source, Diagnostic, Diagnostics, Reader, Source, Span};
 use crate::dictionary::Dictionary;
 use crate::drive::AddressKeyTable;
@@ -196,6 +196,18 @@ impl Loader<'_, '_> {
         help: Option<String>,
     ) {
         self.r.problem(span, message, label, help);
+    }
+
+    /// Records a problem and gives up on the part being read (the one way a part refuses).
+    fn refuse<T>(
+        &mut self,
+        span: &Span,
+        message: impl Into<String>,
+        label: impl Into<String>,
+        help: Option<String>,
+    ) -> Option<T> {
+        self.problem(span, message, label, help);
+        None
     }
 
     fn over_limit(&mut self, span: &Span, over: OverLimit) {

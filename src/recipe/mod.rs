@@ -7,7 +7,6 @@ mod expansion;
 mod loader;
 mod planned_checks;
 mod recipe;
-mod recipe_invalid;
 mod runner;
 mod schema;
 mod step;
@@ -21,7 +20,8 @@ pub use loader::{
 };
 pub use planned_checks::{planned_checks, sampled_objects};
 pub use recipe::{Param, Recipe, SafeStopChoice};
-pub use recipe_invalid::RecipeInvalid;
+/// A recipe that did not pass its check.
+pub type RecipeInvalid = crate::diag::FileInvalid;
 pub use runner::Runner;
 pub use schema::recipe_schema;
 pub use step::{longest_time_of, Step, StepKind};

@@ -122,13 +122,13 @@ mod tests {
         assert!(matches!(&script.loaded.plan, RunPlan::Script(s) if s.name == "S"));
         let bad = checked(&dir.join("bad.yaml"), &simulated).err().unwrap();
         assert!(
-            matches!(&bad, RunError::Recipe(e) if e.problems.len() == 1),
+            matches!(&bad, RunError::File(e) if e.problems.len() == 1),
             "{bad}"
         );
         assert_eq!(bad.exit_code(), crate::run::INVALID);
         let bad = checked(&dir.join("bad.rhai"), &simulated).err().unwrap();
         assert!(
-            matches!(&bad, RunError::Script(e) if e.problems.len() == 1),
+            matches!(&bad, RunError::File(e) if e.problems.len() == 1),
             "{bad}"
         );
     }

@@ -4,10 +4,9 @@
 //! The typed errors of the layers below (a family's refusal of an address or a link
 //! setting, a dictionary with problems) keep their type inside.
 
+use crate::diag::FileInvalid;
 use crate::dictionary::DictionaryError;
 use crate::family::FamilyError;
-use crate::recipe::RecipeInvalid;
-use crate::script::ScriptInvalid;
 
 #[derive(Debug, thiserror::Error)]
 pub enum RunError {
@@ -17,13 +16,10 @@ pub enum RunError {
     /// A port cannot be opened, or a drive cannot be reached or does not answer.
     #[error("{0}")]
     Unreachable(String),
-    /// A recipe with problems, each at its place; kept whole so that a terminal can show
-    /// them in colour.
+    /// A recipe or a script with problems, each at its place; kept whole so that a
+    /// terminal can show them in colour.
     #[error("{}", .0.render(false))]
-    Recipe(#[from] RecipeInvalid),
-    /// A script with problems, as a recipe's.
-    #[error("{}", .0.render(false))]
-    Script(#[from] ScriptInvalid),
+    File(#[from] FileInvalid),
     /// A dictionary or bench-limits file with problems, rendered with their places.
     #[error("{}", crate::diag::render_diagnostic(.0))]
     Dictionary(#[from] DictionaryError),
@@ -46,11 +42,9 @@ impl RunError {
         match self {
             RunError::Unreachable(_) => super::COMMUNICATION,
             RunError::Drive { source, .. } => source.exit_code(),
-            RunError::Invalid(_)
-            | RunError::Recipe(_)
-            | RunError::Script(_)
-            | RunError::Dictionary(_)
-            | RunError::Family(_) => super::INVALID,
+            RunError::Invalid(_) | RunError::File(_) | RunError::Dictionary(_) | RunError::Family(_) => {
+                super::INVALID
+            }
         }
     }
 
@@ -58,8 +52,7 @@ impl RunError {
     /// (`colour`), anything else as it is.
     pub fn render(&self, colour: bool) -> String {
         match self {
-            RunError::Recipe(e) => e.render(colour),
-            RunError::Script(e) => e.render(colour),
+            RunError::File(e) => e.render(colour),
             e => e.to_string(),
         }
     }

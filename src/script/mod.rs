@@ -16,7 +16,6 @@ mod sandbox;
 mod script;
 mod script_error;
 mod script_header;
-mod script_invalid;
 mod script_runner;
 mod static_check;
 mod unknown_calls;
@@ -26,5 +25,6 @@ pub use sandbox::{
     MAX_OPERATIONS_BETWEEN_CALLS, MAX_STRING_SIZE,
 };
 pub use script::{declared_script_drives, is_script, load_script, load_script_for, load_script_text, Script};
-pub use script_invalid::ScriptInvalid;
+/// A script that did not pass its check.
+pub type ScriptInvalid = crate::diag::FileInvalid;
 pub use script_runner::ScriptRunner;

@@ -11,9 +11,9 @@ use super::literal_calls::literal_calls;
 use super::sandbox::sandbox;
 use super::script_error::parse_error;
 use super::script_header::Header;
-use super::script_invalid::ScriptInvalid;
 use super::static_check::{check_calls, literal_writes, named_literal_writes};
 use super::unknown_calls::unknown_calls;
+use super::ScriptInvalid;
 use crate::diag::{read_source, Diagnostic, Diagnostics, Source, Span};
 use crate::dictionary::Dictionary;
 use crate::recipe::{DriveDecl, SafeStopChoice};
@@ -366,20 +366,16 @@ mod tests {
             &[],
         );
         assert_eq!(p.len(), 5, "{p:#?}");
-        assert!(p[0].starts_with("t.rhai:2:8: unknown object `bogus`"), "{p:#?}");
-        assert!(
-            p[1].starts_with("t.rhai:3:43: `3 parsecs` is not a duration"),
-            "{p:#?}"
-        );
-        assert!(p[2].starts_with("t.rhai:4:7: ident is read-only"), "{p:#?}");
-        assert!(
-            p[3].starts_with("t.rhai:6:16: unknown object `curent_actual`"),
-            "{p:#?}"
-        );
-        assert!(
-            p[4].starts_with("t.rhai:7:28: `lots` is not a tolerance"),
-            "{p:#?}"
-        );
+        let starts = [
+            "t.rhai:2:8: unknown object `bogus`",
+            "t.rhai:3:43: `3 parsecs` is not a duration",
+            "t.rhai:4:7: ident is read-only",
+            "t.rhai:6:16: unknown object `curent_actual`",
+            "t.rhai:7:28: `lots` is not a tolerance",
+        ];
+        for (problem, start) in p.iter().zip(starts) {
+            assert!(problem.starts_with(start), "{p:#?}");
+        }
     }
 
     #[test]

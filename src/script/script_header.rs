@@ -79,21 +79,12 @@ impl Header {
             let key_span = span(e.key_at, e.key.len());
             let value_span = span(e.value_at, e.value.len());
             if !HEADER_KEYS.contains(&e.key) {
-                let help =
-                    suggestion_text(&did_you_mean(e.key, HEADER_KEYS.iter().copied())).unwrap_or_else(|| {
-                        format!(
-                            "the keys of a script's header are: {}; write other notes as `//` comments",
-                            HEADER_KEYS.join(", ")
-                        )
-                    });
-                header.problems.push(
-                    Diagnostic::at(
-                        &key_span,
-                        format!("unknown key `{}` in this script's header", e.key),
-                        "unknown key",
-                    )
-                    .with_help(help),
+                let keys = format!(
+                    "the keys of a script's header are: {}; write other notes as `//` comments",
+                    HEADER_KEYS.join(", ")
                 );
+                let unknown = unknown_key(&key_span, e.key, HEADER_KEYS, "this script's header", keys);
+                header.problems.push(unknown);
                 continue;
             }
             // `link:` may take several lines; any other key is given once.
@@ -209,16 +200,14 @@ fn safe_stop(e: &Entry, span: &dyn Fn(usize, usize) -> Span, problems: &mut Diag
     for s in all {
         let key_span = span(s.key_at, s.key.len());
         if !SAFE_STOP_KEYS.contains(&s.key) {
-            let help = suggestion_text(&did_you_mean(s.key, SAFE_STOP_KEYS.iter().copied()))
-                .unwrap_or_else(|| format!("the keys of this safe_stop are: {}", SAFE_STOP_KEYS.join(", ")));
-            problems.push(
-                Diagnostic::at(
-                    &key_span,
-                    format!("unknown key `{}` in this safe_stop", s.key),
-                    "unknown key",
-                )
-                .with_help(help),
-            );
+            let keys = format!("the keys of this safe_stop are: {}", SAFE_STOP_KEYS.join(", "));
+            problems.push(unknown_key(
+                &key_span,
+                s.key,
+                SAFE_STOP_KEYS,
+                "this safe_stop",
+                keys,
+            ));
             continue;
         }
         if seen.contains(&s.key) {
@@ -276,6 +265,12 @@ fn safe_stop(e: &Entry, span: &dyn Fn(usize, usize) -> Span, problems: &mut Diag
         }
     }
     choice
+}
+
+/// `key` is none of `keys` of `what`: the help is the nearest key, else `listing`.
+fn unknown_key(span: &Span, key: &str, keys: &[&str], what: &str, listing: String) -> Diagnostic {
+    let help = suggestion_text(&did_you_mean(key, keys.iter().copied())).unwrap_or(listing);
+    Diagnostic::at(span, format!("unknown key `{key}` in {what}"), "unknown key").with_help(help)
 }
 
 #[cfg(test)]

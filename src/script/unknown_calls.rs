@@ -188,25 +188,22 @@ mod tests {
     fn misspelt_and_missing_calls_are_found_where_they_are_written() {
         let found = problems("let d = drive();\nlet w = d.sampel([\"speed_actual\"], \"100 ms\", \"1 s\");\nopen_file(\"/etc/passwd\");\nfn f(d) { d.enable_operatoin(); }\nlet x = [1].pussh(2);\n");
         assert_eq!(found.len(), 4, "{found:#?}");
-        assert!(
-            found[0].starts_with("s.rhai:2:11: unknown method `sampel`"),
-            "{found:#?}"
-        );
+        let starts = [
+            "s.rhai:2:11: unknown method `sampel`",
+            "s.rhai:3:1: unknown function `open_file`",
+            "s.rhai:4:13: unknown method `enable_operatoin`",
+        ];
+        for (problem, start) in found.iter().zip(starts) {
+            assert!(problem.starts_with(start), "{found:#?}");
+        }
         assert!(found[0].ends_with("did you mean `sample`?"), "{found:#?}");
-        assert!(
-            found[1].starts_with("s.rhai:3:1: unknown function `open_file`"),
-            "{found:#?}"
-        );
-        assert!(
-            found[1].contains("no file, process or module access"),
-            "{found:#?}"
-        );
-        assert!(
-            found[2].starts_with("s.rhai:4:13: unknown method `enable_operatoin`"),
-            "{found:#?}"
-        );
-        assert!(found[2].contains("did you mean `enable_operation`"), "{found:#?}");
-        assert!(found[3].contains("unknown method `pussh`"), "{found:#?}");
-        assert!(found[3].contains("did you mean `push`"), "{found:#?}");
+        for (i, part) in [
+            (1, "no file, process or module access"),
+            (2, "did you mean `enable_operation`"),
+            (3, "unknown method `pussh`"),
+            (3, "did you mean `push`"),
+        ] {
+            assert!(found[i].contains(part), "{found:#?}");
+        }
     }
 }

@@ -33,6 +33,12 @@ fn err(o: &Output) -> String {
     String::from_utf8_lossy(&o.stderr).into_owned()
 }
 
+/// The command was refused (exit code 2) saying `text`.
+fn refused_with(o: &Output, text: &str) {
+    assert_eq!(o.status.code(), Some(2), "{}{}", out(o), err(o));
+    assert!(err(o).contains(text), "{}", err(o));
+}
+
 /// A fresh folder with `files` (name, text) in it.
 fn bench(name: &str, files: &[(&str, &str)]) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("drivescript-bench-{name}-{}", std::process::id()));
@@ -64,11 +70,9 @@ fn the_limits_file_is_found_by_flag_then_environment_then_next_to_the_recipe() {
     // Next to the recipe.
     std::fs::write(dir.join("drivescript-limits.yaml"), "max_speed: 6000 rpm\n").expect("write");
     let o = run(&dir, &["check", "r.yaml"], None);
-    assert_eq!(o.status.code(), Some(2));
-    assert!(
-        err(&o).contains("6500 rpm exceeds the bench limit 6000 rpm of speed_setpoint (limits file drivescript-limits.yaml)"),
-        "{}",
-        err(&o)
+    refused_with(
+        &o,
+        "6500 rpm exceeds the bench limit 6000 rpm of speed_setpoint (limits file drivescript-limits.yaml)",
     );
     let recipe = dir.join("r.yaml");
     let o = run(Path::new("/"), &["check", recipe.to_str().expect("utf-8")], None);
@@ -81,12 +85,7 @@ fn the_limits_file_is_found_by_flag_then_environment_then_next_to_the_recipe() {
 
     // The environment beats the file next to the recipe.
     let o = run(&dir, &["check", "r.yaml"], Some("env.yaml"));
-    assert_eq!(o.status.code(), Some(2));
-    assert!(
-        err(&o).contains("6500 rpm exceeds the bench limit 5000 rpm of speed_setpoint (limits file env.yaml from DRIVESCRIPT_LIMITS)"),
-        "{}",
-        err(&o)
-    );
+    refused_with(&o, "6500 rpm exceeds the bench limit 5000 rpm of speed_setpoint (limits file env.yaml from DRIVESCRIPT_LIMITS)");
 
     // The flag beats both; check says which limits it checked against.
     let o = run(
@@ -115,12 +114,7 @@ fn the_limits_file_is_found_by_flag_then_environment_then_next_to_the_recipe() {
         &["write", "speed_setpoint", "100rpm", "--limits", "gone.yaml"],
         None,
     );
-    assert_eq!(o.status.code(), Some(2));
-    assert!(
-        err(&o).contains("check the path given with --limits"),
-        "{}",
-        err(&o)
-    );
+    refused_with(&o, "check the path given with --limits");
     let _ = std::fs::remove_dir_all(&dir);
 }
 
@@ -168,22 +162,15 @@ fn check_and_run_refuse_set_values_ramps_and_overrides_over_the_limit() {
     assert!(out(&o).contains("bench limits max_speed 6000 rpm (limits file drivescript-limits.yaml)"));
 
     let o = run(&dir, &["check", "r.yaml", "--set", "speed=7 krpm"], None);
-    assert_eq!(o.status.code(), Some(2));
-    assert!(
-        err(&o).contains("7 krpm (7000 rpm) exceeds the bench limit 6000 rpm of speed_setpoint"),
-        "{}",
-        err(&o)
+    refused_with(
+        &o,
+        "7 krpm (7000 rpm) exceeds the bench limit 6000 rpm of speed_setpoint",
     );
     assert!(err(&o).contains("r.yaml:6:"), "located at the use: {}", err(&o));
 
     // run checks first: nothing is sent, the drive is not even opened.
     let o = run(&dir, &["run", "r.yaml", "--fast", "--set", "speed=6001rpm"], None);
-    assert_eq!(o.status.code(), Some(2), "{}{}", out(&o), err(&o));
-    assert!(
-        err(&o).contains("exceeds the bench limit 6000 rpm"),
-        "{}",
-        err(&o)
-    );
+    refused_with(&o, "exceeds the bench limit 6000 rpm");
     assert!(!out(&o).contains("using the built-in"), "{}", out(&o));
     let o = run(&dir, &["run", "r.yaml", "--fast", "--set", "speed=6000rpm"], None);
     assert_eq!(o.status.code(), Some(0), "{}{}", out(&o), err(&o));
@@ -205,12 +192,7 @@ fn write_refuses_a_value_over_the_limit_before_sending() {
     );
     assert_eq!(out(&o), "", "nothing written");
     let o = run(&dir, &["write", "speed_setpoint", "-6.5krpm"], Some("l.yaml"));
-    assert_eq!(o.status.code(), Some(2));
-    assert!(
-        err(&o).contains("-6.5 krpm (-6500 rpm) is below the bench limit -6000 rpm of speed_setpoint (limits file l.yaml from DRIVESCRIPT_LIMITS)"),
-        "{}",
-        err(&o)
-    );
+    refused_with(&o, "-6.5 krpm (-6500 rpm) is below the bench limit -6000 rpm of speed_setpoint (limits file l.yaml from DRIVESCRIPT_LIMITS)");
     let o = run(&dir, &["write", "speed_setpoint", "6000rpm"], Some("l.yaml"));
     assert_eq!(o.status.code(), Some(0), "{}", err(&o));
     assert!(
@@ -238,27 +220,22 @@ fn a_user_dictionary_cannot_raise_the_limit() {
         all.extend(["--dictionary", "user.yaml", "--limits", "l.yaml"]);
         run(&dir, &all, None)
     };
-    let o = with(&["write", "speed_setpoint", "6500rpm"]);
-    assert_eq!(o.status.code(), Some(2));
-    assert!(
-        err(&o).contains("exceeds the bench limit 6000 rpm of speed_setpoint"),
-        "{}",
-        err(&o)
-    );
-    let o = with(&["write", "spindle_speed", "6.5krpm"]);
-    assert_eq!(o.status.code(), Some(2));
-    assert!(
-        err(&o).contains("6.5 krpm exceeds the bench limit 6 krpm of spindle_speed"),
-        "{}",
-        err(&o)
-    );
-    let o = with(&["write", "current_limit", "9A"]);
-    assert_eq!(o.status.code(), Some(2));
-    assert!(
-        err(&o).contains("9 A (9000 mA) exceeds the bench limit 8000 mA of current_limit"),
-        "{}",
-        err(&o)
-    );
+    for (write, refusal) in [
+        (
+            ["write", "speed_setpoint", "6500rpm"],
+            "exceeds the bench limit 6000 rpm of speed_setpoint",
+        ),
+        (
+            ["write", "spindle_speed", "6.5krpm"],
+            "6.5 krpm exceeds the bench limit 6 krpm of spindle_speed",
+        ),
+        (
+            ["write", "current_limit", "9A"],
+            "9 A (9000 mA) exceeds the bench limit 8000 mA of current_limit",
+        ),
+    ] {
+        refused_with(&with(&write), refusal);
+    }
 
     // objects shows the tightened ranges, marked; read-only speeds keep theirs.
     let o = with(&["objects"]);

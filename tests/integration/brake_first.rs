@@ -42,26 +42,27 @@ fn shipped_recipes_that_enable() -> Vec<PathBuf> {
 /// The speed values (rpm) of the trace's speed_actual replies, each with its line number.
 #[cfg(unix)]
 fn speed_replies(trace: &str) -> Vec<(usize, f64)> {
-    trace
-        .lines()
-        .enumerate()
-        .filter_map(|(i, line)| {
-            let (_, after) = line.split_once("# reply speed_actual = ")?;
-            Some((i, after.split_whitespace().next()?.parse().ok()?))
-        })
-        .collect()
+    numbered(trace, |line| {
+        let (_, after) = line.split_once("# reply speed_actual = ")?;
+        after.split_whitespace().next()?.parse().ok()
+    })
 }
 
 /// The line numbers and values of the control words written in the trace.
 #[cfg(unix)]
 fn control_words(trace: &str) -> Vec<(usize, i64)> {
+    numbered(trace, |line| {
+        Some(traced_writes(line, CONTROL_WORD).into_iter().next()?.1)
+    })
+}
+
+/// What `find` finds in the trace's lines, each with its line number.
+#[cfg(unix)]
+fn numbered<T>(trace: &str, find: impl Fn(&str) -> Option<T>) -> Vec<(usize, T)> {
     trace
         .lines()
         .enumerate()
-        .filter_map(|(i, line)| {
-            let (_, v) = traced_writes(line, CONTROL_WORD).into_iter().next()?;
-            Some((i, v))
-        })
+        .filter_map(|(i, line)| Some((i, find(line)?)))
         .collect()
 }
 
@@ -74,16 +75,11 @@ fn ctrl_c_while_turning(recipe: &Path) -> Result<(), String> {
     let name = recipe.file_stem().and_then(|s| s.to_str()).unwrap_or("recipe");
     let dir = crate::support::scratch(&format!("shipped-{name}"));
     let trace = dir.join("run.trace");
-    let run = LiveRun::start([
-        std::ffi::OsStr::new("run"),
-        recipe.as_os_str(),
-        "--port".as_ref(),
-        sim.endpoint.as_ref(),
-        "--trace".as_ref(),
-        trace.as_os_str(),
-        "--output-dir".as_ref(),
-        dir.as_os_str(),
-    ]);
+    let run = LiveRun::run_on(
+        recipe,
+        &sim.endpoint,
+        &[("--trace", &trace), ("--output-dir", &dir)],
+    );
     let started = Instant::now();
     loop {
         let text = std::fs::read_to_string(&trace).unwrap_or_default();

@@ -4,7 +4,9 @@
 //! and exit codes in `--help`, build information in `--version`, and plain messages for
 //! a port that is not a serial port and a recipe that is not UTF-8.
 
-use crate::support::{assert_has, assert_lacks, cli, drivescript, scratch, stderr, stdout};
+use crate::support::{
+    assert_has, assert_lacks, cli, drivescript, scratch, stderr, stdout, wide_speed_and_current_rows,
+};
 
 #[test]
 fn several_recipes_run_in_turn_and_the_worst_exit_code_wins() {
@@ -235,19 +237,7 @@ fn csv_wide_gives_one_column_per_object_everywhere() {
         0,
     );
     for name in ["all.csv", "run-in-stage-2.csv"] {
-        let mut reader = csv::Reader::from_path(dir.join(name)).expect(name);
-        assert_eq!(
-            reader.headers().unwrap(),
-            &csv::StringRecord::from(vec![
-                "time [s]",
-                "utc",
-                "step",
-                "speed_actual [rpm]",
-                "current_actual [A]"
-            ]),
-            "{name}"
-        );
-        let rows: Vec<csv::StringRecord> = reader.records().map(Result::unwrap).collect();
+        let rows = wide_speed_and_current_rows(&dir.join(name));
         assert!(rows
             .iter()
             .all(|r| r.len() == 5 && humantime::parse_rfc3339(&r[1]).is_ok()));

@@ -136,18 +136,18 @@ fn refusals_send_nothing() {
     ];
     assert!(sent(&b).is_empty(), "sent: {:?}", sent(&b));
     let texts: Vec<String> = refusals.iter().map(|e| e.to_string()).collect();
-    assert!(
-        texts[0].contains("status_word is read-only; nothing was sent"),
-        "{texts:?}"
-    );
-    assert!(
-        texts[1].contains("above the maximum of speed_setpoint, 60000 rpm"),
-        "{texts:?}"
-    );
-    assert!(texts[2].contains("speed_setpoint"), "{texts:?}");
-    assert!(texts[3].contains("did you mean `speed_setpoint`"), "{texts:?}");
-    assert!(texts[4].contains("write-only"), "{texts:?}");
-    assert!(texts[5].contains("64"), "{texts:?}");
+    let parts = [
+        "status_word is read-only; nothing was sent",
+        "above the maximum of speed_setpoint, 60000 rpm",
+        "speed_setpoint",
+        "did you mean `speed_setpoint`",
+        "write-only",
+        "64",
+    ];
+    assert_eq!(texts.len(), parts.len(), "{texts:?}");
+    for (text, part) in texts.iter().zip(parts) {
+        assert!(text.contains(part), "{texts:?}");
+    }
 }
 
 #[test]

@@ -95,25 +95,26 @@ fn recipes_includes_and_dictionaries_over_8_mib_are_refused() {
     .expect("write");
     std::fs::write(dir.join("small.yaml"), "name: Small\nsteps:\n  - shutdown\n").expect("write");
 
-    let o = run(&dir, &["check", "large.yaml"]);
-    assert_refused_fast(
-        &o,
-        &[
-            "the recipe large.yaml is larger than 8 MiB, the limit for one recipe, included file, dictionary or limits file",
-            "check that the path names the file you meant",
-        ],
-    );
-    let o = run(&dir, &["check", "includes.yaml"]);
-    assert_refused_fast(
-        &o,
-        &[
-            "the included file",
-            "large.yaml is larger than 8 MiB",
-            "includes.yaml:3:14",
-        ],
-    );
-    let o = run(&dir, &["check", "small.yaml", "--dictionary", "large.yaml"]);
-    assert_refused_fast(&o, &["large.yaml: the dictionary file is larger than 8 MiB"]);
+    let cases: [(&[&str], &[&str]); 3] = [
+        (
+            &["check", "large.yaml"],
+            &[
+                "the recipe large.yaml is larger than 8 MiB, the limit for one recipe, included file, dictionary or limits file",
+                "check that the path names the file you meant",
+            ],
+        ),
+        (
+            &["check", "includes.yaml"],
+            &["the included file", "large.yaml is larger than 8 MiB", "includes.yaml:3:14"],
+        ),
+        (
+            &["check", "small.yaml", "--dictionary", "large.yaml"],
+            &["large.yaml: the dictionary file is larger than 8 MiB"],
+        ),
+    ];
+    for (args, refusal) in cases {
+        assert_refused_fast(&run(&dir, args), refusal);
+    }
     let _ = std::fs::remove_dir_all(&dir);
 }
 
@@ -127,24 +128,29 @@ fn dev_zero_is_refused_at_once_as_recipe_include_and_dictionary() {
         "name: Zero\nsteps:\n  - include: /dev/zero\n",
     )
     .expect("write");
-    let o = run(&dir, &["check", "/dev/zero"]);
-    assert_refused_fast(
-        &o,
-        &[
-            "the recipe /dev/zero is a device, not a file",
-            "give the path of a YAML file",
-        ],
-    );
-    let o = run(&dir, &["check", "zero.yaml"]);
-    assert_refused_fast(
-        &o,
-        &[
-            "the included file /dev/zero is a device, not a file",
-            "zero.yaml:3:14",
-        ],
-    );
-    let o = run(&dir, &["objects", "--dictionary", "/dev/zero"]);
-    assert_refused_fast(&o, &["/dev/zero: the dictionary file is a device, not a file"]);
+    let cases: [(&[&str], &[&str]); 3] = [
+        (
+            &["check", "/dev/zero"],
+            &[
+                "the recipe /dev/zero is a device, not a file",
+                "give the path of a YAML file",
+            ],
+        ),
+        (
+            &["check", "zero.yaml"],
+            &[
+                "the included file /dev/zero is a device, not a file",
+                "zero.yaml:3:14",
+            ],
+        ),
+        (
+            &["objects", "--dictionary", "/dev/zero"],
+            &["/dev/zero: the dictionary file is a device, not a file"],
+        ),
+    ];
+    for (args, refusal) in cases {
+        assert_refused_fast(&run(&dir, args), refusal);
+    }
     let _ = std::fs::remove_dir_all(&dir);
 }
 

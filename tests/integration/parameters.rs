@@ -27,14 +27,42 @@ fn two_parameters(dir: &std::path::Path) -> String {
     path.to_string_lossy().to_string()
 }
 
+/// A scratch folder `name`, a simulated drive started with `sim_args` on a pty, and the
+/// path of a backup file `file` in the folder.
+#[cfg(unix)]
+fn on_a_pty(name: &str, sim_args: &[&str], file: &str) -> (std::path::PathBuf, Simulator, String) {
+    let dir = scratch(name);
+    let sim = Simulator::start(sim_args);
+    let file = dir.join(file).to_str().expect("utf-8 path").to_string();
+    (dir, sim, file)
+}
+
+/// The backup text `saved` with one parameter's raw and shown value changed (each a
+/// `(from, to)`), written to `name` in `dir`; its path.
+#[cfg(unix)]
+fn edited_copy(
+    dir: &std::path::Path,
+    name: &str,
+    saved: &str,
+    raw: (&str, &str),
+    value: (&str, &str),
+) -> String {
+    let path = dir.join(name);
+    let text = saved
+        .replace(&format!("raw: \"{}\"", raw.0), &format!("raw: \"{}\"", raw.1))
+        .replace(
+            &format!("value: \"{}\"", value.0),
+            &format!("value: \"{}\"", value.1),
+        );
+    std::fs::write(&path, text).expect("edited copy");
+    path.to_str().expect("utf-8 path").to_string()
+}
+
 #[cfg(unix)]
 #[test]
 fn backup_change_diff_restore_diff() {
-    let dir = scratch("round-trip");
-    let sim = Simulator::start(&["--pty"]);
-    let port = sim.endpoint.as_str();
-    let file = dir.join("backup.yaml");
-    let file = file.to_str().expect("utf-8 path");
+    let (dir, sim, file) = on_a_pty("round-trip", &["--pty"], "backup.yaml");
+    let (file, port) = (file.as_str(), sim.endpoint.as_str());
     let extra = two_parameters(&dir);
     let dict = ["--dictionary", extra.as_str(), "--port", port];
 
@@ -74,28 +102,23 @@ fn backup_change_diff_restore_diff() {
     assert_eq!(code, 0, "{out}");
 
     // Two backups compared with each other.
-    let copy = dir.join("copy.yaml");
-    std::fs::write(
-        &copy,
-        saved
-            .replace("raw: \"1500000\"", "raw: \"1500400\"")
-            .replace("value: \"1500 rpm\"", "value: \"1500.4 rpm\""),
-    )
-    .expect("copy");
-    let copy = copy.to_str().expect("utf-8 path");
-    assert_eq!(run(&["diff", file, copy]).0, 1);
-    assert_eq!(run(&["diff", file, copy, "--tolerance", "0.5"]).0, 0);
+    let copy = edited_copy(
+        &dir,
+        "copy.yaml",
+        &saved,
+        ("1500000", "1500400"),
+        ("1500 rpm", "1500.4 rpm"),
+    );
+    assert_eq!(run(&["diff", file, &copy]).0, 1);
+    assert_eq!(run(&["diff", file, &copy, "--tolerance", "0.5"]).0, 0);
     let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[cfg(unix)]
 #[test]
 fn restore_refuses_before_writing() {
-    let dir = scratch("refusals");
-    let sim = Simulator::start(&["--pty"]);
-    let port = sim.endpoint.as_str();
-    let file = dir.join("backup.yaml");
-    let file = file.to_str().expect("utf-8 path");
+    let (dir, sim, file) = on_a_pty("refusals", &["--pty"], "backup.yaml");
+    let (file, port) = (file.as_str(), sim.endpoint.as_str());
     assert_eq!(run(&["backup", "-o", file, "--port", port]).0, 0);
     let saved = std::fs::read_to_string(file).expect("backup written");
     assert_eq!(run(&["write", "parameter_set", "7", "--port", port]).0, 0);
@@ -229,11 +252,8 @@ fn a_restore_is_refused_by_the_library_while_the_drive_is_enabled() {
 #[cfg(unix)]
 #[test]
 fn a_control_techniques_scan_saves_and_compares_parameters_beyond_the_dictionary() {
-    let dir = scratch("ct-all");
-    let sim = Simulator::start(&["--drive", "ct-unidrive-sp", "--pty"]);
-    let port = sim.endpoint.as_str();
-    let file = dir.join("all.yaml");
-    let file = file.to_str().expect("utf-8 path");
+    let (dir, sim, file) = on_a_pty("ct-all", &["--drive", "ct-unidrive-sp", "--pty"], "all.yaml");
+    let (file, port) = (file.as_str(), sim.endpoint.as_str());
     let ct = ["--drive", "ct-unidrive-sp", "--port", port];
     let (code, out) = run(&[&["backup", "--all", "-o", file][..], &ct[..]].concat());
     assert_eq!(code, 0, "{out}");
@@ -253,15 +273,14 @@ fn a_control_techniques_scan_saves_and_compares_parameters_beyond_the_dictionary
 
     // Two backups compared: the scanned parameter is compared like any other (a scan of
     // every menu takes a while, so the second set is the first one edited).
-    let changed = dir.join("changed.yaml");
-    std::fs::write(
-        &changed,
-        saved
-            .replace("raw: \"2.000\"", "raw: \"3.500\"")
-            .replace("value: \"2.000\"", "value: \"3.500\""),
-    )
-    .expect("edited");
-    let (code, out) = run(&["diff", file, changed.to_str().expect("path")]);
+    let changed = edited_copy(
+        &dir,
+        "changed.yaml",
+        &saved,
+        ("2.000", "3.500"),
+        ("2.000", "3.500"),
+    );
+    let (code, out) = run(&["diff", file, &changed]);
     assert_eq!(code, 1, "{out}");
     assert!(out.contains("#2.11") && out.contains("3.500"), "{out}");
 

@@ -196,18 +196,11 @@ fn signal_through_a_pty(signal: StopSignal, second: Option<StopSignal>) {
     );
     // An earlier run's pass, which must not survive this run's end.
     std::fs::write(&junit, "<testsuites tests=\"1\" failures=\"0\"/>").expect("old junit");
-    let mut run = LiveRun::start([
-        std::ffi::OsStr::new("run"),
-        recipe.as_os_str(),
-        "--port".as_ref(),
-        sim.endpoint.as_ref(),
-        "--junit".as_ref(),
-        junit.as_os_str(),
-        "--report".as_ref(),
-        html.as_os_str(),
-        "--trace".as_ref(),
-        trace.as_os_str(),
-    ]);
+    let mut run = LiveRun::run_on(
+        &recipe,
+        &sim.endpoint,
+        &[("--junit", &junit), ("--report", &html), ("--trace", &trace)],
+    );
     run.wait_for("wait until speed_actual");
     let placeholder = std::fs::read_to_string(&junit).expect("junit exists during the run");
     assert_has(&placeholder, &["NOT FINISHED"]);

@@ -6,7 +6,7 @@
 use crate::safety::{received, written, CONTROL_WORD, SPEED_SETPOINT};
 use crate::support::{
     assert_has, assert_lacks, cli, control_words, drivescript, repo_root, scratch, stderr, stdout,
-    write_file, InProcessRun, LiveRun,
+    wide_speed_and_current_rows, write_file, InProcessRun, LiveRun,
 };
 use drivescript::clock::SharedClock;
 use drivescript::run::RunResult;
@@ -441,14 +441,7 @@ fn sigint_during_a_scripts_sample_through_a_pty_stops_the_drive() {
          let s = d.sample([\"speed_actual\"], \"30 s\", \"10 min\");\n",
     );
     let trace = dir.join("run.trace");
-    let mut run = LiveRun::start([
-        std::ffi::OsStr::new("run"),
-        script.as_os_str(),
-        "--port".as_ref(),
-        sim.endpoint.as_ref(),
-        "--trace".as_ref(),
-        trace.as_os_str(),
-    ]);
+    let mut run = LiveRun::run_on(&script, &sim.endpoint, &[("--trace", &trace)]);
     run.wait_for("sampling");
     std::thread::sleep(Duration::from_millis(300));
     let before = std::fs::read_to_string(&trace).expect("trace").lines().count();
@@ -632,18 +625,7 @@ fn csv_wide_gives_a_scripts_sample_file_one_column_per_object() {
     run.outputs.csv_wide = true;
     let (result, output) = run.run();
     assert_eq!(result.exit_code, 0, "{output}");
-    let mut reader = csv::Reader::from_path(dir.join("wide.csv")).expect("wide.csv");
-    assert_eq!(
-        reader.headers().expect("a header"),
-        &csv::StringRecord::from(vec![
-            "time [s]",
-            "utc",
-            "step",
-            "speed_actual [rpm]",
-            "current_actual [A]"
-        ])
-    );
-    let rows: Vec<csv::StringRecord> = reader.records().map(Result::unwrap).collect();
+    let rows = wide_speed_and_current_rows(&dir.join("wide.csv"));
     assert_eq!(rows.len(), 11);
     assert!(rows.iter().all(|r| r.len() == 5 && &r[2] == "2"), "{rows:?}");
 }

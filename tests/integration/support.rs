@@ -269,6 +269,24 @@ impl Drop for Simulator {
     }
 }
 
+/// The rows of a wide sample CSV of speed_actual and current_actual, its header checked.
+pub fn wide_speed_and_current_rows(path: &Path) -> Vec<csv::StringRecord> {
+    let mut reader = csv::Reader::from_path(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    assert_eq!(
+        reader.headers().expect("a header"),
+        &csv::StringRecord::from(vec![
+            "time [s]",
+            "utc",
+            "step",
+            "speed_actual [rpm]",
+            "current_actual [A]"
+        ]),
+        "{}",
+        path.display()
+    );
+    reader.records().map(Result::unwrap).collect()
+}
+
 /// `drivescript ARGS` running in the background (from the repository root), its standard
 /// output read as it comes: for the tests that signal a run in the middle.
 pub struct LiveRun {
@@ -278,6 +296,16 @@ pub struct LiveRun {
 }
 
 impl LiveRun {
+    /// `drivescript run FILE --port PORT`, then flags that each take a path (`--trace`).
+    pub fn run_on(file: &Path, port: &str, path_flags: &[(&str, &Path)]) -> LiveRun {
+        let mut args: Vec<&std::ffi::OsStr> =
+            vec!["run".as_ref(), file.as_os_str(), "--port".as_ref(), port.as_ref()];
+        for (flag, path) in path_flags {
+            args.extend([flag.as_ref(), path.as_os_str()]);
+        }
+        LiveRun::start(args)
+    }
+
     pub fn start<I, S>(args: I) -> LiveRun
     where
         I: IntoIterator<Item = S>,

@@ -4,7 +4,7 @@
 //! must not open anything; the command line does.
 
 use super::{did_you_mean, Loader};
-use crate::diag::{expected, read_source, Fields, Shape, Span, YamlNode, YamlValue};
+use crate::diag::{read_source, Fields, Shape, Span, YamlNode, YamlValue};
 use crate::dictionary::Dictionary;
 use crate::drive::{AddressKey, AddressKeys, KeyUse};
 use crate::recipe::drive_decl::DriveDecl;
@@ -46,12 +46,11 @@ pub fn declared_drives(path: &Path) -> Vec<(String, String)> {
 impl<'a> Loader<'a, '_> {
     /// `drives: { left: { drive: sd2, address: dnc:2 }, … }`.
     pub(super) fn drives_section(&mut self, node: &YamlNode) -> Vec<DriveDecl> {
-        let Some(entries) = node.entries() else {
-            self.r.report(expected(
-                node,
-                "`drives`",
-                "a mapping of named drives (drives: { left: { drive: sd2, address: dnc:2 } })",
-            ));
+        let Some(entries) = self.r.mapping(
+            node,
+            "`drives`",
+            "a mapping of named drives (drives: { left: { drive: sd2, address: dnc:2 } })",
+        ) else {
             return Vec::new();
         };
         if entries.is_empty() {
@@ -410,6 +409,13 @@ mod tests {
             .collect()
     }
 
+    /// The first problem of `drives` starts with `start`; all of them, for more checks.
+    fn first_starts_with(drives: &str, start: &str) -> Vec<String> {
+        let found = problems_with_help(drives);
+        assert!(found.first().is_some_and(|p| p.starts_with(start)), "{found:?}");
+        found
+    }
+
     #[test]
     fn the_issue_spelling_of_sd2_addresses_becomes_the_notation() {
         let recipe = load(
@@ -446,45 +452,29 @@ mod tests {
             problems_with_help(&format!("  left: {{ drive: sd2, dnc_address: 2, address: dnc:2 }}\n{right}")),
             ["r.yaml:3:39: drive `left` gives both `dnc_address` and `address` | give one of them: `address` stands instead of `dnc_address`"]
         );
-        let found = problems_with_help(&format!("  left: {{ drive: sd2, axis: b }}\n{right}"));
-        assert_eq!(found.len(), 1, "{found:?}");
-        assert!(
-            found[0].starts_with("r.yaml:3:23: `axis: b` of drive `left` needs `address:` | `axis` is the axis of a double-axis device"),
-            "{found:?}"
-        );
-        let found = problems_with_help(&format!(
-            "  left: {{ drive: sd2, dnc_address: 2, axis: b }}\n{right}"
-        ));
-        assert_eq!(found.len(), 1, "{found:?}");
-        assert!(
-            found[0].starts_with("r.yaml:3:39: `axis: b` of drive `left` needs `address:`"),
-            "{found:?}"
-        );
+        for (left, start) in [
+            ("{ drive: sd2, axis: b }", "r.yaml:3:23: `axis: b` of drive `left` needs `address:` | `axis` is the axis of a double-axis device"),
+            ("{ drive: sd2, dnc_address: 2, axis: b }", "r.yaml:3:39: `axis: b` of drive `left` needs `address:`"),
+        ] {
+            let found = first_starts_with(&format!("  left: {left}\n{right}"), start);
+            assert_eq!(found.len(), 1, "{found:?}");
+        }
     }
 
     #[test]
     fn address_key_values_are_checked_by_the_family_at_their_value() {
         let right = "  right: { drive: ct-unidrive-sp }\n";
-        let found = problems_with_help(&format!("  left: {{ drive: sd2, dnc_address: 1 }}\n{right}"));
+        let found = first_starts_with(
+            &format!("  left: {{ drive: sd2, dnc_address: 1 }}\n{right}"),
+            "r.yaml:3:36: `1` is not a drive's DNC address | a drive's DNC address is 2..=255; 0 and 1 belong to the master",
+        );
         assert_eq!(found.len(), 1, "{found:?}");
-        assert!(
-            found[0].starts_with("r.yaml:3:36: `1` is not a drive's DNC address | a drive's DNC address is 2..=255; 0 and 1 belong to the master"),
-            "{found:?}"
-        );
-        let found = problems_with_help(&format!("  left: {{ drive: sd2, address: 0, axis: c }}\n{right}"));
-        assert!(
-            found[0].starts_with("r.yaml:3:41: `axis: c` is not an axis of a double-axis SD2 device | write `axis: a` or `axis: b`"),
-            "{found:?}"
-        );
-        let found = problems_with_help(&format!(
-            "  left: {{ drive: sd2, address: 3B, axis: b }}\n{right}"
-        ));
-        assert!(
-            found[0].starts_with(
-                "r.yaml:3:32: with `axis:`, `address: 3B` must be the address switch position alone"
-            ),
-            "{found:?}"
-        );
+        for (left, start) in [
+            ("{ drive: sd2, address: 0, axis: c }", "r.yaml:3:41: `axis: c` is not an axis of a double-axis SD2 device | write `axis: a` or `axis: b`"),
+            ("{ drive: sd2, address: 3B, axis: b }", "r.yaml:3:32: with `axis:`, `address: 3B` must be the address switch position alone"),
+        ] {
+            first_starts_with(&format!("  left: {left}\n{right}"), start);
+        }
     }
 
     #[test]
@@ -497,33 +487,25 @@ mod tests {
             found[0],
             "r.yaml:3:23: unknown key `dnc_adress` in this drive | did you mean `dnc_address` or `address`?"
         );
-        assert!(
-            found[1].starts_with("r.yaml:4:35: drive `right` is a ct-ansi drive, which has no `dnc_address` | `dnc_address` is an address key of sd2 drives; drive `right` (ct-ansi) takes `address:`: "),
-            "{found:?}"
-        );
-        assert!(
-            found[2].starts_with("r.yaml:4:51: drive `right` is a ct-ansi drive, which has no `axis` | `axis` is an address key of sd2 drives"),
-            "{found:?}"
-        );
+        let starts = [
+            "r.yaml:4:35: drive `right` is a ct-ansi drive, which has no `dnc_address` | `dnc_address` is an address key of sd2 drives; drive `right` (ct-ansi) takes `address:`: ",
+            "r.yaml:4:51: drive `right` is a ct-ansi drive, which has no `axis` | `axis` is an address key of sd2 drives",
+        ];
+        for (problem, start) in found[1..].iter().zip(starts) {
+            assert!(problem.starts_with(start), "{found:?}");
+        }
     }
 
     #[test]
     fn one_drive_and_several_drives_do_not_mix() {
         let text = "name: x\ndrive: sd2\ndrives:\n  left: { drive: sd2 }\n  Right: { drive: sd2 }\n  right: { drive: sd2, port: a, tcp: b }\nsteps:\n  - shutdown\n";
         let found = problems(text);
-        assert!(
-            found.iter().any(|p| p.contains("`Right` cannot name a drive")),
-            "{found:?}"
-        );
-        assert!(
-            found.iter().any(|p| p.contains("names more than one connection")),
-            "{found:?}"
-        );
-        assert!(
-            found
-                .iter()
-                .any(|p| p.contains("either one `drive:` or several `drives:`")),
-            "{found:?}"
-        );
+        for part in [
+            "`Right` cannot name a drive",
+            "names more than one connection",
+            "either one `drive:` or several `drives:`",
+        ] {
+            assert!(found.iter().any(|p| p.contains(part)), "{found:?}");
+        }
     }
 }

@@ -30,7 +30,7 @@ impl Loader<'_, '_> {
         let path = self.base_dir.join(&file);
         let canon = canonical(&path);
         if self.include_chain.contains(&canon) {
-            self.problem(
+            return self.refuse(
                 &file_node.span,
                 format!(
                     "{file} includes itself (through {} file(s))",
@@ -39,16 +39,14 @@ impl Loader<'_, '_> {
                 "include cycle",
                 None,
             );
-            return None;
         }
         if self.include_chain.len() >= MAX_INCLUDE_DEPTH {
-            self.problem(
+            return self.refuse(
                 &file_node.span,
                 format!("includes nest deeper than {MAX_INCLUDE_DEPTH} files"),
                 "too deep",
                 None,
             );
-            return None;
         }
         if let Err(over) = self.expansion.load() {
             self.over_limit(&file_node.span, over);
@@ -60,13 +58,12 @@ impl Loader<'_, '_> {
                 let help = e
                     .help()
                     .unwrap_or_else(|| "include paths are relative to the including recipe".into());
-                self.problem(
+                return self.refuse(
                     &file_node.span,
                     e.sentence(&format!("the included file {}", path.display())),
                     "included file",
                     Some(help),
                 );
-                return None;
             }
         };
         let given = params_node.map(|p| self.given_params(p)).unwrap_or_default();
@@ -89,13 +86,12 @@ impl Loader<'_, '_> {
         let recipe = inner.recipe(&given);
         self.sampled = inner.sampled;
         if self.r.count() > before {
-            self.problem(
+            return self.refuse(
                 &file_node.span,
                 format!("{file} has problems (listed with their own places)"),
                 "included here",
                 None,
             );
-            return None;
         }
         let recipe = recipe?;
         let label = format!("include {file} ({})", recipe.name);

@@ -19,13 +19,12 @@ impl Loader<'_, '_> {
                     .first()
                     .map(|(n, _)| n.clone())
                     .unwrap_or_default();
-                self.problem(
+                return self.refuse(
                     span,
                     format!("`{name}` does not say which drive it is on"),
                     "which drive?",
                     Some(format!("this recipe has several drives: write the drive's name in front, e.g. `{first}.{name}`")),
                 );
-                return None;
             };
             let found = self.on_drive(drive, span, |l| l.lookup_object(object, span))??;
             let (def, r) = found;
@@ -110,8 +109,7 @@ impl Loader<'_, '_> {
             }
         }
         if out.is_empty() && ok {
-            self.problem(&node.span, "no object named", "empty", None);
-            return None;
+            return self.refuse(&node.span, "no object named", "empty", None);
         }
         ok.then_some(out)
     }

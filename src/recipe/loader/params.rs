@@ -101,13 +101,12 @@ impl Loader<'_, '_> {
             out.push_str(&rest[..start]);
             let after = &rest[start + 2..];
             let Some(end) = after.find("}}") else {
-                self.problem(
+                return self.refuse(
                     span,
                     format!("`{{{{` without a closing `}}}}` in `{raw}`"),
                     "unclosed parameter",
                     Some("write parameters as {{name}}".into()),
                 );
-                return None;
             };
             let name = after[..end].trim();
             match self.params.get(name) {

@@ -16,6 +16,7 @@ mod wait_until;
 
 use super::{did_you_mean, show_duration, Loader};
 use crate::diag::{Span, Spanned, YamlNode, YamlValue};
+use crate::dictionary::Profile;
 use crate::drive::device_control::{DeviceCommand, DeviceState};
 use crate::recipe::step::{Step, StepKind};
 use crate::session::StepOrigin;
@@ -101,7 +102,7 @@ impl Loader<'_, '_> {
                     .filter(|k| k.value != "name")
                     .collect();
                 let [key] = keys.as_slice() else {
-                    self.problem(
+                    return self.refuse(
                         &node.span,
                         format!(
                             "a step has one keyword (and optionally `name`), this one has {}",
@@ -110,7 +111,6 @@ impl Loader<'_, '_> {
                         "one step per list item",
                         Some("start each step with its own `- `".into()),
                     );
-                    return None;
                 };
                 let body = node.get(&key.value)?;
                 let name = node
@@ -153,13 +153,12 @@ impl Loader<'_, '_> {
             "repeat" => self.repeat(body)?,
             "include" => self.include(body)?,
             word if DeviceCommand::from_id(word).is_some() => {
-                self.problem(
+                return self.refuse(
                     &key.span,
                     format!("`{word}` takes no settings; write it on its own: `- {word}`"),
                     "a plain command",
                     None,
                 );
-                return None;
             }
             word => {
                 self.unknown_step(&key.span, word);
@@ -192,7 +191,7 @@ impl Loader<'_, '_> {
     fn command_on_drive(&mut self, cmd: DeviceCommand, body: &YamlNode, origin: StepOrigin) -> Option<Step> {
         let drive = self.r.scalar_text(body, "the drive to command")?;
         if !self.several_drives() {
-            self.problem(
+            return self.refuse(
                 &body.span,
                 format!(
                     "`{}: {drive}` names a drive, but this recipe has no `drives:`",
@@ -201,7 +200,6 @@ impl Loader<'_, '_> {
                 "no such drive",
                 Some(format!("write `- {}` for the recipe's one drive", cmd.id())),
             );
-            return None;
         }
         let ok = self.on_drive(&drive, &body.span, |l| {
             if !l.has_profile(&body.span, &format!("`{}`", cmd.id())) {
@@ -239,40 +237,33 @@ impl Loader<'_, '_> {
     /// A command the dictionary's profile leaves out (the drive has no such command) is
     /// refused before anything is sent.
     fn check_command(&mut self, span: &Span, command: DeviceCommand) {
-        let Some(profile) = self.dict.profile() else {
-            return;
-        };
-        if !profile.has_command(command) {
-            let dictionary = self.dict.name().to_string();
-            self.problem(
-                span,
-                format!(
-                    "the {dictionary} drive has no `{}` command (its profile leaves it out)",
-                    command.id()
-                ),
-                "not on this drive",
-                Some(format!("its commands are: {}", profile.command_ids().join(", "))),
-            );
-        }
+        let lacks = format!("has no `{}` command", command.id());
+        self.check_profile(span, &lacks, |p| {
+            (!p.has_command(command)).then(|| format!("its commands are: {}", p.command_ids().join(", ")))
+        });
     }
 
     /// A state the dictionary's profile leaves out can be neither reached nor waited for.
     fn check_state(&mut self, span: &Span, state: DeviceState) {
-        let Some(profile) = self.dict.profile() else {
+        let lacks = format!("does not show the state `{}`", state.id());
+        self.check_profile(span, &lacks, |p| {
+            (!p.has_state(state)).then(|| format!("its states are: {}", p.state_ids().join(", ")))
+        });
+    }
+
+    /// Refuses what the dictionary's profile leaves out: `missing` gives the help (what the
+    /// profile has instead) when the profile lacks it.
+    fn check_profile(&mut self, span: &Span, lacks: &str, missing: impl Fn(&Profile) -> Option<String>) {
+        let Some(help) = self.dict.profile().and_then(missing) else {
             return;
         };
-        if !profile.has_state(state) {
-            let dictionary = self.dict.name().to_string();
-            self.problem(
-                span,
-                format!(
-                    "the {dictionary} drive does not show the state `{}` (its profile leaves it out)",
-                    state.id()
-                ),
-                "not on this drive",
-                Some(format!("its states are: {}", profile.state_ids().join(", "))),
-            );
-        }
+        let dictionary = self.dict.name().to_string();
+        self.problem(
+            span,
+            format!("the {dictionary} drive {lacks} (its profile leaves it out)"),
+            "not on this drive",
+            Some(help),
+        );
     }
 
     /// A device state named by `node`, the value of `what`.

@@ -3,7 +3,7 @@
 //! it. It must not read steps or values itself.
 
 use super::Loader;
-use crate::diag::{expected, Shape, YamlNode};
+use crate::diag::{Shape, YamlNode};
 use crate::dictionary::{read_dimensioned, Dimension};
 use crate::recipe::recipe::{Recipe, SafeStopChoice};
 
@@ -97,15 +97,13 @@ impl Loader<'_, '_> {
     /// link, as `--link-option NAME=VALUE` gives them; the family checks them before the
     /// port opens, and the command line's win.
     fn link(&mut self, node: &YamlNode) -> Vec<(String, String)> {
-        let Some(entries) = node.entries() else {
-            self.r.report(expected(
-                node,
-                "`link`",
-                "a mapping of link settings (link: { channel: cyclic, velocity_scaling: 24000 rpm })",
-            ));
-            return Vec::new();
-        };
+        let entries = self.r.mapping(
+            node,
+            "`link`",
+            "a mapping of link settings (link: { channel: cyclic, velocity_scaling: 24000 rpm })",
+        );
         entries
+            .unwrap_or_default()
             .iter()
             .filter_map(|(key, value)| {
                 let text = self.r.scalar_text(value, "a link setting")?;

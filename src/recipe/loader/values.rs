@@ -16,7 +16,7 @@ impl Loader<'_, '_> {
     pub(super) fn duration(&mut self, node: &YamlNode, what: &str) -> Option<Duration> {
         if let YamlValue::Int(_) | YamlValue::Float(_) = node.value {
             let n = node.as_text().unwrap_or_default();
-            self.problem(
+            return self.refuse(
                 &node.span,
                 format!("{what}: `{n}` has no unit"),
                 "which unit?",
@@ -24,7 +24,6 @@ impl Loader<'_, '_> {
                     "write a duration with its unit, e.g. `{n} s`, `{n} ms` or `{n} min`"
                 )),
             );
-            return None;
         }
         let text = self.text(node, &format!("`{what}`"))?;
         match humantime::parse_duration(text.trim()) {
@@ -79,19 +78,17 @@ impl Loader<'_, '_> {
         let q = match Quantity::parse(&text) {
             Ok(q) => q,
             Err(e) => {
-                self.problem(&node.span, format!("{}: {e}", def.name), "not a value", None);
-                return None;
+                return self.refuse(&node.span, format!("{}: {e}", def.name), "not a value", None);
             }
         };
         if check_limits {
             if let Err(e) = def.to_raw(&q) {
-                self.problem(
+                return self.refuse(
                     &node.span,
                     e.to_string(),
                     "refused before anything is sent",
                     limits_help(def),
                 );
-                return None;
             }
         }
         match (q.unit, def.unit) {

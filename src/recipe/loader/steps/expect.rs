@@ -75,8 +75,7 @@ impl Loader<'_, '_> {
             return None;
         }
         if checks.is_empty() {
-            self.problem(&body.span, "expect names no check", "empty", None);
-            return None;
+            return self.refuse(&body.span, "expect names no check", "empty", None);
         }
         let label = format!(
             "expect {}",

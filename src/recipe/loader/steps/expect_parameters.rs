@@ -15,29 +15,27 @@ impl Loader<'_, '_> {
     ) -> Option<(StepKind, String)> {
         let file = self.text(body, "`expect_parameters`")?;
         if self.several_drives() {
-            self.problem(
+            return self.refuse(
                 &body.span,
                 "`expect_parameters` compares one drive with a backup, and this recipe has several drives",
                 "which drive?",
                 Some("check each drive's parameters in a recipe of its own (`drivescript diff` compares one drive with a backup)".into()),
             );
-            return None;
         }
         let path = self.base_dir.join(&file);
         let parameters = match ParameterFile::load(&path) {
             Ok(p) => p,
             Err(text) => {
-                self.problem(
+                return self.refuse(
                     &body.span,
                     format!("cannot use {file} as a parameter file: {}", text.trim_end()),
                     "not a parameter file",
                     Some("give a file written by `drivescript backup`, relative to this recipe".into()),
                 );
-                return None;
             }
         };
         if parameters.family != self.dict.family() {
-            self.problem(
+            return self.refuse(
                 &body.span,
                 format!(
                     "{file} holds parameters of a {} drive; this recipe runs on {}",
@@ -47,7 +45,6 @@ impl Loader<'_, '_> {
                 "other drive family",
                 None,
             );
-            return None;
         }
         let unknown: Vec<&str> = parameters
             .objects
@@ -56,7 +53,7 @@ impl Loader<'_, '_> {
             .map(|o| o.name.as_str())
             .collect();
         if !unknown.is_empty() {
-            self.problem(
+            return self.refuse(
                 &body.span,
                 format!(
                     "{file} names object(s) the {} dictionary cannot read: {}",
@@ -66,7 +63,6 @@ impl Loader<'_, '_> {
                 "unknown objects",
                 Some("add them with --dictionary FILE, or take the backup again".into()),
             );
-            return None;
         }
         let label = format!(
             "expect parameters of {file} ({} object(s))",

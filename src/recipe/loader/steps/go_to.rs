@@ -43,7 +43,7 @@ impl Loader<'_, '_> {
             state,
             DeviceState::Fault | DeviceState::FaultReactionActive | DeviceState::NotReadyToSwitchOn
         ) {
-            self.problem(
+            return self.refuse(
                 &state_node.span,
                 format!(
                     "`{}` is entered by the drive itself, no command leads there",
@@ -52,7 +52,6 @@ impl Loader<'_, '_> {
                 "cannot be commanded",
                 None,
             );
-            return None;
         }
         let label = match &drive {
             Some(d) => format!("go to {} ({d})", state.id()),

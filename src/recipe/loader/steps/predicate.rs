@@ -26,7 +26,7 @@ impl Loader<'_, '_> {
             .filter(|k| OPERATORS.contains(k))
             .collect();
         let [op] = given.as_slice() else {
-            self.problem(
+            return self.refuse(
                 &node.span,
                 format!(
                     "a condition on {} has exactly one of equals, above, below, between, near; this has {}",
@@ -36,14 +36,12 @@ impl Loader<'_, '_> {
                 "one condition",
                 Some("e.g. `{ near: 6000 rpm, within: 1 % }` or `{ above: 100 rpm }`".into()),
             );
-            return None;
         };
         let value = f.get(op)?;
         let what = format!("`{op}`");
         if *op != "near" {
             if let Some(w) = f.get("within") {
-                self.problem(&w.span, "`within` goes with `near`", "only with near", None);
-                return None;
+                return self.refuse(&w.span, "`within` goes with `near`", "only with near", None);
             }
         }
         match *op {
@@ -55,22 +53,20 @@ impl Loader<'_, '_> {
             "below" => Some(Predicate::Below(self.number_for(def, value, &what, false)?)),
             "between" => {
                 let YamlValue::Seq(bounds) = &value.value else {
-                    self.problem(
+                    return self.refuse(
                         &value.span,
                         "between takes two values: `between: [5900 rpm, 6100 rpm]`",
                         "expected [low, high]",
                         None,
                     );
-                    return None;
                 };
                 let [low, high] = bounds.as_slice() else {
-                    self.problem(
+                    return self.refuse(
                         &value.span,
                         format!("between takes two values, this has {}", bounds.len()),
                         "expected [low, high]",
                         None,
                     );
-                    return None;
                 };
                 let lo = self.number_for(def, low, "the low end of `between`", false);
                 let hi = self.number_for(def, high, "the high end of `between`", false);
@@ -79,13 +75,12 @@ impl Loader<'_, '_> {
             _ => {
                 let target = self.number_for(def, value, &what, false);
                 let Some(w) = f.get("within") else {
-                    self.problem(
+                    return self.refuse(
                         &node.span,
                         "`near` needs `within`: how close is near enough",
                         "within missing",
                         Some("e.g. `within: 1 %` or `within: 20 rpm`".into()),
                     );
-                    return None;
                 };
                 let tolerance = self.tolerance(def, w);
                 Some(Predicate::Near {
@@ -119,8 +114,7 @@ impl Loader<'_, '_> {
         }
         let v = self.number_for(def, node, "`within`", false)?;
         if v < 0.0 {
-            self.problem(&node.span, "a tolerance cannot be negative", "negative", None);
-            return None;
+            return self.refuse(&node.span, "a tolerance cannot be negative", "negative", None);
         }
         Some(Tolerance::Absolute(v))
     }

@@ -20,13 +20,12 @@ impl Loader<'_, '_> {
         let obj_name = self.r.scalar_text(obj_node, "`object`")?;
         let (def, r) = self.object(&obj_name, &obj_node.span)?;
         if !def.writable() {
-            self.problem(
+            return self.refuse(
                 &obj_node.span,
                 format!("{} is read-only and cannot be ramped", def.name),
                 "read-only",
                 None,
             );
-            return None;
         }
         let from = f
             .get("from")
@@ -62,32 +61,29 @@ impl Loader<'_, '_> {
         };
         let (from, to, every, step_size) = (from?, to?, every?, step_size?);
         if !step_size.is_finite() {
-            self.problem(
+            return self.refuse(
                 &body.span,
                 "the ramp's step or rate is too large to be a number",
                 "not finite",
                 None,
             );
-            return None;
         }
         if step_size <= 0.0 {
-            self.problem(
+            return self.refuse(
                 &body.span,
                 "the ramp's step or rate must be more than zero",
                 "zero step",
                 None,
             );
-            return None;
         }
         let n = ((to - from).abs() / step_size).ceil() as usize;
         if n > MAX_RAMP_POINTS {
-            self.problem(
+            return self.refuse(
                 &body.span,
                 format!("this ramp would write {n} values; make the step larger"),
                 "too many steps",
                 None,
             );
-            return None;
         }
         let dir = if to >= from { 1.0 } else { -1.0 };
         let mut points: Vec<f64> = (0..n).map(|i| from + dir * step_size * i as f64).collect();
@@ -115,13 +111,12 @@ impl Loader<'_, '_> {
     fn rate(&mut self, def: &ObjectDef, node: &YamlNode) -> Option<f64> {
         let text = self.text(node, "`rate`")?;
         let Some((amount, per)) = text.rsplit_once('/') else {
-            self.problem(
+            return self.refuse(
                 &node.span,
                 format!("`{text}` is not a rate"),
                 "expected e.g. 1000 rpm/s",
                 None,
             );
-            return None;
         };
         let seconds = match per.trim() {
             "s" => 1.0,
@@ -129,13 +124,12 @@ impl Loader<'_, '_> {
             "ms" => 0.001,
             "h" => 3600.0,
             other => {
-                self.problem(
+                return self.refuse(
                     &node.span,
                     format!("`/{other}`: a rate is per s, min, ms or h"),
                     "unknown time unit",
                     None,
                 );
-                return None;
             }
         };
         let amount_node = YamlNode {

@@ -20,32 +20,29 @@ impl Loader<'_, '_> {
             None => None,
         };
         if times.is_none() && duration.is_none() {
-            self.problem(
+            return self.refuse(
                 &body.span,
                 "repeat needs `times` or `for`",
                 "how often?",
                 Some("e.g. `times: 3` or `for: 2 h`".into()),
             );
-            return None;
         }
         if times.is_some() && duration.is_some() {
-            self.problem(
+            return self.refuse(
                 &body.span,
                 "give repeat either `times` or `for`, not both",
                 "both given",
                 None,
             );
-            return None;
         }
         let steps = self.steps(f.get("steps")?, "`steps`");
         if duration.is_some() && !steps.iter().any(Step::takes_time) {
-            self.problem(
+            return self.refuse(
                 f.span_of("for"),
                 "`repeat` with `for` needs a step that takes time (a wait, dwell, sample, ramp or drive access); these steps take none, so it would never end",
                 "nothing takes time",
                 Some("use `times` to repeat them a number of times".into()),
             );
-            return None;
         }
         let label = match (times, duration) {
             (Some(t), _) => format!("repeat {t} times ({} steps)", steps.len()),

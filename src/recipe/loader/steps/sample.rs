@@ -23,7 +23,7 @@ impl Loader<'_, '_> {
         };
         let (objects, every, duration) = (objects?, every?, duration?);
         if every > duration {
-            self.problem(
+            return self.refuse(
                 f.span_of("every"),
                 format!(
                     "sampling every {} for {} takes no sample after the first",
@@ -33,11 +33,10 @@ impl Loader<'_, '_> {
                 "longer than `for`",
                 None,
             );
-            return None;
         }
         let samples = duration.as_nanos() / every.as_nanos() + 1;
         if samples > u128::from(MAX_SAMPLES) {
-            self.problem(
+            return self.refuse(
                 f.span_of("every"),
                 format!(
                     "sampling every {} for {} takes {samples} samples, more than {MAX_SAMPLES}",
@@ -50,7 +49,6 @@ impl Loader<'_, '_> {
                         .into(),
                 ),
             );
-            return None;
         }
         for o in &objects {
             self.sampled.insert(o.name.clone());

@@ -48,13 +48,12 @@ impl Loader<'_, '_> {
             }
         }
         if writes.is_empty() && ok {
-            self.problem(
+            return self.refuse(
                 &body.span,
                 "set names no object",
                 "empty",
                 Some("e.g. `set: { speed_setpoint: 6000 rpm }`".into()),
             );
-            return None;
         }
         let label = format!(
             "set {}",

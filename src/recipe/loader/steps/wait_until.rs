@@ -45,7 +45,7 @@ impl Loader<'_, '_> {
             return None;
         }
         if conditions.len() != 1 {
-            self.problem(
+            return self.refuse(
                 &body.span,
                 format!(
                     "wait_until waits for exactly one condition, this has {}",
@@ -54,7 +54,6 @@ impl Loader<'_, '_> {
                 "one condition",
                 Some("use two wait_until steps to wait for two things".into()),
             );
-            return None;
         }
         let condition = conditions.remove(0);
         let label = format!("wait until {condition} (timeout {})", show_duration(timeout));
