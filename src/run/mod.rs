@@ -6,7 +6,8 @@
 //! the file is known to write with the limits the drive itself reports, run with the safe
 //! stop at every ending, and write the console, CSV, trace, JUnit and HTML reports; a run
 //! that never starts writes its not-run JUnit and HTML. [`run_many`] runs several files,
-//! each with its own outputs, to the worst exit code. Features that follow a run plug in as
+//! each with its own outputs (one JUnit file and an index page for all), to the worst
+//! exit code. Features that follow a run plug in as
 //! [`RunRequest::observers`]. Also what every command shares to reach a drive: the
 //! dictionary with its bench limits ([`DictionaryArgs`]), the connection
 //! ([`ConnectionArgs`], address-key flags such as `--dnc-address`), [`open_drive`], the
@@ -34,6 +35,7 @@ mod run_plan;
 mod run_request;
 mod run_setup;
 mod safe_stop_args;
+mod several_reports;
 
 pub use address_key_flags::{AddressKeyFlag, DNC_ADDRESS};
 pub use connection_args::{parse_bitrate, parse_duration, CanSpec, Connection, ConnectionArgs};
