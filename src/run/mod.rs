@@ -36,6 +36,7 @@ mod run_request;
 mod run_setup;
 mod safe_stop_args;
 mod several_reports;
+mod several_sets;
 
 pub use address_key_flags::{AddressKeyFlag, DNC_ADDRESS};
 pub use connection_args::{parse_bitrate, parse_duration, CanSpec, Connection, ConnectionArgs};

@@ -1,9 +1,11 @@
 //! Several files (recipes or scripts) in one `run`, one after the other: each file's own
 //! output files (so none overwrites another's) beside the shared JUnit file and index page,
 //! the lines that name every file a run wrote, and the exit code of the whole command (the
-//! worst). The runs themselves are the pipeline's.
+//! worst), each `--set` given to the files that have the parameter. The runs themselves
+//! are the pipeline's.
 
 use super::several_reports::SeveralReports;
+use super::several_sets::sets_per_file;
 use super::{OutputArgs, RunRequest, RunResult};
 use crate::session::RunReport;
 use std::io::Write;
@@ -17,10 +19,21 @@ use std::path::{Path, PathBuf};
 pub fn run_many(files: &[PathBuf], base: &RunRequest, out: &mut dyn Write, err: &mut dyn Write) -> i32 {
     if files.len() < 2 {
         return files.first().map_or(super::PASSED, |file| {
-            run_one(file, base, None, out, err).exit_code
+            run_one(file, base, base.set, None, out, err).exit_code
         });
     }
     let mut shared = SeveralReports::new(files, &outputs_for(base.outputs, &base.output_dir, None));
+    let sets = match sets_per_file(files, base.set) {
+        Ok(s) => s,
+        Err(e) => {
+            let why = e.to_string();
+            let _ = writeln!(err, "{why}");
+            if let Err(e) = shared.refused(&why) {
+                let _ = writeln!(err, "error: {e}");
+            }
+            return e.exit_code();
+        }
+    };
     let mut worst = super::PASSED;
     let mut verdicts = Vec::new();
     let mut written: Vec<String> = Vec::new();
@@ -44,7 +57,7 @@ pub fn run_many(files: &[PathBuf], base: &RunRequest, out: &mut dyn Write, err: 
                 return super::INVALID;
             }
         }
-        let result = run_one(file, base, Some(&outputs), out, err);
+        let result = run_one(file, base, &sets[i], Some(&outputs), out, err);
         shared.finished(&result, outputs.report.as_deref());
         written.extend(written_files(&outputs, result.report.as_ref()));
         verdicts.push((file.display().to_string(), result.exit_code));
@@ -71,11 +84,12 @@ pub fn run_many(files: &[PathBuf], base: &RunRequest, out: &mut dyn Write, err: 
     worst
 }
 
-/// Runs `file` with `base`'s settings and `outputs` (`None`: `base`'s, placed under
-/// `--output-dir`), then names the files it wrote.
+/// Runs `file` with `base`'s settings, `set` and `outputs` (`None`: `base`'s, placed
+/// under `--output-dir`), then names the files it wrote.
 fn run_one(
     file: &Path,
     base: &RunRequest,
+    set: &[(String, String)],
     outputs: Option<&OutputArgs>,
     out: &mut dyn Write,
     err: &mut dyn Write,
@@ -85,6 +99,7 @@ fn run_one(
         .unwrap_or_else(|| outputs_for(base.outputs, &base.output_dir, None));
     let request = RunRequest {
         file,
+        set,
         outputs: &outputs,
         output_dir: base.output_dir.clone(),
         stop: base.stop.clone(),

@@ -7,8 +7,8 @@
 
 use super::{OutputArgs, RunResult, COMMUNICATION, FAILED, INVALID, PASSED};
 use crate::report::{
-    html_index, junit_document, junit_skipped_suite, junit_unfinished_suite, write_atomically, IndexEntry,
-    JunitSuite,
+    html_index, junit_document, junit_not_run_suite, junit_skipped_suite, junit_unfinished_suite,
+    write_atomically, IndexEntry, JunitSuite,
 };
 use crate::session::PANIC_EXIT;
 use std::path::{Path, PathBuf};
@@ -95,6 +95,24 @@ impl<'a> SeveralReports<'a> {
             report: report.filter(|r| r.is_file()).map(|r| self.href(r)),
         });
         self.worst = super::worse(self.worst, code);
+    }
+
+    /// A command refused before any file ran (`why`): every file as not run, invalid.
+    pub fn refused(&mut self, why: &str) -> Result<(), String> {
+        for file in self.files {
+            let shown = file.display().to_string();
+            self.suites
+                .push(junit_not_run_suite(&shown, &shown, "invalid", why, &[]));
+            self.rows.push(IndexEntry {
+                file: shown,
+                verdict: "NOT RUN — INVALID".into(),
+                passed: false,
+                detail: format!("exit code {INVALID}"),
+                report: None,
+            });
+        }
+        self.worst = INVALID;
+        self.ended()
     }
 
     /// After the last file ran or the command ended early: the files never reached are

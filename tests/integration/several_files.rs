@@ -230,3 +230,103 @@ fn a_panic_leaves_one_complete_junit_file_with_the_rest_not_run() {
     );
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// `--set speed=…` that only the first recipe has: applied there, and the second runs
+/// without it (it used to refuse the second with exit code 2).
+#[test]
+fn a_set_applies_where_the_parameter_exists() {
+    let out = cli(
+        &[
+            "run",
+            "recipes/commissioning.yaml",
+            "recipes/identity.yaml",
+            "--fast",
+            "--set",
+            "speed=4000rpm",
+        ],
+        0,
+    );
+    assert_has(
+        &out.stdout,
+        &[
+            "params  speed = 4000rpm",
+            "set speed_setpoint = 4000 rpm",
+            "exit code 0 (the worst of them)",
+        ],
+    );
+    assert_eq!(out.stdout.matches("PASSED —").count(), 2, "{}", out.stdout);
+}
+
+/// A `--set` name that no file of the run has is refused before anything runs, with the
+/// name meant from any of the files.
+#[test]
+fn a_set_no_file_has_is_refused_before_anything_runs() {
+    let dir = scratch("set-unknown");
+    let junit = dir.join("j.xml");
+    let out = cli(
+        &[
+            "run",
+            "recipes/identity.yaml",
+            "recipes/commissioning.yaml",
+            "recipes/speed-sweep.rhai",
+            "--fast",
+            "--set",
+            "spedd=4000rpm",
+            "--set",
+            "top=20000rpm",
+            "--junit",
+            junit.to_str().unwrap(),
+        ],
+        2,
+    );
+    assert_has(
+        &out.stderr,
+        &[
+            "--set spedd=4000rpm: no file of this run has a parameter `spedd`",
+            "did you mean `speed`?",
+            "recipes/speed-sweep.rhai: from, top, step",
+            "nothing was sent",
+        ],
+    );
+    assert!(
+        !out.stderr.contains("--set top"),
+        "top is the script's: {}",
+        out.stderr
+    );
+    assert!(!out.stdout.contains("== recipe 1"), "nothing ran: {}", out.stdout);
+    let xml = std::fs::read_to_string(&junit).expect("CI reads this run's refusal");
+    let found = suites(&checked_junit(&xml));
+    assert_eq!(found.len(), 3, "{xml}");
+    assert!(
+        found.iter().all(|s| s.1.starts_with("error error: --set spedd")),
+        "{found:?}"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// A `--set` value in the wrong unit is said once, at the `--set`, not at each of the
+/// three includes that use it and again at each include step.
+#[test]
+fn a_set_with_a_wrong_unit_is_said_once_at_the_set() {
+    let out = cli(
+        &[
+            "run",
+            "recipes/acceptance-test.yaml",
+            "--fast",
+            "--set",
+            "max_current=5rpm",
+        ],
+        2,
+    );
+    let text = out.stderr;
+    assert_has(
+        &text,
+        &[
+            "--set max_current=5rpm: rpm is not a unit of current_actual (A)",
+            "recipes/includes/speed-stage.yaml:20:39",
+            "1 problem found; nothing was sent",
+        ],
+    );
+    assert_eq!(text.matches("rpm is not a unit").count(), 1, "{text}");
+    assert!(!text.contains("has problems"), "{text}");
+}
