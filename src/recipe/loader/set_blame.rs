@@ -1,20 +1,22 @@
 //! A `--set` value the recipe cannot use (`--set max_current=5rpm` where amperes are
-//! needed), said once at the `--set` that gave it, instead of once at every place the
-//! parameter is used and again at every include of those places. Finds the problems the
+//! needed), said once, naming the `--set` that gave it and shown where the value is first
+//! used, instead of once at every place the parameter is used and again at every include
+//! of those places. Finds the problems the
 //! value causes by loading the recipe again without it; must not change what is a problem.
 
 use crate::diag::{Diagnostic, Diagnostics};
 use crate::recipe::{Recipe, RecipeInvalid};
 
-/// `invalid` with the problems each of `overrides` causes folded into one at that `--set`;
-/// `reload` loads the recipe with other overrides.
+/// `invalid` with the problems each of `overrides` causes folded into one at that `--set`,
+/// in the place of the first of them; `reload` loads the recipe with other overrides.
 pub(super) fn blamed_on_set(
     invalid: RecipeInvalid,
     overrides: &[(String, String)],
     reload: impl Fn(&[(String, String)]) -> Result<Recipe, RecipeInvalid>,
 ) -> RecipeInvalid {
-    let mut problems: Vec<Diagnostic> = invalid.problems.iter().cloned().collect();
-    let mut blamed = Vec::new();
+    let problems: Vec<&Diagnostic> = invalid.problems.iter().collect();
+    // Per `--set` it is the fault of: the problems it causes, and the one that says so.
+    let mut blamed: Vec<(Vec<Key>, Option<Diagnostic>)> = Vec::new();
     for (i, (name, value)) in overrides.iter().enumerate() {
         let others: Vec<(String, String)> = overrides
             .iter()
@@ -27,40 +29,58 @@ pub(super) fn blamed_on_set(
             Err(e) => e.problems.iter().map(key).collect(),
         };
         let placeholder = format!("{{{{{name}}}}}");
-        let caused: Vec<Key> = problems
+        let caused: Vec<&Diagnostic> = problems
             .iter()
-            .map(key)
-            .filter(|k| !without.contains(k))
+            .copied()
+            .filter(|p| !without.contains(&key(p)))
             .collect();
-        let mut places: Vec<String> = Vec::new();
-        let mut first = None;
-        for p in problems.iter().filter(|p| caused.contains(&key(p))) {
-            if p.span().is_some_and(|s| s.written().contains(&placeholder)) {
-                first.get_or_insert_with(|| p.message().to_string());
-                let place = format!("{}:{}:{}", p.path(), p.line(), p.column());
-                if !places.contains(&place) {
-                    places.push(place);
-                }
-            }
-        }
+        let direct: Vec<&Diagnostic> = caused
+            .iter()
+            .copied()
+            .filter(|p| p.span().is_some_and(|s| s.written().contains(&placeholder)))
+            .collect();
         // Only a value used where it is wrong is the `--set`'s fault; anything else it
         // changes is left at its own place.
-        let Some(first) = first else {
+        let Some(first) = direct.first() else {
             continue;
         };
-        problems.retain(|p| !caused.contains(&key(p)));
-        blamed.push(
-            Diagnostic::unlocated(invalid.path.clone(), format!("--set {name}={value}: {first}")).with_help(
-                format!(
-                    "the recipe uses `{placeholder}` at {}; give a value that fits there",
-                    places.join(", ")
-                ),
-            ),
-        );
+        let mut elsewhere: Vec<String> = Vec::new();
+        for p in &direct[1..] {
+            let place = format!("{}:{}:{}", p.path(), p.line(), p.column());
+            let shown = p.path() == first.path() && p.line() == first.line() && p.column() == first.column();
+            if !shown && !elsewhere.contains(&place) {
+                elsewhere.push(place);
+            }
+        }
+        let mut help: Vec<String> = first.help().map(str::to_string).into_iter().collect();
+        if !elsewhere.is_empty() {
+            help.push(format!(
+                "`{placeholder}` is also used at {}",
+                elsewhere.join(", ")
+            ));
+        }
+        // Shown at the first place that uses the value, so the value's use is in view.
+        let Some(span) = first.span() else {
+            continue;
+        };
+        let said = Diagnostic::at(
+            span,
+            format!("--set {name}={value}: {}", first.message()),
+            format!("`{placeholder}`, given by --set {name}"),
+        )
+        .with_optional_help((!help.is_empty()).then(|| help.join("; ")));
+        blamed.push((caused.iter().map(|p| key(p)).collect(), Some(said)));
     }
     let mut all = Diagnostics::new();
-    for p in blamed.into_iter().chain(problems) {
-        all.push(p);
+    for p in problems {
+        match blamed.iter_mut().find(|(caused, _)| caused.contains(&key(p))) {
+            Some((_, said)) => {
+                if let Some(said) = said.take() {
+                    all.push(said);
+                }
+            }
+            None => all.push(p.clone()),
+        }
     }
     RecipeInvalid {
         path: invalid.path,
