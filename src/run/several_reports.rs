@@ -121,7 +121,7 @@ impl<'a> SeveralReports<'a> {
         let why = match self.worst {
             PANIC_EXIT => "not run: the command ended with an internal error before this file".to_string(),
             c if c >= 128 => {
-                format!("not run: the command was stopped by a signal before this file (exit code {c})")
+                format!("not run: the command was stopped by a signal (exit code {c}) before this file")
             }
             _ => "not run".to_string(),
         };
