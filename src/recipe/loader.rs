@@ -8,6 +8,7 @@ mod drives;
 mod includes;
 mod objects;
 mod params;
+mod set_blame;
 mod steps;
 mod top_keys;
 mod values;
@@ -23,6 +24,7 @@ use crate::dictionary::Dictionary;
 use crate::drive::AddressKeyTable;
 use crate::session::{show_duration, StepOrigin};
 pub use drives::{declared_drives, DriveDictionaries};
+pub use params::declared_params;
 use params::ParamValue;
 use std::collections::{BTreeMap, HashSet};
 use std::path::{Path, PathBuf};
@@ -131,6 +133,21 @@ fn load_source(
 
 /// `drives`: each named drive's dictionary, and every family's address keys.
 fn load_source_for(
+    source: Arc<Source>,
+    base_dir: &Path,
+    dictionary: &Dictionary,
+    drives: (&[(String, Arc<Dictionary>)], &AddressKeyTable),
+    overrides: &[(String, String)],
+) -> Result<Recipe, RecipeInvalid> {
+    let load =
+        |overrides: &[(String, String)]| load_once(source.clone(), base_dir, dictionary, drives, overrides);
+    load(overrides).map_err(|invalid| match overrides {
+        [] => invalid,
+        _ => set_blame::blamed_on_set(invalid, overrides, load),
+    })
+}
+
+fn load_once(
     source: Arc<Source>,
     base_dir: &Path,
     dictionary: &Dictionary,

@@ -15,8 +15,8 @@ mod written_values;
 pub use drive_decl::DriveDecl;
 pub use expansion::{MAX_EXPANDED_STEPS, MAX_INCLUDE_LOADS, MAX_RUN_TIME};
 pub use loader::{
-    declared_drives, load_recipe, load_recipe_for, load_recipe_text, DriveDictionaries, MAX_DURATION,
-    MAX_SAMPLES,
+    declared_drives, declared_params, load_recipe, load_recipe_for, load_recipe_text, DriveDictionaries,
+    MAX_DURATION, MAX_SAMPLES,
 };
 pub use planned_checks::{planned_checks, sampled_objects};
 pub use recipe::{Param, Recipe, SafeStopChoice};

@@ -14,6 +14,7 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 /// One `<testcase>` before it is written.
+#[derive(Clone)]
 pub(crate) struct Case {
     pub name: String,
     pub time: f64,
@@ -22,9 +23,24 @@ pub(crate) struct Case {
     pub out: String,
 }
 
+/// One `<testsuite>` before it is written: one file run.
+#[derive(Clone)]
+pub struct JunitSuite {
+    pub(crate) name: String,
+    pub(crate) classname: String,
+    pub(crate) time: f64,
+    pub(crate) properties: Vec<(String, String)>,
+    pub(crate) cases: Vec<Case>,
+}
+
 /// The JUnit XML of a run; `planned` are the checks the recipe holds, so that the ones
 /// the run never reached are shown as skipped.
 pub fn junit_xml(report: &RunReport, planned: &[PlannedCheck]) -> String {
+    junit_document(&[junit_suite(report, planned)])
+}
+
+/// The test suite of a run (see [`junit_xml`]).
+pub fn junit_suite(report: &RunReport, planned: &[PlannedCheck]) -> JunitSuite {
     let r = report;
     let mut names = UniqueNames::default();
     let mut cases: Vec<Case> = r.checks.iter().map(|c| check_case(c, &mut names)).collect();
@@ -34,67 +50,81 @@ pub fn junit_xml(report: &RunReport, planned: &[PlannedCheck]) -> String {
     }
     cases.push(safe_stop_case(r));
     let started = humantime::format_rfc3339_seconds(r.started_at).to_string();
-    suite_xml(
-        &r.recipe,
-        &classname(&r.recipe),
-        r.duration.as_secs_f64(),
-        &suite_properties(r, &started),
-        &cases,
-    )
+    JunitSuite {
+        name: r.recipe.clone(),
+        classname: classname(&r.recipe),
+        time: r.duration.as_secs_f64(),
+        properties: suite_properties(r, &started),
+        cases,
+    }
 }
 
-/// The whole document for one suite of `cases`.
-pub(crate) fn suite_xml(
-    suite: &str,
-    classname: &str,
-    time: f64,
-    properties: &[(String, String)],
-    cases: &[Case],
-) -> String {
+/// Counts of `cases`: tests, failures, errors, skipped.
+fn counts(cases: &[Case]) -> [usize; 4] {
     let count = |kind: &str| {
         cases
             .iter()
             .filter(|c| c.outcome.as_ref().is_some_and(|o| o.0 == kind))
             .count()
     };
-    let (tests, failures, errors, skipped) =
-        (cases.len(), count("failure"), count("error"), count("skipped"));
-    let time = format!("{time:.3}");
+    [cases.len(), count("failure"), count("error"), count("skipped")]
+}
+
+/// The whole document: `<testsuites>` with one `<testsuite>` per file run, as CI servers
+/// read the reports of pytest, Hurl or Robot.
+pub fn junit_document<'s>(suites: impl IntoIterator<Item = &'s JunitSuite>) -> String {
+    let suites: Vec<&JunitSuite> = suites.into_iter().collect();
+    let mut totals = [0; 4];
+    for s in &suites {
+        for (t, n) in totals.iter_mut().zip(counts(&s.cases)) {
+            *t += n;
+        }
+    }
+    let time = format!("{:.3}", suites.iter().map(|s| s.time).sum::<f64>());
     let mut w = XmlWriter::new();
     w.open(
         "testsuites",
         &[
             ("name", "drivescript"),
-            ("tests", &tests.to_string()),
-            ("failures", &failures.to_string()),
-            ("errors", &errors.to_string()),
+            ("tests", &totals[0].to_string()),
+            ("failures", &totals[1].to_string()),
+            ("errors", &totals[2].to_string()),
             ("time", &time),
         ],
     );
+    for s in suites {
+        suite_element(&mut w, s);
+    }
+    w.close("testsuites");
+    w.finish()
+}
+
+fn suite_element(w: &mut XmlWriter, suite: &JunitSuite) {
+    let [tests, failures, errors, skipped] = counts(&suite.cases);
     w.open(
         "testsuite",
         &[
-            ("name", suite),
+            ("name", &suite.name),
             ("tests", &tests.to_string()),
             ("failures", &failures.to_string()),
             ("errors", &errors.to_string()),
             ("skipped", &skipped.to_string()),
-            ("time", &time),
+            ("time", &format!("{:.3}", suite.time)),
         ],
     );
-    if !properties.is_empty() {
+    if !suite.properties.is_empty() {
         w.open("properties", &[]);
-        for (name, value) in properties {
+        for (name, value) in &suite.properties {
             w.empty("property", &[("name", name), ("value", value)]);
         }
         w.close("properties");
     }
-    for c in cases {
+    for c in &suite.cases {
         w.open(
             "testcase",
             &[
                 ("name", &c.name),
-                ("classname", classname),
+                ("classname", &suite.classname),
                 ("time", &format!("{:.3}", c.time)),
             ],
         );
@@ -112,8 +142,6 @@ pub(crate) fn suite_xml(
         w.close("testcase");
     }
     w.close("testsuite");
-    w.close("testsuites");
-    w.finish()
 }
 
 /// Writes [`junit_xml`] to `path` atomically (via `path.tmp`), creating the directory.

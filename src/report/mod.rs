@@ -20,13 +20,13 @@ pub use console_reporter::{
     check_line, container_line, header_lines, message_line, step_line, summary_lines, ConsoleReporter,
 };
 pub use csv_recorder::{CsvRecorder, CSV_HEADER};
-pub use html::{html_report, write_html, MAX_PLOT_POINTS};
-pub use junit_report::{junit_xml, stable_check_name, write_junit};
+pub use html::{html_index, html_report, write_html, IndexEntry, MAX_PLOT_POINTS};
+pub use junit_report::{junit_document, junit_suite, junit_xml, stable_check_name, write_junit, JunitSuite};
 pub use progress_reporter::{progress_text, ProgressReporter};
 pub use telegram_fan_out::TelegramFanOut;
 pub use trace_header::{trace_notes_path, TraceHeader};
 pub use trace_writer::{hex_of_trace_line, is_trace_line, TraceWriter};
 pub use unfinished_report::{
-    html_not_run, html_unfinished, junit_not_run, junit_unfinished, write_html_unfinished,
-    write_junit_unfinished,
+    html_not_run, html_unfinished, junit_not_run, junit_not_run_suite, junit_skipped_suite, junit_unfinished,
+    junit_unfinished_suite, write_html_unfinished, write_junit_unfinished,
 };

@@ -7,7 +7,7 @@
 
 use super::atomic_write::write_atomically;
 use super::html::esc;
-use super::junit_report::{classname, stable_check_name, suite_xml, Case, UniqueNames};
+use super::junit_report::{classname, junit_document, stable_check_name, Case, JunitSuite, UniqueNames};
 use crate::session::PlannedCheck;
 use std::path::Path;
 
@@ -18,6 +18,11 @@ state is unknown to this report, check it";
 
 /// The JUnit XML that stands in for a run still under way.
 pub fn junit_unfinished(recipe: &str, recipe_path: &str) -> String {
+    junit_document(&[junit_unfinished_suite(recipe, recipe_path)])
+}
+
+/// The test suite of [`junit_unfinished`].
+pub fn junit_unfinished_suite(recipe: &str, recipe_path: &str) -> JunitSuite {
     not_run_junit(
         recipe,
         recipe_path,
@@ -36,7 +41,25 @@ pub fn junit_not_run(
     message: &str,
     planned: &[PlannedCheck],
 ) -> String {
+    junit_document(&[junit_not_run_suite(recipe, recipe_path, kind, message, planned)])
+}
+
+/// The test suite of [`junit_not_run`].
+pub fn junit_not_run_suite(
+    recipe: &str,
+    recipe_path: &str,
+    kind: &str,
+    message: &str,
+    planned: &[PlannedCheck],
+) -> JunitSuite {
     not_run_junit(recipe, recipe_path, ("error", kind), message, planned)
+}
+
+/// The test suite of a file that a command of several never started, because it ended
+/// before (`why`): its case `run` skipped, so that CI counts it and does not fail on it
+/// twice (the file that ended the command says why).
+pub fn junit_skipped_suite(recipe_path: &str, why: &str) -> JunitSuite {
+    not_run_junit(recipe_path, recipe_path, ("skipped", "not_run"), why, &[])
 }
 
 fn not_run_junit(
@@ -45,7 +68,7 @@ fn not_run_junit(
     (element, kind): (&'static str, &str),
     message: &str,
     planned: &[PlannedCheck],
-) -> String {
+) -> JunitSuite {
     let mut names = UniqueNames::default();
     let mut cases = vec![Case {
         name: names.unique("run".into()),
@@ -77,11 +100,16 @@ fn not_run_junit(
             out: String::new(),
         });
     }
-    let properties = [
-        ("recipe".to_string(), recipe.to_string()),
-        ("recipe_path".to_string(), recipe_path.to_string()),
-    ];
-    suite_xml(recipe, &classname(recipe), 0.0, &properties, &cases)
+    JunitSuite {
+        name: recipe.to_string(),
+        classname: classname(recipe),
+        time: 0.0,
+        properties: vec![
+            ("recipe".to_string(), recipe.to_string()),
+            ("recipe_path".to_string(), recipe_path.to_string()),
+        ],
+        cases,
+    }
 }
 
 /// A message's first line (a diagnostic's headline), for the JUnit `message`.

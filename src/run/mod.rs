@@ -6,9 +6,10 @@
 //! the file is known to write with the limits the drive itself reports, run with the safe
 //! stop at every ending, and write the console, CSV, trace, JUnit and HTML reports; a run
 //! that never starts writes its not-run JUnit and HTML. [`run_many`] runs several files,
-//! each with its own outputs, to the worst exit code. [`check`] loads a file the way a run
-//! does and, given a port, compares what it writes with the drive's own limits, for
-//! `check` to say. Features that follow a run plug in as [`RunRequest::observers`]. Also what every command shares to reach a drive: the
+//! each with its own outputs (one JUnit file and an index page for all), to the worst
+//! exit code. [`check`] loads a file the way a run does and, given a port, compares what
+//! it writes with the drive's own limits, for `check` to say. Features that follow a run
+//! plug in as [`RunRequest::observers`]. Also what every command shares to reach a drive: the
 //! dictionary with its bench limits ([`DictionaryArgs`]), the connection
 //! ([`ConnectionArgs`], address-key flags such as `--dnc-address`), [`open_drive`], the
 //! maintenance flow over the drive layer's interlock ([`run_maintain`]), typed errors
@@ -36,6 +37,8 @@ mod run_plan;
 mod run_request;
 mod run_setup;
 mod safe_stop_args;
+mod several_reports;
+mod several_sets;
 
 pub use address_key_flags::{AddressKeyFlag, DNC_ADDRESS};
 pub use check::{check, CheckRequest, Checked};

@@ -8,7 +8,7 @@ use super::{ConnectionArgs, RunRequest, RunResult, COMMUNICATION};
 use crate::bus::BusKind;
 use crate::dictionary::Dictionary;
 use crate::family::Registry;
-use crate::report::{html_not_run, junit_not_run, write_atomically};
+use crate::report::{html_not_run, junit_document, junit_not_run_suite, write_atomically};
 use crate::session::PlannedCheck;
 use std::io::Write;
 
@@ -110,9 +110,9 @@ pub fn not_run(
     };
     let why = why.trim_end();
     let outputs = request.outputs;
+    let suite = junit_not_run_suite(&name, &recipe_path, kind, why, planned);
     if let Some(p) = &outputs.junit {
-        let xml = junit_not_run(&name, &recipe_path, kind, why, planned);
-        if let Err(e) = write_atomically(p, &xml) {
+        if let Err(e) = write_atomically(p, &junit_document(std::slice::from_ref(&suite))) {
             let _ = writeln!(err, "error: {e}");
         }
     }
@@ -121,5 +121,8 @@ pub fn not_run(
             let _ = writeln!(err, "error: {e}");
         }
     }
-    RunResult::refused(code)
+    RunResult {
+        junit: Some(suite),
+        ..RunResult::refused(code)
+    }
 }

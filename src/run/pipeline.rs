@@ -12,7 +12,7 @@ use super::run_setup::{
     finish_reports, observed, open_csv, telegram_outputs, trace_header, write_placeholders, Look,
 };
 use super::{open_drive, ConnectionArgs, RunError, RunRequest, RunResult, COMMUNICATION, INVALID};
-use crate::report::TelegramFanOut;
+use crate::report::{junit_suite, TelegramFanOut};
 use std::io::Write;
 
 /// Checks and runs `request.file`, writing the console output to `out` and problems to
@@ -95,6 +95,7 @@ pub fn run(request: &RunRequest, out: &mut dyn Write, err: &mut dyn Write) -> Ru
     });
     finish_reports(&report, &planned, csv.as_ref(), outputs, err);
     RunResult {
+        junit: Some(junit_suite(&report, &planned)),
         exit_code: report.exit_code(),
         report: Some(report),
         simulator: open.simulators.first().map(|(_, s)| s.clone()),

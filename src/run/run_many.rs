@@ -1,9 +1,12 @@
 //! Several files (recipes or scripts) in one `run`, one after the other: each file's own
-//! output files (so none overwrites another's), the line that names every file a run
-//! wrote, and the exit code of the whole command (the worst). The runs themselves are
-//! the pipeline's.
+//! output files (so none overwrites another's) beside the shared JUnit file and index page,
+//! the lines that name every file a run wrote, and the exit code of the whole command (the
+//! worst), each `--set` given to the files that have the parameter. The runs themselves
+//! are the pipeline's.
 
-use super::{OutputArgs, RunRequest};
+use super::several_reports::SeveralReports;
+use super::several_sets::sets_per_file;
+use super::{OutputArgs, RunRequest, RunResult};
 use crate::session::RunReport;
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -11,52 +14,102 @@ use std::path::{Path, PathBuf};
 /// Runs each of `files` with `base`'s settings (its `file` and its output paths are
 /// replaced for each), writing the console output to `out` and problems to `err`; the
 /// worst exit code. A stop signal or a panic ends the whole command, after that file's
-/// safe stop.
+/// safe stop. With several files, `--junit` is one file with a suite per file and
+/// `--report` an index of each file's own report (see [`SeveralReports`]).
 pub fn run_many(files: &[PathBuf], base: &RunRequest, out: &mut dyn Write, err: &mut dyn Write) -> i32 {
-    let several = files.len() > 1;
+    if files.len() < 2 {
+        return files.first().map_or(super::PASSED, |file| {
+            run_one(file, base, base.set, None, out, err).exit_code
+        });
+    }
+    let mut shared = SeveralReports::new(files, &outputs_for(base.outputs, &base.output_dir, None));
+    let sets = match sets_per_file(files, base.set) {
+        Ok(s) => s,
+        Err(e) => {
+            let why = e.to_string();
+            let _ = writeln!(err, "{why}");
+            if let Err(e) = shared.refused(&why) {
+                let _ = writeln!(err, "error: {e}");
+            }
+            return e.exit_code();
+        }
+    };
     let mut worst = super::PASSED;
     let mut verdicts = Vec::new();
+    let mut written: Vec<String> = Vec::new();
     for (i, file) in files.iter().enumerate() {
-        if several {
-            let _ = writeln!(
-                out,
-                "{}== recipe {} of {}: {}",
-                if i > 0 { "\n" } else { "" },
-                i + 1,
-                files.len(),
-                file.display()
-            );
-        }
-        let outputs = outputs_for(
-            base.outputs,
-            &base.output_dir,
-            several.then_some((i + 1, file.as_path())),
+        let _ = writeln!(
+            out,
+            "{}== recipe {} of {}: {}",
+            if i > 0 { "\n" } else { "" },
+            i + 1,
+            files.len(),
+            file.display()
         );
-        let request = RunRequest {
-            file,
-            outputs: &outputs,
-            output_dir: base.output_dir.clone(),
-            stop: base.stop.clone(),
-            safe_stop: base.safe_stop.clone(),
-            observers: base.observers.clone(),
-            ..*base
+        let outputs = OutputArgs {
+            junit: None,
+            ..outputs_for(base.outputs, &base.output_dir, Some((i + 1, file.as_path())))
         };
-        let result = super::run(&request, out, err);
-        print_outputs(&outputs, result.report.as_ref(), out);
+        if let Err(e) = shared.starting(outputs.report.as_deref()) {
+            let _ = writeln!(err, "error: {e}");
+            if i == 0 {
+                let _ = writeln!(err, "nothing was sent to a drive");
+                return super::INVALID;
+            }
+        }
+        let result = run_one(file, base, &sets[i], Some(&outputs), out, err);
+        shared.finished(&result, outputs.report.as_deref());
+        written.extend(written_files(&outputs, result.report.as_ref()));
         verdicts.push((file.display().to_string(), result.exit_code));
         worst = worse(worst, result.exit_code);
         if result.exit_code >= 128 || result.exit_code == crate::session::PANIC_EXIT {
             break;
         }
     }
-    if several {
-        let _ = writeln!(out, "\n== {} recipe(s):", verdicts.len());
-        for (path, code) in &verdicts {
-            let _ = writeln!(out, "   exit code {code}  {path}");
-        }
-        let _ = writeln!(out, "exit code {worst} (the worst of them)");
+    if let Err(e) = shared.ended() {
+        let _ = writeln!(err, "error: {e}");
     }
+    let _ = writeln!(out, "\n== {} recipe(s):", verdicts.len());
+    for (path, code) in &verdicts {
+        let _ = writeln!(out, "   exit code {code}  {path}");
+    }
+    let _ = writeln!(out, "exit code {worst} (the worst of them)");
+    let mut all: Vec<String> = shared
+        .paths()
+        .filter(|p| p.is_file())
+        .map(|p| p.display().to_string())
+        .collect();
+    all.extend(written);
+    print_outputs(&all, out);
     worst
+}
+
+/// Runs `file` with `base`'s settings, `set` and `outputs` (`None`: `base`'s, placed
+/// under `--output-dir`), then names the files it wrote.
+fn run_one(
+    file: &Path,
+    base: &RunRequest,
+    set: &[(String, String)],
+    outputs: Option<&OutputArgs>,
+    out: &mut dyn Write,
+    err: &mut dyn Write,
+) -> RunResult {
+    let outputs = outputs
+        .cloned()
+        .unwrap_or_else(|| outputs_for(base.outputs, &base.output_dir, None));
+    let request = RunRequest {
+        file,
+        set,
+        outputs: &outputs,
+        output_dir: base.output_dir.clone(),
+        stop: base.stop.clone(),
+        safe_stop: base.safe_stop.clone(),
+        observers: base.observers.clone(),
+        ..*base
+    };
+    let result = super::run(&request, out, err);
+    print_outputs(&written_files(&outputs, result.report.as_ref()), out);
+    result
 }
 
 /// The exit code that says more: a panic, then a stop signal, then 3, 2, 1, 0.
@@ -111,8 +164,8 @@ pub fn outputs_for(outputs: &OutputArgs, dir: &Path, recipe: Option<(usize, &Pat
     }
 }
 
-/// `outputs  junit.xml, report.html, run-in-stage-1.csv`: every file the run wrote.
-fn print_outputs(outputs: &OutputArgs, report: Option<&RunReport>, out: &mut dyn Write) {
+/// Every file one run wrote: its outputs that exist, then the `csv:` files of its steps.
+fn written_files(outputs: &OutputArgs, report: Option<&RunReport>) -> Vec<String> {
     let mut files: Vec<String> = [&outputs.trace, &outputs.csv, &outputs.junit, &outputs.report]
         .into_iter()
         .flatten()
@@ -122,6 +175,11 @@ fn print_outputs(outputs: &OutputArgs, report: Option<&RunReport>, out: &mut dyn
     if let Some(r) = report {
         files.extend(r.csv_files.iter().cloned());
     }
+    files
+}
+
+/// `outputs  junit.xml, report.html, run-in-stage-1.csv`.
+fn print_outputs(files: &[String], out: &mut dyn Write) {
     if !files.is_empty() {
         let _ = writeln!(out, "outputs {}", files.join(", "));
     }

@@ -3,6 +3,7 @@
 
 use crate::clock::SharedClock;
 use crate::family::Registry;
+use crate::report::JunitSuite;
 use crate::run::{ConnectionArgs, DictionaryArgs, OutputArgs, SafeStopArgs};
 use crate::session::{RunObserver, RunReport};
 use crate::sim::SimulatedDrive;
@@ -53,6 +54,9 @@ pub struct RunResult {
     pub simulator: Option<Arc<Mutex<dyn SimulatedDrive>>>,
     /// Every simulated drive by the recipe's name for it (empty name: the one drive).
     pub simulators: Vec<(String, Arc<Mutex<dyn SimulatedDrive>>)>,
+    /// The test suite of the run's JUnit report (with several files, one suite of the
+    /// command's one file); `None` when the run could not write its output files.
+    pub junit: Option<JunitSuite>,
 }
 
 impl RunResult {
@@ -63,6 +67,7 @@ impl RunResult {
             report: None,
             simulator: None,
             simulators: Vec::new(),
+            junit: None,
         }
     }
 }

@@ -24,7 +24,10 @@ pub use sandbox::{
     MAX_ARRAY_SIZE, MAX_CALL_LEVELS, MAX_CSV_FILES, MAX_EXPR_DEPTH, MAX_MAP_SIZE,
     MAX_OPERATIONS_BETWEEN_CALLS, MAX_STRING_SIZE,
 };
-pub use script::{declared_script_drives, is_script, load_script, load_script_for, load_script_text, Script};
+pub use script::{
+    declared_script_drives, declared_script_params, is_script, load_script, load_script_for,
+    load_script_text, Script,
+};
 /// A script that did not pass its check.
 pub type ScriptInvalid = crate::diag::FileInvalid;
 pub use script_runner::ScriptRunner;

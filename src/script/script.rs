@@ -7,7 +7,7 @@
 use super::bridge::Bridge;
 use super::drive_api::register;
 use super::drive_in_condition::conditions_using_the_drive;
-use super::literal_calls::literal_calls;
+use super::literal_calls::{literal_calls, Arg};
 use super::sandbox::sandbox;
 use super::script_error::parse_error;
 use super::script_header::Header;
@@ -68,6 +68,23 @@ pub fn declared_script_drives(path: &Path) -> Vec<(String, String)> {
             .collect(),
         Err(_) => Vec::new(),
     }
+}
+
+/// The parameters a script file reads with `param("name", …)`, found before it is loaded,
+/// so that a run of several files can give each `--set` to the files that have it.
+pub fn declared_script_params(path: &Path) -> Vec<String> {
+    let Ok(source) = read_source(path) else {
+        return Vec::new();
+    };
+    let mut names: Vec<String> = Vec::new();
+    for c in literal_calls(&source) {
+        if let (false, "param", Some((Arg::Text(name), _))) = (c.method, c.name.as_str(), c.args.first()) {
+            if !names.contains(name) {
+                names.push(name.clone());
+            }
+        }
+    }
+    names
 }
 
 /// Loads and checks a script that may declare several drives: `drives` holds each one's

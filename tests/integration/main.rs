@@ -29,6 +29,7 @@ mod reports;
 mod run_pipeline;
 mod safety;
 mod scripts;
+mod several_files;
 mod socketcan;
 mod stop_command;
 mod support;

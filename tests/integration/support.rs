@@ -165,7 +165,21 @@ impl<'a> InProcessRun<'a> {
 
     /// Runs it; what it produced and its console output (standard output, then errors).
     pub fn run(&self) -> (drivescript::run::RunResult, String) {
-        let request = drivescript::run::RunRequest {
+        let (mut out, mut err) = (Vec::new(), Vec::new());
+        let result = drivescript::run::run(&self.request(), &mut out, &mut err);
+        (result, console(&out, &err))
+    }
+
+    /// Runs `files` as one command of several, with this run's settings; the exit code and
+    /// the console output.
+    pub fn run_many(&self, files: &[PathBuf]) -> (i32, String) {
+        let (mut out, mut err) = (Vec::new(), Vec::new());
+        let code = drivescript::run::run_many(files, &self.request(), &mut out, &mut err);
+        (code, console(&out, &err))
+    }
+
+    fn request(&self) -> drivescript::run::RunRequest<'_> {
+        drivescript::run::RunRequest {
             registry: &self.registry,
             file: &self.recipe,
             set: &self.set,
@@ -179,16 +193,13 @@ impl<'a> InProcessRun<'a> {
             safe_stop: self.safe_stop.clone(),
             terminal: false,
             observers: self.observers.clone(),
-        };
-        let (mut out, mut err) = (Vec::new(), Vec::new());
-        let result = drivescript::run::run(&request, &mut out, &mut err);
-        let output = format!(
-            "{}{}",
-            String::from_utf8_lossy(&out),
-            String::from_utf8_lossy(&err)
-        );
-        (result, output)
+        }
     }
+}
+
+/// Standard output, then errors.
+fn console(out: &[u8], err: &[u8]) -> String {
+    format!("{}{}", String::from_utf8_lossy(out), String::from_utf8_lossy(err))
 }
 
 /// The control words the run's simulated drive received, in order; none when the run

@@ -3,8 +3,25 @@
 //! the substituted text (numbers, units, durations are `values`' job).
 
 use super::{did_you_mean, Loader};
-use crate::diag::{Shape, Span, YamlNode};
+use crate::diag::{read_source, Shape, Span, YamlNode};
 use crate::recipe::recipe::Param;
+use std::path::Path;
+
+/// The names under a recipe file's `params:`, read before it is loaded, so that a run of
+/// several files can give each `--set` to the files that have it. Anything that cannot be
+/// read is left to the loader to report.
+pub fn declared_params(path: &Path) -> Vec<String> {
+    let Ok(source) = read_source(path) else {
+        return Vec::new();
+    };
+    let Ok(root) = YamlNode::parse(&source) else {
+        return Vec::new();
+    };
+    root.get("params")
+        .and_then(YamlNode::entries)
+        .map(|entries| entries.iter().map(|(k, _)| k.value.clone()).collect())
+        .unwrap_or_default()
+}
 
 /// A parameter's text and where it was given (`recipe.yaml:3`, `--set`).
 pub(super) struct ParamValue {

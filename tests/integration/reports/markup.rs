@@ -142,20 +142,29 @@ pub fn case_out<'a>(doc: &'a Document, case: &str) -> Option<&'a str> {
 }
 
 /// `xml` checked with `xmllint --schema tests/junit-10.xsd` (Jenkins' JUnit schema) and
-/// its `<testsuite>`, the root of a Surefire file, with Maven Surefire's
+/// each of its `<testsuite>`s, the root of a Surefire file, with Maven Surefire's
 /// `tests/surefire-test-report-3.0.xsd`; `None` when xmllint is not installed (CI
 /// installs it: `.ci/run`).
 pub fn junit_xsd(xml: &str) -> Option<Result<(), String>> {
     let jenkins = xmllint(xml, concat!(env!("CARGO_MANIFEST_DIR"), "/tests/junit-10.xsd"))?;
-    let suite = match (xml.find("<testsuite "), xml.rfind("</testsuite>")) {
-        (Some(a), Some(b)) => format!("{XML_DECLARATION}\n{}", &xml[a..b + "</testsuite>".len()]),
-        _ => return Some(Err("no <testsuite> element".into())),
-    };
-    let surefire = xmllint(
-        &suite,
-        concat!(env!("CARGO_MANIFEST_DIR"), "/tests/surefire-test-report-3.0.xsd"),
-    )?;
-    Some(jenkins.and(surefire.map_err(|e| format!("Surefire: {e}"))))
+    let mut rest = xml;
+    let mut suites = 0;
+    let mut surefire = Ok(());
+    while let (Some(a), Some(b)) = (rest.find("<testsuite "), rest.find("</testsuite>")) {
+        let end = b + "</testsuite>".len();
+        let suite = format!("{XML_DECLARATION}\n{}", &rest[a..end]);
+        let checked = xmllint(
+            &suite,
+            concat!(env!("CARGO_MANIFEST_DIR"), "/tests/surefire-test-report-3.0.xsd"),
+        )?;
+        surefire = surefire.and(checked.map_err(|e| format!("Surefire, suite {}: {e}", suites + 1)));
+        suites += 1;
+        rest = &rest[end..];
+    }
+    if suites == 0 {
+        return Some(Err("no <testsuite> element".into()));
+    }
+    Some(jenkins.and(surefire))
 }
 
 fn xmllint(xml: &str, xsd: &str) -> Option<Result<(), String>> {
@@ -219,6 +228,15 @@ const HTML_ELEMENTS: &[&str] = &[
 /// Parses `text` as an HTML5 document: it must start with the HTML5 doctype, parse without
 /// a single parse error, and hold only the elements the report writes.
 pub fn html(text: &str) -> Result<Html, String> {
+    html_with(text, &[])
+}
+
+/// [`html`] for the index page of several files, which links each file's report.
+pub fn html_index(text: &str) -> Result<Html, String> {
+    html_with(text, &["a"])
+}
+
+fn html_with(text: &str, more: &[&str]) -> Result<Html, String> {
     if !text.starts_with("<!DOCTYPE html>") {
         return Err("no <!DOCTYPE html> at the start".into());
     }
@@ -228,7 +246,7 @@ pub fn html(text: &str) -> Result<Html, String> {
     }
     for e in doc.root_element().descendent_elements() {
         let name = e.value().name();
-        if !HTML_ELEMENTS.contains(&name) {
+        if !HTML_ELEMENTS.contains(&name) && !more.contains(&name) {
             return Err(format!("unexpected element <{name}>: {}", e.html()));
         }
     }
