@@ -7,7 +7,7 @@
 
 use super::atomic_write::write_atomically;
 use super::html::esc;
-use super::junit_report::{classname, stable_check_name, suite_xml, Case, UniqueNames};
+use super::junit_report::{case_name, classname, name_apart, stable_check_name, suite_xml, Case};
 use crate::session::PlannedCheck;
 use std::path::Path;
 
@@ -46,9 +46,8 @@ fn not_run_junit(
     message: &str,
     planned: &[PlannedCheck],
 ) -> String {
-    let mut names = UniqueNames::default();
     let mut cases = vec![Case {
-        name: names.unique("run".into()),
+        name: "run".into(),
         time: 0.0,
         outcome: Some((
             element,
@@ -58,15 +57,12 @@ fn not_run_junit(
         )),
         out: format!("recipe file: {recipe_path}\n"),
     }];
+    let mut steps = vec![String::new()];
     for p in planned {
         let check = stable_check_name(&p.name, p.object.as_deref(), p.statistic.as_deref());
-        let name = if p.stage.is_empty() {
-            check
-        } else {
-            format!("{} / {check}", p.stage)
-        };
+        steps.push(p.step.clone());
         cases.push(Case {
-            name: names.unique(name),
+            name: case_name(&p.stage, &check),
             time: 0.0,
             outcome: Some((
                 "skipped",
@@ -77,6 +73,7 @@ fn not_run_junit(
             out: String::new(),
         });
     }
+    name_apart(&mut cases, steps);
     let properties = [
         ("recipe".to_string(), recipe.to_string()),
         ("recipe_path".to_string(), recipe_path.to_string()),
