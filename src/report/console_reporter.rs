@@ -215,11 +215,9 @@ pub fn summary_lines(report: &RunReport, virtual_time: bool) -> Vec<String> {
     if report.check_by_hand() {
         lines.push("CHECK THE DRIVE BY HAND: the safe stop could not be confirmed (see above)".to_string());
     }
-    let steps = report
-        .steps
-        .iter()
-        .filter(|s| s.phase == "steps" && !s.number.contains('.'))
-        .count();
+    // Every step line the run printed: nested steps, each pass of a repeat and `finally`
+    // included, and the passed ones the report did not keep.
+    let steps = report.steps.len() as u64 + report.omitted_steps;
     let time = humantime::format_duration(std::time::Duration::from_millis(
         report.duration.as_millis() as u64
     ));
