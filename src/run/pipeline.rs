@@ -60,7 +60,7 @@ pub fn run(request: &RunRequest, out: &mut dyn Write, err: &mut dyn Write) -> Ru
         Ok(o) => o,
         Err(e) => return refuse(COMMUNICATION, &e.to_string(), err),
     };
-    if !open.simulators.is_empty() {
+    if !open.simulators.is_empty() && !outputs.quiet {
         let _ = writeln!(out, "using {}", open.description);
     }
     // Each drive's limits for the values written to it (`left.speed_setpoint`).
@@ -72,7 +72,12 @@ pub fn run(request: &RunRequest, out: &mut dyn Write, err: &mut dyn Write) -> Ru
             .filter(|w| name.is_empty() || w.object.name.starts_with(&prefix))
             .cloned()
             .collect();
-        if let Err((code, why)) = within_drive_limits(&own, drive, plan.path(), &request.stop, out, err) {
+        // The limits read are news to a person, not to a CI log; refusals go to `err`.
+        let said: &mut dyn Write = match outputs.quiet {
+            true => &mut std::io::sink(),
+            false => &mut *out,
+        };
+        if let Err((code, why)) = within_drive_limits(&own, drive, plan.path(), &request.stop, said, err) {
             return not_run(request, Some((plan, &planned)), code, &why, err);
         }
     }

@@ -122,7 +122,7 @@ fn print_outputs(outputs: &OutputArgs, report: Option<&RunReport>, out: &mut dyn
     if let Some(r) = report {
         files.extend(r.csv_files.iter().cloned());
     }
-    if !files.is_empty() {
+    if !files.is_empty() && !outputs.quiet {
         let _ = writeln!(out, "outputs {}", files.join(", "));
     }
 }
