@@ -17,6 +17,7 @@ mod script_commands;
 mod simulate_command;
 mod stop_command;
 mod stop_signals;
+mod text_table;
 
 use crate::family::Registry;
 use crate::run::{INVALID, PASSED};

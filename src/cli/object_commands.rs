@@ -428,10 +428,9 @@ pub fn objects(args: &ObjectsArgs, registry: &Registry) -> i32 {
             limits.source()
         );
     }
-    println!(
-        "{:<18} {:<9} {:<11} {:<6} {:<6} {:<22} aliases",
-        "name", "address", "type", "unit", "access", "limits"
-    );
+    let mut rows = Vec::new();
+    // A row of drive limits follows its object's row, in the limits column.
+    let mut drive_rows = Vec::new();
     for d in list {
         let limits = match (d.min, d.max) {
             (Some(lo), Some(hi)) => {
@@ -450,21 +449,31 @@ pub fn objects(args: &ObjectsArgs, registry: &Registry) -> i32 {
         } else {
             ""
         };
-        println!(
-            "{:<18} {:<9} {:<11} {:<6} {:<6} {:<22} {}{flag}",
-            d.name,
+        rows.push(vec![
+            d.name.clone(),
             shown_address(&family, &d.address),
             d.data_type.to_string(),
-            d.unit.map(|u| u.symbol()).unwrap_or(""),
-            d.access.id(),
+            d.unit.map(|u| u.symbol()).unwrap_or("").to_string(),
+            d.access.id().to_string(),
             limits,
-            d.aliases.join(", ")
-        );
-        if let Some(l) = from_drive(&d.name) {
-            println!("{:<18} drive limits: {l}", "");
+            format!("{}{flag}", d.aliases.join(", ")),
+        ]);
+        drive_rows.push(from_drive(&d.name).map(|l| format!("drive limits: {l}")));
+    }
+    let header = ["name", "address", "type", "unit", "access", "limits", "aliases"];
+    let lines = super::text_table::table_lines(&header, &rows);
+    for (i, line) in lines.iter().enumerate() {
+        println!("{}", line.trim_end());
+        if let Some(Some(l)) = i.checked_sub(1).and_then(|r| drive_rows.get(r)) {
+            println!("{:<width$}{l}", "", width = header_offset(&lines[0], "limits"));
         }
     }
     PASSED
+}
+
+/// Where `column` starts in a table's header line.
+fn header_offset(header: &str, column: &str) -> usize {
+    header.find(column).map_or(0, |i| header[..i].chars().count())
 }
 
 pub fn ports(args: &PortsArgs) -> i32 {

@@ -258,3 +258,30 @@ fn csv_wide_gives_one_column_per_object_everywhere() {
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// `objects` sizes its columns from what they hold: a long address (SD2's
+/// `index 22 (0x0016)`) or name (CT's `control_word_enable`) does not push its row out of
+/// line, so every cell of a column starts where its heading does.
+#[test]
+fn objects_columns_line_up_whatever_their_width() {
+    for drive in ["sd2", "ct-unidrive-sp"] {
+        let listing = crate::support::cli(&["objects", "--drive", drive], 0).stdout;
+        let lines: Vec<Vec<char>> = listing.lines().map(|l| l.chars().collect()).collect();
+        let header = lines
+            .iter()
+            .position(|l| l.starts_with(&['n', 'a', 'm', 'e', ' ']))
+            .unwrap_or_else(|| panic!("no header in {listing}"));
+        let heading: String = lines[header].iter().collect();
+        // The columns that are never empty.
+        for column in ["address", "type", "access"] {
+            let at = heading[..heading.find(column).expect("column")].chars().count();
+            for row in &lines[header + 1..] {
+                let row_text: String = row.iter().collect();
+                assert!(
+                    row.get(at - 1) == Some(&' ') && row.get(at).is_some_and(|c| *c != ' '),
+                    "{drive}: `{column}` is not at column {at} in\n{row_text}\n{listing}"
+                );
+            }
+        }
+    }
+}
