@@ -86,3 +86,31 @@ fn parameters_are_substituted_where_values_are_read() {
         ["r.yaml:3:12: unknown parameter `sttle`"]
     );
 }
+
+#[test]
+fn a_misspelt_timeout_gets_a_did_you_mean() {
+    let text = "name: x\nsteps:\n  - wait_until: { speed_actual: { below: 10 rpm }, timout: 30 s }\n  - go_to: { state: switched_on, timout: 5 s }\n";
+    let e = load(text).expect_err("misspelt keys");
+    let found: Vec<(String, Option<&str>)> = e.problems.iter().map(|p| (p.located(), p.help())).collect();
+    assert_eq!(
+        found,
+        [
+            (
+                "r.yaml:3:52: unknown key `timout` in this wait_until".to_string(),
+                Some("did you mean `timeout`?")
+            ),
+            (
+                "r.yaml:4:34: unknown key `timout` in this go_to".to_string(),
+                Some("did you mean `timeout`?")
+            ),
+        ]
+    );
+    // A misspelt object still gets its own suggestion.
+    let text = "name: x\nsteps:\n  - wait_until: { sped_actual: { below: 10 rpm } }\n";
+    let e = load(text).expect_err("misspelt object");
+    let p = e.problems.iter().next().expect("one problem");
+    assert_eq!(
+        p.located(),
+        "r.yaml:3:19: unknown object `sped_actual` in the sd2 dictionary"
+    );
+}
