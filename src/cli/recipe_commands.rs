@@ -156,6 +156,14 @@ pub fn check(args: &CheckArgs, registry: &Registry) -> i32 {
                 safe_stop_notes::print(path, &recipe.safe_stop, recipe.leave_enabled);
             }
             Ok(recipe) => {
+                // The link's settings are known before anything is sent.
+                let link = args.connection.with_defaults(&recipe.link);
+                let values = crate::recipe::written_values(&recipe);
+                if let Err(e) = crate::run::within_link_range(&values, &dictionary, registry, &link) {
+                    eprintln!("{e}");
+                    code = INVALID;
+                    continue;
+                }
                 println!(
                     "ok  {} — {} ({} steps{})",
                     path.display(),

@@ -11,7 +11,8 @@ mod registry;
 pub mod sd2;
 
 pub use family::{
-    serial_line, BuiltinDictionary, DriveAddress, Family, LinkContext, LinkOptions, SimPeer, SimulatedDevice,
+    serial_line, BuiltinDictionary, DriveAddress, Family, LinkContext, LinkOptions, LinkRange, SimPeer,
+    SimulatedDevice,
 };
 pub use family_error::FamilyError;
 pub use registry::{Registry, DEFAULT_DICTIONARY};

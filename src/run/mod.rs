@@ -24,6 +24,7 @@ mod drive_args;
 pub mod drive_limits;
 mod drive_set;
 mod exit_code;
+mod link_range_check;
 mod maintain;
 mod not_run;
 mod output_args;
@@ -40,6 +41,7 @@ pub use connection_args::{parse_bitrate, parse_duration, CanSpec, Connection, Co
 pub use drive_args::{open_drive, DictionaryArgs, OpenDrive};
 pub use drive_set::drive_dictionaries;
 pub use exit_code::*;
+pub use link_range_check::within_link_range;
 pub use maintain::{run_maintain, MaintainRequest, MaintainResult, PrepareMaintained};
 pub use not_run::silent_drive;
 pub use output_args::{ColorWhen, OutputArgs};

@@ -6,6 +6,7 @@
 
 use super::drive_limits::within_drive_limits;
 use super::drive_set::{named_drives_checked, named_drives_opened, OpenDrives};
+use super::link_range_check::within_link_range;
 use super::not_run::{not_run, silent_drive_of};
 use super::run_plan::{LoadedPlan, RunPlan, SessionSettings};
 use super::run_setup::{
@@ -44,6 +45,14 @@ pub fn run(request: &RunRequest, out: &mut dyn Write, err: &mut dyn Write) -> Ru
         Ok(t) => t,
         Err(e) => return refuse(INVALID, &e.to_string(), err),
     };
+    // Values the link's settings cannot carry, refused before the port opens. (With
+    // `drives:` each drive's values go to its own link; not compared here.)
+    if !several {
+        let values = plan.written_values();
+        if let Err(e) = within_link_range(&values, &loaded.dictionary, request.registry, &connection) {
+            return refuse(INVALID, &e.to_string(), err);
+        }
+    }
     // Files are opened before anything is sent: a path that cannot be written is an
     // invalid command line, not a half-run file.
     let outputs = request.outputs;

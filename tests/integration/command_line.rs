@@ -285,3 +285,56 @@ fn objects_columns_line_up_whatever_their_width() {
         }
     }
 }
+
+/// The cyclic channel carries the speed setpoint as a fraction of the velocity scaling:
+/// a value beyond it is refused by `check` (exit 2, at its place) and by `run` before the
+/// port is opened (the port here does not exist, so opening it would be exit 3), for
+/// `set`, `ramp` points and a `--set` value alike.
+#[test]
+fn a_setpoint_beyond_the_cyclic_velocity_scaling_is_refused_before_anything_is_sent() {
+    let dir = crate::support::scratch("cyclic-range");
+    let recipe = crate::support::write_file(
+        &dir,
+        "cyclic.yaml",
+        "name: cyclic\nparams:\n  top: 20000 rpm\nsteps:\n  - go_to: operation_enabled\n  - set: { speed_setpoint: 30000 rpm }\n  - ramp: { object: speed_setpoint, from: 0 rpm, to: \"{{top}}\", step: 5000 rpm, every: 1 s }\n",
+    );
+    let recipe = recipe.to_str().expect("utf-8");
+    let cyclic = ["--channel", "cyclic", "--velocity-scaling", "24000rpm"];
+    let set_line = "cyclic.yaml:6:5: set speed_setpoint = 30000 rpm is beyond -24000 .. 24000 rpm: the cyclic channel carries at most ±100 % of the velocity scaling, 24000 rpm";
+
+    let mut args = vec!["check", recipe];
+    args.extend(cyclic);
+    let out = crate::support::cli(&args, 2);
+    assert!(out.stderr.contains(set_line), "{}", out.stderr);
+    assert!(
+        out.stderr.contains("1 value(s) the link cannot carry"),
+        "{}",
+        out.stderr
+    );
+    // On the object channel the same recipe is fine.
+    crate::support::cli(&["check", recipe], 0);
+
+    let mut args = vec![
+        "run",
+        recipe,
+        "--port",
+        "/nonexistent/ttyUSB9",
+        "--set",
+        "top=26000rpm",
+    ];
+    args.extend(cyclic);
+    let out = crate::support::cli(&args, 2);
+    assert!(out.stderr.contains(set_line), "{}", out.stderr);
+    assert!(
+        out.stderr
+            .contains("cyclic.yaml:7:5: ramp speed_setpoint = 26000 rpm is beyond -24000 .. 24000 rpm"),
+        "{}",
+        out.stderr
+    );
+    assert!(out.stderr.contains("nothing was sent"), "{}", out.stderr);
+    assert!(
+        !out.stderr.contains("ttyUSB9"),
+        "the port was never opened: {}",
+        out.stderr
+    );
+}

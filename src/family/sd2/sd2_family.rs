@@ -9,7 +9,7 @@ use crate::bus::{Bus, BusKind, SerialSettings};
 use crate::dictionary::{Access, Address, AddressError, AddressParser, DataType, Dictionary, ObjectDef};
 use crate::drive::{AddressKeys, ObjectAccess};
 use crate::family::{
-    serial_line, BuiltinDictionary, DriveAddress, Family, FamilyError, LinkContext, LinkOptions,
+    serial_line, BuiltinDictionary, DriveAddress, Family, FamilyError, LinkContext, LinkOptions, LinkRange,
     SimulatedDevice,
 };
 use crate::link::TelegramExplainer;
@@ -137,6 +137,13 @@ impl Family for Sd2Family {
     fn check_link_options(&self, extra: &[(String, String)]) -> Result<(), FamilyError> {
         Self::write_length(extra)?;
         Channel::from_options(extra).map(|_| ())
+    }
+
+    fn link_range(&self, object: &ObjectDef, extra: &[(String, String)]) -> Option<LinkRange> {
+        match Channel::from_options(extra) {
+            Ok(Channel::Cyclic(settings)) => settings.carried_range(object),
+            _ => None,
+        }
     }
 
     fn open(
