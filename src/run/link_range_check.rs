@@ -32,22 +32,12 @@ pub fn within_link_range(
         };
         let tolerance = 1e-9 * range.max.abs().max(range.min.abs()).max(1.0);
         if w.value > range.max + tolerance || w.value < range.min - tolerance {
-            let unit = w
-                .object
-                .unit
-                .as_deref()
-                .map(|u| format!(" {u}"))
-                .unwrap_or_default();
             problems.push(format!(
-                "  × {}:{}:{}: {} {} = {}{unit} is beyond {} .. {}{unit}: {}",
-                w.origin.path,
-                w.origin.line,
-                w.origin.column,
-                w.step,
-                w.object.name,
-                number(w.value),
+                "  × {} is beyond {} .. {}{}: {}",
+                w.described(),
                 number(range.min),
                 number(range.max),
+                w.unit_text(),
                 range.why
             ));
         }
