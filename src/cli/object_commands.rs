@@ -489,7 +489,7 @@ pub fn ports(args: &PortsArgs) -> i32 {
             .iter()
             .map(|p| {
                 json!({
-                    "name": p.name, "kind": p.kind,
+                    "name": p.name, "kind": p.kind, "latency_timer_ms": p.latency_timer_ms,
                     "usb": p.usb.as_ref().map(|u| json!({ "vid": format!("{:04x}", u.vid), "pid": format!("{:04x}", u.pid),
                         "serial_number": u.serial_number, "manufacturer": u.manufacturer, "product": u.product })),
                 })
@@ -502,9 +502,10 @@ pub fn ports(args: &PortsArgs) -> i32 {
         println!("no serial ports found (a USB adapter that is plugged in shows up as /dev/ttyUSB* or /dev/ttyACM*)");
         return PASSED;
     }
+    let root = crate::bus::sysfs_root();
     for p in ports {
-        match p.usb {
-            Some(u) => println!(
+        let line = match p.usb {
+            Some(u) => format!(
                 "{}  usb {:04x}:{:04x}  {} {}{}",
                 p.name,
                 u.vid,
@@ -515,7 +516,20 @@ pub fn ports(args: &PortsArgs) -> i32 {
                     .map(|s| format!("  serial {s}"))
                     .unwrap_or_default()
             ),
-            None => println!("{}  {}", p.name, p.kind),
+            None => format!("{}  {}", p.name, p.kind),
+        };
+        println!("{line}");
+        if let Some(ms) = p.latency_timer_ms {
+            let path = crate::bus::latency_timer_path(&root, &p.name).unwrap_or_default();
+            // Every reply waits out the timer: 16 ms allows some 30 exchanges a second.
+            let advice = match ms {
+                0 | 1 => String::new(),
+                _ => format!(
+                    "; every reply waits up to {ms} ms in the adapter, lower it with `echo 1 | sudo tee {}` (needs root; resets when the adapter is replugged)",
+                    path.display()
+                ),
+            };
+            println!("    latency timer {ms} ms{advice}");
         }
     }
     PASSED

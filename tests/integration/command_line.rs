@@ -338,3 +338,36 @@ fn a_setpoint_beyond_the_cyclic_velocity_scaling_is_refused_before_anything_is_s
         out.stderr
     );
 }
+
+/// `ports` shows a USB-serial adapter's latency timer where the system exposes it (here a
+/// fake sysfs tree), and how to lower it.
+#[test]
+fn ports_show_the_usb_serial_latency_timer() {
+    let root = crate::support::scratch("sysfs");
+    let tty = root.join("bus/usb-serial/devices/ttyUSB7");
+    std::fs::create_dir_all(&tty).expect("fake sysfs");
+    std::fs::write(tty.join("latency_timer"), "16\n").expect("timer");
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_drivescript"))
+        .arg("ports")
+        .env("DRIVESCRIPT_SYSFS", &root)
+        .output()
+        .expect("drivescript runs");
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(out.status.code(), Some(0), "{text}");
+    assert!(text.contains("/dev/ttyUSB7  usb"), "{text}");
+    let timer = tty.join("latency_timer");
+    assert!(
+        text.contains(&format!(
+            "    latency timer 16 ms; every reply waits up to 16 ms in the adapter, lower it with `echo 1 | sudo tee {}`",
+            timer.display()
+        )),
+        "{text}"
+    );
+    let json = std::process::Command::new(env!("CARGO_BIN_EXE_drivescript"))
+        .args(["ports", "--json"])
+        .env("DRIVESCRIPT_SYSFS", &root)
+        .output()
+        .expect("drivescript runs");
+    let json = String::from_utf8_lossy(&json.stdout);
+    assert!(json.contains("\"latency_timer_ms\":16"), "{json}");
+}
