@@ -70,6 +70,23 @@ fn walk(steps: &[Step], prefix: &str, stage: &mut Vec<String>, out: &mut Vec<Pla
     }
 }
 
+/// The shortest interval any sample step of the recipe asks for (finally's too).
+pub fn shortest_sample_interval(recipe: &Recipe) -> Option<std::time::Duration> {
+    fn walk(steps: &[Step], out: &mut Option<std::time::Duration>) {
+        for step in steps {
+            match &step.kind {
+                StepKind::Sample { every, .. } => *out = Some(out.map_or(*every, |o| o.min(*every))),
+                StepKind::Repeat { steps, .. } | StepKind::Include { steps, .. } => walk(steps, out),
+                _ => {}
+            }
+        }
+    }
+    let mut out = None;
+    walk(&recipe.steps, &mut out);
+    walk(recipe.finally.as_deref().unwrap_or_default(), &mut out);
+    out
+}
+
 /// The objects the recipe's sample steps read (finally's too), each once, in recipe order.
 pub fn sampled_objects(recipe: &Recipe) -> Vec<ObjectRef> {
     fn walk(steps: &[Step], out: &mut Vec<ObjectRef>) {

@@ -24,6 +24,7 @@ mod drive_args;
 pub mod drive_limits;
 mod drive_set;
 mod exit_code;
+mod latency_note;
 mod link_range_check;
 mod maintain;
 mod not_run;

@@ -6,6 +6,7 @@
 
 use super::drive_limits::within_drive_limits;
 use super::drive_set::{named_drives_checked, named_drives_opened, OpenDrives};
+use super::latency_note::latency_note;
 use super::link_range_check::within_link_range;
 use super::not_run::{not_run, silent_drive_of};
 use super::run_plan::{LoadedPlan, RunPlan, SessionSettings};
@@ -69,6 +70,13 @@ pub fn run(request: &RunRequest, out: &mut dyn Write, err: &mut dyn Write) -> Ru
         Ok(o) => o,
         Err(e) => return refuse(COMMUNICATION, &e.to_string(), err),
     };
+    if let Some(note) = connection
+        .port
+        .as_deref()
+        .and_then(|port| latency_note(port, plan.shortest_sample_interval()))
+    {
+        let _ = writeln!(err, "{note}");
+    }
     if !open.simulators.is_empty() && !outputs.quiet {
         let _ = writeln!(out, "using {}", open.description);
     }

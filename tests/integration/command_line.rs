@@ -371,3 +371,51 @@ fn ports_show_the_usb_serial_latency_timer() {
     let json = String::from_utf8_lossy(&json.stdout);
     assert!(json.contains("\"latency_timer_ms\":16"), "{json}");
 }
+
+/// A run on a USB-serial adapter whose latency timer alone is longer than the recipe's
+/// sample interval says so once, before the first step, with how to lower it. The port is
+/// a pty with the simulated drive; the timer comes from a fake sysfs tree named after it.
+#[cfg(unix)]
+#[test]
+fn a_run_says_once_when_the_latency_timer_makes_its_sample_interval_unreachable() {
+    let dir = crate::support::scratch("latency");
+    let sim = crate::support::Simulator::start(&["--pty"]);
+    let port = sim.endpoint.as_str();
+    let tty = std::path::Path::new(port).file_name().expect("pty name");
+    let timer_dir = dir.join("sysfs/bus/usb-serial/devices").join(tty);
+    std::fs::create_dir_all(&timer_dir).expect("fake sysfs");
+    std::fs::write(timer_dir.join("latency_timer"), "16\n").expect("timer");
+    let recipe = crate::support::write_file(
+        &dir,
+        "fast.yaml",
+        "name: fast samples\nsteps:\n  - sample: { objects: [speed_actual], every: 10 ms, for: 100 ms }\n",
+    );
+    let run = |every_ok: bool| {
+        let text = std::fs::read_to_string(&recipe).expect("recipe");
+        let text = match every_ok {
+            true => text.replace("every: 10 ms", "every: 50 ms"),
+            false => text,
+        };
+        std::fs::write(&recipe, text).expect("recipe");
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_drivescript"))
+            .args(["run", recipe.to_str().expect("utf-8"), "--port", port])
+            .env("DRIVESCRIPT_SYSFS", dir.join("sysfs"))
+            .output()
+            .expect("drivescript runs");
+        assert_eq!(
+            out.status.code(),
+            Some(0),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        String::from_utf8_lossy(&out.stderr).into_owned()
+    };
+    let err = run(false);
+    assert_eq!(err.matches("latency timer of 16 ms").count(), 1, "{err}");
+    assert!(
+        err.contains("so samples every 10 ms cannot be kept; lower it with `echo 1 | sudo tee"),
+        "{err}"
+    );
+    // 50 ms is reachable with a 16 ms timer: nothing is said.
+    assert!(!run(true).contains("latency timer"));
+}
