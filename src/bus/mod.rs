@@ -19,6 +19,7 @@ pub mod slcan_codec;
 mod socketcan_bus;
 mod tcp;
 mod transport_error;
+mod usb_latency;
 
 pub use bus::{Bus, BusKind};
 pub use can_frame::CanFrame;
@@ -52,6 +53,7 @@ pub use serial::{
 };
 pub use tcp::TcpTransport;
 pub use transport_error::TransportError;
+pub use usb_latency::{latency_timer_ms, latency_timer_path, sysfs_root};
 
 use std::time::Duration;
 

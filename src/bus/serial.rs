@@ -447,6 +447,8 @@ pub struct PortInfo {
     pub kind: String,
     /// Present for USB adapters: the IDs and strings that tell two adapters apart.
     pub usb: Option<UsbInfo>,
+    /// A USB-serial adapter's latency timer in ms, where the system exposes it.
+    pub latency_timer_ms: Option<u32>,
 }
 
 /// The serial ports this machine has, sorted by name.
@@ -477,9 +479,25 @@ pub fn list_ports() -> Result<Vec<PortInfo>, TransportError> {
                 name: p.port_name,
                 kind: kind.to_string(),
                 usb,
+                latency_timer_ms: None,
             }
         })
         .collect();
+    // The kernel's own list of USB-serial ports, for those the enumeration missed.
+    let root = super::usb_latency::sysfs_root();
+    for name in super::usb_latency::usb_serial_ports(&root) {
+        if !list.iter().any(|p| p.name == name) {
+            list.push(PortInfo {
+                name,
+                kind: "usb".to_string(),
+                usb: None,
+                latency_timer_ms: None,
+            });
+        }
+    }
+    for p in &mut list {
+        p.latency_timer_ms = super::usb_latency::latency_timer_ms(&root, &p.name);
+    }
     list.sort_by(|a, b| a.name.cmp(&b.name));
     Ok(list)
 }

@@ -19,14 +19,12 @@ use std::sync::Arc;
 /// CAN families (--protocol lenze-9400) take frames as candump writes them
 /// (`60C#409C5F0000000000`, or a candump log line) or as `ID data…`.
 pub struct DecodeArgs {
-    /// The drive family whose protocol the telegrams are in, by its id (`sd2`, `ct-ansi`,
-    /// `lenze-931`, `lenze-9400`) or by a dictionary of it (`ct-unidrive-sp`) [default: the drive a `--trace`
-    /// file's header names (a CAN trace's: in FILE.meta), else the family of the --drive
-    /// dictionary; a candump log without a header: the CAN family].
+    /// The drive family whose protocol the telegrams are in (`--help` lists the family
+    /// ids of this build; see [`protocol_help`]).
     #[arg(long, value_name = "FAMILY")]
     protocol: Option<String>,
     /// One JSON object per telegram (the keys of the family's golden vectors, e.g.
-    /// shared/vectors/sd2-dnc.yaml); a rejected telegram is {"reject": "<reason>"}.
+    /// tests/vectors/sd2-dnc.yaml); a rejected telegram is {"reject": "<reason>"}.
     #[arg(long)]
     json: bool,
     /// Telegrams in hex, one per argument, or files of them (a `--trace` file, a capture
@@ -208,6 +206,26 @@ fn explain_one(
         *code = FAILED;
     }
     written.is_ok()
+}
+
+/// The help of `--protocol`: every family id and built-in dictionary name of `registry`,
+/// so the list is never behind the families this build has.
+pub fn protocol_help(registry: &Registry) -> String {
+    let quoted = |names: Vec<&str>| {
+        names
+            .iter()
+            .map(|n| format!("`{n}`"))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    format!(
+        "The drive family whose protocol the telegrams are in: a family id ({}; `-` and `_` \
+         alike) or a built-in dictionary name ({}) [default: the drive a `--trace` file's \
+         header names (a CAN trace's: in FILE.meta), else the family of the --drive \
+         dictionary; a candump log without a header: the CAN family]",
+        quoted(registry.families().map(|f| f.id()).collect()),
+        quoted(registry.dictionary_names()),
+    )
 }
 
 /// The family `--protocol` names (a family id such as `ct-ansi`, also in its former

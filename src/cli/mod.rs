@@ -16,6 +16,7 @@ mod safe_stop_notes;
 mod simulate_command;
 mod stop_command;
 mod stop_signals;
+mod text_table;
 
 use crate::family::Registry;
 use crate::run::{INVALID, PASSED};
@@ -86,10 +87,21 @@ struct CompletionsArgs {
     shell: clap_complete::Shell,
 }
 
+/// The command line, with the help texts that list what `registry` holds.
+fn command(registry: &Registry) -> clap::Command {
+    use clap::CommandFactory;
+    let protocols = decode_command::protocol_help(registry);
+    Cli::command().mut_subcommand("decode", |c| c.mut_arg("protocol", |a| a.help(protocols)))
+}
+
 /// Runs the command line with the drive families of `registry` and returns the process
 /// exit code.
 pub fn main(registry: &Registry) -> i32 {
-    let cli = match Cli::try_parse() {
+    use clap::FromArgMatches;
+    let parsed = command(registry)
+        .try_get_matches()
+        .and_then(|m| Cli::from_arg_matches(&m));
+    let cli = match parsed {
         Ok(cli) => cli,
         Err(e) => {
             let _ = e.print();
@@ -114,10 +126,9 @@ pub fn main(registry: &Registry) -> i32 {
         Command::Maintain(args) => maintain_command::maintain(&args, registry),
         Command::Schema(args) => recipe_commands::schema(&args, registry),
         Command::Completions(args) => {
-            use clap::CommandFactory;
             use std::io::Write;
             let mut script = Vec::new();
-            clap_complete::generate(args.shell, &mut Cli::command(), "drivescript", &mut script);
+            clap_complete::generate(args.shell, &mut command(registry), "drivescript", &mut script);
             let _ = std::io::stdout().write_all(&script);
             PASSED
         }

@@ -474,10 +474,9 @@ pub fn objects(args: &ObjectsArgs, registry: &Registry) -> i32 {
             limits.source()
         );
     }
-    println!(
-        "{:<18} {:<9} {:<11} {:<6} {:<6} {:<22} aliases",
-        "name", "address", "type", "unit", "access", "limits"
-    );
+    let mut rows = Vec::new();
+    // A row of drive limits follows its object's row, in the limits column.
+    let mut drive_rows = Vec::new();
     for d in list {
         let limits = match (d.min, d.max) {
             (Some(lo), Some(hi)) => {
@@ -496,21 +495,31 @@ pub fn objects(args: &ObjectsArgs, registry: &Registry) -> i32 {
         } else {
             ""
         };
-        println!(
-            "{:<18} {:<9} {:<11} {:<6} {:<6} {:<22} {}{flag}",
-            d.name,
+        rows.push(vec![
+            d.name.clone(),
             shown_address(&family, &d.address),
             d.data_type.to_string(),
-            d.unit.map(|u| u.symbol()).unwrap_or(""),
-            d.access.id(),
+            d.unit.map(|u| u.symbol()).unwrap_or("").to_string(),
+            d.access.id().to_string(),
             limits,
-            d.aliases.join(", ")
-        );
-        if let Some(l) = from_drive(&d.name) {
-            println!("{:<18} drive limits: {l}", "");
+            format!("{}{flag}", d.aliases.join(", ")),
+        ]);
+        drive_rows.push(from_drive(&d.name).map(|l| format!("drive limits: {l}")));
+    }
+    let header = ["name", "address", "type", "unit", "access", "limits", "aliases"];
+    let lines = super::text_table::table_lines(&header, &rows);
+    for (i, line) in lines.iter().enumerate() {
+        println!("{}", line.trim_end());
+        if let Some(Some(l)) = i.checked_sub(1).and_then(|r| drive_rows.get(r)) {
+            println!("{:<width$}{l}", "", width = header_offset(&lines[0], "limits"));
         }
     }
     PASSED
+}
+
+/// Where `column` starts in a table's header line.
+fn header_offset(header: &str, column: &str) -> usize {
+    header.find(column).map_or(0, |i| header[..i].chars().count())
 }
 
 pub fn ports(args: &PortsArgs) -> i32 {
@@ -526,7 +535,7 @@ pub fn ports(args: &PortsArgs) -> i32 {
             .iter()
             .map(|p| {
                 json!({
-                    "name": p.name, "kind": p.kind,
+                    "name": p.name, "kind": p.kind, "latency_timer_ms": p.latency_timer_ms,
                     "usb": p.usb.as_ref().map(|u| json!({ "vid": format!("{:04x}", u.vid), "pid": format!("{:04x}", u.pid),
                         "serial_number": u.serial_number, "manufacturer": u.manufacturer, "product": u.product })),
                 })
@@ -539,9 +548,10 @@ pub fn ports(args: &PortsArgs) -> i32 {
         println!("no serial ports found (a USB adapter that is plugged in shows up as /dev/ttyUSB* or /dev/ttyACM*)");
         return PASSED;
     }
+    let root = crate::bus::sysfs_root();
     for p in ports {
-        match p.usb {
-            Some(u) => println!(
+        let line = match p.usb {
+            Some(u) => format!(
                 "{}  usb {:04x}:{:04x}  {} {}{}",
                 p.name,
                 u.vid,
@@ -552,7 +562,20 @@ pub fn ports(args: &PortsArgs) -> i32 {
                     .map(|s| format!("  serial {s}"))
                     .unwrap_or_default()
             ),
-            None => println!("{}  {}", p.name, p.kind),
+            None => format!("{}  {}", p.name, p.kind),
+        };
+        println!("{line}");
+        if let Some(ms) = p.latency_timer_ms {
+            let path = crate::bus::latency_timer_path(&root, &p.name).unwrap_or_default();
+            // Every reply waits out the timer: 16 ms allows some 30 exchanges a second.
+            let advice = match ms {
+                0 | 1 => String::new(),
+                _ => format!(
+                    "; every reply waits up to {ms} ms in the adapter, lower it with `echo 1 | sudo tee {}` (needs root; resets when the adapter is replugged)",
+                    path.display()
+                ),
+            };
+            println!("    latency timer {ms} ms{advice}");
         }
     }
     PASSED

@@ -13,6 +13,7 @@ use crate::run::{open_drive, DictionaryArgs, OpenDrive};
 use crate::run::{COMMUNICATION, FAILED, INVALID, PASSED};
 use crate::stop_request::StopRequests;
 use clap::Args;
+use std::io::IsTerminal;
 use std::path::PathBuf;
 use std::sync::Arc;
 use std::time::SystemTime;
@@ -148,13 +149,24 @@ fn read_live(
 }
 
 /// The objects the drive lists (`--all`) at addresses the dictionary does not know; those
-/// it knows are saved by name already, or are live values and commands.
+/// it knows are saved by name already, or are live values and commands, each said with
+/// why it is left out.
 fn scan_beyond_dictionary(open: &mut OpenDrive, stop: &StopRequests) -> Result<Vec<SavedObject>, i32> {
     let dictionary = open.drive.dictionary().clone();
     let family = open.family.clone();
-    let listed = match open.drive.list_objects(&|| stop.first().is_none(), &mut |text| {
-        eprintln!("scanning {text}")
-    }) {
+    // A scan asks every address it can; one line per try would bury the log, so only a
+    // terminal sees where it is, on one line that is rewritten.
+    let terminal = std::io::stderr().is_terminal();
+    eprintln!("scanning the drive for objects beyond the dictionary (this takes a while)");
+    let listed = open.drive.list_objects(&|| stop.first().is_none(), &mut |text| {
+        if terminal {
+            eprint!("\r\x1b[Kscanning {text}");
+        }
+    });
+    if terminal {
+        eprintln!();
+    }
+    let listed = match listed {
         None => {
             eprintln!(
                 "error: --all: the {} family's drives cannot list their objects; only the dictionary's parameters can be saved",
@@ -168,6 +180,22 @@ fn scan_beyond_dictionary(open: &mut OpenDrive, stop: &StopRequests) -> Result<V
         }
         Some(Ok(list)) => list,
     };
+    eprintln!("the drive lists {} object(s)", listed.len());
+    for (address, _) in &listed {
+        let Some(def) = dictionary.objects().find(|o| o.address == *address) else {
+            continue;
+        };
+        let why = if def.parameter && def.readable() {
+            continue;
+        } else if !def.readable() {
+            "write-only in the dictionary"
+        } else if def.access == crate::dictionary::Access::ReadOnly {
+            "read-only: a live value the drive reports, not a setting"
+        } else {
+            "a command or live value (the dictionary does not mark it `parameter: true`)"
+        };
+        eprintln!("  left out {} {}: {why}", family.show_address(address), def.name);
+    }
     Ok(listed
         .into_iter()
         .filter(|(address, _)| !dictionary.objects().any(|o| o.address == *address))

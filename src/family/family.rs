@@ -14,6 +14,17 @@ use crate::stop_request::StopRequests;
 use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
+/// The values an object can be written with over a link with given options, where the
+/// link carries less than the object holds, in the object's engineering unit.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LinkRange {
+    pub min: f64,
+    pub max: f64,
+    /// Why, for the message: `the cyclic channel carries at most ±100 % of the velocity
+    /// scaling, 24000 rpm`.
+    pub why: String,
+}
+
 /// A dictionary compiled into the binary.
 #[derive(Debug, Clone, Copy)]
 pub struct BuiltinDictionary {
@@ -187,6 +198,13 @@ pub trait Family: Send + Sync {
             ))),
             None => Ok(()),
         }
+    }
+    /// The range `object` can be written in over a link with `extra` options (already
+    /// checked) when the link carries less than the object holds, so a value beyond it is
+    /// refused before anything is sent; `None` (the default) when the link adds no limit.
+    fn link_range(&self, object: &ObjectDef, extra: &[(String, String)]) -> Option<LinkRange> {
+        let _ = (object, extra);
+        None
     }
     /// Object access to one drive on `bus`.
     fn open(&self, bus: &Bus, drive: &DriveAddress, options: &LinkOptions, context: LinkContext) -> Opened;

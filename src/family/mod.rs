@@ -13,8 +13,8 @@ mod registry;
 pub mod sd2;
 
 pub use family::{
-    serial_line, BuiltinDictionary, DriveAddress, Family, LinkContext, LinkOptions, Opened, SimPeer,
-    SimulatedDevice,
+    serial_line, BuiltinDictionary, DriveAddress, Family, LinkContext, LinkOptions, LinkRange, Opened,
+    SimPeer, SimulatedDevice,
 };
 pub use family_error::FamilyError;
 pub use family_info::FamilyInfo;

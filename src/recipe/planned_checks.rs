@@ -2,20 +2,31 @@
 //! and `wait_until` conditions) with the stage that holds each, so reports can show the
 //! ones a run never reached, and the objects its sample steps read, for the columns of a
 //! wide CSV. Reads the validated recipe only.
+//!
+//! A check inside a `times: N` repeat is planned once per pass, with the stage the run
+//! will give it (`repeat 2 times #2 / …`), so a report names a check the same whether the
+//! run reached it or not. A repeat bounded by `for:` has an unknown number of passes: its
+//! first pass (which always runs) is planned, later passes are named as they run.
 
 use super::recipe::Recipe;
 use super::step::{Step, StepKind};
 use crate::session::{Condition, ObjectRef, PlannedCheck};
 
-/// Every check of the recipe's steps in recipe order (a check inside a repeat once).
+/// Every check of the recipe's steps in run order (a check inside a `times:` repeat once
+/// per pass).
 pub fn planned_checks(recipe: &Recipe) -> Vec<PlannedCheck> {
     let mut out = Vec::new();
-    walk(&recipe.steps, &mut Vec::new(), &mut out);
+    walk(&recipe.steps, "", &mut Vec::new(), &mut out);
     out
 }
 
-fn walk(steps: &[Step], stage: &mut Vec<String>, out: &mut Vec<PlannedCheck>) {
-    for step in steps {
+fn walk(steps: &[Step], prefix: &str, stage: &mut Vec<String>, out: &mut Vec<PlannedCheck>) {
+    for (i, step) in steps.iter().enumerate() {
+        // Numbered as the runner numbers steps.
+        let number = match prefix {
+            "" => format!("{}", i + 1),
+            _ => format!("{prefix}.{}", i + 1),
+        };
         match &step.kind {
             StepKind::Expect(checks) => {
                 for c in checks {
@@ -24,6 +35,7 @@ fn walk(steps: &[Step], stage: &mut Vec<String>, out: &mut Vec<PlannedCheck>) {
                         object: Some(c.object.name.clone()),
                         statistic: c.statistic.map(|s| s.id().to_string()),
                         stage: stage.join(" / "),
+                        step: number.clone(),
                         origin: step.origin.clone(),
                     });
                 }
@@ -36,16 +48,43 @@ fn walk(steps: &[Step], stage: &mut Vec<String>, out: &mut Vec<PlannedCheck>) {
                 },
                 statistic: None,
                 stage: stage.join(" / "),
+                step: number.clone(),
                 origin: step.origin.clone(),
             }),
-            StepKind::Repeat { steps: nested, .. } | StepKind::Include { steps: nested, .. } => {
+            StepKind::Repeat {
+                times, steps: nested, ..
+            } => {
+                for pass in 1..=times.unwrap_or(1) {
+                    stage.push(format!("{} #{pass}", step.label));
+                    walk(nested, &number, stage, out);
+                    stage.pop();
+                }
+            }
+            StepKind::Include { steps: nested, .. } => {
                 stage.push(step.label.clone());
-                walk(nested, stage, out);
+                walk(nested, &number, stage, out);
                 stage.pop();
             }
             _ => {}
         }
     }
+}
+
+/// The shortest interval any sample step of the recipe asks for (finally's too).
+pub fn shortest_sample_interval(recipe: &Recipe) -> Option<std::time::Duration> {
+    fn walk(steps: &[Step], out: &mut Option<std::time::Duration>) {
+        for step in steps {
+            match &step.kind {
+                StepKind::Sample { every, .. } => *out = Some(out.map_or(*every, |o| o.min(*every))),
+                StepKind::Repeat { steps, .. } | StepKind::Include { steps, .. } => walk(steps, out),
+                _ => {}
+            }
+        }
+    }
+    let mut out = None;
+    walk(&recipe.steps, &mut out);
+    walk(recipe.finally.as_deref().unwrap_or_default(), &mut out);
+    out
 }
 
 /// The objects the recipe's sample steps read (finally's too), each once, in recipe order.

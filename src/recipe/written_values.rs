@@ -17,6 +17,31 @@ pub struct WrittenValue {
     pub step: &'static str,
 }
 
+impl WrittenValue {
+    /// ` rpm`: the object's unit with its leading space; empty without one.
+    pub fn unit_text(&self) -> String {
+        self.object
+            .unit
+            .as_deref()
+            .map(|u| format!(" {u}"))
+            .unwrap_or_default()
+    }
+
+    /// `recipe.yaml:6:5 set speed_setpoint = 30000 rpm`: where and what, for a refusal.
+    pub fn described(&self) -> String {
+        format!(
+            "{}:{}:{}: {} {} = {}{}",
+            self.origin.path,
+            self.origin.line,
+            self.origin.column,
+            self.step,
+            self.object.name,
+            crate::session::number(self.value),
+            self.unit_text()
+        )
+    }
+}
+
 /// The numbers `recipe` writes, in recipe order (a value inside a repeat once).
 pub fn written_values(recipe: &Recipe) -> Vec<WrittenValue> {
     let mut out = Vec::new();

@@ -20,6 +20,8 @@ pub struct ConsoleReporter<W: Write> {
     /// Whether lines may be held back at all (not while telegram lines go to another
     /// stream as they happen, see [`ConsoleReporter::holding`]).
     hold: bool,
+    /// `--quiet`: failures, the drive's end state and the verdict only.
+    quiet: bool,
 }
 
 /// How long a line may be held back in a burst; the first line after a quiet spell, and
@@ -36,6 +38,7 @@ impl<W: Write> ConsoleReporter<W> {
             last_flush: Instant::now().checked_sub(HOLD).unwrap_or_else(Instant::now),
             color: false,
             hold: true,
+            quiet: false,
         }
     }
 
@@ -43,6 +46,14 @@ impl<W: Write> ConsoleReporter<W> {
     /// at once, for a console interleaved with `-v` telegram lines on standard error.
     pub fn holding(mut self, hold: bool) -> Self {
         self.hold = hold;
+        self
+    }
+
+    /// Only what a CI log needs: failed steps and checks, the drive's end state, the
+    /// safe stop's notes when it could not be confirmed or the drive did not obey, and
+    /// the verdict line.
+    pub fn quiet(mut self, quiet: bool) -> Self {
+        self.quiet = quiet;
         self
     }
 
@@ -92,33 +103,51 @@ impl<W: Write> Drop for ConsoleReporter<W> {
 
 impl<W: Write> RunObserver for ConsoleReporter<W> {
     fn run_started(&mut self, recipe: &RunInfo, drive: &str) {
+        if self.quiet {
+            return;
+        }
         for line in header_lines(recipe, drive) {
             self.line(&line);
         }
     }
 
     fn step_started(&mut self, step: &StepInfo) {
+        if self.quiet {
+            return;
+        }
         if let Some(line) = container_line(step) {
             self.line(&line);
         }
     }
 
     fn step_finished(&mut self, r: &StepRecord) {
-        self.line(&step_line(r));
+        if !self.quiet || !r.ok {
+            self.line(&step_line(r));
+        }
     }
 
     fn check(&mut self, c: &CheckResult) {
+        if self.quiet && c.passed {
+            return;
+        }
         if let Some(line) = check_line(c) {
             self.line(&line);
         }
     }
 
     fn message(&mut self, text: &str) {
-        self.line(&message_line(text));
+        if !self.quiet {
+            self.line(&message_line(text));
+        }
     }
 
     fn run_finished(&mut self, report: &RunReport) {
+        // The safe stop's notes matter to a log only when the stop went wrong.
+        let notes = !self.quiet || report.check_by_hand() || report.disobeyed;
         for line in summary_lines(report, self.virtual_time) {
+            if !notes && line.starts_with("safe stop: ") {
+                continue;
+            }
             self.line(&line);
         }
         self.flush();
@@ -215,11 +244,9 @@ pub fn summary_lines(report: &RunReport, virtual_time: bool) -> Vec<String> {
     if report.check_by_hand() {
         lines.push("CHECK THE DRIVE BY HAND: the safe stop could not be confirmed (see above)".to_string());
     }
-    let steps = report
-        .steps
-        .iter()
-        .filter(|s| s.phase == "steps" && !s.number.contains('.'))
-        .count();
+    // Every step line the run printed: nested steps, each pass of a repeat and `finally`
+    // included, and the passed ones the report did not keep.
+    let steps = report.steps.len() as u64 + report.omitted_steps;
     let time = humantime::format_duration(std::time::Duration::from_millis(
         report.duration.as_millis() as u64
     ));

@@ -7,9 +7,10 @@
 //! finished report only; never a half-written file.
 
 use super::atomic_write::write_atomically;
+use super::case_names::case_names;
 use super::junit_xml_writer::XmlWriter;
 use crate::session::{number, with_unit, CheckResult, PlannedCheck, RunReport, StepRecord, Verdict};
-use std::collections::HashMap;
+use std::collections::HashSet;
 use std::fmt::Write as _;
 use std::path::Path;
 
@@ -42,9 +43,13 @@ pub fn junit_xml(report: &RunReport, planned: &[PlannedCheck]) -> String {
 /// The test suite of a run (see [`junit_xml`]).
 pub fn junit_suite(report: &RunReport, planned: &[PlannedCheck]) -> JunitSuite {
     let r = report;
-    let mut names = UniqueNames::default();
-    let mut cases: Vec<Case> = r.checks.iter().map(|c| check_case(c, &mut names)).collect();
-    cases.extend(not_reached(r, planned, &mut names));
+    let (mut cases, mut steps): (Vec<Case>, Vec<String>) =
+        r.checks.iter().map(|c| (check_case(c), c.step.clone())).unzip();
+    for (case, step) in not_reached(r, planned) {
+        cases.push(case);
+        steps.push(step);
+    }
+    name_apart(&mut cases, steps);
     if let Some(case) = run_case(r) {
         cases.push(case);
     }
@@ -210,8 +215,17 @@ pub fn stable_check_name(name: &str, object: Option<&str>, statistic: Option<&st
     name.to_string()
 }
 
+/// Tells apart the check cases that share a name by the step that holds each
+/// ([`case_names`]); `steps` answer `cases` one for one.
+pub(crate) fn name_apart(cases: &mut [Case], steps: Vec<String>) {
+    let keys: Vec<(String, String)> = cases.iter().map(|c| c.name.clone()).zip(steps).collect();
+    for (case, name) in cases.iter_mut().zip(case_names(&keys)) {
+        case.name = name;
+    }
+}
+
 /// `Stage 2, 12000 rpm / speed_actual mean near`.
-fn case_name(stage: &str, check: &str) -> String {
+pub(crate) fn case_name(stage: &str, check: &str) -> String {
     if stage.is_empty() {
         check.to_string()
     } else {
@@ -219,24 +233,7 @@ fn case_name(stage: &str, check: &str) -> String {
     }
 }
 
-/// Names made unique in order of appearance: the second `x` becomes `x (2)`.
-#[derive(Default)]
-pub(crate) struct UniqueNames {
-    seen: HashMap<String, u32>,
-}
-
-impl UniqueNames {
-    pub fn unique(&mut self, name: String) -> String {
-        let n = self.seen.entry(name.clone()).or_insert(0);
-        *n += 1;
-        match *n {
-            1 => name,
-            n => format!("{name} ({n})"),
-        }
-    }
-}
-
-fn check_case(c: &CheckResult, names: &mut UniqueNames) -> Case {
+fn check_case(c: &CheckResult) -> Case {
     let stable = stable_check_name(&c.name, c.object.as_deref(), c.statistic.as_deref());
     let details = check_details(c);
     let outcome = (!c.passed).then(|| {
@@ -257,32 +254,38 @@ fn check_case(c: &CheckResult, names: &mut UniqueNames) -> Case {
         ("failure", kind.to_string(), message, details.clone())
     });
     Case {
-        name: names.unique(case_name(&c.stage, &stable)),
+        name: case_name(&c.stage, &stable),
         time: c.duration.as_secs_f64(),
         outcome,
         out: details,
     }
 }
 
-/// Checks of the recipe that no result answers (same place, same check): the run ended
-/// before them.
-fn not_reached(r: &RunReport, planned: &[PlannedCheck], names: &mut UniqueNames) -> Vec<Case> {
+/// Checks of the recipe that no result answers (same place, same pass, same check): the
+/// run ended before them; each with the step that holds it.
+fn not_reached(r: &RunReport, planned: &[PlannedCheck]) -> Vec<(Case, String)> {
     let reason = match r.verdict {
         Verdict::Passed => "not reached".to_string(),
         _ => format!("not reached: the run ended early ({})", r.verdict.word()),
     };
+    let answered: HashSet<(String, &str, &str)> = r
+        .checks
+        .iter()
+        .map(|c| (c.origin.to_string(), c.stage.as_str(), c.name.as_str()))
+        .collect();
     planned
         .iter()
-        .filter(|p| !r.checks.iter().any(|c| c.origin == p.origin && c.name == p.name))
+        .filter(|p| !answered.contains(&(p.origin.to_string(), p.stage.as_str(), p.name.as_str())))
         .map(|p| {
             let stable = stable_check_name(&p.name, p.object.as_deref(), p.statistic.as_deref());
             let text = format!("check: {} at {}\n", p.name, p.origin);
-            Case {
-                name: names.unique(case_name(&p.stage, &stable)),
+            let case = Case {
+                name: case_name(&p.stage, &stable),
                 time: 0.0,
                 outcome: Some(("skipped", "not_reached".into(), reason.clone(), text.clone())),
                 out: String::new(),
-            }
+            };
+            (case, p.step.clone())
         })
         .collect()
 }
@@ -439,9 +442,5 @@ mod tests {
             n("Spindle is quiet", Some("speed_actual"), Some("std")),
             "Spindle is quiet"
         );
-        let mut u = UniqueNames::default();
-        assert_eq!(u.unique("a".into()), "a");
-        assert_eq!(u.unique("a".into()), "a (2)");
-        assert_eq!(u.unique("b".into()), "b");
     }
 }

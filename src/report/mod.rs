@@ -2,6 +2,7 @@
 //! files handed over afterwards. Reads the run's events and report; never talks to a drive.
 
 mod atomic_write;
+pub(crate) mod case_names;
 mod console_color;
 mod console_reporter;
 mod csv_recorder;

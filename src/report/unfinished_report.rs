@@ -7,7 +7,9 @@
 
 use super::atomic_write::write_atomically;
 use super::html::esc;
-use super::junit_report::{classname, junit_document, stable_check_name, Case, JunitSuite, UniqueNames};
+use super::junit_report::{
+    case_name, classname, junit_document, name_apart, stable_check_name, Case, JunitSuite,
+};
 use crate::session::PlannedCheck;
 use std::path::Path;
 
@@ -69,9 +71,8 @@ fn not_run_junit(
     message: &str,
     planned: &[PlannedCheck],
 ) -> JunitSuite {
-    let mut names = UniqueNames::default();
     let mut cases = vec![Case {
-        name: names.unique("run".into()),
+        name: "run".into(),
         time: 0.0,
         outcome: Some((
             element,
@@ -81,15 +82,12 @@ fn not_run_junit(
         )),
         out: format!("recipe file: {recipe_path}\n"),
     }];
+    let mut steps = vec![String::new()];
     for p in planned {
         let check = stable_check_name(&p.name, p.object.as_deref(), p.statistic.as_deref());
-        let name = if p.stage.is_empty() {
-            check
-        } else {
-            format!("{} / {check}", p.stage)
-        };
+        steps.push(p.step.clone());
         cases.push(Case {
-            name: names.unique(name),
+            name: case_name(&p.stage, &check),
             time: 0.0,
             outcome: Some((
                 "skipped",
@@ -100,6 +98,7 @@ fn not_run_junit(
             out: String::new(),
         });
     }
+    name_apart(&mut cases, steps);
     JunitSuite {
         name: recipe.to_string(),
         classname: classname(recipe),

@@ -10,7 +10,6 @@ use crate::dictionary::{Dictionary, Value};
 use crate::drive::{Drive, DriveError};
 use crate::family::Registry;
 use crate::recipe::WrittenValue;
-use crate::session::number;
 use crate::stop_request::StopRequests;
 use std::collections::BTreeMap;
 use std::io::Write;
@@ -71,14 +70,6 @@ pub fn compare(values: &[WrittenValue], drive: &mut Drive) -> Result<DriveCheck,
         let Some(Ok(Some((min, max)))) = limits.get(&w.object.name) else {
             continue;
         };
-        let unit = w
-            .object
-            .unit
-            .as_deref()
-            .map(|u| format!(" {u}"))
-            .unwrap_or_default();
-        let place = format!("{}:{}:{}", w.origin.path, w.origin.line, w.origin.column);
-        let value = format!("{}{unit}", number(w.value));
         let outside = |limit: &Option<Value>, above: bool| {
             let l = limit.as_ref()?.number()?;
             let tolerance = 1e-9 * l.abs().max(1.0);
@@ -91,14 +82,14 @@ pub fn compare(values: &[WrittenValue], drive: &mut Drive) -> Result<DriveCheck,
         };
         if let Some(limit) = outside(max, true) {
             check.problems.push(format!(
-                "{place}: {} {} = {value} is above the maximum the drive reports, {limit}",
-                w.step, w.object.name
+                "{} is above the maximum the drive reports, {limit}",
+                w.described()
             ));
         }
         if let Some(limit) = outside(min, false) {
             check.problems.push(format!(
-                "{place}: {} {} = {value} is below the minimum the drive reports, {limit}",
-                w.step, w.object.name
+                "{} is below the minimum the drive reports, {limit}",
+                w.described()
             ));
         }
     }

@@ -27,6 +27,8 @@ mod drive_args;
 pub mod drive_limits;
 mod drive_set;
 mod exit_code;
+mod latency_note;
+mod link_range_check;
 mod maintain;
 mod not_run;
 mod output_args;
@@ -46,6 +48,7 @@ pub use connection_args::{parse_bitrate, parse_duration, CanSpec, Connection, Co
 pub use drive_args::{open_drive, DictionaryArgs, OpenDrive};
 pub use drive_set::drive_dictionaries;
 pub use exit_code::*;
+pub use link_range_check::within_link_range;
 pub use maintain::{run_maintain, MaintainRequest, MaintainResult, PrepareMaintained};
 pub use not_run::{another_family, silent_drive};
 pub use output_args::{ColorWhen, OutputArgs};

@@ -28,9 +28,13 @@ pub struct OutputArgs {
     /// Write a self-contained HTML report with plots of every sampled series.
     #[arg(long, value_name = "FILE.html")]
     pub report: Option<PathBuf>,
-    /// Plain lines only: no live progress bar.
-    #[arg(long, alias = "no-progress")]
+    /// Only what a CI log needs: failed steps and checks, errors, the drive's end state
+    /// and the verdict line (no header, no passed steps, no live progress bar).
+    #[arg(long)]
     pub quiet: bool,
+    /// Every line, as plain lines: no live progress bar on a terminal.
+    #[arg(long)]
+    pub no_progress: bool,
     /// Colour PASS/FAIL and the verdict: auto (on a terminal, unless NO_COLOR is set),
     /// always, never.
     #[arg(long, value_name = "WHEN", value_enum, default_value_t = ColorWhen::Auto)]

@@ -6,6 +6,8 @@
 
 use super::drive_limits::within_drive_limits;
 use super::drive_set::{named_drives_checked, named_drives_opened, OpenDrives};
+use super::latency_note::latency_note;
+use super::link_range_check::within_link_range;
 use super::not_run::{not_run, silent_drive_of};
 use super::run_plan::{LoadedPlan, RunPlan, SessionSettings};
 use super::run_setup::{
@@ -44,6 +46,14 @@ pub fn run(request: &RunRequest, out: &mut dyn Write, err: &mut dyn Write) -> Ru
         Ok(t) => t,
         Err(e) => return refuse(INVALID, &e.to_string(), err),
     };
+    // Values the link's settings cannot carry, refused before the port opens. (With
+    // `drives:` each drive's values go to its own link; not compared here.)
+    if !several {
+        let values = plan.written_values();
+        if let Err(e) = within_link_range(&values, &loaded.dictionary, request.registry, &connection) {
+            return refuse(INVALID, &e.to_string(), err);
+        }
+    }
     // Files are opened before anything is sent: a path that cannot be written is an
     // invalid command line, not a half-run file.
     let outputs = request.outputs;
@@ -60,7 +70,14 @@ pub fn run(request: &RunRequest, out: &mut dyn Write, err: &mut dyn Write) -> Ru
         Ok(o) => o,
         Err(e) => return refuse(COMMUNICATION, &e.to_string(), err),
     };
-    if !open.simulators.is_empty() {
+    if let Some(note) = connection
+        .port
+        .as_deref()
+        .and_then(|port| latency_note(port, plan.shortest_sample_interval()))
+    {
+        let _ = writeln!(err, "{note}");
+    }
+    if !open.simulators.is_empty() && !outputs.quiet {
         let _ = writeln!(out, "using {}", open.description);
     }
     // Each drive's limits for the values written to it (`left.speed_setpoint`).
@@ -72,7 +89,12 @@ pub fn run(request: &RunRequest, out: &mut dyn Write, err: &mut dyn Write) -> Ru
             .filter(|w| name.is_empty() || w.object.name.starts_with(&prefix))
             .cloned()
             .collect();
-        if let Err((code, why)) = within_drive_limits(&own, drive, plan.path(), &request.stop, out, err) {
+        // The limits read are news to a person, not to a CI log; refusals go to `err`.
+        let said: &mut dyn Write = match outputs.quiet {
+            true => &mut std::io::sink(),
+            false => &mut *out,
+        };
+        if let Err((code, why)) = within_drive_limits(&own, drive, plan.path(), &request.stop, said, err) {
             return not_run(request, Some((plan, &planned)), code, &why, err);
         }
     }

@@ -80,7 +80,7 @@ pub fn run_many(files: &[PathBuf], base: &RunRequest, out: &mut dyn Write, err: 
         .map(|p| p.display().to_string())
         .collect();
     all.extend(written);
-    print_outputs(&all, out);
+    print_outputs(&all, base.outputs.quiet, out);
     worst
 }
 
@@ -108,7 +108,11 @@ fn run_one(
         ..*base
     };
     let result = super::run(&request, out, err);
-    print_outputs(&written_files(&outputs, result.report.as_ref()), out);
+    print_outputs(
+        &written_files(&outputs, result.report.as_ref()),
+        outputs.quiet,
+        out,
+    );
     result
 }
 
@@ -179,8 +183,8 @@ fn written_files(outputs: &OutputArgs, report: Option<&RunReport>) -> Vec<String
 }
 
 /// `outputs  junit.xml, report.html, run-in-stage-1.csv`.
-fn print_outputs(files: &[String], out: &mut dyn Write) {
-    if !files.is_empty() {
+fn print_outputs(files: &[String], quiet: bool, out: &mut dyn Write) {
+    if !files.is_empty() && !quiet {
         let _ = writeln!(out, "outputs {}", files.join(", "));
     }
 }

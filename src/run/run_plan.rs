@@ -9,8 +9,8 @@ use crate::dictionary::Dictionary;
 use crate::drive::Drive;
 use crate::family::Registry;
 use crate::recipe::{
-    declared_drives, load_recipe_for, longest_time_of, planned_checks, sampled_objects, written_values,
-    DriveDecl, Recipe, Runner, SafeStopChoice, WrittenValue,
+    declared_drives, load_recipe_for, longest_time_of, planned_checks, sampled_objects,
+    shortest_sample_interval, written_values, DriveDecl, Recipe, Runner, SafeStopChoice, WrittenValue,
 };
 use crate::script::{declared_script_drives, is_script, load_script_for, Script, ScriptRunner};
 use crate::session::{ObjectRef, PlannedCheck, RunObserver, RunReport, SafeStopSettings};
@@ -158,6 +158,15 @@ impl RunPlan {
     pub fn wide_columns(&self) -> Option<Vec<ObjectRef>> {
         match self {
             RunPlan::Recipe(r) => Some(sampled_objects(r)),
+            RunPlan::Script(_) => None,
+        }
+    }
+
+    /// The shortest sample interval known before the run (a recipe's; a script chooses as
+    /// it runs).
+    pub fn shortest_sample_interval(&self) -> Option<Duration> {
+        match self {
+            RunPlan::Recipe(r) => shortest_sample_interval(r),
             RunPlan::Script(_) => None,
         }
     }

@@ -165,6 +165,8 @@ pub struct Look {
     /// `-v` writes telegram lines to standard error as they happen; step lines then go out
     /// at once too, so a merged log keeps them in order.
     pub verbose: bool,
+    /// `--quiet`: only failures, the drive's end state and the verdict.
+    pub quiet: bool,
 }
 
 impl Look {
@@ -178,10 +180,11 @@ impl Look {
     ) -> Look {
         Look {
             virtual_time,
-            live: terminal && !outputs.quiet && !outputs.verbose,
+            live: terminal && !outputs.quiet && !outputs.no_progress && !outputs.verbose,
             color: colored && color_wanted(outputs.color.choice(), terminal),
             planned,
             verbose: outputs.verbose,
+            quiet: outputs.quiet,
         }
     }
 }
@@ -196,7 +199,8 @@ pub fn observed(
 ) -> RunReport {
     let mut console = ConsoleReporter::new(&mut *out, look.virtual_time)
         .with_color(look.color)
-        .holding(!look.verbose);
+        .holding(!look.verbose)
+        .quiet(look.quiet);
     let mut progress = look.live.then(|| {
         let p = ProgressReporter::stdout(look.virtual_time).with_color(look.color);
         match look.planned {

@@ -114,8 +114,10 @@ pub struct PlannedCheck {
     pub name: String,
     pub object: Option<String>,
     pub statistic: Option<String>,
-    /// The steps that hold it, as [`CheckResult::stage`] without iterations.
+    /// The steps that hold it, as [`CheckResult::stage`] will say it (`repeat 2 times #2`).
     pub stage: String,
+    /// The number of the step that holds it, without iterations: `4.1.3`.
+    pub step: String,
     pub origin: StepOrigin,
 }
 

@@ -248,3 +248,164 @@ fn csv_wide_gives_one_column_per_object_everywhere() {
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// `objects` sizes its columns from what they hold: a long address (SD2's
+/// `index 22 (0x0016)`) or name (CT's `control_word_enable`) does not push its row out of
+/// line, so every cell of a column starts where its heading does.
+#[test]
+fn objects_columns_line_up_whatever_their_width() {
+    for drive in ["sd2", "ct-unidrive-sp"] {
+        let listing = crate::support::cli(&["objects", "--drive", drive], 0).stdout;
+        let lines: Vec<Vec<char>> = listing.lines().map(|l| l.chars().collect()).collect();
+        let header = lines
+            .iter()
+            .position(|l| l.starts_with(&['n', 'a', 'm', 'e', ' ']))
+            .unwrap_or_else(|| panic!("no header in {listing}"));
+        let heading: String = lines[header].iter().collect();
+        // The columns that are never empty.
+        for column in ["address", "type", "access"] {
+            let at = heading[..heading.find(column).expect("column")].chars().count();
+            for row in &lines[header + 1..] {
+                let row_text: String = row.iter().collect();
+                assert!(
+                    row.get(at - 1) == Some(&' ') && row.get(at).is_some_and(|c| *c != ' '),
+                    "{drive}: `{column}` is not at column {at} in\n{row_text}\n{listing}"
+                );
+            }
+        }
+    }
+}
+
+/// The cyclic channel carries the speed setpoint as a fraction of the velocity scaling:
+/// a value beyond it is refused by `check` (exit 2, at its place) and by `run` before the
+/// port is opened (the port here does not exist, so opening it would be exit 3), for
+/// `set`, `ramp` points and a `--set` value alike.
+#[test]
+fn a_setpoint_beyond_the_cyclic_velocity_scaling_is_refused_before_anything_is_sent() {
+    let dir = crate::support::scratch("cyclic-range");
+    let recipe = crate::support::write_file(
+        &dir,
+        "cyclic.yaml",
+        "name: cyclic\nparams:\n  top: 20000 rpm\nsteps:\n  - go_to: operation_enabled\n  - set: { speed_setpoint: 30000 rpm }\n  - ramp: { object: speed_setpoint, from: 0 rpm, to: \"{{top}}\", step: 5000 rpm, every: 1 s }\n",
+    );
+    let recipe = recipe.to_str().expect("utf-8");
+    let cyclic = ["--channel", "cyclic", "--velocity-scaling", "24000rpm"];
+    let set_line = "cyclic.yaml:6:5: set speed_setpoint = 30000 rpm is beyond -24000 .. 24000 rpm: the cyclic channel carries at most ±100 % of the velocity scaling, 24000 rpm";
+
+    let mut args = vec!["check", recipe];
+    args.extend(cyclic);
+    let out = crate::support::cli(&args, 2);
+    assert!(out.stderr.contains(set_line), "{}", out.stderr);
+    assert!(
+        out.stderr.contains("1 value(s) the link cannot carry"),
+        "{}",
+        out.stderr
+    );
+    // On the object channel the same recipe is fine.
+    crate::support::cli(&["check", recipe], 0);
+
+    let mut args = vec![
+        "run",
+        recipe,
+        "--port",
+        "/nonexistent/ttyUSB9",
+        "--set",
+        "top=26000rpm",
+    ];
+    args.extend(cyclic);
+    let out = crate::support::cli(&args, 2);
+    assert!(out.stderr.contains(set_line), "{}", out.stderr);
+    assert!(
+        out.stderr
+            .contains("cyclic.yaml:7:5: ramp speed_setpoint = 26000 rpm is beyond -24000 .. 24000 rpm"),
+        "{}",
+        out.stderr
+    );
+    assert!(out.stderr.contains("nothing was sent"), "{}", out.stderr);
+    assert!(
+        !out.stderr.contains("ttyUSB9"),
+        "the port was never opened: {}",
+        out.stderr
+    );
+}
+
+/// `ports` shows a USB-serial adapter's latency timer where the system exposes it (here a
+/// fake sysfs tree), and how to lower it.
+#[test]
+fn ports_show_the_usb_serial_latency_timer() {
+    let root = crate::support::scratch("sysfs");
+    let tty = root.join("bus/usb-serial/devices/ttyUSB7");
+    std::fs::create_dir_all(&tty).expect("fake sysfs");
+    std::fs::write(tty.join("latency_timer"), "16\n").expect("timer");
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_drivescript"))
+        .arg("ports")
+        .env("DRIVESCRIPT_SYSFS", &root)
+        .output()
+        .expect("drivescript runs");
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(out.status.code(), Some(0), "{text}");
+    assert!(text.contains("/dev/ttyUSB7  usb"), "{text}");
+    let timer = tty.join("latency_timer");
+    assert!(
+        text.contains(&format!(
+            "    latency timer 16 ms; every reply waits up to 16 ms in the adapter, lower it with `echo 1 | sudo tee {}`",
+            timer.display()
+        )),
+        "{text}"
+    );
+    let json = std::process::Command::new(env!("CARGO_BIN_EXE_drivescript"))
+        .args(["ports", "--json"])
+        .env("DRIVESCRIPT_SYSFS", &root)
+        .output()
+        .expect("drivescript runs");
+    let json = String::from_utf8_lossy(&json.stdout);
+    assert!(json.contains("\"latency_timer_ms\":16"), "{json}");
+}
+
+/// A run on a USB-serial adapter whose latency timer alone is longer than the recipe's
+/// sample interval says so once, before the first step, with how to lower it. The port is
+/// a pty with the simulated drive; the timer comes from a fake sysfs tree named after it.
+#[cfg(unix)]
+#[test]
+fn a_run_says_once_when_the_latency_timer_makes_its_sample_interval_unreachable() {
+    let dir = crate::support::scratch("latency");
+    let sim = crate::support::Simulator::start(&["--pty"]);
+    let port = sim.endpoint.as_str();
+    let tty = std::path::Path::new(port).file_name().expect("pty name");
+    let timer_dir = dir.join("sysfs/bus/usb-serial/devices").join(tty);
+    std::fs::create_dir_all(&timer_dir).expect("fake sysfs");
+    std::fs::write(timer_dir.join("latency_timer"), "16\n").expect("timer");
+    let recipe = crate::support::write_file(
+        &dir,
+        "fast.yaml",
+        "name: fast samples\nsteps:\n  - sample: { objects: [speed_actual], every: 10 ms, for: 100 ms }\n",
+    );
+    let run = |every_ok: bool| {
+        let text = std::fs::read_to_string(&recipe).expect("recipe");
+        let text = match every_ok {
+            true => text.replace("every: 10 ms", "every: 50 ms"),
+            false => text,
+        };
+        std::fs::write(&recipe, text).expect("recipe");
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_drivescript"))
+            .args(["run", recipe.to_str().expect("utf-8"), "--port", port])
+            .env("DRIVESCRIPT_SYSFS", dir.join("sysfs"))
+            .output()
+            .expect("drivescript runs");
+        assert_eq!(
+            out.status.code(),
+            Some(0),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        String::from_utf8_lossy(&out.stderr).into_owned()
+    };
+    let err = run(false);
+    assert_eq!(err.matches("latency timer of 16 ms").count(), 1, "{err}");
+    assert!(
+        err.contains("so samples every 10 ms cannot be kept; lower it with `echo 1 | sudo tee"),
+        "{err}"
+    );
+    // 50 ms is reachable with a 16 ms timer: nothing is said.
+    assert!(!run(true).contains("latency timer"));
+}

@@ -121,3 +121,30 @@ fn completions_for_every_shell_name_the_subcommands() {
     }
     cli(&["completions", "tcsh"], 2);
 }
+
+/// `decode --help` lists every family of the registry (and every built-in dictionary)
+/// for `--protocol`, and names the golden vectors where they are.
+#[test]
+fn decode_help_lists_every_family_of_the_registry() {
+    let help = cli(&["decode", "--help"], 0).stdout;
+    let registry = drivescript::family::Registry::builtin();
+    for id in registry.families().map(|f| f.id()) {
+        assert!(
+            help.contains(&format!("`{id}`")),
+            "--help lacks family {id}:\n{help}"
+        );
+    }
+    for name in registry.dictionary_names() {
+        assert!(
+            help.contains(&format!("`{name}`")),
+            "--help lacks dictionary {name}:\n{help}"
+        );
+    }
+    assert!(help.contains("tests/vectors/sd2-dnc.yaml"), "{help}");
+    assert!(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("tests/vectors/sd2-dnc.yaml")
+            .is_file(),
+        "the path --help names exists"
+    );
+}

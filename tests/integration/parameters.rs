@@ -257,6 +257,18 @@ fn a_control_techniques_scan_saves_and_compares_parameters_beyond_the_dictionary
     let ct = ["--drive", "ct-unidrive-sp", "--port", port];
     let (code, out) = run(&[&["backup", "--all", "-o", file][..], &ct[..]].concat());
     assert_eq!(code, 0, "{out}");
+    // Every object the drive lists is saved or said to be left out, with why, one line
+    // each; the scan's tries are no lines of their own in a log.
+    assert!(out.contains("the drive lists 21 object(s)"), "{out}");
+    assert!(
+        out.contains(
+            "  left out #3.02 speed_actual: read-only: a live value the drive reports, not a setting"
+        ),
+        "{out}"
+    );
+    assert_eq!(out.matches("  left out ").count(), 16, "{out}");
+    assert!(out.contains("5 parameter(s) saved"), "{out}");
+    assert!(out.lines().count() < 30, "{out}");
     let saved = std::fs::read_to_string(file).expect("backup");
     assert!(
         saved.contains("name: \"max_speed\"") && saved.contains("address: \"#1.06\""),

@@ -219,6 +219,9 @@ fn run_case(dir: &Path) -> Result<(), String> {
             ));
         }
     }
+    if let Some(problem) = step_count_problem(&output) {
+        problems.push(problem);
+    }
     if problems.is_empty() {
         Ok(())
     } else {
@@ -227,6 +230,30 @@ fn run_case(dir: &Path) -> Result<(), String> {
             problems.join("\n")
         ))
     }
+}
+
+/// The summary's `N step(s)` counts the step lines printed above it (nested steps, each
+/// pass of a repeat and `finally` included); `None` when they agree or there is no summary.
+fn step_count_problem(output: &str) -> Option<String> {
+    let said: u64 = output
+        .lines()
+        .find_map(|l| l.split_once(" step(s), ")?.0.rsplit(' ').next()?.parse().ok())?;
+    let is_number = |w: &str| !w.is_empty() && w.chars().all(|c| c.is_ascii_digit() || c == '.');
+    let printed = output
+        .lines()
+        .filter(|l| {
+            let words: Vec<&str> = l.split_whitespace().take(3).collect();
+            let mark = |w: &&str| *w == "ok" || *w == "FAIL";
+            match words.as_slice() {
+                [n, m, ..] if is_number(n) && mark(m) => true,
+                [phase, n, m] => {
+                    phase.chars().all(|c| c.is_ascii_lowercase() || c == '_') && is_number(n) && mark(m)
+                }
+                _ => false,
+            }
+        })
+        .count() as u64;
+    (said != printed).then(|| format!("the summary says {said} step(s); {printed} step lines were printed"))
 }
 
 #[test]

@@ -112,3 +112,69 @@ fn an_observer_given_with_the_request_sees_every_check_of_a_recipe_and_a_script(
         assert_eq!(tally.finished.as_deref(), Some(report.recipe.as_str()));
     }
 }
+
+/// `--quiet` prints what a CI log needs and nothing else: failed steps and checks, the
+/// drive's end state, the safe stop's notes when it went wrong, and the verdict line.
+#[test]
+fn quiet_runs_print_failures_the_end_state_and_the_verdict_only() {
+    let case = |name: &str| format!("{}/tests/cases/{name}/recipe.yaml", env!("CARGO_MANIFEST_DIR"));
+    let quiet_run = |name: &str| {
+        let mut run = crate::support::InProcessRun::new(case(name));
+        run.outputs.quiet = true;
+        run.output_dir = scratch(&format!("quiet-{}", name.replace('/', "-")));
+        let (result, output) = run.run();
+        (result.exit_code, output)
+    };
+    let (code, output) = quiet_run("ok/run_in");
+    assert_eq!(code, 0, "{output}");
+    let lines: Vec<&str> = output.lines().collect();
+    assert_eq!(lines.len(), 2, "{output}");
+    assert_eq!(lines[0], "drive left in ready to switch on at 0 rpm");
+    assert!(
+        lines[1].starts_with("PASSED — 22 step(s), 9 check(s) passed"),
+        "{output}"
+    );
+
+    let (code, output) = quiet_run("failed/expect_out_of_tolerance");
+    assert_eq!(code, 1, "{output}");
+    let lines: Vec<&str> = output.lines().collect();
+    assert_eq!(lines.len(), 4, "{output}");
+    assert!(
+        lines[0]
+            .trim_start()
+            .starts_with("FAIL  speed_actual near 5000 rpm"),
+        "{output}"
+    );
+    assert!(lines[1].trim_start().starts_with("4  FAIL  expect"), "{output}");
+    assert!(lines[3].starts_with("FAILED — "), "{output}");
+
+    // A safe stop that went wrong keeps its notes.
+    use drivescript::drive::device_control::DeviceCommand;
+    let ignore = |sim: &std::sync::Arc<std::sync::Mutex<dyn drivescript::sim::SimulatedDrive>>,
+                  _: &drivescript::clock::SharedClock| {
+        let mut sim = sim.lock().expect("simulator lock");
+        sim.faults().ignore_commands(&[
+            DeviceCommand::DisableOperation,
+            DeviceCommand::Shutdown,
+            DeviceCommand::QuickStop,
+            DeviceCommand::DisableVoltage,
+        ]);
+    };
+    let mut run = crate::support::InProcessRun::new(case("error/drive_ignores_every_stop"));
+    run.outputs.quiet = true;
+    run.prepare = Some(&ignore);
+    run.safe_stop.stop_timeout = Some(std::time::Duration::from_secs(5));
+    run.output_dir = scratch("quiet-stop");
+    let (result, output) = run.run();
+    assert_eq!(result.exit_code, 3, "{output}");
+    assert!(
+        output.contains("safe stop: power stage switched off at once"),
+        "{output}"
+    );
+    assert!(output.contains("CHECK THE DRIVE BY HAND"), "{output}");
+    assert!(!output.contains(" ok "), "{output}");
+    assert!(
+        output.contains("ERROR: the safe stop could not be confirmed"),
+        "{output}"
+    );
+}

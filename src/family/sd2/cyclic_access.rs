@@ -27,7 +27,7 @@ use std::time::Duration;
 /// are the built-in dictionary's (unconfirmed) current and drive-error objects.
 const STATUS_WORD: u16 = 67;
 const CONTROL_WORD: u16 = 68;
-const SPEED_SETPOINT: u16 = 395;
+pub(super) const SPEED_SETPOINT: u16 = 395;
 const SPEED_ACTUAL: u16 = 398;
 const CURRENT_ACTUAL: u16 = 400;
 const DRIVE_ERROR: u16 = 401;

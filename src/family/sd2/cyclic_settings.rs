@@ -1,10 +1,12 @@
 //! How the SD2 family talks to a drive: through object access (Read/Write Wide Object, the
 //! default) or through the DNC 8-byte cyclic telegram, with the settings the cyclic channel
 //! needs. Read from `--link-option NAME=VALUE` (and the CLI's `--channel`,
-//! `--velocity-scaling`, `--heartbeat`, `--cycle` which set the same options). Pure parsing.
+//! `--velocity-scaling`, `--heartbeat`, `--cycle` which set the same options), and the
+//! speed range the cyclic telegram can carry. Pure parsing and arithmetic.
 
-use crate::dictionary::{Quantity, Unit};
-use crate::family::FamilyError;
+use super::cyclic_access::SPEED_SETPOINT;
+use crate::dictionary::{Address, ObjectDef, Quantity, Unit};
+use crate::family::{FamilyError, LinkRange};
 use std::time::Duration;
 
 /// Which channel carries control word, setpoint and actual values.
@@ -89,6 +91,29 @@ impl Channel {
             heartbeat,
             current_scale_a: current,
         }))
+    }
+}
+
+impl CyclicSettings {
+    /// The speed setpoint travels in every telegram as a fraction of the velocity scaling
+    /// (0x3FFF = +100 %), so it can be written within ± the scaling only; other objects
+    /// keep their own range.
+    pub fn carried_range(&self, object: &ObjectDef) -> Option<LinkRange> {
+        if object.address != Address::indexed(SPEED_SETPOINT, 0) {
+            return None;
+        }
+        let max = match object.unit {
+            Some(unit) => Unit::Rpm.convert(self.velocity_scaling_rpm, unit)?,
+            None => self.velocity_scaling_rpm,
+        };
+        Some(LinkRange {
+            min: -max,
+            max,
+            why: format!(
+                "the cyclic channel carries at most ±100 % of the velocity scaling, {} rpm",
+                self.velocity_scaling_rpm
+            ),
+        })
     }
 }
 

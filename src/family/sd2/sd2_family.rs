@@ -9,7 +9,7 @@ use crate::bus::{Bus, SerialSettings};
 use crate::dictionary::{Access, Address, AddressError, DataType, Dictionary, ObjectDef};
 use crate::drive::AddressKeys;
 use crate::family::{
-    serial_line, DriveAddress, Family, FamilyError, FamilyInfo, LinkContext, LinkOptions, Opened,
+    serial_line, DriveAddress, Family, FamilyError, FamilyInfo, LinkContext, LinkOptions, LinkRange, Opened,
     SimulatedDevice,
 };
 use crate::link::TelegramExplainer;
@@ -120,6 +120,13 @@ impl Family for Sd2Family {
     fn check_link_options(&self, extra: &[(String, String)]) -> Result<(), FamilyError> {
         Self::write_length(extra)?;
         Channel::from_options(extra).map(|_| ())
+    }
+
+    fn link_range(&self, object: &ObjectDef, extra: &[(String, String)]) -> Option<LinkRange> {
+        match Channel::from_options(extra) {
+            Ok(Channel::Cyclic(settings)) => settings.carried_range(object),
+            _ => None,
+        }
     }
 
     fn open(&self, bus: &Bus, drive: &DriveAddress, options: &LinkOptions, context: LinkContext) -> Opened {

@@ -130,3 +130,31 @@ fn messages_name_the_dictionary_not_its_family() {
         ["r.yaml:3:11: unknown object `nothing_here` in the ct-unidrive-sp dictionary"]
     );
 }
+
+#[test]
+fn a_misspelt_timeout_gets_a_did_you_mean() {
+    let text = "name: x\nsteps:\n  - wait_until: { speed_actual: { below: 10 rpm }, timout: 30 s }\n  - go_to: { state: switched_on, timout: 5 s }\n";
+    let e = load(text).expect_err("misspelt keys");
+    let found: Vec<(String, Option<&str>)> = e.problems.iter().map(|p| (p.located(), p.help())).collect();
+    assert_eq!(
+        found,
+        [
+            (
+                "r.yaml:3:52: unknown key `timout` in this wait_until".to_string(),
+                Some("did you mean `timeout`?")
+            ),
+            (
+                "r.yaml:4:34: unknown key `timout` in this go_to".to_string(),
+                Some("did you mean `timeout`?")
+            ),
+        ]
+    );
+    // A misspelt object still gets its own suggestion.
+    let text = "name: x\nsteps:\n  - wait_until: { sped_actual: { below: 10 rpm } }\n";
+    let e = load(text).expect_err("misspelt object");
+    let p = e.problems.iter().next().expect("one problem");
+    assert_eq!(
+        p.located(),
+        "r.yaml:3:19: unknown object `sped_actual` in the sd2 dictionary"
+    );
+}

@@ -7,7 +7,8 @@
 use super::html_text::{check_title, duration_text, esc, limits_cell, measured_cell, short_origin};
 use super::plot_section::plots;
 use crate::report::atomic_write::write_atomically;
-use crate::report::junit_report::{unexplained_failures, UniqueNames};
+use crate::report::case_names::case_names;
+use crate::report::junit_report::unexplained_failures;
 use crate::session::MAX_RECORDS;
 use crate::session::{CheckResult, RunReport, StepRecord, Verdict};
 use std::fmt::Write as _;
@@ -185,7 +186,6 @@ fn checks(h: &mut String, r: &RunReport) {
         }
     }
     for (k, (stage, group)) in groups.into_iter().enumerate() {
-        let mut names = UniqueNames::default();
         // Checks outside any repeat or include get a heading of their own once a group
         // stands before them, or they would read as part of that group.
         let heading = match stage {
@@ -206,7 +206,8 @@ fn checks(h: &mut String, r: &RunReport) {
                 esc(stage)
             );
         }
-        for c in group {
+        let titles: Vec<(String, String)> = group.iter().map(|c| (check_title(c), c.step.clone())).collect();
+        for (c, title) in group.iter().zip(case_names(&titles)) {
             let (row, mark) = if c.passed {
                 ("pass", "<span class=\"ok\">PASS</span>")
             } else {
@@ -216,7 +217,7 @@ fn checks(h: &mut String, r: &RunReport) {
                 h,
                 "<tr class=\"{row}\"><td>{}</td><td class=\"num\">{}</td><td class=\"num\">{}</td>\
                  <td>{mark}</td><td>{}</td><td><code title=\"{}\">{}</code></td></tr>",
-                esc(&names.unique(check_title(c))),
+                esc(&title),
                 esc(&measured_cell(r, c)),
                 esc(&limits_cell(r, c)),
                 esc(&c.message),

@@ -34,6 +34,7 @@ fn planned(
         object: object.map(Into::into),
         statistic: statistic.map(Into::into),
         stage: stage.into(),
+        step: line.to_string(),
         origin: origin(line),
     }
 }
@@ -114,6 +115,61 @@ fn names_are_unique_and_carry_the_stage() {
             "safe stop",
         ]
     );
+}
+
+/// The case names of `tests/cases/ok/run_in` run to its end, or interrupted by Ctrl-C at
+/// `interrupt_at` (virtual time), sorted.
+fn run_in_case_names(interrupt_at: Option<std::time::Duration>) -> Vec<String> {
+    let dir = std::env::temp_dir().join(format!(
+        "drivescript-junit-names-{}-{}",
+        std::process::id(),
+        interrupt_at.map_or(0, |d| d.as_secs())
+    ));
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    let junit = dir.join("junit.xml");
+    let recipe = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/cases/ok/run_in/recipe.yaml");
+    let mut run = crate::support::InProcessRun::new(recipe);
+    run.output_dir = dir.clone();
+    run.outputs.junit = Some(junit.clone());
+    if let Some(at) = interrupt_at {
+        run.stop.schedule(at, StopSignal::INT);
+    }
+    let (result, output) = run.run();
+    let want = if interrupt_at.is_some() { 130 } else { 0 };
+    assert_eq!(result.exit_code, want, "{output}");
+    let xml = std::fs::read_to_string(&junit).expect("junit written");
+    let doc = parse(&xml);
+    let mut names: Vec<String> = names(&doc).into_iter().map(str::to_string).collect();
+    names.retain(|n| n != "run");
+    names.sort();
+    let _ = std::fs::remove_dir_all(&dir);
+    names
+}
+
+/// A CI server follows each check by its name: an interrupted run names every check as
+/// the complete run does, the passes it never reached included, and the two checks that
+/// share a name in each pass are told apart by their step, whichever the run reached.
+#[test]
+fn an_interrupted_run_names_its_cases_as_a_complete_run_does() {
+    let complete = run_in_case_names(None);
+    let stage = "repeat 2 times (7 steps)";
+    for want in [
+        format!("{stage} #1 / wait until speed_actual near"),
+        format!("{stage} #1 / wait until speed_actual near (step 2.5)"),
+        format!("{stage} #2 / speed_actual mean near"),
+        "wait until speed_actual below".to_string(),
+    ] {
+        assert!(complete.contains(&want), "{want} not in {complete:#?}");
+    }
+    // In the first pass's dwell, and in the second pass's dwell.
+    for minutes in [5, 40] {
+        let at = std::time::Duration::from_secs(minutes * 60);
+        assert_eq!(
+            run_in_case_names(Some(at)),
+            complete,
+            "interrupted at {minutes} min"
+        );
+    }
 }
 
 #[test]

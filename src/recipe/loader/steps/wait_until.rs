@@ -2,9 +2,17 @@
 //! value) with its `timeout` and poll interval (`every`, also `poll`). It must not wait.
 
 use crate::diag::{Shape, YamlNode};
-use crate::recipe::loader::{show_duration, Loader, DEFAULT_POLL, DEFAULT_WAIT_TIMEOUT};
+use crate::recipe::loader::{did_you_mean, show_duration, Loader, DEFAULT_POLL, DEFAULT_WAIT_TIMEOUT};
 use crate::recipe::step::StepKind;
 use crate::session::Condition;
+
+/// The keys of a `wait_until` besides its condition's object.
+const WAIT_KEYS: &[&str] = &["timeout", "every", "poll", "state"];
+
+/// The `wait_until` key a word that is no object was likely meant to be.
+fn meant_key(word: &str) -> Option<String> {
+    did_you_mean(word, WAIT_KEYS.iter().copied())
+}
 
 impl Loader<'_, '_> {
     pub(in crate::recipe::loader) fn wait_until(&mut self, body: &YamlNode) -> Option<(StepKind, String)> {
@@ -29,6 +37,17 @@ impl Loader<'_, '_> {
                     Some(s) => conditions.push(Condition::State(s)),
                     None => ok = false,
                 },
+                // Any other key names an object, so a misspelt `timout` would be reported
+                // as an unknown object with no word of the key that was meant.
+                name if self.dict.lookup(name).is_err() && meant_key(name).is_some() => {
+                    self.problem(
+                        &k.span,
+                        format!("unknown key `{name}` in this wait_until"),
+                        "unknown key",
+                        meant_key(name).map(|m| format!("did you mean `{m}`?")),
+                    );
+                    ok = false;
+                }
                 name => match self.object(name, &k.span) {
                     Some((def, r)) if self.readable(&def, &k.span) => match self.predicate(&def, v) {
                         Some(p) => conditions.push(Condition::Value {
