@@ -43,6 +43,8 @@ impl<'a> SeveralReports<'a> {
 
     /// Before the next file runs: the ones done, the next one as not finished (what a
     /// kill beyond any safe stop leaves), the rest as not run yet.
+    // The text is write_atomically's (report/), naming the file and why it could not be
+    // written; the caller only prints it, so no type of its own is needed.
     pub fn starting(&self, report: Option<&Path>) -> Result<(), String> {
         let i = self.suites.len();
         let Some(file) = self.files.get(i) else {
@@ -98,6 +100,8 @@ impl<'a> SeveralReports<'a> {
     }
 
     /// A command refused before any file ran (`why`): every file as not run, invalid.
+    // The text is write_atomically's (report/), naming the file and why it could not be
+    // written; the caller only prints it, so no type of its own is needed.
     pub fn refused(&mut self, why: &str) -> Result<(), String> {
         for file in self.files {
             let shown = file.display().to_string();
@@ -117,6 +121,8 @@ impl<'a> SeveralReports<'a> {
 
     /// After the last file ran or the command ended early: the files never reached are
     /// skipped, saying why.
+    // The text is write_atomically's (report/), naming the file and why it could not be
+    // written; the caller only prints it, so no type of its own is needed.
     pub fn ended(&self) -> Result<(), String> {
         let why = match self.worst {
             PANIC_EXIT => "not run: the command ended with an internal error before this file".to_string(),
@@ -134,6 +140,8 @@ impl<'a> SeveralReports<'a> {
         self.write(None, &why, &verdict_word(self.worst), &detail)
     }
 
+    // The text is write_atomically's (report/), naming the file and why it could not be
+    // written; the caller only prints it, so no type of its own is needed.
     fn write(
         &self,
         current: Option<(JunitSuite, IndexEntry)>,
