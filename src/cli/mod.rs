@@ -6,12 +6,15 @@
 //! ports, name a family, or define a type the library needs; nothing in the library
 //! imports it.
 
+mod backup_command;
 mod decode_command;
+mod diff_command;
 mod maintain_command;
 mod object_commands;
 mod panic_notice;
 mod parameter_commands;
 mod recipe_commands;
+mod restore_command;
 mod safe_stop_notes;
 mod simulate_command;
 mod stop_command;
@@ -72,9 +75,9 @@ enum Command {
     Decode(decode_command::DecodeArgs),
     Simulate(simulate_command::SimulateArgs),
     Ports(object_commands::PortsArgs),
-    Backup(parameter_commands::BackupArgs),
-    Diff(parameter_commands::DiffArgs),
-    Restore(parameter_commands::RestoreArgs),
+    Backup(backup_command::BackupArgs),
+    Diff(diff_command::DiffArgs),
+    Restore(restore_command::RestoreArgs),
     Maintain(maintain_command::MaintainArgs),
     Schema(recipe_commands::SchemaArgs),
     Completions(CompletionsArgs),
@@ -120,9 +123,9 @@ pub fn main(registry: &Registry) -> i32 {
         Command::Stop(args) => stop_command::stop(&args, registry),
         Command::Objects(args) => object_commands::objects(&args, registry),
         Command::Ports(args) => object_commands::ports(&args),
-        Command::Backup(args) => parameter_commands::backup(&args, registry),
-        Command::Diff(args) => parameter_commands::diff(&args, registry),
-        Command::Restore(args) => parameter_commands::restore(&args, registry),
+        Command::Backup(args) => backup_command::backup(&args, registry),
+        Command::Diff(args) => diff_command::diff(&args, registry),
+        Command::Restore(args) => restore_command::restore(&args, registry),
         Command::Maintain(args) => maintain_command::maintain(&args, registry),
         Command::Schema(args) => recipe_commands::schema(&args, registry),
         Command::Completions(args) => {
