@@ -87,7 +87,7 @@ struct Cost {
 /// Runs `recipe` with `args`; returns its standard output and what it cost.
 fn run(recipe: &Path, args: &[&str]) -> Result<(String, Cost), String> {
     let mut command = Command::new(binary());
-    command.arg("run").arg(recipe).args(args).arg("--quiet");
+    command.arg("run").arg(recipe).args(args).arg("--no-progress");
     measure_child(command)
 }
 
@@ -541,7 +541,7 @@ fn cpu_per_telegram(dir: &Path) -> Result<(), String> {
     for _ in 0..RUNS {
         let sim = Simulator::start_on(false, sim_cpu)?;
         let mut ds = Command::new(binary());
-        ds.arg("run").arg(&recipe).args(["--port", &sim.path, "--quiet"]);
+        ds.arg("run").arg(&recipe).args(["--port", &sim.path, "--no-progress"]);
         if let Some(cpu) = program_cpu {
             pin(&mut ds, cpu);
         }
