@@ -179,8 +179,8 @@ impl<W: Write + Send> TelegramObserver for TraceWriter<W> {
     fn frame(&mut self, at: Duration, direction: Direction, frame: &CanFrame) {
         if !self.candump && !self.frame_meanings {
             self.comment(
-                "CAN frames follow in candump's log format; explain them with \
-                 `drivescript decode --protocol DRIVE < FILE` (DRIVE as given to --drive)",
+                "CAN frames follow in candump's log format; `drivescript decode` on this \
+                 file explains them with the drive its header names",
             );
         }
         self.candump = true;
@@ -336,6 +336,8 @@ mod tests {
         let text = String::from_utf8(file.into_inner()).unwrap();
         let lines: Vec<&str> = text.lines().collect();
         assert!(lines[0].starts_with("# CAN frames follow in candump's log format"));
+        assert!(lines[0].contains("the drive its header names"), "{}", lines[0]);
+        assert!(!lines[0].contains("--protocol"), "{}", lines[0]);
         assert_eq!(lines[1], "(0000000000.012345) can0 60C#409C5F0000000000");
         assert_eq!(lines[2], "#     0.115000 -- no response");
         let mut terminal = TraceWriter::new(Vec::new(), Box::new(Counting));
