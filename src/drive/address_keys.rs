@@ -112,6 +112,15 @@ impl AddressKeyTable {
             .collect()
     }
 
+    /// Every name a `drive:` may give (each family's id and built-in dictionaries), for
+    /// help text that must list what the registry has, not a copy of it.
+    pub fn drive_names(&self) -> Vec<&'static str> {
+        self.families
+            .iter()
+            .flat_map(|f| f.drive_names.iter().copied())
+            .collect()
+    }
+
     /// Every key name of every family, once each, in order.
     pub fn all_key_names(&self) -> Vec<&'static str> {
         let mut names: Vec<&'static str> = Vec::new();

@@ -159,7 +159,7 @@ fn parse_raw(text: &str) -> Option<RawValue> {
 pub enum RestoreRefused {
     /// The power stage may be on or the motor braking: some parameters change the
     /// motor's behaviour at once.
-    #[error("the drive is in {state}; disable it first (drivescript run a recipe that ends with shutdown, or the drive's own controls); nothing was written")]
+    #[error("the drive is in {state}; disable it first with `drivescript stop` and the same connection options (or the drive's own controls); nothing was written")]
     Powered { state: DeviceState },
     /// The state cannot be read, and `force` was not given.
     #[error("cannot tell whether the drive is enabled ({cause}); make sure it is disabled and give --force; nothing was written")]

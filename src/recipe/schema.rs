@@ -468,7 +468,7 @@ pub fn recipe_schema(dictionary: &Dictionary, address_keys: &AddressKeyTable) ->
             },
             "link": {
                 "type": "object",
-                "description": "Settings of the drive family's link, as --link-option NAME=VALUE gives them (SD2: channel: cyclic, velocity_scaling: 24000 rpm, heartbeat: on, cycle: 20 ms); the command line wins",
+                "description": "Settings of the link of the drive's family, as --link-option NAME=VALUE gives them (the family's names and values, e.g. channel: cyclic); the command line wins",
                 "additionalProperties": { "type": ["string", "number", "boolean"] }
             },
             "safe_stop": {
@@ -492,8 +492,24 @@ pub fn recipe_schema(dictionary: &Dictionary, address_keys: &AddressKeyTable) ->
 /// it, and never without `address:` where they qualify it.
 fn drive_entry(address_keys: &AddressKeyTable) -> Value {
     let mut props = serde_json::Map::new();
-    props.insert("drive".into(), json!({ "type": "string", "description": "the built-in dictionary or family: sd2, ct-unidrive-sp, lenze-931, lenze-9400" }));
-    props.insert("address".into(), json!({ "type": ["string", "number"], "description": "the address in the family's notation (SD2: 0, 3B, dnc:2; Control Techniques: 1.2; Lenze 9400: node 1..127)" }));
+    let names = address_keys.drive_names().join(", ");
+    let notations: Vec<String> = address_keys
+        .families()
+        .filter(|f| !f.address_help.is_empty())
+        .map(|f| format!("{}: {}", f.family, f.address_help))
+        .collect();
+    let address = match notations.is_empty() {
+        true => "the address in the family's notation".to_string(),
+        false => format!("the address in the family's notation ({})", notations.join("; ")),
+    };
+    props.insert(
+        "drive".into(),
+        json!({ "type": "string", "description": format!("the built-in dictionary or family: {names}") }),
+    );
+    props.insert(
+        "address".into(),
+        json!({ "type": ["string", "number"], "description": address }),
+    );
     props.insert("port".into(), json!({ "type": "string", "description": "its own serial port (default: the command line's connection, shared)" }));
     props.insert(
         "tcp".into(),
@@ -708,10 +724,27 @@ mod tests {
             rules.contains(r#"{"not":{"required":["address","dnc_address"]}}"#),
             "{rules}"
         );
+        // The drive names and address notations are the registry's, not a copy.
+        let registry = crate::family::Registry::builtin();
+        let drive = entry["properties"]["drive"]["description"].as_str().unwrap();
+        for name in registry.dictionary_names() {
+            assert!(drive.contains(name), "{name}: {drive}");
+        }
+        let address = entry["properties"]["address"]["description"].as_str().unwrap();
+        for f in registry.address_keys().families() {
+            assert!(address.contains(f.address_help), "{}: {address}", f.family);
+        }
+        let link = s["properties"]["link"]["description"].as_str().unwrap();
+        assert!(!link.contains("SD2"), "{link}");
         // Without address keys in the table, an entry has the keys every drive has.
         let plain = recipe_schema(&d, &AddressKeyTable::default());
         let entry = &plain["properties"]["drives"]["additionalProperties"];
         assert!(entry["properties"].get("dnc_address").is_none());
         assert!(entry.get("allOf").is_none());
+        let drive = entry["properties"]["drive"]["description"].as_str().unwrap();
+        assert!(
+            !drive.contains("sd2") && !drive.contains("lenze"),
+            "no family names its own: {drive}"
+        );
     }
 }

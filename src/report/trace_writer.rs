@@ -71,13 +71,21 @@ impl<W: Write + Send> TraceWriter<W> {
         self.out
     }
 
+    /// Nothing more is written after the first error: a full or hung disk must not
+    /// cost every later telegram (the safe stop's too) another write and flush.
     fn line(&mut self, text: &str) {
+        if self.error.is_some() {
+            return;
+        }
         let result = write_line(&mut self.out, text);
         self.keep_error(result);
     }
 
     /// A comment or link event: into the notes file when there is one.
     fn note(&mut self, text: &str) {
+        if self.error.is_some() {
+            return;
+        }
         let result = match &mut self.notes {
             Some(notes) => write_line(notes, text),
             None => write_line(&mut self.out, text),
@@ -171,8 +179,8 @@ impl<W: Write + Send> TelegramObserver for TraceWriter<W> {
     fn frame(&mut self, at: Duration, direction: Direction, frame: &CanFrame) {
         if !self.candump && !self.frame_meanings {
             self.comment(
-                "CAN frames follow in candump's log format; explain them with \
-                 `drivescript decode --protocol DRIVE < FILE` (DRIVE as given to --drive)",
+                "CAN frames follow in candump's log format; `drivescript decode` on this \
+                 file explains them with the drive its header names",
             );
         }
         self.candump = true;
@@ -258,6 +266,46 @@ mod tests {
         }
     }
 
+    /// Fails every write and counts how often it was asked.
+    struct Failing(std::sync::Arc<std::sync::atomic::AtomicUsize>);
+
+    impl Write for Failing {
+        fn write(&mut self, _buf: &[u8]) -> std::io::Result<usize> {
+            self.0.fetch_add(1, std::sync::atomic::Ordering::SeqCst);
+            Err(std::io::Error::other("disk full"))
+        }
+        fn flush(&mut self) -> std::io::Result<()> {
+            self.0.fetch_add(1, std::sync::atomic::Ordering::SeqCst);
+            Err(std::io::Error::other("disk full"))
+        }
+    }
+
+    #[test]
+    fn after_the_first_write_error_nothing_more_is_written() {
+        let calls = std::sync::Arc::new(std::sync::atomic::AtomicUsize::new(0));
+        let frame = CanFrame::new(0x60C, &[0x40]).unwrap();
+        for notes in [false, true] {
+            calls.store(0, std::sync::atomic::Ordering::SeqCst);
+            let mut trace = TraceWriter::new(Failing(calls.clone()), Box::new(Counting));
+            if notes {
+                trace.notes = Some(Failing(calls.clone()));
+            }
+            trace.telegram(Duration::ZERO, Direction::Sent, &[0x00]);
+            assert_eq!(trace.error(), Some("disk full"));
+            let after_first = calls.load(std::sync::atomic::Ordering::SeqCst);
+            trace.telegram(Duration::ZERO, Direction::Received, &[0x01]);
+            trace.event(Duration::ZERO, "no reply");
+            trace.comment("a\nb");
+            trace.frame(Duration::ZERO, Direction::Sent, &frame);
+            assert_eq!(
+                calls.load(std::sync::atomic::Ordering::SeqCst),
+                after_first,
+                "notes file: {notes}"
+            );
+            assert_eq!(trace.error(), Some("disk full"));
+        }
+    }
+
     #[test]
     fn one_line_per_telegram_and_event_with_the_explainers_words() {
         let mut trace = TraceWriter::new(Vec::new(), Box::new(Counting));
@@ -288,6 +336,8 @@ mod tests {
         let text = String::from_utf8(file.into_inner()).unwrap();
         let lines: Vec<&str> = text.lines().collect();
         assert!(lines[0].starts_with("# CAN frames follow in candump's log format"));
+        assert!(lines[0].contains("the drive its header names"), "{}", lines[0]);
+        assert!(!lines[0].contains("--protocol"), "{}", lines[0]);
         assert_eq!(lines[1], "(0000000000.012345) can0 60C#409C5F0000000000");
         assert_eq!(lines[2], "#     0.115000 -- no response");
         let mut terminal = TraceWriter::new(Vec::new(), Box::new(Counting));

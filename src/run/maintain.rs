@@ -145,7 +145,7 @@ pub fn run_maintain(
         Err(e @ DriveError::EnabledForMaintenance { .. }) => {
             return refused(
                 format!(
-                    "{e}; disable it first (a recipe that ends with shutdown, or the drive's own controls)"
+                    "{e}; disable it first with `drivescript stop` and the same connection options (or the drive's own controls)"
                 ),
                 err,
             );

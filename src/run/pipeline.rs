@@ -142,10 +142,8 @@ fn checked(
         .registry
         .family(dictionary.family())
         .map_err(|e| RunError::Invalid(format!("error: {e}")))?;
-    request
-        .connection
-        .check(request.registry, family.as_ref())
-        .map_err(|e| RunError::Invalid(format!("error: {e}")))?;
+    // Only the merged settings: the command line alone can lack what the file gives
+    // (`--channel cyclic` with the file's `velocity_scaling`).
     let address = connection.check(request.registry, family.as_ref()).map_err(|e| {
         RunError::Invalid(format!(
             "error: {e} (link settings come from {} and the command line)",

@@ -40,8 +40,13 @@ pub fn run_many(files: &[PathBuf], base: &RunRequest, out: &mut dyn Write, err: 
     for (i, file) in files.iter().enumerate() {
         let _ = writeln!(
             out,
-            "{}== recipe {} of {}: {}",
+            "{}== {} {} of {}: {}",
             if i > 0 { "\n" } else { "" },
+            if crate::script::is_script(file) {
+                "script"
+            } else {
+                "recipe"
+            },
             i + 1,
             files.len(),
             file.display()
@@ -69,7 +74,7 @@ pub fn run_many(files: &[PathBuf], base: &RunRequest, out: &mut dyn Write, err: 
     if let Err(e) = shared.ended() {
         let _ = writeln!(err, "error: {e}");
     }
-    let _ = writeln!(out, "\n== {} recipe(s):", verdicts.len());
+    let _ = writeln!(out, "\n== {} files:", verdicts.len());
     for (path, code) in &verdicts {
         let _ = writeln!(out, "   exit code {code}  {path}");
     }

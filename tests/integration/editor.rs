@@ -1,19 +1,16 @@
 //! The shipped schemas as an editor shows them: yaml-language-server (what VS Code's YAML
 //! extension runs) over its protocol, on the shipped recipes and on recipes being written
-//! next to them. Says it skipped where yaml-language-server or node is not installed
-//! (`.ci/run` installs both).
+//! next to them. Says it skipped where yaml-language-server or node is not installed, and
+//! fails so under CI (`.ci/run` installs both).
 
 use crate::language_server::{position, LanguageServer};
-use crate::support::repo_root;
+use crate::support::{repo_root, tool_missing};
 use std::path::PathBuf;
 
 fn server() -> Option<LanguageServer> {
     let server = LanguageServer::start();
     if server.is_none() {
-        eprintln!(
-            "yaml-language-server (node) is not installed: the editor test is skipped; \
-             `.ci/run` installs it"
-        );
+        tool_missing("yaml-language-server (node) is not installed: the editor test is skipped");
     }
     server
 }

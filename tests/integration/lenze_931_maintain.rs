@@ -237,6 +237,10 @@ fn with_a_profile_an_enabled_drive_is_refused_and_a_disabled_one_confirmed() {
     let o = maintain(&with_profile, "reset", None, true, None, &enable, &no_prepare);
     assert_eq!(o.code, 2, "{}{}", o.out, o.err);
     assert_has(&o.err, &["error: the drive is in operation enabled, and reset is refused while it is enabled (the drive restarts)"]);
+    assert_has(
+        &o.err,
+        &["disable it first with `drivescript stop` and the same connection options"],
+    );
     assert!(!o.requests.iter().any(|r| r == "RESET!"), "{:?}", o.requests);
 
     // Disabled: no --force and nobody to ask is a refusal; a typed no too; a yes sends.

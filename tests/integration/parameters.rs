@@ -241,6 +241,12 @@ fn a_restore_is_refused_by_the_library_while_the_drive_is_enabled() {
             .expect_err("refused");
         assert!(refused.to_string().contains("operation enabled"), "{refused}");
         assert!(refused.to_string().contains("nothing was written"), "{refused}");
+        assert!(
+            refused
+                .to_string()
+                .contains("disable it first with `drivescript stop`"),
+            "{refused}"
+        );
         assert_eq!(progress, 0);
     }
     assert_eq!(open.drive.read_number("parameter_set").expect("read"), 9.0);

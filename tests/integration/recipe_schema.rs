@@ -79,7 +79,9 @@ fn validate_against(drive: &str, paths: &[std::path::PathBuf]) -> Vec<(String, V
 #[test]
 fn the_schema_accepts_good_recipes_and_refuses_bad_units_durations_and_shapes() {
     if !python_with_jsonschema() {
-        eprintln!("python3 with jsonschema and yaml is not installed: the schema is not validated");
+        crate::support::tool_missing(
+            "python3 with jsonschema and yaml is not installed: the schema is not validated",
+        );
         return;
     }
     let root = repo_root();
@@ -151,7 +153,9 @@ fn the_schema_accepts_good_recipes_and_refuses_bad_units_durations_and_shapes() 
 #[test]
 fn the_schema_offers_sd2_address_keys_in_drives_entries() {
     if !python_with_jsonschema() {
-        eprintln!("python3 with jsonschema and yaml is not installed: the schema is not validated");
+        crate::support::tool_missing(
+            "python3 with jsonschema and yaml is not installed: the schema is not validated",
+        );
         return;
     }
     let dir = std::env::temp_dir().join(format!("drivescript-schema-keys-{}", std::process::id()));

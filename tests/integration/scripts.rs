@@ -570,6 +570,28 @@ fn a_scripts_header_chooses_the_cyclic_channel() {
     );
 }
 
+/// A link setting is checked as merged: the file's `link:` / `//! link:` gives the
+/// velocity scaling, the command line the channel; neither alone is refused.
+#[test]
+fn the_files_link_settings_and_the_command_lines_are_checked_together() {
+    let dir = scratch("link-merged");
+    let script = write_file(
+        &dir,
+        "script.rhai",
+        "//! drive: sd2\n//! link: velocity_scaling=24000rpm\nlet d = drive();\nd.go_to(\"operation_enabled\", \"5 s\");\n",
+    );
+    let recipe = write_file(
+        &dir,
+        "recipe.yaml",
+        "name: merged link\ndrive: sd2\nlink: { velocity_scaling: 24000 rpm }\nsteps:\n  - go_to: operation_enabled\n",
+    );
+    for file in [&script, &recipe] {
+        let path = file.to_str().expect("path");
+        let out = cli(&["run", path, "--fast", "--channel", "cyclic"], 0);
+        assert_has(&out.stdout, &["(cyclic channel)"]);
+    }
+}
+
 /// `d.sample(…, "file.csv")` writes that sample's rows as a recipe sample step's `csv:`
 /// does: the same layout, under `--output-dir`, continued by a later pass of the same line.
 #[test]

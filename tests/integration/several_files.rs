@@ -21,7 +21,7 @@ const INVALID: &str = "tests/cases/invalid/many_problems/recipe.yaml";
 fn checked_junit(xml: &str) -> roxmltree::Document<'_> {
     let doc = markup::junit(xml).unwrap_or_else(|e| panic!("{e}\n{xml}"));
     match junit_xsd(xml) {
-        None => eprintln!("xmllint is not installed: only the structural check ran"),
+        None => crate::support::tool_missing("xmllint is not installed: only the structural check ran"),
         Some(result) => result.unwrap_or_else(|e| panic!("{e}\n{xml}")),
     }
     doc
@@ -231,6 +231,36 @@ fn a_panic_leaves_one_complete_junit_file_with_the_rest_not_run() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
+/// A run of a recipe and a script names each as what it is, and the summary counts files.
+#[test]
+fn a_recipe_and_a_script_are_each_named_as_what_they_are() {
+    let dir = scratch("recipe-and-script");
+    let script = write_file(
+        &dir,
+        "state.rhai",
+        "let d = drive();\nd.go_to(\"switch_on_disabled\");\n",
+    );
+    let out = cli(
+        &[
+            "run",
+            "tests/cases/ok/identity/recipe.yaml",
+            script.to_str().unwrap(),
+            "--fast",
+        ],
+        0,
+    );
+    assert_has(
+        &out.stdout,
+        &[
+            "== recipe 1 of 2: tests/cases/ok/identity/recipe.yaml",
+            &format!("== script 2 of 2: {}", script.display()),
+            "== 2 files:",
+        ],
+    );
+    assert!(!out.stdout.contains("recipe(s)"), "{}", out.stdout);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
 /// `--set speed=…` that only the first recipe has: applied there, and the second runs
 /// without it (it used to refuse the second with exit code 2).
 #[test]
@@ -293,7 +323,7 @@ fn a_set_no_file_has_is_refused_before_anything_runs() {
         "top is the script's: {}",
         out.stderr
     );
-    assert!(!out.stdout.contains("== recipe 1"), "nothing ran: {}", out.stdout);
+    assert!(!out.stdout.contains(" 1 of 3"), "nothing ran: {}", out.stdout);
     let xml = std::fs::read_to_string(&junit).expect("CI reads this run's refusal");
     let found = suites(&checked_junit(&xml));
     assert_eq!(found.len(), 3, "{xml}");

@@ -29,6 +29,38 @@ pub fn drivescript(args: &[&str], stdin: &str) -> Output {
     child.wait_with_output().expect("drivescript finishes")
 }
 
+/// A test's outside tool (yaml-language-server, python-can, jsonschema, xmllint) is
+/// missing. Locally the test says so and skips that check; under CI (`CI` set, as
+/// `.ci/run` is run) it fails, so CI cannot pass without checking anything.
+#[track_caller]
+pub fn tool_missing(what: &str) {
+    if skip_is_fatal(std::env::var("CI").ok().as_deref()) {
+        panic!("{what}, and under CI (CI is set) that check must run: `.ci/run` installs it");
+    }
+    eprintln!("skipped: {what} (`.ci/run` installs it)");
+}
+
+/// Whether a `CI` variable of this value makes a skipped check fail: set to anything but
+/// empty, `0` or `false`.
+fn skip_is_fatal(ci: Option<&str>) -> bool {
+    ci.is_some_and(|v| !matches!(v.trim(), "" | "0" | "false"))
+}
+
+#[test]
+fn a_missing_tool_fails_under_ci_and_is_skipped_locally() {
+    assert!(skip_is_fatal(Some("true")) && skip_is_fatal(Some("1")));
+    assert!(!skip_is_fatal(None) && !skip_is_fatal(Some("")) && !skip_is_fatal(Some("false")));
+    let ran_under = |ci: Option<&str>| {
+        std::panic::catch_unwind(|| {
+            if skip_is_fatal(ci) {
+                panic!("fatal");
+            }
+        })
+        .is_ok()
+    };
+    assert!(!ran_under(Some("true")) && ran_under(None));
+}
+
 /// A fresh, empty folder for a test's files, `drivescript-FILE-NAME-PID` in the system's
 /// temporary folder, FILE the calling test file, so tests of different files never share
 /// one.

@@ -112,7 +112,7 @@ fn a_can_trace_is_read_as_it_is_by_python_can_and_a_can_utils_parse() {
         .output()
         .is_ok_and(|o| o.status.success());
     if !has_python_can {
-        eprintln!("skipped: python-can is not installed (python3 -m pip install python-can)");
+        crate::support::tool_missing("python-can is not installed (python3 -m pip install python-can)");
     } else {
         let read = Command::new("python3")
             .args(["-c", PYTHON_CAN, trace.to_str().unwrap()])

@@ -146,7 +146,10 @@ impl<'a> Loader<'a, '_> {
                     &key.span,
                     format!("no dictionary was loaded for drive `{name}`"),
                     "drive",
-                    Some("give `drive:` a built-in dictionary or family: sd2, ct-unidrive-sp, lenze-931, lenze-9400".into()),
+                    Some(format!(
+                        "give `drive:` a built-in dictionary or family: {}",
+                        self.address_keys.drive_names().join(", ")
+                    )),
                 );
             }
             out.push(decl);
@@ -414,6 +417,21 @@ mod tests {
         let found = problems_with_help(drives);
         assert!(found.first().is_some_and(|p| p.starts_with(start)), "{found:?}");
         found
+    }
+
+    /// The names offered for `drive:` are the registry's.
+    #[test]
+    fn a_drive_without_a_dictionary_is_offered_the_registrys_names() {
+        let found = problems_with_help(
+            "  left: { drive: sd2 }\n  right: { drive: ct-unidrive-sp }\n  middle: { drive: nothing }\n",
+        );
+        let problem = found
+            .iter()
+            .find(|p| p.contains("no dictionary was loaded for drive `middle`"))
+            .unwrap_or_else(|| panic!("{found:?}"));
+        for name in crate::family::Registry::builtin().address_keys().drive_names() {
+            assert!(problem.contains(name), "{name}: {problem}");
+        }
     }
 
     #[test]
