@@ -541,7 +541,9 @@ fn cpu_per_telegram(dir: &Path) -> Result<(), String> {
     for _ in 0..RUNS {
         let sim = Simulator::start_on(false, sim_cpu)?;
         let mut ds = Command::new(binary());
-        ds.arg("run").arg(&recipe).args(["--port", &sim.path, "--no-progress"]);
+        ds.arg("run")
+            .arg(&recipe)
+            .args(["--port", &sim.path, "--no-progress"]);
         if let Some(cpu) = program_cpu {
             pin(&mut ds, cpu);
         }

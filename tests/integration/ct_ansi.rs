@@ -5,8 +5,8 @@
 //! that gets no reply and is not repeated, and Ctrl-C during a run on the simulated drive.
 
 use crate::support::{
-    assert_has, assert_matches_shared, cli, control_words, drivescript, load_vectors, repo_root, scratch,
-    stderr, stdout, write_file, InProcessRun, LiveRun,
+    assert_has, assert_matches_shared, cli, control_words, drivescript, load_vectors, repo_root,
+    scratch_file, stderr, stdout, write_file, InProcessRun, LiveRun,
 };
 use drivescript::bus::{MemoryTransport, SharedTransport};
 use drivescript::clock::{SharedClock, VirtualClock};
@@ -185,9 +185,8 @@ fn the_commissioning_recipe_runs_on_the_simulated_ct_drive_with_exact_decimals()
 /// dictionary spells the old id and what to write instead.
 #[test]
 fn files_with_the_former_family_id_still_work_and_check_notes_the_new_spelling() {
-    let dir = scratch("former-id");
-    let recipe = write_file(
-        &dir,
+    let (dir, recipe) = scratch_file(
+        "former-id",
         "old.yaml",
         "name: old\ndrive: ct_ansi\nsteps:\n  - read: [feedback]\n",
     );

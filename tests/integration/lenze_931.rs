@@ -6,8 +6,8 @@
 //! a drive that ignores commands; and a real pseudo-terminal with `simulate --pty`.
 
 use crate::support::{
-    assert_has, assert_lacks, cli, control_words, drivescript, repo_root, scratch, stderr, stdout,
-    write_file, InProcessRun,
+    assert_has, assert_lacks, cli, control_words, drivescript, repo_root, scratch, scratch_file, stderr,
+    stdout, write_file, InProcessRun,
 };
 use drivescript::clock::SharedClock;
 use drivescript::drive::{DeviceCommand, DeviceState};
@@ -153,9 +153,8 @@ fn the_commissioning_recipe_runs_on_the_simulated_931_with_only_drive_changed() 
 fn a_limited_write_warns_with_the_stored_value_and_expect_sees_it() {
     // A literal beyond the drive's limits is refused before the run (see below), so the
     // limited write is reached with a value the script computes.
-    let dir = scratch("limited");
-    let script = write_file(
-        &dir,
+    let (dir, script) = scratch_file(
+        "limited",
         "limited.rhai",
         "//! drive: lenze-931\nlet d = drive();\nlet high = 4000.0 * 2.0;\nd.set(\"speed_setpoint\", high, \"rpm\");\nlet stored = d.read(\"speed_setpoint\");\nexpect(\"speed_setpoint equals 6000 rpm\", stored == 6000.0, stored);\nd.set(\"speed_setpoint\", 0.0, \"rpm\");\n",
     );
@@ -173,9 +172,8 @@ fn a_limited_write_warns_with_the_stored_value_and_expect_sees_it() {
 
 #[test]
 fn a_value_the_drive_refuses_names_the_drives_limit() {
-    let dir = scratch("refused");
-    let script = write_file(
-        &dir,
+    let (dir, script) = scratch_file(
+        "refused",
         "refused.rhai",
         "//! drive: lenze-931\nlet d = drive();\nlet mode = 3 + 4;\nd.set(\"operating_mode\", mode);\n",
     );
@@ -213,9 +211,8 @@ pub(crate) fn run_and_record(dir: &Path, path: PathBuf) -> (i32, String, Vec<Str
 
 #[test]
 fn a_run_outside_the_drives_limits_is_refused_before_any_write_telegram() {
-    let dir = scratch("run-limits");
-    let recipe = write_file(
-        &dir,
+    let (dir, recipe) = scratch_file(
+        "run-limits",
         "outside.yaml",
         "name: Outside\ndrive: lenze-931\nsteps:\n  - read: [ident]\n  - set: { operating_mode: 2 }\n  - set: { speed_setpoint: 8000 rpm }\n  - ramp: { object: speed_setpoint, from: -7000 rpm, to: 0 rpm, rate: 1000 rpm/s }\nfinally:\n  - set: { speed_setpoint: 0 rpm }\n",
     );
@@ -243,9 +240,8 @@ fn a_run_outside_the_drives_limits_is_refused_before_any_write_telegram() {
 
 #[test]
 fn a_run_within_the_drives_limits_reads_them_first_and_passes() {
-    let dir = scratch("run-within");
-    let recipe = write_file(
-        &dir,
+    let (dir, recipe) = scratch_file(
+        "run-within",
         "within.yaml",
         "name: Within\ndrive: lenze-931\nsteps:\n  - set: { speed_setpoint: 5000 rpm }\n  - ramp: { object: speed_setpoint, from: 5000 rpm, to: -6000 rpm, rate: 10000 rpm/s }\n  - expect: { speed_setpoint: { equals: -6000 rpm } }\nfinally:\n  - set: { speed_setpoint: 0 rpm }\n",
     );
@@ -270,9 +266,8 @@ fn a_run_within_the_drives_limits_reads_them_first_and_passes() {
 
 #[test]
 fn without_a_profile_check_refuses_device_commands_and_states_saying_what_to_add() {
-    let dir = scratch("no-profile");
-    let recipe = write_file(
-        &dir,
+    let (dir, recipe) = scratch_file(
+        "no-profile",
         "control.yaml",
         "name: Needs control\ndrive: lenze-931\nsteps:\n  - read: [ident]\n  - shutdown\n  - go_to: operation_enabled\n  - wait_until: { state: switched_on, timeout: 1 s }\nfinally: []\n",
     );
@@ -639,9 +634,8 @@ fn an_sd2_run_asks_nothing_about_drive_limits() {
 
 #[test]
 fn ctrl_c_while_the_drives_limits_are_read_ends_with_130_and_nothing_moved() {
-    let dir = scratch("run-limits-ctrl-c");
-    let recipe = write_file(
-        &dir,
+    let (dir, recipe) = scratch_file(
+        "run-limits-ctrl-c",
         "silent.yaml",
         "name: Silent\ndrive: lenze-931\nsteps:\n  - set: { speed_setpoint: 100 rpm }\n",
     );

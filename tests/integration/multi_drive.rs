@@ -5,8 +5,8 @@
 //! did-you-mean.
 
 use crate::support::{
-    assert_has, assert_lacks, cli, drivescript, scratch, stderr, stdout, write_file, InProcessRun, LiveRun,
-    Simulator,
+    assert_has, assert_lacks, cli, drivescript, scratch, scratch_file, stderr, stdout, write_file,
+    InProcessRun, LiveRun, Simulator,
 };
 use drivescript::clock::SharedClock;
 use drivescript::drive::device_control::DeviceState;
@@ -263,9 +263,8 @@ fn run_in_process(
 
 #[test]
 fn a_fault_on_one_drive_runs_on_fault_and_stops_both() {
-    let dir = scratch("multi-fault");
-    let recipe = write_file(
-        &dir,
+    let (_, recipe) = scratch_file(
+        "multi-fault",
         "recipe.yaml",
         "name: Fault on the left
 drives:
@@ -333,9 +332,8 @@ fn a_stop_signal_stops_both_drives_last_enabled_first() {
 
 #[test]
 fn drives_of_two_families_each_on_its_own_line_reach_their_speeds() {
-    let dir = scratch("multi-families");
-    let recipe = write_file(
-        &dir,
+    let (dir, recipe) = scratch_file(
+        "multi-families",
         "recipe.yaml",
         "name: Spindle and feed
 drives:
@@ -378,9 +376,8 @@ steps:
 
 #[test]
 fn check_names_unknown_drives_and_objects_without_a_drive() {
-    let dir = scratch("multi-check");
-    let recipe = write_file(
-        &dir,
+    let (_, recipe) = scratch_file(
+        "multi-check",
         "recipe.yaml",
         "name: Typos
 drives:
@@ -411,9 +408,8 @@ steps:
 
 #[test]
 fn two_drives_at_one_address_on_one_line_are_refused_before_anything_is_sent() {
-    let dir = scratch("multi-same-address");
-    let recipe = write_file(
-        &dir,
+    let (_, recipe) = scratch_file(
+        "multi-same-address",
         "recipe.yaml",
         "name: Same address
 drives:
@@ -555,9 +551,8 @@ fn check_names_the_bench_limits_of_a_recipe_with_drives() {
 /// standstill and shut down before the feed's reconnect attempts run out.
 #[test]
 fn an_unreachable_drive_does_not_hold_up_the_others_stop() {
-    let dir = scratch("multi-unreachable");
-    let recipe = write_file(
-        &dir,
+    let (_, recipe) = scratch_file(
+        "multi-unreachable",
         "recipe.yaml",
         "name: Feed line lost for good
 drives:

@@ -4,16 +4,15 @@
 //! JUnit and HTML reports of a run that cannot start.
 
 use crate::lenze_931::run_and_record;
-use crate::support::{scratch, write_file};
+use crate::support::{scratch, scratch_file, write_file};
 
 /// A script with `//! drives:` has its literal values compared with the limits each
 /// named drive reports, as a recipe with `drives:` does, before anything moves. (Only
 /// the 931 reports limits, and it has one drive per line, so the drive is one.)
 #[test]
 fn a_script_with_named_drives_is_refused_by_a_drive_limit_before_anything_moves() {
-    let dir = scratch("script-drives-limits");
-    let script = write_file(
-        &dir,
+    let (dir, script) = scratch_file(
+        "script-drives-limits",
         "named.rhai",
         "//! drives: axis = lenze-931\nlet axis = drive(\"axis\");\naxis.set(\"operating_mode\", 9);\naxis.set(\"speed_setpoint\", 100.0, \"rpm\");\n",
     );
@@ -38,9 +37,8 @@ fn a_script_with_named_drives_is_refused_by_a_drive_limit_before_anything_moves(
 /// to check, as a recipe is; its JUnit file says why.
 #[test]
 fn a_script_against_a_drive_that_never_answers_says_so_early() {
-    let dir = scratch("script-silent");
-    let script = write_file(
-        &dir,
+    let (_, script) = scratch_file(
+        "script-silent",
         "silent.rhai",
         "let d = drive();\nprint(d.read(\"speed_actual\"));\n",
     );
@@ -92,9 +90,8 @@ impl drivescript::session::RunObserver for Tally {
 
 #[test]
 fn an_observer_given_with_the_request_sees_every_check_of_a_recipe_and_a_script() {
-    let dir = scratch("observers");
-    let script = write_file(
-        &dir,
+    let (_, script) = scratch_file(
+        "observers",
         "tally.rhai",
         "let d = drive();\nexpect_near(\"zero\", d.read(\"speed_actual\"), 0.0, 5.0);\n",
     );

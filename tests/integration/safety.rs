@@ -3,7 +3,9 @@
 //! ramp that must not write after a stop, a port that goes away and comes back, and a run
 //! killed beyond any safe stop, which must leave a report that says so.
 
-use crate::support::{assert_has, assert_lacks, scratch, write_file, InProcessRun, LiveRun, Simulator};
+use crate::support::{
+    assert_has, assert_lacks, scratch, scratch_file, write_file, InProcessRun, LiveRun, Simulator,
+};
 use drivescript::clock::SharedClock;
 use drivescript::drive::device_control::DeviceState;
 use drivescript::family::sd2::codec::{Body, Telegram};
@@ -125,9 +127,8 @@ fn in_real_time_a_signal_during_a_30_s_sample_interval_stops_within_100_ms() {
 
 #[test]
 fn a_ramp_writes_no_further_setpoint_after_a_stop_request() {
-    let dir = scratch("ramp");
-    let recipe = write_file(
-        &dir,
+    let (_, recipe) = scratch_file(
+        "ramp",
         "recipe.yaml",
         "name: Ramp
 steps:

@@ -5,8 +5,8 @@
 
 use crate::safety::{received, written, CONTROL_WORD, SPEED_SETPOINT};
 use crate::support::{
-    assert_has, assert_lacks, cli, control_words, drivescript, repo_root, scratch, stderr, stdout,
-    wide_speed_and_current_rows, write_file, InProcessRun, LiveRun,
+    assert_has, assert_lacks, cli, control_words, drivescript, repo_root, scratch, scratch_file, stderr,
+    stdout, wide_speed_and_current_rows, write_file, InProcessRun, LiveRun,
 };
 use drivescript::clock::SharedClock;
 use drivescript::run::RunResult;
@@ -340,9 +340,8 @@ fn the_sandbox_refuses_modules_eval_file_or_process_access_and_oversized_data() 
 
 #[test]
 fn run_refuses_a_misspelt_call_before_it_opens_the_port() {
-    let dir = scratch("misspelt");
-    let path = write_file(
-        &dir,
+    let (_, path) = scratch_file(
+        "misspelt",
         "script.rhai",
         "//! drive: sd2\nlet d = drive();\nd.go_to(\"operation_enabled\");\nlet w = d.sampel([\"speed_actual\"], \"100 ms\", \"1 s\");\n",
     );
@@ -402,9 +401,8 @@ fn a_scripts_finally_replaces_the_default_and_the_stop_is_still_verified() {
 
 #[test]
 fn params_come_from_set() {
-    let dir = scratch("params");
-    let path = write_file(
-        &dir,
+    let (_, path) = scratch_file(
+        "params",
         "script.rhai",
         "let d = drive();\nlet speed = param(\"speed\");\nd.set(\"speed_setpoint\", speed);\nexpect(\"speed\", number(speed, \"rpm\") == 4000.0, speed);\n",
     );
@@ -574,9 +572,8 @@ fn a_scripts_header_chooses_the_cyclic_channel() {
 /// velocity scaling, the command line the channel; neither alone is refused.
 #[test]
 fn the_files_link_settings_and_the_command_lines_are_checked_together() {
-    let dir = scratch("link-merged");
-    let script = write_file(
-        &dir,
+    let (dir, script) = scratch_file(
+        "link-merged",
         "script.rhai",
         "//! drive: sd2\n//! link: velocity_scaling=24000rpm\nlet d = drive();\nd.go_to(\"operation_enabled\", \"5 s\");\n",
     );

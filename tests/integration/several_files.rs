@@ -4,7 +4,7 @@
 //! links them with their verdicts; `--set` applied where the parameter exists.
 
 use crate::reports::markup::{self, junit_xsd, select, text, xml_elements};
-use crate::support::{assert_has, cli, scratch, write_file, InProcessRun, LiveRun};
+use crate::support::{assert_has, cli, scratch, scratch_file, InProcessRun, LiveRun};
 use drivescript::clock::SharedClock;
 use drivescript::sim::SimulatedDrive;
 use std::path::{Path, PathBuf};
@@ -145,9 +145,8 @@ fn one_junit_file_holds_a_suite_per_recipe_and_the_index_links_each_report() {
 /// skipped, never run; the index says the same.
 #[test]
 fn a_signal_leaves_one_complete_junit_file_with_the_rest_not_run() {
-    let dir = scratch("signal");
-    let slow = write_file(
-        &dir,
+    let (dir, slow) = scratch_file(
+        "signal",
         "slow.yaml",
         "name: Slow\nsteps:\n  - read: [ident]\n  - dwell: 30 s\n  - expect: { bus_voltage: { between: [300 V, 340 V] } }\n",
     );
@@ -198,9 +197,8 @@ fn a_signal_leaves_one_complete_junit_file_with_the_rest_not_run() {
 /// second as the panic it was, the third as not run.
 #[test]
 fn a_panic_leaves_one_complete_junit_file_with_the_rest_not_run() {
-    let dir = scratch("panic");
-    let slow = write_file(
-        &dir,
+    let (dir, slow) = scratch_file(
+        "panic",
         "turning.yaml",
         "name: Turning\nsteps:\n  - set: { speed_setpoint: 1000 rpm }\n  - go_to: operation_enabled\n  - dwell: 10 s\n",
     );
@@ -234,9 +232,8 @@ fn a_panic_leaves_one_complete_junit_file_with_the_rest_not_run() {
 /// A run of a recipe and a script names each as what it is, and the summary counts files.
 #[test]
 fn a_recipe_and_a_script_are_each_named_as_what_they_are() {
-    let dir = scratch("recipe-and-script");
-    let script = write_file(
-        &dir,
+    let (dir, script) = scratch_file(
+        "recipe-and-script",
         "state.rhai",
         "let d = drive();\nd.go_to(\"switch_on_disabled\");\n",
     );

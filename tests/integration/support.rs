@@ -75,6 +75,15 @@ pub fn scratch(name: &str) -> PathBuf {
     dir
 }
 
+/// A [`scratch`] folder `name` holding one file `file` with `text`: the folder and the
+/// file's path.
+#[track_caller]
+pub fn scratch_file(name: &str, file: &str, text: &str) -> (PathBuf, PathBuf) {
+    let dir = scratch(name);
+    let path = write_file(&dir, file, text);
+    (dir, path)
+}
+
 /// Writes `text` to `dir/name`; the file's path.
 pub fn write_file(dir: &Path, name: &str, text: &str) -> PathBuf {
     let path = dir.join(name);
