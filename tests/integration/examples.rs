@@ -9,8 +9,7 @@ use drivescript::family::{Registry, DEFAULT_DICTIONARY};
 #[test]
 fn every_example_recipe_checks_and_passes_in_virtual_time() {
     let dir = repo_root().join("recipes");
-    let out_dir = std::env::temp_dir().join("drivescript-examples");
-    let _ = std::fs::remove_dir_all(&out_dir);
+    let out_dir = crate::support::scratch("outputs");
     let mut ran = 0;
     for entry in std::fs::read_dir(&dir).expect("recipes/") {
         let path = entry.expect("entry").path();

@@ -2,12 +2,11 @@
 //! HTML report, written for a real run of the acceptance recipe; and an unwritable output
 //! path refused before anything is sent.
 
-use crate::support::{assert_has, cli, drivescript, stderr, stdout};
+use crate::support::{assert_has, cli, drivescript, scratch, stderr, stdout};
 
 #[test]
 fn a_run_writes_trace_csv_junit_and_html() {
-    let dir = std::env::temp_dir().join("drivescript-outputs");
-    let _ = std::fs::remove_dir_all(&dir);
+    let dir = scratch("all");
     let p = |name: &str| dir.join(name).to_str().expect("utf-8").to_string();
     let (trace, csv, junit, html) = (p("trace.txt"), p("samples.csv"), p("junit.xml"), p("report.html"));
     cli(
@@ -90,8 +89,7 @@ fn an_unwritable_output_is_refused_before_anything_is_sent() {
 /// a valid JUnit file with the reason, the recipe's checks as skipped, and an HTML page.
 #[test]
 fn runs_that_cannot_start_write_junit_and_html() {
-    let dir = std::env::temp_dir().join("drivescript-outputs-not-run");
-    let _ = std::fs::remove_dir_all(&dir);
+    let dir = scratch("not-run");
     let p = |name: &str| dir.join(name).to_str().expect("utf-8").to_string();
     let (junit, html) = (p("junit.xml"), p("report.html"));
     let xml = unreachable_run_writes_not_run_reports("recipes/acceptance-test.yaml", &junit, &html);
