@@ -361,7 +361,12 @@ impl Session<'_> {
                 op: Box::new(move |s| s.command(c)),
             });
         }
-        self.perform_stop_steps(steps, "finally", " (default finally)", done)
+        // `drivescript stop` runs these steps as its own, not as some recipe's default.
+        let suffix = match self.run.kind {
+            "stop" => " (stop)",
+            _ => " (default finally)",
+        };
+        self.perform_stop_steps(steps, "finally", suffix, done)
     }
 
     /// Runs one step of the safe stop whatever happens: a lost port is reopened and the
