@@ -194,41 +194,38 @@ impl Session<'_> {
     }
 
     /// The safe stop of a run with several drives: every drive reached again after a lost
-    /// link, the recipe's `finally` once (its steps name their drives) or the default for
-    /// each drive, last enabled first, then each drive verified as a single drive is, and
-    /// one line per drive for the end.
+    /// link, every turning drive braked together, the recipe's `finally` once (its steps
+    /// name their drives) or the default for each drive, last enabled first, then each
+    /// drive verified as a single drive is, and one line per drive for the end.
     fn safe_stop_all(&mut self, finally: Option<&mut dyn FnMut(&mut Session)>, link_lost: bool, keep: bool) {
         let order = self.stop_order();
         let mut reachable = vec![true; self.drives.len()];
-        match finally {
-            // The recipe's `finally` names its drives in any order: every drive is reached
-            // again first.
-            // A run that succeeded with `leave_enabled: true` keeps its drives as the
-            // steps left them: neither the brake nor any finally; the verification still
-            // reads each back.
-            _ if keep => {}
-            Some(finally) => {
-                if link_lost {
+        // Every drive is reached again first: the recipe's `finally` names its drives in
+        // any order, and the brake below takes them all together.
+        if link_lost {
+            for &i in &order {
+                self.current = i;
+                reachable[i] = self.reach_again();
+            }
+        }
+        // A run that succeeded with `leave_enabled: true` keeps its drives as the steps
+        // left them: neither the brake nor any finally; the verification still reads each
+        // back.
+        if !keep {
+            // Every turning drive brakes together (all setpoints to 0, then each waited
+            // for), so no drive keeps its setpoint while another brakes and a second stop
+            // request cannot skip a later drive's brake.
+            self.brake_before_finally(&order, &reachable);
+            match finally {
+                Some(finally) => finally(self),
+                // The default then disables and shuts down each drive, last enabled first.
+                None => {
+                    let mut number = 0;
                     for &i in &order {
                         self.current = i;
-                        reachable[i] = self.reach_again();
-                    }
-                }
-                self.brake_before_finally(&order, &reachable);
-                finally(self)
-            }
-            // The default stops one drive after the other: each is reached again just
-            // before its own stop, so a drive that cannot be reached does not hold up the
-            // stop of the drives before it in the order.
-            None => {
-                let mut number = 0;
-                for &i in &order {
-                    self.current = i;
-                    if link_lost {
-                        reachable[i] = self.reach_again();
-                    }
-                    if reachable[i] && self.has_device_control() && !self.interrupted() {
-                        number = self.default_finally(number);
+                        if reachable[i] && self.has_device_control() && !self.interrupted() {
+                            number = self.default_finally(number, false);
+                        }
                     }
                 }
             }
@@ -289,7 +286,7 @@ impl Session<'_> {
                 finally(self)
             }
             None if device_control => {
-                self.default_finally(0);
+                self.default_finally(0, true);
             }
             None => {}
         }
@@ -344,13 +341,13 @@ impl Session<'_> {
         }
     }
 
-    /// The default `finally` of the current drive: the brake (the speed setpoint to 0 and a
-    /// wait for standstill, where the profile names the speed objects and the recipe does
-    /// not opt out), then disable operation and shutdown; numbered after `done` earlier
-    /// steps (of other drives); returns the number of the last.
-    fn default_finally(&mut self, done: usize) -> usize {
+    /// The default `finally` of the current drive: with `brake`, the brake (the speed
+    /// setpoint to 0 and a wait for standstill, where the profile names the speed objects
+    /// and the recipe does not opt out), then disable operation and shutdown; numbered
+    /// after `done` earlier steps (of other drives); returns the number of the last.
+    fn default_finally(&mut self, done: usize, brake: bool) -> usize {
         let mut steps = Vec::new();
-        if self.settings.brake_to_standstill {
+        if brake && self.settings.brake_to_standstill {
             steps.extend(self.setpoint_zero_step());
             steps.extend(self.standstill_step("finally"));
         }
