@@ -64,7 +64,7 @@ impl Session<'_> {
         finally: Option<&mut dyn FnMut(&mut Session)>,
     ) -> RunReport {
         if let (Some(Stop::Fault(_)), Some(on_fault)) = (&ended, on_fault) {
-            self.stop.acknowledge();
+            self.stop.enter_safe_stop();
             self.in_safe_stop = true;
             let result = self.guarded(|s| {
                 on_fault(s);
@@ -132,7 +132,7 @@ impl Session<'_> {
         link_lost: bool,
         leave_enabled: bool,
     ) {
-        self.stop.acknowledge();
+        self.stop.enter_safe_stop();
         self.in_safe_stop = true;
         let keep = leave_enabled && self.report.verdict == Verdict::Passed;
         let result = self.guarded(|r| {
@@ -155,6 +155,7 @@ impl Session<'_> {
                 }
             }
         }
+        self.stop.leave_safe_stop();
         // A stop signal that arrived only during the safe stop still ends the run as
         // interrupted: CI and supervisors must not read a pass from a killed run.
         if let (Some(signal), Verdict::Passed | Verdict::Failed) = (self.stop.first(), &self.report.verdict) {
