@@ -7,8 +7,7 @@
 //! CHECK THE DRIVE BY HAND.
 
 use super::brake::StopStep;
-use super::session::show_duration;
-use super::session::{secs, Session};
+use super::session::Session;
 use super::stop::{outcome, Stop};
 use super::{DriveEnd, ObjectRef, RunReport, StepInfo, Verdict};
 use crate::dictionary::Role;
@@ -20,9 +19,6 @@ use std::time::Duration;
 pub(super) const STOP_POLL: Duration = Duration::from_millis(100);
 /// How long disable voltage may take to show in the status word.
 const DISABLE_VOLTAGE_WAIT: Duration = Duration::from_secs(1);
-/// First pause between attempts to reopen a lost port; doubled up to [`REOPEN_PAUSE_MAX`].
-const REOPEN_PAUSE: Duration = Duration::from_millis(100);
-const REOPEN_PAUSE_MAX: Duration = Duration::from_secs(2);
 
 impl Session<'_> {
     /// The object playing `role` in the profile, as a step names it.
@@ -174,6 +170,27 @@ impl Session<'_> {
     }
 
     fn safe_stop(&mut self, finally: Option<&mut dyn FnMut(&mut Session)>, link_lost: bool, keep: bool) {
+        if keep {
+            self.safe_stop_drives(None, link_lost, true);
+            // Keeping the drives was decided before; a stop request that arrived since
+            // (while they were read back) asks for them to be stopped after all.
+            if self.stop.count_at(self.clock.now()) == 0 {
+                return;
+            }
+            self.note(
+                "a stop request arrived as the run ended: the drives left enabled are stopped after all"
+                    .into(),
+            );
+        }
+        self.safe_stop_drives(finally, link_lost, false);
+    }
+
+    fn safe_stop_drives(
+        &mut self,
+        finally: Option<&mut dyn FnMut(&mut Session)>,
+        link_lost: bool,
+        keep: bool,
+    ) {
         if self.several_drives() {
             self.safe_stop_all(finally, link_lost, keep);
         } else {
@@ -303,7 +320,7 @@ impl Session<'_> {
 
     /// Whether the dictionary has a device-control profile. Without one drivescript can
     /// neither command the drive nor read its state, so it cannot have enabled it either.
-    fn has_device_control(&self) -> bool {
+    pub(super) fn has_device_control(&self) -> bool {
         self.drive_ref().profile().is_ok()
     }
 
@@ -320,26 +337,6 @@ impl Session<'_> {
              the drive's power stage is as its terminals or PLC left it",
             self.drive_ref().dictionary().name()
         ));
-    }
-
-    /// After a reopen: what shows that the drive answers again — its state, or without a
-    /// device-control profile its identity (or, without that, the port being open).
-    fn answer_after_reopen(&mut self) -> Result<String, DriveError> {
-        if self.has_device_control() {
-            return self.drive().state().map(|s| format!("the drive reports {s}"));
-        }
-        match self
-            .drive_ref()
-            .dictionary()
-            .lookup("ident")
-            .ok()
-            .map(|d| d.name.clone())
-        {
-            Some(name) => self.drive().read(&name).map(|_| {
-                "the drive answers (its state cannot be read without a device-control profile)".into()
-            }),
-            None => Ok("the port is open again (no device-control profile to read the drive's state)".into()),
-        }
     }
 
     /// The default `finally` of the current drive: with `brake`, the brake (the speed
@@ -523,62 +520,5 @@ impl Session<'_> {
             }
             Err(e) => self.note(format!("could not read {} after the safe stop: {e}", object.name)),
         }
-    }
-
-    /// After a reopen: whether the drive answering has the identity read at the start (a
-    /// re-enumerated adapter can come back under a name another one had).
-    fn same_drive(&mut self) -> bool {
-        match self.cur().identity.clone() {
-            Some(before) => self.identity().is_none_or(|now| now == before),
-            None => true,
-        }
-    }
-
-    /// Reopens the port with back-off until it answers or the reconnect time is used up;
-    /// reports every attempt. True when the drive answers again.
-    pub fn restore_link(&mut self) -> bool {
-        if self.cur().link_given_up {
-            return false;
-        }
-        let started = self.clock.now();
-        let give_up = started.saturating_add(self.settings.reconnect_timeout);
-        let mut pause = REOPEN_PAUSE;
-        let port = self.drive_ref().port();
-        for attempt in 1u32.. {
-            let result = self.drive().reopen().and_then(|()| self.answer_after_reopen());
-            let at = secs(self.clock.now().saturating_sub(started));
-            match result {
-                Ok(_) if !self.same_drive() => {
-                    self.note(format!(
-                        "{port} answers again, but with another drive's identity; the stop is not sent to it. CHECK THE DRIVE BY HAND"
-                    ));
-                    self.cur().link_given_up = true;
-                    return false;
-                }
-                Ok(answer) => {
-                    self.note(format!(
-                        "link to {port} restored at attempt {attempt} after {at}; {answer}"
-                    ));
-                    return true;
-                }
-                Err(e) => self.observer.message(&format!(
-                    "safe stop: reopening {port}, attempt {attempt} after {at}: {e}"
-                )),
-            }
-            let next = self.clock.now().saturating_add(pause);
-            if next > give_up {
-                self.note(format!(
-                    "gave up reopening {port} after {attempt} attempt(s) in {}",
-                    show_duration(self.settings.reconnect_timeout)
-                ));
-                self.cur().link_given_up = true;
-                return false;
-            }
-            // A further stop request does not end the attempts: reaching the drive is
-            // the only way to stop it.
-            self.clock.sleep_until(next);
-            pause = (pause * 2).min(REOPEN_PAUSE_MAX);
-        }
-        false
     }
 }
