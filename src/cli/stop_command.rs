@@ -19,8 +19,9 @@ use std::io::Write;
 /// speed setpoint to 0 and a wait for standstill (--stop-timeout, --standstill), then
 /// disable operation and shutdown, then the state and speed read back (escalating to quick
 /// stop and disable voltage if the drive does not obey). Exit codes as `run`: 0 stopped
-/// and confirmed, 3 not confirmed or not obeyed (CHECK THE DRIVE BY HAND), 128 + N after
-/// a stop signal (a second one switches the power stage off at once).
+/// and confirmed at standstill, 3 not confirmed, not obeyed or not at standstill (CHECK THE
+/// DRIVE BY HAND) or a dictionary without a device-control profile (nothing to send),
+/// 128 + N after a stop signal (a second one switches the power stage off at once).
 pub struct StopArgs {
     #[command(flatten)]
     safe_stop: SafeStopArgs,

@@ -198,3 +198,10 @@ fn check_says_what_leave_enabled_does() {
         );
     }
 }
+
+#[test]
+fn stop_help_says_when_it_exits_3() {
+    let text = stdout(&drivescript(&["stop", "--help"], ""));
+    assert!(text.contains("not at standstill"), "{text}");
+    assert!(text.contains("without a device-control profile"), "{text}");
+}
