@@ -71,8 +71,18 @@ struct State {
     acknowledged: usize,
     /// Once the last resort (disable voltage) has started, no request may interrupt it.
     final_stage: bool,
+    /// The safe stop runs: a first request asks for what is being done anyway, so only a
+    /// second one is pending — for the link too, whose exchange it must not cut off.
+    safe_stop: bool,
     /// Requests that arrive by themselves when the clock reaches their time, sorted.
     scheduled: Vec<(Duration, StopSignal)>,
+}
+
+impl State {
+    fn pending(&self) -> bool {
+        let needed = if self.safe_stop { 2 } else { 1 };
+        !self.final_stage && self.received.len() > self.acknowledged && self.received.len() >= needed
+    }
 }
 
 /// The run's stop requests, shared by the signal watcher, the engine and the link.
@@ -160,7 +170,7 @@ impl StopRequests {
         }
         let mut s = self.lock();
         Self::deliver_due(&mut s, now);
-        !s.final_stage && s.received.len() > s.acknowledged
+        s.pending()
     }
 
     /// The requests so far are being answered (the safe stop has started): waits go on
@@ -168,6 +178,22 @@ impl StopRequests {
     pub fn acknowledge(&self) {
         let mut s = self.lock();
         s.acknowledged = s.received.len();
+    }
+
+    /// The safe stop has started: the requests so far are being answered, and from now on
+    /// only a second request in all interrupts a wait or an exchange.
+    pub fn enter_safe_stop(&self) {
+        let mut s = self.lock();
+        s.acknowledged = s.received.len();
+        s.safe_stop = true;
+    }
+
+    /// The safe stop is over: what arrived during it was answered by it, and a later run
+    /// (of several files) is interrupted by the next request again.
+    pub fn leave_safe_stop(&self) {
+        let mut s = self.lock();
+        s.acknowledged = s.received.len();
+        s.safe_stop = false;
     }
 
     /// The last resort has started: from now on nothing interrupts a wait.
@@ -203,7 +229,7 @@ impl StopRequests {
     /// request arrives or is scheduled. Returns at once if one is already pending.
     pub fn wait_real(&self, timeout: Duration) {
         let s = self.lock();
-        if !s.final_stage && s.received.len() > s.acknowledged {
+        if s.pending() {
             return;
         }
         let seen = (s.received.len(), s.scheduled.len());
@@ -236,6 +262,24 @@ mod tests {
         stop.enter_final_stage();
         stop.request(StopSignal::INT);
         assert!(!stop.pending_at(t));
+    }
+
+    #[test]
+    fn during_the_safe_stop_only_a_second_request_in_all_is_pending() {
+        let stop = StopRequests::new();
+        let t = Duration::ZERO;
+        stop.enter_safe_stop();
+        stop.request(StopSignal::INT);
+        assert!(
+            !stop.pending_at(t),
+            "the first request asks for the stop that runs"
+        );
+        stop.request(StopSignal::INT);
+        assert!(stop.pending_at(t));
+        stop.leave_safe_stop();
+        assert!(!stop.pending_at(t));
+        stop.request(StopSignal::INT);
+        assert!(stop.pending_at(t), "after the safe stop a request counts again");
     }
 
     #[test]

@@ -10,7 +10,7 @@ use crate::report::{step_line, summary_lines};
 use crate::run::{
     open_drive, silent_drive, ConnectionArgs, DictionaryArgs, SafeStopArgs, COMMUNICATION, INVALID,
 };
-use crate::session::{stop_drive, OneOffStopError, RunObserver, StepRecord, Verdict};
+use crate::session::{stop_drive, OneOffStopError, RunObserver, StepRecord, Verdict, ERROR_EXIT};
 use clap::Args;
 use std::io::Write;
 
@@ -19,8 +19,9 @@ use std::io::Write;
 /// speed setpoint to 0 and a wait for standstill (--stop-timeout, --standstill), then
 /// disable operation and shutdown, then the state and speed read back (escalating to quick
 /// stop and disable voltage if the drive does not obey). Exit codes as `run`: 0 stopped
-/// and confirmed, 3 not confirmed or not obeyed (CHECK THE DRIVE BY HAND), 128 + N after
-/// a stop signal (a second one switches the power stage off at once).
+/// and confirmed at standstill, 3 not confirmed, not obeyed or not at standstill (CHECK THE
+/// DRIVE BY HAND) or a dictionary without a device-control profile (nothing to send),
+/// 128 + N after a stop signal (a second one switches the power stage off at once).
 pub struct StopArgs {
     #[command(flatten)]
     safe_stop: SafeStopArgs,
@@ -83,9 +84,19 @@ pub fn stop(args: &StopArgs, registry: &Registry) -> i32 {
             for line in lines {
                 let _ = writeln!(std::io::stdout(), "{line}");
             }
-            let code = report.exit_code();
+            let mut code = report.exit_code();
+            // Stopped only when the drive is confirmed at standstill: a failed stop step
+            // (a spindle that did not brake within the timeout) or one still coasting is
+            // not, whatever the state reads.
+            let at_standstill = !report.coasting && report.steps.iter().all(|s| s.ok);
+            if code == 0 && !at_standstill {
+                code = ERROR_EXIT;
+            }
             let word = match (&report.verdict, code) {
                 (Verdict::Passed, 0) => "STOPPED".to_string(),
+                (Verdict::Passed, _) => "NOT AT STANDSTILL: a stop step failed or the spindle still coasts; \
+                     CHECK THE DRIVE BY HAND"
+                    .to_string(),
                 (v, _) => match v.reason() {
                     Some(why) => format!("{}: {why}", v.word()),
                     None => v.word().to_string(),
@@ -110,6 +121,10 @@ pub fn stop(args: &StopArgs, registry: &Registry) -> i32 {
                 )
             );
             COMMUNICATION
+        }
+        Err(e @ OneOffStopError::NoDeviceControl { .. }) => {
+            eprintln!("stop: {e}");
+            ERROR_EXIT
         }
     }
 }

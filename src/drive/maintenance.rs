@@ -38,7 +38,9 @@ pub struct MaintenanceOutcome {
 /// (crate::drive::Drive) only: for a destructive action, the drive's state was read and it
 /// was not enabled (or, with `force`, the state could not be read at all). The only way
 /// to [`Drive::maintain`](crate::drive::Drive::maintain), so no caller can skip the check.
-#[derive(Debug, Clone, PartialEq, Eq)]
+/// Not `Clone`: `maintain` takes it by value, so a clearance given for the state then
+/// cannot be kept and used again after the state changed.
+#[derive(Debug, PartialEq, Eq)]
 pub struct MaintenanceClearance {
     pub(super) action: MaintenanceAction,
     pub(super) argument: Option<u32>,
@@ -69,5 +71,23 @@ pub(super) fn shown(action: &MaintenanceAction, argument: Option<u32>) -> String
     match argument {
         Some(n) => format!("{} {n}", action.name),
         None => action.name.to_string(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::MaintenanceClearance;
+
+    /// Compiles only while `MaintenanceClearance` is not `Clone`: with a `Clone` impl the
+    /// two blanket impls below both apply and the call is ambiguous.
+    #[test]
+    fn a_clearance_cannot_be_copied_for_later_use() {
+        trait AmbiguousIfClone<A> {
+            fn check() {}
+        }
+        impl<T: ?Sized> AmbiguousIfClone<()> for T {}
+        struct IsClone;
+        impl<T: Clone> AmbiguousIfClone<IsClone> for T {}
+        <MaintenanceClearance as AmbiguousIfClone<_>>::check();
     }
 }

@@ -186,3 +186,47 @@ impl LinkCore {
         Ok(())
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::clock::VirtualClock;
+    use crate::stop_request::StopSignal;
+
+    /// A link waiting for a slow reply, past its grace: what a stop request does to it.
+    fn slow_reply(stop: &Arc<StopRequests>) -> (LinkCore, Duration, Duration) {
+        let clock = Arc::new(VirtualClock::new());
+        let mut core = LinkCore::new(clock.clone(), Duration::from_millis(50));
+        core.set_stop_requests(stop.clone());
+        clock.advance(Duration::from_millis(200));
+        (core, Duration::ZERO, Duration::from_secs(1))
+    }
+
+    #[test]
+    fn a_first_request_during_the_safe_stop_does_not_cut_off_a_reply() {
+        let stop = Arc::new(StopRequests::new());
+        let (core, sent, deadline) = slow_reply(&stop);
+        stop.enter_safe_stop();
+        stop.request(StopSignal::INT);
+        assert!(
+            core.after_quiet(sent, deadline).is_none(),
+            "the reply is still awaited"
+        );
+        stop.request(StopSignal::INT);
+        assert!(matches!(
+            core.after_quiet(sent, deadline),
+            Some(ReplyWait::Interrupted)
+        ));
+    }
+
+    #[test]
+    fn a_first_request_during_the_steps_ends_a_reply_wait_after_the_grace() {
+        let stop = Arc::new(StopRequests::new());
+        let (core, sent, deadline) = slow_reply(&stop);
+        stop.request(StopSignal::INT);
+        assert!(matches!(
+            core.after_quiet(sent, deadline),
+            Some(ReplyWait::Interrupted)
+        ));
+    }
+}

@@ -58,9 +58,10 @@ impl Session<'_> {
 
     /// Whether the current drive is in operation enabled and turns, or is told to turn (a
     /// setpoint beyond standstill): only then is there something to brake. A speed that
-    /// cannot be read counts as turning, since braking an enabled drive is always safe.
+    /// cannot be read counts as turning, since braking an enabled drive is always safe;
+    /// so does a state that cannot be read (a lost link is reopened by the brake's steps).
     fn turning(&mut self) -> bool {
-        if !matches!(self.drive().state(), Ok(DeviceState::OperationEnabled)) {
+        if matches!(self.drive().state(), Ok(s) if s != DeviceState::OperationEnabled) {
             return false;
         }
         [Role::SpeedActual, Role::SpeedSetpoint].into_iter().any(|role| {

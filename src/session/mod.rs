@@ -13,6 +13,7 @@ mod object_ref;
 mod one_off_stop;
 mod operations;
 mod ramp;
+mod restore_link;
 mod run_info;
 mod run_observer;
 mod run_report;

@@ -7,8 +7,7 @@
 //! CHECK THE DRIVE BY HAND.
 
 use super::brake::StopStep;
-use super::session::show_duration;
-use super::session::{secs, Session};
+use super::session::Session;
 use super::stop::{outcome, Stop};
 use super::{DriveEnd, ObjectRef, RunReport, StepInfo, Verdict};
 use crate::dictionary::Role;
@@ -20,9 +19,6 @@ use std::time::Duration;
 pub(super) const STOP_POLL: Duration = Duration::from_millis(100);
 /// How long disable voltage may take to show in the status word.
 const DISABLE_VOLTAGE_WAIT: Duration = Duration::from_secs(1);
-/// First pause between attempts to reopen a lost port; doubled up to [`REOPEN_PAUSE_MAX`].
-const REOPEN_PAUSE: Duration = Duration::from_millis(100);
-const REOPEN_PAUSE_MAX: Duration = Duration::from_secs(2);
 
 impl Session<'_> {
     /// The object playing `role` in the profile, as a step names it.
@@ -64,7 +60,7 @@ impl Session<'_> {
         finally: Option<&mut dyn FnMut(&mut Session)>,
     ) -> RunReport {
         if let (Some(Stop::Fault(_)), Some(on_fault)) = (&ended, on_fault) {
-            self.stop.acknowledge();
+            self.stop.enter_safe_stop();
             self.in_safe_stop = true;
             let result = self.guarded(|s| {
                 on_fault(s);
@@ -132,7 +128,7 @@ impl Session<'_> {
         link_lost: bool,
         leave_enabled: bool,
     ) {
-        self.stop.acknowledge();
+        self.stop.enter_safe_stop();
         self.in_safe_stop = true;
         let keep = leave_enabled && self.report.verdict == Verdict::Passed;
         let result = self.guarded(|r| {
@@ -155,6 +151,7 @@ impl Session<'_> {
                 }
             }
         }
+        self.stop.leave_safe_stop();
         // A stop signal that arrived only during the safe stop still ends the run as
         // interrupted: CI and supervisors must not read a pass from a killed run.
         if let (Some(signal), Verdict::Passed | Verdict::Failed) = (self.stop.first(), &self.report.verdict) {
@@ -173,6 +170,27 @@ impl Session<'_> {
     }
 
     fn safe_stop(&mut self, finally: Option<&mut dyn FnMut(&mut Session)>, link_lost: bool, keep: bool) {
+        if keep {
+            self.safe_stop_drives(None, link_lost, true);
+            // Keeping the drives was decided before; a stop request that arrived since
+            // (while they were read back) asks for them to be stopped after all.
+            if self.stop.count_at(self.clock.now()) == 0 {
+                return;
+            }
+            self.note(
+                "a stop request arrived as the run ended: the drives left enabled are stopped after all"
+                    .into(),
+            );
+        }
+        self.safe_stop_drives(finally, link_lost, false);
+    }
+
+    fn safe_stop_drives(
+        &mut self,
+        finally: Option<&mut dyn FnMut(&mut Session)>,
+        link_lost: bool,
+        keep: bool,
+    ) {
         if self.several_drives() {
             self.safe_stop_all(finally, link_lost, keep);
         } else {
@@ -194,41 +212,38 @@ impl Session<'_> {
     }
 
     /// The safe stop of a run with several drives: every drive reached again after a lost
-    /// link, the recipe's `finally` once (its steps name their drives) or the default for
-    /// each drive, last enabled first, then each drive verified as a single drive is, and
-    /// one line per drive for the end.
+    /// link, every turning drive braked together, the recipe's `finally` once (its steps
+    /// name their drives) or the default for each drive, last enabled first, then each
+    /// drive verified as a single drive is, and one line per drive for the end.
     fn safe_stop_all(&mut self, finally: Option<&mut dyn FnMut(&mut Session)>, link_lost: bool, keep: bool) {
         let order = self.stop_order();
         let mut reachable = vec![true; self.drives.len()];
-        match finally {
-            // The recipe's `finally` names its drives in any order: every drive is reached
-            // again first.
-            // A run that succeeded with `leave_enabled: true` keeps its drives as the
-            // steps left them: neither the brake nor any finally; the verification still
-            // reads each back.
-            _ if keep => {}
-            Some(finally) => {
-                if link_lost {
+        // Every drive is reached again first: the recipe's `finally` names its drives in
+        // any order, and the brake below takes them all together.
+        if link_lost {
+            for &i in &order {
+                self.current = i;
+                reachable[i] = self.reach_again();
+            }
+        }
+        // A run that succeeded with `leave_enabled: true` keeps its drives as the steps
+        // left them: neither the brake nor any finally; the verification still reads each
+        // back.
+        if !keep {
+            // Every turning drive brakes together (all setpoints to 0, then each waited
+            // for), so no drive keeps its setpoint while another brakes and a second stop
+            // request cannot skip a later drive's brake.
+            self.brake_before_finally(&order, &reachable);
+            match finally {
+                Some(finally) => finally(self),
+                // The default then disables and shuts down each drive, last enabled first.
+                None => {
+                    let mut number = 0;
                     for &i in &order {
                         self.current = i;
-                        reachable[i] = self.reach_again();
-                    }
-                }
-                self.brake_before_finally(&order, &reachable);
-                finally(self)
-            }
-            // The default stops one drive after the other: each is reached again just
-            // before its own stop, so a drive that cannot be reached does not hold up the
-            // stop of the drives before it in the order.
-            None => {
-                let mut number = 0;
-                for &i in &order {
-                    self.current = i;
-                    if link_lost {
-                        reachable[i] = self.reach_again();
-                    }
-                    if reachable[i] && self.has_device_control() && !self.interrupted() {
-                        number = self.default_finally(number);
+                        if reachable[i] && self.has_device_control() && !self.interrupted() {
+                            number = self.default_finally(number, false);
+                        }
                     }
                 }
             }
@@ -289,7 +304,7 @@ impl Session<'_> {
                 finally(self)
             }
             None if device_control => {
-                self.default_finally(0);
+                self.default_finally(0, true);
             }
             None => {}
         }
@@ -305,7 +320,7 @@ impl Session<'_> {
 
     /// Whether the dictionary has a device-control profile. Without one drivescript can
     /// neither command the drive nor read its state, so it cannot have enabled it either.
-    fn has_device_control(&self) -> bool {
+    pub(super) fn has_device_control(&self) -> bool {
         self.drive_ref().profile().is_ok()
     }
 
@@ -324,33 +339,13 @@ impl Session<'_> {
         ));
     }
 
-    /// After a reopen: what shows that the drive answers again — its state, or without a
-    /// device-control profile its identity (or, without that, the port being open).
-    fn answer_after_reopen(&mut self) -> Result<String, DriveError> {
-        if self.has_device_control() {
-            return self.drive().state().map(|s| format!("the drive reports {s}"));
-        }
-        match self
-            .drive_ref()
-            .dictionary()
-            .lookup("ident")
-            .ok()
-            .map(|d| d.name.clone())
-        {
-            Some(name) => self.drive().read(&name).map(|_| {
-                "the drive answers (its state cannot be read without a device-control profile)".into()
-            }),
-            None => Ok("the port is open again (no device-control profile to read the drive's state)".into()),
-        }
-    }
-
-    /// The default `finally` of the current drive: the brake (the speed setpoint to 0 and a
-    /// wait for standstill, where the profile names the speed objects and the recipe does
-    /// not opt out), then disable operation and shutdown; numbered after `done` earlier
-    /// steps (of other drives); returns the number of the last.
-    fn default_finally(&mut self, done: usize) -> usize {
+    /// The default `finally` of the current drive: with `brake`, the brake (the speed
+    /// setpoint to 0 and a wait for standstill, where the profile names the speed objects
+    /// and the recipe does not opt out), then disable operation and shutdown; numbered
+    /// after `done` earlier steps (of other drives); returns the number of the last.
+    fn default_finally(&mut self, done: usize, brake: bool) -> usize {
         let mut steps = Vec::new();
-        if self.settings.brake_to_standstill {
+        if brake && self.settings.brake_to_standstill {
             steps.extend(self.setpoint_zero_step());
             steps.extend(self.standstill_step("finally"));
         }
@@ -361,7 +356,12 @@ impl Session<'_> {
                 op: Box::new(move |s| s.command(c)),
             });
         }
-        self.perform_stop_steps(steps, "finally", " (default finally)", done)
+        // `drivescript stop` runs these steps as its own, not as some recipe's default.
+        let suffix = match self.run.kind {
+            "stop" => " (stop)",
+            _ => " (default finally)",
+        };
+        self.perform_stop_steps(steps, "finally", suffix, done)
     }
 
     /// Runs one step of the safe stop whatever happens: a lost port is reopened and the
@@ -520,62 +520,5 @@ impl Session<'_> {
             }
             Err(e) => self.note(format!("could not read {} after the safe stop: {e}", object.name)),
         }
-    }
-
-    /// After a reopen: whether the drive answering has the identity read at the start (a
-    /// re-enumerated adapter can come back under a name another one had).
-    fn same_drive(&mut self) -> bool {
-        match self.cur().identity.clone() {
-            Some(before) => self.identity().is_none_or(|now| now == before),
-            None => true,
-        }
-    }
-
-    /// Reopens the port with back-off until it answers or the reconnect time is used up;
-    /// reports every attempt. True when the drive answers again.
-    pub fn restore_link(&mut self) -> bool {
-        if self.cur().link_given_up {
-            return false;
-        }
-        let started = self.clock.now();
-        let give_up = started.saturating_add(self.settings.reconnect_timeout);
-        let mut pause = REOPEN_PAUSE;
-        let port = self.drive_ref().port();
-        for attempt in 1u32.. {
-            let result = self.drive().reopen().and_then(|()| self.answer_after_reopen());
-            let at = secs(self.clock.now().saturating_sub(started));
-            match result {
-                Ok(_) if !self.same_drive() => {
-                    self.note(format!(
-                        "{port} answers again, but with another drive's identity; the stop is not sent to it. CHECK THE DRIVE BY HAND"
-                    ));
-                    self.cur().link_given_up = true;
-                    return false;
-                }
-                Ok(answer) => {
-                    self.note(format!(
-                        "link to {port} restored at attempt {attempt} after {at}; {answer}"
-                    ));
-                    return true;
-                }
-                Err(e) => self.observer.message(&format!(
-                    "safe stop: reopening {port}, attempt {attempt} after {at}: {e}"
-                )),
-            }
-            let next = self.clock.now().saturating_add(pause);
-            if next > give_up {
-                self.note(format!(
-                    "gave up reopening {port} after {attempt} attempt(s) in {}",
-                    show_duration(self.settings.reconnect_timeout)
-                ));
-                self.cur().link_given_up = true;
-                return false;
-            }
-            // A further stop request does not end the attempts: reaching the drive is
-            // the only way to stop it.
-            self.clock.sleep_until(next);
-            pause = (pause * 2).min(REOPEN_PAUSE_MAX);
-        }
-        false
     }
 }

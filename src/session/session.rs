@@ -52,7 +52,7 @@ pub struct Session<'a> {
     pub(super) path: StepPath,
     /// `csv:` files of sample steps with one column per object instead of the long layout.
     pub(super) csv_wide: bool,
-    run: RunInfo,
+    pub(super) run: RunInfo,
 }
 
 impl<'a> Session<'a> {

@@ -57,7 +57,34 @@ fn stop_brakes_a_drive_a_recipe_left_running_and_verifies_it() {
         from += at + line.len();
     }
     assert!(!text.contains("STILL COASTING"), "{text}");
+    assert!(text.contains("shutdown (stop)"), "the stop's own steps: {text}");
+    assert!(!text.contains("default finally"), "{text}");
     assert_state(&sim, "ready to switch on");
+}
+
+#[test]
+fn stop_of_a_spindle_that_does_not_reach_standstill_is_not_called_stopped() {
+    let sim = drive_left_turning("stop-coasting");
+    let out = drivescript(&["stop", "--port", &sim.endpoint, "--stop-timeout", "1s"], "");
+    let text = stdout(&out);
+    assert_eq!(out.status.code(), Some(3), "{text}{}", stderr(&out));
+    assert!(text.contains("finally 2  FAIL"), "{text}");
+    assert!(!text.contains("STOPPED"), "{text}");
+    assert!(text.contains("NOT AT STANDSTILL"), "{text}");
+}
+
+#[test]
+fn stop_of_a_drive_without_device_control_sends_nothing_and_says_so_with_exit_code_3() {
+    for family in ["lenze-931", "lenze-9400"] {
+        let out = drivescript(&["stop", "--drive", family], "");
+        let (text, err) = (stdout(&out), stderr(&out));
+        assert_eq!(out.status.code(), Some(3), "{family}: {text}{err}");
+        assert!(!text.contains("STOPPED"), "{family}: {text}");
+        assert!(!text.contains("finally"), "{family}: {text}");
+        assert!(err.contains("no device-control profile"), "{family}: {err}");
+        assert!(err.contains("nothing was sent"), "{family}: {err}");
+        assert!(err.contains("check it by hand"), "{family}: {err}");
+    }
 }
 
 /// `drivescript stop` on a drive left at 6000 rpm, Ctrl-C once the setpoint is 0 (the
@@ -170,4 +197,11 @@ fn check_says_what_leave_enabled_does() {
             "{text}"
         );
     }
+}
+
+#[test]
+fn stop_help_says_when_it_exits_3() {
+    let text = stdout(&drivescript(&["stop", "--help"], ""));
+    assert!(text.contains("not at standstill"), "{text}");
+    assert!(text.contains("without a device-control profile"), "{text}");
 }
