@@ -344,10 +344,16 @@ impl Session<'_> {
     /// and the recipe does not opt out), then disable operation and shutdown; numbered
     /// after `done` earlier steps (of other drives); returns the number of the last.
     fn default_finally(&mut self, done: usize, brake: bool) -> usize {
+        // `drivescript stop` runs these steps as its own, numbered `stop N`, not as some
+        // recipe's default `finally`.
+        let (phase, suffix) = match self.run.kind {
+            "stop" => ("stop", " (stop)"),
+            _ => ("finally", " (default finally)"),
+        };
         let mut steps = Vec::new();
         if brake && self.settings.brake_to_standstill {
             steps.extend(self.setpoint_zero_step());
-            steps.extend(self.standstill_step("finally"));
+            steps.extend(self.standstill_step(phase));
         }
         for c in [DeviceCommand::DisableOperation, DeviceCommand::Shutdown] {
             steps.push(StopStep {
@@ -356,12 +362,7 @@ impl Session<'_> {
                 op: Box::new(move |s| s.command(c)),
             });
         }
-        // `drivescript stop` runs these steps as its own, not as some recipe's default.
-        let suffix = match self.run.kind {
-            "stop" => " (stop)",
-            _ => " (default finally)",
-        };
-        self.perform_stop_steps(steps, "finally", suffix, done)
+        self.perform_stop_steps(steps, phase, suffix, done)
     }
 
     /// Runs one step of the safe stop whatever happens: a lost port is reopened and the

@@ -42,10 +42,10 @@ fn stop_brakes_a_drive_a_recipe_left_running_and_verifies_it() {
     let text = stdout(&out);
     assert_eq!(out.status.code(), Some(0), "{text}{}", stderr(&out));
     let order = [
-        "finally 1  ok    set speed_setpoint = 0 rpm",
-        "finally 2  ok    wait for standstill: speed_actual within ±10 rpm",
-        "finally 3  ok    disable_operation",
-        "finally 4  ok    shutdown",
+        "stop 1  ok    set speed_setpoint = 0 rpm",
+        "stop 2  ok    wait for standstill: speed_actual within ±10 rpm",
+        "stop 3  ok    disable_operation",
+        "stop 4  ok    shutdown",
         "drive left in ready to switch on at 0 rpm",
         "STOPPED — exit code 0",
     ];
@@ -68,7 +68,7 @@ fn stop_of_a_spindle_that_does_not_reach_standstill_is_not_called_stopped() {
     let out = drivescript(&["stop", "--port", &sim.endpoint, "--stop-timeout", "1s"], "");
     let text = stdout(&out);
     assert_eq!(out.status.code(), Some(3), "{text}{}", stderr(&out));
-    assert!(text.contains("finally 2  FAIL"), "{text}");
+    assert!(text.contains("stop 2  FAIL"), "{text}");
     assert!(!text.contains("STOPPED"), "{text}");
     assert!(text.contains("NOT AT STANDSTILL"), "{text}");
 }
@@ -80,7 +80,7 @@ fn stop_of_a_drive_without_device_control_sends_nothing_and_says_so_with_exit_co
         let (text, err) = (stdout(&out), stderr(&out));
         assert_eq!(out.status.code(), Some(3), "{family}: {text}{err}");
         assert!(!text.contains("STOPPED"), "{family}: {text}");
-        assert!(!text.contains("finally"), "{family}: {text}");
+        assert!(!text.contains("stop 1 "), "{family}: {text}");
         assert!(err.contains("no device-control profile"), "{family}: {err}");
         assert!(err.contains("nothing was sent"), "{family}: {err}");
         assert!(err.contains("check it by hand"), "{family}: {err}");
@@ -93,7 +93,7 @@ fn stop_of_a_drive_without_device_control_sends_nothing_and_says_so_with_exit_co
 fn interrupted_stop(name: &str, second: Option<&str>, state_after: &str) -> (Option<i32>, String) {
     let sim = drive_left_turning(name);
     let mut run = LiveRun::start(["stop", "--port", &sim.endpoint]);
-    run.wait_for("finally 1  ok");
+    run.wait_for("stop 1  ok");
     std::thread::sleep(Duration::from_millis(300));
     run.signal("INT");
     let sent = Instant::now();
@@ -121,8 +121,8 @@ fn ctrl_c_during_stop_still_brakes_to_standstill_and_exits_130() {
     let (code, text) = interrupted_stop("stop-ctrl-c", None, "ready to switch on");
     assert_eq!(code, Some(130), "{text}");
     for line in [
-        "finally 2  ok    wait for standstill",
-        "finally 4  ok    shutdown",
+        "stop 2  ok    wait for standstill",
+        "stop 4  ok    shutdown",
         "drive left in ready to switch on at 0 rpm",
         "INTERRUPTED: interrupted by Ctrl-C (SIGINT) — exit code 130",
     ] {
@@ -142,7 +142,7 @@ fn a_second_signal_during_stop_switches_the_power_stage_off_at_once() {
         assert!(text.contains(line), "{line}: {text}");
     }
     assert!(
-        !text.contains("finally 3  ok"),
+        !text.contains("stop 3  ok"),
         "no disable after the braking: {text}"
     );
 }
@@ -174,7 +174,7 @@ fn stop_on_a_port_where_no_drive_answers_says_so_at_once_with_exit_code_3() {
     assert!(err.contains("the drive does not answer"), "{err}");
     assert!(err.contains("nothing was sent to stop it"), "{err}");
     assert!(err.contains("check it by hand"), "{err}");
-    assert!(!stdout(&out).contains("finally"), "{}", stdout(&out));
+    assert!(!stdout(&out).contains("stop 1 "), "{}", stdout(&out));
 }
 
 #[test]
