@@ -7,7 +7,7 @@ use super::recipe::Recipe;
 use super::step::{Step, StepKind};
 use crate::drive::Drive;
 use crate::session::{
-    show_duration, RunInfo, RunObserver, RunReport, SafeStopSettings, Session, StepInfo, Stop,
+    show_duration, RunInfo, RunObserver, RunReport, SafeStopSettings, Session, StepInfo, Stop, UnitIdentity,
 };
 use crate::stop_request::StopRequests;
 use std::path::PathBuf;
@@ -44,6 +44,7 @@ impl<'a> Runner<'a> {
                 .iter()
                 .map(|p| (p.name.clone(), p.value.clone()))
                 .collect(),
+            unit: UnitIdentity::default(),
         };
         Runner {
             session: Session::with_drives(drives, observer, stop, run),

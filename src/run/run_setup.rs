@@ -14,7 +14,7 @@ use crate::report::{
 };
 use crate::session::PlannedCheck;
 use crate::session::{
-    CheckResult, ObjectRef, Observers, RunInfo, RunObserver, RunReport, StepInfo, StepRecord,
+    CheckResult, ObjectRef, Observers, RunInfo, RunObserver, RunReport, StepInfo, StepRecord, UnitIdentity,
 };
 use std::io::Write;
 use std::sync::{Arc, Mutex, PoisonError};
@@ -236,6 +236,9 @@ impl Locked<'_> {
 impl RunObserver for Locked<'_> {
     fn run_started(&mut self, run: &RunInfo, drive: &str) {
         self.with(|o| o.run_started(run, drive));
+    }
+    fn unit_identified(&mut self, unit: &UnitIdentity) {
+        self.with(|o| o.unit_identified(unit));
     }
     fn step_started(&mut self, step: &StepInfo) {
         self.with(|o| o.step_started(step));

@@ -16,7 +16,7 @@ use crate::diag::{Diagnostic, Diagnostics, Source};
 use crate::drive::Drive;
 use crate::session::{
     CheckResult, ObjectRef, RunInfo, RunObserver, RunReport, SafeStopSettings, Session, Stats, StepInfo,
-    StepOrigin, StepRecord, Stop,
+    StepOrigin, StepRecord, Stop, UnitIdentity,
 };
 use crate::stop_request::StopRequests;
 use rhai::{CallFnOptions, Dynamic, Engine, EvalAltResult, Scope, AST};
@@ -103,6 +103,7 @@ impl<'a> ScriptRunner<'a> {
             name: script.name.clone(),
             path: script.path.clone(),
             params: script.params.clone(),
+            unit: UnitIdentity::default(),
         };
         let (to_session, from_script) = channel();
         let (to_script, from_session) = channel();
@@ -476,6 +477,9 @@ struct Tap<'a> {
 impl RunObserver for Tap<'_> {
     fn run_started(&mut self, run: &RunInfo, drive: &str) {
         self.inner.run_started(run, drive);
+    }
+    fn unit_identified(&mut self, unit: &UnitIdentity) {
+        self.inner.unit_identified(unit);
     }
     fn step_started(&mut self, step: &StepInfo) {
         self.inner.step_started(step);

@@ -27,6 +27,7 @@ mod set_value;
 mod step_origin;
 mod step_path;
 mod stop;
+mod unit_identity;
 mod wait_until;
 
 pub use bucket_series::{BucketSeries, SERIES_BUCKETS};
@@ -48,3 +49,4 @@ pub use set_value::SetValue;
 pub use step_origin::StepOrigin;
 pub use step_path::StepPath;
 pub use stop::{outcome, Stop};
+pub use unit_identity::{UnitIdentity, UNIT_FIELDS};

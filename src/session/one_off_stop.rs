@@ -3,7 +3,7 @@
 //! shutdown, read the state and speed back, escalate when the drive does not obey — on a
 //! session without steps. It must not print: the caller reports through its observer.
 
-use super::{RunInfo, RunObserver, RunReport, SafeStopSettings, Session};
+use super::{RunInfo, RunObserver, RunReport, SafeStopSettings, Session, UnitIdentity};
 use crate::drive::{Drive, DriveError};
 use crate::stop_request::StopRequests;
 
@@ -48,6 +48,7 @@ pub fn stop_drive(
         name: "safe stop".into(),
         path: drive.port(),
         params: Vec::new(),
+        unit: UnitIdentity::default(),
     };
     let mut session = Session::new(drive, observer, stop, run).with_settings(settings);
     session.begin();

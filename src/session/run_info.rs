@@ -2,7 +2,7 @@
 //! with its parameters, and a step's number, one-line label, origin and phase. Plain data,
 //! so recipes and scripts report alike.
 
-use super::StepOrigin;
+use super::{StepOrigin, UnitIdentity};
 
 /// A run, for the header of every report.
 #[derive(Debug, Clone, PartialEq)]
@@ -13,6 +13,8 @@ pub struct RunInfo {
     pub path: String,
     /// Parameters as resolved: (name, value).
     pub params: Vec<(String, String)>,
+    /// The unit under test, as far as known when the run starts.
+    pub unit: UnitIdentity,
 }
 
 /// One step or operation as it starts.

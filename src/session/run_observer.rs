@@ -1,11 +1,14 @@
 //! Hooks through which a running recipe or script reports as it goes (console lines, live progress,
 //! streamed CSV). Observers must not fail the run: their own I/O problems are theirs.
 
-use super::{CheckResult, ObjectRef, RunInfo, RunReport, StepInfo, StepRecord};
+use super::{CheckResult, ObjectRef, RunInfo, RunReport, StepInfo, StepRecord, UnitIdentity};
 use std::time::Duration;
 
 pub trait RunObserver {
     fn run_started(&mut self, _run: &RunInfo, _drive: &str) {}
+    /// The unit's identity became known or changed after the start (an operator answered
+    /// for it): the whole identity as it now stands.
+    fn unit_identified(&mut self, _unit: &UnitIdentity) {}
     /// A step begins.
     fn step_started(&mut self, _step: &StepInfo) {}
     /// Right after `step_started`: the step's id with the iteration of every repeat around
@@ -44,6 +47,9 @@ impl<'a> Observers<'a> {
 impl RunObserver for Observers<'_> {
     fn run_started(&mut self, run: &RunInfo, drive: &str) {
         self.list.iter_mut().for_each(|o| o.run_started(run, drive));
+    }
+    fn unit_identified(&mut self, unit: &UnitIdentity) {
+        self.list.iter_mut().for_each(|o| o.unit_identified(unit));
     }
     fn step_started(&mut self, step: &StepInfo) {
         self.list.iter_mut().for_each(|o| o.step_started(step));

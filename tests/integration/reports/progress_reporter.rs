@@ -4,7 +4,7 @@
 use super::sample_reports::{passed_report, speed_check, step};
 use crate::support::assert_has;
 use drivescript::report::{ConsoleReporter, ProgressReporter};
-use drivescript::session::{RunInfo, RunObserver, StepInfo, StepOrigin};
+use drivescript::session::{RunInfo, RunObserver, StepInfo, StepOrigin, UnitIdentity};
 use indicatif::ProgressBar;
 use std::time::Duration;
 
@@ -14,6 +14,7 @@ fn recipe() -> RunInfo {
         name: "Spindle run-in".into(),
         path: "recipes/run-in.yaml".into(),
         params: vec![("speed".into(), "6000 rpm".into())],
+        unit: UnitIdentity::default(),
     }
 }
 
