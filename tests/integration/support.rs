@@ -40,6 +40,39 @@ pub fn tool_missing(what: &str) {
     eprintln!("skipped: {what} (`.ci/run` installs it)");
 }
 
+/// Headless Chromium, with the flags that keep it off the network and out of a profile
+/// shared with other tests, ready for `--print-to-pdf=` or `--screenshot=` and a file;
+/// `None` (after [`tool_missing`]) where it is not installed.
+pub fn headless_chromium(profile: &Path) -> Option<Command> {
+    let Some(program) = ["chromium", "chromium-browser", "google-chrome"]
+        .into_iter()
+        .find(|c| {
+            Command::new(c)
+                .arg("--version")
+                .output()
+                .is_ok_and(|o| o.status.success())
+        })
+    else {
+        tool_missing("no chromium installed: the HTML is not rendered");
+        return None;
+    };
+    let mut command = Command::new(program);
+    command
+        .args([
+            "--headless",
+            "--no-sandbox",
+            "--disable-gpu",
+            "--disable-quic",
+            "--no-first-run",
+            "--disable-background-networking",
+            "--disable-component-update",
+            "--disable-sync",
+            "--no-pdf-header-footer",
+        ])
+        .arg(format!("--user-data-dir={}", profile.display()));
+    Some(command)
+}
+
 /// Whether a `CI` variable of this value makes a skipped check fail: set to anything but
 /// empty, `0` or `false`.
 fn skip_is_fatal(ci: Option<&str>) -> bool {

@@ -455,29 +455,14 @@ fn a_broken_page_is_refused() {
 /// of a few A4 pages; `tests/render_reports.sh` renders every example report to look at.
 #[test]
 fn chromium_prints_the_report_to_pdf() {
-    let Some(chromium) = ["chromium", "chromium-browser", "google-chrome"]
-        .into_iter()
-        .find(|c| {
-            std::process::Command::new(c)
-                .arg("--version")
-                .output()
-                .is_ok_and(|o| o.status.success())
-        })
-    else {
-        eprintln!("no chromium installed: the PDF rendering is not checked");
+    let dir = std::env::temp_dir().join(format!("drivescript-pdf-{}", std::process::id()));
+    let Some(mut chromium) = crate::support::headless_chromium(&dir.join("profile")) else {
         return;
     };
-    let dir = std::env::temp_dir().join(format!("drivescript-pdf-{}", std::process::id()));
     let html = dir.join("report.html");
     write_html(&passed_report(), &html).unwrap();
     let pdf = dir.join("report.pdf");
-    let out = std::process::Command::new(chromium)
-        .args([
-            "--headless",
-            "--no-sandbox",
-            "--disable-gpu",
-            "--no-pdf-header-footer",
-        ])
+    let out = chromium
         .arg(format!("--print-to-pdf={}", pdf.display()))
         .arg(&html)
         .output()
