@@ -46,11 +46,9 @@ pub fn check(request: &CheckRequest, err: &mut dyn Write) -> Result<Checked, Run
     let loaded = RunPlan::load_file(request.registry, request.file, request.set, request.dictionary)?;
     let written = loaded.plan.written_values();
     // Values the link's settings cannot carry are refused as `run` refuses them, before
-    // any port is opened. (With `drives:` each drive's values go to its own link.)
-    if loaded.plan.drives().is_empty() {
-        let link = request.connection.with_defaults(loaded.plan.link());
-        super::within_link_range(&written, &loaded.dictionary, request.registry, &link)?;
-    }
+    // any port is opened.
+    let link = request.connection.with_defaults(loaded.plan.link());
+    super::within_link_range(&written, &loaded, request.registry, &link)?;
     let compare =
         !request.connection.is_simulated() && loaded.plan.drives().is_empty() && !written.is_empty();
     let drive_limits = compare.then(|| {

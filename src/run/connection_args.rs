@@ -277,7 +277,7 @@ impl ConnectionArgs {
     }
 
     /// The family's serial settings with the ones given here over them.
-    fn serial_settings(&self, family: &dyn Family) -> SerialSettings {
+    pub fn serial_settings(&self, family: &dyn Family) -> SerialSettings {
         let mut settings = family.serial_settings();
         if let Some(baud) = self.baud {
             settings.baud = baud;

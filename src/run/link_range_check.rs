@@ -4,27 +4,32 @@
 //! number a recipe or script writes (`set`, `ramp` points, with `--set` applied) with
 //! that range. Sends nothing.
 
-use super::{ConnectionArgs, RunError};
+use super::{ConnectionArgs, LoadedPlan, RunError};
 use crate::dictionary::Dictionary;
 use crate::family::Registry;
 use crate::recipe::WrittenValue;
 use crate::session::number;
 
 /// `Ok` when every value of `values` is within what the link of `connection` carries for
-/// its object; otherwise each value beyond, with its place (exit code 2).
+/// its object on the drive it goes to (with `drives:`, `left.speed_setpoint` goes to
+/// `left`, checked with `left`'s dictionary and family); otherwise each value beyond, with
+/// its place (exit code 2).
 pub fn within_link_range(
     values: &[WrittenValue],
-    dictionary: &Dictionary,
+    loaded: &LoadedPlan,
     registry: &Registry,
     connection: &ConnectionArgs,
 ) -> Result<(), RunError> {
-    let Ok(family) = registry.family(dictionary.family()) else {
-        return Ok(());
-    };
     let options = connection.link_options().extra;
     let mut problems = Vec::new();
     for w in values {
-        let Ok(def) = dictionary.lookup(&w.object.name) else {
+        let Some((dictionary, own)) = drive_of(loaded, &w.object.name) else {
+            continue;
+        };
+        let Ok(family) = registry.family(dictionary.family()) else {
+            continue;
+        };
+        let Ok(def) = dictionary.lookup(own) else {
             continue;
         };
         let Some(range) = family.link_range(def, &options) else {
@@ -50,4 +55,15 @@ pub fn within_link_range(
             problems.join("\n")
         ))),
     }
+}
+
+/// The dictionary of the drive `name` is written to, and the object's name in it: the
+/// plan's one dictionary, or the named drive's (`left.speed_setpoint`).
+fn drive_of<'a>(loaded: &'a LoadedPlan, name: &'a str) -> Option<(&'a Dictionary, &'a str)> {
+    if loaded.drive_dictionaries.is_empty() {
+        return Some((&loaded.dictionary, name));
+    }
+    let (drive, own) = name.split_once('.')?;
+    let (_, dictionary) = loaded.drive_dictionaries.iter().find(|(n, _)| n == drive)?;
+    Some((dictionary, own))
 }

@@ -28,6 +28,7 @@ pub mod drive_limits;
 mod drive_set;
 mod exit_code;
 mod latency_note;
+mod line_exchange;
 mod link_range_check;
 mod maintain;
 mod not_run;

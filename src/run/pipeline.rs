@@ -7,6 +7,7 @@
 use super::drive_limits::within_drive_limits;
 use super::drive_set::{named_drives_checked, named_drives_opened, OpenDrives};
 use super::latency_note::latency_note;
+use super::line_exchange::LineExchange;
 use super::link_range_check::within_link_range;
 use super::not_run::{not_run, silent_drive_of};
 use super::run_plan::{LoadedPlan, RunPlan, SessionSettings};
@@ -46,13 +47,9 @@ pub fn run(request: &RunRequest, out: &mut dyn Write, err: &mut dyn Write) -> Ru
         Ok(t) => t,
         Err(e) => return refuse(INVALID, &e.to_string(), err),
     };
-    // Values the link's settings cannot carry, refused before the port opens. (With
-    // `drives:` each drive's values go to its own link; not compared here.)
-    if !several {
-        let values = plan.written_values();
-        if let Err(e) = within_link_range(&values, &loaded.dictionary, request.registry, &connection) {
-            return refuse(INVALID, &e.to_string(), err);
-        }
+    // Values the link's settings cannot carry, refused before the port opens.
+    if let Err(e) = within_link_range(&plan.written_values(), &loaded, request.registry, &connection) {
+        return refuse(INVALID, &e.to_string(), err);
     }
     // Files are opened before anything is sent: a path that cannot be written is an
     // invalid command line, not a half-run file.
@@ -70,10 +67,17 @@ pub fn run(request: &RunRequest, out: &mut dyn Write, err: &mut dyn Write) -> Ru
         Ok(o) => o,
         Err(e) => return refuse(COMMUNICATION, &e.to_string(), err),
     };
+    let sampled: Vec<String> = plan
+        .wide_columns()
+        .unwrap_or_default()
+        .into_iter()
+        .map(|o| o.name)
+        .collect();
+    let exchange = || LineExchange::measure(request.registry, &connection, &loaded.dictionary, &sampled);
     if let Some(note) = connection
         .port
         .as_deref()
-        .and_then(|port| latency_note(port, plan.shortest_sample_interval()))
+        .and_then(|port| latency_note(port, plan.shortest_sample_interval(), exchange))
     {
         let _ = writeln!(err, "{note}");
     }

@@ -329,6 +329,34 @@ fn a_setpoint_beyond_the_cyclic_velocity_scaling_is_refused_before_anything_is_s
     );
 }
 
+/// With `drives:`, each drive's values are compared with the range of its own family's
+/// link: the setpoint beyond the cyclic scaling is refused by `check` and by `run` before
+/// any port opens, and the other drive's setpoint within it is not.
+#[test]
+fn a_named_drives_setpoint_beyond_its_links_range_is_refused_before_anything_is_sent() {
+    let dir = crate::support::scratch("cyclic-range-drives");
+    let recipe = crate::support::write_file(
+        &dir,
+        "two.yaml",
+        "name: two\ndrives:\n  spindle: { drive: sd2, address: dnc:2 }\n  feed: { drive: sd2, address: dnc:3 }\nsteps:\n  - set: { spindle.speed_setpoint: 30000 rpm }\n  - set: { feed.speed_setpoint: 20000 rpm }\n",
+    );
+    let recipe = recipe.to_str().expect("utf-8");
+    let cyclic = ["--channel", "cyclic", "--velocity-scaling", "24000rpm"];
+    let line = "two.yaml:6:5: set spindle.speed_setpoint = 30000 rpm is beyond -24000 .. 24000 rpm: the cyclic channel carries";
+
+    let mut args = vec!["check", recipe];
+    args.extend(cyclic);
+    let out = crate::support::cli(&args, 2);
+    crate::support::assert_has(&out.stderr, &[line, "1 value(s) the link cannot carry"]);
+    crate::support::assert_lacks(&out.stderr, &["feed.speed_setpoint"]);
+
+    let mut args = vec!["run", recipe, "--port", "/nonexistent/ttyUSB9"];
+    args.extend(cyclic);
+    let out = crate::support::cli(&args, 2);
+    crate::support::assert_has(&out.stderr, &[line, "nothing was sent"]);
+    crate::support::assert_lacks(&out.stderr, &["ttyUSB9"]);
+}
+
 /// `ports` shows a USB-serial adapter's latency timer where the system exposes it (here a
 /// fake sysfs tree), and how to lower it.
 #[test]
@@ -362,50 +390,62 @@ fn ports_show_the_usb_serial_latency_timer() {
     assert!(json.contains("\"latency_timer_ms\":16"), "{json}");
 }
 
-/// A run on a USB-serial adapter whose latency timer alone is longer than the recipe's
-/// sample interval says so once, before the first step, with how to lower it. The port is
-/// a pty with the simulated drive; the timer comes from a fake sysfs tree named after it.
+/// A run on a USB-serial adapter whose latency timer alone slows the line or is longer
+/// than the recipe's sample interval says so once, before the first step, with how to
+/// lower it; a script's run says it of the line too. The port is a pty with the simulated
+/// drive; the timer comes from a fake sysfs tree named after it.
 #[cfg(unix)]
 #[test]
-fn a_run_says_once_when_the_latency_timer_makes_its_sample_interval_unreachable() {
+fn a_run_says_once_when_the_latency_timer_slows_its_line_or_its_samples() {
     let dir = crate::support::scratch("latency");
     let sim = crate::support::Simulator::start(&["--pty"]);
     let port = sim.endpoint.as_str();
     let tty = std::path::Path::new(port).file_name().expect("pty name");
     let timer_dir = dir.join("sysfs/bus/usb-serial/devices").join(tty);
     std::fs::create_dir_all(&timer_dir).expect("fake sysfs");
-    std::fs::write(timer_dir.join("latency_timer"), "16\n").expect("timer");
     let recipe = crate::support::write_file(
         &dir,
         "fast.yaml",
         "name: fast samples\nsteps:\n  - sample: { objects: [speed_actual], every: 10 ms, for: 100 ms }\n",
     );
-    let run = |every_ok: bool| {
+    let script = crate::support::write_file(
+        &dir,
+        "read.rhai",
+        "let d = drive();\nprint(d.read(\"speed_actual\"));\n",
+    );
+    let run = |file: &std::path::Path, timer_ms: u32, every: &str| {
+        std::fs::write(timer_dir.join("latency_timer"), format!("{timer_ms}\n")).expect("timer");
         let text = std::fs::read_to_string(&recipe).expect("recipe");
-        let text = match every_ok {
-            true => text.replace("every: 10 ms", "every: 50 ms"),
-            false => text,
-        };
+        let text = text.replace("every: 10 ms", &format!("every: {every}"));
+        let text = text.replace("every: 50 ms", &format!("every: {every}"));
         std::fs::write(&recipe, text).expect("recipe");
         let out = std::process::Command::new(env!("CARGO_BIN_EXE_drivescript"))
-            .args(["run", recipe.to_str().expect("utf-8"), "--port", port])
+            .args(["run", file.to_str().expect("utf-8"), "--port", port])
             .env("DRIVESCRIPT_SYSFS", dir.join("sysfs"))
             .output()
             .expect("drivescript runs");
-        assert_eq!(
-            out.status.code(),
-            Some(0),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-        String::from_utf8_lossy(&out.stderr).into_owned()
+        let err = String::from_utf8_lossy(&out.stderr).into_owned();
+        assert_eq!(out.status.code(), Some(0), "{err}");
+        err
     };
-    let err = run(false);
+    // 16 ms: an SD2 read of speed_actual (24 bytes, 4.2 ms at 57600 8N1) is held far
+    // longer than the wire takes, and 10 ms samples cannot be kept.
+    let err = run(&recipe, 16, "10 ms");
     assert_eq!(err.matches("latency timer of 16 ms").count(), 1, "{err}");
-    assert!(
-        err.contains("so samples every 10 ms cannot be kept; lower it with `echo 1 | sudo tee"),
-        "{err}"
+    crate::support::assert_has(
+        &err,
+        &[
+            "so reads of speed_actual (24 bytes, 4.2 ms on the wire at 57600 8N1) drop from about 240/s to as few as 50/s",
+            ", and samples every 10 ms cannot be kept; lower it with `echo 1 | sudo tee",
+        ],
     );
-    // 50 ms is reachable with a 16 ms timer: nothing is said.
-    assert!(!run(true).contains("latency timer"));
+    // 50 ms samples are reachable; the line is still slowed.
+    let err = run(&recipe, 16, "50 ms");
+    crate::support::assert_has(&err, &["latency timer of 16 ms", "drop from about 240/s"]);
+    crate::support::assert_lacks(&err, &["samples every"]);
+    // A script's reads are slowed alike.
+    let err = run(&script, 16, "50 ms");
+    crate::support::assert_has(&err, &["latency timer of 16 ms", "so reads of"]);
+    // A 1 ms timer is shorter than an exchange on the wire: nothing is said.
+    assert!(!run(&recipe, 1, "50 ms").contains("latency timer"));
 }
