@@ -21,7 +21,7 @@ pub enum CodecError {
     },
     #[error("the byte count is {count} but {actual} data byte(s) follow")]
     ByteCount { count: usize, actual: usize },
-    #[error("bad CRC: the frame carries {carried:04X}, its bytes give {computed:04X}")]
+    #[error("bad CRC: the frame ends {:02X} {:02X}, its bytes give {:02X} {:02X}", *carried as u8, carried >> 8, *computed as u8, computed >> 8)]
     Crc { carried: u16, computed: u16 },
     #[error("the MBAP protocol identifier is {0}; Modbus is 0")]
     Protocol(u16),
