@@ -154,15 +154,6 @@ impl InverterRegisters {
         } else {
             DeviceState::SwitchedOn
         };
-        for _ in 0..3 {
-            let word = match (model.state(), target) {
-                (from, to) if from == to => return,
-                (DeviceState::SwitchOnDisabled, _) => 6,
-                (DeviceState::ReadyToSwitchOn, _) | (DeviceState::OperationEnabled, _) => 7,
-                (DeviceState::SwitchedOn, _) => 15,
-                _ => return,
-            };
-            model.write_control_word(word, blocked);
-        }
+        model.walk_to(target, blocked);
     }
 }
