@@ -278,3 +278,34 @@ fn decode_explains_the_frames_of_the_manual_and_rejects_a_bad_crc() {
         &["unit 1 transaction 7 reply to function 03: exception 02 ILLEGAL DATA ADDRESS"],
     );
 }
+
+/// Behind a half-duplex adapter that hands every request back: the echo is skipped (a
+/// write single register's lone copy is its reply; the reply after an echo is dropped as
+/// stale before the next request).
+#[cfg(unix)]
+#[test]
+fn the_commissioning_recipe_runs_behind_an_adapter_that_echoes() {
+    let dir = scratch("modbus-echo");
+    let sim = Simulator::pty(&["--drive", "modbus-inverter", "--echo"]);
+    let recipe = commissioning(&dir, "modbus-inverter");
+    let trace = dir.join("run.trace");
+    let text = cli(
+        &[
+            "run",
+            recipe.to_str().unwrap(),
+            "--port",
+            &sim.endpoint,
+            "--set",
+            "speed=600rpm",
+            "--trace",
+            trace.to_str().unwrap(),
+        ],
+        0,
+    )
+    .stdout;
+    assert_has(&text, &["drive left in switched on at 0 rpm", "PASSED"]);
+    assert_has(
+        &std::fs::read_to_string(&trace).unwrap(),
+        &["skipped the echo of the request"],
+    );
+}
