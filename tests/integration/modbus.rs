@@ -73,7 +73,7 @@ fn the_commissioning_recipe_runs_through_a_pseudo_terminal_and_its_trace_decodes
 
 #[cfg(unix)]
 #[test]
-fn two_inverters_on_one_line_reach_their_own_speeds() {
+fn two_inverters_on_one_line_reach_their_own_speeds_and_a_broadcast_reaches_both() {
     let dir = scratch("modbus-two");
     let sim = Simulator::pty(&["--drive", "modbus-inverter", "--address", "1,2"]);
     let recipe = write_file(
@@ -121,6 +121,34 @@ steps:
         );
         assert_has(&out.stdout, &["0x0003"]);
     }
+    // A broadcast write reaches both, unanswered; a broadcast read is refused unsent.
+    let on = ["--drive", "modbus-inverter", "--port", sim.endpoint.as_str()];
+    let out = cli(
+        &[
+            &["write", "speed_setpoint", "300rpm", "--address", "0"][..],
+            &on[..],
+        ]
+        .concat(),
+        0,
+    )
+    .stdout;
+    assert_has(
+        &out,
+        &["sent to every slave on the line (broadcast), not confirmed"],
+    );
+    for address in ["1", "2"] {
+        let out = cli(
+            &[&["read", "speed_setpoint", "--address", address][..], &on[..]].concat(),
+            0,
+        )
+        .stdout;
+        assert_has(&out, &["300 rpm"]);
+    }
+    let out = drivescript(
+        &[&["read", "speed_setpoint", "--address", "0"][..], &on[..]].concat(),
+        "",
+    );
+    assert_eq!(out.status.code(), Some(2));
 }
 
 #[cfg(unix)]

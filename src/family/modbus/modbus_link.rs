@@ -11,10 +11,12 @@
 //! that a write single register is answered with its own bytes: a lone copy is the reply
 //! (an echo's later reply is dropped as stale input before the next request). Register
 //! writes set values, so repeating one after a lost reply does the same as sending it once.
+//! An exception reply answers the request (the drive refused), except 06 "server device
+//! busy", after which the request is sent again.
 //! TCP: a reply with an earlier transaction id is a late one and is dropped.
 //! Must not know object names, units or states.
 
-use super::codec::{mbap, rtu, Request, Response};
+use super::codec::{mbap, rtu, ExceptionCode, Request, Response};
 use crate::bus::{SharedTransport, Transport, TransportError};
 use crate::clock::SharedClock;
 use crate::drive::AccessError;
@@ -264,6 +266,15 @@ impl ModbusLink {
         };
         if let Err(expected) = request.check(&response) {
             return Some(Err(self.bad(&whole, format!("expected {expected}"), true)));
+        }
+        // A busy slave is to be asked again later (Application Protocol V1.1b3, 7: code 06).
+        if let Response::Exception {
+            code: ExceptionCode::SERVER_DEVICE_BUSY,
+            ..
+        } = response
+        {
+            let problem = ExceptionCode::SERVER_DEVICE_BUSY.to_string();
+            return Some(Err(self.bad(&whole, problem, true)));
         }
         self.core.stats.replies += 1;
         Some(Ok(response))

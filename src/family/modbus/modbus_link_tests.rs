@@ -228,3 +228,25 @@ fn frames_are_separated_by_the_silence_of_three_and_a_half_characters() {
         "{gap:?}"
     );
 }
+
+#[test]
+fn a_busy_slave_is_asked_again() {
+    let busy = rtu::encode(
+        1,
+        &Response::Exception {
+            function: 3,
+            code: ExceptionCode::SERVER_DEVICE_BUSY,
+        }
+        .encode(),
+    );
+    let peer = scripted(vec![Some(busy.clone()), Some(reply(1, vec![3]))]);
+    let (mut link, _) = link_to(peer, 1, Framing::Rtu);
+    assert!(matches!(
+        link.exchange(&READ_STATUS).unwrap(),
+        Some(Response::Registers { .. })
+    ));
+    let peer = scripted(vec![Some(busy); 3]);
+    let (mut link, _) = link_to(peer, 1, Framing::Rtu);
+    let e = link.exchange(&READ_STATUS).unwrap_err().to_string();
+    assert!(e.contains("exception 06 SERVER DEVICE BUSY"), "{e}");
+}
