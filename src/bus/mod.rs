@@ -86,6 +86,12 @@ pub trait Transport: Send {
     /// waiting (a system call per telegram). Transports with nothing to save ignore it.
     fn exchange_complete(&mut self) {}
 
+    /// The line settings of a serial port, for a protocol that times its frames in
+    /// characters (Modbus RTU's silence of 3.5 characters); `None` for other transports.
+    fn serial_settings(&self) -> Option<SerialSettings> {
+        None
+    }
+
     /// Closes and opens the same port again (same path and settings, same address), after
     /// the line was lost: a USB adapter re-enumerated, a serial server restarted. The safe
     /// stop uses it to reach a drive that may still be running.

@@ -316,6 +316,10 @@ impl Transport for SerialTransport {
         &self.name
     }
 
+    fn serial_settings(&self) -> Option<SerialSettings> {
+        Some(self.settings())
+    }
+
     fn write_all(&mut self, bytes: &[u8]) -> Result<(), TransportError> {
         // The port has one timeout for both directions and the last read may have left it
         // at a few milliseconds, too short for a long telegram at a low baud rate.

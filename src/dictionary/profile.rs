@@ -67,6 +67,9 @@ pub struct Profile {
     pub(crate) states: [Option<StateMask>; 8],
     /// Written in this order before every command.
     pub(crate) before_commands: Vec<ObjectWrite>,
+    /// Further patterns of a state given with `values: [..]` (an inverter's status
+    /// register shows "running" as several codes: accelerating, at speed, decelerating).
+    pub(crate) more_states: Vec<(DeviceState, StateMask)>,
     pub(crate) span: Span,
 }
 
@@ -88,6 +91,7 @@ impl Profile {
                 Some(StateMask { mask, value })
             }),
             before_commands: Vec::new(),
+            more_states: Vec::new(),
             span: Span::unknown(),
         }
     }
@@ -184,6 +188,12 @@ impl Profile {
             .zip(self.states)
             .find(|(_, m)| m.is_some_and(|m| m.matches(status)))
             .map(|(s, _)| s)
+            .or_else(|| {
+                self.more_states
+                    .iter()
+                    .find(|(_, m)| m.matches(status))
+                    .map(|(s, _)| *s)
+            })
     }
 
     /// Objects other than the control word that the profile writes, with where each is

@@ -11,7 +11,11 @@ use super::role::Role;
 use crate::diag::{Diagnostic, Shape, YamlNode};
 use crate::drive::device_control::{DeviceCommand, DeviceState};
 
-const STATE_KEYS: &[&str] = &["mask", "value"];
+/// One pattern per state (`None`: the drive does not show it) and the further patterns of
+/// states given with `values:`.
+type StateTable = ([Option<StateMask>; 8], Vec<(DeviceState, StateMask)>);
+
+const STATE_KEYS: &[&str] = &["mask", "value", "values"];
 const WRITE_KEYS: &[&str] = &["object", "value"];
 /// Commands the safe stop sends, so no profile may leave them out.
 const REQUIRED_COMMANDS: [DeviceCommand; 3] = [
@@ -26,7 +30,7 @@ impl DictionaryReader<'_> {
     pub(super) fn profile(&mut self, node: &YamlNode) -> Option<Profile> {
         let before = self.r.count();
         let mut allowed: Vec<&str> = Role::ALL.iter().map(|r| r.id()).collect();
-        allowed.extend(["commands", "states", "before_commands"]);
+        allowed.extend(["commands", "states", "before_commands", "control"]);
         let mut shape = Shape::new("the profile", &allowed).nothing_is_absent();
         for role in Role::ALL.into_iter().filter(|r| r.required()) {
             shape = shape.require_as(role.id(), format!("the name of the object that is the {role}"));
@@ -51,9 +55,24 @@ impl DictionaryReader<'_> {
             Some(n) => self.before_commands(n),
             None => Some(Vec::new()),
         };
-        let commands = f.get("commands").and_then(|n| self.commands(n));
+        let command_codes = match f.get("control") {
+            None => false,
+            Some(n) => match &n.value {
+                crate::diag::YamlValue::Str(s) if s == "codes" => true,
+                crate::diag::YamlValue::Str(s) if s == "bits" => false,
+                _ => {
+                    self.push(
+                        Diagnostic::at(&n.span, "`control` is `bits` or `codes`", "unknown")
+                            .with_help("`codes` when the control word takes whole command codes (an inverter's run command register), `bits` (the default) for a CiA 402 control word"),
+                    );
+                    return None;
+                }
+            },
+        };
+        let commands = f.get("commands").and_then(|n| self.commands(n, command_codes));
         let states = f.get("states").and_then(|n| self.states(n));
-        let (Some(commands), Some(states), Some(before_commands)) = (commands, states, before_commands)
+        let (Some(commands), Some((states, more_states)), Some(before_commands)) =
+            (commands, states, before_commands)
         else {
             return None;
         };
@@ -62,6 +81,7 @@ impl DictionaryReader<'_> {
             commands,
             states,
             before_commands,
+            more_states,
             span: node.span.clone(),
         })
     }
@@ -104,7 +124,7 @@ impl DictionaryReader<'_> {
         matches!(&node.value, crate::diag::YamlValue::Str(s) if s == "none")
     }
 
-    fn commands(&mut self, node: &YamlNode) -> Option<[Option<CommandWrite>; 7]> {
+    fn commands(&mut self, node: &YamlNode, codes: bool) -> Option<[Option<CommandWrite>; 7]> {
         let allowed: Vec<&str> = DeviceCommand::ALL.iter().map(|c| c.id()).collect();
         let mut shape = Shape::new("the commands", &allowed).nothing_is_absent();
         for command in DeviceCommand::ALL {
@@ -190,6 +210,10 @@ impl DictionaryReader<'_> {
         });
         let node_of = |c: DeviceCommand| nodes[DeviceCommand::ALL.iter().position(|x| *x == c).unwrap_or(0)];
         let before = self.r.count();
+        if codes {
+            self.stop_codes(&values, &node_of);
+            return (self.r.count() == before).then_some(writes);
+        }
         for kept in [DeviceCommand::EnableOperation, DeviceCommand::SwitchOn] {
             let i = DeviceCommand::ALL.iter().position(|x| *x == kept).unwrap_or(0);
             let is_control_word = matches!(&writes[i], Some(CommandWrite { object: None, .. }));
@@ -243,7 +267,31 @@ impl DictionaryReader<'_> {
         (self.r.count() == before).then_some(writes)
     }
 
-    fn states(&mut self, node: &YamlNode) -> Option<[Option<StateMask>; 8]> {
+    /// With command codes a stop is a code of its own: it must not be the run code.
+    fn stop_codes<'n>(&mut self, values: &[u16; 7], node_of: &dyn Fn(DeviceCommand) -> Option<&'n YamlNode>) {
+        let run = command_in(values, DeviceCommand::EnableOperation);
+        for (stop, _) in STOPS {
+            let (Some(node), true) = (node_of(stop), command_in(values, stop) == run) else {
+                continue;
+            };
+            if run == 0 {
+                continue;
+            }
+            self.push(
+                Diagnostic::at(
+                    &node.span,
+                    format!(
+                        "`{}` is the run code {run} of `enable_operation`: it would keep the drive running",
+                        stop.id()
+                    ),
+                    "the run code",
+                )
+                .with_help("give the inverter's stop command code"),
+            );
+        }
+    }
+
+    fn states(&mut self, node: &YamlNode) -> Option<StateTable> {
         let allowed: Vec<&str> = DeviceState::ALL.iter().map(|s| s.id()).collect();
         let mut shape = Shape::new("the states", &allowed).nothing_is_absent();
         for state in DeviceState::ALL {
@@ -282,9 +330,11 @@ impl DictionaryReader<'_> {
                 continue;
             }
             match self.state(n, state) {
-                Some(sm) => {
-                    masks[i] = Some(sm);
-                    read.push((state, sm, n));
+                Some(patterns) => {
+                    masks[i] = patterns.first().copied();
+                    for sm in patterns {
+                        read.push((state, sm, n));
+                    }
                 }
                 None => complete = false,
             }
@@ -302,6 +352,9 @@ impl DictionaryReader<'_> {
         }
         for (j, (state, sm, node)) in read.iter().enumerate() {
             for (earlier, esm, enode) in &read[..j] {
+                if earlier == state {
+                    continue;
+                }
                 if let Some(word) = sm.overlap(*esm) {
                     self.push(
                         Diagnostic::at(
@@ -322,10 +375,68 @@ impl DictionaryReader<'_> {
                 }
             }
         }
-        complete.then_some(masks)
+        let more = read
+            .iter()
+            .filter(|(s, sm, _)| {
+                masks[DeviceState::ALL.iter().position(|x| x == s).unwrap_or(0)] != Some(*sm)
+            })
+            .map(|(s, sm, _)| (*s, *sm))
+            .collect();
+        complete.then_some((masks, more))
     }
 
-    fn state(&mut self, node: &YamlNode, state: DeviceState) -> Option<StateMask> {
+    /// `{ mask, value }`, or `{ mask, values: [..] }` for a state several values show.
+    fn state(&mut self, node: &YamlNode, state: DeviceState) -> Option<Vec<StateMask>> {
+        if let crate::diag::YamlValue::Map(entries) = &node.value {
+            if let Some((_, list)) = entries.iter().find(|(k, _)| k.value == "values") {
+                let mask_node = entries.iter().find(|(k, _)| k.value == "mask").map(|(_, n)| n);
+                let Some(mask_node) = mask_node else {
+                    self.push(Diagnostic::at(
+                        &node.span,
+                        format!("`{}` has `values` but no `mask`", state.id()),
+                        "no mask",
+                    ));
+                    return None;
+                };
+                let items = self
+                    .r
+                    .list(list, "`values`", "a list of status values, e.g. `[0x01, 0x11]`")?;
+                let mut patterns = Vec::new();
+                for item in items {
+                    let mut single = node.clone();
+                    single.value = crate::diag::YamlValue::Map(vec![
+                        (
+                            crate::diag::Spanned {
+                                value: "mask".into(),
+                                span: mask_node.span.clone(),
+                            },
+                            mask_node.clone(),
+                        ),
+                        (
+                            crate::diag::Spanned {
+                                value: "value".into(),
+                                span: item.span.clone(),
+                            },
+                            item.clone(),
+                        ),
+                    ]);
+                    patterns.push(self.single_state(&single, state)?);
+                }
+                if patterns.is_empty() {
+                    self.push(Diagnostic::at(
+                        &list.span,
+                        format!("`{}` has no values", state.id()),
+                        "empty",
+                    ));
+                    return None;
+                }
+                return Some(patterns);
+            }
+        }
+        self.single_state(node, state).map(|sm| vec![sm])
+    }
+
+    fn single_state(&mut self, node: &YamlNode, state: DeviceState) -> Option<StateMask> {
         let shape = Shape::new("a state", STATE_KEYS)
             .require_as("mask", "the status-word bits this state looks at")
             .require_as("value", "the value of those bits in this state")

@@ -9,6 +9,7 @@ mod family_info;
 pub(crate) mod le_integer;
 pub mod lenze_931;
 pub mod lenze_9400;
+pub mod modbus;
 mod registry;
 pub mod sd2;
 

@@ -57,6 +57,8 @@ pub struct ConnectionArgs {
     /// DNC address. Control Techniques: group.unit (`1.2`, default `1.1`); `G.0` writes to
     /// a whole group and `0.0` to every drive, with no reply. Lenze 931: none (one drive
     /// per RS232 line). Lenze 9400: the CANopen node address 1..127 (C00350; default 1).
+    /// Modbus RTU: the slave id 1..247 (default 1; 0 broadcasts writes); Modbus TCP: the
+    /// unit id.
     #[arg(long, value_name = "ADDRESS")]
     pub address: Option<String>,
     /// The drive's raw DNC address, for families whose drives have one (SD2): the same as

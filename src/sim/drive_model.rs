@@ -103,6 +103,24 @@ impl DriveModel {
         command
     }
 
+    /// Walks the CiA 402 state machine to `target` (switch on disabled, switched on or
+    /// operation enabled), one control word per transition, for a simulated drive whose
+    /// own protocol commands states rather than control words (Control Techniques' run
+    /// bits, an inverter's run command codes). Tripped or braking, it waits for a reset.
+    pub fn walk_to(&mut self, target: DeviceState, reset_blocked: bool) {
+        for _ in 0..3 {
+            let word = match (self.state(), target) {
+                (from, to) if from == to => return,
+                (_, DeviceState::SwitchOnDisabled) => 0,
+                (DeviceState::SwitchOnDisabled, _) => 6,
+                (DeviceState::ReadyToSwitchOn, _) | (DeviceState::OperationEnabled, _) => 7,
+                (DeviceState::SwitchedOn, _) => 15,
+                _ => return,
+            };
+            self.write_control_word(word, reset_blocked);
+        }
+    }
+
     /// A speed reference given as a fraction of the velocity scaling (1.0 = +100 %), as
     /// cyclic process data carries it; not range-checked, like the drive's own.
     pub fn set_speed_fraction(&mut self, fraction: f64) {

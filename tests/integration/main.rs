@@ -20,6 +20,7 @@ mod lenze_931;
 mod lenze_931_maintain;
 mod lenze_9400;
 mod loader_limits;
+mod modbus;
 mod multi_drive;
 mod outputs;
 mod parameters;

@@ -150,18 +150,7 @@ impl CtSimulator {
             return;
         }
         let blocked = self.core.faults.is_fault_reset_blocked();
-        for _ in 0..3 {
-            let word = match (self.core.model.state(), target) {
-                (from, to) if from == to => return,
-                (_, DeviceState::SwitchOnDisabled) => 0,
-                (DeviceState::SwitchOnDisabled, _) => 6,
-                (DeviceState::ReadyToSwitchOn, _) | (DeviceState::OperationEnabled, _) => 7,
-                (DeviceState::SwitchedOn, _) => 15,
-                // Tripped or braking: the control word waits for the reset.
-                _ => return,
-            };
-            self.core.model.write_control_word(word, blocked);
-        }
+        self.core.model.walk_to(target, blocked);
     }
 
     /// Encodes `reply` and applies the injected faults: `None` when it is dropped.
