@@ -6,7 +6,7 @@ use super::{panic_notice, safe_stop_notes, stop_signals};
 use crate::family::Registry;
 use crate::run::{
     self, drive_limits, run_many, BadValue, CheckRequest, Checked, ConnectionArgs, DictionaryArgs,
-    OutputArgs, RunPlan, RunRequest, SafeStopArgs, INVALID, PASSED,
+    OperatorArgs, OutputArgs, RunOperator, RunPlan, RunRequest, SafeStopArgs, INVALID, PASSED,
 };
 use clap::Args;
 use std::io::IsTerminal;
@@ -68,6 +68,8 @@ pub struct RunArgs {
     outputs: OutputArgs,
     #[command(flatten)]
     safe_stop: SafeStopArgs,
+    #[command(flatten)]
+    operator: OperatorArgs,
     #[command(flatten)]
     dictionary: DictionaryArgs,
     #[command(flatten)]
@@ -203,6 +205,8 @@ pub fn run(args: &RunArgs, registry: &Registry) -> i32 {
         stop,
         safe_stop: args.safe_stop.clone(),
         terminal: std::io::stdout().is_terminal(),
+        operator: &args.operator,
+        input_terminal: RunOperator::stdin_is_terminal(),
         observers: Vec::new(),
     };
     run_many(

@@ -19,6 +19,12 @@ pub enum Dimension {
     Current,
     /// Base: s.
     Time,
+    /// Base: mm/s (a vibration velocity, as hand-held meters show it).
+    Velocity,
+    /// Base: mm.
+    Length,
+    /// Base: °C.
+    Temperature,
 }
 
 impl Dimension {
@@ -30,6 +36,9 @@ impl Dimension {
             Dimension::Voltage => Unit::Volt,
             Dimension::Current => Unit::Ampere,
             Dimension::Time => Unit::Second,
+            Dimension::Velocity => Unit::MillimetrePerSecond,
+            Dimension::Length => Unit::Millimetre,
+            Dimension::Temperature => Unit::Celsius,
         }
     }
 
@@ -40,6 +49,9 @@ impl Dimension {
             Dimension::Voltage => "voltage",
             Dimension::Current => "current",
             Dimension::Time => "time",
+            Dimension::Velocity => "velocity",
+            Dimension::Length => "length",
+            Dimension::Temperature => "temperature",
         }
     }
 }
@@ -57,10 +69,14 @@ pub enum Unit {
     Millisecond,
     Minute,
     Hour,
+    MillimetrePerSecond,
+    Millimetre,
+    Micrometre,
+    Celsius,
 }
 
 impl Unit {
-    pub const ALL: [Unit; 11] = [
+    pub const ALL: [Unit; 15] = [
         Unit::Rpm,
         Unit::Krpm,
         Unit::Percent,
@@ -72,6 +88,10 @@ impl Unit {
         Unit::Millisecond,
         Unit::Minute,
         Unit::Hour,
+        Unit::MillimetrePerSecond,
+        Unit::Millimetre,
+        Unit::Micrometre,
+        Unit::Celsius,
     ];
 
     /// The symbol written in recipes and dictionaries.
@@ -88,6 +108,10 @@ impl Unit {
             Unit::Millisecond => "ms",
             Unit::Minute => "min",
             Unit::Hour => "h",
+            Unit::MillimetrePerSecond => "mm/s",
+            Unit::Millimetre => "mm",
+            Unit::Micrometre => "µm",
+            Unit::Celsius => "°C",
         }
     }
 
@@ -98,15 +122,25 @@ impl Unit {
             Unit::Volt | Unit::Millivolt => Dimension::Voltage,
             Unit::Ampere | Unit::Milliampere => Dimension::Current,
             Unit::Second | Unit::Millisecond | Unit::Minute | Unit::Hour => Dimension::Time,
+            Unit::MillimetrePerSecond => Dimension::Velocity,
+            Unit::Millimetre | Unit::Micrometre => Dimension::Length,
+            Unit::Celsius => Dimension::Temperature,
         }
     }
 
-    /// How many base units (rpm, %, V, A, s) one of this unit is.
+    /// How many base units (rpm, %, V, A, s, mm/s, mm, °C) one of this unit is.
     pub fn factor(self) -> f64 {
         match self {
-            Unit::Rpm | Unit::Percent | Unit::Volt | Unit::Ampere | Unit::Second => 1.0,
+            Unit::Rpm
+            | Unit::Percent
+            | Unit::Volt
+            | Unit::Ampere
+            | Unit::Second
+            | Unit::MillimetrePerSecond
+            | Unit::Millimetre
+            | Unit::Celsius => 1.0,
             Unit::Krpm => 1000.0,
-            Unit::Millivolt | Unit::Milliampere | Unit::Millisecond => 0.001,
+            Unit::Millivolt | Unit::Milliampere | Unit::Millisecond | Unit::Micrometre => 0.001,
             Unit::Minute => 60.0,
             Unit::Hour => 3600.0,
         }
@@ -123,6 +157,12 @@ impl Unit {
         let t = text.trim();
         if let Some(u) = Self::from_symbol(t) {
             return Ok(u);
+        }
+        // What a keyboard without µ or ° types.
+        match t {
+            "um" => return Ok(Unit::Micrometre),
+            "C" | "degC" => return Ok(Unit::Celsius),
+            _ => {}
         }
         let mut folded = Self::ALL
             .into_iter()
@@ -213,6 +253,10 @@ mod tests {
         assert_eq!(Unit::Milliampere.convert(1500.0, Unit::Ampere), Some(1.5));
         assert_eq!(Unit::Rpm.convert(1.0, Unit::Ampere), None);
         assert_eq!(Unit::Percent.convert(3.0, Unit::Percent), Some(3.0));
+        assert_eq!(Unit::Micrometre.convert(250.0, Unit::Millimetre), Some(0.25));
+        assert_eq!(Unit::parse("um").ok(), Some(Unit::Micrometre));
+        assert_eq!(Unit::parse("MM/S").ok(), Some(Unit::MillimetrePerSecond));
+        assert_eq!(Unit::MillimetrePerSecond.convert(1.0, Unit::Millimetre), None);
         for u in Unit::ALL {
             assert_eq!(u.dimension().base().factor(), 1.0, "{u}");
             assert_eq!(u.dimension().base().dimension(), u.dimension());

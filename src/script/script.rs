@@ -43,6 +43,9 @@ pub struct Script {
     /// calls on a variable given one named drive (`let left = drive("left")`), named
     /// `left.speed_setpoint`; which drive other calls go to is known only as it runs.
     pub written: Vec<crate::recipe::WrittenValue>,
+    /// The operator calls written with a literal question (`confirm("Guard closed?")`),
+    /// with their places: a run without a terminal needs an answer for each.
+    pub prompts: Vec<(crate::session::Prompt, crate::session::StepOrigin)>,
     /// `//! link: channel=cyclic, velocity_scaling=24000rpm`: settings of the family's
     /// link, as a recipe's `link:` gives them (the command line wins).
     pub link: Vec<(String, String)>,
@@ -251,6 +254,7 @@ fn load_source_for(
             params: set.to_vec(),
             has_finally,
             calls: calls.len(),
+            prompts: Vec::new(),
             written: if drives.is_empty() {
                 literal_writes(&calls, dictionary)
             } else {

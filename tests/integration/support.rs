@@ -217,6 +217,8 @@ pub struct InProcessRun<'a> {
     pub stop: std::sync::Arc<drivescript::stop_request::StopRequests>,
     pub safe_stop: drivescript::run::SafeStopArgs,
     pub observers: Vec<drivescript::run::SharedObserver>,
+    /// `--unit`, `--answers`, `--answer`.
+    pub operator: drivescript::run::OperatorArgs,
 }
 
 impl<'a> InProcessRun<'a> {
@@ -234,6 +236,7 @@ impl<'a> InProcessRun<'a> {
             stop: std::sync::Arc::new(drivescript::stop_request::StopRequests::new()),
             safe_stop: drivescript::run::SafeStopArgs::default(),
             observers: Vec::new(),
+            operator: drivescript::run::OperatorArgs::default(),
         }
     }
 
@@ -266,6 +269,8 @@ impl<'a> InProcessRun<'a> {
             stop: self.stop.clone(),
             safe_stop: self.safe_stop.clone(),
             terminal: false,
+            operator: &self.operator,
+            input_terminal: false,
             observers: self.observers.clone(),
         }
     }
