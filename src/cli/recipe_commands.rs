@@ -6,7 +6,7 @@ use super::{panic_notice, safe_stop_notes, stop_signals};
 use crate::family::Registry;
 use crate::run::{
     self, drive_limits, run_many, BadValue, CheckRequest, Checked, ConnectionArgs, DictionaryArgs,
-    OperatorArgs, OutputArgs, RunOperator, RunPlan, RunRequest, SafeStopArgs, INVALID, PASSED,
+    OperatorArgs, OutputArgs, RunOperator, RunPlan, RunRequest, SafeStopArgs, TerminalInput, INVALID, PASSED,
 };
 use clap::Args;
 use std::io::IsTerminal;
@@ -206,7 +206,7 @@ pub fn run(args: &RunArgs, registry: &Registry) -> i32 {
         safe_stop: args.safe_stop.clone(),
         terminal: std::io::stdout().is_terminal(),
         operator: &args.operator,
-        input_terminal: RunOperator::stdin_is_terminal(),
+        input: RunOperator::stdin_is_terminal().then(TerminalInput::stdin),
         observers: Vec::new(),
     };
     run_many(

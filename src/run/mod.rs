@@ -44,6 +44,7 @@ mod run_setup;
 mod safe_stop_args;
 mod several_reports;
 mod several_sets;
+mod terminal_input;
 
 pub use address_key_flags::{AddressKeyFlag, DNC_ADDRESS};
 pub use check::{check, CheckRequest, Checked};
@@ -63,3 +64,4 @@ pub use run_operator::RunOperator;
 pub use run_plan::{LoadedPlan, RunPlan};
 pub use run_request::{PrepareSimulator, RunRequest, RunResult, SharedObserver};
 pub use safe_stop_args::SafeStopArgs;
+pub use terminal_input::TerminalInput;

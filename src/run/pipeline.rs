@@ -48,7 +48,7 @@ pub fn run(request: &RunRequest, out: &mut dyn Write, err: &mut dyn Write) -> Ru
         Err(e) => return refuse(INVALID, &e.to_string(), err),
     };
     let complete = matches!(plan, RunPlan::Recipe(_));
-    if let Err(e) = answers_checked(&prompts, complete, &given, request.input_terminal) {
+    if let Err(e) = answers_checked(&prompts, complete, &given, request.input.is_some()) {
         return refuse(INVALID, &e.to_string(), err);
     }
     // The file's link settings under the command line's, checked before anything is
@@ -127,7 +127,7 @@ pub fn run(request: &RunRequest, out: &mut dyn Write, err: &mut dyn Write) -> Ru
         output_dir: request.output_dir.clone(),
         csv_wide: outputs.csv_wide,
         unit: request.operator.identity(),
-        operator: Box::new(RunOperator::new(given, request.input_terminal)),
+        operator: Box::new(RunOperator::new(given, request.input.clone())),
     };
     let report = observed(out, &look, csv.as_mut(), &request.observers, |observers| {
         let drives = open.drives.iter_mut().map(|(n, d)| (n.clone(), d)).collect();

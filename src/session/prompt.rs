@@ -189,7 +189,7 @@ fn value_in(t: &str, unit: Option<Unit>) -> Result<f64, NotAnAnswer> {
     if t.is_empty() {
         return Err(NotAnAnswer("type the value (Enter alone is none)".into()));
     }
-    let q = Quantity::parse(t).map_err(|e| NotAnAnswer(format!("`{t}` is not a value: {e}")))?;
+    let q = Quantity::parse(t).map_err(|e| NotAnAnswer(e.to_string()))?;
     match (q.unit, unit) {
         (None, _) => Ok(q.value),
         (Some(from), Some(to)) => from.convert(q.value, to).ok_or_else(|| {
@@ -280,7 +280,7 @@ mod tests {
             "outside the limits fails, not asked again"
         );
         let typo = p.judge("1,2").unwrap_err().0;
-        assert!(typo.contains("`1,2` is not a value"), "{typo}");
+        assert!(typo.contains("`1,2` is not a number"), "{typo}");
         let wrong = p.judge("1.2 rpm").unwrap_err().0;
         assert!(wrong.contains("rpm is not a unit of velocity"), "{wrong}");
     }

@@ -219,6 +219,8 @@ pub struct InProcessRun<'a> {
     pub observers: Vec<drivescript::run::SharedObserver>,
     /// `--unit`, `--answers`, `--answer`.
     pub operator: drivescript::run::OperatorArgs,
+    /// The lines an operator types at a terminal; `None`: no terminal.
+    pub input: Option<std::sync::Arc<drivescript::run::TerminalInput>>,
 }
 
 impl<'a> InProcessRun<'a> {
@@ -237,6 +239,7 @@ impl<'a> InProcessRun<'a> {
             safe_stop: drivescript::run::SafeStopArgs::default(),
             observers: Vec::new(),
             operator: drivescript::run::OperatorArgs::default(),
+            input: None,
         }
     }
 
@@ -270,7 +273,7 @@ impl<'a> InProcessRun<'a> {
             safe_stop: self.safe_stop.clone(),
             terminal: false,
             operator: &self.operator,
-            input_terminal: false,
+            input: self.input.clone(),
             observers: self.observers.clone(),
         }
     }
