@@ -8,6 +8,7 @@ use super::bridge::Bridge;
 use super::drive_api::register;
 use super::drive_in_condition::conditions_using_the_drive;
 use super::literal_calls::{literal_calls, Arg};
+use super::operator_api::literal_prompts;
 use super::sandbox::sandbox;
 use super::script_error::parse_error;
 use super::script_header::Header;
@@ -244,6 +245,7 @@ fn load_source_for(
             }
         }
     }
+    let prompts = literal_prompts(&calls, &source);
     match ast {
         Some(ast) if problems.is_empty() => Ok(Script {
             name: header.name.unwrap_or_else(|| file_stem(&path)),
@@ -254,7 +256,7 @@ fn load_source_for(
             params: set.to_vec(),
             has_finally,
             calls: calls.len(),
-            prompts: Vec::new(),
+            prompts,
             written: if drives.is_empty() {
                 literal_writes(&calls, dictionary)
             } else {

@@ -350,6 +350,11 @@ impl Host<'_> {
                 s.expect_result(check)
             }
             Call::Fail(message) => Err(Stop::Failed(message)),
+            Call::Ask(prompt) => {
+                let (detail, accepted) = s.ask(&prompt, origin, number)?;
+                *answer = Answer::Asked(accepted);
+                Ok(detail)
+            }
             Call::Read(_) | Call::State(_) | Call::Message(_) => Ok(String::new()),
         }
     }
