@@ -76,7 +76,8 @@ pub enum Unit {
 }
 
 impl Unit {
-    pub const ALL: [Unit; 15] = [
+    /// The units of drive objects (dictionaries, recipes' values for objects).
+    pub const ALL: [Unit; 11] = [
         Unit::Rpm,
         Unit::Krpm,
         Unit::Percent,
@@ -88,6 +89,11 @@ impl Unit {
         Unit::Millisecond,
         Unit::Minute,
         Unit::Hour,
+    ];
+
+    /// Units of what an operator measures by hand (a vibration meter, a dial gauge, a
+    /// thermometer) and types in at a prompt; no drive object has them.
+    pub const MEASURED: [Unit; 4] = [
         Unit::MillimetrePerSecond,
         Unit::Millimetre,
         Unit::Micrometre,
@@ -158,12 +164,6 @@ impl Unit {
         if let Some(u) = Self::from_symbol(t) {
             return Ok(u);
         }
-        // What a keyboard without µ or ° types.
-        match t {
-            "um" => return Ok(Unit::Micrometre),
-            "C" | "degC" => return Ok(Unit::Celsius),
-            _ => {}
-        }
         let mut folded = Self::ALL
             .into_iter()
             .filter(|u| u.symbol().eq_ignore_ascii_case(t));
@@ -174,6 +174,29 @@ impl Unit {
             unit: t.to_string(),
             suggestions: did_you_mean(t, Self::symbols()),
         })
+    }
+
+    /// A unit of a value an operator types in: a drive unit or a [`Unit::MEASURED`] one,
+    /// also as a keyboard without µ or ° writes it (`um`, `degC`). The error lists both.
+    pub fn parse_measured(text: &str) -> Result<Unit, ValueError> {
+        let t = text.trim();
+        let measured = match t {
+            "um" => Some(Unit::Micrometre),
+            "degC" | "C" => Some(Unit::Celsius),
+            _ => Self::MEASURED
+                .into_iter()
+                .find(|u| u.symbol().eq_ignore_ascii_case(t)),
+        };
+        match (measured, Self::parse(t)) {
+            (Some(u), _) | (None, Ok(u)) => Ok(u),
+            (None, Err(_)) => {
+                let all = Self::symbols().chain(Self::MEASURED.into_iter().map(Unit::symbol));
+                Err(ValueError::UnknownUnit {
+                    unit: t.to_string(),
+                    suggestions: did_you_mean(t, all),
+                })
+            }
+        }
     }
 
     pub fn symbols() -> impl Iterator<Item = &'static str> {
@@ -254,8 +277,10 @@ mod tests {
         assert_eq!(Unit::Rpm.convert(1.0, Unit::Ampere), None);
         assert_eq!(Unit::Percent.convert(3.0, Unit::Percent), Some(3.0));
         assert_eq!(Unit::Micrometre.convert(250.0, Unit::Millimetre), Some(0.25));
-        assert_eq!(Unit::parse("um").ok(), Some(Unit::Micrometre));
-        assert_eq!(Unit::parse("MM/S").ok(), Some(Unit::MillimetrePerSecond));
+        assert_eq!(Unit::parse_measured("um").ok(), Some(Unit::Micrometre));
+        assert_eq!(Unit::parse_measured("MM/S").ok(), Some(Unit::MillimetrePerSecond));
+        assert_eq!(Unit::parse_measured("rpm").ok(), Some(Unit::Rpm));
+        assert!(Unit::parse("mm/s").is_err(), "no drive object is in mm/s");
         assert_eq!(Unit::MillimetrePerSecond.convert(1.0, Unit::Millimetre), None);
         for u in Unit::ALL {
             assert_eq!(u.dimension().base().factor(), 1.0, "{u}");

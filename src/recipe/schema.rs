@@ -418,7 +418,7 @@ pub fn recipe_schema(dictionary: &Dictionary, address_keys: &AddressKeyTable) ->
         keyed(
             "enter_value",
             prompt_schema(json!({
-                "unit": { "type": "string", "enum": Unit::symbols().collect::<Vec<_>>() },
+                "unit": { "type": "string", "enum": Unit::symbols().chain(Unit::MEASURED.map(Unit::symbol)).collect::<Vec<_>>() },
                 "at_least": { "$ref": "#/$defs/value_any" }, "at_most": { "$ref": "#/$defs/value_any" },
                 "between": { "type": "array", "items": { "$ref": "#/$defs/value_any" }, "minItems": 2, "maxItems": 2 }
             })),

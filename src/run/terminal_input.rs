@@ -14,7 +14,7 @@ pub struct TerminalInput {
     lines: Mutex<Receiver<Reply>>,
     /// End of input was seen: every later question gets [`Reply::Closed`] too.
     closed: Mutex<bool>,
-    /// Standard input, whose unread input the terminal can discard.
+    /// Standard input: what was typed before a question is discarded.
     stdin: bool,
 }
 
@@ -27,7 +27,8 @@ impl TerminalInput {
             .clone()
     }
 
-    /// The lines of `source` (a pipe in tests), as a terminal's.
+    /// The lines of `source` (a pipe in tests), as a terminal's, each answering the next
+    /// question: a typist who never types ahead, so nothing is discarded.
     pub fn of(source: impl Read + Send + 'static) -> Arc<TerminalInput> {
         Arc::new(Self::reading(source, false))
     }
@@ -70,9 +71,10 @@ impl TerminalInput {
     /// Throws away what was typed before the question: what the terminal holds unread and
     /// the lines the reader has already handed over (an end of input is kept).
     pub fn discard_typed_ahead(&self) {
-        if self.stdin {
-            discard_terminal_input();
+        if !self.stdin {
+            return;
         }
+        discard_terminal_input();
         let lines = self.lines.lock().unwrap_or_else(PoisonError::into_inner);
         while let Ok(reply) = lines.try_recv() {
             if reply == Reply::Closed {

@@ -36,7 +36,7 @@ fn limit(map: &Map, key: &str, unit: Option<Unit>) -> RhaiResult<Option<f64>> {
         return Ok(Some(i as f64));
     }
     let text = v.to_string();
-    let q = Quantity::parse(&text).map_err(|e| error(format!("{key}: {e}")))?;
+    let q = Quantity::parse_measured(&text).map_err(|e| error(format!("{key}: {e}")))?;
     match (q.unit, unit) {
         (None, _) => Ok(Some(q.value)),
         (Some(from), Some(to)) => from.convert(q.value, to).map(Some).ok_or_else(|| {
@@ -72,7 +72,7 @@ fn prompt_of(word: &str, text: &str, map: &Map) -> RhaiResult<Prompt> {
         "confirm" => PromptKind::Confirm,
         "enter_value" => {
             let unit = match text_of(map, "unit") {
-                Some(u) => Some(Unit::parse(&u).map_err(|e| error(e.to_string()))?),
+                Some(u) => Some(Unit::parse_measured(&u).map_err(|e| error(e.to_string()))?),
                 None => None,
             };
             PromptKind::Value {

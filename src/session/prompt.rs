@@ -189,7 +189,7 @@ fn value_in(t: &str, unit: Option<Unit>) -> Result<f64, NotAnAnswer> {
     if t.is_empty() {
         return Err(NotAnAnswer("type the value (Enter alone is none)".into()));
     }
-    let q = Quantity::parse(t).map_err(|e| NotAnAnswer(e.to_string()))?;
+    let q = Quantity::parse_measured(t).map_err(|e| NotAnAnswer(e.to_string()))?;
     match (q.unit, unit) {
         (None, _) => Ok(q.value),
         (Some(from), Some(to)) => from.convert(q.value, to).ok_or_else(|| {

@@ -87,7 +87,7 @@ impl Loader<'_, '_> {
         let unit = match unit {
             Some(n) => {
                 let t = self.text(n, "`unit`")?;
-                match Unit::parse(&t) {
+                match Unit::parse_measured(&t) {
                     Ok(u) => Some(u),
                     Err(e) => return self.refuse(&n.span, e.to_string(), "unknown unit", None),
                 }
@@ -139,7 +139,7 @@ impl Loader<'_, '_> {
     /// A limit of a typed value, in the prompt's unit (a bare number is in it already).
     fn limit_in(&mut self, node: &YamlNode, unit: Option<Unit>, what: &str) -> Option<f64> {
         let text = self.text(node, &format!("`{what}`"))?;
-        let q = match Quantity::parse(&text) {
+        let q = match Quantity::parse_measured(&text) {
             Ok(q) => q,
             Err(e) => return self.refuse(&node.span, format!("{what}: {e}"), "not a value", None),
         };
