@@ -21,6 +21,7 @@ mod lenze_931_maintain;
 mod lenze_9400;
 mod loader_limits;
 mod multi_drive;
+mod operator;
 mod outputs;
 mod parameters;
 mod recipe_cases;

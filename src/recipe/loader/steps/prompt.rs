@@ -6,7 +6,7 @@
 
 use crate::diag::{Shape, YamlNode, YamlValue};
 use crate::dictionary::{Quantity, Unit};
-use crate::recipe::loader::Loader;
+use crate::recipe::loader::{did_you_mean, Loader};
 use crate::recipe::step::StepKind;
 use crate::session::{default_answer_name, Pattern, Prompt, PromptKind, UNIT_FIELDS};
 use std::time::Duration;
@@ -164,50 +164,53 @@ impl Loader<'_, '_> {
     }
 
     fn text_prompt(&mut self, pattern: Option<&YamlNode>, sets: Option<&YamlNode>) -> Option<PromptKind> {
-        let pattern = match pattern {
-            Some(n) => {
-                let t = self.r.scalar_text(n, "`pattern`")?;
-                match Pattern::new(&t) {
-                    Ok(p) => Some(p),
-                    Err(e) => {
-                        let why = e
-                            .to_string()
-                            .lines()
-                            .last()
-                            .unwrap_or_default()
-                            .trim()
-                            .to_string();
-                        return self.refuse(
-                            &n.span,
-                            format!("`{t}` is not a pattern (a regular expression): {why}"),
-                            "not a pattern",
-                            Some(
-                                "e.g. `SP-[0-9]{6}`: SP- and six digits; the answer must match in full"
-                                    .into(),
-                            ),
-                        );
-                    }
-                }
+        // Both are checked, so a file with two problems hears of both at once.
+        let pattern = self.pattern(pattern);
+        let sets = self.sets(sets);
+        Some(PromptKind::Text {
+            pattern: pattern?,
+            sets: sets?,
+        })
+    }
+
+    /// `pattern:`, compiled; `Some(None)` when there is none.
+    fn pattern(&mut self, pattern: Option<&YamlNode>) -> Option<Option<Pattern>> {
+        let Some(n) = pattern else { return Some(None) };
+        let t = self.r.scalar_text(n, "`pattern`")?;
+        match Pattern::new(&t) {
+            Ok(p) => Some(Some(p)),
+            Err(e) => {
+                let text = e.to_string();
+                let why = text.lines().last().unwrap_or_default().trim();
+                let why = why.strip_prefix("error: ").unwrap_or(why).to_string();
+                self.refuse(
+                    &n.span,
+                    format!("`{t}` is not a pattern (a regular expression): {why}"),
+                    "not a pattern",
+                    Some("e.g. `SP-[0-9]{6}`: SP- and six digits; the answer must match in full".into()),
+                )
             }
-            None => None,
-        };
-        let sets = match sets {
-            Some(n) => {
-                let t = self.text(n, "`sets`")?;
-                match UNIT_FIELDS.into_iter().find(|f| *f == t.trim()) {
-                    Some(f) => Some(f),
-                    None => {
-                        return self.refuse(
-                            &n.span,
-                            format!("`sets: {t}` names no part of the unit's identity"),
-                            "unknown part",
-                            Some(format!("one of: {}", UNIT_FIELDS.join(", "))),
-                        )
-                    }
-                }
+        }
+    }
+
+    /// `sets:`, a part of the unit's identity; `Some(None)` when there is none.
+    fn sets(&mut self, sets: Option<&YamlNode>) -> Option<Option<&'static str>> {
+        let Some(n) = sets else { return Some(None) };
+        let t = self.text(n, "`sets`")?;
+        match UNIT_FIELDS.into_iter().find(|f| *f == t.trim()) {
+            Some(f) => Some(Some(f)),
+            None => {
+                let help = match did_you_mean(t.trim(), UNIT_FIELDS.into_iter()) {
+                    Some(s) => format!("did you mean `{s}`?"),
+                    None => format!("one of: {}", UNIT_FIELDS.join(", ")),
+                };
+                self.refuse(
+                    &n.span,
+                    format!("`sets: {t}` names no part of the unit's identity"),
+                    "unknown part",
+                    Some(help),
+                )
             }
-            None => None,
-        };
-        Some(PromptKind::Text { pattern, sets })
+        }
     }
 }
