@@ -27,6 +27,12 @@ impl Session<'_> {
         number: &str,
     ) -> Result<(String, Accepted), Stop> {
         let started = self.clock.now();
+        if self.in_safe_stop {
+            // A script's `finally` can get here; a recipe's is refused when loaded.
+            return Err(Stop::Error(format!(
+                "`{prompt}` ({origin}) asks the operator during the safe stop, which must never wait for a person; it was skipped"
+            )));
+        }
         if let Some(given) = self.operator.given(&prompt.name) {
             return self.given_answer(prompt, &given, origin, started);
         }

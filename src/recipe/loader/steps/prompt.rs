@@ -7,7 +7,7 @@
 use crate::diag::{Shape, YamlNode, YamlValue};
 use crate::dictionary::{Quantity, Unit};
 use crate::recipe::loader::{did_you_mean, Loader};
-use crate::recipe::step::StepKind;
+use crate::recipe::step::{Step, StepKind};
 use crate::session::{default_answer_name, Pattern, Prompt, PromptKind, UNIT_FIELDS};
 use std::time::Duration;
 
@@ -210,6 +210,33 @@ impl Loader<'_, '_> {
                     "unknown part",
                     Some(help),
                 )
+            }
+        }
+    }
+
+    /// The safe stop (`finally`, `on_fault`) must never wait for a person: an operator
+    /// step in it (nested ones too) is refused, at the list and naming the step's place.
+    pub(in crate::recipe::loader) fn no_operator_steps(
+        &mut self,
+        steps: &[Step],
+        list: &YamlNode,
+        key: &str,
+    ) {
+        for step in steps {
+            match &step.kind {
+                StepKind::Ask(p) => self.problem(
+                    &list.span,
+                    format!(
+                        "`{p}` at {} asks the operator in `{key}`, but the safe stop must never wait for a person",
+                        step.origin
+                    ),
+                    "no operator steps here",
+                    Some("ask before the end of `steps:`; `finally` and `on_fault` run unattended".into()),
+                ),
+                StepKind::Repeat { steps, .. } | StepKind::Include { steps, .. } => {
+                    self.no_operator_steps(steps, list, key)
+                }
+                _ => {}
             }
         }
     }
