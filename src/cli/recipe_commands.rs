@@ -5,8 +5,9 @@
 use super::{panic_notice, safe_stop_notes, stop_signals};
 use crate::family::Registry;
 use crate::run::{
-    self, drive_limits, run_many, BadValue, CheckRequest, Checked, ConnectionArgs, DictionaryArgs,
-    OperatorArgs, OutputArgs, RunOperator, RunPlan, RunRequest, SafeStopArgs, TerminalInput, INVALID, PASSED,
+    self, drive_limits, outputs_named, run_many, BadValue, CheckRequest, Checked, ConnectionArgs,
+    DictionaryArgs, OperatorArgs, OutputArgs, RunOperator, RunPlan, RunRequest, SafeStopArgs, TerminalInput,
+    INVALID, PASSED,
 };
 use clap::Args;
 use std::io::IsTerminal;
@@ -185,6 +186,17 @@ fn print_checked(path: &Path, checked: &Checked) -> i32 {
 }
 
 pub fn run(args: &RunArgs, registry: &Registry) -> i32 {
+    let outputs = match outputs_named(
+        &args.outputs,
+        &args.operator.identity(),
+        std::time::SystemTime::now(),
+    ) {
+        Ok(o) => o,
+        Err(e) => {
+            eprintln!("error: {e}; nothing was sent");
+            return INVALID;
+        }
+    };
     let stop = stop_signals::install(true);
     panic_notice::install();
     let request = RunRequest {
@@ -195,7 +207,7 @@ pub fn run(args: &RunArgs, registry: &Registry) -> i32 {
         output_dir: args.output_dir.clone(),
         dictionary: &args.dictionary,
         connection: &args.connection,
-        outputs: &args.outputs,
+        outputs: &outputs,
         // Nobody reads the simulated drive's request log from the command line.
         prepare_simulator: Some(&|sim, _| {
             sim.lock()

@@ -34,6 +34,7 @@ mod maintain;
 mod not_run;
 mod operator_args;
 mod output_args;
+mod output_names;
 mod pipeline;
 mod run_error;
 mod run_many;
@@ -57,6 +58,7 @@ pub use maintain::{run_maintain, MaintainRequest, MaintainResult, PrepareMaintai
 pub use not_run::{another_family, silent_drive};
 pub use operator_args::OperatorArgs;
 pub use output_args::{ColorWhen, OutputArgs};
+pub use output_names::outputs_named;
 pub use pipeline::run;
 pub use run_error::{BadValue, RunError};
 pub use run_many::{outputs_for, run_many, worse};

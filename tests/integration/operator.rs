@@ -399,3 +399,56 @@ fn scripts_ask_the_operator_with_functions() {
     let checked = cli(&["check", &misspelt.to_string_lossy()], 2);
     assert_has(&checked.stderr, &["confrim", "did you mean `confirm`?"]);
 }
+
+/// Output names from the identity: `{serial}` and `{date}` filled from `--unit` and the
+/// start; a part not given (an operator step would learn it only during the run) or an
+/// unknown name is refused before anything is sent.
+#[test]
+fn output_names_are_filled_from_the_unit() {
+    let dir = scratch("operator-names");
+    let recipe = write_file(&dir, "spindle.yaml", SPINDLE);
+    let (path, out_dir) = (recipe.to_string_lossy(), dir.to_string_lossy());
+    let common = [
+        "run",
+        &path,
+        "--fast",
+        "--output-dir",
+        &out_dir,
+        "--answer",
+        "guard=",
+        "--answer",
+        "quiet=yes",
+    ];
+    let ran = cli(
+        &[
+            &common[..],
+            &[
+                "--unit",
+                "serial=SP-104233",
+                "--report",
+                "{serial}-{date}.html",
+                "--junit",
+                "{serial}.xml",
+            ],
+        ]
+        .concat(),
+        0,
+    );
+    let today = humantime::format_rfc3339_seconds(std::time::SystemTime::now()).to_string();
+    let report = dir.join(format!("SP-104233-{}.html", &today[..10]));
+    assert!(report.is_file(), "{}", ran.stdout);
+    assert!(dir.join("SP-104233.xml").is_file(), "{}", ran.stdout);
+    let refused = cli(&[&common[..], &["--report", "{serial}-{date}.html"]].concat(), 2);
+    assert_has(
+        &refused.stderr,
+        &[
+            "`{serial}` needs the unit's serial, which is not given: give it with --unit serial=",
+            "nothing was sent",
+        ],
+    );
+    let unknown = cli(
+        &[&common[..], &["--unit", "serial=SP-1", "--csv", "{colour}.csv"]].concat(),
+        2,
+    );
+    assert_has(&unknown.stderr, &["`{colour}` is no name an output may use"]);
+}
