@@ -171,7 +171,7 @@ link: { channel: cyclic, velocity_scaling: 24000 rpm }
 steps:
   - go_to: operation_enabled
   - set: { speed_setpoint: 3000 rpm }
-  - confirm: { prompt: Is the spindle running quietly?, timeout: 1 s }
+  - confirm: { prompt: \"Is the spindle running quietly?\", timeout: 1 s }
 ",
     );
     let trace = dir.join("run.trace");
@@ -451,4 +451,38 @@ fn output_names_are_filled_from_the_unit() {
         2,
     );
     assert_has(&unknown.stderr, &["`{colour}` is no name an output may use"]);
+}
+
+/// The shipped balancing check passes unattended with its answers file, and `check` lists
+/// it; without the answers and a terminal it is refused before anything is sent.
+#[test]
+fn the_shipped_balancing_check_runs_with_its_answers() {
+    let recipe = "recipes/operator/balancing-check.yaml";
+    cli(&["check", recipe], 0);
+    let ran = cli(
+        &[
+            "run",
+            recipe,
+            "--fast",
+            "--answers",
+            "recipes/operator/answers.yaml",
+            "--unit",
+            "station=Bench 3",
+        ],
+        0,
+    );
+    assert_has(
+        &ran.stdout,
+        &[
+            "unit    station Bench 3",
+            "unit: serial SP-104233, station Bench 3",
+            "PASS  Vibration on the hand-held meter: answered `1.2 mm/s`",
+            "PASSED",
+        ],
+    );
+    let refused = cli(&["run", recipe, "--fast"], 2);
+    assert_has(
+        &refused.stderr,
+        &["4 operator step(s) have no answer; nothing was sent"],
+    );
 }
