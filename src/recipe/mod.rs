@@ -6,6 +6,7 @@ mod drive_decl;
 mod expansion;
 mod loader;
 mod planned_checks;
+mod prompt_schema;
 mod recipe;
 mod runner;
 mod schema;

@@ -316,7 +316,7 @@ pub fn recipe_schema(dictionary: &Dictionary, address_keys: &AddressKeyTable) ->
         false,
     );
     let step_keys = STEP_KEYS;
-    let step_variants = vec![
+    let mut step_variants = vec![
         keyed(
             "go_to",
             json!({ "oneOf": [
@@ -405,46 +405,13 @@ pub fn recipe_schema(dictionary: &Dictionary, address_keys: &AddressKeyTable) ->
             json!({ "type": "string", "description": "a file written by `drivescript backup`, relative to this recipe" }),
             "Check that the drive holds a backup's parameters (a file written by `drivescript backup`, relative to this recipe), one check per object",
         ),
-        keyed(
-            "instruct",
-            prompt_schema(json!({})),
-            "An instruction the operator reads and acknowledges with Enter: `instruct: Fit the balancing adapter and close the guard`",
-        ),
-        keyed(
-            "confirm",
-            prompt_schema(json!({})),
-            "A yes/no question that is a check: \"no\" fails it (exit code 1); Enter alone never confirms: `confirm: Is the spindle running quietly?`",
-        ),
-        keyed(
-            "enter_value",
-            prompt_schema(json!({
-                "unit": { "type": "string", "enum": Unit::symbols().chain(Unit::MEASURED.map(Unit::symbol)).collect::<Vec<_>>() },
-                "at_least": { "$ref": "#/$defs/value_any" }, "at_most": { "$ref": "#/$defs/value_any" },
-                "between": { "type": "array", "items": { "$ref": "#/$defs/value_any" }, "minItems": 2, "maxItems": 2 }
-            })),
-            "A measured value the operator types in, with its unit and limits, then a check: `enter_value: { prompt: Vibration on the hand-held meter, unit: mm/s, at_most: 2.8 mm/s }`; a typo is asked again",
-        ),
-        keyed(
-            "enter_text",
-            prompt_schema(json!({
-                "pattern": { "type": "string", "description": "a regular expression the whole answer must match" },
-                "sets": { "type": "string", "enum": crate::session::UNIT_FIELDS }
-            })),
-            "A text the operator types or scans, optionally matching a `pattern`; `sets: serial` (part, operator, station) makes it the unit's identity in the reports",
-        ),
     ];
+    step_variants.extend(
+        super::prompt_schema::prompt_steps()
+            .into_iter()
+            .map(|(key, body, doc)| keyed(key, body, doc)),
+    );
     let mut step_key_names: Vec<&str> = step_keys.to_vec();
-    /// An operator step: the question alone, or `prompt:` with `timeout` and `extra` keys.
-    fn prompt_schema(extra: serde_json::Value) -> serde_json::Value {
-        let mut props = json!({ "prompt": { "type": "string" }, "timeout": { "$ref": "#/$defs/duration" } });
-        if let (Some(p), Some(e)) = (props.as_object_mut(), extra.as_object()) {
-            p.extend(e.clone());
-        }
-        json!({ "oneOf": [
-            { "type": "string" },
-            { "type": "object", "properties": props, "required": ["prompt"], "additionalProperties": false }
-        ] })
-    }
     step_key_names.push("name");
     defs.insert(
         "value_any".into(),
