@@ -132,32 +132,7 @@ impl Session<'_> {
         if let (false, Some(limits)) = (accepted.passed, prompt.limits_text()) {
             message.push_str(&format!(", expected {limits}"));
         }
-        let (unit, low, high) = match &prompt.kind {
-            PromptKind::Value { unit, low, high } => (unit.map(|u| u.symbol().to_string()), *low, *high),
-            _ => (None, None, None),
-        };
-        let result = CheckResult {
-            name: prompt.text.clone(),
-            passed: accepted.passed,
-            measured: accepted.number,
-            measured_text: Some(accepted.text.clone()),
-            unit,
-            low,
-            high,
-            object: None,
-            statistic: None,
-            message: message.clone(),
-            origin: origin.clone(),
-            step: self.place().0,
-            stage: self.place().1,
-            window: None,
-            at: self.clock.now(),
-            duration: self.clock.now().saturating_sub(started),
-        };
-        if !accepted.passed {
-            self.failed_checks = true;
-        }
-        self.record_check_result(result);
+        self.record_prompt_check(prompt, Some(accepted), message, origin, started);
         if let PromptKind::Text { sets: Some(part), .. } = &prompt.kind {
             self.identify(part, &accepted.text);
         }
@@ -188,17 +163,36 @@ impl Session<'_> {
         started: Duration,
     ) -> Stop {
         let message = format!("nobody answered within {}", super::session::show_duration(limit));
+        self.record_prompt_check(prompt, None, message.clone(), origin, started);
+        Stop::Failed(message)
+    }
+
+    /// The check of `prompt`: named after its question, with the answer (`None`: none
+    /// came, which fails it) and a value's unit and limits.
+    fn record_prompt_check(
+        &mut self,
+        prompt: &Prompt,
+        accepted: Option<&Accepted>,
+        message: String,
+        origin: &StepOrigin,
+        started: Duration,
+    ) {
+        let (unit, low, high) = match &prompt.kind {
+            PromptKind::Value { unit, low, high } => (unit.map(|u| u.symbol().to_string()), *low, *high),
+            _ => (None, None, None),
+        };
+        let passed = accepted.is_some_and(|a| a.passed);
         let result = CheckResult {
             name: prompt.text.clone(),
-            passed: false,
-            measured: None,
-            measured_text: None,
-            unit: None,
-            low: None,
-            high: None,
+            passed,
+            measured: accepted.and_then(|a| a.number),
+            measured_text: accepted.map(|a| a.text.clone()),
+            unit,
+            low,
+            high,
             object: None,
             statistic: None,
-            message: message.clone(),
+            message,
             origin: origin.clone(),
             step: self.place().0,
             stage: self.place().1,
@@ -206,7 +200,9 @@ impl Session<'_> {
             at: self.clock.now(),
             duration: self.clock.now().saturating_sub(started),
         };
+        if !passed {
+            self.failed_checks = true;
+        }
         self.record_check_result(result);
-        Stop::Failed(message)
     }
 }

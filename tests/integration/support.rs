@@ -437,12 +437,7 @@ impl LiveRun {
 
     /// Sends signal `name` (`INT`, `TERM`, …) to the run.
     pub fn signal(&self, name: &str) {
-        let status = Command::new("kill")
-            .arg(format!("-{name}"))
-            .arg(self.child.id().to_string())
-            .status()
-            .expect("kill runs");
-        assert!(status.success());
+        send_signal(&self.child, name);
     }
 
     /// Waits for the run to end: its exit code and all it wrote to standard output.
@@ -571,12 +566,7 @@ impl Terminal {
 
     /// Sends signal `name` (`TERM`, …) to the run.
     pub fn signal(&self, name: &str) {
-        let status = Command::new("kill")
-            .arg(format!("-{name}"))
-            .arg(self.child.id().to_string())
-            .status()
-            .expect("kill runs");
-        assert!(status.success());
+        send_signal(&self.child, name);
     }
 
     /// Waits for the run to end (at most 60 s); its exit code and everything it showed.
@@ -596,4 +586,14 @@ impl Terminal {
         std::thread::sleep(std::time::Duration::from_millis(100));
         (status.code(), self.screen())
     }
+}
+
+/// Sends signal `name` (`INT`, `TERM`, …) to `child`.
+fn send_signal(child: &std::process::Child, name: &str) {
+    let status = Command::new("kill")
+        .arg(format!("-{name}"))
+        .arg(child.id().to_string())
+        .status()
+        .expect("kill runs");
+    assert!(status.success());
 }
