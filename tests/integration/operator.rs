@@ -486,3 +486,42 @@ fn the_shipped_balancing_check_runs_with_its_answers() {
         &["4 operator step(s) have no answer; nothing was sent"],
     );
 }
+
+/// In real time: SIGTERM while a question waits wakes the wait at once; the first stop
+/// telegram (the speed setpoint 0 that brakes the spindle) follows within 100 ms.
+#[cfg(unix)]
+#[test]
+fn a_stop_signal_at_a_question_is_served_at_once_in_real_time() {
+    let dir = scratch("operator-latency");
+    let recipe = write_file(&dir, "spindle.yaml", SPINDLE);
+    let trace = dir.join("run.trace");
+    let (recipe, trace_arg) = (recipe.to_string_lossy(), trace.to_string_lossy());
+    let t = Terminal::start(
+        &["run", &recipe, "--trace", &trace_arg, "--answer", "guard="],
+        &[],
+    );
+    t.wait_for("Is the spindle running quietly? [yes/no]", 1);
+    // The question has waited a while, its slices served in between.
+    std::thread::sleep(std::time::Duration::from_millis(300));
+    let before = std::fs::read_to_string(&trace).expect("trace").lines().count();
+    let sent = std::time::Instant::now();
+    t.signal("TERM");
+    let latency = loop {
+        let text = std::fs::read_to_string(&trace).expect("trace");
+        let fresh = text.lines().skip(before).collect::<Vec<_>>().join("\n");
+        if traced_writes(&fresh, SPEED_SETPOINT).iter().any(|(_, v)| *v == 0) {
+            break sent.elapsed();
+        }
+        assert!(
+            sent.elapsed() < std::time::Duration::from_secs(10),
+            "no stop telegram: {fresh}"
+        );
+        std::thread::sleep(std::time::Duration::from_millis(1));
+    };
+    let (code, screen) = t.finish();
+    assert_eq!(code, Some(143), "{screen}");
+    assert!(
+        latency < std::time::Duration::from_millis(100),
+        "the stop telegram came {latency:?} after the signal"
+    );
+}
