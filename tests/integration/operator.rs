@@ -458,7 +458,14 @@ fn output_names_are_filled_from_the_unit() {
 #[test]
 fn the_shipped_balancing_check_runs_with_its_answers() {
     let recipe = "recipes/operator/balancing-check.yaml";
-    cli(&["check", recipe], 0);
+    let checked = cli(&["check", recipe], 0);
+    assert_has(
+        &checked.stdout,
+        &[
+            "    asks serial: enter_text \"Scan the spindle's serial number\" (recipes/operator/balancing-check.yaml:10:5)",
+            "    asks quiet: confirm \"Is the spindle running quietly?\" (recipes/operator/balancing-check.yaml:16:5)",
+        ],
+    );
     let ran = cli(
         &[
             "run",
