@@ -191,7 +191,7 @@ impl Unit {
             (Some(u), _) | (None, Ok(u)) => Ok(u),
             (None, Err(_)) => {
                 let all = Self::symbols().chain(Self::MEASURED.into_iter().map(Unit::symbol));
-                Err(ValueError::UnknownUnit {
+                Err(ValueError::UnknownMeasuredUnit {
                     unit: t.to_string(),
                     suggestions: did_you_mean(t, all),
                 })
@@ -281,6 +281,11 @@ mod tests {
         assert_eq!(Unit::parse_measured("MM/S").ok(), Some(Unit::MillimetrePerSecond));
         assert_eq!(Unit::parse_measured("rpm").ok(), Some(Unit::Rpm));
         assert!(Unit::parse("mm/s").is_err(), "no drive object is in mm/s");
+        let e = Unit::parse_measured("mm/z").unwrap_err().to_string();
+        assert!(
+            e.contains("known units: rpm, krpm, %, V, mV, A, mA, s, ms, min, h, mm/s, mm, µm, °C"),
+            "{e}"
+        );
         assert_eq!(Unit::MillimetrePerSecond.convert(1.0, Unit::Millimetre), None);
         for u in Unit::ALL {
             assert_eq!(u.dimension().base().factor(), 1.0, "{u}");
