@@ -65,7 +65,7 @@ pub struct Cli {
 
 #[derive(Debug, Subcommand)]
 enum Command {
-    Run(recipe_commands::RunArgs),
+    Run(Box<recipe_commands::RunArgs>),
     Check(recipe_commands::CheckArgs),
     Read(object_commands::ReadArgs),
     Write(object_commands::WriteArgs),

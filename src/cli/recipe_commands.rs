@@ -5,8 +5,9 @@
 use super::{panic_notice, safe_stop_notes, stop_signals};
 use crate::family::Registry;
 use crate::run::{
-    self, drive_limits, run_many, BadValue, CheckRequest, Checked, ConnectionArgs, DictionaryArgs,
-    OutputArgs, RunPlan, RunRequest, SafeStopArgs, INVALID, PASSED,
+    self, drive_limits, outputs_named, run_many, BadValue, CheckRequest, Checked, ConnectionArgs,
+    DictionaryArgs, OperatorArgs, OutputArgs, RunOperator, RunPlan, RunRequest, SafeStopArgs, TerminalInput,
+    INVALID, PASSED,
 };
 use clap::Args;
 use std::io::IsTerminal;
@@ -68,6 +69,8 @@ pub struct RunArgs {
     outputs: OutputArgs,
     #[command(flatten)]
     safe_stop: SafeStopArgs,
+    #[command(flatten)]
+    operator: OperatorArgs,
     #[command(flatten)]
     dictionary: DictionaryArgs,
     #[command(flatten)]
@@ -164,6 +167,10 @@ fn print_checked(path: &Path, checked: &Checked) -> i32 {
     };
     println!("ok  {} — {} ({what})", path.display(), plan.name());
     safe_stop_notes::print(path, plan.safe_stop(), plan.leave_enabled());
+    // The names `--answer NAME=VALUE` and an answers file give answers by.
+    for (prompt, origin) in plan.prompts() {
+        println!("    asks {}: {prompt} ({origin})", prompt.name);
+    }
     if let Some(limits) = checked.bench_limits() {
         println!("    bench limits {} ({})", limits.summary(), limits.source());
     }
@@ -183,6 +190,17 @@ fn print_checked(path: &Path, checked: &Checked) -> i32 {
 }
 
 pub fn run(args: &RunArgs, registry: &Registry) -> i32 {
+    let outputs = match outputs_named(
+        &args.outputs,
+        &args.operator.identity(),
+        std::time::SystemTime::now(),
+    ) {
+        Ok(o) => o,
+        Err(e) => {
+            eprintln!("error: {e}; nothing was sent");
+            return INVALID;
+        }
+    };
     let stop = stop_signals::install(true);
     panic_notice::install();
     let request = RunRequest {
@@ -193,7 +211,7 @@ pub fn run(args: &RunArgs, registry: &Registry) -> i32 {
         output_dir: args.output_dir.clone(),
         dictionary: &args.dictionary,
         connection: &args.connection,
-        outputs: &args.outputs,
+        outputs: &outputs,
         // Nobody reads the simulated drive's request log from the command line.
         prepare_simulator: Some(&|sim, _| {
             sim.lock()
@@ -203,6 +221,8 @@ pub fn run(args: &RunArgs, registry: &Registry) -> i32 {
         stop,
         safe_stop: args.safe_stop.clone(),
         terminal: std::io::stdout().is_terminal(),
+        operator: &args.operator,
+        input: RunOperator::stdin_is_terminal().then(TerminalInput::stdin),
         observers: Vec::new(),
     };
     run_many(

@@ -22,6 +22,16 @@ impl Quantity {
     /// Parses `NUMBER [UNIT]`, with or without a space. Numbers are decimal (`-3000`, `1.5`,
     /// `2e3`) or hex (`0x0F`); units are those of [`Unit`], case folded when unambiguous.
     pub fn parse(text: &str) -> Result<Quantity, ValueError> {
+        Self::parse_with(text, Unit::parse)
+    }
+
+    /// [`Quantity::parse`] of a value an operator measured by hand: its unit may also be
+    /// one of [`Unit::MEASURED`] (`1.2 mm/s`).
+    pub fn parse_measured(text: &str) -> Result<Quantity, ValueError> {
+        Self::parse_with(text, Unit::parse_measured)
+    }
+
+    fn parse_with(text: &str, unit: fn(&str) -> Result<Unit, ValueError>) -> Result<Quantity, ValueError> {
         let t = text.trim();
         if t.is_empty() {
             return Err(ValueError::Empty);
@@ -46,7 +56,7 @@ impl Quantity {
         }
         Ok(Quantity {
             value,
-            unit: Some(Unit::parse(rest)?),
+            unit: Some(unit(rest)?),
         })
     }
 

@@ -19,6 +19,12 @@ pub enum Dimension {
     Current,
     /// Base: s.
     Time,
+    /// Base: mm/s (a vibration velocity, as hand-held meters show it).
+    Velocity,
+    /// Base: mm.
+    Length,
+    /// Base: °C.
+    Temperature,
 }
 
 impl Dimension {
@@ -30,6 +36,9 @@ impl Dimension {
             Dimension::Voltage => Unit::Volt,
             Dimension::Current => Unit::Ampere,
             Dimension::Time => Unit::Second,
+            Dimension::Velocity => Unit::MillimetrePerSecond,
+            Dimension::Length => Unit::Millimetre,
+            Dimension::Temperature => Unit::Celsius,
         }
     }
 
@@ -40,6 +49,9 @@ impl Dimension {
             Dimension::Voltage => "voltage",
             Dimension::Current => "current",
             Dimension::Time => "time",
+            Dimension::Velocity => "velocity",
+            Dimension::Length => "length",
+            Dimension::Temperature => "temperature",
         }
     }
 }
@@ -57,9 +69,14 @@ pub enum Unit {
     Millisecond,
     Minute,
     Hour,
+    MillimetrePerSecond,
+    Millimetre,
+    Micrometre,
+    Celsius,
 }
 
 impl Unit {
+    /// The units of drive objects (dictionaries, recipes' values for objects).
     pub const ALL: [Unit; 11] = [
         Unit::Rpm,
         Unit::Krpm,
@@ -72,6 +89,15 @@ impl Unit {
         Unit::Millisecond,
         Unit::Minute,
         Unit::Hour,
+    ];
+
+    /// Units of what an operator measures by hand (a vibration meter, a dial gauge, a
+    /// thermometer) and types in at a prompt; no drive object has them.
+    pub const MEASURED: [Unit; 4] = [
+        Unit::MillimetrePerSecond,
+        Unit::Millimetre,
+        Unit::Micrometre,
+        Unit::Celsius,
     ];
 
     /// The symbol written in recipes and dictionaries.
@@ -88,6 +114,10 @@ impl Unit {
             Unit::Millisecond => "ms",
             Unit::Minute => "min",
             Unit::Hour => "h",
+            Unit::MillimetrePerSecond => "mm/s",
+            Unit::Millimetre => "mm",
+            Unit::Micrometre => "µm",
+            Unit::Celsius => "°C",
         }
     }
 
@@ -98,15 +128,25 @@ impl Unit {
             Unit::Volt | Unit::Millivolt => Dimension::Voltage,
             Unit::Ampere | Unit::Milliampere => Dimension::Current,
             Unit::Second | Unit::Millisecond | Unit::Minute | Unit::Hour => Dimension::Time,
+            Unit::MillimetrePerSecond => Dimension::Velocity,
+            Unit::Millimetre | Unit::Micrometre => Dimension::Length,
+            Unit::Celsius => Dimension::Temperature,
         }
     }
 
-    /// How many base units (rpm, %, V, A, s) one of this unit is.
+    /// How many base units (rpm, %, V, A, s, mm/s, mm, °C) one of this unit is.
     pub fn factor(self) -> f64 {
         match self {
-            Unit::Rpm | Unit::Percent | Unit::Volt | Unit::Ampere | Unit::Second => 1.0,
+            Unit::Rpm
+            | Unit::Percent
+            | Unit::Volt
+            | Unit::Ampere
+            | Unit::Second
+            | Unit::MillimetrePerSecond
+            | Unit::Millimetre
+            | Unit::Celsius => 1.0,
             Unit::Krpm => 1000.0,
-            Unit::Millivolt | Unit::Milliampere | Unit::Millisecond => 0.001,
+            Unit::Millivolt | Unit::Milliampere | Unit::Millisecond | Unit::Micrometre => 0.001,
             Unit::Minute => 60.0,
             Unit::Hour => 3600.0,
         }
@@ -134,6 +174,29 @@ impl Unit {
             unit: t.to_string(),
             suggestions: did_you_mean(t, Self::symbols()),
         })
+    }
+
+    /// A unit of a value an operator types in: a drive unit or a [`Unit::MEASURED`] one,
+    /// also as a keyboard without µ or ° writes it (`um`, `degC`). The error lists both.
+    pub fn parse_measured(text: &str) -> Result<Unit, ValueError> {
+        let t = text.trim();
+        let measured = match t {
+            "um" => Some(Unit::Micrometre),
+            "degC" | "C" => Some(Unit::Celsius),
+            _ => Self::MEASURED
+                .into_iter()
+                .find(|u| u.symbol().eq_ignore_ascii_case(t)),
+        };
+        match (measured, Self::parse(t)) {
+            (Some(u), _) | (None, Ok(u)) => Ok(u),
+            (None, Err(_)) => {
+                let all = Self::symbols().chain(Self::MEASURED.into_iter().map(Unit::symbol));
+                Err(ValueError::UnknownMeasuredUnit {
+                    unit: t.to_string(),
+                    suggestions: did_you_mean(t, all),
+                })
+            }
+        }
     }
 
     pub fn symbols() -> impl Iterator<Item = &'static str> {
@@ -213,6 +276,17 @@ mod tests {
         assert_eq!(Unit::Milliampere.convert(1500.0, Unit::Ampere), Some(1.5));
         assert_eq!(Unit::Rpm.convert(1.0, Unit::Ampere), None);
         assert_eq!(Unit::Percent.convert(3.0, Unit::Percent), Some(3.0));
+        assert_eq!(Unit::Micrometre.convert(250.0, Unit::Millimetre), Some(0.25));
+        assert_eq!(Unit::parse_measured("um").ok(), Some(Unit::Micrometre));
+        assert_eq!(Unit::parse_measured("MM/S").ok(), Some(Unit::MillimetrePerSecond));
+        assert_eq!(Unit::parse_measured("rpm").ok(), Some(Unit::Rpm));
+        assert!(Unit::parse("mm/s").is_err(), "no drive object is in mm/s");
+        let e = Unit::parse_measured("mm/z").unwrap_err().to_string();
+        assert!(
+            e.contains("known units: rpm, krpm, %, V, mV, A, mA, s, ms, min, h, mm/s, mm, µm, °C"),
+            "{e}"
+        );
+        assert_eq!(Unit::MillimetrePerSecond.convert(1.0, Unit::Millimetre), None);
         for u in Unit::ALL {
             assert_eq!(u.dimension().base().factor(), 1.0, "{u}");
             assert_eq!(u.dimension().base().dimension(), u.dimension());

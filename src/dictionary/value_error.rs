@@ -22,6 +22,10 @@ pub enum ValueError {
     #[error("{}", unknown_unit(unit, suggestions))]
     UnknownUnit { unit: String, suggestions: Vec<String> },
 
+    /// A unit of a value an operator types in: a drive unit or a hand-measured one.
+    #[error("{}", unknown_measured_unit(unit, suggestions))]
+    UnknownMeasuredUnit { unit: String, suggestions: Vec<String> },
+
     #[error("{}", wrong_unit(*unit, object, *object_unit))]
     WrongUnit {
         unit: Unit,
@@ -94,6 +98,16 @@ pub enum ValueError {
 
 fn unknown_unit(unit: &str, suggestions: &[String]) -> String {
     let known: Vec<&str> = Unit::symbols().collect();
+    let mut text = format!("unknown unit `{unit}` (known units: {})", known.join(", "));
+    if let Some(s) = suggestion_text(suggestions) {
+        text.push_str("; ");
+        text.push_str(&s);
+    }
+    text
+}
+
+fn unknown_measured_unit(unit: &str, suggestions: &[String]) -> String {
+    let known: Vec<&str> = Unit::symbols().chain(Unit::MEASURED.map(Unit::symbol)).collect();
     let mut text = format!("unknown unit `{unit}` (known units: {})", known.join(", "));
     if let Some(s) = suggestion_text(suggestions) {
         text.push_str("; ");

@@ -6,6 +6,7 @@ mod drive_decl;
 mod expansion;
 mod loader;
 mod planned_checks;
+mod prompt_schema;
 mod recipe;
 mod runner;
 mod schema;
@@ -18,7 +19,7 @@ pub use loader::{
     declared_drives, declared_params, load_recipe, load_recipe_for, load_recipe_text, DriveDictionaries,
     MAX_DURATION, MAX_SAMPLES,
 };
-pub use planned_checks::{planned_checks, sampled_objects, shortest_sample_interval};
+pub use planned_checks::{operator_prompts, planned_checks, sampled_objects, shortest_sample_interval};
 pub use recipe::{Param, Recipe, SafeStopChoice};
 /// A recipe that did not pass its check.
 pub type RecipeInvalid = crate::diag::FileInvalid;

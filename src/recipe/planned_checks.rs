@@ -51,6 +51,14 @@ fn walk(steps: &[Step], prefix: &str, stage: &mut Vec<String>, out: &mut Vec<Pla
                 step: number.clone(),
                 origin: step.origin.clone(),
             }),
+            StepKind::Ask(prompt) => out.push(PlannedCheck {
+                name: prompt.text.clone(),
+                object: None,
+                statistic: None,
+                stage: stage.join(" / "),
+                step: number.clone(),
+                origin: step.origin.clone(),
+            }),
             StepKind::Repeat {
                 times, steps: nested, ..
             } => {
@@ -107,5 +115,24 @@ pub fn sampled_objects(recipe: &Recipe) -> Vec<ObjectRef> {
     let mut out = Vec::new();
     walk(&recipe.steps, &mut out);
     walk(recipe.finally.as_deref().unwrap_or_default(), &mut out);
+    out
+}
+
+/// Every operator step of the recipe (its `finally` and `on_fault` too) with its place,
+/// in the order written, each once: a run without a terminal needs an answer for each.
+pub fn operator_prompts(recipe: &Recipe) -> Vec<(crate::session::Prompt, crate::session::StepOrigin)> {
+    fn walk(steps: &[Step], out: &mut Vec<(crate::session::Prompt, crate::session::StepOrigin)>) {
+        for step in steps {
+            match &step.kind {
+                StepKind::Ask(p) => out.push((p.clone(), step.origin.clone())),
+                StepKind::Repeat { steps, .. } | StepKind::Include { steps, .. } => walk(steps, out),
+                _ => {}
+            }
+        }
+    }
+    let mut out = Vec::new();
+    walk(&recipe.steps, &mut out);
+    walk(recipe.finally.as_deref().unwrap_or_default(), &mut out);
+    walk(&recipe.on_fault, &mut out);
     out
 }

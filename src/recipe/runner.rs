@@ -7,7 +7,8 @@ use super::recipe::Recipe;
 use super::step::{Step, StepKind};
 use crate::drive::Drive;
 use crate::session::{
-    show_duration, RunInfo, RunObserver, RunReport, SafeStopSettings, Session, StepInfo, Stop, UnitIdentity,
+    show_duration, Operator, RunInfo, RunObserver, RunReport, SafeStopSettings, Session, StepInfo, Stop,
+    UnitIdentity,
 };
 use crate::stop_request::StopRequests;
 use std::path::PathBuf;
@@ -54,6 +55,13 @@ impl<'a> Runner<'a> {
     /// How the safe stop waits for standstill and how long it tries to reopen a lost port.
     pub fn with_settings(mut self, settings: SafeStopSettings) -> Self {
         self.session = self.session.with_settings(settings);
+        self
+    }
+
+    /// The unit under test as known at the start, and where the operator steps' answers
+    /// come from.
+    pub fn with_operator(mut self, unit: UnitIdentity, operator: Box<dyn Operator + 'a>) -> Self {
+        self.session = self.session.with_unit(unit).with_operator(operator);
         self
     }
 
@@ -163,6 +171,7 @@ fn exec(s: &mut Session, step: &Step, number: &str, phase: &'static str) -> Resu
             duration,
             steps: nested,
         } => repeat(s, *times, *duration, nested, number, phase),
+        StepKind::Ask(prompt) => s.ask(prompt, &step.origin, number).map(|(detail, _)| detail),
         StepKind::Include { steps: nested, .. } => {
             steps(s, nested, number, phase)?;
             Ok(format!("{} steps", nested.len()))

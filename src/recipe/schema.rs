@@ -316,7 +316,7 @@ pub fn recipe_schema(dictionary: &Dictionary, address_keys: &AddressKeyTable) ->
         false,
     );
     let step_keys = STEP_KEYS;
-    let step_variants = vec![
+    let mut step_variants = vec![
         keyed(
             "go_to",
             json!({ "oneOf": [
@@ -406,6 +406,11 @@ pub fn recipe_schema(dictionary: &Dictionary, address_keys: &AddressKeyTable) ->
             "Check that the drive holds a backup's parameters (a file written by `drivescript backup`, relative to this recipe), one check per object",
         ),
     ];
+    step_variants.extend(
+        super::prompt_schema::prompt_steps()
+            .into_iter()
+            .map(|(key, body, doc)| keyed(key, body, doc)),
+    );
     let mut step_key_names: Vec<&str> = step_keys.to_vec();
     step_key_names.push("name");
     defs.insert(

@@ -4,7 +4,7 @@
 
 use crate::drive::device_control::{DeviceCommand, DeviceState};
 use crate::session::{Check, Condition};
-use crate::session::{ObjectRef, SetValue, StepOrigin};
+use crate::session::{ObjectRef, Prompt, SetValue, StepOrigin};
 use std::path::PathBuf;
 use std::time::Duration;
 
@@ -77,6 +77,9 @@ pub enum StepKind {
     },
     /// Steps of another recipe file, with its parameters already applied.
     Include { path: String, steps: Vec<Step> },
+    /// An operator step: a question or instruction, answered at the terminal or
+    /// beforehand.
+    Ask(Prompt),
 }
 
 impl Step {
@@ -91,6 +94,8 @@ impl Step {
             | StepKind::Print(_)
             | StepKind::Expect(_)
             | StepKind::ExpectParameters { .. } => Duration::ZERO,
+            // A person's time is not planned; a timeout bounds it.
+            StepKind::Ask(p) => p.timeout.unwrap_or_default(),
             // Each transition has its own timeout; no walk has more transitions than states.
             StepKind::GoTo { timeout, .. } => timeout.saturating_mul(DeviceState::ALL.len() as u32),
             StepKind::WaitUntil { timeout, every, .. } => timeout.saturating_add(*every),

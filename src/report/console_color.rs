@@ -1,4 +1,5 @@
-//! Colour for the console lines of a run: PASS/ok green, FAIL and the words that need a
+//! Colour for the console lines of a run: PASS/ok green, a question to the operator
+//! yellow, FAIL and the words that need a
 //! human (CHECK THE DRIVE BY HAND, STILL COASTING) red, the verdict in its colour. Applied
 //! to finished lines, so the plain text (logs, tests, `NO_COLOR`) is the same without it.
 
@@ -20,6 +21,8 @@ pub fn paint(line: &str) -> String {
         ("  ok    ", GREEN),
         ("  PASS  ", GREEN),
         ("  FAIL  ", RED),
+        // A question to the operator.
+        ("  ?     ", YELLOW),
         ("CHECK THE DRIVE BY HAND", RED),
         ("STILL COASTING", RED),
     ] {

@@ -3,7 +3,9 @@
 //! never garbles a log file. The line formats are pub functions so the live progress
 //! display prints exactly the same permanent lines.
 
-use crate::session::{number, with_unit, CheckResult, RunInfo, RunObserver, RunReport, StepInfo, StepRecord};
+use crate::session::{
+    number, with_unit, CheckResult, RunInfo, RunObserver, RunReport, StepInfo, StepRecord, UnitIdentity,
+};
 use std::io::Write;
 use std::time::{Duration, Instant};
 
@@ -141,6 +143,18 @@ impl<W: Write> RunObserver for ConsoleReporter<W> {
         }
     }
 
+    /// Said even when quiet: a person must read the question to answer it.
+    fn asked(&mut self, number: &str, question: &str) {
+        self.line(&asked_line(number, question));
+        self.flush();
+    }
+
+    fn unit_identified(&mut self, unit: &UnitIdentity) {
+        if !self.quiet {
+            self.line(&message_line(&format!("unit: {unit}")));
+        }
+    }
+
     fn run_finished(&mut self, report: &RunReport) {
         // The safe stop's notes matter to a log only when the stop went wrong.
         let notes = !self.quiet || report.check_by_hand() || report.disobeyed;
@@ -161,12 +175,15 @@ impl<W: Write> RunObserver for ConsoleReporter<W> {
 }
 
 /// `recipe  NAME (PATH)` (or `script`), `drive   DRIVE` and, when there are any,
-/// `params  a = 1, b = 2`.
+/// `unit    serial SP-104233, operator J. Smith` and `params  a = 1, b = 2`.
 pub fn header_lines(run: &RunInfo, drive: &str) -> Vec<String> {
     let mut lines = vec![
         format!("{:<7} {} ({})", run.kind, run.name, run.path),
         format!("drive   {drive}"),
     ];
+    if !run.unit.is_empty() {
+        lines.push(format!("unit    {}", run.unit));
+    }
     if !run.params.is_empty() {
         let params = run
             .params
@@ -232,6 +249,11 @@ pub fn check_line(c: &CheckResult) -> Option<String> {
 /// A value read by `read`/`print`, or a message, indented under its step.
 pub fn message_line(text: &str) -> String {
     format!("        {text}")
+}
+
+/// `     4  ?     Is the spindle running quietly? [yes/no]`: a question to the operator.
+pub fn asked_line(number: &str, question: &str) -> String {
+    format!("{number:>6}  ?     {question}")
 }
 
 /// The safe-stop notes, the final state and the one-line verdict.

@@ -169,6 +169,9 @@ fn suite_properties(r: &RunReport, started: &str) -> Vec<(String, String)> {
     if let Some(id) = &r.identity {
         p.push(("drive_identity".into(), id.clone()));
     }
+    for (part, value) in r.unit.fields() {
+        p.push((format!("unit.{part}"), value.to_string()));
+    }
     for (name, value) in &r.params {
         p.push((format!("param.{name}"), value.clone()));
     }

@@ -6,7 +6,7 @@
 //! in a log file or pipe the redrawn line would garble it. Never fails the run.
 
 use super::console_reporter::{
-    check_line, container_line, header_lines, message_line, step_line, summary_lines,
+    asked_line, check_line, container_line, header_lines, message_line, step_line, summary_lines,
 };
 use crate::session::{CheckResult, RunInfo, RunObserver, RunReport, StepInfo, StepRecord};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressFinish, ProgressStyle};
@@ -322,6 +322,10 @@ impl<W: Write> RunObserver for ProgressReporter<W> {
 
     fn message(&mut self, text: &str) {
         self.line(&message_line(text));
+    }
+
+    fn asked(&mut self, number: &str, question: &str) {
+        self.line(&asked_line(number, question));
     }
 
     fn wants_progress(&self) -> bool {

@@ -21,6 +21,7 @@
 //! belong to the process's standard error and terminal).
 
 mod address_key_flags;
+mod answers_check;
 mod check;
 mod connection_args;
 mod drive_args;
@@ -32,16 +33,20 @@ mod line_exchange;
 mod link_range_check;
 mod maintain;
 mod not_run;
+mod operator_args;
 mod output_args;
+mod output_names;
 mod pipeline;
 mod run_error;
 mod run_many;
+mod run_operator;
 mod run_plan;
 mod run_request;
 mod run_setup;
 mod safe_stop_args;
 mod several_reports;
 mod several_sets;
+mod terminal_input;
 
 pub use address_key_flags::{AddressKeyFlag, DNC_ADDRESS};
 pub use check::{check, CheckRequest, Checked};
@@ -52,10 +57,14 @@ pub use exit_code::*;
 pub use link_range_check::within_link_range;
 pub use maintain::{run_maintain, MaintainRequest, MaintainResult, PrepareMaintained};
 pub use not_run::{another_family, silent_drive};
+pub use operator_args::OperatorArgs;
 pub use output_args::{ColorWhen, OutputArgs};
+pub use output_names::outputs_named;
 pub use pipeline::run;
 pub use run_error::{BadValue, RunError};
 pub use run_many::{outputs_for, run_many, worse};
+pub use run_operator::RunOperator;
 pub use run_plan::{LoadedPlan, RunPlan};
 pub use run_request::{PrepareSimulator, RunRequest, RunResult, SharedObserver};
 pub use safe_stop_args::SafeStopArgs;
+pub use terminal_input::TerminalInput;

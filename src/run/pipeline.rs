@@ -4,6 +4,7 @@
 //! ending, and write every report. A run that cannot start still writes its not-run JUnit
 //! and HTML reports. Decides exit codes; must not parse a command line.
 
+use super::answers_check::answers_checked;
 use super::drive_limits::within_drive_limits;
 use super::drive_set::{named_drives_checked, named_drives_opened, OpenDrives};
 use super::latency_note::latency_note;
@@ -14,7 +15,9 @@ use super::run_plan::{LoadedPlan, RunPlan, SessionSettings};
 use super::run_setup::{
     finish_reports, observed, open_csv, telegram_outputs, trace_header, write_placeholders, Look,
 };
-use super::{open_drive, ConnectionArgs, RunError, RunRequest, RunResult, COMMUNICATION, INVALID};
+use super::{
+    open_drive, ConnectionArgs, RunError, RunOperator, RunRequest, RunResult, COMMUNICATION, INVALID,
+};
 use crate::report::{junit_suite, TelegramFanOut};
 use std::io::Write;
 
@@ -37,6 +40,17 @@ pub fn run(request: &RunRequest, out: &mut dyn Write, err: &mut dyn Write) -> Ru
     };
     if request.fast && !request.connection.is_simulated() {
         return refuse(INVALID, "error: --fast (virtual time) works only with the built-in simulated drive; a real drive runs in real time", err);
+    }
+    // Every operator step answered or askable, and every answer one its step accepts,
+    // before anything is opened.
+    let prompts = plan.prompts();
+    let given = match request.operator.given() {
+        Ok(g) => g,
+        Err(e) => return refuse(INVALID, &e.to_string(), err),
+    };
+    let complete = matches!(plan, RunPlan::Recipe(_));
+    if let Err(e) = answers_checked(&prompts, complete, &given, request.input.is_some()) {
+        return refuse(INVALID, &e.to_string(), err);
     }
     // The file's link settings under the command line's, checked before anything is
     // opened: a wrong setting is an invalid file or command line (exit 2), not a
@@ -103,17 +117,21 @@ pub fn run(request: &RunRequest, out: &mut dyn Write, err: &mut dyn Write) -> Ru
         }
     }
     let virtual_time = request.fast && !open.simulators.is_empty();
-    let look = Look::of(
+    let mut look = Look::of(
         outputs,
         request.terminal,
         virtual_time,
         plan.colored(),
         plan.planned_time(),
     );
+    // A live line redrawn under a question would garble what the operator types.
+    look.live &= prompts.is_empty();
     let settings = SessionSettings {
         safe_stop: request.safe_stop.settings(plan.safe_stop()),
         output_dir: request.output_dir.clone(),
         csv_wide: outputs.csv_wide,
+        unit: request.operator.identity(),
+        operator: Box::new(RunOperator::new(given, request.input.clone())),
     };
     let report = observed(out, &look, csv.as_mut(), &request.observers, |observers| {
         let drives = open.drives.iter_mut().map(|(n, d)| (n.clone(), d)).collect();

@@ -110,6 +110,7 @@ fn run_one(
         stop: base.stop.clone(),
         safe_stop: base.safe_stop.clone(),
         observers: base.observers.clone(),
+        input: base.input.clone(),
         ..*base
     };
     let result = super::run(&request, out, err);

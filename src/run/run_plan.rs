@@ -9,11 +9,14 @@ use crate::dictionary::Dictionary;
 use crate::drive::Drive;
 use crate::family::Registry;
 use crate::recipe::{
-    declared_drives, load_recipe_for, longest_time_of, planned_checks, sampled_objects,
+    declared_drives, load_recipe_for, longest_time_of, operator_prompts, planned_checks, sampled_objects,
     shortest_sample_interval, written_values, DriveDecl, Recipe, Runner, SafeStopChoice, WrittenValue,
 };
 use crate::script::{declared_script_drives, is_script, load_script_for, Script, ScriptRunner};
-use crate::session::{ObjectRef, PlannedCheck, RunObserver, RunReport, SafeStopSettings};
+use crate::session::{
+    ObjectRef, Operator, PlannedCheck, Prompt, RunObserver, RunReport, SafeStopSettings, StepOrigin,
+    UnitIdentity,
+};
 use crate::stop_request::StopRequests;
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -40,6 +43,9 @@ pub struct SessionSettings {
     pub safe_stop: SafeStopSettings,
     pub output_dir: PathBuf,
     pub csv_wide: bool,
+    /// The unit under test as the command line gives it.
+    pub unit: UnitIdentity,
+    pub operator: Box<dyn Operator>,
 }
 
 impl RunPlan {
@@ -153,6 +159,15 @@ impl RunPlan {
         }
     }
 
+    /// The operator steps known before the run, with their places: all of a recipe's, the
+    /// ones a script writes with a literal question.
+    pub fn prompts(&self) -> Vec<(Prompt, StepOrigin)> {
+        match self {
+            RunPlan::Recipe(r) => operator_prompts(r),
+            RunPlan::Script(s) => s.prompts.clone(),
+        }
+    }
+
     /// The columns of `--csv-wide`; `None` for a script, which chooses what it samples as
     /// it runs, so its `--csv` keeps the long layout.
     pub fn wide_columns(&self) -> Option<Vec<ObjectRef>> {
@@ -206,11 +221,13 @@ impl RunPlan {
     ) -> RunReport {
         match self {
             RunPlan::Recipe(recipe) => Runner::with_drives(drives, observer, stop, recipe)
+                .with_operator(settings.unit, settings.operator)
                 .with_output_dir(settings.output_dir)
                 .with_csv_wide(settings.csv_wide)
                 .with_settings(settings.safe_stop)
                 .run(recipe),
             RunPlan::Script(script) => ScriptRunner::with_drives(drives, observer, stop.clone())
+                .with_operator(settings.unit, settings.operator)
                 .with_output_dir(settings.output_dir)
                 .with_csv_wide(settings.csv_wide)
                 .with_settings(settings.safe_stop)

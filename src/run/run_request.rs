@@ -4,7 +4,7 @@
 use crate::clock::SharedClock;
 use crate::family::Registry;
 use crate::report::JunitSuite;
-use crate::run::{ConnectionArgs, DictionaryArgs, OutputArgs, SafeStopArgs};
+use crate::run::{ConnectionArgs, DictionaryArgs, OperatorArgs, OutputArgs, SafeStopArgs, TerminalInput};
 use crate::session::{RunObserver, RunReport};
 use crate::sim::SimulatedDrive;
 use crate::stop_request::StopRequests;
@@ -36,6 +36,11 @@ pub struct RunRequest<'a> {
     pub safe_stop: SafeStopArgs,
     /// Whether standard output is a terminal (live progress).
     pub terminal: bool,
+    /// The unit under test (`--unit`) and the answers given to operator steps.
+    pub operator: &'a OperatorArgs,
+    /// The terminal a person answers operator steps at (standard input when it is one);
+    /// without one, every operator step needs an answer given beforehand.
+    pub input: Option<Arc<TerminalInput>>,
     /// Further observers of the run, told every event after the console and the CSV
     /// recorder: where features that follow a run plug in (operator prompts, run
     /// identity, a results store, replay). Shared, so the caller reads them afterwards.

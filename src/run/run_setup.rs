@@ -249,6 +249,9 @@ impl RunObserver for Locked<'_> {
     fn step_progress(&mut self, number: &str, elapsed: Duration, total: Option<Duration>, values: &str) {
         self.with(|o| o.step_progress(number, elapsed, total, values));
     }
+    fn asked(&mut self, number: &str, question: &str) {
+        self.with(|o| o.asked(number, question));
+    }
     fn step_finished(&mut self, record: &StepRecord) {
         self.with(|o| o.step_finished(record));
     }

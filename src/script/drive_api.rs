@@ -139,6 +139,7 @@ pub fn register(engine: &mut Engine, bridge: &Arc<Bridge>) {
     register_waits(engine, bridge);
     register_checks(engine, bridge);
     register_params(engine, bridge);
+    super::operator_api::register_operator(engine, bridge);
 }
 
 fn register_reads(engine: &mut Engine, bridge: &Arc<Bridge>) {

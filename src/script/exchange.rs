@@ -38,6 +38,8 @@ pub enum Call {
     Expect(Box<CheckResult>),
     Fail(String),
     Message(String),
+    /// An operator step.
+    Ask(Box<crate::session::Prompt>),
 }
 
 /// A call and where the script made it.
@@ -57,6 +59,8 @@ pub enum Answer {
     Number(f64),
     State(DeviceState),
     Sampled(Vec<Window>),
+    /// What the operator answered.
+    Asked(crate::session::Accepted),
 }
 
 /// One object's sample window, for a script's statistics.

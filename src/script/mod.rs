@@ -9,6 +9,7 @@ mod drive_api;
 mod drive_in_condition;
 mod exchange;
 mod literal_calls;
+mod operator_api;
 mod param_value;
 mod resolve;
 mod sample_window;

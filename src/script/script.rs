@@ -8,6 +8,7 @@ use super::bridge::Bridge;
 use super::drive_api::register;
 use super::drive_in_condition::conditions_using_the_drive;
 use super::literal_calls::{literal_calls, Arg};
+use super::operator_api::literal_prompts;
 use super::sandbox::sandbox;
 use super::script_error::parse_error;
 use super::script_header::Header;
@@ -43,6 +44,9 @@ pub struct Script {
     /// calls on a variable given one named drive (`let left = drive("left")`), named
     /// `left.speed_setpoint`; which drive other calls go to is known only as it runs.
     pub written: Vec<crate::recipe::WrittenValue>,
+    /// The operator calls written with a literal question (`confirm("Guard closed?")`),
+    /// with their places: a run without a terminal needs an answer for each.
+    pub prompts: Vec<(crate::session::Prompt, crate::session::StepOrigin)>,
     /// `//! link: channel=cyclic, velocity_scaling=24000rpm`: settings of the family's
     /// link, as a recipe's `link:` gives them (the command line wins).
     pub link: Vec<(String, String)>,
@@ -241,6 +245,7 @@ fn load_source_for(
             }
         }
     }
+    let prompts = literal_prompts(&calls, &source);
     match ast {
         Some(ast) if problems.is_empty() => Ok(Script {
             name: header.name.unwrap_or_else(|| file_stem(&path)),
@@ -251,6 +256,7 @@ fn load_source_for(
             params: set.to_vec(),
             has_finally,
             calls: calls.len(),
+            prompts,
             written: if drives.is_empty() {
                 literal_writes(&calls, dictionary)
             } else {

@@ -15,8 +15,8 @@ use super::script_error::{eval_error, span_at};
 use crate::diag::{Diagnostic, Diagnostics, Source};
 use crate::drive::Drive;
 use crate::session::{
-    CheckResult, ObjectRef, RunInfo, RunObserver, RunReport, SafeStopSettings, Session, Stats, StepInfo,
-    StepOrigin, StepRecord, Stop, UnitIdentity,
+    CheckResult, ObjectRef, Operator, RunInfo, RunObserver, RunReport, SafeStopSettings, Session, Stats,
+    StepInfo, StepOrigin, StepRecord, Stop, UnitIdentity,
 };
 use crate::stop_request::StopRequests;
 use rhai::{CallFnOptions, Dynamic, Engine, EvalAltResult, Scope, AST};
@@ -39,6 +39,8 @@ pub struct ScriptRunner<'a> {
     settings: SafeStopSettings,
     output_dir: PathBuf,
     csv_wide: bool,
+    unit: UnitIdentity,
+    operator: Option<Box<dyn Operator + 'a>>,
 }
 
 impl<'a> ScriptRunner<'a> {
@@ -60,12 +62,22 @@ impl<'a> ScriptRunner<'a> {
             settings: SafeStopSettings::default(),
             output_dir: PathBuf::from("."),
             csv_wide: false,
+            unit: UnitIdentity::default(),
+            operator: None,
         }
     }
 
     /// How the safe stop waits for standstill and how long it tries to reopen a lost port.
     pub fn with_settings(mut self, settings: SafeStopSettings) -> Self {
         self.settings = settings;
+        self
+    }
+
+    /// The unit under test as known at the start, and where the answers to the script's
+    /// operator calls come from.
+    pub fn with_operator(mut self, unit: UnitIdentity, operator: Box<dyn Operator + 'a>) -> Self {
+        self.unit = unit;
+        self.operator = Some(operator);
         self
     }
 
@@ -103,7 +115,7 @@ impl<'a> ScriptRunner<'a> {
             name: script.name.clone(),
             path: script.path.clone(),
             params: script.params.clone(),
-            unit: UnitIdentity::default(),
+            unit: self.unit.clone(),
         };
         let (to_session, from_script) = channel();
         let (to_script, from_session) = channel();
@@ -125,6 +137,9 @@ impl<'a> ScriptRunner<'a> {
             .with_settings(self.settings)
             .with_output_dir(self.output_dir)
             .with_csv_wide(self.csv_wide);
+        if let Some(operator) = self.operator {
+            session = session.with_operator(operator);
+        }
         let mut host = Host {
             from_script,
             to_script,
@@ -335,6 +350,11 @@ impl Host<'_> {
                 s.expect_result(check)
             }
             Call::Fail(message) => Err(Stop::Failed(message)),
+            Call::Ask(prompt) => {
+                let (detail, accepted) = s.ask(&prompt, origin, number)?;
+                *answer = Answer::Asked(accepted);
+                Ok(detail)
+            }
             Call::Read(_) | Call::State(_) | Call::Message(_) => Ok(String::new()),
         }
     }
@@ -486,6 +506,9 @@ impl RunObserver for Tap<'_> {
     }
     fn step_progress(&mut self, number: &str, elapsed: Duration, total: Option<Duration>, values: &str) {
         self.inner.step_progress(number, elapsed, total, values);
+    }
+    fn asked(&mut self, number: &str, question: &str) {
+        self.inner.asked(number, question);
     }
     fn step_finished(&mut self, record: &StepRecord) {
         self.inner.step_finished(record);

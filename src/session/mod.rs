@@ -1,9 +1,11 @@
 //! The run model and the operations that recipes and scripts share: a [`Session`] runs
-//! drive operations (set, read, go_to, wait_until, dwell, sample, expect, ramp) with
+//! drive operations (set, read, go_to, wait_until, dwell, sample, expect, ramp, and the
+//! operator's prompts) with
 //! stop-request-aware waits and fault watching, reports them through a [`RunObserver`],
 //! and ends every run with the verified safe stop; conditions and checks; what a run did
 //! (the report). Knows names, units and states; never bytes, never a family, never YAML.
 
+mod ask;
 mod brake;
 mod bucket_series;
 mod condition;
@@ -12,6 +14,8 @@ mod expect_parameters;
 mod object_ref;
 mod one_off_stop;
 mod operations;
+mod operator;
+mod prompt;
 mod ramp;
 mod restore_link;
 mod run_info;
@@ -36,6 +40,8 @@ pub use condition::{
 };
 pub use object_ref::ObjectRef;
 pub use one_off_stop::{stop_drive, OneOffStopError};
+pub use operator::{Given, Nobody, Operator, Reply};
+pub use prompt::{default_answer_name, Accepted, NotAnAnswer, Pattern, Prompt, PromptKind};
 pub use run_info::{RunInfo, StepInfo};
 pub use run_observer::{Observers, RunObserver};
 pub use run_report::{

@@ -16,6 +16,9 @@ pub trait RunObserver {
     fn step_placed(&mut self, _id: &str) {}
     /// Progress of a long step: elapsed, total (when known) and live values.
     fn step_progress(&mut self, _number: &str, _elapsed: Duration, _total: Option<Duration>, _values: &str) {}
+    /// The step `number` asks the operator `question` (with what to type) and waits for
+    /// the answer at the terminal.
+    fn asked(&mut self, _number: &str, _question: &str) {}
     fn step_finished(&mut self, _record: &StepRecord) {}
     fn check(&mut self, _result: &CheckResult) {}
     /// One row of a `sample` step: the time since the run's start, and one value per object.
@@ -61,6 +64,9 @@ impl RunObserver for Observers<'_> {
         self.list
             .iter_mut()
             .for_each(|o| o.step_progress(number, elapsed, total, values));
+    }
+    fn asked(&mut self, number: &str, question: &str) {
+        self.list.iter_mut().for_each(|o| o.asked(number, question));
     }
     fn step_finished(&mut self, record: &StepRecord) {
         self.list.iter_mut().for_each(|o| o.step_finished(record));

@@ -4,6 +4,7 @@
 
 use super::condition::Stats;
 use super::step_origin::StepOrigin;
+use super::UnitIdentity;
 use crate::drive::device_control::DeviceState;
 use crate::stop_request::StopSignal;
 use std::time::{Duration, SystemTime};
@@ -143,6 +144,8 @@ pub struct RunReport {
     pub drive: String,
     /// The drive's identity (ident string), when it could be read.
     pub identity: Option<String>,
+    /// The unit under test and the run's operator and station, as known at the end.
+    pub unit: UnitIdentity,
     pub params: Vec<(String, String)>,
     pub started_at: SystemTime,
     pub duration: Duration,
@@ -214,6 +217,7 @@ impl RunReport {
             recipe_path,
             drive,
             identity: None,
+            unit: UnitIdentity::default(),
             params,
             started_at,
             duration: Duration::ZERO,

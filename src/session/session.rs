@@ -8,8 +8,8 @@ use super::session_drive::SessionDrive;
 use super::step_path::StepPath;
 use super::stop::{outcome, panic_message, Stop};
 use super::{
-    with_unit, CheckResult, Condition, ObjectRef, Predicate, RunInfo, RunObserver, RunReport,
-    SafeStopSettings, Stats, StepInfo, StepRecord, MAX_RECORDS,
+    with_unit, CheckResult, Condition, Nobody, ObjectRef, Operator, Predicate, RunInfo, RunObserver,
+    RunReport, SafeStopSettings, Stats, StepInfo, StepRecord, UnitIdentity, MAX_RECORDS,
 };
 use crate::clock::SharedClock;
 use crate::drive::device_control::DeviceState;
@@ -53,6 +53,8 @@ pub struct Session<'a> {
     /// `csv:` files of sample steps with one column per object instead of the long layout.
     pub(super) csv_wide: bool,
     pub(super) run: RunInfo,
+    /// Where the answers to operator steps come from.
+    pub(super) operator: Box<dyn Operator + 'a>,
 }
 
 impl<'a> Session<'a> {
@@ -89,13 +91,14 @@ impl<'a> Session<'a> {
                 .join(", ")
         };
         let clock_now = clock.now();
-        let report = RunReport::started(
+        let mut report = RunReport::started(
             run.name.clone(),
             run.path.clone(),
             port,
             run.params.clone(),
             clock.wall_time(),
         );
+        report.unit = run.unit.clone();
         Session {
             drives,
             current: 0,
@@ -116,6 +119,7 @@ impl<'a> Session<'a> {
             path: StepPath::default(),
             csv_wide: false,
             run,
+            operator: Box::new(Nobody),
         }
     }
 
@@ -128,6 +132,21 @@ impl<'a> Session<'a> {
     /// Where `csv:` files of sample steps go (relative paths).
     pub fn with_output_dir(mut self, dir: PathBuf) -> Self {
         self.output_dir = dir;
+        self
+    }
+
+    /// The unit under test as the command line gives it (`--unit`), before the run
+    /// starts.
+    pub fn with_unit(mut self, unit: UnitIdentity) -> Self {
+        self.report.unit = unit.clone();
+        self.run.unit = unit;
+        self
+    }
+
+    /// Where the answers to operator steps come from (default: nobody, so every prompt
+    /// fails).
+    pub fn with_operator(mut self, operator: Box<dyn Operator + 'a>) -> Self {
+        self.operator = operator;
         self
     }
 

@@ -22,6 +22,7 @@ mod lenze_9400;
 mod loader_limits;
 mod modbus;
 mod multi_drive;
+mod operator;
 mod outputs;
 mod parameters;
 mod recipe_cases;

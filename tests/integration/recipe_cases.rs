@@ -16,6 +16,12 @@
 //! control_words: [0, 6, 7, 15, 7, 6]   # exactly the control words the drive received
 //! control_words_end: [7, 6]            # or only the last ones (the safe stop)
 //! control_word_changes: [6, 7, 15, 7, 6] # the same with repeats in a row counted once
+//! unit: [serial=SP-104233]     # --unit (optional)
+//! answers: [quiet=yes]         # --answer (optional)
+//! answers_file: answers.yaml   # --answers, a file of the case (optional)
+//! terminal: { lines: ["", yes], closes: true }  # a terminal the operator types these
+//!                              # lines at, one per question; then end of input (closes)
+//!                              # or nothing more (optional; without it, no terminal)
 //! ```
 //!
 //! Every case runs in-process against the simulated drive in virtual time.
@@ -59,6 +65,27 @@ struct Case {
     control_word_changes: Option<Vec<u16>>,
     #[serde(default)]
     control_word_changes_end: Option<Vec<u16>>,
+    #[serde(default)]
+    unit: Vec<String>,
+    #[serde(default)]
+    answers: Vec<String>,
+    #[serde(default)]
+    answers_file: Option<String>,
+    #[serde(default)]
+    terminal: Option<TerminalSetup>,
+}
+
+#[derive(Debug, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+struct TerminalSetup {
+    lines: Vec<String>,
+    closes: bool,
+}
+
+/// `NAME=VALUE` as a pair.
+fn pair(text: &str) -> (String, String) {
+    let (k, v) = text.split_once('=').expect("NAME=VALUE");
+    (k.to_string(), v.to_string())
 }
 
 #[derive(Debug, Default, serde::Deserialize)]
@@ -176,6 +203,22 @@ fn run_case(dir: &Path) -> Result<(), String> {
         _ => dir.join("recipe.yaml"),
     };
     let mut run = InProcessRun::new(file);
+    run.operator.unit = case.unit.iter().map(|u| pair(u)).collect();
+    run.operator.answer = case.answers.iter().map(|a| pair(a)).collect();
+    run.operator.answers = case.answers_file.as_ref().map(|f| dir.join(f));
+    // The typing end stays open until the run is over unless the terminal closes.
+    let mut _typing = None;
+    if let Some(t) = &case.terminal {
+        use std::io::Write;
+        let (reader, mut writer) = std::io::pipe().map_err(|e| e.to_string())?;
+        for line in &t.lines {
+            writeln!(writer, "{line}").map_err(|e| e.to_string())?;
+        }
+        run.input = Some(drivescript::run::TerminalInput::of(reader));
+        if !t.closes {
+            _typing = Some(writer);
+        }
+    }
     run.set = set;
     run.output_dir = output_dir;
     run.prepare = Some(&prepare);

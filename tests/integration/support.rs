@@ -217,6 +217,10 @@ pub struct InProcessRun<'a> {
     pub stop: std::sync::Arc<drivescript::stop_request::StopRequests>,
     pub safe_stop: drivescript::run::SafeStopArgs,
     pub observers: Vec<drivescript::run::SharedObserver>,
+    /// `--unit`, `--answers`, `--answer`.
+    pub operator: drivescript::run::OperatorArgs,
+    /// The lines an operator types at a terminal; `None`: no terminal.
+    pub input: Option<std::sync::Arc<drivescript::run::TerminalInput>>,
 }
 
 impl<'a> InProcessRun<'a> {
@@ -234,6 +238,8 @@ impl<'a> InProcessRun<'a> {
             stop: std::sync::Arc::new(drivescript::stop_request::StopRequests::new()),
             safe_stop: drivescript::run::SafeStopArgs::default(),
             observers: Vec::new(),
+            operator: drivescript::run::OperatorArgs::default(),
+            input: None,
         }
     }
 
@@ -266,6 +272,8 @@ impl<'a> InProcessRun<'a> {
             stop: self.stop.clone(),
             safe_stop: self.safe_stop.clone(),
             terminal: false,
+            operator: &self.operator,
+            input: self.input.clone(),
             observers: self.observers.clone(),
         }
     }
@@ -429,12 +437,7 @@ impl LiveRun {
 
     /// Sends signal `name` (`INT`, `TERM`, …) to the run.
     pub fn signal(&self, name: &str) {
-        let status = Command::new("kill")
-            .arg(format!("-{name}"))
-            .arg(self.child.id().to_string())
-            .status()
-            .expect("kill runs");
-        assert!(status.success());
+        send_signal(&self.child, name);
     }
 
     /// Waits for the run to end: its exit code and all it wrote to standard output.
@@ -462,4 +465,135 @@ pub fn assert_lacks(text: &str, parts: &[&str]) {
     for part in parts {
         assert!(!text.contains(part), "did not expect {part:?} in:\n{text}");
     }
+}
+
+/// `drivescript ARGS` (from the repository root) on a pseudo-terminal, as a person at a
+/// keyboard runs it: the pty is its standard input, output and error and its controlling
+/// terminal, so a typed Ctrl-C (`\x03`) is a SIGINT and Ctrl-D (`\x04`) an end of input.
+#[cfg(unix)]
+pub struct Terminal {
+    child: std::process::Child,
+    master: std::fs::File,
+    seen: std::sync::Arc<std::sync::Mutex<String>>,
+}
+
+#[cfg(unix)]
+impl Terminal {
+    /// Starts it with `env` added to the environment.
+    pub fn start(args: &[&str], env: &[(&str, &str)]) -> Terminal {
+        use std::os::fd::{FromRawFd, OwnedFd};
+        use std::os::unix::process::CommandExt;
+        let (mut master, mut slave) = (0, 0);
+        let size = libc::winsize {
+            ws_row: 40,
+            ws_col: 120,
+            ws_xpixel: 0,
+            ws_ypixel: 0,
+        };
+        // SAFETY: openpty writes two descriptors it opened; the null pointers ask for no
+        // name and default settings.
+        let ok = unsafe {
+            libc::openpty(
+                &mut master,
+                &mut slave,
+                std::ptr::null_mut(),
+                std::ptr::null(),
+                &size,
+            )
+        };
+        assert_eq!(ok, 0, "openpty: {}", std::io::Error::last_os_error());
+        // SAFETY: both descriptors were just opened and are owned here alone.
+        let (master, slave) = unsafe { (std::fs::File::from_raw_fd(master), OwnedFd::from_raw_fd(slave)) };
+        let io = |fd: &OwnedFd| Stdio::from(fd.try_clone().expect("dup the pty"));
+        let mut command = Command::new(env!("CARGO_BIN_EXE_drivescript"));
+        command
+            .args(args)
+            .current_dir(repo_root())
+            .envs(env.iter().copied())
+            .stdin(io(&slave))
+            .stdout(io(&slave))
+            .stderr(io(&slave));
+        // SAFETY: only async-signal-safe calls between fork and exec: a new session whose
+        // controlling terminal is the pty (standard input).
+        unsafe {
+            command.pre_exec(|| {
+                libc::setsid();
+                libc::ioctl(0, libc::TIOCSCTTY as _, 0);
+                Ok(())
+            });
+        }
+        let child = command.spawn().expect("the run starts");
+        drop(slave);
+        let seen = std::sync::Arc::new(std::sync::Mutex::new(String::new()));
+        let (mut reader, into) = (master.try_clone().expect("dup the pty"), seen.clone());
+        std::thread::spawn(move || {
+            use std::io::Read;
+            let mut buf = [0u8; 1024];
+            // Ends with EIO once the run and its children have closed the terminal.
+            while let Ok(n @ 1..) = reader.read(&mut buf) {
+                into.lock()
+                    .expect("output lock")
+                    .push_str(&String::from_utf8_lossy(&buf[..n]));
+            }
+        });
+        Terminal { child, master, seen }
+    }
+
+    /// What the terminal has shown so far.
+    pub fn screen(&self) -> String {
+        self.seen.lock().expect("output lock").clone()
+    }
+
+    /// Waits until the terminal shows `text` `times` times (at most 30 s); fails the test
+    /// otherwise.
+    pub fn wait_for(&self, text: &str, times: usize) {
+        let started = std::time::Instant::now();
+        while self.screen().matches(text).count() < times {
+            assert!(
+                started.elapsed() < std::time::Duration::from_secs(30),
+                "never showed {text:?} {times} time(s):\n{}",
+                self.screen()
+            );
+            std::thread::sleep(std::time::Duration::from_millis(10));
+        }
+    }
+
+    /// Types `keys` (`"yes\r"`: a line and Enter).
+    pub fn type_keys(&mut self, keys: &str) {
+        use std::io::Write;
+        self.master.write_all(keys.as_bytes()).expect("type into the pty");
+    }
+
+    /// Sends signal `name` (`TERM`, …) to the run.
+    pub fn signal(&self, name: &str) {
+        send_signal(&self.child, name);
+    }
+
+    /// Waits for the run to end (at most 60 s); its exit code and everything it showed.
+    pub fn finish(mut self) -> (Option<i32>, String) {
+        let started = std::time::Instant::now();
+        let status = loop {
+            if let Some(s) = self.child.try_wait().expect("wait for the run") {
+                break s;
+            }
+            if started.elapsed() > std::time::Duration::from_secs(60) {
+                let _ = self.child.kill();
+                panic!("the run did not end:\n{}", self.screen());
+            }
+            std::thread::sleep(std::time::Duration::from_millis(10));
+        };
+        // What it wrote last is read before the terminal is closed.
+        std::thread::sleep(std::time::Duration::from_millis(100));
+        (status.code(), self.screen())
+    }
+}
+
+/// Sends signal `name` (`INT`, `TERM`, …) to `child`.
+fn send_signal(child: &std::process::Child, name: &str) {
+    let status = Command::new("kill")
+        .arg(format!("-{name}"))
+        .arg(child.id().to_string())
+        .status()
+        .expect("kill runs");
+    assert!(status.success());
 }

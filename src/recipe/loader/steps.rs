@@ -7,6 +7,7 @@ mod expect;
 mod expect_parameters;
 mod go_to;
 mod predicate;
+mod prompt;
 mod ramp;
 mod read_print;
 mod repeat;
@@ -36,6 +37,10 @@ pub(in crate::recipe) const STEP_KEYS: &[&str] = &[
     "repeat",
     "include",
     "expect_parameters",
+    "instruct",
+    "confirm",
+    "enter_value",
+    "enter_text",
 ];
 
 impl Loader<'_, '_> {
@@ -152,6 +157,7 @@ impl Loader<'_, '_> {
             "ramp" => self.ramp(body)?,
             "repeat" => self.repeat(body)?,
             "include" => self.include(body)?,
+            word if prompt::PROMPT_KEYS.contains(&word) => self.prompt(word, body, name.as_deref())?,
             word if DeviceCommand::from_id(word).is_some() => {
                 return self.refuse(
                     &key.span,
@@ -166,7 +172,9 @@ impl Loader<'_, '_> {
             }
         };
         let label = match (&kind, name) {
-            (StepKind::Expect(_) | StepKind::ExpectParameters { .. }, _) | (_, None) => label,
+            (StepKind::Expect(_) | StepKind::ExpectParameters { .. } | StepKind::Ask(_), _) | (_, None) => {
+                label
+            }
             (_, Some(n)) => n,
         };
         Some(Step { kind, origin, label })

@@ -77,6 +77,14 @@ impl Loader<'_, '_> {
             .get("on_fault")
             .map(|n| self.steps(n, "`on_fault`"))
             .unwrap_or_default();
+        for (key, list) in [
+            ("finally", finally.as_deref()),
+            ("on_fault", Some(on_fault.as_slice())),
+        ] {
+            if let (Some(list), Some(node)) = (list, f.get(key)) {
+                self.no_operator_steps(list, node, key);
+            }
+        }
         Some(Recipe {
             name,
             description,

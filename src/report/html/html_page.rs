@@ -95,6 +95,14 @@ fn header(h: &mut String, r: &RunReport) {
             "Drive identity",
             r.identity.clone().unwrap_or_else(|| "not read".into()),
         ),
+        (
+            "Unit under test",
+            if r.unit.is_empty() {
+                "not given".to_string()
+            } else {
+                r.unit.to_string()
+            },
+        ),
         ("Parameters", params),
         (
             "Started (UTC)",
