@@ -1,0 +1,464 @@
+//! A capture standing in for the drive it was recorded from: each request is answered
+//! with what the captured drive answered to the same bytes, at the captured latency.
+//!
+//! Requests are matched, not merely sequenced. A cursor marks the last exchange answered,
+//! and an offset maps the replay's clock onto the capture's. A request is answered with
+//! its latest occurrence after the cursor that the capture had made by now (a status
+//! polled less often than in the capture gets the state the capture was in at that time);
+//! when the capture's next such request lies still ahead, with the answer the capture
+//! last gave to it (polled more often: the state has not changed yet), else with that
+//! next occurrence (the replay catches up). Moving the cursor re-aligns the clocks. A
+//! request the capture never made there is refused, naming it and what the capture had
+//! (decoded by the family's explainer). The capture is streamed through a bounded window:
+//! it must never be read whole.
+
+use super::{CaptureError, CaptureReader, Classifier, Exchange, ExchangeReader};
+use crate::bus::{CanFrame, FramePeer, Peer, PeerReply, TransportError};
+use crate::link::{Direction, TelegramExplainer};
+use std::collections::{HashMap, VecDeque};
+use std::io::BufRead;
+use std::path::{Path, PathBuf};
+use std::time::Duration;
+
+/// How many exchanges the replay reads ahead at most to find a request.
+pub const WINDOW: usize = 50_000;
+/// How many distinct requests' last answers are kept.
+const LAST_SEEN: usize = 4096;
+
+/// Called with each refusal when nobody is there to receive it (a served replay).
+pub type RefusalSink = Box<dyn FnMut(&TransportError) + Send>;
+
+pub struct CapturedDrive {
+    source: ExchangeReader<Box<dyn BufRead + Send>>,
+    file: PathBuf,
+    /// Exchanges read ahead, after the cursor; `window[0]` is exchange number `base`.
+    window: VecDeque<Exchange>,
+    base: u64,
+    /// Where each request occurs in the window (exchange numbers, ascending).
+    index: HashMap<Vec<u8>, VecDeque<u64>>,
+    /// The last exchange with replies for each request the cursor has passed.
+    last_seen: HashMap<Vec<u8>, Exchange>,
+    /// Capture time minus replay time, in nanoseconds; `None` before the first answer.
+    offset: Option<i128>,
+    /// The line of the last exchange answered.
+    cursor_line: Option<u64>,
+    ended: bool,
+    /// A read error met while reading ahead, said with the next refusal.
+    broken: Option<CaptureError>,
+    explainer: Box<dyn TelegramExplainer>,
+    /// Bytes of a request that arrived in pieces (a served replay).
+    pending: Vec<u8>,
+    refusals: Option<RefusalSink>,
+    high_water: usize,
+}
+
+impl CapturedDrive {
+    /// Opens the capture at `path`. `classify` tells requests from replies where the
+    /// capture does not say (a candump log); `explainer` decodes telegrams for refusals.
+    pub fn open(
+        path: &Path,
+        classify: Classifier,
+        explainer: Box<dyn TelegramExplainer>,
+    ) -> Result<Self, CaptureError> {
+        let file = std::fs::File::open(path).map_err(|e| CaptureError::Unreadable {
+            file: path.to_path_buf(),
+            detail: e.to_string(),
+        })?;
+        let input: Box<dyn BufRead + Send> = Box::new(std::io::BufReader::with_capacity(1 << 16, file));
+        Self::from_reader(input, path, classify, explainer)
+    }
+
+    /// A capture from any reader; `path` names it in messages.
+    pub fn from_reader(
+        input: Box<dyn BufRead + Send>,
+        path: &Path,
+        classify: Classifier,
+        explainer: Box<dyn TelegramExplainer>,
+    ) -> Result<Self, CaptureError> {
+        let mut drive = CapturedDrive {
+            source: ExchangeReader::new(CaptureReader::new(input, path), classify),
+            file: path.to_path_buf(),
+            window: VecDeque::new(),
+            base: 0,
+            index: HashMap::new(),
+            last_seen: HashMap::new(),
+            offset: None,
+            cursor_line: None,
+            ended: false,
+            broken: None,
+            explainer,
+            pending: Vec::new(),
+            refusals: None,
+            high_water: 0,
+        };
+        drive.read_one();
+        if let Some(e) = drive.broken.take() {
+            return Err(e);
+        }
+        if drive.window.is_empty() {
+            return Err(CaptureError::Line {
+                file: path.to_path_buf(),
+                line: 0,
+                what: "the capture holds no request to replay (no TX line, no request frame)".into(),
+            });
+        }
+        Ok(drive)
+    }
+
+    /// Where refusals go when the replay is served and nobody reads its errors.
+    pub fn on_refusal(&mut self, sink: RefusalSink) {
+        self.refusals = Some(sink);
+    }
+
+    /// The most exchanges the replay ever held read ahead (memory stays bounded).
+    pub fn high_water(&self) -> usize {
+        self.high_water
+    }
+
+    /// Whether the capture is of CAN frames (so far read).
+    pub fn is_frames(&self) -> bool {
+        self.source.is_frames()
+    }
+
+    /// The replies to `request` sent at replay time `now`, each at its replay time.
+    pub fn answer(&mut self, request: &[u8], now: Duration) -> Result<Vec<PeerReply>, TransportError> {
+        let t = now.as_nanos() as i128;
+        let tau = self.offset.map(|o| t + o);
+        while !self.index.get(request).is_some_and(|q| !q.is_empty()) && self.read_one() {}
+        let next = self.index.get(request).and_then(|q| q.front().copied());
+        let chosen = match (next, tau) {
+            (Some(j), Some(tau)) if nanos(self.at(j)) <= tau => {
+                while self.window.back().is_some_and(|e| nanos(e.at) <= tau) && self.read_one() {}
+                let occurrences = self.index.get(request).into_iter().flatten();
+                let k = occurrences
+                    .take_while(|&&i| nanos(self.at(i)) <= tau)
+                    .last()
+                    .copied()
+                    .unwrap_or(j);
+                Some(self.advance_to(k).ok_or_else(|| self.refusal(request))?)
+            }
+            _ if self.last_seen.contains_key(request) => None,
+            (Some(j), _) => Some(self.advance_to(j).ok_or_else(|| self.refusal(request))?),
+            (None, _) => return Err(self.refusal(request)),
+        };
+        let exchange = match &chosen {
+            Some(e) => e,
+            None => match self.last_seen.get(request) {
+                Some(e) => e,
+                None => return Err(self.refusal(request)),
+            },
+        };
+        if let Some(e) = &chosen {
+            self.offset = Some(nanos(e.at) - t);
+            self.cursor_line = Some(e.line);
+        }
+        let replies = exchange
+            .replies
+            .iter()
+            .map(|(at, bytes)| PeerReply {
+                at: now + at.saturating_sub(exchange.at),
+                bytes: bytes.clone(),
+            })
+            .collect();
+        if let Some(e) = chosen {
+            self.remember(e);
+        }
+        Ok(replies)
+    }
+
+    /// Capture time of exchange number `i` (in the window).
+    fn at(&self, i: u64) -> Duration {
+        self.window
+            .get(usize::try_from(i - self.base).unwrap_or(usize::MAX))
+            .map_or(Duration::MAX, |e| e.at)
+    }
+
+    /// Moves the cursor onto exchange `k`: the exchanges before it are passed (their
+    /// answers kept as the latest known), `k` is taken out of the window and returned
+    /// (`None` only if the window no longer holds it).
+    fn advance_to(&mut self, k: u64) -> Option<Exchange> {
+        loop {
+            let e = self.window.pop_front()?;
+            let number = self.base;
+            self.base += 1;
+            if let Some(q) = self.index.get_mut(&e.request) {
+                q.pop_front();
+                if q.is_empty() {
+                    self.index.remove(&e.request);
+                }
+            }
+            if number == k {
+                return Some(e);
+            }
+            self.remember(e);
+        }
+    }
+
+    fn remember(&mut self, e: Exchange) {
+        if e.replies.is_empty() {
+            return;
+        }
+        if self.last_seen.len() >= LAST_SEEN && !self.last_seen.contains_key(&e.request) {
+            self.last_seen.clear();
+        }
+        self.last_seen.insert(e.request.clone(), e);
+    }
+
+    /// Reads one more exchange into the window; `false` when none came (the end, a bad
+    /// line, or the window is full).
+    fn read_one(&mut self) -> bool {
+        if self.ended || self.window.len() >= WINDOW {
+            return false;
+        }
+        match self.source.next_exchange() {
+            Ok(Some(e)) => {
+                let number = self.base + self.window.len() as u64;
+                self.index.entry(e.request.clone()).or_default().push_back(number);
+                self.window.push_back(e);
+                self.high_water = self.high_water.max(self.window.len());
+                true
+            }
+            Ok(None) => {
+                self.ended = true;
+                false
+            }
+            Err(e) => {
+                self.ended = true;
+                self.broken = Some(e);
+                false
+            }
+        }
+    }
+
+    /// The refusal of `request`: what it is and what the capture had at that point.
+    fn refusal(&mut self, request: &[u8]) -> TransportError {
+        let name = self.file.display().to_string();
+        let asked = self.telegram(request);
+        let after = match self.cursor_line {
+            Some(line) => format!(" after {name}:{line}"),
+            None => String::new(),
+        };
+        let had = match (self.window.front().cloned(), &self.broken) {
+            (_, Some(e)) => format!("the capture cannot be read on: {e}"),
+            (Some(e), None) => format!(
+                "the capture had there {name}:{} ({:.6} s): {}",
+                e.line,
+                e.at.as_secs_f64(),
+                self.telegram(&e.request)
+            ),
+            (None, None) => "the capture ends there".to_string(),
+        };
+        TransportError::NotInCapture {
+            detail: format!(
+                "replay: the capture {name} never answered {asked}{after}; {had}. Replay it with the recipe and drivescript that made the capture, or record it again"
+            ),
+        }
+    }
+
+    fn telegram(&mut self, bytes: &[u8]) -> String {
+        let hex = if self.is_frames() {
+            CanFrame::from_bytes(bytes).map_or_else(|| crate::hex::to_hex(bytes), |f| f.to_candump())
+        } else {
+            crate::hex::to_hex(bytes)
+        };
+        let meaning = self.explainer.summary(Direction::Sent, bytes);
+        format!(
+            "`{hex}` ({})",
+            meaning.split_whitespace().collect::<Vec<_>>().join(" ")
+        )
+    }
+
+    fn refused(&mut self, e: &TransportError) {
+        if let Some(sink) = &mut self.refusals {
+            sink(e);
+        }
+    }
+}
+
+fn nanos(d: Duration) -> i128 {
+    d.as_nanos() as i128
+}
+
+impl Peer for CapturedDrive {
+    /// Served on a byte line, where a request may arrive in pieces: bytes are gathered
+    /// while they are the start of a request the capture holds.
+    fn receive(&mut self, bytes: &[u8], now: Duration) -> Vec<PeerReply> {
+        self.pending.extend_from_slice(bytes);
+        let pending = self.pending.clone();
+        let known = |k: &Vec<u8>| k.len() > pending.len() && k.starts_with(&pending);
+        let whole = self.index.contains_key(&pending) || self.last_seen.contains_key(&pending);
+        if !whole && (self.index.keys().any(known) || self.last_seen.keys().any(known)) {
+            return Vec::new();
+        }
+        self.pending.clear();
+        match self.answer(&pending, now) {
+            Ok(replies) => replies,
+            Err(e) => {
+                self.refused(&e);
+                Vec::new()
+            }
+        }
+    }
+
+    fn exchange(&mut self, bytes: &[u8], now: Duration) -> Result<Vec<PeerReply>, TransportError> {
+        self.answer(bytes, now)
+    }
+}
+
+impl FramePeer for CapturedDrive {
+    fn receive(&mut self, frame: &CanFrame, now: Duration) -> Vec<(Duration, CanFrame)> {
+        match FramePeer::exchange(self, frame, now) {
+            Ok(replies) => replies,
+            Err(e) => {
+                self.refused(&e);
+                Vec::new()
+            }
+        }
+    }
+
+    fn exchange(
+        &mut self,
+        frame: &CanFrame,
+        now: Duration,
+    ) -> Result<Vec<(Duration, CanFrame)>, TransportError> {
+        let replies = self.answer(&frame.to_bytes(), now)?;
+        Ok(replies
+            .into_iter()
+            .filter_map(|r| Some((r.at, CanFrame::from_bytes(&r.bytes)?)))
+            .collect())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Names a telegram by its first byte, as a family's explainer names its command.
+    struct Named;
+    impl TelegramExplainer for Named {
+        fn summary(&mut self, _: Direction, bytes: &[u8]) -> String {
+            format!("command {}", bytes.first().copied().unwrap_or(0))
+        }
+        fn explain(&mut self, _: &[u8]) -> Result<String, crate::link::ExplainError> {
+            Err(String::from("not used").into())
+        }
+        fn json(&mut self, _: &[u8]) -> (serde_json::Value, bool) {
+            (serde_json::Value::Null, false)
+        }
+    }
+
+    fn drive(text: &str) -> CapturedDrive {
+        let input: Box<dyn BufRead + Send> = Box::new(std::io::Cursor::new(text.as_bytes().to_vec()));
+        CapturedDrive::from_reader(input, Path::new("cap.trace"), Box::new(|_| None), Box::new(Named))
+            .unwrap()
+    }
+
+    fn ms(n: u64) -> Duration {
+        Duration::from_millis(n)
+    }
+
+    /// The first reply's bytes to `request` at `at_ms`.
+    fn ask(d: &mut CapturedDrive, request: u8, at_ms: u64) -> Vec<u8> {
+        let replies = d.answer(&[request], ms(at_ms)).unwrap();
+        replies.first().map(|r| r.bytes.clone()).unwrap_or_default()
+    }
+
+    /// Write 9, then the speed (request 1) polled every 100 ms ramps 10, 20, 30 and stays.
+    const RAMP: &str = "\
+    5.000 TX 09\n    5.001 RX 00\n\
+    5.100 TX 01\n    5.101 RX 0a\n\
+    5.200 TX 01\n    5.201 RX 14\n\
+    5.300 TX 01\n    5.301 RX 1e\n\
+    5.400 TX 02\n    5.401 RX 63\n";
+
+    #[test]
+    fn the_same_requests_get_the_captured_replies_at_the_captured_latency() {
+        let mut d = drive(RAMP);
+        let r = d.answer(&[9], ms(0)).unwrap();
+        assert_eq!(
+            r,
+            vec![PeerReply {
+                at: ms(1),
+                bytes: vec![0]
+            }]
+        );
+        assert_eq!(ask(&mut d, 1, 100), vec![10]);
+        assert_eq!(ask(&mut d, 1, 200), vec![20]);
+        assert_eq!(ask(&mut d, 1, 300), vec![30]);
+        assert_eq!(ask(&mut d, 2, 400), vec![99]);
+    }
+
+    #[test]
+    fn a_poll_more_often_gets_the_state_of_that_time() {
+        let mut d = drive(RAMP);
+        ask(&mut d, 9, 0);
+        // The first poll comes before the capture's: it gets the capture's first answer,
+        // and the clocks are aligned on it (the capture's 5.100 s is now 50 ms).
+        let got: Vec<u8> = [50, 100, 150, 200, 250, 300, 350]
+            .iter()
+            .map(|&t| ask(&mut d, 1, t)[0])
+            .collect();
+        assert_eq!(got, vec![10, 10, 20, 20, 30, 30, 30]);
+        assert_eq!(ask(&mut d, 2, 400), vec![99]);
+    }
+
+    #[test]
+    fn a_poll_less_often_gets_the_state_of_that_time() {
+        let mut d = drive(RAMP);
+        ask(&mut d, 9, 0);
+        assert_eq!(ask(&mut d, 1, 200), vec![20]);
+        assert_eq!(ask(&mut d, 1, 400), vec![30]);
+        assert_eq!(ask(&mut d, 2, 410), vec![99]);
+    }
+
+    #[test]
+    fn a_request_the_capture_never_answered_is_refused_naming_it_and_what_was_there() {
+        let mut d = drive(RAMP);
+        ask(&mut d, 9, 0);
+        let e = d.answer(&[7], ms(100)).unwrap_err().to_string();
+        assert!(
+            e.contains("never answered `07` (command 7) after cap.trace:1"),
+            "{e}"
+        );
+        assert!(
+            e.contains("the capture had there cap.trace:3 (5.100000 s): `01` (command 1)"),
+            "{e}"
+        );
+        // The refusal does not spoil the rest.
+        assert_eq!(ask(&mut d, 1, 100), vec![10]);
+    }
+
+    #[test]
+    fn a_retry_after_a_lost_reply_gets_the_captured_retrys_reply() {
+        let mut d = drive("    0.0 TX 05\n    0.0 -- no reply\n    1.02 TX 05\n    1.021 RX 55\n");
+        assert_eq!(d.answer(&[5], ms(0)).unwrap(), vec![]);
+        assert_eq!(ask(&mut d, 5, 1000), vec![0x55]);
+    }
+
+    #[test]
+    fn served_bytes_in_pieces_are_gathered_into_the_request() {
+        let mut d = drive("    0.0 TX 01 02 03\n    0.001 RX 04\n");
+        assert!(Peer::receive(&mut d, &[1], ms(0)).is_empty());
+        assert!(Peer::receive(&mut d, &[2], ms(0)).is_empty());
+        assert_eq!(Peer::receive(&mut d, &[3], ms(0))[0].bytes, vec![4]);
+        let refused = std::sync::Arc::new(std::sync::Mutex::new(Vec::new()));
+        let sink = refused.clone();
+        d.on_refusal(Box::new(move |e| sink.lock().unwrap().push(e.to_string())));
+        assert!(Peer::receive(&mut d, &[9], ms(5)).is_empty());
+        assert_eq!(refused.lock().unwrap().len(), 1);
+    }
+
+    #[test]
+    fn the_window_is_bounded_and_a_capture_without_requests_is_refused() {
+        let mut text = String::new();
+        for i in 0..(WINDOW + 10) {
+            text.push_str(&format!("    {i}.0 TX 01\n    {i}.001 RX 02\n"));
+        }
+        let mut d = drive(&text);
+        assert!(d.answer(&[3], ms(0)).is_err());
+        assert!(d.high_water() <= WINDOW);
+        let input: Box<dyn BufRead + Send> = Box::new(std::io::Cursor::new(b"# only\n".to_vec()));
+        let e = CapturedDrive::from_reader(input, Path::new("c"), Box::new(|_| None), Box::new(Named));
+        assert!(e.is_err());
+    }
+}
