@@ -234,6 +234,13 @@ pub trait Family: Send + Sync {
         let _ = text;
         None
     }
+    /// Whether a CAN frame of a capture that does not say (a candump log) was sent to a
+    /// drive of this family (a request) or by one (a reply); `None` for traffic that is
+    /// neither (heartbeats, process data). Byte families' traces say it themselves.
+    fn frame_direction(&self, frame: &crate::bus::CanFrame) -> Option<crate::link::Direction> {
+        let _ = frame;
+        None
+    }
     /// The maintenance actions this family's drives offer (`drivescript maintain`),
     /// carried out through `ObjectAccess::maintain`; none by default.
     fn maintenance_actions(&self) -> &'static [crate::drive::MaintenanceAction] {

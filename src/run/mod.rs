@@ -33,6 +33,7 @@ mod maintain;
 mod not_run;
 mod output_args;
 mod pipeline;
+mod replay_connection;
 mod run_error;
 mod run_many;
 mod run_plan;
