@@ -6,8 +6,8 @@
 //! its latest occurrence after the cursor that the capture had made by now (a status
 //! polled less often than in the capture gets the state the capture was in at that time);
 //! when the capture's next such request lies still ahead, with the answer the capture
-//! last gave to it (polled more often: the state has not changed yet), else with that
-//! next occurrence (the replay catches up). Moving the cursor re-aligns the clocks. A
+//! last gave to it if that is nearer in capture time (polled more often: the state has
+//! not changed yet), else with that next occurrence (the replay catches up). Moving the cursor re-aligns the clocks. A
 //! request the capture never made there is refused, naming it and what the capture had
 //! (decoded by the family's explainer). The capture is streamed through a bounded window:
 //! it must never be read whole.
@@ -22,6 +22,8 @@ use std::time::Duration;
 
 /// How many exchanges the replay reads ahead at most to find a request.
 pub const WINDOW: usize = 50_000;
+/// How many of the last requests make up the replay's polling cycle.
+const RECENT: usize = 8;
 /// How many distinct requests' last answers are kept.
 const LAST_SEEN: usize = 4096;
 
@@ -43,9 +45,14 @@ pub struct CapturedDrive {
     /// The line of the last exchange answered.
     cursor_line: Option<u64>,
     ended: bool,
+    /// A request was refused since the cursor last moved: the replay has left the
+    /// capture's course, so its clock says nothing about where the capture is.
+    diverged: bool,
     /// A read error met while reading ahead, said with the next refusal.
     broken: Option<CaptureError>,
     explainer: Box<dyn TelegramExplainer>,
+    /// The last requests answered, newest last.
+    recent: VecDeque<Vec<u8>>,
     /// Bytes of a request that arrived in pieces (a served replay).
     pending: Vec<u8>,
     refusals: Option<RefusalSink>,
@@ -85,8 +92,10 @@ impl CapturedDrive {
             offset: None,
             cursor_line: None,
             ended: false,
+            diverged: false,
             broken: None,
             explainer,
+            recent: VecDeque::new(),
             pending: Vec::new(),
             refusals: None,
             high_water: 0,
@@ -126,20 +135,25 @@ impl CapturedDrive {
         let tau = self.offset.map(|o| t + o);
         while !self.index.get(request).is_some_and(|q| !q.is_empty()) && self.read_one() {}
         let next = self.index.get(request).and_then(|q| q.front().copied());
+        // The last answer counts while it is nearer in capture time than the next one.
+        let last_nearer = |next_at: Option<Duration>, last: Option<&Exchange>| match (tau, next_at, last) {
+            (_, _, None) => false,
+            (_, None, Some(_)) | (None, _, Some(_)) => true,
+            (Some(tau), Some(next_at), Some(last)) => tau - nanos(last.at) <= nanos(next_at) - tau,
+        };
+        let next_at = next.map(|j| self.at(j));
         let chosen = match (next, tau) {
             (Some(j), Some(tau)) if nanos(self.at(j)) <= tau => {
                 while self.window.back().is_some_and(|e| nanos(e.at) <= tau) && self.read_one() {}
-                let occurrences = self.index.get(request).into_iter().flatten();
-                let k = occurrences
-                    .take_while(|&&i| nanos(self.at(i)) <= tau)
-                    .last()
-                    .copied()
-                    .unwrap_or(j);
+                let k = self.latest_by(request, j, tau);
                 Some(self.advance_to(k).ok_or_else(|| self.refusal(request))?)
             }
+            // After a refusal the clocks no longer agree: the next occurrence it is.
+            (Some(j), _) if self.diverged || !last_nearer(next_at, self.last_seen.get(request)) => {
+                Some(self.advance_to(j).ok_or_else(|| self.refusal(request))?)
+            }
             _ if self.last_seen.contains_key(request) => None,
-            (Some(j), _) => Some(self.advance_to(j).ok_or_else(|| self.refusal(request))?),
-            (None, _) => return Err(self.refusal(request)),
+            _ => return Err(self.refusal(request)),
         };
         let exchange = match &chosen {
             Some(e) => e,
@@ -149,6 +163,7 @@ impl CapturedDrive {
             },
         };
         if let Some(e) = &chosen {
+            self.diverged = false;
             self.offset = Some(nanos(e.at) - t);
             self.cursor_line = Some(e.line);
         }
@@ -163,7 +178,31 @@ impl CapturedDrive {
         if let Some(e) = chosen {
             self.remember(e);
         }
+        if self.recent.len() >= RECENT {
+            self.recent.pop_front();
+        }
+        self.recent.push_back(request.to_vec());
         Ok(replies)
+    }
+
+    /// The last occurrence of `request` from exchange `j` on that the capture had made by
+    /// capture time `tau`, passing only exchanges of what the replay has been asking lately
+    /// (its polling cycle): a replay that runs late must not skip a command it has still
+    /// to send (the capture's next setpoint, its stop).
+    fn latest_by(&self, request: &[u8], j: u64, tau: i128) -> u64 {
+        let mut k = j;
+        let start = usize::try_from(j + 1 - self.base).unwrap_or(usize::MAX);
+        for (offset, e) in self.window.iter().enumerate().skip(start) {
+            if nanos(e.at) > tau {
+                break;
+            }
+            if e.request == request {
+                k = self.base + offset as u64;
+            } else if !self.recent.iter().any(|r| *r == e.request) {
+                break;
+            }
+        }
+        k
     }
 
     /// Capture time of exchange number `i` (in the window).
@@ -232,6 +271,7 @@ impl CapturedDrive {
 
     /// The refusal of `request`: what it is and what the capture had at that point.
     fn refusal(&mut self, request: &[u8]) -> TransportError {
+        self.diverged = true;
         let name = self.file.display().to_string();
         let asked = self.telegram(request);
         let after = match self.cursor_line {
@@ -426,6 +466,41 @@ mod tests {
         );
         // The refusal does not spoil the rest.
         assert_eq!(ask(&mut d, 1, 100), vec![10]);
+    }
+
+    #[test]
+    fn a_command_sent_again_much_later_takes_its_next_occurrence_not_its_old_answer() {
+        // Command 6 early, state 1 polled, then at the end command 7, command 6 and the state.
+        let mut d = drive(
+            "    0.0 TX 06
+    0.001 RX 60
+    0.1 TX 01
+    0.101 RX 11
+    9.0 TX 07
+    9.001 RX 70
+    9.1 TX 06
+    9.101 RX 61
+    9.2 TX 01
+    9.201 RX 12
+",
+        );
+        assert_eq!(ask(&mut d, 6, 0), vec![0x60]);
+        assert_eq!(ask(&mut d, 1, 100), vec![0x11]);
+        assert_eq!(ask(&mut d, 7, 150), vec![0x70]);
+        assert_eq!(ask(&mut d, 6, 160), vec![0x61]);
+        assert_eq!(ask(&mut d, 1, 170), vec![0x12]);
+    }
+
+    #[test]
+    fn a_replay_running_late_does_not_skip_a_command_it_has_still_to_send() {
+        // Polls of 1, then 2 read once (an expect), command 9, and polls of 1 again.
+        let mut d = drive("    0.0 TX 01\n    0.001 RX 10\n    0.1 TX 01\n    0.101 RX 11\n    0.2 TX 02\n    0.201 RX 20\n    0.3 TX 09\n    0.301 RX 90\n    0.4 TX 01\n    0.401 RX 12\n");
+        assert_eq!(ask(&mut d, 1, 0), vec![0x10]);
+        // 450 ms late: the capture polled once more, then read 2 and sent 9 before then.
+        assert_eq!(ask(&mut d, 1, 550), vec![0x11]);
+        assert_eq!(ask(&mut d, 2, 600), vec![0x20]);
+        assert_eq!(ask(&mut d, 9, 650), vec![0x90]);
+        assert_eq!(ask(&mut d, 1, 700), vec![0x12]);
     }
 
     #[test]
