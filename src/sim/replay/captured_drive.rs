@@ -40,6 +40,14 @@ pub struct CapturedDrive {
     index: HashMap<Vec<u8>, VecDeque<u64>>,
     /// The last exchange with replies for each request the cursor has passed.
     last_seen: HashMap<Vec<u8>, Exchange>,
+    /// Each passed exchange with replies by the line of the exchange before it: a request
+    /// whose meaning depends on the one before (a CANopen segment request) gets the
+    /// answer that followed the exchange the replay last answered with.
+    followed: HashMap<u64, Exchange>,
+    /// The line of the last exchange the cursor passed or answered.
+    passed: u64,
+    /// The line of the exchange the last answer came from.
+    answered: u64,
     /// Capture time minus replay time, in nanoseconds; `None` before the first answer.
     offset: Option<i128>,
     /// The line of the last exchange answered.
@@ -89,6 +97,9 @@ impl CapturedDrive {
             base: 0,
             index: HashMap::new(),
             last_seen: HashMap::new(),
+            followed: HashMap::new(),
+            passed: 0,
+            answered: 0,
             offset: None,
             cursor_line: None,
             ended: false,
@@ -149,34 +160,34 @@ impl CapturedDrive {
                 Some(self.advance_to(k).ok_or_else(|| self.refusal(request))?)
             }
             // After a refusal the clocks no longer agree: the next occurrence it is.
-            (Some(j), _) if self.diverged || !last_nearer(next_at, self.last_seen.get(request)) => {
+            (Some(j), _) if self.diverged || !last_nearer(next_at, self.last_answer(request)) => {
                 Some(self.advance_to(j).ok_or_else(|| self.refusal(request))?)
             }
-            _ if self.last_seen.contains_key(request) => None,
+            _ if self.last_answer(request).is_some() => None,
             _ => return Err(self.refusal(request)),
         };
-        let exchange = match &chosen {
-            Some(e) => e,
-            None => match self.last_seen.get(request) {
-                Some(e) => e,
+        let (asked_at, captured, line) = match &chosen {
+            Some((_, e)) => (e.at, e.replies.clone(), e.line),
+            None => match self.last_answer(request) {
+                Some(e) => (e.at, e.replies.clone(), e.line),
                 None => return Err(self.refusal(request)),
             },
         };
-        if let Some(e) = &chosen {
+        self.answered = line;
+        if let Some((_, e)) = &chosen {
             self.diverged = false;
             self.offset = Some(nanos(e.at) - t);
             self.cursor_line = Some(e.line);
         }
-        let replies = exchange
-            .replies
-            .iter()
+        let replies = captured
+            .into_iter()
             .map(|(at, bytes)| PeerReply {
-                at: now + at.saturating_sub(exchange.at),
-                bytes: bytes.clone(),
+                at: now + at.saturating_sub(asked_at),
+                bytes,
             })
             .collect();
-        if let Some(e) = chosen {
-            self.remember(e);
+        if let Some((before, e)) = chosen {
+            self.remember(before, e);
         }
         if self.recent.len() >= RECENT {
             self.recent.pop_front();
@@ -215,7 +226,7 @@ impl CapturedDrive {
     /// Moves the cursor onto exchange `k`: the exchanges before it are passed (their
     /// answers kept as the latest known), `k` is taken out of the window and returned
     /// (`None` only if the window no longer holds it).
-    fn advance_to(&mut self, k: u64) -> Option<Exchange> {
+    fn advance_to(&mut self, k: u64) -> Option<(u64, Exchange)> {
         loop {
             let e = self.window.pop_front()?;
             let number = self.base;
@@ -226,20 +237,32 @@ impl CapturedDrive {
                     self.index.remove(&e.request);
                 }
             }
+            let before = std::mem::replace(&mut self.passed, e.line);
             if number == k {
-                return Some(e);
+                return Some((before, e));
             }
-            self.remember(e);
+            self.remember(before, e);
         }
     }
 
-    fn remember(&mut self, e: Exchange) {
+    /// The answer the capture last gave to `request`: the one that followed the exchange
+    /// the replay last answered with, where that was `request`.
+    fn last_answer(&self, request: &[u8]) -> Option<&Exchange> {
+        let after = self.followed.get(&self.answered).filter(|e| e.request == request);
+        after.or_else(|| self.last_seen.get(request))
+    }
+
+    fn remember(&mut self, before: u64, e: Exchange) {
         if e.replies.is_empty() {
             return;
         }
         if self.last_seen.len() >= LAST_SEEN && !self.last_seen.contains_key(&e.request) {
             self.last_seen.clear();
         }
+        if self.followed.len() >= LAST_SEEN {
+            self.followed.clear();
+        }
+        self.followed.insert(before, e.clone());
         self.last_seen.insert(e.request.clone(), e);
     }
 
