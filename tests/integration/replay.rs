@@ -172,3 +172,81 @@ fn lenze_9400_records_and_replays() {
         "rated_motor_current",
     );
 }
+
+/// One case under `tests/cases/replay/<case>/`: `recipe.yaml`, a capture, and
+/// `replay.yaml` with what the replay must give.
+#[derive(Debug, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+struct ReplayCase {
+    /// The capture, relative to the case [default: the case's `capture.trace` or
+    /// `capture.log`].
+    #[serde(default)]
+    capture: Option<String>,
+    exit: i32,
+    /// More command-line arguments (`--set speed=4000rpm`).
+    #[serde(default)]
+    args: Vec<String>,
+    /// Lines that must appear, in this order (each a substring of a line).
+    output: String,
+}
+
+/// Every case folder under `tests/cases/replay/`: replayed with `run --replay`, its exit
+/// code and its output lines in order as `replay.yaml` says.
+#[test]
+fn replay_cases() {
+    let root = crate::support::repo_root().join("tests/cases/replay");
+    let mut cases: Vec<PathBuf> = std::fs::read_dir(&root)
+        .expect("tests/cases/replay exists")
+        .map(|e| e.expect("readable").path())
+        .filter(|p| p.join("replay.yaml").exists())
+        .collect();
+    cases.sort();
+    assert!(
+        cases.len() >= 5,
+        "expected the replay cases, found {}",
+        cases.len()
+    );
+    let failures: Vec<String> = cases.iter().filter_map(|dir| replay_case(dir).err()).collect();
+    assert!(failures.is_empty(), "{}", failures.join("\n\n"));
+}
+
+fn replay_case(dir: &Path) -> Result<(), String> {
+    let name = dir.display();
+    let text = std::fs::read_to_string(dir.join("replay.yaml")).map_err(|e| format!("{name}: {e}"))?;
+    let case: ReplayCase = serde_saphyr::from_str(&text).map_err(|e| format!("{name}/replay.yaml: {e}"))?;
+    let capture = match &case.capture {
+        Some(c) => dir.join(c),
+        None => ["capture.trace", "capture.log"]
+            .iter()
+            .map(|f| dir.join(f))
+            .find(|p| p.exists())
+            .ok_or_else(|| format!("{name}: no capture.trace or capture.log"))?,
+    };
+    let recipe = dir.join("recipe.yaml");
+    let mut args = vec![
+        "run",
+        recipe.to_str().unwrap_or(""),
+        "--replay",
+        capture.to_str().unwrap_or(""),
+    ];
+    args.extend(case.args.iter().map(String::as_str));
+    let out = crate::support::drivescript(&args, "");
+    let text = format!("{}{}", crate::support::stdout(&out), crate::support::stderr(&out));
+    if out.status.code() != Some(case.exit) {
+        return Err(format!(
+            "{name}: exit {:?}, expected {}\n{text}",
+            out.status.code(),
+            case.exit
+        ));
+    }
+    // Several wanted parts may stand on one line, in order.
+    let lines: Vec<&str> = text.lines().collect();
+    let mut at = 0;
+    for wanted in case.output.lines().map(str::trim).filter(|l| !l.is_empty()) {
+        match lines[at..].iter().position(|l| l.contains(wanted)) {
+            Some(i) => at += i,
+            None => return Err(format!("{name}: `{wanted}` missing (or out of order) in\n{text}")),
+        }
+    }
+    Ok(())
+}

@@ -22,6 +22,8 @@ use std::time::Duration;
 
 /// How many exchanges the replay reads ahead at most to find a request.
 pub const WINDOW: usize = 50_000;
+/// How far the replay may lag behind the capture before it passes what it did not send.
+const LATE: i128 = 1_000_000_000;
 /// How many of the last requests make up the replay's polling cycle.
 const RECENT: usize = 8;
 /// How many distinct requests' last answers are kept.
@@ -144,7 +146,7 @@ impl CapturedDrive {
     pub fn answer(&mut self, request: &[u8], now: Duration) -> Result<Vec<PeerReply>, TransportError> {
         let t = now.as_nanos() as i128;
         let tau = self.offset.map(|o| t + o);
-        while !self.index.get(request).is_some_and(|q| !q.is_empty()) && self.read_one() {}
+        while self.index.get(request).is_none_or(|q| q.is_empty()) && self.read_one() {}
         let next = self.index.get(request).and_then(|q| q.front().copied());
         // The last answer counts while it is nearer in capture time than the next one.
         let last_nearer = |next_at: Option<Duration>, last: Option<&Exchange>| match (tau, next_at, last) {
@@ -153,18 +155,31 @@ impl CapturedDrive {
             (Some(tau), Some(next_at), Some(last)) => tau - nanos(last.at) <= nanos(next_at) - tau,
         };
         let next_at = next.map(|j| self.at(j));
-        let chosen = match (next, tau) {
-            (Some(j), Some(tau)) if nanos(self.at(j)) <= tau => {
+        let last = self.last_answer(request).is_some();
+        // Moving on past a command the replay has still to send would lose it; unless the
+        // capture made this request long before now: then the replay polls less than the
+        // capture did (no status beside the speed), and must not stay behind for good.
+        let long_ago = |d: &Self, j: u64| tau.is_some_and(|tau| nanos(d.at(j)) + LATE <= tau);
+        let blocked = |d: &Self, j: u64| !d.diverged && last && !d.clear_path(request, j);
+        let may_move = |d: &Self, j: u64| !blocked(d, j) || long_ago(d, j);
+        let passing = next.is_some_and(|j| blocked(self, j));
+        let chosen = match next {
+            Some(j) if may_move(self, j) && tau.is_some_and(|tau| nanos(self.at(j)) <= tau) => {
+                let tau = tau.unwrap_or_default();
                 while self.window.back().is_some_and(|e| nanos(e.at) <= tau) && self.read_one() {}
                 let k = self.latest_by(request, j, tau);
                 Some(self.advance_to(k).ok_or_else(|| self.refusal(request))?)
             }
             // After a refusal the clocks no longer agree: the next occurrence it is.
-            (Some(j), _) if self.diverged || !last_nearer(next_at, self.last_answer(request)) => {
+            Some(j)
+                if may_move(self, j)
+                    && (self.diverged || !last_nearer(next_at, self.last_answer(request))) =>
+            {
                 Some(self.advance_to(j).ok_or_else(|| self.refusal(request))?)
             }
-            _ if self.last_answer(request).is_some() => None,
-            _ => return Err(self.refusal(request)),
+            _ if last => None,
+            Some(j) => Some(self.advance_to(j).ok_or_else(|| self.refusal(request))?),
+            None => return Err(self.refusal(request)),
         };
         let (asked_at, captured, line) = match &chosen {
             Some((_, e)) => (e.at, e.replies.clone(), e.line),
@@ -176,7 +191,13 @@ impl CapturedDrive {
         self.answered = line;
         if let Some((_, e)) = &chosen {
             self.diverged = false;
-            self.offset = Some(nanos(e.at) - t);
+            // Re-aligned on the exchange answered; not back when it passed what it did not
+            // send, or a replay that polls less than the capture would fall further behind.
+            let aligned = nanos(e.at) - t;
+            self.offset = Some(match self.offset {
+                Some(old) if passing => aligned.max(old),
+                _ => aligned,
+            });
             self.cursor_line = Some(e.line);
         }
         let replies = captured
@@ -196,10 +217,20 @@ impl CapturedDrive {
         Ok(replies)
     }
 
+    /// Whether every exchange before number `j` is of `request` or of the replay's polling
+    /// cycle.
+    fn clear_path(&self, request: &[u8], j: u64) -> bool {
+        let before = usize::try_from(j - self.base).unwrap_or(usize::MAX);
+        self.window
+            .iter()
+            .take(before)
+            .all(|e| e.request == request || self.recent.iter().any(|r| *r == e.request))
+    }
+
     /// The last occurrence of `request` from exchange `j` on that the capture had made by
     /// capture time `tau`, passing only exchanges of what the replay has been asking lately
-    /// (its polling cycle): a replay that runs late must not skip a command it has still
-    /// to send (the capture's next setpoint, its stop).
+    /// (its polling cycle) or made long ago: a replay that runs late must not skip a command
+    /// it has still to send (the capture's next setpoint, its stop).
     fn latest_by(&self, request: &[u8], j: u64, tau: i128) -> u64 {
         let mut k = j;
         let start = usize::try_from(j + 1 - self.base).unwrap_or(usize::MAX);
@@ -209,7 +240,7 @@ impl CapturedDrive {
             }
             if e.request == request {
                 k = self.base + offset as u64;
-            } else if !self.recent.iter().any(|r| *r == e.request) {
+            } else if nanos(e.at) + LATE > tau && !self.recent.iter().any(|r| *r == e.request) {
                 break;
             }
         }
@@ -246,8 +277,13 @@ impl CapturedDrive {
     }
 
     /// The answer the capture last gave to `request`: the one that followed the exchange
-    /// the replay last answered with, where that was `request`.
+    /// the replay last answered with, where that was `request`. Only for what the replay
+    /// has been asking lately (a poll repeated): a command sent again later, a safe stop
+    /// the capture does not hold, must not be answered from an earlier time.
     fn last_answer(&self, request: &[u8]) -> Option<&Exchange> {
+        if !self.recent.iter().any(|r| r == request) {
+            return None;
+        }
         let after = self.followed.get(&self.answered).filter(|e| e.request == request);
         after.or_else(|| self.last_seen.get(request))
     }
@@ -524,6 +560,34 @@ mod tests {
         assert_eq!(ask(&mut d, 2, 600), vec![0x20]);
         assert_eq!(ask(&mut d, 9, 650), vec![0x90]);
         assert_eq!(ask(&mut d, 1, 700), vec![0x12]);
+    }
+
+    #[test]
+    fn one_poll_more_than_the_capture_made_does_not_skip_the_next_command() {
+        // Four polls of 1, then 2 read once and command 9, then polls of 1 again.
+        let mut d = drive("    0.0 TX 01\n    0.001 RX 10\n    0.25 TX 01\n    0.251 RX 11\n    0.5 TX 01\n    0.501 RX 12\n    0.501 TX 02\n    0.502 RX 20\n    0.502 TX 09\n    0.503 RX 90\n    0.6 TX 01\n    0.601 RX 13\n");
+        // The fourth poll comes nearer the capture's next poll than its last one.
+        for (at, got) in [(0, 0x10), (250, 0x11), (500, 0x12), (580, 0x12)] {
+            assert_eq!(ask(&mut d, 1, at), vec![got]);
+        }
+        assert_eq!(ask(&mut d, 2, 581), vec![0x20]);
+        assert_eq!(ask(&mut d, 9, 582), vec![0x90]);
+        assert_eq!(ask(&mut d, 1, 700), vec![0x13]);
+    }
+
+    #[test]
+    fn a_replay_polling_less_than_the_capture_does_not_stay_behind() {
+        // The capture polls 1 and 3 alternately; the replay asks only 1.
+        let mut text = String::new();
+        for i in 0..40u32 {
+            let request = if i % 2 == 0 { 1 } else { 3 };
+            text.push_str(&format!("    {}.0 TX 0{request}\n    {}.001 RX {i:02x}\n", i, i));
+        }
+        let mut d = drive(&text);
+        assert_eq!(ask(&mut d, 1, 0), vec![0]);
+        let answers: Vec<u8> = (1..30).map(|s| ask(&mut d, 1, s * 1000)[0]).collect();
+        // At most a second (LATE) behind the capture's clock, however long it runs.
+        assert!(answers.iter().zip(1..).all(|(&v, s)| v + 2 >= s), "{answers:?}");
     }
 
     #[test]
