@@ -54,6 +54,7 @@ pub use maintain::{run_maintain, MaintainRequest, MaintainResult, PrepareMaintai
 pub use not_run::{another_family, silent_drive};
 pub use output_args::{ColorWhen, OutputArgs};
 pub use pipeline::run;
+pub use replay_connection::{captured_drive, recorded_drive};
 pub use run_error::{BadValue, RunError};
 pub use run_many::{outputs_for, run_many, worse};
 pub use run_plan::{LoadedPlan, RunPlan};

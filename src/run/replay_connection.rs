@@ -70,6 +70,11 @@ fn classifier(registry: &Registry, family: &str) -> Classifier {
     })
 }
 
+/// The drive (built-in dictionary) a trace's header names, when it has one.
+pub fn recorded_drive(capture: &Path) -> Option<String> {
+    capture_header(capture).map(|h| h.drive)
+}
+
 /// The header of a capture: at its top, or for a CAN trace in its notes file.
 fn capture_header(capture: &Path) -> Option<TraceHeader> {
     let top = |path: &Path| -> Option<TraceHeader> {

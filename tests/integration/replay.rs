@@ -250,3 +250,119 @@ fn replay_case(dir: &Path) -> Result<(), String> {
     }
     Ok(())
 }
+
+/// A short SD2 recipe, recorded against the simulated drive; the recipe and its trace.
+fn recorded_identity(dir: &Path) -> (PathBuf, PathBuf) {
+    let recipe = write_file(
+        dir,
+        "identity.yaml",
+        "name: Identity\ndrive: sd2\nsteps:\n  - read: [ident, status_word, bus_voltage]\n  - expect: { bus_voltage: { between: [300 V, 350 V] } }\n",
+    );
+    let trace = dir.join("identity.trace");
+    cli(
+        &[
+            "run",
+            recipe.to_str().unwrap(),
+            "--fast",
+            "--trace",
+            trace.to_str().unwrap(),
+        ],
+        0,
+    );
+    (recipe, trace)
+}
+
+#[test]
+fn a_capture_served_on_a_pty_and_tcp_answers_like_the_drive() {
+    let dir = scratch("served");
+    let (recipe, trace) = recorded_identity(&dir);
+    let (recipe, trace) = (recipe.to_str().unwrap(), trace.to_str().unwrap());
+    let pty = crate::support::Simulator::pty(&["--replay", trace]);
+    assert_has(
+        &cli(&["run", recipe, "--port", &pty.endpoint], 0).stdout,
+        &["ident = \"Test Motor\"", "PASSED"],
+    );
+    // What the capture never answered gets no reply.
+    let other = write_file(
+        &dir,
+        "other.yaml",
+        "name: Other\ndrive: sd2\nsteps:\n  - read: [speed_setpoint]\n",
+    );
+    let out = cli(
+        &[
+            "run",
+            other.to_str().unwrap(),
+            "--port",
+            &pty.endpoint,
+            "--timeout",
+            "200ms",
+        ],
+        3,
+    );
+    assert_has(&format!("{}{}", out.stdout, out.stderr), &["no reply"]);
+    let tcp = crate::support::Simulator::start(&["--replay", trace, "--tcp", "127.0.0.1:0"]);
+    assert_has(
+        &cli(&["run", recipe, "--tcp", &tcp.endpoint], 0).stdout,
+        &["PASSED"],
+    );
+}
+
+#[test]
+fn a_hand_written_candump_log_is_served_behind_an_slcan_pty() {
+    let case = crate::support::repo_root().join("tests/cases/replay/lenze_9400_candump_by_hand");
+    let log = case.join("capture.log");
+    let sim = crate::support::Simulator::start(&[
+        "--replay",
+        log.to_str().unwrap(),
+        "--drive",
+        "lenze-9400",
+        "--slcan-pty",
+    ]);
+    let recipe = case.join("recipe.yaml");
+    let can = format!("slcan:{}", sim.endpoint);
+    let out = cli(&["run", recipe.to_str().unwrap(), "--can", &can], 0).stdout;
+    assert_has(&out, &["heatsink_temperature = 41", "PASSED"]);
+}
+
+#[test]
+fn replay_refuses_a_real_port_a_bad_capture_and_another_familys_capture() {
+    let dir = scratch("refusals");
+    let (recipe, trace) = recorded_identity(&dir);
+    let (recipe_path, trace) = (recipe.to_str().unwrap(), trace.to_str().unwrap());
+    for port in [
+        ["--port", "/dev/null"],
+        ["--tcp", "127.0.0.1:9"],
+        ["--can", "slcan:/dev/null"],
+    ] {
+        let err = cli(&["run", recipe_path, "--replay", trace, port[0], port[1]], 2).stderr;
+        assert_has(&err, &["'--replay <CAPTURE>' cannot be used with"]);
+    }
+    let bad = write_file(
+        &dir,
+        "bad.trace",
+        "# drive: sd2\n    0.000000 TX 00 09 02 01 0d 16 00 00 00 00 00 d0\n    0.0001 RX 00 zz\n",
+    );
+    let err = cli(&["run", recipe_path, "--replay", bad.to_str().unwrap()], 2).stderr;
+    assert_has(&err, &["bad.trace:3: the telegram `00 zz`"]);
+    let can = crate::support::repo_root().join("tests/cases/replay/lenze_9400_candump_by_hand/capture.log");
+    let err = cli(&["run", recipe_path, "--replay", can.to_str().unwrap()], 2).stderr;
+    assert_has(&err, &["holds no request to replay"]);
+    let dir9400 = scratch("refusals-9400");
+    let recipe9400 = lenze_9400_recipe(&dir9400, "10.2", "100ms");
+    let log = dir9400.join("run.log");
+    cli(
+        &[
+            "run",
+            recipe9400.to_str().unwrap(),
+            "--fast",
+            "--trace",
+            log.to_str().unwrap(),
+        ],
+        0,
+    );
+    let err = cli(&["run", recipe_path, "--replay", log.to_str().unwrap()], 2).stderr;
+    assert_has(
+        &err,
+        &["is a capture of --drive lenze-9400 (the lenze-9400 family), not of the sd2 family"],
+    );
+}
