@@ -234,6 +234,12 @@ pub trait Family: Send + Sync {
         let _ = text;
         None
     }
+    /// Recomputes the check bytes of a captured telegram whose data bytes were changed
+    /// (masked by `drivescript anonymise`), so it still reads as the drive's; families
+    /// whose telegrams carry none keep the default, which leaves it as it is.
+    fn reseal(&self, telegram: &mut [u8]) {
+        let _ = telegram;
+    }
     /// Whether a CAN frame of a capture that does not say (a candump log) was sent to a
     /// drive of this family (a request) or by one (a reply); `None` for traffic that is
     /// neither (heartbeats, process data). Byte families' traces say it themselves.

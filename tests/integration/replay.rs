@@ -366,3 +366,57 @@ fn replay_refuses_a_real_port_a_bad_capture_and_another_familys_capture() {
         &["is a capture of --drive lenze-9400 (the lenze-9400 family), not of the sd2 family"],
     );
 }
+
+#[test]
+fn an_anonymised_capture_masks_the_drives_strings_and_still_replays() {
+    let dir = scratch("anonymised");
+    let case = crate::support::repo_root().join("tests/cases/replay/sd2_commissioning");
+    let copy = dir.join("shared.trace");
+    let (capture, copy_text) = (case.join("capture.trace"), copy.to_str().unwrap());
+    assert_has(
+        &cli(&["anonymise", capture.to_str().unwrap(), "-o", copy_text], 0).stdout,
+        &["2 reply(ies) masked"],
+    );
+    let text = std::fs::read_to_string(&copy).unwrap();
+    assert!(
+        !text.contains("Test Motor") && !text.contains("54 65 73 74"),
+        "{text}"
+    );
+    let recipe = case.join("recipe.yaml");
+    let out = cli(&["run", recipe.to_str().unwrap(), "--replay", copy_text], 0).stdout;
+    assert_has(&out, &["ident = \"XXXX XXXXX\"", "PASSED"]);
+    // A CAN trace: its frames and its notes file, the strings spread over SDO segments.
+    let recipe = lenze_9400_recipe(&dir, "10.2", "100ms");
+    let (log, shared) = (dir.join("run.log"), dir.join("shared.log"));
+    cli(
+        &[
+            "run",
+            recipe.to_str().unwrap(),
+            "--fast",
+            "--trace",
+            log.to_str().unwrap(),
+        ],
+        0,
+    );
+    cli(
+        &["anonymise", log.to_str().unwrap(), "-o", shared.to_str().unwrap()],
+        0,
+    );
+    assert!(dir.join("shared.log.meta").is_file());
+    let out = cli(
+        &[
+            "run",
+            recipe.to_str().unwrap(),
+            "--replay",
+            shared.to_str().unwrap(),
+        ],
+        0,
+    )
+    .stdout;
+    assert_has(
+        &out,
+        &["product_type = \"XXXXXXXXX 0000 XXXXXXXX XXX\"", "PASSED"],
+    );
+    let err = cli(&["anonymise", copy_text, "-o", copy_text], 2).stderr;
+    assert_has(&err, &["is the capture itself"]);
+}

@@ -111,6 +111,19 @@ impl Family for CtFamily {
         Box::new(CtExplainer::new(dictionary))
     }
 
+    /// STX data ETX BCC: the BCC checks what follows STX up to ETX.
+    fn reseal(&self, telegram: &mut [u8]) {
+        const STX: u8 = 0x02;
+        const ETX: u8 = 0x03;
+        let etx = telegram.len().checked_sub(2).filter(|&i| telegram[i] == ETX);
+        let stx = telegram.iter().position(|&b| b == STX);
+        if let (Some(stx), Some(etx)) = (stx, etx) {
+            if stx < etx {
+                telegram[etx + 1] = super::codec::bcc(&telegram[stx + 1..=etx]);
+            }
+        }
+    }
+
     /// `#1.21`: menu.parameter, from index = menu and subindex = parameter.
     fn show_address(&self, address: &Address) -> String {
         let Address::Indexed { index, subindex } = *address;

@@ -94,10 +94,10 @@ impl<R: BufRead> CaptureReader<R> {
     }
 }
 
-type Parsed = Option<(Duration, Option<Direction>, Vec<u8>, bool)>;
+pub(super) type Parsed = Option<(Duration, Option<Direction>, Vec<u8>, bool)>;
 
 /// One line: a telegram, `None` for what carries none, or what is wrong with it.
-fn parse_line(text: &str) -> Result<Parsed, String> {
+pub(super) fn parse_line(text: &str) -> Result<Parsed, String> {
     // A `-v` trace line carries the meaning after `  # `; it is not read.
     let body = text.split_once(" #").map_or(text, |(b, _)| b).trim();
     if body.is_empty() || body.starts_with('#') {
