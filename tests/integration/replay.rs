@@ -251,14 +251,8 @@ fn replay_case(dir: &Path) -> Result<(), String> {
     Ok(())
 }
 
-/// A short SD2 recipe, recorded against the simulated drive; the recipe and its trace.
-fn recorded_identity(dir: &Path) -> (PathBuf, PathBuf) {
-    let recipe = write_file(
-        dir,
-        "identity.yaml",
-        "name: Identity\ndrive: sd2\nsteps:\n  - read: [ident, status_word, bus_voltage]\n  - expect: { bus_voltage: { between: [300 V, 350 V] } }\n",
-    );
-    let trace = dir.join("identity.trace");
+/// Records `recipe` against its simulated drive into `trace`.
+fn record(recipe: &Path, trace: &Path) {
     cli(
         &[
             "run",
@@ -269,6 +263,17 @@ fn recorded_identity(dir: &Path) -> (PathBuf, PathBuf) {
         ],
         0,
     );
+}
+
+/// A short SD2 recipe, recorded against the simulated drive; the recipe and its trace.
+fn recorded_identity(dir: &Path) -> (PathBuf, PathBuf) {
+    let recipe = write_file(
+        dir,
+        "identity.yaml",
+        "name: Identity\ndrive: sd2\nsteps:\n  - read: [ident, status_word, bus_voltage]\n  - expect: { bus_voltage: { between: [300 V, 350 V] } }\n",
+    );
+    let trace = dir.join("identity.trace");
+    record(&recipe, &trace);
     (recipe, trace)
 }
 
@@ -350,16 +355,7 @@ fn replay_refuses_a_real_port_a_bad_capture_and_another_familys_capture() {
     let dir9400 = scratch("refusals-9400");
     let recipe9400 = lenze_9400_recipe(&dir9400, "10.2", "100ms");
     let log = dir9400.join("run.log");
-    cli(
-        &[
-            "run",
-            recipe9400.to_str().unwrap(),
-            "--fast",
-            "--trace",
-            log.to_str().unwrap(),
-        ],
-        0,
-    );
+    record(&recipe9400, &log);
     let err = cli(&["run", recipe_path, "--replay", log.to_str().unwrap()], 2).stderr;
     assert_has(
         &err,
@@ -388,16 +384,7 @@ fn an_anonymised_capture_masks_the_drives_strings_and_still_replays() {
     // A CAN trace: its frames and its notes file, the strings spread over SDO segments.
     let recipe = lenze_9400_recipe(&dir, "10.2", "100ms");
     let (log, shared) = (dir.join("run.log"), dir.join("shared.log"));
-    cli(
-        &[
-            "run",
-            recipe.to_str().unwrap(),
-            "--fast",
-            "--trace",
-            log.to_str().unwrap(),
-        ],
-        0,
-    );
+    record(&recipe, &log);
     cli(
         &["anonymise", log.to_str().unwrap(), "-o", shared.to_str().unwrap()],
         0,
