@@ -203,7 +203,7 @@ impl CapturedDrive {
         let replies = captured
             .into_iter()
             .map(|(at, bytes)| PeerReply {
-                at: now + at.saturating_sub(asked_at),
+                at: now.saturating_add(at.saturating_sub(asked_at)),
                 bytes,
             })
             .collect();
@@ -588,6 +588,26 @@ mod tests {
         let answers: Vec<u8> = (1..30).map(|s| ask(&mut d, 1, s * 1000)[0]).collect();
         // At most a second (LATE) behind the capture's clock, however long it runs.
         assert!(answers.iter().zip(1..).all(|(&v, s)| v + 2 >= s), "{answers:?}");
+    }
+
+    proptest::proptest! {
+        #[test]
+        fn no_panic_on_any_capture_or_request(
+            lines in proptest::collection::vec((0u64..u64::MAX, proptest::bool::ANY, proptest::collection::vec(0u8..4, 1..3)), 1..30),
+            asked in proptest::collection::vec((proptest::collection::vec(0u8..4, 1..3), 0u64..u64::MAX), 0..30),
+        ) {
+            let text: String = lines
+                .iter()
+                .map(|(at, tx, bytes)| format!("{at}.5 {} {}\n", if *tx { "TX" } else { "RX" }, crate::hex::to_hex(bytes)))
+                .collect();
+            let input: Box<dyn BufRead + Send> = Box::new(std::io::Cursor::new(text.into_bytes()));
+            if let Ok(mut d) = CapturedDrive::from_reader(input, Path::new("c"), Box::new(|_| None), Box::new(Named)) {
+                for (request, at) in asked {
+                    let _ = d.answer(&request, Duration::from_nanos(at));
+                    let _ = Peer::receive(&mut d, &request, Duration::from_nanos(at));
+                }
+            }
+        }
     }
 
     #[test]
