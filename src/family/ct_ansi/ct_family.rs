@@ -161,6 +161,20 @@ impl Family for CtFamily {
 mod tests {
     use super::*;
 
+    /// A reply whose data changed gets the BCC the codec's worked example gives.
+    #[test]
+    fn reseal_recomputes_the_bcc_after_a_changed_reply() {
+        let mut reply = b"\x020121-99.9\x03?".to_vec();
+        CtFamily.reseal(&mut reply);
+        let mut expected = b"\x020121-47.6\x03?".to_vec();
+        CtFamily.reseal(&mut expected);
+        assert_eq!(expected.last(), Some(&b'7'));
+        assert_eq!(reply.last(), Some(&super::super::codec::bcc(b"0121-99.9\x03")));
+        let mut request = b"\x041111".to_vec();
+        CtFamily.reseal(&mut request);
+        assert_eq!(request, b"\x041111");
+    }
+
     #[test]
     fn drive_addresses_in_group_unit_notation() {
         let f = CtFamily;
