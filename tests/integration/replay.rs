@@ -407,3 +407,23 @@ fn an_anonymised_capture_masks_the_drives_strings_and_still_replays() {
     let err = cli(&["anonymise", copy_text, "-o", copy_text], 2).stderr;
     assert_has(&err, &["is the capture itself"]);
 }
+
+/// The hand-written candump log is in can-utils' exact format: python-can's reader of
+/// candump logs takes every line of it.
+#[test]
+fn the_hand_written_candump_log_is_read_by_python_can() {
+    let log = crate::support::repo_root().join("tests/cases/replay/lenze_9400_candump_by_hand/capture.log");
+    let text = std::fs::read_to_string(&log).unwrap();
+    let script = "import sys, can\nfor m in can.CanutilsLogReader(sys.argv[1]):\n    print('%03X#%s' % (m.arbitration_id, 'R' if m.is_remote_frame else m.data.hex().upper()))\n";
+    let read = std::process::Command::new("python3")
+        .args(["-c", script, log.to_str().unwrap()])
+        .output();
+    match read {
+        Ok(out) if out.status.success() => {
+            let frames: Vec<&str> = text.lines().filter_map(|l| l.split_whitespace().nth(2)).collect();
+            let stdout = String::from_utf8_lossy(&out.stdout);
+            assert_eq!(stdout.lines().collect::<Vec<_>>(), frames);
+        }
+        _ => crate::support::tool_missing("python-can is not installed (python3 -m pip install python-can)"),
+    }
+}

@@ -104,7 +104,7 @@ pub(super) fn parse_line(text: &str) -> Result<Parsed, String> {
         return Ok(None);
     }
     if let Some(rest) = body.strip_prefix('(') {
-        return candump_line(rest).map(Some);
+        return candump_line(rest);
     }
     let mut tokens = body.splitn(3, char::is_whitespace);
     let (Some(time), Some(tag)) = (tokens.next(), tokens.next()) else {
@@ -126,8 +126,10 @@ pub(super) fn parse_line(text: &str) -> Result<Parsed, String> {
     Ok(Some((at, Some(direction), bytes, false)))
 }
 
-/// `1700000000.123456) can0 601#40001000 [T|R]`, after the opening parenthesis.
-fn candump_line(rest: &str) -> Result<(Duration, Option<Direction>, Vec<u8>, bool), String> {
+/// `1700000000.123456) can0 601#40001000 [T|R]`, after the opening parenthesis. Remote
+/// frames (`701#R`, node guarding) and CAN FD frames (`##`) are real traffic no drive
+/// family here answers with data: they are left out.
+fn candump_line(rest: &str) -> Result<Parsed, String> {
     let shape = "a candump log line is `(SECONDS) INTERFACE ID#DATA`, e.g. `(1700000000.123456) can0 601#4000100000000000`";
     let (time, rest) = rest
         .split_once(')')
@@ -147,8 +149,14 @@ fn candump_line(rest: &str) -> Result<(Duration, Option<Direction>, Vec<u8>, boo
             ))
         }
     };
+    if frame
+        .split_once('#')
+        .is_some_and(|(_, data)| data.starts_with('R') || data.starts_with('#'))
+    {
+        return Ok(None);
+    }
     let frame = CanFrame::parse_text(frame)?;
-    Ok((at, direction, frame.to_bytes(), true))
+    Ok(Some((at, direction, frame.to_bytes(), true)))
 }
 
 /// `0.012345` or `1700000000.123456`: seconds, at most nanosecond precision.
@@ -207,7 +215,7 @@ mod tests {
 
     #[test]
     fn candump_lines_in_can_utils_format_with_and_without_direction() {
-        let text = "(1700000000.123456) can0 601#4000100000000000\n(1700000000.124000) can0 581#4B00100092010000 R\n";
+        let text = "(1700000000.123456) can0 601#4000100000000000\n(1700000000.123500) can0 701#R\n(1700000000.123600) can0 123##1112233\n(1700000000.124000) can0 581#4B00100092010000 R\n";
         let records = all(text).unwrap();
         assert_eq!(records[0].at, Duration::new(1_700_000_000, 123_456_000));
         assert_eq!(records[0].direction, None);
@@ -215,7 +223,11 @@ mod tests {
             records[0].bytes,
             CanFrame::parse_text("601#4000100000000000").unwrap().to_bytes()
         );
-        assert_eq!(records[1].direction, Some(Direction::Received));
+        assert_eq!(records.len(), 2, "remote and CAN FD frames are left out");
+        assert_eq!(
+            (records[1].line, records[1].direction),
+            (4, Some(Direction::Received))
+        );
         assert!(records[1].frame);
     }
 
