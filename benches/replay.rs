@@ -8,20 +8,17 @@
 //!   time (goal ≥ 5 000×) and the peak resident memory (goal < 30 MB, while the capture
 //!   is far larger: it is streamed, never held whole), from `wait4`'s resource usage.
 
+#[path = "support/child_cost.rs"]
+mod child_cost;
+
+use child_cost::{measure_child, Cost};
 use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
-use std::process::{Command, ExitCode, Stdio};
-use std::time::{Duration, Instant};
+use std::process::{Command, ExitCode};
 
 const DAY: f64 = 24.0 * 3600.0;
 const SPEED_UP_GOAL: f64 = 5_000.0;
 const RSS_LIMIT_MB: f64 = 30.0;
-
-/// What one child process cost.
-struct Cost {
-    wall: Duration,
-    peak_rss_kb: i64,
-}
 
 fn main() -> ExitCode {
     match measure() {
@@ -79,6 +76,11 @@ fn day_replay(dir: &Path) -> Result<(), String> {
         speed_up / SPEED_UP_GOAL * 100.0,
         verdict(speed_up >= SPEED_UP_GOAL)
     );
+    println!(
+        "  replayed     CPU {:.1} s in user space, {:.1} s in the kernel (reading the capture)",
+        cost.user.as_secs_f64(),
+        cost.system.as_secs_f64()
+    );
     let rss_mb = cost.peak_rss_kb as f64 / 1024.0;
     println!(
         "  replayed     peak RSS {rss_mb:>6.1} MB ({:>5.1} % of the {RSS_LIMIT_MB:.0} MB limit; {:.0} % of the capture's size)  {}",
@@ -97,36 +99,5 @@ fn binary() -> PathBuf {
 fn run(recipe: &Path, args: &[&str]) -> Result<(String, Cost), String> {
     let mut command = Command::new(binary());
     command.arg("run").arg(recipe).args(args).arg("--no-progress");
-    let started = Instant::now();
-    let child = command
-        .stdout(Stdio::piped())
-        .stderr(Stdio::null())
-        .spawn()
-        .map_err(|e| format!("cannot start {command:?}: {e}"))?;
-    let pid = child.id() as libc::pid_t;
-    let mut output = String::new();
-    if let Some(out) = child.stdout {
-        for line in BufReader::new(out).lines().map_while(Result::ok) {
-            output.push_str(&line);
-            output.push('\n');
-        }
-    }
-    let mut status = 0;
-    // SAFETY: an all-zero rusage is a valid value for wait4 to fill in.
-    let mut usage: libc::rusage = unsafe { std::mem::zeroed() };
-    // SAFETY: waiting for our own child with valid pointers.
-    let waited = unsafe { libc::wait4(pid, &mut status, 0, &mut usage) };
-    if waited != pid {
-        return Err("wait4 failed".into());
-    }
-    if !libc::WIFEXITED(status) || libc::WEXITSTATUS(status) != 0 {
-        return Err(format!("{command:?} failed:\n{output}"));
-    }
-    Ok((
-        output,
-        Cost {
-            wall: started.elapsed(),
-            peak_rss_kb: usage.ru_maxrss,
-        },
-    ))
+    measure_child(command)
 }

@@ -37,13 +37,17 @@ fn checks(output: &str) -> Vec<String> {
 
 /// Records `recipe` against the simulated drive, replays it, and compares the checks.
 fn record_and_replay(recipe: &Path, trace: &Path, extra: &[&str]) {
-    let (recipe, trace) = (recipe.to_str().unwrap(), trace.to_str().unwrap());
-    let mut args = vec!["run", recipe, "--fast", "--trace", trace];
+    let mut args = vec![
+        "run",
+        recipe.to_str().unwrap(),
+        "--fast",
+        "--trace",
+        trace.to_str().unwrap(),
+    ];
     args.extend_from_slice(extra);
     let recorded = cli(&args, 0).stdout;
-    let mut args = vec!["run", recipe, "--replay", trace];
-    args.extend_from_slice(extra);
-    let replayed = cli(&args, 0).stdout;
+    let replayed = replay(recipe, trace, extra, 0).stdout;
+    let trace = trace.display();
     assert_has(
         &replayed,
         &[
@@ -56,9 +60,8 @@ fn record_and_replay(recipe: &Path, trace: &Path, extra: &[&str]) {
     assert_eq!(checks(&recorded), checks(&replayed), "{recorded}\n{replayed}");
 }
 
-/// Replays `recipe` against `trace` and expects it to fail on `sent`, saying what the
-/// capture had there (`had`).
-fn replay_refuses(recipe: &Path, trace: &Path, extra: &[&str], sent: &str, had: &str) {
+/// `drivescript run RECIPE --replay TRACE EXTRA…`, which must exit with `code`.
+fn replay(recipe: &Path, trace: &Path, extra: &[&str], code: i32) -> crate::support::Ran {
     let mut args = vec![
         "run",
         recipe.to_str().unwrap(),
@@ -66,7 +69,13 @@ fn replay_refuses(recipe: &Path, trace: &Path, extra: &[&str], sent: &str, had: 
         trace.to_str().unwrap(),
     ];
     args.extend_from_slice(extra);
-    let out = cli(&args, 3).stdout;
+    cli(&args, code)
+}
+
+/// Replays `recipe` against `trace` and expects it to fail on `sent`, saying what the
+/// capture had there (`had`).
+fn replay_refuses(recipe: &Path, trace: &Path, extra: &[&str], sent: &str, had: &str) {
+    let out = replay(recipe, trace, extra, 3).stdout;
     let refusal = out
         .lines()
         .find(|l| l.contains("never answered"))
@@ -86,14 +95,7 @@ fn spindle_family(drive: &str, extra: &[&str], sent: &str, had: &str) {
     record_and_replay(&spindle_recipe(&dir, drive, 3000, "100ms"), &trace, extra);
     for every in ["40ms", "300ms"] {
         let recipe = spindle_recipe(&dir, drive, 3000, every);
-        let mut args = vec![
-            "run",
-            recipe.to_str().unwrap(),
-            "--replay",
-            trace.to_str().unwrap(),
-        ];
-        args.extend_from_slice(extra);
-        assert_has(&cli(&args, 0).stdout, &["PASSED"]);
+        assert_has(&replay(&recipe, &trace, extra, 0).stdout, &["PASSED"]);
     }
     replay_refuses(
         &spindle_recipe(&dir, drive, 4000, "100ms"),
@@ -150,19 +152,7 @@ fn lenze_9400_records_and_replays() {
     );
     for every in ["30ms", "1s"] {
         let recipe = lenze_9400_recipe(&dir, "10.2", every);
-        assert_has(
-            &cli(
-                &[
-                    "run",
-                    recipe.to_str().unwrap(),
-                    "--replay",
-                    trace.to_str().unwrap(),
-                ],
-                0,
-            )
-            .stdout,
-            &["PASSED"],
-        );
+        assert_has(&replay(&recipe, &trace, &[], 0).stdout, &["PASSED"]);
     }
     replay_refuses(
         &lenze_9400_recipe(&dir, "8.5", "100ms"),
@@ -390,16 +380,7 @@ fn an_anonymised_capture_masks_the_drives_strings_and_still_replays() {
         0,
     );
     assert!(dir.join("shared.log.meta").is_file());
-    let out = cli(
-        &[
-            "run",
-            recipe.to_str().unwrap(),
-            "--replay",
-            shared.to_str().unwrap(),
-        ],
-        0,
-    )
-    .stdout;
+    let out = replay(&recipe, &shared, &[], 0).stdout;
     assert_has(
         &out,
         &["product_type = \"XXXXXXXXX 0000 XXXXXXXX XXX\"", "PASSED"],
