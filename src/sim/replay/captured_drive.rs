@@ -2,15 +2,23 @@
 //! with what the captured drive answered to the same bytes, at the captured latency.
 //!
 //! Requests are matched, not merely sequenced. A cursor marks the last exchange answered,
-//! and an offset maps the replay's clock onto the capture's. A request is answered with
-//! its latest occurrence after the cursor that the capture had made by now (a status
-//! polled less often than in the capture gets the state the capture was in at that time);
-//! when the capture's next such request lies still ahead, with the answer the capture
-//! last gave to it if that is nearer in capture time (polled more often: the state has
-//! not changed yet), else with that next occurrence (the replay catches up). Moving the cursor re-aligns the clocks. A
-//! request the capture never made there is refused, naming it and what the capture had
-//! (decoded by the family's explainer). The capture is streamed through a bounded window:
-//! it must never be read whole.
+//! and an offset maps the replay's clock onto the capture's (re-aligned when the cursor
+//! moves). A request gets:
+//! - its latest occurrence after the cursor that the capture had made by now: a status
+//!   polled less often than in the capture gets the state the capture was in then;
+//! - while its next occurrence lies still ahead, the answer the capture last gave to it,
+//!   if that is nearer in capture time and the replay has been asking it lately (polled
+//!   more often: the state has not changed yet); never an earlier answer to a command
+//!   sent again, or to a stop the capture does not hold;
+//! - else its next occurrence: the replay catches up.
+//!
+//! The cursor does not pass a command the replay has still to send (a request outside its
+//! recent polling cycle) unless the capture made it over a second ago (the replay polls
+//! less than the capture did). After a refusal the next occurrence counts. A request whose
+//! meaning depends on the one before (a CANopen segment request) gets the answer that
+//! followed the exchange last answered. A request the capture never made there is
+//! refused, naming it and what the capture had (decoded by the family's explainer). The
+//! capture is streamed through a bounded window: it must never be read whole.
 
 use super::{CaptureError, CaptureReader, Classifier, Exchange, ExchangeReader};
 use crate::bus::{CanFrame, FramePeer, Peer, PeerReply, TransportError};
@@ -160,26 +168,23 @@ impl CapturedDrive {
         // capture made this request long before now: then the replay polls less than the
         // capture did (no status beside the speed), and must not stay behind for good.
         let long_ago = |d: &Self, j: u64| tau.is_some_and(|tau| nanos(d.at(j)) + LATE <= tau);
-        let blocked = |d: &Self, j: u64| !d.diverged && last && !d.clear_path(request, j);
-        let may_move = |d: &Self, j: u64| !blocked(d, j) || long_ago(d, j);
-        let passing = next.is_some_and(|j| blocked(self, j));
-        let chosen = match next {
-            Some(j) if may_move(self, j) && tau.is_some_and(|tau| nanos(self.at(j)) <= tau) => {
-                let tau = tau.unwrap_or_default();
+        let passing = next.is_some_and(|j| !self.diverged && last && !self.clear_path(request, j));
+        let may_move = next.is_some_and(|j| !passing || long_ago(self, j));
+        let chosen = match (next, tau) {
+            (Some(j), Some(tau)) if may_move && nanos(self.at(j)) <= tau => {
                 while self.window.back().is_some_and(|e| nanos(e.at) <= tau) && self.read_one() {}
                 let k = self.latest_by(request, j, tau);
                 Some(self.advance_to(k).ok_or_else(|| self.refusal(request))?)
             }
             // After a refusal the clocks no longer agree: the next occurrence it is.
-            Some(j)
-                if may_move(self, j)
-                    && (self.diverged || !last_nearer(next_at, self.last_answer(request))) =>
+            (Some(j), _)
+                if may_move && (self.diverged || !last_nearer(next_at, self.last_answer(request))) =>
             {
                 Some(self.advance_to(j).ok_or_else(|| self.refusal(request))?)
             }
             _ if last => None,
-            Some(j) => Some(self.advance_to(j).ok_or_else(|| self.refusal(request))?),
-            None => return Err(self.refusal(request)),
+            (Some(j), _) => Some(self.advance_to(j).ok_or_else(|| self.refusal(request))?),
+            (None, _) => return Err(self.refusal(request)),
         };
         let (asked_at, captured, line) = match &chosen {
             Some((_, e)) => (e.at, e.replies.clone(), e.line),
