@@ -22,6 +22,10 @@
 //!   work) and the kernel (the pty's work, the same for any program: a bare loop shows
 //!   it). Needs `pip install pyserial`; says so and skips the figure without it.
 
+#[path = "support/child_cost.rs"]
+mod child_cost;
+
+use child_cost::{measure_child, Cost};
 use drivescript::family::sd2::codec::{Body, Cyclic, Data, ErrorCode, Telegram, WriteLength};
 use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
@@ -74,60 +78,11 @@ fn read_limit() -> f64 {
     1.0 / ((request + read_reply_len()) as f64 * BITS_PER_BYTE / BAUD + DRIVE_LATENCY)
 }
 
-/// What a finished child cost.
-struct Cost {
-    wall: Duration,
-    /// CPU time in user space (the program's own work).
-    user: Duration,
-    /// CPU time in the kernel (system calls, the pty).
-    system: Duration,
-    peak_rss_kb: i64,
-}
-
 /// Runs `recipe` with `args`; returns its standard output and what it cost.
 fn run(recipe: &Path, args: &[&str]) -> Result<(String, Cost), String> {
     let mut command = Command::new(binary());
     command.arg("run").arg(recipe).args(args).arg("--no-progress");
     measure_child(command)
-}
-
-/// Runs `command` to its end; its standard output and what it cost (from `wait4`).
-fn measure_child(mut command: Command) -> Result<(String, Cost), String> {
-    let started = Instant::now();
-    let child = command
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .map_err(|e| format!("cannot start {command:?}: {e}"))?;
-    let pid = child.id() as libc::pid_t;
-    let mut output = String::new();
-    if let Some(out) = child.stdout {
-        for line in BufReader::new(out).lines().map_while(Result::ok) {
-            output.push_str(&line);
-            output.push('\n');
-        }
-    }
-    let mut status = 0;
-    // SAFETY: an all-zero rusage is a valid value for wait4 to fill in.
-    let mut usage: libc::rusage = unsafe { std::mem::zeroed() };
-    // SAFETY: waiting for our own child with valid pointers.
-    let waited = unsafe { libc::wait4(pid, &mut status, 0, &mut usage) };
-    if waited != pid {
-        return Err("wait4 failed".into());
-    }
-    if !libc::WIFEXITED(status) || libc::WEXITSTATUS(status) != 0 {
-        return Err(format!("{command:?} failed:\n{output}"));
-    }
-    let time = |t: libc::timeval| Duration::new(t.tv_sec as u64, t.tv_usec as u32 * 1000);
-    Ok((
-        output,
-        Cost {
-            wall: started.elapsed(),
-            user: time(usage.ru_utime),
-            system: time(usage.ru_stime),
-            peak_rss_kb: usage.ru_maxrss,
-        },
-    ))
 }
 
 /// The number before `word` in the first line that has it: `4321 samples`.

@@ -23,6 +23,12 @@ pub trait Peer: Send {
     /// `bytes` have fully arrived at clock time `now`; returns what the peer sends back.
     fn receive(&mut self, bytes: &[u8], now: Duration) -> Vec<PeerReply>;
 
+    /// `receive` for a peer in this process that can refuse a request as a failed line
+    /// would (a replayed capture with no answer for it); the transport passes the refusal on.
+    fn exchange(&mut self, bytes: &[u8], now: Duration) -> Result<Vec<PeerReply>, TransportError> {
+        Ok(self.receive(bytes, now))
+    }
+
     /// Whether the line to the peer is there at `now`. A peer that can lose its line (the
     /// simulated drive with an injected lost link) says no for a while; the transport then
     /// fails as a port whose device went away does.
@@ -116,7 +122,7 @@ impl Transport for MemoryTransport {
             if !peer.reachable(now) {
                 return Err(self.line_down());
             }
-            peer.receive(bytes, now)
+            peer.exchange(bytes, now)?
         };
         for mut r in replies {
             if let Some(w) = self.wire {

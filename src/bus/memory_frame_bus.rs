@@ -15,6 +15,16 @@ pub trait FramePeer: Send {
     /// each with the clock time it is on the bus.
     fn receive(&mut self, frame: &CanFrame, now: Duration) -> Vec<(Duration, CanFrame)>;
 
+    /// `receive` for a node in this process that can refuse a frame as a failed adapter
+    /// would (a replayed capture with no answer for it); the bus passes the refusal on.
+    fn exchange(
+        &mut self,
+        frame: &CanFrame,
+        now: Duration,
+    ) -> Result<Vec<(Duration, CanFrame)>, TransportError> {
+        Ok(self.receive(frame, now))
+    }
+
     /// Whether the adapter to the node is there at `now` (see `Peer::reachable`): a
     /// simulated node with an injected lost line says no for a while, and the bus then
     /// fails as an unplugged adapter does.
@@ -53,7 +63,7 @@ impl FrameBus for MemoryFrameBus {
             if !peer.reachable(now) {
                 return Err(self.adapter_lost());
             }
-            peer.receive(frame, now)
+            peer.exchange(frame, now)?
         };
         self.pending.extend(replies);
         Ok(())

@@ -31,6 +31,11 @@ pub enum TransportError {
 
     #[error("I/O error on {port}: {detail}")]
     Io { port: String, detail: String },
+
+    /// A replayed capture has no answer for what was sent: `detail` names the telegram and
+    /// what the capture had at that point.
+    #[error("{detail}")]
+    NotInCapture { detail: String },
 }
 
 impl TransportError {

@@ -6,6 +6,7 @@
 //! ports, name a family, or define a type the library needs; nothing in the library
 //! imports it.
 
+mod anonymise_command;
 mod backup_command;
 mod decode_command;
 mod diff_command;
@@ -74,6 +75,7 @@ enum Command {
     Objects(object_commands::ObjectsArgs),
     Decode(decode_command::DecodeArgs),
     Simulate(simulate_command::SimulateArgs),
+    Anonymise(anonymise_command::AnonymiseArgs),
     Ports(object_commands::PortsArgs),
     Backup(backup_command::BackupArgs),
     Diff(diff_command::DiffArgs),
@@ -137,6 +139,7 @@ pub fn main(registry: &Registry) -> i32 {
         }
         Command::Decode(args) => decode_command::run(&args, registry),
         Command::Simulate(args) => simulate_command::run(&args, registry),
+        Command::Anonymise(args) => anonymise_command::anonymise(&args, registry),
     }
 }
 

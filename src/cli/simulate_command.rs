@@ -60,10 +60,22 @@ pub struct SimulateArgs {
     /// Speed ramp of the simulated motor.
     #[arg(long, value_name = "RPM_PER_S", default_value_t = 2000.0)]
     ramp: f64,
+    /// Serve a capture instead of the simulated drive: a `--trace` file or a candump log
+    /// answers each request with what the drive answered then (its drive is the one the
+    /// trace's header names, else --drive). What the capture never answered gets no reply
+    /// and is said on standard error.
+    #[arg(long, value_name = "CAPTURE", conflicts_with_all = ["address", "dnc_address"])]
+    replay: Option<std::path::PathBuf>,
 }
 
 pub fn run(args: &SimulateArgs, registry: &Registry) -> i32 {
-    let family = match registry.dictionary(&args.drive) {
+    // A replayed trace names its own drive.
+    let recorded = args.replay.as_deref().and_then(crate::run::recorded_drive);
+    let drive = match recorded {
+        Some(name) if args.drive == DEFAULT_DICTIONARY => name,
+        _ => args.drive.clone(),
+    };
+    let family = match registry.dictionary(&drive) {
         Ok((family, _)) => family,
         Err(e) => {
             eprintln!("error: {e}");
@@ -107,7 +119,26 @@ pub fn run(args: &SimulateArgs, registry: &Registry) -> i32 {
     let mut descriptions = Vec::new();
     let mut bytes: Vec<Arc<Mutex<dyn Peer>>> = Vec::new();
     let mut frames: Vec<Arc<Mutex<dyn FramePeer>>> = Vec::new();
-    for address in &addresses {
+    if let Some(capture) = &args.replay {
+        let mut captured = match crate::run::captured_drive(registry, family.as_ref(), capture) {
+            Ok(c) => c,
+            Err(e) => {
+                eprint!("{e}");
+                return INVALID;
+            }
+        };
+        captured.on_refusal(Box::new(|e| eprintln!("{e}")));
+        let captured = Arc::new(Mutex::new(captured));
+        match family.bus_kind() {
+            crate::bus::BusKind::Bytes => bytes.push(captured),
+            crate::bus::BusKind::Frames => frames.push(captured),
+        }
+        descriptions.push(format!(
+            "a replay of {} (nothing is sent to any drive)",
+            capture.display()
+        ));
+    }
+    for address in addresses.iter().filter(|_| args.replay.is_none()) {
         let device = family.simulator(address, config.clone());
         {
             let mut drive = device.drive.lock().unwrap_or_else(PoisonError::into_inner);
@@ -174,7 +205,14 @@ pub fn run(args: &SimulateArgs, registry: &Registry) -> i32 {
         String::new()
     };
 
-    let hint = try_hint(args, registry, family.as_ref(), given.as_deref(), &addresses);
+    let hint = try_hint(
+        args,
+        &drive,
+        registry,
+        family.as_ref(),
+        given.as_deref(),
+        &addresses,
+    );
     if args.pty || args.slcan_pty {
         serve_pty(&server, &description, &wire, &hint)
     } else if let Some(addr) = &args.tcp {
@@ -191,14 +229,15 @@ pub fn run(args: &SimulateArgs, registry: &Registry) -> i32 {
 /// copying it reaches this drive and not the default family's at its default address.
 fn try_hint(
     args: &SimulateArgs,
+    drive: &str,
     registry: &Registry,
     family: &dyn Family,
     given: Option<&str>,
     addresses: &[DriveAddress],
 ) -> String {
     let mut flags = String::new();
-    if args.drive != DEFAULT_DICTIONARY {
-        flags.push_str(&format!(" --drive {}", args.drive));
+    if drive != DEFAULT_DICTIONARY {
+        flags.push_str(&format!(" --drive {drive}"));
     }
     let default = family.parse_drive_address(None).ok().map(|a| a.number);
     let first = given.and_then(|list| list.split(',').next()).map(str::trim);
@@ -213,7 +252,7 @@ fn try_hint(
     // `state` only where the dictionary says how to read the state; every built-in
     // dictionary has `ident`.
     let has_state = registry
-        .load_dictionary(&args.drive)
+        .load_dictionary(drive)
         .is_ok_and(|d| d.role(Role::StatusWord).is_some());
     let command = if has_state { "state" } else { "read ident" };
     if args.slcan_pty {

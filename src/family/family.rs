@@ -234,6 +234,19 @@ pub trait Family: Send + Sync {
         let _ = text;
         None
     }
+    /// Recomputes the check bytes of a captured telegram whose data bytes were changed
+    /// (masked by `drivescript anonymise`), so it still reads as the drive's; families
+    /// whose telegrams carry none keep the default, which leaves it as it is.
+    fn reseal(&self, telegram: &mut [u8]) {
+        let _ = telegram;
+    }
+    /// Whether a CAN frame of a capture that does not say (a candump log) was sent to a
+    /// drive of this family (a request) or by one (a reply); `None` for traffic that is
+    /// neither (heartbeats, process data). Byte families' traces say it themselves.
+    fn frame_direction(&self, frame: &crate::bus::CanFrame) -> Option<crate::link::Direction> {
+        let _ = frame;
+        None
+    }
     /// The maintenance actions this family's drives offer (`drivescript maintain`),
     /// carried out through `ObjectAccess::maintain`; none by default.
     fn maintenance_actions(&self) -> &'static [crate::drive::MaintenanceAction] {

@@ -93,6 +93,11 @@ pub struct ConnectionArgs {
     /// Longest interval between cyclic telegrams [default: 20ms].
     #[arg(long, value_name = "DURATION")]
     pub cycle: Option<String>,
+    /// Replay a capture instead of a drive: a `--trace` file of an earlier run, or a
+    /// candump log (`candump -l`) of the CAN bus. Each request gets what the drive answered
+    /// then, in virtual time following the capture's clock; nothing is sent to any port.
+    #[arg(long, value_name = "CAPTURE", conflicts_with_all = ["port", "tcp", "can"])]
+    pub replay: Option<std::path::PathBuf>,
 }
 
 pub fn parse_duration(text: &str) -> Result<Duration, BadValue> {
@@ -204,6 +209,7 @@ impl ConnectionArgs {
             velocity_scaling: None,
             heartbeat: false,
             cycle: None,
+            replay: None,
         }
     }
 
@@ -246,6 +252,9 @@ impl ConnectionArgs {
     /// The drive's address and the family's link options, checked before anything opens.
     pub fn check(&self, registry: &Registry, family: &dyn Family) -> Result<DriveAddress, RunError> {
         family.check_link_options(&self.all_link_options())?;
+        if let Some(capture) = &self.replay {
+            super::replay_connection::captured_drive(registry, family, capture)?;
+        }
         Ok(family.parse_drive_address(self.address_for(registry, family)?.as_deref())?)
     }
 
@@ -305,7 +314,10 @@ impl ConnectionArgs {
                 format!("CAN via SLCAN adapter {path} at {} bit/s", self.bitrate)
             }
             (None, None, Some(CanSpec::SocketCan(interface))) => format!("CAN via SocketCAN {interface}"),
-            (None, None, None) => "the built-in simulated drive".to_string(),
+            (None, None, None) => match &self.replay {
+                Some(capture) => format!("a replay of {}", capture.display()),
+                None => "the built-in simulated drive".to_string(),
+            },
         };
         let mut text = format!(
             "{bus}; reply timeout {:?}, {} retries",
@@ -353,18 +365,36 @@ impl ConnectionArgs {
                 description,
             });
         }
-        let (bus, (clock, simulator), description) = match (&self.port, &self.tcp) {
-            (Some(path), _) => {
+        let (bus, (clock, simulator), description) = match (&self.port, &self.tcp, &self.replay) {
+            (Some(path), _, _) => {
                 let t = SerialTransport::open(path, self.serial_settings(family))?;
                 let d = format!("drive {} on {}", address.number, crate::bus::Transport::name(&t));
                 (Bus::Bytes(SharedTransport::new(Box::new(t))), real(), d)
             }
-            (None, Some(addr)) => {
+            (None, Some(addr), _) => {
                 let t = TcpTransport::connect(addr, CONNECT_TIMEOUT)?;
                 let d = format!("drive {} on {}", address.number, crate::bus::Transport::name(&t));
                 (Bus::Bytes(SharedTransport::new(Box::new(t))), real(), d)
             }
-            (None, None) => {
+            (None, None, Some(capture)) => {
+                let drive =
+                    super::replay_connection::captured_drive(registry, family, capture).map_err(|e| {
+                        TransportError::Open {
+                            port: capture.display().to_string(),
+                            detail: e.to_string().trim_start_matches("error: ").to_string(),
+                        }
+                    })?;
+                // The capture's clock, not the wall's: a replay runs in virtual time.
+                let clock: SharedClock = Arc::new(VirtualClock::new());
+                let bus = super::replay_connection::replay_bus(drive, family, capture, clock.clone());
+                let d = format!(
+                    "a replay of {} ({}, virtual time; nothing is sent to any drive)",
+                    capture.display(),
+                    address.shown
+                );
+                (bus, (clock, None), d)
+            }
+            (None, None, None) => {
                 let clock: SharedClock = if virtual_time {
                     Arc::new(VirtualClock::new())
                 } else {

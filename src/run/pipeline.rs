@@ -95,7 +95,8 @@ pub fn run(request: &RunRequest, out: &mut dyn Write, err: &mut dyn Write) -> Ru
     {
         let _ = writeln!(err, "{note}");
     }
-    if !open.simulators.is_empty() && !outputs.quiet {
+    let replay = connection.replay.is_some();
+    if (!open.simulators.is_empty() || replay) && !outputs.quiet {
         let _ = writeln!(out, "using {}", open.description);
     }
     // Each drive's limits for the values written to it (`left.speed_setpoint`).
@@ -116,7 +117,7 @@ pub fn run(request: &RunRequest, out: &mut dyn Write, err: &mut dyn Write) -> Ru
             return not_run(request, Some((plan, &planned)), code, &why, err);
         }
     }
-    let virtual_time = request.fast && !open.simulators.is_empty();
+    let virtual_time = (request.fast && !open.simulators.is_empty()) || replay;
     let mut look = Look::of(
         outputs,
         request.terminal,
@@ -155,6 +156,12 @@ fn checked(
     connection: &ConnectionArgs,
 ) -> Result<Telegrams, RunError> {
     let drives = loaded.plan.drives();
+    if !drives.is_empty() && connection.replay.is_some() {
+        return Err(RunError::Invalid(format!(
+            "error: --replay stands in for one drive; {} declares several (`drives:`)",
+            loaded.plan.path()
+        )));
+    }
     if !drives.is_empty() {
         return named_drives_checked(request, connection, drives, &loaded.drive_dictionaries)
             .map(Telegrams::Shared);
@@ -218,7 +225,8 @@ fn opened(
     )?;
     // A drive that never answers is said once, early, with what to check, instead of
     // every step and the safe stop each waiting out their retries.
-    if open.simulator.is_none() {
+    // (A replay answers only what the capture holds: it says itself what it lacks.)
+    if open.simulator.is_none() && connection.replay.is_none() {
         if let Err(crate::drive::DriveError::Access(e)) = open.drive.state() {
             if e.is_no_reply() {
                 return Err(RunError::Unreachable(silent_drive_of(

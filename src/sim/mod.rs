@@ -27,6 +27,7 @@ mod drive_model;
 mod fault_injection;
 mod motor;
 mod noise;
+pub mod replay;
 mod request_log;
 mod sim_config;
 mod sim_core;

@@ -27,6 +27,7 @@ mod outputs;
 mod parameters;
 mod recipe_cases;
 mod recipe_schema;
+mod replay;
 mod reports;
 mod run_pipeline;
 mod safety;

@@ -111,6 +111,19 @@ impl Family for CtFamily {
         Box::new(CtExplainer::new(dictionary))
     }
 
+    /// STX data ETX BCC: the BCC checks what follows STX up to ETX.
+    fn reseal(&self, telegram: &mut [u8]) {
+        const STX: u8 = 0x02;
+        const ETX: u8 = 0x03;
+        let etx = telegram.len().checked_sub(2).filter(|&i| telegram[i] == ETX);
+        let stx = telegram.iter().position(|&b| b == STX);
+        if let (Some(stx), Some(etx)) = (stx, etx) {
+            if stx < etx {
+                telegram[etx + 1] = super::codec::bcc(&telegram[stx + 1..=etx]);
+            }
+        }
+    }
+
     /// `#1.21`: menu.parameter, from index = menu and subindex = parameter.
     fn show_address(&self, address: &Address) -> String {
         let Address::Indexed { index, subindex } = *address;
@@ -147,6 +160,20 @@ impl Family for CtFamily {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A reply whose data changed gets the BCC the codec's worked example gives.
+    #[test]
+    fn reseal_recomputes_the_bcc_after_a_changed_reply() {
+        let mut reply = b"\x020121-99.9\x03?".to_vec();
+        CtFamily.reseal(&mut reply);
+        let mut expected = b"\x020121-47.6\x03?".to_vec();
+        CtFamily.reseal(&mut expected);
+        assert_eq!(expected.last(), Some(&b'7'));
+        assert_eq!(reply.last(), Some(&super::super::codec::bcc(b"0121-99.9\x03")));
+        let mut request = b"\x041111".to_vec();
+        CtFamily.reseal(&mut request);
+        assert_eq!(request, b"\x041111");
+    }
 
     #[test]
     fn drive_addresses_in_group_unit_notation() {

@@ -91,6 +91,16 @@ impl Family for Lenze9400Family {
         Box::new(Lenze9400Explainer::new(dictionary))
     }
 
+    /// SDO requests go to 0x600 + node, responses come from 0x580 + node.
+    fn frame_direction(&self, frame: &crate::bus::CanFrame) -> Option<crate::link::Direction> {
+        match frame.id {
+            _ if frame.extended => None,
+            0x601..=0x67F => Some(crate::link::Direction::Sent),
+            0x581..=0x5FF => Some(crate::link::Direction::Received),
+            _ => None,
+        }
+    }
+
     /// `C00061`, `C00002/16`. Without `--type` the object is read-only and typed `i32`:
     /// the node indicates each value's size, and the access reads narrower values widened
     /// as signed (see `sdo_value`); a write needs `--type`, because a wrong width is

@@ -157,6 +157,13 @@ impl Family for Sd2Family {
         Box::new(Sd2Explainer::new(dictionary))
     }
 
+    /// The last byte checks every byte but the first.
+    fn reseal(&self, telegram: &mut [u8]) {
+        if let Some(last) = telegram.len().checked_sub(1).filter(|&l| l > 1) {
+            telegram[last] = super::codec::checksum(&telegram[1..last]);
+        }
+    }
+
     fn raw_object(&self, text: &str, data_type: Option<DataType>) -> Option<Result<ObjectDef, FamilyError>> {
         // Dictionary names start with a letter, so a leading digit can only mean an index.
         if !text.trim().starts_with(|c: char| c.is_ascii_digit()) {
