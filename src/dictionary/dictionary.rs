@@ -6,6 +6,7 @@
 use super::address::{Address, AddressParser};
 use super::bench_limits::BenchLimits;
 use super::dictionary_error::DictionaryError;
+use super::eds::{eds_objects, is_eds_path, EdsFile, EdsObjects};
 use super::family_id::family_id;
 use super::object_def::ObjectDef;
 use super::profile::Profile;
@@ -106,9 +107,44 @@ impl Dictionary {
 
     /// Reads a user's dictionary file and [`extend`](Self::extend)s this one with it. Its
     /// profile may name objects of this dictionary, so roles are checked after merging.
+    /// An EDS or DCF (CiA 306, `.eds`/`.dcf`) adds the objects it lists.
     pub fn extend_from(&mut self, path: impl AsRef<Path>) -> Result<(), DictionaryError> {
+        if is_eds_path(path.as_ref()) {
+            return self.extend_from_eds(path.as_ref());
+        }
         let other = Self::from_file(path.as_ref(), false, self.parse_address)?;
         self.extend(other)
+    }
+
+    /// The objects of an EDS or DCF added under readable names; an object at an address
+    /// this dictionary already has keeps its entry here (with units and scale an EDS does
+    /// not give), and no EDS name takes a name or alias already here.
+    fn extend_from_eds(&mut self, path: &Path) -> Result<(), DictionaryError> {
+        let source = read_dictionary_source(path)?;
+        let mut problems = Diagnostics::new();
+        let file = EdsFile::parse(&source, &mut problems);
+        if let Some(e) = DictionaryError::collect(problems) {
+            return Err(e);
+        }
+        let taken = self
+            .objects
+            .iter()
+            .flat_map(|o| o.names())
+            .map(str::to_ascii_lowercase)
+            .collect();
+        let occupied = self.objects.iter().map(|o| o.address).collect();
+        let EdsObjects { objects, notes, .. } = eds_objects(&file, &taken, &occupied);
+        self.extend(Dictionary {
+            family: self.family.clone(),
+            family_span: Span::start_of(&source),
+            title: String::new(),
+            objects,
+            profile: None,
+            bench_limits: None,
+            parse_address: self.parse_address,
+            name: file_stem(source.path()),
+            notes,
+        })
     }
 
     fn from_file(
@@ -116,13 +152,7 @@ impl Dictionary {
         check_roles: bool,
         parse_address: Option<AddressParser>,
     ) -> Result<Dictionary, DictionaryError> {
-        let source = read_source(path).map_err(|e| {
-            let help = e
-                .help()
-                .unwrap_or_else(|| "check the path given with --dictionary".into());
-            Diagnostic::unlocated(path.display().to_string(), e.sentence("the dictionary file"))
-                .with_help(help)
-        })?;
+        let source = read_dictionary_source(path)?;
         Self::from_source(source, check_roles, parse_address)
     }
 
@@ -293,6 +323,18 @@ impl Dictionary {
         self.get(self.profile.as_ref()?.object(role)?)
     }
 }
+/// A dictionary file's text, or the error that says why it could not be read.
+fn read_dictionary_source(path: &Path) -> Result<Arc<Source>, DictionaryError> {
+    read_source(path).map_err(|e| {
+        let help = e
+            .help()
+            .unwrap_or_else(|| "check the path given with --dictionary".into());
+        Diagnostic::unlocated(path.display().to_string(), e.sentence("the dictionary file"))
+            .with_help(help)
+            .into()
+    })
+}
+
 /// A dictionary file's name without its folder and extension: `dictionary/sd2.yaml` → `sd2`.
 fn file_stem(path: &str) -> String {
     Path::new(path)
