@@ -3,9 +3,9 @@
 //! SDO link, simulate a node and explain frames.
 
 use super::codec::Code;
-use super::sdo_link::{SdoLink, SdoLinkConfig};
 use super::sim::Lenze9400Simulator;
-use super::{Lenze9400Access, Lenze9400Explainer};
+use super::Lenze9400Explainer;
+use crate::family::canopen::{SdoAccess, SdoLink, SdoLinkConfig, SdoNotation};
 use crate::bus::{Bus, SerialSettings};
 use crate::dictionary::{Access, Address, AddressError, DataType, Dictionary, ObjectDef};
 use crate::family::{
@@ -20,6 +20,20 @@ use std::sync::Arc;
 const DEFAULT_NODE: u8 = 1;
 
 pub struct Lenze9400Family;
+
+/// The 9400's words in the SDO link's messages: objects as codes, the node address as C00350.
+pub const LENZE_NOTATION: SdoNotation = SdoNotation {
+    object_text: code_text,
+    no_reply_hint: "check the node address (C00350), the bit rate, the CAN wiring and termination, and that the adapter is open on the right bus",
+};
+
+/// `C00099 (index 0x5F9C, subindex 0)`, or the index alone outside the codes' range.
+fn code_text(index: u16, subindex: u8) -> String {
+    match Code::at(index, subindex) {
+        Some(code) => format!("{code} (index 0x{index:04X}, subindex {subindex})"),
+        None => crate::family::canopen::index_text(index, subindex),
+    }
+}
 
 /// A dictionary's `address:` (and `read`/`write` raw notation): a Lenze code.
 fn parse_code_address(text: &str) -> Result<Address, AddressError> {
@@ -58,7 +72,7 @@ impl Family for Lenze9400Family {
     }
 
     fn no_reply_advice(&self) -> &'static str {
-        super::sdo_link::NO_REPLY_HINT
+        LENZE_NOTATION.no_reply_hint
     }
 
     fn open(&self, bus: &Bus, drive: &DriveAddress, options: &LinkOptions, context: LinkContext) -> Opened {
@@ -77,9 +91,10 @@ impl Family for Lenze9400Family {
         let config = SdoLinkConfig {
             reply_timeout: options.reply_timeout,
             retries: options.retries,
+            notation: LENZE_NOTATION,
         };
         let link = context.link(|clock| SdoLink::new(frames.clone(), clock, node, config));
-        Ok(Box::new(Lenze9400Access::new(link)))
+        Ok(Box::new(SdoAccess::new(link)))
     }
 
     fn simulator(&self, drive: &DriveAddress, config: SimConfig) -> SimulatedDevice {

@@ -1,20 +1,20 @@
-//! Object access for the Lenze 9400: SDO uploads and downloads over an [`SdoLink`], with
+//! Object access to a CANopen node: SDO uploads and downloads over an [`SdoLink`], with
 //! values converted by [`super::sdo_value`].
 
-use super::sdo_link::{object_text, SdoLink};
+use super::sdo_link::SdoLink;
 use super::sdo_value;
 use crate::clock::SharedClock;
 use crate::dictionary::{Address, DataType, RawValue};
 use crate::drive::{AccessError, ObjectAccess, WriteOutcome};
 use crate::link::CoreLink;
 
-pub struct Lenze9400Access {
+pub struct SdoAccess {
     link: SdoLink,
 }
 
-impl Lenze9400Access {
+impl SdoAccess {
     pub fn new(link: SdoLink) -> Self {
-        Lenze9400Access { link }
+        SdoAccess { link }
     }
 
     pub fn link(&self) -> &SdoLink {
@@ -29,14 +29,14 @@ impl Lenze9400Access {
     }
 }
 
-impl ObjectAccess for Lenze9400Access {
+impl ObjectAccess for SdoAccess {
     fn read(&mut self, address: &Address, data_type: DataType) -> Result<RawValue, AccessError> {
         let (index, subindex) = Self::subindex(address)?;
         let value = self.link.upload(index, subindex)?;
         sdo_value::decode(&value, data_type).map_err(|detail| AccessError::UnexpectedReply {
             port: self.link.port().to_string(),
             address: format!("node {}", self.link.node()),
-            request: format!("read {}", object_text(index, subindex)),
+            request: format!("read {}", self.link.object_text(index, subindex)),
             detail: detail.to_string(),
         })
     }

@@ -1,0 +1,13 @@
+//! The generic CANopen family: any CiA 301 node reached by SDO over a CAN frame bus, its
+//! objects from the built-in CiA 402 dictionary and the node's own EDS/DCF, device control
+//! by the CiA 402 profile. The pure codec, the SDO link and object access (which the Lenze
+//! 9400 family speaks too), the simulated CiA 402 node and the explainer.
+
+pub mod codec;
+mod sdo_access;
+mod sdo_link;
+pub mod sdo_value;
+pub mod sim;
+
+pub use sdo_access::SdoAccess;
+pub use sdo_link::{index_text, SdoLink, SdoLinkConfig, SdoNotation, CIA_301_NOTATION};
