@@ -17,7 +17,7 @@ mod data_type;
 #[allow(clippy::module_inception)]
 mod dictionary;
 mod dictionary_error;
-mod eds;
+pub(crate) mod eds;
 mod family_id;
 mod format;
 mod object_def;

@@ -9,7 +9,8 @@ mod eds_objects;
 mod eds_type;
 mod ini_text;
 
-pub(crate) use eds_file::EdsFile;
+pub(crate) use eds_file::{EdsEntry, EdsFile};
+pub(crate) use eds_number::EdsNumber;
 pub(crate) use eds_objects::{eds_objects, EdsObjects};
 
 /// True for a path the EDS reader reads: `.eds` or `.dcf`, in any case.

@@ -5,9 +5,11 @@
 
 pub mod codec;
 mod sdo_access;
+mod sdo_explainer;
 mod sdo_link;
 pub mod sdo_value;
 pub mod sim;
 
 pub use sdo_access::SdoAccess;
+pub use sdo_explainer::{ExplainNotation, SdoExplainer, INDEX_NOTATION};
 pub use sdo_link::{index_text, SdoLink, SdoLinkConfig, SdoNotation, CIA_301_NOTATION};

@@ -4,8 +4,7 @@
 
 use super::codec::Code;
 use super::sim::Lenze9400Simulator;
-use super::Lenze9400Explainer;
-use crate::family::canopen::{SdoAccess, SdoLink, SdoLinkConfig, SdoNotation};
+use crate::family::canopen::{ExplainNotation, SdoAccess, SdoExplainer, SdoLink, SdoLinkConfig, SdoNotation};
 use crate::bus::{Bus, SerialSettings};
 use crate::dictionary::{Access, Address, AddressError, DataType, Dictionary, ObjectDef};
 use crate::family::{
@@ -25,6 +24,12 @@ pub struct Lenze9400Family;
 pub const LENZE_NOTATION: SdoNotation = SdoNotation {
     object_text: code_text,
     no_reply_hint: "check the node address (C00350), the bit rate, the CAN wiring and termination, and that the adapter is open on the right bus",
+};
+
+/// The 9400's words in explanations: objects as codes, whose index is 0x5FFF − code.
+pub const LENZE_EXPLAIN: ExplainNotation = ExplainNotation {
+    code: |index, subindex| Code::at(index, subindex).map(|c| c.to_string()),
+    index_rule: " = 0x5FFF − code",
 };
 
 /// `C00099 (index 0x5F9C, subindex 0)`, or the index alone outside the codes' range.
@@ -103,7 +108,7 @@ impl Family for Lenze9400Family {
     }
 
     fn explainer(&self, dictionary: Arc<Dictionary>) -> Box<dyn TelegramExplainer> {
-        Box::new(Lenze9400Explainer::new(dictionary))
+        Box::new(SdoExplainer::new(dictionary, LENZE_EXPLAIN))
     }
 
     /// `C00061`, `C00002/16`. Without `--type` the object is read-only and typed `i32`:

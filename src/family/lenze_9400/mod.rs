@@ -4,9 +4,7 @@
 //! notation, the simulated node's codes and the explainer for `decode` and traces.
 
 pub mod codec;
-mod lenze_9400_explainer;
 mod lenze_9400_family;
 pub mod sim;
 
-pub use lenze_9400_explainer::Lenze9400Explainer;
-pub use lenze_9400_family::{Lenze9400Family, LENZE_NOTATION};
+pub use lenze_9400_family::{Lenze9400Family, LENZE_EXPLAIN, LENZE_NOTATION};
