@@ -133,8 +133,19 @@ impl Dictionary {
             .map(str::to_ascii_lowercase)
             .collect();
         let occupied = self.objects.iter().map(|o| o.address).collect();
-        let EdsObjects { objects, notes, .. } = eds_objects(&file, &taken, &occupied);
-        self.extend(Dictionary {
+        let EdsObjects {
+            objects,
+            notes,
+            aliases_of_occupied,
+            ..
+        } = eds_objects(&file, &taken, &occupied);
+        let before = self.objects.clone();
+        for (address, aliases) in aliases_of_occupied {
+            if let Some(o) = self.objects.iter_mut().find(|o| o.address == address) {
+                o.aliases.extend(aliases);
+            }
+        }
+        let added = self.extend(Dictionary {
             family: self.family.clone(),
             family_span: Span::start_of(&source),
             title: String::new(),
@@ -144,7 +155,11 @@ impl Dictionary {
             parse_address: self.parse_address,
             name: file_stem(source.path()),
             notes,
-        })
+        });
+        if added.is_err() {
+            self.objects = before;
+        }
+        added
     }
 
     fn from_file(

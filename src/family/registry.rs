@@ -3,7 +3,7 @@
 
 use super::FamilyError;
 use super::{
-    ct_ansi::CtFamily, lenze_931::Lenze931Family, lenze_9400::Lenze9400Family, sd2::Sd2Family,
+    canopen::CanopenFamily, ct_ansi::CtFamily, lenze_931::Lenze931Family, lenze_9400::Lenze9400Family, sd2::Sd2Family,
     BuiltinDictionary, Family,
 };
 use crate::diag::{did_you_mean, Diagnostic};
@@ -28,6 +28,7 @@ impl Registry {
                 Arc::new(CtFamily),
                 Arc::new(Lenze931Family),
                 Arc::new(Lenze9400Family),
+                Arc::new(CanopenFamily),
             ],
         }
     }

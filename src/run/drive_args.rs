@@ -18,12 +18,13 @@ use std::sync::{Arc, Mutex};
 #[command(next_help_heading = "Dictionary and bench limits")]
 pub struct DictionaryArgs {
     /// The built-in dictionary to start from, by its name: sd2, ct-unidrive-sp, lenze-931,
-    /// lenze-9400. The drive family its `family:` names picks the protocol
+    /// lenze-9400, canopen. The drive family its `family:` names picks the protocol
     /// (`ct-unidrive-sp` is a dictionary of the `ct-ansi` family).
     #[arg(id = "drive", long = "drive", value_name = "DICTIONARY", default_value = DEFAULT_DICTIONARY)]
     pub name: String,
     /// A dictionary file that adds objects to the built-in one (or replaces objects of the
-    /// same name). May be given several times.
+    /// same name), or a CANopen node's EDS or DCF (`.eds`, `.dcf`) whose objects it adds.
+    /// May be given several times.
     #[arg(long = "dictionary", value_name = "PATH")]
     pub extra: Vec<PathBuf>,
     /// Bench limits file capping speed and current (`max_speed: 12000 rpm`). Without it:

@@ -21,6 +21,9 @@ pub(crate) struct EdsObjects {
     pub notes: Vec<Diagnostic>,
     /// A DCF's `ParameterValue`s by object name, as written.
     pub parameter_values: Vec<(String, String)>,
+    /// For an object the dictionary already has at an address: the EDS's index and name,
+    /// as aliases it gains where they are free.
+    pub aliases_of_occupied: Vec<(Address, Vec<String>)>,
 }
 
 /// The objects of `file`, named so that none clashes with `taken` (names and aliases
@@ -36,12 +39,18 @@ pub(crate) fn eds_objects(
         objects: Vec::new(),
         notes: Vec::new(),
         parameter_values: Vec::new(),
+        aliases_of_occupied: Vec::new(),
     };
     let mut not_carried: BTreeMap<String, Vec<String>> = BTreeMap::new();
     let mut unresolved: Vec<String> = Vec::new();
     for entry in &file.entries {
         let address = Address::indexed(entry.index, u32::from(entry.subindex));
         if occupied.contains(&address) {
+            let free: Vec<String> = [index_text(entry), eds_name(entry)]
+                .into_iter()
+                .filter(|a| taken.insert(a.to_ascii_lowercase()))
+                .collect();
+            out.aliases_of_occupied.push((address, free));
             continue;
         }
         let (data_type, range) = match entry.data_type.carried() {

@@ -3,6 +3,7 @@
 //! by the CiA 402 profile. The pure codec, the SDO link and object access (which the Lenze
 //! 9400 family speaks too), the simulated CiA 402 node and the explainer.
 
+mod canopen_family;
 pub mod codec;
 mod sdo_access;
 mod sdo_explainer;
@@ -10,6 +11,7 @@ mod sdo_link;
 pub mod sdo_value;
 pub mod sim;
 
+pub use canopen_family::{parse_index_address, CanopenFamily};
 pub use sdo_access::SdoAccess;
 pub use sdo_explainer::{ExplainNotation, SdoExplainer, INDEX_NOTATION};
 pub use sdo_link::{index_text, SdoLink, SdoLinkConfig, SdoNotation, CIA_301_NOTATION};
