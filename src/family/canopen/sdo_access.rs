@@ -53,6 +53,10 @@ impl ObjectAccess for SdoAccess {
         Ok(WriteOutcome::Stored)
     }
 
+    fn error_code_text(&self, code: u16) -> Option<&'static str> {
+        Some(super::codec::error_code_text(code))
+    }
+
     fn port(&self) -> String {
         format!("node {} on {}", self.link.node(), self.link.port())
     }
