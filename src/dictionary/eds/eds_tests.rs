@@ -73,7 +73,12 @@ fn names_aliases_records_and_links() {
     // An object the dictionary has already gains the EDS's index and name as aliases.
     assert_eq!(d.get("0x6041").unwrap().name, "status_word");
     assert_eq!(d.get("Statusword").unwrap().name, "status_word");
-    assert_eq!(d.objects().filter(|o| o.address == Address::indexed(0x6041, 0)).count(), 1);
+    assert_eq!(
+        d.objects()
+            .filter(|o| o.address == Address::indexed(0x6041, 0))
+            .count(),
+        1
+    );
     assert_eq!(d.get("controlword").unwrap().address, Address::indexed(0x2200, 0));
     assert!(d
         .get("linked")

@@ -28,7 +28,10 @@ pub fn parse_index_address(text: &str) -> Result<Address, AddressError> {
             "`{t}` is not a CANopen object address; write the index in hex and the subindex after `/`, e.g. `0x6041` or `0x1018/2`"
         ))
     };
-    let hex = t.strip_prefix("0x").or_else(|| t.strip_prefix("0X")).ok_or_else(wrong)?;
+    let hex = t
+        .strip_prefix("0x")
+        .or_else(|| t.strip_prefix("0X"))
+        .ok_or_else(wrong)?;
     let (index, sub) = match hex.split_once('/') {
         Some((i, s)) => (i, Some(s)),
         None => (hex, None),
@@ -39,9 +42,10 @@ pub fn parse_index_address(text: &str) -> Result<Address, AddressError> {
     let index = u16::from_str_radix(index, 16).map_err(|_| wrong())?;
     let subindex = match sub {
         None => 0,
-        Some(s) => s.trim().parse::<u8>().map_err(|_| {
-            AddressError::from(format!("`{t}`: the subindex after `/` is 0..255"))
-        })?,
+        Some(s) => s
+            .trim()
+            .parse::<u8>()
+            .map_err(|_| AddressError::from(format!("`{t}`: the subindex after `/` is 0..255")))?,
     };
     Ok(Address::indexed(index, u32::from(subindex)))
 }
@@ -153,9 +157,15 @@ mod tests {
     fn index_addresses() {
         assert_eq!(parse_index_address("0x6041"), Ok(Address::indexed(0x6041, 0)));
         assert_eq!(parse_index_address(" 0x1018/2 "), Ok(Address::indexed(0x1018, 2)));
-        assert!(parse_index_address("6041").unwrap_err().reason.contains("0x1018/2"));
+        assert!(parse_index_address("6041")
+            .unwrap_err()
+            .reason
+            .contains("0x1018/2"));
         assert!(parse_index_address("0x16041").is_err());
-        assert!(parse_index_address("0x1018/256").unwrap_err().reason.contains("0..255"));
+        assert!(parse_index_address("0x1018/256")
+            .unwrap_err()
+            .reason
+            .contains("0..255"));
         let f = CanopenFamily;
         assert_eq!(f.show_address(&Address::indexed(0x1018, 2)), "0x1018/2");
         assert_eq!(f.show_address(&Address::indexed(0x6041, 0)), "0x6041");

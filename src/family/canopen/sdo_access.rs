@@ -7,6 +7,7 @@ use crate::clock::SharedClock;
 use crate::dictionary::{Address, DataType, RawValue};
 use crate::drive::{AccessError, ObjectAccess, WriteOutcome};
 use crate::link::CoreLink;
+use std::time::Duration;
 
 pub struct SdoAccess {
     link: SdoLink,
@@ -51,6 +52,10 @@ impl ObjectAccess for SdoAccess {
         let bytes = sdo_value::encode(value, data_type).map_err(|e| AccessError::Encode(e.to_string()))?;
         self.link.download(index, subindex, &bytes)?;
         Ok(WriteOutcome::Stored)
+    }
+
+    fn keep_alive(&mut self) -> Result<Option<Duration>, AccessError> {
+        self.link.check_node()
     }
 
     fn error_code_text(&self, code: u16) -> Option<&'static str> {

@@ -6,9 +6,7 @@
 //! each node's last initiate request so that segments and responses are read as the
 //! object they belong to. Frames arrive as [`CanFrame::to_bytes`].
 
-use super::codec::{
-    error_code_text, AbortCode, Emcy, NmtCommand, NmtState, SdoRequest, SdoResponse, NMT_ID,
-};
+use super::codec::{error_code_text, AbortCode, Emcy, NmtCommand, NmtState, SdoRequest, SdoResponse, NMT_ID};
 use crate::bus::CanFrame;
 use crate::dictionary::{Dictionary, RawValue};
 use crate::hex::to_hex;
@@ -73,7 +71,11 @@ impl Service {
         match *self {
             Service::Nmt { command, node } => {
                 let what = NmtCommand::from_byte(command).map_or("unknown NMT command", NmtCommand::name);
-                let to = if node == 0 { "every node".to_string() } else { format!("node {node}") };
+                let to = if node == 0 {
+                    "every node".to_string()
+                } else {
+                    format!("node {node}")
+                };
                 format!("NMT {what} → {to}")
             }
             Service::Heartbeat { node, state } => match NmtState::from_byte(state) {
@@ -538,7 +540,10 @@ mod tests {
             "EMCY 0x3210 DC link over-voltage, error register 0x01 ← node 5"
         );
         assert_eq!(s(&mut e, "085#0000000000000000"), "EMCY error reset ← node 5");
-        assert_eq!(e.json(&bytes("085#1032010000000000")).0, json!({"emcy": 0x3210, "register": 1, "node": 5}));
+        assert_eq!(
+            e.json(&bytes("085#1032010000000000")).0,
+            json!({"emcy": 0x3210, "register": 1, "node": 5})
+        );
         assert!(e.explain(&[1, 2]).is_err());
     }
 }

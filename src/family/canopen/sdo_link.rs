@@ -12,6 +12,7 @@
 //! to check when a node is silent come from the family ([`SdoNotation`]).
 
 use super::codec::{request_id, response_id, AbortCode, SdoClient, SdoRequest, SdoStep, Uploaded};
+use super::node_watch::{NodeNews, NodeWatch};
 use crate::bus::{CanFrame, FrameBus, SharedFrameBus, TransportError};
 use crate::clock::SharedClock;
 use crate::drive::AccessError;
@@ -72,6 +73,8 @@ pub struct SdoLink {
     config: SdoLinkConfig,
     /// Clock, observer, stop requests, counters and the listening every link shares.
     core: LinkCore,
+    /// The node's heartbeat and EMCY frames seen between and during transfers.
+    watch: NodeWatch,
 }
 
 /// A response that breaks the protocol: the frame and why.
@@ -84,6 +87,7 @@ impl SdoLink {
             node,
             config,
             core: LinkCore::new(clock, STOP_GRACE),
+            watch: NodeWatch::new(node),
         }
     }
 
@@ -240,7 +244,7 @@ impl SdoLink {
                     self.core.notify_frame(Direction::Received, &frame);
                     return Ok(frame);
                 }
-                Ok(_) => {}
+                Ok(other) => self.see(&other),
                 Err(TransportError::Timeout { .. }) => {
                     if let Some(end) = self.core.after_quiet(sent, deadline) {
                         return Err(end);
@@ -257,7 +261,7 @@ impl SdoLink {
         for _ in 0..DRAIN_MAX {
             match bus.receive(Duration::ZERO) {
                 Ok(f) if f.id == response_id(self.node) => dropped += 1,
-                Ok(_) => {}
+                Ok(other) => self.see(&other),
                 Err(TransportError::Timeout { .. }) => break,
                 Err(e) => return Err(e),
             }
@@ -267,6 +271,40 @@ impl SdoLink {
                 .event(&format!("dropped {dropped} late response(s) before sending"));
         }
         Ok(())
+    }
+
+    /// A frame that is not this transfer's: the node's heartbeat or EMCY is noted, and
+    /// what is worth a line goes to the trace and the events.
+    fn see(&mut self, frame: &CanFrame) {
+        let now = self.core.clock.now();
+        if let Some(NodeNews::Said(text)) = self.watch.see(frame, now) {
+            self.core.notify_frame(Direction::Received, frame);
+            self.core.event(&text);
+        }
+    }
+
+    /// Takes what is waiting on the bus and says why the node is lost, if it is.
+    fn watch_bus(&mut self, bus: &mut dyn FrameBus) -> Result<Option<String>, TransportError> {
+        self.drain(bus)?;
+        Ok(self.watch.lost(self.core.clock.now()))
+    }
+
+    /// Between transfers (while a run waits): the node's heartbeat is looked at; a lost
+    /// one is the link lost. Returns how long until it is worth looking again.
+    pub fn check_node(&mut self) -> Result<Option<Duration>, AccessError> {
+        let shared = self.bus.clone();
+        let mut guard = shared.lock();
+        if let Some(why) = self.watch_bus(guard.as_mut())? {
+            return Err(self.lost(why));
+        }
+        Ok(self.watch.period())
+    }
+
+    fn lost(&self, why: String) -> AccessError {
+        AccessError::Transport(TransportError::Io {
+            port: self.bus.name().to_string(),
+            detail: why,
+        })
     }
 
     fn frame_of(&self, request: &SdoRequest) -> CanFrame {

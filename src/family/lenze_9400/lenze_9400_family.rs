@@ -4,9 +4,9 @@
 
 use super::codec::Code;
 use super::sim::Lenze9400Simulator;
-use crate::family::canopen::{ExplainNotation, SdoAccess, SdoExplainer, SdoLink, SdoLinkConfig, SdoNotation};
 use crate::bus::{Bus, SerialSettings};
 use crate::dictionary::{Access, Address, AddressError, DataType, Dictionary, ObjectDef};
+use crate::family::canopen::{ExplainNotation, SdoAccess, SdoExplainer, SdoLink, SdoLinkConfig, SdoNotation};
 use crate::family::{
     DriveAddress, Family, FamilyError, FamilyInfo, LinkContext, LinkOptions, Opened, SimulatedDevice,
 };

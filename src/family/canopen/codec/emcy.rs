@@ -77,18 +77,15 @@ const TEXTS: [(u16, u16, &str); 37] = [
 /// The text of an error code: its own when the table has it, else its class's
 /// (`0x2350 current, device output side`), else `unknown error code`.
 pub fn error_code_text(code: u16) -> &'static str {
-    TEXTS
-        .iter()
-        .find(|(c, mask, _)| code & mask == *c)
-        .map_or(
-            match code >> 12 {
-                0x7 => "additional modules",
-                0x9 => "external error",
-                0xF => "additional functions",
-                _ => "unknown error code",
-            },
-            |(_, _, t)| t,
-        )
+    TEXTS.iter().find(|(c, mask, _)| code & mask == *c).map_or(
+        match code >> 12 {
+            0x7 => "additional modules",
+            0x9 => "external error",
+            0xF => "additional functions",
+            _ => "unknown error code",
+        },
+        |(_, _, t)| t,
+    )
 }
 
 #[cfg(test)]
@@ -98,7 +95,10 @@ mod tests {
     #[test]
     fn frames_and_texts() {
         let e = Emcy::decode(&[0x10, 0x32, 0x05, 1, 2, 3, 4, 5]).unwrap();
-        assert_eq!((e.code, e.register, e.manufacturer), (0x3210, 0x05, [1, 2, 3, 4, 5]));
+        assert_eq!(
+            (e.code, e.register, e.manufacturer),
+            (0x3210, 0x05, [1, 2, 3, 4, 5])
+        );
         assert!(Emcy::decode(&[0; 7]).is_none());
         assert!(Emcy::decode(&[0; 8]).unwrap().is_reset());
         assert_eq!(error_code_text(0x3210), "DC link over-voltage");

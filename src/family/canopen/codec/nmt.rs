@@ -33,10 +33,16 @@ impl NmtCommand {
         COMMANDS.iter().find(|(b, _, _)| *b == byte).map(|(_, c, _)| *c)
     }
     pub fn byte(self) -> u8 {
-        COMMANDS.iter().find(|(_, c, _)| *c == self).map_or(0, |(b, _, _)| *b)
+        COMMANDS
+            .iter()
+            .find(|(_, c, _)| *c == self)
+            .map_or(0, |(b, _, _)| *b)
     }
     pub fn name(self) -> &'static str {
-        COMMANDS.iter().find(|(_, c, _)| *c == self).map_or("", |(_, _, n)| n)
+        COMMANDS
+            .iter()
+            .find(|(_, c, _)| *c == self)
+            .map_or("", |(_, _, n)| n)
     }
 }
 
@@ -63,10 +69,16 @@ impl NmtState {
         STATES.iter().find(|(b, _, _)| *b == state).map(|(_, s, _)| *s)
     }
     pub fn byte(self) -> u8 {
-        STATES.iter().find(|(_, s, _)| *s == self).map_or(0, |(b, _, _)| *b)
+        STATES
+            .iter()
+            .find(|(_, s, _)| *s == self)
+            .map_or(0, |(b, _, _)| *b)
     }
     pub fn name(self) -> &'static str {
-        STATES.iter().find(|(_, s, _)| *s == self).map_or("", |(_, _, n)| n)
+        STATES
+            .iter()
+            .find(|(_, s, _)| *s == self)
+            .map_or("", |(_, _, n)| n)
     }
     /// SDO is served in pre-operational and operational, not in stopped (CiA 301).
     pub fn serves_sdo(self) -> bool {

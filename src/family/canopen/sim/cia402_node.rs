@@ -8,8 +8,8 @@
 use super::cia402_objects::{Cia402Objects, HEARTBEAT_TIME};
 use super::sdo_server::{SdoLogged, SdoServer};
 use crate::bus::{CanFrame, FramePeer};
-use crate::family::canopen::codec::{emcy_id, heartbeat_id, NmtCommand, NmtState, NMT_ID};
 use crate::family::canopen::codec::SdoRequest;
+use crate::family::canopen::codec::{emcy_id, heartbeat_id, NmtCommand, NmtState, NMT_ID};
 use crate::sim::{SimConfig, SimCore, SimFront};
 use std::time::Duration;
 
@@ -109,7 +109,10 @@ impl Cia402Node {
         self.emcy_code = code;
         let [lo, hi] = code.to_le_bytes();
         let register = u8::from(code != 0);
-        out.push((now, CanFrame::standard8(emcy_id(self.node), [lo, hi, register, 0, 0, 0, 0, 0])));
+        out.push((
+            now,
+            CanFrame::standard8(emcy_id(self.node), [lo, hi, register, 0, 0, 0, 0, 0]),
+        ));
     }
 
     fn nmt_command(&mut self, frame: &CanFrame, now: Duration, out: &mut Vec<(Duration, CanFrame)>) {
@@ -161,6 +164,14 @@ impl FramePeer for Cia402Node {
 
     fn reachable(&self, now: Duration) -> bool {
         self.core.faults.line_up(now)
+    }
+
+    fn poll(&mut self, until: Duration) -> Vec<(Duration, CanFrame)> {
+        let mut out = Vec::new();
+        if self.core.faults.line_up(until) {
+            self.heartbeats(until, &mut out);
+        }
+        out
     }
 }
 

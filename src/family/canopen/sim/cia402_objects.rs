@@ -5,9 +5,9 @@
 //! bytes; no frames here.
 
 use super::sdo_server::{ObjectStore, Place, SdoLogged};
+use crate::diag::{Diagnostics, Source};
 use crate::dictionary::eds::{EdsEntry, EdsFile, EdsNumber};
 use crate::dictionary::{Access, DataType};
-use crate::diag::{Diagnostics, Source};
 use crate::family::canopen::codec::AbortCode;
 use crate::sim::{ModelRefusal, SimCore};
 use std::collections::BTreeMap;
@@ -91,7 +91,9 @@ fn slot(entry: &EdsEntry, node: u8) -> Option<Slot> {
                 .ok()
                 .and_then(|n| n.resolve(Some(node)))
                 .unwrap_or(0);
-            data_type.to_le_bytes(n as i64).unwrap_or_else(|| vec![0; data_type.size()])
+            data_type
+                .to_le_bytes(n as i64)
+                .unwrap_or_else(|| vec![0; data_type.size()])
         }
     };
     Some(Slot {
@@ -113,7 +115,10 @@ fn missing(slots: &BTreeMap<Place, Slot>, place: Place) -> AbortCode {
 
 impl ObjectStore for Cia402Objects {
     fn read(&mut self, core: &mut SimCore<SdoLogged>, place: Place) -> Result<Vec<u8>, AbortCode> {
-        let slot = self.slots.get(&place).ok_or_else(|| missing(&self.slots, place))?;
+        let slot = self
+            .slots
+            .get(&place)
+            .ok_or_else(|| missing(&self.slots, place))?;
         if slot.access == Access::WriteOnly {
             return Err(AbortCode::WRITE_ONLY);
         }
@@ -129,13 +134,14 @@ impl ObjectStore for Cia402Objects {
             DC_LINK_VOLTAGE => (m.measured_bus_voltage_v() * 1000.0).round() as i64,
             _ => return Ok(slot.value.clone()),
         };
-        slot.data_type
-            .to_le_bytes(live)
-            .ok_or(AbortCode::GENERAL_ERROR)
+        slot.data_type.to_le_bytes(live).ok_or(AbortCode::GENERAL_ERROR)
     }
 
     fn write(&mut self, core: &mut SimCore<SdoLogged>, place: Place, bytes: &[u8]) -> Result<(), AbortCode> {
-        let slot = self.slots.get(&place).ok_or_else(|| missing(&self.slots, place))?;
+        let slot = self
+            .slots
+            .get(&place)
+            .ok_or_else(|| missing(&self.slots, place))?;
         if slot.access == Access::ReadOnly {
             return Err(AbortCode::READ_ONLY);
         }
