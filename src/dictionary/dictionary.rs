@@ -15,6 +15,7 @@ use super::role::Role;
 use super::unknown_object::UnknownObject;
 use super::validate::validate;
 use crate::diag::{did_you_mean, read_source, Diagnostic, Diagnostics, Source, Span, YamlNode};
+use std::collections::HashMap;
 use std::path::Path;
 use std::sync::Arc;
 
@@ -80,14 +81,21 @@ impl Dictionary {
             .into());
         }
         let mut merged = self.clone();
+        // By name, ignoring case: an EDS adds thousands of objects at once.
+        let mut at: HashMap<String, usize> = merged
+            .objects
+            .iter()
+            .enumerate()
+            .map(|(i, o)| (o.name.to_ascii_lowercase(), i))
+            .collect();
         for object in other.objects {
-            match merged
-                .objects
-                .iter()
-                .position(|o| o.name.eq_ignore_ascii_case(&object.name))
-            {
-                Some(i) => merged.objects[i] = object,
-                None => merged.objects.push(object),
+            let key = object.name.to_ascii_lowercase();
+            match at.get(&key) {
+                Some(&i) => merged.objects[i] = object,
+                None => {
+                    at.insert(key, merged.objects.len());
+                    merged.objects.push(object);
+                }
             }
         }
         if other.profile.is_some() {

@@ -9,6 +9,7 @@ use super::eds_type::{access, EdsType};
 use super::ini_text::{IniSection, IniText};
 use crate::diag::{Diagnostic, Diagnostics, Source, Span};
 use crate::dictionary::Access;
+use std::collections::HashMap;
 use std::sync::Arc;
 
 /// CiA 301 object codes (`ObjectType=`).
@@ -67,15 +68,37 @@ impl EdsFile {
         }
         file.node_id = node_id(&ini, out);
         check_object_lists(&ini, out);
+        // `[1018sub2]` by its object's index, found in one pass.
+        let mut subs: HashMap<u16, Vec<&IniSection>> = HashMap::new();
+        for section in &ini.sections {
+            let name = &section.name;
+            if name.len() > 7
+                && name.is_char_boundary(4)
+                && name.is_char_boundary(7)
+                && name[4..7].eq_ignore_ascii_case("sub")
+            {
+                if let Some(index) = object_index(&name[..4]) {
+                    subs.entry(index).or_default().push(section);
+                }
+            }
+        }
         for section in &ini.sections {
             if let Some(index) = object_index(&section.name) {
-                file.object(&ini, section, index, out);
+                let own = subs.get(&index).map_or(&[][..], Vec::as_slice);
+                file.object(&ini, section, index, own, out);
             }
         }
         file
     }
 
-    fn object(&mut self, ini: &IniText, section: &IniSection, index: u16, out: &mut Diagnostics) {
+    fn object(
+        &mut self,
+        ini: &IniText,
+        section: &IniSection,
+        index: u16,
+        subs: &[&IniSection],
+        out: &mut Diagnostics,
+    ) {
         let Some(name) = required(section, "ParameterName", out) else {
             return;
         };
@@ -124,11 +147,8 @@ impl EdsFile {
                 self.compact_array(ini, section, index, &name, n.value as u8, &links, out);
             }
             Some((_, Ok(_))) | None => {
-                let prefix = format!("{}sub", section.name);
-                for sub in &ini.sections {
-                    let Some(rest) = strip_prefix_ignoring_case(&sub.name, &prefix) else {
-                        continue;
-                    };
+                for sub in subs {
+                    let rest = &sub.name[7..];
                     let Ok(subindex) = u8::from_str_radix(rest, 16) else {
                         out.push(Diagnostic::at(
                             &sub.span,
@@ -317,11 +337,6 @@ fn object_index(name: &str) -> Option<u16> {
     (name.len() == 4 && name.chars().all(|c| c.is_ascii_hexdigit()))
         .then(|| u16::from_str_radix(name, 16).ok())
         .flatten()
-}
-
-fn strip_prefix_ignoring_case<'a>(text: &'a str, prefix: &str) -> Option<&'a str> {
-    let head = text.get(..prefix.len())?;
-    head.eq_ignore_ascii_case(prefix).then(|| &text[prefix.len()..])
 }
 
 /// `[XXXXObjectLinks]`: `ObjectLinks=n`, then `1=0x6041` …
