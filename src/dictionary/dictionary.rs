@@ -118,7 +118,7 @@ impl Dictionary {
     /// An EDS or DCF (CiA 306, `.eds`/`.dcf`) adds the objects it lists.
     pub fn extend_from(&mut self, path: impl AsRef<Path>) -> Result<(), DictionaryError> {
         if is_eds_path(path.as_ref()) {
-            return self.extend_from_eds(path.as_ref());
+            return self.extend_from_eds(path.as_ref(), &|_| None);
         }
         let other = Self::from_file(path.as_ref(), false, self.parse_address)?;
         self.extend(other)
@@ -126,8 +126,13 @@ impl Dictionary {
 
     /// The objects of an EDS or DCF added under readable names; an object at an address
     /// this dictionary already has keeps its entry here (with units and scale an EDS does
-    /// not give), and no EDS name takes a name or alias already here.
-    fn extend_from_eds(&mut self, path: &Path) -> Result<(), DictionaryError> {
+    /// not give), and no EDS name takes a name or alias already here. `family_alias` names
+    /// an object in the family's own notation (the Lenze 9400's `C00099`), a first alias.
+    pub fn extend_from_eds(
+        &mut self,
+        path: &Path,
+        family_alias: &dyn Fn(&Address) -> Option<String>,
+    ) -> Result<(), DictionaryError> {
         let source = read_dictionary_source(path)?;
         let mut problems = Diagnostics::new();
         let file = EdsFile::parse(&source, &mut problems);
@@ -146,7 +151,7 @@ impl Dictionary {
             notes,
             aliases_of_occupied,
             ..
-        } = eds_objects(&file, &taken, &occupied);
+        } = eds_objects(&file, &taken, &occupied, family_alias);
         let before = self.objects.clone();
         for (address, aliases) in aliases_of_occupied {
             if let Some(o) = self.objects.iter_mut().find(|o| o.address == address) {

@@ -52,7 +52,11 @@ impl DictionaryArgs {
             .map_err(|e| RunError::Invalid(format!("error: {e}\n")))?;
         let mut dictionary = Dictionary::from_yaml_for(builtin.path, builtin.text, family.address_parser())?;
         for path in &self.extra {
-            dictionary.extend_from(path)?;
+            if crate::dictionary::is_eds_path(path) {
+                dictionary.extend_from_eds(path, &|a| family.object_alias(a))?;
+            } else {
+                dictionary.extend_from(path)?;
+            }
         }
         // Last, so that no dictionary above can raise the bench's limits.
         let env = std::env::var_os(LIMITS_ENV);

@@ -33,6 +33,7 @@ pub(crate) fn eds_objects(
     file: &EdsFile,
     taken: &HashSet<String>,
     occupied: &HashSet<Address>,
+    family_alias: &dyn Fn(&Address) -> Option<String>,
 ) -> EdsObjects {
     let mut taken = taken.clone();
     let mut out = EdsObjects {
@@ -65,7 +66,8 @@ pub(crate) fn eds_objects(
         };
         let name = unique_name(entry, &mut taken);
         let mut def = ObjectDef::new(name.clone(), address, data_type, entry.access);
-        for alias in [index_text(entry), eds_name(entry)] {
+        let family = family_alias(&address);
+        for alias in family.into_iter().chain([index_text(entry), eds_name(entry)]) {
             if taken.insert(alias.to_ascii_lowercase()) {
                 def.aliases.push(alias);
             }

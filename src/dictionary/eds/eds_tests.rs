@@ -115,7 +115,7 @@ fn compact_sub_objects_node_id_and_parameter_values() {
     let file = EdsFile::parse(&Source::new("every-type.dcf", text), &mut out);
     assert!(out.is_empty());
     assert_eq!(file.node_id, Some(5));
-    let objects = eds_objects(&file, &HashSet::new(), &HashSet::new());
+    let objects = eds_objects(&file, &HashSet::new(), &HashSet::new(), &|_| None);
     assert!(objects
         .parameter_values
         .contains(&("producer_heartbeat_time".into(), "250".into())));
@@ -155,7 +155,7 @@ fn node_id_limits_without_a_node_are_left_off_with_a_note() {
     let text = "[FileInfo]\nFileName=x.eds\n[1014]\nParameterName=COB-ID EMCY\nDataType=0x0007\nAccessType=rw\nLowLimit=$NODEID+0x80\n";
     let mut out = Diagnostics::new();
     let file = EdsFile::parse(&Source::new("x.eds", text), &mut out);
-    let objects = eds_objects(&file, &HashSet::new(), &HashSet::new());
+    let objects = eds_objects(&file, &HashSet::new(), &HashSet::new(), &|_| None);
     assert_eq!(objects.objects[0].min, None);
     assert!(objects.notes[0]
         .message()
@@ -216,7 +216,7 @@ proptest! {
     fn no_panic_on_any_text(text in ".{0,400}") {
         let mut out = Diagnostics::new();
         let file = EdsFile::parse(&Source::new("p.eds", text), &mut out);
-        let _ = eds_objects(&file, &HashSet::new(), &HashSet::new());
+        let _ = eds_objects(&file, &HashSet::new(), &HashSet::new(), &|_| None);
     }
 
     #[test]
@@ -233,6 +233,6 @@ proptest! {
     ) {
         let mut out = Diagnostics::new();
         let file = EdsFile::parse(&Source::new("p.eds", lines.join("\n")), &mut out);
-        let _ = eds_objects(&file, &HashSet::new(), &HashSet::new());
+        let _ = eds_objects(&file, &HashSet::new(), &HashSet::new(), &|_| None);
     }
 }

@@ -138,6 +138,12 @@ impl Family for Lenze9400Family {
         }))
     }
 
+    /// `C00099`, `C00002/16`: what the vendor's EDS lists gains the code as an alias.
+    fn object_alias(&self, address: &Address) -> Option<String> {
+        let Address::Indexed { index, subindex } = *address;
+        Code::at(index, u8::try_from(subindex).ok()?).map(|c| c.to_string())
+    }
+
     /// `C00099 (index 0x5F9C)`, `C00002/16 (index 0x5FFD/16)`.
     fn show_address(&self, address: &Address) -> String {
         let Address::Indexed { index, subindex } = *address;
