@@ -214,3 +214,43 @@ fn the_commissioning_recipe_runs_through_an_slcan_pseudo_terminal() {
         ],
     );
 }
+
+/// A DCF's ParameterValues are a parameter set: `diff` compares them with the node,
+/// `restore` writes them back behind the restore interlock (never while it is enabled).
+#[cfg(unix)]
+#[test]
+fn a_dcf_is_diffed_against_the_node_and_restored_behind_the_interlock() {
+    use crate::support::{drivescript, stderr, stdout};
+    let sim = crate::support::Simulator::start(&["--drive", "canopen", "--slcan-pty"]);
+    let dcf = repo_root().join("tests/eds/cia402-node.dcf");
+    let dcf = dcf.to_string_lossy().to_string();
+    let can = format!("slcan:{}", sim.endpoint);
+    let with = |args: &[&str]| {
+        let mut all = args.to_vec();
+        all.extend(["--drive", "canopen", "--dictionary", &dcf, "--can", &can]);
+        drivescript(&all, "")
+    };
+    let out = with(&["diff", &dcf]);
+    assert_eq!(out.status.code(), Some(1), "{}{}", stdout(&out), stderr(&out));
+    assert_has(
+        &stdout(&out),
+        &["heartbeat_time", "250", "100", "1 difference(s)"],
+    );
+    // Enabled, the node is not restored.
+    for word in ["6", "7", "15"] {
+        let out = with(&["write", "control_word", word]);
+        assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    }
+    let out = with(&["restore", &dcf, "--apply"]);
+    assert_ne!(out.status.code(), Some(0), "{}", stdout(&out));
+    assert_has(&stderr(&out), &["nothing was written"]);
+    for word in ["7", "6"] {
+        with(&["write", "control_word", word]);
+    }
+    let out = with(&["restore", &dcf, "--apply"]);
+    assert_eq!(out.status.code(), Some(0), "{}{}", stdout(&out), stderr(&out));
+    assert_has(&stdout(&out), &["heartbeat_time"]);
+    let out = with(&["diff", &dcf]);
+    assert_eq!(out.status.code(), Some(0), "{}{}", stdout(&out), stderr(&out));
+    assert_has(&stdout(&out), &["no differences"]);
+}

@@ -139,7 +139,7 @@ fn shortened(places: &[String]) -> String {
 }
 
 /// `0x6041` for an object, `0x1018/2` for a sub-object.
-fn index_text(entry: &EdsEntry) -> String {
+pub(super) fn index_text(entry: &EdsEntry) -> String {
     match entry.parent {
         None => format!("0x{:04X}", entry.index),
         Some(_) => format!("0x{:04X}/{}", entry.index, entry.subindex),
