@@ -4,19 +4,17 @@
 //! state is left as it is: SDO, all drivescript uses, works in pre-operational and
 //! operational alike.
 
+use super::sdo_family::{open_sdo, parse_node, raw_sdo_object, sim_node};
 use super::sim::Cia402Node;
-use super::{SdoAccess, SdoExplainer, SdoLink, SdoLinkConfig, CIA_301_NOTATION, INDEX_NOTATION};
+use super::{SdoExplainer, CIA_301_NOTATION, INDEX_NOTATION};
 use crate::bus::{Bus, SerialSettings};
-use crate::dictionary::{Access, Address, AddressError, DataType, Dictionary, ObjectDef};
+use crate::dictionary::{Address, AddressError, DataType, Dictionary, ObjectDef};
 use crate::family::{
     DriveAddress, Family, FamilyError, FamilyInfo, LinkContext, LinkOptions, Opened, SimulatedDevice,
 };
 use crate::link::TelegramExplainer;
 use crate::sim::SimConfig;
 use std::sync::Arc;
-
-/// The node `--address` means when it is not given: CANopen's lowest node id.
-const DEFAULT_NODE: u8 = 1;
 
 pub struct CanopenFamily;
 
@@ -62,22 +60,7 @@ impl Family for CanopenFamily {
     }
 
     fn parse_drive_address(&self, text: Option<&str>) -> Result<DriveAddress, FamilyError> {
-        let node = match text.map(str::trim) {
-            None => DEFAULT_NODE,
-            Some(t) => match t.parse::<u8>() {
-                Ok(n) if (1..=127).contains(&n) => n,
-                _ => {
-                    return Err(FamilyError::DriveAddress(format!(
-                        "--address {t}: {}",
-                        self.address_help()
-                    )))
-                }
-            },
-        };
-        Ok(DriveAddress {
-            number: u32::from(node),
-            shown: format!("CAN node {node}"),
-        })
+        parse_node(text, self.address_help())
     }
 
     fn no_reply_advice(&self) -> &'static str {
@@ -85,57 +68,30 @@ impl Family for CanopenFamily {
     }
 
     fn open(&self, bus: &Bus, drive: &DriveAddress, options: &LinkOptions, context: LinkContext) -> Opened {
-        let Bus::Frames(frames) = bus else {
-            return Err(FamilyError::WrongBus(format!(
-                "a CANopen node is reached over CAN, not over the byte stream {}; give --can slcan:PATH or --can socketcan:IF",
-                bus.name()
-            )));
-        };
-        let node = u8::try_from(drive.number)
-            .ok()
-            .filter(|n| (1..=127).contains(n))
-            .ok_or_else(|| {
-                FamilyError::DriveAddress(format!("CAN node {} is outside 1..127", drive.number))
-            })?;
-        let config = SdoLinkConfig {
-            reply_timeout: options.reply_timeout,
-            retries: options.retries,
-            notation: CIA_301_NOTATION,
-        };
-        let link = context.link(|clock| SdoLink::new(frames.clone(), clock, node, config));
-        Ok(Box::new(SdoAccess::new(link)))
+        open_sdo(bus, drive, options, context, CIA_301_NOTATION, "a CANopen node")
     }
 
     fn simulator(&self, drive: &DriveAddress, config: SimConfig) -> SimulatedDevice {
-        let node = u8::try_from(drive.number).unwrap_or(DEFAULT_NODE);
-        SimulatedDevice::frames(Cia402Node::new(node, config))
+        SimulatedDevice::frames(Cia402Node::new(sim_node(drive), config))
     }
 
     fn explainer(&self, dictionary: Arc<Dictionary>) -> Box<dyn TelegramExplainer> {
         Box::new(SdoExplainer::new(dictionary, INDEX_NOTATION))
     }
 
-    /// `0x6041`, `0x1018/2`. Without `--type` the object is read-only and typed `i32`
-    /// (read with the size the node indicates); a write needs `--type`.
+    /// `0x6041`, `0x1018/2` (see `raw_sdo_object`).
     fn raw_object(&self, text: &str, data_type: Option<DataType>) -> Option<Result<ObjectDef, FamilyError>> {
         let t = text.trim();
         if !(t.starts_with("0x") || t.starts_with("0X")) {
             return None;
         }
         Some(parse_index_address(t).map_err(FamilyError::from).map(|address| {
-            let mut def = match data_type {
-                Some(dt) => ObjectDef::new(t, address, dt, Access::ReadWrite),
-                None => {
-                    let mut d = ObjectDef::new(t, address, DataType::I32, Access::ReadOnly);
-                    d.unconfirmed = Some(
-                        "no --type given: read with the size the node indicates (signed); give --type (u8, i8, u16, i16, u32, i32 or string(N)) to write it"
-                            .into(),
-                    );
-                    d
-                }
-            };
-            def.description = format!("CANopen object {t} (not in the dictionary)");
-            def
+            raw_sdo_object(
+                t,
+                address,
+                data_type,
+                format!("CANopen object {t} (not in the dictionary)"),
+            )
         }))
     }
 

@@ -8,6 +8,7 @@ pub mod codec;
 mod node_watch;
 mod sdo_access;
 mod sdo_explainer;
+pub mod sdo_family;
 mod sdo_link;
 pub mod sdo_value;
 pub mod sim;

@@ -5,18 +5,15 @@
 use super::codec::Code;
 use super::sim::Lenze9400Simulator;
 use crate::bus::{Bus, SerialSettings};
-use crate::dictionary::{Access, Address, AddressError, DataType, Dictionary, ObjectDef};
-use crate::family::canopen::{ExplainNotation, SdoAccess, SdoExplainer, SdoLink, SdoLinkConfig, SdoNotation};
+use crate::dictionary::{Address, AddressError, DataType, Dictionary, ObjectDef};
+use crate::family::canopen::sdo_family::{open_sdo, parse_node, raw_sdo_object, sim_node};
+use crate::family::canopen::{ExplainNotation, SdoExplainer, SdoNotation};
 use crate::family::{
     DriveAddress, Family, FamilyError, FamilyInfo, LinkContext, LinkOptions, Opened, SimulatedDevice,
 };
 use crate::link::TelegramExplainer;
 use crate::sim::SimConfig;
 use std::sync::Arc;
-
-/// The node `--address` means when it is not given. The sources give no default node
-/// address for the 9400 (C00350 sets it); 1 is CANopen's lowest.
-const DEFAULT_NODE: u8 = 1;
 
 pub struct Lenze9400Family;
 
@@ -58,22 +55,7 @@ impl Family for Lenze9400Family {
     }
 
     fn parse_drive_address(&self, text: Option<&str>) -> Result<DriveAddress, FamilyError> {
-        let node = match text.map(str::trim) {
-            None => DEFAULT_NODE,
-            Some(t) => match t.parse::<u8>() {
-                Ok(n) if (1..=127).contains(&n) => n,
-                _ => {
-                    return Err(FamilyError::DriveAddress(format!(
-                        "--address {t}: {}",
-                        self.address_help()
-                    )))
-                }
-            },
-        };
-        Ok(DriveAddress {
-            number: u32::from(node),
-            shown: format!("CAN node {node}"),
-        })
+        parse_node(text, self.address_help())
     }
 
     fn no_reply_advice(&self) -> &'static str {
@@ -81,40 +63,19 @@ impl Family for Lenze9400Family {
     }
 
     fn open(&self, bus: &Bus, drive: &DriveAddress, options: &LinkOptions, context: LinkContext) -> Opened {
-        let Bus::Frames(frames) = bus else {
-            return Err(FamilyError::WrongBus(format!(
-                "the Lenze 9400 is reached over CAN, not over the byte stream {}; give --can slcan:PATH or --can socketcan:IF",
-                bus.name()
-            )));
-        };
-        let node = u8::try_from(drive.number)
-            .ok()
-            .filter(|n| (1..=127).contains(n))
-            .ok_or_else(|| {
-                FamilyError::DriveAddress(format!("CAN node {} is outside 1..127", drive.number))
-            })?;
-        let config = SdoLinkConfig {
-            reply_timeout: options.reply_timeout,
-            retries: options.retries,
-            notation: LENZE_NOTATION,
-        };
-        let link = context.link(|clock| SdoLink::new(frames.clone(), clock, node, config));
-        Ok(Box::new(SdoAccess::new(link)))
+        open_sdo(bus, drive, options, context, LENZE_NOTATION, "the Lenze 9400")
     }
 
     fn simulator(&self, drive: &DriveAddress, config: SimConfig) -> SimulatedDevice {
-        let node = u8::try_from(drive.number).unwrap_or(DEFAULT_NODE);
-        SimulatedDevice::frames(Lenze9400Simulator::new(node, config))
+        SimulatedDevice::frames(Lenze9400Simulator::new(sim_node(drive), config))
     }
 
     fn explainer(&self, dictionary: Arc<Dictionary>) -> Box<dyn TelegramExplainer> {
         Box::new(SdoExplainer::new(dictionary, LENZE_EXPLAIN))
     }
 
-    /// `C00061`, `C00002/16`. Without `--type` the object is read-only and typed `i32`:
-    /// the node indicates each value's size, and the access reads narrower values widened
-    /// as signed (see `sdo_value`); a write needs `--type`, because a wrong width is
-    /// refused by the node at best and misread at worst.
+    /// `C00061`, `C00002/16` (see `raw_sdo_object`). The sources give no default node
+    /// address for the 9400 (C00350 sets it); 1 is CANopen's lowest.
     fn raw_object(&self, text: &str, data_type: Option<DataType>) -> Option<Result<ObjectDef, FamilyError>> {
         let t = text.trim();
         // Dictionary names are lower case, so `C` and a digit can only be a code.
@@ -122,19 +83,12 @@ impl Family for Lenze9400Family {
             return None;
         }
         Some(parse_code_address(t).map_err(FamilyError::from).map(|address| {
-            let mut def = match data_type {
-                Some(dt) => ObjectDef::new(t, address, dt, Access::ReadWrite),
-                None => {
-                    let mut d = ObjectDef::new(t, address, DataType::I32, Access::ReadOnly);
-                    d.unconfirmed = Some(
-                        "no --type given: read with the size the drive indicates (signed); give --type (u8, i8, u16, i16, u32, i32 or string(N)) to write it"
-                            .into(),
-                    );
-                    d
-                }
-            };
-            def.description = format!("Lenze code {t} (not in the dictionary)");
-            def
+            raw_sdo_object(
+                t,
+                address,
+                data_type,
+                format!("Lenze code {t} (not in the dictionary)"),
+            )
         }))
     }
 
