@@ -98,6 +98,8 @@ fn a_node_whose_heartbeat_stops_is_a_lost_link_and_is_stopped() {
     assert_has(
         &output,
         &[
+            "     1  ok    go to operation_enabled",
+            "     3  FAIL  dwell 1m  I/O error on built-in simulated drive: the heartbeat of node 1 stopped",
             "the heartbeat of node 1 stopped: none for",
             "a heartbeat consumer gives up after 3 periods",
             "safe stop: link to node 1 on built-in simulated drive restored",
