@@ -53,6 +53,16 @@ impl DictionaryArgs {
         let mut dictionary = Dictionary::from_yaml_for(builtin.path, builtin.text, family.address_parser())?;
         for path in &self.extra {
             if crate::dictionary::is_eds_path(path) {
+                // An EDS lists a CANopen node's objects: on another family's line their
+                // indexes would name other objects.
+                if family.bus_kind() != crate::bus::BusKind::Frames {
+                    return Err(RunError::Invalid(format!(
+                        "error: {} is a CANopen EDS/DCF, but the {} dictionary is for the {} family, which is not CANopen; give --drive canopen (or a recipe with `drive: canopen`)\n",
+                        path.display(),
+                        dictionary.name(),
+                        family.id()
+                    )));
+                }
                 dictionary.extend_from_eds(path, &|a| family.object_alias(a))?;
             } else {
                 dictionary.extend_from(path)?;

@@ -176,6 +176,15 @@ fn an_eds_adds_its_objects_by_readable_name_index_and_eds_name() {
         row("quick_stop_option"),
         ["quick_stop_option", "2", "2", "0x605A"]
     );
+    // An EDS is for a CANopen family's dictionary, not the SD2's.
+    let out = cli(&["objects", "--dictionary", &eds], 2);
+    assert_has(
+        &out.stderr,
+        &[
+            "is a CANopen EDS/DCF, but the sd2 dictionary is for the sd2 family",
+            "give --drive canopen",
+        ],
+    );
     // A malformed EDS: located, nothing read.
     let dir = scratch("canopen-bad-eds");
     let bad = write_file(
