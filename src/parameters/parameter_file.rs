@@ -6,6 +6,14 @@
 use crate::diag::{expected, read_source, Diagnostic, Diagnostics, Reader, Shape, Source, YamlNode};
 use std::sync::Arc;
 
+/// `0x1017` → (0x1017, 0), `0x1018/2` → (0x1018, 2): how [`ParameterFile::from_dcf`]
+/// names a DCF's objects.
+fn dcf_index(text: &str) -> Option<(u16, u32)> {
+    let hex = text.strip_prefix("0x")?;
+    let (index, sub) = hex.split_once('/').unwrap_or((hex, "0"));
+    Some((u16::from_str_radix(index, 16).ok()?, sub.parse().ok()?))
+}
+
 /// What `drivescript backup` writes; the first key tells the file from a recipe.
 pub const FORMAT_KEY: &str = "drivescript_parameters";
 pub const FORMAT_VERSION: i64 = 1;
@@ -146,7 +154,8 @@ impl ParameterFile {
         }
         self.family = dictionary.family().to_string();
         for o in &mut self.objects {
-            if let Some(def) = dictionary.get(&o.name) {
+            let by_index = dcf_index(&o.address).and_then(|(i, sub)| dictionary.by_address(i, sub));
+            if let Some(def) = dictionary.get(&o.name).or(by_index) {
                 o.name = def.name.clone();
             }
         }

@@ -247,6 +247,10 @@ fn a_dcf_is_diffed_against_the_node_and_restored_behind_the_interlock() {
         &stdout(&out),
         &["heartbeat_time", "250", "100", "1 difference(s)"],
     );
+    // The objects the built-in dictionary has are found by their index without the DCF.
+    let out = drivescript(&["diff", &dcf, "--drive", "canopen", "--can", &can], "");
+    assert_eq!(out.status.code(), Some(1), "{}{}", stdout(&out), stderr(&out));
+    assert_has(&stdout(&out), &["heartbeat_time", "1 difference(s)"]);
     // Enabled, the node is not restored.
     for word in ["6", "7", "15"] {
         let out = with(&["write", "control_word", word]);
