@@ -11,7 +11,7 @@ use crate::dictionary::{Address, Format, ObjectDef};
 use std::collections::{BTreeMap, HashSet};
 
 const NOT_CARRIED_WHY: &str =
-    "drivescript's dictionaries carry integers up to 32 bits and visible strings; read others with a CANopen tool";
+    "drivescript's dictionaries carry integers of 8, 16, 32 and 64 bits and visible strings; read others with a CANopen tool";
 
 /// What an EDS adds to a dictionary.
 #[derive(Debug)]

@@ -90,11 +90,13 @@ impl EdsType {
             EdsType::Unsigned8 => (DataType::U8, None),
             EdsType::Unsigned16 => (DataType::U16, None),
             EdsType::Unsigned32 => (DataType::U32, None),
+            EdsType::Integer64 => (DataType::I64, None),
+            EdsType::Unsigned64 => (DataType::U64, None),
             // The EDS gives no length: up to the longest string a dictionary holds.
             EdsType::VisibleString => (DataType::String { max: MAX_STRING_LEN }, None),
             other => {
                 return Err(format!(
-                    "drivescript's dictionaries carry integers up to 32 bits and visible strings, not {}",
+                    "drivescript's dictionaries carry integers of 8, 16, 32 and 64 bits and visible strings, not {}",
                     other.name()
                 ))
             }
@@ -147,7 +149,9 @@ mod tests {
         assert_eq!(EdsType::Boolean.carried(), Ok((DataType::U8, Some((0.0, 1.0)))));
         assert_eq!(EdsType::Integer16.carried().unwrap().0, DataType::I16);
         assert_eq!(EdsType::Unsigned32.carried().unwrap().0, DataType::U32);
-        assert!(EdsType::Unsigned64.carried().unwrap_err().contains("UNSIGNED64"));
+        assert_eq!(EdsType::Unsigned64.carried().unwrap().0, DataType::U64);
+        assert_eq!(EdsType::Integer64.carried().unwrap().0, DataType::I64);
+        assert!(EdsType::Integer24.carried().unwrap_err().contains("INTEGER24"));
         assert!(EdsType::Real32.carried().unwrap_err().contains("REAL32"));
         assert!(EdsType::Domain.carried().is_err());
     }
