@@ -20,6 +20,8 @@ use std::time::{Duration, Instant};
 const EDS_OBJECTS: usize = 2_000;
 const EDS_LIMIT: Duration = Duration::from_millis(50);
 const READS: u32 = 500;
+/// Rounds of each side, alternating.
+const ROUNDS: u32 = 3;
 const NODE: u8 = 1;
 
 /// An EDS of `n` objects: every fourth a RECORD of three sub-objects, the rest VARs of
@@ -158,23 +160,37 @@ fn main() -> ExitCode {
     let mut master = pty.master;
     let serving = std::thread::spawn(move || server.serve(&mut master));
 
-    let ours = match drivescript_reads(&path) {
-        Ok(rate) => rate,
-        Err(e) => {
-            eprintln!("drivescript's SDO reads failed: {e}");
-            stop.store(true, std::sync::atomic::Ordering::SeqCst);
-            return ExitCode::FAILURE;
+    // Alternating rounds, the best of each side: a machine busy with other work slows
+    // whichever side it happens to hit, not the comparison.
+    let python = !python_can_missing();
+    let (mut ours, mut theirs) = (0.0f64, Ok(0.0f64));
+    for _ in 0..ROUNDS {
+        match drivescript_reads(&path) {
+            Ok(rate) => ours = ours.max(rate),
+            Err(e) => {
+                eprintln!("drivescript's SDO reads failed: {e}");
+                stop.store(true, std::sync::atomic::Ordering::SeqCst);
+                return ExitCode::FAILURE;
+            }
         }
-    };
-    println!("drivescript: {ours:.0} SDO expedited reads/s through the SLCAN pty");
-    if python_can_missing() {
+        if python {
+            theirs = match (theirs, python_can_reads(&path)) {
+                (Ok(best), Ok(rate)) => Ok(best.max(rate)),
+                (Err(e), _) | (_, Err(e)) => Err(e),
+            };
+        }
+    }
+    println!("drivescript: {ours:.0} SDO expedited reads/s through the SLCAN pty (best of {ROUNDS})");
+    if !python {
         println!("python-can: skipped, not installed (python3 -m pip install python-can pyserial); no ratio");
     } else {
-        match python_can_reads(&path) {
+        match theirs {
             Ok(theirs) => {
                 let ratio = ours / theirs;
                 let verdict = if ratio >= 1.0 { "PASS" } else { "BELOW TARGET" };
-                println!("python-can:  {theirs:.0} SDO expedited reads/s on the same node");
+                println!(
+                    "python-can:  {theirs:.0} SDO expedited reads/s on the same node (best of {ROUNDS})"
+                );
                 println!("ratio drivescript / python-can: {ratio:.2} (target ≥ 1.0): {verdict}");
             }
             Err(e) => println!("python-can: the loop failed ({e}); no ratio"),
