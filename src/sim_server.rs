@@ -56,6 +56,15 @@ impl SimServer {
         let mut input_busy_until = Duration::ZERO;
         let mut output_busy_until = Duration::ZERO;
         while !self.stop.load(Ordering::SeqCst) {
+            // What the peer sends on its own (a CAN node's heartbeat) goes out as it is due.
+            let own = match self.peer.lock() {
+                Ok(mut peer) => peer.poll(self.clock.now()),
+                Err(_) => Vec::new(),
+            };
+            for reply in own {
+                io.write_all(&reply.bytes)?;
+                stats.bytes_out += reply.bytes.len() as u64;
+            }
             let n = match io.read(&mut buf, POLL) {
                 Ok(n) => n,
                 Err(TransportError::Timeout { .. }) => continue,

@@ -35,6 +35,12 @@ pub trait Peer: Send {
     fn reachable(&self, _now: Duration) -> bool {
         true
     }
+
+    /// What the peer sends on its own by clock time `now` (a CAN node's heartbeat behind
+    /// a simulated adapter); nothing by default.
+    fn poll(&mut self, _now: Duration) -> Vec<PeerReply> {
+        Vec::new()
+    }
 }
 
 /// Emulated time on the wire: how long a byte takes at a baud rate.

@@ -31,6 +31,12 @@ pub trait FramePeer: Send {
     fn reachable(&self, _now: Duration) -> bool {
         true
     }
+
+    /// The frames the node sends on its own (a heartbeat) up to clock time `until`, each
+    /// with its time; none by default.
+    fn poll(&mut self, _until: Duration) -> Vec<(Duration, CanFrame)> {
+        Vec::new()
+    }
 }
 
 pub struct MemoryFrameBus {
@@ -75,6 +81,15 @@ impl FrameBus for MemoryFrameBus {
             return Err(self.adapter_lost());
         }
         let deadline = self.clock.now().saturating_add(timeout);
+        let own = self
+            .peer
+            .lock()
+            .unwrap_or_else(PoisonError::into_inner)
+            .poll(deadline);
+        if !own.is_empty() {
+            self.pending.extend(own);
+            self.pending.make_contiguous().sort_by_key(|(at, _)| *at);
+        }
         match self.pending.front() {
             Some(&(at, _)) if at <= deadline => {
                 self.clock.sleep_until(at);

@@ -58,13 +58,7 @@ impl SlcanAdapter {
                     .lock()
                     .unwrap_or_else(PoisonError::into_inner)
                     .receive(&frame, now);
-                for (at, f) in answers {
-                    let mut bytes = encode_frame(&f);
-                    bytes.pop();
-                    let stamp = (at.as_millis() % 60_000) as u16;
-                    bytes.extend_from_slice(format!("{stamp:04X}\r").as_bytes());
-                    out.push(PeerReply { at, bytes });
-                }
+                out.extend(answers.iter().map(received_line));
                 out
             }
             _ => reply(BELL),
@@ -72,7 +66,24 @@ impl SlcanAdapter {
     }
 }
 
+/// A frame from the bus as the adapter passes it on: `tIIILDD…` with a timestamp.
+fn received_line((at, f): &(Duration, crate::bus::CanFrame)) -> PeerReply {
+    let mut bytes = encode_frame(f);
+    bytes.pop();
+    let stamp = (at.as_millis() % 60_000) as u16;
+    bytes.extend_from_slice(format!("{stamp:04X}\r").as_bytes());
+    PeerReply { at: *at, bytes }
+}
+
 impl Peer for SlcanAdapter {
+    fn poll(&mut self, now: Duration) -> Vec<PeerReply> {
+        if !self.open {
+            return Vec::new();
+        }
+        let own = self.node.lock().unwrap_or_else(PoisonError::into_inner).poll(now);
+        own.iter().map(received_line).collect()
+    }
+
     fn receive(&mut self, bytes: &[u8], now: Duration) -> Vec<PeerReply> {
         let mut replies = Vec::new();
         for &b in bytes {

@@ -315,12 +315,13 @@ fn recorded_drive(
         .map(|(_, l)| l.trim())
         .find(|l| !l.is_empty() && !l.starts_with('#'))?;
     let candump_log = first.starts_with('(') && crate::bus::CanFrame::parse_text(first).is_ok();
-    let mut can = registry
+    // A candump log without its notes file names no drive: it is read as the first CAN
+    // family's (the registry's order; `--drive`/`--protocol` choose another).
+    let first_can = registry
         .families()
-        .filter(|f| f.bus_kind() == crate::bus::BusKind::Frames);
-    let (only, none_more) = (can.next()?, can.next().is_none());
-    let dictionary = only.dictionaries().first()?;
-    (candump_log && none_more).then(|| {
+        .find(|f| f.bus_kind() == crate::bus::BusKind::Frames)?;
+    let dictionary = first_can.dictionaries().first()?;
+    candump_log.then(|| {
         wanted.name = dictionary.name.to_string();
         wanted
     })

@@ -54,7 +54,7 @@ pub fn diff(args: &DiffArgs, registry: &Registry) -> i32 {
         eprintln!("error: --tolerance must be a number of 0 or more");
         return INVALID;
     }
-    let left = match load(first) {
+    let mut left = match load(first) {
         Ok(f) => f,
         Err(code) => return code,
     };
@@ -69,6 +69,7 @@ pub fn diff(args: &DiffArgs, registry: &Registry) -> i32 {
                 Ok(d) => d,
                 Err(code) => return code,
             };
+            left.named_by(&dictionary);
             let stop = stop_signals::install(false);
             let mut open = match open(registry, &args.connection, dictionary, &stop) {
                 Ok(o) => o,

@@ -92,7 +92,7 @@ fn beyond_drive_limits(drive: &mut Drive, plan: &[parameters::PlannedWrite]) -> 
 }
 
 pub fn restore(args: &RestoreArgs, registry: &Registry) -> i32 {
-    let backup = match load(&args.file) {
+    let mut backup = match load(&args.file) {
         Ok(f) => f,
         Err(code) => return code,
     };
@@ -100,6 +100,7 @@ pub fn restore(args: &RestoreArgs, registry: &Registry) -> i32 {
         Ok(d) => d,
         Err(code) => return code,
     };
+    backup.named_by(&dictionary);
     if backup.family != dictionary.family() {
         eprintln!(
             "error: {} holds parameters of a {} drive; the dictionary in use is for {}",

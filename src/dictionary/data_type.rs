@@ -16,6 +16,11 @@ pub enum DataType {
     I16,
     U32,
     I32,
+    /// 64-bit integers, from a CANopen EDS (INTEGER64, UNSIGNED64) only: dictionary files
+    /// and `--type` do not offer them. Counts are `i64`, so an UNSIGNED64 holds at most
+    /// 2^63 − 1 here.
+    I64,
+    U64,
     /// Characters, at most `max` of them (SD2, for example, sends the maximum length first,
     /// then the characters, NUL-terminated when shorter than the maximum).
     String {
@@ -39,6 +44,7 @@ impl DataType {
             DataType::U8 | DataType::I8 => 1,
             DataType::U16 | DataType::I16 => 2,
             DataType::U32 | DataType::I32 => 4,
+            DataType::I64 | DataType::U64 => 8,
             DataType::String { max } => 1 + usize::from(max),
         }
     }
@@ -52,6 +58,8 @@ impl DataType {
             DataType::I16 => (i16::MIN.into(), i16::MAX.into()),
             DataType::U32 => (0, u32::MAX.into()),
             DataType::I32 => (i32::MIN.into(), i32::MAX.into()),
+            DataType::I64 => (i64::MIN, i64::MAX),
+            DataType::U64 => (0, i64::MAX),
             DataType::String { .. } => return None,
         })
     }
@@ -61,7 +69,7 @@ impl DataType {
     }
 
     pub fn is_signed(self) -> bool {
-        matches!(self, DataType::I8 | DataType::I16 | DataType::I32)
+        matches!(self, DataType::I8 | DataType::I16 | DataType::I32 | DataType::I64)
     }
 
     /// The spelling in dictionary files: `u16`, `string(32)`.
@@ -73,6 +81,8 @@ impl DataType {
             DataType::I16 => "i16".into(),
             DataType::U32 => "u32".into(),
             DataType::I32 => "i32".into(),
+            DataType::I64 => "i64".into(),
+            DataType::U64 => "u64".into(),
             DataType::String { max } => format!("string({max})"),
         }
     }

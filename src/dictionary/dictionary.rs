@@ -6,6 +6,7 @@
 use super::address::{Address, AddressParser};
 use super::bench_limits::BenchLimits;
 use super::dictionary_error::DictionaryError;
+use super::eds::{eds_objects, is_eds_path, EdsFile, EdsObjects};
 use super::family_id::family_id;
 use super::object_def::ObjectDef;
 use super::profile::Profile;
@@ -14,6 +15,7 @@ use super::role::Role;
 use super::unknown_object::UnknownObject;
 use super::validate::validate;
 use crate::diag::{did_you_mean, read_source, Diagnostic, Diagnostics, Source, Span, YamlNode};
+use std::collections::HashMap;
 use std::path::Path;
 use std::sync::Arc;
 
@@ -79,14 +81,21 @@ impl Dictionary {
             .into());
         }
         let mut merged = self.clone();
+        // By name, ignoring case: an EDS adds thousands of objects at once.
+        let mut at: HashMap<String, usize> = merged
+            .objects
+            .iter()
+            .enumerate()
+            .map(|(i, o)| (o.name.to_ascii_lowercase(), i))
+            .collect();
         for object in other.objects {
-            match merged
-                .objects
-                .iter()
-                .position(|o| o.name.eq_ignore_ascii_case(&object.name))
-            {
-                Some(i) => merged.objects[i] = object,
-                None => merged.objects.push(object),
+            let key = object.name.to_ascii_lowercase();
+            match at.get(&key) {
+                Some(&i) => merged.objects[i] = object,
+                None => {
+                    at.insert(key, merged.objects.len());
+                    merged.objects.push(object);
+                }
             }
         }
         if other.profile.is_some() {
@@ -106,9 +115,64 @@ impl Dictionary {
 
     /// Reads a user's dictionary file and [`extend`](Self::extend)s this one with it. Its
     /// profile may name objects of this dictionary, so roles are checked after merging.
+    /// An EDS or DCF (CiA 306, `.eds`/`.dcf`) adds the objects it lists.
     pub fn extend_from(&mut self, path: impl AsRef<Path>) -> Result<(), DictionaryError> {
+        if is_eds_path(path.as_ref()) {
+            return self.extend_from_eds(path.as_ref(), &|_| None);
+        }
         let other = Self::from_file(path.as_ref(), false, self.parse_address)?;
         self.extend(other)
+    }
+
+    /// The objects of an EDS or DCF added under readable names; an object at an address
+    /// this dictionary already has keeps its entry here (with units and scale an EDS does
+    /// not give), and no EDS name takes a name or alias already here. `family_alias` names
+    /// an object in the family's own notation (the Lenze 9400's `C00099`), a first alias.
+    pub fn extend_from_eds(
+        &mut self,
+        path: &Path,
+        family_alias: &dyn Fn(&Address) -> Option<String>,
+    ) -> Result<(), DictionaryError> {
+        let source = read_dictionary_source(path)?;
+        let mut problems = Diagnostics::new();
+        let file = EdsFile::parse(&source, &mut problems);
+        if let Some(e) = DictionaryError::collect(problems) {
+            return Err(e);
+        }
+        let taken = self
+            .objects
+            .iter()
+            .flat_map(|o| o.names())
+            .map(str::to_ascii_lowercase)
+            .collect();
+        let occupied = self.objects.iter().map(|o| o.address).collect();
+        let EdsObjects {
+            objects,
+            notes,
+            aliases_of_occupied,
+            ..
+        } = eds_objects(&file, &taken, &occupied, family_alias);
+        let before = self.objects.clone();
+        for (address, aliases) in aliases_of_occupied {
+            if let Some(o) = self.objects.iter_mut().find(|o| o.address == address) {
+                o.aliases.extend(aliases);
+            }
+        }
+        let added = self.extend(Dictionary {
+            family: self.family.clone(),
+            family_span: Span::start_of(&source),
+            title: String::new(),
+            objects,
+            profile: None,
+            bench_limits: None,
+            parse_address: self.parse_address,
+            name: file_stem(source.path()),
+            notes,
+        });
+        if added.is_err() {
+            self.objects = before;
+        }
+        added
     }
 
     fn from_file(
@@ -116,13 +180,7 @@ impl Dictionary {
         check_roles: bool,
         parse_address: Option<AddressParser>,
     ) -> Result<Dictionary, DictionaryError> {
-        let source = read_source(path).map_err(|e| {
-            let help = e
-                .help()
-                .unwrap_or_else(|| "check the path given with --dictionary".into());
-            Diagnostic::unlocated(path.display().to_string(), e.sentence("the dictionary file"))
-                .with_help(help)
-        })?;
+        let source = read_dictionary_source(path)?;
         Self::from_source(source, check_roles, parse_address)
     }
 
@@ -293,6 +351,18 @@ impl Dictionary {
         self.get(self.profile.as_ref()?.object(role)?)
     }
 }
+/// A dictionary file's text, or the error that says why it could not be read.
+fn read_dictionary_source(path: &Path) -> Result<Arc<Source>, DictionaryError> {
+    read_source(path).map_err(|e| {
+        let help = e
+            .help()
+            .unwrap_or_else(|| "check the path given with --dictionary".into());
+        Diagnostic::unlocated(path.display().to_string(), e.sentence("the dictionary file"))
+            .with_help(help)
+            .into()
+    })
+}
+
 /// A dictionary file's name without its folder and extension: `dictionary/sd2.yaml` → `sd2`.
 fn file_stem(path: &str) -> String {
     Path::new(path)

@@ -17,6 +17,7 @@ mod data_type;
 #[allow(clippy::module_inception)]
 mod dictionary;
 mod dictionary_error;
+pub(crate) mod eds;
 mod family_id;
 mod format;
 mod object_def;
@@ -41,6 +42,7 @@ pub use bench_limits::{BenchLimits, LimitsRoute, LIMITS_ENV, LIMITS_FILE_NAME};
 pub use data_type::{DataType, MAX_STRING_LEN};
 pub use dictionary::Dictionary;
 pub use dictionary_error::DictionaryError;
+pub use eds::{dcf_parameter_values, is_eds_path};
 pub use family_id::{family_id, is_family_id, is_former_spelling};
 pub use format::Format;
 pub use object_def::{DecimalPlaces, ObjectDef};

@@ -389,6 +389,16 @@ impl Drive {
         v.raw.as_int().map(|c| c as u16)
     }
 
+    /// ` (drive error 12816, 0x3210 DC link over-voltage)`: the drive's error code for a
+    /// message, with its meaning where the family knows it; empty for 0.
+    pub fn drive_error_note(&self, code: u16) -> String {
+        match (code, self.access.error_code_text(code)) {
+            (0, _) => String::new(),
+            (c, Some(text)) => format!(" (drive error {c}, 0x{c:04x} {text})"),
+            (c, None) => format!(" (drive error {c}, 0x{c:04x})"),
+        }
+    }
+
     /// Walks the state machine to `target`, one transition at a time, each within
     /// `timeout`. A drive in fault is not reset here: that is an explicit `fault_reset`.
     /// `cancelled` is asked between polls; when it says yes the walk stops.

@@ -37,6 +37,12 @@ pub trait ObjectAccess: Send {
     fn read_many(&mut self, objects: &[(Address, DataType)]) -> Vec<Result<RawValue, AccessError>> {
         objects.iter().map(|(a, t)| self.read(a, *t)).collect()
     }
+    /// What the drive's error code `code` (the profile's drive_error) means in the family's
+    /// protocol (CANopen: the CiA 301/402 emergency error codes); `None` when unknown.
+    fn error_code_text(&self, code: u16) -> Option<&'static str> {
+        let _ = code;
+        None
+    }
     /// Sends what the channel needs to stay alive, when it is due (a cyclic telegram the
     /// drive expects at a fixed period), and says how long until it is due again. The
     /// session calls it while it waits; `None` means nothing needs keeping alive.

@@ -247,6 +247,12 @@ pub trait Family: Send + Sync {
         let _ = frame;
         None
     }
+    /// An object's name in the family's own notation, given as an alias to the objects an
+    /// EDS adds (the Lenze 9400's `C00099`); none by default.
+    fn object_alias(&self, address: &Address) -> Option<String> {
+        let _ = address;
+        None
+    }
     /// The maintenance actions this family's drives offer (`drivescript maintain`),
     /// carried out through `ObjectAccess::maintain`; none by default.
     fn maintenance_actions(&self) -> &'static [crate::drive::MaintenanceAction] {

@@ -2,6 +2,7 @@
 //! front, telegram explainer) and the registry that the command line picks them from.
 //! Nothing outside this folder names a family.
 
+pub mod canopen;
 pub mod ct_ansi;
 mod family;
 mod family_error;

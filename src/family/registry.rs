@@ -3,8 +3,8 @@
 
 use super::FamilyError;
 use super::{
-    ct_ansi::CtFamily, lenze_931::Lenze931Family, lenze_9400::Lenze9400Family, modbus::ModbusFamily,
-    sd2::Sd2Family, BuiltinDictionary, Family,
+    canopen::CanopenFamily, ct_ansi::CtFamily, lenze_931::Lenze931Family, lenze_9400::Lenze9400Family,
+    modbus::ModbusFamily, sd2::Sd2Family, BuiltinDictionary, Family,
 };
 use crate::diag::{did_you_mean, Diagnostic};
 use crate::dictionary::{family_id, Dictionary, DictionaryError};
@@ -30,6 +30,7 @@ impl Registry {
                 Arc::new(Lenze9400Family),
                 Arc::new(ModbusFamily::RTU),
                 Arc::new(ModbusFamily::TCP),
+                Arc::new(CanopenFamily),
             ],
         }
     }

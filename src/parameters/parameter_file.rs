@@ -6,6 +6,14 @@
 use crate::diag::{expected, read_source, Diagnostic, Diagnostics, Reader, Shape, Source, YamlNode};
 use std::sync::Arc;
 
+/// `0x1017` → (0x1017, 0), `0x1018/2` → (0x1018, 2): how [`ParameterFile::from_dcf`]
+/// names a DCF's objects.
+fn dcf_index(text: &str) -> Option<(u16, u32)> {
+    let hex = text.strip_prefix("0x")?;
+    let (index, sub) = hex.split_once('/').unwrap_or((hex, "0"));
+    Some((u16::from_str_radix(index, 16).ok()?, sub.parse().ok()?))
+}
+
 /// What `drivescript backup` writes; the first key tells the file from a recipe.
 pub const FORMAT_KEY: &str = "drivescript_parameters";
 pub const FORMAT_VERSION: i64 = 1;
@@ -101,10 +109,56 @@ impl ParameterFile {
         out
     }
 
-    /// Reads a backup file; every problem is reported with its place in the file.
+    /// Reads a backup file, or a CANopen DCF as a parameter set; every problem is reported
+    /// with its place in the file.
     pub fn load(path: &std::path::Path) -> Result<ParameterFile, String> {
         let source = read_source(path).map_err(|e| e.sentence("the parameter file"))?;
+        if crate::dictionary::is_eds_path(path) {
+            return Self::from_dcf(&source).map_err(|d| d.render(false));
+        }
         Self::parse(&source).map_err(|d| d.render(false))
+    }
+
+    /// A DCF's `ParameterValue`s as a parameter set. Objects are named by their index
+    /// (`0x1017`) and family and dictionary are left open: [`Self::named_by`] gives them
+    /// the dictionary's names once it is known.
+    pub fn from_dcf(source: &Arc<Source>) -> Result<ParameterFile, Diagnostics> {
+        let values = crate::dictionary::dcf_parameter_values(source)?;
+        Ok(ParameterFile {
+            family: String::new(),
+            dictionary: String::new(),
+            address: String::new(),
+            identity: Vec::new(),
+            date: String::new(),
+            tool: format!("DCF {}", source.path()),
+            objects: values
+                .into_iter()
+                .map(|(index, raw)| SavedObject {
+                    name: index.clone(),
+                    address: index,
+                    reading: Reading::Value {
+                        shown: raw.clone(),
+                        raw,
+                    },
+                })
+                .collect(),
+        })
+    }
+
+    /// A DCF's parameter set in `dictionary`'s words: its family, and each object by the
+    /// dictionary's name for it (the DCF given with `--dictionary` makes its indexes
+    /// aliases). A backup file is left as it is.
+    pub fn named_by(&mut self, dictionary: &crate::dictionary::Dictionary) {
+        if !self.family.is_empty() {
+            return;
+        }
+        self.family = dictionary.family().to_string();
+        for o in &mut self.objects {
+            let by_index = dcf_index(&o.address).and_then(|(i, sub)| dictionary.by_address(i, sub));
+            if let Some(def) = dictionary.get(&o.name).or(by_index) {
+                o.name = def.name.clone();
+            }
+        }
     }
 
     pub fn parse(source: &Arc<Source>) -> Result<ParameterFile, Diagnostics> {

@@ -18,12 +18,13 @@ use std::sync::{Arc, Mutex};
 #[command(next_help_heading = "Dictionary and bench limits")]
 pub struct DictionaryArgs {
     /// The built-in dictionary to start from, by its name: sd2, ct-unidrive-sp, lenze-931,
-    /// lenze-9400, sunfar-e500, modbus-inverter, modbus-tcp-inverter. The drive family its `family:` names picks the protocol
+    /// lenze-9400, canopen, sunfar-e500, modbus-inverter, modbus-tcp-inverter. The drive family its `family:` names picks the protocol
     /// (`ct-unidrive-sp` is a dictionary of the `ct-ansi` family).
     #[arg(id = "drive", long = "drive", value_name = "DICTIONARY", default_value = DEFAULT_DICTIONARY)]
     pub name: String,
     /// A dictionary file that adds objects to the built-in one (or replaces objects of the
-    /// same name). May be given several times.
+    /// same name), or a CANopen node's EDS or DCF (`.eds`, `.dcf`) whose objects it adds.
+    /// May be given several times.
     #[arg(long = "dictionary", value_name = "PATH")]
     pub extra: Vec<PathBuf>,
     /// Bench limits file capping speed and current (`max_speed: 12000 rpm`). Without it:
@@ -51,7 +52,21 @@ impl DictionaryArgs {
             .map_err(|e| RunError::Invalid(format!("error: {e}\n")))?;
         let mut dictionary = Dictionary::from_yaml_for(builtin.path, builtin.text, family.address_parser())?;
         for path in &self.extra {
-            dictionary.extend_from(path)?;
+            if crate::dictionary::is_eds_path(path) {
+                // An EDS lists a CANopen node's objects: on another family's line their
+                // indexes would name other objects.
+                if family.bus_kind() != crate::bus::BusKind::Frames {
+                    return Err(RunError::Invalid(format!(
+                        "error: {} is a CANopen EDS/DCF, but the {} dictionary is for the {} family, which is not CANopen; give --drive canopen (or a recipe with `drive: canopen`)\n",
+                        path.display(),
+                        dictionary.name(),
+                        family.id()
+                    )));
+                }
+                dictionary.extend_from_eds(path, &|a| family.object_alias(a))?;
+            } else {
+                dictionary.extend_from(path)?;
+            }
         }
         // Last, so that no dictionary above can raise the bench's limits.
         let env = std::env::var_os(LIMITS_ENV);

@@ -335,11 +335,8 @@ impl<'a> Session<'a> {
             );
             self.cur().known_fault = faulted;
             if faulted {
-                let code = self
-                    .drive()
-                    .drive_error()
-                    .map(|c| format!(" (drive error {c}, 0x{c:04x})"))
-                    .unwrap_or_default();
+                let code = self.drive().drive_error().unwrap_or(0);
+                let code = self.drive().drive_error_note(code);
                 let called = self.drives[i].called();
                 self.observer
                     .message(&format!("{called} is in fault at the start{code}"));
@@ -429,11 +426,8 @@ impl<'a> Session<'a> {
         let entered = faulted && !self.cur().known_fault;
         self.cur().known_fault = faulted;
         if entered {
-            let code = self.drive().drive_error();
-            let code = match code {
-                Some(c) if c != 0 => format!(" (drive error {c}, 0x{c:04x})"),
-                _ => String::new(),
-            };
+            let code = self.drive().drive_error().unwrap_or(0);
+            let code = self.drive().drive_error_note(code);
             let called = self.cur().called();
             return Err(Stop::Fault(format!(
                 "drive fault: {called} went to {state}{code}"

@@ -463,3 +463,40 @@ fn the_commissioning_recipe_is_refused_for_a_drive_without_device_control() {
     let err = cli(&["check", path.to_str().unwrap(), "--drive", "lenze-9400"], 2).stderr;
     assert_has(&err, &["the state `operation_enabled` needs device control, but the lenze-9400 dictionary has no `profile:`", "`disable_operation` needs device control", "nothing was sent to the drive"]);
 }
+
+/// A vendor's EDS gives the 9400 its full code list: each object it adds is found by its
+/// code too, and the codes the dictionary has keep their entries.
+#[test]
+fn an_eds_adds_codes_found_by_their_code_notation() {
+    let eds = repo_root().join("tests/eds/lenze-9400-codes.eds");
+    let eds = eds.to_string_lossy();
+    let out = cli(
+        &["objects", "--drive", "lenze-9400", "--dictionary", &eds, "speed"],
+        0,
+    );
+    assert_has(
+        &out.stdout,
+        &[
+            "reference_speed  C00011 (index 0x5FF4)",
+            "C00011, 0x5FF4, Reference speed",
+        ],
+    );
+    let out = cli(
+        &[
+            "write",
+            "C00011",
+            "1500",
+            "--drive",
+            "lenze-9400",
+            "--dictionary",
+            &eds,
+        ],
+        0,
+    );
+    assert_has(&out.stdout, &["reference_speed"]);
+    let out = cli(
+        &["read", "0x5F9C", "--drive", "lenze-9400", "--dictionary", &eds],
+        0,
+    );
+    assert_has(&out.stdout, &["ident", "05.00.12.07"]);
+}

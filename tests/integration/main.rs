@@ -7,6 +7,7 @@
 mod bench_limits;
 mod bounded;
 mod brake_first;
+mod canopen;
 mod command_line;
 mod ct_ansi;
 mod decode_cli;

@@ -3,11 +3,13 @@
 //! SDO link, simulate a node and explain frames.
 
 use super::codec::Code;
-use super::sdo_link::{SdoLink, SdoLinkConfig};
 use super::sim::Lenze9400Simulator;
-use super::{Lenze9400Access, Lenze9400Explainer};
 use crate::bus::{Bus, SerialSettings};
-use crate::dictionary::{Access, Address, AddressError, DataType, Dictionary, ObjectDef};
+use crate::dictionary::{Address, AddressError, DataType, Dictionary, ObjectDef};
+use crate::family::canopen::sdo_family::{
+    open_sdo, parse_node, raw_sdo_object, sdo_frame_direction, sim_node,
+};
+use crate::family::canopen::{ExplainNotation, SdoExplainer, SdoNotation};
 use crate::family::{
     DriveAddress, Family, FamilyError, FamilyInfo, LinkContext, LinkOptions, Opened, SimulatedDevice,
 };
@@ -15,11 +17,27 @@ use crate::link::TelegramExplainer;
 use crate::sim::SimConfig;
 use std::sync::Arc;
 
-/// The node `--address` means when it is not given. The sources give no default node
-/// address for the 9400 (C00350 sets it); 1 is CANopen's lowest.
-const DEFAULT_NODE: u8 = 1;
-
 pub struct Lenze9400Family;
+
+/// The 9400's words in the SDO link's messages: objects as codes, the node address as C00350.
+pub const LENZE_NOTATION: SdoNotation = SdoNotation {
+    object_text: code_text,
+    no_reply_hint: "check the node address (C00350), the bit rate, the CAN wiring and termination, and that the adapter is open on the right bus",
+};
+
+/// The 9400's words in explanations: objects as codes, whose index is 0x5FFF − code.
+pub const LENZE_EXPLAIN: ExplainNotation = ExplainNotation {
+    code: |index, subindex| Code::at(index, subindex).map(|c| c.to_string()),
+    index_rule: " = 0x5FFF − code",
+};
+
+/// `C00099 (index 0x5F9C, subindex 0)`, or the index alone outside the codes' range.
+fn code_text(index: u16, subindex: u8) -> String {
+    match Code::at(index, subindex) {
+        Some(code) => format!("{code} (index 0x{index:04X}, subindex {subindex})"),
+        None => crate::family::canopen::index_text(index, subindex),
+    }
+}
 
 /// A dictionary's `address:` (and `read`/`write` raw notation): a Lenze code.
 fn parse_code_address(text: &str) -> Result<Address, AddressError> {
@@ -39,72 +57,34 @@ impl Family for Lenze9400Family {
     }
 
     fn parse_drive_address(&self, text: Option<&str>) -> Result<DriveAddress, FamilyError> {
-        let node = match text.map(str::trim) {
-            None => DEFAULT_NODE,
-            Some(t) => match t.parse::<u8>() {
-                Ok(n) if (1..=127).contains(&n) => n,
-                _ => {
-                    return Err(FamilyError::DriveAddress(format!(
-                        "--address {t}: {}",
-                        self.address_help()
-                    )))
-                }
-            },
-        };
-        Ok(DriveAddress {
-            number: u32::from(node),
-            shown: format!("CAN node {node}"),
-        })
+        parse_node(text, self.address_help())
     }
 
     fn no_reply_advice(&self) -> &'static str {
-        super::sdo_link::NO_REPLY_HINT
+        LENZE_NOTATION.no_reply_hint
     }
 
     fn open(&self, bus: &Bus, drive: &DriveAddress, options: &LinkOptions, context: LinkContext) -> Opened {
-        let Bus::Frames(frames) = bus else {
-            return Err(FamilyError::WrongBus(format!(
-                "the Lenze 9400 is reached over CAN, not over the byte stream {}; give --can slcan:PATH or --can socketcan:IF",
-                bus.name()
-            )));
-        };
-        let node = u8::try_from(drive.number)
-            .ok()
-            .filter(|n| (1..=127).contains(n))
-            .ok_or_else(|| {
-                FamilyError::DriveAddress(format!("CAN node {} is outside 1..127", drive.number))
-            })?;
-        let config = SdoLinkConfig {
-            reply_timeout: options.reply_timeout,
-            retries: options.retries,
-        };
-        let link = context.link(|clock| SdoLink::new(frames.clone(), clock, node, config));
-        Ok(Box::new(Lenze9400Access::new(link)))
+        open_sdo(bus, drive, options, context, LENZE_NOTATION, "the Lenze 9400")
     }
 
     fn simulator(&self, drive: &DriveAddress, config: SimConfig) -> SimulatedDevice {
-        let node = u8::try_from(drive.number).unwrap_or(DEFAULT_NODE);
-        SimulatedDevice::frames(Lenze9400Simulator::new(node, config))
+        SimulatedDevice::frames(Lenze9400Simulator::new(sim_node(drive), config))
     }
 
     fn explainer(&self, dictionary: Arc<Dictionary>) -> Box<dyn TelegramExplainer> {
-        Box::new(Lenze9400Explainer::new(dictionary))
+        Box::new(SdoExplainer::new(dictionary, LENZE_EXPLAIN))
     }
 
     /// SDO requests go to 0x600 + node, responses come from 0x580 + node.
     fn frame_direction(&self, frame: &crate::bus::CanFrame) -> Option<crate::link::Direction> {
-        match frame.id {
-            _ if frame.extended => None,
-            0x601..=0x67F => Some(crate::link::Direction::Sent),
-            0x581..=0x5FF => Some(crate::link::Direction::Received),
-            _ => None,
-        }
+        sdo_frame_direction(frame)
     }
 
-    /// `C00061`, `C00002/16`. Without `--type` the object is read-only and typed `i32`:
-    /// the node indicates each value's size, and the access reads narrower values widened
-    /// as signed (see `sdo_value`); a write needs `--type`, because a wrong width is
-    /// refused by the node at best and misread at worst.
+    /// `C00061`, `C00002/16` (see `raw_sdo_object`). Without `--type` the object is
+    /// read-only and typed `i32`: the node indicates each value's size, and the access reads
+    /// narrower values widened as signed (see `sdo_value`); a write needs `--type`, because
+    /// a wrong width is refused by the node at best and misread at worst.
     fn raw_object(&self, text: &str, data_type: Option<DataType>) -> Option<Result<ObjectDef, FamilyError>> {
         let t = text.trim();
         // Dictionary names are lower case, so `C` and a digit can only be a code.
@@ -112,20 +92,19 @@ impl Family for Lenze9400Family {
             return None;
         }
         Some(parse_code_address(t).map_err(FamilyError::from).map(|address| {
-            let mut def = match data_type {
-                Some(dt) => ObjectDef::new(t, address, dt, Access::ReadWrite),
-                None => {
-                    let mut d = ObjectDef::new(t, address, DataType::I32, Access::ReadOnly);
-                    d.unconfirmed = Some(
-                        "no --type given: read with the size the drive indicates (signed); give --type (u8, i8, u16, i16, u32, i32 or string(N)) to write it"
-                            .into(),
-                    );
-                    d
-                }
-            };
-            def.description = format!("Lenze code {t} (not in the dictionary)");
-            def
+            raw_sdo_object(
+                t,
+                address,
+                data_type,
+                format!("Lenze code {t} (not in the dictionary)"),
+            )
         }))
+    }
+
+    /// `C00099`, `C00002/16`: what the vendor's EDS lists gains the code as an alias.
+    fn object_alias(&self, address: &Address) -> Option<String> {
+        let Address::Indexed { index, subindex } = *address;
+        Code::at(index, u8::try_from(subindex).ok()?).map(|c| c.to_string())
     }
 
     /// `C00099 (index 0x5F9C)`, `C00002/16 (index 0x5FFD/16)`.

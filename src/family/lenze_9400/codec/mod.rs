@@ -1,23 +1,7 @@
-//! The Lenze 9400's SDO parameter access, pure: codes and their CANopen index, the SDO
-//! frames both ways, the CiA 301 abort codes, and the client state machine of one transfer.
-//! No I/O, no clock.
+//! The Lenze 9400's codes and their CANopen index (`C00099` is index 0x5F9C), and the
+//! CANopen SDO codec it speaks (the generic family's, re-exported). No I/O, no clock.
 
-mod abort_code;
 mod code;
-mod sdo_client;
-mod sdo_frame;
 
-pub use abort_code::AbortCode;
+pub use crate::family::canopen::codec::*;
 pub use code::{Code, CODE_BASE};
-pub use sdo_client::{SdoClient, SdoStep, Uploaded, MAX_TRANSFER};
-pub use sdo_frame::{SdoDecodeError, SdoRequest, SdoResponse, SDO_LEN};
-
-/// The identifier of SDO requests to `node`: 0x600 + node.
-pub fn request_id(node: u8) -> u32 {
-    0x600 + u32::from(node)
-}
-
-/// The identifier of SDO responses from `node`: 0x580 + node.
-pub fn response_id(node: u8) -> u32 {
-    0x580 + u32::from(node)
-}

@@ -4,7 +4,8 @@
 //! No bytes on the wire here: values go in and out as the SDO value bytes.
 
 use super::super::codec::AbortCode;
-use crate::sim::DriveModel;
+use crate::family::canopen::sim::{ObjectStore, Place, SdoLogged};
+use crate::sim::{DriveModel, SimCore};
 
 /// The firmware version the simulated node reports (C00099): the `05.00.xx.yy` form of the
 /// manuals, with revision and build made up for the simulator.
@@ -12,9 +13,6 @@ pub const FIRMWARE_VERSION: &str = "05.00.12.07";
 /// The product type it reports (C00200): "FHB" marks a 9400 HighLine in the sources; the
 /// rest is the simulator's.
 pub const PRODUCT_TYPE: &str = "simulated 9400 HighLine FHB";
-
-/// A code's place: (index, subindex).
-pub type Place = (u16, u8);
 
 const fn at(code: u16, subcode: u8) -> Place {
     (0x5FFF - code, subcode)
@@ -67,6 +65,15 @@ fn missing(place: Place) -> AbortCode {
         AbortCode::SUBINDEX_DOES_NOT_EXIST
     } else {
         AbortCode::OBJECT_DOES_NOT_EXIST
+    }
+}
+
+impl ObjectStore for SimCodes {
+    fn read(&mut self, core: &mut SimCore<SdoLogged>, place: Place) -> Result<Vec<u8>, AbortCode> {
+        SimCodes::read(self, &mut core.model, place)
+    }
+    fn write(&mut self, _: &mut SimCore<SdoLogged>, place: Place, bytes: &[u8]) -> Result<(), AbortCode> {
+        SimCodes::write(self, place, bytes)
     }
 }
 

@@ -27,7 +27,9 @@ pub fn decode(value: &Uploaded, data_type: DataType) -> Result<RawValue, WireVal
         return Ok(RawValue::Text(String::from_utf8_lossy(text).into_owned()));
     }
     let size = data_type.size();
-    if value.segmented {
+    // A 64-bit value does not fit an expedited transfer: it comes in segments, whole.
+    let whole_in_segments = size > 4 && bytes.len() == size;
+    if value.segmented && !whole_in_segments {
         return Err(WireValueError::Malformed(format!(
             "the node sent {} bytes in segments (a string or a block parameter), not a {data_type}; read it with --type string(N)",
             bytes.len()
@@ -43,7 +45,14 @@ pub fn decode(value: &Uploaded, data_type: DataType) -> Result<RawValue, WireVal
             "{data_type} takes {size} byte(s), the node indicated {used} (length mismatch)"
         )));
     }
-    Ok(RawValue::Int(data_type.from_le_bytes(&bytes[..used])))
+    let count = data_type.from_le_bytes(&bytes[..used]);
+    if data_type == DataType::U64 && count < 0 {
+        return Err(WireValueError::Malformed(format!(
+            "the node sent {}, beyond the 2^63 − 1 drivescript carries for u64",
+            u64::from_le_bytes(bytes[..8].try_into().unwrap_or([0; 8]))
+        )));
+    }
+    Ok(RawValue::Int(count))
 }
 
 /// The bytes to write for `raw`: an integer in the type's width, text as its characters.
@@ -73,6 +82,32 @@ mod tests {
             size_indicated,
             segmented: false,
         }
+    }
+
+    #[test]
+    fn sixty_four_bit_values_come_whole_in_segments() {
+        let segmented = |data: &[u8]| Uploaded {
+            data: data.to_vec(),
+            size_indicated: true,
+            segmented: true,
+        };
+        let minus_two = (-2i64).to_le_bytes();
+        assert_eq!(
+            decode(&segmented(&minus_two), DataType::I64),
+            Ok(RawValue::Int(-2))
+        );
+        let big = (1u64 << 40).to_le_bytes();
+        assert_eq!(
+            decode(&segmented(&big), DataType::U64),
+            Ok(RawValue::Int(1 << 40))
+        );
+        assert!(decode(&segmented(&u64::MAX.to_le_bytes()), DataType::U64)
+            .unwrap_err()
+            .to_string()
+            .contains("2^63 − 1"));
+        assert!(decode(&segmented(&[1, 2, 3, 4, 5]), DataType::I64).is_err());
+        assert_eq!(encode(&RawValue::Int(-2), DataType::I64), Ok(minus_two.to_vec()));
+        assert!(encode(&RawValue::Int(-1), DataType::U64).is_err());
     }
 
     #[test]

@@ -1,4 +1,4 @@
-//! The Lenze 9400 SDO link: one transfer at a time to one node over a shared CAN frame
+//! The CANopen SDO client link: one transfer at a time to one node over a shared CAN frame
 //! bus, with reply timeouts, retries and stop-aware waits.
 //!
 //! Only frames with the identifier 0x580 + node are responses; everything else on the bus
@@ -8,9 +8,11 @@
 //! asks, and the transfer is tried again; so is a transfer whose node fell silent (after
 //! an abort with the timeout code when it was in the middle of its segments). A lost
 //! adapter ends the transfer at once with the transport error: only reopening can help.
-//! Must not know object names, units or states.
+//! Must not know object names, units or states; how objects are named in messages and what
+//! to check when a node is silent come from the family ([`SdoNotation`]).
 
-use super::codec::{request_id, response_id, AbortCode, Code, SdoClient, SdoRequest, SdoStep, Uploaded};
+use super::codec::{request_id, response_id, AbortCode, SdoClient, SdoRequest, SdoStep, Uploaded};
+use super::node_watch::{NodeNews, NodeWatch};
 use crate::bus::{CanFrame, FrameBus, SharedFrameBus, TransportError};
 use crate::clock::SharedClock;
 use crate::drive::AccessError;
@@ -25,17 +27,34 @@ const STOP_GRACE: Duration = Duration::from_millis(20);
 /// Frames already waiting before a transfer starts are dropped, at most this many (a busy
 /// bus must not keep the link draining forever).
 const DRAIN_MAX: usize = 64;
-/// What to check when the node stays silent.
-/// What to check when the drive does not answer; also the family's `no_reply_advice`.
-pub(super) const NO_REPLY_HINT: &str = "check the node address (C00350), the bit rate, the CAN wiring and termination, and that the adapter is open on the right bus";
+/// A family's words for its objects and its silent nodes.
+#[derive(Debug, Clone, Copy)]
+pub struct SdoNotation {
+    /// `index 0x6041, subindex 0`, or a vendor's `C00099 (index 0x5F9C, subindex 0)`.
+    pub object_text: fn(u16, u8) -> String,
+    /// What to check when the node does not answer; also the family's `no_reply_advice`.
+    pub no_reply_hint: &'static str,
+}
+
+/// CiA 301's own words: objects by index and subindex.
+pub const CIA_301_NOTATION: SdoNotation = SdoNotation {
+    object_text: index_text,
+    no_reply_hint: "check the node id (--address), the bit rate, the CAN wiring and termination, and that the adapter is open on the right bus",
+};
+
+/// `index 0x6041, subindex 0`.
+pub fn index_text(index: u16, subindex: u8) -> String {
+    format!("index 0x{index:04X}, subindex {subindex}")
+}
 
 /// How the link waits and retries.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy)]
 pub struct SdoLinkConfig {
     /// Longest wait for each response.
     pub reply_timeout: Duration,
     /// Further attempts of a whole transfer after a timeout or a protocol error.
     pub retries: u32,
+    pub notation: SdoNotation,
 }
 
 impl Default for SdoLinkConfig {
@@ -43,6 +62,7 @@ impl Default for SdoLinkConfig {
         SdoLinkConfig {
             reply_timeout: Duration::from_secs(1),
             retries: 2,
+            notation: CIA_301_NOTATION,
         }
     }
 }
@@ -53,6 +73,8 @@ pub struct SdoLink {
     config: SdoLinkConfig,
     /// Clock, observer, stop requests, counters and the listening every link shares.
     core: LinkCore,
+    /// The node's heartbeat and EMCY frames seen between and during transfers.
+    watch: NodeWatch,
 }
 
 /// A response that breaks the protocol: the frame and why.
@@ -65,6 +87,7 @@ impl SdoLink {
             node,
             config,
             core: LinkCore::new(clock, STOP_GRACE),
+            watch: NodeWatch::new(node),
         }
     }
 
@@ -144,8 +167,8 @@ impl SdoLink {
                 let text = ExchangeText {
                     port: self.bus.name().to_string(),
                     address: self.address(),
-                    request: describe(operation, index, subindex, Some(&first_frame)),
-                    hint: NO_REPLY_HINT.to_string(),
+                    request: self.describe(operation, index, subindex, Some(&first_frame)),
+                    hint: self.config.notation.no_reply_hint.to_string(),
                 };
                 unanswered.into_error(text, plan.reply_timeout, |r| (r.reply.to_candump(), r.problem))
             })?;
@@ -221,7 +244,7 @@ impl SdoLink {
                     self.core.notify_frame(Direction::Received, &frame);
                     return Ok(frame);
                 }
-                Ok(_) => {}
+                Ok(other) => self.see(&other),
                 Err(TransportError::Timeout { .. }) => {
                     if let Some(end) = self.core.after_quiet(sent, deadline) {
                         return Err(end);
@@ -238,7 +261,7 @@ impl SdoLink {
         for _ in 0..DRAIN_MAX {
             match bus.receive(Duration::ZERO) {
                 Ok(f) if f.id == response_id(self.node) => dropped += 1,
-                Ok(_) => {}
+                Ok(other) => self.see(&other),
                 Err(TransportError::Timeout { .. }) => break,
                 Err(e) => return Err(e),
             }
@@ -248,6 +271,40 @@ impl SdoLink {
                 .event(&format!("dropped {dropped} late response(s) before sending"));
         }
         Ok(())
+    }
+
+    /// A frame that is not this transfer's: the node's heartbeat or EMCY is noted, and
+    /// what is worth a line goes to the trace and the events.
+    fn see(&mut self, frame: &CanFrame) {
+        let now = self.core.clock.now();
+        if let Some(NodeNews::Said(text)) = self.watch.see(frame, now) {
+            self.core.notify_frame(Direction::Received, frame);
+            self.core.event(&text);
+        }
+    }
+
+    /// Takes what is waiting on the bus and says why the node is lost, if it is.
+    fn watch_bus(&mut self, bus: &mut dyn FrameBus) -> Result<Option<String>, TransportError> {
+        self.drain(bus)?;
+        Ok(self.watch.lost(self.core.clock.now()))
+    }
+
+    /// Between transfers (while a run waits): the node's heartbeat is looked at; a lost
+    /// one is the link lost. Returns how long until it is worth looking again.
+    pub fn check_node(&mut self) -> Result<Option<Duration>, AccessError> {
+        let shared = self.bus.clone();
+        let mut guard = shared.lock();
+        if let Some(why) = self.watch_bus(guard.as_mut())? {
+            return Err(self.lost(why));
+        }
+        Ok(self.watch.period())
+    }
+
+    fn lost(&self, why: String) -> AccessError {
+        AccessError::Transport(TransportError::Io {
+            port: self.bus.name().to_string(),
+            detail: why,
+        })
     }
 
     fn frame_of(&self, request: &SdoRequest) -> CanFrame {
@@ -270,7 +327,7 @@ impl SdoLink {
             port: self.bus.name().to_string(),
             address: self.address(),
             operation,
-            object: object_text(index, subindex),
+            object: self.object_text(index, subindex),
             code: code.0,
             text: format!("SDO abort {code}"),
         }
@@ -280,7 +337,7 @@ impl SdoLink {
         AccessError::UnexpectedReply {
             port: self.bus.name().to_string(),
             address: self.address(),
-            request: describe(operation, index, subindex, None),
+            request: self.describe(operation, index, subindex, None),
             detail: format!("the transfer ended as {step:?}"),
         }
     }
@@ -295,20 +352,19 @@ impl CoreLink for SdoLink {
     }
 }
 
-/// `C00099 (index 0x5F9C, subindex 0)`, or the index alone outside the codes' range.
-pub fn object_text(index: u16, subindex: u8) -> String {
-    match Code::at(index, subindex) {
-        Some(code) => format!("{code} (index 0x{index:04X}, subindex {subindex})"),
-        None => format!("index 0x{index:04X}, subindex {subindex}"),
+impl SdoLink {
+    /// The object in the family's words: `C00099 (index 0x5F9C, subindex 0)`.
+    pub fn object_text(&self, index: u16, subindex: u8) -> String {
+        (self.config.notation.object_text)(index, subindex)
     }
-}
 
-/// `` `60C#409C5F0000000000` (read C00099 (index 0x5F9C, subindex 0)) ``.
-fn describe(operation: &str, index: u16, subindex: u8, first: Option<&CanFrame>) -> String {
-    let what = format!("{operation} {}", object_text(index, subindex));
-    match first {
-        Some(f) => format!("`{}` ({what})", f.to_candump()),
-        None => what,
+    /// `` `60C#409C5F0000000000` (read C00099 (index 0x5F9C, subindex 0)) ``.
+    fn describe(&self, operation: &str, index: u16, subindex: u8, first: Option<&CanFrame>) -> String {
+        let what = format!("{operation} {}", self.object_text(index, subindex));
+        match first {
+            Some(f) => format!("`{}` ({what})", f.to_candump()),
+            None => what,
+        }
     }
 }
 
@@ -358,7 +414,10 @@ mod tests {
             SharedFrameBus::new(Box::new(bus)),
             clock,
             node,
-            SdoLinkConfig::default(),
+            SdoLinkConfig {
+                notation: crate::family::lenze_9400::LENZE_NOTATION,
+                ..SdoLinkConfig::default()
+            },
         );
         (link, peer)
     }
@@ -371,7 +430,10 @@ mod tests {
             SharedFrameBus::new(Box::new(bus)),
             clock.clone(),
             node,
-            SdoLinkConfig::default(),
+            SdoLinkConfig {
+                notation: crate::family::lenze_9400::LENZE_NOTATION,
+                ..SdoLinkConfig::default()
+            },
         );
         (link, sim, clock)
     }
@@ -558,7 +620,10 @@ mod tests {
             SharedFrameBus::new(Box::new(bus)),
             clock.clone(),
             12,
-            SdoLinkConfig::default(),
+            SdoLinkConfig {
+                notation: crate::family::lenze_9400::LENZE_NOTATION,
+                ..SdoLinkConfig::default()
+            },
         );
         let e = link.upload(0x5F9C, 0).unwrap_err();
         assert!(e.is_transport(), "{e}");

@@ -1,20 +1,21 @@
-//! Object access for the Lenze 9400: SDO uploads and downloads over an [`SdoLink`], with
+//! Object access to a CANopen node: SDO uploads and downloads over an [`SdoLink`], with
 //! values converted by [`super::sdo_value`].
 
-use super::sdo_link::{object_text, SdoLink};
+use super::sdo_link::SdoLink;
 use super::sdo_value;
 use crate::clock::SharedClock;
 use crate::dictionary::{Address, DataType, RawValue};
 use crate::drive::{AccessError, ObjectAccess, WriteOutcome};
 use crate::link::CoreLink;
+use std::time::Duration;
 
-pub struct Lenze9400Access {
+pub struct SdoAccess {
     link: SdoLink,
 }
 
-impl Lenze9400Access {
+impl SdoAccess {
     pub fn new(link: SdoLink) -> Self {
-        Lenze9400Access { link }
+        SdoAccess { link }
     }
 
     pub fn link(&self) -> &SdoLink {
@@ -29,14 +30,14 @@ impl Lenze9400Access {
     }
 }
 
-impl ObjectAccess for Lenze9400Access {
+impl ObjectAccess for SdoAccess {
     fn read(&mut self, address: &Address, data_type: DataType) -> Result<RawValue, AccessError> {
         let (index, subindex) = Self::subindex(address)?;
         let value = self.link.upload(index, subindex)?;
         sdo_value::decode(&value, data_type).map_err(|detail| AccessError::UnexpectedReply {
             port: self.link.port().to_string(),
             address: format!("node {}", self.link.node()),
-            request: format!("read {}", object_text(index, subindex)),
+            request: format!("read {}", self.link.object_text(index, subindex)),
             detail: detail.to_string(),
         })
     }
@@ -51,6 +52,14 @@ impl ObjectAccess for Lenze9400Access {
         let bytes = sdo_value::encode(value, data_type).map_err(|e| AccessError::Encode(e.to_string()))?;
         self.link.download(index, subindex, &bytes)?;
         Ok(WriteOutcome::Stored)
+    }
+
+    fn keep_alive(&mut self) -> Result<Option<Duration>, AccessError> {
+        self.link.check_node()
+    }
+
+    fn error_code_text(&self, code: u16) -> Option<&'static str> {
+        Some(super::codec::error_code_text(code))
     }
 
     fn port(&self) -> String {

@@ -155,7 +155,7 @@ fn abort_code(command: u8, bytes: &[u8; SDO_LEN]) -> Result<AbortCode, SdoDecode
 fn block_transfer(command: u8) -> SdoDecodeError {
     refuse(
         command,
-        "block transfers (command specifier 5 and 6) are not used with the 9400",
+        "block transfers (command specifier 5 and 6) are not supported",
     )
 }
 

@@ -1,11 +1,12 @@
-//! Explains Lenze 9400 SDO frames for `decode`, `-v` and traces: who sends to whom
-//! (0x600 + node requests, 0x580 + node responses), the command, the code and its
-//! dictionary name, the value (with the object's unit and scaling when the dictionary
-//! has it) or the abort code's meaning. It remembers each node's last initiate request so
-//! that segments and responses are read as the object they belong to. Frames arrive as
-//! [`CanFrame::to_bytes`].
+//! Explains CANopen frames for `decode`, `-v` and traces: SDO (0x600 + node requests,
+//! 0x580 + node responses: the command, the object in the family's notation and its
+//! dictionary name, the value with the object's unit and scaling when the dictionary has
+//! it, or the abort code's meaning), NMT commands (0x000), heartbeats and boot-up messages
+//! (0x700 + node) and EMCY frames (0x80 + node, with the error code's text). It remembers
+//! each node's last initiate request so that segments and responses are read as the
+//! object they belong to. Frames arrive as [`CanFrame::to_bytes`].
 
-use super::codec::{AbortCode, Code, SdoRequest, SdoResponse};
+use super::codec::{error_code_text, AbortCode, Emcy, NmtCommand, NmtState, SdoRequest, SdoResponse, NMT_ID};
 use crate::bus::CanFrame;
 use crate::dictionary::{Dictionary, RawValue};
 use crate::hex::to_hex;
@@ -14,10 +15,99 @@ use serde_json::{json, Map, Value};
 use std::collections::HashMap;
 use std::sync::Arc;
 
-pub struct Lenze9400Explainer {
+pub struct SdoExplainer {
     names: Arc<Dictionary>,
     /// The object of each node's transfer under way.
     current: HashMap<u8, (u16, u8)>,
+    notation: ExplainNotation,
+}
+
+/// A family's notation for objects in explanations.
+#[derive(Debug, Clone, Copy)]
+pub struct ExplainNotation {
+    /// The vendor's name of an object (`C00099`), if it has one.
+    pub code: fn(u16, u8) -> Option<String>,
+    /// How the index follows from it, for `explain`: ` = 0x5FFF − code`.
+    pub index_rule: &'static str,
+}
+
+/// CiA 301's notation: objects by index alone.
+pub const INDEX_NOTATION: ExplainNotation = ExplainNotation {
+    code: |_, _| None,
+    index_rule: "",
+};
+
+/// A frame of another CANopen service than SDO.
+enum Service {
+    Nmt { command: u8, node: u8 },
+    Heartbeat { node: u8, state: u8 },
+    Emcy { node: u8, emcy: Option<Emcy> },
+}
+
+impl Service {
+    fn of(frame: &CanFrame) -> Option<Service> {
+        if frame.extended {
+            return None;
+        }
+        let d = frame.data();
+        Some(match frame.id {
+            NMT_ID => Service::Nmt {
+                command: *d.first()?,
+                node: *d.get(1)?,
+            },
+            0x701..=0x77F => Service::Heartbeat {
+                node: (frame.id - 0x700) as u8,
+                state: *d.first()?,
+            },
+            0x081..=0x0FF => Service::Emcy {
+                node: (frame.id - 0x80) as u8,
+                emcy: Emcy::decode(d),
+            },
+            _ => return None,
+        })
+    }
+
+    fn one_line(&self) -> String {
+        match *self {
+            Service::Nmt { command, node } => {
+                let what = NmtCommand::from_byte(command).map_or("unknown NMT command", NmtCommand::name);
+                let to = if node == 0 {
+                    "every node".to_string()
+                } else {
+                    format!("node {node}")
+                };
+                format!("NMT {what} → {to}")
+            }
+            Service::Heartbeat { node, state } => match NmtState::from_byte(state) {
+                Some(NmtState::BootUp) => format!("boot-up ← node {node}"),
+                Some(s) => format!("heartbeat {} ← node {node}", s.name()),
+                None => format!("heartbeat with unknown state 0x{state:02X} ← node {node}"),
+            },
+            Service::Emcy { node, emcy: Some(e) } if e.is_reset() => {
+                format!("EMCY error reset ← node {node}")
+            }
+            Service::Emcy { node, emcy: Some(e) } => format!(
+                "EMCY 0x{:04X} {}, error register 0x{:02X} ← node {node}",
+                e.code,
+                error_code_text(e.code),
+                e.register
+            ),
+            Service::Emcy { node, emcy: None } => {
+                format!("EMCY frame of the wrong length (CiA 301 sends 8 bytes) ← node {node}")
+            }
+        }
+    }
+
+    fn to_json(&self) -> Value {
+        match *self {
+            Service::Nmt { command, node } => json!({ "nmt": command, "node": node }),
+            Service::Heartbeat { node, state } => json!({ "heartbeat": state, "node": node }),
+            Service::Emcy { node, emcy } => match emcy {
+                Some(e) => json!({ "emcy": e.code, "register": e.register, "node": node }),
+                None => json!({ "emcy": null, "node": node }),
+            },
+        }
+    }
 }
 
 /// One frame read as SDO.
@@ -26,12 +116,18 @@ enum Sdo {
     Response { node: u8, body: SdoResponse },
 }
 
-impl Lenze9400Explainer {
-    pub fn new(names: Arc<Dictionary>) -> Self {
-        Lenze9400Explainer {
+impl SdoExplainer {
+    pub fn new(names: Arc<Dictionary>, notation: ExplainNotation) -> Self {
+        SdoExplainer {
             names,
             current: HashMap::new(),
+            notation,
         }
+    }
+
+    /// The frame of another service than SDO, if `bytes` is one.
+    fn service(bytes: &[u8]) -> Option<Service> {
+        Service::of(&CanFrame::from_bytes(bytes)?)
     }
 
     fn read(&mut self, bytes: &[u8]) -> Result<(CanFrame, Sdo), ExplainError> {
@@ -56,7 +152,7 @@ impl Lenze9400Explainer {
             },
             id => {
                 return Err(format!(
-                    "identifier 0x{id:03X} is not an SDO channel (requests 0x600 + node, responses 0x580 + node, node 1..127)"
+                    "identifier 0x{id:03X} is not an SDO channel nor another CANopen service drivescript reads (NMT 0x000, EMCY 0x80 + node, SDO requests 0x600 + node and responses 0x580 + node, heartbeat 0x700 + node, node 1..127)"
                 )
                 .into())
             }
@@ -79,8 +175,8 @@ impl Lenze9400Explainer {
 
     /// `C00099 ident` or `C00061` or `index 0x1000/0`.
     fn object(&self, index: u16, subindex: u8) -> String {
-        let code = match Code::at(index, subindex) {
-            Some(c) => c.to_string(),
+        let code = match (self.notation.code)(index, subindex) {
+            Some(c) => c,
             None => format!("index 0x{index:04X}/{subindex}"),
         };
         match self.names.by_address(index, u32::from(subindex)) {
@@ -224,7 +320,7 @@ fn response_kind(body: &SdoResponse) -> &'static str {
 }
 
 /// The keys of the golden vectors (`shared/vectors/lenze-9400-sdo.yaml`).
-fn to_json(sdo: &Sdo) -> Value {
+fn to_json(sdo: &Sdo, notation: ExplainNotation) -> Value {
     let mut m = Map::new();
     let (node, object) = match sdo {
         Sdo::Request { node, body } => {
@@ -238,8 +334,8 @@ fn to_json(sdo: &Sdo) -> Value {
     };
     m.insert("node".into(), json!(node));
     if let Some((index, subindex)) = object {
-        if let Some(code) = Code::at(index, subindex) {
-            m.insert("code".into(), json!(code.to_string()));
+        if let Some(code) = (notation.code)(index, subindex) {
+            m.insert("code".into(), json!(code));
         }
     }
     // As the golden vectors: the index only on the read request that opens a transfer.
@@ -317,8 +413,11 @@ fn to_json(sdo: &Sdo) -> Value {
     Value::Object(m)
 }
 
-impl TelegramExplainer for Lenze9400Explainer {
+impl TelegramExplainer for SdoExplainer {
     fn summary(&mut self, _direction: Direction, bytes: &[u8]) -> String {
+        if let Some(service) = Self::service(bytes) {
+            return service.one_line();
+        }
         match self.read(bytes) {
             Ok((_, sdo)) => self.one_line(&sdo),
             Err(e) => format!("rejected: {e}"),
@@ -326,6 +425,9 @@ impl TelegramExplainer for Lenze9400Explainer {
     }
 
     fn explain(&mut self, bytes: &[u8]) -> Result<String, ExplainError> {
+        if let Some(service) = Self::service(bytes) {
+            return Ok(format!("  meaning   {}\n", service.one_line()));
+        }
         let (frame, sdo) = self.read(bytes)?;
         let mut out = String::new();
         let (role, node, command) = match &sdo {
@@ -347,8 +449,9 @@ impl TelegramExplainer for Lenze9400Explainer {
         };
         if let Some((index, subindex)) = object {
             out.push_str(&format!(
-                "  object    {} (index 0x{index:04X} = 0x5FFF − code, subindex {subindex})\n",
-                self.object(index, subindex)
+                "  object    {} (index 0x{index:04X}{}, subindex {subindex})\n",
+                self.object(index, subindex),
+                self.notation.index_rule
             ));
         } else if let Some(&(i, s)) = self.current.get(&node) {
             out.push_str(&format!(
@@ -375,8 +478,11 @@ impl TelegramExplainer for Lenze9400Explainer {
     }
 
     fn json(&mut self, bytes: &[u8]) -> (Value, bool) {
+        if let Some(service) = Self::service(bytes) {
+            return (service.to_json(), true);
+        }
         match self.read(bytes) {
-            Ok((_, sdo)) => (to_json(&sdo), true),
+            Ok((_, sdo)) => (to_json(&sdo, self.notation), true),
             Err(e) => (json!({ "reject": e.reason }), false),
         }
     }
@@ -388,7 +494,7 @@ mod tests {
     use crate::family::lenze_9400::Lenze9400Family;
     use crate::family::Family;
 
-    fn explainer() -> Lenze9400Explainer {
+    fn explainer() -> SdoExplainer {
         let text = Lenze9400Family.dictionaries()[0].text;
         let d = Dictionary::from_yaml_for(
             "dictionary/lenze-9400.yaml",
@@ -396,7 +502,7 @@ mod tests {
             Lenze9400Family.address_parser(),
         )
         .unwrap();
-        Lenze9400Explainer::new(Arc::new(d))
+        SdoExplainer::new(Arc::new(d), crate::family::lenze_9400::LENZE_EXPLAIN)
     }
 
     fn bytes(text: &str) -> Vec<u8> {
@@ -406,7 +512,7 @@ mod tests {
     #[test]
     fn segments_are_read_as_the_object_of_their_transfer() {
         let mut e = explainer();
-        let s = |e: &mut Lenze9400Explainer, t: &str| e.summary(Direction::Received, &bytes(t));
+        let s = |e: &mut SdoExplainer, t: &str| e.summary(Direction::Received, &bytes(t));
         assert_eq!(s(&mut e, "60C#409C5F0000000000"), "read C00099 ident → node 12");
         assert_eq!(
             s(&mut e, "58C#419C5F000B000000"),
@@ -425,6 +531,19 @@ mod tests {
             "abort C00088 rated_motor_current ← node 2: 0x06090031 value of parameter written too high"
         );
         assert!(s(&mut e, "700#05").starts_with("rejected: identifier 0x700"));
+        assert_eq!(s(&mut e, "000#0105"), "NMT start (enter operational) → node 5");
+        assert_eq!(s(&mut e, "000#8000"), "NMT enter pre-operational → every node");
+        assert_eq!(s(&mut e, "705#7F"), "heartbeat pre-operational ← node 5");
+        assert_eq!(s(&mut e, "705#00"), "boot-up ← node 5");
+        assert_eq!(
+            s(&mut e, "085#1032010000000000"),
+            "EMCY 0x3210 DC link over-voltage, error register 0x01 ← node 5"
+        );
+        assert_eq!(s(&mut e, "085#0000000000000000"), "EMCY error reset ← node 5");
+        assert_eq!(
+            e.json(&bytes("085#1032010000000000")).0,
+            json!({"emcy": 0x3210, "register": 1, "node": 5})
+        );
         assert!(e.explain(&[1, 2]).is_err());
     }
 }

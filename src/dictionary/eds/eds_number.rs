@@ -1,0 +1,132 @@
+//! Integer values of an EDS/DCF entry (CiA 306): decimal, `0x` hexadecimal, octal with a
+//! leading `0`, and `$NODEID` expressions such as `$NODEID+0x180` or `0x600+$NODEID`,
+//! whose value depends on the node the file is used for. Pure: text in, value or a
+//! sentence saying what was expected out.
+
+/// A number from an EDS, possibly relative to the node id.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct EdsNumber {
+    /// The constant part.
+    pub value: i128,
+    /// True for a `$NODEID` expression: the node id is added to `value`.
+    pub plus_node_id: bool,
+}
+
+impl EdsNumber {
+    /// The value for node `node`; a `$NODEID` expression without a node is `None`.
+    pub fn resolve(self, node: Option<u8>) -> Option<i128> {
+        match (self.plus_node_id, node) {
+            (false, _) => Some(self.value),
+            (true, Some(n)) => Some(self.value + i128::from(n)),
+            (true, None) => None,
+        }
+    }
+
+    /// Reads `text`. The error says what was expected.
+    pub fn parse(text: &str) -> Result<EdsNumber, String> {
+        let t: String = text.chars().filter(|c| !c.is_whitespace()).collect();
+        if t.is_empty() {
+            return Err("expected a number, found nothing".into());
+        }
+        let upper = t.to_ascii_uppercase();
+        if let Some(at) = upper.find("$NODEID") {
+            let before = &t[..at];
+            let after = &t[at + "$NODEID".len()..];
+            let constant = match (before, after) {
+                ("", "") => 0,
+                ("", rest) => match rest.strip_prefix('+') {
+                    Some(n) => integer(n)?,
+                    None => match rest.strip_prefix('-') {
+                        Some(n) => -integer(n)?,
+                        None => return Err(expression_help(text)),
+                    },
+                },
+                (first, "") => match first.strip_suffix('+') {
+                    Some(n) => integer(n)?,
+                    None => return Err(expression_help(text)),
+                },
+                _ => return Err(expression_help(text)),
+            };
+            return Ok(EdsNumber {
+                value: constant,
+                plus_node_id: true,
+            });
+        }
+        Ok(EdsNumber {
+            value: integer(&t)?,
+            plus_node_id: false,
+        })
+    }
+}
+
+fn expression_help(text: &str) -> String {
+    format!("`{text}` is not a $NODEID expression; expected `$NODEID`, `$NODEID+0x180` or `0x180+$NODEID`")
+}
+
+/// A signed integer: `-5`, `0x1A`, `017` (octal: CiA 306's leading zero).
+fn integer(text: &str) -> Result<i128, String> {
+    let (negative, digits) = match text.strip_prefix('-') {
+        Some(rest) => (true, rest),
+        None => (false, text.strip_prefix('+').unwrap_or(text)),
+    };
+    let plain = |d: &str, radix: u32| !d.is_empty() && d.chars().all(|c| c.is_digit(radix));
+    let parsed = if let Some(hex) = digits.strip_prefix("0x").or_else(|| digits.strip_prefix("0X")) {
+        plain(hex, 16)
+            .then(|| i128::from_str_radix(hex, 16).ok())
+            .flatten()
+            .ok_or_else(|| format!("`{text}` is not a hexadecimal number"))
+    } else if digits.len() > 1 && digits.starts_with('0') {
+        plain(&digits[1..], 8)
+            .then(|| i128::from_str_radix(&digits[1..], 8).ok())
+            .flatten()
+            .ok_or_else(|| {
+                format!("`{text}` starts with 0, which makes it octal in an EDS, but it has digits beyond 7")
+            })
+    } else {
+        plain(digits, 10)
+            .then(|| digits.parse::<i128>().ok())
+            .flatten()
+            .ok_or_else(|| format!("`{text}` is not a number (decimal, 0x hexadecimal or 0 octal)"))
+    };
+    let value = parsed?;
+    Ok(if negative { -value } else { value })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn n(text: &str) -> Result<(i128, bool), String> {
+        EdsNumber::parse(text).map(|n| (n.value, n.plus_node_id))
+    }
+
+    #[test]
+    fn decimal_hex_octal_and_signs() {
+        assert_eq!(n("1000"), Ok((1000, false)));
+        assert_eq!(n("0x6041"), Ok((0x6041, false)));
+        assert_eq!(n("0X7f"), Ok((127, false)));
+        assert_eq!(n("017"), Ok((15, false)));
+        assert_eq!(n("0"), Ok((0, false)));
+        assert_eq!(n("-32768"), Ok((-32768, false)));
+        assert_eq!(n("0xFFFFFFFFFFFFFFFF"), Ok((u64::MAX.into(), false)));
+        assert!(n("09").unwrap_err().contains("octal"));
+        assert!(n("0xZZ").unwrap_err().contains("hexadecimal"));
+        assert!(n("").is_err());
+        assert!(n("12abc").is_err());
+    }
+
+    #[test]
+    fn node_id_expressions() {
+        assert_eq!(n("$NODEID+0x180"), Ok((0x180, true)));
+        assert_eq!(n("$NodeId + 0x600"), Ok((0x600, true)));
+        assert_eq!(n("0x580+$NODEID"), Ok((0x580, true)));
+        assert_eq!(n("$NODEID"), Ok((0, true)));
+        assert_eq!(n("$NODEID-1"), Ok((-1, true)));
+        assert!(n("$NODEID*2").unwrap_err().contains("$NODEID+0x180"));
+        assert!(n("1-$NODEID").is_err());
+        let cob = EdsNumber::parse("$NODEID+0x80").unwrap();
+        assert_eq!(cob.resolve(Some(5)), Some(0x85));
+        assert_eq!(cob.resolve(None), None);
+        assert_eq!(EdsNumber::parse("7").unwrap().resolve(None), Some(7));
+    }
+}

@@ -1,0 +1,231 @@
+//! An EDS/DCF file's entries as dictionary objects: readable names (`controlword`,
+//! `identity_object_vendor_id`) with the index (`0x6041`, `0x1018/1`) and the EDS name as
+//! aliases, the carried type, access, limits (with `$NODEID` resolved by the DCF's node
+//! id), the default and links in the description, and a DCF's `ParameterValue`s as a
+//! parameter set. Entries drivescript cannot carry are left out with one note saying
+//! which. No I/O.
+
+use super::eds_file::{EdsEntry, EdsFile};
+use crate::diag::{Diagnostic, Span};
+use crate::dictionary::{Address, Format, ObjectDef};
+use std::collections::{BTreeMap, HashSet};
+
+const NOT_CARRIED_WHY: &str =
+    "drivescript's dictionaries carry integers of 8, 16, 32 and 64 bits and visible strings; read others with a CANopen tool";
+
+/// What an EDS adds to a dictionary.
+#[derive(Debug)]
+pub(crate) struct EdsObjects {
+    pub objects: Vec<ObjectDef>,
+    /// What was left out or not resolved, as notes on the file.
+    pub notes: Vec<Diagnostic>,
+    /// A DCF's `ParameterValue`s by object name, as written.
+    pub parameter_values: Vec<(String, String)>,
+    /// For an object the dictionary already has at an address: the EDS's index and name,
+    /// as aliases it gains where they are free.
+    pub aliases_of_occupied: Vec<(Address, Vec<String>)>,
+}
+
+/// The objects of `file`, named so that none clashes with `taken` (names and aliases
+/// already in the dictionary, lower case) and none sits at an address in `occupied` (the
+/// dictionary's own entry for it wins: it has units and scale an EDS does not give).
+pub(crate) fn eds_objects(
+    file: &EdsFile,
+    taken: &HashSet<String>,
+    occupied: &HashSet<Address>,
+    family_alias: &dyn Fn(&Address) -> Option<String>,
+) -> EdsObjects {
+    let mut taken = taken.clone();
+    let mut out = EdsObjects {
+        objects: Vec::new(),
+        notes: Vec::new(),
+        parameter_values: Vec::new(),
+        aliases_of_occupied: Vec::new(),
+    };
+    let mut not_carried: BTreeMap<String, Vec<String>> = BTreeMap::new();
+    let mut unresolved: Vec<String> = Vec::new();
+    for entry in &file.entries {
+        let address = Address::indexed(entry.index, u32::from(entry.subindex));
+        if occupied.contains(&address) {
+            let free: Vec<String> = [index_text(entry), eds_name(entry)]
+                .into_iter()
+                .filter(|a| taken.insert(a.to_ascii_lowercase()))
+                .collect();
+            out.aliases_of_occupied.push((address, free));
+            continue;
+        }
+        let (data_type, range) = match entry.data_type.carried() {
+            Ok(carried) => carried,
+            Err(_) => {
+                not_carried
+                    .entry(entry.data_type.name())
+                    .or_default()
+                    .push(index_text(entry));
+                continue;
+            }
+        };
+        let name = unique_name(entry, &mut taken);
+        let mut def = ObjectDef::new(name.clone(), address, data_type, entry.access);
+        let family = family_alias(&address);
+        for alias in family.into_iter().chain([index_text(entry), eds_name(entry)]) {
+            if taken.insert(alias.to_ascii_lowercase()) {
+                def.aliases.push(alias);
+            }
+        }
+        let limit = |n: Option<super::eds_number::EdsNumber>| n.map(|n| n.resolve(file.node_id));
+        let (low, high) = (limit(entry.low), limit(entry.high));
+        if matches!(low, Some(None)) || matches!(high, Some(None)) {
+            unresolved.push(index_text(entry));
+        }
+        def.min = range.map(|r| r.0).or(low.flatten().map(|v| v as f64));
+        def.max = range.map(|r| r.1).or(high.flatten().map(|v| v as f64));
+        if let (Some(type_range), Some(min)) = (data_type.range(), def.min) {
+            def.min = Some(min.max(type_range.0 as f64));
+        }
+        if let (Some(type_range), Some(max)) = (data_type.range(), def.max) {
+            def.max = Some(max.min(type_range.1 as f64));
+        }
+        if entry.index >= 0x1000 && entry.index < 0x2000 && data_type.size() == 4 {
+            // Communication objects of 32 bits are COB-IDs and bit fields.
+            def.format = Format::Hex;
+        }
+        def.description = description(entry);
+        // A setting of the node, not process data (PDO-mapped) and not the store/restore
+        // commands 0x1010/0x1011, whose write is an action.
+        def.parameter = def.readable()
+            && def.writable()
+            && !entry.pdo_mapping
+            && !(0x1010..=0x1011).contains(&entry.index);
+        def.span = entry.span.clone();
+        if let Some(value) = &entry.parameter_value {
+            out.parameter_values.push((name, value.clone()));
+        }
+        out.objects.push(def);
+    }
+    let start = Span::start_of(&file.source);
+    for (type_name, places) in not_carried {
+        out.notes.push(Diagnostic::at(
+            &start,
+            format!(
+                "left out, type {type_name}: {} ({NOT_CARRIED_WHY})",
+                shortened(&places)
+            ),
+            "left out",
+        ));
+    }
+    if !unresolved.is_empty() {
+        out.notes.push(
+            Diagnostic::at(
+                &start,
+                format!(
+                    "limits with $NODEID are left off for {} (the file gives no node id)",
+                    shortened(&unresolved)
+                ),
+                "no node id",
+            )
+            .with_help("a DCF gives the node id in [DeviceComissioning] NodeID"),
+        );
+    }
+    out
+}
+
+/// The first places and how many more.
+fn shortened(places: &[String]) -> String {
+    let shown: Vec<&str> = places.iter().take(5).map(String::as_str).collect();
+    match places.len() {
+        n if n > 5 => format!("{} and {} more", shown.join(", "), n - 5),
+        _ => shown.join(", "),
+    }
+}
+
+/// `0x6041` for an object, `0x1018/2` for a sub-object.
+pub(super) fn index_text(entry: &EdsEntry) -> String {
+    match entry.parent {
+        None => format!("0x{:04X}", entry.index),
+        Some(_) => format!("0x{:04X}/{}", entry.index, entry.subindex),
+    }
+}
+
+/// The EDS name as written: `Controlword`, `Identity object/Vendor-ID`.
+fn eds_name(entry: &EdsEntry) -> String {
+    match &entry.parent {
+        None => entry.name.clone(),
+        Some(parent) => format!("{parent}/{}", entry.name),
+    }
+}
+
+/// `controlword`, `identity_object_vendor_id`; with the index appended when the name is
+/// taken (`reserved_2001`).
+fn unique_name(entry: &EdsEntry, taken: &mut HashSet<String>) -> String {
+    let base = match &entry.parent {
+        None => slug(&entry.name),
+        Some(parent) => format!("{}_{}", slug(parent), slug(&entry.name)),
+    };
+    let mut name = base.clone();
+    if taken.contains(&name) {
+        name = match entry.parent {
+            None => format!("{base}_{:04x}", entry.index),
+            Some(_) => format!("{base}_{:04x}_{}", entry.index, entry.subindex),
+        };
+    }
+    let mut n = 2;
+    let unique = name.clone();
+    while taken.contains(&name) {
+        name = format!("{unique}_{n}");
+        n += 1;
+    }
+    taken.insert(name.clone());
+    name
+}
+
+/// Lower-case letters, digits and single `_`, starting with a letter.
+fn slug(text: &str) -> String {
+    let mut s = String::new();
+    for c in text.chars() {
+        if c.is_ascii_alphanumeric() {
+            s.push(c.to_ascii_lowercase());
+        } else if !s.ends_with('_') && !s.is_empty() {
+            s.push('_');
+        }
+    }
+    let s = s.trim_end_matches('_').to_string();
+    if s.starts_with(|c: char| c.is_ascii_alphabetic()) {
+        s
+    } else {
+        format!("o_{s}").trim_end_matches('_').to_string()
+    }
+}
+
+fn description(entry: &EdsEntry) -> String {
+    let mut text = format!("{} ({}", eds_name(entry), entry.data_type.name());
+    if let Some(default) = &entry.default {
+        text.push_str(&format!(", default {default}"));
+    }
+    if entry.pdo_mapping {
+        text.push_str(", PDO-mappable");
+    }
+    if !entry.links.is_empty() {
+        let links: Vec<String> = entry.links.iter().map(|l| format!("0x{l:04X}")).collect();
+        text.push_str(&format!(", linked with {}", links.join(", ")));
+    }
+    text.push_str(") from the EDS");
+    text
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn readable_names() {
+        assert_eq!(slug("Controlword"), "controlword");
+        assert_eq!(slug("Vendor-ID"), "vendor_id");
+        assert_eq!(
+            slug("  Highest sub-index supported "),
+            "highest_sub_index_supported"
+        );
+        assert_eq!(slug("1st value"), "o_1st_value");
+        assert_eq!(slug("ÄÖÜ"), "o");
+        assert_eq!(slug(""), "o");
+    }
+}

@@ -1,0 +1,78 @@
+//! CiA 306 electronic data sheets (EDS) and device configuration files (DCF) as
+//! dictionaries: the INI text, numbers with `$NODEID`, data and access types, the file's
+//! objects, and those objects as dictionary entries. Reading only; no I/O beyond what the
+//! dictionary loader hands in, and nothing of transports or families.
+
+mod eds_file;
+mod eds_number;
+mod eds_objects;
+mod eds_type;
+mod ini_text;
+
+pub(crate) use eds_file::{EdsEntry, EdsFile};
+pub(crate) use eds_number::EdsNumber;
+pub(crate) use eds_objects::{eds_objects, EdsObjects};
+
+/// A DCF's `ParameterValue`s of its read-write objects, as a parameter set: each object
+/// by its index (`0x1017`, `0x1018/2`, which the EDS's objects have as an alias) and its
+/// value (numbers in decimal, `$NODEID` resolved with the DCF's node id; text as written).
+/// Every problem located.
+pub fn dcf_parameter_values(
+    source: &std::sync::Arc<crate::diag::Source>,
+) -> Result<Vec<(String, String)>, crate::diag::Diagnostics> {
+    use crate::diag::{Diagnostic, Diagnostics};
+    let mut problems = Diagnostics::new();
+    let file = EdsFile::parse(source, &mut problems);
+    let mut values = Vec::new();
+    for entry in &file.entries {
+        let (Some(text), crate::dictionary::Access::ReadWrite) = (&entry.parameter_value, entry.access)
+        else {
+            continue;
+        };
+        let Ok((data_type, _)) = entry.data_type.carried() else {
+            continue;
+        };
+        let value = if data_type.is_integer() {
+            match EdsNumber::parse(text).map(|n| n.resolve(file.node_id)) {
+                Ok(Some(n)) => n.to_string(),
+                Ok(None) => {
+                    problems.push(
+                        Diagnostic::at(
+                            &entry.span,
+                            format!("`ParameterValue={text}` needs the node id"),
+                            "no node id",
+                        )
+                        .with_help("give it in [DeviceComissioning] NodeID"),
+                    );
+                    continue;
+                }
+                Err(why) => {
+                    problems.push(Diagnostic::at(
+                        &entry.span,
+                        format!("`ParameterValue`: {why}"),
+                        "expected a number",
+                    ));
+                    continue;
+                }
+            }
+        } else {
+            text.clone()
+        };
+        values.push((eds_objects::index_text(entry), value));
+    }
+    if problems.is_empty() {
+        Ok(values)
+    } else {
+        Err(problems)
+    }
+}
+
+/// True for a path the EDS reader reads: `.eds` or `.dcf`, in any case.
+pub fn is_eds_path(path: &std::path::Path) -> bool {
+    path.extension()
+        .and_then(|e| e.to_str())
+        .is_some_and(|e| e.eq_ignore_ascii_case("eds") || e.eq_ignore_ascii_case("dcf"))
+}
+
+#[cfg(test)]
+mod eds_tests;

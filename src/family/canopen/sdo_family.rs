@@ -1,0 +1,98 @@
+//! What every family on CANopen SDO does alike (the generic `canopen` family and the
+//! Lenze 9400): node ids 1..=127 as `--address`, opening SDO object access on a CAN frame
+//! bus in the family's notation, and an object named on the command line in the family's
+//! notation. The families keep what differs: their notation, dictionary and simulator.
+
+use super::{SdoAccess, SdoLink, SdoLinkConfig, SdoNotation};
+use crate::bus::Bus;
+use crate::dictionary::{Access, Address, DataType, ObjectDef};
+use crate::family::{DriveAddress, FamilyError, LinkContext, LinkOptions, Opened};
+
+/// The node `--address` means when it is not given: CANopen's lowest node id.
+pub const DEFAULT_NODE: u8 = 1;
+
+/// `--address` as a node id 1..=127; `help` says how it is written.
+pub fn parse_node(text: Option<&str>, help: &str) -> Result<DriveAddress, FamilyError> {
+    let node = match text.map(str::trim) {
+        None => DEFAULT_NODE,
+        Some(t) => match t.parse::<u8>() {
+            Ok(n) if (1..=127).contains(&n) => n,
+            _ => return Err(FamilyError::DriveAddress(format!("--address {t}: {help}"))),
+        },
+    };
+    Ok(DriveAddress {
+        number: u32::from(node),
+        shown: format!("CAN node {node}"),
+    })
+}
+
+/// Whether a frame of a capture that does not say (a candump log) is an SDO request to a
+/// node (to 0x600 + node) or a node's response (from 0x580 + node); `None` for anything
+/// else (heartbeats, EMCY, process data).
+pub fn sdo_frame_direction(frame: &crate::bus::CanFrame) -> Option<crate::link::Direction> {
+    match frame.id {
+        _ if frame.extended => None,
+        0x601..=0x67F => Some(crate::link::Direction::Sent),
+        0x581..=0x5FF => Some(crate::link::Direction::Received),
+        _ => None,
+    }
+}
+
+/// The node id of a parsed address, for a simulator (the default when out of range).
+pub fn sim_node(drive: &DriveAddress) -> u8 {
+    u8::try_from(drive.number).unwrap_or(DEFAULT_NODE)
+}
+
+/// SDO object access to `drive` on `bus`; `what` names the drive for the wrong-bus message
+/// (`a CANopen node`, `the Lenze 9400`).
+pub fn open_sdo(
+    bus: &Bus,
+    drive: &DriveAddress,
+    options: &LinkOptions,
+    context: LinkContext,
+    notation: SdoNotation,
+    what: &str,
+) -> Opened {
+    let Bus::Frames(frames) = bus else {
+        return Err(FamilyError::WrongBus(format!(
+            "{what} is reached over CAN, not over the byte stream {}; give --can slcan:PATH or --can socketcan:IF",
+            bus.name()
+        )));
+    };
+    let node = u8::try_from(drive.number)
+        .ok()
+        .filter(|n| (1..=127).contains(n))
+        .ok_or_else(|| FamilyError::DriveAddress(format!("CAN node {} is outside 1..127", drive.number)))?;
+    let config = SdoLinkConfig {
+        reply_timeout: options.reply_timeout,
+        retries: options.retries,
+        notation,
+    };
+    let link = context.link(|clock| SdoLink::new(frames.clone(), clock, node, config));
+    Ok(Box::new(SdoAccess::new(link)))
+}
+
+/// An object named `text` on the command line at `address`. Without `--type` it is
+/// read-only and typed `i32`: the node indicates each value's size, and the access reads
+/// narrower values widened as signed (see `sdo_value`); a write needs `--type`, because a
+/// wrong width is refused by the node at best and misread at worst.
+pub fn raw_sdo_object(
+    text: &str,
+    address: Address,
+    data_type: Option<DataType>,
+    description: String,
+) -> ObjectDef {
+    let mut def = match data_type {
+        Some(dt) => ObjectDef::new(text, address, dt, Access::ReadWrite),
+        None => {
+            let mut d = ObjectDef::new(text, address, DataType::I32, Access::ReadOnly);
+            d.unconfirmed = Some(
+                "no --type given: read with the size the drive indicates (signed); give --type (u8, i8, u16, i16, u32, i32 or string(N)) to write it"
+                    .into(),
+            );
+            d
+        }
+    };
+    def.description = description;
+    def
+}

@@ -1,0 +1,183 @@
+//! The simulated CiA 402 drive as a CANopen node on a frame bus: the shared SDO server in
+//! front of the objects of its EDS, NMT commands (0x000), its boot-up message and
+//! heartbeat (0x700 + node, every 0x1017 ms) and an EMCY frame (0x80 + node) when the
+//! drive trips and when its fault is reset. Frames it produces on its own are sent with the
+//! next frame it receives, stamped with the time they were due (the bus is lazy in virtual
+//! time). No clock of its own.
+
+use super::cia402_objects::{Cia402Objects, HEARTBEAT_TIME};
+use super::sdo_server::{SdoLogged, SdoServer};
+use crate::bus::{CanFrame, FramePeer};
+use crate::family::canopen::codec::SdoRequest;
+use crate::family::canopen::codec::{emcy_id, heartbeat_id, NmtCommand, NmtState, NMT_ID};
+use crate::sim::{SimConfig, SimCore, SimFront};
+use std::time::Duration;
+
+/// Heartbeats owed after a long quiet spell are not all sent: only the latest few.
+const HEARTBEAT_CATCH_UP: u32 = 8;
+
+#[derive(Debug)]
+pub struct Cia402Node {
+    core: SimCore<SdoLogged>,
+    node: u8,
+    objects: Cia402Objects,
+    server: SdoServer,
+    nmt: NmtState,
+    /// When the next heartbeat is due; `None` before the boot-up message went out.
+    next_heartbeat: Option<Duration>,
+    /// From then on the node sends no heartbeat (an injected fault: a node whose
+    /// communication died while the adapter is fine).
+    heartbeat_stops_at: Option<Duration>,
+    /// The error code the last EMCY frame carried.
+    emcy_code: u16,
+}
+
+impl Cia402Node {
+    /// A drive just powered up at `node` (1..=127), pre-operational.
+    pub fn new(node: u8, config: SimConfig) -> Self {
+        Cia402Node {
+            core: SimCore::new(config),
+            node,
+            objects: Cia402Objects::from_node_eds(node),
+            server: SdoServer::default(),
+            nmt: NmtState::PreOperational,
+            next_heartbeat: None,
+            heartbeat_stops_at: None,
+            emcy_code: 0,
+        }
+    }
+
+    /// The requests decoded, with the time each arrived (the latest ones, bounded).
+    pub fn received(&self) -> &[(Duration, SdoRequest)] {
+        self.core.requests()
+    }
+
+    pub fn nmt_state(&self) -> NmtState {
+        self.nmt
+    }
+
+    /// From `at` on the node sends no heartbeat.
+    pub fn stop_heartbeat_at(&mut self, at: Duration) {
+        self.heartbeat_stops_at = Some(at);
+    }
+
+    fn heartbeat(&self, at: Duration) -> (Duration, CanFrame) {
+        let state = if self.next_heartbeat.is_none() {
+            NmtState::BootUp
+        } else {
+            self.nmt
+        };
+        (at, one_byte(heartbeat_id(self.node), state.byte()))
+    }
+
+    /// The boot-up message, then every heartbeat due up to `now`.
+    fn heartbeats(&mut self, now: Duration, out: &mut Vec<(Duration, CanFrame)>) {
+        let period = Duration::from_millis(self.objects.int((HEARTBEAT_TIME.0, 0)).max(0) as u64);
+        let stopped = |at: Duration| self.heartbeat_stops_at.is_some_and(|s| at >= s);
+        let mut next = match self.next_heartbeat {
+            Some(next) => next,
+            None => {
+                out.push(self.heartbeat(now));
+                self.next_heartbeat = Some(now + period);
+                return;
+            }
+        };
+        if period.is_zero() {
+            self.next_heartbeat = Some(now);
+            return;
+        }
+        if next + period * HEARTBEAT_CATCH_UP < now {
+            let behind = (now - next).as_nanos() / period.as_nanos();
+            next += period * (behind as u32).saturating_sub(HEARTBEAT_CATCH_UP);
+        }
+        while next <= now {
+            if !stopped(next) {
+                out.push(self.heartbeat(next));
+            }
+            next += period;
+        }
+        self.next_heartbeat = Some(next);
+    }
+
+    /// An EMCY frame when the drive's error code changed: the code, the error register
+    /// (bit 0 generic error) and five manufacturer bytes (0 here).
+    fn emcy(&mut self, now: Duration, out: &mut Vec<(Duration, CanFrame)>) {
+        let code = self.core.model.drive_error();
+        if code == self.emcy_code || self.nmt == NmtState::Stopped {
+            return;
+        }
+        self.emcy_code = code;
+        let [lo, hi] = code.to_le_bytes();
+        let register = u8::from(code != 0);
+        out.push((
+            now,
+            CanFrame::standard8(emcy_id(self.node), [lo, hi, register, 0, 0, 0, 0, 0]),
+        ));
+    }
+
+    fn nmt_command(&mut self, frame: &CanFrame, now: Duration, out: &mut Vec<(Duration, CanFrame)>) {
+        let data = frame.data();
+        let (Some(&cs), Some(&target)) = (data.first(), data.get(1)) else {
+            return;
+        };
+        if data.len() != 2 || (target != 0 && target != self.node) {
+            return;
+        }
+        match NmtCommand::from_byte(cs) {
+            Some(NmtCommand::Start) => self.nmt = NmtState::Operational,
+            Some(NmtCommand::Stop) => self.nmt = NmtState::Stopped,
+            Some(NmtCommand::EnterPreOperational) => self.nmt = NmtState::PreOperational,
+            Some(NmtCommand::ResetNode | NmtCommand::ResetCommunication) => {
+                self.nmt = NmtState::PreOperational;
+                self.next_heartbeat = None;
+                self.heartbeats(now, out);
+            }
+            None => {}
+        }
+    }
+}
+
+/// A frame of one data byte (`id` is 0x700 + a node of 1..=127, always 11 bits).
+fn one_byte(id: u32, byte: u8) -> CanFrame {
+    CanFrame::new(id, &[byte]).unwrap_or_else(|| CanFrame::standard8(id, [byte, 0, 0, 0, 0, 0, 0, 0]))
+}
+
+impl FramePeer for Cia402Node {
+    fn receive(&mut self, frame: &CanFrame, now: Duration) -> Vec<(Duration, CanFrame)> {
+        self.core.panic_if_due(now);
+        self.core.advance_to(now);
+        let mut out = Vec::new();
+        self.heartbeats(now, &mut out);
+        self.emcy(now, &mut out);
+        if !frame.extended && frame.id == NMT_ID {
+            self.nmt_command(frame, now, &mut out);
+        } else if self.nmt != NmtState::Stopped {
+            // CiA 301: a stopped node answers NMT only, no SDO.
+            out.extend(
+                self.server
+                    .receive(frame, now, self.node, &mut self.core, &mut self.objects),
+            );
+        }
+        out.sort_by_key(|(at, _)| *at);
+        out
+    }
+
+    fn reachable(&self, now: Duration) -> bool {
+        self.core.faults.line_up(now)
+    }
+
+    fn poll(&mut self, until: Duration) -> Vec<(Duration, CanFrame)> {
+        let mut out = Vec::new();
+        if self.core.faults.line_up(until) {
+            self.heartbeats(until, &mut out);
+        }
+        out
+    }
+}
+
+impl SimFront for Cia402Node {
+    crate::sim_front_core!(SdoLogged);
+    fn describe_drive(&self) -> String {
+        format!("simulated CiA 402 drive at CAN node {} (from its EDS)", self.node)
+    }
+}

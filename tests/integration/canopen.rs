@@ -1,0 +1,271 @@
+//! The generic CANopen family end to end: the shipped commissioning recipe with only
+//! `drive:` changed on the simulated CiA 402 node, in virtual time and through a simulated
+//! SLCAN adapter on a pseudo-terminal; a node whose heartbeat stops; `decode` of NMT,
+//! heartbeat and EMCY frames; an EDS as a dictionary on the command line.
+
+use crate::support::{assert_has, cli, control_words, repo_root, scratch, write_file, InProcessRun};
+use drivescript::clock::SharedClock;
+use drivescript::family::canopen::sim::Cia402Node;
+use drivescript::run::DictionaryArgs;
+use drivescript::sim::SimulatedDrive;
+use std::path::{Path, PathBuf};
+use std::sync::{Arc, Mutex};
+use std::time::Duration;
+
+fn canopen() -> DictionaryArgs {
+    DictionaryArgs {
+        name: "canopen".into(),
+        extra: Vec::new(),
+        limits: None,
+    }
+}
+
+/// `recipes/commissioning.yaml` with only `drive:` changed.
+fn commissioning(dir: &Path) -> PathBuf {
+    let text = std::fs::read_to_string(repo_root().join("recipes/commissioning.yaml")).expect("recipe");
+    assert!(text.contains("drive: sd2"));
+    write_file(
+        dir,
+        "commissioning.yaml",
+        &text.replace("drive: sd2", "drive: canopen"),
+    )
+}
+
+#[test]
+fn the_commissioning_recipe_runs_on_the_simulated_cia402_node_with_only_drive_changed() {
+    let dir = scratch("canopen-commissioning");
+    let trace = dir.join("run.log");
+    let mut run = InProcessRun::new(commissioning(&dir));
+    run.dictionary = canopen();
+    run.outputs.trace = Some(trace.clone());
+    let (result, output) = run.run();
+    assert_eq!(result.exit_code, 0, "{output}");
+    assert_has(
+        &output,
+        &[
+            "ident = \"drivescript CiA 402 node\"",
+            "bus_voltage = 325.",
+            "drive left in ready to switch on at 0 rpm",
+        ],
+    );
+    // Shutdown, switch on, enable operation; disable operation and shutdown in finally.
+    assert_eq!(control_words(&result), vec![6, 7, 15, 7, 6]);
+    // Profile velocity mode (0x6060 = 3) is written before each command; the boot-up
+    // message the node sent is in the trace too.
+    let trace_text = std::fs::read_to_string(&trace).expect("trace");
+    assert_has(
+        &trace_text,
+        &[
+            "can0 701#00",
+            "can0 601#2F60600003000000",
+            "can0 601#2B4060000F000000",
+        ],
+    );
+    // decode explains the trace again.
+    let out = crate::support::drivescript(&["decode", &trace.to_string_lossy()], "");
+    assert_eq!(out.status.code(), Some(0), "{}", crate::support::stderr(&out));
+    assert_has(
+        &crate::support::stdout(&out),
+        &[
+            "boot-up ← node 1",
+            "write index 0x6060/0 modes_of_operation = 3 → node 1",
+            "write index 0x6040/0 control_word = 0x000f → node 1",
+        ],
+    );
+}
+
+#[test]
+fn a_node_whose_heartbeat_stops_is_a_lost_link_and_is_stopped() {
+    let dir = scratch("canopen-heartbeat");
+    let recipe = write_file(
+        &dir,
+        "recipe.yaml",
+        "name: Heartbeat lost\ndrive: canopen\nsteps:\n  - go_to: operation_enabled\n  - set: { speed_setpoint: 1000 rpm }\n  - dwell: 1 min\n",
+    );
+    let stop_heartbeat = |sim: &Arc<Mutex<dyn SimulatedDrive>>, clock: &SharedClock| {
+        let mut sim = sim.lock().unwrap();
+        let node = sim
+            .as_any_mut()
+            .downcast_mut::<Cia402Node>()
+            .expect("a CiA 402 node");
+        node.stop_heartbeat_at(clock.now() + Duration::from_secs(20));
+    };
+    let mut run = InProcessRun::new(recipe);
+    run.dictionary = canopen();
+    run.prepare = Some(&stop_heartbeat);
+    let (result, output) = run.run();
+    assert_eq!(result.exit_code, 3, "{output}");
+    assert_has(
+        &output,
+        &[
+            "     1  ok    go to operation_enabled",
+            "     3  FAIL  dwell 1m  I/O error on built-in simulated drive: the heartbeat of node 1 stopped",
+            "the heartbeat of node 1 stopped: none for",
+            "a heartbeat consumer gives up after 3 periods",
+            "safe stop: link to node 1 on built-in simulated drive restored",
+            "drive left in ready to switch on at 0 rpm",
+        ],
+    );
+    // The node still answers SDO: the safe stop brakes and stops it, verified.
+    assert_eq!(control_words(&result), vec![6, 7, 15, 7, 6]);
+}
+
+#[test]
+fn decode_explains_nmt_heartbeat_and_emcy_frames() {
+    let out = cli(
+        &[
+            "decode",
+            "--protocol",
+            "canopen",
+            "000#0105",
+            "705#05",
+            "085#1023010000000000",
+            "601#4041600000000000",
+        ],
+        0,
+    );
+    assert_has(
+        &out.stdout,
+        &[
+            "NMT start (enter operational) → node 5",
+            "heartbeat operational ← node 5",
+            "EMCY 0x2310 continuous over-current (output side), error register 0x01 ← node 5",
+            "index 0x6041/0 status_word",
+        ],
+    );
+}
+
+#[test]
+fn an_eds_adds_its_objects_by_readable_name_index_and_eds_name() {
+    let eds = repo_root().join("tests/eds/every-type.dcf");
+    let eds = eds.to_string_lossy();
+    let out = cli(
+        &["objects", "--drive", "canopen", "--dictionary", &eds, "gains"],
+        0,
+    );
+    assert_has(&out.stdout, &["gains_proportional", "gains_integral"]);
+    // The simulated node's own EDS: its objects are read by their EDS names.
+    let node_eds = repo_root().join("src/family/canopen/sim/cia402_node.eds");
+    let node_eds = node_eds.to_string_lossy();
+    let out = cli(
+        &[
+            "read",
+            "--drive",
+            "canopen",
+            "--dictionary",
+            &node_eds,
+            "identity_object_vendor_id",
+            "Quick stop option code",
+            "0x1018/0",
+        ],
+        0,
+    );
+    let row = |name: &str| {
+        let line = out
+            .stdout
+            .lines()
+            .find(|l| l.starts_with(name))
+            .unwrap_or_default();
+        line.split_whitespace().map(str::to_string).collect::<Vec<_>>()
+    };
+    assert_eq!(
+        row("identity_object_vendor_id"),
+        ["identity_object_vendor_id", "0x00000000", "0", "0x1018/1"]
+    );
+    assert_eq!(
+        row("quick_stop_option"),
+        ["quick_stop_option", "2", "2", "0x605A"]
+    );
+    // An EDS is for a CANopen family's dictionary, not the SD2's.
+    let out = cli(&["objects", "--dictionary", &eds], 2);
+    assert_has(
+        &out.stderr,
+        &[
+            "is a CANopen EDS/DCF, but the sd2 dictionary is for the sd2 family",
+            "give --drive canopen",
+        ],
+    );
+    // A malformed EDS: located, nothing read.
+    let dir = scratch("canopen-bad-eds");
+    let bad = write_file(
+        &dir,
+        "bad.eds",
+        "[FileInfo]\n[2000]\nParameterName=X\nDataType=0x0006\nAccessType=maybe\n",
+    );
+    let out = cli(
+        &[
+            "objects",
+            "--drive",
+            "canopen",
+            "--dictionary",
+            &bad.to_string_lossy(),
+        ],
+        2,
+    );
+    assert_has(&out.stderr, &["`maybe` is not an access type", "bad.eds:5"]);
+}
+
+#[cfg(unix)]
+#[test]
+fn the_commissioning_recipe_runs_through_an_slcan_pseudo_terminal() {
+    let sim = crate::support::Simulator::start(&["--drive", "canopen", "--address", "3", "--slcan-pty"]);
+    let dir = scratch("canopen-slcan");
+    let recipe = commissioning(&dir);
+    let can = format!("slcan:{}", sim.endpoint);
+    let out = cli(
+        &["run", recipe.to_str().unwrap(), "--address", "3", "--can", &can],
+        0,
+    );
+    assert_has(
+        &out.stdout,
+        &[
+            "ident = \"drivescript CiA 402 node\"",
+            "drive left in ready to switch on at 0 rpm",
+            "PASSED",
+        ],
+    );
+}
+
+/// A DCF's ParameterValues are a parameter set: `diff` compares them with the node,
+/// `restore` writes them back behind the restore interlock (never while it is enabled).
+#[cfg(unix)]
+#[test]
+fn a_dcf_is_diffed_against_the_node_and_restored_behind_the_interlock() {
+    use crate::support::{drivescript, stderr, stdout};
+    let sim = crate::support::Simulator::start(&["--drive", "canopen", "--slcan-pty"]);
+    let dcf = repo_root().join("tests/eds/cia402-node.dcf");
+    let dcf = dcf.to_string_lossy().to_string();
+    let can = format!("slcan:{}", sim.endpoint);
+    let with = |args: &[&str]| {
+        let mut all = args.to_vec();
+        all.extend(["--drive", "canopen", "--dictionary", &dcf, "--can", &can]);
+        drivescript(&all, "")
+    };
+    let out = with(&["diff", &dcf]);
+    assert_eq!(out.status.code(), Some(1), "{}{}", stdout(&out), stderr(&out));
+    assert_has(
+        &stdout(&out),
+        &["heartbeat_time", "250", "100", "1 difference(s)"],
+    );
+    // The objects the built-in dictionary has are found by their index without the DCF.
+    let out = drivescript(&["diff", &dcf, "--drive", "canopen", "--can", &can], "");
+    assert_eq!(out.status.code(), Some(1), "{}{}", stdout(&out), stderr(&out));
+    assert_has(&stdout(&out), &["heartbeat_time", "1 difference(s)"]);
+    // Enabled, the node is not restored.
+    for word in ["6", "7", "15"] {
+        let out = with(&["write", "control_word", word]);
+        assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    }
+    let out = with(&["restore", &dcf, "--apply"]);
+    assert_ne!(out.status.code(), Some(0), "{}", stdout(&out));
+    assert_has(&stderr(&out), &["nothing was written"]);
+    for word in ["7", "6"] {
+        with(&["write", "control_word", word]);
+    }
+    let out = with(&["restore", &dcf, "--apply"]);
+    assert_eq!(out.status.code(), Some(0), "{}{}", stdout(&out), stderr(&out));
+    assert_has(&stdout(&out), &["heartbeat_time"]);
+    let out = with(&["diff", &dcf]);
+    assert_eq!(out.status.code(), Some(0), "{}{}", stdout(&out), stderr(&out));
+    assert_has(&stdout(&out), &["no differences"]);
+}
