@@ -1,6 +1,10 @@
-//! Engineering units: what commissioning engineers type (`rpm`, `%`, `V`, `A`, `s`, …),
-//! each with its dimension and its factor to that dimension's base unit. Pure arithmetic;
-//! it knows nothing of objects or raw counts.
+//! Engineering units: what commissioning engineers type (`rpm`, `%`, `V`, `A`, `s`, `°C`,
+//! `K`, `Hz`, `N·m`, `kW`, `mm/s`, `bar`, …), each with its dimension and its factor to that
+//! dimension's base unit. A temperature (`°C`) and a temperature difference (`K`) are
+//! different dimensions, so `80 °C` is never taken for 80 K of rise and a tolerance of
+//! `2 K` cannot be written where a temperature is wanted; [`Unit::difference`] names the
+//! unit a difference of a quantity is written in. Pure arithmetic; it knows nothing of
+//! objects or raw counts.
 
 use super::value_error::ValueError;
 use crate::diag::did_you_mean;
@@ -19,6 +23,22 @@ pub enum Dimension {
     Current,
     /// Base: s.
     Time,
+    /// A temperature on the Celsius scale. Base: °C.
+    Temperature,
+    /// A difference of temperatures (a rise, a tolerance, a ripple). Base: K.
+    TemperatureDifference,
+    /// How fast a temperature changes. Base: K/min.
+    TemperatureRate,
+    /// Base: Hz.
+    Frequency,
+    /// Base: N·m.
+    Torque,
+    /// Base: W.
+    Power,
+    /// A linear velocity, as vibration is given. Base: mm/s.
+    Velocity,
+    /// Base: bar.
+    Pressure,
 }
 
 impl Dimension {
@@ -30,6 +50,14 @@ impl Dimension {
             Dimension::Voltage => Unit::Volt,
             Dimension::Current => Unit::Ampere,
             Dimension::Time => Unit::Second,
+            Dimension::Temperature => Unit::DegreeCelsius,
+            Dimension::TemperatureDifference => Unit::Kelvin,
+            Dimension::TemperatureRate => Unit::KelvinPerMinute,
+            Dimension::Frequency => Unit::Hertz,
+            Dimension::Torque => Unit::NewtonMetre,
+            Dimension::Power => Unit::Watt,
+            Dimension::Velocity => Unit::MillimetrePerSecond,
+            Dimension::Pressure => Unit::Bar,
         }
     }
 
@@ -40,6 +68,14 @@ impl Dimension {
             Dimension::Voltage => "voltage",
             Dimension::Current => "current",
             Dimension::Time => "time",
+            Dimension::Temperature => "temperature",
+            Dimension::TemperatureDifference => "temperature_difference",
+            Dimension::TemperatureRate => "temperature_rate",
+            Dimension::Frequency => "frequency",
+            Dimension::Torque => "torque",
+            Dimension::Power => "power",
+            Dimension::Velocity => "velocity",
+            Dimension::Pressure => "pressure",
         }
     }
 }
@@ -57,10 +93,33 @@ pub enum Unit {
     Millisecond,
     Minute,
     Hour,
+    DegreeCelsius,
+    Kelvin,
+    KelvinPerSecond,
+    KelvinPerMinute,
+    KelvinPerHour,
+    Hertz,
+    Kilohertz,
+    NewtonMetre,
+    Watt,
+    Kilowatt,
+    MillimetrePerSecond,
+    Bar,
 }
 
+/// Other spellings people type for a unit, each standing for exactly one unit.
+const ALIASES: [(&str, Unit); 7] = [
+    ("degC", Unit::DegreeCelsius),
+    ("℃", Unit::DegreeCelsius),
+    ("Nm", Unit::NewtonMetre),
+    ("N m", Unit::NewtonMetre),
+    ("N*m", Unit::NewtonMetre),
+    ("N.m", Unit::NewtonMetre),
+    ("K/s", Unit::KelvinPerSecond),
+];
+
 impl Unit {
-    pub const ALL: [Unit; 11] = [
+    pub const ALL: [Unit; 23] = [
         Unit::Rpm,
         Unit::Krpm,
         Unit::Percent,
@@ -72,6 +131,18 @@ impl Unit {
         Unit::Millisecond,
         Unit::Minute,
         Unit::Hour,
+        Unit::DegreeCelsius,
+        Unit::Kelvin,
+        Unit::KelvinPerSecond,
+        Unit::KelvinPerMinute,
+        Unit::KelvinPerHour,
+        Unit::Hertz,
+        Unit::Kilohertz,
+        Unit::NewtonMetre,
+        Unit::Watt,
+        Unit::Kilowatt,
+        Unit::MillimetrePerSecond,
+        Unit::Bar,
     ];
 
     /// The symbol written in recipes and dictionaries.
@@ -88,6 +159,18 @@ impl Unit {
             Unit::Millisecond => "ms",
             Unit::Minute => "min",
             Unit::Hour => "h",
+            Unit::DegreeCelsius => "°C",
+            Unit::Kelvin => "K",
+            Unit::KelvinPerSecond => "K/s",
+            Unit::KelvinPerMinute => "K/min",
+            Unit::KelvinPerHour => "K/h",
+            Unit::Hertz => "Hz",
+            Unit::Kilohertz => "kHz",
+            Unit::NewtonMetre => "N·m",
+            Unit::Watt => "W",
+            Unit::Kilowatt => "kW",
+            Unit::MillimetrePerSecond => "mm/s",
+            Unit::Bar => "bar",
         }
     }
 
@@ -98,27 +181,87 @@ impl Unit {
             Unit::Volt | Unit::Millivolt => Dimension::Voltage,
             Unit::Ampere | Unit::Milliampere => Dimension::Current,
             Unit::Second | Unit::Millisecond | Unit::Minute | Unit::Hour => Dimension::Time,
+            Unit::DegreeCelsius => Dimension::Temperature,
+            Unit::Kelvin => Dimension::TemperatureDifference,
+            Unit::KelvinPerSecond | Unit::KelvinPerMinute | Unit::KelvinPerHour => Dimension::TemperatureRate,
+            Unit::Hertz | Unit::Kilohertz => Dimension::Frequency,
+            Unit::NewtonMetre => Dimension::Torque,
+            Unit::Watt | Unit::Kilowatt => Dimension::Power,
+            Unit::MillimetrePerSecond => Dimension::Velocity,
+            Unit::Bar => Dimension::Pressure,
         }
     }
 
-    /// How many base units (rpm, %, V, A, s) one of this unit is.
+    /// How many base units (rpm, %, V, A, s, °C, K, K/min, Hz, N·m, W, mm/s, bar) one of
+    /// this unit is.
     pub fn factor(self) -> f64 {
         match self {
-            Unit::Rpm | Unit::Percent | Unit::Volt | Unit::Ampere | Unit::Second => 1.0,
-            Unit::Krpm => 1000.0,
+            Unit::Rpm
+            | Unit::Percent
+            | Unit::Volt
+            | Unit::Ampere
+            | Unit::Second
+            | Unit::DegreeCelsius
+            | Unit::Kelvin
+            | Unit::KelvinPerMinute
+            | Unit::Hertz
+            | Unit::NewtonMetre
+            | Unit::Watt
+            | Unit::MillimetrePerSecond
+            | Unit::Bar => 1.0,
+            Unit::Krpm | Unit::Kilohertz | Unit::Kilowatt => 1000.0,
             Unit::Millivolt | Unit::Milliampere | Unit::Millisecond => 0.001,
-            Unit::Minute => 60.0,
+            Unit::Minute | Unit::KelvinPerSecond => 60.0,
             Unit::Hour => 3600.0,
+            Unit::KelvinPerHour => 1.0 / 60.0,
         }
     }
 
-    /// The unit with exactly this symbol (as dictionaries must write it).
-    pub fn from_symbol(symbol: &str) -> Option<Unit> {
-        Self::ALL.into_iter().find(|u| u.symbol() == symbol)
+    /// The unit a difference of two values in this unit is written in: K for °C (a rise
+    /// of 2 K, not of 2 °C), the unit itself for every other (a ripple of 20 rpm).
+    pub fn difference(self) -> Unit {
+        match self {
+            Unit::DegreeCelsius => Unit::Kelvin,
+            other => other,
+        }
     }
 
-    /// A unit as people type it: the exact symbol, or a spelling that differs only in case
-    /// when that is unambiguous (`RPM`, `v`, `MS`). The error lists close symbols.
+    /// The unit of how fast a value in this unit changes, where it has one of its own
+    /// (K/min for a temperature).
+    pub fn rate(self) -> Option<Unit> {
+        match self.difference() {
+            Unit::Kelvin => Some(Unit::KelvinPerMinute),
+            _ => None,
+        }
+    }
+
+    /// Why `self` cannot stand where `wanted` is needed, when the reason is not just "other
+    /// dimension": a temperature written for a difference, or the other way round.
+    pub fn mismatch_help(self, wanted: Unit) -> Option<String> {
+        match (self.dimension(), wanted.dimension()) {
+            (Dimension::TemperatureDifference, Dimension::Temperature) => Some(
+                "K is a temperature difference; a temperature is written in °C (20 °C, not 293.15 K)".into(),
+            ),
+            (Dimension::Temperature, Dimension::TemperatureDifference) => Some(
+                "this is a temperature difference (a rise, a tolerance, a ripple): write it in K (2 K, not 2 °C)"
+                    .into(),
+            ),
+            _ => None,
+        }
+    }
+
+    /// The unit with exactly this symbol (as dictionaries must write it), or one of its
+    /// [`ALIASES`].
+    pub fn from_symbol(symbol: &str) -> Option<Unit> {
+        Self::ALL
+            .into_iter()
+            .find(|u| u.symbol() == symbol)
+            .or_else(|| ALIASES.iter().find(|(a, _)| *a == symbol).map(|(_, u)| *u))
+    }
+
+    /// A unit as people type it: the exact symbol or an alias, or a spelling that differs
+    /// only in case when that is unambiguous (`RPM`, `v`, `MS`). The error lists close
+    /// symbols.
     pub fn parse(text: &str) -> Result<Unit, ValueError> {
         let t = text.trim();
         if let Some(u) = Self::from_symbol(t) {
@@ -217,5 +360,36 @@ mod tests {
             assert_eq!(u.dimension().base().factor(), 1.0, "{u}");
             assert_eq!(u.dimension().base().dimension(), u.dimension());
         }
+    }
+
+    #[test]
+    fn run_in_and_vfd_units_convert_within_their_dimension_only() {
+        assert_eq!(Unit::Kilohertz.convert(8.0, Unit::Hertz), Some(8000.0));
+        assert_eq!(Unit::Kilowatt.convert(2.2, Unit::Watt), Some(2200.0));
+        assert_eq!(
+            Unit::KelvinPerHour.convert(30.0, Unit::KelvinPerMinute),
+            Some(0.5)
+        );
+        assert_eq!(
+            Unit::KelvinPerSecond.convert(0.5, Unit::KelvinPerMinute),
+            Some(30.0)
+        );
+        assert_eq!(Unit::parse("degC").ok(), Some(Unit::DegreeCelsius));
+        assert_eq!(Unit::parse("Nm").ok(), Some(Unit::NewtonMetre));
+        assert_eq!(Unit::parse("KW").ok(), Some(Unit::Kilowatt));
+        assert_eq!(Unit::parse("MM/S").ok(), Some(Unit::MillimetrePerSecond));
+        // A temperature is not a temperature difference, either way round.
+        assert_eq!(Unit::Kelvin.convert(20.0, Unit::DegreeCelsius), None);
+        assert_eq!(Unit::DegreeCelsius.convert(20.0, Unit::Kelvin), None);
+        assert_eq!(Unit::DegreeCelsius.difference(), Unit::Kelvin);
+        assert_eq!(Unit::Rpm.difference(), Unit::Rpm);
+        assert_eq!(Unit::DegreeCelsius.rate(), Some(Unit::KelvinPerMinute));
+        assert_eq!(Unit::Rpm.rate(), None);
+        assert!(Unit::Kelvin
+            .mismatch_help(Unit::DegreeCelsius)
+            .is_some_and(|h| h.contains("°C")));
+        assert_eq!(Unit::Rpm.mismatch_help(Unit::Ampere), None);
+        assert_eq!(Unit::Hertz.convert(1.0, Unit::Rpm), None);
+        assert_eq!(Unit::Bar.convert(1.0, Unit::MillimetrePerSecond), None);
     }
 }

@@ -148,7 +148,8 @@ fn exec(s: &mut Session, step: &Step, number: &str, phase: &'static str) -> Resu
             every,
             duration,
             csv,
-        } => s.sample(objects, *every, *duration, csv.as_ref(), number),
+            steps,
+        } => s.sample(objects, *every, *duration, csv.as_ref(), steps, number),
         StepKind::Expect(checks) => s.expect(checks, &step.origin),
         StepKind::ExpectParameters { file, parameters } => {
             s.expect_parameters(file, parameters, &step.origin)

@@ -139,6 +139,32 @@ fn dimension_defs(defs: &mut serde_json::Map<String, Value>, unit: Option<Unit>)
     for stat in ["mean", "min", "max", "ripple", "std"] {
         check_props.insert(stat.into(), condition_ref.clone());
     }
+    // Their limits are in their own units (s, %, K for a difference of °C, K/min); `check`
+    // validates them.
+    for (stat, doc) in [
+        (
+            "rise_time",
+            "10 % → 90 % of the step the sample step declares: `{ below: 500 ms }`",
+        ),
+        (
+            "overshoot",
+            "the furthest excursion beyond the step's target in % of the step: `{ below: 10 % }`",
+        ),
+        (
+            "settling_time",
+            "from the window's start until the value stays within the step's band: `{ below: 2 s }`",
+        ),
+        (
+            "steady_state_error",
+            "the mean of the window's last tenth minus the step's target: `{ near: 0 rpm, within: 5 rpm }`",
+        ),
+        (
+            "slope",
+            "the least-squares slope over the window's last stretch: `{ below: 0.5 K/min, over: 10 min }`",
+        ),
+    ] {
+        check_props.insert(stat.into(), json!({ "type": "object", "description": doc }));
+    }
     let check = json!({
         "type": "object",
         "description": "a condition on the value now (equals, above, below, between, near + within), or on a statistic of the last sample window (mean, min, max, ripple, std)",
@@ -148,7 +174,9 @@ fn dimension_defs(defs: &mut serde_json::Map<String, Value>, unit: Option<Unit>)
             { "oneOf": one_predicate },
             { "minProperties": 1, "maxProperties": 1, "anyOf": [
                 { "required": ["mean"] }, { "required": ["min"] }, { "required": ["max"] },
-                { "required": ["ripple"] }, { "required": ["std"] } ] }
+                { "required": ["ripple"] }, { "required": ["std"] }, { "required": ["rise_time"] },
+                { "required": ["overshoot"] }, { "required": ["settling_time"] },
+                { "required": ["steady_state_error"] }, { "required": ["slope"] } ] }
         ]
     });
     defs.insert(key, value);
@@ -357,7 +385,8 @@ pub fn recipe_schema(dictionary: &Dictionary, address_keys: &AddressKeyTable) ->
                 "properties": {
                     "objects": { "type": "array", "items": { "type": "string", "enum": names } },
                     "every": { "$ref": "#/$defs/duration" }, "for": { "$ref": "#/$defs/duration" },
-                    "csv": { "type": "string", "description": "a CSV file of this step's samples, relative to --output-dir" }
+                    "csv": { "type": "string", "description": "a CSV file of this step's samples, relative to --output-dir" },
+                    "step": { "type": "object", "description": "per sampled object, the setpoint step its response is measured against: `{ speed_actual: { to: 6000 rpm, from: 0 rpm, band: 2 % } }` (for rise_time, overshoot, settling_time, steady_state_error)" }
                 },
                 "required": ["objects", "every", "for"], "additionalProperties": false
             }),

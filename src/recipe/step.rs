@@ -55,6 +55,8 @@ pub enum StepKind {
         every: Duration,
         duration: Duration,
         csv: Option<PathBuf>,
+        /// The setpoint step an object's response is measured against.
+        steps: Vec<(String, crate::session::StepSpec)>,
     },
     /// Named pass/fail checks.
     Expect(Vec<Check>),

@@ -354,7 +354,12 @@ fn register_waits(engine: &mut Engine, bridge: &Arc<Bridge>) {
             sample(&b, h, &ctx, names, every, time, Some(path))
         },
     );
-    for (id, statistic) in Statistic::ALL {
+    // The statistics a window's sums hold; the measures of a step and a slope are recipe
+    // checks on the session's own window.
+    for (id, statistic) in Statistic::ALL
+        .into_iter()
+        .filter(|(_, s)| !s.needs_step() && s.id() != "slope")
+    {
         engine.register_fn(id, move |w: &mut SampleWindow, name: &str| -> RhaiResult<f64> {
             w.statistic(name, statistic).map_err(error)
         });

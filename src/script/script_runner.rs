@@ -322,7 +322,7 @@ impl Host<'_> {
                 csv,
             } => {
                 self.capture.borrow_mut().start(&objects);
-                let result = s.sample(&objects, every, duration, csv.as_ref(), number);
+                let result = s.sample(&objects, every, duration, csv.as_ref(), &[], number);
                 let windows = self.capture.borrow_mut().finish();
                 *answer = Answer::Sampled(windows);
                 result

@@ -221,7 +221,11 @@ pub fn check_calls(
                     }
                 }
             }
-            (m, true) if m == "values" || m == "count" || Statistic::from_id(m).is_some() => {
+            (m, true)
+                if m == "values"
+                    || m == "count"
+                    || Statistic::from_id(m).is_some_and(|s| !s.needs_step() && s.id() != "slope") =>
+            {
                 if let Some((n, span)) = &name {
                     if let Err(r) = resolve::readable(dict, n) {
                         refuse(span, r);

@@ -149,15 +149,43 @@ pub enum Statistic {
     Ripple,
     /// Standard deviation.
     Std,
+    /// Of a declared step: seconds from 10 % to 90 % of it.
+    RiseTime,
+    /// Of a declared step: the furthest excursion beyond the target, in % of the step.
+    Overshoot,
+    /// Of a declared step: seconds from the window's start until it stays in the band.
+    SettlingTime,
+    /// Of a declared step: the mean of the window's last tenth minus the target.
+    SteadyStateError,
+    /// The least-squares slope over the window's last stretch of this length, per minute.
+    Slope(std::time::Duration),
+}
+
+/// What a statistic's limits are written in.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Measure {
+    /// The object's own unit (mean, min, max).
+    Value,
+    /// The unit a difference of the object's values is written in (K for °C).
+    Difference,
+    Seconds,
+    Percent,
+    /// The object's rate unit (K/min for °C).
+    Rate,
 }
 
 impl Statistic {
-    pub const ALL: [(&'static str, Statistic); 5] = [
+    pub const ALL: [(&'static str, Statistic); 10] = [
         ("mean", Statistic::Mean),
         ("min", Statistic::Min),
         ("max", Statistic::Max),
         ("ripple", Statistic::Ripple),
         ("std", Statistic::Std),
+        ("rise_time", Statistic::RiseTime),
+        ("overshoot", Statistic::Overshoot),
+        ("settling_time", Statistic::SettlingTime),
+        ("steady_state_error", Statistic::SteadyStateError),
+        ("slope", Statistic::Slope(std::time::Duration::ZERO)),
     ];
 
     pub fn id(self) -> &'static str {
@@ -167,7 +195,33 @@ impl Statistic {
             Statistic::Max => "max",
             Statistic::Ripple => "ripple",
             Statistic::Std => "std",
+            Statistic::RiseTime => "rise_time",
+            Statistic::Overshoot => "overshoot",
+            Statistic::SettlingTime => "settling_time",
+            Statistic::SteadyStateError => "steady_state_error",
+            Statistic::Slope(_) => "slope",
         }
+    }
+
+    pub fn measure(self) -> Measure {
+        match self {
+            Statistic::Mean | Statistic::Min | Statistic::Max => Measure::Value,
+            Statistic::Ripple | Statistic::Std | Statistic::SteadyStateError => Measure::Difference,
+            Statistic::RiseTime | Statistic::SettlingTime => Measure::Seconds,
+            Statistic::Overshoot => Measure::Percent,
+            Statistic::Slope(_) => Measure::Rate,
+        }
+    }
+
+    /// True for the measures of a step declared on the sample step.
+    pub fn needs_step(self) -> bool {
+        matches!(
+            self,
+            Statistic::RiseTime
+                | Statistic::Overshoot
+                | Statistic::SettlingTime
+                | Statistic::SteadyStateError
+        )
     }
 
     pub fn from_id(id: &str) -> Option<Statistic> {
@@ -236,6 +290,8 @@ impl Stats {
         }
     }
 
+    /// A statistic these sums hold (the measures of a step or a slope need a
+    /// [`SampleWindow`](super::SampleWindow); they read as NaN here).
     pub fn get(&self, s: Statistic) -> f64 {
         match s {
             Statistic::Mean => self.mean,
@@ -243,6 +299,7 @@ impl Stats {
             Statistic::Max => self.max,
             Statistic::Ripple => self.max - self.min,
             Statistic::Std => self.std(),
+            _ => f64::NAN,
         }
     }
 }

@@ -3,7 +3,7 @@
 
 use super::session::{value_of, Session};
 use super::stop::Stop;
-use super::{Check, CheckResult, Condition, StepOrigin};
+use super::{Check, CheckResult, Condition, Measured, StepOrigin};
 
 impl Session<'_> {
     /// Named checks, instant or on the last sample window; a failed check is recorded and
@@ -13,26 +13,26 @@ impl Session<'_> {
         for c in checks {
             let started = self.clock.now();
             let (passed, measured, text, message) = match c.statistic {
-                Some(stat) => {
-                    let window = self.windows.get(&c.object.name).copied().unwrap_or_default();
-                    if window.count == 0 {
-                        (
-                            false,
-                            None,
-                            None,
-                            format!("no samples of {} to check", c.object.name),
-                        )
-                    } else {
-                        let v = window.get(stat);
-                        let ok = c.predicate.holds(v);
-                        (
-                            ok,
-                            Some(v),
-                            None,
-                            format!("{} {} = {}", c.object.name, stat.id(), value_of(v, &c.object)),
-                        )
-                    }
-                }
+                Some(stat) => match self.windows.get(&c.object.name).map(|w| w.measure(stat)) {
+                    Some(Measured::Value(v)) => (
+                        c.predicate.holds(v),
+                        Some(v),
+                        None,
+                        format!("{} {} = {}", c.object.name, stat.id(), value_of(v, &c.object)),
+                    ),
+                    Some(Measured::Missing(why)) => (
+                        false,
+                        None,
+                        None,
+                        format!("no {} of {} to check: {why}", stat.id(), c.object.name),
+                    ),
+                    None => (
+                        false,
+                        None,
+                        None,
+                        format!("no samples of {} to check", c.object.name),
+                    ),
+                },
                 None => {
                     let cond = Condition::Value {
                         object: c.object.clone(),

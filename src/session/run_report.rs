@@ -134,6 +134,8 @@ pub struct Series {
     /// The count and statistics of every sample the step took, as its checks saw them;
     /// `None` when `points` are all the samples.
     pub samples: Option<Stats>,
+    /// Where the step response of a window with a declared step was measured.
+    pub marks: Option<super::ResponseMarks>,
 }
 
 #[derive(Debug, Clone, PartialEq)]

@@ -9,7 +9,7 @@ use super::step_path::StepPath;
 use super::stop::{outcome, panic_message, Stop};
 use super::{
     with_unit, CheckResult, Condition, ObjectRef, Predicate, RunInfo, RunObserver, RunReport,
-    SafeStopSettings, Stats, StepInfo, StepRecord, MAX_RECORDS,
+    SafeStopSettings, StepInfo, StepRecord, MAX_RECORDS,
 };
 use crate::clock::SharedClock;
 use crate::drive::device_control::DeviceState;
@@ -36,7 +36,7 @@ pub struct Session<'a> {
     pub(super) output_dir: PathBuf,
     /// The statistics of the last sample window per object, and the id of the step that
     /// sampled it.
-    pub(super) windows: HashMap<String, Stats>,
+    pub(super) windows: HashMap<String, super::SampleWindow>,
     pub(super) window_steps: HashMap<String, String>,
     /// CSV files written in this run: a sample step that runs again (in a repeat) appends
     /// to its file instead of overwriting what the earlier pass recorded.

@@ -12,6 +12,7 @@ mod read_print;
 mod repeat;
 mod sample;
 mod set;
+mod statistic;
 mod wait_until;
 
 use super::{did_you_mean, show_duration, Loader};

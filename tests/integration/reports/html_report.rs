@@ -350,6 +350,7 @@ fn degenerate_series_still_plot() {
         step: "9".into(),
         points: vec![(f64::NAN, 1.0)],
         samples: None,
+        marks: None,
     });
     let page = html_report(&r);
     let doc = parse(&page);

@@ -143,6 +143,7 @@ pub fn passed_report() -> RunReport {
             step: "3".into(),
             points,
             samples: None,
+            marks: None,
         }],
         final_state: Some(DeviceState::SwitchedOn),
         final_speed: Some(0.4),
