@@ -43,7 +43,9 @@ fn walk(steps: &[Step], prefix: &str, stage: &mut Vec<String>, out: &mut Vec<Pla
             StepKind::WaitUntil { condition, .. } => out.push(PlannedCheck {
                 name: format!("wait until {condition}"),
                 object: match condition {
-                    Condition::Value { object, .. } => Some(object.name.clone()),
+                    Condition::Value { object, .. } | Condition::Stable { object, .. } => {
+                        Some(object.name.clone())
+                    }
                     Condition::State(_) => None,
                 },
                 statistic: None,

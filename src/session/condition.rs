@@ -81,7 +81,13 @@ impl Predicate {
             Predicate::Below(v) => format!("below {}", u(*v)),
             Predicate::Between(a, b) => format!("between {} and {}", u(*a), u(*b)),
             Predicate::Near { target, tolerance } => match tolerance {
-                Tolerance::Absolute(t) => format!("near {} ± {}", u(*target), u(*t)),
+                Tolerance::Absolute(t) => {
+                    // A tolerance is a difference: ± 2 K around a temperature in °C.
+                    let difference = unit
+                        .and_then(crate::dictionary::Unit::from_symbol)
+                        .map(|u| u.difference().symbol());
+                    format!("near {} ± {}", u(*target), with_unit(*t, difference.or(unit)))
+                }
                 Tolerance::Percent(p) => format!("near {} ± {} %", u(*target), number(*p)),
             },
         }
@@ -120,7 +126,19 @@ pub fn with_unit(v: f64, unit: Option<&str>) -> String {
 #[derive(Debug, Clone, PartialEq)]
 pub enum Condition {
     State(DeviceState),
-    Value { object: ObjectRef, predicate: Predicate },
+    Value {
+        object: ObjectRef,
+        predicate: Predicate,
+    },
+    /// The slope of the object's value over the last `over` (per minute, in `rate_unit`)
+    /// satisfies `predicate`: stabilisation ("until the temperature rises less than
+    /// 0.5 K/min over 10 min").
+    Stable {
+        object: ObjectRef,
+        over: std::time::Duration,
+        predicate: Predicate,
+        rate_unit: String,
+    },
 }
 
 impl fmt::Display for Condition {
@@ -135,6 +153,18 @@ impl fmt::Display for Condition {
                     predicate.describe(object.unit.as_deref())
                 )
             }
+            Condition::Stable {
+                object,
+                over,
+                predicate,
+                rate_unit,
+            } => write!(
+                f,
+                "{} slope {} over {}",
+                object.name,
+                predicate.describe(Some(rate_unit)),
+                humantime::format_duration(*over)
+            ),
         }
     }
 }
@@ -338,6 +368,11 @@ mod tests {
         };
         assert!(a.holds(-5.0) && !a.holds(5.1));
         assert_eq!(a.describe(Some("rpm")), "near 0 rpm ± 5 rpm");
+        let t = Predicate::Near {
+            target: 60.0,
+            tolerance: Tolerance::Absolute(2.0),
+        };
+        assert_eq!(t.describe(Some("°C")), "near 60 °C ± 2 K");
     }
 
     #[test]

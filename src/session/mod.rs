@@ -31,6 +31,7 @@ mod step_path;
 mod step_response;
 mod stop;
 mod unit_identity;
+mod wait_stable;
 mod wait_until;
 
 pub use bucket_series::{BucketSeries, SERIES_BUCKETS};

@@ -452,6 +452,12 @@ impl<'a> Session<'a> {
                 let v = self.drive().read_number(name)?;
                 Ok((predicate.holds(v), value_of(v, object), Some(v)))
             }
+            // One reading has no slope; `wait_until_stable` keeps the history.
+            Condition::Stable { object, .. } => {
+                let name = self.select_object(&object.name)?;
+                let v = self.drive().read_number(name)?;
+                Ok((false, value_of(v, object), Some(v)))
+            }
         }
     }
 }

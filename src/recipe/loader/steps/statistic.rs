@@ -51,13 +51,20 @@ impl Loader<'_, '_> {
         if !matches!(stat, Statistic::Slope(_)) {
             return Some((stat, node.clone()));
         }
+        let (over, condition) = self.slope_over(&r.name, node)?;
+        Some((Statistic::Slope(over), condition))
+    }
+
+    /// A slope's `over` (the last stretch it is taken over) and its condition without it.
+    pub(in crate::recipe::loader) fn slope_over(
+        &mut self,
+        name: &str,
+        node: &YamlNode,
+    ) -> Option<(std::time::Duration, YamlNode)> {
         let Some(over) = node.get("over") else {
             return self.refuse(
                 &node.span,
-                format!(
-                    "a slope of {} needs `over`: the last stretch of the window it is taken over",
-                    r.name
-                ),
+                format!("a slope of {name} needs `over`: the last stretch of the window it is taken over"),
                 "over missing",
                 Some("e.g. `slope: { below: 0.5 K/min, over: 10 min }`".into()),
             );
@@ -76,7 +83,7 @@ impl Loader<'_, '_> {
             ),
             span: node.span.clone(),
         };
-        Some((Statistic::Slope(over), condition))
+        Some((over, condition))
     }
 
     /// `def` as the statistic's limits read it: its own unit, its difference unit, seconds,
