@@ -53,6 +53,14 @@ fn walk(steps: &[Step], prefix: &str, stage: &mut Vec<String>, out: &mut Vec<Pla
                 step: number.clone(),
                 origin: step.origin.clone(),
             }),
+            StepKind::CoastDown(c) => out.push(PlannedCheck {
+                name: c.check_name(),
+                object: None,
+                statistic: Some("coast_down".into()),
+                stage: stage.join(" / "),
+                step: number.clone(),
+                origin: step.origin.clone(),
+            }),
             StepKind::Repeat {
                 times, steps: nested, ..
             } => {

@@ -151,6 +151,7 @@ fn exec(s: &mut Session, step: &Step, number: &str, phase: &'static str) -> Resu
             steps,
         } => s.sample(objects, *every, *duration, csv.as_ref(), steps, number),
         StepKind::Expect(checks) => s.expect(checks, &step.origin),
+        StepKind::CoastDown(c) => s.coast_down(c, &step.origin, number),
         StepKind::ExpectParameters { file, parameters } => {
             s.expect_parameters(file, parameters, &step.origin)
         }

@@ -104,7 +104,8 @@ fn dimension_defs(defs: &mut serde_json::Map<String, Value>, unit: Option<Unit>)
     };
     let value_ref = json!({ "$ref": format!("#/$defs/{key}") });
     let within_units = match unit {
-        Some(u) => format!("%|{}", units_of(u.dimension())),
+        // A tolerance is a difference: K around a temperature in °C.
+        Some(u) => format!("%|{}", units_of(u.difference().dimension())),
         None => "%".to_string(),
     };
     let mut within = written_as(
@@ -127,12 +128,21 @@ fn dimension_defs(defs: &mut serde_json::Map<String, Value>, unit: Option<Unit>)
         { "required": ["between"], "not": { "anyOf": [ { "required": ["equals"] }, { "required": ["above"] }, { "required": ["below"] }, { "required": ["near"] }, { "required": ["within"] } ] } },
         { "required": ["near", "within"], "not": { "anyOf": [ { "required": ["equals"] }, { "required": ["above"] }, { "required": ["below"] }, { "required": ["between"] } ] } }
     ]);
+    // `slope` (a wait until the value is stable) has its limits in the object's rate unit;
+    // `check` validates them.
+    let mut condition_props = predicates.as_object().cloned().unwrap_or_default();
+    condition_props.insert(
+        "slope".into(),
+        json!({ "type": "object", "description": "wait until stable: `{ below: 0.5 K/min, over: 10 min }`" }),
+    );
+    let mut condition_shapes = one_predicate.as_array().cloned().unwrap_or_default();
+    condition_shapes.push(json!({ "required": ["slope"], "maxProperties": 1 }));
     let condition = json!({
         "type": "object",
-        "description": "exactly one of: equals, above, below, between [low, high], near with within",
-        "properties": predicates,
+        "description": "exactly one of: equals, above, below, between [low, high], near with within; or slope (wait_until)",
+        "properties": condition_props,
         "additionalProperties": false,
-        "oneOf": one_predicate
+        "oneOf": condition_shapes
     });
     let condition_ref = json!({ "$ref": format!("#/$defs/condition_{suffix}") });
     let mut check_props = predicates.as_object().cloned().unwrap_or_default();
@@ -428,6 +438,19 @@ pub fn recipe_schema(dictionary: &Dictionary, address_keys: &AddressKeyTable) ->
             { "type": "object", "properties": { "file": { "type": "string" }, "params": { "type": "object" } }, "required": ["file"], "additionalProperties": false }
         ] }),
             "Run the steps of another recipe file, relative to this one: `include: stage.yaml`, or `{ file: stage.yaml, params: { speed: 6000 rpm } }` with parameters of its own",
+        ),
+        keyed(
+            "coast_down",
+            json!({
+                "type": "object",
+                "properties": {
+                    "from": { "$ref": "#/$defs/value_any" }, "below": { "$ref": "#/$defs/value_any" },
+                    "expect": { "type": "object", "description": "a condition on the time in seconds: `{ near: 20 s, within: 1 s }`" },
+                    "timeout": { "$ref": "#/$defs/duration" }, "every": { "$ref": "#/$defs/duration" }
+                },
+                "required": ["from", "below", "expect"], "additionalProperties": false
+            }),
+            "Switch the power stage off and let the spindle coast by design: the time from `from` down past `below` (actual speed, interpolated) is checked by `expect`; polls `every` (100 ms) for at most `timeout` (10 min)",
         ),
         keyed(
             "expect_parameters",

@@ -79,6 +79,9 @@ pub enum StepKind {
     },
     /// Steps of another recipe file, with its parameters already applied.
     Include { path: String, steps: Vec<Step> },
+    /// Power stage off at speed, the spindle coasting by design; the time from one speed
+    /// down past another is checked.
+    CoastDown(crate::session::CoastDown),
 }
 
 impl Step {
@@ -97,6 +100,7 @@ impl Step {
             StepKind::GoTo { timeout, .. } => timeout.saturating_mul(DeviceState::ALL.len() as u32),
             StepKind::WaitUntil { timeout, every, .. } => timeout.saturating_add(*every),
             StepKind::Dwell(d) => *d,
+            StepKind::CoastDown(c) => c.timeout.saturating_add(c.every),
             StepKind::Sample { every, duration, .. } => duration.saturating_add(*every),
             StepKind::Ramp { points, every, .. } => {
                 every.saturating_mul(u32::try_from(points.len()).unwrap_or(u32::MAX))
@@ -140,6 +144,7 @@ impl Step {
                 | StepKind::Sample { .. }
                 | StepKind::Repeat { .. }
                 | StepKind::Ramp { .. }
+                | StepKind::CoastDown(_)
         )
     }
 }

@@ -6,6 +6,7 @@
 
 mod brake;
 mod bucket_series;
+mod coast_down;
 mod condition;
 mod expect;
 mod expect_parameters;
@@ -35,6 +36,7 @@ mod wait_stable;
 mod wait_until;
 
 pub use bucket_series::{BucketSeries, SERIES_BUCKETS};
+pub use coast_down::CoastDown;
 pub use condition::{
     number, with_unit, write_number, Check, Condition, Measure, Predicate, Statistic, Stats, Tolerance,
 };

@@ -217,6 +217,7 @@ impl Session<'_> {
     /// drive verified as a single drive is, and one line per drive for the end.
     fn safe_stop_all(&mut self, finally: Option<&mut dyn FnMut(&mut Session)>, link_lost: bool, keep: bool) {
         let order = self.stop_order();
+        self.note_coasting_by_design(&order);
         let mut reachable = vec![true; self.drives.len()];
         // Every drive is reached again first: the recipe's `finally` names its drives in
         // any order, and the brake below takes them all together.
@@ -295,6 +296,7 @@ impl Session<'_> {
             );
             return;
         }
+        self.note_coasting_by_design(&[self.current]);
         let device_control = self.has_device_control();
         match finally {
             _ if keep => {}

@@ -3,6 +3,7 @@
 //! steps name. Counts steps against the expansion limits. It must not read any step kind's
 //! settings itself.
 
+mod coast_down;
 mod expect;
 mod expect_parameters;
 mod go_to;
@@ -37,6 +38,7 @@ pub(in crate::recipe) const STEP_KEYS: &[&str] = &[
     "repeat",
     "include",
     "expect_parameters",
+    "coast_down",
 ];
 
 impl Loader<'_, '_> {
@@ -150,6 +152,7 @@ impl Loader<'_, '_> {
             "sample" => self.sample(body)?,
             "expect" => self.expect(body, name.as_deref())?,
             "expect_parameters" => self.expect_parameters(body)?,
+            "coast_down" => self.coast_down(body)?,
             "ramp" => self.ramp(body)?,
             "repeat" => self.repeat(body)?,
             "include" => self.include(body)?,
