@@ -19,6 +19,7 @@ pub fn paint(line: &str) -> String {
     for (word, color) in [
         ("  ok    ", GREEN),
         ("  PASS  ", GREEN),
+        ("  MARGINAL  ", YELLOW),
         ("  FAIL  ", RED),
         ("CHECK THE DRIVE BY HAND", RED),
         ("STILL COASTING", RED),

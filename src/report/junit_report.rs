@@ -299,6 +299,9 @@ fn check_details(c: &CheckResult) -> String {
     if let Some(l) = limits_text(c) {
         let _ = writeln!(s, "limits: {l}");
     }
+    if c.marginal {
+        let _ = writeln!(s, "MARGINAL: passed outside the warning band");
+    }
     let _ = writeln!(s, "result: {}", c.message);
     let _ = writeln!(s, "check: {} at {}", c.name, c.origin);
     if !c.step.is_empty() {

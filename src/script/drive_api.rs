@@ -472,6 +472,7 @@ fn register_checks(engine: &mut Engine, bridge: &Arc<Bridge>) {
             },
             at: Duration::ZERO,
             duration: Duration::ZERO,
+            marginal: false,
         }
     };
     let b = bridge.clone();

@@ -138,6 +138,7 @@ impl Session<'_> {
             window: Some(self.path.id()),
             at: self.clock.now(),
             duration: self.clock.now().saturating_sub(started),
+            marginal: false,
         });
         if passed {
             Ok(format!("power stage off, coasting by design: {message}"))

@@ -268,6 +268,8 @@ pub struct Check {
     /// `None`: the value read now. `Some`: a statistic of the last sample window.
     pub statistic: Option<Statistic>,
     pub predicate: Predicate,
+    /// A narrower band inside the limits: a pass outside it is marginal.
+    pub warn: Option<Predicate>,
 }
 
 /// Statistics of a sample window, kept as the samples arrive (Welford's running mean and

@@ -43,6 +43,14 @@ impl Session<'_> {
                 }
             };
             let (low, high) = c.predicate.limits();
+            let marginal = passed && c.warn.as_ref().zip(measured).is_some_and(|(w, v)| !w.holds(v));
+            let message = match (&c.warn, marginal) {
+                (Some(w), true) => format!(
+                    "{message}, MARGINAL: outside the warning band {}",
+                    w.describe(c.object.unit.as_deref())
+                ),
+                _ => message,
+            };
             let result = CheckResult {
                 name: c.name.clone(),
                 passed,
@@ -69,6 +77,7 @@ impl Session<'_> {
                     .and_then(|_| self.window_steps.get(&c.object.name).cloned()),
                 at: self.clock.now(),
                 duration: self.clock.now().saturating_sub(started),
+                marginal,
             };
             if !passed {
                 self.failed_checks = true;

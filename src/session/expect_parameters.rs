@@ -56,6 +56,7 @@ impl Session<'_> {
                 origin: origin.clone(),
                 at: self.clock.now(),
                 duration: self.clock.now().saturating_sub(started),
+                marginal: false,
             };
             self.record_check_result(result);
         }

@@ -104,6 +104,9 @@ pub struct CheckResult {
     pub stage: String,
     pub at: Duration,
     pub duration: Duration,
+    /// Passed, but outside the check's narrower warning band (`warn:`): a unit that drifts
+    /// toward a limit. Amber in HTML, `MARGINAL` in the console and JUnit.
+    pub marginal: bool,
 }
 
 /// A check a recipe holds, known before the run: reports show the ones no result answers

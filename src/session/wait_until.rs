@@ -123,6 +123,7 @@ impl Session<'_> {
                     origin: origin.clone(),
                     at: self.clock.now(),
                     duration: waited,
+                    marginal: false,
                 };
                 self.record_check_result(result);
                 return match message {
@@ -184,6 +185,7 @@ impl Session<'_> {
             window: None,
             at: self.clock.now(),
             duration: self.clock.now().saturating_sub(started),
+            marginal: false,
         };
         self.record_check_result(result);
     }

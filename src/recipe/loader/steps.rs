@@ -15,6 +15,7 @@ mod sample;
 mod set;
 mod statistic;
 mod wait_until;
+mod warn_band;
 
 use super::{did_you_mean, show_duration, Loader};
 use crate::diag::{Span, Spanned, YamlNode, YamlValue};

@@ -110,7 +110,14 @@ fn header(h: &mut String, r: &RunReport) {
         ),
         (
             "Checks",
-            format!("{} passed, {} failed", r.checks_passed(), r.checks_failed()),
+            match r.checks.iter().filter(|c| c.marginal).count() {
+                0 => format!("{} passed, {} failed", r.checks_passed(), r.checks_failed()),
+                n => format!(
+                    "{} passed ({n} marginal), {} failed",
+                    r.checks_passed(),
+                    r.checks_failed()
+                ),
+            },
         ),
         ("After the safe stop", r.drive_left()),
     ];
@@ -208,10 +215,10 @@ fn checks(h: &mut String, r: &RunReport) {
         }
         let titles: Vec<(String, String)> = group.iter().map(|c| (check_title(c), c.step.clone())).collect();
         for (c, title) in group.iter().zip(case_names(&titles)) {
-            let (row, mark) = if c.passed {
-                ("pass", "<span class=\"ok\">PASS</span>")
-            } else {
-                ("fail", "<span class=\"fail\">FAIL</span>")
+            let (row, mark) = match (c.passed, c.marginal) {
+                (true, false) => ("pass", "<span class=\"ok\">PASS</span>"),
+                (true, true) => ("marginal", "<span class=\"warn\">MARGINAL</span>"),
+                (false, _) => ("fail", "<span class=\"fail\">FAIL</span>"),
             };
             let _ = writeln!(
                 h,

@@ -508,3 +508,23 @@ fn checks_after_a_repeat_are_not_under_its_last_pass() {
         .collect();
     assert_eq!(last_two, ["pass", "group"]);
 }
+
+/// A marginal pass is its own row class (amber on screen) and mark, and the summary
+/// counts it.
+#[test]
+fn a_marginal_pass_is_amber_and_counted() {
+    let mut r = passed_report();
+    r.checks[0].marginal = true;
+    let page = html_report(&r);
+    let doc = parse(&page);
+    let marginal = select(&doc, "tr.marginal");
+    assert_eq!(marginal.len(), 1, "{page}");
+    assert!(text(&marginal[0]).contains("MARGINAL"));
+    assert!(page.contains("(1 marginal)"));
+    assert!(
+        page.contains("tr.marginal td { background: #fff4d6; }"),
+        "amber on screen"
+    );
+    r.checks[0].marginal = false;
+    assert!(select(&parse(&html_report(&r)), "tr.marginal").is_empty());
+}

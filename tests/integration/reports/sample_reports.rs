@@ -56,6 +56,7 @@ pub fn check(name: &str, passed: bool, message: &str) -> CheckResult {
         window: None,
         at: Duration::from_secs(1),
         duration: Duration::from_millis(200),
+        marginal: false,
     }
 }
 

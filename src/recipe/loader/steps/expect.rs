@@ -55,7 +55,19 @@ impl Loader<'_, '_> {
                 },
                 None => r,
             };
-            match self.predicate(&measured, &pred_node) {
+            let (pred_node, warn_node) = Self::split_warn(&pred_node);
+            let predicate = self.predicate(&measured, &pred_node);
+            let warn = match (&predicate, &warn_node) {
+                (Some(p), Some(w)) => match self.warn_band(&measured, &pred_node, p, w) {
+                    Some(band) => Some(band),
+                    None => {
+                        ok = false;
+                        continue;
+                    }
+                },
+                _ => None,
+            };
+            match predicate {
                 Some(p) => {
                     let stat_text = stat.map(|s| format!("{} ", s.id())).unwrap_or_default();
                     let default_name = format!("{} {stat_text}{}", r.name, p.describe(r.unit.as_deref()));
@@ -69,6 +81,7 @@ impl Loader<'_, '_> {
                         object: r,
                         statistic: stat,
                         predicate: p,
+                        warn,
                     });
                 }
                 None => ok = false,
