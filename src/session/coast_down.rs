@@ -20,6 +20,8 @@ pub struct CoastDown {
     pub below: f64,
     /// The check on the time in seconds.
     pub predicate: Predicate,
+    /// Its warning band: a time that passes outside it is marginal.
+    pub warn: Option<Predicate>,
     pub timeout: Duration,
     pub every: Duration,
     /// The actual speed's unit (for the check's name, known before the run).
@@ -120,6 +122,14 @@ impl Session<'_> {
             }
             Err(why) => (false, None, why),
         };
+        let marginal = passed && c.warn.as_ref().zip(measured).is_some_and(|(w, v)| !w.holds(v));
+        let message = match (&c.warn, marginal) {
+            (Some(w), true) => format!(
+                "{message}, MARGINAL: outside the warning band {}",
+                w.describe(Some("s"))
+            ),
+            _ => message,
+        };
         let (low, high) = c.predicate.limits();
         self.record_check_result(CheckResult {
             name,
@@ -138,7 +148,7 @@ impl Session<'_> {
             window: Some(self.path.id()),
             at: self.clock.now(),
             duration: self.clock.now().saturating_sub(started),
-            marginal: false,
+            marginal,
         });
         if passed {
             Ok(format!("power stage off, coasting by design: {message}"))

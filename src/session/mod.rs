@@ -45,8 +45,8 @@ pub use one_off_stop::{stop_drive, OneOffStopError};
 pub use run_info::{RunInfo, StepInfo};
 pub use run_observer::{Observers, RunObserver};
 pub use run_report::{
-    CheckResult, DriveEnd, PlannedCheck, RunReport, Series, StepRecord, Verdict, ERROR_EXIT, MAX_RECORDS,
-    PANIC_EXIT,
+    CheckResult, DriveEnd, PlannedCheck, RunReport, Series, StepRecord, Track, Verdict, ERROR_EXIT,
+    MAX_RECORDS, PANIC_EXIT,
 };
 pub use safe_stop_settings::SafeStopSettings;
 pub use sample_table::{SampleTable, LONG_HEADER, LONG_HEADER_DRIVES};

@@ -141,6 +141,15 @@ pub struct Series {
     pub marks: Option<super::ResponseMarks>,
 }
 
+/// A bounded series of one object over the whole run: the speed setpoints written, for the
+/// timeline.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Track {
+    pub object: String,
+    pub unit: Option<String>,
+    pub points: Vec<(f64, f64)>,
+}
+
 #[derive(Debug, Clone, PartialEq)]
 pub struct RunReport {
     pub recipe: String,
@@ -155,6 +164,8 @@ pub struct RunReport {
     pub steps: Vec<StepRecord>,
     pub checks: Vec<CheckResult>,
     pub series: Vec<Series>,
+    /// The speed setpoints the run wrote, over the whole run.
+    pub setpoints: Option<Track>,
     /// The state the drive was left in, when it could be read.
     pub final_state: Option<DeviceState>,
     /// The actual speed read back after the safe stop, in `speed_unit`.
@@ -226,6 +237,7 @@ impl RunReport {
             steps: Vec::new(),
             checks: Vec::new(),
             series: Vec::new(),
+            setpoints: None,
             final_state: None,
             final_speed: None,
             speed_unit: None,

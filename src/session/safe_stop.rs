@@ -82,6 +82,13 @@ impl Session<'_> {
         };
         self.run_safe_stop(finally, link_lost, leave_enabled);
         self.report.duration = self.clock.now().saturating_sub(self.run_start);
+        if let Some((object, series)) = &self.setpoints {
+            self.report.setpoints = Some(super::Track {
+                object: object.name.clone(),
+                unit: object.unit.clone(),
+                points: series.points(),
+            });
+        }
         let mut csv_files: Vec<String> = self.csv_files.iter().map(|p| p.display().to_string()).collect();
         csv_files.sort();
         self.report.csv_files = csv_files;

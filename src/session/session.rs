@@ -53,6 +53,8 @@ pub struct Session<'a> {
     /// `csv:` files of sample steps with one column per object instead of the long layout.
     pub(super) csv_wide: bool,
     pub(super) run: RunInfo,
+    /// The speed setpoints written, for the report's whole-run timeline (bounded buckets).
+    pub(super) setpoints: Option<(super::ObjectRef, super::BucketSeries)>,
 }
 
 impl<'a> Session<'a> {
@@ -116,6 +118,7 @@ impl<'a> Session<'a> {
             path: StepPath::default(),
             csv_wide: false,
             run,
+            setpoints: None,
         }
     }
 

@@ -33,6 +33,7 @@ pub fn html_report(report: &RunReport) -> String {
     failed_summary(&mut h, r);
     checks(&mut h, r);
     plots(&mut h, r);
+    super::timeline::timeline(&mut h, r);
     steps(&mut h, r);
     safe_stop(&mut h, r);
     let _ = write!(
@@ -66,7 +67,13 @@ fn header(h: &mut String, r: &RunReport) {
         r.verdict.word()
     );
     let why = match &r.verdict {
-        Verdict::Passed => format!("All {} check(s) passed.", r.checks.len()),
+        Verdict::Passed => match r.checks.iter().filter(|c| c.marginal).count() {
+            0 => format!("All {} check(s) passed.", r.checks.len()),
+            n => format!(
+                "All {} check(s) passed; {n} marginal (outside a warning band).",
+                r.checks.len()
+            ),
+        },
         Verdict::Failed => format!("{} of {} check(s) failed.", r.checks_failed(), r.checks.len()),
         Verdict::Error(m) => format!("Communication failure or drive fault: {m}"),
         Verdict::Interrupted(s) => format!(

@@ -38,7 +38,18 @@ impl Loader<'_, '_> {
             .get("below")
             .and_then(|n| self.number_for(&speed, n, "`below`", false));
         let seconds = in_unit(&speed, Some(Unit::Second));
-        let predicate = f.get("expect").and_then(|n| self.predicate(&seconds, n));
+        let (predicate, warn) = match f.get("expect") {
+            Some(n) => {
+                let (condition, warn_node) = Self::split_warn(n);
+                let predicate = self.predicate(&seconds, &condition);
+                let warn = match (&predicate, &warn_node) {
+                    (Some(p), Some(w)) => self.warn_band(&seconds, &condition, p, w).map(Some),
+                    _ => Some(None),
+                };
+                (predicate, warn)
+            }
+            None => (None, None),
+        };
         let timeout = match f.get("timeout") {
             Some(n) => self.duration(n, "timeout"),
             None => Some(DEFAULT_TIMEOUT),
@@ -47,7 +58,8 @@ impl Loader<'_, '_> {
             Some(n) => self.duration(n, "every"),
             None => Some(DEFAULT_EVERY),
         };
-        let (from, below, predicate, timeout, every) = (from?, below?, predicate?, timeout?, every?);
+        let (from, below, predicate, warn, timeout, every) =
+            (from?, below?, predicate?, warn?, timeout?, every?);
         if below.abs() >= from.abs() {
             return self.refuse(
                 f.span_of("below"),
@@ -60,6 +72,7 @@ impl Loader<'_, '_> {
             from: from.abs(),
             below: below.abs(),
             predicate,
+            warn,
             timeout,
             every,
             unit: speed.unit.map(|u| u.symbol().to_string()),
