@@ -43,20 +43,23 @@ impl Session<'_> {
             stats.push(v);
             let waited = now.saturating_sub(started);
             let per_minute = slope.slope_over(over.as_secs_f64()).map(|s| s.per_second * 60.0);
-            let seen = match per_minute {
-                Some(m) => format!(
+            let holds = per_minute.is_some_and(|m| predicate.holds(m));
+            let ends = holds || waited >= timeout;
+            // Text only where someone reads it: a day of 10 ms polls builds none.
+            let seen = match (ends || self.observer.wants_progress(), per_minute) {
+                (false, _) => String::new(),
+                (true, Some(m)) => format!(
                     "{}, slope {}",
                     value_of(v, object),
                     super::with_unit((m * 1000.0).round() / 1000.0, Some(rate_unit))
                 ),
-                None => format!(
+                (true, None) => format!(
                     "{} (less than {} seen)",
                     value_of(v, object),
                     show_duration(*over)
                 ),
             };
-            let holds = per_minute.is_some_and(|m| predicate.holds(m));
-            if holds || waited >= timeout {
+            if ends {
                 self.report.series.push(Series {
                     object: object.name.clone(),
                     unit: object.unit.clone(),
@@ -90,7 +93,9 @@ impl Session<'_> {
             if self.interrupted() {
                 return Err(Stop::Interrupted);
             }
-            self.observer.step_progress(number, waited, Some(timeout), &seen);
+            if self.observer.wants_progress() {
+                self.observer.step_progress(number, waited, Some(timeout), &seen);
+            }
             self.wait(now.saturating_add(every).min(give_up))?;
         }
     }
