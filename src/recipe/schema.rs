@@ -118,7 +118,8 @@ fn dimension_defs(defs: &mut serde_json::Map<String, Value>, unit: Option<Unit>)
         "equals": value_ref, "above": value_ref, "below": value_ref,
         "between": { "type": "array", "items": value_ref, "minItems": 2, "maxItems": 2,
                      "description": "[low, high], both included" },
-        "near": value_ref, "within": within
+        "near": value_ref, "within": within,
+        "warn": { "description": "a narrower band in the shape of the condition's own (a tolerance for near, a value for above/below, [low, high] for between): a pass outside it is marginal" }
     });
     // Exactly one predicate; `near` only with `within` and `within` only with `near`.
     let one_predicate = json!([

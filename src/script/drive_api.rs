@@ -25,7 +25,10 @@ pub struct DriveHandle {
 
 /// The dictionary objects of `h` are looked up in, and the prefix its objects carry
 /// (`left.`; empty for the one drive).
-fn dictionary_of(b: &Bridge, h: &DriveHandle) -> RhaiResult<(Arc<crate::dictionary::Dictionary>, String)> {
+pub(super) fn dictionary_of(
+    b: &Bridge,
+    h: &DriveHandle,
+) -> RhaiResult<(Arc<crate::dictionary::Dictionary>, String)> {
     match (&h.name, b.drives.is_empty()) {
         (None, true) => Ok((b.dictionary.clone(), String::new())),
         (None, false) => Err(error(format!(
@@ -62,11 +65,11 @@ fn on_drive(
 const GO_TO_TIMEOUT: Duration = Duration::from_secs(5);
 const POLL: Duration = Duration::from_millis(100);
 
-fn refused(r: Refusal) -> Box<EvalAltResult> {
+pub(super) fn refused(r: Refusal) -> Box<EvalAltResult> {
     Box::new(EvalAltResult::ErrorRuntime(r.sentence().into(), Position::NONE))
 }
 
-fn error(text: impl Into<String>) -> Box<EvalAltResult> {
+pub(super) fn error(text: impl Into<String>) -> Box<EvalAltResult> {
     Box::new(EvalAltResult::ErrorRuntime(text.into().into(), Position::NONE))
 }
 
@@ -79,11 +82,11 @@ fn number_arg(v: &Dynamic, what: &str) -> RhaiResult<f64> {
     as_number(v).ok_or_else(|| error(format!("{what} must be a number, not {}", v.type_name())))
 }
 
-fn duration(text: &str) -> RhaiResult<Duration> {
+pub(super) fn duration(text: &str) -> RhaiResult<Duration> {
     resolve::duration(text).map_err(refused)
 }
 
-fn done(answer: Answer) -> RhaiResult<()> {
+pub(super) fn done(answer: Answer) -> RhaiResult<()> {
     match answer {
         Answer::Done => Ok(()),
         _ => Err(error("the session gave an unexpected answer")),
@@ -105,6 +108,7 @@ pub fn register(engine: &mut Engine, bridge: &Arc<Bridge>) {
     engine.register_type_with_name::<DriveHandle>("Drive");
     engine.register_type_with_name::<SampleWindow>("SampleWindow");
     engine.register_fn("drive", DriveHandle::default);
+    super::dynamics_api::register_dynamics(engine, bridge);
     let b = bridge.clone();
     engine.register_fn("drive", move |name: &str| -> RhaiResult<DriveHandle> {
         if b.drives.iter().any(|(n, _)| n == name) {

@@ -311,6 +311,12 @@ impl Host<'_> {
                     number,
                 )
             }
+            Call::WaitStable {
+                condition,
+                timeout,
+                every,
+            } => s.wait_until(&condition, timeout, every, origin, number),
+            Call::CoastDown(c) => s.coast_down(&c, origin, number),
             Call::Dwell(d) => {
                 s.dwell(d, number)?;
                 Ok(format!("{} dwelt", crate::session::show_duration(d)))
