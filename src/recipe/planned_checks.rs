@@ -70,6 +70,12 @@ fn walk(steps: &[Step], prefix: &str, stage: &mut Vec<String>, out: &mut Vec<Pla
                     stage.pop();
                 }
             }
+            // The first attempt always runs; later ones are named as they run.
+            StepKind::Attempts { steps: nested, .. } => {
+                stage.push(format!("{} #1", step.label));
+                walk(nested, &number, stage, out);
+                stage.pop();
+            }
             StepKind::Include { steps: nested, .. } => {
                 stage.push(step.label.clone());
                 walk(nested, &number, stage, out);
@@ -86,7 +92,9 @@ pub fn shortest_sample_interval(recipe: &Recipe) -> Option<std::time::Duration> 
         for step in steps {
             match &step.kind {
                 StepKind::Sample { every, .. } => *out = Some(out.map_or(*every, |o| o.min(*every))),
-                StepKind::Repeat { steps, .. } | StepKind::Include { steps, .. } => walk(steps, out),
+                StepKind::Repeat { steps, .. }
+                | StepKind::Include { steps, .. }
+                | StepKind::Attempts { steps, .. } => walk(steps, out),
                 _ => {}
             }
         }
@@ -109,7 +117,9 @@ pub fn sampled_objects(recipe: &Recipe) -> Vec<ObjectRef> {
                         }
                     }
                 }
-                StepKind::Repeat { steps, .. } | StepKind::Include { steps, .. } => walk(steps, out),
+                StepKind::Repeat { steps, .. }
+                | StepKind::Include { steps, .. }
+                | StepKind::Attempts { steps, .. } => walk(steps, out),
                 _ => {}
             }
         }

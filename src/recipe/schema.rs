@@ -441,6 +441,15 @@ pub fn recipe_schema(dictionary: &Dictionary, address_keys: &AddressKeyTable) ->
             "Run the steps of another recipe file, relative to this one: `include: stage.yaml`, or `{ file: stage.yaml, params: { speed: 6000 rpm } }` with parameters of its own",
         ),
         keyed(
+            "attempts",
+            json!({
+                "type": "object",
+                "properties": { "times": { "type": "integer", "minimum": 1, "maximum": 100 }, "steps": steps_ref },
+                "required": ["times", "steps"], "additionalProperties": false
+            }),
+            "Try nested `steps` up to `times` times until their checks pass (after re-homing, say); every attempt stays in the reports, the verdict is the last one's",
+        ),
+        keyed(
             "coast_down",
             json!({
                 "type": "object",

@@ -79,6 +79,9 @@ pub enum StepKind {
     },
     /// Steps of another recipe file, with its parameters already applied.
     Include { path: String, steps: Vec<Step> },
+    /// Nested steps tried up to `times` times until their checks pass; every attempt is
+    /// kept in the reports, the verdict is the last one's.
+    Attempts { times: u32, steps: Vec<Step> },
     /// Power stage off at speed, the spindle coasting by design; the time from one speed
     /// down past another is checked.
     CoastDown(crate::session::CoastDown),
@@ -119,6 +122,7 @@ impl Step {
                 }
             }
             StepKind::Include { steps, .. } => longest_time_of(steps),
+            StepKind::Attempts { times, steps } => longest_time_of(steps).saturating_mul(*times),
         }
     }
 
@@ -128,9 +132,9 @@ impl Step {
         match &self.kind {
             StepKind::Print(_) => false,
             StepKind::Expect(checks) => checks.iter().any(|c| c.statistic.is_none()),
-            StepKind::Repeat { steps, .. } | StepKind::Include { steps, .. } => {
-                steps.iter().any(Step::takes_time)
-            }
+            StepKind::Repeat { steps, .. }
+            | StepKind::Include { steps, .. }
+            | StepKind::Attempts { steps, .. } => steps.iter().any(Step::takes_time),
             _ => true,
         }
     }
@@ -143,6 +147,7 @@ impl Step {
                 | StepKind::Dwell(_)
                 | StepKind::Sample { .. }
                 | StepKind::Repeat { .. }
+                | StepKind::Attempts { .. }
                 | StepKind::Ramp { .. }
                 | StepKind::CoastDown(_)
         )

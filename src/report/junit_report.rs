@@ -251,7 +251,17 @@ fn check_case(c: &CheckResult) -> Case {
         } else {
             "expect"
         };
-        ("failure", kind.to_string(), message, details.clone())
+        // A failure of an attempt that was tried again is kept, as skipped: the verdict
+        // is the last attempt's.
+        match c.retried {
+            true => (
+                "skipped",
+                kind.to_string(),
+                format!("RETRIED: failed in an attempt that was tried again: {message}"),
+                details.clone(),
+            ),
+            false => ("failure", kind.to_string(), message, details.clone()),
+        }
     });
     Case {
         name: case_name(&c.stage, &stable),

@@ -477,6 +477,7 @@ fn register_checks(engine: &mut Engine, bridge: &Arc<Bridge>) {
             at: Duration::ZERO,
             duration: Duration::ZERO,
             marginal: false,
+            retried: false,
         }
     };
     let b = bridge.clone();

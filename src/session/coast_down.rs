@@ -149,6 +149,7 @@ impl Session<'_> {
             at: self.clock.now(),
             duration: self.clock.now().saturating_sub(started),
             marginal,
+            retried: false,
         });
         if passed {
             Ok(format!("power stage off, coasting by design: {message}"))

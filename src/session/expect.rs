@@ -1,5 +1,6 @@
 //! `expect`: named pass/fail checks on a value now, or on a statistic of the last sample
-//! window; each becomes a check in the report.
+//! window; each becomes a check in the report. Also where an attempt's checks are marked
+//! retried when it is tried again.
 
 use super::session::{value_of, Session};
 use super::stop::Stop;
@@ -78,6 +79,7 @@ impl Session<'_> {
                 at: self.clock.now(),
                 duration: self.clock.now().saturating_sub(started),
                 marginal,
+                retried: false,
             };
             if !passed {
                 self.failed_checks = true;
@@ -108,5 +110,36 @@ impl Session<'_> {
         } else {
             Ok(format!("FAILED: {message}"))
         }
+    }
+}
+
+/// Where the checks stood when an attempt began: how many were recorded and whether one had
+/// failed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct AttemptMark {
+    checks: usize,
+    failed: bool,
+}
+
+impl Session<'_> {
+    pub fn attempt_mark(&self) -> AttemptMark {
+        AttemptMark {
+            checks: self.report.checks.len(),
+            failed: self.failed_checks,
+        }
+    }
+
+    /// Whether a check recorded since `mark` failed.
+    pub fn failed_since(&self, mark: AttemptMark) -> bool {
+        self.report.checks.iter().skip(mark.checks).any(|c| !c.passed)
+    }
+
+    /// The attempt since `mark` is tried again: its checks stay in the report, marked
+    /// retried, and no longer decide the verdict.
+    pub fn retry_attempt(&mut self, mark: AttemptMark) {
+        for c in self.report.checks.iter_mut().skip(mark.checks) {
+            c.retried = true;
+        }
+        self.failed_checks = mark.failed;
     }
 }

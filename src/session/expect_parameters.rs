@@ -57,6 +57,7 @@ impl Session<'_> {
                 at: self.clock.now(),
                 duration: self.clock.now().saturating_sub(started),
                 marginal: false,
+                retried: false,
             };
             self.record_check_result(result);
         }

@@ -40,6 +40,7 @@ pub use coast_down::CoastDown;
 pub use condition::{
     number, with_unit, write_number, Check, Condition, Measure, Predicate, Statistic, Stats, Tolerance,
 };
+pub use expect::AttemptMark;
 pub use object_ref::ObjectRef;
 pub use one_off_stop::{stop_drive, OneOffStopError};
 pub use run_info::{RunInfo, StepInfo};

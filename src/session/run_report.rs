@@ -107,6 +107,9 @@ pub struct CheckResult {
     /// Passed, but outside the check's narrower warning band (`warn:`): a unit that drifts
     /// toward a limit. Amber in HTML, `MARGINAL` in the console and JUnit.
     pub marginal: bool,
+    /// Made in an `attempts` pass that failed and was tried again: kept in every report,
+    /// never the verdict (the last attempt's checks are).
+    pub retried: bool,
 }
 
 /// A check a recipe holds, known before the run: reports show the ones no result answers
@@ -328,7 +331,7 @@ impl RunReport {
     }
 
     pub fn checks_failed(&self) -> usize {
-        self.checks.iter().filter(|c| !c.passed).count()
+        self.checks.iter().filter(|c| !c.passed && !c.retried).count()
     }
 
     /// The dictionary's resolution of `object`, when known.

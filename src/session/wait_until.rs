@@ -124,6 +124,7 @@ impl Session<'_> {
                     at: self.clock.now(),
                     duration: waited,
                     marginal: false,
+                    retried: false,
                 };
                 self.record_check_result(result);
                 return match message {
@@ -186,6 +187,7 @@ impl Session<'_> {
             at: self.clock.now(),
             duration: self.clock.now().saturating_sub(started),
             marginal: false,
+            retried: false,
         };
         self.record_check_result(result);
     }

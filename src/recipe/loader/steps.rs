@@ -3,6 +3,7 @@
 //! steps name. Counts steps against the expansion limits. It must not read any step kind's
 //! settings itself.
 
+mod attempts;
 mod coast_down;
 mod expect;
 mod expect_parameters;
@@ -40,6 +41,7 @@ pub(in crate::recipe) const STEP_KEYS: &[&str] = &[
     "include",
     "expect_parameters",
     "coast_down",
+    "attempts",
 ];
 
 impl Loader<'_, '_> {
@@ -154,6 +156,7 @@ impl Loader<'_, '_> {
             "expect" => self.expect(body, name.as_deref())?,
             "expect_parameters" => self.expect_parameters(body)?,
             "coast_down" => self.coast_down(body)?,
+            "attempts" => self.attempts(body)?,
             "ramp" => self.ramp(body)?,
             "repeat" => self.repeat(body)?,
             "include" => self.include(body)?,

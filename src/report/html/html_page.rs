@@ -141,7 +141,7 @@ fn header(h: &mut String, r: &RunReport) {
 /// The failed checks and the steps that failed on their own, first thing after the
 /// verdict, so a reader sees at once what to look at.
 fn failed_summary(h: &mut String, r: &RunReport) {
-    let failed: Vec<&CheckResult> = r.checks.iter().filter(|c| !c.passed).collect();
+    let failed: Vec<&CheckResult> = r.checks.iter().filter(|c| !c.passed && !c.retried).collect();
     let steps = unexplained_failures(r);
     if failed.is_empty() && steps.is_empty() {
         return;
@@ -208,7 +208,7 @@ fn checks(h: &mut String, r: &RunReport) {
             s => Some(s),
         };
         if let Some(stage) = heading {
-            let failed = group.iter().filter(|c| !c.passed).count();
+            let failed = group.iter().filter(|c| !c.passed && !c.retried).count();
             let mark = if failed > 0 {
                 format!(" — <span class=\"fail\">{failed} FAILED</span>")
             } else {
@@ -222,10 +222,11 @@ fn checks(h: &mut String, r: &RunReport) {
         }
         let titles: Vec<(String, String)> = group.iter().map(|c| (check_title(c), c.step.clone())).collect();
         for (c, title) in group.iter().zip(case_names(&titles)) {
-            let (row, mark) = match (c.passed, c.marginal) {
-                (true, false) => ("pass", "<span class=\"ok\">PASS</span>"),
-                (true, true) => ("marginal", "<span class=\"warn\">MARGINAL</span>"),
-                (false, _) => ("fail", "<span class=\"fail\">FAIL</span>"),
+            let (row, mark) = match (c.passed, c.marginal, c.retried) {
+                (false, _, true) => ("retried", "<span class=\"retried\">FAIL, RETRIED</span>"),
+                (true, false, _) => ("pass", "<span class=\"ok\">PASS</span>"),
+                (true, true, _) => ("marginal", "<span class=\"warn\">MARGINAL</span>"),
+                (false, _, false) => ("fail", "<span class=\"fail\">FAIL</span>"),
             };
             let _ = writeln!(
                 h,

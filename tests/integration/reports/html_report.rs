@@ -609,3 +609,19 @@ fn the_dynamics_report_marks_the_response_and_draws_the_whole_run() {
     assert!((1..=8).contains(&pages), "{pages} A4 pages");
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// A failure of an attempt that was tried again is a grey row that says so, and is not
+/// among what failed.
+#[test]
+fn a_retried_failure_is_kept_but_not_among_what_failed() {
+    let mut r = passed_report();
+    r.checks[0].passed = false;
+    r.checks[0].retried = true;
+    let doc = parse(&html_report(&r));
+    let rows = select(&doc, "section#checks tr.retried");
+    assert_eq!(rows.len(), 1);
+    assert!(text(&rows[0]).contains("FAIL, RETRIED"));
+    assert!(select(&doc, "section#failures").is_empty());
+    r.checks[0].retried = false;
+    assert_eq!(select(&parse(&html_report(&r)), "section#failures").len(), 1);
+}

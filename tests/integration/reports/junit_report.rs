@@ -397,3 +397,24 @@ fn a_marginal_pass_is_a_passing_case_that_says_so() {
         &["MARGINAL"],
     );
 }
+
+/// A failure of an attempt that was tried again stays in the file as a skipped case that
+/// says so; it does not fail the suite.
+#[test]
+fn a_retried_failure_is_kept_as_skipped() {
+    let mut r = passed_report();
+    r.checks[0].passed = false;
+    r.checks[0].retried = true;
+    let xml = junit_xml(&r, &[]);
+    let doc = parse(&xml);
+    let suite = xml_elements(&doc, "testsuite")[0];
+    assert_eq!(suite.attribute("failures"), Some("0"));
+    assert_eq!(suite.attribute("skipped"), Some("1"));
+    assert_has(&xml, &["RETRIED: failed in an attempt that was tried again"]);
+    r.checks[0].retried = false;
+    let doc = junit_xml(&r, &[]);
+    assert_eq!(
+        xml_elements(&parse(&doc), "testsuite")[0].attribute("failures"),
+        Some("1")
+    );
+}

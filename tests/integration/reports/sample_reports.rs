@@ -57,6 +57,7 @@ pub fn check(name: &str, passed: bool, message: &str) -> CheckResult {
         at: Duration::from_secs(1),
         duration: Duration::from_millis(200),
         marginal: false,
+        retried: false,
     }
 }
 
