@@ -6,7 +6,7 @@
 
 use super::session::{round, show_duration, Session};
 use super::stop::Stop;
-use super::{BucketSeries, CheckResult, Predicate, Series, Stats, StepOrigin, SERIES_BUCKETS};
+use super::{BucketSeries, CheckResult, Predicate, Stats, StepOrigin, SERIES_BUCKETS};
 use crate::dictionary::Role;
 use crate::drive::DeviceCommand;
 use std::time::Duration;
@@ -101,14 +101,7 @@ impl Session<'_> {
             previous = Some((t, speed));
             self.wait(self.clock.now().saturating_add(c.every).min(give_up))?;
         };
-        self.report.series.push(Series {
-            object: object.name.clone(),
-            unit: object.unit.clone(),
-            step: self.path.id(),
-            points: series.points(),
-            samples: Some(stats),
-            marks: None,
-        });
+        self.keep_series(&object, &series, stats);
         let name = c.check_name();
         let (passed, measured, message) = match result {
             Ok(secs) => {

@@ -5,7 +5,7 @@
 
 use super::session::{secs, show_duration, value_of, Session};
 use super::stop::Stop;
-use super::{BucketSeries, Condition, Series, SlopeWindow, Stats, StepOrigin, SERIES_BUCKETS};
+use super::{BucketSeries, Condition, ObjectRef, Series, SlopeWindow, Stats, StepOrigin, SERIES_BUCKETS};
 use std::time::Duration;
 
 impl Session<'_> {
@@ -60,14 +60,7 @@ impl Session<'_> {
                 ),
             };
             if ends {
-                self.report.series.push(Series {
-                    object: object.name.clone(),
-                    unit: object.unit.clone(),
-                    step: self.path.id(),
-                    points: series.points(),
-                    samples: Some(stats),
-                    marks: None,
-                });
+                self.keep_series(object, &series, stats);
                 let message = (!holds).then(|| {
                     format!(
                         "timed out after {} waiting for {condition}; last seen: {seen}",
@@ -98,5 +91,17 @@ impl Session<'_> {
             }
             self.wait(now.saturating_add(every).min(give_up))?;
         }
+    }
+
+    /// The polls of a wait or coast-down as a series of the report (plotted like a window).
+    pub(super) fn keep_series(&mut self, object: &ObjectRef, series: &BucketSeries, stats: Stats) {
+        self.report.series.push(Series {
+            object: object.name.clone(),
+            unit: object.unit.clone(),
+            step: self.path.id(),
+            points: series.points(),
+            samples: Some(stats),
+            marks: None,
+        });
     }
 }

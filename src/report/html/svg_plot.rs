@@ -3,7 +3,7 @@
 //! the page around it; the axes' ranges and ticks come from [`super::plot_axes`].
 
 use super::html_text::esc;
-use super::plot_axes::{axis_title, padded_range, round_to, ticks, time_unit};
+use super::plot_axes::{axis_title, grid, padded_range, Area};
 use crate::session::with_unit;
 use crate::session::{number, CheckResult, Series};
 use std::fmt::Write as _;
@@ -83,28 +83,13 @@ pub fn plot_svg(series: &Series, checks: &[&CheckResult], id: usize) -> String {
     let y = |v: f64| y_bottom - (v - v0) * sy;
 
     // Grid and tick labels.
-    let (time_unit, time_div) = time_unit(t1 - t0);
-    for tick in ticks(t0 / time_div, t1 / time_div) {
-        let px = x(tick * time_div);
-        let _ = writeln!(
-            s,
-            "<line class=\"grid\" stroke=\"#ddd\" x1=\"{px:.2}\" y1=\"{y_top}\" x2=\"{px:.2}\" y2=\"{y_bottom}\"/>\
-             <text x=\"{px:.2}\" y=\"{:.2}\" text-anchor=\"middle\">{}</text>",
-            y_bottom + 16.0,
-            number(round_to(tick, 9))
-        );
-    }
-    for tick in ticks(v0, v1) {
-        let py = y(tick);
-        let _ = writeln!(
-            s,
-            "<line class=\"grid\" stroke=\"#ddd\" x1=\"{x_left}\" y1=\"{py:.2}\" x2=\"{x_right}\" y2=\"{py:.2}\"/>\
-             <text x=\"{:.2}\" y=\"{:.2}\" text-anchor=\"end\">{}</text>",
-            x_left - 6.0,
-            py + 4.0,
-            number(round_to(tick, 9))
-        );
-    }
+    let area = Area {
+        left: x_left,
+        right: x_right,
+        top: y_top,
+        bottom: y_bottom,
+    };
+    let time_unit = grid(&mut s, area, (&x, &y), (t0, t1), (v0, v1), 16.0);
     // Axes and their titles.
     let _ = writeln!(
         s,

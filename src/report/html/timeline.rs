@@ -6,9 +6,9 @@
 //! run, so a day draws as fast as a minute. Reads the run report; draws nothing else.
 
 use super::html_text::esc;
-use super::plot_axes::{axis_title, padded_range, round_to, ticks, time_unit};
+use super::plot_axes::{axis_title, grid, padded_range, Area};
 use super::svg_plot::{downsample_to, finite, MAX_PLOT_POINTS};
-use crate::session::{number, RunReport, Series};
+use crate::session::{RunReport, Series};
 use std::fmt::Write as _;
 
 const W: f64 = 760.0;
@@ -115,28 +115,13 @@ fn timeline_svg(
          role=\"img\" aria-label=\"{0}\"><title>{0}</title>",
         esc(&format!("{title} over the whole run"))
     );
-    let (time_unit, div) = time_unit(t1 - t0);
-    for tick in ticks(t0 / div, t1 / div) {
-        let px = x(tick * div);
-        let _ = writeln!(
-            s,
-            "<line class=\"grid\" stroke=\"#ddd\" x1=\"{px:.2}\" y1=\"{yt}\" x2=\"{px:.2}\" y2=\"{yb}\"/>\
-             <text x=\"{px:.2}\" y=\"{:.2}\" text-anchor=\"middle\">{}</text>",
-            yb + 14.0,
-            number(round_to(tick, 9))
-        );
-    }
-    for tick in ticks(v0, v1) {
-        let py = y(tick);
-        let _ = writeln!(
-            s,
-            "<line class=\"grid\" stroke=\"#ddd\" x1=\"{xl}\" y1=\"{py:.2}\" x2=\"{xr}\" y2=\"{py:.2}\"/>\
-             <text x=\"{:.2}\" y=\"{:.2}\" text-anchor=\"end\">{}</text>",
-            xl - 6.0,
-            py + 4.0,
-            number(round_to(tick, 9))
-        );
-    }
+    let area = Area {
+        left: xl,
+        right: xr,
+        top: yt,
+        bottom: yb,
+    };
+    let time_unit = grid(&mut s, area, (&x, &y), (t0, t1), (v0, v1), 14.0);
     let _ = writeln!(
         s,
         "<line class=\"axis\" stroke=\"#111\" x1=\"{xl}\" y1=\"{yb}\" x2=\"{xr}\" y2=\"{yb}\"/>\
