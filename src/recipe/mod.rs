@@ -9,6 +9,7 @@ mod planned_checks;
 mod recipe;
 mod runner;
 mod schema;
+mod schema_dynamics;
 mod step;
 mod written_values;
 

@@ -4,6 +4,7 @@
 //! tagged YAML whose exact shape a derive could not express. Pure; no I/O.
 
 use super::loader::STEP_KEYS;
+use super::schema_dynamics::{dynamics_steps, one_statistic, with_slope, STEP_STATISTICS};
 use crate::dictionary::{Dictionary, Dimension, ObjectDef, Unit};
 use crate::drive::{AddressKeyTable, KeyUse, KeyValues};
 use crate::session::number;
@@ -129,15 +130,7 @@ fn dimension_defs(defs: &mut serde_json::Map<String, Value>, unit: Option<Unit>)
         { "required": ["between"], "not": { "anyOf": [ { "required": ["equals"] }, { "required": ["above"] }, { "required": ["below"] }, { "required": ["near"] }, { "required": ["within"] } ] } },
         { "required": ["near", "within"], "not": { "anyOf": [ { "required": ["equals"] }, { "required": ["above"] }, { "required": ["below"] }, { "required": ["between"] } ] } }
     ]);
-    // `slope` (a wait until the value is stable) has its limits in the object's rate unit;
-    // `check` validates them.
-    let mut condition_props = predicates.as_object().cloned().unwrap_or_default();
-    condition_props.insert(
-        "slope".into(),
-        json!({ "type": "object", "description": "wait until stable: `{ below: 0.5 K/min, over: 10 min }`" }),
-    );
-    let mut condition_shapes = one_predicate.as_array().cloned().unwrap_or_default();
-    condition_shapes.push(json!({ "required": ["slope"], "maxProperties": 1 }));
+    let (condition_props, condition_shapes) = with_slope(&predicates, &one_predicate);
     let condition = json!({
         "type": "object",
         "description": "exactly one of: equals, above, below, between [low, high], near with within; or slope (wait_until)",
@@ -150,30 +143,7 @@ fn dimension_defs(defs: &mut serde_json::Map<String, Value>, unit: Option<Unit>)
     for stat in ["mean", "min", "max", "ripple", "std"] {
         check_props.insert(stat.into(), condition_ref.clone());
     }
-    // Their limits are in their own units (s, %, K for a difference of °C, K/min); `check`
-    // validates them.
-    for (stat, doc) in [
-        (
-            "rise_time",
-            "10 % → 90 % of the step the sample step declares: `{ below: 500 ms }`",
-        ),
-        (
-            "overshoot",
-            "the furthest excursion beyond the step's target in % of the step: `{ below: 10 % }`",
-        ),
-        (
-            "settling_time",
-            "from the window's start until the value stays within the step's band: `{ below: 2 s }`",
-        ),
-        (
-            "steady_state_error",
-            "the mean of the window's last tenth minus the step's target: `{ near: 0 rpm, within: 5 rpm }`",
-        ),
-        (
-            "slope",
-            "the least-squares slope over the window's last stretch: `{ below: 0.5 K/min, over: 10 min }`",
-        ),
-    ] {
+    for (stat, doc) in STEP_STATISTICS {
         check_props.insert(stat.into(), json!({ "type": "object", "description": doc }));
     }
     let check = json!({
@@ -183,11 +153,7 @@ fn dimension_defs(defs: &mut serde_json::Map<String, Value>, unit: Option<Unit>)
         "additionalProperties": false,
         "oneOf": [
             { "oneOf": one_predicate },
-            { "minProperties": 1, "maxProperties": 1, "anyOf": [
-                { "required": ["mean"] }, { "required": ["min"] }, { "required": ["max"] },
-                { "required": ["ripple"] }, { "required": ["std"] }, { "required": ["rise_time"] },
-                { "required": ["overshoot"] }, { "required": ["settling_time"] },
-                { "required": ["steady_state_error"] }, { "required": ["slope"] } ] }
+            { "minProperties": 1, "maxProperties": 1, "anyOf": one_statistic() }
         ]
     });
     defs.insert(key, value);
@@ -355,7 +321,7 @@ pub fn recipe_schema(dictionary: &Dictionary, address_keys: &AddressKeyTable) ->
         false,
     );
     let step_keys = STEP_KEYS;
-    let step_variants = vec![
+    let mut step_variants = vec![
         keyed(
             "go_to",
             json!({ "oneOf": [
@@ -441,33 +407,12 @@ pub fn recipe_schema(dictionary: &Dictionary, address_keys: &AddressKeyTable) ->
             "Run the steps of another recipe file, relative to this one: `include: stage.yaml`, or `{ file: stage.yaml, params: { speed: 6000 rpm } }` with parameters of its own",
         ),
         keyed(
-            "attempts",
-            json!({
-                "type": "object",
-                "properties": { "times": { "type": "integer", "minimum": 1, "maximum": 100 }, "steps": steps_ref },
-                "required": ["times", "steps"], "additionalProperties": false
-            }),
-            "Try nested `steps` up to `times` times until their checks pass (after re-homing, say); every attempt stays in the reports, the verdict is the last one's",
-        ),
-        keyed(
-            "coast_down",
-            json!({
-                "type": "object",
-                "properties": {
-                    "from": { "$ref": "#/$defs/value_any" }, "below": { "$ref": "#/$defs/value_any" },
-                    "expect": { "type": "object", "description": "a condition on the time in seconds: `{ near: 20 s, within: 1 s }`" },
-                    "timeout": { "$ref": "#/$defs/duration" }, "every": { "$ref": "#/$defs/duration" }
-                },
-                "required": ["from", "below", "expect"], "additionalProperties": false
-            }),
-            "Switch the power stage off and let the spindle coast by design: the time from `from` down past `below` (actual speed, interpolated) is checked by `expect`; polls `every` (100 ms) for at most `timeout` (10 min)",
-        ),
-        keyed(
             "expect_parameters",
             json!({ "type": "string", "description": "a file written by `drivescript backup`, relative to this recipe" }),
             "Check that the drive holds a backup's parameters (a file written by `drivescript backup`, relative to this recipe), one check per object",
         ),
     ];
+    step_variants.extend(dynamics_steps(&steps_ref).map(|(key, body, doc)| keyed(key, body, doc)));
     let mut step_key_names: Vec<&str> = step_keys.to_vec();
     step_key_names.push("name");
     defs.insert(

@@ -9,6 +9,7 @@ use super::exchange::{Answer, Call};
 use super::param_value::{param_value, ParamKind, ParamValue};
 use super::resolve::{self, Refusal, Written};
 use super::sample_window::SampleWindow;
+use crate::dictionary::Dictionary;
 use crate::drive::DeviceCommand;
 use crate::session::{CheckResult, ObjectRef, Predicate, Statistic, StepOrigin};
 use rhai::{Array, Dynamic, Engine, EvalAltResult, FnPtr, NativeCallContext, Position};
@@ -25,10 +26,7 @@ pub struct DriveHandle {
 
 /// The dictionary objects of `h` are looked up in, and the prefix its objects carry
 /// (`left.`; empty for the one drive).
-pub(super) fn dictionary_of(
-    b: &Bridge,
-    h: &DriveHandle,
-) -> RhaiResult<(Arc<crate::dictionary::Dictionary>, String)> {
+pub(super) fn dictionary_of(b: &Bridge, h: &DriveHandle) -> RhaiResult<(Arc<Dictionary>, String)> {
     match (&h.name, b.drives.is_empty()) {
         (None, true) => Ok((b.dictionary.clone(), String::new())),
         (None, false) => Err(error(format!(
@@ -358,12 +356,7 @@ fn register_waits(engine: &mut Engine, bridge: &Arc<Bridge>) {
             sample(&b, h, &ctx, names, every, time, Some(path))
         },
     );
-    // The statistics a window's sums hold; the measures of a step and a slope are recipe
-    // checks on the session's own window.
-    for (id, statistic) in Statistic::ALL
-        .into_iter()
-        .filter(|(_, s)| !s.needs_step() && s.id() != "slope")
-    {
+    for (id, statistic) in Statistic::OF_SUMS {
         engine.register_fn(id, move |w: &mut SampleWindow, name: &str| -> RhaiResult<f64> {
             w.statistic(name, statistic).map_err(error)
         });

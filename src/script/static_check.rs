@@ -222,9 +222,7 @@ pub fn check_calls(
                 }
             }
             (m, true)
-                if m == "values"
-                    || m == "count"
-                    || Statistic::from_id(m).is_some_and(|s| !s.needs_step() && s.id() != "slope") =>
+                if m == "values" || m == "count" || Statistic::OF_SUMS.iter().any(|(id, _)| *id == m) =>
             {
                 if let Some((n, span)) = &name {
                     if let Err(r) = resolve::readable(dict, n) {

@@ -218,6 +218,16 @@ impl Statistic {
         ("slope", Statistic::Slope(std::time::Duration::ZERO)),
     ];
 
+    /// The statistics a window's running sums hold (what a script's sample window offers);
+    /// the measures of a step and the slope need the session's own window.
+    pub const OF_SUMS: [(&'static str, Statistic); 5] = [
+        ("mean", Statistic::Mean),
+        ("min", Statistic::Min),
+        ("max", Statistic::Max),
+        ("ripple", Statistic::Ripple),
+        ("std", Statistic::Std),
+    ];
+
     pub fn id(self) -> &'static str {
         match self {
             Statistic::Mean => "mean",
