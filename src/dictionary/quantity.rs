@@ -184,6 +184,13 @@ mod tests {
         assert_eq!(q("2e3 rpm"), Quantity::new(2000.0, Some(Unit::Rpm)));
         assert_eq!(q("10 min"), Quantity::new(10.0, Some(Unit::Minute)));
         assert_eq!(q("+5"), Quantity::new(5.0, None));
+        assert_eq!(q("80 °C"), Quantity::new(80.0, Some(Unit::DegreeCelsius)));
+        assert_eq!(q("0.5 K/min"), Quantity::new(0.5, Some(Unit::KelvinPerMinute)));
+        assert_eq!(q("8kHz"), Quantity::new(8.0, Some(Unit::Kilohertz)));
+        assert_eq!(q("12.5 N·m"), Quantity::new(12.5, Some(Unit::NewtonMetre)));
+        assert_eq!(q("2.2 kW"), Quantity::new(2.2, Some(Unit::Kilowatt)));
+        assert_eq!(q("4.5 mm/s"), Quantity::new(4.5, Some(Unit::MillimetrePerSecond)));
+        assert_eq!(q("6 bar"), Quantity::new(6.0, Some(Unit::Bar)));
         assert_eq!(
             "6 krpm".parse::<Quantity>().ok(),
             Some(Quantity::new(6.0, Some(Unit::Krpm)))

@@ -1,6 +1,10 @@
-//! Engineering units: what commissioning engineers type (`rpm`, `%`, `V`, `A`, `s`, …),
-//! each with its dimension and its factor to that dimension's base unit. Pure arithmetic;
-//! it knows nothing of objects or raw counts.
+//! Engineering units: what commissioning engineers type (`rpm`, `%`, `V`, `A`, `s`, `°C`,
+//! `K`, `Hz`, `N·m`, `kW`, `mm/s`, `bar`, …), each with its dimension and its factor to that
+//! dimension's base unit. A temperature (`°C`) and a temperature difference (`K`) are
+//! different dimensions, so `80 °C` is never taken for 80 K of rise and a tolerance of
+//! `2 K` cannot be written where a temperature is wanted; [`Unit::difference`] names the
+//! unit a difference of a quantity is written in. Pure arithmetic; it knows nothing of
+//! objects or raw counts.
 
 use super::value_error::ValueError;
 use crate::diag::did_you_mean;
@@ -19,12 +23,24 @@ pub enum Dimension {
     Current,
     /// Base: s.
     Time,
-    /// Base: mm/s (a vibration velocity, as hand-held meters show it).
-    Velocity,
-    /// Base: mm.
-    Length,
-    /// Base: °C.
+    /// A temperature on the Celsius scale. Base: °C.
     Temperature,
+    /// A difference of temperatures (a rise, a tolerance, a ripple). Base: K.
+    TemperatureDifference,
+    /// How fast a temperature changes. Base: K/min.
+    TemperatureRate,
+    /// Base: Hz.
+    Frequency,
+    /// Base: N·m.
+    Torque,
+    /// Base: W.
+    Power,
+    /// A linear velocity, as vibration is given. Base: mm/s.
+    Velocity,
+    /// Base: mm (what a dial gauge shows).
+    Length,
+    /// Base: bar.
+    Pressure,
 }
 
 impl Dimension {
@@ -36,9 +52,15 @@ impl Dimension {
             Dimension::Voltage => Unit::Volt,
             Dimension::Current => Unit::Ampere,
             Dimension::Time => Unit::Second,
+            Dimension::Temperature => Unit::DegreeCelsius,
+            Dimension::TemperatureDifference => Unit::Kelvin,
+            Dimension::TemperatureRate => Unit::KelvinPerMinute,
+            Dimension::Frequency => Unit::Hertz,
+            Dimension::Torque => Unit::NewtonMetre,
+            Dimension::Power => Unit::Watt,
             Dimension::Velocity => Unit::MillimetrePerSecond,
+            Dimension::Pressure => Unit::Bar,
             Dimension::Length => Unit::Millimetre,
-            Dimension::Temperature => Unit::Celsius,
         }
     }
 
@@ -49,9 +71,15 @@ impl Dimension {
             Dimension::Voltage => "voltage",
             Dimension::Current => "current",
             Dimension::Time => "time",
-            Dimension::Velocity => "velocity",
-            Dimension::Length => "length",
             Dimension::Temperature => "temperature",
+            Dimension::TemperatureDifference => "temperature_difference",
+            Dimension::TemperatureRate => "temperature_rate",
+            Dimension::Frequency => "frequency",
+            Dimension::Torque => "torque",
+            Dimension::Power => "power",
+            Dimension::Velocity => "velocity",
+            Dimension::Pressure => "pressure",
+            Dimension::Length => "length",
         }
     }
 }
@@ -69,15 +97,35 @@ pub enum Unit {
     Millisecond,
     Minute,
     Hour,
+    DegreeCelsius,
+    Kelvin,
+    KelvinPerSecond,
+    KelvinPerMinute,
+    KelvinPerHour,
+    Hertz,
+    Kilohertz,
+    NewtonMetre,
+    Watt,
+    Kilowatt,
     MillimetrePerSecond,
+    Bar,
     Millimetre,
     Micrometre,
-    Celsius,
 }
 
+/// Other spellings people type for a unit, each standing for exactly one unit.
+const ALIASES: [(&str, Unit); 7] = [
+    ("degC", Unit::DegreeCelsius),
+    ("℃", Unit::DegreeCelsius),
+    ("Nm", Unit::NewtonMetre),
+    ("N m", Unit::NewtonMetre),
+    ("N*m", Unit::NewtonMetre),
+    ("N.m", Unit::NewtonMetre),
+    ("K/s", Unit::KelvinPerSecond),
+];
+
 impl Unit {
-    /// The units of drive objects (dictionaries, recipes' values for objects).
-    pub const ALL: [Unit; 11] = [
+    pub const ALL: [Unit; 23] = [
         Unit::Rpm,
         Unit::Krpm,
         Unit::Percent,
@@ -89,16 +137,23 @@ impl Unit {
         Unit::Millisecond,
         Unit::Minute,
         Unit::Hour,
+        Unit::DegreeCelsius,
+        Unit::Kelvin,
+        Unit::KelvinPerSecond,
+        Unit::KelvinPerMinute,
+        Unit::KelvinPerHour,
+        Unit::Hertz,
+        Unit::Kilohertz,
+        Unit::NewtonMetre,
+        Unit::Watt,
+        Unit::Kilowatt,
+        Unit::MillimetrePerSecond,
+        Unit::Bar,
     ];
 
-    /// Units of what an operator measures by hand (a vibration meter, a dial gauge, a
-    /// thermometer) and types in at a prompt; no drive object has them.
-    pub const MEASURED: [Unit; 4] = [
-        Unit::MillimetrePerSecond,
-        Unit::Millimetre,
-        Unit::Micrometre,
-        Unit::Celsius,
-    ];
+    /// Units of what an operator measures by hand (a dial gauge) and types in at a
+    /// prompt; no drive object has them.
+    pub const MEASURED: [Unit; 2] = [Unit::Millimetre, Unit::Micrometre];
 
     /// The symbol written in recipes and dictionaries.
     pub fn symbol(self) -> &'static str {
@@ -114,10 +169,20 @@ impl Unit {
             Unit::Millisecond => "ms",
             Unit::Minute => "min",
             Unit::Hour => "h",
+            Unit::DegreeCelsius => "°C",
+            Unit::Kelvin => "K",
+            Unit::KelvinPerSecond => "K/s",
+            Unit::KelvinPerMinute => "K/min",
+            Unit::KelvinPerHour => "K/h",
+            Unit::Hertz => "Hz",
+            Unit::Kilohertz => "kHz",
+            Unit::NewtonMetre => "N·m",
+            Unit::Watt => "W",
+            Unit::Kilowatt => "kW",
             Unit::MillimetrePerSecond => "mm/s",
+            Unit::Bar => "bar",
             Unit::Millimetre => "mm",
             Unit::Micrometre => "µm",
-            Unit::Celsius => "°C",
         }
     }
 
@@ -128,13 +193,20 @@ impl Unit {
             Unit::Volt | Unit::Millivolt => Dimension::Voltage,
             Unit::Ampere | Unit::Milliampere => Dimension::Current,
             Unit::Second | Unit::Millisecond | Unit::Minute | Unit::Hour => Dimension::Time,
+            Unit::DegreeCelsius => Dimension::Temperature,
+            Unit::Kelvin => Dimension::TemperatureDifference,
+            Unit::KelvinPerSecond | Unit::KelvinPerMinute | Unit::KelvinPerHour => Dimension::TemperatureRate,
+            Unit::Hertz | Unit::Kilohertz => Dimension::Frequency,
+            Unit::NewtonMetre => Dimension::Torque,
+            Unit::Watt | Unit::Kilowatt => Dimension::Power,
             Unit::MillimetrePerSecond => Dimension::Velocity,
+            Unit::Bar => Dimension::Pressure,
             Unit::Millimetre | Unit::Micrometre => Dimension::Length,
-            Unit::Celsius => Dimension::Temperature,
         }
     }
 
-    /// How many base units (rpm, %, V, A, s, mm/s, mm, °C) one of this unit is.
+    /// How many base units (rpm, %, V, A, s, °C, K, K/min, Hz, N·m, W, mm/s, bar, mm) one
+    /// of this unit is.
     pub fn factor(self) -> f64 {
         match self {
             Unit::Rpm
@@ -142,23 +214,68 @@ impl Unit {
             | Unit::Volt
             | Unit::Ampere
             | Unit::Second
+            | Unit::DegreeCelsius
+            | Unit::Kelvin
+            | Unit::KelvinPerMinute
+            | Unit::Hertz
+            | Unit::NewtonMetre
+            | Unit::Watt
             | Unit::MillimetrePerSecond
-            | Unit::Millimetre
-            | Unit::Celsius => 1.0,
-            Unit::Krpm => 1000.0,
+            | Unit::Bar
+            | Unit::Millimetre => 1.0,
+            Unit::Krpm | Unit::Kilohertz | Unit::Kilowatt => 1000.0,
             Unit::Millivolt | Unit::Milliampere | Unit::Millisecond | Unit::Micrometre => 0.001,
-            Unit::Minute => 60.0,
+            Unit::Minute | Unit::KelvinPerSecond => 60.0,
             Unit::Hour => 3600.0,
+            Unit::KelvinPerHour => 1.0 / 60.0,
         }
     }
 
-    /// The unit with exactly this symbol (as dictionaries must write it).
-    pub fn from_symbol(symbol: &str) -> Option<Unit> {
-        Self::ALL.into_iter().find(|u| u.symbol() == symbol)
+    /// The unit a difference of two values in this unit is written in: K for °C (a rise
+    /// of 2 K, not of 2 °C), the unit itself for every other (a ripple of 20 rpm).
+    pub fn difference(self) -> Unit {
+        match self {
+            Unit::DegreeCelsius => Unit::Kelvin,
+            other => other,
+        }
     }
 
-    /// A unit as people type it: the exact symbol, or a spelling that differs only in case
-    /// when that is unambiguous (`RPM`, `v`, `MS`). The error lists close symbols.
+    /// The unit of how fast a value in this unit changes, where it has one of its own
+    /// (K/min for a temperature).
+    pub fn rate(self) -> Option<Unit> {
+        match self.difference() {
+            Unit::Kelvin => Some(Unit::KelvinPerMinute),
+            _ => None,
+        }
+    }
+
+    /// Why `self` cannot stand where `wanted` is needed, when the reason is not just "other
+    /// dimension": a temperature written for a difference, or the other way round.
+    pub fn mismatch_help(self, wanted: Unit) -> Option<String> {
+        match (self.dimension(), wanted.dimension()) {
+            (Dimension::TemperatureDifference, Dimension::Temperature) => Some(
+                "K is a temperature difference; a temperature is written in °C (20 °C, not 293.15 K)".into(),
+            ),
+            (Dimension::Temperature, Dimension::TemperatureDifference) => Some(
+                "this is a temperature difference (a rise, a tolerance, a ripple): write it in K (2 K, not 2 °C)"
+                    .into(),
+            ),
+            _ => None,
+        }
+    }
+
+    /// The unit with exactly this symbol (as dictionaries must write it), or one of its
+    /// [`ALIASES`].
+    pub fn from_symbol(symbol: &str) -> Option<Unit> {
+        Self::ALL
+            .into_iter()
+            .find(|u| u.symbol() == symbol)
+            .or_else(|| ALIASES.iter().find(|(a, _)| *a == symbol).map(|(_, u)| *u))
+    }
+
+    /// A unit as people type it: the exact symbol or an alias, or a spelling that differs
+    /// only in case when that is unambiguous (`RPM`, `v`, `MS`). The error lists close
+    /// symbols.
     pub fn parse(text: &str) -> Result<Unit, ValueError> {
         let t = text.trim();
         if let Some(u) = Self::from_symbol(t) {
@@ -182,7 +299,7 @@ impl Unit {
         let t = text.trim();
         let measured = match t {
             "um" => Some(Unit::Micrometre),
-            "degC" | "C" => Some(Unit::Celsius),
+            "degC" | "C" => Some(Unit::DegreeCelsius),
             _ => Self::MEASURED
                 .into_iter()
                 .find(|u| u.symbol().eq_ignore_ascii_case(t)),
@@ -276,18 +393,55 @@ mod tests {
         assert_eq!(Unit::Milliampere.convert(1500.0, Unit::Ampere), Some(1.5));
         assert_eq!(Unit::Rpm.convert(1.0, Unit::Ampere), None);
         assert_eq!(Unit::Percent.convert(3.0, Unit::Percent), Some(3.0));
+        for u in Unit::ALL {
+            assert_eq!(u.dimension().base().factor(), 1.0, "{u}");
+            assert_eq!(u.dimension().base().dimension(), u.dimension());
+        }
+    }
+
+    #[test]
+    fn run_in_and_vfd_units_convert_within_their_dimension_only() {
+        assert_eq!(Unit::Kilohertz.convert(8.0, Unit::Hertz), Some(8000.0));
+        assert_eq!(Unit::Kilowatt.convert(2.2, Unit::Watt), Some(2200.0));
+        assert_eq!(
+            Unit::KelvinPerHour.convert(30.0, Unit::KelvinPerMinute),
+            Some(0.5)
+        );
+        assert_eq!(
+            Unit::KelvinPerSecond.convert(0.5, Unit::KelvinPerMinute),
+            Some(30.0)
+        );
+        assert_eq!(Unit::parse("degC").ok(), Some(Unit::DegreeCelsius));
+        assert_eq!(Unit::parse("Nm").ok(), Some(Unit::NewtonMetre));
+        assert_eq!(Unit::parse("KW").ok(), Some(Unit::Kilowatt));
+        assert_eq!(Unit::parse("MM/S").ok(), Some(Unit::MillimetrePerSecond));
+        // A temperature is not a temperature difference, either way round.
+        assert_eq!(Unit::Kelvin.convert(20.0, Unit::DegreeCelsius), None);
+        assert_eq!(Unit::DegreeCelsius.convert(20.0, Unit::Kelvin), None);
+        assert_eq!(Unit::DegreeCelsius.difference(), Unit::Kelvin);
+        assert_eq!(Unit::Rpm.difference(), Unit::Rpm);
+        assert_eq!(Unit::DegreeCelsius.rate(), Some(Unit::KelvinPerMinute));
+        assert_eq!(Unit::Rpm.rate(), None);
+        assert!(Unit::Kelvin
+            .mismatch_help(Unit::DegreeCelsius)
+            .is_some_and(|h| h.contains("°C")));
+        assert_eq!(Unit::Rpm.mismatch_help(Unit::Ampere), None);
+        assert_eq!(Unit::Hertz.convert(1.0, Unit::Rpm), None);
+        assert_eq!(Unit::Bar.convert(1.0, Unit::MillimetrePerSecond), None);
+    }
+
+    #[test]
+    fn measured_units_are_for_typed_values_only() {
         assert_eq!(Unit::Micrometre.convert(250.0, Unit::Millimetre), Some(0.25));
         assert_eq!(Unit::parse_measured("um").ok(), Some(Unit::Micrometre));
+        assert_eq!(Unit::parse_measured("degC").ok(), Some(Unit::DegreeCelsius));
         assert_eq!(Unit::parse_measured("MM/S").ok(), Some(Unit::MillimetrePerSecond));
         assert_eq!(Unit::parse_measured("rpm").ok(), Some(Unit::Rpm));
-        assert!(Unit::parse("mm/s").is_err(), "no drive object is in mm/s");
+        assert!(Unit::parse("mm").is_err(), "no drive object is in mm");
         let e = Unit::parse_measured("mm/z").unwrap_err().to_string();
-        assert!(
-            e.contains("known units: rpm, krpm, %, V, mV, A, mA, s, ms, min, h, mm/s, mm, µm, °C"),
-            "{e}"
-        );
+        assert!(e.contains("mm/s") && e.contains("µm"), "{e}");
         assert_eq!(Unit::MillimetrePerSecond.convert(1.0, Unit::Millimetre), None);
-        for u in Unit::ALL {
+        for u in Unit::MEASURED {
             assert_eq!(u.dimension().base().factor(), 1.0, "{u}");
             assert_eq!(u.dimension().base().dimension(), u.dimension());
         }

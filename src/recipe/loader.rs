@@ -26,7 +26,7 @@ use crate::session::{show_duration, StepOrigin};
 pub use drives::{declared_drives, DriveDictionaries};
 pub use params::declared_params;
 use params::ParamValue;
-use std::collections::{BTreeMap, HashSet};
+use std::collections::{BTreeMap, HashMap};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::time::Duration;
@@ -166,7 +166,7 @@ fn load_once(
         r: Reader::new(&mut problems),
         expansion: &mut expansion,
         params: BTreeMap::new(),
-        sampled: HashSet::new(),
+        sampled: HashMap::new(),
         base_dir: base_dir.to_path_buf(),
     }
     .recipe(overrides);
@@ -198,8 +198,9 @@ struct Loader<'a, 'p> {
     /// Included files and steps so far, over every level of includes.
     expansion: &'p mut Expansion,
     params: BTreeMap<String, ParamValue>,
-    /// Objects sampled so far in file order, for `expect` on statistics.
-    sampled: HashSet<String>,
+    /// Objects sampled so far in file order, for `expect` on statistics; true when the last
+    /// sample step declared a step for it (for the measures of a step response).
+    sampled: HashMap<String, bool>,
     base_dir: PathBuf,
     include_chain: Vec<PathBuf>,
 }

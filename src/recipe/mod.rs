@@ -10,6 +10,7 @@ mod prompt_schema;
 mod recipe;
 mod runner;
 mod schema;
+mod schema_dynamics;
 mod step;
 mod written_values;
 

@@ -43,7 +43,9 @@ fn walk(steps: &[Step], prefix: &str, stage: &mut Vec<String>, out: &mut Vec<Pla
             StepKind::WaitUntil { condition, .. } => out.push(PlannedCheck {
                 name: format!("wait until {condition}"),
                 object: match condition {
-                    Condition::Value { object, .. } => Some(object.name.clone()),
+                    Condition::Value { object, .. } | Condition::Stable { object, .. } => {
+                        Some(object.name.clone())
+                    }
                     Condition::State(_) => None,
                 },
                 statistic: None,
@@ -59,6 +61,14 @@ fn walk(steps: &[Step], prefix: &str, stage: &mut Vec<String>, out: &mut Vec<Pla
                 step: number.clone(),
                 origin: step.origin.clone(),
             }),
+            StepKind::CoastDown(c) => out.push(PlannedCheck {
+                name: c.check_name(),
+                object: None,
+                statistic: Some("coast_down".into()),
+                stage: stage.join(" / "),
+                step: number.clone(),
+                origin: step.origin.clone(),
+            }),
             StepKind::Repeat {
                 times, steps: nested, ..
             } => {
@@ -67,6 +77,12 @@ fn walk(steps: &[Step], prefix: &str, stage: &mut Vec<String>, out: &mut Vec<Pla
                     walk(nested, &number, stage, out);
                     stage.pop();
                 }
+            }
+            // The first attempt always runs; later ones are named as they run.
+            StepKind::Attempts { steps: nested, .. } => {
+                stage.push(format!("{} #1", step.label));
+                walk(nested, &number, stage, out);
+                stage.pop();
             }
             StepKind::Include { steps: nested, .. } => {
                 stage.push(step.label.clone());
@@ -84,7 +100,9 @@ pub fn shortest_sample_interval(recipe: &Recipe) -> Option<std::time::Duration> 
         for step in steps {
             match &step.kind {
                 StepKind::Sample { every, .. } => *out = Some(out.map_or(*every, |o| o.min(*every))),
-                StepKind::Repeat { steps, .. } | StepKind::Include { steps, .. } => walk(steps, out),
+                StepKind::Repeat { steps, .. }
+                | StepKind::Include { steps, .. }
+                | StepKind::Attempts { steps, .. } => walk(steps, out),
                 _ => {}
             }
         }
@@ -107,7 +125,9 @@ pub fn sampled_objects(recipe: &Recipe) -> Vec<ObjectRef> {
                         }
                     }
                 }
-                StepKind::Repeat { steps, .. } | StepKind::Include { steps, .. } => walk(steps, out),
+                StepKind::Repeat { steps, .. }
+                | StepKind::Include { steps, .. }
+                | StepKind::Attempts { steps, .. } => walk(steps, out),
                 _ => {}
             }
         }
@@ -125,8 +145,7 @@ pub fn operator_prompts(recipe: &Recipe) -> Vec<(crate::session::Prompt, crate::
         for step in steps {
             match &step.kind {
                 StepKind::Ask(p) => out.push((p.clone(), step.origin.clone())),
-                StepKind::Repeat { steps, .. } | StepKind::Include { steps, .. } => walk(steps, out),
-                _ => {}
+                _ => walk(step.nested(), out),
             }
         }
     }

@@ -102,7 +102,10 @@ fn info(step: &Step, number: String, phase: &'static str) -> StepInfo {
         label: step.label.clone(),
         origin: step.origin.clone(),
         phase,
-        container: matches!(step.kind, StepKind::Repeat { .. } | StepKind::Include { .. }),
+        container: matches!(
+            step.kind,
+            StepKind::Repeat { .. } | StepKind::Include { .. } | StepKind::Attempts { .. }
+        ),
     }
 }
 
@@ -156,8 +159,10 @@ fn exec(s: &mut Session, step: &Step, number: &str, phase: &'static str) -> Resu
             every,
             duration,
             csv,
-        } => s.sample(objects, *every, *duration, csv.as_ref(), number),
+            steps,
+        } => s.sample(objects, *every, *duration, csv.as_ref(), steps, number),
         StepKind::Expect(checks) => s.expect(checks, &step.origin),
+        StepKind::CoastDown(c) => s.coast_down(c, &step.origin, number),
         StepKind::ExpectParameters { file, parameters } => {
             s.expect_parameters(file, parameters, &step.origin)
         }
@@ -176,6 +181,7 @@ fn exec(s: &mut Session, step: &Step, number: &str, phase: &'static str) -> Resu
             steps(s, nested, number, phase)?;
             Ok(format!("{} steps", nested.len()))
         }
+        StepKind::Attempts { times, steps: nested } => attempts(s, *times, nested, number, phase),
     }
 }
 
@@ -212,6 +218,38 @@ fn repeat(
     }
     let took = s.clock().now().saturating_sub(start);
     Ok(format!("{n} iteration(s) in {:.2} s", took.as_secs_f64()))
+}
+
+/// Runs `nested` up to `times` times until an attempt ends with none of its checks failed;
+/// a failed check (also a wait that timed out) of an attempt with another to follow is
+/// kept as retried. Errors, faults and stop requests end it at once.
+fn attempts(
+    s: &mut Session,
+    times: u32,
+    nested: &[Step],
+    number: &str,
+    phase: &'static str,
+) -> Result<String, Stop> {
+    for k in 1..=times {
+        s.iteration(k);
+        let mark = s.attempt_mark();
+        let ended = steps(s, nested, number, phase);
+        let failed = match &ended {
+            Ok(()) => s.failed_since(mark),
+            Err(Stop::Failed(_)) => true,
+            Err(_) => return ended.map(|()| String::new()),
+        };
+        if !failed {
+            return Ok(format!("passed at attempt {k} of {times}"));
+        }
+        if k == times {
+            ended?;
+            return Ok(format!("FAILED: every attempt ({times}) failed its checks"));
+        }
+        s.retry_attempt(mark);
+        s.message(&format!("attempt {k} of {times} failed its checks; trying again"));
+    }
+    Ok(String::new())
 }
 
 /// Runs steps whatever fails (the safe stop's `finally` and `on_fault`); each failure is

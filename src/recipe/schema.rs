@@ -4,6 +4,7 @@
 //! tagged YAML whose exact shape a derive could not express. Pure; no I/O.
 
 use super::loader::STEP_KEYS;
+use super::schema_dynamics::{dynamics_steps, one_statistic, with_slope, STEP_STATISTICS};
 use crate::dictionary::{Dictionary, Dimension, ObjectDef, Unit};
 use crate::drive::{AddressKeyTable, KeyUse, KeyValues};
 use crate::session::number;
@@ -104,7 +105,8 @@ fn dimension_defs(defs: &mut serde_json::Map<String, Value>, unit: Option<Unit>)
     };
     let value_ref = json!({ "$ref": format!("#/$defs/{key}") });
     let within_units = match unit {
-        Some(u) => format!("%|{}", units_of(u.dimension())),
+        // A tolerance is a difference: K around a temperature in °C.
+        Some(u) => format!("%|{}", units_of(u.difference().dimension())),
         None => "%".to_string(),
     };
     let mut within = written_as(
@@ -117,7 +119,8 @@ fn dimension_defs(defs: &mut serde_json::Map<String, Value>, unit: Option<Unit>)
         "equals": value_ref, "above": value_ref, "below": value_ref,
         "between": { "type": "array", "items": value_ref, "minItems": 2, "maxItems": 2,
                      "description": "[low, high], both included" },
-        "near": value_ref, "within": within
+        "near": value_ref, "within": within,
+        "warn": { "description": "a narrower band in the shape of the condition's own (a tolerance for near, a value for above/below, [low, high] for between): a pass outside it is marginal" }
     });
     // Exactly one predicate; `near` only with `within` and `within` only with `near`.
     let one_predicate = json!([
@@ -127,17 +130,21 @@ fn dimension_defs(defs: &mut serde_json::Map<String, Value>, unit: Option<Unit>)
         { "required": ["between"], "not": { "anyOf": [ { "required": ["equals"] }, { "required": ["above"] }, { "required": ["below"] }, { "required": ["near"] }, { "required": ["within"] } ] } },
         { "required": ["near", "within"], "not": { "anyOf": [ { "required": ["equals"] }, { "required": ["above"] }, { "required": ["below"] }, { "required": ["between"] } ] } }
     ]);
+    let (condition_props, condition_shapes) = with_slope(&predicates, &one_predicate);
     let condition = json!({
         "type": "object",
-        "description": "exactly one of: equals, above, below, between [low, high], near with within",
-        "properties": predicates,
+        "description": "exactly one of: equals, above, below, between [low, high], near with within; or slope (wait_until)",
+        "properties": condition_props,
         "additionalProperties": false,
-        "oneOf": one_predicate
+        "oneOf": condition_shapes
     });
     let condition_ref = json!({ "$ref": format!("#/$defs/condition_{suffix}") });
     let mut check_props = predicates.as_object().cloned().unwrap_or_default();
     for stat in ["mean", "min", "max", "ripple", "std"] {
         check_props.insert(stat.into(), condition_ref.clone());
+    }
+    for (stat, doc) in STEP_STATISTICS {
+        check_props.insert(stat.into(), json!({ "type": "object", "description": doc }));
     }
     let check = json!({
         "type": "object",
@@ -146,9 +153,7 @@ fn dimension_defs(defs: &mut serde_json::Map<String, Value>, unit: Option<Unit>)
         "additionalProperties": false,
         "oneOf": [
             { "oneOf": one_predicate },
-            { "minProperties": 1, "maxProperties": 1, "anyOf": [
-                { "required": ["mean"] }, { "required": ["min"] }, { "required": ["max"] },
-                { "required": ["ripple"] }, { "required": ["std"] } ] }
+            { "minProperties": 1, "maxProperties": 1, "anyOf": one_statistic() }
         ]
     });
     defs.insert(key, value);
@@ -357,7 +362,8 @@ pub fn recipe_schema(dictionary: &Dictionary, address_keys: &AddressKeyTable) ->
                 "properties": {
                     "objects": { "type": "array", "items": { "type": "string", "enum": names } },
                     "every": { "$ref": "#/$defs/duration" }, "for": { "$ref": "#/$defs/duration" },
-                    "csv": { "type": "string", "description": "a CSV file of this step's samples, relative to --output-dir" }
+                    "csv": { "type": "string", "description": "a CSV file of this step's samples, relative to --output-dir" },
+                    "step": { "type": "object", "description": "per sampled object, the setpoint step its response is measured against: `{ speed_actual: { to: 6000 rpm, from: 0 rpm, band: 2 % } }` (for rise_time, overshoot, settling_time, steady_state_error)" }
                 },
                 "required": ["objects", "every", "for"], "additionalProperties": false
             }),
@@ -411,6 +417,7 @@ pub fn recipe_schema(dictionary: &Dictionary, address_keys: &AddressKeyTable) ->
             .into_iter()
             .map(|(key, body, doc)| keyed(key, body, doc)),
     );
+    step_variants.extend(dynamics_steps(&steps_ref).map(|(key, body, doc)| keyed(key, body, doc)));
     let mut step_key_names: Vec<&str> = step_keys.to_vec();
     step_key_names.push("name");
     defs.insert(

@@ -55,6 +55,8 @@ pub enum StepKind {
         every: Duration,
         duration: Duration,
         csv: Option<PathBuf>,
+        /// The setpoint step an object's response is measured against.
+        steps: Vec<(String, crate::session::StepSpec)>,
     },
     /// Named pass/fail checks.
     Expect(Vec<Check>),
@@ -80,9 +82,27 @@ pub enum StepKind {
     /// An operator step: a question or instruction, answered at the terminal or
     /// beforehand.
     Ask(Prompt),
+    /// Nested steps tried up to `times` times until their checks pass; every attempt is
+    /// kept in the reports, the verdict is the last one's.
+    Attempts { times: u32, steps: Vec<Step> },
+    /// Power stage off at speed, the spindle coasting by design; the time from one speed
+    /// down past another is checked.
+    CoastDown(crate::session::CoastDown),
 }
 
 impl Step {
+    /// The steps this one holds (repeat, include, attempts); none for any other step.
+    /// Walks that must see every step of a recipe go through here, so a new kind of
+    /// container cannot be missed by one of them.
+    pub fn nested(&self) -> &[Step] {
+        match &self.kind {
+            StepKind::Repeat { steps, .. }
+            | StepKind::Include { steps, .. }
+            | StepKind::Attempts { steps, .. } => steps,
+            _ => &[],
+        }
+    }
+
     /// The longest this step can take: every timeout in full, a repeat's steps multiplied
     /// out, telegram times left aside; saturating. The loader bounds it so that no sum of
     /// times in a run can overflow.
@@ -100,6 +120,7 @@ impl Step {
             StepKind::GoTo { timeout, .. } => timeout.saturating_mul(DeviceState::ALL.len() as u32),
             StepKind::WaitUntil { timeout, every, .. } => timeout.saturating_add(*every),
             StepKind::Dwell(d) => *d,
+            StepKind::CoastDown(c) => c.timeout.saturating_add(c.every),
             StepKind::Sample { every, duration, .. } => duration.saturating_add(*every),
             StepKind::Ramp { points, every, .. } => {
                 every.saturating_mul(u32::try_from(points.len()).unwrap_or(u32::MAX))
@@ -118,6 +139,7 @@ impl Step {
                 }
             }
             StepKind::Include { steps, .. } => longest_time_of(steps),
+            StepKind::Attempts { times, steps } => longest_time_of(steps).saturating_mul(*times),
         }
     }
 
@@ -127,9 +149,9 @@ impl Step {
         match &self.kind {
             StepKind::Print(_) => false,
             StepKind::Expect(checks) => checks.iter().any(|c| c.statistic.is_none()),
-            StepKind::Repeat { steps, .. } | StepKind::Include { steps, .. } => {
-                steps.iter().any(Step::takes_time)
-            }
+            StepKind::Repeat { steps, .. }
+            | StepKind::Include { steps, .. }
+            | StepKind::Attempts { steps, .. } => steps.iter().any(Step::takes_time),
             _ => true,
         }
     }
@@ -142,7 +164,9 @@ impl Step {
                 | StepKind::Dwell(_)
                 | StepKind::Sample { .. }
                 | StepKind::Repeat { .. }
+                | StepKind::Attempts { .. }
                 | StepKind::Ramp { .. }
+                | StepKind::CoastDown(_)
         )
     }
 }

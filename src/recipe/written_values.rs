@@ -84,7 +84,9 @@ fn collect(steps: &[Step], out: &mut Vec<WrittenValue>) {
                     });
                 }
             }
-            StepKind::Repeat { steps, .. } | StepKind::Include { steps, .. } => collect(steps, out),
+            StepKind::Repeat { steps, .. }
+            | StepKind::Include { steps, .. }
+            | StepKind::Attempts { steps, .. } => collect(steps, out),
             _ => {}
         }
     }

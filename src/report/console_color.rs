@@ -20,6 +20,7 @@ pub fn paint(line: &str) -> String {
     for (word, color) in [
         ("  ok    ", GREEN),
         ("  PASS  ", GREEN),
+        ("  MARGINAL  ", YELLOW),
         ("  FAIL  ", RED),
         // A question to the operator.
         ("  ?     ", YELLOW),

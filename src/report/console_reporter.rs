@@ -233,7 +233,11 @@ pub fn check_line(c: &CheckResult) -> Option<String> {
     if c.name.starts_with("wait until") {
         return None;
     }
-    let mark = if c.passed { "PASS" } else { "FAIL" };
+    let mark = match (c.passed, c.marginal) {
+        (true, false) => "PASS",
+        (true, true) => "MARGINAL",
+        (false, _) => "FAIL",
+    };
     let limits = match (c.low, c.high) {
         (Some(lo), Some(hi)) if lo == hi => format!(" (expected {})", with_unit(lo, c.unit.as_deref())),
         (Some(lo), Some(hi)) => {
@@ -277,8 +281,12 @@ pub fn summary_lines(report: &RunReport, virtual_time: bool) -> Vec<String> {
         Some(m) => format!(": {m}"),
         None => String::new(),
     };
+    let marginal = match report.checks.iter().filter(|c| c.marginal).count() {
+        0 => String::new(),
+        n => format!(" ({n} marginal)"),
+    };
     lines.push(format!(
-        "{}{why} — {steps} step(s), {} check(s) passed, {} failed, {time}{clock}, exit code {}",
+        "{}{why} — {steps} step(s), {} check(s) passed{marginal}, {} failed, {time}{clock}, exit code {}",
         report.verdict.word(),
         report.checks_passed(),
         report.checks_failed(),

@@ -254,7 +254,17 @@ fn check_case(c: &CheckResult) -> Case {
         } else {
             "expect"
         };
-        ("failure", kind.to_string(), message, details.clone())
+        // A failure of an attempt that was tried again is kept, as skipped: the verdict
+        // is the last attempt's.
+        match c.retried {
+            true => (
+                "skipped",
+                kind.to_string(),
+                format!("RETRIED: failed in an attempt that was tried again: {message}"),
+                details.clone(),
+            ),
+            false => ("failure", kind.to_string(), message, details.clone()),
+        }
     });
     Case {
         name: case_name(&c.stage, &stable),
@@ -301,6 +311,9 @@ fn check_details(c: &CheckResult) -> String {
     }
     if let Some(l) = limits_text(c) {
         let _ = writeln!(s, "limits: {l}");
+    }
+    if c.marginal {
+        let _ = writeln!(s, "MARGINAL: passed outside the warning band");
     }
     let _ = writeln!(s, "result: {}", c.message);
     let _ = writeln!(s, "check: {} at {}", c.name, c.origin);

@@ -11,7 +11,7 @@ use crate::bus::{
 };
 use crate::clock::{RealClock, SharedClock, VirtualClock};
 use crate::family::{DriveAddress, Family, LinkOptions, Registry, SimPeer};
-use crate::sim::{SimConfig, SimulatedDrive};
+use crate::sim::{SimConfig, SimSetting, SimulatedDrive};
 use clap::Args;
 use std::sync::{Arc, Mutex};
 use std::time::Duration;
@@ -98,6 +98,12 @@ pub struct ConnectionArgs {
     /// then, in virtual time following the capture's clock; nothing is sent to any port.
     #[arg(long, value_name = "CAPTURE", conflicts_with_all = ["port", "tcp", "can"])]
     pub replay: Option<std::path::PathBuf>,
+    /// A setting of the built-in simulated drive's physics, NAME=VALUE; may be repeated:
+    /// `response-time=200ms` and `overshoot=10%` (the speed follows a setpoint step in
+    /// first or second order instead of ramping), `coast-rate=300rpm/s` (friction while
+    /// coasting), `ambient=25°C`, `heating=25K/A`, `thermal-time=10min` (motor temperature).
+    #[arg(long = "sim", value_name = "NAME=VALUE", value_parser = parse_sim_setting)]
+    pub sim: Vec<SimSetting>,
 }
 
 pub fn parse_duration(text: &str) -> Result<Duration, BadValue> {
@@ -168,6 +174,10 @@ pub fn parse_bitrate(text: &str) -> Result<u32, BadValue> {
         })
 }
 
+fn parse_sim_setting(text: &str) -> Result<SimSetting, BadValue> {
+    SimSetting::parse(text).map_err(|e| BadValue(e.to_string()))
+}
+
 fn parse_link_option(text: &str) -> Result<(String, String), BadValue> {
     match text.split_once('=') {
         Some((k, v)) if !k.trim().is_empty() => Ok((k.trim().to_string(), v.trim().to_string())),
@@ -210,6 +220,7 @@ impl ConnectionArgs {
             heartbeat: false,
             cycle: None,
             replay: None,
+            sim: Vec::new(),
         }
     }
 
@@ -235,6 +246,13 @@ impl ConnectionArgs {
         ];
         all.extend(named.into_iter().filter_map(|(k, v)| Some((k.to_string(), v?))));
         all
+    }
+
+    /// The built-in simulated drive's settings: the defaults with every `--sim` applied.
+    pub fn sim_config(&self) -> SimConfig {
+        let mut config = SimConfig::default();
+        self.sim.iter().for_each(|s| s.apply(&mut config));
+        config
     }
 
     pub fn is_simulated(&self) -> bool {
@@ -400,7 +418,7 @@ impl ConnectionArgs {
                 } else {
                     RealClock::shared()
                 };
-                let device = family.simulator(&address, SimConfig::default());
+                let device = family.simulator(&address, self.sim_config());
                 let name = "built-in simulated drive";
                 let bus = match (device.peer, family.bus_kind()) {
                     (SimPeer::Bytes(peer), _) => Bus::Bytes(SharedTransport::new(Box::new(

@@ -18,7 +18,7 @@ use std::sync::{Arc, Mutex};
 #[command(next_help_heading = "Dictionary and bench limits")]
 pub struct DictionaryArgs {
     /// The built-in dictionary to start from, by its name: sd2, ct-unidrive-sp, lenze-931,
-    /// lenze-9400, canopen, sunfar-e500, modbus-inverter, modbus-tcp-inverter. The drive family its `family:` names picks the protocol
+    /// lenze-9400, sunfar-e500, modbus-inverter, modbus-tcp-inverter, canopen. The drive family its `family:` names picks the protocol
     /// (`ct-unidrive-sp` is a dictionary of the `ct-ansi` family).
     #[arg(id = "drive", long = "drive", value_name = "DICTIONARY", default_value = DEFAULT_DICTIONARY)]
     pub name: String,

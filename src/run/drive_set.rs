@@ -20,7 +20,7 @@ use crate::drive::Drive;
 use crate::family::{DriveAddress, Family, LinkContext, Registry, SimPeer};
 use crate::link::TelegramObserver;
 use crate::recipe::DriveDecl;
-use crate::sim::{SimConfig, SimulatedDrive};
+use crate::sim::SimulatedDrive;
 use crate::stop_request::StopRequests;
 use std::path::Path;
 use std::sync::{Arc, Mutex};
@@ -140,7 +140,7 @@ pub fn open_drives(
             }
         };
         if args.is_simulated() {
-            let device = family.simulator(&address, SimConfig::default());
+            let device = family.simulator(&address, args.sim_config());
             simulators.push((decl.name.clone(), device.drive));
             buses[index].2.push(device.peer);
             let shown = format!("{} {} ({})", decl.name, family.id().to_uppercase(), address.shown);

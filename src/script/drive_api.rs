@@ -9,6 +9,7 @@ use super::exchange::{Answer, Call};
 use super::param_value::{param_value, ParamKind, ParamValue};
 use super::resolve::{self, Refusal, Written};
 use super::sample_window::SampleWindow;
+use crate::dictionary::Dictionary;
 use crate::drive::DeviceCommand;
 use crate::session::{CheckResult, ObjectRef, Predicate, Statistic, StepOrigin};
 use rhai::{Array, Dynamic, Engine, EvalAltResult, FnPtr, NativeCallContext, Position};
@@ -25,7 +26,7 @@ pub struct DriveHandle {
 
 /// The dictionary objects of `h` are looked up in, and the prefix its objects carry
 /// (`left.`; empty for the one drive).
-fn dictionary_of(b: &Bridge, h: &DriveHandle) -> RhaiResult<(Arc<crate::dictionary::Dictionary>, String)> {
+pub(super) fn dictionary_of(b: &Bridge, h: &DriveHandle) -> RhaiResult<(Arc<Dictionary>, String)> {
     match (&h.name, b.drives.is_empty()) {
         (None, true) => Ok((b.dictionary.clone(), String::new())),
         (None, false) => Err(error(format!(
@@ -62,11 +63,11 @@ fn on_drive(
 const GO_TO_TIMEOUT: Duration = Duration::from_secs(5);
 const POLL: Duration = Duration::from_millis(100);
 
-fn refused(r: Refusal) -> Box<EvalAltResult> {
+pub(super) fn refused(r: Refusal) -> Box<EvalAltResult> {
     Box::new(EvalAltResult::ErrorRuntime(r.sentence().into(), Position::NONE))
 }
 
-fn error(text: impl Into<String>) -> Box<EvalAltResult> {
+pub(super) fn error(text: impl Into<String>) -> Box<EvalAltResult> {
     Box::new(EvalAltResult::ErrorRuntime(text.into().into(), Position::NONE))
 }
 
@@ -79,11 +80,11 @@ fn number_arg(v: &Dynamic, what: &str) -> RhaiResult<f64> {
     as_number(v).ok_or_else(|| error(format!("{what} must be a number, not {}", v.type_name())))
 }
 
-fn duration(text: &str) -> RhaiResult<Duration> {
+pub(super) fn duration(text: &str) -> RhaiResult<Duration> {
     resolve::duration(text).map_err(refused)
 }
 
-fn done(answer: Answer) -> RhaiResult<()> {
+pub(super) fn done(answer: Answer) -> RhaiResult<()> {
     match answer {
         Answer::Done => Ok(()),
         _ => Err(error("the session gave an unexpected answer")),
@@ -105,6 +106,7 @@ pub fn register(engine: &mut Engine, bridge: &Arc<Bridge>) {
     engine.register_type_with_name::<DriveHandle>("Drive");
     engine.register_type_with_name::<SampleWindow>("SampleWindow");
     engine.register_fn("drive", DriveHandle::default);
+    super::dynamics_api::register_dynamics(engine, bridge);
     let b = bridge.clone();
     engine.register_fn("drive", move |name: &str| -> RhaiResult<DriveHandle> {
         if b.drives.iter().any(|(n, _)| n == name) {
@@ -355,7 +357,7 @@ fn register_waits(engine: &mut Engine, bridge: &Arc<Bridge>) {
             sample(&b, h, &ctx, names, every, time, Some(path))
         },
     );
-    for (id, statistic) in Statistic::ALL {
+    for (id, statistic) in Statistic::OF_SUMS {
         engine.register_fn(id, move |w: &mut SampleWindow, name: &str| -> RhaiResult<f64> {
             w.statistic(name, statistic).map_err(error)
         });
@@ -468,6 +470,8 @@ fn register_checks(engine: &mut Engine, bridge: &Arc<Bridge>) {
             },
             at: Duration::ZERO,
             duration: Duration::ZERO,
+            marginal: false,
+            retried: false,
         }
     };
     let b = bridge.clone();

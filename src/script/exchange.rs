@@ -36,6 +36,13 @@ pub enum Call {
         csv: Option<PathBuf>,
     },
     Expect(Box<CheckResult>),
+    /// `wait_until_stable`: a [`Condition::Stable`](crate::session::Condition) to wait for.
+    WaitStable {
+        condition: crate::session::Condition,
+        timeout: Duration,
+        every: Duration,
+    },
+    CoastDown(crate::session::CoastDown),
     Fail(String),
     Message(String),
     /// An operator step.

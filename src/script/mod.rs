@@ -7,6 +7,7 @@
 mod bridge;
 mod drive_api;
 mod drive_in_condition;
+mod dynamics_api;
 mod exchange;
 mod literal_calls;
 mod operator_api;

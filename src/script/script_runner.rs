@@ -326,6 +326,12 @@ impl Host<'_> {
                     number,
                 )
             }
+            Call::WaitStable {
+                condition,
+                timeout,
+                every,
+            } => s.wait_until(&condition, timeout, every, origin, number),
+            Call::CoastDown(c) => s.coast_down(&c, origin, number),
             Call::Dwell(d) => {
                 s.dwell(d, number)?;
                 Ok(format!("{} dwelt", crate::session::show_duration(d)))
@@ -337,7 +343,7 @@ impl Host<'_> {
                 csv,
             } => {
                 self.capture.borrow_mut().start(&objects);
-                let result = s.sample(&objects, every, duration, csv.as_ref(), number);
+                let result = s.sample(&objects, every, duration, csv.as_ref(), &[], number);
                 let windows = self.capture.borrow_mut().finish();
                 *answer = Answer::Sampled(windows);
                 result

@@ -221,7 +221,9 @@ pub fn check_calls(
                     }
                 }
             }
-            (m, true) if m == "values" || m == "count" || Statistic::from_id(m).is_some() => {
+            (m, true)
+                if m == "values" || m == "count" || Statistic::OF_SUMS.iter().any(|(id, _)| *id == m) =>
+            {
                 if let Some((n, span)) = &name {
                     if let Err(r) = resolve::readable(dict, n) {
                         refuse(span, r);

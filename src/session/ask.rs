@@ -199,6 +199,8 @@ impl Session<'_> {
             window: None,
             at: self.clock.now(),
             duration: self.clock.now().saturating_sub(started),
+            marginal: false,
+            retried: false,
         };
         if !passed {
             self.failed_checks = true;

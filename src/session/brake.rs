@@ -99,6 +99,19 @@ impl Session<'_> {
         self.perform_stop_steps(zero, "brake", " (before finally)", 0);
     }
 
+    /// What the safe stop says first of every drive of `order` a coast-down left coasting:
+    /// its power stage is off on purpose and nothing can brake it.
+    pub(super) fn note_coasting_by_design(&mut self, order: &[usize]) {
+        for &i in order {
+            if self.drives.get(i).is_some_and(|d| d.coasting_by_design) {
+                let called = self.drives[i].called();
+                self.note(format!(
+                    "{called} coasts by design (a coast-down switched its power stage off): nothing can brake it; keep clear until it stands still"
+                ));
+            }
+        }
+    }
+
     /// While the drive is in operation enabled, polls the actual speed until it is within
     /// ±`below` (its unit) or `timeout` has passed, showing the speed.
     pub fn standstill(&mut self, below: f64, timeout: Duration, number: &str) -> Result<String, Stop> {

@@ -81,7 +81,13 @@ impl Predicate {
             Predicate::Below(v) => format!("below {}", u(*v)),
             Predicate::Between(a, b) => format!("between {} and {}", u(*a), u(*b)),
             Predicate::Near { target, tolerance } => match tolerance {
-                Tolerance::Absolute(t) => format!("near {} ± {}", u(*target), u(*t)),
+                Tolerance::Absolute(t) => {
+                    // A tolerance is a difference: ± 2 K around a temperature in °C.
+                    let difference = unit
+                        .and_then(crate::dictionary::Unit::from_symbol)
+                        .map(|u| u.difference().symbol());
+                    format!("near {} ± {}", u(*target), with_unit(*t, difference.or(unit)))
+                }
                 Tolerance::Percent(p) => format!("near {} ± {} %", u(*target), number(*p)),
             },
         }
@@ -120,7 +126,19 @@ pub fn with_unit(v: f64, unit: Option<&str>) -> String {
 #[derive(Debug, Clone, PartialEq)]
 pub enum Condition {
     State(DeviceState),
-    Value { object: ObjectRef, predicate: Predicate },
+    Value {
+        object: ObjectRef,
+        predicate: Predicate,
+    },
+    /// The slope of the object's value over the last `over` (per minute, in `rate_unit`)
+    /// satisfies `predicate`: stabilisation ("until the temperature rises less than
+    /// 0.5 K/min over 10 min").
+    Stable {
+        object: ObjectRef,
+        over: std::time::Duration,
+        predicate: Predicate,
+        rate_unit: String,
+    },
 }
 
 impl fmt::Display for Condition {
@@ -135,6 +153,18 @@ impl fmt::Display for Condition {
                     predicate.describe(object.unit.as_deref())
                 )
             }
+            Condition::Stable {
+                object,
+                over,
+                predicate,
+                rate_unit,
+            } => write!(
+                f,
+                "{} slope {} over {}",
+                object.name,
+                predicate.describe(Some(rate_unit)),
+                humantime::format_duration(*over)
+            ),
         }
     }
 }
@@ -149,10 +179,48 @@ pub enum Statistic {
     Ripple,
     /// Standard deviation.
     Std,
+    /// Of a declared step: seconds from 10 % to 90 % of it.
+    RiseTime,
+    /// Of a declared step: the furthest excursion beyond the target, in % of the step.
+    Overshoot,
+    /// Of a declared step: seconds from the window's start until it stays in the band.
+    SettlingTime,
+    /// Of a declared step: the mean of the window's last tenth minus the target.
+    SteadyStateError,
+    /// The least-squares slope over the window's last stretch of this length, per minute.
+    Slope(std::time::Duration),
+}
+
+/// What a statistic's limits are written in.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Measure {
+    /// The object's own unit (mean, min, max).
+    Value,
+    /// The unit a difference of the object's values is written in (K for °C).
+    Difference,
+    Seconds,
+    Percent,
+    /// The object's rate unit (K/min for °C).
+    Rate,
 }
 
 impl Statistic {
-    pub const ALL: [(&'static str, Statistic); 5] = [
+    pub const ALL: [(&'static str, Statistic); 10] = [
+        ("mean", Statistic::Mean),
+        ("min", Statistic::Min),
+        ("max", Statistic::Max),
+        ("ripple", Statistic::Ripple),
+        ("std", Statistic::Std),
+        ("rise_time", Statistic::RiseTime),
+        ("overshoot", Statistic::Overshoot),
+        ("settling_time", Statistic::SettlingTime),
+        ("steady_state_error", Statistic::SteadyStateError),
+        ("slope", Statistic::Slope(std::time::Duration::ZERO)),
+    ];
+
+    /// The statistics a window's running sums hold (what a script's sample window offers);
+    /// the measures of a step and the slope need the session's own window.
+    pub const OF_SUMS: [(&'static str, Statistic); 5] = [
         ("mean", Statistic::Mean),
         ("min", Statistic::Min),
         ("max", Statistic::Max),
@@ -167,7 +235,33 @@ impl Statistic {
             Statistic::Max => "max",
             Statistic::Ripple => "ripple",
             Statistic::Std => "std",
+            Statistic::RiseTime => "rise_time",
+            Statistic::Overshoot => "overshoot",
+            Statistic::SettlingTime => "settling_time",
+            Statistic::SteadyStateError => "steady_state_error",
+            Statistic::Slope(_) => "slope",
         }
+    }
+
+    pub fn measure(self) -> Measure {
+        match self {
+            Statistic::Mean | Statistic::Min | Statistic::Max => Measure::Value,
+            Statistic::Ripple | Statistic::Std | Statistic::SteadyStateError => Measure::Difference,
+            Statistic::RiseTime | Statistic::SettlingTime => Measure::Seconds,
+            Statistic::Overshoot => Measure::Percent,
+            Statistic::Slope(_) => Measure::Rate,
+        }
+    }
+
+    /// True for the measures of a step declared on the sample step.
+    pub fn needs_step(self) -> bool {
+        matches!(
+            self,
+            Statistic::RiseTime
+                | Statistic::Overshoot
+                | Statistic::SettlingTime
+                | Statistic::SteadyStateError
+        )
     }
 
     pub fn from_id(id: &str) -> Option<Statistic> {
@@ -184,6 +278,8 @@ pub struct Check {
     /// `None`: the value read now. `Some`: a statistic of the last sample window.
     pub statistic: Option<Statistic>,
     pub predicate: Predicate,
+    /// A narrower band inside the limits: a pass outside it is marginal.
+    pub warn: Option<Predicate>,
 }
 
 /// Statistics of a sample window, kept as the samples arrive (Welford's running mean and
@@ -236,6 +332,8 @@ impl Stats {
         }
     }
 
+    /// A statistic these sums hold (the measures of a step or a slope need a
+    /// [`SampleWindow`](super::SampleWindow); they read as NaN here).
     pub fn get(&self, s: Statistic) -> f64 {
         match s {
             Statistic::Mean => self.mean,
@@ -243,6 +341,7 @@ impl Stats {
             Statistic::Max => self.max,
             Statistic::Ripple => self.max - self.min,
             Statistic::Std => self.std(),
+            _ => f64::NAN,
         }
     }
 }
@@ -281,6 +380,11 @@ mod tests {
         };
         assert!(a.holds(-5.0) && !a.holds(5.1));
         assert_eq!(a.describe(Some("rpm")), "near 0 rpm ± 5 rpm");
+        let t = Predicate::Near {
+            target: 60.0,
+            tolerance: Tolerance::Absolute(2.0),
+        };
+        assert_eq!(t.describe(Some("°C")), "near 60 °C ± 2 K");
     }
 
     #[test]

@@ -1,9 +1,10 @@
 //! `expect`: named pass/fail checks on a value now, or on a statistic of the last sample
-//! window; each becomes a check in the report.
+//! window; each becomes a check in the report. Also where an attempt's checks are marked
+//! retried when it is tried again.
 
 use super::session::{value_of, Session};
 use super::stop::Stop;
-use super::{Check, CheckResult, Condition, StepOrigin};
+use super::{Check, CheckResult, Condition, Measured, StepOrigin};
 
 impl Session<'_> {
     /// Named checks, instant or on the last sample window; a failed check is recorded and
@@ -13,26 +14,26 @@ impl Session<'_> {
         for c in checks {
             let started = self.clock.now();
             let (passed, measured, text, message) = match c.statistic {
-                Some(stat) => {
-                    let window = self.windows.get(&c.object.name).copied().unwrap_or_default();
-                    if window.count == 0 {
-                        (
-                            false,
-                            None,
-                            None,
-                            format!("no samples of {} to check", c.object.name),
-                        )
-                    } else {
-                        let v = window.get(stat);
-                        let ok = c.predicate.holds(v);
-                        (
-                            ok,
-                            Some(v),
-                            None,
-                            format!("{} {} = {}", c.object.name, stat.id(), value_of(v, &c.object)),
-                        )
-                    }
-                }
+                Some(stat) => match self.windows.get(&c.object.name).map(|w| w.measure(stat)) {
+                    Some(Measured::Value(v)) => (
+                        c.predicate.holds(v),
+                        Some(v),
+                        None,
+                        format!("{} {} = {}", c.object.name, stat.id(), value_of(v, &c.object)),
+                    ),
+                    Some(Measured::Missing(why)) => (
+                        false,
+                        None,
+                        None,
+                        format!("no {} of {} to check: {why}", stat.id(), c.object.name),
+                    ),
+                    None => (
+                        false,
+                        None,
+                        None,
+                        format!("no samples of {} to check", c.object.name),
+                    ),
+                },
                 None => {
                     let cond = Condition::Value {
                         object: c.object.clone(),
@@ -43,6 +44,14 @@ impl Session<'_> {
                 }
             };
             let (low, high) = c.predicate.limits();
+            let marginal = passed && c.warn.as_ref().zip(measured).is_some_and(|(w, v)| !w.holds(v));
+            let message = match (&c.warn, marginal) {
+                (Some(w), true) => format!(
+                    "{message}, MARGINAL: outside the warning band {}",
+                    w.describe(c.object.unit.as_deref())
+                ),
+                _ => message,
+            };
             let result = CheckResult {
                 name: c.name.clone(),
                 passed,
@@ -69,6 +78,8 @@ impl Session<'_> {
                     .and_then(|_| self.window_steps.get(&c.object.name).cloned()),
                 at: self.clock.now(),
                 duration: self.clock.now().saturating_sub(started),
+                marginal,
+                retried: false,
             };
             if !passed {
                 self.failed_checks = true;
@@ -99,5 +110,36 @@ impl Session<'_> {
         } else {
             Ok(format!("FAILED: {message}"))
         }
+    }
+}
+
+/// Where the checks stood when an attempt began: how many were recorded and whether one had
+/// failed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct AttemptMark {
+    checks: usize,
+    failed: bool,
+}
+
+impl Session<'_> {
+    pub fn attempt_mark(&self) -> AttemptMark {
+        AttemptMark {
+            checks: self.report.checks.len(),
+            failed: self.failed_checks,
+        }
+    }
+
+    /// Whether a check recorded since `mark` failed.
+    pub fn failed_since(&self, mark: AttemptMark) -> bool {
+        self.report.checks.iter().skip(mark.checks).any(|c| !c.passed)
+    }
+
+    /// The attempt since `mark` is tried again: its checks stay in the report, marked
+    /// retried, and no longer decide the verdict.
+    pub fn retry_attempt(&mut self, mark: AttemptMark) {
+        for c in self.report.checks.iter_mut().skip(mark.checks) {
+            c.retried = true;
+        }
+        self.failed_checks = mark.failed;
     }
 }

@@ -56,6 +56,8 @@ impl Session<'_> {
                 origin: origin.clone(),
                 at: self.clock.now(),
                 duration: self.clock.now().saturating_sub(started),
+                marginal: false,
+                retried: false,
             };
             self.record_check_result(result);
         }

@@ -8,6 +8,7 @@
 mod ask;
 mod brake;
 mod bucket_series;
+mod coast_down;
 mod condition;
 mod expect;
 mod expect_parameters;
@@ -25,19 +26,25 @@ mod safe_stop;
 mod safe_stop_settings;
 mod sample;
 mod sample_table;
+mod sample_window;
 mod session;
 mod session_drive;
 mod set_value;
+mod slope_window;
 mod step_origin;
 mod step_path;
+mod step_response;
 mod stop;
 mod unit_identity;
+mod wait_stable;
 mod wait_until;
 
 pub use bucket_series::{BucketSeries, SERIES_BUCKETS};
+pub use coast_down::CoastDown;
 pub use condition::{
-    number, with_unit, write_number, Check, Condition, Predicate, Statistic, Stats, Tolerance,
+    number, with_unit, write_number, Check, Condition, Measure, Predicate, Statistic, Stats, Tolerance,
 };
+pub use expect::AttemptMark;
 pub use object_ref::ObjectRef;
 pub use one_off_stop::{stop_drive, OneOffStopError};
 pub use operator::{Given, Nobody, Operator, Reply};
@@ -45,14 +52,17 @@ pub use prompt::{default_answer_name, Accepted, NotAnAnswer, Pattern, Prompt, Pr
 pub use run_info::{RunInfo, StepInfo};
 pub use run_observer::{Observers, RunObserver};
 pub use run_report::{
-    CheckResult, DriveEnd, PlannedCheck, RunReport, Series, StepRecord, Verdict, ERROR_EXIT, MAX_RECORDS,
-    PANIC_EXIT,
+    CheckResult, DriveEnd, PlannedCheck, RunReport, Series, StepRecord, Track, Verdict, ERROR_EXIT,
+    MAX_RECORDS, PANIC_EXIT,
 };
 pub use safe_stop_settings::SafeStopSettings;
 pub use sample_table::{SampleTable, LONG_HEADER, LONG_HEADER_DRIVES};
+pub use sample_window::{Measured, SampleWindow};
 pub use session::{show_duration, Session};
 pub use set_value::SetValue;
+pub use slope_window::{Slope, SlopeWindow, SLOPE_BUCKETS};
 pub use step_origin::StepOrigin;
 pub use step_path::StepPath;
+pub use step_response::{ResponseMarks, StepResponse, StepSpec, DEFAULT_BAND_PERCENT};
 pub use stop::{outcome, Stop};
 pub use unit_identity::{UnitIdentity, UNIT_FIELDS};

@@ -100,6 +100,7 @@ impl Session<'_> {
             let name = self.select_object(&object.name)?;
             let outcome = match value {
                 SetValue::Number(n) => {
+                    self.track_setpoint(object, *n);
                     let unit = object.unit.as_deref().and_then(Unit::from_symbol);
                     self.drive().write(name, &Quantity::new(*n, unit))?
                 }
@@ -195,6 +196,24 @@ impl Session<'_> {
             }
             self.observer.step_progress(number, now - start, Some(d), "");
             self.wait(now.saturating_add(self.settings.fault_poll).min(end))?;
+        }
+    }
+
+    /// Keeps `value` for the timeline when `object` is the drive's speed setpoint (of the
+    /// first drive that writes one).
+    pub(super) fn track_setpoint(&mut self, object: &ObjectRef, value: f64) {
+        let is_setpoint = self
+            .role_ref(crate::dictionary::Role::SpeedSetpoint)
+            .is_some_and(|s| object.name.ends_with(&s.name));
+        if !is_setpoint {
+            return;
+        }
+        let t = self.clock.now().saturating_sub(self.run_start).as_secs_f64();
+        let (tracked, series) = self
+            .setpoints
+            .get_or_insert_with(|| (object.clone(), super::BucketSeries::new(0.0, 1e-3)));
+        if tracked.name == object.name {
+            series.push(t, value);
         }
     }
 }

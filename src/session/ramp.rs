@@ -30,6 +30,7 @@ impl Session<'_> {
             if self.interrupted() {
                 return Err(Stop::Interrupted);
             }
+            self.track_setpoint(object, *p);
             let name = self.select_object(&object.name)?;
             if let WriteOutcome::Limited(stored) = self.drive().write(name, &Quantity::new(*p, unit))? {
                 let line = self.limited_warning(object, &SetValue::Number(*p), stored);

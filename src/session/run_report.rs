@@ -105,6 +105,12 @@ pub struct CheckResult {
     pub stage: String,
     pub at: Duration,
     pub duration: Duration,
+    /// Passed, but outside the check's narrower warning band (`warn:`): a unit that drifts
+    /// toward a limit. Amber in HTML, `MARGINAL` in the console and JUnit.
+    pub marginal: bool,
+    /// Made in an `attempts` pass that failed and was tried again: kept in every report,
+    /// never the verdict (the last attempt's checks are).
+    pub retried: bool,
 }
 
 /// A check a recipe holds, known before the run: reports show the ones no result answers
@@ -135,6 +141,17 @@ pub struct Series {
     /// The count and statistics of every sample the step took, as its checks saw them;
     /// `None` when `points` are all the samples.
     pub samples: Option<Stats>,
+    /// Where the step response of a window with a declared step was measured.
+    pub marks: Option<super::ResponseMarks>,
+}
+
+/// A bounded series of one object over the whole run: the speed setpoints written, for the
+/// timeline.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Track {
+    pub object: String,
+    pub unit: Option<String>,
+    pub points: Vec<(f64, f64)>,
 }
 
 #[derive(Debug, Clone, PartialEq)]
@@ -153,6 +170,8 @@ pub struct RunReport {
     pub steps: Vec<StepRecord>,
     pub checks: Vec<CheckResult>,
     pub series: Vec<Series>,
+    /// The speed setpoints the run wrote, over the whole run.
+    pub setpoints: Option<Track>,
     /// The state the drive was left in, when it could be read.
     pub final_state: Option<DeviceState>,
     /// The actual speed read back after the safe stop, in `speed_unit`.
@@ -225,6 +244,7 @@ impl RunReport {
             steps: Vec::new(),
             checks: Vec::new(),
             series: Vec::new(),
+            setpoints: None,
             final_state: None,
             final_speed: None,
             speed_unit: None,
@@ -315,7 +335,7 @@ impl RunReport {
     }
 
     pub fn checks_failed(&self) -> usize {
-        self.checks.iter().filter(|c| !c.passed).count()
+        self.checks.iter().filter(|c| !c.passed && !c.retried).count()
     }
 
     /// The dictionary's resolution of `object`, when known.

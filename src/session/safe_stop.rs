@@ -82,6 +82,13 @@ impl Session<'_> {
         };
         self.run_safe_stop(finally, link_lost, leave_enabled);
         self.report.duration = self.clock.now().saturating_sub(self.run_start);
+        if let Some((object, series)) = &self.setpoints {
+            self.report.setpoints = Some(super::Track {
+                object: object.name.clone(),
+                unit: object.unit.clone(),
+                points: series.points(),
+            });
+        }
         let mut csv_files: Vec<String> = self.csv_files.iter().map(|p| p.display().to_string()).collect();
         csv_files.sort();
         self.report.csv_files = csv_files;
@@ -217,6 +224,7 @@ impl Session<'_> {
     /// drive verified as a single drive is, and one line per drive for the end.
     fn safe_stop_all(&mut self, finally: Option<&mut dyn FnMut(&mut Session)>, link_lost: bool, keep: bool) {
         let order = self.stop_order();
+        self.note_coasting_by_design(&order);
         let mut reachable = vec![true; self.drives.len()];
         // Every drive is reached again first: the recipe's `finally` names its drives in
         // any order, and the brake below takes them all together.
@@ -295,6 +303,7 @@ impl Session<'_> {
             );
             return;
         }
+        self.note_coasting_by_design(&[self.current]);
         let device_control = self.has_device_control();
         match finally {
             _ if keep => {}

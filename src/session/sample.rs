@@ -5,7 +5,10 @@ use super::session::show_duration;
 use super::session::{round, Session};
 use super::stop::{nth_tick, Stop};
 use super::with_unit;
-use super::{BucketSeries, ObjectRef, SampleTable, Series, Stats, SERIES_BUCKETS};
+use super::{
+    BucketSeries, ObjectRef, SampleTable, SampleWindow, Series, SlopeWindow, StepResponse, StepSpec,
+    SERIES_BUCKETS,
+};
 use crate::drive::ReadSet;
 use std::path::PathBuf;
 use std::time::Duration;
@@ -64,14 +67,16 @@ impl Session<'_> {
         Ok(())
     }
 
-    /// Reads `objects` every `every` for `duration`; keeps the window for `expect` and the
-    /// series for the plots; optionally writes a CSV file.
+    /// Reads `objects` every `every` for `duration`; keeps the window for `expect` (with
+    /// the response to the step `steps` declares for an object) and the series for the
+    /// plots; optionally writes a CSV file.
     pub fn sample(
         &mut self,
         objects: &[ObjectRef],
         every: Duration,
         duration: Duration,
         csv: Option<&PathBuf>,
+        steps: &[(String, StepSpec)],
         number: &str,
     ) -> Result<String, Stop> {
         let mut writer = match csv {
@@ -87,7 +92,17 @@ impl Session<'_> {
         let run_start = self.run_start;
         let origin = (start - run_start).as_secs_f64();
         let width = (duration.as_secs_f64() / SERIES_BUCKETS as f64).max(every.as_secs_f64());
-        let mut stats = vec![Stats::default(); objects.len()];
+        let mut stats: Vec<SampleWindow> = objects
+            .iter()
+            .map(|o| SampleWindow {
+                stats: Default::default(),
+                slope: SlopeWindow::new(origin, duration.as_secs_f64(), every.as_secs_f64()),
+                response: steps
+                    .iter()
+                    .find(|(name, _)| *name == o.name)
+                    .map(|(_, spec)| StepResponse::new(*spec, origin, duration.as_secs_f64())),
+            })
+            .collect();
         let mut series: Vec<BucketSeries> =
             objects.iter().map(|_| BucketSeries::new(origin, width)).collect();
         let mut values = vec![0.0; objects.len()];
@@ -120,7 +135,7 @@ impl Session<'_> {
             // one round trip.
             self.read_grouped(&groups, &mut values, &mut scratch)?;
             for (i, v) in values.iter().enumerate() {
-                stats[i].push(*v);
+                stats[i].push(t, *v);
                 series[i].push(t, *v);
             }
             let since_start = at.saturating_sub(run_start);
@@ -147,7 +162,8 @@ impl Session<'_> {
             w.flush().map_err(Stop::Error)?;
         }
         let mut summary = Vec::new();
-        for ((o, s), points) in objects.iter().zip(stats).zip(series) {
+        for ((o, w), points) in objects.iter().zip(stats).zip(series) {
+            let s = w.stats;
             summary.push(format!(
                 "{} mean {} min {} max {}",
                 o.name,
@@ -155,7 +171,8 @@ impl Session<'_> {
                 with_unit(round(s.min), o.unit.as_deref()),
                 with_unit(round(s.max), o.unit.as_deref())
             ));
-            self.windows.insert(o.name.clone(), s);
+            let marks = w.response.as_ref().map(StepResponse::marks);
+            self.windows.insert(o.name.clone(), w);
             self.window_steps.insert(o.name.clone(), self.path.id());
             self.report.series.push(Series {
                 object: o.name.clone(),
@@ -163,6 +180,7 @@ impl Session<'_> {
                 step: self.path.id(),
                 points: points.points(),
                 samples: Some(s),
+                marks,
             });
         }
         let late_note = if late > 0 {

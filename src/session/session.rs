@@ -9,7 +9,7 @@ use super::step_path::StepPath;
 use super::stop::{outcome, panic_message, Stop};
 use super::{
     with_unit, CheckResult, Condition, Nobody, ObjectRef, Operator, Predicate, RunInfo, RunObserver,
-    RunReport, SafeStopSettings, Stats, StepInfo, StepRecord, UnitIdentity, MAX_RECORDS,
+    RunReport, SafeStopSettings, StepInfo, StepRecord, UnitIdentity, MAX_RECORDS,
 };
 use crate::clock::SharedClock;
 use crate::drive::device_control::DeviceState;
@@ -36,7 +36,7 @@ pub struct Session<'a> {
     pub(super) output_dir: PathBuf,
     /// The statistics of the last sample window per object, and the id of the step that
     /// sampled it.
-    pub(super) windows: HashMap<String, Stats>,
+    pub(super) windows: HashMap<String, super::SampleWindow>,
     pub(super) window_steps: HashMap<String, String>,
     /// CSV files written in this run: a sample step that runs again (in a repeat) appends
     /// to its file instead of overwriting what the earlier pass recorded.
@@ -55,6 +55,8 @@ pub struct Session<'a> {
     pub(super) run: RunInfo,
     /// Where the answers to operator steps come from.
     pub(super) operator: Box<dyn Operator + 'a>,
+    /// The speed setpoints written, for the report's whole-run timeline (bounded buckets).
+    pub(super) setpoints: Option<(super::ObjectRef, super::BucketSeries)>,
 }
 
 impl<'a> Session<'a> {
@@ -120,6 +122,7 @@ impl<'a> Session<'a> {
             csv_wide: false,
             run,
             operator: Box::new(Nobody),
+            setpoints: None,
         }
     }
 
@@ -464,6 +467,12 @@ impl<'a> Session<'a> {
                 }
                 let v = self.drive().read_number(name)?;
                 Ok((predicate.holds(v), value_of(v, object), Some(v)))
+            }
+            // One reading has no slope; `wait_until_stable` keeps the history.
+            Condition::Stable { object, .. } => {
+                let name = self.select_object(&object.name)?;
+                let v = self.drive().read_number(name)?;
+                Ok((false, value_of(v, object), Some(v)))
             }
         }
     }

@@ -22,6 +22,9 @@ pub(super) struct SessionDrive<'a> {
     /// Order of the last command or walk that enabled it (0: never); the safe stop takes
     /// the drives from the highest down.
     pub enabled_order: u64,
+    /// A coast-down switched its power stage off and it may still turn: the safe stop
+    /// cannot brake it and says so.
+    pub coasting_by_design: bool,
 }
 
 impl<'a> SessionDrive<'a> {
@@ -33,6 +36,7 @@ impl<'a> SessionDrive<'a> {
             identity: None,
             link_given_up: false,
             enabled_order: 0,
+            coasting_by_design: false,
         }
     }
 

@@ -20,6 +20,9 @@ impl Session<'_> {
         origin: &StepOrigin,
         number: &str,
     ) -> Result<String, Stop> {
+        if let Condition::Stable { .. } = condition {
+            return self.wait_until_stable(condition, timeout, every, origin, number);
+        }
         let started = self.clock.now();
         let give_up = started.saturating_add(timeout);
         loop {
@@ -120,6 +123,8 @@ impl Session<'_> {
                     origin: origin.clone(),
                     at: self.clock.now(),
                     duration: waited,
+                    marginal: false,
+                    retried: false,
                 };
                 self.record_check_result(result);
                 return match message {
@@ -137,7 +142,7 @@ impl Session<'_> {
     }
 
     #[allow(clippy::too_many_arguments)]
-    fn record_check(
+    pub(super) fn record_check(
         &mut self,
         origin: &StepOrigin,
         name: &str,
@@ -153,6 +158,16 @@ impl Session<'_> {
             Condition::Value { object, predicate } => {
                 (Some(object.name.clone()), object.unit.clone(), predicate.limits())
             }
+            Condition::Stable {
+                object,
+                predicate,
+                rate_unit,
+                ..
+            } => (
+                Some(object.name.clone()),
+                Some(rate_unit.clone()),
+                predicate.limits(),
+            ),
         };
         let result = CheckResult {
             name: format!("wait until {name}"),
@@ -171,6 +186,8 @@ impl Session<'_> {
             window: None,
             at: self.clock.now(),
             duration: self.clock.now().saturating_sub(started),
+            marginal: false,
+            retried: false,
         };
         self.record_check_result(result);
     }

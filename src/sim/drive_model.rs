@@ -8,6 +8,7 @@ use super::device_state_machine::DeviceStateMachine;
 use super::motor::Motor;
 use super::noise::XorShift64;
 use super::sim_config::SimConfig;
+use super::thermal::Thermal;
 use crate::drive::device_control::{DeviceCommand, DeviceState};
 use std::time::Duration;
 
@@ -29,6 +30,7 @@ pub struct DriveModel {
     config: SimConfig,
     machine: DeviceStateMachine,
     motor: Motor,
+    thermal: Thermal,
     /// The time the model has been advanced to; never goes back.
     time: Duration,
     setpoint_rpm: f64,
@@ -52,10 +54,12 @@ impl DriveModel {
 
     pub fn new(config: SimConfig) -> Self {
         let noise = XorShift64::new(config.seed);
+        let thermal = Thermal::at(config.ambient_c, config.thermal_time_constant);
         DriveModel {
             config,
             machine: DeviceStateMachine::booted(),
             motor: Motor::at_rest(),
+            thermal,
             time: Duration::ZERO,
             setpoint_rpm: 0.0,
             parameter_set: 0,
@@ -199,7 +203,23 @@ impl DriveModel {
             }
             _ => (0.0, c.coast_rpm_per_s),
         };
-        self.motor.steer(self.time, target, rate);
+        match c.response {
+            Some(response) if self.machine.state() == DeviceState::OperationEnabled => {
+                self.motor.follow(self.time, target, response)
+            }
+            _ => self.motor.steer(self.time, target, rate),
+        }
+        let heat = if self.state().is_powered() {
+            c.heating_k_per_a * self.motor.steady_current()
+        } else {
+            0.0
+        };
+        self.thermal.aim(self.time, c.ambient_c + heat);
+    }
+
+    /// Motor winding temperature in °C at the model's time.
+    pub fn motor_temperature_c(&self) -> f64 {
+        self.thermal.temperature_at(self.time)
     }
 
     fn target_rpm(&self) -> f64 {
@@ -296,6 +316,57 @@ mod tests {
         m.enable_for_test();
         assert_eq!(m.set_parameter_set(1), Err(ModelRefusal::NotInThisState));
         assert_eq!(m.parameter_set(), 64);
+    }
+
+    #[test]
+    fn the_motor_warms_with_load_toward_ambient_plus_heating_times_current() {
+        let mut m = DriveModel::new(SimConfig::default());
+        assert_eq!(m.motor_temperature_c(), 25.0);
+        m.set_setpoint_rpm(10_000.0).unwrap();
+        m.enable_for_test();
+        // 0.8 A at 10 000 rpm × 25 K/A = 20 K above 25 °C, 63 % of the way after τ = 10 min.
+        m.advance_to(secs(600.0));
+        let expected = 45.0 - 20.0 * (-1f64).exp();
+        assert!(
+            (m.motor_temperature_c() - expected).abs() < 1e-9,
+            "{}",
+            m.motor_temperature_c()
+        );
+        m.advance_to(secs(6.0 * 3600.0));
+        assert!((m.motor_temperature_c() - 45.0).abs() < 1e-6);
+        m.write_control_word(6, false);
+        m.advance_to(secs(6.0 * 3600.0 + 600.0));
+        assert!((m.motor_temperature_c() - (25.0 + 20.0 * (-1f64).exp())).abs() < 1e-6);
+    }
+
+    #[test]
+    fn coasting_takes_the_speed_difference_over_the_friction_deceleration() {
+        let mut m = DriveModel::new(SimConfig::default());
+        m.set_setpoint_rpm(6000.0).unwrap();
+        m.enable_for_test();
+        m.advance_to(secs(10.0));
+        m.write_control_word(6, false);
+        assert_eq!(m.state(), DeviceState::ReadyToSwitchOn);
+        // 300 rpm/s of friction: 6000 → 3000 rpm in 10 s, to rest in 20 s.
+        m.advance_to(secs(20.0));
+        assert!((m.speed_rpm() - 3000.0).abs() < 1e-9);
+        m.advance_to(secs(30.0));
+        assert_eq!(m.speed_rpm(), 0.0);
+    }
+
+    #[test]
+    fn with_a_response_the_speed_follows_a_step_instead_of_ramping() {
+        let mut m = DriveModel::new(SimConfig {
+            response: Some(super::super::Response {
+                time_constant_s: 0.2,
+                overshoot: 0.0,
+            }),
+            ..SimConfig::default()
+        });
+        m.enable_for_test();
+        m.set_setpoint_rpm(6000.0).unwrap();
+        m.advance_to(secs(0.2));
+        assert!((m.speed_rpm() - 6000.0 * (1.0 - (-1f64).exp())).abs() < 1e-6);
     }
 
     #[test]

@@ -1,6 +1,7 @@
 //! The simulated drive's settings: its address on the bus, timing and the physical constants of the
 //! motor model. Plain data with the documented defaults; it must not hold any state.
 
+use super::motor::Response;
 use std::time::Duration;
 
 /// How the simulated drive is set up. `Default` gives a drive at bus address 2 with a
@@ -28,6 +29,14 @@ pub struct SimConfig {
     pub seed: u64,
     /// Parameter-set identification (object 22); at most 32 bytes are reported.
     pub ident: String,
+    /// How operation enabled follows a setpoint step; `None`: it ramps at `ramp_rpm_per_s`.
+    pub response: Option<Response>,
+    /// The motor's temperature at rest and the start.
+    pub ambient_c: f64,
+    /// Steady temperature rise per ampere of steady motor current.
+    pub heating_k_per_a: f64,
+    /// How fast the motor temperature settles (63 % of the way in this time).
+    pub thermal_time_constant: Duration,
 }
 
 impl Default for SimConfig {
@@ -43,6 +52,10 @@ impl Default for SimConfig {
             noise_rpm: 0.5,
             seed: 0,
             ident: "Test Motor".to_string(),
+            response: None,
+            ambient_c: 25.0,
+            heating_k_per_a: 25.0,
+            thermal_time_constant: Duration::from_secs(10 * 60),
         }
     }
 }

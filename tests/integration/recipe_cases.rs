@@ -4,6 +4,7 @@
 //! ```yaml
 //! exit: 0                      # expected exit code
 //! args: [speed=4000rpm]        # --set overrides (optional)
+//! physics: [response-time=200ms] # the simulated drive's `--sim` settings (optional)
 //! sim: { trip_at: 12 s, drive_error: 4660, drop_replies: 1, fault_reset_blocked: true,
 //!        ignore_commands: [disable_operation, shutdown], line_down: [10 s, 12 s],
 //!        panic_at: 12 s }
@@ -42,6 +43,8 @@ struct Case {
     exit: i32,
     #[serde(default)]
     args: Vec<String>,
+    #[serde(default)]
+    physics: Vec<String>,
     #[serde(default)]
     sim: Option<SimSetup>,
     #[serde(default)]
@@ -219,6 +222,11 @@ fn run_case(dir: &Path) -> Result<(), String> {
             _typing = Some(writer);
         }
     }
+    run.connection.sim = case
+        .physics
+        .iter()
+        .map(|p| drivescript::sim::SimSetting::parse(p).map_err(|e| format!("physics: {e}")))
+        .collect::<Result<_, _>>()?;
     run.set = set;
     run.output_dir = output_dir;
     run.prepare = Some(&prepare);

@@ -79,7 +79,8 @@ fn builtin_sd2_loads_and_validates() {
             "speed_actual",
             "current_actual",
             "drive_error",
-            "store_parameters"
+            "store_parameters",
+            "motor_temperature"
         ]
     );
     let table: [Row; 12] = [
@@ -308,7 +309,7 @@ fn filter_by_name_alias_and_description() {
     );
     assert_eq!(names("DEV_CTRL"), ["status_word", "control_word"]);
     assert_eq!(names("supply"), ["bus_voltage"]);
-    assert_eq!(names("").len(), 12);
+    assert_eq!(names("").len(), 13);
     assert!(names("nothing like this").is_empty());
 }
 

@@ -3,6 +3,8 @@
 //! steps name. Counts steps against the expansion limits. It must not read any step kind's
 //! settings itself.
 
+mod attempts;
+mod coast_down;
 mod expect;
 mod expect_parameters;
 mod go_to;
@@ -13,7 +15,9 @@ mod read_print;
 mod repeat;
 mod sample;
 mod set;
+mod statistic;
 mod wait_until;
+mod warn_band;
 
 use super::{did_you_mean, show_duration, Loader};
 use crate::diag::{Span, Spanned, YamlNode, YamlValue};
@@ -41,6 +45,8 @@ pub(in crate::recipe) const STEP_KEYS: &[&str] = &[
     "confirm",
     "enter_value",
     "enter_text",
+    "coast_down",
+    "attempts",
 ];
 
 impl Loader<'_, '_> {
@@ -154,6 +160,8 @@ impl Loader<'_, '_> {
             "sample" => self.sample(body)?,
             "expect" => self.expect(body, name.as_deref())?,
             "expect_parameters" => self.expect_parameters(body)?,
+            "coast_down" => self.coast_down(body)?,
+            "attempts" => self.attempts(body)?,
             "ramp" => self.ramp(body)?,
             "repeat" => self.repeat(body)?,
             "include" => self.include(body)?,

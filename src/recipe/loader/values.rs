@@ -109,7 +109,7 @@ impl Loader<'_, '_> {
                         &node.span,
                         format!("{u} is not a unit of {} ({own})", def.name),
                         "wrong unit",
-                        None,
+                        u.mismatch_help(own),
                     );
                     None
                 }
@@ -125,6 +125,23 @@ impl Loader<'_, '_> {
             }
         }
     }
+}
+
+impl Loader<'_, '_> {
+    /// An amount by which `def`'s value differs (a tolerance, a ripple, an error), in the
+    /// unit a difference of its values is written in: K for an object in °C.
+    pub(super) fn difference_for(&mut self, def: &ObjectDef, node: &YamlNode, what: &str) -> Option<f64> {
+        let as_difference = in_unit(def, def.unit.map(crate::dictionary::Unit::difference));
+        self.number_for(&as_difference, node, what, false)
+    }
+}
+
+/// `def` with its values read in `unit` instead of its own (a difference, a time, a rate),
+/// for conditions on a quantity derived from the object's values.
+pub(super) fn in_unit(def: &ObjectDef, unit: Option<crate::dictionary::Unit>) -> ObjectDef {
+    let mut derived = def.clone();
+    derived.unit = unit;
+    derived
 }
 
 fn limits_help(def: &ObjectDef) -> Option<String> {

@@ -33,6 +33,7 @@ pub fn html_report(report: &RunReport) -> String {
     failed_summary(&mut h, r);
     checks(&mut h, r);
     plots(&mut h, r);
+    super::timeline::timeline(&mut h, r);
     steps(&mut h, r);
     safe_stop(&mut h, r);
     let _ = write!(
@@ -66,7 +67,13 @@ fn header(h: &mut String, r: &RunReport) {
         r.verdict.word()
     );
     let why = match &r.verdict {
-        Verdict::Passed => format!("All {} check(s) passed.", r.checks.len()),
+        Verdict::Passed => match r.checks.iter().filter(|c| c.marginal).count() {
+            0 => format!("All {} check(s) passed.", r.checks.len()),
+            n => format!(
+                "All {} check(s) passed; {n} marginal (outside a warning band).",
+                r.checks.len()
+            ),
+        },
         Verdict::Failed => format!("{} of {} check(s) failed.", r.checks_failed(), r.checks.len()),
         Verdict::Error(m) => format!("Communication failure or drive fault: {m}"),
         Verdict::Interrupted(s) => format!(
@@ -118,7 +125,14 @@ fn header(h: &mut String, r: &RunReport) {
         ),
         (
             "Checks",
-            format!("{} passed, {} failed", r.checks_passed(), r.checks_failed()),
+            match r.checks.iter().filter(|c| c.marginal).count() {
+                0 => format!("{} passed, {} failed", r.checks_passed(), r.checks_failed()),
+                n => format!(
+                    "{} passed ({n} marginal), {} failed",
+                    r.checks_passed(),
+                    r.checks_failed()
+                ),
+            },
         ),
         ("After the safe stop", r.drive_left()),
     ];
@@ -135,7 +149,7 @@ fn header(h: &mut String, r: &RunReport) {
 /// The failed checks and the steps that failed on their own, first thing after the
 /// verdict, so a reader sees at once what to look at.
 fn failed_summary(h: &mut String, r: &RunReport) {
-    let failed: Vec<&CheckResult> = r.checks.iter().filter(|c| !c.passed).collect();
+    let failed: Vec<&CheckResult> = r.checks.iter().filter(|c| !c.passed && !c.retried).collect();
     let steps = unexplained_failures(r);
     if failed.is_empty() && steps.is_empty() {
         return;
@@ -202,7 +216,7 @@ fn checks(h: &mut String, r: &RunReport) {
             s => Some(s),
         };
         if let Some(stage) = heading {
-            let failed = group.iter().filter(|c| !c.passed).count();
+            let failed = group.iter().filter(|c| !c.passed && !c.retried).count();
             let mark = if failed > 0 {
                 format!(" — <span class=\"fail\">{failed} FAILED</span>")
             } else {
@@ -216,10 +230,11 @@ fn checks(h: &mut String, r: &RunReport) {
         }
         let titles: Vec<(String, String)> = group.iter().map(|c| (check_title(c), c.step.clone())).collect();
         for (c, title) in group.iter().zip(case_names(&titles)) {
-            let (row, mark) = if c.passed {
-                ("pass", "<span class=\"ok\">PASS</span>")
-            } else {
-                ("fail", "<span class=\"fail\">FAIL</span>")
+            let (row, mark) = match (c.passed, c.marginal, c.retried) {
+                (false, _, true) => ("retried", "<span class=\"retried\">FAIL, RETRIED</span>"),
+                (true, false, _) => ("pass", "<span class=\"ok\">PASS</span>"),
+                (true, true, _) => ("marginal", "<span class=\"warn\">MARGINAL</span>"),
+                (false, _, false) => ("fail", "<span class=\"fail\">FAIL</span>"),
             };
             let _ = writeln!(
                 h,

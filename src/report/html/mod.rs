@@ -1,7 +1,8 @@
 //! The HTML run report, split by concern: the page and its sections ([`html_page`]), the
 //! index page of a command with several files ([`html_index`]), how
 //! values are written on it ([`html_text`]), the plots section ([`plot_section`]) with its
-//! SVG plots ([`svg_plot`]) and their axes ([`plot_axes`]), and the styles
+//! SVG plots ([`svg_plot`]) and their axes ([`plot_axes`]), the whole-run timeline
+//! ([`timeline`]), and the styles
 //! (`html_report.css`, included at compile time). Reads the run report; talks to nothing.
 
 mod html_index;
@@ -10,6 +11,7 @@ mod html_text;
 mod plot_axes;
 mod plot_section;
 mod svg_plot;
+mod timeline;
 
 pub use html_index::{html_index, IndexEntry};
 pub use html_page::{html_report, write_html};

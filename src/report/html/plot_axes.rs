@@ -1,5 +1,59 @@
 //! The axes of a plot: the value and time ranges with their margins, round tick values,
-//! the time unit that suits a span, and an axis' title. Pure arithmetic and text.
+//! the time unit that suits a span, an axis' title, and the grid with its tick labels as
+//! SVG text. Pure arithmetic and text.
+
+use crate::session::number;
+use std::fmt::Write as _;
+
+/// The plot area of an SVG, in its user units.
+#[derive(Debug, Clone, Copy)]
+pub struct Area {
+    pub left: f64,
+    pub right: f64,
+    pub top: f64,
+    pub bottom: f64,
+}
+
+/// The grid lines of round times (in the unit that suits the span, which it returns) and
+/// values across `area`, each labelled: times `gap` below the area, values left of it.
+pub fn grid(
+    s: &mut String,
+    area: Area,
+    (x, y): (&dyn Fn(f64) -> f64, &dyn Fn(f64) -> f64),
+    (t0, t1): (f64, f64),
+    (v0, v1): (f64, f64),
+    gap: f64,
+) -> &'static str {
+    let Area {
+        left,
+        right,
+        top,
+        bottom,
+    } = area;
+    let (unit, div) = time_unit(t1 - t0);
+    for tick in ticks(t0 / div, t1 / div) {
+        let px = x(tick * div);
+        let _ = writeln!(
+            s,
+            "<line class=\"grid\" stroke=\"#ddd\" x1=\"{px:.2}\" y1=\"{top}\" x2=\"{px:.2}\" y2=\"{bottom}\"/>\
+             <text x=\"{px:.2}\" y=\"{:.2}\" text-anchor=\"middle\">{}</text>",
+            bottom + gap,
+            number(round_to(tick, 9))
+        );
+    }
+    for tick in ticks(v0, v1) {
+        let py = y(tick);
+        let _ = writeln!(
+            s,
+            "<line class=\"grid\" stroke=\"#ddd\" x1=\"{left}\" y1=\"{py:.2}\" x2=\"{right}\" y2=\"{py:.2}\"/>\
+             <text x=\"{:.2}\" y=\"{:.2}\" text-anchor=\"end\">{}</text>",
+            left - 6.0,
+            py + 4.0,
+            number(round_to(tick, 9))
+        );
+    }
+    unit
+}
 
 /// The range of `values`, widened by `pad` of its width on each side; never empty.
 pub fn padded_range(values: impl Iterator<Item = f64>, pad: f64) -> (f64, f64) {

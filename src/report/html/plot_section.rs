@@ -51,10 +51,11 @@ pub fn plots(h: &mut String, r: &RunReport) {
         if !spread.is_empty() {
             h.push_str("<ul class=\"stat-checks\">\n");
             for c in spread {
-                let mark = if c.passed {
-                    "<span class=\"ok\">PASS</span>"
-                } else {
-                    "<span class=\"fail\">FAIL</span>"
+                let mark = match (c.passed, c.marginal, c.retried) {
+                    (false, _, true) => "<span class=\"retried\">FAIL, RETRIED</span>",
+                    (true, false, _) => "<span class=\"ok\">PASS</span>",
+                    (true, true, _) => "<span class=\"warn\">MARGINAL</span>",
+                    (false, _, false) => "<span class=\"fail\">FAIL</span>",
                 };
                 let _ = writeln!(
                     h,

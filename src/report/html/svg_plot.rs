@@ -3,7 +3,7 @@
 //! the page around it; the axes' ranges and ticks come from [`super::plot_axes`].
 
 use super::html_text::esc;
-use super::plot_axes::{axis_title, padded_range, round_to, ticks, time_unit};
+use super::plot_axes::{axis_title, grid, padded_range, Area};
 use crate::session::with_unit;
 use crate::session::{number, CheckResult, Series};
 use std::fmt::Write as _;
@@ -83,28 +83,13 @@ pub fn plot_svg(series: &Series, checks: &[&CheckResult], id: usize) -> String {
     let y = |v: f64| y_bottom - (v - v0) * sy;
 
     // Grid and tick labels.
-    let (time_unit, time_div) = time_unit(t1 - t0);
-    for tick in ticks(t0 / time_div, t1 / time_div) {
-        let px = x(tick * time_div);
-        let _ = writeln!(
-            s,
-            "<line class=\"grid\" stroke=\"#ddd\" x1=\"{px:.2}\" y1=\"{y_top}\" x2=\"{px:.2}\" y2=\"{y_bottom}\"/>\
-             <text x=\"{px:.2}\" y=\"{:.2}\" text-anchor=\"middle\">{}</text>",
-            y_bottom + 16.0,
-            number(round_to(tick, 9))
-        );
-    }
-    for tick in ticks(v0, v1) {
-        let py = y(tick);
-        let _ = writeln!(
-            s,
-            "<line class=\"grid\" stroke=\"#ddd\" x1=\"{x_left}\" y1=\"{py:.2}\" x2=\"{x_right}\" y2=\"{py:.2}\"/>\
-             <text x=\"{:.2}\" y=\"{:.2}\" text-anchor=\"end\">{}</text>",
-            x_left - 6.0,
-            py + 4.0,
-            number(round_to(tick, 9))
-        );
-    }
+    let area = Area {
+        left: x_left,
+        right: x_right,
+        top: y_top,
+        bottom: y_bottom,
+    };
+    let time_unit = grid(&mut s, area, (&x, &y), (t0, t1), (v0, v1), 16.0);
     // Axes and their titles.
     let _ = writeln!(
         s,
@@ -157,6 +142,7 @@ pub fn plot_svg(series: &Series, checks: &[&CheckResult], id: usize) -> String {
             "<line class=\"limit\" stroke=\"#b00000\" stroke-dasharray=\"6 4\" x1=\"{x_left}\" y1=\"{py:.2}\" x2=\"{x_right}\" y2=\"{py:.2}\"/>"
         );
     }
+    response_marks(&mut s, series, &x, &y, (y_top, y_bottom));
     s.push_str("</g>\n");
     let mut labels: Vec<(f64, String)> = limits
         .iter()
@@ -181,6 +167,48 @@ pub fn plot_svg(series: &Series, checks: &[&CheckResult], id: usize) -> String {
     }
     s.push_str("</svg>\n");
     s
+}
+
+/// Where a window's step response was measured: a vertical line where it crossed 10 % and
+/// 90 % of the step and where it settled, a ring on the peak, each labelled.
+fn response_marks(
+    s: &mut String,
+    series: &Series,
+    x: &dyn Fn(f64) -> f64,
+    y: &dyn Fn(f64) -> f64,
+    (top, bottom): (f64, f64),
+) {
+    let Some(m) = series.marks else {
+        return;
+    };
+    let lines = [
+        (m.rise_start, "10 %"),
+        (m.rise_end, "90 %"),
+        (m.settled, "settled"),
+    ];
+    for (k, (t, label)) in lines.iter().enumerate() {
+        let Some(t) = t.filter(|t| t.is_finite()) else {
+            continue;
+        };
+        let px = x(t);
+        let _ = writeln!(
+            s,
+            "<line class=\"marker\" stroke=\"#2a7a2a\" stroke-dasharray=\"3 2\" x1=\"{px:.2}\" y1=\"{top}\" x2=\"{px:.2}\" y2=\"{bottom}\"/>\
+             <text class=\"marker-label\" fill=\"#2a7a2a\" x=\"{:.2}\" y=\"{:.2}\" font-size=\"10\">{label}</text>",
+            px + 3.0,
+            top + 12.0 + 12.0 * k as f64
+        );
+    }
+    if let Some((t, v)) = m.peak.filter(|(t, v)| t.is_finite() && v.is_finite()) {
+        let (px, py) = (x(t), y(v));
+        let _ = writeln!(
+            s,
+            "<circle class=\"marker\" fill=\"none\" stroke=\"#2a7a2a\" stroke-width=\"1.5\" cx=\"{px:.2}\" cy=\"{py:.2}\" r=\"5\"/>\
+             <text class=\"marker-label\" fill=\"#2a7a2a\" x=\"{:.2}\" y=\"{:.2}\" font-size=\"10\">peak</text>",
+            px + 7.0,
+            py - 6.0
+        );
+    }
 }
 
 /// Moves label baselines apart so that no two are closer than `gap`, keeping them between
@@ -219,11 +247,17 @@ pub fn finite(points: &[(f64, f64)]) -> Vec<(f64, f64)> {
 /// At most [`MAX_PLOT_POINTS`] points: all of them, or per bucket of consecutive points
 /// its minimum and maximum in time order, so peaks stay visible.
 pub fn downsample(points: &[(f64, f64)]) -> Vec<(f64, f64)> {
-    if points.len() <= MAX_PLOT_POINTS {
+    downsample_to(points, MAX_PLOT_POINTS)
+}
+
+/// [`downsample`] to at most `cap` points (at least 2).
+pub fn downsample_to(points: &[(f64, f64)], cap: usize) -> Vec<(f64, f64)> {
+    let cap = cap.max(2);
+    if points.len() <= cap {
         return points.to_vec();
     }
-    let buckets = MAX_PLOT_POINTS / 2;
-    let mut out = Vec::with_capacity(MAX_PLOT_POINTS);
+    let buckets = cap / 2;
+    let mut out = Vec::with_capacity(cap);
     for b in 0..buckets {
         let start = b * points.len() / buckets;
         let end = ((b + 1) * points.len() / buckets).min(points.len());

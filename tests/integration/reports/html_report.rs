@@ -126,7 +126,7 @@ fn one_plot_per_series_with_data_axes_and_limits() {
     r.checks[0].high = Some(6001.0);
     let page = html_report(&r);
     let doc = parse(&page);
-    assert_eq!(elements(&doc, "svg").len(), 1);
+    assert_eq!(select(&doc, "section#plots svg").len(), 1);
     let polyline = elements(&doc, "polyline")[0];
     assert!(inside(&polyline, "svg"));
     assert_eq!(&*polyline.value().name.ns, SVG_NAMESPACE);
@@ -249,7 +249,7 @@ fn plots_show_their_own_window_checks_and_statistics_as_text() {
     r.checks.push(near(5999.1, 6000.9));
     let page = html_report(&r);
     let doc = parse(&page);
-    let figures = select(&doc, "figure");
+    let figures = select(&doc, "section#plots figure");
     assert_eq!(figures.len(), 2);
     let label_texts = |f: &ElementRef| -> Vec<(String, f64)> {
         f.select(&scraper::Selector::parse("text.limit-label").unwrap())
@@ -350,18 +350,21 @@ fn degenerate_series_still_plot() {
         step: "9".into(),
         points: vec![(f64::NAN, 1.0)],
         samples: None,
+        marks: None,
     });
     let page = html_report(&r);
     let doc = parse(&page);
-    let svgs = elements(&doc, "svg");
+    let svgs = select(&doc, "section#plots svg");
     assert_eq!(svgs.len(), 2);
     assert!(page.contains("points=\"1,5\""));
     assert!(page.contains(">no samples</text>"));
     assert!(page.contains("a&lt;b [°C]"));
     assert_eq!(svgs[1].attr("aria-label"), Some("a<b [°C] over time"));
+    // The plots' own clip paths (the timeline's are `timeline-area-N`).
     let ids: Vec<&str> = elements(&doc, "clipPath")
         .iter()
         .map(|e| e.attr("id").unwrap())
+        .filter(|id| !id.starts_with("timeline-area"))
         .collect();
     assert_eq!(ids, vec!["plot-area-0"]);
 }
@@ -506,4 +509,119 @@ fn checks_after_a_repeat_are_not_under_its_last_pass() {
         .map(|row| row.value().attr("class").unwrap_or_default().to_string())
         .collect();
     assert_eq!(last_two, ["pass", "group"]);
+}
+
+/// A marginal pass is its own row class (amber on screen) and mark, and the summary
+/// counts it.
+#[test]
+fn a_marginal_pass_is_amber_and_counted() {
+    let mut r = passed_report();
+    r.checks[0].marginal = true;
+    let page = html_report(&r);
+    let doc = parse(&page);
+    let marginal = select(&doc, "tr.marginal");
+    assert_eq!(marginal.len(), 1, "{page}");
+    assert!(text(&marginal[0]).contains("MARGINAL"));
+    assert!(page.contains("(1 marginal)"));
+    assert!(
+        page.contains("tr.marginal td { background: #fff4d6; }"),
+        "amber on screen"
+    );
+    r.checks[0].marginal = false;
+    assert!(select(&parse(&html_report(&r)), "tr.marginal").is_empty());
+}
+
+/// The shipped dynamics recipe's report: markers where the step response was measured, a
+/// marginal pass in amber, and the whole-run timeline with the setpoints written and the
+/// stages; headless Chromium renders it on screen (PNG) and prints it on A4 (PDF).
+#[test]
+fn the_dynamics_report_marks_the_response_and_draws_the_whole_run() {
+    let dir = crate::support::scratch("dynamics-report");
+    let html = dir.join("dynamics.html");
+    let out = crate::support::cli(
+        &[
+            "run",
+            "recipes/spindle-dynamics.yaml",
+            "--fast",
+            "--sim",
+            "response-time=150ms",
+            "--sim",
+            "overshoot=8%",
+            "--report",
+            html.to_str().unwrap(),
+        ],
+        0,
+    );
+    assert_has(
+        &out.stdout,
+        &["MARGINAL  speed_actual overshoot below 15 %", "(1 marginal)"],
+    );
+    let page = std::fs::read_to_string(&html).unwrap();
+    let doc = parse(&page);
+    let step_plot = select(&doc, "section#plots svg.plot")[0];
+    let labels: Vec<String> = step_plot
+        .select(&scraper::Selector::parse("text.marker-label").unwrap())
+        .map(|t| text(&t))
+        .collect();
+    assert_eq!(labels, ["10 %", "90 %", "settled", "peak"]);
+    assert_eq!(select(&doc, "section#checks tr.marginal").len(), 1);
+    let timelines = select(&doc, "section#timeline svg.timeline");
+    assert_eq!(timelines.len(), 2, "speed_actual and motor_temperature");
+    assert!(
+        timelines[0].html().contains("class=\"setpoint\""),
+        "the setpoints on the speed"
+    );
+    assert!(
+        !timelines[1].html().contains("class=\"setpoint\""),
+        "not on the temperature"
+    );
+    assert!(timelines[0].html().contains(">safe stop</text>"));
+    let Some(mut screen) = crate::support::headless_chromium(&dir.join("profile-screen")) else {
+        return;
+    };
+    let png = dir.join("dynamics.png");
+    let shot = screen
+        .arg("--window-size=1100,2600")
+        .arg(format!("--screenshot={}", png.display()))
+        .arg(&html)
+        .output()
+        .expect("chromium runs");
+    assert!(shot.status.success(), "{}", String::from_utf8_lossy(&shot.stderr));
+    assert!(std::fs::read(&png).unwrap().starts_with(b"\x89PNG"));
+    let Some(mut print) = crate::support::headless_chromium(&dir.join("profile-print")) else {
+        return;
+    };
+    let pdf = dir.join("dynamics.pdf");
+    let printed = print
+        .arg(format!("--print-to-pdf={}", pdf.display()))
+        .arg(&html)
+        .output()
+        .expect("chromium runs");
+    assert!(
+        printed.status.success(),
+        "{}",
+        String::from_utf8_lossy(&printed.stderr)
+    );
+    let bytes = std::fs::read(&pdf).unwrap();
+    let pages = String::from_utf8_lossy(&bytes)
+        .matches("/MediaBox [0 0 594.9")
+        .count();
+    assert!((1..=8).contains(&pages), "{pages} A4 pages");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// A failure of an attempt that was tried again is a grey row that says so, and is not
+/// among what failed.
+#[test]
+fn a_retried_failure_is_kept_but_not_among_what_failed() {
+    let mut r = passed_report();
+    r.checks[0].passed = false;
+    r.checks[0].retried = true;
+    let doc = parse(&html_report(&r));
+    let rows = select(&doc, "section#checks tr.retried");
+    assert_eq!(rows.len(), 1);
+    assert!(text(&rows[0]).contains("FAIL, RETRIED"));
+    assert!(select(&doc, "section#failures").is_empty());
+    r.checks[0].retried = false;
+    assert_eq!(select(&parse(&html_report(&r)), "section#failures").len(), 1);
 }

@@ -375,3 +375,46 @@ fn a_broken_junit_file_is_refused() {
         assert!(refused.contains(why), "{why:?}: {refused}");
     }
 }
+
+/// A pass outside its warning band stays a passing case (CI must not go red) and says
+/// MARGINAL in its output.
+#[test]
+fn a_marginal_pass_is_a_passing_case_that_says_so() {
+    let mut r = passed_report();
+    r.checks[0].marginal = true;
+    let xml = junit_xml(&r, &[]);
+    let doc = parse(&xml);
+    let suite = xml_elements(&doc, "testsuite")[0];
+    assert_eq!(suite.attribute("failures"), Some("0"));
+    assert_has(
+        case_out(&doc, "speed_actual mean near").unwrap_or_default(),
+        &["MARGINAL: passed outside the warning band"],
+    );
+    r.checks[0].marginal = false;
+    let again = junit_xml(&r, &[]);
+    assert_lacks(
+        case_out(&parse(&again), "speed_actual mean near").unwrap_or_default(),
+        &["MARGINAL"],
+    );
+}
+
+/// A failure of an attempt that was tried again stays in the file as a skipped case that
+/// says so; it does not fail the suite.
+#[test]
+fn a_retried_failure_is_kept_as_skipped() {
+    let mut r = passed_report();
+    r.checks[0].passed = false;
+    r.checks[0].retried = true;
+    let xml = junit_xml(&r, &[]);
+    let doc = parse(&xml);
+    let suite = xml_elements(&doc, "testsuite")[0];
+    assert_eq!(suite.attribute("failures"), Some("0"));
+    assert_eq!(suite.attribute("skipped"), Some("1"));
+    assert_has(&xml, &["RETRIED: failed in an attempt that was tried again"]);
+    r.checks[0].retried = false;
+    let doc = junit_xml(&r, &[]);
+    assert_eq!(
+        xml_elements(&parse(&doc), "testsuite")[0].attribute("failures"),
+        Some("1")
+    );
+}

@@ -220,6 +220,7 @@ const HTML_ELEMENTS: &[&str] = &[
     "g",
     "line",
     "polyline",
+    "circle",
     "rect",
     "text",
     "clipPath",

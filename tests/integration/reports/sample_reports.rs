@@ -56,6 +56,8 @@ pub fn check(name: &str, passed: bool, message: &str) -> CheckResult {
         window: None,
         at: Duration::from_secs(1),
         duration: Duration::from_millis(200),
+        marginal: false,
+        retried: false,
     }
 }
 
@@ -143,6 +145,7 @@ pub fn passed_report() -> RunReport {
             step: "3".into(),
             points,
             samples: None,
+            marks: None,
         }],
         final_state: Some(DeviceState::SwitchedOn),
         final_speed: Some(0.4),

@@ -4,7 +4,8 @@
 
 use super::sim_objects::{
     SimObject, ACTUAL_CURRENT, ACTUAL_SPEED, ACTUAL_SPEED_2, BUS_VOLTAGE, CONTROL_WORD, DRIVE_ERROR,
-    IDENT_MAX, IDENT_STRING, PARAMETER_SET, POWER_STAGE_LOAD, SPEED_SETPOINT, STATUS_WORD, STORE_PARAMETERS,
+    IDENT_MAX, IDENT_STRING, MOTOR_TEMPERATURE, PARAMETER_SET, POWER_STAGE_LOAD, SPEED_SETPOINT, STATUS_WORD,
+    STORE_PARAMETERS,
 };
 use crate::family::sd2::codec::{Cyclic, Data, ErrorCode};
 use crate::sim::{DriveModel, ModelRefusal};
@@ -37,6 +38,7 @@ pub(crate) fn read(m: &mut DriveModel, index: u16, subindex: u32) -> Result<Data
         SPEED_SETPOINT => i32_data(counts_i32(m.setpoint_rpm() * 1000.0)),
         ACTUAL_CURRENT => i32_data(counts_i32(m.measured_current_a() * 1000.0)),
         DRIVE_ERROR => u16_data(m.drive_error()),
+        MOTOR_TEMPERATURE => i32_data(counts_i32(m.motor_temperature_c() * 10.0)),
         _ => return Err(INTERNAL_INCOMPATIBILITY),
     })
 }

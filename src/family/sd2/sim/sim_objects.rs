@@ -16,6 +16,7 @@ pub(crate) const ACTUAL_SPEED: u16 = 398;
 pub(crate) const ACTUAL_CURRENT: u16 = 400;
 pub(crate) const DRIVE_ERROR: u16 = 401;
 pub(crate) const STORE_PARAMETERS: u16 = 402;
+pub(crate) const MOTOR_TEMPERATURE: u16 = 403;
 
 /// Maximum length of the ident string, sent as its first byte.
 pub(crate) const IDENT_MAX: usize = 32;
@@ -46,7 +47,7 @@ const fn object(index: u16, kind: Kind, access: Access) -> SimObject {
     SimObject { index, kind, access }
 }
 
-pub(crate) const OBJECTS: [SimObject; 12] = [
+pub(crate) const OBJECTS: [SimObject; 13] = [
     object(IDENT_STRING, Kind::String32, Access::ReadOnly),
     object(BUS_VOLTAGE, Kind::U16, Access::ReadOnly),
     object(POWER_STAGE_LOAD, Kind::U16, Access::ReadOnly),
@@ -59,6 +60,7 @@ pub(crate) const OBJECTS: [SimObject; 12] = [
     object(ACTUAL_CURRENT, Kind::I32, Access::ReadOnly),
     object(DRIVE_ERROR, Kind::U16, Access::ReadOnly),
     object(STORE_PARAMETERS, Kind::U16, Access::WriteOnly),
+    object(MOTOR_TEMPERATURE, Kind::I32, Access::ReadOnly),
 ];
 
 impl SimObject {

@@ -5,7 +5,7 @@
 use crate::diag::{Shape, YamlNode};
 use crate::recipe::loader::Loader;
 use crate::recipe::step::StepKind;
-use crate::session::{Check, Statistic};
+use crate::session::{Check, ObjectRef, Statistic};
 
 impl Loader<'_, '_> {
     pub(in crate::recipe::loader) fn expect(
@@ -30,29 +30,44 @@ impl Loader<'_, '_> {
             // `{ mean: { near: ... } }` checks a statistic; `{ near: ... }` the value now.
             let (stat, pred_node) = match v.entries() {
                 Some([(key, node)]) if Statistic::from_id(&key.value).is_some() => {
-                    let stat = Statistic::from_id(&key.value);
-                    if !self.sampled.contains(&r.name) {
-                        self.problem(
-                            &key.span,
-                            format!(
-                                "no earlier `sample` step samples {}, so there is no {} to check",
-                                r.name,
-                                stat.map(Statistic::id).unwrap_or("value")
-                            ),
-                            "nothing sampled",
-                            Some(format!(
-                                "add `- sample: {{ objects: [{}], every: 100 ms, for: 10 s }}` before this step",
-                                r.name
-                            )),
-                        );
+                    let Some(found) = self.statistic_of(&r, key, node) else {
+                        ok = false;
+                        continue;
+                    };
+                    (Some(found.0), found.1)
+                }
+                _ => (None, v.clone()),
+            };
+            let measured = match stat {
+                Some(s) => match self.measure_def(&def, s, &pred_node) {
+                    Some(d) => d,
+                    None => {
                         ok = false;
                         continue;
                     }
-                    (stat, node)
-                }
-                _ => (None, v),
+                },
+                None => def.clone(),
             };
-            match self.predicate(&def, pred_node) {
+            let r = match stat {
+                Some(_) => ObjectRef {
+                    unit: measured.unit.map(|u| u.symbol().to_string()),
+                    ..r
+                },
+                None => r,
+            };
+            let (pred_node, warn_node) = Self::split_warn(&pred_node);
+            let predicate = self.predicate(&measured, &pred_node);
+            let warn = match (&predicate, &warn_node) {
+                (Some(p), Some(w)) => match self.warn_band(&measured, &pred_node, p, w) {
+                    Some(band) => Some(band),
+                    None => {
+                        ok = false;
+                        continue;
+                    }
+                },
+                _ => None,
+            };
+            match predicate {
                 Some(p) => {
                     let stat_text = stat.map(|s| format!("{} ", s.id())).unwrap_or_default();
                     let default_name = format!("{} {stat_text}{}", r.name, p.describe(r.unit.as_deref()));
@@ -66,6 +81,7 @@ impl Loader<'_, '_> {
                         object: r,
                         statistic: stat,
                         predicate: p,
+                        warn,
                     });
                 }
                 None => ok = false,

@@ -112,7 +112,7 @@ impl Loader<'_, '_> {
                 }
             };
         }
-        let v = self.number_for(def, node, "`within`", false)?;
+        let v = self.difference_for(def, node, "`within`")?;
         if v < 0.0 {
             return self.refuse(&node.span, "a tolerance cannot be negative", "negative", None);
         }

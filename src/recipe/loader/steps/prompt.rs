@@ -233,10 +233,7 @@ impl Loader<'_, '_> {
                     "no operator steps here",
                     Some("ask before the end of `steps:`; `finally` and `on_fault` run unattended".into()),
                 ),
-                StepKind::Repeat { steps, .. } | StepKind::Include { steps, .. } => {
-                    self.no_operator_steps(steps, list, key)
-                }
-                _ => {}
+                _ => self.no_operator_steps(step.nested(), list, key),
             }
         }
     }

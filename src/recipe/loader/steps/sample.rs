@@ -1,16 +1,18 @@
 //! The `sample` step: objects read every interval for a time (and an optional CSV file),
-//! within the most samples one step may keep; remembers what was sampled for `expect`. It
-//! must not sample.
+//! within the most samples one step may keep, and the setpoint step an object's response is
+//! measured against (`step: { speed_actual: { to: 6000 rpm, band: 2 % } }`); remembers what
+//! was sampled for `expect`. It must not sample.
 
 use crate::diag::{Shape, YamlNode};
 use crate::recipe::loader::objects::names;
 use crate::recipe::loader::{show_duration, Loader, MAX_SAMPLES};
 use crate::recipe::step::StepKind;
+use crate::session::{ObjectRef, StepSpec, DEFAULT_BAND_PERCENT};
 use std::path::PathBuf;
 
 impl Loader<'_, '_> {
     pub(in crate::recipe::loader) fn sample(&mut self, body: &YamlNode) -> Option<(StepKind, String)> {
-        let shape = Shape::new("this sample", &["objects", "every", "for", "csv"])
+        let shape = Shape::new("this sample", &["objects", "every", "for", "csv", "step"])
             .require(&["objects", "every", "for"])
             .example("sample: { objects: [speed_actual], every: 100 ms, for: 60 s }");
         let f = self.r.fields(body, &shape)?;
@@ -22,6 +24,10 @@ impl Loader<'_, '_> {
             None => None,
         };
         let (objects, every, duration) = (objects?, every?, duration?);
+        let steps = match f.get("step") {
+            Some(n) => self.response_steps(n, &objects)?,
+            None => Vec::new(),
+        };
         if every > duration {
             return self.refuse(
                 f.span_of("every"),
@@ -51,7 +57,8 @@ impl Loader<'_, '_> {
             );
         }
         for o in &objects {
-            self.sampled.insert(o.name.clone());
+            let stepped = steps.iter().any(|(name, _)| *name == o.name);
+            self.sampled.insert(o.name.clone(), stepped);
         }
         let label = format!(
             "sample {} every {} for {}",
@@ -65,8 +72,78 @@ impl Loader<'_, '_> {
                 every,
                 duration,
                 csv,
+                steps,
             },
             label,
         ))
+    }
+}
+
+impl Loader<'_, '_> {
+    /// `step: { OBJECT: { to: VALUE, from: VALUE, band: 2 % } }`: for each sampled object,
+    /// the step its response is measured against.
+    fn response_steps(&mut self, node: &YamlNode, objects: &[ObjectRef]) -> Option<Vec<(String, StepSpec)>> {
+        let shape = Shape::any_keys("`step`").example("step: { speed_actual: { to: 6000 rpm, band: 2 % } }");
+        let f = self.r.fields(node, &shape)?;
+        let mut steps = Vec::new();
+        let mut ok = true;
+        for (k, v) in f.entries() {
+            let Some((def, r)) = self.object(&k.value, &k.span) else {
+                ok = false;
+                continue;
+            };
+            if !objects.iter().any(|o| o.name == r.name) {
+                self.problem(
+                    &k.span,
+                    format!("`step` names {}, which this sample does not read", r.name),
+                    "not sampled here",
+                    Some(format!("add {} to `objects`", r.name)),
+                );
+                ok = false;
+                continue;
+            }
+            let shape = Shape::new("this step", &["to", "from", "band"])
+                .require(&["to"])
+                .example("{ to: 6000 rpm, band: 2 % }");
+            let Some(g) = self.r.fields(v, &shape) else {
+                ok = false;
+                continue;
+            };
+            let to = g.get("to").and_then(|n| self.number_for(&def, n, "`to`", false));
+            let from = match g.get("from") {
+                Some(n) => self.number_for(&def, n, "`from`", false).map(Some),
+                None => Some(None),
+            };
+            let band = match g.get("band") {
+                Some(n) => self.band_percent(n),
+                None => Some(DEFAULT_BAND_PERCENT),
+            };
+            match (to, from, band) {
+                (Some(to), Some(from), Some(band_percent)) => steps.push((
+                    r.name.clone(),
+                    StepSpec {
+                        from,
+                        to,
+                        band_percent,
+                    },
+                )),
+                _ => ok = false,
+            }
+        }
+        ok.then_some(steps)
+    }
+
+    /// A settling band in % of the step, above 0 and below 100.
+    fn band_percent(&mut self, node: &YamlNode) -> Option<f64> {
+        let text = self.text(node, "`band`")?;
+        match text.trim().strip_suffix('%').map(|p| p.trim().parse::<f64>()) {
+            Some(Ok(v)) if v > 0.0 && v < 100.0 => Some(v),
+            _ => self.refuse(
+                &node.span,
+                format!("`band: {}` is not a share of the step", text.trim()),
+                "expected e.g. 2 %",
+                Some("the settling band is given in % of the step's size, above 0 and below 100".into()),
+            ),
+        }
     }
 }

@@ -1,5 +1,6 @@
-//! The `wait_until` step: exactly one condition (a state, or a condition on an object's
-//! value) with its `timeout` and poll interval (`every`, also `poll`). It must not wait.
+//! The `wait_until` step: exactly one condition (a state, a condition on an object's
+//! value, or its stabilisation: `{ slope: { below: 0.5 K/min, over: 10 min } }`) with its
+//! `timeout` and poll interval (`every`, also `poll`). It must not wait.
 
 use crate::diag::{Shape, YamlNode};
 use crate::recipe::loader::{did_you_mean, show_duration, Loader, DEFAULT_POLL, DEFAULT_WAIT_TIMEOUT};
@@ -49,6 +50,12 @@ impl Loader<'_, '_> {
                     ok = false;
                 }
                 name => match self.object(name, &k.span) {
+                    Some((def, r)) if self.readable(&def, &k.span) && v.get("slope").is_some() => {
+                        match self.stable(&def, r, v) {
+                            Some(c) => conditions.push(c),
+                            None => ok = false,
+                        }
+                    }
                     Some((def, r)) if self.readable(&def, &k.span) => match self.predicate(&def, v) {
                         Some(p) => conditions.push(Condition::Value {
                             object: r,
@@ -84,5 +91,34 @@ impl Loader<'_, '_> {
             },
             label,
         ))
+    }
+}
+
+impl Loader<'_, '_> {
+    /// `{ slope: { below: 0.5 K/min, over: 10 min } }`: until the value is stable.
+    fn stable(
+        &mut self,
+        def: &crate::dictionary::ObjectDef,
+        r: crate::session::ObjectRef,
+        v: &YamlNode,
+    ) -> Option<Condition> {
+        let node = v.get("slope")?;
+        if v.entries().is_some_and(|e| e.len() > 1) {
+            return self.refuse(
+                &v.span,
+                format!("a slope condition on {} stands alone", r.name),
+                "one condition",
+                Some("e.g. `motor_temperature: { slope: { below: 0.5 K/min, over: 10 min } }`".into()),
+            );
+        }
+        let (over, condition) = self.slope_over(&r.name, node)?;
+        let rate = self.measure_def(def, crate::session::Statistic::Slope(over), node)?;
+        let predicate = self.predicate(&rate, &condition)?;
+        Some(Condition::Stable {
+            object: r,
+            over,
+            predicate,
+            rate_unit: rate.unit.map(|u| u.symbol().to_string()).unwrap_or_default(),
+        })
     }
 }

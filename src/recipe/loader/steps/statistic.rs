@@ -1,0 +1,122 @@
+//! A statistic of a sample window as an `expect` writes it (`{ mean: … }`, `{ rise_time: …
+//! }`, `{ slope: { below: 0.5 K/min, over: 10 min } }`): that the window exists and, for the
+//! measures of a step, that the sample step declared one; the unit its limits are written
+//! in (seconds, %, K for a difference of °C, K/min for a slope). It must not evaluate.
+
+use crate::diag::{Spanned, YamlNode, YamlValue};
+use crate::dictionary::{ObjectDef, Unit};
+use crate::recipe::loader::values::in_unit;
+use crate::recipe::loader::Loader;
+use crate::session::{Measure, ObjectRef, Statistic};
+
+impl Loader<'_, '_> {
+    /// The statistic `key` names and its condition (without a slope's `over`).
+    pub(in crate::recipe::loader) fn statistic_of(
+        &mut self,
+        r: &ObjectRef,
+        key: &Spanned<String>,
+        node: &YamlNode,
+    ) -> Option<(Statistic, YamlNode)> {
+        let stat = Statistic::from_id(&key.value)?;
+        let Some(stepped) = self.sampled.get(&r.name).copied() else {
+            return self.refuse(
+                &key.span,
+                format!(
+                    "no earlier `sample` step samples {}, so there is no {} to check",
+                    r.name,
+                    stat.id()
+                ),
+                "nothing sampled",
+                Some(format!(
+                    "add `- sample: {{ objects: [{}], every: 100 ms, for: 10 s }}` before this step",
+                    r.name
+                )),
+            );
+        };
+        if stat.needs_step() && !stepped {
+            return self.refuse(
+                &key.span,
+                format!(
+                    "{} is measured against a step, and the last `sample` of {} declares none",
+                    stat.id(),
+                    r.name
+                ),
+                "which step?",
+                Some(format!(
+                    "declare it on the sample step: `step: {{ {}: {{ to: 6000 rpm, band: 2 % }} }}`",
+                    r.name
+                )),
+            );
+        }
+        if !matches!(stat, Statistic::Slope(_)) {
+            return Some((stat, node.clone()));
+        }
+        let (over, condition) = self.slope_over(&r.name, node)?;
+        Some((Statistic::Slope(over), condition))
+    }
+
+    /// A slope's `over` (the last stretch it is taken over) and its condition without it.
+    pub(in crate::recipe::loader) fn slope_over(
+        &mut self,
+        name: &str,
+        node: &YamlNode,
+    ) -> Option<(std::time::Duration, YamlNode)> {
+        let Some(over) = node.get("over") else {
+            return self.refuse(
+                &node.span,
+                format!("a slope of {name} needs `over`: the last stretch of the window it is taken over"),
+                "over missing",
+                Some("e.g. `slope: { below: 0.5 K/min, over: 10 min }`".into()),
+            );
+        };
+        let over = self.duration(over, "over")?;
+        let YamlValue::Map(entries) = &node.value else {
+            return None;
+        };
+        let condition = YamlNode {
+            value: YamlValue::Map(
+                entries
+                    .iter()
+                    .filter(|(k, _)| k.value != "over")
+                    .cloned()
+                    .collect(),
+            ),
+            span: node.span.clone(),
+        };
+        Some((over, condition))
+    }
+
+    /// `def` as the statistic's limits read it: its own unit, its difference unit, seconds,
+    /// percent or its rate unit.
+    pub(in crate::recipe::loader) fn measure_def(
+        &mut self,
+        def: &ObjectDef,
+        stat: Statistic,
+        node: &YamlNode,
+    ) -> Option<ObjectDef> {
+        let unit = match stat.measure() {
+            Measure::Value => def.unit,
+            Measure::Difference => def.unit.map(Unit::difference),
+            Measure::Seconds => Some(Unit::Second),
+            Measure::Percent => Some(Unit::Percent),
+            Measure::Rate => match def.unit.and_then(Unit::rate) {
+                Some(rate) => Some(rate),
+                None => {
+                    return self.refuse(
+                        &node.span,
+                        format!(
+                            "a slope is checked on a temperature (in K/min); {} is in {}",
+                            def.name,
+                            def.unit.map_or("no unit", Unit::symbol)
+                        ),
+                        "no rate unit",
+                        Some(
+                            "check a speed's or current's change with `ripple` or `min`/`max` instead".into(),
+                        ),
+                    );
+                }
+            },
+        };
+        Some(in_unit(def, unit))
+    }
+}

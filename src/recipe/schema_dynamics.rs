@@ -1,0 +1,81 @@
+//! The parts of the recipe JSON Schema for the checks on how the drive moves: the measures
+//! of a step response and the slope as statistics, `slope` as a `wait_until` condition,
+//! and the `attempts` and `coast_down` steps. Their limits are in their own units (s, %, K
+//! for a difference of °C, K/min), which `check` validates; the schema gives their shape.
+
+use serde_json::{json, Map, Value};
+
+/// The statistics besides mean, min, max, ripple and std, each with what it measures.
+pub(super) const STEP_STATISTICS: [(&str, &str); 5] = [
+    (
+        "rise_time",
+        "10 % → 90 % of the step the sample step declares: `{ below: 500 ms }`",
+    ),
+    (
+        "overshoot",
+        "the furthest excursion beyond the step's target in % of the step: `{ below: 10 % }`",
+    ),
+    (
+        "settling_time",
+        "from the window's start until the value stays within the step's band: `{ below: 2 s }`",
+    ),
+    (
+        "steady_state_error",
+        "the mean of the window's last tenth minus the step's target: `{ near: 0 rpm, within: 5 rpm }`",
+    ),
+    (
+        "slope",
+        "the least-squares slope over the window's last stretch: `{ below: 0.5 K/min, over: 10 min }`",
+    ),
+];
+
+/// Exactly one statistic: each as its own `required`.
+pub(super) fn one_statistic() -> Vec<Value> {
+    ["mean", "min", "max", "ripple", "std"]
+        .into_iter()
+        .chain(STEP_STATISTICS.iter().map(|(s, _)| *s))
+        .map(|s| json!({ "required": [s] }))
+        .collect()
+}
+
+/// A condition's properties and shapes with `slope` (a wait until the value is stable)
+/// besides the predicates.
+pub(super) fn with_slope(predicates: &Value, one_predicate: &Value) -> (Map<String, Value>, Vec<Value>) {
+    let mut props = predicates.as_object().cloned().unwrap_or_default();
+    props.insert(
+        "slope".into(),
+        json!({ "type": "object", "description": "wait until stable: `{ below: 0.5 K/min, over: 10 min }`" }),
+    );
+    let mut shapes = one_predicate.as_array().cloned().unwrap_or_default();
+    shapes.push(json!({ "required": ["slope"], "maxProperties": 1 }));
+    (props, shapes)
+}
+
+/// The `attempts` and `coast_down` steps: (key, body, what it does).
+pub(super) fn dynamics_steps(steps_ref: &Value) -> impl Iterator<Item = (&'static str, Value, &'static str)> {
+    [
+        (
+            "attempts",
+            json!({
+                "type": "object",
+                "properties": { "times": { "type": "integer", "minimum": 1, "maximum": 100 }, "steps": steps_ref },
+                "required": ["times", "steps"], "additionalProperties": false
+            }),
+            "Try nested `steps` up to `times` times until their checks pass (after re-homing, say); every attempt stays in the reports, the verdict is the last one's",
+        ),
+        (
+            "coast_down",
+            json!({
+                "type": "object",
+                "properties": {
+                    "from": { "$ref": "#/$defs/value_any" }, "below": { "$ref": "#/$defs/value_any" },
+                    "expect": { "type": "object", "description": "a condition on the time in seconds: `{ near: 20 s, within: 1 s }`" },
+                    "timeout": { "$ref": "#/$defs/duration" }, "every": { "$ref": "#/$defs/duration" }
+                },
+                "required": ["from", "below", "expect"], "additionalProperties": false
+            }),
+            "Switch the power stage off and let the spindle coast by design: the time from `from` down past `below` (actual speed, interpolated) is checked by `expect`; polls `every` (100 ms) for at most `timeout` (10 min)",
+        ),
+    ]
+    .into_iter()
+}

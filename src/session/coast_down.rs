@@ -1,0 +1,154 @@
+//! `coast_down`: the power stage off on purpose and the spindle left to coast, the speed
+//! read on, and the time it takes from one speed down past another recorded as a check
+//! (bearing drag shows as a coast-down that shrinks from one test to the next). While it
+//! coasts the drive is marked so the safe stop says it cannot brake it. Both crossing
+//! times are interpolated between polls. It must not know recipes or scripts.
+
+use super::session::{round, show_duration, Session};
+use super::stop::Stop;
+use super::{BucketSeries, CheckResult, Predicate, Stats, StepOrigin, SERIES_BUCKETS};
+use crate::dictionary::Role;
+use crate::drive::DeviceCommand;
+use std::time::Duration;
+
+/// What a coast-down measures and how long it may take.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CoastDown {
+    /// The speed the time counts from (the object's unit), crossed on the way down.
+    pub from: f64,
+    /// The speed the time counts to.
+    pub below: f64,
+    /// The check on the time in seconds.
+    pub predicate: Predicate,
+    /// Its warning band: a time that passes outside it is marginal.
+    pub warn: Option<Predicate>,
+    pub timeout: Duration,
+    pub every: Duration,
+    /// The actual speed's unit (for the check's name, known before the run).
+    pub unit: Option<String>,
+}
+
+impl CoastDown {
+    /// `coast-down from 6000 rpm below 100 rpm near 19.7 s ± 0.5 s`.
+    pub fn check_name(&self) -> String {
+        let unit = self.unit.as_deref().map(|u| format!(" {u}")).unwrap_or_default();
+        format!(
+            "coast-down from {}{unit} below {}{unit} {}",
+            round(self.from),
+            round(self.below),
+            self.predicate.describe(Some("s"))
+        )
+    }
+}
+
+impl Session<'_> {
+    pub fn coast_down(&mut self, c: &CoastDown, origin: &StepOrigin, number: &str) -> Result<String, Stop> {
+        let Some(object) = self.role_ref(Role::SpeedActual) else {
+            return Err(Stop::Failed(
+                "the drive's profile names no actual speed to watch".into(),
+            ));
+        };
+        let unit = object.unit.clone().map(|u| format!(" {u}")).unwrap_or_default();
+        let started = self.clock.now();
+        let first = self.drive().read_number(&object.name)?.abs();
+        if first < c.from {
+            return Err(Stop::Failed(format!(
+                "the spindle turns at {}{unit}, below the coast-down's start {}{unit}: bring it up to speed first",
+                round(first),
+                round(c.from)
+            )));
+        }
+        self.cur().coasting_by_design = true;
+        self.command(DeviceCommand::DisableOperation)?;
+        let origin_s = started.saturating_sub(self.run_start).as_secs_f64();
+        let width = (c.timeout.as_secs_f64() / SERIES_BUCKETS as f64).max(c.every.as_secs_f64());
+        let mut series = BucketSeries::new(origin_s, width);
+        let mut stats = Stats::default();
+        let give_up = started.saturating_add(c.timeout);
+        let (mut previous, mut from_at) = (None::<(f64, f64)>, None::<f64>);
+        let result = loop {
+            let v = self.drive().read_number(&object.name)?;
+            let t = self.clock.now().saturating_sub(self.run_start).as_secs_f64();
+            series.push(t, v);
+            stats.push(v);
+            let speed = v.abs();
+            let crossing = |level: f64| match previous {
+                Some((t0, v0)) if v0 > level && speed <= level => t0 + (t - t0) * (v0 - level) / (v0 - speed),
+                _ => t,
+            };
+            if from_at.is_none() && speed <= c.from {
+                from_at = Some(crossing(c.from));
+            }
+            if speed < c.below {
+                let end = crossing(c.below);
+                self.cur().coasting_by_design = false;
+                break Ok(end - from_at.unwrap_or(end));
+            }
+            if self.clock.now() >= give_up {
+                break Err(format!(
+                    "still at {}{unit} after {}; it coasts on",
+                    round(v),
+                    show_duration(c.timeout)
+                ));
+            }
+            if self.interrupted() {
+                return Err(Stop::Interrupted);
+            }
+            let live = format!("{} {}{unit} (coasting)", object.name, round(v));
+            let waited = self.clock.now().saturating_sub(started);
+            self.observer
+                .step_progress(number, waited, Some(c.timeout), &live);
+            previous = Some((t, speed));
+            self.wait(self.clock.now().saturating_add(c.every).min(give_up))?;
+        };
+        self.keep_series(&object, &series, stats);
+        let name = c.check_name();
+        let (passed, measured, message) = match result {
+            Ok(secs) => {
+                let passed = c.predicate.holds(secs);
+                let said = format!("coast-down took {} s", round(secs));
+                let message = match passed {
+                    true => said,
+                    false => format!("{said}, expected {}", c.predicate.describe(Some("s"))),
+                };
+                (passed, Some(secs), message)
+            }
+            Err(why) => (false, None, why),
+        };
+        let marginal = passed && c.warn.as_ref().zip(measured).is_some_and(|(w, v)| !w.holds(v));
+        let message = match (&c.warn, marginal) {
+            (Some(w), true) => format!(
+                "{message}, MARGINAL: outside the warning band {}",
+                w.describe(Some("s"))
+            ),
+            _ => message,
+        };
+        let (low, high) = c.predicate.limits();
+        self.record_check_result(CheckResult {
+            name,
+            passed,
+            measured,
+            measured_text: None,
+            unit: Some("s".into()),
+            low,
+            high,
+            object: Some(object.name.clone()),
+            statistic: Some("coast_down".into()),
+            message: message.clone(),
+            origin: origin.clone(),
+            step: self.place().0,
+            stage: self.place().1,
+            window: Some(self.path.id()),
+            at: self.clock.now(),
+            duration: self.clock.now().saturating_sub(started),
+            marginal,
+            retried: false,
+        });
+        if passed {
+            Ok(format!("power stage off, coasting by design: {message}"))
+        } else {
+            self.failed_checks = true;
+            Ok(format!("FAILED: {message}"))
+        }
+    }
+}

@@ -1,0 +1,161 @@
+//! One `--sim NAME=VALUE` setting of the built-in simulated drive's physics: the speed
+//! controller's response (`response-time=200ms`, `overshoot=10%`), friction
+//! (`coast-rate=300rpm/s`) and heat (`ambient=25°C`, `heating=25K/A`,
+//! `thermal-time=10min`). Parsing and applying to a [`SimConfig`] only.
+
+use super::motor::Response;
+use super::SimConfig;
+use crate::dictionary::{Quantity, Unit};
+use std::time::Duration;
+
+/// The names, in the order `--help` and errors list them.
+pub const SIM_SETTINGS: [&str; 6] = [
+    "response-time",
+    "overshoot",
+    "coast-rate",
+    "ambient",
+    "heating",
+    "thermal-time",
+];
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum SimSetting {
+    ResponseTime(Duration),
+    Overshoot(f64),
+    CoastRate(f64),
+    Ambient(f64),
+    Heating(f64),
+    ThermalTime(Duration),
+}
+
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum SimSettingError {
+    #[error("`{0}` is not NAME=VALUE (e.g. overshoot=10%)")]
+    NotAPair(String),
+    #[error("unknown simulator setting `{0}`; known: response-time, overshoot, coast-rate, ambient, heating, thermal-time")]
+    Unknown(String),
+    #[error("{name}: `{value}` is not {wanted}")]
+    BadValue {
+        name: &'static str,
+        value: String,
+        wanted: &'static str,
+    },
+}
+
+impl SimSetting {
+    pub fn parse(text: &str) -> Result<SimSetting, SimSettingError> {
+        let (name, value) = text
+            .split_once('=')
+            .ok_or_else(|| SimSettingError::NotAPair(text.to_string()))?;
+        let (name, value) = (name.trim(), value.trim());
+        let Some(&known) = SIM_SETTINGS.iter().find(|n| **n == name) else {
+            return Err(SimSettingError::Unknown(name.to_string()));
+        };
+        let bad = |wanted| SimSettingError::BadValue {
+            name: known,
+            value: value.to_string(),
+            wanted,
+        };
+        let duration = |wanted| match humantime::parse_duration(value) {
+            Ok(d) if !d.is_zero() => Ok(d),
+            _ => Err(bad(wanted)),
+        };
+        let quantity = |unit: Unit, wanted| match Quantity::parse(value).ok().and_then(|q| q.value_in(unit)) {
+            Some(v) if v.is_finite() => Ok(v),
+            _ => Err(bad(wanted)),
+        };
+        Ok(match known {
+            "response-time" => SimSetting::ResponseTime(duration("a duration above zero (200ms)")?),
+            "overshoot" => {
+                let v = quantity(Unit::Percent, "a share of the step below 100 % (10%)")?;
+                if !(0.0..100.0).contains(&v) {
+                    return Err(bad("a share of the step below 100 % (10%)"));
+                }
+                SimSetting::Overshoot(v / 100.0)
+            }
+            "coast-rate" => {
+                let rpm = value.strip_suffix("/s").unwrap_or(value);
+                match Quantity::parse(rpm).ok().and_then(|q| q.value_in(Unit::Rpm)) {
+                    Some(v) if v > 0.0 && v.is_finite() => SimSetting::CoastRate(v),
+                    _ => return Err(bad("a deceleration above zero in rpm/s (300rpm/s)")),
+                }
+            }
+            "ambient" => SimSetting::Ambient(quantity(Unit::DegreeCelsius, "a temperature (25°C)")?),
+            "heating" => {
+                let k = value.strip_suffix("/A").unwrap_or(value);
+                match Quantity::parse(k).ok().and_then(|q| q.value_in(Unit::Kelvin)) {
+                    Some(v) if v >= 0.0 && v.is_finite() => SimSetting::Heating(v),
+                    _ => return Err(bad("a temperature rise per ampere (25K/A)")),
+                }
+            }
+            _ => SimSetting::ThermalTime(duration("a duration above zero (10min)")?),
+        })
+    }
+
+    pub fn apply(self, config: &mut SimConfig) {
+        let mut response = config.response.unwrap_or(Response {
+            time_constant_s: 0.2,
+            overshoot: 0.0,
+        });
+        match self {
+            SimSetting::ResponseTime(d) => {
+                response.time_constant_s = d.as_secs_f64();
+                config.response = Some(response);
+            }
+            SimSetting::Overshoot(o) => {
+                response.overshoot = o;
+                config.response = Some(response);
+            }
+            SimSetting::CoastRate(r) => config.coast_rpm_per_s = r,
+            SimSetting::Ambient(c) => config.ambient_c = c,
+            SimSetting::Heating(k) => config.heating_k_per_a = k,
+            SimSetting::ThermalTime(d) => config.thermal_time_constant = d,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn settings_parse_with_their_units_and_apply() {
+        let mut c = SimConfig::default();
+        for s in [
+            "response-time=150ms",
+            "overshoot=12.5%",
+            "coast-rate=600rpm/s",
+            "ambient=20°C",
+            "heating=30K/A",
+            "thermal-time=5min",
+        ] {
+            SimSetting::parse(s).unwrap().apply(&mut c);
+        }
+        assert_eq!(
+            c.response,
+            Some(Response {
+                time_constant_s: 0.15,
+                overshoot: 0.125
+            })
+        );
+        assert_eq!(c.coast_rpm_per_s, 600.0);
+        assert_eq!((c.ambient_c, c.heating_k_per_a), (20.0, 30.0));
+        assert_eq!(c.thermal_time_constant, Duration::from_secs(300));
+    }
+
+    #[test]
+    fn bad_settings_say_what_is_wanted() {
+        assert!(matches!(
+            SimSetting::parse("overshoot"),
+            Err(SimSettingError::NotAPair(_))
+        ));
+        assert!(matches!(
+            SimSetting::parse("overshot=1%"),
+            Err(SimSettingError::Unknown(_))
+        ));
+        let e = SimSetting::parse("ambient=300K").unwrap_err().to_string();
+        assert!(e.contains("a temperature (25°C)"), "{e}");
+        assert!(SimSetting::parse("overshoot=120%").is_err());
+        assert!(SimSetting::parse("response-time=0s").is_err());
+    }
+}
