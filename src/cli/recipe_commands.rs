@@ -11,6 +11,7 @@ use crate::run::{
 use clap::Args;
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
+use std::sync::{Arc, Mutex};
 
 #[derive(Debug, Args)]
 /// Validate recipes against the dictionary without opening any port: object names, units,
@@ -72,6 +73,8 @@ pub struct RunArgs {
     dictionary: DictionaryArgs,
     #[command(flatten)]
     connection: ConnectionArgs,
+    #[command(flatten)]
+    record: super::results_command::RecordArgs,
 }
 
 fn parse_set(text: &str) -> Result<(String, String), BadValue> {
@@ -185,6 +188,17 @@ fn print_checked(path: &Path, checked: &Checked) -> i32 {
 pub fn run(args: &RunArgs, registry: &Registry) -> i32 {
     let stop = stop_signals::install(true);
     panic_notice::install();
+    let recorder = args.record.recorder(
+        &args.recipes,
+        &args.connection,
+        None,
+        &args.outputs,
+        &args.output_dir,
+    );
+    let observers: Vec<run::SharedObserver> = recorder
+        .map(|r| Arc::new(Mutex::new(r)) as run::SharedObserver)
+        .into_iter()
+        .collect();
     let request = RunRequest {
         registry,
         file: std::path::Path::new(""),
@@ -203,7 +217,7 @@ pub fn run(args: &RunArgs, registry: &Registry) -> i32 {
         stop,
         safe_stop: args.safe_stop.clone(),
         terminal: std::io::stdout().is_terminal(),
-        observers: Vec::new(),
+        observers,
     };
     run_many(
         &args.recipes,
