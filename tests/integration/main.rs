@@ -26,6 +26,7 @@ mod parameters;
 mod recipe_cases;
 mod recipe_schema;
 mod reports;
+mod results_store;
 mod run_pipeline;
 mod safety;
 mod scripts;

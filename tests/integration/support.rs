@@ -10,9 +10,25 @@ pub fn repo_root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
 }
 
+/// The `drivescript` binary as every test runs it: its results go to a store of this
+/// test process's own (never the user's data directory); a test that checks the store
+/// names its own with `--results` or `DRIVESCRIPT_RESULTS`.
+pub fn command() -> Command {
+    let mut c = Command::new(env!("CARGO_BIN_EXE_drivescript"));
+    c.env("DRIVESCRIPT_RESULTS", tests_results_store());
+    c
+}
+
+/// The results store [`command`] gives every run: one per test process.
+pub fn tests_results_store() -> PathBuf {
+    std::env::temp_dir()
+        .join(format!("drivescript-tests-{}", std::process::id()))
+        .join("results.sqlite")
+}
+
 /// Runs `drivescript ARGS` with `stdin`, returning its output.
 pub fn drivescript(args: &[&str], stdin: &str) -> Output {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_drivescript"))
+    let mut child = command()
         .args(args)
         .current_dir(repo_root())
         .stdin(Stdio::piped())
@@ -324,7 +340,7 @@ impl Simulator {
 
     fn spawn(args: &[&str], stderr: Stdio) -> Simulator {
         use std::io::BufRead;
-        let mut child = Command::new(env!("CARGO_BIN_EXE_drivescript"))
+        let mut child = command()
             .arg("simulate")
             .args(args)
             .stdout(Stdio::piped())
@@ -396,7 +412,7 @@ impl LiveRun {
         I: IntoIterator<Item = S>,
         S: AsRef<std::ffi::OsStr>,
     {
-        let mut child = Command::new(env!("CARGO_BIN_EXE_drivescript"))
+        let mut child = command()
             .args(args)
             .current_dir(repo_root())
             .stdout(Stdio::piped())
@@ -462,4 +478,144 @@ pub fn assert_lacks(text: &str, parts: &[&str]) {
     for part in parts {
         assert!(!text.contains(part), "did not expect {part:?} in:\n{text}");
     }
+}
+
+/// A PostgreSQL server of a test's own in a scratch folder, on a free TCP port of
+/// 127.0.0.1, trusting local connections; stopped when dropped. The server refuses to run
+/// as root, so under root (as CI runs) it runs as the user `nobody`.
+pub struct PostgresServer {
+    bin: PathBuf,
+    data: PathBuf,
+    log: PathBuf,
+    port: u16,
+    as_nobody: bool,
+}
+
+impl PostgresServer {
+    /// Starts one in the scratch folder `name`; `None` (after [`tool_missing`]) where
+    /// PostgreSQL is not installed.
+    #[track_caller]
+    pub fn start(name: &str) -> Option<PostgresServer> {
+        let bin = std::fs::read_dir("/usr/lib/postgresql")
+            .into_iter()
+            .flatten()
+            .flatten()
+            .map(|e| e.path().join("bin"))
+            .filter(|b| b.join("initdb").is_file())
+            .max_by_key(|b| {
+                b.parent()
+                    .and_then(|v| v.file_name())
+                    .and_then(|v| v.to_str())
+                    .and_then(|v| v.parse::<u32>().ok())
+            });
+        let Some(bin) = bin else {
+            tool_missing("no PostgreSQL server installed (/usr/lib/postgresql/*/bin/initdb)");
+            return None;
+        };
+        let dir = scratch(name);
+        // SAFETY: geteuid has no preconditions and only reads the process's user id.
+        let as_nobody = unsafe { libc::geteuid() } == 0;
+        let server = PostgresServer {
+            bin,
+            data: dir.join("data"),
+            log: dir.join("server.log"),
+            port: free_port(),
+            as_nobody,
+        };
+        if as_nobody {
+            let status = Command::new("chown")
+                .args(["-R", "nobody"])
+                .arg(&dir)
+                .status()
+                .expect("chown runs");
+            assert!(status.success(), "chown the scratch folder to nobody");
+        }
+        let out = server
+            .tool("initdb")
+            .arg("-D")
+            .arg(&server.data)
+            .args([
+                "-A",
+                "trust",
+                "-U",
+                "drivescript",
+                "-E",
+                "UTF8",
+                "--no-locale",
+                "-N",
+            ])
+            .output()
+            .expect("initdb runs");
+        assert!(out.status.success(), "initdb: {}{}", stdout(&out), stderr(&out));
+        server.up();
+        Some(server)
+    }
+
+    /// `postgres://…` of the server, with a password (which it does not ask for) so that
+    /// tests can see it is never shown.
+    pub fn url(&self) -> String {
+        format!(
+            "postgres://drivescript:pw-s3cret@127.0.0.1:{}/postgres",
+            self.port
+        )
+    }
+
+    fn tool(&self, name: &str) -> Command {
+        let program = self.bin.join(name);
+        if self.as_nobody {
+            let mut c = Command::new("runuser");
+            c.args(["-u", "nobody", "--"]).arg(program);
+            c
+        } else {
+            Command::new(program)
+        }
+    }
+
+    /// Starts the server (again) and waits until it takes connections.
+    pub fn up(&self) {
+        let options = format!(
+            "-p {} -c listen_addresses=127.0.0.1 -c unix_socket_directories='' -c fsync=off -c max_connections=100",
+            self.port
+        );
+        let out = self
+            .tool("pg_ctl")
+            .arg("-D")
+            .arg(&self.data)
+            .arg("-l")
+            .arg(&self.log)
+            .args(["-o", &options, "-w", "-t", "60", "start"])
+            .output()
+            .expect("pg_ctl runs");
+        let log = std::fs::read_to_string(&self.log).unwrap_or_default();
+        assert!(
+            out.status.success(),
+            "pg_ctl start: {}{}{log}",
+            stdout(&out),
+            stderr(&out)
+        );
+    }
+
+    /// Stops the server at once.
+    pub fn down(&self) {
+        let _ = self
+            .tool("pg_ctl")
+            .arg("-D")
+            .arg(&self.data)
+            .args(["-m", "immediate", "-w", "stop"])
+            .output();
+    }
+}
+
+impl Drop for PostgresServer {
+    fn drop(&mut self) {
+        self.down();
+    }
+}
+
+/// A TCP port of 127.0.0.1 nothing listens on at the moment.
+pub fn free_port() -> u16 {
+    std::net::TcpListener::bind("127.0.0.1:0")
+        .and_then(|l| l.local_addr())
+        .map(|a| a.port())
+        .expect("a free port")
 }
