@@ -60,8 +60,8 @@ impl Spool {
         std::fs::metadata(&self.path).is_ok_and(|m| m.len() > 0)
     }
 
-    /// Delivers every spooled record to `store`, in order. What cannot be delivered goes
-    /// back to the spool.
+    /// Delivers every spooled record to `store`, in order and in one transaction; when the
+    /// store fails, all of them go back to the spool.
     pub fn deliver(&self, store: &mut Store) -> Result<Delivered, StoreError> {
         if !self.pending() {
             return Ok(Delivered::default());
@@ -99,17 +99,16 @@ impl Spool {
                 .open(PathBuf::from(path))
                 .and_then(|mut f| f.write_all(bad.as_bytes()));
         }
-        for (i, record) in records.iter().enumerate() {
-            if let Err(e) = store.apply(record) {
-                self.append(&records[i..])?;
-                let _ = std::fs::remove_file(&taking);
-                return Err(e);
-            }
-            done.records += 1;
-            if matches!(record, Record::Started(_)) {
-                done.runs += 1;
-            }
+        if let Err(e) = store.apply_all(&records) {
+            self.append(&records)?;
+            let _ = std::fs::remove_file(&taking);
+            return Err(e);
         }
+        done.records = records.len();
+        let mut runs: Vec<&str> = records.iter().map(Record::run).collect();
+        runs.sort_unstable();
+        runs.dedup();
+        done.runs = runs.len();
         let _ = std::fs::remove_file(&taking);
         Ok(done)
     }

@@ -155,6 +155,18 @@ impl Store {
         Ok(())
     }
 
+    /// Writes `records` in one transaction: all of them or none.
+    pub fn apply_all(&mut self, records: &[Record]) -> Result<(), StoreError> {
+        self.backend.begin_exclusive()?;
+        for r in records {
+            if let Err(e) = self.apply(r) {
+                let _ = self.backend.batch("ROLLBACK");
+                return Err(e);
+            }
+        }
+        self.backend.batch("COMMIT")
+    }
+
     /// The runs `filter` takes, newest first.
     pub fn list(&mut self, filter: &RunFilter) -> Result<Vec<StoredRun>, StoreError> {
         let (clause, mut params) = where_clause(filter, "");
