@@ -81,8 +81,16 @@ pub trait Backend: Send {
     fn query(&mut self, sql: &str, params: &[Value]) -> Result<Vec<Vec<Value>>, StoreError>;
     /// Runs several statements without parameters (the schema).
     fn batch(&mut self, sql: &str) -> Result<(), StoreError>;
+    /// The query of the names of the tables there are.
+    fn tables_query(&self) -> &'static str;
     /// The names of the tables there are, to tell an empty database from a foreign one.
-    fn tables(&mut self) -> Result<Vec<String>, StoreError>;
+    fn tables(&mut self) -> Result<Vec<String>, StoreError> {
+        let rows = self.query(self.tables_query(), &[])?;
+        Ok(rows
+            .into_iter()
+            .filter_map(|r| r.first().and_then(|v| v.text().map(str::to_string)))
+            .collect())
+    }
     /// Begins the transaction that applies migrations, holding off every other process
     /// that opens the store at the same moment.
     fn begin_exclusive(&mut self) -> Result<(), StoreError>;

@@ -210,15 +210,8 @@ impl Backend for PostgresBackend {
         self.client.batch_execute(sql).map_err(|e| self.error(e))
     }
 
-    fn tables(&mut self) -> Result<Vec<String>, StoreError> {
-        let rows = self.query(
-            "SELECT table_name::text FROM information_schema.tables WHERE table_schema = current_schema()",
-            &[],
-        )?;
-        Ok(rows
-            .into_iter()
-            .filter_map(|r| r.first().and_then(|v| v.text().map(str::to_string)))
-            .collect())
+    fn tables_query(&self) -> &'static str {
+        "SELECT table_name::text FROM information_schema.tables WHERE table_schema = current_schema()"
     }
 
     fn begin_exclusive(&mut self) -> Result<(), StoreError> {

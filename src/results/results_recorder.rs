@@ -59,13 +59,29 @@ pub struct ResultsRecorder {
 struct CurrentRun {
     id: String,
     path: String,
-    steps: i64,
-    checks: i64,
-    kept_steps: usize,
-    kept_checks: usize,
-    omitted_steps: i64,
-    omitted_checks: i64,
+    steps: Kept,
+    checks: Kept,
     attempts: HashMap<(String, String), i64>,
+}
+
+/// Records of one kind kept for a run, as the run report keeps them: every failure, and
+/// passed ones up to [`MAX_RECORDS`].
+#[derive(Default)]
+struct Kept {
+    count: i64,
+    omitted: i64,
+}
+
+impl Kept {
+    /// The sequence number of the next record, or `None` when a passed one is left out.
+    fn next(&mut self, passed: bool) -> Option<i64> {
+        if passed && self.count >= MAX_RECORDS as i64 {
+            self.omitted += 1;
+            return None;
+        }
+        self.count += 1;
+        Some(self.count)
+    }
 }
 
 impl ResultsRecorder {
@@ -218,16 +234,12 @@ impl RunObserver for ResultsRecorder {
 
     fn step_finished(&mut self, step: &StepRecord) {
         let Some(run) = self.run.as_mut() else { return };
-        // As the run report: every failure, and passed steps up to its limit.
-        if step.ok && run.kept_steps >= MAX_RECORDS {
-            run.omitted_steps += 1;
+        let Some(seq) = run.steps.next(step.ok) else {
             return;
-        }
-        run.kept_steps += 1;
-        run.steps += 1;
+        };
         let record = Record::Step(StepRow {
             run: run.id.clone(),
-            seq: run.steps,
+            seq,
             step: step.id.clone(),
             label: step.label.clone(),
             ok: step.ok,
@@ -244,15 +256,12 @@ impl RunObserver for ResultsRecorder {
         let attempt = run.attempts.entry((c.name.clone(), c.step.clone())).or_insert(0);
         *attempt += 1;
         let attempt = *attempt;
-        if c.passed && run.kept_checks >= MAX_RECORDS {
-            run.omitted_checks += 1;
+        let Some(seq) = run.checks.next(c.passed) else {
             return;
-        }
-        run.kept_checks += 1;
-        run.checks += 1;
+        };
         let record = Record::Check(CheckRow {
             run: run.id.clone(),
-            seq: run.checks,
+            seq,
             name: c.name.clone(),
             measured: c.measured,
             measured_text: c.measured_text.clone(),
@@ -302,8 +311,8 @@ impl RunObserver for ResultsRecorder {
                     points: s.points.clone(),
                 })
                 .collect(),
-            omitted_steps: run.omitted_steps,
-            omitted_checks: run.omitted_checks,
+            omitted_steps: run.steps.omitted,
+            omitted_checks: run.checks.omitted,
         };
         self.send(Record::Finished(end));
         if !self.flushed() {

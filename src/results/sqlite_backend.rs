@@ -159,15 +159,8 @@ impl Backend for SqliteBackend {
             .map_err(|e| self.error(e))
     }
 
-    fn tables(&mut self) -> Result<Vec<String>, StoreError> {
-        let rows = self.query(
-            "SELECT name FROM sqlite_master WHERE type = 'table' AND name NOT LIKE 'sqlite_%'",
-            &[],
-        )?;
-        Ok(rows
-            .into_iter()
-            .filter_map(|r| r.first().and_then(|v| v.text().map(str::to_string)))
-            .collect())
+    fn tables_query(&self) -> &'static str {
+        "SELECT name FROM sqlite_master WHERE type = 'table' AND name NOT LIKE 'sqlite_%'"
     }
 
     fn begin_exclusive(&mut self) -> Result<(), StoreError> {

@@ -43,15 +43,18 @@ const HOSTILE: [&str; 5] = [
     "line\nbreak\ttab",
 ];
 
+/// Every run, simulated ones too.
+fn every_run() -> RunFilter {
+    RunFilter {
+        simulated: true,
+        ..RunFilter::default()
+    }
+}
+
 /// Every run in `store`, simulated ones too, in detail.
 fn all_runs(store: &str) -> Vec<StoredRun> {
     let mut s = Locator::parse(store).open(false).expect("the store opens");
-    let runs = s
-        .list(&RunFilter {
-            simulated: true,
-            ..RunFilter::default()
-        })
-        .expect("list");
+    let runs = s.list(&every_run()).expect("list");
     runs.iter().map(|r| s.run(&r.run.id).expect("the run")).collect()
 }
 
@@ -168,6 +171,46 @@ fn a_run_is_recorded_with_its_checks_steps_end_state_and_series() {
             "drive left in ready to switch on",
             "PASSED (exit code 0)",
         ],
+    );
+    let page = cli(&["results", "report", &r.run.id, "--results", store], 0);
+    assert_has(
+        &page.stdout,
+        &[
+            "<!DOCTYPE html>",
+            "Short acceptance",
+            "ready to switch on at 0 rpm (stop confirmed)",
+            "<svg",
+        ],
+    );
+    let since = cli(
+        &[
+            "results",
+            "list",
+            "--results",
+            store,
+            "--simulated",
+            "--since",
+            "2999-01-01",
+        ],
+        0,
+    );
+    assert_has(&since.stdout, &["no runs"]);
+    let recent = cli(
+        &[
+            "results",
+            "list",
+            "--results",
+            store,
+            "--simulated",
+            "--since",
+            "1h",
+            "--json",
+        ],
+        0,
+    );
+    assert_has(
+        &recent.stdout,
+        &[&format!("\"id\": \"{}\"", r.run.id), "\"verdict\": \"passed\""],
     );
     // --no-results records nothing.
     cli(
@@ -391,12 +434,7 @@ fn two_processes_of_200_runs(dir: &Path, store: &str) {
     let recipe = write_file(dir, "tiny.yaml", TINY);
     let before = Locator::parse(store)
         .open(true)
-        .and_then(|mut s| {
-            s.list(&RunFilter {
-                simulated: true,
-                ..RunFilter::default()
-            })
-        })
+        .and_then(|mut s| s.list(&every_run()))
         .expect("the store opens")
         .len();
     let files: Vec<&str> = std::iter::repeat_n(recipe.to_str().unwrap(), 200).collect();
@@ -419,12 +457,7 @@ fn two_processes_of_200_runs(dir: &Path, store: &str) {
         assert_lacks(&err, &["spool", "lost"]);
     }
     let mut s = Locator::parse(store).open(false).expect("opens");
-    let runs = s
-        .with_checks(&RunFilter {
-            simulated: true,
-            ..RunFilter::default()
-        })
-        .expect("runs");
+    let runs = s.with_checks(&every_run()).expect("runs");
     assert_eq!(runs.len(), before + 400);
     assert!(runs
         .iter()
