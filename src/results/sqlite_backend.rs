@@ -171,3 +171,16 @@ impl Backend for SqliteBackend {
         &self.name
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn dollar_placeholders_become_numbered_ones() {
+        assert_eq!(
+            numbered("SET a = $2 WHERE id = $1 AND b = '$x'"),
+            "SET a = ?2 WHERE id = ?1 AND b = '$x'"
+        );
+    }
+}

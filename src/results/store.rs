@@ -429,3 +429,83 @@ fn stored_run(r: &[Value]) -> StoredRun {
         steps: Vec::new(),
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::results::Locator;
+
+    fn records(id: &str, serial: &str) -> Vec<Record> {
+        vec![
+            Record::Started(RunRow {
+                id: id.into(),
+                recipe: "R".into(),
+                started_at: format!("2026-01-01T00:00:00.000Z{id}"),
+                unit: UnitRow {
+                    serial: Some(serial.into()),
+                    ..UnitRow::default()
+                },
+                ..RunRow::default()
+            }),
+            Record::Check(CheckRow {
+                run: id.into(),
+                seq: 1,
+                name: "c".into(),
+                measured: Some(1.5),
+                measured_text: None,
+                unit: Some("A".into()),
+                low: None,
+                high: Some(2.0),
+                passed: true,
+                step: "1".into(),
+                stage: String::new(),
+                attempt: 1,
+                message: String::new(),
+            }),
+            Record::Finished(EndRow {
+                run: id.into(),
+                verdict: "passed".into(),
+                ..EndRow::default()
+            }),
+        ]
+    }
+
+    #[test]
+    fn replaying_records_changes_nothing_and_filters_take_the_right_runs() {
+        let dir = std::env::temp_dir().join(format!("drivescript-store-unit-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        let mut store = Locator::Sqlite(dir.join("r.sqlite")).open(true).expect("opens");
+        let mut all = records("a1", "S-1");
+        all.extend(records("b2", "S-2"));
+        all.extend(records("c3", "S-1"));
+        all.truncate(all.len() - 1); // c3 never finished
+        for r in all.iter().chain(all.iter()) {
+            store.apply(r).expect("applied");
+        }
+        let every = RunFilter {
+            simulated: true,
+            ..RunFilter::default()
+        };
+        assert_eq!(store.list(&every).expect("list").len(), 3);
+        let s1 = RunFilter {
+            unit: Some("S-1".into()),
+            ..every.clone()
+        };
+        let ids: Vec<String> = store
+            .list(&s1)
+            .expect("list")
+            .into_iter()
+            .map(|r| r.run.id)
+            .collect();
+        assert_eq!(ids, ["c3", "a1"], "newest first");
+        let incomplete = RunFilter {
+            verdict: Some("incomplete".into()),
+            ..every.clone()
+        };
+        assert_eq!(store.list(&incomplete).expect("list")[0].run.id, "c3");
+        assert_eq!(store.run("b").expect("by prefix").checks.len(), 1);
+        assert!(matches!(store.run("x"), Err(StoreError::NotFound(_))));
+        assert_eq!(store.trend("c", &every).expect("trend").len(), 3);
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+}
