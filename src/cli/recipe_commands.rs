@@ -191,7 +191,8 @@ pub fn run(args: &RunArgs, registry: &Registry) -> i32 {
     let recorder = args.record.recorder(
         &args.recipes,
         &args.connection,
-        None,
+        &args.dictionary,
+        registry,
         &args.outputs,
         &args.output_dir,
     );

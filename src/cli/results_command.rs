@@ -3,11 +3,14 @@
 //! recorded. Parses and prints; the store and its pages are the library's (`results`).
 
 use super::text_table::table_lines;
+use crate::family::Registry;
 use crate::results::{
-    export, utc_text, Locator, Notes, RecorderSettings, ResultsRecorder, RunFilter, Spool, Store, StoreError,
-    RESULTS_ENV,
+    export, utc_text, FileFacts, Locator, Notes, RecorderSettings, ResultsRecorder, RunFilter, Spool, Store,
+    StoreError, RESULTS_ENV,
 };
-use crate::run::{outputs_for, ConnectionArgs, OutputArgs, COMMUNICATION, FAILED, INVALID, PASSED};
+use crate::run::{
+    outputs_for, ConnectionArgs, DictionaryArgs, OutputArgs, COMMUNICATION, FAILED, INVALID, PASSED,
+};
 use clap::{Args, Subcommand};
 use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex};
@@ -34,7 +37,8 @@ impl RecordArgs {
         &self,
         files: &[PathBuf],
         connection: &ConnectionArgs,
-        dictionary: Option<String>,
+        dictionary: &DictionaryArgs,
+        registry: &Registry,
         outputs: &OutputArgs,
         output_dir: &Path,
     ) -> Option<ResultsRecorder> {
@@ -48,10 +52,12 @@ impl RecordArgs {
             return None;
         }
         let several = files.len() > 1;
-        let report_files = files
+        let files = files
             .iter()
             .enumerate()
             .map(|(i, file)| {
+                // As the run will load it; a file that cannot be loaded never starts a run.
+                let loaded = dictionary.load_for(registry, Some(file)).ok();
                 let own = outputs_for(outputs, output_dir, several.then_some((i + 1, file.as_path())));
                 let shared = outputs_for(outputs, output_dir, None);
                 let mut paths: Vec<String> = [&own.trace, &own.csv, &own.report, &shared.junit]
@@ -60,7 +66,12 @@ impl RecordArgs {
                     .map(|p| p.display().to_string())
                     .collect();
                 paths.dedup();
-                (file.display().to_string(), paths)
+                FileFacts {
+                    path: file.display().to_string(),
+                    dictionary: loaded.as_ref().map(|d| d.name().to_string()),
+                    family: loaded.as_ref().map(|d| d.family().to_string()),
+                    report_files: paths,
+                }
             })
             .collect();
         let port = connection
@@ -70,13 +81,12 @@ impl RecordArgs {
             .or_else(|| connection.can.as_ref().map(|c| format!("{c:?}")));
         let settings = RecorderSettings {
             simulated,
-            dictionary,
             port,
             address: connection
                 .address
                 .clone()
                 .or_else(|| connection.dnc_address.clone().map(|a| format!("dnc:{a}"))),
-            report_files,
+            files,
             quiet: outputs.quiet,
         };
         let notes: Notes = Arc::new(Mutex::new(std::io::stderr()));

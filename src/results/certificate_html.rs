@@ -197,6 +197,13 @@ fn run_section(h: &mut String, r: &StoredRun, plot: &mut usize) {
         ),
         ("Drive", r.run.drive.clone()),
         (
+            "Dictionary (family)",
+            match (&r.run.dictionary, &r.run.family) {
+                (Some(d), Some(f)) => format!("{d} ({f})"),
+                _ => "not recorded".into(),
+            },
+        ),
+        (
             "Simulated",
             if r.run.simulated {
                 "yes (built-in simulated drive)".into()

@@ -24,7 +24,7 @@ pub mod trend_html;
 pub use backend::{Backend, Value};
 pub use locator::{data_dir, Locator, RESULTS_ENV};
 pub use record::{CheckRow, EndRow, Record, RunRow, SeriesRow, StepRow, UnitRow};
-pub use results_recorder::{utc_text, Notes, RecorderSettings, ResultsRecorder};
+pub use results_recorder::{utc_text, FileFacts, Notes, RecorderSettings, ResultsRecorder};
 pub use schema::current_version;
 pub use spool::{Delivered, Spool};
 pub use store::Store;

@@ -44,8 +44,9 @@ pub struct RunRow {
     pub simulated: bool,
     /// How the drive was reached: `drive 2 on /dev/ttyUSB0`.
     pub drive: String,
-    /// `--drive` (the dictionary), when given.
+    /// The dictionary the run used, and its drive family.
     pub dictionary: Option<String>,
+    pub family: Option<String>,
     pub port: Option<String>,
     pub address: Option<String>,
     pub host: Option<String>,

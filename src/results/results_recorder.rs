@@ -26,15 +26,25 @@ const FINISH_WAIT: Duration = Duration::from_secs(30);
 pub struct RecorderSettings {
     /// The run is on the built-in simulated drive.
     pub simulated: bool,
-    /// `--drive`, when given.
-    pub dictionary: Option<String>,
     /// The port, TCP address or CAN bus.
     pub port: Option<String>,
     pub address: Option<String>,
-    /// The report files of each file run, by the file's path as given.
-    pub report_files: Vec<(String, Vec<String>)>,
+    /// What is known of each file before it runs.
+    pub files: Vec<FileFacts>,
     /// Say nothing when all goes well (`--quiet`).
     pub quiet: bool,
+}
+
+/// One file of the command, as the command line knows it before the run.
+#[derive(Debug, Clone, Default)]
+pub struct FileFacts {
+    /// The file's path as given (as [`RunInfo::path`] says it).
+    pub path: String,
+    /// The dictionary it runs with and that dictionary's family.
+    pub dictionary: Option<String>,
+    pub family: Option<String>,
+    /// The report files it writes.
+    pub report_files: Vec<String>,
 }
 
 /// Where the recorder's notes go (the command line gives standard error).
@@ -193,6 +203,13 @@ fn file_sha256(path: &str) -> Option<String> {
 impl RunObserver for ResultsRecorder {
     fn run_started(&mut self, run: &RunInfo, drive: &str) {
         let id = new_run_id();
+        let facts = self
+            .settings
+            .files
+            .iter()
+            .find(|f| f.path == run.path)
+            .cloned()
+            .unwrap_or_default();
         let row = RunRow {
             id: id.clone(),
             kind: run.kind.to_string(),
@@ -203,7 +220,8 @@ impl RunObserver for ResultsRecorder {
             started_at: utc_text(SystemTime::now()),
             simulated: self.settings.simulated,
             drive: drive.to_string(),
-            dictionary: self.settings.dictionary.clone(),
+            dictionary: facts.dictionary,
+            family: facts.family,
             port: self.settings.port.clone(),
             address: self.settings.address.clone(),
             host: std::env::var("HOSTNAME").ok().or_else(|| {
@@ -281,10 +299,10 @@ impl RunObserver for ResultsRecorder {
         let Some(run) = self.run.take() else { return };
         let mut files = self
             .settings
-            .report_files
+            .files
             .iter()
-            .find(|(path, _)| *path == run.path)
-            .map(|(_, files)| files.clone())
+            .find(|f| f.path == run.path)
+            .map(|f| f.report_files.clone())
             .unwrap_or_default();
         files.extend(r.csv_files.iter().cloned());
         let end = EndRow {

@@ -15,7 +15,7 @@ const MIGRATIONS: &[&str] = &[
      CREATE TABLE runs (
         id TEXT PRIMARY KEY, kind TEXT NOT NULL, recipe TEXT NOT NULL, recipe_path TEXT NOT NULL,
         recipe_sha256 TEXT, tool_version TEXT NOT NULL, started_at TEXT NOT NULL,
-        simulated BIGINT NOT NULL, drive TEXT NOT NULL, dictionary TEXT, port TEXT,
+        simulated BIGINT NOT NULL, drive TEXT NOT NULL, dictionary TEXT, family TEXT, port TEXT,
         address TEXT, host TEXT, serial TEXT, part TEXT, operator TEXT, station TEXT,
         params TEXT NOT NULL,
         ended_at TEXT, verdict TEXT, exit_code BIGINT, reason TEXT, drive_identity TEXT,

@@ -14,7 +14,7 @@ pub struct Store {
 const RUN_COLUMNS: &str = "id, kind, recipe, recipe_path, recipe_sha256, tool_version, started_at, \
      simulated, drive, dictionary, port, address, host, serial, part, operator, station, params, \
      ended_at, verdict, exit_code, reason, drive_identity, final_state, final_speed, speed_unit, \
-     coasting, stop_confirmed, safe_stop, report_files, omitted_steps, omitted_checks";
+     coasting, stop_confirmed, safe_stop, report_files, omitted_steps, omitted_checks, family";
 
 impl Store {
     /// The store behind `backend`, its schema brought up to date.
@@ -36,8 +36,8 @@ impl Store {
                 b.execute(
                     "INSERT INTO runs (id, kind, recipe, recipe_path, recipe_sha256, tool_version, \
                      started_at, simulated, drive, dictionary, port, address, host, serial, part, \
-                     operator, station, params) VALUES ($1, $2, $3, $4, $5, $6, $7, $8, $9, $10, \
-                     $11, $12, $13, $14, $15, $16, $17, $18) ON CONFLICT (id) DO NOTHING",
+                     operator, station, params, family) VALUES ($1, $2, $3, $4, $5, $6, $7, $8, $9, \
+                     $10, $11, $12, $13, $14, $15, $16, $17, $18, $19) ON CONFLICT (id) DO NOTHING",
                     &[
                         r.id.as_str().into(),
                         r.kind.as_str().into(),
@@ -57,6 +57,7 @@ impl Store {
                         r.unit.operator.clone().into(),
                         r.unit.station.clone().into(),
                         json(&r.params).into(),
+                        r.family.clone().into(),
                     ],
                 )?;
             }
@@ -393,6 +394,7 @@ fn stored_run(r: &[Value]) -> StoredRun {
         simulated: int(&r[7]) != 0,
         drive: text(&r[8]),
         dictionary: opt(&r[9]),
+        family: opt(&r[32]),
         port: opt(&r[10]),
         address: opt(&r[11]),
         host: opt(&r[12]),

@@ -142,6 +142,10 @@ fn a_run_is_recorded_with_its_checks_steps_end_state_and_series() {
     assert_eq!(r.verdict(), "passed");
     assert!(r.run.simulated);
     assert_eq!(r.run.recipe, "Short acceptance");
+    assert_eq!(
+        (r.run.dictionary.as_deref(), r.run.family.as_deref()),
+        (Some("sd2"), Some("sd2"))
+    );
     assert_eq!(r.run.params, vec![("speed".to_string(), "3000 rpm".to_string())]);
     assert_eq!(r.run.recipe_sha256.as_deref().map(str::len), Some(64));
     assert_eq!(r.checks.len(), 2, "{:?}", r.checks);
