@@ -13,6 +13,7 @@ mod locator;
 mod postgres_backend;
 mod record;
 mod results_recorder;
+mod results_writer;
 mod schema;
 mod spool;
 mod sqlite_backend;

@@ -59,7 +59,7 @@ impl PostgresBackend {
             config.connect_timeout(CONNECT_TIMEOUT);
         }
         config.application_name("drivescript");
-        let client = config.connect(tls()).map_err(|e| StoreError::Unreachable {
+        let client = config.connect(tls(&name)?).map_err(|e| StoreError::Unreachable {
             store: name.clone(),
             why: full_text(&e),
         })?;
@@ -104,26 +104,20 @@ fn full_text(e: &dyn Error) -> String {
 }
 
 /// rustls with its pure-Rust `ring` provider and the Mozilla root certificates.
-fn tls() -> tokio_postgres_rustls::MakeRustlsConnect {
+fn tls(store: &str) -> Result<tokio_postgres_rustls::MakeRustlsConnect, StoreError> {
     let roots = rustls::RootCertStore {
         roots: webpki_roots::TLS_SERVER_ROOTS.to_vec(),
     };
     let provider = Arc::new(rustls::crypto::ring::default_provider());
     let config = rustls::ClientConfig::builder_with_provider(provider)
         .with_safe_default_protocol_versions()
-        .map(|b| b.with_root_certificates(roots).with_no_client_auth())
-        // The ring provider supports the default versions; this branch cannot be taken,
-        // and a config without TLS versions would only refuse TLS servers.
-        .unwrap_or_else(|_| {
-            rustls::ClientConfig::builder_with_provider(Arc::new(rustls::crypto::ring::default_provider()))
-                .with_protocol_versions(&[&rustls::version::TLS13])
-                .map(|b| {
-                    b.with_root_certificates(rustls::RootCertStore::empty())
-                        .with_no_client_auth()
-                })
-                .unwrap_or_else(|_| unreachable!("ring supports TLS 1.3"))
-        });
-    tokio_postgres_rustls::MakeRustlsConnect::new(config)
+        .map_err(|e| StoreError::Unreachable {
+            store: store.to_string(),
+            why: format!("TLS cannot be set up: {e}"),
+        })?
+        .with_root_certificates(roots)
+        .with_no_client_auth();
+    Ok(tokio_postgres_rustls::MakeRustlsConnect::new(config))
 }
 
 /// Each value as the type the server expects for its parameter (a NULL is typed too).

@@ -6,12 +6,13 @@
 //! does not take goes to the spool file, delivered by the next run or `results sync`.
 
 use super::record::{CheckRow, EndRow, Record, RunRow, SeriesRow, StepRow, UnitRow};
-use super::{Locator, Spool, StoreError};
+use super::results_writer::{Job, Writer};
+use super::{Locator, Spool};
 use crate::session::{CheckResult, RunInfo, RunObserver, RunReport, StepRecord, UnitIdentity, MAX_RECORDS};
 use sha2::{Digest, Sha256};
-use std::collections::{HashMap, HashSet};
+use std::collections::HashMap;
 use std::io::Write;
-use std::sync::mpsc::{sync_channel, Receiver, SyncSender, TrySendError};
+use std::sync::mpsc::{sync_channel, SyncSender, TrySendError};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, SystemTime};
 
@@ -49,11 +50,6 @@ pub struct FileFacts {
 
 /// Where the recorder's notes go (the command line gives standard error).
 pub type Notes = Arc<Mutex<dyn Write + Send>>;
-
-enum Job {
-    Record(Box<Record>),
-    Flush(SyncSender<()>),
-}
 
 /// The observer; see the module.
 pub struct ResultsRecorder {
@@ -100,13 +96,7 @@ impl ResultsRecorder {
         let (jobs, queue) = sync_channel(QUEUE);
         let spool = Arc::new(Spool::new(locator.spool_path()));
         let store_name = locator.name();
-        let writer = Writer {
-            locator,
-            spool: spool.clone(),
-            notes: notes.clone(),
-            store: None,
-            spooled: HashSet::new(),
-        };
+        let writer = Writer::new(locator, spool.clone(), notes.clone());
         let spawned = std::thread::Builder::new()
             .name("results".into())
             .spawn(move || writer.run(queue));
@@ -154,7 +144,7 @@ impl ResultsRecorder {
     }
 }
 
-fn note(notes: &Notes, text: &str) {
+pub(super) fn note(notes: &Notes, text: &str) {
     if let Ok(mut w) = notes.lock() {
         let _ = writeln!(w, "{text}");
     }
@@ -348,79 +338,6 @@ impl RunObserver for ResultsRecorder {
                 &self.notes,
                 &format!("results: run {} recorded in {}", run.id, self.store_name),
             );
-        }
-    }
-}
-
-/// The writer thread's side.
-struct Writer {
-    locator: Locator,
-    spool: Arc<Spool>,
-    notes: Notes,
-    store: Option<super::Store>,
-    /// Runs whose records go to the spool (the store failed during them).
-    spooled: HashSet<String>,
-}
-
-impl Writer {
-    fn run(mut self, queue: Receiver<Job>) {
-        for job in queue {
-            match job {
-                Job::Flush(ack) => {
-                    let _ = ack.send(());
-                }
-                Job::Record(record) => self.write(*record),
-            }
-        }
-    }
-
-    fn write(&mut self, record: Record) {
-        let run = record.run().to_string();
-        if !self.spooled.contains(&run) {
-            let result = self.deliver(&record);
-            let Err(e) = result else { return };
-            self.spooled.insert(run.clone());
-            if matches!(e, StoreError::Unreachable { .. } | StoreError::Query { .. }) {
-                self.store = None;
-            }
-            note(
-                &self.notes,
-                &format!(
-                    "results: {e}\nresults: run {run} is kept in {} and delivered by the next run or `drivescript results sync`",
-                    self.spool.path().display()
-                ),
-            );
-        }
-        if let Err(e) = self.spool.append(std::slice::from_ref(&record)) {
-            note(
-                &self.notes,
-                &format!("results: a record of run {run} is lost: {e}"),
-            );
-        }
-    }
-
-    /// Writes `record` to the store, opening it (and delivering the spool) at a run's start.
-    fn deliver(&mut self, record: &Record) -> Result<(), StoreError> {
-        if self.store.is_none() && matches!(record, Record::Started(_)) {
-            let mut store = self.locator.open(true)?;
-            if self.spool.pending() {
-                match self.spool.deliver(&mut store) {
-                    Ok(d) if d.records > 0 => note(
-                        &self.notes,
-                        &format!("results: delivered {} spooled run(s) to {}", d.runs, store.name()),
-                    ),
-                    Ok(_) => {}
-                    Err(e) => note(&self.notes, &format!("results: the spool stays for later: {e}")),
-                }
-            }
-            self.store = Some(store);
-        }
-        match self.store.as_mut() {
-            Some(store) => store.apply(record),
-            None => Err(StoreError::Unreachable {
-                store: self.locator.name(),
-                why: "it failed earlier in this command".into(),
-            }),
         }
     }
 }
