@@ -1,7 +1,8 @@
 //! The fleet's store: a PostgreSQL server several benches write to, through the
 //! synchronous `postgres` client. TLS goes through rustls with the Mozilla roots compiled
 //! in (no OpenSSL or other system library), used when the server offers it and required
-//! with `sslmode=require`. The password stays in the connection settings: the store's
+//! with `sslmode=require`; the certificate is always verified, against those roots and a
+//! factory's own CA given as `sslrootcert=PATH`. The password stays in the connection settings: the store's
 //! name, as every message shows it, never holds it.
 
 use super::backend::{Backend, Value};
@@ -10,6 +11,7 @@ use postgres::types::{ToSql, Type};
 use postgres::{Client, Config, Statement};
 use std::collections::HashMap;
 use std::error::Error;
+use std::path::{Path, PathBuf};
 use std::str::FromStr;
 use std::sync::Arc;
 use std::time::Duration;
@@ -23,9 +25,35 @@ pub struct PostgresBackend {
     statements: HashMap<String, Statement>,
 }
 
+/// The address without `sslrootcert=PATH`, and that path: the CA certificates (PEM) a
+/// server's certificate may also be signed by, as libpq names the setting (the postgres
+/// client does not know it).
+fn without_root_cert(url: &str) -> (String, Option<PathBuf>) {
+    let Some((base, query)) = url.split_once('?') else {
+        return (url.to_string(), None);
+    };
+    let mut root = None;
+    let rest: Vec<&str> = query
+        .split('&')
+        .filter(|kv| match kv.strip_prefix("sslrootcert=") {
+            Some(path) => {
+                root = Some(PathBuf::from(path));
+                false
+            }
+            None => true,
+        })
+        .collect();
+    let url = if rest.is_empty() {
+        base.to_string()
+    } else {
+        format!("{base}?{}", rest.join("&"))
+    };
+    (url, root)
+}
+
 /// `postgres://user@host:port/db`: the server as messages name it, without the password.
 pub fn postgres_name(url: &str) -> String {
-    let Ok(config) = Config::from_str(url) else {
+    let Ok(config) = Config::from_str(&without_root_cert(url).0) else {
         return "a postgres:// address that cannot be read".into();
     };
     let host = config
@@ -51,7 +79,8 @@ pub fn postgres_name(url: &str) -> String {
 impl PostgresBackend {
     pub fn connect(url: &str) -> Result<PostgresBackend, StoreError> {
         let name = postgres_name(url);
-        let mut config = Config::from_str(url).map_err(|e| StoreError::Foreign {
+        let (url, root_cert) = without_root_cert(url);
+        let mut config = Config::from_str(&url).map_err(|e| StoreError::Foreign {
             store: name.clone(),
             why: format!("the address cannot be read ({e})"),
         })?;
@@ -59,10 +88,13 @@ impl PostgresBackend {
             config.connect_timeout(CONNECT_TIMEOUT);
         }
         config.application_name("drivescript");
-        let client = config.connect(tls(&name)?).map_err(|e| StoreError::Unreachable {
-            store: name.clone(),
-            why: full_text(&e),
-        })?;
+        let client =
+            config
+                .connect(tls(&name, root_cert.as_deref())?)
+                .map_err(|e| StoreError::Unreachable {
+                    store: name.clone(),
+                    why: full_text(&e),
+                })?;
         let mut backend = PostgresBackend {
             client,
             name,
@@ -103,11 +135,29 @@ fn full_text(e: &dyn Error) -> String {
     text
 }
 
-/// rustls with its pure-Rust `ring` provider and the Mozilla root certificates.
-fn tls(store: &str) -> Result<tokio_postgres_rustls::MakeRustlsConnect, StoreError> {
-    let roots = rustls::RootCertStore {
+/// rustls with its pure-Rust `ring` provider, the Mozilla root certificates and those in
+/// `root_cert` (a factory's own CA).
+fn tls(
+    store: &str,
+    root_cert: Option<&Path>,
+) -> Result<tokio_postgres_rustls::MakeRustlsConnect, StoreError> {
+    use rustls::pki_types::{pem::PemObject, CertificateDer};
+    let mut roots = rustls::RootCertStore {
         roots: webpki_roots::TLS_SERVER_ROOTS.to_vec(),
     };
+    if let Some(path) = root_cert {
+        let unreadable = |why: String| StoreError::Unreachable {
+            store: store.to_string(),
+            why: format!(
+                "the CA certificates of sslrootcert={} cannot be used: {why}",
+                path.display()
+            ),
+        };
+        for cert in CertificateDer::pem_file_iter(path).map_err(|e| unreadable(e.to_string()))? {
+            let cert = cert.map_err(|e| unreadable(e.to_string()))?;
+            roots.add(cert).map_err(|e| unreadable(e.to_string()))?;
+        }
+    }
     let provider = Arc::new(rustls::crypto::ring::default_provider());
     let config = rustls::ClientConfig::builder_with_provider(provider)
         .with_safe_default_protocol_versions()

@@ -709,3 +709,33 @@ fn postgresql_records_runs_from_a_fleet_and_spools_while_the_server_is_down() {
     assert_eq!(spooled.checks.len(), 2);
     assert_eq!(spooled.end.as_ref().map(|e| e.series.len()), Some(1));
 }
+
+#[test]
+fn postgresql_over_tls_checks_the_certificate_against_the_given_ca() {
+    let Some((server, ca)) = PostgresServer::start_tls("postgres-tls") else {
+        return;
+    };
+    let url = server.url();
+    // The server takes only TLS: without it, refused.
+    let plain = cli(
+        &["results", "sync", "--results", &format!("{url}?sslmode=disable")],
+        0,
+    );
+    assert_has(&plain.stdout, &["nothing to deliver"]);
+    let refused = cli(
+        &["results", "list", "--results", &format!("{url}?sslmode=disable")],
+        3,
+    );
+    assert_has(&refused.stderr, &["cannot be reached"]);
+    // TLS with a certificate of an unknown CA: refused, whatever sslmode says.
+    let unknown = cli(
+        &["results", "list", "--results", &format!("{url}?sslmode=require")],
+        3,
+    );
+    assert_has(&unknown.stderr, &["certificate"]);
+    // With the factory's CA: the store opens, over TLS only.
+    let with_ca = format!("{url}?sslmode=require&sslrootcert={}", ca.display());
+    let listed = cli(&["results", "list", "--results", &with_ca, "--simulated"], 0);
+    assert_has(&listed.stdout, &["no runs in postgres://drivescript@127.0.0.1"]);
+    assert_lacks(&format!("{}{}", listed.stdout, listed.stderr), &["pw-s3cret"]);
+}

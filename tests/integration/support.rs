@@ -489,6 +489,8 @@ pub struct PostgresServer {
     log: PathBuf,
     port: u16,
     as_nobody: bool,
+    /// Server options for TLS, when it takes only TLS connections.
+    tls: String,
 }
 
 impl PostgresServer {
@@ -521,6 +523,7 @@ impl PostgresServer {
             log: dir.join("server.log"),
             port: free_port(),
             as_nobody,
+            tls: String::new(),
         };
         if as_nobody {
             let status = Command::new("chown")
@@ -551,6 +554,101 @@ impl PostgresServer {
         Some(server)
     }
 
+    /// [`PostgresServer::start`], taking only TLS connections, with a certificate for
+    /// 127.0.0.1 signed by a CA of its own: the server and the CA's certificate (PEM).
+    /// `None` (after [`tool_missing`]) without PostgreSQL or the openssl command.
+    #[track_caller]
+    pub fn start_tls(name: &str) -> Option<(PostgresServer, PathBuf)> {
+        if Command::new("openssl").arg("version").output().is_err() {
+            tool_missing("no openssl command: the TLS certificates are not made");
+            return None;
+        }
+        let mut server = PostgresServer::start(name)?;
+        server.down();
+        let dir = server.data.parent().expect("the scratch folder").to_path_buf();
+        let openssl = |args: &[&str]| {
+            let out = Command::new("openssl")
+                .args(args)
+                .current_dir(&dir)
+                .output()
+                .expect("openssl runs");
+            assert!(out.status.success(), "openssl {args:?}: {}", stderr(&out));
+        };
+        write_file(
+            &dir,
+            "ext.cnf",
+            "subjectAltName=IP:127.0.0.1\nbasicConstraints=CA:FALSE\n",
+        );
+        openssl(&[
+            "req",
+            "-x509",
+            "-newkey",
+            "rsa:2048",
+            "-nodes",
+            "-keyout",
+            "ca.key",
+            "-out",
+            "ca.crt",
+            "-days",
+            "2",
+            "-subj",
+            "/CN=drivescript test CA",
+        ]);
+        openssl(&[
+            "req",
+            "-newkey",
+            "rsa:2048",
+            "-nodes",
+            "-keyout",
+            "server.key",
+            "-out",
+            "server.csr",
+            "-subj",
+            "/CN=127.0.0.1",
+        ]);
+        openssl(&[
+            "x509",
+            "-req",
+            "-in",
+            "server.csr",
+            "-CA",
+            "ca.crt",
+            "-CAkey",
+            "ca.key",
+            "-CAcreateserial",
+            "-out",
+            "server.crt",
+            "-days",
+            "2",
+            "-extfile",
+            "ext.cnf",
+        ]);
+        use std::os::unix::fs::PermissionsExt;
+        std::fs::set_permissions(dir.join("server.key"), std::fs::Permissions::from_mode(0o600))
+            .expect("key mode");
+        if server.as_nobody {
+            let status = Command::new("chown")
+                .args(["-R", "nobody"])
+                .arg(&dir)
+                .status()
+                .expect("chown runs");
+            assert!(status.success());
+        }
+        // Only TLS connections from 127.0.0.1.
+        std::fs::write(
+            server.data.join("pg_hba.conf"),
+            "hostssl all all 127.0.0.1/32 trust\n",
+        )
+        .expect("pg_hba.conf");
+        server.tls = format!(
+            " -c ssl=on -c ssl_cert_file={} -c ssl_key_file={}",
+            dir.join("server.crt").display(),
+            dir.join("server.key").display()
+        );
+        server.up();
+        Some((server, dir.join("ca.crt")))
+    }
+
     /// `postgres://…` of the server, with a password (which it does not ask for) so that
     /// tests can see it is never shown.
     pub fn url(&self) -> String {
@@ -574,8 +672,8 @@ impl PostgresServer {
     /// Starts the server (again) and waits until it takes connections.
     pub fn up(&self) {
         let options = format!(
-            "-p {} -c listen_addresses=127.0.0.1 -c unix_socket_directories='' -c fsync=off -c max_connections=100",
-            self.port
+            "-p {} -c listen_addresses=127.0.0.1 -c unix_socket_directories='' -c fsync=off -c max_connections=100{}",
+            self.port, self.tls
         );
         let out = self
             .tool("pg_ctl")
