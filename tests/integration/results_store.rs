@@ -430,6 +430,29 @@ fn a_locked_store_is_spooled_and_synced_with_nothing_lost() {
     assert_eq!(spooled.end.as_ref().map(|e| e.series.len()), Some(1));
     let again = cli(&["results", "sync", "--results", s], 0);
     assert_has(&again.stdout, &["nothing to deliver"]);
+    // Spooled again; this time the next run delivers it.
+    let lock = rusqlite::Connection::open(&store).expect("open");
+    lock.execute_batch("BEGIN EXCLUSIVE").expect("lock");
+    cli(
+        &[
+            "run",
+            recipe.to_str().unwrap(),
+            "--fast",
+            "--results",
+            s,
+            "--set",
+            "speed=2600rpm",
+        ],
+        0,
+    );
+    drop(lock);
+    let next = cli(&["run", recipe.to_str().unwrap(), "--fast", "--results", s], 0);
+    assert_has(&next.stderr, &["delivered 1 spooled run(s)"]);
+    let runs = all_runs(s);
+    assert_eq!(runs.len(), 4);
+    assert!(runs
+        .iter()
+        .all(|r| r.verdict() == "passed" && r.checks.len() == 2));
 }
 
 /// Two processes, each running TINY 200 times, into `store` at once; every run arrives
