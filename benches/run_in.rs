@@ -84,7 +84,12 @@ fn read_limit() -> f64 {
 /// Runs `recipe` with `args`; returns its standard output and what it cost.
 fn run(recipe: &Path, args: &[&str]) -> Result<(String, Cost), String> {
     let mut command = Command::new(binary());
-    command.arg("run").arg(recipe).args(args).arg("--no-progress");
+    // The measurements are of the run, not of a results store in the user's data directory.
+    command
+        .arg("run")
+        .arg(recipe)
+        .args(args)
+        .args(["--no-progress", "--no-results"]);
     measure_child(command)
 }
 
@@ -504,7 +509,7 @@ fn cpu_per_telegram(dir: &Path) -> Result<(), String> {
         let mut ds = Command::new(binary());
         ds.arg("run")
             .arg(&recipe)
-            .args(["--port", &sim.path, "--no-progress"]);
+            .args(["--port", &sim.path, "--no-progress", "--no-results"]);
         if let Some(cpu) = program_cpu {
             pin(&mut ds, cpu);
         }

@@ -31,6 +31,7 @@ pub mod link;
 pub mod parameters;
 pub mod recipe;
 pub mod report;
+pub mod results;
 pub mod run;
 pub mod script;
 pub mod session;

@@ -16,6 +16,7 @@ mod panic_notice;
 mod parameter_commands;
 mod recipe_commands;
 mod restore_command;
+mod results_command;
 mod safe_stop_notes;
 mod simulate_command;
 mod stop_command;
@@ -82,6 +83,7 @@ enum Command {
     Restore(restore_command::RestoreArgs),
     Maintain(maintain_command::MaintainArgs),
     Schema(recipe_commands::SchemaArgs),
+    Results(results_command::ResultsArgs),
     Completions(CompletionsArgs),
 }
 
@@ -130,6 +132,7 @@ pub fn main(registry: &Registry) -> i32 {
         Command::Restore(args) => restore_command::restore(&args, registry),
         Command::Maintain(args) => maintain_command::maintain(&args, registry),
         Command::Schema(args) => recipe_commands::schema(&args, registry),
+        Command::Results(args) => results_command::results(&args),
         Command::Completions(args) => {
             use std::io::Write;
             let mut script = Vec::new();

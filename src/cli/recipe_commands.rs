@@ -12,6 +12,7 @@ use crate::run::{
 use clap::Args;
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
+use std::sync::{Arc, Mutex};
 
 #[derive(Debug, Args)]
 /// Validate recipes against the dictionary without opening any port: object names, units,
@@ -75,6 +76,8 @@ pub struct RunArgs {
     dictionary: DictionaryArgs,
     #[command(flatten)]
     connection: ConnectionArgs,
+    #[command(flatten)]
+    record: crate::run::RecordArgs,
 }
 
 fn parse_set(text: &str) -> Result<(String, String), BadValue> {
@@ -203,6 +206,18 @@ pub fn run(args: &RunArgs, registry: &Registry) -> i32 {
     };
     let stop = stop_signals::install(true);
     panic_notice::install();
+    let recorder = args.record.recorder(
+        &args.recipes,
+        &args.connection,
+        &args.dictionary,
+        registry,
+        &args.outputs,
+        &args.output_dir,
+    );
+    let observers: Vec<run::SharedObserver> = recorder
+        .map(|r| Arc::new(Mutex::new(r)) as run::SharedObserver)
+        .into_iter()
+        .collect();
     let request = RunRequest {
         registry,
         file: std::path::Path::new(""),
@@ -223,7 +238,7 @@ pub fn run(args: &RunArgs, registry: &Registry) -> i32 {
         terminal: std::io::stdout().is_terminal(),
         operator: &args.operator,
         input: RunOperator::stdin_is_terminal().then(TerminalInput::stdin),
-        observers: Vec::new(),
+        observers,
     };
     run_many(
         &args.recipes,

@@ -21,8 +21,9 @@ pub use console_reporter::{
     check_line, container_line, header_lines, message_line, step_line, summary_lines, ConsoleReporter,
 };
 pub use csv_recorder::{CsvRecorder, CSV_HEADER};
-pub use html::{html_index, html_report, write_html, IndexEntry, MAX_PLOT_POINTS};
+pub use html::{esc, html_index, html_report, plot_svg, write_html, IndexEntry, MAX_PLOT_POINTS, REPORT_CSS};
 pub use junit_report::{junit_document, junit_suite, junit_xml, stable_check_name, write_junit, JunitSuite};
+pub use junit_xml_writer::XmlWriter;
 pub use progress_reporter::{progress_text, ProgressReporter};
 pub use telegram_fan_out::TelegramFanOut;
 pub use trace_header::{trace_notes_path, TraceHeader};

@@ -7,13 +7,13 @@
 use crate::support::assert_has;
 use drivescript::dictionary::LIMITS_ENV;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output, Stdio};
+use std::process::{Output, Stdio};
 
 const SD2: &str = include_str!("../../dictionary/sd2.yaml");
 
 /// Runs `drivescript ARGS` in `dir` with `DRIVESCRIPT_LIMITS` set to `env` (or unset).
 fn run(dir: &Path, args: &[&str], env: Option<&str>) -> Output {
-    let mut command = Command::new(env!("CARGO_BIN_EXE_drivescript"));
+    let mut command = crate::support::command();
     command
         .args(args)
         .current_dir(dir)

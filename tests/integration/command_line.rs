@@ -365,7 +365,7 @@ fn ports_show_the_usb_serial_latency_timer() {
     let tty = root.join("bus/usb-serial/devices/ttyUSB7");
     std::fs::create_dir_all(&tty).expect("fake sysfs");
     std::fs::write(tty.join("latency_timer"), "16\n").expect("timer");
-    let out = std::process::Command::new(env!("CARGO_BIN_EXE_drivescript"))
+    let out = crate::support::command()
         .arg("ports")
         .env("DRIVESCRIPT_SYSFS", &root)
         .output()
@@ -381,7 +381,7 @@ fn ports_show_the_usb_serial_latency_timer() {
         )),
         "{text}"
     );
-    let json = std::process::Command::new(env!("CARGO_BIN_EXE_drivescript"))
+    let json = crate::support::command()
         .args(["ports", "--json"])
         .env("DRIVESCRIPT_SYSFS", &root)
         .output()
@@ -419,7 +419,7 @@ fn a_run_says_once_when_the_latency_timer_slows_its_line_or_its_samples() {
         let text = text.replace("every: 10 ms", &format!("every: {every}"));
         let text = text.replace("every: 50 ms", &format!("every: {every}"));
         std::fs::write(&recipe, text).expect("recipe");
-        let out = std::process::Command::new(env!("CARGO_BIN_EXE_drivescript"))
+        let out = crate::support::command()
             .args(["run", file.to_str().expect("utf-8"), "--port", port])
             .env("DRIVESCRIPT_SYSFS", dir.join("sysfs"))
             .output()

@@ -4,7 +4,7 @@
 
 use crate::support::{assert_has, assert_lacks, cli, repo_root, LiveRun, Simulator};
 use std::io::{BufRead, BufReader};
-use std::process::{Command, Stdio};
+use std::process::Stdio;
 
 #[cfg(unix)]
 #[test]
@@ -102,7 +102,7 @@ fn ctrl_c_during_a_run_stops_safely_and_exits_130() {
 #[cfg(unix)]
 #[test]
 fn a_closed_output_pipe_does_not_stop_a_run_before_its_safe_stop() {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_drivescript"))
+    let mut child = crate::support::command()
         .args(["run", "recipes/commissioning.yaml", "--fast"])
         .current_dir(repo_root())
         .stdout(Stdio::piped())
@@ -123,7 +123,7 @@ fn a_closed_output_pipe_does_not_stop_a_run_before_its_safe_stop() {
 #[cfg(unix)]
 #[test]
 fn other_commands_end_quietly_on_a_closed_pipe() {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_drivescript"))
+    let mut child = crate::support::command()
         .args(["completions", "bash"])
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())

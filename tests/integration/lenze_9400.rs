@@ -398,7 +398,7 @@ steps:
     // to another test's simulator meanwhile, reopening it must not find this node there.
     let sim = slcan_simulator("37");
     let can = format!("slcan:{}", sim.endpoint);
-    let mut run = std::process::Command::new(env!("CARGO_BIN_EXE_drivescript"))
+    let mut run = crate::support::command()
         .args([
             "run",
             path.to_str().unwrap(),

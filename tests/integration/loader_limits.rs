@@ -13,7 +13,7 @@ use drivescript::recipe::{load_recipe_text, StepKind, MAX_DURATION, MAX_RUN_TIME
 use drivescript::session::{Predicate, Tolerance};
 use proptest::prelude::*;
 use std::path::Path;
-use std::process::{Command, Stdio};
+use std::process::Stdio;
 use std::time::{Duration, Instant};
 
 /// Refusals must come this fast (they take milliseconds; this is for a loaded machine).
@@ -30,7 +30,7 @@ struct Outcome {
 /// Runs `drivescript ARGS` in `dir`, killing it after [`HANG`].
 fn run(dir: &Path, args: &[&str]) -> Outcome {
     let started = Instant::now();
-    let mut child = Command::new(env!("CARGO_BIN_EXE_drivescript"))
+    let mut child = crate::support::command()
         .args(args)
         .current_dir(dir)
         .env_remove("DRIVESCRIPT_LIMITS")

@@ -316,7 +316,7 @@ fn a_run_killed_beyond_any_safe_stop_leaves_a_report_that_says_not_finished() {
     let (junit, html) = (dir.join("junit.xml"), dir.join("report.html"));
     std::fs::write(&junit, "<testsuites tests=\"1\" failures=\"0\"/>").expect("old junit");
     std::fs::write(&html, "<p>PASSED</p>").expect("old html");
-    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_drivescript"))
+    let mut child = crate::support::command()
         .arg("run")
         .arg(&recipe)
         .arg("--junit")

@@ -10,9 +10,25 @@ pub fn repo_root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
 }
 
+/// The `drivescript` binary as every test runs it: its results go to a store of this
+/// test process's own (never the user's data directory); a test that checks the store
+/// names its own with `--results` or `DRIVESCRIPT_RESULTS`.
+pub fn command() -> Command {
+    let mut c = Command::new(env!("CARGO_BIN_EXE_drivescript"));
+    c.env("DRIVESCRIPT_RESULTS", tests_results_store());
+    c
+}
+
+/// The results store [`command`] gives every run: one per test process.
+pub fn tests_results_store() -> PathBuf {
+    std::env::temp_dir()
+        .join(format!("drivescript-tests-{}", std::process::id()))
+        .join("results.sqlite")
+}
+
 /// Runs `drivescript ARGS` with `stdin`, returning its output.
 pub fn drivescript(args: &[&str], stdin: &str) -> Output {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_drivescript"))
+    let mut child = command()
         .args(args)
         .current_dir(repo_root())
         .stdin(Stdio::piped())
@@ -332,7 +348,7 @@ impl Simulator {
 
     fn spawn(args: &[&str], stderr: Stdio) -> Simulator {
         use std::io::BufRead;
-        let mut child = Command::new(env!("CARGO_BIN_EXE_drivescript"))
+        let mut child = command()
             .arg("simulate")
             .args(args)
             .stdout(Stdio::piped())
@@ -404,7 +420,7 @@ impl LiveRun {
         I: IntoIterator<Item = S>,
         S: AsRef<std::ffi::OsStr>,
     {
-        let mut child = Command::new(env!("CARGO_BIN_EXE_drivescript"))
+        let mut child = command()
             .args(args)
             .current_dir(repo_root())
             .stdout(Stdio::piped())
@@ -505,7 +521,7 @@ impl Terminal {
         // SAFETY: both descriptors were just opened and are owned here alone.
         let (master, slave) = unsafe { (std::fs::File::from_raw_fd(master), OwnedFd::from_raw_fd(slave)) };
         let io = |fd: &OwnedFd| Stdio::from(fd.try_clone().expect("dup the pty"));
-        let mut command = Command::new(env!("CARGO_BIN_EXE_drivescript"));
+        let mut command = command();
         command
             .args(args)
             .current_dir(repo_root())
@@ -596,4 +612,242 @@ fn send_signal(child: &std::process::Child, name: &str) {
         .status()
         .expect("kill runs");
     assert!(status.success());
+}
+
+/// A PostgreSQL server of a test's own in a scratch folder, on a free TCP port of
+/// 127.0.0.1, trusting local connections; stopped when dropped. The server refuses to run
+/// as root, so under root (as CI runs) it runs as the user `nobody`.
+pub struct PostgresServer {
+    bin: PathBuf,
+    data: PathBuf,
+    log: PathBuf,
+    port: u16,
+    as_nobody: bool,
+    /// Server options for TLS, when it takes only TLS connections.
+    tls: String,
+}
+
+impl PostgresServer {
+    /// Starts one in the scratch folder `name`; `None` (after [`tool_missing`]) where
+    /// PostgreSQL is not installed.
+    #[track_caller]
+    pub fn start(name: &str) -> Option<PostgresServer> {
+        let bin = std::fs::read_dir("/usr/lib/postgresql")
+            .into_iter()
+            .flatten()
+            .flatten()
+            .map(|e| e.path().join("bin"))
+            .filter(|b| b.join("initdb").is_file())
+            .max_by_key(|b| {
+                b.parent()
+                    .and_then(|v| v.file_name())
+                    .and_then(|v| v.to_str())
+                    .and_then(|v| v.parse::<u32>().ok())
+            });
+        let Some(bin) = bin else {
+            tool_missing("no PostgreSQL server installed (/usr/lib/postgresql/*/bin/initdb)");
+            return None;
+        };
+        let dir = scratch(name);
+        // SAFETY: geteuid has no preconditions and only reads the process's user id.
+        let as_nobody = unsafe { libc::geteuid() } == 0;
+        let server = PostgresServer {
+            bin,
+            data: dir.join("data"),
+            log: dir.join("server.log"),
+            port: free_port(),
+            as_nobody,
+            tls: String::new(),
+        };
+        if as_nobody {
+            let status = Command::new("chown")
+                .args(["-R", "nobody"])
+                .arg(&dir)
+                .status()
+                .expect("chown runs");
+            assert!(status.success(), "chown the scratch folder to nobody");
+        }
+        let out = server
+            .tool("initdb")
+            .arg("-D")
+            .arg(&server.data)
+            .args([
+                "-A",
+                "trust",
+                "-U",
+                "drivescript",
+                "-E",
+                "UTF8",
+                "--no-locale",
+                "-N",
+            ])
+            .output()
+            .expect("initdb runs");
+        assert!(out.status.success(), "initdb: {}{}", stdout(&out), stderr(&out));
+        server.up();
+        Some(server)
+    }
+
+    /// [`PostgresServer::start`], taking only TLS connections, with a certificate for
+    /// 127.0.0.1 signed by a CA of its own: the server and the CA's certificate (PEM).
+    /// `None` (after [`tool_missing`]) without PostgreSQL or the openssl command.
+    #[track_caller]
+    pub fn start_tls(name: &str) -> Option<(PostgresServer, PathBuf)> {
+        if Command::new("openssl").arg("version").output().is_err() {
+            tool_missing("no openssl command: the TLS certificates are not made");
+            return None;
+        }
+        let mut server = PostgresServer::start(name)?;
+        server.down();
+        let dir = server.data.parent().expect("the scratch folder").to_path_buf();
+        let openssl = |args: &[&str]| {
+            let out = Command::new("openssl")
+                .args(args)
+                .current_dir(&dir)
+                .output()
+                .expect("openssl runs");
+            assert!(out.status.success(), "openssl {args:?}: {}", stderr(&out));
+        };
+        write_file(
+            &dir,
+            "ext.cnf",
+            "subjectAltName=IP:127.0.0.1\nbasicConstraints=CA:FALSE\n",
+        );
+        openssl(&[
+            "req",
+            "-x509",
+            "-newkey",
+            "rsa:2048",
+            "-nodes",
+            "-keyout",
+            "ca.key",
+            "-out",
+            "ca.crt",
+            "-days",
+            "2",
+            "-subj",
+            "/CN=drivescript test CA",
+        ]);
+        openssl(&[
+            "req",
+            "-newkey",
+            "rsa:2048",
+            "-nodes",
+            "-keyout",
+            "server.key",
+            "-out",
+            "server.csr",
+            "-subj",
+            "/CN=127.0.0.1",
+        ]);
+        openssl(&[
+            "x509",
+            "-req",
+            "-in",
+            "server.csr",
+            "-CA",
+            "ca.crt",
+            "-CAkey",
+            "ca.key",
+            "-CAcreateserial",
+            "-out",
+            "server.crt",
+            "-days",
+            "2",
+            "-extfile",
+            "ext.cnf",
+        ]);
+        use std::os::unix::fs::PermissionsExt;
+        std::fs::set_permissions(dir.join("server.key"), std::fs::Permissions::from_mode(0o600))
+            .expect("key mode");
+        if server.as_nobody {
+            let status = Command::new("chown")
+                .args(["-R", "nobody"])
+                .arg(&dir)
+                .status()
+                .expect("chown runs");
+            assert!(status.success());
+        }
+        // Only TLS connections from 127.0.0.1.
+        std::fs::write(
+            server.data.join("pg_hba.conf"),
+            "hostssl all all 127.0.0.1/32 trust\n",
+        )
+        .expect("pg_hba.conf");
+        server.tls = format!(
+            " -c ssl=on -c ssl_cert_file={} -c ssl_key_file={}",
+            dir.join("server.crt").display(),
+            dir.join("server.key").display()
+        );
+        server.up();
+        Some((server, dir.join("ca.crt")))
+    }
+
+    /// `postgres://…` of the server, with a password (which it does not ask for) so that
+    /// tests can see it is never shown.
+    pub fn url(&self) -> String {
+        format!(
+            "postgres://drivescript:pw-s3cret@127.0.0.1:{}/postgres",
+            self.port
+        )
+    }
+
+    fn tool(&self, name: &str) -> Command {
+        let program = self.bin.join(name);
+        if self.as_nobody {
+            let mut c = Command::new("runuser");
+            c.args(["-u", "nobody", "--"]).arg(program);
+            c
+        } else {
+            Command::new(program)
+        }
+    }
+
+    /// Starts the server (again) and waits until it takes connections.
+    pub fn up(&self) {
+        let options = format!(
+            "-p {} -c listen_addresses=127.0.0.1 -c unix_socket_directories='' -c fsync=off -c max_connections=100{}",
+            self.port, self.tls
+        );
+        let out = self
+            .tool("pg_ctl")
+            .arg("-D")
+            .arg(&self.data)
+            .arg("-l")
+            .arg(&self.log)
+            .args(["-o", &options, "-w", "-t", "60", "start"])
+            .output()
+            .expect("pg_ctl runs");
+        let log = std::fs::read_to_string(&self.log).unwrap_or_default();
+        assert!(
+            out.status.success(),
+            "pg_ctl start: {}{}{log}",
+            stdout(&out),
+            stderr(&out)
+        );
+    }
+
+    /// Stops the server at once.
+    pub fn down(&self) {
+        let _ = self
+            .tool("pg_ctl")
+            .arg("-D")
+            .arg(&self.data)
+            .args(["-m", "immediate", "-w", "stop"])
+            .output();
+    }
+}
+
+impl Drop for PostgresServer {
+    fn drop(&mut self) {
+        self.down();
+    }
+}
+
+/// A TCP port of 127.0.0.1 nothing listens on at the moment.
+pub fn free_port() -> u16 {
+    std::net::TcpListener::bind("127.0.0.1:0")
+        .and_then(|l| l.local_addr())
+        .map(|a| a.port())
+        .expect("a free port")
 }

@@ -51,7 +51,7 @@ pub fn write_html(report: &RunReport, path: &Path) -> Result<(), String> {
 
 /// The page's styles, screen and print, kept as a stylesheet so that it can be read and
 /// edited as one.
-const CSS: &str = include_str!("html_report.css");
+pub const CSS: &str = include_str!("html_report.css");
 
 fn header(h: &mut String, r: &RunReport) {
     let class = r.verdict.word().to_lowercase();

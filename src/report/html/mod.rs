@@ -14,6 +14,6 @@ mod svg_plot;
 mod timeline;
 
 pub use html_index::{html_index, IndexEntry};
-pub use html_page::{html_report, write_html};
+pub use html_page::{html_report, write_html, CSS as REPORT_CSS};
 pub use html_text::esc;
-pub use svg_plot::MAX_PLOT_POINTS;
+pub use svg_plot::{plot_svg, MAX_PLOT_POINTS};

@@ -1,0 +1,240 @@
+//! Results-store benchmark: what recording costs, each figure as a ratio against its goal.
+//!
+//! A measurement, not a test (DESIGN: benchmarks report ratios against a stated limit,
+//! never a timed assertion). Run with `cargo bench --bench results_store`. It runs the
+//! release binary as a user would, on SQLite in a scratch folder:
+//! - 24 h of sampling two objects at 100 Hz with `--fast`, with `--no-results` and with
+//!   `--results FILE` (interleaved, the least of three runs each, wall and CPU time): the
+//!   run with the store at most 10 % slower, and the store grown by at most 2 MB (the file with its WAL);
+//! - `drivescript results list` over a store of 10 000 runs (5 checks each): at most
+//!   100 ms, the whole command (the median of five), as it lists by default (the newest
+//!   50) and with all 10 000 rows printed;
+//! - `drivescript results trend CHECK` over the same 10 000 runs: at most 200 ms.
+
+use drivescript::results::{CheckRow, EndRow, Locator, Record, RunRow, UnitRow};
+use std::path::{Path, PathBuf};
+use std::process::{Command, ExitCode, Stdio};
+use std::time::{Duration, Instant};
+
+fn binary() -> &'static str {
+    env!("CARGO_BIN_EXE_drivescript")
+}
+
+fn verdict(ok: bool) -> &'static str {
+    if ok {
+        "ok"
+    } else {
+        "OVER THE GOAL"
+    }
+}
+
+/// Runs the binary with `args` to a successful end; the wall time.
+fn timed(args: &[&str]) -> Result<Duration, String> {
+    costs(args).map(|(wall, _)| wall)
+}
+
+/// Runs the binary with `args` to a successful end; the wall time and the CPU time (user
+/// and kernel, every thread) from `wait4`, which a machine busy with other work disturbs
+/// less than the wall time.
+fn costs(args: &[&str]) -> Result<(Duration, Duration), String> {
+    let started = Instant::now();
+    let child = Command::new(binary())
+        .args(args)
+        .env_remove("DRIVESCRIPT_RESULTS")
+        .stdin(Stdio::null())
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .map_err(|e| format!("cannot start drivescript: {e}"))?;
+    let pid = child.id() as libc::pid_t;
+    let mut status = 0;
+    // SAFETY: an all-zero rusage is a valid value for wait4 to fill in.
+    let mut usage: libc::rusage = unsafe { std::mem::zeroed() };
+    // SAFETY: waiting for our own child with valid pointers.
+    let waited = unsafe { libc::wait4(pid, &mut status, 0, &mut usage) };
+    let wall = started.elapsed();
+    if waited != pid || !libc::WIFEXITED(status) || libc::WEXITSTATUS(status) != 0 {
+        return Err(format!("drivescript {args:?} failed"));
+    }
+    let tv =
+        |t: libc::timeval| Duration::from_secs(t.tv_sec as u64) + Duration::from_micros(t.tv_usec as u64);
+    Ok((wall, tv(usage.ru_utime) + tv(usage.ru_stime)))
+}
+
+fn size_of_store(path: &Path) -> u64 {
+    let with = |suffix: &str| {
+        let mut p = path.as_os_str().to_os_string();
+        p.push(suffix);
+        std::fs::metadata(PathBuf::from(p)).map_or(0, |m| m.len())
+    };
+    with("") + with("-wal")
+}
+
+fn long_run(dir: &Path) -> Result<(), String> {
+    println!("long run: 24 h sampling speed_actual and current_actual every 10 ms, --fast");
+    let recipe = dir.join("long.yaml");
+    std::fs::write(
+        &recipe,
+        "name: A day at 100 Hz\nsteps:\n  - go_to: operation_enabled\n  - set: { speed_setpoint: 6000 rpm }\n  - sample: { objects: [speed_actual, current_actual], every: 10 ms, for: 24 h }\n  - expect:\n      speed_actual: { mean: { near: 6000 rpm, within: 1 % } }\n",
+    )
+    .map_err(|e| e.to_string())?;
+    let recipe = recipe.to_string_lossy().to_string();
+    let store = dir.join("long.sqlite");
+    let store_arg = store.to_string_lossy().to_string();
+    // One run first, so the store exists and the growth is the run's alone.
+    timed(&["run", &recipe, "--fast", "--no-progress", "--results", &store_arg])?;
+    let before = size_of_store(&store);
+    let (mut without, mut with) = ((Duration::MAX, Duration::MAX), (Duration::MAX, Duration::MAX));
+    // Interleaved, the least of three each: other work on the machine only adds time.
+    for _ in 0..3 {
+        let a = costs(&["run", &recipe, "--fast", "--no-progress", "--no-results"])?;
+        let b = costs(&["run", &recipe, "--fast", "--no-progress", "--results", &store_arg])?;
+        without = (without.0.min(a.0), without.1.min(a.1));
+        with = (with.0.min(b.0), with.1.min(b.1));
+    }
+    let grown = size_of_store(&store).saturating_sub(before) / 3;
+    for (what, a, b) in [("wall", without.0, with.0), ("CPU", without.1, with.1)] {
+        let slower = b.as_secs_f64() / a.as_secs_f64() - 1.0;
+        println!(
+            "  {what:<4} without the store {:>6.2} s, with it {:>6.2} s: {:>+5.1} % ({:>5.1} % of the 10 % limit)  {}",
+            a.as_secs_f64(),
+            b.as_secs_f64(),
+            slower * 100.0,
+            slower.max(0.0) / 0.10 * 100.0,
+            verdict(slower <= 0.10)
+        );
+    }
+    let mb = grown as f64 / 1e6;
+    println!(
+        "  the store grew by {mb:>6.3} MB per run ({:>5.1} % of the 2 MB limit)  {}",
+        mb / 2.0 * 100.0,
+        verdict(mb <= 2.0)
+    );
+    Ok(())
+}
+
+/// A store of `runs` finished runs of 5 checks each, over 100 units.
+fn filled_store(path: &Path, runs: usize) -> Result<(), String> {
+    let mut store = Locator::Sqlite(path.to_path_buf())
+        .open(true)
+        .map_err(|e| e.to_string())?;
+    let mut records = Vec::with_capacity(runs * 7);
+    for i in 0..runs {
+        let id = format!("{i:016x}");
+        let started_at = format!(
+            "2026-{:02}-{:02}T{:02}:{:02}:00.000Z",
+            1 + i / 1000 % 12,
+            1 + i / 40 % 28,
+            i / 60 % 24,
+            i % 60
+        );
+        records.push(Record::Started(RunRow {
+            id: id.clone(),
+            kind: "recipe".into(),
+            recipe: "Acceptance test".into(),
+            recipe_path: "recipes/acceptance-test.yaml".into(),
+            tool_version: "0.1.0".into(),
+            started_at: started_at.clone(),
+            drive: "drive 2 on /dev/ttyUSB0".into(),
+            unit: UnitRow {
+                serial: Some(format!("SP-{}", 100_000 + i % 100)),
+                station: Some("Bench 3".into()),
+                ..UnitRow::default()
+            },
+            params: vec![("speed".into(), "12000 rpm".into())],
+            ..RunRow::default()
+        }));
+        for c in 0..5 {
+            records.push(Record::Check(CheckRow {
+                run: id.clone(),
+                seq: c + 1,
+                name: format!("current_actual max below 5 A #{c}"),
+                measured: Some(3.0 + (i % 17) as f64 * 0.05),
+                measured_text: None,
+                unit: Some("A".into()),
+                low: None,
+                high: Some(5.0),
+                passed: true,
+                marginal: false,
+                step: format!("{}", c + 3),
+                stage: String::new(),
+                attempt: 1,
+                message: "ok".into(),
+            }));
+        }
+        records.push(Record::Finished(EndRow {
+            run: id,
+            ended_at: started_at,
+            verdict: "passed".into(),
+            final_state: Some("ready to switch on".into()),
+            stop_confirmed: true,
+            ..EndRow::default()
+        }));
+    }
+    for chunk in records.chunks(7_000) {
+        store.apply_all(chunk).map_err(|e| e.to_string())?;
+    }
+    Ok(())
+}
+
+fn median_of_five(args: &[&str]) -> Result<Duration, String> {
+    let mut times = (0..5).map(|_| timed(args)).collect::<Result<Vec<_>, _>>()?;
+    times.sort();
+    Ok(times[2])
+}
+
+fn queries(dir: &Path) -> Result<(), String> {
+    let store = dir.join("fleet.sqlite");
+    filled_store(&store, 10_000)?;
+    let s = store.to_string_lossy().to_string();
+    println!("\nqueries over 10 000 stored runs (SQLite, the whole command)");
+    for (what, args, goal_ms) in [
+        (
+            "results list",
+            vec!["results", "list", "--results", s.as_str()],
+            100.0,
+        ),
+        (
+            "list, all 10 000",
+            vec!["results", "list", "--limit", "10000", "--results", s.as_str()],
+            100.0,
+        ),
+        (
+            "results trend",
+            vec![
+                "results",
+                "trend",
+                "current_actual max below 5 A #2",
+                "--results",
+                s.as_str(),
+            ],
+            200.0,
+        ),
+    ] {
+        let ms = median_of_five(&args)?.as_secs_f64() * 1000.0;
+        println!(
+            "  {what:<17} {ms:>7.1} ms ({:>5.1} % of the {goal_ms:.0} ms goal)  {}",
+            ms / goal_ms * 100.0,
+            verdict(ms <= goal_ms)
+        );
+    }
+    Ok(())
+}
+
+fn main() -> ExitCode {
+    let dir = std::env::temp_dir().join(format!("drivescript-bench-results-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    if let Err(e) = std::fs::create_dir_all(&dir) {
+        eprintln!("error: {e}");
+        return ExitCode::FAILURE;
+    }
+    let result = long_run(&dir).and_then(|()| queries(&dir));
+    let _ = std::fs::remove_dir_all(&dir);
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}

@@ -1,0 +1,286 @@
+//! The commissioning certificate: one self-contained HTML page of one unit over all its
+//! stored runs (`results report --unit SERIAL`), or of one run (`results report RUN`), in
+//! the run report's style: who and what was tested, a row per run with its verdict, then
+//! each run's checks, plots and end state. Escapes every text; references nothing outside.
+
+use super::StoredRun;
+use crate::report::{esc, plot_svg, REPORT_CSS};
+use crate::session::{with_unit, Series};
+use std::fmt::Write as _;
+
+/// The page for the unit `serial` over `runs` (oldest first).
+pub fn unit_certificate(serial: &str, runs: &[StoredRun]) -> String {
+    let title = format!("Unit {serial}");
+    let mut h = page_start(&title);
+    let latest = runs.last();
+    let verdict = latest.map_or("no runs", |r| r.verdict());
+    let _ = writeln!(
+        h,
+        "<header>\n<h1>{}</h1>\n<p class=\"verdict {}\" id=\"verdict\">{} {}</p>\n\
+         <p class=\"why\">{} run(s) recorded; the latest ended {}.</p>\n</header>",
+        esc(&title),
+        class(verdict),
+        if verdict == "passed" { "✔" } else { "✘" },
+        esc(&verdict.to_uppercase()),
+        runs.len(),
+        esc(verdict)
+    );
+    h.push_str("<section>\n<h2>Unit</h2>\n<table class=\"facts\">\n");
+    let last_of = |f: fn(&StoredRun) -> Option<&String>| {
+        runs.iter()
+            .rev()
+            .find_map(f)
+            .cloned()
+            .unwrap_or_else(|| "not recorded".into())
+    };
+    let facts = [
+        ("Serial number", serial.to_string()),
+        ("Part", last_of(|r| r.run.unit.part.as_ref())),
+        (
+            "Drive identity",
+            last_of(|r| r.end.as_ref().and_then(|e| e.drive_identity.as_ref())),
+        ),
+        (
+            "Stations",
+            joined(runs.iter().filter_map(|r| r.run.unit.station.clone())),
+        ),
+        (
+            "Operators",
+            joined(runs.iter().filter_map(|r| r.run.unit.operator.clone())),
+        ),
+    ];
+    facts_rows(&mut h, &facts);
+    h.push_str("</table>\n</section>\n<section>\n<h2>Runs</h2>\n<table id=\"runs\">\n<thead><tr><th>Started (UTC)</th><th>Recipe</th><th>Verdict</th><th>Checks</th><th>Station</th><th>Operator</th><th>Run</th></tr></thead>\n<tbody>\n");
+    for r in runs {
+        let failed = r.checks.iter().filter(|c| !c.passed).count();
+        let _ = writeln!(
+            h,
+            "<tr class=\"{}\"><td>{}</td><td>{}</td><td class=\"step {}\">{}</td><td class=\"num\">{} passed, {failed} failed</td><td>{}</td><td>{}</td><td class=\"step\"><a href=\"#run-{}\"><code>{}</code></a></td></tr>",
+            if r.verdict() == "passed" { "" } else { "fail" },
+            esc(&shown_time(&r.run.started_at)),
+            esc(&r.run.recipe),
+            if r.verdict() == "passed" { "ok" } else { "fail" },
+            esc(&r.verdict().to_uppercase()),
+            r.checks.len() - failed,
+            esc(r.run.unit.station.as_deref().unwrap_or("")),
+            esc(r.run.unit.operator.as_deref().unwrap_or("")),
+            esc(&r.run.id),
+            esc(&r.run.id),
+        );
+    }
+    h.push_str("</tbody>\n</table>\n</section>\n");
+    let mut plot = 0;
+    for r in runs {
+        run_section(&mut h, r, &mut plot);
+    }
+    page_end(h)
+}
+
+/// The page of one stored run.
+pub fn run_certificate(run: &StoredRun) -> String {
+    let title = format!("{} — run {}", run.run.recipe, run.run.id);
+    let mut h = page_start(&title);
+    let _ = writeln!(
+        h,
+        "<header>\n<h1>{}</h1>\n<p class=\"verdict {}\" id=\"verdict\">{} {}</p>\n</header>",
+        esc(&run.run.recipe),
+        class(run.verdict()),
+        if run.verdict() == "passed" { "✔" } else { "✘" },
+        esc(&run.verdict().to_uppercase())
+    );
+    run_section(&mut h, run, &mut 0);
+    page_end(h)
+}
+
+fn page_start(title: &str) -> String {
+    format!(
+        "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n\
+         <meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n\
+         <meta name=\"generator\" content=\"drivescript {}\">\n<title>{}</title>\n\
+         <style>{REPORT_CSS}</style>\n</head>\n<body>\n",
+        env!("CARGO_PKG_VERSION"),
+        esc(title)
+    )
+}
+
+fn page_end(mut h: String) -> String {
+    let _ = write!(
+        h,
+        "<footer>Written by drivescript {} from its results store.</footer>\n</body>\n</html>\n",
+        env!("CARGO_PKG_VERSION")
+    );
+    h
+}
+
+/// `failed` for every verdict but passed, as the run report's classes.
+fn class(verdict: &str) -> &'static str {
+    match verdict {
+        "passed" => "passed",
+        "error" => "error",
+        "interrupted" => "interrupted",
+        "panic" => "panic",
+        _ => "failed",
+    }
+}
+
+/// `2026-11-25 02:10:53 UTC` from the stored RFC 3339 text.
+fn shown_time(utc: &str) -> String {
+    let t = utc.replace('T', " ");
+    match t.split_once('.') {
+        Some((seconds, _)) => format!("{seconds} UTC"),
+        None => t.replace('Z', " UTC"),
+    }
+}
+
+fn joined(items: impl Iterator<Item = String>) -> String {
+    let mut seen: Vec<String> = Vec::new();
+    for i in items {
+        if !seen.contains(&i) {
+            seen.push(i);
+        }
+    }
+    if seen.is_empty() {
+        "not recorded".into()
+    } else {
+        seen.join(", ")
+    }
+}
+
+fn facts_rows(h: &mut String, facts: &[(&str, String)]) {
+    for (name, value) in facts {
+        let _ = writeln!(h, "<tr><th scope=\"row\">{name}</th><td>{}</td></tr>", esc(value));
+    }
+}
+
+fn run_section(h: &mut String, r: &StoredRun, plot: &mut usize) {
+    let _ = writeln!(
+        h,
+        "<section id=\"run-{}\">\n<h2>{} — {} — {}</h2>\n<table class=\"facts\">",
+        esc(&r.run.id),
+        esc(&shown_time(&r.run.started_at)),
+        esc(&r.run.recipe),
+        esc(&r.verdict().to_uppercase())
+    );
+    let params = r
+        .run
+        .params
+        .iter()
+        .map(|(n, v)| format!("{n} = {v}"))
+        .collect::<Vec<_>>()
+        .join(", ");
+    let end = r.end.as_ref();
+    let left = end.map_or_else(
+        || "not recorded: the run never finished (killed or power cut)".to_string(),
+        |e| {
+            let state = e.final_state.clone().unwrap_or_else(|| "unknown state".into());
+            let speed = e
+                .final_speed
+                .map(|v| format!(" at {}", with_unit(v, e.speed_unit.as_deref())))
+                .unwrap_or_default();
+            let confirmed = if e.stop_confirmed {
+                "confirmed"
+            } else {
+                "NOT CONFIRMED"
+            };
+            format!(
+                "{state}{speed} (stop {confirmed}{})",
+                if e.coasting { ", still coasting" } else { "" }
+            )
+        },
+    );
+    let facts = [
+        ("Run", r.run.id.clone()),
+        ("Recipe file", r.run.recipe_path.clone()),
+        (
+            "Recipe SHA-256",
+            r.run.recipe_sha256.clone().unwrap_or_else(|| "not read".into()),
+        ),
+        ("Drive", r.run.drive.clone()),
+        (
+            "Dictionary (family)",
+            match (&r.run.dictionary, &r.run.family) {
+                (Some(d), Some(f)) => format!("{d} ({f})"),
+                _ => "not recorded".into(),
+            },
+        ),
+        (
+            "Simulated",
+            if r.run.simulated {
+                "yes (built-in simulated drive)".into()
+            } else {
+                "no".into()
+            },
+        ),
+        (
+            "Parameters",
+            if params.is_empty() { "none".into() } else { params },
+        ),
+        (
+            "Ended (UTC)",
+            end.map_or_else(|| "—".into(), |e| shown_time(&e.ended_at)),
+        ),
+        (
+            "Exit code",
+            end.map_or_else(|| "—".into(), |e| e.exit_code.to_string()),
+        ),
+        ("After the safe stop", left),
+        ("Tool", format!("drivescript {}", r.run.tool_version)),
+    ];
+    facts_rows(h, &facts);
+    h.push_str("</table>\n");
+    if !r.checks.is_empty() {
+        h.push_str("<table class=\"checks\">\n<thead><tr><th>Check</th><th>Measured</th><th>Limits</th><th>Result</th><th>Step</th></tr></thead>\n<tbody>\n");
+        for c in &r.checks {
+            let measured = match (c.measured, &c.measured_text) {
+                (Some(v), _) => with_unit(v, c.unit.as_deref()),
+                (None, Some(t)) => t.clone(),
+                _ => "—".into(),
+            };
+            let limits = match (c.low, c.high) {
+                (Some(lo), Some(hi)) => format!("{lo} .. {}", with_unit(hi, c.unit.as_deref())),
+                (Some(lo), None) => format!("≥ {}", with_unit(lo, c.unit.as_deref())),
+                (None, Some(hi)) => format!("≤ {}", with_unit(hi, c.unit.as_deref())),
+                _ => "—".into(),
+            };
+            let _ = writeln!(
+                h,
+                "<tr{}><td>{}</td><td class=\"num\">{}</td><td class=\"num\">{}</td><td class=\"{}\">{}</td><td class=\"step\">{}</td></tr>",
+                match (c.passed, c.marginal) {
+                    (true, false) => "",
+                    (true, true) => " class=\"marginal\"",
+                    (false, _) => " class=\"fail\"",
+                },
+                esc(&c.name),
+                esc(&measured),
+                esc(&limits),
+                if c.passed { "ok" } else { "fail" },
+                match (c.passed, c.marginal) {
+                    (true, false) => "PASS",
+                    (true, true) => "MARGINAL",
+                    (false, _) => "FAIL",
+                },
+                esc(&c.step)
+            );
+        }
+        h.push_str("</tbody>\n</table>\n");
+    }
+    for s in end.map(|e| e.series.as_slice()).unwrap_or_default() {
+        let series = Series {
+            object: s.object.clone(),
+            unit: s.unit.clone(),
+            step: s.step.clone(),
+            points: s.points.clone(),
+            samples: None,
+            marks: None,
+        };
+        *plot += 1;
+        let _ = writeln!(
+            h,
+            "<figure>{}<figcaption>{} sampled at step {}</figcaption></figure>",
+            plot_svg(&series, &[], *plot),
+            esc(&s.object),
+            esc(&s.step)
+        );
+    }
+    h.push_str("</section>\n");
+}

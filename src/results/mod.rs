@@ -1,0 +1,33 @@
+//! The results store: every run recorded as it goes, in an embedded SQLite file by
+//! default or on a PostgreSQL server for a fleet of benches (one schema, versioned
+//! migrations applied on opening), with a local spool for records a store could not take.
+//! The recorder ([`ResultsRecorder`]) is a run observer the command line adds; the store
+//! ([`Store`]) answers `drivescript results`, and [`certificate_html`] and [`trend_html`]
+//! draw its pages. Must not be on the safe stop's path: records go through a bounded queue
+//! to a thread of their own. Parameters only, never SQL built from values.
+
+mod backend;
+pub mod certificate_html;
+pub mod export;
+mod locator;
+mod postgres_backend;
+mod record;
+mod results_recorder;
+mod results_writer;
+mod schema;
+mod spool;
+mod sqlite_backend;
+mod store;
+mod store_error;
+mod stored_run;
+pub mod trend_html;
+
+pub use backend::{Backend, Value};
+pub use locator::{data_dir, Locator, RESULTS_ENV};
+pub use record::{CheckRow, EndRow, Record, RunRow, SeriesRow, StepRow, UnitRow};
+pub use results_recorder::{utc_text, FileFacts, Notes, RecorderSettings, ResultsRecorder};
+pub use schema::current_version;
+pub use spool::{Delivered, Spool};
+pub use store::Store;
+pub use store_error::StoreError;
+pub use stored_run::{RunFilter, StoredRun, TrendPoint};

@@ -1,0 +1,132 @@
+//! What a run writes to the store as it goes, one record at a time: the run at its start,
+//! the unit's identity when it becomes known, each step and check as decided, and the end.
+//! Plain data, also the lines of the spool file (JSON), so a record that could not be
+//! delivered is delivered later exactly as it was.
+
+use serde::{Deserialize, Serialize};
+
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "record", rename_all = "snake_case")]
+pub enum Record {
+    Started(RunRow),
+    Unit { run: String, unit: UnitRow },
+    Step(StepRow),
+    Check(CheckRow),
+    Finished(EndRow),
+}
+
+impl Record {
+    /// The run the record belongs to.
+    pub fn run(&self) -> &str {
+        match self {
+            Record::Started(r) => &r.id,
+            Record::Unit { run, .. } => run,
+            Record::Step(s) => &s.run,
+            Record::Check(c) => &c.run,
+            Record::Finished(e) => &e.run,
+        }
+    }
+}
+
+/// A run as it starts.
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+pub struct RunRow {
+    pub id: String,
+    /// `recipe` or `script`.
+    pub kind: String,
+    pub recipe: String,
+    pub recipe_path: String,
+    /// SHA-256 of the file's exact text, in hex.
+    pub recipe_sha256: Option<String>,
+    pub tool_version: String,
+    /// UTC, RFC 3339 with milliseconds (sorts as text).
+    pub started_at: String,
+    pub simulated: bool,
+    /// How the drive was reached: `drive 2 on /dev/ttyUSB0`.
+    pub drive: String,
+    /// The dictionary the run used, and its drive family.
+    pub dictionary: Option<String>,
+    pub family: Option<String>,
+    pub port: Option<String>,
+    pub address: Option<String>,
+    pub host: Option<String>,
+    pub unit: UnitRow,
+    /// (name, value) as resolved.
+    pub params: Vec<(String, String)>,
+}
+
+/// The unit under test and the run's people and place.
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+pub struct UnitRow {
+    pub serial: Option<String>,
+    pub part: Option<String>,
+    pub operator: Option<String>,
+    pub station: Option<String>,
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct StepRow {
+    pub run: String,
+    pub seq: i64,
+    /// The iteration-aware id (`4[2].1`).
+    pub step: String,
+    pub label: String,
+    pub ok: bool,
+    pub detail: String,
+    pub phase: String,
+    pub started_s: f64,
+    pub duration_s: f64,
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct CheckRow {
+    pub run: String,
+    pub seq: i64,
+    pub name: String,
+    pub measured: Option<f64>,
+    pub measured_text: Option<String>,
+    pub unit: Option<String>,
+    pub low: Option<f64>,
+    pub high: Option<f64>,
+    pub passed: bool,
+    /// A pass outside the check's warning band.
+    #[serde(default)]
+    pub marginal: bool,
+    pub step: String,
+    pub stage: String,
+    /// 1 for the first time this check was decided at this step, 2 for a retry…
+    pub attempt: i64,
+    pub message: String,
+}
+
+/// How the run ended.
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+pub struct EndRow {
+    pub run: String,
+    pub ended_at: String,
+    /// `passed`, `failed`, `error`, `interrupted`, `panic`.
+    pub verdict: String,
+    pub exit_code: i64,
+    pub reason: Option<String>,
+    pub drive_identity: Option<String>,
+    pub final_state: Option<String>,
+    pub final_speed: Option<f64>,
+    pub speed_unit: Option<String>,
+    pub coasting: bool,
+    pub stop_confirmed: bool,
+    pub safe_stop: Vec<String>,
+    pub report_files: Vec<String>,
+    pub series: Vec<SeriesRow>,
+    /// Passed steps and checks not stored (past the report's limit per run).
+    pub omitted_steps: i64,
+    pub omitted_checks: i64,
+}
+
+/// A sampled series as the HTML report plots it: at most twice its bucket count of points.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SeriesRow {
+    pub object: String,
+    pub unit: Option<String>,
+    pub step: String,
+    pub points: Vec<(f64, f64)>,
+}

@@ -1,0 +1,344 @@
+//! The run observer that records a run in the store as it goes: the run at its start, the
+//! unit's identity when known, each step and check as decided, and the end (verdict, the
+//! safe stop's verified end state, the plot series) — after the safe stop, never on its
+//! path. The session only puts records into a bounded queue; a thread of its own writes
+//! them, so a slow, locked or dead store never holds up a step or a stop. What the store
+//! does not take goes to the spool file, delivered by the next run or `results sync`.
+
+use super::record::{CheckRow, EndRow, Record, RunRow, SeriesRow, StepRow, UnitRow};
+use super::results_writer::{Job, Writer};
+use super::{Locator, Spool};
+use crate::session::{CheckResult, RunInfo, RunObserver, RunReport, StepRecord, UnitIdentity, MAX_RECORDS};
+use sha2::{Digest, Sha256};
+use std::collections::HashMap;
+use std::io::Write;
+use std::sync::mpsc::{sync_channel, SyncSender, TrySendError};
+use std::sync::{Arc, Mutex};
+use std::time::{Duration, SystemTime};
+
+/// Records waiting for the writer at most; past that they go straight to the spool.
+const QUEUE: usize = 4096;
+/// How long the end of a run waits for the writer to catch up (the drive is stopped by
+/// then); a store slower than that finds the rest in the spool next time.
+const FINISH_WAIT: Duration = Duration::from_secs(30);
+
+/// What the command line knows of every run of the command.
+#[derive(Debug, Clone, Default)]
+pub struct RecorderSettings {
+    /// The run is on the built-in simulated drive.
+    pub simulated: bool,
+    /// The port, TCP address or CAN bus.
+    pub port: Option<String>,
+    pub address: Option<String>,
+    /// What is known of each file before it runs.
+    pub files: Vec<FileFacts>,
+    /// Say nothing when all goes well (`--quiet`).
+    pub quiet: bool,
+}
+
+/// One file of the command, as the command line knows it before the run.
+#[derive(Debug, Clone, Default)]
+pub struct FileFacts {
+    /// The file's path as given (as [`RunInfo::path`] says it).
+    pub path: String,
+    /// The dictionary it runs with and that dictionary's family.
+    pub dictionary: Option<String>,
+    pub family: Option<String>,
+    /// The report files it writes.
+    pub report_files: Vec<String>,
+}
+
+/// Where the recorder's notes go (the command line gives standard error).
+pub type Notes = Arc<Mutex<dyn Write + Send>>;
+
+/// The observer; see the module.
+pub struct ResultsRecorder {
+    settings: RecorderSettings,
+    store_name: String,
+    jobs: SyncSender<Job>,
+    spool: Arc<Spool>,
+    notes: Notes,
+    run: Option<CurrentRun>,
+}
+
+#[derive(Default)]
+struct CurrentRun {
+    id: String,
+    path: String,
+    steps: Kept,
+    checks: Kept,
+    attempts: HashMap<(String, String), i64>,
+}
+
+/// Records of one kind kept for a run, as the run report keeps them: every failure, and
+/// passed ones up to [`MAX_RECORDS`].
+#[derive(Default)]
+struct Kept {
+    count: i64,
+    omitted: i64,
+}
+
+impl Kept {
+    /// The sequence number of the next record, or `None` when a passed one is left out.
+    fn next(&mut self, passed: bool) -> Option<i64> {
+        if passed && self.count >= MAX_RECORDS as i64 {
+            self.omitted += 1;
+            return None;
+        }
+        self.count += 1;
+        Some(self.count)
+    }
+}
+
+impl ResultsRecorder {
+    /// A recorder writing to `locator` from a thread of its own.
+    pub fn start(locator: Locator, settings: RecorderSettings, notes: Notes) -> ResultsRecorder {
+        let (jobs, queue) = sync_channel(QUEUE);
+        let spool = Arc::new(Spool::new(locator.spool_path()));
+        let store_name = locator.name();
+        let writer = Writer::new(locator, spool.clone(), notes.clone());
+        let spawned = std::thread::Builder::new()
+            .name("results".into())
+            .spawn(move || writer.run(queue));
+        if let Err(e) = spawned {
+            note(
+                &notes,
+                &format!(
+                    "results: cannot start the writer ({e}); runs go to {}",
+                    spool.path().display()
+                ),
+            );
+        }
+        ResultsRecorder {
+            settings,
+            store_name,
+            jobs,
+            spool,
+            notes,
+            run: None,
+        }
+    }
+
+    fn send(&mut self, record: Record) {
+        match self.jobs.try_send(Job::Record(Box::new(record))) {
+            Ok(()) => {}
+            Err(TrySendError::Full(Job::Record(r)) | TrySendError::Disconnected(Job::Record(r))) => {
+                if let Err(e) = self.spool.append(std::slice::from_ref(&r)) {
+                    note(
+                        &self.notes,
+                        &format!("results: a record of run {} is lost: {e}", r.run()),
+                    );
+                }
+            }
+            Err(_) => {}
+        }
+    }
+
+    /// Waits (at most [`FINISH_WAIT`]) until the writer has handled everything sent.
+    fn flushed(&self) -> bool {
+        let (ack, done) = sync_channel(1);
+        if self.jobs.send(Job::Flush(ack)).is_err() {
+            return false;
+        }
+        done.recv_timeout(FINISH_WAIT).is_ok()
+    }
+}
+
+pub(super) fn note(notes: &Notes, text: &str) {
+    if let Ok(mut w) = notes.lock() {
+        let _ = writeln!(w, "{text}");
+    }
+}
+
+fn unit_row(unit: &UnitIdentity) -> UnitRow {
+    UnitRow {
+        serial: unit.serial.clone(),
+        part: unit.part.clone(),
+        operator: unit.operator.clone(),
+        station: unit.station.clone(),
+    }
+}
+
+/// UTC, RFC 3339 with milliseconds: sorts as text.
+pub fn utc_text(at: SystemTime) -> String {
+    humantime::format_rfc3339_millis(at).to_string()
+}
+
+/// A run id nobody else makes: 16 hex digits from the time, the process and a counter.
+fn new_run_id() -> String {
+    static COUNTER: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
+    let n = COUNTER.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    let nanos = SystemTime::now()
+        .duration_since(SystemTime::UNIX_EPOCH)
+        .map_or(0, |d| d.as_nanos());
+    let mut h = Sha256::new();
+    h.update(nanos.to_le_bytes());
+    h.update(std::process::id().to_le_bytes());
+    h.update(n.to_le_bytes());
+    h.update(format!("{:?}", std::thread::current().id()).as_bytes());
+    h.finalize().iter().take(8).map(|b| format!("{b:02x}")).collect()
+}
+
+/// SHA-256 of the file's exact text, in hex.
+fn file_sha256(path: &str) -> Option<String> {
+    let bytes = std::fs::read(path).ok()?;
+    Some(
+        Sha256::digest(&bytes)
+            .iter()
+            .map(|b| format!("{b:02x}"))
+            .collect(),
+    )
+}
+
+impl RunObserver for ResultsRecorder {
+    fn run_started(&mut self, run: &RunInfo, drive: &str) {
+        let id = new_run_id();
+        let facts = self
+            .settings
+            .files
+            .iter()
+            .find(|f| f.path == run.path)
+            .cloned()
+            .unwrap_or_default();
+        let row = RunRow {
+            id: id.clone(),
+            kind: run.kind.to_string(),
+            recipe: run.name.clone(),
+            recipe_path: run.path.clone(),
+            recipe_sha256: file_sha256(&run.path),
+            tool_version: env!("CARGO_PKG_VERSION").to_string(),
+            started_at: utc_text(SystemTime::now()),
+            simulated: self.settings.simulated,
+            drive: drive.to_string(),
+            dictionary: facts.dictionary,
+            family: facts.family,
+            port: self.settings.port.clone(),
+            address: self.settings.address.clone(),
+            host: std::env::var("HOSTNAME").ok().or_else(|| {
+                std::fs::read_to_string("/etc/hostname")
+                    .ok()
+                    .map(|h| h.trim().to_string())
+            }),
+            unit: unit_row(&run.unit),
+            params: run.params.clone(),
+        };
+        self.run = Some(CurrentRun {
+            id,
+            path: run.path.clone(),
+            ..CurrentRun::default()
+        });
+        self.send(Record::Started(row));
+    }
+
+    fn unit_identified(&mut self, unit: &UnitIdentity) {
+        if let Some(run) = &self.run {
+            let record = Record::Unit {
+                run: run.id.clone(),
+                unit: unit_row(unit),
+            };
+            self.send(record);
+        }
+    }
+
+    fn step_finished(&mut self, step: &StepRecord) {
+        let Some(run) = self.run.as_mut() else { return };
+        let Some(seq) = run.steps.next(step.ok) else {
+            return;
+        };
+        let record = Record::Step(StepRow {
+            run: run.id.clone(),
+            seq,
+            step: step.id.clone(),
+            label: step.label.clone(),
+            ok: step.ok,
+            detail: step.detail.clone(),
+            phase: step.phase.to_string(),
+            started_s: step.started.as_secs_f64(),
+            duration_s: step.duration.as_secs_f64(),
+        });
+        self.send(record);
+    }
+
+    fn check(&mut self, c: &CheckResult) {
+        let Some(run) = self.run.as_mut() else { return };
+        let attempt = run.attempts.entry((c.name.clone(), c.step.clone())).or_insert(0);
+        *attempt += 1;
+        let attempt = *attempt;
+        let Some(seq) = run.checks.next(c.passed) else {
+            return;
+        };
+        let record = Record::Check(CheckRow {
+            run: run.id.clone(),
+            seq,
+            name: c.name.clone(),
+            measured: c.measured,
+            measured_text: c.measured_text.clone(),
+            unit: c.unit.clone(),
+            low: c.low,
+            high: c.high,
+            passed: c.passed,
+            marginal: c.marginal,
+            step: c.step.clone(),
+            stage: c.stage.clone(),
+            attempt,
+            message: c.message.clone(),
+        });
+        self.send(record);
+    }
+
+    fn run_finished(&mut self, r: &RunReport) {
+        let Some(run) = self.run.take() else { return };
+        let mut files = self
+            .settings
+            .files
+            .iter()
+            .find(|f| f.path == run.path)
+            .map(|f| f.report_files.clone())
+            .unwrap_or_default();
+        files.extend(r.csv_files.iter().cloned());
+        let end = EndRow {
+            run: run.id.clone(),
+            ended_at: utc_text(SystemTime::now()),
+            verdict: r.verdict.word().to_lowercase(),
+            exit_code: i64::from(r.exit_code()),
+            reason: r.verdict.reason(),
+            drive_identity: r.identity.clone(),
+            final_state: r.final_state.map(|s| s.to_string()),
+            final_speed: r.final_speed,
+            speed_unit: r.speed_unit.clone(),
+            coasting: r.coasting,
+            stop_confirmed: r.stop_confirmed,
+            safe_stop: r.safe_stop.clone(),
+            report_files: files,
+            series: r
+                .series
+                .iter()
+                .map(|s| SeriesRow {
+                    object: s.object.clone(),
+                    unit: s.unit.clone(),
+                    step: s.step.clone(),
+                    points: s.points.clone(),
+                })
+                .collect(),
+            omitted_steps: run.steps.omitted,
+            omitted_checks: run.checks.omitted,
+        };
+        self.send(Record::Finished(end));
+        if !self.flushed() {
+            note(
+                &self.notes,
+                &format!(
+                    "results: {} did not answer within {} s; what of run {} it has not taken is delivered by the next run or `drivescript results sync`",
+                    self.store_name,
+                    FINISH_WAIT.as_secs(),
+                    run.id
+                ),
+            );
+        } else if !self.settings.quiet {
+            note(
+                &self.notes,
+                &format!("results: run {} recorded in {}", run.id, self.store_name),
+            );
+        }
+    }
+}

@@ -1,0 +1,135 @@
+//! The store's schema and its versioned migrations, applied when a store is opened: one
+//! list, the same SQL on SQLite and PostgreSQL. A database with tables but none of ours is
+//! refused as foreign; one of a newer version is refused with what to do.
+
+use super::backend::{Backend, Value};
+use super::StoreError;
+
+/// Marks a database as drivescript's: the table `drivescript_store` holding this.
+const APPLICATION: &str = "drivescript results";
+
+/// Migration N (1-based) brings a store from version N-1 to N. Append only.
+const MIGRATIONS: &[&str] = &[
+    // 1: runs, checks, steps and bucketed series.
+    "CREATE TABLE drivescript_store (key TEXT PRIMARY KEY, value TEXT NOT NULL);
+     CREATE TABLE runs (
+        id TEXT PRIMARY KEY, kind TEXT NOT NULL, recipe TEXT NOT NULL, recipe_path TEXT NOT NULL,
+        recipe_sha256 TEXT, tool_version TEXT NOT NULL, started_at TEXT NOT NULL,
+        simulated BIGINT NOT NULL, drive TEXT NOT NULL, dictionary TEXT, family TEXT, port TEXT,
+        address TEXT, host TEXT, serial TEXT, part TEXT, operator TEXT, station TEXT,
+        params TEXT NOT NULL,
+        ended_at TEXT, verdict TEXT, exit_code BIGINT, reason TEXT, drive_identity TEXT,
+        final_state TEXT, final_speed DOUBLE PRECISION, speed_unit TEXT, coasting BIGINT,
+        stop_confirmed BIGINT, safe_stop TEXT, report_files TEXT,
+        omitted_steps BIGINT, omitted_checks BIGINT);
+     CREATE INDEX runs_started ON runs (started_at);
+     CREATE INDEX runs_serial ON runs (serial, started_at);
+     CREATE INDEX runs_recipe ON runs (recipe, started_at);
+     CREATE TABLE checks (
+        run_id TEXT NOT NULL, seq BIGINT NOT NULL, name TEXT NOT NULL,
+        measured DOUBLE PRECISION, measured_text TEXT, unit TEXT,
+        low DOUBLE PRECISION, high DOUBLE PRECISION, passed BIGINT NOT NULL, marginal BIGINT NOT NULL,
+        step TEXT NOT NULL, stage TEXT NOT NULL, attempt BIGINT NOT NULL, message TEXT NOT NULL,
+        PRIMARY KEY (run_id, seq));
+     CREATE INDEX checks_name ON checks (name, run_id);
+     CREATE TABLE steps (
+        run_id TEXT NOT NULL, seq BIGINT NOT NULL, step TEXT NOT NULL, label TEXT NOT NULL,
+        ok BIGINT NOT NULL, detail TEXT NOT NULL, phase TEXT NOT NULL,
+        started_s DOUBLE PRECISION NOT NULL, duration_s DOUBLE PRECISION NOT NULL,
+        PRIMARY KEY (run_id, seq));
+     CREATE TABLE series (
+        run_id TEXT NOT NULL, seq BIGINT NOT NULL, object TEXT NOT NULL, unit TEXT,
+        step TEXT NOT NULL, points TEXT NOT NULL,
+        PRIMARY KEY (run_id, seq));",
+];
+
+/// The schema version this drivescript writes.
+pub fn current_version() -> i64 {
+    MIGRATIONS.len() as i64
+}
+
+/// Brings the store behind `backend` to the current version, or says why it cannot.
+pub fn migrate(backend: &mut dyn Backend) -> Result<(), StoreError> {
+    if version(backend)? == Some(current_version()) {
+        return Ok(());
+    }
+    backend.begin_exclusive()?;
+    let result = migrate_locked(backend);
+    match &result {
+        Ok(()) => backend.batch("COMMIT")?,
+        Err(_) => {
+            let _ = backend.batch("ROLLBACK");
+        }
+    }
+    result
+}
+
+fn migrate_locked(backend: &mut dyn Backend) -> Result<(), StoreError> {
+    let found = match version(backend)? {
+        Some(v) => v,
+        None => {
+            let tables = backend.tables()?;
+            if !tables.is_empty() {
+                return Err(StoreError::Foreign {
+                    store: backend.name().to_string(),
+                    why: format!("it holds other tables ({})", tables.join(", ")),
+                });
+            }
+            0
+        }
+    };
+    if found > current_version() {
+        return Err(StoreError::Newer {
+            store: backend.name().to_string(),
+            found,
+            known: current_version(),
+        });
+    }
+    for sql in &MIGRATIONS[found as usize..] {
+        backend.batch(sql)?;
+    }
+    if found == 0 {
+        backend.execute(
+            "INSERT INTO drivescript_store (key, value) VALUES ('application', $1)",
+            &[APPLICATION.into()],
+        )?;
+        backend.execute(
+            "INSERT INTO drivescript_store (key, value) VALUES ('schema', '0')",
+            &[],
+        )?;
+    }
+    backend.execute(
+        "UPDATE drivescript_store SET value = $1 WHERE key = 'schema'",
+        &[current_version().to_string().into()],
+    )?;
+    Ok(())
+}
+
+/// The schema version, `None` when the database holds no store (yet); a newer one is an
+/// error.
+fn version(backend: &mut dyn Backend) -> Result<Option<i64>, StoreError> {
+    if !backend.tables()?.iter().any(|t| t == "drivescript_store") {
+        return Ok(None);
+    }
+    let rows = backend.query("SELECT key, value FROM drivescript_store", &[])?;
+    let get = |key: &str| {
+        rows.iter()
+            .find(|r| r.first().and_then(Value::text) == Some(key))
+            .and_then(|r| r.get(1).and_then(Value::text).map(str::to_string))
+    };
+    if get("application").as_deref() != Some(APPLICATION) {
+        return Err(StoreError::Foreign {
+            store: backend.name().to_string(),
+            why: "its table drivescript_store does not name drivescript's results".into(),
+        });
+    }
+    let v = get("schema").and_then(|v| v.parse::<i64>().ok()).unwrap_or(0);
+    if v > current_version() {
+        return Err(StoreError::Newer {
+            store: backend.name().to_string(),
+            found: v,
+            known: current_version(),
+        });
+    }
+    Ok(Some(v))
+}

@@ -1,0 +1,839 @@
+//! The results store end to end: runs recorded as they go into SQLite and into a real
+//! PostgreSQL server the test starts, a killed run left incomplete with its checks, a
+//! store that cannot be reached spooled and synced with nothing lost, two processes of 200
+//! runs each into one store, hostile serial numbers stored verbatim, foreign files refused
+//! clearly, and the unit's certificate rendered in headless Chromium.
+
+use crate::support::{
+    assert_has, assert_lacks, cli, command, headless_chromium, scratch, write_file, InProcessRun, LiveRun,
+    PostgresServer, Simulator,
+};
+use drivescript::results::{Locator, RunFilter, StoredRun};
+use drivescript::session::{CheckResult, RunInfo, RunObserver, RunReport, StepRecord, UnitIdentity};
+use std::path::Path;
+use std::process::Stdio;
+use std::sync::{Arc, Mutex};
+
+/// A short recipe with one check and a sampled series, in virtual time.
+const SHORT: &str = "name: Short acceptance
+drive: sd2
+params:
+  speed: 3000 rpm
+steps:
+  - go_to: operation_enabled
+  - set: { speed_setpoint: \"{{speed}}\" }
+  - wait_until: { speed_actual: { near: \"{{speed}}\", within: 1 % }, timeout: 10 s }
+  - sample: { objects: [speed_actual], every: 100 ms, for: 5 s }
+  - expect:
+      speed_actual: { mean: { near: \"{{speed}}\", within: 1 % } }
+";
+
+/// The smallest recipe with a check, for many runs.
+const TINY: &str = "name: Tiny
+drive: sd2
+steps:
+  - expect: { bus_voltage: { above: 100 V } }
+";
+
+const HOSTILE: [&str; 5] = [
+    "O'Brien \"SP\"-1",
+    "Ünïcødé-主轴-🚀",
+    "'); DROP TABLE runs; --",
+    "back\\slash %_ like",
+    "line\nbreak\ttab",
+];
+
+/// Every run, simulated ones too.
+fn every_run() -> RunFilter {
+    RunFilter {
+        simulated: true,
+        ..RunFilter::default()
+    }
+}
+
+/// Every run in `store`, simulated ones too, in detail.
+fn all_runs(store: &str) -> Vec<StoredRun> {
+    let mut s = Locator::parse(store).open(false).expect("the store opens");
+    let runs = s.list(&every_run()).expect("list");
+    runs.iter().map(|r| s.run(&r.run.id).expect("the run")).collect()
+}
+
+/// Passes every event on to the recorder, with the unit's identity put into the run's
+/// `RunInfo` at the start (as `--unit` will) and, when `later` is given, made known again
+/// after the first check (as an operator's answer is).
+struct WithUnit {
+    inner: drivescript::results::ResultsRecorder,
+    unit: UnitIdentity,
+    later: Option<UnitIdentity>,
+}
+
+impl RunObserver for WithUnit {
+    fn run_started(&mut self, run: &RunInfo, drive: &str) {
+        let run = RunInfo {
+            unit: self.unit.clone(),
+            ..run.clone()
+        };
+        self.inner.run_started(&run, drive);
+    }
+    fn step_finished(&mut self, record: &StepRecord) {
+        self.inner.step_finished(record);
+    }
+    fn check(&mut self, result: &CheckResult) {
+        self.inner.check(result);
+        if let Some(unit) = self.later.take() {
+            self.inner.unit_identified(&unit);
+        }
+    }
+    fn run_finished(&mut self, report: &RunReport) {
+        self.inner.run_finished(report);
+    }
+}
+
+/// Runs `recipe` in process with the recorder writing to `store` for `unit`; the run's
+/// exit code.
+fn recorded_run(
+    recipe: &Path,
+    store: &str,
+    unit: UnitIdentity,
+    later: Option<UnitIdentity>,
+    set: &[(&str, &str)],
+) -> i32 {
+    let recorder = drivescript::results::ResultsRecorder::start(
+        Locator::parse(store),
+        drivescript::results::RecorderSettings {
+            simulated: true,
+            quiet: true,
+            ..Default::default()
+        },
+        Arc::new(Mutex::new(std::io::sink())),
+    );
+    let observer = Arc::new(Mutex::new(WithUnit {
+        inner: recorder,
+        unit,
+        later,
+    }));
+    let mut run = InProcessRun::new(recipe);
+    run.set = set.iter().map(|(k, v)| (k.to_string(), v.to_string())).collect();
+    run.observers.push(observer);
+    run.run().0.exit_code
+}
+
+fn serial(s: &str) -> UnitIdentity {
+    UnitIdentity {
+        serial: Some(s.into()),
+        ..UnitIdentity::default()
+    }
+}
+
+#[test]
+fn a_run_is_recorded_with_its_checks_steps_end_state_and_series() {
+    let dir = scratch("recorded");
+    let recipe = write_file(&dir, "short.yaml", SHORT);
+    let store = dir.join("results.sqlite");
+    let store = store.to_str().expect("utf-8 path");
+    let ran = cli(
+        &["run", recipe.to_str().unwrap(), "--fast", "--results", store],
+        0,
+    );
+    assert_has(&ran.stderr, &["results: run ", " recorded in ", store]);
+    let runs = all_runs(store);
+    assert_eq!(runs.len(), 1);
+    let r = &runs[0];
+    assert_eq!(r.verdict(), "passed");
+    assert!(r.run.simulated);
+    assert_eq!(r.run.recipe, "Short acceptance");
+    assert_eq!(
+        (r.run.dictionary.as_deref(), r.run.family.as_deref()),
+        (Some("sd2"), Some("sd2"))
+    );
+    assert_eq!(r.run.params, vec![("speed".to_string(), "3000 rpm".to_string())]);
+    assert_eq!(r.run.recipe_sha256.as_deref().map(str::len), Some(64));
+    assert_eq!(r.checks.len(), 2, "{:?}", r.checks);
+    assert!(r.checks.iter().all(|c| c.passed && c.attempt == 1));
+    assert!(r.steps.iter().any(|s| s.phase == "finally"), "{:?}", r.steps);
+    let end = r.end.as_ref().expect("ended");
+    assert_eq!(end.final_state.as_deref(), Some("ready to switch on"));
+    assert!(end.stop_confirmed);
+    assert_eq!(end.series.len(), 1);
+    assert!(end.series[0].points.len() > 40, "{}", end.series[0].points.len());
+    // Hidden from lists unless asked for.
+    let hidden = cli(&["results", "list", "--results", store], 0);
+    assert_has(
+        &hidden.stdout,
+        &["no runs (runs on the simulated drive are hidden"],
+    );
+    let listed = cli(&["results", "list", "--results", store, "--simulated"], 0);
+    assert_has(
+        &listed.stdout,
+        &[&r.run.id, "PASSED", "Short acceptance", "simulated"],
+    );
+    let shown = cli(&["results", "show", &r.run.id[..6], "--results", store], 0);
+    assert_has(
+        &shown.stdout,
+        &[
+            "PASS  speed_actual mean near",
+            "drive left in ready to switch on",
+            "PASSED (exit code 0)",
+        ],
+    );
+    let page = cli(&["results", "report", &r.run.id, "--results", store], 0);
+    assert_has(
+        &page.stdout,
+        &[
+            "<!DOCTYPE html>",
+            "Short acceptance",
+            "ready to switch on at 0 rpm (stop confirmed)",
+            "<svg",
+        ],
+    );
+    let since = cli(
+        &[
+            "results",
+            "list",
+            "--results",
+            store,
+            "--simulated",
+            "--since",
+            "2999-01-01",
+        ],
+        0,
+    );
+    assert_has(&since.stdout, &["no runs"]);
+    let recent = cli(
+        &[
+            "results",
+            "list",
+            "--results",
+            store,
+            "--simulated",
+            "--since",
+            "1h",
+            "--json",
+        ],
+        0,
+    );
+    assert_has(
+        &recent.stdout,
+        &[&format!("\"id\": \"{}\"", r.run.id), "\"verdict\": \"passed\""],
+    );
+    // --no-results records nothing.
+    cli(
+        &[
+            "run",
+            recipe.to_str().unwrap(),
+            "--fast",
+            "--results",
+            store,
+            "--set",
+            "speed=2000rpm",
+        ],
+        0,
+    );
+    cli(&["run", recipe.to_str().unwrap(), "--fast", "--no-results"], 0);
+    assert_eq!(all_runs(store).len(), 2);
+    // Filters, export and trend over the runs.
+    let failed = cli(
+        &[
+            "results",
+            "list",
+            "--results",
+            store,
+            "--simulated",
+            "--verdict",
+            "failed",
+        ],
+        0,
+    );
+    assert_has(&failed.stdout, &["no runs"]);
+    let json = cli(&["results", "export", "--results", store, "--simulated"], 0);
+    let parsed: serde_json::Value = serde_json::from_str(&json.stdout).expect("JSON");
+    assert_eq!(parsed.as_array().map(Vec::len), Some(2));
+    let csv = cli(
+        &[
+            "results",
+            "export",
+            "--results",
+            store,
+            "--simulated",
+            "--format",
+            "csv",
+        ],
+        0,
+    );
+    assert_eq!(csv.stdout.lines().count(), 1 + 4, "{}", csv.stdout);
+    let junit = cli(
+        &[
+            "results",
+            "export",
+            "--results",
+            store,
+            "--simulated",
+            "--format",
+            "junit",
+        ],
+        0,
+    );
+    let doc = roxmltree::Document::parse(&junit.stdout).expect("well-formed JUnit");
+    assert_eq!(
+        doc.descendants().filter(|n| n.has_tag_name("testsuite")).count(),
+        2
+    );
+    let check = &r.checks[1].name;
+    let trend = cli(
+        &[
+            "results",
+            "trend",
+            check,
+            "--results",
+            store,
+            "--simulated",
+            "--html",
+            dir.join("trend.html").to_str().unwrap(),
+        ],
+        0,
+    );
+    // Only the first run has this check (the second's names 2000 rpm).
+    assert_has(&trend.stdout, &["3000.", "2970 .. 3030", "PASS", &r.run.id]);
+    assert_eq!(trend.stdout.lines().count(), 2, "{}", trend.stdout);
+    let page = std::fs::read_to_string(dir.join("trend.html")).expect("trend page");
+    assert_has(&page, &["<svg", "Trend of"]);
+}
+
+#[test]
+fn the_default_store_is_in_the_data_directory_and_takes_only_real_drives_unless_named() {
+    let dir = scratch("default");
+    let recipe = write_file(&dir, "tiny.yaml", TINY);
+    let run = |extra: &[&str]| {
+        let out = command()
+            .env_remove("DRIVESCRIPT_RESULTS")
+            .env("XDG_DATA_HOME", &dir)
+            .args(["run", recipe.to_str().unwrap()])
+            .args(extra)
+            .stdin(Stdio::null())
+            .output()
+            .expect("runs");
+        assert_eq!(
+            out.status.code(),
+            Some(0),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+    };
+    run(&["--fast"]);
+    let default = dir.join("drivescript/results.sqlite");
+    assert!(
+        !default.exists(),
+        "a simulated run stays out of the default store"
+    );
+    let sim = Simulator::pty(&[]);
+    run(&["--port", &sim.endpoint]);
+    let runs = all_runs(default.to_str().unwrap());
+    assert_eq!(runs.len(), 1);
+    assert!(!runs[0].run.simulated);
+    assert_eq!(runs[0].run.port.as_deref(), Some(sim.endpoint.as_str()));
+}
+
+/// The unit's identity from `--unit` and from an operator's answer, and a marginal pass,
+/// are recorded from the command line as the reports show them: `results list --unit`
+/// finds the run, `results show` names the unit and says MARGINAL.
+#[test]
+fn the_unit_from_the_command_line_and_an_answer_and_a_marginal_check_are_recorded() {
+    let dir = scratch("unit-marginal");
+    let recipe = write_file(
+        &dir,
+        "marginal.yaml",
+        "name: Marginal with a unit
+drive: sd2
+steps:
+  - enter_text: { prompt: Operator, sets: operator }
+  - set: { speed_setpoint: 10000 rpm }
+  - go_to: operation_enabled
+  - dwell: 20 min
+  - sample: { objects: [motor_temperature], every: 1 s, for: 10 s }
+  - expect:
+      motor_temperature: { max: { below: 50 °C, warn: 40 °C } }
+",
+    );
+    let store = dir.join("results.sqlite");
+    let store = store.to_str().expect("utf-8");
+    let run = cli(
+        &[
+            "run",
+            recipe.to_str().expect("utf-8"),
+            "--fast",
+            "--results",
+            store,
+            "--unit",
+            "serial=SP-104233",
+            "--answer",
+            "operator=J. Smith",
+        ],
+        0,
+    );
+    assert_has(&run.stdout, &["MARGINAL"]);
+    let runs = all_runs(store);
+    assert_eq!(runs.len(), 1);
+    let unit = &runs[0].run.unit;
+    assert_eq!(unit.serial.as_deref(), Some("SP-104233"));
+    assert_eq!(unit.operator.as_deref(), Some("J. Smith"));
+    let temperature = runs[0]
+        .checks
+        .iter()
+        .find(|c| c.name.starts_with("motor_temperature"))
+        .expect("the temperature check");
+    assert!(temperature.passed && temperature.marginal, "{temperature:?}");
+
+    let listed = cli(
+        &[
+            "results",
+            "list",
+            "--results",
+            store,
+            "--simulated",
+            "--unit",
+            "SP-104233",
+        ],
+        0,
+    );
+    assert_has(&listed.stdout, &["Marginal with a unit"]);
+    let id = runs[0].run.id.as_str();
+    let shown = cli(&["results", "show", id, "--results", store], 0);
+    assert_has(
+        &shown.stdout,
+        &[
+            "SP-104233",
+            "J. Smith",
+            "MARGINAL  motor_temperature max below 50 °C",
+        ],
+    );
+}
+
+#[test]
+fn a_killed_run_is_left_incomplete_with_its_checks() {
+    let dir = scratch("killed");
+    let recipe = write_file(
+        &dir,
+        "killed.yaml",
+        "name: Killed\ndrive: sd2\nsteps:\n  - expect: { bus_voltage: { above: 100 V } }\n  - dwell: 60 s\n",
+    );
+    let store = dir.join("results.sqlite");
+    let mut run = LiveRun::start([
+        "run",
+        recipe.to_str().unwrap(),
+        "--no-progress",
+        "--results",
+        store.to_str().unwrap(),
+    ]);
+    run.wait_for("bus_voltage");
+    // The check reaches the store while the run dwells.
+    let started = std::time::Instant::now();
+    while started.elapsed() < std::time::Duration::from_secs(20) {
+        if store.is_file()
+            && all_runs(store.to_str().unwrap())
+                .first()
+                .is_some_and(|r| !r.checks.is_empty())
+        {
+            break;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    }
+    run.signal("KILL");
+    let (code, _) = run.finish();
+    assert_eq!(code, None, "killed");
+    let runs = all_runs(store.to_str().unwrap());
+    assert_eq!(runs.len(), 1);
+    assert_eq!(runs[0].verdict(), "incomplete");
+    assert_eq!(runs[0].checks.len(), 1);
+    assert!(runs[0].checks[0].passed);
+    let listed = cli(
+        &[
+            "results",
+            "list",
+            "--results",
+            store.to_str().unwrap(),
+            "--simulated",
+            "--verdict",
+            "incomplete",
+        ],
+        0,
+    );
+    assert_has(&listed.stdout, &["INCOMPLETE", "Killed"]);
+}
+
+#[test]
+fn a_locked_store_is_spooled_and_synced_with_nothing_lost() {
+    let dir = scratch("locked");
+    let recipe = write_file(&dir, "short.yaml", SHORT);
+    let store = dir.join("results.sqlite");
+    let s = store.to_str().unwrap();
+    // A first run makes the store; then another process holds it locked for the whole run.
+    cli(&["run", recipe.to_str().unwrap(), "--fast", "--results", s], 0);
+    let lock = rusqlite::Connection::open(&store).expect("open");
+    lock.execute_batch("BEGIN EXCLUSIVE").expect("lock");
+    let ran = cli(
+        &[
+            "run",
+            recipe.to_str().unwrap(),
+            "--fast",
+            "--results",
+            s,
+            "--set",
+            "speed=2500rpm",
+        ],
+        0,
+    );
+    assert_has(&ran.stdout, &["PASSED"]);
+    assert_has(
+        &ran.stderr,
+        &["cannot be reached", "results.sqlite.spool", "results sync"],
+    );
+    assert!(dir.join("results.sqlite.spool").is_file());
+    lock.execute_batch("ROLLBACK").expect("unlock");
+    drop(lock);
+    assert_eq!(all_runs(s).len(), 1);
+    let synced = cli(&["results", "sync", "--results", s], 0);
+    assert_has(&synced.stdout, &["delivered", "of 1 run(s)"]);
+    assert!(!dir.join("results.sqlite.spool").exists());
+    let runs = all_runs(s);
+    assert_eq!(runs.len(), 2);
+    let spooled = runs
+        .iter()
+        .find(|r| r.run.params[0].1.contains("2500"))
+        .expect("the spooled run");
+    assert_eq!(spooled.verdict(), "passed");
+    assert_eq!(spooled.checks.len(), 2);
+    assert_eq!(spooled.end.as_ref().map(|e| e.series.len()), Some(1));
+    let again = cli(&["results", "sync", "--results", s], 0);
+    assert_has(&again.stdout, &["nothing to deliver"]);
+    // Spooled again; this time the next run delivers it.
+    let lock = rusqlite::Connection::open(&store).expect("open");
+    lock.execute_batch("BEGIN EXCLUSIVE").expect("lock");
+    cli(
+        &[
+            "run",
+            recipe.to_str().unwrap(),
+            "--fast",
+            "--results",
+            s,
+            "--set",
+            "speed=2600rpm",
+        ],
+        0,
+    );
+    drop(lock);
+    let next = cli(&["run", recipe.to_str().unwrap(), "--fast", "--results", s], 0);
+    assert_has(&next.stderr, &["delivered 1 spooled run(s)"]);
+    let runs = all_runs(s);
+    assert_eq!(runs.len(), 4);
+    assert!(runs
+        .iter()
+        .all(|r| r.verdict() == "passed" && r.checks.len() == 2));
+}
+
+/// Two processes, each running TINY 200 times, into `store` at once; every run arrives
+/// complete with its check.
+fn two_processes_of_200_runs(dir: &Path, store: &str) {
+    let recipe = write_file(dir, "tiny.yaml", TINY);
+    let before = Locator::parse(store)
+        .open(true)
+        .and_then(|mut s| s.list(&every_run()))
+        .expect("the store opens")
+        .len();
+    let files: Vec<&str> = std::iter::repeat_n(recipe.to_str().unwrap(), 200).collect();
+    let children: Vec<_> = (0..2)
+        .map(|_| {
+            command()
+                .args(["run", "--fast", "--quiet", "--results", store])
+                .args(&files)
+                .stdin(Stdio::null())
+                .stdout(Stdio::null())
+                .stderr(Stdio::piped())
+                .spawn()
+                .expect("runs")
+        })
+        .collect();
+    for child in children {
+        let out = child.wait_with_output().expect("ends");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(0), "{err}");
+        assert_lacks(&err, &["spool", "lost"]);
+    }
+    let mut s = Locator::parse(store).open(false).expect("opens");
+    let runs = s.with_checks(&every_run()).expect("runs");
+    assert_eq!(runs.len(), before + 400);
+    assert!(runs
+        .iter()
+        .all(|r| r.verdict() == "passed" && r.checks.len() == 1));
+}
+
+#[test]
+fn two_processes_of_200_runs_each_lose_nothing_in_one_sqlite_file() {
+    let dir = scratch("concurrent");
+    let store = dir.join("results.sqlite");
+    two_processes_of_200_runs(&dir, store.to_str().unwrap());
+}
+
+/// Hostile serial numbers stored verbatim, one learnt after the start; `store`'s runs of
+/// each unit found by its serial.
+fn hostile_serials_round_trip(dir: &Path, store: &str) {
+    let recipe = write_file(dir, "tiny.yaml", TINY);
+    for s in HOSTILE {
+        assert_eq!(recorded_run(&recipe, store, serial(s), None, &[]), 0);
+    }
+    let late = UnitIdentity {
+        serial: Some("late 'one' ✓".into()),
+        operator: Some("Zoë \"Robert'); --".into()),
+        ..UnitIdentity::default()
+    };
+    assert_eq!(
+        recorded_run(&recipe, store, UnitIdentity::default(), Some(late.clone()), &[]),
+        0
+    );
+    let mut s = Locator::parse(store).open(false).expect("opens");
+    for hostile in HOSTILE.iter().chain([&"late 'one' ✓"]) {
+        let runs = s.unit_runs(hostile, true).expect("runs of the unit");
+        assert_eq!(runs.len(), 1, "{hostile}");
+        assert_eq!(runs[0].run.unit.serial.as_deref(), Some(*hostile));
+        assert_eq!(runs[0].checks.len(), 1);
+    }
+    let late_run = s.unit_runs("late 'one' ✓", true).expect("late");
+    assert_eq!(late_run[0].run.unit.operator, late.operator);
+    let listed = cli(
+        &[
+            "results",
+            "list",
+            "--results",
+            store,
+            "--simulated",
+            "--unit",
+            HOSTILE[2],
+        ],
+        0,
+    );
+    assert_has(&listed.stdout, &[HOSTILE[2]]);
+    assert_eq!(listed.stdout.lines().count(), 2, "{}", listed.stdout);
+}
+
+#[test]
+fn hostile_serial_numbers_round_trip_in_sqlite() {
+    let dir = scratch("hostile");
+    let store = dir.join("results.sqlite");
+    hostile_serials_round_trip(&dir, store.to_str().unwrap());
+}
+
+#[test]
+fn a_foreign_or_damaged_file_is_refused_clearly() {
+    let dir = scratch("foreign");
+    let junk = write_file(&dir, "notes.txt", &"not a database at all\n".repeat(200));
+    let refused = cli(&["results", "list", "--results", junk.to_str().unwrap()], 2);
+    assert_has(
+        &refused.stderr,
+        &[
+            junk.to_str().unwrap(),
+            "is not a drivescript results store",
+            "damaged or of another kind",
+            "--results",
+        ],
+    );
+    let other = dir.join("other.sqlite");
+    rusqlite::Connection::open(&other)
+        .and_then(|c| c.execute_batch("CREATE TABLE invoices (id INTEGER)"))
+        .expect("another application's database");
+    let refused = cli(&["results", "list", "--results", other.to_str().unwrap()], 2);
+    assert_has(
+        &refused.stderr,
+        &["is not a drivescript results store", "other tables (invoices)"],
+    );
+    // A run with such a store still runs and keeps its record in the spool.
+    let recipe = write_file(&dir, "tiny.yaml", TINY);
+    let ran = cli(
+        &[
+            "run",
+            recipe.to_str().unwrap(),
+            "--fast",
+            "--results",
+            other.to_str().unwrap(),
+        ],
+        0,
+    );
+    assert_has(
+        &ran.stderr,
+        &["is not a drivescript results store", "other.sqlite.spool"],
+    );
+    let missing = cli(
+        &[
+            "results",
+            "list",
+            "--results",
+            dir.join("none.sqlite").to_str().unwrap(),
+        ],
+        1,
+    );
+    assert_has(&missing.stderr, &["there is no results store at"]);
+}
+
+#[test]
+fn the_unit_certificate_renders_in_headless_chromium() {
+    let dir = scratch("certificate");
+    let recipe = write_file(&dir, "short.yaml", SHORT);
+    let store = dir.join("results.sqlite");
+    let s = store.to_str().unwrap();
+    let unit = UnitIdentity {
+        serial: Some("SP-104233".into()),
+        part: Some("HSK-63 spindle <motor & co>".into()),
+        operator: Some("J. Smith".into()),
+        station: Some("Bench 3".into()),
+    };
+    assert_eq!(recorded_run(&recipe, s, unit.clone(), None, &[]), 0);
+    assert_eq!(recorded_run(&recipe, s, unit, None, &[("speed", "6000rpm")]), 0);
+    let page = dir.join("certificate.html");
+    cli(
+        &[
+            "results",
+            "report",
+            "--unit",
+            "SP-104233",
+            "--simulated",
+            "--results",
+            s,
+            "-o",
+            page.to_str().unwrap(),
+        ],
+        0,
+    );
+    let html = std::fs::read_to_string(&page).expect("page");
+    let doc = scraper::Html::parse_document(&html);
+    assert!(doc.errors.is_empty(), "{:?}", doc.errors);
+    let rows = scraper::Selector::parse("#runs tbody tr").expect("selector");
+    assert_eq!(doc.select(&rows).count(), 2);
+    assert_has(
+        &html,
+        &[
+            "Unit SP-104233",
+            "HSK-63 spindle &lt;motor &amp; co&gt;",
+            "Bench 3",
+            "J. Smith",
+            "<svg",
+        ],
+    );
+    assert_lacks(&html, &["<motor"]);
+    let Some(mut chromium) = headless_chromium(&dir.join("profile")) else {
+        return;
+    };
+    let png = dir.join("certificate.png");
+    let out = chromium
+        .arg("--window-size=1000,1400")
+        .arg(format!("--screenshot={}", png.display()))
+        .arg(format!("file://{}", page.display()))
+        .output()
+        .expect("chromium runs");
+    assert!(png.is_file(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(std::fs::metadata(&png).map(|m| m.len()).unwrap_or(0) > 10_000);
+    // Kept for a look: target/results-certificate.png.
+    let _ = std::fs::copy(
+        &png,
+        crate::support::repo_root().join("target/results-certificate.png"),
+    );
+}
+
+#[test]
+fn postgresql_records_runs_from_a_fleet_and_spools_while_the_server_is_down() {
+    let Some(server) = PostgresServer::start("postgres") else {
+        return;
+    };
+    let dir = scratch("postgres-runs");
+    let url = server.url();
+    hostile_serials_round_trip(&dir, &url);
+    two_processes_of_200_runs(&dir, &url);
+    // The password is never shown.
+    let listed = cli(
+        &[
+            "results",
+            "list",
+            "--results",
+            &url,
+            "--simulated",
+            "--limit",
+            "3",
+        ],
+        0,
+    );
+    assert_lacks(&format!("{}{}", listed.stdout, listed.stderr), &["pw-s3cret"]);
+    // Down during a run: spooled (beside the data directory), delivered after.
+    server.down();
+    let recipe = write_file(&dir, "short.yaml", SHORT);
+    let out = command()
+        .env("XDG_DATA_HOME", &dir)
+        .args([
+            "run",
+            recipe.to_str().unwrap(),
+            "--fast",
+            "--results",
+            &url,
+            "--set",
+            "speed=4321rpm",
+        ])
+        .output()
+        .expect("runs");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(0), "{err}");
+    assert_has(
+        &err,
+        &[
+            "cannot be reached",
+            "results sync",
+            "postgres://drivescript@127.0.0.1",
+        ],
+    );
+    assert_lacks(&err, &["pw-s3cret"]);
+    server.up();
+    let synced = command()
+        .env("XDG_DATA_HOME", &dir)
+        .args(["results", "sync", "--results", &url])
+        .output()
+        .expect("syncs");
+    assert_eq!(
+        synced.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&synced.stderr)
+    );
+    let runs = all_runs(&url);
+    let spooled = runs
+        .iter()
+        .find(|r| r.run.params.first().is_some_and(|p| p.1.contains("4321")))
+        .expect("delivered");
+    assert_eq!(spooled.verdict(), "passed");
+    assert_eq!(spooled.checks.len(), 2);
+    assert_eq!(spooled.end.as_ref().map(|e| e.series.len()), Some(1));
+}
+
+#[test]
+fn postgresql_over_tls_checks_the_certificate_against_the_given_ca() {
+    let Some((server, ca)) = PostgresServer::start_tls("postgres-tls") else {
+        return;
+    };
+    let url = server.url();
+    // The server takes only TLS: without it, refused.
+    let plain = cli(
+        &["results", "sync", "--results", &format!("{url}?sslmode=disable")],
+        0,
+    );
+    assert_has(&plain.stdout, &["nothing to deliver"]);
+    let refused = cli(
+        &["results", "list", "--results", &format!("{url}?sslmode=disable")],
+        3,
+    );
+    assert_has(&refused.stderr, &["cannot be reached"]);
+    // TLS with a certificate of an unknown CA: refused, whatever sslmode says.
+    let unknown = cli(
+        &["results", "list", "--results", &format!("{url}?sslmode=require")],
+        3,
+    );
+    assert_has(&unknown.stderr, &["certificate"]);
+    // With the factory's CA: the store opens, over TLS only.
+    let with_ca = format!("{url}?sslmode=require&sslrootcert={}", ca.display());
+    let listed = cli(&["results", "list", "--results", &with_ca, "--simulated"], 0);
+    assert_has(&listed.stdout, &["no runs in postgres://drivescript@127.0.0.1"]);
+    assert_lacks(&format!("{}{}", listed.stdout, listed.stderr), &["pw-s3cret"]);
+}
