@@ -92,6 +92,12 @@ fn hovering_shows_an_objects_unit_and_range_and_what_each_step_key_does() {
          - ramp: { object: speed_setpoint, from: 0 rpm, to: 100 rpm, rate: 50 rpm/s }\n  \
          - repeat: { times: 2, steps: [shutdown] }\n  \
          - include: includes/speed-stage.yaml\n  \
+         - instruct: Close the guard\n  \
+         - confirm: Is the spindle quiet?\n  \
+         - enter_value: { prompt: Vibration, unit: mm/s, at_most: 2.8 mm/s }\n  \
+         - enter_text: { prompt: Serial number, sets: serial }\n  \
+         - coast_down: { from: 5900 rpm, below: 100 rpm, expect: { below: 30 s } }\n  \
+         - attempts: { times: 2, steps: [dwell: 1 s] }\n  \
          - expect_parameters: backup.yaml\n    \
            name: parameters\n",
     );
