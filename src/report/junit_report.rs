@@ -9,7 +9,7 @@
 use super::atomic_write::write_atomically;
 use super::case_names::case_names;
 use super::junit_xml_writer::XmlWriter;
-use crate::session::{number, with_unit, CheckResult, PlannedCheck, RunReport, StepRecord, Verdict};
+use crate::session::{with_unit, CheckResult, PlannedCheck, RunReport, StepRecord, Verdict};
 use std::collections::HashSet;
 use std::fmt::Write as _;
 use std::path::Path;
@@ -246,7 +246,7 @@ fn check_case(c: &CheckResult) -> Case {
                 let _ = write!(message, "; measured {m}");
             }
         }
-        if let Some(l) = limits_text(c) {
+        if let Some(l) = c.limits_text() {
             let _ = write!(message, "; limits {l}");
         }
         let kind = if c.name.starts_with("wait until") {
@@ -309,7 +309,7 @@ fn check_details(c: &CheckResult) -> String {
     if let Some(m) = measured_text(c) {
         let _ = writeln!(s, "measured: {m}");
     }
-    if let Some(l) = limits_text(c) {
+    if let Some(l) = c.limits_text() {
         let _ = writeln!(s, "limits: {l}");
     }
     if c.marginal {
@@ -329,18 +329,6 @@ fn measured_text(c: &CheckResult) -> Option<String> {
         (None, Some(t)) => Some(t.clone()),
         (None, None) => None,
     }
-}
-
-/// `5970 .. 6030 rpm`, `= 1`, `> 5 A`, `< 60 °C`.
-pub(crate) fn limits_text(c: &CheckResult) -> Option<String> {
-    let u = c.unit.as_deref();
-    Some(match (c.low, c.high) {
-        (Some(lo), Some(hi)) if lo == hi => format!("= {}", with_unit(lo, u)),
-        (Some(lo), Some(hi)) => format!("{} .. {}", number(lo), with_unit(hi, u)),
-        (Some(lo), None) => format!("> {}", with_unit(lo, u)),
-        (None, Some(hi)) => format!("< {}", with_unit(hi, u)),
-        (None, None) => return None,
-    })
 }
 
 /// Steps that failed without a failed check of their own (same place in the recipe).

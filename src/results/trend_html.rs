@@ -73,6 +73,7 @@ pub fn trend_page(check: &str, points: &[TrendPoint]) -> String {
         duration: Duration::ZERO,
         marginal: false,
         retried: false,
+        inclusive: false,
     };
     let _ = writeln!(
         h,

@@ -472,6 +472,7 @@ fn register_checks(engine: &mut Engine, bridge: &Arc<Bridge>) {
             duration: Duration::ZERO,
             marginal: false,
             retried: false,
+            inclusive: false,
         }
     };
     let b = bridge.clone();

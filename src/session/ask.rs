@@ -201,6 +201,7 @@ impl Session<'_> {
             duration: self.clock.now().saturating_sub(started),
             marginal: false,
             retried: false,
+            inclusive: true,
         };
         if !passed {
             self.failed_checks = true;

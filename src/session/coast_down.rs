@@ -143,6 +143,7 @@ impl Session<'_> {
             duration: self.clock.now().saturating_sub(started),
             marginal,
             retried: false,
+            inclusive: false,
         });
         if passed {
             Ok(format!("power stage off, coasting by design: {message}"))

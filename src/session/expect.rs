@@ -80,6 +80,7 @@ impl Session<'_> {
                 duration: self.clock.now().saturating_sub(started),
                 marginal,
                 retried: false,
+                inclusive: false,
             };
             if !passed {
                 self.failed_checks = true;

@@ -58,6 +58,7 @@ impl Session<'_> {
                 duration: self.clock.now().saturating_sub(started),
                 marginal: false,
                 retried: false,
+                inclusive: false,
             };
             self.record_check_result(result);
         }

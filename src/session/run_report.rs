@@ -2,7 +2,7 @@
 //! measured value and limits, every sampled series, and how the run ended. Plain data for
 //! the console, JUnit, CSV and HTML reports; no formatting and no I/O here.
 
-use super::condition::Stats;
+use super::condition::{number, with_unit, Stats};
 use super::step_origin::StepOrigin;
 use super::UnitIdentity;
 use crate::drive::device_control::DeviceState;
@@ -111,6 +111,28 @@ pub struct CheckResult {
     /// Made in an `attempts` pass that failed and was tried again: kept in every report,
     /// never the verdict (the last attempt's checks are).
     pub retried: bool,
+    /// The value may equal `low` and `high` (`at_least`, `at_most` of a typed value): the
+    /// limits read `≥`/`≤`; otherwise a one-sided limit is strict (`above`, `below`).
+    pub inclusive: bool,
+}
+
+impl CheckResult {
+    /// The limits as the recipe wrote them, for every report: `5970 .. 6030 rpm`, `= 1`,
+    /// `> 5 A`, `< 60 °C`, `≤ 2.8 mm/s`; `None` without limits.
+    pub fn limits_text(&self) -> Option<String> {
+        let u = self.unit.as_deref();
+        let (above, below) = match self.inclusive {
+            true => ("≥", "≤"),
+            false => (">", "<"),
+        };
+        Some(match (self.low, self.high) {
+            (Some(lo), Some(hi)) if lo == hi => format!("= {}", with_unit(lo, u)),
+            (Some(lo), Some(hi)) => format!("{} .. {}", number(lo), with_unit(hi, u)),
+            (Some(lo), None) => format!("{above} {}", with_unit(lo, u)),
+            (None, Some(hi)) => format!("{below} {}", with_unit(hi, u)),
+            (None, None) => return None,
+        })
+    }
 }
 
 /// A check a recipe holds, known before the run: reports show the ones no result answers

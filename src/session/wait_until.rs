@@ -125,6 +125,7 @@ impl Session<'_> {
                     duration: waited,
                     marginal: false,
                     retried: false,
+                    inclusive: false,
                 };
                 self.record_check_result(result);
                 return match message {
@@ -188,6 +189,7 @@ impl Session<'_> {
             duration: self.clock.now().saturating_sub(started),
             marginal: false,
             retried: false,
+            inclusive: false,
         };
         self.record_check_result(result);
     }

@@ -47,15 +47,7 @@ pub fn short_origin(origin: &str) -> String {
 
 /// Limits as the recipe wrote them (no padding to the resolution).
 pub fn limits_cell(_r: &RunReport, c: &CheckResult) -> String {
-    let v = |x: f64| number(x);
-    let u = c.unit.as_deref().map(|u| format!(" {u}")).unwrap_or_default();
-    match (c.low, c.high) {
-        (Some(lo), Some(hi)) if lo == hi => format!("= {}{u}", v(lo)),
-        (Some(lo), Some(hi)) => format!("{} .. {}{u}", v(lo), v(hi)),
-        (Some(lo), None) => format!("> {}{u}", v(lo)),
-        (None, Some(hi)) => format!("< {}{u}", v(hi)),
-        (None, None) => "—".into(),
-    }
+    c.limits_text().unwrap_or_else(|| "—".into())
 }
 
 /// One format for every duration and time of the page: `0:01:05.250` (h:mm:ss.mmm).

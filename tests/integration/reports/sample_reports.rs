@@ -58,6 +58,7 @@ pub fn check(name: &str, passed: bool, message: &str) -> CheckResult {
         duration: Duration::from_millis(200),
         marginal: false,
         retried: false,
+        inclusive: false,
     }
 }
 
