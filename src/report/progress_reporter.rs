@@ -8,7 +8,7 @@
 use super::console_reporter::{
     asked_line, check_line, container_line, header_lines, message_line, step_line, summary_lines,
 };
-use crate::session::{CheckResult, RunInfo, RunObserver, RunReport, StepInfo, StepRecord};
+use crate::session::{CheckResult, RunInfo, RunObserver, RunReport, StepInfo, StepRecord, UnitIdentity};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressFinish, ProgressStyle};
 use std::io::Write;
 use std::time::Duration;
@@ -326,6 +326,10 @@ impl<W: Write> RunObserver for ProgressReporter<W> {
 
     fn asked(&mut self, number: &str, question: &str) {
         self.line(&asked_line(number, question));
+    }
+
+    fn unit_identified(&mut self, unit: &UnitIdentity) {
+        self.line(&message_line(&format!("unit: {unit}")));
     }
 
     fn wants_progress(&self) -> bool {

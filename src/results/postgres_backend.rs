@@ -18,6 +18,8 @@ use std::time::Duration;
 
 /// How long connecting may take before the store counts as unreachable (and a run spools).
 const CONNECT_TIMEOUT: Duration = Duration::from_secs(5);
+/// How long the whole connection may take, the server's first answers included.
+const HANDSHAKE_TIMEOUT: Duration = Duration::from_secs(10);
 
 pub struct PostgresBackend {
     client: Client,
@@ -88,13 +90,29 @@ impl PostgresBackend {
             config.connect_timeout(CONNECT_TIMEOUT);
         }
         config.application_name("drivescript");
-        let client =
-            config
-                .connect(tls(&name, root_cert.as_deref())?)
-                .map_err(|e| StoreError::Unreachable {
+        let tls = tls(&name, root_cert.as_deref())?;
+        // The connect timeout bounds the socket's connection only: a server (or a proxy)
+        // that takes the connection and never answers would hold the handshake for ever.
+        let (sent, answer) = std::sync::mpsc::channel();
+        std::thread::spawn(move || {
+            let _ = sent.send(config.connect(tls));
+        });
+        let handshake = HANDSHAKE_TIMEOUT;
+        let client = match answer.recv_timeout(handshake) {
+            Ok(connected) => connected.map_err(|e| StoreError::Unreachable {
+                store: name.clone(),
+                why: full_text(&e),
+            })?,
+            Err(_) => {
+                return Err(StoreError::Unreachable {
                     store: name.clone(),
-                    why: full_text(&e),
-                })?;
+                    why: format!(
+                        "it took the connection but did not answer within {} s",
+                        handshake.as_secs()
+                    ),
+                })
+            }
+        };
         let mut backend = PostgresBackend {
             client,
             name,

@@ -134,10 +134,12 @@ impl ResultsRecorder {
         }
     }
 
-    /// Waits (at most [`FINISH_WAIT`]) until the writer has handled everything sent.
+    /// Waits (at most [`FINISH_WAIT`]) until the writer has handled everything sent. A
+    /// full queue means the writer is stuck: waiting for room would hold up the end of the
+    /// run for as long as the store hangs.
     fn flushed(&self) -> bool {
         let (ack, done) = sync_channel(1);
-        if self.jobs.send(Job::Flush(ack)).is_err() {
+        if self.jobs.try_send(Job::Flush(ack)).is_err() {
             return false;
         }
         done.recv_timeout(FINISH_WAIT).is_ok()

@@ -510,6 +510,9 @@ impl RunObserver for Tap<'_> {
     fn step_started(&mut self, step: &StepInfo) {
         self.inner.step_started(step);
     }
+    fn step_placed(&mut self, id: &str) {
+        self.inner.step_placed(id);
+    }
     fn step_progress(&mut self, number: &str, elapsed: Duration, total: Option<Duration>, values: &str) {
         self.inner.step_progress(number, elapsed, total, values);
     }

@@ -837,3 +837,96 @@ fn postgresql_over_tls_checks_the_certificate_against_the_given_ca() {
     assert_has(&listed.stdout, &["no runs in postgres://drivescript@127.0.0.1"]);
     assert_lacks(&format!("{}{}", listed.stdout, listed.stderr), &["pw-s3cret"]);
 }
+
+/// A store that takes the connection and never answers (a PostgreSQL server in trouble, a
+/// firewall that swallows replies) while a long run fills the recorder's queue: the run
+/// still ends, with its exit code, instead of waiting for room in the queue for ever.
+#[test]
+fn a_store_that_never_answers_does_not_hold_up_the_end_of_a_long_run() {
+    let dir = scratch("silent-store");
+    let port = silent_server();
+    // More steps than the recorder's queue holds.
+    let recipe = write_file(
+        &dir,
+        "long.yaml",
+        "name: Long\ndrive: sd2\nsteps:\n  - repeat:\n      times: 5000\n      steps:\n        - print: \"pass\"\n",
+    );
+    let url = format!("postgres://drivescript@127.0.0.1:{port}/results");
+    let mut child = command()
+        .env("XDG_DATA_HOME", &dir)
+        .args([
+            "run",
+            recipe.to_str().unwrap(),
+            "--fast",
+            "--quiet",
+            "--results",
+            &url,
+        ])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("runs");
+    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(20);
+    let status = loop {
+        if let Some(status) = child.try_wait().expect("waits") {
+            break Some(status);
+        }
+        if std::time::Instant::now() > deadline {
+            let _ = child.kill();
+            let _ = child.wait();
+            break None;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    };
+    let out = child.wait_with_output().expect("output");
+    let text = format!(
+        "{}{}",
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let status = status.unwrap_or_else(|| panic!("the run did not end within 20 s:\n{text}"));
+    assert_eq!(status.code(), Some(0), "{text}");
+    assert_has(&text, &["PASSED", "did not answer", "results sync"]);
+}
+
+/// A port on loopback that takes every connection and never says a word.
+fn silent_server() -> u16 {
+    let listener = std::net::TcpListener::bind("127.0.0.1:0").expect("listener");
+    let port = listener.local_addr().expect("address").port();
+    std::thread::spawn(move || {
+        let mut kept = Vec::new();
+        for conn in listener.incoming() {
+            kept.push(conn);
+        }
+    });
+    port
+}
+
+/// The connect timeout bounds only the socket's connection; the handshake after it is
+/// bounded too, so `results` commands (and the recorder's writer) do not wait for ever.
+#[test]
+fn a_server_that_takes_the_connection_and_never_answers_is_unreachable_in_time() {
+    let url = format!("postgres://drivescript@127.0.0.1:{}/results", silent_server());
+    let started = std::time::Instant::now();
+    let mut child = command()
+        .args(["results", "list", "--results", &url])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("runs");
+    let ended = loop {
+        if child.try_wait().expect("waits").is_some() {
+            break true;
+        }
+        if started.elapsed() > std::time::Duration::from_secs(30) {
+            let _ = child.kill();
+            break false;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    };
+    let out = child.wait_with_output().expect("output");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(ended, "`results list` still waited after 30 s:\n{err}");
+    assert_eq!(out.status.code(), Some(3), "{err}");
+    assert_has(&err, &["cannot be reached", "did not answer within 10 s"]);
+}

@@ -503,6 +503,16 @@ fn a_scripts_checks_reach_junit_html_and_csv_like_a_recipes() {
     );
     let csv_text = std::fs::read_to_string(&csv).expect("csv");
     assert!(csv_text.lines().count() > 2 * 20, "{csv_text}");
+    // Every row names the script's step it was sampled in, as a recipe's rows do.
+    let steps: Vec<&str> = csv_text
+        .lines()
+        .skip(1)
+        .filter_map(|row| row.split(',').nth(2))
+        .collect();
+    assert!(
+        !steps.is_empty() && steps.iter().all(|s| !s.is_empty()),
+        "{csv_text}"
+    );
 }
 
 #[test]

@@ -36,6 +36,11 @@ fn info(number: &str, label: &str, phase: &'static str, container: bool) -> Step
 fn play(o: &mut dyn RunObserver) {
     let report = passed_report();
     o.run_started(&recipe(), "sd2 (simulated)");
+    // A serial number scanned at an operator step during the run.
+    o.unit_identified(&UnitIdentity {
+        serial: Some("SP-104233".into()),
+        ..UnitIdentity::default()
+    });
     o.step_started(&info("1", "repeat 3 times", "steps", true));
     o.step_progress("1", Duration::ZERO, None, "iteration 1 of 3");
     o.step_started(&info("1.1", "dwell 60 s", "steps", false));
@@ -87,6 +92,7 @@ fn permanent_lines_are_the_console_lines() {
     );
     assert!(got.contains("        PASS  speed_actual mean near 6000 rpm ± 0.5 %: mean 6000.1 rpm"));
     assert_has(&got, &["finally 1  FAIL  disable_operation  no reply\n"]);
+    assert_has(&got, &["        unit: serial SP-104233\n"]);
     // The step lines of the report the summary is made from: four steps and a finally.
     assert!(got.contains("PASSED — 5 step(s), 2 check(s) passed, 0 failed, 1m 6s 250ms of virtual time"));
 }
