@@ -215,6 +215,7 @@ pub fn run(args: &RunArgs, registry: &Registry) -> i32 {
         &args.output_dir,
     );
     let observers: Vec<run::SharedObserver> = recorder
+        .map(|r| r.with_stop(stop.clone()))
         .map(|r| Arc::new(Mutex::new(r)) as run::SharedObserver)
         .into_iter()
         .collect();

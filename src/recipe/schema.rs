@@ -454,6 +454,20 @@ pub fn recipe_schema(dictionary: &Dictionary, address_keys: &AddressKeyTable) ->
         "steps".into(),
         json!({ "type": "array", "items": { "$ref": "#/$defs/step" } }),
     );
+    // `finally` and `on_fault` run unattended: the safe stop never waits for a person, so
+    // an editor flags an operator step there as `check` refuses it.
+    let prompts: Vec<Value> = super::prompt_schema::prompt_steps()
+        .into_iter()
+        .map(|(key, _, _)| json!({ "required": [key] }))
+        .collect();
+    defs.insert(
+        "unattended_steps".into(),
+        json!({ "type": "array", "items": { "allOf": [
+            { "$ref": "#/$defs/step" },
+            { "not": { "type": "object", "anyOf": prompts },
+              "errorMessage": "no operator steps here: `finally` and `on_fault` run unattended" }
+        ] } }),
+    );
     json!({
         "$schema": "http://json-schema.org/draft-07/schema#",
         "title": format!("drivescript recipe ({})", dictionary.title()),
@@ -468,8 +482,8 @@ pub fn recipe_schema(dictionary: &Dictionary, address_keys: &AddressKeyTable) ->
             "params": { "type": "object", "additionalProperties": { "type": ["string", "number"] },
                         "description": "parameters used as {{name}} in values; --set name=value overrides them" },
             "steps": { "$ref": "#/$defs/steps", "description": "the steps, in order: device commands (`- shutdown`) and steps with one key (`- set: { speed_setpoint: 6000 rpm }`)" },
-            "finally": { "$ref": "#/$defs/steps", "description": "steps run at every ending, after a turning drive is braked to standstill; they replace the default stop (disable operation, shutdown), never the verification that follows" },
-            "on_fault": { "$ref": "#/$defs/steps", "description": "steps run when the drive faults during a step, before the safe stop" },
+            "finally": { "$ref": "#/$defs/unattended_steps", "description": "steps run at every ending, after a turning drive is braked to standstill; they replace the default stop (disable operation, shutdown), never the verification that follows" },
+            "on_fault": { "$ref": "#/$defs/unattended_steps", "description": "steps run when the drive faults during a step, before the safe stop" },
             "leave_enabled": { "type": "boolean", "default": false,
                 "description": "true: a run that succeeds leaves the drive as its steps left it (no brake, no finally, the default's or the recipe's); every other ending stops it. `drivescript stop` stops it later" },
             "drives": {

@@ -9,12 +9,13 @@ use super::record::{CheckRow, EndRow, Record, RunRow, SeriesRow, StepRow, UnitRo
 use super::results_writer::{Job, Writer};
 use super::{Locator, Spool};
 use crate::session::{CheckResult, RunInfo, RunObserver, RunReport, StepRecord, UnitIdentity, MAX_RECORDS};
+use crate::stop_request::StopRequests;
 use sha2::{Digest, Sha256};
 use std::collections::HashMap;
 use std::io::Write;
-use std::sync::mpsc::{sync_channel, SyncSender, TrySendError};
+use std::sync::mpsc::{sync_channel, RecvTimeoutError, SyncSender, TrySendError};
 use std::sync::{Arc, Mutex};
-use std::time::{Duration, SystemTime};
+use std::time::{Duration, Instant, SystemTime};
 
 /// Records waiting for the writer at most; past that they go straight to the spool.
 const QUEUE: usize = 4096;
@@ -59,6 +60,8 @@ pub struct ResultsRecorder {
     spool: Arc<Spool>,
     notes: Notes,
     run: Option<CurrentRun>,
+    /// The run's stop requests: a signal after the safe stop ends the wait for the store.
+    stop: Option<Arc<StopRequests>>,
 }
 
 #[derive(Default)]
@@ -68,6 +71,11 @@ struct CurrentRun {
     steps: Kept,
     checks: Kept,
     attempts: HashMap<(String, String), i64>,
+    /// Every record of the run handed to the writer (bounded as the report's records
+    /// are): spooled whole when the writer has not taken them all by the end, so records
+    /// still in the queue of a stuck writer are not lost with the process. Replaying one
+    /// twice changes nothing.
+    sent: Vec<Record>,
 }
 
 /// Records of one kind kept for a run, as the run report keeps them: every failure, and
@@ -116,10 +124,20 @@ impl ResultsRecorder {
             spool,
             notes,
             run: None,
+            stop: None,
         }
     }
 
+    /// The recorder whose wait at the end of a run a stop signal cuts short.
+    pub fn with_stop(mut self, stop: Arc<StopRequests>) -> Self {
+        self.stop = Some(stop);
+        self
+    }
+
     fn send(&mut self, record: Record) {
+        if let Some(run) = self.run.as_mut() {
+            run.sent.push(record.clone());
+        }
         match self.jobs.try_send(Job::Record(Box::new(record))) {
             Ok(()) => {}
             Err(TrySendError::Full(Job::Record(r)) | TrySendError::Disconnected(Job::Record(r))) => {
@@ -134,15 +152,27 @@ impl ResultsRecorder {
         }
     }
 
-    /// Waits (at most [`FINISH_WAIT`]) until the writer has handled everything sent. A
-    /// full queue means the writer is stuck: waiting for room would hold up the end of the
-    /// run for as long as the store hangs.
+    /// Waits (at most [`FINISH_WAIT`], and only until a stop signal comes) until the
+    /// writer has handled everything sent. A full queue means the writer is stuck: waiting
+    /// for room would hold up the end of the run for as long as the store hangs.
     fn flushed(&self) -> bool {
         let (ack, done) = sync_channel(1);
         if self.jobs.try_send(Job::Flush(ack)).is_err() {
             return false;
         }
-        done.recv_timeout(FINISH_WAIT).is_ok()
+        let signals = || self.stop.as_ref().map_or(0, |s| s.count_at(Duration::ZERO));
+        let before = signals();
+        let started = Instant::now();
+        loop {
+            match done.recv_timeout(Duration::from_millis(50)) {
+                Ok(()) => return true,
+                Err(RecvTimeoutError::Disconnected) => return false,
+                Err(RecvTimeoutError::Timeout) => {}
+            }
+            if started.elapsed() >= FINISH_WAIT || signals() > before {
+                return false;
+            }
+        }
     }
 }
 
@@ -289,7 +319,7 @@ impl RunObserver for ResultsRecorder {
     }
 
     fn run_finished(&mut self, r: &RunReport) {
-        let Some(run) = self.run.take() else { return };
+        let Some(mut run) = self.run.take() else { return };
         let mut files = self
             .settings
             .files
@@ -325,15 +355,23 @@ impl RunObserver for ResultsRecorder {
             omitted_steps: run.steps.omitted,
             omitted_checks: run.checks.omitted,
         };
+        run.sent.push(Record::Finished(end.clone()));
         self.send(Record::Finished(end));
         if !self.flushed() {
+            let kept = match self.spool.append(&run.sent) {
+                Ok(()) => format!(
+                    "run {} is kept in {} and delivered by the next run or `drivescript results sync`",
+                    run.id,
+                    self.spool.path().display()
+                ),
+                Err(e) => format!("what of run {} it has not taken is lost: {e}", run.id),
+            };
             note(
                 &self.notes,
                 &format!(
-                    "results: {} did not answer within {} s; what of run {} it has not taken is delivered by the next run or `drivescript results sync`",
+                    "results: {} had not taken the whole run when it ended (it did not answer within {} s, or a stop signal came); {kept}",
                     self.store_name,
                     FINISH_WAIT.as_secs(),
-                    run.id
                 ),
             );
         } else if !self.settings.quiet {

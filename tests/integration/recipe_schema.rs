@@ -137,6 +137,10 @@ fn the_schema_accepts_good_recipes_and_refuses_bad_units_durations_and_shapes() 
         write("parsecs.yaml", "  - dwell: 2 parsecs\n"),
         write("near.yaml", "  - expect: { speed_actual: { near: 6000 rpm } }\n"),
         write("misspelt.yaml", "  - wait_untl: { state: operation_enabled }\n"),
+        write(
+            "asked-in-finally.yaml",
+            "  - dwell: 1 s\nfinally:\n  - confirm: Did the spindle stop?\n",
+        ),
     ];
     let results = validate(&bad);
     for (path, errors) in &results {
@@ -149,6 +153,11 @@ fn the_schema_accepts_good_recipes_and_refuses_bad_units_durations_and_shapes() 
             .any(|e| e.contains("'wait_untl' is not one of") && e.contains("'wait_until'")),
         "{misspelt:?}"
     );
+    // An operator step in `finally` is refused as `check` refuses it; in `steps` it is fine.
+    let asked = write("asked-in-steps.yaml", "  - confirm: Did the spindle stop?\n");
+    for (path, errors) in validate(&[asked]) {
+        assert!(errors.is_empty(), "{path}: {errors:?}");
+    }
     std::fs::remove_dir_all(&dir).unwrap();
 }
 

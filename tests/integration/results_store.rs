@@ -889,6 +889,94 @@ fn a_store_that_never_answers_does_not_hold_up_the_end_of_a_long_run() {
     assert_has(&text, &["PASSED", "did not answer", "results sync"]);
 }
 
+/// The end of a run waits for a store that has not taken everything only until a stop
+/// signal comes (the drive is stopped by then; the store is never on the stop's path), and
+/// what the writer had not taken is kept whole in the spool, the run's start to its end,
+/// not lost with the process.
+#[cfg(unix)]
+#[test]
+fn a_signal_ends_the_wait_for_a_silent_store_and_the_whole_run_is_spooled() {
+    let dir = scratch("silent-store-signal");
+    let port = silent_server();
+    let recipe = write_file(&dir, "short.yaml", SHORT);
+    let url = format!("postgres://drivescript@127.0.0.1:{port}/results");
+    let mut child = command()
+        .env("XDG_DATA_HOME", &dir)
+        .args([
+            "run",
+            recipe.to_str().unwrap(),
+            "--fast",
+            "--no-progress",
+            "--results",
+            &url,
+        ])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("runs");
+    let mut stdout = child.stdout.take().expect("stdout");
+    let mut stderr = child.stderr.take().expect("stderr");
+    let said = std::thread::spawn(move || {
+        let mut text = String::new();
+        std::io::Read::read_to_string(&mut stderr, &mut text).map(|_| text)
+    });
+    let mut seen = String::new();
+    let started = std::time::Instant::now();
+    while !seen.contains("PASSED") && started.elapsed() < std::time::Duration::from_secs(30) {
+        let mut buf = [0u8; 512];
+        let n = std::io::Read::read(&mut stdout, &mut buf).expect("the run's output");
+        if n == 0 {
+            break;
+        }
+        seen.push_str(&String::from_utf8_lossy(&buf[..n]));
+    }
+    assert!(seen.contains("PASSED"), "{seen}");
+    // The writer is still trying to reach the store (for up to 10 s): the end waits.
+    std::thread::sleep(std::time::Duration::from_millis(500));
+    let signalled = std::time::Instant::now();
+    let status = std::process::Command::new("kill")
+        .args(["-TERM", &child.id().to_string()])
+        .status()
+        .expect("kill runs");
+    assert!(status.success());
+    let code = child.wait().expect("the run ends").code();
+    let waited = signalled.elapsed();
+    let text = said.join().expect("stderr reader").expect("stderr");
+    assert_eq!(
+        code,
+        Some(0),
+        "the run had passed before the signal:\n{seen}{text}"
+    );
+    assert!(
+        waited < std::time::Duration::from_secs(5),
+        "the end waited {waited:?} after the signal:\n{text}"
+    );
+    assert_has(
+        &text,
+        &[
+            "had not taken the whole run",
+            "or a stop signal came",
+            "results sync",
+        ],
+    );
+    let spool = std::fs::read_dir(dir.join("drivescript"))
+        .expect("the data directory")
+        .flatten()
+        .map(|e| e.path())
+        .find(|p| p.extension().is_some_and(|x| x == "spool"))
+        .expect("a spool file");
+    let lines = std::fs::read_to_string(&spool).expect("the spool");
+    assert_has(
+        &lines,
+        &[
+            "\"record\":\"started\"",
+            "Short acceptance",
+            "\"record\":\"check\"",
+            "\"record\":\"finished\"",
+        ],
+    );
+}
+
 /// A port on loopback that takes every connection and never says a word.
 fn silent_server() -> u16 {
     let listener = std::net::TcpListener::bind("127.0.0.1:0").expect("listener");
