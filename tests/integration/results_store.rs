@@ -844,28 +844,13 @@ fn postgresql_over_tls_checks_the_certificate_against_the_given_ca() {
 #[test]
 fn a_store_that_never_answers_does_not_hold_up_the_end_of_a_long_run() {
     let dir = scratch("silent-store");
-    let port = silent_server();
     // More steps than the recorder's queue holds.
     let recipe = write_file(
         &dir,
         "long.yaml",
         "name: Long\ndrive: sd2\nsteps:\n  - repeat:\n      times: 5000\n      steps:\n        - print: \"pass\"\n",
     );
-    let url = format!("postgres://drivescript@127.0.0.1:{port}/results");
-    let mut child = command()
-        .env("XDG_DATA_HOME", &dir)
-        .args([
-            "run",
-            recipe.to_str().unwrap(),
-            "--fast",
-            "--quiet",
-            "--results",
-            &url,
-        ])
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("runs");
+    let mut child = run_into_a_silent_store(&dir, &recipe, "--quiet");
     let deadline = std::time::Instant::now() + std::time::Duration::from_secs(20);
     let status = loop {
         if let Some(status) = child.try_wait().expect("waits") {
@@ -897,23 +882,8 @@ fn a_store_that_never_answers_does_not_hold_up_the_end_of_a_long_run() {
 #[test]
 fn a_signal_ends_the_wait_for_a_silent_store_and_the_whole_run_is_spooled() {
     let dir = scratch("silent-store-signal");
-    let port = silent_server();
     let recipe = write_file(&dir, "short.yaml", SHORT);
-    let url = format!("postgres://drivescript@127.0.0.1:{port}/results");
-    let mut child = command()
-        .env("XDG_DATA_HOME", &dir)
-        .args([
-            "run",
-            recipe.to_str().unwrap(),
-            "--fast",
-            "--no-progress",
-            "--results",
-            &url,
-        ])
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("runs");
+    let mut child = run_into_a_silent_store(&dir, &recipe, "--no-progress");
     let mut stdout = child.stdout.take().expect("stdout");
     let mut stderr = child.stderr.take().expect("stderr");
     let said = std::thread::spawn(move || {
@@ -975,6 +945,26 @@ fn a_signal_ends_the_wait_for_a_silent_store_and_the_whole_run_is_spooled() {
             "\"record\":\"finished\"",
         ],
     );
+}
+
+/// `run RECIPE --fast OUTPUT` recording into a PostgreSQL "server" that takes the
+/// connection and never answers, with `dir` as the data directory (for the spool).
+fn run_into_a_silent_store(dir: &Path, recipe: &Path, output: &str) -> std::process::Child {
+    let url = format!("postgres://drivescript@127.0.0.1:{}/results", silent_server());
+    command()
+        .env("XDG_DATA_HOME", dir)
+        .args([
+            "run",
+            recipe.to_str().unwrap(),
+            "--fast",
+            output,
+            "--results",
+            &url,
+        ])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("runs")
 }
 
 /// A port on loopback that takes every connection and never says a word.
