@@ -21,6 +21,7 @@
 //! belong to the process's standard error and terminal).
 
 mod address_key_flags;
+mod anonymise;
 mod answers_check;
 mod check;
 mod connection_args;
@@ -51,6 +52,7 @@ mod several_sets;
 mod terminal_input;
 
 pub use address_key_flags::{AddressKeyFlag, DNC_ADDRESS};
+pub use anonymise::{anonymise_capture, AnonymiseError};
 pub use check::{check, CheckRequest, Checked};
 pub use connection_args::{parse_bitrate, parse_duration, CanSpec, Connection, ConnectionArgs};
 pub use drive_args::{open_drive, DictionaryArgs, OpenDrive};
