@@ -67,9 +67,13 @@ impl RecordArgs {
                 }
             })
             .collect();
-        let port = connection
-            .port
-            .clone()
+        // A replay is marked simulated (no drive moved) and names its capture.
+        let replay = connection
+            .replay
+            .as_ref()
+            .map(|c| format!("replay:{}", c.display()));
+        let port = replay
+            .or_else(|| connection.port.clone())
             .or_else(|| connection.tcp.clone().map(|t| format!("tcp:{t}")))
             .or_else(|| connection.can.as_ref().map(|c| format!("{c:?}")));
         let settings = RecorderSettings {

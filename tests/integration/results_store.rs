@@ -408,6 +408,33 @@ steps:
     );
 }
 
+/// A replayed run is recorded as simulated (nothing moved) and names its capture, so it
+/// is told apart from a run on the built-in simulated drive.
+#[test]
+fn a_replayed_run_is_recorded_with_its_capture() {
+    let dir = scratch("replayed");
+    let store = dir.join("results.sqlite");
+    let store = store.to_str().expect("utf-8");
+    let case = crate::support::repo_root().join("tests/cases/replay/sd2_commissioning");
+    let capture = case.join("capture.trace");
+    cli(
+        &[
+            "run",
+            case.join("recipe.yaml").to_str().expect("utf-8"),
+            "--replay",
+            capture.to_str().expect("utf-8"),
+            "--results",
+            store,
+        ],
+        0,
+    );
+    let runs = all_runs(store);
+    assert_eq!(runs.len(), 1);
+    assert!(runs[0].run.simulated);
+    let port = runs[0].run.port.clone().unwrap_or_default();
+    assert_eq!(port, format!("replay:{}", capture.display()));
+}
+
 #[test]
 fn a_killed_run_is_left_incomplete_with_its_checks() {
     let dir = scratch("killed");
