@@ -27,4 +27,10 @@ pub enum CodecError {
     Protocol(u16),
     #[error("the MBAP length field says {field}, but {actual} byte(s) follow it")]
     MbapLength { field: usize, actual: usize },
+    /// A well-formed response that does not answer the request it came for.
+    #[error("a reply to {function} ({expected})")]
+    NotTheAnswer {
+        function: &'static str,
+        expected: String,
+    },
 }

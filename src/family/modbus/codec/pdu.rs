@@ -281,8 +281,8 @@ impl Request {
         Ok(request)
     }
 
-    /// Whether `response` answers this request; the text says what was expected.
-    pub fn check(&self, response: &Response) -> Result<(), String> {
+    /// Whether `response` answers this request; the error says what was expected.
+    pub fn check(&self, response: &Response) -> Result<(), CodecError> {
         let code = self.function().code();
         match (self, response) {
             (_, Response::Exception { function, .. }) if *function == code => Ok(()),
@@ -308,11 +308,10 @@ impl Request {
             {
                 Ok(())
             }
-            _ => Err(format!(
-                "a reply to {} ({})",
-                self.function().name(),
-                self.expected()
-            )),
+            _ => Err(CodecError::NotTheAnswer {
+                function: self.function().name(),
+                expected: self.expected(),
+            }),
         }
     }
 

@@ -206,7 +206,11 @@ fn a_reply_that_does_not_answer_is_told() {
         function: Function::ReadInput,
         values: vec![1],
     };
-    assert!(request.check(&other).unwrap_err().contains("1 register(s)"));
+    assert!(request
+        .check(&other)
+        .unwrap_err()
+        .to_string()
+        .contains("1 register(s)"));
     let refused = Response::Exception {
         function: 0x03,
         code: ExceptionCode::ILLEGAL_DATA_ADDRESS,
