@@ -5,12 +5,27 @@
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
-/// Writes `text` to `path` atomically; the error names the path.
-pub fn write_atomically(path: &Path, text: &str) -> Result<(), String> {
+/// Why a report file was not written; the text names the path.
+#[derive(Debug, thiserror::Error)]
+pub enum ReportWriteError {
+    #[error("cannot create the directory {}: {source}", dir.display())]
+    Directory { dir: PathBuf, source: std::io::Error },
+    #[error("cannot write {}: {source}", path.display())]
+    File { path: PathBuf, source: std::io::Error },
+}
+
+/// Writes `text` to `path` atomically.
+pub fn write_atomically(path: &Path, text: &str) -> Result<(), ReportWriteError> {
     if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
-        std::fs::create_dir_all(dir)
-            .map_err(|e| format!("cannot create the directory {}: {e}", dir.display()))?;
+        std::fs::create_dir_all(dir).map_err(|source| ReportWriteError::Directory {
+            dir: dir.to_path_buf(),
+            source,
+        })?;
     }
+    let failed = |source| ReportWriteError::File {
+        path: path.to_path_buf(),
+        source,
+    };
     let tmp = tmp_path(path);
     let written = std::fs::File::create(&tmp).and_then(|mut f| {
         f.write_all(text.as_bytes())?;
@@ -18,11 +33,11 @@ pub fn write_atomically(path: &Path, text: &str) -> Result<(), String> {
     });
     if let Err(e) = written {
         let _ = std::fs::remove_file(&tmp);
-        return Err(format!("cannot write {}: {e}", path.display()));
+        return Err(failed(e));
     }
     std::fs::rename(&tmp, path).map_err(|e| {
         let _ = std::fs::remove_file(&tmp);
-        format!("cannot write {}: {e}", path.display())
+        failed(e)
     })
 }
 
@@ -49,7 +64,7 @@ mod tests {
 
         // A directory in the way: an error naming the path, the old file untouched.
         let blocked = dir.join("deep");
-        let err = write_atomically(&blocked, "x").unwrap_err();
+        let err = write_atomically(&blocked, "x").unwrap_err().to_string();
         assert!(err.contains("deep"), "{err}");
         assert_eq!(std::fs::read_to_string(&path).unwrap(), "second");
         std::fs::remove_dir_all(&dir).unwrap();

@@ -150,7 +150,11 @@ fn suite_element(w: &mut XmlWriter, suite: &JunitSuite) {
 }
 
 /// Writes [`junit_xml`] to `path` atomically (via `path.tmp`), creating the directory.
-pub fn write_junit(report: &RunReport, planned: &[PlannedCheck], path: &Path) -> Result<(), String> {
+pub fn write_junit(
+    report: &RunReport,
+    planned: &[PlannedCheck],
+    path: &Path,
+) -> Result<(), crate::report::ReportWriteError> {
     write_atomically(path, &junit_xml(report, planned))
 }
 

@@ -121,7 +121,11 @@ fn first_line(text: &str) -> String {
 }
 
 /// Writes [`junit_unfinished`] to `path` atomically.
-pub fn write_junit_unfinished(recipe: &str, recipe_path: &str, path: &Path) -> Result<(), String> {
+pub fn write_junit_unfinished(
+    recipe: &str,
+    recipe_path: &str,
+    path: &Path,
+) -> Result<(), crate::report::ReportWriteError> {
     write_atomically(path, &junit_unfinished(recipe, recipe_path))
 }
 
@@ -171,7 +175,11 @@ fn page(recipe: &str, recipe_path: &str, class: &str, word: &str, why: &str, whe
 }
 
 /// Writes [`html_unfinished`] to `path` atomically.
-pub fn write_html_unfinished(recipe: &str, recipe_path: &str, path: &Path) -> Result<(), String> {
+pub fn write_html_unfinished(
+    recipe: &str,
+    recipe_path: &str,
+    path: &Path,
+) -> Result<(), crate::report::ReportWriteError> {
     write_atomically(path, &html_unfinished(recipe, recipe_path))
 }
 

@@ -8,7 +8,7 @@
 use super::{OutputArgs, RunResult, COMMUNICATION, FAILED, INVALID, PASSED};
 use crate::report::{
     html_index, junit_document, junit_not_run_suite, junit_skipped_suite, junit_unfinished_suite,
-    write_atomically, IndexEntry, JunitSuite,
+    write_atomically, IndexEntry, JunitSuite, ReportWriteError,
 };
 use crate::session::PANIC_EXIT;
 use std::path::{Path, PathBuf};
@@ -43,9 +43,7 @@ impl<'a> SeveralReports<'a> {
 
     /// Before the next file runs: the ones done, the next one as not finished (what a
     /// kill beyond any safe stop leaves), the rest as not run yet.
-    // The text is write_atomically's (report/), naming the file and why it could not be
-    // written; the caller only prints it, so no type of its own is needed.
-    pub fn starting(&self, report: Option<&Path>) -> Result<(), String> {
+    pub fn starting(&self, report: Option<&Path>) -> Result<(), ReportWriteError> {
         let i = self.suites.len();
         let Some(file) = self.files.get(i) else {
             return Ok(());
@@ -100,9 +98,7 @@ impl<'a> SeveralReports<'a> {
     }
 
     /// A command refused before any file ran (`why`): every file as not run, invalid.
-    // The text is write_atomically's (report/), naming the file and why it could not be
-    // written; the caller only prints it, so no type of its own is needed.
-    pub fn refused(&mut self, why: &str) -> Result<(), String> {
+    pub fn refused(&mut self, why: &str) -> Result<(), ReportWriteError> {
         for file in self.files {
             let shown = file.display().to_string();
             self.suites
@@ -121,9 +117,7 @@ impl<'a> SeveralReports<'a> {
 
     /// After the last file ran or the command ended early: the files never reached are
     /// skipped, saying why.
-    // The text is write_atomically's (report/), naming the file and why it could not be
-    // written; the caller only prints it, so no type of its own is needed.
-    pub fn ended(&self) -> Result<(), String> {
+    pub fn ended(&self) -> Result<(), ReportWriteError> {
         let why = match self.worst {
             PANIC_EXIT => "not run: the command ended with an internal error before this file".to_string(),
             c if c >= 128 => {
@@ -140,15 +134,13 @@ impl<'a> SeveralReports<'a> {
         self.write(None, &why, &verdict_word(self.worst), &detail)
     }
 
-    // The text is write_atomically's (report/), naming the file and why it could not be
-    // written; the caller only prints it, so no type of its own is needed.
     fn write(
         &self,
         current: Option<(JunitSuite, IndexEntry)>,
         rest_why: &str,
         verdict: &str,
         detail: &str,
-    ) -> Result<(), String> {
+    ) -> Result<(), ReportWriteError> {
         let done = self.suites.len() + usize::from(current.is_some());
         let rest = self.files.iter().skip(done).map(|f| f.display().to_string());
         if let Some(path) = &self.junit {

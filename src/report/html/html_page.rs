@@ -45,7 +45,7 @@ pub fn html_report(report: &RunReport) -> String {
 }
 
 /// Writes [`html_report`] to `path` atomically (via `path.tmp`), creating the directory.
-pub fn write_html(report: &RunReport, path: &Path) -> Result<(), String> {
+pub fn write_html(report: &RunReport, path: &Path) -> Result<(), crate::report::ReportWriteError> {
     write_atomically(path, &html_report(report))
 }
 
