@@ -6,7 +6,7 @@
 use super::{panic_notice, stop_signals};
 use crate::family::Registry;
 use crate::recipe::SafeStopChoice;
-use crate::report::{step_line, summary_lines};
+use crate::report::{step_line, summary_lines, OpenAttempts};
 use crate::run::{
     open_drive, silent_drive, ConnectionArgs, DictionaryArgs, SafeStopArgs, COMMUNICATION, INVALID,
 };
@@ -38,7 +38,7 @@ struct StopLines;
 
 impl RunObserver for StopLines {
     fn step_finished(&mut self, record: &StepRecord) {
-        let _ = writeln!(std::io::stdout(), "{}", step_line(record));
+        let _ = writeln!(std::io::stdout(), "{}", step_line(record, &OpenAttempts::NONE));
     }
     fn message(&mut self, text: &str) {
         let _ = writeln!(std::io::stdout(), "{text}");

@@ -221,8 +221,11 @@ fn repeat(
 }
 
 /// Runs `nested` up to `times` times until an attempt ends with none of its checks failed;
-/// a failed check (also a wait that timed out) of an attempt with another to follow is
-/// kept as retried. Errors, faults and stop requests end it at once.
+/// a failed check (also a wait that timed out: the drive did not get there in time, which
+/// another attempt may change) of an attempt with another to follow is kept as retried.
+/// Errors, faults, stop requests and an operator step nobody answered in time end it at
+/// once: a person who does not answer is no failed measurement, and another attempt would
+/// move the drive again with nobody watching.
 fn attempts(
     s: &mut Session,
     times: u32,
@@ -231,8 +234,7 @@ fn attempts(
     phase: &'static str,
 ) -> Result<String, Stop> {
     for k in 1..=times {
-        s.iteration(k);
-        let mark = s.attempt_mark();
+        let mark = s.begin_attempt(number, k, times);
         let ended = steps(s, nested, number, phase);
         let failed = match &ended {
             Ok(()) => s.failed_since(mark),

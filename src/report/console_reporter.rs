@@ -3,6 +3,7 @@
 //! never garbles a log file. The line formats are pub functions so the live progress
 //! display prints exactly the same permanent lines.
 
+use super::OpenAttempts;
 use crate::session::{
     number, with_unit, CheckResult, RunInfo, RunObserver, RunReport, StepInfo, StepRecord, UnitIdentity,
 };
@@ -24,6 +25,8 @@ pub struct ConsoleReporter<W: Write> {
     hold: bool,
     /// `--quiet`: failures, the drive's end state and the verdict only.
     quiet: bool,
+    /// So that a failure another attempt will try again says so.
+    attempts: OpenAttempts,
 }
 
 /// How long a line may be held back in a burst; the first line after a quiet spell, and
@@ -41,6 +44,7 @@ impl<W: Write> ConsoleReporter<W> {
             color: false,
             hold: true,
             quiet: false,
+            attempts: OpenAttempts::default(),
         }
     }
 
@@ -122,9 +126,14 @@ impl<W: Write> RunObserver for ConsoleReporter<W> {
         }
     }
 
+    fn attempt_started(&mut self, number: &str, attempt: u32, of: u32) {
+        self.attempts.started(number, attempt, of);
+    }
+
     fn step_finished(&mut self, r: &StepRecord) {
+        self.attempts.finished(&r.number);
         if !self.quiet || !r.ok {
-            self.line(&step_line(r));
+            self.line(&step_line(r, &self.attempts));
         }
     }
 
@@ -132,7 +141,7 @@ impl<W: Write> RunObserver for ConsoleReporter<W> {
         if self.quiet && c.passed {
             return;
         }
-        if let Some(line) = check_line(c) {
+        if let Some(line) = check_line(c, &self.attempts) {
             self.line(&line);
         }
     }
@@ -211,10 +220,15 @@ pub fn container_line(step: &StepInfo) -> Option<String> {
     }
 }
 
-/// `     3  ok    switch_on  switched on`.
-pub fn step_line(r: &StepRecord) -> String {
+/// `     3  ok    switch_on  switched on`; a failure inside an attempt that another one
+/// follows is `FAIL (attempt 1 of 3, retrying)`.
+pub fn step_line(r: &StepRecord, attempts: &OpenAttempts) -> String {
     use std::fmt::Write as _;
-    let mark = if r.ok { "ok  " } else { "FAIL" };
+    let mark = if r.ok {
+        "ok  ".to_string()
+    } else {
+        attempts.fail_mark()
+    };
     let mut line = String::with_capacity(16 + r.label.len() + r.detail.len());
     let _ = match r.phase {
         "steps" => write!(line, "{:>6}  {mark}  {}", r.number, r.label),
@@ -228,15 +242,16 @@ pub fn step_line(r: &StepRecord) -> String {
 }
 
 /// `        PASS  name: message (limits 5940 .. 6060 rpm)`; `None` for `wait until` checks,
-/// whose step line already says it.
-pub fn check_line(c: &CheckResult) -> Option<String> {
+/// whose step line already says it. A failure inside an attempt that another one follows
+/// is `FAIL (attempt 1 of 3, retrying)`.
+pub fn check_line(c: &CheckResult, attempts: &OpenAttempts) -> Option<String> {
     if c.name.starts_with("wait until") {
         return None;
     }
     let mark = match (c.passed, c.marginal) {
-        (true, false) => "PASS",
-        (true, true) => "MARGINAL",
-        (false, _) => "FAIL",
+        (true, false) => "PASS".to_string(),
+        (true, true) => "MARGINAL".to_string(),
+        (false, _) => attempts.fail_mark(),
     };
     let limits = match (c.low, c.high) {
         (Some(lo), Some(hi)) if lo == hi => format!(" (expected {})", with_unit(lo, c.unit.as_deref())),
@@ -285,8 +300,13 @@ pub fn summary_lines(report: &RunReport, virtual_time: bool) -> Vec<String> {
         0 => String::new(),
         n => format!(" ({n} marginal)"),
     };
+    // Failures of attempts that were tried again: kept, but not the verdict's.
+    let retried = match report.checks_retried() {
+        0 => String::new(),
+        n => format!(", {n} retried"),
+    };
     lines.push(format!(
-        "{}{why} — {steps} step(s), {} check(s) passed{marginal}, {} failed, {time}{clock}, exit code {}",
+        "{}{why} — {steps} step(s), {} check(s) passed{marginal}, {} failed{retried}, {time}{clock}, exit code {}",
         report.verdict.word(),
         report.checks_passed(),
         report.checks_failed(),

@@ -415,7 +415,11 @@ fn safe_stop_case(r: &RunReport) -> Case {
 fn run_log(r: &RunReport) -> String {
     let mut s = String::new();
     for step in &r.steps {
-        let _ = writeln!(s, "{}", super::console_reporter::step_line(step));
+        let _ = writeln!(
+            s,
+            "{}",
+            super::console_reporter::step_line(step, &super::OpenAttempts::NONE)
+        );
     }
     for line in super::console_reporter::summary_lines(r, false) {
         let _ = writeln!(s, "{line}");

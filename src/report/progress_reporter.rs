@@ -8,6 +8,7 @@
 use super::console_reporter::{
     asked_line, check_line, container_line, header_lines, message_line, step_line, summary_lines,
 };
+use super::OpenAttempts;
 use crate::session::{CheckResult, RunInfo, RunObserver, RunReport, StepInfo, StepRecord, UnitIdentity};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressFinish, ProgressStyle};
 use std::io::Write;
@@ -36,6 +37,8 @@ pub struct ProgressReporter<W: Write> {
     /// Run-clock time of the first step's start, and how far finished steps got.
     first_start: Option<Duration>,
     done_until: Duration,
+    /// So that a failure another attempt will try again says so.
+    attempts: OpenAttempts,
 }
 
 impl ProgressReporter<std::io::Stdout> {
@@ -66,6 +69,7 @@ impl<W: Write> ProgressReporter<W> {
             planned: None,
             first_start: None,
             done_until: Duration::ZERO,
+            attempts: OpenAttempts::default(),
         }
     }
 
@@ -308,16 +312,21 @@ impl<W: Write> RunObserver for ProgressReporter<W> {
         if self.current.as_ref().is_some_and(|c| c.0 == record.number) {
             self.current = None;
         }
-        self.line(&step_line(record));
+        self.attempts.finished(&record.number);
+        self.line(&step_line(record, &self.attempts));
         self.set_bar(false);
         self.bar.unset_length();
         self.bar.set_message(self.context().trim_start().to_string());
     }
 
     fn check(&mut self, result: &CheckResult) {
-        if let Some(line) = check_line(result) {
+        if let Some(line) = check_line(result, &self.attempts) {
             self.line(&line);
         }
+    }
+
+    fn attempt_started(&mut self, number: &str, attempt: u32, of: u32) {
+        self.attempts.started(number, attempt, of);
     }
 
     fn message(&mut self, text: &str) {

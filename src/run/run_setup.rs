@@ -246,6 +246,9 @@ impl RunObserver for Locked<'_> {
     fn step_placed(&mut self, id: &str) {
         self.with(|o| o.step_placed(id));
     }
+    fn attempt_started(&mut self, number: &str, attempt: u32, of: u32) {
+        self.with(|o| o.attempt_started(number, attempt, of));
+    }
     fn step_progress(&mut self, number: &str, elapsed: Duration, total: Option<Duration>, values: &str) {
         self.with(|o| o.step_progress(number, elapsed, total, values));
     }

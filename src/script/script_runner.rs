@@ -513,6 +513,9 @@ impl RunObserver for Tap<'_> {
     fn step_placed(&mut self, id: &str) {
         self.inner.step_placed(id);
     }
+    fn attempt_started(&mut self, number: &str, attempt: u32, of: u32) {
+        self.inner.attempt_started(number, attempt, of);
+    }
     fn step_progress(&mut self, number: &str, elapsed: Duration, total: Option<Duration>, values: &str) {
         self.inner.step_progress(number, elapsed, total, values);
     }

@@ -17,9 +17,9 @@ const SLICE: Duration = Duration::from_millis(20);
 impl Session<'_> {
     /// Asks `prompt` and records the answer as a check; the text of the step line and
     /// what was answered. A "no" or a value outside its limits fails the check and the run
-    /// goes on; no answer within the prompt's timeout fails and stops the run; a closed
-    /// terminal ends the run (an error); a stop request or a drive fault ends the wait at
-    /// once.
+    /// goes on; no answer within the prompt's timeout fails and stops the run
+    /// ([`Stop::Unanswered`], never retried); a closed terminal ends the run (an error); a
+    /// stop request or a drive fault ends the wait at once.
     pub fn ask(
         &mut self,
         prompt: &Prompt,
@@ -154,7 +154,9 @@ impl Session<'_> {
         }
     }
 
-    /// Nobody answered within the prompt's timeout: a failed check, and the run stops.
+    /// Nobody answered within the prompt's timeout: a failed check, and the run stops (an
+    /// `attempts` block does not try again: an absent person is no failed measurement, and
+    /// another attempt would move the drive again with nobody watching).
     fn unanswered(
         &mut self,
         prompt: &Prompt,
@@ -164,7 +166,7 @@ impl Session<'_> {
     ) -> Stop {
         let message = format!("nobody answered within {}", super::session::show_duration(limit));
         self.record_prompt_check(prompt, None, message.clone(), origin, started);
-        Stop::Failed(message)
+        Stop::Unanswered(message)
     }
 
     /// The check of `prompt`: named after its question, with the answer (`None`: none

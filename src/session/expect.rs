@@ -123,7 +123,12 @@ pub struct AttemptMark {
 }
 
 impl Session<'_> {
-    pub fn attempt_mark(&self) -> AttemptMark {
+    /// The current step (an `attempts` block, `number`) begins its attempt `attempt` of
+    /// `of`: the ids of the steps inside carry `[attempt]`, the observers are told (so a
+    /// console can say that a failure may yet be retried), and where the checks stand.
+    pub fn begin_attempt(&mut self, number: &str, attempt: u32, of: u32) -> AttemptMark {
+        self.iteration(attempt);
+        self.observer.attempt_started(number, attempt, of);
         AttemptMark {
             checks: self.report.checks.len(),
             failed: self.failed_checks,

@@ -14,6 +14,9 @@ pub trait RunObserver {
     /// Right after `step_started`: the step's id with the iteration of every repeat around
     /// it (`4[2].1`), for reports that must tell iterations apart.
     fn step_placed(&mut self, _id: &str) {}
+    /// The step `number` (an `attempts` block) begins its attempt `attempt` of `of`; it
+    /// lasts until that step finishes.
+    fn attempt_started(&mut self, _number: &str, _attempt: u32, _of: u32) {}
     /// Progress of a long step: elapsed, total (when known) and live values.
     fn step_progress(&mut self, _number: &str, _elapsed: Duration, _total: Option<Duration>, _values: &str) {}
     /// The step `number` asks the operator `question` (with what to type) and waits for
@@ -59,6 +62,11 @@ impl RunObserver for Observers<'_> {
     }
     fn step_placed(&mut self, id: &str) {
         self.list.iter_mut().for_each(|o| o.step_placed(id));
+    }
+    fn attempt_started(&mut self, number: &str, attempt: u32, of: u32) {
+        self.list
+            .iter_mut()
+            .for_each(|o| o.attempt_started(number, attempt, of));
     }
     fn step_progress(&mut self, number: &str, elapsed: Duration, total: Option<Duration>, values: &str) {
         self.list

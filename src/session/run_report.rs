@@ -360,6 +360,11 @@ impl RunReport {
         self.checks.iter().filter(|c| !c.passed && !c.retried).count()
     }
 
+    /// Failed checks of attempts that were tried again (kept, not the verdict's).
+    pub fn checks_retried(&self) -> usize {
+        self.checks.iter().filter(|c| !c.passed && c.retried).count()
+    }
+
     /// The dictionary's resolution of `object`, when known.
     pub fn resolution(&self, object: &str) -> Option<f64> {
         self.resolutions

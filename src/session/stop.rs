@@ -1,6 +1,6 @@
-//! Why a run's operations stopped early (a failed expectation, a drive fault, a lost port,
-//! another error, a stop request, a panic), how each reads in a step line, and the
-//! conversions from drive errors and panics. Plain data.
+//! Why a run's operations stopped early (a failed expectation, an unanswered prompt, a
+//! drive fault, a lost port, another error, a stop request, a panic), how each reads in a
+//! step line, and the conversions from drive errors and panics. Plain data.
 
 use crate::drive::DriveError;
 use std::time::Duration;
@@ -10,6 +10,9 @@ use std::time::Duration;
 pub enum Stop {
     /// An expectation failed in a way the following steps cannot continue from.
     Failed(String),
+    /// Nobody answered an operator step within its timeout: its check failed, but nothing
+    /// was measured wrong, so an `attempts` block does not try again; the run ends.
+    Unanswered(String),
     /// The drive went to fault.
     Fault(String),
     /// The port failed (device gone, connection closed): only reopening it can help.
@@ -26,7 +29,9 @@ pub enum Stop {
 pub fn outcome(result: &Result<String, Stop>) -> (bool, String) {
     match result {
         Ok(d) => (true, d.clone()),
-        Err(Stop::Failed(m) | Stop::Fault(m) | Stop::LinkLost(m) | Stop::Error(m)) => (false, m.clone()),
+        Err(Stop::Failed(m) | Stop::Unanswered(m) | Stop::Fault(m) | Stop::LinkLost(m) | Stop::Error(m)) => {
+            (false, m.clone())
+        }
         Err(Stop::Interrupted) => (false, "interrupted".to_string()),
         Err(Stop::Panicked(m)) => (false, format!("internal error (panic): {m}")),
     }
