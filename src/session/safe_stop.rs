@@ -402,9 +402,39 @@ impl Session<'_> {
         if matches!(&result, Err(e) if e.is_link_lost()) && self.restore_link() {
             result = self.drive().command(DeviceCommand::DisableVoltage);
         }
-        match result {
-            Ok(()) => self.note("power stage switched off at once (disable voltage)".into()),
-            Err(e) => self.note(format!("disable voltage failed: {e}")),
+        match (result, self.same_stop_as_disable_operation(DeviceCommand::DisableVoltage)) {
+            (Ok(()), None) => self.note("power stage switched off at once (disable voltage)".into()),
+            (Ok(()), Some(write)) => self.note(format!(
+                "disable voltage sent ({write}, the same stop as disable_operation: the {} dictionary has no command that switches the power stage off)",
+                self.drive_ref().dictionary().name()
+            )),
+            (Err(e), _) => self.note(format!("disable voltage failed: {e}")),
+        }
+    }
+
+    /// What `command` writes when it is the same write as `disable_operation` (an inverter
+    /// whose one stop code stands for every stop): `control word 3`; `None` otherwise.
+    fn same_stop_as_disable_operation(&self, command: DeviceCommand) -> Option<String> {
+        let profile = self.drive_ref().profile().ok()?;
+        let (this, stop) = (
+            profile.command(command)?,
+            profile.command(DeviceCommand::DisableOperation)?,
+        );
+        (this.object == stop.object && this.value == stop.value).then(|| profile.command_text(command))
+    }
+
+    /// A drive stopped in switched on because its shutdown is only its stop again says so:
+    /// "switched on" is as low as its commands go, not a shutdown that did not happen.
+    fn note_lowest_state(&mut self, state: DeviceState) {
+        if state != DeviceState::SwitchedOn {
+            return;
+        }
+        if let Some(write) = self.same_stop_as_disable_operation(DeviceCommand::Shutdown) {
+            let called = self.cur().called();
+            let dictionary = self.drive_ref().dictionary().name().to_string();
+            self.note(format!(
+                "{called} is stopped in {state}, as low as the {dictionary} dictionary's commands go: its shutdown writes {write}, the same stop as disable_operation, so there is no command to a lower state"
+            ));
         }
     }
 
@@ -453,6 +483,8 @@ impl Session<'_> {
             self.note(format!(
                 "the drive still reports {state} after quick stop and disable voltage; CHECK THE DRIVE BY HAND"
             ));
+        } else if !keep {
+            self.note_lowest_state(state);
         }
         self.read_final_speed();
     }
