@@ -17,6 +17,32 @@ use std::path::PathBuf;
 use std::sync::Arc;
 use std::time::Duration;
 
+/// Registers the drive method `$name` twice, as Rhai has no optional arguments: with a
+/// last argument, a duration as text (`"500ms"`), and without it, when `$default` stands
+/// in; `$last` is the duration in `$body`.
+macro_rules! with_optional_duration {
+    ($engine:expr, $bridge:expr, $name:literal, $default:expr,
+     |$b:ident, $ctx:ident, $h:ident $(, $arg:ident: $ty:ty)*| $last:ident => $body:expr) => {{
+        let $b = $bridge.clone();
+        $engine.register_fn(
+            $name,
+            move |$ctx: NativeCallContext, $h: &mut DriveHandle $(, $arg: $ty)*| -> RhaiResult<()> {
+                let $last = $default;
+                $body
+            },
+        );
+        let $b = $bridge.clone();
+        $engine.register_fn(
+            $name,
+            move |$ctx: NativeCallContext, $h: &mut DriveHandle $(, $arg: $ty)*, last: &str| -> RhaiResult<()> {
+                let $last = duration(last)?;
+                $body
+            },
+        );
+    }};
+}
+pub(super) use with_optional_duration;
+
 /// A drive as a script holds it: `let d = drive();` (the one drive; in a script with
 /// several, commands to it go to every drive) or `let left = drive("left");`.
 #[derive(Debug, Clone, Default)]
@@ -257,20 +283,9 @@ fn register_waits(engine: &mut Engine, bridge: &Arc<Bridge>) {
             b.call(pos, Call::GoTo(state, timeout, h.name.clone()), label)
                 .and_then(done)
         };
-    let b = bridge.clone();
-    engine.register_fn(
-        "go_to",
-        move |ctx: NativeCallContext, h: &mut DriveHandle, state: &str| -> RhaiResult<()> {
-            go_to(&b, h, ctx.call_position(), state, GO_TO_TIMEOUT)
-        },
-    );
-    let b = bridge.clone();
-    engine.register_fn(
-        "go_to",
-        move |ctx: NativeCallContext, h: &mut DriveHandle, state: &str, timeout: &str| -> RhaiResult<()> {
-            go_to(&b, h, ctx.call_position(), state, duration(timeout)?)
-        },
-    );
+    with_optional_duration!(engine, bridge, "go_to", GO_TO_TIMEOUT, |b, ctx, h, state: &str| timeout => {
+        go_to(&b, h, ctx.call_position(), state, timeout)
+    });
     let wait = |b: &Arc<Bridge>,
                 h: &DriveHandle,
                 ctx: &NativeCallContext,
@@ -297,27 +312,9 @@ fn register_waits(engine: &mut Engine, bridge: &Arc<Bridge>) {
         )
         .and_then(done)
     };
-    let b = bridge.clone();
-    engine.register_fn(
-        "wait_until",
-        move |ctx: NativeCallContext,
-              h: &mut DriveHandle,
-              name: &str,
-              f: FnPtr,
-              timeout: &str|
-              -> RhaiResult<()> { wait(&b, h, &ctx, name, &f, timeout, POLL) },
-    );
-    let b = bridge.clone();
-    engine.register_fn(
-        "wait_until",
-        move |ctx: NativeCallContext,
-              h: &mut DriveHandle,
-              name: &str,
-              f: FnPtr,
-              timeout: &str,
-              every: &str|
-              -> RhaiResult<()> { wait(&b, h, &ctx, name, &f, timeout, duration(every)?) },
-    );
+    with_optional_duration!(engine, bridge, "wait_until", POLL, |b, ctx, h, name: &str, f: FnPtr, timeout: &str| every => {
+        wait(&b, h, &ctx, name, &f, timeout, every)
+    });
     let b = bridge.clone();
     engine.register_fn(
         "dwell",

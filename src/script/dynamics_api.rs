@@ -5,7 +5,7 @@
 //! the drive's dictionary before anything is sent; the session does the rest.
 
 use super::bridge::{Bridge, RhaiResult};
-use super::drive_api::{dictionary_of, done, duration, error, refused, DriveHandle};
+use super::drive_api::{dictionary_of, done, duration, error, refused, with_optional_duration, DriveHandle};
 use super::exchange::Call;
 use super::resolve;
 use crate::dictionary::{Quantity, Role, Unit};
@@ -76,29 +76,14 @@ fn wait_stable(
 }
 
 pub(super) fn register_dynamics(engine: &mut Engine, bridge: &Arc<Bridge>) {
-    let b = bridge.clone();
-    engine.register_fn(
+    with_optional_duration!(
+        engine,
+        bridge,
         "wait_until_stable",
-        move |ctx: NativeCallContext,
-              h: &mut DriveHandle,
-              name: &str,
-              rate: &str,
-              over: &str,
-              timeout: &str| { wait_stable(&b, h, &ctx, name, rate, over, timeout, STABLE_POLL) },
-    );
-    let b = bridge.clone();
-    engine.register_fn(
-        "wait_until_stable",
-        move |ctx: NativeCallContext,
-              h: &mut DriveHandle,
-              name: &str,
-              rate: &str,
-              over: &str,
-              timeout: &str,
-              every: &str|
-              -> RhaiResult<()> {
-            wait_stable(&b, h, &ctx, name, rate, over, timeout, duration(every)?)
-        },
+        STABLE_POLL,
+        |b, ctx, h, name: &str, rate: &str, over: &str, timeout: &str| every => {
+            wait_stable(&b, h, &ctx, name, rate, over, timeout, every)
+        }
     );
     let b = bridge.clone();
     engine.register_fn(

@@ -185,25 +185,15 @@ impl Session<'_> {
         };
         let passed = accepted.is_some_and(|a| a.passed);
         let result = CheckResult {
-            name: prompt.text.clone(),
             passed,
             measured: accepted.and_then(|a| a.number),
             measured_text: accepted.map(|a| a.text.clone()),
             unit,
             low,
             high,
-            object: None,
-            statistic: None,
             message,
-            origin: origin.clone(),
-            step: self.place().0,
-            stage: self.place().1,
-            window: None,
-            at: self.clock.now(),
-            duration: self.clock.now().saturating_sub(started),
-            marginal: false,
-            retried: false,
             inclusive: true,
+            ..self.check_now(prompt.text.clone(), origin, started)
         };
         if !passed {
             self.failed_checks = true;

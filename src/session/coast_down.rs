@@ -125,25 +125,17 @@ impl Session<'_> {
         };
         let (low, high) = c.predicate.limits();
         self.record_check_result(CheckResult {
-            name,
             passed,
             measured,
-            measured_text: None,
             unit: Some("s".into()),
             low,
             high,
             object: Some(object.name.clone()),
             statistic: Some("coast_down".into()),
             message: message.clone(),
-            origin: origin.clone(),
-            step: self.place().0,
-            stage: self.place().1,
             window: Some(self.path.id()),
-            at: self.clock.now(),
-            duration: self.clock.now().saturating_sub(started),
             marginal,
-            retried: false,
-            inclusive: false,
+            ..self.check_now(name, origin, started)
         });
         if passed {
             Ok(format!("power stage off, coasting by design: {message}"))

@@ -53,7 +53,6 @@ impl Session<'_> {
                 _ => message,
             };
             let result = CheckResult {
-                name: c.name.clone(),
                 passed,
                 measured,
                 measured_text: text,
@@ -70,17 +69,11 @@ impl Session<'_> {
                         c.predicate.describe(c.object.unit.as_deref())
                     )
                 },
-                origin: origin.clone(),
-                step: self.place().0,
-                stage: self.place().1,
                 window: c
                     .statistic
                     .and_then(|_| self.window_steps.get(&c.object.name).cloned()),
-                at: self.clock.now(),
-                duration: self.clock.now().saturating_sub(started),
                 marginal,
-                retried: false,
-                inclusive: false,
+                ..self.check_now(c.name.clone(), origin, started)
             };
             if !passed {
                 self.failed_checks = true;

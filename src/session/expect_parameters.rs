@@ -40,25 +40,13 @@ impl Session<'_> {
                 failed.push(message.clone());
             }
             let result = CheckResult {
-                name: format!("parameter {}", saved.name),
                 passed,
                 measured: value.number(),
                 measured_text: Some(value.to_string()),
                 unit: value.unit().map(|u| u.symbol().to_string()),
-                low: None,
-                high: None,
                 object: Some(saved.name.clone()),
-                statistic: None,
                 message,
-                step: self.place().0,
-                stage: self.place().1,
-                window: None,
-                origin: origin.clone(),
-                at: self.clock.now(),
-                duration: self.clock.now().saturating_sub(started),
-                marginal: false,
-                retried: false,
-                inclusive: false,
+                ..self.check_now(format!("parameter {}", saved.name), origin, started)
             };
             self.record_check_result(result);
         }

@@ -3,8 +3,9 @@
 //! fail at the timeout. The polls are a series in the report, so the plot and the timeline
 //! show the approach. It must not know recipes or scripts.
 
-use super::session::{secs, show_duration, value_of, Session};
+use super::session::{show_duration, value_of, Session};
 use super::stop::Stop;
+use super::wait_until::wait_ended;
 use super::{BucketSeries, Condition, ObjectRef, Series, SlopeWindow, Stats, StepOrigin, SERIES_BUCKETS};
 use std::time::Duration;
 
@@ -77,19 +78,16 @@ impl Session<'_> {
                     message.clone(),
                     started,
                 );
-                return match message {
-                    None => Ok(format!("{seen} after {}", secs(waited))),
-                    Some(m) => Err(Stop::Failed(m)),
-                };
+                return wait_ended(message, &seen, waited);
             }
             self.watch_fault(false)?;
-            if self.interrupted() {
-                return Err(Stop::Interrupted);
-            }
-            if self.observer.wants_progress() {
-                self.observer.step_progress(number, waited, Some(timeout), &seen);
-            }
-            self.wait(now.saturating_add(every).min(give_up))?;
+            self.between_polls(
+                number,
+                waited,
+                timeout,
+                &seen,
+                now.saturating_add(every).min(give_up),
+            )?;
         }
     }
 

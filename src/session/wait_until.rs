@@ -53,10 +53,7 @@ impl Session<'_> {
                 self.watch_fault(false)?;
             }
             if waited >= timeout {
-                let message = format!(
-                    "timed out after {} waiting for {condition}; last value seen: {seen}",
-                    show_duration(timeout)
-                );
+                let message = timed_out(timeout, &condition.to_string(), &seen);
                 self.record_check(
                     origin,
                     &condition.to_string(),
@@ -69,11 +66,8 @@ impl Session<'_> {
                 );
                 return Err(Stop::Failed(message));
             }
-            if self.interrupted() {
-                return Err(Stop::Interrupted);
-            }
-            self.observer.step_progress(number, waited, Some(timeout), &seen);
-            self.wait(self.clock.now().saturating_add(every).min(give_up))?;
+            let next = self.clock.now().saturating_add(every).min(give_up);
+            self.between_polls(number, waited, timeout, &seen, next)?;
         }
     }
 
@@ -100,45 +94,70 @@ impl Session<'_> {
             let waited = self.clock.now().saturating_sub(started);
             let ok = holds(v)?;
             if ok || waited >= timeout {
-                let message = (!ok).then(|| {
-                    format!(
-                        "timed out after {} waiting for {what}; last value seen: {seen}",
-                        show_duration(timeout)
-                    )
-                });
+                let message = (!ok).then(|| timed_out(timeout, what, &seen));
                 let result = CheckResult {
-                    name: format!("wait until {what}"),
                     passed: ok,
                     measured: Some(v),
                     measured_text: Some(seen.clone()),
                     unit: object.unit.clone(),
-                    low: None,
-                    high: None,
                     object: Some(object.name.clone()),
-                    statistic: None,
-                    step: self.place().0,
-                    stage: self.place().1,
-                    window: None,
                     message: message.clone().unwrap_or_else(|| "reached".into()),
-                    origin: origin.clone(),
-                    at: self.clock.now(),
-                    duration: waited,
-                    marginal: false,
-                    retried: false,
-                    inclusive: false,
+                    ..self.check_now(format!("wait until {what}"), origin, started)
                 };
                 self.record_check_result(result);
-                return match message {
-                    None => Ok(format!("{seen} after {}", secs(waited))),
-                    Some(m) => Err(Stop::Failed(m)),
-                };
+                return wait_ended(message, &seen, waited);
             }
             self.watch_fault(false)?;
-            if self.interrupted() {
-                return Err(Stop::Interrupted);
-            }
-            self.observer.step_progress(number, waited, Some(timeout), &seen);
-            self.wait(self.clock.now().saturating_add(every).min(give_up))?;
+            let next = self.clock.now().saturating_add(every).min(give_up);
+            self.between_polls(number, waited, timeout, &seen, next)?;
+        }
+    }
+
+    /// Between two polls of a wait, after the fault watch: a stop request ends it, the
+    /// progress is shown, and the run waits until `next`.
+    pub(super) fn between_polls(
+        &mut self,
+        number: &str,
+        waited: Duration,
+        timeout: Duration,
+        seen: &str,
+        next: Duration,
+    ) -> Result<(), Stop> {
+        if self.interrupted() {
+            return Err(Stop::Interrupted);
+        }
+        if self.observer.wants_progress() {
+            self.observer.step_progress(number, waited, Some(timeout), seen);
+        }
+        self.wait(next)
+    }
+
+    /// A check of the current step begun at `started`, with what every check a session
+    /// operation records shares (its step and stage, when and how long); not passed and
+    /// with nothing measured until the caller says otherwise.
+    pub(super) fn check_now(&self, name: String, origin: &StepOrigin, started: Duration) -> CheckResult {
+        let (step, stage) = self.place();
+        let at = self.clock.now();
+        CheckResult {
+            name,
+            passed: false,
+            measured: None,
+            measured_text: None,
+            unit: None,
+            low: None,
+            high: None,
+            object: None,
+            statistic: None,
+            message: String::new(),
+            origin: origin.clone(),
+            step,
+            stage,
+            window: None,
+            at,
+            duration: at.saturating_sub(started),
+            marginal: false,
+            retried: false,
+            inclusive: false,
         }
     }
 
@@ -171,7 +190,6 @@ impl Session<'_> {
             ),
         };
         let result = CheckResult {
-            name: format!("wait until {name}"),
             passed,
             measured: value,
             measured_text: text,
@@ -179,18 +197,26 @@ impl Session<'_> {
             low,
             high,
             object,
-            statistic: None,
             message: message.unwrap_or_else(|| "reached".into()),
-            origin: origin.clone(),
-            step: self.place().0,
-            stage: self.place().1,
-            window: None,
-            at: self.clock.now(),
-            duration: self.clock.now().saturating_sub(started),
-            marginal: false,
-            retried: false,
-            inclusive: false,
+            ..self.check_now(format!("wait until {name}"), origin, started)
         };
         self.record_check_result(result);
+    }
+}
+
+/// Why a wait failed: `timed out after 10s waiting for …; last value seen: …`.
+pub(super) fn timed_out(timeout: Duration, what: &str, seen: &str) -> String {
+    format!(
+        "timed out after {} waiting for {what}; last value seen: {seen}",
+        show_duration(timeout)
+    )
+}
+
+/// How a wait ended: the value seen and when, or (`message`) why it failed, which stops the
+/// run (an `attempts` block tries again).
+pub(super) fn wait_ended(message: Option<String>, seen: &str, waited: Duration) -> Result<String, Stop> {
+    match message {
+        None => Ok(format!("{seen} after {}", secs(waited))),
+        Some(m) => Err(Stop::Failed(m)),
     }
 }
