@@ -4,7 +4,8 @@
 //! last quarter second and a long run makes few `write` calls. Errors name the path. Knows
 //! nothing about what the rows mean.
 
-use std::fs::{File, OpenOptions};
+use crate::output_file_error::{create_output_file, OutputFileError};
+use std::fs::File;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
@@ -19,7 +20,7 @@ pub struct CsvFile {
 
 impl CsvFile {
     /// Creates (truncates) `path` and writes `header`.
-    pub fn create(path: &Path, header: &[String]) -> Result<Self, String> {
+    pub fn create(path: &Path, header: &[String]) -> Result<Self, OutputFileError> {
         let mut file = Self::open(path, false)?;
         file.row(header)?;
         file.flush()?;
@@ -27,22 +28,12 @@ impl CsvFile {
     }
 
     /// Continues a file this run started (no header).
-    pub fn append(path: &Path) -> Result<Self, String> {
+    pub fn append(path: &Path) -> Result<Self, OutputFileError> {
         Self::open(path, true)
     }
 
-    fn open(path: &Path, append: bool) -> Result<Self, String> {
-        if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
-            std::fs::create_dir_all(dir)
-                .map_err(|e| format!("cannot create the directory {}: {e}", dir.display()))?;
-        }
-        let file = OpenOptions::new()
-            .create(true)
-            .append(append)
-            .write(true)
-            .truncate(!append)
-            .open(path)
-            .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+    fn open(path: &Path, append: bool) -> Result<Self, OutputFileError> {
+        let file = create_output_file(path, append)?;
         Ok(CsvFile {
             writer: csv::WriterBuilder::new()
                 .buffer_capacity(64 * 1024)
@@ -53,10 +44,13 @@ impl CsvFile {
     }
 
     /// Writes one row; the file gets it within [`FLUSH_EVERY`].
-    pub fn row<T: AsRef<[u8]>>(&mut self, fields: &[T]) -> Result<(), String> {
+    pub fn row<T: AsRef<[u8]>>(&mut self, fields: &[T]) -> Result<(), OutputFileError> {
         self.writer
             .write_record(fields)
-            .map_err(|e| format!("cannot write {}: {e}", self.path.display()))?;
+            .map_err(|source| OutputFileError::Csv {
+                path: self.path.clone(),
+                source,
+            })?;
         if self.flushed.elapsed() >= FLUSH_EVERY {
             self.flush()?;
         }
@@ -64,11 +58,11 @@ impl CsvFile {
     }
 
     /// Hands every row written so far to the file.
-    pub fn flush(&mut self) -> Result<(), String> {
+    pub fn flush(&mut self) -> Result<(), OutputFileError> {
         self.flushed = Instant::now();
         self.writer
             .flush()
-            .map_err(|e| format!("cannot write {}: {e}", self.path.display()))
+            .map_err(|e| OutputFileError::file(&self.path, e))
     }
 
     pub fn path(&self) -> &Path {
@@ -103,7 +97,7 @@ mod tests {
         drop(f);
         CsvFile::append(&path).unwrap().row(&["3", "4"]).unwrap();
         assert!(std::fs::read_to_string(&path).unwrap().ends_with("3,4\n"));
-        let err = CsvFile::create(&dir.join("deep"), &[]).err().unwrap();
+        let err = CsvFile::create(&dir.join("deep"), &[]).err().unwrap().to_string();
         assert!(err.contains("deep"), "{err}");
         std::fs::remove_dir_all(&dir).unwrap();
     }

@@ -28,6 +28,7 @@ pub mod drive;
 pub mod family;
 pub mod hex;
 pub mod link;
+pub mod output_file_error;
 pub mod parameters;
 pub mod recipe;
 pub mod report;

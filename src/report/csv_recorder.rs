@@ -4,6 +4,7 @@
 //! keeps every sample but the last quarter second. An observer: its write errors are kept
 //! for the CLI to report, never fail the run.
 
+use crate::output_file_error::OutputFileError;
 use crate::session::{ObjectRef, RunInfo, RunObserver, RunReport, SampleTable, LONG_HEADER};
 use std::path::Path;
 use std::time::{Duration, SystemTime};
@@ -25,13 +26,17 @@ impl CsvRecorder {
     /// Creates (truncates) the file, its directory too, and writes the header: the long
     /// layout, or (`wide`) one column per object of `wide`. An unwritable path is an error
     /// here, before the run starts; the message names the path.
-    pub fn create(path: &Path, wide: Option<&[ObjectRef]>) -> Result<Self, String> {
+    pub fn create(path: &Path, wide: Option<&[ObjectRef]>) -> Result<Self, OutputFileError> {
         Self::create_for(path, wide, false)
     }
 
     /// [`CsvRecorder::create`] for a run with several drives (`drives`): the long layout
     /// then has a `drive` column.
-    pub fn create_for(path: &Path, wide: Option<&[ObjectRef]>, drives: bool) -> Result<Self, String> {
+    pub fn create_for(
+        path: &Path,
+        wide: Option<&[ObjectRef]>,
+        drives: bool,
+    ) -> Result<Self, OutputFileError> {
         Ok(CsvRecorder {
             table: SampleTable::open_for(path, wide, false, drives)?,
             step: String::new(),
@@ -58,7 +63,7 @@ impl CsvRecorder {
     /// Hands every row so far to the file (the run's end does this too).
     pub fn flush_now(&mut self) {
         if let Err(e) = self.table.flush() {
-            self.error.get_or_insert(e);
+            self.error.get_or_insert(e.to_string());
         }
     }
 }
@@ -80,7 +85,7 @@ impl RunObserver for CsvRecorder {
         let utc = self.started + at;
         match self.table.rows(at, utc, &self.step, objects, values) {
             Ok(n) => self.rows += n,
-            Err(e) => self.error = Some(e),
+            Err(e) => self.error = Some(e.to_string()),
         }
     }
 
@@ -172,10 +177,11 @@ mod tests {
     fn an_unwritable_path_is_refused_with_its_name() {
         let err = CsvRecorder::create(Path::new("/proc/drivescript/x.csv"), None)
             .err()
-            .unwrap();
+            .unwrap()
+            .to_string();
         assert!(err.contains("/proc/drivescript"), "{err}");
         let dir = std::env::temp_dir();
-        let err = CsvRecorder::create(&dir, None).err().unwrap();
+        let err = CsvRecorder::create(&dir, None).err().unwrap().to_string();
         assert!(err.starts_with("cannot write "), "{err}");
     }
 }

@@ -29,7 +29,6 @@ pub use open_attempts::OpenAttempts;
 pub use progress_reporter::{progress_text, ProgressReporter};
 pub use telegram_fan_out::TelegramFanOut;
 pub use trace_header::{trace_notes_path, TraceHeader};
-pub(crate) use trace_writer::create_file;
 pub use trace_writer::{hex_of_trace_line, is_trace_line, TraceWriter};
 pub use unfinished_report::{
     html_not_run, html_unfinished, junit_not_run, junit_not_run_suite, junit_skipped_suite, junit_unfinished,

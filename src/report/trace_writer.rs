@@ -18,6 +18,7 @@ use super::trace_header::{trace_notes_path, TraceHeader};
 use crate::bus::CanFrame;
 use crate::hex::to_hex;
 use crate::link::{Direction, TelegramExplainer, TelegramObserver};
+use crate::output_file_error::{create_output_file, OutputFileError};
 use std::io::Write;
 use std::path::Path;
 use std::time::Duration;
@@ -114,13 +115,13 @@ impl TraceWriter<std::fs::File> {
         header: &TraceHeader,
         frames: bool,
         explainer: Box<dyn TelegramExplainer>,
-    ) -> Result<Self, String> {
-        let file = create_file(path)?;
+    ) -> Result<Self, OutputFileError> {
+        let file = create_output_file(path, false)?;
         let mut trace = TraceWriter::new(file, explainer);
         trace.frame_meanings = false;
         let name = path.file_name().map_or(path, Path::new).display();
         if frames {
-            trace.notes = Some(create_file(&trace_notes_path(path))?);
+            trace.notes = Some(create_output_file(&trace_notes_path(path), false)?);
             trace.candump = true;
             trace.comment(&format!(
                 "drivescript trace notes: the drive and line of the CAN frames in {name} \
@@ -139,7 +140,7 @@ impl TraceWriter<std::fs::File> {
             trace.comment(&line);
         }
         match trace.error.take() {
-            Some(e) => Err(format!("cannot write {}: {e}", path.display())),
+            Some(e) => Err(OutputFileError::file(path, std::io::Error::other(e))),
             None => Ok(trace),
         }
     }
@@ -196,15 +197,6 @@ impl<W: Write + Send> TelegramObserver for TraceWriter<W> {
         }
         self.line(&line);
     }
-}
-
-/// Creates `path` for writing, with its directory; the error names the path.
-pub(crate) fn create_file(path: &Path) -> Result<std::fs::File, String> {
-    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
-        std::fs::create_dir_all(dir)
-            .map_err(|e| format!("cannot create the directory {}: {e}", dir.display()))?;
-    }
-    std::fs::File::create(path).map_err(|e| format!("cannot write {}: {e}", path.display()))
 }
 
 /// The hex bytes of a trace line (`    0.012345 TX 00 09 ..  # meaning` gives `00 09 ..`);

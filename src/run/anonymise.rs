@@ -70,7 +70,8 @@ pub fn anonymise_capture(
 fn copy(anonymiser: &mut Anonymiser, from: &Path, to: &Path) -> Result<Anonymised, AnonymiseError> {
     let input = std::fs::File::open(from)
         .map_err(|e| AnonymiseError::Invalid(format!("cannot read {}: {e}", from.display())))?;
-    let output = crate::report::create_file(to).map_err(AnonymiseError::Write)?;
+    let output = crate::output_file_error::create_output_file(to, false)
+        .map_err(|e| AnonymiseError::Write(e.to_string()))?;
     let mut out = BufWriter::new(output);
     anonymiser
         .copy(BufReader::new(input), from, &mut out)

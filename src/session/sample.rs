@@ -84,7 +84,7 @@ impl Session<'_> {
                 let path = self.output_dir.join(p);
                 let append = !self.csv_files.insert(path.clone());
                 let wide = self.csv_wide.then_some(objects);
-                Some(SampleTable::open_for(&path, wide, append, self.several_drives()).map_err(Stop::Error)?)
+                Some(SampleTable::open_for(&path, wide, append, self.several_drives())?)
             }
             None => None,
         };
@@ -140,8 +140,7 @@ impl Session<'_> {
             }
             let since_start = at.saturating_sub(run_start);
             if let Some(w) = writer.as_mut() {
-                w.rows(since_start, self.clock.wall_time(), &id, objects, &values)
-                    .map_err(Stop::Error)?;
+                w.rows(since_start, self.clock.wall_time(), &id, objects, &values)?;
             }
             self.observer.sample(since_start, objects, &values);
             // The live line is text for a screen; build it only when one shows it.
@@ -159,7 +158,7 @@ impl Session<'_> {
             k += 1;
         }
         if let Some(w) = writer.as_mut() {
-            w.flush().map_err(Stop::Error)?;
+            w.flush()?;
         }
         let mut summary = Vec::new();
         for ((o, w), points) in objects.iter().zip(stats).zip(series) {

@@ -8,6 +8,7 @@
 
 use super::{write_number, ObjectRef};
 use crate::csv_file::CsvFile;
+use crate::output_file_error::OutputFileError;
 use std::path::Path;
 use std::time::{Duration, SystemTime};
 
@@ -48,7 +49,7 @@ impl SampleTable {
 
     /// Creates (truncates) `path` with its header, or (`append`) continues a file this run
     /// started. The error names the path.
-    pub fn open(path: &Path, wide: Option<&[ObjectRef]>, append: bool) -> Result<Self, String> {
+    pub fn open(path: &Path, wide: Option<&[ObjectRef]>, append: bool) -> Result<Self, OutputFileError> {
         Self::open_for(path, wide, append, false)
     }
 
@@ -59,7 +60,7 @@ impl SampleTable {
         wide: Option<&[ObjectRef]>,
         append: bool,
         drives: bool,
-    ) -> Result<Self, String> {
+    ) -> Result<Self, OutputFileError> {
         let drive_column = drives && wide.is_none();
         let file = if append {
             CsvFile::append(path)?
@@ -93,7 +94,7 @@ impl SampleTable {
         step: &str,
         objects: &[ObjectRef],
         values: &[f64],
-    ) -> Result<u64, String> {
+    ) -> Result<u64, OutputFileError> {
         use std::fmt::Write as _;
         self.time.clear();
         let _ = write!(self.time, "{:.3}", at.as_secs_f64());
@@ -137,7 +138,7 @@ impl SampleTable {
         }
     }
 
-    pub fn flush(&mut self) -> Result<(), String> {
+    pub fn flush(&mut self) -> Result<(), OutputFileError> {
         self.file.flush()
     }
 }

@@ -51,6 +51,13 @@ impl From<DriveError> for Stop {
     }
 }
 
+/// A samples file that cannot be written ends the run: its samples would be lost.
+impl From<crate::output_file_error::OutputFileError> for Stop {
+    fn from(e: crate::output_file_error::OutputFileError) -> Self {
+        Stop::Error(e.to_string())
+    }
+}
+
 /// The text of a panic's payload (`panic!("...")` carries a `&str` or a `String`).
 pub(crate) fn panic_message(payload: &(dyn std::any::Any + Send)) -> String {
     payload

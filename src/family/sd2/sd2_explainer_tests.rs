@@ -241,7 +241,8 @@ fn a_trace_file_is_flushed_line_by_line() {
         explainer(),
     )
     .err()
-    .unwrap();
+    .unwrap()
+    .to_string();
     assert!(err.contains("/proc/no/such/dir"), "{err}");
 }
 
