@@ -3,6 +3,8 @@
 //! frame's text forms (candump `60C#409C5F0000000000`, a candump log line, or `ID data…`)
 //! and the byte string that observers and explainers, which take bytes, receive.
 
+use super::CanFrameTextError;
+
 /// A classic CAN data frame.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct CanFrame {
@@ -95,7 +97,7 @@ impl CanFrame {
     /// `(1700000000.123456) can0 60C#409C…`, or `60C 40 9C 5F 00 …` (identifier, then data
     /// bytes in any hex form). Identifiers of more than 3 digits are extended. The error
     /// says what is wrong where.
-    pub fn parse_text(text: &str) -> Result<CanFrame, String> {
+    pub fn parse_text(text: &str) -> Result<CanFrame, CanFrameTextError> {
         let mut t = text.trim();
         if t.starts_with('(') {
             // A candump log line: the timestamp and the interface name come first;
@@ -103,7 +105,9 @@ impl CanFrame {
             t = t
                 .split_whitespace()
                 .nth(2)
-                .ok_or_else(|| format!("`{text}`: a candump log line is `(TIME) INTERFACE ID#DATA`"))?;
+                .ok_or_else(|| CanFrameTextError::LogLine {
+                    line: text.to_string(),
+                })?;
         }
         let (id_text, data_text) = match t.split_once('#') {
             Some((id, data)) => (id.trim(), data.trim()),
@@ -113,39 +117,38 @@ impl CanFrame {
                 .unwrap_or((t, "")),
         };
         if data_text.starts_with('R') || data_text.starts_with('#') {
-            return Err(format!(
-                "`{t}`: remote and CAN FD frames carry no SDO data; give a data frame `ID#DATA`"
-            ));
+            return Err(CanFrameTextError::NoData { frame: t.to_string() });
         }
         let hex_id = id_text
             .strip_prefix("0x")
             .or_else(|| id_text.strip_prefix("0X"))
             .unwrap_or(id_text);
         if hex_id.is_empty() || hex_id.len() > 8 || !hex_id.bytes().all(|b| b.is_ascii_hexdigit()) {
-            return Err(format!(
-                "`{id_text}` is not a CAN identifier: write 3 hex digits (11-bit, e.g. 60C) or 8 (29-bit), then `#` and the data"
-            ));
+            return Err(CanFrameTextError::Identifier {
+                id: id_text.to_string(),
+            });
         }
-        let id = u32::from_str_radix(hex_id, 16).map_err(|e| format!("`{id_text}`: {e}"))?;
+        let id = u32::from_str_radix(hex_id, 16).map_err(|source| CanFrameTextError::IdentifierValue {
+            id: id_text.to_string(),
+            source,
+        })?;
         let data = if data_text.is_empty() {
             Vec::new()
         } else {
-            crate::hex::parse_hex(data_text).map_err(|e| format!("the data `{data_text}`: {e}"))?
+            crate::hex::parse_hex(data_text).map_err(|source| CanFrameTextError::Data {
+                data: data_text.to_string(),
+                source,
+            })?
         };
         if data.len() > 8 {
-            return Err(format!(
-                "a CAN frame carries at most 8 data bytes, got {}",
-                data.len()
-            ));
+            return Err(CanFrameTextError::TooLong(data.len()));
         }
         let frame = if hex_id.len() > 3 {
             CanFrame::extended(id, &data)
         } else {
             CanFrame::new(id, &data)
         };
-        frame.ok_or_else(|| {
-            format!("identifier 0x{id:X} does not fit 11 bits; write 8 hex digits for an extended frame")
-        })
+        frame.ok_or(CanFrameTextError::Not11Bits(id))
     }
 }
 
@@ -168,14 +171,26 @@ mod tests {
         ] {
             assert_eq!(CanFrame::parse_text(text), Ok(f), "{text}");
         }
-        assert!(CanFrame::parse_text("60C#R").unwrap_err().contains("remote"));
+        assert!(CanFrame::parse_text("60C#R")
+            .unwrap_err()
+            .to_string()
+            .contains("remote"));
         assert!(CanFrame::parse_text("XYZ#00")
             .unwrap_err()
+            .to_string()
             .contains("not a CAN identifier"));
-        assert!(CanFrame::parse_text("800#00").unwrap_err().contains("11 bits"));
+        assert!(CanFrame::parse_text("800#00")
+            .unwrap_err()
+            .to_string()
+            .contains("11 bits"));
         assert!(CanFrame::parse_text("601#000102030405060708")
             .unwrap_err()
+            .to_string()
             .contains("at most 8"));
+        assert_eq!(
+            CanFrame::parse_text("800#00"),
+            Err(CanFrameTextError::Not11Bits(0x800))
+        );
         let ext = CanFrame::parse_text("18FF0001#01").unwrap();
         assert!(ext.extended);
         assert_eq!(ext.to_candump(), "18FF0001#01");

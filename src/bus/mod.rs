@@ -5,6 +5,7 @@
 
 mod bus;
 mod can_frame;
+mod can_frame_text_error;
 mod frame_bus;
 mod memory;
 mod memory_frame_bus;
@@ -23,6 +24,7 @@ mod usb_latency;
 
 pub use bus::{Bus, BusKind};
 pub use can_frame::CanFrame;
+pub use can_frame_text_error::CanFrameTextError;
 pub use frame_bus::FrameBus;
 pub use memory_frame_bus::{FramePeer, MemoryFrameBus};
 pub use peer_line::{EchoingLine, FramePeerLine, PeerLine};

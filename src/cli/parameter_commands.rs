@@ -165,8 +165,8 @@ pub(super) fn dictionary_for(
 }
 
 pub(super) fn load(path: &std::path::Path) -> Result<ParameterFile, i32> {
-    ParameterFile::load(path).map_err(|text| {
-        eprintln!("{}", text.trim_end());
+    ParameterFile::load(path).map_err(|e| {
+        eprintln!("{}", e.to_string().trim_end());
         INVALID
     })
 }

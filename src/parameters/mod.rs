@@ -12,6 +12,6 @@ mod utc;
 
 pub use backup::{parameters, raw_text, take, Origin, IDENTITY_OBJECTS};
 pub use comparison::{compare, same, Difference};
-pub use parameter_file::{ParameterFile, Reading, SavedObject, FORMAT_KEY};
+pub use parameter_file::{ParameterFile, ParameterFileError, Reading, SavedObject, FORMAT_KEY};
 pub use restore::{apply, clear_for_restore, plan, skipped, Outcome, PlannedWrite, Refusal, RestoreRefused};
 pub use utc::utc_timestamp;

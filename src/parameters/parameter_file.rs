@@ -3,8 +3,20 @@
 //! (or the error that kept it from being read). Writes and reads the file; must not talk to
 //! a drive.
 
-use crate::diag::{expected, read_source, Diagnostic, Diagnostics, Reader, Shape, Source, YamlNode};
+use crate::diag::{
+    expected, read_source, Diagnostic, Diagnostics, Reader, Shape, Source, TextFileError, YamlNode,
+};
 use std::sync::Arc;
+
+/// Why a parameter file could not be used: it could not be read, or what it says is wrong
+/// (every problem with its place in the file).
+#[derive(Debug, thiserror::Error)]
+pub enum ParameterFileError {
+    #[error("{}", .0.sentence("the parameter file"))]
+    Read(TextFileError),
+    #[error("{}", .0.render(false))]
+    Invalid(Diagnostics),
+}
 
 /// `0x1017` → (0x1017, 0), `0x1018/2` → (0x1018, 2): how [`ParameterFile::from_dcf`]
 /// names a DCF's objects.
@@ -111,12 +123,12 @@ impl ParameterFile {
 
     /// Reads a backup file, or a CANopen DCF as a parameter set; every problem is reported
     /// with its place in the file.
-    pub fn load(path: &std::path::Path) -> Result<ParameterFile, String> {
-        let source = read_source(path).map_err(|e| e.sentence("the parameter file"))?;
+    pub fn load(path: &std::path::Path) -> Result<ParameterFile, ParameterFileError> {
+        let source = read_source(path).map_err(ParameterFileError::Read)?;
         if crate::dictionary::is_eds_path(path) {
-            return Self::from_dcf(&source).map_err(|d| d.render(false));
+            return Self::from_dcf(&source).map_err(ParameterFileError::Invalid);
         }
-        Self::parse(&source).map_err(|d| d.render(false))
+        Self::parse(&source).map_err(ParameterFileError::Invalid)
     }
 
     /// A DCF's `ParameterValue`s as a parameter set. Objects are named by their index
@@ -336,5 +348,24 @@ mod tests {
             "{}",
             e.render(false)
         );
+    }
+
+    #[test]
+    fn a_file_that_cannot_be_read_or_used_says_which() {
+        let dir = std::env::temp_dir().join(format!("drivescript-pf-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let missing = dir.join("missing.yaml");
+        let e = ParameterFile::load(&missing).unwrap_err();
+        assert!(matches!(e, ParameterFileError::Read(_)), "{e:?}");
+        assert!(
+            e.to_string().starts_with("cannot read the parameter file: "),
+            "{e}"
+        );
+        let recipe = dir.join("recipe.yaml");
+        std::fs::write(&recipe, "name: A recipe\nsteps: []\n").unwrap();
+        let e = ParameterFile::load(&recipe).unwrap_err();
+        assert!(matches!(e, ParameterFileError::Invalid(_)), "{e:?}");
+        assert!(e.to_string().contains("drivescript_parameters"), "{e}");
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 }

@@ -155,7 +155,7 @@ fn candump_line(rest: &str) -> Result<Parsed, String> {
     {
         return Ok(None);
     }
-    let frame = CanFrame::parse_text(frame)?;
+    let frame = CanFrame::parse_text(frame).map_err(|e| e.to_string())?;
     Ok(Some((at, direction, frame.to_bytes(), true)))
 }
 

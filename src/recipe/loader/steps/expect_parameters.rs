@@ -25,10 +25,13 @@ impl Loader<'_, '_> {
         let path = self.base_dir.join(&file);
         let parameters = match ParameterFile::load(&path) {
             Ok(p) => p,
-            Err(text) => {
+            Err(e) => {
                 return self.refuse(
                     &body.span,
-                    format!("cannot use {file} as a parameter file: {}", text.trim_end()),
+                    format!(
+                        "cannot use {file} as a parameter file: {}",
+                        e.to_string().trim_end()
+                    ),
                     "not a parameter file",
                     Some("give a file written by `drivescript backup`, relative to this recipe".into()),
                 );
