@@ -5,14 +5,8 @@
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
-/// Why a report file was not written; the text names the path.
-#[derive(Debug, thiserror::Error)]
-pub enum ReportWriteError {
-    #[error("cannot create the directory {}: {source}", dir.display())]
-    Directory { dir: PathBuf, source: std::io::Error },
-    #[error("cannot write {}: {source}", path.display())]
-    File { path: PathBuf, source: std::io::Error },
-}
+/// Why a report file was not written (its directory or the file); the text names the path.
+pub type ReportWriteError = crate::output_file_error::OutputFileError;
 
 /// Writes `text` to `path` atomically.
 pub fn write_atomically(path: &Path, text: &str) -> Result<(), ReportWriteError> {

@@ -175,12 +175,9 @@ steps:
 ",
     );
     let trace = dir.join("run.trace");
-    let (reader, typing) = std::io::pipe().expect("pipe");
     let mut run = InProcessRun::new(&recipe);
     run.outputs.trace = Some(trace.clone());
-    run.input = Some(drivescript::run::TerminalInput::of(reader));
-    let (result, output) = run.run();
-    drop(typing);
+    let (result, output) = run.run_at_a_silent_terminal();
     assert_eq!(result.exit_code, 1, "{output}");
     assert_has(
         &output,
@@ -252,11 +249,7 @@ steps:
   - set: { speed_setpoint: 1000 rpm }
 ",
     );
-    let (reader, typing) = std::io::pipe().expect("pipe");
-    let mut run = InProcessRun::new(&recipe);
-    run.input = Some(drivescript::run::TerminalInput::of(reader));
-    let (result, output) = run.run();
-    drop(typing);
+    let (result, output) = InProcessRun::new(&recipe).run_at_a_silent_terminal();
     assert_eq!(result.exit_code, 1, "{output}");
     assert_has(
         &output,

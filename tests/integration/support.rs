@@ -259,6 +259,16 @@ impl<'a> InProcessRun<'a> {
         }
     }
 
+    /// Runs it with a terminal nobody types at (a question waits until its timeout);
+    /// what it produced and its console output.
+    pub fn run_at_a_silent_terminal(mut self) -> (drivescript::run::RunResult, String) {
+        let (reader, typing) = std::io::pipe().expect("pipe");
+        self.input = Some(drivescript::run::TerminalInput::of(reader));
+        let ran = self.run();
+        drop(typing);
+        ran
+    }
+
     /// Runs it; what it produced and its console output (standard output, then errors).
     pub fn run(&self) -> (drivescript::run::RunResult, String) {
         let (mut out, mut err) = (Vec::new(), Vec::new());
