@@ -377,6 +377,49 @@ mod tests {
         assert!(fit_line(&first, label, 20).ends_with('…'));
     }
 
+    /// The live display prints the same check lines as the plain console: a failure
+    /// another attempt follows says so, the last attempt's is a plain FAIL.
+    #[test]
+    fn a_failure_another_attempt_follows_reads_retrying() {
+        let mut live = ProgressReporter::new(Vec::new(), ProgressBar::hidden(), true);
+        let failed = CheckResult {
+            name: "motor_temperature min above 33 °C".into(),
+            passed: false,
+            measured: Some(28.6),
+            measured_text: None,
+            unit: Some("°C".into()),
+            low: Some(33.0),
+            high: None,
+            object: None,
+            statistic: None,
+            message: "too cold".into(),
+            origin: crate::session::StepOrigin {
+                path: "r.yaml".into(),
+                line: 9,
+                column: 11,
+            },
+            step: "3[1].3".into(),
+            stage: String::new(),
+            window: None,
+            at: Duration::ZERO,
+            duration: Duration::ZERO,
+            marginal: false,
+            retried: false,
+            inclusive: false,
+        };
+        live.attempt_started("3", 1, 2);
+        live.check(&failed);
+        live.attempt_started("3", 2, 2);
+        live.check(&failed);
+        let text = String::from_utf8(live.out.clone()).unwrap();
+        let lines: Vec<&str> = text.lines().collect();
+        assert!(
+            lines[0].starts_with("        FAIL (attempt 1 of 2, retrying)  motor_temperature"),
+            "{text}"
+        );
+        assert!(lines[1].starts_with("        FAIL  motor_temperature"), "{text}");
+    }
+
     #[test]
     fn long_times_read_as_hours_and_minutes() {
         assert_eq!(
