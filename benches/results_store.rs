@@ -160,6 +160,9 @@ fn filled_store(path: &Path, runs: usize) -> Result<(), String> {
                 stage: String::new(),
                 attempt: 1,
                 message: "ok".into(),
+                reference_run: None,
+                reference_at: None,
+                reference_value: None,
             }));
         }
         records.push(Record::Finished(EndRow {

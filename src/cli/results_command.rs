@@ -424,6 +424,13 @@ fn show(store: &mut Store, id: &str, json: bool) -> Result<i32, StoreError> {
             c.name,
             c.message
         );
+        if let (Some(run), Some(value)) = (&c.reference_run, c.reference_value) {
+            println!(
+                "                  reference: run {run} of {}, measured {}",
+                c.reference_at.as_deref().unwrap_or("an unknown time"),
+                crate::session::number(value)
+            );
+        }
     }
     match &r.end {
         Some(e) => {

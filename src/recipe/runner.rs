@@ -65,6 +65,18 @@ impl<'a> Runner<'a> {
         self
     }
 
+    /// Where the unit's past runs are read, for the checks that compare with its last pass.
+    pub fn with_history(
+        mut self,
+        history: Option<std::sync::Arc<dyn crate::session::History>>,
+        recipe: &Recipe,
+    ) -> Self {
+        self.session = self
+            .session
+            .with_history(history, super::last_pass_checks(recipe).0);
+        self
+    }
+
     /// Where `csv:` files of sample steps go (relative paths).
     pub fn with_output_dir(mut self, dir: PathBuf) -> Self {
         self.session = self.session.with_output_dir(dir);

@@ -97,6 +97,14 @@ pub struct CheckRow {
     /// 1 for the first time this check was decided at this step, 2 for a retry…
     pub attempt: i64,
     pub message: String,
+    /// A comparison with the unit's last passed run: that run's id, when it started and
+    /// what its check measured (the change is `measured`).
+    #[serde(default)]
+    pub reference_run: Option<String>,
+    #[serde(default)]
+    pub reference_at: Option<String>,
+    #[serde(default)]
+    pub reference_value: Option<f64>,
 }
 
 /// How the run ended.

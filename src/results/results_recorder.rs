@@ -314,6 +314,9 @@ impl RunObserver for ResultsRecorder {
             stage: c.stage.clone(),
             attempt,
             message: c.message.clone(),
+            reference_run: c.reference.as_ref().map(|r| r.run.clone()),
+            reference_at: c.reference.as_ref().map(|r| r.started_at.clone()),
+            reference_value: c.reference.as_ref().map(|r| r.value),
         });
         self.send(record);
     }

@@ -473,6 +473,7 @@ fn register_checks(engine: &mut Engine, bridge: &Arc<Bridge>) {
             marginal: false,
             retried: false,
             inclusive: false,
+            reference: None,
         }
     };
     let b = bridge.clone();

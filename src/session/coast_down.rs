@@ -144,6 +144,7 @@ impl Session<'_> {
             marginal,
             retried: false,
             inclusive: false,
+            reference: None,
         });
         if passed {
             Ok(format!("power stage off, coasting by design: {message}"))

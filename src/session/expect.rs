@@ -81,15 +81,25 @@ impl Session<'_> {
                 marginal,
                 retried: false,
                 inclusive: false,
+                reference: None,
             };
             if !passed {
                 self.failed_checks = true;
                 failed.push(result.message.clone());
             }
             self.record_check_result(result);
+            if let Some(lp) = &c.last_pass {
+                let compared = self.compared_with_last_pass(c, lp, measured, origin);
+                if !compared.passed {
+                    self.failed_checks = true;
+                    failed.push(format!("{}: {}", compared.name, compared.message));
+                }
+                self.record_check_result(compared);
+            }
         }
         if failed.is_empty() {
-            Ok(format!("{} check(s) passed", checks.len()))
+            let count = checks.len() + checks.iter().filter(|c| c.last_pass.is_some()).count();
+            Ok(format!("{count} check(s) passed"))
         } else {
             Ok(format!("FAILED: {}", failed.join("; ")))
         }

@@ -59,6 +59,7 @@ impl Session<'_> {
                 marginal: false,
                 retried: false,
                 inclusive: false,
+                reference: None,
             };
             self.record_check_result(result);
         }

@@ -126,6 +126,7 @@ impl Session<'_> {
                     marginal: false,
                     retried: false,
                     inclusive: false,
+                    reference: None,
                 };
                 self.record_check_result(result);
                 return match message {
@@ -190,6 +191,7 @@ impl Session<'_> {
             marginal: false,
             retried: false,
             inclusive: false,
+            reference: None,
         };
         self.record_check_result(result);
     }

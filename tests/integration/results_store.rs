@@ -5,8 +5,8 @@
 //! clearly, and the unit's certificate rendered in headless Chromium.
 
 use crate::support::{
-    assert_has, assert_lacks, cli, command, headless_chromium, scratch, write_file, InProcessRun, LiveRun,
-    PostgresServer, Simulator,
+    assert_has, assert_lacks, cli, command, headless_chromium, scratch, silent_server, write_file,
+    InProcessRun, LiveRun, PostgresServer, Simulator,
 };
 use drivescript::results::{Locator, RunFilter, StoredRun};
 use drivescript::session::{CheckResult, RunInfo, RunObserver, RunReport, StepRecord, UnitIdentity};
@@ -992,19 +992,6 @@ fn run_into_a_silent_store(dir: &Path, recipe: &Path, output: &str) -> std::proc
         .stderr(Stdio::piped())
         .spawn()
         .expect("runs")
-}
-
-/// A port on loopback that takes every connection and never says a word.
-fn silent_server() -> u16 {
-    let listener = std::net::TcpListener::bind("127.0.0.1:0").expect("listener");
-    let port = listener.local_addr().expect("address").port();
-    std::thread::spawn(move || {
-        let mut kept = Vec::new();
-        for conn in listener.incoming() {
-            kept.push(conn);
-        }
-    });
-    port
 }
 
 /// The connect timeout bounds only the socket's connection; the handshake after it is
