@@ -12,6 +12,7 @@ mod runner;
 mod schema;
 mod schema_dynamics;
 mod step;
+mod text_digest;
 mod written_values;
 
 pub use drive_decl::DriveDecl;

@@ -46,6 +46,7 @@ impl<'a> Runner<'a> {
                 .map(|p| (p.name.clone(), p.value.clone()))
                 .collect(),
             unit: UnitIdentity::default(),
+            text_sha256: Some(recipe.text_sha256.clone()),
         };
         Runner {
             session: Session::with_drives(drives, observer, stop, run),

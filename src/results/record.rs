@@ -36,7 +36,8 @@ pub struct RunRow {
     pub kind: String,
     pub recipe: String,
     pub recipe_path: String,
-    /// SHA-256 of the file's exact text, in hex.
+    /// SHA-256 of the exact text it ran with, in hex: a recipe's file and every file it
+    /// includes (`recipe/text_digest.rs`), a script's file.
     pub recipe_sha256: Option<String>,
     pub tool_version: String,
     /// UTC, RFC 3339 with milliseconds (sorts as text).

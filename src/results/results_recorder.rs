@@ -237,7 +237,7 @@ impl RunObserver for ResultsRecorder {
             kind: run.kind.to_string(),
             recipe: run.name.clone(),
             recipe_path: run.path.clone(),
-            recipe_sha256: file_sha256(&run.path),
+            recipe_sha256: run.text_sha256.clone().or_else(|| file_sha256(&run.path)),
             tool_version: env!("CARGO_PKG_VERSION").to_string(),
             started_at: utc_text(SystemTime::now()),
             simulated: self.settings.simulated,

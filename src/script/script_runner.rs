@@ -116,6 +116,7 @@ impl<'a> ScriptRunner<'a> {
             path: script.path.clone(),
             params: script.params.clone(),
             unit: self.unit.clone(),
+            text_sha256: None,
         };
         let (to_session, from_script) = channel();
         let (to_script, from_session) = channel();

@@ -1022,3 +1022,55 @@ fn a_server_that_takes_the_connection_and_never_answers_is_unreachable_in_time()
     assert_eq!(out.status.code(), Some(3), "{err}");
     assert_has(&err, &["cannot be reached", "did not answer within 10 s"]);
 }
+
+/// The stored hash is of the recipe's text with every file it includes: an edit of an
+/// included stage changes it, as an edit of the recipe does; a recipe without includes
+/// hashes as `sha256sum` of its file.
+#[test]
+fn the_recipe_hash_covers_every_included_file() {
+    let dir = scratch("hash-includes");
+    let store = dir.join("results.sqlite");
+    let store = store.to_str().unwrap();
+    let stage = write_file(
+        &dir,
+        "stage.yaml",
+        "name: Stage\ndrive: sd2\nsteps:\n  - expect: { bus_voltage: { above: 100 V } }\n",
+    );
+    let recipe = write_file(
+        &dir,
+        "main.yaml",
+        "name: With a stage\ndrive: sd2\nsteps:\n  - include: stage.yaml\n  - include: stage.yaml\n",
+    );
+    let hash_of_a_run = |file: &Path| {
+        let out = command()
+            .arg("run")
+            .arg(file)
+            .args(["--fast", "--results", store])
+            .output()
+            .expect("runs");
+        assert_eq!(
+            out.status.code(),
+            Some(0),
+            "{}",
+            String::from_utf8_lossy(&out.stdout)
+        );
+        let mut s = Locator::parse(store).open(false).expect("opens");
+        let runs = s.list(&every_run()).expect("list");
+        runs[0].run.recipe_sha256.clone().expect("a hash")
+    };
+    let before = hash_of_a_run(&recipe);
+    assert_eq!(hash_of_a_run(&recipe), before, "the same text, the same hash");
+    std::fs::write(
+        &stage,
+        "name: Stage\ndrive: sd2\nsteps:\n  - expect: { bus_voltage: { above: 200 V } }\n",
+    )
+    .expect("the stage edited");
+    let after = hash_of_a_run(&recipe);
+    assert_ne!(after, before, "an included file's edit changes the hash");
+    // Alone, a file hashes as sha256sum does.
+    let alone = hash_of_a_run(&stage);
+    if let Ok(out) = std::process::Command::new("sha256sum").arg(&stage).output() {
+        let sum = String::from_utf8_lossy(&out.stdout);
+        assert_eq!(sum.split_whitespace().next(), Some(alone.as_str()));
+    }
+}
