@@ -28,6 +28,9 @@ impl Record {
     }
 }
 
+/// The `drive` of a run refused before it started (nothing was opened or sent).
+pub const NOT_STARTED: &str = "not started";
+
 /// A run as it starts.
 #[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
 pub struct RunRow {
@@ -113,7 +116,8 @@ pub struct CheckRow {
 pub struct EndRow {
     pub run: String,
     pub ended_at: String,
-    /// `passed`, `failed`, `error`, `interrupted`, `panic`.
+    /// `passed`, `failed`, `error`, `interrupted`, `panic`; for a run that never started
+    /// `refused` (exit code 2) or `error` (its drive could not be reached).
     pub verdict: String,
     pub exit_code: i64,
     pub reason: Option<String>,

@@ -52,7 +52,7 @@ pub fn run(request: &RunRequest, out: &mut dyn Write, err: &mut dyn Write) -> Ru
     if let Err(e) = answers_checked(&prompts, complete, &given, request.input.is_some()) {
         return refuse(INVALID, &e.to_string(), err);
     }
-    let unit = match start_identity(plan, request.operator.identity(), &prompts, &given) {
+    let unit = match start_identity(plan, request, &prompts, &given) {
         Ok(u) => u,
         Err(e) => return refuse(INVALID, &e, err),
     };
@@ -260,23 +260,18 @@ fn opened(
 /// from an operator step during the run; with none of them it is refused.
 fn start_identity(
     plan: &RunPlan,
-    mut unit: crate::session::UnitIdentity,
+    request: &RunRequest,
     prompts: &[(crate::session::Prompt, crate::session::StepOrigin)],
     given: &[(String, crate::session::Given)],
 ) -> Result<crate::session::UnitIdentity, String> {
     let Some(at) = plan.compares_with_last_pass() else {
-        return Ok(unit);
+        return Ok(request.operator.identity());
     };
-    if unit.serial.is_some() {
-        return Ok(unit);
-    }
-    let Some((prompt, _)) = prompts.iter().find(|(p, _)| p.sets("serial")) else {
+    let unit = request.operator.identity_with_answers(prompts, given);
+    if unit.serial.is_none() && !prompts.iter().any(|(p, _)| p.sets("serial")) {
         return Err(format!(
             "error: {at}: `compared_with_last_pass` compares with the unit's last passed run, but nothing gives the unit's serial number; give --unit serial=…, or ask for it with an operator step (`enter_text` with `sets: serial`) before the check; nothing was sent"
         ));
-    };
-    if let Some((_, answer)) = given.iter().find(|(name, _)| *name == prompt.name) {
-        unit.serial = prompt.judge(&answer.value).ok().map(|a| a.text);
     }
     Ok(unit)
 }

@@ -8,8 +8,8 @@
 //! runs the safe stop; a serial typed at an operator step looks up at that point.
 
 use crate::support::{
-    assert_has, assert_lacks, command, scratch, silent_server, write_file, InProcessRun, PostgresServer,
-    Simulator,
+    assert_has, assert_lacks, command, run_recording as run, scratch, silent_server, write_file,
+    InProcessRun, PostgresServer, Simulator,
 };
 use drivescript::results::{Locator, RunFilter, StoreHistory};
 use std::path::Path;
@@ -30,23 +30,6 @@ steps:
         below: 90 °C
         compared_with_last_pass: { at_most: 2 K, at_least: -2 K, without_history: pass }
 ";
-
-/// `drivescript run RECIPE --results STORE ARGS`: exit code and everything it wrote.
-fn run(recipe: &Path, store: &str, args: &[&str]) -> (i32, String) {
-    let out = command()
-        .arg("run")
-        .arg(recipe)
-        .args(["--results", store])
-        .args(args)
-        .output()
-        .expect("runs");
-    let text = format!(
-        "{}{}",
-        String::from_utf8_lossy(&out.stdout),
-        String::from_utf8_lossy(&out.stderr)
-    );
-    (out.status.code().unwrap_or(-1), text)
-}
 
 /// The id of the run `results: run ID recorded in …` names.
 fn run_id(output: &str) -> String {

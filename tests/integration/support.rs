@@ -868,3 +868,36 @@ pub fn silent_server() -> u16 {
     });
     port
 }
+
+/// `drivescript run RECIPE --results STORE ARGS`: its exit code and everything it wrote
+/// (standard output, then errors).
+pub fn run_recording(recipe: &Path, store: &str, args: &[&str]) -> (i32, String) {
+    let out = command()
+        .arg("run")
+        .arg(recipe)
+        .args(["--results", store])
+        .args(args)
+        .output()
+        .expect("runs");
+    (out.status.code().unwrap_or(-1), console(&out.stdout, &out.stderr))
+}
+
+/// `drivescript results report --unit SERIAL` of every run in `store` (simulated ones too)
+/// into `page`; the page.
+pub fn unit_certificate(store: &str, serial: &str, page: &Path) -> String {
+    cli(
+        &[
+            "results",
+            "report",
+            "--unit",
+            serial,
+            "--simulated",
+            "--results",
+            store,
+            "-o",
+            page.to_str().expect("utf-8 path"),
+        ],
+        0,
+    );
+    std::fs::read_to_string(page).expect("the page")
+}
