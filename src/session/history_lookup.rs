@@ -24,8 +24,19 @@ pub(super) enum Past {
     NotLooked,
     /// The store answered for this serial (`None`: no earlier passed run).
     Known { serial: String, run: Option<PastRun> },
-    /// The store could not be read or did not answer in time: what to say.
-    Unreadable(String),
+    /// The store could not be read for this serial, or did not answer in time: what to
+    /// say. Not asked again for the same serial (each operator step would wait again).
+    Unreadable { serial: String, why: String },
+}
+
+impl Past {
+    /// The serial it was looked up for.
+    fn serial(&self) -> Option<&str> {
+        match self {
+            Past::NotLooked => None,
+            Past::Known { serial, .. } | Past::Unreadable { serial, .. } => Some(serial),
+        }
+    }
 }
 
 impl Session<'_> {
@@ -41,13 +52,16 @@ impl Session<'_> {
         let Some(serial) = self.run.unit.serial.clone() else {
             return Ok(());
         };
-        if matches!(&self.past, Past::Known { serial: s, .. } if *s == serial) {
+        if self.past.serial() == Some(serial.as_str()) {
             return Ok(());
         }
         let Some(history) = self.history.clone() else {
-            self.past = Past::Unreadable(
-                "no results store to compare with (none is named and there is no data directory)".into(),
-            );
+            self.past = Past::Unreadable {
+                serial,
+                why: "no results store to compare with (none is named and there is no data directory)".into(),
+            };
+            let said = self.past_said("", "");
+            self.observer.message(&said);
             return Ok(());
         };
         let answer = history.look_up(&self.run.name, &serial);
@@ -67,21 +81,32 @@ impl Session<'_> {
             };
             match answer.recv_timeout(pace) {
                 Ok(Ok(run)) => break Past::Known { serial, run },
-                Ok(Err(e)) => break Past::Unreadable(e.to_string()),
+                Ok(Err(e)) => {
+                    break Past::Unreadable {
+                        serial,
+                        why: e.to_string(),
+                    }
+                }
                 Err(RecvTimeoutError::Disconnected) => {
-                    break Past::Unreadable(format!(
-                        "the results store {} gave no answer (its reader ended)",
-                        history.store()
-                    ))
+                    break Past::Unreadable {
+                        serial,
+                        why: format!(
+                            "the results store {} gave no answer (its reader ended)",
+                            history.store()
+                        ),
+                    }
                 }
                 Err(RecvTimeoutError::Timeout) => {}
             }
             if started.elapsed() >= LOOKUP_LIMIT {
-                break Past::Unreadable(format!(
-                    "the results store {} did not answer within {} s",
-                    history.store(),
-                    LOOKUP_LIMIT.as_secs()
-                ));
+                break Past::Unreadable {
+                    serial,
+                    why: format!(
+                        "the results store {} did not answer within {} s",
+                        history.store(),
+                        LOOKUP_LIMIT.as_secs()
+                    ),
+                };
             }
             let until = self.clock.now().saturating_add(SLICE);
             self.wait(until)?;
@@ -118,7 +143,7 @@ impl Session<'_> {
                 "history {serial}: no earlier passed run of `{}` in {store} ({kind}); each comparison passes or fails as its `without_history` says",
                 self.run.name
             ),
-            Past::Unreadable(why) => {
+            Past::Unreadable { why, .. } => {
                 format!("history: cannot compare with the last pass: {why}; those checks fail")
             }
             Past::NotLooked => String::new(),
@@ -152,7 +177,7 @@ impl Session<'_> {
                 false,
                 "the unit's serial was not known when this check was made: an operator step with `sets: serial` must come before it, or give --unit serial=…".to_string(),
             ),
-            (Past::Unreadable(why), _) => (false, format!("cannot be judged: {why}")),
+            (Past::Unreadable { why, .. }, _) => (false, format!("cannot be judged: {why}")),
             (Past::Known { serial, run }, Some(v)) => {
                 let found = run.as_ref().and_then(|r| r.check(&c.name, &step).map(|p| (r, p)));
                 match found {

@@ -236,7 +236,7 @@ fn a_store_that_cannot_be_read_fails_the_comparison_and_the_drive_still_stops() 
 
 /// `--no-results` with a store (named by the environment) that takes the connection and
 /// never answers: the run records nothing and the comparison's lookup is bounded.
-fn run_reading_a_silent_store(recipe: &Path) -> std::process::Child {
+fn run_reading_a_silent_store(recipe: &Path, more: &[&str]) -> std::process::Child {
     let port = silent_server();
     command()
         .env(
@@ -246,18 +246,25 @@ fn run_reading_a_silent_store(recipe: &Path) -> std::process::Child {
         .arg("run")
         .arg(recipe)
         .args(["--fast", "--no-results", "--unit", "serial=SP-1"])
+        .args(more)
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
         .spawn()
         .expect("runs")
 }
 
+/// It is waited for once per serial: the operator steps after it do not wait again.
 #[test]
 fn the_lookup_of_a_store_that_never_answers_is_bounded() {
     let dir = scratch("history-silent");
-    let recipe = write_file(&dir, "run-in.yaml", RUN_IN);
+    let questions = "  - confirm: { prompt: Guard closed? }\n    name: guard\n  - confirm: { prompt: Adapter fitted? }\n    name: adapter\n";
+    let recipe = write_file(
+        &dir,
+        "run-in.yaml",
+        &RUN_IN.replace("steps:\n", &format!("steps:\n{questions}")),
+    );
     let started = Instant::now();
-    let out = run_reading_a_silent_store(&recipe)
+    let out = run_reading_a_silent_store(&recipe, &["--answer", "guard=yes", "--answer", "adapter=yes"])
         .wait_with_output()
         .expect("the run ends");
     let took = started.elapsed();
@@ -267,12 +274,17 @@ fn the_lookup_of_a_store_that_never_answers_is_bounded() {
         String::from_utf8_lossy(&out.stderr)
     );
     assert_eq!(out.status.code(), Some(1), "{text}");
-    assert!(took < Duration::from_secs(25), "took {took:?}:\n{text}");
+    assert!(took < Duration::from_secs(18), "took {took:?}:\n{text}");
+    assert_eq!(
+        text.matches("history: cannot compare").count(),
+        1,
+        "looked up once for the serial, not again after each operator step:\n{text}"
+    );
     assert_has(
         &text,
         &[
             "did not answer within 10 s",
-            "     1  ok    go to operation_enabled",
+            "     3  ok    go to operation_enabled",
             "cannot be judged",
             "drive left in ready to switch on at 0 rpm",
         ],
@@ -285,7 +297,7 @@ fn the_lookup_of_a_store_that_never_answers_is_bounded() {
 fn a_stop_signal_during_the_lookup_runs_the_safe_stop() {
     let dir = scratch("history-signal");
     let recipe = write_file(&dir, "run-in.yaml", RUN_IN);
-    let mut child = run_reading_a_silent_store(&recipe);
+    let mut child = run_reading_a_silent_store(&recipe, &[]);
     let mut stdout = child.stdout.take().expect("stdout");
     let mut seen = String::new();
     while !seen.contains("unit    serial SP-1") {
