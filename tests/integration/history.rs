@@ -423,6 +423,15 @@ fn the_bearing_acceptance_example_compares_a_spindle_with_its_last_pass() {
             &["--fast", "--answer", "serial=SP-104233", "--sim", heating],
         )
     };
+    // `check` says where the comparisons are and where the serial will come from.
+    let checked = crate::support::cli(&["check", recipe.to_str().unwrap()], 0);
+    assert_has(
+        &checked.stdout,
+        &[
+            "compares with the unit's last passed run (",
+            "bearing-acceptance.yaml:25:29); the serial from --unit serial=… or the operator step serial (",
+        ],
+    );
     let (code, first) = example("heating=25K/A");
     assert_eq!(code, 0, "{first}");
     let first_id = run_id(&first);
