@@ -241,6 +241,7 @@ impl RunPlan {
                 .run(recipe),
             RunPlan::Script(script) => ScriptRunner::with_drives(drives, observer, stop.clone())
                 .with_operator(settings.unit, settings.operator)
+                .with_history(settings.history)
                 .with_output_dir(settings.output_dir)
                 .with_csv_wide(settings.csv_wide)
                 .with_settings(settings.safe_stop)

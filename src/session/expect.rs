@@ -89,7 +89,12 @@ impl Session<'_> {
             }
             self.record_check_result(result);
             if let Some(lp) = &c.last_pass {
-                let compared = self.compared_with_last_pass(c, lp, measured, origin);
+                let of = super::history_lookup::Compared {
+                    name: &c.name,
+                    object: &c.object,
+                    statistic: c.statistic,
+                };
+                let compared = self.compared_with_last_pass(&of, lp, measured, origin);
                 if !compared.passed {
                     self.failed_checks = true;
                     failed.push(format!("{}: {}", compared.name, compared.message));

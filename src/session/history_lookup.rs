@@ -6,7 +6,7 @@
 use super::last_pass::{signed, LastPass, PastRun};
 use super::session::{value_of, Session};
 use super::stop::Stop;
-use super::{with_unit, Check, CheckReference, CheckResult, StepOrigin};
+use super::{with_unit, CheckReference, CheckResult, ObjectRef, Statistic, StepOrigin};
 use std::sync::mpsc::RecvTimeoutError;
 use std::time::{Duration, Instant};
 
@@ -15,6 +15,13 @@ use std::time::{Duration, Instant};
 pub const LOOKUP_LIMIT: Duration = Duration::from_secs(10);
 /// How often the wait serves the drives and looks for a stop request.
 const SLICE: Duration = Duration::from_millis(20);
+
+/// The check a comparison is made for: its name, and what it measured.
+pub(super) struct Compared<'c> {
+    pub name: &'c str,
+    pub object: &'c ObjectRef,
+    pub statistic: Option<Statistic>,
+}
 
 /// What the session knows of the unit's last passed run.
 #[derive(Debug, Clone, Default)]
@@ -154,7 +161,7 @@ impl Session<'_> {
     /// unit's last passed run: a check of its own, named after `c`.
     pub(super) fn compared_with_last_pass(
         &self,
-        c: &Check,
+        c: &Compared,
         lp: &LastPass,
         measured: Option<f64>,
         origin: &StepOrigin,
@@ -179,7 +186,7 @@ impl Session<'_> {
             ),
             (Past::Unreadable { why, .. }, _) => (false, format!("cannot be judged: {why}")),
             (Past::Known { serial, run }, Some(v)) => {
-                let found = run.as_ref().and_then(|r| r.check(&c.name, &step).map(|p| (r, p)));
+                let found = run.as_ref().and_then(|r| r.check(c.name, &step).map(|p| (r, p)));
                 match found {
                     None => {
                         let why = match run {
@@ -205,7 +212,7 @@ impl Session<'_> {
                             value: p.measured,
                         });
                         let stat = c.statistic.map(|s| format!(" {}", s.id())).unwrap_or_default();
-                        let now = format!("{}{stat} = {}", c.object.name, value_of(v, &c.object));
+                        let now = format!("{}{stat} = {}", c.object.name, value_of(v, c.object));
                         let was = with_unit(p.measured, c.object.unit.as_deref());
                         match lp.change(p.measured, v) {
                             None => (
@@ -260,5 +267,34 @@ impl Session<'_> {
             inclusive: true,
             reference,
         }
+    }
+}
+
+impl Session<'_> {
+    /// A script's comparison of its check `name` (made with `expect`, measuring
+    /// `measured`) with the same check in the unit's last passed run, looked up now if the
+    /// unit was not looked up yet (a script's checks are not known before it runs).
+    pub fn expect_compared_with_last_pass(
+        &mut self,
+        name: &str,
+        measured: f64,
+        lp: &LastPass,
+        origin: &StepOrigin,
+    ) -> Result<String, Stop> {
+        if !self.history_checks.iter().any(|n| n == name) {
+            self.history_checks.push(name.to_string());
+        }
+        self.look_up_last_pass(true)?;
+        let object = ObjectRef {
+            name: name.to_string(),
+            unit: None,
+        };
+        let check = Compared {
+            name,
+            object: &object,
+            statistic: None,
+        };
+        let result = self.compared_with_last_pass(&check, lp, Some(measured), origin);
+        self.expect_result(result)
     }
 }

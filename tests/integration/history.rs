@@ -456,3 +456,52 @@ fn the_bearing_acceptance_example_compares_a_spindle_with_its_last_pass() {
         ],
     );
 }
+
+/// A script compares its own check with the unit's last passed run of the script, looked
+/// up at the first comparison; a comparison it writes wrongly is a script error.
+#[test]
+fn a_script_compares_its_check_with_the_units_last_pass() {
+    let dir = scratch("history-script");
+    let store = dir.join("results.sqlite");
+    let store = store.to_str().unwrap();
+    let script = write_file(
+        &dir,
+        "bearing.rhai",
+        "//! drive: sd2
+//! name: Scripted bearing check
+let d = drive();
+d.go_to(\"operation_enabled\");
+let t = d.read(\"motor_temperature\");
+expect_near(\"motor temperature\", t, 25.0, \"50 %\");
+expect_compared_with_last_pass(\"motor temperature\", t, #{ at_most: 2.0, at_least: -2.0, without_history: \"pass\" });
+",
+    );
+    let unit = ["--fast", "--unit", "serial=SC-1", "--sim"];
+    let (code, first) = run(&script, store, &[&unit[..], &["ambient=25°C"]].concat());
+    assert_eq!(code, 0, "{first}");
+    assert_has(
+        &first,
+        &["PASS  motor temperature compared with last pass: no earlier passed run of SC-1"],
+    );
+    let first_id = run_id(&first);
+    let (code, drifted) = run(&script, store, &[&unit[..], &["ambient=30°C"]].concat());
+    assert_eq!(code, 1, "{drifted}");
+    assert_has(
+        &drifted,
+        &[
+            &format!("history SC-1: compared with its last pass, run {first_id}"),
+            &format!("FAIL  motor temperature compared with last pass: motor temperature = 30: +5 against 25 in run {first_id}"),
+            "expected a change between -2 and +2",
+        ],
+    );
+    let wrong = write_file(
+        &dir,
+        "wrong.rhai",
+        &std::fs::read_to_string(&script)
+            .expect("script")
+            .replace(", without_history: \"pass\"", ""),
+    );
+    let (code, out) = run(&wrong, store, &unit[..3]);
+    assert_ne!(code, 0, "{out}");
+    assert_has(&out, &["give `without_history: \"pass\"`", "wrong.rhai:7:1"]);
+}
