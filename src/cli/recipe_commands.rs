@@ -174,6 +174,14 @@ fn print_checked(path: &Path, checked: &Checked) -> i32 {
     for (prompt, origin) in plan.prompts() {
         println!("    asks {}: {prompt} ({origin})", prompt.name);
     }
+    if let Some(at) = plan.compares_with_last_pass() {
+        let sets_serial = plan.prompts().into_iter().find(|(p, _)| p.sets("serial"));
+        let from = match sets_serial {
+            Some((p, origin)) => format!("--unit serial=… or the operator step {} ({origin})", p.name),
+            None => "--unit serial=… (no operator step sets it: a run without it is refused)".into(),
+        };
+        println!("    compares with the unit's last passed run ({at}); the serial from {from}");
+    }
     if let Some(limits) = checked.bench_limits() {
         println!("    bench limits {} ({})", limits.summary(), limits.source());
     }
@@ -240,6 +248,7 @@ pub fn run(args: &RunArgs, registry: &Registry) -> i32 {
         operator: &args.operator,
         input: RunOperator::stdin_is_terminal().then(TerminalInput::stdin),
         observers,
+        history: args.record.history(&args.connection),
     };
     run_many(
         &args.recipes,

@@ -95,7 +95,7 @@ struct FilterArgs {
     #[arg(long)]
     recipe: Option<String>,
     /// Only runs that ended so: passed, failed, error, interrupted, panic, incomplete.
-    #[arg(long, value_parser = ["passed", "failed", "error", "interrupted", "panic", "incomplete"])]
+    #[arg(long, value_parser = ["passed", "failed", "error", "interrupted", "panic", "refused", "incomplete"])]
     verdict: Option<String>,
     /// Only runs started since: a date (2026-11-01), a UTC time (2026-11-01T08:00:00Z) or
     /// a time ago (7d, 12h).
@@ -424,6 +424,13 @@ fn show(store: &mut Store, id: &str, json: bool) -> Result<i32, StoreError> {
             c.name,
             c.message
         );
+        if let (Some(run), Some(value)) = (&c.reference_run, c.reference_value) {
+            println!(
+                "                  reference: run {run} of {}, measured {}",
+                c.reference_at.as_deref().unwrap_or("an unknown time"),
+                crate::session::number(value)
+            );
+        }
     }
     match &r.end {
         Some(e) => {
@@ -447,6 +454,9 @@ fn show(store: &mut Store, id: &str, json: bool) -> Result<i32, StoreError> {
                 e.verdict.to_uppercase(),
                 e.exit_code
             );
+            if let Some(reason) = &e.reason {
+                println!("reason   {reason}");
+            }
         }
         None => println!("INCOMPLETE — the run never finished (killed, power cut, or still running)"),
     }

@@ -18,6 +18,7 @@ mod tests;
 
 use super::expansion::{Expansion, OverLimit};
 use super::recipe::Recipe;
+use super::text_digest::TextDigest;
 use super::RecipeInvalid;
 use crate::diag::{read_source, Diagnostic, Diagnostics, Reader, Source, Span};
 use crate::dictionary::Dictionary;
@@ -156,6 +157,8 @@ fn load_once(
 ) -> Result<Recipe, RecipeInvalid> {
     let mut problems = Diagnostics::new();
     let mut expansion = Expansion::default();
+    let mut digest = TextDigest::default();
+    digest.add(source.text());
     let path = source.path().to_string();
     let recipe = Loader {
         dict: dictionary,
@@ -165,13 +168,17 @@ fn load_once(
         source,
         r: Reader::new(&mut problems),
         expansion: &mut expansion,
+        digest: &mut digest,
         params: BTreeMap::new(),
         sampled: HashMap::new(),
         base_dir: base_dir.to_path_buf(),
     }
     .recipe(overrides);
     match recipe {
-        Some(r) if problems.is_empty() => Ok(r),
+        Some(r) if problems.is_empty() => Ok(Recipe {
+            text_sha256: digest.hex(),
+            ..r
+        }),
         _ => Err(RecipeInvalid { path, problems }),
     }
 }
@@ -197,6 +204,8 @@ struct Loader<'a, 'p> {
     r: Reader<'p>,
     /// Included files and steps so far, over every level of includes.
     expansion: &'p mut Expansion,
+    /// The text of the recipe and of every file it includes, as read.
+    digest: &'p mut TextDigest,
     params: BTreeMap<String, ParamValue>,
     /// Objects sampled so far in file order, for `expect` on statistics; true when the last
     /// sample step declared a step for it (for the measures of a step response).

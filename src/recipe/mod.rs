@@ -12,6 +12,7 @@ mod runner;
 mod schema;
 mod schema_dynamics;
 mod step;
+mod text_digest;
 mod written_values;
 
 pub use drive_decl::DriveDecl;
@@ -20,7 +21,9 @@ pub use loader::{
     declared_drives, declared_params, load_recipe, load_recipe_for, load_recipe_text, DriveDictionaries,
     MAX_DURATION, MAX_SAMPLES,
 };
-pub use planned_checks::{operator_prompts, planned_checks, sampled_objects, shortest_sample_interval};
+pub use planned_checks::{
+    last_pass_checks, operator_prompts, planned_checks, sampled_objects, shortest_sample_interval,
+};
 pub use recipe::{Param, Recipe, SafeStopChoice};
 /// A recipe that did not pass its check.
 pub type RecipeInvalid = crate::diag::FileInvalid;

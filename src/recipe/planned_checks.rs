@@ -38,6 +38,16 @@ fn walk(steps: &[Step], prefix: &str, stage: &mut Vec<String>, out: &mut Vec<Pla
                         step: number.clone(),
                         origin: step.origin.clone(),
                     });
+                    if c.last_pass.is_some() {
+                        out.push(PlannedCheck {
+                            name: format!("{} compared with last pass", c.name),
+                            object: None,
+                            statistic: None,
+                            stage: stage.join(" / "),
+                            step: number.clone(),
+                            origin: step.origin.clone(),
+                        });
+                    }
                 }
             }
             StepKind::WaitUntil { condition, .. } => out.push(PlannedCheck {
@@ -154,4 +164,35 @@ pub fn operator_prompts(recipe: &Recipe) -> Vec<(crate::session::Prompt, crate::
     walk(recipe.finally.as_deref().unwrap_or_default(), &mut out);
     walk(&recipe.on_fault, &mut out);
     out
+}
+
+/// The checks that compare with the unit's last passed run, each name once, with where
+/// the first of them writes `compared_with_last_pass`. (One in `finally` judges by what was
+/// looked up before: the safe stop never waits for a store.)
+pub fn last_pass_checks(recipe: &Recipe) -> (Vec<String>, Option<crate::session::StepOrigin>) {
+    fn walk(steps: &[Step], names: &mut Vec<String>, first: &mut Option<crate::session::StepOrigin>) {
+        for step in steps {
+            if let StepKind::Expect(checks) = &step.kind {
+                for (c, lp) in checks
+                    .iter()
+                    .filter_map(|c| c.last_pass.as_ref().map(|lp| (c, lp)))
+                {
+                    first.get_or_insert_with(|| lp.written.clone());
+                    if !names.contains(&c.name) {
+                        names.push(c.name.clone());
+                    }
+                }
+            }
+            walk(step.nested(), names, first);
+        }
+    }
+    let (mut names, mut first) = (Vec::new(), None);
+    walk(&recipe.steps, &mut names, &mut first);
+    walk(
+        recipe.finally.as_deref().unwrap_or_default(),
+        &mut names,
+        &mut first,
+    );
+    walk(&recipe.on_fault, &mut names, &mut first);
+    (names, first)
 }

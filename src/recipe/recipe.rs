@@ -51,4 +51,7 @@ pub struct Recipe {
     /// The named drives of `drives:`, in the order written; empty for a recipe with one
     /// `drive:`.
     pub drives: Vec<DriveDecl>,
+    /// SHA-256 (hex) of the text the recipe was loaded from with every file it includes
+    /// (see `text_digest.rs`).
+    pub text_sha256: String,
 }

@@ -46,6 +46,7 @@ impl<'a> Runner<'a> {
                 .map(|p| (p.name.clone(), p.value.clone()))
                 .collect(),
             unit: UnitIdentity::default(),
+            text_sha256: Some(recipe.text_sha256.clone()),
         };
         Runner {
             session: Session::with_drives(drives, observer, stop, run),
@@ -62,6 +63,18 @@ impl<'a> Runner<'a> {
     /// come from.
     pub fn with_operator(mut self, unit: UnitIdentity, operator: Box<dyn Operator + 'a>) -> Self {
         self.session = self.session.with_unit(unit).with_operator(operator);
+        self
+    }
+
+    /// Where the unit's past runs are read, for the checks that compare with its last pass.
+    pub fn with_history(
+        mut self,
+        history: Option<std::sync::Arc<dyn crate::session::History>>,
+        recipe: &Recipe,
+    ) -> Self {
+        self.session = self
+            .session
+            .with_history(history, super::last_pass_checks(recipe).0);
         self
     }
 

@@ -4,7 +4,7 @@
 //! tagged YAML whose exact shape a derive could not express. Pure; no I/O.
 
 use super::loader::STEP_KEYS;
-use super::schema_dynamics::{dynamics_steps, one_statistic, with_slope, STEP_STATISTICS};
+use super::schema_dynamics::{dynamics_steps, last_pass_schema, one_statistic, with_slope, STEP_STATISTICS};
 use crate::dictionary::{Dictionary, Dimension, ObjectDef, Unit};
 use crate::drive::{AddressKeyTable, KeyUse, KeyValues};
 use crate::session::number;
@@ -120,7 +120,8 @@ fn dimension_defs(defs: &mut serde_json::Map<String, Value>, unit: Option<Unit>)
         "between": { "type": "array", "items": value_ref, "minItems": 2, "maxItems": 2,
                      "description": "[low, high], both included" },
         "near": value_ref, "within": within,
-        "warn": { "description": "a narrower band in the shape of the condition's own (a tolerance for near, a value for above/below, [low, high] for between): a pass outside it is marginal" }
+        "warn": { "description": "a narrower band in the shape of the condition's own (a tolerance for near, a value for above/below, [low, high] for between): a pass outside it is marginal" },
+        "compared_with_last_pass": last_pass_schema(format!(r"^\s*(\+?({NUMBER})\s*({within_units})?|{PARAM})\s*$"))
     });
     // Exactly one predicate; `near` only with `within` and `within` only with `near`.
     let one_predicate = json!([

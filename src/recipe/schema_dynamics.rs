@@ -1,6 +1,6 @@
 //! The parts of the recipe JSON Schema for the checks on how the drive moves: the measures
 //! of a step response and the slope as statistics, `slope` as a `wait_until` condition,
-//! and the `attempts` and `coast_down` steps. Their limits are in their own units (s, %, K
+//! the `attempts` and `coast_down` steps, and a check's `compared_with_last_pass`. Their limits are in their own units (s, %, K
 //! for a difference of °C, K/min), which `check` validates; the schema gives their shape.
 
 use serde_json::{json, Map, Value};
@@ -78,4 +78,32 @@ pub(super) fn dynamics_steps(steps_ref: &Value) -> impl Iterator<Item = (&'stati
         ),
     ]
     .into_iter()
+}
+
+/// `compared_with_last_pass` on an `expect` condition; `change` is the pattern of one end
+/// (a signed number in % or in the units of a difference of the check's values).
+pub(super) fn last_pass_schema(change: String) -> Value {
+    let end = |doc: &str| {
+        json!({
+            "type": ["string", "number"],
+            "description": doc,
+            "pattern": change,
+            "patternErrorMessage": "expected a change in % (of the last pass's value) or in the check's unit, e.g. 10 % or -0.5 A"
+        })
+    };
+    json!({
+        "type": "object",
+        "description": "compare with the same check in the unit's last passed run of this recipe (same serial, simulated with simulated): how far the value may move, in % of that value or in the check's unit, both ends included; `without_history`: what a run with no earlier pass does. Example: `{ at_most: 10 %, at_least: -5 %, without_history: pass }`",
+        "properties": {
+            "at_most": end("the largest change allowed: `10 %` (of the last pass's value) or `0.5 A`"),
+            "at_least": end("the smallest change allowed (negative: a fall): `-5 %` or `-0.5 A`"),
+            "without_history": {
+                "enum": ["pass", "fail"],
+                "description": "with no earlier passed run of the unit (its first run): `pass` lets it through, `fail` insists on one"
+            }
+        },
+        "required": ["without_history"],
+        "anyOf": [ { "required": ["at_most"] }, { "required": ["at_least"] } ],
+        "additionalProperties": false
+    })
 }

@@ -253,13 +253,14 @@ pub fn check_line(c: &CheckResult, attempts: &OpenAttempts) -> Option<String> {
         (true, true) => "MARGINAL".to_string(),
         (false, _) => attempts.fail_mark(),
     };
+    let (above, below) = if c.inclusive { ("≥", "≤") } else { (">", "<") };
     let limits = match (c.low, c.high) {
         (Some(lo), Some(hi)) if lo == hi => format!(" (expected {})", with_unit(lo, c.unit.as_deref())),
         (Some(lo), Some(hi)) => {
             format!(" (limits {} .. {})", number(lo), with_unit(hi, c.unit.as_deref()))
         }
-        (Some(lo), None) => format!(" (limit > {})", with_unit(lo, c.unit.as_deref())),
-        (None, Some(hi)) => format!(" (limit < {})", with_unit(hi, c.unit.as_deref())),
+        (Some(lo), None) => format!(" (limit {above} {})", with_unit(lo, c.unit.as_deref())),
+        (None, Some(hi)) => format!(" (limit {below} {})", with_unit(hi, c.unit.as_deref())),
         (None, None) => String::new(),
     };
     Some(format!("        {mark}  {}: {}{limits}", c.name, c.message))

@@ -406,6 +406,7 @@ mod tests {
             marginal: false,
             retried: false,
             inclusive: false,
+            reference: None,
         };
         live.attempt_started("3", 1, 2);
         live.check(&failed);

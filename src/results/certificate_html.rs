@@ -12,12 +12,13 @@ use std::fmt::Write as _;
 pub fn unit_certificate(serial: &str, runs: &[StoredRun]) -> String {
     let title = format!("Unit {serial}");
     let mut h = page_start(&title);
-    let latest = runs.last();
+    // An attempt refused before it started says nothing of the unit.
+    let latest = runs.iter().rev().find(|r| r.started()).or(runs.last());
     let verdict = latest.map_or("no runs", |r| r.verdict());
     let _ = writeln!(
         h,
         "<header>\n<h1>{}</h1>\n<p class=\"verdict {}\" id=\"verdict\">{} {}</p>\n\
-         <p class=\"why\">{} run(s) recorded; the latest ended {}.</p>\n</header>",
+         <p class=\"why\">{} run(s) recorded; the latest that started ended {}.</p>\n</header>",
         esc(&title),
         class(verdict),
         if verdict == "passed" { "✔" } else { "✘" },

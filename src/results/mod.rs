@@ -19,6 +19,7 @@ mod spool;
 mod sqlite_backend;
 mod store;
 mod store_error;
+mod store_history;
 mod stored_run;
 pub mod trend_html;
 
@@ -30,4 +31,5 @@ pub use schema::current_version;
 pub use spool::{Delivered, Spool};
 pub use store::Store;
 pub use store_error::StoreError;
+pub use store_history::StoreHistory;
 pub use stored_run::{RunFilter, StoredRun, TrendPoint};

@@ -28,6 +28,9 @@ impl Record {
     }
 }
 
+/// The `drive` of a run refused before it started (nothing was opened or sent).
+pub const NOT_STARTED: &str = "not started";
+
 /// A run as it starts.
 #[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
 pub struct RunRow {
@@ -36,7 +39,8 @@ pub struct RunRow {
     pub kind: String,
     pub recipe: String,
     pub recipe_path: String,
-    /// SHA-256 of the file's exact text, in hex.
+    /// SHA-256 of the exact text it ran with, in hex: a recipe's file and every file it
+    /// includes (`recipe/text_digest.rs`), a script's file.
     pub recipe_sha256: Option<String>,
     pub tool_version: String,
     /// UTC, RFC 3339 with milliseconds (sorts as text).
@@ -97,6 +101,14 @@ pub struct CheckRow {
     /// 1 for the first time this check was decided at this step, 2 for a retry…
     pub attempt: i64,
     pub message: String,
+    /// A comparison with the unit's last passed run: that run's id, when it started and
+    /// what its check measured (the change is `measured`).
+    #[serde(default)]
+    pub reference_run: Option<String>,
+    #[serde(default)]
+    pub reference_at: Option<String>,
+    #[serde(default)]
+    pub reference_value: Option<f64>,
 }
 
 /// How the run ended.
@@ -104,7 +116,8 @@ pub struct CheckRow {
 pub struct EndRow {
     pub run: String,
     pub ended_at: String,
-    /// `passed`, `failed`, `error`, `interrupted`, `panic`.
+    /// `passed`, `failed`, `error`, `interrupted`, `panic`; for a run that never started
+    /// `refused` (exit code 2) or `error` (its drive could not be reached).
     pub verdict: String,
     pub exit_code: i64,
     pub reason: Option<String>,

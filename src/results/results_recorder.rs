@@ -222,8 +222,9 @@ fn file_sha256(path: &str) -> Option<String> {
     )
 }
 
-impl RunObserver for ResultsRecorder {
-    fn run_started(&mut self, run: &RunInfo, drive: &str) {
+impl ResultsRecorder {
+    /// The run's row as it starts, under a new id.
+    fn started_row(&self, run: &RunInfo, drive: &str) -> RunRow {
         let id = new_run_id();
         let facts = self
             .settings
@@ -237,7 +238,7 @@ impl RunObserver for ResultsRecorder {
             kind: run.kind.to_string(),
             recipe: run.name.clone(),
             recipe_path: run.path.clone(),
-            recipe_sha256: file_sha256(&run.path),
+            recipe_sha256: run.text_sha256.clone().or_else(|| file_sha256(&run.path)),
             tool_version: env!("CARGO_PKG_VERSION").to_string(),
             started_at: utc_text(SystemTime::now()),
             simulated: self.settings.simulated,
@@ -254,12 +255,81 @@ impl RunObserver for ResultsRecorder {
             unit: unit_row(&run.unit),
             params: run.params.clone(),
         };
+        row
+    }
+
+    /// Hands the run's end to the writer and waits (bounded) until the store has the
+    /// whole run, else spools all of it.
+    fn finish(&mut self, mut run: CurrentRun, end: EndRow) {
+        run.sent.push(Record::Finished(end.clone()));
+        self.send(Record::Finished(end));
+        if !self.flushed() {
+            let kept = match self.spool.append(&run.sent) {
+                Ok(()) => format!(
+                    "run {} is kept in {} and delivered by the next run or `drivescript results sync`",
+                    run.id,
+                    self.spool.path().display()
+                ),
+                Err(e) => format!("what of run {} it has not taken is lost: {e}", run.id),
+            };
+            note(
+                &self.notes,
+                &format!(
+                    "results: {} had not taken the whole run when it ended (it did not answer within {} s, or a stop signal came); {kept}",
+                    self.store_name,
+                    FINISH_WAIT.as_secs(),
+                ),
+            );
+        } else if !self.settings.quiet {
+            note(
+                &self.notes,
+                &format!("results: run {} recorded in {}", run.id, self.store_name),
+            );
+        }
+    }
+}
+
+impl RunObserver for ResultsRecorder {
+    fn run_started(&mut self, run: &RunInfo, drive: &str) {
+        let row = self.started_row(run, drive);
         self.run = Some(CurrentRun {
-            id,
+            id: row.id.clone(),
             path: run.path.clone(),
             ..CurrentRun::default()
         });
         self.send(Record::Started(row));
+    }
+
+    /// A run refused before it started is kept for its unit (verdict `refused`, or
+    /// `error` when the drive could not be reached), with the reason and no checks; one
+    /// without a serial number is a file being written, not a unit's history.
+    fn run_refused(&mut self, run: &RunInfo, exit_code: i32, why: &str) {
+        if run.unit.serial.is_none() {
+            return;
+        }
+        let row = self.started_row(run, super::record::NOT_STARTED);
+        let id = row.id.clone();
+        self.run = Some(CurrentRun {
+            id: id.clone(),
+            path: run.path.clone(),
+            ..CurrentRun::default()
+        });
+        self.send(Record::Started(row));
+        let Some(current) = self.run.take() else { return };
+        let verdict = if exit_code == crate::session::ERROR_EXIT {
+            "error"
+        } else {
+            "refused"
+        };
+        let end = EndRow {
+            run: id,
+            ended_at: utc_text(SystemTime::now()),
+            verdict: verdict.into(),
+            exit_code: i64::from(exit_code),
+            reason: Some(why.trim().to_string()),
+            ..EndRow::default()
+        };
+        self.finish(current, end);
     }
 
     fn unit_identified(&mut self, unit: &UnitIdentity) {
@@ -314,12 +384,15 @@ impl RunObserver for ResultsRecorder {
             stage: c.stage.clone(),
             attempt,
             message: c.message.clone(),
+            reference_run: c.reference.as_ref().map(|r| r.run.clone()),
+            reference_at: c.reference.as_ref().map(|r| r.started_at.clone()),
+            reference_value: c.reference.as_ref().map(|r| r.value),
         });
         self.send(record);
     }
 
     fn run_finished(&mut self, r: &RunReport) {
-        let Some(mut run) = self.run.take() else { return };
+        let Some(run) = self.run.take() else { return };
         let mut files = self
             .settings
             .files
@@ -355,30 +428,6 @@ impl RunObserver for ResultsRecorder {
             omitted_steps: run.steps.omitted,
             omitted_checks: run.checks.omitted,
         };
-        run.sent.push(Record::Finished(end.clone()));
-        self.send(Record::Finished(end));
-        if !self.flushed() {
-            let kept = match self.spool.append(&run.sent) {
-                Ok(()) => format!(
-                    "run {} is kept in {} and delivered by the next run or `drivescript results sync`",
-                    run.id,
-                    self.spool.path().display()
-                ),
-                Err(e) => format!("what of run {} it has not taken is lost: {e}", run.id),
-            };
-            note(
-                &self.notes,
-                &format!(
-                    "results: {} had not taken the whole run when it ended (it did not answer within {} s, or a stop signal came); {kept}",
-                    self.store_name,
-                    FINISH_WAIT.as_secs(),
-                ),
-            );
-        } else if !self.settings.quiet {
-            note(
-                &self.notes,
-                &format!("results: run {} recorded in {}", run.id, self.store_name),
-            );
-        }
+        self.finish(run, end);
     }
 }

@@ -41,6 +41,10 @@ const MIGRATIONS: &[&str] = &[
         run_id TEXT NOT NULL, seq BIGINT NOT NULL, object TEXT NOT NULL, unit TEXT,
         step TEXT NOT NULL, points TEXT NOT NULL,
         PRIMARY KEY (run_id, seq));",
+    // 2: a check compared with the unit's last passed run names that run and its value.
+    "ALTER TABLE checks ADD COLUMN reference_run TEXT;
+     ALTER TABLE checks ADD COLUMN reference_at TEXT;
+     ALTER TABLE checks ADD COLUMN reference_value DOUBLE PRECISION;",
 ];
 
 /// The schema version this drivescript writes.
@@ -132,4 +136,45 @@ fn version(backend: &mut dyn Backend) -> Result<Option<i64>, StoreError> {
         });
     }
     Ok(Some(v))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::results::sqlite_backend::SqliteBackend;
+
+    /// A store written by the first version keeps its runs and takes the columns of a
+    /// check's reference when opened by this one.
+    #[test]
+    fn a_version_1_store_is_migrated_and_keeps_its_runs() {
+        let dir = std::env::temp_dir().join(format!("drivescript-schema-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).expect("dir");
+        let path = dir.join("v1.sqlite");
+        let mut old = SqliteBackend::open(&path, true).expect("opens");
+        old.batch(MIGRATIONS[0]).expect("version 1");
+        old.batch(
+            "INSERT INTO drivescript_store (key, value) VALUES ('application', 'drivescript results');
+             INSERT INTO drivescript_store (key, value) VALUES ('schema', '1');
+             INSERT INTO checks (run_id, seq, name, passed, marginal, step, stage, attempt, message)
+                VALUES ('r1', 1, 'c', 1, 0, '1', '', 1, 'kept');",
+        )
+        .expect("a version 1 check");
+        drop(old);
+        let store = crate::results::Locator::Sqlite(path)
+            .open(false)
+            .expect("migrated");
+        drop(store);
+        let mut b = SqliteBackend::open(&dir.join("v1.sqlite"), false).expect("opens");
+        assert_eq!(version(&mut b).expect("version"), Some(current_version()));
+        let rows = b
+            .query(
+                "SELECT message, reference_run FROM checks WHERE run_id = 'r1'",
+                &[],
+            )
+            .expect("the new column");
+        assert_eq!(rows[0][0].text(), Some("kept"));
+        assert_eq!(rows[0][1].text(), None);
+        let _ = std::fs::remove_dir_all(&dir);
+    }
 }

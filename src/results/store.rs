@@ -6,6 +6,7 @@ use super::backend::{Backend, Value};
 use super::record::{CheckRow, EndRow, Record, RunRow, SeriesRow, StepRow, UnitRow};
 use super::stored_run::{RunFilter, StoredRun, TrendPoint};
 use super::{schema, StoreError};
+use crate::session::{PastCheck, PastRun};
 
 pub struct Store {
     backend: Box<dyn Backend>,
@@ -93,8 +94,9 @@ impl Store {
             Record::Check(c) => {
                 b.execute(
                     "INSERT INTO checks (run_id, seq, name, measured, measured_text, unit, low, \
-                     high, passed, marginal, step, stage, attempt, message) VALUES ($1, $2, $3, $4, $5, \
-                     $6, $7, $8, $9, $10, $11, $12, $13, $14) ON CONFLICT DO NOTHING",
+                     high, passed, marginal, step, stage, attempt, message, reference_run, \
+                     reference_at, reference_value) VALUES ($1, $2, $3, $4, $5, $6, $7, $8, $9, \
+                     $10, $11, $12, $13, $14, $15, $16, $17) ON CONFLICT DO NOTHING",
                     &[
                         c.run.as_str().into(),
                         c.seq.into(),
@@ -110,6 +112,9 @@ impl Store {
                         c.stage.as_str().into(),
                         c.attempt.into(),
                         c.message.as_str().into(),
+                        c.reference_run.clone().into(),
+                        c.reference_at.clone().into(),
+                        c.reference_value.into(),
                     ],
                 )?;
             }
@@ -229,7 +234,8 @@ impl Store {
     fn checks(&mut self, run: &str) -> Result<Vec<CheckRow>, StoreError> {
         let rows = self.backend.query(
             "SELECT seq, name, measured, measured_text, unit, low, high, passed, step, stage, \
-             attempt, message, marginal FROM checks WHERE run_id = $1 ORDER BY seq",
+             attempt, message, marginal, reference_run, reference_at, reference_value \
+             FROM checks WHERE run_id = $1 ORDER BY seq",
             &[run.into()],
         )?;
         Ok(rows
@@ -249,6 +255,9 @@ impl Store {
                 attempt: int(&r[10]),
                 message: text(&r[11]),
                 marginal: int(&r[12]) != 0,
+                reference_run: opt(&r[13]),
+                reference_at: opt(&r[14]),
+                reference_value: r[15].real(),
             })
             .collect())
     }
@@ -291,6 +300,46 @@ impl Store {
                 .collect();
         }
         Ok(run)
+    }
+
+    /// The last complete run with verdict passed of the recipe named `recipe` on the unit
+    /// `serial`, among simulated runs or among real ones, with its passed checks that
+    /// measured a value; `None` when there is none.
+    pub fn last_pass(
+        &mut self,
+        recipe: &str,
+        serial: &str,
+        simulated: bool,
+    ) -> Result<Option<PastRun>, StoreError> {
+        let rows = self.backend.query(
+            "SELECT id, started_at FROM runs WHERE recipe = $1 AND serial = $2 AND simulated = $3 \
+             AND verdict = 'passed' AND ended_at IS NOT NULL ORDER BY started_at DESC, id DESC LIMIT 1",
+            &[recipe.into(), serial.into(), simulated.into()],
+        )?;
+        let Some(run) = rows.first() else {
+            return Ok(None);
+        };
+        let id = text(&run[0]);
+        let checks = self.backend.query(
+            "SELECT name, step, measured, unit FROM checks WHERE run_id = $1 AND passed = 1 \
+             AND measured IS NOT NULL ORDER BY seq",
+            &[id.as_str().into()],
+        )?;
+        Ok(Some(PastRun {
+            id,
+            started_at: text(&run[1]),
+            checks: checks
+                .iter()
+                .filter_map(|c| {
+                    Some(PastCheck {
+                        name: text(&c[0]),
+                        step: text(&c[1]),
+                        measured: c[2].real()?,
+                        unit: opt(&c[3]),
+                    })
+                })
+                .collect(),
+        }))
     }
 
     /// Check `name`'s value in every run `filter` takes, oldest first.
@@ -466,6 +515,9 @@ mod tests {
                 stage: String::new(),
                 attempt: 1,
                 message: String::new(),
+                reference_run: None,
+                reference_at: None,
+                reference_value: None,
             }),
             Record::Finished(EndRow {
                 run: id.into(),

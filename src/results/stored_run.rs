@@ -15,9 +15,16 @@ pub struct StoredRun {
 }
 
 impl StoredRun {
-    /// `passed`, `failed`, `error`, `interrupted`, `panic`, or `incomplete`.
+    /// `passed`, `failed`, `error`, `interrupted`, `panic`, `refused` (never started), or
+    /// `incomplete`.
     pub fn verdict(&self) -> &str {
         self.end.as_ref().map_or("incomplete", |e| e.verdict.as_str())
+    }
+
+    /// Whether it started: a run refused before it started (recorded for its unit) did
+    /// not, and tells nothing of the unit itself.
+    pub fn started(&self) -> bool {
+        self.run.drive != super::record::NOT_STARTED
     }
 }
 

@@ -74,6 +74,7 @@ pub fn trend_page(check: &str, points: &[TrendPoint]) -> String {
         marginal: false,
         retried: false,
         inclusive: false,
+        reference: None,
     };
     let _ = writeln!(
         h,

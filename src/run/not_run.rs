@@ -9,7 +9,7 @@ use crate::bus::BusKind;
 use crate::dictionary::Dictionary;
 use crate::family::Registry;
 use crate::report::{html_not_run, junit_document, junit_not_run_suite, write_atomically};
-use crate::session::PlannedCheck;
+use crate::session::{PlannedCheck, RunInfo};
 use std::io::Write;
 
 /// The message for a drive that did not answer its first request, naming the address as
@@ -109,6 +109,7 @@ pub fn not_run(
         ("invalid", "INVALID")
     };
     let why = why.trim_end();
+    recorded(request, plan.map(|(p, _)| p), code, why);
     let outputs = request.outputs;
     let suite = junit_not_run_suite(&name, &recipe_path, kind, why, planned);
     if let Some(p) = &outputs.junit {
@@ -124,5 +125,34 @@ pub fn not_run(
     RunResult {
         junit: Some(suite),
         ..RunResult::refused(code)
+    }
+}
+
+/// Tells the run's observers (the results store) that the run never started, with the
+/// unit as far as the command line and the answers given beforehand know it: an attempt
+/// on a unit stays visible in its history.
+fn recorded(request: &RunRequest, plan: Option<&RunPlan>, code: i32, why: &str) {
+    let prompts = plan.map(RunPlan::prompts).unwrap_or_default();
+    let given = request.operator.given().unwrap_or_default();
+    let run = RunInfo {
+        kind: if crate::script::is_script(request.file) {
+            "script"
+        } else {
+            "recipe"
+        },
+        name: plan.map_or_else(|| request.file.display().to_string(), |p| p.name().to_string()),
+        path: plan.map_or_else(|| request.file.display().to_string(), |p| p.path().to_string()),
+        params: request.set.to_vec(),
+        unit: request.operator.identity_with_answers(&prompts, &given),
+        text_sha256: match plan {
+            Some(RunPlan::Recipe(r)) => Some(r.text_sha256.clone()),
+            _ => None,
+        },
+    };
+    for observer in &request.observers {
+        observer
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner)
+            .run_refused(&run, code, why);
     }
 }

@@ -5,7 +5,7 @@
 
 use super::{BadValue, RunError};
 use crate::diag::{read_source, YamlNode, YamlValue};
-use crate::session::{Given, UnitIdentity, UNIT_FIELDS};
+use crate::session::{Given, Prompt, PromptKind, StepOrigin, UnitIdentity, UNIT_FIELDS};
 use clap::Args;
 use std::path::PathBuf;
 
@@ -56,6 +56,28 @@ impl OperatorArgs {
         for (part, value) in &self.unit {
             if let Some(slot) = unit.field_mut(part) {
                 *slot = Some(value.clone());
+            }
+        }
+        unit
+    }
+
+    /// The identity the command line gives, with the parts `given` beforehand to the
+    /// operator steps (`prompts`) that set them, where the command line left them open.
+    pub fn identity_with_answers(
+        &self,
+        prompts: &[(Prompt, StepOrigin)],
+        given: &[(String, Given)],
+    ) -> UnitIdentity {
+        let mut unit = self.identity();
+        for (prompt, _) in prompts {
+            let PromptKind::Text { sets: Some(part), .. } = &prompt.kind else {
+                continue;
+            };
+            let answer = given.iter().find(|(name, _)| *name == prompt.name);
+            if let (Some(slot), Some((_, answer))) = (unit.field_mut(part), answer) {
+                if slot.is_none() {
+                    *slot = prompt.judge(&answer.value).ok().map(|a| a.text);
+                }
             }
         }
         unit

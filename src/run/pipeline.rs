@@ -52,6 +52,10 @@ pub fn run(request: &RunRequest, out: &mut dyn Write, err: &mut dyn Write) -> Ru
     if let Err(e) = answers_checked(&prompts, complete, &given, request.input.is_some()) {
         return refuse(INVALID, &e.to_string(), err);
     }
+    let unit = match start_identity(plan, request, &prompts, &given) {
+        Ok(u) => u,
+        Err(e) => return refuse(INVALID, &e, err),
+    };
     // The file's link settings under the command line's, checked before anything is
     // opened: a wrong setting is an invalid file or command line (exit 2), not a
     // communication failure.
@@ -131,8 +135,9 @@ pub fn run(request: &RunRequest, out: &mut dyn Write, err: &mut dyn Write) -> Ru
         safe_stop: request.safe_stop.settings(plan.safe_stop()),
         output_dir: request.output_dir.clone(),
         csv_wide: outputs.csv_wide,
-        unit: request.operator.identity(),
+        unit,
         operator: Box::new(RunOperator::new(given, request.input.clone())),
+        history: request.history.clone(),
     };
     let report = observed(out, &look, csv.as_mut(), &request.observers, |observers| {
         let drives = open.drives.iter_mut().map(|(n, d)| (n.clone(), d)).collect();
@@ -247,4 +252,26 @@ fn opened(
         description: open.description,
         clock,
     })
+}
+
+/// The unit as known at the start. A plan that compares with the unit's last passed run
+/// needs its serial: from `--unit serial=…`, from an answer given beforehand to the step
+/// that sets it (then known at the start, so the lookup comes before anything moves), or
+/// from an operator step during the run; with none of them it is refused.
+fn start_identity(
+    plan: &RunPlan,
+    request: &RunRequest,
+    prompts: &[(crate::session::Prompt, crate::session::StepOrigin)],
+    given: &[(String, crate::session::Given)],
+) -> Result<crate::session::UnitIdentity, String> {
+    let Some(at) = plan.compares_with_last_pass() else {
+        return Ok(request.operator.identity());
+    };
+    let unit = request.operator.identity_with_answers(prompts, given);
+    if unit.serial.is_none() && !prompts.iter().any(|(p, _)| p.sets("serial")) {
+        return Err(format!(
+            "error: {at}: `compared_with_last_pass` compares with the unit's last passed run, but nothing gives the unit's serial number; give --unit serial=…, or ask for it with an operator step (`enter_text` with `sets: serial`) before the check; nothing was sent"
+        ));
+    }
+    Ok(unit)
 }

@@ -4,7 +4,7 @@
 
 use super::{outputs_for, ConnectionArgs, DictionaryArgs, OutputArgs};
 use crate::family::Registry;
-use crate::results::{FileFacts, Locator, Notes, RecorderSettings, ResultsRecorder};
+use crate::results::{FileFacts, Locator, Notes, RecorderSettings, ResultsRecorder, StoreHistory};
 use clap::Args;
 use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex};
@@ -25,6 +25,16 @@ pub struct RecordArgs {
 }
 
 impl RecordArgs {
+    /// Where a run reads the unit's past runs (checks that compare with its last pass): the
+    /// store it records in (also with `--no-results`, which records nothing but may
+    /// compare), among runs as simulated as this one. `None` when nothing names a store
+    /// and there is no data directory.
+    pub fn history(&self, connection: &ConnectionArgs) -> Option<Arc<dyn crate::session::History>> {
+        let (locator, _) = Locator::resolve(self.results.as_deref())?;
+        // Simulated exactly as the recorder marks the run (a replay is).
+        Some(Arc::new(StoreHistory::new(locator, connection.is_simulated())))
+    }
+
     /// The recorder for a run of `files`, or `None` when nothing is to be recorded.
     pub fn recorder(
         &self,

@@ -111,6 +111,7 @@ fn run_one(
         safe_stop: base.safe_stop.clone(),
         observers: base.observers.clone(),
         input: base.input.clone(),
+        history: base.history.clone(),
         ..*base
     };
     let result = super::run(&request, out, err);

@@ -46,6 +46,9 @@ pub struct SessionSettings {
     /// The unit under test as the command line gives it.
     pub unit: UnitIdentity,
     pub operator: Box<dyn Operator>,
+    /// Where the unit's past runs are read (the results store), for the checks that
+    /// compare with its last pass.
+    pub history: Option<Arc<dyn crate::session::History>>,
 }
 
 impl RunPlan {
@@ -168,6 +171,15 @@ impl RunPlan {
         }
     }
 
+    /// Where the first check that compares with the unit's last passed run writes it (a
+    /// recipe's; a script has none); `None` without such checks.
+    pub fn compares_with_last_pass(&self) -> Option<StepOrigin> {
+        match self {
+            RunPlan::Recipe(r) => crate::recipe::last_pass_checks(r).1,
+            RunPlan::Script(_) => None,
+        }
+    }
+
     /// The columns of `--csv-wide`; `None` for a script, which chooses what it samples as
     /// it runs, so its `--csv` keeps the long layout.
     pub fn wide_columns(&self) -> Option<Vec<ObjectRef>> {
@@ -222,12 +234,14 @@ impl RunPlan {
         match self {
             RunPlan::Recipe(recipe) => Runner::with_drives(drives, observer, stop, recipe)
                 .with_operator(settings.unit, settings.operator)
+                .with_history(settings.history, recipe)
                 .with_output_dir(settings.output_dir)
                 .with_csv_wide(settings.csv_wide)
                 .with_settings(settings.safe_stop)
                 .run(recipe),
             RunPlan::Script(script) => ScriptRunner::with_drives(drives, observer, stop.clone())
                 .with_operator(settings.unit, settings.operator)
+                .with_history(settings.history)
                 .with_output_dir(settings.output_dir)
                 .with_csv_wide(settings.csv_wide)
                 .with_settings(settings.safe_stop)

@@ -45,6 +45,9 @@ pub struct RunRequest<'a> {
     /// recorder: where features that follow a run plug in (operator prompts, run
     /// identity, a results store, replay). Shared, so the caller reads them afterwards.
     pub observers: Vec<SharedObserver>,
+    /// Where the unit's past runs are read (the results store), for checks that compare
+    /// with its last passed run; `None`: nowhere (those checks cannot be judged).
+    pub history: Option<Arc<dyn crate::session::History>>,
 }
 
 /// An observer the caller keeps a handle on.

@@ -98,11 +98,11 @@ pub(super) fn error(text: impl Into<String>) -> Box<EvalAltResult> {
 }
 
 /// A number from a Rhai integer or float.
-fn as_number(v: &Dynamic) -> Option<f64> {
+pub(super) fn as_number(v: &Dynamic) -> Option<f64> {
     v.as_float().ok().or_else(|| v.as_int().ok().map(|i| i as f64))
 }
 
-fn number_arg(v: &Dynamic, what: &str) -> RhaiResult<f64> {
+pub(super) fn number_arg(v: &Dynamic, what: &str) -> RhaiResult<f64> {
     as_number(v).ok_or_else(|| error(format!("{what} must be a number, not {}", v.type_name())))
 }
 
@@ -161,13 +161,13 @@ pub fn register(engine: &mut Engine, bridge: &Arc<Bridge>) {
             .and_then(done)
         },
     );
-
     register_reads(engine, bridge);
     register_writes(engine, bridge);
     register_waits(engine, bridge);
     register_checks(engine, bridge);
     register_params(engine, bridge);
     super::operator_api::register_operator(engine, bridge);
+    super::last_pass_api::register_last_pass(engine, bridge);
 }
 
 fn register_reads(engine: &mut Engine, bridge: &Arc<Bridge>) {
@@ -470,6 +470,7 @@ fn register_checks(engine: &mut Engine, bridge: &Arc<Bridge>) {
             marginal: false,
             retried: false,
             inclusive: false,
+            reference: None,
         }
     };
     let b = bridge.clone();

@@ -36,6 +36,8 @@ pub enum Call {
         csv: Option<PathBuf>,
     },
     Expect(Box<CheckResult>),
+    /// A check (by name, with its value) compared with the unit's last passed run.
+    CompareLastPass(Box<(String, f64, crate::session::LastPass)>),
     /// `wait_until_stable`: a [`Condition::Stable`](crate::session::Condition) to wait for.
     WaitStable {
         condition: crate::session::Condition,

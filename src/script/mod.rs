@@ -9,6 +9,7 @@ mod drive_api;
 mod drive_in_condition;
 mod dynamics_api;
 mod exchange;
+mod last_pass_api;
 mod literal_calls;
 mod operator_api;
 mod param_value;

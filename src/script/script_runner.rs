@@ -41,6 +41,7 @@ pub struct ScriptRunner<'a> {
     csv_wide: bool,
     unit: UnitIdentity,
     operator: Option<Box<dyn Operator + 'a>>,
+    history: Option<Arc<dyn crate::session::History>>,
 }
 
 impl<'a> ScriptRunner<'a> {
@@ -64,6 +65,7 @@ impl<'a> ScriptRunner<'a> {
             csv_wide: false,
             unit: UnitIdentity::default(),
             operator: None,
+            history: None,
         }
     }
 
@@ -78,6 +80,12 @@ impl<'a> ScriptRunner<'a> {
     pub fn with_operator(mut self, unit: UnitIdentity, operator: Box<dyn Operator + 'a>) -> Self {
         self.unit = unit;
         self.operator = Some(operator);
+        self
+    }
+
+    /// Where the unit's past runs are read, for `expect_compared_with_last_pass`.
+    pub fn with_history(mut self, history: Option<Arc<dyn crate::session::History>>) -> Self {
+        self.history = history;
         self
     }
 
@@ -116,6 +124,7 @@ impl<'a> ScriptRunner<'a> {
             path: script.path.clone(),
             params: script.params.clone(),
             unit: self.unit.clone(),
+            text_sha256: None,
         };
         let (to_session, from_script) = channel();
         let (to_script, from_session) = channel();
@@ -136,7 +145,8 @@ impl<'a> ScriptRunner<'a> {
         let mut session = Session::with_drives(self.drives, &mut tap, &stop, info)
             .with_settings(self.settings)
             .with_output_dir(self.output_dir)
-            .with_csv_wide(self.csv_wide);
+            .with_csv_wide(self.csv_wide)
+            .with_history(self.history, Vec::new());
         if let Some(operator) = self.operator {
             session = session.with_operator(operator);
         }
@@ -355,6 +365,7 @@ impl Host<'_> {
                 };
                 s.expect_result(check)
             }
+            Call::CompareLastPass(c) => s.expect_compared_with_last_pass(&c.0, c.1, &c.2, origin),
             Call::Fail(message) => Err(Stop::Failed(message)),
             Call::Ask(prompt) => {
                 let (detail, accepted) = s.ask(&prompt, origin, number)?;

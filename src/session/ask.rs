@@ -20,7 +20,20 @@ impl Session<'_> {
     /// goes on; no answer within the prompt's timeout fails and stops the run
     /// ([`Stop::Unanswered`], never retried); a closed terminal ends the run (an error); a
     /// stop request or a drive fault ends the wait at once.
+    /// An answer that sets the unit's serial looks up its last passed run at once (bounded,
+    /// the drives served meanwhile) for the checks that compare with it.
     pub fn ask(
+        &mut self,
+        prompt: &Prompt,
+        origin: &StepOrigin,
+        number: &str,
+    ) -> Result<(String, Accepted), Stop> {
+        let answered = self.ask_once(prompt, origin, number)?;
+        self.look_up_last_pass(true)?;
+        Ok(answered)
+    }
+
+    fn ask_once(
         &mut self,
         prompt: &Prompt,
         origin: &StepOrigin,

@@ -280,6 +280,9 @@ pub struct Check {
     pub predicate: Predicate,
     /// A narrower band inside the limits: a pass outside it is marginal.
     pub warn: Option<Predicate>,
+    /// How far the value may move from the same check in the unit's last passed run: a
+    /// second check, made right after this one.
+    pub last_pass: Option<super::LastPass>,
 }
 
 /// Statistics of a sample window, kept as the samples arrive (Welford's running mean and

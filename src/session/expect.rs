@@ -80,9 +80,23 @@ impl Session<'_> {
                 failed.push(result.message.clone());
             }
             self.record_check_result(result);
+            if let Some(lp) = &c.last_pass {
+                let of = super::history_lookup::Compared {
+                    name: &c.name,
+                    object: &c.object,
+                    statistic: c.statistic,
+                };
+                let compared = self.compared_with_last_pass(&of, lp, measured, origin);
+                if !compared.passed {
+                    self.failed_checks = true;
+                    failed.push(format!("{}: {}", compared.name, compared.message));
+                }
+                self.record_check_result(compared);
+            }
         }
         if failed.is_empty() {
-            Ok(format!("{} check(s) passed", checks.len()))
+            let count = checks.len() + checks.iter().filter(|c| c.last_pass.is_some()).count();
+            Ok(format!("{count} check(s) passed"))
         } else {
             Ok(format!("FAILED: {}", failed.join("; ")))
         }

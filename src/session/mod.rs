@@ -12,6 +12,8 @@ mod coast_down;
 mod condition;
 mod expect;
 mod expect_parameters;
+mod history_lookup;
+mod last_pass;
 mod object_ref;
 mod one_off_stop;
 mod operations;
@@ -45,6 +47,8 @@ pub use condition::{
     number, with_unit, write_number, Check, Condition, Measure, Predicate, Statistic, Stats, Tolerance,
 };
 pub use expect::AttemptMark;
+pub use history_lookup::LOOKUP_LIMIT;
+pub use last_pass::{signed, History, HistoryError, LastPass, PastCheck, PastRun};
 pub use object_ref::ObjectRef;
 pub use one_off_stop::{stop_drive, OneOffStopError};
 pub use operator::{Given, Nobody, Operator, Reply};
@@ -52,8 +56,8 @@ pub use prompt::{default_answer_name, Accepted, NotAnAnswer, Pattern, Prompt, Pr
 pub use run_info::{RunInfo, StepInfo};
 pub use run_observer::{Observers, RunObserver};
 pub use run_report::{
-    CheckResult, DriveEnd, PlannedCheck, RunReport, Series, StepRecord, Track, Verdict, ERROR_EXIT,
-    MAX_RECORDS, PANIC_EXIT,
+    CheckReference, CheckResult, DriveEnd, PlannedCheck, RunReport, Series, StepRecord, Track, Verdict,
+    ERROR_EXIT, MAX_RECORDS, PANIC_EXIT,
 };
 pub use safe_stop_settings::SafeStopSettings;
 pub use sample_table::{SampleTable, LONG_HEADER, LONG_HEADER_DRIVES};

@@ -49,6 +49,7 @@ pub fn stop_drive(
         path: drive.port(),
         params: Vec::new(),
         unit: UnitIdentity::default(),
+        text_sha256: None,
     };
     let mut session = Session::new(drive, observer, stop, run).with_settings(settings);
     session.begin();

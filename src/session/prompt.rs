@@ -107,6 +107,11 @@ impl Prompt {
         }
     }
 
+    /// Whether an answer to it is the unit's `part` (`serial`, `part`, …).
+    pub fn sets(&self, part: &str) -> bool {
+        matches!(&self.kind, PromptKind::Text { sets: Some(p), .. } if *p == part)
+    }
+
     /// `at most 2.8 mm/s`, `between 1 and 2 mm`; `None` without limits.
     pub fn limits_text(&self) -> Option<String> {
         let PromptKind::Value { unit, low, high } = &self.kind else {

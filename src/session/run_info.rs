@@ -15,6 +15,9 @@ pub struct RunInfo {
     pub params: Vec<(String, String)>,
     /// The unit under test, as far as known when the run starts.
     pub unit: UnitIdentity,
+    /// SHA-256 (hex) of the text it runs with, includes too, when the front end knows it;
+    /// `None`: the file's own (a script, which includes nothing).
+    pub text_sha256: Option<String>,
 }
 
 /// One step or operation as it starts.

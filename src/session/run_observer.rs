@@ -33,6 +33,9 @@ pub trait RunObserver {
     /// A value read by `read`/`print`, or a message.
     fn message(&mut self, _text: &str) {}
     fn run_finished(&mut self, _report: &RunReport) {}
+    /// The run was refused before anything was sent (an invalid file or command line,
+    /// exit code 2) or could not reach its drive (3): it never started; `why` says so.
+    fn run_refused(&mut self, _run: &RunInfo, _exit_code: i32, _why: &str) {}
     /// The run is about to wait (a dwell, a poll or sample interval): output held back to
     /// save system calls should go out now, so a log never lags behind a quiet drive.
     fn idle(&mut self) {}
@@ -93,6 +96,11 @@ impl RunObserver for Observers<'_> {
     }
     fn run_finished(&mut self, report: &RunReport) {
         self.list.iter_mut().for_each(|o| o.run_finished(report));
+    }
+    fn run_refused(&mut self, run: &RunInfo, exit_code: i32, why: &str) {
+        self.list
+            .iter_mut()
+            .for_each(|o| o.run_refused(run, exit_code, why));
     }
     fn idle(&mut self) {
         self.list.iter_mut().for_each(|o| o.idle());

@@ -114,6 +114,19 @@ pub struct CheckResult {
     /// The value may equal `low` and `high` (`at_least`, `at_most` of a typed value): the
     /// limits read `≥`/`≤`; otherwise a one-sided limit is strict (`above`, `below`).
     pub inclusive: bool,
+    /// A comparison with the unit's last passed run: the check it compared with.
+    pub reference: Option<CheckReference>,
+}
+
+/// The check of an earlier run a comparison with the last pass was made against.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CheckReference {
+    /// The earlier run's id in the results store.
+    pub run: String,
+    /// When it started (UTC, RFC 3339).
+    pub started_at: String,
+    /// What it measured, in the check's unit.
+    pub value: f64,
 }
 
 impl CheckResult {

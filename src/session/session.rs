@@ -57,6 +57,11 @@ pub struct Session<'a> {
     pub(super) operator: Box<dyn Operator + 'a>,
     /// The speed setpoints written, for the report's whole-run timeline (bounded buckets).
     pub(super) setpoints: Option<(super::ObjectRef, super::BucketSeries)>,
+    /// Where the unit's past runs are read (a results store), the checks that compare
+    /// with its last pass, and what was found.
+    pub(super) history: Option<std::sync::Arc<dyn super::History>>,
+    pub(super) history_checks: Vec<String>,
+    pub(super) past: super::history_lookup::Past,
 }
 
 impl<'a> Session<'a> {
@@ -123,6 +128,9 @@ impl<'a> Session<'a> {
             run,
             operator: Box::new(Nobody),
             setpoints: None,
+            history: None,
+            history_checks: Vec::new(),
+            past: Default::default(),
         }
     }
 
@@ -159,6 +167,18 @@ impl<'a> Session<'a> {
         self
     }
 
+    /// Where the unit's past runs are read, for the checks (by name) that compare with its
+    /// last passed run; looked up once the serial is known.
+    pub fn with_history(
+        mut self,
+        history: Option<std::sync::Arc<dyn super::History>>,
+        checks: Vec<String>,
+    ) -> Self {
+        self.history = history;
+        self.history_checks = checks;
+        self
+    }
+
     /// Announces the run and looks at the drive (identity, a fault at the start). Call
     /// once, before the first operation.
     pub fn begin(&mut self) {
@@ -169,6 +189,8 @@ impl<'a> Session<'a> {
             s.look_at_the_drive();
             Ok(())
         });
+        // Before anything moves; a stop request during it is seen by the first step.
+        let _ = self.guarded(|s| s.look_up_last_pass(false));
     }
 
     pub fn clock(&self) -> &SharedClock {

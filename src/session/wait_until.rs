@@ -158,6 +158,7 @@ impl Session<'_> {
             marginal: false,
             retried: false,
             inclusive: false,
+            reference: None,
         }
     }
 

@@ -16,6 +16,7 @@ mod editor;
 mod end_to_end;
 mod examples;
 mod hints;
+mod history;
 mod language_server;
 mod lenze_931;
 mod lenze_931_maintain;

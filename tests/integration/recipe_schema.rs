@@ -91,10 +91,12 @@ fn the_schema_accepts_good_recipes_and_refuses_bad_units_durations_and_shapes() 
     }
     let root = repo_root();
     let mut good: Vec<std::path::PathBuf> = Vec::new();
-    for dir in ["recipes", "recipes/includes"] {
+    for dir in ["recipes", "recipes/includes", "recipes/operator"] {
         for e in std::fs::read_dir(root.join(dir)).unwrap() {
             let p = e.unwrap().path();
-            if p.extension().is_some_and(|x| x == "yaml") {
+            // An answers file (`recipes/operator/answers.yaml`) is no recipe.
+            let answers = p.file_name().is_some_and(|n| n == "answers.yaml");
+            if p.extension().is_some_and(|x| x == "yaml") && !answers {
                 good.push(p);
             }
         }
@@ -128,6 +130,10 @@ fn the_schema_accepts_good_recipes_and_refuses_bad_units_durations_and_shapes() 
          - expect: { speed_actual: { mean: { near: 6000 rpm, within: 0.5 % } } }\n  \
          - ramp: { object: speed_setpoint, from: 0 rpm, to: 100 rpm, rate: 50 rpm/s }\n",
     ));
+    good.push(write(
+        "last-pass.yaml",
+        "  - expect: { motor_temperature: { below: 80 °C, compared_with_last_pass: { at_most: +2 K, at_least: -2 K, without_history: fail } } }\n",
+    ));
     for (path, errors) in validate(&good) {
         assert!(errors.is_empty(), "{path}: {errors:?}");
     }
@@ -137,6 +143,14 @@ fn the_schema_accepts_good_recipes_and_refuses_bad_units_durations_and_shapes() 
         write("parsecs.yaml", "  - dwell: 2 parsecs\n"),
         write("near.yaml", "  - expect: { speed_actual: { near: 6000 rpm } }\n"),
         write("misspelt.yaml", "  - wait_untl: { state: operation_enabled }\n"),
+        write(
+            "last-pass-without-choice.yaml",
+            "  - expect: { speed_actual: { below: 9000 rpm, compared_with_last_pass: { at_most: 10 % } } }\n",
+        ),
+        write(
+            "last-pass-unit.yaml",
+            "  - expect: { speed_actual: { below: 9000 rpm, compared_with_last_pass: { at_most: 5 A, without_history: pass } } }\n",
+        ),
         write(
             "asked-in-finally.yaml",
             "  - dwell: 1 s\nfinally:\n  - confirm: Did the spindle stop?\n",

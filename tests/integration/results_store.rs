@@ -5,8 +5,8 @@
 //! clearly, and the unit's certificate rendered in headless Chromium.
 
 use crate::support::{
-    assert_has, assert_lacks, cli, command, headless_chromium, scratch, write_file, InProcessRun, LiveRun,
-    PostgresServer, Simulator,
+    assert_has, assert_lacks, cli, command, headless_chromium, run_recording, scratch, silent_server,
+    unit_certificate, write_file, InProcessRun, LiveRun, PostgresServer, Simulator,
 };
 use drivescript::results::{Locator, RunFilter, StoredRun};
 use drivescript::session::{CheckResult, RunInfo, RunObserver, RunReport, StepRecord, UnitIdentity};
@@ -714,21 +714,7 @@ fn the_unit_certificate_renders_in_headless_chromium() {
     assert_eq!(recorded_run(&recipe, s, unit.clone(), None, &[]), 0);
     assert_eq!(recorded_run(&recipe, s, unit, None, &[("speed", "6000rpm")]), 0);
     let page = dir.join("certificate.html");
-    cli(
-        &[
-            "results",
-            "report",
-            "--unit",
-            "SP-104233",
-            "--simulated",
-            "--results",
-            s,
-            "-o",
-            page.to_str().unwrap(),
-        ],
-        0,
-    );
-    let html = std::fs::read_to_string(&page).expect("page");
+    let html = unit_certificate(s, "SP-104233", &page);
     let doc = scraper::Html::parse_document(&html);
     assert!(doc.errors.is_empty(), "{:?}", doc.errors);
     let rows = scraper::Selector::parse("#runs tbody tr").expect("selector");
@@ -994,19 +980,6 @@ fn run_into_a_silent_store(dir: &Path, recipe: &Path, output: &str) -> std::proc
         .expect("runs")
 }
 
-/// A port on loopback that takes every connection and never says a word.
-fn silent_server() -> u16 {
-    let listener = std::net::TcpListener::bind("127.0.0.1:0").expect("listener");
-    let port = listener.local_addr().expect("address").port();
-    std::thread::spawn(move || {
-        let mut kept = Vec::new();
-        for conn in listener.incoming() {
-            kept.push(conn);
-        }
-    });
-    port
-}
-
 /// The connect timeout bounds only the socket's connection; the handshake after it is
 /// bounded too, so `results` commands (and the recorder's writer) do not wait for ever.
 #[test]
@@ -1034,4 +1007,155 @@ fn a_server_that_takes_the_connection_and_never_answers_is_unreachable_in_time()
     assert!(ended, "`results list` still waited after 30 s:\n{err}");
     assert_eq!(out.status.code(), Some(3), "{err}");
     assert_has(&err, &["cannot be reached", "did not answer within 10 s"]);
+}
+
+/// The stored hash is of the recipe's text with every file it includes: an edit of an
+/// included stage changes it, as an edit of the recipe does; a recipe without includes
+/// hashes as `sha256sum` of its file.
+#[test]
+fn the_recipe_hash_covers_every_included_file() {
+    let dir = scratch("hash-includes");
+    let store = dir.join("results.sqlite");
+    let store = store.to_str().unwrap();
+    let stage = write_file(
+        &dir,
+        "stage.yaml",
+        "name: Stage\ndrive: sd2\nsteps:\n  - expect: { bus_voltage: { above: 100 V } }\n",
+    );
+    let recipe = write_file(
+        &dir,
+        "main.yaml",
+        "name: With a stage\ndrive: sd2\nsteps:\n  - include: stage.yaml\n  - include: stage.yaml\n",
+    );
+    let hash_of_a_run = |file: &Path| {
+        let (code, out) = run_recording(file, store, &["--fast"]);
+        assert_eq!(code, 0, "{out}");
+        let mut s = Locator::parse(store).open(false).expect("opens");
+        let runs = s.list(&every_run()).expect("list");
+        runs[0].run.recipe_sha256.clone().expect("a hash")
+    };
+    let before = hash_of_a_run(&recipe);
+    assert_eq!(hash_of_a_run(&recipe), before, "the same text, the same hash");
+    std::fs::write(
+        &stage,
+        "name: Stage\ndrive: sd2\nsteps:\n  - expect: { bus_voltage: { above: 200 V } }\n",
+    )
+    .expect("the stage edited");
+    let after = hash_of_a_run(&recipe);
+    assert_ne!(after, before, "an included file's edit changes the hash");
+    // Alone, a file hashes as sha256sum does.
+    let alone = hash_of_a_run(&stage);
+    if let Ok(out) = std::process::Command::new("sha256sum").arg(&stage).output() {
+        let sum = String::from_utf8_lossy(&out.stdout);
+        assert_eq!(sum.split_whitespace().next(), Some(alone.as_str()));
+    }
+}
+
+/// A run refused before it started is kept for its unit when the unit is known (by
+/// `--unit` or an answer given beforehand): verdict refused (exit code 2) or error (its
+/// drive could not be reached), with the reason and no checks. Without a serial it is a
+/// file being written and is not recorded. The unit's certificate still heads with its
+/// latest run that started.
+#[test]
+fn a_run_refused_before_it_started_is_kept_for_its_unit() {
+    let dir = scratch("refused-runs");
+    let store = dir.join("results.sqlite");
+    let s = store.to_str().unwrap();
+    let good = write_file(&dir, "tiny.yaml", TINY);
+    let broken = write_file(
+        &dir,
+        "broken.yaml",
+        "name: Broken\ndrive: sd2\nsteps:\n  - set: { speed_setpont: 5 rpm }\n",
+    );
+    let scanned = write_file(
+        &dir,
+        "scanned.yaml",
+        "name: Scanned\ndrive: sd2\nsteps:\n  - enter_text: { prompt: Serial, sets: serial }\n    name: serial\n  - expect: { bus_voltage: { above: 100 V } }\n",
+    );
+    let run = |args: &[&str], code: i32| {
+        let (got, text) = run_recording(Path::new(args[0]), s, &args[1..]);
+        assert_eq!(got, code, "{text}");
+    };
+    let good_path = good.to_str().unwrap();
+    run(&[good_path, "--fast", "--unit", "serial=RF-1"], 0);
+    run(&[broken.to_str().unwrap(), "--fast", "--unit", "serial=RF-1"], 2);
+    run(&[broken.to_str().unwrap(), "--fast"], 2);
+    run(
+        &[
+            scanned.to_str().unwrap(),
+            "--fast",
+            "--port",
+            "/dev/null",
+            "--answer",
+            "serial=RF-2",
+        ],
+        2,
+    );
+    run(
+        &[
+            good_path,
+            "--port",
+            "/dev/drivescript-no-such-port",
+            "--unit",
+            "serial=RF-1",
+        ],
+        3,
+    );
+    let runs = all_runs(s);
+    assert_eq!(
+        runs.len(),
+        4,
+        "the run without a serial is not recorded: {runs:#?}"
+    );
+    let of = |serial: &str, verdict: &str| {
+        runs.iter()
+            .filter(|r| r.run.unit.serial.as_deref() == Some(serial) && r.verdict() == verdict)
+            .collect::<Vec<_>>()
+    };
+    let [refused] = of("RF-1", "refused")[..] else {
+        panic!("one refused run of RF-1: {runs:#?}");
+    };
+    assert!(!refused.started() && refused.checks.is_empty() && refused.steps.is_empty());
+    let end = refused.end.as_ref().expect("ended");
+    assert_eq!(end.exit_code, 2);
+    assert_has(
+        end.reason.as_deref().unwrap_or(""),
+        &["speed_setpont", "nothing was sent"],
+    );
+    assert_eq!(refused.run.recipe_path, broken.display().to_string());
+    let [answered] = of("RF-2", "refused")[..] else {
+        panic!("the serial answered beforehand names the unit: {runs:#?}");
+    };
+    assert_eq!(answered.run.recipe, "Scanned");
+    let [unreachable] = of("RF-1", "error")[..] else {
+        panic!("one run of RF-1 whose drive could not be reached: {runs:#?}");
+    };
+    assert_eq!(unreachable.end.as_ref().map(|e| e.exit_code), Some(3));
+    assert_has(
+        unreachable
+            .end
+            .as_ref()
+            .and_then(|e| e.reason.as_deref())
+            .unwrap_or(""),
+        &["drivescript-no-such-port"],
+    );
+    // Listed and filtered like any run; the certificate heads with the passed run.
+    let listed = cli(
+        &[
+            "results",
+            "list",
+            "--results",
+            s,
+            "--simulated",
+            "--verdict",
+            "refused",
+        ],
+        0,
+    );
+    assert_has(&listed.stdout, &["REFUSED", "RF-1", "RF-2"]);
+    let html = unit_certificate(s, "RF-1", &dir.join("RF-1.html"));
+    assert_has(
+        &html,
+        &["id=\"verdict\">✔ PASSED", "3 run(s) recorded", "REFUSED", "ERROR"],
+    );
 }

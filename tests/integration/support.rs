@@ -237,6 +237,8 @@ pub struct InProcessRun<'a> {
     pub operator: drivescript::run::OperatorArgs,
     /// The lines an operator types at a terminal; `None`: no terminal.
     pub input: Option<std::sync::Arc<drivescript::run::TerminalInput>>,
+    /// Where past runs are read for checks that compare with the last pass.
+    pub history: Option<std::sync::Arc<dyn drivescript::session::History>>,
 }
 
 impl<'a> InProcessRun<'a> {
@@ -256,6 +258,7 @@ impl<'a> InProcessRun<'a> {
             observers: Vec::new(),
             operator: drivescript::run::OperatorArgs::default(),
             input: None,
+            history: None,
         }
     }
 
@@ -301,6 +304,7 @@ impl<'a> InProcessRun<'a> {
             operator: &self.operator,
             input: self.input.clone(),
             observers: self.observers.clone(),
+            history: self.history.clone(),
         }
     }
 }
@@ -860,4 +864,50 @@ pub fn free_port() -> u16 {
         .and_then(|l| l.local_addr())
         .map(|a| a.port())
         .expect("a free port")
+}
+
+/// A port on loopback that takes every connection and never says a word.
+pub fn silent_server() -> u16 {
+    let listener = std::net::TcpListener::bind("127.0.0.1:0").expect("listener");
+    let port = listener.local_addr().expect("address").port();
+    std::thread::spawn(move || {
+        let mut kept = Vec::new();
+        for conn in listener.incoming() {
+            kept.push(conn);
+        }
+    });
+    port
+}
+
+/// `drivescript run RECIPE --results STORE ARGS`: its exit code and everything it wrote
+/// (standard output, then errors).
+pub fn run_recording(recipe: &Path, store: &str, args: &[&str]) -> (i32, String) {
+    let out = command()
+        .arg("run")
+        .arg(recipe)
+        .args(["--results", store])
+        .args(args)
+        .output()
+        .expect("runs");
+    (out.status.code().unwrap_or(-1), console(&out.stdout, &out.stderr))
+}
+
+/// `drivescript results report --unit SERIAL` of every run in `store` (simulated ones too)
+/// into `page`; the page.
+pub fn unit_certificate(store: &str, serial: &str, page: &Path) -> String {
+    cli(
+        &[
+            "results",
+            "report",
+            "--unit",
+            serial,
+            "--simulated",
+            "--results",
+            store,
+            "-o",
+            page.to_str().expect("utf-8 path"),
+        ],
+        0,
+    );
+    std::fs::read_to_string(page).expect("the page")
 }

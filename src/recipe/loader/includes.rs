@@ -66,6 +66,7 @@ impl Loader<'_, '_> {
                 );
             }
         };
+        self.digest.add(source.text());
         let given = params_node.map(|p| self.given_params(p)).unwrap_or_default();
         let shown = source.path().to_string();
         let before = self.r.count();
@@ -78,6 +79,7 @@ impl Loader<'_, '_> {
             source,
             r: Reader::new(self.r.diagnostics()),
             expansion: self.expansion,
+            digest: self.digest,
             params: BTreeMap::new(),
             sampled: self.sampled.clone(),
             base_dir: path.parent().map(Path::to_path_buf).unwrap_or_default(),

@@ -8,6 +8,7 @@ mod coast_down;
 mod expect;
 mod expect_parameters;
 mod go_to;
+pub(in crate::recipe) mod last_pass;
 mod predicate;
 mod prompt;
 mod ramp;

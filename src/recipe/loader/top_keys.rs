@@ -98,6 +98,7 @@ impl Loader<'_, '_> {
             safe_stop,
             link,
             drives,
+            text_sha256: String::new(),
         })
     }
 

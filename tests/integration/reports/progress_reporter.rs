@@ -15,6 +15,7 @@ fn recipe() -> RunInfo {
         path: "recipes/run-in.yaml".into(),
         params: vec![("speed".into(), "6000 rpm".into())],
         unit: UnitIdentity::default(),
+        text_sha256: None,
     }
 }
 

@@ -59,6 +59,7 @@ pub fn check(name: &str, passed: bool, message: &str) -> CheckResult {
         marginal: false,
         retried: false,
         inclusive: false,
+        reference: None,
     }
 }
 

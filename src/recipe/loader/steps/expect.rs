@@ -55,8 +55,19 @@ impl Loader<'_, '_> {
                 },
                 None => r,
             };
+            let (pred_node, last_pass_node) = Self::split_last_pass(&pred_node);
             let (pred_node, warn_node) = Self::split_warn(&pred_node);
             let predicate = self.predicate(&measured, &pred_node);
+            let last_pass = match (&predicate, &last_pass_node) {
+                (Some(p), Some((key, node))) => match self.last_pass(&measured, p, key, node) {
+                    Some(lp) => Some(lp),
+                    None => {
+                        ok = false;
+                        continue;
+                    }
+                },
+                _ => None,
+            };
             let warn = match (&predicate, &warn_node) {
                 (Some(p), Some(w)) => match self.warn_band(&measured, &pred_node, p, w) {
                     Some(band) => Some(band),
@@ -82,6 +93,7 @@ impl Loader<'_, '_> {
                         statistic: stat,
                         predicate: p,
                         warn,
+                        last_pass,
                     });
                 }
                 None => ok = false,

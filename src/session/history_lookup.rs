@@ -1,0 +1,300 @@
+//! The session's side of comparing with the unit's last passed run: looking it up when
+//! the unit's serial becomes known (at the start, or when an operator step sets it),
+//! bounded in time and stoppable while the drives are served, and judging a check's
+//! comparison against it. Never on the safe stop's path (the safe stop makes no checks).
+
+use super::last_pass::{signed, LastPass, PastRun};
+use super::session::{value_of, Session};
+use super::stop::Stop;
+use super::{with_unit, CheckReference, CheckResult, ObjectRef, Statistic, StepOrigin};
+use std::sync::mpsc::RecvTimeoutError;
+use std::time::{Duration, Instant};
+
+/// The longest the run waits for the store to say which run is the last pass (real time,
+/// as long as the store's own connection limit).
+pub const LOOKUP_LIMIT: Duration = Duration::from_secs(10);
+/// How often the wait serves the drives and looks for a stop request.
+const SLICE: Duration = Duration::from_millis(20);
+
+/// The check a comparison is made for: its name, and what it measured.
+pub(super) struct Compared<'c> {
+    pub name: &'c str,
+    pub object: &'c ObjectRef,
+    pub statistic: Option<Statistic>,
+}
+
+/// What the session knows of the unit's last passed run.
+#[derive(Debug, Clone, Default)]
+pub(super) enum Past {
+    /// Not looked up: no serial known yet.
+    #[default]
+    NotLooked,
+    /// The store answered for this serial (`None`: no earlier passed run).
+    Known { serial: String, run: Option<PastRun> },
+    /// The store could not be read for this serial, or did not answer in time: what to
+    /// say. Not asked again for the same serial (each operator step would wait again).
+    Unreadable { serial: String, why: String },
+}
+
+impl Past {
+    /// The serial it was looked up for.
+    fn serial(&self) -> Option<&str> {
+        match self {
+            Past::NotLooked => None,
+            Past::Known { serial, .. } | Past::Unreadable { serial, .. } => Some(serial),
+        }
+    }
+}
+
+impl Session<'_> {
+    /// Looks up the last passed run of the unit whose serial is now known, if the recipe
+    /// compares with one and it was not looked up for this serial yet, and says what it
+    /// found. `serve`: the drives are served and watched for faults during the wait (a
+    /// run under way); at the start nothing moves yet. At most [`LOOKUP_LIMIT`]; a stop
+    /// request ends the wait at once.
+    pub(super) fn look_up_last_pass(&mut self, serve: bool) -> Result<(), Stop> {
+        if self.history_checks.is_empty() {
+            return Ok(());
+        }
+        let Some(serial) = self.run.unit.serial.clone() else {
+            return Ok(());
+        };
+        if self.past.serial() == Some(serial.as_str()) {
+            return Ok(());
+        }
+        let Some(history) = self.history.clone() else {
+            self.past = Past::Unreadable {
+                serial,
+                why: "no results store to compare with (none is named and there is no data directory)".into(),
+            };
+            let said = self.past_said("", "");
+            self.observer.message(&said);
+            return Ok(());
+        };
+        let answer = history.look_up(&self.run.name, &serial);
+        let started = Instant::now();
+        self.past = loop {
+            if self.interrupted() {
+                return Err(Stop::Interrupted);
+            }
+            if serve {
+                self.watch_fault(false)?;
+            }
+            // As an operator step paces virtual time: the clock moves as real time does.
+            let pace = if self.clock.is_virtual() {
+                SLICE
+            } else {
+                Duration::ZERO
+            };
+            match answer.recv_timeout(pace) {
+                Ok(Ok(run)) => break Past::Known { serial, run },
+                Ok(Err(e)) => {
+                    break Past::Unreadable {
+                        serial,
+                        why: e.to_string(),
+                    }
+                }
+                Err(RecvTimeoutError::Disconnected) => {
+                    break Past::Unreadable {
+                        serial,
+                        why: format!(
+                            "the results store {} gave no answer (its reader ended)",
+                            history.store()
+                        ),
+                    }
+                }
+                Err(RecvTimeoutError::Timeout) => {}
+            }
+            if started.elapsed() >= LOOKUP_LIMIT {
+                break Past::Unreadable {
+                    serial,
+                    why: format!(
+                        "the results store {} did not answer within {} s",
+                        history.store(),
+                        LOOKUP_LIMIT.as_secs()
+                    ),
+                };
+            }
+            let until = self.clock.now().saturating_add(SLICE);
+            self.wait(until)?;
+        };
+        let said = self.past_said(history.kind_of_runs(), &history.store());
+        self.observer.message(&said);
+        Ok(())
+    }
+
+    /// The line that says which run the comparisons are made against, with the value of
+    /// each check compared.
+    fn past_said(&self, kind: &str, store: &str) -> String {
+        match &self.past {
+            Past::Known {
+                serial,
+                run: Some(run),
+            } => {
+                let values: Vec<String> = self
+                    .history_checks
+                    .iter()
+                    .map(|name| match run.checks.iter().rev().find(|c| c.name == *name) {
+                        Some(c) => format!("{name} = {}", with_unit(c.measured, c.unit.as_deref())),
+                        None => format!("{name}: not in that run"),
+                    })
+                    .collect();
+                format!(
+                    "history {serial}: compared with its last pass, run {} of {}: {}",
+                    run.id,
+                    run.started_at,
+                    values.join("; ")
+                )
+            }
+            Past::Known { serial, run: None } => format!(
+                "history {serial}: no earlier passed run of `{}` in {store} ({kind}); each comparison passes or fails as its `without_history` says",
+                self.run.name
+            ),
+            Past::Unreadable { why, .. } => {
+                format!("history: cannot compare with the last pass: {why}; those checks fail")
+            }
+            Past::NotLooked => String::new(),
+        }
+    }
+
+    /// The comparison of check `c` (measured `measured`) with the same check in the
+    /// unit's last passed run: a check of its own, named after `c`.
+    pub(super) fn compared_with_last_pass(
+        &self,
+        c: &Compared,
+        lp: &LastPass,
+        measured: Option<f64>,
+        origin: &StepOrigin,
+    ) -> CheckResult {
+        let (step, stage) = self.place();
+        let unit = match lp.relative {
+            true => Some("%".to_string()),
+            // A change is a difference: K for a temperature in °C.
+            false => c.object.unit.as_deref().map(|u| {
+                crate::dictionary::Unit::from_symbol(u)
+                    .map_or(u.to_string(), |x| x.difference().symbol().to_string())
+            }),
+        };
+        let allowed = lp.describe(unit.as_deref());
+        let mut reference = None;
+        let mut change = None;
+        let (passed, message) = match (&self.past, measured) {
+            (_, None) => (false, format!("nothing measured to compare with the last pass ({allowed})")),
+            (Past::NotLooked, _) => (
+                false,
+                "the unit's serial was not known when this check was made: an operator step with `sets: serial` must come before it, or give --unit serial=…".to_string(),
+            ),
+            (Past::Unreadable { why, .. }, _) => (false, format!("cannot be judged: {why}")),
+            (Past::Known { serial, run }, Some(v)) => {
+                let found = run.as_ref().and_then(|r| r.check(c.name, &step).map(|p| (r, p)));
+                match found {
+                    None => {
+                        let why = match run {
+                            Some(r) => format!(
+                                "the last passed run of {serial}, {} of {}, has no check `{}`",
+                                r.id, r.started_at, c.name
+                            ),
+                            None => format!("no earlier passed run of {serial} for this recipe"),
+                        };
+                        let verdict = if lp.pass_without_history { "passes" } else { "fails" };
+                        (
+                            lp.pass_without_history,
+                            format!(
+                                "{why}: {verdict} as `without_history: {}` says",
+                                lp.without_history_word()
+                            ),
+                        )
+                    }
+                    Some((r, p)) => {
+                        reference = Some(CheckReference {
+                            run: r.id.clone(),
+                            started_at: r.started_at.clone(),
+                            value: p.measured,
+                        });
+                        let stat = c.statistic.map(|s| format!(" {}", s.id())).unwrap_or_default();
+                        let now = format!("{}{stat} = {}", c.object.name, value_of(v, c.object));
+                        let was = with_unit(p.measured, c.object.unit.as_deref());
+                        match lp.change(p.measured, v) {
+                            None => (
+                                false,
+                                format!(
+                                    "{now}: against {was} in run {} of {}, a change relative to 0 is not defined; allow an absolute change (in {}) instead",
+                                    r.id,
+                                    r.started_at,
+                                    c.object.unit.as_deref().unwrap_or("the check's unit")
+                                ),
+                            ),
+                            Some(d) => {
+                                change = Some(d);
+                                (
+                                    lp.allows(d),
+                                    format!(
+                                        "{now}: {} against {was} in run {} of {}",
+                                        signed(d, unit.as_deref()),
+                                        r.id,
+                                        r.started_at
+                                    ),
+                                )
+                            }
+                        }
+                    }
+                }
+            }
+        };
+        let message = match (passed, change) {
+            (false, Some(_)) => format!("{message}, expected a change {allowed}"),
+            _ => message,
+        };
+        CheckResult {
+            name: format!("{} compared with last pass", c.name),
+            passed,
+            measured: change,
+            measured_text: None,
+            unit,
+            low: lp.at_least,
+            high: lp.at_most,
+            object: None,
+            statistic: None,
+            message,
+            origin: origin.clone(),
+            step,
+            stage,
+            window: None,
+            at: self.clock.now(),
+            duration: Duration::ZERO,
+            marginal: false,
+            retried: false,
+            inclusive: true,
+            reference,
+        }
+    }
+}
+
+impl Session<'_> {
+    /// A script's comparison of its check `name` (made with `expect`, measuring
+    /// `measured`) with the same check in the unit's last passed run, looked up now if the
+    /// unit was not looked up yet (a script's checks are not known before it runs).
+    pub fn expect_compared_with_last_pass(
+        &mut self,
+        name: &str,
+        measured: f64,
+        lp: &LastPass,
+        origin: &StepOrigin,
+    ) -> Result<String, Stop> {
+        if !self.history_checks.iter().any(|n| n == name) {
+            self.history_checks.push(name.to_string());
+        }
+        self.look_up_last_pass(true)?;
+        let object = ObjectRef {
+            name: name.to_string(),
+            unit: None,
+        };
+        let check = Compared {
+            name,
+            object: &object,
+            statistic: None,
+        };
+        let result = self.compared_with_last_pass(&check, lp, Some(measured), origin);
+        self.expect_result(result)
+    }
+}

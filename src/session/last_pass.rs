@@ -1,0 +1,192 @@
+//! Comparing a check with the same unit's last passed run of the same recipe
+//! (`compared_with_last_pass`): what the recipe allows the value to change by, the past run
+//! a results store gives back, and the seam ([`History`]) through which the session asks
+//! for it. Pure data and arithmetic; nothing here reads a store (the results layer does).
+
+use super::{number, StepOrigin};
+use std::sync::mpsc::Receiver;
+
+/// How far a value may move from the same check's value in the unit's last passed run.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LastPass {
+    /// The change allowed, both ends included: in % of the reference's magnitude
+    /// (`relative`), else in the unit a difference of the check's values is written in.
+    pub at_least: Option<f64>,
+    pub at_most: Option<f64>,
+    pub relative: bool,
+    /// With no earlier passed run (a unit's first run), the comparison passes (`true`) or
+    /// fails.
+    pub pass_without_history: bool,
+    /// Where `compared_with_last_pass` is written.
+    pub written: StepOrigin,
+}
+
+impl LastPass {
+    /// The change from `reference` to `value`, in % or in the check's unit; `None` when a
+    /// relative change from 0 is asked for.
+    pub fn change(&self, reference: f64, value: f64) -> Option<f64> {
+        match self.relative {
+            true if reference == 0.0 => None,
+            true => Some((value - reference) / reference.abs() * 100.0),
+            false => Some(value - reference),
+        }
+    }
+
+    /// Whether `change` is within the ends (a change computed exactly at an end, 4 A to
+    /// 4.4 A against `at_most: 10 %`, is not failed by the last bit of a float).
+    pub fn allows(&self, change: f64) -> bool {
+        let slack = |limit: f64| 1e-9 * limit.abs().max(1.0);
+        self.at_least.is_none_or(|l| change >= l - slack(l))
+            && self.at_most.is_none_or(|h| change <= h + slack(h))
+    }
+
+    /// `at most +10 %`, `between -5 % and +10 %`, `at least -0.5 A`.
+    pub fn describe(&self, unit: Option<&str>) -> String {
+        let u = |v: f64| signed(v, unit);
+        match (self.at_least, self.at_most) {
+            (Some(l), Some(h)) => format!("between {} and {}", u(l), u(h)),
+            (Some(l), None) => format!("at least {}", u(l)),
+            (None, Some(h)) => format!("at most {}", u(h)),
+            (None, None) => "any change".into(),
+        }
+    }
+
+    /// What `without_history` chose, as the recipe writes it.
+    pub fn without_history_word(&self) -> &'static str {
+        if self.pass_without_history {
+            "pass"
+        } else {
+            "fail"
+        }
+    }
+}
+
+/// A change with its sign and unit: `+12.4 %`, `-0.3 A`.
+pub fn signed(v: f64, unit: Option<&str>) -> String {
+    let sign = if v > 0.0 { "+" } else { "" };
+    match unit {
+        Some(u) => format!("{sign}{} {u}", number(v)),
+        None => format!("{sign}{}", number(v)),
+    }
+}
+
+/// The unit's last passed run of the recipe, as a store gives it back.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PastRun {
+    pub id: String,
+    /// UTC, RFC 3339.
+    pub started_at: String,
+    /// Its passed checks with a measured value, in the order they were made.
+    pub checks: Vec<PastCheck>,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct PastCheck {
+    pub name: String,
+    /// The iteration-aware step id (`4[2].1`).
+    pub step: String,
+    pub measured: f64,
+    pub unit: Option<String>,
+}
+
+impl PastRun {
+    /// The check this run's check `name` at step `step` compares with: the one of that
+    /// name at the same step, else the last one of that name (the recipe moved it, or an
+    /// attempt passed at another try).
+    pub fn check(&self, name: &str, step: &str) -> Option<&PastCheck> {
+        self.checks
+            .iter()
+            .find(|c| c.name == name && c.step == step)
+            .or_else(|| self.checks.iter().rev().find(|c| c.name == name))
+    }
+}
+
+/// A store that could not answer: the comparison cannot be judged (it fails; it is never
+/// taken as "no history").
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("{why}")]
+pub struct HistoryError {
+    /// The store as messages name it (never a password).
+    pub store: String,
+    /// What went wrong, naming the store.
+    pub why: String,
+}
+
+/// Where past runs come from: the results layer gives the session one.
+pub trait History: Send + Sync {
+    /// Starts looking, on a thread of its own, for the last complete run with verdict
+    /// passed of `recipe` (its name) on the unit `serial`, among runs as simulated as this
+    /// one; the answer comes through the receiver (`None`: no such run).
+    fn look_up(&self, recipe: &str, serial: &str) -> Receiver<Result<Option<PastRun>, HistoryError>>;
+    /// The store as messages name it.
+    fn store(&self) -> String;
+    /// `simulated runs` or `runs on real drives`: the runs compared with.
+    fn kind_of_runs(&self) -> &'static str;
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn allowed(at_least: Option<f64>, at_most: Option<f64>, relative: bool) -> LastPass {
+        LastPass {
+            at_least,
+            at_most,
+            relative,
+            pass_without_history: true,
+            written: StepOrigin {
+                path: "r.yaml".into(),
+                line: 1,
+                column: 1,
+            },
+        }
+    }
+
+    #[test]
+    fn a_relative_change_is_of_the_references_magnitude_and_both_ends_are_included() {
+        let lp = allowed(Some(-5.0), Some(10.0), true);
+        let up = lp.change(4.0, 4.4).expect("a change");
+        assert!((up - 10.0).abs() < 1e-9 && lp.allows(up), "{up}");
+        assert!(lp.allows(10.0) && lp.allows(-5.0) && !lp.allows(10.01) && !lp.allows(-5.01));
+        assert_eq!(
+            lp.change(-2.0, -1.0),
+            Some(50.0),
+            "toward zero from a negative value is up"
+        );
+        assert_eq!(lp.change(0.0, 1.0), None, "no relative change from 0");
+        assert_eq!(lp.describe(Some("%")), "between -5 % and +10 %");
+    }
+
+    #[test]
+    fn an_absolute_change_is_in_the_checks_unit() {
+        let lp = allowed(None, Some(0.5), false);
+        assert_eq!(lp.change(4.0, 4.25), Some(0.25));
+        assert!(lp.allows(0.5) && !lp.allows(0.51) && lp.allows(-100.0));
+        assert_eq!(lp.describe(Some("A")), "at most +0.5 A");
+    }
+
+    #[test]
+    fn the_reference_is_the_same_step_else_the_last_of_that_name() {
+        let run = PastRun {
+            id: "r".into(),
+            started_at: "t".into(),
+            checks: vec![
+                PastCheck {
+                    name: "c".into(),
+                    step: "3[1].1".into(),
+                    measured: 1.0,
+                    unit: None,
+                },
+                PastCheck {
+                    name: "c".into(),
+                    step: "3[2].1".into(),
+                    measured: 2.0,
+                    unit: None,
+                },
+            ],
+        };
+        assert_eq!(run.check("c", "3[1].1").map(|c| c.measured), Some(1.0));
+        assert_eq!(run.check("c", "9").map(|c| c.measured), Some(2.0));
+        assert_eq!(run.check("d", "3[1].1"), None);
+    }
+}

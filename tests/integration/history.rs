@@ -1,0 +1,507 @@
+//! Checks that compare with the unit's last passed run (`compared_with_last_pass`), end to
+//! end against a real SQLite file and a real PostgreSQL server: the first run without
+//! history (passing or failing as the recipe says), a second that compares and passes, a
+//! drifted third that fails, a failed run or another serial never taken as the reference,
+//! simulated and real runs kept apart, the reference in console, JUnit, HTML and the
+//! store; a store that cannot be read fails the check (never "no history") and the drive
+//! still ends in a verified safe stop; the lookup is bounded and a stop signal during it
+//! runs the safe stop; a serial typed at an operator step looks up at that point.
+
+use crate::support::{
+    assert_has, assert_lacks, command, run_recording as run, scratch, silent_server, write_file,
+    InProcessRun, PostgresServer, Simulator,
+};
+use drivescript::results::{Locator, RunFilter, StoreHistory};
+use std::path::Path;
+use std::process::Stdio;
+use std::sync::{Arc, Mutex};
+use std::time::{Duration, Instant};
+
+/// The motor's temperature at the start is the simulated ambient (`--sim ambient=…`): a
+/// value that drifts between runs on demand.
+const RUN_IN: &str = "name: Run-in acceptance
+drive: sd2
+steps:
+  - go_to: operation_enabled
+  - set: { speed_setpoint: 3000 rpm }
+  - wait_until: { speed_actual: { near: 3000 rpm, within: 1 % }, timeout: 10 s }
+  - expect:
+      motor_temperature:
+        below: 90 °C
+        compared_with_last_pass: { at_most: 2 K, at_least: -2 K, without_history: pass }
+";
+
+/// The id of the run `results: run ID recorded in …` names.
+fn run_id(output: &str) -> String {
+    output
+        .lines()
+        .find_map(|l| l.strip_prefix("results: run "))
+        .and_then(|rest| rest.split_whitespace().next())
+        .unwrap_or_else(|| panic!("no run id in:\n{output}"))
+        .to_string()
+}
+
+fn history_in(dir: &Path, store: &str) {
+    let recipe = write_file(dir, "run-in.yaml", RUN_IN);
+    let fast = |serial: &str, more: &[&str]| {
+        let unit = format!("serial={serial}");
+        let mut args = vec!["--fast", "--unit", unit.as_str()];
+        args.extend_from_slice(more);
+        run(&recipe, store, &args)
+    };
+    // The unit's first run: no history, passes as the recipe chooses, said before step 1.
+    let (code, first) = fast("SP-1", &[]);
+    assert_eq!(code, 0, "{first}");
+    assert_has(
+        &first,
+        &[
+            "history SP-1: no earlier passed run of `Run-in acceptance`",
+            "(simulated runs)",
+            "     1  ok    go to operation_enabled",
+            "PASS  motor_temperature below 90 °C compared with last pass: no earlier passed run of SP-1 for this recipe: passes as `without_history: pass` says",
+        ],
+    );
+    let first_id = run_id(&first);
+    // The second compares with the first, says so before anything moves, and passes.
+    let (code, second) = fast("SP-1", &[]);
+    assert_eq!(code, 0, "{second}");
+    assert_has(
+        &second,
+        &[
+            &format!("history SP-1: compared with its last pass, run {first_id} of 20"),
+            "motor_temperature below 90 °C = 25 °C",
+            "     1  ok    go to operation_enabled",
+            &format!("PASS  motor_temperature below 90 °C compared with last pass: motor_temperature = 25 °C: 0 K against 25 °C in run {first_id}"),
+        ],
+    );
+    let second_id = run_id(&second);
+    // Drifted by 5 K: fails, naming the reference in every report.
+    let junit = dir.join("drift.xml");
+    let html = dir.join("drift.html");
+    let (code, third) = fast(
+        "SP-1",
+        &[
+            "--sim",
+            "ambient=30°C",
+            "--junit",
+            junit.to_str().unwrap(),
+            "--report",
+            html.to_str().unwrap(),
+        ],
+    );
+    assert_eq!(code, 1, "{third}");
+    let drift = format!("motor_temperature = 30 °C: +5 K against 25 °C in run {second_id}");
+    assert_has(
+        &third,
+        &[
+            "PASS  motor_temperature below 90 °C: motor_temperature = 30 °C",
+            &format!("FAIL  motor_temperature below 90 °C compared with last pass: {drift}"),
+            "expected a change between -2 K and +2 K",
+            "FAILED",
+        ],
+    );
+    let third_id = run_id(&third);
+    for report in [&junit, &html] {
+        let text = std::fs::read_to_string(report).expect("the report");
+        assert_has(
+            &text,
+            &["motor_temperature below 90 °C compared with last pass", &drift],
+        );
+    }
+    // A failed run is never the reference; nor is another unit's run.
+    let (code, fourth) = fast("SP-1", &[]);
+    assert_eq!(code, 0, "{fourth}");
+    assert_has(&fourth, &[&format!("run {second_id}")]);
+    assert_lacks(&fourth, &[&third_id]);
+    let (code, other) = fast("SP-2", &[]);
+    assert_eq!(code, 0, "{other}");
+    assert_has(&other, &["history SP-2: no earlier passed run"]);
+    // A recipe that insists on history fails a unit's first run.
+    let strict = write_file(
+        dir,
+        "strict.yaml",
+        &RUN_IN
+            .replace("Run-in acceptance", "Strict acceptance")
+            .replace("without_history: pass", "without_history: fail"),
+    );
+    let (code, out) = run(&strict, store, &["--fast", "--unit", "serial=SP-1"]);
+    assert_eq!(code, 1, "{out}");
+    assert_has(
+        &out,
+        &["FAIL  motor_temperature below 90 °C compared with last pass: no earlier passed run of SP-1 for this recipe: fails as `without_history: fail` says"],
+    );
+    // The store keeps the reference with the comparison.
+    let mut s = Locator::parse(store).open(false).expect("the store opens");
+    let stored = s.run(&third_id).expect("the drifted run");
+    let compared = stored
+        .checks
+        .iter()
+        .find(|c| c.name.ends_with("compared with last pass"))
+        .expect("the comparison is stored");
+    assert!(!compared.passed);
+    assert_eq!(compared.reference_run.as_deref(), Some(second_id.as_str()));
+    assert_eq!(compared.reference_value, Some(25.0));
+    assert_eq!(compared.measured, Some(5.0));
+    assert_eq!(compared.unit.as_deref(), Some("K"));
+    assert_eq!((compared.low, compared.high), (Some(-2.0), Some(2.0)));
+    let shown = command()
+        .args(["results", "show", &third_id, "--results", store])
+        .output()
+        .expect("shows");
+    assert_has(
+        &String::from_utf8_lossy(&shown.stdout),
+        &[&format!("reference: run {second_id} of 20")],
+    );
+}
+
+#[test]
+fn a_check_compares_with_the_units_last_passed_run_in_sqlite() {
+    let dir = scratch("history-sqlite");
+    history_in(&dir, dir.join("results.sqlite").to_str().unwrap());
+}
+
+#[test]
+fn a_check_compares_with_the_units_last_passed_run_in_postgresql() {
+    let Some(server) = PostgresServer::start("history-postgres") else {
+        return;
+    };
+    history_in(&scratch("history-postgres-files"), &server.url());
+}
+
+/// Real runs compare with real runs only, simulated ones with simulated ones.
+#[test]
+fn simulated_and_real_runs_are_compared_only_with_their_own_kind() {
+    let dir = scratch("history-kinds");
+    let store = dir.join("results.sqlite");
+    let store = store.to_str().unwrap();
+    let recipe = write_file(
+        &dir,
+        "quick.yaml",
+        "name: Quick look
+drive: sd2
+steps:
+  - expect:
+      motor_temperature: { below: 90 °C, compared_with_last_pass: { at_most: 1 K, without_history: pass } }
+",
+    );
+    let sim = Simulator::pty(&[]);
+    let real = |args: &[&str]| {
+        let mut all = vec!["--port", sim.endpoint.as_str(), "--unit", "serial=K-1"];
+        all.extend_from_slice(args);
+        run(&recipe, store, &all)
+    };
+    let (code, first_real) = real(&[]);
+    assert_eq!(code, 0, "{first_real}");
+    assert_has(&first_real, &["no earlier passed run", "(runs on real drives)"]);
+    let real_id = run_id(&first_real);
+    let (code, simulated) = run(&recipe, store, &["--fast", "--unit", "serial=K-1"]);
+    assert_eq!(code, 0, "{simulated}");
+    assert_has(&simulated, &["no earlier passed run", "(simulated runs)"]);
+    let (code, second_real) = real(&[]);
+    assert_eq!(code, 0, "{second_real}");
+    assert_has(
+        &second_real,
+        &[&format!(
+            "history K-1: compared with its last pass, run {real_id}"
+        )],
+    );
+}
+
+/// A store that cannot be read is not "no history": the comparison cannot be judged and
+/// fails, naming the store; the run goes on and its drive ends in a verified safe stop.
+#[test]
+fn a_store_that_cannot_be_read_fails_the_comparison_and_the_drive_still_stops() {
+    let dir = scratch("history-unreadable");
+    let recipe = write_file(&dir, "run-in.yaml", RUN_IN);
+    let foreign = write_file(&dir, "notes.sqlite", "these are notes, not a database\n");
+    let (code, out) = run(
+        &recipe,
+        foreign.to_str().unwrap(),
+        &["--fast", "--unit", "serial=SP-1"],
+    );
+    assert_eq!(code, 1, "{out}");
+    assert_has(
+        &out,
+        &[
+            "history: cannot compare with the last pass:",
+            "PASS  motor_temperature below 90 °C: motor_temperature = 25 °C",
+            "FAIL  motor_temperature below 90 °C compared with last pass: cannot be judged:",
+            &foreign.display().to_string(),
+            "drive left in ready to switch on at 0 rpm",
+            "FAILED",
+        ],
+    );
+    assert_lacks(&out, &["no earlier passed run", "NOT confirmed"]);
+}
+
+/// `--no-results` with a store (named by the environment) that takes the connection and
+/// never answers: the run records nothing and the comparison's lookup is bounded.
+fn run_reading_a_silent_store(recipe: &Path, more: &[&str]) -> std::process::Child {
+    let port = silent_server();
+    command()
+        .env(
+            "DRIVESCRIPT_RESULTS",
+            format!("postgres://drivescript@127.0.0.1:{port}/results"),
+        )
+        .arg("run")
+        .arg(recipe)
+        .args(["--fast", "--no-results", "--unit", "serial=SP-1"])
+        .args(more)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("runs")
+}
+
+/// It is waited for once per serial: the operator steps after it do not wait again.
+#[test]
+fn the_lookup_of_a_store_that_never_answers_is_bounded() {
+    let dir = scratch("history-silent");
+    let questions = "  - confirm: { prompt: Guard closed? }\n    name: guard\n  - confirm: { prompt: Adapter fitted? }\n    name: adapter\n";
+    let recipe = write_file(
+        &dir,
+        "run-in.yaml",
+        &RUN_IN.replace("steps:\n", &format!("steps:\n{questions}")),
+    );
+    let started = Instant::now();
+    let out = run_reading_a_silent_store(&recipe, &["--answer", "guard=yes", "--answer", "adapter=yes"])
+        .wait_with_output()
+        .expect("the run ends");
+    let took = started.elapsed();
+    let text = format!(
+        "{}{}",
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert_eq!(out.status.code(), Some(1), "{text}");
+    assert!(took < Duration::from_secs(18), "took {took:?}:\n{text}");
+    assert_eq!(
+        text.matches("history: cannot compare").count(),
+        1,
+        "looked up once for the serial, not again after each operator step:\n{text}"
+    );
+    assert_has(
+        &text,
+        &[
+            "did not answer within 10 s",
+            "     3  ok    go to operation_enabled",
+            "cannot be judged",
+            "drive left in ready to switch on at 0 rpm",
+        ],
+    );
+}
+
+/// A stop signal while the store is looked up ends the wait at once, with the safe stop.
+#[cfg(unix)]
+#[test]
+fn a_stop_signal_during_the_lookup_runs_the_safe_stop() {
+    let dir = scratch("history-signal");
+    let recipe = write_file(&dir, "run-in.yaml", RUN_IN);
+    let mut child = run_reading_a_silent_store(&recipe, &[]);
+    let mut stdout = child.stdout.take().expect("stdout");
+    let mut seen = String::new();
+    while !seen.contains("unit    serial SP-1") {
+        let mut buf = [0u8; 512];
+        let n = std::io::Read::read(&mut stdout, &mut buf).expect("the run's output");
+        assert!(n > 0, "the run ended early:\n{seen}");
+        seen.push_str(&String::from_utf8_lossy(&buf[..n]));
+    }
+    std::thread::sleep(Duration::from_millis(300));
+    let signalled = Instant::now();
+    let status = std::process::Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .expect("kill runs");
+    assert!(status.success());
+    std::io::Read::read_to_string(&mut stdout, &mut seen).expect("the rest");
+    let code = child.wait().expect("the run ends").code();
+    assert!(signalled.elapsed() < Duration::from_secs(5), "{seen}");
+    assert_eq!(code, Some(130), "{seen}");
+    assert_has(&seen, &["drive left in ready to switch on at 0 rpm"]);
+    assert_lacks(&seen, &["go to operation_enabled"]);
+}
+
+/// A serial typed at an operator step: the lookup comes at that step (the unit was
+/// unknown before it), and the check after it compares.
+#[test]
+fn a_serial_typed_at_an_operator_step_is_looked_up_there() {
+    let dir = scratch("history-typed");
+    let store = dir.join("results.sqlite");
+    let recipe = write_file(
+        &dir,
+        "scanned.yaml",
+        "name: Scanned acceptance
+drive: sd2
+steps:
+  - enter_text: { prompt: \"Scan the spindle's serial number\", sets: serial }
+    name: serial
+  - go_to: operation_enabled
+  - expect:
+      motor_temperature: { below: 90 °C, compared_with_last_pass: { at_most: 1 K, without_history: fail } }
+",
+    );
+    // Answered beforehand, the serial is known at the start: looked up before step 1.
+    let (code, given) = run(
+        &recipe,
+        store.to_str().unwrap(),
+        &["--fast", "--answer", "serial=SP-77"],
+    );
+    assert_eq!(code, 1, "no history fails here:\n{given}");
+    let said = given.find("history SP-77: no earlier passed run").expect("said");
+    assert!(said < given.find("     1  ").expect("step 1"), "{given}");
+    // One passed run of the unit (a failed one is no reference).
+    {
+        let recorder = drivescript::results::ResultsRecorder::start(
+            Locator::Sqlite(store.clone()),
+            drivescript::results::RecorderSettings {
+                simulated: true,
+                quiet: true,
+                ..Default::default()
+            },
+            Arc::new(Mutex::new(std::io::sink())),
+        );
+        let lenient = write_file(
+            &dir,
+            "lenient.yaml",
+            &std::fs::read_to_string(&recipe)
+                .expect("recipe")
+                .replace("without_history: fail", "without_history: pass"),
+        );
+        let mut run = InProcessRun::new(&lenient);
+        run.operator.answer = vec![("serial".into(), "SP-77".into())];
+        run.observers.push(Arc::new(Mutex::new(recorder)));
+        run.history = Some(Arc::new(StoreHistory::new(Locator::Sqlite(store.clone()), true)));
+        let (result, out) = run.run();
+        assert_eq!(result.exit_code, 0, "{out}");
+    }
+    let mut s = Locator::Sqlite(store.clone()).open(false).expect("opens");
+    let passed = s
+        .list(&RunFilter {
+            simulated: true,
+            verdict: Some("passed".into()),
+            ..RunFilter::default()
+        })
+        .expect("list");
+    let [reference] = passed.as_slice() else {
+        panic!("one passed run: {passed:?}");
+    };
+    // Typed at the terminal during the run.
+    let (reader, mut typing) = std::io::pipe().expect("pipe");
+    std::io::Write::write_all(&mut typing, b"SP-77\n").expect("typed");
+    let mut run = InProcessRun::new(&recipe);
+    run.input = Some(drivescript::run::TerminalInput::of(reader));
+    run.history = Some(Arc::new(StoreHistory::new(Locator::Sqlite(store.clone()), true)));
+    let (result, out) = run.run();
+    drop(typing);
+    assert_eq!(result.exit_code, 0, "{out}");
+    let asked = out.find("Scan the spindle's serial number").expect("asked");
+    let said = out
+        .find(&format!(
+            "history SP-77: compared with its last pass, run {}",
+            reference.run.id
+        ))
+        .unwrap_or_else(|| panic!("the lookup is said:\n{out}"));
+    let moved = out.find("go to operation_enabled").expect("step 2");
+    assert!(asked < said && said < moved, "looked up at the step:\n{out}");
+    assert_has(
+        &out,
+        &["PASS  motor_temperature below 90 °C compared with last pass: motor_temperature = 25 °C: 0 K against 25 °C"],
+    );
+}
+
+/// The shipped example: a spindle's second run compares with its first; a spindle that
+/// warms more than 3 K above its last pass fails, though still within its limit.
+#[test]
+fn the_bearing_acceptance_example_compares_a_spindle_with_its_last_pass() {
+    let dir = scratch("history-example");
+    let store = dir.join("results.sqlite");
+    let recipe = crate::support::repo_root().join("recipes/operator/bearing-acceptance.yaml");
+    let example = |heating: &str| {
+        run(
+            &recipe,
+            store.to_str().unwrap(),
+            &["--fast", "--answer", "serial=SP-104233", "--sim", heating],
+        )
+    };
+    // `check` says where the comparisons are and where the serial will come from.
+    let checked = crate::support::cli(&["check", recipe.to_str().unwrap()], 0);
+    assert_has(
+        &checked.stdout,
+        &[
+            "compares with the unit's last passed run (",
+            "bearing-acceptance.yaml:25:29); the serial from --unit serial=… or the operator step serial (",
+        ],
+    );
+    let (code, first) = example("heating=25K/A");
+    assert_eq!(code, 0, "{first}");
+    let first_id = run_id(&first);
+    let (code, second) = example("heating=25K/A");
+    assert_eq!(code, 0, "{second}");
+    assert_has(
+        &second,
+        &[
+            &format!("history SP-104233: compared with its last pass, run {first_id}"),
+            "PASS  bearing current at 18000 rpm compared with last pass: current_actual mean = ",
+            "(limits -10 .. 10 %)",
+        ],
+    );
+    let (code, warmer) = example("heating=30K/A");
+    assert_eq!(code, 1, "{warmer}");
+    assert_has(
+        &warmer,
+        &[
+            "PASS  motor temperature after 10 min at 18000 rpm: motor_temperature max = 52.5 °C",
+            "FAIL  motor temperature after 10 min at 18000 rpm compared with last pass: motor_temperature max = 52.5 °C: +4.5 K against 48 °C",
+            "expected a change at most +3 K (limit ≤ 3 K)",
+        ],
+    );
+}
+
+/// A script compares its own check with the unit's last passed run of the script, looked
+/// up at the first comparison; a comparison it writes wrongly is a script error.
+#[test]
+fn a_script_compares_its_check_with_the_units_last_pass() {
+    let dir = scratch("history-script");
+    let store = dir.join("results.sqlite");
+    let store = store.to_str().unwrap();
+    let script = write_file(
+        &dir,
+        "bearing.rhai",
+        "//! drive: sd2
+//! name: Scripted bearing check
+let d = drive();
+d.go_to(\"operation_enabled\");
+let t = d.read(\"motor_temperature\");
+expect_near(\"motor temperature\", t, 25.0, \"50 %\");
+expect_compared_with_last_pass(\"motor temperature\", t, #{ at_most: 2.0, at_least: -2.0, without_history: \"pass\" });
+",
+    );
+    let unit = ["--fast", "--unit", "serial=SC-1", "--sim"];
+    let (code, first) = run(&script, store, &[&unit[..], &["ambient=25°C"]].concat());
+    assert_eq!(code, 0, "{first}");
+    assert_has(
+        &first,
+        &["PASS  motor temperature compared with last pass: no earlier passed run of SC-1"],
+    );
+    let first_id = run_id(&first);
+    let (code, drifted) = run(&script, store, &[&unit[..], &["ambient=30°C"]].concat());
+    assert_eq!(code, 1, "{drifted}");
+    assert_has(
+        &drifted,
+        &[
+            &format!("history SC-1: compared with its last pass, run {first_id}"),
+            &format!("FAIL  motor temperature compared with last pass: motor temperature = 30: +5 against 25 in run {first_id}"),
+            "expected a change between -2 and +2",
+        ],
+    );
+    let wrong = write_file(
+        &dir,
+        "wrong.rhai",
+        &std::fs::read_to_string(&script)
+            .expect("script")
+            .replace(", without_history: \"pass\"", ""),
+    );
+    let (code, out) = run(&wrong, store, &unit[..3]);
+    assert_ne!(code, 0, "{out}");
+    assert_has(&out, &["give `without_history: \"pass\"`", "wrong.rhai:7:1"]);
+}
