@@ -472,6 +472,98 @@ mod tests {
     }
 
     #[test]
+    fn floats_are_written_as_the_nearest_float_and_read_as_they_are() {
+        let mut gain = ObjectDef::new(
+            "gain",
+            Address::indexed(0x2100, 0),
+            DataType::F32,
+            Access::ReadWrite,
+        );
+        gain.unit = Some(Unit::Rpm);
+        gain.scale = 0.5;
+        gain.min = Some(0.0);
+        gain.max = Some(100.0);
+        // 2.75 rpm at 0.5 rpm per raw unit is the float 5.5, exactly.
+        assert_eq!(
+            counts_for(&gain, "2.75 rpm"),
+            RawValue::Real(Real::Single(5.5f32.to_bits()))
+        );
+        assert_eq!(
+            counts_for(&gain, "1.1"),
+            RawValue::Real(Real::Single(2.2f32.to_bits())),
+            "not rounded to counts"
+        );
+        assert!(matches!(refused(&gain, "100.5 rpm"), ValueError::AboveMax { .. }));
+        assert!(matches!(refused(&gain, "-1 rpm"), ValueError::BelowMin { .. }));
+        let huge = ObjectDef::new(
+            "huge",
+            Address::indexed(0x2101, 0),
+            DataType::F32,
+            Access::ReadWrite,
+        );
+        let e = refused(&huge, "1e39").to_string();
+        assert_eq!(e, "1e39 is beyond the largest f32 of huge, ±3.4028235e38");
+        let v = gain
+            .value_of(RawValue::Real(Real::Single(5.5f32.to_bits())))
+            .unwrap();
+        assert_eq!((v.number(), v.to_string()), (Some(2.75), "2.75 rpm".to_string()));
+        let nan = gain
+            .value_of(RawValue::Real(Real::Single(f32::NAN.to_bits())))
+            .unwrap();
+        assert_eq!(nan.to_string(), "NaN rpm");
+        assert!(nan.number().is_some_and(f64::is_nan));
+        let inf = huge
+            .value_of(RawValue::Real(Real::Single(f32::NEG_INFINITY.to_bits())))
+            .unwrap();
+        assert_eq!(inf.to_string(), "-inf");
+        assert!(matches!(
+            gain.text_to_raw("x"),
+            Err(ValueError::TextForNumber { .. })
+        ));
+        assert!(huge.value_of(RawValue::Text("x".into())).is_err());
+    }
+
+    #[test]
+    fn bytes_and_utf16_text_and_domains() {
+        let obj = |t| ObjectDef::new("key", Address::indexed(0x2104, 0), t, Access::ReadWrite);
+        assert_eq!(
+            obj(DataType::Octets).text_to_raw("ca fe"),
+            Ok(RawValue::Bytes(vec![0xca, 0xfe]))
+        );
+        let e = obj(DataType::Octets)
+            .text_to_raw("cafez")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.starts_with("key holds bytes, written as hex such as `01 0a ff`"),
+            "{e}"
+        );
+        let long = "00 ".repeat(257);
+        assert!(matches!(
+            obj(DataType::Octets).text_to_raw(&long),
+            Err(ValueError::BlockTooLong {
+                len: 257,
+                max: 256,
+                ..
+            })
+        ));
+        assert_eq!(
+            obj(DataType::Unicode).text_to_raw("Motör"),
+            Ok(RawValue::Text("Motör".into()))
+        );
+        let e = obj(DataType::Domain).text_to_raw("00").unwrap_err().to_string();
+        assert!(e.contains("is a DOMAIN") && e.contains("never writes it"), "{e}");
+        assert!(matches!(
+            obj(DataType::Octets).to_raw(&Quantity::parse("1").unwrap()),
+            Err(ValueError::NumberForText { .. })
+        ));
+        let v = obj(DataType::Octets)
+            .value_of(RawValue::Bytes(vec![1, 0xff]))
+            .unwrap();
+        assert_eq!((v.to_string(), v.number()), ("01 ff".to_string(), None));
+    }
+
+    #[test]
     fn speeds_to_counts() {
         let o = speed_setpoint();
         let c = RawValue::Int;

@@ -279,7 +279,7 @@ proptest! {
         lines in proptest::collection::vec(
             prop_oneof![
                 "\\[[0-9A-Fa-f]{4}(sub[0-9A-Fa-f]{1,3})?(Name|Value|ObjectLinks)?\\]",
-                "(ParameterName|ObjectType|DataType|AccessType|LowLimit|HighLimit|DefaultValue|CompactSubObj|SubNumber|PDOMapping|NodeID|1|2)=[-$A-Za-z0-9x+ ]{0,12}",
+                "(ParameterName|ObjectType|DataType|AccessType|LowLimit|HighLimit|DefaultValue|ParameterValue|CompactSubObj|SubNumber|PDOMapping|NodeID|1|2)=[-$A-Za-z0-9x+. ]{0,12}",
                 "\\[(DeviceComissioning|MandatoryObjects|FileInfo)\\]",
                 ".{0,20}",
             ],
@@ -287,7 +287,9 @@ proptest! {
         )
     ) {
         let mut out = Diagnostics::new();
-        let file = EdsFile::parse(&Source::new("p.eds", lines.join("\n")), &mut out);
+        let source = Source::new("p.eds", lines.join("\n"));
+        let file = EdsFile::parse(&source, &mut out);
         let _ = eds_objects(&file, &HashSet::new(), &HashSet::new(), &|_| None);
+        let _ = super::dcf_parameter_values(&source);
     }
 }
