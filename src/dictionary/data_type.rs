@@ -10,7 +10,8 @@ use std::fmt;
 pub const MAX_STRING_LEN: u8 = 47;
 
 /// Most bytes an OCTET_STRING, UNICODE_STRING or DOMAIN value may have: what one SDO
-/// transfer carries here, so that a node sending more cannot grow memory without bound.
+/// transfer carries here (the SDO client's `MAX_TRANSFER` is this), so that a node sending
+/// more cannot grow memory without bound.
 pub const MAX_BLOCK_LEN: usize = 256;
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
