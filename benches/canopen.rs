@@ -44,7 +44,10 @@ fn eds_text(n: usize) -> String {
                 ));
             }
         } else {
-            let data_type = [1, 2, 3, 4, 5, 6, 7, 9][i % 8];
+            let data_type = [
+                0x01, 0x02, 0x03, 0x04, 0x05, 0x06, 0x07, 0x08, 0x09, 0x0A, 0x0B, 0x10, 0x11, 0x12, 0x13,
+                0x14, 0x15, 0x16, 0x18, 0x19, 0x1A, 0x1B,
+            ][i % 22];
             text.push_str(&format!(
                 "\n[{index:04X}]\nParameterName=Object {i}\nObjectType=0x7\nDataType=0x{data_type:04X}\nAccessType=rw\nLowLimit=0\nHighLimit=100\nDefaultValue=$NODEID+1\nPDOMapping=0\n"
             ));

@@ -160,7 +160,7 @@ fn unchecked_range(def: &ObjectDef) -> Option<String> {
     let unit = def.unit.map(|u| format!(" {}", u.symbol())).unwrap_or_default();
     let limit = |v: f64| format!("{}{unit}", crate::session::number(v));
     let text = match (def.min, def.max) {
-        _ if def.data_type.range().is_none() => return None,
+        _ if !def.data_type.is_integer() => return None,
         (Some(_), Some(_)) => return None,
         (None, None) => format!(
             "the dictionary gives no range for it, so the value was checked against its type ({}) only, not against the drive's range",
@@ -324,7 +324,7 @@ pub fn write(args: &WriteArgs, registry: &Registry) -> i32 {
         }
         return INVALID;
     }
-    let is_text = def.data_type.range().is_none();
+    let is_text = !def.data_type.is_number();
     let checked = if is_text {
         def.text_to_raw(&value).map(|_| None)
     } else {

@@ -1,12 +1,18 @@
 //! The data types of object values as the drive holds them (each family puts them on its wire):
-//! u8 i8 u16 i16 u32 i32, and strings with a maximum length. Sizes and ranges only;
-//! encoding lives with the object definition.
+//! u8 i8 u16 i16 u32 i32, and strings with a maximum length; from a CANopen EDS also
+//! integers of 24 to 64 bits, IEEE floats, byte strings, UTF-16 text and domains. Sizes
+//! and ranges only; encoding lives with the object definition.
 
 use std::fmt;
 
 /// Longest string an object may declare (for example what one SD2 block carries: 48 data
 /// bytes, one of them the length byte).
 pub const MAX_STRING_LEN: u8 = 47;
+
+/// Most bytes an OCTET_STRING, UNICODE_STRING or DOMAIN value may have: what one SDO
+/// transfer carries here (the SDO client's `MAX_TRANSFER` is this), so that a node sending
+/// more cannot grow memory without bound.
+pub const MAX_BLOCK_LEN: usize = 256;
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum DataType {
@@ -21,11 +27,26 @@ pub enum DataType {
     /// 2^63 − 1 here.
     I64,
     U64,
+    /// Integers of 3, 5, 6 or 7 bytes (CANopen INTEGER24 … UNSIGNED56), from an EDS only.
+    Int {
+        bytes: u8,
+        signed: bool,
+    },
+    /// IEEE 754 single and double precision (REAL32, REAL64), little-endian.
+    F32,
+    F64,
     /// Characters, at most `max` of them (SD2, for example, sends the maximum length first,
     /// then the characters, NUL-terminated when shorter than the maximum).
     String {
         max: u8,
     },
+    /// Bytes (OCTET_STRING), at most [`MAX_BLOCK_LEN`]; shown and written as hex.
+    Octets,
+    /// UTF-16LE text (UNICODE_STRING), at most [`MAX_BLOCK_LEN`] bytes; read only.
+    Unicode,
+    /// A block of data (DOMAIN: a program, a log), at most [`MAX_BLOCK_LEN`] bytes; read
+    /// (and backed up as hex) but never written.
+    Domain,
 }
 
 impl DataType {
@@ -44,12 +65,15 @@ impl DataType {
             DataType::U8 | DataType::I8 => 1,
             DataType::U16 | DataType::I16 => 2,
             DataType::U32 | DataType::I32 => 4,
-            DataType::I64 | DataType::U64 => 8,
+            DataType::I64 | DataType::U64 | DataType::F64 => 8,
+            DataType::Int { bytes, .. } => usize::from(bytes),
+            DataType::F32 => 4,
             DataType::String { max } => 1 + usize::from(max),
+            DataType::Octets | DataType::Unicode | DataType::Domain => MAX_BLOCK_LEN,
         }
     }
 
-    /// The smallest and largest raw count; `None` for strings.
+    /// The smallest and largest raw count; `None` for floats, strings and bytes.
     pub fn range(self) -> Option<(i64, i64)> {
         Some(match self {
             DataType::U8 => (0, u8::MAX.into()),
@@ -60,16 +84,45 @@ impl DataType {
             DataType::I32 => (i32::MIN.into(), i32::MAX.into()),
             DataType::I64 => (i64::MIN, i64::MAX),
             DataType::U64 => (0, i64::MAX),
-            DataType::String { .. } => return None,
+            DataType::Int { bytes, signed } => {
+                let bits = 8 * u32::from(bytes.clamp(1, 7));
+                match signed {
+                    true => (-(1i64 << (bits - 1)), (1i64 << (bits - 1)) - 1),
+                    false => (0, (1i64 << bits) - 1),
+                }
+            }
+            DataType::F32
+            | DataType::F64
+            | DataType::String { .. }
+            | DataType::Octets
+            | DataType::Unicode
+            | DataType::Domain => return None,
         })
     }
 
     pub fn is_integer(self) -> bool {
-        !matches!(self, DataType::String { .. })
+        self.range().is_some()
+    }
+
+    /// `Some(true)` for a single, `Some(false)` for a double, `None` for the rest.
+    pub fn float_single(self) -> Option<bool> {
+        match self {
+            DataType::F32 => Some(true),
+            DataType::F64 => Some(false),
+            _ => None,
+        }
+    }
+
+    /// Integers and floats: values given as numbers with units.
+    pub fn is_number(self) -> bool {
+        self.is_integer() || self.float_single().is_some()
     }
 
     pub fn is_signed(self) -> bool {
-        matches!(self, DataType::I8 | DataType::I16 | DataType::I32 | DataType::I64)
+        matches!(
+            self,
+            DataType::I8 | DataType::I16 | DataType::I32 | DataType::I64 | DataType::Int { signed: true, .. }
+        )
     }
 
     /// The spelling in dictionary files: `u16`, `string(32)`.
@@ -83,7 +136,15 @@ impl DataType {
             DataType::I32 => "i32".into(),
             DataType::I64 => "i64".into(),
             DataType::U64 => "u64".into(),
+            DataType::Int { bytes, signed } => {
+                format!("{}{}", if signed { 'i' } else { 'u' }, 8 * u32::from(bytes))
+            }
+            DataType::F32 => "f32".into(),
+            DataType::F64 => "f64".into(),
             DataType::String { max } => format!("string({max})"),
+            DataType::Octets => "octets".into(),
+            DataType::Unicode => "unicode".into(),
+            DataType::Domain => "domain".into(),
         }
     }
 
@@ -159,6 +220,52 @@ mod tests {
         assert_eq!(DataType::I16.to_le_bytes(-2), Some(vec![0xfe, 0xff]));
         assert_eq!(DataType::U8.to_le_bytes(256), None);
         assert_eq!(DataType::String { max: 3 }.to_le_bytes(1), None);
+    }
+
+    #[test]
+    fn integers_of_24_to_56_bits() {
+        let i24 = DataType::Int {
+            bytes: 3,
+            signed: true,
+        };
+        let u48 = DataType::Int {
+            bytes: 6,
+            signed: false,
+        };
+        assert_eq!((i24.name(), u48.name()), ("i24".into(), "u48".into()));
+        assert_eq!(i24.range(), Some((-8_388_608, 8_388_607)));
+        assert_eq!(u48.range(), Some((0, (1 << 48) - 1)));
+        assert_eq!(i24.from_le_bytes(&[0xfe, 0xff, 0xff]), -2);
+        assert_eq!(i24.from_le_bytes(&[0xff, 0xff, 0x7f]), 8_388_607);
+        assert_eq!(u48.from_le_bytes(&[0xff; 6]), (1 << 48) - 1);
+        assert_eq!(i24.to_le_bytes(-2), Some(vec![0xfe, 0xff, 0xff]));
+        assert_eq!(i24.to_le_bytes(8_388_608), None);
+        assert_eq!(
+            DataType::Int {
+                bytes: 7,
+                signed: true
+            }
+            .size(),
+            7
+        );
+        assert!(i24.is_signed() && !u48.is_signed() && u48.is_integer());
+        assert!(DataType::F32.is_number() && !DataType::F32.is_integer());
+        assert!(!DataType::Octets.is_number());
+    }
+
+    proptest::proptest! {
+        /// Every count of every width survives its bytes, sign-extended right.
+        #[test]
+        fn odd_widths_round_trip(bytes in 3u8..=7, signed: bool, seed: i64) {
+            let t = DataType::Int { bytes, signed };
+            let (lo, hi) = t.range().unwrap();
+            let count = lo + seed.rem_euclid(hi - lo + 1);
+            let wire = t.to_le_bytes(count).unwrap();
+            proptest::prop_assert_eq!(wire.len(), usize::from(bytes));
+            proptest::prop_assert_eq!(t.from_le_bytes(&wire), count);
+            let any = seed.to_le_bytes();
+            let _ = t.from_le_bytes(&any[..usize::from(bytes)]);
+        }
     }
 
     #[test]

@@ -6,9 +6,10 @@
 use super::access::Access;
 use super::address::Address;
 use super::bench_cap::BenchCap;
-use super::data_type::DataType;
+use super::data_type::{DataType, MAX_BLOCK_LEN};
 use super::format::Format;
 use super::quantity::Quantity;
+use super::real::Real;
 use super::unit::Unit;
 use super::value::{decimals_of, format_number, RawValue, Value};
 use super::value_error::ValueError;
@@ -145,9 +146,14 @@ impl ObjectDef {
     /// The engineering value of a raw count: count × scale, computed as a division where
     /// the scale is 1/n so that 1003647 counts are exactly 1003.647 rpm.
     pub fn engineering(&self, counts: i64) -> f64 {
+        self.engineering_of(counts as f64)
+    }
+
+    /// [`Self::engineering`] of a raw count or float.
+    fn engineering_of(&self, raw: f64) -> f64 {
         match self.inverse_scale() {
-            Some(n) => counts as f64 / n,
-            None => counts as f64 * self.scale,
+            Some(n) => raw / n,
+            None => raw * self.scale,
         }
     }
 
@@ -179,12 +185,13 @@ impl ObjectDef {
     /// rounding to the nearest count. Refuses a value outside `[min, max]` or outside the
     /// type's range, saying the limit and its unit.
     pub fn to_raw(&self, quantity: &Quantity) -> Result<RawValue, ValueError> {
-        let Some((lo, hi)) = self.data_type.range() else {
-            return Err(ValueError::NumberForText {
-                object: self.name.clone(),
-                data_type: self.data_type,
-            });
+        let number_for_text = || ValueError::NumberForText {
+            object: self.name.clone(),
+            data_type: self.data_type,
         };
+        if !self.data_type.is_number() {
+            return Err(number_for_text());
+        }
         let value = match (quantity.unit, self.unit) {
             (None, _) => quantity.value,
             (Some(given), Some(own)) => {
@@ -213,6 +220,12 @@ impl ObjectDef {
         let given = match (quantity.unit, self.unit) {
             (Some(g), Some(own)) if g != own => format!("{quantity} ({})", self.with_unit(value)),
             _ => self.with_unit(value),
+        };
+        if let Some(single) = self.data_type.float_single() {
+            return self.real_to_raw(quantity, value, single);
+        }
+        let Some((lo, hi)) = self.data_type.range() else {
+            return Err(number_for_text());
         };
         let counts = self.counts_of(value);
         let rounded = self.engineering(counts.clamp(i64::MIN as f64, i64::MAX as f64) as i64);
@@ -255,6 +268,35 @@ impl ObjectDef {
         })
     }
 
+    /// A float object's raw value for `value` (in its unit, finite): value ÷ scale in the
+    /// type's precision, nothing rounded to counts. The limits are compared with the value
+    /// as it will be stored, exactly (an EDS gives them as floats).
+    fn real_to_raw(&self, quantity: &Quantity, value: f64, single: bool) -> Result<RawValue, ValueError> {
+        let in_own_unit = Quantity::new(value, self.unit);
+        let given = match (quantity.unit, self.unit) {
+            (Some(g), Some(own)) if g != own => format!("{quantity} ({in_own_unit})"),
+            _ => in_own_unit.to_string(),
+        };
+        let real = Real::of(value / self.scale, single);
+        let stored = self.engineering_of(real.value());
+        if !stored.is_finite() {
+            let max = Real::of(if single { f64::from(f32::MAX) } else { f64::MAX }, single);
+            return Err(ValueError::BeyondFloat {
+                object: self.name.clone(),
+                value: given,
+                data_type: self.data_type,
+                max: max.to_string(),
+            });
+        }
+        if let Some(max) = self.max.filter(|max| stored > *max) {
+            return Err(self.beyond(given, max, true));
+        }
+        if let Some(min) = self.min.filter(|min| stored < *min) {
+            return Err(self.beyond(given, min, false));
+        }
+        Ok(RawValue::Real(real))
+    }
+
     /// The refusal of `value` beyond `limit`, above the maximum or below the minimum; it
     /// names the bench limits file when that set the limit.
     fn beyond(&self, value: String, limit: f64, above: bool) -> ValueError {
@@ -279,13 +321,47 @@ impl ObjectDef {
         }
     }
 
-    /// Checks text for a string object: plain printable ASCII, at most the type's maximum.
+    /// Checks text for a string object (plain printable ASCII, at most the type's maximum),
+    /// a UTF-16 one (any text of at most [`MAX_BLOCK_LEN`] bytes) or a byte string (hex,
+    /// `01 0a ff`); a DOMAIN is never written.
     pub fn text_to_raw(&self, text: &str) -> Result<RawValue, ValueError> {
-        let DataType::String { max } = self.data_type else {
-            return Err(ValueError::TextForNumber {
-                object: self.name.clone(),
-                data_type: self.data_type,
-            });
+        let too_long = |len| ValueError::BlockTooLong {
+            object: self.name.clone(),
+            data_type: self.data_type,
+            len,
+            max: MAX_BLOCK_LEN,
+        };
+        let max = match self.data_type {
+            DataType::String { max } => max,
+            DataType::Unicode => {
+                let len = 2 * text.encode_utf16().count();
+                return match len <= MAX_BLOCK_LEN {
+                    true => Ok(RawValue::Text(text.to_string())),
+                    false => Err(too_long(len)),
+                };
+            }
+            DataType::Octets => {
+                let bytes = crate::hex::parse_hex(text).map_err(|e| ValueError::NotHexBytes {
+                    object: self.name.clone(),
+                    why: e.to_string(),
+                })?;
+                return match bytes.len() <= MAX_BLOCK_LEN {
+                    true => Ok(RawValue::Bytes(bytes)),
+                    false => Err(too_long(bytes.len())),
+                };
+            }
+            DataType::Domain => {
+                return Err(ValueError::DomainNotWritten {
+                    object: self.name.clone(),
+                    max: MAX_BLOCK_LEN,
+                })
+            }
+            _ => {
+                return Err(ValueError::TextForNumber {
+                    object: self.name.clone(),
+                    data_type: self.data_type,
+                })
+            }
         };
         if let Some(found) = text.chars().find(|c| !(c.is_ascii_graphic() || *c == ' ')) {
             return Err(ValueError::TextNotAscii {
@@ -308,10 +384,12 @@ impl ObjectDef {
     /// value of the wrong kind (text for a number, or the reverse) is refused.
     pub fn value_of(&self, raw: RawValue) -> Result<Value, ValueError> {
         let width = self.data_type.size();
-        let is_text = matches!(self.data_type, DataType::String { .. });
+        let is_text = !self.data_type.is_number();
         let quantity = match (&raw, is_text) {
-            (RawValue::Text(_), true) => None,
+            (RawValue::Text(_) | RawValue::Bytes(_), true) => None,
             (RawValue::Int(count), false) => Some(Quantity::new(self.engineering(*count), self.unit)),
+            // NaN and infinities stay what they are: shown as such, never a limit passed.
+            (RawValue::Real(r), false) => Some(Quantity::new(self.engineering_of(r.value()), self.unit)),
             // Drives that send decimal text carry the value itself, not a count.
             (RawValue::Decimal { digits, places }, false) => Some(Quantity::new(
                 *digits as f64 / 10f64.powi(i32::from(*places)),
@@ -391,6 +469,98 @@ mod tests {
 
     fn counts_for(o: &ObjectDef, text: &str) -> RawValue {
         o.to_raw(&Quantity::parse(text).unwrap()).unwrap()
+    }
+
+    #[test]
+    fn floats_are_written_as_the_nearest_float_and_read_as_they_are() {
+        let mut gain = ObjectDef::new(
+            "gain",
+            Address::indexed(0x2100, 0),
+            DataType::F32,
+            Access::ReadWrite,
+        );
+        gain.unit = Some(Unit::Rpm);
+        gain.scale = 0.5;
+        gain.min = Some(0.0);
+        gain.max = Some(100.0);
+        // 2.75 rpm at 0.5 rpm per raw unit is the float 5.5, exactly.
+        assert_eq!(
+            counts_for(&gain, "2.75 rpm"),
+            RawValue::Real(Real::Single(5.5f32.to_bits()))
+        );
+        assert_eq!(
+            counts_for(&gain, "1.1"),
+            RawValue::Real(Real::Single(2.2f32.to_bits())),
+            "not rounded to counts"
+        );
+        assert!(matches!(refused(&gain, "100.5 rpm"), ValueError::AboveMax { .. }));
+        assert!(matches!(refused(&gain, "-1 rpm"), ValueError::BelowMin { .. }));
+        let huge = ObjectDef::new(
+            "huge",
+            Address::indexed(0x2101, 0),
+            DataType::F32,
+            Access::ReadWrite,
+        );
+        let e = refused(&huge, "1e39").to_string();
+        assert_eq!(e, "1e39 is beyond the largest f32 of huge, ±3.4028235e38");
+        let v = gain
+            .value_of(RawValue::Real(Real::Single(5.5f32.to_bits())))
+            .unwrap();
+        assert_eq!((v.number(), v.to_string()), (Some(2.75), "2.75 rpm".to_string()));
+        let nan = gain
+            .value_of(RawValue::Real(Real::Single(f32::NAN.to_bits())))
+            .unwrap();
+        assert_eq!(nan.to_string(), "NaN rpm");
+        assert!(nan.number().is_some_and(f64::is_nan));
+        let inf = huge
+            .value_of(RawValue::Real(Real::Single(f32::NEG_INFINITY.to_bits())))
+            .unwrap();
+        assert_eq!(inf.to_string(), "-inf");
+        assert!(matches!(
+            gain.text_to_raw("x"),
+            Err(ValueError::TextForNumber { .. })
+        ));
+        assert!(huge.value_of(RawValue::Text("x".into())).is_err());
+    }
+
+    #[test]
+    fn bytes_and_utf16_text_and_domains() {
+        let obj = |t| ObjectDef::new("key", Address::indexed(0x2104, 0), t, Access::ReadWrite);
+        assert_eq!(
+            obj(DataType::Octets).text_to_raw("ca fe"),
+            Ok(RawValue::Bytes(vec![0xca, 0xfe]))
+        );
+        let e = obj(DataType::Octets)
+            .text_to_raw("cafez")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.starts_with("key holds bytes, written as hex such as `01 0a ff`"),
+            "{e}"
+        );
+        let long = "00 ".repeat(257);
+        assert!(matches!(
+            obj(DataType::Octets).text_to_raw(&long),
+            Err(ValueError::BlockTooLong {
+                len: 257,
+                max: 256,
+                ..
+            })
+        ));
+        assert_eq!(
+            obj(DataType::Unicode).text_to_raw("Motör"),
+            Ok(RawValue::Text("Motör".into()))
+        );
+        let e = obj(DataType::Domain).text_to_raw("00").unwrap_err().to_string();
+        assert!(e.contains("is a DOMAIN") && e.contains("never writes it"), "{e}");
+        assert!(matches!(
+            obj(DataType::Octets).to_raw(&Quantity::parse("1").unwrap()),
+            Err(ValueError::NumberForText { .. })
+        ));
+        let v = obj(DataType::Octets)
+            .value_of(RawValue::Bytes(vec![1, 0xff]))
+            .unwrap();
+        assert_eq!((v.to_string(), v.number()), ("01 ff".to_string(), None));
     }
 
     #[test]

@@ -78,11 +78,12 @@ impl FromStr for Quantity {
 }
 
 impl fmt::Display for Quantity {
-    /// `6000 rpm`, `325.3 V`, `42`.
+    /// `6000 rpm`, `325.3 V`, `42`; `1e300` rather than its 301 digits.
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let number = super::real::Real::of(self.value, false);
         match self.unit {
-            Some(u) => write!(f, "{} {u}", self.value),
-            None => write!(f, "{}", self.value),
+            Some(u) => write!(f, "{number} {u}"),
+            None => write!(f, "{number}"),
         }
     }
 }

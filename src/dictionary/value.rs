@@ -5,11 +5,12 @@
 
 use super::format::Format;
 use super::quantity::Quantity;
+use super::real::Real;
 use super::unit::Unit;
 use std::fmt;
 
 /// A value as the drive holds it, in the form its family exchanges: a count, an exact
-/// decimal (drives that send `+1500.5` as text), text, or bytes.
+/// decimal (drives that send `+1500.5` as text), an IEEE float, text, or bytes.
 #[derive(Debug, Clone, PartialEq, Eq, Hash)]
 pub enum RawValue {
     Int(i64),
@@ -18,6 +19,8 @@ pub enum RawValue {
         digits: i64,
         places: u8,
     },
+    /// A float as its bits (CANopen REAL32, REAL64).
+    Real(Real),
     Text(String),
     Bytes(Vec<u8>),
 }
@@ -49,6 +52,7 @@ impl fmt::Display for RawValue {
                     write!(f, "{sign}{whole}.{frac}")
                 }
             }
+            RawValue::Real(r) => write!(f, "{r}"),
             RawValue::Text(t) => write!(f, "{t:?}"),
             RawValue::Bytes(b) => write!(f, "{}", crate::hex::to_hex(b)),
         }
@@ -102,7 +106,17 @@ impl fmt::Display for Value {
                 write!(f, "0x{:0digits$x}", (*i as u64) & mask)
             }
             (RawValue::Int(i), None) => write!(f, "{i}"),
-            (RawValue::Bytes(_) | RawValue::Decimal { .. }, None) => write!(f, "{}", self.raw),
+            (RawValue::Bytes(_) | RawValue::Decimal { .. } | RawValue::Real(_), None) => {
+                write!(f, "{}", self.raw)
+            }
+            // In the float's own precision, shortest: 1.1 not 1.100000023841858; NaN as NaN.
+            (RawValue::Real(r), Some(q)) => {
+                write!(f, "{}", Real::of(q.value, r.is_single()))?;
+                match q.unit {
+                    Some(u) => write!(f, " {u}"),
+                    None => Ok(()),
+                }
+            }
             // Exactly as the drive sent it: its trailing zeros are significant (version 1.10).
             (RawValue::Decimal { .. }, Some(q)) => match q.unit {
                 Some(u) => write!(f, "{} {u}", self.raw),

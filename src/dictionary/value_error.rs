@@ -74,6 +74,14 @@ pub enum ValueError {
         range: String,
     },
 
+    #[error("{value} is beyond the largest {data_type} of {object}, ±{max}")]
+    BeyondFloat {
+        object: String,
+        value: String,
+        data_type: DataType,
+        max: String,
+    },
+
     #[error("{object} holds text ({data_type}); give text, not a number")]
     NumberForText { object: String, data_type: DataType },
 
@@ -85,6 +93,20 @@ pub enum ValueError {
 
     #[error("{object} takes plain ASCII text; {found:?} is not allowed")]
     TextNotAscii { object: String, found: char },
+
+    #[error("{object} holds bytes, written as hex such as `01 0a ff`: {why}")]
+    NotHexBytes { object: String, why: String },
+
+    #[error("{len} bytes are too many for {object} ({data_type}): at most {max}, what one SDO transfer carries here")]
+    BlockTooLong {
+        object: String,
+        data_type: DataType,
+        len: usize,
+        max: usize,
+    },
+
+    #[error("{object} is a DOMAIN, a block of data (a program, a table) that a CANopen tool downloads as a whole: drivescript reads it, up to {max} bytes, but never writes it")]
+    DomainNotWritten { object: String, max: usize },
 
     #[error("{object} ({data_type}) takes {expected} bytes, got {actual}")]
     WrongByteCount {

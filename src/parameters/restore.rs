@@ -107,11 +107,16 @@ fn shown(o: &SavedObject) -> String {
 /// The backup's raw text as a value to write, checked against the object's type and its
 /// (bench-tightened) limits.
 fn value_to_write(def: &ObjectDef, raw: &str) -> Result<WriteValue, String> {
-    if !def.data_type.is_integer() {
+    if !def.data_type.is_number() {
         def.text_to_raw(raw).map_err(|e| e.to_string())?;
         return Ok(WriteValue::Text(raw.to_string()));
     }
-    let parsed = parse_raw(raw).ok_or_else(|| format!("raw value `{raw}` is not a number"))?;
+    // A float as the shortest text of its bits, which reads back to them exactly.
+    let parsed = match def.data_type.float_single() {
+        Some(single) => crate::dictionary::Real::parse(raw, single).map(RawValue::Real),
+        None => parse_raw(raw),
+    }
+    .ok_or_else(|| format!("raw value `{raw}` is not a number"))?;
     let value = def.value_of(parsed).map_err(|e| e.to_string())?;
     let quantity = value
         .quantity

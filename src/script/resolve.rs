@@ -5,7 +5,7 @@
 //! must not talk to a drive.
 
 use crate::diag::{did_you_mean, suggestion_text};
-use crate::dictionary::{DataType, Dictionary, ObjectDef, Quantity, Unit};
+use crate::dictionary::{Dictionary, ObjectDef, Quantity, Unit};
 use crate::drive::DeviceState;
 use crate::session::{ObjectRef, SetValue, Tolerance};
 use std::path::{Component, Path, PathBuf};
@@ -107,7 +107,7 @@ pub fn set_value(dict: &Dictionary, name: &str, value: &Written) -> Result<(Obje
             None,
         ));
     }
-    if let DataType::String { .. } = def.data_type {
+    if !def.data_type.is_number() {
         return match value {
             Written::Text(t) => match def.text_to_raw(t) {
                 Ok(_) => Ok((r, SetValue::Text(t.clone()))),

@@ -8,6 +8,7 @@ mod bench_limits;
 mod bounded;
 mod brake_first;
 mod canopen;
+mod canopen_types;
 mod command_line;
 mod ct_ansi;
 mod decode_cli;

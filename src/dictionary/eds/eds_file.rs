@@ -4,7 +4,7 @@
 //! is recorded with file:line and reading goes on, so a file reports them all. No I/O
 //! (the caller reads the file) and no dictionary objects (see `eds_objects`).
 
-use super::eds_number::EdsNumber;
+use super::eds_number::{EdsLimit, EdsNumber};
 use super::eds_type::{access, EdsType};
 use super::ini_text::{IniSection, IniText};
 use crate::diag::{Diagnostic, Diagnostics, Source, Span};
@@ -29,8 +29,8 @@ pub(crate) struct EdsEntry {
     pub parent: Option<String>,
     pub data_type: EdsType,
     pub access: Access,
-    pub low: Option<EdsNumber>,
-    pub high: Option<EdsNumber>,
+    pub low: Option<EdsLimit>,
+    pub high: Option<EdsLimit>,
     /// `DefaultValue` as written (numbers, `$NODEID` expressions or text).
     pub default: Option<String>,
     /// A DCF's `ParameterValue`: the value the node is configured with.
@@ -289,9 +289,10 @@ fn entry(
             .map_err(|why| out.push(Diagnostic::at(&e.span, why, "unknown access type")))
             .ok(),
     };
-    let mut number = |key: &str| -> Option<EdsNumber> {
+    let real = matches!(data_type, Some(EdsType::Real32 | EdsType::Real64));
+    let mut limit = |key: &str| -> Option<EdsLimit> {
         let e = section.get(key).filter(|e| !e.value.is_empty())?;
-        EdsNumber::parse(&e.value)
+        EdsLimit::parse(&e.value, real)
             .map_err(|why| {
                 out.push(Diagnostic::at(
                     &e.span,
@@ -301,8 +302,8 @@ fn entry(
             })
             .ok()
     };
-    let low = number("LowLimit");
-    let high = number("HighLimit");
+    let low = limit("LowLimit");
+    let high = limit("HighLimit");
     let pdo_mapping = section
         .get("PDOMapping")
         .is_some_and(|e| matches!(EdsNumber::parse(&e.value), Ok(n) if n.value != 0));

@@ -59,6 +59,38 @@ impl EdsNumber {
     }
 }
 
+/// A `LowLimit` or `HighLimit`: a number as above, or for a REAL32/REAL64 object a float
+/// (`1.5`, `-3.4E+38`; CiA 306 writes them in decimal).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) enum EdsLimit {
+    Number(EdsNumber),
+    Real(f64),
+}
+
+impl EdsLimit {
+    /// Reads `text`, as a float first when `real`. The error says what was expected.
+    pub fn parse(text: &str, real: bool) -> Result<EdsLimit, String> {
+        if real {
+            let t = text.trim();
+            if let Ok(v) = t.parse::<f64>() {
+                return Ok(EdsLimit::Real(v));
+            }
+            return EdsNumber::parse(t).map(EdsLimit::Number).map_err(|_| {
+                format!("`{t}` is not a number; a REAL object's limit is a decimal such as 1.5 or -3.4E+38")
+            });
+        }
+        EdsNumber::parse(text).map(EdsLimit::Number)
+    }
+
+    /// The value for node `node`; a `$NODEID` expression without a node is `None`.
+    pub fn resolve(self, node: Option<u8>) -> Option<f64> {
+        match self {
+            EdsLimit::Number(n) => n.resolve(node).map(|v| v as f64),
+            EdsLimit::Real(v) => Some(v),
+        }
+    }
+}
+
 fn expression_help(text: &str) -> String {
     format!("`{text}` is not a $NODEID expression; expected `$NODEID`, `$NODEID+0x180` or `0x180+$NODEID`")
 }
@@ -113,6 +145,21 @@ mod tests {
         assert!(n("0xZZ").unwrap_err().contains("hexadecimal"));
         assert!(n("").is_err());
         assert!(n("12abc").is_err());
+    }
+
+    #[test]
+    fn limits_of_real_objects_are_floats() {
+        let l = |t: &str, real| EdsLimit::parse(t, real).map(|l| l.resolve(Some(2)));
+        assert_eq!(l("1.5", true), Ok(Some(1.5)));
+        assert_eq!(l("-3.4E+38", true), Ok(Some(-3.4e38)));
+        assert_eq!(l("0x10", true), Ok(Some(16.0)));
+        assert_eq!(l("$NODEID+1", true), Ok(Some(3.0)));
+        assert!(l("1,5", true).unwrap_err().contains("-3.4E+38"));
+        assert!(
+            l("1.5", false).is_err(),
+            "an integer object's limit is an integer"
+        );
+        assert_eq!(l("$NODEID+1", false), Ok(Some(3.0)));
     }
 
     #[test]

@@ -7,11 +7,8 @@
 
 use super::eds_file::{EdsEntry, EdsFile};
 use crate::diag::{Diagnostic, Span};
-use crate::dictionary::{Address, Format, ObjectDef};
+use crate::dictionary::{Address, DataType, Format, ObjectDef};
 use std::collections::{BTreeMap, HashSet};
-
-const NOT_CARRIED_WHY: &str =
-    "drivescript's dictionaries carry integers of 8, 16, 32 and 64 bits and visible strings; read others with a CANopen tool";
 
 /// What an EDS adds to a dictionary.
 #[derive(Debug)]
@@ -42,7 +39,8 @@ pub(crate) fn eds_objects(
         parameter_values: Vec::new(),
         aliases_of_occupied: Vec::new(),
     };
-    let mut not_carried: BTreeMap<String, Vec<String>> = BTreeMap::new();
+    // Per type left out: why, where the first such entry is, and the places.
+    let mut not_carried: BTreeMap<u16, (String, Span, Vec<String>)> = BTreeMap::new();
     let mut unresolved: Vec<String> = Vec::new();
     for entry in &file.entries {
         let address = Address::indexed(entry.index, u32::from(entry.subindex));
@@ -56,10 +54,11 @@ pub(crate) fn eds_objects(
         }
         let (data_type, range) = match entry.data_type.carried() {
             Ok(carried) => carried,
-            Err(_) => {
+            Err(why) => {
                 not_carried
-                    .entry(entry.data_type.name())
-                    .or_default()
+                    .entry(why.code)
+                    .or_insert_with(|| (why.to_string(), entry.span.clone(), Vec::new()))
+                    .2
                     .push(index_text(entry));
                 continue;
             }
@@ -72,28 +71,30 @@ pub(crate) fn eds_objects(
                 def.aliases.push(alias);
             }
         }
-        let limit = |n: Option<super::eds_number::EdsNumber>| n.map(|n| n.resolve(file.node_id));
+        let limit = |n: Option<super::eds_number::EdsLimit>| n.map(|n| n.resolve(file.node_id));
         let (low, high) = (limit(entry.low), limit(entry.high));
         if matches!(low, Some(None)) || matches!(high, Some(None)) {
             unresolved.push(index_text(entry));
         }
-        def.min = range.map(|r| r.0).or(low.flatten().map(|v| v as f64));
-        def.max = range.map(|r| r.1).or(high.flatten().map(|v| v as f64));
+        def.min = range.map(|r| r.0).or(low.flatten());
+        def.max = range.map(|r| r.1).or(high.flatten());
         if let (Some(type_range), Some(min)) = (data_type.range(), def.min) {
             def.min = Some(min.max(type_range.0 as f64));
         }
         if let (Some(type_range), Some(max)) = (data_type.range(), def.max) {
             def.max = Some(max.min(type_range.1 as f64));
         }
-        if entry.index >= 0x1000 && entry.index < 0x2000 && data_type.size() == 4 {
+        if entry.index >= 0x1000 && entry.index < 0x2000 && data_type.is_integer() && data_type.size() == 4 {
             // Communication objects of 32 bits are COB-IDs and bit fields.
             def.format = Format::Hex;
         }
         def.description = description(entry);
         // A setting of the node, not process data (PDO-mapped) and not the store/restore
         // commands 0x1010/0x1011, whose write is an action.
+        // A DOMAIN is a block of data, never a setting written back.
         def.parameter = def.readable()
             && def.writable()
+            && data_type != DataType::Domain
             && !entry.pdo_mapping
             && !(0x1010..=0x1011).contains(&entry.index);
         def.span = entry.span.clone();
@@ -103,13 +104,10 @@ pub(crate) fn eds_objects(
         out.objects.push(def);
     }
     let start = Span::start_of(&file.source);
-    for (type_name, places) in not_carried {
+    for (why, first, places) in not_carried.into_values() {
         out.notes.push(Diagnostic::at(
-            &start,
-            format!(
-                "left out, type {type_name}: {} ({NOT_CARRIED_WHY})",
-                shortened(&places)
-            ),
+            &first,
+            format!("left out: {} ({why})", shortened(&places)),
             "left out",
         ));
     }

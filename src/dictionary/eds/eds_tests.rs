@@ -127,20 +127,82 @@ fn compact_sub_objects_node_id_and_parameter_values() {
 }
 
 #[test]
-fn types_not_carried_are_left_out_with_a_note() {
+fn every_basic_type_is_carried_in_its_own_width() {
     let d = every_type();
-    for gone in ["real_value", "octets", "unicode", "program"] {
-        assert!(d.get(gone).is_none(), "{gone}");
-    }
-    let notes: Vec<String> = d.notes().iter().map(|n| n.message().to_string()).collect();
-    for t in [
-        "type REAL32: 0x2007",
-        "OCTET_STRING",
-        "UNICODE_STRING",
-        "type DOMAIN: 0x200F",
-    ] {
-        assert!(notes.iter().any(|n| n.contains(t)), "{t}: {notes:?}");
-    }
+    let t = |name: &str| d.get(name).unwrap_or_else(|| panic!("{name}")).data_type;
+    let int = |bytes, signed| DataType::Int { bytes, signed };
+    assert_eq!(t("signed_24"), int(3, true));
+    assert_eq!(t("signed_40"), int(5, true));
+    assert_eq!(t("signed_48"), int(6, true));
+    assert_eq!(t("signed_56"), int(7, true));
+    assert_eq!(t("unsigned_24"), int(3, false));
+    assert_eq!(t("unsigned_40"), int(5, false));
+    assert_eq!(t("unsigned_48"), int(6, false));
+    assert_eq!(t("unsigned_56"), int(7, false));
+    assert_eq!(t("real_value"), DataType::F32);
+    assert_eq!(t("real_64"), DataType::F64);
+    assert_eq!(t("octets"), DataType::Octets);
+    assert_eq!(t("unicode"), DataType::Unicode);
+    assert_eq!(t("program"), DataType::Domain);
+    // Limits of a REAL are floats; an integer's are clamped to its width.
+    let real = d.get("real_value").unwrap();
+    assert_eq!((real.min, real.max), (Some(-3.4e38), Some(1500.0)));
+    assert_eq!(real.format, Format::Decimal);
+    let signed_24 = d.get("signed_24").unwrap();
+    assert_eq!(
+        (signed_24.min, signed_24.max),
+        (Some(-8_388_608.0), Some(8_388_607.0))
+    );
+    // A DOMAIN is read, never a parameter to restore.
+    assert!(!d.get("program").unwrap().parameter);
+    assert!(d.get("octets").unwrap().parameter && real.parameter);
+}
+
+#[test]
+fn a_type_not_carried_is_left_out_with_a_note_at_its_entry() {
+    let d = every_type();
+    assert!(d.get("time_of_day").is_none());
+    let note = d
+        .notes()
+        .iter()
+        .find(|n| n.message().contains("0x200C"))
+        .unwrap_or_else(|| panic!("{:?}", d.notes()));
+    assert!(
+        note.message().contains(
+            "left out: 0x200C (TIME_OF_DAY (0x000C) is not one of the basic types drivescript carries"
+        ),
+        "{}",
+        note.message()
+    );
+    let text =
+        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/eds/every-type.dcf")).unwrap();
+    let line = text.lines().position(|l| l == "[200C]").unwrap() + 1;
+    assert_eq!(note.line(), line, "located at the entry's section");
+}
+
+#[test]
+fn a_dcfs_floats_and_bytes_are_parameter_values_in_their_shortest_text() {
+    let source = crate::diag::Source::new(
+        "every-type.dcf",
+        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/eds/every-type.dcf")).unwrap(),
+    );
+    let values = super::dcf_parameter_values(&source).unwrap();
+    let value = |index: &str| values.iter().find(|(i, _)| i == index).map(|(_, v)| v.as_str());
+    assert_eq!(value("0x2007"), Some("1.25"));
+    assert_eq!(value("0x2011"), Some("0.1"));
+    assert_eq!(value("0x2013"), Some("-2"));
+    assert_eq!(value("0x2009"), Some("0a 0b"));
+    assert_eq!(value("0x200F"), None, "a DOMAIN is no parameter");
+    let bad = crate::diag::Source::new(
+        "bad.dcf",
+        "[FileInfo]\nFileName=bad.dcf\n[2000]\nParameterName=Gain\nDataType=0x0008\nAccessType=rw\nParameterValue=1,5\n",
+    );
+    let problems = super::dcf_parameter_values(&bad).unwrap_err();
+    let first = problems.iter().next().unwrap();
+    assert!(first
+        .message()
+        .contains("`ParameterValue=1,5` is not a number; a REAL32 value is a decimal"));
+    assert_eq!(first.line(), 3);
 }
 
 #[test]
@@ -217,7 +279,7 @@ proptest! {
         lines in proptest::collection::vec(
             prop_oneof![
                 "\\[[0-9A-Fa-f]{4}(sub[0-9A-Fa-f]{1,3})?(Name|Value|ObjectLinks)?\\]",
-                "(ParameterName|ObjectType|DataType|AccessType|LowLimit|HighLimit|DefaultValue|CompactSubObj|SubNumber|PDOMapping|NodeID|1|2)=[-$A-Za-z0-9x+ ]{0,12}",
+                "(ParameterName|ObjectType|DataType|AccessType|LowLimit|HighLimit|DefaultValue|ParameterValue|CompactSubObj|SubNumber|PDOMapping|NodeID|1|2)=[-$A-Za-z0-9x+. ]{0,12}",
                 "\\[(DeviceComissioning|MandatoryObjects|FileInfo)\\]",
                 ".{0,20}",
             ],
@@ -225,7 +287,9 @@ proptest! {
         )
     ) {
         let mut out = Diagnostics::new();
-        let file = EdsFile::parse(&Source::new("p.eds", lines.join("\n")), &mut out);
+        let source = Source::new("p.eds", lines.join("\n"));
+        let file = EdsFile::parse(&source, &mut out);
         let _ = eds_objects(&file, &HashSet::new(), &HashSet::new(), &|_| None);
+        let _ = super::dcf_parameter_values(&source);
     }
 }

@@ -1,5 +1,5 @@
 //! CiA 306's data type codes (`DataType=0x0007`) and access types (`AccessType=rw`), and
-//! which of them drivescript can carry as a dictionary object over SDO. Pure tables.
+//! the dictionary type each is carried as over SDO. Pure tables.
 
 use crate::dictionary::{Access, DataType, MAX_STRING_LEN};
 
@@ -67,11 +67,14 @@ impl EdsType {
             .map_or(EdsType::Other(code), |(_, t, _)| *t)
     }
 
-    /// `UNSIGNED16`, or `data type 0x000C` for a code without a name here.
+    /// `UNSIGNED16`, `TIME_OF_DAY (0x000C)`, or `data type 0x0020` for a code without a
+    /// name here.
     pub fn name(self) -> String {
         match CODES.iter().find(|(_, t, _)| *t == self) {
             Some((_, _, name)) => (*name).to_string(),
             None => match self {
+                EdsType::Other(0x000C) => "TIME_OF_DAY (0x000C)".into(),
+                EdsType::Other(0x000D) => "TIME_DIFFERENCE (0x000D)".into(),
                 EdsType::Other(code) => format!("data type 0x{code:04X}"),
                 _ => String::new(),
             },
@@ -79,29 +82,46 @@ impl EdsType {
     }
 
     /// The dictionary type that carries this one over SDO, with the value range a BOOLEAN
-    /// adds; `Err` says why drivescript does not carry it (yet).
-    pub fn carried(self) -> Result<(DataType, Option<(f64, f64)>), String> {
+    /// adds.
+    pub fn carried(self) -> Result<(DataType, Option<(f64, f64)>), NotCarried> {
+        let int = |bytes, signed| DataType::Int { bytes, signed };
         Ok(match self {
             // CiA 301 sends a BOOLEAN in one byte, 0 or 1.
             EdsType::Boolean => (DataType::U8, Some((0.0, 1.0))),
             EdsType::Integer8 => (DataType::I8, None),
             EdsType::Integer16 => (DataType::I16, None),
+            EdsType::Integer24 => (int(3, true), None),
             EdsType::Integer32 => (DataType::I32, None),
+            EdsType::Integer40 => (int(5, true), None),
+            EdsType::Integer48 => (int(6, true), None),
+            EdsType::Integer56 => (int(7, true), None),
+            EdsType::Integer64 => (DataType::I64, None),
             EdsType::Unsigned8 => (DataType::U8, None),
             EdsType::Unsigned16 => (DataType::U16, None),
+            EdsType::Unsigned24 => (int(3, false), None),
             EdsType::Unsigned32 => (DataType::U32, None),
-            EdsType::Integer64 => (DataType::I64, None),
+            EdsType::Unsigned40 => (int(5, false), None),
+            EdsType::Unsigned48 => (int(6, false), None),
+            EdsType::Unsigned56 => (int(7, false), None),
             EdsType::Unsigned64 => (DataType::U64, None),
+            EdsType::Real32 => (DataType::F32, None),
+            EdsType::Real64 => (DataType::F64, None),
             // The EDS gives no length: up to the longest string a dictionary holds.
             EdsType::VisibleString => (DataType::String { max: MAX_STRING_LEN }, None),
-            other => {
-                return Err(format!(
-                    "drivescript's dictionaries carry integers of 8, 16, 32 and 64 bits and visible strings, not {}",
-                    other.name()
-                ))
-            }
+            EdsType::OctetString => (DataType::Octets, None),
+            EdsType::UnicodeString => (DataType::Unicode, None),
+            EdsType::Domain => (DataType::Domain, None),
+            EdsType::Other(code) => return Err(NotCarried { code }),
         })
     }
+}
+
+/// Why an entry's data type is not carried: not one of CiA 301's basic types (a time, a
+/// PDO parameter record type, a vendor's own).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
+#[error("{} is not one of the basic types drivescript carries (BOOLEAN, INTEGER8 to 64, UNSIGNED8 to 64, REAL32, REAL64, VISIBLE_STRING, OCTET_STRING, UNICODE_STRING, DOMAIN); read it with a CANopen tool", EdsType::Other(*code).name())]
+pub(crate) struct NotCarried {
+    pub code: u16,
 }
 
 /// CiA 306's access types. `rwr`/`rww` (read-write, mapped to a transmit or receive PDO)
@@ -145,14 +165,48 @@ mod tests {
             assert_eq!(EdsType::from_code(code), t);
             assert_eq!(t.name(), name);
         }
-        assert_eq!(EdsType::from_code(0x000C).name(), "data type 0x000C");
+        assert_eq!(EdsType::from_code(0x000C).name(), "TIME_OF_DAY (0x000C)");
+        assert_eq!(EdsType::from_code(0x0020).name(), "data type 0x0020");
         assert_eq!(EdsType::Boolean.carried(), Ok((DataType::U8, Some((0.0, 1.0)))));
-        assert_eq!(EdsType::Integer16.carried().unwrap().0, DataType::I16);
-        assert_eq!(EdsType::Unsigned32.carried().unwrap().0, DataType::U32);
-        assert_eq!(EdsType::Unsigned64.carried().unwrap().0, DataType::U64);
-        assert_eq!(EdsType::Integer64.carried().unwrap().0, DataType::I64);
-        assert!(EdsType::Integer24.carried().unwrap_err().contains("INTEGER24"));
-        assert!(EdsType::Real32.carried().unwrap_err().contains("REAL32"));
-        assert!(EdsType::Domain.carried().is_err());
+        let carried = |t: EdsType| t.carried().unwrap().0;
+        assert_eq!(carried(EdsType::Integer16), DataType::I16);
+        assert_eq!(carried(EdsType::Unsigned32), DataType::U32);
+        assert_eq!(carried(EdsType::Unsigned64), DataType::U64);
+        assert_eq!(carried(EdsType::Integer64), DataType::I64);
+        assert_eq!(
+            carried(EdsType::Integer24),
+            DataType::Int {
+                bytes: 3,
+                signed: true
+            }
+        );
+        assert_eq!(
+            carried(EdsType::Unsigned40),
+            DataType::Int {
+                bytes: 5,
+                signed: false
+            }
+        );
+        assert_eq!(
+            carried(EdsType::Integer56),
+            DataType::Int {
+                bytes: 7,
+                signed: true
+            }
+        );
+        assert_eq!(carried(EdsType::Real32), DataType::F32);
+        assert_eq!(carried(EdsType::Real64), DataType::F64);
+        assert_eq!(carried(EdsType::OctetString), DataType::Octets);
+        assert_eq!(carried(EdsType::UnicodeString), DataType::Unicode);
+        assert_eq!(carried(EdsType::Domain), DataType::Domain);
+        // Every named code is carried, in its own width.
+        for (_, t, _) in CODES {
+            assert!(t.carried().is_ok(), "{t:?}");
+        }
+        let why = EdsType::from_code(0x000C).carried().unwrap_err().to_string();
+        assert!(
+            why.contains("TIME_OF_DAY (0x000C) is not one of the basic types"),
+            "{why}"
+        );
     }
 }

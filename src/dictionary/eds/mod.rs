@@ -21,6 +21,7 @@ pub fn dcf_parameter_values(
     source: &std::sync::Arc<crate::diag::Source>,
 ) -> Result<Vec<(String, String)>, crate::diag::Diagnostics> {
     use crate::diag::{Diagnostic, Diagnostics};
+    use crate::dictionary::DataType;
     let mut problems = Diagnostics::new();
     let file = EdsFile::parse(source, &mut problems);
     let mut values = Vec::new();
@@ -29,10 +30,40 @@ pub fn dcf_parameter_values(
         else {
             continue;
         };
+        // A DOMAIN is not a parameter: a DCF gives its contents as a file to download.
         let Ok((data_type, _)) = entry.data_type.carried() else {
             continue;
         };
-        let value = if data_type.is_integer() {
+        if data_type == DataType::Domain {
+            continue;
+        }
+        let value = if let Some(single) = data_type.float_single() {
+            match crate::dictionary::Real::parse(text, single) {
+                // The shortest text of the float, as a backup and a read show it.
+                Some(real) => real.to_string(),
+                None => {
+                    problems.push(Diagnostic::at(
+                        &entry.span,
+                        format!("`ParameterValue={text}` is not a number; a {} value is a decimal such as 1.5 or -3.4E+38", entry.data_type.name()),
+                        "expected a float",
+                    ));
+                    continue;
+                }
+            }
+        } else if data_type == DataType::Octets {
+            // CiA 306 writes an OCTET_STRING's value as hex digits.
+            match crate::hex::parse_hex(text) {
+                Ok(bytes) => crate::hex::to_hex(&bytes),
+                Err(why) => {
+                    problems.push(Diagnostic::at(
+                        &entry.span,
+                        format!("`ParameterValue` of an OCTET_STRING: {why}"),
+                        "expected hex bytes",
+                    ));
+                    continue;
+                }
+            }
+        } else if data_type.is_integer() {
             match EdsNumber::parse(text).map(|n| n.resolve(file.node_id)) {
                 Ok(Some(n)) => n.to_string(),
                 Ok(None) => {

@@ -6,9 +6,11 @@
 //! each node's last initiate request so that segments and responses are read as the
 //! object they belong to. Frames arrive as [`CanFrame::to_bytes`].
 
-use super::codec::{error_code_text, AbortCode, Emcy, NmtCommand, NmtState, SdoRequest, SdoResponse, NMT_ID};
+use super::codec::{
+    error_code_text, AbortCode, Emcy, NmtCommand, NmtState, SdoRequest, SdoResponse, Uploaded, NMT_ID,
+};
 use crate::bus::CanFrame;
-use crate::dictionary::{Dictionary, RawValue};
+use crate::dictionary::Dictionary;
 use crate::hex::to_hex;
 use crate::link::{Direction, ExplainError, TelegramExplainer};
 use serde_json::{json, Map, Value};
@@ -193,32 +195,33 @@ impl SdoExplainer {
         format!(
             "{} = {}",
             self.object(index, subindex),
-            self.value(index, subindex, &data[..n])
+            self.value(index, subindex, &data[..n], size.is_some())
         )
     }
 
-    fn value(&self, index: u16, subindex: u8, data: &[u8]) -> String {
+    /// The bytes as the object's type holds them (the node's own decoding, so a REAL32 is
+    /// its float and a 24-bit integer sign-extended); as an unsigned number for an object
+    /// the dictionary does not know, or whose type the bytes do not fit.
+    fn value(&self, index: u16, subindex: u8, data: &[u8], size_indicated: bool) -> String {
         let mut buf = [0u8; 8];
         let n = data.len().min(8);
         buf[..n].copy_from_slice(&data[..n]);
-        let raw = u64::from_le_bytes(buf);
+        let unsigned = u64::from_le_bytes(buf).to_string();
         let Some(def) = self.names.by_address(index, u32::from(subindex)) else {
-            return raw.to_string();
+            return unsigned;
         };
-        if !def.data_type.is_integer() {
-            return format!("{:?}", String::from_utf8_lossy(data));
-        }
-        let size = def.data_type.size().min(8);
-        let shift = 64 - 8 * size as u32;
-        let count = if def.data_type.is_signed() {
-            ((raw << shift) as i64) >> shift
-        } else {
-            raw as i64
+        let uploaded = Uploaded {
+            data: data.to_vec(),
+            size_indicated,
+            segmented: false,
         };
-        match def.value_of(RawValue::Int(count)) {
-            Ok(v) if def.unit.is_some() && def.scale != 1.0 => format!("{count} = {v}"),
+        let Ok(raw) = super::sdo_value::decode(&uploaded, def.data_type) else {
+            return unsigned;
+        };
+        match def.value_of(raw.clone()) {
+            Ok(v) if def.unit.is_some() && def.scale != 1.0 => format!("{raw} = {v}"),
             Ok(v) => v.to_string(),
-            Err(_) => count.to_string(),
+            Err(_) => raw.to_string(),
         }
     }
 

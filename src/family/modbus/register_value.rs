@@ -11,7 +11,7 @@ pub fn count(data_type: DataType) -> Option<u16> {
     match data_type {
         DataType::U8 | DataType::I8 | DataType::U16 | DataType::I16 => Some(1),
         DataType::U32 | DataType::I32 => Some(2),
-        DataType::I64 | DataType::U64 | DataType::String { .. } => None,
+        _ => None,
     }
 }
 

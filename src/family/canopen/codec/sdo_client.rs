@@ -12,9 +12,10 @@
 
 use super::{AbortCode, SdoDecodeError, SdoRequest, SdoResponse};
 
-/// Most bytes one transfer carries: the longest value a dictionary may declare, with room
-/// for a node that pads. More is refused and aborted.
-pub const MAX_TRANSFER: usize = 256;
+/// Most bytes one transfer carries: the longest value a dictionary may declare (a byte
+/// string, UTF-16 text or DOMAIN of [`crate::dictionary::MAX_BLOCK_LEN`]), with room for
+/// a node that pads a string. More is refused and aborted.
+pub const MAX_TRANSFER: usize = crate::dictionary::MAX_BLOCK_LEN;
 
 /// What the client does next.
 #[derive(Debug, Clone, PartialEq, Eq)]

@@ -7,7 +7,7 @@
 use super::sdo_server::{ObjectStore, Place, SdoLogged};
 use crate::diag::{Diagnostics, Source};
 use crate::dictionary::eds::{EdsEntry, EdsFile, EdsNumber};
-use crate::dictionary::{Access, DataType};
+use crate::dictionary::{Access, DataType, Real, MAX_BLOCK_LEN};
 use crate::family::canopen::codec::AbortCode;
 use crate::sim::{ModelRefusal, SimCore};
 use std::collections::BTreeMap;
@@ -25,6 +25,10 @@ pub const MODES_DISPLAY: Place = (0x6061, 0);
 pub const VELOCITY_ACTUAL: Place = (0x606C, 0);
 pub const DC_LINK_VOLTAGE: Place = (0x6079, 0);
 pub const TARGET_VELOCITY: Place = (0x60FF, 0);
+/// A DOMAIN bigger than any transfer drivescript takes: the client must refuse it without
+/// keeping it.
+pub const TRACE_BUFFER: Place = (0x2F01, 0);
+const TRACE_BUFFER_LEN: usize = 4096;
 
 /// The velocity modes in which the node follows 0x60FF: 2 velocity, 3 profile velocity.
 const VELOCITY_MODES: [i64; 2] = [2, 3];
@@ -33,8 +37,9 @@ const VELOCITY_MODES: [i64; 2] = [2, 3];
 struct Slot {
     data_type: DataType,
     access: Access,
-    low: Option<i128>,
-    high: Option<i128>,
+    /// Limits as numbers (a float's as given, an integer's exact up to 2^53).
+    low: Option<f64>,
+    high: Option<f64>,
     value: Vec<u8>,
 }
 
@@ -86,6 +91,15 @@ fn slot(entry: &EdsEntry, node: u8) -> Option<Slot> {
     let default = entry.default.as_deref().unwrap_or("");
     let value = match data_type {
         DataType::String { .. } => default.as_bytes().to_vec(),
+        DataType::Unicode => default.encode_utf16().flat_map(u16::to_le_bytes).collect(),
+        // CiA 306 writes byte values as hex digits.
+        DataType::Octets | DataType::Domain => crate::hex::parse_hex(default).unwrap_or_default(),
+        DataType::F32 | DataType::F64 => {
+            let single = data_type == DataType::F32;
+            Real::parse(default, single)
+                .unwrap_or(Real::of(0.0, single))
+                .to_le_bytes()
+        }
         _ => {
             let n = EdsNumber::parse(default)
                 .ok()
@@ -132,6 +146,7 @@ impl ObjectStore for Cia402Objects {
             MODES_DISPLAY => self.int(MODES),
             VELOCITY_ACTUAL => m.measured_speed_rpm().round() as i64,
             DC_LINK_VOLTAGE => (m.measured_bus_voltage_v() * 1000.0).round() as i64,
+            TRACE_BUFFER => return Ok((0..TRACE_BUFFER_LEN).map(|i| i as u8).collect()),
             _ => return Ok(slot.value.clone()),
         };
         slot.data_type.to_le_bytes(live).ok_or(AbortCode::GENERAL_ERROR)
@@ -145,20 +160,30 @@ impl ObjectStore for Cia402Objects {
         if slot.access == Access::ReadOnly {
             return Err(AbortCode::READ_ONLY);
         }
-        if let DataType::String { max } = slot.data_type {
-            if bytes.len() > usize::from(max) {
-                return Err(AbortCode::LENGTH_MISMATCH);
-            }
-        } else if bytes.len() != slot.data_type.size() {
+        let fits = match slot.data_type {
+            DataType::String { max } => bytes.len() <= usize::from(max),
+            DataType::Octets | DataType::Unicode | DataType::Domain => bytes.len() <= MAX_BLOCK_LEN,
+            other => bytes.len() == other.size(),
+        };
+        if !fits {
             return Err(AbortCode::LENGTH_MISMATCH);
         }
-        let value = i128::from(slot.data_type.from_le_bytes(bytes));
-        if slot.low.is_some_and(|low| value < low) {
-            return Err(AbortCode::VALUE_TOO_LOW);
+        let number = match slot.data_type.float_single() {
+            Some(single) => Real::from_le_bytes(bytes, single).map(Real::value),
+            None if slot.data_type.is_integer() => Some(slot.data_type.from_le_bytes(bytes) as f64),
+            None => None,
+        };
+        if let Some(value) = number {
+            // A NaN is within no limits: a node with limits refuses it.
+            let limited = slot.low.is_some() || slot.high.is_some();
+            if slot.low.is_some_and(|low| value < low) || (limited && value.is_nan()) {
+                return Err(AbortCode::VALUE_TOO_LOW);
+            }
+            if slot.high.is_some_and(|high| value > high) {
+                return Err(AbortCode::VALUE_TOO_HIGH);
+            }
         }
-        if slot.high.is_some_and(|high| value > high) {
-            return Err(AbortCode::VALUE_TOO_HIGH);
-        }
+        let value = slot.data_type.from_le_bytes(bytes);
         if place == CONTROLWORD {
             let control_word = value as u16;
             core.log_control_word(control_word);

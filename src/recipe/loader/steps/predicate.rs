@@ -3,7 +3,7 @@
 //! object's unit or in %). It must not know which step asks, nor evaluate anything.
 
 use crate::diag::{Shape, YamlNode, YamlValue};
-use crate::dictionary::{DataType, ObjectDef};
+use crate::dictionary::ObjectDef;
 use crate::recipe::loader::values::FINITE_HELP;
 use crate::recipe::loader::Loader;
 use crate::session::{Predicate, Tolerance};
@@ -45,9 +45,7 @@ impl Loader<'_, '_> {
             }
         }
         match *op {
-            "equals" if matches!(def.data_type, DataType::String { .. }) => {
-                Some(Predicate::EqualsText(self.text(value, &what)?))
-            }
+            "equals" if !def.data_type.is_number() => Some(Predicate::EqualsText(self.text(value, &what)?)),
             "equals" => Some(Predicate::Equals(self.number_for(def, value, &what, false)?)),
             "above" => Some(Predicate::Above(self.number_for(def, value, &what, false)?)),
             "below" => Some(Predicate::Below(self.number_for(def, value, &what, false)?)),

@@ -2,7 +2,6 @@
 //! type, unit and limits before anything is sent. It must not write anything.
 
 use crate::diag::{Shape, YamlNode};
-use crate::dictionary::DataType;
 use crate::recipe::loader::Loader;
 use crate::recipe::step::StepKind;
 use crate::session::{ObjectRef, SetValue};
@@ -29,7 +28,7 @@ impl Loader<'_, '_> {
                 continue;
             }
             let what = format!("`{}`", k.value);
-            if let DataType::String { .. } = def.data_type {
+            if !def.data_type.is_number() {
                 match self.text(v, &what) {
                     Some(t) => match def.text_to_raw(&t) {
                         Ok(_) => writes.push((r, SetValue::Text(t))),
