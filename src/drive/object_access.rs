@@ -43,6 +43,13 @@ pub trait ObjectAccess: Send {
         let _ = code;
         None
     }
+    /// A fault the drive reported on its own since the last call, in the family's words
+    /// (CANopen: an EMCY frame with its error code and text), which its state may not show:
+    /// the fault watch stops the run on it as on a fault state. `None` (the default) for
+    /// families whose drives report nothing on their own.
+    fn reported_fault(&mut self) -> Option<String> {
+        None
+    }
     /// Sends what the channel needs to stay alive, when it is due (a cyclic telegram the
     /// drive expects at a fixed period), and says how long until it is due again. The
     /// session calls it while it waits; `None` means nothing needs keeping alive.

@@ -428,15 +428,23 @@ impl<'a> Session<'a> {
         let faulted = matches!(state, DeviceState::Fault | DeviceState::FaultReactionActive);
         let entered = faulted && !self.cur().known_fault;
         self.cur().known_fault = faulted;
+        // Taken at every look, so that a fault the state shows as well is told once; once
+        // the run is ending (on_fault, the safe stop) it stops nothing more.
+        let reported = self.drive().reported_fault().filter(|_| !self.in_safe_stop);
+        let called = self.cur().called();
         if entered {
             let code = self.drive().drive_error().unwrap_or(0);
             let code = self.drive().drive_error_note(code);
-            let called = self.cur().called();
             return Err(Stop::Fault(format!(
                 "drive fault: {called} went to {state}{code}"
             )));
         }
-        Ok(())
+        match reported {
+            Some(what) => Err(Stop::Fault(format!(
+                "drive fault: {called} reported {what} while in {state}"
+            ))),
+            None => Ok(()),
+        }
     }
 
     pub(super) fn read_condition(

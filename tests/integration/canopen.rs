@@ -110,6 +110,54 @@ fn a_node_whose_heartbeat_stops_is_a_lost_link_and_is_stopped() {
     assert_eq!(control_words(&result), vec![6, 7, 15, 7, 6]);
 }
 
+/// An EMCY frame alone, while the statusword shows no fault, is a drive fault: the run
+/// stops, the code's text is in the console, the JUnit file, the HTML report and the trace.
+#[test]
+fn an_emcy_alone_is_a_drive_fault_in_every_report() {
+    let dir = scratch("canopen-emcy-alone");
+    let recipe = write_file(
+        &dir,
+        "recipe.yaml",
+        "name: EMCY alone\ndrive: canopen\nsteps:\n  - go_to: operation_enabled\n  - set: { speed_setpoint: 1000 rpm }\n  - dwell: 1 min\n",
+    );
+    let emcy = |sim: &Arc<Mutex<dyn SimulatedDrive>>, clock: &SharedClock| {
+        let at = clock.now() + Duration::from_secs(20);
+        sim.lock().unwrap().faults().emergency_at(at, 0x2310);
+    };
+    let mut run = InProcessRun::new(recipe);
+    run.dictionary = canopen();
+    run.prepare = Some(&emcy);
+    let (junit, html, trace) = (
+        dir.join("junit.xml"),
+        dir.join("report.html"),
+        dir.join("run.log"),
+    );
+    run.outputs.junit = Some(junit.clone());
+    run.outputs.report = Some(html.clone());
+    run.outputs.trace = Some(trace.clone());
+    let (result, output) = run.run();
+    assert_eq!(result.exit_code, 3, "{output}");
+    let said = "node 1 EMCY 0x2310 continuous over-current (output side) (error register 0x01)";
+    assert_has(
+        &output,
+        &[
+            &format!(
+                "     3  FAIL  dwell 1m  drive fault: the drive reported {said} while in operation enabled"
+            ),
+            "drive left in ready to switch on at 0 rpm",
+            "ERROR: drive fault",
+        ],
+    );
+    // The default safe stop: disable operation, shutdown, each verified.
+    assert_eq!(control_words(&result), vec![6, 7, 15, 7, 6]);
+    for file in [&junit, &html] {
+        let text = std::fs::read_to_string(file).expect("report written");
+        assert_has(&text, &["EMCY 0x2310 continuous over-current (output side)"]);
+    }
+    let trace = std::fs::read_to_string(&trace).expect("trace");
+    assert_has(&trace, &["can0 081#1023010000000000"]);
+}
+
 #[test]
 fn decode_explains_nmt_heartbeat_and_emcy_frames() {
     let out = cli(

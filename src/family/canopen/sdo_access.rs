@@ -58,6 +58,10 @@ impl ObjectAccess for SdoAccess {
         self.link.check_node()
     }
 
+    fn reported_fault(&mut self) -> Option<String> {
+        self.link.reported_fault()
+    }
+
     fn error_code_text(&self, code: u16) -> Option<&'static str> {
         Some(super::codec::error_code_text(code))
     }

@@ -300,6 +300,11 @@ impl SdoLink {
         Ok(self.watch.period())
     }
 
+    /// The fault the node reported by EMCY since the last call (see [`NodeWatch`]).
+    pub fn reported_fault(&mut self) -> Option<String> {
+        self.watch.take_reported()
+    }
+
     fn lost(&self, why: String) -> AccessError {
         AccessError::Transport(TransportError::Io {
             port: self.bus.name().to_string(),

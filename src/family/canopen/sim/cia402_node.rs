@@ -1,7 +1,7 @@
 //! The simulated CiA 402 drive as a CANopen node on a frame bus: the shared SDO server in
 //! front of the objects of its EDS, NMT commands (0x000), its boot-up message and
 //! heartbeat (0x700 + node, every 0x1017 ms) and an EMCY frame (0x80 + node) when the
-//! drive trips and when its fault is reset. Frames it produces on its own are sent with the
+//! drive trips, when its fault is reset and when one is injected without a trip. Frames it produces on its own are sent with the
 //! next frame it receives, stamped with the time they were due (the bus is lazy in virtual
 //! time). No clock of its own.
 
@@ -99,20 +99,31 @@ impl Cia402Node {
         self.next_heartbeat = Some(next);
     }
 
-    /// An EMCY frame when the drive's error code changed: the code, the error register
-    /// (bit 0 generic error) and five manufacturer bytes (0 here).
+    /// An EMCY frame when the drive's error code changed.
     fn emcy(&mut self, now: Duration, out: &mut Vec<(Duration, CanFrame)>) {
         let code = self.core.model.drive_error();
         if code == self.emcy_code || self.nmt == NmtState::Stopped {
             return;
         }
         self.emcy_code = code;
+        out.push((now, self.emcy_frame(code)));
+    }
+
+    /// The injected EMCY frames due by `now`; the drive's state is left as it is.
+    fn injected_emcy(&mut self, now: Duration, out: &mut Vec<(Duration, CanFrame)>) {
+        while let Some((at, code)) = self.core.faults.take_emergency_due(now) {
+            if self.nmt != NmtState::Stopped {
+                out.push((at, self.emcy_frame(code)));
+            }
+        }
+    }
+
+    /// The error code, the error register (bit 0 generic error) and five manufacturer
+    /// bytes (0 here).
+    fn emcy_frame(&self, code: u16) -> CanFrame {
         let [lo, hi] = code.to_le_bytes();
         let register = u8::from(code != 0);
-        out.push((
-            now,
-            CanFrame::standard8(emcy_id(self.node), [lo, hi, register, 0, 0, 0, 0, 0]),
-        ));
+        CanFrame::standard8(emcy_id(self.node), [lo, hi, register, 0, 0, 0, 0, 0])
     }
 
     fn nmt_command(&mut self, frame: &CanFrame, now: Duration, out: &mut Vec<(Duration, CanFrame)>) {
@@ -149,6 +160,7 @@ impl FramePeer for Cia402Node {
         let mut out = Vec::new();
         self.heartbeats(now, &mut out);
         self.emcy(now, &mut out);
+        self.injected_emcy(now, &mut out);
         if !frame.extended && frame.id == NMT_ID {
             self.nmt_command(frame, now, &mut out);
         } else if self.nmt != NmtState::Stopped {
@@ -170,6 +182,8 @@ impl FramePeer for Cia402Node {
         let mut out = Vec::new();
         if self.core.faults.line_up(until) {
             self.heartbeats(until, &mut out);
+            self.injected_emcy(until, &mut out);
+            out.sort_by_key(|(at, _)| *at);
         }
         out
     }
