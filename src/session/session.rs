@@ -404,6 +404,7 @@ impl<'a> Session<'a> {
     /// Reads the state of every drive now and then (at most every `settings.fault_poll`,
     /// or at once when `now`); a fault on any of them stops the run.
     pub fn watch_fault(&mut self, now: bool) -> Result<(), Stop> {
+        self.say_link_notices();
         let t = self.clock.now();
         if !now && t < self.last_fault_check.saturating_add(self.settings.fault_poll) {
             return Ok(());
@@ -417,6 +418,15 @@ impl<'a> Session<'a> {
         }
         self.current = current;
         Ok(())
+    }
+
+    /// Says on the console what the drives' links did on their own (a node's NMT start).
+    pub(super) fn say_link_notices(&mut self) {
+        for i in 0..self.drives.len() {
+            for text in self.drives[i].drive.notices() {
+                self.observer.message(&text);
+            }
+        }
     }
 
     fn watch_fault_of_current(&mut self) -> Result<(), Stop> {

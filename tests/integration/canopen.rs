@@ -3,7 +3,9 @@
 //! SLCAN adapter on a pseudo-terminal; a node whose heartbeat stops; `decode` of NMT,
 //! heartbeat and EMCY frames; an EDS as a dictionary on the command line.
 
-use crate::support::{assert_has, cli, control_words, repo_root, scratch, write_file, InProcessRun};
+use crate::support::{
+    assert_has, assert_in_order, cli, control_words, repo_root, scratch, write_file, InProcessRun,
+};
 use drivescript::clock::SharedClock;
 use drivescript::family::canopen::sim::Cia402Node;
 use drivescript::run::DictionaryArgs;
@@ -21,7 +23,7 @@ fn canopen() -> DictionaryArgs {
 }
 
 /// `recipes/commissioning.yaml` with only `drive:` changed.
-fn commissioning(dir: &Path) -> PathBuf {
+pub fn commissioning(dir: &Path) -> PathBuf {
     let text = std::fs::read_to_string(repo_root().join("recipes/commissioning.yaml")).expect("recipe");
     assert!(text.contains("drive: sd2"));
     write_file(
@@ -48,6 +50,20 @@ fn the_commissioning_recipe_runs_on_the_simulated_cia402_node_with_only_drive_ch
             "drive left in ready to switch on at 0 rpm",
         ],
     );
+    // The node boots pre-operational and enables operation only in operational: it is
+    // started before the enable and put back after the verified safe stop, said on the
+    // console.
+    assert_in_order(
+        &output,
+        &[
+            "node 1 is pre-operational (",
+            "sent NMT start (`000#0101`) so that it is operational",
+            "3  ok    go to operation_enabled",
+            "finally 2  ok    shutdown  control word 6",
+            "node 1 back to pre-operational (NMT enter pre-operational, `000#8001`): the state it was found in",
+            "PASSED",
+        ],
+    );
     // Shutdown, switch on, enable operation; disable operation and shutdown in finally.
     assert_eq!(control_words(&result), vec![6, 7, 15, 7, 6]);
     // Profile velocity mode (0x6060 = 3) is written before each command; the boot-up
@@ -61,6 +77,22 @@ fn the_commissioning_recipe_runs_on_the_simulated_cia402_node_with_only_drive_ch
             "can0 601#2B4060000F000000",
         ],
     );
+    // On the bus: NMT start to node 1 alone just before the enable, enter pre-operational
+    // only after the last controlword of the safe stop.
+    assert_in_order(
+        &trace_text,
+        &[
+            "can0 601#2B40600007000000",
+            "can0 000#0101",
+            "can0 601#2B4060000F000000",
+            "can0 601#2B40600006000000",
+            "can0 000#8001",
+        ],
+    );
+    assert!(
+        !trace_text.contains("000#0100") && !trace_text.contains("000#8000"),
+        "no broadcast"
+    );
     // decode explains the trace again.
     let out = crate::support::drivescript(&["decode", &trace.to_string_lossy()], "");
     assert_eq!(out.status.code(), Some(0), "{}", crate::support::stderr(&out));
@@ -70,6 +102,8 @@ fn the_commissioning_recipe_runs_on_the_simulated_cia402_node_with_only_drive_ch
             "boot-up ← node 1",
             "write index 0x6060/0 modes_of_operation = 3 → node 1",
             "write index 0x6040/0 control_word = 0x000f → node 1",
+            "NMT start (enter operational) → node 1",
+            "NMT enter pre-operational → node 1",
         ],
     );
 }

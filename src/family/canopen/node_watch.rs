@@ -93,6 +93,11 @@ impl NodeWatch {
         self.reported.take()
     }
 
+    /// The NMT state the node's last heartbeat or boot-up message carried.
+    pub fn state(&self) -> Option<NmtState> {
+        self.state
+    }
+
     /// Why the node counts as lost at `now`, if it does: its heartbeat was seen and has
     /// been away for three periods, or it says it is stopped (no SDO then).
     pub fn lost(&self, now: Duration) -> Option<String> {

@@ -145,6 +145,7 @@ impl Cia402Node {
             }
             None => {}
         }
+        self.objects.set_operational(self.nmt == NmtState::Operational);
     }
 }
 
