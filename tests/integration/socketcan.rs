@@ -69,26 +69,47 @@ impl Drop for Vcan {
     }
 }
 
+/// A simulated node answering on its own socket of the interface, in real time, with the
+/// frames it sends on its own (a heartbeat).
+struct Node<P> {
+    stop: Arc<AtomicBool>,
+    thread: std::thread::JoinHandle<P>,
+}
+
+impl<P: FramePeer + Send + 'static> Node<P> {
+    fn serve(vcan: &Vcan, mut sim: P) -> Node<P> {
+        let mut bus = SocketCanBus::open(&vcan.0).expect("the node's socket");
+        let stop = Arc::new(AtomicBool::new(false));
+        let stopped = stop.clone();
+        let thread = std::thread::spawn(move || {
+            let started = Instant::now();
+            while !stopped.load(Ordering::SeqCst) {
+                let mut out = sim.poll(started.elapsed());
+                if let Ok(frame) = bus.receive(Duration::from_millis(10)) {
+                    out.extend(sim.receive(&frame, started.elapsed()));
+                }
+                for (_, frame) in out {
+                    let _ = bus.send(&frame);
+                }
+            }
+            sim
+        });
+        Node { stop, thread }
+    }
+
+    /// Stops the node and hands back its simulator.
+    fn stop(self) -> P {
+        self.stop.store(true, Ordering::SeqCst);
+        self.thread.join().expect("the node thread")
+    }
+}
+
 #[test]
 fn socketcan_reaches_a_simulated_node_on_a_virtual_can_interface() {
     let Some(vcan) = Vcan::for_test("socketcan_reaches_a_simulated_node_on_a_virtual_can_interface") else {
         return;
     };
-    let mut node_bus = SocketCanBus::open(&vcan.0).expect("the node's socket");
-    let stop = Arc::new(AtomicBool::new(false));
-    let node_stop = stop.clone();
-    let node = std::thread::spawn(move || {
-        let mut sim = Lenze9400Simulator::new(12, SimConfig::default());
-        let started = Instant::now();
-        while !node_stop.load(Ordering::SeqCst) {
-            let Ok(frame) = node_bus.receive(Duration::from_millis(50)) else {
-                continue;
-            };
-            for (_, reply) in sim.receive(&frame, started.elapsed()) {
-                let _ = node_bus.send(&reply);
-            }
-        }
-    });
+    let node = Node::serve(&vcan, Lenze9400Simulator::new(12, SimConfig::default()));
     let can = format!("socketcan:{}", vcan.0);
     let out = drivescript(
         &[
@@ -104,8 +125,7 @@ fn socketcan_reaches_a_simulated_node_on_a_virtual_can_interface() {
         ],
         "",
     );
-    stop.store(true, Ordering::SeqCst);
-    let _ = node.join();
+    node.stop();
     assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
     assert_has(&stdout(&out), &["05.00.12.07", "43"]);
 }
@@ -118,23 +138,7 @@ fn the_commissioning_recipe_runs_on_a_cia402_node_over_socketcan() {
     let Some(vcan) = Vcan::for_test("the_commissioning_recipe_runs_on_a_cia402_node_over_socketcan") else {
         return;
     };
-    let mut node_bus = SocketCanBus::open(&vcan.0).expect("the node's socket");
-    let stop = Arc::new(AtomicBool::new(false));
-    let node_stop = stop.clone();
-    let node = std::thread::spawn(move || {
-        let mut sim = Cia402Node::new(4, SimConfig::default());
-        let started = Instant::now();
-        while !node_stop.load(Ordering::SeqCst) {
-            let mut out = sim.poll(started.elapsed());
-            if let Ok(frame) = node_bus.receive(Duration::from_millis(10)) {
-                out.extend(sim.receive(&frame, started.elapsed()));
-            }
-            for (_, frame) in out {
-                let _ = node_bus.send(&frame);
-            }
-        }
-        sim
-    });
+    let node = Node::serve(&vcan, Cia402Node::new(4, SimConfig::default()));
     let dir = crate::support::scratch("socketcan-canopen");
     let recipe = crate::canopen::commissioning(&dir);
     let trace = dir.join("run.log");
@@ -152,8 +156,7 @@ fn the_commissioning_recipe_runs_on_a_cia402_node_over_socketcan() {
         ],
         "",
     );
-    stop.store(true, Ordering::SeqCst);
-    let sim = node.join().expect("the node thread");
+    let sim = node.stop();
     assert_eq!(out.status.code(), Some(0), "{}{}", stdout(&out), stderr(&out));
     crate::support::assert_in_order(
         &stdout(&out),
