@@ -344,6 +344,13 @@ impl<'a> Session<'a> {
                 self.observer
                     .message(&format!("{called} is in fault at the start{code}"));
             }
+            // What the drive reported before the run began is told, not a stop: the
+            // recipe decides (a fault_reset first), as for a fault at the start.
+            if let Some(what) = self.drive().reported_fault() {
+                let called = self.drives[i].called();
+                self.observer
+                    .message(&format!("{called} reported {what} before the run began"));
+            }
         }
         self.current = 0;
     }

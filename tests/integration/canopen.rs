@@ -192,6 +192,34 @@ fn an_emcy_alone_is_a_drive_fault_in_every_report() {
     assert_has(&trace, &["can0 081#1023010000000000"]);
 }
 
+/// An EMCY the node sent before the run began is told, not a stop: the recipe decides.
+#[test]
+fn an_emcy_before_the_run_began_is_told_and_the_run_goes_on() {
+    let dir = scratch("canopen-emcy-before");
+    let recipe = write_file(
+        &dir,
+        "recipe.yaml",
+        "name: EMCY before\ndrive: canopen\nsteps:\n  - go_to: operation_enabled\n  - dwell: 10 s\n",
+    );
+    let emcy = |sim: &Arc<Mutex<dyn SimulatedDrive>>, clock: &SharedClock| {
+        sim.lock().unwrap().faults().emergency_at(clock.now(), 0x2310);
+    };
+    let mut run = InProcessRun::new(recipe);
+    run.dictionary = canopen();
+    run.prepare = Some(&emcy);
+    let (result, output) = run.run();
+    assert_eq!(result.exit_code, 0, "{output}");
+    assert_in_order(
+        &output,
+        &[
+            "the drive reported node 1 EMCY 0x2310 continuous over-current (output side) (error register 0x01) before the run began",
+            "2  ok    dwell 10s",
+            "PASSED",
+        ],
+    );
+    assert_eq!(control_words(&result), vec![6, 7, 15, 7, 6]);
+}
+
 #[test]
 fn decode_explains_nmt_heartbeat_and_emcy_frames() {
     let out = cli(
