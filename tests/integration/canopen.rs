@@ -4,9 +4,11 @@
 //! heartbeat and EMCY frames; an EDS as a dictionary on the command line.
 
 use crate::support::{
-    assert_has, assert_in_order, cli, control_words, repo_root, scratch, write_file, InProcessRun,
+    assert_has, assert_in_order, assert_lacks, cli, control_words, repo_root, scratch, write_file,
+    InProcessRun,
 };
 use drivescript::clock::SharedClock;
+use drivescript::family::canopen::codec::NmtState;
 use drivescript::family::canopen::sim::Cia402Node;
 use drivescript::run::DictionaryArgs;
 use drivescript::sim::SimulatedDrive;
@@ -192,6 +194,32 @@ fn an_emcy_alone_is_a_drive_fault_in_every_report() {
     assert_has(&trace, &["can0 081#1023010000000000"]);
 }
 
+/// A run that leaves the drive enabled on purpose leaves its node operational: going back
+/// to pre-operational could set off a drive's reaction to leaving operational (0x6007).
+#[test]
+fn a_node_left_enabled_stays_operational() {
+    let dir = scratch("canopen-left-enabled");
+    let recipe = write_file(
+        &dir,
+        "recipe.yaml",
+        "name: Left enabled\ndrive: canopen\nleave_enabled: true\nsteps:\n  - go_to: operation_enabled\n",
+    );
+    let mut run = InProcessRun::new(recipe);
+    run.dictionary = canopen();
+    let (result, output) = run.run();
+    assert_eq!(result.exit_code, 0, "{output}");
+    assert_has(&output, &["sent NMT start (`000#0101`)", "PASSED"]);
+    assert_lacks(&output, &["back to pre-operational"]);
+    assert_eq!(control_words(&result), vec![6, 7, 15]);
+    let sim = result.simulator.expect("the simulated node");
+    let mut sim = sim.lock().unwrap();
+    let node = sim
+        .as_any_mut()
+        .downcast_mut::<Cia402Node>()
+        .expect("a CiA 402 node");
+    assert_eq!(node.nmt_state(), NmtState::Operational);
+}
+
 /// An EMCY the node sent before the run began is told, not a stop: the recipe decides.
 #[test]
 fn an_emcy_before_the_run_began_is_told_and_the_run_goes_on() {
@@ -332,6 +360,62 @@ fn the_commissioning_recipe_runs_through_an_slcan_pseudo_terminal() {
             "ident = \"drivescript CiA 402 node\"",
             "drive left in ready to switch on at 0 rpm",
             "PASSED",
+        ],
+    );
+}
+
+/// The EMCY alone, through a real SLCAN pseudo-terminal in real time: the simulator sends
+/// it 8 s after it started (`--sim emergency-at`), the run in its dwell stops on it and the
+/// trace holds the EMCY, then the safe stop's controlwords, then NMT pre-operational.
+#[cfg(unix)]
+#[test]
+fn an_emcy_alone_stops_a_run_through_an_slcan_pseudo_terminal() {
+    let sim = crate::support::Simulator::start(&[
+        "--drive",
+        "canopen",
+        "--slcan-pty",
+        "--sim",
+        "emergency-at=8s:0x2310",
+    ]);
+    let dir = scratch("canopen-slcan-emcy");
+    let recipe = write_file(
+        &dir,
+        "recipe.yaml",
+        "name: EMCY alone over SLCAN\ndrive: canopen\nsteps:\n  - go_to: operation_enabled\n  - set: { speed_setpoint: 500 rpm }\n  - dwell: 2 min\n",
+    );
+    let trace = dir.join("run.log");
+    let can = format!("slcan:{}", sim.endpoint);
+    let out = cli(
+        &[
+            "run",
+            recipe.to_str().unwrap(),
+            "--can",
+            &can,
+            "--trace",
+            trace.to_str().unwrap(),
+        ],
+        3,
+    );
+    assert_in_order(
+        &out.stdout,
+        &[
+            "FAIL  dwell 2m  drive fault: the drive reported node 1 EMCY 0x2310 continuous over-current (output side) (error register 0x01) while in operation enabled",
+            "control word 7",
+            "control word 6",
+            "node 1 back to pre-operational",
+            "drive left in ready to switch on at 0 rpm",
+            "ERROR: drive fault",
+        ],
+    );
+    let trace = std::fs::read_to_string(&trace).expect("trace");
+    assert_in_order(
+        &trace,
+        &[
+            "601#2B4060000F000000",
+            "081#1023010000000000",
+            "601#2B40600007000000",
+            "601#2B40600006000000",
+            "000#8001",
         ],
     );
 }
