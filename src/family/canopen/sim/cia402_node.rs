@@ -196,3 +196,49 @@ impl SimFront for Cia402Node {
         format!("simulated CiA 402 drive at CAN node {} (from its EDS)", self.node)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn frame(id: u32, data: &[u8]) -> CanFrame {
+        CanFrame::new(id, data).unwrap()
+    }
+
+    fn sent(node: &mut Cia402Node, f: &CanFrame, ms: u64) -> Vec<String> {
+        node.receive(f, Duration::from_millis(ms))
+            .into_iter()
+            .map(|(_, f)| f.to_candump())
+            .collect()
+    }
+
+    /// CiA 301 on the wire: boot-up into pre-operational, start, stop (no SDO, heartbeat
+    /// 0x04), pre-operational again, reset node (boot-up again); commands to other nodes
+    /// are not this node's.
+    #[test]
+    fn the_node_honours_nmt_commands() {
+        let mut node = Cia402Node::new(5, SimConfig::default());
+        let read = frame(0x605, &[0x40, 0x41, 0x60, 0, 0, 0, 0, 0]);
+        let first = sent(&mut node, &read, 0);
+        assert_eq!(first[0], "705#00", "the boot-up message first: {first:?}");
+        assert!(first[1].starts_with("585#4B416000"), "{first:?}");
+        assert_eq!(node.nmt_state(), NmtState::PreOperational);
+        sent(&mut node, &frame(0x000, &[0x01, 0x06]), 10);
+        assert_eq!(
+            node.nmt_state(),
+            NmtState::PreOperational,
+            "another node's command"
+        );
+        sent(&mut node, &frame(0x000, &[0x01, 0x05]), 20);
+        assert_eq!(node.nmt_state(), NmtState::Operational);
+        assert_eq!(sent(&mut node, &read, 150), ["705#05", "585#4B41600040020000"]);
+        sent(&mut node, &frame(0x000, &[0x02, 0x05]), 160);
+        assert_eq!(node.nmt_state(), NmtState::Stopped);
+        assert_eq!(sent(&mut node, &read, 250), ["705#04"], "stopped: no SDO answer");
+        sent(&mut node, &frame(0x000, &[0x80, 0x00]), 260);
+        assert_eq!(node.nmt_state(), NmtState::PreOperational, "node 0: every node");
+        assert_eq!(sent(&mut node, &read, 270).len(), 1, "SDO again");
+        let reset = sent(&mut node, &frame(0x000, &[0x81, 0x05]), 280);
+        assert_eq!(reset, ["705#00"], "a reset node boots again");
+    }
+}
