@@ -384,6 +384,8 @@ fn an_emcy_alone_stops_a_run_through_an_slcan_pseudo_terminal() {
         "name: EMCY alone over SLCAN\ndrive: canopen\nsteps:\n  - go_to: operation_enabled\n  - set: { speed_setpoint: 500 rpm }\n  - dwell: 2 min\n",
     );
     let trace = dir.join("run.log");
+    let store = dir.join("results.sqlite");
+    let store = store.to_str().unwrap();
     let can = format!("slcan:{}", sim.endpoint);
     let out = cli(
         &[
@@ -393,6 +395,8 @@ fn an_emcy_alone_stops_a_run_through_an_slcan_pseudo_terminal() {
             &can,
             "--trace",
             trace.to_str().unwrap(),
+            "--results",
+            store,
         ],
         3,
     );
@@ -417,6 +421,18 @@ fn an_emcy_alone_stops_a_run_through_an_slcan_pseudo_terminal() {
             "601#2B40600006000000",
             "000#8001",
         ],
+    );
+    // The results store keeps the fault with its code and text.
+    let id = [&out.stdout, &out.stderr]
+        .into_iter()
+        .flat_map(|text| text.lines())
+        .find_map(|l| l.strip_prefix("results: run "))
+        .and_then(|l| l.split_whitespace().next())
+        .expect("the run's id");
+    let shown = cli(&["results", "show", id, "--results", store], 0);
+    assert_has(
+        &shown.stdout,
+        &["EMCY 0x2310 continuous over-current (output side)"],
     );
 }
 
