@@ -96,13 +96,13 @@ impl SimSetting {
                 let wanted = "a time and a non-zero error code (20s:0x2310)";
                 let (at, code) = value.split_once(':').ok_or_else(|| bad(wanted))?;
                 let at = humantime::parse_duration(at.trim()).map_err(|_| bad(wanted))?;
-                let code = code.trim();
-                let code = match code.strip_prefix("0x").or_else(|| code.strip_prefix("0X")) {
-                    Some(hex) => u16::from_str_radix(hex, 16).ok(),
-                    None => code.parse::<u16>().ok(),
-                };
-                match code {
-                    Some(c) if c != 0 => SimSetting::EmergencyAt(at, c),
+                // A bare number, decimal or `0x` hex; 0 is the error reset, no error.
+                match Quantity::parse(code.trim()) {
+                    Ok(Quantity { value, unit: None })
+                        if value.fract() == 0.0 && (1.0..=65535.0).contains(&value) =>
+                    {
+                        SimSetting::EmergencyAt(at, value as u16)
+                    }
                     _ => return Err(bad(wanted)),
                 }
             }
