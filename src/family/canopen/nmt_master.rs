@@ -181,6 +181,49 @@ mod tests {
         assert_eq!(bare.release(), None, "without NMT, nothing to hand back");
     }
 
+    /// A node whose heartbeat and boot-up message never reach the bus (0x1017 = 0).
+    struct Silent(Cia402Node);
+    impl crate::bus::FramePeer for Silent {
+        fn receive(
+            &mut self,
+            frame: &crate::bus::CanFrame,
+            now: Duration,
+        ) -> Vec<(Duration, crate::bus::CanFrame)> {
+            let mut out = self.0.receive(frame, now);
+            out.retain(|(_, f)| f.id & 0x780 != 0x700);
+            out
+        }
+    }
+
+    #[test]
+    fn a_node_of_unknown_state_is_started_and_put_back_to_the_state_nodes_boot_into() {
+        let clock = Arc::new(VirtualClock::new());
+        let sim = Arc::new(Mutex::new(Silent(Cia402Node::new(1, SimConfig::default()))));
+        let bus = MemoryFrameBus::new("memory", sim.clone(), clock.clone());
+        let link = SdoLink::new(
+            SharedFrameBus::new(Box::new(bus)),
+            clock,
+            1,
+            SdoLinkConfig::default(),
+        );
+        let mut access = SdoAccess::new(link, Some(NmtMaster::default()));
+        for word in [6, 7, 15] {
+            control(&mut access, word).unwrap();
+        }
+        let said = access.notices();
+        assert!(
+            said[0].contains("node 1 showed no NMT state (no heartbeat seen): sent NMT start"),
+            "{said:?}"
+        );
+        assert_eq!(sim.lock().unwrap().0.nmt_state(), NmtState::Operational);
+        let back = access.release().unwrap();
+        assert!(
+            back.ends_with("the state a node boots into; its state before was not seen"),
+            "{back}"
+        );
+        assert_eq!(sim.lock().unwrap().0.nmt_state(), NmtState::PreOperational);
+    }
+
     #[test]
     fn a_node_seen_operational_is_left_as_it_is() {
         let (mut access, sim, clock) = node();
