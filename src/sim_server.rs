@@ -18,6 +18,8 @@ pub struct ServeStats {
     pub bytes_in: u64,
     pub bytes_out: u64,
     pub replies: u64,
+    /// Times the frames the peer sent on its own found nobody reading and were dropped.
+    pub dropped_unread: u64,
 }
 
 pub struct SimServer {
@@ -62,8 +64,18 @@ impl SimServer {
                 Err(_) => Vec::new(),
             };
             for reply in own {
-                io.write_all(&reply.bytes)?;
-                stats.bytes_out += reply.bytes.len() as u64;
+                match io.write_all(&reply.bytes) {
+                    Ok(()) => stats.bytes_out += reply.bytes.len() as u64,
+                    // Nobody reads the line (a client left the adapter open and went):
+                    // what waits unread is dropped, as a real adapter's frames are lost,
+                    // and the server stays for the next client.
+                    Err(e) => {
+                        if !io.discard_output()? {
+                            return Err(e);
+                        }
+                        stats.dropped_unread += 1;
+                    }
+                }
             }
             let n = match io.read(&mut buf, POLL) {
                 Ok(n) => n,
@@ -186,6 +198,63 @@ mod tests {
         stop.store(true, Ordering::SeqCst);
         let stats = handle.join().unwrap().unwrap();
         assert_eq!(stats.replies, 1);
+        drop(pty._slave);
+    }
+
+    /// Sends `left` bytes of its own in chunks, as a CAN node sends its heartbeats.
+    struct Chatty {
+        left: Arc<std::sync::atomic::AtomicUsize>,
+    }
+    impl Peer for Chatty {
+        fn poll(&mut self, now: Duration) -> Vec<PeerReply> {
+            let n = self.left.load(Ordering::SeqCst).min(1024);
+            self.left.fetch_sub(n, Ordering::SeqCst);
+            vec![PeerReply {
+                at: now,
+                bytes: vec![0x55; n],
+            }]
+        }
+        fn receive(&mut self, bytes: &[u8], now: Duration) -> Vec<PeerReply> {
+            Echo.receive(bytes, now)
+        }
+    }
+
+    /// A client that left the line without reading (an SLCAN adapter left open) used to end
+    /// the server once the pseudo-terminal was full; now the unread bytes are dropped and
+    /// the next client is served.
+    #[cfg(unix)]
+    #[test]
+    fn a_line_nobody_reads_does_not_end_the_server() {
+        let pty = PtyEndpoint::open().unwrap();
+        let path = pty.path.clone();
+        let mut master = pty.master;
+        // Well beyond what a pseudo-terminal holds in raw mode (about 16 KiB on Linux).
+        let left = Arc::new(std::sync::atomic::AtomicUsize::new(40 * 1024));
+        let peer = Chatty { left: left.clone() };
+        let server = SimServer::new(Arc::new(Mutex::new(peer)), RealClock::shared());
+        let stop = server.stop_flag();
+        let handle = std::thread::spawn(move || server.serve(&mut master));
+        let started = std::time::Instant::now();
+        while left.load(Ordering::SeqCst) > 0 && !handle.is_finished() {
+            assert!(
+                started.elapsed() < Duration::from_secs(30),
+                "the peer's bytes were not taken"
+            );
+            std::thread::sleep(Duration::from_millis(20));
+        }
+        assert!(!handle.is_finished(), "the server ended: {:?}", handle.join());
+        let mut port = crate::bus::SerialTransport::open(&path, Default::default()).unwrap();
+        port.discard_input().unwrap();
+        port.write_all(&[0x00, 0x0f]).unwrap();
+        let mut got = Vec::new();
+        let mut buf = [0u8; 256];
+        while !got.ends_with(&[0xff, 0xf0]) {
+            let n = port.read(&mut buf, Duration::from_secs(2)).unwrap();
+            got.extend(buf[..n].iter().filter(|b| **b != 0x55));
+        }
+        stop.store(true, Ordering::SeqCst);
+        let stats = handle.join().unwrap().unwrap();
+        assert!(stats.dropped_unread >= 1, "{stats:?}");
         drop(pty._slave);
     }
 }

@@ -83,6 +83,14 @@ pub trait Transport: Send {
     /// returns how many bytes were dropped.
     fn discard_input(&mut self) -> Result<usize, TransportError>;
 
+    /// Throws away what was written but not yet taken by the other side; `false` when
+    /// this transport cannot. On a pseudo-terminal's near end that is what no program read
+    /// from its far end: a simulator serving a line nobody reads drops its own frames
+    /// there, as a real adapter's are lost, instead of waiting for ever.
+    fn discard_output(&mut self) -> Result<bool, TransportError> {
+        Ok(false)
+    }
+
     /// The exchange just ended with its reply and nothing after it, so the next
     /// [`discard_input`](Self::discard_input) need not ask the device whether input is
     /// waiting (a system call per telegram). Transports with nothing to save ignore it.

@@ -394,6 +394,13 @@ impl Transport for SerialTransport {
         Ok(usize::try_from(pending).unwrap_or(usize::MAX))
     }
 
+    fn discard_output(&mut self) -> Result<bool, TransportError> {
+        let port = self.device()?;
+        let cleared = port.clear(ClearBuffer::Output);
+        cleared.map_err(|e| self.port_error(&e))?;
+        Ok(true)
+    }
+
     fn reopen(&mut self) -> Result<(), TransportError> {
         // The old descriptor holds the exclusive lock on a device that may have come back
         // under the same path (a udev by-id link); it must be closed before the new open.

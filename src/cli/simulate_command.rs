@@ -10,7 +10,7 @@ use crate::dictionary::Role;
 use crate::family::{DriveAddress, Family, Registry, SimPeer, DEFAULT_DICTIONARY};
 use crate::run::DNC_ADDRESS;
 use crate::run::{COMMUNICATION, INVALID, PASSED};
-use crate::sim::SimConfig;
+use crate::sim::{SimConfig, SimSetting};
 use crate::sim_server::SimServer;
 use clap::Args;
 use std::io::Write;
@@ -60,6 +60,10 @@ pub struct SimulateArgs {
     /// Speed ramp of the simulated motor.
     #[arg(long, value_name = "RPM_PER_S", default_value_t = 2000.0)]
     ramp: f64,
+    /// A setting of the simulated drive, NAME=VALUE, as `run --sim` takes it; may be
+    /// repeated. Times (`emergency-at=20s:0x2310`) count from the server's start.
+    #[arg(long = "sim", value_name = "NAME=VALUE", value_parser = SimSetting::parse)]
+    sim: Vec<SimSetting>,
     /// Serve a capture instead of the simulated drive: a `--trace` file or a candump log
     /// answers each request with what the drive answered then (its drive is the one the
     /// trace's header names, else --drive). What the capture never answered gets no reply
@@ -112,10 +116,11 @@ pub fn run(args: &SimulateArgs, registry: &Registry) -> i32 {
             }
         }
     }
-    let config = SimConfig {
+    let mut config = SimConfig {
         ramp_rpm_per_s: args.ramp,
         ..SimConfig::default()
     };
+    args.sim.iter().for_each(|s| s.apply(&mut config));
     let mut descriptions = Vec::new();
     let mut bytes: Vec<Arc<Mutex<dyn Peer>>> = Vec::new();
     let mut frames: Vec<Arc<Mutex<dyn FramePeer>>> = Vec::new();

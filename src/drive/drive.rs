@@ -389,6 +389,23 @@ impl Drive {
         v.raw.as_int().map(|c| c as u16)
     }
 
+    /// What the link did on its own that the console should say (see
+    /// `ObjectAccess::notices`).
+    pub fn notices(&mut self) -> Vec<String> {
+        self.access.notices()
+    }
+
+    /// Hands the drive back as found after the run (see `ObjectAccess::release`).
+    pub fn release(&mut self) -> Option<String> {
+        self.access.release()
+    }
+
+    /// A fault the drive reported on its own since the last look (see
+    /// `ObjectAccess::reported_fault`).
+    pub fn reported_fault(&mut self) -> Option<String> {
+        self.access.reported_fault()
+    }
+
     /// ` (drive error 12816, 0x3210 DC link over-voltage)`: the drive's error code for a
     /// message, with its meaning where the family knows it; empty for 0.
     pub fn drive_error_note(&self, code: u16) -> String {

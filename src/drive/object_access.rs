@@ -43,6 +43,26 @@ pub trait ObjectAccess: Send {
         let _ = code;
         None
     }
+    /// What the link did on its own since the last call that the console should say
+    /// (CANopen: the NMT start a CiA 402 node got before it enabled operation). Empty by
+    /// default.
+    fn notices(&mut self) -> Vec<String> {
+        Vec::new()
+    }
+    /// The run is over and its safe stop done, and the drive is not left enabled: hands
+    /// the drive back as it was found where the link changed something on its own
+    /// (CANopen: a node it started goes back to pre-operational), and says what it did.
+    /// Never called before the safe stop; `None` (the default) when there is nothing.
+    fn release(&mut self) -> Option<String> {
+        None
+    }
+    /// A fault the drive reported on its own since the last call, in the family's words
+    /// (CANopen: an EMCY frame with its error code and text), which its state may not show:
+    /// the fault watch stops the run on it as on a fault state. `None` (the default) for
+    /// families whose drives report nothing on their own.
+    fn reported_fault(&mut self) -> Option<String> {
+        None
+    }
     /// Sends what the channel needs to stay alive, when it is due (a cyclic telegram the
     /// drive expects at a fixed period), and says how long until it is due again. The
     /// session calls it while it waits; `None` means nothing needs keeping alive.

@@ -101,7 +101,8 @@ pub struct ConnectionArgs {
     /// A setting of the built-in simulated drive's physics, NAME=VALUE; may be repeated:
     /// `response-time=200ms` and `overshoot=10%` (the speed follows a setpoint step in
     /// first or second order instead of ramping), `coast-rate=300rpm/s` (friction while
-    /// coasting), `ambient=25°C`, `heating=25K/A`, `thermal-time=10min` (motor temperature).
+    /// coasting), `ambient=25°C`, `heating=25K/A`, `thermal-time=10min` (motor temperature),
+    /// `emergency-at=20s:0x2310` (a CANopen node sends an EMCY with this code, nothing trips).
     #[arg(long = "sim", value_name = "NAME=VALUE", value_parser = parse_sim_setting)]
     pub sim: Vec<SimSetting>,
 }

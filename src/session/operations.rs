@@ -25,7 +25,9 @@ impl Session<'_> {
         if command == DeviceCommand::EnableOperation {
             self.note_enabled();
         }
-        self.drive().command(command)?;
+        let sent = self.drive().command(command);
+        self.say_link_notices();
+        sent?;
         Ok(self.drive_ref().profile()?.command_text(command))
     }
 
@@ -78,10 +80,12 @@ impl Session<'_> {
         if state == DeviceState::OperationEnabled {
             self.note_enabled();
         }
-        let transitions = self.drive().go_to(state, timeout, &move || {
+        let walked = self.drive().go_to(state, timeout, &move || {
             let now = clock.now();
             stop.pending_at(now) && !(in_safe_stop && stop.count_at(now) < 2)
-        })?;
+        });
+        self.say_link_notices();
+        let transitions = walked?;
         if transitions.is_empty() {
             Ok(format!("already {state}"))
         } else {

@@ -174,6 +174,22 @@ impl Session<'_> {
                 self.report.verdict = Verdict::Error(why.to_string());
             }
         }
+        let kept = keep && self.stop.count_at(self.clock.now()) == 0;
+        self.release_drives(kept);
+    }
+
+    /// After the whole safe stop: each drive's link hands back what it changed on its own
+    /// (a CANopen node's NMT state) and says so, unless the drives are left enabled on
+    /// purpose.
+    fn release_drives(&mut self, kept: bool) {
+        for i in 0..self.drives.len() {
+            if kept {
+                break;
+            }
+            if let Some(text) = self.drives[i].drive.release() {
+                self.observer.message(&text);
+            }
+        }
     }
 
     fn safe_stop(&mut self, finally: Option<&mut dyn FnMut(&mut Session)>, link_lost: bool, keep: bool) {

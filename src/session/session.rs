@@ -366,6 +366,13 @@ impl<'a> Session<'a> {
                 self.observer
                     .message(&format!("{called} is in fault at the start{code}"));
             }
+            // What the drive reported before the run began is told, not a stop: the
+            // recipe decides (a fault_reset first), as for a fault at the start.
+            if let Some(what) = self.drive().reported_fault() {
+                let called = self.drives[i].called();
+                self.observer
+                    .message(&format!("{called} reported {what} before the run began"));
+            }
         }
         self.current = 0;
     }
@@ -426,6 +433,7 @@ impl<'a> Session<'a> {
     /// Reads the state of every drive now and then (at most every `settings.fault_poll`,
     /// or at once when `now`); a fault on any of them stops the run.
     pub fn watch_fault(&mut self, now: bool) -> Result<(), Stop> {
+        self.say_link_notices();
         let t = self.clock.now();
         if !now && t < self.last_fault_check.saturating_add(self.settings.fault_poll) {
             return Ok(());
@@ -441,6 +449,15 @@ impl<'a> Session<'a> {
         Ok(())
     }
 
+    /// Says on the console what the drives' links did on their own (a node's NMT start).
+    pub(super) fn say_link_notices(&mut self) {
+        for i in 0..self.drives.len() {
+            for text in self.drives[i].drive.notices() {
+                self.observer.message(&text);
+            }
+        }
+    }
+
     fn watch_fault_of_current(&mut self) -> Result<(), Stop> {
         if self.drive().profile().is_err() {
             // Without a device-control profile there is no state to watch.
@@ -450,15 +467,23 @@ impl<'a> Session<'a> {
         let faulted = matches!(state, DeviceState::Fault | DeviceState::FaultReactionActive);
         let entered = faulted && !self.cur().known_fault;
         self.cur().known_fault = faulted;
+        // Taken at every look, so that a fault the state shows as well is told once; once
+        // the run is ending (on_fault, the safe stop) it stops nothing more.
+        let reported = self.drive().reported_fault().filter(|_| !self.in_safe_stop);
+        let called = self.cur().called();
         if entered {
             let code = self.drive().drive_error().unwrap_or(0);
             let code = self.drive().drive_error_note(code);
-            let called = self.cur().called();
             return Err(Stop::Fault(format!(
                 "drive fault: {called} went to {state}{code}"
             )));
         }
-        Ok(())
+        match reported {
+            Some(what) => Err(Stop::Fault(format!(
+                "drive fault: {called} reported {what} while in {state}"
+            ))),
+            None => Ok(()),
+        }
     }
 
     pub(super) fn read_condition(

@@ -1,5 +1,6 @@
 //! Faults a test can inject into the simulated drive between telegrams: lost, corrupt, late
-//! or misaddressed replies, a drive fault at a chosen time, a fault that will not reset, a
+//! or misaddressed replies, a drive fault at a chosen time, an emergency message without a
+//! trip, a fault that will not reset, a
 //! drive that acknowledges stop commands but does not obey them, a line that goes down for
 //! a while, and a panic inside the request handling (to prove the engine's panic path).
 //! It only decides what happens to replies and when things fire; it must not build bytes or
@@ -22,6 +23,8 @@ pub struct FaultInjection {
     wrong_address: u32,
     /// Sorted by time; equal times keep the order they were scheduled in.
     trips: Vec<(Duration, u16)>,
+    /// Emergency messages sent without a trip, sorted by time.
+    emergencies: Vec<(Duration, u16)>,
     reset_blocked: bool,
     /// Commands acknowledged on the wire but not carried out.
     ignored: Vec<DeviceCommand>,
@@ -81,6 +84,24 @@ impl FaultInjection {
         self
     }
 
+    /// At clock time `at` a drive that sends emergency messages on its own (a CANopen
+    /// node's EMCY) sends one with `error_code` and goes on as it was: nothing trips (a
+    /// drive that reports a fault it does not react to). Families without such messages
+    /// ignore it.
+    pub fn emergency_at(&mut self, at: Duration, error_code: u16) -> &mut Self {
+        let i = self.emergencies.partition_point(|(t, _)| *t <= at);
+        self.emergencies.insert(i, (at, error_code));
+        self
+    }
+
+    /// Removes and returns the earliest emergency message due at or before `until`.
+    pub fn take_emergency_due(&mut self, until: Duration) -> Option<(Duration, u16)> {
+        match self.emergencies.first() {
+            Some(&(at, _)) if at <= until => Some(self.emergencies.remove(0)),
+            _ => None,
+        }
+    }
+
     /// While `blocked`, the fault cause persists: a fault reset leaves the drive in fault.
     pub fn fault_reset_blocked(&mut self, blocked: bool) -> &mut Self {
         self.reset_blocked = blocked;
@@ -138,6 +159,7 @@ impl FaultInjection {
             && self.delay == 0
             && self.wrong_address == 0
             && self.trips.is_empty()
+            && self.emergencies.is_empty()
             && self.panic_at.is_none()
     }
 

@@ -37,6 +37,9 @@ pub struct SimConfig {
     pub heating_k_per_a: f64,
     /// How fast the motor temperature settles (63 % of the way in this time).
     pub thermal_time_constant: Duration,
+    /// Emergency messages (a CANopen node's EMCY) sent at these clock times with these
+    /// error codes, without a trip (see `FaultInjection::emergency_at`).
+    pub emergencies: Vec<(Duration, u16)>,
 }
 
 impl Default for SimConfig {
@@ -56,6 +59,7 @@ impl Default for SimConfig {
             ambient_c: 25.0,
             heating_k_per_a: 25.0,
             thermal_time_constant: Duration::from_secs(10 * 60),
+            emergencies: Vec::new(),
         }
     }
 }

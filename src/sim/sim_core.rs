@@ -20,11 +20,16 @@ pub struct SimCore<E> {
 }
 
 impl<E> SimCore<E> {
-    /// A drive just switched on: the model's first state, no faults, logging on.
+    /// A drive just switched on: the model's first state, no faults but the emergency
+    /// messages the settings schedule, logging on.
     pub fn new(config: SimConfig) -> Self {
+        let mut faults = FaultInjection::default();
+        for &(at, code) in &config.emergencies {
+            faults.emergency_at(at, code);
+        }
         SimCore {
             model: DriveModel::new(config),
-            faults: FaultInjection::default(),
+            faults,
             logging: true,
             requests: Vec::new(),
             control_words: Vec::new(),

@@ -1,7 +1,8 @@
 //! One `--sim NAME=VALUE` setting of the built-in simulated drive's physics: the speed
 //! controller's response (`response-time=200ms`, `overshoot=10%`), friction
 //! (`coast-rate=300rpm/s`) and heat (`ambient=25°C`, `heating=25K/A`,
-//! `thermal-time=10min`). Parsing and applying to a [`SimConfig`] only.
+//! `thermal-time=10min`), and an emergency message without a trip (`emergency-at=20s:0x2310`,
+//! a CANopen node's EMCY). Parsing and applying to a [`SimConfig`] only.
 
 use super::motor::Response;
 use super::SimConfig;
@@ -9,13 +10,14 @@ use crate::dictionary::{Quantity, Unit};
 use std::time::Duration;
 
 /// The names, in the order `--help` and errors list them.
-pub const SIM_SETTINGS: [&str; 6] = [
+pub const SIM_SETTINGS: [&str; 7] = [
     "response-time",
     "overshoot",
     "coast-rate",
     "ambient",
     "heating",
     "thermal-time",
+    "emergency-at",
 ];
 
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -26,13 +28,15 @@ pub enum SimSetting {
     Ambient(f64),
     Heating(f64),
     ThermalTime(Duration),
+    /// At this time on the simulator's clock, an emergency message with this error code.
+    EmergencyAt(Duration, u16),
 }
 
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum SimSettingError {
     #[error("`{0}` is not NAME=VALUE (e.g. overshoot=10%)")]
     NotAPair(String),
-    #[error("unknown simulator setting `{0}`; known: response-time, overshoot, coast-rate, ambient, heating, thermal-time")]
+    #[error("unknown simulator setting `{0}`; known: response-time, overshoot, coast-rate, ambient, heating, thermal-time, emergency-at")]
     Unknown(String),
     #[error("{name}: `{value}` is not {wanted}")]
     BadValue {
@@ -88,6 +92,20 @@ impl SimSetting {
                     _ => return Err(bad("a temperature rise per ampere (25K/A)")),
                 }
             }
+            "emergency-at" => {
+                let wanted = "a time and a non-zero error code (20s:0x2310)";
+                let (at, code) = value.split_once(':').ok_or_else(|| bad(wanted))?;
+                let at = humantime::parse_duration(at.trim()).map_err(|_| bad(wanted))?;
+                // A bare number, decimal or `0x` hex; 0 is the error reset, no error.
+                match Quantity::parse(code.trim()) {
+                    Ok(Quantity { value, unit: None })
+                        if value.fract() == 0.0 && (1.0..=65535.0).contains(&value) =>
+                    {
+                        SimSetting::EmergencyAt(at, value as u16)
+                    }
+                    _ => return Err(bad(wanted)),
+                }
+            }
             _ => SimSetting::ThermalTime(duration("a duration above zero (10min)")?),
         })
     }
@@ -110,6 +128,7 @@ impl SimSetting {
             SimSetting::Ambient(c) => config.ambient_c = c,
             SimSetting::Heating(k) => config.heating_k_per_a = k,
             SimSetting::ThermalTime(d) => config.thermal_time_constant = d,
+            SimSetting::EmergencyAt(at, code) => config.emergencies.push((at, code)),
         }
     }
 }
@@ -157,5 +176,28 @@ mod tests {
         assert!(e.contains("a temperature (25°C)"), "{e}");
         assert!(SimSetting::parse("overshoot=120%").is_err());
         assert!(SimSetting::parse("response-time=0s").is_err());
+        let mut c = SimConfig::default();
+        SimSetting::parse("emergency-at=20s:0x2310")
+            .unwrap()
+            .apply(&mut c);
+        SimSetting::parse("emergency-at=1min:16912")
+            .unwrap()
+            .apply(&mut c);
+        assert_eq!(
+            c.emergencies,
+            [
+                (Duration::from_secs(20), 0x2310),
+                (Duration::from_secs(60), 0x4210)
+            ]
+        );
+        for bad in [
+            "emergency-at=20s",
+            "emergency-at=20s:0",
+            "emergency-at=x:0x2310",
+            "emergency-at=1s:0x12345",
+        ] {
+            let e = SimSetting::parse(bad).unwrap_err().to_string();
+            assert!(e.contains("20s:0x2310"), "{bad}: {e}");
+        }
     }
 }

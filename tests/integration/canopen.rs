@@ -3,8 +3,12 @@
 //! SLCAN adapter on a pseudo-terminal; a node whose heartbeat stops; `decode` of NMT,
 //! heartbeat and EMCY frames; an EDS as a dictionary on the command line.
 
-use crate::support::{assert_has, cli, control_words, repo_root, scratch, write_file, InProcessRun};
+use crate::support::{
+    assert_has, assert_in_order, assert_lacks, cli, control_words, repo_root, scratch, write_file,
+    InProcessRun,
+};
 use drivescript::clock::SharedClock;
+use drivescript::family::canopen::codec::NmtState;
 use drivescript::family::canopen::sim::Cia402Node;
 use drivescript::run::DictionaryArgs;
 use drivescript::sim::SimulatedDrive;
@@ -21,7 +25,7 @@ fn canopen() -> DictionaryArgs {
 }
 
 /// `recipes/commissioning.yaml` with only `drive:` changed.
-fn commissioning(dir: &Path) -> PathBuf {
+pub fn commissioning(dir: &Path) -> PathBuf {
     let text = std::fs::read_to_string(repo_root().join("recipes/commissioning.yaml")).expect("recipe");
     assert!(text.contains("drive: sd2"));
     write_file(
@@ -48,6 +52,20 @@ fn the_commissioning_recipe_runs_on_the_simulated_cia402_node_with_only_drive_ch
             "drive left in ready to switch on at 0 rpm",
         ],
     );
+    // The node boots pre-operational and enables operation only in operational: it is
+    // started before the enable and put back after the verified safe stop, said on the
+    // console.
+    assert_in_order(
+        &output,
+        &[
+            "node 1 is pre-operational (",
+            "sent NMT start (`000#0101`) so that it is operational",
+            "3  ok    go to operation_enabled",
+            "finally 2  ok    shutdown  control word 6",
+            "node 1 back to pre-operational (NMT enter pre-operational, `000#8001`): the state it was found in",
+            "PASSED",
+        ],
+    );
     // Shutdown, switch on, enable operation; disable operation and shutdown in finally.
     assert_eq!(control_words(&result), vec![6, 7, 15, 7, 6]);
     // Profile velocity mode (0x6060 = 3) is written before each command; the boot-up
@@ -61,6 +79,22 @@ fn the_commissioning_recipe_runs_on_the_simulated_cia402_node_with_only_drive_ch
             "can0 601#2B4060000F000000",
         ],
     );
+    // On the bus: NMT start to node 1 alone just before the enable, enter pre-operational
+    // only after the last controlword of the safe stop.
+    assert_in_order(
+        &trace_text,
+        &[
+            "can0 601#2B40600007000000",
+            "can0 000#0101",
+            "can0 601#2B4060000F000000",
+            "can0 601#2B40600006000000",
+            "can0 000#8001",
+        ],
+    );
+    assert!(
+        !trace_text.contains("000#0100") && !trace_text.contains("000#8000"),
+        "no broadcast"
+    );
     // decode explains the trace again.
     let out = crate::support::drivescript(&["decode", &trace.to_string_lossy()], "");
     assert_eq!(out.status.code(), Some(0), "{}", crate::support::stderr(&out));
@@ -70,6 +104,8 @@ fn the_commissioning_recipe_runs_on_the_simulated_cia402_node_with_only_drive_ch
             "boot-up ← node 1",
             "write index 0x6060/0 modes_of_operation = 3 → node 1",
             "write index 0x6040/0 control_word = 0x000f → node 1",
+            "NMT start (enter operational) → node 1",
+            "NMT enter pre-operational → node 1",
         ],
     );
 }
@@ -107,6 +143,108 @@ fn a_node_whose_heartbeat_stops_is_a_lost_link_and_is_stopped() {
         ],
     );
     // The node still answers SDO: the safe stop brakes and stops it, verified.
+    assert_eq!(control_words(&result), vec![6, 7, 15, 7, 6]);
+}
+
+/// An EMCY frame alone, while the statusword shows no fault, is a drive fault: the run
+/// stops, the code's text is in the console, the JUnit file, the HTML report and the trace.
+#[test]
+fn an_emcy_alone_is_a_drive_fault_in_every_report() {
+    let dir = scratch("canopen-emcy-alone");
+    let recipe = write_file(
+        &dir,
+        "recipe.yaml",
+        "name: EMCY alone\ndrive: canopen\nsteps:\n  - go_to: operation_enabled\n  - set: { speed_setpoint: 1000 rpm }\n  - dwell: 1 min\n",
+    );
+    let emcy = |sim: &Arc<Mutex<dyn SimulatedDrive>>, clock: &SharedClock| {
+        let at = clock.now() + Duration::from_secs(20);
+        sim.lock().unwrap().faults().emergency_at(at, 0x2310);
+    };
+    let mut run = InProcessRun::new(recipe);
+    run.dictionary = canopen();
+    run.prepare = Some(&emcy);
+    let (junit, html, trace) = (
+        dir.join("junit.xml"),
+        dir.join("report.html"),
+        dir.join("run.log"),
+    );
+    run.outputs.junit = Some(junit.clone());
+    run.outputs.report = Some(html.clone());
+    run.outputs.trace = Some(trace.clone());
+    let (result, output) = run.run();
+    assert_eq!(result.exit_code, 3, "{output}");
+    let said = "node 1 EMCY 0x2310 continuous over-current (output side) (error register 0x01)";
+    assert_has(
+        &output,
+        &[
+            &format!(
+                "     3  FAIL  dwell 1m  drive fault: the drive reported {said} while in operation enabled"
+            ),
+            "drive left in ready to switch on at 0 rpm",
+            "ERROR: drive fault",
+        ],
+    );
+    // The default safe stop: disable operation, shutdown, each verified.
+    assert_eq!(control_words(&result), vec![6, 7, 15, 7, 6]);
+    for file in [&junit, &html] {
+        let text = std::fs::read_to_string(file).expect("report written");
+        assert_has(&text, &["EMCY 0x2310 continuous over-current (output side)"]);
+    }
+    let trace = std::fs::read_to_string(&trace).expect("trace");
+    assert_has(&trace, &["can0 081#1023010000000000"]);
+}
+
+/// A run that leaves the drive enabled on purpose leaves its node operational: going back
+/// to pre-operational could set off a drive's reaction to leaving operational (0x6007).
+#[test]
+fn a_node_left_enabled_stays_operational() {
+    let dir = scratch("canopen-left-enabled");
+    let recipe = write_file(
+        &dir,
+        "recipe.yaml",
+        "name: Left enabled\ndrive: canopen\nleave_enabled: true\nsteps:\n  - go_to: operation_enabled\n",
+    );
+    let mut run = InProcessRun::new(recipe);
+    run.dictionary = canopen();
+    let (result, output) = run.run();
+    assert_eq!(result.exit_code, 0, "{output}");
+    assert_has(&output, &["sent NMT start (`000#0101`)", "PASSED"]);
+    assert_lacks(&output, &["back to pre-operational"]);
+    assert_eq!(control_words(&result), vec![6, 7, 15]);
+    let sim = result.simulator.expect("the simulated node");
+    let mut sim = sim.lock().unwrap();
+    let node = sim
+        .as_any_mut()
+        .downcast_mut::<Cia402Node>()
+        .expect("a CiA 402 node");
+    assert_eq!(node.nmt_state(), NmtState::Operational);
+}
+
+/// An EMCY the node sent before the run began is told, not a stop: the recipe decides.
+#[test]
+fn an_emcy_before_the_run_began_is_told_and_the_run_goes_on() {
+    let dir = scratch("canopen-emcy-before");
+    let recipe = write_file(
+        &dir,
+        "recipe.yaml",
+        "name: EMCY before\ndrive: canopen\nsteps:\n  - go_to: operation_enabled\n  - dwell: 10 s\n",
+    );
+    let emcy = |sim: &Arc<Mutex<dyn SimulatedDrive>>, clock: &SharedClock| {
+        sim.lock().unwrap().faults().emergency_at(clock.now(), 0x2310);
+    };
+    let mut run = InProcessRun::new(recipe);
+    run.dictionary = canopen();
+    run.prepare = Some(&emcy);
+    let (result, output) = run.run();
+    assert_eq!(result.exit_code, 0, "{output}");
+    assert_in_order(
+        &output,
+        &[
+            "the drive reported node 1 EMCY 0x2310 continuous over-current (output side) (error register 0x01) before the run began",
+            "2  ok    dwell 10s",
+            "PASSED",
+        ],
+    );
     assert_eq!(control_words(&result), vec![6, 7, 15, 7, 6]);
 }
 
@@ -223,6 +361,78 @@ fn the_commissioning_recipe_runs_through_an_slcan_pseudo_terminal() {
             "drive left in ready to switch on at 0 rpm",
             "PASSED",
         ],
+    );
+}
+
+/// The EMCY alone, through a real SLCAN pseudo-terminal in real time: the simulator sends
+/// it 8 s after it started (`--sim emergency-at`), the run in its dwell stops on it and the
+/// trace holds the EMCY, then the safe stop's controlwords, then NMT pre-operational.
+#[cfg(unix)]
+#[test]
+fn an_emcy_alone_stops_a_run_through_an_slcan_pseudo_terminal() {
+    let sim = crate::support::Simulator::start(&[
+        "--drive",
+        "canopen",
+        "--slcan-pty",
+        "--sim",
+        "emergency-at=8s:0x2310",
+    ]);
+    let dir = scratch("canopen-slcan-emcy");
+    let recipe = write_file(
+        &dir,
+        "recipe.yaml",
+        "name: EMCY alone over SLCAN\ndrive: canopen\nsteps:\n  - go_to: operation_enabled\n  - set: { speed_setpoint: 500 rpm }\n  - dwell: 2 min\n",
+    );
+    let trace = dir.join("run.log");
+    let store = dir.join("results.sqlite");
+    let store = store.to_str().unwrap();
+    let can = format!("slcan:{}", sim.endpoint);
+    let out = cli(
+        &[
+            "run",
+            recipe.to_str().unwrap(),
+            "--can",
+            &can,
+            "--trace",
+            trace.to_str().unwrap(),
+            "--results",
+            store,
+        ],
+        3,
+    );
+    assert_in_order(
+        &out.stdout,
+        &[
+            "FAIL  dwell 2m  drive fault: the drive reported node 1 EMCY 0x2310 continuous over-current (output side) (error register 0x01) while in operation enabled",
+            "control word 7",
+            "control word 6",
+            "node 1 back to pre-operational",
+            "drive left in ready to switch on at 0 rpm",
+            "ERROR: drive fault",
+        ],
+    );
+    let trace = std::fs::read_to_string(&trace).expect("trace");
+    assert_in_order(
+        &trace,
+        &[
+            "601#2B4060000F000000",
+            "081#1023010000000000",
+            "601#2B40600007000000",
+            "601#2B40600006000000",
+            "000#8001",
+        ],
+    );
+    // The results store keeps the fault with its code and text.
+    let id = [&out.stdout, &out.stderr]
+        .into_iter()
+        .flat_map(|text| text.lines())
+        .find_map(|l| l.strip_prefix("results: run "))
+        .and_then(|l| l.split_whitespace().next())
+        .expect("the run's id");
+    let shown = cli(&["results", "show", id, "--results", store], 0);
+    assert_has(
+        &shown.stdout,
+        &["EMCY 0x2310 continuous over-current (output side)"],
     );
 }
 

@@ -7,7 +7,8 @@
 //! physics: [response-time=200ms] # the simulated drive's `--sim` settings (optional)
 //! sim: { trip_at: 12 s, drive_error: 4660, drop_replies: 1, fault_reset_blocked: true,
 //!        ignore_commands: [disable_operation, shutdown], line_down: [10 s, 12 s],
-//!        panic_at: 12 s }
+//!        panic_at: 12 s, emergency_at: 12 s }   # emergency_at: an EMCY with drive_error,
+//!                              # nothing trips
 //! interrupt_at: 30 s           # a stop signal arrives at this (virtual) time (optional)
 //! second_interrupt_at: 31 s    # and again (optional)
 //! signal: TERM                 # which signal (default INT, i.e. Ctrl-C)
@@ -103,6 +104,7 @@ struct SimSetup {
     ignore_commands: Option<Vec<String>>,
     line_down: Option<[String; 2]>,
     panic_at: Option<String>,
+    emergency_at: Option<String>,
 }
 
 #[derive(Debug, Default, serde::Deserialize)]
@@ -194,6 +196,9 @@ fn run_case(dir: &Path) -> Result<(), String> {
         }
         if let Some(at) = &sim_setup.panic_at {
             f.panic_at(duration(at));
+        }
+        if let Some(at) = &sim_setup.emergency_at {
+            f.emergency_at(duration(at), sim_setup.drive_error.unwrap_or(1));
         }
     };
     let output_dir = std::env::temp_dir().join(format!(

@@ -489,6 +489,18 @@ pub fn assert_has(text: &str, parts: &[&str]) {
     }
 }
 
+/// Fails the test, showing all of `text`, unless `text` holds `parts` in this order.
+#[track_caller]
+pub fn assert_in_order(text: &str, parts: &[&str]) {
+    let mut rest = text;
+    for part in parts {
+        match rest.find(part) {
+            Some(at) => rest = &rest[at + part.len()..],
+            None => panic!("expected {part:?} after {parts:?}'s earlier parts in:\n{text}"),
+        }
+    }
+}
+
 /// Fails the test, showing all of `text`, if `text` holds any of `parts`.
 #[track_caller]
 pub fn assert_lacks(text: &str, parts: &[&str]) {

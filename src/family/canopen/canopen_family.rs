@@ -1,9 +1,10 @@
 //! The generic CANopen family as the registry sees it: the built-in CiA 402 dictionary,
 //! objects addressed by index (`0x6041`, `0x1018/2`), node ids 1..=127 on a CAN frame bus,
-//! and how to open an SDO link, simulate a CiA 402 node and explain frames. The node's NMT
-//! state is left as it is: SDO, all drivescript uses, works in pre-operational and
-//! operational alike.
+//! and how to open an SDO link, simulate a CiA 402 node and explain frames. The node is
+//! put in NMT operational before it enables operation, and back after the run
+//! ([`NmtMaster`]).
 
+use super::nmt_master::NmtMaster;
 use super::sdo_family::{open_sdo, parse_node, raw_sdo_object, sdo_frame_direction, sim_node};
 use super::sim::Cia402Node;
 use super::{SdoExplainer, CIA_301_NOTATION, INDEX_NOTATION};
@@ -68,7 +69,15 @@ impl Family for CanopenFamily {
     }
 
     fn open(&self, bus: &Bus, drive: &DriveAddress, options: &LinkOptions, context: LinkContext) -> Opened {
-        open_sdo(bus, drive, options, context, CIA_301_NOTATION, "a CANopen node")
+        open_sdo(
+            bus,
+            drive,
+            options,
+            context,
+            CIA_301_NOTATION,
+            Some(NmtMaster::default()),
+            "a CANopen node",
+        )
     }
 
     fn simulator(&self, drive: &DriveAddress, config: SimConfig) -> SimulatedDevice {

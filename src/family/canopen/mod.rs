@@ -5,6 +5,7 @@
 
 mod canopen_family;
 pub mod codec;
+mod nmt_master;
 mod node_watch;
 mod sdo_access;
 mod sdo_explainer;

@@ -1,7 +1,9 @@
 //! What a CANopen link learns about its node from the frames around its SDO transfers:
 //! the heartbeat (0x700 + node) with the NMT state it carries, and EMCY frames (0x80 +
 //! node). A node whose heartbeat was seen and then stays away for three of its periods is
-//! lost, as CiA 301's heartbeat consumer says. Pure: frames and times in, verdicts out.
+//! lost, as CiA 301's heartbeat consumer says. An EMCY frame with an error code (not the
+//! error reset 0x0000) is a fault the node reported, kept until it is taken, whether or not
+//! the statusword shows it. Pure: frames and times in, verdicts out.
 
 use super::codec::{emcy_id, error_code_text, heartbeat_id, Emcy, NmtState};
 use crate::bus::CanFrame;
@@ -32,6 +34,8 @@ pub struct NodeWatch {
     heartbeats: u32,
     last_heartbeat: Option<Duration>,
     state: Option<NmtState>,
+    /// The first EMCY with an error code since the last look, with its words.
+    reported: Option<String>,
 }
 
 impl NodeWatch {
@@ -67,19 +71,31 @@ impl NodeWatch {
         }
         if frame.id == emcy_id(self.node) {
             let e = Emcy::decode(frame.data())?;
-            return Some(NodeNews::Said(if e.is_reset() {
-                format!("node {} EMCY: error reset", self.node)
-            } else {
-                format!(
-                    "node {} EMCY 0x{:04X} {} (error register 0x{:02X})",
-                    self.node,
-                    e.code,
-                    error_code_text(e.code),
-                    e.register
-                )
-            }));
+            if e.is_reset() {
+                return Some(NodeNews::Said(format!("node {} EMCY: error reset", self.node)));
+            }
+            let what = format!(
+                "EMCY 0x{:04X} {} (error register 0x{:02X})",
+                e.code,
+                error_code_text(e.code),
+                e.register
+            );
+            let said = format!("node {} {what}", self.node);
+            self.reported.get_or_insert(said.clone());
+            return Some(NodeNews::Said(said));
         }
         None
+    }
+
+    /// The fault the node reported by EMCY since the last call: `node 5 EMCY 0x3210 DC
+    /// link over-voltage (error register 0x01)`; the first one when there were several.
+    pub fn take_reported(&mut self) -> Option<String> {
+        self.reported.take()
+    }
+
+    /// The NMT state the node's last heartbeat or boot-up message carried.
+    pub fn state(&self) -> Option<NmtState> {
+        self.state
     }
 
     /// Why the node counts as lost at `now`, if it does: its heartbeat was seen and has
@@ -171,5 +187,23 @@ mod tests {
                 "node 5 EMCY 0x3210 DC link over-voltage (error register 0x01)".into()
             ))
         );
+        // A second one before the look: the first is the fault; a reset takes nothing back.
+        w.see(
+            &CanFrame::standard8(0x85, [0x10, 0x43, 0x09, 0, 0, 0, 0, 0]),
+            ms(1),
+        );
+        w.see(&CanFrame::standard8(0x85, [0; 8]), ms(2));
+        assert_eq!(
+            w.take_reported().as_deref(),
+            Some("node 5 EMCY 0x3210 DC link over-voltage (error register 0x01)")
+        );
+        assert_eq!(w.take_reported(), None);
+        // An error reset alone is no fault; another node's EMCY is not this node's.
+        w.see(&CanFrame::standard8(0x85, [0; 8]), ms(3));
+        w.see(
+            &CanFrame::standard8(0x86, [0x10, 0x32, 0x01, 0, 0, 0, 0, 0]),
+            ms(4),
+        );
+        assert_eq!(w.take_reported(), None);
     }
 }

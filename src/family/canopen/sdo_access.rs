@@ -1,6 +1,8 @@
 //! Object access to a CANopen node: SDO uploads and downloads over an [`SdoLink`], with
-//! values converted by [`super::sdo_value`].
+//! values converted by [`super::sdo_value`], and for a CiA 402 node the NMT state its
+//! device control needs ([`NmtMaster`]).
 
+use super::nmt_master::NmtMaster;
 use super::sdo_link::SdoLink;
 use super::sdo_value;
 use crate::clock::SharedClock;
@@ -11,11 +13,12 @@ use std::time::Duration;
 
 pub struct SdoAccess {
     link: SdoLink,
+    nmt: Option<NmtMaster>,
 }
 
 impl SdoAccess {
-    pub fn new(link: SdoLink) -> Self {
-        SdoAccess { link }
+    pub fn new(link: SdoLink, nmt: Option<NmtMaster>) -> Self {
+        SdoAccess { link, nmt }
     }
 
     pub fn link(&self) -> &SdoLink {
@@ -50,12 +53,27 @@ impl ObjectAccess for SdoAccess {
     ) -> Result<WriteOutcome, AccessError> {
         let (index, subindex) = Self::subindex(address)?;
         let bytes = sdo_value::encode(value, data_type).map_err(|e| AccessError::Encode(e.to_string()))?;
+        if let Some(nmt) = &mut self.nmt {
+            nmt.before_write(&mut self.link, (index, subindex), &bytes)?;
+        }
         self.link.download(index, subindex, &bytes)?;
         Ok(WriteOutcome::Stored)
     }
 
     fn keep_alive(&mut self) -> Result<Option<Duration>, AccessError> {
         self.link.check_node()
+    }
+
+    fn notices(&mut self) -> Vec<String> {
+        self.nmt.as_mut().map(NmtMaster::take_notices).unwrap_or_default()
+    }
+
+    fn release(&mut self) -> Option<String> {
+        self.nmt.as_mut()?.release(&mut self.link)
+    }
+
+    fn reported_fault(&mut self) -> Option<String> {
+        self.link.reported_fault()
     }
 
     fn error_code_text(&self, code: u16) -> Option<&'static str> {

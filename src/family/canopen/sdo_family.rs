@@ -3,6 +3,7 @@
 //! bus in the family's notation, and an object named on the command line in the family's
 //! notation. The families keep what differs: their notation, dictionary and simulator.
 
+use super::nmt_master::NmtMaster;
 use super::{SdoAccess, SdoLink, SdoLinkConfig, SdoNotation};
 use crate::bus::Bus;
 use crate::dictionary::{Access, Address, DataType, ObjectDef};
@@ -43,14 +44,16 @@ pub fn sim_node(drive: &DriveAddress) -> u8 {
     u8::try_from(drive.number).unwrap_or(DEFAULT_NODE)
 }
 
-/// SDO object access to `drive` on `bus`; `what` names the drive for the wrong-bus message
-/// (`a CANopen node`, `the Lenze 9400`).
+/// SDO object access to `drive` on `bus`; `nmt` for a CiA 402 node drivescript starts
+/// before it enables operation; `what` names the drive for the wrong-bus message (`a
+/// CANopen node`, `the Lenze 9400`).
 pub fn open_sdo(
     bus: &Bus,
     drive: &DriveAddress,
     options: &LinkOptions,
     context: LinkContext,
     notation: SdoNotation,
+    nmt: Option<NmtMaster>,
     what: &str,
 ) -> Opened {
     let Bus::Frames(frames) = bus else {
@@ -69,7 +72,7 @@ pub fn open_sdo(
         notation,
     };
     let link = context.link(|clock| SdoLink::new(frames.clone(), clock, node, config));
-    Ok(Box::new(SdoAccess::new(link)))
+    Ok(Box::new(SdoAccess::new(link, nmt)))
 }
 
 /// An object named `text` on the command line at `address`. Without `--type` it is

@@ -11,7 +11,10 @@
 //! Must not know object names, units or states; how objects are named in messages and what
 //! to check when a node is silent come from the family ([`SdoNotation`]).
 
-use super::codec::{request_id, response_id, AbortCode, SdoClient, SdoRequest, SdoStep, Uploaded};
+use super::codec::{
+    request_id, response_id, AbortCode, NmtCommand, NmtState, SdoClient, SdoRequest, SdoStep, Uploaded,
+    NMT_ID,
+};
 use super::node_watch::{NodeNews, NodeWatch};
 use crate::bus::{CanFrame, FrameBus, SharedFrameBus, TransportError};
 use crate::clock::SharedClock;
@@ -298,6 +301,30 @@ impl SdoLink {
             return Err(self.lost(why));
         }
         Ok(self.watch.period())
+    }
+
+    /// The NMT state the node's heartbeat last showed (`None`: none seen), after taking
+    /// what waits on the bus; a lost node is the link lost, as in [`Self::check_node`].
+    pub fn nmt_state(&mut self) -> Result<Option<NmtState>, AccessError> {
+        self.check_node()?;
+        Ok(self.watch.state())
+    }
+
+    /// Sends the NMT command `command` to this node alone (`000#cs node`); never to every
+    /// node (node 0). Unconfirmed by CiA 301: the node's next heartbeat shows the state.
+    pub fn send_nmt(&mut self, command: NmtCommand) -> Result<(), AccessError> {
+        let frame = CanFrame::new(NMT_ID, &[command.byte(), self.node])
+            .ok_or_else(|| AccessError::Encode("an NMT command is 2 bytes".into()))?;
+        let shared = self.bus.clone();
+        let mut guard = shared.lock();
+        guard.send(&frame)?;
+        self.core.notify_frame(Direction::Sent, &frame);
+        Ok(())
+    }
+
+    /// The fault the node reported by EMCY since the last call (see [`NodeWatch`]).
+    pub fn reported_fault(&mut self) -> Option<String> {
+        self.watch.take_reported()
     }
 
     fn lost(&self, why: String) -> AccessError {

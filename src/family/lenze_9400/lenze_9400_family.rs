@@ -65,7 +65,15 @@ impl Family for Lenze9400Family {
     }
 
     fn open(&self, bus: &Bus, drive: &DriveAddress, options: &LinkOptions, context: LinkContext) -> Opened {
-        open_sdo(bus, drive, options, context, LENZE_NOTATION, "the Lenze 9400")
+        open_sdo(
+            bus,
+            drive,
+            options,
+            context,
+            LENZE_NOTATION,
+            None,
+            "the Lenze 9400",
+        )
     }
 
     fn simulator(&self, drive: &DriveAddress, config: SimConfig) -> SimulatedDevice {

@@ -1,7 +1,7 @@
 //! The simulated CiA 402 drive as a CANopen node on a frame bus: the shared SDO server in
 //! front of the objects of its EDS, NMT commands (0x000), its boot-up message and
 //! heartbeat (0x700 + node, every 0x1017 ms) and an EMCY frame (0x80 + node) when the
-//! drive trips and when its fault is reset. Frames it produces on its own are sent with the
+//! drive trips, when its fault is reset and when one is injected without a trip. Frames it produces on its own are sent with the
 //! next frame it receives, stamped with the time they were due (the bus is lazy in virtual
 //! time). No clock of its own.
 
@@ -99,20 +99,31 @@ impl Cia402Node {
         self.next_heartbeat = Some(next);
     }
 
-    /// An EMCY frame when the drive's error code changed: the code, the error register
-    /// (bit 0 generic error) and five manufacturer bytes (0 here).
+    /// An EMCY frame when the drive's error code changed.
     fn emcy(&mut self, now: Duration, out: &mut Vec<(Duration, CanFrame)>) {
         let code = self.core.model.drive_error();
         if code == self.emcy_code || self.nmt == NmtState::Stopped {
             return;
         }
         self.emcy_code = code;
+        out.push((now, self.emcy_frame(code)));
+    }
+
+    /// The injected EMCY frames due by `now`; the drive's state is left as it is.
+    fn injected_emcy(&mut self, now: Duration, out: &mut Vec<(Duration, CanFrame)>) {
+        while let Some((at, code)) = self.core.faults.take_emergency_due(now) {
+            if self.nmt != NmtState::Stopped {
+                out.push((at, self.emcy_frame(code)));
+            }
+        }
+    }
+
+    /// The error code, the error register (bit 0 generic error) and five manufacturer
+    /// bytes (0 here).
+    fn emcy_frame(&self, code: u16) -> CanFrame {
         let [lo, hi] = code.to_le_bytes();
         let register = u8::from(code != 0);
-        out.push((
-            now,
-            CanFrame::standard8(emcy_id(self.node), [lo, hi, register, 0, 0, 0, 0, 0]),
-        ));
+        CanFrame::standard8(emcy_id(self.node), [lo, hi, register, 0, 0, 0, 0, 0])
     }
 
     fn nmt_command(&mut self, frame: &CanFrame, now: Duration, out: &mut Vec<(Duration, CanFrame)>) {
@@ -134,6 +145,7 @@ impl Cia402Node {
             }
             None => {}
         }
+        self.objects.set_operational(self.nmt == NmtState::Operational);
     }
 }
 
@@ -149,6 +161,7 @@ impl FramePeer for Cia402Node {
         let mut out = Vec::new();
         self.heartbeats(now, &mut out);
         self.emcy(now, &mut out);
+        self.injected_emcy(now, &mut out);
         if !frame.extended && frame.id == NMT_ID {
             self.nmt_command(frame, now, &mut out);
         } else if self.nmt != NmtState::Stopped {
@@ -170,6 +183,8 @@ impl FramePeer for Cia402Node {
         let mut out = Vec::new();
         if self.core.faults.line_up(until) {
             self.heartbeats(until, &mut out);
+            self.injected_emcy(until, &mut out);
+            out.sort_by_key(|(at, _)| *at);
         }
         out
     }
@@ -179,5 +194,51 @@ impl SimFront for Cia402Node {
     crate::sim_front_core!(SdoLogged);
     fn describe_drive(&self) -> String {
         format!("simulated CiA 402 drive at CAN node {} (from its EDS)", self.node)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn frame(id: u32, data: &[u8]) -> CanFrame {
+        CanFrame::new(id, data).unwrap()
+    }
+
+    fn sent(node: &mut Cia402Node, f: &CanFrame, ms: u64) -> Vec<String> {
+        node.receive(f, Duration::from_millis(ms))
+            .into_iter()
+            .map(|(_, f)| f.to_candump())
+            .collect()
+    }
+
+    /// CiA 301 on the wire: boot-up into pre-operational, start, stop (no SDO, heartbeat
+    /// 0x04), pre-operational again, reset node (boot-up again); commands to other nodes
+    /// are not this node's.
+    #[test]
+    fn the_node_honours_nmt_commands() {
+        let mut node = Cia402Node::new(5, SimConfig::default());
+        let read = frame(0x605, &[0x40, 0x41, 0x60, 0, 0, 0, 0, 0]);
+        let first = sent(&mut node, &read, 0);
+        assert_eq!(first[0], "705#00", "the boot-up message first: {first:?}");
+        assert!(first[1].starts_with("585#4B416000"), "{first:?}");
+        assert_eq!(node.nmt_state(), NmtState::PreOperational);
+        sent(&mut node, &frame(0x000, &[0x01, 0x06]), 10);
+        assert_eq!(
+            node.nmt_state(),
+            NmtState::PreOperational,
+            "another node's command"
+        );
+        sent(&mut node, &frame(0x000, &[0x01, 0x05]), 20);
+        assert_eq!(node.nmt_state(), NmtState::Operational);
+        assert_eq!(sent(&mut node, &read, 150), ["705#05", "585#4B41600040020000"]);
+        sent(&mut node, &frame(0x000, &[0x02, 0x05]), 160);
+        assert_eq!(node.nmt_state(), NmtState::Stopped);
+        assert_eq!(sent(&mut node, &read, 250), ["705#04"], "stopped: no SDO answer");
+        sent(&mut node, &frame(0x000, &[0x80, 0x00]), 260);
+        assert_eq!(node.nmt_state(), NmtState::PreOperational, "node 0: every node");
+        assert_eq!(sent(&mut node, &read, 270).len(), 1, "SDO again");
+        let reset = sent(&mut node, &frame(0x000, &[0x81, 0x05]), 280);
+        assert_eq!(reset, ["705#00"], "a reset node boots again");
     }
 }

@@ -1,14 +1,15 @@
 //! The simulated CiA 402 node's objects, served from its EDS: every object the EDS lists
 //! with its type, access, limits and default; the live ones (statusword, velocity, DC link
 //! voltage, error code, error register, mode display) read from the drive model, and the
-//! controlword, target velocity and mode written to it. Values in and out as SDO value
-//! bytes; no frames here.
+//! controlword, target velocity and mode written to it. Like many CiA 402 drives it enables
+//! operation only in NMT operational. Values in and out as SDO value bytes; no frames here.
 
 use super::sdo_server::{ObjectStore, Place, SdoLogged};
 use crate::diag::{Diagnostics, Source};
 use crate::dictionary::eds::{EdsEntry, EdsFile, EdsNumber};
 use crate::dictionary::{Access, DataType, Real, MAX_BLOCK_LEN};
 use crate::family::canopen::codec::AbortCode;
+use crate::family::canopen::nmt_master::enables_operation;
 use crate::sim::{ModelRefusal, SimCore};
 use std::collections::BTreeMap;
 
@@ -47,6 +48,8 @@ struct Slot {
 #[derive(Debug, Clone)]
 pub struct Cia402Objects {
     slots: BTreeMap<Place, Slot>,
+    /// Whether the node is in NMT operational (its node says).
+    operational: bool,
 }
 
 impl Cia402Objects {
@@ -60,7 +63,15 @@ impl Cia402Objects {
             .iter()
             .filter_map(|e| slot(e, node).map(|s| ((e.index, e.subindex), s)))
             .collect();
-        Cia402Objects { slots }
+        Cia402Objects {
+            slots,
+            operational: false,
+        }
+    }
+
+    /// The node's NMT state changed: operation can be enabled in operational only.
+    pub fn set_operational(&mut self, operational: bool) {
+        self.operational = operational;
     }
 
     /// The stored value of `place` as an integer (0 when absent).
@@ -187,6 +198,9 @@ impl ObjectStore for Cia402Objects {
         if place == CONTROLWORD {
             let control_word = value as u16;
             core.log_control_word(control_word);
+            if !self.operational && enables_operation(CONTROLWORD, bytes) {
+                return Err(AbortCode::DEVICE_STATE);
+            }
             if !core.disobeys_word(control_word) {
                 let blocked = core.faults.is_fault_reset_blocked();
                 core.model.write_control_word(control_word, blocked);
