@@ -1,5 +1,6 @@
-//! What a recipe will check and sample, known before it runs: its checks (`expect` checks
-//! and `wait_until` conditions) with the stage that holds each, so reports can show the
+//! What a recipe will check and sample, known before it runs: its checks (`expect` checks,
+//! `wait_until` conditions, operator steps, coast-downs, and the comparisons with the
+//! unit's last passed run that follow them) with the stage that holds each, so reports can show the
 //! ones a run never reached, and the objects its sample steps read, for the columns of a
 //! wide CSV. Reads the validated recipe only.
 //!
@@ -10,7 +11,7 @@
 
 use super::recipe::Recipe;
 use super::step::{Step, StepKind};
-use crate::session::{Condition, ObjectRef, PlannedCheck};
+use crate::session::{Condition, LastPass, ObjectRef, PlannedCheck, PromptKind};
 
 /// Every check of the recipe's steps in run order (a check inside a `times:` repeat once
 /// per pass).
@@ -27,58 +28,27 @@ fn walk(steps: &[Step], prefix: &str, stage: &mut Vec<String>, out: &mut Vec<Pla
             "" => format!("{}", i + 1),
             _ => format!("{prefix}.{}", i + 1),
         };
-        match &step.kind {
-            StepKind::Expect(checks) => {
-                for c in checks {
-                    out.push(PlannedCheck {
-                        name: c.name.clone(),
-                        object: Some(c.object.name.clone()),
-                        statistic: c.statistic.map(|s| s.id().to_string()),
-                        stage: stage.join(" / "),
-                        step: number.clone(),
-                        origin: step.origin.clone(),
-                    });
-                    if c.last_pass.is_some() {
-                        out.push(PlannedCheck {
-                            name: format!("{} compared with last pass", c.name),
-                            object: None,
-                            statistic: None,
-                            stage: stage.join(" / "),
-                            step: number.clone(),
-                            origin: step.origin.clone(),
-                        });
-                    }
-                }
+        let stage_text = stage.join(" / ");
+        let planned = |name: String, object: Option<String>, statistic: Option<String>| PlannedCheck {
+            name,
+            object,
+            statistic,
+            stage: stage_text.clone(),
+            step: number.clone(),
+            origin: step.origin.clone(),
+        };
+        let compared = compared(&step.kind);
+        for (name, object, statistic) in own_checks(&step.kind) {
+            let comparison = compared
+                .iter()
+                .any(|(n, _)| *n == name)
+                .then(|| format!("{name} compared with last pass"));
+            out.push(planned(name, object, statistic));
+            if let Some(name) = comparison {
+                out.push(planned(name, None, None));
             }
-            StepKind::WaitUntil { condition, .. } => out.push(PlannedCheck {
-                name: format!("wait until {condition}"),
-                object: match condition {
-                    Condition::Value { object, .. } | Condition::Stable { object, .. } => {
-                        Some(object.name.clone())
-                    }
-                    Condition::State(_) => None,
-                },
-                statistic: None,
-                stage: stage.join(" / "),
-                step: number.clone(),
-                origin: step.origin.clone(),
-            }),
-            StepKind::Ask(prompt) => out.push(PlannedCheck {
-                name: prompt.text.clone(),
-                object: None,
-                statistic: None,
-                stage: stage.join(" / "),
-                step: number.clone(),
-                origin: step.origin.clone(),
-            }),
-            StepKind::CoastDown(c) => out.push(PlannedCheck {
-                name: c.check_name(),
-                object: None,
-                statistic: Some("coast_down".into()),
-                stage: stage.join(" / "),
-                step: number.clone(),
-                origin: step.origin.clone(),
-            }),
+        }
+        match &step.kind {
             StepKind::Repeat {
                 times, steps: nested, ..
             } => {
@@ -101,6 +71,51 @@ fn walk(steps: &[Step], prefix: &str, stage: &mut Vec<String>, out: &mut Vec<Pla
             }
             _ => {}
         }
+    }
+}
+
+/// The checks a step makes itself (its nested steps' aside), in order: (name, object,
+/// statistic).
+fn own_checks(kind: &StepKind) -> Vec<(String, Option<String>, Option<String>)> {
+    match kind {
+        StepKind::Expect(checks) => checks
+            .iter()
+            .map(|c| {
+                let statistic = c.statistic.map(|s| s.id().to_string());
+                (c.name.clone(), Some(c.object.name.clone()), statistic)
+            })
+            .collect(),
+        StepKind::WaitUntil { condition, .. } => {
+            let object = match condition {
+                Condition::Value { object, .. } | Condition::Stable { object, .. } => {
+                    Some(object.name.clone())
+                }
+                Condition::State(_) => None,
+            };
+            vec![(format!("wait until {condition}"), object, None)]
+        }
+        StepKind::Ask(prompt) => vec![(prompt.text.clone(), None, None)],
+        StepKind::CoastDown(c) => vec![(c.check_name(), None, Some("coast_down".into()))],
+        _ => Vec::new(),
+    }
+}
+
+/// The checks a step makes itself that compare with the unit's last passed run, each
+/// name with its comparison (a check of its own, right after it).
+fn compared(kind: &StepKind) -> Vec<(String, &LastPass)> {
+    match kind {
+        StepKind::Expect(checks) => checks
+            .iter()
+            .filter_map(|c| c.last_pass.as_ref().map(|lp| (c.name.clone(), lp)))
+            .collect(),
+        StepKind::CoastDown(c) => c.last_pass.iter().map(|lp| (c.check_name(), lp)).collect(),
+        StepKind::Ask(p) => match &p.kind {
+            PromptKind::Value {
+                last_pass: Some(lp), ..
+            } => vec![(p.text.clone(), lp)],
+            _ => Vec::new(),
+        },
+        _ => Vec::new(),
     }
 }
 
@@ -172,15 +187,10 @@ pub fn operator_prompts(recipe: &Recipe) -> Vec<(crate::session::Prompt, crate::
 pub fn last_pass_checks(recipe: &Recipe) -> (Vec<String>, Option<crate::session::StepOrigin>) {
     fn walk(steps: &[Step], names: &mut Vec<String>, first: &mut Option<crate::session::StepOrigin>) {
         for step in steps {
-            if let StepKind::Expect(checks) = &step.kind {
-                for (c, lp) in checks
-                    .iter()
-                    .filter_map(|c| c.last_pass.as_ref().map(|lp| (c, lp)))
-                {
-                    first.get_or_insert_with(|| lp.written.clone());
-                    if !names.contains(&c.name) {
-                        names.push(c.name.clone());
-                    }
+            for (name, lp) in compared(&step.kind) {
+                first.get_or_insert_with(|| lp.written.clone());
+                if !names.contains(&name) {
+                    names.push(name);
                 }
             }
             walk(step.nested(), names, first);
@@ -195,4 +205,59 @@ pub fn last_pass_checks(recipe: &Recipe) -> (Vec<String>, Option<crate::session:
     );
     walk(&recipe.on_fault, &mut names, &mut first);
     (names, first)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::path::Path;
+
+    const WEAR: &str = "name: Wear
+drive: sd2
+steps:
+  - expect: { motor_temperature: { below: 80 °C } }
+  - coast_down:
+      from: 5900 rpm
+      below: 100 rpm
+      expect: { above: 15 s, compared_with_last_pass: { at_least: -10 %, without_history: pass } }
+  - enter_value: { prompt: Vibration, unit: mm/s, compared_with_last_pass: { at_most: 0.3 mm/s, without_history: fail } }
+";
+
+    fn wear() -> Recipe {
+        let dictionary = crate::family::Registry::builtin()
+            .load_dictionary(crate::family::DEFAULT_DICTIONARY)
+            .expect("built-in dictionary");
+        crate::recipe::load_recipe_text("r.yaml", WEAR, Path::new("."), &dictionary, &[]).expect("valid")
+    }
+
+    #[test]
+    fn a_coast_down_and_a_typed_value_are_followed_by_their_comparisons() {
+        let names: Vec<(String, String)> = planned_checks(&wear())
+            .into_iter()
+            .map(|c| (c.step, c.name))
+            .collect();
+        let want = [
+            ("1", "motor_temperature below 80 °C"),
+            ("2", "coast-down from 5900 rpm below 100 rpm above 15 s"),
+            (
+                "2",
+                "coast-down from 5900 rpm below 100 rpm above 15 s compared with last pass",
+            ),
+            ("3", "Vibration"),
+            ("3", "Vibration compared with last pass"),
+        ];
+        let want: Vec<(String, String)> = want.iter().map(|(s, n)| (s.to_string(), n.to_string())).collect();
+        assert_eq!(names, want);
+    }
+
+    #[test]
+    fn the_first_comparison_is_where_a_serial_is_needed() {
+        let (names, first) = last_pass_checks(&wear());
+        assert_eq!(
+            names,
+            ["coast-down from 5900 rpm below 100 rpm above 15 s", "Vibration"]
+        );
+        let first = first.expect("a place");
+        assert_eq!((first.line, first.column), (8, 30));
+    }
 }

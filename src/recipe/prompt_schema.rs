@@ -2,6 +2,8 @@
 //! `enter_text`), for the recipe schema to list with the other steps. Only the schema; the
 //! steps are read by the loader.
 
+use super::schema::any_case;
+use super::schema_dynamics::last_pass_schema;
 use crate::dictionary::Unit;
 use crate::session::UNIT_FIELDS;
 use serde_json::{json, Value};
@@ -9,6 +11,11 @@ use serde_json::{json, Value};
 /// Each operator step as (key, schema of its value, what it does).
 pub(super) fn prompt_steps() -> Vec<(&'static str, Value, &'static str)> {
     let units: Vec<&str> = Unit::symbols().chain(Unit::MEASURED.map(Unit::symbol)).collect();
+    // A change of a typed value: in % or in any unit (`check` holds it to the value's own).
+    let changes = std::iter::once("%".to_string())
+        .chain(units.iter().map(|u| any_case(u)))
+        .collect::<Vec<_>>()
+        .join("|");
     vec![
         (
             "instruct",
@@ -25,7 +32,8 @@ pub(super) fn prompt_steps() -> Vec<(&'static str, Value, &'static str)> {
             prompt(json!({
                 "unit": { "type": "string", "enum": units },
                 "at_least": { "$ref": "#/$defs/value_any" }, "at_most": { "$ref": "#/$defs/value_any" },
-                "between": { "type": "array", "items": { "$ref": "#/$defs/value_any" }, "minItems": 2, "maxItems": 2 }
+                "between": { "type": "array", "items": { "$ref": "#/$defs/value_any" }, "minItems": 2, "maxItems": 2 },
+                "compared_with_last_pass": last_pass_schema(&changes)
             })),
             "A measured value the operator types in, with its unit and limits, then a check: `enter_value: { prompt: Vibration on the hand-held meter, unit: mm/s, at_most: 2.8 mm/s }`; a typo is asked again",
         ),

@@ -13,9 +13,9 @@ use serde_json::{json, Value};
 /// The hover text of a step's `name:`.
 const STEP_NAME_DOC: &str = "the step's own name in reports (a stage name for include and repeat)";
 /// A number as recipes write it.
-const NUMBER: &str = r"-?[0-9]+(\.[0-9]+)?([eE][-+]?[0-9]+)?";
+pub(super) const NUMBER: &str = r"-?[0-9]+(\.[0-9]+)?([eE][-+]?[0-9]+)?";
 /// A parameter reference, `{{speed}}`.
-const PARAM: &str = r"\{\{\s*[A-Za-z_][A-Za-z0-9_]*\s*\}\}";
+pub(super) const PARAM: &str = r"\{\{\s*[A-Za-z_][A-Za-z0-9_]*\s*\}\}";
 /// Duration units as the loader (humantime) reads them.
 const DURATION_UNITS: &str = "ns|nsec|us|usec|ms|msec|s|sec|secs|second|seconds|m|min|mins|minute|minutes|h|hr|hrs|hour|hours|d|day|days|w|week|weeks|M|month|months|y|year|years";
 
@@ -34,7 +34,7 @@ fn written_as(what: &str, regex: String, numbers: bool) -> Value {
 
 /// `rpm` → `[rR][pP][mM]`: units are read regardless of case, and JSON Schema patterns
 /// have no flags.
-fn any_case(symbol: &str) -> String {
+pub(super) fn any_case(symbol: &str) -> String {
     symbol
         .chars()
         .map(|c| {
@@ -56,7 +56,7 @@ fn regex_escape(c: char) -> String {
 }
 
 /// The units of `dimension`, as a regex alternative.
-fn units_of(dimension: Dimension) -> String {
+pub(super) fn units_of(dimension: Dimension) -> String {
     Unit::ALL
         .iter()
         .filter(|u| u.dimension() == dimension)
@@ -121,7 +121,7 @@ fn dimension_defs(defs: &mut serde_json::Map<String, Value>, unit: Option<Unit>)
                      "description": "[low, high], both included" },
         "near": value_ref, "within": within,
         "warn": { "description": "a narrower band in the shape of the condition's own (a tolerance for near, a value for above/below, [low, high] for between): a pass outside it is marginal" },
-        "compared_with_last_pass": last_pass_schema(format!(r"^\s*(\+?({NUMBER})\s*({within_units})?|{PARAM})\s*$"))
+        "compared_with_last_pass": last_pass_schema(&within_units)
     });
     // Exactly one predicate; `near` only with `within` and `within` only with `near`.
     let one_predicate = json!([

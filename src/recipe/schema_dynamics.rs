@@ -3,6 +3,8 @@
 //! the `attempts` and `coast_down` steps, and a check's `compared_with_last_pass`. Their limits are in their own units (s, %, K
 //! for a difference of °C, K/min), which `check` validates; the schema gives their shape.
 
+use super::schema::{units_of, NUMBER, PARAM};
+use crate::dictionary::Dimension;
 use serde_json::{json, Map, Value};
 
 /// The statistics besides mean, min, max, ripple and std, each with what it measures.
@@ -69,7 +71,11 @@ pub(super) fn dynamics_steps(steps_ref: &Value) -> impl Iterator<Item = (&'stati
                 "type": "object",
                 "properties": {
                     "from": { "$ref": "#/$defs/value_any" }, "below": { "$ref": "#/$defs/value_any" },
-                    "expect": { "type": "object", "description": "a condition on the time in seconds: `{ near: 20 s, within: 1 s }`" },
+                    "expect": {
+                        "type": "object",
+                        "description": "a condition on the time in seconds: `{ near: 20 s, within: 1 s }`, with `warn:` and `compared_with_last_pass:` beside it",
+                        "properties": { "compared_with_last_pass": last_pass_schema(&format!("%|{}", units_of(Dimension::Time))) }
+                    },
                     "timeout": { "$ref": "#/$defs/duration" }, "every": { "$ref": "#/$defs/duration" }
                 },
                 "required": ["from", "below", "expect"], "additionalProperties": false
@@ -80,9 +86,11 @@ pub(super) fn dynamics_steps(steps_ref: &Value) -> impl Iterator<Item = (&'stati
     .into_iter()
 }
 
-/// `compared_with_last_pass` on an `expect` condition; `change` is the pattern of one end
-/// (a signed number in % or in the units of a difference of the check's values).
-pub(super) fn last_pass_schema(change: String) -> Value {
+/// `compared_with_last_pass` on a check (an `expect` condition, a coast-down's `expect`, an
+/// `enter_value`); `units` is the regex alternative of the units one end may be written in
+/// (`%` and those of a difference of the check's values).
+pub(super) fn last_pass_schema(units: &str) -> Value {
+    let change = format!(r"^\s*(\+?({NUMBER})\s*({units})?|{PARAM})\s*$");
     let end = |doc: &str| {
         json!({
             "type": ["string", "number"],

@@ -1,16 +1,18 @@
 //! The script forms of the checks on how the drive moves: `d.wait_until_stable(object,
 //! rate, over, timeout)` (until the slope of the last `over` is below `rate`) and
 //! `d.coast_down(from, below, shortest, longest)` (power stage off, the coast-down time
-//! checked to lie between the two durations). Values are text with units, resolved against
+//! checked to lie between the two durations; an optional fifth argument, `#{ at_least:
+//! "-10 %", without_history: "pass" }`, compares the time with the unit's last passed run). Values are text with units, resolved against
 //! the drive's dictionary before anything is sent; the session does the rest.
 
 use super::bridge::{Bridge, RhaiResult};
 use super::drive_api::{dictionary_of, done, duration, error, refused, with_optional_duration, DriveHandle};
 use super::exchange::Call;
+use super::last_pass_api::last_pass;
 use super::resolve;
 use crate::dictionary::{Quantity, Role, Unit};
-use crate::session::{CoastDown, Condition, Predicate};
-use rhai::{Engine, NativeCallContext};
+use crate::session::{CoastDown, Condition, LastPass, Predicate};
+use rhai::{Engine, Map, NativeCallContext};
 use std::sync::Arc;
 use std::time::Duration;
 
@@ -94,30 +96,56 @@ pub(super) fn register_dynamics(engine: &mut Engine, bridge: &Arc<Bridge>) {
               below: &str,
               shortest: &str,
               longest: &str|
+              -> RhaiResult<()> { coast_down(&b, h, &ctx, [from, below, shortest, longest], None) },
+    );
+    let b = bridge.clone();
+    engine.register_fn(
+        "coast_down",
+        move |ctx: NativeCallContext,
+              h: &mut DriveHandle,
+              from: &str,
+              below: &str,
+              shortest: &str,
+              longest: &str,
+              compared: Map|
               -> RhaiResult<()> {
-            let (dictionary, _) = dictionary_of(&b, h)?;
-            let Some(speed) = dictionary.role(Role::SpeedActual) else {
-                return Err(error("coast_down: the drive's profile names no actual speed"));
-            };
-            let unit = speed.unit.unwrap_or(Unit::Rpm);
-            let from = quantity_in(from, unit, "coast_down")?.abs();
-            let below = quantity_in(below, unit, "coast_down")?.abs();
-            if below >= from {
-                return Err(error("coast_down: `below` must be lower than `from`"));
-            }
-            let (shortest, longest) = (duration(shortest)?, duration(longest)?);
-            let c = CoastDown {
-                from,
-                below,
-                predicate: Predicate::Between(shortest.as_secs_f64(), longest.as_secs_f64()),
-                warn: None,
-                timeout: COAST_TIMEOUT.max(longest),
-                every: COAST_POLL,
-                unit: Some(unit.symbol().to_string()),
-            };
-            let label = format!("{} (power stage off)", c.check_name());
-            b.call(ctx.call_position(), Call::CoastDown(c), label)
-                .and_then(done)
+            let lp = last_pass("coast_down", &compared)?;
+            coast_down(&b, h, &ctx, [from, below, shortest, longest], Some(lp))
         },
     );
+}
+
+/// `d.coast_down(from, below, shortest, longest)`, its time compared with the unit's last
+/// passed run when `last_pass` says how far it may move (ends in % or in seconds).
+fn coast_down(
+    b: &Bridge,
+    h: &DriveHandle,
+    ctx: &NativeCallContext,
+    [from, below, shortest, longest]: [&str; 4],
+    last_pass: Option<LastPass>,
+) -> RhaiResult<()> {
+    let (dictionary, _) = dictionary_of(b, h)?;
+    let Some(speed) = dictionary.role(Role::SpeedActual) else {
+        return Err(error("coast_down: the drive's profile names no actual speed"));
+    };
+    let unit = speed.unit.unwrap_or(Unit::Rpm);
+    let from = quantity_in(from, unit, "coast_down")?.abs();
+    let below = quantity_in(below, unit, "coast_down")?.abs();
+    if below >= from {
+        return Err(error("coast_down: `below` must be lower than `from`"));
+    }
+    let (shortest, longest) = (duration(shortest)?, duration(longest)?);
+    let c = CoastDown {
+        from,
+        below,
+        predicate: Predicate::Between(shortest.as_secs_f64(), longest.as_secs_f64()),
+        warn: None,
+        timeout: COAST_TIMEOUT.max(longest),
+        every: COAST_POLL,
+        unit: Some(unit.symbol().to_string()),
+        last_pass,
+    };
+    let label = format!("{} (power stage off)", c.check_name());
+    b.call(ctx.call_position(), Call::CoastDown(Box::new(c)), label)
+        .and_then(done)
 }

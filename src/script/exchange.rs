@@ -44,7 +44,7 @@ pub enum Call {
         timeout: Duration,
         every: Duration,
     },
-    CoastDown(crate::session::CoastDown),
+    CoastDown(Box<crate::session::CoastDown>),
     Fail(String),
     Message(String),
     /// An operator step.

@@ -1,7 +1,8 @@
 //! The operator steps as script functions, as a recipe has them: `instruct(text)`,
 //! `confirm(text)` (true for yes; a "no" fails its check), `enter_value(text, #{ unit,
-//! at_least, at_most })` (the number in the unit) and `enter_text(text, #{ pattern, sets })`
-//! (the text), each with optional `name` and `timeout` in its map. Builds the prompt and
+//! at_least, at_most, compared_with_last_pass })` (the number in the unit; compared with the
+//! unit's last passed run as `expect_compared_with_last_pass` is) and `enter_text(text, #{
+//! pattern, sets })` (the text), each with optional `name` and `timeout` in its map. Builds the prompt and
 //! hands it to the session thread; also finds the prompts a script writes with a literal
 //! question, for a run without a terminal. It must not ask anyone itself.
 
@@ -54,7 +55,14 @@ fn limit(map: &Map, key: &str, unit: Option<Unit>) -> RhaiResult<Option<f64>> {
 /// The prompt of the function `word` asking `text` with the settings `map`.
 fn prompt_of(word: &str, text: &str, map: &Map) -> RhaiResult<Prompt> {
     let allowed: &[&str] = match word {
-        "enter_value" => &["name", "timeout", "unit", "at_least", "at_most"],
+        "enter_value" => &[
+            "name",
+            "timeout",
+            "unit",
+            "at_least",
+            "at_most",
+            "compared_with_last_pass",
+        ],
         "enter_text" => &["name", "timeout", "pattern", "sets"],
         _ => &["name", "timeout"],
     };
@@ -75,10 +83,22 @@ fn prompt_of(word: &str, text: &str, map: &Map) -> RhaiResult<Prompt> {
                 Some(u) => Some(Unit::parse_measured(&u).map_err(|e| error(e.to_string()))?),
                 None => None,
             };
+            let last_pass = match map.get("compared_with_last_pass") {
+                Some(v) => match v.read_lock::<Map>() {
+                    Some(compared) => Some(super::last_pass_api::last_pass(word, &compared)?),
+                    None => {
+                        return Err(error(
+                            "enter_value: `compared_with_last_pass` is a map: #{ at_most: \"10 %\", without_history: \"pass\" }",
+                        ))
+                    }
+                },
+                None => None,
+            };
             PromptKind::Value {
                 unit,
                 low: limit(map, "at_least", unit)?,
                 high: limit(map, "at_most", unit)?,
+                last_pass,
             }
         }
         _ => {
@@ -177,6 +197,7 @@ pub fn literal_prompts(calls: &[LiteralCall], source: &Source) -> Vec<(Prompt, S
                     unit: None,
                     low: None,
                     high: None,
+                    last_pass: None,
                 },
                 _ => PromptKind::Text {
                     pattern: None,

@@ -1,8 +1,10 @@
 //! The operator steps as session operations: a prompt answered beforehand, or asked at the
 //! terminal while the session keeps serving the drives (the fault watch, the cyclic
 //! channel's telegrams) and stays stoppable; each answer recorded as a check with who
-//! answered and when, and an answer for a part of the unit's identity passed on.
+//! answered and when, a typed value compared with the unit's last passed run, and an
+//! answer for a part of the unit's identity passed on.
 
+use super::history_lookup::Compared;
 use super::operator::{Given, Reply};
 use super::prompt::{Accepted, Prompt, PromptKind};
 use super::session::Session;
@@ -20,6 +22,8 @@ impl Session<'_> {
     /// goes on; no answer within the prompt's timeout fails and stops the run
     /// ([`Stop::Unanswered`], never retried); a closed terminal ends the run (an error); a
     /// stop request or a drive fault ends the wait at once.
+    /// A value compared with the unit's last passed run is a second check right after
+    /// the answer's (the run looked up before the question, not after the operator typed).
     /// An answer that sets the unit's serial looks up its last passed run at once (bounded,
     /// the drives served meanwhile) for the checks that compare with it.
     pub fn ask(
@@ -28,9 +32,33 @@ impl Session<'_> {
         origin: &StepOrigin,
         number: &str,
     ) -> Result<(String, Accepted), Stop> {
-        let answered = self.ask_once(prompt, origin, number)?;
+        let compared = match &prompt.kind {
+            PromptKind::Value {
+                unit,
+                last_pass: Some(lp),
+                ..
+            } => Some((unit.map(|u| u.symbol()), lp)),
+            _ => None,
+        };
+        if compared.is_some() {
+            self.will_compare(&prompt.text)?;
+        }
+        let (mut detail, accepted) = self.ask_once(prompt, origin, number)?;
+        if let Some((unit, lp)) = compared {
+            let of = Compared {
+                name: &prompt.text,
+                what: "answer".into(),
+                unit,
+            };
+            if let Some(failed) = self.record_comparison(&of, lp, accepted.number, origin) {
+                detail = match accepted.passed {
+                    true => format!("FAILED: {detail}; {failed}"),
+                    false => format!("{detail}; {failed}"),
+                };
+            }
+        }
         self.look_up_last_pass(true)?;
-        Ok(answered)
+        Ok((detail, accepted))
     }
 
     fn ask_once(
@@ -193,7 +221,7 @@ impl Session<'_> {
         started: Duration,
     ) {
         let (unit, low, high) = match &prompt.kind {
-            PromptKind::Value { unit, low, high } => (unit.map(|u| u.symbol().to_string()), *low, *high),
+            PromptKind::Value { unit, low, high, .. } => (unit.map(|u| u.symbol().to_string()), *low, *high),
             _ => (None, None, None),
         };
         let passed = accepted.is_some_and(|a| a.passed);

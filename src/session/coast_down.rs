@@ -2,11 +2,14 @@
 //! read on, and the time it takes from one speed down past another recorded as a check
 //! (bearing drag shows as a coast-down that shrinks from one test to the next). While it
 //! coasts the drive is marked so the safe stop says it cannot brake it. Both crossing
-//! times are interpolated between polls. It must not know recipes or scripts.
+//! times are interpolated between polls; the time may also be compared with the unit's
+//! last passed run, looked up before the power stage goes off. It must not know recipes or
+//! scripts.
 
+use super::history_lookup::Compared;
 use super::session::{round, show_duration, Session};
 use super::stop::Stop;
-use super::{BucketSeries, CheckResult, Predicate, Stats, StepOrigin, SERIES_BUCKETS};
+use super::{BucketSeries, CheckResult, LastPass, Predicate, Stats, StepOrigin, SERIES_BUCKETS};
 use crate::dictionary::Role;
 use crate::drive::DeviceCommand;
 use std::time::Duration;
@@ -26,6 +29,9 @@ pub struct CoastDown {
     pub every: Duration,
     /// The actual speed's unit (for the check's name, known before the run).
     pub unit: Option<String>,
+    /// How far the time may move from the same check's in the unit's last passed run: a
+    /// second check, made right after this one.
+    pub last_pass: Option<LastPass>,
 }
 
 impl CoastDown {
@@ -43,6 +49,12 @@ impl CoastDown {
 
 impl Session<'_> {
     pub fn coast_down(&mut self, c: &CoastDown, origin: &StepOrigin, number: &str) -> Result<String, Stop> {
+        let name = c.check_name();
+        // While the drive still holds its speed: the store is never waited for while the
+        // spindle coasts (nor in the safe stop).
+        if c.last_pass.is_some() {
+            self.will_compare(&name)?;
+        }
         let Some(object) = self.role_ref(Role::SpeedActual) else {
             return Err(Stop::Failed(
                 "the drive's profile names no actual speed to watch".into(),
@@ -102,7 +114,6 @@ impl Session<'_> {
             self.wait(self.clock.now().saturating_add(c.every).min(give_up))?;
         };
         self.keep_series(&object, &series, stats);
-        let name = c.check_name();
         let (passed, measured, message) = match result {
             Ok(secs) => {
                 let passed = c.predicate.holds(secs);
@@ -135,13 +146,25 @@ impl Session<'_> {
             message: message.clone(),
             window: Some(self.path.id()),
             marginal,
-            ..self.check_now(name, origin, started)
+            ..self.check_now(name.clone(), origin, started)
         });
-        if passed {
+        let mut failed: Vec<String> = Vec::new();
+        if !passed {
+            self.failed_checks = true;
+            failed.push(message.clone());
+        }
+        if let Some(lp) = &c.last_pass {
+            let of = Compared {
+                name: &name,
+                what: "coast-down time".into(),
+                unit: Some("s"),
+            };
+            failed.extend(self.record_comparison(&of, lp, measured, origin));
+        }
+        if failed.is_empty() {
             Ok(format!("power stage off, coasting by design: {message}"))
         } else {
-            self.failed_checks = true;
-            Ok(format!("FAILED: {message}"))
+            Ok(format!("FAILED: {}", failed.join("; ")))
         }
     }
 }

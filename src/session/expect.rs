@@ -83,15 +83,13 @@ impl Session<'_> {
             if let Some(lp) = &c.last_pass {
                 let of = super::history_lookup::Compared {
                     name: &c.name,
-                    object: &c.object,
-                    statistic: c.statistic,
+                    what: match c.statistic {
+                        Some(s) => format!("{} {}", c.object.name, s.id()),
+                        None => c.object.name.clone(),
+                    },
+                    unit: c.object.unit.as_deref(),
                 };
-                let compared = self.compared_with_last_pass(&of, lp, measured, origin);
-                if !compared.passed {
-                    self.failed_checks = true;
-                    failed.push(format!("{}: {}", compared.name, compared.message));
-                }
-                self.record_check_result(compared);
+                failed.extend(self.record_comparison(&of, lp, measured, origin));
             }
         }
         if failed.is_empty() {

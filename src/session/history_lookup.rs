@@ -4,9 +4,10 @@
 //! comparison against it. Never on the safe stop's path (the safe stop makes no checks).
 
 use super::last_pass::{signed, LastPass, PastRun};
-use super::session::{value_of, Session};
+use super::session::round;
+use super::session::Session;
 use super::stop::Stop;
-use super::{with_unit, CheckReference, CheckResult, ObjectRef, Statistic, StepOrigin};
+use super::{with_unit, CheckReference, CheckResult, StepOrigin};
 use std::sync::mpsc::RecvTimeoutError;
 use std::time::{Duration, Instant};
 
@@ -16,11 +17,12 @@ pub const LOOKUP_LIMIT: Duration = Duration::from_secs(10);
 /// How often the wait serves the drives and looks for a stop request.
 const SLICE: Duration = Duration::from_millis(20);
 
-/// The check a comparison is made for: its name, and what it measured.
+/// The check a comparison is made for: its name, what it measured (`current_actual mean`,
+/// `coast-down time`, `answer`) and in which unit.
 pub(super) struct Compared<'c> {
     pub name: &'c str,
-    pub object: &'c ObjectRef,
-    pub statistic: Option<Statistic>,
+    pub what: String,
+    pub unit: Option<&'c str>,
 }
 
 /// What the session knows of the unit's last passed run.
@@ -53,7 +55,9 @@ impl Session<'_> {
     /// run under way); at the start nothing moves yet. At most [`LOOKUP_LIMIT`]; a stop
     /// request ends the wait at once.
     pub(super) fn look_up_last_pass(&mut self, serve: bool) -> Result<(), Stop> {
-        if self.history_checks.is_empty() {
+        // The safe stop never waits for a store: a comparison there judges by what was
+        // looked up before.
+        if self.history_checks.is_empty() || self.in_safe_stop {
             return Ok(());
         }
         let Some(serial) = self.run.unit.serial.clone() else {
@@ -135,7 +139,7 @@ impl Session<'_> {
                     .history_checks
                     .iter()
                     .map(|name| match run.checks.iter().rev().find(|c| c.name == *name) {
-                        Some(c) => format!("{name} = {}", with_unit(c.measured, c.unit.as_deref())),
+                        Some(c) => format!("{name} = {}", with_unit(round(c.measured), c.unit.as_deref())),
                         None => format!("{name}: not in that run"),
                     })
                     .collect();
@@ -170,7 +174,7 @@ impl Session<'_> {
         let unit = match lp.relative {
             true => Some("%".to_string()),
             // A change is a difference: K for a temperature in °C.
-            false => c.object.unit.as_deref().map(|u| {
+            false => c.unit.map(|u| {
                 crate::dictionary::Unit::from_symbol(u)
                     .map_or(u.to_string(), |x| x.difference().symbol().to_string())
             }),
@@ -180,6 +184,10 @@ impl Session<'_> {
         let mut change = None;
         let (passed, message) = match (&self.past, measured) {
             (_, None) => (false, format!("nothing measured to compare with the last pass ({allowed})")),
+            (Past::NotLooked, _) if self.in_safe_stop && self.run.unit.serial.is_some() => (
+                false,
+                "the unit's last passed run was not looked up before the safe stop, which never waits for a results store".to_string(),
+            ),
             (Past::NotLooked, _) => (
                 false,
                 "the unit's serial was not known when this check was made: an operator step with `sets: serial` must come before it, or give --unit serial=…".to_string(),
@@ -211,9 +219,9 @@ impl Session<'_> {
                             started_at: r.started_at.clone(),
                             value: p.measured,
                         });
-                        let stat = c.statistic.map(|s| format!(" {}", s.id())).unwrap_or_default();
-                        let now = format!("{}{stat} = {}", c.object.name, value_of(v, c.object));
-                        let was = with_unit(p.measured, c.object.unit.as_deref());
+                        let now = format!("{} = {}", c.what, with_unit(round(v), c.unit));
+                        // Shown to three decimals as every measured value; stored exact.
+                        let was = with_unit(round(p.measured), c.unit);
                         match lp.change(p.measured, v) {
                             None => (
                                 false,
@@ -221,7 +229,7 @@ impl Session<'_> {
                                     "{now}: against {was} in run {} of {}, a change relative to 0 is not defined; allow an absolute change (in {}) instead",
                                     r.id,
                                     r.started_at,
-                                    c.object.unit.as_deref().unwrap_or("the check's unit")
+                                    c.unit.unwrap_or("the check's unit")
                                 ),
                             ),
                             Some(d) => {
@@ -230,7 +238,7 @@ impl Session<'_> {
                                     lp.allows(d),
                                     format!(
                                         "{now}: {} against {was} in run {} of {}",
-                                        signed(d, unit.as_deref()),
+                                        signed(round(d), unit.as_deref()),
                                         r.id,
                                         r.started_at
                                     ),
@@ -271,9 +279,36 @@ impl Session<'_> {
 }
 
 impl Session<'_> {
+    /// Check `name` will be compared with the unit's last passed run: it is named in what
+    /// the lookup says, and the run is looked up now if it was not for this serial yet (a
+    /// script's checks are not known before it runs). Never in the safe stop.
+    pub(super) fn will_compare(&mut self, name: &str) -> Result<(), Stop> {
+        if !self.history_checks.iter().any(|n| n == name) {
+            self.history_checks.push(name.to_string());
+        }
+        self.look_up_last_pass(true)
+    }
+
+    /// Records the comparison of check `c` (measured `measured`) with the same check in
+    /// the unit's last passed run, right after `c` itself; what to say when it failed.
+    pub(super) fn record_comparison(
+        &mut self,
+        c: &Compared,
+        lp: &LastPass,
+        measured: Option<f64>,
+        origin: &StepOrigin,
+    ) -> Option<String> {
+        let compared = self.compared_with_last_pass(c, lp, measured, origin);
+        let failed = (!compared.passed).then(|| format!("{}: {}", compared.name, compared.message));
+        if failed.is_some() {
+            self.failed_checks = true;
+        }
+        self.record_check_result(compared);
+        failed
+    }
+
     /// A script's comparison of its check `name` (made with `expect`, measuring
-    /// `measured`) with the same check in the unit's last passed run, looked up now if the
-    /// unit was not looked up yet (a script's checks are not known before it runs).
+    /// `measured`) with the same check in the unit's last passed run.
     pub fn expect_compared_with_last_pass(
         &mut self,
         name: &str,
@@ -281,18 +316,11 @@ impl Session<'_> {
         lp: &LastPass,
         origin: &StepOrigin,
     ) -> Result<String, Stop> {
-        if !self.history_checks.iter().any(|n| n == name) {
-            self.history_checks.push(name.to_string());
-        }
-        self.look_up_last_pass(true)?;
-        let object = ObjectRef {
-            name: name.to_string(),
-            unit: None,
-        };
+        self.will_compare(name)?;
         let check = Compared {
             name,
-            object: &object,
-            statistic: None,
+            what: name.to_string(),
+            unit: None,
         };
         let result = self.compared_with_last_pass(&check, lp, Some(measured), origin);
         self.expect_result(result)

@@ -29,11 +29,13 @@ pub enum PromptKind {
     /// Yes or no; "no" fails the check. Enter alone is no answer.
     Confirm,
     /// A number in `unit` (a bare number is taken in it), checked against the limits
-    /// (inclusive; either may be open).
+    /// (inclusive; either may be open), and compared with the same answer in the unit's
+    /// last passed run when `last_pass` says how far it may move.
     Value {
         unit: Option<Unit>,
         low: Option<f64>,
         high: Option<f64>,
+        last_pass: Option<super::LastPass>,
     },
     /// Any non-empty text, or one matching `pattern` in full; `sets` names the part of
     /// the unit's identity it gives (`serial`).
@@ -114,7 +116,7 @@ impl Prompt {
 
     /// `at most 2.8 mm/s`, `between 1 and 2 mm`; `None` without limits.
     pub fn limits_text(&self) -> Option<String> {
-        let PromptKind::Value { unit, low, high } = &self.kind else {
+        let PromptKind::Value { unit, low, high, .. } = &self.kind else {
             return None;
         };
         let u = unit.map(|u| u.symbol());
@@ -158,7 +160,7 @@ impl Prompt {
                 )),
                 _ => Err(NotAnAnswer(format!("`{t}` is neither yes nor no"))),
             },
-            PromptKind::Value { unit, low, high } => {
+            PromptKind::Value { unit, low, high, .. } => {
                 let v = value_in(t, *unit)?;
                 let passed = low.is_none_or(|lo| v >= lo) && high.is_none_or(|hi| v <= hi);
                 Ok(Accepted {
@@ -270,6 +272,7 @@ mod tests {
             unit: Some(Unit::MillimetrePerSecond),
             low: None,
             high: Some(2.8),
+            last_pass: None,
         });
         assert_eq!(p.hint(), "[in mm/s, at most 2.8 mm/s]");
         let ok = p.judge("1.2 mm/s").unwrap();

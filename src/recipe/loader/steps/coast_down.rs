@@ -1,7 +1,9 @@
 //! The `coast_down` step: `{ from: 6000 rpm, below: 100 rpm, expect: { near: 20 s, within:
 //! 1 s }, timeout: 2 min, every: 100 ms }` — the speeds in the actual speed's unit, the
-//! check on the time in seconds. It must not run anything.
+//! check on the time in seconds, with its `warn:` band and `compared_with_last_pass:`
+//! beside the condition in `expect:`. It must not run anything.
 
+use super::last_pass::{Measured, KEY};
 use crate::diag::{Shape, YamlNode};
 use crate::dictionary::{Role, Unit};
 use crate::recipe::loader::values::in_unit;
@@ -22,6 +24,21 @@ impl Loader<'_, '_> {
         )
         .require(&["from", "below", "expect"])
         .example("coast_down: { from: 6000 rpm, below: 100 rpm, expect: { below: 30 s }, timeout: 2 min }");
+        if let Some((key, _)) = body
+            .entries()
+            .and_then(|e| e.iter().find(|(k, _)| k.value == KEY))
+        {
+            return self.refuse(
+                &key.span,
+                format!(
+                    "`{KEY}` compares the coast-down's time: write it in `expect:`, beside the condition"
+                ),
+                "not here",
+                Some(format!(
+                    "e.g. `expect: {{ above: 20 s, {KEY}: {{ at_least: -10 %, without_history: pass }} }}`"
+                )),
+            );
+        }
         let f = self.r.fields(body, &shape)?;
         let Some(speed) = self.dict.role(Role::SpeedActual).cloned() else {
             return self.refuse(
@@ -38,17 +55,22 @@ impl Loader<'_, '_> {
             .get("below")
             .and_then(|n| self.number_for(&speed, n, "`below`", false));
         let seconds = in_unit(&speed, Some(Unit::Second));
-        let (predicate, warn) = match f.get("expect") {
+        let (predicate, warn, last_pass) = match f.get("expect") {
             Some(n) => {
-                let (condition, warn_node) = Self::split_warn(n);
+                let (condition, last_pass_node) = Self::split_last_pass(n);
+                let (condition, warn_node) = Self::split_warn(&condition);
                 let predicate = self.predicate(&seconds, &condition);
                 let warn = match (&predicate, &warn_node) {
                     (Some(p), Some(w)) => self.warn_band(&seconds, &condition, p, w).map(Some),
                     _ => Some(None),
                 };
-                (predicate, warn)
+                let last_pass = match &last_pass_node {
+                    Some((key, node)) => self.last_pass(&Measured::Object(&seconds), key, node).map(Some),
+                    None => Some(None),
+                };
+                (predicate, warn, last_pass)
             }
-            None => (None, None),
+            None => (None, None, None),
         };
         let timeout = match f.get("timeout") {
             Some(n) => self.duration(n, "timeout"),
@@ -58,8 +80,8 @@ impl Loader<'_, '_> {
             Some(n) => self.duration(n, "every"),
             None => Some(DEFAULT_EVERY),
         };
-        let (from, below, predicate, warn, timeout, every) =
-            (from?, below?, predicate?, warn?, timeout?, every?);
+        let (from, below, predicate, warn, last_pass, timeout, every) =
+            (from?, below?, predicate?, warn?, last_pass?, timeout?, every?);
         if below.abs() >= from.abs() {
             return self.refuse(
                 f.span_of("below"),
@@ -76,6 +98,7 @@ impl Loader<'_, '_> {
             timeout,
             every,
             unit: speed.unit.map(|u| u.symbol().to_string()),
+            last_pass,
         };
         let label = format!(
             "{} (power stage off, timeout {})",

@@ -2,10 +2,11 @@
 //! `sample` step sampled (`{ mean: { near: … } }`), each named for the report. It must not
 //! evaluate the checks.
 
+use super::last_pass::{self, Measured};
 use crate::diag::{Shape, YamlNode};
 use crate::recipe::loader::Loader;
 use crate::recipe::step::StepKind;
-use crate::session::{Check, ObjectRef, Statistic};
+use crate::session::{Check, ObjectRef, Predicate, Statistic};
 
 impl Loader<'_, '_> {
     pub(in crate::recipe::loader) fn expect(
@@ -59,7 +60,18 @@ impl Loader<'_, '_> {
             let (pred_node, warn_node) = Self::split_warn(&pred_node);
             let predicate = self.predicate(&measured, &pred_node);
             let last_pass = match (&predicate, &last_pass_node) {
-                (Some(p), Some((key, node))) => match self.last_pass(&measured, p, key, node) {
+                (Some(Predicate::EqualsText(_)), Some((key, _))) => {
+                    self.problem(
+                        &key.span,
+                        format!("`{}` compares numbers; {} is text", last_pass::KEY, def.name),
+                        "not a number",
+                        None,
+                    );
+                    ok = false;
+                    continue;
+                }
+                (Some(_), Some((key, node))) => match self.last_pass(&Measured::Object(&measured), key, node)
+                {
                     Some(lp) => Some(lp),
                     None => {
                         ok = false;

@@ -1,16 +1,25 @@
-//! `compared_with_last_pass` on an `expect` condition: how far the value may move from the
-//! same check in the unit's last passed run of this recipe (`{ at_most: 10 %, at_least: -5
-//! %, without_history: pass }`; relative in %, or absolute in the unit a difference of the
-//! check's values is written in), and what a run with no earlier pass does. It must not
-//! look anything up.
+//! `compared_with_last_pass` on a check — an `expect` condition, a `coast_down`'s `expect`,
+//! an `enter_value` — how far the value may move from the same check in the unit's last
+//! passed run of this recipe (`{ at_most: 10 %, at_least: -5 %, without_history: pass }`;
+//! relative in %, or absolute in the unit a difference of the check's values is written
+//! in), and what a run with no earlier pass does. It must not look anything up.
 
 use crate::diag::{Shape, Spanned, YamlNode, YamlValue};
-use crate::dictionary::ObjectDef;
+use crate::dictionary::{ObjectDef, Unit};
 use crate::recipe::loader::Loader;
-use crate::session::{LastPass, Predicate};
+use crate::session::LastPass;
 
 /// The key, as recipes write it.
 pub(in crate::recipe) const KEY: &str = "compared_with_last_pass";
+
+/// What the check measures, for the absolute ends of a change: a difference of its values.
+pub(in crate::recipe::loader) enum Measured<'d> {
+    /// An object's values, or a quantity derived from them (a statistic, a coast-down's
+    /// time): K for one in °C.
+    Object(&'d ObjectDef),
+    /// A value the operator types in this unit (`mm`, `µm` too; none: a bare number).
+    Typed(Option<Unit>),
+}
 
 impl Loader<'_, '_> {
     /// `node` without its `compared_with_last_pass` entry, and that entry (key and value).
@@ -28,23 +37,13 @@ impl Loader<'_, '_> {
         (rest, found)
     }
 
-    /// The comparison written at `key: node` for a check on `def` (the measured quantity)
-    /// with the limits `pass`.
+    /// The comparison written at `key: node` for a check on `measured`.
     pub(in crate::recipe::loader) fn last_pass(
         &mut self,
-        def: &ObjectDef,
-        pass: &Predicate,
+        measured: &Measured,
         key: &Spanned<String>,
         node: &YamlNode,
     ) -> Option<LastPass> {
-        if matches!(pass, Predicate::EqualsText(_)) {
-            return self.refuse(
-                &key.span,
-                format!("`{KEY}` compares numbers; {} is text", def.name),
-                "not a number",
-                None,
-            );
-        }
         let what = format!("`{KEY}`");
         let shape = Shape::new(&what, &["at_most", "at_least", "without_history"])
             .require(&["without_history"])
@@ -65,7 +64,7 @@ impl Loader<'_, '_> {
         let mut ok = pass_without_history.is_some();
         for end in ["at_least", "at_most"] {
             match f.get(end) {
-                Some(n) => match self.change(def, n, end) {
+                Some(n) => match self.change(measured, n, end) {
                     Some(c) => ends.push((end, Some(c), n.span.clone())),
                     None => ok = false,
                 },
@@ -122,7 +121,7 @@ impl Loader<'_, '_> {
     }
 
     /// One end of the change: `10 %` (relative: true) or a difference in the check's unit.
-    fn change(&mut self, def: &ObjectDef, node: &YamlNode, end: &str) -> Option<(f64, bool)> {
+    fn change(&mut self, measured: &Measured, node: &YamlNode, end: &str) -> Option<(f64, bool)> {
         let what = format!("`{end}`");
         if self
             .r
@@ -142,6 +141,10 @@ impl Loader<'_, '_> {
                 ),
             };
         }
-        self.difference_for(def, node, &what).map(|v| (v, false))
+        match measured {
+            Measured::Object(def) => self.difference_for(def, node, &what),
+            Measured::Typed(unit) => self.limit_in(node, unit.map(Unit::difference), end),
+        }
+        .map(|v| (v, false))
     }
 }

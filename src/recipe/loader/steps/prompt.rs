@@ -1,10 +1,12 @@
 //! The operator steps: `instruct` (read and acknowledge), `confirm` (a yes/no question
 //! that is a check), `enter_value` (a measured value with its unit and limits) and
 //! `enter_text` (a text with an optional pattern, which may set a part of the unit's
-//! identity). Each is the question alone or a mapping with `prompt:` and its settings;
-//! units, limits and patterns are checked here, at their place. It must not ask anyone.
+//! identity). Each is the question alone or a mapping with `prompt:` and its settings
+//! (a value's `compared_with_last_pass` too); units, limits and patterns are checked here,
+//! at their place. It must not ask anyone.
 
-use crate::diag::{Shape, YamlNode, YamlValue};
+use super::last_pass::{Measured, KEY};
+use crate::diag::{Shape, Spanned, YamlNode, YamlValue};
 use crate::dictionary::{Quantity, Unit};
 use crate::recipe::loader::{did_you_mean, Loader};
 use crate::recipe::step::{Step, StepKind};
@@ -24,7 +26,7 @@ impl Loader<'_, '_> {
     ) -> Option<(StepKind, String)> {
         let (keys, example): (&[&str], &str) = match word {
             "enter_value" => (
-                &["prompt", "timeout", "unit", "at_least", "at_most", "between"],
+                &["prompt", "timeout", "unit", "at_least", "at_most", "between", KEY],
                 "enter_value: { prompt: Vibration on the hand-held meter, unit: mm/s, at_most: 2.8 mm/s }",
             ),
             "enter_text" => (
@@ -59,7 +61,14 @@ impl Loader<'_, '_> {
             "instruct" => PromptKind::Instruction,
             "confirm" => PromptKind::Confirm,
             "enter_value" => {
-                self.value_prompt(get("unit"), get("at_least"), get("at_most"), get("between"))?
+                let compared = f
+                    .as_ref()
+                    .and_then(|f| f.entries().iter().find(|(k, _)| k.value == KEY));
+                self.value_prompt(
+                    get("unit"),
+                    [get("at_least"), get("at_most"), get("between")],
+                    compared,
+                )?
             }
             _ => self.text_prompt(get("pattern"), get("sets"))?,
         };
@@ -77,12 +86,13 @@ impl Loader<'_, '_> {
         Some((StepKind::Ask(prompt), label))
     }
 
+    /// `unit`, the limits (`at_least`, `at_most`, `between`) and `compared_with_last_pass`
+    /// of an `enter_value`.
     fn value_prompt(
         &mut self,
         unit: Option<&YamlNode>,
-        at_least: Option<&YamlNode>,
-        at_most: Option<&YamlNode>,
-        between: Option<&YamlNode>,
+        [at_least, at_most, between]: [Option<&YamlNode>; 3],
+        compared: Option<&(Spanned<String>, YamlNode)>,
     ) -> Option<PromptKind> {
         let unit = match unit {
             Some(n) => {
@@ -133,11 +143,25 @@ impl Loader<'_, '_> {
                 );
             }
         }
-        Some(PromptKind::Value { unit, low, high })
+        let last_pass = match compared {
+            Some((key, node)) => Some(self.last_pass(&Measured::Typed(unit), key, node)?),
+            None => None,
+        };
+        Some(PromptKind::Value {
+            unit,
+            low,
+            high,
+            last_pass,
+        })
     }
 
     /// A limit of a typed value, in the prompt's unit (a bare number is in it already).
-    fn limit_in(&mut self, node: &YamlNode, unit: Option<Unit>, what: &str) -> Option<f64> {
+    pub(in crate::recipe::loader) fn limit_in(
+        &mut self,
+        node: &YamlNode,
+        unit: Option<Unit>,
+        what: &str,
+    ) -> Option<f64> {
         let text = self.text(node, &format!("`{what}`"))?;
         let q = match Quantity::parse_measured(&text) {
             Ok(q) => q,
