@@ -32,7 +32,7 @@ steps:
 ";
 
 /// The id of the run `results: run ID recorded in …` names.
-fn run_id(output: &str) -> String {
+pub(crate) fn run_id(output: &str) -> String {
     output
         .lines()
         .find_map(|l| l.strip_prefix("results: run "))
@@ -236,7 +236,7 @@ fn a_store_that_cannot_be_read_fails_the_comparison_and_the_drive_still_stops() 
 
 /// `--no-results` with a store (named by the environment) that takes the connection and
 /// never answers: the run records nothing and the comparison's lookup is bounded.
-fn run_reading_a_silent_store(recipe: &Path, more: &[&str]) -> std::process::Child {
+pub(crate) fn run_reading_a_silent_store(recipe: &Path, more: &[&str]) -> std::process::Child {
     let port = silent_server();
     command()
         .env(
@@ -291,16 +291,14 @@ fn the_lookup_of_a_store_that_never_answers_is_bounded() {
     );
 }
 
-/// A stop signal while the store is looked up ends the wait at once, with the safe stop.
+/// Reads the run's output until it shows `marker`, then sends it SIGINT (after a moment:
+/// the run is then waiting where `marker` says); its exit code and everything it showed.
+/// It must end within 5 s of the signal.
 #[cfg(unix)]
-#[test]
-fn a_stop_signal_during_the_lookup_runs_the_safe_stop() {
-    let dir = scratch("history-signal");
-    let recipe = write_file(&dir, "run-in.yaml", RUN_IN);
-    let mut child = run_reading_a_silent_store(&recipe, &[]);
+pub(crate) fn interrupted_once_shown(mut child: std::process::Child, marker: &str) -> (Option<i32>, String) {
     let mut stdout = child.stdout.take().expect("stdout");
     let mut seen = String::new();
-    while !seen.contains("unit    serial SP-1") {
+    while !seen.contains(marker) {
         let mut buf = [0u8; 512];
         let n = std::io::Read::read(&mut stdout, &mut buf).expect("the run's output");
         assert!(n > 0, "the run ended early:\n{seen}");
@@ -316,6 +314,17 @@ fn a_stop_signal_during_the_lookup_runs_the_safe_stop() {
     std::io::Read::read_to_string(&mut stdout, &mut seen).expect("the rest");
     let code = child.wait().expect("the run ends").code();
     assert!(signalled.elapsed() < Duration::from_secs(5), "{seen}");
+    (code, seen)
+}
+
+/// A stop signal while the store is looked up ends the wait at once, with the safe stop.
+#[cfg(unix)]
+#[test]
+fn a_stop_signal_during_the_lookup_runs_the_safe_stop() {
+    let dir = scratch("history-signal");
+    let recipe = write_file(&dir, "run-in.yaml", RUN_IN);
+    let child = run_reading_a_silent_store(&recipe, &[]);
+    let (code, seen) = interrupted_once_shown(child, "unit    serial SP-1");
     assert_eq!(code, Some(130), "{seen}");
     assert_has(&seen, &["drive left in ready to switch on at 0 rpm"]);
     assert_lacks(&seen, &["go to operation_enabled"]);

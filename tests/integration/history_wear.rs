@@ -1,0 +1,591 @@
+//! The checks a spindle maker watches for wear, compared with the unit's last passed run
+//! against a real SQLite store: a coast-down time that shrinks from one test to the next
+//! (`--sim coast-rate=…` changes it between runs, in virtual time) and a vibration value
+//! typed in by hand that creeps up (answered with `--answer` and `--answers`). The first
+//! run without history passes or fails as the recipe says, a second within the limits
+//! passes, a third beyond them fails naming the reference in console, JUnit, HTML, the
+//! store, `results show` and `results trend`; the same from a script. A stop during the
+//! coast-down or at the question still runs the verified safe stop, makes no comparison,
+//! and the store is never waited for on the way to the stop.
+
+use crate::history::{interrupted_once_shown, run_id, run_reading_a_silent_store};
+use crate::support::{
+    assert_has, assert_lacks, command, run_recording as run, scratch, write_file, InProcessRun,
+};
+use drivescript::results::{Locator, StoreHistory};
+use drivescript::stop_request::StopSignal;
+use std::path::Path;
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+/// Up to speed, then the power stage off: 5800 rpm at the simulated 300 rpm/s take
+/// 19.334 s. `COMPARED` is replaced by the comparison.
+const COAST: &str = "name: Spindle coast-down
+drive: sd2
+steps:
+  - set: { speed_setpoint: 6000 rpm }
+  - go_to: operation_enabled
+  - wait_until: { speed_actual: { near: 6000 rpm, within: 1 % } }
+  - coast_down:
+      from: 5900 rpm
+      below: 100 rpm
+      expect: { above: 10 s, compared_with_last_pass: COMPARED }
+";
+
+const COAST_CHECK: &str = "coast-down from 5900 rpm below 100 rpm above 10 s";
+
+/// The serial scanned, then the vibration on the hand-held meter typed in.
+const VIBRATION: &str = "name: Balancing check
+drive: sd2
+steps:
+  - enter_text: { prompt: \"Scan the spindle's serial number\", pattern: \"SP-[0-9]{6}\", sets: serial }
+    name: serial
+  - go_to: operation_enabled
+  - set: { speed_setpoint: 3000 rpm }
+  - wait_until: { speed_actual: { near: 3000 rpm, within: 1 % }, timeout: 10 s }
+  - enter_value: { prompt: Vibration on the hand-held meter, unit: mm/s, at_most: 2.8 mm/s, compared_with_last_pass: COMPARED }
+    name: vibration
+";
+
+/// `text` with its comparison; named `name`.
+fn recipe(dir: &Path, file: &str, text: &str, name: Option<&str>, compared: &str) -> std::path::PathBuf {
+    let mut text = text.replace("COMPARED", compared);
+    if let Some(name) = name {
+        let first = text.lines().next().unwrap_or_default().to_string();
+        text = text.replacen(&first, &format!("name: {name}"), 1);
+    }
+    write_file(dir, file, &text)
+}
+
+/// The check `name` of run `id` as `store` keeps it.
+fn stored_comparison(store: &str, id: &str, name: &str) -> drivescript::results::CheckRow {
+    let mut s = Locator::parse(store).open(false).expect("the store opens");
+    let stored = s.run(id).expect("the run");
+    let found = stored.checks.into_iter().find(|c| c.name == name);
+    found.unwrap_or_else(|| panic!("{name} is not stored in run {id}"))
+}
+
+#[test]
+fn a_coast_down_compares_its_time_with_the_units_last_pass() {
+    let dir = scratch("wear-coast-down");
+    let store = dir.join("results.sqlite");
+    let store = store.to_str().unwrap();
+    let percent = recipe(
+        &dir,
+        "coast.yaml",
+        COAST,
+        None,
+        "{ at_least: -10 %, without_history: pass }",
+    );
+    let coast = |file: &Path, rate: &str, more: &[&str]| {
+        let rate = format!("coast-rate={rate}");
+        let mut args = vec!["--fast", "--unit", "serial=SP-1", "--sim", rate.as_str()];
+        args.extend_from_slice(more);
+        run(file, store, &args)
+    };
+    let compared = format!("{COAST_CHECK} compared with last pass");
+    // The unit's first run: no history, passes as the recipe chooses.
+    let (code, first) = coast(&percent, "300rpm/s", &[]);
+    assert_eq!(code, 0, "{first}");
+    assert_has(
+        &first,
+        &[
+            "history SP-1: no earlier passed run of `Spindle coast-down`",
+            &format!("PASS  {COAST_CHECK}: coast-down took 19.334 s"),
+            &format!("PASS  {compared}: no earlier passed run of SP-1 for this recipe: passes as `without_history: pass` says"),
+        ],
+    );
+    let first_id = run_id(&first);
+    // A recipe that insists on history fails a unit's first run.
+    let strict = recipe(
+        &dir,
+        "strict.yaml",
+        COAST,
+        Some("Strict coast-down"),
+        "{ at_least: -10 %, without_history: fail }",
+    );
+    let (code, out) = coast(&strict, "300rpm/s", &[]);
+    assert_eq!(code, 1, "{out}");
+    assert_has(
+        &out,
+        &[
+            &format!("PASS  {COAST_CHECK}: coast-down took 19.334 s"),
+            &format!("FAIL  {compared}: no earlier passed run of SP-1 for this recipe: fails as `without_history: fail` says"),
+        ],
+    );
+    // A little more drag: within 10 %, compared with the first run.
+    let (code, second) = coast(&percent, "310rpm/s", &[]);
+    assert_eq!(code, 0, "{second}");
+    assert_has(
+        &second,
+        &[
+            &format!("history SP-1: compared with its last pass, run {first_id} of 20"),
+            &format!("{COAST_CHECK} = 19.334 s"),
+            &format!("PASS  {compared}: coast-down time = 18.708 s: -3.235 % against 19.334 s in run {first_id} of 20"),
+        ],
+    );
+    let second_id = run_id(&second);
+    // Bearing drag: the time shrinks by a fifth, still above its limit; the comparison
+    // fails and names the run it compared with in every report.
+    let junit = dir.join("drag.xml");
+    let html = dir.join("drag.html");
+    let (code, third) = coast(
+        &percent,
+        "400rpm/s",
+        &[
+            "--junit",
+            junit.to_str().unwrap(),
+            "--report",
+            html.to_str().unwrap(),
+        ],
+    );
+    assert_eq!(code, 1, "{third}");
+    let drag = format!("coast-down time = 14.5 s: -22.496 % against 18.708 s in run {second_id}");
+    assert_has(
+        &third,
+        &[
+            &format!("PASS  {COAST_CHECK}: coast-down took 14.5 s"),
+            &format!("FAIL  {compared}: {drag}"),
+            "expected a change at least -10 %",
+            "STILL COASTING",
+            "FAILED",
+        ],
+    );
+    let third_id = run_id(&third);
+    for report in [&junit, &html] {
+        let text = std::fs::read_to_string(report).expect("the report");
+        assert_has(&text, &[&compared, &drag]);
+    }
+    // The store keeps the change in % with the reference.
+    let c = stored_comparison(store, &third_id, &compared);
+    assert!(!c.passed);
+    assert_eq!(c.reference_run.as_deref(), Some(second_id.as_str()));
+    let reference = c.reference_value.expect("the reference value");
+    assert!((reference - 18.708).abs() < 0.001, "{reference}");
+    let change = c.measured.expect("the change");
+    assert!((change + 22.496).abs() < 0.001, "{change}");
+    assert_eq!(c.unit.as_deref(), Some("%"));
+    assert_eq!((c.low, c.high), (Some(-10.0), None));
+    let shown = command()
+        .args(["results", "show", &third_id, "--results", store])
+        .output()
+        .expect("shows");
+    assert_has(
+        &String::from_utf8_lossy(&shown.stdout),
+        &[&format!("reference: run {second_id} of 20")],
+    );
+    // The change from run to run, the first without one.
+    let trend = command()
+        .args([
+            "results",
+            "trend",
+            &compared,
+            "--unit",
+            "SP-1",
+            "--simulated",
+            "--results",
+            store,
+        ])
+        .output()
+        .expect("trend");
+    let trend = String::from_utf8_lossy(&trend.stdout).to_string();
+    let row = |id: &str| {
+        trend
+            .lines()
+            .find(|l| l.contains(id))
+            .unwrap_or_default()
+            .to_string()
+    };
+    assert!(row(&first_id).contains("PASS"), "{trend}");
+    assert!(
+        row(&second_id).contains("-3.235") && row(&second_id).contains("PASS"),
+        "{trend}"
+    );
+    assert!(
+        row(&third_id).contains("-22.496") && row(&third_id).contains("FAIL"),
+        "{trend}"
+    );
+    // In seconds instead of %, both ends included.
+    let seconds = recipe(
+        &dir,
+        "seconds.yaml",
+        COAST,
+        Some("Coast-down in seconds"),
+        "{ at_least: -0.626 s, at_most: 2 s, without_history: pass }",
+    );
+    let (code, out) = coast(&seconds, "300rpm/s", &[]);
+    assert_eq!(code, 0, "{out}");
+    let (code, out) = coast(&seconds, "310rpm/s", &[]);
+    assert_eq!(code, 0, "{out}");
+    assert_has(&out, &["coast-down time = 18.708 s: -0.625 s against 19.334 s"]);
+    let (code, out) = coast(&seconds, "400rpm/s", &[]);
+    assert_eq!(code, 1, "{out}");
+    assert_has(
+        &out,
+        &[
+            "coast-down time = 14.5 s: -4.209 s against 18.708 s",
+            "expected a change between -0.626 s and +2 s",
+        ],
+    );
+}
+
+#[test]
+fn a_typed_value_compares_with_the_units_last_pass() {
+    let dir = scratch("wear-vibration");
+    let store = dir.join("results.sqlite");
+    let store = store.to_str().unwrap();
+    let lenient = recipe(
+        &dir,
+        "vibration.yaml",
+        VIBRATION,
+        None,
+        "{ at_most: 0.3 mm/s, without_history: pass }",
+    );
+    let answered = |file: &Path, value: &str| {
+        let vibration = format!("vibration={value}");
+        let args = ["--fast", "--answer", "serial=SP-104233", "--answer", &vibration];
+        run(file, store, &args)
+    };
+    let question = "Vibration on the hand-held meter";
+    let compared = format!("{question} compared with last pass");
+    // Answered beforehand, the serial is known at the start: looked up before step 1.
+    let (code, first) = answered(&lenient, "1.2");
+    assert_eq!(code, 0, "{first}");
+    let said = first
+        .find("history SP-104233: no earlier passed run of `Balancing check`")
+        .unwrap_or_else(|| panic!("the lookup is said:\n{first}"));
+    assert!(said < first.find("     1  ").expect("step 1"), "{first}");
+    assert_has(
+        &first,
+        &[
+            &format!("PASS  {question}: answered `1.2 mm/s` (given with --answer)"),
+            &format!("PASS  {compared}: no earlier passed run of SP-104233 for this recipe: passes as `without_history: pass` says"),
+        ],
+    );
+    let first_id = run_id(&first);
+    let strict = recipe(
+        &dir,
+        "strict.yaml",
+        VIBRATION,
+        Some("Strict balancing check"),
+        "{ at_most: 10 %, without_history: fail }",
+    );
+    let (code, out) = answered(&strict, "1.2");
+    assert_eq!(code, 1, "{out}");
+    assert_has(
+        &out,
+        &[&format!("FAIL  {compared}: no earlier passed run of SP-104233 for this recipe: fails as `without_history: fail` says")],
+    );
+    // From an answers file: a little more, within 0.3 mm/s.
+    let answers = write_file(&dir, "answers.yaml", "serial: SP-104233\nvibration: 1.4 mm/s\n");
+    let (code, second) = run(
+        &lenient,
+        store,
+        &["--fast", "--answers", answers.to_str().unwrap()],
+    );
+    assert_eq!(code, 0, "{second}");
+    assert_has(
+        &second,
+        &[
+            &format!("history SP-104233: compared with its last pass, run {first_id} of 20"),
+            &format!("{question} = 1.2 mm/s"),
+            &format!("PASS  {compared}: answer = 1.4 mm/s: +0.2 mm/s against 1.2 mm/s in run {first_id}"),
+        ],
+    );
+    let second_id = run_id(&second);
+    // Creeping up: still within its limit, but 0.4 mm/s more than last time.
+    let (code, third) = answered(&lenient, "1.8");
+    assert_eq!(code, 1, "{third}");
+    let creep = format!("answer = 1.8 mm/s: +0.4 mm/s against 1.4 mm/s in run {second_id}");
+    assert_has(
+        &third,
+        &[
+            &format!("PASS  {question}: answered `1.8 mm/s`"),
+            &format!("FAIL  {compared}: {creep}"),
+            "expected a change at most +0.3 mm/s",
+            "FAILED",
+        ],
+    );
+    let third_id = run_id(&third);
+    let c = stored_comparison(store, &third_id, &compared);
+    assert!(!c.passed);
+    assert_eq!(c.reference_run.as_deref(), Some(second_id.as_str()));
+    assert_eq!(c.reference_value, Some(1.4));
+    assert!((c.measured.expect("the change") - 0.4).abs() < 1e-9);
+    assert_eq!(c.unit.as_deref(), Some("mm/s"));
+}
+
+/// A script's `d.coast_down` and `enter_value` take the same comparison as a map.
+#[test]
+fn a_scripts_coast_down_and_typed_value_compare_with_the_units_last_pass() {
+    let dir = scratch("wear-script");
+    let store = dir.join("results.sqlite");
+    let store = store.to_str().unwrap();
+    let script = write_file(
+        &dir,
+        "wear.rhai",
+        "//! drive: sd2
+//! name: Scripted wear check
+let d = drive();
+d.set(\"speed_setpoint\", 6000.0, \"rpm\");
+d.go_to(\"operation_enabled\");
+d.wait_until(\"speed_actual\", |v| v > 5950.0, \"10 s\");
+d.coast_down(\"5900 rpm\", \"100 rpm\", \"10 s\", \"30 s\", #{ at_least: \"-10 %\", without_history: \"pass\" });
+let v = enter_value(\"Vibration\", #{ unit: \"mm/s\", name: \"vibration\", compared_with_last_pass: #{ at_most: 0.3, without_history: \"pass\" } });
+",
+    );
+    let scripted = |rate: &str, value: &str| {
+        let (rate, value) = (format!("coast-rate={rate}"), format!("vibration={value}"));
+        run(
+            &script,
+            store,
+            &[
+                "--fast",
+                "--unit",
+                "serial=SC-1",
+                "--sim",
+                &rate,
+                "--answer",
+                &value,
+            ],
+        )
+    };
+    let coast = "coast-down from 5900 rpm below 100 rpm between 10 s and 30 s compared with last pass";
+    let (code, first) = scripted("300rpm/s", "1.2");
+    assert_eq!(code, 0, "{first}");
+    assert_has(
+        &first,
+        &[
+            &format!("PASS  {coast}: no earlier passed run of SC-1"),
+            "PASS  Vibration compared with last pass: no earlier passed run of SC-1",
+        ],
+    );
+    let first_id = run_id(&first);
+    let (code, drag) = scripted("400rpm/s", "1.3");
+    assert_eq!(code, 1, "{drag}");
+    assert_has(
+        &drag,
+        &[
+            &format!("FAIL  {coast}: coast-down time = 14.5 s: -25.004 % against 19.334 s in run {first_id}"),
+            &format!("PASS  Vibration compared with last pass: answer = 1.3 mm/s: +0.1 mm/s against 1.2 mm/s in run {first_id}"),
+        ],
+    );
+    // A comparison written wrongly is a script error at its call.
+    let wrong = write_file(
+        &dir,
+        "wrong.rhai",
+        &std::fs::read_to_string(&script).expect("script").replace(
+            "at_least: \"-10 %\", without_history: \"pass\"",
+            "at_least: \"-10 %\"",
+        ),
+    );
+    let (code, out) = run(
+        &wrong,
+        store,
+        &["--fast", "--unit", "serial=SC-1", "--answer", "vibration=1"],
+    );
+    assert_ne!(code, 0, "{out}");
+    assert_has(
+        &out,
+        &["coast_down: give `without_history: \"pass\"`", "wrong.rhai:7:3"],
+    );
+}
+
+/// `recipe` run once through the command line for SP-000009 (with `args`), recorded as the
+/// passed run the next compares with; the store and that run's id.
+fn passed_once(dir: &Path, recipe: &Path, args: &[&str]) -> (std::path::PathBuf, String) {
+    let store = dir.join("results.sqlite");
+    let all = [&["--fast", "--unit", "serial=SP-000009"][..], args].concat();
+    let (code, out) = run(recipe, store.to_str().unwrap(), &all);
+    assert_eq!(code, 0, "{out}");
+    (store.clone(), run_id(&out))
+}
+
+/// `recipe` in this process for SP-000009, reading `store`, with a Ctrl-C at `at` (virtual
+/// time).
+fn interrupted_at<'a>(recipe: &Path, store: std::path::PathBuf, at: Duration) -> InProcessRun<'a> {
+    let mut r = InProcessRun::new(recipe);
+    r.operator.unit = vec![("serial".into(), "SP-000009".into())];
+    r.history = Some(Arc::new(StoreHistory::new(Locator::Sqlite(store), true)));
+    r.stop.schedule(at, StopSignal::INT);
+    r
+}
+
+/// What every such ending must show: looked up before anything moved, interrupted,
+/// stopped and verified, no comparison made, the comparison planned in JUnit as not
+/// reached.
+fn assert_stopped_without_a_comparison(
+    result: &drivescript::run::RunResult,
+    out: &str,
+    reference: &str,
+    compared: &str,
+) {
+    assert_eq!(result.exit_code, 130, "{out}");
+    let said = out
+        .find(&format!(
+            "history SP-000009: compared with its last pass, run {reference}"
+        ))
+        .unwrap_or_else(|| panic!("looked up at the start:\n{out}"));
+    assert!(said < out.find("     1  ").expect("step 1"), "{out}");
+    assert_has(out, &["INTERRUPTED: interrupted by Ctrl-C"]);
+    assert_lacks(
+        out,
+        &[
+            &format!("PASS  {compared}"),
+            &format!("FAIL  {compared}"),
+            "NOT confirmed",
+        ],
+    );
+    let report = result.report.as_ref().expect("a report");
+    assert!(
+        report.checks.iter().all(|c| c.name != compared),
+        "{:?}",
+        report.checks
+    );
+    let junit = drivescript::report::junit_document([result.junit.as_ref().expect("a suite")]);
+    let case = junit
+        .split("<testcase ")
+        .find(|c| c.contains(&format!("name=\"{compared}\"")))
+        .unwrap_or_else(|| panic!("the comparison is a JUnit case:\n{junit}"));
+    assert!(case.contains("not reached: the run ended early"), "{case}");
+}
+
+/// Ctrl-C while the spindle coasts: the safe stop at once (it still coasts by design).
+#[test]
+fn a_stop_during_a_compared_coast_down_runs_the_safe_stop_and_no_comparison() {
+    let dir = scratch("wear-coast-ctrl-c");
+    let file = recipe(
+        &dir,
+        "coast.yaml",
+        COAST,
+        None,
+        "{ at_least: -10 %, without_history: pass }",
+    );
+    let (store, reference) = passed_once(&dir, &file, &[]);
+    let (result, out) = interrupted_at(&file, store, Duration::from_secs(10)).run();
+    assert_stopped_without_a_comparison(
+        &result,
+        &out,
+        &reference,
+        &format!("{COAST_CHECK} compared with last pass"),
+    );
+    assert_has(
+        &out,
+        &[
+            &format!("FAIL  {COAST_CHECK} (power stage off, timeout 10m)  interrupted"),
+            "safe stop: the drive coasts by design",
+            "STILL COASTING",
+        ],
+    );
+}
+
+/// Ctrl-C while the operator is asked for the value: the safe stop at once, braked.
+#[test]
+fn a_stop_at_a_compared_value_question_runs_the_safe_stop_and_no_comparison() {
+    let dir = scratch("wear-value-ctrl-c");
+    let file = recipe(
+        &dir,
+        "vibration.yaml",
+        VIBRATION,
+        None,
+        "{ at_most: 0.3 mm/s, without_history: pass }",
+    );
+    let (store, reference) = passed_once(
+        &dir,
+        &file,
+        &["--answer", "serial=SP-000009", "--answer", "vibration=1.2"],
+    );
+    // The serial answered beforehand; the value typed by nobody.
+    let mut r = interrupted_at(&file, store, Duration::from_secs(8));
+    r.operator.answer = vec![("serial".into(), "SP-000009".into())];
+    let (result, out) = r.run_at_a_silent_terminal();
+    assert_stopped_without_a_comparison(
+        &result,
+        &out,
+        &reference,
+        "Vibration on the hand-held meter compared with last pass",
+    );
+    assert_has(
+        &out,
+        &[
+            "5  ?     Vibration on the hand-held meter [in mm/s, at most 2.8 mm/s]",
+            "5  FAIL  enter_value \"Vibration on the hand-held meter\"  interrupted",
+            "drive left in ready to switch on at 0 rpm",
+        ],
+    );
+}
+
+/// A script looks the unit up at its first comparison: for a coast-down, before the power
+/// stage goes off. A store that never answers holds it there; Ctrl-C then ends the wait at
+/// once and the safe stop brakes the spindle, which never coasted.
+#[cfg(unix)]
+#[test]
+fn a_stop_while_a_scripts_coast_down_waits_for_the_store_brakes_the_spindle() {
+    let dir = scratch("wear-script-lookup");
+    let script = write_file(
+        &dir,
+        "wear.rhai",
+        "//! drive: sd2
+//! name: Scripted coast-down
+let d = drive();
+d.set(\"speed_setpoint\", 6000.0, \"rpm\");
+d.go_to(\"operation_enabled\");
+d.wait_until(\"speed_actual\", |v| v > 5950.0, \"10 s\");
+d.coast_down(\"5900 rpm\", \"100 rpm\", \"10 s\", \"30 s\", #{ at_least: \"-10 %\", without_history: \"pass\" });
+",
+    );
+    let child = run_reading_a_silent_store(&script, &[]);
+    let (code, seen) = interrupted_once_shown(child, "wait_until speed_actual");
+    assert_eq!(code, Some(130), "{seen}");
+    assert_has(&seen, &["drive left in ready to switch on at 0 rpm"]);
+    assert_lacks(
+        &seen,
+        &["coasting by design", "STILL COASTING", "coast-down took"],
+    );
+}
+
+/// The safe stop never waits for a store: a comparison in a script's `finally` judges by
+/// what was looked up before (here nothing), at once.
+#[test]
+fn a_comparison_in_a_scripts_finally_never_waits_for_the_store() {
+    let dir = scratch("wear-finally");
+    let script = write_file(
+        &dir,
+        "finally.rhai",
+        "//! drive: sd2
+//! name: Coast-down at the end
+//! safe_stop: brake_to_standstill=false
+let d = drive();
+d.set(\"speed_setpoint\", 6000.0, \"rpm\");
+d.go_to(\"operation_enabled\");
+d.wait_until(\"speed_actual\", |v| v > 5950.0, \"10 s\");
+fn finally(d) {
+    d.coast_down(\"5900 rpm\", \"100 rpm\", \"10 s\", \"30 s\", #{ at_least: \"-10 %\", without_history: \"pass\" });
+    d.disable_voltage();
+}
+",
+    );
+    let started = Instant::now();
+    let out = run_reading_a_silent_store(&script, &[])
+        .wait_with_output()
+        .expect("the run ends");
+    let took = started.elapsed();
+    let text = format!(
+        "{}{}",
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(
+        took < drivescript::session::LOOKUP_LIMIT,
+        "took {took:?}, as long as a lookup:\n{text}"
+    );
+    assert_has(
+        &text,
+        &[
+            "coast-down took 19.334 s",
+            "compared with last pass: the unit's last passed run was not looked up before the safe stop, which never waits for a results store",
+        ],
+    );
+    assert_has(&text, &["drive left in switch on disabled at"]);
+    assert_lacks(&text, &["history:", "NOT confirmed"]);
+}
