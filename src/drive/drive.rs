@@ -506,11 +506,8 @@ fn lookup<'d>(dictionary: &'d Dictionary, name: &str) -> Result<&'d ObjectDef, D
 
 /// The engineering number of a value read from `def`; text is an error.
 fn number_of(def: &ObjectDef, value: &Value) -> Result<f64, DriveError> {
-    value.number().ok_or_else(|| DriveError::BadReply {
+    value.number().ok_or_else(|| DriveError::NotANumber {
         object: def.name.clone(),
-        source: crate::dictionary::ValueError::TextForNumber {
-            object: def.name.clone(),
-            data_type: def.data_type,
-        },
+        data_type: def.data_type,
     })
 }

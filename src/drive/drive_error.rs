@@ -26,6 +26,13 @@ pub enum DriveError {
     #[error("{0}; nothing was sent")]
     Value(#[from] ValueError),
 
+    /// A number was asked of an object that holds text (a name plate, a firmware string).
+    #[error("{object} holds text ({data_type}), not a number")]
+    NotANumber {
+        object: String,
+        data_type: crate::dictionary::DataType,
+    },
+
     #[error("reading {object}: {source}")]
     BadReply {
         object: String,

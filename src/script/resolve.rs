@@ -61,15 +61,25 @@ pub fn object(dict: &Dictionary, name: &str) -> Result<(ObjectDef, ObjectRef), R
 /// The object called `name`, which must be readable.
 pub fn readable(dict: &Dictionary, name: &str) -> Result<ObjectRef, Refusal> {
     let (def, r) = object(dict, name)?;
-    if def.readable() {
-        Ok(r)
-    } else {
-        Err(Refusal::new(
+    if !def.readable() {
+        return Err(Refusal::new(
             format!("{} is write-only and cannot be read", def.name),
             "write-only",
             None,
-        ))
+        ));
     }
+    // Every read a script makes (read, read_as, wait_until, sample) gives a number.
+    if !def.data_type.is_number() {
+        return Err(Refusal::new(
+            format!("{} holds text ({}), not a number", def.name, def.data_type),
+            "text, not a number",
+            Some(format!(
+                "a script reads numbers only; read {} in a recipe's `read:` step or with `drivescript read {}`",
+                def.name, def.name
+            )),
+        ));
+    }
+    Ok(r)
 }
 
 /// A value read in its object's unit, converted to `unit`.

@@ -81,6 +81,12 @@ impl Session<'_> {
             Some(Stop::Panicked(m)) => Verdict::Panicked(m.clone()),
         };
         self.run_safe_stop(finally, link_lost, leave_enabled);
+        // A check in `on_fault` or `finally` is a check like any other: a run that would
+        // have passed fails with it (before, the verdict was taken before they ran and read
+        // `PASSED … 1 failed`).
+        if self.report.verdict == Verdict::Passed && self.failed_checks {
+            self.report.verdict = Verdict::Failed;
+        }
         self.report.duration = self.clock.now().saturating_sub(self.run_start);
         if let Some((object, series)) = &self.setpoints {
             self.report.setpoints = Some(super::Track {
