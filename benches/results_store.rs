@@ -153,6 +153,7 @@ fn filled_store(path: &Path, runs: usize) -> Result<(), String> {
                 run: id.clone(),
                 seq: c + 1,
                 name: format!("current_actual max below 5 A #{c}"),
+                key: Some(format!("current_actual max below #{c}")),
                 measured: Some(3.0 + (i % 17) as f64 * 0.05),
                 measured_text: None,
                 unit: Some("A".into()),

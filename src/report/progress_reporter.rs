@@ -384,6 +384,7 @@ mod tests {
         let mut live = ProgressReporter::new(Vec::new(), ProgressBar::hidden(), true);
         let failed = CheckResult {
             name: "motor_temperature min above 33 °C".into(),
+            key: "motor_temperature min above".into(),
             passed: false,
             measured: Some(28.6),
             measured_text: None,

@@ -442,6 +442,8 @@ fn register_checks(engine: &mut Engine, bridge: &Arc<Bridge>) {
         };
         CheckResult {
             name: name.to_string(),
+            // A script names its checks itself: the name is the key.
+            key: name.to_string(),
             passed,
             measured: value,
             measured_text: text.clone(),

@@ -46,7 +46,12 @@ impl Session<'_> {
                 unit: value.unit().map(|u| u.symbol().to_string()),
                 object: Some(saved.name.clone()),
                 message,
-                ..self.check_now(format!("parameter {}", saved.name), origin, started)
+                ..self.check_now(
+                    format!("parameter {}", saved.name),
+                    format!("parameter {}", saved.name),
+                    origin,
+                    started,
+                )
             };
             self.record_check_result(result);
         }

@@ -83,6 +83,9 @@ pub struct StepRecord {
 #[derive(Debug, Clone, PartialEq)]
 pub struct CheckResult {
     pub name: String,
+    /// The name without its limits (`speed_actual mean near`), or the name the recipe
+    /// gave: the same check in every run, whatever its limits ([`super::check_key`]).
+    pub key: String,
     pub passed: bool,
     /// The measured value in the object's unit (or text for string objects).
     pub measured: Option<f64>,
@@ -154,6 +157,8 @@ impl CheckResult {
 pub struct PlannedCheck {
     /// As [`CheckResult::name`] will say it.
     pub name: String,
+    /// As [`CheckResult::key`] will say it.
+    pub key: String,
     pub object: Option<String>,
     pub statistic: Option<String>,
     /// The steps that hold it, as [`CheckResult::stage`] will say it (`repeat 2 times #2`).
