@@ -178,38 +178,49 @@ mod tests {
     use super::*;
     use crate::results::sqlite_backend::SqliteBackend;
 
+    /// A store of schema `version` in the scratch folder `name`, holding the checks
+    /// `checks` inserts, opened (so migrated) by this drivescript: the store, read raw, and
+    /// its folder.
+    fn migrated(name: &str, version: usize, checks: &str) -> (SqliteBackend, std::path::PathBuf) {
+        let dir = std::env::temp_dir().join(format!("drivescript-schema-{name}-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).expect("dir");
+        let path = dir.join("old.sqlite");
+        let mut old = SqliteBackend::open(&path, true).expect("opens");
+        for v in 1..=version {
+            old.batch(migration(v).expect("a migration")).expect("applied");
+        }
+        old.batch(&format!(
+            "INSERT INTO drivescript_store (key, value) VALUES ('application', 'drivescript results');
+             INSERT INTO drivescript_store (key, value) VALUES ('schema', '{version}');
+             INSERT INTO checks (run_id, seq, name, passed, marginal, step, stage, attempt, message)
+                VALUES {checks};"
+        ))
+        .expect("old checks");
+        drop(old);
+        drop(
+            crate::results::Locator::Sqlite(path.clone())
+                .open(false)
+                .expect("migrated"),
+        );
+        (SqliteBackend::open(&path, false).expect("opens"), dir)
+    }
+
     /// A store written by the first version keeps its runs and takes the columns of a
     /// check's reference when opened by this one.
     #[test]
     fn a_version_1_store_is_migrated_and_keeps_its_runs() {
-        let dir = std::env::temp_dir().join(format!("drivescript-schema-{}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&dir);
-        std::fs::create_dir_all(&dir).expect("dir");
-        let path = dir.join("v1.sqlite");
-        let mut old = SqliteBackend::open(&path, true).expect("opens");
-        old.batch(MIGRATIONS[0]).expect("version 1");
-        old.batch(
-            "INSERT INTO drivescript_store (key, value) VALUES ('application', 'drivescript results');
-             INSERT INTO drivescript_store (key, value) VALUES ('schema', '1');
-             INSERT INTO checks (run_id, seq, name, passed, marginal, step, stage, attempt, message)
-                VALUES ('r1', 1, 'c', 1, 0, '1', '', 1, 'kept');",
-        )
-        .expect("a version 1 check");
-        drop(old);
-        let store = crate::results::Locator::Sqlite(path)
-            .open(false)
-            .expect("migrated");
-        drop(store);
-        let mut b = SqliteBackend::open(&dir.join("v1.sqlite"), false).expect("opens");
+        let (mut b, dir) = migrated("v1", 1, "('r1', 1, 'c', 1, 0, '1', '', 1, 'kept')");
         assert_eq!(version(&mut b).expect("version"), Some(current_version()));
         let rows = b
             .query(
-                "SELECT message, reference_run FROM checks WHERE run_id = 'r1'",
+                "SELECT message, reference_run, check_key FROM checks WHERE run_id = 'r1'",
                 &[],
             )
-            .expect("the new column");
+            .expect("the new columns");
         assert_eq!(rows[0][0].text(), Some("kept"));
         assert_eq!(rows[0][1].text(), None);
+        assert_eq!(rows[0][2].text(), None, "`c` is its own key");
         let _ = std::fs::remove_dir_all(&dir);
     }
 
@@ -217,31 +228,14 @@ mod tests {
     /// gave shows none and stays its own key.
     #[test]
     fn a_version_2_store_keys_its_checks_from_their_names() {
-        let dir = std::env::temp_dir().join(format!("drivescript-schema-v2-{}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&dir);
-        std::fs::create_dir_all(&dir).expect("dir");
-        let path = dir.join("v2.sqlite");
-        let mut old = SqliteBackend::open(&path, true).expect("opens");
-        for v in 1..=2 {
-            old.batch(migration(v).expect("a migration")).expect("applied");
-        }
-        old.batch(
-            "INSERT INTO drivescript_store (key, value) VALUES ('application', 'drivescript results');
-             INSERT INTO drivescript_store (key, value) VALUES ('schema', '2');
-             INSERT INTO checks (run_id, seq, name, passed, marginal, step, stage, attempt, message)
-                VALUES ('r1', 1, 'current_actual max below 5 A', 1, 0, '1', '', 1, ''),
-                       ('r1', 2, 'current_actual max below 5 A compared with last pass', 1, 0, '1', '', 1, ''),
-                       ('r2', 1, 'current_actual max below 5 A', 1, 0, '1', '', 1, ''),
-                       ('r2', 2, 'bearing current at 18000 rpm', 1, 0, '2', '', 1, '');",
-        )
-        .expect("version 2 checks");
-        drop(old);
-        drop(
-            crate::results::Locator::Sqlite(path.clone())
-                .open(false)
-                .expect("migrated"),
+        let (mut b, dir) = migrated(
+            "v2",
+            2,
+            "('r1', 1, 'current_actual max below 5 A', 1, 0, '1', '', 1, ''),
+             ('r1', 2, 'current_actual max below 5 A compared with last pass', 1, 0, '1', '', 1, ''),
+             ('r2', 1, 'current_actual max below 5 A', 1, 0, '1', '', 1, ''),
+             ('r2', 2, 'bearing current at 18000 rpm', 1, 0, '2', '', 1, '')",
         );
-        let mut b = SqliteBackend::open(&path, false).expect("opens");
         let rows = b
             .query("SELECT name, check_key FROM checks ORDER BY run_id, seq", &[])
             .expect("the keys");
