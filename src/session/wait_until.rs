@@ -134,9 +134,10 @@ impl Session<'_> {
         self.wait(next)
     }
 
-    /// A check of the current step begun at `started`, with what every check a session
-    /// operation records shares (its step and stage, when and how long); not passed and
-    /// with nothing measured until the caller says otherwise.
+    /// A check `name` (keyed `key`, the name without its limits) of the current step begun
+    /// at `started`, with what every check a session operation records shares (its step
+    /// and stage, when and how long); not passed and with nothing measured until the
+    /// caller says otherwise.
     pub(super) fn check_now(
         &self,
         name: String,
