@@ -180,6 +180,10 @@ impl Session<'_> {
         let mut change = None;
         let (passed, message) = match (&self.past, measured) {
             (_, None) => (false, format!("nothing measured to compare with the last pass ({allowed})")),
+            (Past::NotLooked, _) if self.in_safe_stop && self.run.unit.serial.is_some() => (
+                false,
+                "not looked up: the safe stop (finally, on_fault) never waits for the results store, so a comparison there is judged by what was looked up before it, and nothing was; compare before the safe stop".to_string(),
+            ),
             (Past::NotLooked, _) => (
                 false,
                 "the unit's serial was not known when this check was made: an operator step with `sets: serial` must come before it, or give --unit serial=…".to_string(),
@@ -284,7 +288,11 @@ impl Session<'_> {
         if !self.history_checks.iter().any(|n| n == name) {
             self.history_checks.push(name.to_string());
         }
-        self.look_up_last_pass(true)?;
+        // The safe stop (the script's `finally`, `on_fault`) never waits for a store: a
+        // comparison there is judged by what was looked up before it.
+        if !self.in_safe_stop {
+            self.look_up_last_pass(true)?;
+        }
         let object = ObjectRef {
             name: name.to_string(),
             unit: None,

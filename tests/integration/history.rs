@@ -505,3 +505,44 @@ expect_compared_with_last_pass(\"motor temperature\", t, #{ at_most: 2.0, at_lea
     assert_ne!(code, 0, "{out}");
     assert_has(&out, &["give `without_history: \"pass\"`", "wrong.rhai:7:1"]);
 }
+
+/// A script's comparison in its `finally` is part of the safe stop, which never waits for
+/// a store: it is judged by what was looked up before (here nothing), says so, and the
+/// stop goes on at once to disable the drive, even with a store that never answers.
+#[test]
+fn a_comparison_in_a_scripts_finally_never_waits_for_the_store() {
+    let dir = scratch("history-script-finally");
+    let script = write_file(
+        &dir,
+        "finally.rhai",
+        "//! drive: sd2
+//! name: Compared in finally
+let d = drive();
+d.go_to(\"operation_enabled\");
+fn finally(d) {
+    let t = d.read(\"motor_temperature\");
+    expect_near(\"motor temperature\", t, 25.0, \"50 %\");
+    expect_compared_with_last_pass(\"motor temperature\", t, #{ at_most: 2.0, without_history: \"pass\" });
+    d.disable_operation();
+    d.shutdown();
+}
+",
+    );
+    let out = run_reading_a_silent_store(&script, &[])
+        .wait_with_output()
+        .expect("the run ends");
+    let text = format!(
+        "{}{}",
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert_has(
+        &text,
+        &[
+            "FAIL  motor temperature compared with last pass: not looked up: the safe stop (finally, on_fault) never waits for the results store",
+            "ok    disable_operation",
+            "drive left in ready to switch on at 0 rpm",
+        ],
+    );
+    assert_lacks(&text, &["did not answer within 10 s", "history: cannot compare"]);
+}
