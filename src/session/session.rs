@@ -284,6 +284,11 @@ impl<'a> Session<'a> {
             Ok(r) => r,
             Err(payload) => Err(Stop::Panicked(panic_message(payload.as_ref()))),
         };
+        // Only a failed check or wait is tried again by an `attempts` block; every other
+        // stop ends the run, and its lines must not promise another attempt.
+        if matches!(&result, Err(stop) if !matches!(stop, Stop::Failed(_))) {
+            self.observer.attempts_given_up();
+        }
         let (ok, detail) = outcome(&result);
         let ok = ok && !detail.starts_with("FAILED");
         self.record_step(info, id, ok, detail, started);
