@@ -4,7 +4,7 @@
 //! than a transfer refused; a DCF of such values diffed and restored; `decode` of an SDO
 //! telegram carrying a REAL32.
 
-use crate::support::{assert_has, cli, repo_root, scratch, write_file, Ran};
+use crate::support::{assert_has, assert_lacks, cli, repo_root, scratch, write_file, Ran};
 
 /// drivescript with `args` and the simulated node's own EDS as the dictionary, exiting `code`.
 fn on_node(args: &[&str], code: i32) -> Ran {
@@ -91,6 +91,8 @@ fn a_nan_is_shown_as_such_and_a_domain_beyond_a_transfer_is_refused() {
         &out.stderr,
         &["the node announces 4096 bytes; drivescript takes at most 256"],
     );
+    // The node's answer, not noise on the line: refused at once, not tried again.
+    assert_lacks(&out.stderr, &["noise", "attempt(s)"]);
     // Never written, saying why.
     let out = on_node(&["write", "--drive", "canopen", "event_log", "00"], 2);
     assert_has(&out.stderr, &["event_log is read-only"]);
