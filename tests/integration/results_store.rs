@@ -1158,4 +1158,15 @@ fn a_run_refused_before_it_started_is_kept_for_its_unit() {
         &html,
         &["id=\"verdict\">✔ PASSED", "3 run(s) recorded", "REFUSED", "ERROR"],
     );
+    // Each attempt that never started says why, and never that a stop failed: nothing
+    // was sent to the drive.
+    assert_has(
+        &html,
+        &[
+            "speed_setpont",
+            "drivescript-no-such-port",
+            "not started: nothing was sent to the drive",
+        ],
+    );
+    assert_lacks(&html, &["NOT CONFIRMED"]);
 }
