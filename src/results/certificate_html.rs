@@ -250,15 +250,22 @@ fn run_section(h: &mut String, r: &StoredRun, plot: &mut usize) {
                 (None, Some(hi)) => format!("≤ {}", with_unit(hi, c.unit.as_deref())),
                 _ => "—".into(),
             };
+            // A comparison with the last pass says against what (its value is the change,
+            // `5 K` beside a check of 30 °C), and a check that measured nothing says why.
+            let why = match (&c.reference_run, c.measured, &c.measured_text) {
+                (None, Some(_), _) | (None, _, Some(_)) => String::new(),
+                _ => format!("<br><small>{}</small>", esc(&c.message)),
+            };
             let _ = writeln!(
                 h,
-                "<tr{}><td>{}</td><td class=\"num\">{}</td><td class=\"num\">{}</td><td class=\"{}\">{}</td><td class=\"step\">{}</td></tr>",
+                "<tr{}><td>{}{}</td><td class=\"num\">{}</td><td class=\"num\">{}</td><td class=\"step {}\">{}</td><td class=\"step\">{}</td></tr>",
                 match (c.passed, c.marginal) {
                     (true, false) => "",
                     (true, true) => " class=\"marginal\"",
                     (false, _) => " class=\"fail\"",
                 },
                 esc(&c.name),
+                why,
                 esc(&measured),
                 esc(&limits),
                 if c.passed { "ok" } else { "fail" },

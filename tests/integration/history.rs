@@ -8,8 +8,8 @@
 //! runs the safe stop; a serial typed at an operator step looks up at that point.
 
 use crate::support::{
-    assert_has, assert_lacks, command, run_recording as run, scratch, silent_server, write_file,
-    InProcessRun, PostgresServer, Simulator,
+    assert_has, assert_lacks, command, run_recording as run, scratch, silent_server, unit_certificate,
+    write_file, InProcessRun, PostgresServer, Simulator,
 };
 use drivescript::results::{Locator, RunFilter, StoreHistory};
 use std::path::Path;
@@ -152,6 +152,10 @@ fn history_in(dir: &Path, store: &str) {
         &String::from_utf8_lossy(&shown.stdout),
         &[&format!("reference: run {second_id} of 20")],
     );
+    // The unit's certificate says what each comparison compared with: the change alone
+    // (`5 K` beside a check of 30 °C) would read as a measured value.
+    let page = unit_certificate(store, "SP-1", &dir.join("SP-1.html"));
+    assert_has(&page, &[&drift, "no earlier passed run of SP-1 for this recipe"]);
 }
 
 #[test]
