@@ -32,6 +32,9 @@ steps:
   - expect: { position_offset: { equals: -99999 } }
   - expect: { operating_time: { equals: 281474976710655 } }
   - expect: { option_key: { equals: "00 11 22 33 44 55 66 77 88" } }
+  # The same bytes however they are written, as `set` takes them: as a DCF writes them.
+  - set: { option_key: "ca fe" }
+  - expect: { option_key: { equals: "CAFE" } }
 "#,
     );
     let trace = dir.join("run.log");
@@ -96,6 +99,14 @@ fn a_nan_is_shown_as_such_and_a_domain_beyond_a_transfer_is_refused() {
     // Never written, saying why.
     let out = on_node(&["write", "--drive", "canopen", "event_log", "00"], 2);
     assert_has(&out.stderr, &["event_log is read-only"]);
+    // Bytes to compare with are hex, checked before anything is sent.
+    let recipe = write_file(
+        &dir,
+        "octets.yaml",
+        "name: Octets\ndrive: canopen\nsteps:\n  - expect: { option_key: { equals: \"ca fz\" } }\n",
+    );
+    let out = on_node(&["check", &recipe.to_string_lossy()], 2);
+    assert_has(&out.stderr, &["option_key holds bytes", "octets.yaml:4:"]);
 }
 
 #[test]
