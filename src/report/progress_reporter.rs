@@ -329,6 +329,10 @@ impl<W: Write> RunObserver for ProgressReporter<W> {
         self.attempts.started(number, attempt, of);
     }
 
+    fn attempts_given_up(&mut self) {
+        self.attempts.give_up();
+    }
+
     fn message(&mut self, text: &str) {
         self.line(&message_line(text));
     }

@@ -1101,11 +1101,40 @@ fn a_run_refused_before_it_started_is_kept_for_its_unit() {
         ],
         3,
     );
+    // A report file that cannot be written is an invalid command line like the others.
+    let not_a_dir = write_file(&dir, "not-a-directory", "");
+    let junit = not_a_dir.join("junit.xml");
+    run(
+        &[
+            good_path,
+            "--fast",
+            "--unit",
+            "serial=RF-3",
+            "--junit",
+            junit.to_str().unwrap(),
+        ],
+        2,
+    );
     let runs = all_runs(s);
     assert_eq!(
         runs.len(),
-        4,
+        5,
         "the run without a serial is not recorded: {runs:#?}"
+    );
+    let [unwritable] = runs
+        .iter()
+        .filter(|r| r.run.unit.serial.as_deref() == Some("RF-3") && r.verdict() == "refused")
+        .collect::<Vec<_>>()[..]
+    else {
+        panic!("the run refused for its report file is kept for RF-3: {runs:#?}");
+    };
+    assert_has(
+        unwritable
+            .end
+            .as_ref()
+            .and_then(|e| e.reason.as_deref())
+            .unwrap_or(""),
+        &["not-a-directory"],
     );
     let of = |serial: &str, verdict: &str| {
         runs.iter()
@@ -1158,4 +1187,15 @@ fn a_run_refused_before_it_started_is_kept_for_its_unit() {
         &html,
         &["id=\"verdict\">✔ PASSED", "3 run(s) recorded", "REFUSED", "ERROR"],
     );
+    // Each attempt that never started says why, and never that a stop failed: nothing
+    // was sent to the drive.
+    assert_has(
+        &html,
+        &[
+            "speed_setpont",
+            "drivescript-no-such-port",
+            "not started: nothing was sent to the drive",
+        ],
+    );
+    assert_lacks(&html, &["NOT CONFIRMED"]);
 }

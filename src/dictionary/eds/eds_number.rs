@@ -120,8 +120,13 @@ fn integer(text: &str) -> Result<i128, String> {
             .flatten()
             .ok_or_else(|| format!("`{text}` is not a number (decimal, 0x hexadecimal or 0 octal)"))
     };
-    let value = parsed?;
-    Ok(if negative { -value } else { value })
+    let value = if negative { -parsed? } else { parsed? };
+    // No CiA 301 type is wider than 64 bits; bounding here also keeps `$NODEID+…` sums
+    // from overflowing.
+    if value > i128::from(u64::MAX) || value < i128::from(i64::MIN) {
+        return Err(format!("`{text}` is beyond any 64-bit number an object can hold"));
+    }
+    Ok(value)
 }
 
 #[cfg(test)]
@@ -171,6 +176,16 @@ mod tests {
         assert_eq!(n("$NODEID-1"), Ok((-1, true)));
         assert!(n("$NODEID*2").unwrap_err().contains("$NODEID+0x180"));
         assert!(n("1-$NODEID").is_err());
+        // Beyond any 64-bit value: refused, never a sum that overflows.
+        let huge = "$NODEID+0x7FFFFFFFFFFFFFFFFFFFFFFFFFFFFFFF";
+        assert!(
+            n(huge).unwrap_err().contains("beyond any 64-bit"),
+            "{:?}",
+            n(huge)
+        );
+        assert!(n("-170141183460469231731687303715884105727").is_err());
+        assert!(n("0x10000000000000000").is_err());
+        assert_eq!(n("-9223372036854775808"), Ok((i64::MIN.into(), false)));
         let cob = EdsNumber::parse("$NODEID+0x80").unwrap();
         assert_eq!(cob.resolve(Some(5)), Some(0x85));
         assert_eq!(cob.resolve(None), None);
