@@ -93,8 +93,11 @@ pub(super) fn refused(r: Refusal) -> Box<EvalAltResult> {
     Box::new(EvalAltResult::ErrorRuntime(r.sentence().into(), Position::NONE))
 }
 
-pub(super) fn error(text: impl Into<String>) -> Box<EvalAltResult> {
-    Box::new(EvalAltResult::ErrorRuntime(text.into().into(), Position::NONE))
+pub(super) fn error(text: impl std::fmt::Display) -> Box<EvalAltResult> {
+    Box::new(EvalAltResult::ErrorRuntime(
+        text.to_string().into(),
+        Position::NONE,
+    ))
 }
 
 /// A number from a Rhai integer or float.
