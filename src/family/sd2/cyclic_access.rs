@@ -233,12 +233,32 @@ impl Sd2CyclicAccess {
             }
             return Ok((reply, answer.data));
         }
-        Err(AccessError::UnexpectedReply {
+        Err(self.unexpected(
+            format!("service {} of object {index}", function.id()),
+            format!("no completed service reply in {SERVICE_TELEGRAMS} telegrams"),
+        ))
+    }
+
+    /// A reply of this drive that did not bring what `request` asked for.
+    fn unexpected(&self, request: String, detail: String) -> AccessError {
+        AccessError::UnexpectedReply {
             port: self.object.link().port().to_string(),
             address: self.dest().to_string(),
-            request: format!("service {} of object {index}", function.id()),
-            detail: format!("no completed service reply in {SERVICE_TELEGRAMS} telegrams"),
-        })
+            request,
+            detail,
+        }
+    }
+
+    /// The value of `object` in the data field of a completed service read.
+    fn service_value(
+        &self,
+        data: &[u8; 4],
+        size: u8,
+        data_type: DataType,
+        object: impl std::fmt::Display,
+    ) -> Result<RawValue, AccessError> {
+        wire_value::decode(&data[..usize::from(size)], data_type)
+            .map_err(|detail| self.unexpected(format!("service read of object {object}"), detail.to_string()))
     }
 
     fn service_read(
@@ -249,16 +269,7 @@ impl Sd2CyclicAccess {
         let (index, size) = Self::service_fits(address, data_type)?;
         Some(
             self.service(ServiceFunction::Read, index, size, [0; 4])
-                .and_then(|(_, data)| {
-                    wire_value::decode(&data[..usize::from(size)], data_type).map_err(|detail| {
-                        AccessError::UnexpectedReply {
-                            port: self.object.link().port().to_string(),
-                            address: self.dest().to_string(),
-                            request: format!("service read of object {index}"),
-                            detail: detail.to_string(),
-                        }
-                    })
-                }),
+                .and_then(|(_, data)| self.service_value(&data, size, data_type, index)),
         )
     }
 }
@@ -335,15 +346,7 @@ impl ObjectAccess for Sd2CyclicAccess {
                 let (index, size) = Self::service_fits(&address, data_type).unwrap_or((0, 4));
                 match self.service(ServiceFunction::Read, index, size, [0; 4]) {
                     Ok((reply, data)) => {
-                        let value =
-                            wire_value::decode(&data[..usize::from(size)], data_type).map_err(|detail| {
-                                AccessError::UnexpectedReply {
-                                    port: self.object.link().port().to_string(),
-                                    address: self.dest().to_string(),
-                                    request: format!("service read of object {address}"),
-                                    detail: detail.to_string(),
-                                }
-                            });
+                        let value = self.service_value(&data, size, data_type, address);
                         Ok((reply, Some(value)))
                     }
                     // The drive refused that one object: the process values still come,
@@ -361,14 +364,9 @@ impl ObjectAccess for Sd2CyclicAccess {
             Err(e) => {
                 let text = e.to_string();
                 let mut out = vec![Err(e)];
-                out.extend((1..objects.len()).map(|_| {
-                    Err(AccessError::UnexpectedReply {
-                        port: self.object.link().port().to_string(),
-                        address: self.dest().to_string(),
-                        request: "cyclic telegram".into(),
-                        detail: text.clone(),
-                    })
-                }));
+                out.extend(
+                    (1..objects.len()).map(|_| Err(self.unexpected("cyclic telegram".into(), text.clone()))),
+                );
                 return out;
             }
         };
