@@ -73,6 +73,21 @@ fn bench(heartbeat: bool, prepare: &[(u16, RawValue, DataType)]) -> Bench {
     }
 }
 
+impl Bench {
+    /// Writes `value` to object `index` (subindex 0) through the cyclic access.
+    fn write(&mut self, index: u16, value: i64, data_type: DataType) -> Result<WriteOutcome, AccessError> {
+        self.access
+            .write(&Address::indexed(index, 0), &RawValue::Int(value), data_type)
+    }
+
+    /// Switch on and enable operation: control words 6, 7 and 15.
+    fn enable(&mut self) {
+        for command in [6, 7, 15] {
+            self.write(WORD, command, DataType::U16).unwrap();
+        }
+    }
+}
+
 fn vector(name: &str) -> String {
     let text = std::fs::read_to_string(
         std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/vectors/sd2-dnc.yaml"),
@@ -114,12 +129,7 @@ fn start_up_and_stop_are_the_printed_telegrams() {
         true,
         &[(SPEED_SETPOINT, RawValue::Int(12_000_000), DataType::I32)],
     );
-    let word = Address::indexed(WORD, 0);
-    for command in [6, 7, 15] {
-        b.access
-            .write(&word, &RawValue::Int(command), DataType::U16)
-            .unwrap();
-    }
+    b.enable();
     assert_eq!(
         b.sent.take(),
         [
@@ -130,15 +140,9 @@ fn start_up_and_stop_are_the_printed_telegrams() {
     );
     // Change speed to 6000 rpm (25 %: 0x0FFF), disable operation, shutdown; the
     // heartbeat toggle keeps alternating.
-    b.access
-        .write(
-            &Address::indexed(SPEED_SETPOINT, 0),
-            &RawValue::Int(6_000_000),
-            DataType::I32,
-        )
-        .unwrap();
-    b.access.write(&word, &RawValue::Int(7), DataType::U16).unwrap();
-    b.access.write(&word, &RawValue::Int(6), DataType::U16).unwrap();
+    b.write(SPEED_SETPOINT, 6_000_000, DataType::I32).unwrap();
+    b.write(WORD, 7, DataType::U16).unwrap();
+    b.write(WORD, 6, DataType::U16).unwrap();
     assert_eq!(
         b.sent.take(),
         [
@@ -163,9 +167,7 @@ fn service_channel_read_and_write_are_the_printed_telegrams() {
         ],
     );
     let load = b.access.read(&Address::indexed(39, 0), DataType::U16).unwrap();
-    b.access
-        .write(&Address::indexed(352, 0), &RawValue::Int(1), DataType::U16)
-        .unwrap();
+    b.write(352, 1, DataType::U16).unwrap();
     assert_eq!(
         b.sent.take(),
         [
@@ -206,14 +208,7 @@ fn bus_voltage_comes_through_the_service_channel() {
 fn a_refused_service_names_the_error() {
     let mut b = bench(false, &[]);
     // Object 398 is the actual speed: read-only.
-    let e = b
-        .access
-        .write(
-            &Address::indexed(SPEED_ACTUAL + 1000, 0),
-            &RawValue::Int(1),
-            DataType::U16,
-        )
-        .unwrap_err();
+    let e = b.write(SPEED_ACTUAL + 1000, 1, DataType::U16).unwrap_err();
     assert!(matches!(e, AccessError::Refused { .. }), "{e}");
     assert!(e.to_string().contains("service channel"), "{e}");
 }
@@ -221,24 +216,11 @@ fn a_refused_service_names_the_error() {
 #[test]
 fn a_setpoint_beyond_the_scaling_is_refused_before_sending() {
     let mut b = bench(false, &[]);
-    let e = b
-        .access
-        .write(
-            &Address::indexed(SPEED_SETPOINT, 0),
-            &RawValue::Int(24_001_000),
-            DataType::I32,
-        )
-        .unwrap_err();
+    let e = b.write(SPEED_SETPOINT, 24_001_000, DataType::I32).unwrap_err();
     assert!(e.to_string().contains("beyond ±100 %"), "{e}");
     assert!(b.sent.take().is_empty());
     // -100 % exactly is allowed.
-    b.access
-        .write(
-            &Address::indexed(SPEED_SETPOINT, 0),
-            &RawValue::Int(-24_000_000),
-            DataType::I32,
-        )
-        .unwrap();
+    b.write(SPEED_SETPOINT, -24_000_000, DataType::I32).unwrap();
     assert_eq!(b.sent.take(), [expected(0x01, 0, -0x3FFF)]);
 }
 
@@ -281,12 +263,7 @@ fn after_a_reopen_the_channel_does_not_resume_the_old_speed() {
         false,
         &[(SPEED_SETPOINT, RawValue::Int(6_000_000), DataType::I32)],
     );
-    let word = Address::indexed(WORD, 0);
-    for command in [6, 7, 15] {
-        b.access
-            .write(&word, &RawValue::Int(command), DataType::U16)
-            .unwrap();
-    }
+    b.enable();
     b.sent.take();
     b.access.reopen().unwrap();
     b.access
