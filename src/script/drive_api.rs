@@ -11,7 +11,7 @@ use super::resolve::{self, Refusal, Written};
 use super::sample_window::SampleWindow;
 use crate::dictionary::Dictionary;
 use crate::drive::DeviceCommand;
-use crate::session::{CheckResult, ObjectRef, Predicate, Statistic, StepOrigin};
+use crate::session::{CheckResult, ObjectRef, Predicate, Statistic};
 use rhai::{Array, Dynamic, Engine, EvalAltResult, FnPtr, NativeCallContext, Position};
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -443,37 +443,17 @@ fn register_checks(engine: &mut Engine, bridge: &Arc<Bridge>) {
             Some(v) => Some(crate::session::number((v * 1000.0).round() / 1000.0)),
             None => measured.map(|m| m.to_string()),
         };
+        // The session fills in where and when the check was made.
         CheckResult {
-            name: name.to_string(),
-            passed,
             measured: value,
             measured_text: text.clone(),
-            unit: None,
-            low: None,
-            high: None,
-            object: None,
-            statistic: None,
             message: match (&text, passed) {
                 (Some(t), true) => format!("measured {t}"),
                 (Some(t), false) => format!("measured {t}: the script's condition does not hold"),
                 (None, true) => "holds".into(),
                 (None, false) => "the script's condition does not hold".into(),
             },
-            // The session fills in where the check was made.
-            step: String::new(),
-            stage: String::new(),
-            window: None,
-            origin: StepOrigin {
-                path: String::new(),
-                line: 0,
-                column: 0,
-            },
-            at: Duration::ZERO,
-            duration: Duration::ZERO,
-            marginal: false,
-            retried: false,
-            inclusive: false,
-            reference: None,
+            ..CheckResult::named(name, passed)
         }
     };
     let b = bridge.clone();
