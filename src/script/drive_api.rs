@@ -116,7 +116,20 @@ pub(super) fn duration(text: &str) -> RhaiResult<Duration> {
 pub(super) fn done(answer: Answer) -> RhaiResult<()> {
     match answer {
         Answer::Done => Ok(()),
-        _ => Err(error("the session gave an unexpected answer")),
+        _ => Err(unexpected_answer()),
+    }
+}
+
+/// The session answered a call with an answer of another call: a fault of drivescript's own.
+pub(super) fn unexpected_answer() -> Box<EvalAltResult> {
+    error("the session gave an unexpected answer")
+}
+
+/// Reads `object` on the session's thread.
+fn read(b: &Bridge, ctx: &NativeCallContext, object: ObjectRef) -> RhaiResult<f64> {
+    match b.call(ctx.call_position(), Call::Read(object), String::new())? {
+        Answer::Number(v) => Ok(v),
+        _ => Err(unexpected_answer()),
     }
 }
 
@@ -179,10 +192,7 @@ fn register_reads(engine: &mut Engine, bridge: &Arc<Bridge>) {
         "read",
         move |ctx: NativeCallContext, h: &mut DriveHandle, name: &str| -> RhaiResult<f64> {
             let object = on_drive(&b, h, |d| resolve::readable(d, name))?;
-            match b.call(ctx.call_position(), Call::Read(object), String::new())? {
-                Answer::Number(v) => Ok(v),
-                _ => Err(error("the session gave an unexpected answer")),
-            }
+            read(&b, &ctx, object)
         },
     );
     let b = bridge.clone();
@@ -192,10 +202,7 @@ fn register_reads(engine: &mut Engine, bridge: &Arc<Bridge>) {
             let object = on_drive(&b, h, |d| resolve::readable(d, name))?;
             let (_, factor) =
                 resolve::unit_for(object.unit.as_deref(), &object.name, unit).map_err(refused)?;
-            match b.call(ctx.call_position(), Call::Read(object), String::new())? {
-                Answer::Number(v) => Ok(v * factor),
-                _ => Err(error("the session gave an unexpected answer")),
-            }
+            Ok(read(&b, &ctx, object)? * factor)
         },
     );
     let b = bridge.clone();
@@ -204,7 +211,7 @@ fn register_reads(engine: &mut Engine, bridge: &Arc<Bridge>) {
         move |ctx: NativeCallContext, h: &mut DriveHandle| -> RhaiResult<String> {
             match b.call(ctx.call_position(), Call::State(h.name.clone()), String::new())? {
                 Answer::State(s) => Ok(s.id().to_string()),
-                _ => Err(error("the session gave an unexpected answer")),
+                _ => Err(unexpected_answer()),
             }
         },
     );
@@ -427,7 +434,7 @@ fn sample(
             windows,
             dictionary: b.dictionary.clone(),
         }),
-        _ => Err(error("the session gave an unexpected answer")),
+        _ => Err(unexpected_answer()),
     }
 }
 
