@@ -3,7 +3,7 @@
 //! read; an enabled drive even with --force; no confirmation), a lost or garbled reply,
 //! the family's list of destructive actions, and one action through a real pty.
 
-use crate::lenze_931::{completed_template, dictionary_args};
+use crate::lenze_931::{completed_template, dictionary_args, with_lenze};
 use crate::support::{assert_has, cli, drivescript, scratch, stderr, stdout};
 use drivescript::bus::Peer;
 use drivescript::drive::{DeviceState, DriveError};
@@ -26,14 +26,6 @@ struct Outcome {
     requests: Vec<String>,
     mode: u16,
     line_rate: u32,
-}
-
-fn with_lenze<T>(sim: &Arc<Mutex<dyn SimulatedDrive>>, f: impl FnOnce(&mut LenzeSimulator) -> T) -> T {
-    let mut sim = sim.lock().unwrap_or_else(PoisonError::into_inner);
-    f(sim
-        .as_any_mut()
-        .downcast_mut::<LenzeSimulator>()
-        .expect("a simulated 931"))
 }
 
 fn maintain(
