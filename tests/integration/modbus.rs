@@ -21,11 +21,13 @@ fn commissioning(dir: &std::path::Path, drive: &str) -> PathBuf {
     )
 }
 
+/// The commissioning recipe on the simulated Modbus inverter served by `simulate --pty`
+/// with `sim_args`, run with `--set speed=SPEED` and a trace, which must pass: its output,
+/// the trace file and the simulator's port.
 #[cfg(unix)]
-#[test]
-fn the_commissioning_recipe_runs_through_a_pseudo_terminal_and_its_trace_decodes() {
-    let dir = scratch("modbus-commissioning");
-    let sim = Simulator::pty(&["--drive", "modbus-inverter"]);
+fn commissioning_on_a_pty(name: &str, sim_args: &[&str], speed: &str) -> (String, PathBuf, String) {
+    let dir = scratch(name);
+    let sim = Simulator::pty(&[&["--drive", "modbus-inverter"], sim_args].concat());
     let recipe = commissioning(&dir, "modbus-inverter");
     let trace = dir.join("run.trace");
     let text = cli(
@@ -35,17 +37,24 @@ fn the_commissioning_recipe_runs_through_a_pseudo_terminal_and_its_trace_decodes
             "--port",
             &sim.endpoint,
             "--set",
-            "speed=1200rpm",
+            &format!("speed={speed}"),
             "--trace",
             trace.to_str().unwrap(),
         ],
         0,
     )
     .stdout;
+    (text, trace, sim.endpoint.clone())
+}
+
+#[cfg(unix)]
+#[test]
+fn the_commissioning_recipe_runs_through_a_pseudo_terminal_and_its_trace_decodes() {
+    let (text, trace, port) = commissioning_on_a_pty("modbus-commissioning", &[], "1200rpm");
     assert_has(
         &text,
         &[
-            &format!("slave 1 on {} at 19200 8E1", sim.endpoint),
+            &format!("slave 1 on {port} at 19200 8E1"),
             "ok    go to operation_enabled  enable operation → operation enabled",
             "finally 1  ok    disable_operation  control word 3",
             "drive left in switched on at 0 rpm",
@@ -313,24 +322,7 @@ fn decode_explains_the_frames_of_the_manual_and_rejects_a_bad_crc() {
 #[cfg(unix)]
 #[test]
 fn the_commissioning_recipe_runs_behind_an_adapter_that_echoes() {
-    let dir = scratch("modbus-echo");
-    let sim = Simulator::pty(&["--drive", "modbus-inverter", "--echo"]);
-    let recipe = commissioning(&dir, "modbus-inverter");
-    let trace = dir.join("run.trace");
-    let text = cli(
-        &[
-            "run",
-            recipe.to_str().unwrap(),
-            "--port",
-            &sim.endpoint,
-            "--set",
-            "speed=600rpm",
-            "--trace",
-            trace.to_str().unwrap(),
-        ],
-        0,
-    )
-    .stdout;
+    let (text, trace, _) = commissioning_on_a_pty("modbus-echo", &["--echo"], "600rpm");
     assert_has(&text, &["drive left in switched on at 0 rpm", "PASSED"]);
     assert_has(
         &std::fs::read_to_string(&trace).unwrap(),
