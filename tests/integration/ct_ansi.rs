@@ -419,16 +419,13 @@ fn the_commissioning_recipe_runs_through_a_pseudo_terminal() {
 #[test]
 fn ctrl_c_during_a_run_on_the_simulated_ct_drive_stops_it() {
     let sim = crate::support::Simulator::start(&["--drive", "ct-unidrive-sp", "--pty"]);
-    let dir = std::env::temp_dir().join(format!("drivescript-ct-sigint-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let recipe = dir.join("run.yaml");
-    std::fs::write(
-        &recipe,
+    let (_, recipe) = scratch_file(
+        "sigint",
+        "run.yaml",
         "name: CT run\ndrive: ct-unidrive-sp\nsteps:\n  - go_to: { state: operation_enabled, timeout: 2 s }\n  - set: { speed_setpoint: 300 rpm }\n  - dwell: 1 h\n",
-    )
-    .unwrap();
+    );
     let recipe = recipe.to_string_lossy().to_string();
-    let mut run = LiveRun::start([
+    let run = LiveRun::start([
         "run",
         recipe.as_str(),
         "--port",
@@ -438,11 +435,8 @@ fn ctrl_c_during_a_run_on_the_simulated_ct_drive_stops_it() {
         "--parity",
         "odd",
     ]);
-    let seen = run.wait_for("set speed_setpoint").to_string();
+    let (seen, code, all) = run.interrupt_after("set speed_setpoint", Duration::from_millis(200));
     assert_has(&seen, &[&format!("drive 1.1 on {} at 9600 7O1", sim.endpoint)]);
-    std::thread::sleep(Duration::from_millis(200));
-    run.signal("INT");
-    let (code, all) = run.finish();
     assert_eq!(code, Some(130), "{all}");
     assert_has(
         &all,

@@ -81,11 +81,9 @@ fn a_drive_that_does_not_answer_is_exit_code_3_naming_the_telegram() {
 #[cfg(unix)]
 #[test]
 fn ctrl_c_during_a_run_stops_safely_and_exits_130() {
-    let mut run = LiveRun::start(["run", "tests/cases/interrupted/ctrl_c_during_run_in/recipe.yaml"]);
+    let run = LiveRun::start(["run", "tests/cases/interrupted/ctrl_c_during_run_in/recipe.yaml"]);
     // Wait until the dwell has begun (the second step's line is printed), then press Ctrl-C.
-    run.wait_for("set speed_setpoint");
-    run.signal("INT");
-    let (code, all) = run.finish();
+    let (_, code, all) = run.interrupt_after("set speed_setpoint", std::time::Duration::ZERO);
     assert_eq!(code, Some(130), "{all}");
     // The press lands in the dwell or just before it starts; either way the steps stop.
     assert_lacks(&all, &["ok    dwell"]);

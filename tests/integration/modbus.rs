@@ -171,7 +171,7 @@ fn ctrl_c_through_a_pseudo_terminal_writes_the_stop_code_and_leaves_the_inverter
         "name: Inverter run\ndrive: sunfar-e500\nsteps:\n  - go_to: { state: operation_enabled, timeout: 2 s }\n  - set: { speed_setpoint: 600 rpm }\n  - dwell: 1 h\n",
     );
     let recipe = recipe.to_string_lossy().to_string();
-    let mut run = LiveRun::start([
+    let run = LiveRun::start([
         "run",
         recipe.as_str(),
         "--port",
@@ -181,11 +181,8 @@ fn ctrl_c_through_a_pseudo_terminal_writes_the_stop_code_and_leaves_the_inverter
         "--parity",
         "odd",
     ]);
-    let seen = run.wait_for("set speed_setpoint").to_string();
+    let (seen, code, all) = run.interrupt_after("set speed_setpoint", Duration::from_millis(300));
     assert_has(&seen, &[&format!("slave 1 on {} at 9600 8O1", sim.endpoint)]);
-    std::thread::sleep(Duration::from_millis(300));
-    run.signal("INT");
-    let (code, all) = run.finish();
     assert_eq!(code, Some(130), "{all}");
     assert_has(
         &all,

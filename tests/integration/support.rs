@@ -470,6 +470,20 @@ impl LiveRun {
         send_signal(&self.child, name);
     }
 
+    /// Ctrl-C once the output holds `text` and `pause` more has passed, then the end: what
+    /// the run had printed before the signal, its exit code and all it printed.
+    pub fn interrupt_after(
+        mut self,
+        text: &str,
+        pause: std::time::Duration,
+    ) -> (String, Option<i32>, String) {
+        let before = self.wait_for(text).to_string();
+        std::thread::sleep(pause);
+        self.signal("INT");
+        let (code, all) = self.finish();
+        (before, code, all)
+    }
+
     /// Waits for the run to end: its exit code and all it wrote to standard output.
     pub fn finish(mut self) -> (Option<i32>, String) {
         use std::io::Read;
