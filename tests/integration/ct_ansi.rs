@@ -5,8 +5,8 @@
 //! that gets no reply and is not repeated, and Ctrl-C during a run on the simulated drive.
 
 use crate::support::{
-    assert_has, assert_matches_shared, cli, control_words, drivescript, load_vectors, repo_root,
-    scratch_file, stderr, stdout, write_file, InProcessRun, LiveRun,
+    assert_has, assert_matches_shared, cli, control_words, ctrl_c_during_a_dwell, drivescript, load_vectors,
+    repo_root, scratch_file, stderr, stdout, write_file, InProcessRun,
 };
 use drivescript::bus::{MemoryTransport, SharedTransport};
 use drivescript::clock::{SharedClock, VirtualClock};
@@ -419,23 +419,12 @@ fn the_commissioning_recipe_runs_through_a_pseudo_terminal() {
 #[test]
 fn ctrl_c_during_a_run_on_the_simulated_ct_drive_stops_it() {
     let sim = crate::support::Simulator::start(&["--drive", "ct-unidrive-sp", "--pty"]);
-    let (_, recipe) = scratch_file(
-        "sigint",
-        "run.yaml",
-        "name: CT run\ndrive: ct-unidrive-sp\nsteps:\n  - go_to: { state: operation_enabled, timeout: 2 s }\n  - set: { speed_setpoint: 300 rpm }\n  - dwell: 1 h\n",
-    );
-    let recipe = recipe.to_string_lossy().to_string();
-    let run = LiveRun::start([
-        "run",
-        recipe.as_str(),
-        "--port",
+    let (seen, code, all) = ctrl_c_during_a_dwell(
+        "ct-unidrive-sp",
+        "300 rpm",
         &sim.endpoint,
-        "--baud",
-        "9600",
-        "--parity",
-        "odd",
-    ]);
-    let (seen, code, all) = run.interrupt_after("set speed_setpoint", Duration::from_millis(200));
+        Duration::from_millis(200),
+    );
     assert_has(&seen, &[&format!("drive 1.1 on {} at 9600 7O1", sim.endpoint)]);
     assert_eq!(code, Some(130), "{all}");
     assert_has(

@@ -5,7 +5,7 @@
 //! (lost line, disobedient drive, fault) are recipe cases under tests/cases/ (`modbus_*`).
 
 use crate::support::{
-    assert_has, cli, drivescript, repo_root, scratch, stdout, write_file, LiveRun, Simulator,
+    assert_has, cli, ctrl_c_during_a_dwell, drivescript, repo_root, scratch, stdout, write_file, Simulator,
 };
 use std::path::PathBuf;
 use std::time::Duration;
@@ -163,25 +163,13 @@ steps:
 #[cfg(unix)]
 #[test]
 fn ctrl_c_through_a_pseudo_terminal_writes_the_stop_code_and_leaves_the_inverter_stopped() {
-    let dir = scratch("modbus-ctrl-c");
     let sim = Simulator::pty(&["--drive", "sunfar-e500"]);
-    let recipe = write_file(
-        &dir,
-        "run.yaml",
-        "name: Inverter run\ndrive: sunfar-e500\nsteps:\n  - go_to: { state: operation_enabled, timeout: 2 s }\n  - set: { speed_setpoint: 600 rpm }\n  - dwell: 1 h\n",
-    );
-    let recipe = recipe.to_string_lossy().to_string();
-    let run = LiveRun::start([
-        "run",
-        recipe.as_str(),
-        "--port",
+    let (seen, code, all) = ctrl_c_during_a_dwell(
+        "sunfar-e500",
+        "600 rpm",
         &sim.endpoint,
-        "--baud",
-        "9600",
-        "--parity",
-        "odd",
-    ]);
-    let (seen, code, all) = run.interrupt_after("set speed_setpoint", Duration::from_millis(300));
+        Duration::from_millis(300),
+    );
     assert_has(&seen, &[&format!("slave 1 on {} at 9600 8O1", sim.endpoint)]);
     assert_eq!(code, Some(130), "{all}");
     assert_has(

@@ -495,6 +495,30 @@ impl LiveRun {
     }
 }
 
+/// A run that enables `drive`, sets `speed` (`300 rpm`) and dwells an hour, on `port` at
+/// 9600 baud with odd parity (not the family's default, so the run is seen to use them),
+/// interrupted by Ctrl-C `pause` after the setpoint was written: what it printed before
+/// the signal, its exit code and all it printed.
+pub fn ctrl_c_during_a_dwell(
+    drive: &str,
+    speed: &str,
+    port: &str,
+    pause: std::time::Duration,
+) -> (String, Option<i32>, String) {
+    let (_, recipe) = scratch_file(
+        &format!("ctrl-c-{drive}"),
+        "run.yaml",
+        &format!(
+            "name: Ctrl-C during a dwell\ndrive: {drive}\nsteps:\n  - go_to: {{ state: operation_enabled, timeout: 2 s }}\n  - set: {{ speed_setpoint: {speed} }}\n  - dwell: 1 h\n"
+        ),
+    );
+    let recipe = recipe.to_string_lossy().to_string();
+    let args = [
+        "run", &recipe, "--port", port, "--baud", "9600", "--parity", "odd",
+    ];
+    LiveRun::start(args).interrupt_after("set speed_setpoint", pause)
+}
+
 /// Fails the test, showing all of `text`, unless `text` holds every one of `parts`.
 #[track_caller]
 pub fn assert_has(text: &str, parts: &[&str]) {
