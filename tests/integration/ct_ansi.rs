@@ -4,9 +4,10 @@
 //! time and through a real pseudo-terminal), exact decimals on the wire, a group write
 //! that gets no reply and is not repeated, and Ctrl-C during a run on the simulated drive.
 
+use crate::live_run::ctrl_c_during_a_dwell;
 use crate::support::{
-    assert_has, assert_matches_shared, cli, control_words, ctrl_c_during_a_dwell, drivescript, load_vectors,
-    repo_root, scratch_file, stderr, stdout, write_file, InProcessRun,
+    assert_has, assert_matches_shared, cli, control_words, drivescript, load_vectors, repo_root,
+    scratch_file, stderr, stdout, write_file, InProcessRun,
 };
 use drivescript::bus::{MemoryTransport, SharedTransport};
 use drivescript::clock::{SharedClock, VirtualClock};

@@ -2,7 +2,8 @@
 //! pseudo-terminal, `simulate --tcp` on loopback, and Ctrl-C (SIGINT) during a real-time
 //! run, which must still run `finally` and exit with 130.
 
-use crate::support::{assert_has, assert_lacks, cli, repo_root, LiveRun, Simulator};
+use crate::live_run::LiveRun;
+use crate::support::{assert_has, assert_lacks, cli, repo_root, Simulator};
 use std::io::{BufRead, BufReader};
 use std::process::Stdio;
 

@@ -4,9 +4,8 @@
 //! `decode` of the frames printed in the Sunfar E500 manual. The endings in virtual time
 //! (lost line, disobedient drive, fault) are recipe cases under tests/cases/ (`modbus_*`).
 
-use crate::support::{
-    assert_has, cli, ctrl_c_during_a_dwell, drivescript, repo_root, scratch, stdout, write_file, Simulator,
-};
+use crate::live_run::ctrl_c_during_a_dwell;
+use crate::support::{assert_has, cli, drivescript, repo_root, scratch, stdout, write_file, Simulator};
 use std::path::PathBuf;
 use std::time::Duration;
 

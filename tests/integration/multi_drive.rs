@@ -4,9 +4,10 @@
 //! of different families, each on its own line; `check` names unknown drives with
 //! did-you-mean.
 
+use crate::live_run::LiveRun;
 use crate::support::{
     assert_has, assert_lacks, cli, drivescript, scratch, scratch_file, stderr, stdout, write_file,
-    InProcessRun, LiveRun, Simulator,
+    InProcessRun, Simulator,
 };
 use drivescript::clock::SharedClock;
 use drivescript::drive::device_control::DeviceState;

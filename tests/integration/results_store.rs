@@ -4,9 +4,10 @@
 //! runs each into one store, hostile serial numbers stored verbatim, foreign files refused
 //! clearly, and the unit's certificate rendered in headless Chromium.
 
+use crate::live_run::LiveRun;
 use crate::support::{
     assert_has, assert_lacks, cli, command, headless_chromium, run_recording, scratch, silent_server,
-    unit_certificate, write_file, InProcessRun, LiveRun, PostgresServer, Ran, Simulator,
+    unit_certificate, write_file, InProcessRun, PostgresServer, Ran, Simulator,
 };
 use drivescript::results::{Locator, RunFilter, StoredRun};
 use drivescript::session::{CheckResult, RunInfo, RunObserver, RunReport, StepRecord, UnitIdentity};
