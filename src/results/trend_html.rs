@@ -4,9 +4,8 @@
 
 use super::TrendPoint;
 use crate::report::{esc, plot_svg, REPORT_CSS};
-use crate::session::{with_unit, CheckResult, Series, StepOrigin};
+use crate::session::{with_unit, CheckResult, Series};
 use std::fmt::Write as _;
-use std::time::Duration;
 
 /// Seconds between two stored UTC times (`None` if either cannot be read).
 fn seconds_between(from: &str, to: &str) -> Option<f64> {
@@ -51,30 +50,11 @@ pub fn trend_page(check: &str, points: &[TrendPoint]) -> String {
     };
     let latest = points.last();
     let limits = CheckResult {
-        name: check.to_string(),
-        passed: true,
-        measured: None,
-        measured_text: None,
         unit: unit.clone(),
         low: latest.and_then(|p| p.low),
         high: latest.and_then(|p| p.high),
         object: Some(check.to_string()),
-        statistic: None,
-        message: String::new(),
-        origin: StepOrigin {
-            path: String::new(),
-            line: 0,
-            column: 0,
-        },
-        step: String::new(),
-        window: None,
-        stage: String::new(),
-        at: Duration::ZERO,
-        duration: Duration::ZERO,
-        marginal: false,
-        retried: false,
-        inclusive: false,
-        reference: None,
+        ..CheckResult::named(check, true)
     };
     let _ = writeln!(
         h,

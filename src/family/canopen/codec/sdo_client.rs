@@ -10,7 +10,7 @@
 //! data that arrived, and [`MAX_TRANSFER`] so that a node that never sets the last bit
 //! cannot make the client store without bound.
 
-use super::{AbortCode, SdoDecodeError, SdoRequest, SdoResponse};
+use super::{AbortCode, SdoDecodeError, SdoRequest, SdoResponse, Segment};
 
 /// Most bytes one transfer carries: the longest value a dictionary may declare (a byte
 /// string, UTF-16 text or DOMAIN of [`crate::dictionary::MAX_BLOCK_LEN`]), with room for
@@ -218,11 +218,11 @@ impl SdoClient {
                     size,
                     mut data,
                 },
-                SdoResponse::UploadSegment {
+                SdoResponse::UploadSegment(Segment {
                     toggle: echoed,
                     data: part,
                     last,
-                },
+                }),
             ) => {
                 if *echoed != toggle {
                     return self.fail(
@@ -305,7 +305,7 @@ impl SdoClient {
         let data = self.value[from..end].to_vec();
         let last = end == self.value.len();
         self.state = State::DownloadSegments { toggle, sent: end };
-        SdoStep::Send(SdoRequest::DownloadSegment { toggle, data, last })
+        SdoStep::Send(SdoRequest::DownloadSegment(Segment { toggle, data, last }))
     }
 }
 
