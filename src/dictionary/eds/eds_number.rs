@@ -105,6 +105,8 @@ pub(crate) enum EdsNumberError {
     NotOctal { text: String },
     #[error("`{text}` is not a number (decimal, 0x hexadecimal or 0 octal)")]
     NotNumber { text: String },
+    #[error("`{text}` is beyond any 64-bit number an object can hold")]
+    Beyond64Bits { text: String },
     #[error("`{text}` is not a number; a REAL object's limit is a decimal such as 1.5 or -3.4E+38")]
     NotReal { text: String },
 }
@@ -148,7 +150,9 @@ fn integer(text: &str) -> Result<i128, EdsNumberError> {
     // No CiA 301 type is wider than 64 bits; bounding here also keeps `$NODEID+…` sums
     // from overflowing.
     if value > i128::from(u64::MAX) || value < i128::from(i64::MIN) {
-        return Err(format!("`{text}` is beyond any 64-bit number an object can hold"));
+        return Err(EdsNumberError::Beyond64Bits {
+            text: text.to_string(),
+        });
     }
     Ok(value)
 }
@@ -203,7 +207,7 @@ mod tests {
         // Beyond any 64-bit value: refused, never a sum that overflows.
         let huge = "$NODEID+0x7FFFFFFFFFFFFFFFFFFFFFFFFFFFFFFF";
         assert!(
-            n(huge).unwrap_err().contains("beyond any 64-bit"),
+            n(huge).is_err_and(|e| e.to_string().contains("beyond any 64-bit")),
             "{:?}",
             n(huge)
         );
