@@ -148,28 +148,25 @@ impl DataType {
         }
     }
 
-    /// Parses a dictionary's `type:` value. The error says what is accepted. (Text: the
-    /// reader puts it in a located diagnostic and `--type` in its argument error.)
-    pub fn parse(text: &str) -> Result<DataType, String> {
+    /// Parses a dictionary's `type:` value. The error says what is accepted (the reader
+    /// puts it in a located diagnostic and `--type` in its argument error).
+    pub fn parse(text: &str) -> Result<DataType, DataTypeError> {
         let t = text.trim();
         if let Some(found) = Self::INTEGERS.into_iter().find(|d| d.name() == t) {
             return Ok(found);
         }
         if t == "string" {
-            return Err(format!(
-                "`string` needs its maximum length, e.g. `string(32)` (1..={MAX_STRING_LEN})"
-            ));
+            return Err(DataTypeError::StringWithoutLength);
         }
         if let Some(inner) = t.strip_prefix("string(").and_then(|r| r.strip_suffix(')')) {
             return match inner.trim().parse::<u8>() {
                 Ok(max) if (1..=MAX_STRING_LEN).contains(&max) => Ok(DataType::String { max }),
-                _ => Err(format!(
-                    "string length `{}` must be a number from 1 to {MAX_STRING_LEN}",
-                    inner.trim()
-                )),
+                _ => Err(DataTypeError::StringLength {
+                    length: inner.trim().to_string(),
+                }),
             };
         }
-        Err(format!("unknown type `{t}`"))
+        Err(DataTypeError::Unknown { name: t.to_string() })
     }
 
     /// The type names a dictionary may use, for suggestions and help texts.
@@ -206,6 +203,17 @@ impl fmt::Display for DataType {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.write_str(&self.name())
     }
+}
+
+/// Why a `type:` value (or `--type`) names no data type, and what to write instead.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum DataTypeError {
+    #[error("`string` needs its maximum length, e.g. `string(32)` (1..={max})", max = MAX_STRING_LEN)]
+    StringWithoutLength,
+    #[error("string length `{length}` must be a number from 1 to {max}", max = MAX_STRING_LEN)]
+    StringLength { length: String },
+    #[error("unknown type `{name}`")]
+    Unknown { name: String },
 }
 
 #[cfg(test)]
@@ -285,9 +293,18 @@ mod tests {
         }
         assert_eq!(DataType::parse("string(32)"), Ok(DataType::String { max: 32 }));
         assert_eq!(DataType::parse("string( 8 )"), Ok(DataType::String { max: 8 }));
-        assert!(DataType::parse("string").unwrap_err().contains("string(32)"));
-        assert!(DataType::parse("string(48)").unwrap_err().contains("1 to 47"));
+        assert_eq!(
+            DataType::parse("string").unwrap_err().to_string(),
+            "`string` needs its maximum length, e.g. `string(32)` (1..=47)"
+        );
+        assert_eq!(
+            DataType::parse("string(48)").unwrap_err().to_string(),
+            "string length `48` must be a number from 1 to 47"
+        );
         assert!(DataType::parse("string(x)").is_err());
-        assert_eq!(DataType::parse("u64"), Err("unknown type `u64`".into()));
+        assert_eq!(
+            DataType::parse("u64").unwrap_err().to_string(),
+            "unknown type `u64`"
+        );
     }
 }

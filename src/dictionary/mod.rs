@@ -40,7 +40,7 @@ pub use access::Access;
 pub use address::{Address, AddressError, AddressParser};
 pub use bench_cap::BenchCap;
 pub use bench_limits::{BenchLimits, LimitsRoute, LIMITS_ENV, LIMITS_FILE_NAME};
-pub use data_type::{DataType, MAX_BLOCK_LEN, MAX_STRING_LEN};
+pub use data_type::{DataType, DataTypeError, MAX_BLOCK_LEN, MAX_STRING_LEN};
 pub use dictionary::Dictionary;
 pub use dictionary_error::DictionaryError;
 pub use eds::{dcf_parameter_values, is_eds_path};

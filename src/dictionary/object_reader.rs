@@ -208,10 +208,10 @@ impl DictionaryReader<'_> {
         let text = self.r.text(node, "`type`")?;
         match DataType::parse(&text) {
             Ok(t) => Some(t),
-            Err(message) => {
+            Err(wrong) => {
                 let help = suggestion_text(&did_you_mean(&text, DataType::names()))
                     .unwrap_or_else(|| format!("the types are: {}", DataType::names().join(", ")));
-                self.push(Diagnostic::at(&node.span, message, "not a type").with_help(help));
+                self.push(Diagnostic::at(&node.span, wrong.to_string(), "not a type").with_help(help));
                 None
             }
         }

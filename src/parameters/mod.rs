@@ -13,5 +13,7 @@ mod utc;
 pub use backup::{parameters, raw_text, take, Origin, IDENTITY_OBJECTS};
 pub use comparison::{compare, same, Difference};
 pub use parameter_file::{ParameterFile, ParameterFileError, Reading, SavedObject, FORMAT_KEY};
-pub use restore::{apply, clear_for_restore, plan, skipped, Outcome, PlannedWrite, Refusal, RestoreRefused};
+pub use restore::{
+    apply, clear_for_restore, plan, skipped, Outcome, PlannedWrite, Refusal, RefusalReason, RestoreRefused,
+};
 pub use utc::utc_timestamp;

@@ -8,7 +8,7 @@
 use super::backup::raw_text;
 use super::comparison::same;
 use super::parameter_file::{ParameterFile, Reading, SavedObject};
-use crate::dictionary::{ObjectDef, Quantity, RawValue};
+use crate::dictionary::{ObjectDef, Quantity, RawValue, ValueError};
 use crate::drive::{DeviceState, Drive, DriveError, WriteOutcome};
 
 /// One write of the plan.
@@ -44,7 +44,21 @@ enum WriteValue {
 #[derive(Debug, Clone, PartialEq)]
 pub struct Refusal {
     pub name: String,
-    pub reason: String,
+    pub reason: RefusalReason,
+}
+
+/// What keeps one backup value from being written.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum RefusalReason {
+    #[error("differs from the backup but is read-only")]
+    ReadOnly,
+    #[error("raw value `{raw}` is not a number")]
+    NotANumber { raw: String },
+    #[error("raw value `{raw}` has no number")]
+    NoNumber { raw: String },
+    /// The object's type, or its limits (the dictionary's or the bench's, which it names).
+    #[error(transparent)]
+    Value(#[from] ValueError),
 }
 
 /// The writes that make the live set equal the backup, or every reason it cannot.
@@ -72,7 +86,7 @@ pub fn plan(
         if !def.writable() {
             refusals.push(Refusal {
                 name: def.name.clone(),
-                reason: "differs from the backup but is read-only".into(),
+                reason: RefusalReason::ReadOnly,
             });
             continue;
         }
@@ -106,9 +120,9 @@ fn shown(o: &SavedObject) -> String {
 
 /// The backup's raw text as a value to write, checked against the object's type and its
 /// (bench-tightened) limits.
-fn value_to_write(def: &ObjectDef, raw: &str) -> Result<WriteValue, String> {
+fn value_to_write(def: &ObjectDef, raw: &str) -> Result<WriteValue, RefusalReason> {
     if !def.data_type.is_number() {
-        def.text_to_raw(raw).map_err(|e| e.to_string())?;
+        def.text_to_raw(raw)?;
         return Ok(WriteValue::Text(raw.to_string()));
     }
     // A float as the shortest text of its bits, which reads back to them exactly.
@@ -116,13 +130,13 @@ fn value_to_write(def: &ObjectDef, raw: &str) -> Result<WriteValue, String> {
         Some(single) => crate::dictionary::Real::parse(raw, single).map(RawValue::Real),
         None => parse_raw(raw),
     }
-    .ok_or_else(|| format!("raw value `{raw}` is not a number"))?;
-    let value = def.value_of(parsed).map_err(|e| e.to_string())?;
+    .ok_or_else(|| RefusalReason::NotANumber { raw: raw.to_string() })?;
+    let value = def.value_of(parsed)?;
     let quantity = value
         .quantity
-        .ok_or_else(|| format!("raw value `{raw}` has no number"))?;
+        .ok_or_else(|| RefusalReason::NoNumber { raw: raw.to_string() })?;
     // to_raw refuses what is outside the limits, saying which (the dictionary's or the bench's).
-    def.to_raw(&quantity).map_err(|e| e.to_string())?;
+    def.to_raw(&quantity)?;
     Ok(WriteValue::Number(quantity))
 }
 

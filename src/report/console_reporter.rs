@@ -130,6 +130,10 @@ impl<W: Write> RunObserver for ConsoleReporter<W> {
         self.attempts.started(number, attempt, of);
     }
 
+    fn attempts_given_up(&mut self) {
+        self.attempts.give_up();
+    }
+
     fn step_finished(&mut self, r: &StepRecord) {
         self.attempts.finished(&r.number);
         if !self.quiet || !r.ok {

@@ -26,6 +26,11 @@ impl OpenAttempts {
         }
     }
 
+    /// The run ends in a way no attempt tries again: every failure from now on is final.
+    pub fn give_up(&mut self) {
+        self.open.clear();
+    }
+
     /// How a failure reads now: `FAIL`, or inside an attempt that another follows (the
     /// innermost such: any one of them tries the failure again) `FAIL (attempt 1 of 3,
     /// retrying)`.
@@ -60,6 +65,9 @@ mod tests {
         assert_eq!(open.fail_mark(), "FAIL");
         open.finished("3");
         assert_eq!(OpenAttempts::NONE.fail_mark(), "FAIL");
+        open.started("4", 1, 3);
+        open.give_up();
+        assert_eq!(open.fail_mark(), "FAIL", "a fault inside an attempt ends the run");
         assert!(open.open.is_empty());
     }
 }

@@ -170,9 +170,11 @@ fn run_section(h: &mut String, r: &StoredRun, plot: &mut usize) {
         .collect::<Vec<_>>()
         .join(", ");
     let end = r.end.as_ref();
-    let left = end.map_or_else(
-        || "not recorded: the run never finished (killed or power cut)".to_string(),
-        |e| {
+    let left = match end {
+        None => "not recorded: the run never finished (killed or power cut)".to_string(),
+        // A run refused before it started sent nothing: there was no safe stop to confirm.
+        Some(_) if !r.started() => "not started: nothing was sent to the drive".to_string(),
+        Some(e) => {
             let state = e.final_state.clone().unwrap_or_else(|| "unknown state".into());
             let speed = e
                 .final_speed
@@ -187,8 +189,8 @@ fn run_section(h: &mut String, r: &StoredRun, plot: &mut usize) {
                 "{state}{speed} (stop {confirmed}{})",
                 if e.coasting { ", still coasting" } else { "" }
             )
-        },
-    );
+        }
+    };
     let facts = [
         ("Run", r.run.id.clone()),
         ("Recipe file", r.run.recipe_path.clone()),
@@ -225,6 +227,11 @@ fn run_section(h: &mut String, r: &StoredRun, plot: &mut usize) {
             end.map_or_else(|| "—".into(), |e| e.exit_code.to_string()),
         ),
         ("After the safe stop", left),
+        // Why a run did not pass: a drive fault with its EMCY code and text, a refusal.
+        (
+            "Reason",
+            end.and_then(|e| e.reason.clone()).unwrap_or_else(|| "—".into()),
+        ),
         ("Tool", format!("drivescript {}", r.run.tool_version)),
     ];
     facts_rows(h, &facts);
@@ -243,15 +250,22 @@ fn run_section(h: &mut String, r: &StoredRun, plot: &mut usize) {
                 (None, Some(hi)) => format!("≤ {}", with_unit(hi, c.unit.as_deref())),
                 _ => "—".into(),
             };
+            // A comparison with the last pass says against what (its value is the change,
+            // `5 K` beside a check of 30 °C), and a check that measured nothing says why.
+            let why = match (&c.reference_run, c.measured, &c.measured_text) {
+                (None, Some(_), _) | (None, _, Some(_)) => String::new(),
+                _ => format!("<br><small>{}</small>", esc(&c.message)),
+            };
             let _ = writeln!(
                 h,
-                "<tr{}><td>{}</td><td class=\"num\">{}</td><td class=\"num\">{}</td><td class=\"{}\">{}</td><td class=\"step\">{}</td></tr>",
+                "<tr{}><td>{}{}</td><td class=\"num\">{}</td><td class=\"num\">{}</td><td class=\"step {}\">{}</td><td class=\"step\">{}</td></tr>",
                 match (c.passed, c.marginal) {
                     (true, false) => "",
                     (true, true) => " class=\"marginal\"",
                     (false, _) => " class=\"fail\"",
                 },
                 esc(&c.name),
+                why,
                 esc(&measured),
                 esc(&limits),
                 if c.passed { "ok" } else { "fail" },

@@ -131,7 +131,7 @@ pub fn not_run(
 /// Tells the run's observers (the results store) that the run never started, with the
 /// unit as far as the command line and the answers given beforehand know it: an attempt
 /// on a unit stays visible in its history.
-fn recorded(request: &RunRequest, plan: Option<&RunPlan>, code: i32, why: &str) {
+pub(super) fn recorded(request: &RunRequest, plan: Option<&RunPlan>, code: i32, why: &str) {
     let prompts = plan.map(RunPlan::prompts).unwrap_or_default();
     let given = request.operator.given().unwrap_or_default();
     let run = RunInfo {

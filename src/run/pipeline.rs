@@ -10,7 +10,7 @@ use super::drive_set::{named_drives_checked, named_drives_opened, OpenDrives};
 use super::latency_note::latency_note;
 use super::line_exchange::LineExchange;
 use super::link_range_check::within_link_range;
-use super::not_run::{not_run, silent_drive_of};
+use super::not_run::{not_run, recorded, silent_drive_of};
 use super::run_plan::{LoadedPlan, RunPlan, SessionSettings};
 use super::run_setup::{
     finish_reports, observed, open_csv, telegram_outputs, trace_header, write_placeholders, Look,
@@ -78,7 +78,9 @@ pub fn run(request: &RunRequest, out: &mut dyn Write, err: &mut dyn Write) -> Ru
         Err(e) => return refuse(INVALID, &e.to_string(), err),
     };
     if let Err(e) = write_placeholders(outputs, plan.name(), plan.path()) {
+        // The not-run reports would fail the same way; the unit's history still keeps it.
         let _ = writeln!(err, "{e}");
+        recorded(request, Some(plan), INVALID, e.to_string().trim_end());
         return RunResult::refused(INVALID);
     }
     let mut open = match opened(request, &loaded, &connection, telegrams) {

@@ -249,6 +249,9 @@ impl RunObserver for Locked<'_> {
     fn attempt_started(&mut self, number: &str, attempt: u32, of: u32) {
         self.with(|o| o.attempt_started(number, attempt, of));
     }
+    fn attempts_given_up(&mut self) {
+        self.with(|o| o.attempts_given_up());
+    }
     fn step_progress(&mut self, number: &str, elapsed: Duration, total: Option<Duration>, values: &str) {
         self.with(|o| o.step_progress(number, elapsed, total, values));
     }

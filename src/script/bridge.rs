@@ -160,14 +160,12 @@ impl Bridge {
 
     /// Counts a CSV file `sample` writes; refused beyond the sandbox's limit of files per
     /// run (a script computes its names, so a loop could otherwise fill a directory).
-    pub fn csv_file(&self, path: &Path) -> Result<(), String> {
+    pub fn csv_file(&self, path: &Path) -> Result<(), TooManyCsvFiles> {
         let mut files = lock(&self.csv_files);
         if !files.contains(path) && files.len() >= super::sandbox::MAX_CSV_FILES {
-            return Err(format!(
-                "sample: a script may write at most {} CSV files; {} would be one more",
-                super::sandbox::MAX_CSV_FILES,
-                path.display()
-            ));
+            return Err(TooManyCsvFiles {
+                path: path.to_path_buf(),
+            });
         }
         files.insert(path.to_path_buf());
         Ok(())
@@ -310,6 +308,13 @@ impl Bridge {
     }
 }
 
+/// A `sample` CSV file beyond the sandbox's limit of files per run.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("sample: a script may write at most {max} CSV files; {} would be one more", path.display(), max = super::sandbox::MAX_CSV_FILES)]
+pub struct TooManyCsvFiles {
+    pub path: PathBuf,
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -355,8 +360,11 @@ mod tests {
         }
         // The same file again is no new file.
         assert!(b.csv_file(Path::new("f0.csv")).is_ok());
-        let e = b.csv_file(Path::new("one-more.csv")).unwrap_err();
-        assert!(e.contains("at most"), "{e}");
+        let e = b.csv_file(Path::new("one-more.csv")).unwrap_err().to_string();
+        assert_eq!(
+            e,
+            format!("sample: a script may write at most {limit} CSV files; one-more.csv would be one more")
+        );
     }
 
     #[test]

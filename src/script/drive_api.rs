@@ -11,7 +11,7 @@ use super::resolve::{self, Refusal, Written};
 use super::sample_window::SampleWindow;
 use crate::dictionary::Dictionary;
 use crate::drive::DeviceCommand;
-use crate::session::{CheckResult, ObjectRef, Predicate, Statistic, StepOrigin};
+use crate::session::{CheckResult, ObjectRef, Predicate, Statistic};
 use rhai::{Array, Dynamic, Engine, EvalAltResult, FnPtr, NativeCallContext, Position};
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -93,8 +93,11 @@ pub(super) fn refused(r: Refusal) -> Box<EvalAltResult> {
     Box::new(EvalAltResult::ErrorRuntime(r.sentence().into(), Position::NONE))
 }
 
-pub(super) fn error(text: impl Into<String>) -> Box<EvalAltResult> {
-    Box::new(EvalAltResult::ErrorRuntime(text.into().into(), Position::NONE))
+pub(super) fn error(text: impl std::fmt::Display) -> Box<EvalAltResult> {
+    Box::new(EvalAltResult::ErrorRuntime(
+        text.to_string().into(),
+        Position::NONE,
+    ))
 }
 
 /// A number from a Rhai integer or float.
@@ -113,7 +116,20 @@ pub(super) fn duration(text: &str) -> RhaiResult<Duration> {
 pub(super) fn done(answer: Answer) -> RhaiResult<()> {
     match answer {
         Answer::Done => Ok(()),
-        _ => Err(error("the session gave an unexpected answer")),
+        _ => Err(unexpected_answer()),
+    }
+}
+
+/// The session answered a call with an answer of another call: a fault of drivescript's own.
+pub(super) fn unexpected_answer() -> Box<EvalAltResult> {
+    error("the session gave an unexpected answer")
+}
+
+/// Reads `object` on the session's thread.
+fn read(b: &Bridge, ctx: &NativeCallContext, object: ObjectRef) -> RhaiResult<f64> {
+    match b.call(ctx.call_position(), Call::Read(object), String::new())? {
+        Answer::Number(v) => Ok(v),
+        _ => Err(unexpected_answer()),
     }
 }
 
@@ -176,10 +192,7 @@ fn register_reads(engine: &mut Engine, bridge: &Arc<Bridge>) {
         "read",
         move |ctx: NativeCallContext, h: &mut DriveHandle, name: &str| -> RhaiResult<f64> {
             let object = on_drive(&b, h, |d| resolve::readable(d, name))?;
-            match b.call(ctx.call_position(), Call::Read(object), String::new())? {
-                Answer::Number(v) => Ok(v),
-                _ => Err(error("the session gave an unexpected answer")),
-            }
+            read(&b, &ctx, object)
         },
     );
     let b = bridge.clone();
@@ -189,10 +202,7 @@ fn register_reads(engine: &mut Engine, bridge: &Arc<Bridge>) {
             let object = on_drive(&b, h, |d| resolve::readable(d, name))?;
             let (_, factor) =
                 resolve::unit_for(object.unit.as_deref(), &object.name, unit).map_err(refused)?;
-            match b.call(ctx.call_position(), Call::Read(object), String::new())? {
-                Answer::Number(v) => Ok(v * factor),
-                _ => Err(error("the session gave an unexpected answer")),
-            }
+            Ok(read(&b, &ctx, object)? * factor)
         },
     );
     let b = bridge.clone();
@@ -201,7 +211,7 @@ fn register_reads(engine: &mut Engine, bridge: &Arc<Bridge>) {
         move |ctx: NativeCallContext, h: &mut DriveHandle| -> RhaiResult<String> {
             match b.call(ctx.call_position(), Call::State(h.name.clone()), String::new())? {
                 Answer::State(s) => Ok(s.id().to_string()),
-                _ => Err(error("the session gave an unexpected answer")),
+                _ => Err(unexpected_answer()),
             }
         },
     );
@@ -424,7 +434,7 @@ fn sample(
             windows,
             dictionary: b.dictionary.clone(),
         }),
-        _ => Err(error("the session gave an unexpected answer")),
+        _ => Err(unexpected_answer()),
     }
 }
 
@@ -440,39 +450,17 @@ fn register_checks(engine: &mut Engine, bridge: &Arc<Bridge>) {
             Some(v) => Some(crate::session::number((v * 1000.0).round() / 1000.0)),
             None => measured.map(|m| m.to_string()),
         };
+        // The session fills in where and when the check was made.
         CheckResult {
-            name: name.to_string(),
-            // A script names its checks itself: the name is the key.
-            key: name.to_string(),
-            passed,
             measured: value,
             measured_text: text.clone(),
-            unit: None,
-            low: None,
-            high: None,
-            object: None,
-            statistic: None,
             message: match (&text, passed) {
                 (Some(t), true) => format!("measured {t}"),
                 (Some(t), false) => format!("measured {t}: the script's condition does not hold"),
                 (None, true) => "holds".into(),
                 (None, false) => "the script's condition does not hold".into(),
             },
-            // The session fills in where the check was made.
-            step: String::new(),
-            stage: String::new(),
-            window: None,
-            origin: StepOrigin {
-                path: String::new(),
-                line: 0,
-                column: 0,
-            },
-            at: Duration::ZERO,
-            duration: Duration::ZERO,
-            marginal: false,
-            retried: false,
-            inclusive: false,
-            reference: None,
+            ..CheckResult::named(name, passed)
         }
     };
     let b = bridge.clone();

@@ -137,7 +137,7 @@ fn ask(b: &Bridge, pos: Position, word: &str, text: &str, map: &Map) -> RhaiResu
     let label = prompt.to_string();
     match b.call(pos, Call::Ask(Box::new(prompt)), label)? {
         Answer::Asked(accepted) => Ok(accepted),
-        _ => Err(error("the session gave an unexpected answer")),
+        _ => Err(super::drive_api::unexpected_answer()),
     }
 }
 

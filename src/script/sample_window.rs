@@ -15,7 +15,7 @@ pub struct SampleWindow {
 
 impl SampleWindow {
     /// The window of `name` (the dictionary's name or an alias).
-    pub fn window(&self, name: &str) -> Result<&Window, String> {
+    pub fn window(&self, name: &str) -> Result<&Window, WindowError> {
         let canonical = self
             .dictionary
             .lookup(name)
@@ -33,32 +33,38 @@ impl SampleWindow {
             .iter()
             .find(|w| w.object.name == canonical)
             .or(by_drive)
-            .ok_or_else(|| {
-                let sampled: Vec<&str> = self.windows.iter().map(|w| w.object.name.as_str()).collect();
-                format!(
-                    "`{name}` was not sampled in this window (sampled: {})",
-                    sampled.join(", ")
-                )
+            .ok_or_else(|| WindowError::NotSampled {
+                name: name.to_string(),
+                sampled: self.windows.iter().map(|w| w.object.name.clone()).collect(),
             })
     }
 
-    pub fn statistic(&self, name: &str, s: Statistic) -> Result<f64, String> {
+    pub fn statistic(&self, name: &str, s: Statistic) -> Result<f64, WindowError> {
         let w = self.window(name)?;
         if w.stats.count == 0 {
-            return Err(format!("no samples of {} in this window", w.object.name));
+            return Err(WindowError::NoSamples {
+                object: w.object.name.clone(),
+            });
         }
         Ok(w.stats.get(s))
     }
 
-    pub fn values(&self, name: &str) -> Result<Vec<f64>, String> {
+    pub fn values(&self, name: &str) -> Result<Vec<f64>, WindowError> {
         let w = self.window(name)?;
-        w.values.clone().ok_or_else(|| {
-            format!(
-                "the window holds {} samples of {}, more than a script may keep ({}); use its statistics, or sample for a shorter time",
-                w.stats.count,
-                w.object.name,
-                super::sandbox::MAX_ARRAY_SIZE
-            )
+        w.values.clone().ok_or_else(|| WindowError::TooManyValues {
+            count: w.stats.count,
+            object: w.object.name.clone(),
         })
     }
+}
+
+/// Why a window cannot answer what the script asked of it, and what to ask instead.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum WindowError {
+    #[error("`{name}` was not sampled in this window (sampled: {})", sampled.join(", "))]
+    NotSampled { name: String, sampled: Vec<String> },
+    #[error("no samples of {object} in this window")]
+    NoSamples { object: String },
+    #[error("the window holds {count} samples of {object}, more than a script may keep ({max}); use its statistics, or sample for a shorter time", max = super::sandbox::MAX_ARRAY_SIZE)]
+    TooManyValues { count: usize, object: String },
 }

@@ -527,6 +527,9 @@ impl RunObserver for Tap<'_> {
     fn attempt_started(&mut self, number: &str, attempt: u32, of: u32) {
         self.inner.attempt_started(number, attempt, of);
     }
+    fn attempts_given_up(&mut self) {
+        self.inner.attempts_given_up();
+    }
     fn step_progress(&mut self, number: &str, elapsed: Duration, total: Option<Duration>, values: &str) {
         self.inner.step_progress(number, elapsed, total, values);
     }

@@ -207,6 +207,7 @@ impl Session<'_> {
         started: Duration,
     ) -> Stop {
         let message = format!("nobody answered within {}", super::session::show_duration(limit));
+        self.observer.attempts_given_up();
         self.record_prompt_check(prompt, None, message.clone(), origin, started);
         Stop::Unanswered(message)
     }

@@ -187,7 +187,7 @@ impl Session<'_> {
             (_, None) => (false, format!("nothing measured to compare with the last pass ({allowed})")),
             (Past::NotLooked, _) if self.in_safe_stop && self.run.unit.serial.is_some() => (
                 false,
-                "the unit's last passed run was not looked up before the safe stop, which never waits for a results store".to_string(),
+                "not looked up: the safe stop (finally, on_fault) never waits for the results store, so a comparison there is judged by what was looked up before it, and nothing was; compare before the safe stop".to_string(),
             ),
             (Past::NotLooked, _) => (
                 false,

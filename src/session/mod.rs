@@ -21,6 +21,7 @@ mod operations;
 mod operator;
 mod prompt;
 mod ramp;
+mod reported_faults;
 mod restore_link;
 mod run_info;
 mod run_observer;

@@ -17,6 +17,10 @@ pub trait RunObserver {
     /// The step `number` (an `attempts` block) begins its attempt `attempt` of `of`; it
     /// lasts until that step finishes.
     fn attempt_started(&mut self, _number: &str, _attempt: u32, _of: u32) {}
+    /// The run is ending in a way no `attempts` block tries again (an error, a drive fault,
+    /// a stop request, a question nobody answered): what fails from here on is final,
+    /// whatever attempts are under way.
+    fn attempts_given_up(&mut self) {}
     /// Progress of a long step: elapsed, total (when known) and live values.
     fn step_progress(&mut self, _number: &str, _elapsed: Duration, _total: Option<Duration>, _values: &str) {}
     /// The step `number` asks the operator `question` (with what to type) and waits for
@@ -70,6 +74,9 @@ impl RunObserver for Observers<'_> {
         self.list
             .iter_mut()
             .for_each(|o| o.attempt_started(number, attempt, of));
+    }
+    fn attempts_given_up(&mut self) {
+        self.list.iter_mut().for_each(|o| o.attempts_given_up());
     }
     fn step_progress(&mut self, number: &str, elapsed: Duration, total: Option<Duration>, values: &str) {
         self.list

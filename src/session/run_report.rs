@@ -133,6 +133,41 @@ pub struct CheckReference {
 }
 
 impl CheckResult {
+    /// A check named `name` that passed or not, with nothing else said yet: nothing
+    /// measured, no limits, no message, no place or time (`..CheckResult::named(…)` under
+    /// the fields a caller knows). Its key is its name (a name without limits is its own
+    /// key); a caller whose name holds limits gives the key.
+    pub fn named(name: impl Into<String>, passed: bool) -> CheckResult {
+        let name = name.into();
+        CheckResult {
+            key: name.clone(),
+            name,
+            passed,
+            measured: None,
+            measured_text: None,
+            unit: None,
+            low: None,
+            high: None,
+            object: None,
+            statistic: None,
+            message: String::new(),
+            origin: StepOrigin {
+                path: String::new(),
+                line: 0,
+                column: 0,
+            },
+            step: String::new(),
+            window: None,
+            stage: String::new(),
+            at: Duration::ZERO,
+            duration: Duration::ZERO,
+            marginal: false,
+            retried: false,
+            inclusive: false,
+            reference: None,
+        }
+    }
+
     /// The limits as the recipe wrote them, for every report: `5970 .. 6030 rpm`, `= 1`,
     /// `> 5 A`, `< 60 °C`, `≤ 2.8 mm/s`; `None` without limits.
     pub fn limits_text(&self) -> Option<String> {

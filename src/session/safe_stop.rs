@@ -59,6 +59,7 @@ impl Session<'_> {
         on_fault: Option<&mut dyn FnMut(&mut Session)>,
         finally: Option<&mut dyn FnMut(&mut Session)>,
     ) -> RunReport {
+        let ended = self.with_pending_fault(ended);
         if let (Some(Stop::Fault(_)), Some(on_fault)) = (&ended, on_fault) {
             self.stop.enter_safe_stop();
             self.in_safe_stop = true;
@@ -180,6 +181,7 @@ impl Session<'_> {
                 self.report.verdict = Verdict::Error(why.to_string());
             }
         }
+        self.say_reported_in_stop();
         let kept = keep && self.stop.count_at(self.clock.now()) == 0;
         self.release_drives(kept);
     }

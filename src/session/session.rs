@@ -63,6 +63,8 @@ pub struct Session<'a> {
     /// (name, key) of each check that compares, for what the lookup says.
     pub(super) history_checks: Vec<(String, String)>,
     pub(super) past: super::history_lookup::Past,
+    /// Faults the drives reported on their own while the run ended, said after the stop.
+    pub(super) reported_in_stop: Vec<String>,
 }
 
 impl<'a> Session<'a> {
@@ -132,6 +134,7 @@ impl<'a> Session<'a> {
             history: None,
             history_checks: Vec::new(),
             past: Default::default(),
+            reported_in_stop: Vec::new(),
         }
     }
 
@@ -282,6 +285,11 @@ impl<'a> Session<'a> {
             Ok(r) => r,
             Err(payload) => Err(Stop::Panicked(panic_message(payload.as_ref()))),
         };
+        // Only a failed check or wait is tried again by an `attempts` block; every other
+        // stop ends the run, and its lines must not promise another attempt.
+        if matches!(&result, Err(stop) if !matches!(stop, Stop::Failed(_))) {
+            self.observer.attempts_given_up();
+        }
         let (ok, detail) = outcome(&result);
         let ok = ok && !detail.starts_with("FAILED");
         self.record_step(info, id, ok, detail, started);
@@ -469,8 +477,9 @@ impl<'a> Session<'a> {
         let entered = faulted && !self.cur().known_fault;
         self.cur().known_fault = faulted;
         // Taken at every look, so that a fault the state shows as well is told once; once
-        // the run is ending (on_fault, the safe stop) it stops nothing more.
-        let reported = self.drive().reported_fault().filter(|_| !self.in_safe_stop);
+        // the run is ending (on_fault, the safe stop) it stops nothing more and is said
+        // after the stop.
+        let reported = self.drive().reported_fault();
         let called = self.cur().called();
         if entered {
             let code = self.drive().drive_error().unwrap_or(0);
@@ -480,6 +489,10 @@ impl<'a> Session<'a> {
             )));
         }
         match reported {
+            Some(what) if self.in_safe_stop => {
+                self.keep_reported_in_stop(format!("{called} reported {what} while in {state}"));
+                Ok(())
+            }
             Some(what) => Err(Stop::Fault(format!(
                 "drive fault: {called} reported {what} while in {state}"
             ))),

@@ -148,27 +148,13 @@ impl Session<'_> {
         let (step, stage) = self.place();
         let at = self.clock.now();
         CheckResult {
-            name,
             key,
-            passed: false,
-            measured: None,
-            measured_text: None,
-            unit: None,
-            low: None,
-            high: None,
-            object: None,
-            statistic: None,
-            message: String::new(),
             origin: origin.clone(),
             step,
             stage,
-            window: None,
             at,
             duration: at.saturating_sub(started),
-            marginal: false,
-            retried: false,
-            inclusive: false,
-            reference: None,
+            ..CheckResult::named(name, false)
         }
     }
 

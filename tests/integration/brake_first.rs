@@ -6,10 +6,11 @@
 
 use crate::support::{drivescript, stdout};
 
+use crate::live_run::LiveRun;
 #[cfg(unix)]
 use crate::safety::{traced_writes, CONTROL_WORD, SPEED_SETPOINT};
 #[cfg(unix)]
-use crate::support::{repo_root, LiveRun, Simulator};
+use crate::support::{repo_root, Simulator};
 #[cfg(unix)]
 use std::path::{Path, PathBuf};
 #[cfg(unix)]

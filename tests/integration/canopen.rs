@@ -434,6 +434,22 @@ fn an_emcy_alone_stops_a_run_through_an_slcan_pseudo_terminal() {
         &shown.stdout,
         &["EMCY 0x2310 continuous over-current (output side)"],
     );
+    // So does the run's page made from the store: why it ended is the fault.
+    let page = dir.join("run.html");
+    cli(
+        &[
+            "results",
+            "report",
+            id,
+            "--results",
+            store,
+            "-o",
+            page.to_str().unwrap(),
+        ],
+        0,
+    );
+    let page = std::fs::read_to_string(&page).expect("the run's page");
+    assert_has(&page, &["EMCY 0x2310 continuous over-current (output side)"]);
 }
 
 /// A DCF's ParameterValues are a parameter set: `diff` compares them with the node,

@@ -4,7 +4,7 @@
 //! than a transfer refused; a DCF of such values diffed and restored; `decode` of an SDO
 //! telegram carrying a REAL32.
 
-use crate::support::{assert_has, cli, repo_root, scratch, write_file, Ran};
+use crate::support::{assert_has, assert_lacks, cli, repo_root, scratch, write_file, Ran};
 
 /// drivescript with `args` and the simulated node's own EDS as the dictionary, exiting `code`.
 fn on_node(args: &[&str], code: i32) -> Ran {
@@ -32,6 +32,9 @@ steps:
   - expect: { position_offset: { equals: -99999 } }
   - expect: { operating_time: { equals: 281474976710655 } }
   - expect: { option_key: { equals: "00 11 22 33 44 55 66 77 88" } }
+  # The same bytes however they are written, as `set` takes them: as a DCF writes them.
+  - set: { option_key: "ca fe" }
+  - expect: { option_key: { equals: "CAFE" } }
 "#,
     );
     let trace = dir.join("run.log");
@@ -91,9 +94,19 @@ fn a_nan_is_shown_as_such_and_a_domain_beyond_a_transfer_is_refused() {
         &out.stderr,
         &["the node announces 4096 bytes; drivescript takes at most 256"],
     );
+    // The node's answer, not noise on the line: refused at once, not tried again.
+    assert_lacks(&out.stderr, &["noise", "attempt(s)"]);
     // Never written, saying why.
     let out = on_node(&["write", "--drive", "canopen", "event_log", "00"], 2);
     assert_has(&out.stderr, &["event_log is read-only"]);
+    // Bytes to compare with are hex, checked before anything is sent.
+    let recipe = write_file(
+        &dir,
+        "octets.yaml",
+        "name: Octets\ndrive: canopen\nsteps:\n  - expect: { option_key: { equals: \"ca fz\" } }\n",
+    );
+    let out = on_node(&["check", &recipe.to_string_lossy()], 2);
+    assert_has(&out.stderr, &["option_key holds bytes", "octets.yaml:4:"]);
 }
 
 #[test]

@@ -4,9 +4,10 @@
 //! time and through a real pseudo-terminal), exact decimals on the wire, a group write
 //! that gets no reply and is not repeated, and Ctrl-C during a run on the simulated drive.
 
+use crate::live_run::ctrl_c_during_a_dwell;
 use crate::support::{
     assert_has, assert_matches_shared, cli, control_words, drivescript, load_vectors, repo_root,
-    scratch_file, stderr, stdout, write_file, InProcessRun, LiveRun,
+    scratch_file, stderr, stdout, write_file, InProcessRun,
 };
 use drivescript::bus::{MemoryTransport, SharedTransport};
 use drivescript::clock::{SharedClock, VirtualClock};
@@ -419,30 +420,13 @@ fn the_commissioning_recipe_runs_through_a_pseudo_terminal() {
 #[test]
 fn ctrl_c_during_a_run_on_the_simulated_ct_drive_stops_it() {
     let sim = crate::support::Simulator::start(&["--drive", "ct-unidrive-sp", "--pty"]);
-    let dir = std::env::temp_dir().join(format!("drivescript-ct-sigint-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let recipe = dir.join("run.yaml");
-    std::fs::write(
-        &recipe,
-        "name: CT run\ndrive: ct-unidrive-sp\nsteps:\n  - go_to: { state: operation_enabled, timeout: 2 s }\n  - set: { speed_setpoint: 300 rpm }\n  - dwell: 1 h\n",
-    )
-    .unwrap();
-    let recipe = recipe.to_string_lossy().to_string();
-    let mut run = LiveRun::start([
-        "run",
-        recipe.as_str(),
-        "--port",
+    let (seen, code, all) = ctrl_c_during_a_dwell(
+        "ct-unidrive-sp",
+        "300 rpm",
         &sim.endpoint,
-        "--baud",
-        "9600",
-        "--parity",
-        "odd",
-    ]);
-    let seen = run.wait_for("set speed_setpoint").to_string();
+        Duration::from_millis(200),
+    );
     assert_has(&seen, &[&format!("drive 1.1 on {} at 9600 7O1", sim.endpoint)]);
-    std::thread::sleep(Duration::from_millis(200));
-    run.signal("INT");
-    let (code, all) = run.finish();
     assert_eq!(code, Some(130), "{all}");
     assert_has(
         &all,

@@ -2,7 +2,8 @@
 //! pseudo-terminal, `simulate --tcp` on loopback, and Ctrl-C (SIGINT) during a real-time
 //! run, which must still run `finally` and exit with 130.
 
-use crate::support::{assert_has, assert_lacks, cli, repo_root, LiveRun, Simulator};
+use crate::live_run::LiveRun;
+use crate::support::{assert_has, assert_lacks, cli, repo_root, Simulator};
 use std::io::{BufRead, BufReader};
 use std::process::Stdio;
 
@@ -81,11 +82,9 @@ fn a_drive_that_does_not_answer_is_exit_code_3_naming_the_telegram() {
 #[cfg(unix)]
 #[test]
 fn ctrl_c_during_a_run_stops_safely_and_exits_130() {
-    let mut run = LiveRun::start(["run", "tests/cases/interrupted/ctrl_c_during_run_in/recipe.yaml"]);
+    let run = LiveRun::start(["run", "tests/cases/interrupted/ctrl_c_during_run_in/recipe.yaml"]);
     // Wait until the dwell has begun (the second step's line is printed), then press Ctrl-C.
-    run.wait_for("set speed_setpoint");
-    run.signal("INT");
-    let (code, all) = run.finish();
+    let (_, code, all) = run.interrupt_after("set speed_setpoint", std::time::Duration::ZERO);
     assert_eq!(code, Some(130), "{all}");
     // The press lands in the dwell or just before it starts; either way the steps stop.
     assert_lacks(&all, &["ok    dwell"]);

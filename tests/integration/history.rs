@@ -8,8 +8,8 @@
 //! runs the safe stop; a serial typed at an operator step looks up at that point.
 
 use crate::support::{
-    assert_has, assert_lacks, command, run_recording as run, scratch, silent_server, write_file,
-    InProcessRun, PostgresServer, Simulator,
+    assert_has, assert_lacks, command, run_recording as run, scratch, silent_server, unit_certificate,
+    write_file, InProcessRun, PostgresServer, Simulator,
 };
 use drivescript::results::{Locator, RunFilter, StoreHistory};
 use std::path::Path;
@@ -152,6 +152,10 @@ fn history_in(dir: &Path, store: &str) {
         &String::from_utf8_lossy(&shown.stdout),
         &[&format!("reference: run {second_id} of 20")],
     );
+    // The unit's certificate says what each comparison compared with: the change alone
+    // (`5 K` beside a check of 30 °C) would read as a measured value.
+    let page = unit_certificate(store, "SP-1", &dir.join("SP-1.html"));
+    assert_has(&page, &[&drift, "no earlier passed run of SP-1 for this recipe"]);
 }
 
 #[test]
@@ -513,4 +517,45 @@ expect_compared_with_last_pass(\"motor temperature\", t, #{ at_most: 2.0, at_lea
     let (code, out) = run(&wrong, store, &unit[..3]);
     assert_ne!(code, 0, "{out}");
     assert_has(&out, &["give `without_history: \"pass\"`", "wrong.rhai:7:1"]);
+}
+
+/// A script's comparison in its `finally` is part of the safe stop, which never waits for
+/// a store: it is judged by what was looked up before (here nothing), says so, and the
+/// stop goes on at once to disable the drive, even with a store that never answers.
+#[test]
+fn a_comparison_in_a_scripts_finally_never_waits_for_the_store() {
+    let dir = scratch("history-script-finally");
+    let script = write_file(
+        &dir,
+        "finally.rhai",
+        "//! drive: sd2
+//! name: Compared in finally
+let d = drive();
+d.go_to(\"operation_enabled\");
+fn finally(d) {
+    let t = d.read(\"motor_temperature\");
+    expect_near(\"motor temperature\", t, 25.0, \"50 %\");
+    expect_compared_with_last_pass(\"motor temperature\", t, #{ at_most: 2.0, without_history: \"pass\" });
+    d.disable_operation();
+    d.shutdown();
+}
+",
+    );
+    let out = run_reading_a_silent_store(&script, &[])
+        .wait_with_output()
+        .expect("the run ends");
+    let text = format!(
+        "{}{}",
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert_has(
+        &text,
+        &[
+            "FAIL  motor temperature compared with last pass: not looked up: the safe stop (finally, on_fault) never waits for the results store",
+            "ok    disable_operation",
+            "drive left in ready to switch on at 0 rpm",
+        ],
+    );
+    assert_lacks(&text, &["did not answer within 10 s", "history: cannot compare"]);
 }

@@ -589,7 +589,7 @@ fn finally(d) {
         &text,
         &[
             "coast-down took 19.334 s",
-            "compared with last pass: the unit's last passed run was not looked up before the safe stop, which never waits for a results store",
+            "compared with last pass: not looked up: the safe stop (finally, on_fault) never waits for the results store",
         ],
     );
     assert_has(&text, &["drive left in switch on disabled at"]);

@@ -11,6 +11,7 @@ use crate::support::{
 };
 use drivescript::clock::SharedClock;
 use drivescript::drive::{DeviceCommand, DeviceState};
+use drivescript::family::lenze_931::LenzeSimulator;
 use drivescript::run::DictionaryArgs;
 use drivescript::sim::SimulatedDrive;
 use drivescript::stop_request::{StopRequests, StopSignal};
@@ -86,6 +87,25 @@ pub(crate) fn dictionary_args(extra: Option<PathBuf>) -> DictionaryArgs {
 }
 
 /// `recipes/commissioning.yaml` with only `drive:` changed.
+/// A run of `recipe` on the simulated 931, with the dictionary template completed in `dir`.
+fn on_931<'a>(recipe: impl Into<PathBuf>, dir: &Path) -> InProcessRun<'a> {
+    let mut run = InProcessRun::new(recipe);
+    run.dictionary = dictionary_args(Some(completed_template(dir)));
+    run
+}
+
+/// `f` with the simulated 931 behind `sim`.
+pub(crate) fn with_lenze<T>(
+    sim: &Arc<Mutex<dyn SimulatedDrive>>,
+    f: impl FnOnce(&mut LenzeSimulator) -> T,
+) -> T {
+    let mut sim = sim.lock().unwrap_or_else(PoisonError::into_inner);
+    f(sim
+        .as_any_mut()
+        .downcast_mut::<LenzeSimulator>()
+        .expect("a simulated 931"))
+}
+
 fn commissioning_for_931(dir: &Path) -> PathBuf {
     let text = std::fs::read_to_string(repo_root().join("recipes/commissioning.yaml")).expect("recipe");
     assert!(text.contains("drive: sd2"));
@@ -99,8 +119,7 @@ fn the_commissioning_recipe_runs_on_the_simulated_931_with_only_drive_changed() 
     let dir = scratch("commissioning");
     let recipe = commissioning_for_931(&dir);
     let trace = dir.join("run.trace");
-    let mut run = InProcessRun::new(recipe);
-    run.dictionary = dictionary_args(Some(completed_template(&dir)));
+    let mut run = on_931(recipe, &dir);
     run.outputs.trace = Some(trace.clone());
     let (result, output) = run.run();
     assert_eq!(result.exit_code, 0, "{output}");
@@ -192,8 +211,7 @@ pub(crate) fn run_and_record(dir: &Path, path: PathBuf) -> (i32, String, Vec<Str
     let prepare = move |sim: &Arc<Mutex<dyn SimulatedDrive>>, _: &SharedClock| {
         *keep.lock().unwrap_or_else(PoisonError::into_inner) = Some(sim.clone());
     };
-    let mut run = InProcessRun::new(path);
-    run.dictionary = dictionary_args(Some(completed_template(dir)));
+    let mut run = on_931(path, dir);
     run.prepare = Some(&prepare);
     let (result, output) = run.run();
     let sim = captured
@@ -201,12 +219,8 @@ pub(crate) fn run_and_record(dir: &Path, path: PathBuf) -> (i32, String, Vec<Str
         .unwrap_or_else(PoisonError::into_inner)
         .clone()
         .expect("the drive was opened");
-    let mut sim = sim.lock().unwrap_or_else(PoisonError::into_inner);
-    let lenze = sim
-        .as_any_mut()
-        .downcast_mut::<drivescript::family::lenze_931::LenzeSimulator>()
-        .expect("a simulated 931");
-    (result.exit_code, output, lenze.requests().to_vec())
+    let requests = with_lenze(&sim, |lenze| lenze.requests().to_vec());
+    (result.exit_code, output, requests)
 }
 
 #[test]
@@ -291,15 +305,14 @@ fn without_a_profile_check_refuses_device_commands_and_states_saying_what_to_add
     );
 }
 
-/// Runs the commissioning recipe on the simulated 931 with `prepare` and a stop request.
+/// Runs the commissioning recipe in `dir` on the simulated 931 with `prepare` and a stop
+/// request.
 fn run_with(
-    recipe: &Path,
-    dictionary: PathBuf,
+    dir: &Path,
     prepare: &drivescript::run::PrepareSimulator,
     stop: Arc<StopRequests>,
 ) -> (i32, String, Arc<Mutex<dyn SimulatedDrive>>) {
-    let mut run = InProcessRun::new(recipe);
-    run.dictionary = dictionary_args(Some(dictionary));
+    let mut run = on_931(commissioning_for_931(dir), dir);
     run.prepare = Some(prepare);
     run.stop = stop;
     let (result, output) = run.run();
@@ -312,10 +325,9 @@ fn run_with(
 #[test]
 fn sigint_during_a_run_stops_the_simulated_931_and_verifies_it() {
     let dir = scratch("sigint");
-    let recipe = commissioning_for_931(&dir);
     let stop = Arc::new(StopRequests::new());
     stop.schedule(Duration::from_secs(4), StopSignal::INT);
-    let (code, output, sim) = run_with(&recipe, completed_template(&dir), &|_, _: &SharedClock| {}, stop);
+    let (code, output, sim) = run_with(&dir, &|_, _: &SharedClock| {}, stop);
     assert_eq!(code, 130, "{output}");
     assert_has(
         &output,
@@ -341,7 +353,6 @@ fn sigint_during_a_run_stops_the_simulated_931_and_verifies_it() {
 #[test]
 fn a_931_that_ignores_the_stop_commands_is_escalated_and_reported() {
     let dir = scratch("disobeys");
-    let recipe = commissioning_for_931(&dir);
     let prepare = |sim: &Arc<Mutex<dyn SimulatedDrive>>, _: &SharedClock| {
         sim.lock()
             .unwrap_or_else(PoisonError::into_inner)
@@ -353,12 +364,7 @@ fn a_931_that_ignores_the_stop_commands_is_escalated_and_reported() {
                 DeviceCommand::DisableVoltage,
             ]);
     };
-    let (code, output, _) = run_with(
-        &recipe,
-        completed_template(&dir),
-        &prepare,
-        Arc::new(StopRequests::new()),
-    );
+    let (code, output, _) = run_with(&dir, &prepare, Arc::new(StopRequests::new()));
     assert_eq!(code, 3, "{output}");
     assert_has(
         &output,
@@ -379,8 +385,7 @@ fn a_lost_line_to_the_931_ends_in_the_truth() {
             .faults()
             .line_down(Duration::from_secs(4), Duration::from_secs(36_000));
     };
-    let mut run = InProcessRun::new(&recipe);
-    run.dictionary = dictionary_args(Some(completed_template(&dir)));
+    let mut run = on_931(&recipe, &dir);
     run.prepare = Some(&prepare);
     run.safe_stop.reconnect_timeout = Some(Duration::from_secs(2));
     let (result, output) = run.run();
@@ -640,15 +645,11 @@ fn ctrl_c_while_the_drives_limits_are_read_ends_with_130_and_nothing_moved() {
         "name: Silent\ndrive: lenze-931\nsteps:\n  - set: { speed_setpoint: 100 rpm }\n",
     );
     let prepare = |sim: &Arc<Mutex<dyn SimulatedDrive>>, _: &SharedClock| {
-        let mut sim = sim.lock().unwrap_or_else(PoisonError::into_inner);
-        let lenze = sim
-            .as_any_mut()
-            .downcast_mut::<drivescript::family::lenze_931::LenzeSimulator>()
-            .expect("a simulated 931");
-        lenze.faults().drop_replies(100);
+        with_lenze(sim, |lenze| {
+            lenze.faults().drop_replies(100);
+        });
     };
-    let mut run = InProcessRun::new(recipe);
-    run.dictionary = dictionary_args(Some(completed_template(&dir)));
+    let mut run = on_931(recipe, &dir);
     run.prepare = Some(&prepare);
     run.stop.schedule(
         Duration::from_millis(300),

@@ -3,7 +3,7 @@
 //! read; an enabled drive even with --force; no confirmation), a lost or garbled reply,
 //! the family's list of destructive actions, and one action through a real pty.
 
-use crate::lenze_931::{completed_template, dictionary_args};
+use crate::lenze_931::{completed_template, dictionary_args, with_lenze};
 use crate::support::{assert_has, cli, drivescript, scratch, stderr, stdout};
 use drivescript::bus::Peer;
 use drivescript::drive::{DeviceState, DriveError};
@@ -26,14 +26,6 @@ struct Outcome {
     requests: Vec<String>,
     mode: u16,
     line_rate: u32,
-}
-
-fn with_lenze<T>(sim: &Arc<Mutex<dyn SimulatedDrive>>, f: impl FnOnce(&mut LenzeSimulator) -> T) -> T {
-    let mut sim = sim.lock().unwrap_or_else(PoisonError::into_inner);
-    f(sim
-        .as_any_mut()
-        .downcast_mut::<LenzeSimulator>()
-        .expect("a simulated 931"))
 }
 
 fn maintain(
@@ -135,17 +127,20 @@ fn builtin() -> DictionaryArgs {
 
 fn no_prepare(_: &mut LenzeSimulator) {}
 
+/// `maintain --force` with the built-in dictionary: `setup` lines sent to the simulated
+/// 931 first, then `prepare` done to it.
+fn forced(
+    action: &str,
+    value: Option<&str>,
+    setup: &[&str],
+    prepare: &dyn Fn(&mut LenzeSimulator),
+) -> Outcome {
+    maintain(&builtin(), action, value, true, None, setup, prepare)
+}
+
 #[test]
 fn each_action_sends_its_command_once_and_reads_the_documented_reply() {
-    let reset = maintain(
-        &builtin(),
-        "reset",
-        None,
-        true,
-        None,
-        &["OW:0014:00000003"],
-        &no_prepare,
-    );
+    let reset = forced("reset", None, &["OW:0014:00000003"], &no_prepare);
     assert_eq!(reset.code, 0, "{}{}", reset.out, reset.err);
     assert_eq!(reset.requests, ["RESET!"]);
     assert_has(
@@ -157,15 +152,7 @@ fn each_action_sends_its_command_once_and_reads_the_documented_reply() {
     );
     assert_eq!(reset.mode, 0, "the reset drive has its default operating mode");
 
-    let init = maintain(
-        &builtin(),
-        "init",
-        None,
-        true,
-        None,
-        &["OW:0014:00000002"],
-        &no_prepare,
-    );
+    let init = forced("init", None, &["OW:0014:00000002"], &no_prepare);
     assert_eq!(init.code, 0, "{}{}", init.out, init.err);
     assert_eq!(init.requests, ["INIT!"]);
     assert_has(
@@ -175,11 +162,8 @@ fn each_action_sends_its_command_once_and_reads_the_documented_reply() {
     assert_eq!(init.mode, 0, "the default parameter set is back");
 
     // SEP! loads what SAVE! stored in flash, over the mode written since.
-    let load = maintain(
-        &builtin(),
+    let load = forced(
         "load",
-        None,
-        true,
         None,
         &["OW:0014:00000002", "SAVE!", "OW:0014:00000001"],
         &no_prepare,
@@ -192,7 +176,7 @@ fn each_action_sends_its_command_once_and_reads_the_documented_reply() {
     );
     assert_eq!(load.mode, 2);
 
-    let baud = maintain(&builtin(), "baud", Some("19200"), true, None, &[], &no_prepare);
+    let baud = forced("baud", Some("19200"), &[], &no_prepare);
     assert_eq!(baud.code, 0, "{}{}", baud.out, baud.err);
     assert_eq!(baud.requests, ["BAUD19200"]);
     assert_eq!(baud.line_rate, 19200);
@@ -264,31 +248,15 @@ fn with_a_profile_an_enabled_drive_is_refused_and_a_disabled_one_confirmed() {
 
 #[test]
 fn a_lost_or_garbled_reply_is_not_repeated_and_says_what_to_check() {
-    let o = maintain(
-        &builtin(),
-        "reset",
-        None,
-        true,
-        None,
-        &[],
-        &|s: &mut LenzeSimulator| {
-            s.faults().drop_replies(5);
-        },
-    );
+    let o = forced("reset", None, &[], &|s: &mut LenzeSimulator| {
+        s.faults().drop_replies(5);
+    });
     assert_eq!(o.code, 3, "{}{}", o.out, o.err);
     assert_eq!(o.requests, ["RESET!"], "sent once");
     assert_has(&o.err, &["error: reset failed: no reply", "whether the drive carried out reset is unknown: check the drive before repeating it (a drive that restarts may answer later than --timeout allows)"]);
-    let o = maintain(
-        &builtin(),
-        "baud",
-        Some("38400"),
-        true,
-        None,
-        &[],
-        &|s: &mut LenzeSimulator| {
-            s.faults().drop_replies(5);
-        },
-    );
+    let o = forced("baud", Some("38400"), &[], &|s: &mut LenzeSimulator| {
+        s.faults().drop_replies(5);
+    });
     assert_eq!(o.code, 3, "{}{}", o.out, o.err);
     assert_eq!(o.requests, ["BAUD38400"]);
     assert_has(
@@ -296,17 +264,9 @@ fn a_lost_or_garbled_reply_is_not_repeated_and_says_what_to_check() {
         &["the drive may already talk at the new rate: try again with --baud 38400"],
     );
     // A reply that is not the documented one (`DONE` with a character lost).
-    let o = maintain(
-        &builtin(),
-        "load",
-        None,
-        true,
-        None,
-        &[],
-        &|s: &mut LenzeSimulator| {
-            s.faults().corrupt_checksum(1);
-        },
-    );
+    let o = forced("load", None, &[], &|s: &mut LenzeSimulator| {
+        s.faults().corrupt_checksum(1);
+    });
     assert_eq!(o.code, 3, "{}{}", o.out, o.err);
     assert_eq!(o.requests, ["SEP!"]);
     assert_has(

@@ -24,6 +24,7 @@ mod language_server;
 mod lenze_931;
 mod lenze_931_maintain;
 mod lenze_9400;
+mod live_run;
 mod loader_limits;
 mod modbus;
 mod multi_drive;

@@ -4,9 +4,8 @@
 //! `decode` of the frames printed in the Sunfar E500 manual. The endings in virtual time
 //! (lost line, disobedient drive, fault) are recipe cases under tests/cases/ (`modbus_*`).
 
-use crate::support::{
-    assert_has, cli, drivescript, repo_root, scratch, stdout, write_file, LiveRun, Simulator,
-};
+use crate::live_run::ctrl_c_during_a_dwell;
+use crate::support::{assert_has, cli, drivescript, repo_root, scratch, stdout, write_file, Simulator};
 use std::path::PathBuf;
 use std::time::Duration;
 
@@ -21,11 +20,13 @@ fn commissioning(dir: &std::path::Path, drive: &str) -> PathBuf {
     )
 }
 
+/// The commissioning recipe on the simulated Modbus inverter served by `simulate --pty`
+/// with `sim_args`, run with `--set speed=SPEED` and a trace, which must pass: its output,
+/// the trace file and the simulator's port.
 #[cfg(unix)]
-#[test]
-fn the_commissioning_recipe_runs_through_a_pseudo_terminal_and_its_trace_decodes() {
-    let dir = scratch("modbus-commissioning");
-    let sim = Simulator::pty(&["--drive", "modbus-inverter"]);
+fn commissioning_on_a_pty(name: &str, sim_args: &[&str], speed: &str) -> (String, PathBuf, String) {
+    let dir = scratch(name);
+    let sim = Simulator::pty(&[&["--drive", "modbus-inverter"], sim_args].concat());
     let recipe = commissioning(&dir, "modbus-inverter");
     let trace = dir.join("run.trace");
     let text = cli(
@@ -35,17 +36,24 @@ fn the_commissioning_recipe_runs_through_a_pseudo_terminal_and_its_trace_decodes
             "--port",
             &sim.endpoint,
             "--set",
-            "speed=1200rpm",
+            &format!("speed={speed}"),
             "--trace",
             trace.to_str().unwrap(),
         ],
         0,
     )
     .stdout;
+    (text, trace, sim.endpoint.clone())
+}
+
+#[cfg(unix)]
+#[test]
+fn the_commissioning_recipe_runs_through_a_pseudo_terminal_and_its_trace_decodes() {
+    let (text, trace, port) = commissioning_on_a_pty("modbus-commissioning", &[], "1200rpm");
     assert_has(
         &text,
         &[
-            &format!("slave 1 on {} at 19200 8E1", sim.endpoint),
+            &format!("slave 1 on {port} at 19200 8E1"),
             "ok    go to operation_enabled  enable operation → operation enabled",
             "finally 1  ok    disable_operation  control word 3",
             "drive left in switched on at 0 rpm",
@@ -154,29 +162,14 @@ steps:
 #[cfg(unix)]
 #[test]
 fn ctrl_c_through_a_pseudo_terminal_writes_the_stop_code_and_leaves_the_inverter_stopped() {
-    let dir = scratch("modbus-ctrl-c");
     let sim = Simulator::pty(&["--drive", "sunfar-e500"]);
-    let recipe = write_file(
-        &dir,
-        "run.yaml",
-        "name: Inverter run\ndrive: sunfar-e500\nsteps:\n  - go_to: { state: operation_enabled, timeout: 2 s }\n  - set: { speed_setpoint: 600 rpm }\n  - dwell: 1 h\n",
-    );
-    let recipe = recipe.to_string_lossy().to_string();
-    let mut run = LiveRun::start([
-        "run",
-        recipe.as_str(),
-        "--port",
+    let (seen, code, all) = ctrl_c_during_a_dwell(
+        "sunfar-e500",
+        "600 rpm",
         &sim.endpoint,
-        "--baud",
-        "9600",
-        "--parity",
-        "odd",
-    ]);
-    let seen = run.wait_for("set speed_setpoint").to_string();
+        Duration::from_millis(300),
+    );
     assert_has(&seen, &[&format!("slave 1 on {} at 9600 8O1", sim.endpoint)]);
-    std::thread::sleep(Duration::from_millis(300));
-    run.signal("INT");
-    let (code, all) = run.finish();
     assert_eq!(code, Some(130), "{all}");
     assert_has(
         &all,
@@ -313,24 +306,7 @@ fn decode_explains_the_frames_of_the_manual_and_rejects_a_bad_crc() {
 #[cfg(unix)]
 #[test]
 fn the_commissioning_recipe_runs_behind_an_adapter_that_echoes() {
-    let dir = scratch("modbus-echo");
-    let sim = Simulator::pty(&["--drive", "modbus-inverter", "--echo"]);
-    let recipe = commissioning(&dir, "modbus-inverter");
-    let trace = dir.join("run.trace");
-    let text = cli(
-        &[
-            "run",
-            recipe.to_str().unwrap(),
-            "--port",
-            &sim.endpoint,
-            "--set",
-            "speed=600rpm",
-            "--trace",
-            trace.to_str().unwrap(),
-        ],
-        0,
-    )
-    .stdout;
+    let (text, trace, _) = commissioning_on_a_pty("modbus-echo", &["--echo"], "600rpm");
     assert_has(&text, &["drive left in switched on at 0 rpm", "PASSED"]);
     assert_has(
         &std::fs::read_to_string(&trace).unwrap(),

@@ -4,9 +4,10 @@
 //! of different families, each on its own line; `check` names unknown drives with
 //! did-you-mean.
 
+use crate::live_run::LiveRun;
 use crate::support::{
     assert_has, assert_lacks, cli, drivescript, scratch, scratch_file, stderr, stdout, write_file,
-    InProcessRun, LiveRun, Simulator,
+    InProcessRun, Simulator,
 };
 use drivescript::clock::SharedClock;
 use drivescript::drive::device_control::DeviceState;
@@ -221,11 +222,8 @@ fn ctrl_c_on_a_pty_stops_both_drives_each_verified() {
     let dir = scratch("multi-pty-ctrl-c");
     let recipe = write_file(&dir, "recipe.yaml", &TWO_AXES.replace("SAMPLE_FOR", "10 min"));
     let recipe = recipe.to_string_lossy().to_string();
-    let mut run = LiveRun::start(["run", recipe.as_str(), "--port", &sim.endpoint]);
-    run.wait_for("wait until right.speed_actual");
-    std::thread::sleep(Duration::from_millis(500));
-    run.signal("INT");
-    let (code, seen) = run.finish();
+    let run = LiveRun::start(["run", recipe.as_str(), "--port", &sim.endpoint]);
+    let (_, code, seen) = run.interrupt_after("wait until right.speed_actual", Duration::from_millis(500));
     assert_eq!(code, Some(130), "{seen}");
     assert_lacks(&seen, &["CHECK THE DRIVE BY HAND"]);
     // The last enabled (right) is stopped first.

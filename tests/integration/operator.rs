@@ -259,9 +259,15 @@ steps:
             "FAILED",
         ],
     );
+    // Its lines do not promise another attempt either.
     assert_lacks(
         &output,
-        &["trying again", "set speed_setpoint = 1000 rpm", "retried"],
+        &[
+            "trying again",
+            "set speed_setpoint = 1000 rpm",
+            "retried",
+            "retrying",
+        ],
     );
     let report = result.report.expect("report");
     let asked: Vec<_> = report

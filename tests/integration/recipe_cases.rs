@@ -12,7 +12,7 @@
 //! interrupt_at: 30 s           # a stop signal arrives at this (virtual) time (optional)
 //! second_interrupt_at: 31 s    # and again (optional)
 //! signal: TERM                 # which signal (default INT, i.e. Ctrl-C)
-//! safe_stop: { stop_timeout: 5 s, reconnect_timeout: 3 s }   # the run's --stop-timeout…
+//! safe_stop: { stop_timeout: 5 s, reconnect_timeout: 3 s, fault_poll: 1 min }   # the run's --stop-timeout…
 //! output: |                    # lines that must appear, in this order (substring of a line)
 //!   PASSED
 //! control_words: [0, 6, 7, 15, 7, 6]   # exactly the control words the drive received
@@ -112,6 +112,7 @@ struct SimSetup {
 struct SafeStopSetup {
     stop_timeout: Option<String>,
     reconnect_timeout: Option<String>,
+    fault_poll: Option<String>,
 }
 
 fn duration(text: &str) -> Duration {
@@ -164,6 +165,7 @@ fn run_case(dir: &Path) -> Result<(), String> {
     if let Some(s) = &case.safe_stop {
         safe_stop.stop_timeout = s.stop_timeout.as_deref().map(duration);
         safe_stop.reconnect_timeout = s.reconnect_timeout.as_deref().map(duration);
+        safe_stop.fault_poll = s.fault_poll.as_deref().map(duration);
     }
     let sim_setup = case.sim.unwrap_or_default();
     let prepare = move |sim: &Arc<Mutex<dyn SimulatedDrive>>, _clock: &SharedClock| {

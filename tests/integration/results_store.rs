@@ -4,15 +4,24 @@
 //! runs each into one store, hostile serial numbers stored verbatim, foreign files refused
 //! clearly, and the unit's certificate rendered in headless Chromium.
 
+use crate::live_run::LiveRun;
 use crate::support::{
     assert_has, assert_lacks, cli, command, headless_chromium, run_recording, scratch, silent_server,
-    unit_certificate, write_file, InProcessRun, LiveRun, PostgresServer, Simulator,
+    unit_certificate, write_file, InProcessRun, PostgresServer, Ran, Simulator,
 };
 use drivescript::results::{Locator, RunFilter, StoredRun};
 use drivescript::session::{CheckResult, RunInfo, RunObserver, RunReport, StepRecord, UnitIdentity};
 use std::path::Path;
 use std::process::Stdio;
 use std::sync::{Arc, Mutex};
+
+/// `results list --results STORE --simulated FILTER…`, which must succeed.
+fn list(store: &str, filter: &[&str]) -> Ran {
+    cli(
+        &[&["results", "list", "--results", store, "--simulated"], filter].concat(),
+        0,
+    )
+}
 
 /// A short recipe with one check and a sampled series, in virtual time.
 const SHORT: &str = "name: Short acceptance
@@ -186,32 +195,9 @@ fn a_run_is_recorded_with_its_checks_steps_end_state_and_series() {
             "<svg",
         ],
     );
-    let since = cli(
-        &[
-            "results",
-            "list",
-            "--results",
-            store,
-            "--simulated",
-            "--since",
-            "2999-01-01",
-        ],
-        0,
-    );
+    let since = list(store, &["--since", "2999-01-01"]);
     assert_has(&since.stdout, &["no runs"]);
-    let recent = cli(
-        &[
-            "results",
-            "list",
-            "--results",
-            store,
-            "--simulated",
-            "--since",
-            "1h",
-            "--json",
-        ],
-        0,
-    );
+    let recent = list(store, &["--since", "1h", "--json"]);
     assert_has(
         &recent.stdout,
         &[&format!("\"id\": \"{}\"", r.run.id), "\"verdict\": \"passed\""],
@@ -232,18 +218,7 @@ fn a_run_is_recorded_with_its_checks_steps_end_state_and_series() {
     cli(&["run", recipe.to_str().unwrap(), "--fast", "--no-results"], 0);
     assert_eq!(all_runs(store).len(), 2);
     // Filters, export and trend over the runs.
-    let failed = cli(
-        &[
-            "results",
-            "list",
-            "--results",
-            store,
-            "--simulated",
-            "--verdict",
-            "failed",
-        ],
-        0,
-    );
+    let failed = list(store, &["--verdict", "failed"]);
     assert_has(&failed.stdout, &["no runs"]);
     let json = cli(&["results", "export", "--results", store, "--simulated"], 0);
     let parsed: serde_json::Value = serde_json::from_str(&json.stdout).expect("JSON");
@@ -394,18 +369,7 @@ steps:
         .expect("the temperature check");
     assert!(temperature.passed && temperature.marginal, "{temperature:?}");
 
-    let listed = cli(
-        &[
-            "results",
-            "list",
-            "--results",
-            store,
-            "--simulated",
-            "--unit",
-            "SP-104233",
-        ],
-        0,
-    );
+    let listed = list(store, &["--unit", "SP-104233"]);
     assert_has(&listed.stdout, &["Marginal with a unit"]);
     let id = runs[0].run.id.as_str();
     let shown = cli(&["results", "show", id, "--results", store], 0);
@@ -483,18 +447,7 @@ fn a_killed_run_is_left_incomplete_with_its_checks() {
     assert_eq!(runs[0].verdict(), "incomplete");
     assert_eq!(runs[0].checks.len(), 1);
     assert!(runs[0].checks[0].passed);
-    let listed = cli(
-        &[
-            "results",
-            "list",
-            "--results",
-            store.to_str().unwrap(),
-            "--simulated",
-            "--verdict",
-            "incomplete",
-        ],
-        0,
-    );
+    let listed = list(store.to_str().unwrap(), &["--verdict", "incomplete"]);
     assert_has(&listed.stdout, &["INCOMPLETE", "Killed"]);
 }
 
@@ -636,18 +589,7 @@ fn hostile_serials_round_trip(dir: &Path, store: &str) {
     }
     let late_run = s.unit_runs("late 'one' ✓", true).expect("late");
     assert_eq!(late_run[0].run.unit.operator, late.operator);
-    let listed = cli(
-        &[
-            "results",
-            "list",
-            "--results",
-            store,
-            "--simulated",
-            "--unit",
-            HOSTILE[2],
-        ],
-        0,
-    );
+    let listed = list(store, &["--unit", HOSTILE[2]]);
     assert_has(&listed.stdout, &[HOSTILE[2]]);
     assert_eq!(listed.stdout.lines().count(), 2, "{}", listed.stdout);
 }
@@ -770,18 +712,7 @@ fn postgresql_records_runs_from_a_fleet_and_spools_while_the_server_is_down() {
     hostile_serials_round_trip(&dir, &url);
     two_processes_of_200_runs(&dir, &url);
     // The password is never shown.
-    let listed = cli(
-        &[
-            "results",
-            "list",
-            "--results",
-            &url,
-            "--simulated",
-            "--limit",
-            "3",
-        ],
-        0,
-    );
+    let listed = list(&url, &["--limit", "3"]);
     assert_lacks(&format!("{}{}", listed.stdout, listed.stderr), &["pw-s3cret"]);
     // Down during a run: spooled (beside the data directory), delivered after.
     server.down();
@@ -1112,11 +1043,40 @@ fn a_run_refused_before_it_started_is_kept_for_its_unit() {
         ],
         3,
     );
+    // A report file that cannot be written is an invalid command line like the others.
+    let not_a_dir = write_file(&dir, "not-a-directory", "");
+    let junit = not_a_dir.join("junit.xml");
+    run(
+        &[
+            good_path,
+            "--fast",
+            "--unit",
+            "serial=RF-3",
+            "--junit",
+            junit.to_str().unwrap(),
+        ],
+        2,
+    );
     let runs = all_runs(s);
     assert_eq!(
         runs.len(),
-        4,
+        5,
         "the run without a serial is not recorded: {runs:#?}"
+    );
+    let [unwritable] = runs
+        .iter()
+        .filter(|r| r.run.unit.serial.as_deref() == Some("RF-3") && r.verdict() == "refused")
+        .collect::<Vec<_>>()[..]
+    else {
+        panic!("the run refused for its report file is kept for RF-3: {runs:#?}");
+    };
+    assert_has(
+        unwritable
+            .end
+            .as_ref()
+            .and_then(|e| e.reason.as_deref())
+            .unwrap_or(""),
+        &["not-a-directory"],
     );
     let of = |serial: &str, verdict: &str| {
         runs.iter()
@@ -1151,22 +1111,22 @@ fn a_run_refused_before_it_started_is_kept_for_its_unit() {
         &["drivescript-no-such-port"],
     );
     // Listed and filtered like any run; the certificate heads with the passed run.
-    let listed = cli(
-        &[
-            "results",
-            "list",
-            "--results",
-            s,
-            "--simulated",
-            "--verdict",
-            "refused",
-        ],
-        0,
-    );
+    let listed = list(s, &["--verdict", "refused"]);
     assert_has(&listed.stdout, &["REFUSED", "RF-1", "RF-2"]);
     let html = unit_certificate(s, "RF-1", &dir.join("RF-1.html"));
     assert_has(
         &html,
         &["id=\"verdict\">✔ PASSED", "3 run(s) recorded", "REFUSED", "ERROR"],
     );
+    // Each attempt that never started says why, and never that a stop failed: nothing
+    // was sent to the drive.
+    assert_has(
+        &html,
+        &[
+            "speed_setpont",
+            "drivescript-no-such-port",
+            "not started: nothing was sent to the drive",
+        ],
+    );
+    assert_lacks(&html, &["NOT CONFIRMED"]);
 }

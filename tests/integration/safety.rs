@@ -3,9 +3,8 @@
 //! ramp that must not write after a stop, a port that goes away and comes back, and a run
 //! killed beyond any safe stop, which must leave a report that says so.
 
-use crate::support::{
-    assert_has, assert_lacks, scratch, scratch_file, write_file, InProcessRun, LiveRun, Simulator,
-};
+use crate::live_run::LiveRun;
+use crate::support::{assert_has, assert_lacks, scratch, scratch_file, write_file, InProcessRun, Simulator};
 use drivescript::clock::SharedClock;
 use drivescript::drive::device_control::DeviceState;
 use drivescript::family::sd2::codec::{Body, Telegram};

@@ -3,10 +3,11 @@
 //! panic, a stop request during `sample` and during pure computation, a signal through a
 //! real pseudo-terminal) runs the safe stop, and the sandbox refuses what it must.
 
+use crate::live_run::LiveRun;
 use crate::safety::{received, written, CONTROL_WORD, SPEED_SETPOINT};
 use crate::support::{
     assert_has, assert_lacks, cli, control_words, drivescript, repo_root, scratch, scratch_file, stderr,
-    stdout, wide_speed_and_current_rows, write_file, InProcessRun, LiveRun,
+    stdout, wide_speed_and_current_rows, write_file, InProcessRun,
 };
 use drivescript::clock::SharedClock;
 use drivescript::run::RunResult;

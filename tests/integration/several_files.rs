@@ -3,8 +3,9 @@
 //! every ending (a signal, a panic); each file's own HTML report and an index page that
 //! links them with their verdicts; `--set` applied where the parameter exists.
 
+use crate::live_run::LiveRun;
 use crate::reports::markup::{self, junit_xsd, select, text, xml_elements};
-use crate::support::{assert_has, cli, scratch, scratch_file, InProcessRun, LiveRun};
+use crate::support::{assert_has, cli, scratch, scratch_file, InProcessRun};
 use drivescript::clock::SharedClock;
 use drivescript::sim::SimulatedDrive;
 use std::path::{Path, PathBuf};

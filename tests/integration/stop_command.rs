@@ -5,7 +5,8 @@
 
 #![cfg(unix)]
 
-use crate::support::{drivescript, stderr, stdout, LiveRun};
+use crate::live_run::LiveRun;
+use crate::support::{drivescript, stderr, stdout};
 use crate::support::{scratch, Simulator};
 use std::time::{Duration, Instant};
 

@@ -1,6 +1,6 @@
-//! Helpers shared by the integration tests: running the built binary (to its end, in the
-//! background, or as a simulator), in-process runs, scratch folders, assertions on output
-//! text, and loading vectors.
+//! Helpers shared by the integration tests: running the built binary (to its end, or as a
+//! simulator; in the background see `live_run`), in-process runs, scratch folders,
+//! assertions on output text, and loading vectors.
 
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -410,77 +410,6 @@ pub fn wide_speed_and_current_rows(path: &Path) -> Vec<csv::StringRecord> {
     reader.records().map(Result::unwrap).collect()
 }
 
-/// `drivescript ARGS` running in the background (from the repository root), its standard
-/// output read as it comes: for the tests that signal a run in the middle.
-pub struct LiveRun {
-    child: std::process::Child,
-    out: std::process::ChildStdout,
-    seen: String,
-}
-
-impl LiveRun {
-    /// `drivescript run FILE --port PORT`, then flags that each take a path (`--trace`).
-    pub fn run_on(file: &Path, port: &str, path_flags: &[(&str, &Path)]) -> LiveRun {
-        let mut args: Vec<&std::ffi::OsStr> =
-            vec!["run".as_ref(), file.as_os_str(), "--port".as_ref(), port.as_ref()];
-        for (flag, path) in path_flags {
-            args.extend([flag.as_ref(), path.as_os_str()]);
-        }
-        LiveRun::start(args)
-    }
-
-    pub fn start<I, S>(args: I) -> LiveRun
-    where
-        I: IntoIterator<Item = S>,
-        S: AsRef<std::ffi::OsStr>,
-    {
-        let mut child = command()
-            .args(args)
-            .current_dir(repo_root())
-            .stdout(Stdio::piped())
-            .stderr(Stdio::piped())
-            .spawn()
-            .expect("the run starts");
-        let out = child.stdout.take().expect("stdout is piped");
-        LiveRun {
-            child,
-            out,
-            seen: String::new(),
-        }
-    }
-
-    /// Reads the output until it holds `text` (at most 30 s); fails the test otherwise.
-    pub fn wait_for(&mut self, text: &str) -> &str {
-        use std::io::Read;
-        let started = std::time::Instant::now();
-        let mut buf = [0u8; 512];
-        while !self.seen.contains(text) && started.elapsed() < std::time::Duration::from_secs(30) {
-            let n = self.out.read(&mut buf).expect("read the run's output");
-            if n == 0 {
-                break;
-            }
-            self.seen.push_str(&String::from_utf8_lossy(&buf[..n]));
-        }
-        assert!(self.seen.contains(text), "{}", self.seen);
-        &self.seen
-    }
-
-    /// Sends signal `name` (`INT`, `TERM`, …) to the run.
-    pub fn signal(&self, name: &str) {
-        send_signal(&self.child, name);
-    }
-
-    /// Waits for the run to end: its exit code and all it wrote to standard output.
-    pub fn finish(mut self) -> (Option<i32>, String) {
-        use std::io::Read;
-        self.out
-            .read_to_string(&mut self.seen)
-            .expect("the rest of the output");
-        let code = self.child.wait().expect("the run ends").code();
-        (code, self.seen)
-    }
-}
-
 /// Fails the test, showing all of `text`, unless `text` holds every one of `parts`.
 #[track_caller]
 pub fn assert_has(text: &str, parts: &[&str]) {
@@ -631,7 +560,7 @@ impl Terminal {
 }
 
 /// Sends signal `name` (`INT`, `TERM`, …) to `child`.
-fn send_signal(child: &std::process::Child, name: &str) {
+pub fn send_signal(child: &std::process::Child, name: &str) {
     let status = Command::new("kill")
         .arg(format!("-{name}"))
         .arg(child.id().to_string())

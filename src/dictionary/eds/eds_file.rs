@@ -168,7 +168,7 @@ impl EdsFile {
                     }
                 }
             }
-            Some((e, Err(why))) => out.push(Diagnostic::at(&e.span, why, "expected a number")),
+            Some((e, Err(why))) => out.push(Diagnostic::at(&e.span, why.to_string(), "expected a number")),
         }
     }
 
@@ -286,7 +286,7 @@ fn entry(
             None
         }
         Some(e) => access(&e.value)
-            .map_err(|why| out.push(Diagnostic::at(&e.span, why, "unknown access type")))
+            .map_err(|why| out.push(Diagnostic::at(&e.span, why.to_string(), "unknown access type")))
             .ok(),
     };
     let real = matches!(data_type, Some(EdsType::Real32 | EdsType::Real64));

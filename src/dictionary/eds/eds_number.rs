@@ -1,7 +1,7 @@
 //! Integer values of an EDS/DCF entry (CiA 306): decimal, `0x` hexadecimal, octal with a
 //! leading `0`, and `$NODEID` expressions such as `$NODEID+0x180` or `0x600+$NODEID`,
-//! whose value depends on the node the file is used for. Pure: text in, value or a
-//! sentence saying what was expected out.
+//! whose value depends on the node the file is used for. Pure: text in, value or an
+//! [`EdsNumberError`] saying what was expected out.
 
 /// A number from an EDS, possibly relative to the node id.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -23,10 +23,10 @@ impl EdsNumber {
     }
 
     /// Reads `text`. The error says what was expected.
-    pub fn parse(text: &str) -> Result<EdsNumber, String> {
+    pub fn parse(text: &str) -> Result<EdsNumber, EdsNumberError> {
         let t: String = text.chars().filter(|c| !c.is_whitespace()).collect();
         if t.is_empty() {
-            return Err("expected a number, found nothing".into());
+            return Err(EdsNumberError::Empty);
         }
         let upper = t.to_ascii_uppercase();
         if let Some(at) = upper.find("$NODEID") {
@@ -69,15 +69,15 @@ pub(crate) enum EdsLimit {
 
 impl EdsLimit {
     /// Reads `text`, as a float first when `real`. The error says what was expected.
-    pub fn parse(text: &str, real: bool) -> Result<EdsLimit, String> {
+    pub fn parse(text: &str, real: bool) -> Result<EdsLimit, EdsNumberError> {
         if real {
             let t = text.trim();
             if let Ok(v) = t.parse::<f64>() {
                 return Ok(EdsLimit::Real(v));
             }
-            return EdsNumber::parse(t).map(EdsLimit::Number).map_err(|_| {
-                format!("`{t}` is not a number; a REAL object's limit is a decimal such as 1.5 or -3.4E+38")
-            });
+            return EdsNumber::parse(t)
+                .map(EdsLimit::Number)
+                .map_err(|_| EdsNumberError::NotReal { text: t.to_string() });
         }
         EdsNumber::parse(text).map(EdsLimit::Number)
     }
@@ -91,12 +91,34 @@ impl EdsLimit {
     }
 }
 
-fn expression_help(text: &str) -> String {
-    format!("`{text}` is not a $NODEID expression; expected `$NODEID`, `$NODEID+0x180` or `0x180+$NODEID`")
+/// Why an EDS entry's text is not the number it should be: the text, and what an EDS
+/// writes there instead.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub(crate) enum EdsNumberError {
+    #[error("expected a number, found nothing")]
+    Empty,
+    #[error("`{text}` is not a $NODEID expression; expected `$NODEID`, `$NODEID+0x180` or `0x180+$NODEID`")]
+    NotExpression { text: String },
+    #[error("`{text}` is not a hexadecimal number")]
+    NotHexadecimal { text: String },
+    #[error("`{text}` starts with 0, which makes it octal in an EDS, but it has digits beyond 7")]
+    NotOctal { text: String },
+    #[error("`{text}` is not a number (decimal, 0x hexadecimal or 0 octal)")]
+    NotNumber { text: String },
+    #[error("`{text}` is beyond any 64-bit number an object can hold")]
+    Beyond64Bits { text: String },
+    #[error("`{text}` is not a number; a REAL object's limit is a decimal such as 1.5 or -3.4E+38")]
+    NotReal { text: String },
+}
+
+fn expression_help(text: &str) -> EdsNumberError {
+    EdsNumberError::NotExpression {
+        text: text.to_string(),
+    }
 }
 
 /// A signed integer: `-5`, `0x1A`, `017` (octal: CiA 306's leading zero).
-fn integer(text: &str) -> Result<i128, String> {
+fn integer(text: &str) -> Result<i128, EdsNumberError> {
     let (negative, digits) = match text.strip_prefix('-') {
         Some(rest) => (true, rest),
         None => (false, text.strip_prefix('+').unwrap_or(text)),
@@ -106,29 +128,40 @@ fn integer(text: &str) -> Result<i128, String> {
         plain(hex, 16)
             .then(|| i128::from_str_radix(hex, 16).ok())
             .flatten()
-            .ok_or_else(|| format!("`{text}` is not a hexadecimal number"))
+            .ok_or_else(|| EdsNumberError::NotHexadecimal {
+                text: text.to_string(),
+            })
     } else if digits.len() > 1 && digits.starts_with('0') {
         plain(&digits[1..], 8)
             .then(|| i128::from_str_radix(&digits[1..], 8).ok())
             .flatten()
-            .ok_or_else(|| {
-                format!("`{text}` starts with 0, which makes it octal in an EDS, but it has digits beyond 7")
+            .ok_or_else(|| EdsNumberError::NotOctal {
+                text: text.to_string(),
             })
     } else {
         plain(digits, 10)
             .then(|| digits.parse::<i128>().ok())
             .flatten()
-            .ok_or_else(|| format!("`{text}` is not a number (decimal, 0x hexadecimal or 0 octal)"))
+            .ok_or_else(|| EdsNumberError::NotNumber {
+                text: text.to_string(),
+            })
     };
-    let value = parsed?;
-    Ok(if negative { -value } else { value })
+    let value = if negative { -parsed? } else { parsed? };
+    // No CiA 301 type is wider than 64 bits; bounding here also keeps `$NODEID+…` sums
+    // from overflowing.
+    if value > i128::from(u64::MAX) || value < i128::from(i64::MIN) {
+        return Err(EdsNumberError::Beyond64Bits {
+            text: text.to_string(),
+        });
+    }
+    Ok(value)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
 
-    fn n(text: &str) -> Result<(i128, bool), String> {
+    fn n(text: &str) -> Result<(i128, bool), EdsNumberError> {
         EdsNumber::parse(text).map(|n| (n.value, n.plus_node_id))
     }
 
@@ -141,8 +174,8 @@ mod tests {
         assert_eq!(n("0"), Ok((0, false)));
         assert_eq!(n("-32768"), Ok((-32768, false)));
         assert_eq!(n("0xFFFFFFFFFFFFFFFF"), Ok((u64::MAX.into(), false)));
-        assert!(n("09").unwrap_err().contains("octal"));
-        assert!(n("0xZZ").unwrap_err().contains("hexadecimal"));
+        assert!(n("09").unwrap_err().to_string().contains("octal"));
+        assert!(n("0xZZ").unwrap_err().to_string().contains("hexadecimal"));
         assert!(n("").is_err());
         assert!(n("12abc").is_err());
     }
@@ -154,7 +187,7 @@ mod tests {
         assert_eq!(l("-3.4E+38", true), Ok(Some(-3.4e38)));
         assert_eq!(l("0x10", true), Ok(Some(16.0)));
         assert_eq!(l("$NODEID+1", true), Ok(Some(3.0)));
-        assert!(l("1,5", true).unwrap_err().contains("-3.4E+38"));
+        assert!(l("1,5", true).unwrap_err().to_string().contains("-3.4E+38"));
         assert!(
             l("1.5", false).is_err(),
             "an integer object's limit is an integer"
@@ -169,8 +202,18 @@ mod tests {
         assert_eq!(n("0x580+$NODEID"), Ok((0x580, true)));
         assert_eq!(n("$NODEID"), Ok((0, true)));
         assert_eq!(n("$NODEID-1"), Ok((-1, true)));
-        assert!(n("$NODEID*2").unwrap_err().contains("$NODEID+0x180"));
+        assert!(n("$NODEID*2").unwrap_err().to_string().contains("$NODEID+0x180"));
         assert!(n("1-$NODEID").is_err());
+        // Beyond any 64-bit value: refused, never a sum that overflows.
+        let huge = "$NODEID+0x7FFFFFFFFFFFFFFFFFFFFFFFFFFFFFFF";
+        assert!(
+            n(huge).is_err_and(|e| e.to_string().contains("beyond any 64-bit")),
+            "{:?}",
+            n(huge)
+        );
+        assert!(n("-170141183460469231731687303715884105727").is_err());
+        assert!(n("0x10000000000000000").is_err());
+        assert_eq!(n("-9223372036854775808"), Ok((i64::MIN.into(), false)));
         let cob = EdsNumber::parse("$NODEID+0x80").unwrap();
         assert_eq!(cob.resolve(Some(5)), Some(0x85));
         assert_eq!(cob.resolve(None), None);

@@ -126,16 +126,22 @@ pub(crate) struct NotCarried {
 
 /// CiA 306's access types. `rwr`/`rww` (read-write, mapped to a transmit or receive PDO)
 /// are read-write over SDO; `const` is read-only.
-pub(crate) fn access(text: &str) -> Result<Access, String> {
+pub(crate) fn access(text: &str) -> Result<Access, UnknownAccess> {
     match text.trim().to_ascii_lowercase().as_str() {
         "ro" | "const" => Ok(Access::ReadOnly),
         "wo" => Ok(Access::WriteOnly),
         "rw" | "rwr" | "rww" => Ok(Access::ReadWrite),
-        _ => Err(format!(
-            "`{}` is not an access type; CiA 306 has ro, wo, rw, rwr, rww and const",
-            text.trim()
-        )),
+        _ => Err(UnknownAccess {
+            text: text.trim().to_string(),
+        }),
     }
+}
+
+/// An `AccessType` CiA 306 does not define, and the ones it does.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("`{text}` is not an access type; CiA 306 has ro, wo, rw, rwr, rww and const")]
+pub(crate) struct UnknownAccess {
+    pub text: String,
 }
 
 #[cfg(test)]
@@ -156,7 +162,7 @@ mod tests {
                 Access::ReadWrite
             ]
         );
-        assert!(access("r").unwrap_err().contains("rww and const"));
+        assert!(access("r").unwrap_err().to_string().contains("rww and const"));
     }
 
     #[test]

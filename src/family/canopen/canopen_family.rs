@@ -5,10 +5,12 @@
 //! ([`NmtMaster`]).
 
 use super::nmt_master::NmtMaster;
-use super::sdo_family::{open_sdo, parse_node, raw_sdo_object, sdo_frame_direction, sim_node};
+use super::sdo_family::{
+    open_sdo, parse_node, raw_sdo_object, sdo_family_info, sdo_frame_direction, sim_node,
+};
 use super::sim::Cia402Node;
 use super::{SdoExplainer, CIA_301_NOTATION, INDEX_NOTATION};
-use crate::bus::{Bus, SerialSettings};
+use crate::bus::Bus;
 use crate::dictionary::{Address, AddressError, DataType, Dictionary, ObjectDef};
 use crate::family::{
     DriveAddress, Family, FamilyError, FamilyInfo, LinkContext, LinkOptions, Opened, SimulatedDevice,
@@ -52,11 +54,8 @@ pub fn parse_index_address(text: &str) -> Result<Address, AddressError> {
 impl Family for CanopenFamily {
     fn info(&self) -> FamilyInfo {
         let title = "CANopen CiA 402 drives over SDO (SLCAN adapter or SocketCAN), objects from their EDS";
-        // SLCAN adapters on USB ignore the serial rate; 115200 8N1 suits those on a real UART.
-        FamilyInfo::new("canopen", title, parse_index_address)
+        sdo_family_info("canopen", title, parse_index_address)
             .dictionaries(&[crate::builtin_dictionary!("canopen")])
-            .frames()
-            .serial(SerialSettings::with_baud(115_200))
             .address_help("the drive's CANopen node id 1..127 (default 1)")
     }
 
@@ -99,14 +98,8 @@ impl Family for CanopenFamily {
         if !(t.starts_with("0x") || t.starts_with("0X")) {
             return None;
         }
-        Some(parse_index_address(t).map_err(FamilyError::from).map(|address| {
-            raw_sdo_object(
-                t,
-                address,
-                data_type,
-                format!("CANopen object {t} (not in the dictionary)"),
-            )
-        }))
+        let description = format!("CANopen object {t} (not in the dictionary)");
+        Some(raw_sdo_object(t, parse_index_address, data_type, description))
     }
 
     /// `0x6041`, `0x1018/2`.

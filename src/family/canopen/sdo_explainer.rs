@@ -7,7 +7,8 @@
 //! object they belong to. Frames arrive as [`CanFrame::to_bytes`].
 
 use super::codec::{
-    error_code_text, AbortCode, Emcy, NmtCommand, NmtState, SdoRequest, SdoResponse, Uploaded, NMT_ID,
+    error_code_text, AbortCode, Emcy, NmtCommand, NmtState, SdoRequest, SdoResponse, Segment, Uploaded,
+    NMT_ID,
 };
 use crate::bus::CanFrame;
 use crate::dictionary::Dictionary;
@@ -278,10 +279,10 @@ impl SdoExplainer {
                         self.object(*index, *subindex),
                         size.map(|s| format!(", {s} bytes")).unwrap_or_default()
                     ),
-                    SdoResponse::UploadSegment { data, .. } => format!(
+                    SdoResponse::UploadSegment(segment) => format!(
                         "{body}{} {:?} {from}",
                         self.segment_of(*node),
-                        String::from_utf8_lossy(data)
+                        String::from_utf8_lossy(&segment.data)
                     ),
                     SdoResponse::DownloadInitiate { index, subindex } => {
                         format!("write {} accepted {from}", self.object(*index, *subindex))
@@ -390,11 +391,11 @@ fn to_json(sdo: &Sdo, notation: ExplainNotation) -> Value {
             m.insert("abort".into(), json!(code.0));
         }
         Sdo::Request {
-            body: SdoRequest::DownloadSegment { data, last, toggle },
+            body: SdoRequest::DownloadSegment(Segment { data, last, toggle }),
             ..
         }
         | Sdo::Response {
-            body: SdoResponse::UploadSegment { data, last, toggle },
+            body: SdoResponse::UploadSegment(Segment { data, last, toggle }),
             ..
         } => {
             m.insert("toggle".into(), json!(u8::from(*toggle)));

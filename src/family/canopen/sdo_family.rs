@@ -1,16 +1,26 @@
 //! What every family on CANopen SDO does alike (the generic `canopen` family and the
-//! Lenze 9400): node ids 1..=127 as `--address`, opening SDO object access on a CAN frame
-//! bus in the family's notation, and an object named on the command line in the family's
-//! notation. The families keep what differs: their notation, dictionary and simulator.
+//! Lenze 9400): their bus and serial settings, node ids 1..=127 as `--address`, opening SDO
+//! object access on a CAN frame bus in the family's notation, and an object named on the
+//! command line in the family's notation. The families keep what differs: their notation,
+//! dictionary and simulator.
 
 use super::nmt_master::NmtMaster;
 use super::{SdoAccess, SdoLink, SdoLinkConfig, SdoNotation};
-use crate::bus::Bus;
-use crate::dictionary::{Access, Address, DataType, ObjectDef};
-use crate::family::{DriveAddress, FamilyError, LinkContext, LinkOptions, Opened};
+use crate::bus::{Bus, SerialSettings};
+use crate::dictionary::{Access, AddressParser, DataType, ObjectDef};
+use crate::family::{DriveAddress, FamilyError, FamilyInfo, LinkContext, LinkOptions, Opened};
 
 /// The node `--address` means when it is not given: CANopen's lowest node id.
 pub const DEFAULT_NODE: u8 = 1;
+
+/// The facts of an SDO family with objects in the notation `address_parser` reads: it talks
+/// over a CAN frame bus, and SLCAN adapters on USB ignore the serial rate, while 115200 8N1
+/// suits those on a real UART. The family adds its dictionaries and address help.
+pub fn sdo_family_info(id: &'static str, title: &'static str, address_parser: AddressParser) -> FamilyInfo {
+    FamilyInfo::new(id, title, address_parser)
+        .frames()
+        .serial(SerialSettings::with_baud(115_200))
+}
 
 /// `--address` as a node id 1..=127; `help` says how it is written.
 pub fn parse_node(text: Option<&str>, help: &str) -> Result<DriveAddress, FamilyError> {
@@ -75,16 +85,18 @@ pub fn open_sdo(
     Ok(Box::new(SdoAccess::new(link, nmt)))
 }
 
-/// An object named `text` on the command line at `address`. Without `--type` it is
-/// read-only and typed `i32`: the node indicates each value's size, and the access reads
-/// narrower values widened as signed (see `sdo_value`); a write needs `--type`, because a
-/// wrong width is refused by the node at best and misread at worst.
+/// An object named `text` on the command line, at the address `parse` reads from it (its
+/// error the family's refusal). Without `--type` it is read-only and typed `i32`: the node
+/// indicates each value's size, and the access reads narrower values widened as signed
+/// (see `sdo_value`); a write needs `--type`, because a wrong width is refused by the node
+/// at best and misread at worst.
 pub fn raw_sdo_object(
     text: &str,
-    address: Address,
+    parse: AddressParser,
     data_type: Option<DataType>,
     description: String,
-) -> ObjectDef {
+) -> Result<ObjectDef, FamilyError> {
+    let address = parse(text)?;
     let mut def = match data_type {
         Some(dt) => ObjectDef::new(text, address, dt, Access::ReadWrite),
         None => {
@@ -97,5 +109,5 @@ pub fn raw_sdo_object(
         }
     };
     def.description = description;
-    def
+    Ok(def)
 }

@@ -178,6 +178,14 @@ impl SdoLink {
         match step {
             // The node's answer: not retried.
             SdoStep::Aborted(code) => Err(self.refused(operation, index, subindex, code)),
+            SdoStep::TooLong { problem, .. } => Err(AccessError::UnexpectedReply {
+                port: self.bus.name().to_string(),
+                address: self.address(),
+                request: self.describe(operation, index, subindex, Some(&first_frame)),
+                detail: format!(
+                    "{problem}; the transfer was aborted (read a value this long with a CANopen tool)"
+                ),
+            }),
             step => Ok(step),
         }
     }
@@ -211,6 +219,11 @@ impl SdoLink {
                         self.core.stats.mismatched_replies += 1;
                         self.core
                             .event(&format!("passed over {}: {why}", frame.to_candump()));
+                    }
+                    // The node's whole answer, ended here and reported by the caller.
+                    SdoStep::TooLong { problem, abort } => {
+                        self.send(bus, &abort).map_err(AttemptFailure::Transport)?;
+                        break SdoStep::TooLong { problem, abort };
                     }
                     SdoStep::Failed { problem, abort } => {
                         if let Some(abort) = abort {
@@ -560,6 +573,41 @@ mod tests {
             "abort with 0x05030000 toggle bit"
         );
         assert_eq!(link.stats().retries, 1);
+    }
+
+    /// A value longer than a transfer takes is the node's answer, not noise: the transfer
+    /// is aborted once and refused, never tried again (the node would send the same).
+    #[test]
+    fn a_value_longer_than_a_transfer_takes_is_aborted_and_not_retried() {
+        let (mut link, peer) = scripted(12, vec![vec![(0x58C, "41 9c 5f 00 00 10 00 00")], vec![]]);
+        let e = link.upload(0x5F9C, 0).unwrap_err();
+        assert!(matches!(e, AccessError::UnexpectedReply { .. }), "{e}");
+        let text = e.to_string();
+        assert!(
+            text.contains("the node announces 4096 bytes; drivescript takes at most 256"),
+            "{text}"
+        );
+        assert!(!text.contains("noise") && !text.contains("attempt"), "{text}");
+        assert_eq!(link.stats().retries, 0);
+        let sent = peer.lock().unwrap().received.clone();
+        assert_eq!(sent.len(), 2, "the request and one abort: {sent:?}");
+        assert!(sent[1].starts_with("60C#809C5F00"), "{sent:?}");
+        // Segments beyond the bound without a size announced say so.
+        let mut segments = vec![vec![(0x58C, "40 9c 5f 00 00 00 00 00")]];
+        for k in 0..40u8 {
+            let toggle = if k % 2 == 0 { "00" } else { "10" };
+            segments.push(vec![(
+                0x58C,
+                format!("{toggle} 41 41 41 41 41 41 41").leak() as &str,
+            )]);
+        }
+        let (mut link, _) = scripted(12, segments);
+        let text = link.upload(0x5F9C, 0).unwrap_err().to_string();
+        assert!(
+            text.contains("the node sends more than the 256 bytes drivescript takes (it announced no size)"),
+            "{text}"
+        );
+        assert_eq!(link.stats().retries, 0);
     }
 
     #[test]

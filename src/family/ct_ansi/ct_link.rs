@@ -16,7 +16,9 @@
 //! until then it is the drive's only when nothing follows it for `echo_wait` after the
 //! message has left.
 
-use super::codec::{show_bytes, split, NodeAddress, Reply, Request, Sender, Split, EOT};
+use super::codec::{
+    show_bytes, split, DecodeError, NodeAddress, Parameter, Reply, Request, Sender, Split, EOT,
+};
 use super::echo::{match_echo, EchoMatch};
 use super::link_config::{CtLinkConfig, BAUD_CHANGE_WAIT};
 use crate::bus::{SharedTransport, Transport, TransportError};
@@ -59,7 +61,7 @@ pub struct CtLink {
 }
 
 /// A reply that does not answer: its bytes and why.
-type Refused = Refusal<Vec<u8>, String>;
+type Refused = Refusal<Vec<u8>, ReplyProblem>;
 
 impl CtLink {
     pub fn new(transport: SharedTransport, clock: SharedClock, config: CtLinkConfig) -> Self {
@@ -199,7 +201,7 @@ impl CtLink {
             unanswered.into_error(text, plan.reply_timeout, |r| {
                 (
                     format!("`{}` ({})", to_hex(&r.reply), show_bytes(&r.reply)),
-                    r.problem,
+                    r.problem.to_string(),
                 )
             })
         })
@@ -228,24 +230,40 @@ impl CoreLink for CtLink {
     }
 }
 
+/// Why a reply does not answer the message (the problem of a `Refusal`, shown as it is).
+#[derive(Debug, thiserror::Error)]
+pub(super) enum ReplyProblem {
+    #[error("reply for parameter {got}, expected {expected}")]
+    OtherParameter { got: Parameter, expected: Parameter },
+    #[error("{reply} to a read (expected the value or EOT)")]
+    ToRead { reply: &'static str },
+    #[error("{reply} to a write (expected ACK or NAK)")]
+    ToWrite { reply: &'static str },
+    #[error("{reply} to a short read command")]
+    ToShortRead { reply: &'static str },
+    /// Not a valid message at all.
+    #[error(transparent)]
+    Corrupt(#[from] DecodeError),
+}
+
 /// Whether `reply` is an answer to `request`: a read gets the value of the same parameter
-/// or EOT, a short read (ACK, NAK, BS) a value or EOT, a write ACK or NAK. (The reason is
-/// text: it becomes the problem of a `Refusal`, shown as it is.)
-fn answers(request: &Request, reply: &Reply) -> Result<(), String> {
+/// or EOT, a short read (ACK, NAK, BS) a value or EOT, a write ACK or NAK.
+fn answers(request: &Request, reply: &Reply) -> Result<(), ReplyProblem> {
     match (request, reply) {
         (Request::Read { parameter, .. }, Reply::Value { parameter: got, .. }) if got != parameter => {
-            Err(format!("reply for parameter {got}, expected {parameter}"))
+            Err(ReplyProblem::OtherParameter {
+                got: *got,
+                expected: *parameter,
+            })
         }
         (Request::Read { .. }, Reply::Value { .. } | Reply::NoSuchParameter) => Ok(()),
         (Request::Write { .. }, Reply::Accepted | Reply::Refused) => Ok(()),
-        (Request::Read { .. }, other) => {
-            Err(format!("{} to a read (expected the value or EOT)", kind(other)))
-        }
-        (Request::Write { .. }, other) => Err(format!("{} to a write (expected ACK or NAK)", kind(other))),
+        (Request::Read { .. }, other) => Err(ReplyProblem::ToRead { reply: kind(other) }),
+        (Request::Write { .. }, other) => Err(ReplyProblem::ToWrite { reply: kind(other) }),
         // A short command's answer is a normal read reply: a value, or EOT for a parameter
         // the drive does not have.
         (_, Reply::Value { .. } | Reply::NoSuchParameter) => Ok(()),
-        (_, other) => Err(format!("{} to a short read command", kind(other))),
+        (_, other) => Err(ReplyProblem::ToShortRead { reply: kind(other) }),
     }
 }
 

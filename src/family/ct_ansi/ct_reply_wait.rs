@@ -126,7 +126,7 @@ impl CtLink {
                                     self.core.stats.corrupt_replies += 1;
                                     Err(AttemptFailure::Bad(Refusal {
                                         reply: bytes,
-                                        problem: problem.to_string(),
+                                        problem: problem.into(),
                                     }))
                                 }
                             };

@@ -3,7 +3,7 @@
 //! commands and states the drive does not have, and the refusals of profiles that would
 //! not be safe.
 
-use crate::dictionary::{DecimalPlaces, Dictionary, Quantity, RawValue};
+use crate::dictionary::{DecimalPlaces, Dictionary, DictionaryError, Quantity, RawValue};
 use crate::drive::device_control::{DeviceCommand, DeviceState};
 use crate::drive::state_path::{next_step_in, NextStep};
 use crate::family::Registry;
@@ -118,11 +118,11 @@ fn paths_go_only_through_the_states_the_drive_has() {
 }
 
 /// A small dictionary with `profile` (the lines under `profile:`).
-fn with_profile(profile: &str) -> Result<Dictionary, String> {
+fn with_profile(profile: &str) -> Result<Dictionary, DictionaryError> {
     let text = format!(
         "family: x\nobjects:\n  - {{ name: cw, index: 1, type: u16, access: rw }}\n  - {{ name: sw, index: 2, type: u16, access: ro }}\n  - {{ name: reset, index: 3, type: u16, access: rw }}\n  - {{ name: ro_word, index: 4, type: u16, access: ro }}\nprofile:\n  control_word: cw\n  status_word: sw\n{profile}"
     );
-    Dictionary::from_yaml("test.yaml", &text).map_err(|e| format!("{e:?}"))
+    Dictionary::from_yaml("test.yaml", &text)
 }
 
 const COMMANDS: &str = "  commands:\n    shutdown: 128\n    switch_on: 129\n    disable_voltage: 128\n    quick_stop: none\n    disable_operation: 129\n    enable_operation: 131\n    fault_reset: { object: reset, value: 100 }\n";
@@ -135,7 +135,7 @@ fn a_reduced_profile_reads_and_unsafe_ones_are_refused() {
     ));
     assert!(ok.is_ok(), "{ok:?}");
     let refused = |profile: String, why: &str| {
-        let e = with_profile(&profile).unwrap_err();
+        let e = format!("{:?}", with_profile(&profile).unwrap_err());
         assert!(e.contains(why), "expected `{why}` in {e}");
     };
     refused(

@@ -245,7 +245,7 @@ impl ObjectAccess for LenzeAccess {
     ) -> Option<Result<MaintenanceOutcome, AccessError>> {
         let request = match super::maintenance::request(action, argument) {
             Ok(r) => r,
-            Err(e) => return Some(Err(AccessError::Encode(e))),
+            Err(e) => return Some(Err(AccessError::Encode(e.to_string()))),
         };
         let reply = match self.link.exchange(&request) {
             Ok(r) => r,

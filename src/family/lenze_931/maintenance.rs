@@ -47,23 +47,39 @@ pub const ACTIONS: &[MaintenanceAction] = &[
 ];
 
 /// The request of the action named `name` with its argument; `Err` says what is wrong.
-/// (Text, not a typed error: `Drive::maintain` carries it as the refusal's reason.)
-pub fn request(name: &str, argument: Option<u32>) -> Result<Request, String> {
+pub fn request(name: &str, argument: Option<u32>) -> Result<Request, BadAction> {
     match (name, argument) {
         ("reset", None) => Ok(Request::Reset),
         ("init", None) => Ok(Request::Init),
         ("load", None) => Ok(Request::Sep),
         ("baud", Some(rate)) if (1..=MAX_BAUD).contains(&rate) => Ok(Request::Baud(rate)),
-        ("baud", Some(rate)) => Err(format!(
-            "baud {rate}: give a rate from 1 to {MAX_BAUD} (the 931 ships at 9600)"
-        )),
-        ("baud", None) => Err("baud needs the new rate, e.g. `baud 19200`".into()),
-        (name, Some(_)) if ACTIONS.iter().any(|a| a.name == name) => Err(format!("{name} takes no value")),
-        (name, _) => Err(format!(
-            "the 931 has no maintenance action `{name}` (it has: {})",
-            ACTIONS.iter().map(|a| a.name).collect::<Vec<_>>().join(", ")
-        )),
+        ("baud", Some(rate)) => Err(BadAction::Rate { rate }),
+        ("baud", None) => Err(BadAction::NoRate),
+        (name, Some(_)) if ACTIONS.iter().any(|a| a.name == name) => Err(BadAction::TakesNoValue {
+            name: name.to_string(),
+        }),
+        (name, _) => Err(BadAction::Unknown {
+            name: name.to_string(),
+        }),
     }
+}
+
+/// Why a maintenance action cannot be sent, and what to give instead (the access carries
+/// it as `AccessError::Encode`: nothing was sent).
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum BadAction {
+    #[error("baud {rate}: give a rate from 1 to {MAX_BAUD} (the 931 ships at 9600)")]
+    Rate { rate: u32 },
+    #[error("baud needs the new rate, e.g. `baud 19200`")]
+    NoRate,
+    #[error("{name} takes no value")]
+    TakesNoValue { name: String },
+    #[error("the 931 has no maintenance action `{name}` (it has: {})", action_names())]
+    Unknown { name: String },
+}
+
+fn action_names() -> String {
+    ACTIONS.iter().map(|a| a.name).collect::<Vec<_>>().join(", ")
 }
 
 #[cfg(test)]
@@ -90,12 +106,11 @@ mod tests {
 
     #[test]
     fn wrong_values_and_names_are_refused_with_what_to_give() {
-        assert!(request("baud", None).unwrap_err().contains("baud 19200"));
-        assert!(request("baud", Some(0)).unwrap_err().contains("from 1 to 999999"));
+        let refused = |name, argument| request(name, argument).unwrap_err().to_string();
+        assert!(refused("baud", None).contains("baud 19200"));
+        assert!(refused("baud", Some(0)).contains("from 1 to 999999"));
         assert!(request("baud", Some(1_000_000)).is_err());
-        assert_eq!(request("reset", Some(1)).unwrap_err(), "reset takes no value");
-        assert!(request("save", None)
-            .unwrap_err()
-            .contains("it has: reset, init, load, baud"));
+        assert_eq!(refused("reset", Some(1)), "reset takes no value");
+        assert!(refused("save", None).contains("it has: reset, init, load, baud"));
     }
 }

@@ -4,10 +4,10 @@
 
 use super::codec::Code;
 use super::sim::Lenze9400Simulator;
-use crate::bus::{Bus, SerialSettings};
+use crate::bus::Bus;
 use crate::dictionary::{Address, AddressError, DataType, Dictionary, ObjectDef};
 use crate::family::canopen::sdo_family::{
-    open_sdo, parse_node, raw_sdo_object, sdo_frame_direction, sim_node,
+    open_sdo, parse_node, raw_sdo_object, sdo_family_info, sdo_frame_direction, sim_node,
 };
 use crate::family::canopen::{ExplainNotation, SdoExplainer, SdoNotation};
 use crate::family::{
@@ -48,11 +48,8 @@ fn parse_code_address(text: &str) -> Result<Address, AddressError> {
 impl Family for Lenze9400Family {
     fn info(&self) -> FamilyInfo {
         let title = "Lenze 9400 over CANopen SDO (SLCAN adapter or SocketCAN)";
-        // SLCAN adapters on USB ignore the serial rate; 115200 8N1 suits those on a real UART.
-        FamilyInfo::new("lenze-9400", title, parse_code_address)
+        sdo_family_info("lenze-9400", title, parse_code_address)
             .dictionaries(&[crate::builtin_dictionary!("lenze-9400")])
-            .frames()
-            .serial(SerialSettings::with_baud(115_200))
             .address_help("the drive's CANopen node address 1..127 (code C00350; default 1)")
     }
 
@@ -89,24 +86,15 @@ impl Family for Lenze9400Family {
         sdo_frame_direction(frame)
     }
 
-    /// `C00061`, `C00002/16` (see `raw_sdo_object`). Without `--type` the object is
-    /// read-only and typed `i32`: the node indicates each value's size, and the access reads
-    /// narrower values widened as signed (see `sdo_value`); a write needs `--type`, because
-    /// a wrong width is refused by the node at best and misread at worst.
+    /// `C00061`, `C00002/16` (see `raw_sdo_object`: without `--type`, read-only).
     fn raw_object(&self, text: &str, data_type: Option<DataType>) -> Option<Result<ObjectDef, FamilyError>> {
         let t = text.trim();
         // Dictionary names are lower case, so `C` and a digit can only be a code.
         if !(t.starts_with('C') && t[1..].starts_with(|c: char| c.is_ascii_digit())) {
             return None;
         }
-        Some(parse_code_address(t).map_err(FamilyError::from).map(|address| {
-            raw_sdo_object(
-                t,
-                address,
-                data_type,
-                format!("Lenze code {t} (not in the dictionary)"),
-            )
-        }))
+        let description = format!("Lenze code {t} (not in the dictionary)");
+        Some(raw_sdo_object(t, parse_code_address, data_type, description))
     }
 
     /// `C00099`, `C00002/16`: what the vendor's EDS lists gains the code as an alias.

@@ -91,21 +91,25 @@ mod tests {
     use super::*;
     use crate::family::{sd2::Sd2Family, Family};
 
-    fn number(address: Option<&str>, given: &[(&str, &str)]) -> Result<u32, String> {
-        let text = to_address(address, given).map_err(|p| format!("{}: {}", p.key, p.message))?;
-        Ok(Sd2Family.parse_drive_address(Some(&text))?.number)
+    /// The DNC address the keys give, through the notation `parse_drive_address` reads.
+    fn number(address: Option<&str>, given: &[(&str, &str)]) -> u32 {
+        let text = to_address(address, given).unwrap_or_else(|p| panic!("{}: {}", p.key, p.message));
+        match Sd2Family.parse_drive_address(Some(&text)) {
+            Ok(drive) => drive.number,
+            Err(e) => panic!("`{text}`: {e}"),
+        }
     }
 
     #[test]
     fn the_keys_name_the_dnc_addresses_the_notation_names() {
-        assert_eq!(number(None, &[("dnc_address", "2")]), Ok(2));
-        assert_eq!(number(None, &[("dnc_address", "255")]), Ok(255));
+        assert_eq!(number(None, &[("dnc_address", "2")]), 2);
+        assert_eq!(number(None, &[("dnc_address", "255")]), 255);
         // Switch N, axis a: N × 2 + 2; axis b: + 3, exactly as `NA` and `NB`.
         for switch in [0u32, 3, 126] {
             let s = switch.to_string();
-            assert_eq!(number(Some(&s), &[("axis", "a")]), Ok(switch * 2 + 2));
-            assert_eq!(number(Some(&s), &[("axis", "b")]), Ok(switch * 2 + 3));
-            assert_eq!(number(Some(&s), &[("axis", "B")]), Ok(switch * 2 + 3));
+            assert_eq!(number(Some(&s), &[("axis", "a")]), switch * 2 + 2);
+            assert_eq!(number(Some(&s), &[("axis", "b")]), switch * 2 + 3);
+            assert_eq!(number(Some(&s), &[("axis", "B")]), switch * 2 + 3);
             let b = format!("{switch}B");
             assert_eq!(number(Some(&s), &[("axis", "b")]), number(Some(&b), &[]));
         }

@@ -1,7 +1,8 @@
 //! The axes of a plot: the value and time ranges with their margins, round tick values,
-//! the time unit that suits a span, an axis' title, and the grid with its tick labels as
-//! SVG text. Pure arithmetic and text.
+//! the time unit that suits a span, an axis' title, and the grid with its tick labels and
+//! the axes with their titles as SVG text. Pure arithmetic and text.
 
+use super::html_text::esc;
 use crate::session::number;
 use std::fmt::Write as _;
 
@@ -53,6 +54,28 @@ pub fn grid(
         );
     }
     unit
+}
+
+/// The axes along the left and the bottom of `area`, the time axis' title (in `time_unit`)
+/// centred at height `time_title_y`, and `title` turned along the value axis.
+pub fn axes(s: &mut String, area: Area, time_unit: &str, time_title_y: f64, title: &str) {
+    let (left, right, top, bottom) = (area.left, area.right, area.top, area.bottom);
+    let _ = writeln!(
+        s,
+        "<line class=\"axis\" stroke=\"#111\" x1=\"{left}\" y1=\"{bottom}\" x2=\"{right}\" y2=\"{bottom}\"/>\
+         <line class=\"axis\" stroke=\"#111\" x1=\"{left}\" y1=\"{top}\" x2=\"{left}\" y2=\"{bottom}\"/>"
+    );
+    let _ = writeln!(
+        s,
+        "<text class=\"axis-title\" x=\"{:.2}\" y=\"{time_title_y:.2}\" text-anchor=\"middle\">time [{time_unit}]</text>",
+        (left + right) / 2.0
+    );
+    let (tx, ty) = (16.0, (top + bottom) / 2.0);
+    let _ = writeln!(
+        s,
+        "<text class=\"axis-title\" x=\"{tx}\" y=\"{ty:.2}\" text-anchor=\"middle\" transform=\"rotate(-90 {tx} {ty:.2})\">{}</text>",
+        esc(title)
+    );
 }
 
 /// The range of `values`, widened by `pad` of its width on each side; never empty.

@@ -3,7 +3,7 @@
 //! the page around it; the axes' ranges and ticks come from [`super::plot_axes`].
 
 use super::html_text::esc;
-use super::plot_axes::{axis_title, grid, padded_range, Area};
+use super::plot_axes::{axes, axis_title, grid, padded_range, Area};
 use crate::session::with_unit;
 use crate::session::{number, CheckResult, Series};
 use std::fmt::Write as _;
@@ -120,25 +120,7 @@ pub fn plot_svg_with_limits(series: &Series, limits: &[LimitLine], id: usize) ->
         bottom: y_bottom,
     };
     let time_unit = grid(&mut s, area, (&x, &y), (t0, t1), (v0, v1), 16.0);
-    // Axes and their titles.
-    let _ = writeln!(
-        s,
-        "<line class=\"axis\" stroke=\"#111\" x1=\"{x_left}\" y1=\"{y_bottom}\" x2=\"{x_right}\" y2=\"{y_bottom}\"/>\
-         <line class=\"axis\" stroke=\"#111\" x1=\"{x_left}\" y1=\"{y_top}\" x2=\"{x_left}\" y2=\"{y_bottom}\"/>"
-    );
-    let _ = writeln!(
-        s,
-        "<text class=\"axis-title\" x=\"{:.2}\" y=\"{:.2}\" text-anchor=\"middle\">time [{time_unit}]</text>",
-        (x_left + x_right) / 2.0,
-        H - 12.0
-    );
-    let (tx, ty) = (16.0, (y_top + y_bottom) / 2.0);
-    let _ = writeln!(
-        s,
-        "<text class=\"axis-title\" x=\"{tx}\" y=\"{ty:.2}\" text-anchor=\"middle\" \
-         transform=\"rotate(-90 {tx} {ty:.2})\">{}</text>",
-        esc(&title)
-    );
+    axes(&mut s, area, time_unit, H - 12.0, &title);
 
     // The data, clipped to the plot area, in data coordinates.
     let _ = writeln!(

@@ -6,7 +6,7 @@
 //! run, so a day draws as fast as a minute. Reads the run report; draws nothing else.
 
 use super::html_text::esc;
-use super::plot_axes::{axis_title, grid, padded_range, Area};
+use super::plot_axes::{axes, axis_title, grid, padded_range, Area};
 use super::svg_plot::{downsample_to, finite, MAX_PLOT_POINTS};
 use crate::session::{RunReport, Series};
 use std::fmt::Write as _;
@@ -122,20 +122,7 @@ fn timeline_svg(
         bottom: yb,
     };
     let time_unit = grid(&mut s, area, (&x, &y), (t0, t1), (v0, v1), 14.0);
-    let _ = writeln!(
-        s,
-        "<line class=\"axis\" stroke=\"#111\" x1=\"{xl}\" y1=\"{yb}\" x2=\"{xr}\" y2=\"{yb}\"/>\
-         <line class=\"axis\" stroke=\"#111\" x1=\"{xl}\" y1=\"{yt}\" x2=\"{xl}\" y2=\"{yb}\"/>\
-         <text class=\"axis-title\" x=\"{:.2}\" y=\"{:.2}\" text-anchor=\"middle\">time [{time_unit}]</text>",
-        (xl + xr) / 2.0,
-        H - 6.0
-    );
-    let (tx, ty) = (16.0, (yt + yb) / 2.0);
-    let _ = writeln!(
-        s,
-        "<text class=\"axis-title\" x=\"{tx}\" y=\"{ty:.2}\" text-anchor=\"middle\" transform=\"rotate(-90 {tx} {ty:.2})\">{}</text>",
-        esc(&title)
-    );
+    axes(&mut s, area, time_unit, H - 6.0, &title);
     for (k, (t, label)) in stages.iter().enumerate() {
         let px = x(*t);
         // Labels alternate between two rows so neighbouring stages stay readable.

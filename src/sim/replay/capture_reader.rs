@@ -5,6 +5,7 @@
 //! direction). Comments, link events (`--`) and blank lines are skipped; anything else is a
 //! [`CaptureError`] naming file and line. Must not interpret the telegrams.
 
+use super::capture_error::LineProblem;
 use super::CaptureError;
 use crate::bus::CanFrame;
 use crate::link::Direction;
@@ -63,9 +64,7 @@ impl<R: BufRead> CaptureReader<R> {
             }
             self.line += 1;
             if self.buf.len() as u64 > MAX_LINE {
-                return Err(self.error(format!(
-                    "the line is longer than {MAX_LINE} bytes; no telegram is"
-                )));
+                return Err(self.error(LineProblem::TooLong { max: MAX_LINE }));
             }
             // Comments may hold any bytes; telegrams are ASCII.
             let text = String::from_utf8_lossy(&self.buf).into_owned();
@@ -85,7 +84,7 @@ impl<R: BufRead> CaptureReader<R> {
         }
     }
 
-    fn error(&self, what: String) -> CaptureError {
+    fn error(&self, what: LineProblem) -> CaptureError {
         CaptureError::Line {
             file: self.file.clone(),
             line: self.line,
@@ -97,7 +96,7 @@ impl<R: BufRead> CaptureReader<R> {
 pub(super) type Parsed = Option<(Duration, Option<Direction>, Vec<u8>, bool)>;
 
 /// One line: a telegram, `None` for what carries none, or what is wrong with it.
-pub(super) fn parse_line(text: &str) -> Result<Parsed, String> {
+pub(super) fn parse_line(text: &str) -> Result<Parsed, LineProblem> {
     // A `-v` trace line carries the meaning after `  # `; it is not read.
     let body = text.split_once(" #").map_or(text, |(b, _)| b).trim();
     if body.is_empty() || body.starts_with('#') {
@@ -122,31 +121,31 @@ pub(super) fn parse_line(text: &str) -> Result<Parsed, String> {
         // `RX (no bytes)`: an empty reply, nothing to answer with.
         return Ok(None);
     }
-    let bytes = crate::hex::parse_hex(hex).map_err(|e| format!("the telegram `{hex}`: {e}"))?;
+    let bytes = crate::hex::parse_hex(hex).map_err(|problem| LineProblem::Telegram {
+        hex: hex.to_string(),
+        problem,
+    })?;
     Ok(Some((at, Some(direction), bytes, false)))
 }
 
 /// `1700000000.123456) can0 601#40001000 [T|R]`, after the opening parenthesis. Remote
 /// frames (`701#R`, node guarding) and CAN FD frames (`##`) are real traffic no drive
 /// family here answers with data: they are left out.
-fn candump_line(rest: &str) -> Result<Parsed, String> {
-    let shape = "a candump log line is `(SECONDS) INTERFACE ID#DATA`, e.g. `(1700000000.123456) can0 601#4000100000000000`";
-    let (time, rest) = rest
-        .split_once(')')
-        .ok_or_else(|| format!("no `)` after the time: {shape}"))?;
+fn candump_line(rest: &str) -> Result<Parsed, LineProblem> {
+    let (time, rest) = rest.split_once(')').ok_or(LineProblem::CandumpTime)?;
     let at = seconds(time.trim())?;
     let mut tokens = rest.split_whitespace();
     let (Some(_interface), Some(frame)) = (tokens.next(), tokens.next()) else {
-        return Err(shape.to_string());
+        return Err(LineProblem::CandumpShape);
     };
     let direction = match tokens.next() {
         None => None,
         Some("T") => Some(Direction::Sent),
         Some("R") => Some(Direction::Received),
         Some(other) => {
-            return Err(format!(
-                "`{other}` after the frame: only T or R (candump -x) may follow it"
-            ))
+            return Err(LineProblem::AfterFrame {
+                after: other.to_string(),
+            })
         }
     };
     if frame
@@ -155,13 +154,15 @@ fn candump_line(rest: &str) -> Result<Parsed, String> {
     {
         return Ok(None);
     }
-    let frame = CanFrame::parse_text(frame).map_err(|e| e.to_string())?;
+    let frame = CanFrame::parse_text(frame)?;
     Ok(Some((at, direction, frame.to_bytes(), true)))
 }
 
 /// `0.012345` or `1700000000.123456`: seconds, at most nanosecond precision.
-fn seconds(text: &str) -> Result<Duration, String> {
-    let bad = || format!("`{text}` is not a time in seconds (e.g. 0.012345)");
+fn seconds(text: &str) -> Result<Duration, LineProblem> {
+    let bad = || LineProblem::NotATime {
+        text: text.to_string(),
+    };
     let (whole, fraction) = text.split_once('.').unwrap_or((text, ""));
     if whole.is_empty()
         || !whole.bytes().all(|b| b.is_ascii_digit())
@@ -179,11 +180,10 @@ fn seconds(text: &str) -> Result<Duration, String> {
     Ok(Duration::new(secs, nanos))
 }
 
-fn not_a_telegram(line: &str) -> String {
-    let shown: String = line.chars().take(60).collect();
-    format!(
-        "`{shown}` is neither a trace line (`SECONDS TX|RX HEX`) nor a candump log line (`(SECONDS) INTERFACE ID#DATA`)"
-    )
+fn not_a_telegram(line: &str) -> LineProblem {
+    LineProblem::NotATelegram {
+        shown: line.chars().take(60).collect(),
+    }
 }
 
 #[cfg(test)]

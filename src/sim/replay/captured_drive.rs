@@ -126,10 +126,8 @@ impl CapturedDrive {
             return Err(e);
         }
         if drive.window.is_empty() {
-            return Err(CaptureError::Line {
+            return Err(CaptureError::NoRequest {
                 file: path.to_path_buf(),
-                line: 0,
-                what: "the capture holds no request to replay (no TX line, no request frame)".into(),
             });
         }
         Ok(drive)

@@ -45,27 +45,13 @@ pub fn key_of(name: &str) -> String {
 /// A check with nothing measured and no limits, written on line 12, done after 1 s in 0.2 s.
 pub fn check(name: &str, passed: bool, message: &str) -> CheckResult {
     CheckResult {
-        name: name.into(),
         key: key_of(name),
-        passed,
-        measured: None,
-        measured_text: None,
-        unit: None,
-        low: None,
-        high: None,
-        object: None,
-        statistic: None,
         message: message.into(),
         origin: origin(12),
         step: "2".into(),
-        stage: String::new(),
-        window: None,
         at: Duration::from_secs(1),
         duration: Duration::from_millis(200),
-        marginal: false,
-        retried: false,
-        inclusive: false,
-        reference: None,
+        ..CheckResult::named(name, passed)
     }
 }
 

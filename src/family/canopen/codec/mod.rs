@@ -11,7 +11,7 @@ pub use abort_code::AbortCode;
 pub use emcy::{emcy_id, error_code_text, Emcy};
 pub use nmt::{heartbeat_id, NmtCommand, NmtState, NMT_ID};
 pub use sdo_client::{SdoClient, SdoStep, Uploaded, MAX_TRANSFER};
-pub use sdo_frame::{SdoDecodeError, SdoRequest, SdoResponse, SDO_LEN};
+pub use sdo_frame::{SdoDecodeError, SdoRequest, SdoResponse, Segment, SDO_LEN};
 
 /// The identifier of SDO requests to `node`: 0x600 + node.
 pub fn request_id(node: u8) -> u32 {

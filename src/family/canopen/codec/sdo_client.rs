@@ -10,7 +10,7 @@
 //! data that arrived, and [`MAX_TRANSFER`] so that a node that never sets the last bit
 //! cannot make the client store without bound.
 
-use super::{AbortCode, SdoDecodeError, SdoRequest, SdoResponse};
+use super::{AbortCode, SdoDecodeError, SdoRequest, SdoResponse, Segment};
 
 /// Most bytes one transfer carries: the longest value a dictionary may declare (a byte
 /// string, UTF-16 text or DOMAIN of [`crate::dictionary::MAX_BLOCK_LEN`]), with room for
@@ -35,6 +35,9 @@ pub enum SdoStep {
     },
     /// The response is not for this transfer (another object's late answer): keep waiting.
     Ignored(String),
+    /// The node's value is longer than a transfer takes here: send `abort` and report
+    /// `problem`. Not tried again: it is the node's answer, which it would give again.
+    TooLong { problem: String, abort: SdoRequest },
 }
 
 /// The value an upload delivered.
@@ -137,6 +140,14 @@ impl SdoClient {
         }
     }
 
+    fn too_long(&mut self, problem: String) -> SdoStep {
+        self.state = State::Done;
+        SdoStep::TooLong {
+            problem,
+            abort: self.abort(AbortCode::LENGTH_MISMATCH),
+        }
+    }
+
     fn fail(&mut self, problem: String, code: AbortCode) -> SdoStep {
         self.state = State::Done;
         SdoStep::Failed {
@@ -189,14 +200,10 @@ impl SdoClient {
                 })
             }
             (State::UploadInitiate, SdoResponse::UploadInitiate { size, .. }) => {
-                if size.is_some_and(|s| s as usize > MAX_TRANSFER) {
-                    return self.fail(
-                        format!(
-                            "the node announces {} bytes; drivescript takes at most {MAX_TRANSFER}",
-                            size.unwrap_or(0)
-                        ),
-                        AbortCode::LENGTH_MISMATCH,
-                    );
+                if let Some(s) = size.filter(|s| *s as usize > MAX_TRANSFER) {
+                    return self.too_long(format!(
+                        "the node announces {s} bytes; drivescript takes at most {MAX_TRANSFER}"
+                    ));
                 }
                 self.state = State::UploadSegments {
                     toggle: false,
@@ -211,11 +218,11 @@ impl SdoClient {
                     size,
                     mut data,
                 },
-                SdoResponse::UploadSegment {
+                SdoResponse::UploadSegment(Segment {
                     toggle: echoed,
                     data: part,
                     last,
-                },
+                }),
             ) => {
                 if *echoed != toggle {
                     return self.fail(
@@ -228,12 +235,19 @@ impl SdoClient {
                     );
                 }
                 data.extend_from_slice(part);
-                let limit = size.map_or(MAX_TRANSFER, |s| s as usize);
-                if data.len() > limit {
-                    return self.fail(
-                        format!("the segments carry more than the {limit} bytes announced"),
-                        AbortCode::LENGTH_MISMATCH,
-                    );
+                match size {
+                    Some(s) if data.len() > s as usize => {
+                        return self.fail(
+                            format!("the segments carry more than the {s} bytes announced"),
+                            AbortCode::LENGTH_MISMATCH,
+                        );
+                    }
+                    None if data.len() > MAX_TRANSFER => {
+                        return self.too_long(format!(
+                            "the node sends more than the {MAX_TRANSFER} bytes drivescript takes (it announced no size)"
+                        ));
+                    }
+                    _ => {}
                 }
                 if !*last {
                     self.state = State::UploadSegments {
@@ -291,7 +305,7 @@ impl SdoClient {
         let data = self.value[from..end].to_vec();
         let last = end == self.value.len();
         self.state = State::DownloadSegments { toggle, sent: end };
-        SdoStep::Send(SdoRequest::DownloadSegment { toggle, data, last })
+        SdoStep::Send(SdoRequest::DownloadSegment(Segment { toggle, data, last }))
     }
 }
 

@@ -34,7 +34,7 @@ pub enum SdoRequest {
         size: Option<u32>,
     },
     /// 0x00..0x1F: one download segment of 1..=7 bytes.
-    DownloadSegment { toggle: bool, data: Vec<u8>, last: bool },
+    DownloadSegment(Segment),
     /// 0x80 with the abort code.
     Abort {
         index: u16,
@@ -60,7 +60,7 @@ pub enum SdoResponse {
         size: Option<u32>,
     },
     /// 0x00..0x1F: one upload segment of 0..=7 bytes.
-    UploadSegment { toggle: bool, data: Vec<u8>, last: bool },
+    UploadSegment(Segment),
     /// 0x60: the write (or its start) was accepted.
     DownloadInitiate { index: u16, subindex: u8 },
     /// 0x20 / 0x30: a download segment was accepted.
@@ -71,6 +71,57 @@ pub enum SdoResponse {
         subindex: u8,
         code: AbortCode,
     },
+}
+
+/// A segment of a segmented transfer, laid out alike in both directions: the command
+/// `000t nnnc` (toggle bit, 7 − the length, last bit), then up to seven bytes of data.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Segment {
+    pub toggle: bool,
+    pub data: Vec<u8>,
+    pub last: bool,
+}
+
+impl Segment {
+    fn encode(&self) -> [u8; SDO_LEN] {
+        let mut out = [0u8; SDO_LEN];
+        let n = self.data.len().min(7);
+        let unused = 7 - n as u8;
+        out[0] = (u8::from(self.toggle) << 4) | (unused << 1) | u8::from(self.last);
+        out[1..=n].copy_from_slice(&self.data[..n]);
+        out
+    }
+
+    fn decode(bytes: &[u8; SDO_LEN]) -> Segment {
+        let command = bytes[0];
+        let unused = usize::from((command >> 1) & 0b111);
+        Segment {
+            toggle: command & 0x10 != 0,
+            data: bytes[1..SDO_LEN - unused].to_vec(),
+            last: command & 1 == 1,
+        }
+    }
+}
+
+/// `segment, toggle 1, 4 byte(s), last`: the direction names it (`upload segment, …`).
+impl fmt::Display for Segment {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "segment, toggle {}, {} byte(s){}",
+            u8::from(self.toggle),
+            self.data.len(),
+            if self.last { ", last" } else { "" }
+        )
+    }
+}
+
+/// `what, n byte(s)`, or that the size is not indicated.
+fn with_size(f: &mut fmt::Formatter<'_>, what: &str, size: Option<impl fmt::Display>) -> fmt::Result {
+    match size {
+        Some(n) => write!(f, "{what}, {n} byte(s)"),
+        None => write!(f, "{what}, size not indicated"),
+    }
 }
 
 /// Why 8 bytes are not a valid SDO frame: what was expected where, and what came.
@@ -107,31 +158,11 @@ fn expedited_size(command: u8) -> Option<u8> {
     (command & 1 == 1).then(|| 4 - ((command >> 2) & 0b11))
 }
 
-/// `000t nnnc`: a segment of 7 − n bytes.
-fn segment_command(toggle: bool, len: usize, last: bool) -> u8 {
-    let unused = 7u8.saturating_sub(len.min(7) as u8);
-    (u8::from(toggle) << 4) | (unused << 1) | u8::from(last)
-}
-
-/// A segment in either direction: its command byte, then up to seven bytes of data.
-fn segment_frame(toggle: bool, data: &[u8], last: bool) -> [u8; SDO_LEN] {
-    let mut out = [0u8; SDO_LEN];
-    out[0] = segment_command(toggle, data.len(), last);
-    let n = data.len().min(7);
-    out[1..=n].copy_from_slice(&data[..n]);
-    out
-}
-
 /// A non-expedited initiate in either direction: `base`, with bit 0 set when the size is
 /// indicated (then in the four data bytes).
 fn initiate_frame(base: u8, index: u16, subindex: u8, size: Option<u32>) -> [u8; SDO_LEN] {
     let command = if size.is_some() { base | 1 } else { base };
     with_mux(command, index, subindex, size.unwrap_or(0).to_le_bytes())
-}
-
-fn segment_data(bytes: &[u8; SDO_LEN]) -> Vec<u8> {
-    let unused = usize::from((bytes[0] >> 1) & 0b111);
-    bytes[1..SDO_LEN - unused].to_vec()
 }
 
 fn fixed(bytes: &[u8]) -> Result<&[u8; SDO_LEN], SdoDecodeError> {
@@ -179,7 +210,7 @@ impl SdoRequest {
                 subindex,
                 size,
             } => initiate_frame(0x20, *index, *subindex, *size),
-            SdoRequest::DownloadSegment { toggle, data, last } => segment_frame(*toggle, data, *last),
+            SdoRequest::DownloadSegment(segment) => segment.encode(),
             SdoRequest::Abort {
                 index,
                 subindex,
@@ -193,11 +224,7 @@ impl SdoRequest {
         let command = b[0];
         let (index, subindex) = mux(b);
         Ok(match command >> 5 {
-            0 => SdoRequest::DownloadSegment {
-                toggle: command & 0x10 != 0,
-                data: segment_data(b),
-                last: command & 1 == 1,
-            },
+            0 => SdoRequest::DownloadSegment(Segment::decode(b)),
             1 if command & 0x10 != 0 => {
                 return Err(refuse(command, "bit 4 must be 0 in an initiate download request"))
             }
@@ -234,7 +261,7 @@ impl SdoRequest {
             | SdoRequest::DownloadExpedited { index, subindex, .. }
             | SdoRequest::DownloadInitiate { index, subindex, .. }
             | SdoRequest::Abort { index, subindex, .. } => Some((index, subindex)),
-            SdoRequest::UploadSegment { .. } | SdoRequest::DownloadSegment { .. } => None,
+            SdoRequest::UploadSegment { .. } | SdoRequest::DownloadSegment(_) => None,
         }
     }
 }
@@ -253,7 +280,7 @@ impl SdoResponse {
                 subindex,
                 size,
             } => initiate_frame(0x40, *index, *subindex, *size),
-            SdoResponse::UploadSegment { toggle, data, last } => segment_frame(*toggle, data, *last),
+            SdoResponse::UploadSegment(segment) => segment.encode(),
             SdoResponse::DownloadInitiate { index, subindex } => with_mux(0x60, *index, *subindex, [0; 4]),
             SdoResponse::DownloadSegment { toggle } => [0x20 | (u8::from(*toggle) << 4), 0, 0, 0, 0, 0, 0, 0],
             SdoResponse::Abort {
@@ -269,11 +296,7 @@ impl SdoResponse {
         let command = b[0];
         let (index, subindex) = mux(b);
         Ok(match command >> 5 {
-            0 => SdoResponse::UploadSegment {
-                toggle: command & 0x10 != 0,
-                data: segment_data(b),
-                last: command & 1 == 1,
-            },
+            0 => SdoResponse::UploadSegment(Segment::decode(b)),
             1 if command & 0x0F == 0 => SdoResponse::DownloadSegment {
                 toggle: command & 0x10 != 0,
             },
@@ -308,7 +331,7 @@ impl SdoResponse {
             | SdoResponse::UploadInitiate { index, subindex, .. }
             | SdoResponse::DownloadInitiate { index, subindex }
             | SdoResponse::Abort { index, subindex, .. } => Some((index, subindex)),
-            SdoResponse::UploadSegment { .. } | SdoResponse::DownloadSegment { .. } => None,
+            SdoResponse::UploadSegment(_) | SdoResponse::DownloadSegment { .. } => None,
         }
     }
 }
@@ -320,21 +343,9 @@ impl fmt::Display for SdoRequest {
             SdoRequest::UploadSegment { toggle } => {
                 write!(f, "upload segment request, toggle {}", u8::from(*toggle))
             }
-            SdoRequest::DownloadExpedited { size, .. } => match size {
-                Some(n) => write!(f, "write request, {n} byte(s)"),
-                None => f.write_str("write request, size not indicated"),
-            },
-            SdoRequest::DownloadInitiate { size, .. } => match size {
-                Some(n) => write!(f, "segmented write request, {n} byte(s)"),
-                None => f.write_str("segmented write request, size not indicated"),
-            },
-            SdoRequest::DownloadSegment { toggle, data, last } => write!(
-                f,
-                "download segment, toggle {}, {} byte(s){}",
-                u8::from(*toggle),
-                data.len(),
-                if *last { ", last" } else { "" }
-            ),
+            SdoRequest::DownloadExpedited { size, .. } => with_size(f, "write request", *size),
+            SdoRequest::DownloadInitiate { size, .. } => with_size(f, "segmented write request", *size),
+            SdoRequest::DownloadSegment(segment) => write!(f, "download {segment}"),
             SdoRequest::Abort { code, .. } => write!(f, "abort {code}"),
         }
     }
@@ -343,21 +354,9 @@ impl fmt::Display for SdoRequest {
 impl fmt::Display for SdoResponse {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
-            SdoResponse::UploadExpedited { size, .. } => match size {
-                Some(n) => write!(f, "read response, {n} byte(s)"),
-                None => f.write_str("read response, size not indicated"),
-            },
-            SdoResponse::UploadInitiate { size, .. } => match size {
-                Some(n) => write!(f, "read response, segmented, {n} byte(s)"),
-                None => f.write_str("read response, segmented, size not indicated"),
-            },
-            SdoResponse::UploadSegment { toggle, data, last } => write!(
-                f,
-                "upload segment, toggle {}, {} byte(s){}",
-                u8::from(*toggle),
-                data.len(),
-                if *last { ", last" } else { "" }
-            ),
+            SdoResponse::UploadExpedited { size, .. } => with_size(f, "read response", *size),
+            SdoResponse::UploadInitiate { size, .. } => with_size(f, "read response, segmented", *size),
+            SdoResponse::UploadSegment(segment) => write!(f, "upload {segment}"),
             SdoResponse::DownloadInitiate { .. } => f.write_str("write response (accepted)"),
             SdoResponse::DownloadSegment { toggle } => {
                 write!(f, "download segment response, toggle {}", u8::from(*toggle))
@@ -456,11 +455,11 @@ mod tests {
 
     #[test]
     fn segments_carry_seven_bytes_less_the_unused_ones() {
-        let last = SdoResponse::UploadSegment {
+        let last = SdoResponse::UploadSegment(Segment {
             toggle: true,
             data: b".yy3".to_vec(),
             last: true,
-        };
+        });
         // 3 unused bytes → n = 3, bit 0 last, toggle 1: 0001 0111.
         assert_eq!(last.encode()[0], 0x17);
         assert_eq!(SdoResponse::decode(&last.encode()), Ok(last));

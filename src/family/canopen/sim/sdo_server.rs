@@ -11,7 +11,7 @@
 
 use crate::bus::CanFrame;
 use crate::family::canopen::codec::{
-    request_id, response_id, AbortCode, SdoRequest, SdoResponse, MAX_TRANSFER,
+    request_id, response_id, AbortCode, SdoRequest, SdoResponse, Segment, MAX_TRANSFER,
 };
 use crate::sim::SimCore;
 use std::time::Duration;
@@ -153,11 +153,11 @@ impl SdoServer {
                         toggle: !toggle,
                     };
                 }
-                SdoResponse::UploadSegment {
+                SdoResponse::UploadSegment(Segment {
                     toggle,
                     data: part,
                     last,
-                }
+                })
             }
             (
                 &SdoRequest::DownloadExpedited {
@@ -194,7 +194,7 @@ impl SdoServer {
                 SdoResponse::DownloadInitiate { index, subindex }
             }
             (
-                SdoRequest::DownloadSegment { toggle, data, last },
+                SdoRequest::DownloadSegment(Segment { toggle, data, last }),
                 Transfer::Download {
                     place,
                     size,

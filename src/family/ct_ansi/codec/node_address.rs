@@ -14,9 +14,9 @@ impl NodeAddress {
         (group <= 9 && unit <= 9).then_some(NodeAddress { group, unit })
     }
 
-    /// `1.2` or `12`; the error says what the notation is. (Text: the family wraps it into
-    /// `FamilyError::DriveAddress`, the one place it is reported.)
-    pub fn parse(text: &str) -> Result<NodeAddress, String> {
+    /// `1.2` or `12`; the error says what the notation is (the family wraps it into
+    /// `FamilyError::DriveAddress`, the one place it is reported).
+    pub fn parse(text: &str) -> Result<NodeAddress, NotAnAddress> {
         let t = text.trim();
         let digits: Vec<u8> = t.bytes().filter(|b| *b != b'.').collect();
         let dots = t.bytes().filter(|b| *b == b'.').count();
@@ -26,9 +26,9 @@ impl NodeAddress {
                 group: g - b'0',
                 unit: u - b'0',
             }),
-            _ => Err(format!(
-                "`{text}` is not a drive address; write group.unit, e.g. `1.2` (or `12`), each digit 0..9; `G.0` writes to a whole group, `0.0` to every drive"
-            )),
+            _ => Err(NotAnAddress {
+                text: text.to_string(),
+            }),
         }
     }
 
@@ -66,6 +66,13 @@ impl NodeAddress {
             _ => format!("drive {self}"),
         }
     }
+}
+
+/// Text that is not a drive address, and how one is written.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("`{text}` is not a drive address; write group.unit, e.g. `1.2` (or `12`), each digit 0..9; `G.0` writes to a whole group, `0.0` to every drive")]
+pub struct NotAnAddress {
+    pub text: String,
 }
 
 impl fmt::Display for NodeAddress {

@@ -3,7 +3,7 @@
 //! object's unit or in %). It must not know which step asks, nor evaluate anything.
 
 use crate::diag::{Shape, YamlNode, YamlValue};
-use crate::dictionary::ObjectDef;
+use crate::dictionary::{DataType, ObjectDef};
 use crate::recipe::loader::values::FINITE_HELP;
 use crate::recipe::loader::Loader;
 use crate::session::{Predicate, Tolerance};
@@ -11,6 +11,29 @@ use crate::session::{Predicate, Tolerance};
 const OPERATORS: [&str; 5] = ["equals", "above", "below", "between", "near"];
 
 impl Loader<'_, '_> {
+    /// The text an `equals` on a text, byte-string or DOMAIN object compares with. Bytes
+    /// are taken however hex is written (`CAFE`, `ca fe`, `0xca 0xfe`, as `set` takes
+    /// them) and kept in the one form a value read is shown in (`ca fe`), so that the same
+    /// bytes always compare equal.
+    fn text_to_equal(&mut self, def: &ObjectDef, value: &YamlNode, what: &str) -> Option<String> {
+        let text = self.text(value, what)?;
+        if !matches!(def.data_type, DataType::Octets | DataType::Domain) {
+            return Some(text);
+        }
+        match crate::hex::parse_hex(&text) {
+            Ok(bytes) => Some(crate::hex::to_hex(&bytes)),
+            Err(why) => self.refuse(
+                &value.span,
+                format!(
+                    "{} holds bytes, written as hex such as `01 0a ff`: {why}",
+                    def.name
+                ),
+                "expected hex bytes",
+                None,
+            ),
+        }
+    }
+
     pub(in crate::recipe::loader) fn predicate(
         &mut self,
         def: &ObjectDef,
@@ -45,7 +68,9 @@ impl Loader<'_, '_> {
             }
         }
         match *op {
-            "equals" if !def.data_type.is_number() => Some(Predicate::EqualsText(self.text(value, &what)?)),
+            "equals" if !def.data_type.is_number() => {
+                Some(Predicate::EqualsText(self.text_to_equal(def, value, &what)?))
+            }
             "equals" => Some(Predicate::Equals(self.number_for(def, value, &what, false)?)),
             "above" => Some(Predicate::Above(self.number_for(def, value, &what, false)?)),
             "below" => Some(Predicate::Below(self.number_for(def, value, &what, false)?)),

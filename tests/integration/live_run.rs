@@ -1,0 +1,116 @@
+//! The built binary running in the background, its output read as it comes, for the
+//! tests that signal a run in the middle; and the Ctrl-C during a dwell that several
+//! families' tests share.
+
+use crate::support::{command, repo_root, scratch_file, send_signal};
+use std::path::Path;
+use std::process::Stdio;
+
+/// `drivescript ARGS` running in the background (from the repository root), its standard
+/// output read as it comes: for the tests that signal a run in the middle.
+pub struct LiveRun {
+    child: std::process::Child,
+    out: std::process::ChildStdout,
+    seen: String,
+}
+
+impl LiveRun {
+    /// `drivescript run FILE --port PORT`, then flags that each take a path (`--trace`).
+    pub fn run_on(file: &Path, port: &str, path_flags: &[(&str, &Path)]) -> LiveRun {
+        let mut args: Vec<&std::ffi::OsStr> =
+            vec!["run".as_ref(), file.as_os_str(), "--port".as_ref(), port.as_ref()];
+        for (flag, path) in path_flags {
+            args.extend([flag.as_ref(), path.as_os_str()]);
+        }
+        LiveRun::start(args)
+    }
+
+    pub fn start<I, S>(args: I) -> LiveRun
+    where
+        I: IntoIterator<Item = S>,
+        S: AsRef<std::ffi::OsStr>,
+    {
+        let mut child = command()
+            .args(args)
+            .current_dir(repo_root())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .expect("the run starts");
+        let out = child.stdout.take().expect("stdout is piped");
+        LiveRun {
+            child,
+            out,
+            seen: String::new(),
+        }
+    }
+
+    /// Reads the output until it holds `text` (at most 30 s); fails the test otherwise.
+    pub fn wait_for(&mut self, text: &str) -> &str {
+        use std::io::Read;
+        let started = std::time::Instant::now();
+        let mut buf = [0u8; 512];
+        while !self.seen.contains(text) && started.elapsed() < std::time::Duration::from_secs(30) {
+            let n = self.out.read(&mut buf).expect("read the run's output");
+            if n == 0 {
+                break;
+            }
+            self.seen.push_str(&String::from_utf8_lossy(&buf[..n]));
+        }
+        assert!(self.seen.contains(text), "{}", self.seen);
+        &self.seen
+    }
+
+    /// Sends signal `name` (`INT`, `TERM`, …) to the run.
+    pub fn signal(&self, name: &str) {
+        send_signal(&self.child, name);
+    }
+
+    /// Ctrl-C once the output holds `text` and `pause` more has passed, then the end: what
+    /// the run had printed before the signal, its exit code and all it printed.
+    pub fn interrupt_after(
+        mut self,
+        text: &str,
+        pause: std::time::Duration,
+    ) -> (String, Option<i32>, String) {
+        let before = self.wait_for(text).to_string();
+        std::thread::sleep(pause);
+        self.signal("INT");
+        let (code, all) = self.finish();
+        (before, code, all)
+    }
+
+    /// Waits for the run to end: its exit code and all it wrote to standard output.
+    pub fn finish(mut self) -> (Option<i32>, String) {
+        use std::io::Read;
+        self.out
+            .read_to_string(&mut self.seen)
+            .expect("the rest of the output");
+        let code = self.child.wait().expect("the run ends").code();
+        (code, self.seen)
+    }
+}
+
+/// A run that enables `drive`, sets `speed` (`300 rpm`) and dwells an hour, on `port` at
+/// 9600 baud with odd parity (not the family's default, so the run is seen to use them),
+/// interrupted by Ctrl-C `pause` after the setpoint was written: what it printed before
+/// the signal, its exit code and all it printed.
+pub fn ctrl_c_during_a_dwell(
+    drive: &str,
+    speed: &str,
+    port: &str,
+    pause: std::time::Duration,
+) -> (String, Option<i32>, String) {
+    let (_, recipe) = scratch_file(
+        &format!("ctrl-c-{drive}"),
+        "run.yaml",
+        &format!(
+            "name: Ctrl-C during a dwell\ndrive: {drive}\nsteps:\n  - go_to: {{ state: operation_enabled, timeout: 2 s }}\n  - set: {{ speed_setpoint: {speed} }}\n  - dwell: 1 h\n"
+        ),
+    );
+    let recipe = recipe.to_string_lossy().to_string();
+    let args = [
+        "run", &recipe, "--port", port, "--baud", "9600", "--parity", "odd",
+    ];
+    LiveRun::start(args).interrupt_after("set speed_setpoint", pause)
+}
