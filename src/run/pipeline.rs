@@ -49,7 +49,13 @@ pub fn run(request: &RunRequest, out: &mut dyn Write, err: &mut dyn Write) -> Ru
         Err(e) => return refuse(INVALID, &e.to_string(), err),
     };
     let complete = matches!(plan, RunPlan::Recipe(_));
-    if let Err(e) = answers_checked(&prompts, complete, &given, request.input.is_some()) {
+    if let Err(e) = answers_checked(
+        &prompts,
+        complete,
+        &given,
+        request.input.is_some(),
+        &request.operator.identity(),
+    ) {
         return refuse(INVALID, &e.to_string(), err);
     }
     let unit = match start_identity(plan, request, &prompts, &given) {
