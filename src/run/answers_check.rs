@@ -1,20 +1,23 @@
 //! Before anything is sent: the answers given on the command line against the plan's
 //! operator steps (each name must be a step's, each answer one the step accepts), and a
 //! run without a terminal refused when some step has no answer, naming every such step
-//! at its place. Judges only; asks nobody.
+//! at its place, and an answer that would set a part of the unit's identity the command
+//! line already names otherwise. Judges only; asks nobody.
 
 use super::RunError;
 use crate::diag::did_you_mean;
-use crate::session::{Given, Prompt, StepOrigin};
+use crate::session::{Given, Prompt, PromptKind, StepOrigin, UnitIdentity};
 use std::fmt::Write as _;
 
 /// The answers `given` for `prompts` (all of them known when `complete`: a recipe's; a
-/// script's literal ones only); `terminal`: whether a person can be asked the rest.
+/// script's literal ones only); `terminal`: whether a person can be asked the rest;
+/// `unit`: the identity the command line gives (`--unit`).
 pub fn answers_checked(
     prompts: &[(Prompt, StepOrigin)],
     complete: bool,
     given: &[(String, Given)],
     terminal: bool,
+    unit: &UnitIdentity,
 ) -> Result<(), RunError> {
     for (name, answer) in given {
         let asked: Vec<&(Prompt, StepOrigin)> = prompts.iter().filter(|(p, _)| &p.name == name).collect();
@@ -31,11 +34,21 @@ pub fn answers_checked(
             )));
         }
         for (prompt, origin) in asked {
-            if let Err(why) = prompt.judge(&answer.value) {
-                return Err(RunError::Invalid(format!(
+            let accepted = prompt.judge(&answer.value).map_err(|why| {
+                RunError::Invalid(format!(
                     "error: {}: the answer `{}` to `{name}` is no answer to \"{}\" at {origin}: {why}",
                     answer.source, answer.value, prompt.text
-                )));
+                ))
+            })?;
+            // Two different units named for one run: whichever the run believed, its
+            // record would belong to the wrong one.
+            if let PromptKind::Text { sets: Some(part), .. } = &prompt.kind {
+                if let Some(known) = unit.field(part).filter(|k| *k != accepted.text) {
+                    return Err(RunError::Invalid(format!(
+                        "error: {}: the answer `{}` to `{name}` sets the unit's {part}, but --unit {part}={known} names another unit; nothing was sent\n  help: give the {part} once, or correct the one that is wrong",
+                        answer.source, accepted.text
+                    )));
+                }
             }
         }
     }
@@ -95,34 +108,85 @@ mod tests {
             prompt("guard", PromptKind::Instruction, 4),
             prompt("quiet", PromptKind::Confirm, 6),
         ];
-        let e = answers_checked(&prompts, true, &[], false)
+        let e = answers_checked(&prompts, true, &[], false, &UnitIdentity::default())
             .unwrap_err()
             .to_string();
         assert!(e.contains("2 operator step(s) have no answer"), "{e}");
         assert!(e.contains("r.yaml:4:5: guard: instruct \"guard?\""), "{e}");
         assert!(e.contains("r.yaml:6:5: quiet: confirm \"quiet?\""), "{e}");
         assert!(
-            answers_checked(&prompts, true, &[], true).is_ok(),
+            answers_checked(&prompts, true, &[], true, &UnitIdentity::default()).is_ok(),
             "a terminal answers them"
         );
         let all = [given("guard", ""), given("quiet", "yes")];
-        assert!(answers_checked(&prompts, true, &all, false).is_ok());
+        assert!(answers_checked(&prompts, true, &all, false, &UnitIdentity::default()).is_ok());
     }
 
     #[test]
     fn given_answers_are_judged_before_the_run() {
         let prompts = [prompt("quiet", PromptKind::Confirm, 6)];
-        let e = answers_checked(&prompts, true, &[given("quiet", "")], true)
-            .unwrap_err()
-            .to_string();
+        let e = answers_checked(
+            &prompts,
+            true,
+            &[given("quiet", "")],
+            true,
+            &UnitIdentity::default(),
+        )
+        .unwrap_err()
+        .to_string();
         assert!(e.contains("Enter alone does not confirm"), "{e}");
-        let e = answers_checked(&prompts, true, &[given("quite", "yes")], true)
-            .unwrap_err()
-            .to_string();
+        let e = answers_checked(
+            &prompts,
+            true,
+            &[given("quite", "yes")],
+            true,
+            &UnitIdentity::default(),
+        )
+        .unwrap_err()
+        .to_string();
         assert!(
             e.contains("no operator step is called `quite`; did you mean `quiet`?"),
             "{e}"
         );
-        assert!(answers_checked(&prompts, false, &[given("other", "x")], true).is_ok());
+        assert!(answers_checked(
+            &prompts,
+            false,
+            &[given("other", "x")],
+            true,
+            &UnitIdentity::default()
+        )
+        .is_ok());
+    }
+
+    #[test]
+    fn an_answer_that_names_another_unit_than_the_command_line_is_refused() {
+        let prompts = [prompt(
+            "serial",
+            PromptKind::Text {
+                pattern: None,
+                sets: Some("serial"),
+            },
+            3,
+        )];
+        let unit = UnitIdentity {
+            serial: Some("SP-104233".into()),
+            ..UnitIdentity::default()
+        };
+        let e = answers_checked(&prompts, true, &[given("serial", "SP-000001")], false, &unit)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("the answer `SP-000001` to `serial` sets the unit's serial, but --unit serial=SP-104233 names another unit; nothing was sent"),
+            "{e}"
+        );
+        assert!(answers_checked(&prompts, true, &[given("serial", " SP-104233 ")], false, &unit).is_ok());
+        assert!(answers_checked(
+            &prompts,
+            true,
+            &[given("serial", "SP-000001")],
+            false,
+            &UnitIdentity::default()
+        )
+        .is_ok());
     }
 }

@@ -49,12 +49,18 @@ pub fn run(request: &RunRequest, out: &mut dyn Write, err: &mut dyn Write) -> Ru
         Err(e) => return refuse(INVALID, &e.to_string(), err),
     };
     let complete = matches!(plan, RunPlan::Recipe(_));
-    if let Err(e) = answers_checked(&prompts, complete, &given, request.input.is_some()) {
+    if let Err(e) = answers_checked(
+        &prompts,
+        complete,
+        &given,
+        request.input.is_some(),
+        &request.operator.identity(),
+    ) {
         return refuse(INVALID, &e.to_string(), err);
     }
     let unit = match start_identity(plan, request, &prompts, &given) {
         Ok(u) => u,
-        Err(e) => return refuse(INVALID, &e, err),
+        Err(e) => return refuse(INVALID, &e.to_string(), err),
     };
     // The file's link settings under the command line's, checked before anything is
     // opened: a wrong setting is an invalid file or command line (exit 2), not a
@@ -265,15 +271,15 @@ fn start_identity(
     request: &RunRequest,
     prompts: &[(crate::session::Prompt, crate::session::StepOrigin)],
     given: &[(String, crate::session::Given)],
-) -> Result<crate::session::UnitIdentity, String> {
+) -> Result<crate::session::UnitIdentity, RunError> {
     let Some(at) = plan.compares_with_last_pass() else {
         return Ok(request.operator.identity());
     };
     let unit = request.operator.identity_with_answers(prompts, given);
     if unit.serial.is_none() && !prompts.iter().any(|(p, _)| p.sets("serial")) {
-        return Err(format!(
+        return Err(RunError::Invalid(format!(
             "error: {at}: `compared_with_last_pass` compares with the unit's last passed run, but nothing gives the unit's serial number; give --unit serial=…, or ask for it with an operator step (`enter_text` with `sets: serial`) before the check; nothing was sent"
-        ));
+        )));
     }
     Ok(unit)
 }

@@ -116,7 +116,7 @@ impl Session<'_> {
                                 .clone()
                                 .unwrap_or_else(|| self.operator.person())
                         );
-                        let detail = self.record_answer(prompt, &accepted, &who, origin, started);
+                        let detail = self.record_answer(prompt, &accepted, &who, origin, started)?;
                         return Ok((detail, accepted));
                     }
                     Err(why) => {
@@ -155,12 +155,15 @@ impl Session<'_> {
             ))
         })?;
         let who = format!("(given with {})", given.source);
-        let detail = self.record_answer(prompt, &accepted, &who, origin, started);
+        let detail = self.record_answer(prompt, &accepted, &who, origin, started)?;
         Ok((detail, accepted))
     }
 
     /// Records the answer as a check (`who`, `by J. Smith`, and when in its message) and
-    /// passes on a part of the unit's identity; the step line's text.
+    /// passes on a part of the unit's identity; the step line's text. An answer naming
+    /// another unit than the run already knows (`--unit`, an earlier answer) fails its
+    /// check and stops the run: what it measured next would be recorded for the wrong
+    /// unit.
     fn record_answer(
         &mut self,
         prompt: &Prompt,
@@ -168,21 +171,41 @@ impl Session<'_> {
         who: &str,
         origin: &StepOrigin,
         started: Duration,
-    ) -> String {
+    ) -> Result<String, Stop> {
         let when = humantime::format_rfc3339_seconds(self.clock.wall_time());
         let mut message = format!("answered `{}` {who} at {when}", accepted.text);
+        let sets = match &prompt.kind {
+            PromptKind::Text { sets: Some(part), .. } => Some(*part),
+            _ => None,
+        };
+        let other_unit = sets.and_then(|part| {
+            let known = self.run.unit.field(part).filter(|k| *k != accepted.text)?;
+            Some(format!(
+                "this run is for {part} {known}, not {}: the unit on the bench is not the one the run was started for",
+                accepted.text
+            ))
+        });
+        if let Some(why) = &other_unit {
+            message.push_str(&format!(", but {why}"));
+            let refused = Accepted {
+                passed: false,
+                ..accepted.clone()
+            };
+            self.record_prompt_check(prompt, Some(&refused), message, origin, started);
+            return Err(Stop::Failed(format!("`{}` ({origin}): {why}", prompt.text)));
+        }
         if let (false, Some(limits)) = (accepted.passed, prompt.limits_text()) {
             message.push_str(&format!(", expected {limits}"));
         }
         self.record_prompt_check(prompt, Some(accepted), message, origin, started);
-        if let PromptKind::Text { sets: Some(part), .. } = &prompt.kind {
+        if let Some(part) = sets {
             self.identify(part, &accepted.text);
         }
-        if accepted.passed {
+        Ok(if accepted.passed {
             format!("`{}`", accepted.text)
         } else {
             format!("FAILED: `{}`", accepted.text)
-        }
+        })
     }
 
     /// A part of the unit's identity learnt during the run: the report and every observer

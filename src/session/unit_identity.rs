@@ -30,6 +30,11 @@ impl UnitIdentity {
             .filter_map(|(name, value)| value.as_deref().map(|v| (name, v)))
     }
 
+    /// The part called `name` where it is known.
+    pub fn field(&self, name: &str) -> Option<&str> {
+        self.fields().find(|(n, _)| *n == name).map(|(_, v)| v)
+    }
+
     /// The part called `name`, for filling it in from a command line or an answer; `None`
     /// for a name that is not one of [`UNIT_FIELDS`].
     pub fn field_mut(&mut self, name: &str) -> Option<&mut Option<String>> {
@@ -69,5 +74,7 @@ mod tests {
         assert!(!unit.is_empty());
         assert_eq!(unit.to_string(), "serial SP-104233, operator J. Smith");
         assert!(unit.field_mut("colour").is_none());
+        assert_eq!(unit.field("serial"), Some("SP-104233"));
+        assert_eq!(unit.field("part"), None);
     }
 }
