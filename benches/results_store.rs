@@ -9,7 +9,8 @@
 //! - `drivescript results list` over a store of 10 000 runs (5 checks each): at most
 //!   100 ms, the whole command (the median of five), as it lists by default (the newest
 //!   50) and with all 10 000 rows printed;
-//! - `drivescript results trend CHECK` over the same 10 000 runs: at most 200 ms;
+//! - `drivescript results trend CHECK` over the same 10 000 runs, by a check's full name
+//!   and by its key: at most 200 ms;
 //! - the lookup of a unit's last passed run for `compared_with_last_pass` over the same
 //!   store (opening it and the query, as a run does before its first step): at most
 //!   100 ms, against the 10 s a run waits at most.
@@ -153,6 +154,7 @@ fn filled_store(path: &Path, runs: usize) -> Result<(), String> {
                 run: id.clone(),
                 seq: c + 1,
                 name: format!("current_actual max below 5 A #{c}"),
+                key: Some(format!("current_actual max below #{c}")),
                 measured: Some(3.0 + (i % 17) as f64 * 0.05),
                 measured_text: None,
                 unit: Some("A".into()),
@@ -212,6 +214,17 @@ fn queries(dir: &Path) -> Result<(), String> {
                 "results",
                 "trend",
                 "current_actual max below 5 A #2",
+                "--results",
+                s.as_str(),
+            ],
+            200.0,
+        ),
+        (
+            "trend by key",
+            vec![
+                "results",
+                "trend",
+                "current_actual max below #2",
                 "--results",
                 s.as_str(),
             ],

@@ -63,9 +63,12 @@ enum ResultsCommand {
         #[arg(short, long, value_name = "FILE")]
         output: Option<PathBuf>,
     },
-    /// One check's measured value across runs and units, with its limits.
+    /// One check's measured value across runs and units, with the limits it had in each
+    /// run: the same check whatever its limits (its object, statistic and kind of limit,
+    /// or the name the recipe gave it).
     Trend {
-        /// The check's name, as reports show it (`speed_actual mean near 3000 rpm ± 1 %`).
+        /// The check: its name as reports show it (`speed_actual mean near 3000 rpm ± 1 %`)
+        /// or without its limits (`speed_actual mean near`).
         check: String,
         #[command(flatten)]
         filter: FilterArgs,
@@ -250,6 +253,7 @@ fn command(command: &ResultsCommand, locator: &Locator) -> Result<i32, StoreErro
                     .iter()
                     .map(|p| {
                         serde_json::json!({"run": p.run, "started_at": p.started_at, "serial": p.serial,
+                            "check": p.name, "key": p.key,
                             "measured": p.measured, "unit": p.unit, "low": p.low, "high": p.high, "passed": p.passed})
                     })
                     .collect();
@@ -277,7 +281,9 @@ fn command(command: &ResultsCommand, locator: &Locator) -> Result<i32, StoreErro
                     println!("{line}");
                 }
                 if points.is_empty() {
-                    println!("no run has a check named `{check}` (names as the reports show them)");
+                    println!(
+                        "no run has the check `{check}` (a check's name as the reports show it, or without its limits: `speed_actual mean near`)"
+                    );
                 }
             }
             Ok(PASSED)

@@ -11,7 +11,9 @@
 
 use super::recipe::Recipe;
 use super::step::{Step, StepKind};
-use crate::session::{Condition, LastPass, ObjectRef, PlannedCheck, PromptKind};
+use crate::session::{
+    compared_key, Condition, LastPass, ObjectRef, PlannedCheck, PromptKind, COMPARED, WAIT,
+};
 
 /// Every check of the recipe's steps in run order (a check inside a `times:` repeat once
 /// per pass).
@@ -29,20 +31,22 @@ fn walk(steps: &[Step], prefix: &str, stage: &mut Vec<String>, out: &mut Vec<Pla
             _ => format!("{prefix}.{}", i + 1),
         };
         let stage_text = stage.join(" / ");
-        let planned = |name: String, object: Option<String>, statistic: Option<String>| PlannedCheck {
-            name,
-            object,
-            statistic,
-            stage: stage_text.clone(),
-            step: number.clone(),
-            origin: step.origin.clone(),
-        };
+        let planned =
+            |(name, key): (String, String), object: Option<String>, statistic: Option<String>| PlannedCheck {
+                name,
+                key,
+                object,
+                statistic,
+                stage: stage_text.clone(),
+                step: number.clone(),
+                origin: step.origin.clone(),
+            };
         let compared = compared(&step.kind);
         for (name, object, statistic) in own_checks(&step.kind) {
             let comparison = compared
                 .iter()
                 .any(|(n, _)| *n == name)
-                .then(|| format!("{name} compared with last pass"));
+                .then(|| (format!("{}{COMPARED}", name.0), compared_key(&name.1)));
             out.push(planned(name, object, statistic));
             if let Some(name) = comparison {
                 out.push(planned(name, None, None));
@@ -74,15 +78,22 @@ fn walk(steps: &[Step], prefix: &str, stage: &mut Vec<String>, out: &mut Vec<Pla
     }
 }
 
-/// The checks a step makes itself (its nested steps' aside), in order: (name, object,
-/// statistic).
-fn own_checks(kind: &StepKind) -> Vec<(String, Option<String>, Option<String>)> {
+/// (name, key) of a check.
+type Named = (String, String);
+
+/// The checks a step makes itself (its nested steps' aside), in order: ((name, key),
+/// object, statistic).
+fn own_checks(kind: &StepKind) -> Vec<(Named, Option<String>, Option<String>)> {
     match kind {
         StepKind::Expect(checks) => checks
             .iter()
             .map(|c| {
                 let statistic = c.statistic.map(|s| s.id().to_string());
-                (c.name.clone(), Some(c.object.name.clone()), statistic)
+                (
+                    (c.name.clone(), c.key.clone()),
+                    Some(c.object.name.clone()),
+                    statistic,
+                )
             })
             .collect(),
         StepKind::WaitUntil { condition, .. } => {
@@ -92,27 +103,36 @@ fn own_checks(kind: &StepKind) -> Vec<(String, Option<String>, Option<String>)> 
                 }
                 Condition::State(_) => None,
             };
-            vec![(format!("wait until {condition}"), object, None)]
+            let named = (format!("{WAIT}{condition}"), format!("{WAIT}{}", condition.key()));
+            vec![(named, object, None)]
         }
-        StepKind::Ask(prompt) => vec![(prompt.text.clone(), None, None)],
-        StepKind::CoastDown(c) => vec![(c.check_name(), None, Some("coast_down".into()))],
+        StepKind::Ask(prompt) => vec![((prompt.text.clone(), prompt.text.clone()), None, None)],
+        StepKind::CoastDown(c) => vec![((c.check_name(), c.check_key()), None, Some("coast_down".into()))],
         _ => Vec::new(),
     }
 }
 
 /// The checks a step makes itself that compare with the unit's last passed run, each
-/// name with its comparison (a check of its own, right after it).
-fn compared(kind: &StepKind) -> Vec<(String, &LastPass)> {
+/// (name, key) with its comparison (a check of its own, right after it).
+fn compared(kind: &StepKind) -> Vec<(Named, &LastPass)> {
     match kind {
         StepKind::Expect(checks) => checks
             .iter()
-            .filter_map(|c| c.last_pass.as_ref().map(|lp| (c.name.clone(), lp)))
+            .filter_map(|c| {
+                c.last_pass
+                    .as_ref()
+                    .map(|lp| ((c.name.clone(), c.key.clone()), lp))
+            })
             .collect(),
-        StepKind::CoastDown(c) => c.last_pass.iter().map(|lp| (c.check_name(), lp)).collect(),
+        StepKind::CoastDown(c) => c
+            .last_pass
+            .iter()
+            .map(|lp| ((c.check_name(), c.check_key()), lp))
+            .collect(),
         StepKind::Ask(p) => match &p.kind {
             PromptKind::Value {
                 last_pass: Some(lp), ..
-            } => vec![(p.text.clone(), lp)],
+            } => vec![((p.text.clone(), p.text.clone()), lp)],
             _ => Vec::new(),
         },
         _ => Vec::new(),
@@ -181,15 +201,15 @@ pub fn operator_prompts(recipe: &Recipe) -> Vec<(crate::session::Prompt, crate::
     out
 }
 
-/// The checks that compare with the unit's last passed run, each name once, with where
-/// the first of them writes `compared_with_last_pass`. (One in `finally` judges by what was
-/// looked up before: the safe stop never waits for a store.)
-pub fn last_pass_checks(recipe: &Recipe) -> (Vec<String>, Option<crate::session::StepOrigin>) {
-    fn walk(steps: &[Step], names: &mut Vec<String>, first: &mut Option<crate::session::StepOrigin>) {
+/// The checks that compare with the unit's last passed run, (name, key) of each key once,
+/// with where the first of them writes `compared_with_last_pass`. (One in `finally` judges
+/// by what was looked up before: the safe stop never waits for a store.)
+pub fn last_pass_checks(recipe: &Recipe) -> (Vec<(String, String)>, Option<crate::session::StepOrigin>) {
+    fn walk(steps: &[Step], names: &mut Vec<Named>, first: &mut Option<crate::session::StepOrigin>) {
         for step in steps {
             for (name, lp) in compared(&step.kind) {
                 first.get_or_insert_with(|| lp.written.clone());
-                if !names.contains(&name) {
+                if !names.iter().any(|(_, key)| *key == name.1) {
                     names.push(name);
                 }
             }
@@ -232,9 +252,10 @@ steps:
 
     #[test]
     fn a_coast_down_and_a_typed_value_are_followed_by_their_comparisons() {
-        let names: Vec<(String, String)> = planned_checks(&wear())
-            .into_iter()
-            .map(|c| (c.step, c.name))
+        let planned = planned_checks(&wear());
+        let names: Vec<(&str, &str)> = planned
+            .iter()
+            .map(|c| (c.step.as_str(), c.name.as_str()))
             .collect();
         let want = [
             ("1", "motor_temperature below 80 °C"),
@@ -246,16 +267,32 @@ steps:
             ("3", "Vibration"),
             ("3", "Vibration compared with last pass"),
         ];
-        let want: Vec<(String, String)> = want.iter().map(|(s, n)| (s.to_string(), n.to_string())).collect();
         assert_eq!(names, want);
+        // Each keyed as the run keys it: without its limits.
+        let keys: Vec<&str> = planned.iter().map(|c| c.key.as_str()).collect();
+        let want = [
+            "motor_temperature below",
+            "coast-down from 5900 rpm below 100 rpm",
+            "coast-down from 5900 rpm below 100 rpm compared with last pass",
+            "Vibration",
+            "Vibration compared with last pass",
+        ];
+        assert_eq!(keys, want);
     }
 
     #[test]
     fn the_first_comparison_is_where_a_serial_is_needed() {
         let (names, first) = last_pass_checks(&wear());
+        let names: Vec<(&str, &str)> = names.iter().map(|(n, k)| (n.as_str(), k.as_str())).collect();
         assert_eq!(
             names,
-            ["coast-down from 5900 rpm below 100 rpm above 15 s", "Vibration"]
+            [
+                (
+                    "coast-down from 5900 rpm below 100 rpm above 15 s",
+                    "coast-down from 5900 rpm below 100 rpm"
+                ),
+                ("Vibration", "Vibration")
+            ]
         );
         let first = first.expect("a place");
         assert_eq!((first.line, first.column), (8, 30));

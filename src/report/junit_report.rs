@@ -1,7 +1,8 @@
 //! `--junit FILE`: the run report as JUnit XML for CI, valid against Jenkins' junit-10.xsd
 //! and the Ant/Surefire layout: one test suite named after the recipe, one test case per
-//! check named `stage / check` (stable when a limit or parameter changes: the measured
-//! value and limits go to the message and `system-out`, never into the name), a
+//! check named `stage / check` by the check's key (stable when a limit or parameter
+//! changes: the measured value and limits go to the message and `system-out`, never into
+//! the name), a
 //! `<skipped>` case per check the run never reached, a case `run` when the run failed in a
 //! way no check shows, and a case `safe stop` with the run's log. Written from the
 //! finished report only; never a half-written file.
@@ -202,26 +203,6 @@ fn suite_properties(r: &RunReport, started: &str) -> Vec<(String, String)> {
     p
 }
 
-/// The name a check keeps whatever its limits: `speed_actual mean near` for
-/// `speed_actual mean near 6000 rpm ± 0.5 %`; a name the recipe gave stays as written.
-pub fn stable_check_name(name: &str, object: Option<&str>, statistic: Option<&str>) -> String {
-    let (prefix, rest) = match name.strip_prefix("wait until ") {
-        Some(rest) => ("wait until ", rest),
-        None => ("", name),
-    };
-    if let Some(object) = object {
-        let head = match statistic {
-            Some(s) => format!("{object} {s} "),
-            None => format!("{object} "),
-        };
-        if let Some(tail) = rest.strip_prefix(&head) {
-            let kind = tail.split_whitespace().next().unwrap_or("");
-            return format!("{prefix}{head}{kind}").trim_end().to_string();
-        }
-    }
-    name.to_string()
-}
-
 /// Tells apart the check cases that share a name by the step that holds each
 /// ([`case_names`]); `steps` answer `cases` one for one.
 pub(crate) fn name_apart(cases: &mut [Case], steps: Vec<String>) {
@@ -241,7 +222,6 @@ pub(crate) fn case_name(stage: &str, check: &str) -> String {
 }
 
 fn check_case(c: &CheckResult) -> Case {
-    let stable = stable_check_name(&c.name, c.object.as_deref(), c.statistic.as_deref());
     let details = check_details(c);
     let outcome = (!c.passed).then(|| {
         let mut message = c.message.clone();
@@ -271,7 +251,7 @@ fn check_case(c: &CheckResult) -> Case {
         }
     });
     Case {
-        name: case_name(&c.stage, &stable),
+        name: case_name(&c.stage, &c.key),
         time: c.duration.as_secs_f64(),
         outcome,
         out: details,
@@ -294,10 +274,9 @@ fn not_reached(r: &RunReport, planned: &[PlannedCheck]) -> Vec<(Case, String)> {
         .iter()
         .filter(|p| !answered.contains(&(p.origin.to_string(), p.stage.as_str(), p.name.as_str())))
         .map(|p| {
-            let stable = stable_check_name(&p.name, p.object.as_deref(), p.statistic.as_deref());
             let text = format!("check: {} at {}\n", p.name, p.origin);
             let case = Case {
-                name: case_name(&p.stage, &stable),
+                name: case_name(&p.stage, &p.key),
                 time: 0.0,
                 outcome: Some(("skipped", "not_reached".into(), reason.clone(), text.clone())),
                 out: String::new(),
@@ -425,34 +404,4 @@ fn run_log(r: &RunReport) -> String {
         let _ = writeln!(s, "{line}");
     }
     s
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn stable_names_leave_out_limits_and_keep_given_names() {
-        let n = |name, o, s| stable_check_name(name, o, s);
-        assert_eq!(
-            n(
-                "speed_actual mean near 6000 rpm ± 0.5 %",
-                Some("speed_actual"),
-                Some("mean")
-            ),
-            "speed_actual mean near"
-        );
-        assert_eq!(
-            n("wait until speed_actual below 10 rpm", Some("speed_actual"), None),
-            "wait until speed_actual below"
-        );
-        assert_eq!(
-            n("wait until state operation_enabled", None, None),
-            "wait until state operation_enabled"
-        );
-        assert_eq!(
-            n("Spindle is quiet", Some("speed_actual"), Some("std")),
-            "Spindle is quiet"
-        );
-    }
 }

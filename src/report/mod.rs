@@ -22,8 +22,11 @@ pub use console_reporter::{
     check_line, container_line, header_lines, message_line, step_line, summary_lines, ConsoleReporter,
 };
 pub use csv_recorder::{CsvRecorder, CSV_HEADER};
-pub use html::{esc, html_index, html_report, plot_svg, write_html, IndexEntry, MAX_PLOT_POINTS, REPORT_CSS};
-pub use junit_report::{junit_document, junit_suite, junit_xml, stable_check_name, write_junit, JunitSuite};
+pub use html::{
+    esc, html_index, html_report, plot_svg, plot_svg_with_limits, write_html, IndexEntry, LimitLine,
+    MAX_PLOT_POINTS, REPORT_CSS,
+};
+pub use junit_report::{junit_document, junit_suite, junit_xml, write_junit, JunitSuite};
 pub use junit_xml_writer::XmlWriter;
 pub use open_attempts::OpenAttempts;
 pub use progress_reporter::{progress_text, ProgressReporter};

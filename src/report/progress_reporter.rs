@@ -387,6 +387,7 @@ mod tests {
     fn a_failure_another_attempt_follows_reads_retrying() {
         let mut live = ProgressReporter::new(Vec::new(), ProgressBar::hidden(), true);
         let failed = CheckResult {
+            key: "motor_temperature min above".into(),
             measured: Some(28.6),
             unit: Some("°C".into()),
             low: Some(33.0),

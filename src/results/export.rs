@@ -24,7 +24,7 @@ pub fn run_json(r: &StoredRun) -> serde_json::Value {
 }
 
 /// The header of [`csv`].
-pub const CSV_COLUMNS: [&str; 19] = [
+pub const CSV_COLUMNS: [&str; 20] = [
     "run",
     "started_at",
     "recipe",
@@ -44,6 +44,8 @@ pub const CSV_COLUMNS: [&str; 19] = [
     "marginal",
     "step",
     "attempt",
+    // Last, so the columns before keep their places: the check without its limits.
+    "check_key",
 ];
 
 /// One row per check (a run without checks: one row with its verdict and no check).
@@ -82,6 +84,7 @@ pub fn csv(runs: &[StoredRun]) -> String {
                 c.marginal.to_string(),
                 c.step.clone(),
                 c.attempt.to_string(),
+                c.key.clone().unwrap_or_else(|| c.name.clone()),
             ]);
             let _ = w.write_record(&row);
         }

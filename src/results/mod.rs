@@ -8,6 +8,7 @@
 
 mod backend;
 pub mod certificate_html;
+mod check_history;
 pub mod export;
 mod locator;
 mod postgres_backend;
@@ -27,7 +28,7 @@ pub use backend::{Backend, Value};
 pub use locator::{data_dir, Locator, RESULTS_ENV};
 pub use record::{CheckRow, EndRow, Record, RunRow, SeriesRow, StepRow, UnitRow};
 pub use results_recorder::{utc_text, FileFacts, Notes, RecorderSettings, ResultsRecorder};
-pub use schema::current_version;
+pub use schema::{current_version, migration};
 pub use spool::{Delivered, Spool};
 pub use store::Store;
 pub use store_error::StoreError;

@@ -87,6 +87,11 @@ pub struct CheckRow {
     pub run: String,
     pub seq: i64,
     pub name: String,
+    /// The check's key, the same in every run whatever its limits
+    /// (`session::check_key`); `None` in a record written before keys were (the store
+    /// derives it from the name where it can).
+    #[serde(default)]
+    pub key: Option<String>,
     pub measured: Option<f64>,
     pub measured_text: Option<String>,
     pub unit: Option<String>,

@@ -373,6 +373,7 @@ impl RunObserver for ResultsRecorder {
             run: run.id.clone(),
             seq,
             name: c.name.clone(),
+            key: Some(c.key.clone()),
             measured: c.measured,
             measured_text: c.measured_text.clone(),
             unit: c.unit.clone(),

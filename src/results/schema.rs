@@ -1,6 +1,8 @@
 //! The store's schema and its versioned migrations, applied when a store is opened: one
-//! list, the same SQL on SQLite and PostgreSQL. A database with tables but none of ours is
-//! refused as foreign; one of a newer version is refused with what to do.
+//! list, the same SQL on SQLite and PostgreSQL (and the keys of checks stored before they
+//! were, filled in from their names through the same statements). A database with tables
+//! but none of ours is refused as foreign; one of a newer version is refused with what to
+//! do.
 
 use super::backend::{Backend, Value};
 use super::StoreError;
@@ -45,7 +47,20 @@ const MIGRATIONS: &[&str] = &[
     "ALTER TABLE checks ADD COLUMN reference_run TEXT;
      ALTER TABLE checks ADD COLUMN reference_at TEXT;
      ALTER TABLE checks ADD COLUMN reference_value DOUBLE PRECISION;",
+    // 3: a check's key, the same in every run whatever its limits (`session::check_key`);
+    // the rows before it get theirs from their names ([`fill_keys`]).
+    "ALTER TABLE checks ADD COLUMN check_key TEXT;
+     CREATE INDEX checks_key ON checks (check_key, run_id);",
 ];
+
+/// The version whose migration adds `checks.check_key`.
+const KEYS: usize = 3;
+
+/// The statements of migration `version` (1-based), as the drivescript of that version
+/// applied them: a test builds an old store with them.
+pub fn migration(version: usize) -> Option<&'static str> {
+    MIGRATIONS.get(version.checked_sub(1)?).copied()
+}
 
 /// The schema version this drivescript writes.
 pub fn current_version() -> i64 {
@@ -89,8 +104,11 @@ fn migrate_locked(backend: &mut dyn Backend) -> Result<(), StoreError> {
             known: current_version(),
         });
     }
-    for sql in &MIGRATIONS[found as usize..] {
+    for (at, sql) in MIGRATIONS.iter().enumerate().skip(found as usize) {
         backend.batch(sql)?;
+        if at + 1 == KEYS {
+            fill_keys(backend)?;
+        }
     }
     if found == 0 {
         backend.execute(
@@ -106,6 +124,23 @@ fn migrate_locked(backend: &mut dyn Backend) -> Result<(), StoreError> {
         "UPDATE drivescript_store SET value = $1 WHERE key = 'schema'",
         &[current_version().to_string().into()],
     )?;
+    Ok(())
+}
+
+/// Gives the checks stored without a key the key their name shows (`current_actual max
+/// below 5 A` → `current_actual max below`), one statement per distinct name (an index
+/// finds its rows); a name that shows none (a name the recipe gave, a question) stays
+/// without one and is its own key.
+fn fill_keys(backend: &mut dyn Backend) -> Result<(), StoreError> {
+    let names = backend.query("SELECT DISTINCT name FROM checks WHERE check_key IS NULL", &[])?;
+    for name in names.iter().filter_map(|r| r.first().and_then(Value::text)) {
+        if let Some(key) = crate::session::key_of_name(name) {
+            backend.execute(
+                "UPDATE checks SET check_key = $1 WHERE name = $2 AND check_key IS NULL",
+                &[key.into(), name.into()],
+            )?;
+        }
+    }
     Ok(())
 }
 
@@ -143,38 +178,77 @@ mod tests {
     use super::*;
     use crate::results::sqlite_backend::SqliteBackend;
 
+    /// A store of schema `version` in the scratch folder `name`, holding the checks
+    /// `checks` inserts, opened (so migrated) by this drivescript: the store, read raw, and
+    /// its folder.
+    fn migrated(name: &str, version: usize, checks: &str) -> (SqliteBackend, std::path::PathBuf) {
+        let dir = std::env::temp_dir().join(format!("drivescript-schema-{name}-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).expect("dir");
+        let path = dir.join("old.sqlite");
+        let mut old = SqliteBackend::open(&path, true).expect("opens");
+        for v in 1..=version {
+            old.batch(migration(v).expect("a migration")).expect("applied");
+        }
+        old.batch(&format!(
+            "INSERT INTO drivescript_store (key, value) VALUES ('application', 'drivescript results');
+             INSERT INTO drivescript_store (key, value) VALUES ('schema', '{version}');
+             INSERT INTO checks (run_id, seq, name, passed, marginal, step, stage, attempt, message)
+                VALUES {checks};"
+        ))
+        .expect("old checks");
+        drop(old);
+        drop(
+            crate::results::Locator::Sqlite(path.clone())
+                .open(false)
+                .expect("migrated"),
+        );
+        (SqliteBackend::open(&path, false).expect("opens"), dir)
+    }
+
     /// A store written by the first version keeps its runs and takes the columns of a
     /// check's reference when opened by this one.
     #[test]
     fn a_version_1_store_is_migrated_and_keeps_its_runs() {
-        let dir = std::env::temp_dir().join(format!("drivescript-schema-{}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&dir);
-        std::fs::create_dir_all(&dir).expect("dir");
-        let path = dir.join("v1.sqlite");
-        let mut old = SqliteBackend::open(&path, true).expect("opens");
-        old.batch(MIGRATIONS[0]).expect("version 1");
-        old.batch(
-            "INSERT INTO drivescript_store (key, value) VALUES ('application', 'drivescript results');
-             INSERT INTO drivescript_store (key, value) VALUES ('schema', '1');
-             INSERT INTO checks (run_id, seq, name, passed, marginal, step, stage, attempt, message)
-                VALUES ('r1', 1, 'c', 1, 0, '1', '', 1, 'kept');",
-        )
-        .expect("a version 1 check");
-        drop(old);
-        let store = crate::results::Locator::Sqlite(path)
-            .open(false)
-            .expect("migrated");
-        drop(store);
-        let mut b = SqliteBackend::open(&dir.join("v1.sqlite"), false).expect("opens");
+        let (mut b, dir) = migrated("v1", 1, "('r1', 1, 'c', 1, 0, '1', '', 1, 'kept')");
         assert_eq!(version(&mut b).expect("version"), Some(current_version()));
         let rows = b
             .query(
-                "SELECT message, reference_run FROM checks WHERE run_id = 'r1'",
+                "SELECT message, reference_run, check_key FROM checks WHERE run_id = 'r1'",
                 &[],
             )
-            .expect("the new column");
+            .expect("the new columns");
         assert_eq!(rows[0][0].text(), Some("kept"));
         assert_eq!(rows[0][1].text(), None);
+        assert_eq!(rows[0][2].text(), None, "`c` is its own key");
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    /// The checks of a version 2 store get the key their names show; a name the recipe
+    /// gave shows none and stays its own key.
+    #[test]
+    fn a_version_2_store_keys_its_checks_from_their_names() {
+        let (mut b, dir) = migrated(
+            "v2",
+            2,
+            "('r1', 1, 'current_actual max below 5 A', 1, 0, '1', '', 1, ''),
+             ('r1', 2, 'current_actual max below 5 A compared with last pass', 1, 0, '1', '', 1, ''),
+             ('r2', 1, 'current_actual max below 5 A', 1, 0, '1', '', 1, ''),
+             ('r2', 2, 'bearing current at 18000 rpm', 1, 0, '2', '', 1, '')",
+        );
+        let rows = b
+            .query("SELECT name, check_key FROM checks ORDER BY run_id, seq", &[])
+            .expect("the keys");
+        let keys: Vec<Option<&str>> = rows.iter().map(|r| r[1].text()).collect();
+        assert_eq!(
+            keys,
+            [
+                Some("current_actual max below"),
+                Some("current_actual max below compared with last pass"),
+                Some("current_actual max below"),
+                None
+            ]
+        );
         let _ = std::fs::remove_dir_all(&dir);
     }
 }

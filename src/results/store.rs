@@ -4,12 +4,12 @@
 
 use super::backend::{Backend, Value};
 use super::record::{CheckRow, EndRow, Record, RunRow, SeriesRow, StepRow, UnitRow};
-use super::stored_run::{RunFilter, StoredRun, TrendPoint};
+use super::stored_run::{RunFilter, StoredRun};
 use super::{schema, StoreError};
-use crate::session::{PastCheck, PastRun};
+use crate::session::key_of_name;
 
 pub struct Store {
-    backend: Box<dyn Backend>,
+    pub(super) backend: Box<dyn Backend>,
 }
 
 const RUN_COLUMNS: &str = "id, kind, recipe, recipe_path, recipe_sha256, tool_version, started_at, \
@@ -95,8 +95,8 @@ impl Store {
                 b.execute(
                     "INSERT INTO checks (run_id, seq, name, measured, measured_text, unit, low, \
                      high, passed, marginal, step, stage, attempt, message, reference_run, \
-                     reference_at, reference_value) VALUES ($1, $2, $3, $4, $5, $6, $7, $8, $9, \
-                     $10, $11, $12, $13, $14, $15, $16, $17) ON CONFLICT DO NOTHING",
+                     reference_at, reference_value, check_key) VALUES ($1, $2, $3, $4, $5, $6, \
+                     $7, $8, $9, $10, $11, $12, $13, $14, $15, $16, $17, $18) ON CONFLICT DO NOTHING",
                     &[
                         c.run.as_str().into(),
                         c.seq.into(),
@@ -115,6 +115,8 @@ impl Store {
                         c.reference_run.clone().into(),
                         c.reference_at.clone().into(),
                         c.reference_value.into(),
+                        // A record spooled before keys were: as the migration keys its rows.
+                        c.key.clone().or_else(|| key_of_name(&c.name)).into(),
                     ],
                 )?;
             }
@@ -234,8 +236,8 @@ impl Store {
     fn checks(&mut self, run: &str) -> Result<Vec<CheckRow>, StoreError> {
         let rows = self.backend.query(
             "SELECT seq, name, measured, measured_text, unit, low, high, passed, step, stage, \
-             attempt, message, marginal, reference_run, reference_at, reference_value \
-             FROM checks WHERE run_id = $1 ORDER BY seq",
+             attempt, message, marginal, reference_run, reference_at, reference_value, \
+             check_key FROM checks WHERE run_id = $1 ORDER BY seq",
             &[run.into()],
         )?;
         Ok(rows
@@ -244,6 +246,7 @@ impl Store {
                 run: run.to_string(),
                 seq: int(&r[0]),
                 name: text(&r[1]),
+                key: opt(&r[16]),
                 measured: r[2].real(),
                 measured_text: opt(&r[3]),
                 unit: opt(&r[4]),
@@ -301,81 +304,10 @@ impl Store {
         }
         Ok(run)
     }
-
-    /// The last complete run with verdict passed of the recipe named `recipe` on the unit
-    /// `serial`, among simulated runs or among real ones, with its passed checks that
-    /// measured a value; `None` when there is none.
-    pub fn last_pass(
-        &mut self,
-        recipe: &str,
-        serial: &str,
-        simulated: bool,
-    ) -> Result<Option<PastRun>, StoreError> {
-        let rows = self.backend.query(
-            "SELECT id, started_at FROM runs WHERE recipe = $1 AND serial = $2 AND simulated = $3 \
-             AND verdict = 'passed' AND ended_at IS NOT NULL ORDER BY started_at DESC, id DESC LIMIT 1",
-            &[recipe.into(), serial.into(), simulated.into()],
-        )?;
-        let Some(run) = rows.first() else {
-            return Ok(None);
-        };
-        let id = text(&run[0]);
-        let checks = self.backend.query(
-            "SELECT name, step, measured, unit FROM checks WHERE run_id = $1 AND passed = 1 \
-             AND measured IS NOT NULL ORDER BY seq",
-            &[id.as_str().into()],
-        )?;
-        Ok(Some(PastRun {
-            id,
-            started_at: text(&run[1]),
-            checks: checks
-                .iter()
-                .filter_map(|c| {
-                    Some(PastCheck {
-                        name: text(&c[0]),
-                        step: text(&c[1]),
-                        measured: c[2].real()?,
-                        unit: opt(&c[3]),
-                    })
-                })
-                .collect(),
-        }))
-    }
-
-    /// Check `name`'s value in every run `filter` takes, oldest first.
-    pub fn trend(&mut self, name: &str, filter: &RunFilter) -> Result<Vec<TrendPoint>, StoreError> {
-        let (clause, mut params) = where_clause(filter, "r.");
-        params.push(name.into());
-        let and = if clause.is_empty() { " WHERE" } else { " AND" };
-        let mut sql = format!(
-            "SELECT r.id, r.started_at, r.serial, c.measured, c.unit, c.low, c.high, c.passed \
-             FROM checks c JOIN runs r ON r.id = c.run_id{clause}{and} c.name = ${} \
-             ORDER BY r.started_at, r.id, c.seq",
-            params.len()
-        );
-        if let Some(limit) = filter.limit {
-            params.push(Value::Int(i64::try_from(limit).unwrap_or(i64::MAX)));
-            sql.push_str(&format!(" LIMIT ${}", params.len()));
-        }
-        let rows = self.backend.query(&sql, &params)?;
-        Ok(rows
-            .iter()
-            .map(|r| TrendPoint {
-                run: text(&r[0]),
-                started_at: text(&r[1]),
-                serial: opt(&r[2]),
-                measured: r[3].real(),
-                unit: opt(&r[4]),
-                low: r[5].real(),
-                high: r[6].real(),
-                passed: int(&r[7]) != 0,
-            })
-            .collect())
-    }
 }
 
 /// ` WHERE …` for `filter` (columns prefixed with `prefix`) and its parameters.
-fn where_clause(filter: &RunFilter, prefix: &str) -> (String, Vec<Value>) {
+pub(super) fn where_clause(filter: &RunFilter, prefix: &str) -> (String, Vec<Value>) {
     let mut parts: Vec<String> = Vec::new();
     let mut params: Vec<Value> = Vec::new();
     let mut add = |sql: &str, value: Option<Value>, params: &mut Vec<Value>| {
@@ -421,15 +353,15 @@ fn json<T: serde::Serialize>(value: &T) -> String {
     serde_json::to_string(value).unwrap_or_default()
 }
 
-fn text(v: &Value) -> String {
+pub(super) fn text(v: &Value) -> String {
     v.text().unwrap_or_default().to_string()
 }
 
-fn opt(v: &Value) -> Option<String> {
+pub(super) fn opt(v: &Value) -> Option<String> {
     v.text().map(str::to_string)
 }
 
-fn int(v: &Value) -> i64 {
+pub(super) fn int(v: &Value) -> i64 {
     v.int().unwrap_or(0)
 }
 
@@ -504,6 +436,7 @@ mod tests {
                 run: id.into(),
                 seq: 1,
                 name: "c".into(),
+                key: None,
                 measured: Some(1.5),
                 measured_text: None,
                 unit: Some("A".into()),

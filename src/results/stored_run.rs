@@ -48,6 +48,9 @@ pub struct RunFilter {
 /// One check's value in one run, for `results trend`.
 #[derive(Debug, Clone, PartialEq)]
 pub struct TrendPoint {
+    /// The check's name in that run (with the limits it had there) and its key.
+    pub name: String,
+    pub key: String,
     pub run: String,
     pub started_at: String,
     pub serial: Option<String>,

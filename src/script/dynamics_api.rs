@@ -136,6 +136,7 @@ fn coast_down(
     }
     let (shortest, longest) = (duration(shortest)?, duration(longest)?);
     let c = CoastDown {
+        name: None,
         from,
         below,
         predicate: Predicate::Between(shortest.as_secs_f64(), longest.as_secs_f64()),

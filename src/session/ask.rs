@@ -41,12 +41,13 @@ impl Session<'_> {
             _ => None,
         };
         if compared.is_some() {
-            self.will_compare(&prompt.text)?;
+            self.will_compare(&prompt.text, &prompt.text)?;
         }
         let (mut detail, accepted) = self.ask_once(prompt, origin, number)?;
         if let Some((unit, lp)) = compared {
             let of = Compared {
                 name: &prompt.text,
+                key: &prompt.text,
                 what: "answer".into(),
                 unit,
             };
@@ -258,7 +259,8 @@ impl Session<'_> {
             high,
             message,
             inclusive: true,
-            ..self.check_now(prompt.text.clone(), origin, started)
+            // A question holds no limits: it is its own key.
+            ..self.check_now(prompt.text.clone(), prompt.text.clone(), origin, started)
         };
         if !passed {
             self.failed_checks = true;

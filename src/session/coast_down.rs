@@ -17,6 +17,8 @@ use std::time::Duration;
 /// What a coast-down measures and how long it may take.
 #[derive(Debug, Clone, PartialEq)]
 pub struct CoastDown {
+    /// The name the recipe gave the step, which names its check (as an `expect`'s does).
+    pub name: Option<String>,
     /// The speed the time counts from (the object's unit), crossed on the way down.
     pub from: f64,
     /// The speed the time counts to.
@@ -35,25 +37,39 @@ pub struct CoastDown {
 }
 
 impl CoastDown {
-    /// `coast-down from 6000 rpm below 100 rpm near 19.7 s ± 0.5 s`.
+    /// `coast-down from 6000 rpm below 100 rpm near 19.7 s ± 0.5 s`, or the name the recipe
+    /// gave.
     pub fn check_name(&self) -> String {
+        match &self.name {
+            Some(name) => name.clone(),
+            None => format!("{} {}", self.measured(), self.predicate.describe(Some("s"))),
+        }
+    }
+
+    /// What stays the same when its limits change: what it measures (`coast-down from
+    /// 6000 rpm below 100 rpm`), or the name the recipe gave.
+    pub fn check_key(&self) -> String {
+        self.name.clone().unwrap_or_else(|| self.measured())
+    }
+
+    /// `coast-down from 6000 rpm below 100 rpm`.
+    fn measured(&self) -> String {
         let unit = self.unit.as_deref().map(|u| format!(" {u}")).unwrap_or_default();
         format!(
-            "coast-down from {}{unit} below {}{unit} {}",
+            "coast-down from {}{unit} below {}{unit}",
             round(self.from),
-            round(self.below),
-            self.predicate.describe(Some("s"))
+            round(self.below)
         )
     }
 }
 
 impl Session<'_> {
     pub fn coast_down(&mut self, c: &CoastDown, origin: &StepOrigin, number: &str) -> Result<String, Stop> {
-        let name = c.check_name();
+        let (name, key) = (c.check_name(), c.check_key());
         // While the drive still holds its speed: the store is never waited for while the
         // spindle coasts (nor in the safe stop).
         if c.last_pass.is_some() {
-            self.will_compare(&name)?;
+            self.will_compare(&name, &key)?;
         }
         let Some(object) = self.role_ref(Role::SpeedActual) else {
             return Err(Stop::Failed(
@@ -146,7 +162,7 @@ impl Session<'_> {
             message: message.clone(),
             window: Some(self.path.id()),
             marginal,
-            ..self.check_now(name.clone(), origin, started)
+            ..self.check_now(name.clone(), key.clone(), origin, started)
         });
         let mut failed: Vec<String> = Vec::new();
         if !passed {
@@ -156,6 +172,7 @@ impl Session<'_> {
         if let Some(lp) = &c.last_pass {
             let of = Compared {
                 name: &name,
+                key: &key,
                 what: "coast-down time".into(),
                 unit: Some("s"),
             };

@@ -68,6 +68,21 @@ impl Predicate {
         }
     }
 
+    /// The words a predicate begins with, one per kind.
+    pub const KINDS: [&'static str; 5] = ["equals", "above", "below", "between", "near"];
+
+    /// What kind of limit it is, the first word of [`Predicate::describe`]: `near`,
+    /// `below`; part of a check's key (a limit changes, its kind stays).
+    pub fn kind(&self) -> &'static str {
+        match self {
+            Predicate::Equals(_) | Predicate::EqualsText(_) => Self::KINDS[0],
+            Predicate::Above(_) => Self::KINDS[1],
+            Predicate::Below(_) => Self::KINDS[2],
+            Predicate::Between(..) => Self::KINDS[3],
+            Predicate::Near { .. } => Self::KINDS[4],
+        }
+    }
+
     /// `near 6000 rpm ± 1 %`, with `unit` after every number.
     pub fn describe(&self, unit: Option<&str>) -> String {
         let u = |v: f64| match unit {
@@ -139,6 +154,23 @@ pub enum Condition {
         predicate: Predicate,
         rate_unit: String,
     },
+}
+
+impl Condition {
+    /// What stays of the condition's text when its limits change: `speed_actual below`,
+    /// `motor_temperature slope below`, `state operation_enabled` (a wait's key after
+    /// `wait until `).
+    pub fn key(&self) -> String {
+        match self {
+            Condition::State(_) => self.to_string(),
+            Condition::Value { object, predicate } => {
+                super::check_key::measured_key(&object.name, None, predicate)
+            }
+            Condition::Stable {
+                object, predicate, ..
+            } => super::check_key::measured_key(&object.name, Some(Statistic::SLOPE), predicate),
+        }
+    }
 }
 
 impl fmt::Display for Condition {
@@ -215,8 +247,11 @@ impl Statistic {
         ("overshoot", Statistic::Overshoot),
         ("settling_time", Statistic::SettlingTime),
         ("steady_state_error", Statistic::SteadyStateError),
-        ("slope", Statistic::Slope(std::time::Duration::ZERO)),
+        (Statistic::SLOPE, Statistic::Slope(std::time::Duration::ZERO)),
     ];
+
+    /// The id of the slope, which a wait until stable measures too.
+    pub const SLOPE: &'static str = "slope";
 
     /// The statistics a window's running sums hold (what a script's sample window offers);
     /// the measures of a step and the slope need the session's own window.
@@ -239,7 +274,7 @@ impl Statistic {
             Statistic::Overshoot => "overshoot",
             Statistic::SettlingTime => "settling_time",
             Statistic::SteadyStateError => "steady_state_error",
-            Statistic::Slope(_) => "slope",
+            Statistic::Slope(_) => Self::SLOPE,
         }
     }
 
@@ -274,6 +309,9 @@ impl Statistic {
 pub struct Check {
     /// `speed_actual mean near 6000 rpm ± 0.5 %`, or the recipe's own name for it.
     pub name: String,
+    /// The name without its limits (`speed_actual mean near`), or the recipe's own name:
+    /// the same check in every run ([`super::check_key`]).
+    pub key: String,
     pub object: ObjectRef,
     /// `None`: the value read now. `Some`: a statistic of the last sample window.
     pub statistic: Option<Statistic>,

@@ -73,7 +73,7 @@ impl Session<'_> {
                     .statistic
                     .and_then(|_| self.window_steps.get(&c.object.name).cloned()),
                 marginal,
-                ..self.check_now(c.name.clone(), origin, started)
+                ..self.check_now(c.name.clone(), c.key.clone(), origin, started)
             };
             if !passed {
                 self.failed_checks = true;
@@ -83,6 +83,7 @@ impl Session<'_> {
             if let Some(lp) = &c.last_pass {
                 let of = super::history_lookup::Compared {
                     name: &c.name,
+                    key: &c.key,
                     what: match c.statistic {
                         Some(s) => format!("{} {}", c.object.name, s.id()),
                         None => c.object.name.clone(),

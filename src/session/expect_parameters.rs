@@ -39,6 +39,8 @@ impl Session<'_> {
             if !passed {
                 failed.push(message.clone());
             }
+            // A parameter's check holds no limits: its name is its key.
+            let name = format!("parameter {}", saved.name);
             let result = CheckResult {
                 passed,
                 measured: value.number(),
@@ -46,7 +48,7 @@ impl Session<'_> {
                 unit: value.unit().map(|u| u.symbol().to_string()),
                 object: Some(saved.name.clone()),
                 message,
-                ..self.check_now(format!("parameter {}", saved.name), origin, started)
+                ..self.check_now(name.clone(), name, origin, started)
             };
             self.record_check_result(result);
         }

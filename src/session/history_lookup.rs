@@ -7,7 +7,7 @@ use super::last_pass::{signed, LastPass, PastRun};
 use super::session::round;
 use super::session::Session;
 use super::stop::Stop;
-use super::{with_unit, CheckReference, CheckResult, StepOrigin};
+use super::{compared_key, with_unit, CheckReference, CheckResult, StepOrigin, COMPARED};
 use std::sync::mpsc::RecvTimeoutError;
 use std::time::{Duration, Instant};
 
@@ -17,10 +17,11 @@ pub const LOOKUP_LIMIT: Duration = Duration::from_secs(10);
 /// How often the wait serves the drives and looks for a stop request.
 const SLICE: Duration = Duration::from_millis(20);
 
-/// The check a comparison is made for: its name, what it measured (`current_actual mean`,
-/// `coast-down time`, `answer`) and in which unit.
+/// The check a comparison is made for: its name and key, what it measured
+/// (`current_actual mean`, `coast-down time`, `answer`) and in which unit.
 pub(super) struct Compared<'c> {
     pub name: &'c str,
+    pub key: &'c str,
     pub what: String,
     pub unit: Option<&'c str>,
 }
@@ -138,7 +139,7 @@ impl Session<'_> {
                 let values: Vec<String> = self
                     .history_checks
                     .iter()
-                    .map(|name| match run.checks.iter().rev().find(|c| c.name == *name) {
+                    .map(|(name, key)| match run.last_check(key, name) {
                         Some(c) => format!("{name} = {}", with_unit(round(c.measured), c.unit.as_deref())),
                         None => format!("{name}: not in that run"),
                     })
@@ -194,7 +195,7 @@ impl Session<'_> {
             ),
             (Past::Unreadable { why, .. }, _) => (false, format!("cannot be judged: {why}")),
             (Past::Known { serial, run }, Some(v)) => {
-                let found = run.as_ref().and_then(|r| r.check(c.name, &step).map(|p| (r, p)));
+                let found = run.as_ref().and_then(|r| r.check(c.key, c.name, &step).map(|p| (r, p)));
                 match found {
                     None => {
                         let why = match run {
@@ -254,7 +255,8 @@ impl Session<'_> {
             _ => message,
         };
         CheckResult {
-            name: format!("{} compared with last pass", c.name),
+            name: format!("{}{COMPARED}", c.name),
+            key: compared_key(c.key),
             passed,
             measured: change,
             measured_text: None,
@@ -279,12 +281,12 @@ impl Session<'_> {
 }
 
 impl Session<'_> {
-    /// Check `name` will be compared with the unit's last passed run: it is named in what
-    /// the lookup says, and the run is looked up now if it was not for this serial yet (a
-    /// script's checks are not known before it runs). Never in the safe stop.
-    pub(super) fn will_compare(&mut self, name: &str) -> Result<(), Stop> {
-        if !self.history_checks.iter().any(|n| n == name) {
-            self.history_checks.push(name.to_string());
+    /// Check `name` (keyed `key`) will be compared with the unit's last passed run: it is
+    /// named in what the lookup says, and the run is looked up now if it was not for this
+    /// serial yet (a script's checks are not known before it runs). Never in the safe stop.
+    pub(super) fn will_compare(&mut self, name: &str, key: &str) -> Result<(), Stop> {
+        if !self.history_checks.iter().any(|(_, k)| k == key) {
+            self.history_checks.push((name.to_string(), key.to_string()));
         }
         self.look_up_last_pass(true)
     }
@@ -316,9 +318,11 @@ impl Session<'_> {
         lp: &LastPass,
         origin: &StepOrigin,
     ) -> Result<String, Stop> {
-        self.will_compare(name)?;
+        // A script names its checks itself: the name is the key.
+        self.will_compare(name, name)?;
         let check = Compared {
             name,
+            key: name,
             what: name.to_string(),
             unit: None,
         };

@@ -83,21 +83,40 @@ pub struct PastRun {
 #[derive(Debug, Clone, PartialEq)]
 pub struct PastCheck {
     pub name: String,
+    /// Its key ([`super::check_key`]); `None` for a check stored before keys were, whose
+    /// name alone says which check it was.
+    pub key: Option<String>,
     /// The iteration-aware step id (`4[2].1`).
     pub step: String,
     pub measured: f64,
     pub unit: Option<String>,
 }
 
+impl PastCheck {
+    /// Whether it is the check keyed `key` (named `name` now): by its key, or by its name
+    /// when it was stored without one. Its limits may have changed since.
+    pub fn is(&self, key: &str, name: &str) -> bool {
+        match &self.key {
+            Some(k) => k == key,
+            None => self.name == name,
+        }
+    }
+}
+
 impl PastRun {
-    /// The check this run's check `name` at step `step` compares with: the one of that
-    /// name at the same step, else the last one of that name (the recipe moved it, or an
-    /// attempt passed at another try).
-    pub fn check(&self, name: &str, step: &str) -> Option<&PastCheck> {
+    /// The check this run's check keyed `key` (named `name`) at step `step` compares with:
+    /// the one of that key at the same step, else the last one of that key (the recipe
+    /// moved it, or an attempt passed at another try).
+    pub fn check(&self, key: &str, name: &str, step: &str) -> Option<&PastCheck> {
         self.checks
             .iter()
-            .find(|c| c.name == name && c.step == step)
-            .or_else(|| self.checks.iter().rev().find(|c| c.name == name))
+            .find(|c| c.is(key, name) && c.step == step)
+            .or_else(|| self.last_check(key, name))
+    }
+
+    /// The last check of key `key` (named `name` now) in this run.
+    pub fn last_check(&self, key: &str, name: &str) -> Option<&PastCheck> {
+        self.checks.iter().rev().find(|c| c.is(key, name))
     }
 }
 
@@ -165,28 +184,51 @@ mod tests {
         assert_eq!(lp.describe(Some("A")), "at most +0.5 A");
     }
 
+    fn past(name: &str, key: Option<&str>, step: &str, measured: f64) -> PastCheck {
+        PastCheck {
+            name: name.into(),
+            key: key.map(str::to_string),
+            step: step.into(),
+            measured,
+            unit: None,
+        }
+    }
+
     #[test]
-    fn the_reference_is_the_same_step_else_the_last_of_that_name() {
+    fn the_reference_is_the_same_step_else_the_last_of_that_key() {
+        let (key, name) = ("c below", "c below 5 A");
         let run = PastRun {
             id: "r".into(),
             started_at: "t".into(),
             checks: vec![
-                PastCheck {
-                    name: "c".into(),
-                    step: "3[1].1".into(),
-                    measured: 1.0,
-                    unit: None,
-                },
-                PastCheck {
-                    name: "c".into(),
-                    step: "3[2].1".into(),
-                    measured: 2.0,
-                    unit: None,
-                },
+                past("c below 5 A", Some(key), "3[1].1", 1.0),
+                past("c below 5 A", Some(key), "3[2].1", 2.0),
             ],
         };
-        assert_eq!(run.check("c", "3[1].1").map(|c| c.measured), Some(1.0));
-        assert_eq!(run.check("c", "9").map(|c| c.measured), Some(2.0));
-        assert_eq!(run.check("d", "3[1].1"), None);
+        assert_eq!(run.check(key, name, "3[1].1").map(|c| c.measured), Some(1.0));
+        assert_eq!(run.check(key, name, "9").map(|c| c.measured), Some(2.0));
+        // Its limit tightened since: still the same check.
+        assert_eq!(
+            run.check(key, "c below 4.5 A", "3[2].1").map(|c| c.measured),
+            Some(2.0)
+        );
+        assert_eq!(run.check("d below", "d below 5 A", "3[1].1"), None);
+        assert_eq!(
+            run.check("c above", name, "3[1].1"),
+            None,
+            "the key decides, not the name"
+        );
+    }
+
+    #[test]
+    fn a_check_stored_without_a_key_is_found_by_its_full_name() {
+        let run = PastRun {
+            id: "r".into(),
+            started_at: "t".into(),
+            checks: vec![past("bearing current", None, "4", 1.5)],
+        };
+        let found = run.check("bearing current", "bearing current", "4");
+        assert_eq!(found.map(|c| c.measured), Some(1.5));
+        assert_eq!(run.check("x below", "x below 5 A", "4"), None);
     }
 }

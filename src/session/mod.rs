@@ -8,6 +8,7 @@
 mod ask;
 mod brake;
 mod bucket_series;
+mod check_key;
 mod coast_down;
 mod condition;
 mod expect;
@@ -43,6 +44,7 @@ mod wait_stable;
 mod wait_until;
 
 pub use bucket_series::{BucketSeries, SERIES_BUCKETS};
+pub use check_key::{compared_key, key_of_name, measured_key, COMPARED, WAIT};
 pub use coast_down::CoastDown;
 pub use condition::{
     number, with_unit, write_number, Check, Condition, Measure, Predicate, Statistic, Stats, Tolerance,

@@ -83,6 +83,9 @@ pub struct StepRecord {
 #[derive(Debug, Clone, PartialEq)]
 pub struct CheckResult {
     pub name: String,
+    /// The name without its limits (`speed_actual mean near`), or the name the recipe
+    /// gave: the same check in every run, whatever its limits ([`super::check_key`]).
+    pub key: String,
     pub passed: bool,
     /// The measured value in the object's unit (or text for string objects).
     pub measured: Option<f64>,
@@ -132,10 +135,13 @@ pub struct CheckReference {
 impl CheckResult {
     /// A check named `name` that passed or not, with nothing else said yet: nothing
     /// measured, no limits, no message, no place or time (`..CheckResult::named(…)` under
-    /// the fields a caller knows).
+    /// the fields a caller knows). Its key is its name (a name without limits is its own
+    /// key); a caller whose name holds limits gives the key.
     pub fn named(name: impl Into<String>, passed: bool) -> CheckResult {
+        let name = name.into();
         CheckResult {
-            name: name.into(),
+            key: name.clone(),
+            name,
             passed,
             measured: None,
             measured_text: None,
@@ -186,6 +192,8 @@ impl CheckResult {
 pub struct PlannedCheck {
     /// As [`CheckResult::name`] will say it.
     pub name: String,
+    /// As [`CheckResult::key`] will say it.
+    pub key: String,
     pub object: Option<String>,
     pub statistic: Option<String>,
     /// The steps that hold it, as [`CheckResult::stage`] will say it (`repeat 2 times #2`).

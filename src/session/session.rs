@@ -60,7 +60,8 @@ pub struct Session<'a> {
     /// Where the unit's past runs are read (a results store), the checks that compare
     /// with its last pass, and what was found.
     pub(super) history: Option<std::sync::Arc<dyn super::History>>,
-    pub(super) history_checks: Vec<String>,
+    /// (name, key) of each check that compares, for what the lookup says.
+    pub(super) history_checks: Vec<(String, String)>,
     pub(super) past: super::history_lookup::Past,
     /// Faults the drives reported on their own while the run ended, said after the stop.
     pub(super) reported_in_stop: Vec<String>,
@@ -170,12 +171,12 @@ impl<'a> Session<'a> {
         self
     }
 
-    /// Where the unit's past runs are read, for the checks (by name) that compare with its
-    /// last passed run; looked up once the serial is known.
+    /// Where the unit's past runs are read, for the checks (name, key) that compare with
+    /// its last passed run; looked up once the serial is known.
     pub fn with_history(
         mut self,
         history: Option<std::sync::Arc<dyn super::History>>,
-        checks: Vec<String>,
+        checks: Vec<(String, String)>,
     ) -> Self {
         self.history = history;
         self.history_checks = checks;

@@ -5,7 +5,7 @@ use super::session::show_duration;
 use super::session::value_of;
 use super::session::{secs, Session};
 use super::stop::Stop;
-use super::{CheckResult, Condition, ObjectRef, StepOrigin};
+use super::{CheckResult, Condition, ObjectRef, StepOrigin, WAIT};
 use crate::drive::DeviceState;
 use std::time::Duration;
 
@@ -95,6 +95,8 @@ impl Session<'_> {
             let ok = holds(v)?;
             if ok || waited >= timeout {
                 let message = (!ok).then(|| timed_out(timeout, what, &seen));
+                // The script's condition has no limits to leave out.
+                let name = format!("{WAIT}{what}");
                 let result = CheckResult {
                     passed: ok,
                     measured: Some(v),
@@ -102,7 +104,7 @@ impl Session<'_> {
                     unit: object.unit.clone(),
                     object: Some(object.name.clone()),
                     message: message.clone().unwrap_or_else(|| "reached".into()),
-                    ..self.check_now(format!("wait until {what}"), origin, started)
+                    ..self.check_now(name.clone(), name, origin, started)
                 };
                 self.record_check_result(result);
                 return wait_ended(message, &seen, waited);
@@ -132,13 +134,21 @@ impl Session<'_> {
         self.wait(next)
     }
 
-    /// A check of the current step begun at `started`, with what every check a session
-    /// operation records shares (its step and stage, when and how long); not passed and
-    /// with nothing measured until the caller says otherwise.
-    pub(super) fn check_now(&self, name: String, origin: &StepOrigin, started: Duration) -> CheckResult {
+    /// A check `name` (keyed `key`, the name without its limits) of the current step begun
+    /// at `started`, with what every check a session operation records shares (its step
+    /// and stage, when and how long); not passed and with nothing measured until the
+    /// caller says otherwise.
+    pub(super) fn check_now(
+        &self,
+        name: String,
+        key: String,
+        origin: &StepOrigin,
+        started: Duration,
+    ) -> CheckResult {
         let (step, stage) = self.place();
         let at = self.clock.now();
         CheckResult {
+            key,
             origin: origin.clone(),
             step,
             stage,
@@ -185,7 +195,12 @@ impl Session<'_> {
             high,
             object,
             message: message.unwrap_or_else(|| "reached".into()),
-            ..self.check_now(format!("wait until {name}"), origin, started)
+            ..self.check_now(
+                format!("{WAIT}{name}"),
+                format!("{WAIT}{}", condition.key()),
+                origin,
+                started,
+            )
         };
         self.record_check_result(result);
     }

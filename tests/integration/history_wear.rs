@@ -412,13 +412,13 @@ fn interrupted_at<'a>(recipe: &Path, store: std::path::PathBuf, at: Duration) ->
 }
 
 /// What every such ending must show: looked up before anything moved, interrupted,
-/// stopped and verified, no comparison made, the comparison planned in JUnit as not
-/// reached.
+/// stopped and verified, no comparison made, the comparison planned in JUnit (its `case`
+/// named by its key) as not reached.
 fn assert_stopped_without_a_comparison(
     result: &drivescript::run::RunResult,
     out: &str,
     reference: &str,
-    compared: &str,
+    (compared, case): (&str, &str),
 ) {
     assert_eq!(result.exit_code, 130, "{out}");
     let said = out
@@ -445,7 +445,7 @@ fn assert_stopped_without_a_comparison(
     let junit = drivescript::report::junit_document([result.junit.as_ref().expect("a suite")]);
     let case = junit
         .split("<testcase ")
-        .find(|c| c.contains(&format!("name=\"{compared}\"")))
+        .find(|c| c.contains(&format!("name=\"{case}\"")))
         .unwrap_or_else(|| panic!("the comparison is a JUnit case:\n{junit}"));
     assert!(case.contains("not reached: the run ended early"), "{case}");
 }
@@ -467,7 +467,10 @@ fn a_stop_during_a_compared_coast_down_runs_the_safe_stop_and_no_comparison() {
         &result,
         &out,
         &reference,
-        &format!("{COAST_CHECK} compared with last pass"),
+        (
+            &format!("{COAST_CHECK} compared with last pass"),
+            "coast-down from 5900 rpm below 100 rpm compared with last pass",
+        ),
     );
     assert_has(
         &out,
@@ -503,7 +506,10 @@ fn a_stop_at_a_compared_value_question_runs_the_safe_stop_and_no_comparison() {
         &result,
         &out,
         &reference,
-        "Vibration on the hand-held meter compared with last pass",
+        (
+            "Vibration on the hand-held meter compared with last pass",
+            "Vibration on the hand-held meter compared with last pass",
+        ),
     );
     assert_has(
         &out,

@@ -18,6 +18,7 @@ mod end_to_end;
 mod examples;
 mod hints;
 mod history;
+mod history_keys;
 mod history_wear;
 mod language_server;
 mod lenze_931;

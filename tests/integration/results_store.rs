@@ -267,11 +267,22 @@ fn a_run_is_recorded_with_its_checks_steps_end_state_and_series() {
         ],
         0,
     );
-    // Only the first run has this check (the second's names 2000 rpm).
-    assert_has(&trend.stdout, &["3000.", "2970 .. 3030", "PASS", &r.run.id]);
-    assert_eq!(trend.stdout.lines().count(), 2, "{}", trend.stdout);
+    // The same check in both runs, each with its own limits: the second's is near 2000
+    // rpm (the parameter changed its limits, not the check).
+    assert_has(
+        &trend.stdout,
+        &[
+            "3000.",
+            "2970 .. 3030",
+            "2000.",
+            "1980 .. 2020",
+            "PASS",
+            &r.run.id,
+        ],
+    );
+    assert_eq!(trend.stdout.lines().count(), 3, "{}", trend.stdout);
     let page = std::fs::read_to_string(dir.join("trend.html")).expect("trend page");
-    assert_has(&page, &["<svg", "Trend of"]);
+    assert_has(&page, &["<svg", "Trend of speed_actual mean near"]);
 }
 
 #[test]

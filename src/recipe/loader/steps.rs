@@ -161,7 +161,7 @@ impl Loader<'_, '_> {
             "sample" => self.sample(body)?,
             "expect" => self.expect(body, name.as_deref())?,
             "expect_parameters" => self.expect_parameters(body)?,
-            "coast_down" => self.coast_down(body)?,
+            "coast_down" => self.coast_down(body, name.as_deref())?,
             "attempts" => self.attempts(body)?,
             "ramp" => self.ramp(body)?,
             "repeat" => self.repeat(body)?,

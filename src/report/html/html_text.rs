@@ -1,13 +1,12 @@
 //! How a value, a check's measurement and limits, a place and a duration are written on
 //! the HTML page, and the escaping of every text put into it. Pure text; builds no markup.
 
-use crate::report::junit_report::stable_check_name;
 use crate::session::{number, CheckResult, RunReport};
 use std::time::Duration;
 
 /// A check's name without its limits (they have their own column).
 pub fn check_title(c: &CheckResult) -> String {
-    stable_check_name(&c.name, c.object.as_deref(), c.statistic.as_deref())
+    c.key.clone()
 }
 
 /// Decimals that show one count of the dictionary's resolution: 0.001 → 3, 1 → 0.

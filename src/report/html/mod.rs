@@ -16,4 +16,4 @@ mod timeline;
 pub use html_index::{html_index, IndexEntry};
 pub use html_page::{html_report, write_html, CSS as REPORT_CSS};
 pub use html_text::esc;
-pub use svg_plot::{plot_svg, MAX_PLOT_POINTS};
+pub use svg_plot::{plot_svg, plot_svg_with_limits, LimitLine, MAX_PLOT_POINTS};

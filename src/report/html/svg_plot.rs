@@ -18,9 +18,58 @@ const RIGHT: f64 = 165.0;
 const TOP: f64 = 16.0;
 const BOTTOM: f64 = 52.0;
 
+/// A limit drawn on a plot, labelled at the right edge with its last value.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LimitLine {
+    /// From each time on (s, as the series' times), the limit's value then (`None`: none
+    /// from then on); one step at `-∞`: the same limit across the whole plot.
+    pub steps: Vec<(f64, Option<f64>)>,
+    pub label: String,
+}
+
+impl LimitLine {
+    fn values(&self) -> impl Iterator<Item = f64> + '_ {
+        self.steps.iter().filter_map(|s| s.1).filter(|v| v.is_finite())
+    }
+
+    /// The value at the right edge, which the label names.
+    fn last(&self) -> Option<f64> {
+        self.steps.last().and_then(|s| s.1).filter(|v| v.is_finite())
+    }
+}
+
 /// An SVG line plot of a series with the limits of `checks`. The polyline's `points` hold
 /// the data itself (time in s, value); a transform maps them onto the plot area.
 pub fn plot_svg(series: &Series, checks: &[&CheckResult], id: usize) -> String {
+    // Limits of the checks on this object: each value once, across the plot.
+    let mut limits: Vec<LimitLine> = Vec::new();
+    for c in checks {
+        let stat = c.statistic.clone().map(|s| format!("{s} ")).unwrap_or_default();
+        let u = c.unit.as_deref().or(series.unit.as_deref());
+        let marks: Vec<(f64, String)> = match (c.low, c.high) {
+            (Some(lo), Some(hi)) if lo == hi => vec![(lo, format!("{stat}= {}", with_unit(lo, u)))],
+            (lo, hi) => lo
+                .map(|v| (v, format!("{stat}≥ {}", with_unit(v, u))))
+                .into_iter()
+                .chain(hi.map(|v| (v, format!("{stat}≤ {}", with_unit(v, u)))))
+                .collect(),
+        };
+        for (v, label) in marks {
+            if v.is_finite() && !limits.iter().any(|l| l.last() == Some(v)) {
+                limits.push(LimitLine {
+                    steps: vec![(f64::NEG_INFINITY, Some(v))],
+                    label,
+                });
+            }
+        }
+    }
+    plot_svg_with_limits(series, &limits, id)
+}
+
+/// [`plot_svg`] with limits that may change along the plot (a trend over runs whose
+/// limits were changed): a limit the same throughout is a dashed line across, one that
+/// changes a dashed step line.
+pub fn plot_svg_with_limits(series: &Series, limits: &[LimitLine], id: usize) -> String {
     let mut s = String::new();
     let title = axis_title(&series.object, series.unit.as_deref());
     let _ = writeln!(
@@ -41,25 +90,6 @@ pub fn plot_svg(series: &Series, checks: &[&CheckResult], id: usize) -> String {
         );
         return s;
     }
-    // Limits of the checks on this object: (value, label), each value once.
-    let mut limits: Vec<(f64, String)> = Vec::new();
-    for c in checks {
-        let stat = c.statistic.clone().map(|s| format!("{s} ")).unwrap_or_default();
-        let u = c.unit.as_deref().or(series.unit.as_deref());
-        let marks: Vec<(f64, String)> = match (c.low, c.high) {
-            (Some(lo), Some(hi)) if lo == hi => vec![(lo, format!("{stat}= {}", with_unit(lo, u)))],
-            (lo, hi) => lo
-                .map(|v| (v, format!("{stat}≥ {}", with_unit(v, u))))
-                .into_iter()
-                .chain(hi.map(|v| (v, format!("{stat}≤ {}", with_unit(v, u)))))
-                .collect(),
-        };
-        for (v, label) in marks {
-            if v.is_finite() && !limits.iter().any(|(w, _)| *w == v) {
-                limits.push((v, label));
-            }
-        }
-    }
 
     let (t0, t1) = padded_range(points.iter().map(|p| p.0), 0.0);
     // The data decides the range; a limit close to it widens it, one far off is marked at
@@ -68,7 +98,7 @@ pub fn plot_svg(series: &Series, checks: &[&CheckResult], id: usize) -> String {
     let reach = (d1 - d0) * 0.5;
     let near: Vec<f64> = limits
         .iter()
-        .map(|l| l.0)
+        .flat_map(LimitLine::values)
         .filter(|v| *v >= d0 - reach && *v <= d1 + reach)
         .collect();
     let (v0, v1) = if near.is_empty() {
@@ -117,24 +147,32 @@ pub fn plot_svg(series: &Series, checks: &[&CheckResult], id: usize) -> String {
     s.push_str("\"/>\n");
     // Limits: dashed lines across inside the range, labelled on the right; a limit outside
     // the range is a label at the edge it lies beyond, with an arrow.
-    for (v, _) in limits.iter().filter(|(v, _)| (v0..=v1).contains(v)) {
-        let py = y(*v);
-        let _ = writeln!(
-            s,
-            "<line class=\"limit\" stroke=\"#b00000\" stroke-dasharray=\"6 4\" x1=\"{x_left}\" y1=\"{py:.2}\" x2=\"{x_right}\" y2=\"{py:.2}\"/>"
-        );
+    for l in limits {
+        match l.steps.as_slice() {
+            [(_, Some(v))] => {
+                if (v0..=v1).contains(v) {
+                    let py = y(*v);
+                    let _ = writeln!(
+                        s,
+                        "<line class=\"limit\" stroke=\"#b00000\" stroke-dasharray=\"6 4\" x1=\"{x_left}\" y1=\"{py:.2}\" x2=\"{x_right}\" y2=\"{py:.2}\"/>"
+                    );
+                }
+            }
+            steps => step_line(&mut s, steps, &x, &y, (x_left, x_right)),
+        }
     }
     response_marks(&mut s, series, &x, &y, (y_top, y_bottom));
     s.push_str("</g>\n");
     let mut labels: Vec<(f64, String)> = limits
         .iter()
+        .filter_map(|l| l.last().map(|v| (v, &l.label)))
         .map(|(v, label)| {
-            if *v > v1 {
+            if v > v1 {
                 (y_top + 4.0, format!("↑ {label}"))
-            } else if *v < v0 {
+            } else if v < v0 {
                 (y_bottom, format!("↓ {label}"))
             } else {
-                (y(*v) + 4.0, label.clone())
+                (y(v) + 4.0, label.clone())
             }
         })
         .collect();
@@ -149,6 +187,37 @@ pub fn plot_svg(series: &Series, checks: &[&CheckResult], id: usize) -> String {
     }
     s.push_str("</svg>\n");
     s
+}
+
+/// A limit that changes along the plot as a dashed step line (clipped to the plot area):
+/// each value from its time to the next one's, nothing where there is none.
+fn step_line(
+    s: &mut String,
+    steps: &[(f64, Option<f64>)],
+    x: &dyn Fn(f64) -> f64,
+    y: &dyn Fn(f64) -> f64,
+    (left, right): (f64, f64),
+) {
+    let mut d = String::new();
+    for (k, (t, v)) in steps.iter().enumerate() {
+        let Some(v) = v.filter(|v| v.is_finite()) else {
+            continue;
+        };
+        let from = x(*t).max(left);
+        let to = steps.get(k + 1).map_or(right, |next| x(next.0).min(right));
+        // Down or up from the value before, else a line of its own.
+        let _ = match k > 0 && steps[k - 1].1.is_some_and(f64::is_finite) {
+            true => write!(d, "V{:.2} H{to:.2} ", y(v)),
+            false => write!(d, "M{from:.2} {:.2} H{to:.2} ", y(v)),
+        };
+    }
+    if !d.is_empty() {
+        let _ = writeln!(
+            s,
+            "<path class=\"limit\" fill=\"none\" stroke=\"#b00000\" stroke-dasharray=\"6 4\" d=\"{}\"/>",
+            d.trim_end()
+        );
+    }
 }
 
 /// Where a window's step response was measured: a vertical line where it crossed 10 % and

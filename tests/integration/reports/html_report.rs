@@ -234,6 +234,7 @@ fn plots_show_their_own_window_checks_and_statistics_as_text() {
         low: None,
         high: Some(5.0),
         name: "speed_actual ripple below 5 rpm".into(),
+        key: "speed_actual ripple below".into(),
         window: Some("5[2].3".into()),
         ..r.checks[0].clone()
     };

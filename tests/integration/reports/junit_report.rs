@@ -4,7 +4,7 @@
 //! where xmllint is installed.
 
 use super::markup::{case_out, junit, junit_xsd, xml_elements, XML_DECLARATION};
-use super::sample_reports::{check, error_report, origin, passed_report, speed_check};
+use super::sample_reports::{check, error_report, key_of, origin, passed_report, speed_check};
 use crate::support::{assert_has, assert_lacks};
 use drivescript::report::{junit_not_run, junit_unfinished, junit_xml, write_junit};
 use drivescript::session::{CheckResult, PlannedCheck, Verdict};
@@ -31,6 +31,7 @@ fn planned(
 ) -> PlannedCheck {
     PlannedCheck {
         name: name.into(),
+        key: key_of(name),
         object: object.map(Into::into),
         statistic: statistic.map(Into::into),
         stage: stage.into(),

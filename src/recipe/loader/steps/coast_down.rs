@@ -1,7 +1,8 @@
 //! The `coast_down` step: `{ from: 6000 rpm, below: 100 rpm, expect: { near: 20 s, within:
 //! 1 s }, timeout: 2 min, every: 100 ms }` — the speeds in the actual speed's unit, the
 //! check on the time in seconds, with its `warn:` band and `compared_with_last_pass:`
-//! beside the condition in `expect:`. It must not run anything.
+//! beside the condition in `expect:`; the step's `name:` names its check. It must not run
+//! anything.
 
 use super::last_pass::{Measured, KEY};
 use crate::diag::{Shape, YamlNode};
@@ -17,7 +18,12 @@ const DEFAULT_TIMEOUT: Duration = Duration::from_secs(10 * 60);
 const DEFAULT_EVERY: Duration = Duration::from_millis(100);
 
 impl Loader<'_, '_> {
-    pub(in crate::recipe::loader) fn coast_down(&mut self, body: &YamlNode) -> Option<(StepKind, String)> {
+    /// `name`: the step's, which names its check (as an `expect`'s does).
+    pub(in crate::recipe::loader) fn coast_down(
+        &mut self,
+        body: &YamlNode,
+        name: Option<&str>,
+    ) -> Option<(StepKind, String)> {
         let shape = Shape::new(
             "this coast_down",
             &["from", "below", "expect", "timeout", "every"],
@@ -91,6 +97,7 @@ impl Loader<'_, '_> {
             );
         }
         let c = CoastDown {
+            name: name.map(str::to_string),
             from: from.abs(),
             below: below.abs(),
             predicate,

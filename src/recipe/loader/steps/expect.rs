@@ -6,7 +6,7 @@ use super::last_pass::{self, Measured};
 use crate::diag::{Shape, YamlNode};
 use crate::recipe::loader::Loader;
 use crate::recipe::step::StepKind;
-use crate::session::{Check, ObjectRef, Predicate, Statistic};
+use crate::session::{measured_key, Check, ObjectRef, Predicate, Statistic};
 
 impl Loader<'_, '_> {
     pub(in crate::recipe::loader) fn expect(
@@ -94,13 +94,15 @@ impl Loader<'_, '_> {
                 Some(p) => {
                     let stat_text = stat.map(|s| format!("{} ", s.id())).unwrap_or_default();
                     let default_name = format!("{} {stat_text}{}", r.name, p.describe(r.unit.as_deref()));
-                    let check_name = match name {
-                        Some(n) if f.entries().len() == 1 => n.to_string(),
-                        Some(n) => format!("{n}: {default_name}"),
-                        None => default_name,
+                    let default_key = measured_key(&r.name, stat.map(Statistic::id), &p);
+                    let (check_name, key) = match name {
+                        Some(n) if f.entries().len() == 1 => (n.to_string(), n.to_string()),
+                        Some(n) => (format!("{n}: {default_name}"), format!("{n}: {default_key}")),
+                        None => (default_name, default_key),
                     };
                     checks.push(Check {
                         name: check_name,
+                        key,
                         object: r,
                         statistic: stat,
                         predicate: p,

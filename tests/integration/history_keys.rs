@@ -1,0 +1,284 @@
+//! A check stays the same check across runs when its limits change, against a real SQLite
+//! file and a real PostgreSQL server: a unit's run after a limit was tightened (and a
+//! coast-down's, also one the recipe names) still compares with the run before it and
+//! names it; `results trend` lists the runs before and after the change, each with its
+//! own limits; a store written by the version-2 schema migrates, and its runs still serve
+//! as history (a check the recipe named by its full name).
+
+use crate::history::run_id;
+use crate::support::{
+    assert_has, assert_lacks, cli, run_recording as run, scratch, write_file, PostgresServer,
+};
+use std::path::Path;
+
+/// The recipe `Bearing history` with the motor temperature's limit and what a run without
+/// history does; the simulated motor is at 25 °C.
+fn bearing(dir: &Path, file: &str, limit: &str, without_history: &str) -> std::path::PathBuf {
+    let text = format!(
+        "name: Bearing history
+drive: sd2
+steps:
+  - go_to: operation_enabled
+  - expect:
+      motor_temperature:
+        below: {limit}
+        compared_with_last_pass: {{ at_most: 2 K, at_least: -2 K, without_history: {without_history} }}
+"
+    );
+    write_file(dir, file, &text)
+}
+
+/// A limit tightened from 90 °C to 80 °C: the second run compares with the first (its
+/// `without_history: fail` would fail it otherwise), then `results trend` by the new name
+/// and by the key lists both runs with the limits each had.
+fn tightened_limit_in(dir: &Path, store: &str) {
+    let before = bearing(dir, "before.yaml", "90 °C", "pass");
+    let after = bearing(dir, "after.yaml", "80 °C", "fail");
+    let unit = ["--fast", "--unit", "serial=SP-7"];
+    let (code, first) = run(&before, store, &unit);
+    assert_eq!(code, 0, "{first}");
+    let first_id = run_id(&first);
+    let (code, second) = run(&after, store, &unit);
+    assert_eq!(code, 0, "compared with the run before the change:\n{second}");
+    assert_has(
+        &second,
+        &[
+            &format!("history SP-7: compared with its last pass, run {first_id} of 20"),
+            "motor_temperature below 80 °C = 25 °C",
+            &format!("PASS  motor_temperature below 80 °C compared with last pass: motor_temperature = 25 °C: 0 K against 25 °C in run {first_id}"),
+        ],
+    );
+    assert_lacks(&second, &["has no check", "not in that run", "without_history"]);
+    let second_id = run_id(&second);
+    let page = dir.join("trend.html");
+    for check in ["motor_temperature below 80 °C", "motor_temperature below"] {
+        let args = ["results", "trend", check, "--simulated", "--results", store];
+        let trend = cli(&[&args[..], &["--html", page.to_str().unwrap()]].concat(), 0);
+        let row = |id: &str| {
+            let found = trend.stdout.lines().find(|l| l.contains(id));
+            found.unwrap_or_else(|| panic!("run {id} in the trend of {check}:\n{}", trend.stdout))
+        };
+        assert!(row(&first_id).contains("<= 90"), "{}", trend.stdout);
+        assert!(row(&second_id).contains("<= 80"), "{}", trend.stdout);
+        assert_eq!(trend.stdout.lines().count(), 3, "{}", trend.stdout);
+        let html = std::fs::read_to_string(&page).expect("the trend page");
+        // The limit line steps down from 90 to 80 °C where the limit was changed.
+        assert_has(
+            &html,
+            &[
+                "Trend of motor_temperature below",
+                "<path class=\"limit\"",
+                "≤ 80 °C",
+                "<td class=\"num\">≤ 90</td>",
+            ],
+        );
+    }
+    // The comparisons too: one key whatever the limits of the check they compare.
+    let trend = cli(
+        &[
+            "results",
+            "trend",
+            "motor_temperature below compared with last pass",
+            "--simulated",
+            "--json",
+            "--results",
+            store,
+        ],
+        0,
+    );
+    let points: serde_json::Value = serde_json::from_str(&trend.stdout).expect("JSON");
+    let names: Vec<&str> = points
+        .as_array()
+        .expect("a list")
+        .iter()
+        .filter_map(|p| p["check"].as_str())
+        .collect();
+    assert_eq!(
+        names,
+        [
+            "motor_temperature below 90 °C compared with last pass",
+            "motor_temperature below 80 °C compared with last pass"
+        ]
+    );
+}
+
+/// A coast-down whose limit was raised, and one the recipe names (its `name:` names the
+/// check): each second run compares its time with the first's.
+fn coast_down_changed_in(dir: &Path, store: &str) {
+    let coast = |file: &str, name: &str, step_name: &str, limit: &str, without_history: &str| {
+        let text = format!(
+            "name: {name}
+drive: sd2
+steps:
+  - set: {{ speed_setpoint: 6000 rpm }}
+  - go_to: operation_enabled
+  - wait_until: {{ speed_actual: {{ near: 6000 rpm, within: 1 % }} }}
+  - coast_down:
+      from: 5900 rpm
+      below: 100 rpm
+      expect: {{ above: {limit}, compared_with_last_pass: {{ at_least: -10 %, without_history: {without_history} }} }}
+{step_name}"
+        );
+        let file = write_file(dir, file, &text);
+        run(
+            &file,
+            store,
+            &["--fast", "--unit", "serial=SP-8", "--sim", "coast-rate=300rpm/s"],
+        )
+    };
+    let (code, first) = coast("coast1.yaml", "Coast history", "", "10 s", "pass");
+    assert_eq!(code, 0, "{first}");
+    let first_id = run_id(&first);
+    let (code, second) = coast("coast2.yaml", "Coast history", "", "12 s", "fail");
+    assert_eq!(code, 0, "compared with the run before the change:\n{second}");
+    assert_has(
+        &second,
+        &[
+            &format!("PASS  coast-down from 5900 rpm below 100 rpm above 12 s compared with last pass: coast-down time = 19.334 s: 0 % against 19.334 s in run {first_id}"),
+        ],
+    );
+    let named = "    name: spindle coast-down\n";
+    let (code, first) = coast("named1.yaml", "Named coast", named, "10 s", "pass");
+    assert_eq!(code, 0, "{first}");
+    assert_has(&first, &["PASS  spindle coast-down: coast-down took 19.334 s"]);
+    let first_id = run_id(&first);
+    let (code, second) = coast("named2.yaml", "Named coast", named, "15 s", "fail");
+    assert_eq!(code, 0, "{second}");
+    assert_has(
+        &second,
+        &[&format!("PASS  spindle coast-down compared with last pass: coast-down time = 19.334 s: 0 % against 19.334 s in run {first_id}")],
+    );
+}
+
+#[test]
+fn a_tightened_limit_keeps_the_units_history_in_sqlite() {
+    let dir = scratch("keys-sqlite");
+    let store = dir.join("results.sqlite");
+    tightened_limit_in(&dir, store.to_str().unwrap());
+    coast_down_changed_in(&dir, store.to_str().unwrap());
+}
+
+#[test]
+fn a_tightened_limit_keeps_the_units_history_in_postgresql() {
+    let Some(server) = PostgresServer::start("keys-postgres") else {
+        return;
+    };
+    let dir = scratch("keys-postgres-files");
+    tightened_limit_in(&dir, &server.url());
+    coast_down_changed_in(&dir, &server.url());
+}
+
+/// What a version-2 drivescript left: the schema of migrations 1 and 2, and a passed run
+/// of `Bearing history` on SP-OLD with a check named by its limits (`motor_temperature
+/// below 90 °C`) and one the recipe named (`bearing temperature`).
+fn version_2_store(batch: &mut dyn FnMut(&str)) {
+    for v in 1..=2 {
+        batch(drivescript::results::migration(v).expect("a migration of version 2"));
+    }
+    batch(
+        "INSERT INTO drivescript_store (key, value) VALUES ('application', 'drivescript results');
+         INSERT INTO drivescript_store (key, value) VALUES ('schema', '2');
+         INSERT INTO runs (id, kind, recipe, recipe_path, tool_version, started_at, simulated,
+            drive, serial, params, ended_at, verdict, exit_code)
+            VALUES ('0ld5tore', 'recipe', 'Bearing history', 'bearing.yaml', '0.1.0',
+            '2026-01-01T08:00:00.000Z', 1, 'drive 2 on built-in simulated drive', 'SP-OLD',
+            '[]', '2026-01-01T08:01:00.000Z', 'passed', 0);
+         INSERT INTO checks (run_id, seq, name, measured, unit, high, passed, marginal, step,
+            stage, attempt, message)
+            VALUES ('0ld5tore', 1, 'motor_temperature below 90 °C', 24, '°C', 90, 1, 0, '2', '', 1, 'ok'),
+                   ('0ld5tore', 2, 'bearing temperature', 24.5, '°C', 90, 1, 0, '3', '', 1, 'ok');",
+    );
+}
+
+/// The run after the upgrade: the first check's limit changed since (found by the key its
+/// old name shows), the second keeps its name (found by it).
+fn old_runs_serve_as_history(dir: &Path, store: &str) {
+    let recipe = write_file(
+        dir,
+        "bearing.yaml",
+        "name: Bearing history
+drive: sd2
+steps:
+  - go_to: operation_enabled
+  - expect:
+      motor_temperature: { below: 80 °C, compared_with_last_pass: { at_most: 2 K, without_history: fail } }
+  - expect:
+      motor_temperature: { below: 90 °C, compared_with_last_pass: { at_most: 2 K, without_history: fail } }
+    name: bearing temperature
+",
+    );
+    let (code, out) = run(&recipe, store, &["--fast", "--unit", "serial=SP-OLD"]);
+    assert_eq!(code, 0, "{out}");
+    assert_has(
+        &out,
+        &[
+            "history SP-OLD: compared with its last pass, run 0ld5tore of 2026-01-01T08:00:00.000Z",
+            "PASS  motor_temperature below 80 °C compared with last pass: motor_temperature = 25 °C: +1 K against 24 °C in run 0ld5tore",
+            "PASS  bearing temperature compared with last pass: motor_temperature = 25 °C: +0.5 K against 24.5 °C in run 0ld5tore",
+        ],
+    );
+    let trend = cli(
+        &[
+            "results",
+            "trend",
+            "bearing temperature",
+            "--simulated",
+            "--results",
+            store,
+        ],
+        0,
+    );
+    assert_has(&trend.stdout, &["0ld5tore", "24.5 °C", "25 °C"]);
+}
+
+#[test]
+fn a_version_2_sqlite_store_migrates_and_its_runs_still_serve_as_history() {
+    let dir = scratch("keys-v2-sqlite");
+    let path = dir.join("results.sqlite");
+    let db = rusqlite::Connection::open(&path).expect("a version 2 store");
+    version_2_store(&mut |sql| db.execute_batch(sql).expect("version 2 SQL"));
+    drop(db);
+    old_runs_serve_as_history(&dir, path.to_str().unwrap());
+    let db = rusqlite::Connection::open(&path).expect("opens");
+    let version: String = db
+        .query_row(
+            "SELECT value FROM drivescript_store WHERE key = 'schema'",
+            [],
+            |r| r.get(0),
+        )
+        .expect("its version");
+    assert_eq!(version, drivescript::results::current_version().to_string());
+    let key = |name: &str| -> Option<String> {
+        db.query_row(
+            "SELECT check_key FROM checks WHERE run_id = '0ld5tore' AND name = ?1",
+            [name],
+            |r| r.get(0),
+        )
+        .expect("the old check")
+    };
+    assert_eq!(
+        key("motor_temperature below 90 °C").as_deref(),
+        Some("motor_temperature below")
+    );
+    assert_eq!(key("bearing temperature"), None, "a given name is its own key");
+}
+
+#[test]
+fn a_version_2_postgresql_store_migrates_and_its_runs_still_serve_as_history() {
+    let Some(server) = PostgresServer::start("keys-v2-postgres") else {
+        return;
+    };
+    let mut db = postgres::Client::connect(&server.url(), postgres::NoTls).expect("connects");
+    version_2_store(&mut |sql| db.batch_execute(sql).expect("version 2 SQL"));
+    old_runs_serve_as_history(&scratch("keys-v2-postgres-files"), &server.url());
+    let row = db
+        .query_one(
+            "SELECT check_key FROM checks WHERE run_id = '0ld5tore' AND seq = 1",
+            &[],
+        )
+        .expect("the old check");
+    assert_eq!(
+        row.get::<_, Option<String>>(0).as_deref(),
+        Some("motor_temperature below")
+    );
+}
