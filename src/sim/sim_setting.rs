@@ -44,6 +44,15 @@ pub enum SimSettingError {
         value: String,
         wanted: &'static str,
     },
+    /// `emergency-at` for drives whose simulator never sends an emergency message: the
+    /// setting would do nothing, and a run that passes would prove nothing.
+    #[error("--sim emergency-at: no simulated {families} drive sends emergency messages (an EMCY is a CANopen node's), so the setting would do nothing; give it with --drive {senders}, or leave it out")]
+    NoEmergencies {
+        /// The run's families: `sd2`, `ct-ansi or sd2`.
+        families: String,
+        /// The built-in dictionaries whose simulated drives send one: `canopen`.
+        senders: String,
+    },
 }
 
 impl SimSetting {

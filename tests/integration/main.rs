@@ -14,6 +14,7 @@ mod ct_ansi;
 mod decode_cli;
 mod drive_sim;
 mod editor;
+mod emergencies;
 mod end_to_end;
 mod examples;
 mod hints;
