@@ -45,7 +45,7 @@ mod tests {
         let e = check_sim_settings(&emergency, &registry, &[sd2.as_ref()]).unwrap_err();
         assert_eq!(
             e.to_string(),
-            "--sim emergency-at: no simulated sd2 drive sends emergency messages (an EMCY is a CANopen node's), so the setting would do nothing; give it with --drive canopen, or leave it out"
+            "--sim emergency-at: no simulated sd2 drive sends emergency messages (an EMCY is a CANopen node's), so the setting would do nothing; give it with --drive lenze-9400 or --drive canopen, or leave it out"
         );
         let e = check_sim_settings(&emergency, &registry, &[sd2.as_ref(), modbus.as_ref()]).unwrap_err();
         assert!(

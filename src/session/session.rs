@@ -467,12 +467,13 @@ impl<'a> Session<'a> {
     }
 
     fn watch_fault_of_current(&mut self) -> Result<(), Stop> {
-        if self.drive().profile().is_err() {
-            // Without a device-control profile there is no state to watch.
-            return Ok(());
-        }
-        let state = self.drive().state()?;
-        let faulted = matches!(state, DeviceState::Fault | DeviceState::FaultReactionActive);
+        // Without a device-control profile there is no state to watch, but a fault the
+        // drive reports on its own (a CANopen node's EMCY) is one all the same.
+        let state = match self.drive().profile() {
+            Ok(_) => Some(self.drive().state()?),
+            Err(_) => None,
+        };
+        let faulted = matches!(state, Some(DeviceState::Fault | DeviceState::FaultReactionActive));
         let entered = faulted && !self.cur().known_fault;
         self.cur().known_fault = faulted;
         // Taken at every look, so that a fault the state shows as well is told once; once
@@ -480,23 +481,25 @@ impl<'a> Session<'a> {
         // after the stop.
         let reported = self.drive().reported_fault();
         let called = self.cur().called();
-        if entered {
+        if let (true, Some(state)) = (entered, state) {
             let code = self.drive().drive_error().unwrap_or(0);
             let code = self.drive().drive_error_note(code);
             return Err(Stop::Fault(format!(
                 "drive fault: {called} went to {state}{code}"
             )));
         }
-        match reported {
-            Some(what) if self.in_safe_stop => {
-                self.keep_reported_in_stop(format!("{called} reported {what} while in {state}"));
-                Ok(())
-            }
-            Some(what) => Err(Stop::Fault(format!(
-                "drive fault: {called} reported {what} while in {state}"
-            ))),
-            None => Ok(()),
+        let Some(what) = reported else {
+            return Ok(());
+        };
+        let reported = match state {
+            Some(state) => format!("{called} reported {what} while in {state}"),
+            None => format!("{called} reported {what}"),
+        };
+        if self.in_safe_stop {
+            self.keep_reported_in_stop(reported);
+            return Ok(());
         }
+        Err(Stop::Fault(format!("drive fault: {reported}")))
     }
 
     pub(super) fn read_condition(

@@ -57,7 +57,6 @@ impl Family for CanopenFamily {
         sdo_family_info("canopen", title, parse_index_address)
             .dictionaries(&[crate::builtin_dictionary!("canopen")])
             .address_help("the drive's CANopen node id 1..127 (default 1)")
-            .sim_emergencies()
     }
 
     fn parse_drive_address(&self, text: Option<&str>) -> Result<DriveAddress, FamilyError> {
