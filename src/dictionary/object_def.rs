@@ -217,55 +217,98 @@ impl ObjectDef {
                 hint: ": not a finite number".into(),
             });
         }
-        let given = match (quantity.unit, self.unit) {
-            (Some(g), Some(own)) if g != own => format!("{quantity} ({})", self.with_unit(value)),
-            _ => self.with_unit(value),
-        };
         if let Some(single) = self.data_type.float_single() {
             return self.real_to_raw(quantity, value, single);
         }
         let Some((lo, hi)) = self.data_type.range() else {
             return Err(number_for_text());
         };
-        let counts = self.counts_of(value);
-        let rounded = self.engineering(counts.clamp(i64::MIN as f64, i64::MAX as f64) as i64);
-        let tolerance = self.scale * 1e-6;
-        if let Some(max) = self.max.filter(|max| rounded > max + tolerance) {
+        // A whole number in the object's own unit at one count per unit is the count itself,
+        // exactly (a 64-bit count a float cannot hold); anything else is converted, scaled
+        // and rounded to the nearest count (a float beyond 128 bits saturates, beyond every
+        // type's range all the same).
+        let exact = self.exact_count(quantity);
+        let counts = exact.unwrap_or_else(|| self.counts_of(value) as i128);
+        let given = match (quantity.unit, self.unit, exact) {
+            (Some(g), Some(own), _) if g != own => format!("{quantity} ({})", self.with_unit(value)),
+            (_, _, Some(n)) => Quantity::integer(n, self.unit).to_string(),
+            _ => self.with_unit(value),
+        };
+        let (above, below) = match exact {
+            Some(n) => (
+                self.max.filter(|max| !max.is_nan() && n > max.floor() as i128),
+                self.min.filter(|min| !min.is_nan() && n < min.ceil() as i128),
+            ),
+            None => {
+                let rounded = self.engineering(counts.clamp(i64::MIN.into(), i64::MAX.into()) as i64);
+                let tolerance = self.scale * 1e-6;
+                (
+                    self.max.filter(|max| rounded > max + tolerance),
+                    self.min.filter(|min| rounded < min - tolerance),
+                )
+            }
+        };
+        if let Some(max) = above {
             return Err(self.beyond(given, max, true));
         }
-        if let Some(min) = self.min.filter(|min| rounded < min - tolerance) {
+        if let Some(min) = below {
             return Err(self.beyond(given, min, false));
         }
-        if counts < lo as f64 || counts > hi as f64 {
-            let mut range = format!(
-                "{}..={}",
-                self.with_unit(self.engineering(lo)),
-                self.with_unit(self.engineering(hi))
-            );
-            if self.unit.is_some() || self.scale != 1.0 {
-                range.push_str(&format!(" ({lo}..={hi} counts)"));
-            }
+        let in_range = i64::try_from(counts).ok().filter(|c| (lo..=hi).contains(c));
+        let Some(count) = in_range else {
             return Err(ValueError::OutOfTypeRange {
                 object: self.name.clone(),
                 value: given,
-                counts: format!("{counts:.0}"),
+                counts: counts.to_string(),
                 data_type: self.data_type,
-                range,
+                range: self.range_text(lo, hi),
             });
-        }
+        };
         Ok(match self.decimal_places {
             // Rounded to a whole count above, so the digits are exact: 1500.5 rpm with one
             // place is 15005 × 10⁻¹ and goes on the wire as `1500.5`.
             Some(DecimalPlaces::Fixed(places)) => RawValue::Decimal {
-                digits: counts as i64,
+                digits: count,
                 places,
             },
             Some(DecimalPlaces::AsGiven) => as_given(value).ok_or_else(|| ValueError::NotANumber {
                 text: quantity.to_string(),
                 hint: ": more digits than a decimal data field carries (at most 10 decimal places)".into(),
             })?,
-            None => RawValue::Int(counts as i64),
+            None => RawValue::Int(count),
         })
+    }
+
+    /// The count of a whole number given in the object's own unit (or bare) where one
+    /// count is one unit (scale 1, as every EDS object): the number itself, exactly.
+    fn exact_count(&self, quantity: &Quantity) -> Option<i128> {
+        let own_unit = quantity.unit.is_none() || quantity.unit == self.unit;
+        (self.scale == 1.0 && own_unit)
+            .then(|| quantity.whole())
+            .flatten()
+    }
+
+    /// The engineering quantity of a raw count: at scale 1 the count itself, exactly.
+    fn quantity_of(&self, count: i64) -> Quantity {
+        match self.scale == 1.0 {
+            true => Quantity::integer(count.into(), self.unit),
+            false => Quantity::new(self.engineering(count), self.unit),
+        }
+    }
+
+    /// The type's range `lo..=hi` (in counts) in the object's unit, exact at scale 1, with
+    /// the counts where they differ: `-2147483.648 rpm..=2147483.647 rpm
+    /// (-2147483648..=2147483647 counts)`, `0..=72057594037927935`.
+    fn range_text(&self, lo: i64, hi: i64) -> String {
+        let shown = |count: i64| match self.scale == 1.0 {
+            true => self.quantity_of(count).to_string(),
+            false => self.with_unit(self.engineering(count)),
+        };
+        let mut range = format!("{}..={}", shown(lo), shown(hi));
+        if self.unit.is_some() || self.scale != 1.0 {
+            range.push_str(&format!(" ({lo}..={hi} counts)"));
+        }
+        range
     }
 
     /// A float object's raw value for `value` (in its unit, finite): value ÷ scale in the
@@ -387,7 +430,7 @@ impl ObjectDef {
         let is_text = !self.data_type.is_number();
         let quantity = match (&raw, is_text) {
             (RawValue::Text(_) | RawValue::Bytes(_), true) => None,
-            (RawValue::Int(count), false) => Some(Quantity::new(self.engineering(*count), self.unit)),
+            (RawValue::Int(count), false) => Some(self.quantity_of(*count)),
             // NaN and infinities stay what they are: shown as such, never a limit passed.
             (RawValue::Real(r), false) => Some(Quantity::new(self.engineering_of(r.value()), self.unit)),
             // Drives that send decimal text carry the value itself, not a count.

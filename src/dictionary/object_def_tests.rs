@@ -362,3 +362,121 @@ proptest! {
         prop_assert_eq!(raw, RawValue::Int(count));
     }
 }
+
+/// The EDS integer types wider than a float's 53 bits, as an EDS gives them: scale 1.
+const WIDE: [DataType; 6] = [
+    DataType::I64,
+    DataType::U64,
+    DataType::Int {
+        bytes: 7,
+        signed: true,
+    },
+    DataType::Int {
+        bytes: 7,
+        signed: false,
+    },
+    DataType::Int {
+        bytes: 6,
+        signed: true,
+    },
+    DataType::Int {
+        bytes: 6,
+        signed: false,
+    },
+];
+
+fn wide(data_type: DataType) -> ObjectDef {
+    ObjectDef::new(
+        "counter",
+        Address::indexed(0x2107, 0),
+        data_type,
+        Access::ReadWrite,
+    )
+}
+
+/// Every end of every wide type is written and shown to the unit, and one count beyond is
+/// refused with the exact count and range: i64::MIN, 2^63 − 1 for u64 (as far as counts go
+/// here), −2^55 and 2^56 − 1.
+#[test]
+fn wide_integers_are_exact_at_both_ends_of_their_type() {
+    let u56 = DataType::Int {
+        bytes: 7,
+        signed: false,
+    };
+    let i56 = DataType::Int {
+        bytes: 7,
+        signed: true,
+    };
+    for (data_type, end) in [
+        (DataType::I64, i64::MIN),
+        (DataType::I64, i64::MAX),
+        (DataType::U64, i64::MAX),
+        (DataType::U64, 0),
+        (u56, (1 << 56) - 1),
+        (i56, -(1 << 55)),
+        (i56, (1 << 55) - 1),
+        (DataType::U64, (1 << 53) + 1),
+    ] {
+        let o = wide(data_type);
+        let text = end.to_string();
+        assert_eq!(counts_for(&o, &text), RawValue::Int(end), "{data_type}: {text}");
+        let shown = o.value_of(RawValue::Int(end)).unwrap();
+        assert_eq!(shown.to_string(), text);
+        assert_eq!(shown.quantity.and_then(|q| q.whole()), Some(end.into()));
+    }
+    let beyond = |data_type, text: &str| refused(&wide(data_type), text).to_string();
+    assert_eq!(
+        beyond(u56, "72057594037927936"),
+        "72057594037927936 is 72057594037927936 counts, outside the range of counter's type u56: 0..=72057594037927935"
+    );
+    assert_eq!(
+        beyond(i56, "-36028797018963969"),
+        "-36028797018963969 is -36028797018963969 counts, outside the range of counter's type i56: -36028797018963968..=36028797018963967"
+    );
+    assert_eq!(
+        beyond(DataType::U64, "9223372036854775808"),
+        "9223372036854775808 is 9223372036854775808 counts, outside the range of counter's type u64: 0..=9223372036854775807"
+    );
+    assert!(beyond(DataType::I64, "-9223372036854775809").contains("-9223372036854775809 counts"));
+    assert!(beyond(DataType::U64, "18446744073709551615").contains("outside the range"));
+    // Written as a float beyond 2^63 (no exact integer given), refused all the same, never
+    // sent saturated.
+    assert!(beyond(DataType::U64, "9.223372036854775808e18").contains("outside the range"));
+}
+
+/// Limits of a wide object compare with its count exactly; a fraction is rounded to the
+/// nearest count as ever.
+#[test]
+fn wide_limits_compare_exactly() {
+    let mut o = wide(DataType::I64);
+    o.max = Some(9_007_199_254_740_992.0);
+    o.min = Some(-10.5);
+    assert_eq!(counts_for(&o, "9007199254740992"), RawValue::Int(1 << 53));
+    let e = refused(&o, "9007199254740993").to_string();
+    assert_eq!(
+        e,
+        "9007199254740993 is above the maximum of counter, 9007199254740992"
+    );
+    assert_eq!(counts_for(&o, "-10"), RawValue::Int(-10));
+    assert!(matches!(refused(&o, "-11"), ValueError::BelowMin { .. }));
+    assert_eq!(counts_for(&o, "2.5"), RawValue::Int(3));
+}
+
+proptest! {
+    /// Any count of a wide type goes from its text to the same count, and back to the
+    /// same text; the next count beyond either end is refused.
+    #[test]
+    fn wide_counts_round_trip_exactly(t in 0usize..WIDE.len(), count in any::<i64>()) {
+        let data_type = WIDE[t];
+        let (lo, hi) = data_type.range().unwrap();
+        let span = i128::from(hi) - i128::from(lo) + 1;
+        let count = (i128::from(lo) + i128::from(count).rem_euclid(span)) as i64;
+        let o = wide(data_type);
+        prop_assert_eq!(o.to_raw(&Quantity::parse(&count.to_string()).unwrap()), Ok(RawValue::Int(count)));
+        prop_assert_eq!(o.value_of(RawValue::Int(count)).unwrap().to_string(), count.to_string());
+        let below = i128::from(lo) - 1;
+        let above = i128::from(hi) + 1;
+        prop_assert!(o.to_raw(&Quantity::parse(&below.to_string()).unwrap()).is_err());
+        prop_assert!(o.to_raw(&Quantity::parse(&above.to_string()).unwrap()).is_err());
+    }
+}

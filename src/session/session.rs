@@ -8,8 +8,8 @@ use super::session_drive::SessionDrive;
 use super::step_path::StepPath;
 use super::stop::{outcome, panic_message, Stop};
 use super::{
-    with_unit, CheckResult, Condition, Nobody, ObjectRef, Operator, Predicate, RunInfo, RunObserver,
-    RunReport, SafeStopSettings, StepInfo, StepRecord, UnitIdentity, MAX_RECORDS,
+    exact_with_unit, with_unit, CheckResult, Condition, Nobody, ObjectRef, Operator, Predicate, RunInfo,
+    RunObserver, RunReport, SafeStopSettings, StepInfo, StepRecord, UnitIdentity, MAX_RECORDS,
 };
 use crate::clock::SharedClock;
 use crate::drive::device_control::DeviceState;
@@ -528,8 +528,14 @@ impl<'a> Session<'a> {
                     let text = v.trim_matches('"').to_string();
                     return Ok((predicate.holds_text(&text), v, None));
                 }
-                let v = self.drive().read_number(name)?;
-                Ok((predicate.holds(v), value_of(v, object), Some(v)))
+                let q = self.drive().read_quantity(name)?;
+                let seen = match q.whole() {
+                    Some(_) => exact_with_unit(&q, object.unit.as_deref()),
+                    None => value_of(q.value, object),
+                };
+                // Beyond a float's precision the text (`seen`) is the measured value reports show.
+                let measured = (!q.beyond_float()).then_some(q.value);
+                Ok((predicate.holds_quantity(&q), seen, measured))
             }
             // One reading has no slope; `wait_until_stable` keeps the history.
             Condition::Stable { object, .. } => {

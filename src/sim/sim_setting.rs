@@ -107,9 +107,9 @@ impl SimSetting {
                 let at = humantime::parse_duration(at.trim()).map_err(|_| bad(wanted))?;
                 // A bare number, decimal or `0x` hex; 0 is the error reset, no error.
                 match Quantity::parse(code.trim()) {
-                    Ok(Quantity { value, unit: None })
-                        if value.fract() == 0.0 && (1.0..=65535.0).contains(&value) =>
-                    {
+                    Ok(Quantity {
+                        value, unit: None, ..
+                    }) if value.fract() == 0.0 && (1.0..=65535.0).contains(&value) => {
                         SimSetting::EmergencyAt(at, value as u16)
                     }
                     _ => return Err(bad(wanted)),

@@ -9,6 +9,7 @@ mod bounded;
 mod brake_first;
 mod canopen;
 mod canopen_types;
+mod canopen_wide_integers;
 mod command_line;
 mod ct_ansi;
 mod decode_cli;
