@@ -243,9 +243,16 @@ pub fn read(args: &ReadArgs, registry: &Registry) -> i32 {
         let list: Vec<_> = rows
             .iter()
             .map(|(d, v)| {
-                let value = match v.number() {
-                    Some(n) => json!(n),
-                    None => json!(v.text().unwrap_or_default()),
+                // A whole number beyond a float's precision as the JSON integer it is.
+                let exact = v
+                    .quantity
+                    .filter(Quantity::beyond_float)
+                    .and_then(|q| q.whole())
+                    .and_then(|n| i64::try_from(n).ok());
+                let value = match (exact, v.number()) {
+                    (Some(n), _) => json!(n),
+                    (None, Some(n)) => json!(n),
+                    (None, None) => json!(v.text().unwrap_or_default()),
                 };
                 json!({ "object": d.name, "value": value, "unit": d.unit.map(|u| u.symbol()), "raw": v.raw.to_string() })
             })

@@ -86,6 +86,10 @@ pub fn run(args: &SimulateArgs, registry: &Registry) -> i32 {
             return INVALID;
         }
     };
+    if let Err(e) = crate::run::check_sim_settings(&args.sim, registry, &[family.as_ref()]) {
+        eprintln!("error: {e}");
+        return INVALID;
+    }
     // Several addresses (`0,1`, `dnc:2,dnc:3`): one simulated drive each, all on the one
     // line, each answering at its own address.
     let given = match &args.dnc_address {

@@ -48,10 +48,20 @@ impl YamlNode {
         match &self.value {
             YamlValue::Str(s) => Some(s.clone()),
             YamlValue::Int(i) => Some(i.to_string()),
-            YamlValue::Float(f) => Some(f.to_string()),
+            YamlValue::Float(f) => Some(self.whole_as_written(*f).unwrap_or_else(|| f.to_string())),
             YamlValue::Bool(b) => Some(b.to_string()),
             _ => None,
         }
+    }
+
+    /// A whole number beyond YAML's 64-bit integers (`18446744073709551616`, one below
+    /// i64::MIN), which the parser hands over as a rounded float, as it is written; `None`
+    /// for any other number.
+    fn whole_as_written(&self, f: f64) -> Option<String> {
+        let written = self.written();
+        let digits = written.strip_prefix(['-', '+']).unwrap_or(written);
+        let whole = !digits.is_empty() && digits.bytes().all(|b| b.is_ascii_digit());
+        (whole && written.parse::<f64>().ok() == Some(f)).then(|| written.to_string())
     }
 
     /// True for a number that is not finite: `.nan`, `.inf`, or `1e400` (too large for a

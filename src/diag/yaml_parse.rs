@@ -356,6 +356,23 @@ mod tests {
         assert!(matches!(&v.value, YamlValue::Str(s) if s == "yes"));
     }
 
+    /// A whole number beyond YAML's 64-bit integers reaches the loaders as written, not as
+    /// the float the parser rounds it to; other numbers as before.
+    #[test]
+    fn whole_numbers_beyond_64_bits_are_text_as_written() {
+        let root = parse("a: -9223372036854775809\nb: { c: 18446744073709551616 }\nd: 1.5\ne: 1e3\nf: 9223372036854775807\n").unwrap();
+        let m = map(&root);
+        assert!(matches!(m[0].1.value, YamlValue::Float(_)), "{:?}", m[0].1.value);
+        assert_eq!(m[0].1.as_text().as_deref(), Some("-9223372036854775809"));
+        assert_eq!(
+            map(&m[1].1)[0].1.as_text().as_deref(),
+            Some("18446744073709551616")
+        );
+        assert_eq!(m[2].1.as_text().as_deref(), Some("1.5"));
+        assert_eq!(m[3].1.as_text().as_deref(), Some("1000"));
+        assert_eq!(m[4].1.as_text().as_deref(), Some("9223372036854775807"));
+    }
+
     #[test]
     fn syntax_errors_are_located() {
         let e = parse("a: [1, 2\nb: 3").unwrap_err();

@@ -21,6 +21,8 @@ pub(crate) mod eds;
 mod family_id;
 mod format;
 mod object_def;
+#[cfg(test)]
+mod object_def_tests;
 mod object_reader;
 mod profile;
 mod profile_reader;

@@ -217,55 +217,98 @@ impl ObjectDef {
                 hint: ": not a finite number".into(),
             });
         }
-        let given = match (quantity.unit, self.unit) {
-            (Some(g), Some(own)) if g != own => format!("{quantity} ({})", self.with_unit(value)),
-            _ => self.with_unit(value),
-        };
         if let Some(single) = self.data_type.float_single() {
             return self.real_to_raw(quantity, value, single);
         }
         let Some((lo, hi)) = self.data_type.range() else {
             return Err(number_for_text());
         };
-        let counts = self.counts_of(value);
-        let rounded = self.engineering(counts.clamp(i64::MIN as f64, i64::MAX as f64) as i64);
-        let tolerance = self.scale * 1e-6;
-        if let Some(max) = self.max.filter(|max| rounded > max + tolerance) {
+        // A whole number in the object's own unit at one count per unit is the count itself,
+        // exactly (a 64-bit count a float cannot hold); anything else is converted, scaled
+        // and rounded to the nearest count (a float beyond 128 bits saturates, beyond every
+        // type's range all the same).
+        let exact = self.exact_count(quantity);
+        let counts = exact.unwrap_or_else(|| self.counts_of(value) as i128);
+        let given = match (quantity.unit, self.unit, exact) {
+            (Some(g), Some(own), _) if g != own => format!("{quantity} ({})", self.with_unit(value)),
+            (_, _, Some(n)) => Quantity::integer(n, self.unit).to_string(),
+            _ => self.with_unit(value),
+        };
+        let (above, below) = match exact {
+            Some(n) => (
+                self.max.filter(|max| !max.is_nan() && n > max.floor() as i128),
+                self.min.filter(|min| !min.is_nan() && n < min.ceil() as i128),
+            ),
+            None => {
+                let rounded = self.engineering(counts.clamp(i64::MIN.into(), i64::MAX.into()) as i64);
+                let tolerance = self.scale * 1e-6;
+                (
+                    self.max.filter(|max| rounded > max + tolerance),
+                    self.min.filter(|min| rounded < min - tolerance),
+                )
+            }
+        };
+        if let Some(max) = above {
             return Err(self.beyond(given, max, true));
         }
-        if let Some(min) = self.min.filter(|min| rounded < min - tolerance) {
+        if let Some(min) = below {
             return Err(self.beyond(given, min, false));
         }
-        if counts < lo as f64 || counts > hi as f64 {
-            let mut range = format!(
-                "{}..={}",
-                self.with_unit(self.engineering(lo)),
-                self.with_unit(self.engineering(hi))
-            );
-            if self.unit.is_some() || self.scale != 1.0 {
-                range.push_str(&format!(" ({lo}..={hi} counts)"));
-            }
+        let in_range = i64::try_from(counts).ok().filter(|c| (lo..=hi).contains(c));
+        let Some(count) = in_range else {
             return Err(ValueError::OutOfTypeRange {
                 object: self.name.clone(),
                 value: given,
-                counts: format!("{counts:.0}"),
+                counts: counts.to_string(),
                 data_type: self.data_type,
-                range,
+                range: self.range_text(lo, hi),
             });
-        }
+        };
         Ok(match self.decimal_places {
             // Rounded to a whole count above, so the digits are exact: 1500.5 rpm with one
             // place is 15005 × 10⁻¹ and goes on the wire as `1500.5`.
             Some(DecimalPlaces::Fixed(places)) => RawValue::Decimal {
-                digits: counts as i64,
+                digits: count,
                 places,
             },
             Some(DecimalPlaces::AsGiven) => as_given(value).ok_or_else(|| ValueError::NotANumber {
                 text: quantity.to_string(),
                 hint: ": more digits than a decimal data field carries (at most 10 decimal places)".into(),
             })?,
-            None => RawValue::Int(counts as i64),
+            None => RawValue::Int(count),
         })
+    }
+
+    /// The count of a whole number given in the object's own unit (or bare) where one
+    /// count is one unit (scale 1, as every EDS object): the number itself, exactly.
+    fn exact_count(&self, quantity: &Quantity) -> Option<i128> {
+        let own_unit = quantity.unit.is_none() || quantity.unit == self.unit;
+        (self.scale == 1.0 && own_unit)
+            .then(|| quantity.whole())
+            .flatten()
+    }
+
+    /// The engineering quantity of a raw count: at scale 1 the count itself, exactly.
+    fn quantity_of(&self, count: i64) -> Quantity {
+        match self.scale == 1.0 {
+            true => Quantity::integer(count.into(), self.unit),
+            false => Quantity::new(self.engineering(count), self.unit),
+        }
+    }
+
+    /// The type's range `lo..=hi` (in counts) in the object's unit, exact at scale 1, with
+    /// the counts where they differ: `-2147483.648 rpm..=2147483.647 rpm
+    /// (-2147483648..=2147483647 counts)`, `0..=72057594037927935`.
+    fn range_text(&self, lo: i64, hi: i64) -> String {
+        let shown = |count: i64| match self.scale == 1.0 {
+            true => self.quantity_of(count).to_string(),
+            false => self.with_unit(self.engineering(count)),
+        };
+        let mut range = format!("{}..={}", shown(lo), shown(hi));
+        if self.unit.is_some() || self.scale != 1.0 {
+            range.push_str(&format!(" ({lo}..={hi} counts)"));
+        }
+        range
     }
 
     /// A float object's raw value for `value` (in its unit, finite): value ÷ scale in the
@@ -387,7 +430,7 @@ impl ObjectDef {
         let is_text = !self.data_type.is_number();
         let quantity = match (&raw, is_text) {
             (RawValue::Text(_) | RawValue::Bytes(_), true) => None,
-            (RawValue::Int(count), false) => Some(Quantity::new(self.engineering(*count), self.unit)),
+            (RawValue::Int(count), false) => Some(self.quantity_of(*count)),
             // NaN and infinities stay what they are: shown as such, never a limit passed.
             (RawValue::Real(r), false) => Some(Quantity::new(self.engineering_of(r.value()), self.unit)),
             // Drives that send decimal text carry the value itself, not a count.
@@ -432,368 +475,4 @@ fn as_given(value: f64) -> Option<RawValue> {
     let places = u8::try_from(frac.len()).ok().filter(|p| *p <= 10)?;
     let digits: i64 = format!("{whole}{frac}").parse().ok()?;
     Some(RawValue::Decimal { digits, places })
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use proptest::prelude::*;
-
-    /// An i32 object counting thousandths of `unit`.
-    fn milli(name: &str, index: u16, access: Access, unit: Unit) -> ObjectDef {
-        let mut o = ObjectDef::new(name, Address::indexed(index, 0), DataType::I32, access);
-        o.unit = Some(unit);
-        o.scale = 0.001;
-        o
-    }
-
-    fn control_word() -> ObjectDef {
-        ObjectDef::new(
-            "control_word",
-            Address::indexed(68, 0),
-            DataType::U16,
-            Access::ReadWrite,
-        )
-    }
-
-    fn speed_setpoint() -> ObjectDef {
-        let mut o = milli("speed_setpoint", 395, Access::ReadWrite, Unit::Rpm);
-        o.min = Some(-60000.0);
-        o.max = Some(60000.0);
-        o
-    }
-
-    fn refused(o: &ObjectDef, text: &str) -> ValueError {
-        o.to_raw(&Quantity::parse(text).unwrap()).unwrap_err()
-    }
-
-    fn counts_for(o: &ObjectDef, text: &str) -> RawValue {
-        o.to_raw(&Quantity::parse(text).unwrap()).unwrap()
-    }
-
-    #[test]
-    fn floats_are_written_as_the_nearest_float_and_read_as_they_are() {
-        let mut gain = ObjectDef::new(
-            "gain",
-            Address::indexed(0x2100, 0),
-            DataType::F32,
-            Access::ReadWrite,
-        );
-        gain.unit = Some(Unit::Rpm);
-        gain.scale = 0.5;
-        gain.min = Some(0.0);
-        gain.max = Some(100.0);
-        // 2.75 rpm at 0.5 rpm per raw unit is the float 5.5, exactly.
-        assert_eq!(
-            counts_for(&gain, "2.75 rpm"),
-            RawValue::Real(Real::Single(5.5f32.to_bits()))
-        );
-        assert_eq!(
-            counts_for(&gain, "1.1"),
-            RawValue::Real(Real::Single(2.2f32.to_bits())),
-            "not rounded to counts"
-        );
-        assert!(matches!(refused(&gain, "100.5 rpm"), ValueError::AboveMax { .. }));
-        assert!(matches!(refused(&gain, "-1 rpm"), ValueError::BelowMin { .. }));
-        let huge = ObjectDef::new(
-            "huge",
-            Address::indexed(0x2101, 0),
-            DataType::F32,
-            Access::ReadWrite,
-        );
-        let e = refused(&huge, "1e39").to_string();
-        assert_eq!(e, "1e39 is beyond the largest f32 of huge, ±3.4028235e38");
-        let v = gain
-            .value_of(RawValue::Real(Real::Single(5.5f32.to_bits())))
-            .unwrap();
-        assert_eq!((v.number(), v.to_string()), (Some(2.75), "2.75 rpm".to_string()));
-        let nan = gain
-            .value_of(RawValue::Real(Real::Single(f32::NAN.to_bits())))
-            .unwrap();
-        assert_eq!(nan.to_string(), "NaN rpm");
-        assert!(nan.number().is_some_and(f64::is_nan));
-        let inf = huge
-            .value_of(RawValue::Real(Real::Single(f32::NEG_INFINITY.to_bits())))
-            .unwrap();
-        assert_eq!(inf.to_string(), "-inf");
-        assert!(matches!(
-            gain.text_to_raw("x"),
-            Err(ValueError::TextForNumber { .. })
-        ));
-        assert!(huge.value_of(RawValue::Text("x".into())).is_err());
-    }
-
-    #[test]
-    fn bytes_and_utf16_text_and_domains() {
-        let obj = |t| ObjectDef::new("key", Address::indexed(0x2104, 0), t, Access::ReadWrite);
-        assert_eq!(
-            obj(DataType::Octets).text_to_raw("ca fe"),
-            Ok(RawValue::Bytes(vec![0xca, 0xfe]))
-        );
-        let e = obj(DataType::Octets)
-            .text_to_raw("cafez")
-            .unwrap_err()
-            .to_string();
-        assert!(
-            e.starts_with("key holds bytes, written as hex such as `01 0a ff`"),
-            "{e}"
-        );
-        let long = "00 ".repeat(257);
-        assert!(matches!(
-            obj(DataType::Octets).text_to_raw(&long),
-            Err(ValueError::BlockTooLong {
-                len: 257,
-                max: 256,
-                ..
-            })
-        ));
-        assert_eq!(
-            obj(DataType::Unicode).text_to_raw("Motör"),
-            Ok(RawValue::Text("Motör".into()))
-        );
-        let e = obj(DataType::Domain).text_to_raw("00").unwrap_err().to_string();
-        assert!(e.contains("is a DOMAIN") && e.contains("never writes it"), "{e}");
-        assert!(matches!(
-            obj(DataType::Octets).to_raw(&Quantity::parse("1").unwrap()),
-            Err(ValueError::NumberForText { .. })
-        ));
-        let v = obj(DataType::Octets)
-            .value_of(RawValue::Bytes(vec![1, 0xff]))
-            .unwrap();
-        assert_eq!((v.to_string(), v.number()), ("01 ff".to_string(), None));
-    }
-
-    #[test]
-    fn speeds_to_counts() {
-        let o = speed_setpoint();
-        let c = RawValue::Int;
-        assert_eq!(counts_for(&o, "1000 rpm"), c(1_000_000));
-        assert_eq!(counts_for(&o, "6000 rpm"), c(6_000_000));
-        assert_eq!(counts_for(&o, "6500 rpm"), c(6_500_000));
-        assert_eq!(counts_for(&o, "18000 rpm"), c(18_000_000));
-        assert_eq!(counts_for(&o, "6 krpm"), c(6_000_000));
-        assert_eq!(counts_for(&o, "6000"), c(6_000_000), "a bare number is in rpm");
-        assert_eq!(counts_for(&o, "-3000 rpm"), c(-3_000_000));
-        assert_eq!(counts_for(&o, "0.0004 rpm"), c(0), "rounds to the nearest count");
-        assert_eq!(counts_for(&o, "0.0005 rpm"), c(1));
-        assert_eq!(
-            counts_for(&o, "60000 rpm"),
-            c(60_000_000),
-            "the limit itself is allowed"
-        );
-    }
-
-    #[test]
-    fn limits_are_refused_with_the_limit_and_unit() {
-        let o = speed_setpoint();
-        for (given, refusal) in [
-            (
-                "70000 rpm",
-                "70000 rpm is above the maximum of speed_setpoint, 60000 rpm",
-            ),
-            (
-                "-61 krpm",
-                "-61 krpm (-61000 rpm) is below the minimum of speed_setpoint, -60000 rpm",
-            ),
-        ] {
-            assert_eq!(refused(&o, given).to_string(), refusal);
-        }
-    }
-
-    #[test]
-    fn bench_caps_tighten_and_say_so() {
-        let mut o = speed_setpoint();
-        o.cap_at(6000.0, "limits file /x/drivescript-limits.yaml");
-        assert_eq!((o.min, o.max), (Some(-6000.0), Some(6000.0)));
-        let e = refused(&o, "6500 rpm");
-        assert_eq!(
-            e.to_string(),
-            "6500 rpm exceeds the bench limit 6000 rpm of speed_setpoint (limits file /x/drivescript-limits.yaml)"
-        );
-        let e = refused(&o, "-6.5 krpm");
-        assert!(
-            e.to_string()
-                .starts_with("-6.5 krpm (-6500 rpm) is below the bench limit -6000 rpm"),
-            "{e}"
-        );
-        assert!(o.to_raw(&Quantity::parse("6000 rpm").unwrap()).is_ok());
-        // A cap wider than the object's own limits changes nothing.
-        let mut o = speed_setpoint();
-        o.cap_at(70000.0, "limits file b.yaml");
-        assert_eq!(
-            (o.min, o.max, o.bench.is_none()),
-            (Some(-60000.0), Some(60000.0), true)
-        );
-        // Only the side the cap tightens is the bench's.
-        let mut o = speed_setpoint();
-        o.min = Some(0.0);
-        o.cap_at(6000.0, "limits file b.yaml");
-        assert_eq!((o.min, o.max), (Some(0.0), Some(6000.0)));
-        let e = refused(&o, "-1 rpm");
-        assert!(matches!(e, ValueError::BelowMin { .. }), "{e}");
-    }
-
-    #[test]
-    fn type_range_is_refused_with_the_range_in_units() {
-        let mut o = speed_setpoint();
-        o.min = None;
-        o.max = None;
-        let e = refused(&o, "3000000 rpm");
-        assert_eq!(
-            e.to_string(),
-            "3000000 rpm is 3000000000 counts, outside the range of speed_setpoint's type i32: \
-             -2147483.648 rpm..=2147483.647 rpm (-2147483648..=2147483647 counts)"
-        );
-        let cw = control_word();
-        let e = cw.to_raw(&Quantity::new(-1.0, None)).unwrap_err();
-        assert_eq!(
-            e.to_string(),
-            "-1 is -1 counts, outside the range of control_word's type u16: 0..=65535"
-        );
-        assert_eq!(
-            cw.to_raw(&Quantity::parse("0x0F").unwrap()),
-            Ok(RawValue::Int(15))
-        );
-    }
-
-    #[test]
-    fn wrong_units_are_refused() {
-        let current = milli("current_actual", 400, Access::ReadOnly, Unit::Ampere);
-        let e = refused(&current, "6000 rpm");
-        assert!(
-            e.to_string()
-                .starts_with("rpm is not a unit of current_actual (A)"),
-            "{e}"
-        );
-        assert_eq!(
-            current.to_raw(&Quantity::parse("1500 mA").unwrap()),
-            Ok(RawValue::Int(1500))
-        );
-        let cw = control_word();
-        let e = refused(&cw, "6 rpm");
-        assert_eq!(
-            e.to_string(),
-            "rpm given, but control_word has no unit: give a plain number"
-        );
-        assert!(cw.to_raw(&Quantity::new(f64::NAN, None)).is_err());
-    }
-
-    fn ident() -> ObjectDef {
-        ObjectDef::new(
-            "ident",
-            Address::indexed(22, 0),
-            DataType::String { max: 32 },
-            Access::ReadOnly,
-        )
-    }
-
-    #[test]
-    fn raw_values_read_with_type_scale_and_unit() {
-        let v = speed_setpoint().value_of(RawValue::Int(1_003_647)).unwrap();
-        assert_eq!(v.to_string(), "1003.647 rpm");
-        assert_eq!(v.number(), Some(1003.647));
-        let t = ident().value_of(RawValue::Text("Test Motor".into())).unwrap();
-        assert_eq!(t.to_string(), "\"Test Motor\"");
-        let d = speed_setpoint()
-            .value_of(RawValue::Decimal {
-                digits: 15005,
-                places: 1,
-            })
-            .unwrap();
-        assert_eq!(d.to_string(), "1500.5 rpm");
-        assert!(speed_setpoint().value_of(RawValue::Text("x".into())).is_err());
-        assert!(ident().value_of(RawValue::Int(1)).is_err());
-    }
-
-    #[test]
-    fn text_values() {
-        assert_eq!(
-            ident().text_to_raw("Spindle 1"),
-            Ok(RawValue::Text("Spindle 1".into()))
-        );
-        assert!(matches!(
-            ident().text_to_raw(&"x".repeat(33)),
-            Err(ValueError::TextTooLong { len: 33, max: 32, .. })
-        ));
-        assert!(matches!(
-            ident().text_to_raw("Motör"),
-            Err(ValueError::TextNotAscii { found: 'ö', .. })
-        ));
-        assert!(matches!(
-            speed_setpoint().text_to_raw("fast"),
-            Err(ValueError::TextForNumber { .. })
-        ));
-        assert!(matches!(
-            ident().to_raw(&Quantity::new(1.0, None)),
-            Err(ValueError::NumberForText { .. })
-        ));
-    }
-
-    #[test]
-    fn access_helpers() {
-        assert!(speed_setpoint().writable() && speed_setpoint().readable());
-        assert!(!ident().writable() && ident().readable());
-    }
-
-    fn decimal_speed() -> ObjectDef {
-        let mut o = speed_setpoint();
-        o.scale = 0.1;
-        o.decimal_places = Some(DecimalPlaces::Fixed(1));
-        o
-    }
-
-    #[test]
-    fn values_as_given_keep_the_decimals_typed() {
-        let mut o = ObjectDef::new("#1.21", Address::indexed(1, 21), DataType::I32, Access::ReadWrite);
-        o.decimal_places = Some(DecimalPlaces::AsGiven);
-        let d = |digits, places| RawValue::Decimal { digits, places };
-        assert_eq!(counts_for(&o, "1500.5"), d(15005, 1));
-        assert_eq!(counts_for(&o, "-34.55"), d(-3455, 2));
-        assert_eq!(counts_for(&o, "131"), d(131, 0));
-        assert!(o.to_raw(&Quantity::parse("0.000000000001").unwrap()).is_err());
-    }
-
-    #[test]
-    fn decimal_objects_convert_exactly() {
-        let o = decimal_speed();
-        let d = |digits, places| RawValue::Decimal { digits, places };
-        assert_eq!(counts_for(&o, "1500.5 rpm"), d(15005, 1));
-        assert_eq!(counts_for(&o, "1500.5 rpm").to_string(), "1500.5");
-        assert_eq!(counts_for(&o, "-34.5"), d(-345, 1));
-        assert_eq!(counts_for(&o, "1500.3 rpm").to_string(), "1500.3");
-        assert_eq!(counts_for(&o, "1.5 krpm"), d(15000, 1));
-        let v = o.value_of(d(15005, 1)).unwrap();
-        assert_eq!(v.to_string(), "1500.5 rpm");
-    }
-
-    proptest! {
-        #[test]
-        fn decimal_text_round_trips_exactly(tenths in -600_000i64..=600_000) {
-            let o = decimal_speed();
-            let text = RawValue::Decimal { digits: tenths, places: 1 }.to_string();
-            let raw = o.to_raw(&Quantity::parse(&text).unwrap()).unwrap();
-            prop_assert_eq!(raw.to_string(), text);
-        }
-
-        #[test]
-        fn to_raw_value_of_round_trip_within_one_count(v in -60000.0f64..=60000.0) {
-            let o = speed_setpoint();
-            let raw = o.to_raw(&Quantity::new(v, Some(Unit::Rpm))).unwrap();
-            let back = o.value_of(raw.clone()).unwrap().number().unwrap();
-            prop_assert!((back - v).abs() <= o.scale, "{} → {:?} → {}", v, raw, back);
-        }
-
-        #[test]
-        fn round_trip_every_integer_type(t in 0usize..6, count in any::<i64>(), scale in prop::sample::select(vec![1.0, 0.1, 0.001, 0.25, 2.0])) {
-            let data_type = DataType::INTEGERS[t];
-            let (lo, hi) = data_type.range().unwrap();
-            let count = lo + (count.rem_euclid(hi - lo + 1));
-            let mut o = ObjectDef::new("x", Address::indexed(1, 0), data_type, Access::ReadWrite);
-            o.scale = scale;
-            o.unit = Some(Unit::Volt);
-            let value = o.engineering(count);
-            let raw = o.to_raw(&Quantity::new(value, Some(Unit::Volt))).unwrap();
-            prop_assert_eq!(raw, RawValue::Int(count));
-        }
-    }
 }

@@ -1,6 +1,8 @@
 //! A number with an optional engineering unit, as engineers write it: `6000 rpm`, `6krpm`,
 //! `1.5 A`, `250ms`, `42`, `-3000 rpm`, `0x0F`. Parsing and unit conversion only; which
-//! unit an object wants is the object definition's business.
+//! unit an object wants is the object definition's business. A whole number that a float
+//! cannot hold (beyond 2^53: a 64-bit count) keeps its exact integer beside the float, so
+//! that it is written, shown and compared to the unit.
 
 use super::unit::Unit;
 use super::value_error::ValueError;
@@ -9,14 +11,54 @@ use std::str::FromStr;
 
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Quantity {
+    /// The number; for a whole number beyond 2^53 the nearest float (see [`Quantity::integer`]).
     pub value: f64,
     /// `None` for a bare number, which an object reads in its own unit.
     pub unit: Option<Unit>,
+    /// The whole number itself, set only where `value` is not exactly it: one form for
+    /// each number, so that equal quantities compare equal.
+    exact: Option<i128>,
 }
 
 impl Quantity {
     pub fn new(value: f64, unit: Option<Unit>) -> Self {
-        Quantity { value, unit }
+        Quantity {
+            value,
+            unit,
+            exact: None,
+        }
+    }
+
+    /// The whole number `n`, exactly (a count of a 64-bit object).
+    pub fn integer(n: i128, unit: Option<Unit>) -> Self {
+        let value = n as f64;
+        Quantity {
+            value,
+            unit,
+            exact: exact_beside(value, n),
+        }
+    }
+
+    /// The whole number this quantity is, exactly: the integer given or read where a
+    /// float cannot hold it, else `value` when it is whole; within 64 bits (every count a
+    /// drive holds). `None` for fractions, NaN, infinities and larger numbers.
+    pub fn whole(&self) -> Option<i128> {
+        const BEYOND_64_BITS: f64 = 18_446_744_073_709_551_616.0;
+        self.exact.or_else(|| {
+            (self.value.fract() == 0.0 && self.value.abs() < BEYOND_64_BITS).then_some(self.value as i128)
+        })
+    }
+
+    /// A whole number a float cannot tell from its neighbours (beyond 2^53): what shows
+    /// it to the unit is its text, not its float.
+    pub fn beyond_float(&self) -> bool {
+        self.whole().is_some_and(|n| n.unsigned_abs() > 1 << 53)
+    }
+
+    /// The same number in `unit` (`None`: bare, read in an object's own unit), its exact
+    /// integer kept.
+    pub fn in_unit(self, unit: Option<Unit>) -> Quantity {
+        Quantity { unit, ..self }
     }
 
     /// Parses `NUMBER [UNIT]`, with or without a space. Numbers are decimal (`-3000`, `1.5`,
@@ -44,9 +86,14 @@ impl Quantity {
         if !value.is_finite() {
             return Err(not_a_number(t, ": it is too large"));
         }
+        let exact = parse_integer(number).and_then(|n| exact_beside(value, n));
         let rest = rest.trim();
         if rest.is_empty() {
-            return Ok(Quantity { value, unit: None });
+            return Ok(Quantity {
+                value,
+                unit: None,
+                exact,
+            });
         }
         if rest.starts_with(|c: char| c.is_ascii_digit() || c == '.' || c == ',') {
             return Err(not_a_number(
@@ -57,6 +104,7 @@ impl Quantity {
         Ok(Quantity {
             value,
             unit: Some(unit(rest)?),
+            exact,
         })
     }
 
@@ -78,9 +126,13 @@ impl FromStr for Quantity {
 }
 
 impl fmt::Display for Quantity {
-    /// `6000 rpm`, `325.3 V`, `42`; `1e300` rather than its 301 digits.
+    /// `6000 rpm`, `325.3 V`, `42`; a whole number of up to 64 bits in its exact digits
+    /// (`9007199254740993`), `1e300` rather than its 301 digits.
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let number = super::real::Real::of(self.value, false);
+        let number = match self.whole() {
+            Some(n) => n.to_string(),
+            None => super::real::Real::of(self.value, false).to_string(),
+        };
         match self.unit {
             Some(u) => write!(f, "{number} {u}"),
             None => write!(f, "{number}"),
@@ -146,17 +198,52 @@ fn split_number(t: &str) -> (&str, &str) {
     t.split_at(i)
 }
 
-fn parse_number(number: &str) -> Option<f64> {
+/// `n` when `value` is not exactly it: the exact integer a quantity keeps beside its float,
+/// for whole numbers within 64 bits (every count a drive holds; beyond, a float will do).
+fn exact_beside(value: f64, n: i128) -> Option<i128> {
+    (n.unsigned_abs() < 1 << 64 && value as i128 != n).then_some(n)
+}
+
+/// The digits of a number without its sign.
+enum Digits<'a> {
+    /// After `0x`.
+    Hex(&'a str),
+    Decimal(&'a str),
+}
+
+/// Whether `number` is negative, and its digits.
+fn digits(number: &str) -> (bool, Digits<'_>) {
     let (negative, unsigned) = match number.strip_prefix('-') {
         Some(rest) => (true, rest),
         None => (false, number.strip_prefix('+').unwrap_or(number)),
     };
-    let magnitude = match unsigned
+    let digits = match unsigned
         .strip_prefix("0x")
         .or_else(|| unsigned.strip_prefix("0X"))
     {
-        Some(hex) => u64::from_str_radix(hex, 16).ok()? as f64,
-        None => unsigned.parse::<f64>().ok()?,
+        Some(hex) => Digits::Hex(hex),
+        None => Digits::Decimal(unsigned),
+    };
+    (negative, digits)
+}
+
+/// A number written as a whole number, decimal or `0x` hex, exactly; `None` for fractions,
+/// exponents and what is beyond 128 bits.
+fn parse_integer(number: &str) -> Option<i128> {
+    let (negative, digits) = digits(number);
+    let magnitude = match digits {
+        Digits::Hex(hex) => i128::from_str_radix(hex, 16).ok()?,
+        Digits::Decimal(d) if d.bytes().all(|b| b.is_ascii_digit()) => d.parse::<i128>().ok()?,
+        Digits::Decimal(_) => return None,
+    };
+    Some(if negative { -magnitude } else { magnitude })
+}
+
+fn parse_number(number: &str) -> Option<f64> {
+    let (negative, digits) = digits(number);
+    let magnitude = match digits {
+        Digits::Hex(hex) => u64::from_str_radix(hex, 16).ok()? as f64,
+        Digits::Decimal(d) => d.parse::<f64>().ok()?,
     };
     Some(if negative { -magnitude } else { magnitude })
 }
@@ -227,7 +314,51 @@ mod tests {
         assert_eq!(q("42").to_string(), "42");
     }
 
+    /// A whole number beyond a float's 53 bits keeps its exact integer: 2^53 + 1 is not
+    /// 2^53, and shows as written; within 53 bits and for fractions nothing changes.
+    #[test]
+    fn whole_numbers_beyond_a_float_are_kept_exactly() {
+        let above = q("9007199254740993");
+        assert_eq!(above.whole(), Some((1 << 53) + 1));
+        assert_ne!(above, q("9007199254740992"), "a float cannot tell them apart");
+        assert_eq!(above.to_string(), "9007199254740993");
+        assert!(above.beyond_float() && !q("9007199254740992").beyond_float());
+        assert_eq!(q("-9223372036854775808").whole(), Some(i64::MIN.into()));
+        assert_eq!(q("0x7FFFFFFFFFFFFFFF").whole(), Some(i64::MAX.into()));
+        assert_eq!(q("0xFFFFFFFFFFFFFFFF").whole(), Some(u64::MAX.into()));
+        assert_eq!(q("72057594037927935 rpm").to_string(), "72057594037927935 rpm");
+        assert_eq!(q("42"), Quantity::new(42.0, None), "one form for each number");
+        assert_eq!(q("2e3").whole(), Some(2000));
+        assert_eq!(q("1.5").whole(), None);
+        assert_eq!(
+            q("-0").value.to_bits(),
+            (-0.0f64).to_bits(),
+            "the float as before"
+        );
+        assert_eq!(q("1e300").whole(), None);
+        assert_eq!(q("1e300").to_string(), "1e300");
+        assert_eq!(
+            Quantity::integer(i64::MAX.into(), None).to_string(),
+            "9223372036854775807"
+        );
+        assert_eq!(Quantity::integer(6000, None), Quantity::new(6000.0, None));
+        assert_eq!(q("6000 rpm").in_unit(None), q("6000"));
+        assert_eq!(
+            q("9007199254740993").in_unit(Some(Unit::Rpm)).to_string(),
+            "9007199254740993 rpm"
+        );
+    }
+
     proptest! {
+        /// Every 64-bit whole number, as decimal or hex text, is read to the unit.
+        #[test]
+        fn every_64_bit_whole_number_parses_exactly(n in any::<i64>(), u in any::<u64>()) {
+            prop_assert_eq!(q(&n.to_string()).whole(), Some(i128::from(n)));
+            prop_assert_eq!(q(&n.to_string()).to_string(), n.to_string());
+            prop_assert_eq!(q(&format!("0x{u:X}")).whole(), Some(i128::from(u)));
+            prop_assert_eq!(Quantity::integer(n.into(), None), q(&n.to_string()));
+        }
+
         #[test]
         fn parse_never_panics(text in "\\PC{0,24}") {
             let _ = Quantity::parse(&text);

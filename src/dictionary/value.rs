@@ -123,7 +123,12 @@ impl fmt::Display for Value {
                 None => write!(f, "{}", self.raw),
             },
             (RawValue::Int(_) | RawValue::Bytes(_), Some(q)) => {
-                f.write_str(&format_number(q.value, self.decimals))?;
+                // Whole numbers in their exact digits: a 64-bit count beyond a float's precision.
+                let number = match (self.decimals, q.whole()) {
+                    (0, Some(n)) => n.to_string(),
+                    _ => format_number(q.value, self.decimals),
+                };
+                f.write_str(&number)?;
                 match q.unit {
                     Some(u) => write!(f, " {u}"),
                     None => Ok(()),

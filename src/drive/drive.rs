@@ -141,7 +141,7 @@ impl Drive {
     pub fn read_set_numbers(&mut self, set: &ReadSet, out: &mut [f64]) -> Result<(), DriveError> {
         if let ([def], [slot]) = (&set.defs[..], &mut out[..]) {
             let v = self.read_def(def)?;
-            *slot = number_of(def, &v)?;
+            *slot = quantity_of(def, &v)?.value;
             return Ok(());
         }
         let results = self.access.read_many(&set.requests);
@@ -151,7 +151,7 @@ impl Drive {
                 object: def.name.clone(),
                 source,
             })?;
-            *slot = number_of(def, &value)?;
+            *slot = quantity_of(def, &value)?.value;
         }
         Ok(())
     }
@@ -235,10 +235,15 @@ impl Drive {
 
     /// Reads an object as a number in its engineering unit.
     pub fn read_number(&mut self, name: &str) -> Result<f64, DriveError> {
+        self.read_quantity(name).map(|q| q.value)
+    }
+
+    /// Reads an object as a quantity in its engineering unit: a count at scale 1 exactly.
+    pub fn read_quantity(&mut self, name: &str) -> Result<Quantity, DriveError> {
         let dictionary = Arc::clone(&self.dictionary);
         let def = lookup(&dictionary, name)?;
         let value = self.read_def(def)?;
-        number_of(def, &value)
+        quantity_of(def, &value)
     }
 
     /// Writes a number with its unit (a bare number is in the object's unit). Refused
@@ -504,9 +509,9 @@ fn lookup<'d>(dictionary: &'d Dictionary, name: &str) -> Result<&'d ObjectDef, D
     })
 }
 
-/// The engineering number of a value read from `def`; text is an error.
-fn number_of(def: &ObjectDef, value: &Value) -> Result<f64, DriveError> {
-    value.number().ok_or_else(|| DriveError::NotANumber {
+/// The engineering quantity of a value read from `def`; text is an error.
+fn quantity_of(def: &ObjectDef, value: &Value) -> Result<Quantity, DriveError> {
+    value.quantity.ok_or_else(|| DriveError::NotANumber {
         object: def.name.clone(),
         data_type: def.data_type,
     })

@@ -22,6 +22,9 @@ pub struct FamilyInfo {
     pub address_parser: AddressParser,
     /// How `--address` is written, for help and messages.
     pub address_help: &'static str,
+    /// The family's simulated drive sends emergency messages on its own (a CANopen node's
+    /// EMCY), so `--sim emergency-at` reaches it.
+    pub sim_emergencies: bool,
 }
 
 impl FamilyInfo {
@@ -35,6 +38,7 @@ impl FamilyInfo {
             serial_settings: SerialSettings::default(),
             address_parser,
             address_help: "",
+            sim_emergencies: false,
         }
     }
 
@@ -53,6 +57,14 @@ impl FamilyInfo {
     pub fn frames(self) -> Self {
         FamilyInfo {
             bus_kind: BusKind::Frames,
+            ..self
+        }
+    }
+
+    /// The family's simulated drive sends an injected emergency message (`--sim emergency-at`).
+    pub fn sim_emergencies(self) -> Self {
+        FamilyInfo {
+            sim_emergencies: true,
             ..self
         }
     }

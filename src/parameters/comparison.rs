@@ -38,7 +38,8 @@ fn shown(o: &SavedObject) -> String {
 }
 
 /// Whether two readings of one object agree: the same raw value, or numbers of the same
-/// unit no further apart than `tolerance` (in that unit).
+/// unit no further apart than `tolerance` (in that unit); whole numbers apart exactly, so
+/// that 64-bit counts a float cannot tell apart differ by their one count.
 pub fn same(left: &SavedObject, right: &SavedObject, tolerance: f64) -> bool {
     match (&left.reading, &right.reading) {
         (Reading::Value { raw: a, shown: sa }, Reading::Value { raw: b, shown: sb }) => {
@@ -46,7 +47,10 @@ pub fn same(left: &SavedObject, right: &SavedObject, tolerance: f64) -> bool {
                 return true;
             }
             match (Quantity::parse(sa), Quantity::parse(sb)) {
-                (Ok(x), Ok(y)) => x.unit == y.unit && (x.value - y.value).abs() <= tolerance,
+                (Ok(x), Ok(y)) if x.unit == y.unit => match (x.whole(), y.whole()) {
+                    (Some(m), Some(n)) => m.abs_diff(n) as f64 <= tolerance,
+                    _ => (x.value - y.value).abs() <= tolerance,
+                },
                 _ => false,
             }
         }
@@ -144,6 +148,18 @@ mod tests {
         assert_eq!(compare(&a, &b, 0.1).len(), 1);
         let volts = set(&[("b", "6000.4 V", "6000400")]);
         assert_eq!(compare(&a, &volts, 1.0).len(), 1, "other units never match");
+    }
+
+    /// Whole numbers a float cannot tell apart (beyond 2^53) differ by their one count.
+    #[test]
+    fn sixty_four_bit_counts_differ_by_one() {
+        let a = set(&[("c", "9007199254740993", "9007199254740993")]);
+        let b = set(&[("c", "9007199254740992", "9007199254740992")]);
+        assert_eq!(compare(&a, &b, 0.0).len(), 1);
+        assert!(compare(&a, &b, 1.0).is_empty(), "a tolerance of one count");
+        let max = set(&[("c", "9223372036854775807", "9223372036854775807")]);
+        let near = set(&[("c", "9223372036854775806", "9223372036854775806")]);
+        assert_eq!(compare(&max, &near, 0.0).len(), 1);
     }
 
     #[test]

@@ -64,7 +64,7 @@ fn collect(steps: &[Step], out: &mut Vec<WrittenValue>) {
                     if let SetValue::Number(n) = value {
                         out.push(WrittenValue {
                             object: object.clone(),
-                            value: *n,
+                            value: n.value,
                             origin: step.origin.clone(),
                             step: "set",
                         });

@@ -5,8 +5,9 @@
 
 use super::{recorded_drive, COMMUNICATION, INVALID};
 use crate::family::{Registry, DEFAULT_DICTIONARY};
+use crate::output_file_error::{create_output_file, OutputFileError};
 use crate::report::trace_notes_path;
-use crate::sim::replay::{Anonymised, Anonymiser};
+use crate::sim::replay::{Anonymised, Anonymiser, CopyError};
 use std::io::{BufReader, BufWriter};
 use std::path::Path;
 
@@ -16,9 +17,9 @@ pub enum AnonymiseError {
     /// The command line, the capture or its drive is wrong; nothing was written.
     #[error("{0}")]
     Invalid(String),
-    /// The copy could not be written.
-    #[error("{0}")]
-    Write(String),
+    /// The copy (or its notes file) could not be created or written; the text names it.
+    #[error(transparent)]
+    Write(#[from] OutputFileError),
 }
 
 impl AnonymiseError {
@@ -70,25 +71,61 @@ pub fn anonymise_capture(
 fn copy(anonymiser: &mut Anonymiser, from: &Path, to: &Path) -> Result<Anonymised, AnonymiseError> {
     let input = std::fs::File::open(from)
         .map_err(|e| AnonymiseError::Invalid(format!("cannot read {}: {e}", from.display())))?;
-    let output = crate::output_file_error::create_output_file(to, false)
-        .map_err(|e| AnonymiseError::Write(e.to_string()))?;
-    let mut out = BufWriter::new(output);
+    let mut out = BufWriter::new(create_output_file(to, false)?);
     anonymiser
         .copy(BufReader::new(input), from, &mut out)
-        .map_err(|e| AnonymiseError::Invalid(e.to_string()))
+        .map_err(|e| match e {
+            CopyError::Capture(e) => AnonymiseError::Invalid(e.to_string()),
+            CopyError::Write(e) => OutputFileError::file(to, e).into(),
+        })
 }
 
 fn copy_notes(anonymiser: &Anonymiser, from: &Path, to: &Path) -> Result<(), AnonymiseError> {
     let text = std::fs::read_to_string(from)
         .map_err(|e| AnonymiseError::Invalid(format!("cannot read {}: {e}", from.display())))?;
     let masked: Vec<String> = text.lines().map(|l| anonymiser.mask_text(l)).collect();
-    std::fs::write(to, masked.join("\n") + "\n")
-        .map_err(|e| AnonymiseError::Write(format!("cannot write {}: {e}", to.display())))
+    std::fs::write(to, masked.join("\n") + "\n").map_err(|e| OutputFileError::file(to, e).into())
 }
 
 fn same_file(a: &Path, b: &Path) -> bool {
     match (a.canonicalize(), b.canonicalize()) {
         (Ok(a), Ok(b)) => a == b,
         _ => a == b,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn capture() -> std::path::PathBuf {
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/cases/replay/sd2_commissioning/capture.trace")
+    }
+
+    /// A copy that cannot be written is a write failure naming the copy (exit 3), not a
+    /// capture that cannot be read (exit 2): here a full disk, and a directory that
+    /// cannot be made.
+    #[test]
+    fn a_copy_that_cannot_be_written_says_where_it_was_going() {
+        let registry = Registry::builtin();
+        let full = Path::new("/dev/full");
+        let e = anonymise_capture(&registry, &capture(), full, None).unwrap_err();
+        assert!(
+            matches!(&e, AnonymiseError::Write(OutputFileError::File { path, .. }) if path == full),
+            "{e:?}"
+        );
+        assert_eq!(e.exit_code(), COMMUNICATION);
+        assert!(e.to_string().starts_with("cannot write /dev/full: "), "{e}");
+        let nowhere = Path::new("/proc/drivescript/shared.trace");
+        let e = anonymise_capture(&registry, &capture(), nowhere, None).unwrap_err();
+        assert!(
+            matches!(&e, AnonymiseError::Write(OutputFileError::Directory { .. })),
+            "{e:?}"
+        );
+        assert!(
+            e.to_string()
+                .starts_with("cannot create the directory /proc/drivescript: "),
+            "{e}"
+        );
     }
 }

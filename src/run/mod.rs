@@ -49,6 +49,7 @@ mod run_setup;
 mod safe_stop_args;
 mod several_reports;
 mod several_sets;
+mod sim_settings_check;
 mod terminal_input;
 
 pub use address_key_flags::{AddressKeyFlag, DNC_ADDRESS};
@@ -73,4 +74,5 @@ pub use run_operator::RunOperator;
 pub use run_plan::{LoadedPlan, RunPlan};
 pub use run_request::{PrepareSimulator, RunRequest, RunResult, SharedObserver};
 pub use safe_stop_args::SafeStopArgs;
+pub use sim_settings_check::check_sim_settings;
 pub use terminal_input::TerminalInput;

@@ -9,7 +9,7 @@ use super::exchange::{Answer, Call};
 use super::param_value::{param_value, ParamKind, ParamValue};
 use super::resolve::{self, Refusal, Written};
 use super::sample_window::SampleWindow;
-use crate::dictionary::Dictionary;
+use crate::dictionary::{Dictionary, Quantity};
 use crate::drive::DeviceCommand;
 use crate::session::{CheckResult, ObjectRef, Predicate, Statistic};
 use rhai::{Array, Dynamic, Engine, EvalAltResult, FnPtr, NativeCallContext, Position};
@@ -102,7 +102,13 @@ pub(super) fn error(text: impl std::fmt::Display) -> Box<EvalAltResult> {
 
 /// A number from a Rhai integer or float.
 pub(super) fn as_number(v: &Dynamic) -> Option<f64> {
-    v.as_float().ok().or_else(|| v.as_int().ok().map(|i| i as f64))
+    as_quantity(v).map(|q| q.value)
+}
+
+/// A script's number as a bare quantity: an integer exactly, beyond a float's 53 bits too.
+fn as_quantity(v: &Dynamic) -> Option<Quantity> {
+    let float = v.as_float().ok().map(|f| Quantity::new(f, None));
+    float.or_else(|| v.as_int().ok().map(|i| Quantity::integer(i.into(), None)))
 }
 
 pub(super) fn number_arg(v: &Dynamic, what: &str) -> RhaiResult<f64> {
@@ -224,7 +230,9 @@ fn register_writes(engine: &mut Engine, bridge: &Arc<Bridge>) {
             let (mut object, value) = resolve::set_value(&dictionary, name, &written).map_err(refused)?;
             object.name = format!("{prefix}{}", object.name);
             let shown = match &value {
-                crate::session::SetValue::Number(v) => crate::session::with_unit(*v, object.unit.as_deref()),
+                crate::session::SetValue::Number(v) => {
+                    crate::session::exact_with_unit(v, object.unit.as_deref())
+                }
                 crate::session::SetValue::Text(t) => format!("\"{t}\""),
             };
             let label = format!("set {} = {shown}", object.name);
@@ -234,8 +242,8 @@ fn register_writes(engine: &mut Engine, bridge: &Arc<Bridge>) {
     engine.register_fn(
         "set",
         move |ctx: NativeCallContext, h: &mut DriveHandle, name: &str, value: Dynamic| -> RhaiResult<()> {
-            let written = match as_number(&value) {
-                Some(v) => Written::Number(v, None),
+            let written = match as_quantity(&value) {
+                Some(q) => Written::Number(q, None),
                 None if value.is_string() => Written::Text(value.to_string()),
                 None => {
                     return Err(error(format!(
@@ -256,13 +264,18 @@ fn register_writes(engine: &mut Engine, bridge: &Arc<Bridge>) {
               value: Dynamic,
               unit: &str|
               -> RhaiResult<()> {
-            let v = number_arg(&value, &format!("the value for {name}"))?;
+            let q = as_quantity(&value).ok_or_else(|| {
+                error(format!(
+                    "the value for {name} must be a number, not {}",
+                    value.type_name()
+                ))
+            })?;
             set(
                 &b,
                 h,
                 ctx.call_position(),
                 name,
-                Written::Number(v, Some(unit.to_string())),
+                Written::Number(q, Some(unit.to_string())),
             )
         },
     );

@@ -99,11 +99,12 @@ pub fn unit_for(def_unit: Option<&str>, object: &str, unit: &str) -> Result<(Uni
     }
 }
 
-/// What the script asked to write: text, or a number with or without its unit.
+/// What the script asked to write: text, or a number (bare: a script's integer exactly)
+/// with or without its unit.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Written {
     Text(String),
-    Number(f64, Option<String>),
+    Number(Quantity, Option<String>),
 }
 
 /// A write of `value` to `name`: the object must be writable and the value fit its type,
@@ -138,10 +139,10 @@ pub fn set_value(dict: &Dictionary, name: &str, value: &Written) -> Result<(Obje
         Written::Text(t) => {
             Quantity::parse(t).map_err(|e| Refusal::new(format!("{}: {e}", def.name), "not a value", None))?
         }
-        Written::Number(v, None) => Quantity::new(*v, None),
-        Written::Number(v, Some(u)) => {
+        Written::Number(q, None) => *q,
+        Written::Number(q, Some(u)) => {
             let unit = Unit::parse(u).map_err(|e| not_a_unit(u, &e.to_string()))?;
-            Quantity::new(*v, Some(unit))
+            q.in_unit(Some(unit))
         }
     };
     if !quantity.value.is_finite() {
@@ -154,15 +155,20 @@ pub fn set_value(dict: &Dictionary, name: &str, value: &Written) -> Result<(Obje
             None,
         ));
     }
+    // In the object's own unit a whole number stays exact (a 64-bit count).
     let in_own = match (quantity.unit, def.unit) {
-        (None, _) => quantity.value,
-        (Some(u), Some(own)) => u.convert(quantity.value, own).ok_or_else(|| {
-            Refusal::new(
-                format!("{u} is not a unit of {} ({own})", def.name),
-                "wrong unit",
-                None,
-            )
-        })?,
+        (None, _) => quantity,
+        (Some(u), Some(own)) if u == own => quantity.in_unit(None),
+        (Some(u), Some(own)) => u
+            .convert(quantity.value, own)
+            .map(|v| Quantity::new(v, None))
+            .ok_or_else(|| {
+                Refusal::new(
+                    format!("{u} is not a unit of {} ({own})", def.name),
+                    "wrong unit",
+                    None,
+                )
+            })?,
         (Some(u), None) => {
             return Err(Refusal::new(
                 format!("{} has no unit; write a plain number, not {u}", def.name),
@@ -302,22 +308,59 @@ mod tests {
         )
     }
 
+    /// A script's whole number goes to a 64-bit object exactly, as a number or as text.
+    #[test]
+    fn whole_numbers_are_written_exactly() {
+        let mut d = crate::family::Registry::builtin()
+            .load_dictionary("canopen")
+            .unwrap();
+        d.extend_from(
+            std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("src/family/canopen/sim/cia402_node.eds"),
+        )
+        .unwrap();
+        let above = (1i128 << 53) + 1;
+        for written in [
+            Written::Number(Quantity::integer(above, None), None),
+            Written::Text("9007199254740993".into()),
+        ] {
+            let (_, v) = set_value(&d, "position_counter", &written).unwrap();
+            assert!(
+                matches!(v, SetValue::Number(q) if q.whole() == Some(above)),
+                "{written:?}"
+            );
+        }
+    }
+
     #[test]
     fn names_units_values_and_durations() {
         let d = sd2();
         let e = object(&d, "speed_actul").unwrap_err();
         assert!(e.help.unwrap_or_default().contains("speed_actual"));
-        let (r, v) = set_value(&d, "speed_setpoint", &Written::Number(6.0, Some("krpm".into()))).unwrap();
-        assert_eq!((r.name.as_str(), v), ("speed_setpoint", SetValue::Number(6000.0)));
+        let (r, v) = set_value(
+            &d,
+            "speed_setpoint",
+            &Written::Number(Quantity::new(6.0, None), Some("krpm".into())),
+        )
+        .unwrap();
+        assert_eq!((r.name.as_str(), v), ("speed_setpoint", SetValue::number(6000.0)));
         let (_, v) = set_value(&d, "speed_setpoint", &Written::Text("6000 rpm".into())).unwrap();
-        assert_eq!(v, SetValue::Number(6000.0));
+        assert_eq!(v, SetValue::number(6000.0));
         assert_eq!(
-            set_value(&d, "speed_setpoint", &Written::Number(6.0, Some("V".into())))
-                .unwrap_err()
-                .label,
+            set_value(
+                &d,
+                "speed_setpoint",
+                &Written::Number(Quantity::new(6.0, None), Some("V".into()))
+            )
+            .unwrap_err()
+            .label,
             "wrong unit"
         );
-        assert!(set_value(&d, "speed_setpoint", &Written::Number(1e12, None)).is_err());
+        assert!(set_value(
+            &d,
+            "speed_setpoint",
+            &Written::Number(Quantity::new(1e12, None), None)
+        )
+        .is_err());
         assert_eq!(unit_for(Some("rpm"), "speed_actual", "krpm").unwrap().1, 0.001);
         assert!(unit_for(Some("rpm"), "speed_actual", "A").is_err());
         assert_eq!(duration("2 s").unwrap(), Duration::from_secs(2));

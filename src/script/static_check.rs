@@ -10,7 +10,7 @@ use super::literal_calls::{Arg, LiteralCall};
 use super::param_value::{param_value, ParamKind};
 use super::resolve::{self, Refusal, Written};
 use crate::diag::{did_you_mean, suggestion_text, Diagnostic, Span};
-use crate::dictionary::Dictionary;
+use crate::dictionary::{Dictionary, Quantity};
 use crate::session::Statistic;
 
 /// The numbers written by `set` calls whose object, value and unit are all literals and
@@ -29,11 +29,11 @@ pub fn literal_writes(calls: &[LiteralCall], dict: &Dictionary) -> Vec<crate::re
             Some(_) => continue,
         };
         if let Ok((object, crate::session::SetValue::Number(value))) =
-            resolve::set_value(dict, name, &Written::Number(*v, unit))
+            resolve::set_value(dict, name, &Written::Number(Quantity::new(*v, None), unit))
         {
             out.push(crate::recipe::WrittenValue {
                 object,
-                value,
+                value: value.value,
                 origin: crate::session::StepOrigin {
                     path: vspan.path().to_string(),
                     line: vspan.line(),
@@ -138,12 +138,16 @@ pub fn check_calls(
             ("set", true) => {
                 let Some((n, span)) = &name else { continue };
                 let value = match (c.args.get(1), c.args.get(2)) {
-                    (Some((Arg::Number(v), vspan)), Some((Arg::Text(u), uspan))) => {
-                        Some((Written::Number(*v, Some(u.clone())), vspan.clone(), uspan.clone()))
-                    }
-                    (Some((Arg::Number(v), vspan)), None) => {
-                        Some((Written::Number(*v, None), vspan.clone(), vspan.clone()))
-                    }
+                    (Some((Arg::Number(v), vspan)), Some((Arg::Text(u), uspan))) => Some((
+                        Written::Number(Quantity::new(*v, None), Some(u.clone())),
+                        vspan.clone(),
+                        uspan.clone(),
+                    )),
+                    (Some((Arg::Number(v), vspan)), None) => Some((
+                        Written::Number(Quantity::new(*v, None), None),
+                        vspan.clone(),
+                        vspan.clone(),
+                    )),
                     (Some((Arg::Text(t), vspan)), None) => {
                         Some((Written::Text(t.clone()), vspan.clone(), vspan.clone()))
                     }

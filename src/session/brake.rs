@@ -32,7 +32,7 @@ impl Session<'_> {
         Some(StopStep {
             drive: self.current,
             label,
-            op: Box::new(move |s| s.set(&[(object.clone(), SetValue::Number(0.0))])),
+            op: Box::new(move |s| s.set(&[(object.clone(), SetValue::number(0.0))])),
         })
     }
 

@@ -295,7 +295,7 @@ mod tests {
     fn a_stored_name_gives_the_same_key_as_the_check_made_now() {
         let speed = object("speed_actual", "rpm");
         let predicates = [
-            Predicate::Equals(3.0),
+            Predicate::Equals(crate::dictionary::Quantity::new(3.0, None)),
             Predicate::Above(-1.5),
             Predicate::Below(0.001),
             Predicate::Between(10.0, 20.25),

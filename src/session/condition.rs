@@ -3,6 +3,7 @@
 //! interpreter's business.
 
 use super::object_ref::ObjectRef;
+use crate::dictionary::Quantity;
 use crate::drive::device_control::DeviceState;
 use std::fmt;
 
@@ -18,12 +19,17 @@ pub enum Tolerance {
 /// A test on one number (in the object's engineering unit), or on text.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Predicate {
-    Equals(f64),
+    /// A bare quantity in the object's unit: a whole number is compared exactly (a 64-bit
+    /// count beyond a float's precision too).
+    Equals(Quantity),
     EqualsText(String),
     Above(f64),
     Below(f64),
     Between(f64, f64),
-    Near { target: f64, tolerance: Tolerance },
+    Near {
+        target: f64,
+        tolerance: Tolerance,
+    },
 }
 
 impl Predicate {
@@ -36,6 +42,14 @@ impl Predicate {
                 let hi_ok = hi.is_none_or(|hi| if self.is_strict() { value < hi } else { value <= hi });
                 lo_ok && hi_ok
             }
+        }
+    }
+
+    /// [`Self::holds`] of a value read: a whole number equals a whole number exactly.
+    pub fn holds_quantity(&self, value: &Quantity) -> bool {
+        match (self, value.whole()) {
+            (Predicate::Equals(want), Some(seen)) if want.whole().is_some() => want.whole() == Some(seen),
+            _ => self.holds(value.value),
         }
     }
 
@@ -53,7 +67,7 @@ impl Predicate {
     /// The lower and upper limit this predicate allows (for reports, plots and JUnit).
     pub fn limits(&self) -> (Option<f64>, Option<f64>) {
         match *self {
-            Predicate::Equals(v) => (Some(v), Some(v)),
+            Predicate::Equals(v) => (Some(v.value), Some(v.value)),
             Predicate::EqualsText(_) => (None, None),
             Predicate::Above(v) => (Some(v), None),
             Predicate::Below(v) => (None, Some(v)),
@@ -83,6 +97,16 @@ impl Predicate {
         }
     }
 
+    /// The limits reports keep as numbers (JUnit, HTML, the results store): none for an
+    /// `equals` of a whole number beyond a float's precision, which the check's name and
+    /// message say exactly and a float would misstate.
+    pub fn reported_limits(&self) -> (Option<f64>, Option<f64>) {
+        match self {
+            Predicate::Equals(v) if v.beyond_float() => (None, None),
+            _ => self.limits(),
+        }
+    }
+
     /// `near 6000 rpm ± 1 %`, with `unit` after every number.
     pub fn describe(&self, unit: Option<&str>) -> String {
         let u = |v: f64| match unit {
@@ -90,7 +114,7 @@ impl Predicate {
             None => number(v),
         };
         match self {
-            Predicate::Equals(v) => format!("equals {}", u(*v)),
+            Predicate::Equals(v) => format!("equals {}", exact_with_unit(v, unit)),
             Predicate::EqualsText(t) => format!("equals \"{t}\""),
             Predicate::Above(v) => format!("above {}", u(*v)),
             Predicate::Below(v) => format!("below {}", u(*v)),
@@ -134,6 +158,16 @@ pub fn with_unit(v: f64, unit: Option<&str>) -> String {
     match unit {
         Some(u) => format!("{} {u}", number(v)),
         None => number(v),
+    }
+}
+
+/// [`with_unit`] of a quantity in the object's unit (`unit`): a whole number in its exact
+/// digits, beyond a float's precision too.
+pub fn exact_with_unit(q: &Quantity, unit: Option<&str>) -> String {
+    let n = q.whole().map_or_else(|| number(q.value), |n| n.to_string());
+    match unit {
+        Some(u) => format!("{n} {u}"),
+        None => n,
     }
 }
 
@@ -434,9 +468,34 @@ mod tests {
         assert!(Predicate::Above(1.0).holds(1.01));
         assert!(!Predicate::Below(1.0).holds(1.0));
         assert!(Predicate::Between(2.0, 1.0).holds(1.0) && Predicate::Between(1.0, 2.0).holds(2.0));
-        assert!(Predicate::Equals(7.0).holds(7.0) && !Predicate::Equals(7.0).holds(7.5));
+        let seven = Predicate::Equals(Quantity::new(7.0, None));
+        assert!(seven.holds(7.0) && !seven.holds(7.5));
         assert!(Predicate::EqualsText("Test Motor".into()).holds_text("Test Motor"));
         assert!(!Predicate::EqualsText("x".into()).holds(1.0));
+    }
+
+    /// `equals` of a whole number is exact beyond a float's precision: 2^53 + 1 is not 2^53.
+    #[test]
+    fn equals_a_whole_number_is_exact() {
+        let q = |t: &str| Quantity::parse(t).unwrap();
+        let equals = Predicate::Equals(q("9007199254740993"));
+        assert!(equals.holds_quantity(&q("9007199254740993")));
+        assert!(!equals.holds_quantity(&q("9007199254740992")));
+        assert!(
+            equals.holds(9_007_199_254_740_992.0),
+            "a float cannot tell them apart"
+        );
+        assert_eq!(equals.describe(None), "equals 9007199254740993");
+        assert_eq!(equals.reported_limits(), (None, None), "no float to misstate it");
+        let small = Predicate::Equals(q("7"));
+        assert!(small.holds_quantity(&q("7")) && !small.holds_quantity(&q("7.5")));
+        assert_eq!(small.reported_limits(), (Some(7.0), Some(7.0)));
+        assert!(Predicate::Equals(q("1.5")).holds_quantity(&q("1.5")));
+        assert!(Predicate::Above(q("9007199254740992").value).holds_quantity(&q("9007199254740994")));
+        assert_eq!(
+            exact_with_unit(&q("9223372036854775807"), Some("rpm")),
+            "9223372036854775807 rpm"
+        );
     }
 
     #[test]

@@ -43,7 +43,7 @@ impl Session<'_> {
                     (ok, v, Some(seen.clone()), format!("{} = {seen}", c.object.name))
                 }
             };
-            let (low, high) = c.predicate.limits();
+            let (low, high) = c.predicate.reported_limits();
             let marginal = passed && c.warn.as_ref().zip(measured).is_some_and(|(w, v)| !w.holds(v));
             let message = match (&c.warn, marginal) {
                 (Some(w), true) => format!(

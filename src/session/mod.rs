@@ -47,7 +47,8 @@ pub use bucket_series::{BucketSeries, SERIES_BUCKETS};
 pub use check_key::{compared_key, key_of_name, measured_key, COMPARED, WAIT};
 pub use coast_down::CoastDown;
 pub use condition::{
-    number, with_unit, write_number, Check, Condition, Measure, Predicate, Statistic, Stats, Tolerance,
+    exact_with_unit, number, with_unit, write_number, Check, Condition, Measure, Predicate, Statistic, Stats,
+    Tolerance,
 };
 pub use expect::AttemptMark;
 pub use history_lookup::LOOKUP_LIMIT;

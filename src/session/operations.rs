@@ -3,8 +3,8 @@
 
 use super::session::Session;
 use super::stop::Stop;
-use super::{with_unit, ObjectRef, SetValue};
-use crate::dictionary::{Quantity, RawValue, Unit};
+use super::{exact_with_unit, ObjectRef, SetValue};
+use crate::dictionary::RawValue;
 use crate::drive::{DeviceCommand, DeviceState, WriteOutcome};
 use std::fmt::Write as _;
 use std::time::Duration;
@@ -103,10 +103,10 @@ impl Session<'_> {
         for (object, value) in writes {
             let name = self.select_object(&object.name)?;
             let outcome = match value {
+                // A bare quantity is in the object's unit.
                 SetValue::Number(n) => {
-                    self.track_setpoint(object, *n);
-                    let unit = object.unit.as_deref().and_then(Unit::from_symbol);
-                    self.drive().write(name, &Quantity::new(*n, unit))?
+                    self.track_setpoint(object, n.value);
+                    self.drive().write(name, n)?
                 }
                 SetValue::Text(t) => self.drive().write_text(name, t)?,
             };
@@ -132,7 +132,7 @@ impl Session<'_> {
         stored: RawValue,
     ) -> String {
         let asked = match asked {
-            SetValue::Number(n) => with_unit(*n, object.unit.as_deref()),
+            SetValue::Number(n) => exact_with_unit(n, object.unit.as_deref()),
             SetValue::Text(t) => format!("{t:?}"),
         };
         let name = object

@@ -33,7 +33,7 @@ impl Session<'_> {
             self.track_setpoint(object, *p);
             let name = self.select_object(&object.name)?;
             if let WriteOutcome::Limited(stored) = self.drive().write(name, &Quantity::new(*p, unit))? {
-                let line = self.limited_warning(object, &SetValue::Number(*p), stored);
+                let line = self.limited_warning(object, &SetValue::number(*p), stored);
                 self.observer.message(&format!("warning: {line}"));
                 limited = Some((limited.map_or(0, |(n, _)| n) + 1, line));
             }

@@ -8,8 +8,8 @@ use super::session_drive::SessionDrive;
 use super::step_path::StepPath;
 use super::stop::{outcome, panic_message, Stop};
 use super::{
-    with_unit, CheckResult, Condition, Nobody, ObjectRef, Operator, Predicate, RunInfo, RunObserver,
-    RunReport, SafeStopSettings, StepInfo, StepRecord, UnitIdentity, MAX_RECORDS,
+    exact_with_unit, with_unit, CheckResult, Condition, Nobody, ObjectRef, Operator, Predicate, RunInfo,
+    RunObserver, RunReport, SafeStopSettings, StepInfo, StepRecord, UnitIdentity, MAX_RECORDS,
 };
 use crate::clock::SharedClock;
 use crate::drive::device_control::DeviceState;
@@ -468,12 +468,13 @@ impl<'a> Session<'a> {
     }
 
     fn watch_fault_of_current(&mut self) -> Result<(), Stop> {
-        if self.drive().profile().is_err() {
-            // Without a device-control profile there is no state to watch.
-            return Ok(());
-        }
-        let state = self.drive().state()?;
-        let faulted = matches!(state, DeviceState::Fault | DeviceState::FaultReactionActive);
+        // Without a device-control profile there is no state to watch, but a fault the
+        // drive reports on its own (a CANopen node's EMCY) is one all the same.
+        let state = match self.drive().profile() {
+            Ok(_) => Some(self.drive().state()?),
+            Err(_) => None,
+        };
+        let faulted = matches!(state, Some(DeviceState::Fault | DeviceState::FaultReactionActive));
         let entered = faulted && !self.cur().known_fault;
         self.cur().known_fault = faulted;
         // Taken at every look, so that a fault the state shows as well is told once; once
@@ -481,23 +482,25 @@ impl<'a> Session<'a> {
         // after the stop.
         let reported = self.drive().reported_fault();
         let called = self.cur().called();
-        if entered {
+        if let (true, Some(state)) = (entered, state) {
             let code = self.drive().drive_error().unwrap_or(0);
             let code = self.drive().drive_error_note(code);
             return Err(Stop::Fault(format!(
                 "drive fault: {called} went to {state}{code}"
             )));
         }
-        match reported {
-            Some(what) if self.in_safe_stop => {
-                self.keep_reported_in_stop(format!("{called} reported {what} while in {state}"));
-                Ok(())
-            }
-            Some(what) => Err(Stop::Fault(format!(
-                "drive fault: {called} reported {what} while in {state}"
-            ))),
-            None => Ok(()),
+        let Some(what) = reported else {
+            return Ok(());
+        };
+        let reported = match state {
+            Some(state) => format!("{called} reported {what} while in {state}"),
+            None => format!("{called} reported {what}"),
+        };
+        if self.in_safe_stop {
+            self.keep_reported_in_stop(reported);
+            return Ok(());
         }
+        Err(Stop::Fault(format!("drive fault: {reported}")))
     }
 
     pub(super) fn read_condition(
@@ -526,8 +529,14 @@ impl<'a> Session<'a> {
                     let text = v.trim_matches('"').to_string();
                     return Ok((predicate.holds_text(&text), v, None));
                 }
-                let v = self.drive().read_number(name)?;
-                Ok((predicate.holds(v), value_of(v, object), Some(v)))
+                let q = self.drive().read_quantity(name)?;
+                let seen = match q.whole() {
+                    Some(_) => exact_with_unit(&q, object.unit.as_deref()),
+                    None => value_of(q.value, object),
+                };
+                // Beyond a float's precision the text (`seen`) is the measured value reports show.
+                let measured = (!q.beyond_float()).then_some(q.value);
+                Ok((predicate.holds_quantity(&q), seen, measured))
             }
             // One reading has no slope; `wait_until_stable` keeps the history.
             Condition::Stable { object, .. } => {

@@ -1,9 +1,19 @@
 //! A value an operation writes: a number in the object's unit, or text for string
 //! objects. Plain data.
 
-/// A value to write: a number in the object's unit, or text for string objects.
+use crate::dictionary::Quantity;
+
+/// A value to write: a number in the object's unit (a bare quantity, which keeps a whole
+/// number exactly), or text for string objects.
 #[derive(Debug, Clone, PartialEq)]
 pub enum SetValue {
-    Number(f64),
+    Number(Quantity),
     Text(String),
+}
+
+impl SetValue {
+    /// A number in the object's unit.
+    pub fn number(value: f64) -> SetValue {
+        SetValue::Number(Quantity::new(value, None))
+    }
 }

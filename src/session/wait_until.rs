@@ -172,9 +172,11 @@ impl Session<'_> {
     ) {
         let (object, unit, (low, high)) = match condition {
             Condition::State(_) => (None, None, (None, None)),
-            Condition::Value { object, predicate } => {
-                (Some(object.name.clone()), object.unit.clone(), predicate.limits())
-            }
+            Condition::Value { object, predicate } => (
+                Some(object.name.clone()),
+                object.unit.clone(),
+                predicate.reported_limits(),
+            ),
             Condition::Stable {
                 object,
                 predicate,

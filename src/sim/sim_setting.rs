@@ -44,6 +44,15 @@ pub enum SimSettingError {
         value: String,
         wanted: &'static str,
     },
+    /// `emergency-at` for drives whose simulator never sends an emergency message: the
+    /// setting would do nothing, and a run that passes would prove nothing.
+    #[error("--sim emergency-at: no simulated {families} drive sends emergency messages (an EMCY is a CANopen node's), so the setting would do nothing; give it with --drive {senders}, or leave it out")]
+    NoEmergencies {
+        /// The run's families: `sd2`, `ct-ansi or sd2`.
+        families: String,
+        /// The built-in dictionaries whose simulated drives send one: `canopen`.
+        senders: String,
+    },
 }
 
 impl SimSetting {
@@ -98,9 +107,9 @@ impl SimSetting {
                 let at = humantime::parse_duration(at.trim()).map_err(|_| bad(wanted))?;
                 // A bare number, decimal or `0x` hex; 0 is the error reset, no error.
                 match Quantity::parse(code.trim()) {
-                    Ok(Quantity { value, unit: None })
-                        if value.fract() == 0.0 && (1.0..=65535.0).contains(&value) =>
-                    {
+                    Ok(Quantity {
+                        value, unit: None, ..
+                    }) if value.fract() == 0.0 && (1.0..=65535.0).contains(&value) => {
                         SimSetting::EmergencyAt(at, value as u16)
                     }
                     _ => return Err(bad(wanted)),

@@ -6,12 +6,27 @@
 
 use crate::support::{assert_has, assert_lacks, cli, repo_root, scratch, write_file, Ran};
 
-/// drivescript with `args` and the simulated node's own EDS as the dictionary, exiting `code`.
-fn on_node(args: &[&str], code: i32) -> Ran {
+/// drivescript's subcommand `args[0]` on `--drive canopen` with the simulated node's own
+/// EDS as the dictionary, then the rest of `args` (a negative value after `--`), exiting
+/// `code`.
+pub fn on_node(args: &[&str], code: i32) -> Ran {
     let eds = repo_root().join("src/family/canopen/sim/cia402_node.eds");
-    let eds = eds.to_string_lossy();
-    let mut all = args.to_vec();
-    all.extend(["--dictionary", &eds]);
+    on_dictionary(&eds.to_string_lossy(), args, code)
+}
+
+/// [`on_node`] with the DCF `file` (under `tests/eds/`) as the dictionary and as the
+/// parameter set the subcommand (`diff`, `restore`) takes.
+pub fn on_dcf(file: &str, args: &[&str], code: i32) -> Ran {
+    let dcf = repo_root().join("tests/eds").join(file);
+    let dcf = dcf.to_string_lossy();
+    let mut all = vec![args[0], &dcf];
+    all.extend(&args[1..]);
+    on_dictionary(&dcf, &all, code)
+}
+
+fn on_dictionary(dictionary: &str, args: &[&str], code: i32) -> Ran {
+    let mut all = vec![args[0], "--drive", "canopen", "--dictionary", dictionary];
+    all.extend(&args[1..]);
     cli(&all, code)
 }
 
@@ -79,7 +94,7 @@ steps:
 
 #[test]
 fn a_nan_is_shown_as_such_and_a_domain_beyond_a_transfer_is_refused() {
-    let out = on_node(&["read", "--drive", "canopen", "torque_constant"], 0);
+    let out = on_node(&["read", "torque_constant"], 0);
     assert_has(&out.stdout, &["torque_constant", "NaN", "0x2106"]);
     let dir = scratch("canopen-nan");
     let recipe = write_file(
@@ -89,7 +104,7 @@ fn a_nan_is_shown_as_such_and_a_domain_beyond_a_transfer_is_refused() {
     );
     let out = on_node(&["run", &recipe.to_string_lossy(), "--fast"], 1);
     assert_has(&out.stdout, &["NaN", "FAILED"]);
-    let out = on_node(&["read", "--drive", "canopen", "trace_buffer"], 3);
+    let out = on_node(&["read", "trace_buffer"], 3);
     assert_has(
         &out.stderr,
         &["the node announces 4096 bytes; drivescript takes at most 256"],
@@ -97,7 +112,7 @@ fn a_nan_is_shown_as_such_and_a_domain_beyond_a_transfer_is_refused() {
     // The node's answer, not noise on the line: refused at once, not tried again.
     assert_lacks(&out.stderr, &["noise", "attempt(s)"]);
     // Never written, saying why.
-    let out = on_node(&["write", "--drive", "canopen", "event_log", "00"], 2);
+    let out = on_node(&["write", "event_log", "00"], 2);
     assert_has(&out.stderr, &["event_log is read-only"]);
     // Bytes to compare with are hex, checked before anything is sent.
     let recipe = write_file(
@@ -111,14 +126,8 @@ fn a_nan_is_shown_as_such_and_a_domain_beyond_a_transfer_is_refused() {
 
 #[test]
 fn a_dcf_of_floats_and_wide_integers_is_diffed_and_restored() {
-    let dcf = repo_root().join("tests/eds/cia402-wide-types.dcf");
-    let dcf = dcf.to_string_lossy();
-    let with = |args: &[&str], code| {
-        let mut all = args.to_vec();
-        all.extend(["--drive", "canopen", "--dictionary", &dcf]);
-        cli(&all, code)
-    };
-    let out = with(&["diff", &dcf], 1);
+    let file = "cia402-wide-types.dcf";
+    let out = on_dcf(file, &["diff"], 1);
     assert_has(
         &out.stdout,
         &[
@@ -132,7 +141,7 @@ fn a_dcf_of_floats_and_wide_integers_is_diffed_and_restored() {
             "3 difference(s)",
         ],
     );
-    let out = with(&["restore", &dcf, "--apply"], 0);
+    let out = on_dcf(file, &["restore", "--apply"], 0);
     assert_has(
         &out.stdout,
         &["velocity_loop_gain", "operating_time", "option_key"],
@@ -143,16 +152,7 @@ fn a_dcf_of_floats_and_wide_integers_is_diffed_and_restored() {
 
 #[test]
 fn decode_shows_a_real32_telegram_as_its_float() {
-    let out = on_node(
-        &[
-            "decode",
-            "--drive",
-            "canopen",
-            "601#2300210000002040",
-            "601#27022100FEFFFF00",
-        ],
-        0,
-    );
+    let out = on_node(&["decode", "601#2300210000002040", "601#27022100FEFFFF00"], 0);
     assert_has(
         &out.stdout,
         &[

@@ -9,10 +9,13 @@ mod nmt_master;
 mod node_watch;
 mod sdo_access;
 mod sdo_explainer;
+#[cfg(test)]
+mod sdo_explainer_tests;
 pub mod sdo_family;
 mod sdo_link;
 pub mod sdo_value;
 pub mod sim;
+mod transfer_bytes;
 
 pub use canopen_family::{parse_index_address, CanopenFamily};
 pub use sdo_access::SdoAccess;

@@ -4,12 +4,15 @@
 //! it, or the abort code's meaning), NMT commands (0x000), heartbeats and boot-up messages
 //! (0x700 + node) and EMCY frames (0x80 + node, with the error code's text). It remembers
 //! each node's last initiate request so that segments and responses are read as the
-//! object they belong to. Frames arrive as [`CanFrame::to_bytes`].
+//! object they belong to, and the transfer's bytes so that its last segment shows the
+//! whole value of an object of a number type (a 64-bit count, a REAL64). Frames arrive as
+//! [`CanFrame::to_bytes`].
 
 use super::codec::{
     error_code_text, AbortCode, Emcy, NmtCommand, NmtState, SdoRequest, SdoResponse, Segment, Uploaded,
     NMT_ID,
 };
+use super::transfer_bytes::TransferBytes;
 use crate::bus::CanFrame;
 use crate::dictionary::Dictionary;
 use crate::hex::to_hex;
@@ -22,6 +25,10 @@ pub struct SdoExplainer {
     names: Arc<Dictionary>,
     /// The object of each node's transfer under way.
     current: HashMap<u8, (u16, u8)>,
+    /// The bytes of each node's segmented transfer under way.
+    transfers: TransferBytes,
+    /// The whole transfer the frame just read ended, if its last segment it was.
+    completed: Option<(u8, Vec<u8>)>,
     notation: ExplainNotation,
 }
 
@@ -124,6 +131,8 @@ impl SdoExplainer {
         SdoExplainer {
             names,
             current: HashMap::new(),
+            transfers: TransferBytes::default(),
+            completed: None,
             notation,
         }
     }
@@ -160,19 +169,24 @@ impl SdoExplainer {
                 .into())
             }
         };
-        // Remember the object each transfer is about.
-        match &sdo {
-            Sdo::Request { node, body } => {
-                if let Some(object) = body.object() {
-                    self.current.insert(*node, object);
-                }
-            }
-            Sdo::Response { node, body } => {
-                if let Some(object) = body.object() {
-                    self.current.insert(*node, object);
-                }
-            }
+        // Remember the object each transfer is about, and its segments' bytes.
+        let (node, object, segment) = match &sdo {
+            Sdo::Request { node, body } => match body {
+                SdoRequest::DownloadSegment(s) => (*node, None, Some(s)),
+                _ => (*node, body.object(), None),
+            },
+            Sdo::Response { node, body } => match body {
+                SdoResponse::UploadSegment(s) => (*node, None, Some(s)),
+                _ => (*node, body.object(), None),
+            },
+        };
+        if let Some(object) = object {
+            self.current.insert(node, object);
+            self.transfers.start(node);
         }
+        self.completed = segment
+            .and_then(|s| self.transfers.segment(node, &s.data, s.last))
+            .map(|bytes| (node, bytes));
         Ok((frame, sdo))
     }
 
@@ -233,6 +247,33 @@ impl SdoExplainer {
         }
     }
 
+    /// The object of `node`'s transfer under way when the dictionary gives it a number
+    /// type, whose segments are no text.
+    fn number_object(&self, node: u8) -> Option<(u16, u8)> {
+        let &(index, subindex) = self.current.get(&node)?;
+        let def = self.names.by_address(index, u32::from(subindex))?;
+        def.data_type.is_number().then_some((index, subindex))
+    }
+
+    /// An upload segment's bytes as text (` "2.07"`), unless they are part of a number.
+    fn segment_text(&self, node: u8, data: &[u8]) -> String {
+        match self.number_object(node) {
+            Some(_) => String::new(),
+            None => format!(" {:?}", String::from_utf8_lossy(data)),
+        }
+    }
+
+    /// ` = 9223372036854775807`: the whole value of a number the last segment just read
+    /// ended; empty for anything else.
+    fn whole_value(&self, node: u8) -> String {
+        match (&self.completed, self.number_object(node)) {
+            (Some((n, bytes)), Some((index, subindex))) if *n == node => {
+                format!(" = {}", self.value(index, subindex, bytes, true))
+            }
+            _ => String::new(),
+        }
+    }
+
     fn one_line(&self, sdo: &Sdo) -> String {
         match sdo {
             Sdo::Request { node, body } => {
@@ -256,7 +297,11 @@ impl SdoExplainer {
                     } => {
                         format!("abort {} {to}: {code}", self.object(*index, *subindex))
                     }
-                    other => format!("{other}{} {to}", self.segment_of(*node)),
+                    other => format!(
+                        "{other}{}{} {to}",
+                        self.segment_of(*node),
+                        self.whole_value(*node)
+                    ),
                 }
             }
             Sdo::Response { node, body } => {
@@ -280,9 +325,10 @@ impl SdoExplainer {
                         size.map(|s| format!(", {s} bytes")).unwrap_or_default()
                     ),
                     SdoResponse::UploadSegment(segment) => format!(
-                        "{body}{} {:?} {from}",
+                        "{body}{}{}{} {from}",
                         self.segment_of(*node),
-                        String::from_utf8_lossy(&segment.data)
+                        self.segment_text(*node, &segment.data),
+                        self.whole_value(*node)
                     ),
                     SdoResponse::DownloadInitiate { index, subindex } => {
                         format!("write {} accepted {from}", self.object(*index, *subindex))
@@ -489,65 +535,5 @@ impl TelegramExplainer for SdoExplainer {
             Ok((_, sdo)) => (to_json(&sdo, self.notation), true),
             Err(e) => (json!({ "reject": e.reason }), false),
         }
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::family::lenze_9400::Lenze9400Family;
-    use crate::family::Family;
-
-    fn explainer() -> SdoExplainer {
-        let text = Lenze9400Family.dictionaries()[0].text;
-        let d = Dictionary::from_yaml_for(
-            "dictionary/lenze-9400.yaml",
-            text,
-            Lenze9400Family.address_parser(),
-        )
-        .unwrap();
-        SdoExplainer::new(Arc::new(d), crate::family::lenze_9400::LENZE_EXPLAIN)
-    }
-
-    fn bytes(text: &str) -> Vec<u8> {
-        CanFrame::parse_text(text).unwrap().to_bytes()
-    }
-
-    #[test]
-    fn segments_are_read_as_the_object_of_their_transfer() {
-        let mut e = explainer();
-        let s = |e: &mut SdoExplainer, t: &str| e.summary(Direction::Received, &bytes(t));
-        assert_eq!(s(&mut e, "60C#409C5F0000000000"), "read C00099 ident → node 12");
-        assert_eq!(
-            s(&mut e, "58C#419C5F000B000000"),
-            "reply C00099 ident: segmented, 11 bytes ← node 12"
-        );
-        assert_eq!(
-            s(&mut e, "58C#17322E3037000000"),
-            "upload segment, toggle 1, 4 byte(s), last of C00099 ident \"2.07\" ← node 12"
-        );
-        assert_eq!(
-            s(&mut e, "585#43C25F002B000000"),
-            "reply C00061 heatsink_temperature = 43 ← node 5"
-        );
-        assert_eq!(
-            s(&mut e, "582#80A75F0031000906"),
-            "abort C00088 rated_motor_current ← node 2: 0x06090031 value of parameter written too high"
-        );
-        assert!(s(&mut e, "700#05").starts_with("rejected: identifier 0x700"));
-        assert_eq!(s(&mut e, "000#0105"), "NMT start (enter operational) → node 5");
-        assert_eq!(s(&mut e, "000#8000"), "NMT enter pre-operational → every node");
-        assert_eq!(s(&mut e, "705#7F"), "heartbeat pre-operational ← node 5");
-        assert_eq!(s(&mut e, "705#00"), "boot-up ← node 5");
-        assert_eq!(
-            s(&mut e, "085#1032010000000000"),
-            "EMCY 0x3210 DC link over-voltage, error register 0x01 ← node 5"
-        );
-        assert_eq!(s(&mut e, "085#0000000000000000"), "EMCY error reset ← node 5");
-        assert_eq!(
-            e.json(&bytes("085#1032010000000000")).0,
-            json!({"emcy": 0x3210, "register": 1, "node": 5})
-        );
-        assert!(e.explain(&[1, 2]).is_err());
     }
 }

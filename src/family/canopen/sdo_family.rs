@@ -15,11 +15,14 @@ pub const DEFAULT_NODE: u8 = 1;
 
 /// The facts of an SDO family with objects in the notation `address_parser` reads: it talks
 /// over a CAN frame bus, and SLCAN adapters on USB ignore the serial rate, while 115200 8N1
-/// suits those on a real UART. The family adds its dictionaries and address help.
+/// suits those on a real UART; its simulated node sends an injected EMCY (the frames every
+/// simulated node shares, `sim::injected_emcy`). The family adds its dictionaries and
+/// address help.
 pub fn sdo_family_info(id: &'static str, title: &'static str, address_parser: AddressParser) -> FamilyInfo {
     FamilyInfo::new(id, title, address_parser)
         .frames()
         .serial(SerialSettings::with_baud(115_200))
+        .sim_emergencies()
 }
 
 /// `--address` as a node id 1..=127; `help` says how it is written.

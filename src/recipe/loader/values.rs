@@ -71,6 +71,18 @@ impl Loader<'_, '_> {
         what: &str,
         check_limits: bool,
     ) -> Option<f64> {
+        self.quantity_for(def, node, what, check_limits).map(|q| q.value)
+    }
+
+    /// [`Self::number_for`] as a bare quantity in `def`'s unit: a whole number given in
+    /// that unit (or bare) keeps its exact integer, beyond a float's precision too.
+    pub(super) fn quantity_for(
+        &mut self,
+        def: &ObjectDef,
+        node: &YamlNode,
+        what: &str,
+        check_limits: bool,
+    ) -> Option<Quantity> {
         if self.r.refuse_non_finite(node, what, FINITE_HELP) {
             return None;
         }
@@ -92,7 +104,8 @@ impl Loader<'_, '_> {
             }
         }
         match (q.unit, def.unit) {
-            (None, _) => Some(q.value),
+            (None, _) => Some(q),
+            (Some(u), Some(own)) if u == own => Some(q.in_unit(None)),
             (Some(u), Some(own)) => match u.convert(q.value, own) {
                 Some(v) if !v.is_finite() => {
                     self.problem(
@@ -103,7 +116,7 @@ impl Loader<'_, '_> {
                     );
                     None
                 }
-                Some(v) => Some(v),
+                Some(v) => Some(Quantity::new(v, None)),
                 None => {
                     self.problem(
                         &node.span,

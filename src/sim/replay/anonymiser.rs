@@ -25,6 +25,16 @@ pub struct Anonymiser {
     masks: Vec<(String, String)>,
 }
 
+/// Why a copy stopped: the capture could not be read, or the copy could not be written
+/// (the caller knows where the copy goes and names it).
+#[derive(Debug, thiserror::Error)]
+pub enum CopyError {
+    #[error(transparent)]
+    Capture(#[from] CaptureError),
+    #[error("{0}")]
+    Write(std::io::Error),
+}
+
 /// What an anonymised copy holds.
 #[derive(Debug, Default, Clone, Copy, PartialEq, Eq)]
 pub struct Anonymised {
@@ -48,12 +58,8 @@ impl Anonymiser {
         input: impl BufRead,
         file: &Path,
         out: &mut dyn Write,
-    ) -> Result<Anonymised, CaptureError> {
+    ) -> Result<Anonymised, CopyError> {
         let mut done = Anonymised::default();
-        let written = |e: std::io::Error| CaptureError::Unreadable {
-            file: file.to_path_buf(),
-            detail: format!("writing the copy: {e}"),
-        };
         for (number, line) in input.split(b'\n').enumerate() {
             let line = line.map_err(|e| CaptureError::Unreadable {
                 file: file.to_path_buf(),
@@ -80,9 +86,9 @@ impl Anonymiser {
                 }
                 None => self.mask_text(text),
             };
-            writeln!(out, "{copied}").map_err(written)?;
+            writeln!(out, "{copied}").map_err(CopyError::Write)?;
         }
-        out.flush().map_err(written)?;
+        out.flush().map_err(CopyError::Write)?;
         Ok(done)
     }
 

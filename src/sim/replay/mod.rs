@@ -9,7 +9,7 @@ mod capture_reader;
 mod captured_drive;
 mod exchange_reader;
 
-pub use anonymiser::{Anonymised, Anonymiser, Resealer};
+pub use anonymiser::{Anonymised, Anonymiser, CopyError, Resealer};
 pub use capture_error::CaptureError;
 pub use capture_reader::{CaptureReader, CaptureRecord};
 pub use captured_drive::{CapturedDrive, RefusalSink, WINDOW};

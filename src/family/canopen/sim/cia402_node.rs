@@ -6,10 +6,11 @@
 //! time). No clock of its own.
 
 use super::cia402_objects::{Cia402Objects, HEARTBEAT_TIME};
+use super::node_emcy::{emcy_frame, injected_emcy};
 use super::sdo_server::{SdoLogged, SdoServer};
 use crate::bus::{CanFrame, FramePeer};
 use crate::family::canopen::codec::SdoRequest;
-use crate::family::canopen::codec::{emcy_id, heartbeat_id, NmtCommand, NmtState, NMT_ID};
+use crate::family::canopen::codec::{heartbeat_id, NmtCommand, NmtState, NMT_ID};
 use crate::sim::{SimConfig, SimCore, SimFront};
 use std::time::Duration;
 
@@ -106,24 +107,16 @@ impl Cia402Node {
             return;
         }
         self.emcy_code = code;
-        out.push((now, self.emcy_frame(code)));
+        out.push((now, emcy_frame(self.node, code)));
     }
 
-    /// The injected EMCY frames due by `now`; the drive's state is left as it is.
+    /// The injected EMCY frames due by `now` (a stopped node sends none); the drive's
+    /// state is left as it is.
     fn injected_emcy(&mut self, now: Duration, out: &mut Vec<(Duration, CanFrame)>) {
-        while let Some((at, code)) = self.core.faults.take_emergency_due(now) {
-            if self.nmt != NmtState::Stopped {
-                out.push((at, self.emcy_frame(code)));
-            }
+        let due = injected_emcy(&mut self.core, self.node, now);
+        if self.nmt != NmtState::Stopped {
+            out.extend(due);
         }
-    }
-
-    /// The error code, the error register (bit 0 generic error) and five manufacturer
-    /// bytes (0 here).
-    fn emcy_frame(&self, code: u16) -> CanFrame {
-        let [lo, hi] = code.to_le_bytes();
-        let register = u8::from(code != 0);
-        CanFrame::standard8(emcy_id(self.node), [lo, hi, register, 0, 0, 0, 0, 0])
     }
 
     fn nmt_command(&mut self, frame: &CanFrame, now: Duration, out: &mut Vec<(Duration, CanFrame)>) {

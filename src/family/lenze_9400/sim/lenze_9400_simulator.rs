@@ -1,11 +1,12 @@
 //! The simulated Lenze 9400 node as a frame-level peer: the shared CANopen SDO server
-//! (`canopen::sim::SdoServer`, with its injected faults) in front of the 9400's codes. A
-//! lost line is a lost adapter.
+//! (`canopen::sim::SdoServer`, with its injected faults) in front of the 9400's codes, and
+//! the EMCY frames injected without a trip (`--sim emergency-at`). A lost line is a lost
+//! adapter.
 
 use super::sim_codes::SimCodes;
 use crate::bus::{CanFrame, FramePeer};
 use crate::family::canopen::codec::SdoRequest;
-use crate::family::canopen::sim::{SdoLogged, SdoServer};
+use crate::family::canopen::sim::{injected_emcy, SdoLogged, SdoServer};
 use crate::sim::{SimConfig, SimCore, SimFront};
 use std::time::Duration;
 
@@ -50,12 +51,25 @@ impl Lenze9400Simulator {
 impl FramePeer for Lenze9400Simulator {
     fn receive(&mut self, frame: &CanFrame, now: Duration) -> Vec<(Duration, CanFrame)> {
         self.core.panic_if_due(now);
-        self.server
-            .receive(frame, now, self.node, &mut self.core, &mut self.codes)
+        let mut out = injected_emcy(&mut self.core, self.node, now);
+        out.extend(
+            self.server
+                .receive(frame, now, self.node, &mut self.core, &mut self.codes),
+        );
+        out.sort_by_key(|(at, _)| *at);
+        out
     }
 
     fn reachable(&self, now: Duration) -> bool {
         self.core.faults.line_up(now)
+    }
+
+    /// An injected EMCY goes out when it is due, without a request to answer.
+    fn poll(&mut self, until: Duration) -> Vec<(Duration, CanFrame)> {
+        match self.core.faults.line_up(until) {
+            true => injected_emcy(&mut self.core, self.node, until),
+            false => Vec::new(),
+        }
     }
 }
 
@@ -108,6 +122,33 @@ mod tests {
             ["582#60A75F0000000000"]
         );
         assert_eq!(node2.codes().rated_current, 102);
+    }
+
+    /// An injected EMCY goes out once, when due: on its own (poll) or before the answer
+    /// to the next request, stamped with the time it was due.
+    #[test]
+    fn an_injected_emcy_goes_out_when_due() {
+        let config = SimConfig {
+            emergencies: vec![(Duration::from_secs(2), 0x4310), (Duration::from_secs(5), 0x2310)],
+            ..SimConfig::default()
+        };
+        let mut sim = Lenze9400Simulator::new(12, config);
+        let shown = |frames: Vec<(Duration, CanFrame)>| -> Vec<(u64, String)> {
+            frames
+                .into_iter()
+                .map(|(at, f)| (at.as_secs(), f.to_candump()))
+                .collect()
+        };
+        assert!(sim.poll(Duration::from_secs(1)).is_empty());
+        assert_eq!(
+            shown(sim.poll(Duration::from_secs(3))),
+            [(2, "08C#1043010000000000".to_string())]
+        );
+        assert!(sim.poll(Duration::from_secs(4)).is_empty(), "sent once");
+        let read = CanFrame::standard8(0x60C, [0x40, 0xc2, 0x5f, 0, 0, 0, 0, 0]);
+        let out = shown(sim.receive(&read, Duration::from_secs(6)));
+        assert_eq!(out[0], (5, "08C#1023010000000000".to_string()), "{out:?}");
+        assert!(out[1].1.starts_with("58C#43C25F00"), "{out:?}");
     }
 
     #[test]

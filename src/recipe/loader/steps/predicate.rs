@@ -71,7 +71,7 @@ impl Loader<'_, '_> {
             "equals" if !def.data_type.is_number() => {
                 Some(Predicate::EqualsText(self.text_to_equal(def, value, &what)?))
             }
-            "equals" => Some(Predicate::Equals(self.number_for(def, value, &what, false)?)),
+            "equals" => Some(Predicate::Equals(self.quantity_for(def, value, &what, false)?)),
             "above" => Some(Predicate::Above(self.number_for(def, value, &what, false)?)),
             "below" => Some(Predicate::Below(self.number_for(def, value, &what, false)?)),
             "between" => {

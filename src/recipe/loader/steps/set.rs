@@ -41,7 +41,7 @@ impl Loader<'_, '_> {
                 }
                 continue;
             }
-            match self.number_for(&def, v, &what, true) {
+            match self.quantity_for(&def, v, &what, true) {
                 Some(n) => writes.push((r, SetValue::Number(n))),
                 None => ok = false,
             }
@@ -69,9 +69,6 @@ impl Loader<'_, '_> {
 fn show_set_value(v: &SetValue, o: &ObjectRef) -> String {
     match v {
         SetValue::Text(t) => format!("\"{t}\""),
-        SetValue::Number(n) => match &o.unit {
-            Some(u) => format!("{} {u}", crate::session::number(*n)),
-            None => crate::session::number(*n),
-        },
+        SetValue::Number(n) => crate::session::exact_with_unit(n, o.unit.as_deref()),
     }
 }
