@@ -16,7 +16,7 @@ mod trace_header;
 mod trace_writer;
 mod unfinished_report;
 
-pub use atomic_write::{write_atomically, ReportWriteError};
+pub use atomic_write::{tmp_path, write_atomically, ReportWriteError};
 pub use console_color::{color_wanted, paint};
 pub use console_reporter::{
     check_line, container_line, header_lines, message_line, step_line, summary_lines, ConsoleReporter,

@@ -6,7 +6,7 @@
 use super::{recorded_drive, COMMUNICATION, INVALID};
 use crate::family::{Registry, DEFAULT_DICTIONARY};
 use crate::output_file_error::{create_output_file, OutputFileError};
-use crate::report::trace_notes_path;
+use crate::report::{tmp_path, trace_notes_path, write_atomically};
 use crate::sim::replay::{Anonymised, Anonymiser, CopyError};
 use std::io::{BufReader, BufWriter};
 use std::path::Path;
@@ -68,23 +68,42 @@ pub fn anonymise_capture(
     Ok(done)
 }
 
+/// Streams the masked copy into `PATH.tmp` and renames it over `to` only when it is whole:
+/// a capture found bad halfway, a full disk or a kill never leaves a half copy that would
+/// be shared as the whole capture. A device or pipe given as `-o` is written directly.
 fn copy(anonymiser: &mut Anonymiser, from: &Path, to: &Path) -> Result<Anonymised, AnonymiseError> {
     let input = std::fs::File::open(from)
         .map_err(|e| AnonymiseError::Invalid(format!("cannot read {}: {e}", from.display())))?;
-    let mut out = BufWriter::new(create_output_file(to, false)?);
-    anonymiser
+    let special = std::fs::metadata(to).is_ok_and(|m| !m.is_file());
+    let writing = if special { to.to_path_buf() } else { tmp_path(to) };
+    let mut out = BufWriter::new(create_output_file(&writing, false)?);
+    let copied = anonymiser
         .copy(BufReader::new(input), from, &mut out)
         .map_err(|e| match e {
             CopyError::Capture(e) => AnonymiseError::Invalid(e.to_string()),
             CopyError::Write(e) => OutputFileError::file(to, e).into(),
         })
+        .and_then(|done| {
+            let file = out
+                .into_inner()
+                .map_err(|e| OutputFileError::file(to, e.into_error()))?;
+            if !special {
+                file.sync_all().map_err(|e| OutputFileError::file(to, e))?;
+                std::fs::rename(&writing, to).map_err(|e| OutputFileError::file(to, e))?;
+            }
+            Ok(done)
+        });
+    if copied.is_err() && !special {
+        let _ = std::fs::remove_file(&writing);
+    }
+    copied
 }
 
 fn copy_notes(anonymiser: &Anonymiser, from: &Path, to: &Path) -> Result<(), AnonymiseError> {
     let text = std::fs::read_to_string(from)
         .map_err(|e| AnonymiseError::Invalid(format!("cannot read {}: {e}", from.display())))?;
     let masked: Vec<String> = text.lines().map(|l| anonymiser.mask_text(l)).collect();
-    std::fs::write(to, masked.join("\n") + "\n").map_err(|e| OutputFileError::file(to, e).into())
+    Ok(write_atomically(to, &(masked.join("\n") + "\n"))?)
 }
 
 fn same_file(a: &Path, b: &Path) -> bool {
@@ -127,5 +146,36 @@ mod tests {
                 .starts_with("cannot create the directory /proc/drivescript: "),
             "{e}"
         );
+    }
+
+    /// A capture found bad halfway leaves no half copy: nothing where there was nothing,
+    /// and an earlier copy as it was.
+    #[test]
+    fn a_capture_bad_halfway_leaves_no_half_copy() {
+        let dir = std::env::temp_dir().join(format!("drivescript-anonymise-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let good = std::fs::read_to_string(capture()).unwrap();
+        let lines: Vec<&str> = good.lines().collect();
+        let half = lines.len() / 2;
+        let bad = dir.join("bad.trace");
+        let text = format!(
+            "{}\n12.5 RX zz zz  # not a telegram\n{}\n",
+            lines[..half].join("\n"),
+            lines[half..].join("\n")
+        );
+        std::fs::write(&bad, text).unwrap();
+        let registry = Registry::builtin();
+        let out = dir.join("shared.trace");
+        let e = anonymise_capture(&registry, &bad, &out, None).unwrap_err();
+        assert!(matches!(e, AnonymiseError::Invalid(_)), "{e:?}");
+        assert!(!out.exists(), "a half copy was left");
+        assert!(!tmp_path(&out).exists(), "its temporary was left");
+        std::fs::write(&out, "an earlier copy\n").unwrap();
+        anonymise_capture(&registry, &bad, &out, None).unwrap_err();
+        assert_eq!(std::fs::read_to_string(&out).unwrap(), "an earlier copy\n");
+        anonymise_capture(&registry, &capture(), &out, None).unwrap();
+        assert!(std::fs::read_to_string(&out).unwrap().lines().count() >= lines.len());
+        assert!(!tmp_path(&out).exists());
+        let _ = std::fs::remove_dir_all(&dir);
     }
 }
