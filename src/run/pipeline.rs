@@ -16,8 +16,8 @@ use super::run_setup::{
     finish_reports, observed, open_csv, telegram_outputs, trace_header, write_placeholders, Look,
 };
 use super::{
-    check_sim_settings, open_drive, ConnectionArgs, RunError, RunOperator, RunRequest, RunResult,
-    COMMUNICATION, INVALID,
+    check_sim_settings, check_sim_target, open_drive, ConnectionArgs, RunError, RunOperator, RunRequest,
+    RunResult, COMMUNICATION, INVALID,
 };
 use crate::dictionary::Dictionary;
 use crate::family::Family;
@@ -193,6 +193,9 @@ fn checked(
         .collect::<Result<Vec<_>, _>>()
         .map_err(|e| RunError::Invalid(format!("error: {e}")))?;
     let family_refs: Vec<&dyn Family> = families.iter().map(|f| f.as_ref()).collect();
+    if let Some(family) = family_refs.first() {
+        check_sim_target(&connection, *family).map_err(|e| RunError::Invalid(format!("error: {e}")))?;
+    }
     check_sim_settings(&connection.sim, request.registry, &family_refs)
         .map_err(|e| RunError::Invalid(format!("error: {e}")))?;
     if !drives.is_empty() {

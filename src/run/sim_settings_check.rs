@@ -1,9 +1,23 @@
 //! `--sim` settings refused before anything runs when no simulated drive of the run would
-//! act on them: `emergency-at` where no family's simulator sends an emergency message.
-//! Reads the families' facts only; opens nothing.
+//! act on them: any of them on a run that talks to no simulated drive (a port, a TCP
+//! server, a CAN bus, a replayed capture), and `emergency-at` where no family's simulator
+//! sends an emergency message. Reads the families' facts only; opens nothing.
 
+use super::ConnectionArgs;
 use crate::family::{Family, Registry};
 use crate::sim::{SimSetting, SimSettingError};
+
+/// Refuses every `--sim` setting when `connection` reaches no simulated drive, naming the
+/// line it does reach (`family`: the run's first drive's, for the line's settings).
+pub fn check_sim_target(connection: &ConnectionArgs, family: &dyn Family) -> Result<(), SimSettingError> {
+    if connection.sim.is_empty() || (connection.is_simulated() && connection.replay.is_none()) {
+        return Ok(());
+    }
+    let line = connection.line_text(family);
+    // The line without its timeout and retries: `serial /dev/ttyUSB0, 57600 8N1`.
+    let line = line.split(';').next().unwrap_or(&line).to_string();
+    Err(SimSettingError::NotSimulated { line })
+}
 
 /// Refuses `emergency-at` in `settings` when none of `families` (the run's drives') has a
 /// simulated drive that sends emergency messages; the refusal names the built-in

@@ -44,6 +44,14 @@ pub enum SimSettingError {
         value: String,
         wanted: &'static str,
     },
+    /// A `--sim` setting for a run that talks to no simulated drive (a port, a TCP
+    /// server, a CAN bus, a replayed capture): it would change nothing, and a run that
+    /// passes would seem to have proved what it set.
+    #[error("--sim sets the built-in simulated drive's physics, but this run talks to {line}, where it would do nothing; leave it out (a simulated drive served on a port takes it: `drivescript simulate --sim …`)")]
+    NotSimulated {
+        /// What the run talks to, as a trace's header says it.
+        line: String,
+    },
     /// `emergency-at` for drives whose simulator never sends an emergency message: the
     /// setting would do nothing, and a run that passes would prove nothing.
     #[error("--sim emergency-at: no simulated {families} drive sends emergency messages (an EMCY is a CANopen node's), so the setting would do nothing; give it with --drive {senders}, or leave it out")]

@@ -42,6 +42,7 @@ mod run_pipeline;
 mod safety;
 mod scripts;
 mod several_files;
+mod sim_settings;
 mod socketcan;
 mod stop_command;
 mod support;
