@@ -194,7 +194,7 @@ fn checked(
         .map_err(|e| RunError::Invalid(format!("error: {e}")))?;
     let family_refs: Vec<&dyn Family> = families.iter().map(|f| f.as_ref()).collect();
     if let Some(family) = family_refs.first() {
-        check_sim_target(&connection, *family).map_err(|e| RunError::Invalid(format!("error: {e}")))?;
+        check_sim_target(connection, *family).map_err(|e| RunError::Invalid(format!("error: {e}")))?;
     }
     check_sim_settings(&connection.sim, request.registry, &family_refs)
         .map_err(|e| RunError::Invalid(format!("error: {e}")))?;
