@@ -19,6 +19,7 @@
 #![allow(clippy::module_inception)]
 
 pub mod bus;
+pub mod calendar;
 pub mod cli;
 pub mod clock;
 pub mod csv_file;

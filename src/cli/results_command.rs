@@ -254,7 +254,8 @@ fn command(command: &ResultsCommand, locator: &Locator) -> Result<i32, StoreErro
                     .map(|p| {
                         serde_json::json!({"run": p.run, "started_at": p.started_at, "serial": p.serial,
                             "check": p.name, "key": p.key,
-                            "measured": p.measured, "unit": p.unit, "low": p.low, "high": p.high, "passed": p.passed})
+                            "measured": p.measured, "unit": p.unit, "low": p.low, "high": p.high, "passed": p.passed,
+                            "marginal": p.marginal})
                     })
                     .collect();
                 println!("{}", serde_json::to_string_pretty(&list).unwrap_or_default());
@@ -265,11 +266,9 @@ fn command(command: &ResultsCommand, locator: &Locator) -> Result<i32, StoreErro
                         vec![
                             p.started_at.clone(),
                             p.serial.clone().unwrap_or_default(),
-                            p.measured
-                                .map(|v| crate::session::with_unit(v, p.unit.as_deref()))
-                                .unwrap_or_else(|| "—".into()),
-                            limits(p.low, p.high),
-                            if p.passed { "PASS" } else { "FAIL" }.into(),
+                            p.measured_text(),
+                            p.limits_text().unwrap_or_default(),
+                            p.verdict().into(),
                             p.run.clone(),
                         ]
                     })
@@ -289,15 +288,6 @@ fn command(command: &ResultsCommand, locator: &Locator) -> Result<i32, StoreErro
             Ok(PASSED)
         }
         ResultsCommand::Sync => Ok(PASSED),
-    }
-}
-
-fn limits(low: Option<f64>, high: Option<f64>) -> String {
-    match (low, high) {
-        (Some(lo), Some(hi)) => format!("{lo} .. {hi}"),
-        (Some(lo), None) => format!(">= {lo}"),
-        (None, Some(hi)) => format!("<= {hi}"),
-        _ => String::new(),
     }
 }
 

@@ -23,8 +23,8 @@ pub use console_reporter::{
 };
 pub use csv_recorder::{CsvRecorder, CSV_HEADER};
 pub use html::{
-    esc, html_index, html_report, plot_svg, plot_svg_with_limits, write_html, IndexEntry, LimitLine,
-    MAX_PLOT_POINTS, REPORT_CSS,
+    esc, html_index, html_report, plot_svg, trend_svg, unit_colour, write_html, IndexEntry, LimitLine,
+    Outcome, TrendMark, TrendPlot, MAX_PLOT_POINTS, REPORT_CSS, UNIT_COLOURS,
 };
 pub use junit_report::{junit_document, junit_suite, junit_xml, write_junit, JunitSuite};
 pub use junit_xml_writer::XmlWriter;

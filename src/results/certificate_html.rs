@@ -3,9 +3,10 @@
 //! the run report's style: who and what was tested, a row per run with its verdict, then
 //! each run's checks, plots and end state. Escapes every text; references nothing outside.
 
+use super::stored_run::{stored_limits, stored_measured};
 use super::StoredRun;
 use crate::report::{esc, plot_svg, REPORT_CSS};
-use crate::session::{with_unit, Series};
+use crate::session::{key_of_name, with_unit, Series};
 use std::fmt::Write as _;
 
 /// The page for the unit `serial` over `runs` (oldest first).
@@ -239,19 +240,14 @@ fn run_section(h: &mut String, r: &StoredRun, plot: &mut usize) {
     if !r.checks.is_empty() {
         h.push_str("<table class=\"checks\">\n<thead><tr><th>Check</th><th>Measured</th><th>Limits</th><th>Result</th><th>Step</th></tr></thead>\n<tbody>\n");
         for c in &r.checks {
-            let measured = match (c.measured, &c.measured_text) {
-                (Some(v), _) => with_unit(v, c.unit.as_deref()),
-                (None, Some(t)) => t.clone(),
-                _ => "—".into(),
-            };
-            let limits = match (c.low, c.high) {
-                (Some(lo), Some(hi)) => format!("{lo} .. {}", with_unit(hi, c.unit.as_deref())),
-                (Some(lo), None) => format!("≥ {}", with_unit(lo, c.unit.as_deref())),
-                (None, Some(hi)) => format!("≤ {}", with_unit(hi, c.unit.as_deref())),
-                _ => "—".into(),
-            };
+            let measured = stored_measured(&c.name, c.measured, c.unit.as_deref())
+                .or_else(|| c.measured_text.clone())
+                .unwrap_or_else(|| "—".into());
+            let key = c.key.clone().or_else(|| key_of_name(&c.name)).unwrap_or_default();
+            let limits = stored_limits(&c.name, &key, (c.low, c.high), c.unit.as_deref())
+                .unwrap_or_else(|| "—".into());
             // A comparison with the last pass says against what (its value is the change,
-            // `5 K` beside a check of 30 °C), and a check that measured nothing says why.
+            // `+5 K` beside a check of 30 °C), and a check that measured nothing says why.
             let why = match (&c.reference_run, c.measured, &c.measured_text) {
                 (None, Some(_), _) | (None, _, Some(_)) => String::new(),
                 _ => format!("<br><small>{}</small>", esc(&c.message)),

@@ -72,7 +72,7 @@ impl Store {
 
     /// The value of check `check` — its key or a full name as a report shows it — in every
     /// run `filter` takes, oldest first: every check of that key, each with the limits it
-    /// had in its run.
+    /// had in its run; with a limit, the newest that many.
     pub fn trend(&mut self, check: &str, filter: &RunFilter) -> Result<Vec<TrendPoint>, StoreError> {
         let keys = self.keys_of(check)?;
         let (clause, mut params) = where_clause(filter, "r.");
@@ -85,13 +85,20 @@ impl Store {
         let and = if clause.is_empty() { " WHERE" } else { " AND" };
         let mut sql = format!(
             "SELECT r.id, r.started_at, r.serial, c.measured, c.unit, c.low, c.high, c.passed, \
-             c.name, c.check_key FROM checks c JOIN runs r ON r.id = c.run_id{clause}{and} \
-             (c.check_key IN ({list}) OR (c.check_key IS NULL AND c.name IN ({list}))) \
-             ORDER BY r.started_at, r.id, c.seq"
+             c.name, c.check_key, c.marginal, c.seq FROM checks c JOIN runs r ON r.id = c.run_id{clause}{and} \
+             (c.check_key IN ({list}) OR (c.check_key IS NULL AND c.name IN ({list})))"
         );
-        if let Some(limit) = filter.limit {
-            params.push(Value::Int(i64::try_from(limit).unwrap_or(i64::MAX)));
-            sql.push_str(&format!(" LIMIT ${}", params.len()));
+        match filter.limit {
+            // The newest that many, then back in the order they were made.
+            Some(limit) => {
+                params.push(Value::Int(i64::try_from(limit).unwrap_or(i64::MAX)));
+                sql = format!(
+                    "SELECT * FROM ({sql} ORDER BY r.started_at DESC, r.id DESC, c.seq DESC LIMIT ${}) newest \
+                     ORDER BY started_at, id, seq",
+                    params.len()
+                );
+            }
+            None => sql.push_str(" ORDER BY r.started_at, r.id, c.seq"),
         }
         let rows = self.backend.query(&sql, &params)?;
         Ok(rows
@@ -105,6 +112,7 @@ impl Store {
                 low: r[5].real(),
                 high: r[6].real(),
                 passed: int(&r[7]) != 0,
+                marginal: int(&r[10]) != 0,
                 key: opt(&r[9]).unwrap_or_else(|| text(&r[8])),
                 name: text(&r[8]),
             })

@@ -3,6 +3,7 @@
 //! trend. Plain data for the command line and the HTML pages.
 
 use super::record::{CheckRow, EndRow, RunRow, StepRow};
+use crate::session::{limits_text, signed, with_unit, COMPARED};
 
 /// A stored run; `end` is `None` for a run that never finished (killed, or still going).
 #[derive(Debug, Clone, PartialEq)]
@@ -59,4 +60,123 @@ pub struct TrendPoint {
     pub low: Option<f64>,
     pub high: Option<f64>,
     pub passed: bool,
+    /// Passed outside its warning band.
+    pub marginal: bool,
+}
+
+impl TrendPoint {
+    /// `31.4 K`, a comparison's change `+7.3 K`; `—` when nothing was measured (a
+    /// comparison without history).
+    pub fn measured_text(&self) -> String {
+        stored_measured(&self.name, self.measured, self.unit.as_deref()).unwrap_or_else(|| "—".into())
+    }
+
+    /// `≤ 3 K`, `< 80 °C`, `-10 .. 10 %`; `None` without limits.
+    pub fn limits_text(&self) -> Option<String> {
+        stored_limits(&self.name, &self.key, (self.low, self.high), self.unit.as_deref())
+    }
+
+    /// `PASS`, `MARGINAL` or `FAIL`, as `results show` says it.
+    pub fn verdict(&self) -> &'static str {
+        match (self.passed, self.marginal) {
+            (true, false) => "PASS",
+            (true, true) => "MARGINAL",
+            (false, _) => "FAIL",
+        }
+    }
+}
+
+/// A stored check's value as the run's reports wrote it: with its unit, and a comparison
+/// with the last pass (named `… compared with last pass`) as a change with its sign.
+pub fn stored_measured(name: &str, measured: Option<f64>, unit: Option<&str>) -> Option<String> {
+    let v = measured?;
+    Some(match name.ends_with(COMPARED) {
+        true => signed(v, unit),
+        false => with_unit(v, unit),
+    })
+}
+
+/// A stored check's limits as the run's reports wrote them, with the unit: `≤ 3 K`,
+/// `< 80 °C`. The store does not keep whether a one-sided limit was strict (`below`) or
+/// not (`at_most`); the check's name shows it where drivescript named it after its limits
+/// (`current_actual max below 5 A`, `coast-down from 6000 rpm below 100 rpm above 20 s`,
+/// keyed without them). A comparison's ends are included; a name the recipe gave shows
+/// nothing and reads `≤`/`≥`.
+pub fn stored_limits(
+    name: &str,
+    key: &str,
+    (low, high): (Option<f64>, Option<f64>),
+    unit: Option<&str>,
+) -> Option<String> {
+    let limits = name
+        .strip_prefix(key)
+        .and_then(|rest| rest.strip_prefix(' '))
+        .filter(|_| !name.ends_with(COMPARED));
+    let strict = limits.is_some_and(|rest| {
+        let kind = [key.rsplit(' ').next(), rest.split(' ').next()];
+        kind.iter().any(|w| matches!(w, Some("above" | "below")))
+    });
+    limits_text(low, high, unit, !strict)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn limits_read_strict_where_the_name_shows_it() {
+        let limits =
+            |name: &str, key: &str, low, high, unit| stored_limits(name, key, (low, high), Some(unit));
+        let below = limits(
+            "current_actual max below 5 A",
+            "current_actual max below",
+            None,
+            Some(5.0),
+            "A",
+        );
+        assert_eq!(below.as_deref(), Some("< 5 A"));
+        let named = limits(
+            "N: current_actual max below 5 A",
+            "N: current_actual max below",
+            None,
+            Some(5.0),
+            "A",
+        );
+        assert_eq!(named.as_deref(), Some("< 5 A"));
+        let coast = limits(
+            "coast-down from 6000 rpm below 100 rpm above 20 s",
+            "coast-down from 6000 rpm below 100 rpm",
+            Some(20.0),
+            None,
+            "s",
+        );
+        assert_eq!(coast.as_deref(), Some("> 20 s"));
+        let compared = limits(
+            "current_actual max below 5 A compared with last pass",
+            "current_actual max below compared with last pass",
+            None,
+            Some(3.0),
+            "%",
+        );
+        assert_eq!(compared.as_deref(), Some("≤ 3 %"));
+        let answer = limits("Vibration", "Vibration", None, Some(2.8), "mm/s");
+        assert_eq!(answer.as_deref(), Some("≤ 2.8 mm/s"));
+        let near = limits(
+            "speed_actual mean near 3000 rpm ± 1 %",
+            "speed_actual mean near",
+            Some(2970.0),
+            Some(3030.0),
+            "rpm",
+        );
+        assert_eq!(near.as_deref(), Some("2970 .. 3030 rpm"));
+        assert_eq!(
+            stored_measured("x compared with last pass", Some(7.3), Some("K")).as_deref(),
+            Some("+7.3 K")
+        );
+        assert_eq!(
+            stored_measured("x", Some(7.3), Some("K")).as_deref(),
+            Some("7.3 K")
+        );
+        assert_eq!(stored_measured("x", None, Some("K")), None);
+    }
 }

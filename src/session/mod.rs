@@ -60,8 +60,8 @@ pub use prompt::{default_answer_name, Accepted, NotAnAnswer, Pattern, Prompt, Pr
 pub use run_info::{RunInfo, StepInfo};
 pub use run_observer::{Observers, RunObserver};
 pub use run_report::{
-    CheckReference, CheckResult, DriveEnd, PlannedCheck, RunReport, Series, StepRecord, Track, Verdict,
-    ERROR_EXIT, MAX_RECORDS, PANIC_EXIT,
+    limits_text, CheckReference, CheckResult, DriveEnd, PlannedCheck, RunReport, Series, StepRecord, Track,
+    Verdict, ERROR_EXIT, MAX_RECORDS, PANIC_EXIT,
 };
 pub use safe_stop_settings::SafeStopSettings;
 pub use sample_table::{SampleTable, LONG_HEADER, LONG_HEADER_DRIVES};

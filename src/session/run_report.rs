@@ -171,19 +171,29 @@ impl CheckResult {
     /// The limits as the recipe wrote them, for every report: `5970 .. 6030 rpm`, `= 1`,
     /// `> 5 A`, `< 60 °C`, `≤ 2.8 mm/s`; `None` without limits.
     pub fn limits_text(&self) -> Option<String> {
-        let u = self.unit.as_deref();
-        let (above, below) = match self.inclusive {
-            true => ("≥", "≤"),
-            false => (">", "<"),
-        };
-        Some(match (self.low, self.high) {
-            (Some(lo), Some(hi)) if lo == hi => format!("= {}", with_unit(lo, u)),
-            (Some(lo), Some(hi)) => format!("{} .. {}", number(lo), with_unit(hi, u)),
-            (Some(lo), None) => format!("{above} {}", with_unit(lo, u)),
-            (None, Some(hi)) => format!("{below} {}", with_unit(hi, u)),
-            (None, None) => return None,
-        })
+        limits_text(self.low, self.high, self.unit.as_deref(), self.inclusive)
     }
+}
+
+/// Limits as every report writes them: `5970 .. 6030 rpm`, `= 1`, `≥ 5 A` (or `> 5 A`
+/// when not `inclusive`), `≤ 2.8 mm/s`; `None` without limits.
+pub fn limits_text(
+    low: Option<f64>,
+    high: Option<f64>,
+    unit: Option<&str>,
+    inclusive: bool,
+) -> Option<String> {
+    let (above, below) = match inclusive {
+        true => ("≥", "≤"),
+        false => (">", "<"),
+    };
+    Some(match (low, high) {
+        (Some(lo), Some(hi)) if lo == hi => format!("= {}", with_unit(lo, unit)),
+        (Some(lo), Some(hi)) => format!("{} .. {}", number(lo), with_unit(hi, unit)),
+        (Some(lo), None) => format!("{above} {}", with_unit(lo, unit)),
+        (None, Some(hi)) => format!("{below} {}", with_unit(hi, unit)),
+        (None, None) => return None,
+    })
 }
 
 /// A check a recipe holds, known before the run: reports show the ones no result answers

@@ -7,7 +7,7 @@
 
 use crate::history::run_id;
 use crate::support::{
-    assert_has, assert_lacks, cli, run_recording as run, scratch, write_file, PostgresServer,
+    assert_has, assert_lacks, cli, line_with, run_recording as run, scratch, write_file, PostgresServer,
 };
 use std::path::Path;
 
@@ -54,12 +54,9 @@ fn tightened_limit_in(dir: &Path, store: &str) {
     for check in ["motor_temperature below 80 °C", "motor_temperature below"] {
         let args = ["results", "trend", check, "--simulated", "--results", store];
         let trend = cli(&[&args[..], &["--html", page.to_str().unwrap()]].concat(), 0);
-        let row = |id: &str| {
-            let found = trend.stdout.lines().find(|l| l.contains(id));
-            found.unwrap_or_else(|| panic!("run {id} in the trend of {check}:\n{}", trend.stdout))
-        };
-        assert!(row(&first_id).contains("<= 90"), "{}", trend.stdout);
-        assert!(row(&second_id).contains("<= 80"), "{}", trend.stdout);
+        let row = |id: &str| line_with(&trend.stdout, id);
+        assert!(row(&first_id).contains("< 90 °C"), "{}", trend.stdout);
+        assert!(row(&second_id).contains("< 80 °C"), "{}", trend.stdout);
         assert_eq!(trend.stdout.lines().count(), 3, "{}", trend.stdout);
         let html = std::fs::read_to_string(&page).expect("the trend page");
         // The limit line steps down from 90 to 80 °C where the limit was changed.
@@ -68,9 +65,15 @@ fn tightened_limit_in(dir: &Path, store: &str) {
             &[
                 "Trend of motor_temperature below",
                 "<path class=\"limit\"",
-                "≤ 80 °C",
-                "<td class=\"num\">≤ 90</td>",
+                "&lt; 80 °C</text>",
+                "<td class=\"num\">&lt; 90 °C</td>",
             ],
+        );
+        // --limit keeps the newest.
+        let newest = cli(&[&args[..], &["--limit", "1"]].concat(), 0).stdout;
+        assert!(
+            newest.contains(&second_id) && !newest.contains(&first_id),
+            "{newest}"
         );
     }
     // The comparisons too: one key whatever the limits of the check they compare.

@@ -10,7 +10,7 @@
 
 use crate::history::{interrupted_once_shown, run_id, run_reading_a_silent_store};
 use crate::support::{
-    assert_has, assert_lacks, command, run_recording as run, scratch, write_file, InProcessRun,
+    assert_has, assert_lacks, command, line_with, run_recording as run, scratch, write_file, InProcessRun,
 };
 use drivescript::results::{Locator, StoreHistory};
 use drivescript::stop_request::StopSignal;
@@ -189,13 +189,7 @@ fn a_coast_down_compares_its_time_with_the_units_last_pass() {
         .output()
         .expect("trend");
     let trend = String::from_utf8_lossy(&trend.stdout).to_string();
-    let row = |id: &str| {
-        trend
-            .lines()
-            .find(|l| l.contains(id))
-            .unwrap_or_default()
-            .to_string()
-    };
+    let row = |id: &str| line_with(&trend, id);
     assert!(row(&first_id).contains("PASS"), "{trend}");
     assert!(
         row(&second_id).contains("-3.235") && row(&second_id).contains("PASS"),

@@ -48,5 +48,6 @@ mod stop_command;
 mod support;
 mod text_family;
 mod trace_decode;
+mod trend_page;
 mod vectors;
 mod write_refusals;

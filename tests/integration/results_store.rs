@@ -6,7 +6,7 @@
 
 use crate::live_run::LiveRun;
 use crate::support::{
-    assert_has, assert_lacks, cli, command, headless_chromium, run_recording, scratch, silent_server,
+    assert_has, assert_lacks, cli, command, run_recording, scratch, screenshot, silent_server,
     unit_certificate, write_file, InProcessRun, PostgresServer, Ran, Simulator,
 };
 use drivescript::results::{Locator, RunFilter, StoredRun};
@@ -683,23 +683,8 @@ fn the_unit_certificate_renders_in_headless_chromium() {
         ],
     );
     assert_lacks(&html, &["<motor"]);
-    let Some(mut chromium) = headless_chromium(&dir.join("profile")) else {
-        return;
-    };
-    let png = dir.join("certificate.png");
-    let out = chromium
-        .arg("--window-size=1000,1400")
-        .arg(format!("--screenshot={}", png.display()))
-        .arg(format!("file://{}", page.display()))
-        .output()
-        .expect("chromium runs");
-    assert!(png.is_file(), "{}", String::from_utf8_lossy(&out.stderr));
-    assert!(std::fs::metadata(&png).map(|m| m.len()).unwrap_or(0) > 10_000);
     // Kept for a look: target/results-certificate.png.
-    let _ = std::fs::copy(
-        &png,
-        crate::support::repo_root().join("target/results-certificate.png"),
-    );
+    screenshot(&page, "1000,1400", "results-certificate");
 }
 
 #[test]

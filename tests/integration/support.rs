@@ -89,6 +89,34 @@ pub fn headless_chromium(profile: &Path) -> Option<Command> {
     Some(command)
 }
 
+/// Renders the HTML file `page` in headless Chromium in a window of `size` (`1200,1400`)
+/// and keeps the picture as `target/NAME.png` for a look; nothing (after [`tool_missing`])
+/// where Chromium is not installed.
+#[track_caller]
+pub fn screenshot(page: &Path, size: &str, name: &str) {
+    let dir = page.parent().expect("the page's folder");
+    let Some(mut chromium) = headless_chromium(&dir.join(format!("profile-{name}"))) else {
+        return;
+    };
+    let png = dir.join(format!("{name}.png"));
+    let out = chromium
+        .arg(format!("--window-size={size}"))
+        .arg(format!("--screenshot={}", png.display()))
+        .arg(format!("file://{}", page.display()))
+        .output()
+        .expect("chromium runs");
+    assert!(png.is_file(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(std::fs::metadata(&png).map(|m| m.len()).unwrap_or(0) > 10_000);
+    let _ = std::fs::copy(&png, repo_root().join(format!("target/{name}.png")));
+}
+
+/// The first line of `text` that holds `part`; fails the test, showing `text`, when none does.
+#[track_caller]
+pub fn line_with<'a>(text: &'a str, part: &str) -> &'a str {
+    let found = text.lines().find(|l| l.contains(part));
+    found.unwrap_or_else(|| panic!("no line with {part:?} in:\n{text}"))
+}
+
 /// Whether a `CI` variable of this value makes a skipped check fail: set to anything but
 /// empty, `0` or `false`.
 fn skip_is_fatal(ci: Option<&str>) -> bool {

@@ -1,8 +1,9 @@
-//! The axes of a plot: the value and time ranges with their margins, round tick values,
-//! the time unit that suits a span, an axis' title, and the grid with its tick labels and
-//! the axes with their titles as SVG text. Pure arithmetic and text.
+//! The axes of a plot: the value range with its margins, round tick values, an axis'
+//! title, and the grid with its tick labels and the axes with their titles as SVG text
+//! (the time axis' ticks from [`super::time_axis`]). Pure arithmetic and text.
 
 use super::html_text::esc;
+use super::time_axis::TimeAxis;
 use crate::session::number;
 use std::fmt::Write as _;
 
@@ -15,31 +16,30 @@ pub struct Area {
     pub bottom: f64,
 }
 
-/// The grid lines of round times (in the unit that suits the span, which it returns) and
-/// values across `area`, each labelled: times `gap` below the area, values left of it.
+/// The grid lines of `time`'s ticks and of round values across `area`, each labelled:
+/// times `gap` below the area, values left of it.
 pub fn grid(
     s: &mut String,
     area: Area,
     (x, y): (&dyn Fn(f64) -> f64, &dyn Fn(f64) -> f64),
-    (t0, t1): (f64, f64),
+    time: &TimeAxis,
     (v0, v1): (f64, f64),
     gap: f64,
-) -> &'static str {
+) {
     let Area {
         left,
         right,
         top,
         bottom,
     } = area;
-    let (unit, div) = time_unit(t1 - t0);
-    for tick in ticks(t0 / div, t1 / div) {
-        let px = x(tick * div);
+    for (t, label) in &time.ticks {
+        let px = x(*t);
         let _ = writeln!(
             s,
             "<line class=\"grid\" stroke=\"#ddd\" x1=\"{px:.2}\" y1=\"{top}\" x2=\"{px:.2}\" y2=\"{bottom}\"/>\
              <text x=\"{px:.2}\" y=\"{:.2}\" text-anchor=\"middle\">{}</text>",
             bottom + gap,
-            number(round_to(tick, 9))
+            esc(label)
         );
     }
     for tick in ticks(v0, v1) {
@@ -53,12 +53,11 @@ pub fn grid(
             number(round_to(tick, 9))
         );
     }
-    unit
 }
 
-/// The axes along the left and the bottom of `area`, the time axis' title (in `time_unit`)
-/// centred at height `time_title_y`, and `title` turned along the value axis.
-pub fn axes(s: &mut String, area: Area, time_unit: &str, time_title_y: f64, title: &str) {
+/// The axes along the left and the bottom of `area`, the time axis' title centred at
+/// height `time_title_y`, and `title` turned along the value axis.
+pub fn axes(s: &mut String, area: Area, time_title: &str, time_title_y: f64, title: &str) {
     let (left, right, top, bottom) = (area.left, area.right, area.top, area.bottom);
     let _ = writeln!(
         s,
@@ -67,8 +66,9 @@ pub fn axes(s: &mut String, area: Area, time_unit: &str, time_title_y: f64, titl
     );
     let _ = writeln!(
         s,
-        "<text class=\"axis-title\" x=\"{:.2}\" y=\"{time_title_y:.2}\" text-anchor=\"middle\">time [{time_unit}]</text>",
-        (left + right) / 2.0
+        "<text class=\"axis-title\" x=\"{:.2}\" y=\"{time_title_y:.2}\" text-anchor=\"middle\">{}</text>",
+        (left + right) / 2.0,
+        esc(time_title)
     );
     let (tx, ty) = (16.0, (top + bottom) / 2.0);
     let _ = writeln!(
@@ -117,17 +117,6 @@ pub fn ticks(lo: f64, hi: f64) -> Vec<f64> {
 pub fn round_to(v: f64, decimals: i32) -> f64 {
     let f = 10f64.powi(decimals);
     (v * f).round() / f
-}
-
-/// Seconds for short series, minutes or hours for run-ins.
-pub fn time_unit(span_s: f64) -> (&'static str, f64) {
-    if span_s > 3.0 * 3600.0 {
-        ("h", 3600.0)
-    } else if span_s > 600.0 {
-        ("min", 60.0)
-    } else {
-        ("s", 1.0)
-    }
 }
 
 /// `speed_actual [rpm]`: the object with its unit, as axes and captions name a series.

@@ -4,6 +4,7 @@
 
 use super::html_text::esc;
 use super::plot_axes::{axes, axis_title, grid, padded_range, Area};
+use super::time_axis::TimeAxis;
 use crate::session::with_unit;
 use crate::session::{number, CheckResult, Series};
 use std::fmt::Write as _;
@@ -38,6 +39,24 @@ impl LimitLine {
     }
 }
 
+/// The value range a plot shows: the data decides it; a limit close to it widens it, one
+/// far off is marked at the edge, so ±0.5 % of data never shrinks to a flat line under a
+/// distant limit.
+pub fn value_range(values: impl Iterator<Item = f64> + Clone, limits: &[LimitLine]) -> (f64, f64) {
+    let (d0, d1) = padded_range(values.clone(), 0.05);
+    let reach = (d1 - d0) * 0.5;
+    let near: Vec<f64> = limits
+        .iter()
+        .flat_map(LimitLine::values)
+        .filter(|v| *v >= d0 - reach && *v <= d1 + reach)
+        .collect();
+    if near.is_empty() {
+        (d0, d1)
+    } else {
+        padded_range(values.chain(near.iter().copied()), 0.05)
+    }
+}
+
 /// An SVG line plot of a series with the limits of `checks`. The polyline's `points` hold
 /// the data itself (time in s, value); a transform maps them onto the plot area.
 pub fn plot_svg(series: &Series, checks: &[&CheckResult], id: usize) -> String {
@@ -66,10 +85,9 @@ pub fn plot_svg(series: &Series, checks: &[&CheckResult], id: usize) -> String {
     plot_svg_with_limits(series, &limits, id)
 }
 
-/// [`plot_svg`] with limits that may change along the plot (a trend over runs whose
-/// limits were changed): a limit the same throughout is a dashed line across, one that
-/// changes a dashed step line.
-pub fn plot_svg_with_limits(series: &Series, limits: &[LimitLine], id: usize) -> String {
+/// [`plot_svg`] with its limits as lines: a limit the same throughout is a dashed line
+/// across, one that changes a dashed step line.
+fn plot_svg_with_limits(series: &Series, limits: &[LimitLine], id: usize) -> String {
     let mut s = String::new();
     let title = axis_title(&series.object, series.unit.as_deref());
     let _ = writeln!(
@@ -92,20 +110,7 @@ pub fn plot_svg_with_limits(series: &Series, limits: &[LimitLine], id: usize) ->
     }
 
     let (t0, t1) = padded_range(points.iter().map(|p| p.0), 0.0);
-    // The data decides the range; a limit close to it widens it, one far off is marked at
-    // the edge, so ±0.5 % of data never shrinks to a flat line under a distant limit.
-    let (d0, d1) = padded_range(points.iter().map(|p| p.1), 0.05);
-    let reach = (d1 - d0) * 0.5;
-    let near: Vec<f64> = limits
-        .iter()
-        .flat_map(LimitLine::values)
-        .filter(|v| *v >= d0 - reach && *v <= d1 + reach)
-        .collect();
-    let (v0, v1) = if near.is_empty() {
-        (d0, d1)
-    } else {
-        padded_range(points.iter().map(|p| p.1).chain(near.iter().copied()), 0.05)
-    };
+    let (v0, v1) = value_range(points.iter().map(|p| p.1), limits);
     let (x_left, x_right, y_top, y_bottom) = (LEFT, W - RIGHT, TOP, H - BOTTOM);
     let sx = (x_right - x_left) / (t1 - t0);
     let sy = (y_bottom - y_top) / (v1 - v0);
@@ -119,8 +124,9 @@ pub fn plot_svg_with_limits(series: &Series, limits: &[LimitLine], id: usize) ->
         top: y_top,
         bottom: y_bottom,
     };
-    let time_unit = grid(&mut s, area, (&x, &y), (t0, t1), (v0, v1), 16.0);
-    axes(&mut s, area, time_unit, H - 12.0, &title);
+    let time = TimeAxis::elapsed(t0, t1);
+    grid(&mut s, area, (&x, &y), &time, (v0, v1), 16.0);
+    axes(&mut s, area, &time.title, H - 12.0, &title);
 
     // The data, clipped to the plot area, in data coordinates.
     let _ = writeln!(
@@ -191,7 +197,7 @@ pub fn plot_svg_with_limits(series: &Series, limits: &[LimitLine], id: usize) ->
 
 /// A limit that changes along the plot as a dashed step line (clipped to the plot area):
 /// each value from its time to the next one's, nothing where there is none.
-fn step_line(
+pub(super) fn step_line(
     s: &mut String,
     steps: &[(f64, Option<f64>)],
     x: &dyn Fn(f64) -> f64,

@@ -8,13 +8,15 @@
 use super::html_text::esc;
 use super::plot_axes::{axes, axis_title, grid, padded_range, Area};
 use super::svg_plot::{downsample_to, finite, MAX_PLOT_POINTS};
+use super::time_axis::TimeAxis;
 use crate::session::{RunReport, Series};
 use std::fmt::Write as _;
 
-const W: f64 = 760.0;
+/// The timeline's width and side margins (SVG user units), which a trend's plot shares.
+pub(super) const W: f64 = 760.0;
 const H: f64 = 200.0;
-const LEFT: f64 = 80.0;
-const RIGHT: f64 = 24.0;
+pub(super) const LEFT: f64 = 80.0;
+pub(super) const RIGHT: f64 = 24.0;
 const TOP: f64 = 26.0;
 const BOTTOM: f64 = 40.0;
 
@@ -121,8 +123,9 @@ fn timeline_svg(
         top: yt,
         bottom: yb,
     };
-    let time_unit = grid(&mut s, area, (&x, &y), (t0, t1), (v0, v1), 14.0);
-    axes(&mut s, area, time_unit, H - 6.0, &title);
+    let time = TimeAxis::elapsed(t0, t1);
+    grid(&mut s, area, (&x, &y), &time, (v0, v1), 14.0);
+    axes(&mut s, area, &time.title, H - 6.0, &title);
     for (k, (t, label)) in stages.iter().enumerate() {
         let px = x(*t);
         // Labels alternate between two rows so neighbouring stages stay readable.
