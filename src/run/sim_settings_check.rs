@@ -1,11 +1,38 @@
 //! `--sim` settings refused before anything runs when no simulated drive of the run would
 //! act on them: any of them on a run that talks to no simulated drive (a port, a TCP
 //! server, a CAN bus, a replayed capture), and `emergency-at` where no family's simulator
-//! sends an emergency message. Reads the families' facts only; opens nothing.
+//! sends an emergency message. Reads the families' facts only; opens nothing. `run` and
+//! `check` ask the same ([`sim_checked`]).
 
-use super::ConnectionArgs;
+use super::{ConnectionArgs, LoadedPlan, RunError};
 use crate::family::{Family, Registry};
 use crate::sim::{SimSetting, SimSettingError};
+
+/// Every `--sim` check of a run of `loaded` over `connection` (the command line's settings
+/// over the file's), before anything opens: [`check_sim_target`] and
+/// [`check_sim_settings`] with the run's families (the named drives', else the one
+/// drive's). On failure, the message (exit code 2).
+pub fn sim_checked(
+    connection: &ConnectionArgs,
+    registry: &Registry,
+    loaded: &LoadedPlan,
+) -> Result<(), RunError> {
+    let invalid = |e: &dyn std::fmt::Display| RunError::Invalid(format!("error: {e}"));
+    let dictionaries: Vec<_> = match loaded.plan.drives().is_empty() {
+        true => vec![&loaded.dictionary],
+        false => loaded.drive_dictionaries.iter().map(|(_, d)| d).collect(),
+    };
+    let families = dictionaries
+        .iter()
+        .map(|d| registry.family(d.family()))
+        .collect::<Result<Vec<_>, _>>()
+        .map_err(|e| invalid(&e))?;
+    let family_refs: Vec<&dyn Family> = families.iter().map(|f| f.as_ref()).collect();
+    if let Some(family) = family_refs.first() {
+        check_sim_target(connection, *family).map_err(|e| invalid(&e))?;
+    }
+    check_sim_settings(&connection.sim, registry, &family_refs).map_err(|e| invalid(&e))
+}
 
 /// Refuses every `--sim` setting when `connection` reaches no simulated drive, naming the
 /// line it does reach (`family`: the run's first drive's, for the line's settings).
