@@ -191,8 +191,10 @@ impl Session<'_> {
                 passed: false,
                 ..accepted.clone()
             };
+            // No attempt follows (its line must not say `retrying`).
+            self.observer.attempts_given_up();
             self.record_prompt_check(prompt, Some(&refused), message, origin, started);
-            return Err(Stop::Failed(format!("`{}` ({origin}): {why}", prompt.text)));
+            return Err(Stop::OtherUnit(format!("`{}` ({origin}): {why}", prompt.text)));
         }
         if let (false, Some(limits)) = (accepted.passed, prompt.limits_text()) {
             message.push_str(&format!(", expected {limits}"));

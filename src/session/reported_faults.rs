@@ -26,7 +26,10 @@ impl Session<'_> {
     /// the steps ended (or failed): that run ends as a drive fault. Faults reported after a
     /// harder ending (an error, a stop request) are kept for the safe stop's notes.
     pub(super) fn with_pending_fault(&mut self, ended: Option<Stop>) -> Option<Stop> {
-        if !matches!(ended, None | Some(Stop::Failed(_) | Stop::Unanswered(_))) {
+        if !matches!(
+            ended,
+            None | Some(Stop::Failed(_) | Stop::Unanswered(_) | Stop::OtherUnit(_))
+        ) {
             return ended;
         }
         let mut pending = self.take_reported_faults().into_iter();

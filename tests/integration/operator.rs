@@ -280,6 +280,79 @@ steps:
     assert_eq!(report.checks_failed(), 1);
 }
 
+/// A scan inside `attempts` that names another unit than the run is for stops the run as
+/// one outside does: the spindle on the bench is the wrong one, which no other attempt
+/// changes, and another attempt would move it again. Asked once, no attempt follows, and
+/// the safe stop runs.
+#[test]
+fn a_scan_of_another_unit_inside_attempts_ends_the_run_without_another_attempt() {
+    let dir = scratch("operator-attempts-other-unit");
+    let recipe = write_file(
+        &dir,
+        "attempts.yaml",
+        "name: Other unit in attempts
+steps:
+  - go_to: operation_enabled
+  - attempts:
+      times: 3
+      steps:
+        - set: { speed_setpoint: 3000 rpm }
+        - enter_text: { prompt: \"Scan the spindle's serial number\", pattern: \"SP-[0-9]{6}\", sets: serial, timeout: 1 s }
+          name: serial
+  - set: { speed_setpoint: 1000 rpm }
+",
+    );
+    let out = cli(
+        &[
+            "run",
+            recipe.to_str().unwrap(),
+            "--fast",
+            "--no-results",
+            "--unit",
+            "serial=SP-104233",
+            "--answer",
+            "serial=SP-104233",
+        ],
+        0,
+    );
+    assert_has(&out.stdout, &["PASSED"]);
+    // The operator scans another spindle; the terminal stays open for another attempt's
+    // question, which must not come.
+    let mut run = InProcessRun::new(&recipe);
+    run.operator.unit = vec![("serial".into(), "SP-104233".into())];
+    let (reader, mut typing) = std::io::pipe().expect("pipe");
+    std::io::Write::write_all(&mut typing, b"SP-000001\n").expect("typed");
+    run.input = Some(drivescript::run::TerminalInput::of(reader));
+    let (result, output) = run.run();
+    drop(typing);
+    assert_eq!(result.exit_code, 1, "{output}");
+    assert_has(
+        &output,
+        &[
+            "this run is for serial SP-104233, not SP-000001",
+            "FAIL  attempts: up to 3 times (2 steps)",
+            "drive left in ready to switch on",
+            "FAILED",
+        ],
+    );
+    assert_lacks(
+        &output,
+        &[
+            "trying again",
+            "set speed_setpoint = 1000 rpm",
+            "retried",
+            "retrying",
+        ],
+    );
+    let report = result.report.expect("report");
+    let scans = report
+        .checks
+        .iter()
+        .filter(|c| c.name.starts_with("Scan"))
+        .count();
+    assert_eq!(scans, 1, "asked once");
+}
+
 #[test]
 fn junit_and_html_carry_the_identity_and_every_answer() {
     use crate::reports::markup::{html, junit, junit_xsd, select, text};
