@@ -292,3 +292,62 @@ fn a_version_2_postgresql_store_migrates_and_its_runs_still_serve_as_history() {
         Some("motor_temperature below")
     );
 }
+
+/// A check the recipe named keeps its limit as the run wrote it in the store's pages:
+/// `below: 90 °C` is `< 90 °C` in `results trend`, its page and the unit certificate (as
+/// on the console), an `enter_value`'s `at_most` `≤`; the name alone cannot say which.
+#[test]
+fn a_named_checks_limit_reads_in_the_stores_pages_as_in_the_run() {
+    let dir = scratch("named-limits");
+    let store = dir.join("results.sqlite");
+    let store = store.to_str().unwrap();
+    let recipe = write_file(
+        &dir,
+        "named.yaml",
+        "name: Named limits
+drive: sd2
+steps:
+  - expect: { motor_temperature: { below: 90 °C } }
+    name: bearing temperature
+  - enter_value: { prompt: Vibration, unit: mm/s, at_most: 2.8 mm/s }
+    name: vibration
+",
+    );
+    let (code, out) = run(
+        &recipe,
+        store,
+        &["--fast", "--unit", "serial=SP-9", "--answer", "vibration=1.2"],
+    );
+    assert_eq!(code, 0, "{out}");
+    assert_has(
+        &out,
+        &["bearing temperature: motor_temperature = 25 °C (limit < 90 °C)"],
+    );
+    let trend = |check: &str| {
+        let page = dir.join("trend.html");
+        let args = [
+            "results",
+            "trend",
+            check,
+            "--simulated",
+            "--results",
+            store,
+            "--html",
+        ];
+        let out = cli(&[&args[..], &[page.to_str().unwrap()]].concat(), 0);
+        (
+            out.stdout,
+            std::fs::read_to_string(&page).expect("the trend page"),
+        )
+    };
+    let (table, page) = trend("bearing temperature");
+    assert_has(&table, &["< 90 °C"]);
+    assert_lacks(&table, &["≤ 90 °C"]);
+    assert_has(&page, &["&lt; 90 °C"]);
+    assert_lacks(&page, &["≤ 90 °C"]);
+    let (table, _) = trend("Vibration");
+    assert_has(&table, &["≤ 2.8 mm/s"]);
+    let certificate = crate::support::unit_certificate(store, "SP-9", &dir.join("unit.html"));
+    assert_has(&certificate, &["&lt; 90 °C", "≤ 2.8 mm/s"]);
+    assert_lacks(&certificate, &["≤ 90 °C"]);
+}

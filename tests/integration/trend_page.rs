@@ -94,6 +94,8 @@ fn recorded(store: &Path, runs: &[Past]) {
                 reference_run: None,
                 reference_at: None,
                 reference_value: None,
+                // As a record of before the store kept it: read from the name.
+                inclusive: None,
             };
         records.push(Record::Check(check(
             1,
