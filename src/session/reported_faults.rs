@@ -40,6 +40,14 @@ impl Session<'_> {
         Some(Stop::Fault(format!("drive fault: {first} as the steps ended")))
     }
 
+    /// Whether a drive reported a fault since the run's end was decided (its drives read
+    /// back to be left enabled): each is kept to be said after the stop.
+    pub(super) fn keep_faults_reported_since(&mut self) -> bool {
+        let taken = self.take_reported_faults();
+        self.reported_in_stop.extend(taken);
+        !self.reported_in_stop.is_empty()
+    }
+
     /// A fault reported while the run ends (`on_fault`, the safe stop): it stops nothing
     /// more, and is said when the stop is over.
     pub(super) fn keep_reported_in_stop(&mut self, what: String) {

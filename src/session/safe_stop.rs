@@ -145,8 +145,9 @@ impl Session<'_> {
         self.stop.enter_safe_stop();
         self.in_safe_stop = true;
         let keep = leave_enabled && self.report.verdict == Verdict::Passed;
+        let mut kept = false;
         let result = self.guarded(|r| {
-            r.safe_stop(finally, link_lost, keep);
+            kept = r.safe_stop(finally, link_lost, keep);
             Ok(())
         });
         if let Err(e) = result {
@@ -182,7 +183,7 @@ impl Session<'_> {
             }
         }
         self.say_reported_in_stop();
-        let kept = keep && self.stop.count_at(self.clock.now()) == 0;
+        let kept = kept && self.stop.count_at(self.clock.now()) == 0;
         self.release_drives(kept);
     }
 
@@ -200,20 +201,31 @@ impl Session<'_> {
         }
     }
 
-    fn safe_stop(&mut self, finally: Option<&mut dyn FnMut(&mut Session)>, link_lost: bool, keep: bool) {
+    /// Whether the drives were left enabled (`keep`, and nothing since asked to stop them).
+    fn safe_stop(
+        &mut self,
+        finally: Option<&mut dyn FnMut(&mut Session)>,
+        link_lost: bool,
+        keep: bool,
+    ) -> bool {
         if keep {
             self.safe_stop_drives(None, link_lost, true);
             // Keeping the drives was decided before; a stop request that arrived since
-            // (while they were read back) asks for them to be stopped after all.
-            if self.stop.count_at(self.clock.now()) == 0 {
-                return;
-            }
-            self.note(
-                "a stop request arrived as the run ended: the drives left enabled are stopped after all"
-                    .into(),
-            );
+            // (while they were read back), or a fault a drive reported meanwhile, asks for
+            // them to be stopped after all.
+            let why = if self.stop.count_at(self.clock.now()) > 0 {
+                "a stop request arrived"
+            } else if self.keep_faults_reported_since() {
+                "a drive reported a fault"
+            } else {
+                return true;
+            };
+            self.note(format!(
+                "{why} as the run ended: the drives left enabled are stopped after all"
+            ));
         }
         self.safe_stop_drives(finally, link_lost, false);
+        false
     }
 
     fn safe_stop_drives(
