@@ -21,16 +21,6 @@ pub(super) const STOP_POLL: Duration = Duration::from_millis(100);
 const DISABLE_VOLTAGE_WAIT: Duration = Duration::from_secs(1);
 
 impl Session<'_> {
-    /// The object playing `role` in the profile, as a step names it.
-    pub(super) fn role_ref(&self, role: Role) -> Option<ObjectRef> {
-        let name = self.drive_ref().profile().ok()?.object(role)?.to_string();
-        let def = self.drive_ref().object(&name).ok()?;
-        Some(ObjectRef {
-            name: def.name.clone(),
-            unit: def.unit.map(|u| u.symbol().to_string()),
-        })
-    }
-
     /// The standstill threshold in the speed object's own unit.
     pub(super) fn standstill_in(&self, object: &ObjectRef) -> f64 {
         let q = self.settings.standstill;
