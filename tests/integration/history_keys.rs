@@ -323,23 +323,8 @@ steps:
         &out,
         &["bearing temperature: motor_temperature = 25 °C (limit < 90 °C)"],
     );
-    let trend = |check: &str| {
-        let page = dir.join("trend.html");
-        let args = [
-            "results",
-            "trend",
-            check,
-            "--simulated",
-            "--results",
-            store,
-            "--html",
-        ];
-        let out = cli(&[&args[..], &[page.to_str().unwrap()]].concat(), 0);
-        (
-            out.stdout,
-            std::fs::read_to_string(&page).expect("the trend page"),
-        )
-    };
+    let page = dir.join("trend.html");
+    let trend = |check: &str| crate::trend_page::trend(Path::new(store), check, &page, &[]);
     let (table, page) = trend("bearing temperature");
     assert_has(&table, &["< 90 °C"]);
     assert_lacks(&table, &["≤ 90 °C"]);

@@ -9,20 +9,9 @@ use crate::support::{assert_has, assert_lacks, cli, scratch, write_file, InProce
 /// question is asked once, its check fails (exit code 1), and no attempt follows.
 #[test]
 fn a_question_nobody_answers_inside_attempts_ends_the_run_without_another_attempt() {
-    let dir = scratch("operator-attempts-timeout");
-    let recipe = write_file(
-        &dir,
-        "attempts.yaml",
-        "name: Unanswered in attempts
-steps:
-  - go_to: operation_enabled
-  - attempts:
-      times: 3
-      steps:
-        - set: { speed_setpoint: 3000 rpm }
-        - confirm: { prompt: \"Is the spindle running quietly?\", timeout: 1 s }
-  - set: { speed_setpoint: 1000 rpm }
-",
+    let recipe = in_attempts(
+        "Unanswered in attempts",
+        "confirm: { prompt: \"Is the spindle running quietly?\", timeout: 1 s }",
     );
     let (result, output) = InProcessRun::new(&recipe).run_at_a_silent_terminal();
     ended_without_another_attempt(
@@ -35,6 +24,25 @@ steps:
             "FAILED",
         ],
     );
+}
+
+/// The recipe `name`: the drive enabled, up to 3 attempts of a setpoint and `question` (a
+/// step, as written in the attempts' steps), then a setpoint no run that ends in the
+/// attempts reaches.
+fn in_attempts(name: &str, question: &str) -> std::path::PathBuf {
+    let text = format!(
+        "name: {name}
+steps:
+  - go_to: operation_enabled
+  - attempts:
+      times: 3
+      steps:
+        - set: {{ speed_setpoint: 3000 rpm }}
+        - {question}
+  - set: {{ speed_setpoint: 1000 rpm }}
+"
+    );
+    write_file(&scratch(&name.replace(' ', "-")), "attempts.yaml", &text)
 }
 
 /// The run of a recipe whose question inside `attempts` ended it: exit code 1 with
@@ -70,21 +78,9 @@ fn ended_without_another_attempt(
 /// the safe stop runs.
 #[test]
 fn a_scan_of_another_unit_inside_attempts_ends_the_run_without_another_attempt() {
-    let dir = scratch("operator-attempts-other-unit");
-    let recipe = write_file(
-        &dir,
-        "attempts.yaml",
-        "name: Other unit in attempts
-steps:
-  - go_to: operation_enabled
-  - attempts:
-      times: 3
-      steps:
-        - set: { speed_setpoint: 3000 rpm }
-        - enter_text: { prompt: \"Scan the spindle's serial number\", pattern: \"SP-[0-9]{6}\", sets: serial, timeout: 1 s }
-          name: serial
-  - set: { speed_setpoint: 1000 rpm }
-",
+    let recipe = in_attempts(
+        "Other unit in attempts",
+        "enter_text: { prompt: \"Scan the spindle's serial number\", pattern: \"SP-[0-9]{6}\", sets: serial, timeout: 1 s }\n          name: serial",
     );
     let out = cli(
         &[

@@ -128,7 +128,7 @@ fn recorded(store: &Path, runs: &[Past]) {
 
 /// `results trend CHECK --html PAGE` over `store` (simulated runs included, then `extra`):
 /// the console table and the page, which must parse as HTML without errors.
-fn trend(store: &Path, check: &str, page: &Path, extra: &[&str]) -> (String, String) {
+pub(crate) fn trend(store: &Path, check: &str, page: &Path, extra: &[&str]) -> (String, String) {
     let args = [
         &[
             "results",
