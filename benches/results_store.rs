@@ -169,6 +169,7 @@ fn filled_store(path: &Path, runs: usize) -> Result<(), String> {
                 reference_run: None,
                 reference_at: None,
                 reference_value: None,
+                inclusive: Some(false),
             }));
         }
         records.push(Record::Finished(EndRow {

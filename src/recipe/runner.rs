@@ -236,9 +236,10 @@ fn repeat(
 /// Runs `nested` up to `times` times until an attempt ends with none of its checks failed;
 /// a failed check (also a wait that timed out: the drive did not get there in time, which
 /// another attempt may change) of an attempt with another to follow is kept as retried.
-/// Errors, faults, stop requests and an operator step nobody answered in time end it at
-/// once: a person who does not answer is no failed measurement, and another attempt would
-/// move the drive again with nobody watching.
+/// Errors, faults, stop requests, an operator step nobody answered in time and an answer
+/// naming another unit end it at once: a person who does not answer is no failed
+/// measurement, another attempt would move the drive again with nobody watching, and the
+/// wrong unit on the bench stays the wrong one.
 fn attempts(
     s: &mut Session,
     times: u32,

@@ -85,7 +85,7 @@ impl Store {
         let and = if clause.is_empty() { " WHERE" } else { " AND" };
         let mut sql = format!(
             "SELECT r.id, r.started_at, r.serial, c.measured, c.unit, c.low, c.high, c.passed, \
-             c.name, c.check_key, c.marginal, c.seq FROM checks c JOIN runs r ON r.id = c.run_id{clause}{and} \
+             c.name, c.check_key, c.marginal, c.seq, c.inclusive FROM checks c JOIN runs r ON r.id = c.run_id{clause}{and} \
              (c.check_key IN ({list}) OR (c.check_key IS NULL AND c.name IN ({list})))"
         );
         match filter.limit {
@@ -113,6 +113,7 @@ impl Store {
                 high: r[6].real(),
                 passed: int(&r[7]) != 0,
                 marginal: int(&r[10]) != 0,
+                inclusive: r[12].int().map(|v| v != 0),
                 key: opt(&r[9]).unwrap_or_else(|| text(&r[8])),
                 name: text(&r[8]),
             })

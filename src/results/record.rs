@@ -114,6 +114,10 @@ pub struct CheckRow {
     pub reference_at: Option<String>,
     #[serde(default)]
     pub reference_value: Option<f64>,
+    /// Whether its limits include the values at them (`≤ 2.8 mm/s`) or not (`< 5 A`);
+    /// `None` in a record written before the store kept it.
+    #[serde(default)]
+    pub inclusive: Option<bool>,
 }
 
 /// How the run ended.

@@ -374,6 +374,7 @@ impl RunObserver for ResultsRecorder {
             seq,
             name: c.name.clone(),
             key: Some(c.key.clone()),
+            inclusive: Some(c.inclusive),
             measured: c.measured,
             measured_text: c.measured_text.clone(),
             unit: c.unit.clone(),

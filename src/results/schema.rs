@@ -51,6 +51,10 @@ const MIGRATIONS: &[&str] = &[
     // the rows before it get theirs from their names ([`fill_keys`]).
     "ALTER TABLE checks ADD COLUMN check_key TEXT;
      CREATE INDEX checks_key ON checks (check_key, run_id);",
+    // 4: whether a check's limits include the values at them (`at_most`, `≤`) or not
+    // (`below`, `<`), which a name the recipe gave does not show; NULL in the rows before
+    // it, whose names show it where drivescript made them.
+    "ALTER TABLE checks ADD COLUMN inclusive BIGINT;",
 ];
 
 /// The version whose migration adds `checks.check_key`.
@@ -214,13 +218,14 @@ mod tests {
         assert_eq!(version(&mut b).expect("version"), Some(current_version()));
         let rows = b
             .query(
-                "SELECT message, reference_run, check_key FROM checks WHERE run_id = 'r1'",
+                "SELECT message, reference_run, check_key, inclusive FROM checks WHERE run_id = 'r1'",
                 &[],
             )
             .expect("the new columns");
         assert_eq!(rows[0][0].text(), Some("kept"));
         assert_eq!(rows[0][1].text(), None);
         assert_eq!(rows[0][2].text(), None, "`c` is its own key");
+        assert_eq!(rows[0][3].int(), None, "not known: read from the name");
         let _ = std::fs::remove_dir_all(&dir);
     }
 

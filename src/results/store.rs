@@ -95,8 +95,9 @@ impl Store {
                 b.execute(
                     "INSERT INTO checks (run_id, seq, name, measured, measured_text, unit, low, \
                      high, passed, marginal, step, stage, attempt, message, reference_run, \
-                     reference_at, reference_value, check_key) VALUES ($1, $2, $3, $4, $5, $6, \
-                     $7, $8, $9, $10, $11, $12, $13, $14, $15, $16, $17, $18) ON CONFLICT DO NOTHING",
+                     reference_at, reference_value, check_key, inclusive) VALUES ($1, $2, $3, $4, \
+                     $5, $6, $7, $8, $9, $10, $11, $12, $13, $14, $15, $16, $17, $18, $19) \
+                     ON CONFLICT DO NOTHING",
                     &[
                         c.run.as_str().into(),
                         c.seq.into(),
@@ -117,6 +118,7 @@ impl Store {
                         c.reference_value.into(),
                         // A record spooled before keys were: as the migration keys its rows.
                         c.key.clone().or_else(|| key_of_name(&c.name)).into(),
+                        c.inclusive.map_or(Value::Null, Value::from),
                     ],
                 )?;
             }
@@ -237,7 +239,7 @@ impl Store {
         let rows = self.backend.query(
             "SELECT seq, name, measured, measured_text, unit, low, high, passed, step, stage, \
              attempt, message, marginal, reference_run, reference_at, reference_value, \
-             check_key FROM checks WHERE run_id = $1 ORDER BY seq",
+             check_key, inclusive FROM checks WHERE run_id = $1 ORDER BY seq",
             &[run.into()],
         )?;
         Ok(rows
@@ -261,6 +263,7 @@ impl Store {
                 reference_run: opt(&r[13]),
                 reference_at: opt(&r[14]),
                 reference_value: r[15].real(),
+                inclusive: r[17].int().map(|v| v != 0),
             })
             .collect())
     }
@@ -451,6 +454,7 @@ mod tests {
                 reference_run: None,
                 reference_at: None,
                 reference_value: None,
+                inclusive: None,
             }),
             Record::Finished(EndRow {
                 run: id.into(),

@@ -62,6 +62,9 @@ pub struct TrendPoint {
     pub passed: bool,
     /// Passed outside its warning band.
     pub marginal: bool,
+    /// Whether its limits include the values at them; `None` when stored before the
+    /// store kept it.
+    pub inclusive: Option<bool>,
 }
 
 impl TrendPoint {
@@ -73,7 +76,13 @@ impl TrendPoint {
 
     /// `≤ 3 K`, `< 80 °C`, `-10 .. 10 %`; `None` without limits.
     pub fn limits_text(&self) -> Option<String> {
-        stored_limits(&self.name, &self.key, (self.low, self.high), self.unit.as_deref())
+        stored_limits(
+            &self.name,
+            &self.key,
+            (self.low, self.high),
+            self.unit.as_deref(),
+            self.inclusive,
+        )
     }
 
     /// `PASS`, `MARGINAL` or `FAIL`, as `results show` says it.
@@ -97,17 +106,21 @@ pub fn stored_measured(name: &str, measured: Option<f64>, unit: Option<&str>) ->
 }
 
 /// A stored check's limits as the run's reports wrote them, with the unit: `≤ 3 K`,
-/// `< 80 °C`. The store does not keep whether a one-sided limit was strict (`below`) or
-/// not (`at_most`); the check's name shows it where drivescript named it after its limits
-/// (`current_actual max below 5 A`, `coast-down from 6000 rpm below 100 rpm above 20 s`,
-/// keyed without them). A comparison's ends are included; a name the recipe gave shows
-/// nothing and reads `≤`/`≥`.
+/// `< 80 °C`, strict (`below`) or not (`at_most`) as the store kept it (`inclusive`). A
+/// check stored before it did shows it in its name where drivescript named it after its
+/// limits (`current_actual max below 5 A`, `coast-down from 6000 rpm below 100 rpm above
+/// 20 s`, keyed without them); a comparison's ends are included; a name the recipe gave
+/// shows nothing and reads `≤`/`≥`.
 pub fn stored_limits(
     name: &str,
     key: &str,
     (low, high): (Option<f64>, Option<f64>),
     unit: Option<&str>,
+    inclusive: Option<bool>,
 ) -> Option<String> {
+    if let Some(inclusive) = inclusive {
+        return limits_text(low, high, unit, inclusive);
+    }
     let limits = name
         .strip_prefix(key)
         .and_then(|rest| rest.strip_prefix(' '))
@@ -126,7 +139,7 @@ mod tests {
     #[test]
     fn limits_read_strict_where_the_name_shows_it() {
         let limits =
-            |name: &str, key: &str, low, high, unit| stored_limits(name, key, (low, high), Some(unit));
+            |name: &str, key: &str, low, high, unit| stored_limits(name, key, (low, high), Some(unit), None);
         let below = limits(
             "current_actual max below 5 A",
             "current_actual max below",
@@ -169,6 +182,19 @@ mod tests {
             "rpm",
         );
         assert_eq!(near.as_deref(), Some("2970 .. 3030 rpm"));
+        // What the store kept wins over what the name shows.
+        let kept = |inclusive| {
+            stored_limits(
+                "bearing current",
+                "bearing current",
+                (None, Some(5.0)),
+                Some("A"),
+                inclusive,
+            )
+        };
+        assert_eq!(kept(Some(false)).as_deref(), Some("< 5 A"));
+        assert_eq!(kept(Some(true)).as_deref(), Some("≤ 5 A"));
+        assert_eq!(kept(None).as_deref(), Some("≤ 5 A"));
         assert_eq!(
             stored_measured("x compared with last pass", Some(7.3), Some("K")).as_deref(),
             Some("+7.3 K")

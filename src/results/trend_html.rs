@@ -50,7 +50,13 @@ fn limit_line(points: &[TrendPoint], side: Side) -> Option<LimitLine> {
         Side::Low => (last.low, None),
         Side::High => (None, last.high),
     };
-    let label = stored_limits(&last.name, &last.key, one_side, last.unit.as_deref())?;
+    let label = stored_limits(
+        &last.name,
+        &last.key,
+        one_side,
+        last.unit.as_deref(),
+        last.inclusive,
+    )?;
     // The first run's limit reaches back to the plot's left edge.
     if let Some(start) = steps.first_mut() {
         start.0 = f64::NEG_INFINITY;
@@ -248,6 +254,7 @@ mod tests {
             high: Some(3.0),
             passed,
             marginal: false,
+            inclusive: None,
         }
     }
 

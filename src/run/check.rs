@@ -49,10 +49,7 @@ pub fn check(request: &CheckRequest, err: &mut dyn Write) -> Result<Checked, Run
     // any port is opened.
     let link = request.connection.with_defaults(loaded.plan.link());
     super::within_link_range(&written, &loaded, request.registry, &link)?;
-    if let Ok(family) = request.registry.family(loaded.dictionary.family()) {
-        super::check_sim_target(&link, family.as_ref())
-            .map_err(|e| RunError::Invalid(format!("error: {e}")))?;
-    }
+    super::sim_checked(&link, request.registry, &loaded)?;
     let compare =
         !request.connection.is_simulated() && loaded.plan.drives().is_empty() && !written.is_empty();
     let drive_limits = compare.then(|| {

@@ -61,7 +61,7 @@ pub struct OpenDrives {
 }
 
 /// Where a drive is: the command line's connection, or its own.
-fn connection_of(decl: &DriveDecl, line: &ConnectionArgs) -> Result<ConnectionArgs, RunError> {
+pub(super) fn connection_of(decl: &DriveDecl, line: &ConnectionArgs) -> Result<ConnectionArgs, RunError> {
     let mut args = line.clone();
     if decl.on_command_line_connection() {
         return Ok(args);
@@ -239,7 +239,7 @@ fn placed(
     Ok((dictionary, family, args, address))
 }
 
-fn dictionary_of(
+pub(super) fn dictionary_of(
     dictionaries: &[(String, Arc<Dictionary>)],
     name: &str,
 ) -> Result<Arc<Dictionary>, RunError> {

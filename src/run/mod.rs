@@ -74,5 +74,5 @@ pub use run_operator::RunOperator;
 pub use run_plan::{LoadedPlan, RunPlan};
 pub use run_request::{PrepareSimulator, RunRequest, RunResult, SharedObserver};
 pub use safe_stop_args::SafeStopArgs;
-pub use sim_settings_check::{check_sim_settings, check_sim_target};
+pub use sim_settings_check::{check_sim_settings, sim_checked};
 pub use terminal_input::TerminalInput;

@@ -16,11 +16,9 @@ use super::run_setup::{
     finish_reports, observed, open_csv, telegram_outputs, trace_header, write_placeholders, Look,
 };
 use super::{
-    check_sim_settings, check_sim_target, open_drive, ConnectionArgs, RunError, RunOperator, RunRequest,
-    RunResult, COMMUNICATION, INVALID,
+    open_drive, sim_checked, ConnectionArgs, RunError, RunOperator, RunRequest, RunResult, COMMUNICATION,
+    INVALID,
 };
-use crate::dictionary::Dictionary;
-use crate::family::Family;
 use crate::report::{junit_suite, TelegramFanOut};
 use std::io::Write;
 
@@ -178,32 +176,16 @@ fn checked(
             loaded.plan.path()
         )));
     }
-    // The run's families: the named drives', else the one drive's.
-    let dictionaries: Vec<&Dictionary> = match drives.is_empty() {
-        true => vec![&loaded.dictionary],
-        false => loaded
-            .drive_dictionaries
-            .iter()
-            .map(|(_, d)| d.as_ref())
-            .collect(),
-    };
-    let families = dictionaries
-        .iter()
-        .map(|d| request.registry.family(d.family()))
-        .collect::<Result<Vec<_>, _>>()
-        .map_err(|e| RunError::Invalid(format!("error: {e}")))?;
-    let family_refs: Vec<&dyn Family> = families.iter().map(|f| f.as_ref()).collect();
-    if let Some(family) = family_refs.first() {
-        check_sim_target(connection, *family).map_err(|e| RunError::Invalid(format!("error: {e}")))?;
-    }
-    check_sim_settings(&connection.sim, request.registry, &family_refs)
-        .map_err(|e| RunError::Invalid(format!("error: {e}")))?;
+    sim_checked(connection, request.registry, loaded)?;
     if !drives.is_empty() {
         return named_drives_checked(request, connection, drives, &loaded.drive_dictionaries)
             .map(Telegrams::Shared);
     }
     let dictionary = &loaded.dictionary;
-    let family = &families[0];
+    let family = request
+        .registry
+        .family(dictionary.family())
+        .map_err(|e| RunError::Invalid(format!("error: {e}")))?;
     // Only the merged settings: the command line alone can lack what the file gives
     // (`--channel cyclic` with the file's `velocity_scaling`).
     let address = connection.check(request.registry, family.as_ref()).map_err(|e| {

@@ -39,10 +39,13 @@ impl Operator for RunOperator {
         self.input.is_some()
     }
 
-    fn start_asking(&mut self, fresh: bool) {
-        if let (true, Some(input)) = (fresh, &self.input) {
+    fn discard_typed_ahead(&mut self) {
+        if let Some(input) = &self.input {
             input.discard_typed_ahead();
         }
+    }
+
+    fn start_asking(&mut self) {
         let mut out = std::io::stdout();
         let _ = out.write_all(MARKER.as_bytes());
         let _ = out.flush();

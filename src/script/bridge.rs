@@ -54,6 +54,7 @@ pub fn copy(stop: &Stop) -> Stop {
     match stop {
         Stop::Failed(m) => Stop::Failed(m.clone()),
         Stop::Unanswered(m) => Stop::Unanswered(m.clone()),
+        Stop::OtherUnit(m) => Stop::OtherUnit(m.clone()),
         Stop::Fault(m) => Stop::Fault(m.clone()),
         Stop::LinkLost(m) => Stop::LinkLost(m.clone()),
         Stop::Error(m) => Stop::Error(m.clone()),
@@ -287,7 +288,11 @@ impl Bridge {
                 self.end_with(stop);
                 terminated()
             }
-            Stop::Failed(ref m) | Stop::Unanswered(ref m) | Stop::Fault(ref m) | Stop::Error(ref m) => {
+            Stop::Failed(ref m)
+            | Stop::Unanswered(ref m)
+            | Stop::OtherUnit(ref m)
+            | Stop::Fault(ref m)
+            | Stop::Error(ref m) => {
                 let text = m.clone();
                 *lock(&self.last_error) = Some((text.clone(), stop));
                 Box::new(EvalAltResult::ErrorRuntime(text.into(), Position::NONE))

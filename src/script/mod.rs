@@ -14,6 +14,7 @@ mod literal_calls;
 mod operator_api;
 mod param_value;
 mod resolve;
+mod sample_tap;
 mod sample_window;
 mod sandbox;
 mod script;

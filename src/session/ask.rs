@@ -84,10 +84,11 @@ impl Session<'_> {
                 prompt.text, prompt.name
             )));
         }
+        self.operator.discard_typed_ahead();
         self.observer
             .asked(number, &format!("{} {}", prompt.text, prompt.hint()));
         self.observer.idle();
-        self.operator.start_asking(true);
+        self.operator.start_asking();
         loop {
             if self.interrupted() {
                 return Err(Stop::Interrupted);
@@ -122,7 +123,7 @@ impl Session<'_> {
                     Err(why) => {
                         self.observer.message(&format!("{why}; answer again"));
                         self.observer.idle();
-                        self.operator.start_asking(false);
+                        self.operator.start_asking();
                     }
                 },
                 Reply::Closed => {
@@ -191,8 +192,10 @@ impl Session<'_> {
                 passed: false,
                 ..accepted.clone()
             };
+            // No attempt follows (its line must not say `retrying`).
+            self.observer.attempts_given_up();
             self.record_prompt_check(prompt, Some(&refused), message, origin, started);
-            return Err(Stop::Failed(format!("`{}` ({origin}): {why}", prompt.text)));
+            return Err(Stop::OtherUnit(format!("`{}` ({origin}): {why}", prompt.text)));
         }
         if let (false, Some(limits)) = (accepted.passed, prompt.limits_text()) {
             message.push_str(&format!(", expected {limits}"));

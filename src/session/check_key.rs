@@ -143,6 +143,7 @@ fn quantity_words(words: &[&str]) -> Option<usize> {
 mod tests {
     use super::*;
     use crate::session::{CoastDown, Condition, ObjectRef, Tolerance};
+    use proptest::prelude::*;
     use std::time::Duration;
 
     fn object(name: &str, unit: &str) -> ObjectRef {
@@ -331,6 +332,71 @@ mod tests {
             );
             let c = coast(p.clone(), None);
             assert_eq!(key_of_name(&c.check_name()), Some(c.check_key()));
+        }
+    }
+
+    /// A predicate of any kind with finite limits.
+    fn any_predicate() -> impl Strategy<Value = Predicate> {
+        let v = || prop_oneof![-1e6f64..1e6, (-1_000_000i64..1_000_000).prop_map(|n| n as f64)];
+        prop_oneof![
+            v().prop_map(|x| Predicate::Equals(crate::dictionary::Quantity::new(x, None))),
+            v().prop_map(Predicate::Above),
+            v().prop_map(Predicate::Below),
+            (v(), v()).prop_map(|(a, b)| Predicate::Between(a, b)),
+            (v(), 0.0f64..100.0, any::<bool>()).prop_map(|(target, t, percent)| Predicate::Near {
+                target,
+                tolerance: if percent {
+                    Tolerance::Percent(t)
+                } else {
+                    Tolerance::Absolute(t)
+                },
+            }),
+            "[a-z ]{0,12}".prop_map(Predicate::EqualsText),
+        ]
+    }
+
+    proptest! {
+        /// Whatever a store holds as a check's name, reading its key neither panics nor
+        /// makes a key longer than the name.
+        #[test]
+        fn any_stored_name_reads_without_panic(name in "\\PC{0,80}") {
+            if let Some(key) = key_of_name(&name) {
+                prop_assert!(key.len() <= name.len() + COMPARED.len(), "{} → {}", name, key);
+            }
+        }
+
+        /// Names as drivescript makes them, from words it writes, read without panic.
+        #[test]
+        fn names_of_its_own_words_read_without_panic(words in proptest::collection::vec(
+            prop_oneof![
+                Just("below"), Just("above"), Just("near"), Just("between"), Just("equals"),
+                Just("and"), Just("±"), Just("over"), Just("5"), Just("-1.5"), Just("rpm"),
+                Just("%"), Just("\""), Just("wait"), Just("until"), Just("coast-down"),
+                Just("from"), Just("mean"), Just("slope"), Just("x:"), Just(""),
+            ],
+            0..12,
+        ), compared in any::<bool>()) {
+            let name = words.join(" ") + if compared { COMPARED } else { "" };
+            let _ = key_of_name(&name);
+        }
+
+        /// The name of a check made now gives back the key it has now, for every kind of
+        /// limit, statistic and unit.
+        #[test]
+        fn a_made_name_reads_back_its_key(
+            object in "[a-z][a-z_]{0,12}(\\.[a-z_]{1,8})?",
+            statistic in proptest::option::of(prop::sample::select(vec!["mean", "max", "ripple", "rise_time"])),
+            unit in proptest::option::of(prop::sample::select(crate::dictionary::Unit::symbols().collect::<Vec<_>>())),
+            predicate in any_predicate(),
+        ) {
+            let described = predicate.describe(unit);
+            let name = match statistic {
+                Some(s) => format!("{object} {s} {described}"),
+                None => format!("{object} {described}"),
+            };
+            let key = measured_key(&object, statistic, &predicate);
+            prop_assert_eq!(key_of_name(&name), Some(key.clone()), "{}", name);
+            prop_assert_eq!(key_of_name(&format!("{name}{COMPARED}")), Some(compared_key(&key)));
         }
     }
 }

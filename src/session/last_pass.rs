@@ -93,13 +93,13 @@ pub struct PastCheck {
 }
 
 impl PastCheck {
-    /// Whether it is the check keyed `key` (named `name` now): by its key, or by its name
-    /// when it was stored without one. Its limits may have changed since.
+    /// Whether it is the check keyed `key` (named `name` now): by its key (its limits may
+    /// have changed since), or by the very same name. A check stored before keys were has
+    /// the key the migration read from its name; where the recipe gave that name (`name:
+    /// Temperature below 95 °C`) the check keys by the whole name now, and the name alone
+    /// still finds it.
     pub fn is(&self, key: &str, name: &str) -> bool {
-        match &self.key {
-            Some(k) => k == key,
-            None => self.name == name,
-        }
+        self.key.as_deref() == Some(key) || self.name == name
     }
 }
 
@@ -214,10 +214,23 @@ mod tests {
         );
         assert_eq!(run.check("d below", "d below 5 A", "3[1].1"), None);
         assert_eq!(
-            run.check("c above", name, "3[1].1"),
+            run.check("c above", "c above 5 A", "3[1].1"),
             None,
-            "the key decides, not the name"
+            "another key and another name"
         );
+    }
+
+    /// A name the recipe gave that reads like one drivescript makes: the migration keyed
+    /// it by what it shows (`Temperature below`), the check keys by the whole name now.
+    #[test]
+    fn a_migrated_check_the_recipe_named_is_found_by_its_name() {
+        let name = "Temperature below 95 °C";
+        let run = PastRun {
+            id: "r".into(),
+            started_at: "t".into(),
+            checks: vec![past(name, Some("Temperature below"), "4", 24.8)],
+        };
+        assert_eq!(run.check(name, name, "4").map(|c| c.measured), Some(24.8));
     }
 
     #[test]

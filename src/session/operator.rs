@@ -31,9 +31,11 @@ pub trait Operator {
     fn given(&mut self, name: &str) -> Option<Given>;
     /// Whether a person can be asked (standard input is a terminal).
     fn has_terminal(&self) -> bool;
-    /// Before a question appears (`fresh`): keystrokes typed before it (a scanner's stray
-    /// Enter) are thrown away; then the input marker is shown.
-    fn start_asking(&mut self, fresh: bool);
+    /// Before a question appears: keystrokes typed before it (a scanner's stray Enter) are
+    /// thrown away. Never after it shows: a key pressed as soon as it is read is an answer.
+    fn discard_typed_ahead(&mut self);
+    /// Once the question (or the request to answer again) is shown: the input marker.
+    fn start_asking(&mut self);
     /// The person's next line, waiting at most `within` of real time.
     fn next_line(&mut self, within: Duration) -> Reply;
     /// Who answers at the terminal when the run's identity names no operator: the login
@@ -53,7 +55,8 @@ impl Operator for Nobody {
     fn has_terminal(&self) -> bool {
         false
     }
-    fn start_asking(&mut self, _fresh: bool) {}
+    fn discard_typed_ahead(&mut self) {}
+    fn start_asking(&mut self) {}
     fn next_line(&mut self, _within: Duration) -> Reply {
         Reply::Closed
     }

@@ -26,7 +26,10 @@ impl Session<'_> {
     /// the steps ended (or failed): that run ends as a drive fault. Faults reported after a
     /// harder ending (an error, a stop request) are kept for the safe stop's notes.
     pub(super) fn with_pending_fault(&mut self, ended: Option<Stop>) -> Option<Stop> {
-        if !matches!(ended, None | Some(Stop::Failed(_) | Stop::Unanswered(_))) {
+        if !matches!(
+            ended,
+            None | Some(Stop::Failed(_) | Stop::Unanswered(_) | Stop::OtherUnit(_))
+        ) {
             return ended;
         }
         let mut pending = self.take_reported_faults().into_iter();
@@ -35,6 +38,14 @@ impl Session<'_> {
         };
         self.reported_in_stop.extend(pending);
         Some(Stop::Fault(format!("drive fault: {first} as the steps ended")))
+    }
+
+    /// Whether a drive reported a fault since the run's end was decided (its drives read
+    /// back to be left enabled): each is kept to be said after the stop.
+    pub(super) fn keep_faults_reported_since(&mut self) -> bool {
+        let taken = self.take_reported_faults();
+        self.reported_in_stop.extend(taken);
+        !self.reported_in_stop.is_empty()
     }
 
     /// A fault reported while the run ends (`on_fault`, the safe stop): it stops nothing

@@ -21,16 +21,6 @@ pub(super) const STOP_POLL: Duration = Duration::from_millis(100);
 const DISABLE_VOLTAGE_WAIT: Duration = Duration::from_secs(1);
 
 impl Session<'_> {
-    /// The object playing `role` in the profile, as a step names it.
-    pub(super) fn role_ref(&self, role: Role) -> Option<ObjectRef> {
-        let name = self.drive_ref().profile().ok()?.object(role)?.to_string();
-        let def = self.drive_ref().object(&name).ok()?;
-        Some(ObjectRef {
-            name: def.name.clone(),
-            unit: def.unit.map(|u| u.symbol().to_string()),
-        })
-    }
-
     /// The standstill threshold in the speed object's own unit.
     pub(super) fn standstill_in(&self, object: &ObjectRef) -> f64 {
         let q = self.settings.standstill;
@@ -76,7 +66,7 @@ impl Session<'_> {
         self.report.verdict = match &ended {
             None if self.failed_checks => Verdict::Failed,
             None => Verdict::Passed,
-            Some(Stop::Failed(_) | Stop::Unanswered(_)) => Verdict::Failed,
+            Some(Stop::Failed(_) | Stop::Unanswered(_) | Stop::OtherUnit(_)) => Verdict::Failed,
             Some(Stop::Fault(m) | Stop::Error(m) | Stop::LinkLost(m)) => Verdict::Error(m.clone()),
             Some(Stop::Interrupted) => Verdict::Interrupted(self.stop.first().unwrap_or(StopSignal::INT)),
             Some(Stop::Panicked(m)) => Verdict::Panicked(m.clone()),
@@ -145,8 +135,9 @@ impl Session<'_> {
         self.stop.enter_safe_stop();
         self.in_safe_stop = true;
         let keep = leave_enabled && self.report.verdict == Verdict::Passed;
+        let mut kept = false;
         let result = self.guarded(|r| {
-            r.safe_stop(finally, link_lost, keep);
+            kept = r.safe_stop(finally, link_lost, keep);
             Ok(())
         });
         if let Err(e) = result {
@@ -182,7 +173,7 @@ impl Session<'_> {
             }
         }
         self.say_reported_in_stop();
-        let kept = keep && self.stop.count_at(self.clock.now()) == 0;
+        let kept = kept && self.stop.count_at(self.clock.now()) == 0;
         self.release_drives(kept);
     }
 
@@ -200,20 +191,31 @@ impl Session<'_> {
         }
     }
 
-    fn safe_stop(&mut self, finally: Option<&mut dyn FnMut(&mut Session)>, link_lost: bool, keep: bool) {
+    /// Whether the drives were left enabled (`keep`, and nothing since asked to stop them).
+    fn safe_stop(
+        &mut self,
+        finally: Option<&mut dyn FnMut(&mut Session)>,
+        link_lost: bool,
+        keep: bool,
+    ) -> bool {
         if keep {
             self.safe_stop_drives(None, link_lost, true);
             // Keeping the drives was decided before; a stop request that arrived since
-            // (while they were read back) asks for them to be stopped after all.
-            if self.stop.count_at(self.clock.now()) == 0 {
-                return;
-            }
-            self.note(
-                "a stop request arrived as the run ended: the drives left enabled are stopped after all"
-                    .into(),
-            );
+            // (while they were read back), or a fault a drive reported meanwhile, asks for
+            // them to be stopped after all.
+            let why = if self.stop.count_at(self.clock.now()) > 0 {
+                "a stop request arrived"
+            } else if self.keep_faults_reported_since() {
+                "a drive reported a fault"
+            } else {
+                return true;
+            };
+            self.note(format!(
+                "{why} as the run ended: the drives left enabled are stopped after all"
+            ));
         }
         self.safe_stop_drives(finally, link_lost, false);
+        false
     }
 
     fn safe_stop_drives(

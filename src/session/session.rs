@@ -439,6 +439,16 @@ impl<'a> Session<'a> {
         }
     }
 
+    /// The object playing `role` in the profile, as a step names it.
+    pub(super) fn role_ref(&self, role: crate::dictionary::Role) -> Option<ObjectRef> {
+        let name = self.drive_ref().profile().ok()?.object(role)?.to_string();
+        let def = self.drive_ref().object(&name).ok()?;
+        Some(ObjectRef {
+            name: def.name.clone(),
+            unit: def.unit.map(|u| u.symbol().to_string()),
+        })
+    }
+
     /// Reads the state of every drive now and then (at most every `settings.fault_poll`,
     /// or at once when `now`); a fault on any of them stops the run.
     pub fn watch_fault(&mut self, now: bool) -> Result<(), Stop> {

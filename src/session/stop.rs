@@ -13,6 +13,9 @@ pub enum Stop {
     /// Nobody answered an operator step within its timeout: its check failed, but nothing
     /// was measured wrong, so an `attempts` block does not try again; the run ends.
     Unanswered(String),
+    /// The operator's answer named another unit than the run is for: its check failed, and
+    /// as no other attempt changes the unit on the bench, none is made; the run ends.
+    OtherUnit(String),
     /// The drive went to fault.
     Fault(String),
     /// The port failed (device gone, connection closed): only reopening it can help.
@@ -29,9 +32,14 @@ pub enum Stop {
 pub fn outcome(result: &Result<String, Stop>) -> (bool, String) {
     match result {
         Ok(d) => (true, d.clone()),
-        Err(Stop::Failed(m) | Stop::Unanswered(m) | Stop::Fault(m) | Stop::LinkLost(m) | Stop::Error(m)) => {
-            (false, m.clone())
-        }
+        Err(
+            Stop::Failed(m)
+            | Stop::Unanswered(m)
+            | Stop::OtherUnit(m)
+            | Stop::Fault(m)
+            | Stop::LinkLost(m)
+            | Stop::Error(m),
+        ) => (false, m.clone()),
         Err(Stop::Interrupted) => (false, "interrupted".to_string()),
         Err(Stop::Panicked(m)) => (false, format!("internal error (panic): {m}")),
     }

@@ -75,6 +75,38 @@ fn an_emergency_no_simulated_drive_can_send_is_refused_before_anything_runs() {
     assert_has(&out.stdout, &["PASSED"]);
 }
 
+/// `check` refuses what `run` refuses: an emergency no simulated drive of the file sends
+/// (one drive, and several), and takes it where a drive's simulated node sends one.
+#[test]
+fn check_refuses_an_emergency_as_run_does() {
+    let emergency = ["--sim", "emergency-at=20s:0x2310"];
+    let out = cli(
+        &[&["check", "recipes/commissioning.yaml"][..], &emergency].concat(),
+        2,
+    );
+    assert_has(
+        &out.stderr,
+        &["--sim emergency-at: no simulated sd2 drive sends emergency messages"],
+    );
+    let dir = scratch("emergency-check");
+    let two = write_file(
+        &dir,
+        "two.yaml",
+        "name: Two\ndrives:\n  left:  { drive: sd2, address: dnc:2 }\n  right: { drive: ct-unidrive-sp }\nsteps:\n  - dwell: 1 min\n",
+    );
+    let out = cli(&[&["check", two.to_str().unwrap()][..], &emergency].concat(), 2);
+    assert_has(
+        &out.stderr,
+        &["no simulated ct-ansi or sd2 drive sends emergency messages"],
+    );
+    let node = write_file(
+        &dir,
+        "node.yaml",
+        "name: Node\ndrive: canopen\nsteps:\n  - dwell: 1 min\n",
+    );
+    cli(&[&["check", node.to_str().unwrap()][..], &emergency].concat(), 0);
+}
+
 /// A Lenze 9400 has no device-control profile, so no state is watched; an EMCY with an
 /// error code is a drive fault all the same: the dwell stops on it, `on_fault` runs and
 /// the profile-less safe stop ends the run with exit code 3 and the CiA 301 text.

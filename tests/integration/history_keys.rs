@@ -173,7 +173,9 @@ fn a_tightened_limit_keeps_the_units_history_in_postgresql() {
 
 /// What a version-2 drivescript left: the schema of migrations 1 and 2, and a passed run
 /// of `Bearing history` on SP-OLD with a check named by its limits (`motor_temperature
-/// below 90 °C`) and one the recipe named (`bearing temperature`).
+/// below 90 °C`), one the recipe named (`bearing temperature`) and one the recipe named as
+/// drivescript would have (`Temperature below 95 °C`, which the migration keys by what
+/// its name shows).
 fn version_2_store(batch: &mut dyn FnMut(&str)) {
     for v in 1..=2 {
         batch(drivescript::results::migration(v).expect("a migration of version 2"));
@@ -189,12 +191,13 @@ fn version_2_store(batch: &mut dyn FnMut(&str)) {
          INSERT INTO checks (run_id, seq, name, measured, unit, high, passed, marginal, step,
             stage, attempt, message)
             VALUES ('0ld5tore', 1, 'motor_temperature below 90 °C', 24, '°C', 90, 1, 0, '2', '', 1, 'ok'),
-                   ('0ld5tore', 2, 'bearing temperature', 24.5, '°C', 90, 1, 0, '3', '', 1, 'ok');",
+                   ('0ld5tore', 2, 'bearing temperature', 24.5, '°C', 90, 1, 0, '3', '', 1, 'ok'),
+                   ('0ld5tore', 3, 'Temperature below 95 °C', 24.8, '°C', 95, 1, 0, '4', '', 1, 'ok');",
     );
 }
 
 /// The run after the upgrade: the first check's limit changed since (found by the key its
-/// old name shows), the second keeps its name (found by it).
+/// old name shows), the others keep their names (found by them).
 fn old_runs_serve_as_history(dir: &Path, store: &str) {
     let recipe = write_file(
         dir,
@@ -208,6 +211,9 @@ steps:
   - expect:
       motor_temperature: { below: 90 °C, compared_with_last_pass: { at_most: 2 K, without_history: fail } }
     name: bearing temperature
+  - expect:
+      motor_temperature: { below: 95 °C, compared_with_last_pass: { at_most: 2 K, without_history: fail } }
+    name: Temperature below 95 °C
 ",
     );
     let (code, out) = run(&recipe, store, &["--fast", "--unit", "serial=SP-OLD"]);
@@ -218,6 +224,7 @@ steps:
             "history SP-OLD: compared with its last pass, run 0ld5tore of 2026-01-01T08:00:00.000Z",
             "PASS  motor_temperature below 80 °C compared with last pass: motor_temperature = 25 °C: +1 K against 24 °C in run 0ld5tore",
             "PASS  bearing temperature compared with last pass: motor_temperature = 25 °C: +0.5 K against 24.5 °C in run 0ld5tore",
+            "PASS  Temperature below 95 °C compared with last pass: motor_temperature = 25 °C: +0.2 K against 24.8 °C in run 0ld5tore",
         ],
     );
     let trend = cli(
@@ -284,4 +291,48 @@ fn a_version_2_postgresql_store_migrates_and_its_runs_still_serve_as_history() {
         row.get::<_, Option<String>>(0).as_deref(),
         Some("motor_temperature below")
     );
+}
+
+/// A check the recipe named keeps its limit as the run wrote it in the store's pages:
+/// `below: 90 °C` is `< 90 °C` in `results trend`, its page and the unit certificate (as
+/// on the console), an `enter_value`'s `at_most` `≤`; the name alone cannot say which.
+#[test]
+fn a_named_checks_limit_reads_in_the_stores_pages_as_in_the_run() {
+    let dir = scratch("named-limits");
+    let store = dir.join("results.sqlite");
+    let store = store.to_str().unwrap();
+    let recipe = write_file(
+        &dir,
+        "named.yaml",
+        "name: Named limits
+drive: sd2
+steps:
+  - expect: { motor_temperature: { below: 90 °C } }
+    name: bearing temperature
+  - enter_value: { prompt: Vibration, unit: mm/s, at_most: 2.8 mm/s }
+    name: vibration
+",
+    );
+    let (code, out) = run(
+        &recipe,
+        store,
+        &["--fast", "--unit", "serial=SP-9", "--answer", "vibration=1.2"],
+    );
+    assert_eq!(code, 0, "{out}");
+    assert_has(
+        &out,
+        &["bearing temperature: motor_temperature = 25 °C (limit < 90 °C)"],
+    );
+    let page = dir.join("trend.html");
+    let trend = |check: &str| crate::trend_page::trend(Path::new(store), check, &page, &[]);
+    let (table, page) = trend("bearing temperature");
+    assert_has(&table, &["< 90 °C"]);
+    assert_lacks(&table, &["≤ 90 °C"]);
+    assert_has(&page, &["&lt; 90 °C"]);
+    assert_lacks(&page, &["≤ 90 °C"]);
+    let (table, _) = trend("Vibration");
+    assert_has(&table, &["≤ 2.8 mm/s"]);
+    let certificate = crate::support::unit_certificate(store, "SP-9", &dir.join("unit.html"));
+    assert_has(&certificate, &["&lt; 90 °C", "≤ 2.8 mm/s"]);
+    assert_lacks(&certificate, &["≤ 90 °C"]);
 }

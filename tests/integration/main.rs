@@ -31,6 +31,7 @@ mod loader_limits;
 mod modbus;
 mod multi_drive;
 mod operator;
+mod operator_attempts;
 mod outputs;
 mod parameters;
 mod recipe_cases;

@@ -229,57 +229,6 @@ steps:
 /// The unit's identity (from `--unit` and from an answer) and every answer with who gave
 /// it and when: JUnit properties and cases valid against both vendored XSDs, and the HTML
 /// report's Run table and checks, parsed as browsers do and rendered by Chromium.
-/// A question nobody answers inside `attempts` ends the run: an absent person is no failed
-/// measurement, and another attempt would move the drive again with nobody watching. The
-/// question is asked once, its check fails (exit code 1), and no attempt follows.
-#[test]
-fn a_question_nobody_answers_inside_attempts_ends_the_run_without_another_attempt() {
-    let dir = scratch("operator-attempts-timeout");
-    let recipe = write_file(
-        &dir,
-        "attempts.yaml",
-        "name: Unanswered in attempts
-steps:
-  - go_to: operation_enabled
-  - attempts:
-      times: 3
-      steps:
-        - set: { speed_setpoint: 3000 rpm }
-        - confirm: { prompt: \"Is the spindle running quietly?\", timeout: 1 s }
-  - set: { speed_setpoint: 1000 rpm }
-",
-    );
-    let (result, output) = InProcessRun::new(&recipe).run_at_a_silent_terminal();
-    assert_eq!(result.exit_code, 1, "{output}");
-    assert_has(
-        &output,
-        &[
-            "Is the spindle running quietly?: nobody answered within 1s",
-            "FAIL  attempts: up to 3 times (2 steps)  nobody answered within 1s",
-            "FAILED",
-        ],
-    );
-    // Its lines do not promise another attempt either.
-    assert_lacks(
-        &output,
-        &[
-            "trying again",
-            "set speed_setpoint = 1000 rpm",
-            "retried",
-            "retrying",
-        ],
-    );
-    let report = result.report.expect("report");
-    let asked: Vec<_> = report
-        .checks
-        .iter()
-        .filter(|c| c.name == "Is the spindle running quietly?")
-        .collect();
-    assert_eq!(asked.len(), 1, "asked once: {asked:?}");
-    assert!(!asked[0].passed && !asked[0].retried, "{:?}", asked[0]);
-    assert_eq!(report.checks_failed(), 1);
-}
-
 #[test]
 fn junit_and_html_carry_the_identity_and_every_answer() {
     use crate::reports::markup::{html, junit, junit_xsd, select, text};

@@ -94,6 +94,8 @@ fn recorded(store: &Path, runs: &[Past]) {
                 reference_run: None,
                 reference_at: None,
                 reference_value: None,
+                // As a record of before the store kept it: read from the name.
+                inclusive: None,
             };
         records.push(Record::Check(check(
             1,
@@ -126,7 +128,7 @@ fn recorded(store: &Path, runs: &[Past]) {
 
 /// `results trend CHECK --html PAGE` over `store` (simulated runs included, then `extra`):
 /// the console table and the page, which must parse as HTML without errors.
-fn trend(store: &Path, check: &str, page: &Path, extra: &[&str]) -> (String, String) {
+pub(crate) fn trend(store: &Path, check: &str, page: &Path, extra: &[&str]) -> (String, String) {
     let args = [
         &[
             "results",

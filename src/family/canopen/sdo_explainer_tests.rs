@@ -1,5 +1,6 @@
 //! The explainer on frames of the Lenze 9400 and of a CiA 402 node from its EDS: segments
-//! read as their transfer's object, the whole value on the last one, the other services.
+//! read as their transfer's object, the whole value on the last one, the other services;
+//! any frames without panic.
 
 use super::sdo_explainer::*;
 use crate::bus::CanFrame;
@@ -7,6 +8,7 @@ use crate::dictionary::Dictionary;
 use crate::family::lenze_9400::Lenze9400Family;
 use crate::family::Family;
 use crate::link::{Direction, TelegramExplainer};
+use proptest::prelude::Strategy as _;
 use serde_json::json;
 use std::sync::Arc;
 
@@ -116,4 +118,38 @@ fn the_last_segment_shows_the_whole_number() {
         s("581#0064726976657363"),
         "upload segment, toggle 0, 7 byte(s) of index 0x1008/0 ident \"drivesc\" ← node 1"
     );
+}
+
+proptest::proptest! {
+    /// Whatever frames a capture holds, in any order and for any node (transfers started,
+    /// broken off, segments without a start, any bytes), the explainer reads each without
+    /// panic, and the bytes it keeps of a transfer stay bounded.
+    #[test]
+    fn any_frames_are_explained_without_panic(frames in proptest::collection::vec(
+        (
+            proptest::prop_oneof![
+                0x580u32..0x590, 0x600u32..0x610, 0x80u32..0x90, 0x700u32..0x710, 0u32..2, 0u32..0x800,
+            ],
+            proptest::prop_oneof![
+                proptest::collection::vec(proptest::prelude::any::<u8>(), 0..=8),
+                // Initiates and segments of the node's objects: a 64-bit count, text, a block.
+                (
+                    proptest::sample::select(vec![0x40u8, 0x41, 0x21, 0x00, 0x10, 0x1D, 0x17, 0x60, 0x23, 0x43, 0x80]),
+                    proptest::sample::select(vec![[0x07u8, 0x21], [0x08, 0x21], [0x08, 0x10], [0x06, 0x21], [0x00, 0x2F]]),
+                    proptest::collection::vec(proptest::prelude::any::<u8>(), 5),
+                )
+                    .prop_map(|(command, index, rest)| [&[command][..], &index, &rest].concat()),
+            ],
+        ),
+        0..120,
+    )) {
+        let mut e = node_explainer();
+        for (id, data) in frames {
+            let Some(frame) = CanFrame::new(id, &data) else { continue };
+            let raw = frame.to_bytes();
+            let _ = e.summary(Direction::Received, &raw);
+            let _ = e.explain(&raw);
+            let _ = e.json(&raw);
+        }
+    }
 }
