@@ -1,8 +1,8 @@
 //! `--sim` settings refused before anything runs when no simulated drive of the run would
 //! act on them: any of them on a run that talks to no simulated drive (a port, a TCP
 //! server, a CAN bus, a replayed capture, each named drive on a line of its own), and
-//! `emergency-at` where no simulated drive's family sends an emergency message. Reads the families' facts only; opens nothing. `run` and
-//! `check` ask the same ([`sim_checked`]).
+//! `emergency-at` where no simulated drive's family sends an emergency message. Reads the
+//! families' facts only; opens nothing. `run` and `check` ask the same ([`sim_checked`]).
 
 use super::drive_set::{connection_of, dictionary_of};
 use super::{ConnectionArgs, LoadedPlan, RunError};
