@@ -2,6 +2,7 @@
 //! store. Parses and prints; the store and its pages are the library's (`results`).
 
 use super::text_table::table_lines;
+use crate::report::visible;
 use crate::results::{export, utc_text, Locator, RunFilter, Spool, Store, StoreError, RESULTS_ENV};
 use crate::run::{COMMUNICATION, FAILED, INVALID, PASSED};
 use clap::{Args, Subcommand};
@@ -192,7 +193,10 @@ fn command(command: &ResultsCommand, locator: &Locator) -> Result<i32, StoreErro
     }
     let mut store = locator.open(false)?;
     match command {
-        ResultsCommand::List { filter, json } => list(&mut store, &filter.filter(Some(50)), *json),
+        ResultsCommand::List { filter, json } => {
+            let spool = Spool::new(locator.spool_path());
+            list(&mut store, &filter.filter(Some(50)), *json, &spool)
+        }
         ResultsCommand::Show { run, json } => show(&mut store, run, *json),
         ResultsCommand::Report {
             run,
@@ -310,11 +314,34 @@ fn written(path: Option<&Path>, text: &str) -> Result<i32, StoreError> {
     }
 }
 
-fn list(store: &mut Store, filter: &RunFilter, json: bool) -> Result<i32, StoreError> {
+/// The runs of `filter`, those with records still in this bench's `spool` marked
+/// unsynced (not yet, or not wholly, in the store).
+fn list(store: &mut Store, filter: &RunFilter, json: bool, spool: &Spool) -> Result<i32, StoreError> {
     let runs = store.list(filter)?;
+    let unsynced = spool.runs();
+    let waiting = (!unsynced.is_empty()).then(|| {
+        format!(
+            "{} run(s) kept on this bench, not yet in {} — `drivescript results sync` delivers them (kept in {})",
+            unsynced.len(),
+            store.name(),
+            spool.path().display()
+        )
+    });
     if json {
-        let list: Vec<serde_json::Value> = runs.iter().map(export::run_json).collect();
+        let list: Vec<serde_json::Value> = runs
+            .iter()
+            .map(|r| {
+                let mut v = export::run_json(r);
+                if let Some(o) = v.as_object_mut() {
+                    o.insert("unsynced".into(), unsynced.contains(&r.run.id).into());
+                }
+                v
+            })
+            .collect();
         println!("{}", serde_json::to_string_pretty(&list).unwrap_or_default());
+        if let Some(w) = waiting {
+            eprintln!("{w}");
+        }
         return Ok(PASSED);
     }
     let rows: Vec<Vec<String>> = runs
@@ -323,7 +350,11 @@ fn list(store: &mut Store, filter: &RunFilter, json: bool) -> Result<i32, StoreE
             vec![
                 r.run.id.clone(),
                 r.run.started_at.clone(),
-                r.verdict().to_uppercase(),
+                if unsynced.contains(&r.run.id) {
+                    format!("{} (unsynced)", r.verdict().to_uppercase())
+                } else {
+                    r.verdict().to_uppercase()
+                },
                 r.run.recipe.clone(),
                 r.run.unit.serial.clone().unwrap_or_default(),
                 r.run.unit.station.clone().unwrap_or_default(),
@@ -349,6 +380,9 @@ fn list(store: &mut Store, filter: &RunFilter, json: bool) -> Result<i32, StoreE
     ) {
         println!("{line}");
     }
+    if let Some(w) = waiting {
+        println!("{w}");
+    }
     if runs.is_empty() {
         println!(
             "no runs{} in {}",
@@ -364,22 +398,27 @@ fn list(store: &mut Store, filter: &RunFilter, json: bool) -> Result<i32, StoreE
 }
 
 fn show(store: &mut Store, id: &str, json: bool) -> Result<i32, StoreError> {
+    // What a run holds came from outside (serial numbers, answers, a drive's replies): it
+    // never acts on the terminal.
+    macro_rules! shown {
+        ($($t:tt)*) => { println!("{}", visible(&format!($($t)*))) };
+    }
     let r = store.run(id)?;
     if json {
-        println!(
+        shown!(
             "{}",
             serde_json::to_string_pretty(&export::run_json(&r)).unwrap_or_default()
         );
         return Ok(PASSED);
     }
-    println!("run      {}", r.run.id);
-    println!(
+    shown!("run      {}", r.run.id);
+    shown!(
         "recipe   {} ({}, sha256 {})",
         r.run.recipe,
         r.run.recipe_path,
         r.run.recipe_sha256.as_deref().unwrap_or("not read")
     );
-    println!(
+    shown!(
         "drive    {}{}",
         r.run.drive,
         if r.run.simulated { " (simulated)" } else { "" }
@@ -392,16 +431,16 @@ fn show(store: &mut Store, id: &str, json: bool) -> Result<i32, StoreError> {
         ("station", &unit.station),
     ] {
         if let Some(v) = value {
-            println!("{name:<8} {v}");
+            shown!("{name:<8} {v}");
         }
     }
     if !r.run.params.is_empty() {
         let p: Vec<String> = r.run.params.iter().map(|(n, v)| format!("{n} = {v}")).collect();
-        println!("params   {}", p.join(", "));
+        shown!("params   {}", p.join(", "));
     }
-    println!("started  {}", r.run.started_at);
+    shown!("started  {}", r.run.started_at);
     for s in &r.steps {
-        println!(
+        shown!(
             "  {:>6}  {}  {}  {}",
             s.step,
             if s.ok { "ok  " } else { "FAIL" },
@@ -410,7 +449,7 @@ fn show(store: &mut Store, id: &str, json: bool) -> Result<i32, StoreError> {
         );
     }
     for c in &r.checks {
-        println!(
+        shown!(
             "        {}  {}: {}",
             match (c.passed, c.marginal) {
                 (true, false) => "PASS",
@@ -421,7 +460,7 @@ fn show(store: &mut Store, id: &str, json: bool) -> Result<i32, StoreError> {
             c.message
         );
         if let (Some(run), Some(value)) = (&c.reference_run, c.reference_value) {
-            println!(
+            shown!(
                 "                  reference: run {run} of {}, measured {}",
                 c.reference_at.as_deref().unwrap_or("an unknown time"),
                 crate::session::number(value)
@@ -435,7 +474,7 @@ fn show(store: &mut Store, id: &str, json: bool) -> Result<i32, StoreError> {
                     .final_speed
                     .map(|v| format!(" at {}", crate::session::with_unit(v, e.speed_unit.as_deref())))
                     .unwrap_or_default();
-                println!(
+                shown!(
                     "drive left in {state}{speed}{}",
                     if e.stop_confirmed {
                         ""
@@ -444,17 +483,17 @@ fn show(store: &mut Store, id: &str, json: bool) -> Result<i32, StoreError> {
                     }
                 );
             }
-            println!(
+            shown!(
                 "ended    {} — {} (exit code {})",
                 e.ended_at,
                 e.verdict.to_uppercase(),
                 e.exit_code
             );
             if let Some(reason) = &e.reason {
-                println!("reason   {reason}");
+                shown!("reason   {reason}");
             }
         }
-        None => println!("INCOMPLETE — the run never finished (killed, power cut, or still running)"),
+        None => shown!("INCOMPLETE — the run never finished (killed, power cut, or still running)"),
     }
     Ok(PASSED)
 }

@@ -5,6 +5,12 @@
 /// The lines of a table: the header, then each row; cells are separated by two spaces
 /// and the last column is not padded.
 pub fn table_lines(header: &[&str], rows: &[Vec<String>]) -> Vec<String> {
+    // A cell from outside (a serial number, an answer) stays on its line and never acts
+    // on the terminal.
+    let rows: Vec<Vec<String>> = rows
+        .iter()
+        .map(|r| r.iter().map(|c| crate::report::visible_inline(c).into_owned()).collect())
+        .collect();
     let width = |i: usize| {
         rows.iter()
             .filter_map(|r| r.get(i))

@@ -78,6 +78,8 @@ impl<W: Write> ConsoleReporter<W> {
     }
 
     fn line(&mut self, text: &str) {
+        // A serial number or an answer never acts on the terminal.
+        let text = &*super::visible(text);
         if self.color {
             self.pending.extend_from_slice(super::paint(text).as_bytes());
         } else {

@@ -118,6 +118,8 @@ impl<W: Write> ProgressReporter<W> {
 
     /// A permanent line above the live one.
     fn line(&mut self, text: &str) {
+        // A serial number or an answer never acts on the terminal.
+        let text = &*super::visible(text);
         let painted;
         let text = if self.color {
             painted = super::paint(text);

@@ -94,6 +94,19 @@ pub trait Backend: Send {
     /// Begins the transaction that applies migrations, holding off every other process
     /// that opens the store at the same moment.
     fn begin_exclusive(&mut self) -> Result<(), StoreError>;
+    /// Begins the transaction that writes a batch of records (the writer's, a run's
+    /// delivery from the spool).
+    fn begin_write(&mut self) -> Result<(), StoreError> {
+        self.batch("BEGIN")
+    }
+    /// Settings for a database known to be a store (never for one that may be another
+    /// application's: those are left untouched).
+    fn settle(&mut self) -> Result<(), StoreError> {
+        Ok(())
+    }
+    /// Moves what is committed into the database's own file where a database keeps it
+    /// elsewhere first (SQLite's write-ahead log), so that file alone holds every run.
+    fn checkpoint(&mut self) {}
     /// The store as users name it, without a password.
     fn name(&self) -> &str;
 }

@@ -1,6 +1,7 @@
 //! Stored runs as files other tools read: JSON (each run with its end and checks), CSV
 //! (one row per check, with the run's unit and verdict) and JUnit XML (a suite per run, a
-//! case per check). Text only; the command line writes it where asked.
+//! case per check). Text only; the command line writes it where asked. A CSV field shows
+//! control characters as escapes (a spreadsheet or a terminal never acts on them).
 
 use super::StoredRun;
 use crate::report::XmlWriter;
@@ -69,7 +70,7 @@ pub fn csv(runs: &[StoredRun]) -> String {
         if r.checks.is_empty() {
             let mut row = run.to_vec();
             row.resize(CSV_COLUMNS.len(), String::new());
-            let _ = w.write_record(&row);
+            let _ = w.write_record(row.iter().map(|f| crate::report::visible(f).into_owned()));
         }
         for c in &r.checks {
             let mut row = run.to_vec();
@@ -86,7 +87,7 @@ pub fn csv(runs: &[StoredRun]) -> String {
                 c.attempt.to_string(),
                 c.key.clone().unwrap_or_else(|| c.name.clone()),
             ]);
-            let _ = w.write_record(&row);
+            let _ = w.write_record(row.iter().map(|f| crate::report::visible(f).into_owned()));
         }
     }
     w.into_inner()

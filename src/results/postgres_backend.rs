@@ -204,10 +204,54 @@ fn params(values: &[Value], types: &[Type]) -> Vec<Box<dyn ToSql + Sync>> {
                 Value::Int(i) => Box::new(*i),
                 Value::Real(r) if int => Box::new(*r as i64),
                 Value::Real(r) => Box::new(*r),
-                Value::Text(s) => Box::new(s.clone()),
+                Value::Text(s) => Box::new(held(s)),
             }
         })
         .collect()
+}
+
+/// Marks what PostgreSQL's text cannot hold: a NUL (an answer, a serial number read from
+/// a drive) is stored as `MARK 0` and the mark itself as `MARK MARK`, so a record with
+/// one is stored, read back exactly, and never refused for ever (a spooled run behind it
+/// would wait for ever too). The mark is a noncharacter, which no text means to hold.
+const MARK: char = '\u{FFFF}';
+
+fn held(s: &str) -> String {
+    if !s.contains(['\0', MARK]) {
+        return s.to_string();
+    }
+    let mut out = String::with_capacity(s.len() + 8);
+    for c in s.chars() {
+        match c {
+            '\0' => out.extend([MARK, '0']),
+            MARK => out.extend([MARK, MARK]),
+            c => out.push(c),
+        }
+    }
+    out
+}
+
+/// The text [`held`] stored, as it was given.
+fn unheld(s: String) -> String {
+    if !s.contains(MARK) {
+        return s;
+    }
+    let mut out = String::with_capacity(s.len());
+    let mut chars = s.chars().peekable();
+    while let Some(c) = chars.next() {
+        match (c, chars.peek()) {
+            (MARK, Some('0')) => {
+                chars.next();
+                out.push('\0');
+            }
+            (MARK, Some(&MARK)) => {
+                chars.next();
+                out.push(MARK);
+            }
+            (c, _) => out.push(c),
+        }
+    }
+    out
 }
 
 impl PostgresBackend {
@@ -259,7 +303,7 @@ impl Backend for PostgresBackend {
                             row.try_get::<_, Option<String>>(i)
                                 .ok()
                                 .flatten()
-                                .map(Value::Text)
+                                .map(|t| Value::Text(unheld(t)))
                         };
                         got.unwrap_or(Value::Null)
                     })
@@ -284,5 +328,20 @@ impl Backend for PostgresBackend {
 
     fn name(&self) -> &str {
         &self.name
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn text_postgresql_cannot_hold_is_marked_and_read_back_exactly() {
+        for text in ["plain", "a\0b", "\0", "mark \u{FFFF} here", "\u{FFFF}0", "\0\u{FFFF}\u{FFFF}0\0"] {
+            let stored = held(text);
+            assert!(!stored.contains('\0'), "{stored:?}");
+            assert_eq!(unheld(stored), text);
+        }
+        assert_eq!(held("plain"), "plain");
     }
 }

@@ -1,9 +1,12 @@
 //! The run observer that records a run in the store as it goes: the run at its start, the
 //! unit's identity when known, each step and check as decided, and the end (verdict, the
 //! safe stop's verified end state, the plot series) — after the safe stop, never on its
-//! path. The session only puts records into a bounded queue; a thread of its own writes
-//! them, so a slow, locked or dead store never holds up a step or a stop. What the store
-//! does not take goes to the spool file, delivered by the next run or `results sync`.
+//! path. The session only hands records to a bounded queue without waiting: what the
+//! queue has no room for waits, in order, in the run's own list until there is room, so a
+//! slow, locked or dead store never holds up a step or a stop and no record is dropped or
+//! overtaken. The end of the run waits (bounded) for the writer; what the store has not
+//! committed by then goes whole to the spool, delivered by the next run or `results sync`,
+//! and the run says where its record is.
 
 use super::record::{CheckRow, EndRow, Record, RunRow, SeriesRow, StepRow, UnitRow};
 use super::results_writer::{Job, Writer};
@@ -17,7 +20,7 @@ use std::sync::mpsc::{sync_channel, RecvTimeoutError, SyncSender, TrySendError};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant, SystemTime};
 
-/// Records waiting for the writer at most; past that they go straight to the spool.
+/// Records waiting for the writer at most; past that they wait in the run's list.
 const QUEUE: usize = 4096;
 /// How long the end of a run waits for the writer to catch up (the drive is stopped by
 /// then); a store slower than that finds the rest in the spool next time.
@@ -71,11 +74,12 @@ struct CurrentRun {
     steps: Kept,
     checks: Kept,
     attempts: HashMap<(String, String), i64>,
-    /// Every record of the run handed to the writer (bounded as the report's records
-    /// are): spooled whole when the writer has not taken them all by the end, so records
-    /// still in the queue of a stuck writer are not lost with the process. Replaying one
-    /// twice changes nothing.
+    /// Every record of the run (bounded as the report's records are): spooled whole when
+    /// the writer has not taken them all by the end, so records still in the queue of a
+    /// stuck writer are not lost with the process. Replaying one twice changes nothing.
     sent: Vec<Record>,
+    /// How many of `sent` are in the writer's queue; the rest wait for room, in order.
+    handed: usize,
 }
 
 /// Records of one kind kept for a run, as the run report keeps them: every failure, and
@@ -134,43 +138,72 @@ impl ResultsRecorder {
         self
     }
 
+    /// Hands `record` and those waiting before it to the writer, as many as the queue has
+    /// room for; never waits.
     fn send(&mut self, record: Record) {
-        if let Some(run) = self.run.as_mut() {
-            run.sent.push(record.clone());
-        }
-        match self.jobs.try_send(Job::Record(Box::new(record))) {
-            Ok(()) => {}
-            Err(TrySendError::Full(Job::Record(r)) | TrySendError::Disconnected(Job::Record(r))) => {
-                if let Err(e) = self.spool.append(std::slice::from_ref(&r)) {
-                    note(
-                        &self.notes,
-                        &format!("results: a record of run {} is lost: {e}", r.run()),
-                    );
-                }
+        let Some(run) = self.run.as_mut() else { return };
+        run.sent.push(record);
+        while run.handed < run.sent.len() {
+            let job = Job::Record(Box::new(run.sent[run.handed].clone()));
+            match self.jobs.try_send(job) {
+                Ok(()) => run.handed += 1,
+                // The writer catches up later; the run's end waits for it.
+                Err(TrySendError::Full(_)) => return,
+                // No writer (it could not start): the run's end spools the whole run.
+                Err(TrySendError::Disconnected(_)) => return,
             }
-            Err(_) => {}
         }
     }
 
-    /// Waits (at most [`FINISH_WAIT`], and only until a stop signal comes) until the
-    /// writer has handled everything sent. A full queue means the writer is stuck: waiting
-    /// for room would hold up the end of the run for as long as the store hangs.
-    fn flushed(&self) -> bool {
-        let (ack, done) = sync_channel(1);
-        if self.jobs.try_send(Job::Flush(ack)).is_err() {
-            return false;
-        }
-        let signals = || self.stop.as_ref().map_or(0, |s| s.count_at(Duration::ZERO));
-        let before = signals();
+    /// Whether a stop signal came since `before` signals: the end of the run stops
+    /// waiting for the store then.
+    fn signals(&self) -> usize {
+        self.stop.as_ref().map_or(0, |s| s.count_at(Duration::ZERO))
+    }
+
+    /// Hands the rest of `run` to the writer and waits (at most [`FINISH_WAIT`], and only
+    /// until a stop signal comes) until the writer has handled all of it: whether the
+    /// store committed the whole run, `None` when the writer did not answer in time.
+    fn flushed(&self, run: &mut CurrentRun) -> Option<bool> {
+        let before = self.signals();
         let started = Instant::now();
+        let waited_enough = || started.elapsed() >= FINISH_WAIT || self.signals() > before;
+        let (ack, done) = sync_channel(1);
+        let mut flush = Some(Job::Flush(run.id.clone(), ack));
+        loop {
+            let job = match run.sent.get(run.handed) {
+                Some(r) => Job::Record(Box::new(r.clone())),
+                None => match flush.take() {
+                    Some(f) => f,
+                    None => break,
+                },
+            };
+            match self.jobs.try_send(job) {
+                Ok(()) => {
+                    if run.handed < run.sent.len() {
+                        run.handed += 1;
+                    }
+                }
+                Err(TrySendError::Full(job)) => {
+                    if let Job::Flush(..) = job {
+                        flush = Some(job);
+                    }
+                    if waited_enough() {
+                        return None;
+                    }
+                    std::thread::sleep(Duration::from_millis(2));
+                }
+                Err(TrySendError::Disconnected(_)) => return None,
+            }
+        }
         loop {
             match done.recv_timeout(Duration::from_millis(50)) {
-                Ok(()) => return true,
-                Err(RecvTimeoutError::Disconnected) => return false,
+                Ok(stored) => return Some(stored),
+                Err(RecvTimeoutError::Disconnected) => return None,
                 Err(RecvTimeoutError::Timeout) => {}
             }
-            if started.elapsed() >= FINISH_WAIT || signals() > before {
-                return false;
+            if waited_enough() {
+                return None;
             }
         }
     }
@@ -259,33 +292,48 @@ impl ResultsRecorder {
     }
 
     /// Hands the run's end to the writer and waits (bounded) until the store has the
-    /// whole run, else spools all of it.
+    /// whole run, else spools all of it; says where the run's record is — "recorded"
+    /// only once the store committed it, and a run kept on this bench even with `--quiet`.
     fn finish(&mut self, mut run: CurrentRun, end: EndRow) {
-        run.sent.push(Record::Finished(end.clone()));
-        self.send(Record::Finished(end));
-        if !self.flushed() {
-            let kept = match self.spool.append(&run.sent) {
-                Ok(()) => format!(
-                    "run {} is kept in {} and delivered by the next run or `drivescript results sync`",
-                    run.id,
-                    self.spool.path().display()
-                ),
-                Err(e) => format!("what of run {} it has not taken is lost: {e}", run.id),
-            };
+        run.sent.push(Record::Finished(end));
+        let flushed = self.flushed(&mut run);
+        if flushed == Some(true) {
+            if !self.settings.quiet {
+                note(
+                    &self.notes,
+                    &format!("results: run {} recorded in {}", run.id, self.store_name),
+                );
+            }
+            return;
+        }
+        let lost = match flushed {
+            // The writer spooled what the store did not commit.
+            Some(_) => None,
+            None => self.spool.append(&run.sent).err(),
+        };
+        if flushed.is_none() {
             note(
                 &self.notes,
                 &format!(
-                    "results: {} had not taken the whole run when it ended (it did not answer within {} s, or a stop signal came); {kept}",
+                    "results: {} had not taken the whole run when it ended (it did not answer within {} s, or a stop signal came)",
                     self.store_name,
                     FINISH_WAIT.as_secs(),
                 ),
             );
-        } else if !self.settings.quiet {
-            note(
-                &self.notes,
-                &format!("results: run {} recorded in {}", run.id, self.store_name),
-            );
         }
+        let said = match lost {
+            None => format!(
+                "results: run {} is kept on this bench, not yet in {} — `drivescript results sync` delivers it (kept in {})",
+                run.id,
+                self.store_name,
+                self.spool.path().display()
+            ),
+            Some(e) => format!(
+                "results: what of run {} {} has not taken is lost: {e}",
+                run.id, self.store_name
+            ),
+        };
+        note(&self.notes, &said);
     }
 }
 

@@ -73,8 +73,11 @@ pub fn current_version() -> i64 {
 
 /// Brings the store behind `backend` to the current version, or says why it cannot.
 pub fn migrate(backend: &mut dyn Backend) -> Result<(), StoreError> {
-    if version(backend)? == Some(current_version()) {
-        return Ok(());
+    match version(backend)? {
+        Some(v) if v == current_version() => return Ok(()),
+        // Refused before any lock or write: another application's file stays untouched.
+        None => refuse_foreign(backend)?,
+        Some(_) => {}
     }
     backend.begin_exclusive()?;
     let result = migrate_locked(backend);
@@ -91,13 +94,7 @@ fn migrate_locked(backend: &mut dyn Backend) -> Result<(), StoreError> {
     let found = match version(backend)? {
         Some(v) => v,
         None => {
-            let tables = backend.tables()?;
-            if !tables.is_empty() {
-                return Err(StoreError::Foreign {
-                    store: backend.name().to_string(),
-                    why: format!("it holds other tables ({})", tables.join(", ")),
-                });
-            }
+            refuse_foreign(backend)?;
             0
         }
     };
@@ -129,6 +126,18 @@ fn migrate_locked(backend: &mut dyn Backend) -> Result<(), StoreError> {
         &[current_version().to_string().into()],
     )?;
     Ok(())
+}
+
+/// A database without a store that holds tables is another application's.
+fn refuse_foreign(backend: &mut dyn Backend) -> Result<(), StoreError> {
+    let tables = backend.tables()?;
+    if tables.is_empty() {
+        return Ok(());
+    }
+    Err(StoreError::Foreign {
+        store: backend.name().to_string(),
+        why: format!("it holds other tables ({})", tables.join(", ")),
+    })
 }
 
 /// Gives the checks stored without a key the key their name shows (`current_actual max

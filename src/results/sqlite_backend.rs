@@ -31,7 +31,17 @@ impl SqliteBackend {
                 std::fs::create_dir_all(dir)
                     .map_err(|e| unreachable(format!("cannot create {}: {e}", dir.display())))?;
             }
-        } else if !path.is_file() {
+        }
+        if path.is_dir() {
+            return Err(StoreError::Foreign {
+                store: name.clone(),
+                why: format!(
+                    "it is a directory; name the store's file, such as {}",
+                    path.join("results.sqlite").display()
+                ),
+            });
+        }
+        if !create && !path.is_file() {
             return Err(StoreError::NotFound(format!(
                 "there is no results store at {name} (no run has been recorded there yet)"
             )));
@@ -47,12 +57,10 @@ impl SqliteBackend {
             .busy_timeout(BUSY_TIMEOUT)
             .map_err(|e| backend.error(e))?;
         // The first read tells a damaged or foreign file (SQLite says "file is not a
-        // database") from a store.
+        // database") from a store; the journal mode is set only once the schema says the
+        // file is a store ([`Backend::settle`]), so another application's file is left
+        // as it was.
         backend.tables()?;
-        // WAL: concurrent writers from several processes, readers never blocked; NORMAL
-        // keeps every commit across a process kill (only a power cut may lose the last).
-        let _ = backend.connection.pragma_update(None, "journal_mode", "WAL");
-        let _ = backend.connection.pragma_update(None, "synchronous", "NORMAL");
         Ok(backend)
     }
 
@@ -165,6 +173,28 @@ impl Backend for SqliteBackend {
 
     fn begin_exclusive(&mut self) -> Result<(), StoreError> {
         self.batch("BEGIN IMMEDIATE")
+    }
+
+    /// IMMEDIATE: the write lock at once, so two writers wait for each other (busy
+    /// timeout) instead of one failing when its read turns into a write.
+    fn begin_write(&mut self) -> Result<(), StoreError> {
+        self.batch("BEGIN IMMEDIATE")
+    }
+
+    /// WAL: concurrent writers from several processes, readers never blocked; NORMAL
+    /// keeps every commit across a process kill (only a power cut may lose the last).
+    fn settle(&mut self) -> Result<(), StoreError> {
+        let _ = self.connection.pragma_update(None, "journal_mode", "WAL");
+        let _ = self.connection.pragma_update(None, "synchronous", "NORMAL");
+        Ok(())
+    }
+
+    /// PASSIVE: copies what it can without waiting for other processes' readers or
+    /// writers; the next run's checkpoint copies the rest.
+    fn checkpoint(&mut self) {
+        let _ = self
+            .connection
+            .query_row("PRAGMA wal_checkpoint(PASSIVE)", [], |_| Ok(()));
     }
 
     fn name(&self) -> &str {

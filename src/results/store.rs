@@ -1,5 +1,6 @@
-//! The results store over one backend: applies records (each on its own, so whatever was
-//! written before a kill stays; replaying a record changes nothing) and answers the
+//! The results store over one backend: applies records (in batches, each one
+//! transaction, so a kill keeps whole batches and never a step without its run; replaying
+//! a record changes nothing) and answers the
 //! queries of `results`. Every value travels as a parameter, never inside the SQL.
 
 use super::backend::{Backend, Value};
@@ -21,6 +22,7 @@ impl Store {
     /// The store behind `backend`, its schema brought up to date.
     pub fn new(mut backend: Box<dyn Backend>) -> Result<Store, StoreError> {
         schema::migrate(backend.as_mut())?;
+        backend.settle()?;
         Ok(Store { backend })
     }
 
@@ -168,14 +170,24 @@ impl Store {
 
     /// Writes `records` in one transaction: all of them or none.
     pub fn apply_all(&mut self, records: &[Record]) -> Result<(), StoreError> {
-        self.backend.begin_exclusive()?;
+        self.backend.begin_write()?;
         for r in records {
             if let Err(e) = self.apply(r) {
                 let _ = self.backend.batch("ROLLBACK");
                 return Err(e);
             }
         }
-        self.backend.batch("COMMIT")
+        if let Err(e) = self.backend.batch("COMMIT") {
+            let _ = self.backend.batch("ROLLBACK");
+            return Err(e);
+        }
+        Ok(())
+    }
+
+    /// Moves what is committed into the store's own file (SQLite), so that file alone
+    /// holds every finished run; a server keeps it anyway.
+    pub fn checkpoint(&mut self) {
+        self.backend.checkpoint();
     }
 
     /// The runs `filter` takes, newest first.
