@@ -38,6 +38,7 @@ mod recipe_cases;
 mod recipe_schema;
 mod replay;
 mod reports;
+mod results_integrity;
 mod results_store;
 mod run_pipeline;
 mod safety;

@@ -1,0 +1,405 @@
+//! A record is where the run says it is, and none is lost or stranded: a claim on the
+//! spool left by a killed delivery is taken back, a queue without room keeps records in
+//! order instead of splitting a run between the store and the spool, a NUL in an answer
+//! is stored (PostgreSQL too) and holds up no other run, another application's SQLite
+//! file is left untouched, a directory is no store, control characters never reach the
+//! terminal or the CSV raw, "recorded in" only after the store committed, and the SQLite
+//! file alone holds every finished run. On SQLite and on a real PostgreSQL server.
+
+use crate::support::{
+    assert_has, assert_lacks, cli, command, scratch, write_file, PostgresServer, Ran,
+};
+use drivescript::results::{Locator, RunFilter, StoredRun};
+use std::path::{Path, PathBuf};
+
+/// The smallest recipe with a check.
+const TINY: &str = "name: Tiny
+drive: sd2
+steps:
+  - expect: { bus_voltage: { above: 100 V } }
+";
+
+/// A run of 6 006 steps and a check: more records than the recorder's queue holds.
+pub const HEAVY: &str = "name: Heavy
+drive: sd2
+steps:
+  - repeat:
+      times: 6000
+      steps:
+        - print: \"pass\"
+  - expect: { bus_voltage: { above: 100 V } }
+";
+
+/// Every run in `store`, simulated ones too, in detail.
+pub fn stored_runs(store: &str) -> Vec<StoredRun> {
+    let mut s = Locator::parse(store).open(false).expect("the store opens");
+    let every = RunFilter {
+        simulated: true,
+        ..RunFilter::default()
+    };
+    let runs = s.list(&every).expect("list");
+    runs.iter().map(|r| s.run(&r.run.id).expect("the run")).collect()
+}
+
+/// `drivescript run RECIPE --fast ARGS --results STORE` with `data` as the data
+/// directory (where a server's spool is), ending with `code`.
+#[track_caller]
+fn run_into(recipe: &Path, store: &str, data: &Path, args: &[&str], code: i32) -> Ran {
+    let out = command()
+        .env("XDG_DATA_HOME", data)
+        .arg("run")
+        .arg(recipe)
+        .args(["--fast", "--results", store])
+        .args(args)
+        .output()
+        .expect("runs");
+    let ran = Ran {
+        stdout: String::from_utf8_lossy(&out.stdout).into_owned(),
+        stderr: String::from_utf8_lossy(&out.stderr).into_owned(),
+    };
+    assert_eq!(out.status.code(), Some(code), "{}{}", ran.stdout, ran.stderr);
+    ran
+}
+
+/// `drivescript results ARGS --results STORE` with `data` as the data directory.
+#[track_caller]
+fn results_cmd(args: &[&str], store: &str, data: &Path, code: i32) -> Ran {
+    let out = command()
+        .env("XDG_DATA_HOME", data)
+        .arg("results")
+        .args(args)
+        .args(["--results", store])
+        .output()
+        .expect("runs");
+    let ran = Ran {
+        stdout: String::from_utf8_lossy(&out.stdout).into_owned(),
+        stderr: String::from_utf8_lossy(&out.stderr).into_owned(),
+    };
+    assert_eq!(out.status.code(), Some(code), "{}{}", ran.stdout, ran.stderr);
+    ran
+}
+
+/// The id of a process that has ended.
+pub fn dead_pid() -> u32 {
+    let mut child = std::process::Command::new("true").spawn().expect("true runs");
+    let pid = child.id();
+    child.wait().expect("ends");
+    pid
+}
+
+/// The spool file and every claim on it in `dir`.
+pub fn spool_files(dir: &Path) -> Vec<PathBuf> {
+    let mut files: Vec<PathBuf> = std::fs::read_dir(dir)
+        .into_iter()
+        .flatten()
+        .flatten()
+        .map(|e| e.path())
+        .filter(|p| {
+            let name = p.file_name().unwrap_or_default().to_string_lossy().into_owned();
+            name.ends_with(".spool") || name.contains(".spool.sending-")
+        })
+        .collect();
+    files.sort();
+    files
+}
+
+/// The spool of the PostgreSQL store `url` in the data directory `data`.
+fn server_spool(data: &Path, url: &str) -> PathBuf {
+    let dir = data.join("drivescript");
+    let spool = Locator::parse(url).spool_path();
+    dir.join(spool.file_name().expect("a file name"))
+}
+
+/// A spool whose delivery was killed (`FILE.sending-PID` of a process that is gone) is
+/// delivered by the next sync — before, every later sync said "nothing to deliver" and
+/// the run never reached the store; a claim of a process still delivering is left to it.
+fn a_stale_claim_is_taken_back(store: &str, spool: &Path, data: &Path, offline: &dyn Fn(bool)) {
+    let dir = spool.parent().expect("the spool's folder").to_path_buf();
+    let recipe = write_file(&dir, "tiny.yaml", TINY);
+    offline(true);
+    let ran = run_into(&recipe, store, data, &["--quiet", "--unit", "serial=STALE-1"], 0);
+    assert_has(&ran.stderr, &["kept on this bench, not yet in", "drivescript results sync"]);
+    assert_lacks(&ran.stderr, &["recorded in"]);
+    offline(false);
+    assert!(spool.is_file(), "{}", ran.stderr);
+    let mut claim = spool.as_os_str().to_os_string();
+    claim.push(format!(".sending-{}", dead_pid()));
+    std::fs::rename(spool, &claim).expect("a claim of a killed delivery");
+    // Another delivery's claim, of a process alive (this one): left to it.
+    let mut live = spool.as_os_str().to_os_string();
+    live.push(format!(".sending-{}", std::process::id()));
+    std::fs::write(&live, "").expect("a live claim");
+    let listed = results_cmd(&["list", "--simulated"], store, data, 0);
+    assert_has(&listed.stdout, &["1 run(s) kept on this bench, not yet in"]);
+    let synced = results_cmd(&["sync"], store, data, 0);
+    assert_has(&synced.stdout, &["delivered", "of 1 run(s)"]);
+    assert!(!Path::new(&claim).exists());
+    assert!(Path::new(&live).exists(), "another process's claim is its own");
+    std::fs::remove_file(&live).expect("removed");
+    let runs = stored_runs(store);
+    let run = runs
+        .iter()
+        .find(|r| r.run.unit.serial.as_deref() == Some("STALE-1"))
+        .expect("the spooled run reached the store");
+    assert_eq!((run.verdict(), run.checks.len()), ("passed", 1));
+    let again = results_cmd(&["sync"], store, data, 0);
+    assert_has(&again.stdout, &["nothing to deliver"]);
+}
+
+#[test]
+fn a_stale_spool_claim_is_taken_back_by_the_next_sync_in_sqlite() {
+    let dir = scratch("stale-claim");
+    let store = dir.join("results.sqlite");
+    let s = store.to_str().unwrap();
+    // A first run makes the store; a directory in its place makes the next spool.
+    cli(&["run", write_file(&dir, "t.yaml", TINY).to_str().unwrap(), "--fast", "--results", s], 0);
+    let aside = dir.join("aside");
+    std::fs::create_dir_all(&aside).expect("aside");
+    let offline = |off: bool| take_offline(&store, &aside, off);
+    a_stale_claim_is_taken_back(s, &dir.join("results.sqlite.spool"), &dir, &offline);
+}
+
+/// Puts the SQLite store `store` (its file and write-ahead log) aside with a directory in
+/// its place (`off`), so that a run cannot record in it, or back.
+pub fn take_offline(store: &Path, aside: &Path, off: bool) {
+    let name = store.file_name().expect("a file").to_string_lossy().into_owned();
+    let parts = ["", "-wal", "-shm"];
+    if off {
+        for part in parts {
+            let from = store.with_file_name(format!("{name}{part}"));
+            if from.exists() {
+                std::fs::rename(&from, aside.join(format!("{name}{part}"))).expect("aside");
+            }
+        }
+        std::fs::create_dir(store).expect("a directory in its place");
+    } else {
+        std::fs::remove_dir(store).expect("the directory removed");
+        for part in parts {
+            let from = aside.join(format!("{name}{part}"));
+            if from.exists() {
+                std::fs::rename(&from, store.with_file_name(format!("{name}{part}"))).expect("back");
+            }
+        }
+    }
+}
+
+/// More records than the queue holds while the store is held by another process: the
+/// run waits for the writer at its end (after the safe stop) and the store gets the whole
+/// run in order — before, the overflow went to the spool and the store showed a finished
+/// PASSED run with part of its steps.
+#[test]
+fn a_queue_without_room_keeps_every_record_in_order_and_the_store_gets_the_whole_run() {
+    let dir = scratch("overflow");
+    let recipe = write_file(&dir, "heavy.yaml", HEAVY);
+    let store = dir.join("results.sqlite");
+    let s = store.to_str().unwrap();
+    cli(&["run", write_file(&dir, "t.yaml", TINY).to_str().unwrap(), "--fast", "--results", s], 0);
+    let lock = rusqlite::Connection::open(&store).expect("open");
+    lock.execute_batch("BEGIN EXCLUSIVE").expect("lock");
+    let child = command()
+        .args(["run", recipe.to_str().unwrap(), "--fast", "--results", s])
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("runs");
+    // Held for less than the store's busy timeout (5 s): the writer waits, then writes.
+    std::thread::sleep(std::time::Duration::from_millis(2000));
+    lock.execute_batch("ROLLBACK").expect("unlock");
+    drop(lock);
+    let out = child.wait_with_output().expect("ends");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(0), "{err}");
+    assert_has(&err, &["recorded in"]);
+    assert_lacks(&err, &["spool", "lost"]);
+    assert!(!dir.join("results.sqlite.spool").exists());
+    let runs = stored_runs(s);
+    let heavy = runs.iter().find(|r| r.run.recipe == "Heavy").expect("the run");
+    assert_eq!(heavy.verdict(), "passed");
+    let end = heavy.end.as_ref().expect("ended");
+    assert_eq!(heavy.steps.len() as i64 + end.omitted_steps, 6006, "every step");
+    assert_eq!(heavy.checks.len(), 1);
+}
+
+/// The store's `.sqlite` file alone holds every finished run: a CI job that keeps only it
+/// (not the write-ahead log beside it) lists the run.
+#[test]
+fn the_sqlite_file_alone_holds_every_finished_run() {
+    let dir = scratch("checkpoint");
+    let recipe = write_file(&dir, "heavy.yaml", HEAVY);
+    let store = dir.join("results.sqlite");
+    let s = store.to_str().unwrap();
+    cli(&["run", recipe.to_str().unwrap(), "--fast", "--results", s, "--unit", "serial=KEPT-1"], 0);
+    let copy = dir.join("artifact");
+    std::fs::create_dir_all(&copy).expect("dir");
+    std::fs::copy(&store, copy.join("results.sqlite")).expect("only the file copied");
+    let c = copy.join("results.sqlite");
+    let listed = cli(&["results", "list", "--simulated", "--results", c.to_str().unwrap()], 0);
+    assert_has(&listed.stdout, &["PASSED", "Heavy", "KEPT-1"]);
+    let runs = stored_runs(c.to_str().unwrap());
+    assert_eq!(runs[0].steps.len() as i64 + runs[0].end.as_ref().unwrap().omitted_steps, 6006);
+}
+
+/// Another application's SQLite file — in the default rollback journal or in WAL mode —
+/// is refused with a clear error and left exactly as it was (before, a run switched it to
+/// WAL first); the run goes on and keeps its record on this bench.
+#[test]
+fn a_foreign_sqlite_file_is_left_untouched_with_a_clear_error() {
+    let dir = scratch("foreign-untouched");
+    let recipe = write_file(&dir, "tiny.yaml", TINY);
+    for mode in ["DELETE", "WAL"] {
+        let other = dir.join(format!("other-{mode}.sqlite"));
+        {
+            let c = rusqlite::Connection::open(&other).expect("another application's database");
+            c.query_row(&format!("PRAGMA journal_mode = {mode}"), [], |_| Ok(()))
+                .expect("journal mode");
+            c.execute_batch("CREATE TABLE invoices (id INTEGER); INSERT INTO invoices VALUES (7);")
+                .expect("its table");
+        }
+        let before = std::fs::read(&other).expect("its bytes");
+        let o = other.to_str().unwrap();
+        let ran = run_into(&recipe, o, &dir, &[], 0);
+        assert_has(
+            &ran.stderr,
+            &["is not a drivescript results store", "other tables (invoices)", "kept on this bench"],
+        );
+        let refused = cli(&["results", "list", "--results", o], 2);
+        assert_has(&refused.stderr, &["is not a drivescript results store", "other tables (invoices)"]);
+        let synced = cli(&["results", "sync", "--results", o], 2);
+        assert_has(&synced.stderr, &["is not a drivescript results store"]);
+        assert!(
+            std::fs::read(&other).expect("its bytes") == before,
+            "{mode}: the file changed"
+        );
+        let c = rusqlite::Connection::open(&other).expect("opens");
+        let journal: String = c
+            .query_row("PRAGMA journal_mode", [], |r| r.get(0))
+            .expect("journal mode");
+        assert_eq!(journal.to_uppercase(), mode);
+        let tables: i64 = c
+            .query_row("SELECT count(*) FROM sqlite_master", [], |r| r.get(0))
+            .expect("tables");
+        assert_eq!(tables, 1, "{mode}: nothing of drivescript's added");
+    }
+}
+
+/// A store path that is a directory is named as such, with what to give instead — before,
+/// `results list` said no run had been recorded there yet.
+#[test]
+fn a_store_path_that_is_a_directory_gets_a_clear_error() {
+    let dir = scratch("directory-store");
+    let folder = dir.join("results");
+    std::fs::create_dir_all(&folder).expect("a folder");
+    let f = folder.to_str().unwrap();
+    let listed = cli(&["results", "list", "--results", f], 2);
+    assert_has(&listed.stderr, &[f, "is a directory", "results.sqlite"]);
+    assert_lacks(&listed.stderr, &["no run has been recorded"]);
+    let recipe = write_file(&dir, "tiny.yaml", TINY);
+    let ran = run_into(&recipe, f, &dir, &["--quiet"], 0);
+    assert_has(&ran.stderr, &["is a directory", "kept on this bench, not yet in", "results sync"]);
+}
+
+/// ESC sequences in a serial number or an answer are shown escaped in the run's output,
+/// `results list`, `results show` and the CSV export; the store keeps them exactly.
+#[test]
+fn control_characters_are_shown_escaped_on_terminals_and_in_the_csv() {
+    let dir = scratch("control-characters");
+    let store = dir.join("results.sqlite");
+    let s = store.to_str().unwrap();
+    let recipe = write_file(&dir, "tiny.yaml", TINY);
+    let serial = "SP-\u{1b}[2J\u{1b}]0;owned\u{7}-9";
+    let ran = run_into(&recipe, s, &dir, &["--unit", &format!("serial={serial}")], 0);
+    let shown = "SP-\\x1b[2J\\x1b]0;owned\\x07-9";
+    assert_has(&ran.stdout, &[shown]);
+    let runs = stored_runs(s);
+    assert_eq!(runs[0].run.unit.serial.as_deref(), Some(serial), "stored exactly");
+    let listed = cli(&["results", "list", "--simulated", "--results", s], 0);
+    let show = cli(&["results", "show", &runs[0].run.id, "--results", s], 0);
+    let csv = cli(&["results", "export", "--simulated", "--format", "csv", "--results", s], 0);
+    for (what, text) in [
+        ("run", &ran.stdout),
+        ("list", &listed.stdout),
+        ("show", &show.stdout),
+        ("csv", &csv.stdout),
+    ] {
+        assert_has(text, &[shown]);
+        assert!(!text.contains('\u{1b}') && !text.contains('\u{7}'), "{what}: {text:?}");
+    }
+}
+
+/// The same on PostgreSQL, with one server: a NUL in an answer is stored and read back
+/// exactly (before, the server refused that record for ever and every run spooled after it
+/// stayed behind it); a stale claim is taken back; a run while the server is down says it
+/// is kept on this bench, even with `--quiet`, and never "recorded in"; the overflow of
+/// the queue reaches the server whole.
+#[test]
+fn postgresql_holds_every_record_and_says_where_it_is() {
+    let Some(server) = PostgresServer::start("postgres-integrity") else {
+        return;
+    };
+    let dir = scratch("postgres-integrity-files");
+    let url = server.url();
+    let recipe = write_file(&dir, "tiny.yaml", TINY);
+    // A NUL in the serial number: while the server is down (spooled, then a second run
+    // spooled behind it), and with the server up.
+    server.down();
+    let nul = "NUL\u{0}-1";
+    // The command line cannot carry a NUL: the answer comes from a file.
+    let answers = write_file(&dir, "answers.yaml", "serial: \"NUL\\0-1\"\n");
+    let asking = write_file(
+        &dir,
+        "asking.yaml",
+        "name: Asking\ndrive: sd2\nsteps:\n  - enter_text: { prompt: Serial, sets: serial }\n    name: serial\n  - expect: { bus_voltage: { above: 100 V } }\n",
+    );
+    let ran = run_into(&asking, &url, &dir, &["--quiet", "--answers", answers.to_str().unwrap()], 0);
+    assert_has(&ran.stderr, &["kept on this bench, not yet in postgres://drivescript@127.0.0.1"]);
+    assert_lacks(&ran.stderr, &["recorded in", "pw-s3cret"]);
+    run_into(&recipe, &url, &dir, &["--quiet", "--unit", "serial=BEHIND-1"], 0);
+    server.up();
+    let synced = results_cmd(&["sync"], &url, &dir, 0);
+    assert_has(&synced.stdout, &["of 2 run(s)"]);
+    run_into(&asking, &url, &dir, &["--answers", answers.to_str().unwrap()], 0);
+    let runs = stored_runs(&url);
+    let with_nul: Vec<&StoredRun> = runs
+        .iter()
+        .filter(|r| r.run.unit.serial.as_deref() == Some(nul))
+        .collect();
+    assert_eq!(with_nul.len(), 2, "{:?}", runs.iter().map(|r| &r.run.unit).collect::<Vec<_>>());
+    assert!(with_nul.iter().all(|r| r.verdict() == "passed"));
+    assert!(runs.iter().any(|r| r.run.unit.serial.as_deref() == Some("BEHIND-1")));
+    // Found by it too.
+    let mut s = Locator::parse(&url).open(false).expect("opens");
+    assert_eq!(s.unit_runs(nul, true).expect("the unit's runs").len(), 2);
+    drop(s);
+    // A stale claim.
+    let data = dir.join("stale");
+    std::fs::create_dir_all(data.join("drivescript")).expect("data dir");
+    let spool = server_spool(&data, &url);
+    let offline = |off: bool| if off { server.down() } else { server.up() };
+    a_stale_claim_is_taken_back(&url, &spool, &data, &offline);
+    // The queue's overflow, whole.
+    let heavy = write_file(&dir, "heavy.yaml", HEAVY);
+    let ran = run_into(&heavy, &url, &dir, &[], 0);
+    assert_has(&ran.stderr, &["recorded in postgres://"]);
+    let runs = stored_runs(&url);
+    let h = runs.iter().find(|r| r.run.recipe == "Heavy").expect("the run");
+    assert_eq!(h.steps.len() as i64 + h.end.as_ref().unwrap().omitted_steps, 6006);
+}
+
+/// A NUL in SQLite is stored and read back exactly.
+#[test]
+fn a_nul_in_an_answer_is_stored_exactly_in_sqlite() {
+    let dir = scratch("nul-sqlite");
+    let store = dir.join("results.sqlite");
+    let s = store.to_str().unwrap();
+    let answers = write_file(&dir, "answers.yaml", "serial: \"NUL\\0-1\"\n");
+    let asking = write_file(
+        &dir,
+        "asking.yaml",
+        "name: Asking\ndrive: sd2\nsteps:\n  - enter_text: { prompt: Serial, sets: serial }\n    name: serial\n  - expect: { bus_voltage: { above: 100 V } }\n",
+    );
+    run_into(&asking, s, &dir, &["--answers", answers.to_str().unwrap()], 0);
+    let runs = stored_runs(s);
+    assert_eq!(runs[0].run.unit.serial.as_deref(), Some("NUL\u{0}-1"));
+    let listed = cli(&["results", "list", "--simulated", "--results", s], 0);
+    assert_has(&listed.stdout, &["NUL\\x00-1"]);
+}
