@@ -39,6 +39,7 @@ mod recipe_schema;
 mod replay;
 mod reports;
 mod results_integrity;
+mod results_kill_campaign;
 mod results_store;
 mod run_pipeline;
 mod safety;
