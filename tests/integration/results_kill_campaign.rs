@@ -175,7 +175,7 @@ fn sigkill_at_random_moments_of_runs_and_syncs_loses_or_strands_nothing_in_sqlit
     eprintln!("200 kills on SQLite in {:.1} s", started.elapsed().as_secs_f64());
 }
 
-/// 50 SIGKILLs on a real PostgreSQL server, stopped and started every 20 actions.
+/// 30 SIGKILLs on a real PostgreSQL server, stopped and started every 20 actions.
 #[test]
 fn sigkill_at_random_moments_of_runs_and_syncs_loses_or_strands_nothing_in_postgresql() {
     let Some(server) = PostgresServer::start("kill-postgres") else {
@@ -186,7 +186,7 @@ fn sigkill_at_random_moments_of_runs_and_syncs_loses_or_strands_nothing_in_postg
     let recipe = write_file(&dir, "heavy.yaml", HEAVY);
     let url = server.url();
     let offline = |off: bool| if off { server.down() } else { server.up() };
-    let tally = campaign(&recipe, &url, &dir, 50, &offline);
+    let tally = campaign(&recipe, &url, &dir, 30, &offline);
     nothing_lost_or_stranded(&url, &dir.join("drivescript"), &tally);
-    eprintln!("50 kills on PostgreSQL in {:.1} s", started.elapsed().as_secs_f64());
+    eprintln!("30 kills on PostgreSQL in {:.1} s", started.elapsed().as_secs_f64());
 }
