@@ -1,4 +1,5 @@
-//! `--csv FILE`: every sample of every `sample` step of a run, streamed in the one samples
+//! `--csv FILE`: every sample of every `sample` step of a run, and the polls of every
+//! coast-down and wait for a stable slope (the curves the HTML report plots), streamed in the one samples
 //! layout ([`SampleTable`]: long by default, `--csv-wide` for one column per object),
 //! through a buffer flushed at least every 250 ms and at every ending, so an aborted run
 //! keeps every sample but the last quarter second. An observer: its write errors are kept

@@ -96,9 +96,13 @@ impl Session<'_> {
         let (mut previous, mut from_at) = (None::<(f64, f64)>, None::<f64>);
         let result = loop {
             let v = self.drive().read_number(&object.name)?;
-            let t = self.clock.now().saturating_sub(self.run_start).as_secs_f64();
+            let since_start = self.clock.now().saturating_sub(self.run_start);
+            let t = since_start.as_secs_f64();
             series.push(t, v);
             stats.push(v);
+            // The samples CSV holds the curve the report plots.
+            self.observer
+                .sample(since_start, std::slice::from_ref(&object), &[v]);
             let speed = v.abs();
             let crossing = |level: f64| match previous {
                 Some((t0, v0)) if v0 > level && speed <= level => t0 + (t - t0) * (v0 - level) / (v0 - speed),

@@ -4,7 +4,8 @@
 //! is stored (PostgreSQL too) and holds up no other run, another application's SQLite
 //! file is left untouched, a directory is no store, control characters never reach the
 //! terminal or the CSV raw, "recorded in" only after the store committed, and the SQLite
-//! file alone holds every finished run. On SQLite and on a real PostgreSQL server.
+//! file alone holds every finished run, on SQLite and on a real PostgreSQL server; and
+//! the samples CSV holds the curves the HTML report plots.
 
 use crate::support::{
     assert_has, assert_lacks, cli, command, scratch, write_file, PostgresServer, Ran,
@@ -404,4 +405,46 @@ fn a_nul_in_an_answer_is_stored_exactly_in_sqlite() {
     assert_eq!(runs[0].run.unit.serial.as_deref(), Some("NUL\u{0}-1"));
     let listed = cli(&["results", "list", "--simulated", "--results", s], 0);
     assert_has(&listed.stdout, &["NUL\\x00-1"]);
+}
+
+/// The samples CSV holds the curves the HTML report plots: each poll of a coast-down and
+/// of a wait for a stable slope, in their steps (before, only `sample` steps).
+#[test]
+fn the_samples_csv_holds_the_coast_down_and_the_polls_of_a_stable_wait() {
+    let dir = scratch("csv-curves");
+    let recipe = write_file(
+        &dir,
+        "curves.yaml",
+        "name: Curves
+drive: sd2
+steps:
+  - set: { speed_setpoint: 6000 rpm }
+  - go_to: operation_enabled
+  - wait_until:
+      motor_temperature: { slope: { below: 5 K/min, over: 1 min } }
+      timeout: 1 h
+      every: 10 s
+  - wait_until: { speed_actual: { near: 6000 rpm, within: 1 % } }
+  - coast_down: { from: 5900 rpm, below: 100 rpm, expect: { below: 60 s } }
+",
+    );
+    let csv = dir.join("samples.csv");
+    cli(
+        &["run", recipe.to_str().unwrap(), "--fast", "--no-results", "--csv", csv.to_str().unwrap()],
+        0,
+    );
+    let text = std::fs::read_to_string(&csv).expect("the CSV");
+    let rows: Vec<Vec<&str>> = text.lines().skip(1).map(|l| l.split(',').collect()).collect();
+    let of = |step: &str, object: &str| {
+        rows.iter()
+            .filter(|r| r[2] == step && r[3] == object)
+            .filter_map(|r| r[4].parse::<f64>().ok())
+            .collect::<Vec<f64>>()
+    };
+    let stable = of("3", "motor_temperature");
+    assert!(stable.len() >= 6, "the stable wait's polls: {stable:?}\n{text}");
+    let coast = of("5", "speed_actual");
+    assert!(coast.len() >= 3, "the coast-down's curve: {coast:?}\n{text}");
+    assert!(coast[0] > 5000.0 && coast[coast.len() - 1] < 100.0, "{coast:?}");
+    assert!(coast.windows(2).all(|w| w[1] <= w[0]), "it falls: {coast:?}");
 }
