@@ -201,11 +201,13 @@ fn print_checked(path: &Path, checked: &Checked) -> i32 {
 }
 
 pub fn run(args: &RunArgs, registry: &Registry) -> i32 {
-    let outputs = match outputs_named(
-        &args.outputs,
-        &args.operator.identity(),
-        std::time::SystemTime::now(),
-    ) {
+    // A part an answer given beforehand sets is known before the files are opened (one
+    // recipe: with several, each may set it differently and the shared files are one).
+    let unit = match args.recipes.as_slice() {
+        [one] => run::unit_before_start(registry, one, &args.set, &args.dictionary, &args.operator),
+        _ => args.operator.identity(),
+    };
+    let outputs = match outputs_named(&args.outputs, &unit, std::time::SystemTime::now()) {
         Ok(o) => o,
         Err(e) => {
             eprintln!("error: {e}; nothing was sent");
@@ -219,7 +221,7 @@ pub fn run(args: &RunArgs, registry: &Registry) -> i32 {
         &args.connection,
         &args.dictionary,
         registry,
-        &args.outputs,
+        &outputs,
         &args.output_dir,
     );
     let observers: Vec<run::SharedObserver> = recorder

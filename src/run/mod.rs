@@ -64,7 +64,7 @@ pub use maintain::{run_maintain, MaintainRequest, MaintainResult, PrepareMaintai
 pub use not_run::{another_family, silent_drive};
 pub use operator_args::OperatorArgs;
 pub use output_args::{ColorWhen, OutputArgs};
-pub use output_names::outputs_named;
+pub use output_names::{outputs_named, unit_before_start};
 pub use pipeline::run;
 pub use record_args::RecordArgs;
 pub use replay_connection::{captured_drive, recorded_drive};

@@ -1,11 +1,13 @@
 //! Output names from the run's identity: `--report "{serial}-{date}.html"` fills in the
-//! parts `--unit` gives (serial, part, operator, station) and the date and time the
+//! parts `--unit` gives (serial, part, operator, station) or an answer given beforehand
+//! (`--answers`, `--answer`) to the operator step that sets one, and the date and time the
 //! command started (UTC: `{date}` 2026-11-25, `{time}` 023338). The files are opened before
-//! anything is sent, so a part the run learns only from an answer is not known yet: a
-//! name that needs it, or names something else in braces, is refused (exit code 2).
-//! Only text; it opens nothing.
+//! anything is sent, so a part the run learns only from an answer typed during the run is
+//! not known yet: a name that needs it, or names something else in braces, is refused
+//! (exit code 2). Only text; it opens nothing (it reads the recipe for its operator steps).
 
-use super::{BadValue, OutputArgs};
+use super::{BadValue, DictionaryArgs, OperatorArgs, OutputArgs, RunPlan};
+use crate::family::Registry;
 use crate::session::{UnitIdentity, UNIT_FIELDS};
 use std::path::{Path, PathBuf};
 use std::time::SystemTime;
@@ -33,6 +35,25 @@ pub fn outputs_named(
     })
 }
 
+/// The unit as known before `file` starts: `--unit`'s parts, and those the answers given
+/// beforehand set through the file's operator steps (`sets: serial`). A file that cannot
+/// be loaded gives `--unit`'s alone (its run says why it cannot start).
+pub fn unit_before_start(
+    registry: &Registry,
+    file: &Path,
+    set: &[(String, String)],
+    dictionary: &DictionaryArgs,
+    operator: &OperatorArgs,
+) -> UnitIdentity {
+    let (Ok(loaded), Ok(given)) = (
+        RunPlan::load_file(registry, file, set, dictionary),
+        operator.given(),
+    ) else {
+        return operator.identity();
+    };
+    operator.identity_with_answers(&loaded.plan.prompts(), &given)
+}
+
 fn filled(flag: &str, path: &Path, unit: &UnitIdentity, date: &str, time: &str) -> Result<PathBuf, BadValue> {
     let text = path.to_string_lossy();
     if !text.contains('{') {
@@ -58,7 +79,7 @@ fn filled(flag: &str, path: &Path, unit: &UnitIdentity, date: &str, time: &str) 
                     .map(|(_, v)| v.to_string());
                 given.ok_or_else(|| {
                     BadValue(format!(
-                        "{flag} {text}: `{{{part}}}` needs the unit's {part}, which is not given: give it with --unit {part}=… (one an operator step asks for is learnt only during the run, after the files are opened)"
+                        "{flag} {text}: `{{{part}}}` needs the unit's {part}, which is not given: give it with --unit {part}=…, or answer the operator step that sets it beforehand (--answers FILE, --answer NAME=VALUE); one typed during the run is learnt only after the files are opened"
                     ))
                 })?
             }

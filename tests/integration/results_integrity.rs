@@ -448,3 +448,35 @@ steps:
     assert!(coast[0] > 5000.0 && coast[coast.len() - 1] < 100.0, "{coast:?}");
     assert!(coast.windows(2).all(|w| w[1] <= w[0]), "it falls: {coast:?}");
 }
+
+/// `{serial}` in an output name is filled from an answer given beforehand (`--answers`)
+/// to the operator step that sets it — known before the first step — and the store names
+/// the file as written (before, the name was refused).
+#[test]
+fn serial_in_an_output_name_comes_from_an_answer_given_beforehand() {
+    let dir = scratch("serial-from-answers");
+    let store = dir.join("results.sqlite");
+    let s = store.to_str().unwrap();
+    let answers = write_file(&dir, "answers.yaml", "serial: SP-104233\n");
+    let asking = write_file(
+        &dir,
+        "asking.yaml",
+        "name: Asking\ndrive: sd2\nsteps:\n  - enter_text: { prompt: Serial, sets: serial }\n    name: serial\n  - expect: { bus_voltage: { above: 100 V } }\n",
+    );
+    let report = dir.join("{serial}-report.html");
+    run_into(
+        &asking,
+        s,
+        &dir,
+        &["--answers", answers.to_str().unwrap(), "--report", report.to_str().unwrap()],
+        0,
+    );
+    let written = dir.join("SP-104233-report.html");
+    assert!(written.is_file(), "{}", written.display());
+    let runs = stored_runs(s);
+    let files = &runs[0].end.as_ref().expect("ended").report_files;
+    assert!(files.contains(&written.display().to_string()), "{files:?}");
+    // Without the answer the name still needs the serial beforehand.
+    let refused = run_into(&asking, s, &dir, &["--answer", "other=1", "--report", report.to_str().unwrap()], 2);
+    assert_has(&refused.stderr, &["`{serial}` needs the unit's serial", "--answers FILE"]);
+}
