@@ -189,7 +189,15 @@ fn command(command: &ResultsCommand, locator: &Locator) -> Result<i32, StoreErro
                 spool.path().display()
             );
         }
-        return Ok(PASSED);
+        // The others are delivered; these stay, each with why.
+        for (run, why) in &done.refused {
+            eprintln!("error: run {run} stays in {}: {why}", spool.path().display());
+        }
+        return Ok(if done.refused.is_empty() {
+            PASSED
+        } else {
+            COMMUNICATION
+        });
     }
     let mut store = locator.open(false)?;
     match command {

@@ -9,7 +9,11 @@ pub fn table_lines(header: &[&str], rows: &[Vec<String>]) -> Vec<String> {
     // on the terminal.
     let rows: Vec<Vec<String>> = rows
         .iter()
-        .map(|r| r.iter().map(|c| crate::report::visible_inline(c).into_owned()).collect())
+        .map(|r| {
+            r.iter()
+                .map(|c| crate::report::visible_inline(c).into_owned())
+                .collect()
+        })
         .collect();
     let width = |i: usize| {
         rows.iter()

@@ -337,7 +337,14 @@ mod tests {
 
     #[test]
     fn text_postgresql_cannot_hold_is_marked_and_read_back_exactly() {
-        for text in ["plain", "a\0b", "\0", "mark \u{FFFF} here", "\u{FFFF}0", "\0\u{FFFF}\u{FFFF}0\0"] {
+        for text in [
+            "plain",
+            "a\0b",
+            "\0",
+            "mark \u{FFFF} here",
+            "\u{FFFF}0",
+            "\0\u{FFFF}\u{FFFF}0\0",
+        ] {
             let stored = held(text);
             assert!(!stored.contains('\0'), "{stored:?}");
             assert_eq!(unheld(stored), text);

@@ -104,7 +104,11 @@ impl Spool {
         let (Some(dir), Some(name)) = (self.path.parent(), self.path.file_name()) else {
             return Vec::new();
         };
-        let dir = if dir.as_os_str().is_empty() { Path::new(".") } else { dir };
+        let dir = if dir.as_os_str().is_empty() {
+            Path::new(".")
+        } else {
+            dir
+        };
         let prefix = format!("{}{CLAIM}", name.to_string_lossy());
         let Ok(entries) = std::fs::read_dir(dir) else {
             return Vec::new();
@@ -272,10 +276,8 @@ impl Spool {
         if done.runs > 0 {
             store.checkpoint();
         }
-        if let Err(e) = self.append(&back) {
-            // The claims stay, to be taken back by the next delivery.
-            return Err(e);
-        }
+        // On failure the claims stay, to be taken back by the next delivery.
+        self.append(&back)?;
         for claim in &claims {
             let _ = std::fs::remove_file(claim);
         }

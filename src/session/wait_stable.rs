@@ -43,8 +43,11 @@ impl Session<'_> {
             series.push(t, v);
             stats.push(v);
             // The samples CSV holds what the report plots.
-            self.observer
-                .sample(now.saturating_sub(self.run_start), std::slice::from_ref(object), &[v]);
+            self.observer.sample(
+                now.saturating_sub(self.run_start),
+                std::slice::from_ref(object),
+                &[v],
+            );
             let waited = now.saturating_sub(started);
             let per_minute = slope.slope_over(over.as_secs_f64()).map(|s| s.per_second * 60.0);
             let holds = per_minute.is_some_and(|m| predicate.holds(m));

@@ -7,9 +7,7 @@
 //! file alone holds every finished run, on SQLite and on a real PostgreSQL server; and
 //! the samples CSV holds the curves the HTML report plots.
 
-use crate::support::{
-    assert_has, assert_lacks, cli, command, scratch, write_file, PostgresServer, Ran,
-};
+use crate::support::{assert_has, assert_lacks, cli, command, scratch, write_file, PostgresServer, Ran};
 use drivescript::results::{Locator, RunFilter, StoredRun};
 use std::path::{Path, PathBuf};
 
@@ -144,7 +142,10 @@ fn a_stale_claim_is_taken_back(store: &str, spool: &Path, data: &Path, offline: 
     let again = results_cmd(&["sync"], store, data, 0);
     assert_has(&again.stdout, &["nothing to deliver"]);
     // Where the record was, said even with --quiet.
-    assert_has(&ran.stderr, &["kept on this bench, not yet in", "drivescript results sync"]);
+    assert_has(
+        &ran.stderr,
+        &["kept on this bench, not yet in", "drivescript results sync"],
+    );
     assert_lacks(&ran.stderr, &["recorded in"]);
 }
 
@@ -154,7 +155,16 @@ fn a_stale_spool_claim_is_taken_back_by_the_next_sync_in_sqlite() {
     let store = dir.join("results.sqlite");
     let s = store.to_str().unwrap();
     // A first run makes the store; a directory in its place makes the next spool.
-    cli(&["run", write_file(&dir, "t.yaml", TINY).to_str().unwrap(), "--fast", "--results", s], 0);
+    cli(
+        &[
+            "run",
+            write_file(&dir, "t.yaml", TINY).to_str().unwrap(),
+            "--fast",
+            "--results",
+            s,
+        ],
+        0,
+    );
     let aside = dir.join("aside");
     std::fs::create_dir_all(&aside).expect("aside");
     let offline = |off: bool| take_offline(&store, &aside, off);
@@ -195,7 +205,16 @@ fn a_queue_without_room_keeps_every_record_in_order_and_the_store_gets_the_whole
     let recipe = write_file(&dir, "heavy.yaml", HEAVY);
     let store = dir.join("results.sqlite");
     let s = store.to_str().unwrap();
-    cli(&["run", write_file(&dir, "t.yaml", TINY).to_str().unwrap(), "--fast", "--results", s], 0);
+    cli(
+        &[
+            "run",
+            write_file(&dir, "t.yaml", TINY).to_str().unwrap(),
+            "--fast",
+            "--results",
+            s,
+        ],
+        0,
+    );
     let lock = rusqlite::Connection::open(&store).expect("open");
     lock.execute_batch("BEGIN EXCLUSIVE").expect("lock");
     let child = command()
@@ -230,15 +249,32 @@ fn the_sqlite_file_alone_holds_every_finished_run() {
     let recipe = write_file(&dir, "heavy.yaml", HEAVY);
     let store = dir.join("results.sqlite");
     let s = store.to_str().unwrap();
-    cli(&["run", recipe.to_str().unwrap(), "--fast", "--results", s, "--unit", "serial=KEPT-1"], 0);
+    cli(
+        &[
+            "run",
+            recipe.to_str().unwrap(),
+            "--fast",
+            "--results",
+            s,
+            "--unit",
+            "serial=KEPT-1",
+        ],
+        0,
+    );
     let copy = dir.join("artifact");
     std::fs::create_dir_all(&copy).expect("dir");
     std::fs::copy(&store, copy.join("results.sqlite")).expect("only the file copied");
     let c = copy.join("results.sqlite");
-    let listed = cli(&["results", "list", "--simulated", "--results", c.to_str().unwrap()], 0);
+    let listed = cli(
+        &["results", "list", "--simulated", "--results", c.to_str().unwrap()],
+        0,
+    );
     assert_has(&listed.stdout, &["PASSED", "Heavy", "KEPT-1"]);
     let runs = stored_runs(c.to_str().unwrap());
-    assert_eq!(runs[0].steps.len() as i64 + runs[0].end.as_ref().unwrap().omitted_steps, 6006);
+    assert_eq!(
+        runs[0].steps.len() as i64 + runs[0].end.as_ref().unwrap().omitted_steps,
+        6006
+    );
 }
 
 /// Another application's SQLite file — in the default rollback journal or in WAL mode —
@@ -262,10 +298,17 @@ fn a_foreign_sqlite_file_is_left_untouched_with_a_clear_error() {
         let ran = run_into(&recipe, o, &dir, &[], 0);
         assert_has(
             &ran.stderr,
-            &["is not a drivescript results store", "other tables (invoices)", "kept on this bench"],
+            &[
+                "is not a drivescript results store",
+                "other tables (invoices)",
+                "kept on this bench",
+            ],
         );
         let refused = cli(&["results", "list", "--results", o], 2);
-        assert_has(&refused.stderr, &["is not a drivescript results store", "other tables (invoices)"]);
+        assert_has(
+            &refused.stderr,
+            &["is not a drivescript results store", "other tables (invoices)"],
+        );
         let synced = cli(&["results", "sync", "--results", o], 2);
         assert_has(&synced.stderr, &["is not a drivescript results store"]);
         assert!(
@@ -297,7 +340,10 @@ fn a_store_path_that_is_a_directory_gets_a_clear_error() {
     assert_lacks(&listed.stderr, &["no run has been recorded"]);
     let recipe = write_file(&dir, "tiny.yaml", TINY);
     let ran = run_into(&recipe, f, &dir, &["--quiet"], 0);
-    assert_has(&ran.stderr, &["is a directory", "kept on this bench, not yet in", "results sync"]);
+    assert_has(
+        &ran.stderr,
+        &["is a directory", "kept on this bench, not yet in", "results sync"],
+    );
 }
 
 /// ESC sequences in a serial number or an answer are shown escaped in the run's output,
@@ -316,7 +362,18 @@ fn control_characters_are_shown_escaped_on_terminals_and_in_the_csv() {
     assert_eq!(runs[0].run.unit.serial.as_deref(), Some(serial), "stored exactly");
     let listed = cli(&["results", "list", "--simulated", "--results", s], 0);
     let show = cli(&["results", "show", &runs[0].run.id, "--results", s], 0);
-    let csv = cli(&["results", "export", "--simulated", "--format", "csv", "--results", s], 0);
+    let csv = cli(
+        &[
+            "results",
+            "export",
+            "--simulated",
+            "--format",
+            "csv",
+            "--results",
+            s,
+        ],
+        0,
+    );
     for (what, text) in [
         ("run", &ran.stdout),
         ("list", &listed.stdout),
@@ -324,7 +381,10 @@ fn control_characters_are_shown_escaped_on_terminals_and_in_the_csv() {
         ("csv", &csv.stdout),
     ] {
         assert_has(text, &[shown]);
-        assert!(!text.contains('\u{1b}') && !text.contains('\u{7}'), "{what}: {text:?}");
+        assert!(
+            !text.contains('\u{1b}') && !text.contains('\u{7}'),
+            "{what}: {text:?}"
+        );
     }
 }
 
@@ -352,7 +412,13 @@ fn postgresql_holds_every_record_and_says_where_it_is() {
         "asking.yaml",
         "name: Asking\ndrive: sd2\nsteps:\n  - enter_text: { prompt: Serial, sets: serial }\n    name: serial\n  - expect: { bus_voltage: { above: 100 V } }\n",
     );
-    let ran = run_into(&asking, &url, &dir, &["--quiet", "--answers", answers.to_str().unwrap()], 0);
+    let ran = run_into(
+        &asking,
+        &url,
+        &dir,
+        &["--quiet", "--answers", answers.to_str().unwrap()],
+        0,
+    );
     run_into(&recipe, &url, &dir, &["--quiet", "--unit", "serial=BEHIND-1"], 0);
     server.up();
     let synced = results_cmd(&["sync"], &url, &dir, 0);
@@ -363,15 +429,25 @@ fn postgresql_holds_every_record_and_says_where_it_is() {
         .iter()
         .filter(|r| r.run.unit.serial.as_deref() == Some(nul))
         .collect();
-    assert_eq!(with_nul.len(), 2, "{:?}", runs.iter().map(|r| &r.run.unit).collect::<Vec<_>>());
+    assert_eq!(
+        with_nul.len(),
+        2,
+        "{:?}",
+        runs.iter().map(|r| &r.run.unit).collect::<Vec<_>>()
+    );
     assert!(with_nul.iter().all(|r| r.verdict() == "passed"));
-    assert!(runs.iter().any(|r| r.run.unit.serial.as_deref() == Some("BEHIND-1")));
+    assert!(runs
+        .iter()
+        .any(|r| r.run.unit.serial.as_deref() == Some("BEHIND-1")));
     // Found by it too.
     let mut s = Locator::parse(&url).open(false).expect("opens");
     assert_eq!(s.unit_runs(nul, true).expect("the unit's runs").len(), 2);
     drop(s);
     // The run while the server was down said where its record was, even with --quiet.
-    assert_has(&ran.stderr, &["kept on this bench, not yet in postgres://drivescript@127.0.0.1"]);
+    assert_has(
+        &ran.stderr,
+        &["kept on this bench, not yet in postgres://drivescript@127.0.0.1"],
+    );
     assert_lacks(&ran.stderr, &["recorded in", "pw-s3cret"]);
     // A stale claim.
     let data = dir.join("stale");
@@ -430,7 +506,14 @@ steps:
     );
     let csv = dir.join("samples.csv");
     cli(
-        &["run", recipe.to_str().unwrap(), "--fast", "--no-results", "--csv", csv.to_str().unwrap()],
+        &[
+            "run",
+            recipe.to_str().unwrap(),
+            "--fast",
+            "--no-results",
+            "--csv",
+            csv.to_str().unwrap(),
+        ],
         0,
     );
     let text = std::fs::read_to_string(&csv).expect("the CSV");
@@ -468,7 +551,12 @@ fn serial_in_an_output_name_comes_from_an_answer_given_beforehand() {
         &asking,
         s,
         &dir,
-        &["--answers", answers.to_str().unwrap(), "--report", report.to_str().unwrap()],
+        &[
+            "--answers",
+            answers.to_str().unwrap(),
+            "--report",
+            report.to_str().unwrap(),
+        ],
         0,
     );
     let written = dir.join("SP-104233-report.html");
@@ -477,6 +565,15 @@ fn serial_in_an_output_name_comes_from_an_answer_given_beforehand() {
     let files = &runs[0].end.as_ref().expect("ended").report_files;
     assert!(files.contains(&written.display().to_string()), "{files:?}");
     // Without the answer the name still needs the serial beforehand.
-    let refused = run_into(&asking, s, &dir, &["--answer", "other=1", "--report", report.to_str().unwrap()], 2);
-    assert_has(&refused.stderr, &["`{serial}` needs the unit's serial", "--answers FILE"]);
+    let refused = run_into(
+        &asking,
+        s,
+        &dir,
+        &["--answer", "other=1", "--report", report.to_str().unwrap()],
+        2,
+    );
+    assert_has(
+        &refused.stderr,
+        &["`{serial}` needs the unit's serial", "--answers FILE"],
+    );
 }

@@ -82,7 +82,7 @@ fn campaign(recipe: &Path, store: &str, data: &Path, kills: usize, offline: &dyn
             offline(off);
         }
         action += 1;
-        let sync = !off && moments.next() % 2 == 0;
+        let sync = !off && moments.next().is_multiple_of(2);
         let mut child = if sync {
             spawn(&["results", "sync"])
         } else {
@@ -96,7 +96,12 @@ fn campaign(recipe: &Path, store: &str, data: &Path, kills: usize, offline: &dyn
                 tally.kills += 1;
             }
             Some(status) => {
-                assert_eq!(status.code(), Some(0), "a {} ended badly", if sync { "sync" } else { "run" });
+                assert_eq!(
+                    status.code(),
+                    Some(0),
+                    "a {} ended badly",
+                    if sync { "sync" } else { "run" }
+                );
                 if sync {
                     tally.syncs_ended += 1;
                 } else {
@@ -132,7 +137,11 @@ fn nothing_lost_or_stranded(store: &str, spools: &Path, tally: &Tally) {
     for r in &runs {
         let Some(end) = &r.end else { continue };
         assert_eq!(
-            (end.verdict.as_str(), r.steps.len() as i64 + end.omitted_steps, r.checks.len()),
+            (
+                end.verdict.as_str(),
+                r.steps.len() as i64 + end.omitted_steps,
+                r.checks.len()
+            ),
             ("passed", STEPS, 1),
             "run {} is marked finished but is not whole",
             r.run.id
@@ -149,7 +158,12 @@ fn nothing_lost_or_stranded(store: &str, spools: &Path, tally: &Tally) {
         .flatten()
         .flatten()
         .filter(|e| e.file_name().to_string_lossy().ends_with(".bad"))
-        .map(|e| std::fs::read_to_string(e.path()).unwrap_or_default().lines().count())
+        .map(|e| {
+            std::fs::read_to_string(e.path())
+                .unwrap_or_default()
+                .lines()
+                .count()
+        })
         .sum::<usize>();
     eprintln!(
         "{tally:?}: {} runs in the store, {complete} complete, {} incomplete; {bad} spool line(s) cut short by a kill",
@@ -188,5 +202,8 @@ fn sigkill_at_random_moments_of_runs_and_syncs_loses_or_strands_nothing_in_postg
     let offline = |off: bool| if off { server.down() } else { server.up() };
     let tally = campaign(&recipe, &url, &dir, 30, &offline);
     nothing_lost_or_stranded(&url, &dir.join("drivescript"), &tally);
-    eprintln!("30 kills on PostgreSQL in {:.1} s", started.elapsed().as_secs_f64());
+    eprintln!(
+        "30 kills on PostgreSQL in {:.1} s",
+        started.elapsed().as_secs_f64()
+    );
 }
