@@ -577,3 +577,55 @@ fn serial_in_an_output_name_comes_from_an_answer_given_beforehand() {
         &["`{serial}` needs the unit's serial", "--answers FILE"],
     );
 }
+
+/// A run with records still in this bench's spool is marked unsynced in `results list`
+/// (the table and `--json`), until a sync delivers them.
+#[test]
+fn results_list_marks_runs_with_records_still_in_the_spool() {
+    let dir = scratch("unsynced");
+    let store = dir.join("results.sqlite");
+    let s = store.to_str().unwrap();
+    let recipe = write_file(&dir, "tiny.yaml", TINY);
+    run_into(&recipe, s, &dir, &[], 0);
+    run_into(&recipe, s, &dir, &[], 0);
+    let runs = stored_runs(s);
+    let id = runs[0].run.id.clone();
+    // The unit of one run learnt late, still waiting in the spool.
+    write_file(
+        &dir,
+        "results.sqlite.spool",
+        &format!(
+            "{{\"record\":\"unit\",\"run\":\"{id}\",\"unit\":{{\"serial\":\"LATE-1\",\"part\":null,\"operator\":null,\"station\":null}}}}\n"
+        ),
+    );
+    let listed = cli(&["results", "list", "--simulated", "--results", s], 0);
+    let line = crate::support::line_with(&listed.stdout, &id);
+    assert_has(line, &["PASSED (unsynced)"]);
+    let other = crate::support::line_with(&listed.stdout, &runs[1].run.id);
+    assert_lacks(other, &["unsynced"]);
+    assert_has(
+        &listed.stdout,
+        &["1 run(s) kept on this bench, not yet in", "results sync"],
+    );
+    let json = cli(&["results", "list", "--simulated", "--json", "--results", s], 0);
+    let list: serde_json::Value = serde_json::from_str(&json.stdout).expect("JSON");
+    let marks: Vec<(String, bool)> = list
+        .as_array()
+        .expect("a list")
+        .iter()
+        .map(|r| {
+            (
+                r["id"].as_str().unwrap_or_default().to_string(),
+                r["unsynced"] == true,
+            )
+        })
+        .collect();
+    assert!(
+        marks.contains(&(id.clone(), true)) && marks.contains(&(runs[1].run.id.clone(), false)),
+        "{marks:?}"
+    );
+    cli(&["results", "sync", "--results", s], 0);
+    let listed = cli(&["results", "list", "--simulated", "--results", s], 0);
+    assert_lacks(&listed.stdout, &["unsynced", "kept on this bench"]);
+    assert_has(&listed.stdout, &["LATE-1"]);
+}
