@@ -1,8 +1,8 @@
 //! The results store under SIGKILL: record-heavy runs and `results sync`s killed at
 //! random (seeded, replayable) moments while the store comes and goes, then one last
 //! sync. Afterwards every run in the store is complete (its every step and its check) or
-//! marked incomplete, every run that ended on its own is there complete, and nothing is
-//! left in the spool or in a claim on it. `DRIVESCRIPT_KILL_SEED=N` replays a campaign.
+//! marked incomplete, no step or check is there without its run, every run that ended on
+//! its own is there complete, and nothing is left in the spool or in a claim on it. `DRIVESCRIPT_KILL_SEED=N` replays a campaign.
 
 use crate::results_integrity::{spool_files, stored_runs, take_offline, HEAVY};
 use crate::support::{command, scratch, write_file, PostgresServer};
@@ -12,6 +12,17 @@ use std::time::{Duration, Instant};
 
 /// Steps of a whole run of [`HEAVY`] (its 6 000 prints, the check, the default finally).
 const STEPS: i64 = 6006;
+
+/// [`HEAVY`] with 1 000 prints, for a server (each record a round trip): 1 006 steps.
+const MEDIUM: &str = "name: Medium
+drive: sd2
+steps:
+  - repeat:
+      times: 1000
+      steps:
+        - print: \"pass\"
+  - expect: { bus_voltage: { above: 100 V } }
+";
 
 /// xorshift64: the campaign's moments, the same for the same seed.
 struct Moments(u64);
@@ -127,11 +138,22 @@ fn campaign(recipe: &Path, store: &str, data: &Path, kills: usize, offline: &dyn
     tally
 }
 
-/// Every run in `store` complete or marked incomplete, at least `ended` complete, nothing
-/// left in the spool's folder `spools`.
-fn nothing_lost_or_stranded(store: &str, spools: &Path, tally: &Tally) {
+/// Every run in `store` complete (`steps` steps and its check) or marked incomplete, at
+/// least as many complete as ended on their own, nothing left in the spool's folder
+/// `spools`.
+fn nothing_lost_or_stranded(store: &str, spools: &Path, tally: &Tally, steps: i64) {
     let left = spool_files(spools);
     assert!(left.is_empty(), "stranded after the last sync: {left:?}");
+    let orphans = "SELECT (SELECT count(*) FROM steps WHERE run_id NOT IN (SELECT id FROM runs)) \
+         + (SELECT count(*) FROM checks WHERE run_id NOT IN (SELECT id FROM runs))";
+    let orphans: i64 = if store.starts_with("postgres://") {
+        let mut db = postgres::Client::connect(store, postgres::NoTls).expect("connects");
+        db.query_one(orphans, &[]).expect("counted").get(0)
+    } else {
+        let db = rusqlite::Connection::open(store).expect("opens");
+        db.query_row(orphans, [], |r| r.get(0)).expect("counted")
+    };
+    assert_eq!(orphans, 0, "steps or checks without their run");
     let runs = stored_runs(store);
     let mut complete = 0;
     for r in &runs {
@@ -142,7 +164,7 @@ fn nothing_lost_or_stranded(store: &str, spools: &Path, tally: &Tally) {
                 r.steps.len() as i64 + end.omitted_steps,
                 r.checks.len()
             ),
-            ("passed", STEPS, 1),
+            ("passed", steps, 1),
             "run {} is marked finished but is not whole",
             r.run.id
         );
@@ -185,11 +207,12 @@ fn sigkill_at_random_moments_of_runs_and_syncs_loses_or_strands_nothing_in_sqlit
     let offline = |off: bool| take_offline(&store, &aside, off);
     let s = store.to_str().unwrap();
     let tally = campaign(&recipe, s, &dir, 200, &offline);
-    nothing_lost_or_stranded(s, &dir, &tally);
+    nothing_lost_or_stranded(s, &dir, &tally, STEPS);
     eprintln!("200 kills on SQLite in {:.1} s", started.elapsed().as_secs_f64());
 }
 
-/// 30 SIGKILLs on a real PostgreSQL server, stopped and started every 20 actions.
+/// 50 SIGKILLs on a real PostgreSQL server, stopped and started every 20 actions, of
+/// runs of 1 006 steps (a queue's overflow on a server has its own test).
 #[test]
 fn sigkill_at_random_moments_of_runs_and_syncs_loses_or_strands_nothing_in_postgresql() {
     let Some(server) = PostgresServer::start("kill-postgres") else {
@@ -197,13 +220,13 @@ fn sigkill_at_random_moments_of_runs_and_syncs_loses_or_strands_nothing_in_postg
     };
     let started = Instant::now();
     let dir = scratch("kill-postgres-files");
-    let recipe = write_file(&dir, "heavy.yaml", HEAVY);
+    let recipe = write_file(&dir, "medium.yaml", MEDIUM);
     let url = server.url();
     let offline = |off: bool| if off { server.down() } else { server.up() };
-    let tally = campaign(&recipe, &url, &dir, 30, &offline);
-    nothing_lost_or_stranded(&url, &dir.join("drivescript"), &tally);
+    let tally = campaign(&recipe, &url, &dir, 50, &offline);
+    nothing_lost_or_stranded(&url, &dir.join("drivescript"), &tally, 1006);
     eprintln!(
-        "30 kills on PostgreSQL in {:.1} s",
+        "50 kills on PostgreSQL in {:.1} s",
         started.elapsed().as_secs_f64()
     );
 }
