@@ -199,7 +199,21 @@ fn command(command: &ResultsCommand, locator: &Locator) -> Result<i32, StoreErro
             COMMUNICATION
         });
     }
-    let mut store = locator.open(false)?;
+    let mut store = match locator.open(false) {
+        // Runs that never reached the store may still wait on this bench.
+        Err(StoreError::NotFound(text)) => {
+            let spool = Spool::new(locator.spool_path());
+            let waiting = spool.runs().len();
+            if waiting == 0 {
+                return Err(StoreError::NotFound(text));
+            }
+            return Err(StoreError::NotFound(format!(
+                "{text}; {waiting} run(s) kept on this bench wait in {} — `drivescript results sync` delivers them",
+                spool.path().display()
+            )));
+        }
+        opened => opened?,
+    };
     match command {
         ResultsCommand::List { filter, json } => {
             let spool = Spool::new(locator.spool_path());

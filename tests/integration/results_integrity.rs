@@ -344,6 +344,17 @@ fn a_store_path_that_is_a_directory_gets_a_clear_error() {
         &ran.stderr,
         &["is a directory", "kept on this bench, not yet in", "results sync"],
     );
+    // The directory gone, the store is not there yet, but the run waits on this bench.
+    std::fs::remove_dir(&folder).expect("removed");
+    let listed = cli(&["results", "list", "--results", f], 1);
+    assert_has(
+        &listed.stderr,
+        &[
+            "there is no results store at",
+            "1 run(s) kept on this bench wait in",
+            "results sync",
+        ],
+    );
 }
 
 /// ESC sequences in a serial number or an answer are shown escaped in the run's output,
