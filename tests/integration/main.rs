@@ -22,6 +22,7 @@ mod hints;
 mod history;
 mod history_keys;
 mod history_wear;
+mod late_replies;
 mod language_server;
 mod lenze_931;
 mod lenze_931_maintain;

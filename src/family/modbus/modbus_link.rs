@@ -13,20 +13,29 @@
 //! writes set values, so repeating one after a lost reply does the same as sending it once.
 //! An exception reply answers the request (the drive refused), except 06 "server device
 //! busy", after which the request is sent again.
-//! TCP: a reply with an earlier transaction id is a late one and is dropped.
+//! TCP: a reply carries its request's transaction id: one that answers an earlier attempt of
+//! the same exchange (a slow server) is the answer, one of an earlier exchange is dropped.
+//! RTU has no such number: the link core waits for the replies that attempts which went
+//! unanswered still owe, and drops them, before the next exchange.
 //! Must not know object names, units or states.
 
 use super::codec::{mbap, rtu, ExceptionCode, Request, Response};
 use crate::bus::{SharedTransport, Transport, TransportError};
 use crate::clock::SharedClock;
 use crate::drive::AccessError;
-use crate::link::{AttemptFailure, CoreLink, Direction, ExchangeText, LinkCore, Refusal, RetryPlan};
+use crate::link::{
+    AttemptFailure, CoreLink, Direction, ExchangeText, LinkCore, Refusal, ReplyWait, RetryPlan,
+};
 use std::time::Duration;
 
 /// A stop request does not cut short the first part of a reply wait, so the exchange under
 /// way finishes (a 9600 bit/s reply of 9 bytes takes about 10 ms on the wire).
 const STOP_GRACE: Duration = Duration::from_millis(30);
-/// What to check when an inverter stays silent; also the family's `no_reply_advice`.
+/// What to check when an inverter behind a Modbus TCP server stays silent; also the TCP
+/// family's `no_reply_advice`. Nothing about serial lines: the link is a network connection.
+pub(super) const NO_REPLY_HINT_TCP: &str = "check that the Modbus TCP server at --tcp HOST:PORT is the inverter's (port 502 by default) and not busy with another client, and the unit id (--address; behind a gateway, the inverter's slave address on its RS485 side)";
+/// What to check when an inverter on a serial line stays silent; also the RTU family's
+/// `no_reply_advice`.
 pub(super) const NO_REPLY_HINT: &str = "check the RS485 wiring (A/B, termination), the baud rate and parity (--baud, --parity; Modbus RTU defaults to 19200 8E1), that the inverter's protocol parameter selects Modbus RTU, and its slave address (--address 1..247)";
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -67,6 +76,9 @@ pub struct ModbusLink {
     core: LinkCore,
     pending: Vec<u8>,
     transaction: u16,
+    /// TCP: the transaction id of this exchange's first attempt; replies from it up to
+    /// `transaction` answer the same request.
+    first_transaction: u16,
     /// When the line last carried a byte (RTU's silence counts from here).
     last_activity: Option<Duration>,
 }
@@ -80,6 +92,7 @@ impl ModbusLink {
             core: LinkCore::new(clock, STOP_GRACE),
             pending: Vec::new(),
             transaction: 0,
+            first_transaction: 1,
             last_activity: None,
         }
     }
@@ -126,7 +139,11 @@ impl ModbusLink {
             self.core.event("broadcast: no slave answers");
             return Ok(None);
         }
-        let plan = RetryPlan::new(self.config.retries, self.config.settle, self.config.reply_timeout);
+        let plan = RetryPlan {
+            sequenced: self.config.framing == Framing::Tcp,
+            ..RetryPlan::new(self.config.retries, self.config.settle, self.config.reply_timeout)
+        };
+        self.first_transaction = self.transaction.wrapping_add(1);
         let result = plan.run(self, t, |link, t, _| link.attempt(t, request, &pdu));
         if result.is_ok() && self.pending.is_empty() {
             t.exchange_complete();
@@ -136,10 +153,18 @@ impl ModbusLink {
                 port: self.port(),
                 address: self.shown_unit(),
                 request: describe(request, &pdu),
-                hint: NO_REPLY_HINT.to_string(),
+                hint: self.no_reply_hint().to_string(),
             };
             u.into_error(text, self.config.reply_timeout, |r| (r.reply, r.problem))
         })
+    }
+
+    /// What to check when the inverter stays silent, for the framing in use.
+    pub fn no_reply_hint(&self) -> &'static str {
+        match self.config.framing {
+            Framing::Rtu => NO_REPLY_HINT,
+            Framing::Tcp => NO_REPLY_HINT_TCP,
+        }
     }
 
     /// Waits out the inter-frame silence, then writes `frame`.
@@ -180,9 +205,19 @@ impl ModbusLink {
         let frame = self.frame(pdu);
         self.send(t, &frame).map_err(AttemptFailure::Transport)?;
         let (sent, deadline) = self.core.reply_window(t, self.config.reply_timeout);
+        let mut dropped = None;
         loop {
-            if let Some(result) = self.take_reply(request, &frame) {
-                return result;
+            match self.take_reply(request, &frame) {
+                None => {}
+                // A reply to another request is never this one's answer: it is dropped and
+                // the line listened to on.
+                Some(Err(AttemptFailure::Discarded(r))) => {
+                    self.core
+                        .event(&format!("dropped a reply that answers another request: {}", r.problem));
+                    dropped = Some(r);
+                    continue;
+                }
+                Some(result) => return result,
             }
             match self.core.read_reply(t, sent, deadline) {
                 Ok(bytes) => {
@@ -191,6 +226,9 @@ impl ModbusLink {
                         self.pending.extend_from_slice(&bytes);
                         self.last_activity = Some(self.core.clock.now());
                     }
+                }
+                Err(ReplyWait::Timeout) if dropped.is_some() => {
+                    return Err(dropped.take().map_or(AttemptFailure::Timeout { note: "" }, AttemptFailure::Discarded))
                 }
                 Err(wait) => return Err(wait.into()),
             }
@@ -239,8 +277,10 @@ impl ModbusLink {
                 }
                 let whole: Vec<u8> = self.pending.drain(..n).collect();
                 self.core.notify(Direction::Received, &whole);
+                // Ids count up by one per attempt (wrapping): this exchange's are the last few.
+                let age = self.transaction.wrapping_sub(self.first_transaction);
                 match mbap::decode(&whole) {
-                    Ok(f) if f.transaction != self.transaction => {
+                    Ok(f) if self.transaction.wrapping_sub(f.transaction) > age => {
                         self.core.event(&format!(
                             "dropped a late reply (transaction {}, waiting for {})",
                             f.transaction, self.transaction
@@ -273,23 +313,27 @@ impl ModbusLink {
             ..
         } = response
         {
-            let problem = ExceptionCode::SERVER_DEVICE_BUSY.to_string();
-            return Some(Err(self.bad(&whole, problem, true)));
+            return Some(Err(AttemptFailure::Bad(Refusal {
+                reply: format!("`{}`", crate::hex::to_hex(&whole)),
+                problem: ExceptionCode::SERVER_DEVICE_BUSY.to_string(),
+            })));
         }
         self.core.stats.replies += 1;
         Some(Ok(response))
     }
 
     fn bad(&mut self, bytes: &[u8], problem: String, mismatched: bool) -> AttemptFailure<Refused> {
-        if mismatched {
-            self.core.stats.mismatched_replies += 1;
-        } else {
-            self.core.stats.corrupt_replies += 1;
-        }
-        AttemptFailure::Bad(Refusal {
+        let refusal = Refusal {
             reply: format!("`{}`", crate::hex::to_hex(bytes)),
             problem,
-        })
+        };
+        if mismatched {
+            self.core.stats.mismatched_replies += 1;
+            AttemptFailure::Discarded(refusal)
+        } else {
+            self.core.stats.corrupt_replies += 1;
+            AttemptFailure::Bad(refusal)
+        }
     }
 }
 

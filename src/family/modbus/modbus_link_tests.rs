@@ -250,3 +250,49 @@ fn a_busy_slave_is_asked_again() {
     let e = link.exchange(&READ_STATUS).unwrap_err().to_string();
     assert!(e.contains("exception 06 SERVER DEVICE BUSY"), "{e}");
 }
+
+/// Answers every read, 1.5 s after it came, with the register's own address as its value.
+struct Slow;
+
+impl Peer for Slow {
+    fn receive(&mut self, bytes: &[u8], now: Duration) -> Vec<PeerReply> {
+        let start = u16::from_be_bytes([bytes[2], bytes[3]]);
+        vec![PeerReply {
+            at: now + Duration::from_millis(1500),
+            bytes: reply(1, vec![start]),
+        }]
+    }
+}
+
+#[test]
+fn a_slave_slower_than_the_timeout_never_gives_a_register_another_ones_value() {
+    let (mut link, _) = link_to(Arc::new(Mutex::new(Slow)), 1, Framing::Rtu);
+    link.config.reply_timeout = Duration::from_secs(1);
+    let seen = Arc::new(Mutex::new(Vec::new()));
+    link.set_observer(Box::new(Events(seen.clone())));
+    for start in [0x2000, 0xD000, 0xF008, 0x2001] {
+        let read = Request::Read {
+            function: Function::ReadHolding,
+            start,
+            count: 1,
+        };
+        match link.exchange(&read) {
+            Ok(Some(Response::Registers { values, .. })) => {
+                assert_eq!(values, vec![start], "the read of 0x{start:04X} got another register's value")
+            }
+            other => panic!("0x{start:04X}: {other:?}"),
+        }
+    }
+    let seen = seen.lock().unwrap().join("\n");
+    assert!(seen.contains("late reply(ies) to earlier attempts"), "{seen}");
+}
+
+/// The link's events, as a trace shows them.
+struct Events(Arc<Mutex<Vec<String>>>);
+
+impl crate::link::TelegramObserver for Events {
+    fn telegram(&mut self, _: Duration, _: Direction, _: &[u8]) {}
+    fn event(&mut self, _: Duration, text: &str) {
+        self.0.lock().unwrap().push(text.to_string());
+    }
+}
