@@ -30,6 +30,7 @@ mod lenze_9400;
 mod live_run;
 mod loader_limits;
 mod modbus;
+mod modbus_pymodbus;
 mod multi_drive;
 mod operator;
 mod operator_attempts;
