@@ -8,6 +8,7 @@ mod bench_limits;
 mod bounded;
 mod brake_first;
 mod canopen;
+mod capture_round_trip;
 mod canopen_types;
 mod canopen_wide_integers;
 mod command_line;
