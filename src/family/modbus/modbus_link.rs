@@ -12,7 +12,11 @@
 //! (an echo's later reply is dropped as stale input before the next request). Register
 //! writes set values, so repeating one after a lost reply does the same as sending it once.
 //! An exception reply answers the request (the drive refused), except 06 "server device
-//! busy", after which the request is sent again.
+//! busy" (and 05 "acknowledge" to a read, which carries no values): the request is sent
+//! again after a pause of one reply timeout, as the specification asks ("retransmit the
+//! message later"); a slave still busy at the last attempt is the answer, which the access
+//! layer reports as the slave's refusal with its own text (not as noise on the line). A
+//! write answered 05 was accepted: the slave carries it out (section 7).
 //! TCP: a reply carries its request's transaction id: one that answers an earlier attempt of
 //! the same exchange (a slow server) is the answer, one of an earlier exchange is dropped.
 //! RTU has no such number: the link core waits for the replies that attempts which went
@@ -81,6 +85,8 @@ pub struct ModbusLink {
     first_transaction: u16,
     /// When the line last carried a byte (RTU's silence counts from here).
     last_activity: Option<Duration>,
+    /// The last attempt was answered "busy": the next waits before it is sent.
+    busy: bool,
 }
 
 impl ModbusLink {
@@ -94,6 +100,7 @@ impl ModbusLink {
             transaction: 0,
             first_transaction: 1,
             last_activity: None,
+            busy: false,
         }
     }
 
@@ -144,7 +151,17 @@ impl ModbusLink {
             ..RetryPlan::new(self.config.retries, self.config.settle, self.config.reply_timeout)
         };
         self.first_transaction = self.transaction.wrapping_add(1);
-        let result = plan.run(self, t, |link, t, _| link.attempt(t, request, &pdu));
+        self.busy = false;
+        let attempts = plan.retries + 1;
+        let result = plan.run_with_step(
+            self,
+            t,
+            |link, _| {
+                link.wait_while_busy();
+                Ok(None)
+            },
+            |link, t, number| link.attempt(t, request, &pdu, number == attempts),
+        );
         if result.is_ok() && self.pending.is_empty() {
             t.exchange_complete();
         }
@@ -157,6 +174,23 @@ impl ModbusLink {
             };
             u.into_error(text, self.config.reply_timeout, |r| (r.reply, r.problem))
         })
+    }
+
+    /// After a "busy" answer: one reply timeout before the request goes again, in slices
+    /// that a stop request ends.
+    fn wait_while_busy(&mut self) {
+        if !std::mem::take(&mut self.busy) {
+            return;
+        }
+        let until = self.core.clock.now() + self.config.reply_timeout;
+        self.core.event(&format!(
+            "the slave is busy: asking again in {} ms",
+            self.config.reply_timeout.as_millis()
+        ));
+        while self.core.clock.now() < until && !self.core.stop_pending() {
+            let slice = (until - self.core.clock.now()).min(Duration::from_millis(10));
+            self.core.clock.sleep(slice);
+        }
     }
 
     /// What to check when the inverter stays silent, for the framing in use.
@@ -201,13 +235,14 @@ impl ModbusLink {
         t: &mut dyn Transport,
         request: &Request,
         pdu: &[u8],
+        last: bool,
     ) -> Result<Response, AttemptFailure<Refused>> {
         let frame = self.frame(pdu);
         self.send(t, &frame).map_err(AttemptFailure::Transport)?;
         let (sent, deadline) = self.core.reply_window(t, self.config.reply_timeout);
         let mut dropped = None;
         loop {
-            match self.take_reply(request, &frame) {
+            match self.take_reply(request, &frame, last) {
                 None => {}
                 // A reply to another request is never this one's answer: it is dropped and
                 // the line listened to on.
@@ -240,6 +275,7 @@ impl ModbusLink {
         &mut self,
         request: &Request,
         sent: &[u8],
+        last: bool,
     ) -> Option<Result<Response, AttemptFailure<Refused>>> {
         // A write single register is answered with its own bytes, so one copy is the
         // reply; of two copies (an echoing adapter) the first is the echo.
@@ -285,7 +321,7 @@ impl ModbusLink {
                             "dropped a late reply (transaction {}, waiting for {})",
                             f.transaction, self.transaction
                         ));
-                        return self.take_reply(request, sent);
+                        return self.take_reply(request, sent, last);
                     }
                     Ok(f) => (f.unit, f.pdu.to_vec(), whole),
                     Err(e) => return Some(Err(self.bad(&whole, e.to_string(), false))),
@@ -307,16 +343,18 @@ impl ModbusLink {
         if let Err(expected) = request.check(&response) {
             return Some(Err(self.bad(&whole, format!("expected {expected}"), true)));
         }
-        // A busy slave is to be asked again later (Application Protocol V1.1b3, 7: code 06).
-        if let Response::Exception {
-            code: ExceptionCode::SERVER_DEVICE_BUSY,
-            ..
-        } = response
-        {
-            return Some(Err(AttemptFailure::Bad(Refusal {
-                reply: format!("`{}`", crate::hex::to_hex(&whole)),
-                problem: ExceptionCode::SERVER_DEVICE_BUSY.to_string(),
-            })));
+        // A busy slave is to be asked again later (Application Protocol V1.1b3, 7: code 06);
+        // so is one that acknowledged a read (05), which carries no values.
+        if let Response::Exception { code, .. } = response {
+            let later = code == ExceptionCode::SERVER_DEVICE_BUSY
+                || (code == ExceptionCode::ACKNOWLEDGE && !request.writes());
+            if later && !last {
+                self.busy = true;
+                return Some(Err(AttemptFailure::Bad(Refusal {
+                    reply: format!("`{}`", crate::hex::to_hex(&whole)),
+                    problem: code.to_string(),
+                })));
+            }
         }
         self.core.stats.replies += 1;
         Some(Ok(response))
