@@ -255,10 +255,11 @@ impl RetryPlan {
         let attempts = self.retries + 1;
         let mut last_bad = None;
         if !self.sequenced {
-            line.drain_late(link.core(), self.settle).map_err(|wait| match wait {
-                ReplyWait::Transport(e) => Unanswered::Transport(e),
-                _ => Unanswered::Interrupted,
-            })?;
+            line.drain_late(link.core(), self.settle)
+                .map_err(|wait| match wait {
+                    ReplyWait::Transport(e) => Unanswered::Transport(e),
+                    _ => Unanswered::Interrupted,
+                })?;
         }
         let first_start = link.core().clock.now();
         let mut owed = Owed::default();

@@ -35,7 +35,14 @@ fn read(family: &Family, late: bool) -> (Option<i32>, String, String) {
         _ => sim.endpoint.clone(),
     };
     let out = command()
-        .args(["read", "--json", "--drive", family.drive, family.connect, &endpoint])
+        .args([
+            "read",
+            "--json",
+            "--drive",
+            family.drive,
+            family.connect,
+            &endpoint,
+        ])
         .args(["--timeout", if late { TIMEOUT } else { "1s" }])
         .args(family.extra)
         .args(family.objects)
@@ -74,7 +81,14 @@ fn a_late_modbus_rtu_slave_never_gives_another_registers_value() {
         drive: "modbus-inverter",
         serve: "--pty",
         connect: "--port",
-        objects: &["status_word", "speed_actual", "carrier_frequency", "bus_voltage", "ident", "fault_code"],
+        objects: &[
+            "status_word",
+            "speed_actual",
+            "carrier_frequency",
+            "bus_voltage",
+            "ident",
+            "fault_code",
+        ],
         extra: &[],
     });
 }
@@ -85,7 +99,14 @@ fn a_late_sd2_drive_never_gives_another_objects_value() {
         drive: "sd2",
         serve: "--pty",
         connect: "--port",
-        objects: &["status_word", "bus_voltage", "power_stage_load", "speed_actual", "drive_error", "motor_temperature"],
+        objects: &[
+            "status_word",
+            "bus_voltage",
+            "power_stage_load",
+            "speed_actual",
+            "drive_error",
+            "motor_temperature",
+        ],
         extra: &[],
     });
 }
@@ -96,7 +117,14 @@ fn a_late_control_techniques_drive_never_gives_another_parameters_value() {
         drive: "ct-unidrive-sp",
         serve: "--pty",
         connect: "--port",
-        objects: &["max_speed", "reference_selector", "speed_setpoint", "bus_voltage", "control_word", "status_word"],
+        objects: &[
+            "max_speed",
+            "reference_selector",
+            "speed_setpoint",
+            "bus_voltage",
+            "control_word",
+            "status_word",
+        ],
         extra: &[],
     });
 }
@@ -118,7 +146,14 @@ fn a_late_modbus_tcp_server_is_told_apart_by_transaction_id() {
         drive: "modbus-tcp-inverter",
         serve: "--tcp=127.0.0.1:0",
         connect: "--tcp",
-        objects: &["status_word", "speed_actual", "carrier_frequency", "bus_voltage", "ident", "fault_code"],
+        objects: &[
+            "status_word",
+            "speed_actual",
+            "carrier_frequency",
+            "bus_voltage",
+            "ident",
+            "fault_code",
+        ],
         extra: &[],
     });
 }
@@ -129,7 +164,14 @@ fn a_late_canopen_node_is_told_apart_by_node_and_object() {
         drive: "canopen",
         serve: "--slcan-pty",
         connect: "--can",
-        objects: &["device_type", "status_word", "heartbeat_time", "quick_stop_option", "bus_voltage", "status_word"],
+        objects: &[
+            "device_type",
+            "status_word",
+            "heartbeat_time",
+            "quick_stop_option",
+            "bus_voltage",
+            "status_word",
+        ],
         extra: &[],
     });
 }

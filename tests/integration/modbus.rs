@@ -313,3 +313,27 @@ fn the_commissioning_recipe_runs_behind_an_adapter_that_echoes() {
         &["skipped the echo of the request"],
     );
 }
+
+/// A write says what the inverter will hold: 0.1 Hz counts are 6 rpm, so 3003 rpm is sent
+/// as 501 counts, which is 3006 rpm (it used to say "3003 rpm written (raw 501)").
+#[test]
+fn a_write_reports_the_value_the_wire_quantised_it_to() {
+    let out = crate::support::drivescript(
+        &["write", "--drive", "modbus-inverter", "speed_setpoint", "3003rpm"],
+        "",
+    );
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        text.contains("speed_setpoint = 3006 rpm written (raw 501; 3003 rpm given, the nearest the object's resolution holds)"),
+        "{text}"
+    );
+    let out = crate::support::drivescript(
+        &["write", "--drive", "modbus-inverter", "speed_setpoint", "3000rpm"],
+        "",
+    );
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        text.contains("speed_setpoint = 3000 rpm written (raw 500)\n"),
+        "{text}"
+    );
+}

@@ -17,8 +17,7 @@ use crate::bus::{SharedTransport, Transport, TransportError};
 use crate::clock::SharedClock;
 use crate::drive::AccessError;
 use crate::link::{
-    AttemptFailure, CoreLink, Direction, ExchangeText, LinkCore, Refusal, ReplyWait, RetryPlan,
-    Unanswered,
+    AttemptFailure, CoreLink, Direction, ExchangeText, LinkCore, Refusal, ReplyWait, RetryPlan, Unanswered,
 };
 use std::time::Duration;
 
@@ -245,8 +244,9 @@ impl LenzeLink {
                 if let Err(problem) = check_reply(request, &reply) {
                     // Another request's answer (most often a late one): never this one's.
                     self.core.stats.mismatched_replies += 1;
-                    self.core
-                        .event(&format!("dropped a reply that answers another request: {problem}"));
+                    self.core.event(&format!(
+                        "dropped a reply that answers another request: {problem}"
+                    ));
                     dropped = Some(Refusal { reply: text, problem });
                     continue;
                 }
@@ -255,7 +255,9 @@ impl LenzeLink {
             match self.core.read_reply(t, sent, deadline) {
                 Ok(bytes) => self.extractor.push(bytes),
                 Err(ReplyWait::Timeout) if dropped.is_some() => {
-                    return Err(dropped.take().map_or(AttemptFailure::Timeout { note: "" }, AttemptFailure::Discarded))
+                    return Err(dropped
+                        .take()
+                        .map_or(AttemptFailure::Timeout { note: "" }, AttemptFailure::Discarded))
                 }
                 Err(wait) => return Err(wait.into()),
             }

@@ -247,8 +247,10 @@ impl ModbusLink {
                 // A reply to another request is never this one's answer: it is dropped and
                 // the line listened to on.
                 Some(Err(AttemptFailure::Discarded(r))) => {
-                    self.core
-                        .event(&format!("dropped a reply that answers another request: {}", r.problem));
+                    self.core.event(&format!(
+                        "dropped a reply that answers another request: {}",
+                        r.problem
+                    ));
                     dropped = Some(r);
                     continue;
                 }
@@ -263,7 +265,9 @@ impl ModbusLink {
                     }
                 }
                 Err(ReplyWait::Timeout) if dropped.is_some() => {
-                    return Err(dropped.take().map_or(AttemptFailure::Timeout { note: "" }, AttemptFailure::Discarded))
+                    return Err(dropped
+                        .take()
+                        .map_or(AttemptFailure::Timeout { note: "" }, AttemptFailure::Discarded))
                 }
                 Err(wait) => return Err(wait.into()),
             }

@@ -259,7 +259,10 @@ fn a_busy_slave_is_asked_again() {
     let times: Vec<Duration> = peer.lock().unwrap().received.iter().map(|(t, _)| *t).collect();
     assert_eq!(times.len(), 3);
     for pair in times.windows(2) {
-        assert!(pair[1] - pair[0] >= LinkConfig::default().reply_timeout, "{times:?}");
+        assert!(
+            pair[1] - pair[0] >= LinkConfig::default().reply_timeout,
+            "{times:?}"
+        );
     }
     // "Acknowledge" to a read carries no values: asked again; to a write: accepted.
     let ack = |function: u8| {
@@ -307,7 +310,11 @@ fn a_slave_slower_than_the_timeout_never_gives_a_register_another_ones_value() {
         };
         match link.exchange(&read) {
             Ok(Some(Response::Registers { values, .. })) => {
-                assert_eq!(values, vec![start], "the read of 0x{start:04X} got another register's value")
+                assert_eq!(
+                    values,
+                    vec![start],
+                    "the read of 0x{start:04X} got another register's value"
+                )
             }
             other => panic!("0x{start:04X}: {other:?}"),
         }

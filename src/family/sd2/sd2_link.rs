@@ -218,8 +218,9 @@ impl Sd2Link {
                 if let Err(problem) = check_reply(request, &telegram) {
                     // Another request's answer (most often a late one): never this one's.
                     self.core.stats.mismatched_replies += 1;
-                    self.core
-                        .event(&format!("dropped a reply that answers another request: {problem}"));
+                    self.core.event(&format!(
+                        "dropped a reply that answers another request: {problem}"
+                    ));
                     dropped = Some(Refusal {
                         reply: block.bytes,
                         problem,
@@ -231,7 +232,9 @@ impl Sd2Link {
             match self.core.read_reply(t, sent, deadline) {
                 Ok(bytes) => self.extractor.push(bytes),
                 Err(ReplyWait::Timeout) if dropped.is_some() => {
-                    return Err(dropped.take().map_or(AttemptFailure::Timeout { note: "" }, AttemptFailure::Discarded))
+                    return Err(dropped
+                        .take()
+                        .map_or(AttemptFailure::Timeout { note: "" }, AttemptFailure::Discarded))
                 }
                 Err(wait) => return Err(wait.into()),
             }

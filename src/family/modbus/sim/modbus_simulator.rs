@@ -145,7 +145,11 @@ impl ModbusSimulator {
             // are wrong), not taken apart as noise.
             Framing::Rtu if self.pending.len() >= 4 && rtu::decode(&self.pending).is_ok() => {
                 let frame = std::mem::take(&mut self.pending);
-                Some(rtu::decode(&frame).ok().map(|(unit, pdu)| (unit, pdu.to_vec(), 0)))
+                Some(
+                    rtu::decode(&frame)
+                        .ok()
+                        .map(|(unit, pdu)| (unit, pdu.to_vec(), 0)),
+                )
             }
             Framing::Rtu => match rtu::split(&self.pending, rtu::Sender::Master) {
                 rtu::Split::Incomplete => None,
