@@ -337,3 +337,36 @@ fn a_write_reports_the_value_the_wire_quantised_it_to() {
         "{text}"
     );
 }
+
+/// The README's Modbus `decode` example prints what the README says it prints (it used to
+/// give the reply alone, which decodes as raw registers `[500, 11]`).
+#[test]
+fn the_readmes_decode_example_prints_what_it_says() {
+    let readme = std::fs::read_to_string(repo_root().join("README.md")).expect("README.md");
+    let flat = readme.split_whitespace().collect::<Vec<_>>().join(" ");
+    let start = flat
+        .find("`drivescript decode --protocol modbus-rtu")
+        .expect("the README's Modbus decode example");
+    let rest = &flat[start + 1..];
+    let command = &rest[..rest.find('`').expect("the example's closing backquote")];
+    let after = &rest[command.len()..];
+    // Words, and "quoted" telegrams as one argument each.
+    let mut args = Vec::new();
+    for (i, part) in command.split('"').enumerate() {
+        if i % 2 == 1 {
+            args.push(part.to_string());
+        } else {
+            args.extend(part.split_whitespace().map(str::to_string));
+        }
+    }
+    assert_eq!(args.first().map(String::as_str), Some("drivescript"), "{command}");
+    let args: Vec<&str> = args[1..].iter().map(String::as_str).collect();
+    let out = cli(&args, 0).stdout;
+    for claimed in [
+        "slave 1 reply to read holding registers: speed_actual = 3000 rpm, current_actual = 1.1 A",
+        "CRC FB FA correct",
+    ] {
+        assert!(after.contains(claimed), "the README no longer claims {claimed:?}");
+        assert!(out.contains(claimed), "`{command}` does not print {claimed:?}:\n{out}");
+    }
+}
