@@ -37,7 +37,7 @@ use std::time::Duration;
 const STOP_GRACE: Duration = Duration::from_millis(30);
 /// What to check when an inverter behind a Modbus TCP server stays silent; also the TCP
 /// family's `no_reply_advice`. Nothing about serial lines: the link is a network connection.
-pub(super) const NO_REPLY_HINT_TCP: &str = "check that the Modbus TCP server at --tcp HOST:PORT is the inverter's (port 502 by default) and not busy with another client, and the unit id (--address; behind a gateway, the inverter's slave address on its RS485 side)";
+pub(super) const NO_REPLY_HINT_TCP: &str = "check that the Modbus TCP server at --tcp HOST:PORT is the inverter's (port 502 by default) and not busy with another client, and the unit id (--address; behind a gateway, the inverter's slave address)";
 /// What to check when an inverter on a serial line stays silent; also the RTU family's
 /// `no_reply_advice`.
 pub(super) const NO_REPLY_HINT: &str = "check the RS485 wiring (A/B, termination), the baud rate and parity (--baud, --parity; Modbus RTU defaults to 19200 8E1), that the inverter's protocol parameter selects Modbus RTU, and its slave address (--address 1..247)";

@@ -196,6 +196,13 @@ fn a_silent_slave_gives_a_located_error_with_the_advice() {
     assert!(e.starts_with("no reply from drive slave 7 on test line"), "{e}");
     assert!(e.contains("19200 8E1"), "{e}");
     assert_eq!(peer.lock().unwrap().received.len(), 3);
+    // Over Modbus TCP the advice is the server's and the unit id, nothing of a serial line.
+    let (mut link, _) = link_to(scripted(vec![None, None, None]), 7, Framing::Tcp);
+    let e = link.exchange(&READ_STATUS).unwrap_err().to_string();
+    assert!(e.contains("Modbus TCP server") && e.contains("unit id"), "{e}");
+    for serial in ["RS485", "baud", "parity"] {
+        assert!(!e.contains(serial), "{serial}: {e}");
+    }
 }
 
 #[test]
