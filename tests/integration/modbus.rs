@@ -367,6 +367,9 @@ fn the_readmes_decode_example_prints_what_it_says() {
         "CRC FB FA correct",
     ] {
         assert!(after.contains(claimed), "the README no longer claims {claimed:?}");
-        assert!(out.contains(claimed), "`{command}` does not print {claimed:?}:\n{out}");
+        assert!(
+            out.contains(claimed),
+            "`{command}` does not print {claimed:?}:\n{out}"
+        );
     }
 }
