@@ -373,3 +373,21 @@ fn the_readmes_decode_example_prints_what_it_says() {
         );
     }
 }
+
+/// `check` notes where the wire's whole counts change a recipe's value (0.1 Hz counts of
+/// 6 rpm: 3003 rpm is sent as 3006 rpm), and only there; the recipe is still valid.
+#[test]
+fn check_notes_a_value_the_wire_quantises() {
+    let dir = scratch("quantised");
+    let recipe = write_file(
+        &dir,
+        "recipe.yaml",
+        "name: quantised\ndrive: modbus-inverter\nsteps:\n  - set: { speed_setpoint: 3003 rpm }\n  - set: { speed_setpoint: 3000 rpm }\n",
+    );
+    let out = cli(&["check", recipe.to_str().unwrap()], 0);
+    assert_has(
+        &out.stderr,
+        &["recipe.yaml:4:5: set speed_setpoint = 3003 rpm: the drive holds whole counts of 6 rpm, so it gets 3006 rpm"],
+    );
+    assert_eq!(out.stderr.matches("note:").count(), 1, "{}", out.stderr);
+}
