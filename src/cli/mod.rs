@@ -10,6 +10,7 @@ mod anonymise_command;
 mod backup_command;
 mod decode_command;
 mod diff_command;
+mod held_value;
 mod maintain_command;
 mod object_commands;
 mod panic_notice;

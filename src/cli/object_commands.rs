@@ -358,7 +358,7 @@ pub fn write(args: &WriteArgs, registry: &Registry) -> i32 {
     match result {
         Ok(outcome) => {
             let (shown, raw) = match &parsed {
-                Some((q, raw)) => (q.to_string(), format!(" (raw {raw})")),
+                Some((q, raw)) => super::held_value::held(&def, q, raw),
                 None => (format!("\"{value}\""), String::new()),
             };
             match open.drive.group() {

@@ -118,6 +118,9 @@ pub fn check(args: &CheckArgs, registry: &Registry) -> i32 {
                         noted.push(text);
                     }
                 }
+                for note in &checked.quantised {
+                    eprintln!("note: {note}");
+                }
                 code = code.max(print_checked(path, &checked))
             }
             Err(e) => {

@@ -1,8 +1,10 @@
 //! What every family's link shares around its own framing: the clock, the telegram
 //! observer, the stop requests, the counters, and the ways of listening to the line (stale
 //! input dropped before a request; the reply window from the end of sending; the reply, in
-//! slices that let a stop request end the wait, over bytes or CAN frames; and late bytes
-//! let settle before a retry). It must not know any family's telegrams.
+//! slices that let a stop request end the wait, over bytes or CAN frames; late bytes let
+//! settle before a retry; and the replies still owed to attempts that went unanswered, which
+//! the next exchange waits for and drops before it sends). It must not know any family's
+//! telegrams.
 
 use super::{Direction, LinkStats, TelegramObserver};
 use crate::bus::{CanFrame, Transport, TransportError};
@@ -36,6 +38,17 @@ impl<B> From<ReplyWait> for super::AttemptFailure<B> {
     }
 }
 
+/// Replies that may still come to attempts that went unanswered in their time: a slave
+/// slower than the reply timeout answers each request during the next one's wait, and on
+/// a line without sequence numbers its answer would be taken for the next request's.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+struct LateReplies {
+    /// How many replies are owed.
+    owed: u32,
+    /// Until when they are waited for; what comes later cannot be told from an answer.
+    until: Duration,
+}
+
 pub struct LinkCore {
     pub clock: SharedClock,
     pub stats: LinkStats,
@@ -44,6 +57,7 @@ pub struct LinkCore {
     /// A telegram under way gets this long for its reply before a stop request ends the
     /// wait, so the drive's answer to a command already sent is still read.
     grace: Duration,
+    late: Option<LateReplies>,
     buf: [u8; 256],
 }
 
@@ -55,6 +69,7 @@ impl LinkCore {
             observer: None,
             stop: None,
             grace,
+            late: None,
             buf: [0; 256],
         }
     }
@@ -162,6 +177,99 @@ impl LinkCore {
             },
             Err(e) => Err(ReplyWait::Transport(e)),
         }
+    }
+
+    /// After an exchange: `owed` replies to its attempts may still come, until `until`.
+    /// Earlier debts still open are kept with it (the later time counts).
+    pub fn owe_late_replies(&mut self, owed: u32, until: Duration) {
+        if owed == 0 {
+            return;
+        }
+        self.late = Some(match self.late {
+            Some(l) if l.until > self.clock.now() => LateReplies {
+                owed: l.owed + owed,
+                until: l.until.max(until),
+            },
+            _ => LateReplies { owed, until },
+        });
+    }
+
+    /// Until when a late reply to an earlier request may still come, if one is owed.
+    pub fn late_reply_until(&mut self) -> Option<Duration> {
+        match self.late {
+            Some(l) if l.owed > 0 && l.until > self.clock.now() => Some(l.until),
+            Some(_) => {
+                self.late = None;
+                None
+            }
+            None => None,
+        }
+    }
+
+    /// One owed reply came (and was dropped).
+    pub fn late_reply_came(&mut self) {
+        if let Some(l) = self.late.as_mut() {
+            l.owed = l.owed.saturating_sub(1);
+        }
+    }
+
+    /// Before the first attempt of an exchange on a byte line: listens for the replies still
+    /// owed to earlier attempts and drops them, so none is taken for this request's. A reply
+    /// is a burst of bytes that ends with `gap` of silence; the wait ends when every owed
+    /// reply came (and the line fell quiet) or when their time is over. A stop request ends
+    /// it as it ends a reply wait.
+    pub fn drain_late_replies(&mut self, t: &mut dyn Transport, gap: Duration) -> Result<(), ReplyWait> {
+        let Some(until) = self.late_reply_until() else {
+            return Ok(());
+        };
+        let started = self.clock.now();
+        let (mut dropped, mut replies) = (0usize, 0u32);
+        // When the last byte of a burst not yet counted came.
+        let mut burst: Option<Duration> = None;
+        let gap = gap.max(Duration::from_millis(1));
+        loop {
+            let now = self.clock.now();
+            if burst.is_some_and(|last| now >= last + gap) {
+                burst = None;
+                replies += 1;
+                self.late_reply_came();
+            }
+            let owed = self.late.map_or(0, |l| l.owed);
+            if (owed == 0 && burst.is_none()) || now >= until {
+                break;
+            }
+            if self.stop_pending() {
+                self.late = None;
+                return Err(ReplyWait::Interrupted);
+            }
+            let mut slice = (until - now).min(STOP_POLL.max(gap));
+            if let Some(last) = burst {
+                slice = slice.min((last + gap).saturating_sub(now).max(Duration::from_micros(100)));
+            }
+            match t.read(&mut self.buf, slice) {
+                Ok(n) => {
+                    dropped += n;
+                    burst = Some(self.clock.now());
+                }
+                Err(TransportError::Timeout { .. }) => {}
+                Err(e) => return Err(ReplyWait::Transport(e)),
+            }
+        }
+        let waited = self.clock.now().saturating_sub(started).as_millis();
+        let lost = self.late.map_or(0, |l| l.owed);
+        self.late = None;
+        self.event(&match (dropped, lost) {
+            (0, _) => format!(
+                "waited {waited} ms for the late reply to an earlier attempt before sending; none came"
+            ),
+            (n, 0) => format!(
+                "dropped {n} byte(s) ({replies} late reply(ies) to earlier attempts) in {waited} ms before sending: they answer an earlier request, not this one"
+            ),
+            (n, _) => format!(
+                "dropped {n} byte(s) that came late (answers to earlier attempts) in {waited} ms before sending"
+            ),
+        });
+        Ok(())
     }
 
     /// Listens for `settle` and drops whatever arrives: the protocols have no sequence

@@ -4,7 +4,7 @@
 //! only its attempt (encode, send, classify what comes back) and its timing; it must not
 //! loop itself. Must not know any family's telegrams.
 
-use super::{LinkCore, LinkStats, TelegramObserver};
+use super::{LinkCore, LinkStats, ReplyWait, TelegramObserver};
 use crate::bus::{FrameBus, Transport, TransportError};
 use crate::clock::SharedClock;
 use crate::drive::AccessError;
@@ -41,20 +41,31 @@ pub trait CoreLink {
     }
 }
 
-/// What a link listens to between attempts: a byte line lets late bytes settle and drops
-/// them; a CAN bus has nothing to wait for (each transfer drains what came late first).
+/// What a link listens to between attempts and before an exchange: a byte line lets late
+/// bytes settle and drops them, and waits for the replies still owed to earlier attempts; a
+/// CAN bus has nothing to wait for here (its responses name their node and object, and the
+/// SDO link drains what its node still owes itself, since other nodes' frames must be seen).
 pub trait Settle {
     fn settle(&mut self, core: &mut LinkCore, settle: Duration) -> Result<(), AccessError>;
+    /// Before the first attempt: drops the replies earlier attempts still owe (`gap` of
+    /// silence ends one).
+    fn drain_late(&mut self, core: &mut LinkCore, gap: Duration) -> Result<(), ReplyWait>;
 }
 
 impl Settle for dyn Transport + '_ {
     fn settle(&mut self, core: &mut LinkCore, settle: Duration) -> Result<(), AccessError> {
         core.settle(self, settle)
     }
+    fn drain_late(&mut self, core: &mut LinkCore, gap: Duration) -> Result<(), ReplyWait> {
+        core.drain_late_replies(self, gap)
+    }
 }
 
 impl Settle for dyn FrameBus + '_ {
     fn settle(&mut self, _core: &mut LinkCore, _settle: Duration) -> Result<(), AccessError> {
+        Ok(())
+    }
+    fn drain_late(&mut self, _core: &mut LinkCore, _gap: Duration) -> Result<(), ReplyWait> {
         Ok(())
     }
 }
@@ -65,8 +76,13 @@ pub enum AttemptFailure<B> {
     /// Nothing that answers in time; `note` ends the trace line (" after the echo of our
     /// message"), usually empty.
     Timeout { note: &'static str },
-    /// Something came that does not answer (corrupt, mismatched, a protocol error): retried.
+    /// Something came that does not answer (corrupt, a protocol error): retried.
     Bad(B),
+    /// A valid reply came that answers another request (another slave, function, object or
+    /// echo: most often a late answer to an earlier one); the family dropped it (and said so
+    /// in the trace) and listened on, and this attempt's own reply did not come in its time.
+    /// Retried; its reply is owed, as after a timeout.
+    Discarded(B),
     /// A stop was requested while the drive was silent.
     Interrupted,
     /// The line itself failed (closed, unplugged): retrying will not help.
@@ -98,6 +114,26 @@ pub enum Unanswered<B> {
     },
     /// Settling or the family's step between attempts failed.
     Failed(AccessError),
+}
+
+/// The replies an exchange's unanswered attempts may still get, and when the last attempt
+/// started.
+#[derive(Default)]
+struct Owed {
+    replies: u32,
+    last_start: Duration,
+}
+
+impl Owed {
+    /// Tells the core what is owed: until the last attempt's reply window is over and, after
+    /// it, as long again as the slave took to answer (`latency`; at least a reply timeout).
+    fn settle(&self, core: &mut LinkCore, plan: &RetryPlan, latency: Duration) {
+        if plan.sequenced || self.replies == 0 {
+            return;
+        }
+        let until = self.last_start + plan.reply_timeout + plan.reply_timeout.max(latency);
+        core.owe_late_replies(self.replies, until);
+    }
 }
 
 /// What the errors of one exchange name.
@@ -161,12 +197,16 @@ pub struct RetryPlan {
     /// Further attempts after a timeout or a bad reply.
     pub retries: u32,
     /// Listened to (and dropped) before a retry; the protocols have no sequence numbers.
+    /// Also the silence that ends a late reply dropped before an exchange.
     pub settle: Duration,
     pub reply_timeout: Duration,
     /// How the trace names an answer (`reply`, `response`) and the line (`transport`,
     /// `CAN adapter`).
     pub reply_word: &'static str,
     pub line_word: &'static str,
+    /// Replies carry the request's sequence number (Modbus TCP's transaction id), so a
+    /// late one is told apart without waiting for it before the next exchange.
+    pub sequenced: bool,
 }
 
 impl RetryPlan {
@@ -178,6 +218,7 @@ impl RetryPlan {
             reply_timeout,
             reply_word: "reply",
             line_word: "transport",
+            sequenced: false,
         }
     }
 
@@ -213,6 +254,15 @@ impl RetryPlan {
     {
         let attempts = self.retries + 1;
         let mut last_bad = None;
+        if !self.sequenced {
+            line.drain_late(link.core(), self.settle)
+                .map_err(|wait| match wait {
+                    ReplyWait::Transport(e) => Unanswered::Transport(e),
+                    _ => Unanswered::Interrupted,
+                })?;
+        }
+        let first_start = link.core().clock.now();
+        let mut owed = Owed::default();
         for number in 1..=attempts {
             if number > 1 {
                 if let Some(done) = between(link, line).map_err(Unanswered::Failed)? {
@@ -226,16 +276,32 @@ impl RetryPlan {
                 line.settle(core, self.settle).map_err(Unanswered::Failed)?;
                 core.event(&format!("retry {} of {}", number - 1, self.retries));
             }
+            owed.last_start = link.core().clock.now();
             let result = attempt(link, line, number);
             self.record(link.core(), &result);
             match result {
-                Ok(done) => return Ok(done),
-                Err(AttemptFailure::Timeout { .. }) => {}
+                Ok(done) => {
+                    // The reply may have answered the first attempt: the slave is as slow as
+                    // that, and each later attempt's reply is as late.
+                    let latency = link.core().clock.now().saturating_sub(first_start);
+                    owed.settle(link.core(), self, latency);
+                    return Ok(done);
+                }
+                Err(AttemptFailure::Timeout { .. }) => owed.replies += 1,
                 Err(AttemptFailure::Bad(b)) => last_bad = Some(b),
-                Err(AttemptFailure::Interrupted) => return Err(Unanswered::Interrupted),
+                Err(AttemptFailure::Discarded(b)) => {
+                    owed.replies += 1;
+                    last_bad = Some(b);
+                }
+                Err(AttemptFailure::Interrupted) => {
+                    owed.replies += 1;
+                    owed.settle(link.core(), self, Duration::ZERO);
+                    return Err(Unanswered::Interrupted);
+                }
                 Err(AttemptFailure::Transport(e)) => return Err(Unanswered::Transport(e)),
             }
         }
+        owed.settle(link.core(), self, Duration::ZERO);
         Err(Unanswered::GaveUp { last_bad, attempts })
     }
 
@@ -251,6 +317,13 @@ impl RetryPlan {
                 core.event(&format!("no {reply} within {ms} ms{note}"));
             }
             Err(AttemptFailure::Bad(problem)) => core.event(&format!("{reply} refused: {problem}")),
+            Err(AttemptFailure::Discarded(problem)) => {
+                core.stats.timeouts += 1;
+                let ms = self.reply_timeout.as_millis();
+                core.event(&format!(
+                    "no {reply} within {ms} ms (one that answers another request was dropped: {problem})"
+                ));
+            }
             Err(AttemptFailure::Transport(e)) => core.event(&format!("{} failed: {e}", self.line_word)),
             Err(AttemptFailure::Interrupted) => {
                 core.event(&format!("stop requested while waiting for the {reply}"))

@@ -28,6 +28,8 @@ pub struct Checked {
     /// were compared: no port given, several drives (whose connections a check does not
     /// open), or nothing known to be written.
     pub drive_limits: Option<Result<DriveCheck, RunError>>,
+    /// Written values the wire's whole counts change (see [`super::quantised_values`]).
+    pub quantised: Vec<String>,
 }
 
 impl Checked {
@@ -61,7 +63,12 @@ pub fn check(request: &CheckRequest, err: &mut dyn Write) -> Result<Checked, Run
             err,
         )
     });
-    Ok(Checked { loaded, drive_limits })
+    let quantised = super::quantised_values(&written, &loaded);
+    Ok(Checked {
+        loaded,
+        drive_limits,
+        quantised,
+    })
 }
 
 #[cfg(test)]

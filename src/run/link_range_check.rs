@@ -2,7 +2,8 @@
 //! an object can be written with under the link's settings (the family's `link_range`),
 //! and those settings are known before anything is sent. `check` and `run` compare every
 //! number a recipe or script writes (`set`, `ramp` points, with `--set` applied) with
-//! that range. Sends nothing.
+//! that range; and note the values the wire's whole counts change (`3003 rpm` sent as
+//! 501 counts of 6 rpm is `3006 rpm`). Sends nothing.
 
 use super::{ConnectionArgs, LoadedPlan, RunError};
 use crate::dictionary::Dictionary;
@@ -55,6 +56,42 @@ pub fn within_link_range(
             problems.join("\n")
         ))),
     }
+}
+
+/// Notes on the written values the wire's whole counts change: `recipe.yaml:6:5 set
+/// speed_setpoint = 3003 rpm: the drive holds whole counts of 6 rpm, so it gets 3006 rpm`.
+/// What `check` says beside its verdict (a note, not a problem: the run sends the nearest
+/// count, as `write` does).
+pub fn quantised_values(values: &[WrittenValue], loaded: &LoadedPlan) -> Vec<String> {
+    let mut notes = Vec::new();
+    for w in values {
+        let Some((dictionary, own)) = drive_of(loaded, &w.object.name) else {
+            continue;
+        };
+        let Ok(def) = dictionary.lookup(own) else {
+            continue;
+        };
+        let given = crate::dictionary::Quantity::new(w.value, None);
+        let Some(held) = def
+            .to_raw(&given)
+            .ok()
+            .and_then(|raw| def.value_of(raw).ok())
+            .and_then(|v| v.quantity)
+        else {
+            continue;
+        };
+        if (held.value - w.value).abs() > 1e-9 * w.value.abs().max(1.0) {
+            notes.push(format!(
+                "{}: the drive holds whole counts of {}{}, so it gets {}{}",
+                w.described(),
+                number(def.scale),
+                w.unit_text(),
+                number(held.value),
+                w.unit_text()
+            ));
+        }
+    }
+    notes
 }
 
 /// The dictionary of the drive `name` is written to, and the object's name in it: the

@@ -59,7 +59,7 @@ pub use connection_args::{parse_bitrate, parse_duration, CanSpec, Connection, Co
 pub use drive_args::{open_drive, DictionaryArgs, OpenDrive};
 pub use drive_set::drive_dictionaries;
 pub use exit_code::*;
-pub use link_range_check::within_link_range;
+pub use link_range_check::{quantised_values, within_link_range};
 pub use maintain::{run_maintain, MaintainRequest, MaintainResult, PrepareMaintained};
 pub use not_run::{another_family, silent_drive};
 pub use operator_args::OperatorArgs;

@@ -52,13 +52,25 @@ pub fn silent_drive(
     let advice = advice
         .map(|a| format!("For a drive of this family: {a}\n"))
         .unwrap_or_default();
+    // Over TCP the line is a network connection: what a serial line would be is the
+    // server's (a serial server's baud rate, a gateway's RS485 side).
+    let (second, third) = match &connection.tcp {
+        Some(_) => (
+            format!("the server: {line} must be the drive's, its gateway's or its serial server's address and port; a serial server's own baud rate and parity must match the drive's"),
+            "the network and what is behind it: the server running, reachable and not busy with another client, the drive's power".to_string(),
+        ),
+        None => (
+            format!("the baud rate: you gave {baud}; it must match the drive's"),
+            format!("the line: the cable or adapter, RS485 wiring and termination, the drive's power, or a different {line}"),
+        ),
+    };
     format!(
         "error: the drive does not answer ({address}, {line}); nothing was written to it and the {what} did not start. \
          Its state is unknown to drivescript: if it may still be running from earlier, check it by hand.\n\
          The likely causes:\n  \
          1. the address: you gave {address}; it must match the drive's address setting ({notation})\n  \
-         2. the baud rate: you gave {baud}; it must match the drive's\n  \
-         3. the line: the cable or adapter, RS485 wiring and termination, the drive's power, or a different {line}\n  \
+         2. {second}\n  \
+         3. {third}\n  \
          4. the drive family: {}\n\
          {advice}detail: {detail}",
         another_family(registry, dictionary)

@@ -1,8 +1,9 @@
 //! One `--sim NAME=VALUE` setting of the built-in simulated drive's physics: the speed
 //! controller's response (`response-time=200ms`, `overshoot=10%`), friction
 //! (`coast-rate=300rpm/s`) and heat (`ambient=25°C`, `heating=25K/A`,
-//! `thermal-time=10min`), and an emergency message without a trip (`emergency-at=20s:0x2310`,
-//! a CANopen node's EMCY). Parsing and applying to a [`SimConfig`] only.
+//! `thermal-time=10min`), an emergency message without a trip (`emergency-at=20s:0x2310`,
+//! a CANopen node's EMCY), and how late the drive answers (`reply-latency=1500ms`, a slow
+//! slave). Parsing and applying to a [`SimConfig`] only.
 
 use super::motor::Response;
 use super::SimConfig;
@@ -10,7 +11,7 @@ use crate::dictionary::{Quantity, Unit};
 use std::time::Duration;
 
 /// The names, in the order `--help` and errors list them.
-pub const SIM_SETTINGS: [&str; 7] = [
+pub const SIM_SETTINGS: [&str; 8] = [
     "response-time",
     "overshoot",
     "coast-rate",
@@ -18,6 +19,7 @@ pub const SIM_SETTINGS: [&str; 7] = [
     "heating",
     "thermal-time",
     "emergency-at",
+    "reply-latency",
 ];
 
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -30,13 +32,16 @@ pub enum SimSetting {
     ThermalTime(Duration),
     /// At this time on the simulator's clock, an emergency message with this error code.
     EmergencyAt(Duration, u16),
+    /// Every reply leaves this long after its request (a slave slower than the master's
+    /// reply timeout answers each request during the next one's wait).
+    ReplyLatency(Duration),
 }
 
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum SimSettingError {
     #[error("`{0}` is not NAME=VALUE (e.g. overshoot=10%)")]
     NotAPair(String),
-    #[error("unknown simulator setting `{0}`; known: response-time, overshoot, coast-rate, ambient, heating, thermal-time, emergency-at")]
+    #[error("unknown simulator setting `{0}`; known: response-time, overshoot, coast-rate, ambient, heating, thermal-time, emergency-at, reply-latency")]
     Unknown(String),
     #[error("{name}: `{value}` is not {wanted}")]
     BadValue {
@@ -123,6 +128,7 @@ impl SimSetting {
                     _ => return Err(bad(wanted)),
                 }
             }
+            "reply-latency" => SimSetting::ReplyLatency(duration("a duration above zero (1500ms)")?),
             _ => SimSetting::ThermalTime(duration("a duration above zero (10min)")?),
         })
     }
@@ -146,6 +152,7 @@ impl SimSetting {
             SimSetting::Heating(k) => config.heating_k_per_a = k,
             SimSetting::ThermalTime(d) => config.thermal_time_constant = d,
             SimSetting::EmergencyAt(at, code) => config.emergencies.push((at, code)),
+            SimSetting::ReplyLatency(d) => config.response_latency = d,
         }
     }
 }

@@ -313,3 +313,81 @@ fn the_commissioning_recipe_runs_behind_an_adapter_that_echoes() {
         &["skipped the echo of the request"],
     );
 }
+
+/// A write says what the inverter will hold: 0.1 Hz counts are 6 rpm, so 3003 rpm is sent
+/// as 501 counts, which is 3006 rpm (it used to say "3003 rpm written (raw 501)").
+#[test]
+fn a_write_reports_the_value_the_wire_quantised_it_to() {
+    let out = crate::support::drivescript(
+        &["write", "--drive", "modbus-inverter", "speed_setpoint", "3003rpm"],
+        "",
+    );
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        text.contains("speed_setpoint = 3006 rpm written (raw 501; 3003 rpm given, the nearest the object's resolution holds)"),
+        "{text}"
+    );
+    let out = crate::support::drivescript(
+        &["write", "--drive", "modbus-inverter", "speed_setpoint", "3000rpm"],
+        "",
+    );
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        text.contains("speed_setpoint = 3000 rpm written (raw 500)\n"),
+        "{text}"
+    );
+}
+
+/// The README's Modbus `decode` example prints what the README says it prints (it used to
+/// give the reply alone, which decodes as raw registers `[500, 11]`).
+#[test]
+fn the_readmes_decode_example_prints_what_it_says() {
+    let readme = std::fs::read_to_string(repo_root().join("README.md")).expect("README.md");
+    let flat = readme.split_whitespace().collect::<Vec<_>>().join(" ");
+    let start = flat
+        .find("`drivescript decode --protocol modbus-rtu")
+        .expect("the README's Modbus decode example");
+    let rest = &flat[start + 1..];
+    let command = &rest[..rest.find('`').expect("the example's closing backquote")];
+    let after = &rest[command.len()..];
+    // Words, and "quoted" telegrams as one argument each.
+    let mut args = Vec::new();
+    for (i, part) in command.split('"').enumerate() {
+        if i % 2 == 1 {
+            args.push(part.to_string());
+        } else {
+            args.extend(part.split_whitespace().map(str::to_string));
+        }
+    }
+    assert_eq!(args.first().map(String::as_str), Some("drivescript"), "{command}");
+    let args: Vec<&str> = args[1..].iter().map(String::as_str).collect();
+    let out = cli(&args, 0).stdout;
+    for claimed in [
+        "slave 1 reply to read holding registers: speed_actual = 3000 rpm, current_actual = 1.1 A",
+        "CRC FB FA correct",
+    ] {
+        assert!(after.contains(claimed), "the README no longer claims {claimed:?}");
+        assert!(
+            out.contains(claimed),
+            "`{command}` does not print {claimed:?}:\n{out}"
+        );
+    }
+}
+
+/// `check` notes where the wire's whole counts change a recipe's value (0.1 Hz counts of
+/// 6 rpm: 3003 rpm is sent as 3006 rpm), and only there; the recipe is still valid.
+#[test]
+fn check_notes_a_value_the_wire_quantises() {
+    let dir = scratch("quantised");
+    let recipe = write_file(
+        &dir,
+        "recipe.yaml",
+        "name: quantised\ndrive: modbus-inverter\nsteps:\n  - set: { speed_setpoint: 3003 rpm }\n  - set: { speed_setpoint: 3000 rpm }\n",
+    );
+    let out = cli(&["check", recipe.to_str().unwrap()], 0);
+    assert_has(
+        &out.stderr,
+        &["recipe.yaml:4:5: set speed_setpoint = 3003 rpm: the drive holds whole counts of 6 rpm, so it gets 3006 rpm"],
+    );
+    assert_eq!(out.stderr.matches("note:").count(), 1, "{}", out.stderr);
+}

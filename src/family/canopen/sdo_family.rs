@@ -40,12 +40,16 @@ pub fn parse_node(text: Option<&str>, help: &str) -> Result<DriveAddress, Family
     })
 }
 
-/// Whether a frame of a capture that does not say (a candump log) is an SDO request to a
-/// node (to 0x600 + node) or a node's response (from 0x580 + node); `None` for anything
-/// else (heartbeats, EMCY, process data).
+/// Whether a frame of a capture that does not say (a candump log) is a request to a node
+/// (an SDO request to 0x600 + node, an NMT command) or a node's response (from 0x580 +
+/// node); `None` for anything else (heartbeats, EMCY, process data).
 pub fn sdo_frame_direction(frame: &crate::bus::CanFrame) -> Option<crate::link::Direction> {
     match frame.id {
         _ if frame.extended => None,
+        // An NMT command is drivescript's too (it starts a node before enabling it): a
+        // request that gets no answer (CiA 301: NMT is unconfirmed), which a replay of the
+        // capture must accept as the capture did.
+        super::codec::NMT_ID => Some(crate::link::Direction::Sent),
         0x601..=0x67F => Some(crate::link::Direction::Sent),
         0x581..=0x5FF => Some(crate::link::Direction::Received),
         _ => None,

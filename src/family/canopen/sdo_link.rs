@@ -160,9 +160,12 @@ impl SdoLink {
             ..RetryPlan::new(self.config.retries, Duration::ZERO, self.config.reply_timeout)
         };
         let step = plan
-            .run(self, bus, |link, bus, _| {
+            .run(self, bus, |link, bus, number| {
                 // Each attempt is the whole transfer again, from its first request.
                 let (mut client, request) = first.clone();
+                if number == 1 {
+                    link.drain_owed(bus)?;
+                }
                 link.drain(bus).map_err(AttemptFailure::Transport)?;
                 link.attempt(bus, &mut client, request)
             })
@@ -285,6 +288,38 @@ impl SdoLink {
         if dropped > 0 {
             self.core
                 .event(&format!("dropped {dropped} late response(s) before sending"));
+        }
+        Ok(())
+    }
+
+    /// Before a transfer: waits for the responses earlier attempts that went unanswered
+    /// still owe (the link core keeps the count and how long) and drops them, so a late
+    /// answer for the same object is never taken for this transfer's; the node's other
+    /// frames are seen as always.
+    fn drain_owed(&mut self, bus: &mut dyn FrameBus) -> Result<(), AttemptFailure<Refused>> {
+        let started = self.core.clock.now();
+        let mut dropped = 0;
+        while let Some(until) = self.core.late_reply_until() {
+            if self.core.stop_pending() {
+                return Err(AttemptFailure::Interrupted);
+            }
+            let slice = (until - self.core.clock.now()).min(Duration::from_millis(10));
+            match bus.receive(slice) {
+                Ok(f) if f.id == response_id(self.node) && !f.extended => {
+                    self.core.notify_frame(Direction::Received, &f);
+                    self.core.late_reply_came();
+                    dropped += 1;
+                }
+                Ok(other) => self.see(&other),
+                Err(TransportError::Timeout { .. }) => {}
+                Err(e) => return Err(AttemptFailure::Transport(e)),
+            }
+        }
+        if self.core.clock.now() > started {
+            let ms = (self.core.clock.now() - started).as_millis();
+            self.core.event(&format!(
+                "waited {ms} ms for late responses to earlier attempts before sending; dropped {dropped}"
+            ));
         }
         Ok(())
     }

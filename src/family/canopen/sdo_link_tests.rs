@@ -301,3 +301,53 @@ fn a_lost_adapter_mid_transfer_ends_it_at_once_with_the_adapters_error() {
     assert!(clock.now() < Duration::from_millis(10), "{:?}", clock.now());
     assert!(link.reopen().unwrap_err().to_string().contains("does not exist"));
 }
+
+/// Answers every upload 1.5 s after it came (a node slower than the 1 s timeout), with a
+/// count of the requests it has had: each request's own answer is told by its number.
+struct Slow {
+    requests: u32,
+}
+
+impl FramePeer for Slow {
+    fn receive(&mut self, frame: &CanFrame, now: Duration) -> Vec<(Duration, CanFrame)> {
+        self.requests += 1;
+        let mut data = [
+            0x43,
+            frame.data()[1],
+            frame.data()[2],
+            frame.data()[3],
+            0,
+            0,
+            0,
+            0,
+        ];
+        data[4..].copy_from_slice(&self.requests.to_le_bytes());
+        vec![(
+            now + Duration::from_millis(1500),
+            CanFrame::standard8(0x581, data),
+        )]
+    }
+}
+
+#[test]
+fn a_node_slower_than_the_timeout_never_gives_a_read_the_answer_to_an_earlier_one() {
+    let clock = Arc::new(VirtualClock::new());
+    let peer = Arc::new(Mutex::new(Slow { requests: 0 }));
+    let bus = MemoryFrameBus::new("slow", peer.clone(), clock.clone());
+    let mut link = SdoLink::new(
+        SharedFrameBus::new(Box::new(bus)),
+        clock,
+        1,
+        SdoLinkConfig::default(),
+    );
+    let value = |u: Uploaded| u32::from_le_bytes(u.data[..4].try_into().unwrap());
+    // The first read's first request (1) is answered during its retry (request 2).
+    assert_eq!(value(link.upload(0x6041, 0).unwrap()), 1);
+    // The retry's answer (2) comes during the second read: it answers the first read, so
+    // the second read waits for it, drops it, and gets an answer to a request of its own.
+    let second = value(link.upload(0x6041, 0).unwrap());
+    assert!(
+        second >= 3,
+        "the second read got the answer to request {second}, the first read's"
+    );
+}

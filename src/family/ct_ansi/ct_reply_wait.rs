@@ -42,6 +42,8 @@ impl CtLink {
         let mut echo_open = true;
         // Nothing but the reply has arrived (no echo, no noise): the line does not echo.
         let mut clean = true;
+        // A reply to another message, dropped: named if this one's never comes.
+        let mut dropped = None;
         self.attempt_echo = None;
         loop {
             let mut wait_until = deadline;
@@ -114,12 +116,19 @@ impl CtLink {
                                         }
                                         Ok(reply)
                                     }
+                                    // Another message's answer (most often a late one):
+                                    // never this one's; listened on.
                                     Err(problem) => {
                                         self.core.stats.mismatched_replies += 1;
-                                        Err(AttemptFailure::Bad(Refusal {
+                                        self.core.event(&format!(
+                                            "dropped a reply that answers another message: {problem}"
+                                        ));
+                                        dropped = Some(Refusal {
                                             reply: bytes,
                                             problem,
-                                        }))
+                                        });
+                                        clean = false;
+                                        continue;
                                     }
                                 },
                                 Err(problem) => {
@@ -153,7 +162,10 @@ impl CtLink {
                         Some(EchoSeen::Part(_)) => " after part of the echo of our message",
                         None => "",
                     };
-                    return Err(AttemptFailure::Timeout { note });
+                    return Err(match dropped.take() {
+                        Some(r) => AttemptFailure::Discarded(r),
+                        None => AttemptFailure::Timeout { note },
+                    });
                 }
                 wait => return Err(wait.into()),
             }

@@ -17,7 +17,7 @@ use crate::bus::{SharedTransport, Transport, TransportError};
 use crate::clock::SharedClock;
 use crate::drive::AccessError;
 use crate::link::{
-    AttemptFailure, CoreLink, Direction, ExchangeText, LinkCore, Refusal, RetryPlan, Unanswered,
+    AttemptFailure, CoreLink, Direction, ExchangeText, LinkCore, Refusal, ReplyWait, RetryPlan, Unanswered,
 };
 use std::time::Duration;
 
@@ -175,7 +175,7 @@ impl LenzeLink {
             Err(AttemptFailure::Timeout { .. }) => {
                 format!("the read-back {} got no reply either", read_back.text())
             }
-            Err(AttemptFailure::Bad(r)) => format!(
+            Err(AttemptFailure::Bad(r) | AttemptFailure::Discarded(r)) => format!(
                 "the read-back {} got the bad reply {:?} ({})",
                 read_back.text(),
                 r.reply,
@@ -211,6 +211,7 @@ impl LenzeLink {
         let echo = request.text();
         // An SDO write is answered with its own text: the first copy is taken as the reply.
         let echo_possible = !matches!(request, Request::SdoWrite { .. });
+        let mut dropped = None;
         loop {
             while let Some(line) = self.extractor.next_line() {
                 if !line.bytes.is_empty() {
@@ -241,13 +242,23 @@ impl LenzeLink {
                     }
                 };
                 if let Err(problem) = check_reply(request, &reply) {
+                    // Another request's answer (most often a late one): never this one's.
                     self.core.stats.mismatched_replies += 1;
-                    return Err(AttemptFailure::Bad(Refusal { reply: text, problem }));
+                    self.core.event(&format!(
+                        "dropped a reply that answers another request: {problem}"
+                    ));
+                    dropped = Some(Refusal { reply: text, problem });
+                    continue;
                 }
                 return Ok(reply);
             }
             match self.core.read_reply(t, sent, deadline) {
                 Ok(bytes) => self.extractor.push(bytes),
+                Err(ReplyWait::Timeout) if dropped.is_some() => {
+                    return Err(dropped
+                        .take()
+                        .map_or(AttemptFailure::Timeout { note: "" }, AttemptFailure::Discarded))
+                }
                 Err(wait) => return Err(wait.into()),
             }
         }

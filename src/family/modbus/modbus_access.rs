@@ -36,13 +36,21 @@ impl ModbusAccess {
 
     fn refused(&self, operation: &'static str, register: Register, function: u8, code: u8) -> AccessError {
         let code = super::codec::ExceptionCode(code);
+        let after = match code {
+            // Busy at every attempt: the link asked again after a pause each time.
+            super::codec::ExceptionCode::SERVER_DEVICE_BUSY
+            | super::codec::ExceptionCode::ACKNOWLEDGE => {
+                "; it was still so at the last attempt: let it finish its long command, then try again (more time between attempts: --timeout, --retries)"
+            }
+            _ => "",
+        };
         AccessError::Refused {
             port: self.link.port(),
             address: self.link.shown_unit(),
             operation,
             object: register.notation(),
             code: code.0.into(),
-            text: format!("function {function:02X} answered with {code}"),
+            text: format!("function {function:02X} answered with {code}{after}"),
         }
     }
 
@@ -109,6 +117,11 @@ impl ObjectAccess for ModbusAccess {
             None | Some(Response::WriteSingle { .. } | Response::WriteMultiple { .. }) => {
                 Ok(WriteOutcome::Stored)
             }
+            // Accepted, to be carried out (Application Protocol V1.1b3, 7: code 05).
+            Some(Response::Exception {
+                code: super::codec::ExceptionCode::ACKNOWLEDGE,
+                ..
+            }) => Ok(WriteOutcome::Stored),
             Some(Response::Exception { function, code }) => {
                 Err(self.refused("write", register, function, code.0))
             }

@@ -5,7 +5,7 @@
 //! how to open a [`ModbusAccess`], simulate an inverter and explain frames.
 
 use super::codec::rtu;
-use super::modbus_link::{LinkConfig, NO_REPLY_HINT};
+use super::modbus_link::{LinkConfig, NO_REPLY_HINT, NO_REPLY_HINT_TCP};
 use super::register_address::{self, Register};
 use super::{Framing, ModbusAccess, ModbusExplainer, ModbusLink, ModbusSimulator};
 use crate::bus::{Bus, Parity, SerialSettings};
@@ -82,7 +82,10 @@ impl Family for ModbusFamily {
     }
 
     fn no_reply_advice(&self) -> &'static str {
-        NO_REPLY_HINT
+        match self.framing {
+            Framing::Rtu => NO_REPLY_HINT,
+            Framing::Tcp => NO_REPLY_HINT_TCP,
+        }
     }
 
     fn open(&self, bus: &Bus, drive: &DriveAddress, options: &LinkOptions, context: LinkContext) -> Opened {

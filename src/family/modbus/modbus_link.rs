@@ -12,21 +12,34 @@
 //! (an echo's later reply is dropped as stale input before the next request). Register
 //! writes set values, so repeating one after a lost reply does the same as sending it once.
 //! An exception reply answers the request (the drive refused), except 06 "server device
-//! busy", after which the request is sent again.
-//! TCP: a reply with an earlier transaction id is a late one and is dropped.
+//! busy" (and 05 "acknowledge" to a read, which carries no values): the request is sent
+//! again after a pause of one reply timeout, as the specification asks ("retransmit the
+//! message later"); a slave still busy at the last attempt is the answer, which the access
+//! layer reports as the slave's refusal with its own text (not as noise on the line). A
+//! write answered 05 was accepted: the slave carries it out (section 7).
+//! TCP: a reply carries its request's transaction id: one that answers an earlier attempt of
+//! the same exchange (a slow server) is the answer, one of an earlier exchange is dropped.
+//! RTU has no such number: the link core waits for the replies that attempts which went
+//! unanswered still owe, and drops them, before the next exchange.
 //! Must not know object names, units or states.
 
 use super::codec::{mbap, rtu, ExceptionCode, Request, Response};
 use crate::bus::{SharedTransport, Transport, TransportError};
 use crate::clock::SharedClock;
 use crate::drive::AccessError;
-use crate::link::{AttemptFailure, CoreLink, Direction, ExchangeText, LinkCore, Refusal, RetryPlan};
+use crate::link::{
+    AttemptFailure, CoreLink, Direction, ExchangeText, LinkCore, Refusal, ReplyWait, RetryPlan,
+};
 use std::time::Duration;
 
 /// A stop request does not cut short the first part of a reply wait, so the exchange under
 /// way finishes (a 9600 bit/s reply of 9 bytes takes about 10 ms on the wire).
 const STOP_GRACE: Duration = Duration::from_millis(30);
-/// What to check when an inverter stays silent; also the family's `no_reply_advice`.
+/// What to check when an inverter behind a Modbus TCP server stays silent; also the TCP
+/// family's `no_reply_advice`. Nothing about serial lines: the link is a network connection.
+pub(super) const NO_REPLY_HINT_TCP: &str = "check that the Modbus TCP server at --tcp HOST:PORT is the inverter's (port 502 by default) and not busy with another client, and the unit id (--address; behind a gateway, the inverter's slave address)";
+/// What to check when an inverter on a serial line stays silent; also the RTU family's
+/// `no_reply_advice`.
 pub(super) const NO_REPLY_HINT: &str = "check the RS485 wiring (A/B, termination), the baud rate and parity (--baud, --parity; Modbus RTU defaults to 19200 8E1), that the inverter's protocol parameter selects Modbus RTU, and its slave address (--address 1..247)";
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -67,8 +80,13 @@ pub struct ModbusLink {
     core: LinkCore,
     pending: Vec<u8>,
     transaction: u16,
+    /// TCP: the transaction id of this exchange's first attempt; replies from it up to
+    /// `transaction` answer the same request.
+    first_transaction: u16,
     /// When the line last carried a byte (RTU's silence counts from here).
     last_activity: Option<Duration>,
+    /// The last attempt was answered "busy": the next waits before it is sent.
+    busy: bool,
 }
 
 impl ModbusLink {
@@ -80,7 +98,9 @@ impl ModbusLink {
             core: LinkCore::new(clock, STOP_GRACE),
             pending: Vec::new(),
             transaction: 0,
+            first_transaction: 1,
             last_activity: None,
+            busy: false,
         }
     }
 
@@ -126,8 +146,22 @@ impl ModbusLink {
             self.core.event("broadcast: no slave answers");
             return Ok(None);
         }
-        let plan = RetryPlan::new(self.config.retries, self.config.settle, self.config.reply_timeout);
-        let result = plan.run(self, t, |link, t, _| link.attempt(t, request, &pdu));
+        let plan = RetryPlan {
+            sequenced: self.config.framing == Framing::Tcp,
+            ..RetryPlan::new(self.config.retries, self.config.settle, self.config.reply_timeout)
+        };
+        self.first_transaction = self.transaction.wrapping_add(1);
+        self.busy = false;
+        let attempts = plan.retries + 1;
+        let result = plan.run_with_step(
+            self,
+            t,
+            |link, _| {
+                link.wait_while_busy();
+                Ok(None)
+            },
+            |link, t, number| link.attempt(t, request, &pdu, number == attempts),
+        );
         if result.is_ok() && self.pending.is_empty() {
             t.exchange_complete();
         }
@@ -136,10 +170,35 @@ impl ModbusLink {
                 port: self.port(),
                 address: self.shown_unit(),
                 request: describe(request, &pdu),
-                hint: NO_REPLY_HINT.to_string(),
+                hint: self.no_reply_hint().to_string(),
             };
             u.into_error(text, self.config.reply_timeout, |r| (r.reply, r.problem))
         })
+    }
+
+    /// After a "busy" answer: one reply timeout before the request goes again, in slices
+    /// that a stop request ends.
+    fn wait_while_busy(&mut self) {
+        if !std::mem::take(&mut self.busy) {
+            return;
+        }
+        let until = self.core.clock.now() + self.config.reply_timeout;
+        self.core.event(&format!(
+            "the slave is busy: asking again in {} ms",
+            self.config.reply_timeout.as_millis()
+        ));
+        while self.core.clock.now() < until && !self.core.stop_pending() {
+            let slice = (until - self.core.clock.now()).min(Duration::from_millis(10));
+            self.core.clock.sleep(slice);
+        }
+    }
+
+    /// What to check when the inverter stays silent, for the framing in use.
+    pub fn no_reply_hint(&self) -> &'static str {
+        match self.config.framing {
+            Framing::Rtu => NO_REPLY_HINT,
+            Framing::Tcp => NO_REPLY_HINT_TCP,
+        }
     }
 
     /// Waits out the inter-frame silence, then writes `frame`.
@@ -176,13 +235,26 @@ impl ModbusLink {
         t: &mut dyn Transport,
         request: &Request,
         pdu: &[u8],
+        last: bool,
     ) -> Result<Response, AttemptFailure<Refused>> {
         let frame = self.frame(pdu);
         self.send(t, &frame).map_err(AttemptFailure::Transport)?;
         let (sent, deadline) = self.core.reply_window(t, self.config.reply_timeout);
+        let mut dropped = None;
         loop {
-            if let Some(result) = self.take_reply(request, &frame) {
-                return result;
+            match self.take_reply(request, &frame, last) {
+                None => {}
+                // A reply to another request is never this one's answer: it is dropped and
+                // the line listened to on.
+                Some(Err(AttemptFailure::Discarded(r))) => {
+                    self.core.event(&format!(
+                        "dropped a reply that answers another request: {}",
+                        r.problem
+                    ));
+                    dropped = Some(r);
+                    continue;
+                }
+                Some(result) => return result,
             }
             match self.core.read_reply(t, sent, deadline) {
                 Ok(bytes) => {
@@ -191,6 +263,11 @@ impl ModbusLink {
                         self.pending.extend_from_slice(&bytes);
                         self.last_activity = Some(self.core.clock.now());
                     }
+                }
+                Err(ReplyWait::Timeout) if dropped.is_some() => {
+                    return Err(dropped
+                        .take()
+                        .map_or(AttemptFailure::Timeout { note: "" }, AttemptFailure::Discarded))
                 }
                 Err(wait) => return Err(wait.into()),
             }
@@ -202,6 +279,7 @@ impl ModbusLink {
         &mut self,
         request: &Request,
         sent: &[u8],
+        last: bool,
     ) -> Option<Result<Response, AttemptFailure<Refused>>> {
         // A write single register is answered with its own bytes, so one copy is the
         // reply; of two copies (an echoing adapter) the first is the echo.
@@ -239,13 +317,15 @@ impl ModbusLink {
                 }
                 let whole: Vec<u8> = self.pending.drain(..n).collect();
                 self.core.notify(Direction::Received, &whole);
+                // Ids count up by one per attempt (wrapping): this exchange's are the last few.
+                let age = self.transaction.wrapping_sub(self.first_transaction);
                 match mbap::decode(&whole) {
-                    Ok(f) if f.transaction != self.transaction => {
+                    Ok(f) if self.transaction.wrapping_sub(f.transaction) > age => {
                         self.core.event(&format!(
                             "dropped a late reply (transaction {}, waiting for {})",
                             f.transaction, self.transaction
                         ));
-                        return self.take_reply(request, sent);
+                        return self.take_reply(request, sent, last);
                     }
                     Ok(f) => (f.unit, f.pdu.to_vec(), whole),
                     Err(e) => return Some(Err(self.bad(&whole, e.to_string(), false))),
@@ -267,29 +347,35 @@ impl ModbusLink {
         if let Err(expected) = request.check(&response) {
             return Some(Err(self.bad(&whole, format!("expected {expected}"), true)));
         }
-        // A busy slave is to be asked again later (Application Protocol V1.1b3, 7: code 06).
-        if let Response::Exception {
-            code: ExceptionCode::SERVER_DEVICE_BUSY,
-            ..
-        } = response
-        {
-            let problem = ExceptionCode::SERVER_DEVICE_BUSY.to_string();
-            return Some(Err(self.bad(&whole, problem, true)));
+        // A busy slave is to be asked again later (Application Protocol V1.1b3, 7: code 06);
+        // so is one that acknowledged a read (05), which carries no values.
+        if let Response::Exception { code, .. } = response {
+            let later = code == ExceptionCode::SERVER_DEVICE_BUSY
+                || (code == ExceptionCode::ACKNOWLEDGE && !request.writes());
+            if later && !last {
+                self.busy = true;
+                return Some(Err(AttemptFailure::Bad(Refusal {
+                    reply: format!("`{}`", crate::hex::to_hex(&whole)),
+                    problem: code.to_string(),
+                })));
+            }
         }
         self.core.stats.replies += 1;
         Some(Ok(response))
     }
 
     fn bad(&mut self, bytes: &[u8], problem: String, mismatched: bool) -> AttemptFailure<Refused> {
-        if mismatched {
-            self.core.stats.mismatched_replies += 1;
-        } else {
-            self.core.stats.corrupt_replies += 1;
-        }
-        AttemptFailure::Bad(Refusal {
+        let refusal = Refusal {
             reply: format!("`{}`", crate::hex::to_hex(bytes)),
             problem,
-        })
+        };
+        if mismatched {
+            self.core.stats.mismatched_replies += 1;
+            AttemptFailure::Discarded(refusal)
+        } else {
+            self.core.stats.corrupt_replies += 1;
+            AttemptFailure::Bad(refusal)
+        }
     }
 }
 

@@ -196,6 +196,13 @@ fn a_silent_slave_gives_a_located_error_with_the_advice() {
     assert!(e.starts_with("no reply from drive slave 7 on test line"), "{e}");
     assert!(e.contains("19200 8E1"), "{e}");
     assert_eq!(peer.lock().unwrap().received.len(), 3);
+    // Over Modbus TCP the advice is the server's and the unit id, nothing of a serial line.
+    let (mut link, _) = link_to(scripted(vec![None, None, None]), 7, Framing::Tcp);
+    let e = link.exchange(&READ_STATUS).unwrap_err().to_string();
+    assert!(e.contains("Modbus TCP server") && e.contains("unit id"), "{e}");
+    for serial in ["RS485", "baud", "parity"] {
+        assert!(!e.contains(serial), "{serial}: {e}");
+    }
 }
 
 #[test]
@@ -245,8 +252,90 @@ fn a_busy_slave_is_asked_again() {
         link.exchange(&READ_STATUS).unwrap(),
         Some(Response::Registers { .. })
     ));
+    // Busy at every attempt: asked again a reply timeout later each time, and the last
+    // "busy" is the slave's answer (a refusal with its own text, not a bad reply).
     let peer = scripted(vec![Some(busy); 3]);
+    let (mut link, _) = link_to(peer.clone(), 1, Framing::Rtu);
+    assert_eq!(
+        link.exchange(&READ_STATUS).unwrap(),
+        Some(Response::Exception {
+            function: 3,
+            code: ExceptionCode::SERVER_DEVICE_BUSY
+        })
+    );
+    let times: Vec<Duration> = peer.lock().unwrap().received.iter().map(|(t, _)| *t).collect();
+    assert_eq!(times.len(), 3);
+    for pair in times.windows(2) {
+        assert!(
+            pair[1] - pair[0] >= LinkConfig::default().reply_timeout,
+            "{times:?}"
+        );
+    }
+    // "Acknowledge" to a read carries no values: asked again; to a write: accepted.
+    let ack = |function: u8| {
+        rtu::encode(
+            1,
+            &Response::Exception {
+                function,
+                code: ExceptionCode::ACKNOWLEDGE,
+            }
+            .encode(),
+        )
+    };
+    let peer = scripted(vec![Some(ack(3)), Some(reply(1, vec![7]))]);
     let (mut link, _) = link_to(peer, 1, Framing::Rtu);
-    let e = link.exchange(&READ_STATUS).unwrap_err().to_string();
-    assert!(e.contains("exception 06 SERVER DEVICE BUSY"), "{e}");
+    assert!(matches!(
+        link.exchange(&READ_STATUS).unwrap(),
+        Some(Response::Registers { values, .. }) if values == vec![7]
+    ));
+}
+
+/// Answers every read, 1.5 s after it came, with the register's own address as its value.
+struct Slow;
+
+impl Peer for Slow {
+    fn receive(&mut self, bytes: &[u8], now: Duration) -> Vec<PeerReply> {
+        let start = u16::from_be_bytes([bytes[2], bytes[3]]);
+        vec![PeerReply {
+            at: now + Duration::from_millis(1500),
+            bytes: reply(1, vec![start]),
+        }]
+    }
+}
+
+#[test]
+fn a_slave_slower_than_the_timeout_never_gives_a_register_another_ones_value() {
+    let (mut link, _) = link_to(Arc::new(Mutex::new(Slow)), 1, Framing::Rtu);
+    link.config.reply_timeout = Duration::from_secs(1);
+    let seen = Arc::new(Mutex::new(Vec::new()));
+    link.set_observer(Box::new(Events(seen.clone())));
+    for start in [0x2000, 0xD000, 0xF008, 0x2001] {
+        let read = Request::Read {
+            function: Function::ReadHolding,
+            start,
+            count: 1,
+        };
+        match link.exchange(&read) {
+            Ok(Some(Response::Registers { values, .. })) => {
+                assert_eq!(
+                    values,
+                    vec![start],
+                    "the read of 0x{start:04X} got another register's value"
+                )
+            }
+            other => panic!("0x{start:04X}: {other:?}"),
+        }
+    }
+    let seen = seen.lock().unwrap().join("\n");
+    assert!(seen.contains("late reply(ies) to earlier attempts"), "{seen}");
+}
+
+/// The link's events, as a trace shows them.
+struct Events(Arc<Mutex<Vec<String>>>);
+
+impl crate::link::TelegramObserver for Events {
+    fn telegram(&mut self, _: Duration, _: Direction, _: &[u8]) {}
+    fn event(&mut self, _: Duration, text: &str) {
+        self.0.lock().unwrap().push(text.to_string());
+    }
 }

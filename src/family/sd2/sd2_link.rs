@@ -14,7 +14,9 @@ use crate::family::sd2::codec::{
     check_reply, Body, Cyclic, Data, DecodeError, ErrorCode, FrameExtractor, Framing, Telegram,
 };
 use crate::hex::to_hex;
-use crate::link::{AttemptFailure, CoreLink, Direction, ExchangeText, LinkCore, Refusal, RetryPlan};
+use crate::link::{
+    AttemptFailure, CoreLink, Direction, ExchangeText, LinkCore, Refusal, ReplyWait, RetryPlan,
+};
 use std::time::Duration;
 
 /// A stop request does not cut short the first part of a reply wait: a drive that is
@@ -191,6 +193,7 @@ impl Sd2Link {
         request: &Telegram,
     ) -> Result<Telegram, AttemptFailure<Refused>> {
         let (sent, deadline) = self.core.reply_window(t, self.config.reply_timeout);
+        let mut dropped = None;
         loop {
             while let Some(block) = self.extractor.next_block() {
                 if block.skipped > 0 {
@@ -213,16 +216,26 @@ impl Sd2Link {
                     continue;
                 }
                 if let Err(problem) = check_reply(request, &telegram) {
+                    // Another request's answer (most often a late one): never this one's.
                     self.core.stats.mismatched_replies += 1;
-                    return Err(AttemptFailure::Bad(Refusal {
+                    self.core.event(&format!(
+                        "dropped a reply that answers another request: {problem}"
+                    ));
+                    dropped = Some(Refusal {
                         reply: block.bytes,
                         problem,
-                    }));
+                    });
+                    continue;
                 }
                 return Ok(telegram);
             }
             match self.core.read_reply(t, sent, deadline) {
                 Ok(bytes) => self.extractor.push(bytes),
+                Err(ReplyWait::Timeout) if dropped.is_some() => {
+                    return Err(dropped
+                        .take()
+                        .map_or(AttemptFailure::Timeout { note: "" }, AttemptFailure::Discarded))
+                }
                 Err(wait) => return Err(wait.into()),
             }
         }

@@ -23,25 +23,41 @@ impl AbortCode {
     pub const GENERAL_ERROR: AbortCode = AbortCode(0x0800_0000);
     pub const DEVICE_STATE: AbortCode = AbortCode(0x0800_0022);
 
-    /// The meaning CiA 301 gives the code, for the codes drivescript names.
+    /// The meaning CiA 301 (V4.2.0, 7.2.4.3.17, the SDO abort codes) gives the code: every
+    /// code the table lists.
     pub fn meaning(self) -> Option<&'static str> {
         Some(match self.0 {
             0x0503_0000 => "toggle bit not alternated",
             0x0504_0000 => "SDO protocol timed out",
             0x0504_0001 => "client/server command specifier not valid or unknown",
+            0x0504_0002 => "invalid block size (block mode only)",
+            0x0504_0003 => "invalid sequence number (block mode only)",
+            0x0504_0004 => "CRC error (block mode only)",
+            0x0504_0005 => "out of memory",
             0x0601_0000 => "unsupported access to an object",
             0x0601_0001 => "attempt to read a write-only object",
             0x0601_0002 => "attempt to write a read-only object",
             0x0602_0000 => "object does not exist in the object dictionary",
             0x0604_0041 => "object cannot be mapped to the PDO",
+            0x0604_0042 => "the number and length of the objects to be mapped would exceed the PDO length",
+            0x0604_0043 => "general parameter incompatibility reason",
+            0x0604_0047 => "general internal incompatibility in the device",
+            0x0606_0000 => "access failed due to a hardware error",
             0x0607_0010 => "data type does not match, length of service parameter does not match",
+            0x0607_0012 => "data type does not match, length of service parameter too high",
+            0x0607_0013 => "data type does not match, length of service parameter too low",
             0x0609_0011 => "subindex does not exist",
             0x0609_0030 => "value range of parameter exceeded",
             0x0609_0031 => "value of parameter written too high",
             0x0609_0032 => "value of parameter written too low",
+            0x0609_0036 => "maximum value is less than minimum value",
+            0x060A_0023 => "resource not available: SDO connection",
             0x0800_0000 => "general error",
             0x0800_0020 => "data cannot be transferred or stored to the application",
+            0x0800_0021 => "data cannot be transferred or stored to the application because of local control",
             0x0800_0022 => "data cannot be transferred or stored because of the present device state",
+            0x0800_0023 => "object dictionary dynamic generation fails or no object dictionary is present",
+            0x0800_0024 => "no data available",
             _ => return None,
         })
     }
@@ -79,5 +95,50 @@ mod tests {
             "0x06020000 object does not exist in the object dictionary"
         );
         assert!(AbortCode(0x1234_5678).to_string().contains("does not name"));
+    }
+
+    #[test]
+    fn every_abort_code_of_cia_301_is_named() {
+        // The table's codes, as python-canopen's SdoAbortedError lists them too.
+        let table = [
+            0x0503_0000,
+            0x0504_0000,
+            0x0504_0001,
+            0x0504_0002,
+            0x0504_0003,
+            0x0504_0004,
+            0x0504_0005,
+            0x0601_0000,
+            0x0601_0001,
+            0x0601_0002,
+            0x0602_0000,
+            0x0604_0041,
+            0x0604_0042,
+            0x0604_0043,
+            0x0604_0047,
+            0x0606_0000,
+            0x0607_0010,
+            0x0607_0012,
+            0x0607_0013,
+            0x0609_0011,
+            0x0609_0030,
+            0x0609_0031,
+            0x0609_0032,
+            0x0609_0036,
+            0x060A_0023,
+            0x0800_0000,
+            0x0800_0020,
+            0x0800_0021,
+            0x0800_0022,
+            0x0800_0023,
+            0x0800_0024,
+        ];
+        for code in table {
+            assert!(AbortCode(code).meaning().is_some(), "0x{code:08X} is not named");
+        }
+        assert_eq!(
+            AbortCode(0x060A_0023).to_string(),
+            "0x060A0023 resource not available: SDO connection"
+        );
     }
 }

@@ -1,8 +1,13 @@
 //! The simulated inverter as a byte-level peer: cuts incoming bytes into RTU frames (or
 //! MBAP frames for Modbus TCP), answers those addressed to its slave id with the exact
 //! bytes an inverter sends, acts on broadcasts (slave 0) without answering, ignores frames
-//! with a bad CRC as a slave does, and applies the injected faults to the replies. It must
-//! not take shortcuts around the codec and must not read a clock of its own.
+//! with a bad CRC as a slave does, and applies the injected faults to the replies. As the
+//! Application Protocol V1.1b3 asks (6.x state diagrams, 7), a function it does not support
+//! (04, 0x17, any other code) is answered with exception 01 and a request whose length
+//! fields disagree (FC 16's byte count) with 03, on RTU as on TCP; an RTU frame ends with
+//! a silence (Serial Line V1.02, 2.5.1.1), so what a truncated frame left is dropped once
+//! the line was quiet, and the next request is read whole. It must not take shortcuts
+//! around the codec and must not read a clock of its own.
 
 use super::inverter_registers::{InverterRegisters, Refusal, RUN_COMMAND};
 use crate::bus::{Peer, PeerReply};
@@ -13,6 +18,10 @@ use std::time::Duration;
 
 /// The earliest an inverter answers after a request.
 const TURNAROUND: Duration = Duration::from_millis(1);
+/// RTU: bytes left over from an incomplete frame are dropped after this much silence. The
+/// specification's 3.5 characters are 4 ms at 9600 bit/s; a simulator on a loaded machine
+/// allows more, so that scheduling never cuts a frame that came in pieces.
+const RTU_SILENCE: Duration = Duration::from_millis(20);
 
 #[derive(Debug)]
 pub struct ModbusSimulator {
@@ -21,6 +30,8 @@ pub struct ModbusSimulator {
     core: SimCore<(Duration, Request)>,
     registers: InverterRegisters,
     pending: Vec<u8>,
+    /// When the last bytes came (RTU's silence counts from here).
+    last_bytes: Duration,
 }
 
 impl ModbusSimulator {
@@ -31,6 +42,7 @@ impl ModbusSimulator {
             core: SimCore::new(config),
             registers: InverterRegisters::default(),
             pending: Vec::new(),
+            last_bytes: Duration::ZERO,
         }
     }
 
@@ -88,8 +100,13 @@ impl ModbusSimulator {
                     Err(r) => refused(*function, r),
                 }
             }
-            // The E500 manual documents only holding registers (functions 03, 06, 16).
-            Request::Read { function, .. } => refused(*function, Refusal::Address),
+            // The E500 manual documents only holding registers (functions 03, 06, 16): input
+            // registers are a function this slave does not support, exception 01 (6.4: the
+            // function code is checked before the address).
+            Request::Read { function, .. } => Response::Exception {
+                function: function.code(),
+                code: ExceptionCode::ILLEGAL_FUNCTION,
+            },
             Request::WriteSingle { address, value } => match self.write(*address, *value) {
                 Ok(()) => Response::WriteSingle {
                     address: *address,
@@ -123,6 +140,17 @@ impl ModbusSimulator {
     /// The next whole frame in what has come: its unit, PDU, transaction id (TCP).
     fn next_frame(&mut self) -> Option<Option<(u8, Vec<u8>, u16)>> {
         match self.framing {
+            // What came in one piece and carries a right CRC is one frame, whatever its
+            // function code or length fields say: it is answered (an exception where they
+            // are wrong), not taken apart as noise.
+            Framing::Rtu if self.pending.len() >= 4 && rtu::decode(&self.pending).is_ok() => {
+                let frame = std::mem::take(&mut self.pending);
+                Some(
+                    rtu::decode(&frame)
+                        .ok()
+                        .map(|(unit, pdu)| (unit, pdu.to_vec(), 0)),
+                )
+            }
             Framing::Rtu => match rtu::split(&self.pending, rtu::Sender::Master) {
                 rtu::Split::Incomplete => None,
                 rtu::Split::Noise(n) => {
@@ -184,6 +212,10 @@ impl ModbusSimulator {
 impl Peer for ModbusSimulator {
     fn receive(&mut self, bytes: &[u8], now: Duration) -> Vec<PeerReply> {
         self.core.take_request_at(now);
+        if self.framing == Framing::Rtu && now.saturating_sub(self.last_bytes) > RTU_SILENCE {
+            self.pending.clear();
+        }
+        self.last_bytes = now;
         self.pending.extend_from_slice(bytes);
         let mut replies = Vec::new();
         while let Some(frame) = self.next_frame() {
