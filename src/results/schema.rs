@@ -55,6 +55,13 @@ const MIGRATIONS: &[&str] = &[
     // (`below`, `<`), which a name the recipe gave does not show; NULL in the rows before
     // it, whose names show it where drivescript made them.
     "ALTER TABLE checks ADD COLUMN inclusive BIGINT;",
+    // 5: a run voided (`results void`: the wrong unit scanned, a bench fault) with who,
+    // when and why; the run itself stays, and so does this row, an audit record of its
+    // own: nothing deletes either. A table of its own, so no other migration's columns
+    // of `runs` or `checks` bear on it.
+    "CREATE TABLE IF NOT EXISTS voids (
+        run_id TEXT PRIMARY KEY, voided_at TEXT NOT NULL, voided_by TEXT NOT NULL,
+        why TEXT NOT NULL);",
 ];
 
 /// The version whose migration adds `checks.check_key`.

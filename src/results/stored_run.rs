@@ -13,6 +13,17 @@ pub struct StoredRun {
     /// Filled when one run (or one unit's runs) is asked for.
     pub checks: Vec<CheckRow>,
     pub steps: Vec<StepRow>,
+    /// Set when the run was voided (`results void`); the run is kept all the same.
+    pub void: Option<VoidRow>,
+}
+
+/// A run voided: who, when (UTC, RFC 3339) and why. Never deleted.
+#[derive(Debug, Clone, PartialEq)]
+pub struct VoidRow {
+    pub run: String,
+    pub voided_at: String,
+    pub voided_by: String,
+    pub why: String,
 }
 
 impl StoredRun {
@@ -40,6 +51,14 @@ pub struct RunFilter {
     pub verdict: Option<String>,
     /// Runs started at or after this UTC time (RFC 3339).
     pub since: Option<String>,
+    /// Runs started before this UTC time (RFC 3339).
+    pub until: Option<String>,
+    /// The run's station, operator and part number, exactly.
+    pub station: Option<String>,
+    pub operator: Option<String>,
+    pub part: Option<String>,
+    /// Voided runs too (`results void`); they are left out otherwise.
+    pub include_void: bool,
     /// Runs on the built-in simulated drive too.
     pub simulated: bool,
     /// The newest this many (`None`: all).
@@ -65,9 +84,21 @@ pub struct TrendPoint {
     /// Whether its limits include the values at them; `None` when stored before the
     /// store kept it.
     pub inclusive: Option<bool>,
+    /// The recipe's name and the hash of its text in that run, the stage and the
+    /// iteration-aware step that made the check: with the key, which measurement it is
+    /// ([`super::CheckIdentity`]).
+    pub recipe: String,
+    pub recipe_sha256: Option<String>,
+    pub stage: String,
+    pub step: String,
 }
 
 impl TrendPoint {
+    /// Which measurement it is.
+    pub fn identity(&self) -> super::CheckIdentity {
+        super::CheckIdentity::of(&self.recipe, &self.stage, &self.step, &self.key)
+    }
+
     /// `31.4 K`, a comparison's change `+7.3 K`; `—` when nothing was measured (a
     /// comparison without history).
     pub fn measured_text(&self) -> String {

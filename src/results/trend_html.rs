@@ -255,6 +255,10 @@ mod tests {
             passed,
             marginal: false,
             inclusive: None,
+            recipe: "Bearing acceptance".into(),
+            recipe_sha256: None,
+            stage: String::new(),
+            step: "2".into(),
         }
     }
 

@@ -44,7 +44,9 @@ mod wait_stable;
 mod wait_until;
 
 pub use bucket_series::{BucketSeries, SERIES_BUCKETS};
-pub use check_key::{compared_key, key_of_name, measured_key, COMPARED, WAIT};
+pub use check_key::{
+    compared_key, identity_stage, key_of_name, measured_key, without_iterations, COMPARED, WAIT,
+};
 pub use coast_down::CoastDown;
 pub use condition::{
     exact_with_unit, number, with_unit, write_number, Check, Condition, Measure, Predicate, Statistic, Stats,
