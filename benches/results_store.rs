@@ -172,6 +172,7 @@ fn filled_store(path: &Path, runs: usize) -> Result<(), String> {
                 reference_at: None,
                 reference_value: None,
                 inclusive: Some(false),
+                decimals: None,
             }));
         }
         records.push(Record::Finished(EndRow {

@@ -10,7 +10,7 @@
 use super::atomic_write::write_atomically;
 use super::case_names::case_names;
 use super::junit_xml_writer::XmlWriter;
-use crate::session::{with_unit, CheckResult, PlannedCheck, RunReport, StepRecord, Verdict};
+use crate::session::{at_resolution, CheckResult, PlannedCheck, RunReport, StepRecord, Verdict};
 use std::collections::HashSet;
 use std::fmt::Write as _;
 use std::path::Path;
@@ -308,7 +308,7 @@ fn check_details(c: &CheckResult) -> String {
 
 fn measured_text(c: &CheckResult) -> Option<String> {
     match (c.measured, &c.measured_text) {
-        (Some(v), _) => Some(with_unit(v, c.unit.as_deref())),
+        (Some(v), _) => Some(at_resolution(v, c.decimals, c.unit.as_deref())),
         (None, Some(t)) => Some(t.clone()),
         (None, None) => None,
     }

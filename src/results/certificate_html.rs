@@ -296,7 +296,7 @@ fn run_section(h: &mut String, r: &StoredRun, plot: &mut usize) {
     if !r.checks.is_empty() {
         h.push_str("<table class=\"checks\">\n<thead><tr><th>Check</th><th>Measured</th><th>Limits</th><th>Result</th><th>Step</th></tr></thead>\n<tbody>\n");
         for c in &r.checks {
-            let measured = stored_measured(&c.name, c.measured, c.unit.as_deref())
+            let measured = stored_measured(&c.name, c.measured, c.unit.as_deref(), c.decimals)
                 .or_else(|| c.measured_text.clone())
                 .unwrap_or_else(|| "—".into());
             let key = c.key.clone().or_else(|| key_of_name(&c.name)).unwrap_or_default();

@@ -59,9 +59,12 @@ const MIGRATIONS: &[&str] = &[
     // when and why; the run itself stays, and so does this row, an audit record of its
     // own: nothing deletes either. A table of its own, so no other migration's columns
     // of `runs` or `checks` bear on it.
+    // The decimal places a check's object resolves, which every page shows its value at
+    // (NULL before: shown to three places at most).
     "CREATE TABLE IF NOT EXISTS voids (
         run_id TEXT PRIMARY KEY, voided_at TEXT NOT NULL, voided_by TEXT NOT NULL,
-        why TEXT NOT NULL);",
+        why TEXT NOT NULL);
+     ALTER TABLE checks ADD COLUMN decimals BIGINT;",
 ];
 
 /// The version whose migration adds `checks.check_key`.

@@ -99,8 +99,8 @@ impl Store {
                 b.execute(
                     "INSERT INTO checks (run_id, seq, name, measured, measured_text, unit, low, \
                      high, passed, marginal, step, stage, attempt, message, reference_run, \
-                     reference_at, reference_value, check_key, inclusive) VALUES ($1, $2, $3, $4, \
-                     $5, $6, $7, $8, $9, $10, $11, $12, $13, $14, $15, $16, $17, $18, $19) \
+                     reference_at, reference_value, check_key, inclusive, decimals) VALUES ($1, $2, $3, \
+                     $4, $5, $6, $7, $8, $9, $10, $11, $12, $13, $14, $15, $16, $17, $18, $19, $20) \
                      ON CONFLICT DO NOTHING",
                     &[
                         c.run.as_str().into(),
@@ -123,6 +123,7 @@ impl Store {
                         // A record spooled before keys were: as the migration keys its rows.
                         c.key.clone().or_else(|| key_of_name(&c.name)).into(),
                         c.inclusive.map_or(Value::Null, Value::from),
+                        c.decimals.map_or(Value::Null, Value::from),
                     ],
                 )?;
             }
@@ -256,7 +257,7 @@ impl Store {
         let rows = self.backend.query(
             "SELECT seq, name, measured, measured_text, unit, low, high, passed, step, stage, \
              attempt, message, marginal, reference_run, reference_at, reference_value, \
-             check_key, inclusive FROM checks WHERE run_id = $1 ORDER BY seq",
+             check_key, inclusive, decimals FROM checks WHERE run_id = $1 ORDER BY seq",
             &[run.into()],
         )?;
         Ok(rows
@@ -281,6 +282,7 @@ impl Store {
                 reference_at: opt(&r[14]),
                 reference_value: r[15].real(),
                 inclusive: r[17].int().map(|v| v != 0),
+                decimals: r[18].int(),
             })
             .collect())
     }
@@ -497,6 +499,7 @@ mod tests {
                 reference_at: None,
                 reference_value: None,
                 inclusive: None,
+                decimals: None,
             }),
             Record::Finished(EndRow {
                 run: id.into(),

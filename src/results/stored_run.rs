@@ -3,7 +3,7 @@
 //! trend. Plain data for the command line and the HTML pages.
 
 use super::record::{CheckRow, EndRow, RunRow, StepRow};
-use crate::session::{limits_text, signed, with_unit, COMPARED};
+use crate::session::{at_resolution, limits_text, signed, COMPARED};
 
 /// A stored run; `end` is `None` for a run that never finished (killed, or still going).
 #[derive(Debug, Clone, PartialEq)]
@@ -91,6 +91,8 @@ pub struct TrendPoint {
     pub recipe_sha256: Option<String>,
     pub stage: String,
     pub step: String,
+    /// The decimal places its object resolves, when the store kept them.
+    pub decimals: Option<i64>,
 }
 
 impl TrendPoint {
@@ -102,7 +104,8 @@ impl TrendPoint {
     /// `31.4 K`, a comparison's change `+7.3 K`; `—` when nothing was measured (a
     /// comparison without history).
     pub fn measured_text(&self) -> String {
-        stored_measured(&self.name, self.measured, self.unit.as_deref()).unwrap_or_else(|| "—".into())
+        stored_measured(&self.name, self.measured, self.unit.as_deref(), self.decimals)
+            .unwrap_or_else(|| "—".into())
     }
 
     /// `≤ 3 K`, `< 80 °C`, `-10 .. 10 %`; `None` without limits.
@@ -126,13 +129,21 @@ impl TrendPoint {
     }
 }
 
-/// A stored check's value as the run's reports wrote it: with its unit, and a comparison
-/// with the last pass (named `… compared with last pass`) as a change with its sign.
-pub fn stored_measured(name: &str, measured: Option<f64>, unit: Option<&str>) -> Option<String> {
+/// A stored check's value as the run's reports wrote it: with its unit at its object's
+/// resolution (`decimals`; three places at most when the store did not keep it), and a
+/// comparison with the last pass (named `… compared with last pass`) as a change with its
+/// sign.
+pub fn stored_measured(
+    name: &str,
+    measured: Option<f64>,
+    unit: Option<&str>,
+    decimals: Option<i64>,
+) -> Option<String> {
     let v = measured?;
+    let places = decimals.and_then(|d| usize::try_from(d).ok()).map(|d| d.min(9));
     Some(match name.ends_with(COMPARED) {
-        true => signed(v, unit),
-        false => with_unit(v, unit),
+        true => signed((v * 1000.0).round() / 1000.0, unit),
+        false => at_resolution(v, places, unit),
     })
 }
 
@@ -227,13 +238,22 @@ mod tests {
         assert_eq!(kept(Some(true)).as_deref(), Some("≤ 5 A"));
         assert_eq!(kept(None).as_deref(), Some("≤ 5 A"));
         assert_eq!(
-            stored_measured("x compared with last pass", Some(7.3), Some("K")).as_deref(),
+            stored_measured("x compared with last pass", Some(7.3), Some("K"), None).as_deref(),
             Some("+7.3 K")
         );
         assert_eq!(
-            stored_measured("x", Some(7.3), Some("K")).as_deref(),
+            stored_measured("x", Some(7.3), Some("K"), None).as_deref(),
             Some("7.3 K")
         );
-        assert_eq!(stored_measured("x", None, Some("K")), None);
+        assert_eq!(stored_measured("x", None, Some("K"), None), None);
+        assert_eq!(
+            stored_measured("x", Some(11995.924308), Some("rpm"), Some(0)).as_deref(),
+            Some("11996 rpm"),
+            "at the object's resolution"
+        );
+        assert_eq!(
+            stored_measured("x compared with last pass", Some(-0.092404), Some("%"), None).as_deref(),
+            Some("-0.092 %")
+        );
     }
 }

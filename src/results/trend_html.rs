@@ -259,6 +259,7 @@ mod tests {
             recipe_sha256: None,
             stage: String::new(),
             step: "2".into(),
+            decimals: None,
         }
     }
 

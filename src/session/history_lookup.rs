@@ -275,6 +275,8 @@ impl Session<'_> {
             marginal: false,
             retried: false,
             inclusive: true,
+            // A change in % or in the check's unit: no count of an object.
+            decimals: None,
             reference,
         }
     }

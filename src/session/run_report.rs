@@ -117,6 +117,10 @@ pub struct CheckResult {
     /// The value may equal `low` and `high` (`at_least`, `at_most` of a typed value): the
     /// limits read `≥`/`≤`; otherwise a one-sided limit is strict (`above`, `below`).
     pub inclusive: bool,
+    /// The decimal places one count of the measured object resolves (the dictionary's
+    /// scale): every report shows the value so, never finer (`0.999 A`, not `0.998962 A`);
+    /// `None` when no object's resolution applies (a time, a question).
+    pub decimals: Option<usize>,
     /// A comparison with the unit's last passed run: the check it compared with.
     pub reference: Option<CheckReference>,
 }
@@ -164,6 +168,7 @@ impl CheckResult {
             marginal: false,
             retried: false,
             inclusive: false,
+            decimals: None,
             reference: None,
         }
     }

@@ -238,6 +238,7 @@ fn recorded(store: &str, runs: &[Past]) {
             reference_at: None,
             reference_value: None,
             inclusive: Some(false),
+            decimals: None,
         }));
         records.push(Record::Finished(EndRow {
             run: id.to_string(),

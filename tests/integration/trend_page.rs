@@ -96,6 +96,7 @@ fn recorded(store: &Path, runs: &[Past]) {
                 reference_value: None,
                 // As a record of before the store kept it: read from the name.
                 inclusive: None,
+                decimals: None,
             };
         records.push(Record::Check(check(
             1,
