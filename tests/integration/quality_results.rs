@@ -86,6 +86,10 @@ fn stages_in(dir: &Path, store: &str) {
         ],
     );
     assert_eq!(code, 0, "{out}");
+    // The checks counted passed are the PASS lines shown; the waits are met on their
+    // step lines and counted apart.
+    assert_eq!(out.matches("        PASS  ").count(), 4, "{out}");
+    assert_has(&out, &["4 check(s) passed, 0 failed, 2 wait(s) met"]);
     let sp1 = run_id(&out);
     // The recipe edited: a step before the stages moves each of them; a unit's second run
     // compares each stage with its own (on a store that merged them, stage 1's 6000 rpm
@@ -130,6 +134,18 @@ fn stages_in(dir: &Path, store: &str) {
         "{stage2}"
     );
     assert!(line_with(&stage2, &sp2).contains("SP-2"), "{stage2}");
+    // At the resolution of speed_actual (0.001 rpm) in the trend, JUnit and the certificate,
+    // never a float's digits.
+    assert!(
+        stage2.lines().skip(1).all(|l| l.contains(" 12000.060 rpm ")),
+        "{stage2}"
+    );
+    assert_has(&xml, &["measured: 12000.060 rpm"]);
+    assert_lacks(&xml, &["12000.0595"]);
+    let page = dir.join("sp1.html");
+    let certificate = crate::support::unit_certificate(store, "SP-1", &page);
+    assert_has(&certificate, &["12000.060 rpm", "(SIMULATED DRIVE)"]);
+    assert_lacks(&certificate, &["12000.0595"]);
     // The full name the console shows is stage 1's and the other recipe's: refused, and
     // taken with --recipe.
     let name = "speed_actual mean near 6000 rpm ± 1 %";
