@@ -67,7 +67,7 @@ pub fn unit_certificate(serial: &str, runs: &[StoredRun]) -> String {
         let failed = r.checks.iter().filter(|c| !c.passed).count();
         let _ = writeln!(
             h,
-            "<tr class=\"{}\"><td>{}</td><td>{}</td><td class=\"step {}\">{}</td><td class=\"num\">{} passed, {failed} failed</td><td>{}</td><td>{}</td><td class=\"step\"><a href=\"#run-{}\"><code>{}</code></a></td></tr>",
+            "<tr class=\"{}\"><td>{}</td><td>{}</td><td class=\"verdict-cell {}\">{}</td><td class=\"num\">{} passed, {failed} failed</td><td>{}</td><td>{}</td><td class=\"step\"><a href=\"#run-{}\"><code>{}</code></a></td></tr>",
             if r.verdict() == "passed" { "" } else { "fail" },
             esc(&shown_time(&r.run.started_at)),
             esc(&r.run.recipe),

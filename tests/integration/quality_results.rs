@@ -127,7 +127,15 @@ fn stages_in(dir: &Path, store: &str) {
     let xml = std::fs::read_to_string(&junit).expect("the JUnit report");
     let case = "Stage 2, 12000 rpm #1 / speed_actual mean near";
     assert!(xml.contains(&format!("<testcase name=\"{case}\"")), "{xml}");
-    let stage2 = trend(store, case, &[], 0).stdout;
+    let plot = dir.join("stage2.html");
+    let stage2 = trend(store, case, &["--html", plot.to_str().unwrap()], 0).stdout;
+    // Each run's own limits across its marker (two sides, three runs).
+    let html = std::fs::read_to_string(&plot).expect("the trend page");
+    assert_eq!(html.matches("class=\"run-limit\"").count(), 6, "{html}");
+    assert_has(
+        &html,
+        &["(limits 11880 .. 12120 rpm)", "Trend of speed_actual mean near"],
+    );
     assert_eq!(stage2.lines().count(), 4, "the header and three runs:\n{stage2}");
     assert!(
         stage2.lines().skip(1).all(|l| l.contains("11880 .. 12120 rpm")),
