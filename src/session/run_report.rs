@@ -251,6 +251,8 @@ pub struct RunReport {
     pub drive: String,
     /// The drive's identity (ident string), when it could be read.
     pub identity: Option<String>,
+    /// SHA-256 (hex) of the text the run ran with, when the front end knows it.
+    pub recipe_sha256: Option<String>,
     /// The unit under test and the run's operator and station, as known at the end.
     pub unit: UnitIdentity,
     pub params: Vec<(String, String)>,
@@ -326,6 +328,7 @@ impl RunReport {
             recipe_path,
             drive,
             identity: None,
+            recipe_sha256: None,
             unit: UnitIdentity::default(),
             params,
             started_at,
@@ -431,6 +434,12 @@ impl RunReport {
     /// Failed checks of attempts that were tried again (kept, not the verdict's).
     pub fn checks_retried(&self) -> usize {
         self.checks.iter().filter(|c| !c.passed && c.retried).count()
+    }
+
+    /// Whether the run was on the built-in simulated drive (every drive of it, or one of
+    /// several): the reports say so beside the verdict.
+    pub fn simulated(&self) -> bool {
+        self.drive.contains(crate::drive::SIMULATED_PORT)
     }
 
     /// The dictionary's resolution of `object`, when known.

@@ -109,6 +109,7 @@ impl<'a> Session<'a> {
             clock.wall_time(),
         );
         report.unit = run.unit.clone();
+        report.recipe_sha256 = run.text_sha256.clone();
         Session {
             drives,
             current: 0,

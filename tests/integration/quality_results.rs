@@ -83,9 +83,25 @@ fn stages_in(dir: &Path, store: &str) {
             "serial=SP-1",
             "--junit",
             junit.to_str().unwrap(),
+            "--report",
+            dir.join("first.html").to_str().unwrap(),
         ],
     );
     assert_eq!(code, 0, "{out}");
+    // The run report: simulated beside its verdict, the recipe's hash and the tool.
+    let report = std::fs::read_to_string(dir.join("first.html")).expect("the run report");
+    assert_has(
+        &report,
+        &[
+            "id=\"verdict\">✔ PASSED <span class=\"simulated\">(SIMULATED DRIVE)</span>",
+            "<th scope=\"row\">Recipe SHA-256</th><td>",
+            &format!(
+                "<th scope=\"row\">Tool</th><td>drivescript {}",
+                env!("CARGO_PKG_VERSION")
+            ),
+            ">12000.060 rpm<",
+        ],
+    );
     // The checks counted passed are the PASS lines shown; the waits are met on their
     // step lines and counted apart.
     assert_eq!(out.matches("        PASS  ").count(), 4, "{out}");
