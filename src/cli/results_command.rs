@@ -77,7 +77,7 @@ enum ResultsCommand {
         html: Option<PathBuf>,
         /// Print JSON instead of a table: one object per run with run, started_at,
         /// serial, recipe, recipe_sha256, stage, step, check, key, measured, unit, low,
-        /// high, passed, marginal.
+        /// high, passed, marginal, simulated.
         #[arg(long)]
         json: bool,
     },
@@ -335,7 +335,7 @@ fn command(command: &ResultsCommand, locator: &Locator) -> Result<i32, StoreErro
                             "recipe": p.recipe, "recipe_sha256": p.recipe_sha256, "stage": p.stage, "step": p.step,
                             "check": p.name, "key": p.key,
                             "measured": p.measured, "unit": p.unit, "low": p.low, "high": p.high, "passed": p.passed,
-                            "marginal": p.marginal})
+                            "marginal": p.marginal, "simulated": p.simulated})
                     })
                     .collect();
                 println!("{}", serde_json::to_string_pretty(&list).unwrap_or_default());
@@ -348,7 +348,7 @@ fn command(command: &ResultsCommand, locator: &Locator) -> Result<i32, StoreErro
                             p.serial.clone().unwrap_or_default(),
                             p.measured_text(),
                             p.limits_text().unwrap_or_default(),
-                            p.verdict().into(),
+                            p.result_text(),
                             p.run.clone(),
                         ]
                     })

@@ -157,6 +157,7 @@ mod tests {
             stage: String::new(),
             step: "2".into(),
             decimals: None,
+            simulated: false,
         }
     }
 

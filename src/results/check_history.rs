@@ -99,7 +99,7 @@ impl Store {
         let sql = format!(
             "SELECT r.id, r.started_at, r.serial, c.measured, c.unit, c.low, c.high, c.passed, \
              c.name, c.check_key, c.marginal, c.seq, c.inclusive, r.recipe, r.recipe_sha256, c.stage, c.step, \
-             c.decimals \
+             c.decimals, r.simulated \
              FROM checks c JOIN runs r ON r.id = c.run_id{clause}{and} \
              (c.check_key IN ({list}) OR (c.check_key IS NULL AND c.name IN ({list}))) \
              ORDER BY r.started_at, r.id, c.seq"
@@ -125,6 +125,7 @@ impl Store {
                 stage: text(&r[15]),
                 step: text(&r[16]),
                 decimals: r[17].int(),
+                simulated: int(&r[18]) != 0,
             })
             .filter(|p| {
                 let id = p.identity();

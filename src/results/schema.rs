@@ -239,6 +239,31 @@ mod tests {
         let _ = std::fs::remove_dir_all(&dir);
     }
 
+    /// A version 4 store (before voids and the places of a check's value) takes the table
+    /// of voids, empty, and the column `decimals`, NULL in its rows (shown to three places
+    /// at most); its checks stay as they were.
+    #[test]
+    fn a_version_4_store_takes_voids_and_the_places_of_a_value() {
+        let (mut b, dir) = migrated(
+            "v4",
+            4,
+            "('r1', 1, 'x below 5 A', 1, 0, '2', 'Stage 1', 1, 'kept')",
+        );
+        assert_eq!(version(&mut b).expect("version"), Some(current_version()));
+        let rows = b
+            .query("SELECT message, stage, decimals FROM checks", &[])
+            .expect("the new column");
+        assert_eq!(
+            (rows[0][0].text(), rows[0][1].text(), rows[0][2].int()),
+            (Some("kept"), Some("Stage 1"), None)
+        );
+        assert!(b
+            .query("SELECT run_id FROM voids", &[])
+            .expect("the table")
+            .is_empty());
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+
     /// The checks of a version 2 store get the key their names show; a name the recipe
     /// gave shows none and stays its own key.
     #[test]

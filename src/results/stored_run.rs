@@ -93,6 +93,8 @@ pub struct TrendPoint {
     pub step: String,
     /// The decimal places its object resolves, when the store kept them.
     pub decimals: Option<i64>,
+    /// A run on the built-in simulated drive: marked so beside its result.
+    pub simulated: bool,
 }
 
 impl TrendPoint {
@@ -117,6 +119,14 @@ impl TrendPoint {
             self.unit.as_deref(),
             self.inclusive,
         )
+    }
+
+    /// [`TrendPoint::verdict`] with `(simulated)` after it for a run on the simulated drive.
+    pub fn result_text(&self) -> String {
+        match self.simulated {
+            true => format!("{} (simulated)", self.verdict()),
+            false => self.verdict().to_string(),
+        }
     }
 
     /// `PASS`, `MARGINAL` or `FAIL`, as `results show` says it.

@@ -212,7 +212,7 @@ pub fn trend_page(check: &str, all: &[TrendPoint]) -> String {
             esc(p.serial.as_deref().unwrap_or("")),
             esc(&p.measured_text()),
             esc(&p.limits_text().unwrap_or_else(|| "—".into())),
-            p.verdict(),
+            p.result_text(),
             esc(&p.run)
         );
     }
@@ -264,6 +264,7 @@ mod tests {
             stage: String::new(),
             step: "2".into(),
             decimals: None,
+            simulated: false,
         }
     }
 

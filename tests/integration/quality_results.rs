@@ -158,6 +158,10 @@ fn stages_in(dir: &Path, store: &str) {
         "{stage2}"
     );
     assert!(line_with(&stage2, &sp2).contains("SP-2"), "{stage2}");
+    assert!(
+        stage2.lines().skip(1).all(|l| l.contains("PASS (simulated)")),
+        "{stage2}"
+    );
     // At the resolution of speed_actual (0.001 rpm) in the trend, JUnit and the certificate,
     // never a float's digits.
     assert!(

@@ -242,7 +242,7 @@ fn a_batch_over_months_reads_as_dates_with_each_run_a_marker_and_its_unit() {
     assert_has(
         &html,
         &[
-            "<td class=\"num\">+7.3 K</td><td class=\"num\">≤ 3 K</td><td class=\"fail\">FAIL</td>",
+            "<td class=\"num\">+7.3 K</td><td class=\"num\">≤ 3 K</td><td class=\"fail\">FAIL (simulated)</td>",
             "<tr class=\"marginal\">",
         ],
     );
