@@ -168,7 +168,14 @@ fn stages_in(dir: &Path, store: &str) {
         stage2.lines().skip(1).all(|l| l.contains(" 12000.060 rpm ")),
         "{stage2}"
     );
-    assert_has(&xml, &["measured: 12000.060 rpm"]);
+    assert_has(
+        &xml,
+        &[
+            "measured: 12000.060 rpm",
+            "<property name=\"simulated\" value=\"true\"/>",
+            "<property name=\"recipe_sha256\" value=\"",
+        ],
+    );
     assert_lacks(&xml, &["12000.0595"]);
     let page = dir.join("sp1.html");
     let certificate = crate::support::unit_certificate(store, "SP-1", &page);
