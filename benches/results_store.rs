@@ -11,6 +11,8 @@
 //!   50) and with all 10 000 rows printed;
 //! - `drivescript results trend CHECK` over the same 10 000 runs, by a check's full name
 //!   and by its key, and with its page (`--html`, the newest 2000 drawn): at most 200 ms;
+//! - `drivescript results yield` and `results capability CHECK` (also with its
+//!   histogram page) over the same 10 000 runs: at most 200 ms each;
 //! - the lookup of a unit's last passed run for `compared_with_last_pass` over the same
 //!   store (opening it and the query, as a run does before its first step): at most
 //!   100 ms, against the 10 s a run waits at most.
@@ -170,6 +172,7 @@ fn filled_store(path: &Path, runs: usize) -> Result<(), String> {
                 reference_at: None,
                 reference_value: None,
                 inclusive: Some(false),
+                decimals: None,
             }));
         }
         records.push(Record::Finished(EndRow {
@@ -224,6 +227,35 @@ fn queries(dir: &Path) -> Result<(), String> {
         (
             "trend --html",
             [&trend[..], &["current_actual max below #2", "--html", &page]].concat(),
+            200.0,
+        ),
+        (
+            "results yield",
+            vec!["results", "yield", "--results", s.as_str()],
+            200.0,
+        ),
+        (
+            "capability",
+            vec![
+                "results",
+                "capability",
+                "current_actual max below #2",
+                "--results",
+                s.as_str(),
+            ],
+            200.0,
+        ),
+        (
+            "capability --html",
+            vec![
+                "results",
+                "capability",
+                "current_actual max below #2",
+                "--html",
+                &page,
+                "--results",
+                s.as_str(),
+            ],
             200.0,
         ),
     ] {

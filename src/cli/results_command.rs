@@ -1,5 +1,6 @@
-//! `drivescript results`: list, show, report, export, trend and sync over the results
-//! store. Parses and prints; the store and its pages are the library's (`results`).
+//! `drivescript results`: list, show, report, export, trend, yield, capability, void and
+//! sync over the results store. Parses and prints; the store and its pages are the
+//! library's (`results`).
 
 use super::text_table::table_lines;
 use crate::report::visible;
@@ -39,17 +40,13 @@ enum ResultsCommand {
         json: bool,
     },
     /// An HTML record of one run, or of one unit over all its runs (the commissioning
-    /// certificate).
+    /// certificate; voided runs are on it, marked void).
     Report {
         /// The run's id (or the start of it).
         #[arg(required_unless_present = "unit", conflicts_with = "unit")]
         run: Option<String>,
-        /// The unit's serial number.
-        #[arg(long, value_name = "SERIAL")]
-        unit: Option<String>,
-        /// Include runs on the built-in simulated drive.
-        #[arg(long)]
-        simulated: bool,
+        #[command(flatten)]
+        filter: FilterArgs,
         /// Write the page to FILE (default: standard output).
         #[arg(short, long, value_name = "FILE")]
         output: Option<PathBuf>,
@@ -68,16 +65,59 @@ enum ResultsCommand {
     /// run: the same check whatever its limits (its object, statistic and kind of limit,
     /// or the name the recipe gave it).
     Trend {
-        /// The check: its name as reports show it (`speed_actual mean near 3000 rpm ± 1 %`)
-        /// or without its limits (`speed_actual mean near`).
+        /// The check: its JUnit test-case name (`Stage 2, 12000 rpm / speed_actual mean
+        /// near`), its name as the console shows it (`speed_actual mean near 3000 rpm ± 1
+        /// %`) or without its limits (`speed_actual mean near`). A name that stands for
+        /// several measurements (several stages, places or recipes) is refused with the
+        /// names that tell them apart.
         check: String,
         #[command(flatten)]
         filter: FilterArgs,
         /// Also write an HTML page with the plot to FILE.
         #[arg(long, value_name = "FILE")]
         html: Option<PathBuf>,
+        /// Print JSON instead of a table: one object per run with run, started_at,
+        /// serial, recipe, recipe_sha256, stage, step, check, key, measured, unit, low,
+        /// high, passed, marginal, simulated.
         #[arg(long)]
         json: bool,
+    },
+    /// First-pass and final yield per recipe, station and day (UTC): of the units tested,
+    /// how many passed at their first run, and at their last. Runs refused before they
+    /// started and runs that never finished are left out, voided runs unless
+    /// --include-void.
+    Yield {
+        #[command(flatten)]
+        filter: FilterArgs,
+        #[arg(long)]
+        json: bool,
+    },
+    /// Process capability of one check across units: n, mean, σ, Cp and Cpk against the
+    /// spec limits its recipe gave (the newest run's), from the same values `trend` shows.
+    Capability {
+        /// The check, as for `trend`.
+        check: String,
+        #[command(flatten)]
+        filter: FilterArgs,
+        /// Also write an HTML page with a histogram to FILE.
+        #[arg(long, value_name = "FILE")]
+        html: Option<PathBuf>,
+        #[arg(long)]
+        json: bool,
+    },
+    /// Mark a run void (the wrong unit scanned, a bench fault): it stays in the store,
+    /// marked with who, when and why, shown on its certificate, and left out of yield,
+    /// trend, capability and export unless --include-void. A void is never changed or
+    /// undone; nothing is deleted.
+    Void {
+        /// The run's id (or the start of it).
+        run: String,
+        /// Why it is void: what the quality record says.
+        #[arg(long, value_name = "TEXT")]
+        why: String,
+        /// Who voids it [default: $USER].
+        #[arg(long, value_name = "NAME")]
+        by: Option<String>,
     },
     /// Deliver the runs spooled while the store could not be reached.
     Sync,
@@ -91,7 +131,7 @@ enum ExportFormat {
 }
 
 #[derive(Debug, Args)]
-struct FilterArgs {
+pub(super) struct FilterArgs {
     /// Only the unit with this serial number.
     #[arg(long, value_name = "SERIAL")]
     unit: Option<String>,
@@ -105,6 +145,22 @@ struct FilterArgs {
     /// a time ago (7d, 12h).
     #[arg(long, value_name = "WHEN", value_parser = parse_since)]
     since: Option<String>,
+    /// Only runs started before: a UTC time, a time ago, or a date (the whole of that day
+    /// is taken: --until 2026-11-30 takes runs of 30 November).
+    #[arg(long, value_name = "WHEN", value_parser = parse_until)]
+    until: Option<String>,
+    /// Only runs at this station.
+    #[arg(long)]
+    station: Option<String>,
+    /// Only runs by this operator.
+    #[arg(long)]
+    operator: Option<String>,
+    /// Only units of this part number.
+    #[arg(long)]
+    part: Option<String>,
+    /// Include voided runs (`results void`); list and report always show them, marked.
+    #[arg(long)]
+    include_void: bool,
     /// Include runs on the built-in simulated drive.
     #[arg(long)]
     simulated: bool,
@@ -114,16 +170,34 @@ struct FilterArgs {
 }
 
 impl FilterArgs {
-    fn filter(&self, default_limit: Option<u64>) -> RunFilter {
+    pub(super) fn filter(&self, default_limit: Option<u64>) -> RunFilter {
         RunFilter {
             unit: self.unit.clone(),
             recipe: self.recipe.clone(),
             verdict: self.verdict.clone(),
             since: self.since.clone(),
+            until: self.until.clone(),
+            station: self.station.clone(),
+            operator: self.operator.clone(),
+            part: self.part.clone(),
             simulated: self.simulated,
+            include_void: self.include_void,
             limit: self.limit.or(default_limit),
         }
     }
+}
+
+/// `--until`: a stored UTC time to compare with; a date is the end of that day.
+fn parse_until(text: &str) -> Result<String, crate::run::BadValue> {
+    let t = text.trim();
+    if t.len() == 10 && humantime::parse_duration(t).is_err() {
+        let day = parse_since(t)?;
+        let next = humantime::parse_rfc3339_weak(&day)
+            .map(|at| at + std::time::Duration::from_secs(86_400))
+            .map_err(|_| crate::run::BadValue(format!("`{text}`: not a date")))?;
+        return Ok(utc_text(next));
+    }
+    parse_since(t)
 }
 
 /// `--since`: a stored UTC time to compare with.
@@ -148,7 +222,7 @@ fn exit_code(e: &StoreError) -> i32 {
     match e {
         StoreError::Unreachable { .. } | StoreError::Spool { .. } | StoreError::Query { .. } => COMMUNICATION,
         StoreError::NotFound(_) => FAILED,
-        StoreError::Foreign { .. } | StoreError::Newer { .. } => INVALID,
+        StoreError::Foreign { .. } | StoreError::Newer { .. } | StoreError::Refused(_) => INVALID,
     }
 }
 
@@ -217,23 +291,26 @@ fn command(command: &ResultsCommand, locator: &Locator) -> Result<i32, StoreErro
     match command {
         ResultsCommand::List { filter, json } => {
             let spool = Spool::new(locator.spool_path());
-            list(&mut store, &filter.filter(Some(50)), *json, &spool)
+            let filter = RunFilter {
+                include_void: true,
+                ..filter.filter(Some(50))
+            };
+            list(&mut store, &filter, *json, &spool)
         }
         ResultsCommand::Show { run, json } => show(&mut store, run, *json),
-        ResultsCommand::Report {
-            run,
-            unit,
-            simulated,
-            output,
-        } => {
-            let page = match (run, unit) {
+        ResultsCommand::Report { run, filter, output } => {
+            let page = match (run, &filter.unit) {
                 (_, Some(serial)) => {
-                    let runs = store.unit_runs(serial, *simulated)?;
+                    let chosen = RunFilter {
+                        include_void: true,
+                        ..filter.filter(None)
+                    };
+                    let runs = store.unit_runs_in(&chosen)?;
                     if runs.is_empty() {
                         return Err(StoreError::NotFound(format!(
                             "no run of unit {serial} in {}{}",
                             store.name(),
-                            if *simulated {
+                            if filter.simulated {
                                 ""
                             } else {
                                 " (add --simulated for runs on the simulated drive)"
@@ -279,9 +356,10 @@ fn command(command: &ResultsCommand, locator: &Locator) -> Result<i32, StoreErro
                     .iter()
                     .map(|p| {
                         serde_json::json!({"run": p.run, "started_at": p.started_at, "serial": p.serial,
+                            "recipe": p.recipe, "recipe_sha256": p.recipe_sha256, "stage": p.stage, "step": p.step,
                             "check": p.name, "key": p.key,
                             "measured": p.measured, "unit": p.unit, "low": p.low, "high": p.high, "passed": p.passed,
-                            "marginal": p.marginal})
+                            "marginal": p.marginal, "simulated": p.simulated})
                     })
                     .collect();
                 println!("{}", serde_json::to_string_pretty(&list).unwrap_or_default());
@@ -294,24 +372,43 @@ fn command(command: &ResultsCommand, locator: &Locator) -> Result<i32, StoreErro
                             p.serial.clone().unwrap_or_default(),
                             p.measured_text(),
                             p.limits_text().unwrap_or_default(),
-                            p.verdict().into(),
+                            p.result_text(),
                             p.run.clone(),
                         ]
                     })
                     .collect();
-                for line in table_lines(
-                    &["started (UTC)", "unit", "measured", "limits", "result", "run"],
-                    &rows,
-                ) {
-                    println!("{line}");
+                if !rows.is_empty() {
+                    for line in table_lines(
+                        &["started (UTC)", "unit", "measured", "limits", "result", "run"],
+                        &rows,
+                    ) {
+                        println!("{line}");
+                    }
                 }
                 if points.is_empty() {
-                    println!(
-                        "no run has the check `{check}` (a check's name as the reports show it, or without its limits: `speed_actual mean near`)"
-                    );
+                    let like = store.checks_like(check, &filter.filter(None), 8)?;
+                    println!("{}", super::results_quality::no_such_check(check, &like));
                 }
             }
             Ok(PASSED)
+        }
+        ResultsCommand::Yield { filter, json } => {
+            super::results_quality::yields(&mut store, &filter.filter(None), *json)
+        }
+        ResultsCommand::Capability {
+            check,
+            filter,
+            html,
+            json,
+        } => super::results_quality::capability(
+            &mut store,
+            check,
+            &filter.filter(None),
+            html.as_deref(),
+            *json,
+        ),
+        ResultsCommand::Void { run, why, by } => {
+            super::results_quality::void(&mut store, run, why, by.as_deref())
         }
         ResultsCommand::Sync => Ok(PASSED),
     }
@@ -373,9 +470,9 @@ fn list(store: &mut Store, filter: &RunFilter, json: bool, spool: &Spool) -> Res
                 r.run.id.clone(),
                 r.run.started_at.clone(),
                 if unsynced.contains(&r.run.id) {
-                    format!("{} (unsynced)", r.verdict().to_uppercase())
+                    format!("{} (unsynced)", listed_verdict(r))
                 } else {
-                    r.verdict().to_uppercase()
+                    listed_verdict(r)
                 },
                 r.run.recipe.clone(),
                 r.run.unit.serial.clone().unwrap_or_default(),
@@ -417,6 +514,19 @@ fn list(store: &mut Store, filter: &RunFilter, json: bool, spool: &Spool) -> Res
         );
     }
     Ok(PASSED)
+}
+
+/// `PASSED`, `PASSED (simulated)`, `FAILED — VOID`: the verdict with what a reader must
+/// not miss beside it.
+fn listed_verdict(r: &crate::results::StoredRun) -> String {
+    let mut v = r.verdict().to_uppercase();
+    if r.run.simulated {
+        v.push_str(" (simulated)");
+    }
+    if r.void.is_some() {
+        v.push_str(" — VOID");
+    }
+    v
 }
 
 fn show(store: &mut Store, id: &str, json: bool) -> Result<i32, StoreError> {
@@ -461,6 +571,9 @@ fn show(store: &mut Store, id: &str, json: bool) -> Result<i32, StoreError> {
         shown!("params   {}", p.join(", "));
     }
     shown!("started  {}", r.run.started_at);
+    if let Some(v) = &r.void {
+        shown!("VOID     voided by {} at {}: {}", v.voided_by, v.voided_at, v.why);
+    }
     for s in &r.steps {
         shown!(
             "  {:>6}  {}  {}  {}",

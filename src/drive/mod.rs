@@ -12,6 +12,10 @@ mod object_access;
 pub mod state_path;
 
 pub use access_error::AccessError;
+
+/// The port name of the built-in simulated drive: every report marks a run on it as
+/// simulated beside its verdict.
+pub const SIMULATED_PORT: &str = "built-in simulated drive";
 pub use address_keys::{
     AddressKey, AddressKeyTable, AddressKeys, FamilyAddressKeys, KeyProblem, KeyUse, KeyValues, ToAddress,
 };

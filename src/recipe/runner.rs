@@ -230,7 +230,16 @@ fn repeat(
         steps(s, nested, number, phase)?;
     }
     let took = s.clock().now().saturating_sub(start);
-    Ok(format!("{n} iteration(s) in {:.2} s", took.as_secs_f64()))
+    // `for`: an iteration begun before the duration ran out runs to its end (a run-in's
+    // cycle left half done would leave its checks unmade), so the repeat may take up to one
+    // iteration longer; said where it did.
+    let over = duration.filter(|d| took > *d).map_or(String::new(), |d| {
+        format!(
+            " (whole iterations: the last began before the {} of `for` ran out)",
+            humantime::format_duration(d)
+        )
+    });
+    Ok(format!("{n} iteration(s) in {:.2} s{over}", took.as_secs_f64()))
 }
 
 /// Runs `nested` up to `times` times until an attempt ends with none of its checks failed;

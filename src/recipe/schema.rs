@@ -397,7 +397,7 @@ pub fn recipe_schema(dictionary: &Dictionary, address_keys: &AddressKeyTable) ->
                 "required": ["steps"], "additionalProperties": false,
                 "oneOf": [ { "required": ["times"], "not": { "required": ["for"] } }, { "required": ["for"], "not": { "required": ["times"] } } ]
             }),
-            "Run nested `steps` a number of `times`, or again and again `for` a duration",
+            "Run nested `steps` a number of `times`, or again and again `for` a duration: an iteration starts while the duration has not run out and always runs to its end (whole iterations), so the repeat takes up to one iteration longer",
         ),
         keyed(
             "include",

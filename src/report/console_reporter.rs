@@ -312,10 +312,22 @@ pub fn summary_lines(report: &RunReport, virtual_time: bool) -> Vec<String> {
         0 => String::new(),
         n => format!(", {n} retried"),
     };
+    // A met `wait_until` is said on its step line, not as a `PASS` line: counted apart, so
+    // that the checks counted passed are the `PASS` lines shown. A wait that timed out is a
+    // failure like any other.
+    let waits = report
+        .checks
+        .iter()
+        .filter(|c| c.passed && c.name.starts_with(crate::session::WAIT))
+        .count();
+    let waited = match waits {
+        0 => String::new(),
+        n => format!(", {n} wait(s) met"),
+    };
     lines.push(format!(
-        "{}{why} — {steps} step(s), {} check(s) passed{marginal}, {} failed{retried}, {time}{clock}, exit code {}",
+        "{}{why} — {steps} step(s), {} check(s) passed{marginal}, {} failed{retried}{waited}, {time}{clock}, exit code {}",
         report.verdict.word(),
-        report.checks_passed(),
+        report.checks_passed() - waits,
         report.checks_failed(),
         report.exit_code()
     ));

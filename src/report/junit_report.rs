@@ -10,7 +10,7 @@
 use super::atomic_write::write_atomically;
 use super::case_names::case_names;
 use super::junit_xml_writer::XmlWriter;
-use crate::session::{with_unit, CheckResult, PlannedCheck, RunReport, StepRecord, Verdict};
+use crate::session::{at_resolution, CheckResult, PlannedCheck, RunReport, StepRecord, Verdict};
 use std::collections::HashSet;
 use std::fmt::Write as _;
 use std::path::Path;
@@ -200,6 +200,12 @@ fn suite_properties(r: &RunReport, started: &str) -> Vec<(String, String)> {
         }
         .into(),
     ));
+    // What a reader of a CI result must not take for a real unit's, and what ran.
+    p.push(("simulated".into(), r.simulated().to_string()));
+    if let Some(sha) = &r.recipe_sha256 {
+        p.push(("recipe_sha256".into(), sha.clone()));
+    }
+    p.push(("tool_version".into(), env!("CARGO_PKG_VERSION").into()));
     p
 }
 
@@ -308,7 +314,7 @@ fn check_details(c: &CheckResult) -> String {
 
 fn measured_text(c: &CheckResult) -> Option<String> {
     match (c.measured, &c.measured_text) {
-        (Some(v), _) => Some(with_unit(v, c.unit.as_deref())),
+        (Some(v), _) => Some(at_resolution(v, c.decimals, c.unit.as_deref())),
         (None, Some(t)) => Some(t.clone()),
         (None, None) => None,
     }

@@ -13,18 +13,28 @@ use std::fmt::Write as _;
 pub fn unit_certificate(serial: &str, runs: &[StoredRun]) -> String {
     let title = format!("Unit {serial}");
     let mut h = page_start(&title);
-    // An attempt refused before it started says nothing of the unit.
-    let latest = runs.iter().rev().find(|r| r.started()).or(runs.last());
+    // An attempt refused before it started says nothing of the unit, nor does a voided run.
+    let latest = runs
+        .iter()
+        .rev()
+        .find(|r| r.started() && r.void.is_none())
+        .or(runs.iter().rev().find(|r| r.void.is_none()));
     let verdict = latest.map_or("no runs", |r| r.verdict());
+    let voided = runs.iter().filter(|r| r.void.is_some()).count();
     let _ = writeln!(
         h,
-        "<header>\n<h1>{}</h1>\n<p class=\"verdict {}\" id=\"verdict\">{} {}</p>\n\
-         <p class=\"why\">{} run(s) recorded; the latest that started ended {}.</p>\n</header>",
+        "<header>\n<h1>{}</h1>\n<p class=\"verdict {}\" id=\"verdict\">{} {}{}</p>\n\
+         <p class=\"why\">{} run(s) recorded{}; the latest that started ended {}.</p>\n</header>",
         esc(&title),
         class(verdict),
         if verdict == "passed" { "✔" } else { "✘" },
         esc(&verdict.to_uppercase()),
+        simulated_mark(latest),
         runs.len(),
+        match voided {
+            0 => String::new(),
+            n => format!(", {n} of them voided (kept, marked VOID, and not counted)"),
+        },
         esc(verdict)
     );
     h.push_str("<section>\n<h2>Unit</h2>\n<table class=\"facts\">\n");
@@ -57,12 +67,12 @@ pub fn unit_certificate(serial: &str, runs: &[StoredRun]) -> String {
         let failed = r.checks.iter().filter(|c| !c.passed).count();
         let _ = writeln!(
             h,
-            "<tr class=\"{}\"><td>{}</td><td>{}</td><td class=\"step {}\">{}</td><td class=\"num\">{} passed, {failed} failed</td><td>{}</td><td>{}</td><td class=\"step\"><a href=\"#run-{}\"><code>{}</code></a></td></tr>",
+            "<tr class=\"{}\"><td>{}</td><td>{}</td><td class=\"verdict-cell {}\">{}</td><td class=\"num\">{} passed, {failed} failed</td><td>{}</td><td>{}</td><td class=\"step\"><a href=\"#run-{}\"><code>{}</code></a></td></tr>",
             if r.verdict() == "passed" { "" } else { "fail" },
             esc(&shown_time(&r.run.started_at)),
             esc(&r.run.recipe),
             if r.verdict() == "passed" { "ok" } else { "fail" },
-            esc(&r.verdict().to_uppercase()),
+            verdict_html(r),
             r.checks.len() - failed,
             esc(r.run.unit.station.as_deref().unwrap_or("")),
             esc(r.run.unit.operator.as_deref().unwrap_or("")),
@@ -88,7 +98,7 @@ pub fn run_certificate(run: &StoredRun) -> String {
         esc(&run.run.recipe),
         class(run.verdict()),
         if run.verdict() == "passed" { "✔" } else { "✘" },
-        esc(&run.verdict().to_uppercase())
+        verdict_html(run)
     );
     run_section(&mut h, run, &mut 0);
     page_end(h)
@@ -105,7 +115,42 @@ fn page_start(title: &str) -> String {
     )
 }
 
+/// ` <span class="simulated">SIMULATED DRIVE</span>` beside the verdict of a run on the
+/// built-in simulated drive: no reader may take it for a real unit's.
+fn simulated_mark(run: Option<&StoredRun>) -> &'static str {
+    match run.is_some_and(|r| r.run.simulated) {
+        true => " <span class=\"simulated\">(SIMULATED DRIVE)</span>",
+        false => "",
+    }
+}
+
+/// The verdict in capitals, marked simulated and void where the run is.
+fn verdict_html(r: &StoredRun) -> String {
+    let mut v = esc(&r.verdict().to_uppercase());
+    v.push_str(simulated_mark(Some(r)));
+    if r.void.is_some() {
+        v.push_str(" <span class=\"void\">VOID</span>");
+    }
+    v
+}
+
+/// Lines to sign: who tested and who approved, each with name, date and signature.
+fn approval_block(h: &mut String) {
+    h.push_str(
+        "<section class=\"approval\" id=\"approval\">\n<h2>Approval</h2>\n<table class=\"approval\">\n\
+         <thead><tr><th></th><th>Name</th><th>Date</th><th>Signature</th></tr></thead>\n<tbody>\n",
+    );
+    for role in ["Tested by", "Approved by"] {
+        let _ = writeln!(
+            h,
+            "<tr><th scope=\"row\">{role}</th><td class=\"sign\"></td><td class=\"sign\"></td><td class=\"sign\"></td></tr>"
+        );
+    }
+    h.push_str("</tbody>\n</table>\n</section>\n");
+}
+
 fn page_end(mut h: String) -> String {
+    approval_block(&mut h);
     let _ = write!(
         h,
         "<footer>Written by drivescript {} from its results store.</footer>\n</body>\n</html>\n",
@@ -157,12 +202,23 @@ fn facts_rows(h: &mut String, facts: &[(&str, String)]) {
 fn run_section(h: &mut String, r: &StoredRun, plot: &mut usize) {
     let _ = writeln!(
         h,
-        "<section id=\"run-{}\">\n<h2>{} — {} — {}</h2>\n<table class=\"facts\">",
+        "<section id=\"run-{}\">\n<h2>{} — {} — {}</h2>",
         esc(&r.run.id),
         esc(&shown_time(&r.run.started_at)),
         esc(&r.run.recipe),
-        esc(&r.verdict().to_uppercase())
+        verdict_html(r)
     );
+    if let Some(v) = &r.void {
+        let _ = writeln!(
+            h,
+            "<p class=\"void\" id=\"void-{}\">VOID — voided by {} at {}: {}. The run is kept as it was recorded and counts toward no yield or trend.</p>",
+            esc(&r.run.id),
+            esc(&v.voided_by),
+            esc(&shown_time(&v.voided_at)),
+            esc(&v.why)
+        );
+    }
+    h.push_str("<table class=\"facts\">\n");
     let params = r
         .run
         .params
@@ -240,7 +296,7 @@ fn run_section(h: &mut String, r: &StoredRun, plot: &mut usize) {
     if !r.checks.is_empty() {
         h.push_str("<table class=\"checks\">\n<thead><tr><th>Check</th><th>Measured</th><th>Limits</th><th>Result</th><th>Step</th></tr></thead>\n<tbody>\n");
         for c in &r.checks {
-            let measured = stored_measured(&c.name, c.measured, c.unit.as_deref())
+            let measured = stored_measured(&c.name, c.measured, c.unit.as_deref(), c.decimals)
                 .or_else(|| c.measured_text.clone())
                 .unwrap_or_else(|| "—".into());
             let key = c.key.clone().or_else(|| key_of_name(&c.name)).unwrap_or_default();

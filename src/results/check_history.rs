@@ -4,6 +4,7 @@
 //! without a key is found by its full name, which is then its own key. Queries only.
 
 use super::backend::Value;
+use super::check_identity::{readings, CheckIdentity};
 use super::store::{int, opt, text, where_clause, Store};
 use super::stored_run::{RunFilter, TrendPoint};
 use super::StoreError;
@@ -29,7 +30,7 @@ impl Store {
         };
         let id = text(&run[0]);
         let checks = self.backend.query(
-            "SELECT name, step, measured, unit, check_key FROM checks WHERE run_id = $1 \
+            "SELECT name, step, measured, unit, check_key, stage FROM checks WHERE run_id = $1 \
              AND passed = 1 AND measured IS NOT NULL ORDER BY seq",
             &[id.as_str().into()],
         )?;
@@ -43,6 +44,7 @@ impl Store {
                         name: text(&c[0]),
                         key: opt(&c[4]),
                         step: text(&c[1]),
+                        stage: text(&c[5]),
                         measured: c[2].real()?,
                         unit: opt(&c[3]),
                     })
@@ -70,11 +72,22 @@ impl Store {
         Ok(keys)
     }
 
-    /// The value of check `check` — its key or a full name as a report shows it — in every
-    /// run `filter` takes, oldest first: every check of that key, each with the limits it
-    /// had in its run; with a limit, the newest that many.
+    /// The value of check `check` — its key, a full name as the console shows it, or the
+    /// JUnit test-case name (`Stage 2, 12000 rpm / speed_actual mean near`) — in every run
+    /// `filter` takes, oldest first, each with the limits it had in its run; with a limit,
+    /// the newest that many. One measurement only ([`CheckIdentity`]): a text that stands
+    /// for several (the same key in several stages, recipes or places) is refused with
+    /// the names that tell them apart.
     pub fn trend(&mut self, check: &str, filter: &RunFilter) -> Result<Vec<TrendPoint>, StoreError> {
-        let keys = self.keys_of(check)?;
+        let readings = readings(check);
+        let mut keys: Vec<String> = Vec::new();
+        for asked in readings.iter().flat_map(|r| r.keys.iter()) {
+            for key in self.keys_of(asked)? {
+                if !keys.contains(&key) {
+                    keys.push(key);
+                }
+            }
+        }
         let (clause, mut params) = where_clause(filter, "r.");
         let first = params.len() + 1;
         params.extend(keys.iter().map(|k| Value::from(k.as_str())));
@@ -83,25 +96,16 @@ impl Store {
             .collect::<Vec<_>>()
             .join(", ");
         let and = if clause.is_empty() { " WHERE" } else { " AND" };
-        let mut sql = format!(
+        let sql = format!(
             "SELECT r.id, r.started_at, r.serial, c.measured, c.unit, c.low, c.high, c.passed, \
-             c.name, c.check_key, c.marginal, c.seq, c.inclusive FROM checks c JOIN runs r ON r.id = c.run_id{clause}{and} \
-             (c.check_key IN ({list}) OR (c.check_key IS NULL AND c.name IN ({list})))"
+             c.name, c.check_key, c.marginal, c.seq, c.inclusive, r.recipe, r.recipe_sha256, c.stage, c.step, \
+             c.decimals, r.simulated \
+             FROM checks c JOIN runs r ON r.id = c.run_id{clause}{and} \
+             (c.check_key IN ({list}) OR (c.check_key IS NULL AND c.name IN ({list}))) \
+             ORDER BY r.started_at, r.id, c.seq"
         );
-        match filter.limit {
-            // The newest that many, then back in the order they were made.
-            Some(limit) => {
-                params.push(Value::Int(i64::try_from(limit).unwrap_or(i64::MAX)));
-                sql = format!(
-                    "SELECT * FROM ({sql} ORDER BY r.started_at DESC, r.id DESC, c.seq DESC LIMIT ${}) newest \
-                     ORDER BY started_at, id, seq",
-                    params.len()
-                );
-            }
-            None => sql.push_str(" ORDER BY r.started_at, r.id, c.seq"),
-        }
         let rows = self.backend.query(&sql, &params)?;
-        Ok(rows
+        let mut points: Vec<TrendPoint> = rows
             .iter()
             .map(|r| TrendPoint {
                 run: text(&r[0]),
@@ -116,7 +120,166 @@ impl Store {
                 inclusive: r[12].int().map(|v| v != 0),
                 key: opt(&r[9]).unwrap_or_else(|| text(&r[8])),
                 name: text(&r[8]),
+                recipe: text(&r[13]),
+                recipe_sha256: opt(&r[14]),
+                stage: text(&r[15]),
+                step: text(&r[16]),
+                decimals: r[17].int(),
+                simulated: int(&r[18]) != 0,
             })
-            .collect())
+            .filter(|p| {
+                let id = p.identity();
+                readings.iter().any(|asked| asked.takes(&id, &p.name))
+            })
+            .collect();
+        let ids = measurements(&points);
+        // A full name as typed (`speed_actual mean near 6000 rpm ± 1 %`) means the checks
+        // of that name, not every check its key shares: theirs are the measurements asked
+        // for (with their runs of other limits).
+        let named: Vec<&CheckIdentity> = points
+            .iter()
+            .zip(&ids)
+            .filter(|(p, _)| readings.iter().any(|r| r.keys.first() == Some(&p.name)))
+            .map(|(_, id)| id)
+            .collect();
+        let keep: Vec<bool> = ids
+            .iter()
+            .map(|id| named.is_empty() || named.contains(&id))
+            .collect();
+        let mut found: Vec<(CheckIdentity, usize)> = Vec::new();
+        for id in ids.iter().zip(&keep).filter(|(_, k)| **k).map(|(id, _)| id) {
+            match found.iter_mut().find(|(f, _)| f == id) {
+                Some((_, n)) => *n += 1,
+                None => found.push((id.clone(), 1)),
+            }
+        }
+        let mut kept = keep.iter();
+        points.retain(|_| kept.next().copied().unwrap_or(false));
+        if found.len() > 1 {
+            return Err(StoreError::Refused(several(check, &found, self.name())));
+        }
+        if let Some(limit) = filter.limit {
+            let keep = usize::try_from(limit).unwrap_or(usize::MAX);
+            points.drain(..points.len().saturating_sub(keep));
+        }
+        Ok(points)
     }
+
+    /// Checks of runs `filter` takes that a user who typed `check` (and found nothing) may
+    /// have meant: those whose key holds its object (the first word of its check), else
+    /// any; at most `most`, as identities.
+    pub fn checks_like(
+        &mut self,
+        check: &str,
+        filter: &RunFilter,
+        most: usize,
+    ) -> Result<Vec<CheckIdentity>, StoreError> {
+        let tail = check.rsplit(" / ").next().unwrap_or(check);
+        let word = tail.split(' ').next().unwrap_or("");
+        let pattern = format!(
+            "%{}%",
+            word.replace('\\', "\\\\").replace('%', "\\%").replace('_', "\\_")
+        );
+        let (clause, mut params) = where_clause(filter, "r.");
+        params.push(pattern.into());
+        let like = params.len();
+        params.push(Value::Int(
+            i64::try_from(most.saturating_mul(20)).unwrap_or(i64::MAX),
+        ));
+        let and = if clause.is_empty() { " WHERE" } else { " AND" };
+        let rows = self.backend.query(
+            &format!(
+                "SELECT r.recipe, c.stage, c.step, COALESCE(c.check_key, c.name) FROM checks c \
+                 JOIN runs r ON r.id = c.run_id{clause}{and} COALESCE(c.check_key, c.name) LIKE ${like} ESCAPE '\\' \
+                 ORDER BY r.started_at DESC LIMIT ${}",
+                params.len()
+            ),
+            &params,
+        )?;
+        let mut out: Vec<CheckIdentity> = Vec::new();
+        for r in &rows {
+            let id = CheckIdentity::of(&text(&r[0]), &text(&r[1]), &text(&r[2]), &text(&r[3]));
+            if out.len() < most && !out.contains(&id) {
+                out.push(id);
+            }
+        }
+        Ok(out)
+    }
+}
+
+/// The measurement each point is: its identity, whose place in the recipe (its step's
+/// number) counts only where a run held that check (recipe, stage and key) at more than one
+/// place; elsewhere a recipe edited so that its steps moved keeps one trend, as the
+/// comparison with the last pass keeps comparing it.
+fn measurements(points: &[TrendPoint]) -> Vec<CheckIdentity> {
+    use std::collections::{HashMap, HashSet};
+    let ids: Vec<CheckIdentity> = points.iter().map(TrendPoint::identity).collect();
+    let mut places: HashMap<(&str, &str, &str, &str), HashSet<&str>> = HashMap::new();
+    for (p, id) in points.iter().zip(&ids) {
+        places
+            .entry((
+                p.run.as_str(),
+                id.recipe.as_str(),
+                id.stage.as_str(),
+                id.key.as_str(),
+            ))
+            .or_default()
+            .insert(id.path.as_str());
+    }
+    let placed: HashSet<(&str, &str, &str)> = places
+        .iter()
+        .filter(|(_, paths)| paths.len() > 1)
+        .map(|((_, recipe, stage, key), _)| (*recipe, *stage, *key))
+        .collect();
+    ids.iter()
+        .map(|id| {
+            let mut id = id.clone();
+            if !placed.contains(&(id.recipe.as_str(), id.stage.as_str(), id.key.as_str())) {
+                id.path.clear();
+            }
+            id
+        })
+        .collect()
+}
+
+/// The refusal of a check's text that stands for several measurements, with how to name
+/// each: its JUnit name, the step where two share it, and `--recipe` where recipes do.
+fn several(check: &str, found: &[(CheckIdentity, usize)], store: &str) -> String {
+    const SHOWN: usize = 12;
+    let recipes = found
+        .iter()
+        .map(|(f, _)| &f.recipe)
+        .collect::<std::collections::BTreeSet<_>>();
+    let mut lines = vec![format!(
+        "`{check}` is {} different checks in {store}: a trend is of one; name it as the JUnit report does{}:",
+        found.len(),
+        if recipes.len() > 1 { ", with --recipe" } else { "" }
+    )];
+    for (id, n) in found.iter().take(SHOWN) {
+        let shares_place = found
+            .iter()
+            .filter(|(o, _)| o.recipe == id.recipe && o.stage == id.stage && o.key == id.key)
+            .count()
+            > 1;
+        let mut name = id.case_name();
+        if shares_place && !id.path.is_empty() {
+            name.push_str(&format!(" (step {})", id.path));
+        }
+        let recipe = match recipes.len() > 1 {
+            true => format!(" --recipe \"{}\"", id.recipe),
+            false => String::new(),
+        };
+        lines.push(format!(
+            "  drivescript results trend \"{name}\"{recipe}    ({n} value(s), recipe `{}`{})",
+            id.recipe,
+            match id.path.is_empty() {
+                true => String::new(),
+                false => format!(", step {}", id.path),
+            }
+        ));
+    }
+    if found.len() > SHOWN {
+        lines.push(format!("  … and {} more", found.len() - SHOWN));
+    }
+    lines.join("\n")
 }

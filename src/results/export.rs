@@ -21,6 +21,7 @@ pub fn run_json(r: &StoredRun) -> serde_json::Value {
         "end": r.end,
         "checks": r.checks,
         "steps": r.steps,
+        "void": r.void.as_ref().map(|v| serde_json::json!({"voided_at": v.voided_at, "voided_by": v.voided_by, "why": v.why})),
     })
 }
 

@@ -7,14 +7,19 @@
 //! to a thread of their own. Parameters only, never SQL built from values.
 
 mod backend;
+mod capability;
+pub mod capability_html;
 pub mod certificate_html;
 mod check_history;
+mod check_identity;
 pub mod export;
 mod locator;
 mod postgres_backend;
 mod record;
 mod results_recorder;
 mod results_writer;
+mod run_void;
+mod run_yield;
 mod schema;
 mod spool;
 mod sqlite_backend;
@@ -25,12 +30,15 @@ mod stored_run;
 pub mod trend_html;
 
 pub use backend::{Backend, Value};
+pub use capability::{Capability, Histogram};
+pub use check_identity::{readings, AskedCheck, CheckIdentity};
 pub use locator::{data_dir, Locator, RESULTS_ENV};
 pub use record::{CheckRow, EndRow, Record, RunRow, SeriesRow, StepRow, UnitRow};
 pub use results_recorder::{utc_text, FileFacts, Notes, RecorderSettings, ResultsRecorder};
+pub use run_yield::YieldRow;
 pub use schema::{current_version, migration};
 pub use spool::{Delivered, Spool};
 pub use store::Store;
 pub use store_error::StoreError;
 pub use store_history::StoreHistory;
-pub use stored_run::{RunFilter, StoredRun, TrendPoint};
+pub use stored_run::{RunFilter, StoredRun, TrendPoint, VoidRow};

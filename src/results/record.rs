@@ -118,6 +118,11 @@ pub struct CheckRow {
     /// `None` in a record written before the store kept it.
     #[serde(default)]
     pub inclusive: Option<bool>,
+    /// The decimal places its object resolves (the dictionary's scale), which every page
+    /// shows the value at; `None` when none applies or in a record written before the
+    /// store kept it (shown to three places at most then).
+    #[serde(default)]
+    pub decimals: Option<i64>,
 }
 
 /// How the run ended.

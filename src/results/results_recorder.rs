@@ -437,6 +437,7 @@ impl RunObserver for ResultsRecorder {
             reference_run: c.reference.as_ref().map(|r| r.run.clone()),
             reference_at: c.reference.as_ref().map(|r| r.started_at.clone()),
             reference_value: c.reference.as_ref().map(|r| r.value),
+            decimals: c.decimals.and_then(|d| i64::try_from(d).ok()),
         });
         self.send(record);
     }

@@ -55,6 +55,16 @@ const MIGRATIONS: &[&str] = &[
     // (`below`, `<`), which a name the recipe gave does not show; NULL in the rows before
     // it, whose names show it where drivescript made them.
     "ALTER TABLE checks ADD COLUMN inclusive BIGINT;",
+    // 5: a run voided (`results void`: the wrong unit scanned, a bench fault) with who,
+    // when and why; the run itself stays, and so does this row, an audit record of its
+    // own: nothing deletes either. A table of its own, so no other migration's columns
+    // of `runs` or `checks` bear on it.
+    // The decimal places a check's object resolves, which every page shows its value at
+    // (NULL before: shown to three places at most).
+    "CREATE TABLE IF NOT EXISTS voids (
+        run_id TEXT PRIMARY KEY, voided_at TEXT NOT NULL, voided_by TEXT NOT NULL,
+        why TEXT NOT NULL);
+     ALTER TABLE checks ADD COLUMN decimals BIGINT;",
 ];
 
 /// The version whose migration adds `checks.check_key`.
@@ -235,6 +245,31 @@ mod tests {
         assert_eq!(rows[0][1].text(), None);
         assert_eq!(rows[0][2].text(), None, "`c` is its own key");
         assert_eq!(rows[0][3].int(), None, "not known: read from the name");
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    /// A version 4 store (before voids and the places of a check's value) takes the table
+    /// of voids, empty, and the column `decimals`, NULL in its rows (shown to three places
+    /// at most); its checks stay as they were.
+    #[test]
+    fn a_version_4_store_takes_voids_and_the_places_of_a_value() {
+        let (mut b, dir) = migrated(
+            "v4",
+            4,
+            "('r1', 1, 'x below 5 A', 1, 0, '2', 'Stage 1', 1, 'kept')",
+        );
+        assert_eq!(version(&mut b).expect("version"), Some(current_version()));
+        let rows = b
+            .query("SELECT message, stage, decimals FROM checks", &[])
+            .expect("the new column");
+        assert_eq!(
+            (rows[0][0].text(), rows[0][1].text(), rows[0][2].int()),
+            (Some("kept"), Some("Stage 1"), None)
+        );
+        assert!(b
+            .query("SELECT run_id FROM voids", &[])
+            .expect("the table")
+            .is_empty());
         let _ = std::fs::remove_dir_all(&dir);
     }
 

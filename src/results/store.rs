@@ -5,7 +5,7 @@
 
 use super::backend::{Backend, Value};
 use super::record::{CheckRow, EndRow, Record, RunRow, SeriesRow, StepRow, UnitRow};
-use super::stored_run::{RunFilter, StoredRun};
+use super::stored_run::{RunFilter, StoredRun, VoidRow};
 use super::{schema, StoreError};
 use crate::session::key_of_name;
 
@@ -17,6 +17,10 @@ const RUN_COLUMNS: &str = "id, kind, recipe, recipe_path, recipe_sha256, tool_ve
      simulated, drive, dictionary, port, address, host, serial, part, operator, station, params, \
      ended_at, verdict, exit_code, reason, drive_identity, final_state, final_speed, speed_unit, \
      coasting, stop_confirmed, safe_stop, report_files, omitted_steps, omitted_checks, family";
+
+/// The runs with the void of each (`None` where there is none), for [`RUN_COLUMNS`] and
+/// `v.voided_at, v.voided_by, v.why` after them.
+const RUNS_WITH_VOIDS: &str = "runs LEFT JOIN voids v ON v.run_id = runs.id";
 
 impl Store {
     /// The store behind `backend`, its schema brought up to date.
@@ -97,8 +101,8 @@ impl Store {
                 b.execute(
                     "INSERT INTO checks (run_id, seq, name, measured, measured_text, unit, low, \
                      high, passed, marginal, step, stage, attempt, message, reference_run, \
-                     reference_at, reference_value, check_key, inclusive) VALUES ($1, $2, $3, $4, \
-                     $5, $6, $7, $8, $9, $10, $11, $12, $13, $14, $15, $16, $17, $18, $19) \
+                     reference_at, reference_value, check_key, inclusive, decimals) VALUES ($1, $2, $3, \
+                     $4, $5, $6, $7, $8, $9, $10, $11, $12, $13, $14, $15, $16, $17, $18, $19, $20) \
                      ON CONFLICT DO NOTHING",
                     &[
                         c.run.as_str().into(),
@@ -121,6 +125,7 @@ impl Store {
                         // A record spooled before keys were: as the migration keys its rows.
                         c.key.clone().or_else(|| key_of_name(&c.name)).into(),
                         c.inclusive.map_or(Value::Null, Value::from),
+                        c.decimals.map_or(Value::Null, Value::from),
                     ],
                 )?;
             }
@@ -193,7 +198,10 @@ impl Store {
     /// The runs `filter` takes, newest first.
     pub fn list(&mut self, filter: &RunFilter) -> Result<Vec<StoredRun>, StoreError> {
         let (clause, mut params) = where_clause(filter, "");
-        let mut sql = format!("SELECT {RUN_COLUMNS} FROM runs{clause} ORDER BY started_at DESC, id");
+        let mut sql = format!(
+            "SELECT {RUN_COLUMNS}, v.voided_at, v.voided_by, v.why FROM {RUNS_WITH_VOIDS}{clause} \
+             ORDER BY started_at DESC, id"
+        );
         if let Some(limit) = filter.limit {
             params.push(Value::Int(i64::try_from(limit).unwrap_or(i64::MAX)));
             sql.push_str(&format!(" LIMIT ${}", params.len()));
@@ -209,7 +217,10 @@ impl Store {
             id.replace('\\', "\\\\").replace('%', "\\%").replace('_', "\\_")
         );
         let rows = self.backend.query(
-            &format!("SELECT {RUN_COLUMNS} FROM runs WHERE id LIKE $1 ESCAPE '\\' ORDER BY id LIMIT 2"),
+            &format!(
+                "SELECT {RUN_COLUMNS}, v.voided_at, v.voided_by, v.why FROM {RUNS_WITH_VOIDS} \
+                 WHERE id LIKE $1 ESCAPE '\\' ORDER BY id LIMIT 2"
+            ),
             &[pattern.into()],
         )?;
         let run = match rows.as_slice() {
@@ -225,13 +236,20 @@ impl Store {
     }
 
     /// Every run of the unit with serial number `serial`, oldest first, in detail.
+    /// Voided runs are among them, marked: a certificate shows them.
     pub fn unit_runs(&mut self, serial: &str, simulated: bool) -> Result<Vec<StoredRun>, StoreError> {
-        let filter = RunFilter {
+        self.unit_runs_in(&RunFilter {
             unit: Some(serial.to_string()),
             simulated,
+            include_void: true,
             ..RunFilter::default()
-        };
-        let mut runs = self.list(&filter)?;
+        })
+    }
+
+    /// The runs `filter` takes (a unit's, narrowed by station, dates…), oldest first, in
+    /// detail.
+    pub fn unit_runs_in(&mut self, filter: &RunFilter) -> Result<Vec<StoredRun>, StoreError> {
+        let mut runs = self.list(filter)?;
         runs.reverse();
         runs.into_iter().map(|r| self.detailed(r)).collect()
     }
@@ -251,7 +269,7 @@ impl Store {
         let rows = self.backend.query(
             "SELECT seq, name, measured, measured_text, unit, low, high, passed, step, stage, \
              attempt, message, marginal, reference_run, reference_at, reference_value, \
-             check_key, inclusive FROM checks WHERE run_id = $1 ORDER BY seq",
+             check_key, inclusive, decimals FROM checks WHERE run_id = $1 ORDER BY seq",
             &[run.into()],
         )?;
         Ok(rows
@@ -276,6 +294,7 @@ impl Store {
                 reference_at: opt(&r[14]),
                 reference_value: r[15].real(),
                 inclusive: r[17].int().map(|v| v != 0),
+                decimals: r[18].int(),
             })
             .collect())
     }
@@ -353,6 +372,25 @@ pub(super) fn where_clause(filter: &RunFilter, prefix: &str) -> (String, Vec<Val
     if let Some(since) = &filter.since {
         add("#.started_at >= ?", Some(since.as_str().into()), &mut params);
     }
+    if let Some(until) = &filter.until {
+        add("#.started_at < ?", Some(until.as_str().into()), &mut params);
+    }
+    for (column, value) in [
+        ("station", &filter.station),
+        ("operator", &filter.operator),
+        ("part", &filter.part),
+    ] {
+        if let Some(v) = value {
+            add(&format!("#.{column} = ?"), Some(v.as_str().into()), &mut params);
+        }
+    }
+    if !filter.include_void {
+        add(
+            "NOT EXISTS (SELECT 1 FROM voids v WHERE v.run_id = #.id)",
+            None,
+            &mut params,
+        );
+    }
     if !filter.simulated {
         add("#.simulated = 0", None, &mut params);
     }
@@ -427,6 +465,12 @@ fn stored_run(r: &[Value]) -> StoredRun {
         end,
         checks: Vec::new(),
         steps: Vec::new(),
+        void: opt(&r[33]).map(|voided_at| VoidRow {
+            run: text(&r[0]),
+            voided_at,
+            voided_by: text(&r[34]),
+            why: text(&r[35]),
+        }),
     }
 }
 
@@ -467,6 +511,7 @@ mod tests {
                 reference_at: None,
                 reference_value: None,
                 inclusive: None,
+                decimals: None,
             }),
             Record::Finished(EndRow {
                 run: id.into(),

@@ -18,6 +18,10 @@ pub enum StoreError {
     /// A statement failed on a store that was open.
     #[error("results store {store}: {why}")]
     Query { store: String, why: String },
+    /// What was asked cannot be done as asked (a check's name that stands for several
+    /// measurements, a second void of a run); the message says what to do.
+    #[error("{0}")]
+    Refused(String),
     /// No run matches what the user asked for.
     #[error("{0}")]
     NotFound(String),

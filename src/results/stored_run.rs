@@ -3,7 +3,7 @@
 //! trend. Plain data for the command line and the HTML pages.
 
 use super::record::{CheckRow, EndRow, RunRow, StepRow};
-use crate::session::{limits_text, signed, with_unit, COMPARED};
+use crate::session::{at_resolution, limits_text, signed, COMPARED};
 
 /// A stored run; `end` is `None` for a run that never finished (killed, or still going).
 #[derive(Debug, Clone, PartialEq)]
@@ -13,6 +13,17 @@ pub struct StoredRun {
     /// Filled when one run (or one unit's runs) is asked for.
     pub checks: Vec<CheckRow>,
     pub steps: Vec<StepRow>,
+    /// Set when the run was voided (`results void`); the run is kept all the same.
+    pub void: Option<VoidRow>,
+}
+
+/// A run voided: who, when (UTC, RFC 3339) and why. Never deleted.
+#[derive(Debug, Clone, PartialEq)]
+pub struct VoidRow {
+    pub run: String,
+    pub voided_at: String,
+    pub voided_by: String,
+    pub why: String,
 }
 
 impl StoredRun {
@@ -40,6 +51,14 @@ pub struct RunFilter {
     pub verdict: Option<String>,
     /// Runs started at or after this UTC time (RFC 3339).
     pub since: Option<String>,
+    /// Runs started before this UTC time (RFC 3339).
+    pub until: Option<String>,
+    /// The run's station, operator and part number, exactly.
+    pub station: Option<String>,
+    pub operator: Option<String>,
+    pub part: Option<String>,
+    /// Voided runs too (`results void`); they are left out otherwise.
+    pub include_void: bool,
     /// Runs on the built-in simulated drive too.
     pub simulated: bool,
     /// The newest this many (`None`: all).
@@ -65,13 +84,30 @@ pub struct TrendPoint {
     /// Whether its limits include the values at them; `None` when stored before the
     /// store kept it.
     pub inclusive: Option<bool>,
+    /// The recipe's name and the hash of its text in that run, the stage and the
+    /// iteration-aware step that made the check: with the key, which measurement it is
+    /// ([`super::CheckIdentity`]).
+    pub recipe: String,
+    pub recipe_sha256: Option<String>,
+    pub stage: String,
+    pub step: String,
+    /// The decimal places its object resolves, when the store kept them.
+    pub decimals: Option<i64>,
+    /// A run on the built-in simulated drive: marked so beside its result.
+    pub simulated: bool,
 }
 
 impl TrendPoint {
+    /// Which measurement it is.
+    pub fn identity(&self) -> super::CheckIdentity {
+        super::CheckIdentity::of(&self.recipe, &self.stage, &self.step, &self.key)
+    }
+
     /// `31.4 K`, a comparison's change `+7.3 K`; `—` when nothing was measured (a
     /// comparison without history).
     pub fn measured_text(&self) -> String {
-        stored_measured(&self.name, self.measured, self.unit.as_deref()).unwrap_or_else(|| "—".into())
+        stored_measured(&self.name, self.measured, self.unit.as_deref(), self.decimals)
+            .unwrap_or_else(|| "—".into())
     }
 
     /// `≤ 3 K`, `< 80 °C`, `-10 .. 10 %`; `None` without limits.
@@ -85,6 +121,14 @@ impl TrendPoint {
         )
     }
 
+    /// [`TrendPoint::verdict`] with `(simulated)` after it for a run on the simulated drive.
+    pub fn result_text(&self) -> String {
+        match self.simulated {
+            true => format!("{} (simulated)", self.verdict()),
+            false => self.verdict().to_string(),
+        }
+    }
+
     /// `PASS`, `MARGINAL` or `FAIL`, as `results show` says it.
     pub fn verdict(&self) -> &'static str {
         match (self.passed, self.marginal) {
@@ -95,13 +139,21 @@ impl TrendPoint {
     }
 }
 
-/// A stored check's value as the run's reports wrote it: with its unit, and a comparison
-/// with the last pass (named `… compared with last pass`) as a change with its sign.
-pub fn stored_measured(name: &str, measured: Option<f64>, unit: Option<&str>) -> Option<String> {
+/// A stored check's value as the run's reports wrote it: with its unit at its object's
+/// resolution (`decimals`; three places at most when the store did not keep it), and a
+/// comparison with the last pass (named `… compared with last pass`) as a change with its
+/// sign.
+pub fn stored_measured(
+    name: &str,
+    measured: Option<f64>,
+    unit: Option<&str>,
+    decimals: Option<i64>,
+) -> Option<String> {
     let v = measured?;
+    let places = decimals.and_then(|d| usize::try_from(d).ok()).map(|d| d.min(9));
     Some(match name.ends_with(COMPARED) {
-        true => signed(v, unit),
-        false => with_unit(v, unit),
+        true => signed((v * 1000.0).round() / 1000.0, unit),
+        false => at_resolution(v, places, unit),
     })
 }
 
@@ -196,13 +248,22 @@ mod tests {
         assert_eq!(kept(Some(true)).as_deref(), Some("≤ 5 A"));
         assert_eq!(kept(None).as_deref(), Some("≤ 5 A"));
         assert_eq!(
-            stored_measured("x compared with last pass", Some(7.3), Some("K")).as_deref(),
+            stored_measured("x compared with last pass", Some(7.3), Some("K"), None).as_deref(),
             Some("+7.3 K")
         );
         assert_eq!(
-            stored_measured("x", Some(7.3), Some("K")).as_deref(),
+            stored_measured("x", Some(7.3), Some("K"), None).as_deref(),
             Some("7.3 K")
         );
-        assert_eq!(stored_measured("x", None, Some("K")), None);
+        assert_eq!(stored_measured("x", None, Some("K"), None), None);
+        assert_eq!(
+            stored_measured("x", Some(11995.924308), Some("rpm"), Some(0)).as_deref(),
+            Some("11996 rpm"),
+            "at the object's resolution"
+        );
+        assert_eq!(
+            stored_measured("x compared with last pass", Some(-0.092404), Some("%"), None).as_deref(),
+            Some("-0.092 %")
+        );
     }
 }

@@ -1,7 +1,8 @@
 //! `results trend CHECK --html FILE`: one check's measured value across runs as an SVG
 //! plot over time (dates when the runs span days, else the time since the first) — a
 //! marker per run, coloured by unit among few, a failed or marginal run as the run report
-//! marks it — with the limits each run had (a step line where they were changed), and a
+//! marks it — with the limits each run had (a tick across each run's marker, a step line
+//! where they were changed), and a
 //! table of every value. The run report's style; self-contained and bounded: at most
 //! [`MAX_PLOT_POINTS`] values, the newest, saying what is left out.
 
@@ -116,13 +117,16 @@ fn marks(points: &[TrendPoint], units: &[&str]) -> Vec<TrendMark> {
                 },
                 unit: units.iter().position(|u| *u == serial_text(p)).unwrap_or(0),
                 tip: format!(
-                    "{} · {} · {} · {} · run {}",
+                    "{} · {} · {}{} · {} · run {}",
                     p.started_at,
                     serial_text(p),
                     p.measured_text(),
+                    p.limits_text()
+                        .map_or(String::new(), |l| format!(" (limits {l})")),
                     p.verdict(),
                     p.run
                 ),
+                limits: (p.low, p.high),
             })
         })
         .collect()
@@ -208,7 +212,7 @@ pub fn trend_page(check: &str, all: &[TrendPoint]) -> String {
             esc(p.serial.as_deref().unwrap_or("")),
             esc(&p.measured_text()),
             esc(&p.limits_text().unwrap_or_else(|| "—".into())),
-            p.verdict(),
+            p.result_text(),
             esc(&p.run)
         );
     }
@@ -255,6 +259,12 @@ mod tests {
             passed,
             marginal: false,
             inclusive: None,
+            recipe: "Bearing acceptance".into(),
+            recipe_sha256: None,
+            stage: String::new(),
+            step: "2".into(),
+            decimals: None,
+            simulated: false,
         }
     }
 
@@ -299,6 +309,11 @@ mod tests {
             page.matches("class=\"mark ").count(),
             2,
             "no marker without a value"
+        );
+        assert_eq!(
+            page.matches("class=\"run-limit\"").count(),
+            2,
+            "each measured run's own limit across its marker"
         );
         assert!(page.contains("<td class=\"num\">+7.3 K</td><td class=\"num\">≤ 3 K</td>"));
         assert!(

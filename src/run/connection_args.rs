@@ -421,7 +421,7 @@ impl ConnectionArgs {
                     RealClock::shared()
                 };
                 let device = family.simulator(&address, self.sim_config());
-                let name = "built-in simulated drive";
+                let name = crate::drive::SIMULATED_PORT;
                 let bus = match (device.peer, family.bus_kind()) {
                     (SimPeer::Bytes(peer), _) => Bus::Bytes(SharedTransport::new(Box::new(
                         MemoryTransport::new(name, peer, clock.clone()),

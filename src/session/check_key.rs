@@ -139,6 +139,38 @@ fn quantity_words(words: &[&str]) -> Option<usize> {
     Some(1 + usize::from(unit))
 }
 
+/// The stage without the attempt number of an `attempts` block (`attempts: up to 3 times
+/// (2 steps) #2` → `attempts: up to 3 times (2 steps)`); a repeat's iteration stays (its
+/// passes are measurements of their own: cold and warm).
+pub fn identity_stage(stage: &str) -> String {
+    stage
+        .split(" / ")
+        .map(|part| match part.starts_with("attempts: ") {
+            true => match part.rsplit_once(" #") {
+                Some((label, n)) if n.parse::<u32>().is_ok() => label,
+                _ => part,
+            },
+            false => part,
+        })
+        .collect::<Vec<_>>()
+        .join(" / ")
+}
+
+/// `4[2].3[10].1` → `4.3.1`.
+pub fn without_iterations(step: &str) -> String {
+    let mut out = String::with_capacity(step.len());
+    let mut depth = 0u32;
+    for c in step.chars() {
+        match c {
+            '[' => depth += 1,
+            ']' => depth = depth.saturating_sub(1),
+            c if depth == 0 => out.push(c),
+            _ => {}
+        }
+    }
+    out
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

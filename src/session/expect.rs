@@ -2,7 +2,7 @@
 //! window; each becomes a check in the report. Also where an attempt's checks are marked
 //! retried when it is tried again.
 
-use super::session::{value_of, Session};
+use super::session::Session;
 use super::stop::Stop;
 use super::{Check, CheckResult, Condition, Measured, StepOrigin};
 
@@ -19,7 +19,12 @@ impl Session<'_> {
                         c.predicate.holds(v),
                         Some(v),
                         None,
-                        format!("{} {} = {}", c.object.name, stat.id(), value_of(v, &c.object)),
+                        format!(
+                            "{} {} = {}",
+                            c.object.name,
+                            stat.id(),
+                            self.shown_value(v, &c.object)
+                        ),
                     ),
                     Some(Measured::Missing(why)) => (
                         false,

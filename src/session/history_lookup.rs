@@ -195,7 +195,7 @@ impl Session<'_> {
             ),
             (Past::Unreadable { why, .. }, _) => (false, format!("cannot be judged: {why}")),
             (Past::Known { serial, run }, Some(v)) => {
-                let found = run.as_ref().and_then(|r| r.check(c.key, c.name, &step).map(|p| (r, p)));
+                let found = run.as_ref().and_then(|r| r.check(c.key, c.name, &step, &stage).map(|p| (r, p)));
                 match found {
                     None => {
                         let why = match run {
@@ -275,6 +275,8 @@ impl Session<'_> {
             marginal: false,
             retried: false,
             inclusive: true,
+            // A change in % or in the check's unit: no count of an object.
+            decimals: None,
             reference,
         }
     }

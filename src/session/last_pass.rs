@@ -3,7 +3,7 @@
 //! a results store gives back, and the seam ([`History`]) through which the session asks
 //! for it. Pure data and arithmetic; nothing here reads a store (the results layer does).
 
-use super::{number, StepOrigin};
+use super::{identity_stage, number, without_iterations, StepOrigin};
 use std::sync::mpsc::Receiver;
 
 /// How far a value may move from the same check's value in the unit's last passed run.
@@ -88,6 +88,8 @@ pub struct PastCheck {
     pub key: Option<String>,
     /// The iteration-aware step id (`4[2].1`).
     pub step: String,
+    /// The stage that held it, as the reports name it (`Stage 2, 12000 rpm`).
+    pub stage: String,
     pub measured: f64,
     pub unit: Option<String>,
 }
@@ -104,14 +106,30 @@ impl PastCheck {
 }
 
 impl PastRun {
-    /// The check this run's check keyed `key` (named `name`) at step `step` compares with:
-    /// the one of that key at the same step, else the last one of that key (the recipe
-    /// moved it, or an attempt passed at another try).
-    pub fn check(&self, key: &str, name: &str, step: &str) -> Option<&PastCheck> {
-        self.checks
+    /// The check this run's check keyed `key` (named `name`) at step `step` of stage
+    /// `stage` compares with: the same measurement, never one of another stage or another
+    /// place in the recipe (`speed_actual mean near` at 6000 rpm is not the one at 12000
+    /// rpm). The one of that key and stage at the same step, else at the same place in
+    /// the recipe (another iteration, or an attempt that passed at another try: the last
+    /// one), else the only one of that key in that stage (the recipe moved it); `None`
+    /// when several are and none is at this place.
+    pub fn check(&self, key: &str, name: &str, step: &str, stage: &str) -> Option<&PastCheck> {
+        let stage = identity_stage(stage);
+        let path = without_iterations(step);
+        let same: Vec<&PastCheck> = self
+            .checks
             .iter()
-            .find(|c| c.is(key, name) && c.step == step)
-            .or_else(|| self.last_check(key, name))
+            .filter(|c| c.is(key, name) && identity_stage(&c.stage) == stage)
+            .collect();
+        let moved = match same.as_slice() {
+            [only] => Some(*only),
+            _ => None,
+        };
+        same.iter()
+            .find(|c| c.step == step)
+            .or_else(|| same.iter().rev().find(|c| without_iterations(&c.step) == path))
+            .copied()
+            .or(moved)
     }
 
     /// The last check of key `key` (named `name` now) in this run.
@@ -189,6 +207,7 @@ mod tests {
             name: name.into(),
             key: key.map(str::to_string),
             step: step.into(),
+            stage: String::new(),
             measured,
             unit: None,
         }
@@ -205,19 +224,54 @@ mod tests {
                 past("c below 5 A", Some(key), "3[2].1", 2.0),
             ],
         };
-        assert_eq!(run.check(key, name, "3[1].1").map(|c| c.measured), Some(1.0));
-        assert_eq!(run.check(key, name, "9").map(|c| c.measured), Some(2.0));
+        assert_eq!(run.check(key, name, "3[1].1", "").map(|c| c.measured), Some(1.0));
+        assert_eq!(
+            run.check(key, name, "3[3].1", "").map(|c| c.measured),
+            Some(2.0),
+            "another iteration of the same place: the last"
+        );
+        assert_eq!(
+            run.check(key, name, "9", ""),
+            None,
+            "two of that key, neither at this place: which one it was cannot be told"
+        );
         // Its limit tightened since: still the same check.
         assert_eq!(
-            run.check(key, "c below 4.5 A", "3[2].1").map(|c| c.measured),
+            run.check(key, "c below 4.5 A", "3[2].1", "").map(|c| c.measured),
             Some(2.0)
         );
-        assert_eq!(run.check("d below", "d below 5 A", "3[1].1"), None);
+        assert_eq!(run.check("d below", "d below 5 A", "3[1].1", ""), None);
         assert_eq!(
-            run.check("c above", "c above 5 A", "3[1].1"),
+            run.check("c above", "c above 5 A", "3[1].1", ""),
             None,
             "another key and another name"
         );
+    }
+
+    /// The same key in two stages is two measurements: each compares with its own, even
+    /// when the recipe moved them (a step inserted before them), and a check that was in
+    /// one stage only is not compared with another stage's.
+    #[test]
+    fn a_check_compares_only_with_the_same_stage() {
+        let key = "speed_actual mean near";
+        let staged = |stage: &str, step: &str, v: f64| PastCheck {
+            stage: stage.into(),
+            ..past(&format!("{key} {v} rpm ± 1 %"), Some(key), step, v)
+        };
+        let run = PastRun {
+            id: "r".into(),
+            started_at: "t".into(),
+            checks: vec![
+                staged("Stage 1, 6000 rpm", "2.3", 6000.0),
+                staged("Stage 2, 12000 rpm", "3.3", 12000.0),
+                staged("Stage 3, 18000 rpm", "4.3", 18000.0),
+            ],
+        };
+        let found = |step: &str, stage: &str| run.check(key, "n", step, stage).map(|c| c.measured);
+        assert_eq!(found("3.3", "Stage 2, 12000 rpm"), Some(12000.0));
+        assert_eq!(found("4.3", "Stage 2, 12000 rpm"), Some(12000.0), "moved");
+        assert_eq!(found("4.3", "Stage 4, 3000 rpm"), None, "a stage new since");
+        assert_eq!(found("4.3", ""), None, "at the top level now: another check");
     }
 
     /// A name the recipe gave that reads like one drivescript makes: the migration keyed
@@ -230,7 +284,7 @@ mod tests {
             started_at: "t".into(),
             checks: vec![past(name, Some("Temperature below"), "4", 24.8)],
         };
-        assert_eq!(run.check(name, name, "4").map(|c| c.measured), Some(24.8));
+        assert_eq!(run.check(name, name, "4", "").map(|c| c.measured), Some(24.8));
     }
 
     #[test]
@@ -240,8 +294,8 @@ mod tests {
             started_at: "t".into(),
             checks: vec![past("bearing current", None, "4", 1.5)],
         };
-        let found = run.check("bearing current", "bearing current", "4");
+        let found = run.check("bearing current", "bearing current", "4", "");
         assert_eq!(found.map(|c| c.measured), Some(1.5));
-        assert_eq!(run.check("x below", "x below 5 A", "4"), None);
+        assert_eq!(run.check("x below", "x below 5 A", "4", ""), None);
     }
 }

@@ -16,6 +16,7 @@ mod expect_parameters;
 mod history_lookup;
 mod last_pass;
 mod object_ref;
+mod object_scale;
 mod one_off_stop;
 mod operations;
 mod operator;
@@ -44,7 +45,9 @@ mod wait_stable;
 mod wait_until;
 
 pub use bucket_series::{BucketSeries, SERIES_BUCKETS};
-pub use check_key::{compared_key, key_of_name, measured_key, COMPARED, WAIT};
+pub use check_key::{
+    compared_key, identity_stage, key_of_name, measured_key, without_iterations, COMPARED, WAIT,
+};
 pub use coast_down::CoastDown;
 pub use condition::{
     exact_with_unit, number, with_unit, write_number, Check, Condition, Measure, Predicate, Statistic, Stats,
@@ -54,6 +57,7 @@ pub use expect::AttemptMark;
 pub use history_lookup::LOOKUP_LIMIT;
 pub use last_pass::{signed, History, HistoryError, LastPass, PastCheck, PastRun};
 pub use object_ref::ObjectRef;
+pub use object_scale::{at_resolution, decimals_of_scale};
 pub use one_off_stop::{stop_drive, OneOffStopError};
 pub use operator::{Given, Nobody, Operator, Reply};
 pub use prompt::{default_answer_name, Accepted, NotAnAnswer, Pattern, Prompt, PromptKind};

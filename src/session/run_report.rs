@@ -117,6 +117,10 @@ pub struct CheckResult {
     /// The value may equal `low` and `high` (`at_least`, `at_most` of a typed value): the
     /// limits read `≥`/`≤`; otherwise a one-sided limit is strict (`above`, `below`).
     pub inclusive: bool,
+    /// The decimal places one count of the measured object resolves (the dictionary's
+    /// scale): every report shows the value so, never finer (`0.999 A`, not `0.998962 A`);
+    /// `None` when no object's resolution applies (a time, a question).
+    pub decimals: Option<usize>,
     /// A comparison with the unit's last passed run: the check it compared with.
     pub reference: Option<CheckReference>,
 }
@@ -164,6 +168,7 @@ impl CheckResult {
             marginal: false,
             retried: false,
             inclusive: false,
+            decimals: None,
             reference: None,
         }
     }
@@ -246,6 +251,8 @@ pub struct RunReport {
     pub drive: String,
     /// The drive's identity (ident string), when it could be read.
     pub identity: Option<String>,
+    /// SHA-256 (hex) of the text the run ran with, when the front end knows it.
+    pub recipe_sha256: Option<String>,
     /// The unit under test and the run's operator and station, as known at the end.
     pub unit: UnitIdentity,
     pub params: Vec<(String, String)>,
@@ -321,6 +328,7 @@ impl RunReport {
             recipe_path,
             drive,
             identity: None,
+            recipe_sha256: None,
             unit: UnitIdentity::default(),
             params,
             started_at,
@@ -426,6 +434,12 @@ impl RunReport {
     /// Failed checks of attempts that were tried again (kept, not the verdict's).
     pub fn checks_retried(&self) -> usize {
         self.checks.iter().filter(|c| !c.passed && c.retried).count()
+    }
+
+    /// Whether the run was on the built-in simulated drive (every drive of it, or one of
+    /// several): the reports say so beside the verdict.
+    pub fn simulated(&self) -> bool {
+        self.drive.contains(crate::drive::SIMULATED_PORT)
     }
 
     /// The dictionary's resolution of `object`, when known.

@@ -98,27 +98,9 @@ impl Session<'_> {
         objects.extend(self.report.series.iter().map(|s| s.object.clone()));
         objects.sort();
         objects.dedup();
-        let dictionaries: Vec<(String, std::sync::Arc<crate::dictionary::Dictionary>)> = self
-            .drives
-            .iter()
-            .map(|d| (d.name.clone(), d.drive.dictionary().clone()))
-            .collect();
-        let several = self.several_drives();
         self.report.resolutions = objects
             .into_iter()
-            .filter_map(|o| {
-                let (drive, name) = match o.split_once('.') {
-                    Some((drive, name)) if several => (drive, name),
-                    _ => ("", o.as_str()),
-                };
-                let (_, dictionary) = dictionaries
-                    .iter()
-                    .find(|(n, _)| n == drive)
-                    .or(dictionaries.first())?;
-                let scale = dictionary.lookup(name).ok()?.scale.abs();
-                Some((o, scale))
-            })
-            .filter(|(_, r)| r.is_finite() && *r > 0.0)
+            .filter_map(|o| self.scale_of(&o).map(|scale| (o, scale)))
             .collect();
         self.observer.run_finished(&self.report);
         self.report

@@ -109,6 +109,7 @@ impl<'a> Session<'a> {
             clock.wall_time(),
         );
         report.unit = run.unit.clone();
+        report.recipe_sha256 = run.text_sha256.clone();
         Session {
             drives,
             current: 0,
@@ -330,7 +331,14 @@ impl<'a> Session<'a> {
     }
 
     /// Records a check result (see [`MAX_RECORDS`] for what is kept).
-    pub(super) fn record_check_result(&mut self, result: CheckResult) {
+    pub(super) fn record_check_result(&mut self, mut result: CheckResult) {
+        if result.decimals.is_none() {
+            result.decimals = result
+                .object
+                .as_deref()
+                .and_then(|o| self.scale_of(o))
+                .map(super::object_scale::decimals_of_scale);
+        }
         self.observer.check(&result);
         if result.passed && self.report.checks.len() >= MAX_RECORDS {
             self.report.omitted_checks += 1;

@@ -238,7 +238,8 @@ steps:
         ],
         0,
     );
-    assert_has(&trend.stdout, &["0ld5tore", "24.5 °C", "25 °C"]);
+    // The new run's value at motor_temperature's resolution (0.1 °C), as the HTML shows it.
+    assert_has(&trend.stdout, &["0ld5tore", "24.5 °C", "25.0 °C"]);
 }
 
 #[test]

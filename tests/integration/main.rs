@@ -37,6 +37,7 @@ mod operator;
 mod operator_attempts;
 mod outputs;
 mod parameters;
+mod quality_results;
 mod recipe_cases;
 mod recipe_schema;
 mod replay;

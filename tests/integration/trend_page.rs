@@ -96,6 +96,7 @@ fn recorded(store: &Path, runs: &[Past]) {
                 reference_value: None,
                 // As a record of before the store kept it: read from the name.
                 inclusive: None,
+                decimals: None,
             };
         records.push(Record::Check(check(
             1,
@@ -241,7 +242,7 @@ fn a_batch_over_months_reads_as_dates_with_each_run_a_marker_and_its_unit() {
     assert_has(
         &html,
         &[
-            "<td class=\"num\">+7.3 K</td><td class=\"num\">≤ 3 K</td><td class=\"fail\">FAIL</td>",
+            "<td class=\"num\">+7.3 K</td><td class=\"num\">≤ 3 K</td><td class=\"fail\">FAIL (simulated)</td>",
             "<tr class=\"marginal\">",
         ],
     );

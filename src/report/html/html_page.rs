@@ -62,9 +62,14 @@ fn header(h: &mut String, r: &RunReport) {
     };
     let _ = write!(
         h,
-        "<header>\n<h1>{}</h1>\n<p class=\"verdict {class}\" id=\"verdict\">{mark} {}</p>\n",
+        "<header>\n<h1>{}</h1>\n<p class=\"verdict {class}\" id=\"verdict\">{mark} {}{}</p>\n",
         esc(&r.recipe),
-        r.verdict.word()
+        r.verdict.word(),
+        if r.simulated() {
+            " <span class=\"simulated\">(SIMULATED DRIVE)</span>"
+        } else {
+            ""
+        }
     );
     let why = match &r.verdict {
         Verdict::Passed => match r.checks.iter().filter(|c| c.marginal).count() {
@@ -97,6 +102,11 @@ fn header(h: &mut String, r: &RunReport) {
     let facts = [
         ("Recipe", r.recipe.clone()),
         ("Recipe file", r.recipe_path.clone()),
+        (
+            "Recipe SHA-256",
+            r.recipe_sha256.clone().unwrap_or_else(|| "not computed".into()),
+        ),
+        ("Tool", format!("drivescript {}", env!("CARGO_PKG_VERSION"))),
         ("Drive", r.drive.clone()),
         (
             "Drive identity",

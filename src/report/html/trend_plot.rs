@@ -56,6 +56,9 @@ pub struct TrendMark {
     pub unit: usize,
     /// The tooltip: when, which unit, the value, the verdict.
     pub tip: String,
+    /// The limits this run had (low, high): a short tick at each across its marker, so
+    /// every run is judged against its own limits on the plot, not only the step line.
+    pub limits: (Option<f64>, Option<f64>),
 }
 
 /// What a trend's plot draws.
@@ -135,6 +138,21 @@ pub fn trend_svg(p: &TrendPlot) -> String {
                     pts.trim_end()
                 );
             }
+        }
+    }
+    for m in p.marks {
+        for limit in [m.limits.0, m.limits.1]
+            .into_iter()
+            .flatten()
+            .filter(|v| v.is_finite())
+        {
+            let _ = writeln!(
+                s,
+                "<line class=\"run-limit\" x1=\"{:.2}\" x2=\"{:.2}\" y1=\"{2:.2}\" y2=\"{2:.2}\" stroke=\"#b00000\" stroke-width=\"2\"/>",
+                x(m.at) - 6.0,
+                x(m.at) + 6.0,
+                y(limit)
+            );
         }
     }
     s.push_str("</g>\n");
@@ -220,6 +238,7 @@ mod tests {
             outcome,
             unit,
             tip: format!("SP-{unit} <{value}>"),
+            limits: (None, Some(3.0)),
         }
     }
 

@@ -95,7 +95,12 @@ fn permanent_lines_are_the_console_lines() {
     assert_has(&got, &["finally 1  FAIL  disable_operation  no reply\n"]);
     assert_has(&got, &["        unit: serial SP-104233\n"]);
     // The step lines of the report the summary is made from: four steps and a finally.
-    assert!(got.contains("PASSED — 5 step(s), 2 check(s) passed, 0 failed, 1m 6s 250ms of virtual time"));
+    assert!(
+        got.contains(
+            "PASSED — 5 step(s), 1 check(s) passed, 0 failed, 1 wait(s) met, 1m 6s 250ms of virtual time"
+        ),
+        "{got}"
+    );
 }
 
 #[test]
