@@ -19,6 +19,7 @@ mod dictionary;
 mod dictionary_error;
 pub(crate) mod eds;
 mod family_id;
+mod file_entry;
 mod format;
 mod object_def;
 #[cfg(test)]
@@ -47,6 +48,7 @@ pub use dictionary::Dictionary;
 pub use dictionary_error::DictionaryError;
 pub use eds::{dcf_parameter_values, is_eds_path};
 pub use family_id::{family_id, is_family_id, is_former_spelling};
+pub use file_entry::{FieldOverride, FileEntry};
 pub use format::Format;
 pub use object_def::{DecimalPlaces, ObjectDef};
 pub use profile::{CommandWrite, ObjectWrite, Profile, RoleBinding, StateMask};

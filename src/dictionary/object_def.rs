@@ -7,6 +7,7 @@ use super::access::Access;
 use super::address::Address;
 use super::bench_cap::BenchCap;
 use super::data_type::{DataType, MAX_BLOCK_LEN};
+use super::file_entry::FileEntry;
 use super::format::Format;
 use super::quantity::Quantity;
 use super::real::Real;
@@ -55,6 +56,9 @@ pub struct ObjectDef {
     /// A setting of the drive (`parameter: true`) that `backup` saves and `restore` writes
     /// back, as opposed to a live value (actual speed), a command or an identity.
     pub parameter: bool,
+    /// What the device's own file (EDS/DCF) says of the object, and which fields of a
+    /// built-in entry it replaced; `None` for an object only a YAML dictionary gives.
+    pub file: Option<Box<FileEntry>>,
     /// Where the entry is defined (the `- name:` mapping).
     pub span: Span,
     /// Where the name and each alias are written (same order as [`ObjectDef::names`]);
@@ -82,6 +86,7 @@ impl ObjectDef {
             description: String::new(),
             unconfirmed: None,
             parameter: false,
+            file: None,
             span: Span::unknown(),
             name_spans: Vec::new(),
         }

@@ -8,11 +8,14 @@
 //! will give it (`repeat 2 times #2 / …`), so a report names a check the same whether the
 //! run reached it or not. A repeat bounded by `for:` has an unknown number of passes: its
 //! first pass (which always runs) is planned, later passes are named as they run.
+//! At most [`MAX_RECORDS`] checks are planned, as many as a report keeps: a `times:
+//! 1000000` repeat costs no memory per pass before it runs, and checks beyond are named
+//! as they run.
 
 use super::recipe::Recipe;
 use super::step::{Step, StepKind};
 use crate::session::{
-    compared_key, Condition, LastPass, ObjectRef, PlannedCheck, PromptKind, COMPARED, WAIT,
+    compared_key, Condition, LastPass, ObjectRef, PlannedCheck, PromptKind, COMPARED, MAX_RECORDS, WAIT,
 };
 
 /// Every check of the recipe's steps in run order (a check inside a `times:` repeat once
@@ -25,6 +28,9 @@ pub fn planned_checks(recipe: &Recipe) -> Vec<PlannedCheck> {
 
 fn walk(steps: &[Step], prefix: &str, stage: &mut Vec<String>, out: &mut Vec<PlannedCheck>) {
     for (i, step) in steps.iter().enumerate() {
+        if out.len() >= MAX_RECORDS {
+            return;
+        }
         // Numbered as the runner numbers steps.
         let number = match prefix {
             "" => format!("{}", i + 1),
@@ -57,6 +63,9 @@ fn walk(steps: &[Step], prefix: &str, stage: &mut Vec<String>, out: &mut Vec<Pla
                 times, steps: nested, ..
             } => {
                 for pass in 1..=times.unwrap_or(1) {
+                    if out.len() >= MAX_RECORDS {
+                        break;
+                    }
                     stage.push(format!("{} #{pass}", step.label));
                     walk(nested, &number, stage, out);
                     stage.pop();

@@ -15,6 +15,7 @@ mod ct_ansi;
 mod decode_cli;
 mod drive_sim;
 mod editor;
+mod eds_python;
 mod emergencies;
 mod end_to_end;
 mod examples;
