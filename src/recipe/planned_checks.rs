@@ -259,6 +259,26 @@ steps:
         crate::recipe::load_recipe_text("r.yaml", WEAR, Path::new("."), &dictionary, &[]).expect("valid")
     }
 
+    /// A question in a long repeat (a 238-byte recipe once took 3.1 GB planning it): the
+    /// plan holds no more checks than a report keeps, however many passes are asked for.
+    #[test]
+    fn a_long_repeat_plans_no_more_checks_than_a_report_keeps() {
+        let dictionary = crate::family::Registry::builtin()
+            .load_dictionary(crate::family::DEFAULT_DICTIONARY)
+            .expect("built-in dictionary");
+        let text = "name: Loop\nsteps:\n  - repeat:\n      times: 200000\n      steps:\n        - instruct: Press Enter\n          name: go\n        - confirm: Fine?\n          name: fine\n";
+        let recipe =
+            crate::recipe::load_recipe_text("r.yaml", text, Path::new("."), &dictionary, &[]).expect("valid");
+        let planned = planned_checks(&recipe);
+        assert_eq!(planned.len(), MAX_RECORDS);
+        // The first passes are planned as the run will name them.
+        assert_eq!(planned[0].stage, "repeat 200000 times (2 steps) #1");
+        assert_eq!(
+            planned[MAX_RECORDS - 1].stage,
+            format!("repeat 200000 times (2 steps) #{}", MAX_RECORDS / 2)
+        );
+    }
+
     #[test]
     fn a_coast_down_and_a_typed_value_are_followed_by_their_comparisons() {
         let planned = planned_checks(&wear());

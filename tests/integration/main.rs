@@ -23,6 +23,7 @@ mod hints;
 mod history;
 mod history_keys;
 mod history_wear;
+mod hostile_files;
 mod language_server;
 mod lenze_931;
 mod lenze_931_maintain;

@@ -363,7 +363,12 @@ proptest! {
             prop_oneof![
                 "\\[[0-9A-Fa-f]{4}(sub[0-9A-Fa-f]{1,3})?(Name|Value|ObjectLinks)?\\]",
                 "(ParameterName|ObjectType|DataType|AccessType|LowLimit|HighLimit|DefaultValue|ParameterValue|CompactSubObj|SubNumber|PDOMapping|NodeID|1|2)=[-$A-Za-z0-9x+. ]{0,12}",
-                "\\[(DeviceComissioning|MandatoryObjects|FileInfo)\\]",
+                "\\[(DeviceComissioning|MandatoryObjects|OptionalObjects|FileInfo)\\]",
+                // Objects the built-in canopen dictionary has, so the file's word is laid
+                // over its entries.
+                "\\[(6040|6041|6060|606C|60FF|6079|1017)\\]",
+                "(LowLimit|HighLimit)=(0x[0-9A-F]{1,17}|-?[0-9]{1,20})",
+                "DataType=0x000[1-9A-F]",
                 ".{0,20}",
             ],
             0..40,
@@ -372,7 +377,43 @@ proptest! {
         let mut out = Diagnostics::new();
         let source = Source::new("p.eds", lines.join("\n"));
         let file = EdsFile::parse(&source, &mut out);
-        let _ = eds_objects(&file, &HashSet::new(), &HashSet::new(), &|_| None);
+        let canopen = crate::family::Registry::builtin()
+            .load_dictionary("canopen")
+            .expect("built-in canopen dictionary");
+        let occupied: HashSet<Address> = canopen.objects().map(|o| o.address).collect();
+        let objects = eds_objects(&file, &HashSet::new(), &occupied, &|_| None);
+        for on in objects.on_built_in {
+            let mut def = canopen
+                .objects()
+                .find(|d| d.address == on.file.address)
+                .cloned()
+                .expect("an occupied address");
+            on.file.lay_over(&mut def, on.data_type, on.access, on.limits);
+            if let (Some(min), Some(max)) = (def.min, def.max) {
+                prop_assert!(min.is_finite() && max.is_finite());
+            }
+        }
         let _ = super::dcf_parameter_values(&source);
+    }
+
+    #[test]
+    fn hex_limits_of_signed_types_stay_within_their_width(
+        text in "0x[0-9A-Fa-f]{1,18}|-?[0-9]{1,20}|\\$NODEID\\+0x[0-9A-F]{1,4}",
+        bits in prop_oneof![Just(8u32), Just(16), Just(24), Just(32), Just(40), Just(48), Just(56), Just(64)],
+    ) {
+        if let Ok(limit) = super::eds_number::EdsLimit::parse(&text, false) {
+            let signed = limit.signed_at(&text, bits).resolve(Some(1));
+            if let (Some(v), true) = (signed, text.starts_with("0x")) {
+                let half = 2f64.powi(bits as i32 - 1);
+                // In the type's range, or beyond its width (left for the range check).
+                prop_assert!(v >= -half && (v < half || v >= 2.0 * half), "{text} at {bits}: {v}");
+            }
+        }
+    }
+
+    #[test]
+    fn any_bytes_are_windows_1252_text(bytes in proptest::collection::vec(any::<u8>(), 0..200)) {
+        let text = crate::diag::windows_1252(&bytes);
+        prop_assert_eq!(text.chars().count(), bytes.len());
     }
 }
