@@ -10,6 +10,8 @@ use super::eds::{eds_objects, is_eds_path, EdsFile, EdsObjects, OnBuiltIn};
 use super::family_id::family_id;
 use super::file_entry::FileEntry;
 use super::object_def::ObjectDef;
+use super::pole_pairs::PolePairs;
+use super::value_error::ValueError;
 use super::profile::Profile;
 use super::reader::read;
 use super::role::Role;
@@ -41,6 +43,9 @@ pub struct Dictionary {
     /// Objects a device's file lists in types drivescript cannot access (TIME_OF_DAY …),
     /// for `objects` to show as such.
     not_accessible: Vec<FileEntry>,
+    /// The motor's pole pairs its speed objects' rpm are given for, where it is an
+    /// inverter's dictionary (`pole_pairs:`), and who set them.
+    pole_pairs: Option<PolePairs>,
 }
 
 impl Dictionary {
@@ -104,6 +109,11 @@ impl Dictionary {
         }
         if other.profile.is_some() {
             merged.profile = other.profile;
+        }
+        // A file of the user's that says its motor's pole pairs speaks for the objects it
+        // brings (their rpm are given for them) and for the whole dictionary.
+        if other.pole_pairs.is_some() {
+            merged.pole_pairs = other.pole_pairs;
         }
         merged.notes.extend(other.notes);
         merged.not_accessible.extend(other.not_accessible);
@@ -197,6 +207,7 @@ impl Dictionary {
             name: file_stem(source.path()),
             notes,
             not_accessible: not_carried,
+            pole_pairs: None,
         });
         if added.is_err() {
             self.objects = before;
@@ -246,6 +257,10 @@ impl Dictionary {
             name: file_stem(file.path()),
             notes: contents.notes,
             not_accessible: Vec::new(),
+            pole_pairs: contents.pole_pairs.map(|count| PolePairs {
+                count,
+                origin: format!("the dictionary {}", file_stem(file.path())),
+            }),
         })
     }
 
@@ -266,6 +281,41 @@ impl Dictionary {
             }
         }
         self.bench_limits = Some(limits);
+    }
+
+    /// Sets the motor's pole pairs (`--link-option pole-pairs=N`, a recipe's
+    /// `link: { pole_pairs: N }`): every speed object counting an inverter's output
+    /// frequency has its rpm scale and limits recomputed for them (4-pole: half the rpm of
+    /// 2-pole at the same Hz). Before the bench limits, which are in rpm and stay so. A
+    /// dictionary that gives no `pole_pairs` is refused: its rpm are not a frequency.
+    pub fn set_pole_pairs(&mut self, count: u32, origin: &str) -> Result<(), ValueError> {
+        if self.pole_pairs.is_none() {
+            return Err(ValueError::PolePairsNotUsed {
+                dictionary: self.name.clone(),
+                origin: origin.to_string(),
+            });
+        }
+        for object in &mut self.objects {
+            let Some(before) = object.pole_pairs else { continue };
+            let factor = f64::from(before) / f64::from(count);
+            object.scale *= factor;
+            object.min = object.min.map(|m| m * factor);
+            object.max = object.max.map(|m| m * factor);
+            object.pole_pairs = Some(count);
+        }
+        self.pole_pairs = Some(PolePairs {
+            count,
+            origin: origin.to_string(),
+        });
+        if let Some(limits) = self.bench_limits.take() {
+            self.apply_bench_limits(limits);
+        }
+        Ok(())
+    }
+
+    /// The motor's pole pairs in force and who set them, for an inverter's dictionary.
+    pub fn pole_pairs(&self) -> Option<&PolePairs> {
+        self.pole_pairs.as_ref()
     }
 
     /// The bench limits in force, if any.

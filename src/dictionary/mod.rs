@@ -25,6 +25,7 @@ mod object_def;
 #[cfg(test)]
 mod object_def_tests;
 mod object_reader;
+mod pole_pairs;
 mod profile;
 mod profile_reader;
 mod quantity;
@@ -51,6 +52,7 @@ pub use family_id::{family_id, is_family_id, is_former_spelling};
 pub use file_entry::{FieldOverride, FileEntry};
 pub use format::Format;
 pub use object_def::{DecimalPlaces, ObjectDef};
+pub use pole_pairs::{is_pole_pairs_setting, speed_frequency, PolePairs, MAX_POLE_PAIRS, POLE_PAIRS_SETTING};
 pub use profile::{CommandWrite, ObjectWrite, Profile, RoleBinding, StateMask};
 pub use quantity::Quantity;
 pub(crate) use quantity_reader::read_dimensioned;
