@@ -1,7 +1,7 @@
 //! One-off object access: `read`, `write`, `state`, `ports` (`objects` is in
 //! `objects_command`).
 
-use crate::dictionary::{Address, DataType, Dictionary, ObjectDef, Quantity};
+use crate::dictionary::{Address, DataType, Dictionary, ObjectDef, Quantity, Unit, ValueError};
 use crate::drive::device_control::{status_word_bits, DeviceState};
 use crate::drive::DriveError;
 use crate::drive::WriteOutcome;
@@ -26,10 +26,18 @@ pub struct ReadArgs {
     /// `C00061`) rather than from the dictionary: u8, i8, u16, i16, u32, i32, string(N).
     #[arg(long = "type", value_name = "TYPE", value_parser = DataType::parse)]
     data_type: Option<DataType>,
+    /// Each value also in this unit: `--in krpm`, or `--in Hz` for an inverter's rpm
+    /// where the dictionary knows the motor's pole pairs.
+    #[arg(long = "in", value_name = "UNIT", value_parser = parse_unit)]
+    in_unit: Option<Unit>,
     #[command(flatten)]
     dictionary: DictionaryArgs,
     #[command(flatten)]
     connection: ConnectionArgs,
+}
+
+fn parse_unit(text: &str) -> Result<Unit, ValueError> {
+    Unit::parse(text)
 }
 
 #[derive(Debug, Args)]
@@ -191,7 +199,7 @@ fn drive_error_code(e: &DriveError) -> i32 {
 }
 
 pub fn read(args: &ReadArgs, registry: &Registry) -> i32 {
-    let dictionary = match load_dictionary(&args.dictionary, registry)
+    let dictionary = match load_dictionary(&args.dictionary.with_pole_pairs_of(&args.connection), registry)
         .and_then(|d| with_raw_objects(registry, d, &args.names, args.data_type))
     {
         Ok(d) => d,
@@ -203,7 +211,17 @@ pub fn read(args: &ReadArgs, registry: &Registry) -> i32 {
             eprintln!("error: {e}");
             return INVALID;
         }
+        let def = dictionary.lookup(name).ok();
+        if let Some(Err(e)) = args.in_unit.zip(def).map(|(unit, def)| def.factor_to(unit)) {
+            eprintln!("error: --in: {e}");
+            return INVALID;
+        }
     }
+    // The value in the unit `--in` asks for, after the object's own.
+    let also = |d: &ObjectDef, v: &crate::dictionary::Value| -> Option<(f64, Unit)> {
+        let unit = args.in_unit?;
+        Some((v.number()? * d.factor_to(unit).ok()?, unit))
+    };
     let dictionary_family = registry.family(dictionary.family()).ok();
     let mut open = match open(registry, &args.connection, dictionary) {
         Ok(o) => o,
@@ -238,7 +256,11 @@ pub fn read(args: &ReadArgs, registry: &Registry) -> i32 {
                     (None, Some(n)) => json!(n),
                     (None, None) => json!(v.text().unwrap_or_default()),
                 };
-                json!({ "object": d.name, "value": value, "unit": d.unit.map(|u| u.symbol()), "raw": v.raw.to_string() })
+                let mut row = json!({ "object": d.name, "value": value, "unit": d.unit.map(|u| u.symbol()), "raw": v.raw.to_string() });
+                if let Some((n, unit)) = also(d, v) {
+                    row["in"] = json!({ "value": n, "unit": unit.symbol() });
+                }
+                row
             })
             .collect();
         println!("{}", serde_json::Value::Array(list));
@@ -254,7 +276,10 @@ pub fn read(args: &ReadArgs, registry: &Registry) -> i32 {
             println!(
                 "{:<width$}  {:<18}  {:<12}  {}",
                 d.name,
-                v.to_string(),
+                match also(d, v) {
+                    Some((n, unit)) => format!("{v} ({} {unit})", crate::session::number(n)),
+                    None => v.to_string(),
+                },
                 v.raw.to_string(),
                 shown_address(&dictionary_family, &d.address)
             );
@@ -285,7 +310,7 @@ pub fn write(args: &WriteArgs, registry: &Registry) -> i32 {
     };
     let names = std::slice::from_ref(&args.name);
     let mut raw = false;
-    let dictionary = match load_dictionary(&args.dictionary, registry).and_then(|d| {
+    let dictionary = match load_dictionary(&args.dictionary.with_pole_pairs_of(&args.connection), registry).and_then(|d| {
         raw = d.get(&args.name).is_none();
         with_raw_objects(registry, d, names, args.data_type)
     }) {
@@ -368,7 +393,7 @@ pub fn write(args: &WriteArgs, registry: &Registry) -> i32 {
 }
 
 pub fn state(args: &StateArgs, registry: &Registry) -> i32 {
-    let dictionary = match load_dictionary(&args.dictionary, registry) {
+    let dictionary = match load_dictionary(&args.dictionary.with_pole_pairs_of(&args.connection), registry) {
         Ok(d) => d,
         Err(code) => return code,
     };

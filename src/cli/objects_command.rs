@@ -28,7 +28,7 @@ pub struct ObjectsArgs {
 }
 
 pub fn objects(args: &ObjectsArgs, registry: &Registry) -> i32 {
-    let dictionary = match load_dictionary(&args.dictionary, registry) {
+    let dictionary = match load_dictionary(&args.dictionary.with_pole_pairs_of(&args.connection), registry) {
         Ok(d) => d,
         Err(code) => return code,
     };
@@ -75,7 +75,7 @@ pub fn objects(args: &ObjectsArgs, registry: &Registry) -> i32 {
                     "drive_limits": from_drive(&d.name),
                     "name": d.name, "aliases": d.aliases, "address": shown_address(&family, &d.address),
                     "type": d.data_type.to_string(), "unit": d.unit.map(|u| u.symbol()), "scale": d.scale,
-                    "access": d.access.id(), "min": d.min, "max": d.max,
+                    "access": d.access.id(), "min": d.min, "max": d.max, "pole_pairs": d.pole_pairs,
                     "bench_limit": d.bench.as_ref().map(|b| b.origin.clone()),
                     "description": d.description, "unconfirmed": d.unconfirmed,
                     "accessible": true, "file": d.file.as_deref().map(file_json),
@@ -98,6 +98,12 @@ pub fn objects(args: &ObjectsArgs, registry: &Registry) -> i32 {
     println!("{} — {} object(s)", dictionary.title(), list.len());
     if let Some((port, _)) = &drive_limits {
         println!("drive limits read from {port} (ON/OX or the family's own commands)");
+    }
+    if let Some(pairs) = dictionary.pole_pairs() {
+        println!(
+            "rpm are for a motor with {} pole pair(s) ({}); rpm = Hz × 60 / pole pairs, so Hz may be written too; another motor: --link-option pole-pairs=N",
+            pairs.count, pairs.origin
+        );
     }
     if let Some(limits) = dictionary.bench_limits() {
         println!(

@@ -38,7 +38,7 @@ pub enum ValueError {
 
     /// Hz for an rpm object (or the reverse) where the dictionary does not say the
     /// motor's pole pairs, which the conversion needs.
-    #[error("{unit} is not a unit of {object} ({object_unit}) as it stands: the dictionary does not say the motor's pole pairs, which turn {unit} into {object_unit} (rpm = Hz × 60 / pole pairs); give `pole_pairs: N` in the dictionary, `--link-option pole-pairs=N`, or `link: {{ pole_pairs: N }}` in the recipe, or write the value in {object_unit}")]
+    #[error("{unit} is not a unit of {object} ({object_unit}) as it stands: the dictionary does not say the motor's pole pairs, which turn {unit} into {object_unit} (rpm = Hz × 60 / pole pairs); give `pole_pairs: N` in the dictionary (for an inverter whose {object_unit} are its output frequency; then `--link-option pole-pairs=N` or a recipe's `link: {{ pole_pairs: N }}` sets another motor's), or write the value in {object_unit}")]
     NoPolePairs {
         unit: Unit,
         object: String,

@@ -10,6 +10,7 @@ use crate::bus::{
     SharedFrameBus, SharedTransport, SlcanBus, StopBits, TcpTransport, TransportError,
 };
 use crate::clock::{RealClock, SharedClock, VirtualClock};
+use crate::dictionary::is_pole_pairs_setting;
 use crate::family::{DriveAddress, Family, LinkOptions, Registry, SimPeer};
 use crate::sim::{SimConfig, SimSetting, SimulatedDrive};
 use clap::Args;
@@ -235,10 +236,25 @@ impl ConnectionArgs {
         merged
     }
 
+    /// The motor's pole pairs a `--link-option pole-pairs=N` (or a recipe's `link:`) gives,
+    /// the last one given: a setting of the dictionary, not of the family's link.
+    pub fn pole_pairs(&self) -> Option<String> {
+        self.link_options
+            .iter()
+            .rev()
+            .find(|(name, _)| is_pole_pairs_setting(name))
+            .map(|(_, value)| value.clone())
+    }
+
     /// `--link-option`s and the options that stand for one (`--channel cyclic` is
-    /// `channel=cyclic`).
+    /// `channel=cyclic`), without the pole pairs, which the dictionary takes.
     fn all_link_options(&self) -> Vec<(String, String)> {
-        let mut all = self.link_options.clone();
+        let mut all: Vec<(String, String)> = self
+            .link_options
+            .iter()
+            .filter(|(name, _)| !is_pole_pairs_setting(name))
+            .cloned()
+            .collect();
         let named = [
             ("channel", self.channel.clone()),
             ("velocity-scaling", self.velocity_scaling.clone()),
