@@ -24,6 +24,7 @@ mod history;
 mod history_keys;
 mod history_wear;
 mod hostile_files;
+mod inverter_units;
 mod language_server;
 mod lenze_931;
 mod lenze_931_maintain;

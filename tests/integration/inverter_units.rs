@@ -1,0 +1,175 @@
+//! Inverter units as engineers use them: Hz and rpm both accepted for a Modbus inverter's
+//! frequency setpoint where the dictionary knows the motor's pole pairs (its own
+//! `pole_pairs:`, `--link-option pole-pairs=N`, a recipe's `link: { pole_pairs: N }`), a
+//! hint where it does not, and every shipped inverter dictionary's setpoint range
+//! refusing what no inverter of its kind reaches. Through the binary, against the
+//! built-in simulated inverter.
+
+use crate::support::{assert_has, assert_lacks, cli, scratch, write_file};
+
+const AT_100_HZ: &str = "name: Spindle at 100 Hz
+drive: sunfar-e500
+steps:
+  - set: { speed_setpoint: 100 Hz }
+  - read: speed_setpoint
+  - go_to: { state: operation_enabled, timeout: 2 s }
+  - wait_until: { speed_actual: { near: 100 Hz, within: 1 % }, timeout: 20 s }
+";
+
+#[test]
+fn a_recipe_with_two_pole_pairs_in_its_link_sets_100_hz_as_3000_rpm() {
+    let dir = scratch("inverter-100hz-link");
+    let text = AT_100_HZ.replace("steps:", "link: { pole_pairs: 2 }\nsteps:");
+    let recipe = write_file(&dir, "hz.yaml", &text);
+    let out = cli(&["check", recipe.to_str().unwrap()], 0);
+    assert_lacks(&out.stderr, &["pole pairs"]);
+    let out = cli(&["run", recipe.to_str().unwrap(), "--fast"], 0).stdout;
+    // 100 Hz × 60 / 2 = 3000 rpm: 1000 counts of 0.1 Hz, which read back as 3000 rpm.
+    assert_has(
+        &out,
+        &[
+            "set speed_setpoint = 3000 rpm  written",
+            "read speed_setpoint  speed_setpoint = 3000 rpm",
+            "wait until speed_actual near 3000 rpm ± 1 %",
+            "PASSED",
+        ],
+    );
+}
+
+#[test]
+fn the_link_option_overrides_the_dictionarys_pole_pairs() {
+    let dir = scratch("inverter-100hz-option");
+    let recipe = write_file(&dir, "hz.yaml", AT_100_HZ);
+    let path = recipe.to_str().unwrap();
+    // The dictionary's own: one pole pair, 100 Hz is 6000 rpm.
+    let out = cli(&["run", path, "--fast"], 0).stdout;
+    assert_has(&out, &["set speed_setpoint = 6000 rpm  written", "PASSED"]);
+    // Two from the command line: the same register holds 3000 rpm.
+    let out = cli(&["run", path, "--fast", "--link-option", "pole-pairs=2"], 0).stdout;
+    assert_has(&out, &["set speed_setpoint = 3000 rpm  written", "PASSED"]);
+    // The command line wins over the recipe's link.
+    let linked = write_file(
+        &dir,
+        "linked.yaml",
+        &AT_100_HZ.replace("steps:", "link: { pole_pairs: 4 }\nsteps:"),
+    );
+    let args = ["run", linked.to_str().unwrap(), "--fast", "--link-option", "pole_pairs=2"];
+    assert_has(&cli(&args, 0).stdout, &["set speed_setpoint = 3000 rpm"]);
+    // The limits follow: 400 Hz is 12 000 rpm for a 4-pole motor.
+    let out = cli(
+        &["objects", "--drive", "sunfar-e500", "--link-option", "pole-pairs=2"],
+        0,
+    )
+    .stdout;
+    assert_has(
+        &out,
+        &[
+            "rpm are for a motor with 2 pole pair(s) (--link-option pole-pairs=2)",
+            "0 .. 12000",
+        ],
+    );
+    let out = cli(&["objects", "--drive", "sunfar-e500"], 0).stdout;
+    assert_has(&out, &["1 pole pair(s) (the dictionary sunfar-e500)", "0 .. 24000"]);
+}
+
+#[test]
+fn bad_pole_pairs_are_refused_before_anything_is_sent() {
+    let dir = scratch("inverter-bad-pole-pairs");
+    let recipe = write_file(&dir, "hz.yaml", AT_100_HZ);
+    let path = recipe.to_str().unwrap();
+    let out = cli(&["check", path, "--link-option", "pole-pairs=0"], 2);
+    assert_has(&out.stderr, &["--link-option pole-pairs=0", "not a number of pole pairs"]);
+    // A servo's dictionary has no output frequency the pole pairs could rescale.
+    let out = cli(
+        &["objects", "--drive", "sd2", "--link-option", "pole-pairs=2"],
+        2,
+    );
+    assert_has(&out.stderr, &["the sd2 dictionary gives no `pole_pairs`"]);
+}
+
+#[test]
+fn hz_where_the_pole_pairs_are_unknown_gets_a_hint() {
+    let dir = scratch("inverter-hz-hint");
+    let recipe = write_file(
+        &dir,
+        "sd2.yaml",
+        "name: Hz on a servo\ndrive: sd2\nsteps:\n  - set: { speed_setpoint: 100 Hz }\n",
+    );
+    let out = cli(&["check", recipe.to_str().unwrap()], 2);
+    assert_has(
+        &out.stderr,
+        &[
+            "the dictionary does not say the motor's pole pairs",
+            "give `pole_pairs: N` in the",
+            "rpm = Hz × 60 / pole pairs",
+        ],
+    );
+    let script = write_file(
+        &dir,
+        "sd2.rhai",
+        "//! drive: sd2\nlet d = drive();\nd.set(\"speed_setpoint\", 50.0, \"Hz\");\nlet f = d.read_as(\"speed_actual\", \"Hz\");\n",
+    );
+    let out = cli(&["check", script.to_str().unwrap()], 2);
+    assert_has(&out.stderr, &["does not say the motor's pole pairs", "2 problems found"]);
+    let out = cli(&["read", "speed_actual", "--in", "Hz"], 2);
+    assert_has(&out.stderr, &["--in: Hz is not a unit of speed_actual", "pole pairs"]);
+}
+
+#[test]
+fn every_shipped_inverter_dictionary_refuses_300_000_rpm_in_check() {
+    let dir = scratch("inverter-too-fast");
+    for drive in ["sunfar-e500", "modbus-inverter", "modbus-tcp-inverter"] {
+        let recipe = write_file(
+            &dir,
+            &format!("{drive}.yaml"),
+            &format!("name: Too fast\ndrive: {drive}\nsteps:\n  - set: {{ speed_setpoint: 300000 rpm }}\n"),
+        );
+        let out = cli(&["check", recipe.to_str().unwrap()], 2);
+        assert_has(
+            &out.stderr,
+            &["300000 rpm is above the maximum of speed_setpoint, 24000 rpm"],
+        );
+        // In Hz too: 5000 Hz is beyond the same 400 Hz.
+        let hz = write_file(
+            &dir,
+            &format!("{drive}-hz.yaml"),
+            &format!("name: Too fast\ndrive: {drive}\nsteps:\n  - set: {{ speed_setpoint: 5000 Hz }}\n"),
+        );
+        let out = cli(&["check", hz.to_str().unwrap()], 2);
+        assert_has(&out.stderr, &["5000 Hz (300000 rpm) is above the maximum"]);
+    }
+}
+
+#[test]
+fn a_script_and_read_give_a_value_in_hz_where_the_pole_pairs_are_known() {
+    let dir = scratch("inverter-hz-script");
+    let script = write_file(
+        &dir,
+        "hz.rhai",
+        "//! drive: sunfar-e500
+let d = drive();
+d.set(\"speed_setpoint\", 50.0, \"Hz\");
+d.go_to(\"operation_enabled\");
+d.wait_until(\"speed_actual\", |v| v >= 1500.0, \"20 s\");
+print(`at ${d.read_as(\"speed_actual\", \"Hz\")} Hz`);
+",
+    );
+    let args = [
+        "run",
+        script.to_str().unwrap(),
+        "--fast",
+        "--drive",
+        "sunfar-e500",
+        "--link-option",
+        "pole-pairs=2",
+    ];
+    let out = cli(&args, 0).stdout;
+    // 50 Hz with two pole pairs is 1500 rpm, read back as 50 Hz.
+    assert_has(&out, &["set speed_setpoint = 1500 rpm", "at 50.0 Hz", "PASSED"]);
+    let out = cli(
+        &["read", "speed_setpoint", "--drive", "sunfar-e500", "--in", "Hz", "--json"],
+        0,
+    )
+    .stdout;
+    assert_has(&out, &[r#""in":{"value":0.0,"unit":"Hz"}"#]);
+}
