@@ -65,25 +65,34 @@ pub(super) fn units_of(dimension: Dimension) -> String {
         .join("|")
 }
 
-/// The `$defs` key of the values of objects in `unit` (`value_speed`, `value_plain`).
-fn value_key(unit: Option<Unit>) -> String {
+/// The `$defs` key of the values of objects in `unit` (`value_speed`, `value_plain`);
+/// `value_speed_or_frequency` for an inverter's speed, which the motor's pole pairs let
+/// be written in Hz too.
+fn value_key(unit: Option<Unit>, pole_pairs: bool) -> String {
     match unit {
+        Some(u) if pole_pairs && u.dimension() == Dimension::Speed => "value_speed_or_frequency".into(),
         Some(u) => format!("value_{}", u.dimension().name()),
         None => "value_plain".into(),
     }
 }
 
-/// `value_X`, `condition_X` and `check_X` for one dimension (or none).
-fn dimension_defs(defs: &mut serde_json::Map<String, Value>, unit: Option<Unit>) {
-    let key = value_key(unit);
+/// `value_X`, `condition_X` and `check_X` for one dimension (or none); a speed with
+/// `pole_pairs` takes the units of frequency too.
+fn dimension_defs(defs: &mut serde_json::Map<String, Value>, unit: Option<Unit>, pole_pairs: bool) {
+    let key = value_key(unit, pole_pairs);
     let suffix = key.trim_start_matches("value_").to_string();
     let value = match unit {
         Some(u) => {
             let d = u.dimension();
-            let units = units_of(d);
+            let also = (key == "value_speed_or_frequency").then_some(Dimension::Frequency);
+            let units = std::iter::once(d)
+                .chain(also)
+                .map(units_of)
+                .collect::<Vec<_>>()
+                .join("|");
             let examples: Vec<&str> = Unit::ALL
                 .iter()
-                .filter(|x| x.dimension() == d)
+                .filter(|x| x.dimension() == d || Some(x.dimension()) == also)
                 .map(|x| x.symbol())
                 .collect();
             let description = format!(
@@ -224,9 +233,9 @@ pub fn recipe_schema(dictionary: &Dictionary, address_keys: &AddressKeyTable) ->
     let mut seen = std::collections::HashSet::new();
     for o in dictionary.objects() {
         names.push(o.name.clone());
-        let key = value_key(o.unit);
+        let key = value_key(o.unit, o.pole_pairs.is_some());
         if seen.insert(key.clone()) {
-            dimension_defs(&mut defs, o.unit);
+            dimension_defs(&mut defs, o.unit, o.pole_pairs.is_some());
         }
         let suffix = key.trim_start_matches("value_");
         let doc = object_doc(o);

@@ -173,3 +173,25 @@ print(`at ${d.read_as(\"speed_actual\", \"Hz\")} Hz`);
     .stdout;
     assert_has(&out, &[r#""in":{"value":0.0,"unit":"Hz"}"#]);
 }
+
+/// The editor's schema lists Hz among an inverter's speed units (its dictionary knows the
+/// pole pairs), and only rpm and krpm for a servo's.
+#[test]
+fn the_schema_offers_hz_for_an_inverters_speed_only() {
+    let pattern = |drive: &str| {
+        let out = cli(&["schema", "--drive", drive], 0).stdout;
+        let schema: serde_json::Value = serde_json::from_str(&out).expect("JSON");
+        let set = &schema["$defs"]["step"]["else"]["oneOf"][1]["properties"]["set"]["properties"];
+        let key = set["speed_setpoint"]["$ref"].as_str().expect("$ref").to_string();
+        let def = key.trim_start_matches("#/$defs/");
+        (def.to_string(), schema["$defs"][def]["pattern"].as_str().unwrap_or_default().to_string())
+    };
+    for drive in ["sunfar-e500", "modbus-inverter", "modbus-tcp-inverter"] {
+        let (def, pattern) = pattern(drive);
+        assert_eq!(def, "value_speed_or_frequency", "{drive}");
+        assert_has(&pattern, &["[rR][pP][mM]", "[hH][zZ]"]);
+    }
+    let (def, pattern) = pattern("sd2");
+    assert_eq!(def, "value_speed");
+    assert_lacks(&pattern, &["[hH][zZ]"]);
+}
