@@ -76,7 +76,8 @@ pub struct ConnectionArgs {
     /// `write-length=captured` (0x0B in Write Wide Object, as every capture from real drives
     /// sends; the default) or `write-length=formula` (10 + count, the manual's formula).
     /// Control Techniques: `baud-parameter=#M.PP`, the parameter that sets the drive's baud
-    /// rate (an accepted write to it waits 20 ms, then ends the session).
+    /// rate (an accepted write to it waits 20 ms, then ends the session). Any inverter
+    /// dictionary: `pole-pairs=N`, the motor's pole pairs (rpm = Hz × 60 / N).
     #[arg(long = "link-option", value_name = "NAME=VALUE", value_parser = parse_link_option)]
     pub link_options: Vec<(String, String)>,
     /// Which channel carries commands and values, where the family has several. SD2:
