@@ -18,7 +18,7 @@ mod written_values;
 pub use drive_decl::DriveDecl;
 pub use expansion::{MAX_EXPANDED_STEPS, MAX_INCLUDE_LOADS, MAX_RUN_TIME};
 pub use loader::{
-    declared_drives, declared_params, load_recipe, load_recipe_for, load_recipe_text, DriveDictionaries,
+    declared_drives, declared_params, declared_pole_pairs, load_recipe, load_recipe_for, load_recipe_text, DriveDictionaries,
     MAX_DURATION, MAX_SAMPLES,
 };
 pub use planned_checks::{

@@ -555,6 +555,11 @@ fn drive_entry(address_keys: &AddressKeyTable) -> Value {
         "can".into(),
         json!({ "type": "string", "description": "its own CAN bus: slcan:PATH or socketcan:IF" }),
     );
+    props.insert(
+        "pole_pairs".into(),
+        json!({ "type": "integer", "minimum": 1, "maximum": crate::dictionary::MAX_POLE_PAIRS,
+                "description": "an inverter's motor pole pairs (rpm = Hz × 60 / pole pairs), over its dictionary's; --link-option pole-pairs=N wins" }),
+    );
     let mut rules = Vec::new();
     let mut dependencies = serde_json::Map::new();
     for name in address_keys.all_key_names() {

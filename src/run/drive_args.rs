@@ -32,11 +32,11 @@ pub struct DictionaryArgs {
     /// recipe. Nothing (recipe, --set, --dictionary) can raise its limits.
     #[arg(long = "limits", value_name = "FILE")]
     pub limits: Option<PathBuf>,
-    /// The motor's pole pairs given with the connection (`--link-option pole-pairs=N`,
-    /// [`ConnectionArgs::pole_pairs`]): over a recipe's `link: { pole_pairs: N }` and the
-    /// dictionary's own `pole_pairs:`.
+    /// The motor's pole pairs as given and who gave them: `--link-option pole-pairs=N`
+    /// ([`ConnectionArgs::pole_pairs`]) or a named drive's `pole_pairs:`; over a recipe's
+    /// `link: { pole_pairs: N }` and the dictionary's own `pole_pairs:`.
     #[arg(skip)]
-    pub pole_pairs: Option<String>,
+    pub pole_pairs: Option<(String, String)>,
 }
 
 impl DictionaryArgs {
@@ -75,7 +75,7 @@ impl DictionaryArgs {
         }
         // Before the bench limits: those are rpm at the shaft whatever the pole pairs.
         let given = match (&self.pole_pairs, recipe.and_then(recipe_pole_pairs)) {
-            (Some(n), _) => Some((n.clone(), format!("--link-option {POLE_PAIRS_SETTING}={n}"))),
+            (Some(given), _) => Some(given.clone()),
             (None, Some(n)) => Some((n, "the recipe's `link: { pole_pairs }`".to_string())),
             (None, None) => None,
         };
@@ -98,7 +98,10 @@ impl DictionaryArgs {
     /// (`--link-option pole-pairs=N`), which the dictionary takes.
     pub fn with_pole_pairs_of(&self, connection: &ConnectionArgs) -> DictionaryArgs {
         DictionaryArgs {
-            pole_pairs: connection.pole_pairs().or_else(|| self.pole_pairs.clone()),
+            pole_pairs: connection
+                .pole_pairs()
+                .map(|n| (n.clone(), format!("--link-option {POLE_PAIRS_SETTING}={n}")))
+                .or_else(|| self.pole_pairs.clone()),
             ..self.clone()
         }
     }

@@ -195,3 +195,30 @@ fn the_schema_offers_hz_for_an_inverters_speed_only() {
     assert_eq!(def, "value_speed");
     assert_lacks(&pattern, &["[hH][zZ]"]);
 }
+
+/// A named drive's own `pole_pairs:` (its `drives:` declaration) sets that inverter's
+/// motor alone; `--link-option pole-pairs=N` wins over it; a bad one is refused.
+#[test]
+fn a_drive_declaration_gives_its_own_motors_pole_pairs() {
+    let dir = scratch("inverter-drive-decl");
+    let text = "name: Two spindles
+drives:
+  a: { drive: sunfar-e500, address: 1 }
+  b: { drive: sunfar-e500, address: 2, pole_pairs: 2 }
+steps:
+  - set: { a.speed_setpoint: 100 Hz, b.speed_setpoint: 100 Hz }
+  - read: [a.speed_setpoint, b.speed_setpoint]
+";
+    let recipe = write_file(&dir, "two.yaml", text);
+    let path = recipe.to_str().unwrap();
+    let out = cli(&["run", path, "--fast"], 0).stdout;
+    assert_has(
+        &out,
+        &["a.speed_setpoint = 6000 rpm, b.speed_setpoint = 3000 rpm", "PASSED"],
+    );
+    let out = cli(&["run", path, "--fast", "--link-option", "pole-pairs=4"], 0).stdout;
+    assert_has(&out, &["a.speed_setpoint = 1500 rpm, b.speed_setpoint = 1500 rpm"]);
+    let bad = write_file(&dir, "bad.yaml", &text.replace("pole_pairs: 2", "pole_pairs: zero"));
+    let out = cli(&["check", bad.to_str().unwrap()], 2);
+    assert_has(&out.stderr, &["drive `b`", "`zero` is not a number of pole pairs"]);
+}
