@@ -310,10 +310,11 @@ pub fn write(args: &WriteArgs, registry: &Registry) -> i32 {
     };
     let names = std::slice::from_ref(&args.name);
     let mut raw = false;
-    let dictionary = match load_dictionary(&args.dictionary.with_pole_pairs_of(&args.connection), registry).and_then(|d| {
-        raw = d.get(&args.name).is_none();
-        with_raw_objects(registry, d, names, args.data_type)
-    }) {
+    let dictionary = match load_dictionary(&args.dictionary.with_pole_pairs_of(&args.connection), registry)
+        .and_then(|d| {
+            raw = d.get(&args.name).is_none();
+            with_raw_objects(registry, d, names, args.data_type)
+        }) {
         Ok(d) => d,
         Err(code) => return code,
     };

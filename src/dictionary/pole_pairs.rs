@@ -14,7 +14,9 @@ pub const MAX_POLE_PAIRS: u32 = 32;
 
 /// True for `pole-pairs` and `pole_pairs`, the setting's two spellings.
 pub fn is_pole_pairs_setting(name: &str) -> bool {
-    name.trim().replace('_', "-").eq_ignore_ascii_case(POLE_PAIRS_SETTING)
+    name.trim()
+        .replace('_', "-")
+        .eq_ignore_ascii_case(POLE_PAIRS_SETTING)
 }
 
 /// How many pole pairs the motor has and who said so.
@@ -32,7 +34,9 @@ impl PolePairs {
             .parse::<u32>()
             .ok()
             .filter(|n| (1..=MAX_POLE_PAIRS).contains(n))
-            .ok_or_else(|| ValueError::BadPolePairs { text: text.trim().to_string() })
+            .ok_or_else(|| ValueError::BadPolePairs {
+                text: text.trim().to_string(),
+            })
     }
 }
 

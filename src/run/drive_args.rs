@@ -4,7 +4,9 @@
 
 use super::connection_args::{Connection, ConnectionArgs};
 use super::RunError;
-use crate::dictionary::{is_pole_pairs_setting, BenchLimits, Dictionary, PolePairs, LIMITS_ENV, POLE_PAIRS_SETTING};
+use crate::dictionary::{
+    is_pole_pairs_setting, BenchLimits, Dictionary, PolePairs, LIMITS_ENV, POLE_PAIRS_SETTING,
+};
 use crate::drive::Drive;
 use crate::family::{Family, LinkContext, Registry, DEFAULT_DICTIONARY};
 use crate::link::TelegramObserver;
@@ -80,7 +82,8 @@ impl DictionaryArgs {
             (None, None) => None,
         };
         if let Some((text, origin)) = given {
-            let count = PolePairs::parse(&text).map_err(|e| RunError::Invalid(format!("error: {origin}: {e}\n")))?;
+            let count =
+                PolePairs::parse(&text).map_err(|e| RunError::Invalid(format!("error: {origin}: {e}\n")))?;
             dictionary
                 .set_pole_pairs(count, &origin)
                 .map_err(|e| RunError::Invalid(format!("error: {e}\n")))?;

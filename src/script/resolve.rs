@@ -86,19 +86,23 @@ pub fn readable(dict: &Dictionary, name: &str) -> Result<ObjectRef, Refusal> {
 /// the dictionary knows the motor's pole pairs): the unit and the factor to multiply by.
 pub fn unit_for(def: &ObjectDef, unit: &str) -> Result<(Unit, f64), Refusal> {
     let to = Unit::parse(unit).map_err(|e| not_a_unit(unit, &e.to_string()))?;
-    def.factor_to(to).map(|factor| (to, factor)).map_err(|e| match (e, def.unit) {
-        (e @ ValueError::NoPolePairs { .. }, _) => Refusal::new(e.to_string(), "pole pairs unknown", None),
-        (_, Some(own)) => Refusal::new(
-            format!("{to} is not a unit of {} ({own})", def.name),
-            "wrong unit",
-            None,
-        ),
-        (_, None) => Refusal::new(
-            format!("{} has no unit to convert to {to}", def.name),
-            "wrong unit",
-            None,
-        ),
-    })
+    def.factor_to(to)
+        .map(|factor| (to, factor))
+        .map_err(|e| match (e, def.unit) {
+            (e @ ValueError::NoPolePairs { .. }, _) => {
+                Refusal::new(e.to_string(), "pole pairs unknown", None)
+            }
+            (_, Some(own)) => Refusal::new(
+                format!("{to} is not a unit of {} ({own})", def.name),
+                "wrong unit",
+                None,
+            ),
+            (_, None) => Refusal::new(
+                format!("{} has no unit to convert to {to}", def.name),
+                "wrong unit",
+                None,
+            ),
+        })
 }
 
 /// The factor a value of `name` read in its own unit is multiplied by to be in `unit`.

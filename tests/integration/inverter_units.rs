@@ -53,11 +53,23 @@ fn the_link_option_overrides_the_dictionarys_pole_pairs() {
         "linked.yaml",
         &AT_100_HZ.replace("steps:", "link: { pole_pairs: 4 }\nsteps:"),
     );
-    let args = ["run", linked.to_str().unwrap(), "--fast", "--link-option", "pole_pairs=2"];
+    let args = [
+        "run",
+        linked.to_str().unwrap(),
+        "--fast",
+        "--link-option",
+        "pole_pairs=2",
+    ];
     assert_has(&cli(&args, 0).stdout, &["set speed_setpoint = 3000 rpm"]);
     // The limits follow: 400 Hz is 12 000 rpm for a 4-pole motor.
     let out = cli(
-        &["objects", "--drive", "sunfar-e500", "--link-option", "pole-pairs=2"],
+        &[
+            "objects",
+            "--drive",
+            "sunfar-e500",
+            "--link-option",
+            "pole-pairs=2",
+        ],
         0,
     )
     .stdout;
@@ -69,7 +81,10 @@ fn the_link_option_overrides_the_dictionarys_pole_pairs() {
         ],
     );
     let out = cli(&["objects", "--drive", "sunfar-e500"], 0).stdout;
-    assert_has(&out, &["1 pole pair(s) (the dictionary sunfar-e500)", "0 .. 24000"]);
+    assert_has(
+        &out,
+        &["1 pole pair(s) (the dictionary sunfar-e500)", "0 .. 24000"],
+    );
 }
 
 #[test]
@@ -78,12 +93,12 @@ fn bad_pole_pairs_are_refused_before_anything_is_sent() {
     let recipe = write_file(&dir, "hz.yaml", AT_100_HZ);
     let path = recipe.to_str().unwrap();
     let out = cli(&["check", path, "--link-option", "pole-pairs=0"], 2);
-    assert_has(&out.stderr, &["--link-option pole-pairs=0", "not a number of pole pairs"]);
-    // A servo's dictionary has no output frequency the pole pairs could rescale.
-    let out = cli(
-        &["objects", "--drive", "sd2", "--link-option", "pole-pairs=2"],
-        2,
+    assert_has(
+        &out.stderr,
+        &["--link-option pole-pairs=0", "not a number of pole pairs"],
     );
+    // A servo's dictionary has no output frequency the pole pairs could rescale.
+    let out = cli(&["objects", "--drive", "sd2", "--link-option", "pole-pairs=2"], 2);
     assert_has(&out.stderr, &["the sd2 dictionary gives no `pole_pairs`"]);
 }
 
@@ -110,9 +125,15 @@ fn hz_where_the_pole_pairs_are_unknown_gets_a_hint() {
         "//! drive: sd2\nlet d = drive();\nd.set(\"speed_setpoint\", 50.0, \"Hz\");\nlet f = d.read_as(\"speed_actual\", \"Hz\");\n",
     );
     let out = cli(&["check", script.to_str().unwrap()], 2);
-    assert_has(&out.stderr, &["does not say the motor's pole pairs", "2 problems found"]);
+    assert_has(
+        &out.stderr,
+        &["does not say the motor's pole pairs", "2 problems found"],
+    );
     let out = cli(&["read", "speed_actual", "--in", "Hz"], 2);
-    assert_has(&out.stderr, &["--in: Hz is not a unit of speed_actual", "pole pairs"]);
+    assert_has(
+        &out.stderr,
+        &["--in: Hz is not a unit of speed_actual", "pole pairs"],
+    );
 }
 
 #[test]
@@ -167,7 +188,15 @@ print(`at ${d.read_as(\"speed_actual\", \"Hz\")} Hz`);
     // 50 Hz with two pole pairs is 1500 rpm, read back as 50 Hz.
     assert_has(&out, &["set speed_setpoint = 1500 rpm", "at 50.0 Hz", "PASSED"]);
     let out = cli(
-        &["read", "speed_setpoint", "--drive", "sunfar-e500", "--in", "Hz", "--json"],
+        &[
+            "read",
+            "speed_setpoint",
+            "--drive",
+            "sunfar-e500",
+            "--in",
+            "Hz",
+            "--json",
+        ],
         0,
     )
     .stdout;
@@ -184,7 +213,13 @@ fn the_schema_offers_hz_for_an_inverters_speed_only() {
         let set = &schema["$defs"]["step"]["else"]["oneOf"][1]["properties"]["set"]["properties"];
         let key = set["speed_setpoint"]["$ref"].as_str().expect("$ref").to_string();
         let def = key.trim_start_matches("#/$defs/");
-        (def.to_string(), schema["$defs"][def]["pattern"].as_str().unwrap_or_default().to_string())
+        (
+            def.to_string(),
+            schema["$defs"][def]["pattern"]
+                .as_str()
+                .unwrap_or_default()
+                .to_string(),
+        )
     };
     for drive in ["sunfar-e500", "modbus-inverter", "modbus-tcp-inverter"] {
         let (def, pattern) = pattern(drive);
@@ -214,11 +249,24 @@ steps:
     let out = cli(&["run", path, "--fast"], 0).stdout;
     assert_has(
         &out,
-        &["a.speed_setpoint = 6000 rpm, b.speed_setpoint = 3000 rpm", "PASSED"],
+        &[
+            "a.speed_setpoint = 6000 rpm, b.speed_setpoint = 3000 rpm",
+            "PASSED",
+        ],
     );
     let out = cli(&["run", path, "--fast", "--link-option", "pole-pairs=4"], 0).stdout;
-    assert_has(&out, &["a.speed_setpoint = 1500 rpm, b.speed_setpoint = 1500 rpm"]);
-    let bad = write_file(&dir, "bad.yaml", &text.replace("pole_pairs: 2", "pole_pairs: zero"));
+    assert_has(
+        &out,
+        &["a.speed_setpoint = 1500 rpm, b.speed_setpoint = 1500 rpm"],
+    );
+    let bad = write_file(
+        &dir,
+        "bad.yaml",
+        &text.replace("pole_pairs: 2", "pole_pairs: zero"),
+    );
     let out = cli(&["check", bad.to_str().unwrap()], 2);
-    assert_has(&out.stderr, &["drive `b`", "`zero` is not a number of pole pairs"]);
+    assert_has(
+        &out.stderr,
+        &["drive `b`", "`zero` is not a number of pole pairs"],
+    );
 }

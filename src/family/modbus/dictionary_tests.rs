@@ -74,7 +74,10 @@ fn the_e500s_rpm_follow_the_pole_pairs_and_hz_converts() {
         setpoint.to_raw(&Quantity::new(300_000.0, Some(Unit::Rpm))),
         Err(ValueError::AboveMax { .. })
     ));
-    assert!(matches!(setpoint.to_raw(&hz(400.1)), Err(ValueError::AboveMax { .. })));
+    assert!(matches!(
+        setpoint.to_raw(&hz(400.1)),
+        Err(ValueError::AboveMax { .. })
+    ));
     d.set_pole_pairs(2, "--link-option pole-pairs=2").unwrap();
     for name in ["speed_setpoint", "speed_actual"] {
         let o = d.get(name).unwrap();
@@ -92,7 +95,10 @@ fn the_e500s_rpm_follow_the_pole_pairs_and_hz_converts() {
     // The current is no speed: no pole pairs, no Hz.
     let current = d.get("current_actual").unwrap();
     assert_eq!(current.pole_pairs, None);
-    assert!(matches!(current.in_own_unit(1.0, Unit::Hertz), Err(ValueError::WrongUnit { .. })));
+    assert!(matches!(
+        current.in_own_unit(1.0, Unit::Hertz),
+        Err(ValueError::WrongUnit { .. })
+    ));
     // Back to one pole pair: the dictionary's own numbers again.
     d.set_pole_pairs(1, "test").unwrap();
     let setpoint = d.get("speed_setpoint").unwrap();
@@ -106,12 +112,20 @@ fn without_pole_pairs_hz_is_refused_with_a_hint() {
     use crate::dictionary::{Quantity, Unit, ValueError};
     let mut d = Registry::builtin().load_dictionary("sd2").unwrap();
     let setpoint = d.get("speed_setpoint").unwrap().clone();
-    let e = setpoint.to_raw(&Quantity::new(100.0, Some(Unit::Hertz))).unwrap_err();
+    let e = setpoint
+        .to_raw(&Quantity::new(100.0, Some(Unit::Hertz)))
+        .unwrap_err();
     assert!(matches!(e, ValueError::NoPolePairs { .. }), "{e:?}");
     let text = e.to_string();
-    assert!(text.contains("the dictionary does not say the motor's pole pairs"), "{text}");
+    assert!(
+        text.contains("the dictionary does not say the motor's pole pairs"),
+        "{text}"
+    );
     assert!(text.contains("give `pole_pairs: N`"), "{text}");
-    assert!(matches!(setpoint.factor_to(Unit::Hertz), Err(ValueError::NoPolePairs { .. })));
+    assert!(matches!(
+        setpoint.factor_to(Unit::Hertz),
+        Err(ValueError::NoPolePairs { .. })
+    ));
     assert!(matches!(
         d.set_pole_pairs(2, "--link-option pole-pairs=2"),
         Err(ValueError::PolePairsNotUsed { .. })

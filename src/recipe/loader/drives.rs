@@ -51,7 +51,11 @@ pub fn declared_pole_pairs(path: &Path) -> Vec<(String, String)> {
         Some(source) => YamlNode::parse(&source).ok(),
         None => None,
     };
-    let Some(entries) = root.as_ref().and_then(|r| r.get("drives")).and_then(YamlNode::entries) else {
+    let Some(entries) = root
+        .as_ref()
+        .and_then(|r| r.get("drives"))
+        .and_then(YamlNode::entries)
+    else {
         return Vec::new();
     };
     entries
@@ -143,7 +147,11 @@ impl<'a> Loader<'a, '_> {
             if let Some(n) = f.get("pole_pairs") {
                 let given = self.r.scalar_text(n, "`pole_pairs`");
                 if let Some(Err(e)) = given.map(|t| crate::dictionary::PolePairs::parse(&t)) {
-                    self.r.report(Diagnostic::at(&n.span, e.to_string(), "not a number of pole pairs"));
+                    self.r.report(Diagnostic::at(
+                        &n.span,
+                        e.to_string(),
+                        "not a number of pole pairs",
+                    ));
                 }
             }
             let decl = DriveDecl {
