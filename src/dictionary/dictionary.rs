@@ -111,9 +111,10 @@ impl Dictionary {
             merged.profile = other.profile;
         }
         // A file of the user's that says its motor's pole pairs speaks for the objects it
-        // brings (their rpm are given for them) and for the whole dictionary.
-        if other.pole_pairs.is_some() {
-            merged.pole_pairs = other.pole_pairs;
+        // brings (their rpm are given for them) and for the whole dictionary: the objects
+        // kept from this one are rescaled to them.
+        if let Some(pairs) = other.pole_pairs {
+            merged.rescale_for(pairs);
         }
         merged.notes.extend(other.notes);
         merged.not_accessible.extend(other.not_accessible);
@@ -295,22 +296,28 @@ impl Dictionary {
                 origin: origin.to_string(),
             });
         }
-        for object in &mut self.objects {
-            let Some(before) = object.pole_pairs else { continue };
-            let factor = f64::from(before) / f64::from(count);
-            object.scale *= factor;
-            object.min = object.min.map(|m| m * factor);
-            object.max = object.max.map(|m| m * factor);
-            object.pole_pairs = Some(count);
-        }
-        self.pole_pairs = Some(PolePairs {
+        self.rescale_for(PolePairs {
             count,
             origin: origin.to_string(),
         });
+        Ok(())
+    }
+
+    /// Every speed object counting an inverter's output frequency rescaled from its pole
+    /// pairs to `pairs`, which are then in force; the bench limits applied again after.
+    fn rescale_for(&mut self, pairs: PolePairs) {
+        for object in &mut self.objects {
+            let Some(before) = object.pole_pairs else { continue };
+            let factor = f64::from(before) / f64::from(pairs.count);
+            object.scale *= factor;
+            object.min = object.min.map(|m| m * factor);
+            object.max = object.max.map(|m| m * factor);
+            object.pole_pairs = Some(pairs.count);
+        }
+        self.pole_pairs = Some(pairs);
         if let Some(limits) = self.bench_limits.take() {
             self.apply_bench_limits(limits);
         }
-        Ok(())
     }
 
     /// The motor's pole pairs in force and who set them, for an inverter's dictionary.

@@ -142,3 +142,18 @@ fn a_dictionarys_pole_pairs_are_checked() {
     let d = load(&text).unwrap();
     assert_eq!(d.get("speed_actual").unwrap().pole_pairs, Some(2));
 }
+
+/// A user's file with `pole_pairs:` speaks for the whole dictionary: the built-in speed
+/// objects it does not replace are rescaled to its motor.
+#[test]
+fn a_users_file_with_pole_pairs_rescales_the_objects_it_keeps() {
+    let mut d = Registry::builtin().load_dictionary("sunfar-e500").unwrap();
+    let mine = "family: modbus-rtu\npole_pairs: 2\nobjects:\n  - { name: spare, address: \"holding 0x3000\", type: u16, access: ro }\n";
+    d.extend(load(mine).unwrap()).unwrap();
+    assert_eq!(d.pole_pairs().map(|p| p.count), Some(2));
+    let setpoint = d.get("speed_setpoint").unwrap();
+    assert_eq!(
+        (setpoint.scale, setpoint.max, setpoint.pole_pairs),
+        (3.0, Some(12000.0), Some(2))
+    );
+}
