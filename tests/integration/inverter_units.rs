@@ -270,3 +270,34 @@ steps:
         &["drive `b`", "`zero` is not a number of pole pairs"],
     );
 }
+
+/// A trace records the pole pairs the run's rpm were shown for, so `decode` of it shows
+/// the same rpm as the run did, and it replays to the same verdict.
+#[test]
+fn a_trace_keeps_the_pole_pairs_for_decode_and_replay() {
+    let dir = scratch("inverter-trace");
+    let recipe = write_file(&dir, "hz.yaml", AT_100_HZ);
+    let trace = dir.join("run.log");
+    let (path, log) = (recipe.to_str().unwrap(), trace.to_str().unwrap());
+    let args = [
+        "run",
+        path,
+        "--fast",
+        "--link-option",
+        "pole-pairs=2",
+        "--trace",
+        log,
+    ];
+    cli(&args, 0);
+    let text = std::fs::read_to_string(&trace).unwrap();
+    assert_has(&text, &["# pole pairs: 2", "speed_setpoint = 3000 rpm"]);
+    let out = cli(&["decode", log], 0).stdout;
+    assert_has(&out, &["write single register: speed_setpoint = 3000 rpm"]);
+    assert_lacks(&out, &["6000 rpm"]);
+    let out = cli(
+        &["run", path, "--replay", log, "--link-option", "pole-pairs=2"],
+        0,
+    )
+    .stdout;
+    assert_has(&out, &["set speed_setpoint = 3000 rpm", "PASSED"]);
+}
