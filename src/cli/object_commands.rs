@@ -288,6 +288,18 @@ pub fn read(args: &ReadArgs, registry: &Registry) -> i32 {
     PASSED
 }
 
+/// `100 Hz (3000 rpm)`: a value written in another unit than its object's, with what it is
+/// in the object's unit (for an inverter, with the motor's pole pairs).
+fn with_own_unit(def: &ObjectDef, q: &Quantity) -> String {
+    match (q.unit, def.unit) {
+        (Some(given), Some(own)) if given != own => match def.in_own_unit(q.value, given) {
+            Ok(v) => format!("{q} ({} {own})", crate::session::number(v)),
+            Err(_) => q.to_string(),
+        },
+        _ => q.to_string(),
+    }
+}
+
 fn check_readable(dictionary: &Dictionary, name: &str) -> Result<(), DriveError> {
     let def = dictionary.lookup(name).map_err(|e| DriveError::UnknownObject {
         name: name.to_string(),
@@ -373,7 +385,7 @@ pub fn write(args: &WriteArgs, registry: &Registry) -> i32 {
     match result {
         Ok(outcome) => {
             let (shown, raw) = match &parsed {
-                Some((q, raw)) => (q.to_string(), format!(" (raw {raw})")),
+                Some((q, raw)) => (with_own_unit(&def, q), format!(" (raw {raw})")),
                 None => (format!("\"{value}\""), String::new()),
             };
             match open.drive.group() {

@@ -129,6 +129,11 @@ fn hz_where_the_pole_pairs_are_unknown_gets_a_hint() {
         &out.stderr,
         &["does not say the motor's pole pairs", "2 problems found"],
     );
+    let out = cli(&["write", "speed_setpoint", "100", "Hz"], 2);
+    assert_has(
+        &out.stderr,
+        &["does not say the motor's pole pairs", "nothing was sent"],
+    );
     let out = cli(&["read", "speed_actual", "--in", "Hz"], 2);
     assert_has(
         &out.stderr,
