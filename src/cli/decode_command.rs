@@ -308,6 +308,9 @@ fn recorded_drive(
     if let Some((_, header)) = headers.first() {
         wanted.name.clone_from(&header.drive);
         wanted.extra.extend(header.dictionaries.iter().cloned());
+        // The rpm as the run showed them: for the motor's pole pairs it recorded.
+        let recorded = |n: u32| (n.to_string(), format!("the trace's `pole pairs: {n}`"));
+        wanted.pole_pairs = header.pole_pairs.map(recorded).or(wanted.pole_pairs);
         return Some(wanted);
     }
     let first = lines

@@ -26,7 +26,14 @@ pub struct DiffArgs {
 }
 
 fn print_differences(differences: &[Difference], left: &str, right: &str) {
-    let width = differences.iter().map(|d| d.name().len()).max().unwrap_or(0);
+    // Names line up to a width a terminal shows; a longer one (an EDS name can be of any
+    // length) pushes its own row only, and never past what `format!` can pad.
+    let width = differences
+        .iter()
+        .map(|d| d.name().chars().count())
+        .max()
+        .unwrap_or(0)
+        .min(super::MAX_ALIGNED_WIDTH);
     for d in differences {
         match d {
             Difference::Changed {

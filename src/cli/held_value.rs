@@ -9,10 +9,11 @@ pub(super) fn held(def: &ObjectDef, given: &Quantity, raw: &RawValue) -> (String
     let Ok(value) = def.value_of(raw.clone()) else {
         return (given.to_string(), format!(" (raw {raw})"));
     };
-    let asked = given
-        .unit
-        .zip(def.unit)
-        .map_or(Some(given.value), |(g, own)| g.convert(given.value, own));
+    // In the object's own unit (Hz given for an rpm object goes through its pole pairs).
+    let asked = match (given.unit, def.unit) {
+        (Some(g), Some(own)) if g != own => def.in_own_unit(given.value, g).ok(),
+        _ => Some(given.value),
+    };
     let changed = value
         .quantity
         .zip(asked)
@@ -22,5 +23,10 @@ pub(super) fn held(def: &ObjectDef, given: &Quantity, raw: &RawValue) -> (String
     } else {
         String::new()
     };
-    (value.to_string(), format!(" (raw {raw}{note})"))
+    // A value given in another unit than the object's is said as given, then as held.
+    let shown = match (given.unit, def.unit) {
+        (Some(g), Some(own)) if g != own && !changed => format!("{given} ({value})"),
+        _ => value.to_string(),
+    };
+    (shown, format!(" (raw {raw}{note})"))
 }

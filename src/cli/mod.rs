@@ -6,6 +6,10 @@
 //! ports, name a family, or define a type the library needs; nothing in the library
 //! imports it.
 
+/// The widest column a listing aligns (object names in `read` and `diff`): wider names
+/// push their own row only. Also keeps every width far below the 65 535 `format!` pads.
+const MAX_ALIGNED_WIDTH: usize = 80;
+
 mod anonymise_command;
 mod backup_command;
 mod decode_command;
@@ -13,6 +17,7 @@ mod diff_command;
 mod held_value;
 mod maintain_command;
 mod object_commands;
+mod objects_command;
 mod panic_notice;
 mod parameter_commands;
 mod recipe_commands;
@@ -75,7 +80,7 @@ enum Command {
     Write(object_commands::WriteArgs),
     State(object_commands::StateArgs),
     Stop(stop_command::StopArgs),
-    Objects(object_commands::ObjectsArgs),
+    Objects(objects_command::ObjectsArgs),
     Decode(decode_command::DecodeArgs),
     Simulate(simulate_command::SimulateArgs),
     Anonymise(anonymise_command::AnonymiseArgs),
@@ -127,7 +132,7 @@ pub fn main(registry: &Registry) -> i32 {
         Command::Write(args) => object_commands::write(&args, registry),
         Command::State(args) => object_commands::state(&args, registry),
         Command::Stop(args) => stop_command::stop(&args, registry),
-        Command::Objects(args) => object_commands::objects(&args, registry),
+        Command::Objects(args) => objects_command::objects(&args, registry),
         Command::Ports(args) => object_commands::ports(&args),
         Command::Backup(args) => backup_command::backup(&args, registry),
         Command::Diff(args) => diff_command::diff(&args, registry),

@@ -1,6 +1,7 @@
-//! One-off object access: `read`, `write`, `state`, `objects`, `ports`.
+//! One-off object access: `read`, `write`, `state`, `ports` (`objects` is in
+//! `objects_command`).
 
-use crate::dictionary::{Address, DataType, Dictionary, ObjectDef, Quantity};
+use crate::dictionary::{Address, DataType, Dictionary, ObjectDef, Quantity, Unit, ValueError};
 use crate::drive::device_control::{status_word_bits, DeviceState};
 use crate::drive::DriveError;
 use crate::drive::WriteOutcome;
@@ -25,10 +26,18 @@ pub struct ReadArgs {
     /// `C00061`) rather than from the dictionary: u8, i8, u16, i16, u32, i32, string(N).
     #[arg(long = "type", value_name = "TYPE", value_parser = DataType::parse)]
     data_type: Option<DataType>,
+    /// Each value also in this unit: `--in krpm`, or `--in Hz` for an inverter's rpm
+    /// where the dictionary knows the motor's pole pairs.
+    #[arg(long = "in", value_name = "UNIT", value_parser = parse_unit)]
+    in_unit: Option<Unit>,
     #[command(flatten)]
     dictionary: DictionaryArgs,
     #[command(flatten)]
     connection: ConnectionArgs,
+}
+
+fn parse_unit(text: &str) -> Result<Unit, ValueError> {
+    Unit::parse(text)
 }
 
 #[derive(Debug, Args)]
@@ -66,23 +75,6 @@ pub struct StateArgs {
 }
 
 #[derive(Debug, Args)]
-/// List the objects of a dictionary: names, aliases, address, type, unit, access, limits.
-pub struct ObjectsArgs {
-    /// Only objects whose name, alias or description contains this text.
-    filter: Option<String>,
-    #[arg(long)]
-    json: bool,
-    /// Also read each object's minimum and maximum from the drive (families whose drives
-    /// report them; without --port/--tcp the simulated drive's).
-    #[arg(long)]
-    from_drive: bool,
-    #[command(flatten)]
-    dictionary: DictionaryArgs,
-    #[command(flatten)]
-    connection: ConnectionArgs,
-}
-
-#[derive(Debug, Args)]
 /// List this machine's serial ports, with USB IDs where there are some.
 pub struct PortsArgs {
     #[arg(long)]
@@ -90,7 +82,7 @@ pub struct PortsArgs {
 }
 
 /// The dictionary, or the exit code after printing why not.
-fn load_dictionary(args: &DictionaryArgs, registry: &Registry) -> Result<Arc<Dictionary>, i32> {
+pub(super) fn load_dictionary(args: &DictionaryArgs, registry: &Registry) -> Result<Arc<Dictionary>, i32> {
     args.load_for(registry, None).map_err(|text| {
         eprint!("{text}");
         INVALID
@@ -127,7 +119,7 @@ fn with_raw_objects(
 }
 
 /// An address in the family's own notation where it has one (`0x0011`, `TYPE?`).
-fn shown_address(family: &Option<Arc<dyn Family>>, address: &Address) -> String {
+pub(super) fn shown_address(family: &Option<Arc<dyn Family>>, address: &Address) -> String {
     family
         .as_ref()
         .map_or_else(|| address.to_string(), |f| f.show_address(address))
@@ -207,7 +199,7 @@ fn drive_error_code(e: &DriveError) -> i32 {
 }
 
 pub fn read(args: &ReadArgs, registry: &Registry) -> i32 {
-    let dictionary = match load_dictionary(&args.dictionary, registry)
+    let dictionary = match load_dictionary(&args.dictionary.with_pole_pairs_of(&args.connection), registry)
         .and_then(|d| with_raw_objects(registry, d, &args.names, args.data_type))
     {
         Ok(d) => d,
@@ -219,7 +211,17 @@ pub fn read(args: &ReadArgs, registry: &Registry) -> i32 {
             eprintln!("error: {e}");
             return INVALID;
         }
+        let def = dictionary.lookup(name).ok();
+        if let Some(Err(e)) = args.in_unit.zip(def).map(|(unit, def)| def.factor_to(unit)) {
+            eprintln!("error: --in: {e}");
+            return INVALID;
+        }
     }
+    // The value in the unit `--in` asks for, after the object's own.
+    let also = |d: &ObjectDef, v: &crate::dictionary::Value| -> Option<(f64, Unit)> {
+        let unit = args.in_unit?;
+        Some((v.number()? * d.factor_to(unit).ok()?, unit))
+    };
     let dictionary_family = registry.family(dictionary.family()).ok();
     let mut open = match open(registry, &args.connection, dictionary) {
         Ok(o) => o,
@@ -254,18 +256,30 @@ pub fn read(args: &ReadArgs, registry: &Registry) -> i32 {
                     (None, Some(n)) => json!(n),
                     (None, None) => json!(v.text().unwrap_or_default()),
                 };
-                json!({ "object": d.name, "value": value, "unit": d.unit.map(|u| u.symbol()), "raw": v.raw.to_string() })
+                let mut row = json!({ "object": d.name, "value": value, "unit": d.unit.map(|u| u.symbol()), "raw": v.raw.to_string() });
+                if let Some((n, unit)) = also(d, v) {
+                    row["in"] = json!({ "value": n, "unit": unit.symbol() });
+                }
+                row
             })
             .collect();
         println!("{}", serde_json::Value::Array(list));
     } else {
-        let width = rows.iter().map(|(d, _)| d.name.len()).max().unwrap_or(6).max(6);
+        let width = rows
+            .iter()
+            .map(|(d, _)| d.name.chars().count())
+            .max()
+            .unwrap_or(6)
+            .clamp(6, super::MAX_ALIGNED_WIDTH);
         println!("{:<width$}  {:<18}  {:<12}  address", "object", "value", "raw");
         for (d, v) in &rows {
             println!(
                 "{:<width$}  {:<18}  {:<12}  {}",
                 d.name,
-                v.to_string(),
+                match also(d, v) {
+                    Some((n, unit)) => format!("{v} ({} {unit})", crate::session::number(n)),
+                    None => v.to_string(),
+                },
                 v.raw.to_string(),
                 shown_address(&dictionary_family, &d.address)
             );
@@ -274,6 +288,8 @@ pub fn read(args: &ReadArgs, registry: &Registry) -> i32 {
     PASSED
 }
 
+/// `100 Hz (3000 rpm)`: a value written in another unit than its object's, with what it is
+/// in the object's unit (for an inverter, with the motor's pole pairs).
 fn check_readable(dictionary: &Dictionary, name: &str) -> Result<(), DriveError> {
     let def = dictionary.lookup(name).map_err(|e| DriveError::UnknownObject {
         name: name.to_string(),
@@ -296,10 +312,11 @@ pub fn write(args: &WriteArgs, registry: &Registry) -> i32 {
     };
     let names = std::slice::from_ref(&args.name);
     let mut raw = false;
-    let dictionary = match load_dictionary(&args.dictionary, registry).and_then(|d| {
-        raw = d.get(&args.name).is_none();
-        with_raw_objects(registry, d, names, args.data_type)
-    }) {
+    let dictionary = match load_dictionary(&args.dictionary.with_pole_pairs_of(&args.connection), registry)
+        .and_then(|d| {
+            raw = d.get(&args.name).is_none();
+            with_raw_objects(registry, d, names, args.data_type)
+        }) {
         Ok(d) => d,
         Err(code) => return code,
     };
@@ -379,7 +396,7 @@ pub fn write(args: &WriteArgs, registry: &Registry) -> i32 {
 }
 
 pub fn state(args: &StateArgs, registry: &Registry) -> i32 {
-    let dictionary = match load_dictionary(&args.dictionary, registry) {
+    let dictionary = match load_dictionary(&args.dictionary.with_pole_pairs_of(&args.connection), registry) {
         Ok(d) => d,
         Err(code) => return code,
     };
@@ -418,115 +435,6 @@ pub fn state(args: &StateArgs, registry: &Registry) -> i32 {
         }
     }
     PASSED
-}
-
-pub fn objects(args: &ObjectsArgs, registry: &Registry) -> i32 {
-    let dictionary = match load_dictionary(&args.dictionary, registry) {
-        Ok(d) => d,
-        Err(code) => return code,
-    };
-    let family = registry.family(dictionary.family()).ok();
-    let list: Vec<&ObjectDef> = match &args.filter {
-        Some(f) => dictionary.filter(f),
-        None => dictionary.objects().collect(),
-    };
-    let drive_limits = if args.from_drive {
-        let names: Vec<String> = list.iter().map(|d| d.name.clone()).collect();
-        match crate::run::drive_limits::read_all(
-            registry,
-            &names,
-            dictionary.clone(),
-            &args.connection,
-            &mut std::io::stderr(),
-        ) {
-            Ok((port, limits)) => Some((port, limits)),
-            Err(e) => {
-                eprintln!("{e}");
-                return COMMUNICATION;
-            }
-        }
-    } else {
-        None
-    };
-    let from_drive = |name: &str| drive_limits.as_ref().and_then(|(_, l)| l.get(name).cloned());
-    if args.json {
-        let rows: Vec<_> = list
-            .iter()
-            .map(|d| {
-                json!({
-                    "drive_limits": from_drive(&d.name),
-                    "name": d.name, "aliases": d.aliases, "address": shown_address(&family, &d.address),
-                    "type": d.data_type.to_string(), "unit": d.unit.map(|u| u.symbol()), "scale": d.scale,
-                    "access": d.access.id(), "min": d.min, "max": d.max,
-                    "bench_limit": d.bench.as_ref().map(|b| b.origin.clone()),
-                    "description": d.description, "unconfirmed": d.unconfirmed,
-                })
-            })
-            .collect();
-        println!("{}", serde_json::Value::Array(rows));
-        return PASSED;
-    }
-    if list.is_empty() {
-        eprintln!("no object of the {} dictionary matches", dictionary.name());
-        return PASSED;
-    }
-    println!("{} — {} object(s)", dictionary.title(), list.len());
-    if let Some((port, _)) = &drive_limits {
-        println!("drive limits read from {port} (ON/OX or the family's own commands)");
-    }
-    if let Some(limits) = dictionary.bench_limits() {
-        println!(
-            "bench limits {} ({}); limits marked (bench) are capped by it",
-            limits.summary(),
-            limits.source()
-        );
-    }
-    let mut rows = Vec::new();
-    // A row of drive limits follows its object's row, in the limits column.
-    let mut drive_rows = Vec::new();
-    for d in list {
-        let limits = match (d.min, d.max) {
-            (Some(lo), Some(hi)) => {
-                format!("{} .. {}", crate::session::number(lo), crate::session::number(hi))
-            }
-            (Some(lo), None) => format!(">= {}", crate::session::number(lo)),
-            (None, Some(hi)) => format!("<= {}", crate::session::number(hi)),
-            (None, None) => String::new(),
-        };
-        let limits = match &d.bench {
-            Some(_) => format!("{limits} (bench)"),
-            None => limits,
-        };
-        let flag = if d.unconfirmed.is_some() {
-            " (unconfirmed)"
-        } else {
-            ""
-        };
-        rows.push(vec![
-            d.name.clone(),
-            shown_address(&family, &d.address),
-            d.data_type.to_string(),
-            d.unit.map(|u| u.symbol()).unwrap_or("").to_string(),
-            d.access.id().to_string(),
-            limits,
-            format!("{}{flag}", d.aliases.join(", ")),
-        ]);
-        drive_rows.push(from_drive(&d.name).map(|l| format!("drive limits: {l}")));
-    }
-    let header = ["name", "address", "type", "unit", "access", "limits", "aliases"];
-    let lines = super::text_table::table_lines(&header, &rows);
-    for (i, line) in lines.iter().enumerate() {
-        println!("{}", line.trim_end());
-        if let Some(Some(l)) = i.checked_sub(1).and_then(|r| drive_rows.get(r)) {
-            println!("{:<width$}{l}", "", width = header_offset(&lines[0], "limits"));
-        }
-    }
-    PASSED
-}
-
-/// Where `column` starts in a table's header line.
-fn header_offset(header: &str, column: &str) -> usize {
-    header.find(column).map_or(0, |i| header[..i].chars().count())
 }
 
 pub fn ports(args: &PortsArgs) -> i32 {

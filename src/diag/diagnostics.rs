@@ -1,14 +1,22 @@
 //! Every problem of one check at once (a recipe and its included files, a dictionary, a
 //! limits file), in the order found or sorted by place, and their rendering for a terminal
 //! or a log. Collects and shows; what a set of problems means (nothing was sent, the
-//! dictionary is refused) is the caller's to say.
+//! dictionary is refused) is the caller's to say. Keeps the first [`MAX_SHOWN`] problems
+//! and counts the rest, so a file of thousands of problems costs linear time and constant
+//! memory (each problem shown renders its snippet from the file's text).
 
 use super::diagnostic::Diagnostic;
 use std::fmt;
 
+/// How many problems of one check are kept and shown; the others are counted.
+pub const MAX_SHOWN: usize = 100;
+
 #[derive(Debug, Clone, Default)]
 pub struct Diagnostics {
+    /// The first [`MAX_SHOWN`] problems found.
     items: Vec<Diagnostic>,
+    /// How many more were found and not kept.
+    more: usize,
 }
 
 impl Diagnostics {
@@ -16,12 +24,23 @@ impl Diagnostics {
         Diagnostics::default()
     }
 
+    /// Keeps `d` if fewer than [`MAX_SHOWN`] are kept; counts it otherwise.
     pub fn push(&mut self, d: Diagnostic) {
-        self.items.push(d);
+        if self.items.len() < MAX_SHOWN {
+            self.items.push(d);
+        } else {
+            self.more += 1;
+        }
     }
 
+    /// Every problem found, kept or only counted.
     pub fn len(&self) -> usize {
-        self.items.len()
+        self.items.len() + self.more
+    }
+
+    /// How many problems were found beyond the kept ones.
+    pub fn more(&self) -> usize {
+        self.more
     }
 
     pub fn is_empty(&self) -> bool {
@@ -47,24 +66,34 @@ impl Diagnostics {
         for d in &self.items {
             let _ = handler.render_report(&mut out, &Headline(d));
         }
+        if self.more > 0 {
+            out.push_str(&format!(
+                "… and {} more problem{} (the first {MAX_SHOWN} are shown)\n",
+                self.more,
+                if self.more == 1 { "" } else { "s" }
+            ));
+        }
         out
     }
 }
 
 impl Extend<Diagnostic> for Diagnostics {
     fn extend<I: IntoIterator<Item = Diagnostic>>(&mut self, iter: I) {
-        self.items.extend(iter);
+        for d in iter {
+            self.push(d);
+        }
     }
 }
 
 impl FromIterator<Diagnostic> for Diagnostics {
     fn from_iter<I: IntoIterator<Item = Diagnostic>>(iter: I) -> Self {
-        Diagnostics {
-            items: iter.into_iter().collect(),
-        }
+        let mut all = Diagnostics::new();
+        all.extend(iter);
+        all
     }
 }
 
+/// The kept problems (see [`Diagnostics::more`] for the count of the others).
 impl IntoIterator for Diagnostics {
     type Item = Diagnostic;
     type IntoIter = std::vec::IntoIter<Diagnostic>;
@@ -152,5 +181,25 @@ mod tests {
         let out = all.render(false);
         assert!(out.contains("× third") && out.contains("[d.yaml:3:1]"), "{out}");
         assert!(!out.contains("d.yaml:3:1: third"), "{out}");
+    }
+
+    #[test]
+    fn the_first_problems_are_kept_and_the_others_counted() {
+        let file = Source::new("d.yaml", "a: 1\n");
+        let all: Diagnostics = (0..MAX_SHOWN + 250)
+            .map(|i| Diagnostic::at(&Span::new(&file, 0, 1, 1, 1), format!("problem {i}"), "here"))
+            .collect();
+        assert_eq!(all.len(), MAX_SHOWN + 250);
+        assert_eq!(all.iter().count(), MAX_SHOWN);
+        assert_eq!(all.more(), 250);
+        let out = all.render(false);
+        assert!(
+            out.contains("problem 99") && !out.contains("problem 100"),
+            "{out}"
+        );
+        assert!(
+            out.ends_with("… and 250 more problems (the first 100 are shown)\n"),
+            "{out}"
+        );
     }
 }

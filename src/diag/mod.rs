@@ -21,7 +21,7 @@ mod yaml_node;
 mod yaml_parse;
 
 pub use diagnostic::Diagnostic;
-pub use diagnostics::{render_diagnostic, report_handler, Diagnostics};
+pub use diagnostics::{render_diagnostic, report_handler, Diagnostics, MAX_SHOWN};
 pub use did_you_mean::{did_you_mean, suggestion_text};
 pub use fields::Fields;
 pub use file_invalid::FileInvalid;
@@ -29,6 +29,8 @@ pub use reader::{expected, Reader};
 pub use shape::Shape;
 pub use source::Source;
 pub use span::{Span, Spanned};
-pub use text_file::{read_source, read_text_file, TextFileError, MAX_TEXT_FILE_BYTES};
+pub use text_file::{
+    read_source, read_text_file, read_text_or_windows_1252, windows_1252, TextFileError, MAX_TEXT_FILE_BYTES,
+};
 pub use yaml_node::{YamlNode, YamlValue};
 pub use yaml_parse::{YamlError, MAX_ALIAS_COPIES, MAX_DEPTH, MAX_VALUES};

@@ -72,6 +72,39 @@ fn limit_text() -> String {
 /// sockets are refused before reading; pipes (`<(…)`) are read up to the limit, since their
 /// size is not known in advance (and `/dev/zero`-like sources report size 0).
 pub fn read_text_file(path: &Path) -> Result<String, TextFileError> {
+    String::from_utf8(read_bytes(path)?).map_err(|_| TextFileError::NotUtf8)
+}
+
+/// [`read_text_file`] for files that vendor tools write in Windows-1252 (EDS/DCF): UTF-8
+/// when the bytes are UTF-8, otherwise each byte as its Windows-1252 character; `true`
+/// when it was read so.
+pub fn read_text_or_windows_1252(path: &Path) -> Result<(String, bool), TextFileError> {
+    let bytes = read_bytes(path)?;
+    match String::from_utf8(bytes) {
+        Ok(text) => Ok((text, false)),
+        Err(e) => Ok((windows_1252(e.as_bytes()), true)),
+    }
+}
+
+/// Windows-1252 bytes as text: Latin-1 but for 0x80..0x9F, which hold typographic marks;
+/// the five bytes it leaves undefined keep their C1 code points.
+pub fn windows_1252(bytes: &[u8]) -> String {
+    const HIGH: [u16; 32] = [
+        0x20AC, 0x81, 0x201A, 0x0192, 0x201E, 0x2026, 0x2020, 0x2021, 0x02C6, 0x2030, 0x0160, 0x2039, 0x0152,
+        0x8D, 0x017D, 0x8F, 0x90, 0x2018, 0x2019, 0x201C, 0x201D, 0x2022, 0x2013, 0x2014, 0x02DC, 0x2122,
+        0x0161, 0x203A, 0x0153, 0x9D, 0x017E, 0x0178,
+    ];
+    bytes
+        .iter()
+        .map(|&b| match b {
+            0x80..=0x9F => char::from_u32(u32::from(HIGH[usize::from(b - 0x80)])).unwrap_or('\u{FFFD}'),
+            _ => char::from(b),
+        })
+        .collect()
+}
+
+/// The bytes of `path`, at most [`MAX_TEXT_FILE_BYTES`] (see [`read_text_file`]).
+fn read_bytes(path: &Path) -> Result<Vec<u8>, TextFileError> {
     let file = File::open(path).map_err(TextFileError::Io)?;
     let meta = file.metadata().map_err(TextFileError::Io)?;
     if let Some(kind) = not_a_file(&meta.file_type()) {
@@ -89,8 +122,8 @@ pub fn read_source(path: &Path) -> Result<Arc<Source>, TextFileError> {
     Ok(Source::new(path.display().to_string(), text))
 }
 
-/// Reads at most `limit` bytes of `source` as text; more is [`TextFileError::TooLarge`].
-fn read_bounded(source: impl Read, limit: u64) -> Result<String, TextFileError> {
+/// Reads at most `limit` bytes of `source`; more is [`TextFileError::TooLarge`].
+fn read_bounded(source: impl Read, limit: u64) -> Result<Vec<u8>, TextFileError> {
     let mut bytes = Vec::new();
     source
         .take(limit.saturating_add(1))
@@ -99,7 +132,7 @@ fn read_bounded(source: impl Read, limit: u64) -> Result<String, TextFileError> 
     if bytes.len() as u64 > limit {
         return Err(TextFileError::TooLarge);
     }
-    String::from_utf8(bytes).map_err(|_| TextFileError::NotUtf8)
+    Ok(bytes)
 }
 
 fn not_a_file(file_type: &std::fs::FileType) -> Option<&'static str> {
@@ -157,7 +190,7 @@ mod tests {
     fn an_endless_source_stops_at_the_limit() {
         let e = read_bounded(std::io::repeat(b'a'), 1000).unwrap_err();
         assert!(matches!(e, TextFileError::TooLarge));
-        assert_eq!(read_bounded(&b"abc"[..], 3).unwrap(), "abc");
+        assert_eq!(read_bounded(&b"abc"[..], 3).unwrap(), b"abc");
         assert_eq!(
             TextFileError::TooLarge.sentence("the recipe x.yaml"),
             "the recipe x.yaml is larger than 8 MiB, the limit for one recipe, included file, dictionary or limits file"

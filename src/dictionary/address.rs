@@ -42,6 +42,13 @@ impl Address {
             Address::Indexed { index, .. } => Some(*index),
         }
     }
+
+    /// The subindex (0 for a plain object).
+    pub fn subindex(&self) -> u32 {
+        match self {
+            Address::Indexed { subindex, .. } => *subindex,
+        }
+    }
 }
 
 impl fmt::Display for Address {

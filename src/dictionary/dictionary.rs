@@ -6,14 +6,17 @@
 use super::address::{Address, AddressParser};
 use super::bench_limits::BenchLimits;
 use super::dictionary_error::DictionaryError;
-use super::eds::{eds_objects, is_eds_path, EdsFile, EdsObjects};
+use super::eds::{eds_objects, is_eds_path, EdsFile, EdsObjects, OnBuiltIn};
 use super::family_id::family_id;
+use super::file_entry::FileEntry;
 use super::object_def::ObjectDef;
+use super::pole_pairs::PolePairs;
 use super::profile::Profile;
 use super::reader::read;
 use super::role::Role;
 use super::unknown_object::UnknownObject;
 use super::validate::validate;
+use super::value_error::ValueError;
 use crate::diag::{did_you_mean, read_source, Diagnostic, Diagnostics, Source, Span, YamlNode};
 use std::collections::HashMap;
 use std::path::Path;
@@ -37,6 +40,12 @@ pub struct Dictionary {
     /// What works but should be written otherwise, in this file and the files that
     /// extended it (a family id's former spelling); `check` shows them.
     notes: Vec<Diagnostic>,
+    /// Objects a device's file lists in types drivescript cannot access (TIME_OF_DAY …),
+    /// for `objects` to show as such.
+    not_accessible: Vec<FileEntry>,
+    /// The motor's pole pairs its speed objects' rpm are given for, where it is an
+    /// inverter's dictionary (`pole_pairs:`), and who set them.
+    pole_pairs: Option<PolePairs>,
 }
 
 impl Dictionary {
@@ -101,7 +110,14 @@ impl Dictionary {
         if other.profile.is_some() {
             merged.profile = other.profile;
         }
+        // A file of the user's that says its motor's pole pairs speaks for the objects it
+        // brings (their rpm are given for them) and for the whole dictionary: the objects
+        // kept from this one are rescaled to them.
+        if let Some(pairs) = other.pole_pairs {
+            merged.rescale_for(pairs);
+        }
         merged.notes.extend(other.notes);
+        merged.not_accessible.extend(other.not_accessible);
         let problems = validate(&merged.objects, merged.profile.as_ref(), &[], Some(&prefer));
         if let Some(e) = DictionaryError::collect(problems) {
             return Err(e);
@@ -125,15 +141,18 @@ impl Dictionary {
     }
 
     /// The objects of an EDS or DCF added under readable names; an object at an address
-    /// this dictionary already has keeps its entry here (with units and scale an EDS does
-    /// not give), and no EDS name takes a name or alias already here. `family_alias` names
-    /// an object in the family's own notation (the Lenze 9400's `C00099`), a first alias.
+    /// this dictionary already has keeps its name, unit and scale here (which an EDS does
+    /// not give) and takes the file's type, access and limits (the device's own file wins;
+    /// the object records what it replaced). No EDS name takes a name or alias already
+    /// here. `family_alias` names an object in the family's own notation (the Lenze 9400's
+    /// `C00099`), a first alias. A file that is not UTF-8 is read as Windows-1252, with a
+    /// note saying so.
     pub fn extend_from_eds(
         &mut self,
         path: &Path,
         family_alias: &dyn Fn(&Address) -> Option<String>,
     ) -> Result<(), DictionaryError> {
-        let source = read_dictionary_source(path)?;
+        let (source, encoding_note) = read_eds_source(path)?;
         let mut problems = Diagnostics::new();
         let file = EdsFile::parse(&source, &mut problems);
         if let Some(e) = DictionaryError::collect(problems) {
@@ -148,14 +167,34 @@ impl Dictionary {
         let occupied = self.objects.iter().map(|o| o.address).collect();
         let EdsObjects {
             objects,
-            notes,
+            mut notes,
             aliases_of_occupied,
+            on_built_in,
+            not_carried,
             ..
         } = eds_objects(&file, &taken, &occupied, family_alias);
+        notes.splice(0..0, encoding_note);
         let before = self.objects.clone();
+        let at: HashMap<Address, usize> = self
+            .objects
+            .iter()
+            .enumerate()
+            .map(|(i, o)| (o.address, i))
+            .collect();
         for (address, aliases) in aliases_of_occupied {
-            if let Some(o) = self.objects.iter_mut().find(|o| o.address == address) {
-                o.aliases.extend(aliases);
+            if let Some(&i) = at.get(&address) {
+                self.objects[i].aliases.extend(aliases);
+            }
+        }
+        for OnBuiltIn {
+            file,
+            data_type,
+            access,
+            limits,
+        } in on_built_in
+        {
+            if let Some(&i) = at.get(&file.address) {
+                file.lay_over(&mut self.objects[i], data_type, access, limits);
             }
         }
         let added = self.extend(Dictionary {
@@ -168,6 +207,8 @@ impl Dictionary {
             parse_address: self.parse_address,
             name: file_stem(source.path()),
             notes,
+            not_accessible: not_carried,
+            pole_pairs: None,
         });
         if added.is_err() {
             self.objects = before;
@@ -216,6 +257,11 @@ impl Dictionary {
             parse_address,
             name: file_stem(file.path()),
             notes: contents.notes,
+            not_accessible: Vec::new(),
+            pole_pairs: contents.pole_pairs.map(|count| PolePairs {
+                count,
+                origin: format!("the dictionary {}", file_stem(file.path())),
+            }),
         })
     }
 
@@ -236,6 +282,47 @@ impl Dictionary {
             }
         }
         self.bench_limits = Some(limits);
+    }
+
+    /// Sets the motor's pole pairs (`--link-option pole-pairs=N`, a recipe's
+    /// `link: { pole_pairs: N }`): every speed object counting an inverter's output
+    /// frequency has its rpm scale and limits recomputed for them (4-pole: half the rpm of
+    /// 2-pole at the same Hz). Before the bench limits, which are in rpm and stay so. A
+    /// dictionary that gives no `pole_pairs` is refused: its rpm are not a frequency.
+    pub fn set_pole_pairs(&mut self, count: u32, origin: &str) -> Result<(), ValueError> {
+        if self.pole_pairs.is_none() {
+            return Err(ValueError::PolePairsNotUsed {
+                dictionary: self.name.clone(),
+                origin: origin.to_string(),
+            });
+        }
+        self.rescale_for(PolePairs {
+            count,
+            origin: origin.to_string(),
+        });
+        Ok(())
+    }
+
+    /// Every speed object counting an inverter's output frequency rescaled from its pole
+    /// pairs to `pairs`, which are then in force; the bench limits applied again after.
+    fn rescale_for(&mut self, pairs: PolePairs) {
+        for object in &mut self.objects {
+            let Some(before) = object.pole_pairs else { continue };
+            let factor = f64::from(before) / f64::from(pairs.count);
+            object.scale *= factor;
+            object.min = object.min.map(|m| m * factor);
+            object.max = object.max.map(|m| m * factor);
+            object.pole_pairs = Some(pairs.count);
+        }
+        self.pole_pairs = Some(pairs);
+        if let Some(limits) = self.bench_limits.take() {
+            self.apply_bench_limits(limits);
+        }
+    }
+
+    /// The motor's pole pairs in force and who set them, for an inverter's dictionary.
+    pub fn pole_pairs(&self) -> Option<&PolePairs> {
+        self.pole_pairs.as_ref()
     }
 
     /// The bench limits in force, if any.
@@ -265,6 +352,11 @@ impl Dictionary {
     /// its place, for `check` to show.
     pub fn notes(&self) -> &[Diagnostic] {
         &self.notes
+    }
+
+    /// Objects a device's file lists whose types drivescript cannot access, in file order.
+    pub fn not_accessible(&self) -> &[FileEntry] {
+        &self.not_accessible
     }
 
     pub fn title(&self) -> &str {
@@ -361,6 +453,26 @@ fn read_dictionary_source(path: &Path) -> Result<Arc<Source>, DictionaryError> {
             .with_help(help)
             .into()
     })
+}
+
+/// An EDS or DCF's text: UTF-8, or else Windows-1252 (vendor tools write it; every byte
+/// is a character there, so nothing is lost) with a note saying so once.
+fn read_eds_source(path: &Path) -> Result<(Arc<Source>, Option<Diagnostic>), DictionaryError> {
+    let shown = path.display().to_string();
+    let (text, windows) = crate::diag::read_text_or_windows_1252(path).map_err(|e| {
+        let help = e
+            .help()
+            .unwrap_or_else(|| "check the path given with --dictionary".into());
+        Diagnostic::unlocated(&shown, e.sentence("the dictionary file")).with_help(help)
+    })?;
+    let note = windows.then(|| {
+        Diagnostic::unlocated(
+            &shown,
+            "the file is not UTF-8; it is read as Windows-1252, the encoding vendor tools write EDS files in",
+        )
+        .with_help("to silence this note, save the file as UTF-8: iconv -f WINDOWS-1252 -t UTF-8 FILE > NEW")
+    });
+    Ok((Source::new(shown, text), note))
 }
 
 /// A dictionary file's name without its folder and extension: `dictionary/sd2.yaml` → `sd2`.

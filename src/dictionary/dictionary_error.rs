@@ -11,15 +11,18 @@ const CODE: &str = "drivescript::dictionary";
 
 #[derive(Debug, Clone)]
 pub struct DictionaryError {
-    /// Never empty; in file order.
+    /// Never empty; in file order. At most `diag::MAX_SHOWN`.
     problems: Vec<Diagnostic>,
+    /// How many more problems were found and not kept.
+    more: usize,
 }
 
 impl DictionaryError {
     /// All `problems` as one error, in file order; `None` when there are none.
     pub fn collect(problems: Diagnostics) -> Option<DictionaryError> {
+        let more = problems.more();
         let problems: Vec<Diagnostic> = problems.sorted().into_iter().map(|p| p.with_code(CODE)).collect();
-        (!problems.is_empty()).then_some(DictionaryError { problems })
+        (!problems.is_empty()).then_some(DictionaryError { problems, more })
     }
 
     /// The first problem in file order (the one the message names).
@@ -32,9 +35,9 @@ impl DictionaryError {
         self.problems.iter()
     }
 
-    /// How many problems this error reports.
+    /// How many problems were found (the first `diag::MAX_SHOWN` are kept).
     pub fn count(&self) -> usize {
-        self.problems.len()
+        self.problems.len() + self.more
     }
 }
 
@@ -42,6 +45,7 @@ impl From<Diagnostic> for DictionaryError {
     fn from(problem: Diagnostic) -> Self {
         DictionaryError {
             problems: vec![problem.with_code(CODE)],
+            more: 0,
         }
     }
 }
@@ -50,10 +54,15 @@ impl fmt::Display for DictionaryError {
     /// `path:line:column: message`, then `(and N more problems)` when there are others.
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.write_str(&self.first().located())?;
-        match self.problems.len() - 1 {
-            0 => Ok(()),
-            1 => f.write_str(" (and 1 more problem)"),
-            n => write!(f, " (and {n} more problems)"),
+        match (self.count() - 1, self.more) {
+            (0, _) => Ok(()),
+            (1, _) => f.write_str(" (and 1 more problem)"),
+            (n, 0) => write!(f, " (and {n} more problems)"),
+            (n, _) => write!(
+                f,
+                " (and {n} more problems; the first {} are shown)",
+                self.problems.len()
+            ),
         }
     }
 }

@@ -7,7 +7,9 @@ use super::access::Access;
 use super::address::Address;
 use super::bench_cap::BenchCap;
 use super::data_type::{DataType, MAX_BLOCK_LEN};
+use super::file_entry::FileEntry;
 use super::format::Format;
+use super::pole_pairs::{is_speed_and_frequency, speed_frequency};
 use super::quantity::Quantity;
 use super::real::Real;
 use super::unit::Unit;
@@ -55,6 +57,12 @@ pub struct ObjectDef {
     /// A setting of the drive (`parameter: true`) that `backup` saves and `restore` writes
     /// back, as opposed to a live value (actual speed), a command or an identity.
     pub parameter: bool,
+    /// What the device's own file (EDS/DCF) says of the object, and which fields of a
+    /// built-in entry it replaced; `None` for an object only a YAML dictionary gives.
+    pub file: Option<Box<FileEntry>>,
+    /// The motor's pole pairs, on a speed object whose counts are an inverter's output
+    /// frequency (its dictionary says `pole_pairs:`): then Hz converts to and from its rpm.
+    pub pole_pairs: Option<u32>,
     /// Where the entry is defined (the `- name:` mapping).
     pub span: Span,
     /// Where the name and each alias are written (same order as [`ObjectDef::names`]);
@@ -82,6 +90,8 @@ impl ObjectDef {
             description: String::new(),
             unconfirmed: None,
             parameter: false,
+            file: None,
+            pole_pairs: None,
             span: Span::unknown(),
             name_spans: Vec::new(),
         }
@@ -180,6 +190,48 @@ impl ObjectDef {
         }
     }
 
+    /// `value` given in `from` expressed in the object's own unit: within a dimension, and
+    /// between Hz and rpm where the object knows the motor's pole pairs. The refusal says
+    /// what is missing: the pole pairs for Hz on an rpm object, else the unit.
+    pub fn in_own_unit(&self, value: f64, from: Unit) -> Result<f64, ValueError> {
+        let Some(own) = self.unit else {
+            return Err(ValueError::WrongUnit {
+                unit: from,
+                object: self.name.clone(),
+                object_unit: None,
+            });
+        };
+        if let Some(v) = from.convert(value, own) {
+            return Ok(v);
+        }
+        match self.pole_pairs {
+            Some(pairs) => speed_frequency(value, from, own, pairs),
+            None if is_speed_and_frequency(from, own) => {
+                return Err(ValueError::NoPolePairs {
+                    unit: from,
+                    object: self.name.clone(),
+                    object_unit: own,
+                })
+            }
+            None => None,
+        }
+        .ok_or_else(|| ValueError::WrongUnit {
+            unit: from,
+            object: self.name.clone(),
+            object_unit: Some(own),
+        })
+    }
+
+    /// How many of `to` one of the object's own unit is (`read_as(…, "Hz")`, a value shown
+    /// in Hz); the same refusals as [`Self::in_own_unit`].
+    pub fn factor_to(&self, to: Unit) -> Result<f64, ValueError> {
+        // Where there is a plain conversion it is used as it stands (exact 0.001 for krpm).
+        match self.unit.and_then(|own| own.convert(1.0, to)) {
+            Some(factor) => Ok(factor),
+            None => self.in_own_unit(1.0, to).map(|one| 1.0 / one),
+        }
+    }
+
     /// Converts an engineering quantity to the raw count to write: unit conversion within a
     /// dimension (a bare number is read in the object's unit, not as counts), scale,
     /// rounding to the nearest count. Refuses a value outside `[min, max]` or outside the
@@ -194,22 +246,7 @@ impl ObjectDef {
         }
         let value = match (quantity.unit, self.unit) {
             (None, _) => quantity.value,
-            (Some(given), Some(own)) => {
-                given
-                    .convert(quantity.value, own)
-                    .ok_or_else(|| ValueError::WrongUnit {
-                        unit: given,
-                        object: self.name.clone(),
-                        object_unit: Some(own),
-                    })?
-            }
-            (Some(given), None) => {
-                return Err(ValueError::WrongUnit {
-                    unit: given,
-                    object: self.name.clone(),
-                    object_unit: None,
-                })
-            }
+            (Some(given), _) => self.in_own_unit(quantity.value, given)?,
         };
         if !value.is_finite() {
             return Err(ValueError::NotANumber {

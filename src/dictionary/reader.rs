@@ -25,6 +25,8 @@ pub(crate) struct FileContents {
     pub broken: Vec<BrokenObject>,
     /// What works but should be written otherwise (a family id's former spelling).
     pub notes: Vec<Diagnostic>,
+    /// `pole_pairs: N`: the motor's pole pairs the speed objects' rpm are given for.
+    pub pole_pairs: Option<u32>,
 }
 
 /// The names (name first, then aliases) and their places of an object with problems.
@@ -32,7 +34,7 @@ pub(crate) struct BrokenObject {
     pub names: Vec<(String, Span)>,
 }
 
-const TOP_KEYS: &[&str] = &["family", "title", "objects", "profile"];
+const TOP_KEYS: &[&str] = &["family", "title", "pole_pairs", "objects", "profile"];
 const FINITE_HELP: &str = "write a number such as `60000` or `0.001`";
 
 /// Reads `root`, recording every problem in `out`; `address:` texts are read with the
@@ -70,6 +72,7 @@ impl DictionaryReader<'_> {
             profile: None,
             broken: Vec::new(),
             notes: Vec::new(),
+            pole_pairs: None,
         };
         let shape = Shape::new("the dictionary", TOP_KEYS)
             .require_as("family", "the drive family, the protocol it speaks")
@@ -95,6 +98,18 @@ impl DictionaryReader<'_> {
                     Err(broken) => contents.broken.push(broken),
                 }
             }
+        }
+        if let Some(node) = f.get("pole_pairs") {
+            contents.pole_pairs = self.pole_pairs(node);
+        }
+        // An inverter's speed objects count its output frequency: their rpm are given for
+        // these pole pairs, and Hz converts to them.
+        if let Some(pairs) = contents.pole_pairs {
+            let speeds = contents.objects.iter_mut().filter(|o| {
+                o.unit
+                    .is_some_and(|u| u.dimension() == super::unit::Dimension::Speed)
+            });
+            speeds.for_each(|o| o.pole_pairs = Some(pairs));
         }
         if let Some(node) = f.get("profile") {
             contents.profile = self.profile(node);
@@ -132,6 +147,22 @@ impl DictionaryReader<'_> {
             );
         }
         Some(id)
+    }
+
+    /// `pole_pairs: 2`: a whole number from 1 to [`super::MAX_POLE_PAIRS`].
+    fn pole_pairs(&mut self, node: &YamlNode) -> Option<u32> {
+        let text = self.r.scalar_text(node, "`pole_pairs`")?;
+        match super::PolePairs::parse(&text) {
+            Ok(n) => Some(n),
+            Err(e) => {
+                self.push(
+                    Diagnostic::at(&node.span, e.to_string(), "not a number of pole pairs").with_help(
+                        "the motor's pole pairs, the number its speed objects' rpm are given for (rpm = Hz × 60 / pole pairs)",
+                    ),
+                );
+                None
+            }
+        }
     }
 
     pub(super) fn identifier(&mut self, node: &YamlNode, what: &str) -> Option<String> {

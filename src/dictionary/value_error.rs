@@ -12,6 +12,9 @@ pub enum ValueError {
     #[error("no value: write a number with an optional unit, e.g. `6000 rpm`")]
     Empty,
 
+    #[error("{origin}: the {dictionary} dictionary gives no `pole_pairs`, so its speeds are not an inverter's output frequency and pole pairs change nothing; for an inverter, give `pole_pairs: N` in your own dictionary (--dictionary FILE) with its speed objects' scale for those pole pairs")]
+    PolePairsNotUsed { dictionary: String, origin: String },
+
     #[error("`{text}` is not a number{hint}")]
     NotANumber {
         text: String,
@@ -32,6 +35,18 @@ pub enum ValueError {
         object: String,
         object_unit: Option<Unit>,
     },
+
+    /// Hz for an rpm object (or the reverse) where the dictionary does not say the
+    /// motor's pole pairs, which the conversion needs.
+    #[error("{unit} is not a unit of {object} ({object_unit}) as it stands: the dictionary does not say the motor's pole pairs, which turn {unit} into {object_unit} (rpm = Hz × 60 / pole pairs); give `pole_pairs: N` in the dictionary (for an inverter whose {object_unit} are its output frequency; then `--link-option pole-pairs=N` or a recipe's `link: {{ pole_pairs: N }}` sets another motor's), or write the value in {object_unit}")]
+    NoPolePairs {
+        unit: Unit,
+        object: String,
+        object_unit: Unit,
+    },
+
+    #[error("`{text}` is not a number of pole pairs: give a whole number from 1 to 32 (a 4-pole motor has 2 pole pairs)")]
+    BadPolePairs { text: String },
 
     #[error("{value} is above the maximum of {object}, {limit}")]
     AboveMax {

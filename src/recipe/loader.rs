@@ -24,7 +24,7 @@ use crate::diag::{read_source, Diagnostic, Diagnostics, Reader, Source, Span};
 use crate::dictionary::Dictionary;
 use crate::drive::AddressKeyTable;
 use crate::session::{show_duration, StepOrigin};
-pub use drives::{declared_drives, DriveDictionaries};
+pub use drives::{declared_drives, declared_pole_pairs, DriveDictionaries};
 pub use params::declared_params;
 use params::ParamValue;
 use std::collections::{BTreeMap, HashMap};

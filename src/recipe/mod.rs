@@ -11,6 +11,7 @@ mod recipe;
 mod runner;
 mod schema;
 mod schema_dynamics;
+mod schema_units;
 mod step;
 mod text_digest;
 mod written_values;
@@ -18,8 +19,8 @@ mod written_values;
 pub use drive_decl::DriveDecl;
 pub use expansion::{MAX_EXPANDED_STEPS, MAX_INCLUDE_LOADS, MAX_RUN_TIME};
 pub use loader::{
-    declared_drives, declared_params, load_recipe, load_recipe_for, load_recipe_text, DriveDictionaries,
-    MAX_DURATION, MAX_SAMPLES,
+    declared_drives, declared_params, declared_pole_pairs, load_recipe, load_recipe_for, load_recipe_text,
+    DriveDictionaries, MAX_DURATION, MAX_SAMPLES,
 };
 pub use planned_checks::{
     last_pass_checks, operator_prompts, planned_checks, sampled_objects, shortest_sample_interval,

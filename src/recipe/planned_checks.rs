@@ -8,11 +8,14 @@
 //! will give it (`repeat 2 times #2 / …`), so a report names a check the same whether the
 //! run reached it or not. A repeat bounded by `for:` has an unknown number of passes: its
 //! first pass (which always runs) is planned, later passes are named as they run.
+//! At most [`MAX_RECORDS`] checks are planned, as many as a report keeps: a `times:
+//! 1000000` repeat costs no memory per pass before it runs, and checks beyond are named
+//! as they run.
 
 use super::recipe::Recipe;
 use super::step::{Step, StepKind};
 use crate::session::{
-    compared_key, Condition, LastPass, ObjectRef, PlannedCheck, PromptKind, COMPARED, WAIT,
+    compared_key, Condition, LastPass, ObjectRef, PlannedCheck, PromptKind, COMPARED, MAX_RECORDS, WAIT,
 };
 
 /// Every check of the recipe's steps in run order (a check inside a `times:` repeat once
@@ -25,6 +28,9 @@ pub fn planned_checks(recipe: &Recipe) -> Vec<PlannedCheck> {
 
 fn walk(steps: &[Step], prefix: &str, stage: &mut Vec<String>, out: &mut Vec<PlannedCheck>) {
     for (i, step) in steps.iter().enumerate() {
+        if out.len() >= MAX_RECORDS {
+            return;
+        }
         // Numbered as the runner numbers steps.
         let number = match prefix {
             "" => format!("{}", i + 1),
@@ -57,6 +63,9 @@ fn walk(steps: &[Step], prefix: &str, stage: &mut Vec<String>, out: &mut Vec<Pla
                 times, steps: nested, ..
             } => {
                 for pass in 1..=times.unwrap_or(1) {
+                    if out.len() >= MAX_RECORDS {
+                        break;
+                    }
                     stage.push(format!("{} #{pass}", step.label));
                     walk(nested, &number, stage, out);
                     stage.pop();
@@ -248,6 +257,26 @@ steps:
             .load_dictionary(crate::family::DEFAULT_DICTIONARY)
             .expect("built-in dictionary");
         crate::recipe::load_recipe_text("r.yaml", WEAR, Path::new("."), &dictionary, &[]).expect("valid")
+    }
+
+    /// A question in a long repeat (a 238-byte recipe once took 3.1 GB planning it): the
+    /// plan holds no more checks than a report keeps, however many passes are asked for.
+    #[test]
+    fn a_long_repeat_plans_no_more_checks_than_a_report_keeps() {
+        let dictionary = crate::family::Registry::builtin()
+            .load_dictionary(crate::family::DEFAULT_DICTIONARY)
+            .expect("built-in dictionary");
+        let text = "name: Loop\nsteps:\n  - repeat:\n      times: 200000\n      steps:\n        - instruct: Press Enter\n          name: go\n        - confirm: Fine?\n          name: fine\n";
+        let recipe =
+            crate::recipe::load_recipe_text("r.yaml", text, Path::new("."), &dictionary, &[]).expect("valid");
+        let planned = planned_checks(&recipe);
+        assert_eq!(planned.len(), MAX_RECORDS);
+        // The first passes are planned as the run will name them.
+        assert_eq!(planned[0].stage, "repeat 200000 times (2 steps) #1");
+        assert_eq!(
+            planned[MAX_RECORDS - 1].stage,
+            format!("repeat 200000 times (2 steps) #{}", MAX_RECORDS / 2)
+        );
     }
 
     #[test]

@@ -5,6 +5,8 @@
 
 use super::loader::STEP_KEYS;
 use super::schema_dynamics::{dynamics_steps, last_pass_schema, one_statistic, with_slope, STEP_STATISTICS};
+use super::schema_units::value_key;
+pub(super) use super::schema_units::{any_case, units_of};
 use crate::dictionary::{Dictionary, Dimension, ObjectDef, Unit};
 use crate::drive::{AddressKeyTable, KeyUse, KeyValues};
 use crate::session::number;
@@ -32,58 +34,23 @@ fn written_as(what: &str, regex: String, numbers: bool) -> Value {
     })
 }
 
-/// `rpm` → `[rR][pP][mM]`: units are read regardless of case, and JSON Schema patterns
-/// have no flags.
-pub(super) fn any_case(symbol: &str) -> String {
-    symbol
-        .chars()
-        .map(|c| {
-            if c.is_ascii_alphabetic() {
-                format!("[{}{}]", c.to_ascii_lowercase(), c.to_ascii_uppercase())
-            } else {
-                regex_escape(c)
-            }
-        })
-        .collect()
-}
-
-fn regex_escape(c: char) -> String {
-    if r"\^$.|?*+()[]{}/".contains(c) {
-        format!("\\{c}")
-    } else {
-        c.to_string()
-    }
-}
-
-/// The units of `dimension`, as a regex alternative.
-pub(super) fn units_of(dimension: Dimension) -> String {
-    Unit::ALL
-        .iter()
-        .filter(|u| u.dimension() == dimension)
-        .map(|u| any_case(u.symbol()))
-        .collect::<Vec<_>>()
-        .join("|")
-}
-
-/// The `$defs` key of the values of objects in `unit` (`value_speed`, `value_plain`).
-fn value_key(unit: Option<Unit>) -> String {
-    match unit {
-        Some(u) => format!("value_{}", u.dimension().name()),
-        None => "value_plain".into(),
-    }
-}
-
-/// `value_X`, `condition_X` and `check_X` for one dimension (or none).
-fn dimension_defs(defs: &mut serde_json::Map<String, Value>, unit: Option<Unit>) {
-    let key = value_key(unit);
+/// `value_X`, `condition_X` and `check_X` for one dimension (or none); a speed with
+/// `pole_pairs` takes the units of frequency too.
+fn dimension_defs(defs: &mut serde_json::Map<String, Value>, unit: Option<Unit>, pole_pairs: bool) {
+    let key = value_key(unit, pole_pairs);
     let suffix = key.trim_start_matches("value_").to_string();
     let value = match unit {
         Some(u) => {
             let d = u.dimension();
-            let units = units_of(d);
+            let also = (key == "value_speed_or_frequency").then_some(Dimension::Frequency);
+            let units = std::iter::once(d)
+                .chain(also)
+                .map(units_of)
+                .collect::<Vec<_>>()
+                .join("|");
             let examples: Vec<&str> = Unit::ALL
                 .iter()
-                .filter(|x| x.dimension() == d)
+                .filter(|x| x.dimension() == d || Some(x.dimension()) == also)
                 .map(|x| x.symbol())
                 .collect();
             let description = format!(
@@ -224,9 +191,9 @@ pub fn recipe_schema(dictionary: &Dictionary, address_keys: &AddressKeyTable) ->
     let mut seen = std::collections::HashSet::new();
     for o in dictionary.objects() {
         names.push(o.name.clone());
-        let key = value_key(o.unit);
+        let key = value_key(o.unit, o.pole_pairs.is_some());
         if seen.insert(key.clone()) {
-            dimension_defs(&mut defs, o.unit);
+            dimension_defs(&mut defs, o.unit, o.pole_pairs.is_some());
         }
         let suffix = key.trim_start_matches("value_");
         let doc = object_doc(o);
@@ -545,6 +512,11 @@ fn drive_entry(address_keys: &AddressKeyTable) -> Value {
     props.insert(
         "can".into(),
         json!({ "type": "string", "description": "its own CAN bus: slcan:PATH or socketcan:IF" }),
+    );
+    props.insert(
+        "pole_pairs".into(),
+        json!({ "type": "integer", "minimum": 1, "maximum": crate::dictionary::MAX_POLE_PAIRS,
+                "description": "an inverter's motor pole pairs (rpm = Hz × 60 / pole pairs), over its dictionary's; --link-option pole-pairs=N wins" }),
     );
     let mut rules = Vec::new();
     let mut dependencies = serde_json::Map::new();

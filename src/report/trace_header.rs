@@ -15,12 +15,16 @@ pub struct TraceHeader {
     pub address: String,
     /// The line: port and its settings, CAN bus, or the simulated drive; timeouts, options.
     pub line: String,
+    /// The motor's pole pairs an inverter's rpm were shown for, so `decode` shows the
+    /// same rpm; `None` for a dictionary without them.
+    pub pole_pairs: Option<u32>,
 }
 
 const DRIVE: &str = "drive: ";
 const DICTIONARY: &str = "dictionary: ";
 const ADDRESS: &str = "address: ";
 const LINE: &str = "line: ";
+const POLE_PAIRS: &str = "pole pairs: ";
 
 /// The file next to a CAN trace that holds its header and link events: a candump log
 /// must hold frames only, or python-can's reader stops at the first other line.
@@ -41,6 +45,7 @@ impl TraceHeader {
         );
         lines.push(format!("{ADDRESS}{}", self.address));
         lines.push(format!("{LINE}{}", self.line));
+        lines.extend(self.pole_pairs.map(|n| format!("{POLE_PAIRS}{n}")));
         lines
     }
 
@@ -64,6 +69,8 @@ impl TraceHeader {
                 header.address = address.trim().to_string();
             } else if let Some(text) = comment.strip_prefix(LINE) {
                 header.line = text.trim().to_string();
+            } else if let Some(n) = comment.strip_prefix(POLE_PAIRS) {
+                header.pole_pairs = n.trim().parse().ok();
             }
         }
         (!header.drive.is_empty()).then_some(header)
@@ -81,6 +88,7 @@ mod tests {
             dictionaries: vec![PathBuf::from("/bench/extra.yaml")],
             address: "1.1".into(),
             line: "serial /dev/ttyUSB0, 4800 7E1".into(),
+            pole_pairs: Some(2),
         };
         let mut text: Vec<String> = vec!["# drivescript telegram trace".into()];
         text.extend(header.lines().iter().map(|l| format!("# {l}")));

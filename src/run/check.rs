@@ -45,7 +45,12 @@ impl Checked {
 /// dictionary that cannot be loaded (exit code 2). A drive that could not be reached is
 /// in [`Checked::drive_limits`], with `err` told when the connection is simulated.
 pub fn check(request: &CheckRequest, err: &mut dyn Write) -> Result<Checked, RunError> {
-    let loaded = RunPlan::load_file(request.registry, request.file, request.set, request.dictionary)?;
+    let loaded = RunPlan::load_file(
+        request.registry,
+        request.file,
+        request.set,
+        &request.dictionary.with_pole_pairs_of(request.connection),
+    )?;
     let written = loaded.plan.written_values();
     // Values the link's settings cannot carry are refused as `run` refuses them, before
     // any port is opened.

@@ -10,6 +10,7 @@ use crate::bus::{
     SharedFrameBus, SharedTransport, SlcanBus, StopBits, TcpTransport, TransportError,
 };
 use crate::clock::{RealClock, SharedClock, VirtualClock};
+use crate::dictionary::is_pole_pairs_setting;
 use crate::family::{DriveAddress, Family, LinkOptions, Registry, SimPeer};
 use crate::sim::{SimConfig, SimSetting, SimulatedDrive};
 use clap::Args;
@@ -75,7 +76,8 @@ pub struct ConnectionArgs {
     /// `write-length=captured` (0x0B in Write Wide Object, as every capture from real drives
     /// sends; the default) or `write-length=formula` (10 + count, the manual's formula).
     /// Control Techniques: `baud-parameter=#M.PP`, the parameter that sets the drive's baud
-    /// rate (an accepted write to it waits 20 ms, then ends the session).
+    /// rate (an accepted write to it waits 20 ms, then ends the session). Any inverter
+    /// dictionary: `pole-pairs=N`, the motor's pole pairs (rpm = Hz × 60 / N).
     #[arg(long = "link-option", value_name = "NAME=VALUE", value_parser = parse_link_option)]
     pub link_options: Vec<(String, String)>,
     /// Which channel carries commands and values, where the family has several. SD2:
@@ -236,10 +238,25 @@ impl ConnectionArgs {
         merged
     }
 
+    /// The motor's pole pairs a `--link-option pole-pairs=N` (or a recipe's `link:`) gives,
+    /// the last one given: a setting of the dictionary, not of the family's link.
+    pub fn pole_pairs(&self) -> Option<String> {
+        self.link_options
+            .iter()
+            .rev()
+            .find(|(name, _)| is_pole_pairs_setting(name))
+            .map(|(_, value)| value.clone())
+    }
+
     /// `--link-option`s and the options that stand for one (`--channel cyclic` is
-    /// `channel=cyclic`).
+    /// `channel=cyclic`), without the pole pairs, which the dictionary takes.
     fn all_link_options(&self) -> Vec<(String, String)> {
-        let mut all = self.link_options.clone();
+        let mut all: Vec<(String, String)> = self
+            .link_options
+            .iter()
+            .filter(|(name, _)| !is_pole_pairs_setting(name))
+            .cloned()
+            .collect();
         let named = [
             ("channel", self.channel.clone()),
             ("velocity-scaling", self.velocity_scaling.clone()),

@@ -4,7 +4,9 @@
 
 use super::connection_args::{Connection, ConnectionArgs};
 use super::RunError;
-use crate::dictionary::{BenchLimits, Dictionary, LIMITS_ENV};
+use crate::dictionary::{
+    is_pole_pairs_setting, BenchLimits, Dictionary, PolePairs, LIMITS_ENV, POLE_PAIRS_SETTING,
+};
 use crate::drive::Drive;
 use crate::family::{Family, LinkContext, Registry, DEFAULT_DICTIONARY};
 use crate::link::TelegramObserver;
@@ -32,6 +34,11 @@ pub struct DictionaryArgs {
     /// recipe. Nothing (recipe, --set, --dictionary) can raise its limits.
     #[arg(long = "limits", value_name = "FILE")]
     pub limits: Option<PathBuf>,
+    /// The motor's pole pairs as given and who gave them: `--link-option pole-pairs=N`
+    /// ([`ConnectionArgs::pole_pairs`]) or a named drive's `pole_pairs:`; over a recipe's
+    /// `link: { pole_pairs: N }` and the dictionary's own `pole_pairs:`.
+    #[arg(skip)]
+    pub pole_pairs: Option<(String, String)>,
 }
 
 impl DictionaryArgs {
@@ -68,6 +75,19 @@ impl DictionaryArgs {
                 dictionary.extend_from(path)?;
             }
         }
+        // Before the bench limits: those are rpm at the shaft whatever the pole pairs.
+        let given = match (&self.pole_pairs, recipe.and_then(recipe_pole_pairs)) {
+            (Some(given), _) => Some(given.clone()),
+            (None, Some(n)) => Some((n, "the recipe's `link: { pole_pairs }`".to_string())),
+            (None, None) => None,
+        };
+        if let Some((text, origin)) = given {
+            let count =
+                PolePairs::parse(&text).map_err(|e| RunError::Invalid(format!("error: {origin}: {e}\n")))?;
+            dictionary
+                .set_pole_pairs(count, &origin)
+                .map_err(|e| RunError::Invalid(format!("error: {e}\n")))?;
+        }
         // Last, so that no dictionary above can raise the bench's limits.
         let env = std::env::var_os(LIMITS_ENV);
         if let Some((path, route)) = BenchLimits::find(self.limits.as_deref(), env.as_deref(), recipe) {
@@ -77,12 +97,25 @@ impl DictionaryArgs {
         Ok(Arc::new(dictionary))
     }
 
+    /// These options with the motor's pole pairs `connection` gives
+    /// (`--link-option pole-pairs=N`), which the dictionary takes.
+    pub fn with_pole_pairs_of(&self, connection: &ConnectionArgs) -> DictionaryArgs {
+        DictionaryArgs {
+            pole_pairs: connection
+                .pole_pairs()
+                .map(|n| (n.clone(), format!("--link-option {POLE_PAIRS_SETTING}={n}")))
+                .or_else(|| self.pole_pairs.clone()),
+            ..self.clone()
+        }
+    }
+
     /// The dictionary `--drive` names when it is not given, and no extra files.
     pub fn builtin_default() -> Self {
         DictionaryArgs {
             name: DEFAULT_DICTIONARY.into(),
             extra: Vec::new(),
             limits: None,
+            pole_pairs: None,
         }
     }
 }
@@ -92,22 +125,36 @@ impl DictionaryArgs {
 /// cannot be read is left to the recipe loader to report; the file is read within the
 /// loader's size limit.
 fn recipe_drive(registry: &Registry, recipe: &Path) -> Option<String> {
-    let is_yaml = recipe
-        .extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("yaml") || e.eq_ignore_ascii_case("yml"));
-    // Only a regular file can be read twice (here and by the loader): a pipe would be
-    // used up by this look.
-    let is_file = std::fs::metadata(recipe).is_ok_and(|m| m.is_file());
-    if !is_yaml || !is_file {
-        return None;
-    }
-    let source = crate::diag::read_source(recipe).ok()?;
-    let root = crate::diag::YamlNode::parse(&source).ok()?;
+    let root = recipe_root(recipe)?;
     let drive = match &root.get("drive")?.value {
         crate::diag::YamlValue::Str(s) => s.clone(),
         _ => return None,
     };
     registry.dictionary_for_drive(&drive).ok().map(str::to_string)
+}
+
+/// The pole pairs a YAML recipe's `link:` gives (`pole_pairs` or `pole-pairs`), read
+/// before the recipe is loaded because its values are checked against the dictionary they
+/// set; anything unreadable is left to the loader.
+fn recipe_pole_pairs(recipe: &Path) -> Option<String> {
+    let root = recipe_root(recipe)?;
+    let link = root.get("link")?.entries()?;
+    let (_, value) = link.iter().find(|(k, _)| is_pole_pairs_setting(&k.value))?;
+    value.as_text()
+}
+
+/// A YAML recipe's parsed tree, when `recipe` is a regular YAML file (only such a file can
+/// be read twice: here and by the loader; a pipe would be used up by this look).
+fn recipe_root(recipe: &Path) -> Option<crate::diag::YamlNode> {
+    let is_yaml = recipe
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("yaml") || e.eq_ignore_ascii_case("yml"));
+    let is_file = std::fs::metadata(recipe).is_ok_and(|m| m.is_file());
+    if !is_yaml || !is_file {
+        return None;
+    }
+    let source = crate::diag::read_source(recipe).ok()?;
+    crate::diag::YamlNode::parse(&source).ok()
 }
 
 /// A drive ready for use, and the simulated drive behind it when there is one.

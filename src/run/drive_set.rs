@@ -33,14 +33,21 @@ pub fn drive_dictionaries(
     recipe: &Path,
     declared: &[(String, String)],
 ) -> Result<Vec<(String, Arc<Dictionary>)>, RunError> {
+    let pole_pairs = crate::recipe::declared_pole_pairs(recipe);
     declared
         .iter()
         .map(|(name, drive)| {
             let dictionary = registry
                 .dictionary_for_drive(drive)
                 .map_err(|e| RunError::Invalid(format!("error: drive `{name}`: {e}\n")))?;
+            // The command line's pole pairs win over the drive's own `pole_pairs:`.
+            let own = pole_pairs
+                .iter()
+                .find(|(n, _)| n == name)
+                .map(|(_, p)| (p.clone(), format!("drive `{name}`'s `pole_pairs: {p}`")));
             let one = DictionaryArgs {
                 name: dictionary.to_string(),
+                pole_pairs: args.pole_pairs.clone().or(own),
                 ..args.clone()
             };
             let loaded = one

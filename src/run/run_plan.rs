@@ -56,7 +56,12 @@ impl RunPlan {
     /// one `--drive` names (or the file's own `drive:`), or one per named drive. On failure
     /// the problem (exit code 2): a recipe's or a script's with every place.
     pub fn load(request: &RunRequest) -> Result<LoadedPlan, RunError> {
-        Self::load_file(request.registry, request.file, request.set, request.dictionary)
+        Self::load_file(
+            request.registry,
+            request.file,
+            request.set,
+            &request.dictionary.with_pole_pairs_of(request.connection),
+        )
     }
 
     /// [`load`](Self::load) of `path` with the `--set` overrides `set` and the dictionary

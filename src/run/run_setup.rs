@@ -62,6 +62,7 @@ pub fn trace_header(
             .collect(),
         address,
         line: connection.line_text(family),
+        pole_pairs: dictionary.pole_pairs().map(|p| p.count),
     }
 }
 

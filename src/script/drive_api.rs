@@ -206,8 +206,8 @@ fn register_reads(engine: &mut Engine, bridge: &Arc<Bridge>) {
         "read_as",
         move |ctx: NativeCallContext, h: &mut DriveHandle, name: &str, unit: &str| -> RhaiResult<f64> {
             let object = on_drive(&b, h, |d| resolve::readable(d, name))?;
-            let (_, factor) =
-                resolve::unit_for(object.unit.as_deref(), &object.name, unit).map_err(refused)?;
+            let (dictionary, _) = dictionary_of(&b, h)?;
+            let factor = resolve::read_factor(&dictionary, name, unit).map_err(refused)?;
             Ok(read(&b, &ctx, object)? * factor)
         },
     );

@@ -5,7 +5,7 @@
 //! must not talk to a drive.
 
 use crate::diag::{did_you_mean, suggestion_text};
-use crate::dictionary::{Dictionary, ObjectDef, Quantity, Unit};
+use crate::dictionary::{Dictionary, ObjectDef, Quantity, Unit, ValueError};
 use crate::drive::DeviceState;
 use crate::session::{ObjectRef, SetValue, Tolerance};
 use std::path::{Component, Path, PathBuf};
@@ -82,21 +82,33 @@ pub fn readable(dict: &Dictionary, name: &str) -> Result<ObjectRef, Refusal> {
     Ok(r)
 }
 
-/// A value read in its object's unit, converted to `unit`.
-pub fn unit_for(def_unit: Option<&str>, object: &str, unit: &str) -> Result<(Unit, f64), Refusal> {
+/// A value read in its object's unit, converted to `unit` (Hz for an inverter's rpm where
+/// the dictionary knows the motor's pole pairs): the unit and the factor to multiply by.
+pub fn unit_for(def: &ObjectDef, unit: &str) -> Result<(Unit, f64), Refusal> {
     let to = Unit::parse(unit).map_err(|e| not_a_unit(unit, &e.to_string()))?;
-    let own = def_unit.and_then(Unit::from_symbol);
-    match own.and_then(|own| own.convert(1.0, to)) {
-        Some(factor) => Ok((to, factor)),
-        None => Err(Refusal::new(
-            match own {
-                Some(own) => format!("{to} is not a unit of {object} ({own})"),
-                None => format!("{object} has no unit to convert to {to}"),
-            },
-            "wrong unit",
-            None,
-        )),
-    }
+    def.factor_to(to)
+        .map(|factor| (to, factor))
+        .map_err(|e| match (e, def.unit) {
+            (e @ ValueError::NoPolePairs { .. }, _) => {
+                Refusal::new(e.to_string(), "pole pairs unknown", None)
+            }
+            (_, Some(own)) => Refusal::new(
+                format!("{to} is not a unit of {} ({own})", def.name),
+                "wrong unit",
+                None,
+            ),
+            (_, None) => Refusal::new(
+                format!("{} has no unit to convert to {to}", def.name),
+                "wrong unit",
+                None,
+            ),
+        })
+}
+
+/// The factor a value of `name` read in its own unit is multiplied by to be in `unit`.
+pub fn read_factor(dict: &Dictionary, name: &str, unit: &str) -> Result<f64, Refusal> {
+    let (def, _) = object(dict, name)?;
+    unit_for(&def, unit).map(|(_, factor)| factor)
 }
 
 /// What the script asked to write: text, or a number (bare: a script's integer exactly)
@@ -159,16 +171,19 @@ pub fn set_value(dict: &Dictionary, name: &str, value: &Written) -> Result<(Obje
     let in_own = match (quantity.unit, def.unit) {
         (None, _) => quantity,
         (Some(u), Some(own)) if u == own => quantity.in_unit(None),
-        (Some(u), Some(own)) => u
-            .convert(quantity.value, own)
-            .map(|v| Quantity::new(v, None))
-            .ok_or_else(|| {
-                Refusal::new(
+        (Some(u), Some(own)) => match def.in_own_unit(quantity.value, u) {
+            Ok(v) => Quantity::new(v, None),
+            Err(e @ ValueError::NoPolePairs { .. }) => {
+                return Err(Refusal::new(e.to_string(), "pole pairs unknown", None))
+            }
+            Err(_) => {
+                return Err(Refusal::new(
                     format!("{u} is not a unit of {} ({own})", def.name),
                     "wrong unit",
                     None,
-                )
-            })?,
+                ))
+            }
+        },
         (Some(u), None) => {
             return Err(Refusal::new(
                 format!("{} has no unit; write a plain number, not {u}", def.name),
@@ -361,8 +376,9 @@ mod tests {
             &Written::Number(Quantity::new(1e12, None), None)
         )
         .is_err());
-        assert_eq!(unit_for(Some("rpm"), "speed_actual", "krpm").unwrap().1, 0.001);
-        assert!(unit_for(Some("rpm"), "speed_actual", "A").is_err());
+        let speed = d.get("speed_actual").unwrap();
+        assert_eq!(unit_for(speed, "krpm").unwrap().1, 0.001);
+        assert!(unit_for(speed, "A").is_err());
         assert_eq!(duration("2 s").unwrap(), Duration::from_secs(2));
         assert!(duration("2").is_err() && duration("0 s").is_err());
         assert!(state("operation_enabld")

@@ -123,10 +123,9 @@ pub fn check_calls(
             ("read_as", true) => {
                 if let Some((n, span)) = &name {
                     match resolve::readable(dict, n) {
-                        Ok(object) => {
+                        Ok(_) => {
                             if let Some((unit, uspan)) = text(1, c) {
-                                if let Err(r) = resolve::unit_for(object.unit.as_deref(), &object.name, &unit)
-                                {
+                                if let Err(r) = resolve::read_factor(dict, n, &unit) {
                                     refuse(&uspan, r);
                                 }
                             }

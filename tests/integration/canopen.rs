@@ -21,6 +21,7 @@ fn canopen() -> DictionaryArgs {
         name: "canopen".into(),
         extra: Vec::new(),
         limits: None,
+        pole_pairs: None,
     }
 }
 

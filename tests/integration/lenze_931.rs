@@ -83,6 +83,7 @@ pub(crate) fn dictionary_args(extra: Option<PathBuf>) -> DictionaryArgs {
         name: "lenze-931".into(),
         extra: extra.into_iter().collect(),
         limits: None,
+        pole_pairs: None,
     }
 }
 

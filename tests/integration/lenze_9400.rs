@@ -20,6 +20,7 @@ fn lenze() -> DictionaryArgs {
         name: "lenze-9400".into(),
         extra: Vec::new(),
         limits: None,
+        pole_pairs: None,
     }
 }
 

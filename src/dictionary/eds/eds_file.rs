@@ -29,6 +29,8 @@ pub(crate) struct EdsEntry {
     pub parent: Option<String>,
     pub data_type: EdsType,
     pub access: Access,
+    /// `AccessType` as written, in lower case (`const`, `rww`).
+    pub access_text: String,
     pub low: Option<EdsLimit>,
     pub high: Option<EdsLimit>,
     /// `DefaultValue` as written (numbers, `$NODEID` expressions or text).
@@ -48,6 +50,9 @@ pub(crate) struct EdsFile {
     pub entries: Vec<EdsEntry>,
     /// `[DeviceComissioning] NodeID` of a DCF: the node `$NODEID` means.
     pub node_id: Option<u8>,
+    /// What is wrong but does not stop the file being read (an object list naming a
+    /// section the file does not have), each at its line.
+    pub notes: Vec<Diagnostic>,
 }
 
 impl EdsFile {
@@ -58,6 +63,7 @@ impl EdsFile {
             source: Arc::clone(source),
             entries: Vec::new(),
             node_id: None,
+            notes: Vec::new(),
         };
         if ini.sections.is_empty() {
             out.push(
@@ -67,7 +73,7 @@ impl EdsFile {
             return file;
         }
         file.node_id = node_id(&ini, out);
-        check_object_lists(&ini, out);
+        check_object_lists(&ini, &mut file.notes);
         // `[1018sub2]` by its object's index, found in one pass.
         let mut subs: HashMap<u16, Vec<&IniSection>> = HashMap::new();
         for section in &ini.sections {
@@ -202,6 +208,7 @@ impl EdsFile {
             name: "NrOfObjects".into(),
             data_type: EdsType::Unsigned8,
             access: Access::ReadOnly,
+            access_text: "ro".into(),
             low: None,
             high: None,
             default: Some(count.to_string()),
@@ -280,6 +287,10 @@ fn entry(
             }
         },
     };
+    let access_text = section
+        .get("AccessType")
+        .map(|e| e.value.trim().to_ascii_lowercase())
+        .unwrap_or_default();
     let access = match section.get("AccessType") {
         None => {
             required(section, "AccessType", out);
@@ -290,9 +301,14 @@ fn entry(
             .ok(),
     };
     let real = matches!(data_type, Some(EdsType::Real32 | EdsType::Real64));
+    let signed_bits = data_type.and_then(EdsType::signed_bits);
     let mut limit = |key: &str| -> Option<EdsLimit> {
         let e = section.get(key).filter(|e| !e.value.is_empty())?;
         EdsLimit::parse(&e.value, real)
+            .map(|l| match signed_bits {
+                Some(bits) => l.signed_at(&e.value, bits),
+                None => l,
+            })
             .map_err(|why| {
                 out.push(Diagnostic::at(
                     &e.span,
@@ -323,6 +339,7 @@ fn entry(
         parent,
         data_type: data_type?,
         access: access?,
+        access_text,
         low,
         high,
         default: text("DefaultValue"),
@@ -380,8 +397,10 @@ fn node_id(ini: &IniText, out: &mut Diagnostics) -> Option<u8> {
 }
 
 /// Every object `[MandatoryObjects]`, `[OptionalObjects]` and `[ManufacturerObjects]` list
-/// has its own section.
-fn check_object_lists(ini: &IniText, out: &mut Diagnostics) {
+/// has its own section. A list is an index of the file, not its objects: where it and the
+/// sections disagree the sections are read and the list's line is a note (real files do
+/// this, python-canopen's own `e35.eds` among them).
+fn check_object_lists(ini: &IniText, out: &mut Vec<Diagnostic>) {
     for list in ["MandatoryObjects", "OptionalObjects", "ManufacturerObjects"] {
         let Some(section) = ini.section(list) else {
             continue;
@@ -398,18 +417,21 @@ fn check_object_lists(ini: &IniText, out: &mut Diagnostics) {
                         out.push(
                             Diagnostic::at(
                                 &e.span,
-                                format!("[{list}] lists 0x{name}, but there is no `[{name}]` section"),
+                                format!("[{list}] lists 0x{name}, but there is no `[{name}]` section; the object is left out"),
                                 "no such section",
                             )
                             .with_help(format!(
-                                "add the object's section `[{name}]` or remove it from the list"
+                                "ask the device's maker for a corrected file, or add the object's section `[{name}]` or remove it from the list"
                             )),
                         );
                     }
                 }
                 _ => out.push(Diagnostic::at(
                     &e.span,
-                    format!("`{}` is not an object index", e.value),
+                    format!(
+                        "[{list}]: `{}` is not an object index; the line is skipped",
+                        e.value
+                    ),
                     "expected 0x0000..0xFFFF",
                 )),
             }

@@ -82,6 +82,26 @@ impl EdsLimit {
         EdsNumber::parse(text).map(EdsLimit::Number)
     }
 
+    /// For a signed integer object of `bits`: a limit written in hex (`0x80000000`,
+    /// `0xFFFFFFFFFFFFFFF6`) as the two's complement number it is at that width, as the
+    /// device reads its own bytes. Decimal text and `$NODEID` expressions stay as written.
+    pub fn signed_at(self, text: &str, bits: u32) -> EdsLimit {
+        let hex = {
+            let t = text.trim();
+            t.starts_with("0x") || t.starts_with("0X")
+        };
+        match self {
+            EdsLimit::Number(mut n) if hex && !n.plus_node_id && (1..=64).contains(&bits) => {
+                let width = 1i128 << bits;
+                if n.value >= width / 2 && n.value < width {
+                    n.value -= width;
+                }
+                EdsLimit::Number(n)
+            }
+            other => other,
+        }
+    }
+
     /// The value for node `node`; a `$NODEID` expression without a node is `None`.
     pub fn resolve(self, node: Option<u8>) -> Option<f64> {
         match self {
@@ -193,6 +213,26 @@ mod tests {
             "an integer object's limit is an integer"
         );
         assert_eq!(l("$NODEID+1", false), Ok(Some(3.0)));
+    }
+
+    #[test]
+    fn hex_limits_of_signed_types_are_twos_complement_at_their_width() {
+        let l = |t: &str, bits| {
+            EdsLimit::parse(t, false)
+                .unwrap()
+                .signed_at(t, bits)
+                .resolve(None)
+        };
+        assert_eq!(l("0x80000000", 32), Some(-2_147_483_648.0));
+        assert_eq!(l("0x7FFFFFFF", 32), Some(2_147_483_647.0));
+        assert_eq!(l("0xFFFFFFFFFFFFFFF6", 64), Some(-10.0));
+        assert_eq!(l("0xFF", 8), Some(-1.0));
+        assert_eq!(l("0x8000", 16), Some(-32768.0));
+        assert_eq!(l("0xEC78", 16), Some(-5000.0));
+        // Decimal text is what it says; beyond the width it is left for the range check.
+        assert_eq!(l("40000", 16), Some(40000.0));
+        assert_eq!(l("0x10000", 16), Some(65536.0));
+        assert_eq!(l("-5000", 16), Some(-5000.0));
     }
 
     #[test]

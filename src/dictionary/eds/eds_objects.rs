@@ -2,12 +2,13 @@
 //! `identity_object_vendor_id`) with the index (`0x6041`, `0x1018/1`) and the EDS name as
 //! aliases, the carried type, access, limits (with `$NODEID` resolved by the DCF's node
 //! id), the default and links in the description, and a DCF's `ParameterValue`s as a
-//! parameter set. Entries drivescript cannot carry are left out with one note saying
-//! which. No I/O.
+//! parameter set. For an object a built-in dictionary has too, what the file says of it
+//! (the caller lays it over the built-in entry: the device's own file wins). Entries
+//! drivescript cannot carry are listed as such, with one note saying which. No I/O.
 
 use super::eds_file::{EdsEntry, EdsFile};
 use crate::diag::{Diagnostic, Span};
-use crate::dictionary::{Address, DataType, Format, ObjectDef};
+use crate::dictionary::{Access, Address, DataType, FileEntry, Format, ObjectDef};
 use std::collections::{BTreeMap, HashSet};
 
 /// What an EDS adds to a dictionary.
@@ -21,11 +22,27 @@ pub(crate) struct EdsObjects {
     /// For an object the dictionary already has at an address: the EDS's index and name,
     /// as aliases it gains where they are free.
     pub aliases_of_occupied: Vec<(Address, Vec<String>)>,
+    /// For those objects, what the file says, to lay over the dictionary's entry.
+    pub on_built_in: Vec<OnBuiltIn>,
+    /// The entries of types drivescript cannot access (TIME_OF_DAY, complex records …).
+    pub not_carried: Vec<FileEntry>,
+}
+
+/// The file's word on an object a dictionary already has: its type as carried, its access.
+#[derive(Debug)]
+pub(crate) struct OnBuiltIn {
+    pub file: FileEntry,
+    pub data_type: DataType,
+    pub access: Access,
+    /// The file's limits in raw counts as they apply (`None` where the file gives none or
+    /// gives them inverted).
+    pub limits: (Option<f64>, Option<f64>),
 }
 
 /// The objects of `file`, named so that none clashes with `taken` (names and aliases
 /// already in the dictionary, lower case) and none sits at an address in `occupied` (the
-/// dictionary's own entry for it wins: it has units and scale an EDS does not give).
+/// dictionary's own entry keeps its name, unit and scale, which an EDS does not give; the
+/// file's type, access and limits come in `on_built_in`).
 pub(crate) fn eds_objects(
     file: &EdsFile,
     taken: &HashSet<String>,
@@ -38,30 +55,58 @@ pub(crate) fn eds_objects(
         notes: Vec::new(),
         parameter_values: Vec::new(),
         aliases_of_occupied: Vec::new(),
+        on_built_in: Vec::new(),
+        not_carried: Vec::new(),
     };
+    out.notes.extend(file.notes.iter().cloned());
     // Per type left out: why, where the first such entry is, and the places.
     let mut not_carried: BTreeMap<u16, (String, Span, Vec<String>)> = BTreeMap::new();
     let mut unresolved: Vec<String> = Vec::new();
+    let mut inverted: Vec<String> = Vec::new();
     for entry in &file.entries {
         let address = Address::indexed(entry.index, u32::from(entry.subindex));
+        let carried = entry.data_type.carried();
+        let limit = |n: Option<super::eds_number::EdsLimit>| n.map(|n| n.resolve(file.node_id));
+        let (mut low, mut high) = (limit(entry.low), limit(entry.high));
+        if matches!(low, Some(None)) || matches!(high, Some(None)) {
+            unresolved.push(index_text(entry));
+        }
+        // `LowLimit=0 HighLimit=0xFF` on an INTEGER8 (vendors mean "any byte"): no value
+        // fits, so the type's own range is used instead.
+        if let (Some(Some(lo)), Some(Some(hi))) = (low, high) {
+            if lo > hi && carried.is_ok() {
+                inverted.push(index_text(entry));
+                (low, high) = (None, None);
+            }
+        }
+        let (low, high) = (low.flatten(), high.flatten());
+        if let Err(why) = &carried {
+            not_carried
+                .entry(why.code)
+                .or_insert_with(|| (why.to_string(), entry.span.clone(), Vec::new()))
+                .2
+                .push(index_text(entry));
+            out.not_carried.push(file_entry(file, entry));
+        }
         if occupied.contains(&address) {
             let free: Vec<String> = [index_text(entry), eds_name(entry)]
                 .into_iter()
                 .filter(|a| taken.insert(a.to_ascii_lowercase()))
                 .collect();
             out.aliases_of_occupied.push((address, free));
+            if let Ok((data_type, range)) = carried {
+                out.on_built_in.push(OnBuiltIn {
+                    file: file_entry(file, entry),
+                    data_type,
+                    access: entry.access,
+                    // A BOOLEAN's 0..1 is its limits where the file gives none.
+                    limits: (low.or(range.map(|r| r.0)), high.or(range.map(|r| r.1))),
+                });
+            }
             continue;
         }
-        let (data_type, range) = match entry.data_type.carried() {
-            Ok(carried) => carried,
-            Err(why) => {
-                not_carried
-                    .entry(why.code)
-                    .or_insert_with(|| (why.to_string(), entry.span.clone(), Vec::new()))
-                    .2
-                    .push(index_text(entry));
-                continue;
-            }
+        let Ok((data_type, range)) = carried else {
+            continue;
         };
         let name = unique_name(entry, &mut taken);
         let mut def = ObjectDef::new(name.clone(), address, data_type, entry.access);
@@ -71,13 +116,8 @@ pub(crate) fn eds_objects(
                 def.aliases.push(alias);
             }
         }
-        let limit = |n: Option<super::eds_number::EdsLimit>| n.map(|n| n.resolve(file.node_id));
-        let (low, high) = (limit(entry.low), limit(entry.high));
-        if matches!(low, Some(None)) || matches!(high, Some(None)) {
-            unresolved.push(index_text(entry));
-        }
-        def.min = range.map(|r| r.0).or(low.flatten());
-        def.max = range.map(|r| r.1).or(high.flatten());
+        def.min = range.map(|r| r.0).or(low);
+        def.max = range.map(|r| r.1).or(high);
         if let (Some(type_range), Some(min)) = (data_type.range(), def.min) {
             def.min = Some(min.max(type_range.0 as f64));
         }
@@ -98,6 +138,7 @@ pub(crate) fn eds_objects(
             && !entry.pdo_mapping
             && !(0x1010..=0x1011).contains(&entry.index);
         def.span = entry.span.clone();
+        def.file = Some(Box::new(file_entry(file, entry)));
         if let Some(value) = &entry.parameter_value {
             out.parameter_values.push((name, value.clone()));
         }
@@ -109,6 +150,16 @@ pub(crate) fn eds_objects(
             &first,
             format!("left out: {} ({why})", shortened(&places)),
             "left out",
+        ));
+    }
+    if !inverted.is_empty() {
+        out.notes.push(Diagnostic::at(
+            &start,
+            format!(
+                "LowLimit is above HighLimit for {}; the type's own range is used instead",
+                shortened(&inverted)
+            ),
+            "limits inverted",
         ));
     }
     if !unresolved.is_empty() {
@@ -125,6 +176,24 @@ pub(crate) fn eds_objects(
         );
     }
     out
+}
+
+/// What the file says of `entry`, for `objects` to show.
+fn file_entry(file: &EdsFile, entry: &EdsEntry) -> FileEntry {
+    let limit = |n: Option<super::eds_number::EdsLimit>| n.and_then(|n| n.resolve(file.node_id));
+    FileEntry {
+        file: file.source.path().to_string(),
+        line: entry.span.line(),
+        address: Address::indexed(entry.index, u32::from(entry.subindex)),
+        name: eds_name(entry),
+        type_code: entry.data_type.code(),
+        type_name: entry.data_type.name(),
+        access: entry.access_text.clone(),
+        low: limit(entry.low),
+        high: limit(entry.high),
+        default: entry.default.clone(),
+        overrides: Vec::new(),
+    }
 }
 
 /// The first places and how many more.

@@ -217,6 +217,90 @@ fn node_id_limits_without_a_node_are_left_off_with_a_note() {
         .contains("$NODEID are left off for 0x1014"));
 }
 
+fn canopen_with(file: &str) -> Dictionary {
+    let mut d = crate::family::Registry::builtin()
+        .load_dictionary("canopen")
+        .expect("the built-in canopen dictionary");
+    d.extend_from(format!("{}/tests/eds/{file}", env!("CARGO_MANIFEST_DIR")))
+        .unwrap_or_else(|e| panic!("{e}"));
+    d
+}
+
+#[test]
+fn the_devices_file_wins_over_the_built_in_entry_which_keeps_name_unit_and_scale() {
+    let d = canopen_with("servo-limits.eds");
+    let speed = d.get("speed_setpoint").unwrap();
+    assert_eq!((speed.min, speed.max), (Some(-5000.0), Some(5000.0)));
+    assert_eq!(speed.unit, Some(crate::dictionary::Unit::Rpm));
+    let line = speed.file.as_ref().unwrap().overrides_line().unwrap();
+    assert!(
+        line.contains("min -5000 (built-in -60000); max 5000 (built-in 60000)"),
+        "{line}"
+    );
+    let refused = speed.to_raw(&crate::dictionary::Quantity::new(10000.0, None));
+    assert!(refused.is_err(), "{refused:?}");
+    let modes = d.get("modes_of_operation").unwrap();
+    assert_eq!(modes.access, Access::WriteOnly);
+    let actual = d.get("speed_actual").unwrap();
+    assert_eq!(actual.data_type, DataType::I16);
+    assert_eq!(actual.name, "speed_actual", "the built-in name stays");
+    // Hex limits of signed types are two's complement at the type's width.
+    let wide = d.get("wide").unwrap();
+    assert_eq!(
+        (wide.min, wide.max),
+        (Some(-2_147_483_648.0), Some(2_147_483_647.0))
+    );
+    assert_eq!(d.get("wide64").unwrap().min, Some(-10.0));
+    // A TIME_OF_DAY object is listed as one drivescript cannot access, not dropped.
+    let listed: Vec<&str> = d.not_accessible().iter().map(|f| f.name.as_str()).collect();
+    assert_eq!(listed, ["Clock"]);
+    assert_eq!(d.not_accessible()[0].type_name, "TIME_OF_DAY (0x000C)");
+    // 0x1012 is listed in [OptionalObjects] without its section: a note at its line.
+    let note = d
+        .notes()
+        .iter()
+        .find(|n| n.message().contains("0x1012"))
+        .unwrap_or_else(|| panic!("{:?}", d.notes()));
+    assert_eq!(note.line(), 15);
+}
+
+#[test]
+fn a_file_in_windows_1252_is_read_with_a_note_saying_so_once() {
+    let dir = std::env::temp_dir().join(format!("drivescript-eds-1252-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("cp1252.eds");
+    // 0x94 is a closing quote and 0xB0 a degree sign in Windows-1252, neither UTF-8.
+    let mut bytes = b"[FileInfo]\nFileName=cp1252.eds\n[2000]\nParameterName=Temp \xB0C \x94x\x94\nDataType=0x0006\nAccessType=ro\n".to_vec();
+    bytes.extend_from_slice(b"[2001]\nParameterName=Other \xB5s\nDataType=0x0006\nAccessType=ro\n");
+    std::fs::write(&path, bytes).unwrap();
+    let mut d = base();
+    d.extend_from(&path).unwrap_or_else(|e| panic!("{e}"));
+    let _ = std::fs::remove_dir_all(&dir);
+    assert!(d.get("Temp °C \u{201D}x\u{201D}").is_some());
+    assert!(d.get("Other µs").is_some());
+    let notes: Vec<&str> = d
+        .notes()
+        .iter()
+        .map(|n| n.message())
+        .filter(|m| m.contains("Windows-1252"))
+        .collect();
+    assert_eq!(notes.len(), 1, "{notes:?}");
+}
+
+#[test]
+fn a_listed_object_without_its_section_is_a_note_not_a_refusal() {
+    let mut out = Diagnostics::new();
+    let text = "[FileInfo]\nFileName=x.eds\n[OptionalObjects]\nSupportedObjects=2\n1=0x2000\n2=0x2001\n[2000]\nParameterName=Here\nDataType=0x0006\nAccessType=ro\n";
+    let file = EdsFile::parse(&Source::new("x.eds", text), &mut out);
+    assert!(out.is_empty(), "{}", out.render(false));
+    assert_eq!(file.notes.len(), 1);
+    assert_eq!(file.notes[0].line(), 6);
+    assert!(file.notes[0]
+        .message()
+        .contains("lists 0x2001, but there is no `[2001]` section"));
+    assert_eq!(file.entries.len(), 1);
+}
+
 #[test]
 fn malformed_lines_are_each_located_with_what_was_expected() {
     let mut d = base();
@@ -227,11 +311,10 @@ fn malformed_lines_are_each_located_with_what_was_expected() {
         .problems()
         .map(|p| (p.line(), p.message().to_string()))
         .collect();
-    let expected: [(usize, &str); 12] = [
+    let expected: [(usize, &str); 11] = [
         (1, "`Description=` comes before any `[section]`"),
         (4, "a line that is neither `[section]` nor `key=value`"),
         (5, "a section header without its closing `]`"),
-        (7, "[OptionalObjects] lists 0x2009, but there is no `[2009]` section"),
         (8, "`[2000]` has no `AccessType=`"),
         (13, "`DataType=twelve` is not a data type code"),
         (18, "`readwrite` is not an access type; CiA 306 has ro, wo, rw, rwr, rww and const"),
@@ -251,7 +334,7 @@ fn malformed_lines_are_each_located_with_what_was_expected() {
         found.contains(&(36, "section `[2006]` is written twice".into())),
         "{found:#?}"
     );
-    assert_eq!(found.len(), 13, "{found:#?}");
+    assert_eq!(found.len(), 12, "{found:#?}");
     assert_eq!(
         e.first().path(),
         concat!(env!("CARGO_MANIFEST_DIR"), "/tests/eds/malformed.eds")
@@ -280,7 +363,12 @@ proptest! {
             prop_oneof![
                 "\\[[0-9A-Fa-f]{4}(sub[0-9A-Fa-f]{1,3})?(Name|Value|ObjectLinks)?\\]",
                 "(ParameterName|ObjectType|DataType|AccessType|LowLimit|HighLimit|DefaultValue|ParameterValue|CompactSubObj|SubNumber|PDOMapping|NodeID|1|2)=[-$A-Za-z0-9x+. ]{0,12}",
-                "\\[(DeviceComissioning|MandatoryObjects|FileInfo)\\]",
+                "\\[(DeviceComissioning|MandatoryObjects|OptionalObjects|FileInfo)\\]",
+                // Objects the built-in canopen dictionary has, so the file's word is laid
+                // over its entries.
+                "\\[(6040|6041|6060|606C|60FF|6079|1017)\\]",
+                "(LowLimit|HighLimit)=(0x[0-9A-F]{1,17}|-?[0-9]{1,20})",
+                "DataType=0x000[1-9A-F]",
                 ".{0,20}",
             ],
             0..40,
@@ -289,7 +377,43 @@ proptest! {
         let mut out = Diagnostics::new();
         let source = Source::new("p.eds", lines.join("\n"));
         let file = EdsFile::parse(&source, &mut out);
-        let _ = eds_objects(&file, &HashSet::new(), &HashSet::new(), &|_| None);
+        let canopen = crate::family::Registry::builtin()
+            .load_dictionary("canopen")
+            .expect("built-in canopen dictionary");
+        let occupied: HashSet<Address> = canopen.objects().map(|o| o.address).collect();
+        let objects = eds_objects(&file, &HashSet::new(), &occupied, &|_| None);
+        for on in objects.on_built_in {
+            let mut def = canopen
+                .objects()
+                .find(|d| d.address == on.file.address)
+                .cloned()
+                .expect("an occupied address");
+            on.file.lay_over(&mut def, on.data_type, on.access, on.limits);
+            if let (Some(min), Some(max)) = (def.min, def.max) {
+                prop_assert!(min.is_finite() && max.is_finite());
+            }
+        }
         let _ = super::dcf_parameter_values(&source);
+    }
+
+    #[test]
+    fn hex_limits_of_signed_types_stay_within_their_width(
+        text in "0x[0-9A-Fa-f]{1,18}|-?[0-9]{1,20}|\\$NODEID\\+0x[0-9A-F]{1,4}",
+        bits in prop_oneof![Just(8u32), Just(16), Just(24), Just(32), Just(40), Just(48), Just(56), Just(64)],
+    ) {
+        if let Ok(limit) = super::eds_number::EdsLimit::parse(&text, false) {
+            let signed = limit.signed_at(&text, bits).resolve(Some(1));
+            if let (Some(v), true) = (signed, text.starts_with("0x")) {
+                let half = 2f64.powi(bits as i32 - 1);
+                // In the type's range, or beyond its width (left for the range check).
+                prop_assert!(v >= -half && (v < half || v >= 2.0 * half), "{text} at {bits}: {v}");
+            }
+        }
+    }
+
+    #[test]
+    fn any_bytes_are_windows_1252_text(bytes in proptest::collection::vec(any::<u8>(), 0..200)) {
+        let text = crate::diag::windows_1252(&bytes);
+        prop_assert_eq!(text.chars().count(), bytes.len());
     }
 }

@@ -81,6 +81,33 @@ impl EdsType {
         }
     }
 
+    /// The width in bits of a signed integer type, whose limits written in hex are two's
+    /// complement at that width (`LowLimit=0x80000000` of an INTEGER32 is −2³¹).
+    pub fn signed_bits(self) -> Option<u32> {
+        Some(match self {
+            EdsType::Integer8 => 8,
+            EdsType::Integer16 => 16,
+            EdsType::Integer24 => 24,
+            EdsType::Integer32 => 32,
+            EdsType::Integer40 => 40,
+            EdsType::Integer48 => 48,
+            EdsType::Integer56 => 56,
+            EdsType::Integer64 => 64,
+            _ => return None,
+        })
+    }
+
+    /// The CiA 301 code (`0x0004` for INTEGER32).
+    pub fn code(self) -> u16 {
+        match self {
+            EdsType::Other(code) => code,
+            _ => CODES
+                .iter()
+                .find(|(_, t, _)| *t == self)
+                .map_or(0, |(c, _, _)| *c),
+        }
+    }
+
     /// The dictionary type that carries this one over SDO, with the value range a BOOLEAN
     /// adds.
     pub fn carried(self) -> Result<(DataType, Option<(f64, f64)>), NotCarried> {

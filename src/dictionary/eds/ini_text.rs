@@ -22,12 +22,16 @@ pub(crate) struct IniSection {
     pub name: String,
     pub span: Span,
     pub entries: Vec<IniEntry>,
+    /// Entry by lower-case key: a section of thousands of keys is read in linear time.
+    by_key: HashMap<String, usize>,
 }
 
 impl IniSection {
     /// The entry `key`, ignoring case.
     pub fn get(&self, key: &str) -> Option<&IniEntry> {
-        self.entries.iter().find(|e| e.key.eq_ignore_ascii_case(key))
+        self.by_key
+            .get(&key.to_ascii_lowercase())
+            .map(|&i| &self.entries[i])
     }
 }
 
@@ -87,6 +91,7 @@ impl IniText {
                     name: name.to_string(),
                     span,
                     entries: Vec::new(),
+                    by_key: HashMap::new(),
                 });
                 continue;
             }
@@ -132,6 +137,9 @@ impl IniText {
                 );
                 continue;
             }
+            section
+                .by_key
+                .insert(key.to_ascii_lowercase(), section.entries.len());
             section.entries.push(IniEntry {
                 key: key.to_string(),
                 value: value.trim().to_string(),

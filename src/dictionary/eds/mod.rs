@@ -11,7 +11,7 @@ mod ini_text;
 
 pub(crate) use eds_file::{EdsEntry, EdsFile};
 pub(crate) use eds_number::EdsNumber;
-pub(crate) use eds_objects::{eds_objects, EdsObjects};
+pub(crate) use eds_objects::{eds_objects, EdsObjects, OnBuiltIn};
 
 /// A DCF's `ParameterValue`s of its read-write objects, as a parameter set: each object
 /// by its index (`0x1017`, `0x1018/2`, which the EDS's objects have as an alias) and its

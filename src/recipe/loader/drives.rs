@@ -4,7 +4,7 @@
 //! must not open anything; the command line does.
 
 use super::{did_you_mean, Loader};
-use crate::diag::{read_source, Fields, Shape, Span, YamlNode, YamlValue};
+use crate::diag::{read_source, Diagnostic, Fields, Shape, Span, YamlNode, YamlValue};
 use crate::dictionary::Dictionary;
 use crate::drive::{AddressKey, AddressKeys, KeyUse};
 use crate::recipe::drive_decl::DriveDecl;
@@ -15,7 +15,7 @@ use std::sync::Arc;
 /// them (with the bench limits applied).
 pub type DriveDictionaries = Vec<(String, Arc<Dictionary>)>;
 
-const DRIVE_KEYS: &[&str] = &["drive", "address", "port", "tcp", "can"];
+const DRIVE_KEYS: &[&str] = &["drive", "address", "port", "tcp", "can", "pole_pairs"];
 
 /// The drives a recipe file declares under `drives:` and the dictionary each names, read
 /// before the recipe is loaded so that each drive's dictionary can be loaded first.
@@ -40,6 +40,27 @@ pub fn declared_drives(path: &Path) -> Vec<(String, String)> {
             YamlValue::Str(drive) => Some((name.value.clone(), drive.clone())),
             _ => None,
         })
+        .collect()
+}
+
+/// Each named drive's `pole_pairs:` as written, by drive name: the motor behind that
+/// inverter, which its dictionary takes before the recipe is loaded.
+pub fn declared_pole_pairs(path: &Path) -> Vec<(String, String)> {
+    let is_file = std::fs::metadata(path).is_ok_and(|m| m.is_file());
+    let root = match is_file.then(|| read_source(path).ok()).flatten() {
+        Some(source) => YamlNode::parse(&source).ok(),
+        None => None,
+    };
+    let Some(entries) = root
+        .as_ref()
+        .and_then(|r| r.get("drives"))
+        .and_then(YamlNode::entries)
+    else {
+        return Vec::new();
+    };
+    entries
+        .iter()
+        .filter_map(|(name, body)| Some((name.value.clone(), body.get("pole_pairs")?.as_text()?)))
         .collect()
 }
 
@@ -121,6 +142,18 @@ impl<'a> Loader<'a, '_> {
                 Some(keys) => self.address_from_keys(&name, keys, &f, address),
                 None => address,
             };
+            // Read with the drive's dictionary before the recipe (declared_pole_pairs);
+            // only checked here.
+            if let Some(n) = f.get("pole_pairs") {
+                let given = self.r.scalar_text(n, "`pole_pairs`");
+                if let Some(Err(e)) = given.map(|t| crate::dictionary::PolePairs::parse(&t)) {
+                    self.r.report(Diagnostic::at(
+                        &n.span,
+                        e.to_string(),
+                        "not a number of pole pairs",
+                    ));
+                }
+            }
             let decl = DriveDecl {
                 name: name.clone(),
                 drive,

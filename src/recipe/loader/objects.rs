@@ -39,7 +39,21 @@ impl Loader<'_, '_> {
 
     /// The object called `name` in the dictionary in use.
     fn lookup_object(&mut self, name: &str, span: &Span) -> Option<(ObjectDef, ObjectRef)> {
-        match self.dict.lookup(name) {
+        // Suggestions compare the name with every name of the dictionary: only for a
+        // problem that will be shown, so thousands of unknown names cost linear time.
+        let shown = self.r.count() < crate::diag::MAX_SHOWN;
+        let found = match shown {
+            true => self.dict.lookup(name),
+            false => self
+                .dict
+                .get(name)
+                .ok_or_else(|| crate::dictionary::UnknownObject {
+                    name: name.to_string(),
+                    dictionary: self.dict.name().to_string(),
+                    suggestions: Vec::new(),
+                }),
+        };
+        match found {
             Ok(def) => {
                 let r = ObjectRef {
                     name: def.name.clone(),

@@ -5,7 +5,7 @@
 
 use super::{Loader, MAX_DURATION};
 use crate::diag::{YamlNode, YamlValue};
-use crate::dictionary::{ObjectDef, Quantity};
+use crate::dictionary::{ObjectDef, Quantity, ValueError};
 use std::time::Duration;
 
 /// What to write instead of `.nan` or `.inf`.
@@ -106,8 +106,8 @@ impl Loader<'_, '_> {
         match (q.unit, def.unit) {
             (None, _) => Some(q),
             (Some(u), Some(own)) if u == own => Some(q.in_unit(None)),
-            (Some(u), Some(own)) => match u.convert(q.value, own) {
-                Some(v) if !v.is_finite() => {
+            (Some(u), Some(own)) => match def.in_own_unit(q.value, u) {
+                Ok(v) if !v.is_finite() => {
                     self.problem(
                         &node.span,
                         format!("{}: `{text}` is too large to be a number of {own}", def.name),
@@ -116,8 +116,12 @@ impl Loader<'_, '_> {
                     );
                     None
                 }
-                Some(v) => Some(Quantity::new(v, None)),
-                None => {
+                Ok(v) => Some(Quantity::new(v, None)),
+                Err(e @ ValueError::NoPolePairs { .. }) => {
+                    self.problem(&node.span, e.to_string(), "pole pairs unknown", None);
+                    None
+                }
+                Err(_) => {
                     self.problem(
                         &node.span,
                         format!("{u} is not a unit of {} ({own})", def.name),

@@ -40,7 +40,7 @@ impl Loader<'_, '_> {
                 },
                 // Any other key names an object, so a misspelt `timout` would be reported
                 // as an unknown object with no word of the key that was meant.
-                name if self.dict.lookup(name).is_err() && meant_key(name).is_some() => {
+                name if self.dict.get(name).is_none() && meant_key(name).is_some() => {
                     self.problem(
                         &k.span,
                         format!("unknown key `{name}` in this wait_until"),
