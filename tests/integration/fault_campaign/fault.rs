@@ -69,8 +69,9 @@ fn millis(rng: &mut Rng, from: u64, to: u64) -> Duration {
     Duration::from_millis(from + rng.below(to - from))
 }
 
-/// A fault for `target`, placed with `stop_start`: when the dry run's safe stop began.
-pub fn choose(target: &Target, rng: &mut Rng, stop_start: Duration) -> Fault {
+/// A fault for `target`, placed with `stop_start` and `stop_end`: when the dry run's safe
+/// stop began and when that run ended.
+pub fn choose(target: &Target, rng: &mut Rng, stop_start: Duration, stop_end: Duration) -> Fault {
     let kind = loop {
         let kind = match rng.below(30) {
             0 | 1 => Kind::None,
@@ -94,11 +95,11 @@ pub fn choose(target: &Target, rng: &mut Rng, stop_start: Duration) -> Fault {
         };
         break kind;
     };
-    // Half inside the safe stop: up to 4 s after it began (braking from top speed
-    // takes about 3 s), the rest anywhere in the steps.
+    // Half inside the safe stop as the dry run had it, the rest anywhere in the steps.
     let during_stop = rng.chance(50) || stop_start < Duration::from_millis(300);
     let at = if during_stop {
-        stop_start + millis(rng, 0, 4_000)
+        let stop = stop_end.saturating_sub(stop_start).as_millis() as u64;
+        stop_start + millis(rng, 0, stop.max(1))
     } else {
         millis(rng, 200, stop_start.as_millis() as u64)
     };

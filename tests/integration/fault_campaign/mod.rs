@@ -9,7 +9,8 @@
 //! Seeded and reproducible: seed N picks the family (N mod 8), the recipe and the fault.
 //! `DRIVESCRIPT_CAMPAIGN_SEED=N[,M…]` replays those seeds, `DRIVESCRIPT_CAMPAIGN_SCENARIOS`
 //! (and `DRIVESCRIPT_CAMPAIGN_FIRST`) runs any count; a failure prints the seed and the
-//! command that replays it. `DRIVESCRIPT_CAMPAIGN_KEEP=1` writes each failed scenario as a
+//! command that replays it; `DRIVESCRIPT_CAMPAIGN_VERBOSE=1` lists every scenario's fault
+//! and exit code. `DRIVESCRIPT_CAMPAIGN_KEEP=1` writes each failed scenario as a
 //! case under `tests/cases/` (see `kept`); the seeds of kept cases run in every campaign.
 
 mod fault;
@@ -136,6 +137,15 @@ fn fault_campaign() {
                 format!(": seeds {}", bad.join(","))
             }
         );
+    }
+    if std::env::var("DRIVESCRIPT_CAMPAIGN_VERBOSE").is_ok_and(|v| v == "1") {
+        for o in &outcomes {
+            let fault = o.fault.map_or("refused before a fault".into(), |f| f.describe());
+            eprintln!(
+                "  seed {:>5} {:<11} exit {:>3}  {fault}",
+                o.seed, o.target, o.exit
+            );
+        }
     }
     let keep = std::env::var("DRIVESCRIPT_CAMPAIGN_KEEP").is_ok_and(|v| v == "1");
     let mut text = String::new();
@@ -286,9 +296,16 @@ pub fn scenario(seed: u64, dir: &Path) -> Outcome {
         stop_start: Duration::ZERO,
     };
     // The dry run: where the safe stop begins without a fault.
+    let dry_clock: Arc<OnceLock<SharedClock>> = Arc::new(OnceLock::new());
+    let dry_slot = dry_clock.clone();
+    let keep_clock = move |_: &Arc<Mutex<dyn SimulatedDrive>>, c: &SharedClock| {
+        let _ = dry_slot.set(c.clone());
+    };
     let mut dry = base_run(&recipe);
     dry.output_dir = work.clone();
+    dry.prepare = Some(&keep_clock);
     let (ran, console) = dry.run();
+    drop(dry);
     let Some(report) = ran.report else {
         outcome.exit = ran.exit_code;
         outcome.console = console;
@@ -299,7 +316,9 @@ pub fn scenario(seed: u64, dir: &Path) -> Outcome {
         }
         return outcome;
     };
-    let fault = fault::choose(&target, &mut rng, steps_end(&report));
+    let dry_start = steps_end(&report);
+    let dry_end = dry_clock.get().map_or(dry_start, |c| c.now());
+    let fault = fault::choose(&target, &mut rng, dry_start, dry_end);
     outcome.fault = Some(fault);
     let (junit, html, store) = (
         work.join("junit.xml"),
