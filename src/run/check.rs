@@ -28,6 +28,9 @@ pub struct Checked {
     /// were compared: no port given, several drives (whose connections a check does not
     /// open), or nothing known to be written.
     pub drive_limits: Option<Result<DriveCheck, RunError>>,
+    /// Enables of a recipe that start the drive at a setpoint left from before a disable,
+    /// each to be warned of at its place.
+    pub leftover_setpoints: Vec<crate::recipe::LeftoverSetpoint>,
 }
 
 impl Checked {
@@ -61,7 +64,20 @@ pub fn check(request: &CheckRequest, err: &mut dyn Write) -> Result<Checked, Run
             err,
         )
     });
-    Ok(Checked { loaded, drive_limits })
+    let setpoint = loaded
+        .dictionary
+        .profile()
+        .and_then(|p| p.object(crate::dictionary::Role::SpeedSetpoint))
+        .map(str::to_string);
+    let leftover_setpoints = match (&loaded.plan, setpoint) {
+        (RunPlan::Recipe(recipe), Some(setpoint)) => crate::recipe::leftover_setpoints(recipe, &setpoint),
+        _ => Vec::new(),
+    };
+    Ok(Checked {
+        loaded,
+        drive_limits,
+        leftover_setpoints,
+    })
 }
 
 #[cfg(test)]

@@ -52,4 +52,5 @@ mod text_family;
 mod trace_decode;
 mod trend_page;
 mod vectors;
+mod write_limits;
 mod write_refusals;

@@ -29,6 +29,9 @@ pub struct Cia402Node {
     /// From then on the node sends no heartbeat (an injected fault: a node whose
     /// communication died while the adapter is fine).
     heartbeat_stops_at: Option<Duration>,
+    /// From then on the node sends nothing at all, heartbeat and SDO responses alike (an
+    /// injected fault: a node that lost its power or its cable on a healthy bus).
+    silent_at: Option<Duration>,
     /// The error code the last EMCY frame carried.
     emcy_code: u16,
 }
@@ -44,6 +47,7 @@ impl Cia402Node {
             nmt: NmtState::PreOperational,
             next_heartbeat: None,
             heartbeat_stops_at: None,
+            silent_at: None,
             emcy_code: 0,
         }
     }
@@ -60,6 +64,12 @@ impl Cia402Node {
     /// From `at` on the node sends no heartbeat.
     pub fn stop_heartbeat_at(&mut self, at: Duration) {
         self.heartbeat_stops_at = Some(at);
+    }
+
+    /// From `at` on the node sends nothing: no heartbeat, no SDO response.
+    pub fn go_silent_at(&mut self, at: Duration) {
+        self.silent_at = Some(at);
+        self.heartbeat_stops_at = Some(self.heartbeat_stops_at.map_or(at, |s| s.min(at)));
     }
 
     fn heartbeat(&self, at: Duration) -> (Duration, CanFrame) {
@@ -152,6 +162,9 @@ impl FramePeer for Cia402Node {
     fn receive(&mut self, frame: &CanFrame, now: Duration) -> Vec<(Duration, CanFrame)> {
         self.core.panic_if_due(now);
         self.core.advance_to(now);
+        if self.silent_at.is_some_and(|s| now >= s) {
+            return Vec::new();
+        }
         let mut out = Vec::new();
         self.heartbeats(now, &mut out);
         self.emcy(now, &mut out);
