@@ -84,7 +84,8 @@ impl Cia402Node {
     /// The boot-up message, then every heartbeat due up to `now`.
     fn heartbeats(&mut self, now: Duration, out: &mut Vec<(Duration, CanFrame)>) {
         let period = Duration::from_millis(self.objects.int((HEARTBEAT_TIME.0, 0)).max(0) as u64);
-        let stopped = |at: Duration| self.heartbeat_stops_at.is_some_and(|s| at >= s);
+        let faults = &self.core.faults;
+        let stopped = |at: Duration| self.heartbeat_stops_at.is_some_and(|s| at >= s) || faults.is_silent(at);
         let mut next = match self.next_heartbeat {
             Some(next) => next,
             None => {
