@@ -23,6 +23,6 @@ impl Session<'_> {
                 ));
             }
         }
-        self.command(command)
+        self.send_command(command)
     }
 }

@@ -493,7 +493,20 @@ impl Session<'_> {
             ));
         } else if !keep {
             self.note_lowest_state(state);
-            self.wait_for_coasting(state);
+            // A drive can trip while its spindle coasts down: the state told at the end is
+            // the one read after the wait, not before it.
+            if self.wait_for_coasting(state) {
+                match self.state_with_reconnect() {
+                    Ok(after) => self.report.final_state = Some(after),
+                    Err(e) => {
+                        self.report.stop_confirmed = false;
+                        self.report.final_state = None;
+                        self.note(format!(
+                            "could not read the drive's state after its spindle coasted: {e}; CHECK THE DRIVE BY HAND"
+                        ));
+                    }
+                }
+            }
         }
         self.read_final_speed();
     }
