@@ -3,8 +3,8 @@
 //! the speed until standstill or the stop timeout and says which, so the end line reads a
 //! speed the spindle really came down to. It must not send anything to the drive.
 
-use super::session::{round, secs, show_duration, Session};
 use super::safe_stop::STOP_POLL;
+use super::session::{round, secs, show_duration, Session};
 use crate::dictionary::Role;
 use crate::drive::DeviceState;
 

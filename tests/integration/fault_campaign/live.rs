@@ -85,10 +85,7 @@ fn live(seed: u64) -> Vec<String> {
         false => first.exit_code(),
     };
     if exit != expected {
-        problems.push(format!(
-            "exit {exit} after {} (expected {expected})",
-            first.name
-        ));
+        problems.push(format!("exit {exit} after {} (expected {expected})", first.name));
     }
     let name = yaml
         .lines()
