@@ -1,7 +1,8 @@
 //! The wait for a spindle that nothing can brake any more: its power stage is off (after
 //! the stop, a coast-down, a trip) or the drive ignored the setpoint. The safe stop polls
 //! the speed until standstill or the stop timeout and says which, so the end line reads a
-//! speed the spindle really came down to. It must not send anything to the drive.
+//! speed the spindle really came down to; then the state is read once more after the
+//! speed, so the end is told from the last reads. It must not send anything to the drive.
 
 use super::safe_stop::STOP_POLL;
 use super::session::{round, secs, show_duration, Session};
@@ -73,6 +74,30 @@ impl Session<'_> {
                     "the wait for {called} to coast to standstill was cut short by a further stop request"
                 ));
                 return true;
+            }
+        }
+    }
+
+    /// The state read once more after the speed, so that the state told at the end is the
+    /// last thing read (a drive that trips in between is told as in fault, not as stopped).
+    pub(super) fn confirm_final_state(&mut self) {
+        let Some(before) = self.report.final_state else {
+            return;
+        };
+        match self.drive().state() {
+            Ok(now) if now != before => {
+                self.note(format!("the drive went from {before} to {now} as the stop ended"));
+                self.report.final_state = Some(now);
+                if matches!(now, DeviceState::OperationEnabled | DeviceState::QuickStopActive) {
+                    self.report.stop_confirmed = false;
+                }
+            }
+            Ok(_) => {}
+            Err(e) => {
+                self.report.stop_confirmed = false;
+                self.note(format!(
+                    "could not read the drive's state once more after its speed: {e}; CHECK THE DRIVE BY HAND"
+                ));
             }
         }
     }

@@ -509,6 +509,9 @@ impl Session<'_> {
             }
         }
         self.read_final_speed();
+        if !keep {
+            self.confirm_final_state();
+        }
     }
 
     /// Quick stop, then disable voltage, each verified by reading the state back.
