@@ -20,7 +20,11 @@ fn profiles() -> &'static [(&'static str, Profile)] {
             .collect();
         // SD2, CT ANSI, Lenze 9400, CANopen 402 and both Modbus inverters (Lenze 931 has
         // no device-control profile: nothing to stop).
-        assert!(all.len() >= 6, "built-in profiles: {:?}", all.iter().map(|(n, _)| n).collect::<Vec<_>>());
+        assert!(
+            all.len() >= 6,
+            "built-in profiles: {:?}",
+            all.iter().map(|(n, _)| n).collect::<Vec<_>>()
+        );
         all
     })
 }

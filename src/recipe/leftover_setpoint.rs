@@ -105,7 +105,10 @@ impl Walk<'_> {
                         self.write(&object.name, &object.unit, *last, at);
                     }
                 }
-                StepKind::GoTo { state: DeviceState::OperationEnabled, .. }
+                StepKind::GoTo {
+                    state: DeviceState::OperationEnabled,
+                    ..
+                }
                 | StepKind::Command(DeviceCommand::EnableOperation, _) => self.enable(at),
                 StepKind::GoTo { .. }
                 | StepKind::Command(

@@ -17,8 +17,8 @@ mod text_digest;
 mod written_values;
 
 pub use drive_decl::DriveDecl;
-pub use leftover_setpoint::{leftover_setpoints, LeftoverSetpoint};
 pub use expansion::{MAX_EXPANDED_STEPS, MAX_INCLUDE_LOADS, MAX_RUN_TIME};
+pub use leftover_setpoint::{leftover_setpoints, LeftoverSetpoint};
 pub use loader::{
     declared_drives, declared_params, load_recipe, load_recipe_for, load_recipe_text, DriveDictionaries,
     MAX_DURATION, MAX_SAMPLES,

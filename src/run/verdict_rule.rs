@@ -58,10 +58,9 @@ pub fn settle(report: &mut RunReport) {
     let why = problems.join("; ");
     report.verdict = match &report.verdict {
         Verdict::Passed | Verdict::Failed => Verdict::Error(why),
-        Verdict::Interrupted(signal) => Verdict::Error(format!(
-            "interrupted by {}; {why}",
-            signal.describe()
-        )),
+        Verdict::Interrupted(signal) => {
+            Verdict::Error(format!("interrupted by {}; {why}", signal.describe()))
+        }
         // A fault, a lost link or another error already says why the run ended (exit 3);
         // a panic is a bug (exit 101). The end line and CHECK THE DRIVE BY HAND say the rest.
         Verdict::Error(_) | Verdict::Panicked(_) => return,
@@ -95,7 +94,9 @@ impl End {
             }
             // Left enabled on purpose: the state its steps left, whatever it turns at.
             Some(_) if kept => None,
-            Some(DeviceState::SwitchOnDisabled | DeviceState::ReadyToSwitchOn | DeviceState::SwitchedOn) => None,
+            Some(DeviceState::SwitchOnDisabled | DeviceState::ReadyToSwitchOn | DeviceState::SwitchedOn) => {
+                None
+            }
             Some(_) => Some("the drive was not left in a state the stop aims for"),
             None if self.no_device_control => None,
             None => Some("the drive's state could not be read back"),

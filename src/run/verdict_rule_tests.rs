@@ -6,7 +6,13 @@ use std::time::SystemTime;
 /// A run whose every check passed and whose stop read the drive back in `state` at
 /// `speed` rpm.
 fn ended(state: DeviceState, speed: f64, coasting: bool) -> RunReport {
-    let mut r = RunReport::started("r".into(), "r.yaml".into(), "sd2".into(), Vec::new(), SystemTime::now());
+    let mut r = RunReport::started(
+        "r".into(),
+        "r.yaml".into(),
+        "sd2".into(),
+        Vec::new(),
+        SystemTime::now(),
+    );
     r.checks.push(CheckResult::named("speed", true));
     r.final_state = Some(state);
     r.final_speed = Some(speed);
@@ -31,7 +37,10 @@ fn a_drive_that_trips_during_the_stop_and_coasts_is_an_error_whatever_the_checks
     assert_eq!(r.exit_code(), 3);
     assert_eq!(r.verdict.word(), "ERROR");
     let why = r.verdict.reason().unwrap_or_default();
-    assert!(why.contains("coasting") && why.contains("fault at 2952 rpm"), "{why}");
+    assert!(
+        why.contains("coasting") && why.contains("fault at 2952 rpm"),
+        "{why}"
+    );
     assert!(!r.stop_confirmed, "every report must say CHECK THE DRIVE BY HAND");
 }
 
@@ -69,7 +78,11 @@ fn a_failed_check_with_a_coasting_spindle_is_an_error_and_an_interrupted_run_too
     interrupted.verdict = Verdict::Interrupted(StopSignal::INT);
     settle(&mut interrupted);
     assert_eq!(interrupted.exit_code(), 3);
-    assert!(interrupted.verdict.reason().unwrap_or_default().starts_with("interrupted by Ctrl-C"));
+    assert!(interrupted
+        .verdict
+        .reason()
+        .unwrap_or_default()
+        .starts_with("interrupted by Ctrl-C"));
 }
 
 #[test]
@@ -112,5 +125,9 @@ fn with_several_drives_one_coasting_drive_is_an_error_said_of_that_drive() {
     settle(&mut r);
     assert_eq!(r.exit_code(), 3);
     assert!(r.drive_ends[0].stop_confirmed && !r.drive_ends[1].stop_confirmed);
-    assert!(r.verdict.reason().unwrap_or_default().contains("right: drive left in ready to switch on at 700 rpm"));
+    assert!(r
+        .verdict
+        .reason()
+        .unwrap_or_default()
+        .contains("right: drive left in ready to switch on at 700 rpm"));
 }

@@ -1,5 +1,5 @@
-//! The safe stop's own device-control commands, each sent only where it moves the drive
-//! toward power off: from `ready to switch on`, CiA 402's `disable_operation` is control
+//! The safe stop's device-control commands (its default ones and those of a recipe's own
+//! `finally` or `on_fault`), each sent only where it moves the drive toward power off: from `ready to switch on`, CiA 402's `disable_operation` is control
 //! word 7, which the drive reads as `switch on`. It must not choose which commands a stop
 //! sends (that is `safe_stop.rs`).
 
@@ -23,6 +23,6 @@ impl Session<'_> {
                 ));
             }
         }
-        self.command(command)
+        self.send_command(command)
     }
 }

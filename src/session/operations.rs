@@ -18,8 +18,18 @@ impl Session<'_> {
         self.cur().enabled_order = order;
     }
 
-    /// Writes one device-control command to the current drive.
+    /// Writes one device-control command to the current drive. Inside the safe stop (a
+    /// recipe's own `finally` and `on_fault` too) a command the drive would read as a
+    /// move up its state machine is not sent, as in the default stop.
     pub fn command(&mut self, command: DeviceCommand) -> Result<String, Stop> {
+        if self.in_safe_stop {
+            return self.command_down(command);
+        }
+        self.send_command(command)
+    }
+
+    /// [`Session::command`] without the safe stop's check of its direction.
+    pub(super) fn send_command(&mut self, command: DeviceCommand) -> Result<String, Stop> {
         // Counted before sending: a drive whose enable was sent but not answered (a stop
         // signal, a lost reply) may be running and is stopped first.
         if command == DeviceCommand::EnableOperation {

@@ -493,7 +493,17 @@ impl Session<'_> {
             ));
         } else if !keep {
             self.note_lowest_state(state);
-            self.wait_for_coasting(state);
+            if self.wait_for_coasting(state) {
+                // The end line says the state the drive is in after the wait, not before it.
+                if let Ok(after) = self.drive().state() {
+                    if after != state {
+                        self.note(format!(
+                            "while it coasted, the drive went from {state} to {after}"
+                        ));
+                        self.report.final_state = Some(after);
+                    }
+                }
+            }
         }
         self.read_final_speed();
     }

@@ -497,7 +497,9 @@ impl<'a> Session<'a> {
             let code = self.drive().drive_error_note(code);
             // The drive's own report (a CANopen EMCY with its CiA 301 text) belongs in the
             // run's error line, not only in the `-v` lines.
-            let told = reported.map(|what| format!("; it reported {what}")).unwrap_or_default();
+            let told = reported
+                .map(|what| format!("; it reported {what}"))
+                .unwrap_or_default();
             return Err(Stop::Fault(format!(
                 "drive fault: {called} went to {state}{code}{told}"
             )));

@@ -196,7 +196,9 @@ mod tests {
         assert_eq!(w.silent(ms(400)), None);
         let why = w.silent(ms(450)).unwrap();
         assert!(
-            why.contains("heartbeat loss: the last heartbeat of node 5 came 250 ms ago (one every 100 ms before)"),
+            why.contains(
+                "heartbeat loss: the last heartbeat of node 5 came 250 ms ago (one every 100 ms before)"
+            ),
             "{why}"
         );
     }
