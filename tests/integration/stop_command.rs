@@ -71,7 +71,10 @@ fn stop_of_a_spindle_that_does_not_reach_standstill_is_not_called_stopped() {
     assert_eq!(out.status.code(), Some(3), "{text}{}", stderr(&out));
     assert!(text.contains("stop 2  FAIL"), "{text}");
     assert!(!text.contains("STOPPED"), "{text}");
-    assert!(text.contains("ERROR: the spindle was left coasting above standstill"), "{text}");
+    assert!(
+        text.contains("ERROR: the spindle was left coasting above standstill"),
+        "{text}"
+    );
 }
 
 #[test]

@@ -32,10 +32,7 @@ fn assert_ended_with_the_drive_stopped(output: &std::process::Output) {
         None,
         "killed by a signal, beyond the safe stop:\n{out}\n{err}"
     );
-    assert!(
-        output.status.code().is_some(),
-        "no exit code:\n{out}\n{err}"
-    );
+    assert!(output.status.code().is_some(), "no exit code:\n{out}\n{err}");
     assert!(
         out.contains("drive left in ready to switch on at 0 rpm"),
         "the run's end line does not say the drive was stopped:\n{out}\n{err}"
@@ -81,6 +78,10 @@ fn a_closed_output_pipe_does_not_end_the_stop_command() {
     out.read_line(&mut first).expect("first line");
     drop(out);
     let status = child.wait().expect("stop ends");
-    assert_eq!(status.signal(), None, "killed by a signal during the stop: {first}");
+    assert_eq!(
+        status.signal(),
+        None,
+        "killed by a signal during the stop: {first}"
+    );
     assert_eq!(status.code(), Some(0), "{first}");
 }
