@@ -38,8 +38,13 @@ fn group_of(exit: i32) -> &'static str {
     }
 }
 
+/// A time as the case reads it, exact to the nanosecond: a fault a millisecond off can
+/// fall on another telegram.
 fn ms(d: std::time::Duration) -> String {
-    format!("{} ms", d.as_millis())
+    match d.subsec_nanos() % 1_000_000 {
+        0 => format!("{} ms", d.as_millis()),
+        _ => format!("{} ns", d.as_nanos()),
+    }
 }
 
 /// Writes `o` as a case, with the ending it had: kept after the fix, when that ending is
