@@ -52,5 +52,6 @@ mod text_family;
 mod trace_decode;
 mod trend_page;
 mod vectors;
+mod verdict_rule;
 mod write_limits;
 mod write_refusals;
