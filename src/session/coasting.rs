@@ -12,16 +12,15 @@ impl Session<'_> {
     /// Polls the actual speed of the current drive, left in `state`, until it is within the
     /// standstill threshold or the stop timeout has passed; a note says how it ended. A
     /// powered drive is the escalation's business, a speed that cannot be read the end
-    /// line's; neither is waited for here. True when it waited (the drive's state may have
-    /// changed meanwhile: a trip while it coasts).
-    pub(super) fn wait_for_coasting(&mut self, state: DeviceState) -> bool {
+    /// line's; neither is waited for here.
+    pub(super) fn wait_for_coasting(&mut self, state: DeviceState) {
         // After a second stop request the power stage went off at once and the process
         // ends: the end line and the verdict say the spindle still coasts.
         if state.is_powered() || self.stop.count_at(self.clock.now()) >= 2 {
-            return false;
+            return;
         }
         let Some(object) = self.role_ref(Role::SpeedActual) else {
-            return false;
+            return;
         };
         let below = self.standstill_in(&object);
         let timeout = self.settings.standstill_timeout;
@@ -32,7 +31,7 @@ impl Session<'_> {
         let mut first = true;
         loop {
             let Ok(v) = self.drive().read_number(&object.name) else {
-                return !first;
+                return;
             };
             let waited = self.clock.now().saturating_sub(started);
             if v.abs() <= below {
@@ -43,7 +42,7 @@ impl Session<'_> {
                         secs(waited)
                     ));
                 }
-                return !first;
+                return;
             }
             if first {
                 self.note(format!(
@@ -60,7 +59,7 @@ impl Session<'_> {
                     round(v),
                     show_duration(timeout)
                 ));
-                return true;
+                return;
             }
             let live = format!("{} {}{unit} (coasting)", object.name, round(v));
             self.observer
@@ -72,7 +71,7 @@ impl Session<'_> {
                 self.note(format!(
                     "the wait for {called} to coast to standstill was cut short by a further stop request"
                 ));
-                return true;
+                return;
             }
         }
     }

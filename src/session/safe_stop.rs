@@ -493,19 +493,34 @@ impl Session<'_> {
             ));
         } else if !keep {
             self.note_lowest_state(state);
-            if self.wait_for_coasting(state) {
-                // The end line says the state the drive is in after the wait, not before it.
-                if let Ok(after) = self.drive().state() {
-                    if after != state {
-                        self.note(format!(
-                            "while it coasted, the drive went from {state} to {after}"
-                        ));
-                        self.report.final_state = Some(after);
-                    }
-                }
-            }
+            self.wait_for_coasting(state);
         }
         self.read_final_speed();
+        if self.report.stop_confirmed && !keep {
+            self.read_state_last(state);
+        }
+    }
+
+    /// Reads the state once more, after the final speed: the end line and the verdict say
+    /// the state the drive is in as the stop ends, not the one it had before the wait for a
+    /// coasting spindle or the speed's read (a drive that trips meanwhile is in fault).
+    fn read_state_last(&mut self, before: DeviceState) {
+        let Ok(after) = self.drive().state() else {
+            return;
+        };
+        if after == before {
+            return;
+        }
+        self.note(format!(
+            "as the stop ended, the drive went from {before} to {after}"
+        ));
+        self.report.final_state = Some(after);
+        if after.is_powered() {
+            self.report.stop_confirmed = false;
+            self.note(format!(
+                "the drive reports {after} after the stop; CHECK THE DRIVE BY HAND"
+            ));
+        }
     }
 
     /// Quick stop, then disable voltage, each verified by reading the state back.
