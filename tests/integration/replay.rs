@@ -417,6 +417,9 @@ fn a_replay_tells_the_drive_state_once_from_what_the_stop_read_back() {
     let dir = crate::support::repo_root().join("tests/cases/replay/sd2_capture_ends_before_the_stop");
     let ran = replay(&dir.join("recipe.yaml"), &dir.join("capture.trace"), &[], 3);
     let text = format!("{}{}", ran.stdout, ran.stderr);
-    assert_has(&text, &["restored at attempt 1", "drive left in operation enabled"]);
+    assert_has(
+        &text,
+        &["restored at attempt 1", "drive left in operation enabled"],
+    );
     assert!(!text.contains("; the drive reports "), "{text}");
 }

@@ -13,7 +13,11 @@ const COASTING_AT_THE_END: &str = "name: Coast-down as the last step\ndrive: sd2
 fn a_spindle_left_coasting_is_the_same_error_in_every_report_and_the_store() {
     let dir = scratch("verdict-coasting");
     let recipe = write_file(&dir, "recipe.yaml", COASTING_AT_THE_END);
-    let (junit, html, store) = (dir.join("junit.xml"), dir.join("report.html"), dir.join("results.sqlite"));
+    let (junit, html, store) = (
+        dir.join("junit.xml"),
+        dir.join("report.html"),
+        dir.join("results.sqlite"),
+    );
     let path = |p: &std::path::Path| p.to_string_lossy().to_string();
     let out = drivescript(
         &[
@@ -38,19 +42,39 @@ fn a_spindle_left_coasting_is_the_same_error_in_every_report_and_the_store() {
     let why = "the spindle was left coasting above standstill";
     assert_has(
         &text,
-        &["PASS  coast-down", "still coasts at", "STILL COASTING", &format!("ERROR: {why}")],
+        &[
+            "PASS  coast-down",
+            "still coasts at",
+            "STILL COASTING",
+            &format!("ERROR: {why}"),
+        ],
     );
     let junit_text = std::fs::read_to_string(&junit).expect("junit");
     assert_has(
         &junit_text,
-        &["name=\"verdict\" value=\"ERROR\"", "name=\"exit_code\" value=\"3\"", why],
+        &[
+            "name=\"verdict\" value=\"ERROR\"",
+            "name=\"exit_code\" value=\"3\"",
+            why,
+        ],
     );
     let html_text = std::fs::read_to_string(&html).expect("html");
     assert_has(&html_text, &["ERROR (exit code 3)", why]);
     let listed = cli(&["results", "list", "--simulated", "--results", &path(&store)], 0);
-    assert_has(&listed.stdout, &["ERROR    Coast-down as the last step  SP-900001"]);
+    assert_has(
+        &listed.stdout,
+        &["ERROR    Coast-down as the last step  SP-900001"],
+    );
     let certificate = cli(
-        &["results", "report", "--unit", "SP-900001", "--simulated", "--results", &path(&store)],
+        &[
+            "results",
+            "report",
+            "--unit",
+            "SP-900001",
+            "--simulated",
+            "--results",
+            &path(&store),
+        ],
         0,
     );
     assert_has(&certificate.stdout, &["NOT CONFIRMED", "still coasting", why]);

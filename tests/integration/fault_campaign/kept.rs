@@ -113,7 +113,11 @@ pub fn write(o: &Outcome) {
                 || l.starts_with("drive state")
                 || super::judge::word_of(o.exit).is_some_and(|w| l.starts_with(w))
         })
-        .map(|l| l.split(" — ").next().unwrap_or(l))
+        // The state, not the speed: its last digit moves with any change of timing.
+        .map(|l| match l.strip_prefix("drive left") {
+            Some(_) => l.split(" at ").next().unwrap_or(l),
+            None => l.split(" — ").next().unwrap_or(l),
+        })
         .collect();
     c.push_str("output: |\n");
     for line in wanted {
