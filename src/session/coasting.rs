@@ -1,7 +1,8 @@
 //! The wait for a spindle that nothing can brake any more: its power stage is off (after
 //! the stop, a coast-down, a trip) or the drive ignored the setpoint. The safe stop polls
 //! the speed until standstill or the stop timeout and says which, so the end line reads a
-//! speed the spindle really came down to. It must not send anything to the drive.
+//! speed the spindle really came down to; then the state is read once more after the
+//! speed, so the end is told from the last reads. It must not send anything to the drive.
 
 use super::safe_stop::STOP_POLL;
 use super::session::{round, secs, show_duration, Session};
@@ -12,15 +13,16 @@ impl Session<'_> {
     /// Polls the actual speed of the current drive, left in `state`, until it is within the
     /// standstill threshold or the stop timeout has passed; a note says how it ended. A
     /// powered drive is the escalation's business, a speed that cannot be read the end
-    /// line's; neither is waited for here.
-    pub(super) fn wait_for_coasting(&mut self, state: DeviceState) {
+    /// line's; neither is waited for here. Returns whether it waited (polled more than
+    /// once), so that the state is read again after it.
+    pub(super) fn wait_for_coasting(&mut self, state: DeviceState) -> bool {
         // After a second stop request the power stage went off at once and the process
         // ends: the end line and the verdict say the spindle still coasts.
         if state.is_powered() || self.stop.count_at(self.clock.now()) >= 2 {
-            return;
+            return false;
         }
         let Some(object) = self.role_ref(Role::SpeedActual) else {
-            return;
+            return false;
         };
         let below = self.standstill_in(&object);
         let timeout = self.settings.standstill_timeout;
@@ -31,7 +33,7 @@ impl Session<'_> {
         let mut first = true;
         loop {
             let Ok(v) = self.drive().read_number(&object.name) else {
-                return;
+                return !first;
             };
             let waited = self.clock.now().saturating_sub(started);
             if v.abs() <= below {
@@ -42,7 +44,7 @@ impl Session<'_> {
                         secs(waited)
                     ));
                 }
-                return;
+                return !first;
             }
             if first {
                 self.note(format!(
@@ -59,7 +61,7 @@ impl Session<'_> {
                     round(v),
                     show_duration(timeout)
                 ));
-                return;
+                return true;
             }
             let live = format!("{} {}{unit} (coasting)", object.name, round(v));
             self.observer
@@ -71,7 +73,31 @@ impl Session<'_> {
                 self.note(format!(
                     "the wait for {called} to coast to standstill was cut short by a further stop request"
                 ));
-                return;
+                return true;
+            }
+        }
+    }
+
+    /// The state read once more after the speed, so that the state told at the end is the
+    /// last thing read (a drive that trips in between is told as in fault, not as stopped).
+    pub(super) fn confirm_final_state(&mut self) {
+        let Some(before) = self.report.final_state else {
+            return;
+        };
+        match self.drive().state() {
+            Ok(now) if now != before => {
+                self.note(format!("the drive went from {before} to {now} as the stop ended"));
+                self.report.final_state = Some(now);
+                if matches!(now, DeviceState::OperationEnabled | DeviceState::QuickStopActive) {
+                    self.report.stop_confirmed = false;
+                }
+            }
+            Ok(_) => {}
+            Err(e) => {
+                self.report.stop_confirmed = false;
+                self.note(format!(
+                    "could not read the drive's state once more after its speed: {e}; CHECK THE DRIVE BY HAND"
+                ));
             }
         }
     }

@@ -493,33 +493,24 @@ impl Session<'_> {
             ));
         } else if !keep {
             self.note_lowest_state(state);
-            self.wait_for_coasting(state);
+            // A drive can trip while its spindle coasts down: the state told at the end is
+            // the one read after the wait, not before it.
+            if self.wait_for_coasting(state) {
+                match self.state_with_reconnect() {
+                    Ok(after) => self.report.final_state = Some(after),
+                    Err(e) => {
+                        self.report.stop_confirmed = false;
+                        self.report.final_state = None;
+                        self.note(format!(
+                            "could not read the drive's state after its spindle coasted: {e}; CHECK THE DRIVE BY HAND"
+                        ));
+                    }
+                }
+            }
         }
         self.read_final_speed();
-        if self.report.stop_confirmed && !keep {
-            self.read_state_last(state);
-        }
-    }
-
-    /// Reads the state once more, after the final speed: the end line and the verdict say
-    /// the state the drive is in as the stop ends, not the one it had before the wait for a
-    /// coasting spindle or the speed's read (a drive that trips meanwhile is in fault).
-    fn read_state_last(&mut self, before: DeviceState) {
-        let Ok(after) = self.drive().state() else {
-            return;
-        };
-        if after == before {
-            return;
-        }
-        self.note(format!(
-            "as the stop ended, the drive went from {before} to {after}"
-        ));
-        self.report.final_state = Some(after);
-        if after.is_powered() {
-            self.report.stop_confirmed = false;
-            self.note(format!(
-                "the drive reports {after} after the stop; CHECK THE DRIVE BY HAND"
-            ));
+        if !keep {
+            self.confirm_final_state();
         }
     }
 
