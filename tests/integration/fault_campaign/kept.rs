@@ -47,6 +47,19 @@ fn ms(d: std::time::Duration) -> String {
     }
 }
 
+/// `line` up to a speed (`… at 1494 rpm`) or its summary (` — 7 step(s) …`): the state,
+/// not the speed, whose last digit moves with any change of timing.
+fn without_speed(line: &str) -> &str {
+    let line = line.split(" — ").next().unwrap_or(line);
+    let speed = line
+        .match_indices(" at ")
+        .find(|(i, _)| line[i + 4..].starts_with(|c: char| c.is_ascii_digit() || c == '-'));
+    match speed {
+        Some((i, _)) => &line[..i],
+        None => line,
+    }
+}
+
 /// Writes `o` as a case, with the ending it had: kept after the fix, when that ending is
 /// the true one.
 pub fn write(o: &Outcome) {
@@ -113,11 +126,7 @@ pub fn write(o: &Outcome) {
                 || l.starts_with("drive state")
                 || super::judge::word_of(o.exit).is_some_and(|w| l.starts_with(w))
         })
-        // The state, not the speed: its last digit moves with any change of timing.
-        .map(|l| match l.strip_prefix("drive left") {
-            Some(_) => l.split(" at ").next().unwrap_or(l),
-            None => l.split(" — ").next().unwrap_or(l),
-        })
+        .map(without_speed)
         .collect();
     c.push_str("output: |\n");
     for line in wanted {
