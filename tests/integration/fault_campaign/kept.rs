@@ -38,8 +38,26 @@ fn group_of(exit: i32) -> &'static str {
     }
 }
 
+/// A time as the case reads it, exact to the nanosecond: a fault a millisecond off can
+/// fall on another telegram.
 fn ms(d: std::time::Duration) -> String {
-    format!("{} ms", d.as_millis())
+    match d.subsec_nanos() % 1_000_000 {
+        0 => format!("{} ms", d.as_millis()),
+        _ => format!("{} ns", d.as_nanos()),
+    }
+}
+
+/// `line` up to a speed (`… at 1494 rpm`) or its summary (` — 7 step(s) …`): the state,
+/// not the speed, whose last digit moves with any change of timing.
+fn without_speed(line: &str) -> &str {
+    let line = line.split(" — ").next().unwrap_or(line);
+    let speed = line
+        .match_indices(" at ")
+        .find(|(i, _)| line[i + 4..].starts_with(|c: char| c.is_ascii_digit() || c == '-'));
+    match speed {
+        Some((i, _)) => &line[..i],
+        None => line,
+    }
 }
 
 /// Writes `o` as a case, with the ending it had: kept after the fix, when that ending is
@@ -108,7 +126,7 @@ pub fn write(o: &Outcome) {
                 || l.starts_with("drive state")
                 || super::judge::word_of(o.exit).is_some_and(|w| l.starts_with(w))
         })
-        .map(|l| l.split(" — ").next().unwrap_or(l))
+        .map(without_speed)
         .collect();
     c.push_str("output: |\n");
     for line in wanted {

@@ -10,8 +10,9 @@
 //! `DRIVESCRIPT_CAMPAIGN_SEED=N[,M…]` replays those seeds, `DRIVESCRIPT_CAMPAIGN_SCENARIOS`
 //! (and `DRIVESCRIPT_CAMPAIGN_FIRST`) runs any count; a failure prints the seed and the
 //! command that replays it; `DRIVESCRIPT_CAMPAIGN_VERBOSE=1` lists every scenario's fault
-//! and exit code. `DRIVESCRIPT_CAMPAIGN_KEEP=1` writes each failed scenario as a
-//! case under `tests/cases/` (see `kept`); the seeds of kept cases run in every campaign.
+//! and exit code. `DRIVESCRIPT_CAMPAIGN_KEEP=1` writes each failed scenario as a case under
+//! `tests/cases/` (see `kept`), `=all` every scenario run (the seeds a fix made pass, with
+//! the ending they have now); the seeds of kept cases run in every campaign.
 
 mod fault;
 mod judge;
@@ -147,7 +148,11 @@ fn fault_campaign() {
             );
         }
     }
-    let keep = std::env::var("DRIVESCRIPT_CAMPAIGN_KEEP").is_ok_and(|v| v == "1");
+    let keep = std::env::var("DRIVESCRIPT_CAMPAIGN_KEEP").unwrap_or_default();
+    if keep == "all" {
+        outcomes.iter().for_each(kept::write);
+    }
+    let keep = keep == "1";
     let mut text = String::new();
     for o in &failed {
         text.push_str(&format!(
