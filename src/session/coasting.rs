@@ -13,16 +13,15 @@ impl Session<'_> {
     /// Polls the actual speed of the current drive, left in `state`, until it is within the
     /// standstill threshold or the stop timeout has passed; a note says how it ended. A
     /// powered drive is the escalation's business, a speed that cannot be read the end
-    /// line's; neither is waited for here. Returns whether it waited (polled more than
-    /// once), so that the state is read again after it.
-    pub(super) fn wait_for_coasting(&mut self, state: DeviceState) -> bool {
+    /// line's; neither is waited for here.
+    pub(super) fn wait_for_coasting(&mut self, state: DeviceState) {
         // After a second stop request the power stage went off at once and the process
         // ends: the end line and the verdict say the spindle still coasts.
         if state.is_powered() || self.stop.count_at(self.clock.now()) >= 2 {
-            return false;
+            return;
         }
         let Some(object) = self.role_ref(Role::SpeedActual) else {
-            return false;
+            return;
         };
         let below = self.standstill_in(&object);
         let timeout = self.settings.standstill_timeout;
@@ -33,7 +32,7 @@ impl Session<'_> {
         let mut first = true;
         loop {
             let Ok(v) = self.drive().read_number(&object.name) else {
-                return !first;
+                return;
             };
             let waited = self.clock.now().saturating_sub(started);
             if v.abs() <= below {
@@ -44,7 +43,7 @@ impl Session<'_> {
                         secs(waited)
                     ));
                 }
-                return !first;
+                return;
             }
             if first {
                 self.note(format!(
@@ -61,7 +60,7 @@ impl Session<'_> {
                     round(v),
                     show_duration(timeout)
                 ));
-                return true;
+                return;
             }
             let live = format!("{} {}{unit} (coasting)", object.name, round(v));
             self.observer
@@ -73,7 +72,7 @@ impl Session<'_> {
                 self.note(format!(
                     "the wait for {called} to coast to standstill was cut short by a further stop request"
                 ));
-                return true;
+                return;
             }
         }
     }
@@ -94,7 +93,9 @@ impl Session<'_> {
             }
             Ok(_) => {}
             Err(e) => {
+                // The state read before is no longer known to hold.
                 self.report.stop_confirmed = false;
+                self.report.final_state = None;
                 self.note(format!(
                     "could not read the drive's state once more after its speed: {e}; CHECK THE DRIVE BY HAND"
                 ));

@@ -493,22 +493,11 @@ impl Session<'_> {
             ));
         } else if !keep {
             self.note_lowest_state(state);
-            // A drive can trip while its spindle coasts down: the state told at the end is
-            // the one read after the wait, not before it.
-            if self.wait_for_coasting(state) {
-                match self.state_with_reconnect() {
-                    Ok(after) => self.report.final_state = Some(after),
-                    Err(e) => {
-                        self.report.stop_confirmed = false;
-                        self.report.final_state = None;
-                        self.note(format!(
-                            "could not read the drive's state after its spindle coasted: {e}; CHECK THE DRIVE BY HAND"
-                        ));
-                    }
-                }
-            }
+            self.wait_for_coasting(state);
         }
         self.read_final_speed();
+        // A drive can trip while its spindle coasts down or between the reads: the state
+        // told at the end is read last, after the speed.
         if !keep {
             self.confirm_final_state();
         }
