@@ -122,7 +122,13 @@ pub fn main(registry: &Registry) -> i32 {
             return if e.use_stderr() { INVALID } else { PASSED };
         }
     };
-    if !matches!(cli.command, Command::Run(_)) {
+    write_limits_are_errors();
+    // The commands that move a drive keep SIGPIPE ignored: a closed pipe must not end the
+    // process before or during its safe stop.
+    if !matches!(
+        cli.command,
+        Command::Run(_) | Command::Stop(_) | Command::Maintain(_) | Command::Restore(_)
+    ) {
         quiet_on_closed_pipe();
     }
     match cli.command {
@@ -150,6 +156,18 @@ pub fn main(registry: &Registry) -> i32 {
         Command::Decode(args) => decode_command::run(&args, registry),
         Command::Simulate(args) => simulate_command::run(&args, registry),
         Command::Anonymise(args) => anonymise_command::anonymise(&args, registry),
+    }
+}
+
+/// A file that reaches the file-size limit (`ulimit -f`: the results store's log, a CSV, a
+/// trace) would otherwise end the process by SIGXFSZ, the safe stop with it; ignored, the
+/// write fails with an error the recorder or the reporter says, and the stop goes on.
+fn write_limits_are_errors() {
+    #[cfg(unix)]
+    // SAFETY: setting the disposition of one signal at start-up, before any other thread
+    // exists; no handler code runs.
+    unsafe {
+        libc::signal(libc::SIGXFSZ, libc::SIG_IGN);
     }
 }
 

@@ -173,6 +173,9 @@ fn print_checked(path: &Path, checked: &Checked) -> i32 {
     };
     println!("ok  {} — {} ({what})", path.display(), plan.name());
     safe_stop_notes::print(path, plan.safe_stop(), plan.leave_enabled());
+    for leftover in &checked.leftover_setpoints {
+        eprintln!("warning: {leftover}");
+    }
     // The names `--answer NAME=VALUE` and an answers file give answers by.
     for (prompt, origin) in plan.prompts() {
         println!("    asks {}: {prompt} ({origin})", prompt.name);

@@ -405,6 +405,12 @@ impl Drive {
         self.access.release()
     }
 
+    /// Keeps what the link changed after a stop that was not verified, and says so (see
+    /// `ObjectAccess::withhold_release`).
+    pub fn withhold_release(&mut self) -> Option<String> {
+        self.access.withhold_release()
+    }
+
     /// A fault the drive reported on its own since the last look (see
     /// `ObjectAccess::reported_fault`).
     pub fn reported_fault(&mut self) -> Option<String> {

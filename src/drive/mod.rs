@@ -10,6 +10,7 @@ mod drive_error;
 mod maintenance;
 mod object_access;
 pub mod state_path;
+pub mod stop_direction;
 
 pub use access_error::AccessError;
 

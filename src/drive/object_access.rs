@@ -56,6 +56,13 @@ pub trait ObjectAccess: Send {
     fn release(&mut self) -> Option<String> {
         None
     }
+    /// The run is over but its safe stop could not verify the drive stopped: what
+    /// [`ObjectAccess::release`] would hand back is kept as it is (CANopen: a node it
+    /// started stays operational), and this says so; `None` (the default) when the link
+    /// changed nothing.
+    fn withhold_release(&mut self) -> Option<String> {
+        None
+    }
     /// A fault the drive reported on its own since the last call, in the family's words
     /// (CANopen: an EMCY frame with its error code and text), which its state may not show:
     /// the fault watch stops the run on it as on a fault state. `None` (the default) for

@@ -4,6 +4,7 @@
 
 mod drive_decl;
 mod expansion;
+mod leftover_setpoint;
 mod loader;
 mod planned_checks;
 mod prompt_schema;
@@ -18,6 +19,7 @@ mod written_values;
 
 pub use drive_decl::DriveDecl;
 pub use expansion::{MAX_EXPANDED_STEPS, MAX_INCLUDE_LOADS, MAX_RUN_TIME};
+pub use leftover_setpoint::{leftover_setpoints, LeftoverSetpoint};
 pub use loader::{
     declared_drives, declared_params, declared_pole_pairs, load_recipe, load_recipe_for, load_recipe_text,
     DriveDictionaries, MAX_DURATION, MAX_SAMPLES,

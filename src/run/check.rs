@@ -30,6 +30,9 @@ pub struct Checked {
     pub drive_limits: Option<Result<DriveCheck, RunError>>,
     /// Written values the wire's whole counts change (see [`super::quantised_values`]).
     pub quantised: Vec<String>,
+    /// Enables of a recipe that start the drive at a setpoint left from before a disable,
+    /// each to be warned of at its place.
+    pub leftover_setpoints: Vec<crate::recipe::LeftoverSetpoint>,
 }
 
 impl Checked {
@@ -69,10 +72,20 @@ pub fn check(request: &CheckRequest, err: &mut dyn Write) -> Result<Checked, Run
         )
     });
     let quantised = super::quantised_values(&written, &loaded);
+    let setpoint = loaded
+        .dictionary
+        .profile()
+        .and_then(|p| p.object(crate::dictionary::Role::SpeedSetpoint))
+        .map(str::to_string);
+    let leftover_setpoints = match (&loaded.plan, setpoint) {
+        (RunPlan::Recipe(recipe), Some(setpoint)) => crate::recipe::leftover_setpoints(recipe, &setpoint),
+        _ => Vec::new(),
+    };
     Ok(Checked {
         loaded,
         drive_limits,
         quantised,
+        leftover_setpoints,
     })
 }
 

@@ -105,6 +105,8 @@ pub struct ConnectionArgs {
     /// first or second order instead of ramping), `coast-rate=300rpm/s` (friction while
     /// coasting), `ambient=25°C`, `heating=25K/A`, `thermal-time=10min` (motor temperature),
     /// `emergency-at=20s:0x2310` (a CANopen node sends an EMCY with this code, nothing trips),
+    /// `trip-at=20s:0x1234` (the drive trips), `silent=20s..25s` (the drive answers nothing
+    /// and sends no heartbeat while the line stays up),
     /// `reply-latency=1500ms` (every reply leaves that long after its request).
     #[arg(long = "sim", value_name = "NAME=VALUE", value_parser = parse_sim_setting)]
     pub sim: Vec<SimSetting>,

@@ -51,6 +51,7 @@ mod several_reports;
 mod several_sets;
 mod sim_settings_check;
 mod terminal_input;
+mod verdict_rule;
 
 pub use address_key_flags::{AddressKeyFlag, DNC_ADDRESS};
 pub use anonymise::{anonymise_capture, AnonymiseError};
@@ -76,3 +77,4 @@ pub use run_request::{PrepareSimulator, RunRequest, RunResult, SharedObserver};
 pub use safe_stop_args::SafeStopArgs;
 pub use sim_settings_check::{check_sim_settings, sim_checked};
 pub use terminal_input::TerminalInput;
+pub use verdict_rule::settle;

@@ -236,21 +236,25 @@ impl RunPlan {
         settings: SessionSettings,
         err: &mut dyn Write,
     ) -> RunReport {
-        match self {
-            RunPlan::Recipe(recipe) => Runner::with_drives(drives, observer, stop, recipe)
+        let mut report = match self {
+            RunPlan::Recipe(recipe) => Runner::with_drives(drives, &mut *observer, stop, recipe)
                 .with_operator(settings.unit, settings.operator)
                 .with_history(settings.history, recipe)
                 .with_output_dir(settings.output_dir)
                 .with_csv_wide(settings.csv_wide)
                 .with_settings(settings.safe_stop)
                 .run(recipe),
-            RunPlan::Script(script) => ScriptRunner::with_drives(drives, observer, stop.clone())
+            RunPlan::Script(script) => ScriptRunner::with_drives(drives, &mut *observer, stop.clone())
                 .with_operator(settings.unit, settings.operator)
                 .with_history(settings.history)
                 .with_output_dir(settings.output_dir)
                 .with_csv_wide(settings.csv_wide)
                 .with_settings(settings.safe_stop)
                 .run(script, err),
-        }
+        };
+        // The one verdict rule, before any report reads the verdict.
+        super::settle(&mut report);
+        observer.run_finished(&report);
+        report
     }
 }

@@ -121,7 +121,7 @@ impl Session<'_> {
         let state = self.drive().state()?;
         if state != DeviceState::OperationEnabled {
             return Ok(format!(
-                "skipped: the drive is in {state}, where the setpoint does not brake it"
+                "skipped: the drive is in {state}, where the setpoint does not brake it; a spindle still turning is waited for at the end of the stop"
             ));
         }
         let unit = object.unit.clone().map(|u| format!(" {u}")).unwrap_or_default();

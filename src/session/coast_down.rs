@@ -9,7 +9,7 @@
 use super::history_lookup::Compared;
 use super::session::{round, show_duration, Session};
 use super::stop::Stop;
-use super::{BucketSeries, CheckResult, LastPass, Predicate, Stats, StepOrigin, SERIES_BUCKETS};
+use super::{BucketSeries, CheckResult, LastPass, Predicate, SetValue, Stats, StepOrigin, SERIES_BUCKETS};
 use crate::dictionary::Role;
 use crate::drive::DeviceCommand;
 use std::time::Duration;
@@ -88,6 +88,11 @@ impl Session<'_> {
         }
         self.cur().coasting_by_design = true;
         self.command(DeviceCommand::DisableOperation)?;
+        // The old setpoint must not stand: the next enable would spin the spindle straight
+        // back up to it.
+        if let Some(setpoint) = self.role_ref(Role::SpeedSetpoint) {
+            self.set(&[(setpoint, SetValue::number(0.0))])?;
+        }
         let origin_s = started.saturating_sub(self.run_start).as_secs_f64();
         let width = (c.timeout.as_secs_f64() / SERIES_BUCKETS as f64).max(c.every.as_secs_f64());
         let mut series = BucketSeries::new(origin_s, width);

@@ -18,8 +18,19 @@ impl Session<'_> {
         self.cur().enabled_order = order;
     }
 
-    /// Writes one device-control command to the current drive.
+    /// Writes one device-control command to the current drive. Once the run ends (on_fault,
+    /// finally, the safe stop) a stop command is sent only where it moves the drive down
+    /// (`command_down`): a `finally: [disable_operation, shutdown]` after steps that left
+    /// the drive in ready to switch on must not switch it on again.
     pub fn command(&mut self, command: DeviceCommand) -> Result<String, Stop> {
+        if self.in_safe_stop && crate::drive::stop_direction::DEFAULT_STOP.contains(&command) {
+            return self.command_down(command);
+        }
+        self.send_command(command)
+    }
+
+    /// Writes one device-control command to the current drive, as it is.
+    pub(super) fn send_command(&mut self, command: DeviceCommand) -> Result<String, Stop> {
         // Counted before sending: a drive whose enable was sent but not answered (a stop
         // signal, a lost reply) may be running and is stopped first.
         if command == DeviceCommand::EnableOperation {

@@ -12,11 +12,16 @@ const REOPEN_PAUSE: Duration = Duration::from_millis(100);
 const REOPEN_PAUSE_MAX: Duration = Duration::from_secs(2);
 
 impl Session<'_> {
-    /// After a reopen: what shows that the drive answers again — its state, or without a
-    /// device-control profile its identity (or, without that, the port being open).
+    /// After a reopen: what shows that the drive answers again — its state read, or
+    /// without a device-control profile its identity (or, without that, the port being
+    /// open). The state is not told here: the end line tells it once, from what the stop
+    /// reads back at its end (a replay answers this read from wherever its capture stood).
     fn answer_after_reopen(&mut self) -> Result<String, DriveError> {
         if self.has_device_control() {
-            return self.drive().state().map(|s| format!("the drive reports {s}"));
+            return self
+                .drive()
+                .state()
+                .map(|_| "the drive answers again (its state is read back at the end of the stop)".into());
         }
         match self
             .drive_ref()

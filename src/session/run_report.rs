@@ -276,6 +276,12 @@ pub struct RunReport {
     pub stop_confirmed: bool,
     /// The drive did not obey the stop commands and the stop was escalated.
     pub disobeyed: bool,
+    /// The drives were left enabled on purpose (a `leave_enabled` run that passed): the
+    /// end is the state its steps left, not a stop.
+    pub kept_enabled: bool,
+    /// The profile names an actual speed, but it could not be read back after the stop:
+    /// standstill is not known.
+    pub speed_unread: bool,
     /// The dictionary has no device-control profile: drivescript could neither command
     /// the drive nor read its state, so the end says that instead of a state.
     pub no_device_control: bool,
@@ -306,6 +312,7 @@ pub struct DriveEnd {
     pub coasting: bool,
     pub stop_confirmed: bool,
     pub no_device_control: bool,
+    pub speed_unread: bool,
 }
 
 /// Most step records, and most check results, one report keeps: a repeat that runs for
@@ -344,6 +351,8 @@ impl RunReport {
             coasting: false,
             stop_confirmed: false,
             disobeyed: false,
+            kept_enabled: false,
+            speed_unread: false,
             no_device_control: false,
             safe_stop: Vec::new(),
             omitted_steps: 0,
@@ -354,14 +363,11 @@ impl RunReport {
         }
     }
 
-    /// The process exit code: a panic first (101), then a safe stop that was not confirmed
-    /// or a drive that did not obey (3), then the verdict's own.
+    /// The process exit code: the verdict's own. The run layer's verdict rule
+    /// (`run::verdict_rule`) settles the verdict from the checks and the drive's end before
+    /// any report reads it, so the code and the words never disagree.
     pub fn exit_code(&self) -> i32 {
-        match &self.verdict {
-            Verdict::Panicked(_) => PANIC_EXIT,
-            _ if !self.stop_confirmed || self.disobeyed => ERROR_EXIT,
-            v => v.exit_code(),
-        }
+        self.verdict.exit_code()
     }
 
     /// The truth about the drive after the safe stop, in one line: its state, its speed,
@@ -407,6 +413,7 @@ impl RunReport {
                     coasting: e.coasting,
                     stop_confirmed: e.stop_confirmed,
                     no_device_control: e.no_device_control,
+                    speed_unread: e.speed_unread,
                     drive_ends: Vec::new(),
                     steps: Vec::new(),
                     checks: Vec::new(),

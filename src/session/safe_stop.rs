@@ -102,7 +102,7 @@ impl Session<'_> {
             .into_iter()
             .filter_map(|o| self.scale_of(&o).map(|scale| (o, scale)))
             .collect();
-        self.observer.run_finished(&self.report);
+        // The run layer settles the verdict and then tells the observers the run finished.
         self.report
     }
 
@@ -144,33 +144,12 @@ impl Session<'_> {
         if let (Some(signal), Verdict::Passed | Verdict::Failed) = (self.stop.first(), &self.report.verdict) {
             self.report.verdict = Verdict::Interrupted(signal);
         }
-        if self.report.check_by_hand() || self.report.disobeyed {
-            if let Verdict::Passed | Verdict::Failed = self.report.verdict {
-                let why = if self.report.check_by_hand() {
-                    "the safe stop could not be confirmed; CHECK THE DRIVE BY HAND"
-                } else {
-                    "the drive did not obey the stop commands; the stop was escalated"
-                };
-                self.report.verdict = Verdict::Error(why.to_string());
-            }
-        }
+        // What the drive's end makes of the verdict is the run layer's one rule
+        // (`run::verdict_rule`), not decided here.
         self.say_reported_in_stop();
         let kept = kept && self.stop.count_at(self.clock.now()) == 0;
+        self.report.kept_enabled = kept;
         self.release_drives(kept);
-    }
-
-    /// After the whole safe stop: each drive's link hands back what it changed on its own
-    /// (a CANopen node's NMT state) and says so, unless the drives are left enabled on
-    /// purpose.
-    fn release_drives(&mut self, kept: bool) {
-        for i in 0..self.drives.len() {
-            if kept {
-                break;
-            }
-            if let Some(text) = self.drives[i].drive.release() {
-                self.observer.message(&text);
-            }
-        }
     }
 
     /// Whether the drives were left enabled (`keep`, and nothing since asked to stop them).
@@ -271,6 +250,7 @@ impl Session<'_> {
             let r = &mut self.report;
             (r.final_state, r.final_speed, r.speed_unit) = (None, None, None);
             (r.coasting, r.stop_confirmed, r.no_device_control) = (false, false, false);
+            r.speed_unread = false;
             if !reachable[i] {
                 // Said above; the end line says the state is not known.
             } else if !self.has_device_control() {
@@ -290,12 +270,14 @@ impl Session<'_> {
                 coasting: r.coasting,
                 stop_confirmed: r.stop_confirmed,
                 no_device_control: r.no_device_control,
+                speed_unread: r.speed_unread,
             });
         }
         let r = &mut self.report;
         r.stop_confirmed = ends.iter().all(|e| e.stop_confirmed);
         r.coasting = ends.iter().any(|e| e.coasting);
         r.no_device_control = ends.iter().all(|e| e.no_device_control);
+        r.speed_unread = ends.iter().any(|e| e.speed_unread);
         r.final_state = ends.first().and_then(|e| e.final_state);
         r.final_speed = ends.first().and_then(|e| e.final_speed);
         r.speed_unit = ends.first().and_then(|e| e.speed_unit.clone());
@@ -372,11 +354,11 @@ impl Session<'_> {
             steps.extend(self.setpoint_zero_step());
             steps.extend(self.standstill_step(phase));
         }
-        for c in [DeviceCommand::DisableOperation, DeviceCommand::Shutdown] {
+        for c in crate::drive::stop_direction::DEFAULT_STOP {
             steps.push(StopStep {
                 drive: self.current,
                 label: c.id().to_string(),
-                op: Box::new(move |s| s.command(c)),
+                op: Box::new(move |s| s.command_down(c)),
             });
         }
         self.perform_stop_steps(steps, phase, suffix, done)
@@ -493,8 +475,14 @@ impl Session<'_> {
             ));
         } else if !keep {
             self.note_lowest_state(state);
+            self.wait_for_coasting(state);
         }
         self.read_final_speed();
+        // A drive can trip while its spindle coasts down or between the reads: the state
+        // told at the end is read last, after the speed.
+        if !keep {
+            self.confirm_final_state();
+        }
     }
 
     /// Quick stop, then disable voltage, each verified by reading the state back.
@@ -568,7 +556,10 @@ impl Session<'_> {
                 self.report.speed_unit = object.unit.clone();
                 self.report.coasting = !powered && v.abs() > self.standstill_in(&object);
             }
-            Err(e) => self.note(format!("could not read {} after the safe stop: {e}", object.name)),
+            Err(e) => {
+                self.report.speed_unread = true;
+                self.note(format!("could not read {} after the safe stop: {e}", object.name))
+            }
         }
     }
 }

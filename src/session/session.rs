@@ -503,8 +503,13 @@ impl<'a> Session<'a> {
         if let (true, Some(state)) = (entered, state) {
             let code = self.drive().drive_error().unwrap_or(0);
             let code = self.drive().drive_error_note(code);
+            // The drive's own report (a CANopen EMCY with its CiA 301 text) belongs in the
+            // run's error line, not only in the `-v` lines.
+            let told = reported
+                .map(|what| format!("; it reported {what}"))
+                .unwrap_or_default();
             return Err(Stop::Fault(format!(
-                "drive fault: {called} went to {state}{code}"
+                "drive fault: {called} went to {state}{code}{told}"
             )));
         }
         let Some(what) = reported else {

@@ -36,6 +36,9 @@ pub struct DriveModel {
     setpoint_rpm: f64,
     parameter_set: u16,
     noise: XorShift64,
+    /// Every state change a control word made, as (time, from, to): the latest ones
+    /// (bounded like the request log), for tests that judge which way a stop moved it.
+    commanded: Vec<(Duration, DeviceState, DeviceState)>,
 }
 
 impl DriveModel {
@@ -64,6 +67,7 @@ impl DriveModel {
             setpoint_rpm: 0.0,
             parameter_set: 0,
             noise,
+            commanded: Vec::new(),
         }
     }
 
@@ -73,6 +77,12 @@ impl DriveModel {
 
     pub fn state(&self) -> DeviceState {
         self.machine.state()
+    }
+
+    /// The state changes control words made, as (time, from, to), oldest first (the
+    /// latest ones: bounded like the request log). A trip is not one of them.
+    pub fn commanded_changes(&self) -> &[(Duration, DeviceState, DeviceState)] {
+        &self.commanded
     }
 
     pub fn setpoint_rpm(&self) -> f64 {
@@ -102,8 +112,13 @@ impl DriveModel {
     }
 
     pub fn write_control_word(&mut self, control_word: u16, reset_blocked: bool) -> DeviceCommand {
+        let before = self.machine.state();
         let command = self.machine.write_control_word(control_word, reset_blocked);
         self.update();
+        let after = self.machine.state();
+        if after != before {
+            super::keep_recent(&mut self.commanded, (self.time, before, after));
+        }
         command
     }
 
@@ -367,6 +382,25 @@ mod tests {
         m.set_setpoint_rpm(6000.0).unwrap();
         m.advance_to(secs(0.2));
         assert!((m.speed_rpm() - 6000.0 * (1.0 - (-1f64).exp())).abs() < 1e-6);
+    }
+
+    #[test]
+    fn control_words_log_the_state_changes_they_make_and_a_trip_does_not() {
+        let mut m = DriveModel::new(SimConfig::default());
+        m.advance_to(secs(1.0));
+        m.write_control_word(6, false);
+        m.write_control_word(6, false);
+        m.advance_to(secs(2.0));
+        m.write_control_word(7, false);
+        m.trip(1);
+        use DeviceState::*;
+        assert_eq!(
+            m.commanded_changes(),
+            [
+                (secs(1.0), SwitchOnDisabled, ReadyToSwitchOn),
+                (secs(2.0), ReadyToSwitchOn, SwitchedOn)
+            ]
+        );
     }
 
     #[test]

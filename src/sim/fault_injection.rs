@@ -1,8 +1,9 @@
-//! Faults a test can inject into the simulated drive between telegrams: lost, corrupt, late
-//! or misaddressed replies, a drive fault at a chosen time, an emergency message without a
-//! trip, a fault that will not reset, a
-//! drive that acknowledges stop commands but does not obey them, a line that goes down for
-//! a while, and a panic inside the request handling (to prove the engine's panic path).
+//! Faults a test can inject into the simulated drive between telegrams: lost, corrupt, late,
+//! misaddressed or garbled replies (from a chosen time on, so that they can fall inside the
+//! safe stop), a drive fault at a chosen time, an emergency message without a trip, a fault
+//! that will not reset, a drive that acknowledges stop commands but does not obey them, a
+//! line that goes down for a while, a drive that falls silent for a while (a CANopen node's
+//! heartbeat too), and a panic inside the request handling (to prove the engine's panic path).
 //! It only decides what happens to replies and when things fire; it must not build bytes or
 //! touch the drive model itself.
 
@@ -21,6 +22,12 @@ pub struct FaultInjection {
     delay: u32,
     delay_by: Duration,
     wrong_address: u32,
+    garbage: u32,
+    /// The reply injections above start with the first reply at or after this time.
+    replies_from: Duration,
+    /// The drive sends nothing from the first time until the second (no reply, no
+    /// heartbeat), while the line itself stays up.
+    silent: Option<(Duration, Duration)>,
     /// Sorted by time; equal times keep the order they were scheduled in.
     trips: Vec<(Duration, u16)>,
     /// Emergency messages sent without a trip, sorted by time.
@@ -41,6 +48,31 @@ pub(crate) struct ReplyFate {
     pub(crate) corrupt_checksum: bool,
     pub(crate) extra_delay: Duration,
     pub(crate) wrong_address: bool,
+    /// Line noise arrives before the reply (a byte line) or in its place (a CAN frame).
+    pub(crate) garbage: bool,
+}
+
+/// The noise a garbled reply carries: no protocol's start byte pattern in a row, bytes a
+/// line picks up when a contactor switches.
+const NOISE: [u8; 7] = [0x00, 0xFF, 0x7E, 0x81, 0x13, 0xFE, 0x3C];
+
+impl ReplyFate {
+    /// `bytes` with line noise in front when the reply is garbled.
+    pub(crate) fn noisy(&self, bytes: Vec<u8>) -> Vec<u8> {
+        match self.garbage {
+            true => NOISE.iter().copied().chain(bytes).collect(),
+            false => bytes,
+        }
+    }
+
+    /// A CAN frame's 8 data bytes overwritten with noise when the reply is garbled.
+    pub(crate) fn garble_frame(&self, data: &mut [u8; 8]) {
+        if self.garbage {
+            for (d, n) in data.iter_mut().zip(NOISE.iter().cycle().skip(1)) {
+                *d ^= n;
+            }
+        }
+    }
 }
 
 fn count_down(n: &mut u32) -> bool {
@@ -73,6 +105,34 @@ impl FaultInjection {
     pub fn wrong_address(&mut self, n: u32) -> &mut Self {
         self.wrong_address = n;
         self
+    }
+
+    /// The next `n` replies are garbled: line noise before them on a byte line, their data
+    /// bytes scrambled on CAN.
+    pub fn garbage(&mut self, n: u32) -> &mut Self {
+        self.garbage = n;
+        self
+    }
+
+    /// The reply injections (drop, corrupt, delay, wrong address, garbage) wait for the
+    /// first reply at or after `at`, then count down as usual: a fault a test places
+    /// inside the safe stop, whose telegrams it cannot count beforehand.
+    pub fn replies_from(&mut self, at: Duration) -> &mut Self {
+        self.replies_from = at;
+        self
+    }
+
+    /// The drive falls silent at `from` until `until`: it takes requests (and carries them
+    /// out) but answers none, and a CANopen node sends no heartbeat, while the line (the
+    /// adapter, the port) stays up — a drive whose communication died.
+    pub fn silent(&mut self, from: Duration, until: Duration) -> &mut Self {
+        self.silent = Some((from, until));
+        self
+    }
+
+    /// Whether the drive is silent at `now`.
+    pub fn is_silent(&self, now: Duration) -> bool {
+        matches!(self.silent, Some((from, until)) if from <= now && now < until)
     }
 
     /// At clock time `at` the drive trips: fault reaction active (braking at the quick-stop
@@ -158,19 +218,29 @@ impl FaultInjection {
             && self.corrupt == 0
             && self.delay == 0
             && self.wrong_address == 0
+            && self.garbage == 0
             && self.trips.is_empty()
             && self.emergencies.is_empty()
             && self.panic_at.is_none()
     }
 
-    /// The fate of the reply about to be sent; counts every active injection down.
-    pub(crate) fn next_reply(&mut self) -> ReplyFate {
+    /// The fate of the reply about to be sent at `now`; counts every active injection down
+    /// (from the time [`replies_from`](Self::replies_from) gives on).
+    pub(crate) fn next_reply(&mut self, now: Duration) -> ReplyFate {
+        let silent = self.is_silent(now);
+        if now < self.replies_from {
+            return ReplyFate {
+                dropped: silent,
+                ..ReplyFate::default()
+            };
+        }
         let delayed = count_down(&mut self.delay);
         ReplyFate {
-            dropped: count_down(&mut self.drop),
+            dropped: count_down(&mut self.drop) | silent,
             corrupt_checksum: count_down(&mut self.corrupt),
             extra_delay: if delayed { self.delay_by } else { Duration::ZERO },
             wrong_address: count_down(&mut self.wrong_address),
+            garbage: count_down(&mut self.garbage),
         }
     }
 
@@ -201,23 +271,49 @@ mod tests {
             .delay_replies(3, Duration::from_millis(5))
             .wrong_address(1);
         assert!(!f.is_idle());
-        let first = f.next_reply();
+        let first = f.next_reply(Duration::ZERO);
         assert_eq!(
             first,
             ReplyFate {
                 dropped: true,
                 corrupt_checksum: true,
                 extra_delay: Duration::from_millis(5),
-                wrong_address: true
+                wrong_address: true,
+                garbage: false,
             }
         );
-        let second = f.next_reply();
+        let second = f.next_reply(Duration::ZERO);
         assert!(!second.dropped && second.corrupt_checksum && !second.wrong_address);
-        let third = f.next_reply();
+        let third = f.next_reply(Duration::ZERO);
         assert_eq!(third.extra_delay, Duration::from_millis(5));
         assert!(!third.corrupt_checksum);
-        assert_eq!(f.next_reply(), ReplyFate::default());
+        assert_eq!(f.next_reply(Duration::ZERO), ReplyFate::default());
         assert!(f.is_idle());
+    }
+
+    #[test]
+    fn reply_injections_wait_for_their_time_and_silence_drops_replies() {
+        let mut f = FaultInjection::default();
+        let s = Duration::from_secs;
+        f.garbage(1)
+            .drop_replies(1)
+            .replies_from(s(10))
+            .silent(s(20), s(22));
+        assert_eq!(f.next_reply(s(9)), ReplyFate::default());
+        let at_ten = f.next_reply(s(10));
+        assert!(at_ten.garbage && at_ten.dropped);
+        assert_eq!(f.next_reply(s(11)), ReplyFate::default());
+        assert!(f.next_reply(s(20)).dropped && f.is_silent(s(21)));
+        assert!(!f.next_reply(s(22)).dropped && !f.is_silent(s(22)));
+        let noisy = ReplyFate {
+            garbage: true,
+            ..ReplyFate::default()
+        };
+        assert_eq!(noisy.noisy(vec![1, 2]).len(), NOISE.len() + 2);
+        assert_eq!(ReplyFate::default().noisy(vec![1, 2]), vec![1, 2]);
+        let mut data = [0u8; 8];
+        noisy.garble_frame(&mut data);
+        assert_ne!(data, [0u8; 8]);
     }
 
     #[test]

@@ -40,6 +40,11 @@ pub struct SimConfig {
     /// Emergency messages (a CANopen node's EMCY) sent at these clock times with these
     /// error codes, without a trip (see `FaultInjection::emergency_at`).
     pub emergencies: Vec<(Duration, u16)>,
+    /// Trips at these clock times with these drive errors (see `FaultInjection::trip_at`).
+    pub trips: Vec<(Duration, u16)>,
+    /// The drive answers nothing from the first time until the second (see
+    /// `FaultInjection::silent`).
+    pub silent: Option<(Duration, Duration)>,
 }
 
 impl Default for SimConfig {
@@ -60,6 +65,8 @@ impl Default for SimConfig {
             heating_k_per_a: 25.0,
             thermal_time_constant: Duration::from_secs(10 * 60),
             emergencies: Vec::new(),
+            trips: Vec::new(),
+            silent: None,
         }
     }
 }

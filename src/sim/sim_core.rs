@@ -27,6 +27,12 @@ impl<E> SimCore<E> {
         for &(at, code) in &config.emergencies {
             faults.emergency_at(at, code);
         }
+        for &(at, code) in &config.trips {
+            faults.trip_at(at, code);
+        }
+        if let Some((from, until)) = config.silent {
+            faults.silent(from, until);
+        }
         SimCore {
             model: DriveModel::new(config),
             faults,
@@ -139,6 +145,9 @@ impl<T: SimFront> SimulatedDrive for T {
     }
     fn control_words_written(&self) -> Vec<u16> {
         self.core().control_words().to_vec()
+    }
+    fn commanded_changes(&self) -> Vec<(Duration, DeviceState, DeviceState)> {
+        self.core().model.commanded_changes().to_vec()
     }
     fn state(&self) -> DeviceState {
         self.core().model.state()

@@ -2,8 +2,9 @@
 //! controller's response (`response-time=200ms`, `overshoot=10%`), friction
 //! (`coast-rate=300rpm/s`) and heat (`ambient=25°C`, `heating=25K/A`,
 //! `thermal-time=10min`), an emergency message without a trip (`emergency-at=20s:0x2310`,
-//! a CANopen node's EMCY), and how late the drive answers (`reply-latency=1500ms`, a slow
-//! slave). Parsing and applying to a [`SimConfig`] only.
+//! a CANopen node's EMCY), a trip (`trip-at=20s:0x1234`), a drive that falls silent
+//! (`silent=20s..25s`, its heartbeat too), and how late the drive answers
+//! (`reply-latency=1500ms`, a slow slave). Parsing and applying to a [`SimConfig`] only.
 
 use super::motor::Response;
 use super::SimConfig;
@@ -11,7 +12,7 @@ use crate::dictionary::{Quantity, Unit};
 use std::time::Duration;
 
 /// The names, in the order `--help` and errors list them.
-pub const SIM_SETTINGS: [&str; 8] = [
+pub const SIM_SETTINGS: [&str; 10] = [
     "response-time",
     "overshoot",
     "coast-rate",
@@ -19,6 +20,8 @@ pub const SIM_SETTINGS: [&str; 8] = [
     "heating",
     "thermal-time",
     "emergency-at",
+    "trip-at",
+    "silent",
     "reply-latency",
 ];
 
@@ -32,6 +35,10 @@ pub enum SimSetting {
     ThermalTime(Duration),
     /// At this time on the simulator's clock, an emergency message with this error code.
     EmergencyAt(Duration, u16),
+    /// At this time the drive trips with this drive error.
+    TripAt(Duration, u16),
+    /// The drive answers nothing (sends no heartbeat) from the first time until the second.
+    Silent(Duration, Duration),
     /// Every reply leaves this long after its request (a slave slower than the master's
     /// reply timeout answers each request during the next one's wait).
     ReplyLatency(Duration),
@@ -41,7 +48,7 @@ pub enum SimSetting {
 pub enum SimSettingError {
     #[error("`{0}` is not NAME=VALUE (e.g. overshoot=10%)")]
     NotAPair(String),
-    #[error("unknown simulator setting `{0}`; known: response-time, overshoot, coast-rate, ambient, heating, thermal-time, emergency-at, reply-latency")]
+    #[error("unknown simulator setting `{0}`; known: response-time, overshoot, coast-rate, ambient, heating, thermal-time, emergency-at, trip-at, silent, reply-latency")]
     Unknown(String),
     #[error("{name}: `{value}` is not {wanted}")]
     BadValue {
@@ -114,6 +121,23 @@ impl SimSetting {
                     _ => return Err(bad("a temperature rise per ampere (25K/A)")),
                 }
             }
+            "trip-at" => {
+                let wanted = "a time and a non-zero drive error (20s:0x1234)";
+                let (at, code) = value.split_once(':').ok_or_else(|| bad(wanted))?;
+                let at = humantime::parse_duration(at.trim()).map_err(|_| bad(wanted))?;
+                let code = code_of(code).ok_or_else(|| bad(wanted))?;
+                SimSetting::TripAt(at, code)
+            }
+            "silent" => {
+                let wanted = "a time span FROM..UNTIL (20s..25s)";
+                let (from, until) = value.split_once("..").ok_or_else(|| bad(wanted))?;
+                let from = humantime::parse_duration(from.trim()).map_err(|_| bad(wanted))?;
+                let until = humantime::parse_duration(until.trim()).map_err(|_| bad(wanted))?;
+                if until <= from {
+                    return Err(bad(wanted));
+                }
+                SimSetting::Silent(from, until)
+            }
             "emergency-at" => {
                 let wanted = "a time and a non-zero error code (20s:0x2310)";
                 let (at, code) = value.split_once(':').ok_or_else(|| bad(wanted))?;
@@ -152,8 +176,20 @@ impl SimSetting {
             SimSetting::Heating(k) => config.heating_k_per_a = k,
             SimSetting::ThermalTime(d) => config.thermal_time_constant = d,
             SimSetting::EmergencyAt(at, code) => config.emergencies.push((at, code)),
+            SimSetting::TripAt(at, code) => config.trips.push((at, code)),
+            SimSetting::Silent(from, until) => config.silent = Some((from, until)),
             SimSetting::ReplyLatency(d) => config.response_latency = d,
         }
+    }
+}
+
+/// A bare number, decimal or `0x` hex, from 1 to 65535 (0 is no error).
+fn code_of(text: &str) -> Option<u16> {
+    match Quantity::parse(text.trim()) {
+        Ok(Quantity {
+            value, unit: None, ..
+        }) if value.fract() == 0.0 && (1.0..=65535.0).contains(&value) => Some(value as u16),
+        _ => None,
     }
 }
 
@@ -214,6 +250,13 @@ mod tests {
                 (Duration::from_secs(60), 0x4210)
             ]
         );
+        SimSetting::parse("trip-at=12s:0x1234").unwrap().apply(&mut c);
+        SimSetting::parse("silent=20s..25s").unwrap().apply(&mut c);
+        assert_eq!(c.trips, [(Duration::from_secs(12), 0x1234)]);
+        assert_eq!(c.silent, Some((Duration::from_secs(20), Duration::from_secs(25))));
+        for bad in ["trip-at=12s", "trip-at=12s:0", "silent=25s..20s", "silent=20s"] {
+            assert!(SimSetting::parse(bad).is_err(), "{bad}");
+        }
         for bad in [
             "emergency-at=20s",
             "emergency-at=20s:0",

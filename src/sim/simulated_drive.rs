@@ -12,6 +12,8 @@ pub trait SimulatedDrive: Send {
     fn faults(&mut self) -> &mut FaultInjection;
     /// Every control word accepted, in order (while logging is on).
     fn control_words_written(&self) -> Vec<u16>;
+    /// The state changes control words made, as (clock time, from, to), oldest first.
+    fn commanded_changes(&self) -> Vec<(Duration, DeviceState, DeviceState)>;
     /// The device state as of the last request.
     fn state(&self) -> DeviceState;
     /// Model speed (without noise) at clock time `now`.

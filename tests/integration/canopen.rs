@@ -147,6 +147,44 @@ fn a_node_whose_heartbeat_stops_is_a_lost_link_and_is_stopped() {
     assert_eq!(control_words(&result), vec![6, 7, 15, 7, 6]);
 }
 
+/// A node that goes silent on a healthy bus — no heartbeat and no SDO response — is named
+/// for what it is: a heartbeat loss with the node and the age of its last heartbeat, not an
+/// SDO no-reply. Its stop cannot be verified, so it is not sent NMT enter pre-operational,
+/// and the console says why.
+#[test]
+fn a_node_silent_in_heartbeat_and_sdo_is_a_heartbeat_loss_and_gets_no_nmt_command() {
+    let dir = scratch("canopen-silent");
+    let recipe = write_file(
+        &dir,
+        "recipe.yaml",
+        "name: Node silent\ndrive: canopen\nsteps:\n  - go_to: operation_enabled\n  - set: { speed_setpoint: 1000 rpm }\n  - dwell: 1 min\n",
+    );
+    let silent = |sim: &Arc<Mutex<dyn SimulatedDrive>>, clock: &SharedClock| {
+        let mut sim = sim.lock().unwrap();
+        let node = sim
+            .as_any_mut()
+            .downcast_mut::<Cia402Node>()
+            .expect("a CiA 402 node");
+        node.go_silent_at(clock.now() + Duration::from_secs(20));
+    };
+    let mut run = InProcessRun::new(recipe);
+    run.dictionary = canopen();
+    run.prepare = Some(&silent);
+    run.safe_stop.reconnect_timeout = Some(Duration::from_secs(2));
+    let (result, output) = run.run();
+    assert_eq!(result.exit_code, 3, "{output}");
+    assert_has(
+        &output,
+        &[
+            "     3  FAIL  dwell 1m  I/O error on built-in simulated drive: heartbeat loss: the last heartbeat of node 1 came",
+            "node 1 is left operational: NMT enter pre-operational (`000#8001`) is not sent, since the drive's stop was not verified",
+            "CHECK THE DRIVE BY HAND",
+            "ERROR: I/O error on built-in simulated drive: heartbeat loss",
+        ],
+    );
+    assert_lacks(&output, &["back to pre-operational", "no reply"]);
+}
+
 /// An EMCY frame alone, while the statusword shows no fault, is a drive fault: the run
 /// stops, the code's text is in the console, the JUnit file, the HTML report and the trace.
 #[test]

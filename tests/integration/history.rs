@@ -330,7 +330,9 @@ fn a_stop_signal_during_the_lookup_runs_the_safe_stop() {
     let child = run_reading_a_silent_store(&recipe, &[]);
     let (code, seen) = interrupted_once_shown(child, "unit    serial SP-1");
     assert_eq!(code, Some(130), "{seen}");
-    assert_has(&seen, &["drive left in ready to switch on at 0 rpm"]);
+    // Never enabled, the drive stays in switch on disabled: the stop sends no shutdown,
+    // which would move it up to ready to switch on.
+    assert_has(&seen, &["drive left in switch on disabled at 0 rpm"]);
     assert_lacks(&seen, &["go to operation_enabled"]);
 }
 

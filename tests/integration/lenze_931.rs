@@ -626,7 +626,10 @@ fn parameters_round_trip_with_the_drives_limits_and_save() {
 fn an_sd2_run_asks_nothing_about_drive_limits() {
     // SD2 drives report no limits: the run's comparison sends nothing and says nothing.
     // 84 requests is what the commissioning recipe sent before `run` compared limits, 87
-    // since the safe stop reads state, speed and setpoint to know whether to brake first.
+    // since the safe stop reads state, speed and setpoint to know whether to brake first,
+    // 91 since it reads the speed once more after the stop to know the spindle stands still,
+    // the state before each stop command of finally (never to move the drive up) and the
+    // state once more after the speed, so the end is told from the last reads.
     let dir = scratch("sd2-count");
     let trace = dir.join("sd2.trace");
     let mut run = InProcessRun::new(repo_root().join("recipes/commissioning.yaml"));
@@ -634,7 +637,7 @@ fn an_sd2_run_asks_nothing_about_drive_limits() {
     let (result, output) = run.run();
     assert_eq!(result.exit_code, 0, "{output}");
     let text = std::fs::read_to_string(&trace).expect("trace");
-    assert_eq!(text.lines().filter(|l| l.contains(" TX ")).count(), 87, "{text}");
+    assert_eq!(text.lines().filter(|l| l.contains(" TX ")).count(), 91, "{text}");
     assert_lacks(&output, &["drive limits"]);
 }
 

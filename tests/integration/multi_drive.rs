@@ -291,7 +291,14 @@ on_fault:
     );
     let report = result.report.expect("a report");
     assert_eq!(report.drive_ends.len(), 2, "{output}");
-    assert!(report.drive_ends.iter().all(|e| e.stop_confirmed), "{output}");
+    // The right drive was stopped and read back at standstill; the left one is left in
+    // fault, which is no confirmed stop (the run's verdict rule).
+    let confirmed: Vec<(&str, bool)> = report
+        .drive_ends
+        .iter()
+        .map(|e| (e.name.as_str(), e.stop_confirmed))
+        .collect();
+    assert_eq!(confirmed, [("right", true), ("left", false)], "{output}");
     assert_eq!(result.simulators.len(), 2);
     for (name, sim) in &result.simulators {
         let state = state_of(sim);

@@ -7,8 +7,11 @@
 //! physics: [response-time=200ms] # the simulated drive's `--sim` settings (optional)
 //! sim: { trip_at: 12 s, drive_error: 4660, drop_replies: 1, fault_reset_blocked: true,
 //!        ignore_commands: [disable_operation, shutdown], line_down: [10 s, 12 s],
-//!        panic_at: 12 s, emergency_at: 12 s }   # emergency_at: an EMCY with drive_error,
+//!        panic_at: 12 s, emergency_at: 12 s,   # emergency_at: an EMCY with drive_error,
 //!                              # nothing trips
+//!        replies_from: 12 s, garbage: 2, delay_replies: 1, delay_by: 2 s, # reply faults from
+//!                              # a time on (garbage: line noise before the reply)
+//!        silent: [12 s, 14 s] }  # the drive answers nothing (no heartbeat) while the line is up
 //! interrupt_at: 30 s           # a stop signal arrives at this (virtual) time (optional)
 //! second_interrupt_at: 31 s    # and again (optional)
 //! signal: TERM                 # which signal (default INT, i.e. Ctrl-C)
@@ -105,6 +108,11 @@ struct SimSetup {
     line_down: Option<[String; 2]>,
     panic_at: Option<String>,
     emergency_at: Option<String>,
+    replies_from: Option<String>,
+    garbage: Option<u32>,
+    delay_replies: Option<u32>,
+    delay_by: Option<String>,
+    silent: Option<[String; 2]>,
 }
 
 #[derive(Debug, Default, serde::Deserialize)]
@@ -201,6 +209,24 @@ fn run_case(dir: &Path) -> Result<(), String> {
         }
         if let Some(at) = &sim_setup.emergency_at {
             f.emergency_at(duration(at), sim_setup.drive_error.unwrap_or(1));
+        }
+        if let Some(at) = &sim_setup.replies_from {
+            f.replies_from(duration(at));
+        }
+        if let Some(n) = sim_setup.garbage {
+            f.garbage(n);
+        }
+        if let Some(n) = sim_setup.delay_replies {
+            f.delay_replies(
+                n,
+                sim_setup
+                    .delay_by
+                    .as_deref()
+                    .map_or(Duration::from_secs(1), duration),
+            );
+        }
+        if let Some([from, until]) = &sim_setup.silent {
+            f.silent(duration(from), duration(until));
         }
     };
     let output_dir = std::env::temp_dir().join(format!(

@@ -408,3 +408,18 @@ fn the_hand_written_candump_log_is_read_by_python_can() {
         _ => crate::support::tool_missing("python-can is not installed (python3 -m pip install python-can)"),
     }
 }
+
+/// One run, one truth: a link reopened during the safe stop does not tell the drive's
+/// state (a replay answers it from wherever the capture stood); the state is told once,
+/// by the end line, from what the stop read back at its end.
+#[test]
+fn a_replay_tells_the_drive_state_once_from_what_the_stop_read_back() {
+    let dir = crate::support::repo_root().join("tests/cases/replay/sd2_capture_ends_before_the_stop");
+    let ran = replay(&dir.join("recipe.yaml"), &dir.join("capture.trace"), &[], 3);
+    let text = format!("{}{}", ran.stdout, ran.stderr);
+    assert_has(
+        &text,
+        &["restored at attempt 1", "drive left in operation enabled"],
+    );
+    assert!(!text.contains("; the drive reports "), "{text}");
+}

@@ -102,6 +102,20 @@ impl NmtMaster {
         Some(text)
     }
 
+    /// After a safe stop that could not be verified: a node drivescript started is left
+    /// operational — no NMT command goes to a node whose drive may still turn — and this
+    /// says so. `None` when it started nothing.
+    pub fn withhold(&mut self, link: &mut SdoLink) -> Option<String> {
+        self.started.take()?;
+        self.checked = false;
+        let node = link.node();
+        let text = format!(
+            "node {node} is left operational: NMT enter pre-operational (`000#80{node:02X}`) is not sent, since the drive's stop was not verified"
+        );
+        link.core().event(&text);
+        Some(text)
+    }
+
     /// What is worth a console line since the last call.
     pub fn take_notices(&mut self) -> Vec<String> {
         std::mem::take(&mut self.notices)

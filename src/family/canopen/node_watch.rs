@@ -120,6 +120,23 @@ impl NodeWatch {
         })
     }
 
+    /// Why a node that does not answer an SDO request is more than silent to it, if it is:
+    /// its heartbeat, seen before, has been away for longer than two of its periods as
+    /// well (the node, or the bus to it, is gone; CiA 301's consumer would call it lost a
+    /// period later).
+    pub fn silent(&self, now: Duration) -> Option<String> {
+        let (last, period) = (self.last_heartbeat?, self.period()?);
+        let away = now.saturating_sub(last);
+        (away > period * 2).then(|| {
+            format!(
+                "heartbeat loss: the last heartbeat of node {} came {} ms ago (one every {} ms before)",
+                self.node,
+                away.as_millis(),
+                period.as_millis()
+            )
+        })
+    }
+
     /// The producer's period as seen: the mean gap between the heartbeats since boot-up
     /// (bursts average out), once enough were seen. Also how often a waiting link looks.
     pub fn period(&self) -> Option<Duration> {
@@ -167,6 +184,23 @@ mod tests {
         assert_eq!(slow.lost(ms(5000)), None);
         assert!(slow.lost(ms(5001)).is_some());
         assert_eq!(w.see(&CanFrame::new(0x706, &[0x7F]).unwrap(), ms(300)), None);
+    }
+
+    #[test]
+    fn a_heartbeat_away_for_two_periods_makes_a_silent_node_a_heartbeat_loss() {
+        let mut w = NodeWatch::new(5);
+        assert_eq!(w.silent(ms(10_000)), None, "no heartbeat seen: nothing to say");
+        for t in [0, 100, 200] {
+            w.see(&hb(0x05), ms(t));
+        }
+        assert_eq!(w.silent(ms(400)), None);
+        let why = w.silent(ms(450)).unwrap();
+        assert!(
+            why.contains(
+                "heartbeat loss: the last heartbeat of node 5 came 250 ms ago (one every 100 ms before)"
+            ),
+            "{why}"
+        );
     }
 
     #[test]

@@ -72,6 +72,10 @@ impl ObjectAccess for SdoAccess {
         self.nmt.as_mut()?.release(&mut self.link)
     }
 
+    fn withhold_release(&mut self) -> Option<String> {
+        self.nmt.as_mut()?.withhold(&mut self.link)
+    }
+
     fn reported_fault(&mut self) -> Option<String> {
         self.link.reported_fault()
     }

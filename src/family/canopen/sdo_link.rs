@@ -170,6 +170,14 @@ impl SdoLink {
                 link.attempt(bus, &mut client, request)
             })
             .map_err(|unanswered| {
+                // A node whose heartbeat went silent as well is lost, not merely silent to
+                // this request: said as the heartbeat loss it is (the link is lost).
+                if let Some(why) = self.watch.silent(self.core.clock.now()) {
+                    return self.lost(format!(
+                        "{why}; {} went unanswered as well",
+                        self.describe(operation, index, subindex, Some(&first_frame))
+                    ));
+                }
                 let text = ExchangeText {
                     port: self.bus.name().to_string(),
                     address: self.address(),

@@ -29,6 +29,9 @@ pub struct Cia402Node {
     /// From then on the node sends no heartbeat (an injected fault: a node whose
     /// communication died while the adapter is fine).
     heartbeat_stops_at: Option<Duration>,
+    /// From then on the node sends nothing at all, heartbeat and SDO responses alike (an
+    /// injected fault: a node that lost its power or its cable on a healthy bus).
+    silent_at: Option<Duration>,
     /// The error code the last EMCY frame carried.
     emcy_code: u16,
 }
@@ -44,6 +47,7 @@ impl Cia402Node {
             nmt: NmtState::PreOperational,
             next_heartbeat: None,
             heartbeat_stops_at: None,
+            silent_at: None,
             emcy_code: 0,
         }
     }
@@ -62,6 +66,12 @@ impl Cia402Node {
         self.heartbeat_stops_at = Some(at);
     }
 
+    /// From `at` on the node sends nothing: no heartbeat, no SDO response.
+    pub fn go_silent_at(&mut self, at: Duration) {
+        self.silent_at = Some(at);
+        self.heartbeat_stops_at = Some(self.heartbeat_stops_at.map_or(at, |s| s.min(at)));
+    }
+
     fn heartbeat(&self, at: Duration) -> (Duration, CanFrame) {
         let state = if self.next_heartbeat.is_none() {
             NmtState::BootUp
@@ -74,7 +84,8 @@ impl Cia402Node {
     /// The boot-up message, then every heartbeat due up to `now`.
     fn heartbeats(&mut self, now: Duration, out: &mut Vec<(Duration, CanFrame)>) {
         let period = Duration::from_millis(self.objects.int((HEARTBEAT_TIME.0, 0)).max(0) as u64);
-        let stopped = |at: Duration| self.heartbeat_stops_at.is_some_and(|s| at >= s);
+        let faults = &self.core.faults;
+        let stopped = |at: Duration| self.heartbeat_stops_at.is_some_and(|s| at >= s) || faults.is_silent(at);
         let mut next = match self.next_heartbeat {
             Some(next) => next,
             None => {
@@ -151,6 +162,9 @@ impl FramePeer for Cia402Node {
     fn receive(&mut self, frame: &CanFrame, now: Duration) -> Vec<(Duration, CanFrame)> {
         self.core.panic_if_due(now);
         self.core.advance_to(now);
+        if self.silent_at.is_some_and(|s| now >= s) {
+            return Vec::new();
+        }
         let mut out = Vec::new();
         self.heartbeats(now, &mut out);
         self.emcy(now, &mut out);

@@ -241,7 +241,7 @@ fn send(
     response: &SdoResponse,
     now: Duration,
 ) -> Option<(Duration, CanFrame)> {
-    let fate = core.faults.next_reply();
+    let fate = core.faults.next_reply(now);
     if fate.dropped {
         return None;
     }
@@ -249,6 +249,7 @@ fn send(
     if fate.corrupt_checksum {
         data[0] = 0xC0;
     }
+    fate.garble_frame(&mut data);
     let id = if fate.wrong_address {
         response_id(node.wrapping_add(1))
     } else {

@@ -155,7 +155,7 @@ impl CtSimulator {
 
     /// Encodes `reply` and applies the injected faults: `None` when it is dropped.
     fn send(&mut self, reply: Reply, now: Duration) -> Option<PeerReply> {
-        let fate = self.core.faults.next_reply();
+        let fate = self.core.faults.next_reply(now);
         if fate.dropped {
             return None;
         }
@@ -167,7 +167,7 @@ impl CtSimulator {
         }
         Some(PeerReply {
             at: now + TURNAROUND.max(self.core.model.config().response_latency) + fate.extra_delay,
-            bytes,
+            bytes: fate.noisy(bytes),
         })
     }
 }

@@ -206,7 +206,7 @@ impl LenzeSimulator {
 
     /// The reply's bytes with the injected faults applied; `None` when it is dropped.
     fn send(&mut self, reply: &Reply, now: Duration) -> Option<PeerReply> {
-        let fate = self.core.faults.next_reply();
+        let fate = self.core.faults.next_reply(now);
         if fate.dropped {
             return None;
         }
@@ -229,7 +229,7 @@ impl LenzeSimulator {
         }
         Some(PeerReply {
             at: now + self.core.model.config().response_latency + fate.extra_delay,
-            bytes,
+            bytes: fate.noisy(bytes),
         })
     }
 }

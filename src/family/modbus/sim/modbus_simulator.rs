@@ -183,7 +183,7 @@ impl ModbusSimulator {
     }
 
     fn send(&mut self, response: &Response, transaction: u16, now: Duration) -> Option<PeerReply> {
-        let fate = self.core.faults.next_reply();
+        let fate = self.core.faults.next_reply(now);
         if fate.dropped {
             return None;
         }
@@ -204,7 +204,7 @@ impl ModbusSimulator {
         }
         Some(PeerReply {
             at: now + TURNAROUND.max(self.core.model.config().response_latency) + fate.extra_delay,
-            bytes,
+            bytes: fate.noisy(bytes),
         })
     }
 }

@@ -165,7 +165,7 @@ impl Sd2Simulator {
 
     /// Encodes `reply` and applies the injected faults: `None` when it is dropped.
     fn send(&mut self, reply: Telegram, now: Duration) -> Option<PeerReply> {
-        let fate = self.core.faults.next_reply();
+        let fate = self.core.faults.next_reply(now);
         if fate.dropped {
             return None;
         }
@@ -182,7 +182,7 @@ impl Sd2Simulator {
         }
         Some(PeerReply {
             at: now + self.config().response_latency + fate.extra_delay,
-            bytes,
+            bytes: fate.noisy(bytes),
         })
     }
 }

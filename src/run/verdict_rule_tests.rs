@@ -1,0 +1,133 @@
+use super::*;
+use crate::session::{CheckResult, DriveEnd};
+use crate::stop_request::StopSignal;
+use std::time::SystemTime;
+
+/// A run whose every check passed and whose stop read the drive back in `state` at
+/// `speed` rpm.
+fn ended(state: DeviceState, speed: f64, coasting: bool) -> RunReport {
+    let mut r = RunReport::started(
+        "r".into(),
+        "r.yaml".into(),
+        "sd2".into(),
+        Vec::new(),
+        SystemTime::now(),
+    );
+    r.checks.push(CheckResult::named("speed", true));
+    r.final_state = Some(state);
+    r.final_speed = Some(speed);
+    r.speed_unit = Some("rpm".into());
+    r.coasting = coasting;
+    r.stop_confirmed = true;
+    r
+}
+
+#[test]
+fn a_drive_stopped_at_standstill_passes() {
+    let mut r = ended(DeviceState::ReadyToSwitchOn, 0.0, false);
+    settle(&mut r);
+    assert_eq!((r.verdict.clone(), r.exit_code()), (Verdict::Passed, 0));
+    assert!(r.stop_confirmed);
+}
+
+#[test]
+fn a_drive_that_trips_during_the_stop_and_coasts_is_an_error_whatever_the_checks_said() {
+    let mut r = ended(DeviceState::Fault, 2952.0, true);
+    settle(&mut r);
+    assert_eq!(r.exit_code(), 3);
+    assert_eq!(r.verdict.word(), "ERROR");
+    let why = r.verdict.reason().unwrap_or_default();
+    assert!(
+        why.contains("coasting") && why.contains("fault at 2952 rpm"),
+        "{why}"
+    );
+    assert!(!r.stop_confirmed, "every report must say CHECK THE DRIVE BY HAND");
+}
+
+#[test]
+fn a_drive_left_in_fault_at_standstill_is_an_error() {
+    let mut r = ended(DeviceState::Fault, 0.0, false);
+    settle(&mut r);
+    assert_eq!(r.exit_code(), 3);
+    assert!(r.verdict.reason().unwrap_or_default().contains("left in fault"));
+}
+
+#[test]
+fn a_spindle_still_coasting_after_a_coast_down_is_an_error() {
+    let mut r = ended(DeviceState::ReadyToSwitchOn, 988.0, true);
+    settle(&mut r);
+    assert_eq!(r.exit_code(), 3);
+}
+
+#[test]
+fn a_speed_not_read_back_is_no_confirmed_standstill() {
+    let mut r = ended(DeviceState::ReadyToSwitchOn, 0.0, false);
+    r.final_speed = None;
+    r.speed_unread = true;
+    settle(&mut r);
+    assert_eq!(r.exit_code(), 3);
+}
+
+#[test]
+fn a_failed_check_with_a_coasting_spindle_is_an_error_and_an_interrupted_run_too() {
+    let mut failed = ended(DeviceState::ReadyToSwitchOn, 900.0, true);
+    failed.checks.push(CheckResult::named("current", false));
+    settle(&mut failed);
+    assert_eq!(failed.exit_code(), 3);
+    let mut interrupted = ended(DeviceState::SwitchOnDisabled, 22000.0, true);
+    interrupted.verdict = Verdict::Interrupted(StopSignal::INT);
+    settle(&mut interrupted);
+    assert_eq!(interrupted.exit_code(), 3);
+    assert!(interrupted
+        .verdict
+        .reason()
+        .unwrap_or_default()
+        .starts_with("interrupted by Ctrl-C"));
+}
+
+#[test]
+fn a_failed_check_without_a_verdict_yet_fails_and_a_panic_stays_a_panic() {
+    let mut r = ended(DeviceState::ReadyToSwitchOn, 0.0, false);
+    r.checks.push(CheckResult::named("current", false));
+    settle(&mut r);
+    assert_eq!(r.exit_code(), 1);
+    let mut p = ended(DeviceState::Fault, 500.0, true);
+    p.verdict = Verdict::Panicked("bug".into());
+    settle(&mut p);
+    assert_eq!(p.exit_code(), 101);
+}
+
+#[test]
+fn a_passing_leave_enabled_run_passes_in_the_state_its_steps_left() {
+    let mut r = ended(DeviceState::OperationEnabled, 6000.0, false);
+    r.kept_enabled = true;
+    settle(&mut r);
+    assert_eq!(r.exit_code(), 0);
+    let mut not_kept = ended(DeviceState::OperationEnabled, 6000.0, false);
+    settle(&mut not_kept);
+    assert_eq!(not_kept.exit_code(), 3);
+}
+
+#[test]
+fn with_several_drives_one_coasting_drive_is_an_error_said_of_that_drive() {
+    let mut r = ended(DeviceState::ReadyToSwitchOn, 0.0, false);
+    let end = |name: &str, speed: f64, coasting: bool| DriveEnd {
+        name: name.into(),
+        final_state: Some(DeviceState::ReadyToSwitchOn),
+        final_speed: Some(speed),
+        speed_unit: Some("rpm".into()),
+        coasting,
+        stop_confirmed: true,
+        no_device_control: false,
+        speed_unread: false,
+    };
+    r.drive_ends = vec![end("left", 0.0, false), end("right", 700.0, true)];
+    settle(&mut r);
+    assert_eq!(r.exit_code(), 3);
+    assert!(r.drive_ends[0].stop_confirmed && !r.drive_ends[1].stop_confirmed);
+    assert!(r
+        .verdict
+        .reason()
+        .unwrap_or_default()
+        .contains("right: drive left in ready to switch on at 700 rpm"));
+}
