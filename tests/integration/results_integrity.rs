@@ -611,7 +611,7 @@ fn results_list_marks_runs_with_records_still_in_the_spool() {
     );
     let listed = cli(&["results", "list", "--simulated", "--results", s], 0);
     let line = crate::support::line_with(&listed.stdout, &id);
-    assert_has(line, &["PASSED (unsynced)"]);
+    assert_has(line, &["PASSED (simulated) (unsynced)"]);
     let other = crate::support::line_with(&listed.stdout, &runs[1].run.id);
     assert_lacks(other, &["unsynced"]);
     assert_has(

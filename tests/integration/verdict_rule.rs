@@ -63,7 +63,7 @@ fn a_spindle_left_coasting_is_the_same_error_in_every_report_and_the_store() {
     let listed = cli(&["results", "list", "--simulated", "--results", &path(&store)], 0);
     assert_has(
         &listed.stdout,
-        &["ERROR    Coast-down as the last step  SP-900001"],
+        &["ERROR (simulated)  Coast-down as the last step  SP-900001"],
     );
     let certificate = cli(
         &[
