@@ -32,6 +32,8 @@ pub struct ReadArgs {
 }
 
 #[derive(Debug, Args)]
+/// Write one object, e.g. `write speed_setpoint 6000rpm`
+///
 /// Write one object, e.g. `write speed_setpoint 6000rpm`. Values outside the object's
 /// limits, and read-only objects, are refused before anything is sent.
 pub struct WriteArgs {
@@ -66,7 +68,10 @@ pub struct StateArgs {
 }
 
 #[derive(Debug, Args)]
+/// List the objects of a dictionary: names, addresses, units, limits
+///
 /// List the objects of a dictionary: names, aliases, address, type, unit, access, limits.
+/// `drivescript objects speed` lists those whose name, alias or description has `speed`.
 pub struct ObjectsArgs {
     /// Only objects whose name, alias or description contains this text.
     filter: Option<String>,

@@ -18,6 +18,7 @@ mod editor;
 mod emergencies;
 mod end_to_end;
 mod examples;
+mod help_pages;
 mod hints;
 mod history;
 mod history_keys;
