@@ -29,6 +29,7 @@ mod lenze_931_maintain;
 mod lenze_9400;
 mod live_run;
 mod loader_limits;
+mod manual;
 mod modbus;
 mod multi_drive;
 mod operator;
