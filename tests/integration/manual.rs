@@ -171,3 +171,30 @@ fn the_examples_of_the_readme_and_the_manual_run_as_shown() {
         .case(repo_root().join("README.md"))
         .case(repo_root().join("docs/src/**/*.md"));
 }
+
+/// The README is read in five minutes: at most 250 lines; its first recipe is the shipped
+/// file as it is, and every path of its layout table exists.
+#[test]
+fn the_readme_is_short_and_what_it_shows_exists() {
+    let readme = std::fs::read_to_string(repo_root().join("README.md")).expect("README.md");
+    assert!(readme.lines().count() <= 250, "{} lines", readme.lines().count());
+    let recipe =
+        std::fs::read_to_string(repo_root().join("recipes/first-recipe.yaml")).expect("first recipe");
+    assert!(
+        readme.contains(&format!("```yaml\n{recipe}```")),
+        "the README shows recipes/first-recipe.yaml as it is"
+    );
+    assert!(recipe.lines().count() <= 20, "a 20-line first recipe");
+    let mut paths = 0;
+    for row in readme.lines().filter(|l| l.starts_with("| `")) {
+        let first_cell = row.split('|').nth(1).unwrap_or_default();
+        for path in first_cell.split('`').skip(1).step_by(2) {
+            assert!(
+                repo_root().join(path).exists(),
+                "README layout names {path}, which does not exist"
+            );
+            paths += 1;
+        }
+    }
+    assert!(paths >= 15, "only {paths} paths in the layout table");
+}
