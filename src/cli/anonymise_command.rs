@@ -8,6 +8,8 @@ use clap::Args;
 use std::path::PathBuf;
 
 #[derive(Debug, Args)]
+/// Copy a capture with the drive's strings masked; it still replays
+///
 /// Copy a capture (a `--trace` file or a candump log) with every string the drive gave in
 /// a reply masked (ident, serial number, product name: letters as X, digits as 0, same
 /// length), its check bytes recomputed, so the copy still replays with `--replay`.

@@ -11,6 +11,8 @@ use clap::Args;
 use std::path::PathBuf;
 
 #[derive(Debug, Args)]
+/// Save a drive's parameters to a YAML file
+///
 /// Save every parameter the dictionary marks (`parameter: true`) to a YAML file: family,
 /// address, identity, date, and per object its value with unit and raw value. An object
 /// that cannot be read is recorded with its error.

@@ -13,6 +13,8 @@ use std::io::{BufRead, Write};
 use std::sync::Arc;
 
 #[derive(Debug, Args)]
+/// Explain captured telegrams (hex, candump lines, a --trace file)
+///
 /// Explain captured telegrams: direction, addresses, command, object, data, error text,
 /// control and status word bits. Hex as `00 0b 02 ...`, `000b02...` or `0x00 0x0b ...`;
 /// one telegram per argument, or per line on standard input when no argument is given.
@@ -68,6 +70,18 @@ pub fn run(args: &DecodeArgs, registry: &Registry) -> i32 {
         for (i, arg) in args.hex.iter().enumerate() {
             let path = std::path::Path::new(arg);
             if !path.is_file() {
+                // Hex never holds a `/`: this was meant as a file.
+                if arg.contains(['/', '\\']) || path.extension().is_some_and(|e| e == "trace" || e == "log") {
+                    let what = if path.exists() {
+                        "is not a file"
+                    } else {
+                        "does not exist"
+                    };
+                    eprintln!(
+                        "error: {arg} {what}\n  help: give a --trace file or a candump log, or telegrams as hex (`00 0b 02 ...`)"
+                    );
+                    return INVALID;
+                }
                 out.push((format!("argument {}", i + 1), arg.clone()));
                 continue;
             }

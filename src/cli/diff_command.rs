@@ -11,6 +11,8 @@ use clap::Args;
 use std::path::PathBuf;
 
 #[derive(Debug, Args)]
+/// Compare a backup with the live drive or with another backup
+///
 /// Compare a backup with the live drive (one file) or with another backup (two files).
 /// Exit code 0 when equal, 1 when different.
 pub struct DiffArgs {

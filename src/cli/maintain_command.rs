@@ -8,6 +8,8 @@ use clap::Args;
 use std::io::{BufRead, IsTerminal, Read, Write};
 
 #[derive(Debug, Args)]
+/// Carry out or list the drive family's maintenance actions (reset, init, ...)
+///
 /// Carry out one of the drive family's maintenance actions, or list them (no ACTION).
 /// lenze-931: `reset` (RESET!, hardware reset), `init` (INIT!, default parameter set),
 /// `load` (SEP!, parameter set from flash), `baud RATE` (BAUDbbbb). Every one of these is

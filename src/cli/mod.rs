@@ -15,7 +15,9 @@ mod backup_command;
 mod decode_command;
 mod diff_command;
 mod held_value;
+mod help_text;
 mod maintain_command;
+mod man_page;
 mod object_commands;
 mod objects_command;
 mod panic_notice;
@@ -49,8 +51,7 @@ const VERSION: &str = concat!(
 const EXAMPLES: &str = "\
 Examples:
   drivescript run recipes/commissioning.yaml --fast        simulated drive, virtual time
-  drivescript run recipes/acceptance-test.yaml --port /dev/ttyUSB0 --address 1 \\
-      --output-dir out --junit junit.xml --report report.html
+  drivescript run recipes/acceptance-test.yaml --port /dev/ttyUSB0 --junit junit.xml
   drivescript run a.yaml b.yaml --fast                     several recipes, one exit code
   drivescript check recipes/*.yaml                         validate only; nothing is sent
   drivescript write speed_setpoint 6000 rpm --port /dev/ttyUSB0
@@ -92,9 +93,12 @@ enum Command {
     Schema(recipe_commands::SchemaArgs),
     Results(results_command::ResultsArgs),
     Completions(CompletionsArgs),
+    Man(man_page::ManArgs),
 }
 
 #[derive(Debug, clap::Args)]
+/// Print a shell completion script (bash, zsh, fish, elvish, powershell)
+///
 /// Print a shell completion script, e.g. `drivescript completions bash >
 /// ~/.local/share/bash-completion/completions/drivescript`.
 struct CompletionsArgs {
@@ -105,7 +109,10 @@ struct CompletionsArgs {
 fn command(registry: &Registry) -> clap::Command {
     use clap::CommandFactory;
     let protocols = decode_command::protocol_help(registry);
-    Cli::command().mut_subcommand("decode", |c| c.mut_arg("protocol", |a| a.help(protocols)))
+    let command = Cli::command()
+        .mut_subcommand("decode", |c| c.mut_arg("protocol", |a| a.help(protocols)))
+        .mut_subcommand("run", |c| c.after_long_help(help_text::RUN_EXAMPLES));
+    help_text::short_and_long(command)
 }
 
 /// Runs the command line with the drive families of `registry` and returns the process
@@ -153,6 +160,7 @@ pub fn main(registry: &Registry) -> i32 {
             let _ = std::io::stdout().write_all(&script);
             PASSED
         }
+        Command::Man(args) => man_page::man(&args, command(registry)),
         Command::Decode(args) => decode_command::run(&args, registry),
         Command::Simulate(args) => simulate_command::run(&args, registry),
         Command::Anonymise(args) => anonymise_command::anonymise(&args, registry),

@@ -41,6 +41,8 @@ fn parse_unit(text: &str) -> Result<Unit, ValueError> {
 }
 
 #[derive(Debug, Args)]
+/// Write one object, e.g. `write speed_setpoint 6000rpm`
+///
 /// Write one object, e.g. `write speed_setpoint 6000rpm`. Values outside the object's
 /// limits, and read-only objects, are refused before anything is sent.
 pub struct WriteArgs {

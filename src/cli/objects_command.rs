@@ -11,7 +11,10 @@ use clap::Args;
 use serde_json::json;
 
 #[derive(Debug, Args)]
+/// List the objects of a dictionary: names, addresses, units, limits
+///
 /// List the objects of a dictionary: names, aliases, address, type, unit, access, limits.
+/// `drivescript objects speed` lists those whose name, alias or description has `speed`.
 pub struct ObjectsArgs {
     /// Only objects whose name, alias or description contains this text.
     filter: Option<String>,

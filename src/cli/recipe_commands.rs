@@ -15,6 +15,8 @@ use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex};
 
 #[derive(Debug, Args)]
+/// Validate recipes against the dictionary; nothing is sent to a drive
+///
 /// Validate recipes against the dictionary without opening any port: object names, units,
 /// limits, durations, parameters, states, included files, unknown keys. Reports every
 /// problem at once; exit code 2 if there is any. With --port or --tcp it also reads the
@@ -23,6 +25,7 @@ use std::sync::{Arc, Mutex};
 /// A `.rhai` file is a Rhai script: its syntax and the drive calls written with literals
 /// (with --port, its literal values against the drive's limits too).
 pub struct CheckArgs {
+    /// Recipe files (`.yaml`) or Rhai scripts (`.rhai`).
     #[arg(required = true, value_name = "RECIPE")]
     recipes: Vec<PathBuf>,
     /// Parameter override, NAME=VALUE (e.g. speed=8000rpm); may be repeated.
@@ -35,6 +38,8 @@ pub struct CheckArgs {
 }
 
 #[derive(Debug, Args)]
+/// Run recipes or scripts on a drive or the simulator, always ending in the safe stop
+///
 /// Run recipes. Without --port or --tcp they run against the built-in simulated drive and
 /// say so. Each recipe is checked first; nothing is sent if it has a problem. Whatever
 /// happens, the safe stop runs: a drive still enabled and turning gets the speed setpoint
@@ -49,6 +54,7 @@ pub struct CheckArgs {
 /// family's drives report them (lenze-931); a value outside refuses the run (exit code 2).
 /// A `.rhai` file runs as a Rhai script, with the same reports and safe stop.
 pub struct RunArgs {
+    /// Recipe files (`.yaml`) or Rhai scripts (`.rhai`), run one after the other.
     #[arg(value_name = "RECIPE", required = true)]
     recipes: Vec<PathBuf>,
     /// Parameter override, NAME=VALUE (e.g. speed=8000rpm); may be repeated.
@@ -267,16 +273,28 @@ pub fn run(args: &RunArgs, registry: &Registry) -> i32 {
 }
 
 #[derive(Debug, Args)]
+/// Print the JSON Schema of recipes for one dictionary (editor completion)
+///
 /// Print the JSON Schema of recipes for one dictionary, for editor completion of keys,
 /// object names and states. Recipes point their editor at it with a first line
 /// `# yaml-language-server: $schema=../schemas/sd2.schema.json`.
 pub struct SchemaArgs {
+    /// Print the recipe reference as Markdown instead (the manual's `reference/recipe.md`).
+    #[arg(long)]
+    reference: bool,
     #[command(flatten)]
     dictionary: DictionaryArgs,
 }
 
 pub fn schema(args: &SchemaArgs, registry: &Registry) -> i32 {
     match args.dictionary.load_for(registry, None) {
+        Ok(d) if args.reference => {
+            print!(
+                "{}",
+                crate::recipe::recipe_reference(&d, &registry.address_keys())
+            );
+            PASSED
+        }
         Ok(d) => {
             let text =
                 serde_json::to_string_pretty(&crate::recipe::recipe_schema(&d, &registry.address_keys()))

@@ -12,6 +12,8 @@ use clap::Args;
 use std::path::PathBuf;
 
 #[derive(Debug, Args)]
+/// Write a backup's parameters back (a plan first; --apply writes)
+///
 /// Write a backup's parameters back: prints the plan (only writable parameters that
 /// differ, in dictionary order), writes only with --apply, reads every written object back.
 /// Refused while the drive is in operation enabled.

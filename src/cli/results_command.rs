@@ -11,6 +11,8 @@ use std::path::{Path, PathBuf};
 use std::time::SystemTime;
 
 #[derive(Debug, Args)]
+/// Query the results store: runs, units, reports, trends, export
+///
 /// The results store: every run recorded as it went (recipe and its hash, unit, verdict,
 /// checks, steps, the safe stop's end state, plot series). Runs on the built-in simulated
 /// drive are hidden unless --simulated is given.

@@ -20,6 +20,8 @@ use std::sync::{Arc, Mutex, PoisonError};
 use std::time::Duration;
 
 #[derive(Debug, Args)]
+/// Serve a simulated drive on a pseudo-terminal or a TCP port
+///
 /// Serve a simulated drive on a pseudo-terminal (--pty) or a TCP port (--tcp), until
 /// Ctrl-C. The drive keeps its state between connections, like a real one behind a server.
 pub struct SimulateArgs {

@@ -15,6 +15,8 @@ use clap::Args;
 use std::io::Write;
 
 #[derive(Debug, Args)]
+/// Stop a drive safely: brake to standstill, disable, verify
+///
 /// Stop a drive safely, e.g. one a recipe left running with `leave_enabled: true`: the
 /// speed setpoint to 0 and a wait for standstill (--stop-timeout, --standstill), then
 /// disable operation and shutdown, then the state and speed read back (escalating to quick

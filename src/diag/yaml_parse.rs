@@ -98,6 +98,14 @@ fn error_of(e: &serde_saphyr::Error, source: &Arc<Source>) -> YamlError {
             help: Some(help),
         };
     }
+    if let Some((message, help)) = own_words(e) {
+        return YamlError {
+            message,
+            span,
+            over_limit: false,
+            help: Some(help),
+        };
+    }
     // The caller renders its own snippet, so only the sentence is kept, on one line.
     let message: String = serde_saphyr::DefaultMessageFormatter
         .format_message(e.without_snippet())
@@ -110,6 +118,34 @@ fn error_of(e: &serde_saphyr::Error, source: &Arc<Source>) -> YamlError {
         over_limit: false,
         help: None,
     }
+}
+
+/// The parser's sentences that name its own options or say nothing a user can act on,
+/// in drivescript's words with what to do; `None` for the others.
+fn own_words(e: &serde_saphyr::Error) -> Option<(String, String)> {
+    use serde_saphyr::Error as E;
+    use serde_saphyr::MessageFormatter;
+    let mut e = e;
+    while let E::AliasError { error, .. } | E::WithSnippet { error, .. } = e {
+        e = error;
+    }
+    if let E::DuplicateMappingKey { key, .. } = e {
+        let key = key.as_deref().unwrap_or("this key");
+        return Some((
+            format!("`{key}` is written twice in the same mapping"),
+            format!(
+                "keep one `{key}:` (each key once per mapping; for two steps, start each with its own `- `)"
+            ),
+        ));
+    }
+    let text = serde_saphyr::DefaultMessageFormatter.format_message(e);
+    if text.contains("mapping values are not allowed") {
+        return Some((
+            "a `key:` where the lines above allow none".into(),
+            "indent it under the key it belongs to, start it with `- ` if it is a list item, or check the line above for a missing `key:`".into(),
+        ));
+    }
+    None
 }
 
 /// A plain sentence and help for a reading limit, instead of the parser's internal names
@@ -383,7 +419,15 @@ mod tests {
         assert!(d.message().starts_with("not valid YAML: "), "{}", d.message());
         let e = parse("a: 1\na: 2\n").unwrap_err();
         assert_eq!(line(&e), 2);
-        assert!(e.message.contains("duplicate"), "{}", e.message);
+        assert_eq!(e.message, "`a` is written twice in the same mapping");
+        assert!(!e.help.unwrap_or_default().contains("DuplicateKeyPolicy"));
+        // The parser's sentence for a `key:` where none can be is said in our words.
+        let e = parse("name: x\n  - a\n  - b: 1\n").unwrap_err();
+        assert!(
+            !e.message.contains("not allowed in this context"),
+            "{}",
+            e.message
+        );
     }
 
     #[test]

@@ -1,13 +1,11 @@
 //! The one error type of the dictionary layer: every problem of a dictionary or limits file
 //! (or of files being merged), in file order. Shown as the first problem with
-//! `(and N more problems)` and the others below it, under the code
-//! `drivescript::dictionary`. The problems themselves are `diag::Diagnostic`s; this only
-//! groups them. Pure data: it does no I/O.
+//! `(and N more problems)` and the others below it, with no code above them: the file's
+//! name in each problem says where, an internal label would not. The problems themselves
+//! are `diag::Diagnostic`s; this only groups them. Pure data: it does no I/O.
 
 use crate::diag::{Diagnostic, Diagnostics};
 use std::fmt;
-
-const CODE: &str = "drivescript::dictionary";
 
 #[derive(Debug, Clone)]
 pub struct DictionaryError {
@@ -21,7 +19,7 @@ impl DictionaryError {
     /// All `problems` as one error, in file order; `None` when there are none.
     pub fn collect(problems: Diagnostics) -> Option<DictionaryError> {
         let more = problems.more();
-        let problems: Vec<Diagnostic> = problems.sorted().into_iter().map(|p| p.with_code(CODE)).collect();
+        let problems: Vec<Diagnostic> = problems.sorted().into_iter().collect();
         (!problems.is_empty()).then_some(DictionaryError { problems, more })
     }
 
@@ -44,7 +42,7 @@ impl DictionaryError {
 impl From<Diagnostic> for DictionaryError {
     fn from(problem: Diagnostic) -> Self {
         DictionaryError {
-            problems: vec![problem.with_code(CODE)],
+            problems: vec![problem],
             more: 0,
         }
     }
@@ -70,9 +68,6 @@ impl fmt::Display for DictionaryError {
 impl std::error::Error for DictionaryError {}
 
 impl miette::Diagnostic for DictionaryError {
-    fn code<'a>(&'a self) -> Option<Box<dyn fmt::Display + 'a>> {
-        Some(Box::new(CODE))
-    }
     fn help<'a>(&'a self) -> Option<Box<dyn fmt::Display + 'a>> {
         miette::Diagnostic::help(self.first())
     }
@@ -115,7 +110,7 @@ mod tests {
         miette::GraphicalReportHandler::new_themed(miette::GraphicalTheme::unicode_nocolor())
             .render_report(&mut out, &all)
             .unwrap();
-        assert!(out.contains("Error: drivescript::dictionary"), "{out}");
+        assert!(!out.contains("drivescript::"), "no internal label: {out}");
         assert!(out.contains("d.yaml:3:1: third"), "{out}");
     }
 }

@@ -31,7 +31,7 @@ use std::collections::{BTreeMap, HashMap};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::time::Duration;
-pub(super) use steps::STEP_KEYS;
+pub(super) use steps::{COAST_DOWN_EVERY, COAST_DOWN_TIMEOUT, STEP_KEYS};
 
 /// Default `timeout` of `wait_until` and of each `go_to` transition.
 pub const DEFAULT_WAIT_TIMEOUT: Duration = Duration::from_secs(10);
@@ -171,6 +171,7 @@ fn load_once(
         digest: &mut digest,
         params: BTreeMap::new(),
         sampled: HashMap::new(),
+        sample_refused: false,
         base_dir: base_dir.to_path_buf(),
     }
     .recipe(overrides);
@@ -210,6 +211,9 @@ struct Loader<'a, 'p> {
     /// Objects sampled so far in file order, for `expect` on statistics; true when the last
     /// sample step declared a step for it (for the measures of a step response).
     sampled: HashMap<String, bool>,
+    /// A `sample` step so far was refused: an `expect` on a statistic of an object it does
+    /// not find sampled says nothing more (one mistake, one error).
+    sample_refused: bool,
     base_dir: PathBuf,
     include_chain: Vec<PathBuf>,
 }

@@ -9,6 +9,7 @@ mod loader;
 mod planned_checks;
 mod prompt_schema;
 mod recipe;
+mod reference;
 mod runner;
 mod schema;
 mod schema_dynamics;
@@ -30,6 +31,7 @@ pub use planned_checks::{
 pub use recipe::{Param, Recipe, SafeStopChoice};
 /// A recipe that did not pass its check.
 pub type RecipeInvalid = crate::diag::FileInvalid;
+pub use reference::recipe_reference;
 pub use runner::Runner;
 pub use schema::recipe_schema;
 pub use step::{longest_time_of, Step, StepKind};

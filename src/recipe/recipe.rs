@@ -33,6 +33,9 @@ pub struct Recipe {
     pub description: Option<String>,
     /// The drive family (dictionary) it is written for.
     pub drive: String,
+    /// False when the file names no `drive:` (nor `drives:`) and the dictionary is the
+    /// command line's (`--drive`, else the default): said on the run's first line.
+    pub drive_named: bool,
     pub path: String,
     pub params: Vec<Param>,
     pub steps: Vec<Step>,

@@ -3,7 +3,9 @@
 //! dictionary so editors complete them. Written by hand: the recipe language is externally
 //! tagged YAML whose exact shape a derive could not express. Pure; no I/O.
 
-use super::loader::STEP_KEYS;
+use super::loader::{
+    DEFAULT_GO_TO_TIMEOUT, DEFAULT_POLL, DEFAULT_RAMP_EVERY, DEFAULT_WAIT_TIMEOUT, STEP_KEYS,
+};
 use super::schema_dynamics::{dynamics_steps, last_pass_schema, one_statistic, with_slope, STEP_STATISTICS};
 use super::schema_units::value_key;
 pub(super) use super::schema_units::{any_case, units_of};
@@ -20,6 +22,18 @@ pub(super) const NUMBER: &str = r"-?[0-9]+(\.[0-9]+)?([eE][-+]?[0-9]+)?";
 pub(super) const PARAM: &str = r"\{\{\s*[A-Za-z_][A-Za-z0-9_]*\s*\}\}";
 /// Duration units as the loader (humantime) reads them.
 const DURATION_UNITS: &str = "ns|nsec|us|usec|ms|msec|s|sec|secs|second|seconds|m|min|mins|minute|minutes|h|hr|hrs|hour|hours|d|day|days|w|week|weeks|M|month|months|y|year|years";
+
+/// A default as the schema's texts write durations (`5 s`, `100 ms`, `10 min`): the loader's
+/// own constants, so that the hover texts and the reference generated from them cannot
+/// say another default than the loader applies.
+pub(super) fn spaced(d: std::time::Duration) -> String {
+    let ms = d.as_millis();
+    match ms {
+        _ if ms.is_multiple_of(60_000) && ms >= 60_000 => format!("{} min", ms / 60_000),
+        _ if ms.is_multiple_of(1000) => format!("{} s", ms / 1000),
+        _ => format!("{ms} ms"),
+    }
+}
 
 /// Text matching `regex` (with `numbers`, a bare number too: a pattern applies to text
 /// only), described by `what`: the hover text, and the message editors show for text that
@@ -296,7 +310,7 @@ pub fn recipe_schema(dictionary: &Dictionary, address_keys: &AddressKeyTable) ->
             state("the state to walk to"),
             { "type": "object", "properties": { "state": state("the state to walk to"), "timeout": { "$ref": "#/$defs/duration" } }, "required": ["state"], "additionalProperties": false }
         ] }),
-            "Walk the state machine to a state by the shortest sequence of device commands: `go_to: operation_enabled`, or `{ state: operation_enabled, timeout: 5 s }` (default 5 s per transition)",
+            &format!("Walk the state machine to a state by the shortest sequence of device commands: `go_to: operation_enabled`, or `{{ state: operation_enabled, timeout: 5 s }}` with its `timeout` (default {} per transition)", spaced(DEFAULT_GO_TO_TIMEOUT)),
         ),
         keyed(
             "set",
@@ -316,7 +330,7 @@ pub fn recipe_schema(dictionary: &Dictionary, address_keys: &AddressKeyTable) ->
         keyed(
             "wait_until",
             json!({ "type": "object", "properties": wait_props, "additionalProperties": false }),
-            "Poll until a state (`state: operation_enabled`) or a condition on an object holds (`speed_actual: { near: 6000 rpm, within: 1 % }`); fails after `timeout` (default 10 s), polling `every` (default 100 ms)",
+            &format!("Poll until a state (`state: operation_enabled`) or a condition on an object holds (`speed_actual: {{ near: 6000 rpm, within: 1 % }}`); fails after `timeout` (default {}), polling `every` (default {})", spaced(DEFAULT_WAIT_TIMEOUT), spaced(DEFAULT_POLL)),
         ),
         keyed(
             "dwell",
@@ -354,7 +368,7 @@ pub fn recipe_schema(dictionary: &Dictionary, address_keys: &AddressKeyTable) ->
                 },
                 "required": ["object", "from", "to"], "additionalProperties": false
             }),
-            "Write an object in steps from `from` to `to`, one write `every` interval (default 100 ms): by `step` each, or at a `rate` (1000 rpm/s)",
+            &format!("Write an object in steps from `from` to `to`, one write `every` interval (default {}): by `step` each, or at a `rate` (1000 rpm/s)", spaced(DEFAULT_RAMP_EVERY)),
         ),
         keyed(
             "repeat",
@@ -385,7 +399,7 @@ pub fn recipe_schema(dictionary: &Dictionary, address_keys: &AddressKeyTable) ->
             .into_iter()
             .map(|(key, body, doc)| keyed(key, body, doc)),
     );
-    step_variants.extend(dynamics_steps(&steps_ref).map(|(key, body, doc)| keyed(key, body, doc)));
+    step_variants.extend(dynamics_steps(&steps_ref).map(|(key, body, doc)| keyed(key, body, &doc)));
     let mut step_key_names: Vec<&str> = step_keys.to_vec();
     step_key_names.push("name");
     defs.insert(

@@ -3,6 +3,7 @@
 //! the `attempts` and `coast_down` steps, and a check's `compared_with_last_pass`. Their limits are in their own units (s, %, K
 //! for a difference of °C, K/min), which `check` validates; the schema gives their shape.
 
+use super::loader::{COAST_DOWN_EVERY, COAST_DOWN_TIMEOUT};
 use super::schema::{units_of, NUMBER, PARAM};
 use crate::dictionary::Dimension;
 use serde_json::{json, Map, Value};
@@ -54,7 +55,7 @@ pub(super) fn with_slope(predicates: &Value, one_predicate: &Value) -> (Map<Stri
 }
 
 /// The `attempts` and `coast_down` steps: (key, body, what it does).
-pub(super) fn dynamics_steps(steps_ref: &Value) -> impl Iterator<Item = (&'static str, Value, &'static str)> {
+pub(super) fn dynamics_steps(steps_ref: &Value) -> impl Iterator<Item = (&'static str, Value, String)> {
     [
         (
             "attempts",
@@ -63,7 +64,7 @@ pub(super) fn dynamics_steps(steps_ref: &Value) -> impl Iterator<Item = (&'stati
                 "properties": { "times": { "type": "integer", "minimum": 1, "maximum": 100 }, "steps": steps_ref },
                 "required": ["times", "steps"], "additionalProperties": false
             }),
-            "Try nested `steps` up to `times` times until their checks pass (after re-homing, say); every attempt stays in the reports, the verdict is the last one's",
+            "Try nested `steps` up to `times` times until their checks pass (after re-homing, say); every attempt stays in the reports, the verdict is the last one's".to_string(),
         ),
         (
             "coast_down",
@@ -80,7 +81,7 @@ pub(super) fn dynamics_steps(steps_ref: &Value) -> impl Iterator<Item = (&'stati
                 },
                 "required": ["from", "below", "expect"], "additionalProperties": false
             }),
-            "Switch the power stage off and let the spindle coast by design: the time from `from` down past `below` (actual speed, interpolated) is checked by `expect`; polls `every` (100 ms) for at most `timeout` (10 min)",
+            format!("Switch the power stage off and let the spindle coast by design: the time from `from` down past `below` (actual speed, interpolated) is checked by `expect`; polls `every` (default {}) for at most `timeout` (default {})", super::schema::spaced(COAST_DOWN_EVERY), super::schema::spaced(COAST_DOWN_TIMEOUT)),
         ),
     ]
     .into_iter()

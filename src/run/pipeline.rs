@@ -108,6 +108,16 @@ pub fn run(request: &RunRequest, out: &mut dyn Write, err: &mut dyn Write) -> Ru
     {
         let _ = writeln!(err, "{note}");
     }
+    if let RunPlan::Recipe(recipe) = plan {
+        if !recipe.drive_named && !outputs.quiet {
+            let _ = writeln!(
+                out,
+                "{} names no `drive:`: using the {} dictionary (write `drive:` in the recipe, or give --drive)",
+                plan.path(),
+                loaded.dictionary.name()
+            );
+        }
+    }
     let replay = connection.replay.is_some();
     if (!open.simulators.is_empty() || replay) && !outputs.quiet {
         let _ = writeln!(out, "using {}", open.description);

@@ -53,7 +53,16 @@ impl Session<'_> {
                 self.watch_fault(false)?;
             }
             if waited >= timeout {
-                let message = timed_out(timeout, &condition.to_string(), &seen);
+                let mut message = timed_out(timeout, &condition.to_string(), &seen);
+                if let Condition::State(state) = condition {
+                    if !matches!(state, DeviceState::Fault | DeviceState::FaultReactionActive) {
+                        // The usual cause: a wait written where a command was meant.
+                        message.push_str(&format!(
+                            " (`wait_until` only waits; `go_to: {}` is what moves the drive there)",
+                            state.id()
+                        ));
+                    }
+                }
                 self.record_check(
                     origin,
                     &condition.to_string(),

@@ -6,35 +6,69 @@
 use crate::support::{cli, drivescript, repo_root, stderr, stdout};
 use drivescript::family::{Registry, DEFAULT_DICTIONARY};
 
+/// The folders of shipped recipes: `recipes/` (the SD2's), and one per family's dictionary
+/// (`recipes/ct-unidrive-sp/`, ...), each with the path back to `schemas/`.
+fn recipe_folders() -> Vec<(std::path::PathBuf, String)> {
+    let root = repo_root().join("recipes");
+    let mut folders = vec![(root.clone(), "../".to_string())];
+    for name in Registry::builtin().dictionary_names() {
+        let dir = root.join(name);
+        if dir.is_dir() {
+            folders.push((dir, "../../".to_string()));
+        }
+    }
+    folders
+}
+
+/// The `.yaml` recipes directly in `dir`, in name order.
+fn recipes_in(dir: &std::path::Path) -> Vec<std::path::PathBuf> {
+    let mut paths: Vec<_> = std::fs::read_dir(dir)
+        .expect("recipes/")
+        .map(|e| e.expect("entry").path())
+        .filter(|p| p.extension().and_then(|e| e.to_str()) == Some("yaml"))
+        .collect();
+    paths.sort();
+    paths
+}
+
 #[test]
 fn every_example_recipe_checks_and_passes_in_virtual_time() {
-    let dir = repo_root().join("recipes");
     let out_dir = crate::support::scratch("outputs");
     let mut ran = 0;
-    for entry in std::fs::read_dir(&dir).expect("recipes/") {
-        let path = entry.expect("entry").path();
-        if path.extension().and_then(|e| e.to_str()) != Some("yaml") {
-            continue;
-        }
+    for path in recipe_folders().iter().flat_map(|(dir, _)| recipes_in(dir)) {
         let p = path.to_str().expect("utf-8 path");
-        // Each recipe runs with the built-in dictionary its `drive:` names.
+        // Each recipe runs with the built-in dictionary its `drive:` names, and with the
+        // device's own EDS where one lies beside it (recipes/canopen/).
         let text = std::fs::read_to_string(&path).expect("recipe");
         let drive = text
             .lines()
             .find_map(|l| l.strip_prefix("drive:"))
             .map(|d| d.split('#').next().unwrap_or("").trim().to_string())
             .expect("a `drive:` line");
-        cli(&["check", p, "--drive", &drive], 0);
+        let mut extra: Vec<String> = vec!["--drive".into(), drive.clone()];
+        let folder = path.parent().expect("a folder");
+        for eds in std::fs::read_dir(folder)
+            .expect("folder")
+            .map(|e| e.expect("entry").path())
+        {
+            if eds.extension().and_then(|e| e.to_str()) == Some("eds") {
+                extra.extend(["--dictionary".into(), eds.to_string_lossy().into_owned()]);
+            }
+        }
+        let extra: Vec<&str> = extra.iter().map(String::as_str).collect();
+        cli(&[&["check", p][..], &extra].concat(), 0);
         let run = drivescript(
             &[
-                "run",
-                p,
-                "--fast",
-                "--output-dir",
-                out_dir.to_str().expect("utf-8"),
-                "--drive",
-                &drive,
-            ],
+                &[
+                    "run",
+                    p,
+                    "--fast",
+                    "--output-dir",
+                    out_dir.to_str().expect("utf-8"),
+                ][..],
+                &extra,
+            ]
+            .concat(),
             "",
         );
         assert_eq!(
@@ -45,14 +79,15 @@ fn every_example_recipe_checks_and_passes_in_virtual_time() {
             stderr(&run)
         );
         assert!(stdout(&run).contains("PASSED"), "{p}");
+        // The simulator is said on the first line (by its family: `CT-ANSI drive`).
         assert!(
-            stdout(&run).contains("using the built-in simulated ")
-                && stdout(&run).contains(&format!("{} drive", drive.to_uppercase())),
-            "{p}"
+            stdout(&run).starts_with("using the built-in simulated "),
+            "{p}:\n{}",
+            stdout(&run)
         );
         ran += 1;
     }
-    assert!(ran >= 4, "only {ran} example recipes");
+    assert!(ran >= 16, "only {ran} example recipes");
     // The run-in's stage 2 runs twice; its CSV holds both passes under one header.
     let csv = std::fs::read_to_string(out_dir.join("run-in-stage-2.csv")).expect("stage 2 csv");
     assert_eq!(csv.lines().filter(|l| l.starts_with("time")).count(), 1);
@@ -102,12 +137,10 @@ fn the_committed_schemas_are_current() {
 #[test]
 fn every_shipped_recipe_points_at_the_schema_of_its_drive() {
     let mut seen = 0;
-    for (dir, up) in [("recipes", "../"), ("recipes/includes", "../../")] {
-        for entry in std::fs::read_dir(repo_root().join(dir)).expect("recipes/") {
-            let path = entry.expect("entry").path();
-            if path.extension().and_then(|e| e.to_str()) != Some("yaml") {
-                continue;
-            }
+    let mut folders = recipe_folders();
+    folders.push((repo_root().join("recipes/includes"), "../../".into()));
+    for (dir, up) in folders {
+        for path in recipes_in(&dir) {
             let text = std::fs::read_to_string(&path).expect("recipe");
             let drive = text
                 .lines()
@@ -123,5 +156,33 @@ fn every_shipped_recipe_points_at_the_schema_of_its_drive() {
             seen += 1;
         }
     }
-    assert!(seen >= 6, "only {seen} shipped recipes");
+    assert!(seen >= 16, "only {seen} shipped recipes");
+}
+
+/// Every family other than the SD2's has a commissioning and an acceptance recipe of its
+/// own, and the CiA 402 recipes' EDS is the simulated node's, which CI runs them against.
+#[test]
+fn every_family_has_a_commissioning_and_an_acceptance_recipe() {
+    for name in [
+        "ct-unidrive-sp",
+        "lenze-931",
+        "lenze-9400",
+        "canopen",
+        "modbus-inverter",
+        "modbus-tcp-inverter",
+    ] {
+        for kind in ["commissioning", "acceptance"] {
+            let path = repo_root()
+                .join("recipes")
+                .join(name)
+                .join(format!("{kind}.yaml"));
+            let text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+            assert!(text.contains(&format!("\ndrive: {name}\n")), "{}", path.display());
+        }
+    }
+    assert_eq!(
+        std::fs::read(repo_root().join("recipes/canopen/cia402-node.eds")).expect("shipped EDS"),
+        std::fs::read(repo_root().join("src/family/canopen/sim/cia402_node.eds")).expect("simulator's EDS"),
+        "recipes/canopen/cia402-node.eds is the simulated node's own EDS: copy it again"
+    );
 }

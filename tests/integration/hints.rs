@@ -121,3 +121,38 @@ fn an_unknown_object_points_at_the_objects_of_the_dictionary_in_use() {
     assert!(listed.contains("Lenze"), "{listed}");
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// A path to a file that is not there is said to be one, not read as hex.
+#[test]
+fn decode_of_a_missing_file_says_it_does_not_exist() {
+    let err = cli(&["decode", "/path/that/does/not/exist"], 2).stderr;
+    assert!(
+        err.contains("error: /path/that/does/not/exist does not exist"),
+        "{err}"
+    );
+    assert!(!err.contains("hex digit"), "{err}");
+}
+
+/// A limits-file problem names the file, with no internal label above it.
+#[test]
+fn a_limits_file_error_has_no_internal_label() {
+    let dir = scratch("limits-label");
+    let limits = dir.join("limits.yaml");
+    std::fs::write(&limits, "max_speed: 12000 rpm\nmax_sped: 3 A\n").expect("limits");
+    let (_, recipe) = recipe("limits-label-recipe", "sd2", "ident");
+    let err = cli(
+        &[
+            "check",
+            recipe.to_str().unwrap(),
+            "--limits",
+            limits.to_str().unwrap(),
+        ],
+        2,
+    )
+    .stderr;
+    assert!(
+        err.contains("limits.yaml:2:1: unknown key `max_sped` in the limits file"),
+        "{err}"
+    );
+    assert!(!err.contains("drivescript::"), "{err}");
+}

@@ -338,15 +338,16 @@ fn a_write_reports_the_value_the_wire_quantised_it_to() {
     );
 }
 
-/// The README's Modbus `decode` example prints what the README says it prints (it used to
+/// The manual's Modbus `decode` example prints what the manual says it prints (it used to
 /// give the reply alone, which decodes as raw registers `[500, 11]`).
 #[test]
-fn the_readmes_decode_example_prints_what_it_says() {
-    let readme = std::fs::read_to_string(repo_root().join("README.md")).expect("README.md");
+fn the_manuals_decode_example_prints_what_it_says() {
+    let readme = std::fs::read_to_string(repo_root().join("docs/src/families/modbus.md"))
+        .expect("docs/src/families/modbus.md");
     let flat = readme.split_whitespace().collect::<Vec<_>>().join(" ");
     let start = flat
         .find("`drivescript decode --protocol modbus-rtu")
-        .expect("the README's Modbus decode example");
+        .expect("the manual's Modbus decode example");
     let rest = &flat[start + 1..];
     let command = &rest[..rest.find('`').expect("the example's closing backquote")];
     let after = &rest[command.len()..];
@@ -366,7 +367,7 @@ fn the_readmes_decode_example_prints_what_it_says() {
         "slave 1 reply to read holding registers: speed_actual = 3000 rpm, current_actual = 1.1 A",
         "CRC FB FA correct",
     ] {
-        assert!(after.contains(claimed), "the README no longer claims {claimed:?}");
+        assert!(after.contains(claimed), "the manual no longer claims {claimed:?}");
         assert!(
             out.contains(claimed),
             "`{command}` does not print {claimed:?}:\n{out}"

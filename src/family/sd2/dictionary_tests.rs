@@ -520,7 +520,7 @@ fn yaml_syntax_errors_are_located() {
     assert!(e.message().starts_with("not valid YAML"));
     let e = problem(&object("    unit: V\n    unit: A\n"));
     assert_eq!(e.line(), 8);
-    assert!(e.message().contains("duplicate"));
+    assert!(e.message().contains("`unit` is written twice"), "{}", e.message());
 }
 
 // ---- profile errors ----

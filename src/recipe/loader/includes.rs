@@ -82,11 +82,13 @@ impl Loader<'_, '_> {
             digest: self.digest,
             params: BTreeMap::new(),
             sampled: self.sampled.clone(),
+            sample_refused: self.sample_refused,
             base_dir: path.parent().map(Path::to_path_buf).unwrap_or_default(),
             include_chain,
         };
         let recipe = inner.recipe(&given);
         self.sampled = inner.sampled;
+        self.sample_refused = inner.sample_refused;
         if self.r.count() > before {
             return self.refuse(
                 &file_node.span,

@@ -62,17 +62,40 @@ impl Loader<'_, '_> {
                 Some((def.clone(), r))
             }
             Err(e) => {
-                let help = if e.suggestions.is_empty() {
-                    crate::dictionary::objects_command(Some(self.dict.name()))
-                } else {
-                    format!(
+                // A suggestion sharing no word with the name (`spindle_speed` → `parameter_set`)
+                // only misleads; the objects about one of its words are what was meant.
+                let words: Vec<&str> = name.split(['_', '-', '.']).filter(|w| w.len() >= 3).collect();
+                let shares_a_word = |s: &String| {
+                    words
+                        .iter()
+                        .any(|w| s.to_ascii_lowercase().contains(&w.to_ascii_lowercase()))
+                };
+                let about = words
+                    .iter()
+                    .rev()
+                    .map(|w| (*w, self.dict.filter(w)))
+                    .find(|(_, found)| !found.is_empty());
+                let help = match about {
+                    Some((word, found)) if !e.suggestions.iter().any(shares_a_word) => {
+                        let names: Vec<String> =
+                            found.iter().take(3).map(|d| format!("`{}`", d.name)).collect();
+                        format!(
+                            "did you mean {}? `drivescript objects --drive {} {word}` lists every object about {word}",
+                            names.join(" or "),
+                            self.dict.name()
+                        )
+                    }
+                    _ if e.suggestions.is_empty() => {
+                        crate::dictionary::objects_command(Some(self.dict.name()))
+                    }
+                    _ => format!(
                         "did you mean {}?",
                         e.suggestions
                             .iter()
                             .map(|s| format!("`{s}`"))
                             .collect::<Vec<_>>()
                             .join(" or ")
-                    )
+                    ),
                 };
                 self.problem(
                     span,

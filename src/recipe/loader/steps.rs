@@ -26,6 +26,9 @@ use crate::dictionary::Profile;
 use crate::drive::device_control::{DeviceCommand, DeviceState};
 use crate::recipe::step::{Step, StepKind};
 use crate::session::StepOrigin;
+pub(in crate::recipe) use coast_down::{
+    DEFAULT_EVERY as COAST_DOWN_EVERY, DEFAULT_TIMEOUT as COAST_DOWN_TIMEOUT,
+};
 use std::time::Duration;
 
 /// Every step keyword, for the loader's suggestions and the JSON Schema's list alike.
@@ -113,6 +116,25 @@ impl Loader<'_, '_> {
                     .map(|(k, _)| k)
                     .filter(|k| k.value != "name")
                     .collect();
+                let is_step = |k: &str| STEP_KEYS.contains(&k) || DeviceCommand::from_id(k).is_some();
+                let (step_keys, others): (Vec<&Spanned<String>>, Vec<&Spanned<String>>) =
+                    keys.iter().partition(|k| is_step(&k.value));
+                if let ([step_key], [other, ..]) = (step_keys.as_slice(), others.as_slice()) {
+                    // `timeout:` under `wait_until:`, or an object under `set:`, written level
+                    // with it: a second `- ` would break the step; indenting is the fix.
+                    return self.refuse(
+                        &other.span,
+                        format!(
+                            "`{}` is level with `{}:`, so it reads as a second keyword of this step",
+                            other.value, step_key.value
+                        ),
+                        format!("belongs under `{}:`", step_key.value),
+                        Some(format!(
+                            "indent `{}:` two spaces further than `{}:`, so that it is part of it",
+                            other.value, step_key.value
+                        )),
+                    );
+                }
                 let [key] = keys.as_slice() else {
                     return self.refuse(
                         &node.span,

@@ -27,6 +27,17 @@ impl Loader<'_, '_> {
         let root = match YamlNode::parse(&self.source) {
             Ok(root) => root,
             Err(e) => {
+                // The parser stops a line or more after a list that lacks its `steps:` line;
+                // the list's first line is where the fix goes.
+                if let Some(span) = list_without_its_key(&self.source) {
+                    self.problem(
+                        &span,
+                        "a list of steps with no `steps:` line above it",
+                        "a list item after `key: value`",
+                        Some(format!("add a line `steps:` above line {}", span.line())),
+                    );
+                    return None;
+                }
                 let help =
                     "check indentation (spaces, not tabs) and that every `key:` is followed by a space";
                 self.r.report(e.diagnostic(self.source.path(), Some(help.into())));
@@ -56,6 +67,7 @@ impl Loader<'_, '_> {
                 Some("move this drive into `drives:` with a name".into()),
             );
         }
+        let drive_named = f.get("drive").is_some() || !drives.is_empty();
         let drive = match (f.get("drive"), drives.first()) {
             (Some(n), _) => self.drive_family(n),
             (None, Some(first)) => first.drive.clone(),
@@ -89,6 +101,7 @@ impl Loader<'_, '_> {
             name,
             description,
             drive,
+            drive_named,
             path: self.source.path().to_string(),
             params,
             steps,
@@ -172,4 +185,43 @@ impl Loader<'_, '_> {
         }
         drive
     }
+}
+
+/// The first list item (`- …`) that follows a top-level `key: value` line directly: the
+/// steps of a recipe whose `steps:` line is missing, which YAML reads as more of the value
+/// and then refuses a line or more later.
+fn list_without_its_key(source: &std::sync::Arc<crate::diag::Source>) -> Option<crate::diag::Span> {
+    let mut offset = 0;
+    let mut previous: Option<&str> = None;
+    for (index, line) in source.text().split_inclusive('\n').enumerate() {
+        let content = line.trim_end();
+        let trimmed = content.trim_start();
+        let start = offset;
+        offset += line.len();
+        if trimmed.is_empty() || trimmed.starts_with('#') {
+            continue;
+        }
+        let is_item = trimmed == "-" || trimmed.starts_with("- ");
+        if is_item {
+            let after_value = previous.is_some_and(|p| {
+                !p.starts_with([' ', '\t', '-'])
+                    && p.split_once(':').is_some_and(|(_, v)| {
+                        let v = v.split(" #").next().unwrap_or("").trim();
+                        !v.is_empty() && !v.starts_with(['|', '>', '&'])
+                    })
+            });
+            if after_value {
+                let column = content.len() - trimmed.len();
+                return Some(crate::diag::Span::new(
+                    source,
+                    start + column,
+                    trimmed.len(),
+                    index + 1,
+                    column + 1,
+                ));
+            }
+        }
+        previous = Some(content);
+    }
+    None
 }

@@ -14,8 +14,8 @@ use crate::session::CoastDown;
 use std::time::Duration;
 
 /// How long a coast-down may take unless the recipe says.
-const DEFAULT_TIMEOUT: Duration = Duration::from_secs(10 * 60);
-const DEFAULT_EVERY: Duration = Duration::from_millis(100);
+pub(in crate::recipe) const DEFAULT_TIMEOUT: Duration = Duration::from_secs(10 * 60);
+pub(in crate::recipe) const DEFAULT_EVERY: Duration = Duration::from_millis(100);
 
 impl Loader<'_, '_> {
     /// `name`: the step's, which names its check (as an `expect`'s does).

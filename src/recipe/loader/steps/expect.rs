@@ -37,6 +37,13 @@ impl Loader<'_, '_> {
                     };
                     (Some(found.0), found.1)
                 }
+                // `{ avg: { below: … } }`: a condition nested under a word that is no
+                // statistic is a statistic misspelt, not a condition with an unknown key.
+                Some([(key, node)]) if node.entries().is_some() && !Self::is_condition_key(&key.value) => {
+                    self.unknown_statistic(key);
+                    ok = false;
+                    continue;
+                }
                 _ => (None, v.clone()),
             };
             let measured = match stat {

@@ -12,6 +12,12 @@ use std::path::PathBuf;
 
 impl Loader<'_, '_> {
     pub(in crate::recipe::loader) fn sample(&mut self, body: &YamlNode) -> Option<(StepKind, String)> {
+        let step = self.sample_step(body);
+        self.sample_refused |= step.is_none();
+        step
+    }
+
+    fn sample_step(&mut self, body: &YamlNode) -> Option<(StepKind, String)> {
         let shape = Shape::new("this sample", &["objects", "every", "for", "csv", "step"])
             .require(&["objects", "every", "for"])
             .example("sample: { objects: [speed_actual], every: 100 ms, for: 60 s }");

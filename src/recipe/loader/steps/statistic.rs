@@ -9,7 +9,57 @@ use crate::recipe::loader::values::in_unit;
 use crate::recipe::loader::Loader;
 use crate::session::{Measure, ObjectRef, Statistic};
 
+/// Words people write for a statistic, and the statistic's own name.
+const STATISTIC_WORDS: [(&str, &str); 10] = [
+    ("avg", "mean"),
+    ("average", "mean"),
+    ("minimum", "min"),
+    ("maximum", "max"),
+    ("stddev", "std"),
+    ("std_dev", "std"),
+    ("sigma", "std"),
+    ("standard_deviation", "std"),
+    ("peak_to_peak", "ripple"),
+    ("p2p", "ripple"),
+];
+
 impl Loader<'_, '_> {
+    /// True for the keys of a condition itself (`near`, `within`, ...), which are no
+    /// statistic however they are nested.
+    pub(in crate::recipe::loader) fn is_condition_key(key: &str) -> bool {
+        crate::session::Predicate::KINDS.contains(&key)
+            || ["within", "warn", super::last_pass::KEY].contains(&key)
+    }
+
+    /// `avg` where a statistic belongs: the statistic meant, and the list of them.
+    pub(in crate::recipe::loader) fn unknown_statistic(&mut self, key: &Spanned<String>) {
+        let word = key.value.to_ascii_lowercase();
+        let meant = STATISTIC_WORDS
+            .iter()
+            .find(|(w, _)| *w == word)
+            .map(|(_, s)| s.to_string())
+            .or_else(|| {
+                crate::diag::did_you_mean(&word, Statistic::ALL.iter().map(|(id, _)| *id))
+                    .into_iter()
+                    .next()
+            });
+        let all = Statistic::ALL
+            .iter()
+            .map(|(id, _)| *id)
+            .collect::<Vec<_>>()
+            .join(", ");
+        let help = match meant {
+            Some(s) => format!("did you mean `{s}`? The statistics of a sample window: {all}"),
+            None => format!("the statistics of a sample window: {all}"),
+        };
+        self.problem(
+            &key.span,
+            format!("unknown statistic `{}`", key.value),
+            "not a statistic",
+            Some(help),
+        );
+    }
+
     /// The statistic `key` names and its condition (without a slope's `over`).
     pub(in crate::recipe::loader) fn statistic_of(
         &mut self,
@@ -19,6 +69,10 @@ impl Loader<'_, '_> {
     ) -> Option<(Statistic, YamlNode)> {
         let stat = Statistic::from_id(&key.value)?;
         let Some(stepped) = self.sampled.get(&r.name).copied() else {
+            if self.sample_refused {
+                // Said at the refused sample step; this follows from it.
+                return None;
+            }
             return self.refuse(
                 &key.span,
                 format!(
