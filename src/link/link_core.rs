@@ -238,8 +238,9 @@ impl LinkCore {
             if (owed == 0 && burst.is_none()) || now >= until {
                 break;
             }
+            // The debt is kept: the safe stop's exchanges that follow still wait for these
+            // replies, or one of them would be taken for the stop's own.
             if self.stop_pending() {
-                self.late = None;
                 return Err(ReplyWait::Interrupted);
             }
             let mut slice = (until - now).min(STOP_POLL.max(gap));
@@ -298,7 +299,7 @@ impl LinkCore {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::clock::VirtualClock;
+    use crate::clock::{Clock, VirtualClock};
     use crate::stop_request::StopSignal;
 
     /// A link waiting for a slow reply, past its grace: what a stop request does to it.
@@ -325,6 +326,69 @@ mod tests {
             core.after_quiet(sent, deadline),
             Some(ReplyWait::Interrupted)
         ));
+    }
+
+    /// A line on which one late reply arrives at a clock time.
+    struct LateLine {
+        clock: Arc<VirtualClock>,
+        reply: Option<(Duration, Vec<u8>)>,
+    }
+
+    impl Transport for LateLine {
+        fn name(&self) -> &str {
+            "late"
+        }
+        fn write_all(&mut self, _bytes: &[u8]) -> Result<(), TransportError> {
+            Ok(())
+        }
+        fn read(&mut self, buf: &mut [u8], timeout: Duration) -> Result<usize, TransportError> {
+            let now = self.clock.now();
+            match self.reply.take() {
+                Some((at, bytes)) if at <= now + timeout => {
+                    self.clock.advance(at.saturating_sub(now));
+                    buf[..bytes.len()].copy_from_slice(&bytes);
+                    Ok(bytes.len())
+                }
+                other => {
+                    self.reply = other;
+                    self.clock.advance(timeout);
+                    Err(TransportError::Timeout {
+                        port: "late".into(),
+                        waited: timeout,
+                    })
+                }
+            }
+        }
+        fn discard_input(&mut self) -> Result<usize, TransportError> {
+            Ok(0)
+        }
+        fn reopen(&mut self) -> Result<(), TransportError> {
+            Ok(())
+        }
+    }
+
+    #[test]
+    fn a_stop_that_cuts_the_drain_short_leaves_the_late_reply_owed_for_the_safe_stop() {
+        let stop = Arc::new(StopRequests::new());
+        let clock = Arc::new(VirtualClock::new());
+        let mut core = LinkCore::new(clock.clone(), Duration::from_millis(50));
+        core.set_stop_requests(stop.clone());
+        let mut line = LateLine {
+            clock: clock.clone(),
+            reply: Some((Duration::from_millis(150), vec![1, 3, 2, 0, 0x40])),
+        };
+        core.owe_late_replies(1, Duration::from_millis(300));
+        stop.request(StopSignal::INT);
+        assert!(matches!(
+            core.drain_late_replies(&mut line, Duration::from_millis(5)),
+            Err(ReplyWait::Interrupted)
+        ));
+        // The safe stop answers the signal; its first exchange must still drop the reply
+        // owed to the step's request before it sends its own.
+        stop.enter_safe_stop();
+        assert_eq!(core.late_reply_until(), Some(Duration::from_millis(300)));
+        assert!(core.drain_late_replies(&mut line, Duration::from_millis(5)).is_ok());
+        assert!(line.reply.is_none(), "the late reply was dropped before sending");
     }
 
     #[test]
