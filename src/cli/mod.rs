@@ -25,6 +25,7 @@ mod parameter_commands;
 mod recipe_commands;
 mod restore_command;
 mod results_command;
+mod results_listing;
 mod results_quality;
 mod safe_stop_notes;
 mod simulate_command;

@@ -387,7 +387,9 @@ mod tests {
         // owed to the step's request before it sends its own.
         stop.enter_safe_stop();
         assert_eq!(core.late_reply_until(), Some(Duration::from_millis(300)));
-        assert!(core.drain_late_replies(&mut line, Duration::from_millis(5)).is_ok());
+        assert!(core
+            .drain_late_replies(&mut line, Duration::from_millis(5))
+            .is_ok());
         assert!(line.reply.is_none(), "the late reply was dropped before sending");
     }
 
