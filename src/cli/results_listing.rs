@@ -184,19 +184,8 @@ pub(super) fn show(store: &mut Store, id: &str, json: bool) -> Result<i32, Store
     }
     match &r.end {
         Some(e) => {
-            if let Some(state) = &e.final_state {
-                let speed = e
-                    .final_speed
-                    .map(|v| format!(" at {}", crate::session::with_unit(v, e.speed_unit.as_deref())))
-                    .unwrap_or_default();
-                shown!(
-                    "drive left in {state}{speed}{}",
-                    if e.stop_confirmed {
-                        ""
-                    } else {
-                        " — stop NOT confirmed"
-                    }
-                );
+            if let Some(line) = drive_left(e, r.started()) {
+                shown!("{line}");
             }
             shown!(
                 "ended    {} — {} (exit code {})",
@@ -211,4 +200,70 @@ pub(super) fn show(store: &mut Store, id: &str, json: bool) -> Result<i32, Store
         None => shown!("INCOMPLETE — the run never finished (killed, power cut, or still running)"),
     }
     Ok(PASSED)
+}
+
+/// What the safe stop left the drive in, as stored: a stop not confirmed is said even when
+/// the drive's state could not be read (then there is no state to name). A run refused
+/// before it started stopped nothing.
+fn drive_left(e: &crate::results::EndRow, started: bool) -> Option<String> {
+    let unconfirmed = if e.stop_confirmed {
+        ""
+    } else {
+        " — stop NOT confirmed"
+    };
+    match &e.final_state {
+        Some(state) => {
+            let speed = e
+                .final_speed
+                .map(|v| format!(" at {}", crate::session::with_unit(v, e.speed_unit.as_deref())))
+                .unwrap_or_default();
+            Some(format!("drive left in {state}{speed}{unconfirmed}"))
+        }
+        None if started && !e.stop_confirmed => Some(format!(
+            "drive left in a state that could not be read back{unconfirmed}"
+        )),
+        None => None,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::results::EndRow;
+
+    #[test]
+    fn a_stop_not_confirmed_is_said_when_the_state_could_not_be_read() {
+        let end = EndRow {
+            verdict: "error".into(),
+            stop_confirmed: false,
+            ..EndRow::default()
+        };
+        let line = drive_left(&end, true).unwrap_or_default();
+        assert!(line.contains("stop NOT confirmed"), "{line}");
+    }
+
+    #[test]
+    fn a_confirmed_stop_and_a_refused_run_say_no_more_than_they_know() {
+        let confirmed = EndRow {
+            final_state: Some("switch on disabled".into()),
+            final_speed: Some(0.0),
+            speed_unit: Some("rpm".into()),
+            stop_confirmed: true,
+            ..EndRow::default()
+        };
+        assert_eq!(
+            drive_left(&confirmed, true).as_deref(),
+            Some("drive left in switch on disabled at 0 rpm")
+        );
+        let refused = EndRow {
+            verdict: "refused".into(),
+            ..EndRow::default()
+        };
+        assert_eq!(drive_left(&refused, false), None);
+        let no_device_control = EndRow {
+            stop_confirmed: true,
+            ..EndRow::default()
+        };
+        assert_eq!(drive_left(&no_device_control, true), None);
+    }
 }
