@@ -3,6 +3,7 @@
 //! recipe holds each one (its step number), never by the order a run happened to reach
 //! them. Pure naming; knows no XML and no run.
 
+use crate::session::without_iterations;
 use std::collections::HashMap;
 
 /// Names for cases given as (name, step that holds it), in the same order. The step may
@@ -51,21 +52,6 @@ pub(crate) fn case_names(cases: &[(String, String)]) -> Vec<String> {
 
 /// Where a case stands in the recipe: its step in recipe order, and its count there.
 type Place<'a> = (Vec<(u64, &'a str)>, u32);
-
-/// `4[2].3` → `4.3`.
-fn without_iterations(step: &str) -> String {
-    let mut out = String::with_capacity(step.len());
-    let mut depth = 0u32;
-    for c in step.chars() {
-        match c {
-            '[' => depth += 1,
-            ']' => depth = depth.saturating_sub(1),
-            c if depth == 0 => out.push(c),
-            _ => {}
-        }
-    }
-    out
-}
 
 /// Step numbers in recipe order: `2` before `10`, `finally.1` after every step.
 fn step_order(step: &str) -> Vec<(u64, &str)> {
