@@ -9,7 +9,7 @@
 //! and the run says where its record is.
 
 use super::record::{CheckRow, EndRow, Record, RunRow, SeriesRow, StepRow, UnitRow};
-use super::results_writer::{Job, Writer};
+use super::results_writer::{Job, Landed, Writer};
 use super::{Locator, Spool};
 use crate::session::{CheckResult, RunInfo, RunObserver, RunReport, StepRecord, UnitIdentity, MAX_RECORDS};
 use crate::stop_request::StopRequests;
@@ -162,9 +162,9 @@ impl ResultsRecorder {
     }
 
     /// Hands the rest of `run` to the writer and waits (at most [`FINISH_WAIT`], and only
-    /// until a stop signal comes) until the writer has handled all of it: whether the
-    /// store committed the whole run, `None` when the writer did not answer in time.
-    fn flushed(&self, run: &mut CurrentRun) -> Option<bool> {
+    /// until a stop signal comes) until the writer has handled all of it: where the run's
+    /// records went, `None` when the writer did not answer in time.
+    fn flushed(&self, run: &mut CurrentRun) -> Option<Landed> {
         let before = self.signals();
         let started = Instant::now();
         let waited_enough = || started.elapsed() >= FINISH_WAIT || self.signals() > before;
@@ -297,7 +297,7 @@ impl ResultsRecorder {
     fn finish(&mut self, mut run: CurrentRun, end: EndRow) {
         run.sent.push(Record::Finished(end));
         let flushed = self.flushed(&mut run);
-        if flushed == Some(true) {
+        if flushed == Some(Landed::Stored) {
             if !self.settings.quiet {
                 note(
                     &self.notes,
@@ -308,7 +308,18 @@ impl ResultsRecorder {
         }
         let lost = match flushed {
             // The writer spooled what the store did not commit.
-            Some(_) => None,
+            Some(Landed::Spooled | Landed::Stored) => None,
+            // The writer could not spool some of it (and said why): they are not kept.
+            Some(Landed::Lost) => {
+                note(
+                    &self.notes,
+                    &format!(
+                        "results: run {} is neither wholly in {} nor kept on this bench",
+                        run.id, self.store_name
+                    ),
+                );
+                return;
+            }
             None => self.spool.append(&run.sent).err(),
         };
         if flushed.is_none() {

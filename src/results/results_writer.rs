@@ -3,7 +3,7 @@
 //! in before its steps: a kill leaves whole batches, never a step without its run),
 //! opening the store (and delivering the spool first) at a run's start. A run the store
 //! fails during goes on to the spool, so a run's records are never split between a store
-//! that came back and the spool; it answers, when asked, whether a run is in the store.
+//! that came back and the spool; it answers, when asked, where a run's records are.
 
 use super::record::Record;
 use super::results_recorder::note;
@@ -18,9 +18,20 @@ const BATCH: usize = 512;
 /// What the recorder puts on the queue.
 pub enum Job {
     Record(Box<Record>),
-    /// Answered once everything before it is handled: whether the store committed every
-    /// record of the run named (`false`: some are in the spool).
-    Flush(String, SyncSender<bool>),
+    /// Answered once everything before it is handled: where the records of the run named
+    /// are.
+    Flush(String, SyncSender<Landed>),
+}
+
+/// Where a run's records went, as the writer knows it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Landed {
+    /// The store committed every one.
+    Stored,
+    /// Some are in the spool, the rest in the store.
+    Spooled,
+    /// Some could be written neither to the store nor to the spool.
+    Lost,
 }
 
 /// The writer thread's side.
@@ -33,6 +44,8 @@ pub struct Writer {
     stored: HashSet<String>,
     /// Runs whose records go to the spool (the store failed during them).
     spooled: HashSet<String>,
+    /// Runs of which some records the spool could not take either.
+    lost: HashSet<String>,
 }
 
 impl Writer {
@@ -44,6 +57,7 @@ impl Writer {
             store: None,
             stored: HashSet::new(),
             spooled: HashSet::new(),
+            lost: HashSet::new(),
         }
     }
 
@@ -66,7 +80,7 @@ impl Writer {
                 self.write(batch);
             }
             if let Some((run, ack)) = flush {
-                let _ = ack.send(self.stored.contains(&run) && !self.spooled.contains(&run));
+                let _ = ack.send(self.landed(&run));
             }
         }
     }
@@ -127,10 +141,24 @@ impl Writer {
         if let Err(e) = self.spool.append(&to_spool) {
             let mut runs: Vec<&str> = to_spool.iter().map(Record::run).collect();
             runs.dedup();
-            note(
-                &self.notes,
-                &format!("results: records of run {} are lost: {e}", runs.join(", ")),
-            );
+            // Said once a run: its later batches fail the same way.
+            runs.retain(|r| self.lost.insert(r.to_string()));
+            if !runs.is_empty() {
+                note(
+                    &self.notes,
+                    &format!("results: records of run {} are lost: {e}", runs.join(", ")),
+                );
+            }
+        }
+    }
+
+    fn landed(&self, run: &str) -> Landed {
+        if self.lost.contains(run) {
+            Landed::Lost
+        } else if self.stored.contains(run) && !self.spooled.contains(run) {
+            Landed::Stored
+        } else {
+            Landed::Spooled
         }
     }
 

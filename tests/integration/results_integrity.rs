@@ -327,6 +327,33 @@ fn a_foreign_sqlite_file_is_left_untouched_with_a_clear_error() {
     }
 }
 
+/// A run the store refuses and the spool cannot take either is said to be lost, never
+/// "kept on this bench" (before, the writer said its records were lost and the run's end
+/// line then said they waited in the spool).
+#[test]
+fn a_run_neither_store_nor_spool_takes_is_said_lost_not_kept() {
+    let dir = scratch("spool-unwritable");
+    let recipe = write_file(&dir, "tiny.yaml", TINY);
+    let other = dir.join("other.sqlite");
+    {
+        let c = rusqlite::Connection::open(&other).expect("another application's database");
+        c.execute_batch("CREATE TABLE invoices (id INTEGER);")
+            .expect("its table");
+    }
+    // The spool's path taken by a folder: nothing can be appended to it.
+    std::fs::create_dir_all(dir.join("other.sqlite.spool")).expect("a folder");
+    let ran = run_into(&recipe, other.to_str().unwrap(), &dir, &[], 0);
+    assert_has(
+        &ran.stderr,
+        &[
+            "is not a drivescript results store",
+            "are lost",
+            "nor kept on this bench",
+        ],
+    );
+    assert_lacks(&ran.stderr, &["kept on this bench, not yet in", "recorded in"]);
+}
+
 /// A store path that is a directory is named as such, with what to give instead — before,
 /// `results list` said no run had been recorded there yet.
 #[test]
