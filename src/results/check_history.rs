@@ -11,8 +11,9 @@ use super::StoreError;
 use crate::session::{key_of_name, PastCheck, PastRun};
 
 impl Store {
-    /// The last complete run with verdict passed of the recipe named `recipe` on the unit
-    /// `serial`, among simulated runs or among real ones, with its passed checks that
+    /// The last complete run with verdict passed, not voided (a wrong unit scanned: its
+    /// values are not this unit's), of the recipe named `recipe` on the unit `serial`,
+    /// among simulated runs or among real ones, with its passed checks that
     /// measured a value; `None` when there is none.
     pub fn last_pass(
         &mut self,
@@ -22,7 +23,9 @@ impl Store {
     ) -> Result<Option<PastRun>, StoreError> {
         let rows = self.backend.query(
             "SELECT id, started_at FROM runs WHERE recipe = $1 AND serial = $2 AND simulated = $3 \
-             AND verdict = 'passed' AND ended_at IS NOT NULL ORDER BY started_at DESC, id DESC LIMIT 1",
+             AND verdict = 'passed' AND ended_at IS NOT NULL \
+             AND NOT EXISTS (SELECT 1 FROM voids v WHERE v.run_id = runs.id) \
+             ORDER BY started_at DESC, id DESC LIMIT 1",
             &[recipe.into(), serial.into(), simulated.into()],
         )?;
         let Some(run) = rows.first() else {

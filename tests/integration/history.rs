@@ -113,6 +113,30 @@ fn history_in(dir: &Path, store: &str) {
     assert_eq!(code, 0, "{fourth}");
     assert_has(&fourth, &[&format!("run {second_id}")]);
     assert_lacks(&fourth, &[&third_id]);
+    // Nor is a voided run (a wrong unit scanned): its values are not this unit's.
+    let fourth_id = run_id(&fourth);
+    let voided = command()
+        .args([
+            "results",
+            "void",
+            &fourth_id,
+            "--why",
+            "wrong unit scanned",
+            "--by",
+            "A. Lead",
+        ])
+        .args(["--results", store])
+        .output()
+        .expect("voids");
+    assert!(
+        voided.status.success(),
+        "{}",
+        String::from_utf8_lossy(&voided.stderr)
+    );
+    let (code, fifth) = fast("SP-1", &[]);
+    assert_eq!(code, 0, "{fifth}");
+    assert_has(&fifth, &[&format!("run {second_id}")]);
+    assert_lacks(&fifth, &[&fourth_id]);
     let (code, other) = fast("SP-2", &[]);
     assert_eq!(code, 0, "{other}");
     assert_has(&other, &["history SP-2: no earlier passed run"]);
