@@ -311,7 +311,10 @@ impl SdoLink {
             if self.core.stop_pending() {
                 return Err(AttemptFailure::Interrupted);
             }
-            let slice = (until - self.core.clock.now()).min(Duration::from_millis(10));
+            // Time passes between the readings: `until` may be behind us by now.
+            let slice = until
+                .saturating_sub(self.core.clock.now())
+                .min(Duration::from_millis(10));
             match bus.receive(slice) {
                 Ok(f) if f.id == response_id(self.node) && !f.extended => {
                     self.core.notify_frame(Direction::Received, &f);
