@@ -188,6 +188,46 @@ impl Clock for VirtualClock {
     }
 }
 
+/// For tests: a virtual clock on which time passes between any two readings, as a real
+/// one's does (each reading `tick` after the one before), so that code which reads the
+/// clock twice and assumes nothing passed in between is caught.
+#[cfg(test)]
+#[derive(Debug, Default)]
+pub struct TickingClock {
+    pub clock: VirtualClock,
+    pub tick: Duration,
+}
+
+#[cfg(test)]
+impl TickingClock {
+    pub fn new(tick: Duration) -> Self {
+        TickingClock {
+            clock: VirtualClock::new(),
+            tick,
+        }
+    }
+}
+
+#[cfg(test)]
+impl Clock for TickingClock {
+    fn now(&self) -> Duration {
+        self.clock.advance(self.tick);
+        self.clock.now()
+    }
+    fn sleep_until(&self, deadline: Duration) {
+        self.clock.sleep_until(deadline)
+    }
+    fn wait_step_until(&self, _now: Duration, until: Duration, _stop: &StopRequests) {
+        self.clock.sleep_until(until)
+    }
+    fn is_virtual(&self) -> bool {
+        true
+    }
+    fn started_at(&self) -> SystemTime {
+        self.clock.started_at()
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -352,36 +352,11 @@ fn a_node_slower_than_the_timeout_never_gives_a_read_the_answer_to_an_earlier_on
     );
 }
 
-/// A clock on which time passes between any two readings, as a real one's does: each
-/// reading is a millisecond after the one before.
-#[derive(Debug, Default)]
-struct Ticking(VirtualClock);
-
-impl Clock for Ticking {
-    fn now(&self) -> Duration {
-        self.0.advance(Duration::from_millis(1));
-        self.0.now()
-    }
-    fn sleep_until(&self, deadline: Duration) {
-        self.0.sleep_until(deadline)
-    }
-    fn wait_step_until(&self, _now: Duration, until: Duration, _stop: &crate::stop_request::StopRequests) {
-        self.0.sleep_until(until)
-    }
-    fn is_virtual(&self) -> bool {
-        true
-    }
-    fn started_at(&self) -> std::time::SystemTime {
-        self.0.started_at()
-    }
-}
-
 #[test]
 fn the_wait_for_owed_responses_survives_time_passing_between_its_readings() {
-    // Every phase of the readings against the end of the wait.
-    for offset in 0..12 {
-        let clock = Arc::new(Ticking::default());
-        clock.0.advance(Duration::from_micros(offset * 250));
+    // Readings that many steps apart: one lands just short of the end of the wait.
+    for tick in 1..=20 {
+        let clock = Arc::new(crate::clock::TickingClock::new(Duration::from_micros(tick * 300)));
         // A node that never answers: each read owes the responses of its attempts to the
         // next one, which waits for them until their time is over.
         let peer = Arc::new(Mutex::new(Scripted {

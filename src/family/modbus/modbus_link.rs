@@ -188,7 +188,10 @@ impl ModbusLink {
             self.config.reply_timeout.as_millis()
         ));
         while self.core.clock.now() < until && !self.core.stop_pending() {
-            let slice = (until - self.core.clock.now()).min(Duration::from_millis(10));
+            // Time passes between the readings: `until` may be behind us by now.
+            let slice = until
+                .saturating_sub(self.core.clock.now())
+                .min(Duration::from_millis(10));
             self.core.clock.sleep(slice);
         }
     }

@@ -339,3 +339,29 @@ impl crate::link::TelegramObserver for Events {
         self.0.lock().unwrap().push(text.to_string());
     }
 }
+
+#[test]
+fn the_wait_of_a_busy_slave_survives_time_passing_between_its_readings() {
+    let busy = rtu::encode(
+        1,
+        &Response::Exception {
+            function: 3,
+            code: ExceptionCode::SERVER_DEVICE_BUSY,
+        }
+        .encode(),
+    );
+    // Readings that many steps apart: one lands just short of the end of the wait.
+    for tick in 1..=20 {
+        let clock = Arc::new(crate::clock::TickingClock::new(Duration::from_micros(tick * 300)));
+        let peer = scripted(vec![Some(busy.clone()); 3]);
+        let transport = MemoryTransport::new("test line", peer, clock.clone());
+        let mut link = ModbusLink::new(
+            SharedTransport::new(Box::new(transport)),
+            clock,
+            1,
+            LinkConfig::default(),
+        );
+        link.set_stop_requests(Arc::new(crate::stop_request::StopRequests::new()));
+        let _ = link.exchange(&READ_STATUS);
+    }
+}
