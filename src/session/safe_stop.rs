@@ -138,6 +138,22 @@ impl Session<'_> {
                 }
             }
         }
+        // A stop request that lands after the drives were read back as kept (between that
+        // check and here) still stops them: a run that says it stopped its drives must have.
+        if kept && self.stop.count_at(self.clock.now()) > 0 {
+            self.note(
+                "a stop request arrived as the run ended: the drives left enabled are stopped after all"
+                    .to_string(),
+            );
+            let again = self.guarded(|r| {
+                r.safe_stop_drives(None, link_lost, false);
+                Ok(())
+            });
+            if again.is_err() {
+                self.report.stop_confirmed = false;
+            }
+            kept = false;
+        }
         self.stop.leave_safe_stop();
         // A stop signal that arrived only during the safe stop still ends the run as
         // interrupted: CI and supervisors must not read a pass from a killed run.
@@ -147,7 +163,6 @@ impl Session<'_> {
         // What the drive's end makes of the verdict is the run layer's one rule
         // (`run::verdict_rule`), not decided here.
         self.say_reported_in_stop();
-        let kept = kept && self.stop.count_at(self.clock.now()) == 0;
         self.report.kept_enabled = kept;
         self.release_drives(kept);
     }
