@@ -7,6 +7,7 @@
 mod drives;
 mod includes;
 mod objects;
+mod on_failure;
 mod params;
 mod set_blame;
 mod steps;

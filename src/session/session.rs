@@ -352,6 +352,11 @@ impl<'a> Session<'a> {
         self.observer.message(text);
     }
 
+    /// `run -x`: every failed check ends the run.
+    pub fn stops_on_failure(&self) -> bool {
+        self.settings.stop_on_failure
+    }
+
     /// Whether anything shows progress; nothing is built for a screen that is not there.
     pub fn wants_progress(&self) -> bool {
         self.observer.wants_progress()

@@ -105,6 +105,7 @@ impl Loader<'_, '_> {
                         kind: StepKind::Command(cmd, None),
                         origin,
                         label: cmd.id().to_string(),
+                        on_failure: None,
                     });
                 }
                 self.unknown_step(&node.span, word);
@@ -170,6 +171,10 @@ impl Loader<'_, '_> {
         if let Some(cmd) = DeviceCommand::from_id(&key.value) {
             return self.command_on_drive(cmd, body, origin);
         }
+        let on_failure = match key.value.as_str() {
+            "repeat" | "attempts" | "include" => self.block_on_failure(body),
+            _ => None,
+        };
         let (kind, label) = match key.value.as_str() {
             "go_to" => self.go_to(body)?,
             "set" => self.set(body)?,
@@ -208,7 +213,12 @@ impl Loader<'_, '_> {
             }
             (_, Some(n)) => n,
         };
-        Some(Step { kind, origin, label })
+        Some(Step {
+            kind,
+            origin,
+            label,
+            on_failure,
+        })
     }
 
     /// A word (`- frob`) or keyword (`- frob: …`) that is no step, with the closest one.
@@ -251,6 +261,7 @@ impl Loader<'_, '_> {
             kind: StepKind::Command(cmd, Some(drive.clone())),
             origin,
             label: format!("{} {drive}", cmd.id()),
+            on_failure: None,
         })
     }
 
