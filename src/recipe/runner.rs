@@ -144,7 +144,7 @@ impl Policy {
         let stop = if s.stops_on_failure() {
             Some("run --stop-on-failure".to_string())
         } else {
-            (recipe.on_failure == OnFailure::Stop).then(|| format!("on_failure: stop of {}", recipe.path))
+            (recipe.on_failure == OnFailure::Stop).then(|| "on_failure: stop of the recipe".to_string())
         };
         Policy {
             stop,
