@@ -189,6 +189,6 @@ impl Session<'_> {
         self.observer.message(&text);
         self.report.safe_stop.push(text.clone());
         self.report.stopped_on_failure = Some(text.clone());
-        Stop::Failed(text)
+        Stop::StoppedOnFailure(text)
     }
 }
