@@ -1,7 +1,7 @@
 //! The campaign's recipes, generated from the step grammar by a seeded generator: set,
 //! go_to (up, and down to ready to switch on), wait_until, dwell, read, sample with expect,
 //! ramp, coast_down (also as the last step, and followed by an enable with the old setpoint
-//! standing), repeat and attempts,
+//! standing), repeat and attempts (sometimes with `on_failure: stop`, also for the whole recipe),
 //! own `finally` and `on_fault`. Mostly recipes that pass on a healthy drive, some with a
 //! check that fails, so that a fault is what changes the ending. Text only; nothing runs.
 
@@ -79,7 +79,23 @@ pub fn recipe(seed: u64, target: &Target, rng: &mut Rng) -> Generated {
             _ => {}
         }
     }
+    guards(seed, &mut y);
     Generated { yaml: y, name }
+}
+
+/// Sometimes `on_failure: stop` for the whole recipe or on a repeat or attempts block,
+/// from a generator of its own, so every seed's steps and fault stay what they were
+/// before guards existed (the kept cases replay them).
+fn guards(seed: u64, y: &mut String) {
+    let mut rng = Rng::new(seed ^ 0x6775_6172_6473);
+    if rng.chance(25) {
+        *y = y.replacen("steps:\n", "on_failure: stop\nsteps:\n", 1);
+    }
+    for block in ["repeat:\n", "attempts:\n"] {
+        if y.contains(block) && rng.chance(30) {
+            *y = y.replace(block, &format!("{block}      on_failure: stop\n"));
+        }
+    }
 }
 
 fn step(y: &mut String, text: &str) {
@@ -294,5 +310,20 @@ mod tests {
             .filter(|s| recipe(*s, &t, &mut Rng::new(*s)).yaml != a)
             .count();
         assert!(differ > 25, "{differ}");
+    }
+
+    #[test]
+    fn some_recipes_stop_on_failure_for_the_whole_run_or_a_block() {
+        let t = super::super::target::TARGETS[0];
+        let all: Vec<String> = (0..200).map(|s| recipe(s, &t, &mut Rng::new(s)).yaml).collect();
+        let top = all
+            .iter()
+            .filter(|y| y.contains("\non_failure: stop\nsteps:"))
+            .count();
+        let block = all
+            .iter()
+            .filter(|y| y.contains("      on_failure: stop"))
+            .count();
+        assert!(top > 20 && block > 10, "{top} recipe(s), {block} block(s)");
     }
 }
