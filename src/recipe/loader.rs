@@ -13,6 +13,7 @@ mod set_blame;
 mod steps;
 mod top_keys;
 mod values;
+mod watch;
 
 #[cfg(test)]
 mod tests;

@@ -75,6 +75,8 @@ pub struct Recipe {
     pub leave_enabled: bool,
     /// `on_failure:` of the recipe: its steps' policy where no block names its own.
     pub on_failure: OnFailure,
+    /// `watch:`: limits read all through the steps; one crossed ends the run.
+    pub watches: Vec<crate::session::Watch>,
     pub safe_stop: SafeStopChoice,
     /// Settings of the family's link (`link:`), before the command line's.
     pub link: Vec<(String, String)>,

@@ -93,7 +93,7 @@ impl<'a> Runner<'a> {
     /// Runs the recipe to the end, whatever happens, and returns what happened. A panic in
     /// the steps is caught so that the safe stop still runs; the caller exits 101.
     pub fn run(self, recipe: &Recipe) -> RunReport {
-        let mut session = self.session;
+        let mut session = self.session.with_watches(recipe.watches.clone());
         session.begin();
         let policy = Policy::of(&session, recipe);
         let ended = session

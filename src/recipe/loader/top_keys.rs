@@ -1,5 +1,5 @@
 //! The recipe document itself: its top-level keys (`name`, `drive`, `params`, `steps`,
-//! `finally`, `on_fault`, `leave_enabled`, `on_failure`, `safe_stop`, `link`, `drives`), each handed to the part that reads
+//! `finally`, `on_fault`, `leave_enabled`, `on_failure`, `watch`, `safe_stop`, `link`, `drives`), each handed to the part that reads
 //! it. It must not read steps or values itself.
 
 use super::Loader;
@@ -17,6 +17,7 @@ const TOP_KEYS: &[&str] = &[
     "on_fault",
     "leave_enabled",
     "on_failure",
+    "watch",
     "safe_stop",
     "link",
     "drives",
@@ -82,6 +83,7 @@ impl Loader<'_, '_> {
             .get("on_failure")
             .and_then(|n| self.on_failure(n))
             .unwrap_or_default();
+        let watches = f.get("watch").map(|n| self.watch_section(n)).unwrap_or_default();
         let safe_stop = f.get("safe_stop").map(|n| self.safe_stop(n)).unwrap_or_default();
         let link = f.get("link").map(|n| self.link(n)).unwrap_or_default();
         let params = self.params_section(f.get("params"), overrides);
@@ -114,6 +116,7 @@ impl Loader<'_, '_> {
             on_fault,
             leave_enabled,
             on_failure,
+            watches,
             safe_stop,
             link,
             drives,
