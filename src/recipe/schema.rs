@@ -468,6 +468,12 @@ pub fn recipe_schema(dictionary: &Dictionary, address_keys: &AddressKeyTable) ->
             "steps": { "$ref": "#/$defs/steps", "description": "the steps, in order: device commands (`- shutdown`) and steps with one key (`- set: { speed_setpoint: 6000 rpm }`)" },
             "finally": { "$ref": "#/$defs/unattended_steps", "description": "steps run at every ending, after a turning drive is braked to standstill; they replace the default stop (disable operation, shutdown), never the verification that follows" },
             "on_fault": { "$ref": "#/$defs/unattended_steps", "description": "steps run when the drive faults during a step, before the safe stop" },
+            "watch": {
+                "type": "object",
+                "description": "Limits that hold for the whole run, one object each (`motor_temperature: { below: 80 °C }`, `current_actual: { below: 12 A, for: 2 s }`: beyond the limit that long before it counts), read `every` interval (default 1 s) during the steps; one crossed ends the run at once through the safe stop (FAILED)",
+                "properties": { "every": { "$ref": "#/$defs/duration" } },
+                "additionalProperties": { "type": "object" }
+            },
             "on_failure": on_failure_schema("of the recipe's steps (where no block names its own)"),
             "leave_enabled": { "type": "boolean", "default": false,
                 "description": "true: a run that succeeds leaves the drive as its steps left it (no brake, no finally, the default's or the recipe's); every other ending stops it. `drivescript stop` stops it later" },
