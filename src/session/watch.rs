@@ -76,9 +76,18 @@ impl Session<'_> {
                 now.saturating_sub(self.run_start).as_secs_f64()
             );
             let origin = watch.origin.clone();
+            // The limits and unit as `expect` keeps them, for every report and the store.
+            let (object, (low, high)) = match &condition {
+                Condition::Value { object, predicate } => (Some(object.clone()), predicate.reported_limits()),
+                _ => (None, (None, None)),
+            };
             let check = CheckResult {
                 measured,
                 measured_text: Some(seen),
+                unit: object.as_ref().and_then(|o| o.unit.clone()),
+                low,
+                high,
+                object: object.map(|o| o.name),
                 message: message.clone(),
                 origin: origin.clone(),
                 ..CheckResult::named(name.clone(), false)
