@@ -196,7 +196,10 @@ fn steps(
         let own = policy.for_step(step, &info.number);
         let inside = own.inside(step);
         let mark = s.check_mark();
-        s.perform(&info, |s| exec(s, step, &info.number, phase, &inside))?;
+        let watching = s.begin_block_watches(&step.watches);
+        let done = s.perform(&info, |s| exec(s, step, &info.number, phase, &inside));
+        s.end_block_watches(watching);
+        done?;
         if let (Some(why), false) = (&own.stop, own.trying) {
             if let Some(check) = s.failed_check_since(mark) {
                 return Err(s.stop_on_failure(&check, &info.number, why));

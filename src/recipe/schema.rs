@@ -7,7 +7,8 @@ use super::loader::{
     DEFAULT_GO_TO_TIMEOUT, DEFAULT_POLL, DEFAULT_RAMP_EVERY, DEFAULT_WAIT_TIMEOUT, STEP_KEYS,
 };
 use super::schema_dynamics::{
-    dynamics_steps, last_pass_schema, on_failure_schema, one_statistic, with_slope, STEP_STATISTICS,
+    dynamics_steps, last_pass_schema, on_failure_schema, one_statistic, watch_schema, with_slope,
+    STEP_STATISTICS,
 };
 use super::schema_units::value_key;
 pub(super) use super::schema_units::{any_case, units_of};
@@ -376,7 +377,7 @@ pub fn recipe_schema(dictionary: &Dictionary, address_keys: &AddressKeyTable) ->
             "repeat",
             json!({
                 "type": "object",
-                "properties": { "times": { "type": "integer", "minimum": 1 }, "for": { "$ref": "#/$defs/duration" }, "steps": steps_ref, "on_failure": on_failure_schema("in this block") },
+                "properties": { "times": { "type": "integer", "minimum": 1 }, "for": { "$ref": "#/$defs/duration" }, "steps": steps_ref, "on_failure": on_failure_schema("in this block"), "watch": watch_schema("this block") },
                 "required": ["steps"], "additionalProperties": false,
                 "oneOf": [ { "required": ["times"], "not": { "required": ["for"] } }, { "required": ["for"], "not": { "required": ["times"] } } ]
             }),
@@ -468,12 +469,7 @@ pub fn recipe_schema(dictionary: &Dictionary, address_keys: &AddressKeyTable) ->
             "steps": { "$ref": "#/$defs/steps", "description": "the steps, in order: device commands (`- shutdown`) and steps with one key (`- set: { speed_setpoint: 6000 rpm }`)" },
             "finally": { "$ref": "#/$defs/unattended_steps", "description": "steps run at every ending, after a turning drive is braked to standstill; they replace the default stop (disable operation, shutdown), never the verification that follows" },
             "on_fault": { "$ref": "#/$defs/unattended_steps", "description": "steps run when the drive faults during a step, before the safe stop" },
-            "watch": {
-                "type": "object",
-                "description": "Limits that hold for the whole run, one object each (`motor_temperature: { below: 80 °C }`, `current_actual: { below: 12 A, for: 2 s }`: beyond the limit that long before it counts), read `every` interval (default 1 s) during the steps; one crossed ends the run at once through the safe stop (FAILED)",
-                "properties": { "every": { "$ref": "#/$defs/duration" } },
-                "additionalProperties": { "type": "object" }
-            },
+            "watch": watch_schema("the whole run"),
             "on_failure": on_failure_schema("of the recipe's steps (where no block names its own)"),
             "leave_enabled": { "type": "boolean", "default": false,
                 "description": "true: a run that succeeds leaves the drive as its steps left it (no brake, no finally, the default's or the recipe's); every other ending stops it. `drivescript stop` stops it later" },

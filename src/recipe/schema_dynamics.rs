@@ -61,7 +61,7 @@ pub(super) fn dynamics_steps(steps_ref: &Value) -> impl Iterator<Item = (&'stati
             "attempts",
             json!({
                 "type": "object",
-                "properties": { "times": { "type": "integer", "minimum": 1, "maximum": 100 }, "steps": steps_ref, "on_failure": on_failure_schema("in this block") },
+                "properties": { "times": { "type": "integer", "minimum": 1, "maximum": 100 }, "steps": steps_ref, "on_failure": on_failure_schema("in this block"), "watch": watch_schema("this block") },
                 "required": ["times", "steps"], "additionalProperties": false
             }),
             "Try nested `steps` up to `times` times until their checks pass (after re-homing, say); every attempt stays in the reports, the verdict is the last one's".to_string(),
@@ -121,4 +121,14 @@ pub(super) fn last_pass_schema(units: &str) -> Value {
 pub(super) fn on_failure_schema(scope: &str) -> Value {
     json!({ "type": "string", "enum": crate::recipe::OnFailure::WORDS, "default": "continue",
             "description": format!("`stop`: the first failed check {scope} ends the run through the safe stop, the steps after it reported as not run (inside `attempts`, once the attempts are used up); `continue`: the run goes on. `run -x` stops everywhere") })
+}
+
+/// `watch:` of the recipe or of a repeat or attempts block (`scope`: what it holds for).
+pub(super) fn watch_schema(scope: &str) -> Value {
+    json!({
+        "type": "object",
+        "description": format!("Limits that hold for {scope}, one object each (`motor_temperature: {{ below: 80 °C }}`, `current_actual: {{ below: 12 A, for: 2 s }}`: beyond the limit that long before it counts), read `every` interval (default 1 s, at least 50 ms) during the steps; one crossed ends the run at once through the safe stop (FAILED)"),
+        "properties": { "every": { "$ref": "#/$defs/duration" } },
+        "additionalProperties": { "type": "object" }
+    })
 }

@@ -16,6 +16,8 @@ pub struct Step {
     pub label: String,
     /// A block's own `on_failure:` (repeat, attempts, include); `None`: the enclosing one's.
     pub on_failure: Option<super::recipe::OnFailure>,
+    /// A block's own `watch:` limits (repeat, attempts), read while its steps run.
+    pub watches: Vec<crate::session::Watch>,
 }
 
 /// The longest a list of steps can take (see [`Step::longest_time`]).

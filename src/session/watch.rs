@@ -34,6 +34,20 @@ impl Session<'_> {
         self
     }
 
+    /// A block's own watches join the run's while its steps run; returns what
+    /// [`Session::end_block_watches`] takes to drop them again.
+    pub fn begin_block_watches(&mut self, watches: &[Watch]) -> usize {
+        let before = self.watches.len();
+        self.watches
+            .extend(watches.iter().map(|w| (w.clone(), WatchState::default())));
+        before
+    }
+
+    /// The block's steps ended: its watches are read no more.
+    pub fn end_block_watches(&mut self, before: usize) {
+        self.watches.truncate(before);
+    }
+
     /// Reads each watch that is due; a limit crossed for its whole `hold` is recorded as a
     /// failed check (the watch, the value, the time, the step) and ends the run. Never in
     /// the safe stop: nothing there may be ended early.

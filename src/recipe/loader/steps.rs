@@ -106,6 +106,7 @@ impl Loader<'_, '_> {
                         origin,
                         label: cmd.id().to_string(),
                         on_failure: None,
+                        watches: Vec::new(),
                     });
                 }
                 self.unknown_step(&node.span, word);
@@ -175,6 +176,10 @@ impl Loader<'_, '_> {
             "repeat" | "attempts" | "include" => self.block_on_failure(body),
             _ => None,
         };
+        let watches = match (key.value.as_str(), body.get("watch")) {
+            ("repeat" | "attempts", Some(node)) => self.watch_section(node),
+            _ => Vec::new(),
+        };
         let (kind, label) = match key.value.as_str() {
             "go_to" => self.go_to(body)?,
             "set" => self.set(body)?,
@@ -218,6 +223,7 @@ impl Loader<'_, '_> {
             origin,
             label,
             on_failure,
+            watches,
         })
     }
 
@@ -262,6 +268,7 @@ impl Loader<'_, '_> {
             origin,
             label: format!("{} {drive}", cmd.id()),
             on_failure: None,
+            watches: Vec::new(),
         })
     }
 

@@ -13,7 +13,7 @@ pub(super) const DEFAULT_WATCH_EVERY: Duration = Duration::from_secs(1);
 const MIN_WATCH_EVERY: Duration = Duration::from_millis(50);
 
 impl Loader<'_, '_> {
-    pub(super) fn watch_section(&mut self, node: &YamlNode) -> Vec<Watch> {
+    pub(in crate::recipe::loader) fn watch_section(&mut self, node: &YamlNode) -> Vec<Watch> {
         let Some(entries) = node.entries() else {
             self.problem(
                 &node.span,
