@@ -7,11 +7,13 @@
 mod drives;
 mod includes;
 mod objects;
+mod on_failure;
 mod params;
 mod set_blame;
 mod steps;
 mod top_keys;
 mod values;
+mod watch;
 
 #[cfg(test)]
 mod tests;

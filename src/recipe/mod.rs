@@ -28,7 +28,7 @@ pub use loader::{
 pub use planned_checks::{
     last_pass_checks, operator_prompts, planned_checks, sampled_objects, shortest_sample_interval,
 };
-pub use recipe::{Param, Recipe, SafeStopChoice};
+pub use recipe::{OnFailure, Param, Recipe, SafeStopChoice};
 /// A recipe that did not pass its check.
 pub type RecipeInvalid = crate::diag::FileInvalid;
 pub use reference::recipe_reference;

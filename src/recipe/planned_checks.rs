@@ -148,7 +148,8 @@ fn compared(kind: &StepKind) -> Vec<(Named, &LastPass)> {
     }
 }
 
-/// The shortest interval any sample step of the recipe asks for (finally's too).
+/// The shortest interval any sample step of the recipe asks for (finally's too), or a
+/// `watch:` reads at: what the line must keep up with.
 pub fn shortest_sample_interval(recipe: &Recipe) -> Option<std::time::Duration> {
     fn walk(steps: &[Step], out: &mut Option<std::time::Duration>) {
         for step in steps {
@@ -164,7 +165,7 @@ pub fn shortest_sample_interval(recipe: &Recipe) -> Option<std::time::Duration> 
     let mut out = None;
     walk(&recipe.steps, &mut out);
     walk(recipe.finally.as_deref().unwrap_or_default(), &mut out);
-    out
+    recipe.watches.iter().map(|w| w.every).chain(out).min()
 }
 
 /// The objects the recipe's sample steps read (finally's too), each once, in recipe order.
@@ -325,5 +326,29 @@ steps:
         );
         let first = first.expect("a place");
         assert_eq!((first.line, first.column), (8, 30));
+    }
+
+    /// A watch reads its objects as a sample does: its interval is one the line must keep.
+    #[test]
+    fn a_watch_interval_counts_as_the_shortest_sample_interval() {
+        let dictionary = crate::family::Registry::builtin()
+            .load_dictionary(crate::family::DEFAULT_DICTIONARY)
+            .expect("built-in dictionary");
+        let load = |text: &str| {
+            crate::recipe::load_recipe_text("r.yaml", text, Path::new("."), &dictionary, &[]).expect("valid")
+        };
+        let sample = "  - sample: { objects: [speed_actual], every: 1 s, for: 5 s }\n";
+        let plain = load(&format!("name: x\nsteps:\n{sample}"));
+        assert_eq!(
+            shortest_sample_interval(&plain),
+            Some(std::time::Duration::from_secs(1))
+        );
+        let watched = load(&format!(
+            "name: x\nwatch: {{ motor_temperature: {{ below: 80 °C }}, every: 200 ms }}\nsteps:\n{sample}"
+        ));
+        assert_eq!(
+            shortest_sample_interval(&watched),
+            Some(std::time::Duration::from_millis(200))
+        );
     }
 }

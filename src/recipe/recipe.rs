@@ -18,6 +18,31 @@ pub struct SafeStopChoice {
     pub no_brake_at: Option<(usize, usize)>,
 }
 
+/// What a failed check does to the rest of the run (`on_failure:` of the recipe or of a
+/// block; `run -x` makes it `Stop` everywhere).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub enum OnFailure {
+    /// The run goes on; the verdict is FAILED at its end (as before the key existed).
+    #[default]
+    Continue,
+    /// The first failed check ends the run through the safe stop; the steps after it are
+    /// reported as not run.
+    Stop,
+}
+
+impl OnFailure {
+    /// The words a recipe writes, in the order the reference lists them.
+    pub const WORDS: [&'static str; 2] = ["stop", "continue"];
+
+    pub fn from_word(word: &str) -> Option<OnFailure> {
+        match word {
+            "stop" => Some(OnFailure::Stop),
+            "continue" => Some(OnFailure::Continue),
+            _ => None,
+        }
+    }
+}
+
 /// A parameter as it was finally resolved (declared default or `--set`).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Param {
@@ -48,6 +73,10 @@ pub struct Recipe {
     /// meant to keep turning): neither the brake nor `finally` runs then. Every other
     /// ending still stops the drive, with `finally` (or the default).
     pub leave_enabled: bool,
+    /// `on_failure:` of the recipe: its steps' policy where no block names its own.
+    pub on_failure: OnFailure,
+    /// `watch:`: limits read all through the steps; one crossed ends the run.
+    pub watches: Vec<crate::session::Watch>,
     pub safe_stop: SafeStopChoice,
     /// Settings of the family's link (`link:`), before the command line's.
     pub link: Vec<(String, String)>,

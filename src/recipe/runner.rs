@@ -3,7 +3,7 @@
 //! The session ends every run with the safe stop (the recipe's `finally`, or the default)
 //! whatever ended the steps. Knows steps, never bytes or families.
 
-use super::recipe::Recipe;
+use super::recipe::{OnFailure, Recipe};
 use super::step::{Step, StepKind};
 use crate::drive::Drive;
 use crate::session::{
@@ -93,9 +93,12 @@ impl<'a> Runner<'a> {
     /// Runs the recipe to the end, whatever happens, and returns what happened. A panic in
     /// the steps is caught so that the safe stop still runs; the caller exits 101.
     pub fn run(self, recipe: &Recipe) -> RunReport {
-        let mut session = self.session;
+        let mut session = self.session.with_watches(recipe.watches.clone());
         session.begin();
-        let ended = session.guarded(|s| steps(s, &recipe.steps, "", "steps")).err();
+        let policy = Policy::of(&session, recipe);
+        let ended = session
+            .guarded(|s| steps(s, &recipe.steps, "", "steps", &policy))
+            .err();
         let mut on_fault = |s: &mut Session| best_effort(s, &recipe.on_fault, "on_fault");
         let mut finally = |s: &mut Session| {
             if let Some(steps) = &recipe.finally {
@@ -122,7 +125,64 @@ fn info(step: &Step, number: String, phase: &'static str) -> StepInfo {
     }
 }
 
-fn steps(s: &mut Session, steps: &[Step], prefix: &str, phase: &'static str) -> Result<(), Stop> {
+/// What a failed check does where steps run: whether it ends the run (and who says so),
+/// and whether an `attempts` block around them may still try again, when it does not yet.
+#[derive(Debug, Clone, Default)]
+struct Policy {
+    /// `Some(why)`: the first failed check ends the run (`on_failure: stop`, `run -x`).
+    stop: Option<String>,
+    /// Inside an `attempts` block: a failed attempt is no failure until the attempts are
+    /// used up, so the block's own step is judged instead.
+    trying: bool,
+    /// The command line's `-x`: no block's `on_failure: continue` turns it off.
+    forced: bool,
+}
+
+impl Policy {
+    /// The recipe's own policy, or the command line's `-x` over it.
+    fn of(s: &Session, recipe: &Recipe) -> Policy {
+        let stop = if s.stops_on_failure() {
+            Some("run --stop-on-failure".to_string())
+        } else {
+            (recipe.on_failure == OnFailure::Stop).then(|| "on_failure: stop of the recipe".to_string())
+        };
+        Policy {
+            stop,
+            trying: false,
+            forced: s.stops_on_failure(),
+        }
+    }
+
+    /// The policy for `step` itself: its own `on_failure` (where written) over this one's;
+    /// `-x` is never turned off by a block's `continue`.
+    fn for_step(&self, step: &Step, number: &str) -> Policy {
+        let stop = match step.on_failure {
+            Some(OnFailure::Stop) if self.stop.is_none() => {
+                Some(format!("on_failure: stop of step {number}"))
+            }
+            Some(OnFailure::Continue) if !self.forced => None,
+            _ => self.stop.clone(),
+        };
+        Policy { stop, ..*self }
+    }
+
+    /// The policy of the steps inside `step` (an attempts block tries them).
+    fn inside(&self, step: &Step) -> Policy {
+        Policy {
+            stop: self.stop.clone(),
+            trying: self.trying || matches!(step.kind, StepKind::Attempts { .. }),
+            forced: self.forced,
+        }
+    }
+}
+
+fn steps(
+    s: &mut Session,
+    steps: &[Step],
+    prefix: &str,
+    phase: &'static str,
+    policy: &Policy,
+) -> Result<(), Stop> {
     for (i, step) in steps.iter().enumerate() {
         if s.interrupted() {
             return Err(Stop::Interrupted);
@@ -133,7 +193,18 @@ fn steps(s: &mut Session, steps: &[Step], prefix: &str, phase: &'static str) -> 
             format!("{prefix}.{}", i + 1)
         };
         let info = info(step, number, phase);
-        s.perform(&info, |s| exec(s, step, &info.number, phase))?;
+        let own = policy.for_step(step, &info.number);
+        let inside = own.inside(step);
+        let mark = s.check_mark();
+        let watching = s.begin_block_watches(&step.watches);
+        let done = s.perform(&info, |s| exec(s, step, &info.number, phase, &inside));
+        s.end_block_watches(watching);
+        done?;
+        if let (Some(why), false) = (&own.stop, own.trying) {
+            if let Some(check) = s.failed_check_since(mark) {
+                return Err(s.stop_on_failure(&check, &info.number, why));
+            }
+        }
         if phase == "steps" {
             s.watch_fault(false)?;
         }
@@ -141,7 +212,13 @@ fn steps(s: &mut Session, steps: &[Step], prefix: &str, phase: &'static str) -> 
     Ok(())
 }
 
-fn exec(s: &mut Session, step: &Step, number: &str, phase: &'static str) -> Result<String, Stop> {
+fn exec(
+    s: &mut Session,
+    step: &Step,
+    number: &str,
+    phase: &'static str,
+    policy: &Policy,
+) -> Result<String, Stop> {
     match &step.kind {
         StepKind::Command(c, None) => s.command_all(*c),
         StepKind::Command(c, Some(drive)) => s.command_on(drive, *c),
@@ -188,13 +265,13 @@ fn exec(s: &mut Session, step: &Step, number: &str, phase: &'static str) -> Resu
             times,
             duration,
             steps: nested,
-        } => repeat(s, *times, *duration, nested, number, phase),
+        } => repeat(s, *times, *duration, nested, number, phase, policy),
         StepKind::Ask(prompt) => s.ask(prompt, &step.origin, number).map(|(detail, _)| detail),
         StepKind::Include { steps: nested, .. } => {
-            steps(s, nested, number, phase)?;
+            steps(s, nested, number, phase, policy)?;
             Ok(format!("{} steps", nested.len()))
         }
-        StepKind::Attempts { times, steps: nested } => attempts(s, *times, nested, number, phase),
+        StepKind::Attempts { times, steps: nested } => attempts(s, *times, nested, number, phase, policy),
     }
 }
 
@@ -205,6 +282,7 @@ fn repeat(
     nested: &[Step],
     number: &str,
     phase: &'static str,
+    policy: &Policy,
 ) -> Result<String, Stop> {
     let start = s.clock().now();
     let mut n = 0u32;
@@ -227,7 +305,7 @@ fn repeat(
             };
             s.progress(number, elapsed, duration, &what);
         }
-        steps(s, nested, number, phase)?;
+        steps(s, nested, number, phase, policy)?;
     }
     let took = s.clock().now().saturating_sub(start);
     // `for`: an iteration begun before the duration ran out runs to its end (a run-in's
@@ -255,10 +333,11 @@ fn attempts(
     nested: &[Step],
     number: &str,
     phase: &'static str,
+    policy: &Policy,
 ) -> Result<String, Stop> {
     for k in 1..=times {
         let mark = s.begin_attempt(number, k, times);
-        let ended = steps(s, nested, number, phase);
+        let ended = steps(s, nested, number, phase, policy);
         let failed = match &ended {
             Ok(()) => s.failed_since(mark),
             Err(Stop::Failed(_)) => true,
@@ -291,6 +370,7 @@ fn best_effort(s: &mut Session, list: &[Step], phase: &'static str) {
         }
         let number = format!("{phase}.{}", i + 1);
         let info = info(step, number, phase);
-        s.perform_best_effort(&info, |s| exec(s, step, &info.number, phase));
+        // A failed check here never ends anything: the stop must run to its end.
+        s.perform_best_effort(&info, |s| exec(s, step, &info.number, phase, &Policy::default()));
     }
 }

@@ -6,7 +6,10 @@
 use super::loader::{
     DEFAULT_GO_TO_TIMEOUT, DEFAULT_POLL, DEFAULT_RAMP_EVERY, DEFAULT_WAIT_TIMEOUT, STEP_KEYS,
 };
-use super::schema_dynamics::{dynamics_steps, last_pass_schema, one_statistic, with_slope, STEP_STATISTICS};
+use super::schema_dynamics::{
+    dynamics_steps, last_pass_schema, on_failure_schema, one_statistic, watch_schema, with_slope,
+    STEP_STATISTICS,
+};
 use super::schema_units::value_key;
 pub(super) use super::schema_units::{any_case, units_of};
 use crate::dictionary::{Dictionary, Dimension, ObjectDef, Unit};
@@ -374,7 +377,7 @@ pub fn recipe_schema(dictionary: &Dictionary, address_keys: &AddressKeyTable) ->
             "repeat",
             json!({
                 "type": "object",
-                "properties": { "times": { "type": "integer", "minimum": 1 }, "for": { "$ref": "#/$defs/duration" }, "steps": steps_ref },
+                "properties": { "times": { "type": "integer", "minimum": 1 }, "for": { "$ref": "#/$defs/duration" }, "steps": steps_ref, "on_failure": on_failure_schema("in this block"), "watch": watch_schema("this block") },
                 "required": ["steps"], "additionalProperties": false,
                 "oneOf": [ { "required": ["times"], "not": { "required": ["for"] } }, { "required": ["for"], "not": { "required": ["times"] } } ]
             }),
@@ -384,7 +387,7 @@ pub fn recipe_schema(dictionary: &Dictionary, address_keys: &AddressKeyTable) ->
             "include",
             json!({ "oneOf": [
             { "type": "string" },
-            { "type": "object", "properties": { "file": { "type": "string" }, "params": { "type": "object" } }, "required": ["file"], "additionalProperties": false }
+            { "type": "object", "properties": { "file": { "type": "string" }, "params": { "type": "object" }, "on_failure": on_failure_schema("in this block") }, "required": ["file"], "additionalProperties": false }
         ] }),
             "Run the steps of another recipe file, relative to this one: `include: stage.yaml`, or `{ file: stage.yaml, params: { speed: 6000 rpm } }` with parameters of its own",
         ),
@@ -466,6 +469,8 @@ pub fn recipe_schema(dictionary: &Dictionary, address_keys: &AddressKeyTable) ->
             "steps": { "$ref": "#/$defs/steps", "description": "the steps, in order: device commands (`- shutdown`) and steps with one key (`- set: { speed_setpoint: 6000 rpm }`)" },
             "finally": { "$ref": "#/$defs/unattended_steps", "description": "steps run at every ending, after a turning drive is braked to standstill; they replace the default stop (disable operation, shutdown), never the verification that follows" },
             "on_fault": { "$ref": "#/$defs/unattended_steps", "description": "steps run when the drive faults during a step, before the safe stop" },
+            "watch": watch_schema("the whole run"),
+            "on_failure": on_failure_schema("of the recipe's steps (where no block names its own)"),
             "leave_enabled": { "type": "boolean", "default": false,
                 "description": "true: a run that succeeds leaves the drive as its steps left it (no brake, no finally, the default's or the recipe's); every other ending stops it. `drivescript stop` stops it later" },
             "drives": {

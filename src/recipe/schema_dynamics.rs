@@ -1,6 +1,6 @@
 //! The parts of the recipe JSON Schema for the checks on how the drive moves: the measures
 //! of a step response and the slope as statistics, `slope` as a `wait_until` condition,
-//! the `attempts` and `coast_down` steps, and a check's `compared_with_last_pass`. Their limits are in their own units (s, %, K
+//! the `attempts` and `coast_down` steps, `on_failure`, and a check's `compared_with_last_pass`. Their limits are in their own units (s, %, K
 //! for a difference of °C, K/min), which `check` validates; the schema gives their shape.
 
 use super::loader::{COAST_DOWN_EVERY, COAST_DOWN_TIMEOUT};
@@ -61,7 +61,7 @@ pub(super) fn dynamics_steps(steps_ref: &Value) -> impl Iterator<Item = (&'stati
             "attempts",
             json!({
                 "type": "object",
-                "properties": { "times": { "type": "integer", "minimum": 1, "maximum": 100 }, "steps": steps_ref },
+                "properties": { "times": { "type": "integer", "minimum": 1, "maximum": 100 }, "steps": steps_ref, "on_failure": on_failure_schema("in this block"), "watch": watch_schema("this block") },
                 "required": ["times", "steps"], "additionalProperties": false
             }),
             "Try nested `steps` up to `times` times until their checks pass (after re-homing, say); every attempt stays in the reports, the verdict is the last one's".to_string(),
@@ -114,5 +114,21 @@ pub(super) fn last_pass_schema(units: &str) -> Value {
         "required": ["without_history"],
         "anyOf": [ { "required": ["at_most"] }, { "required": ["at_least"] } ],
         "additionalProperties": false
+    })
+}
+
+/// `on_failure: stop | continue` of the recipe or of a block (`where` it applies).
+pub(super) fn on_failure_schema(scope: &str) -> Value {
+    json!({ "type": "string", "enum": crate::recipe::OnFailure::WORDS, "default": "continue",
+            "description": format!("`stop`: the first failed check {scope} ends the run through the safe stop, the steps after it reported as not run (inside `attempts`, once the attempts are used up); `continue`: the run goes on. `run -x` stops everywhere") })
+}
+
+/// `watch:` of the recipe or of a repeat or attempts block (`scope`: what it holds for).
+pub(super) fn watch_schema(scope: &str) -> Value {
+    json!({
+        "type": "object",
+        "description": format!("Limits that hold for {scope}, one object each (`motor_temperature: {{ below: 80 °C }}`, `current_actual: {{ below: 12 A, for: 2 s }}`: beyond the limit that long before it counts), read `every` interval (default 1 s, at least 50 ms) during the steps; one crossed ends the run at once through the safe stop (FAILED)"),
+        "properties": { "every": { "$ref": "#/$defs/duration" } },
+        "additionalProperties": { "type": "object" }
     })
 }

@@ -14,6 +14,10 @@ pub struct Step {
     pub origin: StepOrigin,
     /// One line saying what the step does: `set speed_setpoint = 6000 rpm`.
     pub label: String,
+    /// A block's own `on_failure:` (repeat, attempts, include); `None`: the enclosing one's.
+    pub on_failure: Option<super::recipe::OnFailure>,
+    /// A block's own `watch:` limits (repeat, attempts), read while its steps run.
+    pub watches: Vec<crate::session::Watch>,
 }
 
 /// The longest a list of steps can take (see [`Step::longest_time`]).

@@ -267,9 +267,10 @@ fn check_case(c: &CheckResult) -> Case {
 /// Checks of the recipe that no result answers (same place, same pass, same check): the
 /// run ended before them; each with the step that holds it.
 fn not_reached(r: &RunReport, planned: &[PlannedCheck]) -> Vec<(Case, String)> {
-    let reason = match r.verdict {
-        Verdict::Passed => "not reached".to_string(),
-        _ => format!("not reached: the run ended early ({})", r.verdict.word()),
+    let reason = match (&r.stopped_on_failure, &r.verdict) {
+        (Some(why), _) => format!("not run: {why}"),
+        (None, Verdict::Passed) => "not reached".to_string(),
+        (None, _) => format!("not reached: the run ended early ({})", r.verdict.word()),
     };
     let answered: HashSet<(String, &str, &str)> = r
         .checks

@@ -25,6 +25,11 @@ pub struct SafeStopArgs {
     /// Read the status word for fault watching at most this often [default: 250ms].
     #[arg(long, value_name = "DURATION", value_parser = parse_stop_duration)]
     pub fault_poll: Option<std::time::Duration>,
+    /// End the run through the safe stop at the first failed check (as `on_failure: stop`
+    /// everywhere in the recipe; a failed attempt counts once the attempts are used up);
+    /// the steps after it are reported as not run.
+    #[arg(short = 'x', long)]
+    pub stop_on_failure: bool,
 }
 
 impl SafeStopArgs {
@@ -40,6 +45,7 @@ impl SafeStopArgs {
             brake_to_standstill: recipe.no_brake_at.is_none(),
             reconnect_timeout: self.reconnect_timeout.unwrap_or(d.reconnect_timeout),
             fault_poll: self.fault_poll.unwrap_or(d.fault_poll),
+            stop_on_failure: self.stop_on_failure,
         }
     }
 }

@@ -55,6 +55,7 @@ pub fn copy(stop: &Stop) -> Stop {
         Stop::Failed(m) => Stop::Failed(m.clone()),
         Stop::Unanswered(m) => Stop::Unanswered(m.clone()),
         Stop::OtherUnit(m) => Stop::OtherUnit(m.clone()),
+        Stop::StoppedOnFailure(m) => Stop::StoppedOnFailure(m.clone()),
         Stop::Fault(m) => Stop::Fault(m.clone()),
         Stop::LinkLost(m) => Stop::LinkLost(m.clone()),
         Stop::Error(m) => Stop::Error(m.clone()),
@@ -284,7 +285,7 @@ impl Bridge {
             return original;
         }
         match stop {
-            Stop::Interrupted | Stop::LinkLost(_) | Stop::Panicked(_) => {
+            Stop::Interrupted | Stop::LinkLost(_) | Stop::Panicked(_) | Stop::StoppedOnFailure(_) => {
                 self.end_with(stop);
                 terminated()
             }

@@ -287,7 +287,19 @@ impl Host<'_> {
         };
         let mut answer = Answer::Done;
         let call = r.call;
+        let mark = s.check_mark();
         let result = s.perform(&info, |s| self.exec(s, call, &origin, &number, &mut answer));
+        // `run -x`: a failed check (a wait that timed out included) ends the script, and no
+        // `catch` in it goes on from there.
+        let failed = match &result {
+            Ok(_) | Err(Stop::Failed(_)) if phase == "steps" && s.stops_on_failure() => {
+                s.failed_check_since(mark)
+            }
+            _ => None,
+        };
+        if let Some(check) = failed {
+            return Err(s.stop_on_failure(&check, &number, "run --stop-on-failure"));
+        }
         match result {
             Ok(_) if phase == "steps" => s.watch_fault(false).map(|_| answer),
             Ok(_) => Ok(answer),

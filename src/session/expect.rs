@@ -159,4 +159,36 @@ impl Session<'_> {
         }
         self.failed_checks = mark.failed;
     }
+
+    /// Where the checks stand now, for [`Session::failed_check_since`].
+    pub fn check_mark(&self) -> AttemptMark {
+        AttemptMark {
+            checks: self.report.checks.len(),
+            failed: self.failed_checks,
+        }
+    }
+
+    /// The first check recorded since `mark` that failed and still counts (a failure an
+    /// `attempts` block tried again does not): its name and where it is written.
+    pub fn failed_check_since(&self, mark: AttemptMark) -> Option<String> {
+        self.report
+            .checks
+            .iter()
+            .skip(mark.checks)
+            .find(|c| !c.passed && !c.retried)
+            .map(|c| format!("{} ({})", c.name, c.origin))
+    }
+
+    /// The run ends at a failed check because `why` (`on_failure: stop`, `-x`) says so:
+    /// said at once, kept among the run's notes (every report and the store show them) and
+    /// as the reason the checks after it were not reached. Returns the stop that ends it.
+    pub fn stop_on_failure(&mut self, check: &str, step: &str, why: &str) -> Stop {
+        let text = format!(
+            "stopped at the first failed check, {check} in step {step} ({why}); the steps after it were not run"
+        );
+        self.observer.message(&text);
+        self.report.safe_stop.push(text.clone());
+        self.report.stopped_on_failure = Some(text.clone());
+        Stop::StoppedOnFailure(text)
+    }
 }

@@ -46,6 +46,7 @@ mod stop;
 mod unit_identity;
 mod wait_stable;
 mod wait_until;
+mod watch;
 
 pub use bucket_series::{BucketSeries, SERIES_BUCKETS};
 pub use check_key::{
@@ -81,3 +82,4 @@ pub use step_path::StepPath;
 pub use step_response::{ResponseMarks, StepResponse, StepSpec, DEFAULT_BAND_PERCENT};
 pub use stop::{outcome, Stop};
 pub use unit_identity::{UnitIdentity, UNIT_FIELDS};
+pub use watch::Watch;

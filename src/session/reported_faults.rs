@@ -28,7 +28,9 @@ impl Session<'_> {
     pub(super) fn with_pending_fault(&mut self, ended: Option<Stop>) -> Option<Stop> {
         if !matches!(
             ended,
-            None | Some(Stop::Failed(_) | Stop::Unanswered(_) | Stop::OtherUnit(_))
+            None | Some(
+                Stop::Failed(_) | Stop::Unanswered(_) | Stop::OtherUnit(_) | Stop::StoppedOnFailure(_)
+            )
         ) {
             return ended;
         }

@@ -287,6 +287,9 @@ pub struct RunReport {
     pub no_device_control: bool,
     /// Notes on the safe stop: what ran, what failed, the escalation.
     pub safe_stop: Vec<String>,
+    /// Why the run ended at its first failed check (`on_failure: stop`, `run -x`), said as
+    /// the reason its remaining checks were not reached; `None`: it did not.
+    pub stopped_on_failure: Option<String>,
     /// Passed steps and checks inside repeats that were not kept once the report held
     /// [`MAX_RECORDS`] of each (they were printed as they ran); failures are always kept.
     pub omitted_steps: u64,
@@ -355,6 +358,7 @@ impl RunReport {
             speed_unread: false,
             no_device_control: false,
             safe_stop: Vec::new(),
+            stopped_on_failure: None,
             omitted_steps: 0,
             omitted_checks: 0,
             csv_files: Vec::new(),

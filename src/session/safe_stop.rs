@@ -66,7 +66,9 @@ impl Session<'_> {
         self.report.verdict = match &ended {
             None if self.failed_checks => Verdict::Failed,
             None => Verdict::Passed,
-            Some(Stop::Failed(_) | Stop::Unanswered(_) | Stop::OtherUnit(_)) => Verdict::Failed,
+            Some(Stop::Failed(_) | Stop::Unanswered(_) | Stop::OtherUnit(_) | Stop::StoppedOnFailure(_)) => {
+                Verdict::Failed
+            }
             Some(Stop::Fault(m) | Stop::Error(m) | Stop::LinkLost(m)) => Verdict::Error(m.clone()),
             Some(Stop::Interrupted) => Verdict::Interrupted(self.stop.first().unwrap_or(StopSignal::INT)),
             Some(Stop::Panicked(m)) => Verdict::Panicked(m.clone()),

@@ -26,6 +26,9 @@ pub struct SafeStopSettings {
     /// 250 ms it costs 2 % of a 57600 bit/s line, and the drive reacts to its own faults
     /// at once anyway (this only ends the recipe's steps).
     pub fault_poll: Duration,
+    /// `run -x`: the first failed check ends the run through the safe stop, whatever the
+    /// recipe's `on_failure` says.
+    pub stop_on_failure: bool,
 }
 
 impl Default for SafeStopSettings {
@@ -36,6 +39,7 @@ impl Default for SafeStopSettings {
             brake_to_standstill: true,
             reconnect_timeout: Duration::from_secs(10),
             fault_poll: Duration::from_millis(250),
+            stop_on_failure: false,
         }
     }
 }

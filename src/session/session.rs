@@ -48,6 +48,8 @@ pub struct Session<'a> {
     pub(super) run_start: Duration,
     /// `on_fault`, `finally` and the verification run: only a second stop request counts.
     pub(super) in_safe_stop: bool,
+    /// The run's `watch:` limits and where each stands.
+    pub(super) watches: Vec<(super::Watch, super::watch::WatchState)>,
     /// The steps around the current one, for iteration-aware step ids and stages.
     pub(super) path: StepPath,
     /// `csv:` files of sample steps with one column per object instead of the long layout.
@@ -127,6 +129,7 @@ impl<'a> Session<'a> {
             last_fault_check: Duration::ZERO,
             run_start: clock_now,
             in_safe_stop: false,
+            watches: Vec::new(),
             path: StepPath::default(),
             csv_wide: false,
             run,
@@ -352,6 +355,11 @@ impl<'a> Session<'a> {
         self.observer.message(text);
     }
 
+    /// `run -x`: every failed check ends the run.
+    pub fn stops_on_failure(&self) -> bool {
+        self.settings.stop_on_failure
+    }
+
     /// Whether anything shows progress; nothing is built for a screen that is not there.
     pub fn wants_progress(&self) -> bool {
         self.observer.wants_progress()
@@ -461,6 +469,7 @@ impl<'a> Session<'a> {
     /// or at once when `now`); a fault on any of them stops the run.
     pub fn watch_fault(&mut self, now: bool) -> Result<(), Stop> {
         self.say_link_notices();
+        self.check_watches()?;
         let t = self.clock.now();
         if !now && t < self.last_fault_check.saturating_add(self.settings.fault_poll) {
             return Ok(());

@@ -16,6 +16,9 @@ pub enum Stop {
     /// The operator's answer named another unit than the run is for: its check failed, and
     /// as no other attempt changes the unit on the bench, none is made; the run ends.
     OtherUnit(String),
+    /// A failed check ended the run because `on_failure: stop` or `run -x` says so: no
+    /// `attempts` block tries again and no script's `catch` goes on from it.
+    StoppedOnFailure(String),
     /// The drive went to fault.
     Fault(String),
     /// The port failed (device gone, connection closed): only reopening it can help.
@@ -36,6 +39,7 @@ pub fn outcome(result: &Result<String, Stop>) -> (bool, String) {
             Stop::Failed(m)
             | Stop::Unanswered(m)
             | Stop::OtherUnit(m)
+            | Stop::StoppedOnFailure(m)
             | Stop::Fault(m)
             | Stop::LinkLost(m)
             | Stop::Error(m),

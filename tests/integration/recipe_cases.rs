@@ -12,6 +12,7 @@
 //!        replies_from: 12 s, garbage: 2, delay_replies: 1, delay_by: 2 s, # reply faults from
 //!                              # a time on (garbage: line noise before the reply)
 //!        silent: [12 s, 14 s] }  # the drive answers nothing (no heartbeat) while the line is up
+//! stop_on_failure: true       # run -x (optional)
 //! interrupt_at: 30 s           # a stop signal arrives at this (virtual) time (optional)
 //! second_interrupt_at: 31 s    # and again (optional)
 //! signal: TERM                 # which signal (default INT, i.e. Ctrl-C)
@@ -51,6 +52,9 @@ struct Case {
     physics: Vec<String>,
     #[serde(default)]
     sim: Option<SimSetup>,
+    /// `run -x`.
+    #[serde(default)]
+    stop_on_failure: bool,
     #[serde(default)]
     interrupt_at: Option<String>,
     /// A second Ctrl-C at this time.
@@ -175,6 +179,7 @@ fn run_case(dir: &Path) -> Result<(), String> {
         safe_stop.reconnect_timeout = s.reconnect_timeout.as_deref().map(duration);
         safe_stop.fault_poll = s.fault_poll.as_deref().map(duration);
     }
+    safe_stop.stop_on_failure = case.stop_on_failure;
     let sim_setup = case.sim.unwrap_or_default();
     let prepare = move |sim: &Arc<Mutex<dyn SimulatedDrive>>, _clock: &SharedClock| {
         let mut sim = sim.lock().expect("simulator lock");

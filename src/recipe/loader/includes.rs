@@ -20,7 +20,7 @@ impl Loader<'_, '_> {
         }
         let (file_node, params_node) = match body.entries() {
             Some(_) => {
-                let shape = Shape::new("this include", &["file", "params"]).require(&["file"]);
+                let shape = Shape::new("this include", &["file", "params", "on_failure"]).require(&["file"]);
                 let f = self.r.fields(body, &shape)?;
                 (f.get("file")?, f.get("params"))
             }

@@ -105,6 +105,8 @@ impl Loader<'_, '_> {
                         kind: StepKind::Command(cmd, None),
                         origin,
                         label: cmd.id().to_string(),
+                        on_failure: None,
+                        watches: Vec::new(),
                     });
                 }
                 self.unknown_step(&node.span, word);
@@ -170,6 +172,14 @@ impl Loader<'_, '_> {
         if let Some(cmd) = DeviceCommand::from_id(&key.value) {
             return self.command_on_drive(cmd, body, origin);
         }
+        let on_failure = match key.value.as_str() {
+            "repeat" | "attempts" | "include" => self.block_on_failure(body),
+            _ => None,
+        };
+        let watches = match (key.value.as_str(), body.get("watch")) {
+            ("repeat" | "attempts", Some(node)) => self.watch_section(node),
+            _ => Vec::new(),
+        };
         let (kind, label) = match key.value.as_str() {
             "go_to" => self.go_to(body)?,
             "set" => self.set(body)?,
@@ -208,7 +218,13 @@ impl Loader<'_, '_> {
             }
             (_, Some(n)) => n,
         };
-        Some(Step { kind, origin, label })
+        Some(Step {
+            kind,
+            origin,
+            label,
+            on_failure,
+            watches,
+        })
     }
 
     /// A word (`- frob`) or keyword (`- frob: …`) that is no step, with the closest one.
@@ -251,6 +267,8 @@ impl Loader<'_, '_> {
             kind: StepKind::Command(cmd, Some(drive.clone())),
             origin,
             label: format!("{} {drive}", cmd.id()),
+            on_failure: None,
+            watches: Vec::new(),
         })
     }
 

@@ -158,3 +158,68 @@ fn a_misspelt_timeout_gets_a_did_you_mean() {
         "r.yaml:3:19: unknown object `sped_actual` in the sd2 dictionary"
     );
 }
+
+#[test]
+fn on_failure_is_read_for_the_recipe_and_its_blocks_and_a_misspelt_value_is_refused() {
+    use crate::recipe::OnFailure;
+    let r = load(
+        "name: x\non_failure: stop\nsteps:\n  - repeat: { times: 2, on_failure: continue, steps: [shutdown] }\n  - attempts: { times: 2, on_failure: stop, steps: [shutdown] }\n  - shutdown\n",
+    )
+    .unwrap();
+    assert_eq!(r.on_failure, OnFailure::Stop);
+    let own: Vec<Option<OnFailure>> = r.steps.iter().map(|s| s.on_failure).collect();
+    assert_eq!(own, [Some(OnFailure::Continue), Some(OnFailure::Stop), None]);
+    assert_eq!(
+        load("name: x\nsteps: [shutdown]\n").unwrap().on_failure,
+        OnFailure::Continue
+    );
+    let e = load(
+        "name: x\non_failure: stpo\nsteps:\n  - repeat: { times: 2, on_failure: go_on, steps: [shutdown] }\n",
+    )
+    .expect_err("misspelt policies");
+    let found: Vec<(String, Option<&str>)> = e.problems.iter().map(|p| (p.located(), p.help())).collect();
+    assert_eq!(
+        found[0].0,
+        "r.yaml:2:13: `on_failure: stpo` is no policy; it is `stop` or `continue`"
+    );
+    assert_eq!(found[0].1, Some("did you mean `stop`?"));
+    assert_eq!(found.len(), 2, "{found:?}");
+    assert!(found[1].0.starts_with("r.yaml:4:"), "{found:?}");
+}
+
+#[test]
+fn watches_are_checked_like_expect_and_keep_their_hold_and_interval() {
+    let r = load(
+        "name: x\nwatch:\n  motor_temperature: { below: 80 °C }\n  speed_actual: { below: 9000 rpm, for: 2 s }\n  every: 500 ms\nsteps: [shutdown]\n",
+    )
+    .unwrap();
+    let got: Vec<(String, u128, u128)> = r
+        .watches
+        .iter()
+        .map(|w| (w.condition.to_string(), w.hold.as_millis(), w.every.as_millis()))
+        .collect();
+    assert_eq!(
+        got,
+        [
+            ("motor_temperature below 80 °C".to_string(), 0, 500),
+            ("speed_actual below 9000 rpm".to_string(), 2000, 500)
+        ]
+    );
+    let found = problems(
+        "name: x\nwatch:\n  motor_temprature: { below: 80 °C }\n  speed_actual: { below: 9000 V }\n  every: 1 ms\nsteps: [shutdown]\n",
+    );
+    assert_eq!(found.len(), 3, "{found:?}");
+    assert!(
+        found
+            .iter()
+            .any(|p| p.starts_with("r.yaml:3:3: unknown object `motor_temprature`")),
+        "{found:?}"
+    );
+    assert!(found.iter().any(|p| p.starts_with("r.yaml:4:")), "{found:?}");
+    assert!(
+        found
+            .iter()
+            .any(|p| p.starts_with("r.yaml:5:10: a watch reads at most every 50 ms")),
+        "{found:?}"
+    );
+}

@@ -1,5 +1,5 @@
 //! The recipe document itself: its top-level keys (`name`, `drive`, `params`, `steps`,
-//! `finally`, `on_fault`, `leave_enabled`, `safe_stop`, `link`, `drives`), each handed to the part that reads
+//! `finally`, `on_fault`, `leave_enabled`, `on_failure`, `watch`, `safe_stop`, `link`, `drives`), each handed to the part that reads
 //! it. It must not read steps or values itself.
 
 use super::Loader;
@@ -16,6 +16,8 @@ const TOP_KEYS: &[&str] = &[
     "finally",
     "on_fault",
     "leave_enabled",
+    "on_failure",
+    "watch",
     "safe_stop",
     "link",
     "drives",
@@ -77,6 +79,11 @@ impl Loader<'_, '_> {
             .get("leave_enabled")
             .and_then(|n| self.r.bool(n, "`leave_enabled`"))
             .unwrap_or(false);
+        let on_failure = f
+            .get("on_failure")
+            .and_then(|n| self.on_failure(n))
+            .unwrap_or_default();
+        let watches = f.get("watch").map(|n| self.watch_section(n)).unwrap_or_default();
         let safe_stop = f.get("safe_stop").map(|n| self.safe_stop(n)).unwrap_or_default();
         let link = f.get("link").map(|n| self.link(n)).unwrap_or_default();
         let params = self.params_section(f.get("params"), overrides);
@@ -108,6 +115,8 @@ impl Loader<'_, '_> {
             finally,
             on_fault,
             leave_enabled,
+            on_failure,
+            watches,
             safe_stop,
             link,
             drives,

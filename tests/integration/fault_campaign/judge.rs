@@ -1,7 +1,8 @@
 //! The campaign's invariants, judged on one finished scenario: exit 0 only with every
 //! check passed and the simulated drive really stopped; exit code, console verdict line,
 //! JUnit, HTML and the stored verdict saying the same; no state change after the stop
-//! began that moves the drive up its state machine; the stop ending within its timeout
+//! began that moves the drive up its state machine; a run ended at its first failed check
+//! (`on_failure: stop`) never passing; the stop ending within its timeout
 //! and a bounded margin. Reads what the run left; changes nothing.
 
 use drivescript::drive::device_control::DeviceState;
@@ -121,6 +122,10 @@ pub fn problems(e: &Ended) -> Vec<String> {
         other => out.push(format!("console verdict {other:?} for exit code {}", e.exit)),
     }
     if let Some(r) = e.report {
+        // A run ended at its first failed check (`on_failure: stop`) never passes.
+        if r.stopped_on_failure.is_some() && e.exit == 0 {
+            out.push("the run stopped on a failed check, yet exit code 0".into());
+        }
         if r.verdict.exit_code() != e.exit {
             out.push(format!(
                 "the report's verdict {:?} is not exit code {}",

@@ -1,7 +1,8 @@
 //! The campaign's recipes, generated from the step grammar by a seeded generator: set,
 //! go_to (up, and down to ready to switch on), wait_until, dwell, read, sample with expect,
 //! ramp, coast_down (also as the last step, and followed by an enable with the old setpoint
-//! standing), repeat and attempts,
+//! standing), repeat and attempts (sometimes with `on_failure: stop`, also for the whole recipe;
+//! sometimes a `watch:` on the speed),
 //! own `finally` and `on_fault`. Mostly recipes that pass on a healthy drive, some with a
 //! check that fails, so that a fault is what changes the ending. Text only; nothing runs.
 
@@ -79,7 +80,30 @@ pub fn recipe(seed: u64, target: &Target, rng: &mut Rng) -> Generated {
             _ => {}
         }
     }
+    guards(seed, target, &mut y);
     Generated { yaml: y, name }
+}
+
+/// Sometimes `on_failure: stop` for the whole recipe or on a repeat or attempts block, and
+/// a `watch:` on the speed (at a speed the steps may pass: then it ends the run), from a
+/// generator of its own, so every seed's steps and fault stay what they were
+/// before guards existed (the kept cases replay them).
+fn guards(seed: u64, target: &Target, y: &mut String) {
+    let mut rng = Rng::new(seed ^ 0x6775_6172_6473);
+    if target.controlled && rng.chance(25) {
+        let limit = speed(target, &mut rng);
+        let watch =
+            format!("watch:\n  speed_actual: {{ below: {limit} rpm, for: 1 s }}\n  every: 500 ms\nsteps:\n");
+        *y = y.replacen("steps:\n", &watch, 1);
+    }
+    if rng.chance(25) {
+        *y = y.replacen("steps:\n", "on_failure: stop\nsteps:\n", 1);
+    }
+    for block in ["repeat:\n", "attempts:\n"] {
+        if y.contains(block) && rng.chance(30) {
+            *y = y.replace(block, &format!("{block}      on_failure: stop\n"));
+        }
+    }
 }
 
 fn step(y: &mut String, text: &str) {
@@ -294,5 +318,24 @@ mod tests {
             .filter(|s| recipe(*s, &t, &mut Rng::new(*s)).yaml != a)
             .count();
         assert!(differ > 25, "{differ}");
+    }
+
+    #[test]
+    fn some_recipes_stop_on_failure_for_the_whole_run_or_a_block_or_watch_the_speed() {
+        let t = super::super::target::TARGETS[0];
+        let all: Vec<String> = (0..200).map(|s| recipe(s, &t, &mut Rng::new(s)).yaml).collect();
+        let top = all
+            .iter()
+            .filter(|y| y.contains("\non_failure: stop\nsteps:"))
+            .count();
+        let block = all
+            .iter()
+            .filter(|y| y.contains("      on_failure: stop"))
+            .count();
+        let watched = all.iter().filter(|y| y.contains("\nwatch:\n")).count();
+        assert!(
+            top > 20 && block > 10 && watched > 20,
+            "{top} recipe(s), {block} block(s), {watched} watch(es)"
+        );
     }
 }

@@ -10,7 +10,7 @@ const MAX_ATTEMPTS: i64 = 100;
 
 impl Loader<'_, '_> {
     pub(in crate::recipe::loader) fn attempts(&mut self, body: &YamlNode) -> Option<(StepKind, String)> {
-        let shape = Shape::new("these attempts", &["times", "steps"])
+        let shape = Shape::new("these attempts", &["times", "steps", "on_failure", "watch"])
             .require(&["times", "steps"])
             .example("attempts: { times: 3, steps: [...] }");
         let f = self.r.fields(body, &shape)?;

@@ -7,7 +7,7 @@ use crate::recipe::step::{Step, StepKind};
 
 impl Loader<'_, '_> {
     pub(in crate::recipe::loader) fn repeat(&mut self, body: &YamlNode) -> Option<(StepKind, String)> {
-        let shape = Shape::new("this repeat", &["times", "for", "steps"])
+        let shape = Shape::new("this repeat", &["times", "for", "steps", "on_failure", "watch"])
             .require(&["steps"])
             .example("repeat: { times: 3, steps: [...] }");
         let f = self.r.fields(body, &shape)?;
