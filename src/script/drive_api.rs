@@ -190,6 +190,7 @@ pub fn register(engine: &mut Engine, bridge: &Arc<Bridge>) {
     register_params(engine, bridge);
     super::operator_api::register_operator(engine, bridge);
     super::last_pass_api::register_last_pass(engine, bridge);
+    super::watch_api::register_watch(engine, bridge);
 }
 
 fn register_reads(engine: &mut Engine, bridge: &Arc<Bridge>) {

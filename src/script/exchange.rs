@@ -47,6 +47,9 @@ pub enum Call {
     CoastDown(Box<crate::session::CoastDown>),
     Fail(String),
     Message(String),
+    /// `d.watch(...)`: a limit held from here until the script's steps end. Not a step of
+    /// its own.
+    Watch(Box<crate::session::Watch>),
     /// An operator step.
     Ask(Box<crate::session::Prompt>),
 }

@@ -17,6 +17,9 @@ pub enum Arg {
     /// `|v| v > limit`: the names its body uses (variables and functions, not methods or
     /// its own parameters), each where it is written.
     Closure(Vec<(String, Span)>),
+    /// `#{ below: "80 °C", for: "2 s" }`: each key with its value (text, a number, or
+    /// [`Arg::Other`]) and the value's place.
+    Map(Vec<(String, Arg, Span)>),
     /// Anything else (a variable, an expression).
     Other,
 }
@@ -246,8 +249,60 @@ fn classify(arg: &[Token], span: &dyn Fn(usize, usize) -> Span) -> Arg {
             }
             Arg::TextList(items)
         }
+        [Token {
+            kind: Kind::Punct('#'),
+            ..
+        }, Token {
+            kind: Kind::Punct('{'),
+            ..
+        }, inner @ .., Token {
+            kind: Kind::Punct('}'),
+            ..
+        }] => map_entries(inner, span).map_or(Arg::Other, Arg::Map),
         _ => Arg::Other,
     }
+}
+
+/// The entries of an object map `key: value, ...` (between its braces); `None` when it is
+/// not a plain list of keys and values.
+fn map_entries(inner: &[Token], span: &dyn Fn(usize, usize) -> Span) -> Option<Vec<(String, Arg, Span)>> {
+    let mut out = Vec::new();
+    let mut rest = inner;
+    while !rest.is_empty() {
+        let key = match &rest.first()?.kind {
+            Kind::Ident(k) | Kind::Text(k) => k.clone(),
+            _ => return None,
+        };
+        if rest.get(1)?.kind != Kind::Punct(':') {
+            return None;
+        }
+        let value = &rest[2..];
+        let end = arguments_end(value);
+        let arg = &value[..end];
+        let (first, last) = (arg.first()?, arg.last()?);
+        let place = span(first.offset, last.offset + last.len - first.offset);
+        let classified = match classify(arg, span) {
+            a @ (Arg::Text(_) | Arg::Number(_)) => a,
+            _ => Arg::Other,
+        };
+        out.push((key, classified, place));
+        rest = value.get(end + 1..).unwrap_or_default();
+    }
+    Some(out)
+}
+
+/// Where the first argument of `tokens` ends: at a `,` outside brackets, or the end.
+fn arguments_end(tokens: &[Token]) -> usize {
+    let mut depth = 0usize;
+    for (i, t) in tokens.iter().enumerate() {
+        match t.kind {
+            Kind::Punct('(' | '[' | '{') => depth += 1,
+            Kind::Punct(')' | ']' | '}') => depth = depth.saturating_sub(1),
+            Kind::Punct(',') if depth == 0 => return i,
+            _ => {}
+        }
+    }
+    tokens.len()
 }
 
 fn tokens(text: &str) -> Vec<Token> {
@@ -445,6 +500,28 @@ mod tests {
             .map(|c| c.compared_with.map(|(t, _)| t))
             .collect();
         assert_eq!(compared, [Some("fault".into()), Some("x".into()), None]);
+    }
+
+    #[test]
+    fn an_object_map_of_literals_keeps_each_key_with_its_value_and_place() {
+        let text =
+            "d.watch(\"motor_temperature\", #{ below: \"80 °C\", \"for\": \"2 s\", every: x, n: -3 });\n\
+                    d.watch(\"speed_actual\", #{ below: f(1, 2) });\n";
+        let calls = literal_calls(&Source::new("t.rhai", text));
+        let Arg::Map(entries) = &calls[0].args[1].0 else {
+            panic!("{:?}", calls[0].args[1]);
+        };
+        let keys: Vec<&str> = entries.iter().map(|(k, _, _)| k.as_str()).collect();
+        assert_eq!(keys, ["below", "for", "every", "n"]);
+        assert!(matches!(&entries[0].1, Arg::Text(t) if t == "80 °C"));
+        assert_eq!(entries[1].2.written(), "\"2 s\"");
+        assert!(matches!(entries[2].1, Arg::Other));
+        assert!(matches!(entries[3].1, Arg::Number(n) if n == -3.0));
+        // A call inside a value is left to the run, but the map still parses.
+        let Arg::Map(entries) = &calls[1].args[1].0 else {
+            panic!("{:?}", calls[1].args[1]);
+        };
+        assert!(matches!(entries[0].1, Arg::Other));
     }
 
     #[test]

@@ -23,6 +23,7 @@ mod script_header;
 mod script_runner;
 mod static_check;
 mod unknown_calls;
+mod watch_api;
 
 pub use sandbox::{
     MAX_ARRAY_SIZE, MAX_CALL_LEVELS, MAX_CSV_FILES, MAX_EXPR_DEPTH, MAX_MAP_SIZE,

@@ -257,6 +257,18 @@ impl Host<'_> {
                 }
                 return s.state().map(Answer::State);
             }
+            Call::Watch(watch) if phase == "steps" => {
+                let origin = StepOrigin {
+                    path: self.path.clone(),
+                    line: r.line,
+                    column: r.column,
+                };
+                s.watch_from_here(crate::session::Watch { origin, ..*watch });
+                // The first reading is now: a limit already crossed ends the run here.
+                return s.watch_fault(false).map(|_| Answer::Done);
+            }
+            // The steps are over: a watch holds for them, not for the script's finally.
+            Call::Watch(_) => return Ok(Answer::Done),
             _ => {}
         }
         let number = match phase {
@@ -384,7 +396,7 @@ impl Host<'_> {
                 *answer = Answer::Asked(accepted);
                 Ok(detail)
             }
-            Call::Read(_) | Call::State(_) | Call::Message(_) => Ok(String::new()),
+            Call::Read(_) | Call::State(_) | Call::Message(_) | Call::Watch(_) => Ok(String::new()),
         }
     }
 

@@ -205,6 +205,14 @@ pub fn check_calls(
                     _ => {}
                 }
             }
+            ("watch", true) => {
+                if let Some((n, span)) = &name {
+                    if let Some((at, r)) = super::watch_api::check_literal_watch(dict, n, span, c.args.get(1))
+                    {
+                        refuse(&at, r);
+                    }
+                }
+            }
             ("state", true) => {
                 if let Some((s, span)) = &c.compared_with {
                     if let Err(r) = resolve::state(s) {

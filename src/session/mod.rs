@@ -82,4 +82,4 @@ pub use step_path::StepPath;
 pub use step_response::{ResponseMarks, StepResponse, StepSpec, DEFAULT_BAND_PERCENT};
 pub use stop::{outcome, Stop};
 pub use unit_identity::{UnitIdentity, UNIT_FIELDS};
-pub use watch::Watch;
+pub use watch::{Watch, DEFAULT_WATCH_EVERY, MIN_WATCH_EVERY};

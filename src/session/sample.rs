@@ -18,6 +18,17 @@ use std::time::Duration;
 type ReadGroup = (usize, Vec<usize>, ReadSet);
 
 impl Session<'_> {
+    /// This tick's values, for the watches of the same objects.
+    fn lend_to_watches(&mut self, values: &[f64], at: Duration) {
+        if self.sampled.values.is_empty() {
+            return;
+        }
+        for (slot, v) in self.sampled.values.iter_mut().zip(values) {
+            slot.2 = *v;
+        }
+        self.sampled.at = at;
+    }
+
     /// The objects of a sample grouped by drive, so that each drive is read in one go.
     fn read_groups(&mut self, objects: &[ObjectRef]) -> Result<Vec<ReadGroup>, Stop> {
         let mut grouped: Vec<(usize, Vec<usize>, Vec<String>)> = Vec::new();
@@ -67,10 +78,26 @@ impl Session<'_> {
         Ok(())
     }
 
+    /// [`Self::sampled_run`], with the values of each tick lent to the watches of the same
+    /// objects (see [`super::watch`]) while it runs.
+    pub fn sample(
+        &mut self,
+        objects: &[ObjectRef],
+        every: Duration,
+        duration: Duration,
+        csv: Option<&PathBuf>,
+        steps: &[(String, StepSpec)],
+        number: &str,
+    ) -> Result<String, Stop> {
+        let result = self.sampled_run(objects, every, duration, csv, steps, number);
+        self.sampled.values.clear();
+        result
+    }
+
     /// Reads `objects` every `every` for `duration`; keeps the window for `expect` (with
     /// the response to the step `steps` declares for an object) and the series for the
     /// plots; optionally writes a CSV file.
-    pub fn sample(
+    fn sampled_run(
         &mut self,
         objects: &[ObjectRef],
         every: Duration,
@@ -107,6 +134,14 @@ impl Session<'_> {
             objects.iter().map(|_| BucketSeries::new(origin, width)).collect();
         let mut values = vec![0.0; objects.len()];
         let groups = self.read_groups(objects)?;
+        // Only a run with watches lends its values; the names are taken once.
+        self.sampled.values.clear();
+        if !self.watches.is_empty() {
+            for o in objects {
+                let name = self.select_object(&o.name)?.to_string();
+                self.sampled.values.push((self.current, name, 0.0));
+            }
+        }
         let mut scratch = Vec::new();
         let mut k: u32 = 0;
         let mut late = 0u32;
@@ -134,6 +169,7 @@ impl Session<'_> {
             // All at once: a family whose telegram carries several values answers them in
             // one round trip.
             self.read_grouped(&groups, &mut values, &mut scratch)?;
+            self.lend_to_watches(&values, at);
             for (i, v) in values.iter().enumerate() {
                 stats[i].push(t, *v);
                 series[i].push(t, *v);

@@ -50,6 +50,8 @@ pub struct Session<'a> {
     pub(super) in_safe_stop: bool,
     /// The run's `watch:` limits and where each stands.
     pub(super) watches: Vec<(super::Watch, super::watch::WatchState)>,
+    /// What the running sample step read last, for the watches of the same objects.
+    pub(super) sampled: super::watch::SampledValues,
     /// The steps around the current one, for iteration-aware step ids and stages.
     pub(super) path: StepPath,
     /// `csv:` files of sample steps with one column per object instead of the long layout.
@@ -130,6 +132,7 @@ impl<'a> Session<'a> {
             run_start: clock_now,
             in_safe_stop: false,
             watches: Vec::new(),
+            sampled: Default::default(),
             path: StepPath::default(),
             csv_wide: false,
             run,

@@ -8,6 +8,11 @@ use super::stop::Stop;
 use super::{CheckResult, StepOrigin};
 use std::time::Duration;
 
+/// How often a watch reads its object when the recipe or script names no `every`.
+pub const DEFAULT_WATCH_EVERY: Duration = Duration::from_secs(1);
+/// The shortest interval: a watch must leave the line to the steps.
+pub const MIN_WATCH_EVERY: Duration = Duration::from_millis(50);
+
 /// One watched limit, as the recipe's `watch:` gives it.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Watch {
@@ -27,11 +32,27 @@ pub(super) struct WatchState {
     beyond_since: Option<Duration>,
 }
 
+/// The values a sample step read at its last tick, each with its drive and its name in
+/// that drive's dictionary: a watch of one of them takes the value instead of sending a
+/// telegram of its own. Empty outside a sample step.
+#[derive(Debug, Clone, Default)]
+pub(super) struct SampledValues {
+    /// Drive index, object name, the value last read.
+    pub(super) values: Vec<(usize, String, f64)>,
+    /// When they were read.
+    pub(super) at: Duration,
+}
+
 impl Session<'_> {
     /// The limits watched from the run's first step until its steps end.
     pub fn with_watches(mut self, watches: Vec<Watch>) -> Self {
         self.watches = watches.into_iter().map(|w| (w, WatchState::default())).collect();
         self
+    }
+
+    /// A script's `d.watch(...)`: held from now until the run's steps end.
+    pub fn watch_from_here(&mut self, watch: Watch) {
+        self.watches.push((watch, WatchState::default()));
     }
 
     /// A block's own watches join the run's while its steps run; returns what
@@ -46,6 +67,38 @@ impl Session<'_> {
     /// The block's steps ended: its watches are read no more.
     pub fn end_block_watches(&mut self, before: usize) {
         self.watches.truncate(before);
+    }
+
+    /// The watched value from the running sample step's last tick when that step reads
+    /// the object and read it less than `every` ago: the watch shares the sample's
+    /// exchange instead of sending one of its own. `None`: the watch reads itself.
+    fn sampled_reading(
+        &mut self,
+        condition: &Condition,
+        now: Duration,
+        every: Duration,
+    ) -> Result<Option<(bool, String, Option<f64>)>, Stop> {
+        let Condition::Value { object, predicate } = condition else {
+            return Ok(None);
+        };
+        let fresh = now.saturating_sub(self.sampled.at) < every;
+        if self.sampled.values.is_empty() || !fresh || matches!(predicate, super::Predicate::EqualsText(_)) {
+            return Ok(None);
+        }
+        let name = self.select_object(&object.name)?;
+        let drive = self.current;
+        let found = self
+            .sampled
+            .values
+            .iter()
+            .find(|(d, n, _)| *d == drive && n == name);
+        Ok(found.map(|(_, _, v)| {
+            (
+                predicate.holds(*v),
+                super::session::value_of(*v, object),
+                Some(*v),
+            )
+        }))
     }
 
     /// Reads each watch that is due; a limit crossed for its whole `hold` is recorded as a
@@ -69,7 +122,11 @@ impl Session<'_> {
                 continue;
             }
             let condition = watch.condition.clone();
-            let (holds, seen, measured) = self.read_condition(&condition)?;
+            let every = watch.every;
+            let (holds, seen, measured) = match self.sampled_reading(&condition, now, every)? {
+                Some(reading) => reading,
+                None => self.read_condition(&condition)?,
+            };
             let (watch, state) = &mut self.watches[i];
             state.read_at = Some(now);
             if holds {

@@ -4,13 +4,8 @@
 
 use super::Loader;
 use crate::diag::{YamlNode, YamlValue};
-use crate::session::{Condition, Watch};
+use crate::session::{Condition, Watch, DEFAULT_WATCH_EVERY, MIN_WATCH_EVERY};
 use std::time::Duration;
-
-/// How often a watch reads its objects when the recipe names no `every`.
-pub(super) const DEFAULT_WATCH_EVERY: Duration = Duration::from_secs(1);
-/// The shortest interval: a watch must leave the line to the steps.
-const MIN_WATCH_EVERY: Duration = Duration::from_millis(50);
 
 impl Loader<'_, '_> {
     pub(in crate::recipe::loader) fn watch_section(&mut self, node: &YamlNode) -> Vec<Watch> {

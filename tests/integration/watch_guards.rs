@@ -1,0 +1,153 @@
+//! `watch:` limits on the line: a watch shares the sample step's exchanges instead of
+//! adding its own telegrams, and the run-in of issue 41 (`--sim heating=40K/A`, a watch
+//! `motor_temperature below 80 °C`) ends within one watch interval of crossing 80 °C, in
+//! virtual time. Both counted on the run's `--trace` of the simulated line.
+
+use crate::support::{scratch, write_file, InProcessRun};
+use std::path::Path;
+
+/// One telegram of a trace: its time, `TX` or `RX`, and what `decode` says of it.
+struct Traced {
+    at: f64,
+    sent: bool,
+    meaning: String,
+}
+
+fn traced(path: &Path) -> Vec<Traced> {
+    let text = std::fs::read_to_string(path).expect("trace written");
+    text.lines()
+        .filter(|l| !l.starts_with('#'))
+        .filter_map(|l| {
+            let mut words = l.split_whitespace();
+            let at = words.next()?.parse().ok()?;
+            let sent = words.next()? == "TX";
+            let meaning = l.split_once("# ")?.1.to_string();
+            Some(Traced { at, sent, meaning })
+        })
+        .collect()
+}
+
+/// Runs `recipe` on the simulated SD2 drive in virtual time with `physics`; its console
+/// output and its trace.
+fn run_traced(name: &str, recipe: &str, physics: &[&str]) -> (i32, String, Vec<Traced>) {
+    let dir = scratch(name);
+    let file = write_file(&dir, "recipe.yaml", recipe);
+    let mut run = InProcessRun::new(file);
+    run.output_dir = dir.clone();
+    run.outputs.trace = Some(dir.join("run.trace"));
+    run.connection.sim = physics
+        .iter()
+        .map(|p| drivescript::sim::SimSetting::parse(p).expect("a --sim setting"))
+        .collect();
+    let (result, output) = run.run();
+    let trace = traced(&dir.join("run.trace"));
+    (result.exit_code, output, trace)
+}
+
+fn reads_of(trace: &[Traced], object: &str) -> usize {
+    let read = "read object ";
+    trace
+        .iter()
+        .filter(|t| t.sent && t.meaning.starts_with(read) && t.meaning.ends_with(&format!(" {object}")))
+        .count()
+}
+
+const SAMPLE: &str = "steps:\n  - sample: { objects: [speed_actual], every: 100 ms, for: 5 s }\n";
+
+/// While a sample step reads the watched object, the watch judges the sample's values:
+/// the run sends exactly the reads it sends without the watch. A watch of another object
+/// reads on its own (the count sees a watch's reads), and a watch judging the sample's
+/// values still ends the run when they cross it.
+#[test]
+fn a_watch_reads_the_sample_steps_value_instead_of_a_telegram_of_its_own() {
+    let plain = format!("name: plain\ndrive: sd2\n{SAMPLE}");
+    let (code, output, trace) = run_traced("plain", &plain, &[]);
+    assert_eq!(code, 0, "{output}");
+    let sampled = reads_of(&trace, "speed_actual");
+    assert!(sampled >= 50, "{sampled} reads of speed_actual");
+
+    let watched = format!(
+        "name: watched\ndrive: sd2\nwatch:\n  speed_actual: {{ below: 20000 rpm }}\n  every: 100 ms\n{SAMPLE}"
+    );
+    let (code, output, trace) = run_traced("watched", &watched, &[]);
+    assert_eq!(code, 0, "{output}");
+    assert_eq!(
+        reads_of(&trace, "speed_actual"),
+        sampled,
+        "the watch added reads of speed_actual during the sample:\n{output}"
+    );
+
+    let other = format!(
+        "name: other\ndrive: sd2\nwatch:\n  motor_temperature: {{ below: 200 °C }}\n  every: 100 ms\n{SAMPLE}"
+    );
+    let (code, output, trace) = run_traced("other", &other, &[]);
+    assert_eq!(code, 0, "{output}");
+    assert_eq!(reads_of(&trace, "speed_actual"), sampled);
+    assert!(
+        reads_of(&trace, "motor_temperature") >= 45,
+        "a watch of an object no sample reads reads it itself"
+    );
+
+    // The shared value is judged: standing still is not above 100 rpm.
+    let crossed = format!(
+        "name: crossed\ndrive: sd2\nwatch:\n  speed_actual: {{ above: 100 rpm }}\n  every: 100 ms\n{SAMPLE}"
+    );
+    let (code, output, trace) = run_traced("crossed", &crossed, &[]);
+    assert_eq!(code, 1, "{output}");
+    assert!(
+        output.contains("FAIL  watch speed_actual above 100 rpm: 0 rpm at 0.000 s of the run"),
+        "{output}"
+    );
+    assert!(
+        reads_of(&trace, "speed_actual") < sampled,
+        "the run ended at the first sample"
+    );
+}
+
+/// Issue 41's run-in: a motor that heats more than expected (`heating=40K/A`) at
+/// 18000 rpm crosses 80 °C in the first 50-minute dwell; the watch read every 10 s ends
+/// the run there. The crossing lies after the last reading below 80 °C, so the safe
+/// stop's first telegram (the speed setpoint 0) within 10 s of that reading is within one
+/// watch interval of the crossing.
+#[test]
+fn the_run_in_ends_within_one_watch_interval_of_crossing_80_c_in_virtual_time() {
+    let recipe = "name: Run-in with a temperature watch\ndrive: sd2\nwatch:\n  motor_temperature: { below: 80 °C }\n  every: 10 s\n\
+                  steps:\n  - set: { speed_setpoint: 18000 rpm }\n  - go_to: operation_enabled\n  - repeat:\n      times: 5\n      steps:\n        - dwell: 50 min\n        - expect: { motor_temperature: { below: 80 °C } }\n";
+    let (code, output, trace) = run_traced("run-in", recipe, &["heating=40K/A"]);
+    assert_eq!(code, 1, "{output}");
+    assert!(output.contains("watch crossed in step 3[1].1"), "{output}");
+    let temperature = |t: &Traced| -> Option<f64> {
+        let value = t.meaning.strip_prefix("reply motor_temperature = ")?;
+        value.strip_suffix(" °C")?.parse().ok()
+    };
+    let replies: Vec<(f64, f64)> = trace
+        .iter()
+        .filter(|t| !t.sent)
+        .filter_map(|t| Some((t.at, temperature(t)?)))
+        .collect();
+    let crossed = replies
+        .iter()
+        .position(|(_, v)| *v >= 80.0)
+        .expect("a reading at 80 °C or above");
+    assert!(crossed > 0, "the first reading is below 80 °C");
+    let (below_at, below) = replies[crossed - 1];
+    assert!(below < 80.0);
+    let stop_at = trace
+        .iter()
+        .find(|t| t.sent && t.at >= below_at && t.meaning.contains("speed_setpoint = 0 rpm"))
+        .expect("the safe stop's setpoint 0")
+        .at;
+    let took = stop_at - below_at;
+    // One interval, and the few exchanges of the reading itself.
+    assert!(
+        took <= 10.0 + 0.05,
+        "the safe stop began {took:.3} s after the last reading below 80 °C (at {below_at:.3} s)"
+    );
+    // The run ended in the first dwell, not after four hours of failed checks.
+    assert!(stop_at < 3000.0 + 10.0, "stopped at {stop_at:.3} s");
+    assert_eq!(
+        replies.iter().filter(|(_, v)| *v >= 80.0).count(),
+        1,
+        "nothing read the temperature over the limit again"
+    );
+}
