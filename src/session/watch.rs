@@ -165,9 +165,12 @@ impl Session<'_> {
             };
             self.expect_result(check)?;
             let (step, _) = self.place();
-            let step = match step.is_empty() {
-                true => String::new(),
-                false => format!(" in step {step}"),
+            // Between steps the watch names the step it follows.
+            let after = self.report.steps.last().map(|r| r.number.clone());
+            let step = match (step.is_empty(), after) {
+                (false, _) => format!(" in step {step}"),
+                (true, Some(number)) => format!(" after step {number}"),
+                (true, None) => " before the first step".to_string(),
             };
             let text = format!("watch crossed{step}: {message} ({origin}); the run ends here");
             self.observer.message(&text);
