@@ -26,7 +26,8 @@ pub use loader::{
     DriveDictionaries, MAX_DURATION, MAX_SAMPLES,
 };
 pub use planned_checks::{
-    last_pass_checks, operator_prompts, planned_checks, sampled_objects, shortest_sample_interval,
+    all_watches, last_pass_checks, operator_prompts, planned_checks, sampled_objects,
+    shortest_sample_interval,
 };
 pub use recipe::{OnFailure, Param, Recipe, SafeStopChoice};
 /// A recipe that did not pass its check.

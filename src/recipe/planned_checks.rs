@@ -165,7 +165,26 @@ pub fn shortest_sample_interval(recipe: &Recipe) -> Option<std::time::Duration> 
     let mut out = None;
     walk(&recipe.steps, &mut out);
     walk(recipe.finally.as_deref().unwrap_or_default(), &mut out);
-    recipe.watches.iter().map(|w| w.every).chain(out).min()
+    all_watches(recipe).into_iter().map(|w| w.every).chain(out).min()
+}
+
+/// Every watch of the recipe: its top `watch:` and each repeat's or attempts block's own,
+/// in recipe order.
+pub fn all_watches(recipe: &Recipe) -> Vec<&crate::session::Watch> {
+    fn walk<'a>(steps: &'a [Step], out: &mut Vec<&'a crate::session::Watch>) {
+        for step in steps {
+            out.extend(step.watches.iter());
+            if let StepKind::Repeat { steps, .. }
+            | StepKind::Include { steps, .. }
+            | StepKind::Attempts { steps, .. } = &step.kind
+            {
+                walk(steps, out);
+            }
+        }
+    }
+    let mut out: Vec<&crate::session::Watch> = recipe.watches.iter().collect();
+    walk(&recipe.steps, &mut out);
+    out
 }
 
 /// The objects the recipe's sample steps read (finally's too), each once, in recipe order.
@@ -349,6 +368,23 @@ steps:
         assert_eq!(
             shortest_sample_interval(&watched),
             Some(std::time::Duration::from_millis(200))
+        );
+        // A block's own watch counts too, and is found with the run's.
+        let block = "  - repeat:\n      times: 2\n      watch: { speed_actual: { below: 3000 rpm }, every: 100 ms }\n      steps:\n        - dwell: 1 s\n";
+        let both = load(&format!(
+            "name: x\nwatch: {{ motor_temperature: {{ below: 80 °C }}, every: 200 ms }}\nsteps:\n{sample}{block}"
+        ));
+        assert_eq!(
+            shortest_sample_interval(&both),
+            Some(std::time::Duration::from_millis(100))
+        );
+        let named: Vec<String> = all_watches(&both)
+            .iter()
+            .map(|w| w.condition.to_string())
+            .collect();
+        assert_eq!(
+            named,
+            ["motor_temperature below 80 °C", "speed_actual below 3000 rpm"]
         );
     }
 }

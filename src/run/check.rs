@@ -59,6 +59,7 @@ pub fn check(request: &CheckRequest, err: &mut dyn Write) -> Result<Checked, Run
     // any port is opened.
     let link = request.connection.with_defaults(loaded.plan.link());
     super::within_link_range(&written, &loaded, request.registry, &link)?;
+    super::watches_fit_the_line(&loaded, request.registry, &link)?;
     super::sim_checked(&link, request.registry, &loaded)?;
     let compare =
         !request.connection.is_simulated() && loaded.plan.drives().is_empty() && !written.is_empty();

@@ -52,6 +52,7 @@ mod several_sets;
 mod sim_settings_check;
 mod terminal_input;
 mod verdict_rule;
+mod watch_line_check;
 
 pub use address_key_flags::{AddressKeyFlag, DNC_ADDRESS};
 pub use anonymise::{anonymise_capture, AnonymiseError};
@@ -78,3 +79,4 @@ pub use safe_stop_args::SafeStopArgs;
 pub use sim_settings_check::{check_sim_settings, sim_checked};
 pub use terminal_input::TerminalInput;
 pub use verdict_rule::settle;
+pub use watch_line_check::watches_fit_the_line;

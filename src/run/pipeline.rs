@@ -76,6 +76,10 @@ pub fn run(request: &RunRequest, out: &mut dyn Write, err: &mut dyn Write) -> Ru
     if let Err(e) = within_link_range(&plan.written_values(), &loaded, request.registry, &connection) {
         return refuse(INVALID, &e.to_string(), err);
     }
+    // Watches that would leave the steps too little of the line, likewise.
+    if let Err(e) = super::watches_fit_the_line(&loaded, request.registry, &connection) {
+        return refuse(INVALID, &e.to_string(), err);
+    }
     // Files are opened before anything is sent: a path that cannot be written is an
     // invalid command line, not a half-run file.
     let outputs = request.outputs;

@@ -1,9 +1,10 @@
 //! `watch:` limits on the line: a watch shares the sample step's exchanges instead of
 //! adding its own telegrams, and the run-in of issue 41 (`--sim heating=40K/A`, a watch
 //! `motor_temperature below 80 °C`) ends within one watch interval of crossing 80 °C, in
-//! virtual time. Both counted on the run's `--trace` of the simulated line.
+//! virtual time. Both counted on the run's `--trace` of the simulated line. And `check`
+//! refuses watches that would take more of a named serial line than they may.
 
-use crate::support::{scratch, write_file, InProcessRun};
+use crate::support::{cli, scratch, scratch_file, write_file, InProcessRun};
 use std::path::Path;
 
 /// One telegram of a trace: its time, `TX` or `RX`, and what `decode` says of it.
@@ -150,4 +151,40 @@ fn the_run_in_ends_within_one_watch_interval_of_crossing_80_c_in_virtual_time() 
         1,
         "nothing read the temperature over the limit again"
     );
+}
+
+/// Three watches every 50 ms at 9600 baud would take 150 % of the line (each SD2 read is
+/// 24 bytes, 25 ms on the wire): `check` and `run` refuse them with each watch's place and
+/// the interval that fits, which then passes; at the family's 57600 baud they fit, and
+/// without a line named there is nothing to compare with.
+#[test]
+fn check_refuses_watches_the_named_line_cannot_carry() {
+    let watches = |every: &str| {
+        format!(
+            "name: Busy watches\ndrive: sd2\nwatch:\n  motor_temperature: {{ below: 80 °C }}\n  speed_actual: {{ below: 12000 rpm }}\n  current_actual: {{ below: 12 A }}\n  every: {every}\nsteps:\n  - dwell: 1 s\n"
+        )
+    };
+    let (dir, busy) = scratch_file("busy", "busy.yaml", &watches("50 ms"));
+    let busy = busy.to_string_lossy();
+    let refused = cli(&["check", &busy, "--baud", "9600"], 2);
+    let said = format!("{}{}", refused.stdout, refused.stderr);
+    for part in [
+        "the watches would take 150 % of the line's time on the wire alone, more than the 50 %",
+        "busy.yaml:4:3: watch motor_temperature below 80 °C every 50ms: each read is 24 bytes, 25.0 ms on the wire at 9600 8N1",
+        "busy.yaml:6:3: watch current_actual below 12 A every 50ms",
+        "read less often (a larger `every`; 150 ms at the least) or at a higher baud rate",
+    ] {
+        assert!(said.contains(part), "missing {part:?} in:\n{said}");
+    }
+    let run = cli(&["run", &busy, "--baud", "9600", "--fast"], 2);
+    assert!(
+        run.stderr.contains("the watches would take 150 %"),
+        "{}",
+        run.stderr
+    );
+    assert!(!run.stdout.contains("finally"), "nothing ran:\n{}", run.stdout);
+    cli(&["check", &busy, "--baud", "57600"], 0);
+    cli(&["check", &busy], 0);
+    let fits = write_file(&dir, "fits.yaml", &watches("150 ms"));
+    cli(&["check", &fits.to_string_lossy(), "--baud", "9600"], 0);
 }
