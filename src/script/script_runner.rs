@@ -263,7 +263,7 @@ impl Host<'_> {
                     line: r.line,
                     column: r.column,
                 };
-                s.watch_from_here(crate::session::Watch { origin, ..*watch });
+                s.watch_from_here(crate::session::Watch { origin, ..*watch })?;
                 // The first reading is now: a limit already crossed ends the run here.
                 return s.watch_fault(false).map(|_| Answer::Done);
             }

@@ -12,6 +12,8 @@ use std::time::Duration;
 pub const DEFAULT_WATCH_EVERY: Duration = Duration::from_secs(1);
 /// The shortest interval: a watch must leave the line to the steps.
 pub const MIN_WATCH_EVERY: Duration = Duration::from_millis(50);
+/// The most limits a script may watch at once: each is read on the line.
+pub const MAX_WATCHES: usize = 64;
 
 /// One watched limit, as the recipe's `watch:` gives it.
 #[derive(Debug, Clone, PartialEq)]
@@ -50,9 +52,23 @@ impl Session<'_> {
         self
     }
 
-    /// A script's `d.watch(...)`: held from now until the run's steps end.
-    pub fn watch_from_here(&mut self, watch: Watch) {
+    /// A script's `d.watch(...)`: held from now until the run's steps end. The same limit
+    /// given again (a `d.watch` in a loop) is the one already held; a script that keeps
+    /// adding others is stopped at [`MAX_WATCHES`], as each one costs reads on the line.
+    pub fn watch_from_here(&mut self, watch: Watch) -> Result<(), Stop> {
+        let same =
+            |w: &Watch| w.condition == watch.condition && w.hold == watch.hold && w.every == watch.every;
+        if self.watches.iter().any(|(w, _)| same(w)) {
+            return Ok(());
+        }
+        if self.watches.len() >= MAX_WATCHES {
+            return Err(Stop::Error(format!(
+                "watch {} ({}): the run already holds {MAX_WATCHES} watches, the most it reads; watch fewer limits (a d.watch in a loop holds one limit once)",
+                watch.condition, watch.origin
+            )));
+        }
         self.watches.push((watch, WatchState::default()));
+        Ok(())
     }
 
     /// A block's own watches join the run's while its steps run; returns what
