@@ -4,7 +4,7 @@
 //! virtual time. Both counted on the run's `--trace` of the simulated line. And `check`
 //! refuses watches that would take more of a named serial line than they may.
 
-use crate::support::{cli, scratch, scratch_file, write_file, InProcessRun};
+use crate::support::{cli, repo_root, run_recording, scratch, scratch_file, write_file, InProcessRun};
 use std::path::Path;
 
 /// One telegram of a trace: its time, `TX` or `RX`, and what `decode` says of it.
@@ -187,4 +187,51 @@ fn check_refuses_watches_the_named_line_cannot_carry() {
     cli(&["check", &busy], 0);
     let fits = write_file(&dir, "fits.yaml", &watches("150 ms"));
     cli(&["check", &fits.to_string_lossy(), "--baud", "9600"], 0);
+}
+
+/// A script's `d.watch` is named, reported and stored as a recipe's watch: the failed check
+/// `watch motor_temperature below 80 °C` with its value, time and limit in JUnit and in the
+/// results store, and the step it ended with the `d.watch` call's place.
+#[test]
+fn a_script_watch_is_reported_and_stored_as_a_recipe_watch() {
+    let dir = scratch("script-store");
+    let script = repo_root().join("tests/cases/failed/script_watch_crossed/script.rhai");
+    let store = dir.join("store.db");
+    let store = store.to_string_lossy();
+    let junit = dir.join("run.xml");
+    let (code, output) = run_recording(
+        &script,
+        &store,
+        &[
+            "--fast",
+            "--sim",
+            "heating=80K/A",
+            "--junit",
+            &junit.to_string_lossy(),
+            "--output-dir",
+            &dir.to_string_lossy(),
+        ],
+    );
+    assert_eq!(code, 1, "{output}");
+    let xml = std::fs::read_to_string(&junit).expect("JUnit written");
+    for part in [
+        "<testcase name=\"watch motor_temperature below 80 °C\"",
+        "<failure type=\"expect\" message=\"80 °C at 1175.495 s of the run: the watch motor_temperature below 80 °C was crossed; measured 80.0 °C; limits &lt; 80 °C\"",
+    ] {
+        assert!(xml.contains(part), "missing {part:?} in:\n{xml}");
+    }
+    let listed = cli(&["results", "list", "--simulated", "--results", &store], 0).stdout;
+    let id = listed
+        .lines()
+        .nth(1)
+        .and_then(|l| l.split_whitespace().next())
+        .expect("the run listed");
+    let shown = cli(&["results", "show", id, "--results", &store], 0).stdout;
+    for part in [
+        "FAIL  watch motor_temperature below 80 °C: 80 °C at 1175.495 s of the run",
+        "11  FAIL  dwell 50m  watch crossed in step 11: 80 °C at 1175.495 s of the run",
+        "script_watch_crossed/script.rhai:7:3); the run ends here",
+    ] {
+        assert!(shown.contains(part), "missing {part:?} in:\n{shown}");
+    }
 }
