@@ -235,3 +235,29 @@ fn a_script_watch_is_reported_and_stored_as_a_recipe_watch() {
         assert!(shown.contains(part), "missing {part:?} in:\n{shown}");
     }
 }
+
+/// The real process, in real time: a watch ends the run, and SIGTERM (a cancelled CI job)
+/// arrives while the stop it started brakes the spindle. The stop goes on to the end, the
+/// drive is read back safe, and the exit code names the signal.
+#[test]
+fn a_real_sigterm_during_the_stop_a_watch_started_lets_the_stop_finish() {
+    let (_, recipe) = scratch_file(
+        "sigterm",
+        "run.yaml",
+        "name: A watch ends the run-in\ndrive: sd2\nwatch:\n  speed_actual: { below: 5000 rpm }\n  every: 500 ms\nsteps:\n  - go_to: operation_enabled\n  - set: { speed_setpoint: 6000 rpm }\n  - dwell: 1 h\n",
+    );
+    let mut run =
+        crate::live_run::LiveRun::start(["run".as_ref(), recipe.as_os_str(), "--no-progress".as_ref()]);
+    run.wait_for("watch crossed in step 3");
+    run.signal("TERM");
+    let (code, output) = run.finish();
+    assert_eq!(code, Some(143), "{output}");
+    for part in [
+        "finally 4  ok    shutdown (default finally)  control word 6",
+        "drive left in ready to switch on at 0 rpm",
+        "INTERRUPTED: interrupted by SIGTERM",
+        "0 check(s) passed, 1 failed",
+    ] {
+        assert!(output.contains(part), "missing {part:?} in:\n{output}");
+    }
+}
