@@ -78,26 +78,12 @@ impl Session<'_> {
         Ok(())
     }
 
-    /// [`Self::sampled_run`], with the values of each tick lent to the watches of the same
-    /// objects (see [`super::watch`]) while it runs.
-    pub fn sample(
-        &mut self,
-        objects: &[ObjectRef],
-        every: Duration,
-        duration: Duration,
-        csv: Option<&PathBuf>,
-        steps: &[(String, StepSpec)],
-        number: &str,
-    ) -> Result<String, Stop> {
-        let result = self.sampled_run(objects, every, duration, csv, steps, number);
-        self.sampled.values.clear();
-        result
-    }
-
     /// Reads `objects` every `every` for `duration`; keeps the window for `expect` (with
     /// the response to the step `steps` declares for an object) and the series for the
-    /// plots; optionally writes a CSV file.
-    fn sampled_run(
+    /// plots; optionally writes a CSV file. Each tick's values are lent to the watches of
+    /// the same objects while it runs (see [`super::watch`]; the step that runs it takes
+    /// them back however it ends).
+    pub fn sample(
         &mut self,
         objects: &[ObjectRef],
         every: Duration,
@@ -193,6 +179,7 @@ impl Session<'_> {
             self.watch_fault(false)?;
             k += 1;
         }
+        self.sampled.values.clear();
         if let Some(w) = writer.as_mut() {
             w.flush()?;
         }

@@ -292,6 +292,8 @@ impl<'a> Session<'a> {
             Ok(r) => r,
             Err(payload) => Err(Stop::Panicked(panic_message(payload.as_ref()))),
         };
+        // A sample step lends its values to the watches only while it runs, however it ended.
+        self.sampled.values.clear();
         // Only a failed check or wait is tried again by an `attempts` block; every other
         // stop ends the run, and its lines must not promise another attempt.
         if matches!(&result, Err(stop) if !matches!(stop, Stop::Failed(_))) {

@@ -4,7 +4,9 @@
 //! virtual time. Both counted on the run's `--trace` of the simulated line. And `check`
 //! refuses watches that would take more of a named serial line than they may.
 
-use crate::support::{cli, repo_root, run_recording, scratch, scratch_file, write_file, InProcessRun};
+use crate::support::{
+    assert_has, cli, repo_root, run_recording, scratch, scratch_file, write_file, InProcessRun,
+};
 use std::path::Path;
 
 /// One telegram of a trace: its time, `TX` or `RX`, and what `decode` says of it.
@@ -168,14 +170,15 @@ fn check_refuses_watches_the_named_line_cannot_carry() {
     let busy = busy.to_string_lossy();
     let refused = cli(&["check", &busy, "--baud", "9600"], 2);
     let said = format!("{}{}", refused.stdout, refused.stderr);
-    for part in [
-        "the watches would take 150 % of the line's time on the wire alone, more than the 50 %",
-        "busy.yaml:4:3: watch motor_temperature below 80 °C every 50ms: each read is 24 bytes, 25.0 ms on the wire at 9600 8N1",
-        "busy.yaml:6:3: watch current_actual below 12 A every 50ms",
-        "read less often (a larger `every`; 150 ms at the least) or at a higher baud rate",
-    ] {
-        assert!(said.contains(part), "missing {part:?} in:\n{said}");
-    }
+    assert_has(
+        &said,
+        &[
+            "the watches would take 150 % of the line's time on the wire alone, more than the 50 %",
+            "busy.yaml:4:3: watch motor_temperature below 80 °C every 50ms: each read is 24 bytes, 25.0 ms on the wire at 9600 8N1",
+            "busy.yaml:6:3: watch current_actual below 12 A every 50ms",
+            "read less often (a larger `every`; 150 ms at the least) or at a higher baud rate",
+        ],
+    );
     let run = cli(&["run", &busy, "--baud", "9600", "--fast"], 2);
     assert!(
         run.stderr.contains("the watches would take 150 %"),
@@ -214,12 +217,13 @@ fn a_script_watch_is_reported_and_stored_as_a_recipe_watch() {
     );
     assert_eq!(code, 1, "{output}");
     let xml = std::fs::read_to_string(&junit).expect("JUnit written");
-    for part in [
-        "<testcase name=\"watch motor_temperature below 80 °C\"",
-        "<failure type=\"expect\" message=\"80 °C at 1175.495 s of the run: the watch motor_temperature below 80 °C was crossed; measured 80.0 °C; limits &lt; 80 °C\"",
-    ] {
-        assert!(xml.contains(part), "missing {part:?} in:\n{xml}");
-    }
+    assert_has(
+        &xml,
+        &[
+            "<testcase name=\"watch motor_temperature below 80 °C\"",
+            "<failure type=\"expect\" message=\"80 °C at 1175.495 s of the run: the watch motor_temperature below 80 °C was crossed; measured 80.0 °C; limits &lt; 80 °C\"",
+        ],
+    );
     let listed = cli(&["results", "list", "--simulated", "--results", &store], 0).stdout;
     let id = listed
         .lines()
@@ -227,13 +231,14 @@ fn a_script_watch_is_reported_and_stored_as_a_recipe_watch() {
         .and_then(|l| l.split_whitespace().next())
         .expect("the run listed");
     let shown = cli(&["results", "show", id, "--results", &store], 0).stdout;
-    for part in [
-        "FAIL  watch motor_temperature below 80 °C: 80 °C at 1175.495 s of the run",
-        "11  FAIL  dwell 50m  watch crossed in step 11: 80 °C at 1175.495 s of the run",
-        "script_watch_crossed/script.rhai:7:3); the run ends here",
-    ] {
-        assert!(shown.contains(part), "missing {part:?} in:\n{shown}");
-    }
+    assert_has(
+        &shown,
+        &[
+            "FAIL  watch motor_temperature below 80 °C: 80 °C at 1175.495 s of the run",
+            "11  FAIL  dwell 50m  watch crossed in step 11: 80 °C at 1175.495 s of the run",
+            "script_watch_crossed/script.rhai:7:3); the run ends here",
+        ],
+    );
 }
 
 /// The real process, in real time: a watch ends the run, and SIGTERM (a cancelled CI job)
@@ -252,12 +257,13 @@ fn a_real_sigterm_during_the_stop_a_watch_started_lets_the_stop_finish() {
     run.signal("TERM");
     let (code, output) = run.finish();
     assert_eq!(code, Some(143), "{output}");
-    for part in [
-        "finally 4  ok    shutdown (default finally)  control word 6",
-        "drive left in ready to switch on at 0 rpm",
-        "INTERRUPTED: interrupted by SIGTERM",
-        "0 check(s) passed, 1 failed",
-    ] {
-        assert!(output.contains(part), "missing {part:?} in:\n{output}");
-    }
+    assert_has(
+        &output,
+        &[
+            "finally 4  ok    shutdown (default finally)  control word 6",
+            "drive left in ready to switch on at 0 rpm",
+            "INTERRUPTED: interrupted by SIGTERM",
+            "0 check(s) passed, 1 failed",
+        ],
+    );
 }
