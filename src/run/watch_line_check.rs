@@ -16,17 +16,17 @@ const WATCH_SHARE: f64 = 0.5;
 
 /// `Ok` when the watches of `loaded` read often enough to fit the serial line of
 /// `connection` (one it names with `--port` or `--baud`); also when nothing is known of a
-/// wire: no line named, a CAN bus, a TCP server, a script whose watches are made as it
-/// runs. Otherwise why not, with each watch's place (exit code 2).
+/// wire: no line named, a CAN bus, a TCP server, a script's watches with computed words
+/// (known only as it runs). Otherwise why not, with each watch's place (exit code 2).
 pub fn watches_fit_the_line(
     loaded: &LoadedPlan,
     registry: &Registry,
     connection: &ConnectionArgs,
 ) -> Result<(), RunError> {
-    let RunPlan::Recipe(recipe) = &loaded.plan else {
-        return Ok(());
+    let watches = match &loaded.plan {
+        RunPlan::Recipe(recipe) => crate::recipe::all_watches(recipe),
+        RunPlan::Script(script) => script.watches.iter().collect(),
     };
-    let watches = crate::recipe::all_watches(recipe);
     let line_named = connection.port.is_some() || connection.baud.is_some();
     if watches.is_empty() || !line_named || connection.tcp.is_some() || connection.can.is_some() {
         return Ok(());

@@ -44,6 +44,9 @@ pub struct Script {
     /// calls on a variable given one named drive (`let left = drive("left")`), named
     /// `left.speed_setpoint`; which drive other calls go to is known only as it runs.
     pub written: Vec<crate::recipe::WrittenValue>,
+    /// The `d.watch` calls written wholly with literals, in a script with one drive: what
+    /// `check` compares with the line; the others are known only as the script runs.
+    pub watches: Vec<crate::session::Watch>,
     /// The operator calls written with a literal question (`confirm("Guard closed?")`),
     /// with their places: a run without a terminal needs an answer for each.
     pub prompts: Vec<(crate::session::Prompt, crate::session::StepOrigin)>,
@@ -261,6 +264,10 @@ fn load_source_for(
                 literal_writes(&calls, dictionary)
             } else {
                 named_literal_writes(&calls, drives)
+            },
+            watches: match drives.is_empty() {
+                true => super::watch_api::literal_watches(&calls, dictionary),
+                false => Vec::new(),
             },
             drives: header.drives,
             leave_enabled: header.leave_enabled,

@@ -216,6 +216,35 @@ pub(super) fn check_literal_watch(
     Some((at, r))
 }
 
+/// The watches of `d.watch` calls written wholly with literals that `dict` takes, each at
+/// its call's place: what `check` compares with the line before the script runs.
+pub(super) fn literal_watches(calls: &[super::literal_calls::LiteralCall], dict: &Dictionary) -> Vec<Watch> {
+    let mut out = Vec::new();
+    for c in calls.iter().filter(|c| c.name == "watch" && c.method) {
+        let (Some((Arg::Text(name), _)), Some((Arg::Map(written), _))) = (c.args.first(), c.args.get(1))
+        else {
+            continue;
+        };
+        let entries: Option<Vec<(String, WatchValue)>> = written
+            .iter()
+            .map(|(k, v, _)| match v {
+                Arg::Text(t) => Some((k.clone(), WatchValue::Text(t.clone()))),
+                Arg::Number(n) => Some((k.clone(), WatchValue::Number(*n))),
+                _ => None,
+            })
+            .collect();
+        if let Some(Ok(mut watch)) = entries.map(|e| watch_of(dict, name, &e)) {
+            watch.origin = StepOrigin {
+                path: c.span.path().to_string(),
+                line: c.span.line(),
+                column: c.span.column(),
+            };
+            out.push(watch);
+        }
+    }
+    out
+}
+
 /// A Rhai map's entries as [`watch_of`] takes them.
 fn entries(map: &Map) -> Vec<(String, WatchValue)> {
     map.iter()

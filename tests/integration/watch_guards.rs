@@ -190,6 +190,23 @@ fn check_refuses_watches_the_named_line_cannot_carry() {
     cli(&["check", &busy], 0);
     let fits = write_file(&dir, "fits.yaml", &watches("150 ms"));
     cli(&["check", &fits.to_string_lossy(), "--baud", "9600"], 0);
+    // A script's d.watch written with literals is compared with the line the same way.
+    let script = |every: &str| {
+        format!(
+            "//! drive: sd2\nlet d = drive();\nd.watch(\"motor_temperature\", #{{ below: \"80 °C\", every: \"{every}\" }});\nd.watch(\"speed_actual\", #{{ below: \"12000 rpm\", every: \"{every}\" }});\nd.watch(\"current_actual\", #{{ below: 12, every: \"{every}\" }});\ndwell(\"1 s\");\n"
+        )
+    };
+    let busy = write_file(&dir, "busy.rhai", &script("50 ms"));
+    let refused = cli(&["check", &busy.to_string_lossy(), "--baud", "9600"], 2);
+    assert_has(
+        &refused.stderr,
+        &[
+            "the watches would take 150 % of the line's time",
+            "busy.rhai:4:3: watch speed_actual below 12000 rpm every 50ms",
+        ],
+    );
+    let fits = write_file(&dir, "fits.rhai", &script("150 ms"));
+    cli(&["check", &fits.to_string_lossy(), "--baud", "9600"], 0);
 }
 
 /// A script's `d.watch` is named, reported and stored as a recipe's watch: the failed check
