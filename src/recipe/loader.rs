@@ -34,6 +34,7 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::time::Duration;
 pub(super) use steps::{COAST_DOWN_EVERY, COAST_DOWN_TIMEOUT, STEP_KEYS};
+pub(super) use watch::{DEFAULT_WATCH_EVERY, MIN_WATCH_EVERY};
 
 /// Default `timeout` of `wait_until` and of each `go_to` transition.
 pub const DEFAULT_WAIT_TIMEOUT: Duration = Duration::from_secs(10);

@@ -8,9 +8,9 @@ use crate::session::{Condition, Watch};
 use std::time::Duration;
 
 /// How often a watch reads its objects when the recipe names no `every`.
-pub(super) const DEFAULT_WATCH_EVERY: Duration = Duration::from_secs(1);
+pub(in crate::recipe) const DEFAULT_WATCH_EVERY: Duration = Duration::from_secs(1);
 /// The shortest interval: a watch must leave the line to the steps.
-const MIN_WATCH_EVERY: Duration = Duration::from_millis(50);
+pub(in crate::recipe) const MIN_WATCH_EVERY: Duration = Duration::from_millis(50);
 
 impl Loader<'_, '_> {
     pub(in crate::recipe::loader) fn watch_section(&mut self, node: &YamlNode) -> Vec<Watch> {
