@@ -4,8 +4,8 @@
 //! heartbeat and EMCY frames; an EDS as a dictionary on the command line.
 
 use crate::support::{
-    assert_has, assert_in_order, assert_lacks, cli, control_words, repo_root, scratch, write_file,
-    InProcessRun,
+    assert_has, assert_in_order, assert_lacks, cli, control_words, repo_root, scratch, sqlite_store,
+    write_file, InProcessRun,
 };
 use drivescript::clock::SharedClock;
 use drivescript::family::canopen::codec::NmtState;
@@ -423,8 +423,7 @@ fn an_emcy_alone_stops_a_run_through_an_slcan_pseudo_terminal() {
         "name: EMCY alone over SLCAN\ndrive: canopen\nsteps:\n  - go_to: operation_enabled\n  - set: { speed_setpoint: 500 rpm }\n  - dwell: 2 min\n",
     );
     let trace = dir.join("run.log");
-    let store = dir.join("results.sqlite");
-    let store = store.to_str().unwrap();
+    let store = &sqlite_store(&dir);
     let can = format!("slcan:{}", sim.endpoint);
     let out = cli(
         &[

@@ -168,6 +168,11 @@ pub fn scratch_file(name: &str, file: &str, text: &str) -> (PathBuf, PathBuf) {
     (dir, path)
 }
 
+/// The path of a SQLite results store in `dir`, as `--results` takes it.
+pub fn sqlite_store(dir: &Path) -> String {
+    dir.join("results.sqlite").to_string_lossy().into_owned()
+}
+
 /// Writes `text` to `dir/name`; the file's path.
 pub fn write_file(dir: &Path, name: &str, text: &str) -> PathBuf {
     let path = dir.join(name);
