@@ -228,7 +228,11 @@ fn every_command_example_of_the_readme_and_the_manual_is_run() {
             }
         }
     }
-    assert!(not_run.is_empty(), "command examples not run:\n{}", not_run.join("\n"));
+    assert!(
+        not_run.is_empty(),
+        "command examples not run:\n{}",
+        not_run.join("\n")
+    );
     assert!(run >= 15, "only {run} console blocks with commands");
 }
 

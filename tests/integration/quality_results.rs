@@ -275,21 +275,14 @@ fn recorded(store: &str, runs: &[Past]) {
             name: "motor_temperature below 80 °C".into(),
             key: Some("motor_temperature below".into()),
             measured: Some(*temperature),
-            measured_text: None,
             unit: Some("°C".into()),
             low: Some(20.0),
             high: Some(80.0),
             passed: *passed,
-            marginal: false,
             step: "2".into(),
-            stage: String::new(),
             attempt: 1,
-            message: String::new(),
-            reference_run: None,
-            reference_at: None,
-            reference_value: None,
             inclusive: Some(false),
-            decimals: None,
+            ..CheckRow::default()
         }));
         records.push(Record::Finished(EndRow {
             run: id.to_string(),
