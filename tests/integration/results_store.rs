@@ -219,34 +219,27 @@ fn a_run_is_recorded_with_its_checks_steps_end_state_and_series() {
     // Filters, export and trend over the runs.
     let failed = list(store, &["--verdict", "failed"]);
     assert_has(&failed.stdout, &["no runs"]);
+    let export = |format: &str| {
+        cli(
+            &[
+                "results",
+                "export",
+                "--results",
+                store,
+                "--simulated",
+                "--format",
+                format,
+            ],
+            0,
+        )
+    };
+    // JSON is the default format.
     let json = cli(&["results", "export", "--results", store, "--simulated"], 0);
     let parsed: serde_json::Value = serde_json::from_str(&json.stdout).expect("JSON");
     assert_eq!(parsed.as_array().map(Vec::len), Some(2));
-    let csv = cli(
-        &[
-            "results",
-            "export",
-            "--results",
-            store,
-            "--simulated",
-            "--format",
-            "csv",
-        ],
-        0,
-    );
+    let csv = export("csv");
     assert_eq!(csv.stdout.lines().count(), 1 + 4, "{}", csv.stdout);
-    let junit = cli(
-        &[
-            "results",
-            "export",
-            "--results",
-            store,
-            "--simulated",
-            "--format",
-            "junit",
-        ],
-        0,
-    );
+    let junit = export("junit");
     let doc = roxmltree::Document::parse(&junit.stdout).expect("well-formed JUnit");
     assert_eq!(
         doc.descendants().filter(|n| n.has_tag_name("testsuite")).count(),
