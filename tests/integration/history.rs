@@ -9,7 +9,7 @@
 
 use crate::support::{
     assert_has, assert_lacks, command, run_recording as run, scratch, silent_server, sqlite_store,
-    unit_certificate, write_file, InProcessRun, PostgresServer, Simulator,
+    unit_certificate, write_changed, write_file, InProcessRun, PostgresServer, Simulator,
 };
 use drivescript::results::{Locator, RunFilter, StoreHistory};
 use std::path::Path;
@@ -398,12 +398,12 @@ steps:
             },
             Arc::new(Mutex::new(std::io::sink())),
         );
-        let lenient = write_file(
+        let lenient = write_changed(
             &dir,
             "lenient.yaml",
-            &std::fs::read_to_string(&recipe)
-                .expect("recipe")
-                .replace("without_history: fail", "without_history: pass"),
+            &recipe,
+            "without_history: fail",
+            "without_history: pass",
         );
         let mut run = InProcessRun::new(&lenient);
         run.operator.answer = vec![("serial".into(), "SP-77".into())];
@@ -531,13 +531,7 @@ expect_compared_with_last_pass(\"motor temperature\", t, #{ at_most: 2.0, at_lea
             "expected a change between -2 and +2",
         ],
     );
-    let wrong = write_file(
-        &dir,
-        "wrong.rhai",
-        &std::fs::read_to_string(&script)
-            .expect("script")
-            .replace(", without_history: \"pass\"", ""),
-    );
+    let wrong = write_changed(&dir, "wrong.rhai", &script, ", without_history: \"pass\"", "");
     let (code, out) = run(&wrong, store, &unit[..3]);
     assert_ne!(code, 0, "{out}");
     assert_has(&out, &["give `without_history: \"pass\"`", "wrong.rhai:7:1"]);

@@ -10,8 +10,8 @@
 
 use crate::history::{interrupted_once_shown, run_id, run_reading_a_silent_store};
 use crate::support::{
-    assert_has, assert_lacks, command, line_with, run_recording as run, scratch, sqlite_store, write_file,
-    InProcessRun,
+    assert_has, assert_lacks, command, line_with, run_recording as run, scratch, sqlite_store, write_changed,
+    write_file, InProcessRun,
 };
 use drivescript::results::{Locator, StoreHistory};
 use drivescript::stop_request::StopSignal;
@@ -367,13 +367,12 @@ let v = enter_value(\"Vibration\", #{ unit: \"mm/s\", name: \"vibration\", compa
         ],
     );
     // A comparison written wrongly is a script error at its call.
-    let wrong = write_file(
+    let wrong = write_changed(
         &dir,
         "wrong.rhai",
-        &std::fs::read_to_string(&script).expect("script").replace(
-            "at_least: \"-10 %\", without_history: \"pass\"",
-            "at_least: \"-10 %\"",
-        ),
+        &script,
+        "at_least: \"-10 %\", without_history: \"pass\"",
+        "at_least: \"-10 %\"",
     );
     let (code, out) = run(
         &wrong,
