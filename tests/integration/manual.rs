@@ -24,48 +24,53 @@ fn pages() -> Vec<PathBuf> {
     out
 }
 
+/// Each page of [`pages`] with its text.
+fn page_texts() -> impl Iterator<Item = (PathBuf, String)> {
+    pages().into_iter().map(|page| {
+        let text = std::fs::read_to_string(&page).expect("page");
+        (page, text)
+    })
+}
+
+/// The lines of `text` outside its fenced code blocks.
+fn prose_lines(text: &str) -> impl Iterator<Item = &str> {
+    let mut fenced = false;
+    text.lines().filter(move |line| {
+        let fence = line.trim_start().starts_with("```");
+        fenced ^= fence;
+        !fenced && !fence
+    })
+}
+
 /// The headings of a page as mdBook makes their anchors: lower case, spaces as `-`, other
 /// punctuation dropped.
 fn anchors(text: &str) -> Vec<String> {
-    let mut fenced = false;
-    let mut out = Vec::new();
-    for line in text.lines() {
-        if line.starts_with("```") {
-            fenced = !fenced;
-        }
-        if fenced || !line.starts_with('#') {
-            continue;
-        }
-        let title = line.trim_start_matches('#').trim();
-        let slug: String = title
-            .to_lowercase()
-            .chars()
-            .filter_map(|c| match c {
-                ' ' => Some('-'),
-                c if c.is_alphanumeric() || c == '-' || c == '_' => Some(c),
-                _ => None,
-            })
-            .collect();
-        out.push(slug);
-    }
-    out
+    prose_lines(text)
+        .filter(|line| line.starts_with('#'))
+        .map(|line| {
+            line.trim_start_matches('#')
+                .trim()
+                .to_lowercase()
+                .chars()
+                .filter_map(|c| match c {
+                    ' ' => Some('-'),
+                    c if c.is_alphanumeric() || c == '-' || c == '_' => Some(c),
+                    _ => None,
+                })
+                .collect()
+        })
+        .collect()
 }
 
 /// The targets of the Markdown links `[text](target)` and of mdBook's `{{#include path}}`
 /// in `text`, outside code blocks (an include is inside one).
 fn links(text: &str) -> Vec<String> {
-    let mut out = Vec::new();
-    let mut fenced = false;
-    for line in text.lines() {
-        if let Some(rest) = line.trim().strip_prefix("{{#include ") {
-            out.push(rest.trim_end_matches("}}").trim().to_string());
-        }
-        if line.starts_with("```") {
-            fenced = !fenced;
-        }
-        if fenced {
-            continue;
-        }
+    let mut out: Vec<String> = text
+        .lines()
+        .filter_map(|line| line.trim().strip_prefix("{{#include "))
+        .map(|rest| rest.trim_end_matches("}}").trim().to_string())
+        .collect();
+    for line in prose_lines(text) {
         let mut rest = line;
         while let Some(at) = rest.find("](") {
             let after = &rest[at + 2..];
@@ -81,8 +86,7 @@ fn links(text: &str) -> Vec<String> {
 fn every_link_and_include_of_the_manual_and_the_readme_leads_somewhere() {
     let mut broken = Vec::new();
     let mut checked = 0;
-    for page in pages() {
-        let text = std::fs::read_to_string(&page).expect("page");
+    for (page, text) in page_texts() {
         for target in links(&text) {
             if target.starts_with("http://")
                 || target.starts_with("https://")
@@ -200,8 +204,7 @@ fn fenced_blocks(text: &str) -> Vec<(usize, String, Vec<&str>)> {
 fn every_command_example_of_the_readme_and_the_manual_is_run() {
     let mut not_run = Vec::new();
     let mut run = 0;
-    for page in pages() {
-        let text = std::fs::read_to_string(&page).expect("page");
+    for (page, text) in page_texts() {
         for (line, info, body) in fenced_blocks(&text) {
             let place = format!("{}:{line}", page.display());
             let prompted = body.iter().any(|l| l.trim_start().starts_with("$ "));
