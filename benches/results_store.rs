@@ -158,21 +158,14 @@ fn filled_store(path: &Path, runs: usize) -> Result<(), String> {
                 name: format!("current_actual max below 5 A #{c}"),
                 key: Some(format!("current_actual max below #{c}")),
                 measured: Some(3.0 + (i % 17) as f64 * 0.05),
-                measured_text: None,
                 unit: Some("A".into()),
-                low: None,
                 high: Some(5.0),
                 passed: true,
-                marginal: false,
                 step: format!("{}", c + 3),
-                stage: String::new(),
                 attempt: 1,
                 message: "ok".into(),
-                reference_run: None,
-                reference_at: None,
-                reference_value: None,
                 inclusive: Some(false),
-                decimals: None,
+                ..CheckRow::default()
             }));
         }
         records.push(Record::Finished(EndRow {

@@ -27,12 +27,11 @@ pub fn short_and_long(mut command: clap::Command) -> clap::Command {
             let Some(whole) = arg.get_help().map(|h| h.to_string()) else {
                 return arg;
             };
-            match first_sentence(&whole) {
-                Some(short) => {
-                    let short = short.to_string();
-                    arg.help(short).long_help(whole)
-                }
-                None => arg,
+            let short = one_line(&whole);
+            if short == whole {
+                arg
+            } else {
+                arg.help(short).long_help(whole)
             }
         });
     }
@@ -44,6 +43,33 @@ pub fn short_and_long(mut command: clap::Command) -> clap::Command {
         command = command.mut_subcommand(name, short_and_long);
     }
     command
+}
+
+/// The longest `-h` line an option's text may take before it is cut at its first clause,
+/// so that the option, its value name and the text fit one line of a terminal.
+const SHORT_HELP_WIDTH: usize = 56;
+
+/// An option's help as one `-h` line: its first sentence without a `[default: …]` the text
+/// writes itself, cut at the first clause (`:`, `;`, ` (`, `,`) when it is still longer
+/// than [`SHORT_HELP_WIDTH`]; no full stop at the end.
+fn one_line(whole: &str) -> String {
+    let mut line = first_sentence(whole).unwrap_or(whole).to_string();
+    if let Some(start) = line.find(" [default: ") {
+        if let Some(len) = line[start..].find(']') {
+            line.replace_range(start..=start + len, "");
+        }
+    }
+    if line.chars().count() > SHORT_HELP_WIDTH {
+        let cut = [": ", "; ", " (", ", "]
+            .iter()
+            .filter_map(|mark| line.find(mark))
+            .filter(|&at| at >= 12)
+            .min();
+        if let Some(at) = cut {
+            line.truncate(at);
+        }
+    }
+    line.trim_end_matches('.').to_string()
 }
 
 /// The first sentence of `text` when there is more after it: up to a full stop followed by
@@ -62,7 +88,21 @@ fn first_sentence(text: &str) -> Option<&str> {
 
 #[cfg(test)]
 mod tests {
-    use super::first_sentence;
+    use super::{first_sentence, one_line};
+
+    #[test]
+    fn the_short_line_is_the_first_clause_of_a_long_sentence() {
+        assert_eq!(
+            one_line("Serial port the drive is on (/dev/ttyUSB0, /dev/serial/by-id/…, COM3)."),
+            "Serial port the drive is on"
+        );
+        assert_eq!(
+            one_line("Speeds within ± this count as standstill [default: 10rpm]."),
+            "Speeds within ± this count as standstill"
+        );
+        assert_eq!(one_line("A short one. With a second sentence."), "A short one");
+        assert_eq!(one_line("Record nothing"), "Record nothing");
+    }
 
     #[test]
     fn the_first_sentence_ends_at_a_full_stop_before_a_capital() {

@@ -54,18 +54,18 @@ pub struct CheckArgs {
 /// family's drives report them (lenze-931); a value outside refuses the run (exit code 2).
 /// A `.rhai` file runs as a Rhai script, with the same reports and safe stop.
 pub struct RunArgs {
-    /// Recipe files (`.yaml`) or Rhai scripts (`.rhai`), run one after the other.
+    /// Recipe files or Rhai scripts (`.yaml`, `.rhai`), run one after the other.
     #[arg(value_name = "RECIPE", required = true)]
     recipes: Vec<PathBuf>,
     /// Parameter override, NAME=VALUE (e.g. speed=8000rpm); may be repeated.
     #[arg(long = "set", value_name = "NAME=VALUE", value_parser = parse_set)]
     set: Vec<(String, String)>,
-    /// Simulated drive only: run in virtual time, so hours take seconds with identical
+    /// Run in virtual time, simulated drive only: hours take seconds with identical
     /// results.
     #[arg(long, conflicts_with = "realtime")]
     fast: bool,
     /// Run in real time (the default; with a real drive always).
-    #[arg(long)]
+    #[arg(long, hide_short_help = true)]
     realtime: bool,
     /// Directory for every output given as a relative path: --junit, --report, --csv,
     /// --trace and the `csv:` files of sample steps (and of a script's `sample`) (default:

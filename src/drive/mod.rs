@@ -24,5 +24,5 @@ pub use device_control::{DeviceCommand, DeviceState};
 pub use drive::{Drive, ReadSet, Transition, ValueLimits};
 pub use drive_error::DriveError;
 pub use maintenance::{MaintenanceAction, MaintenanceClearance, MaintenanceOutcome};
-pub use object_access::{DriveLimits, ObjectAccess, WriteOutcome};
+pub use object_access::{DriveLimits, ObjectAccess, WriteOutcome, WriteResult};
 pub use state_path::{next_step, NextStep};

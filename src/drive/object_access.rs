@@ -24,14 +24,12 @@ pub struct DriveLimits {
     pub max: Option<RawValue>,
 }
 
+/// What [`ObjectAccess::write`] returns: the outcome, or why the value was not written.
+pub type WriteResult = Result<WriteOutcome, AccessError>;
+
 pub trait ObjectAccess: Send {
     fn read(&mut self, address: &Address, data_type: DataType) -> Result<RawValue, AccessError>;
-    fn write(
-        &mut self,
-        address: &Address,
-        value: &RawValue,
-        data_type: DataType,
-    ) -> Result<WriteOutcome, AccessError>;
+    fn write(&mut self, address: &Address, value: &RawValue, data_type: DataType) -> WriteResult;
     /// Several objects at once; a family with a cyclic channel answers them in one round
     /// trip. The default reads them one by one.
     fn read_many(&mut self, objects: &[(Address, DataType)]) -> Vec<Result<RawValue, AccessError>> {

@@ -50,7 +50,8 @@ pub(super) fn prompt_steps() -> Vec<(&'static str, Value, &'static str)> {
 
 /// An operator step: the question alone, or `prompt:` with `timeout` and `extra` keys.
 fn prompt(extra: Value) -> Value {
-    let mut props = json!({ "prompt": { "type": "string" }, "timeout": { "$ref": "#/$defs/duration" } });
+    let mut props = json!({ "prompt": { "type": "string" }, "timeout": { "$ref": "#/$defs/duration",
+        "description": "a duration (`5 min`): how long the operator has to answer before the step fails (default: no limit, the step waits as long as it takes)" } });
     if let (Some(p), Some(e)) = (props.as_object_mut(), extra.as_object()) {
         p.extend(e.clone());
     }

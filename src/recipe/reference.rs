@@ -141,7 +141,17 @@ fn key_table(out: &mut String, properties: &Value, required: &[String], doc: &st
 /// parentheses right after the key (`` `timeout` (default 10 s) ``).
 fn default_of(key: &str, value: &Value, doc: &str) -> String {
     if let Some(d) = value.get("default") {
-        return format!("`{d}`");
+        return match d.as_str() {
+            Some(text) => format!("`{text}`"),
+            None => format!("`{d}`"),
+        };
+    }
+    if let Some((_, default)) = value["description"]
+        .as_str()
+        .and_then(|d| d.split_once("(default: "))
+    {
+        let end = default.find([',', ')']).unwrap_or(default.len());
+        return default[..end].to_string();
     }
     let quoted = format!("`{key}`");
     let Some(at) = doc.find(&quoted) else {
@@ -240,6 +250,50 @@ mod tests {
                 "one write `every` interval (default 100 ms): by"
             ),
             "100 ms"
+        );
+        assert_eq!(default_of("x", &json!({ "default": "1 s" }), ""), "`1 s`");
+        assert_eq!(
+            default_of(
+                "x",
+                &json!({ "description": "how long (default: no limit, it waits)" }),
+                ""
+            ),
+            "no limit"
+        );
+    }
+
+    /// The keys whose default the loader applies where a recipe leaves them out say it in
+    /// the reference, from the same constants (the safe stop's are the run's own defaults).
+    #[test]
+    fn the_reference_states_the_safe_stop_and_watch_defaults() {
+        let registry = crate::family::Registry::builtin();
+        let dictionary = registry
+            .load_dictionary(crate::family::DEFAULT_DICTIONARY)
+            .expect("built-in dictionary");
+        let page = super::recipe_reference(&dictionary, &Default::default());
+        let section = |title: &str| {
+            let start = page.find(title).unwrap_or_else(|| panic!("{title} missing"));
+            let rest = &page[start + title.len()..];
+            rest[..rest.find("\n#").unwrap_or(rest.len())].to_string()
+        };
+        let stop = crate::session::SafeStopSettings::default();
+        let safe_stop = section("### `safe_stop:`");
+        let timeout = format!(
+            "| `timeout` |  | `{}` |",
+            super::super::schema::spaced(stop.standstill_timeout)
+        );
+        assert!(safe_stop.contains(&timeout), "{safe_stop}");
+        assert!(
+            safe_stop.contains(&format!("| `standstill` |  | `{}` |", stop.standstill)),
+            "{safe_stop}"
+        );
+        assert!(
+            section("### `watch:`").contains("| `every` |  | `1 s` |"),
+            "{page}"
+        );
+        assert!(
+            section("### `confirm`").contains("| `timeout` |  | no limit |"),
+            "{page}"
         );
     }
 }

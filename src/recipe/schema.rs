@@ -270,7 +270,9 @@ pub fn recipe_schema(dictionary: &Dictionary, address_keys: &AddressKeyTable) ->
         format!(r"^\s*({NUMBER})\s*({speed_units})\s*$"),
         false,
     );
-    standstill["examples"] = json!(["10 rpm"]);
+    let stop_defaults = crate::session::SafeStopSettings::default();
+    standstill["examples"] = json!([stop_defaults.standstill.to_string()]);
+    standstill["default"] = json!(stop_defaults.standstill.to_string());
     let object_list = json!({
         "oneOf": [
             { "type": "string", "enum": names },
@@ -463,7 +465,7 @@ pub fn recipe_schema(dictionary: &Dictionary, address_keys: &AddressKeyTable) ->
             "name": { "type": "string", "description": "the recipe's name in the console, JUnit and HTML reports" },
             "description": { "type": "string", "description": "what the recipe does, for its reader" },
             "drive": { "type": "string", "enum": drives,
-                       "description": format!("the drive family (or built-in dictionary) the recipe is written for; this schema is the one of {}", dictionary.title()) },
+                       "description": format!("the drive family (or built-in dictionary) the recipe is written for (default: `--drive`, which is `{}` unless given); this schema is the one of {}", crate::family::DEFAULT_DICTIONARY, dictionary.title()) },
             "params": { "type": "object", "additionalProperties": { "type": ["string", "number"] },
                         "description": "parameters used as {{name}} in values; --set name=value overrides them" },
             "steps": { "$ref": "#/$defs/steps", "description": "the steps, in order: device commands (`- shutdown`) and steps with one key (`- set: { speed_setpoint: 6000 rpm }`)" },
@@ -489,7 +491,7 @@ pub fn recipe_schema(dictionary: &Dictionary, address_keys: &AddressKeyTable) ->
                 "description": "The safe stop: how long to wait for standstill (setpoint 0) before disabling, what counts as standstill, and whether a turning drive is braked before any disable (also before the recipe's own finally)",
                 "additionalProperties": false,
                 "properties": {
-                    "timeout": { "$ref": "#/$defs/duration" },
+                    "timeout": { "$ref": "#/$defs/duration", "default": spaced(stop_defaults.standstill_timeout) },
                     "brake_to_standstill": { "type": "boolean", "default": true,
                         "description": "true (default): a drive still enabled and turning at the end gets the speed setpoint 0 and is waited for until it stands still before anything disables it, the recipe's own finally included. false: it is disabled at speed and coasts (for a drive that brakes by itself on disable); check says so" },
                     "standstill": standstill

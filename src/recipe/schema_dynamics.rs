@@ -4,8 +4,10 @@
 //! for a difference of °C, K/min), which `check` validates; the schema gives their shape.
 
 use super::loader::{COAST_DOWN_EVERY, COAST_DOWN_TIMEOUT};
+use super::schema::spaced;
 use super::schema::{units_of, NUMBER, PARAM};
 use crate::dictionary::Dimension;
+use crate::session::{DEFAULT_WATCH_EVERY, MIN_WATCH_EVERY};
 use serde_json::{json, Map, Value};
 
 /// The statistics besides mean, min, max, ripple and std, each with what it measures.
@@ -127,8 +129,8 @@ pub(super) fn on_failure_schema(scope: &str) -> Value {
 pub(super) fn watch_schema(scope: &str) -> Value {
     json!({
         "type": "object",
-        "description": format!("Limits that hold for {scope}, one object each (`motor_temperature: {{ below: 80 °C }}`, `current_actual: {{ below: 12 A, for: 2 s }}`: beyond the limit that long before it counts), read `every` interval (default 1 s, at least 50 ms) during the steps; one crossed ends the run at once through the safe stop (FAILED)"),
-        "properties": { "every": { "$ref": "#/$defs/duration" } },
+        "description": format!("Limits that hold for {scope}, one object each (`motor_temperature: {{ below: 80 °C }}`, `current_actual: {{ below: 12 A, for: 2 s }}`: beyond the limit that long before it counts), read `every` interval (default {}, at least {}) during the steps; one crossed ends the run at once through the safe stop (FAILED)", spaced(DEFAULT_WATCH_EVERY), spaced(MIN_WATCH_EVERY)),
+        "properties": { "every": { "$ref": "#/$defs/duration", "default": spaced(DEFAULT_WATCH_EVERY) } },
         "additionalProperties": { "type": "object" }
     })
 }

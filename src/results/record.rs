@@ -82,7 +82,9 @@ pub struct StepRow {
     pub duration_s: f64,
 }
 
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+/// `Default` for fixtures that set only what they are about; the recorder and the stores
+/// name every field.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 pub struct CheckRow {
     pub run: String,
     pub seq: i64,

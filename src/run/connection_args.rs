@@ -32,14 +32,14 @@ pub struct ConnectionArgs {
     pub baud: Option<u32>,
     /// Data bits per character, 7 or 8 [default: the drive family's, e.g. 8 for SD2, 7 for
     /// Control Techniques].
-    #[arg(long = "data-bits", value_name = "7|8", value_parser = parse_data_bits)]
+    #[arg(hide_short_help = true, long = "data-bits", value_name = "7|8", value_parser = parse_data_bits)]
     pub data_bits: Option<DataBits>,
     /// Parity bit [default: the drive family's, e.g. none for SD2, even for Control
     /// Techniques].
-    #[arg(long, value_name = "none|even|odd", value_parser = parse_parity)]
+    #[arg(hide_short_help = true, long, value_name = "none|even|odd", value_parser = parse_parity)]
     pub parity: Option<Parity>,
     /// Stop bits, 1 or 2 [default: the drive family's, 1].
-    #[arg(long = "stop-bits", value_name = "1|2", value_parser = parse_stop_bits)]
+    #[arg(hide_short_help = true, long = "stop-bits", value_name = "1|2", value_parser = parse_stop_bits)]
     pub stop_bits: Option<StopBits>,
     /// A serial device server or ser2net in raw TCP mode.
     #[arg(long, value_name = "HOST:PORT")]
@@ -64,13 +64,18 @@ pub struct ConnectionArgs {
     pub address: Option<String>,
     /// The drive's raw DNC address, for families whose drives have one (SD2): the same as
     /// `--address dnc:N`, and a recipe's `dnc_address: N`.
-    #[arg(long = "dnc-address", value_name = "N", conflicts_with = "address")]
+    #[arg(
+        hide_short_help = true,
+        long = "dnc-address",
+        value_name = "N",
+        conflicts_with = "address"
+    )]
     pub dnc_address: Option<String>,
     /// How long to wait for each reply (the SD2 vendor's PC tool uses 1 s).
     #[arg(long, value_name = "DURATION", default_value = "1s", value_parser = parse_duration)]
     pub timeout: Duration,
-    /// Further attempts after a lost, corrupt or mismatched reply.
-    #[arg(long, value_name = "N", default_value_t = 2)]
+    /// Further attempts after a reply is lost, corrupt or mismatched.
+    #[arg(hide_short_help = true, long, value_name = "N", default_value_t = 2)]
     pub retries: u32,
     /// A setting of the family's link, NAME=VALUE; may be repeated. SD2:
     /// `write-length=captured` (0x0B in Write Wide Object, as every capture from real drives
@@ -78,22 +83,22 @@ pub struct ConnectionArgs {
     /// Control Techniques: `baud-parameter=#M.PP`, the parameter that sets the drive's baud
     /// rate (an accepted write to it waits 20 ms, then ends the session). Any inverter
     /// dictionary: `pole-pairs=N`, the motor's pole pairs (rpm = Hz × 60 / N).
-    #[arg(long = "link-option", value_name = "NAME=VALUE", value_parser = parse_link_option)]
+    #[arg(hide_short_help = true, long = "link-option", value_name = "NAME=VALUE", value_parser = parse_link_option)]
     pub link_options: Vec<(String, String)>,
     /// Which channel carries commands and values, where the family has several. SD2:
     /// `object` (Read/Write Wide Object, the default) or `cyclic` (the DNC 8-byte telegram;
     /// needs --velocity-scaling). Same as `--link-option channel=…`.
-    #[arg(long, value_name = "CHANNEL")]
+    #[arg(hide_short_help = true, long, value_name = "CHANNEL")]
     pub channel: Option<String>,
     /// The speed the cyclic telegram's +100 % stands for (the drive's velocity scaling
     /// parameter), e.g. 24000rpm.
-    #[arg(long, value_name = "SPEED")]
+    #[arg(hide_short_help = true, long, value_name = "SPEED")]
     pub velocity_scaling: Option<String>,
     /// Toggle the cyclic telegram's heartbeat bit (when the drive's heartbeat is on).
-    #[arg(long)]
+    #[arg(hide_short_help = true, long)]
     pub heartbeat: bool,
     /// Longest interval between cyclic telegrams [default: 20ms].
-    #[arg(long, value_name = "DURATION")]
+    #[arg(hide_short_help = true, long, value_name = "DURATION")]
     pub cycle: Option<String>,
     /// Replay a capture instead of a drive: a `--trace` file of an earlier run, or a
     /// candump log (`candump -l`) of the CAN bus. Each request gets what the drive answered

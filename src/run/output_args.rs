@@ -18,9 +18,9 @@ pub struct OutputArgs {
     /// unit (one row per value); flushed at least every 250 ms.
     #[arg(long, value_name = "FILE")]
     pub csv: Option<PathBuf>,
-    /// --csv and the `csv:` files of sample steps (and of a script's `sample`) with one
-    /// column per object instead of one row per value.
-    #[arg(long)]
+    /// One column per object instead of one row per value, in --csv and the `csv:` files of
+    /// sample steps (and of a script's `sample`).
+    #[arg(long, hide_short_help = true)]
     pub csv_wide: bool,
     /// Write a JUnit XML report: one test case per check, for CI servers.
     #[arg(long, value_name = "FILE")]
@@ -32,12 +32,12 @@ pub struct OutputArgs {
     /// and the verdict line (no header, no passed steps, no live progress bar).
     #[arg(long)]
     pub quiet: bool,
-    /// Every line, as plain lines: no live progress bar on a terminal.
-    #[arg(long)]
+    /// No live progress bar on a terminal: every line as a plain line.
+    #[arg(long, hide_short_help = true)]
     pub no_progress: bool,
     /// Colour PASS/FAIL and the verdict: auto (on a terminal, unless NO_COLOR is set),
     /// always, never.
-    #[arg(long, value_name = "WHEN", value_enum, default_value_t = ColorWhen::Auto)]
+    #[arg(long, hide_short_help = true, value_name = "WHEN", value_enum, default_value_t = ColorWhen::Auto)]
     pub color: ColorWhen,
 }
 

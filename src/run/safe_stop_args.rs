@@ -12,7 +12,7 @@ use clap::Args;
 #[derive(Debug, Clone, Default, Args)]
 #[command(next_help_heading = "Safe stop")]
 pub struct SafeStopArgs {
-    /// How long the safe stop waits, setpoint at 0, for standstill before it disables
+    /// How long the safe stop waits for standstill, setpoint at 0, before it disables
     /// the drive (also before a recipe's own finally) [default: 60s].
     #[arg(long, value_name = "DURATION", value_parser = parse_stop_duration)]
     pub stop_timeout: Option<std::time::Duration>,
@@ -20,10 +20,10 @@ pub struct SafeStopArgs {
     #[arg(long, value_name = "SPEED", value_parser = parse_speed)]
     pub standstill: Option<Quantity>,
     /// How long to keep trying to reopen a lost port to deliver the safe stop [default: 10s].
-    #[arg(long, value_name = "DURATION", value_parser = parse_stop_duration)]
+    #[arg(long, hide_short_help = true, value_name = "DURATION", value_parser = parse_stop_duration)]
     pub reconnect_timeout: Option<std::time::Duration>,
     /// Read the status word for fault watching at most this often [default: 250ms].
-    #[arg(long, value_name = "DURATION", value_parser = parse_stop_duration)]
+    #[arg(long, hide_short_help = true, value_name = "DURATION", value_parser = parse_stop_duration)]
     pub fault_poll: Option<std::time::Duration>,
     /// End the run through the safe stop at the first failed check (as `on_failure: stop`
     /// everywhere in the recipe; a failed attempt counts once the attempts are used up);

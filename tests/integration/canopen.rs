@@ -4,8 +4,8 @@
 //! heartbeat and EMCY frames; an EDS as a dictionary on the command line.
 
 use crate::support::{
-    assert_has, assert_in_order, assert_lacks, cli, control_words, repo_root, scratch, write_file,
-    InProcessRun,
+    assert_has, assert_in_order, assert_lacks, cli, control_words, repo_root, scratch, sqlite_store,
+    write_file, InProcessRun,
 };
 use drivescript::clock::SharedClock;
 use drivescript::family::canopen::codec::NmtState;
@@ -26,6 +26,26 @@ fn canopen() -> DictionaryArgs {
 }
 
 /// `recipes/commissioning.yaml` with only `drive:` changed.
+/// A run in `dir` of a recipe `title` that turns the node at 1000 rpm for a minute.
+fn turning_for_a_minute<'a>(dir: &Path, title: &str) -> InProcessRun<'a> {
+    let text = format!(
+        "name: {title}\ndrive: canopen\nsteps:\n  - go_to: operation_enabled\n  - set: {{ speed_setpoint: 1000 rpm }}\n  - dwell: 1 min\n"
+    );
+    let mut run = InProcessRun::new(write_file(dir, "recipe.yaml", &text));
+    run.dictionary = canopen();
+    run
+}
+
+/// What `look` makes of the simulated CiA 402 node behind `sim` (or does to it).
+fn on_node<T>(sim: &Arc<Mutex<dyn SimulatedDrive>>, look: impl FnOnce(&mut Cia402Node) -> T) -> T {
+    let mut sim = sim.lock().unwrap();
+    look(
+        sim.as_any_mut()
+            .downcast_mut::<Cia402Node>()
+            .expect("a CiA 402 node"),
+    )
+}
+
 pub fn commissioning(dir: &Path) -> PathBuf {
     let text = std::fs::read_to_string(repo_root().join("recipes/commissioning.yaml")).expect("recipe");
     assert!(text.contains("drive: sd2"));
@@ -114,21 +134,12 @@ fn the_commissioning_recipe_runs_on_the_simulated_cia402_node_with_only_drive_ch
 #[test]
 fn a_node_whose_heartbeat_stops_is_a_lost_link_and_is_stopped() {
     let dir = scratch("canopen-heartbeat");
-    let recipe = write_file(
-        &dir,
-        "recipe.yaml",
-        "name: Heartbeat lost\ndrive: canopen\nsteps:\n  - go_to: operation_enabled\n  - set: { speed_setpoint: 1000 rpm }\n  - dwell: 1 min\n",
-    );
     let stop_heartbeat = |sim: &Arc<Mutex<dyn SimulatedDrive>>, clock: &SharedClock| {
-        let mut sim = sim.lock().unwrap();
-        let node = sim
-            .as_any_mut()
-            .downcast_mut::<Cia402Node>()
-            .expect("a CiA 402 node");
-        node.stop_heartbeat_at(clock.now() + Duration::from_secs(20));
+        on_node(sim, |node| {
+            node.stop_heartbeat_at(clock.now() + Duration::from_secs(20))
+        });
     };
-    let mut run = InProcessRun::new(recipe);
-    run.dictionary = canopen();
+    let mut run = turning_for_a_minute(&dir, "Heartbeat lost");
     run.prepare = Some(&stop_heartbeat);
     let (result, output) = run.run();
     assert_eq!(result.exit_code, 3, "{output}");
@@ -154,21 +165,12 @@ fn a_node_whose_heartbeat_stops_is_a_lost_link_and_is_stopped() {
 #[test]
 fn a_node_silent_in_heartbeat_and_sdo_is_a_heartbeat_loss_and_gets_no_nmt_command() {
     let dir = scratch("canopen-silent");
-    let recipe = write_file(
-        &dir,
-        "recipe.yaml",
-        "name: Node silent\ndrive: canopen\nsteps:\n  - go_to: operation_enabled\n  - set: { speed_setpoint: 1000 rpm }\n  - dwell: 1 min\n",
-    );
     let silent = |sim: &Arc<Mutex<dyn SimulatedDrive>>, clock: &SharedClock| {
-        let mut sim = sim.lock().unwrap();
-        let node = sim
-            .as_any_mut()
-            .downcast_mut::<Cia402Node>()
-            .expect("a CiA 402 node");
-        node.go_silent_at(clock.now() + Duration::from_secs(20));
+        on_node(sim, |node| {
+            node.go_silent_at(clock.now() + Duration::from_secs(20))
+        });
     };
-    let mut run = InProcessRun::new(recipe);
-    run.dictionary = canopen();
+    let mut run = turning_for_a_minute(&dir, "Node silent");
     run.prepare = Some(&silent);
     run.safe_stop.reconnect_timeout = Some(Duration::from_secs(2));
     let (result, output) = run.run();
@@ -190,17 +192,11 @@ fn a_node_silent_in_heartbeat_and_sdo_is_a_heartbeat_loss_and_gets_no_nmt_comman
 #[test]
 fn an_emcy_alone_is_a_drive_fault_in_every_report() {
     let dir = scratch("canopen-emcy-alone");
-    let recipe = write_file(
-        &dir,
-        "recipe.yaml",
-        "name: EMCY alone\ndrive: canopen\nsteps:\n  - go_to: operation_enabled\n  - set: { speed_setpoint: 1000 rpm }\n  - dwell: 1 min\n",
-    );
     let emcy = |sim: &Arc<Mutex<dyn SimulatedDrive>>, clock: &SharedClock| {
         let at = clock.now() + Duration::from_secs(20);
         sim.lock().unwrap().faults().emergency_at(at, 0x2310);
     };
-    let mut run = InProcessRun::new(recipe);
-    run.dictionary = canopen();
+    let mut run = turning_for_a_minute(&dir, "EMCY alone");
     run.prepare = Some(&emcy);
     let (junit, html, trace) = (
         dir.join("junit.xml"),
@@ -251,12 +247,7 @@ fn a_node_left_enabled_stays_operational() {
     assert_lacks(&output, &["back to pre-operational"]);
     assert_eq!(control_words(&result), vec![6, 7, 15]);
     let sim = result.simulator.expect("the simulated node");
-    let mut sim = sim.lock().unwrap();
-    let node = sim
-        .as_any_mut()
-        .downcast_mut::<Cia402Node>()
-        .expect("a CiA 402 node");
-    assert_eq!(node.nmt_state(), NmtState::Operational);
+    assert_eq!(on_node(&sim, |node| node.nmt_state()), NmtState::Operational);
 }
 
 /// An EMCY the node sent before the run began is told, not a stop: the recipe decides.
@@ -423,8 +414,7 @@ fn an_emcy_alone_stops_a_run_through_an_slcan_pseudo_terminal() {
         "name: EMCY alone over SLCAN\ndrive: canopen\nsteps:\n  - go_to: operation_enabled\n  - set: { speed_setpoint: 500 rpm }\n  - dwell: 2 min\n",
     );
     let trace = dir.join("run.log");
-    let store = dir.join("results.sqlite");
-    let store = store.to_str().unwrap();
+    let store = &sqlite_store(&dir);
     let can = format!("slcan:{}", sim.endpoint);
     let out = cli(
         &[

@@ -57,6 +57,40 @@ fn run_h_is_the_short_form_and_run_help_has_the_paragraphs_and_examples() {
     assert!(short.lines().count() < long.lines().count());
 }
 
+/// `run -h` fits a terminal: one line per option (none wraps), the rarely needed ones
+/// (serial framing, the cyclic telegram, colour) only under `--help`.
+#[test]
+fn run_h_is_at_most_fifty_lines_of_one_line_options() {
+    let short = cli(&["run", "-h"], 0).stdout;
+    let long = cli(&["run", "--help"], 0).stdout;
+    assert!(
+        short.lines().count() <= 50,
+        "{} lines:\n{short}",
+        short.lines().count()
+    );
+    let continued = |l: &&str| l.starts_with("      ") && !l.trim_start().starts_with('-');
+    assert_eq!(
+        short.lines().filter(continued).count(),
+        0,
+        "a wrapped line:\n{short}"
+    );
+    for hidden in ["--data-bits", "--velocity-scaling", "--color", "--retries"] {
+        assert!(!short.contains(hidden), "{hidden} in -h:\n{short}");
+        assert!(long.contains(hidden), "{hidden} missing from --help:\n{long}");
+    }
+    for common in [
+        "--port",
+        "--tcp",
+        "--can",
+        "--address",
+        "--fast",
+        "--junit",
+        "--results",
+    ] {
+        assert!(short.contains(common), "{common} missing from -h:\n{short}");
+    }
+}
+
 #[test]
 fn the_man_page_lists_every_command_and_each_has_its_own() {
     let help = cli(&["--help"], 0).stdout;

@@ -8,8 +8,8 @@
 //! runs the safe stop; a serial typed at an operator step looks up at that point.
 
 use crate::support::{
-    assert_has, assert_lacks, command, run_recording as run, scratch, silent_server, unit_certificate,
-    write_file, InProcessRun, PostgresServer, Simulator,
+    assert_has, assert_lacks, command, run_recording as run, scratch, silent_server, sqlite_store,
+    unit_certificate, write_changed, write_file, InProcessRun, PostgresServer, Simulator,
 };
 use drivescript::results::{Locator, RunFilter, StoreHistory};
 use std::path::Path;
@@ -185,7 +185,7 @@ fn history_in(dir: &Path, store: &str) {
 #[test]
 fn a_check_compares_with_the_units_last_passed_run_in_sqlite() {
     let dir = scratch("history-sqlite");
-    history_in(&dir, dir.join("results.sqlite").to_str().unwrap());
+    history_in(&dir, &sqlite_store(&dir));
 }
 
 #[test]
@@ -200,8 +200,7 @@ fn a_check_compares_with_the_units_last_passed_run_in_postgresql() {
 #[test]
 fn simulated_and_real_runs_are_compared_only_with_their_own_kind() {
     let dir = scratch("history-kinds");
-    let store = dir.join("results.sqlite");
-    let store = store.to_str().unwrap();
+    let store = &sqlite_store(&dir);
     let recipe = write_file(
         &dir,
         "quick.yaml",
@@ -399,12 +398,12 @@ steps:
             },
             Arc::new(Mutex::new(std::io::sink())),
         );
-        let lenient = write_file(
+        let lenient = write_changed(
             &dir,
             "lenient.yaml",
-            &std::fs::read_to_string(&recipe)
-                .expect("recipe")
-                .replace("without_history: fail", "without_history: pass"),
+            &recipe,
+            "without_history: fail",
+            "without_history: pass",
         );
         let mut run = InProcessRun::new(&lenient);
         run.operator.answer = vec![("serial".into(), "SP-77".into())];
@@ -501,8 +500,7 @@ fn the_bearing_acceptance_example_compares_a_spindle_with_its_last_pass() {
 #[test]
 fn a_script_compares_its_check_with_the_units_last_pass() {
     let dir = scratch("history-script");
-    let store = dir.join("results.sqlite");
-    let store = store.to_str().unwrap();
+    let store = &sqlite_store(&dir);
     let script = write_file(
         &dir,
         "bearing.rhai",
@@ -533,13 +531,7 @@ expect_compared_with_last_pass(\"motor temperature\", t, #{ at_most: 2.0, at_lea
             "expected a change between -2 and +2",
         ],
     );
-    let wrong = write_file(
-        &dir,
-        "wrong.rhai",
-        &std::fs::read_to_string(&script)
-            .expect("script")
-            .replace(", without_history: \"pass\"", ""),
-    );
+    let wrong = write_changed(&dir, "wrong.rhai", &script, ", without_history: \"pass\"", "");
     let (code, out) = run(&wrong, store, &unit[..3]);
     assert_ne!(code, 0, "{out}");
     assert_has(&out, &["give `without_history: \"pass\"`", "wrong.rhai:7:1"]);

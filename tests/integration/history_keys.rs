@@ -7,7 +7,8 @@
 
 use crate::history::run_id;
 use crate::support::{
-    assert_has, assert_lacks, cli, line_with, run_recording as run, scratch, write_file, PostgresServer,
+    assert_has, assert_lacks, cli, line_with, run_recording as run, scratch, sqlite_store, write_file,
+    PostgresServer,
 };
 use std::path::Path;
 
@@ -156,9 +157,9 @@ steps:
 #[test]
 fn a_tightened_limit_keeps_the_units_history_in_sqlite() {
     let dir = scratch("keys-sqlite");
-    let store = dir.join("results.sqlite");
-    tightened_limit_in(&dir, store.to_str().unwrap());
-    coast_down_changed_in(&dir, store.to_str().unwrap());
+    let store = sqlite_store(&dir);
+    tightened_limit_in(&dir, &store);
+    coast_down_changed_in(&dir, &store);
 }
 
 #[test]
@@ -300,8 +301,7 @@ fn a_version_2_postgresql_store_migrates_and_its_runs_still_serve_as_history() {
 #[test]
 fn a_named_checks_limit_reads_in_the_stores_pages_as_in_the_run() {
     let dir = scratch("named-limits");
-    let store = dir.join("results.sqlite");
-    let store = store.to_str().unwrap();
+    let store = &sqlite_store(&dir);
     let recipe = write_file(
         &dir,
         "named.yaml",

@@ -10,7 +10,8 @@
 
 use crate::history::{interrupted_once_shown, run_id, run_reading_a_silent_store};
 use crate::support::{
-    assert_has, assert_lacks, command, line_with, run_recording as run, scratch, write_file, InProcessRun,
+    assert_has, assert_lacks, command, line_with, run_recording as run, scratch, sqlite_store, write_changed,
+    write_file, InProcessRun,
 };
 use drivescript::results::{Locator, StoreHistory};
 use drivescript::stop_request::StopSignal;
@@ -68,8 +69,7 @@ fn stored_comparison(store: &str, id: &str, name: &str) -> drivescript::results:
 #[test]
 fn a_coast_down_compares_its_time_with_the_units_last_pass() {
     let dir = scratch("wear-coast-down");
-    let store = dir.join("results.sqlite");
-    let store = store.to_str().unwrap();
+    let store = &sqlite_store(&dir);
     let percent = recipe(
         &dir,
         "coast.yaml",
@@ -230,8 +230,7 @@ fn a_coast_down_compares_its_time_with_the_units_last_pass() {
 #[test]
 fn a_typed_value_compares_with_the_units_last_pass() {
     let dir = scratch("wear-vibration");
-    let store = dir.join("results.sqlite");
-    let store = store.to_str().unwrap();
+    let store = &sqlite_store(&dir);
     let lenient = recipe(
         &dir,
         "vibration.yaml",
@@ -317,8 +316,7 @@ fn a_typed_value_compares_with_the_units_last_pass() {
 #[test]
 fn a_scripts_coast_down_and_typed_value_compare_with_the_units_last_pass() {
     let dir = scratch("wear-script");
-    let store = dir.join("results.sqlite");
-    let store = store.to_str().unwrap();
+    let store = &sqlite_store(&dir);
     let script = write_file(
         &dir,
         "wear.rhai",
@@ -369,13 +367,12 @@ let v = enter_value(\"Vibration\", #{ unit: \"mm/s\", name: \"vibration\", compa
         ],
     );
     // A comparison written wrongly is a script error at its call.
-    let wrong = write_file(
+    let wrong = write_changed(
         &dir,
         "wrong.rhai",
-        &std::fs::read_to_string(&script).expect("script").replace(
-            "at_least: \"-10 %\", without_history: \"pass\"",
-            "at_least: \"-10 %\"",
-        ),
+        &script,
+        "at_least: \"-10 %\", without_history: \"pass\"",
+        "at_least: \"-10 %\"",
     );
     let (code, out) = run(
         &wrong,

@@ -75,20 +75,23 @@ fn every_value_from_its_own_reply(family: Family) {
     assert_eq!(code, Some(0), "{err}");
 }
 
+/// The objects read back from a Modbus inverter, RTU or TCP: status, values and text.
+const INVERTER_OBJECTS: &[&str] = &[
+    "status_word",
+    "speed_actual",
+    "carrier_frequency",
+    "bus_voltage",
+    "ident",
+    "fault_code",
+];
+
 #[test]
 fn a_late_modbus_rtu_slave_never_gives_another_registers_value() {
     every_value_from_its_own_reply(Family {
         drive: "modbus-inverter",
         serve: "--pty",
         connect: "--port",
-        objects: &[
-            "status_word",
-            "speed_actual",
-            "carrier_frequency",
-            "bus_voltage",
-            "ident",
-            "fault_code",
-        ],
+        objects: INVERTER_OBJECTS,
         extra: &[],
     });
 }
@@ -146,14 +149,7 @@ fn a_late_modbus_tcp_server_is_told_apart_by_transaction_id() {
         drive: "modbus-tcp-inverter",
         serve: "--tcp=127.0.0.1:0",
         connect: "--tcp",
-        objects: &[
-            "status_word",
-            "speed_actual",
-            "carrier_frequency",
-            "bus_voltage",
-            "ident",
-            "fault_code",
-        ],
+        objects: INVERTER_OBJECTS,
         extra: &[],
     });
 }

@@ -173,12 +173,11 @@ fn the_commissioning_recipe_runs_on_the_simulated_931_with_only_drive_changed() 
 fn a_limited_write_warns_with_the_stored_value_and_expect_sees_it() {
     // A literal beyond the drive's limits is refused before the run (see below), so the
     // limited write is reached with a value the script computes.
-    let (dir, script) = scratch_file(
+    let (code, output, _) = file_on_931(
         "limited",
         "limited.rhai",
         "//! drive: lenze-931\nlet d = drive();\nlet high = 4000.0 * 2.0;\nd.set(\"speed_setpoint\", high, \"rpm\");\nlet stored = d.read(\"speed_setpoint\");\nexpect(\"speed_setpoint equals 6000 rpm\", stored == 6000.0, stored);\nd.set(\"speed_setpoint\", 0.0, \"rpm\");\n",
     );
-    let (code, output, _) = run_and_record(&dir, script);
     assert_eq!(code, 0, "{output}");
     assert_has(
         &output,
@@ -192,12 +191,11 @@ fn a_limited_write_warns_with_the_stored_value_and_expect_sees_it() {
 
 #[test]
 fn a_value_the_drive_refuses_names_the_drives_limit() {
-    let (dir, script) = scratch_file(
+    let (code, output, _) = file_on_931(
         "refused",
         "refused.rhai",
         "//! drive: lenze-931\nlet d = drive();\nlet mode = 3 + 4;\nd.set(\"operating_mode\", mode);\n",
     );
-    let (code, output, _) = run_and_record(&dir, script);
     assert_eq!(code, 3, "{output}");
     assert_has(&output, &["0x00000003 value too high, not written; the drive's maximum is 3 (0x00000003, read with OX:0014)"]);
 }
@@ -206,6 +204,14 @@ type SharedSim = Arc<Mutex<dyn SimulatedDrive>>;
 
 /// Runs `path` on the simulated 931 (with the completed template) and returns the exit
 /// code, the output and every request line the drive received, in order.
+/// Writes `text` to the file `file` of a fresh scratch folder `name` and runs it as
+/// [`run_and_record`] does.
+#[track_caller]
+fn file_on_931(name: &str, file: &str, text: &str) -> (i32, String, Vec<String>) {
+    let (dir, path) = scratch_file(name, file, text);
+    run_and_record(&dir, path)
+}
+
 pub(crate) fn run_and_record(dir: &Path, path: PathBuf) -> (i32, String, Vec<String>) {
     let captured: Arc<Mutex<Option<SharedSim>>> = Arc::new(Mutex::new(None));
     let keep = captured.clone();
@@ -255,12 +261,11 @@ fn a_run_outside_the_drives_limits_is_refused_before_any_write_telegram() {
 
 #[test]
 fn a_run_within_the_drives_limits_reads_them_first_and_passes() {
-    let (dir, recipe) = scratch_file(
+    let (code, output, requests) = file_on_931(
         "run-within",
         "within.yaml",
         "name: Within\ndrive: lenze-931\nsteps:\n  - set: { speed_setpoint: 5000 rpm }\n  - ramp: { object: speed_setpoint, from: 5000 rpm, to: -6000 rpm, rate: 10000 rpm/s }\n  - expect: { speed_setpoint: { equals: -6000 rpm } }\nfinally:\n  - set: { speed_setpoint: 0 rpm }\n",
     );
-    let (code, output, requests) = run_and_record(&dir, recipe);
     assert_eq!(code, 0, "{output}");
     // The limits are read first, before the run's own reads (the identity) and writes.
     assert_eq!(requests[..2], ["ON:0010", "OX:0010"], "{output}");

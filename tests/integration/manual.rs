@@ -24,48 +24,53 @@ fn pages() -> Vec<PathBuf> {
     out
 }
 
+/// Each page of [`pages`] with its text.
+fn page_texts() -> impl Iterator<Item = (PathBuf, String)> {
+    pages().into_iter().map(|page| {
+        let text = std::fs::read_to_string(&page).expect("page");
+        (page, text)
+    })
+}
+
+/// The lines of `text` outside its fenced code blocks.
+fn prose_lines(text: &str) -> impl Iterator<Item = &str> {
+    let mut fenced = false;
+    text.lines().filter(move |line| {
+        let fence = line.trim_start().starts_with("```");
+        fenced ^= fence;
+        !fenced && !fence
+    })
+}
+
 /// The headings of a page as mdBook makes their anchors: lower case, spaces as `-`, other
 /// punctuation dropped.
 fn anchors(text: &str) -> Vec<String> {
-    let mut fenced = false;
-    let mut out = Vec::new();
-    for line in text.lines() {
-        if line.starts_with("```") {
-            fenced = !fenced;
-        }
-        if fenced || !line.starts_with('#') {
-            continue;
-        }
-        let title = line.trim_start_matches('#').trim();
-        let slug: String = title
-            .to_lowercase()
-            .chars()
-            .filter_map(|c| match c {
-                ' ' => Some('-'),
-                c if c.is_alphanumeric() || c == '-' || c == '_' => Some(c),
-                _ => None,
-            })
-            .collect();
-        out.push(slug);
-    }
-    out
+    prose_lines(text)
+        .filter(|line| line.starts_with('#'))
+        .map(|line| {
+            line.trim_start_matches('#')
+                .trim()
+                .to_lowercase()
+                .chars()
+                .filter_map(|c| match c {
+                    ' ' => Some('-'),
+                    c if c.is_alphanumeric() || c == '-' || c == '_' => Some(c),
+                    _ => None,
+                })
+                .collect()
+        })
+        .collect()
 }
 
 /// The targets of the Markdown links `[text](target)` and of mdBook's `{{#include path}}`
 /// in `text`, outside code blocks (an include is inside one).
 fn links(text: &str) -> Vec<String> {
-    let mut out = Vec::new();
-    let mut fenced = false;
-    for line in text.lines() {
-        if let Some(rest) = line.trim().strip_prefix("{{#include ") {
-            out.push(rest.trim_end_matches("}}").trim().to_string());
-        }
-        if line.starts_with("```") {
-            fenced = !fenced;
-        }
-        if fenced {
-            continue;
-        }
+    let mut out: Vec<String> = text
+        .lines()
+        .filter_map(|line| line.trim().strip_prefix("{{#include "))
+        .map(|rest| rest.trim_end_matches("}}").trim().to_string())
+        .collect();
+    for line in prose_lines(text) {
         let mut rest = line;
         while let Some(at) = rest.find("](") {
             let after = &rest[at + 2..];
@@ -81,8 +86,7 @@ fn links(text: &str) -> Vec<String> {
 fn every_link_and_include_of_the_manual_and_the_readme_leads_somewhere() {
     let mut broken = Vec::new();
     let mut checked = 0;
-    for page in pages() {
-        let text = std::fs::read_to_string(&page).expect("page");
+    for (page, text) in page_texts() {
         for target in links(&text) {
             if target.starts_with("http://")
                 || target.starts_with("https://")
@@ -170,6 +174,69 @@ fn the_examples_of_the_readme_and_the_manual_run_as_shown() {
         .register_bin("drivescript", Path::new(env!("CARGO_BIN_EXE_drivescript")))
         .case(repo_root().join("README.md"))
         .case(repo_root().join("docs/src/**/*.md"));
+}
+
+/// The language of each fenced block of `text` with its first line (1-based) and its lines.
+fn fenced_blocks(text: &str) -> Vec<(usize, String, Vec<&str>)> {
+    let mut out = Vec::new();
+    let mut open: Option<(usize, String, Vec<&str>)> = None;
+    for (n, line) in text.lines().enumerate() {
+        let fence = line.trim_start().strip_prefix("```");
+        match (open.take(), fence) {
+            (None, Some(info)) => open = Some((n + 1, info.trim().to_string(), Vec::new())),
+            (Some(block), Some(_)) => out.push(block),
+            (Some(mut block), None) => {
+                block.2.push(line);
+                open = Some(block);
+            }
+            (None, None) => {}
+        }
+    }
+    out
+}
+
+/// Every command example is run: a block that shows commands is a `console` block trycmd
+/// runs against the simulated drive (above). A command that needs a real port or a person
+/// at a prompt is shown in a `text` block without a `$ ` prompt, so that it reads as what it
+/// is: not an example this suite runs. A shell block, a prompt outside a console block or
+/// a console block trycmd is told to skip is refused here.
+#[test]
+fn every_command_example_of_the_readme_and_the_manual_is_run() {
+    let mut not_run = Vec::new();
+    let mut run = 0;
+    for (page, text) in page_texts() {
+        for (line, info, body) in fenced_blocks(&text) {
+            let place = format!("{}:{line}", page.display());
+            let prompted = body.iter().any(|l| l.trim_start().starts_with("$ "));
+            let indented = text.lines().nth(line - 1).is_some_and(|l| l.starts_with(' '));
+            let language = info.split(',').next().unwrap_or_default();
+            match language {
+                "console" | "trycmd" if info.contains("ignore") => {
+                    not_run.push(format!("{place}: a console block trycmd skips ({info})"))
+                }
+                "console" | "trycmd" if indented => not_run.push(format!(
+                    "{place}: an indented console block, which trycmd does not see: start its \
+                     fence at the line's first column"
+                )),
+                "console" | "trycmd" => run += usize::from(prompted),
+                "sh" | "bash" | "shell" | "zsh" => not_run.push(format!(
+                    "{place}: a `{language}` block: make it a `console` block with its output, \
+                     or `text` when it needs hardware"
+                )),
+                _ if prompted => not_run.push(format!(
+                    "{place}: `$ ` commands in a `{info}` block: make it a `console` block, or \
+                     drop the prompts when it needs hardware"
+                )),
+                _ => {}
+            }
+        }
+    }
+    assert!(
+        not_run.is_empty(),
+        "command examples not run:\n{}",
+        not_run.join("\n")
+    );
+    assert!(run >= 15, "only {run} console blocks with commands");
 }
 
 /// The README is read in five minutes: at most 250 lines; its first recipe is the shipped

@@ -228,34 +228,19 @@ fn modbus_tcp_reads_each_unit_behind_one_address() {
         "1,2",
     ]);
     for unit in ["1", "2"] {
-        cli(
-            &[
-                "write",
-                "speed_setpoint",
-                "300rpm",
+        let at_unit = |command: &[&str]| {
+            let connection = [
                 "--drive",
                 "modbus-tcp-inverter",
                 "--tcp",
                 &sim.endpoint,
                 "--address",
                 unit,
-            ],
-            0,
-        );
-        let out = cli(
-            &[
-                "read",
-                "speed_setpoint",
-                "status_word",
-                "--drive",
-                "modbus-tcp-inverter",
-                "--tcp",
-                &sim.endpoint,
-                "--address",
-                unit,
-            ],
-            0,
-        );
+            ];
+            cli(&[command, &connection[..]].concat(), 0)
+        };
+        at_unit(&["write", "speed_setpoint", "300rpm"]);
+        let out = at_unit(&["read", "speed_setpoint", "status_word"]);
         assert_has(&out.stdout, &["300 rpm", "0x0003"]);
     }
 }
@@ -318,20 +303,19 @@ fn the_commissioning_recipe_runs_behind_an_adapter_that_echoes() {
 /// as 501 counts, which is 3006 rpm (it used to say "3003 rpm written (raw 501)").
 #[test]
 fn a_write_reports_the_value_the_wire_quantised_it_to() {
-    let out = crate::support::drivescript(
-        &["write", "--drive", "modbus-inverter", "speed_setpoint", "3003rpm"],
-        "",
-    );
-    let text = String::from_utf8_lossy(&out.stdout);
+    let written = |value: &str| {
+        cli(
+            &["write", "--drive", "modbus-inverter", "speed_setpoint", value],
+            0,
+        )
+        .stdout
+    };
+    let text = written("3003rpm");
     assert!(
         text.contains("speed_setpoint = 3006 rpm written (raw 501; 3003 rpm given, the nearest the object's resolution holds)"),
         "{text}"
     );
-    let out = crate::support::drivescript(
-        &["write", "--drive", "modbus-inverter", "speed_setpoint", "3000rpm"],
-        "",
-    );
-    let text = String::from_utf8_lossy(&out.stdout);
+    let text = written("3000rpm");
     assert!(
         text.contains("speed_setpoint = 3000 rpm written (raw 500)\n"),
         "{text}"

@@ -8,7 +8,8 @@
 
 use crate::history::run_id;
 use crate::support::{
-    assert_has, assert_lacks, cli, line_with, run_recording as run, scratch, write_file, PostgresServer,
+    assert_has, assert_lacks, cli, line_with, run_recording as run, scratch, sqlite_store, write_file,
+    PostgresServer,
 };
 use drivescript::results::{CheckRow, EndRow, Locator, Record, RunRow, UnitRow};
 use std::path::Path;
@@ -220,8 +221,7 @@ fn stages_in(dir: &Path, store: &str) {
 #[test]
 fn a_trend_is_of_one_measurement_in_sqlite() {
     let dir = scratch("quality-identity-sqlite");
-    let store = dir.join("results.sqlite");
-    stages_in(&dir, store.to_str().unwrap());
+    stages_in(&dir, &sqlite_store(&dir));
 }
 
 #[test]
@@ -275,21 +275,14 @@ fn recorded(store: &str, runs: &[Past]) {
             name: "motor_temperature below 80 °C".into(),
             key: Some("motor_temperature below".into()),
             measured: Some(*temperature),
-            measured_text: None,
             unit: Some("°C".into()),
             low: Some(20.0),
             high: Some(80.0),
             passed: *passed,
-            marginal: false,
             step: "2".into(),
-            stage: String::new(),
             attempt: 1,
-            message: String::new(),
-            reference_run: None,
-            reference_at: None,
-            reference_value: None,
             inclusive: Some(false),
-            decimals: None,
+            ..CheckRow::default()
         }));
         records.push(Record::Finished(EndRow {
             run: id.to_string(),
@@ -522,8 +515,7 @@ fn quality_in(dir: &Path, store: &str) {
 #[test]
 fn yield_capability_filters_and_voids_in_sqlite() {
     let dir = scratch("quality-yield-sqlite");
-    let store = dir.join("results.sqlite");
-    quality_in(&dir, store.to_str().unwrap());
+    quality_in(&dir, &sqlite_store(&dir));
 }
 
 #[test]

@@ -7,7 +7,9 @@
 //! file alone holds every finished run, on SQLite and on a real PostgreSQL server; and
 //! the samples CSV holds the curves the HTML report plots.
 
-use crate::support::{assert_has, assert_lacks, cli, command, scratch, write_file, PostgresServer, Ran};
+use crate::support::{
+    assert_has, assert_lacks, cli, command, scratch, sqlite_store, write_file, PostgresServer, Ran,
+};
 use drivescript::results::{Locator, RunFilter, StoredRun};
 use std::path::{Path, PathBuf};
 
@@ -389,8 +391,7 @@ fn a_store_path_that_is_a_directory_gets_a_clear_error() {
 #[test]
 fn control_characters_are_shown_escaped_on_terminals_and_in_the_csv() {
     let dir = scratch("control-characters");
-    let store = dir.join("results.sqlite");
-    let s = store.to_str().unwrap();
+    let s = &sqlite_store(&dir);
     let recipe = write_file(&dir, "tiny.yaml", TINY);
     let serial = "SP-\u{1b}[2J\u{1b}]0;owned\u{7}-9";
     let ran = run_into(&recipe, s, &dir, &["--unit", &format!("serial={serial}")], 0);
@@ -444,12 +445,7 @@ fn postgresql_holds_every_record_and_says_where_it_is() {
     server.down();
     let nul = "NUL\u{0}-1";
     // The command line cannot carry a NUL: the answer comes from a file.
-    let answers = write_file(&dir, "answers.yaml", "serial: \"NUL\\0-1\"\n");
-    let asking = write_file(
-        &dir,
-        "asking.yaml",
-        "name: Asking\ndrive: sd2\nsteps:\n  - enter_text: { prompt: Serial, sets: serial }\n    name: serial\n  - expect: { bus_voltage: { above: 100 V } }\n",
-    );
+    let (asking, answers) = asking_for_the_serial(&dir, "\"NUL\\0-1\"");
     let ran = run_into(
         &asking,
         &url,
@@ -502,18 +498,24 @@ fn postgresql_holds_every_record_and_says_where_it_is() {
     assert_eq!(h.steps.len() as i64 + h.end.as_ref().unwrap().omitted_steps, 6006);
 }
 
+/// A recipe in `dir` whose operator step asks for the unit's serial, and an answers file
+/// giving it `serial` (as YAML writes it).
+fn asking_for_the_serial(dir: &Path, serial: &str) -> (PathBuf, PathBuf) {
+    let answers = write_file(dir, "answers.yaml", &format!("serial: {serial}\n"));
+    let asking = write_file(
+        dir,
+        "asking.yaml",
+        "name: Asking\ndrive: sd2\nsteps:\n  - enter_text: { prompt: Serial, sets: serial }\n    name: serial\n  - expect: { bus_voltage: { above: 100 V } }\n",
+    );
+    (asking, answers)
+}
+
 /// A NUL in SQLite is stored and read back exactly.
 #[test]
 fn a_nul_in_an_answer_is_stored_exactly_in_sqlite() {
     let dir = scratch("nul-sqlite");
-    let store = dir.join("results.sqlite");
-    let s = store.to_str().unwrap();
-    let answers = write_file(&dir, "answers.yaml", "serial: \"NUL\\0-1\"\n");
-    let asking = write_file(
-        &dir,
-        "asking.yaml",
-        "name: Asking\ndrive: sd2\nsteps:\n  - enter_text: { prompt: Serial, sets: serial }\n    name: serial\n  - expect: { bus_voltage: { above: 100 V } }\n",
-    );
+    let s = &sqlite_store(&dir);
+    let (asking, answers) = asking_for_the_serial(&dir, "\"NUL\\0-1\"");
     run_into(&asking, s, &dir, &["--answers", answers.to_str().unwrap()], 0);
     let runs = stored_runs(s);
     assert_eq!(runs[0].run.unit.serial.as_deref(), Some("NUL\u{0}-1"));
@@ -576,14 +578,8 @@ steps:
 #[test]
 fn serial_in_an_output_name_comes_from_an_answer_given_beforehand() {
     let dir = scratch("serial-from-answers");
-    let store = dir.join("results.sqlite");
-    let s = store.to_str().unwrap();
-    let answers = write_file(&dir, "answers.yaml", "serial: SP-104233\n");
-    let asking = write_file(
-        &dir,
-        "asking.yaml",
-        "name: Asking\ndrive: sd2\nsteps:\n  - enter_text: { prompt: Serial, sets: serial }\n    name: serial\n  - expect: { bus_voltage: { above: 100 V } }\n",
-    );
+    let s = &sqlite_store(&dir);
+    let (asking, answers) = asking_for_the_serial(&dir, "SP-104233");
     let report = dir.join("{serial}-report.html");
     run_into(
         &asking,
@@ -621,8 +617,7 @@ fn serial_in_an_output_name_comes_from_an_answer_given_beforehand() {
 #[test]
 fn results_list_marks_runs_with_records_still_in_the_spool() {
     let dir = scratch("unsynced");
-    let store = dir.join("results.sqlite");
-    let s = store.to_str().unwrap();
+    let s = &sqlite_store(&dir);
     let recipe = write_file(&dir, "tiny.yaml", TINY);
     run_into(&recipe, s, &dir, &[], 0);
     run_into(&recipe, s, &dir, &[], 0);

@@ -6,7 +6,7 @@
 
 use crate::live_run::LiveRun;
 use crate::support::{
-    assert_has, assert_lacks, cli, command, run_recording, scratch, screenshot, silent_server,
+    assert_has, assert_lacks, cli, command, run_recording, scratch, screenshot, silent_server, sqlite_store,
     unit_certificate, write_file, InProcessRun, PostgresServer, Ran, Simulator,
 };
 use drivescript::results::{Locator, RunFilter, StoredRun};
@@ -138,8 +138,7 @@ fn serial(s: &str) -> UnitIdentity {
 fn a_run_is_recorded_with_its_checks_steps_end_state_and_series() {
     let dir = scratch("recorded");
     let recipe = write_file(&dir, "short.yaml", SHORT);
-    let store = dir.join("results.sqlite");
-    let store = store.to_str().expect("utf-8 path");
+    let store = &sqlite_store(&dir);
     let ran = cli(
         &["run", recipe.to_str().unwrap(), "--fast", "--results", store],
         0,
@@ -220,34 +219,27 @@ fn a_run_is_recorded_with_its_checks_steps_end_state_and_series() {
     // Filters, export and trend over the runs.
     let failed = list(store, &["--verdict", "failed"]);
     assert_has(&failed.stdout, &["no runs"]);
+    let export = |format: &str| {
+        cli(
+            &[
+                "results",
+                "export",
+                "--results",
+                store,
+                "--simulated",
+                "--format",
+                format,
+            ],
+            0,
+        )
+    };
+    // JSON is the default format.
     let json = cli(&["results", "export", "--results", store, "--simulated"], 0);
     let parsed: serde_json::Value = serde_json::from_str(&json.stdout).expect("JSON");
     assert_eq!(parsed.as_array().map(Vec::len), Some(2));
-    let csv = cli(
-        &[
-            "results",
-            "export",
-            "--results",
-            store,
-            "--simulated",
-            "--format",
-            "csv",
-        ],
-        0,
-    );
+    let csv = export("csv");
     assert_eq!(csv.stdout.lines().count(), 1 + 4, "{}", csv.stdout);
-    let junit = cli(
-        &[
-            "results",
-            "export",
-            "--results",
-            store,
-            "--simulated",
-            "--format",
-            "junit",
-        ],
-        0,
-    );
+    let junit = export("junit");
     let doc = roxmltree::Document::parse(&junit.stdout).expect("well-formed JUnit");
     assert_eq!(
         doc.descendants().filter(|n| n.has_tag_name("testsuite")).count(),
@@ -340,8 +332,7 @@ steps:
       motor_temperature: { max: { below: 50 °C, warn: 40 °C } }
 ",
     );
-    let store = dir.join("results.sqlite");
-    let store = store.to_str().expect("utf-8");
+    let store = &sqlite_store(&dir);
     let run = cli(
         &[
             "run",
@@ -388,8 +379,7 @@ steps:
 #[test]
 fn a_replayed_run_is_recorded_with_its_capture() {
     let dir = scratch("replayed");
-    let store = dir.join("results.sqlite");
-    let store = store.to_str().expect("utf-8");
+    let store = &sqlite_store(&dir);
     let case = crate::support::repo_root().join("tests/cases/replay/sd2_commissioning");
     let capture = case.join("capture.trace");
     cli(
@@ -560,8 +550,7 @@ fn two_processes_of_200_runs(dir: &Path, store: &str) {
 #[test]
 fn two_processes_of_200_runs_each_lose_nothing_in_one_sqlite_file() {
     let dir = scratch("concurrent");
-    let store = dir.join("results.sqlite");
-    two_processes_of_200_runs(&dir, store.to_str().unwrap());
+    two_processes_of_200_runs(&dir, &sqlite_store(&dir));
 }
 
 /// Hostile serial numbers stored verbatim, one learnt after the start; `store`'s runs of
@@ -597,8 +586,7 @@ fn hostile_serials_round_trip(dir: &Path, store: &str) {
 #[test]
 fn hostile_serial_numbers_round_trip_in_sqlite() {
     let dir = scratch("hostile");
-    let store = dir.join("results.sqlite");
-    hostile_serials_round_trip(&dir, store.to_str().unwrap());
+    hostile_serials_round_trip(&dir, &sqlite_store(&dir));
 }
 
 #[test]
@@ -942,8 +930,7 @@ fn a_server_that_takes_the_connection_and_never_answers_is_unreachable_in_time()
 #[test]
 fn the_recipe_hash_covers_every_included_file() {
     let dir = scratch("hash-includes");
-    let store = dir.join("results.sqlite");
-    let store = store.to_str().unwrap();
+    let store = &sqlite_store(&dir);
     let stage = write_file(
         &dir,
         "stage.yaml",

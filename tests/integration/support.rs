@@ -168,6 +168,19 @@ pub fn scratch_file(name: &str, file: &str, text: &str) -> (PathBuf, PathBuf) {
     (dir, path)
 }
 
+/// The path of a SQLite results store in `dir`, as `--results` takes it.
+pub fn sqlite_store(dir: &Path) -> String {
+    dir.join("results.sqlite").to_string_lossy().into_owned()
+}
+
+/// A copy of the file `original` as `dir/name` with `from` replaced by `to` (a recipe or
+/// script changed in one place); the copy's path.
+pub fn write_changed(dir: &Path, name: &str, original: &Path, from: &str, to: &str) -> PathBuf {
+    let text = std::fs::read_to_string(original).expect("the file to change");
+    assert!(text.contains(from), "{} has no `{from}`", original.display());
+    write_file(dir, name, &text.replace(from, to))
+}
+
 /// Writes `text` to `dir/name`; the file's path.
 pub fn write_file(dir: &Path, name: &str, text: &str) -> PathBuf {
     let path = dir.join(name);

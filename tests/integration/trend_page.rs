@@ -81,22 +81,15 @@ fn recorded(store: &Path, runs: &[Past]) {
                 name,
                 key: Some(key.into()),
                 measured,
-                measured_text: None,
                 unit: Some(unit.into()),
-                low: None,
                 high: Some(high),
                 passed: seq == 1 || passed,
                 marginal: seq == 2 && r.marginal,
                 step: "2".into(),
-                stage: String::new(),
                 attempt: 1,
-                message: String::new(),
-                reference_run: None,
-                reference_at: None,
-                reference_value: None,
                 // As a record of before the store kept it: read from the name.
                 inclusive: None,
-                decimals: None,
+                ..CheckRow::default()
             };
         records.push(Record::Check(check(
             1,

@@ -7,7 +7,7 @@ use super::sdo_link::SdoLink;
 use super::sdo_value;
 use crate::clock::SharedClock;
 use crate::dictionary::{Address, DataType, RawValue};
-use crate::drive::{AccessError, ObjectAccess, WriteOutcome};
+use crate::drive::{AccessError, ObjectAccess, WriteOutcome, WriteResult};
 use crate::link::CoreLink;
 use std::time::Duration;
 
@@ -45,12 +45,7 @@ impl ObjectAccess for SdoAccess {
         })
     }
 
-    fn write(
-        &mut self,
-        address: &Address,
-        value: &RawValue,
-        data_type: DataType,
-    ) -> Result<WriteOutcome, AccessError> {
+    fn write(&mut self, address: &Address, value: &RawValue, data_type: DataType) -> WriteResult {
         let (index, subindex) = Self::subindex(address)?;
         let bytes = sdo_value::encode(value, data_type).map_err(|e| AccessError::Encode(e.to_string()))?;
         if let Some(nmt) = &mut self.nmt {

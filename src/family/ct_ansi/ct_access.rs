@@ -6,7 +6,7 @@ use super::codec::{DataValue, NodeAddress, Parameter, Reply, Request};
 use super::ct_link::{nak_text, CtLink};
 use crate::clock::SharedClock;
 use crate::dictionary::{Address, DataType, RawValue};
-use crate::drive::{AccessError, ObjectAccess, WriteOutcome};
+use crate::drive::{AccessError, ObjectAccess, WriteOutcome, WriteResult};
 use crate::link::CoreLink;
 
 pub struct CtAccess {
@@ -131,12 +131,7 @@ impl ObjectAccess for CtAccess {
         }
     }
 
-    fn write(
-        &mut self,
-        address: &Address,
-        value: &RawValue,
-        _data_type: DataType,
-    ) -> Result<WriteOutcome, AccessError> {
+    fn write(&mut self, address: &Address, value: &RawValue, _data_type: DataType) -> WriteResult {
         let parameter = self.parameter(address)?;
         let value = match *value {
             RawValue::Int(i) => DataValue::new(i, 0),

@@ -10,7 +10,7 @@ use super::wire_value;
 use super::LenzeLink;
 use crate::clock::SharedClock;
 use crate::dictionary::{Address, DataType, RawValue};
-use crate::drive::{AccessError, DriveLimits, MaintenanceOutcome, ObjectAccess, WriteOutcome};
+use crate::drive::{AccessError, DriveLimits, MaintenanceOutcome, ObjectAccess, WriteOutcome, WriteResult};
 use crate::link::CoreLink;
 
 pub struct LenzeAccess {
@@ -154,12 +154,7 @@ impl ObjectAccess for LenzeAccess {
         }
     }
 
-    fn write(
-        &mut self,
-        address: &Address,
-        value: &RawValue,
-        data_type: DataType,
-    ) -> Result<WriteOutcome, AccessError> {
+    fn write(&mut self, address: &Address, value: &RawValue, data_type: DataType) -> WriteResult {
         match self.object(address)? {
             object @ LenzeObject::Communication(number) => {
                 let bits =

@@ -9,7 +9,7 @@ use super::register_value;
 use super::ModbusLink;
 use crate::clock::SharedClock;
 use crate::dictionary::{Address, DataType, RawValue};
-use crate::drive::{AccessError, ObjectAccess, WriteOutcome};
+use crate::drive::{AccessError, ObjectAccess, WriteOutcome, WriteResult};
 use crate::link::CoreLink;
 
 pub struct ModbusAccess {
@@ -88,12 +88,7 @@ impl ObjectAccess for ModbusAccess {
         }
     }
 
-    fn write(
-        &mut self,
-        address: &Address,
-        value: &RawValue,
-        data_type: DataType,
-    ) -> Result<WriteOutcome, AccessError> {
+    fn write(&mut self, address: &Address, value: &RawValue, data_type: DataType) -> WriteResult {
         let register = Self::register(address)?;
         if register.table == Table::Input {
             return Err(AccessError::Encode(format!(

@@ -19,7 +19,7 @@ use super::wire_value;
 use super::Sd2Access;
 use crate::clock::SharedClock;
 use crate::dictionary::{Address, DataType, RawValue};
-use crate::drive::{AccessError, ObjectAccess, WriteOutcome};
+use crate::drive::{AccessError, ObjectAccess, WriteOutcome, WriteResult};
 use crate::link::CoreLink;
 use std::time::Duration;
 
@@ -286,12 +286,7 @@ impl ObjectAccess for Sd2CyclicAccess {
         }
     }
 
-    fn write(
-        &mut self,
-        address: &Address,
-        value: &RawValue,
-        data_type: DataType,
-    ) -> Result<WriteOutcome, AccessError> {
+    fn write(&mut self, address: &Address, value: &RawValue, data_type: DataType) -> WriteResult {
         let (word, reference) = self.output()?;
         match *address {
             Address::Indexed {

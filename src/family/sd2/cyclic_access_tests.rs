@@ -75,7 +75,7 @@ fn bench(heartbeat: bool, prepare: &[(u16, RawValue, DataType)]) -> Bench {
 
 impl Bench {
     /// Writes `value` to object `index` (subindex 0) through the cyclic access.
-    fn write(&mut self, index: u16, value: i64, data_type: DataType) -> Result<WriteOutcome, AccessError> {
+    fn write(&mut self, index: u16, value: i64, data_type: DataType) -> WriteResult {
         self.access
             .write(&Address::indexed(index, 0), &RawValue::Int(value), data_type)
     }

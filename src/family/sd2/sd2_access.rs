@@ -5,7 +5,7 @@ use super::wire_value;
 use super::Sd2Link;
 use crate::clock::SharedClock;
 use crate::dictionary::{Address, DataType, RawValue};
-use crate::drive::{AccessError, ObjectAccess, WriteOutcome};
+use crate::drive::{AccessError, ObjectAccess, WriteOutcome, WriteResult};
 use crate::link::CoreLink;
 
 pub struct Sd2Access {
@@ -48,12 +48,7 @@ impl ObjectAccess for Sd2Access {
         wire_value::decode(data.as_slice(), data_type).map_err(|e| self.bad_data(address, e.to_string()))
     }
 
-    fn write(
-        &mut self,
-        address: &Address,
-        value: &RawValue,
-        data_type: DataType,
-    ) -> Result<WriteOutcome, AccessError> {
+    fn write(&mut self, address: &Address, value: &RawValue, data_type: DataType) -> WriteResult {
         let Address::Indexed { index, subindex } = *address;
         let bytes = wire_value::encode(value, data_type).map_err(|e| AccessError::Encode(e.to_string()))?;
         self.link.write_object(self.dest, index, subindex, &bytes)?;

@@ -4,7 +4,7 @@
 use drivescript::bus::{SharedTransport, Transport};
 use drivescript::clock::SharedClock;
 use drivescript::dictionary::{Address, DataType, RawValue};
-use drivescript::drive::{AccessError, ObjectAccess, WriteOutcome};
+use drivescript::drive::{AccessError, ObjectAccess, WriteOutcome, WriteResult};
 use drivescript::family::LinkContext;
 use drivescript::link::{AttemptFailure, CoreLink, Direction, ExchangeText, LinkCore, RetryPlan};
 use std::convert::Infallible;
@@ -102,12 +102,7 @@ impl ObjectAccess for TextAccess {
             })
     }
 
-    fn write(
-        &mut self,
-        address: &Address,
-        value: &RawValue,
-        _data_type: DataType,
-    ) -> Result<WriteOutcome, AccessError> {
+    fn write(&mut self, address: &Address, value: &RawValue, _data_type: DataType) -> WriteResult {
         self.exchange(format!("W {} {value}", Self::index(address)))?;
         Ok(WriteOutcome::Stored)
     }
