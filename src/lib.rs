@@ -40,3 +40,4 @@ pub mod session;
 pub mod sim;
 pub mod sim_server;
 pub mod stop_request;
+pub mod web;

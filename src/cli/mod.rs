@@ -16,6 +16,7 @@ mod decode_command;
 mod diff_command;
 mod held_value;
 mod help_text;
+pub mod listen_args;
 mod maintain_command;
 mod man_page;
 mod object_commands;
