@@ -28,6 +28,7 @@ mod restore_command;
 mod results_command;
 mod results_listing;
 mod results_quality;
+mod results_serve;
 mod safe_stop_notes;
 mod simulate_command;
 mod stop_command;

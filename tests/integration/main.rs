@@ -50,6 +50,7 @@ mod replay;
 mod reports;
 mod results_integrity;
 mod results_kill_campaign;
+mod results_serve;
 mod results_store;
 mod run_pipeline;
 mod safety;
