@@ -5,7 +5,7 @@
 
 use super::stored_run::{stored_limits, stored_measured};
 use super::{PageLinks, StoredRun};
-use crate::report::{esc, plot_svg, REPORT_CSS};
+use crate::report::{esc, plot_svg, IDENTITY_NOT_READ, REPORT_CSS};
 use crate::session::{key_of_name, with_unit, Series};
 use std::fmt::Write as _;
 
@@ -268,6 +268,16 @@ fn run_section(h: &mut String, r: &StoredRun, plot: &mut usize, links: PageLinks
             r.run.recipe_sha256.clone().unwrap_or_else(|| "not read".into()),
         ),
         ("Drive", r.run.drive.clone()),
+        (
+            "Drive identity",
+            match end {
+                Some(e) => e
+                    .drive_identity
+                    .clone()
+                    .unwrap_or_else(|| IDENTITY_NOT_READ.into()),
+                None => "not recorded: the run never finished".into(),
+            },
+        ),
         (
             "Dictionary (family)",
             match (&r.run.dictionary, &r.run.family) {

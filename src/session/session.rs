@@ -375,9 +375,9 @@ impl<'a> Session<'a> {
         for i in 0..self.drives.len() {
             self.current = i;
             let identity = self.identity();
-            self.cur().identity = identity.clone();
+            self.cur().identity = identity;
             if i == 0 {
-                self.report.identity = identity;
+                self.report.identity = self.drive_identity();
             }
             let faulted = matches!(
                 self.drive().state(),

@@ -14,6 +14,7 @@ mod capture_round_trip;
 mod command_line;
 mod ct_ansi;
 mod decode_cli;
+mod drive_identity;
 mod drive_sim;
 mod editor;
 mod eds_python;
