@@ -7,6 +7,7 @@
 //! path reads no more than it must.
 
 use super::session::Session;
+use crate::dictionary::Value;
 
 /// The identity objects by the names dictionaries give them, with the label each value is
 /// shown under, in the order a reader looks for them. An alias of one already read (a
@@ -29,8 +30,15 @@ const IDENTITY_OBJECTS: [(&str, &str); 12] = [
 impl Session<'_> {
     /// `device type 0x00020192, vendor 0x0000003B, serial 0x00000001, …`: the values of
     /// the identity objects the current drive answered; `None` when its dictionary names
-    /// none or it answered none.
-    pub(super) fn drive_identity(&mut self) -> Option<String> {
+    /// none or it answered none. `ident` is the `ident` object's value already read (to
+    /// recognise the drive), not asked for twice.
+    pub(super) fn drive_identity(&mut self, ident: Option<&Value>) -> Option<String> {
+        let ident_object = self
+            .drive()
+            .dictionary()
+            .lookup("ident")
+            .ok()
+            .map(|o| o.name.clone());
         let mut read: Vec<String> = Vec::new();
         let mut parts: Vec<String> = Vec::new();
         for (asked, label) in IDENTITY_OBJECTS {
@@ -41,7 +49,11 @@ impl Session<'_> {
                 continue;
             }
             read.push(object.clone());
-            if let Ok(value) = self.drive().read(&object) {
+            let value = match ident_object.as_deref() == Some(object.as_str()) {
+                true => ident.cloned(),
+                false => self.drive().read(&object).ok(),
+            };
+            if let Some(value) = value {
                 // A string without the quotes a console shows it in.
                 let text = value.text().map_or_else(|| value.to_string(), str::to_string);
                 if !text.trim().is_empty() {

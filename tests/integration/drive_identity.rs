@@ -3,51 +3,19 @@
 //! with the run in the store (SQLite and PostgreSQL) and shown on the run report and the
 //! certificates; a family whose dictionary names none says so.
 
-use crate::support::{assert_has, cli, repo_root, run_recording, scratch, write_file, PostgresServer};
+use crate::support::{assert_has, cli, repo_root, scratch, write_file, PostgresServer};
+use std::path::Path;
 
-/// One CANopen run recorded in `store` with its report; the report, the stored run's
-/// JSON and its certificate page.
-fn canopen_run(store: &str, dir: &std::path::Path) -> (String, String, String) {
-    let recipe = repo_root().join("recipes/canopen/commissioning.yaml");
-    let report = dir.join("run.html");
-    let (code, out) = run_recording(
-        &recipe,
-        store,
-        &[
-            "--fast",
-            "--quiet",
-            "--unit",
-            "serial=CO-1",
-            "--report",
-            report.to_str().expect("utf-8"),
-        ],
-    );
-    assert_eq!(code, 0, "{out}");
-    let listed = cli(
-        &["results", "list", "--simulated", "--json", "--results", store],
-        0,
-    );
-    let runs: serde_json::Value = serde_json::from_str(&listed.stdout).expect("json");
-    let id = runs[0]["id"].as_str().expect("a run id").to_string();
-    let shown = cli(&["results", "show", &id, "--json", "--results", store], 0).stdout;
-    let page = dir.join("certificate.html");
+/// `drivescript run RECIPE --fast --report DIR/report.html ARGS` (which must pass); the page.
+fn report_of(recipe: &Path, dir: &Path, args: &[&str]) -> String {
+    let report = dir.join("report.html");
+    let recipe = recipe.to_str().expect("utf-8");
+    let report_arg = report.to_str().expect("utf-8");
     cli(
-        &[
-            "results",
-            "report",
-            &id,
-            "--results",
-            store,
-            "-o",
-            page.to_str().expect("utf-8"),
-        ],
+        &[&["run", recipe, "--fast", "--report", report_arg], args].concat(),
         0,
     );
-    (
-        std::fs::read_to_string(&report).expect("the report"),
-        shown,
-        std::fs::read_to_string(&page).expect("the certificate"),
-    )
+    std::fs::read_to_string(&report).expect("the report")
 }
 
 /// What the built-in CANopen node answers for 0x1000, 0x1008 and 0x1018/1 (its EDS has no
@@ -55,11 +23,22 @@ fn canopen_run(store: &str, dir: &std::path::Path) -> (String, String, String) {
 const CANOPEN_IDENTITY: &str =
     "device type 0x00020192, device name drivescript CiA 402 node, vendor 0x00000000";
 
-fn identity_everywhere(store: &str, dir: &std::path::Path) {
-    let (report, shown, certificate) = canopen_run(store, dir);
+/// A CANopen run recorded in `store`: its identity on the report, in the stored run and on
+/// its certificate.
+fn identity_everywhere(store: &str, dir: &Path) {
+    let recipe = repo_root().join("recipes/canopen/commissioning.yaml");
+    let report = report_of(&recipe, dir, &["--quiet", "--results", store]);
     assert_has(&report, &["Drive identity", CANOPEN_IDENTITY]);
+    let listed = cli(
+        &["results", "list", "--simulated", "--json", "--results", store],
+        0,
+    );
+    let runs: serde_json::Value = serde_json::from_str(&listed.stdout).expect("json");
+    let id = runs[0]["id"].as_str().expect("a run id");
+    let shown = cli(&["results", "show", id, "--json", "--results", store], 0).stdout;
     let json: serde_json::Value = serde_json::from_str(&shown).expect("json");
     assert_eq!(json["end"]["drive_identity"], CANOPEN_IDENTITY, "{shown}");
+    let certificate = cli(&["results", "report", id, "--results", store], 0).stdout;
     assert_has(&certificate, &["Drive identity", CANOPEN_IDENTITY]);
     assert!(!certificate.contains("product code"), "a value no reply gave");
 }
@@ -83,54 +62,35 @@ fn a_canopen_drives_identity_is_read_stored_and_shown_on_postgresql() {
 #[test]
 fn each_family_reads_what_its_dictionary_names_and_one_without_says_so() {
     let dir = scratch("identity-families");
-    for (recipe, identity) in [
-        ("recipes/commissioning.yaml", "parameter set Test Motor"),
-        (
-            "recipes/lenze-931/commissioning.yaml",
-            "device type 0931, firmware 0100 (status 0000)",
-        ),
-        (
-            "recipes/lenze-9400/commissioning.yaml",
-            "product simulated 9400 HighLine FHB, firmware 05.00.12.07",
-        ),
-        ("recipes/ct-unidrive-sp/commissioning.yaml", "software 1.10"),
-    ] {
-        let report = dir.join("report.html");
-        let ran = cli(
-            &[
-                "run",
-                repo_root().join(recipe).to_str().expect("utf-8"),
-                "--fast",
-                "--no-results",
-                "--report",
-                report.to_str().expect("utf-8"),
-            ],
-            0,
-        );
-        let page = std::fs::read_to_string(&report).expect("the report");
-        assert_has(&page, &[&format!("Drive identity</th><td>{identity}</td>")]);
-        drop(ran);
-    }
     let e500 = write_file(
         &dir,
         "e500.yaml",
         "name: E500 read\ndrive: sunfar-e500\nsteps:\n  - read: [speed_actual]\n",
     );
-    let report = dir.join("e500.html");
-    cli(
-        &[
-            "run",
-            e500.to_str().expect("utf-8"),
-            "--fast",
-            "--no-results",
-            "--report",
-            report.to_str().expect("utf-8"),
-        ],
-        0,
-    );
-    let page = std::fs::read_to_string(&report).expect("the report");
-    assert_has(
-        &page,
-        &["Drive identity</th><td>not read: the drive answered no identity object its dictionary names</td>"],
-    );
+    let root = repo_root();
+    for (recipe, identity) in [
+        (
+            root.join("recipes/commissioning.yaml"),
+            "parameter set Test Motor",
+        ),
+        (
+            root.join("recipes/lenze-931/commissioning.yaml"),
+            "device type 0931, firmware 0100 (status 0000)",
+        ),
+        (
+            root.join("recipes/lenze-9400/commissioning.yaml"),
+            "product simulated 9400 HighLine FHB, firmware 05.00.12.07",
+        ),
+        (
+            root.join("recipes/ct-unidrive-sp/commissioning.yaml"),
+            "software 1.10",
+        ),
+        (
+            e500,
+            "not read: the drive answered no identity object its dictionary names",
+        ),
+    ] {
+        let page = report_of(&recipe, &dir, &["--no-results"]);
+        assert_has(&page, &[&format!("Drive identity</th><td>{identity}</td>")]);
+    }
 }

@@ -4,26 +4,13 @@
 //! and that no request reaches a file.
 
 use crate::support::{
-    assert_has, assert_lacks, cli, command, headless_chromium, run_recording, scratch, write_file,
-    PostgresServer,
+    assert_has, assert_lacks, cli, command, headless_chromium, run_recording, scratch, unit_args, write_file,
+    PostgresServer, SHORT_RECIPE,
 };
 use std::io::{BufRead, BufReader, Read, Write};
 use std::net::{SocketAddr, TcpStream};
 use std::path::{Path, PathBuf};
 use std::process::{Child, Stdio};
-
-const RECIPE: &str = "name: Served acceptance
-drive: sd2
-params:
-  speed: 3000 rpm
-steps:
-  - go_to: operation_enabled
-  - set: { speed_setpoint: \"{{speed}}\" }
-  - wait_until: { speed_actual: { near: \"{{speed}}\", within: 1 % }, timeout: 10 s }
-  - sample: { objects: [speed_actual], every: 100 ms, for: 2 s }
-  - expect:
-      speed_actual: { mean: { near: \"{{speed}}\", within: 1 % } }
-";
 
 /// `results serve` running; killed (SIGTERM, then waited for) when dropped.
 struct Served {
@@ -125,28 +112,23 @@ fn hrefs(doc: &scraper::Html, css: &str) -> Vec<String> {
 
 /// Three runs of two units at two stations into `store`.
 fn three_runs(dir: &Path, store: &str) -> PathBuf {
-    let recipe = write_file(dir, "served.yaml", RECIPE);
+    let recipe = write_file(dir, "served.yaml", SHORT_RECIPE);
     for (serial, station, operator, part) in [
         ("SP-1", "Bench A", "Ann", "P-1"),
         ("SP-2", "Bench B", "Bob", "P-2"),
         ("SP-1", "Bench A", "Ann", "P-1"),
     ] {
-        let (code, out) = run_recording(
-            &recipe,
-            store,
-            &[
-                "--fast",
-                "--quiet",
-                "--unit",
-                &format!("serial={serial}"),
-                "--unit",
-                &format!("station={station}"),
-                "--unit",
-                &format!("operator={operator}"),
-                "--unit",
-                &format!("part={part}"),
-            ],
-        );
+        let unit = unit_args(&[
+            ("serial", serial),
+            ("station", station),
+            ("operator", operator),
+            ("part", part),
+        ]);
+        let args: Vec<&str> = ["--fast", "--quiet"]
+            .into_iter()
+            .chain(unit.iter().map(String::as_str))
+            .collect();
+        let (code, out) = run_recording(&recipe, store, &args);
         assert_eq!(code, 0, "{out}");
     }
     recipe
@@ -165,7 +147,7 @@ fn browse(served: &Served, dir: &Path) {
     assert_eq!(rows("station=Bench+B"), ["SP-2"]);
     assert_eq!(rows("operator=Ann"), ["SP-1", "SP-1"]);
     assert_eq!(rows("part=P-2"), ["SP-2"]);
-    assert_eq!(rows("recipe=Served+acceptance").len(), 3);
+    assert_eq!(rows("recipe=Short+acceptance").len(), 3);
     assert_eq!(rows("recipe=Other").len(), 0);
     assert_eq!(rows("since=2000-01-01&until=1d").len(), 0);
     assert_eq!(rows("since=2000-01-01").len(), 3);
