@@ -40,3 +40,5 @@ pub mod session;
 pub mod sim;
 pub mod sim_server;
 pub mod stop_request;
+pub mod store_site;
+pub mod web;

@@ -1,14 +1,14 @@
-//! `drivescript results`: list, show, report, export, trend, yield, capability, void and
-//! sync over the results store. Parses and prints; the store and its pages are the
+//! `drivescript results`: list, show, report, export, trend, yield, capability, void,
+//! sync and serve over the results store. Parses and prints; the store and its pages are the
 //! library's (`results`).
 
 use super::results_listing::{list, show};
 use super::text_table::table_lines;
-use crate::results::{export, utc_text, Locator, RunFilter, Spool, StoreError, RESULTS_ENV};
+use crate::results::filter_time::{parse_since, parse_until};
+use crate::results::{export, Locator, PageLinks, RunFilter, Spool, StoreError, RESULTS_ENV};
 use crate::run::{COMMUNICATION, FAILED, INVALID, PASSED};
 use clap::{Args, Subcommand};
 use std::path::{Path, PathBuf};
-use std::time::SystemTime;
 
 #[derive(Debug, Args)]
 /// Query the results store: runs, units, reports, trends, export
@@ -123,6 +123,13 @@ enum ResultsCommand {
     },
     /// Deliver the runs spooled while the store could not be reached.
     Sync,
+    /// Serve the store's pages to a browser, read-only, until Ctrl-C: the run list with
+    /// its filters, each run's report, each unit's certificate, trend, capability and
+    /// yield. Listens on 127.0.0.1:8080 unless --listen says otherwise.
+    Serve {
+        #[command(flatten)]
+        listen: super::listen_args::ListenArgs,
+    },
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
@@ -189,38 +196,7 @@ impl FilterArgs {
     }
 }
 
-/// `--until`: a stored UTC time to compare with; a date is the end of that day.
-fn parse_until(text: &str) -> Result<String, crate::run::BadValue> {
-    let t = text.trim();
-    if t.len() == 10 && humantime::parse_duration(t).is_err() {
-        let day = parse_since(t)?;
-        let next = humantime::parse_rfc3339_weak(&day)
-            .map(|at| at + std::time::Duration::from_secs(86_400))
-            .map_err(|_| crate::run::BadValue(format!("`{text}`: not a date")))?;
-        return Ok(utc_text(next));
-    }
-    parse_since(t)
-}
-
-/// `--since`: a stored UTC time to compare with.
-fn parse_since(text: &str) -> Result<String, crate::run::BadValue> {
-    let t = text.trim();
-    if let Ok(ago) = humantime::parse_duration(t) {
-        return Ok(utc_text(SystemTime::now() - ago));
-    }
-    let full = if t.len() == 10 {
-        format!("{t}T00:00:00Z")
-    } else {
-        t.to_string()
-    };
-    humantime::parse_rfc3339_weak(&full).map(utc_text).map_err(|_| {
-        crate::run::BadValue(format!(
-            "`{text}`: write a date (2026-11-01), a UTC time (2026-11-01T08:00:00Z) or a time ago (7d)"
-        ))
-    })
-}
-
-fn exit_code(e: &StoreError) -> i32 {
+pub(super) fn exit_code(e: &StoreError) -> i32 {
     match e {
         StoreError::Unreachable { .. } | StoreError::Spool { .. } | StoreError::Query { .. } => COMMUNICATION,
         StoreError::NotFound(_) => FAILED,
@@ -233,6 +209,9 @@ pub fn results(args: &ResultsArgs) -> i32 {
         eprintln!("error: no results store: give --results PATH or set {RESULTS_ENV} (there is no HOME or XDG_DATA_HOME for the default)");
         return INVALID;
     };
+    if let ResultsCommand::Serve { listen } = &args.command {
+        return super::results_serve::serve(locator, listen);
+    }
     match command(&args.command, &locator) {
         Ok(code) => code,
         Err(e) => {
@@ -319,9 +298,11 @@ fn command(command: &ResultsCommand, locator: &Locator) -> Result<i32, StoreErro
                             }
                         )));
                     }
-                    crate::results::certificate_html::unit_certificate(serial, &runs)
+                    crate::results::certificate_html::unit_certificate(serial, &runs, PageLinks::None)
                 }
-                (Some(run), None) => crate::results::certificate_html::run_certificate(&store.run(run)?),
+                (Some(run), None) => {
+                    crate::results::certificate_html::run_certificate(&store.run(run)?, PageLinks::None)
+                }
                 (None, None) => return Ok(INVALID),
             };
             written(output.as_deref(), &page)
@@ -347,7 +328,7 @@ fn command(command: &ResultsCommand, locator: &Locator) -> Result<i32, StoreErro
         } => {
             let points = store.trend(check, &filter.filter(None))?;
             if let Some(path) = html {
-                let page = crate::results::trend_html::trend_page(check, &points);
+                let page = crate::results::trend_html::trend_page(check, &points, PageLinks::None);
                 if let Err(e) = crate::report::write_atomically(path, &page) {
                     eprintln!("error: {e}");
                     return Ok(INVALID);
@@ -412,7 +393,7 @@ fn command(command: &ResultsCommand, locator: &Locator) -> Result<i32, StoreErro
         ResultsCommand::Void { run, why, by } => {
             super::results_quality::void(&mut store, run, why, by.as_deref())
         }
-        ResultsCommand::Sync => Ok(PASSED),
+        ResultsCommand::Sync | ResultsCommand::Serve { .. } => Ok(PASSED),
     }
 }
 

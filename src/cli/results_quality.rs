@@ -91,7 +91,9 @@ pub(super) fn capability(
         return Ok(PASSED);
     }
     if let Some(path) = html {
-        if let Err(e) = crate::report::write_atomically(path, &capability_page(&c)) {
+        if let Err(e) =
+            crate::report::write_atomically(path, &capability_page(&c, crate::results::PageLinks::None))
+        {
             eprintln!("error: {e}");
             return Ok(INVALID);
         }

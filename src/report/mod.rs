@@ -25,7 +25,7 @@ pub use console_reporter::{
 pub use csv_recorder::{CsvRecorder, CSV_HEADER};
 pub use html::{
     esc, html_index, html_report, plot_svg, trend_svg, unit_colour, write_html, IndexEntry, LimitLine,
-    Outcome, TrendMark, TrendPlot, MAX_PLOT_POINTS, REPORT_CSS, UNIT_COLOURS,
+    Outcome, TrendMark, TrendPlot, IDENTITY_NOT_READ, MAX_PLOT_POINTS, REPORT_CSS, UNIT_COLOURS,
 };
 pub use junit_report::{junit_document, junit_suite, junit_xml, write_junit, JunitSuite};
 pub use junit_xml_writer::XmlWriter;

@@ -4,6 +4,7 @@
 //! script. Knows no store.
 
 use super::capability::Capability;
+use super::PageLinks;
 use crate::report::{esc, REPORT_CSS};
 use crate::session::with_unit;
 use std::fmt::Write as _;
@@ -28,14 +29,15 @@ pub fn index_text(v: Option<f64>) -> String {
 }
 
 /// The page.
-pub fn capability_page(c: &Capability) -> String {
+pub fn capability_page(c: &Capability, links: PageLinks) -> String {
     let title = c.key.clone().unwrap_or_else(|| c.check.clone());
     let unit = c.unit.as_deref();
     let mut h = format!(
         "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n\
          <meta name=\"generator\" content=\"drivescript {v}\">\n<title>Capability of {t}</title>\n\
-         <style>{REPORT_CSS}</style>\n</head>\n<body>\n<header>\n<h1>Capability of {t}</h1>\n</header>\n",
+         <style>{REPORT_CSS}</style>\n</head>\n<body>\n{nav}<header>\n<h1>Capability of {t}</h1>\n</header>\n",
         v = env!("CARGO_PKG_VERSION"),
+        nav = links.nav(),
         t = esc(&title)
     );
     h.push_str("<section>\n<h2>Summary</h2>\n<table id=\"capability\">\n<tbody>\n");

@@ -4,15 +4,16 @@
 //! each run's checks, plots and end state. Escapes every text; references nothing outside.
 
 use super::stored_run::{stored_limits, stored_measured};
-use super::StoredRun;
-use crate::report::{esc, plot_svg, REPORT_CSS};
+use super::{PageLinks, StoredRun};
+use crate::report::{esc, plot_svg, IDENTITY_NOT_READ, REPORT_CSS};
 use crate::session::{key_of_name, with_unit, Series};
 use std::fmt::Write as _;
 
 /// The page for the unit `serial` over `runs` (oldest first).
-pub fn unit_certificate(serial: &str, runs: &[StoredRun]) -> String {
+pub fn unit_certificate(serial: &str, runs: &[StoredRun], links: PageLinks) -> String {
     let title = format!("Unit {serial}");
     let mut h = page_start(&title);
+    h.push_str(&links.nav());
     // An attempt refused before it started says nothing of the unit, nor does a voided run.
     let latest = runs
         .iter()
@@ -67,7 +68,7 @@ pub fn unit_certificate(serial: &str, runs: &[StoredRun]) -> String {
         let failed = r.checks.iter().filter(|c| !c.passed).count();
         let _ = writeln!(
             h,
-            "<tr class=\"{}\"><td>{}</td><td>{}</td><td class=\"verdict-cell {}\">{}</td><td class=\"num\">{} passed, {failed} failed</td><td>{}</td><td>{}</td><td class=\"step\"><a href=\"#run-{}\"><code>{}</code></a></td></tr>",
+            "<tr class=\"{}\"><td>{}</td><td>{}</td><td class=\"verdict-cell {}\">{}</td><td class=\"num\">{} passed, {failed} failed</td><td>{}</td><td>{}</td><td class=\"step\">{}</td></tr>",
             if r.verdict() == "passed" { "" } else { "fail" },
             esc(&shown_time(&r.run.started_at)),
             esc(&r.run.recipe),
@@ -76,35 +77,46 @@ pub fn unit_certificate(serial: &str, runs: &[StoredRun]) -> String {
             r.checks.len() - failed,
             esc(r.run.unit.station.as_deref().unwrap_or("")),
             esc(r.run.unit.operator.as_deref().unwrap_or("")),
-            esc(&r.run.id),
-            esc(&r.run.id),
+            match links {
+                // On a file, the run's section further down; served, its own page.
+                PageLinks::None => format!("<a href=\"#run-{0}\"><code>{0}</code></a>", esc(&r.run.id)),
+                PageLinks::Served { .. } => links.run(&r.run.id, &format!("<code>{}</code>", esc(&r.run.id))),
+            },
         );
     }
     h.push_str("</tbody>\n</table>\n</section>\n");
     let mut plot = 0;
     for r in runs {
-        run_section(&mut h, r, &mut plot);
+        run_section(&mut h, r, &mut plot, links);
     }
     page_end(h)
 }
 
 /// The page of one stored run.
-pub fn run_certificate(run: &StoredRun) -> String {
+pub fn run_certificate(run: &StoredRun, links: PageLinks) -> String {
     let title = format!("{} — run {}", run.run.recipe, run.run.id);
     let mut h = page_start(&title);
+    h.push_str(&links.nav());
+    let unit = match &run.run.unit.serial {
+        Some(serial) => format!(
+            "\n<p class=\"why\" id=\"unit\">Unit {}</p>",
+            links.unit(serial, &esc(serial))
+        ),
+        None => String::new(),
+    };
     let _ = writeln!(
         h,
-        "<header>\n<h1>{}</h1>\n<p class=\"verdict {}\" id=\"verdict\">{} {}</p>\n</header>",
+        "<header>\n<h1>{}</h1>\n<p class=\"verdict {}\" id=\"verdict\">{} {}</p>{unit}\n</header>",
         esc(&run.run.recipe),
         class(run.verdict()),
         if run.verdict() == "passed" { "✔" } else { "✘" },
         verdict_html(run)
     );
-    run_section(&mut h, run, &mut 0);
+    run_section(&mut h, run, &mut 0, links);
     page_end(h)
 }
 
-fn page_start(title: &str) -> String {
+pub(super) fn page_start(title: &str) -> String {
     format!(
         "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n\
          <meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n\
@@ -125,7 +137,7 @@ fn simulated_mark(run: Option<&StoredRun>) -> &'static str {
 }
 
 /// The verdict in capitals, marked simulated and void where the run is.
-fn verdict_html(r: &StoredRun) -> String {
+pub(super) fn verdict_html(r: &StoredRun) -> String {
     let mut v = esc(&r.verdict().to_uppercase());
     v.push_str(simulated_mark(Some(r)));
     if r.void.is_some() {
@@ -171,7 +183,7 @@ fn class(verdict: &str) -> &'static str {
 }
 
 /// `2026-11-25 02:10:53 UTC` from the stored RFC 3339 text.
-fn shown_time(utc: &str) -> String {
+pub(super) fn shown_time(utc: &str) -> String {
     let t = utc.replace('T', " ");
     match t.split_once('.') {
         Some((seconds, _)) => format!("{seconds} UTC"),
@@ -199,7 +211,7 @@ fn facts_rows(h: &mut String, facts: &[(&str, String)]) {
     }
 }
 
-fn run_section(h: &mut String, r: &StoredRun, plot: &mut usize) {
+fn run_section(h: &mut String, r: &StoredRun, plot: &mut usize, links: PageLinks) {
     let _ = writeln!(
         h,
         "<section id=\"run-{}\">\n<h2>{} — {} — {}</h2>",
@@ -257,6 +269,16 @@ fn run_section(h: &mut String, r: &StoredRun, plot: &mut usize) {
         ),
         ("Drive", r.run.drive.clone()),
         (
+            "Drive identity",
+            match end {
+                Some(e) => e
+                    .drive_identity
+                    .clone()
+                    .unwrap_or_else(|| IDENTITY_NOT_READ.into()),
+                None => "not recorded: the run never finished".into(),
+            },
+        ),
+        (
             "Dictionary (family)",
             match (&r.run.dictionary, &r.run.family) {
                 (Some(d), Some(f)) => format!("{d} ({f})"),
@@ -310,13 +332,17 @@ fn run_section(h: &mut String, r: &StoredRun, plot: &mut usize) {
             };
             let _ = writeln!(
                 h,
-                "<tr{}><td>{}{}</td><td class=\"num\">{}</td><td class=\"num\">{}</td><td class=\"step {}\">{}</td><td class=\"step\">{}</td></tr>",
+                "<tr{}><td>{}{}{}</td><td class=\"num\">{}</td><td class=\"num\">{}</td><td class=\"step {}\">{}</td><td class=\"step\">{}</td></tr>",
                 match (c.passed, c.marginal) {
                     (true, false) => "",
                     (true, true) => " class=\"marginal\"",
                     (false, _) => " class=\"fail\"",
                 },
                 esc(&c.name),
+                links.check_pages(
+                    &super::CheckIdentity::of(&r.run.recipe, &c.stage, &c.step, &key).case_name(),
+                    &r.run.recipe
+                ),
                 why,
                 esc(&measured),
                 esc(&limits),

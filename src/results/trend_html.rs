@@ -7,7 +7,7 @@
 //! [`MAX_PLOT_POINTS`] values, the newest, saying what is left out.
 
 use super::stored_run::stored_limits;
-use super::TrendPoint;
+use super::{PageLinks, TrendPoint};
 use crate::report::{
     esc, trend_svg, unit_colour, LimitLine, Outcome, TrendMark, TrendPlot, MAX_PLOT_POINTS, REPORT_CSS,
     UNIT_COLOURS,
@@ -133,7 +133,7 @@ fn marks(points: &[TrendPoint], units: &[&str]) -> Vec<TrendMark> {
 }
 
 /// The page of the trend of `check` (as asked for: a key or a check's full name).
-pub fn trend_page(check: &str, all: &[TrendPoint]) -> String {
+pub fn trend_page(check: &str, all: &[TrendPoint], links: PageLinks) -> String {
     // The check's key when every point shares it: what the page is the trend of.
     let title = match all.first() {
         Some(p) if all.iter().all(|q| q.key == p.key) => p.key.clone(),
@@ -143,9 +143,10 @@ pub fn trend_page(check: &str, all: &[TrendPoint]) -> String {
     let mut h = format!(
         "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n\
          <meta name=\"generator\" content=\"drivescript {}\">\n<title>Trend of {}</title>\n\
-         <style>{REPORT_CSS}</style>\n</head>\n<body>\n<header>\n<h1>Trend of {}</h1>\n",
+         <style>{REPORT_CSS}</style>\n</head>\n<body>\n{}<header>\n<h1>Trend of {}</h1>\n",
         env!("CARGO_PKG_VERSION"),
         esc(&title),
+        links.nav(),
         esc(&title)
     );
     let units = units_of(points);
@@ -207,13 +208,15 @@ pub fn trend_page(check: &str, all: &[TrendPoint]) -> String {
         };
         let _ = writeln!(
             h,
-            "<tr{row}><td>{}</td><td>{}</td><td class=\"num\">{}</td><td class=\"num\">{}</td><td class=\"{mark}\">{}</td><td><code>{}</code></td></tr>",
+            "<tr{row}><td>{}</td><td>{}</td><td class=\"num\">{}</td><td class=\"num\">{}</td><td class=\"{mark}\">{}</td><td>{}</td></tr>",
             esc(&p.started_at),
-            esc(p.serial.as_deref().unwrap_or("")),
+            p.serial
+                .as_deref()
+                .map_or(String::new(), |s| links.unit(s, &esc(s))),
             esc(&p.measured_text()),
             esc(&p.limits_text().unwrap_or_else(|| "—".into())),
             p.result_text(),
-            esc(&p.run)
+            links.run(&p.run, &format!("<code>{}</code>", esc(&p.run)))
         );
     }
     let _ = write!(
@@ -304,7 +307,11 @@ mod tests {
             point("2026-02-05T08:00:00.000Z", "SP-1", Some(1.0), true),
             point("2026-03-05T08:00:00.000Z", "SP-2", Some(7.3), false),
         ];
-        let page = trend_page("bearing temperature compared with last pass", &points);
+        let page = trend_page(
+            "bearing temperature compared with last pass",
+            &points,
+            PageLinks::None,
+        );
         assert_eq!(
             page.matches("class=\"mark ").count(),
             2,
@@ -332,7 +339,7 @@ mod tests {
                 )
             })
             .collect();
-        let page = trend_page("x", &many);
+        let page = trend_page("x", &many, PageLinks::None);
         assert_eq!(page.matches("class=\"mark ").count(), MAX_PLOT_POINTS);
         assert!(page.contains(&format!(
             "Only the newest {MAX_PLOT_POINTS} of {} values are shown: the 5 from 2026-01-01T00:00:00.000Z to 2026-01-01T00:00:04.000Z are left out.",

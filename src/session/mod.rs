@@ -13,6 +13,7 @@ mod coast_down;
 mod coasting;
 mod condition;
 mod downward;
+mod drive_identity;
 mod expect;
 mod expect_parameters;
 mod history_lookup;

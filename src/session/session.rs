@@ -379,10 +379,10 @@ impl<'a> Session<'a> {
     fn look_at_the_drive(&mut self) {
         for i in 0..self.drives.len() {
             self.current = i;
-            let identity = self.identity();
-            self.cur().identity = identity.clone();
+            let ident = self.ident_value();
+            self.cur().identity = ident.as_ref().map(|v| v.to_string());
             if i == 0 {
-                self.report.identity = identity;
+                self.report.identity = self.drive_identity(ident.as_ref());
             }
             let faulted = matches!(
                 self.drive().state(),
@@ -408,8 +408,13 @@ impl<'a> Session<'a> {
     }
 
     pub(super) fn identity(&mut self) -> Option<String> {
+        self.ident_value().map(|v| v.to_string())
+    }
+
+    /// The value of the dictionary's `ident` object, which tells this drive from another.
+    fn ident_value(&mut self) -> Option<crate::dictionary::Value> {
         let name = self.drive().dictionary().lookup("ident").ok()?.name.clone();
-        self.drive().read(&name).ok().map(|v| v.to_string())
+        self.drive().read(&name).ok()
     }
 
     /// A stop request that nobody answers yet. During the safe stop only a second request

@@ -322,7 +322,7 @@ fn an_eds_adds_its_objects_by_readable_name_index_and_eds_name() {
             "canopen",
             "--dictionary",
             &node_eds,
-            "identity_object_vendor_id",
+            "vendor_id",
             "Quick stop option code",
             "0x1018/0",
         ],
@@ -336,10 +336,9 @@ fn an_eds_adds_its_objects_by_readable_name_index_and_eds_name() {
             .unwrap_or_default();
         line.split_whitespace().map(str::to_string).collect::<Vec<_>>()
     };
-    assert_eq!(
-        row("identity_object_vendor_id"),
-        ["identity_object_vendor_id", "0x00000000", "0", "0x1018/1"]
-    );
+    // 0x1018/1 keeps the built-in dictionary's name (`vendor_id`), as every object at an
+    // address the dictionary has.
+    assert_eq!(row("vendor_id"), ["vendor_id", "0x00000000", "0", "0x1018/1"]);
     assert_eq!(
         row("quick_stop_option"),
         ["quick_stop_option", "2", "2", "0x605A"]

@@ -5,6 +5,7 @@
 //! clearly, and the unit's certificate rendered in headless Chromium.
 
 use crate::live_run::LiveRun;
+use crate::support::SHORT_RECIPE as SHORT;
 use crate::support::{
     assert_has, assert_lacks, cli, command, run_recording, scratch, screenshot, silent_server, sqlite_store,
     unit_certificate, write_file, InProcessRun, PostgresServer, Ran, Simulator,
@@ -22,20 +23,6 @@ fn list(store: &str, filter: &[&str]) -> Ran {
         0,
     )
 }
-
-/// A short recipe with one check and a sampled series, in virtual time.
-const SHORT: &str = "name: Short acceptance
-drive: sd2
-params:
-  speed: 3000 rpm
-steps:
-  - go_to: operation_enabled
-  - set: { speed_setpoint: \"{{speed}}\" }
-  - wait_until: { speed_actual: { near: \"{{speed}}\", within: 1 % }, timeout: 10 s }
-  - sample: { objects: [speed_actual], every: 100 ms, for: 5 s }
-  - expect:
-      speed_actual: { mean: { near: \"{{speed}}\", within: 1 % } }
-";
 
 /// The smallest recipe with a check, for many runs.
 const TINY: &str = "name: Tiny

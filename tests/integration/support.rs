@@ -900,3 +900,25 @@ pub fn unit_certificate(store: &str, serial: &str, page: &Path) -> String {
     );
     std::fs::read_to_string(page).expect("the page")
 }
+
+/// A short recipe with one check and a sampled series, in virtual time.
+pub const SHORT_RECIPE: &str = "name: Short acceptance
+drive: sd2
+params:
+  speed: 3000 rpm
+steps:
+  - go_to: operation_enabled
+  - set: { speed_setpoint: \"{{speed}}\" }
+  - wait_until: { speed_actual: { near: \"{{speed}}\", within: 1 % }, timeout: 10 s }
+  - sample: { objects: [speed_actual], every: 100 ms, for: 5 s }
+  - expect:
+      speed_actual: { mean: { near: \"{{speed}}\", within: 1 % } }
+";
+
+/// `--unit serial=SP-1 --unit station=…` for `run`, from `(field, value)` pairs.
+pub fn unit_args(fields: &[(&str, &str)]) -> Vec<String> {
+    fields
+        .iter()
+        .flat_map(|(k, v)| ["--unit".to_string(), format!("{k}={v}")])
+        .collect()
+}

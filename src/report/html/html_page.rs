@@ -16,6 +16,11 @@ use std::path::Path;
 use std::time::Duration;
 
 /// The HTML page of a run.
+/// What a run without a drive identity says: its dictionary names no identity object the
+/// drive answered (a family without one, such as a Modbus inverter whose manual gives no
+/// identification register), or the run was refused before it looked.
+pub const IDENTITY_NOT_READ: &str = "not read: the drive answered no identity object its dictionary names";
+
 pub fn html_report(report: &RunReport) -> String {
     let r = report;
     let mut h = String::with_capacity(16 * 1024);
@@ -110,7 +115,7 @@ fn header(h: &mut String, r: &RunReport) {
         ("Drive", r.drive.clone()),
         (
             "Drive identity",
-            r.identity.clone().unwrap_or_else(|| "not read".into()),
+            r.identity.clone().unwrap_or_else(|| IDENTITY_NOT_READ.into()),
         ),
         (
             "Unit under test",

@@ -17,7 +17,7 @@ mod timeline;
 mod trend_plot;
 
 pub use html_index::{html_index, IndexEntry};
-pub use html_page::{html_report, write_html, CSS as REPORT_CSS};
+pub use html_page::{html_report, write_html, CSS as REPORT_CSS, IDENTITY_NOT_READ};
 pub use html_text::esc;
 pub use svg_plot::{plot_svg, LimitLine, MAX_PLOT_POINTS};
 pub use trend_plot::{trend_svg, unit_colour, Outcome, TrendMark, TrendPlot, UNIT_COLOURS};
