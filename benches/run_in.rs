@@ -676,7 +676,12 @@ fn long_run(dir: &Path) -> Result<(), String> {
     let csv_arg = csv.to_string_lossy().to_string();
     let days = day_figures(&[
         ("without CSV", &long, vec!["--fast"], 10_000.0),
-        ("with --csv", &long, vec!["--fast", "--csv", csv_arg.as_str()], 5_000.0),
+        (
+            "with --csv",
+            &long,
+            vec!["--fast", "--csv", csv_arg.as_str()],
+            5_000.0,
+        ),
     ])?;
     cost_ratio("CSV", "with --csv / without", &days[1], &days[0], 1.3);
     let _ = std::fs::remove_file(&csv);
@@ -705,7 +710,9 @@ fn drift_run(dir: &Path) -> Result<(), String> {
         "step.yaml",
         "name: A day with a step response\ndrive: sd2\nsteps:\n  - go_to: operation_enabled\n  - set: { speed_setpoint: 6000 rpm }\n  \
          - sample: { objects: [speed_actual, motor_temperature], every: 10 ms, for: 24 h, step: { speed_actual: { from: 0 rpm, to: 6000 rpm } } }\n  \
-         - expect: { speed_actual: { rise_time: { below: 1 min }, overshoot: { below: 15 % }, settling_time: { below: 1 min } } }\n",
+         - expect: { speed_actual: { rise_time: { below: 1 min } } }\n  \
+         - expect: { speed_actual: { overshoot: { below: 15 % } } }\n  \
+         - expect: { speed_actual: { settling_time: { below: 1 min } } }\n",
     )?;
     let days = day_figures(&[
         ("plain day", &plain, vec!["--fast"], 10_000.0),
@@ -713,7 +720,13 @@ fn drift_run(dir: &Path) -> Result<(), String> {
         ("step response", &step, vec!["--fast"], 10_000.0),
     ])?;
     cost_ratio("drift", "drift check / plain day", &days[1], &days[0], 1.15);
-    cost_ratio("step response", "step response / plain day", &days[2], &days[0], 1.15);
+    cost_ratio(
+        "step response",
+        "step response / plain day",
+        &days[2],
+        &days[0],
+        1.15,
+    );
     Ok(())
 }
 
@@ -744,7 +757,9 @@ fn virtual_seconds(out: &str) -> Option<f64> {
     let line = out.lines().find(|l| l.contains(" of virtual time"))?;
     let before = &line[..line.find(" of virtual time")?];
     let text = before.rsplit(", ").next()?;
-    humantime::parse_duration(text.trim()).ok().map(|d| d.as_secs_f64())
+    humantime::parse_duration(text.trim())
+        .ok()
+        .map(|d| d.as_secs_f64())
 }
 
 /// Runs each variant `DAY_ROUNDS` times, taking turns, and prints its median speed-up over

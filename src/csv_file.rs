@@ -19,7 +19,7 @@ const BUFFER: usize = 64 * 1024;
 
 pub struct CsvFile {
     file: File,
-    buffer: String,
+    buffer: Vec<u8>,
     path: PathBuf,
     flushed: Instant,
 }
@@ -41,7 +41,7 @@ impl CsvFile {
     fn open(path: &Path, append: bool) -> Result<Self, OutputFileError> {
         Ok(CsvFile {
             file: create_output_file(path, append)?,
-            buffer: String::with_capacity(BUFFER + 1024),
+            buffer: Vec::with_capacity(BUFFER + 1024),
             path: path.to_path_buf(),
             flushed: Instant::now(),
         })
@@ -52,22 +52,22 @@ impl CsvFile {
         let start = self.buffer.len();
         for (i, field) in fields.iter().enumerate() {
             if i > 0 {
-                self.buffer.push(',');
+                self.buffer.push(b',');
             }
             push_field(&mut self.buffer, field.as_ref());
         }
         // As the csv crate writes it: a row of nothing would read as no row at all.
         if self.buffer.len() == start {
-            self.buffer.push_str("\"\"");
+            self.buffer.extend_from_slice(b"\"\"");
         }
-        self.buffer.push('\n');
+        self.buffer.push(b'\n');
         self.written()
     }
 
     /// Writes whole rows made with [`push_field`], each ending in `\n`: a writer that makes
     /// many rows at once (one per value of a sample) formats what they share only once.
-    pub fn rows_text(&mut self, rows: &str) -> Result<(), OutputFileError> {
-        self.buffer.push_str(rows);
+    pub fn rows_text(&mut self, rows: &[u8]) -> Result<(), OutputFileError> {
+        self.buffer.extend_from_slice(rows);
         self.written()
     }
 
@@ -84,7 +84,7 @@ impl CsvFile {
     }
 
     fn write_buffer(&mut self) -> Result<(), OutputFileError> {
-        let result = self.file.write_all(self.buffer.as_bytes());
+        let result = self.file.write_all(&self.buffer);
         // What could not be written is not tried again: the error says the file is short.
         self.buffer.clear();
         result.map_err(|e| OutputFileError::file(&self.path, e))
@@ -113,18 +113,19 @@ impl Drop for CsvFile {
 
 /// Appends `field` to `out` as one CSV field: quoted (quotes doubled) when it holds a
 /// comma, a quote or a line break, as is otherwise.
-pub fn push_field(out: &mut String, field: &str) {
-    if field.bytes().any(|b| matches!(b, b',' | b'"' | b'\n' | b'\r')) {
-        out.push('"');
-        for (i, part) in field.split('"').enumerate() {
-            if i > 0 {
-                out.push_str("\"\"");
+pub fn push_field(out: &mut Vec<u8>, field: &str) {
+    let bytes = field.as_bytes();
+    if bytes.iter().any(|b| matches!(b, b',' | b'"' | b'\n' | b'\r')) {
+        out.push(b'"');
+        for &b in bytes {
+            if b == b'"' {
+                out.push(b'"');
             }
-            out.push_str(part);
+            out.push(b);
         }
-        out.push('"');
+        out.push(b'"');
     } else {
-        out.push_str(field);
+        out.extend_from_slice(bytes);
     }
 }
 

@@ -32,7 +32,12 @@ pub trait Peer: Send {
     /// [`Peer::exchange`] into `out`, which a transport reuses for the millions of
     /// exchanges of a long run; a peer may build its replies there directly, in the byte
     /// buffers of replies already read ([`PeerReplies::buffer`]).
-    fn exchange_into(&mut self, bytes: &[u8], now: Duration, out: &mut PeerReplies) -> Result<(), TransportError> {
+    fn exchange_into(
+        &mut self,
+        bytes: &[u8],
+        now: Duration,
+        out: &mut PeerReplies,
+    ) -> Result<(), TransportError> {
         out.list.extend(self.exchange(bytes, now)?);
         Ok(())
     }

@@ -166,12 +166,10 @@ impl Drive {
     /// The number in `def`'s unit of what a read of it returned.
     fn number_of(&self, def: &ObjectDef, read: Result<RawValue, AccessError>) -> Result<f64, DriveError> {
         let raw = read.map_err(|e| self.refusal(e, "to read", def))?;
-        let quantity = def
-            .quantity_of_raw(&raw)
-            .map_err(|source| DriveError::BadReply {
-                object: def.name.clone(),
-                source,
-            })?;
+        let quantity = def.quantity_of_raw(&raw).map_err(|source| DriveError::BadReply {
+            object: def.name.clone(),
+            source,
+        })?;
         quantity.map(|q| q.value).ok_or_else(|| DriveError::NotANumber {
             object: def.name.clone(),
             data_type: def.data_type,

@@ -55,13 +55,12 @@ pub use check_key::{
 };
 pub use coast_down::CoastDown;
 pub use condition::{
-    exact_with_unit, number, with_unit, Check, Condition, Measure, Predicate, Statistic, Stats,
-    Tolerance,
+    exact_with_unit, number, with_unit, Check, Condition, Measure, Predicate, Statistic, Stats, Tolerance,
 };
 pub use expect::AttemptMark;
 pub use history_lookup::LOOKUP_LIMIT;
 pub use last_pass::{signed, History, HistoryError, LastPass, PastCheck, PastRun};
-pub use number_text::{write_number, write_seconds, UtcMillis};
+pub use number_text::{push_number, push_seconds, write_number, UtcMillis};
 pub use object_ref::ObjectRef;
 pub use object_scale::{at_resolution, decimals_of_scale};
 pub use one_off_stop::{stop_drive, OneOffStopError};

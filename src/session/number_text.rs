@@ -3,26 +3,30 @@
 //! day at 100 Hz writes millions of them. Each fast path gives exactly the bytes of the
 //! `format!` it stands for and hands over to that `format!` wherever it could not be sure.
 
-use std::fmt::Write as _;
 use std::time::{Duration, SystemTime, UNIX_EPOCH};
 
 /// A number without needless digits: a whole number as an integer, else rounded to six
 /// decimals with trailing zeros dropped (`6000`, `0.5`, `1003.647`).
 pub fn write_number(out: &mut String, v: f64) {
+    let mut text = Vec::with_capacity(24);
+    push_number(&mut text, v);
+    out.push_str(std::str::from_utf8(&text).unwrap_or_default());
+}
+
+/// [`write_number`] appended to a row of bytes.
+pub fn push_number(out: &mut Vec<u8>, v: f64) {
     if v == v.trunc() && v.abs() < 1e15 {
-        push_integer(out, v as i64);
+        push_fixed(out, v as i64, 0, false);
     } else if let Some(micros) = rounded_micros(v) {
         push_fixed(out, micros, 6, true);
     } else {
-        let start = out.len();
-        let _ = write!(out, "{v:.6}");
-        let kept = out[start..].trim_end_matches('0').trim_end_matches('.').len();
-        out.truncate(start + kept);
+        let text = format!("{v:.6}");
+        out.extend_from_slice(text.trim_end_matches('0').trim_end_matches('.').as_bytes());
     }
 }
 
 /// `at` in seconds with three decimals, as `{:.3}` writes `at.as_secs_f64()`.
-pub fn write_seconds(out: &mut String, at: Duration) {
+pub fn push_seconds(out: &mut Vec<u8>, at: Duration) {
     // Below 2^22 s (48 days) the f64 of `at` is within a few ns of it, so only a time
     // within 1 µs of half a millisecond could round otherwise than its exact count.
     let below_half = at.subsec_nanos() % 1_000_000;
@@ -30,7 +34,7 @@ pub fn write_seconds(out: &mut String, at: Duration) {
         let millis = at.as_millis() + u128::from(below_half > 500_000);
         push_fixed(out, i64::try_from(millis).unwrap_or(i64::MAX), 3, false);
     } else {
-        let _ = write!(out, "{:.3}", at.as_secs_f64());
+        out.extend_from_slice(format!("{:.3}", at.as_secs_f64()).as_bytes());
     }
 }
 
@@ -38,7 +42,8 @@ pub fn write_seconds(out: &mut String, at: Duration) {
 /// `None` for a value so large that the product's own rounding could change it, one within
 /// a hair of a tie, or one that shows as `-0.000000`.
 fn rounded_micros(v: f64) -> Option<i64> {
-    if !(v.abs() < 1e6) {
+    // NaN and the infinities fail this too.
+    if v.abs() >= 1e6 || v.is_nan() {
         return None;
     }
     // |v × 10⁶| < 10¹², so the product is within 1.2·10⁻⁴ of the exact one.
@@ -48,53 +53,41 @@ fn rounded_micros(v: f64) -> Option<i64> {
 }
 
 /// `value / 10^places` in decimals: all `places` digits, or (`trim`) without trailing
-/// zeros and without the point when nothing is left after it.
-fn push_fixed(out: &mut String, value: i64, places: u32, trim: bool) {
-    let scale = 10u64.pow(places);
-    if value < 0 {
-        out.push('-');
-    }
-    let magnitude = value.unsigned_abs();
-    push_unsigned(out, magnitude / scale);
-    let mut fraction = magnitude % scale;
-    let mut digits = places;
-    if trim {
-        if fraction == 0 {
-            return;
-        }
-        while fraction % 10 == 0 {
-            fraction /= 10;
-            digits -= 1;
-        }
-    }
-    out.push('.');
-    let mut text = [b'0'; 20];
-    for place in (0..digits as usize).rev() {
-        text[place] = b'0' + (fraction % 10) as u8;
-        fraction /= 10;
-    }
-    out.push_str(std::str::from_utf8(&text[..digits as usize]).unwrap_or_default());
-}
-
-fn push_integer(out: &mut String, v: i64) {
-    if v < 0 {
-        out.push('-');
-    }
-    push_unsigned(out, v.unsigned_abs());
-}
-
-fn push_unsigned(out: &mut String, mut v: u64) {
-    let mut text = [0u8; 20];
+/// zeros and without the point when nothing is left after it. Made right to left in one
+/// buffer and appended at once.
+fn push_fixed(out: &mut Vec<u8>, value: i64, places: usize, trim: bool) {
+    let mut text = [0u8; 32];
     let mut at = text.len();
+    let mut magnitude = value.unsigned_abs();
+    let mut fraction = places;
+    if trim {
+        while fraction > 0 && magnitude.is_multiple_of(10) {
+            magnitude /= 10;
+            fraction -= 1;
+        }
+    }
+    for _ in 0..fraction {
+        at -= 1;
+        text[at] = b'0' + (magnitude % 10) as u8;
+        magnitude /= 10;
+    }
+    if fraction > 0 {
+        at -= 1;
+        text[at] = b'.';
+    }
     loop {
         at -= 1;
-        text[at] = b'0' + (v % 10) as u8;
-        v /= 10;
-        if v == 0 {
+        text[at] = b'0' + (magnitude % 10) as u8;
+        magnitude /= 10;
+        if magnitude == 0 {
             break;
         }
     }
-    out.push_str(std::str::from_utf8(&text[at..]).unwrap_or_default());
+    if value < 0 {
+        at -= 1;
+        text[at] = b'-';
+    }
+    out.extend_from_slice(&text[at..]);
 }
 
 /// RFC 3339 UTC with milliseconds, as `humantime::format_rfc3339_millis` writes it, with
@@ -103,39 +96,37 @@ fn push_unsigned(out: &mut String, mut v: u64) {
 pub struct UtcMillis {
     /// The whole second since the epoch the kept text is of, and that text
     /// (`2024-06-10T06:13:20.`).
-    second: Option<(u64, String)>,
+    second: Option<(u64, Vec<u8>)>,
 }
 
 impl UtcMillis {
-    pub fn write(&mut self, out: &mut String, utc: SystemTime) {
+    pub fn push(&mut self, out: &mut Vec<u8>, utc: SystemTime) {
+        let humantime = |t: SystemTime| humantime::format_rfc3339_millis(t).to_string().into_bytes();
         let Ok(since) = utc.duration_since(UNIX_EPOCH) else {
-            let _ = write!(out, "{}", humantime::format_rfc3339_millis(utc));
+            out.extend_from_slice(&humantime(utc));
             return;
         };
         let second = since.as_secs();
         if self.second.as_ref().is_none_or(|(s, _)| *s != second) {
-            let whole = UNIX_EPOCH + Duration::from_secs(second);
-            let mut text = String::new();
-            let _ = write!(text, "{}", humantime::format_rfc3339_millis(whole));
+            let mut text = humantime(UNIX_EPOCH + Duration::from_secs(second));
             if text.len() != "2024-06-10T06:13:20.000Z".len() {
                 // Beyond the years humantime writes: its own answer, whatever it is.
                 self.second = None;
-                let _ = write!(out, "{}", humantime::format_rfc3339_millis(utc));
+                out.extend_from_slice(&humantime(utc));
                 return;
             }
             text.truncate(text.len() - "000Z".len());
             self.second = Some((second, text));
         }
         if let Some((_, text)) = &self.second {
-            out.push_str(text);
+            out.extend_from_slice(text);
             let millis = since.subsec_millis();
-            let digits = [
+            out.extend_from_slice(&[
                 b'0' + (millis / 100) as u8,
                 b'0' + (millis / 10 % 10) as u8,
                 b'0' + (millis % 10) as u8,
                 b'Z',
-            ];
-            out.push_str(std::str::from_utf8(&digits).unwrap_or_default());
+            ]);
         }
     }
 }
@@ -205,20 +196,30 @@ mod tests {
             (u64::MAX / 2, 123_456_789),
         ] {
             let at = Duration::new(secs, nanos);
-            let mut s = String::new();
-            write_seconds(&mut s, at);
-            assert_eq!(s, format!("{:.3}", at.as_secs_f64()), "{at:?}");
+            let mut s = Vec::new();
+            push_seconds(&mut s, at);
+            assert_eq!(s, format!("{:.3}", at.as_secs_f64()).into_bytes(), "{at:?}");
         }
     }
 
     #[test]
     fn utc_reads_as_humantime_writes_it() {
         let mut utc = UtcMillis::default();
-        for ms in [1_718_000_000_250u64, 1_718_000_000_999, 1_718_000_001_000, 0, 253_402_300_799_999] {
+        for ms in [
+            1_718_000_000_250u64,
+            1_718_000_000_999,
+            1_718_000_001_000,
+            0,
+            253_402_300_799_999,
+        ] {
             let t = UNIX_EPOCH + Duration::from_millis(ms) + Duration::from_nanos(999_999);
-            let mut s = String::new();
-            utc.write(&mut s, t);
-            assert_eq!(s, humantime::format_rfc3339_millis(t).to_string(), "{ms}");
+            let mut s = Vec::new();
+            utc.push(&mut s, t);
+            assert_eq!(
+                s,
+                humantime::format_rfc3339_millis(t).to_string().into_bytes(),
+                "{ms}"
+            );
         }
     }
 
@@ -238,17 +239,17 @@ mod tests {
         #[test]
         fn any_time_reads_as_formatted(secs in 0u64..10_000_000, nanos in 0u32..1_000_000_000) {
             let at = Duration::new(secs, nanos);
-            let mut s = String::new();
-            write_seconds(&mut s, at);
-            prop_assert_eq!(s, format!("{:.3}", at.as_secs_f64()));
+            let mut s = Vec::new();
+            push_seconds(&mut s, at);
+            prop_assert_eq!(s, format!("{:.3}", at.as_secs_f64()).into_bytes());
         }
 
         #[test]
         fn any_utc_reads_as_humantime_writes_it(ms in 0u64..4_102_444_800_000, nanos in 0u32..1_000_000) {
             let t = UNIX_EPOCH + Duration::from_millis(ms) + Duration::from_nanos(u64::from(nanos));
-            let mut s = String::new();
-            UtcMillis::default().write(&mut s, t);
-            prop_assert_eq!(s, humantime::format_rfc3339_millis(t).to_string());
+            let mut s = Vec::new();
+            UtcMillis::default().push(&mut s, t);
+            prop_assert_eq!(s, humantime::format_rfc3339_millis(t).to_string().into_bytes());
         }
     }
 }

@@ -6,7 +6,7 @@
 //! `utc` is the absolute time (RFC 3339, milliseconds); `step` is the iteration-aware step
 //! id (`4[2].3`). Writes through [`CsvFile`]; knows nothing of drives.
 
-use super::{write_number, write_seconds, ObjectRef, UtcMillis};
+use super::{push_number, push_seconds, ObjectRef, UtcMillis};
 use crate::csv_file::{push_field, CsvFile};
 use crate::output_file_error::OutputFileError;
 use std::path::Path;
@@ -26,10 +26,43 @@ pub struct SampleTable {
     drive_column: bool,
     /// The rows of one sample, made in one buffer reused for every sample: a day at
     /// 100 Hz is millions of rows.
-    text: String,
-    /// What every row of a sample starts with (`time,utc,step,`), formatted once per sample.
-    head: String,
+    text: Vec<u8>,
+    /// What every row of a sample starts with (`time,utc,step`), formatted once per sample.
+    head: Vec<u8>,
     utc: UtcMillis,
+    /// The objects of the last sample with the text of their rows around the value
+    /// (`,drive,object,` and `,unit`), made once for the many samples of a step.
+    fields: Vec<ObjectFields>,
+}
+
+/// One object of the long layout and its fields, as they are written.
+struct ObjectFields {
+    object: ObjectRef,
+    before: Vec<u8>,
+    after: Vec<u8>,
+}
+
+impl ObjectFields {
+    fn of(object: &ObjectRef, drive_column: bool) -> ObjectFields {
+        let mut before = vec![b','];
+        match object.name.split_once('.') {
+            Some((drive, name)) if drive_column => {
+                push_field(&mut before, drive);
+                before.push(b',');
+                push_field(&mut before, name);
+            }
+            _ => push_field(&mut before, &object.name),
+        }
+        before.push(b',');
+        let mut after = vec![b','];
+        push_field(&mut after, object.unit.as_deref().unwrap_or(""));
+        after.push(b'\n');
+        ObjectFields {
+            object: object.clone(),
+            before,
+            after,
+        }
+    }
 }
 
 impl SampleTable {
@@ -75,9 +108,10 @@ impl SampleTable {
             file,
             wide: wide.map(<[ObjectRef]>::to_vec),
             drive_column,
-            text: String::new(),
-            head: String::new(),
+            text: Vec::new(),
+            head: Vec::new(),
             utc: UtcMillis::default(),
+            fields: Vec::new(),
         })
     }
 
@@ -96,44 +130,41 @@ impl SampleTable {
         values: &[f64],
     ) -> Result<u64, OutputFileError> {
         self.head.clear();
-        write_seconds(&mut self.head, at);
-        self.head.push(',');
-        self.utc.write(&mut self.head, utc);
-        self.head.push(',');
+        push_seconds(&mut self.head, at);
+        self.head.push(b',');
+        self.utc.push(&mut self.head, utc);
+        self.head.push(b',');
         push_field(&mut self.head, step);
         self.text.clear();
         let rows = match &self.wide {
             None => {
-                for (object, v) in objects.iter().zip(values) {
-                    self.text.push_str(&self.head);
-                    self.text.push(',');
-                    match object.name.split_once('.') {
-                        Some((drive, name)) if self.drive_column => {
-                            push_field(&mut self.text, drive);
-                            self.text.push(',');
-                            push_field(&mut self.text, name);
-                        }
-                        _ => push_field(&mut self.text, &object.name),
-                    }
-                    self.text.push(',');
-                    write_number(&mut self.text, *v);
-                    self.text.push(',');
-                    push_field(&mut self.text, object.unit.as_deref().unwrap_or(""));
-                    self.text.push('\n');
+                let same = self.fields.len() == objects.len()
+                    && self.fields.iter().zip(objects).all(|(f, o)| f.object == *o);
+                if !same {
+                    self.fields = objects
+                        .iter()
+                        .map(|o| ObjectFields::of(o, self.drive_column))
+                        .collect();
+                }
+                for (fields, v) in self.fields.iter().zip(values) {
+                    self.text.extend_from_slice(&self.head);
+                    self.text.extend_from_slice(&fields.before);
+                    push_number(&mut self.text, *v);
+                    self.text.extend_from_slice(&fields.after);
                 }
                 objects.len().min(values.len()) as u64
             }
             Some(columns) => {
-                self.text.push_str(&self.head);
+                self.text.extend_from_slice(&self.head);
                 for column in columns {
-                    self.text.push(',');
+                    self.text.push(b',');
                     if let Some(i) = objects.iter().position(|o| o.name == column.name) {
                         if let Some(v) = values.get(i) {
-                            write_number(&mut self.text, *v);
+                            push_number(&mut self.text, *v);
                         }
                     }
                 }
-                self.text.push('\n');
+                self.text.push(b'\n');
                 1
             }
         };
@@ -231,7 +262,8 @@ mod tests {
     /// The rows as the csv crate and the formatting machinery wrote them before each
     /// sample's shared text was made once: one record per value, every field formatted.
     fn rows_as_before(drives: bool, wide: Option<&[ObjectRef]>, samples: &[Sample]) -> String {
-        let mut w = csv::Writer::from_writer(Vec::new());
+        // Flexible: only the generated names mix objects with and without a drive.
+        let mut w = csv::WriterBuilder::new().flexible(true).from_writer(Vec::new());
         for (at, utc, step, objects, values) in samples {
             let time = format!("{:.3}", at.as_secs_f64());
             let utc = humantime::format_rfc3339_millis(*utc).to_string();
@@ -260,7 +292,11 @@ mod tests {
                     let mut cells = vec![time.clone(), utc.clone(), step.clone()];
                     for c in columns {
                         let i = objects.iter().position(|o| o.name == c.name);
-                        cells.push(i.and_then(|i| values.get(i)).map(|v| number(*v)).unwrap_or_default());
+                        cells.push(
+                            i.and_then(|i| values.get(i))
+                                .map(|v| number(*v))
+                                .unwrap_or_default(),
+                        );
                     }
                     w.write_record(&cells).unwrap();
                 }

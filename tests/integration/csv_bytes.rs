@@ -25,7 +25,10 @@ fn without_utc(text: &str) -> (Vec<String>, Vec<SystemTime>) {
 fn assert_same_bytes(written: &Path, kept: &str) {
     let text = std::fs::read_to_string(written).expect("written");
     let expected = std::fs::read_to_string(repo_root().join("tests/csv").join(kept)).expect("kept");
-    assert!(text.ends_with('\n') && text.lines().count() == expected.lines().count(), "{kept}");
+    assert!(
+        text.ends_with('\n') && text.lines().count() == expected.lines().count(),
+        "{kept}"
+    );
     let (lines, times) = without_utc(&text);
     let (expected_lines, _) = without_utc(&expected);
     for (n, (line, want)) in lines.iter().zip(&expected_lines).enumerate() {
@@ -38,9 +41,7 @@ fn assert_same_bytes(written: &Path, kept: &str) {
         .collect();
     let start = |i: usize| times[i] - Duration::from_secs_f64(seconds[i]);
     for i in 1..times.len() {
-        let apart = start(i)
-            .duration_since(start(0))
-            .unwrap_or_else(|e| e.duration());
+        let apart = start(i).duration_since(start(0)).unwrap_or_else(|e| e.duration());
         assert!(apart <= Duration::from_millis(1), "{kept}, row {i}: {apart:?}");
     }
 }
