@@ -12,8 +12,6 @@ pub enum OutputFileError {
     Directory { dir: PathBuf, source: std::io::Error },
     #[error("cannot write {}: {source}", path.display())]
     File { path: PathBuf, source: std::io::Error },
-    #[error("cannot write {}: {source}", path.display())]
-    Csv { path: PathBuf, source: csv::Error },
 }
 
 impl OutputFileError {

@@ -29,6 +29,19 @@ pub trait Peer: Send {
         Ok(self.receive(bytes, now))
     }
 
+    /// [`Peer::exchange`] into `out`, which a transport reuses for the millions of
+    /// exchanges of a long run; a peer may build its replies there directly, in the byte
+    /// buffers of replies already read ([`PeerReplies::buffer`]).
+    fn exchange_into(
+        &mut self,
+        bytes: &[u8],
+        now: Duration,
+        out: &mut PeerReplies,
+    ) -> Result<(), TransportError> {
+        out.list.extend(self.exchange(bytes, now)?);
+        Ok(())
+    }
+
     /// Whether the line to the peer is there at `now`. A peer that can lose its line (the
     /// simulated drive with an injected lost link) says no for a while; the transport then
     /// fails as a port whose device went away does.
@@ -40,6 +53,41 @@ pub trait Peer: Send {
     /// a simulated adapter); nothing by default.
     fn poll(&mut self, _now: Duration) -> Vec<PeerReply> {
         Vec::new()
+    }
+}
+
+/// The replies of a peer to one write, and the byte buffers of replies read before, to be
+/// filled again.
+#[derive(Debug, Default)]
+pub struct PeerReplies {
+    list: Vec<PeerReply>,
+    spare: Vec<Vec<u8>>,
+}
+
+/// Buffers kept for reuse: a peer answers a write with one or two replies.
+const SPARE_BUFFERS: usize = 4;
+
+impl PeerReplies {
+    /// An empty buffer for a reply's bytes.
+    pub fn buffer(&mut self) -> Vec<u8> {
+        let mut bytes = self.spare.pop().unwrap_or_default();
+        bytes.clear();
+        bytes
+    }
+
+    pub fn push(&mut self, reply: PeerReply) {
+        self.list.push(reply);
+    }
+
+    /// The replies, in the order the peer gave them.
+    pub fn into_list(self) -> Vec<PeerReply> {
+        self.list
+    }
+
+    fn recycle(&mut self, bytes: Vec<u8>) {
+        if self.spare.len() < SPARE_BUFFERS {
+            self.spare.push(bytes);
+        }
     }
 }
 
@@ -76,6 +124,9 @@ pub struct MemoryTransport {
     clock: SharedClock,
     wire: Option<WireTime>,
     pending: VecDeque<PeerReply>,
+    /// The peer's replies to the write under way (empty between writes) and buffers for
+    /// the next ones.
+    replies: PeerReplies,
 }
 
 impl MemoryTransport {
@@ -86,6 +137,7 @@ impl MemoryTransport {
             clock,
             wire: None,
             pending: VecDeque::new(),
+            replies: PeerReplies::default(),
         }
     }
 
@@ -121,16 +173,17 @@ impl Transport for MemoryTransport {
             self.clock.sleep(w.of(bytes.len()));
         }
         let now = self.clock.now();
-        let replies = {
+        self.replies.list.clear();
+        {
             // A panic while the peer was answering (a test that injects one) must not cut
             // the safe stop off from it.
             let mut peer = self.peer.lock().unwrap_or_else(PoisonError::into_inner);
             if !peer.reachable(now) {
                 return Err(self.line_down());
             }
-            peer.exchange(bytes, now)?
-        };
-        for mut r in replies {
+            peer.exchange_into(bytes, now, &mut self.replies)?;
+        }
+        for mut r in self.replies.list.drain(..) {
             if let Some(w) = self.wire {
                 r.at += w.of(r.bytes.len());
             }
@@ -175,7 +228,9 @@ impl Transport for MemoryTransport {
         buf[..n].copy_from_slice(&front.bytes[..n]);
         front.bytes.drain(..n);
         if front.bytes.is_empty() {
-            self.pending.pop_front();
+            if let Some(read) = self.pending.pop_front() {
+                self.replies.recycle(read.bytes);
+            }
         }
         Ok(n)
     }

@@ -49,7 +49,7 @@ pub fn open_socketcan(interface: &str) -> Result<Box<dyn FrameBus>, TransportErr
     }
 }
 
-pub use memory::{MemoryTransport, Peer, PeerReply, WireTime};
+pub use memory::{MemoryTransport, Peer, PeerReplies, PeerReply, WireTime};
 pub use serial::{
     list_ports, DataBits, Parity, PortInfo, SerialSettings, SerialTransport, StopBits, UsbInfo,
 };

@@ -178,7 +178,8 @@ impl ObjectDef {
     /// `n` when the scale is 1/n for a whole n.
     fn inverse_scale(&self) -> Option<f64> {
         let n = 1.0 / self.scale;
-        (n >= 1.0 && (n - n.round()).abs() < 1e-9 * n).then(|| n.round())
+        let whole = n.round();
+        (n >= 1.0 && (n - whole).abs() < 1e-9 * n).then_some(whole)
     }
 
     /// `60000 rpm`: a value in the object's unit, with the decimals a count resolves.
@@ -465,7 +466,27 @@ impl ObjectDef {
     pub fn value_of(&self, raw: RawValue) -> Result<Value, ValueError> {
         let width = self.data_type.size();
         let is_text = !self.data_type.is_number();
-        let quantity = match (&raw, is_text) {
+        let quantity = self.quantity_of_raw(&raw)?;
+        let decimals = match raw {
+            RawValue::Decimal { places, .. } => usize::from(places),
+            _ if is_text => 0,
+            _ => self.decimals(),
+        };
+        let format = if is_text { Format::Decimal } else { self.format };
+        Ok(Value {
+            raw,
+            quantity,
+            format,
+            width,
+            decimals,
+        })
+    }
+
+    /// The quantity of [`Self::value_of`] alone (`None` for text), for readers that want
+    /// only the number: a sample of millions needs no digits or format.
+    pub fn quantity_of_raw(&self, raw: &RawValue) -> Result<Option<Quantity>, ValueError> {
+        let is_text = !self.data_type.is_number();
+        Ok(match (raw, is_text) {
             (RawValue::Text(_) | RawValue::Bytes(_), true) => None,
             (RawValue::Int(count), false) => Some(self.quantity_of(*count)),
             // NaN and infinities stay what they are: shown as such, never a limit passed.
@@ -487,19 +508,6 @@ impl ObjectDef {
                     data_type: self.data_type,
                 })
             }
-        };
-        let decimals = match raw {
-            RawValue::Decimal { places, .. } => usize::from(places),
-            _ if is_text => 0,
-            _ => self.decimals(),
-        };
-        let format = if is_text { Format::Decimal } else { self.format };
-        Ok(Value {
-            raw,
-            quantity,
-            format,
-            width,
-            decimals,
         })
     }
 }

@@ -38,6 +38,8 @@ pub struct Drive {
     access: Box<dyn ObjectAccess>,
     dictionary: Arc<Dictionary>,
     clock: SharedClock,
+    /// The results of [`Drive::read_set_numbers`] on their way, one list for every sample.
+    results: Vec<Result<RawValue, AccessError>>,
 }
 
 impl Drive {
@@ -47,6 +49,7 @@ impl Drive {
             access,
             dictionary,
             clock,
+            results: Vec::new(),
         }
     }
 
@@ -140,20 +143,37 @@ impl Drive {
     /// per object), in one round trip where the family's telegram carries them together.
     pub fn read_set_numbers(&mut self, set: &ReadSet, out: &mut [f64]) -> Result<(), DriveError> {
         if let ([def], [slot]) = (&set.defs[..], &mut out[..]) {
-            let v = self.read_def(def)?;
-            *slot = quantity_of(def, &v)?.value;
+            let raw = self.access.read(&def.address, def.data_type);
+            *slot = self.number_of(def, raw)?;
             return Ok(());
         }
-        let results = self.access.read_many(&set.requests);
-        for ((def, result), slot) in set.defs.iter().zip(results).zip(out.iter_mut()) {
-            let raw = result.map_err(|e| self.refusal(e, "to read", def))?;
-            let value = def.value_of(raw).map_err(|source| DriveError::BadReply {
-                object: def.name.clone(),
-                source,
-            })?;
-            *slot = quantity_of(def, &value)?.value;
-        }
-        Ok(())
+        let mut results = std::mem::take(&mut self.results);
+        results.clear();
+        self.access.read_many(&set.requests, &mut results);
+        let numbers = set
+            .defs
+            .iter()
+            .zip(results.drain(..))
+            .zip(out.iter_mut())
+            .try_for_each(|((def, result), slot)| {
+                *slot = self.number_of(def, result)?;
+                Ok(())
+            });
+        self.results = results;
+        numbers
+    }
+
+    /// The number in `def`'s unit of what a read of it returned.
+    fn number_of(&self, def: &ObjectDef, read: Result<RawValue, AccessError>) -> Result<f64, DriveError> {
+        let raw = read.map_err(|e| self.refusal(e, "to read", def))?;
+        let quantity = def.quantity_of_raw(&raw).map_err(|source| DriveError::BadReply {
+            object: def.name.clone(),
+            source,
+        })?;
+        quantity.map(|q| q.value).ok_or_else(|| DriveError::NotANumber {
+            object: def.name.clone(),
+            data_type: def.data_type,
+        })
     }
 
     /// Every object the drive can list, with its value (see [`ObjectAccess::list_objects`]);

@@ -30,10 +30,11 @@ pub type WriteResult = Result<WriteOutcome, AccessError>;
 pub trait ObjectAccess: Send {
     fn read(&mut self, address: &Address, data_type: DataType) -> Result<RawValue, AccessError>;
     fn write(&mut self, address: &Address, value: &RawValue, data_type: DataType) -> WriteResult;
-    /// Several objects at once; a family with a cyclic channel answers them in one round
-    /// trip. The default reads them one by one.
-    fn read_many(&mut self, objects: &[(Address, DataType)]) -> Vec<Result<RawValue, AccessError>> {
-        objects.iter().map(|(a, t)| self.read(a, *t)).collect()
+    /// Several objects at once, their results appended to `out` in the objects' order (a
+    /// sampling loop reuses one list); a family with a cyclic channel answers them in one
+    /// round trip. The default reads them one by one.
+    fn read_many(&mut self, objects: &[(Address, DataType)], out: &mut Vec<Result<RawValue, AccessError>>) {
+        out.extend(objects.iter().map(|(a, t)| self.read(a, *t)));
     }
     /// What the drive's error code `code` (the profile's drive_error) means in the family's
     /// protocol (CANopen: the CiA 301/402 emergency error codes); `None` when unknown.

@@ -80,8 +80,10 @@ impl BucketSeries {
     }
 
     fn index(&self, t: f64) -> usize {
-        let i = ((t - self.start).max(0.0) / self.width).floor();
-        if i.is_finite() && i < usize::MAX as f64 {
+        // Never negative nor NaN, so the cast's truncation is the floor (without a call
+        // to `floor` per sample where the CPU has no rounding instruction).
+        let i = (t - self.start).max(0.0) / self.width;
+        if i < usize::MAX as f64 {
             i as usize
         } else {
             usize::MAX

@@ -2,6 +2,7 @@
 //! instant values or sample statistics. Pure evaluation; reading the drive is the
 //! interpreter's business.
 
+use super::number_text::write_number;
 use super::object_ref::ObjectRef;
 use crate::dictionary::Quantity;
 use crate::drive::device_control::DeviceState;
@@ -138,19 +139,6 @@ pub fn number(v: f64) -> String {
     let mut s = String::new();
     write_number(&mut s, v);
     s
-}
-
-/// [`number`] appended to `out`, for writers that reuse one buffer per row.
-pub fn write_number(out: &mut String, v: f64) {
-    use std::fmt::Write as _;
-    if v == v.trunc() && v.abs() < 1e15 {
-        let _ = write!(out, "{}", v as i64);
-    } else {
-        let start = out.len();
-        let _ = write!(out, "{v:.6}");
-        let kept = out[start..].trim_end_matches('0').trim_end_matches('.').len();
-        out.truncate(start + kept);
-    }
 }
 
 /// `6000 rpm`, `325.3 V`, `3`: a number as [`number`] writes it, with its unit if any.

@@ -18,6 +18,7 @@ mod expect;
 mod expect_parameters;
 mod history_lookup;
 mod last_pass;
+mod number_text;
 mod object_ref;
 mod object_scale;
 mod one_off_stop;
@@ -55,12 +56,12 @@ pub use check_key::{
 };
 pub use coast_down::CoastDown;
 pub use condition::{
-    exact_with_unit, number, with_unit, write_number, Check, Condition, Measure, Predicate, Statistic, Stats,
-    Tolerance,
+    exact_with_unit, number, with_unit, Check, Condition, Measure, Predicate, Statistic, Stats, Tolerance,
 };
 pub use expect::AttemptMark;
 pub use history_lookup::LOOKUP_LIMIT;
 pub use last_pass::{signed, History, HistoryError, LastPass, PastCheck, PastRun};
+pub use number_text::{push_number, push_seconds, write_number, UtcMillis};
 pub use object_ref::ObjectRef;
 pub use object_scale::{at_resolution, decimals_of_scale};
 pub use one_off_stop::{stop_drive, OneOffStopError};

@@ -6,8 +6,8 @@
 //! `utc` is the absolute time (RFC 3339, milliseconds); `step` is the iteration-aware step
 //! id (`4[2].3`). Writes through [`CsvFile`]; knows nothing of drives.
 
-use super::{write_number, ObjectRef};
-use crate::csv_file::CsvFile;
+use super::{push_number, push_seconds, ObjectRef, UtcMillis};
+use crate::csv_file::{push_field, CsvFile};
 use crate::output_file_error::OutputFileError;
 use std::path::Path;
 use std::time::{Duration, SystemTime};
@@ -24,11 +24,45 @@ pub struct SampleTable {
     /// The long layout with a `drive` column (a run with several drives, whose objects
     /// are named `left.speed_actual`).
     drive_column: bool,
-    /// Buffers reused for every row: a day at 100 Hz is millions of rows.
-    time: String,
-    utc: String,
-    value: String,
-    cells: Vec<String>,
+    /// The rows of one sample, made in one buffer reused for every sample: a day at
+    /// 100 Hz is millions of rows.
+    text: Vec<u8>,
+    /// What every row of a sample starts with (`time,utc,step`), formatted once per sample.
+    head: Vec<u8>,
+    utc: UtcMillis,
+    /// The objects of the last sample with the text of their rows around the value
+    /// (`,drive,object,` and `,unit`), made once for the many samples of a step.
+    fields: Vec<ObjectFields>,
+}
+
+/// One object of the long layout and its fields, as they are written.
+struct ObjectFields {
+    object: ObjectRef,
+    before: Vec<u8>,
+    after: Vec<u8>,
+}
+
+impl ObjectFields {
+    fn of(object: &ObjectRef, drive_column: bool) -> ObjectFields {
+        let mut before = vec![b','];
+        match object.name.split_once('.') {
+            Some((drive, name)) if drive_column => {
+                push_field(&mut before, drive);
+                before.push(b',');
+                push_field(&mut before, name);
+            }
+            _ => push_field(&mut before, &object.name),
+        }
+        before.push(b',');
+        let mut after = vec![b','];
+        push_field(&mut after, object.unit.as_deref().unwrap_or(""));
+        after.push(b'\n');
+        ObjectFields {
+            object: object.clone(),
+            before,
+            after,
+        }
+    }
 }
 
 impl SampleTable {
@@ -74,10 +108,10 @@ impl SampleTable {
             file,
             wide: wide.map(<[ObjectRef]>::to_vec),
             drive_column,
-            time: String::new(),
-            utc: String::new(),
-            value: String::new(),
-            cells: Vec::new(),
+            text: Vec::new(),
+            head: Vec::new(),
+            utc: UtcMillis::default(),
+            fields: Vec::new(),
         })
     }
 
@@ -95,47 +129,47 @@ impl SampleTable {
         objects: &[ObjectRef],
         values: &[f64],
     ) -> Result<u64, OutputFileError> {
-        use std::fmt::Write as _;
-        self.time.clear();
-        let _ = write!(self.time, "{:.3}", at.as_secs_f64());
-        self.utc.clear();
-        let _ = write!(self.utc, "{}", humantime::format_rfc3339_millis(utc));
-        match &self.wide {
+        self.head.clear();
+        push_seconds(&mut self.head, at);
+        self.head.push(b',');
+        self.utc.push(&mut self.head, utc);
+        self.head.push(b',');
+        push_field(&mut self.head, step);
+        self.text.clear();
+        let rows = match &self.wide {
             None => {
-                for (object, v) in objects.iter().zip(values) {
-                    self.value.clear();
-                    write_number(&mut self.value, *v);
-                    let unit = object.unit.as_deref().unwrap_or("");
-                    match object.name.split_once('.') {
-                        Some((drive, name)) if self.drive_column => {
-                            self.file
-                                .row(&[&self.time, &self.utc, step, drive, name, &self.value, unit])?
-                        }
-                        _ => {
-                            self.file
-                                .row(&[&self.time, &self.utc, step, &object.name, &self.value, unit])?
-                        }
-                    }
+                let same = self.fields.len() == objects.len()
+                    && self.fields.iter().zip(objects).all(|(f, o)| f.object == *o);
+                if !same {
+                    self.fields = objects
+                        .iter()
+                        .map(|o| ObjectFields::of(o, self.drive_column))
+                        .collect();
                 }
-                Ok(objects.len().min(values.len()) as u64)
+                for (fields, v) in self.fields.iter().zip(values) {
+                    self.text.extend_from_slice(&self.head);
+                    self.text.extend_from_slice(&fields.before);
+                    push_number(&mut self.text, *v);
+                    self.text.extend_from_slice(&fields.after);
+                }
+                objects.len().min(values.len()) as u64
             }
             Some(columns) => {
-                self.cells.clear();
-                self.cells
-                    .extend([self.time.clone(), self.utc.clone(), step.to_string()]);
+                self.text.extend_from_slice(&self.head);
                 for column in columns {
-                    let mut cell = String::new();
+                    self.text.push(b',');
                     if let Some(i) = objects.iter().position(|o| o.name == column.name) {
                         if let Some(v) = values.get(i) {
-                            write_number(&mut cell, *v);
+                            push_number(&mut self.text, *v);
                         }
                     }
-                    self.cells.push(cell);
                 }
-                self.file.row(&self.cells)?;
-                Ok(1)
+                self.text.push(b'\n');
+                1
             }
-        }
+        };
+        self.file.rows_text(&self.text)?;
+        Ok(rows)
     }
 
     pub fn flush(&mut self) -> Result<(), OutputFileError> {
@@ -223,5 +257,109 @@ mod tests {
              1.500,1970-01-01T00:00:00.000Z,4,left,speed_actual,1,rpm\n\
              1.500,1970-01-01T00:00:00.000Z,4,right,speed_actual,2,rpm\n"
         );
+    }
+
+    /// The rows as the csv crate and the formatting machinery wrote them before each
+    /// sample's shared text was made once: one record per value, every field formatted.
+    fn rows_as_before(drives: bool, wide: Option<&[ObjectRef]>, samples: &[Sample]) -> String {
+        // Flexible: only the generated names mix objects with and without a drive.
+        let mut w = csv::WriterBuilder::new().flexible(true).from_writer(Vec::new());
+        for (at, utc, step, objects, values) in samples {
+            let time = format!("{:.3}", at.as_secs_f64());
+            let utc = humantime::format_rfc3339_millis(*utc).to_string();
+            let number = |v: f64| {
+                if v == v.trunc() && v.abs() < 1e15 {
+                    format!("{}", v as i64)
+                } else {
+                    let s = format!("{v:.6}");
+                    s.trim_end_matches('0').trim_end_matches('.').to_string()
+                }
+            };
+            match wide {
+                None => {
+                    for (o, v) in objects.iter().zip(values) {
+                        let unit = o.unit.clone().unwrap_or_default();
+                        match o.name.split_once('.') {
+                            Some((d, n)) if drives => {
+                                w.write_record([&time, &utc, step, d, n, &number(*v), &unit])
+                            }
+                            _ => w.write_record([&time, &utc, step, &o.name, &number(*v), &unit]),
+                        }
+                        .unwrap();
+                    }
+                }
+                Some(columns) => {
+                    let mut cells = vec![time.clone(), utc.clone(), step.clone()];
+                    for c in columns {
+                        let i = objects.iter().position(|o| o.name == c.name);
+                        cells.push(
+                            i.and_then(|i| values.get(i))
+                                .map(|v| number(*v))
+                                .unwrap_or_default(),
+                        );
+                    }
+                    w.write_record(&cells).unwrap();
+                }
+            }
+        }
+        String::from_utf8(w.into_inner().unwrap()).unwrap()
+    }
+
+    type Sample = (Duration, SystemTime, String, Vec<ObjectRef>, Vec<f64>);
+
+    fn samples() -> impl Strategy<Value = Vec<Sample>> {
+        let names = prop::sample::select(vec![
+            ("speed_actual", Some("rpm")),
+            ("left.current_actual", Some("A")),
+            ("odd,name", Some("\"u\"")),
+            ("drive_error", None),
+        ]);
+        let value = prop_oneof![
+            -1e7f64..1e7,
+            (-100_000i64..100_000).prop_map(|n| n as f64 / 1000.0),
+            any::<f64>(),
+        ];
+        let sample = (
+            0u64..200_000_000_000,
+            0u64..4_000_000_000_000_000,
+            "[0-9\\[\\].,]{1,6}",
+            prop::collection::vec((names, value), 0..4),
+        );
+        prop::collection::vec(sample, 0..20).prop_map(|list| {
+            list.into_iter()
+                .map(|(at, utc, step, values)| {
+                    let objects = values.iter().map(|((n, u), _)| object(n, *u)).collect();
+                    let numbers = values.iter().map(|(_, v)| *v).collect();
+                    (
+                        Duration::from_micros(at),
+                        UNIX_EPOCH + Duration::from_micros(utc),
+                        step,
+                        objects,
+                        numbers,
+                    )
+                })
+                .collect()
+        })
+    }
+
+    use proptest::prelude::*;
+
+    proptest! {
+        #[test]
+        fn rows_are_byte_for_byte_those_written_before(samples in samples(), drives in any::<bool>(), wide in any::<bool>()) {
+            let dir = std::env::temp_dir()
+                .join(format!("drivescript-sample-table-bytes-{}", std::process::id()));
+            let path = dir.join("t.csv");
+            let columns = [object("speed_actual", Some("rpm")), object("drive_error", None)];
+            let wide = wide.then_some(&columns[..]);
+            let _ = std::fs::remove_file(&path);
+            let mut t = SampleTable::open_for(&path, wide, true, drives).unwrap();
+            for (at, utc, step, objects, values) in &samples {
+                t.rows(*at, *utc, step, objects, values).unwrap();
+            }
+            t.flush().unwrap();
+            let written = std::fs::read_to_string(&path).unwrap();
+            prop_assert_eq!(written, rows_as_before(drives && wide.is_none(), wide, &samples));
+        }
     }
 }

@@ -79,7 +79,8 @@ impl SlopeWindow {
 
     pub fn push(&mut self, t: f64, v: f64) {
         self.last = self.last.max(t);
-        let index = ((t - self.start).max(0.0) / self.width).floor() as u64;
+        // Never negative nor NaN: the cast's truncation is the floor, without a call.
+        let index = ((t - self.start).max(0.0) / self.width) as u64;
         // Times relative to the window's start keep the sums' precision over days.
         let x = t - self.start;
         let sample = Sums {

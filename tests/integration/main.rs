@@ -12,6 +12,7 @@ mod canopen_types;
 mod canopen_wide_integers;
 mod capture_round_trip;
 mod command_line;
+mod csv_bytes;
 mod ct_ansi;
 mod decode_cli;
 mod drive_identity;

@@ -325,7 +325,49 @@ impl ObjectAccess for Sd2CyclicAccess {
         Ok(WriteOutcome::Stored)
     }
 
-    fn read_many(&mut self, objects: &[(Address, DataType)]) -> Vec<Result<RawValue, AccessError>> {
+    fn read_many(&mut self, objects: &[(Address, DataType)], out: &mut Vec<Result<RawValue, AccessError>>) {
+        let values = self.read_together(objects);
+        out.extend(values);
+    }
+
+    fn keep_alive(&mut self) -> Result<Option<Duration>, AccessError> {
+        let now = self.object.link().clock().now();
+        let period = self.settings.period;
+        let due = self
+            .last_sent
+            .map_or(Duration::ZERO, |t| t.saturating_add(period));
+        if now >= due {
+            self.exchange(None)?;
+            return Ok(Some(period));
+        }
+        Ok(Some(due - now))
+    }
+
+    fn port(&self) -> String {
+        format!("{} (cyclic channel)", self.object.port())
+    }
+
+    fn clock(&self) -> SharedClock {
+        self.object.clock()
+    }
+
+    fn reopen(&mut self) -> Result<(), AccessError> {
+        self.object.reopen()?;
+        // The drive may have been reset: ask it again rather than repeat our memory. A
+        // reopen happens only in the safe stop, so the channel does not resume the old
+        // speed: it sends 0, which a drive still enabled brakes to under control (clearing
+        // the enable instead would let the spindle coast), and the stop goes on from there.
+        self.output = None;
+        self.resume_stopped = true;
+        self.service_used = false;
+        Ok(())
+    }
+}
+
+impl Sd2CyclicAccess {
+    /// The objects of [`ObjectAccess::read_many`], the process values and one rider from
+    /// a single cyclic telegram.
+    fn read_together(&mut self, objects: &[(Address, DataType)]) -> Vec<Result<RawValue, AccessError>> {
         let carried: Vec<Option<ProcessValue>> = objects.iter().map(|(a, _)| self.process_value(a)).collect();
         if carried.iter().all(Option::is_none) && objects.len() < 2 {
             return objects.iter().map(|(a, t)| self.read(a, *t)).collect();
@@ -381,39 +423,6 @@ impl ObjectAccess for Sd2CyclicAccess {
                 self.read(address, *data_type)
             })
             .collect()
-    }
-
-    fn keep_alive(&mut self) -> Result<Option<Duration>, AccessError> {
-        let now = self.object.link().clock().now();
-        let period = self.settings.period;
-        let due = self
-            .last_sent
-            .map_or(Duration::ZERO, |t| t.saturating_add(period));
-        if now >= due {
-            self.exchange(None)?;
-            return Ok(Some(period));
-        }
-        Ok(Some(due - now))
-    }
-
-    fn port(&self) -> String {
-        format!("{} (cyclic channel)", self.object.port())
-    }
-
-    fn clock(&self) -> SharedClock {
-        self.object.clock()
-    }
-
-    fn reopen(&mut self) -> Result<(), AccessError> {
-        self.object.reopen()?;
-        // The drive may have been reset: ask it again rather than repeat our memory. A
-        // reopen happens only in the safe stop, so the channel does not resume the old
-        // speed: it sends 0, which a drive still enabled brakes to under control (clearing
-        // the enable instead would let the spindle coast), and the stop goes on from there.
-        self.output = None;
-        self.resume_stopped = true;
-        self.service_used = false;
-        Ok(())
     }
 }
 

@@ -249,7 +249,8 @@ fn a_refused_rider_fails_alone() {
         (Address::indexed(STATUS_WORD, 0), DataType::U16),
         (Address::indexed(SPEED_ACTUAL + 1000, 0), DataType::U16),
     ];
-    let values = b.access.read_many(&objects);
+    let mut values = Vec::new();
+    b.access.read_many(&objects, &mut values);
     assert!(values[0].is_ok(), "{values:?}");
     assert!(
         matches!(values[1], Err(AccessError::Refused { .. })),
@@ -282,7 +283,8 @@ fn one_round_trip_answers_the_process_values_and_one_service_read() {
         (Address::indexed(DRIVE_ERROR, 0), DataType::U16),
         (Address::indexed(33, 0), DataType::U16),
     ];
-    let values = b.access.read_many(&objects);
+    let mut values = Vec::new();
+    b.access.read_many(&objects, &mut values);
     assert_eq!(b.sent.take().len(), 1);
     let status = values[0].as_ref().unwrap().clone();
     assert_eq!(

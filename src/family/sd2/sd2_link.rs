@@ -200,13 +200,13 @@ impl Sd2Link {
                     self.core
                         .event(&format!("skipped {} byte(s) of line noise", block.skipped));
                 }
-                self.core.notify(Direction::Received, &block.bytes);
+                self.core.notify(Direction::Received, block.bytes);
                 let telegram = match block.telegram {
                     Ok(t) => t,
                     Err(problem) => {
                         self.core.stats.corrupt_replies += 1;
                         return Err(AttemptFailure::Bad(Refusal {
-                            reply: block.bytes,
+                            reply: block.bytes.to_vec(),
                             problem,
                         }));
                     }
@@ -222,7 +222,7 @@ impl Sd2Link {
                         "dropped a reply that answers another request: {problem}"
                     ));
                     dropped = Some(Refusal {
-                        reply: block.bytes,
+                        reply: block.bytes.to_vec(),
                         problem,
                     });
                     continue;

@@ -15,13 +15,14 @@ pub enum Framing {
     Requests,
 }
 
-/// One block cut from the stream.
+/// One block cut from the stream; its bytes stay in the extractor's buffer until the next
+/// call (a long run cuts millions of blocks).
 #[derive(Debug, Clone, PartialEq, Eq)]
-pub struct Extracted {
+pub struct Extracted<'a> {
     /// Bytes dropped before this block because no block could start there.
     pub skipped: usize,
     /// The block's bytes as received.
-    pub bytes: Vec<u8>,
+    pub bytes: &'a [u8],
     /// The decoded telegram, or why these bytes are not one (checksum, length, command).
     pub telegram: Result<Telegram, DecodeError>,
 }
@@ -32,6 +33,9 @@ pub struct FrameExtractor {
     framing: Framing,
     buf: Vec<u8>,
     skipped: usize,
+    /// Bytes at the front of `buf` already handed out (the last block, or the first byte
+    /// of a corrupt one): dropped before anything else is done.
+    taken: usize,
 }
 
 /// A reasonable stream never holds more than a few blocks; beyond this, the oldest bytes are
@@ -44,10 +48,12 @@ impl FrameExtractor {
             framing,
             buf: Vec::with_capacity(128),
             skipped: 0,
+            taken: 0,
         }
     }
 
     pub fn push(&mut self, bytes: &[u8]) {
+        self.drop_taken();
         self.buf.extend_from_slice(bytes);
         if self.buf.len() > MAX_BUFFER {
             let drop = self.buf.len() - MAX_BUFFER;
@@ -58,19 +64,28 @@ impl FrameExtractor {
 
     /// Bytes buffered but not yet part of a complete block.
     pub fn pending(&self) -> &[u8] {
-        &self.buf
+        &self.buf[self.taken..]
     }
 
     /// Forgets everything buffered (after the link discards input).
     pub fn clear(&mut self) {
         self.buf.clear();
         self.skipped = 0;
+        self.taken = 0;
+    }
+
+    fn drop_taken(&mut self) {
+        if self.taken > 0 {
+            self.buf.drain(..self.taken);
+            self.taken = 0;
+        }
     }
 
     /// The next complete block, or `None` until more bytes arrive. A candidate whose check
     /// byte is wrong is returned as an error and only its first byte is dropped, so a real
     /// block hidden behind a stray 0x00 is still found on the next call.
-    pub fn next_block(&mut self) -> Option<Extracted> {
+    pub fn next_block(&mut self) -> Option<Extracted<'_>> {
+        self.drop_taken();
         loop {
             let start = self.buf.iter().position(|&b| b == 0)?;
             self.drop_front(start);
@@ -89,15 +104,13 @@ impl FrameExtractor {
                 }
                 Ok(Some(total)) if self.buf.len() < total => return None,
                 Ok(Some(total)) => {
-                    let bytes: Vec<u8> = self.buf[..total].to_vec();
-                    let telegram = Telegram::decode(&bytes);
-                    if telegram.is_ok() {
-                        self.buf.drain(..total);
-                    } else {
-                        self.buf.drain(..1);
-                    }
+                    let bytes = &self.buf[..total];
+                    let telegram = Telegram::decode(bytes);
                     let skipped = std::mem::take(&mut self.skipped);
-                    if telegram.is_err() {
+                    if telegram.is_ok() {
+                        self.taken = total;
+                    } else {
+                        self.taken = 1;
                         self.skipped = 1;
                     }
                     return Some(Extracted {
@@ -225,11 +238,11 @@ mod tests {
             let mut x = FrameExtractor::new(Framing::Replies);
             x.push(&bytes[..cut]);
             let mut got = Vec::new();
-            while let Some(b) = x.next_block() { got.push(b); }
+            while let Some(b) = x.next_block() { got.push(b.telegram); }
             x.push(&bytes[cut..]);
-            while let Some(b) = x.next_block() { got.push(b); }
+            while let Some(b) = x.next_block() { got.push(b.telegram); }
             prop_assert_eq!(got.len(), 2);
-            prop_assert!(got.iter().all(|b| b.telegram.is_ok()));
+            prop_assert!(got.iter().all(Result::is_ok));
         }
 
         #[test]

@@ -9,7 +9,7 @@ use super::service_channel::{
     ServiceAction, ServiceSession, INVALID_SERVICE_DRIVE_ERROR, UNSUPPORTED_ACCESS,
 };
 use super::sim_objects::{SimObject, CONTROL_WORD};
-use crate::bus::{Peer, PeerReply};
+use crate::bus::{Peer, PeerReplies, PeerReply};
 use crate::family::sd2::codec::{
     Body, Cyclic, ErrorCode, FrameExtractor, Framing, ServiceChannel, Telegram, WriteLength,
 };
@@ -163,8 +163,9 @@ impl Sd2Simulator {
         self.service.finish(request, outcome)
     }
 
-    /// Encodes `reply` and applies the injected faults: `None` when it is dropped.
-    fn send(&mut self, reply: Telegram, now: Duration) -> Option<PeerReply> {
+    /// Encodes `reply` into `bytes` (an empty buffer) and applies the injected faults:
+    /// `None` when it is dropped.
+    fn send(&mut self, reply: Telegram, now: Duration, mut bytes: Vec<u8>) -> Option<PeerReply> {
         let fate = self.core.faults.next_reply(now);
         if fate.dropped {
             return None;
@@ -174,7 +175,7 @@ impl Sd2Simulator {
             reply.source = reply.source.wrapping_add(1);
         }
         // Replies are never write commands, so the length-field choice does not apply.
-        let mut bytes = reply.encode(WriteLength::Captured);
+        reply.encode_into(&mut bytes, WriteLength::Captured);
         if fate.corrupt_checksum {
             if let Some(check) = bytes.last_mut() {
                 *check = !*check;
@@ -200,9 +201,31 @@ impl SimFront for Sd2Simulator {
 
 impl Peer for Sd2Simulator {
     fn receive(&mut self, bytes: &[u8], now: Duration) -> Vec<PeerReply> {
+        let mut replies = PeerReplies::default();
+        self.receive_into(bytes, now, &mut replies);
+        replies.into_list()
+    }
+
+    fn exchange_into(
+        &mut self,
+        bytes: &[u8],
+        now: Duration,
+        out: &mut PeerReplies,
+    ) -> Result<(), crate::bus::TransportError> {
+        self.receive_into(bytes, now, out);
+        Ok(())
+    }
+
+    fn reachable(&self, now: Duration) -> bool {
+        self.core.faults.line_up(now)
+    }
+}
+
+impl Sd2Simulator {
+    /// [`Peer::receive`] appended to `replies`.
+    fn receive_into(&mut self, bytes: &[u8], now: Duration, replies: &mut PeerReplies) {
         self.core.take_request_at(now);
         self.extractor.push(bytes);
-        let mut replies = Vec::new();
         while let Some(block) = self.extractor.next_block() {
             let Ok(request) = block.telegram else {
                 self.corrupt_blocks += 1;
@@ -220,13 +243,11 @@ impl Peer for Sd2Simulator {
                 source: self.config().address,
                 body,
             };
-            replies.extend(self.send(reply, now));
+            let bytes = replies.buffer();
+            if let Some(reply) = self.send(reply, now, bytes) {
+                replies.push(reply);
+            }
         }
-        replies
-    }
-
-    fn reachable(&self, now: Duration) -> bool {
-        self.core.faults.line_up(now)
     }
 }
 
