@@ -84,7 +84,10 @@ pub fn station(args: &StationArgs, registry: &Registry) -> i32 {
     let setup = match StationSetup::new(registry.clone(), &args.recipes, options) {
         Ok(s) => s,
         Err(e) => {
-            eprint!("{}", e.render(std::io::IsTerminal::is_terminal(&std::io::stderr())));
+            eprint!(
+                "{}",
+                e.render(std::io::IsTerminal::is_terminal(&std::io::stderr()))
+            );
             eprintln!("error: the station starts only with recipes that pass their checks; nothing was sent");
             return e.exit_code().max(INVALID);
         }
@@ -108,17 +111,26 @@ pub fn station(args: &StationArgs, registry: &Registry) -> i32 {
             return INVALID;
         }
     };
-    println!("station: {} ({})", names.join(", "), if args.connection.is_simulated() {
-        "on the built-in simulated drive"
-    } else {
-        "on the drive given"
-    });
-    println!("{}", args.listen.announcement(&server, "open the operator station"));
+    println!(
+        "station: {} ({})",
+        names.join(", "),
+        if args.connection.is_simulated() {
+            "on the built-in simulated drive"
+        } else {
+            "on the drive given"
+        }
+    );
+    println!(
+        "{}",
+        args.listen.announcement(&server, "open the operator station")
+    );
     println!("Ctrl-C or SIGTERM ends the station (a run under way is stopped safely first)");
     match supervise(&station, &signals, &|| server.is_serving()) {
         Ended::Signal(signal) => signal.exit_code(),
         Ended::ServerFailed => {
-            eprintln!("error: the station's web server stopped (a bug); the run under way was stopped safely");
+            eprintln!(
+                "error: the station's web server stopped (a bug); the run under way was stopped safely"
+            );
             PANIC_EXIT
         }
     }

@@ -104,14 +104,9 @@ impl EventLog {
         let inner = self.lock();
         let first = inner.ring.front().map_or(inner.last + 1, |(n, _)| *n);
         match after {
-            Some(a) if a <= inner.last && a + 1 >= first => Catch::Events(
-                inner
-                    .ring
-                    .iter()
-                    .filter(|(n, _)| *n > a)
-                    .cloned()
-                    .collect(),
-            ),
+            Some(a) if a <= inner.last && a + 1 >= first => {
+                Catch::Events(inner.ring.iter().filter(|(n, _)| *n > a).cloned().collect())
+            }
             _ => Catch::View(
                 inner.last,
                 serde_json::to_string(&inner.view).unwrap_or_else(|_| "{}".into()),

@@ -16,15 +16,18 @@ mod page_answers;
 mod page_observer;
 mod plot_buffer;
 mod station;
-mod station_setup;
 mod station_routes;
+mod station_setup;
 mod station_view;
 mod supervise;
 
 pub use event_log::{Catch, EventLog, EVENTS};
 pub use plot_buffer::POINTS;
 pub use station::{result_view, Refused, Station};
-pub use station_setup::{RunOptions, StationRecipe, StationSetup};
 pub use station_routes::{routes, ASSETS};
+pub use station_setup::{RunOptions, StationRecipe, StationSetup};
 pub use station_view::{StationView, SERIES, STEPS};
 pub use supervise::{supervise, Ended};
+
+#[cfg(test)]
+mod station_tests;

@@ -119,8 +119,7 @@ impl RunObserver for PageObserver {
     }
 
     fn sample(&mut self, at: Duration, objects: &[ObjectRef], values: &[f64]) {
-        if self.objects.len() != objects.len()
-            || self.objects.iter().zip(objects).any(|(a, b)| a.0 != b.name)
+        if self.objects.len() != objects.len() || self.objects.iter().zip(objects).any(|(a, b)| a.0 != b.name)
         {
             self.objects = objects.iter().map(|o| (o.name.clone(), o.unit.clone())).collect();
         }

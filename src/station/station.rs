@@ -90,7 +90,9 @@ impl Station {
         }
         let cli_operator = self.setup.options.operator.identity().operator;
         if operator.is_empty() && cli_operator.is_none() {
-            return Err(Refused("type your name in the operator field first: every answer is recorded with it".into()));
+            return Err(Refused(
+                "type your name in the operator field first: every answer is recorded with it".into(),
+            ));
         }
         let mut current = locked(&self.current);
         if let Some(c) = current.as_ref().filter(|c| !c.thread.is_finished()) {
@@ -105,7 +107,9 @@ impl Station {
             )));
         }
         if self.log.read(|v| v.closing) {
-            return Err(Refused("the station is shutting down (a stop signal): no new run starts".into()));
+            return Err(Refused(
+                "the station is shutting down (a stop signal): no new run starts".into(),
+            ));
         }
         // The earlier run's thread has ended: its report is the last one now.
         if let Some(done) = current.take() {
@@ -171,11 +175,10 @@ impl Station {
         let Some(c) = current.as_ref().filter(|c| !c.thread.is_finished()) else {
             return Err(Refused("no run is under way".into()));
         };
-        self.log
-            .change(|v| match v.answer(dialog) {
-                Ok(event) => (Ok(()), Some(event)),
-                Err(why) => (Err(Refused(why.into())), None),
-            })?;
+        self.log.change(|v| match v.answer(dialog) {
+            Ok(event) => (Ok(()), Some(event)),
+            Err(why) => (Err(Refused(why.into())), None),
+        })?;
         if !c.answers.send(answer) {
             return Err(Refused("the run no longer reads answers".into()));
         }
@@ -194,12 +197,10 @@ impl Station {
             return Err(Refused("no run is under way".into()));
         };
         c.stop.request(signal);
-        Ok(self
-            .log
-            .change(|v| {
-                let event = v.stop_pressed();
-                (v.run.as_ref().map_or(0, |r| r.stops), event)
-            }))
+        Ok(self.log.change(|v| {
+            let event = v.stop_pressed();
+            (v.run.as_ref().map_or(0, |r| r.stops), event)
+        }))
     }
 
     /// A stop signal to the station process (or its server failing): no new run starts,
@@ -245,7 +246,9 @@ impl RunJob {
         let options = &self.setup.options;
         let chosen = &self.setup.recipes[self.recipe];
         let mut operator = options.operator.clone();
-        operator.unit.retain(|(part, _)| part != "serial" && part != "operator");
+        operator
+            .unit
+            .retain(|(part, _)| part != "serial" && part != "operator");
         operator.unit.push(("serial".into(), self.serial.clone()));
         operator.unit.push(("operator".into(), self.operator.clone()));
         let mut outputs = options.outputs.clone();
@@ -286,7 +289,9 @@ impl RunJob {
             outputs: &placed,
             // The simulated drive's request log would grow for as long as the run.
             prepare_simulator: Some(&|sim, _| {
-                sim.lock().unwrap_or_else(PoisonError::into_inner).set_logging(false)
+                sim.lock()
+                    .unwrap_or_else(PoisonError::into_inner)
+                    .set_logging(false)
             }),
             stop: self.stop.clone(),
             safe_stop: options.safe_stop.clone(),
@@ -308,7 +313,11 @@ impl RunJob {
             }
         };
         let report = report_path.filter(|p| p.is_file());
-        let view = result_view(&result, report.is_some(), options.record.results.is_some() || !options.record.no_results);
+        let view = result_view(
+            &result,
+            report.is_some(),
+            options.record.results.is_some() || !options.record.no_results,
+        );
         *locked(&self.last) = (report, Some(self.serial.clone()));
         self.log.change(|v| ((), v.finish(view)));
     }

@@ -10,11 +10,11 @@ use super::event_log::Catch;
 use super::station::Station;
 use crate::web::{blocking, Asset};
 use axum::body::Body;
+use axum::body::Bytes;
 use axum::extract::State;
 use axum::http::{header, HeaderMap, StatusCode};
 use axum::response::{IntoResponse, Response};
 use axum::routing::{get, post};
-use axum::body::Bytes;
 use axum::Router;
 use serde::Deserialize;
 use serde_json::json;
@@ -141,7 +141,10 @@ struct StartBody {
 
 async fn start(State(s): St, body: Bytes) -> Response {
     let Ok(b) = serde_json::from_slice::<StartBody>(&body) else {
-        return refused(StatusCode::BAD_REQUEST, "a start names a recipe by its number, a serial and an operator");
+        return refused(
+            StatusCode::BAD_REQUEST,
+            "a start names a recipe by its number, a serial and an operator",
+        );
     };
     match s.station.start(b.recipe, &b.serial, &b.operator) {
         Ok(id) => json_reply(StatusCode::OK, json!({"run": id})),
@@ -157,7 +160,10 @@ struct AnswerBody {
 
 async fn answer(State(s): St, body: Bytes) -> Response {
     let Ok(b) = serde_json::from_slice::<AnswerBody>(&body) else {
-        return refused(StatusCode::BAD_REQUEST, "an answer names its question and the answer");
+        return refused(
+            StatusCode::BAD_REQUEST,
+            "an answer names its question and the answer",
+        );
     };
     match s.station.answer(b.dialog, &b.answer) {
         Ok(()) => json_reply(StatusCode::OK, json!({"ok": true})),
@@ -210,7 +216,10 @@ mod tests {
 
     #[test]
     fn events_are_written_as_server_sent_events_with_their_numbers() {
-        let (text, last) = sse_text(Catch::Events(vec![(3, "{}".into()), (4, "{\"a\":1}".into())]), Some(2));
+        let (text, last) = sse_text(
+            Catch::Events(vec![(3, "{}".into()), (4, "{\"a\":1}".into())]),
+            Some(2),
+        );
         assert_eq!(text, "id: 3\ndata: {}\n\nid: 4\ndata: {\"a\":1}\n\n");
         assert_eq!(last, Some(4));
         let (text, last) = sse_text(Catch::View(7, "{}".into()), None);

@@ -239,7 +239,13 @@ impl StationView {
 
     /// One sample row; the points kept go to `batch` (series index, t, v) for the next
     /// event; a compacted series drops the batch's points that are no longer kept.
-    pub fn sample(&mut self, at_s: f64, objects: &[(String, Option<String>)], values: &[f64], batch: &mut Vec<(usize, u64, f64, f64)>) {
+    pub fn sample(
+        &mut self,
+        at_s: f64,
+        objects: &[(String, Option<String>)],
+        values: &[f64],
+        batch: &mut Vec<(usize, u64, f64, f64)>,
+    ) {
         let Some(run) = self.current() else { return };
         run.elapsed_s = run.elapsed_s.max(at_s);
         for ((name, unit), v) in objects.iter().zip(values) {
@@ -276,11 +282,8 @@ impl StationView {
             .iter()
             .enumerate()
             .map(|(i, s)| {
-                let (t, v): (Vec<f64>, Vec<f64>) = batch
-                    .iter()
-                    .filter(|p| p.0 == i)
-                    .map(|p| (p.2, p.3))
-                    .unzip();
+                let (t, v): (Vec<f64>, Vec<f64>) =
+                    batch.iter().filter(|p| p.0 == i).map(|p| (p.2, p.3)).unzip();
                 json!({"name": s.name, "unit": s.unit, "stride": s.stride, "t": t, "v": v})
             })
             .collect();

@@ -156,7 +156,9 @@ fn answer_typed(b: &mut Browser, text: &str) {
 
 #[test]
 fn every_operator_step_answered_in_the_page_passes_and_the_store_holds_the_answers() {
-    let Some(mut b) = browser("acceptance", 1280, 800) else { return };
+    let Some(mut b) = browser("acceptance", 1280, 800) else {
+        return;
+    };
     let station = StationUnderTest::start("acceptance", ACCEPTANCE, &[]);
     b.open(&station.url);
     b.wait_for("!document.getElementById('start').hidden", "the start form");
@@ -167,7 +169,10 @@ fn every_operator_step_answered_in_the_page_passes_and_the_store_holds_the_answe
     start_in_page(&mut b, &station.url, "J. Smith", SERIAL);
 
     dialog(&mut b, "Scan the spindle's serial number");
-    assert!(b.text("#dialog-hint").contains("SP-[0-9]{6}"), "the pattern is shown");
+    assert!(
+        b.text("#dialog-hint").contains("SP-[0-9]{6}"),
+        "the pattern is shown"
+    );
     answer_typed(&mut b, "SP-12");
     // Judged as on the terminal: no answer, asked again saying why.
     b.wait_for_text("#dialog-error", "answer again");
@@ -182,12 +187,19 @@ fn every_operator_step_answered_in_the_page_passes_and_the_store_holds_the_answe
 
     dialog(&mut b, "Is the spindle running quietly?");
     // The sampled run-up is plotted while the question waits.
-    b.wait_for("document.querySelectorAll('#plots canvas').length >= 2", "two live plots");
+    b.wait_for(
+        "document.querySelectorAll('#plots canvas').length >= 2",
+        "two live plots",
+    );
     b.click("#dialog-buttons .yes");
 
     dialog(&mut b, "Vibration on the hand-held meter");
     assert_eq!(b.text("#dialog-unit"), "mm/s");
-    assert!(b.text("#dialog-hint").contains("at most 2.8"), "{}", b.text("#dialog-hint"));
+    assert!(
+        b.text("#dialog-hint").contains("at most 2.8"),
+        "{}",
+        b.text("#dialog-hint")
+    );
     shot(&mut b, "dialog-value-1280x800");
     b.resize(1024, 600);
     shot(&mut b, "dialog-value-1024x600");
@@ -211,7 +223,10 @@ fn every_operator_step_answered_in_the_page_passes_and_the_store_holds_the_answe
     let report = b.eval("fetch('report').then(r => r.status + ' ' + r.headers.get('content-type'))");
     assert_eq!(report, serde_json::json!("200 text/html; charset=utf-8"));
     let certificate = b.eval("fetch('certificate').then(r => r.text())");
-    assert!(certificate.as_str().unwrap_or_default().contains(SERIAL), "{certificate}");
+    assert!(
+        certificate.as_str().unwrap_or_default().contains(SERIAL),
+        "{certificate}"
+    );
 
     // The store holds every answer with who gave it.
     let store = station.dir.join("results.sqlite");
@@ -264,7 +279,9 @@ fn braked_before_disable(trace: &str) -> (f64, i64) {
         .unwrap_or_else(|| panic!("no disable after the enable:\n{trace}"));
     let speeds = speed_replies(trace);
     assert!(
-        speeds.iter().any(|(i, v)| *i > enabled && *i < disable && v.abs() > 5000.0),
+        speeds
+            .iter()
+            .any(|(i, v)| *i > enabled && *i < disable && v.abs() > 5000.0),
         "the spindle was at speed before the stop"
     );
     let last = speeds
@@ -278,13 +295,17 @@ fn braked_before_disable(trace: &str) -> (f64, i64) {
 
 #[test]
 fn stop_in_the_page_brakes_to_standstill_and_a_second_start_is_refused_and_a_reopened_page_rejoins() {
-    let Some(mut first) = browser("stop-first", 1280, 800) else { return };
+    let Some(mut first) = browser("stop-first", 1280, 800) else {
+        return;
+    };
     let station = StationUnderTest::start("stop", LONG_RUN, &[]);
     start_in_page(&mut first, &station.url, "A. Operator", "SP-000001");
     dialog(&mut first, "Check the spindle from the other side");
 
     // A second browser sees the run under way, and its Start is refused saying why.
-    let Some(mut second) = browser("stop-second", 1024, 600) else { return };
+    let Some(mut second) = browser("stop-second", 1024, 600) else {
+        return;
+    };
     second.open(&station.url);
     second.wait_for_text("#run-title", "SP-000001");
     second.eval("startRun(0, 'SP-000002', 'B. Other')");
@@ -293,10 +314,16 @@ fn stop_in_the_page_brakes_to_standstill_and_a_second_start_is_refused_and_a_reo
     // The first browser closes; the run goes on and a new page rejoins it, question and all.
     drop(first);
     std::thread::sleep(std::time::Duration::from_millis(500));
-    let Some(mut again) = browser("stop-again", 1280, 800) else { return };
+    let Some(mut again) = browser("stop-again", 1280, 800) else {
+        return;
+    };
     again.open(&station.url);
     dialog(&mut again, "Check the spindle from the other side");
-    assert!(again.text("#steps").contains("wait until speed_actual"), "{}", again.text("#steps"));
+    assert!(
+        again.text("#steps").contains("wait until speed_actual"),
+        "{}",
+        again.text("#steps")
+    );
     again.click("#dialog-buttons .ok");
     again.wait_for_text("#steps", "dwell");
 
@@ -304,7 +331,10 @@ fn stop_in_the_page_brakes_to_standstill_and_a_second_start_is_refused_and_a_reo
     again.wait_for_text("#stop-note", "Press again");
     again.wait_for_text("#word", "FAIL");
     let line = again.text("#verdict-line");
-    assert!(line.contains("INTERRUPTED") && line.contains("Stop button"), "{line}");
+    assert!(
+        line.contains("INTERRUPTED") && line.contains("Stop button"),
+        "{line}"
+    );
     let (last, word) = braked_before_disable(&station.trace());
     assert!(
         last.abs() < STANDSTILL,
@@ -317,13 +347,18 @@ fn stop_in_the_page_brakes_to_standstill_and_a_second_start_is_refused_and_a_reo
 
 #[test]
 fn a_drive_fault_shows_fail_with_the_reason() {
-    let Some(mut b) = browser("fault", 1280, 800) else { return };
+    let Some(mut b) = browser("fault", 1280, 800) else {
+        return;
+    };
     let station = StationUnderTest::start("fault", LONG_RUN, &["--sim", "trip-at=1s:0x1234"]);
     start_in_page(&mut b, &station.url, "A. Operator", "SP-000003");
     b.wait_for_text("#word", "FAIL");
     let line = b.text("#verdict-line");
     assert!(line.contains("ERROR") && line.contains("fault"), "{line}");
-    assert!(b.text("#failed").contains("FAIL") || !b.text("#failed").is_empty(), "what failed is listed");
+    assert!(
+        b.text("#failed").contains("FAIL") || !b.text("#failed").is_empty(),
+        "what failed is listed"
+    );
     shot(&mut b, "fault-1280x800");
     drop(b);
     station.end();
@@ -331,20 +366,29 @@ fn a_drive_fault_shows_fail_with_the_reason() {
 
 #[test]
 fn sigterm_to_the_station_mid_run_stops_the_drive_before_it_exits() {
-    let Some(mut b) = browser("sigterm", 1280, 800) else { return };
+    let Some(mut b) = browser("sigterm", 1280, 800) else {
+        return;
+    };
     let station = StationUnderTest::start("sigterm", LONG_RUN, &[]);
     start_in_page(&mut b, &station.url, "A. Operator", "SP-000004");
     dialog(&mut b, "Check the spindle from the other side");
     station.run.signal("TERM");
     // Every page hears that the station shuts down and how the run ended.
     b.wait_for_text("#word", "FAIL");
-    assert!(b.text("#verdict-line").contains("SIGTERM"), "{}", b.text("#verdict-line"));
+    assert!(
+        b.text("#verdict-line").contains("SIGTERM"),
+        "{}",
+        b.text("#verdict-line")
+    );
     let trace_path = station.dir.join("run.trace");
     let (code, out) = station.run.finish();
     assert_eq!(code, Some(143), "{out}");
     let trace = std::fs::read_to_string(trace_path).expect("the trace");
     let (last, word) = braked_before_disable(&trace);
-    assert!(last.abs() < STANDSTILL, "disable (control word {word}) at {last} rpm");
+    assert!(
+        last.abs() < STANDSTILL,
+        "disable (control word {word}) at {last} rpm"
+    );
 }
 
 /// One raw HTTP/1.1 request; the status code and the whole answer.
@@ -355,7 +399,8 @@ fn http(url: &str, request: &str) -> (u16, String) {
         .next()
         .expect("host:port");
     let mut s = std::net::TcpStream::connect(address).expect("the station listens");
-    s.write_all(request.replace("HOST", address).as_bytes()).expect("the request is sent");
+    s.write_all(request.replace("HOST", address).as_bytes())
+        .expect("the request is sent");
     let mut answer = String::new();
     let _ = s.read_to_string(&mut answer);
     let status = answer
@@ -375,7 +420,12 @@ fn without_the_token_or_with_a_wrong_one_nothing_is_served_or_started() {
     let base = station.url.clone();
     // A token from a file stays out of the console.
     assert!(!station.url.contains("token"), "{}", station.url);
-    let get = |path: &str| http(&base, &format!("GET {path} HTTP/1.1\r\nHost: HOST\r\nConnection: close\r\n\r\n"));
+    let get = |path: &str| {
+        http(
+            &base,
+            &format!("GET {path} HTTP/1.1\r\nHost: HOST\r\nConnection: close\r\n\r\n"),
+        )
+    };
     assert_eq!(get("/").0, 401, "no token");
     assert_eq!(get("/events").0, 401, "no token for the events");
     assert_eq!(get("/?token=wrong").0, 403, "a wrong token");
@@ -390,7 +440,11 @@ fn without_the_token_or_with_a_wrong_one_nothing_is_served_or_started() {
         )
     };
     assert_eq!(post("").0, 401, "a start without the token");
-    assert_eq!(post("x-drivescript-token: wrong\r\n").0, 403, "a start with a wrong token");
+    assert_eq!(
+        post("x-drivescript-token: wrong\r\n").0,
+        403,
+        "a start with a wrong token"
+    );
     let (code, answer) = post("x-drivescript-token: a-long-enough-secret-for-this-bench-0123456789\r\n");
     assert_eq!(code, 200, "the right token starts a run: {answer}");
     let stop = "POST /api/stop HTTP/1.1\r\nHost: HOST\r\nConnection: close\r\nContent-Length: 0\r\n\r\n";
@@ -398,9 +452,17 @@ fn without_the_token_or_with_a_wrong_one_nothing_is_served_or_started() {
     // The address printed opens the page (the token becomes a cookie), whose own
     // requests carry the token: it shows the run and stops it.
     if let Some(mut b) = browser("token", 1280, 800) {
-        b.open(&format!("{base}?token=a-long-enough-secret-for-this-bench-0123456789"));
+        b.open(&format!(
+            "{base}?token=a-long-enough-secret-for-this-bench-0123456789"
+        ));
         dialog(&mut b, "Check the spindle from the other side");
-        assert!(!b.eval("location.href").as_str().unwrap_or_default().contains("token"), "the token left the address bar");
+        assert!(
+            !b.eval("location.href")
+                .as_str()
+                .unwrap_or_default()
+                .contains("token"),
+            "the token left the address bar"
+        );
         // Stop is at hand in the dialog too.
         b.click("#dialog-stop");
         b.wait_for_text("#word", "FAIL");
@@ -409,7 +471,13 @@ fn without_the_token_or_with_a_wrong_one_nothing_is_served_or_started() {
     station.end();
     // Only the one start with the right token ran.
     let listed = crate::support::drivescript(
-        &["results", "list", "--simulated", "--results", &store.to_string_lossy()],
+        &[
+            "results",
+            "list",
+            "--simulated",
+            "--results",
+            &store.to_string_lossy(),
+        ],
         "",
     );
     let listed = crate::support::stdout(&listed);

@@ -133,7 +133,10 @@ impl Browser {
     /// Opens `url` and waits until the page has loaded.
     pub fn open(&mut self, url: &str) {
         self.call("Page.navigate", json!({"url": url}));
-        self.wait_for("document.readyState === 'complete' && location.href !== 'about:blank'", "the page to load");
+        self.wait_for(
+            "document.readyState === 'complete' && location.href !== 'about:blank'",
+            "the page to load",
+        );
     }
 
     /// The value of `expression` in the page (a promise is awaited).
@@ -169,7 +172,10 @@ impl Browser {
             }
             if started.elapsed() > Duration::from_secs(30) {
                 let page = self.eval("document.body ? document.body.innerText : ''");
-                panic!("waited 30 s for {what} ({condition}); the page shows:\n{}", page.as_str().unwrap_or_default());
+                panic!(
+                    "waited 30 s for {what} ({condition}); the page shows:\n{}",
+                    page.as_str().unwrap_or_default()
+                );
             }
             std::thread::sleep(Duration::from_millis(40));
         }

@@ -91,8 +91,16 @@ function apply(ev) {
   }
 }
 
+// The time shown never runs backwards: the page counts on between events, and the run's
+// clock in the next event may lag what it has counted.
+function shownElapsed() {
+  const run = view.run;
+  return run.result ? run.elapsed_s : run.elapsed_s + (performance.now() - receivedAt) / 1000;
+}
+
 function setElapsed(s) {
-  if (view.run && s > view.run.elapsed_s) view.run.elapsed_s = s;
+  if (!view.run) return;
+  view.run.elapsed_s = Math.max(s, shownElapsed());
   receivedAt = performance.now();
 }
 
@@ -164,7 +172,7 @@ function renderRun(run) {
 function tick() {
   const run = view && view.run;
   if (!run) return;
-  const elapsed = run.result ? run.elapsed_s : run.elapsed_s + (performance.now() - receivedAt) / 1000;
+  const elapsed = shownElapsed();
   $("elapsed").textContent = `elapsed ${clock(elapsed)}`;
   $("remaining").textContent = run.planned_s && !run.result
     ? `· about ${clock(Math.max(0, run.planned_s - elapsed))} left` : "";
@@ -319,5 +327,7 @@ function loadRuns() {
 $("operator").value = localStorage.getItem("drivescript-operator") || "";
 $("operator").addEventListener("input", () => localStorage.setItem("drivescript-operator", $("operator").value));
 setInterval(tick, 500);
+// A panel turned or a window resized: the plots take the new width.
+window.addEventListener("resize", render);
 connect();
 loadRuns();
