@@ -46,7 +46,7 @@ impl PlotBuffer {
     pub fn push(&mut self, t: f64, v: f64) -> Pushed {
         let index = self.seen;
         self.seen += 1;
-        if index % self.stride != 0 {
+        if !index.is_multiple_of(self.stride) {
             return Pushed::Dropped;
         }
         let mut pushed = Pushed::Kept;
@@ -55,7 +55,7 @@ impl PlotBuffer {
             halve(&mut self.v);
             self.stride *= 2;
             pushed = Pushed::Compacted;
-            if index % self.stride != 0 {
+            if !index.is_multiple_of(self.stride) {
                 return Pushed::Compacted;
             }
         }
@@ -66,7 +66,7 @@ impl PlotBuffer {
 
     /// Whether the sample just pushed was kept (for the batch sent to pages).
     pub fn last_kept(&self) -> bool {
-        (self.seen - 1) % self.stride == 0
+        (self.seen - 1).is_multiple_of(self.stride)
     }
 }
 
@@ -95,7 +95,7 @@ mod tests {
         assert_eq!(b.t[0], 0.0);
         assert!(*b.t.last().unwrap() > 3500.0, "the end of the run is kept");
         // Evenly spaced: every kept sample is a multiple of the stride.
-        assert!(b.v.iter().all(|v| (*v as u64) % b.stride == 0));
+        assert!(b.v.iter().all(|v| (*v as u64).is_multiple_of(b.stride)));
         let gaps: Vec<f64> = b.v.windows(2).map(|w| w[1] - w[0]).collect();
         assert!(gaps.iter().all(|g| *g == b.stride as f64), "{gaps:?}");
     }

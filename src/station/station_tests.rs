@@ -44,7 +44,10 @@ fn station(name: &str) -> Station {
 fn until(station: &Station, what: &str, ready: impl Fn(&StationView) -> bool) {
     let started = Instant::now();
     while !station.log().read(&ready) {
-        assert!(started.elapsed() < Duration::from_secs(20), "waited 20 s for {what}");
+        assert!(
+            started.elapsed() < Duration::from_secs(20),
+            "waited 20 s for {what}"
+        );
         std::thread::sleep(Duration::from_millis(10));
     }
 }
@@ -59,22 +62,36 @@ fn dialog_id(station: &Station) -> Option<u64> {
 fn one_run_at_a_time_answers_only_to_the_open_question_and_a_dead_server_stops_the_run() {
     let station = station("dead-server");
     assert!(station.start(0, "", "A").is_err(), "a serial is needed");
-    assert!(station.start(0, "SP-1", "").is_err(), "an operator's name is needed");
+    assert!(
+        station.start(0, "SP-1", "").is_err(),
+        "an operator's name is needed"
+    );
     assert!(station.start(7, "SP-1", "A").is_err(), "only the recipes given");
     station.start(0, "SP-1", "A").expect("the run starts");
     let refused = station.start(0, "SP-2", "B").expect_err("one run per drive");
-    assert!(refused.0.contains("a run is under way") && refused.0.contains("SP-1"), "{refused}");
+    assert!(
+        refused.0.contains("a run is under way") && refused.0.contains("SP-1"),
+        "{refused}"
+    );
     until(&station, "the question", |v| {
         v.run.as_ref().is_some_and(|r| r.dialog.is_some())
     });
     let id = dialog_id(&station).expect("a question");
-    assert!(station.answer(id + 1, "").is_err(), "an answer to another question");
+    assert!(
+        station.answer(id + 1, "").is_err(),
+        "an answer to another question"
+    );
     station.answer(id, "").expect("the answer");
-    assert!(station.answer(id, "").is_err(), "a second answer to the same question");
+    assert!(
+        station.answer(id, "").is_err(),
+        "a second answer to the same question"
+    );
     until(&station, "the dwell", |v| {
-        v.run
-            .as_ref()
-            .is_some_and(|r| r.steps.iter().any(|s| s.label.starts_with("dwell") && s.state == "running"))
+        v.run.as_ref().is_some_and(|r| {
+            r.steps
+                .iter()
+                .any(|s| s.label.starts_with("dwell") && s.state == "running")
+        })
     });
     // The web server's thread is gone: nobody could press Stop any more.
     let signals = crate::stop_request::StopRequests::new();
@@ -89,6 +106,12 @@ fn one_run_at_a_time_answers_only_to_the_open_question_and_a_dead_server_stops_t
         "{:?}",
         result.reason
     );
-    assert_eq!(result.end, vec!["drive left in ready to switch on at 0 rpm".to_string()]);
-    assert!(station.start(0, "SP-3", "A").is_err(), "no new run once the station ends");
+    assert_eq!(
+        result.end,
+        vec!["drive left in ready to switch on at 0 rpm".to_string()]
+    );
+    assert!(
+        station.start(0, "SP-3", "A").is_err(),
+        "no new run once the station ends"
+    );
 }

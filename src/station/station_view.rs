@@ -262,7 +262,7 @@ impl StationView {
             if pushed == Pushed::Compacted {
                 let stride = series.stride;
                 // Keep the batch's points the doubled stride still keeps, as the page will.
-                batch.retain(|(s, index, _, _)| *s != i || index % stride == 0);
+                batch.retain(|(s, index, _, _)| *s != i || index.is_multiple_of(stride));
             }
             if pushed != Pushed::Dropped && series.last_kept() {
                 batch.push((i, series_index(series), at_s, *v));
