@@ -4,10 +4,11 @@
 //! the web layer are the library's.
 
 use super::listen_args::ListenArgs;
+use super::recipe_commands::parse_set;
 use super::{panic_notice, stop_signals};
 use crate::family::Registry;
 use crate::run::{
-    BadValue, ConnectionArgs, DictionaryArgs, OperatorArgs, OutputArgs, RecordArgs, SafeStopArgs, INVALID,
+    ConnectionArgs, DictionaryArgs, OperatorArgs, OutputArgs, RecordArgs, SafeStopArgs, INVALID,
 };
 use crate::session::PANIC_EXIT;
 use crate::station::{routes, supervise, Ended, RunOptions, Station, StationSetup, ASSETS};
@@ -58,15 +59,6 @@ pub struct StationArgs {
     connection: ConnectionArgs,
     #[command(flatten)]
     record: RecordArgs,
-}
-
-fn parse_set(text: &str) -> Result<(String, String), BadValue> {
-    match text.split_once('=') {
-        Some((k, v)) if !k.trim().is_empty() => Ok((k.trim().to_string(), v.trim().to_string())),
-        _ => Err(BadValue(format!(
-            "`{text}`: write NAME=VALUE, e.g. speed=8000rpm"
-        ))),
-    }
 }
 
 pub fn station(args: &StationArgs, registry: &Registry) -> i32 {
