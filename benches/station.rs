@@ -70,12 +70,15 @@ fn view_size(address: &str) -> Result<usize, String> {
 
 /// The station runs the recipe once with a page connected; what the process cost, the
 /// bytes the page received, and the size of the view a page gets at the end.
-fn station_run(recipe: &std::path::Path) -> Result<(Cost, usize, usize), String> {
+fn station_run(recipe: &std::path::Path, dir: &std::path::Path) -> Result<(Cost, usize, usize), String> {
     let started = Instant::now();
     let mut child = Command::new(binary())
         .arg("station")
         .arg(recipe)
         .args(["--fast", "--no-results", "--listen", "127.0.0.1:0"])
+        // Each station run writes its HTML report (the result screen links to it).
+        .arg("--output-dir")
+        .arg(dir)
         .stdout(Stdio::piped())
         .stderr(Stdio::null())
         .spawn()
@@ -176,7 +179,10 @@ fn main() -> ExitCode {
         command
             .arg("run")
             .arg(&recipe)
-            .args(["--fast", "--no-results", "--no-progress"]);
+            .args(["--fast", "--no-results", "--no-progress"])
+            // The same report the station writes, so only the page makes the difference.
+            .args(["--report", "plain.html", "--output-dir"])
+            .arg(&dir);
         match measure_child(command) {
             Ok((_, cost)) => {
                 plain.push(cpu(&cost));
@@ -187,7 +193,7 @@ fn main() -> ExitCode {
                 return ExitCode::FAILURE;
             }
         }
-        match station_run(&recipe) {
+        match station_run(&recipe, &dir) {
             Ok((cost, received, view)) => {
                 paged.push(cpu(&cost));
                 wall.1 = cost.wall.as_secs_f64();
