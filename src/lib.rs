@@ -39,6 +39,7 @@ pub mod script;
 pub mod session;
 pub mod sim;
 pub mod sim_server;
+pub mod station;
 pub mod stop_request;
 pub mod store_site;
 pub mod web;

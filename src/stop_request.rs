@@ -21,6 +21,11 @@ impl StopSignal {
     pub const QUIT: StopSignal = StopSignal::posix(3, "SIGQUIT");
     pub const TERM: StopSignal = StopSignal::posix(15, "SIGTERM");
     pub const ALL: [StopSignal; 4] = [Self::INT, Self::TERM, Self::HUP, Self::QUIT];
+    /// The operator station's Stop button: the same request as Ctrl-C, said as what it is.
+    pub const STOP_BUTTON: StopSignal = StopSignal::posix(2, "the Stop button");
+    /// The operator station's web server failed: nobody can answer or press Stop any more,
+    /// so the run it started is stopped as by SIGTERM.
+    pub const STATION_FAILED: StopSignal = StopSignal::posix(15, "the station's server failing");
 
     const fn posix(number: i32, name: &'static str) -> StopSignal {
         StopSignal { number, name }
@@ -45,6 +50,12 @@ impl StopSignal {
 
     /// What usually sends it, for the message the user reads.
     pub fn describe(self) -> &'static str {
+        if self == Self::STOP_BUTTON {
+            return "the Stop button on the operator station";
+        }
+        if self == Self::STATION_FAILED {
+            return "the operator station's web server, which failed (a bug)";
+        }
         match self.number {
             1 => "SIGHUP (terminal closed or ssh session dropped)",
             2 => "Ctrl-C (SIGINT)",

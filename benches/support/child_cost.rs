@@ -32,6 +32,16 @@ pub fn measure_child(mut command: Command) -> Result<(String, Cost), String> {
             output.push('\n');
         }
     }
+    let (code, cost) = wait_cost(pid, started)?;
+    if code != Some(0) {
+        return Err(format!("{command:?} failed:\n{output}"));
+    }
+    Ok((output, cost))
+}
+
+/// Waits for the child `pid` (started at `started`) to end: its exit code (`None` when a
+/// signal ended it) and what it cost.
+pub fn wait_cost(pid: libc::pid_t, started: Instant) -> Result<(Option<i32>, Cost), String> {
     let mut status = 0;
     // SAFETY: an all-zero rusage is a valid value for wait4 to fill in.
     let mut usage: libc::rusage = unsafe { std::mem::zeroed() };
@@ -40,12 +50,10 @@ pub fn measure_child(mut command: Command) -> Result<(String, Cost), String> {
     if waited != pid {
         return Err("wait4 failed".into());
     }
-    if !libc::WIFEXITED(status) || libc::WEXITSTATUS(status) != 0 {
-        return Err(format!("{command:?} failed:\n{output}"));
-    }
+    let code = libc::WIFEXITED(status).then(|| libc::WEXITSTATUS(status));
     let time = |t: libc::timeval| Duration::new(t.tv_sec as u64, t.tv_usec as u32 * 1000);
     Ok((
-        output,
+        code,
         Cost {
             wall: started.elapsed(),
             user: time(usage.ru_utime),

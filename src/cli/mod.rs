@@ -31,6 +31,7 @@ mod results_quality;
 mod results_serve;
 mod safe_stop_notes;
 mod simulate_command;
+mod station_command;
 mod stop_command;
 mod stop_signals;
 mod text_table;
@@ -95,6 +96,7 @@ enum Command {
     Maintain(maintain_command::MaintainArgs),
     Schema(recipe_commands::SchemaArgs),
     Results(results_command::ResultsArgs),
+    Station(Box<station_command::StationArgs>),
     Completions(CompletionsArgs),
     Man(man_page::ManArgs),
 }
@@ -137,7 +139,7 @@ pub fn main(registry: &Registry) -> i32 {
     // process before or during its safe stop.
     if !matches!(
         cli.command,
-        Command::Run(_) | Command::Stop(_) | Command::Maintain(_) | Command::Restore(_)
+        Command::Run(_) | Command::Stop(_) | Command::Maintain(_) | Command::Restore(_) | Command::Station(_)
     ) {
         quiet_on_closed_pipe();
     }
@@ -156,6 +158,7 @@ pub fn main(registry: &Registry) -> i32 {
         Command::Maintain(args) => maintain_command::maintain(&args, registry),
         Command::Schema(args) => recipe_commands::schema(&args, registry),
         Command::Results(args) => results_command::results(&args),
+        Command::Station(args) => station_command::station(&args, registry),
         Command::Completions(args) => {
             use std::io::Write;
             let mut script = Vec::new();

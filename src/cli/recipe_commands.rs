@@ -86,7 +86,8 @@ pub struct RunArgs {
     record: crate::run::RecordArgs,
 }
 
-fn parse_set(text: &str) -> Result<(String, String), BadValue> {
+/// `--set NAME=VALUE` (also `station`'s).
+pub(super) fn parse_set(text: &str) -> Result<(String, String), BadValue> {
     match text.split_once('=') {
         Some((k, v)) if !k.trim().is_empty() => Ok((k.trim().to_string(), v.trim().to_string())),
         _ => Err(BadValue(format!(

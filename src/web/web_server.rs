@@ -102,6 +102,12 @@ impl WebServer {
         &self.url
     }
 
+    /// Whether its thread still serves (a panic that ended it is a bug the front end
+    /// must answer: the station stops the run it can no longer supervise).
+    pub fn is_serving(&self) -> bool {
+        self.thread.as_ref().is_some_and(|t| !t.is_finished())
+    }
+
     /// Stops taking connections, lets the requests under way finish, and returns when
     /// the server's thread has ended.
     pub fn shutdown(mut self) {

@@ -18,10 +18,10 @@ use std::time::{Duration, Instant};
 
 /// The default standstill threshold (rpm).
 #[cfg(unix)]
-const STANDSTILL: f64 = 10.0;
+pub(crate) const STANDSTILL: f64 = 10.0;
 /// Control word of enable operation (SD2).
 #[cfg(unix)]
-const ENABLE_OPERATION: i64 = 15;
+pub(crate) const ENABLE_OPERATION: i64 = 15;
 
 /// The shipped recipes and scripts that enable a drive.
 #[cfg(unix)]
@@ -42,7 +42,7 @@ fn shipped_recipes_that_enable() -> Vec<PathBuf> {
 
 /// The speed values (rpm) of the trace's speed_actual replies, each with its line number.
 #[cfg(unix)]
-fn speed_replies(trace: &str) -> Vec<(usize, f64)> {
+pub(crate) fn speed_replies(trace: &str) -> Vec<(usize, f64)> {
     numbered(trace, |line| {
         let (_, after) = line.split_once("# reply speed_actual = ")?;
         after.split_whitespace().next()?.parse().ok()
@@ -51,7 +51,7 @@ fn speed_replies(trace: &str) -> Vec<(usize, f64)> {
 
 /// The line numbers and values of the control words written in the trace.
 #[cfg(unix)]
-fn control_words(trace: &str) -> Vec<(usize, i64)> {
+pub(crate) fn control_words(trace: &str) -> Vec<(usize, i64)> {
     numbered(trace, |line| {
         Some(traced_writes(line, CONTROL_WORD).into_iter().next()?.1)
     })

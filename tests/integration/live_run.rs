@@ -87,7 +87,17 @@ impl LiveRun {
             .read_to_string(&mut self.seen)
             .expect("the rest of the output");
         let code = self.child.wait().expect("the run ends").code();
-        (code, self.seen)
+        (code, std::mem::take(&mut self.seen))
+    }
+}
+
+/// A test that fails half way leaves no program running behind it.
+impl Drop for LiveRun {
+    fn drop(&mut self) {
+        if matches!(self.child.try_wait(), Ok(None)) {
+            let _ = self.child.kill();
+            let _ = self.child.wait();
+        }
     }
 }
 

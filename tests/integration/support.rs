@@ -67,6 +67,15 @@ pub fn tool_missing(what: &str) {
 /// shared with other tests, ready for `--print-to-pdf=` or `--screenshot=` and a file;
 /// `None` (after [`tool_missing`]) where it is not installed.
 pub fn headless_chromium(profile: &Path) -> Option<Command> {
+    let mut command = chromium(profile)?;
+    command.arg("--no-pdf-header-footer");
+    Some(command)
+}
+
+/// [`headless_chromium`] for a page that lives on (driven over the DevTools protocol):
+/// without the printing flag, under which Chromium 14x's renderer dies as soon as the
+/// page's size is set.
+pub fn chromium(profile: &Path) -> Option<Command> {
     let Some(program) = ["chromium", "chromium-browser", "google-chrome"]
         .into_iter()
         .find(|c| {
@@ -90,7 +99,6 @@ pub fn headless_chromium(profile: &Path) -> Option<Command> {
             "--disable-background-networking",
             "--disable-component-update",
             "--disable-sync",
-            "--no-pdf-header-footer",
         ])
         .arg(format!("--user-data-dir={}", profile.display()));
     Some(command)

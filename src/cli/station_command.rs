@@ -1,0 +1,129 @@
+//! `drivescript station`: serves the operator station's page for the recipes given, with
+//! every option of `run` passed on to each run, until a stop signal (which stops a run
+//! under way safely first). Parses, prints the address and the exit code; the station and
+//! the web layer are the library's.
+
+use super::listen_args::ListenArgs;
+use super::recipe_commands::parse_set;
+use super::{panic_notice, stop_signals};
+use crate::family::Registry;
+use crate::run::{
+    ConnectionArgs, DictionaryArgs, OperatorArgs, OutputArgs, RecordArgs, SafeStopArgs, INVALID,
+};
+use crate::session::PANIC_EXIT;
+use crate::station::{routes, supervise, Ended, RunOptions, Station, StationSetup, ASSETS};
+use crate::web::WebServer;
+use clap::Args;
+use std::path::PathBuf;
+use std::sync::Arc;
+
+#[derive(Debug, Args)]
+/// Serve the operator station: a browser page that runs the given recipes
+///
+/// Serve a page for the operator at a test bench: choose one of the recipes given here,
+/// scan or type the unit's serial, Start, answer the operator steps in large dialogs,
+/// watch the live plots, and read PASS, FAIL or MARGINAL with what failed and how the drive
+/// was left. Each run is the same run as `drivescript run` (same checks, reports, results
+/// store and safe stop); one run at a time. The Stop button is a stop request as Ctrl-C (a
+/// second press switches the power stage off). Closing the page never stops or pauses a
+/// run; reopening it rejoins. Ctrl-C or SIGTERM to the station stops a run under way
+/// safely before the station exits. Listens on 127.0.0.1 unless --listen says otherwise;
+/// any other address needs a token (--token-file, or one is made and printed in the
+/// address to open).
+pub struct StationArgs {
+    /// Recipe files (`.yaml`) or Rhai scripts (`.rhai`): the only ones the page can start.
+    #[arg(value_name = "RECIPE", required = true)]
+    recipes: Vec<PathBuf>,
+    #[command(flatten)]
+    listen: ListenArgs,
+    /// Parameter override, NAME=VALUE (e.g. speed=8000rpm); may be repeated.
+    #[arg(long = "set", value_name = "NAME=VALUE", value_parser = parse_set)]
+    set: Vec<(String, String)>,
+    /// Simulated drive only: run in virtual time.
+    #[arg(long)]
+    fast: bool,
+    /// Directory for every output given as a relative path (default: the current
+    /// directory); each run's HTML report is written here ({serial}-{date}T{time}.html
+    /// unless --report names it).
+    #[arg(long, value_name = "DIR", default_value = ".")]
+    output_dir: PathBuf,
+    #[command(flatten)]
+    outputs: OutputArgs,
+    #[command(flatten)]
+    safe_stop: SafeStopArgs,
+    #[command(flatten)]
+    operator: OperatorArgs,
+    #[command(flatten)]
+    dictionary: DictionaryArgs,
+    #[command(flatten)]
+    connection: ConnectionArgs,
+    #[command(flatten)]
+    record: RecordArgs,
+}
+
+pub fn station(args: &StationArgs, registry: &Registry) -> i32 {
+    let options = RunOptions {
+        set: args.set.clone(),
+        fast: args.fast,
+        output_dir: args.output_dir.clone(),
+        dictionary: args.dictionary.clone(),
+        connection: args.connection.clone(),
+        outputs: args.outputs.clone(),
+        safe_stop: args.safe_stop.clone(),
+        operator: args.operator.clone(),
+        record: args.record.clone(),
+    };
+    let setup = match StationSetup::new(registry.clone(), &args.recipes, options) {
+        Ok(s) => s,
+        Err(e) => {
+            eprint!(
+                "{}",
+                e.render(std::io::IsTerminal::is_terminal(&std::io::stderr()))
+            );
+            eprintln!("error: the station starts only with recipes that pass their checks; nothing was sent");
+            return e.exit_code().max(INVALID);
+        }
+    };
+    let settings = match args.listen.settings() {
+        Ok(s) => s,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return INVALID;
+        }
+    };
+    let signals = stop_signals::install(true);
+    panic_notice::install();
+    let names: Vec<String> = setup.recipes.iter().map(|r| r.name.clone()).collect();
+    let station = Arc::new(Station::new(setup));
+    let pages = routes(station.clone(), settings.token().text());
+    let server = match WebServer::start(settings, pages, ASSETS) {
+        Ok(s) => s,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return INVALID;
+        }
+    };
+    println!(
+        "station: {} ({})",
+        names.join(", "),
+        if args.connection.is_simulated() {
+            "on the built-in simulated drive"
+        } else {
+            "on the drive given"
+        }
+    );
+    println!(
+        "{}",
+        args.listen.announcement(&server, "open the operator station")
+    );
+    println!("Ctrl-C or SIGTERM ends the station (a run under way is stopped safely first)");
+    match supervise(&station, &signals, &|| server.is_serving()) {
+        Ended::Signal(signal) => signal.exit_code(),
+        Ended::ServerFailed => {
+            eprintln!(
+                "error: the station's web server stopped (a bug); the run under way was stopped safely"
+            );
+            PANIC_EXIT
+        }
+    }
+}
