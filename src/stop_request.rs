@@ -21,6 +21,11 @@ impl StopSignal {
     pub const QUIT: StopSignal = StopSignal::posix(3, "SIGQUIT");
     pub const TERM: StopSignal = StopSignal::posix(15, "SIGTERM");
     pub const ALL: [StopSignal; 4] = [Self::INT, Self::TERM, Self::HUP, Self::QUIT];
+    /// Windows' console events besides Ctrl-C (which is SIGINT there too), numbered as its
+    /// C runtime numbers the signals it raises for them (SIGBREAK 21; a closed console
+    /// window is the hang-up of Windows).
+    pub const CTRL_BREAK: StopSignal = StopSignal::posix(21, "Ctrl-Break");
+    pub const CONSOLE_CLOSED: StopSignal = StopSignal::posix(1, "console closed");
 
     const fn posix(number: i32, name: &'static str) -> StopSignal {
         StopSignal { number, name }
@@ -45,10 +50,12 @@ impl StopSignal {
 
     /// What usually sends it, for the message the user reads.
     pub fn describe(self) -> &'static str {
-        match self.number {
-            1 => "SIGHUP (terminal closed or ssh session dropped)",
-            2 => "Ctrl-C (SIGINT)",
-            3 => "SIGQUIT (Ctrl-\\)",
+        match self.name {
+            "SIGHUP" => "SIGHUP (terminal closed or ssh session dropped)",
+            "SIGINT" => "Ctrl-C (SIGINT)",
+            "SIGQUIT" => "SIGQUIT (Ctrl-\\)",
+            "Ctrl-Break" => "Ctrl-Break",
+            "console closed" => "the console window closing (or Windows logging off or shutting down)",
             _ => "SIGTERM (kill, timeout, systemd or a cancelled CI job)",
         }
     }

@@ -1,7 +1,7 @@
 //! The process's stop signals, turned into stop requests: SIGINT, SIGTERM, SIGHUP and
-//! SIGQUIT all ask for the same safe stop; a second one asks for the power stage to be
-//! switched off at once. Only counts and tells the user; what a request does to the drive
-//! is the runner's business.
+//! SIGQUIT (on Windows Ctrl-C, Ctrl-Break and the console window closing) all ask for the
+//! same safe stop; a second one asks for the power stage to be switched off at once. Only
+//! counts and tells the user; what a request does to the drive is the runner's business.
 
 use crate::stop_request::{StopRequests, StopSignal};
 use std::io::Write;
@@ -74,15 +74,75 @@ fn watch(stop: Arc<StopRequests>, loud: bool) -> std::io::Result<()> {
     Ok(())
 }
 
-#[cfg(not(unix))]
+/// Windows: Ctrl-C, Ctrl-Break and the console window closing (or logging off, shutting
+/// down) through the console's own handler list; no crate, one system call.
+#[cfg(windows)]
 fn watch(stop: Arc<StopRequests>, loud: bool) -> std::io::Result<()> {
-    let count = std::sync::atomic::AtomicUsize::new(0);
-    ctrlc::set_handler(move || {
-        stop.request(StopSignal::INT);
-        let n = count.fetch_add(1, std::sync::atomic::Ordering::SeqCst) + 1;
-        if loud {
-            announce(StopSignal::INT, n);
+    console::watch(stop, loud)
+}
+
+/// Elsewhere (neither Unix nor Windows) nothing arrives from outside.
+#[cfg(not(any(unix, windows)))]
+fn watch(_: Arc<StopRequests>, _: bool) -> std::io::Result<()> {
+    Err(std::io::Error::other("no stop signals on this system"))
+}
+
+#[cfg(windows)]
+mod console {
+    use super::{announce, Arc, OnceLock, StopRequests, StopSignal};
+    use std::sync::atomic::{AtomicUsize, Ordering};
+
+    type Handler = unsafe extern "system" fn(u32) -> i32;
+
+    #[link(name = "kernel32")]
+    extern "system" {
+        fn SetConsoleCtrlHandler(handler: Option<Handler>, add: i32) -> i32;
+    }
+
+    const CTRL_C_EVENT: u32 = 0;
+    const CTRL_BREAK_EVENT: u32 = 1;
+
+    static WATCHED: OnceLock<(Arc<StopRequests>, bool)> = OnceLock::new();
+    static COUNT: AtomicUsize = AtomicUsize::new(0);
+
+    pub fn watch(stop: Arc<StopRequests>, loud: bool) -> std::io::Result<()> {
+        if WATCHED.set((stop, loud)).is_err() {
+            return Ok(());
         }
-    })
-    .map_err(std::io::Error::other)
+        // SAFETY: `on_event` is a plain function for the life of the process; adding a
+        // handler has no other precondition.
+        if unsafe { SetConsoleCtrlHandler(Some(on_event), 1) } == 0 {
+            return Err(std::io::Error::last_os_error());
+        }
+        Ok(())
+    }
+
+    /// Called by Windows on a thread of its own for each console event. It must not
+    /// unwind (nothing here panics: the requests' lock ignores poisoning, `announce`
+    /// ignores a failed write).
+    unsafe extern "system" fn on_event(event: u32) -> i32 {
+        let Some((stop, loud)) = WATCHED.get() else {
+            return 0;
+        };
+        let signal = match event {
+            CTRL_C_EVENT => StopSignal::INT,
+            CTRL_BREAK_EVENT => StopSignal::CTRL_BREAK,
+            _ => StopSignal::CONSOLE_CLOSED,
+        };
+        stop.request(signal);
+        let count = COUNT.fetch_add(1, Ordering::SeqCst) + 1;
+        if *loud {
+            announce(signal, count);
+        }
+        if event > CTRL_BREAK_EVENT {
+            // A closed window, a log-off or a shutdown: Windows ends the process as soon
+            // as this returns, so it returns never; the process ends when the safe stop
+            // is done and the run exits, or when Windows' own time is up (5 s for a
+            // closed window).
+            loop {
+                std::thread::park();
+            }
+        }
+        1
+    }
 }

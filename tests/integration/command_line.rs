@@ -149,6 +149,8 @@ fn help_shows_examples_and_exit_codes_and_version_the_build() {
     assert_has(&version, &["(commit ", ", built 20"]);
 }
 
+/// Unix: a device file that takes no line settings (Windows has no such file to name).
+#[cfg(unix)]
 #[test]
 fn a_file_that_is_no_serial_port_is_said_plainly() {
     let out = drivescript(&["state", "--port", "/dev/null"], "");

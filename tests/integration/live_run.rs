@@ -2,7 +2,9 @@
 //! tests that signal a run in the middle; and the Ctrl-C during a dwell that several
 //! families' tests share.
 
-use crate::support::{command, repo_root, scratch_file, send_signal};
+#[cfg(unix)]
+use crate::support::send_signal;
+use crate::support::{command, repo_root, scratch_file};
 use std::path::Path;
 use std::process::Stdio;
 
@@ -61,9 +63,20 @@ impl LiveRun {
         &self.seen
     }
 
-    /// Sends signal `name` (`INT`, `TERM`, …) to the run.
+    /// Sends signal `name` (`INT`, `TERM`, …) to the run; on Windows only `KILL`, which
+    /// ends it as the Task Manager does.
     pub fn signal(&self, name: &str) {
+        #[cfg(unix)]
         send_signal(&self.child, name);
+        #[cfg(windows)]
+        {
+            assert_eq!(name, "KILL", "Windows has no signal {name}");
+            let pid = self.child.id().to_string();
+            let killed = std::process::Command::new("taskkill")
+                .args(["/F", "/PID", &pid])
+                .output();
+            assert!(killed.is_ok_and(|o| o.status.success()), "taskkill {pid}");
+        }
     }
 
     /// Ctrl-C once the output holds `text` and `pause` more has passed, then the end: what

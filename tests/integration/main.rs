@@ -64,5 +64,6 @@ mod trace_decode;
 mod trend_page;
 mod vectors;
 mod verdict_rule;
+mod wine_host;
 mod write_limits;
 mod write_refusals;
