@@ -516,6 +516,7 @@ pub fn list_ports() -> Result<Vec<PortInfo>, TransportError> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    #[cfg(unix)]
     use std::time::Instant;
 
     #[test]

@@ -80,7 +80,8 @@ fn a_drive_that_does_not_answer_is_exit_code_3_naming_the_telegram() {
     drop(listener);
 }
 
-#[cfg(unix)]
+/// Under Wine the Ctrl-C is the console's CTRL_C_EVENT (see `LiveRun::signal`), which the
+/// run's console handler turns into the same safe stop.
 #[test]
 fn ctrl_c_during_a_run_stops_safely_and_exits_130() {
     let run = LiveRun::start(["run", "tests/cases/interrupted/ctrl_c_during_run_in/recipe.yaml"]);

@@ -8,6 +8,49 @@
 /// `HOST:PORT` where the Linux side takes requests; set by `.ci/windows`.
 pub const HOST_ENV: &str = "DRIVESCRIPT_WINE_HOST";
 
+/// A `drivescript` command whose process the Linux side can find to interrupt: Wine
+/// shows a process to Linux by its program's name alone, so the program is the binary
+/// under a name of its own (a hard link beside it, removed with [`Marked`]).
+#[cfg(windows)]
+pub fn marked_command() -> (std::process::Command, Marked) {
+    static NEXT: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+    let n = NEXT.fetch_add(1, std::sync::atomic::Ordering::SeqCst);
+    let mark = format!("drivescript-marked-{}-{n}", std::process::id());
+    let binary = std::path::PathBuf::from(env!("CARGO_BIN_EXE_drivescript"));
+    let link = binary.with_file_name(format!("{mark}.exe"));
+    let _ = std::fs::remove_file(&link);
+    std::fs::hard_link(&binary, &link).expect("link the binary under a name of its own");
+    let mut command = std::process::Command::new(&link);
+    command.env("DRIVESCRIPT_RESULTS", crate::support::tests_results_store());
+    (command, Marked { mark, link })
+}
+
+/// The mark of a [`marked_command`]; its link goes when this is dropped.
+#[cfg(windows)]
+pub struct Marked {
+    pub mark: String,
+    link: std::path::PathBuf,
+}
+
+#[cfg(windows)]
+impl Drop for Marked {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_file(&self.link);
+    }
+}
+
+/// Ctrl-C to the run marked `mark`: the Linux side sends its process a SIGINT, which Wine
+/// hands to the console's handlers as the CTRL_C_EVENT a console's Ctrl-C is.
+#[cfg(windows)]
+#[track_caller]
+pub fn interrupt(mark: &str) {
+    let (_, found) = HostLine::ask(&["interrupt", mark]).expect("Ctrl-C under Wine needs the Linux side");
+    assert_ne!(
+        found, "0",
+        "no process of the run marked {mark} on the Linux side"
+    );
+}
+
 /// The Linux side: serves requests until it is killed. Ignored in a plain `cargo test`;
 /// `.ci/windows` runs it with `--ignored` and `HOST_ENV` and `WINEPREFIX` set.
 #[cfg(unix)]
@@ -82,10 +125,34 @@ mod linux {
                     let _ = writeln!(out, "ok");
                 }
             }
+            ["interrupt", mark] => {
+                let found = interrupt(mark);
+                let _ = writeln!(out, "{found}");
+            }
             _ => {
                 let _ = writeln!(out, "unknown request {line:?}");
             }
         }
+    }
+
+    /// Sends SIGINT to the processes of the program named `mark` (Wine shows a Windows
+    /// process to Linux as its program's path, `Z:\…\MARK.exe`); how many there were.
+    fn interrupt(mark: &str) -> usize {
+        let wanted = format!("\\{mark}.exe");
+        let mut found = 0;
+        for entry in std::fs::read_dir("/proc").into_iter().flatten().flatten() {
+            let Some(pid) = entry.file_name().to_str().and_then(|p| p.parse::<i32>().ok()) else {
+                continue;
+            };
+            let cmdline = std::fs::read(entry.path().join("cmdline")).unwrap_or_default();
+            let program = cmdline.split(|&b| b == 0).next().unwrap_or_default();
+            if String::from_utf8_lossy(program).trim_end().ends_with(&wanted) {
+                // SAFETY: kill only sends a signal to the process named; nothing is shared.
+                unsafe { libc::kill(pid, libc::SIGINT) };
+                found += 1;
+            }
+        }
+        found
     }
 
     /// A Linux path as Wine's processes see it (drive Z: is the root).
