@@ -120,7 +120,7 @@ mod console {
     /// Called by Windows on a thread of its own for each console event. It must not
     /// unwind (nothing here panics: the requests' lock ignores poisoning, `announce`
     /// ignores a failed write).
-    unsafe extern "system" fn on_event(event: u32) -> i32 {
+    pub(super) unsafe extern "system" fn on_event(event: u32) -> i32 {
         let Some((stop, loud)) = WATCHED.get() else {
             return 0;
         };
@@ -144,5 +144,38 @@ mod console {
             }
         }
         1
+    }
+}
+
+#[cfg(all(test, windows))]
+mod tests {
+    use super::console::on_event;
+    use super::*;
+    use std::time::Duration;
+
+    /// Windows calls the handler as here (under Wine too); a real Ctrl-C under Wine is
+    /// tested end to end in tests/integration/end_to_end.rs.
+    #[test]
+    fn each_console_event_asks_for_the_safe_stop_and_a_closing_window_waits_for_it() {
+        let stop = install(false);
+        // SAFETY: the handler takes any event number; it is called here as Windows does.
+        assert_eq!(unsafe { on_event(1) }, 1);
+        assert_eq!(stop.first(), Some(StopSignal::CTRL_BREAK));
+        assert_eq!(unsafe { on_event(0) }, 1);
+        assert_eq!(stop.count_at(Duration::ZERO), 2);
+        // A closing window: the request arrives, and the handler does not return (Windows
+        // would end the process then), so the safe stop has the time Windows gives.
+        let waiting = std::thread::spawn(|| unsafe { on_event(2) });
+        let started = std::time::Instant::now();
+        while stop.count_at(Duration::ZERO) < 3 {
+            assert!(
+                started.elapsed() < Duration::from_secs(10),
+                "no request from the closing window"
+            );
+            std::thread::sleep(Duration::from_millis(10));
+        }
+        std::thread::sleep(Duration::from_millis(300));
+        assert!(!waiting.is_finished(), "the handler returned on a closing window");
+        assert_eq!(StopSignal::CONSOLE_CLOSED.exit_code(), 129);
     }
 }

@@ -212,7 +212,6 @@ fn dnc_address_is_refused_with_address_and_for_a_family_without_dnc_addresses() 
 
 /// Ctrl-C during the sample of a run on a real pseudo-terminal: both drives stopped, the
 /// last enabled first, each read back; and afterwards each reports it by itself.
-#[cfg(unix)]
 #[test]
 fn ctrl_c_on_a_pty_stops_both_drives_each_verified() {
     let sim = Simulator::pty(&["--address", "dnc:2,dnc:3"]);

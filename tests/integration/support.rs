@@ -902,6 +902,7 @@ impl PostgresServer {
 }
 
 /// A TCP port of 127.0.0.1 nothing listens on at the moment.
+#[cfg(unix)]
 pub fn free_port() -> u16 {
     std::net::TcpListener::bind("127.0.0.1:0")
         .and_then(|l| l.local_addr())

@@ -94,7 +94,9 @@ mod linux {
         let words: Vec<&str> = words.iter().map(String::as_str).collect();
         match words.as_slice() {
             ["simulate", args @ ..] => {
-                let sim = Simulator::start(args);
+                let args: Vec<String> = args.iter().map(|a| linux_path(prefix, a)).collect();
+                let args: Vec<&str> = args.iter().map(String::as_str).collect();
+                let sim = Simulator::start(&args);
                 let n = next_com.fetch_add(1, Ordering::SeqCst);
                 let link = prefix.join("dosdevices").join(format!("com{n}"));
                 let _ = std::fs::remove_file(&link);
@@ -153,6 +155,23 @@ mod linux {
             }
         }
         found
+    }
+
+    /// A Windows path of the tests (`C:\users\…`, a capture to serve) as Linux finds it,
+    /// through the prefix's drive links; any other argument as it is.
+    fn linux_path(prefix: &Path, arg: &str) -> String {
+        let b = arg.as_bytes();
+        if b.len() > 2 && b[0].is_ascii_alphabetic() && b[1] == b':' && b[2] == b'\\' {
+            let drive = format!("{}:", arg[..1].to_ascii_lowercase());
+            let rest = arg[3..].replace('\\', "/");
+            return prefix
+                .join("dosdevices")
+                .join(drive)
+                .join(rest)
+                .display()
+                .to_string();
+        }
+        arg.to_string()
     }
 
     /// A Linux path as Wine's processes see it (drive Z: is the root).
