@@ -161,7 +161,8 @@ impl PtyEndpoint {
     }
 }
 
-#[cfg(test)]
+// Every test here needs a pseudo-terminal.
+#[cfg(all(test, unix))]
 mod tests {
     use super::*;
     use crate::bus::PeerReply;

@@ -26,6 +26,11 @@ impl StopSignal {
     /// The operator station's web server failed: nobody can answer or press Stop any more,
     /// so the run it started is stopped as by SIGTERM.
     pub const STATION_FAILED: StopSignal = StopSignal::posix(15, "the station's server failing");
+    /// Windows' console events besides Ctrl-C (which is SIGINT there too), numbered as its
+    /// C runtime numbers the signals it raises for them (SIGBREAK 21; a closed console
+    /// window is the hang-up of Windows).
+    pub const CTRL_BREAK: StopSignal = StopSignal::posix(21, "Ctrl-Break");
+    pub const CONSOLE_CLOSED: StopSignal = StopSignal::posix(1, "console closed");
 
     const fn posix(number: i32, name: &'static str) -> StopSignal {
         StopSignal { number, name }
@@ -56,10 +61,12 @@ impl StopSignal {
         if self == Self::STATION_FAILED {
             return "the operator station's web server, which failed (a bug)";
         }
-        match self.number {
-            1 => "SIGHUP (terminal closed or ssh session dropped)",
-            2 => "Ctrl-C (SIGINT)",
-            3 => "SIGQUIT (Ctrl-\\)",
+        match self.name {
+            "SIGHUP" => "SIGHUP (terminal closed or ssh session dropped)",
+            "SIGINT" => "Ctrl-C (SIGINT)",
+            "SIGQUIT" => "SIGQUIT (Ctrl-\\)",
+            "Ctrl-Break" => "Ctrl-Break",
+            "console closed" => "the console window closing (or Windows logging off or shutting down)",
             _ => "SIGTERM (kill, timeout, systemd or a cancelled CI job)",
         }
     }

@@ -494,9 +494,14 @@ pub fn list_ports() -> Result<Vec<PortInfo>, TransportError> {
             }
         })
         .collect();
-    // The kernel's own list of USB-serial ports, for those the enumeration missed.
+    // The kernel's own list of USB-serial ports, for those the enumeration missed (Linux's
+    // sysfs; elsewhere there is none).
     let root = super::usb_latency::sysfs_root();
-    for name in super::usb_latency::usb_serial_ports(&root) {
+    let sysfs = cfg!(target_os = "linux");
+    for name in super::usb_latency::usb_serial_ports(&root)
+        .into_iter()
+        .filter(|_| sysfs)
+    {
         if !list.iter().any(|p| p.name == name) {
             list.push(PortInfo {
                 name,
@@ -516,6 +521,7 @@ pub fn list_ports() -> Result<Vec<PortInfo>, TransportError> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    #[cfg(unix)]
     use std::time::Instant;
 
     #[test]

@@ -462,7 +462,12 @@ pub fn ports(args: &PortsArgs) -> i32 {
         return PASSED;
     }
     if ports.is_empty() {
-        println!("no serial ports found (a USB adapter that is plugged in shows up as /dev/ttyUSB* or /dev/ttyACM*)");
+        let shows_up_as = if cfg!(windows) {
+            "COM3 or the like, under Ports in the Device Manager"
+        } else {
+            "/dev/ttyUSB* or /dev/ttyACM*"
+        };
+        println!("no serial ports found (a USB adapter that is plugged in shows up as {shows_up_as})");
         return PASSED;
     }
     let root = crate::bus::sysfs_root();

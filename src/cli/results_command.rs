@@ -206,7 +206,12 @@ pub(super) fn exit_code(e: &StoreError) -> i32 {
 
 pub fn results(args: &ResultsArgs) -> i32 {
     let Some((locator, _)) = Locator::resolve(args.results.as_deref()) else {
-        eprintln!("error: no results store: give --results PATH or set {RESULTS_ENV} (there is no HOME or XDG_DATA_HOME for the default)");
+        let default_from = if cfg!(windows) {
+            "LOCALAPPDATA"
+        } else {
+            "HOME or XDG_DATA_HOME"
+        };
+        eprintln!("error: no results store: give --results PATH or set {RESULTS_ENV} (there is no {default_from} for the default)");
         return INVALID;
     };
     if let ResultsCommand::Serve { listen } = &args.command {

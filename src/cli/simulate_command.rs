@@ -28,7 +28,8 @@ pub struct SimulateArgs {
     /// The built-in dictionary whose drive family to simulate.
     #[arg(long, value_name = "DICTIONARY", default_value = DEFAULT_DICTIONARY)]
     drive: String,
-    /// Serve on a new pseudo-terminal; its path is printed on the first line.
+    /// Serve on a new pseudo-terminal; its path is printed on the first line (Unix; Windows
+    /// has none: serve with --tcp there).
     #[arg(long, conflicts_with_all = ["tcp", "slcan_pty"], required_unless_present_any = ["tcp", "slcan_pty"])]
     pty: bool,
     /// For a drive family on CAN (lenze-9400): serve the simulated node behind a simulated
@@ -307,7 +308,7 @@ fn serve_pty(server: &SimServer, description: &str, wire: &str, hint: &str) -> i
 
 #[cfg(not(unix))]
 fn serve_pty(_: &SimServer, _: &str, _: &str, _: &str) -> i32 {
-    eprintln!("error: --pty needs a Unix pseudo-terminal; use --tcp 127.0.0.1:4001 here");
+    eprintln!("error: Windows has no pseudo-terminals for --pty or --slcan-pty; serve on TCP instead: drivescript simulate --tcp 127.0.0.1:4001");
     INVALID
 }
 

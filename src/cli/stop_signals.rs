@@ -1,7 +1,7 @@
 //! The process's stop signals, turned into stop requests: SIGINT, SIGTERM, SIGHUP and
-//! SIGQUIT all ask for the same safe stop; a second one asks for the power stage to be
-//! switched off at once. Only counts and tells the user; what a request does to the drive
-//! is the runner's business.
+//! SIGQUIT (on Windows Ctrl-C, Ctrl-Break and the console window closing) all ask for the
+//! same safe stop; a second one asks for the power stage to be switched off at once. Only
+//! counts and tells the user; what a request does to the drive is the runner's business.
 
 use crate::stop_request::{StopRequests, StopSignal};
 use std::io::Write;
@@ -74,15 +74,108 @@ fn watch(stop: Arc<StopRequests>, loud: bool) -> std::io::Result<()> {
     Ok(())
 }
 
-#[cfg(not(unix))]
+/// Windows: Ctrl-C, Ctrl-Break and the console window closing (or logging off, shutting
+/// down) through the console's own handler list; no crate, one system call.
+#[cfg(windows)]
 fn watch(stop: Arc<StopRequests>, loud: bool) -> std::io::Result<()> {
-    let count = std::sync::atomic::AtomicUsize::new(0);
-    ctrlc::set_handler(move || {
-        stop.request(StopSignal::INT);
-        let n = count.fetch_add(1, std::sync::atomic::Ordering::SeqCst) + 1;
-        if loud {
-            announce(StopSignal::INT, n);
+    console::watch(stop, loud)
+}
+
+/// Elsewhere (neither Unix nor Windows) nothing arrives from outside.
+#[cfg(not(any(unix, windows)))]
+fn watch(_: Arc<StopRequests>, _: bool) -> std::io::Result<()> {
+    Err(std::io::Error::other("no stop signals on this system"))
+}
+
+#[cfg(windows)]
+mod console {
+    use super::{announce, Arc, OnceLock, StopRequests, StopSignal};
+    use std::sync::atomic::{AtomicUsize, Ordering};
+
+    type Handler = unsafe extern "system" fn(u32) -> i32;
+
+    #[link(name = "kernel32")]
+    extern "system" {
+        fn SetConsoleCtrlHandler(handler: Option<Handler>, add: i32) -> i32;
+    }
+
+    const CTRL_C_EVENT: u32 = 0;
+    const CTRL_BREAK_EVENT: u32 = 1;
+
+    static WATCHED: OnceLock<(Arc<StopRequests>, bool)> = OnceLock::new();
+    static COUNT: AtomicUsize = AtomicUsize::new(0);
+
+    pub fn watch(stop: Arc<StopRequests>, loud: bool) -> std::io::Result<()> {
+        if WATCHED.set((stop, loud)).is_err() {
+            return Ok(());
         }
-    })
-    .map_err(std::io::Error::other)
+        // SAFETY: `on_event` is a plain function for the life of the process; adding a
+        // handler has no other precondition.
+        if unsafe { SetConsoleCtrlHandler(Some(on_event), 1) } == 0 {
+            return Err(std::io::Error::last_os_error());
+        }
+        Ok(())
+    }
+
+    /// Called by Windows on a thread of its own for each console event. It must not
+    /// unwind (nothing here panics: the requests' lock ignores poisoning, `announce`
+    /// ignores a failed write).
+    pub(super) unsafe extern "system" fn on_event(event: u32) -> i32 {
+        let Some((stop, loud)) = WATCHED.get() else {
+            return 0;
+        };
+        let signal = match event {
+            CTRL_C_EVENT => StopSignal::INT,
+            CTRL_BREAK_EVENT => StopSignal::CTRL_BREAK,
+            _ => StopSignal::CONSOLE_CLOSED,
+        };
+        stop.request(signal);
+        let count = COUNT.fetch_add(1, Ordering::SeqCst) + 1;
+        if *loud {
+            announce(signal, count);
+        }
+        if event > CTRL_BREAK_EVENT {
+            // A closed window, a log-off or a shutdown: Windows ends the process as soon
+            // as this returns, so it returns never; the process ends when the safe stop
+            // is done and the run exits, or when Windows' own time is up (5 s for a
+            // closed window).
+            loop {
+                std::thread::park();
+            }
+        }
+        1
+    }
+}
+
+#[cfg(all(test, windows))]
+mod tests {
+    use super::console::on_event;
+    use super::*;
+    use std::time::Duration;
+
+    /// Windows calls the handler as here (under Wine too); a real Ctrl-C under Wine is
+    /// tested end to end in tests/integration/end_to_end.rs.
+    #[test]
+    fn each_console_event_asks_for_the_safe_stop_and_a_closing_window_waits_for_it() {
+        let stop = install(false);
+        // SAFETY: the handler takes any event number; it is called here as Windows does.
+        assert_eq!(unsafe { on_event(1) }, 1);
+        assert_eq!(stop.first(), Some(StopSignal::CTRL_BREAK));
+        assert_eq!(unsafe { on_event(0) }, 1);
+        assert_eq!(stop.count_at(Duration::ZERO), 2);
+        // A closing window: the request arrives, and the handler does not return (Windows
+        // would end the process then), so the safe stop has the time Windows gives.
+        let waiting = std::thread::spawn(|| unsafe { on_event(2) });
+        let started = std::time::Instant::now();
+        while stop.count_at(Duration::ZERO) < 3 {
+            assert!(
+                started.elapsed() < Duration::from_secs(10),
+                "no request from the closing window"
+            );
+            std::thread::sleep(Duration::from_millis(10));
+        }
+        std::thread::sleep(Duration::from_millis(300));
+        assert!(!waiting.is_finished(), "the handler returned on a closing window");
+        assert_eq!(StopSignal::CONSOLE_CLOSED.exit_code(), 129);
+    }
 }

@@ -105,7 +105,17 @@ pub fn windows_1252(bytes: &[u8]) -> String {
 
 /// The bytes of `path`, at most [`MAX_TEXT_FILE_BYTES`] (see [`read_text_file`]).
 fn read_bytes(path: &Path) -> Result<Vec<u8>, TextFileError> {
-    let file = File::open(path).map_err(TextFileError::Io)?;
+    // Windows does not open a directory at all: what it is is said instead of the
+    // refusal ("Access is denied").
+    let file = File::open(path).map_err(|e| {
+        match std::fs::metadata(path)
+            .ok()
+            .and_then(|m| not_a_file(&m.file_type()))
+        {
+            Some(kind) => TextFileError::NotAFile(kind),
+            None => TextFileError::Io(e),
+        }
+    })?;
     let meta = file.metadata().map_err(TextFileError::Io)?;
     if let Some(kind) = not_a_file(&meta.file_type()) {
         return Err(TextFileError::NotAFile(kind));

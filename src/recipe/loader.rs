@@ -190,6 +190,13 @@ fn file_name(path: &str) -> PathBuf {
     Path::new(path).file_name().map(PathBuf::from).unwrap_or_default()
 }
 
+/// A file named in a recipe (with `/`, as recipes are shared between systems), found next
+/// to the recipe and written in the platform's own form: `recipes\includes\stage.yaml`
+/// on Windows, never a mix of both separators.
+fn beside(base_dir: &Path, written: &str) -> PathBuf {
+    base_dir.join(Path::new(written).components().collect::<PathBuf>())
+}
+
 fn canonical(p: &Path) -> PathBuf {
     std::fs::canonicalize(p).unwrap_or_else(|_| p.to_path_buf())
 }

@@ -89,18 +89,57 @@ impl Locator {
     }
 }
 
-/// `$XDG_DATA_HOME/drivescript`, else `~/.local/share/drivescript`.
+/// Where the default store and the spools live: `%LOCALAPPDATA%\drivescript` on Windows
+/// (the machine's own folder, not the roaming one: a bench's records stay on the bench),
+/// elsewhere `$XDG_DATA_HOME/drivescript`, else `~/.local/share/drivescript`.
 pub fn data_dir() -> Option<PathBuf> {
-    let base = std::env::var_os("XDG_DATA_HOME")
-        .map(PathBuf::from)
-        .filter(|p| p.is_absolute())
-        .or_else(|| std::env::var_os("HOME").map(|h| Path::new(&h).join(".local/share")))?;
+    data_dir_of(cfg!(windows), |name| std::env::var_os(name))
+}
+
+fn data_dir_of(windows: bool, var: impl Fn(&str) -> Option<std::ffi::OsString>) -> Option<PathBuf> {
+    let absolute = |name| var(name).map(PathBuf::from).filter(|p| p.is_absolute());
+    let base = if windows {
+        absolute("LOCALAPPDATA")?
+    } else {
+        absolute("XDG_DATA_HOME").or_else(|| var("HOME").map(|h| Path::new(&h).join(".local/share")))?
+    };
     Some(base.join("drivescript"))
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_data_folder_is_the_platforms_own() {
+        let root = Path::new(if cfg!(windows) { r"C:\" } else { "/" });
+        let (local, data, home) = (root.join("local"), root.join("data"), root.join("home"));
+        let env = |names: &[&str]| {
+            let set: Vec<(String, PathBuf)> = [
+                ("LOCALAPPDATA", &local),
+                ("XDG_DATA_HOME", &data),
+                ("HOME", &home),
+            ]
+            .into_iter()
+            .filter(|(n, _)| names.contains(n))
+            .map(|(n, p)| (n.to_string(), p.clone()))
+            .collect();
+            move |name: &str| {
+                set.iter()
+                    .find(|(n, _)| n == name)
+                    .map(|(_, p)| p.clone().into_os_string())
+            }
+        };
+        let all = ["LOCALAPPDATA", "XDG_DATA_HOME", "HOME"];
+        assert_eq!(data_dir_of(true, env(&all)), Some(local.join("drivescript")));
+        assert_eq!(data_dir_of(false, env(&all)), Some(data.join("drivescript")));
+        assert_eq!(
+            data_dir_of(false, env(&["HOME"])),
+            Some(home.join(".local/share").join("drivescript"))
+        );
+        // On Windows HOME is no answer: without its folder there is no default.
+        assert_eq!(data_dir_of(true, env(&["HOME"])), None);
+    }
 
     #[test]
     fn a_server_is_named_without_its_password() {

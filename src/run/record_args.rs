@@ -15,8 +15,9 @@ use std::sync::{Arc, Mutex};
 pub struct RecordArgs {
     /// The results store: a SQLite file, or postgres://USER@HOST/DB for a store a fleet of
     /// benches shares [default: $DRIVESCRIPT_RESULTS, else results.sqlite in
-    /// $XDG_DATA_HOME/drivescript or ~/.local/share/drivescript; runs on the built-in
-    /// simulated drive are recorded only in a store named here or in DRIVESCRIPT_RESULTS].
+    /// $XDG_DATA_HOME/drivescript or ~/.local/share/drivescript, on Windows
+    /// %LOCALAPPDATA%\drivescript; runs on the built-in simulated drive are recorded only in
+    /// a store named here or in DRIVESCRIPT_RESULTS].
     #[arg(long, value_name = "PATH|postgres://…")]
     pub results: Option<String>,
     /// Record nothing.

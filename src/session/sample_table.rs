@@ -216,6 +216,8 @@ mod tests {
              5.100,2024-06-10T06:13:20.250Z,4[2].3,speed_actual,6000.125,rpm\n\
              5.100,2024-06-10T06:13:20.250Z,4[2].3,current_actual,2.5,A\n"
         );
+        // Each closed before its folder goes: Windows removes no folder with an open file.
+        drop(t);
         let wide = dir.join("wide.csv");
         let columns = [speed.clone(), current.clone()];
         let mut t = SampleTable::open(&wide, Some(&columns), false).unwrap();
@@ -227,6 +229,7 @@ mod tests {
             "time [s],utc,step,speed_actual [rpm],current_actual [A]\n\
              0.000,2024-06-10T06:13:20.250Z,2,,0.5\n"
         );
+        drop(t);
         std::fs::remove_dir_all(&dir).unwrap();
     }
 

@@ -6,6 +6,7 @@
 
 use crate::support::{drivescript, stdout};
 
+#[cfg(unix)]
 use crate::live_run::LiveRun;
 #[cfg(unix)]
 use crate::safety::{traced_writes, CONTROL_WORD, SPEED_SETPOINT};

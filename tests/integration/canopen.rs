@@ -372,7 +372,6 @@ fn an_eds_adds_its_objects_by_readable_name_index_and_eds_name() {
     assert_has(&out.stderr, &["`maybe` is not an access type", "bad.eds:5"]);
 }
 
-#[cfg(unix)]
 #[test]
 fn the_commissioning_recipe_runs_through_an_slcan_pseudo_terminal() {
     let sim = crate::support::Simulator::start(&["--drive", "canopen", "--address", "3", "--slcan-pty"]);
@@ -396,7 +395,6 @@ fn the_commissioning_recipe_runs_through_an_slcan_pseudo_terminal() {
 /// The EMCY alone, through a real SLCAN pseudo-terminal in real time: the simulator sends
 /// it 8 s after it started (`--sim emergency-at`), the run in its dwell stops on it and the
 /// trace holds the EMCY, then the safe stop's controlwords, then NMT pre-operational.
-#[cfg(unix)]
 #[test]
 fn an_emcy_alone_stops_a_run_through_an_slcan_pseudo_terminal() {
     let sim = crate::support::Simulator::start(&[
@@ -482,7 +480,6 @@ fn an_emcy_alone_stops_a_run_through_an_slcan_pseudo_terminal() {
 
 /// A DCF's ParameterValues are a parameter set: `diff` compares them with the node,
 /// `restore` writes them back behind the restore interlock (never while it is enabled).
-#[cfg(unix)]
 #[test]
 fn a_dcf_is_diffed_against_the_node_and_restored_behind_the_interlock() {
     use crate::support::{drivescript, stderr, stdout};

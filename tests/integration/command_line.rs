@@ -149,6 +149,8 @@ fn help_shows_examples_and_exit_codes_and_version_the_build() {
     assert_has(&version, &["(commit ", ", built 20"]);
 }
 
+/// Unix: a device file that takes no line settings (Windows has no such file to name).
+#[cfg(unix)]
 #[test]
 fn a_file_that_is_no_serial_port_is_said_plainly() {
     let out = drivescript(&["state", "--port", "/dev/null"], "");
@@ -360,7 +362,9 @@ fn a_named_drives_setpoint_beyond_its_links_range_is_refused_before_anything_is_
 }
 
 /// `ports` shows a USB-serial adapter's latency timer where the system exposes it (here a
-/// fake sysfs tree), and how to lower it.
+/// fake sysfs tree), and how to lower it. Linux's sysfs; Windows keeps the timer in the
+/// adapter driver's settings.
+#[cfg(target_os = "linux")]
 #[test]
 fn ports_show_the_usb_serial_latency_timer() {
     let root = crate::support::scratch("sysfs");

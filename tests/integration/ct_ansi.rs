@@ -341,8 +341,11 @@ fn a_group_write_gets_no_reply_and_is_not_repeated() {
     assert!(e.to_string().contains("takes writes only"), "{e}");
 }
 
-#[cfg(unix)]
 #[test]
+#[cfg_attr(
+    windows,
+    ignore = "Wine 8 refuses to open this pty-backed COM port with these line settings (Invalid parameter); runs on Linux"
+)]
 fn the_commissioning_recipe_runs_behind_an_adapter_that_echoes() {
     let sim = crate::support::Simulator::start(&["--drive", "ct-unidrive-sp", "--pty", "--echo"]);
     let recipe = ct_commissioning("echo");
@@ -374,8 +377,11 @@ fn the_commissioning_recipe_runs_behind_an_adapter_that_echoes() {
     assert_has(&text, &["has no parameter #9.99 (it answered EOT)"]);
 }
 
-#[cfg(unix)]
 #[test]
+#[cfg_attr(
+    windows,
+    ignore = "Wine 8 refuses to open this pty-backed COM port with these line settings (Invalid parameter); runs on Linux"
+)]
 fn the_commissioning_recipe_runs_through_a_pseudo_terminal() {
     let sim = crate::support::Simulator::start(&["--drive", "ct-unidrive-sp", "--pty"]);
     let recipe = ct_commissioning("pty");
@@ -416,7 +422,6 @@ fn the_commissioning_recipe_runs_through_a_pseudo_terminal() {
     assert_has(&stdout(&out), &["12.5 rpm"]);
 }
 
-#[cfg(unix)]
 #[test]
 fn ctrl_c_during_a_run_on_the_simulated_ct_drive_stops_it() {
     let sim = crate::support::Simulator::start(&["--drive", "ct-unidrive-sp", "--pty"]);

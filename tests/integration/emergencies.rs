@@ -150,8 +150,11 @@ fn a_lenze_9400_emcy_ends_the_run_as_a_drive_fault() {
 
 /// The served 9400 node sends an injected EMCY on its own, through a simulated SLCAN
 /// adapter in real time, and the run in its dwell stops on it.
-#[cfg(unix)]
 #[test]
+#[cfg_attr(
+    windows,
+    ignore = "under Wine the EMCY through the SLCAN COM port does not end the run as on Linux (not yet understood)"
+)]
 fn a_served_lenze_9400_node_sends_an_injected_emcy() {
     let sim = crate::support::Simulator::start(&[
         "--drive",

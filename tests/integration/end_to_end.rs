@@ -7,11 +7,12 @@ use crate::support::{assert_has, assert_lacks, cli, repo_root, Simulator};
 use std::io::{BufRead, BufReader};
 use std::process::Stdio;
 
-#[cfg(unix)]
+/// Under Wine the pty is a COM port and the commands go through Windows' serial API.
 #[test]
 fn a_pseudo_terminal_serves_the_simulated_drive() {
     let sim = Simulator::start(&["--pty"]);
-    assert!(sim.endpoint.starts_with("/dev/"), "endpoint {:?}", sim.endpoint);
+    let prefix = if cfg!(windows) { "COM" } else { "/dev/" };
+    assert!(sim.endpoint.starts_with(prefix), "endpoint {:?}", sim.endpoint);
     let port = sim.endpoint.as_str();
 
     let out = cli(&["state", "--port", port], 0);
@@ -79,7 +80,8 @@ fn a_drive_that_does_not_answer_is_exit_code_3_naming_the_telegram() {
     drop(listener);
 }
 
-#[cfg(unix)]
+/// Under Wine the Ctrl-C is the console's CTRL_C_EVENT (see `LiveRun::signal`), which the
+/// run's console handler turns into the same safe stop.
 #[test]
 fn ctrl_c_during_a_run_stops_safely_and_exits_130() {
     let run = LiveRun::start(["run", "tests/cases/interrupted/ctrl_c_during_run_in/recipe.yaml"]);
@@ -98,7 +100,6 @@ fn ctrl_c_during_a_run_stops_safely_and_exits_130() {
     );
 }
 
-#[cfg(unix)]
 #[test]
 fn a_closed_output_pipe_does_not_stop_a_run_before_its_safe_stop() {
     let mut child = crate::support::command()
@@ -119,7 +120,6 @@ fn a_closed_output_pipe_does_not_stop_a_run_before_its_safe_stop() {
     assert_eq!(status.code(), Some(0), "{first}");
 }
 
-#[cfg(unix)]
 #[test]
 fn other_commands_end_quietly_on_a_closed_pipe() {
     let mut child = crate::support::command()
@@ -138,8 +138,8 @@ fn other_commands_end_quietly_on_a_closed_pipe() {
 }
 
 /// The shipped commissioning recipe gives the same verdict over both SD2 channels through
-/// a real pseudo-terminal, and the cyclic run's telegrams are cyclic ones.
-#[cfg(unix)]
+/// a real pseudo-terminal (a COM port under Wine), in real time, and the cyclic run's
+/// telegrams are cyclic ones.
 #[test]
 fn the_cyclic_channel_runs_the_commissioning_recipe_through_a_pty() {
     let recipe = repo_root().join("recipes/commissioning.yaml");

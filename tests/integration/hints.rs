@@ -2,7 +2,9 @@
 //! it serves when copied as printed, and a drive that does not answer gets its own
 //! family's advice, with another family's drive on the line among the likely causes.
 
-use crate::support::{cli, drivescript, scratch, stderr, stdout, Simulator};
+use crate::support::{cli, scratch, Simulator};
+#[cfg(unix)]
+use crate::support::{drivescript, stderr, stdout};
 
 /// A recipe for the dictionary `drive` that reads `object`, in a scratch folder.
 fn recipe(name: &str, drive: &str, object: &str) -> (std::path::PathBuf, std::path::PathBuf) {

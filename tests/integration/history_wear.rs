@@ -8,7 +8,9 @@
 //! coast-down or at the question still runs the verified safe stop, makes no comparison,
 //! and the store is never waited for on the way to the stop.
 
-use crate::history::{interrupted_once_shown, run_id, run_reading_a_silent_store};
+#[cfg(unix)]
+use crate::history::interrupted_once_shown;
+use crate::history::{run_id, run_reading_a_silent_store};
 use crate::support::{
     assert_has, assert_lacks, command, line_with, run_recording as run, scratch, sqlite_store, write_changed,
     write_file, InProcessRun,

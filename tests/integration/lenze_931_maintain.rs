@@ -313,7 +313,6 @@ fn the_family_says_which_actions_it_has_and_which_are_destructive() {
     assert_has(&out.stderr, &["did you mean `reset`?"]);
 }
 
-#[cfg(unix)]
 #[test]
 fn through_a_pseudo_terminal_baud_changes_the_rate_and_says_how_to_reconnect() {
     let sim = crate::support::Simulator::start(&["--drive", "lenze-931", "--pty"]);

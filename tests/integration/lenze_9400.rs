@@ -197,16 +197,13 @@ fn the_family_reads_codes_in_dictionaries() {
 /// The SLCAN pseudo-terminal tests run one at a time: the one that loses its adapter
 /// reopens the freed pseudo-terminal path for a while, which the other's simulator may
 /// have been given meanwhile.
-#[cfg(unix)]
 static SLCAN_PTY_TESTS: std::sync::Mutex<()> = std::sync::Mutex::new(());
 
 /// `drivescript simulate` of a 9400 node `node` behind a simulated SLCAN adapter on a pty.
-#[cfg(unix)]
 fn slcan_simulator(node: &str) -> Simulator {
     Simulator::start(&["--drive", "lenze-9400", "--address", node, "--slcan-pty"])
 }
 
-#[cfg(unix)]
 #[test]
 fn an_slcan_pseudo_terminal_serves_the_simulated_node() {
     use crate::support::{drivescript, stderr, stdout};
@@ -214,7 +211,8 @@ fn an_slcan_pseudo_terminal_serves_the_simulated_node() {
         .lock()
         .unwrap_or_else(std::sync::PoisonError::into_inner);
     let sim = slcan_simulator("12");
-    assert!(sim.endpoint.starts_with("/dev/"), "path {:?}", sim.endpoint);
+    let prefix = if cfg!(windows) { "COM" } else { "/dev/" };
+    assert!(sim.endpoint.starts_with(prefix), "path {:?}", sim.endpoint);
     let can = format!("slcan:{}", sim.endpoint);
     let with = |args: &[&str]| {
         let mut all = args.to_vec();

@@ -2,7 +2,9 @@
 //! tests that signal a run in the middle; and the Ctrl-C during a dwell that several
 //! families' tests share.
 
-use crate::support::{command, repo_root, scratch_file, send_signal};
+#[cfg(unix)]
+use crate::support::{command, send_signal};
+use crate::support::{repo_root, scratch_file};
 use std::path::Path;
 use std::process::Stdio;
 
@@ -12,6 +14,9 @@ pub struct LiveRun {
     child: std::process::Child,
     out: std::process::ChildStdout,
     seen: String,
+    /// Under Wine, the name by which the Linux side finds its process to interrupt.
+    #[cfg(windows)]
+    mark: crate::wine_host::Marked,
 }
 
 impl LiveRun {
@@ -30,7 +35,11 @@ impl LiveRun {
         I: IntoIterator<Item = S>,
         S: AsRef<std::ffi::OsStr>,
     {
-        let mut child = command()
+        #[cfg(unix)]
+        let mut command = command();
+        #[cfg(windows)]
+        let (mut command, mark) = crate::wine_host::marked_command();
+        let mut child = command
             .args(args)
             .current_dir(repo_root())
             .stdout(Stdio::piped())
@@ -42,6 +51,8 @@ impl LiveRun {
             child,
             out,
             seen: String::new(),
+            #[cfg(windows)]
+            mark,
         }
     }
 
@@ -61,9 +72,24 @@ impl LiveRun {
         &self.seen
     }
 
-    /// Sends signal `name` (`INT`, `TERM`, …) to the run.
+    /// Sends signal `name` (`INT`, `TERM`, …) to the run. Under Wine: `INT` is Ctrl-C,
+    /// the console event Wine makes of a SIGINT its process receives from the Linux side;
+    /// `KILL` ends it as the Task Manager does; Windows has no other.
     pub fn signal(&self, name: &str) {
+        #[cfg(unix)]
         send_signal(&self.child, name);
+        #[cfg(windows)]
+        match name {
+            "INT" => crate::wine_host::interrupt(&self.mark.mark),
+            "KILL" => {
+                let pid = self.child.id().to_string();
+                let killed = std::process::Command::new("taskkill")
+                    .args(["/F", "/PID", &pid])
+                    .output();
+                assert!(killed.is_ok_and(|o| o.status.success()), "taskkill {pid}");
+            }
+            _ => panic!("Windows has no signal {name}"),
+        }
     }
 
     /// Ctrl-C once the output holds `text` and `pause` more has passed, then the end: what

@@ -70,5 +70,6 @@ mod trend_page;
 mod vectors;
 mod verdict_rule;
 mod watch_guards;
+mod wine_host;
 mod write_limits;
 mod write_refusals;

@@ -23,7 +23,6 @@ fn commissioning(dir: &std::path::Path, drive: &str) -> PathBuf {
 /// The commissioning recipe on the simulated Modbus inverter served by `simulate --pty`
 /// with `sim_args`, run with `--set speed=SPEED` and a trace, which must pass: its output,
 /// the trace file and the simulator's port.
-#[cfg(unix)]
 fn commissioning_on_a_pty(name: &str, sim_args: &[&str], speed: &str) -> (String, PathBuf, String) {
     let dir = scratch(name);
     let sim = Simulator::pty(&[&["--drive", "modbus-inverter"], sim_args].concat());
@@ -46,7 +45,6 @@ fn commissioning_on_a_pty(name: &str, sim_args: &[&str], speed: &str) -> (String
     (text, trace, sim.endpoint.clone())
 }
 
-#[cfg(unix)]
 #[test]
 fn the_commissioning_recipe_runs_through_a_pseudo_terminal_and_its_trace_decodes() {
     let (text, trace, port) = commissioning_on_a_pty("modbus-commissioning", &[], "1200rpm");
@@ -79,8 +77,11 @@ fn the_commissioning_recipe_runs_through_a_pseudo_terminal_and_its_trace_decodes
     );
 }
 
-#[cfg(unix)]
 #[test]
+#[cfg_attr(
+    windows,
+    ignore = "Wine 8 refuses to open this pty-backed COM port with these line settings (Invalid parameter); runs on Linux"
+)]
 fn two_inverters_on_one_line_reach_their_own_speeds_and_a_broadcast_reaches_both() {
     let dir = scratch("modbus-two");
     let sim = Simulator::pty(&["--drive", "modbus-inverter", "--address", "1,2"]);
@@ -159,7 +160,6 @@ steps:
     assert_eq!(out.status.code(), Some(2));
 }
 
-#[cfg(unix)]
 #[test]
 fn ctrl_c_through_a_pseudo_terminal_writes_the_stop_code_and_leaves_the_inverter_stopped() {
     let sim = Simulator::pty(&["--drive", "sunfar-e500"]);
@@ -199,8 +199,11 @@ fn ctrl_c_through_a_pseudo_terminal_writes_the_stop_code_and_leaves_the_inverter
     );
 }
 
-#[cfg(unix)]
 #[test]
+#[cfg_attr(
+    windows,
+    ignore = "Wine 8 refuses to open this pty-backed COM port with these line settings (Invalid parameter); runs on Linux"
+)]
 fn backup_diff_and_restore_of_an_inverters_parameters() {
     let dir = scratch("modbus-backup");
     let sim = Simulator::pty(&["--drive", "sunfar-e500"]);
@@ -288,7 +291,6 @@ fn decode_explains_the_frames_of_the_manual_and_rejects_a_bad_crc() {
 /// Behind a half-duplex adapter that hands every request back: the echo is skipped (a
 /// write single register's lone copy is its reply; the reply after an echo is dropped as
 /// stale before the next request).
-#[cfg(unix)]
 #[test]
 fn the_commissioning_recipe_runs_behind_an_adapter_that_echoes() {
     let (text, trace, _) = commissioning_on_a_pty("modbus-echo", &["--echo"], "600rpm");

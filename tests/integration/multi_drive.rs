@@ -93,7 +93,6 @@ fn assert_never_interleaved(trace: &str) {
 /// `simulate sim_args`, with a trace: both drives reach their own speeds and the requests
 /// never interleave. Returns the simulator (still serving), the recipe, the output and the
 /// trace.
-#[cfg(unix)]
 fn two_axes_on_a_pty(
     sim_args: &[&str],
     name: &str,
@@ -128,7 +127,6 @@ fn two_axes_on_a_pty(
     (sim, recipe, text, trace)
 }
 
-#[cfg(unix)]
 #[test]
 fn two_drives_on_one_pty_reach_their_own_speeds_and_never_interleave() {
     let (_sim, _, text, trace) = two_axes_on_a_pty(
@@ -147,7 +145,6 @@ fn two_drives_on_one_pty_reach_their_own_speeds_and_never_interleave() {
 /// addresses 2 and 3, and a recipe naming them `dnc_address: 2` and `address: 0, axis: b`
 /// (switch 0, drive B: DNC address 3) drives both on that pty; `--dnc-address 3` reaches
 /// drive B alone afterwards.
-#[cfg(unix)]
 #[test]
 fn the_issue_spelling_of_addresses_on_a_pty_served_with_dnc_address() {
     let text = TWO_AXES
@@ -215,7 +212,6 @@ fn dnc_address_is_refused_with_address_and_for_a_family_without_dnc_addresses() 
 
 /// Ctrl-C during the sample of a run on a real pseudo-terminal: both drives stopped, the
 /// last enabled first, each read back; and afterwards each reports it by itself.
-#[cfg(unix)]
 #[test]
 fn ctrl_c_on_a_pty_stops_both_drives_each_verified() {
     let sim = Simulator::pty(&["--address", "dnc:2,dnc:3"]);

@@ -5,6 +5,7 @@
 //! waits (in virtual time), the unit's identity and the answers in JUnit (both XSDs) and
 //! HTML, scripts, and output names from the identity.
 
+#[cfg(unix)]
 use crate::safety::{traced_writes, CONTROL_WORD, SPEED_SETPOINT};
 #[cfg(unix)]
 use crate::support::Terminal;
@@ -22,6 +23,7 @@ steps:
 ";
 
 /// The control words written after the last enable (15), from a trace.
+#[cfg(unix)]
 fn control_words_after_enable(trace: &str) -> Vec<i64> {
     let words: Vec<i64> = traced_writes(trace, CONTROL_WORD)
         .into_iter()

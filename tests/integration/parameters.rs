@@ -29,7 +29,6 @@ fn two_parameters(dir: &std::path::Path) -> String {
 
 /// A scratch folder `name`, a simulated drive started with `sim_args` on a pty, and the
 /// path of a backup file `file` in the folder.
-#[cfg(unix)]
 fn on_a_pty(name: &str, sim_args: &[&str], file: &str) -> (std::path::PathBuf, Simulator, String) {
     let dir = scratch(name);
     let sim = Simulator::start(sim_args);
@@ -39,7 +38,6 @@ fn on_a_pty(name: &str, sim_args: &[&str], file: &str) -> (std::path::PathBuf, S
 
 /// The backup text `saved` with one parameter's raw and shown value changed (each a
 /// `(from, to)`), written to `name` in `dir`; its path.
-#[cfg(unix)]
 fn edited_copy(
     dir: &std::path::Path,
     name: &str,
@@ -58,7 +56,6 @@ fn edited_copy(
     path.to_str().expect("utf-8 path").to_string()
 }
 
-#[cfg(unix)]
 #[test]
 fn backup_change_diff_restore_diff() {
     let (dir, sim, file) = on_a_pty("round-trip", &["--pty"], "backup.yaml");
@@ -114,7 +111,6 @@ fn backup_change_diff_restore_diff() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-#[cfg(unix)]
 #[test]
 fn restore_refuses_before_writing() {
     let (dir, sim, file) = on_a_pty("refusals", &["--pty"], "backup.yaml");
@@ -255,8 +251,11 @@ fn a_restore_is_refused_by_the_library_while_the_drive_is_enabled() {
 /// `backup --all` on a Control Techniques drive scans every menu with the ACK short
 /// command and saves the parameters beyond the dictionary too; `diff` compares them,
 /// `restore` writes the dictionary's and names the ones it leaves alone.
-#[cfg(unix)]
 #[test]
+#[cfg_attr(
+    windows,
+    ignore = "Wine 8 refuses to open this pty-backed COM port with these line settings (Invalid parameter); runs on Linux"
+)]
 fn a_control_techniques_scan_saves_and_compares_parameters_beyond_the_dictionary() {
     let (dir, sim, file) = on_a_pty("ct-all", &["--drive", "ct-unidrive-sp", "--pty"], "all.yaml");
     let (file, port) = (file.as_str(), sim.endpoint.as_str());

@@ -3,9 +3,13 @@
 //! ramp that must not write after a stop, a port that goes away and comes back, and a run
 //! killed beyond any safe stop, which must leave a report that says so.
 
+#[cfg(unix)]
 use crate::live_run::LiveRun;
-use crate::support::{assert_has, assert_lacks, scratch, scratch_file, write_file, InProcessRun, Simulator};
+#[cfg(unix)]
+use crate::support::{assert_has, assert_lacks, Simulator};
+use crate::support::{scratch, scratch_file, write_file, InProcessRun};
 use drivescript::clock::SharedClock;
+#[cfg(unix)]
 use drivescript::drive::device_control::DeviceState;
 use drivescript::family::sd2::codec::{Body, Telegram};
 use drivescript::family::sd2::Sd2Simulator;
@@ -160,7 +164,6 @@ steps:
 }
 
 /// The control words written in a trace file's TX lines, with their clock seconds.
-#[cfg(unix)]
 pub(crate) fn traced_writes(trace: &str, index: u16) -> Vec<(f64, i64)> {
     trace
         .lines()

@@ -425,7 +425,6 @@ fn params_come_from_set() {
 
 /// A signal to the real binary driving a simulated drive through a pseudo-terminal while
 /// a script samples every 30 s: the drive is stopped at once and the run exits 130.
-#[cfg(unix)]
 #[test]
 fn sigint_during_a_scripts_sample_through_a_pty_stops_the_drive() {
     use crate::safety::traced_writes;

@@ -351,7 +351,14 @@ fn a_set_with_a_wrong_unit_is_said_once_at_the_set() {
         &text,
         &[
             "--set max_current=5rpm: rpm is not a unit of current_actual (A)",
-            "recipes/includes/speed-stage.yaml:20:39",
+            // With the platform's separator throughout: `recipes\includes\…` on Windows.
+            &format!(
+                "{}:20:39",
+                Path::new("recipes")
+                    .join("includes")
+                    .join("speed-stage.yaml")
+                    .display()
+            ),
             "1 problem found; nothing was sent",
         ],
     );

@@ -385,14 +385,28 @@ pub fn control_words(result: &drivescript::run::RunResult) -> Vec<u16> {
 }
 
 /// A `drivescript simulate ARGS` in the background, stopped when dropped.
+/// Under Wine, one on a pseudo-terminal runs on the Linux side (see `wine_host`), its
+/// endpoint the COM port linked to the pty: the tests go through Windows' serial API.
 pub struct Simulator {
-    child: std::process::Child,
-    /// The first line it printed: the pty path or the TCP address.
+    child: Option<std::process::Child>,
+    /// The first line it printed: the pty path or the TCP address (`COM10` under Wine).
     pub endpoint: String,
+    #[cfg(windows)]
+    _on_linux: Option<crate::wine_host::HostLine>,
 }
 
 impl Simulator {
     pub fn start(args: &[&str]) -> Simulator {
+        #[cfg(windows)]
+        if args.iter().any(|a| matches!(*a, "--pty" | "--slcan-pty")) {
+            let (line, port) = crate::wine_host::HostLine::ask(&[&["simulate"], args].concat())
+                .expect("a simulated drive on a COM port needs the Linux side under Wine");
+            return Simulator {
+                child: None,
+                endpoint: port,
+                _on_linux: Some(line),
+            };
+        }
         Simulator::spawn(args, Stdio::null())
     }
 
@@ -401,7 +415,8 @@ impl Simulator {
     pub fn start_with_hint(args: &[&str]) -> (Simulator, String) {
         use std::io::BufRead;
         let mut sim = Simulator::spawn(args, Stdio::piped());
-        let mut err = std::io::BufReader::new(sim.child.stderr.take().expect("stderr is piped"));
+        let child = sim.child.as_mut().expect("a simulator of this process");
+        let mut err = std::io::BufReader::new(child.stderr.take().expect("stderr is piped"));
         let mut hint = String::new();
         let mut seen = String::new();
         while err.read_line(&mut seen).unwrap_or(0) > 0 {
@@ -430,8 +445,10 @@ impl Simulator {
             .read_line(&mut line)
             .expect("simulate prints its endpoint");
         Simulator {
-            child,
+            child: Some(child),
             endpoint: line.trim().to_string(),
+            #[cfg(windows)]
+            _on_linux: None,
         }
     }
 
@@ -443,8 +460,10 @@ impl Simulator {
 
 impl Drop for Simulator {
     fn drop(&mut self) {
-        let _ = self.child.kill();
-        let _ = self.child.wait();
+        if let Some(child) = &mut self.child {
+            let _ = child.kill();
+            let _ = child.wait();
+        }
     }
 }
 
@@ -616,6 +635,7 @@ impl Terminal {
 }
 
 /// Sends signal `name` (`INT`, `TERM`, …) to `child`.
+#[cfg(unix)]
 pub fn send_signal(child: &std::process::Child, name: &str) {
     let status = Command::new("kill")
         .arg(format!("-{name}"))
@@ -627,7 +647,9 @@ pub fn send_signal(child: &std::process::Child, name: &str) {
 
 /// A PostgreSQL server of a test's own in a scratch folder, on a free TCP port of
 /// 127.0.0.1, trusting local connections; stopped when dropped. The server refuses to run
-/// as root, so under root (as CI runs) it runs as the user `nobody`.
+/// as root, so under root (as CI runs) it runs as the user `nobody`. Under Wine it runs on
+/// the Linux side (see `wine_host`).
+#[cfg(unix)]
 pub struct PostgresServer {
     bin: PathBuf,
     data: PathBuf,
@@ -638,6 +660,7 @@ pub struct PostgresServer {
     tls: String,
 }
 
+#[cfg(unix)]
 impl PostgresServer {
     /// Starts one in the scratch folder `name`; `None` (after [`tool_missing`]) where
     /// PostgreSQL is not installed.
@@ -849,13 +872,58 @@ impl PostgresServer {
     }
 }
 
+#[cfg(unix)]
 impl Drop for PostgresServer {
     fn drop(&mut self) {
         self.down();
     }
 }
 
+#[cfg(windows)]
+pub struct PostgresServer {
+    line: std::sync::Mutex<crate::wine_host::HostLine>,
+    url: String,
+}
+
+#[cfg(windows)]
+impl PostgresServer {
+    #[track_caller]
+    pub fn start(name: &str) -> Option<PostgresServer> {
+        Some(PostgresServer::ask("plain", name)?.0)
+    }
+
+    #[track_caller]
+    pub fn start_tls(name: &str) -> Option<(PostgresServer, PathBuf)> {
+        let (server, ca) = PostgresServer::ask("tls", name)?;
+        Some((server, PathBuf::from(ca)))
+    }
+
+    #[track_caller]
+    fn ask(kind: &str, name: &str) -> Option<(PostgresServer, String)> {
+        let (line, answer) = crate::wine_host::HostLine::ask(&["postgres", kind, name])?;
+        let (url, ca) = answer.split_once('\t').unwrap_or((&answer, ""));
+        let server = PostgresServer {
+            url: url.to_string(),
+            line: std::sync::Mutex::new(line),
+        };
+        Some((server, ca.to_string()))
+    }
+
+    pub fn url(&self) -> String {
+        self.url.clone()
+    }
+
+    pub fn up(&self) {
+        self.line.lock().expect("the line to the Linux side").say("up");
+    }
+
+    pub fn down(&self) {
+        self.line.lock().expect("the line to the Linux side").say("down");
+    }
+}
+
 /// A TCP port of 127.0.0.1 nothing listens on at the moment.
+#[cfg(unix)]
 pub fn free_port() -> u16 {
     std::net::TcpListener::bind("127.0.0.1:0")
         .and_then(|l| l.local_addr())

@@ -2,6 +2,8 @@
 //! limit (`ulimit -f`) and a closed standard output are write errors of the recorder and
 //! the reporters, never a SIGXFSZ or SIGPIPE that kills the run before its drive is
 //! stopped. The drive is asserted stopped by the run's own end line and exit code.
+//! Unix only: these signals and `ulimit` are Unix's.
+#![cfg(unix)]
 
 use crate::support::{command, repo_root, scratch};
 use std::io::{BufRead, BufReader};

@@ -3,7 +3,7 @@
 //! and never including themselves. It must not read the included steps itself: the
 //! included file is read by a nested loader.
 
-use super::{canonical, Loader};
+use super::{beside, canonical, Loader};
 use crate::diag::{read_source, Reader, Shape, YamlNode};
 use crate::recipe::step::StepKind;
 use std::collections::BTreeMap;
@@ -27,7 +27,7 @@ impl Loader<'_, '_> {
             None => (body, None),
         };
         let file = self.text(file_node, "`include`")?;
-        let path = self.base_dir.join(&file);
+        let path = beside(&self.base_dir, &file);
         let canon = canonical(&path);
         if self.include_chain.contains(&canon) {
             return self.refuse(

@@ -5,7 +5,7 @@
 
 use crate::diag::YamlNode;
 use crate::parameters::ParameterFile;
-use crate::recipe::loader::Loader;
+use crate::recipe::loader::{beside, Loader};
 use crate::recipe::step::StepKind;
 
 impl Loader<'_, '_> {
@@ -22,7 +22,7 @@ impl Loader<'_, '_> {
                 Some("check each drive's parameters in a recipe of its own (`drivescript diff` compares one drive with a backup)".into()),
             );
         }
-        let path = self.base_dir.join(&file);
+        let path = beside(&self.base_dir, &file);
         let parameters = match ParameterFile::load(&path) {
             Ok(p) => p,
             Err(e) => {
