@@ -13,7 +13,7 @@
 
 use crate::brake_first::{control_words, speed_replies, ENABLE_OPERATION, STANDSTILL};
 use crate::live_run::LiveRun;
-use crate::support::{repo_root, scratch, write_file};
+use crate::support::{assert_left_at_standstill, repo_root, scratch, write_file};
 use crate::support_browser::Browser;
 use std::io::{Read, Write};
 use std::path::PathBuf;
@@ -213,7 +213,7 @@ fn every_operator_step_answered_in_the_page_passes_and_the_store_holds_the_answe
 
     b.wait_for_text("#word", "PASS");
     let end = b.text("#end");
-    assert!(end.contains("drive left in ready to switch on at 0 rpm"), "{end}");
+    assert_left_at_standstill(&end, "ready to switch on");
     assert!(b.text("#links").contains("Run report"), "a link to the report");
     b.wait_for_text("#runs", SERIAL);
     shot(&mut b, "result-1280x800");

@@ -485,6 +485,23 @@ pub fn wide_speed_and_current_rows(path: &Path) -> Vec<csv::StringRecord> {
     reader.records().map(Result::unwrap).collect()
 }
 
+/// Fails the test, showing all of `text`, unless it says the drive was left in `state` at
+/// standstill. In real time a spindle may still turn a few rpm when the stop reads it back;
+/// the stop's own verdict is standstill within its window (10 rpm), not 0 rpm exactly.
+#[track_caller]
+pub fn assert_left_at_standstill(text: &str, state: &str) {
+    let lead = format!("drive left in {state} at ");
+    let speed = text
+        .split(lead.as_str())
+        .nth(1)
+        .and_then(|rest| rest.split(" rpm").next())
+        .and_then(|n| n.trim().parse::<f64>().ok());
+    assert!(
+        speed.is_some_and(|s| s.abs() <= 10.0),
+        "expected `{lead}` within 10 rpm of standstill in:\n{text}"
+    );
+}
+
 /// Fails the test, showing all of `text`, unless `text` holds every one of `parts`.
 #[track_caller]
 pub fn assert_has(text: &str, parts: &[&str]) {
