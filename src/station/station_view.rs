@@ -270,6 +270,37 @@ impl StationView {
         }
     }
 
+    /// Where the series of `objects` stand, in order: (index, samples seen, stride), leaving
+    /// out the objects not plotted (beyond [`SERIES`]); `None` without a run under way, or
+    /// when two objects are one series (only [`StationView::sample`] counts those right).
+    pub fn positions(&self, objects: &[(String, Option<String>)]) -> Option<Vec<(usize, u64, u64)>> {
+        let run = self.run.as_ref().filter(|r| r.result.is_none())?;
+        let mut found: Vec<(usize, u64, u64)> = Vec::with_capacity(objects.len());
+        for (name, _) in objects {
+            let Some(i) = run.series.iter().position(|s| s.name == *name) else {
+                continue;
+            };
+            if found.iter().any(|f| f.0 == i) {
+                return None;
+            }
+            let (seen, stride) = run.series[i].position();
+            found.push((i, seen, stride));
+        }
+        Some(found)
+    }
+
+    /// `rows` sample rows up to `at_s` that every one of `series` drops (as
+    /// [`StationView::positions`] tells): counted as [`StationView::sample`] would.
+    pub fn skip(&mut self, at_s: f64, series: &[usize], rows: u64) {
+        let Some(run) = self.current() else { return };
+        run.elapsed_s = run.elapsed_s.max(at_s);
+        for i in series {
+            if let Some(s) = run.series.get_mut(*i) {
+                s.skip(rows);
+            }
+        }
+    }
+
     /// The event carrying `batch`, with each series' stride (a page halves its own points
     /// until its stride matches before it appends these).
     pub fn points(&self, batch: &[(usize, u64, f64, f64)]) -> Option<Value> {
