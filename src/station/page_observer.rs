@@ -226,25 +226,10 @@ fn give_skipped(view: &mut StationView, plotted: &Option<Vec<(usize, u64, u64)>>
 mod tests {
     use super::*;
     use crate::station::station_view::RunView;
-    use std::collections::VecDeque;
 
     fn view() -> StationView {
         let mut view = StationView::new(Vec::new(), "bench".into());
-        view.start(RunView {
-            id: 1,
-            recipe: "r".into(),
-            serial: "s".into(),
-            operator: "o".into(),
-            planned_s: None,
-            elapsed_s: 0.0,
-            steps: VecDeque::new(),
-            earlier_steps: 0,
-            dialog: None,
-            series: Vec::new(),
-            stops: 0,
-            note: None,
-            result: None,
-        });
+        view.start(RunView::new(1, "r", "s", "o", None));
         view
     }
 

@@ -93,6 +93,27 @@ pub struct RunView {
     pub result: Option<ResultView>,
 }
 
+impl RunView {
+    /// A run just started: no step, point or answer yet.
+    pub fn new(id: u64, recipe: &str, serial: &str, operator: &str, planned_s: Option<f64>) -> Self {
+        RunView {
+            id,
+            recipe: recipe.to_string(),
+            serial: serial.to_string(),
+            operator: operator.to_string(),
+            planned_s,
+            elapsed_s: 0.0,
+            steps: VecDeque::new(),
+            earlier_steps: 0,
+            dialog: None,
+            series: Vec::new(),
+            stops: 0,
+            note: None,
+            result: None,
+        }
+    }
+}
+
 /// The page's whole view.
 #[derive(Debug, Clone, Serialize)]
 pub struct StationView {
