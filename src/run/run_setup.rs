@@ -217,7 +217,7 @@ pub fn observed(
     if let Some(c) = csv {
         observers.push(c);
     }
-    let mut shared: Vec<Locked> = shared.iter().map(|o| Locked(o.as_ref())).collect();
+    let mut shared: Vec<Locked> = shared.iter().map(|o| Locked::new(o.as_ref())).collect();
     for o in shared.iter_mut() {
         observers.push(o);
     }
@@ -226,9 +226,16 @@ pub fn observed(
 
 /// A shared observer, locked for each event (a poisoned lock still gets it: an observer
 /// must never fail the run).
-struct Locked<'a>(&'a Mutex<dyn RunObserver>);
+struct Locked<'a>(&'a Mutex<dyn RunObserver>, bool);
 
-impl Locked<'_> {
+impl<'a> Locked<'a> {
+    /// Whether the observer shows live progress is asked once: it is what the observer
+    /// is, and the run asks for every sample row (a lock each time otherwise).
+    fn new(o: &'a Mutex<dyn RunObserver>) -> Self {
+        let wants_progress = o.lock().unwrap_or_else(PoisonError::into_inner).wants_progress();
+        Locked(o, wants_progress)
+    }
+
     fn with<T>(&self, f: impl FnOnce(&mut dyn RunObserver) -> T) -> T {
         f(&mut *self.0.lock().unwrap_or_else(PoisonError::into_inner))
     }
@@ -269,7 +276,7 @@ impl RunObserver for Locked<'_> {
         self.with(|o| o.sample(at, objects, values));
     }
     fn wants_progress(&self) -> bool {
-        self.with(|o| o.wants_progress())
+        self.1
     }
     fn message(&mut self, text: &str) {
         self.with(|o| o.message(text));

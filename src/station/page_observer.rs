@@ -1,12 +1,15 @@
 //! The run as the operator's page sees it: an observer of the one run pipeline (beside the
 //! console, the CSV and the results store) that turns its events into the station's view
 //! and events. Sampled points go out in batches at most a few times a second, so a page
-//! costs the run little however fast it samples. Must not fail or slow the run: it only
-//! changes the in-memory view.
+//! costs the run little however fast it samples: a row every series drops (most rows of a
+//! long run) is only counted here and given to the view with the next row kept, and the
+//! real clock is read only for rows that add points or every [`BATCH_EVERY`] of the run's
+//! time. Must not fail or slow the run: it only changes the in-memory view.
 
 use super::event_log::EventLog;
-use super::station_view::DialogView;
+use super::station_view::{DialogView, StationView};
 use crate::session::{CheckResult, ObjectRef, Prompt, PromptKind, RunObserver, StepInfo, StepRecord};
+use serde_json::Value;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
@@ -21,6 +24,17 @@ pub struct PageObserver {
     sent: Instant,
     /// The objects of the last sample row, as the view names them.
     objects: Vec<(String, Option<String>)>,
+    /// Their plotted series as the view has them after the rows counted in `skipped`:
+    /// (index, samples seen, stride); `None` until a row went to the view (then every row
+    /// goes to it).
+    plotted: Option<Vec<(usize, u64, u64)>>,
+    /// Rows every plotted series drops, not yet given to the view, and the last one's time.
+    skipped: u64,
+    skipped_at: f64,
+    /// The run's time when the real clock was last read for a batch.
+    checked_at: Duration,
+    /// A row came since the last `idle` (its sampling loop reads the clock itself).
+    sampled: bool,
 }
 
 impl PageObserver {
@@ -31,16 +45,39 @@ impl PageObserver {
             batch: Vec::new(),
             sent: Instant::now(),
             objects: Vec::new(),
+            plotted: None,
+            skipped: 0,
+            skipped_at: 0.0,
+            checked_at: Duration::ZERO,
+            sampled: false,
         }
     }
 
+    /// Changes the view, after giving it the rows only counted so far.
+    fn change(&mut self, change: impl FnOnce(&mut StationView) -> Option<Value>) {
+        let rows = std::mem::take(&mut self.skipped);
+        let (plotted, at) = (&self.plotted, self.skipped_at);
+        self.log.change(|view| {
+            give_skipped(view, plotted, rows, at);
+            ((), change(view))
+        });
+    }
+
     fn flush(&mut self) {
-        if self.batch.is_empty() {
+        if self.batch.is_empty() && self.skipped == 0 {
             return;
         }
         let batch = std::mem::take(&mut self.batch);
-        self.log.change(|view| ((), view.points(&batch)));
-        self.sent = Instant::now();
+        self.change(|view| view.points(&batch));
+        if !batch.is_empty() {
+            self.sent = Instant::now();
+        }
+    }
+
+    fn flush_when_due(&mut self) {
+        if !self.batch.is_empty() && self.sent.elapsed() >= BATCH_EVERY {
+            self.flush();
+        }
     }
 
     /// The dialog for `question` (the session's `text [hint]`), from the operator step it
@@ -88,61 +125,178 @@ impl PageObserver {
 impl RunObserver for PageObserver {
     fn step_started(&mut self, step: &StepInfo) {
         self.flush();
-        self.log
-            .change(|view| ((), view.step_started(&step.number, &step.label)));
+        self.change(|view| view.step_started(&step.number, &step.label));
     }
 
     fn check(&mut self, result: &CheckResult) {
-        self.log
-            .change(|view| (view.checked(result.passed, result.marginal), None));
+        self.change(|view| {
+            view.checked(result.passed, result.marginal);
+            None
+        });
     }
 
     fn step_finished(&mut self, record: &StepRecord) {
         self.flush();
         let at = (record.started + record.duration).as_secs_f64();
-        self.log.change(|view| {
-            let event = view.step_finished(&record.number, &record.label, record.ok, at);
-            ((), event)
-        });
+        self.change(|view| view.step_finished(&record.number, &record.label, record.ok, at));
     }
 
     fn step_progress(&mut self, _number: &str, _elapsed: Duration, _total: Option<Duration>, _values: &str) {
-        if self.sent.elapsed() >= BATCH_EVERY {
-            self.flush();
-        }
+        self.flush_when_due();
     }
 
     fn asked(&mut self, number: &str, question: &str) {
         self.flush();
         let dialog = self.dialog(number, question);
-        self.log.change(|view| ((), view.ask(dialog)));
+        self.change(|view| view.ask(dialog));
     }
 
     fn sample(&mut self, at: Duration, objects: &[ObjectRef], values: &[f64]) {
+        self.sampled = true;
         if self.objects.len() != objects.len() || self.objects.iter().zip(objects).any(|(a, b)| a.0 != b.name)
         {
+            // The rows counted so far belong to the series of the objects before.
+            self.flush();
+            self.plotted = None;
             self.objects = objects.iter().map(|o| (o.name.clone(), o.unit.clone())).collect();
         }
         let at_s = at.as_secs_f64();
-        let (names, batch) = (&self.objects, &mut self.batch);
-        self.log
-            .change(|view| (view.sample(at_s, names, values, batch), None));
-        if self.sent.elapsed() >= BATCH_EVERY {
-            self.flush();
+        let dropped = match self.plotted.as_mut() {
+            Some(plotted) if plotted.iter().all(|p| !p.1.is_multiple_of(p.2)) => {
+                plotted.iter_mut().for_each(|p| p.1 += 1);
+                true
+            }
+            _ => false,
+        };
+        let mut added = false;
+        if dropped {
+            self.skipped += 1;
+            self.skipped_at = at_s;
+        } else {
+            let before = self.batch.len();
+            let rows = std::mem::take(&mut self.skipped);
+            let (names, batch, plotted, at) =
+                (&self.objects, &mut self.batch, &mut self.plotted, self.skipped_at);
+            self.log.change(|view| {
+                give_skipped(view, plotted, rows, at);
+                view.sample(at_s, names, values, batch);
+                *plotted = view.positions(names);
+                ((), None)
+            });
+            added = self.batch.len() != before;
+        }
+        // The clock is read for a row that adds points, and otherwise every BATCH_EVERY of
+        // the run's time (the same in real time; far fewer reads in virtual time).
+        if added || at >= self.checked_at.saturating_add(BATCH_EVERY) {
+            self.checked_at = at;
+            if self.batch.is_empty() {
+                // Only counted rows: the view still learns how far the run is.
+                self.flush();
+            } else {
+                self.flush_when_due();
+            }
         }
     }
 
     fn message(&mut self, text: &str) {
-        self.log.change(|view| ((), view.message(text)));
+        self.change(|view| view.message(text));
     }
 
     fn idle(&mut self) {
-        if self.sent.elapsed() >= BATCH_EVERY {
-            self.flush();
+        // Between a sampling loop's rows, which read the clock as they need.
+        if !std::mem::take(&mut self.sampled) {
+            self.flush_when_due();
         }
     }
 
     fn run_finished(&mut self, _report: &crate::session::RunReport) {
         self.flush();
+    }
+}
+
+/// Gives the view the `rows` up to `at` that every series in `plotted` drops.
+fn give_skipped(view: &mut StationView, plotted: &Option<Vec<(usize, u64, u64)>>, rows: u64, at: f64) {
+    if let Some(plotted) = plotted.as_ref().filter(|_| rows > 0) {
+        let series: Vec<usize> = plotted.iter().map(|p| p.0).collect();
+        view.skip(at, &series, rows);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::station::station_view::RunView;
+
+    fn view() -> StationView {
+        let mut view = StationView::new(Vec::new(), "bench".into());
+        view.start(RunView::new(1, "r", "s", "o", None));
+        view
+    }
+
+    fn objects(names: &[&str]) -> Vec<ObjectRef> {
+        names
+            .iter()
+            .map(|n| ObjectRef {
+                name: n.to_string(),
+                unit: Some("rpm".into()),
+            })
+            .collect()
+    }
+
+    #[test]
+    fn counting_dropped_rows_leaves_the_view_as_sampling_each_row_does() {
+        let mut reference = view();
+        let log = Arc::new(EventLog::new(view()));
+        let mut page = PageObserver::new(log.clone(), Vec::new());
+        let many: Vec<String> = (0..10).map(|i| format!("o{i}")).collect();
+        let many: Vec<&str> = many.iter().map(String::as_str).collect();
+        // Objects that change between steps, a series sampled twice in one row, and more
+        // objects than the view plots.
+        let phases: [(&[&str], u64); 5] = [
+            (&["speed", "current"], 5000),
+            (&["speed"], 3001),
+            (&["speed", "speed"], 700),
+            (&["torque", "speed"], 2500),
+            (&many, 1500),
+        ];
+        let (mut row, mut batch) = (0u64, Vec::new());
+        for (names, rows) in phases {
+            let objects = objects(names);
+            let named: Vec<(String, Option<String>)> =
+                objects.iter().map(|o| (o.name.clone(), o.unit.clone())).collect();
+            for _ in 0..rows {
+                let at = Duration::from_millis(10 * row);
+                let values: Vec<f64> = (0..objects.len()).map(|i| (row * 10 + i as u64) as f64).collect();
+                reference.sample(at.as_secs_f64(), &named, &values, &mut batch);
+                page.sample(at, &objects, &values);
+                page.idle();
+                row += 1;
+            }
+            page.message("between steps");
+            reference.message("between steps");
+            let json = |v: &StationView| serde_json::to_string(&v.run).expect("json");
+            // Not assert_eq: the views are thousands of points long.
+            assert!(
+                log.read(json) == json(&reference),
+                "the views differ after {row} rows"
+            );
+            for name in ["speed", "current", "torque", "o3"] {
+                let position = |v: &StationView| v.positions(&[(name.to_string(), None)]);
+                assert_eq!(
+                    log.read(position),
+                    position(&reference),
+                    "{name} after {row} rows"
+                );
+            }
+        }
+        // As many series as the view plots, and the long ones compacted (rows counted).
+        let strides = log.read(|v| {
+            v.run
+                .as_ref()
+                .map(|r| r.series.iter().map(|s| s.stride).collect::<Vec<_>>())
+        });
+        let strides = strides.expect("the run");
+        assert_eq!(strides.len(), crate::station::SERIES);
+        assert!(strides[0] >= 16, "{strides:?}");
     }
 }

@@ -64,6 +64,18 @@ impl PlotBuffer {
         pushed
     }
 
+    /// Counts `n` samples that [`PlotBuffer::position`] says are dropped, as `n` pushes of
+    /// them would (a writer that knows saves pushing them one by one).
+    pub fn skip(&mut self, n: u64) {
+        self.seen += n;
+    }
+
+    /// Samples seen so far and the stride: the next sample is dropped (and nothing else
+    /// changes) unless the samples seen are a multiple of the stride.
+    pub fn position(&self) -> (u64, u64) {
+        (self.seen, self.stride)
+    }
+
     /// Whether the sample just pushed was kept (for the batch sent to pages).
     pub fn last_kept(&self) -> bool {
         (self.seen - 1).is_multiple_of(self.stride)

@@ -13,7 +13,6 @@ use super::station_view::{ResultView, RunView, StationView};
 use crate::run::{self, outputs_for, outputs_named, RunRequest, RunResult, SharedObserver, TerminalInput};
 use crate::session::{RunReport, Verdict};
 use crate::stop_request::{StopRequests, StopSignal};
-use std::collections::VecDeque;
 use std::path::PathBuf;
 use std::sync::{Arc, Mutex, MutexGuard, PoisonError};
 use std::thread::JoinHandle;
@@ -126,21 +125,13 @@ impl Station {
         } else {
             operator.to_string()
         };
-        let view = RunView {
+        let view = RunView::new(
             id,
-            recipe: chosen.name.clone(),
-            serial: serial.to_string(),
-            operator: operator.clone(),
-            planned_s: chosen.planned.map(|d| d.as_secs_f64()),
-            elapsed_s: 0.0,
-            steps: VecDeque::new(),
-            earlier_steps: 0,
-            dialog: None,
-            series: Vec::new(),
-            stops: 0,
-            note: None,
-            result: None,
-        };
+            &chosen.name,
+            serial,
+            &operator,
+            chosen.planned.map(|d| d.as_secs_f64()),
+        );
         self.log.change(|v| ((), Some(v.start(view))));
         let stop = Arc::new(StopRequests::new());
         let (answers, lines) = answer_channel();

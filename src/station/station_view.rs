@@ -93,6 +93,27 @@ pub struct RunView {
     pub result: Option<ResultView>,
 }
 
+impl RunView {
+    /// A run just started: no step, point or answer yet.
+    pub fn new(id: u64, recipe: &str, serial: &str, operator: &str, planned_s: Option<f64>) -> Self {
+        RunView {
+            id,
+            recipe: recipe.to_string(),
+            serial: serial.to_string(),
+            operator: operator.to_string(),
+            planned_s,
+            elapsed_s: 0.0,
+            steps: VecDeque::new(),
+            earlier_steps: 0,
+            dialog: None,
+            series: Vec::new(),
+            stops: 0,
+            note: None,
+            result: None,
+        }
+    }
+}
+
 /// The page's whole view.
 #[derive(Debug, Clone, Serialize)]
 pub struct StationView {
@@ -266,6 +287,37 @@ impl StationView {
             }
             if pushed != Pushed::Dropped && series.last_kept() {
                 batch.push((i, series_index(series), at_s, *v));
+            }
+        }
+    }
+
+    /// Where the series of `objects` stand, in order: (index, samples seen, stride), leaving
+    /// out the objects not plotted (beyond [`SERIES`]); `None` without a run under way, or
+    /// when two objects are one series (only [`StationView::sample`] counts those right).
+    pub fn positions(&self, objects: &[(String, Option<String>)]) -> Option<Vec<(usize, u64, u64)>> {
+        let run = self.run.as_ref().filter(|r| r.result.is_none())?;
+        let mut found: Vec<(usize, u64, u64)> = Vec::with_capacity(objects.len());
+        for (name, _) in objects {
+            let Some(i) = run.series.iter().position(|s| s.name == *name) else {
+                continue;
+            };
+            if found.iter().any(|f| f.0 == i) {
+                return None;
+            }
+            let (seen, stride) = run.series[i].position();
+            found.push((i, seen, stride));
+        }
+        Some(found)
+    }
+
+    /// `rows` sample rows up to `at_s` that every one of `series` drops (as
+    /// [`StationView::positions`] tells): counted as [`StationView::sample`] would.
+    pub fn skip(&mut self, at_s: f64, series: &[usize], rows: u64) {
+        let Some(run) = self.current() else { return };
+        run.elapsed_s = run.elapsed_s.max(at_s);
+        for i in series {
+            if let Some(s) = run.series.get_mut(*i) {
+                s.skip(rows);
             }
         }
     }
