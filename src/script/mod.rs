@@ -12,6 +12,7 @@ mod exchange;
 mod last_pass_api;
 mod literal_calls;
 mod operator_api;
+mod param_api;
 mod param_value;
 mod resolve;
 mod sample_tap;

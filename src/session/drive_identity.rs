@@ -28,6 +28,16 @@ const IDENTITY_OBJECTS: [(&str, &str); 12] = [
 ];
 
 impl Session<'_> {
+    /// The `ident` value as text, which recognises the drive after a reopen.
+    pub(super) fn identity(&mut self) -> Option<String> {
+        self.ident_value().map(|v| v.to_string())
+    }
+
+    /// The value of the dictionary's `ident` object, which tells this drive from another.
+    pub(super) fn ident_value(&mut self) -> Option<Value> {
+        let name = self.drive().dictionary().lookup("ident").ok()?.name.clone();
+        self.drive().read(&name).ok()
+    }
     /// `device type 0x00020192, vendor 0x0000003B, serial 0x00000001, …`: the values of
     /// the identity objects the current drive answered; `None` when its dictionary names
     /// none or it answered none. `ident` is the `ident` object's value already read (to

@@ -407,16 +407,6 @@ impl<'a> Session<'a> {
         self.current = 0;
     }
 
-    pub(super) fn identity(&mut self) -> Option<String> {
-        self.ident_value().map(|v| v.to_string())
-    }
-
-    /// The value of the dictionary's `ident` object, which tells this drive from another.
-    fn ident_value(&mut self) -> Option<crate::dictionary::Value> {
-        let name = self.drive().dictionary().lookup("ident").ok()?.name.clone();
-        self.drive().read(&name).ok()
-    }
-
     /// A stop request that nobody answers yet. During the safe stop only a second request
     /// counts: the first one, arriving while `finally` already runs, asks for what is
     /// being done anyway.
