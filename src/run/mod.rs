@@ -32,6 +32,7 @@ mod exit_code;
 mod latency_note;
 mod line_exchange;
 mod link_range_check;
+mod locked_observer;
 mod maintain;
 mod not_run;
 mod operator_args;

@@ -4,6 +4,7 @@
 //! and the observers list, and the JUnit and HTML reports at the end. Must not open a
 //! drive or decide exit codes.
 
+use super::locked_observer::LockedObserver;
 use super::{ConnectionArgs, OutputArgs, RunError, SharedObserver};
 use crate::dictionary::Dictionary;
 use crate::family::Family;
@@ -13,9 +14,7 @@ use crate::report::{
     CsvRecorder, ProgressReporter, TelegramFanOut, TraceHeader, TraceWriter,
 };
 use crate::session::PlannedCheck;
-use crate::session::{
-    CheckResult, ObjectRef, Observers, RunInfo, RunObserver, RunReport, StepInfo, StepRecord, UnitIdentity,
-};
+use crate::session::{ObjectRef, Observers, RunReport};
 use std::io::Write;
 use std::sync::{Arc, Mutex, PoisonError};
 use std::time::Duration;
@@ -217,76 +216,11 @@ pub fn observed(
     if let Some(c) = csv {
         observers.push(c);
     }
-    let mut shared: Vec<Locked> = shared.iter().map(|o| Locked::new(o.as_ref())).collect();
+    let mut shared: Vec<LockedObserver> = shared.iter().map(|o| LockedObserver::new(o.as_ref())).collect();
     for o in shared.iter_mut() {
         observers.push(o);
     }
     run(&mut observers)
-}
-
-/// A shared observer, locked for each event (a poisoned lock still gets it: an observer
-/// must never fail the run).
-struct Locked<'a>(&'a Mutex<dyn RunObserver>, bool);
-
-impl<'a> Locked<'a> {
-    /// Whether the observer shows live progress is asked once: it is what the observer
-    /// is, and the run asks for every sample row (a lock each time otherwise).
-    fn new(o: &'a Mutex<dyn RunObserver>) -> Self {
-        let wants_progress = o.lock().unwrap_or_else(PoisonError::into_inner).wants_progress();
-        Locked(o, wants_progress)
-    }
-
-    fn with<T>(&self, f: impl FnOnce(&mut dyn RunObserver) -> T) -> T {
-        f(&mut *self.0.lock().unwrap_or_else(PoisonError::into_inner))
-    }
-}
-
-impl RunObserver for Locked<'_> {
-    fn run_started(&mut self, run: &RunInfo, drive: &str) {
-        self.with(|o| o.run_started(run, drive));
-    }
-    fn unit_identified(&mut self, unit: &UnitIdentity) {
-        self.with(|o| o.unit_identified(unit));
-    }
-    fn step_started(&mut self, step: &StepInfo) {
-        self.with(|o| o.step_started(step));
-    }
-    fn step_placed(&mut self, id: &str) {
-        self.with(|o| o.step_placed(id));
-    }
-    fn attempt_started(&mut self, number: &str, attempt: u32, of: u32) {
-        self.with(|o| o.attempt_started(number, attempt, of));
-    }
-    fn attempts_given_up(&mut self) {
-        self.with(|o| o.attempts_given_up());
-    }
-    fn step_progress(&mut self, number: &str, elapsed: Duration, total: Option<Duration>, values: &str) {
-        self.with(|o| o.step_progress(number, elapsed, total, values));
-    }
-    fn asked(&mut self, number: &str, question: &str) {
-        self.with(|o| o.asked(number, question));
-    }
-    fn step_finished(&mut self, record: &StepRecord) {
-        self.with(|o| o.step_finished(record));
-    }
-    fn check(&mut self, result: &CheckResult) {
-        self.with(|o| o.check(result));
-    }
-    fn sample(&mut self, at: Duration, objects: &[ObjectRef], values: &[f64]) {
-        self.with(|o| o.sample(at, objects, values));
-    }
-    fn wants_progress(&self) -> bool {
-        self.1
-    }
-    fn message(&mut self, text: &str) {
-        self.with(|o| o.message(text));
-    }
-    fn run_finished(&mut self, report: &RunReport) {
-        self.with(|o| o.run_finished(report));
-    }
-    fn idle(&mut self) {
-        self.with(|o| o.idle());
-    }
 }
 
 /// After the run: a CSV write error as a warning, then the JUnit and HTML reports.

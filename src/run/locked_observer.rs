@@ -1,0 +1,247 @@
+//! A shared observer (one its caller keeps a handle on: the results store, the station's
+//! page) as the run's observers list sees it. Its lock is taken once per event, except for
+//! the rows of a sampling loop: those are held and handed over together, under one lock,
+//! at most [`HELD_FOR`] of the run's time after the last ones (a long run at 100 Hz would
+//! otherwise take the lock twice per row, for the row and for the wait after it). Every
+//! event still reaches the observer, in the order the run made them: any other event hands
+//! the held rows over first. Must not fail the run, nor drop, reorder or change an event.
+
+use crate::session::{
+    CheckResult, ObjectRef, RunInfo, RunObserver, RunReport, StepInfo, StepRecord, UnitIdentity,
+};
+use std::sync::{Mutex, PoisonError};
+use std::time::Duration;
+
+/// The most run time between one hand-over of rows and the next while rows keep coming
+/// (a page's plot lags by at most this, plus one sample interval shorter than it).
+pub const HELD_FOR: Duration = Duration::from_millis(100);
+/// The most rows held, so that a fast sample of many objects holds little.
+pub const HELD_ROWS: usize = 64;
+
+pub struct LockedObserver<'a> {
+    observer: &'a Mutex<dyn RunObserver>,
+    /// Whether it shows live progress, asked once: it is what the observer is, and the run
+    /// asks for every sample row.
+    wants_progress: bool,
+    /// The objects of the rows held.
+    objects: Vec<ObjectRef>,
+    /// The rows held: their times, and their values one row after the other.
+    at: Vec<Duration>,
+    values: Vec<f64>,
+    /// The time of the last row handed over (`None`: none yet, the next one goes at once).
+    handed: Option<Duration>,
+    /// The rows held are due: they go with the wait that follows them, under its lock.
+    due: bool,
+}
+
+impl<'a> LockedObserver<'a> {
+    pub fn new(observer: &'a Mutex<dyn RunObserver>) -> Self {
+        // A poisoned lock still gets every event: an observer must never fail the run.
+        let wants_progress = observer
+            .lock()
+            .unwrap_or_else(PoisonError::into_inner)
+            .wants_progress();
+        LockedObserver {
+            observer,
+            wants_progress,
+            objects: Vec::new(),
+            at: Vec::new(),
+            values: Vec::with_capacity(HELD_ROWS * 2),
+            handed: None,
+            due: false,
+        }
+    }
+
+    /// Under the observer's lock: the rows held, then `f`.
+    fn with<T>(&mut self, f: impl FnOnce(&mut dyn RunObserver) -> T) -> T {
+        let observer = self.observer;
+        let mut observer = observer.lock().unwrap_or_else(PoisonError::into_inner);
+        self.hand_over(&mut *observer);
+        f(&mut *observer)
+    }
+
+    fn hand_over(&mut self, observer: &mut dyn RunObserver) {
+        let width = self.objects.len();
+        for (i, at) in self.at.iter().enumerate() {
+            observer.sample(*at, &self.objects, &self.values[i * width..(i + 1) * width]);
+        }
+        self.handed = self.at.last().copied().or(self.handed);
+        self.at.clear();
+        self.values.clear();
+        self.due = false;
+    }
+}
+
+impl RunObserver for LockedObserver<'_> {
+    fn run_started(&mut self, run: &RunInfo, drive: &str) {
+        self.with(|o| o.run_started(run, drive));
+    }
+    fn unit_identified(&mut self, unit: &UnitIdentity) {
+        self.with(|o| o.unit_identified(unit));
+    }
+    fn step_started(&mut self, step: &StepInfo) {
+        self.with(|o| o.step_started(step));
+    }
+    fn step_placed(&mut self, id: &str) {
+        self.with(|o| o.step_placed(id));
+    }
+    fn attempt_started(&mut self, number: &str, attempt: u32, of: u32) {
+        self.with(|o| o.attempt_started(number, attempt, of));
+    }
+    fn attempts_given_up(&mut self) {
+        self.with(|o| o.attempts_given_up());
+    }
+    fn step_progress(&mut self, number: &str, elapsed: Duration, total: Option<Duration>, values: &str) {
+        self.with(|o| o.step_progress(number, elapsed, total, values));
+    }
+    fn asked(&mut self, number: &str, question: &str) {
+        self.with(|o| o.asked(number, question));
+    }
+    fn step_finished(&mut self, record: &StepRecord) {
+        self.with(|o| o.step_finished(record));
+    }
+    fn check(&mut self, result: &CheckResult) {
+        self.with(|o| o.check(result));
+    }
+    fn sample(&mut self, at: Duration, objects: &[ObjectRef], values: &[f64]) {
+        // Rows due whose wait never came, or rows of other objects, go first.
+        if self.due || (!self.at.is_empty() && self.objects != objects) {
+            self.with(|_| ());
+        }
+        if self.at.is_empty() && self.objects != objects {
+            self.objects = objects.to_vec();
+        }
+        self.at.push(at);
+        self.values.extend_from_slice(values);
+        self.due = self.at.len() >= HELD_ROWS
+            || self
+                .handed
+                .is_none_or(|last| at >= last.saturating_add(HELD_FOR));
+    }
+    fn wants_progress(&self) -> bool {
+        self.wants_progress
+    }
+    fn message(&mut self, text: &str) {
+        self.with(|o| o.message(text));
+    }
+    fn run_finished(&mut self, report: &RunReport) {
+        self.with(|o| o.run_finished(report));
+    }
+    fn idle(&mut self) {
+        // A wait between rows not yet due is the sampling loop's own: the rows go with a
+        // later one, at most HELD_FOR on.
+        if self.at.is_empty() || self.due {
+            self.with(|o| o.idle());
+        }
+    }
+}
+
+impl Drop for LockedObserver<'_> {
+    /// A run that ends without its last event (a panic) still hands over its rows.
+    fn drop(&mut self) {
+        if !self.at.is_empty() {
+            self.with(|_| ());
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::sync::Arc;
+
+    /// Every event as a line, in the order received.
+    #[derive(Default)]
+    struct Lines(Vec<String>);
+
+    impl RunObserver for Lines {
+        fn sample(&mut self, at: Duration, objects: &[ObjectRef], values: &[f64]) {
+            let names: Vec<&str> = objects.iter().map(|o| o.name.as_str()).collect();
+            self.0.push(format!("{} {names:?} {values:?}", at.as_millis()));
+        }
+        fn message(&mut self, text: &str) {
+            self.0.push(text.to_string());
+        }
+        fn idle(&mut self) {
+            self.0.push("idle".into());
+        }
+    }
+
+    fn objects(names: &[&str]) -> Vec<ObjectRef> {
+        names
+            .iter()
+            .map(|n| ObjectRef {
+                name: n.to_string(),
+                unit: None,
+            })
+            .collect()
+    }
+
+    fn lines(shared: &Arc<Mutex<Lines>>) -> Vec<String> {
+        shared.lock().expect("lines").0.clone()
+    }
+
+    #[test]
+    fn rows_reach_the_observer_in_order_at_most_held_for_after_the_last_ones() {
+        let shared = Arc::new(Mutex::new(Lines::default()));
+        let dynamic: Arc<Mutex<dyn RunObserver>> = shared.clone();
+        let mut locked = LockedObserver::new(&dynamic);
+        let two = objects(&["speed", "current"]);
+        // A sampling loop at 100 Hz: a row, then the wait before the next.
+        for k in 0..25u64 {
+            locked.sample(Duration::from_millis(10 * k), &two, &[k as f64, -(k as f64)]);
+            locked.idle();
+            let seen = lines(&shared);
+            let rows = seen.iter().filter(|l| *l != "idle").count() as u64;
+            // The first row at once; then every row within HELD_FOR of the run's time.
+            assert!(rows >= 1 && (k + 1 - rows) * 10 < HELD_FOR.as_millis() as u64, "{k}: {seen:?}");
+        }
+        // Far fewer waits passed on than rows: the lock is taken once per batch.
+        let idles = lines(&shared).iter().filter(|l| *l == "idle").count();
+        assert!(idles <= 4, "{idles}");
+        // Rows of other objects, and any other event, hand over what is held first.
+        let one = objects(&["torque"]);
+        locked.sample(Duration::from_millis(251), &two, &[1.0, 2.0]);
+        locked.sample(Duration::from_millis(252), &one, &[3.0]);
+        locked.message("done");
+        let seen = lines(&shared);
+        let rows: Vec<&String> = seen.iter().filter(|l| *l != "idle").collect();
+        assert_eq!(rows.len(), 28, "{seen:?}");
+        for (k, row) in rows.iter().take(25).enumerate() {
+            assert_eq!(
+                **row,
+                format!("{} [\"speed\", \"current\"] [{}.0, {}.0]", 10 * k, k, -(k as f64)),
+                "{seen:?}"
+            );
+        }
+        assert_eq!(rows[25], "251 [\"speed\", \"current\"] [1.0, 2.0]");
+        assert_eq!(rows[26], "252 [\"torque\"] [3.0]");
+        assert_eq!(rows[27], "done");
+    }
+
+    #[test]
+    fn rows_held_when_the_run_ends_without_its_last_event_are_handed_over() {
+        let shared = Arc::new(Mutex::new(Lines::default()));
+        let dynamic: Arc<Mutex<dyn RunObserver>> = shared.clone();
+        let mut locked = LockedObserver::new(&dynamic);
+        let one = objects(&["speed"]);
+        for k in 0..5u64 {
+            locked.sample(Duration::from_millis(k), &one, &[k as f64]);
+        }
+        drop(locked);
+        assert_eq!(lines(&shared).len(), 5);
+    }
+
+    #[test]
+    fn slow_rows_are_each_handed_over_at_once() {
+        let shared = Arc::new(Mutex::new(Lines::default()));
+        let dynamic: Arc<Mutex<dyn RunObserver>> = shared.clone();
+        let mut locked = LockedObserver::new(&dynamic);
+        let one = objects(&["speed"]);
+        for k in 0..5u64 {
+            locked.sample(Duration::from_secs(k), &one, &[k as f64]);
+            locked.idle();
+            assert_eq!(lines(&shared).len() as u64, 2 * (k + 1), "{:?}", lines(&shared));
+        }
+    }
+}
