@@ -23,13 +23,20 @@ pub struct LockedObserver<'a> {
     /// Whether it shows live progress, asked once: it is what the observer is, and the run
     /// asks for every sample row.
     wants_progress: bool,
-    /// The objects of the rows held.
+    /// The objects of the rows held (a new allocation whenever they change, so that the
+    /// observer, handed this slice, may tell them apart by their place).
     objects: Vec<ObjectRef>,
+    /// Where the caller kept the objects of the last row (address and number): a sampling
+    /// loop hands the same slice with every row, so a row there names the objects held
+    /// without comparing names. Forgotten at every other event (a new step may keep other
+    /// objects at that place).
+    objects_at: Option<(usize, usize)>,
     /// The rows held: their times, and their values one row after the other.
     at: Vec<Duration>,
     values: Vec<f64>,
-    /// The time of the last row handed over (`None`: none yet, the next one goes at once).
-    handed: Option<Duration>,
+    /// From when a row is due: [`HELD_FOR`] after the last row handed over (zero before
+    /// the first: it goes at once).
+    due_from: Duration,
     /// The rows held are due: they go with the wait that follows them, under its lock.
     due: bool,
 }
@@ -45,11 +52,18 @@ impl<'a> LockedObserver<'a> {
             observer,
             wants_progress,
             objects: Vec::new(),
+            objects_at: None,
             at: Vec::new(),
             values: Vec::with_capacity(HELD_ROWS * 2),
-            handed: None,
+            due_from: Duration::ZERO,
             due: false,
         }
+    }
+
+    /// An event other than a row or a wait: the rows held, then `f`, under the lock.
+    fn event<T>(&mut self, f: impl FnOnce(&mut dyn RunObserver) -> T) -> T {
+        self.objects_at = None;
+        self.with(f)
     }
 
     /// Under the observer's lock: the rows held, then `f`.
@@ -65,7 +79,9 @@ impl<'a> LockedObserver<'a> {
         for (i, at) in self.at.iter().enumerate() {
             observer.sample(*at, &self.objects, &self.values[i * width..(i + 1) * width]);
         }
-        self.handed = self.at.last().copied().or(self.handed);
+        if let Some(last) = self.at.last() {
+            self.due_from = last.saturating_add(HELD_FOR);
+        }
         self.at.clear();
         self.values.clear();
         self.due = false;
@@ -74,58 +90,61 @@ impl<'a> LockedObserver<'a> {
 
 impl RunObserver for LockedObserver<'_> {
     fn run_started(&mut self, run: &RunInfo, drive: &str) {
-        self.with(|o| o.run_started(run, drive));
+        self.event(|o| o.run_started(run, drive));
     }
     fn unit_identified(&mut self, unit: &UnitIdentity) {
-        self.with(|o| o.unit_identified(unit));
+        self.event(|o| o.unit_identified(unit));
     }
     fn step_started(&mut self, step: &StepInfo) {
-        self.with(|o| o.step_started(step));
+        self.event(|o| o.step_started(step));
     }
     fn step_placed(&mut self, id: &str) {
-        self.with(|o| o.step_placed(id));
+        self.event(|o| o.step_placed(id));
     }
     fn attempt_started(&mut self, number: &str, attempt: u32, of: u32) {
-        self.with(|o| o.attempt_started(number, attempt, of));
+        self.event(|o| o.attempt_started(number, attempt, of));
     }
     fn attempts_given_up(&mut self) {
-        self.with(|o| o.attempts_given_up());
+        self.event(|o| o.attempts_given_up());
     }
     fn step_progress(&mut self, number: &str, elapsed: Duration, total: Option<Duration>, values: &str) {
-        self.with(|o| o.step_progress(number, elapsed, total, values));
+        self.event(|o| o.step_progress(number, elapsed, total, values));
     }
     fn asked(&mut self, number: &str, question: &str) {
-        self.with(|o| o.asked(number, question));
+        self.event(|o| o.asked(number, question));
     }
     fn step_finished(&mut self, record: &StepRecord) {
-        self.with(|o| o.step_finished(record));
+        self.event(|o| o.step_finished(record));
     }
     fn check(&mut self, result: &CheckResult) {
-        self.with(|o| o.check(result));
+        self.event(|o| o.check(result));
     }
     fn sample(&mut self, at: Duration, objects: &[ObjectRef], values: &[f64]) {
-        // Rows due whose wait never came, or rows of other objects, go first.
-        if self.due || (!self.at.is_empty() && self.objects != objects) {
-            self.with(|_| ());
+        let place = (objects.as_ptr() as usize, objects.len());
+        if self.objects_at != Some(place) {
+            self.objects_at = Some(place);
+            if self.objects != objects {
+                // The rows held name the objects before: they go first.
+                self.with(|_| ());
+                self.objects = objects.to_vec();
+            }
         }
-        if self.at.is_empty() && self.objects != objects {
-            self.objects = objects.to_vec();
+        // Rows due whose wait never came go first too.
+        if self.due {
+            self.with(|_| ());
         }
         self.at.push(at);
         self.values.extend_from_slice(values);
-        self.due = self.at.len() >= HELD_ROWS
-            || self
-                .handed
-                .is_none_or(|last| at >= last.saturating_add(HELD_FOR));
+        self.due = at >= self.due_from || self.at.len() >= HELD_ROWS;
     }
     fn wants_progress(&self) -> bool {
         self.wants_progress
     }
     fn message(&mut self, text: &str) {
-        self.with(|o| o.message(text));
+        self.event(|o| o.message(text));
     }
     fn run_finished(&mut self, report: &RunReport) {
-        self.with(|o| o.run_finished(report));
+        self.event(|o| o.run_finished(report));
     }
     fn idle(&mut self) {
         // A wait between rows not yet due is the sampling loop's own: the rows go with a
@@ -194,7 +213,10 @@ mod tests {
             let seen = lines(&shared);
             let rows = seen.iter().filter(|l| *l != "idle").count() as u64;
             // The first row at once; then every row within HELD_FOR of the run's time.
-            assert!(rows >= 1 && (k + 1 - rows) * 10 < HELD_FOR.as_millis() as u64, "{k}: {seen:?}");
+            assert!(
+                rows >= 1 && (k + 1 - rows) * 10 < HELD_FOR.as_millis() as u64,
+                "{k}: {seen:?}"
+            );
         }
         // Far fewer waits passed on than rows: the lock is taken once per batch.
         let idles = lines(&shared).iter().filter(|l| *l == "idle").count();

@@ -24,15 +24,20 @@ pub struct PageObserver {
     sent: Instant,
     /// The objects of the last sample row, as the view names them.
     objects: Vec<(String, Option<String>)>,
-    /// Their plotted series as the view has them after the rows counted in `skipped`:
-    /// (index, samples seen, stride); `None` until a row went to the view (then every row
-    /// goes to it).
-    plotted: Option<Vec<(usize, u64, u64)>>,
+    /// Where the caller kept those objects (address and number): a sampling loop hands the
+    /// same slice with every row, so a row there names them without comparing names.
+    /// Forgotten at every other event (a new step may keep other objects at that place).
+    objects_at: Option<(usize, usize)>,
+    /// Their plotted series as the view has them after the rows counted in `skipped`;
+    /// `None` until a row went to the view (then every row goes to it).
+    plotted: Option<Vec<usize>>,
+    /// How many more rows every plotted series drops (counted, not given to the view).
+    droppable: u64,
     /// Rows every plotted series drops, not yet given to the view, and the last one's time.
     skipped: u64,
-    skipped_at: f64,
-    /// The run's time when the real clock was last read for a batch.
-    checked_at: Duration,
+    skipped_at: Duration,
+    /// The run's time from which a row reads the real clock for a batch again.
+    next_check: Duration,
     /// A row came since the last `idle` (its sampling loop reads the clock itself).
     sampled: bool,
 }
@@ -45,10 +50,12 @@ impl PageObserver {
             batch: Vec::new(),
             sent: Instant::now(),
             objects: Vec::new(),
+            objects_at: None,
             plotted: None,
+            droppable: 0,
             skipped: 0,
-            skipped_at: 0.0,
-            checked_at: Duration::ZERO,
+            skipped_at: Duration::ZERO,
+            next_check: Duration::ZERO,
             sampled: false,
         }
     }
@@ -56,7 +63,7 @@ impl PageObserver {
     /// Changes the view, after giving it the rows only counted so far.
     fn change(&mut self, change: impl FnOnce(&mut StationView) -> Option<Value>) {
         let rows = std::mem::take(&mut self.skipped);
-        let (plotted, at) = (&self.plotted, self.skipped_at);
+        let (plotted, at) = (&self.plotted, self.skipped_at.as_secs_f64());
         self.log.change(|view| {
             give_skipped(view, plotted, rows, at);
             ((), change(view))
@@ -124,11 +131,13 @@ impl PageObserver {
 
 impl RunObserver for PageObserver {
     fn step_started(&mut self, step: &StepInfo) {
+        self.objects_at = None;
         self.flush();
         self.change(|view| view.step_started(&step.number, &step.label));
     }
 
     fn check(&mut self, result: &CheckResult) {
+        self.objects_at = None;
         self.change(|view| {
             view.checked(result.passed, result.marginal);
             None
@@ -136,16 +145,19 @@ impl RunObserver for PageObserver {
     }
 
     fn step_finished(&mut self, record: &StepRecord) {
+        self.objects_at = None;
         self.flush();
         let at = (record.started + record.duration).as_secs_f64();
         self.change(|view| view.step_finished(&record.number, &record.label, record.ok, at));
     }
 
     fn step_progress(&mut self, _number: &str, _elapsed: Duration, _total: Option<Duration>, _values: &str) {
+        self.objects_at = None;
         self.flush_when_due();
     }
 
     fn asked(&mut self, number: &str, question: &str) {
+        self.objects_at = None;
         self.flush();
         let dialog = self.dialog(number, question);
         self.change(|view| view.ask(dialog));
@@ -153,42 +165,53 @@ impl RunObserver for PageObserver {
 
     fn sample(&mut self, at: Duration, objects: &[ObjectRef], values: &[f64]) {
         self.sampled = true;
-        if self.objects.len() != objects.len() || self.objects.iter().zip(objects).any(|(a, b)| a.0 != b.name)
-        {
-            // The rows counted so far belong to the series of the objects before.
-            self.flush();
-            self.plotted = None;
-            self.objects = objects.iter().map(|o| (o.name.clone(), o.unit.clone())).collect();
-        }
-        let at_s = at.as_secs_f64();
-        let dropped = match self.plotted.as_mut() {
-            Some(plotted) if plotted.iter().all(|p| !p.1.is_multiple_of(p.2)) => {
-                plotted.iter_mut().for_each(|p| p.1 += 1);
-                true
+        let place = (objects.as_ptr() as usize, objects.len());
+        if self.objects_at != Some(place) {
+            self.objects_at = Some(place);
+            if self.objects.len() != objects.len()
+                || self.objects.iter().zip(objects).any(|(a, b)| a.0 != b.name)
+            {
+                // The rows counted so far belong to the series of the objects before.
+                self.flush();
+                self.plotted = None;
+                self.droppable = 0;
+                self.objects = objects.iter().map(|o| (o.name.clone(), o.unit.clone())).collect();
             }
-            _ => false,
-        };
+        }
         let mut added = false;
-        if dropped {
+        if self.plotted.is_some() && self.droppable > 0 {
+            self.droppable -= 1;
             self.skipped += 1;
-            self.skipped_at = at_s;
+            self.skipped_at = at;
         } else {
             let before = self.batch.len();
             let rows = std::mem::take(&mut self.skipped);
-            let (names, batch, plotted, at) =
-                (&self.objects, &mut self.batch, &mut self.plotted, self.skipped_at);
-            self.log.change(|view| {
-                give_skipped(view, plotted, rows, at);
-                view.sample(at_s, names, values, batch);
-                *plotted = view.positions(names);
-                ((), None)
+            let (names, batch, plotted, at_s) = (
+                &self.objects,
+                &mut self.batch,
+                &mut self.plotted,
+                self.skipped_at.as_secs_f64(),
+            );
+            let positions = self.log.change(|view| {
+                give_skipped(view, plotted, rows, at_s);
+                view.sample(at.as_secs_f64(), names, values, batch);
+                (view.positions(names), None)
             });
+            // Every plotted series keeps the samples seen that are a multiple of its stride.
+            self.droppable = positions.as_ref().map_or(0, |found| {
+                found
+                    .iter()
+                    .map(|&(_, seen, stride)| (stride - seen % stride) % stride)
+                    .min()
+                    .unwrap_or(u64::MAX)
+            });
+            self.plotted = positions.map(|found| found.iter().map(|p| p.0).collect());
             added = self.batch.len() != before;
         }
         // The clock is read for a row that adds points, and otherwise every BATCH_EVERY of
         // the run's time (the same in real time; far fewer reads in virtual time).
-        if added || at >= self.checked_at.saturating_add(BATCH_EVERY) {
-            self.checked_at = at;
+        if added || at >= self.next_check {
+            self.next_check = at.saturating_add(BATCH_EVERY);
             if self.batch.is_empty() {
                 // Only counted rows: the view still learns how far the run is.
                 self.flush();
@@ -199,6 +222,7 @@ impl RunObserver for PageObserver {
     }
 
     fn message(&mut self, text: &str) {
+        self.objects_at = None;
         self.change(|view| view.message(text));
     }
 
@@ -210,15 +234,15 @@ impl RunObserver for PageObserver {
     }
 
     fn run_finished(&mut self, _report: &crate::session::RunReport) {
+        self.objects_at = None;
         self.flush();
     }
 }
 
 /// Gives the view the `rows` up to `at` that every series in `plotted` drops.
-fn give_skipped(view: &mut StationView, plotted: &Option<Vec<(usize, u64, u64)>>, rows: u64, at: f64) {
-    if let Some(plotted) = plotted.as_ref().filter(|_| rows > 0) {
-        let series: Vec<usize> = plotted.iter().map(|p| p.0).collect();
-        view.skip(at, &series, rows);
+fn give_skipped(view: &mut StationView, plotted: &Option<Vec<usize>>, rows: u64, at: f64) {
+    if let Some(series) = plotted.as_ref().filter(|_| rows > 0) {
+        view.skip(at, series, rows);
     }
 }
 
