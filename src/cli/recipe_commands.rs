@@ -5,14 +5,12 @@
 use super::{panic_notice, safe_stop_notes, stop_signals};
 use crate::family::Registry;
 use crate::run::{
-    self, drive_limits, outputs_named, run_many, BadValue, CheckRequest, Checked, ConnectionArgs,
-    DictionaryArgs, OperatorArgs, OutputArgs, RunOperator, RunPlan, RunRequest, SafeStopArgs, TerminalInput,
-    INVALID, PASSED,
+    self, drive_limits, outputs_named, parse_set, run_many, CheckRequest, Checked, ConnectionArgs,
+    DictionaryArgs, RunOperator, RunOptions, RunPlan, RunRequest, TerminalInput, INVALID, PASSED,
 };
 use clap::Args;
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
-use std::sync::{Arc, Mutex};
 
 #[derive(Debug, Args)]
 /// Validate recipes against the dictionary; nothing is sent to a drive
@@ -57,43 +55,8 @@ pub struct RunArgs {
     /// Recipe files or Rhai scripts (`.yaml`, `.rhai`), run one after the other.
     #[arg(value_name = "RECIPE", required = true)]
     recipes: Vec<PathBuf>,
-    /// Parameter override, NAME=VALUE (e.g. speed=8000rpm); may be repeated.
-    #[arg(long = "set", value_name = "NAME=VALUE", value_parser = parse_set)]
-    set: Vec<(String, String)>,
-    /// Run in virtual time, simulated drive only: hours take seconds with identical
-    /// results.
-    #[arg(long, conflicts_with = "realtime")]
-    fast: bool,
-    /// Run in real time (the default; with a real drive always).
-    #[arg(long, hide_short_help = true)]
-    realtime: bool,
-    /// Directory for every output given as a relative path: --junit, --report, --csv,
-    /// --trace and the `csv:` files of sample steps (and of a script's `sample`) (default:
-    /// the current directory).
-    #[arg(long, value_name = "DIR", default_value = ".")]
-    output_dir: PathBuf,
     #[command(flatten)]
-    outputs: OutputArgs,
-    #[command(flatten)]
-    safe_stop: SafeStopArgs,
-    #[command(flatten)]
-    operator: OperatorArgs,
-    #[command(flatten)]
-    dictionary: DictionaryArgs,
-    #[command(flatten)]
-    connection: ConnectionArgs,
-    #[command(flatten)]
-    record: crate::run::RecordArgs,
-}
-
-/// `--set NAME=VALUE` (also `station`'s).
-pub(super) fn parse_set(text: &str) -> Result<(String, String), BadValue> {
-    match text.split_once('=') {
-        Some((k, v)) if !k.trim().is_empty() => Ok((k.trim().to_string(), v.trim().to_string())),
-        _ => Err(BadValue(format!(
-            "`{text}`: write NAME=VALUE, e.g. speed=8000rpm"
-        ))),
-    }
+    options: RunOptions,
 }
 
 pub fn check(args: &CheckArgs, registry: &Registry) -> i32 {
@@ -214,13 +177,20 @@ fn print_checked(path: &Path, checked: &Checked) -> i32 {
 }
 
 pub fn run(args: &RunArgs, registry: &Registry) -> i32 {
+    let options = &args.options;
     // A part an answer given beforehand sets is known before the files are opened (one
     // recipe: with several, each may set it differently and the shared files are one).
     let unit = match args.recipes.as_slice() {
-        [one] => run::unit_before_start(registry, one, &args.set, &args.dictionary, &args.operator),
-        _ => args.operator.identity(),
+        [one] => run::unit_before_start(
+            registry,
+            one,
+            &options.set,
+            &options.dictionary,
+            &options.operator,
+        ),
+        _ => options.operator.identity(),
     };
-    let outputs = match outputs_named(&args.outputs, &unit, std::time::SystemTime::now()) {
+    let outputs = match outputs_named(&options.outputs, &unit, std::time::SystemTime::now()) {
         Ok(o) => o,
         Err(e) => {
             eprintln!("error: {e}; nothing was sent");
@@ -229,41 +199,14 @@ pub fn run(args: &RunArgs, registry: &Registry) -> i32 {
     };
     let stop = stop_signals::install(true);
     panic_notice::install();
-    let recorder = args.record.recorder(
-        &args.recipes,
-        &args.connection,
-        &args.dictionary,
-        registry,
-        &outputs,
-        &args.output_dir,
-    );
-    let observers: Vec<run::SharedObserver> = recorder
-        .map(|r| r.with_stop(stop.clone()))
-        .map(|r| Arc::new(Mutex::new(r)) as run::SharedObserver)
-        .into_iter()
-        .collect();
     let request = RunRequest {
-        registry,
-        file: std::path::Path::new(""),
-        set: &args.set,
-        fast: args.fast,
-        output_dir: args.output_dir.clone(),
-        dictionary: &args.dictionary,
-        connection: &args.connection,
-        outputs: &outputs,
-        // Nobody reads the simulated drive's request log from the command line.
-        prepare_simulator: Some(&|sim, _| {
-            sim.lock()
-                .unwrap_or_else(std::sync::PoisonError::into_inner)
-                .set_logging(false)
-        }),
-        stop,
-        safe_stop: args.safe_stop.clone(),
         terminal: std::io::stdout().is_terminal(),
-        operator: &args.operator,
         input: RunOperator::stdin_is_terminal().then(TerminalInput::stdin),
-        observers,
-        history: args.record.history(&args.connection),
+        observers: options
+            .recorder(&args.recipes, registry, &outputs, stop.clone())
+            .into_iter()
+            .collect(),
+        ..options.request(registry, &outputs, &options.operator, stop)
     };
     run_many(
         &args.recipes,

@@ -4,14 +4,11 @@
 //! the web layer are the library's.
 
 use super::listen_args::ListenArgs;
-use super::recipe_commands::parse_set;
 use super::{panic_notice, stop_signals};
 use crate::family::Registry;
-use crate::run::{
-    ConnectionArgs, DictionaryArgs, OperatorArgs, OutputArgs, RecordArgs, SafeStopArgs, INVALID,
-};
+use crate::run::{RunOptions, INVALID};
 use crate::session::PANIC_EXIT;
-use crate::station::{routes, supervise, Ended, RunOptions, Station, StationSetup, ASSETS};
+use crate::station::{routes, supervise, Ended, Station, StationSetup, ASSETS};
 use crate::web::WebServer;
 use clap::Args;
 use std::path::PathBuf;
@@ -24,7 +21,8 @@ use std::sync::Arc;
 /// scan or type the unit's serial, Start, answer the operator steps in large dialogs,
 /// watch the live plots, and read PASS, FAIL or MARGINAL with what failed and how the drive
 /// was left. Each run is the same run as `drivescript run` (same checks, reports, results
-/// store and safe stop); one run at a time. The Stop button is a stop request as Ctrl-C (a
+/// store and safe stop); one run at a time, each writing its HTML report under --output-dir
+/// ({serial}-{date}T{time}.html unless --report names it). The Stop button is a stop request as Ctrl-C (a
 /// second press switches the power stage off). Closing the page never stops or pauses a
 /// run; reopening it rejoins. Ctrl-C or SIGTERM to the station stops a run under way
 /// safely before the station exits. Listens on 127.0.0.1 unless --listen says otherwise;
@@ -36,44 +34,12 @@ pub struct StationArgs {
     recipes: Vec<PathBuf>,
     #[command(flatten)]
     listen: ListenArgs,
-    /// Parameter override, NAME=VALUE (e.g. speed=8000rpm); may be repeated.
-    #[arg(long = "set", value_name = "NAME=VALUE", value_parser = parse_set)]
-    set: Vec<(String, String)>,
-    /// Simulated drive only: run in virtual time.
-    #[arg(long)]
-    fast: bool,
-    /// Directory for every output given as a relative path (default: the current
-    /// directory); each run's HTML report is written here ({serial}-{date}T{time}.html
-    /// unless --report names it).
-    #[arg(long, value_name = "DIR", default_value = ".")]
-    output_dir: PathBuf,
     #[command(flatten)]
-    outputs: OutputArgs,
-    #[command(flatten)]
-    safe_stop: SafeStopArgs,
-    #[command(flatten)]
-    operator: OperatorArgs,
-    #[command(flatten)]
-    dictionary: DictionaryArgs,
-    #[command(flatten)]
-    connection: ConnectionArgs,
-    #[command(flatten)]
-    record: RecordArgs,
+    options: RunOptions,
 }
 
 pub fn station(args: &StationArgs, registry: &Registry) -> i32 {
-    let options = RunOptions {
-        set: args.set.clone(),
-        fast: args.fast,
-        output_dir: args.output_dir.clone(),
-        dictionary: args.dictionary.clone(),
-        connection: args.connection.clone(),
-        outputs: args.outputs.clone(),
-        safe_stop: args.safe_stop.clone(),
-        operator: args.operator.clone(),
-        record: args.record.clone(),
-    };
-    let setup = match StationSetup::new(registry.clone(), &args.recipes, options) {
+    let setup = match StationSetup::new(registry.clone(), &args.recipes, args.options.clone()) {
         Ok(s) => s,
         Err(e) => {
             eprint!(
@@ -106,7 +72,7 @@ pub fn station(args: &StationArgs, registry: &Registry) -> i32 {
     println!(
         "station: {} ({})",
         names.join(", "),
-        if args.connection.is_simulated() {
+        if args.options.connection.is_simulated() {
             "on the built-in simulated drive"
         } else {
             "on the drive given"

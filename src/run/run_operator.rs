@@ -46,6 +46,9 @@ impl Operator for RunOperator {
     }
 
     fn start_asking(&mut self) {
+        if !self.input.as_ref().is_some_and(|i| i.marked()) {
+            return;
+        }
         let mut out = std::io::stdout();
         let _ = out.write_all(MARKER.as_bytes());
         let _ = out.flush();

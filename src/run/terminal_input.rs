@@ -16,6 +16,8 @@ pub struct TerminalInput {
     closed: Mutex<bool>,
     /// Standard input: what was typed before a question is discarded.
     stdin: bool,
+    /// The person types where this process's output shows: the input marker is written.
+    marked: bool,
 }
 
 impl TerminalInput {
@@ -23,17 +25,28 @@ impl TerminalInput {
     pub fn stdin() -> Arc<TerminalInput> {
         static INPUT: OnceLock<Arc<TerminalInput>> = OnceLock::new();
         INPUT
-            .get_or_init(|| Arc::new(Self::reading(std::io::stdin(), true)))
+            .get_or_init(|| Arc::new(Self::reading(std::io::stdin(), true, true)))
             .clone()
     }
 
     /// The lines of `source` (a pipe in tests), as a terminal's, each answering the next
     /// question: a typist who never types ahead, so nothing is discarded.
     pub fn of(source: impl Read + Send + 'static) -> Arc<TerminalInput> {
-        Arc::new(Self::reading(source, false))
+        Arc::new(Self::reading(source, false, true))
     }
 
-    fn reading(source: impl Read + Send + 'static, stdin: bool) -> TerminalInput {
+    /// The lines of `source` typed where this process's output does not show (a browser
+    /// page): as [`TerminalInput::of`], without the input marker in the output.
+    pub fn typed_elsewhere(source: impl Read + Send + 'static) -> Arc<TerminalInput> {
+        Arc::new(Self::reading(source, false, false))
+    }
+
+    /// Whether the input marker belongs in the output before a question's answer.
+    pub fn marked(&self) -> bool {
+        self.marked
+    }
+
+    fn reading(source: impl Read + Send + 'static, stdin: bool, marked: bool) -> TerminalInput {
         let (to_session, lines) = channel();
         let reader = std::thread::Builder::new()
             .name("terminal input".into())
@@ -61,6 +74,7 @@ impl TerminalInput {
             // Without a reader nobody can answer.
             closed: Mutex::new(reader.is_err()),
             stdin,
+            marked,
         }
     }
 

@@ -25,7 +25,7 @@ pub use event_log::{Catch, EventLog, EVENTS};
 pub use plot_buffer::POINTS;
 pub use station::{result_view, Refused, Station};
 pub use station_routes::{routes, ASSETS};
-pub use station_setup::{RunOptions, StationRecipe, StationSetup};
+pub use station_setup::{StationRecipe, StationSetup};
 pub use station_view::{StationView, SERIES, STEPS};
 pub use supervise::{supervise, Ended};
 

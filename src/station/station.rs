@@ -143,7 +143,7 @@ impl Station {
             serial: serial.to_string(),
             operator,
             stop: stop.clone(),
-            input: TerminalInput::of(lines),
+            input: TerminalInput::typed_elsewhere(lines),
         };
         let thread = std::thread::Builder::new()
             .name(format!("station run {id}"))
@@ -256,41 +256,16 @@ impl RunJob {
         let placed = outputs_for(&outputs, &options.output_dir, None);
         let report_path = placed.report.clone();
         let files = [chosen.path.clone()];
-        let recorder = options.record.recorder(
-            &files,
-            &options.connection,
-            &options.dictionary,
-            &self.setup.registry,
-            &outputs,
-            &options.output_dir,
-        );
-        let page = PageObserver::new(self.log.clone(), chosen.prompts.clone());
-        let mut observers: Vec<SharedObserver> = vec![Arc::new(Mutex::new(page))];
-        if let Some(r) = recorder {
-            observers.insert(0, Arc::new(Mutex::new(r.with_stop(self.stop.clone()))));
-        }
+        let page: SharedObserver = Arc::new(Mutex::new(PageObserver::new(
+            self.log.clone(),
+            chosen.prompts.clone(),
+        )));
+        let recorder = options.recorder(&files, &self.setup.registry, &outputs, self.stop.clone());
         let request = RunRequest {
-            registry: &self.setup.registry,
             file: &chosen.path,
-            set: &options.set,
-            fast: options.fast,
-            output_dir: options.output_dir.clone(),
-            dictionary: &options.dictionary,
-            connection: &options.connection,
-            outputs: &placed,
-            // The simulated drive's request log would grow for as long as the run.
-            prepare_simulator: Some(&|sim, _| {
-                sim.lock()
-                    .unwrap_or_else(PoisonError::into_inner)
-                    .set_logging(false)
-            }),
-            stop: self.stop.clone(),
-            safe_stop: options.safe_stop.clone(),
-            terminal: false,
-            operator: &operator,
             input: Some(self.input.clone()),
-            observers,
-            history: options.record.history(&options.connection),
+            observers: recorder.into_iter().chain([page]).collect(),
+            ..options.request(&self.setup.registry, &placed, &operator, self.stop.clone())
         };
         let ran = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
             run::run(&request, &mut std::io::stdout(), &mut std::io::stderr())

@@ -8,13 +8,13 @@
 use super::bench_history;
 use super::event_log::Catch;
 use super::station::Station;
-use crate::web::{blocking, Asset};
+use crate::report::esc;
+use crate::web::{blocking, Asset, Site};
 use axum::body::Body;
 use axum::body::Bytes;
 use axum::extract::State;
 use axum::http::{header, HeaderMap, StatusCode};
 use axum::response::{IntoResponse, Response};
-use axum::routing::{get, post};
 use axum::Router;
 use serde::Deserialize;
 use serde_json::json;
@@ -46,30 +46,23 @@ pub fn routes(station: Arc<Station>, token: &str) -> Router {
         station,
         token: token.to_string(),
     });
-    Router::new()
-        .route("/", get(page))
-        .route("/events", get(events))
-        .route("/api/start", post(start))
-        .route("/api/answer", post(answer))
-        .route("/api/stop", post(stop))
-        .route("/api/runs", get(runs))
-        .route("/report", get(report))
-        .route("/certificate", get(certificate))
-        .with_state(shared)
-}
-
-fn escape(text: &str) -> String {
-    text.replace('&', "&amp;")
-        .replace('<', "&lt;")
-        .replace('>', "&gt;")
-        .replace('"', "&quot;")
+    Site::new()
+        .page("/", page)
+        .page("/events", events)
+        .page("/api/runs", runs)
+        .page("/report", report)
+        .page("/certificate", certificate)
+        .action("/api/start", start)
+        .action("/api/answer", answer)
+        .action("/api/stop", stop)
+        .on(shared)
 }
 
 async fn page(State(s): St) -> Response {
     let station = s.station.log().read(|v| v.station.clone());
     let html = PAGE
-        .replace("{{TOKEN}}", &escape(&s.token))
-        .replace("{{STATION}}", &escape(&station));
+        .replace("{{TOKEN}}", &esc(&s.token))
+        .replace("{{STATION}}", &esc(&station));
     ([(header::CONTENT_TYPE, "text/html; charset=utf-8")], html).into_response()
 }
 
@@ -225,6 +218,5 @@ mod tests {
         let (text, last) = sse_text(Catch::View(7, "{}".into()), None);
         assert_eq!(text, "event: view\nid: 7\ndata: {}\n\n");
         assert_eq!(last, Some(7));
-        assert_eq!(escape("<a&\">"), "&lt;a&amp;&quot;&gt;");
     }
 }

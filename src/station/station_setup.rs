@@ -4,27 +4,9 @@
 
 use super::station_view::RecipeView;
 use crate::family::Registry;
-use crate::run::{
-    ConnectionArgs, DictionaryArgs, OperatorArgs, OutputArgs, RecordArgs, RunError, RunPlan, SafeStopArgs,
-};
+use crate::run::{RunError, RunOptions, RunPlan};
 use crate::session::Prompt;
 use std::path::PathBuf;
-
-/// Every option of `run` the station passes on to each run.
-#[derive(Clone)]
-pub struct RunOptions {
-    pub set: Vec<(String, String)>,
-    /// Virtual time (simulated drive only).
-    pub fast: bool,
-    pub output_dir: PathBuf,
-    pub dictionary: DictionaryArgs,
-    pub connection: ConnectionArgs,
-    pub outputs: OutputArgs,
-    pub safe_stop: SafeStopArgs,
-    /// The unit's parts the command line gives (station, part) and answers given beforehand.
-    pub operator: OperatorArgs,
-    pub record: RecordArgs,
-}
 
 /// A recipe the page may start.
 pub struct StationRecipe {

@@ -4,7 +4,7 @@
 
 use super::*;
 use crate::family::Registry;
-use crate::run::{ConnectionArgs, DictionaryArgs, RecordArgs};
+use crate::run::{ConnectionArgs, DictionaryArgs, RecordArgs, RunOptions};
 use std::time::{Duration, Instant};
 
 const RECIPE: &str = "name: Dwell at speed
@@ -26,6 +26,7 @@ fn station(name: &str) -> Station {
     let options = RunOptions {
         set: Vec::new(),
         fast: false,
+        realtime: false,
         output_dir: dir.clone(),
         dictionary: DictionaryArgs::builtin_default(),
         connection: ConnectionArgs::simulated(),

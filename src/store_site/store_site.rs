@@ -9,11 +9,10 @@ use crate::results::{
     capability_html, certificate_html, trend_html, yield_html, Locator, PageLinks, RunFilter, Spool, Store,
     StoreError,
 };
-use crate::web::{blocking, Asset, WebError, WebServer, WebSettings};
+use crate::web::{blocking, Asset, Site, WebError, WebServer, WebSettings};
 use axum::extract::{Path, Query, State};
 use axum::http::StatusCode;
 use axum::response::{Html, IntoResponse, Response};
-use axum::routing::get;
 use axum::Router;
 use std::sync::{Arc, Mutex, PoisonError};
 
@@ -47,15 +46,15 @@ impl StoreSite {
     }
 
     fn routes(self) -> Router {
-        Router::new()
-            .route("/", get(list))
-            .route("/run/{id}", get(run))
-            .route("/unit/{serial}", get(unit))
-            .route("/trend", get(trend))
-            .route("/capability", get(capability))
-            .route("/yield", get(yields))
-            .fallback(not_found)
-            .with_state(Arc::new(self))
+        Site::new()
+            .page("/", list)
+            .page("/run/{id}", run)
+            .page("/unit/{serial}", unit)
+            .page("/trend", trend)
+            .page("/capability", capability)
+            .page("/yield", yields)
+            .missing(not_found)
+            .on(Arc::new(self))
     }
 
     /// `read` on the store, reopening it first when the last use failed to reach it.
@@ -78,7 +77,7 @@ impl StoreSite {
 
 static NO_ASSETS: &[Asset] = &[];
 
-type Site = State<Arc<StoreSite>>;
+type SiteState = State<Arc<StoreSite>>;
 
 /// Makes a page on the blocking pool: store reads and renderers are synchronous.
 async fn page(
@@ -102,7 +101,7 @@ fn filter(q: &SiteQuery, default_limit: Option<u64>) -> Result<RunFilter, PageEr
     q.filter(default_limit).map_err(|e| PageError::Asked(e.0))
 }
 
-async fn list(State(site): Site, Query(q): Query<SiteQuery>) -> Response {
+async fn list(State(site): SiteState, Query(q): Query<SiteQuery>) -> Response {
     page(site, move |site| {
         let filter = RunFilter {
             include_void: true,
@@ -121,7 +120,7 @@ async fn list(State(site): Site, Query(q): Query<SiteQuery>) -> Response {
     .await
 }
 
-async fn run(State(site): Site, Path(id): Path<String>, Query(q): Query<SiteQuery>) -> Response {
+async fn run(State(site): SiteState, Path(id): Path<String>, Query(q): Query<SiteQuery>) -> Response {
     page(site, move |site| {
         let run = site.with_store(|s| s.run(&id))?;
         Ok(certificate_html::run_certificate(&run, links(&q)))
@@ -129,7 +128,7 @@ async fn run(State(site): Site, Path(id): Path<String>, Query(q): Query<SiteQuer
     .await
 }
 
-async fn unit(State(site): Site, Path(serial): Path<String>, Query(q): Query<SiteQuery>) -> Response {
+async fn unit(State(site): SiteState, Path(serial): Path<String>, Query(q): Query<SiteQuery>) -> Response {
     page(site, move |site| {
         let filter = RunFilter {
             unit: Some(serial.clone()),
@@ -158,7 +157,7 @@ fn asked_check(q: &SiteQuery) -> Result<String, PageError> {
     })
 }
 
-async fn trend(State(site): Site, Query(q): Query<SiteQuery>) -> Response {
+async fn trend(State(site): SiteState, Query(q): Query<SiteQuery>) -> Response {
     page(site, move |site| {
         let check = asked_check(&q)?;
         let filter = filter(&q, None)?;
@@ -173,7 +172,7 @@ async fn trend(State(site): Site, Query(q): Query<SiteQuery>) -> Response {
     .await
 }
 
-async fn capability(State(site): Site, Query(q): Query<SiteQuery>) -> Response {
+async fn capability(State(site): SiteState, Query(q): Query<SiteQuery>) -> Response {
     page(site, move |site| {
         let check = asked_check(&q)?;
         let filter = filter(&q, None)?;
@@ -188,7 +187,7 @@ async fn capability(State(site): Site, Query(q): Query<SiteQuery>) -> Response {
     .await
 }
 
-async fn yields(State(site): Site, Query(q): Query<SiteQuery>) -> Response {
+async fn yields(State(site): SiteState, Query(q): Query<SiteQuery>) -> Response {
     page(site, move |site| {
         let filter = filter(&q, None)?;
         let rows = site.with_store(|s| s.yields(&filter))?;

@@ -7,6 +7,7 @@
 mod access_token;
 mod asset;
 mod blocking;
+mod site;
 mod token_guard;
 mod web_error;
 mod web_server;
@@ -15,6 +16,7 @@ mod web_settings;
 pub use access_token::AccessToken;
 pub use asset::Asset;
 pub use blocking::blocking;
+pub use site::Site;
 pub use web_error::WebError;
 pub use web_server::WebServer;
 pub use web_settings::WebSettings;

@@ -1,7 +1,6 @@
 //! The layer served for real on a loopback socket, spoken to in plain HTTP/1.1.
 
 use super::*;
-use axum::routing::{get, post};
 use axum::Router;
 use std::io::{Read, Write};
 use std::net::{SocketAddr, TcpStream};
@@ -9,18 +8,17 @@ use std::net::{SocketAddr, TcpStream};
 static ASSETS: &[Asset] = &[Asset::new("page.css", b"body{color:black}")];
 
 fn pages() -> Router {
-    Router::new()
-        .route("/", get(|| async { axum::response::Html("<p>home</p>") }))
-        .route(
-            "/work",
-            get(|| async {
-                blocking(|| 6 * 7)
-                    .await
-                    .map(|n| n.to_string())
-                    .unwrap_or_default()
-            }),
-        )
-        .route("/act", post(|| async { "done" }))
+    Site::new()
+        .page("/", || async { axum::response::Html("<p>home</p>") })
+        .page("/work", || async {
+            blocking(|| 6 * 7)
+                .await
+                .map(|n| n.to_string())
+                .unwrap_or_default()
+        })
+        .action("/act", || async { "done" })
+        .missing(|| async { (axum::http::StatusCode::NOT_FOUND, "no such page") })
+        .on(())
 }
 
 /// Status line, headers and body of one request.
@@ -57,6 +55,9 @@ fn loopback_reads_freely_but_acts_only_with_the_token_in_a_header() {
     assert!(head.contains("content-type: text/css"), "{head}");
     assert_eq!(body, "body{color:black}");
     assert_eq!(ask(at, &get_req("/assets/other.css", &host, "")).0, 404);
+    assert_eq!(ask(at, &get_req("/nowhere", &host, "")).2, "no such page");
+    // An action is a POST and nothing else.
+    assert_eq!(ask(at, &get_req("/act", &host, "")).0, 405);
     // DNS rebinding: another name for this address is not served.
     assert_eq!(ask(at, &get_req("/", "evil.example", "")).0, 403);
     let post = |extra: &str| {

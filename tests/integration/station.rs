@@ -261,7 +261,14 @@ fn every_operator_step_answered_in_the_page_passes_and_the_store_holds_the_answe
         );
     }
     drop(b);
-    station.end();
+    let (_, printed) = station.end();
+    // The station's log says what the terminal would, without the terminal's input marker
+    // (nobody types at the station's output).
+    assert!(
+        printed.contains("?     Scan the spindle's serial number"),
+        "{printed}"
+    );
+    assert!(!printed.contains("       > "), "{printed}");
 }
 
 /// The run's clock seconds of the first enable, and of the first other control word
