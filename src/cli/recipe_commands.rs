@@ -2,7 +2,7 @@
 //! (`run::check`), and run them with the safe stop at every ending (`run::run_many`).
 //! Parses and prints; the checks and the run are the library's.
 
-use super::{panic_notice, safe_stop_notes, stop_signals};
+use super::{safe_stop_notes, stop_signals};
 use crate::family::Registry;
 use crate::run::{
     self, drive_limits, outputs_named, parse_set, run_many, CheckRequest, Checked, ConnectionArgs,
@@ -197,8 +197,7 @@ pub fn run(args: &RunArgs, registry: &Registry) -> i32 {
             return INVALID;
         }
     };
-    let stop = stop_signals::install(true);
-    panic_notice::install();
+    let stop = stop_signals::install_for_a_drive();
     let request = RunRequest {
         terminal: std::io::stdout().is_terminal(),
         input: RunOperator::stdin_is_terminal().then(TerminalInput::stdin),

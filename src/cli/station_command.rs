@@ -4,7 +4,7 @@
 //! the web layer are the library's.
 
 use super::listen_args::ListenArgs;
-use super::{panic_notice, stop_signals};
+use super::stop_signals;
 use crate::family::Registry;
 use crate::run::{RunOptions, INVALID};
 use crate::session::PANIC_EXIT;
@@ -57,8 +57,7 @@ pub fn station(args: &StationArgs, registry: &Registry) -> i32 {
             return INVALID;
         }
     };
-    let signals = stop_signals::install(true);
-    panic_notice::install();
+    let signals = stop_signals::install_for_a_drive();
     let names: Vec<String> = setup.recipes.iter().map(|r| r.name.clone()).collect();
     let station = Arc::new(Station::new(setup));
     let pages = routes(station.clone(), settings.token().text());

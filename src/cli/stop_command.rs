@@ -3,7 +3,7 @@
 //! options of the other one-off commands. Only parses and prints: the stop itself is the
 //! library's (`session::stop_drive`).
 
-use super::{panic_notice, stop_signals};
+use super::stop_signals;
 use crate::family::Registry;
 use crate::recipe::SafeStopChoice;
 use crate::report::{step_line, summary_lines, OpenAttempts};
@@ -48,8 +48,7 @@ impl RunObserver for StopLines {
 }
 
 pub fn stop(args: &StopArgs, registry: &Registry) -> i32 {
-    let stop = stop_signals::install(true);
-    panic_notice::install();
+    let stop = stop_signals::install_for_a_drive();
     let dictionary = match args.dictionary.load_for(registry, None) {
         Ok(d) => d,
         Err(text) => {

@@ -9,6 +9,13 @@ use std::sync::{Arc, OnceLock};
 
 static GLOBAL: OnceLock<Arc<StopRequests>> = OnceLock::new();
 
+/// What a command that moves a drive needs before it opens one: the stop requests, each
+/// signal announced as it arrives, and the panic notice that says the safe stop runs next.
+pub fn install_for_a_drive() -> Arc<StopRequests> {
+    super::panic_notice::install();
+    install(true)
+}
+
 /// The process-wide stop requests, with the signal watcher started on first use; with
 /// `announce`, each signal is explained on standard error as it arrives (a run; not the
 /// simulator, for which a signal simply ends the program). When the signals cannot be

@@ -111,7 +111,14 @@ impl PageObserver {
             return dialog;
         };
         dialog.text = prompt.text.clone();
-        dialog.hint = prompt.hint();
+        // The terminal's `[in mm/s, at most 2.8 mm/s]` without the brackets that set it off
+        // from the question on one line; the dialog has a line of its own for it.
+        let hint = prompt.hint();
+        dialog.hint = hint
+            .strip_prefix('[')
+            .and_then(|h| h.strip_suffix(']'))
+            .unwrap_or(&hint)
+            .to_string();
         match &prompt.kind {
             PromptKind::Instruction => dialog.kind = "instruct",
             PromptKind::Confirm => dialog.kind = "confirm",
