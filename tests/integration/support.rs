@@ -21,6 +21,7 @@ pub fn command() -> Command {
 
 /// The results store [`command`] gives every run: one per test process.
 pub fn tests_results_store() -> PathBuf {
+    crate::stale_scratch::sweep_once();
     std::env::temp_dir()
         .join(format!("drivescript-tests-{}", std::process::id()))
         .join("results.sqlite")
@@ -155,9 +156,10 @@ fn a_missing_tool_fails_under_ci_and_is_skipped_locally() {
 
 /// A fresh, empty folder for a test's files, `drivescript-FILE-NAME-PID` in the system's
 /// temporary folder, FILE the calling test file, so tests of different files never share
-/// one.
+/// one. Those that ended test processes left are removed first (see `stale_scratch`).
 #[track_caller]
 pub fn scratch(name: &str) -> PathBuf {
+    crate::stale_scratch::sweep_once();
     let file = Path::new(std::panic::Location::caller().file())
         .file_stem()
         .map_or_else(String::new, |s| s.to_string_lossy().into_owned());
