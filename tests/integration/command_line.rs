@@ -299,12 +299,8 @@ fn a_setpoint_beyond_the_cyclic_velocity_scaling_is_refused_before_anything_is_s
     let mut args = vec!["check", recipe];
     args.extend(cyclic);
     let out = crate::support::cli(&args, 2);
-    assert!(out.stderr.contains(set_line), "{}", out.stderr);
-    assert!(
-        out.stderr.contains("1 value(s) the link cannot carry"),
-        "{}",
-        out.stderr
-    );
+    assert_has(&out.stderr, &[set_line]);
+    assert_has(&out.stderr, &["1 value(s) the link cannot carry"]);
     // On the object channel the same recipe is fine.
     crate::support::cli(&["check", recipe], 0);
 
@@ -318,14 +314,12 @@ fn a_setpoint_beyond_the_cyclic_velocity_scaling_is_refused_before_anything_is_s
     ];
     args.extend(cyclic);
     let out = crate::support::cli(&args, 2);
-    assert!(out.stderr.contains(set_line), "{}", out.stderr);
-    assert!(
-        out.stderr
-            .contains("cyclic.yaml:7:5: ramp speed_setpoint = 26000 rpm is beyond -24000 .. 24000 rpm"),
-        "{}",
-        out.stderr
+    assert_has(&out.stderr, &[set_line]);
+    assert_has(
+        &out.stderr,
+        &["cyclic.yaml:7:5: ramp speed_setpoint = 26000 rpm is beyond -24000 .. 24000 rpm"],
     );
-    assert!(out.stderr.contains("nothing was sent"), "{}", out.stderr);
+    assert_has(&out.stderr, &["nothing was sent"]);
     assert!(
         !out.stderr.contains("ttyUSB9"),
         "the port was never opened: {}",

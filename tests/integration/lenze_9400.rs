@@ -3,7 +3,9 @@
 //! run on a dictionary without a device-control profile: a stop signal, a lost adapter
 //! that comes back, one that does not, and one lost in the middle of a segmented transfer.
 
-use crate::support::{assert_has, assert_lacks, cli, load_frame_vectors, repo_root, InProcessRun, Simulator};
+use crate::support::{
+    assert_exit, assert_has, assert_lacks, cli, load_frame_vectors, repo_root, InProcessRun, Simulator,
+};
 use drivescript::bus::CanFrame;
 use drivescript::clock::SharedClock;
 use drivescript::dictionary::Dictionary;
@@ -117,9 +119,11 @@ fn a_stop_signal_ends_the_run_with_the_truth_about_device_control() {
     let stop = Arc::new(StopRequests::new());
     stop.schedule(Duration::from_millis(10_500), StopSignal::INT);
     let nothing = |_: &Arc<Mutex<dyn SimulatedDrive>>, _: &SharedClock| {};
-    let (code, output) = with_faults(READ_FOR_A_MINUTE, "sigint", stop, &nothing);
-    assert_eq!(code, 130, "{output}");
-    assert_has(&output, &["no device-control profile"]);
+    let output = assert_exit(
+        with_faults(READ_FOR_A_MINUTE, "sigint", stop, &nothing),
+        130,
+        &["no device-control profile"],
+    );
     assert_lacks(
         &output,
         &["CHECK THE DRIVE BY HAND", "failed: the lenze-9400 dictionary"],
@@ -133,14 +137,16 @@ fn an_adapter_that_comes_back_is_reopened_and_the_node_checked_by_its_identity()
         sim.faults()
             .line_down(Duration::from_millis(5_500), Duration::from_millis(6_500));
     };
-    let (code, output) = with_faults(
-        READ_FOR_A_MINUTE,
-        "comes-back",
-        Arc::new(StopRequests::new()),
-        &down,
+    let output = assert_exit(
+        with_faults(
+            READ_FOR_A_MINUTE,
+            "comes-back",
+            Arc::new(StopRequests::new()),
+            &down,
+        ),
+        3,
+        &["the CAN adapter went away"],
     );
-    assert_eq!(code, 3, "{output}");
-    assert_has(&output, &["the CAN adapter went away"]);
     assert!(
         output.contains("restored at attempt") && output.contains("the drive answers"),
         "{output}"

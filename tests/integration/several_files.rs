@@ -5,7 +5,7 @@
 
 use crate::live_run::LiveRun;
 use crate::reports::markup::{self, junit_xsd, select, text, xml_elements};
-use crate::support::{assert_has, cli, scratch, scratch_file, InProcessRun};
+use crate::support::{assert_has, assert_lacks, cli, scratch, scratch_file, InProcessRun};
 use drivescript::clock::SharedClock;
 use drivescript::sim::SimulatedDrive;
 use std::path::{Path, PathBuf};
@@ -255,7 +255,7 @@ fn a_recipe_and_a_script_are_each_named_as_what_they_are() {
             "== 2 files:",
         ],
     );
-    assert!(!out.stdout.contains("recipe(s)"), "{}", out.stdout);
+    assert_lacks(&out.stdout, &["recipe(s)"]);
     std::fs::remove_dir_all(&dir).unwrap();
 }
 

@@ -512,6 +512,15 @@ pub fn assert_has(text: &str, parts: &[&str]) {
     }
 }
 
+/// Fails the test, showing the output, unless a finished run's `(exit code, output)` has
+/// exit code `code` and output holding every one of `parts`; the output.
+#[track_caller]
+pub fn assert_exit((got, text): (i32, String), code: i32, parts: &[&str]) -> String {
+    assert_eq!(got, code, "{text}");
+    assert_has(&text, parts);
+    text
+}
+
 /// Fails the test, showing all of `text`, unless `text` holds `parts` in this order.
 #[track_caller]
 pub fn assert_in_order(text: &str, parts: &[&str]) {
