@@ -63,10 +63,8 @@ fn the_commissioning_recipe_runs_on_the_simulated_cia402_node_with_only_drive_ch
     let mut run = InProcessRun::new(commissioning(&dir));
     run.dictionary = canopen();
     run.outputs.trace = Some(trace.clone());
-    let (result, output) = run.run();
-    assert_eq!(result.exit_code, 0, "{output}");
-    assert_has(
-        &output,
+    let (result, output) = run.run_expecting(
+        0,
         &[
             "ident = \"drivescript CiA 402 node\"",
             "bus_voltage = 325.",
@@ -141,10 +139,8 @@ fn a_node_whose_heartbeat_stops_is_a_lost_link_and_is_stopped() {
     };
     let mut run = turning_for_a_minute(&dir, "Heartbeat lost");
     run.prepare = Some(&stop_heartbeat);
-    let (result, output) = run.run();
-    assert_eq!(result.exit_code, 3, "{output}");
-    assert_has(
-        &output,
+    let (result, _) = run.run_expecting(
+        3,
         &[
             "     1  ok    go to operation_enabled",
             "     3  FAIL  dwell 1m  I/O error on built-in simulated drive: the heartbeat of node 1 stopped",
@@ -173,10 +169,8 @@ fn a_node_silent_in_heartbeat_and_sdo_is_a_heartbeat_loss_and_gets_no_nmt_comman
     let mut run = turning_for_a_minute(&dir, "Node silent");
     run.prepare = Some(&silent);
     run.safe_stop.reconnect_timeout = Some(Duration::from_secs(2));
-    let (result, output) = run.run();
-    assert_eq!(result.exit_code, 3, "{output}");
-    assert_has(
-        &output,
+    let (_, output) = run.run_expecting(
+        3,
         &[
             "     3  FAIL  dwell 1m  I/O error on built-in simulated drive: heartbeat loss: the last heartbeat of node 1 came",
             "node 1 is left operational: NMT enter pre-operational (`000#8001`) is not sent, since the drive's stop was not verified",
@@ -241,9 +235,7 @@ fn a_node_left_enabled_stays_operational() {
     );
     let mut run = InProcessRun::new(recipe);
     run.dictionary = canopen();
-    let (result, output) = run.run();
-    assert_eq!(result.exit_code, 0, "{output}");
-    assert_has(&output, &["sent NMT start (`000#0101`)", "PASSED"]);
+    let (result, output) = run.run_expecting(0, &["sent NMT start (`000#0101`)", "PASSED"]);
     assert_lacks(&output, &["back to pre-operational"]);
     assert_eq!(control_words(&result), vec![6, 7, 15]);
     let sim = result.simulator.expect("the simulated node");

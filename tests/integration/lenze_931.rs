@@ -394,12 +394,7 @@ fn a_lost_line_to_the_931_ends_in_the_truth() {
     let mut run = on_931(&recipe, &dir);
     run.prepare = Some(&prepare);
     run.safe_stop.reconnect_timeout = Some(Duration::from_secs(2));
-    let (result, output) = run.run();
-    assert_eq!(result.exit_code, 3, "{output}");
-    assert_has(
-        &output,
-        &["CHECK THE DRIVE BY HAND", "drive left in an unknown state"],
-    );
+    run.run_expecting(3, &["CHECK THE DRIVE BY HAND", "drive left in an unknown state"]);
 }
 
 #[cfg(unix)]
@@ -664,7 +659,8 @@ fn ctrl_c_while_the_drives_limits_are_read_ends_with_130_and_nothing_moved() {
         Duration::from_millis(300),
         drivescript::stop_request::StopSignal::INT,
     );
-    let (result, output) = run.run();
-    assert_eq!(result.exit_code, 130, "{output}");
-    assert_has(&output, &["stopped by Ctrl-C (SIGINT) while the drive's limits were read; nothing was sent to move the drive"]);
+    run.run_expecting(
+        130,
+        &["stopped by Ctrl-C (SIGINT) while the drive's limits were read; nothing was sent to move the drive"],
+    );
 }

@@ -354,9 +354,7 @@ steps:
     let csv = dir.join("run.csv");
     let mut run = InProcessRun::new(&recipe);
     run.outputs.csv = Some(csv.clone());
-    let (result, output) = run.run();
-    assert_eq!(result.exit_code, 0, "{output}");
-    assert_has(&output, &["spindle SD2 (DNC address 2)"]);
+    let (result, output) = run.run_expecting(0, &["spindle SD2 (DNC address 2)"]);
     // The long CSV layout names the drive in a column of its own.
     let rows = std::fs::read_to_string(&csv).expect("csv");
     let mut lines = rows.lines();

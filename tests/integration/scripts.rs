@@ -409,18 +409,8 @@ fn params_come_from_set() {
     );
     let mut run = InProcessRun::new(&path);
     run.set = vec![("speed".into(), "4 krpm".into())];
-    let (result, output) = run.run();
-    assert_eq!(result.exit_code, 0, "{output}");
-    assert_has(
-        &output,
-        &["params  speed = 4 krpm", "set speed_setpoint = 4000 rpm"],
-    );
-    let (result, output) = InProcessRun::new(&path).run();
-    assert_eq!(result.exit_code, 3, "{output}");
-    assert_has(
-        &output,
-        &["parameter `speed` is not set: run with --set speed=VALUE"],
-    );
+    run.run_expecting(0, &["params  speed = 4 krpm", "set speed_setpoint = 4000 rpm"]);
+    InProcessRun::new(&path).run_expecting(3, &["parameter `speed` is not set: run with --set speed=VALUE"]);
 }
 
 /// A signal to the real binary driving a simulated drive through a pseudo-terminal while
@@ -713,9 +703,7 @@ fn check_finds_a_wait_until_condition_that_uses_the_drive() {
     ] {
         assert!(err.contains(part), "missing {part:?}:\n{err}");
     }
-    let (result, output) = InProcessRun::new(&path).run();
-    assert_eq!(result.exit_code, 2, "{output}");
-    assert_has(&output, &["nothing was sent to the drive"]);
+    let (result, output) = InProcessRun::new(&path).run_expecting(2, &["nothing was sent to the drive"]);
     assert!(result.simulator.is_none(), "no drive opened: {output}");
 }
 

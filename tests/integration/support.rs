@@ -337,6 +337,16 @@ impl<'a> InProcessRun<'a> {
         (result, console(&out, &err))
     }
 
+    /// Runs it as [`run`](Self::run) and fails the test, showing the output, unless it
+    /// exits with `code` and its output holds every one of `parts`.
+    #[track_caller]
+    pub fn run_expecting(&self, code: i32, parts: &[&str]) -> (drivescript::run::RunResult, String) {
+        let (result, output) = self.run();
+        assert_eq!(result.exit_code, code, "{output}");
+        assert_has(&output, parts);
+        (result, output)
+    }
+
     /// Runs `files` as one command of several, with this run's settings; the exit code and
     /// the console output.
     pub fn run_many(&self, files: &[PathBuf]) -> (i32, String) {
