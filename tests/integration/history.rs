@@ -9,7 +9,8 @@
 
 use crate::support::{
     assert_exit, assert_has, assert_lacks, command, run_recording as run, scratch, silent_server,
-    sqlite_store, unit_certificate, write_changed, write_file, InProcessRun, PostgresServer, Simulator,
+    sqlite_store, unit_certificate, with_postgres_store, with_sqlite_store, write_changed, write_file,
+    InProcessRun, Simulator,
 };
 use drivescript::results::{Locator, RunFilter, StoreHistory};
 use std::path::Path;
@@ -175,16 +176,12 @@ fn history_in(dir: &Path, store: &str) {
 
 #[test]
 fn a_check_compares_with_the_units_last_passed_run_in_sqlite() {
-    let dir = scratch("history-sqlite");
-    history_in(&dir, &sqlite_store(&dir));
+    with_sqlite_store("history", history_in);
 }
 
 #[test]
 fn a_check_compares_with_the_units_last_passed_run_in_postgresql() {
-    let Some(server) = PostgresServer::start("history-postgres") else {
-        return;
-    };
-    history_in(&scratch("history-postgres-files"), &server.url());
+    with_postgres_store("history", history_in);
 }
 
 /// Real runs compare with real runs only, simulated ones with simulated ones.

@@ -8,7 +8,7 @@
 use crate::history::run_id;
 use crate::support::{
     assert_exit, assert_has, assert_lacks, cli, line_with, run_recording as run, scratch, sqlite_store,
-    write_file, PostgresServer,
+    with_postgres_store, with_sqlite_store, write_file, PostgresServer,
 };
 use std::path::Path;
 
@@ -157,20 +157,18 @@ steps:
 
 #[test]
 fn a_tightened_limit_keeps_the_units_history_in_sqlite() {
-    let dir = scratch("keys-sqlite");
-    let store = sqlite_store(&dir);
-    tightened_limit_in(&dir, &store);
-    coast_down_changed_in(&dir, &store);
+    with_sqlite_store("keys", |dir, store| {
+        tightened_limit_in(dir, store);
+        coast_down_changed_in(dir, store);
+    });
 }
 
 #[test]
 fn a_tightened_limit_keeps_the_units_history_in_postgresql() {
-    let Some(server) = PostgresServer::start("keys-postgres") else {
-        return;
-    };
-    let dir = scratch("keys-postgres-files");
-    tightened_limit_in(&dir, &server.url());
-    coast_down_changed_in(&dir, &server.url());
+    with_postgres_store("keys", |dir, store| {
+        tightened_limit_in(dir, store);
+        coast_down_changed_in(dir, store);
+    });
 }
 
 /// What a version-2 drivescript left: the schema of migrations 1 and 2, and a passed run

@@ -247,7 +247,7 @@ fn junit_and_html_carry_the_identity_and_every_answer() {
     let (junit_path, html_path) = (dir.join("junit.xml"), dir.join("report.html"));
     run.outputs.junit = Some(junit_path.clone());
     run.outputs.report = Some(html_path.clone());
-    let (result, output) = run.run_expecting(
+    run.run_expecting(
         1,
         &[
             "unit    operator J. Smith, station Bench 3",

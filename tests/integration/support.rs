@@ -178,6 +178,26 @@ pub fn scratch_file(name: &str, file: &str, text: &str) -> (PathBuf, PathBuf) {
     (dir, path)
 }
 
+/// Runs `check(dir, store)` with a SQLite results store in the fresh [`scratch`] folder
+/// `NAME-sqlite`: the SQLite half of a test run against both kinds of store.
+#[track_caller]
+pub fn with_sqlite_store(name: &str, check: impl FnOnce(&Path, &str)) {
+    let dir = scratch(&format!("{name}-sqlite"));
+    check(&dir, &sqlite_store(&dir));
+}
+
+/// Runs `check(dir, store)` with a PostgreSQL server of its own (`NAME-postgres`) as the
+/// store and the fresh [`scratch`] folder `NAME-postgres-files`; where no server can be
+/// started it does what [`PostgresServer::start`] says (skips, or fails under CI).
+#[track_caller]
+pub fn with_postgres_store(name: &str, check: impl FnOnce(&Path, &str)) {
+    let Some(server) = PostgresServer::start(&format!("{name}-postgres")) else {
+        return;
+    };
+    let dir = scratch(&format!("{name}-postgres-files"));
+    check(&dir, &server.url());
+}
+
 /// The path of a SQLite results store in `dir`, as `--results` takes it.
 pub fn sqlite_store(dir: &Path) -> String {
     dir.join("results.sqlite").to_string_lossy().into_owned()
@@ -196,6 +216,11 @@ pub fn write_file(dir: &Path, name: &str, text: &str) -> PathBuf {
     let path = dir.join(name);
     std::fs::write(&path, text).expect("file written");
     path
+}
+
+/// The words of a command line with no quoted arguments (`run r.yaml --fast`), for [`cli`].
+pub fn words(line: &str) -> Vec<&str> {
+    line.split_whitespace().collect()
 }
 
 /// What a finished `drivescript` run wrote, as text.
