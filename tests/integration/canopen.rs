@@ -4,7 +4,7 @@
 //! heartbeat and EMCY frames; an EDS as a dictionary on the command line.
 
 use crate::support::{
-    assert_has, assert_in_order, assert_lacks, cli, control_words, repo_root, scratch, sqlite_store,
+    assert_has, assert_in_order, assert_lacks, cli, control_words, repo_root, scratch, sqlite_store, words,
     write_file, InProcessRun,
 };
 use drivescript::clock::SharedClock;
@@ -273,15 +273,7 @@ fn an_emcy_before_the_run_began_is_told_and_the_run_goes_on() {
 #[test]
 fn decode_explains_nmt_heartbeat_and_emcy_frames() {
     let out = cli(
-        &[
-            "decode",
-            "--protocol",
-            "canopen",
-            "000#0105",
-            "705#05",
-            "085#1023010000000000",
-            "601#4041600000000000",
-        ],
+        &words("decode --protocol canopen 000#0105 705#05 085#1023010000000000 601#4041600000000000"),
         0,
     );
     assert_has(

@@ -4,7 +4,7 @@
 //! that comes back, one that does not, and one lost in the middle of a segmented transfer.
 
 use crate::support::{
-    assert_exit, assert_has, assert_lacks, cli, load_frame_vectors, repo_root, InProcessRun, Simulator,
+    assert_exit, assert_has, assert_lacks, cli, load_frame_vectors, repo_root, words, InProcessRun, Simulator,
 };
 use drivescript::bus::CanFrame;
 use drivescript::clock::SharedClock;
@@ -322,20 +322,7 @@ fn decode_reads_candump_frames_and_gives_the_vectors_json() {
     }
     // Unquoted, as the shell splits `ID data…`; and a frame that is no SDO.
     let out = cli(
-        &[
-            "decode",
-            "--protocol",
-            "lenze-9400",
-            "605",
-            "40",
-            "c2",
-            "5f",
-            "00",
-            "00",
-            "00",
-            "00",
-            "00",
-        ],
+        &words("decode --protocol lenze-9400 605 40 c2 5f 00 00 00 00 00"),
         0,
     );
     assert_has(&out.stdout, &["C00061 heatsink_temperature"]);

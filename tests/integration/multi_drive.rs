@@ -6,7 +6,7 @@
 
 use crate::live_run::LiveRun;
 use crate::support::{
-    assert_has, assert_lacks, cli, drivescript, scratch, scratch_file, stderr, stdout, write_file,
+    assert_has, assert_lacks, cli, drivescript, scratch, scratch_file, stderr, stdout, words, write_file,
     InProcessRun, Simulator,
 };
 use drivescript::clock::SharedClock;
@@ -188,17 +188,7 @@ fn dnc_address_is_refused_with_address_and_for_a_family_without_dnc_addresses() 
     );
     let both = cli(&["state", "--dnc-address", "2", "--address", "0"], 2);
     assert_has(&both.stderr, &["cannot be used with"]);
-    let ct = cli(
-        &[
-            "simulate",
-            "--pty",
-            "--drive",
-            "ct-unidrive-sp",
-            "--dnc-address",
-            "2",
-        ],
-        2,
-    );
+    let ct = cli(&words("simulate --pty --drive ct-unidrive-sp --dnc-address 2"), 2);
     assert_has(&ct.stderr, &["error: --dnc-address is for drives of the sd2 family; a ct-ansi drive has no `dnc_address`: give --address, "]);
     let ct = drivescript(&["state", "--drive", "ct-unidrive-sp", "--dnc-address", "2"], "");
     assert_ne!(ct.status.code(), Some(0));

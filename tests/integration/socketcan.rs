@@ -8,7 +8,7 @@
 
 #![cfg(target_os = "linux")]
 
-use crate::support::{assert_has, cli, drivescript, stderr, stdout};
+use crate::support::{assert_has, cli, drivescript, stderr, stdout, words};
 use drivescript::bus::{FrameBus, FramePeer, SocketCanBus};
 use drivescript::family::canopen::sim::Cia402Node;
 use drivescript::family::lenze_9400::sim::Lenze9400Simulator;
@@ -185,14 +185,7 @@ fn the_commissioning_recipe_runs_on_a_cia402_node_over_socketcan() {
 #[test]
 fn a_missing_interface_is_a_clear_error_before_anything_is_sent() {
     let out = cli(
-        &[
-            "read",
-            "ident",
-            "--drive",
-            "lenze-9400",
-            "--can",
-            "socketcan:nosuchcan7",
-        ],
+        &words("read ident --drive lenze-9400 --can socketcan:nosuchcan7"),
         3,
     );
     assert_has(&out.stderr, &["nosuchcan7"]);
