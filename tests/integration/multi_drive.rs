@@ -454,31 +454,25 @@ fn a_script_drives_each_named_drive_and_stops_both() {
 #[test]
 fn a_script_naming_an_unknown_drive_or_no_drive_is_told_which_there_are() {
     let dir = scratch("multi-script-typo");
-    let script = write_file(
-        &dir,
-        "script.rhai",
-        &TWO_AXES_SCRIPT.replace("DRIVE_CALL", "drive(\"rigth\").read(\"speed_actual\");"),
-    );
-    let (result, output) = run_in_process(&script, Arc::new(StopRequests::new()), &|_, _| {});
-    assert_ne!(result.exit_code, 0, "{output}");
-    assert_has(
-        &output,
-        &["no drive called `rigth` in this script; did you mean `right`?"],
-    );
-    let script = write_file(
-        &dir,
-        "script.rhai",
-        &TWO_AXES_SCRIPT.replace("DRIVE_CALL", "drive().read(\"speed_actual\");"),
-    );
-    let (result, output) = run_in_process(&script, Arc::new(StopRequests::new()), &|_, _| {});
-    assert_ne!(result.exit_code, 0, "{output}");
-    assert_has(
-        &output,
-        &["this script has several drives (left, right): name the drive"],
-    );
-    // Either way both drives are stopped.
-    for (name, sim) in &result.simulators {
-        assert_eq!(state_of(sim), DeviceState::ReadyToSwitchOn, "{name}: {output}");
+    let calls = [
+        (
+            "drive(\"rigth\").read(\"speed_actual\");",
+            "no drive called `rigth` in this script; did you mean `right`?",
+        ),
+        (
+            "drive().read(\"speed_actual\");",
+            "this script has several drives (left, right): name the drive",
+        ),
+    ];
+    for (call, said) in calls {
+        let script = write_file(&dir, "script.rhai", &TWO_AXES_SCRIPT.replace("DRIVE_CALL", call));
+        let (result, output) = run_in_process(&script, Arc::new(StopRequests::new()), &|_, _| {});
+        assert_ne!(result.exit_code, 0, "{output}");
+        assert_has(&output, &[said]);
+        // Either way both drives are stopped.
+        for (name, sim) in &result.simulators {
+            assert_eq!(state_of(sim), DeviceState::ReadyToSwitchOn, "{name}: {output}");
+        }
     }
 }
 
