@@ -27,6 +27,24 @@ pub fn tests_results_store() -> PathBuf {
         .join("results.sqlite")
 }
 
+/// Runs `drivescript ARGS | head -1` in the repository: reads the first line of the
+/// output, closes the pipe and waits for the end. The line and how the command ended.
+pub fn first_line_then_closed_pipe(args: &[&str]) -> (String, std::process::ExitStatus) {
+    use std::io::{BufRead, BufReader};
+    let mut child = command()
+        .args(args)
+        .current_dir(repo_root())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("the drivescript binary starts");
+    let mut out = BufReader::new(child.stdout.take().expect("stdout"));
+    let mut first = String::new();
+    out.read_line(&mut first).expect("first line");
+    drop(out);
+    (first, child.wait().expect("the command ends"))
+}
+
 /// Runs `drivescript ARGS` with `stdin`, returning its output.
 pub fn drivescript(args: &[&str], stdin: &str) -> Output {
     let mut child = command()
