@@ -8,6 +8,7 @@
 
 #![cfg(target_os = "linux")]
 
+use crate::lenze_9400::node_9400;
 use crate::support::{assert_has, cli, drivescript, stderr, stdout, words};
 use drivescript::bus::{FrameBus, FramePeer, SocketCanBus};
 use drivescript::family::canopen::sim::Cia402Node;
@@ -112,17 +113,7 @@ fn socketcan_reaches_a_simulated_node_on_a_virtual_can_interface() {
     let node = Node::serve(&vcan, Lenze9400Simulator::new(12, SimConfig::default()));
     let can = format!("socketcan:{}", vcan.0);
     let out = drivescript(
-        &[
-            "read",
-            "ident",
-            "C00061",
-            "--drive",
-            "lenze-9400",
-            "--address",
-            "12",
-            "--can",
-            &can,
-        ],
+        &[&["read", "ident", "C00061"][..], &node_9400("12", &can)].concat(),
         "",
     );
     node.stop();
