@@ -82,6 +82,19 @@ pub fn tool_missing(what: &str) {
     eprintln!("skipped: {what} (`.ci/run` installs it)");
 }
 
+/// Whether python3 can import `modules` (`"pymodbus, serial"`); where it cannot,
+/// [`tool_missing`] says `missing` (and fails under CI).
+pub fn python_imports(modules: &str, missing: &str) -> bool {
+    let here = Command::new("python3")
+        .args(["-c", &format!("import {modules}")])
+        .output()
+        .is_ok_and(|o| o.status.success());
+    if !here {
+        tool_missing(missing);
+    }
+    here
+}
+
 /// Headless Chromium, with the flags that keep it off the network and out of a profile
 /// shared with other tests, ready for `--print-to-pdf=` or `--screenshot=` and a file;
 /// `None` (after [`tool_missing`]) where it is not installed.
