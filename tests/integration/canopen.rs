@@ -25,15 +25,24 @@ fn canopen() -> DictionaryArgs {
     }
 }
 
-/// `recipes/commissioning.yaml` with only `drive:` changed.
-/// A run in `dir` of a recipe `title` that turns the node at 1000 rpm for a minute.
-fn turning_for_a_minute<'a>(dir: &Path, title: &str) -> InProcessRun<'a> {
-    let text = format!(
-        "name: {title}\ndrive: canopen\nsteps:\n  - go_to: operation_enabled\n  - set: {{ speed_setpoint: 1000 rpm }}\n  - dwell: 1 min\n"
-    );
-    let mut run = InProcessRun::new(write_file(dir, "recipe.yaml", &text));
+/// A run of the recipe `text`, written to `dir`, on the simulated CiA 402 node.
+fn on_cia402<'a>(dir: &Path, text: &str) -> InProcessRun<'a> {
+    let mut run = InProcessRun::new(write_file(dir, "recipe.yaml", text));
     run.dictionary = canopen();
     run
+}
+
+/// A run in `dir` of a recipe `title` that turns the node at 1000 rpm for a minute.
+fn turning_for_a_minute<'a>(dir: &Path, title: &str) -> InProcessRun<'a> {
+    on_cia402(
+        dir,
+        &format!("name: {title}\ndrive: canopen\nsteps:\n  - go_to: operation_enabled\n  - set: {{ speed_setpoint: 1000 rpm }}\n  - dwell: 1 min\n"),
+    )
+}
+
+/// Prepares the simulated node to meet `fault` 20 s into the run (in the minute's dwell).
+fn at_20_s(fault: fn(&mut Cia402Node, Duration)) -> impl Fn(&Arc<Mutex<dyn SimulatedDrive>>, &SharedClock) {
+    move |sim, clock| on_node(sim, |node| fault(node, clock.now() + Duration::from_secs(20)))
 }
 
 /// What `look` makes of the simulated CiA 402 node behind `sim` (or does to it).
@@ -46,6 +55,7 @@ fn on_node<T>(sim: &Arc<Mutex<dyn SimulatedDrive>>, look: impl FnOnce(&mut Cia40
     )
 }
 
+/// `recipes/commissioning.yaml` with only `drive:` changed.
 pub fn commissioning(dir: &Path) -> PathBuf {
     let text = std::fs::read_to_string(repo_root().join("recipes/commissioning.yaml")).expect("recipe");
     assert!(text.contains("drive: sd2"));
@@ -132,11 +142,7 @@ fn the_commissioning_recipe_runs_on_the_simulated_cia402_node_with_only_drive_ch
 #[test]
 fn a_node_whose_heartbeat_stops_is_a_lost_link_and_is_stopped() {
     let dir = scratch("canopen-heartbeat");
-    let stop_heartbeat = |sim: &Arc<Mutex<dyn SimulatedDrive>>, clock: &SharedClock| {
-        on_node(sim, |node| {
-            node.stop_heartbeat_at(clock.now() + Duration::from_secs(20))
-        });
-    };
+    let stop_heartbeat = at_20_s(Cia402Node::stop_heartbeat_at);
     let mut run = turning_for_a_minute(&dir, "Heartbeat lost");
     run.prepare = Some(&stop_heartbeat);
     let (result, _) = run.run_expecting(
@@ -161,14 +167,10 @@ fn a_node_whose_heartbeat_stops_is_a_lost_link_and_is_stopped() {
 #[test]
 fn a_node_silent_in_heartbeat_and_sdo_is_a_heartbeat_loss_and_gets_no_nmt_command() {
     let dir = scratch("canopen-silent");
-    let silent = |sim: &Arc<Mutex<dyn SimulatedDrive>>, clock: &SharedClock| {
-        on_node(sim, |node| {
-            node.go_silent_at(clock.now() + Duration::from_secs(20))
-        });
-    };
+    let silent = at_20_s(Cia402Node::go_silent_at);
     let mut run = turning_for_a_minute(&dir, "Node silent");
-    run.prepare = Some(&silent);
     run.safe_stop.reconnect_timeout = Some(Duration::from_secs(2));
+    run.prepare = Some(&silent);
     let (_, output) = run.run_expecting(
         3,
         &[
@@ -228,13 +230,10 @@ fn an_emcy_alone_is_a_drive_fault_in_every_report() {
 #[test]
 fn a_node_left_enabled_stays_operational() {
     let dir = scratch("canopen-left-enabled");
-    let recipe = write_file(
+    let run = on_cia402(
         &dir,
-        "recipe.yaml",
         "name: Left enabled\ndrive: canopen\nleave_enabled: true\nsteps:\n  - go_to: operation_enabled\n",
     );
-    let mut run = InProcessRun::new(recipe);
-    run.dictionary = canopen();
     let (result, output) = run.run_expecting(0, &["sent NMT start (`000#0101`)", "PASSED"]);
     assert_lacks(&output, &["back to pre-operational"]);
     assert_eq!(control_words(&result), vec![6, 7, 15]);
@@ -246,16 +245,13 @@ fn a_node_left_enabled_stays_operational() {
 #[test]
 fn an_emcy_before_the_run_began_is_told_and_the_run_goes_on() {
     let dir = scratch("canopen-emcy-before");
-    let recipe = write_file(
-        &dir,
-        "recipe.yaml",
-        "name: EMCY before\ndrive: canopen\nsteps:\n  - go_to: operation_enabled\n  - dwell: 10 s\n",
-    );
     let emcy = |sim: &Arc<Mutex<dyn SimulatedDrive>>, clock: &SharedClock| {
         sim.lock().unwrap().faults().emergency_at(clock.now(), 0x2310);
     };
-    let mut run = InProcessRun::new(recipe);
-    run.dictionary = canopen();
+    let mut run = on_cia402(
+        &dir,
+        "name: EMCY before\ndrive: canopen\nsteps:\n  - go_to: operation_enabled\n  - dwell: 10 s\n",
+    );
     run.prepare = Some(&emcy);
     let (result, output) = run.run();
     assert_eq!(result.exit_code, 0, "{output}");
