@@ -194,13 +194,8 @@ fn an_emcy_alone_is_a_drive_fault_in_every_report() {
     };
     let mut run = turning_for_a_minute(&dir, "EMCY alone");
     run.prepare = Some(&emcy);
-    let (junit, html, trace) = (
-        dir.join("junit.xml"),
-        dir.join("report.html"),
-        dir.join("run.log"),
-    );
-    run.outputs.junit = Some(junit.clone());
-    run.outputs.report = Some(html.clone());
+    let (junit, html) = run.reports_in(&dir);
+    let trace = dir.join("run.log");
     run.outputs.trace = Some(trace.clone());
     let (result, output) = run.run();
     assert_eq!(result.exit_code, 3, "{output}");

@@ -399,13 +399,8 @@ fn a_scripts_checks_reach_junit_html_and_csv_like_a_recipes() {
                 expect_near(\"speed mean\", s.mean(\"speed_actual\"), 2000.0, \"0.5 %\");\n\
                 expect_near(\"too tight\", s.mean(\"speed_actual\"), 2100.0, \"5 rpm\");\n";
     let mut run = InProcessRun::new(write_file(&dir, "script.rhai", text));
-    let (junit, html, csv) = (
-        dir.join("junit.xml"),
-        dir.join("report.html"),
-        dir.join("samples.csv"),
-    );
-    run.outputs.junit = Some(junit.clone());
-    run.outputs.report = Some(html.clone());
+    let (junit, html) = run.reports_in(&dir);
+    let csv = dir.join("samples.csv");
     run.outputs.csv = Some(csv.clone());
     let (result, output) = run.run();
     assert_eq!(result.exit_code, 1, "{output}");

@@ -376,6 +376,15 @@ impl<'a> InProcessRun<'a> {
         }
     }
 
+    /// Asks for a JUnit file and an HTML report in `dir` (`junit.xml`, `report.html`):
+    /// their paths.
+    pub fn reports_in(&mut self, dir: &Path) -> (PathBuf, PathBuf) {
+        let (junit, html) = (dir.join("junit.xml"), dir.join("report.html"));
+        self.outputs.junit = Some(junit.clone());
+        self.outputs.report = Some(html.clone());
+        (junit, html)
+    }
+
     /// Runs it with a terminal nobody types at (a question waits until its timeout);
     /// what it produced and its console output.
     pub fn run_at_a_silent_terminal(mut self) -> (drivescript::run::RunResult, String) {
