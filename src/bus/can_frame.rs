@@ -171,22 +171,15 @@ mod tests {
         ] {
             assert_eq!(CanFrame::parse_text(text), Ok(f), "{text}");
         }
-        assert!(CanFrame::parse_text("60C#R")
-            .unwrap_err()
-            .to_string()
-            .contains("remote"));
-        assert!(CanFrame::parse_text("XYZ#00")
-            .unwrap_err()
-            .to_string()
-            .contains("not a CAN identifier"));
-        assert!(CanFrame::parse_text("800#00")
-            .unwrap_err()
-            .to_string()
-            .contains("11 bits"));
-        assert!(CanFrame::parse_text("601#000102030405060708")
-            .unwrap_err()
-            .to_string()
-            .contains("at most 8"));
+        for (text, says) in [
+            ("60C#R", "remote"),
+            ("XYZ#00", "not a CAN identifier"),
+            ("800#00", "11 bits"),
+            ("601#000102030405060708", "at most 8"),
+        ] {
+            let e = CanFrame::parse_text(text).unwrap_err().to_string();
+            assert!(e.contains(says), "{text}: {e}");
+        }
         assert_eq!(
             CanFrame::parse_text("800#00"),
             Err(CanFrameTextError::Not11Bits(0x800))

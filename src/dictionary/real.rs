@@ -114,32 +114,32 @@ mod tests {
         assert_eq!(Real::from_le_bytes(&[0, 0, 0xc0], true), None);
     }
 
+    /// `r` survives its bytes and its text; a single also its text read as a double and
+    /// narrowed, the way a quantity is written.
+    fn round_trips_through_text_and_bytes(r: Real, single: bool) -> Result<(), TestCaseError> {
+        prop_assert_eq!(Real::from_le_bytes(&r.to_le_bytes(), single), Some(r));
+        let back = Real::parse(&r.to_string(), single).unwrap();
+        if r.value().is_nan() {
+            prop_assert!(back.value().is_nan());
+        } else {
+            prop_assert_eq!(back, r);
+            if single {
+                prop_assert_eq!(Real::of(r.to_string().parse::<f64>().unwrap(), true), r);
+            }
+        }
+        Ok(())
+    }
+
     proptest! {
         /// Every single and double, NaNs with their payload aside, survives text and bytes.
         #[test]
         fn singles_round_trip_through_text_and_bytes(bits in any::<u32>()) {
-            let r = Real::Single(bits);
-            prop_assert_eq!(Real::from_le_bytes(&r.to_le_bytes(), true), Some(r));
-            let back = Real::parse(&r.to_string(), true).unwrap();
-            if r.value().is_nan() {
-                prop_assert!(back.value().is_nan());
-            } else {
-                prop_assert_eq!(back, r);
-                // The text read as a double and narrowed (the way a quantity is written) is the same single.
-                prop_assert_eq!(Real::of(r.to_string().parse::<f64>().unwrap(), true), r);
-            }
+            round_trips_through_text_and_bytes(Real::Single(bits), true)?;
         }
 
         #[test]
         fn doubles_round_trip_through_text_and_bytes(bits in any::<u64>()) {
-            let r = Real::Double(bits);
-            prop_assert_eq!(Real::from_le_bytes(&r.to_le_bytes(), false), Some(r));
-            let back = Real::parse(&r.to_string(), false).unwrap();
-            if r.value().is_nan() {
-                prop_assert!(back.value().is_nan());
-            } else {
-                prop_assert_eq!(back, r);
-            }
+            round_trips_through_text_and_bytes(Real::Double(bits), false)?;
         }
 
         #[test]

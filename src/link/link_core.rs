@@ -38,6 +38,18 @@ impl<B> From<ReplyWait> for super::AttemptFailure<B> {
     }
 }
 
+impl<B> super::AttemptFailure<B> {
+    /// How an attempt ends when listening for its reply ended with `wait`: a timeout after
+    /// a reply that answered another request was dropped is that reply's discard (retried,
+    /// its own reply owed), not silence.
+    pub fn after_wait(wait: ReplyWait, dropped: Option<B>) -> Self {
+        match (wait, dropped) {
+            (ReplyWait::Timeout, Some(reply)) => super::AttemptFailure::Discarded(reply),
+            (wait, _) => wait.into(),
+        }
+    }
+}
+
 /// Replies that may still come to attempts that went unanswered in their time: a slave
 /// slower than the reply timeout answers each request during the next one's wait, and on
 /// a line without sequence numbers its answer would be taken for the next request's.

@@ -144,20 +144,14 @@ mod tests {
             key: "speed_actual mean near".into(),
             run: "r".into(),
             started_at: "2026-01-01T00:00:00.000Z".into(),
-            serial: None,
             measured: Some(v),
             unit: Some("rpm".into()),
             low,
             high,
             passed: true,
-            marginal: false,
-            inclusive: None,
             recipe: "R".into(),
-            recipe_sha256: None,
-            stage: String::new(),
             step: "2".into(),
-            decimals: None,
-            simulated: false,
+            ..TrendPoint::default()
         }
     }
 

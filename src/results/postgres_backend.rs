@@ -286,24 +286,15 @@ impl Backend for PostgresBackend {
                     .map(|i| {
                         let ty = row.columns()[i].type_();
                         let got = if *ty == Type::INT8 {
-                            row.try_get::<_, Option<i64>>(i).ok().flatten().map(Value::Int)
+                            cell::<i64>(row, i).map(Value::Int)
                         } else if *ty == Type::INT4 {
-                            row.try_get::<_, Option<i32>>(i)
-                                .ok()
-                                .flatten()
-                                .map(|v| Value::Int(v.into()))
+                            cell::<i32>(row, i).map(|v| Value::Int(v.into()))
                         } else if *ty == Type::FLOAT8 {
-                            row.try_get::<_, Option<f64>>(i).ok().flatten().map(Value::Real)
+                            cell::<f64>(row, i).map(Value::Real)
                         } else if *ty == Type::BOOL {
-                            row.try_get::<_, Option<bool>>(i)
-                                .ok()
-                                .flatten()
-                                .map(|b| Value::Int(b.into()))
+                            cell::<bool>(row, i).map(|b| Value::Int(b.into()))
                         } else {
-                            row.try_get::<_, Option<String>>(i)
-                                .ok()
-                                .flatten()
-                                .map(|t| Value::Text(unheld(t)))
+                            cell::<String>(row, i).map(|t| Value::Text(unheld(t)))
                         };
                         got.unwrap_or(Value::Null)
                     })
@@ -329,6 +320,11 @@ impl Backend for PostgresBackend {
     fn name(&self) -> &str {
         &self.name
     }
+}
+
+/// Column `i` of `row` as a `T`; `None` for NULL or a value that does not read as one.
+fn cell<'a, T: postgres::types::FromSql<'a>>(row: &'a postgres::Row, i: usize) -> Option<T> {
+    row.try_get::<_, Option<T>>(i).ok().flatten()
 }
 
 #[cfg(test)]

@@ -138,10 +138,13 @@ fn migrate_locked(backend: &mut dyn Backend) -> Result<(), StoreError> {
     Ok(())
 }
 
-/// A database without a store that holds tables is another application's.
+/// A database without a store that holds tables is another application's. One that holds
+/// `drivescript_store` is drivescript's after all: another process created the store since
+/// [`version`] looked (two runs opening a new PostgreSQL store at once), and the migration
+/// reads its version again under the lock.
 fn refuse_foreign(backend: &mut dyn Backend) -> Result<(), StoreError> {
     let tables = backend.tables()?;
-    if tables.is_empty() {
+    if tables.is_empty() || tables.iter().any(|t| t == "drivescript_store") {
         return Ok(());
     }
     Err(StoreError::Foreign {
@@ -227,6 +230,18 @@ mod tests {
                 .expect("migrated"),
         );
         (SqliteBackend::open(&path, false).expect("opens"), dir)
+    }
+
+    /// A store another process finished creating after this one found none is not taken
+    /// for another application's.
+    #[test]
+    fn a_store_created_meanwhile_is_not_refused_as_foreign() {
+        let (mut b, dir) = migrated("meanwhile", 1, "('r1', 1, 'c', 1, 0, '1', '', 1, 'kept')");
+        assert!(refuse_foreign(&mut b).is_ok());
+        b.batch("CREATE TABLE notes (text TEXT); DROP TABLE drivescript_store;")
+            .expect("another application's tables");
+        assert!(matches!(refuse_foreign(&mut b), Err(StoreError::Foreign { .. })));
+        let _ = std::fs::remove_dir_all(&dir);
     }
 
     /// A store written by the first version keeps its runs and takes the columns of a

@@ -66,7 +66,7 @@ pub struct RunFilter {
 }
 
 /// One check's value in one run, for `results trend`.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Default)]
 pub struct TrendPoint {
     /// The check's name in that run (with the limits it had there) and its key.
     pub name: String,

@@ -257,17 +257,11 @@ mod tests {
             serial: Some(serial.into()),
             measured,
             unit: Some("K".into()),
-            low: None,
             high: Some(3.0),
             passed,
-            marginal: false,
-            inclusive: None,
             recipe: "Bearing acceptance".into(),
-            recipe_sha256: None,
-            stage: String::new(),
             step: "2".into(),
-            decimals: None,
-            simulated: false,
+            ..TrendPoint::default()
         }
     }
 

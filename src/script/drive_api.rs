@@ -17,15 +17,16 @@ use std::sync::Arc;
 use std::time::Duration;
 
 /// Registers the drive method `$name` twice, as Rhai has no optional arguments: with a
-/// last argument, a duration as text (`"500ms"`), and without it, when `$default` stands
-/// in; `$last` is the duration in `$body`.
-macro_rules! with_optional_duration {
-    ($engine:expr, $bridge:expr, $name:literal, $default:expr,
-     |$b:ident, $ctx:ident, $h:ident $(, $arg:ident: $ty:ty)*| $last:ident => $body:expr) => {{
+/// last argument `$last` of type `$lty`, which `$given` turns into what `$body` uses, and
+/// without it, when `$default` stands in.
+macro_rules! with_optional {
+    ($engine:expr, $bridge:expr, $name:literal,
+     |$b:ident, $ctx:ident, $h:ident $(, $arg:ident: $ty:ty)*| -> $ret:ty,
+     $last:ident: $lty:ty => $given:expr, or $default:expr, $body:expr) => {{
         let $b = $bridge.clone();
         $engine.register_fn(
             $name,
-            move |$ctx: NativeCallContext, $h: &mut DriveHandle $(, $arg: $ty)*| -> RhaiResult<()> {
+            move |$ctx: NativeCallContext, $h: &mut DriveHandle $(, $arg: $ty)*| -> RhaiResult<$ret> {
                 let $last = $default;
                 $body
             },
@@ -33,12 +34,25 @@ macro_rules! with_optional_duration {
         let $b = $bridge.clone();
         $engine.register_fn(
             $name,
-            move |$ctx: NativeCallContext, $h: &mut DriveHandle $(, $arg: $ty)*, last: &str| -> RhaiResult<()> {
-                let $last = duration(last)?;
+            move |$ctx: NativeCallContext, $h: &mut DriveHandle $(, $arg: $ty)*, $last: $lty| -> RhaiResult<$ret> {
+                let $last = $given;
                 $body
             },
         );
     }};
+}
+pub(super) use with_optional;
+
+/// [`with_optional`] with a duration as text (`"500ms"`) last.
+macro_rules! with_optional_duration {
+    ($engine:expr, $bridge:expr, $name:literal, $default:expr,
+     |$b:ident, $ctx:ident, $h:ident $(, $arg:ident: $ty:ty)*| $last:ident => $body:expr) => {
+        $crate::script::drive_api::with_optional!(
+            $engine, $bridge, $name,
+            |$b, $ctx, $h $(, $arg: $ty)*| -> (),
+            $last: &str => duration($last)?, or $default, $body
+        )
+    };
 }
 pub(super) use with_optional_duration;
 
@@ -347,35 +361,13 @@ fn register_waits(engine: &mut Engine, bridge: &Arc<Bridge>) {
             b.call(ctx.call_position(), Call::Dwell(d), label).and_then(done)
         },
     );
-    let b = bridge.clone();
-    engine.register_fn(
+    with_optional!(
+        engine,
+        bridge,
         "sample",
-        move |ctx: NativeCallContext,
-              h: &mut DriveHandle,
-              names: Array,
-              every: &str,
-              time: &str|
-              -> RhaiResult<SampleWindow> { sample(&b, h, &ctx, names, every, time, None) },
-    );
-    let b = bridge.clone();
-    engine.register_fn(
-        "sample",
-        move |ctx: NativeCallContext,
-              h: &mut DriveHandle,
-              names: Array,
-              every: &str,
-              time: &str,
-              csv: Dynamic|
-              -> RhaiResult<SampleWindow> {
-            let name = csv.into_string().map_err(|t| {
-                error(format!(
-                    "sample: the csv file is named with text (\"sweep.csv\"), not {t}"
-                ))
-            })?;
-            let path = resolve::csv_file(&name).map_err(refused)?;
-            b.csv_file(&path).map_err(error)?;
-            sample(&b, h, &ctx, names, every, time, Some(path))
-        },
+        |b, ctx, h, names: Array, every: &str, time: &str| -> SampleWindow,
+        csv: Dynamic => Some(csv_path(&b, csv)?), or None,
+        sample(&b, h, &ctx, names, every, time, csv)
     );
     for (id, statistic) in Statistic::OF_SUMS {
         engine.register_fn(id, move |w: &mut SampleWindow, name: &str| -> RhaiResult<f64> {
@@ -395,6 +387,18 @@ fn register_waits(engine: &mut Engine, bridge: &Arc<Bridge>) {
                 .collect())
         },
     );
+}
+
+/// The CSV file a script names for `sample`'s rows, ready to be written.
+fn csv_path(b: &Bridge, csv: Dynamic) -> RhaiResult<PathBuf> {
+    let name = csv.into_string().map_err(|t| {
+        error(format!(
+            "sample: the csv file is named with text (\"sweep.csv\"), not {t}"
+        ))
+    })?;
+    let path = resolve::csv_file(&name).map_err(refused)?;
+    b.csv_file(&path).map_err(error)?;
+    Ok(path)
 }
 
 /// `d.sample(["speed_actual"], "100 ms", "20 s")`, with its rows also written to `csv`

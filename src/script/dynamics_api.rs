@@ -6,7 +6,9 @@
 //! the drive's dictionary before anything is sent; the session does the rest.
 
 use super::bridge::{Bridge, RhaiResult};
-use super::drive_api::{dictionary_of, done, duration, error, refused, with_optional_duration, DriveHandle};
+use super::drive_api::{
+    dictionary_of, done, duration, error, refused, with_optional, with_optional_duration, DriveHandle,
+};
 use super::exchange::Call;
 use super::last_pass_api::last_pass;
 use super::resolve;
@@ -87,31 +89,13 @@ pub(super) fn register_dynamics(engine: &mut Engine, bridge: &Arc<Bridge>) {
             wait_stable(&b, h, &ctx, name, rate, over, timeout, every)
         }
     );
-    let b = bridge.clone();
-    engine.register_fn(
+    with_optional!(
+        engine,
+        bridge,
         "coast_down",
-        move |ctx: NativeCallContext,
-              h: &mut DriveHandle,
-              from: &str,
-              below: &str,
-              shortest: &str,
-              longest: &str|
-              -> RhaiResult<()> { coast_down(&b, h, &ctx, [from, below, shortest, longest], None) },
-    );
-    let b = bridge.clone();
-    engine.register_fn(
-        "coast_down",
-        move |ctx: NativeCallContext,
-              h: &mut DriveHandle,
-              from: &str,
-              below: &str,
-              shortest: &str,
-              longest: &str,
-              compared: Map|
-              -> RhaiResult<()> {
-            let lp = last_pass("coast_down", &compared)?;
-            coast_down(&b, h, &ctx, [from, below, shortest, longest], Some(lp))
-        },
+        |b, ctx, h, from: &str, below: &str, shortest: &str, longest: &str| -> (),
+        compared: Map => Some(last_pass("coast_down", &compared)?), or None,
+        coast_down(&b, h, &ctx, [from, below, shortest, longest], compared)
     );
 }
 

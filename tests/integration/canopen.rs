@@ -4,7 +4,7 @@
 //! heartbeat and EMCY frames; an EDS as a dictionary on the command line.
 
 use crate::support::{
-    assert_has, assert_in_order, assert_lacks, cli, control_words, repo_root, scratch, sqlite_store,
+    assert_has, assert_in_order, assert_lacks, cli, control_words, repo_root, scratch, sqlite_store, words,
     write_file, InProcessRun,
 };
 use drivescript::clock::SharedClock;
@@ -25,15 +25,24 @@ fn canopen() -> DictionaryArgs {
     }
 }
 
-/// `recipes/commissioning.yaml` with only `drive:` changed.
-/// A run in `dir` of a recipe `title` that turns the node at 1000 rpm for a minute.
-fn turning_for_a_minute<'a>(dir: &Path, title: &str) -> InProcessRun<'a> {
-    let text = format!(
-        "name: {title}\ndrive: canopen\nsteps:\n  - go_to: operation_enabled\n  - set: {{ speed_setpoint: 1000 rpm }}\n  - dwell: 1 min\n"
-    );
-    let mut run = InProcessRun::new(write_file(dir, "recipe.yaml", &text));
+/// A run of the recipe `text`, written to `dir`, on the simulated CiA 402 node.
+fn on_cia402<'a>(dir: &Path, text: &str) -> InProcessRun<'a> {
+    let mut run = InProcessRun::new(write_file(dir, "recipe.yaml", text));
     run.dictionary = canopen();
     run
+}
+
+/// A run in `dir` of a recipe `title` that turns the node at 1000 rpm for a minute.
+fn turning_for_a_minute<'a>(dir: &Path, title: &str) -> InProcessRun<'a> {
+    on_cia402(
+        dir,
+        &format!("name: {title}\ndrive: canopen\nsteps:\n  - go_to: operation_enabled\n  - set: {{ speed_setpoint: 1000 rpm }}\n  - dwell: 1 min\n"),
+    )
+}
+
+/// Prepares the simulated node to meet `fault` 20 s into the run (in the minute's dwell).
+fn at_20_s(fault: fn(&mut Cia402Node, Duration)) -> impl Fn(&Arc<Mutex<dyn SimulatedDrive>>, &SharedClock) {
+    move |sim, clock| on_node(sim, |node| fault(node, clock.now() + Duration::from_secs(20)))
 }
 
 /// What `look` makes of the simulated CiA 402 node behind `sim` (or does to it).
@@ -46,6 +55,7 @@ fn on_node<T>(sim: &Arc<Mutex<dyn SimulatedDrive>>, look: impl FnOnce(&mut Cia40
     )
 }
 
+/// `recipes/commissioning.yaml` with only `drive:` changed.
 pub fn commissioning(dir: &Path) -> PathBuf {
     let text = std::fs::read_to_string(repo_root().join("recipes/commissioning.yaml")).expect("recipe");
     assert!(text.contains("drive: sd2"));
@@ -63,10 +73,8 @@ fn the_commissioning_recipe_runs_on_the_simulated_cia402_node_with_only_drive_ch
     let mut run = InProcessRun::new(commissioning(&dir));
     run.dictionary = canopen();
     run.outputs.trace = Some(trace.clone());
-    let (result, output) = run.run();
-    assert_eq!(result.exit_code, 0, "{output}");
-    assert_has(
-        &output,
+    let (result, output) = run.run_expecting(
+        0,
         &[
             "ident = \"drivescript CiA 402 node\"",
             "bus_voltage = 325.",
@@ -134,17 +142,11 @@ fn the_commissioning_recipe_runs_on_the_simulated_cia402_node_with_only_drive_ch
 #[test]
 fn a_node_whose_heartbeat_stops_is_a_lost_link_and_is_stopped() {
     let dir = scratch("canopen-heartbeat");
-    let stop_heartbeat = |sim: &Arc<Mutex<dyn SimulatedDrive>>, clock: &SharedClock| {
-        on_node(sim, |node| {
-            node.stop_heartbeat_at(clock.now() + Duration::from_secs(20))
-        });
-    };
+    let stop_heartbeat = at_20_s(Cia402Node::stop_heartbeat_at);
     let mut run = turning_for_a_minute(&dir, "Heartbeat lost");
     run.prepare = Some(&stop_heartbeat);
-    let (result, output) = run.run();
-    assert_eq!(result.exit_code, 3, "{output}");
-    assert_has(
-        &output,
+    let (result, _) = run.run_expecting(
+        3,
         &[
             "     1  ok    go to operation_enabled",
             "     3  FAIL  dwell 1m  I/O error on built-in simulated drive: the heartbeat of node 1 stopped",
@@ -165,18 +167,12 @@ fn a_node_whose_heartbeat_stops_is_a_lost_link_and_is_stopped() {
 #[test]
 fn a_node_silent_in_heartbeat_and_sdo_is_a_heartbeat_loss_and_gets_no_nmt_command() {
     let dir = scratch("canopen-silent");
-    let silent = |sim: &Arc<Mutex<dyn SimulatedDrive>>, clock: &SharedClock| {
-        on_node(sim, |node| {
-            node.go_silent_at(clock.now() + Duration::from_secs(20))
-        });
-    };
+    let silent = at_20_s(Cia402Node::go_silent_at);
     let mut run = turning_for_a_minute(&dir, "Node silent");
-    run.prepare = Some(&silent);
     run.safe_stop.reconnect_timeout = Some(Duration::from_secs(2));
-    let (result, output) = run.run();
-    assert_eq!(result.exit_code, 3, "{output}");
-    assert_has(
-        &output,
+    run.prepare = Some(&silent);
+    let (_, output) = run.run_expecting(
+        3,
         &[
             "     3  FAIL  dwell 1m  I/O error on built-in simulated drive: heartbeat loss: the last heartbeat of node 1 came",
             "node 1 is left operational: NMT enter pre-operational (`000#8001`) is not sent, since the drive's stop was not verified",
@@ -198,13 +194,8 @@ fn an_emcy_alone_is_a_drive_fault_in_every_report() {
     };
     let mut run = turning_for_a_minute(&dir, "EMCY alone");
     run.prepare = Some(&emcy);
-    let (junit, html, trace) = (
-        dir.join("junit.xml"),
-        dir.join("report.html"),
-        dir.join("run.log"),
-    );
-    run.outputs.junit = Some(junit.clone());
-    run.outputs.report = Some(html.clone());
+    let (junit, html) = run.reports_in(&dir);
+    let trace = dir.join("run.log");
     run.outputs.trace = Some(trace.clone());
     let (result, output) = run.run();
     assert_eq!(result.exit_code, 3, "{output}");
@@ -234,16 +225,11 @@ fn an_emcy_alone_is_a_drive_fault_in_every_report() {
 #[test]
 fn a_node_left_enabled_stays_operational() {
     let dir = scratch("canopen-left-enabled");
-    let recipe = write_file(
+    let run = on_cia402(
         &dir,
-        "recipe.yaml",
         "name: Left enabled\ndrive: canopen\nleave_enabled: true\nsteps:\n  - go_to: operation_enabled\n",
     );
-    let mut run = InProcessRun::new(recipe);
-    run.dictionary = canopen();
-    let (result, output) = run.run();
-    assert_eq!(result.exit_code, 0, "{output}");
-    assert_has(&output, &["sent NMT start (`000#0101`)", "PASSED"]);
+    let (result, output) = run.run_expecting(0, &["sent NMT start (`000#0101`)", "PASSED"]);
     assert_lacks(&output, &["back to pre-operational"]);
     assert_eq!(control_words(&result), vec![6, 7, 15]);
     let sim = result.simulator.expect("the simulated node");
@@ -254,16 +240,13 @@ fn a_node_left_enabled_stays_operational() {
 #[test]
 fn an_emcy_before_the_run_began_is_told_and_the_run_goes_on() {
     let dir = scratch("canopen-emcy-before");
-    let recipe = write_file(
-        &dir,
-        "recipe.yaml",
-        "name: EMCY before\ndrive: canopen\nsteps:\n  - go_to: operation_enabled\n  - dwell: 10 s\n",
-    );
     let emcy = |sim: &Arc<Mutex<dyn SimulatedDrive>>, clock: &SharedClock| {
         sim.lock().unwrap().faults().emergency_at(clock.now(), 0x2310);
     };
-    let mut run = InProcessRun::new(recipe);
-    run.dictionary = canopen();
+    let mut run = on_cia402(
+        &dir,
+        "name: EMCY before\ndrive: canopen\nsteps:\n  - go_to: operation_enabled\n  - dwell: 10 s\n",
+    );
     run.prepare = Some(&emcy);
     let (result, output) = run.run();
     assert_eq!(result.exit_code, 0, "{output}");
@@ -281,15 +264,7 @@ fn an_emcy_before_the_run_began_is_told_and_the_run_goes_on() {
 #[test]
 fn decode_explains_nmt_heartbeat_and_emcy_frames() {
     let out = cli(
-        &[
-            "decode",
-            "--protocol",
-            "canopen",
-            "000#0105",
-            "705#05",
-            "085#1023010000000000",
-            "601#4041600000000000",
-        ],
+        &words("decode --protocol canopen 000#0105 705#05 085#1023010000000000 601#4041600000000000"),
         0,
     );
     assert_has(

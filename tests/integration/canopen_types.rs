@@ -146,8 +146,8 @@ fn a_dcf_of_floats_and_wide_integers_is_diffed_and_restored() {
         &out.stdout,
         &["velocity_loop_gain", "operating_time", "option_key"],
     );
-    assert!(!out.stdout.contains("encoder_scale"), "{}", out.stdout);
-    assert!(!out.stdout.contains("position_offset"), "{}", out.stdout);
+    assert_lacks(&out.stdout, &["encoder_scale"]);
+    assert_lacks(&out.stdout, &["position_offset"]);
 }
 
 #[test]

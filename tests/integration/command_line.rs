@@ -5,7 +5,8 @@
 //! a port that is not a serial port and a recipe that is not UTF-8.
 
 use crate::support::{
-    assert_has, assert_lacks, cli, drivescript, scratch, stderr, stdout, wide_speed_and_current_rows,
+    assert_has, assert_lacks, cli, drivescript, scratch, scratch_file, stderr, stdout,
+    wide_speed_and_current_rows,
 };
 
 #[test]
@@ -293,72 +294,60 @@ fn a_setpoint_beyond_the_cyclic_velocity_scaling_is_refused_before_anything_is_s
         "name: cyclic\nparams:\n  top: 20000 rpm\nsteps:\n  - go_to: operation_enabled\n  - set: { speed_setpoint: 30000 rpm }\n  - ramp: { object: speed_setpoint, from: 0 rpm, to: \"{{top}}\", step: 5000 rpm, every: 1 s }\n",
     );
     let recipe = recipe.to_str().expect("utf-8");
-    let cyclic = ["--channel", "cyclic", "--velocity-scaling", "24000rpm"];
     let set_line = "cyclic.yaml:6:5: set speed_setpoint = 30000 rpm is beyond -24000 .. 24000 rpm: the cyclic channel carries at most ±100 % of the velocity scaling, 24000 rpm";
 
-    let mut args = vec!["check", recipe];
-    args.extend(cyclic);
-    let out = crate::support::cli(&args, 2);
-    assert!(out.stderr.contains(set_line), "{}", out.stderr);
-    assert!(
-        out.stderr.contains("1 value(s) the link cannot carry"),
-        "{}",
-        out.stderr
-    );
+    let err = refused_on_the_cyclic_channel(&["check", recipe]);
+    assert_has(&err, &[set_line, "1 value(s) the link cannot carry"]);
     // On the object channel the same recipe is fine.
-    crate::support::cli(&["check", recipe], 0);
+    cli(&["check", recipe], 0);
 
-    let mut args = vec![
-        "run",
-        recipe,
-        "--port",
-        "/nonexistent/ttyUSB9",
-        "--set",
-        "top=26000rpm",
-    ];
-    args.extend(cyclic);
-    let out = crate::support::cli(&args, 2);
-    assert!(out.stderr.contains(set_line), "{}", out.stderr);
-    assert!(
-        out.stderr
-            .contains("cyclic.yaml:7:5: ramp speed_setpoint = 26000 rpm is beyond -24000 .. 24000 rpm"),
-        "{}",
-        out.stderr
+    let port = ["--port", "/nonexistent/ttyUSB9"];
+    let err = refused_on_the_cyclic_channel(&[&["run", recipe, "--set", "top=26000rpm"][..], &port].concat());
+    assert_has(
+        &err,
+        &[
+            set_line,
+            "cyclic.yaml:7:5: ramp speed_setpoint = 26000 rpm is beyond -24000 .. 24000 rpm",
+            "nothing was sent",
+        ],
     );
-    assert!(out.stderr.contains("nothing was sent"), "{}", out.stderr);
-    assert!(
-        !out.stderr.contains("ttyUSB9"),
-        "the port was never opened: {}",
-        out.stderr
-    );
+    assert!(!err.contains("ttyUSB9"), "the port was never opened: {err}");
 }
+
+/// What `drivescript ARGS` on the SD2's cyclic channel (velocity scaling 24000 rpm) says
+/// on stderr, refusing with exit 2.
+#[track_caller]
+fn refused_on_the_cyclic_channel(args: &[&str]) -> String {
+    let cyclic = ["--channel", "cyclic", "--velocity-scaling", "24000rpm"];
+    cli(&[args, &cyclic].concat(), 2).stderr
+}
+
+/// A spindle and a feed drive on one line, the spindle's setpoint beyond the cyclic scaling.
+const TWO_SD2_DRIVES: &str = "name: two
+drives:
+  spindle: { drive: sd2, address: dnc:2 }
+  feed: { drive: sd2, address: dnc:3 }
+steps:
+  - set: { spindle.speed_setpoint: 30000 rpm }
+  - set: { feed.speed_setpoint: 20000 rpm }
+";
 
 /// With `drives:`, each drive's values are compared with the range of its own family's
 /// link: the setpoint beyond the cyclic scaling is refused by `check` and by `run` before
 /// any port opens, and the other drive's setpoint within it is not.
 #[test]
 fn a_named_drives_setpoint_beyond_its_links_range_is_refused_before_anything_is_sent() {
-    let dir = crate::support::scratch("cyclic-range-drives");
-    let recipe = crate::support::write_file(
-        &dir,
-        "two.yaml",
-        "name: two\ndrives:\n  spindle: { drive: sd2, address: dnc:2 }\n  feed: { drive: sd2, address: dnc:3 }\nsteps:\n  - set: { spindle.speed_setpoint: 30000 rpm }\n  - set: { feed.speed_setpoint: 20000 rpm }\n",
-    );
+    let (_, recipe) = scratch_file("cyclic-range-drives", "two.yaml", TWO_SD2_DRIVES);
     let recipe = recipe.to_str().expect("utf-8");
-    let cyclic = ["--channel", "cyclic", "--velocity-scaling", "24000rpm"];
     let line = "two.yaml:6:5: set spindle.speed_setpoint = 30000 rpm is beyond -24000 .. 24000 rpm: the cyclic channel carries";
 
-    let mut args = vec!["check", recipe];
-    args.extend(cyclic);
-    let out = crate::support::cli(&args, 2);
-    crate::support::assert_has(&out.stderr, &[line, "1 value(s) the link cannot carry"]);
-    crate::support::assert_lacks(&out.stderr, &["feed.speed_setpoint"]);
+    let err = refused_on_the_cyclic_channel(&["check", recipe]);
+    assert_has(&err, &[line, "1 value(s) the link cannot carry"]);
+    assert_lacks(&err, &["feed.speed_setpoint"]);
 
-    let mut args = vec!["run", recipe, "--port", "/nonexistent/ttyUSB9"];
-    args.extend(cyclic);
-    let out = crate::support::cli(&args, 2);
-    crate::support::assert_has(&out.stderr, &[line, "nothing was sent"]);
-    crate::support::assert_lacks(&out.stderr, &["ttyUSB9"]);
+    let err = refused_on_the_cyclic_channel(&["run", recipe, "--port", "/nonexistent/ttyUSB9"]);
+    assert_has(&err, &[line, "nothing was sent"]);
+    assert_lacks(&err, &["ttyUSB9"]);
 }
 
 /// `ports` shows a USB-serial adapter's latency timer where the system exposes it (here a

@@ -3,7 +3,9 @@
 //! with the run in the store (SQLite and PostgreSQL) and shown on the run report and the
 //! certificates; a family whose dictionary names none says so.
 
-use crate::support::{assert_has, cli, repo_root, scratch, write_file, PostgresServer};
+use crate::support::{
+    assert_has, cli, repo_root, scratch, with_postgres_store, with_sqlite_store, write_file,
+};
 use std::path::Path;
 
 /// `drivescript run RECIPE --fast --report DIR/report.html ARGS` (which must pass); the page.
@@ -45,18 +47,12 @@ fn identity_everywhere(store: &str, dir: &Path) {
 
 #[test]
 fn a_canopen_drives_identity_is_read_stored_and_shown_on_sqlite() {
-    let dir = scratch("identity-sqlite");
-    let store = dir.join("results.sqlite");
-    identity_everywhere(store.to_str().expect("utf-8"), &dir);
+    with_sqlite_store("identity", |dir, store| identity_everywhere(store, dir));
 }
 
 #[test]
 fn a_canopen_drives_identity_is_read_stored_and_shown_on_postgresql() {
-    let Some(server) = PostgresServer::start("identity-postgres") else {
-        return;
-    };
-    let dir = scratch("identity-postgres-pages");
-    identity_everywhere(&server.url(), &dir);
+    with_postgres_store("identity", |dir, store| identity_everywhere(store, dir));
 }
 
 #[test]

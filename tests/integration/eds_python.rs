@@ -5,7 +5,7 @@
 //! data type, access, limits, default and name, and where the built-in `canopen`
 //! dictionary has the object too, the file's limits are the ones in force.
 
-use crate::support::{drivescript, tool_missing};
+use crate::support::{drivescript, python_imports};
 use serde_json::Value;
 use std::collections::HashMap;
 use std::process::Command;
@@ -25,12 +25,8 @@ fn path(file: &str) -> String {
 
 /// python-canopen's variables of `file`, or `None` where python-canopen is not installed.
 fn python_view(file: &str) -> Option<Vec<Value>> {
-    let here = Command::new("python3")
-        .args(["-c", "import canopen"])
-        .output()
-        .is_ok_and(|o| o.status.success());
-    if !here {
-        tool_missing("python3 with python-canopen (pip install canopen) is not installed: EDS files are not compared with it");
+    let missing = "python3 with python-canopen (pip install canopen) is not installed: EDS files are not compared with it";
+    if !python_imports("canopen", missing) {
         return None;
     }
     let out = Command::new("python3")

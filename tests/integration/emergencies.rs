@@ -3,7 +3,7 @@
 //! one; a Lenze 9400's EMCY (no device-control profile) ending a run as a drive fault, its
 //! simulated node sending an injected one in process and served.
 
-use crate::support::{assert_has, assert_lacks, cli, scratch, write_file};
+use crate::support::{assert_has, assert_lacks, cli, scratch, words, write_file};
 
 #[test]
 fn an_emergency_no_simulated_drive_can_send_is_refused_before_anything_runs() {
@@ -49,27 +49,14 @@ fn an_emergency_no_simulated_drive_can_send_is_refused_before_anything_runs() {
     );
     // `simulate` refuses it the same, before it serves anything.
     let out = cli(
-        &[
-            "simulate",
-            "--drive",
-            "sd2",
-            "--pty",
-            "--sim",
-            "emergency-at=20s:0x2310",
-        ],
+        &words("simulate --drive sd2 --pty --sim emergency-at=20s:0x2310"),
         2,
     );
     assert_has(&out.stderr, &[refusal, what_to_do]);
     assert_lacks(&out.stdout, &["/dev/pts"]);
     // The physics settings stay the simulated drive's, on every family.
     let out = cli(
-        &[
-            "run",
-            "recipes/commissioning.yaml",
-            "--fast",
-            "--sim",
-            "overshoot=10%",
-        ],
+        &words("run recipes/commissioning.yaml --fast --sim overshoot=10%"),
         0,
     );
     assert_has(&out.stdout, &["PASSED"]);

@@ -3,8 +3,7 @@
 //! run, which must still run `finally` and exit with 130.
 
 use crate::live_run::LiveRun;
-use crate::support::{assert_has, assert_lacks, cli, repo_root, Simulator};
-use std::io::{BufRead, BufReader};
+use crate::support::{assert_has, assert_lacks, cli, first_line_then_closed_pipe, repo_root, Simulator};
 use std::process::Stdio;
 
 /// Under Wine the pty is a COM port and the commands go through Windows' serial API.
@@ -102,19 +101,7 @@ fn ctrl_c_during_a_run_stops_safely_and_exits_130() {
 
 #[test]
 fn a_closed_output_pipe_does_not_stop_a_run_before_its_safe_stop() {
-    let mut child = crate::support::command()
-        .args(["run", "recipes/commissioning.yaml", "--fast"])
-        .current_dir(repo_root())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("run starts");
-    // Like `| head -1`: read one line, then close the pipe.
-    let mut out = BufReader::new(child.stdout.take().expect("stdout"));
-    let mut first = String::new();
-    out.read_line(&mut first).expect("first line");
-    drop(out);
-    let status = child.wait().expect("run ends");
+    let (first, status) = first_line_then_closed_pipe(&["run", "recipes/commissioning.yaml", "--fast"]);
     // Killed by SIGPIPE would be no exit code at all; the run must finish (and stop the
     // drive) and report its verdict through the exit code.
     assert_eq!(status.code(), Some(0), "{first}");

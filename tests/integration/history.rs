@@ -8,8 +8,9 @@
 //! runs the safe stop; a serial typed at an operator step looks up at that point.
 
 use crate::support::{
-    assert_has, assert_lacks, command, run_recording as run, scratch, silent_server, sqlite_store,
-    unit_certificate, write_changed, write_file, InProcessRun, PostgresServer, Simulator,
+    assert_exit, assert_has, assert_lacks, command, run_recording as run, scratch, silent_server,
+    sqlite_store, unit_certificate, with_postgres_store, with_sqlite_store, write_changed, write_file,
+    InProcessRun, Simulator,
 };
 use drivescript::results::{Locator, RunFilter, StoreHistory};
 use std::path::Path;
@@ -50,10 +51,9 @@ fn history_in(dir: &Path, store: &str) {
         run(&recipe, store, &args)
     };
     // The unit's first run: no history, passes as the recipe chooses, said before step 1.
-    let (code, first) = fast("SP-1", &[]);
-    assert_eq!(code, 0, "{first}");
-    assert_has(
-        &first,
+    let first = assert_exit(
+        fast("SP-1", &[]),
+        0,
         &[
             "history SP-1: no earlier passed run of `Run-in acceptance`",
             "(simulated runs)",
@@ -63,10 +63,9 @@ fn history_in(dir: &Path, store: &str) {
     );
     let first_id = run_id(&first);
     // The second compares with the first, says so before anything moves, and passes.
-    let (code, second) = fast("SP-1", &[]);
-    assert_eq!(code, 0, "{second}");
-    assert_has(
-        &second,
+    let second = assert_exit(
+        fast("SP-1", &[]),
+        0,
         &[
             &format!("history SP-1: compared with its last pass, run {first_id} of 20"),
             "motor_temperature below 90 °C = 25 °C",
@@ -109,9 +108,7 @@ fn history_in(dir: &Path, store: &str) {
         );
     }
     // A failed run is never the reference; nor is another unit's run.
-    let (code, fourth) = fast("SP-1", &[]);
-    assert_eq!(code, 0, "{fourth}");
-    assert_has(&fourth, &[&format!("run {second_id}")]);
+    let fourth = assert_exit(fast("SP-1", &[]), 0, &[&format!("run {second_id}")]);
     assert_lacks(&fourth, &[&third_id]);
     // Nor is a voided run (a wrong unit scanned): its values are not this unit's.
     let fourth_id = run_id(&fourth);
@@ -133,13 +130,9 @@ fn history_in(dir: &Path, store: &str) {
         "{}",
         String::from_utf8_lossy(&voided.stderr)
     );
-    let (code, fifth) = fast("SP-1", &[]);
-    assert_eq!(code, 0, "{fifth}");
-    assert_has(&fifth, &[&format!("run {second_id}")]);
+    let fifth = assert_exit(fast("SP-1", &[]), 0, &[&format!("run {second_id}")]);
     assert_lacks(&fifth, &[&fourth_id]);
-    let (code, other) = fast("SP-2", &[]);
-    assert_eq!(code, 0, "{other}");
-    assert_has(&other, &["history SP-2: no earlier passed run"]);
+    assert_exit(fast("SP-2", &[]), 0, &["history SP-2: no earlier passed run"]);
     // A recipe that insists on history fails a unit's first run.
     let strict = write_file(
         dir,
@@ -148,10 +141,9 @@ fn history_in(dir: &Path, store: &str) {
             .replace("Run-in acceptance", "Strict acceptance")
             .replace("without_history: pass", "without_history: fail"),
     );
-    let (code, out) = run(&strict, store, &["--fast", "--unit", "serial=SP-1"]);
-    assert_eq!(code, 1, "{out}");
-    assert_has(
-        &out,
+    assert_exit(
+        run(&strict, store, &["--fast", "--unit", "serial=SP-1"]),
+        1,
         &["FAIL  motor_temperature below 90 °C compared with last pass: no earlier passed run of SP-1 for this recipe: fails as `without_history: fail` says"],
     );
     // The store keeps the reference with the comparison.
@@ -184,16 +176,12 @@ fn history_in(dir: &Path, store: &str) {
 
 #[test]
 fn a_check_compares_with_the_units_last_passed_run_in_sqlite() {
-    let dir = scratch("history-sqlite");
-    history_in(&dir, &sqlite_store(&dir));
+    with_sqlite_store("history", history_in);
 }
 
 #[test]
 fn a_check_compares_with_the_units_last_passed_run_in_postgresql() {
-    let Some(server) = PostgresServer::start("history-postgres") else {
-        return;
-    };
-    history_in(&scratch("history-postgres-files"), &server.url());
+    with_postgres_store("history", history_in);
 }
 
 /// Real runs compare with real runs only, simulated ones with simulated ones.
@@ -217,17 +205,16 @@ steps:
         all.extend_from_slice(args);
         run(&recipe, store, &all)
     };
-    let (code, first_real) = real(&[]);
-    assert_eq!(code, 0, "{first_real}");
-    assert_has(&first_real, &["no earlier passed run", "(runs on real drives)"]);
+    let first_real = assert_exit(real(&[]), 0, &["no earlier passed run", "(runs on real drives)"]);
     let real_id = run_id(&first_real);
-    let (code, simulated) = run(&recipe, store, &["--fast", "--unit", "serial=K-1"]);
-    assert_eq!(code, 0, "{simulated}");
-    assert_has(&simulated, &["no earlier passed run", "(simulated runs)"]);
-    let (code, second_real) = real(&[]);
-    assert_eq!(code, 0, "{second_real}");
-    assert_has(
-        &second_real,
+    assert_exit(
+        run(&recipe, store, &["--fast", "--unit", "serial=K-1"]),
+        0,
+        &["no earlier passed run", "(simulated runs)"],
+    );
+    assert_exit(
+        real(&[]),
+        0,
         &[&format!(
             "history K-1: compared with its last pass, run {real_id}"
         )],
@@ -473,20 +460,18 @@ fn the_bearing_acceptance_example_compares_a_spindle_with_its_last_pass() {
     let (code, first) = example("heating=25K/A");
     assert_eq!(code, 0, "{first}");
     let first_id = run_id(&first);
-    let (code, second) = example("heating=25K/A");
-    assert_eq!(code, 0, "{second}");
-    assert_has(
-        &second,
+    assert_exit(
+        example("heating=25K/A"),
+        0,
         &[
             &format!("history SP-104233: compared with its last pass, run {first_id}"),
             "PASS  bearing current at 18000 rpm compared with last pass: current_actual mean = ",
             "(limits -10 .. 10 %)",
         ],
     );
-    let (code, warmer) = example("heating=30K/A");
-    assert_eq!(code, 1, "{warmer}");
-    assert_has(
-        &warmer,
+    assert_exit(
+        example("heating=30K/A"),
+        1,
         &[
             "PASS  motor temperature after 10 min at 18000 rpm: motor_temperature max = 52.5 °C",
             "FAIL  motor temperature after 10 min at 18000 rpm compared with last pass: motor_temperature max = 52.5 °C: +4.5 K against 48 °C",
@@ -514,17 +499,15 @@ expect_compared_with_last_pass(\"motor temperature\", t, #{ at_most: 2.0, at_lea
 ",
     );
     let unit = ["--fast", "--unit", "serial=SC-1", "--sim"];
-    let (code, first) = run(&script, store, &[&unit[..], &["ambient=25°C"]].concat());
-    assert_eq!(code, 0, "{first}");
-    assert_has(
-        &first,
+    let first = assert_exit(
+        run(&script, store, &[&unit[..], &["ambient=25°C"]].concat()),
+        0,
         &["PASS  motor temperature compared with last pass: no earlier passed run of SC-1"],
     );
     let first_id = run_id(&first);
-    let (code, drifted) = run(&script, store, &[&unit[..], &["ambient=30°C"]].concat());
-    assert_eq!(code, 1, "{drifted}");
-    assert_has(
-        &drifted,
+    assert_exit(
+        run(&script, store, &[&unit[..], &["ambient=30°C"]].concat()),
+        1,
         &[
             &format!("history SC-1: compared with its last pass, run {first_id}"),
             &format!("FAIL  motor temperature compared with last pass: motor temperature = 30: +5 against 25 in run {first_id}"),

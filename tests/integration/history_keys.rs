@@ -7,8 +7,8 @@
 
 use crate::history::run_id;
 use crate::support::{
-    assert_has, assert_lacks, cli, line_with, run_recording as run, scratch, sqlite_store, write_file,
-    PostgresServer,
+    assert_exit, assert_has, assert_lacks, cli, line_with, run_recording as run, scratch, sqlite_store,
+    with_postgres_store, with_sqlite_store, write_file, PostgresServer,
 };
 use std::path::Path;
 
@@ -142,34 +142,33 @@ steps:
         ],
     );
     let named = "    name: spindle coast-down\n";
-    let (code, first) = coast("named1.yaml", "Named coast", named, "10 s", "pass");
-    assert_eq!(code, 0, "{first}");
-    assert_has(&first, &["PASS  spindle coast-down: coast-down took 19.334 s"]);
+    let first = assert_exit(
+        coast("named1.yaml", "Named coast", named, "10 s", "pass"),
+        0,
+        &["PASS  spindle coast-down: coast-down took 19.334 s"],
+    );
     let first_id = run_id(&first);
-    let (code, second) = coast("named2.yaml", "Named coast", named, "15 s", "fail");
-    assert_eq!(code, 0, "{second}");
-    assert_has(
-        &second,
+    assert_exit(
+        coast("named2.yaml", "Named coast", named, "15 s", "fail"),
+        0,
         &[&format!("PASS  spindle coast-down compared with last pass: coast-down time = 19.334 s: 0 % against 19.334 s in run {first_id}")],
     );
 }
 
 #[test]
 fn a_tightened_limit_keeps_the_units_history_in_sqlite() {
-    let dir = scratch("keys-sqlite");
-    let store = sqlite_store(&dir);
-    tightened_limit_in(&dir, &store);
-    coast_down_changed_in(&dir, &store);
+    with_sqlite_store("keys", |dir, store| {
+        tightened_limit_in(dir, store);
+        coast_down_changed_in(dir, store);
+    });
 }
 
 #[test]
 fn a_tightened_limit_keeps_the_units_history_in_postgresql() {
-    let Some(server) = PostgresServer::start("keys-postgres") else {
-        return;
-    };
-    let dir = scratch("keys-postgres-files");
-    tightened_limit_in(&dir, &server.url());
-    coast_down_changed_in(&dir, &server.url());
+    with_postgres_store("keys", |dir, store| {
+        tightened_limit_in(dir, store);
+        coast_down_changed_in(dir, store);
+    });
 }
 
 /// What a version-2 drivescript left: the schema of migrations 1 and 2, and a passed run
@@ -217,10 +216,9 @@ steps:
     name: Temperature below 95 °C
 ",
     );
-    let (code, out) = run(&recipe, store, &["--fast", "--unit", "serial=SP-OLD"]);
-    assert_eq!(code, 0, "{out}");
-    assert_has(
-        &out,
+    assert_exit(
+        run(&recipe, store, &["--fast", "--unit", "serial=SP-OLD"]),
+        0,
         &[
             "history SP-OLD: compared with its last pass, run 0ld5tore of 2026-01-01T08:00:00.000Z",
             "PASS  motor_temperature below 80 °C compared with last pass: motor_temperature = 25 °C: +1 K against 24 °C in run 0ld5tore",
@@ -314,14 +312,13 @@ steps:
     name: vibration
 ",
     );
-    let (code, out) = run(
-        &recipe,
-        store,
-        &["--fast", "--unit", "serial=SP-9", "--answer", "vibration=1.2"],
-    );
-    assert_eq!(code, 0, "{out}");
-    assert_has(
-        &out,
+    assert_exit(
+        run(
+            &recipe,
+            store,
+            &["--fast", "--unit", "serial=SP-9", "--answer", "vibration=1.2"],
+        ),
+        0,
         &["bearing temperature: motor_temperature = 25 °C (limit < 90 °C)"],
     );
     let page = dir.join("trend.html");

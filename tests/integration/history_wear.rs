@@ -12,8 +12,8 @@
 use crate::history::interrupted_once_shown;
 use crate::history::{run_id, run_reading_a_silent_store};
 use crate::support::{
-    assert_has, assert_lacks, command, line_with, run_recording as run, scratch, sqlite_store, write_changed,
-    write_file, InProcessRun,
+    assert_exit, assert_has, assert_lacks, command, line_with, run_recording as run, scratch, sqlite_store,
+    write_changed, write_file, InProcessRun,
 };
 use drivescript::results::{Locator, StoreHistory};
 use drivescript::stop_request::StopSignal;
@@ -87,10 +87,9 @@ fn a_coast_down_compares_its_time_with_the_units_last_pass() {
     };
     let compared = format!("{COAST_CHECK} compared with last pass");
     // The unit's first run: no history, passes as the recipe chooses.
-    let (code, first) = coast(&percent, "300rpm/s", &[]);
-    assert_eq!(code, 0, "{first}");
-    assert_has(
-        &first,
+    let first = assert_exit(
+        coast(&percent, "300rpm/s", &[]),
+        0,
         &[
             "history SP-1: no earlier passed run of `Spindle coast-down`",
             &format!("PASS  {COAST_CHECK}: coast-down took 19.334 s"),
@@ -106,20 +105,18 @@ fn a_coast_down_compares_its_time_with_the_units_last_pass() {
         Some("Strict coast-down"),
         "{ at_least: -10 %, without_history: fail }",
     );
-    let (code, out) = coast(&strict, "300rpm/s", &[]);
-    assert_eq!(code, 1, "{out}");
-    assert_has(
-        &out,
+    assert_exit(
+        coast(&strict, "300rpm/s", &[]),
+        1,
         &[
             &format!("PASS  {COAST_CHECK}: coast-down took 19.334 s"),
             &format!("FAIL  {compared}: no earlier passed run of SP-1 for this recipe: fails as `without_history: fail` says"),
         ],
     );
     // A little more drag: within 10 %, compared with the first run.
-    let (code, second) = coast(&percent, "310rpm/s", &[]);
-    assert_eq!(code, 0, "{second}");
-    assert_has(
-        &second,
+    let second = assert_exit(
+        coast(&percent, "310rpm/s", &[]),
+        0,
         &[
             &format!("history SP-1: compared with its last pass, run {first_id} of 20"),
             &format!("{COAST_CHECK} = 19.334 s"),
@@ -215,13 +212,14 @@ fn a_coast_down_compares_its_time_with_the_units_last_pass() {
     );
     let (code, out) = coast(&seconds, "300rpm/s", &[]);
     assert_eq!(code, 0, "{out}");
-    let (code, out) = coast(&seconds, "310rpm/s", &[]);
-    assert_eq!(code, 0, "{out}");
-    assert_has(&out, &["coast-down time = 18.708 s: -0.625 s against 19.334 s"]);
-    let (code, out) = coast(&seconds, "400rpm/s", &[]);
-    assert_eq!(code, 1, "{out}");
-    assert_has(
-        &out,
+    assert_exit(
+        coast(&seconds, "310rpm/s", &[]),
+        0,
+        &["coast-down time = 18.708 s: -0.625 s against 19.334 s"],
+    );
+    assert_exit(
+        coast(&seconds, "400rpm/s", &[]),
+        1,
         &[
             "coast-down time = 14.5 s: -4.209 s against 18.708 s",
             "expected a change between -0.626 s and +2 s",
@@ -269,22 +267,20 @@ fn a_typed_value_compares_with_the_units_last_pass() {
         Some("Strict balancing check"),
         "{ at_most: 10 %, without_history: fail }",
     );
-    let (code, out) = answered(&strict, "1.2");
-    assert_eq!(code, 1, "{out}");
-    assert_has(
-        &out,
+    assert_exit(
+        answered(&strict, "1.2"),
+        1,
         &[&format!("FAIL  {compared}: no earlier passed run of SP-104233 for this recipe: fails as `without_history: fail` says")],
     );
     // From an answers file: a little more, within 0.3 mm/s.
     let answers = write_file(&dir, "answers.yaml", "serial: SP-104233\nvibration: 1.4 mm/s\n");
-    let (code, second) = run(
-        &lenient,
-        store,
-        &["--fast", "--answers", answers.to_str().unwrap()],
-    );
-    assert_eq!(code, 0, "{second}");
-    assert_has(
-        &second,
+    let second = assert_exit(
+        run(
+            &lenient,
+            store,
+            &["--fast", "--answers", answers.to_str().unwrap()],
+        ),
+        0,
         &[
             &format!("history SP-104233: compared with its last pass, run {first_id} of 20"),
             &format!("{question} = 1.2 mm/s"),
@@ -349,20 +345,18 @@ let v = enter_value(\"Vibration\", #{ unit: \"mm/s\", name: \"vibration\", compa
         )
     };
     let coast = "coast-down from 5900 rpm below 100 rpm between 10 s and 30 s compared with last pass";
-    let (code, first) = scripted("300rpm/s", "1.2");
-    assert_eq!(code, 0, "{first}");
-    assert_has(
-        &first,
+    let first = assert_exit(
+        scripted("300rpm/s", "1.2"),
+        0,
         &[
             &format!("PASS  {coast}: no earlier passed run of SC-1"),
             "PASS  Vibration compared with last pass: no earlier passed run of SC-1",
         ],
     );
     let first_id = run_id(&first);
-    let (code, drag) = scripted("400rpm/s", "1.3");
-    assert_eq!(code, 1, "{drag}");
-    assert_has(
-        &drag,
+    assert_exit(
+        scripted("400rpm/s", "1.3"),
+        1,
         &[
             &format!("FAIL  {coast}: coast-down time = 14.5 s: -25.004 % against 19.334 s in run {first_id}"),
             &format!("PASS  Vibration compared with last pass: answer = 1.3 mm/s: +0.1 mm/s against 1.2 mm/s in run {first_id}"),

@@ -5,7 +5,7 @@
 //! refusing what no inverter of its kind reaches. Through the binary, against the
 //! built-in simulated inverter.
 
-use crate::support::{assert_has, assert_lacks, cli, scratch, write_file};
+use crate::support::{assert_has, assert_lacks, cli, scratch, words, write_file};
 
 const AT_100_HZ: &str = "name: Spindle at 100 Hz
 drive: sunfar-e500
@@ -63,13 +63,7 @@ fn the_link_option_overrides_the_dictionarys_pole_pairs() {
     assert_has(&cli(&args, 0).stdout, &["set speed_setpoint = 3000 rpm"]);
     // The limits follow: 400 Hz is 12 000 rpm for a 4-pole motor.
     let out = cli(
-        &[
-            "objects",
-            "--drive",
-            "sunfar-e500",
-            "--link-option",
-            "pole-pairs=2",
-        ],
+        &words("objects --drive sunfar-e500 --link-option pole-pairs=2"),
         0,
     )
     .stdout;
@@ -193,15 +187,7 @@ print(`at ${d.read_as(\"speed_actual\", \"Hz\")} Hz`);
     // 50 Hz with two pole pairs is 1500 rpm, read back as 50 Hz.
     assert_has(&out, &["set speed_setpoint = 1500 rpm", "at 50.0 Hz", "PASSED"]);
     let out = cli(
-        &[
-            "read",
-            "speed_setpoint",
-            "--drive",
-            "sunfar-e500",
-            "--in",
-            "Hz",
-            "--json",
-        ],
+        &words("read speed_setpoint --drive sunfar-e500 --in Hz --json"),
         0,
     )
     .stdout;

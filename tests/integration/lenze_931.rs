@@ -6,8 +6,8 @@
 //! a drive that ignores commands; and a real pseudo-terminal with `simulate --pty`.
 
 use crate::support::{
-    assert_has, assert_lacks, cli, control_words, drivescript, repo_root, scratch, scratch_file, stderr,
-    stdout, write_file, InProcessRun,
+    assert_exit, assert_has, assert_lacks, cli, control_words, drivescript, repo_root, scratch, scratch_file,
+    stderr, stdout, write_file, InProcessRun,
 };
 use drivescript::clock::SharedClock;
 use drivescript::drive::{DeviceCommand, DeviceState};
@@ -173,14 +173,10 @@ fn the_commissioning_recipe_runs_on_the_simulated_931_with_only_drive_changed() 
 fn a_limited_write_warns_with_the_stored_value_and_expect_sees_it() {
     // A literal beyond the drive's limits is refused before the run (see below), so the
     // limited write is reached with a value the script computes.
-    let (code, output, _) = file_on_931(
-        "limited",
-        "limited.rhai",
-        "//! drive: lenze-931\nlet d = drive();\nlet high = 4000.0 * 2.0;\nd.set(\"speed_setpoint\", high, \"rpm\");\nlet stored = d.read(\"speed_setpoint\");\nexpect(\"speed_setpoint equals 6000 rpm\", stored == 6000.0, stored);\nd.set(\"speed_setpoint\", 0.0, \"rpm\");\n",
-    );
-    assert_eq!(code, 0, "{output}");
-    assert_has(
-        &output,
+    let script = "//! drive: lenze-931\nlet d = drive();\nlet high = 4000.0 * 2.0;\nd.set(\"speed_setpoint\", high, \"rpm\");\nlet stored = d.read(\"speed_setpoint\");\nexpect(\"speed_setpoint equals 6000 rpm\", stored == 6000.0, stored);\nd.set(\"speed_setpoint\", 0.0, \"rpm\");\n";
+    let output = assert_exit(
+        script_on_931("limited", script),
+        0,
         &[
             "warning: speed_setpoint = 8000 rpm was limited by the drive, which stored 6000 rpm (read back)",
             "PASS  speed_setpoint equals 6000 rpm",
@@ -191,19 +187,17 @@ fn a_limited_write_warns_with_the_stored_value_and_expect_sees_it() {
 
 #[test]
 fn a_value_the_drive_refuses_names_the_drives_limit() {
-    let (code, output, _) = file_on_931(
-        "refused",
-        "refused.rhai",
-        "//! drive: lenze-931\nlet d = drive();\nlet mode = 3 + 4;\nd.set(\"operating_mode\", mode);\n",
+    let script =
+        "//! drive: lenze-931\nlet d = drive();\nlet mode = 3 + 4;\nd.set(\"operating_mode\", mode);\n";
+    assert_exit(
+        script_on_931("refused", script),
+        3,
+        &["0x00000003 value too high, not written; the drive's maximum is 3 (0x00000003, read with OX:0014)"],
     );
-    assert_eq!(code, 3, "{output}");
-    assert_has(&output, &["0x00000003 value too high, not written; the drive's maximum is 3 (0x00000003, read with OX:0014)"]);
 }
 
 type SharedSim = Arc<Mutex<dyn SimulatedDrive>>;
 
-/// Runs `path` on the simulated 931 (with the completed template) and returns the exit
-/// code, the output and every request line the drive received, in order.
 /// Writes `text` to the file `file` of a fresh scratch folder `name` and runs it as
 /// [`run_and_record`] does.
 #[track_caller]
@@ -212,6 +206,24 @@ fn file_on_931(name: &str, file: &str, text: &str) -> (i32, String, Vec<String>)
     run_and_record(&dir, path)
 }
 
+/// Runs the script `text` (as `NAME.rhai`) on the simulated 931: its exit code and output.
+#[track_caller]
+fn script_on_931(name: &str, text: &str) -> (i32, String) {
+    let (code, output, _) = file_on_931(name, &format!("{name}.rhai"), text);
+    (code, output)
+}
+
+/// [`run_and_record`] of a file refused before anything moves (exit 2): the output and
+/// the requests the drive received.
+#[track_caller]
+pub(crate) fn refused_on_931(dir: &Path, path: PathBuf) -> (String, Vec<String>) {
+    let (code, output, requests) = run_and_record(dir, path);
+    assert_eq!(code, 2, "{output}");
+    (output, requests)
+}
+
+/// Runs `path` on the simulated 931 (with the completed template) and returns the exit
+/// code, the output and every request line the drive received, in order.
 pub(crate) fn run_and_record(dir: &Path, path: PathBuf) -> (i32, String, Vec<String>) {
     let captured: Arc<Mutex<Option<SharedSim>>> = Arc::new(Mutex::new(None));
     let keep = captured.clone();
@@ -237,8 +249,7 @@ fn a_run_outside_the_drives_limits_is_refused_before_any_write_telegram() {
         "outside.yaml",
         "name: Outside\ndrive: lenze-931\nsteps:\n  - read: [ident]\n  - set: { operating_mode: 2 }\n  - set: { speed_setpoint: 8000 rpm }\n  - ramp: { object: speed_setpoint, from: -7000 rpm, to: 0 rpm, rate: 1000 rpm/s }\nfinally:\n  - set: { speed_setpoint: 0 rpm }\n",
     );
-    let (code, output, requests) = run_and_record(&dir, recipe);
-    assert_eq!(code, 2, "{output}");
+    let (output, requests) = refused_on_931(&dir, recipe);
     // Each object written is asked for its limits once, and nothing else is sent.
     assert_eq!(requests, ["ON:0014", "OX:0014", "ON:0010", "OX:0010"], "{output}");
     assert_has(&output, &["drive limits of speed_setpoint: -6000 rpm .. 6000 rpm (read from the 931 on", "outside.yaml:6:5: set speed_setpoint = 8000 rpm is above the maximum the drive reports, 6000 rpm", "outside.yaml:7:5: ramp speed_setpoint = -7000 rpm is below the minimum the drive reports, -6000 rpm", "error: 2 value(s) of ", "nothing was sent to move the drive. Lower the value, or change the drive's limit first"]);
@@ -250,8 +261,7 @@ fn a_run_outside_the_drives_limits_is_refused_before_any_write_telegram() {
         "outside.rhai",
         "//! drive: lenze-931\nlet d = drive();\nd.set(\"operating_mode\", 9);\nd.set(\"speed_setpoint\", 100.0, \"rpm\");\n",
     );
-    let (code, output, requests) = run_and_record(&dir, script);
-    assert_eq!(code, 2, "{output}");
+    let (output, requests) = refused_on_931(&dir, script);
     assert_eq!(requests, ["ON:0014", "OX:0014", "ON:0010", "OX:0010"], "{output}");
     assert_has(
         &output,
@@ -394,12 +404,7 @@ fn a_lost_line_to_the_931_ends_in_the_truth() {
     let mut run = on_931(&recipe, &dir);
     run.prepare = Some(&prepare);
     run.safe_stop.reconnect_timeout = Some(Duration::from_secs(2));
-    let (result, output) = run.run();
-    assert_eq!(result.exit_code, 3, "{output}");
-    assert_has(
-        &output,
-        &["CHECK THE DRIVE BY HAND", "drive left in an unknown state"],
-    );
+    run.run_expecting(3, &["CHECK THE DRIVE BY HAND", "drive left in an unknown state"]);
 }
 
 #[cfg(unix)]
@@ -476,17 +481,19 @@ fn through_a_pseudo_terminal_raw_access_drive_limits_and_a_run() {
         &["set speed_setpoint = 8000 rpm is above the maximum the drive reports, 6000 rpm"],
     );
     assert_lacks(&out.stdout, &["recipe  "]);
+    let refused_by_check = |file: PathBuf| {
+        let file = file.to_string_lossy().to_string();
+        let mut args = vec!["check", file.as_str()];
+        args.extend(base);
+        cli(&args, 2).stderr
+    };
     let script = write_file(
         &dir,
         "fast.rhai",
         "//! drive: lenze-931\nlet d = drive();\nd.set(\"speed_setpoint\", 6500.0, \"rpm\");\n",
     );
-    let script = script.to_string_lossy().to_string();
-    let mut args = vec!["check", script.as_str()];
-    args.extend(base);
-    let out = cli(&args, 2);
     assert_has(
-        &out.stderr,
+        &refused_by_check(script),
         &["fast.rhai:3:25: set speed_setpoint = 6500 rpm is above the maximum the drive reports, 6000 rpm"],
     );
     // Ramp points are checked too, at the step's place.
@@ -495,11 +502,7 @@ fn through_a_pseudo_terminal_raw_access_drive_limits_and_a_run() {
         "ramp.yaml",
         "name: Ramp\ndrive: lenze-931\nsteps:\n  - ramp: { object: speed_setpoint, from: -7000 rpm, to: 0 rpm, rate: 1000 rpm/s }\nfinally: []\n",
     );
-    let ramp = ramp.to_string_lossy().to_string();
-    let mut args = vec!["check", ramp.as_str()];
-    args.extend(base);
-    let out = cli(&args, 2);
-    assert_has(&out.stderr, &["ramp.yaml:4:5: ramp speed_setpoint = -7000 rpm is below the minimum the drive reports, -6000 rpm"]);
+    assert_has(&refused_by_check(ramp), &["ramp.yaml:4:5: ramp speed_setpoint = -7000 rpm is below the minimum the drive reports, -6000 rpm"]);
     // Nothing moved: the setpoint is what the raw write left.
     let out = drivescript(
         &["read", "0x0010", "--drive", "lenze-931", "--port", port, "--json"],
@@ -507,18 +510,7 @@ fn through_a_pseudo_terminal_raw_access_drive_limits_and_a_run() {
     );
     let json: serde_json::Value = serde_json::from_str(stdout(&out).trim()).expect("json");
     assert_eq!(json[0]["raw"], "-3000");
-    let out = drivescript(
-        &[
-            "state",
-            "--drive",
-            "lenze-931",
-            "--dictionary",
-            &dictionary,
-            "--port",
-            port,
-        ],
-        "",
-    );
+    let out = drivescript(&[&["state"][..], &base].concat(), "");
     assert_has(&stdout(&out), &["switch on disabled"]);
 
     // Within the limits, check passes and the recipe runs through the pty.
@@ -664,7 +656,8 @@ fn ctrl_c_while_the_drives_limits_are_read_ends_with_130_and_nothing_moved() {
         Duration::from_millis(300),
         drivescript::stop_request::StopSignal::INT,
     );
-    let (result, output) = run.run();
-    assert_eq!(result.exit_code, 130, "{output}");
-    assert_has(&output, &["stopped by Ctrl-C (SIGINT) while the drive's limits were read; nothing was sent to move the drive"]);
+    run.run_expecting(
+        130,
+        &["stopped by Ctrl-C (SIGINT) while the drive's limits were read; nothing was sent to move the drive"],
+    );
 }

@@ -3,7 +3,9 @@
 //! run on a dictionary without a device-control profile: a stop signal, a lost adapter
 //! that comes back, one that does not, and one lost in the middle of a segmented transfer.
 
-use crate::support::{assert_has, assert_lacks, cli, load_frame_vectors, repo_root, InProcessRun, Simulator};
+use crate::support::{
+    assert_exit, assert_has, assert_lacks, cli, load_frame_vectors, repo_root, words, InProcessRun, Simulator,
+};
 use drivescript::bus::CanFrame;
 use drivescript::clock::SharedClock;
 use drivescript::dictionary::Dictionary;
@@ -117,9 +119,11 @@ fn a_stop_signal_ends_the_run_with_the_truth_about_device_control() {
     let stop = Arc::new(StopRequests::new());
     stop.schedule(Duration::from_millis(10_500), StopSignal::INT);
     let nothing = |_: &Arc<Mutex<dyn SimulatedDrive>>, _: &SharedClock| {};
-    let (code, output) = with_faults(READ_FOR_A_MINUTE, "sigint", stop, &nothing);
-    assert_eq!(code, 130, "{output}");
-    assert_has(&output, &["no device-control profile"]);
+    let output = assert_exit(
+        with_faults(READ_FOR_A_MINUTE, "sigint", stop, &nothing),
+        130,
+        &["no device-control profile"],
+    );
     assert_lacks(
         &output,
         &["CHECK THE DRIVE BY HAND", "failed: the lenze-9400 dictionary"],
@@ -133,14 +137,16 @@ fn an_adapter_that_comes_back_is_reopened_and_the_node_checked_by_its_identity()
         sim.faults()
             .line_down(Duration::from_millis(5_500), Duration::from_millis(6_500));
     };
-    let (code, output) = with_faults(
-        READ_FOR_A_MINUTE,
-        "comes-back",
-        Arc::new(StopRequests::new()),
-        &down,
+    let output = assert_exit(
+        with_faults(
+            READ_FOR_A_MINUTE,
+            "comes-back",
+            Arc::new(StopRequests::new()),
+            &down,
+        ),
+        3,
+        &["the CAN adapter went away"],
     );
-    assert_eq!(code, 3, "{output}");
-    assert_has(&output, &["the CAN adapter went away"]);
     assert!(
         output.contains("restored at attempt") && output.contains("the drive answers"),
         "{output}"
@@ -199,6 +205,12 @@ fn the_family_reads_codes_in_dictionaries() {
 /// have been given meanwhile.
 static SLCAN_PTY_TESTS: std::sync::Mutex<()> = std::sync::Mutex::new(());
 
+/// The arguments that name a 9400 as node `node` on the CAN bus `can` (`slcan:PATH`,
+/// `socketcan:IF`).
+pub fn node_9400<'a>(node: &'a str, can: &'a str) -> [&'a str; 6] {
+    ["--drive", "lenze-9400", "--address", node, "--can", can]
+}
+
 /// `drivescript simulate` of a 9400 node `node` behind a simulated SLCAN adapter on a pty.
 fn slcan_simulator(node: &str) -> Simulator {
     Simulator::start(&["--drive", "lenze-9400", "--address", node, "--slcan-pty"])
@@ -216,16 +228,8 @@ fn an_slcan_pseudo_terminal_serves_the_simulated_node() {
     let can = format!("slcan:{}", sim.endpoint);
     let with = |args: &[&str]| {
         let mut all = args.to_vec();
-        all.extend([
-            "--drive",
-            "lenze-9400",
-            "--address",
-            "12",
-            "--can",
-            &can,
-            "--timeout",
-            "300ms",
-        ]);
+        all.extend(node_9400("12", &can));
+        all.extend(["--timeout", "300ms"]);
         drivescript(&all, "")
     };
 
@@ -260,39 +264,16 @@ fn an_slcan_pseudo_terminal_serves_the_simulated_node() {
     );
 
     // Another node on the same bus stays silent: a clear no-reply error.
+    let quick = ["--timeout", "100ms", "--retries", "0"];
     let out = cli(
-        &[
-            "read",
-            "ident",
-            "--drive",
-            "lenze-9400",
-            "--address",
-            "13",
-            "--can",
-            &can,
-            "--timeout",
-            "100ms",
-            "--retries",
-            "0",
-        ],
+        &[&["read", "ident"][..], &node_9400("13", &can), &quick].concat(),
         3,
     );
     assert_has(&out.stderr, &["no reply from drive node 13"]);
 
     // A recipe through the adapter.
-    let out = cli(
-        &[
-            "run",
-            "recipes/lenze-9400-identity.yaml",
-            "--drive",
-            "lenze-9400",
-            "--address",
-            "12",
-            "--can",
-            &can,
-        ],
-        0,
-    );
+    let identity = ["run", "recipes/lenze-9400-identity.yaml"];
+    let out = cli(&[&identity[..], &node_9400("12", &can)].concat(), 0);
     assert_has(&out.stdout, &["PASSED"]);
 }
 
@@ -316,20 +297,7 @@ fn decode_reads_candump_frames_and_gives_the_vectors_json() {
     }
     // Unquoted, as the shell splits `ID data…`; and a frame that is no SDO.
     let out = cli(
-        &[
-            "decode",
-            "--protocol",
-            "lenze-9400",
-            "605",
-            "40",
-            "c2",
-            "5f",
-            "00",
-            "00",
-            "00",
-            "00",
-            "00",
-        ],
+        &words("decode --protocol lenze-9400 605 40 c2 5f 00 00 00 00 00"),
         0,
     );
     assert_has(&out.stdout, &["C00061 heatsink_temperature"]);
@@ -382,31 +350,15 @@ fn an_slcan_adapter_that_goes_away_during_a_run_ends_in_check_by_hand() {
     let _one_at_a_time = SLCAN_PTY_TESTS
         .lock()
         .unwrap_or_else(std::sync::PoisonError::into_inner);
-    let path = recipe(
-        "slcan-gone",
-        "name: Reading for a while
-drive: lenze-9400
-steps:
-  - repeat:
-      for: 30 s
-      steps:
-        - read: [ident, heatsink_temperature]
-",
-    );
+    let path = recipe("slcan-gone", READ_FOR_A_MINUTE);
     // Node 37, which no other test simulates: when the pseudo-terminal's number is given
     // to another test's simulator meanwhile, reopening it must not find this node there.
     let sim = slcan_simulator("37");
     let can = format!("slcan:{}", sim.endpoint);
     let mut run = crate::support::command()
-        .args([
-            "run",
-            path.to_str().unwrap(),
-            "--drive",
-            "lenze-9400",
-            "--address",
-            "37",
-        ])
-        .args(["--can", &can, "--reconnect-timeout", "300ms"])
+        .args(["run", path.to_str().unwrap()])
+        .args(node_9400("37", &can))
+        .args(["--reconnect-timeout", "300ms"])
         .current_dir(repo_root())
         .stdout(std::process::Stdio::piped())
         .stderr(std::process::Stdio::null())

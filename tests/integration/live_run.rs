@@ -3,7 +3,7 @@
 //! families' tests share.
 
 #[cfg(unix)]
-use crate::support::{command, send_signal};
+use crate::support::{assert_has, command, send_signal};
 use crate::support::{repo_root, scratch_file};
 use std::path::Path;
 use std::process::Stdio;
@@ -68,7 +68,7 @@ impl LiveRun {
             }
             self.seen.push_str(&String::from_utf8_lossy(&buf[..n]));
         }
-        assert!(self.seen.contains(text), "{}", self.seen);
+        assert_has(&self.seen, &[text]);
         &self.seen
     }
 

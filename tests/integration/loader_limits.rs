@@ -61,6 +61,15 @@ fn run(dir: &Path, args: &[&str]) -> Outcome {
     }
 }
 
+/// Runs each of `cases` (the arguments, the parts of the refusal) in `dir` and checks each
+/// is refused fast; then removes `dir`.
+fn assert_each_refused_fast(dir: &Path, cases: &[(&[&str], &[&str])]) {
+    for (args, refusal) in cases {
+        assert_refused_fast(&run(dir, args), refusal);
+    }
+    let _ = std::fs::remove_dir_all(dir);
+}
+
 fn assert_refused_fast(o: &Outcome, expected: &[&str]) {
     assert_eq!(o.code, Some(2), "{}", o.stderr);
     for e in expected {
@@ -98,26 +107,11 @@ fn recipes_includes_and_dictionaries_over_8_mib_are_refused() {
     std::fs::write(dir.join("small.yaml"), "name: Small\nsteps:\n  - shutdown\n").expect("write");
 
     let cases: [(&[&str], &[&str]); 3] = [
-        (
-            &["check", "large.yaml"],
-            &[
-                "the recipe large.yaml is larger than 8 MiB, the limit for one recipe, included file, dictionary or limits file",
-                "check that the path names the file you meant",
-            ],
-        ),
-        (
-            &["check", "includes.yaml"],
-            &["the included file", "large.yaml is larger than 8 MiB", "includes.yaml:3:14"],
-        ),
-        (
-            &["check", "small.yaml", "--dictionary", "large.yaml"],
-            &["large.yaml: the dictionary file is larger than 8 MiB"],
-        ),
+        (&["check", "large.yaml"], &["the recipe large.yaml is larger than 8 MiB, the limit for one recipe, included file, dictionary or limits file", "check that the path names the file you meant"]),
+        (&["check", "includes.yaml"], &["the included file", "large.yaml is larger than 8 MiB", "includes.yaml:3:14"]),
+        (&["check", "small.yaml", "--dictionary", "large.yaml"], &["large.yaml: the dictionary file is larger than 8 MiB"]),
     ];
-    for (args, refusal) in cases {
-        assert_refused_fast(&run(&dir, args), refusal);
-    }
-    let _ = std::fs::remove_dir_all(&dir);
+    assert_each_refused_fast(&dir, &cases);
 }
 
 #[cfg(unix)]
@@ -150,10 +144,7 @@ fn dev_zero_is_refused_at_once_as_recipe_include_and_dictionary() {
             &["/dev/zero: the dictionary file is a device, not a file"],
         ),
     ];
-    for (args, refusal) in cases {
-        assert_refused_fast(&run(&dir, args), refusal);
-    }
-    let _ = std::fs::remove_dir_all(&dir);
+    assert_each_refused_fast(&dir, &cases);
 }
 
 /// A pipe that never ends (`check <(yes)`): read up to the limit, then refused.

@@ -60,6 +60,7 @@ mod scripts;
 mod several_files;
 mod sim_settings;
 mod socketcan;
+mod stale_scratch;
 mod station;
 mod stop_command;
 mod support;

@@ -82,14 +82,8 @@ else:
 
 /// The client's lines for the slave served by `simulate ARGS`; `None` without pymodbus.
 fn ask(mode: &str, sim_args: &[&str]) -> Option<String> {
-    let here = Command::new("python3")
-        .args(["-c", "import pymodbus, serial"])
-        .output()
-        .is_ok_and(|o| o.status.success());
-    if !here {
-        crate::support::tool_missing(
-            "python3 with pymodbus and pyserial is not installed (python3 -m pip install pymodbus pyserial): the simulated Modbus slave is not checked against it",
-        );
+    let missing = "python3 with pymodbus and pyserial is not installed (python3 -m pip install pymodbus pyserial): the simulated Modbus slave is not checked against it";
+    if !crate::support::python_imports("pymodbus, serial", missing) {
         return None;
     }
     let sim = Simulator::start(sim_args);

@@ -6,7 +6,7 @@
 
 use crate::live_run::LiveRun;
 use crate::support::{
-    assert_has, assert_lacks, cli, drivescript, scratch, scratch_file, stderr, stdout, write_file,
+    assert_has, assert_lacks, cli, drivescript, scratch, scratch_file, stderr, stdout, words, write_file,
     InProcessRun, Simulator,
 };
 use drivescript::clock::SharedClock;
@@ -188,17 +188,7 @@ fn dnc_address_is_refused_with_address_and_for_a_family_without_dnc_addresses() 
     );
     let both = cli(&["state", "--dnc-address", "2", "--address", "0"], 2);
     assert_has(&both.stderr, &["cannot be used with"]);
-    let ct = cli(
-        &[
-            "simulate",
-            "--pty",
-            "--drive",
-            "ct-unidrive-sp",
-            "--dnc-address",
-            "2",
-        ],
-        2,
-    );
+    let ct = cli(&words("simulate --pty --drive ct-unidrive-sp --dnc-address 2"), 2);
     assert_has(&ct.stderr, &["error: --dnc-address is for drives of the sd2 family; a ct-ansi drive has no `dnc_address`: give --address, "]);
     let ct = drivescript(&["state", "--drive", "ct-unidrive-sp", "--dnc-address", "2"], "");
     assert_ne!(ct.status.code(), Some(0));
@@ -354,9 +344,7 @@ steps:
     let csv = dir.join("run.csv");
     let mut run = InProcessRun::new(&recipe);
     run.outputs.csv = Some(csv.clone());
-    let (result, output) = run.run();
-    assert_eq!(result.exit_code, 0, "{output}");
-    assert_has(&output, &["spindle SD2 (DNC address 2)"]);
+    let (result, output) = run.run_expecting(0, &["spindle SD2 (DNC address 2)"]);
     // The long CSV layout names the drive in a column of its own.
     let rows = std::fs::read_to_string(&csv).expect("csv");
     let mut lines = rows.lines();
@@ -466,31 +454,25 @@ fn a_script_drives_each_named_drive_and_stops_both() {
 #[test]
 fn a_script_naming_an_unknown_drive_or_no_drive_is_told_which_there_are() {
     let dir = scratch("multi-script-typo");
-    let script = write_file(
-        &dir,
-        "script.rhai",
-        &TWO_AXES_SCRIPT.replace("DRIVE_CALL", "drive(\"rigth\").read(\"speed_actual\");"),
-    );
-    let (result, output) = run_in_process(&script, Arc::new(StopRequests::new()), &|_, _| {});
-    assert_ne!(result.exit_code, 0, "{output}");
-    assert_has(
-        &output,
-        &["no drive called `rigth` in this script; did you mean `right`?"],
-    );
-    let script = write_file(
-        &dir,
-        "script.rhai",
-        &TWO_AXES_SCRIPT.replace("DRIVE_CALL", "drive().read(\"speed_actual\");"),
-    );
-    let (result, output) = run_in_process(&script, Arc::new(StopRequests::new()), &|_, _| {});
-    assert_ne!(result.exit_code, 0, "{output}");
-    assert_has(
-        &output,
-        &["this script has several drives (left, right): name the drive"],
-    );
-    // Either way both drives are stopped.
-    for (name, sim) in &result.simulators {
-        assert_eq!(state_of(sim), DeviceState::ReadyToSwitchOn, "{name}: {output}");
+    let calls = [
+        (
+            "drive(\"rigth\").read(\"speed_actual\");",
+            "no drive called `rigth` in this script; did you mean `right`?",
+        ),
+        (
+            "drive().read(\"speed_actual\");",
+            "this script has several drives (left, right): name the drive",
+        ),
+    ];
+    for (call, said) in calls {
+        let script = write_file(&dir, "script.rhai", &TWO_AXES_SCRIPT.replace("DRIVE_CALL", call));
+        let (result, output) = run_in_process(&script, Arc::new(StopRequests::new()), &|_, _| {});
+        assert_ne!(result.exit_code, 0, "{output}");
+        assert_has(&output, &[said]);
+        // Either way both drives are stopped.
+        for (name, sim) in &result.simulators {
+            assert_eq!(state_of(sim), DeviceState::ReadyToSwitchOn, "{name}: {output}");
+        }
     }
 }
 

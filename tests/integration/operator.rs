@@ -244,13 +244,9 @@ fn junit_and_html_carry_the_identity_and_every_answer() {
     ];
     run.operator.answers = Some(answers);
     run.operator.answer = vec![("vibration".into(), "1.2 mm/s".into())];
-    let (junit_path, html_path) = (dir.join("junit.xml"), dir.join("report.html"));
-    run.outputs.junit = Some(junit_path.clone());
-    run.outputs.report = Some(html_path.clone());
-    let (result, output) = run.run();
-    assert_eq!(result.exit_code, 1, "{output}");
-    assert_has(
-        &output,
+    let (junit_path, html_path) = run.reports_in(&dir);
+    run.run_expecting(
+        1,
         &[
             "unit    operator J. Smith, station Bench 3",
             "unit: serial SP-104233",

@@ -2,7 +2,7 @@
 //! HTML report, written for a real run of the acceptance recipe; and an unwritable output
 //! path refused before anything is sent.
 
-use crate::support::{assert_has, cli, drivescript, scratch, stderr, stdout};
+use crate::support::{assert_has, cli, drivescript, scratch, stderr, stdout, words};
 
 #[test]
 fn a_run_writes_trace_csv_junit_and_html() {
@@ -71,13 +71,7 @@ fn a_run_writes_trace_csv_junit_and_html() {
 #[test]
 fn an_unwritable_output_is_refused_before_anything_is_sent() {
     let out = cli(
-        &[
-            "run",
-            "recipes/commissioning.yaml",
-            "--fast",
-            "--csv",
-            "/proc/no/such/dir/x.csv",
-        ],
+        &words("run recipes/commissioning.yaml --fast --csv /proc/no/such/dir/x.csv"),
         2,
     );
     assert_has(&out.stderr, &["/proc/no/such/dir"]);

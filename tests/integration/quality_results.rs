@@ -8,8 +8,8 @@
 
 use crate::history::run_id;
 use crate::support::{
-    assert_has, assert_lacks, cli, line_with, run_recording as run, scratch, sqlite_store, write_file,
-    PostgresServer,
+    assert_has, assert_lacks, cli, line_with, run_recording as run, with_postgres_store, with_sqlite_store,
+    write_file,
 };
 use drivescript::results::{CheckRow, EndRow, Locator, Record, RunRow, UnitRow};
 use std::path::Path;
@@ -220,17 +220,12 @@ fn stages_in(dir: &Path, store: &str) {
 
 #[test]
 fn a_trend_is_of_one_measurement_in_sqlite() {
-    let dir = scratch("quality-identity-sqlite");
-    stages_in(&dir, &sqlite_store(&dir));
+    with_sqlite_store("quality-identity", stages_in);
 }
 
 #[test]
 fn a_trend_is_of_one_measurement_in_postgresql() {
-    let Some(server) = PostgresServer::start("quality-identity-postgres") else {
-        return;
-    };
-    let dir = scratch("quality-identity-postgres-files");
-    stages_in(&dir, &server.url());
+    with_postgres_store("quality-identity", stages_in);
 }
 
 /// One stored run: id, day, station, operator, part, serial, verdict and the bearing
@@ -514,15 +509,10 @@ fn quality_in(dir: &Path, store: &str) {
 
 #[test]
 fn yield_capability_filters_and_voids_in_sqlite() {
-    let dir = scratch("quality-yield-sqlite");
-    quality_in(&dir, &sqlite_store(&dir));
+    with_sqlite_store("quality-yield", quality_in);
 }
 
 #[test]
 fn yield_capability_filters_and_voids_in_postgresql() {
-    let Some(server) = PostgresServer::start("quality-yield-postgres") else {
-        return;
-    };
-    let dir = scratch("quality-yield-postgres-files");
-    quality_in(&dir, &server.url());
+    with_postgres_store("quality-yield", quality_in);
 }

@@ -21,16 +21,10 @@ for path in sys.argv[2:]:
 /// Whether python3 with jsonschema and yaml is here; where it is not, the test says so
 /// (and fails under CI).
 fn python_with_jsonschema() -> bool {
-    let here = Command::new("python3")
-        .args(["-c", "import jsonschema, yaml"])
-        .output()
-        .is_ok_and(|o| o.status.success());
-    if !here {
-        crate::support::tool_missing(
-            "python3 with jsonschema and yaml is not installed: the schema is not validated",
-        );
-    }
-    here
+    crate::support::python_imports(
+        "jsonschema, yaml",
+        "python3 with jsonschema and yaml is not installed: the schema is not validated",
+    )
 }
 
 /// The built-in dictionary a recipe's `drive:` names (`sd2` when it names none).

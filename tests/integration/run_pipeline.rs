@@ -3,7 +3,7 @@
 //! for named drives, the early word about a drive that never answers, and the not-run
 //! JUnit and HTML reports of a run that cannot start.
 
-use crate::lenze_931::run_and_record;
+use crate::lenze_931::refused_on_931;
 use crate::support::{scratch, scratch_file, write_file};
 
 /// A script with `//! drives:` has its literal values compared with the limits each
@@ -16,8 +16,7 @@ fn a_script_with_named_drives_is_refused_by_a_drive_limit_before_anything_moves(
         "named.rhai",
         "//! drives: axis = lenze-931\nlet axis = drive(\"axis\");\naxis.set(\"operating_mode\", 9);\naxis.set(\"speed_setpoint\", 100.0, \"rpm\");\n",
     );
-    let (code, output, requests) = run_and_record(&dir, script);
-    assert_eq!(code, 2, "{output}");
+    let (output, requests) = refused_on_931(&dir, script);
     // The state read that tells a silent drive early, then each object's limits once.
     assert_eq!(
         requests,

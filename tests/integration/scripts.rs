@@ -145,25 +145,6 @@ fn fail_ends_the_script_even_inside_try() {
 }
 
 #[test]
-fn a_drive_fault_ends_with_exit_3_at_the_call_with_the_script_line() {
-    let prepare = |sim: &Arc<Mutex<dyn SimulatedDrive>>, _: &SharedClock| {
-        sim.lock()
-            .expect("simulator")
-            .faults()
-            .trip_at(Duration::from_secs(3), 4660);
-    };
-    let text = "let d = drive();\nd.go_to(\"operation_enabled\");\nd.set(\"speed_setpoint\", 2000.0, \"rpm\");\ndwell(\"10 s\");\n";
-    let (result, output) = run_script("fault", text, Some(&prepare), Arc::new(StopRequests::new()));
-    assert_eq!(result.exit_code, 3, "{output}");
-    assert_has(&output, &["drive fault"]);
-    assert!(
-        output.contains("script.rhai:4:1]"),
-        "the diagnostic points at dwell:\n{output}"
-    );
-    assert_has(&output, &["4 │ dwell(\"10 s\");"]);
-}
-
-#[test]
 fn a_fault_caught_by_the_script_can_be_reset_and_the_start_retried() {
     let prepare = |sim: &Arc<Mutex<dyn SimulatedDrive>>, _: &SharedClock| {
         sim.lock()
@@ -179,37 +160,6 @@ fn a_fault_caught_by_the_script_can_be_reset_and_the_start_retried() {
     let words = control_words(&result);
     let reset = words.iter().position(|w| *w == 128).expect("a fault reset");
     assert!(words[reset..].contains(&15), "{words:?}");
-}
-
-#[test]
-fn a_script_error_inside_a_drive_call_is_located_and_exits_3_after_the_safe_stop() {
-    let text = "let d = drive();\nd.go_to(\"operation_enabled\");\nlet name = \"speed_\" + \"actul\";\nlet v = d.read(name);\n";
-    let (result, output) = run_script("runtime-error", text, None, Arc::new(StopRequests::new()));
-    assert_eq!(result.exit_code, 3, "{output}");
-    assert_has(
-        &output,
-        &[
-            "unknown object `speed_actul`",
-            "did you mean `speed_actual`",
-            "script.rhai:4:11]",
-        ],
-    );
-    assert!(control_words(&result).ends_with(&[7, 6]), "{output}");
-}
-
-#[test]
-fn a_panic_in_the_run_exits_101_after_the_safe_stop() {
-    let prepare = |sim: &Arc<Mutex<dyn SimulatedDrive>>, _: &SharedClock| {
-        sim.lock()
-            .expect("simulator")
-            .faults()
-            .panic_at(Duration::from_secs(2));
-    };
-    let text = "let d = drive();\nd.go_to(\"operation_enabled\");\nd.set(\"speed_setpoint\", 1000.0, \"rpm\");\ndwell(\"5 s\");\n";
-    let (result, output) = run_script("panic", text, Some(&prepare), Arc::new(StopRequests::new()));
-    assert_eq!(result.exit_code, 101, "{output}");
-    assert_has(&output, &["panic"]);
-    assert!(control_words(&result).ends_with(&[7, 6]), "{output}");
 }
 
 #[test]
@@ -256,21 +206,6 @@ fn a_stop_request_ends_a_script_that_only_computes() {
         "the stop came before the loop:\n{output}"
     );
     assert_lacks(&output, &["swallowed", "operations without calling the drive"]);
-    assert!(control_words(&result).ends_with(&[7, 6]), "{output}");
-}
-
-#[test]
-fn an_endless_loop_without_drive_calls_is_stopped_by_the_operation_limit() {
-    let text = "let d = drive();\nd.go_to(\"operation_enabled\");\nlet i = 0;\nloop { i += 1; }\n";
-    let (result, output) = run_script("endless", text, None, Arc::new(StopRequests::new()));
-    assert_eq!(result.exit_code, 3, "{output}");
-    assert_has(
-        &output,
-        &[
-            "operations without calling the drive (an endless loop?)",
-            "script.rhai:4:",
-        ],
-    );
     assert!(control_words(&result).ends_with(&[7, 6]), "{output}");
 }
 
@@ -409,18 +344,8 @@ fn params_come_from_set() {
     );
     let mut run = InProcessRun::new(&path);
     run.set = vec![("speed".into(), "4 krpm".into())];
-    let (result, output) = run.run();
-    assert_eq!(result.exit_code, 0, "{output}");
-    assert_has(
-        &output,
-        &["params  speed = 4 krpm", "set speed_setpoint = 4000 rpm"],
-    );
-    let (result, output) = InProcessRun::new(&path).run();
-    assert_eq!(result.exit_code, 3, "{output}");
-    assert_has(
-        &output,
-        &["parameter `speed` is not set: run with --set speed=VALUE"],
-    );
+    run.run_expecting(0, &["params  speed = 4 krpm", "set speed_setpoint = 4000 rpm"]);
+    InProcessRun::new(&path).run_expecting(3, &["parameter `speed` is not set: run with --set speed=VALUE"]);
 }
 
 /// A signal to the real binary driving a simulated drive through a pseudo-terminal while
@@ -474,13 +399,8 @@ fn a_scripts_checks_reach_junit_html_and_csv_like_a_recipes() {
                 expect_near(\"speed mean\", s.mean(\"speed_actual\"), 2000.0, \"0.5 %\");\n\
                 expect_near(\"too tight\", s.mean(\"speed_actual\"), 2100.0, \"5 rpm\");\n";
     let mut run = InProcessRun::new(write_file(&dir, "script.rhai", text));
-    let (junit, html, csv) = (
-        dir.join("junit.xml"),
-        dir.join("report.html"),
-        dir.join("samples.csv"),
-    );
-    run.outputs.junit = Some(junit.clone());
-    run.outputs.report = Some(html.clone());
+    let (junit, html) = run.reports_in(&dir);
+    let csv = dir.join("samples.csv");
     run.outputs.csv = Some(csv.clone());
     let (result, output) = run.run();
     assert_eq!(result.exit_code, 1, "{output}");
@@ -713,9 +633,7 @@ fn check_finds_a_wait_until_condition_that_uses_the_drive() {
     ] {
         assert!(err.contains(part), "missing {part:?}:\n{err}");
     }
-    let (result, output) = InProcessRun::new(&path).run();
-    assert_eq!(result.exit_code, 2, "{output}");
-    assert_has(&output, &["nothing was sent to the drive"]);
+    let (result, output) = InProcessRun::new(&path).run_expecting(2, &["nothing was sent to the drive"]);
     assert!(result.simulator.is_none(), "no drive opened: {output}");
 }
 

@@ -5,7 +5,7 @@
 
 use crate::live_run::LiveRun;
 use crate::reports::markup::{self, junit_xsd, select, text, xml_elements};
-use crate::support::{assert_has, cli, scratch, scratch_file, InProcessRun};
+use crate::support::{assert_has, assert_lacks, cli, scratch, scratch_file, words, InProcessRun};
 use drivescript::clock::SharedClock;
 use drivescript::sim::SimulatedDrive;
 use std::path::{Path, PathBuf};
@@ -255,7 +255,7 @@ fn a_recipe_and_a_script_are_each_named_as_what_they_are() {
             "== 2 files:",
         ],
     );
-    assert!(!out.stdout.contains("recipe(s)"), "{}", out.stdout);
+    assert_lacks(&out.stdout, &["recipe(s)"]);
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
@@ -264,14 +264,7 @@ fn a_recipe_and_a_script_are_each_named_as_what_they_are() {
 #[test]
 fn a_set_applies_where_the_parameter_exists() {
     let out = cli(
-        &[
-            "run",
-            "recipes/commissioning.yaml",
-            "recipes/identity.yaml",
-            "--fast",
-            "--set",
-            "speed=4000rpm",
-        ],
+        &words("run recipes/commissioning.yaml recipes/identity.yaml --fast --set speed=4000rpm"),
         0,
     );
     assert_has(
@@ -337,13 +330,7 @@ fn a_set_no_file_has_is_refused_before_anything_runs() {
 #[test]
 fn a_set_with_a_wrong_unit_is_said_once_at_the_set() {
     let out = cli(
-        &[
-            "run",
-            "recipes/acceptance-test.yaml",
-            "--fast",
-            "--set",
-            "max_current=5rpm",
-        ],
+        &words("run recipes/acceptance-test.yaml --fast --set max_current=5rpm"),
         2,
     );
     let text = out.stderr;

@@ -2,7 +2,7 @@
 //! to a real line or a replayed capture, whose drive no setting of the built-in simulated
 //! drive's physics can change; the built-in simulated drive still takes them.
 
-use crate::support::{assert_has, assert_lacks, cli, scratch, write_file};
+use crate::support::{assert_has, assert_lacks, cli, scratch, words, write_file};
 
 const REFUSED: &str = "--sim sets the built-in simulated drive's physics, but this run talks to";
 
@@ -24,15 +24,11 @@ fn a_sim_setting_on_a_real_line_or_a_replay_is_refused_before_anything_is_sent()
         );
         assert_lacks(&out.stderr, &["cannot open"]);
     }
+    let replay = "tests/cases/replay/sd2_commissioning/capture.trace";
     let out = cli(
-        &[
-            "run",
-            "recipes/commissioning.yaml",
-            "--replay",
-            "tests/cases/replay/sd2_commissioning/capture.trace",
-            "--sim",
-            "coast-rate=300rpm/s",
-        ],
+        &words(&format!(
+            "run recipes/commissioning.yaml --replay {replay} --sim coast-rate=300rpm/s"
+        )),
         2,
     );
     assert_has(
@@ -44,14 +40,7 @@ fn a_sim_setting_on_a_real_line_or_a_replay_is_refused_before_anything_is_sent()
     );
     assert_lacks(&out.stdout, &["PASSED", "control word"]);
     let out = cli(
-        &[
-            "run",
-            "recipes/commissioning.yaml",
-            "--fast",
-            "--no-results",
-            "--sim",
-            "overshoot=10%",
-        ],
+        &words("run recipes/commissioning.yaml --fast --no-results --sim overshoot=10%"),
         0,
     );
     assert_has(&out.stdout, &["PASSED"]);

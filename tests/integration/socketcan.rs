@@ -8,7 +8,8 @@
 
 #![cfg(target_os = "linux")]
 
-use crate::support::{assert_has, cli, drivescript, stderr, stdout};
+use crate::lenze_9400::node_9400;
+use crate::support::{assert_has, cli, drivescript, stderr, stdout, words};
 use drivescript::bus::{FrameBus, FramePeer, SocketCanBus};
 use drivescript::family::canopen::sim::Cia402Node;
 use drivescript::family::lenze_9400::sim::Lenze9400Simulator;
@@ -112,17 +113,7 @@ fn socketcan_reaches_a_simulated_node_on_a_virtual_can_interface() {
     let node = Node::serve(&vcan, Lenze9400Simulator::new(12, SimConfig::default()));
     let can = format!("socketcan:{}", vcan.0);
     let out = drivescript(
-        &[
-            "read",
-            "ident",
-            "C00061",
-            "--drive",
-            "lenze-9400",
-            "--address",
-            "12",
-            "--can",
-            &can,
-        ],
+        &[&["read", "ident", "C00061"][..], &node_9400("12", &can)].concat(),
         "",
     );
     node.stop();
@@ -185,14 +176,7 @@ fn the_commissioning_recipe_runs_on_a_cia402_node_over_socketcan() {
 #[test]
 fn a_missing_interface_is_a_clear_error_before_anything_is_sent() {
     let out = cli(
-        &[
-            "read",
-            "ident",
-            "--drive",
-            "lenze-9400",
-            "--can",
-            "socketcan:nosuchcan7",
-        ],
+        &words("read ident --drive lenze-9400 --can socketcan:nosuchcan7"),
         3,
     );
     assert_has(&out.stderr, &["nosuchcan7"]);

@@ -21,9 +21,28 @@ pub fn command() -> Command {
 
 /// The results store [`command`] gives every run: one per test process.
 pub fn tests_results_store() -> PathBuf {
+    crate::stale_scratch::sweep_once();
     std::env::temp_dir()
         .join(format!("drivescript-tests-{}", std::process::id()))
         .join("results.sqlite")
+}
+
+/// Runs `drivescript ARGS | head -1` in the repository: reads the first line of the
+/// output, closes the pipe and waits for the end. The line and how the command ended.
+pub fn first_line_then_closed_pipe(args: &[&str]) -> (String, std::process::ExitStatus) {
+    use std::io::{BufRead, BufReader};
+    let mut child = command()
+        .args(args)
+        .current_dir(repo_root())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("the drivescript binary starts");
+    let mut out = BufReader::new(child.stdout.take().expect("stdout"));
+    let mut first = String::new();
+    out.read_line(&mut first).expect("first line");
+    drop(out);
+    (first, child.wait().expect("the command ends"))
 }
 
 /// Runs `drivescript ARGS` with `stdin`, returning its output.
@@ -61,6 +80,19 @@ pub fn tool_missing(what: &str) {
         panic!("{what}, and under CI (CI is set) that check must run: `.ci/run` installs it");
     }
     eprintln!("skipped: {what} (`.ci/run` installs it)");
+}
+
+/// Whether python3 can import `modules` (`"pymodbus, serial"`); where it cannot,
+/// [`tool_missing`] says `missing` (and fails under CI).
+pub fn python_imports(modules: &str, missing: &str) -> bool {
+    let here = Command::new("python3")
+        .args(["-c", &format!("import {modules}")])
+        .output()
+        .is_ok_and(|o| o.status.success());
+    if !here {
+        tool_missing(missing);
+    }
+    here
 }
 
 /// Headless Chromium, with the flags that keep it off the network and out of a profile
@@ -155,9 +187,10 @@ fn a_missing_tool_fails_under_ci_and_is_skipped_locally() {
 
 /// A fresh, empty folder for a test's files, `drivescript-FILE-NAME-PID` in the system's
 /// temporary folder, FILE the calling test file, so tests of different files never share
-/// one.
+/// one. Those that ended test processes left are removed first (see `stale_scratch`).
 #[track_caller]
 pub fn scratch(name: &str) -> PathBuf {
+    crate::stale_scratch::sweep_once();
     let file = Path::new(std::panic::Location::caller().file())
         .file_stem()
         .map_or_else(String::new, |s| s.to_string_lossy().into_owned());
@@ -174,6 +207,26 @@ pub fn scratch_file(name: &str, file: &str, text: &str) -> (PathBuf, PathBuf) {
     let dir = scratch(name);
     let path = write_file(&dir, file, text);
     (dir, path)
+}
+
+/// Runs `check(dir, store)` with a SQLite results store in the fresh [`scratch`] folder
+/// `NAME-sqlite`: the SQLite half of a test run against both kinds of store.
+#[track_caller]
+pub fn with_sqlite_store(name: &str, check: impl FnOnce(&Path, &str)) {
+    let dir = scratch(&format!("{name}-sqlite"));
+    check(&dir, &sqlite_store(&dir));
+}
+
+/// Runs `check(dir, store)` with a PostgreSQL server of its own (`NAME-postgres`) as the
+/// store and the fresh [`scratch`] folder `NAME-postgres-files`; where no server can be
+/// started it does what [`PostgresServer::start`] says (skips, or fails under CI).
+#[track_caller]
+pub fn with_postgres_store(name: &str, check: impl FnOnce(&Path, &str)) {
+    let Some(server) = PostgresServer::start(&format!("{name}-postgres")) else {
+        return;
+    };
+    let dir = scratch(&format!("{name}-postgres-files"));
+    check(&dir, &server.url());
 }
 
 /// The path of a SQLite results store in `dir`, as `--results` takes it.
@@ -194,6 +247,11 @@ pub fn write_file(dir: &Path, name: &str, text: &str) -> PathBuf {
     let path = dir.join(name);
     std::fs::write(&path, text).expect("file written");
     path
+}
+
+/// The words of a command line with no quoted arguments (`run r.yaml --fast`), for [`cli`].
+pub fn words(line: &str) -> Vec<&str> {
+    line.split_whitespace().collect()
 }
 
 /// What a finished `drivescript` run wrote, as text.
@@ -318,6 +376,15 @@ impl<'a> InProcessRun<'a> {
         }
     }
 
+    /// Asks for a JUnit file and an HTML report in `dir` (`junit.xml`, `report.html`):
+    /// their paths.
+    pub fn reports_in(&mut self, dir: &Path) -> (PathBuf, PathBuf) {
+        let (junit, html) = (dir.join("junit.xml"), dir.join("report.html"));
+        self.outputs.junit = Some(junit.clone());
+        self.outputs.report = Some(html.clone());
+        (junit, html)
+    }
+
     /// Runs it with a terminal nobody types at (a question waits until its timeout);
     /// what it produced and its console output.
     pub fn run_at_a_silent_terminal(mut self) -> (drivescript::run::RunResult, String) {
@@ -333,6 +400,16 @@ impl<'a> InProcessRun<'a> {
         let (mut out, mut err) = (Vec::new(), Vec::new());
         let result = drivescript::run::run(&self.request(), &mut out, &mut err);
         (result, console(&out, &err))
+    }
+
+    /// Runs it as [`run`](Self::run) and fails the test, showing the output, unless it
+    /// exits with `code` and its output holds every one of `parts`.
+    #[track_caller]
+    pub fn run_expecting(&self, code: i32, parts: &[&str]) -> (drivescript::run::RunResult, String) {
+        let (result, output) = self.run();
+        assert_eq!(result.exit_code, code, "{output}");
+        assert_has(&output, parts);
+        (result, output)
     }
 
     /// Runs `files` as one command of several, with this run's settings; the exit code and
@@ -508,6 +585,15 @@ pub fn assert_has(text: &str, parts: &[&str]) {
     for part in parts {
         assert!(text.contains(part), "expected {part:?} in:\n{text}");
     }
+}
+
+/// Fails the test, showing the output, unless a finished run's `(exit code, output)` has
+/// exit code `code` and output holding every one of `parts`; the output.
+#[track_caller]
+pub fn assert_exit((got, text): (i32, String), code: i32, parts: &[&str]) -> String {
+    assert_eq!(got, code, "{text}");
+    assert_has(&text, parts);
+    text
 }
 
 /// Fails the test, showing all of `text`, unless `text` holds `parts` in this order.

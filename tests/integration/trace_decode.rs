@@ -107,13 +107,10 @@ fn a_can_trace_is_read_as_it_is_by_python_can_and_a_can_utils_parse() {
         frames.push(format!("{frame} {interface} {seconds:.6}"));
     }
     assert!(frames.len() >= 8, "{text}");
-    let has_python_can = Command::new("python3")
-        .args(["-c", "import can"])
-        .output()
-        .is_ok_and(|o| o.status.success());
-    if !has_python_can {
-        crate::support::tool_missing("python-can is not installed (python3 -m pip install python-can)");
-    } else {
+    if crate::support::python_imports(
+        "can",
+        "python-can is not installed (python3 -m pip install python-can)",
+    ) {
         let read = Command::new("python3")
             .args(["-c", PYTHON_CAN, trace.to_str().unwrap()])
             .output()

@@ -181,11 +181,7 @@ fn check_refuses_watches_the_named_line_cannot_carry() {
         ],
     );
     let run = cli(&["run", &busy, "--baud", "9600", "--fast"], 2);
-    assert!(
-        run.stderr.contains("the watches would take 150 %"),
-        "{}",
-        run.stderr
-    );
+    assert_has(&run.stderr, &["the watches would take 150 %"]);
     assert!(!run.stdout.contains("finally"), "nothing ran:\n{}", run.stdout);
     cli(&["check", &busy, "--baud", "57600"], 0);
     cli(&["check", &busy], 0);

@@ -5,8 +5,7 @@
 //! Unix only: these signals and `ulimit` are Unix's.
 #![cfg(unix)]
 
-use crate::support::{command, repo_root, scratch};
-use std::io::{BufRead, BufReader};
+use crate::support::{command, first_line_then_closed_pipe, repo_root, scratch};
 use std::os::unix::process::ExitStatusExt;
 use std::process::{Command, Stdio};
 
@@ -67,19 +66,7 @@ fn a_results_store_at_the_file_size_limit_is_a_write_error_and_the_drive_is_stop
 
 #[test]
 fn a_closed_output_pipe_does_not_end_the_stop_command() {
-    let mut child = command()
-        .args(["stop"])
-        .current_dir(repo_root())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("stop starts");
-    // Like `| head -1`: read one line, then close the pipe.
-    let mut out = BufReader::new(child.stdout.take().expect("stdout"));
-    let mut first = String::new();
-    out.read_line(&mut first).expect("first line");
-    drop(out);
-    let status = child.wait().expect("stop ends");
+    let (first, status) = first_line_then_closed_pipe(&["stop"]);
     assert_eq!(
         status.signal(),
         None,

@@ -31,33 +31,24 @@ fn bytes(text: &str) -> Vec<u8> {
 fn segments_are_read_as_the_object_of_their_transfer() {
     let mut e = explainer();
     let s = |e: &mut SdoExplainer, t: &str| e.summary(Direction::Received, &bytes(t));
-    assert_eq!(s(&mut e, "60C#409C5F0000000000"), "read C00099 ident → node 12");
-    assert_eq!(
-        s(&mut e, "58C#419C5F000B000000"),
-        "reply C00099 ident: segmented, 11 bytes ← node 12"
-    );
-    assert_eq!(
-        s(&mut e, "58C#17322E3037000000"),
-        "upload segment, toggle 1, 4 byte(s), last of C00099 ident \"2.07\" ← node 12"
-    );
-    assert_eq!(
-        s(&mut e, "585#43C25F002B000000"),
-        "reply C00061 heatsink_temperature = 43 ← node 5"
-    );
-    assert_eq!(
-        s(&mut e, "582#80A75F0031000906"),
-        "abort C00088 rated_motor_current ← node 2: 0x06090031 value of parameter written too high"
-    );
+    #[rustfmt::skip]
+    let summaries = [
+        ("60C#409C5F0000000000", "read C00099 ident → node 12"),
+        ("58C#419C5F000B000000", "reply C00099 ident: segmented, 11 bytes ← node 12"),
+        ("58C#17322E3037000000", "upload segment, toggle 1, 4 byte(s), last of C00099 ident \"2.07\" ← node 12"),
+        ("585#43C25F002B000000", "reply C00061 heatsink_temperature = 43 ← node 5"),
+        ("582#80A75F0031000906", "abort C00088 rated_motor_current ← node 2: 0x06090031 value of parameter written too high"),
+        ("000#0105", "NMT start (enter operational) → node 5"),
+        ("000#8000", "NMT enter pre-operational → every node"),
+        ("705#7F", "heartbeat pre-operational ← node 5"),
+        ("705#00", "boot-up ← node 5"),
+        ("085#1032010000000000", "EMCY 0x3210 DC link over-voltage, error register 0x01 ← node 5"),
+        ("085#0000000000000000", "EMCY error reset ← node 5"),
+    ];
+    for (frame, said) in summaries {
+        assert_eq!(s(&mut e, frame), said, "{frame}");
+    }
     assert!(s(&mut e, "700#05").starts_with("rejected: identifier 0x700"));
-    assert_eq!(s(&mut e, "000#0105"), "NMT start (enter operational) → node 5");
-    assert_eq!(s(&mut e, "000#8000"), "NMT enter pre-operational → every node");
-    assert_eq!(s(&mut e, "705#7F"), "heartbeat pre-operational ← node 5");
-    assert_eq!(s(&mut e, "705#00"), "boot-up ← node 5");
-    assert_eq!(
-        s(&mut e, "085#1032010000000000"),
-        "EMCY 0x3210 DC link over-voltage, error register 0x01 ← node 5"
-    );
-    assert_eq!(s(&mut e, "085#0000000000000000"), "EMCY error reset ← node 5");
     assert_eq!(
         e.json(&bytes("085#1032010000000000")).0,
         json!({"emcy": 0x3210, "register": 1, "node": 5})

@@ -17,7 +17,7 @@ use crate::bus::{SharedTransport, Transport, TransportError};
 use crate::clock::SharedClock;
 use crate::drive::AccessError;
 use crate::link::{
-    AttemptFailure, CoreLink, Direction, ExchangeText, LinkCore, Refusal, ReplyWait, RetryPlan, Unanswered,
+    AttemptFailure, CoreLink, Direction, ExchangeText, LinkCore, Refusal, RetryPlan, Unanswered,
 };
 use std::time::Duration;
 
@@ -254,12 +254,7 @@ impl LenzeLink {
             }
             match self.core.read_reply(t, sent, deadline) {
                 Ok(bytes) => self.extractor.push(bytes),
-                Err(ReplyWait::Timeout) if dropped.is_some() => {
-                    return Err(dropped
-                        .take()
-                        .map_or(AttemptFailure::Timeout { note: "" }, AttemptFailure::Discarded))
-                }
-                Err(wait) => return Err(wait.into()),
+                Err(wait) => return Err(AttemptFailure::after_wait(wait, dropped)),
             }
         }
     }

@@ -27,9 +27,7 @@ use super::codec::{mbap, rtu, ExceptionCode, Request, Response};
 use crate::bus::{SharedTransport, Transport, TransportError};
 use crate::clock::SharedClock;
 use crate::drive::AccessError;
-use crate::link::{
-    AttemptFailure, CoreLink, Direction, ExchangeText, LinkCore, Refusal, ReplyWait, RetryPlan,
-};
+use crate::link::{AttemptFailure, CoreLink, Direction, ExchangeText, LinkCore, Refusal, RetryPlan};
 use std::time::Duration;
 
 /// A stop request does not cut short the first part of a reply wait, so the exchange under
@@ -267,12 +265,7 @@ impl ModbusLink {
                         self.last_activity = Some(self.core.clock.now());
                     }
                 }
-                Err(ReplyWait::Timeout) if dropped.is_some() => {
-                    return Err(dropped
-                        .take()
-                        .map_or(AttemptFailure::Timeout { note: "" }, AttemptFailure::Discarded))
-                }
-                Err(wait) => return Err(wait.into()),
+                Err(wait) => return Err(AttemptFailure::after_wait(wait, dropped)),
             }
         }
     }

@@ -45,6 +45,21 @@ fn pos(text: &str, needle: &str) -> (usize, usize) {
     (line, column)
 }
 
+/// The built-in SD2 file with `from` replaced by `to`, and its one problem.
+#[track_caller]
+fn sd2_problem(from: &str, to: &str) -> (String, Diagnostic) {
+    assert!(SD2.contains(from), "the SD2 file has no {from:?}");
+    let text = SD2.replace(from, to);
+    let e = problem(&text);
+    (text, e)
+}
+
+/// Fails the test, showing the message, unless problem `e`'s message holds `part`.
+#[track_caller]
+fn assert_says(e: &Diagnostic, part: &str) {
+    assert!(e.message().contains(part), "{}", e.message());
+}
+
 fn at(e: &Diagnostic) -> (usize, usize) {
     (e.line(), e.column())
 }
@@ -83,75 +98,20 @@ fn builtin_sd2_loads_and_validates() {
             "motor_temperature"
         ]
     );
+    #[rustfmt::skip]
     let table: [Row; 12] = [
-        (
-            "ident",
-            22,
-            DataType::String { max: 32 },
-            Access::ReadOnly,
-            None,
-            1.0,
-        ),
-        (
-            "bus_voltage",
-            33,
-            DataType::U16,
-            Access::ReadOnly,
-            Some(Unit::Volt),
-            0.1,
-        ),
-        (
-            "power_stage_load",
-            39,
-            DataType::U16,
-            Access::ReadOnly,
-            Some(Unit::Percent),
-            0.1,
-        ),
+        ("ident", 22, DataType::String { max: 32 }, Access::ReadOnly, None, 1.0),
+        ("bus_voltage", 33, DataType::U16, Access::ReadOnly, Some(Unit::Volt), 0.1),
+        ("power_stage_load", 39, DataType::U16, Access::ReadOnly, Some(Unit::Percent), 0.1),
         ("status_word", 67, DataType::U16, Access::ReadOnly, None, 1.0),
         ("control_word", 68, DataType::U16, Access::ReadWrite, None, 1.0),
-        (
-            "speed_actual_2",
-            168,
-            DataType::I32,
-            Access::ReadOnly,
-            Some(Unit::Rpm),
-            0.001,
-        ),
+        ("speed_actual_2", 168, DataType::I32, Access::ReadOnly, Some(Unit::Rpm), 0.001),
         ("parameter_set", 352, DataType::U16, Access::ReadWrite, None, 1.0),
-        (
-            "speed_setpoint",
-            395,
-            DataType::I32,
-            Access::ReadWrite,
-            Some(Unit::Rpm),
-            0.001,
-        ),
-        (
-            "speed_actual",
-            398,
-            DataType::I32,
-            Access::ReadOnly,
-            Some(Unit::Rpm),
-            0.001,
-        ),
-        (
-            "current_actual",
-            400,
-            DataType::I32,
-            Access::ReadOnly,
-            Some(Unit::Ampere),
-            0.001,
-        ),
+        ("speed_setpoint", 395, DataType::I32, Access::ReadWrite, Some(Unit::Rpm), 0.001),
+        ("speed_actual", 398, DataType::I32, Access::ReadOnly, Some(Unit::Rpm), 0.001),
+        ("current_actual", 400, DataType::I32, Access::ReadOnly, Some(Unit::Ampere), 0.001),
         ("drive_error", 401, DataType::U16, Access::ReadOnly, None, 1.0),
-        (
-            "store_parameters",
-            402,
-            DataType::U16,
-            Access::WriteOnly,
-            None,
-            1.0,
-        ),
+        ("store_parameters", 402, DataType::U16, Access::WriteOnly, None, 1.0),
     ];
     for (name, index, data_type, access, unit, scale) in table {
         let o = d.lookup(name).unwrap();
@@ -377,11 +337,7 @@ fn limits_outside_the_type_after_scaling() {
     assert_eq!((all[1].0, all[1].1), (10, 10));
     let e = problem(&object("    max: 70000\n"));
     assert_eq!(at(&e), (7, 10));
-    assert!(
-        e.message().contains("outside the range of u16: 0..=65535"),
-        "{}",
-        e.message()
-    );
+    assert_says(&e, "outside the range of u16: 0..=65535");
 }
 
 #[test]
@@ -397,7 +353,7 @@ fn bad_scale_and_kinds_of_values() {
     );
     let e = problem(&object("").replace("index: 1", "index: 0x10000"));
     assert_eq!(at(&e), (4, 12));
-    assert!(e.message().contains("out of range 0..=65535"), "{}", e.message());
+    assert_says(&e, "out of range 0..=65535");
     let e = problem(&object("    subindex: -1\n"));
     assert_eq!(at(&e), (7, 15));
     let e = problem(&object("    aliases: FOO\n"));
@@ -452,7 +408,7 @@ fn addresses_in_the_familys_notation() {
     assert_eq!(p.message(), "address `x1`: a number");
     // Without a family's notation an address cannot be read.
     let e = problem(&object("").replace("    index: 1\n", "    address: \"12\"\n"));
-    assert!(e.message().contains("no address notation"), "{}", e.message());
+    assert_says(&e, "no address notation");
 }
 
 #[test]
@@ -520,15 +476,14 @@ fn yaml_syntax_errors_are_located() {
     assert!(e.message().starts_with("not valid YAML"));
     let e = problem(&object("    unit: V\n    unit: A\n"));
     assert_eq!(e.line(), 8);
-    assert!(e.message().contains("`unit` is written twice"), "{}", e.message());
+    assert_says(&e, "`unit` is written twice");
 }
 
 // ---- profile errors ----
 
 #[test]
 fn profile_role_naming_an_unknown_object() {
-    let text = SD2.replace("  speed_actual: speed_actual\n", "  speed_actual: speed_actul\n");
-    let e = problem(&text);
+    let (text, e) = sd2_problem("  speed_actual: speed_actual\n", "  speed_actual: speed_actul\n");
     assert_eq!(at(&e), pos(&text, "speed_actul"));
     assert_eq!(
         e.message(),
@@ -542,24 +497,17 @@ fn profile_role_naming_an_unknown_object() {
 
 #[test]
 fn profile_role_of_the_wrong_type_or_access() {
-    let text = SD2.replace("  status_word: status_word\n", "  status_word: ident\n");
-    let e = problem(&text);
+    let (text, e) = sd2_problem("  status_word: status_word\n", "  status_word: ident\n");
     assert_eq!(at(&e), pos(&text, "ident\n  speed_setpoint"));
     assert_eq!(e.message(), "the status word must be an integer, not string(32)");
-    let text = SD2.replace("  control_word: control_word\n", "  control_word: status_word\n");
-    let e = problem(&text);
+    let (text, e) = sd2_problem("  control_word: control_word\n", "  control_word: status_word\n");
     assert_eq!(at(&e), pos(&text, "status_word\n  status_word"));
     assert_eq!(
         e.message(),
         "the control word is written by the engine, but `status_word` is read-only (ro)"
     );
-    let text = SD2.replace("  status_word: status_word\n", "  status_word: speed_actual\n");
-    let e = problem(&text);
-    assert!(
-        e.message().contains("must be 8 or 16 bits wide"),
-        "{}",
-        e.message()
-    );
+    let (_, e) = sd2_problem("  status_word: status_word\n", "  status_word: speed_actual\n");
+    assert_says(&e, "must be 8 or 16 bits wide");
 }
 
 #[test]
@@ -587,54 +535,48 @@ fn missing_command_and_state() {
 
 #[test]
 fn unknown_command_or_state_names() {
-    let text = SD2.replace("    quick_stop: 2\n", "    quick_stop: 2\n    quickstop: 2\n");
-    let e = problem(&text);
+    let (text, e) = sd2_problem("    quick_stop: 2\n", "    quick_stop: 2\n    quickstop: 2\n");
     assert_eq!(at(&e), pos(&text, "quickstop"));
     assert_eq!(e.help(), Some("did you mean `quick_stop`?"));
-    let text = SD2.replace(
+    let (text, e) = sd2_problem(
         "    fault:  ",
         "    faulty: { mask: 0x4F, value: 0x08 }\n    fault:  ",
     );
-    let e = problem(&text);
     assert_eq!(at(&e), pos(&text, "faulty"));
 }
 
 #[test]
 fn mask_zero_and_value_outside_the_mask() {
-    let text = SD2.replace(
+    let (text, e) = sd2_problem(
         "fault:                  { mask: 0x4F,",
         "fault:                  { mask: 0,",
     );
-    let e = problem(&text);
     let (line, column) = pos(&text, "mask: 0,");
     assert_eq!(at(&e), (line, column + 6), "points at the value");
     assert_eq!(
         e.message(),
         "the mask of `fault` is 0, so every status word would match it"
     );
-    let text = SD2.replace(
+    let (text, e) = sd2_problem(
         "switch_on_disabled:     { mask: 0x4F, value: 0x40 }",
         "switch_on_disabled:     { mask: 0x4F, value: 0x50 }",
     );
-    let e = problem(&text);
     assert_eq!(at(&e), pos(&text, "0x50"));
     assert_eq!(
         e.message(),
         "value 0x50 of `switch_on_disabled` has bits outside its mask 0x4F (0x10), so no status word can match"
     );
-    let text = SD2.replace("    shutdown: 6\n", "    shutdown: 0x10000\n");
-    let e = problem(&text);
+    let (text, e) = sd2_problem("    shutdown: 6\n", "    shutdown: 0x10000\n");
     assert_eq!(at(&e), pos(&text, "0x10000"));
 }
 
 #[test]
 fn overlapping_states() {
     // quick stop active with mask 0x4F no longer looks at bit 5: it overlaps operation enabled.
-    let text = SD2.replace(
+    let (text, e) = sd2_problem(
         "quick_stop_active:      { mask: 0x6F,",
         "quick_stop_active:      { mask: 0x4F,",
     );
-    let e = problem(&text);
     let (line, _) = pos(&text, "quick_stop_active:");
     assert_eq!(at(&e), (line, pos(&text, "{ mask: 0x4F, value: 0x07").1));
     assert_eq!(
@@ -747,11 +689,7 @@ fn extend_refuses_clashes_and_leaves_the_dictionary_unchanged() {
     let text =
         "family: sd2\nobjects:\n  - name: status_word\n    index: 67\n    type: string(8)\n    access: ro\n";
     let e = d.extend(parse(text).unwrap()).unwrap_err().first().clone();
-    assert!(
-        e.message().contains("status word must be an integer"),
-        "{}",
-        e.message()
-    );
+    assert_says(&e, "status word must be an integer");
     assert_eq!(d.lookup("status_word").unwrap().data_type, DataType::U16);
 
     let text = "family: lenze\nobjects: []\n";
@@ -814,8 +752,7 @@ fn problems_of_broken_objects_are_all_reported_too() {
 
 #[test]
 fn stop_commands_that_keep_the_drive_enabled_are_refused() {
-    let text = SD2.replace("disable_operation: 7", "disable_operation: 15");
-    let e = problem(&text);
+    let (text, e) = sd2_problem("disable_operation: 7", "disable_operation: 15");
     assert_eq!(at(&e), pos(&text, "15\n    enable_operation"));
     assert_eq!(
         e.message(),
@@ -847,8 +784,7 @@ fn stop_commands_that_keep_the_drive_enabled_are_refused() {
         "{all:#?}"
     );
 
-    let text = SD2.replace("enable_operation: 15", "enable_operation: 0");
-    let e = problem(&text);
+    let (_, e) = sd2_problem("enable_operation: 15", "enable_operation: 0");
     assert!(
         e.message().starts_with("`enable_operation` is 0"),
         "{}",

@@ -14,9 +14,7 @@ use crate::family::sd2::codec::{
     check_reply, Body, Cyclic, Data, DecodeError, ErrorCode, FrameExtractor, Framing, Telegram,
 };
 use crate::hex::to_hex;
-use crate::link::{
-    AttemptFailure, CoreLink, Direction, ExchangeText, LinkCore, Refusal, ReplyWait, RetryPlan,
-};
+use crate::link::{AttemptFailure, CoreLink, Direction, ExchangeText, LinkCore, Refusal, RetryPlan};
 use std::time::Duration;
 
 /// A stop request does not cut short the first part of a reply wait: a drive that is
@@ -231,12 +229,7 @@ impl Sd2Link {
             }
             match self.core.read_reply(t, sent, deadline) {
                 Ok(bytes) => self.extractor.push(bytes),
-                Err(ReplyWait::Timeout) if dropped.is_some() => {
-                    return Err(dropped
-                        .take()
-                        .map_or(AttemptFailure::Timeout { note: "" }, AttemptFailure::Discarded))
-                }
-                Err(wait) => return Err(wait.into()),
+                Err(wait) => return Err(AttemptFailure::after_wait(wait, dropped)),
             }
         }
     }

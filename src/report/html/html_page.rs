@@ -198,21 +198,42 @@ fn failed_summary(h: &mut String, r: &RunReport) {
     h.push_str("</ul>\n</section>\n");
 }
 
+/// Opens the section `id` headed `title` with a table of `columns` (heading, width in %),
+/// up to its body; when there is nothing to show, the section says `empty` instead, is
+/// closed, and the answer is false (no table to fill).
+fn table_section(
+    h: &mut String,
+    (id, title): (&str, &str),
+    columns: &[(&str, u32)],
+    empty: Option<&str>,
+) -> bool {
+    h.push_str(&format!("<section id=\"{id}\">\n<h2>{title}</h2>\n"));
+    if let Some(when_empty) = empty {
+        h.push_str(&format!("<p>{when_empty}</p>\n</section>\n"));
+        return false;
+    }
+    h.push_str("<table>\n<colgroup>");
+    for (_, width) in columns {
+        h.push_str(&format!("<col style=\"width:{width}%\">"));
+    }
+    h.push_str("</colgroup>\n<thead><tr>");
+    for (heading, _) in columns {
+        h.push_str(&format!("<th>{heading}</th>"));
+    }
+    h.push_str("</tr></thead>\n<tbody>\n");
+    true
+}
+
 /// The heading of checks that are in no repeat or include, after some that are.
 const OUTSIDE_STAGES: &str = "not in a repeat or include";
 
 fn checks(h: &mut String, r: &RunReport) {
-    h.push_str("<section id=\"checks\">\n<h2>Checks</h2>\n");
-    if r.checks.is_empty() {
-        h.push_str("<p>The recipe has no checks.</p>\n</section>\n");
+    #[rustfmt::skip]
+    let columns = [("Check", 23), ("Measured", 15), ("Limits", 19), ("Result", 9), ("Details", 21), ("Where", 13)];
+    let empty = r.checks.is_empty().then_some("The recipe has no checks.");
+    if !table_section(h, ("checks", "Checks"), &columns, empty) {
         return;
     }
-    h.push_str(
-        "<table>\n<colgroup><col style=\"width:23%\"><col style=\"width:15%\"><col style=\"width:19%\">\
-         <col style=\"width:9%\"><col style=\"width:21%\"><col style=\"width:13%\"></colgroup>\n\
-         <thead><tr><th>Check</th><th>Measured</th><th>Limits</th><th>Result</th>\
-         <th>Details</th><th>Where</th></tr></thead>\n<tbody>\n",
-    );
     // Grouped by stage as they ran (a new group where the stage changes); names unique
     // within their stage.
     let mut groups: Vec<(&str, Vec<&CheckResult>)> = Vec::new();
@@ -295,17 +316,12 @@ pub fn steps_in_order(steps: &[StepRecord]) -> Vec<(&StepRecord, usize, bool)> {
 }
 
 fn steps(h: &mut String, r: &RunReport) {
-    h.push_str("<section id=\"steps\">\n<h2>Steps</h2>\n");
-    if r.steps.is_empty() {
-        h.push_str("<p>No step ran.</p>\n</section>\n");
+    #[rustfmt::skip]
+    let columns = [("#", 7), ("Phase", 8), ("Step", 24), ("Result", 10), ("Detail", 25), ("Start", 13), ("Duration", 13)];
+    let empty = r.steps.is_empty().then_some("No step ran.");
+    if !table_section(h, ("steps", "Steps"), &columns, empty) {
         return;
     }
-    h.push_str(
-        "<table>\n<colgroup><col style=\"width:7%\"><col style=\"width:8%\"><col style=\"width:24%\">\
-         <col style=\"width:10%\"><col style=\"width:25%\"><col style=\"width:13%\"><col style=\"width:13%\"></colgroup>\n\
-         <thead><tr><th>#</th><th>Phase</th><th>Step</th><th>Result</th><th>Detail</th>\
-         <th>Start</th><th>Duration</th></tr></thead>\n<tbody>\n",
-    );
     let start = r.steps.iter().map(|s| s.started).min().unwrap_or_default();
     for (s, depth, ok) in steps_in_order(&r.steps) {
         step_row(h, s, depth, ok, start);

@@ -97,26 +97,12 @@ enum Step {
     Years(i64),
 }
 
+#[rustfmt::skip]
 const STEPS: [Step; 20] = [
-    Step::Hours(1),
-    Step::Hours(2),
-    Step::Hours(3),
-    Step::Hours(6),
-    Step::Hours(12),
-    Step::Days(1),
-    Step::Days(2),
-    Step::Mondays,
-    Step::HalfMonths,
-    Step::Months(1),
-    Step::Months(2),
-    Step::Months(3),
-    Step::Months(6),
-    Step::Years(1),
-    Step::Years(2),
-    Step::Years(5),
-    Step::Years(10),
-    Step::Years(20),
-    Step::Years(50),
+    Step::Hours(1), Step::Hours(2), Step::Hours(3), Step::Hours(6), Step::Hours(12),
+    Step::Days(1), Step::Days(2), Step::Mondays, Step::HalfMonths,
+    Step::Months(1), Step::Months(2), Step::Months(3), Step::Months(6),
+    Step::Years(1), Step::Years(2), Step::Years(5), Step::Years(10), Step::Years(20), Step::Years(50),
     Step::Years(100),
 ];
 
@@ -206,8 +192,10 @@ mod tests {
     /// 2026-11-25T05:02:55Z.
     const T: f64 = 1_795_582_975.0;
 
-    fn labels(axis: &TimeAxis) -> Vec<&str> {
-        axis.ticks.iter().map(|t| t.1.as_str()).collect()
+    /// The axis's tick labels, one after the other.
+    fn labels(axis: &TimeAxis) -> String {
+        let labels: Vec<&str> = axis.ticks.iter().map(|t| t.1.as_str()).collect();
+        labels.join(", ")
     }
 
     fn day(y: i64, m: u32, d: u32) -> f64 {
@@ -242,10 +230,10 @@ mod tests {
             assert!(axis.ticks.iter().all(|t| t.0 >= T && t.0 <= axis.range.1));
         }
         let minutes = TimeAxis::calendar(T, T + 25.0 * 60.0);
-        assert_eq!(labels(&minutes), ["0", "5", "10", "15", "20", "25"]);
+        assert_eq!(labels(&minutes), "0, 5, 10, 15, 20, 25");
         assert_eq!(minutes.ticks[2].0, T + 600.0);
         let hours = TimeAxis::calendar(T, T + 20.0 * HOUR);
-        assert_eq!(labels(&hours), ["0", "5", "10", "15", "20"]);
+        assert_eq!(labels(&hours), "0, 5, 10, 15, 20");
     }
 
     #[test]
@@ -258,79 +246,34 @@ mod tests {
 
     #[test]
     fn a_day_or_more_reads_as_dates_at_round_calendar_points() {
-        // A day and a half: every 6 hours from midnight.
-        let axis = TimeAxis::calendar(T, T + 1.5 * DAY);
-        assert_eq!(axis.title, "date (UTC)");
-        assert_eq!(
-            labels(&axis),
-            [
-                "11-25 06:00",
-                "11-25 12:00",
-                "11-25 18:00",
-                "11-26 00:00",
-                "11-26 06:00",
-                "11-26 12:00",
-                "11-26 18:00"
-            ]
-        );
-        assert_eq!(axis.ticks[3].0, day(2026, 11, 26));
-        // Five days: each midnight.
-        let axis = TimeAxis::calendar(T, T + 5.0 * DAY);
-        assert_eq!(
-            labels(&axis),
-            [
-                "2026-11-26",
-                "2026-11-27",
-                "2026-11-28",
-                "2026-11-29",
-                "2026-11-30"
-            ]
-        );
-        // Five weeks: Mondays.
-        let axis = TimeAxis::calendar(T, T + 35.0 * DAY);
-        assert_eq!(
-            labels(&axis),
-            [
-                "2026-11-30",
-                "2026-12-07",
-                "2026-12-14",
-                "2026-12-21",
-                "2026-12-28"
-            ]
-        );
-        // Three months: the 1st and the 15th.
-        let axis = TimeAxis::calendar(T, T + 92.0 * DAY);
-        assert_eq!(
-            labels(&axis),
-            [
-                "2026-12-01",
-                "2026-12-15",
-                "2027-01-01",
-                "2027-01-15",
-                "2027-02-01",
-                "2027-02-15"
-            ]
-        );
-        assert_eq!(axis.ticks[2].0, day(2027, 1, 1));
-        // Seven months: the 1st of each month.
-        let axis = TimeAxis::calendar(T, T + 210.0 * DAY);
-        assert_eq!(
-            labels(&axis),
-            ["2026-12", "2027-01", "2027-02", "2027-03", "2027-04", "2027-05", "2027-06"]
-        );
-        assert_eq!(axis.ticks[1].0, day(2027, 1, 1));
-        // Two years: quarters.
-        let axis = TimeAxis::calendar(T, T + 730.0 * DAY);
-        assert_eq!(
-            labels(&axis),
-            ["2027-01", "2027-04", "2027-07", "2027-10", "2028-01", "2028-04", "2028-07", "2028-10"]
-        );
-        // Twelve years: every other year; sixty: every ten.
-        let axis = TimeAxis::calendar(T, T + 12.0 * 365.25 * DAY);
-        assert_eq!(labels(&axis), ["2028", "2030", "2032", "2034", "2036", "2038"]);
-        assert_eq!(axis.ticks[0].0, day(2028, 1, 1));
-        let axis = TimeAxis::calendar(T, T + 60.0 * 365.25 * DAY);
-        assert_eq!(labels(&axis), ["2030", "2040", "2050", "2060", "2070", "2080"]);
+        let axis = |days: f64| TimeAxis::calendar(T, T + days * DAY);
+        #[rustfmt::skip]
+        let spans = [
+            // A day and a half: every 6 hours from midnight.
+            (1.5, "11-25 06:00, 11-25 12:00, 11-25 18:00, 11-26 00:00, 11-26 06:00, 11-26 12:00, 11-26 18:00"),
+            // Five days: each midnight.
+            (5.0, "2026-11-26, 2026-11-27, 2026-11-28, 2026-11-29, 2026-11-30"),
+            // Five weeks: Mondays.
+            (35.0, "2026-11-30, 2026-12-07, 2026-12-14, 2026-12-21, 2026-12-28"),
+            // Three months: the 1st and the 15th.
+            (92.0, "2026-12-01, 2026-12-15, 2027-01-01, 2027-01-15, 2027-02-01, 2027-02-15"),
+            // Seven months: the 1st of each month.
+            (210.0, "2026-12, 2027-01, 2027-02, 2027-03, 2027-04, 2027-05, 2027-06"),
+            // Two years: quarters.
+            (730.0, "2027-01, 2027-04, 2027-07, 2027-10, 2028-01, 2028-04, 2028-07, 2028-10"),
+            // Twelve years: every other year; sixty: every ten.
+            (12.0 * 365.25, "2028, 2030, 2032, 2034, 2036, 2038"),
+            (60.0 * 365.25, "2030, 2040, 2050, 2060, 2070, 2080"),
+        ];
+        for (days, shown) in spans {
+            assert_eq!(labels(&axis(days)), shown, "{days} days");
+        }
+        assert_eq!(axis(1.5).title, "date (UTC)");
+        // Each tick stands at the moment its label names.
+        assert_eq!(axis(1.5).ticks[3].0, day(2026, 11, 26));
+        assert_eq!(axis(92.0).ticks[2].0, day(2027, 1, 1));
+        assert_eq!(axis(210.0).ticks[1].0, day(2027, 1, 1));
+        assert_eq!(axis(12.0 * 365.25).ticks[0].0, day(2028, 1, 1));
     }
 
     #[test]

@@ -29,110 +29,89 @@ pub struct Target {
     pub heartbeat: bool,
 }
 
+/// The built-in SD2 over its service channel: a drive with a profile that turns up to
+/// 6000 rpm; the other targets say how they differ from it.
+const SD2: Target = Target {
+    name: "sd2",
+    header: "drive: sd2\n",
+    controlled: true,
+    off_state: "ready_to_switch_on",
+    top_rpm: 6000,
+    fault_object: "drive_error",
+    reads: &["speed_actual", "status_word", "bus_voltage"],
+    text_check: None,
+    sampled: Some("speed_actual"),
+    can: false,
+    heartbeat: false,
+};
+
+/// A Modbus inverter: stops in switched on, up to 3000 rpm, its fault in `fault_code`.
+const MODBUS: Target = Target {
+    off_state: "switched_on",
+    top_rpm: 3000,
+    fault_object: "fault_code",
+    ..SD2
+};
+
+/// A drive without a device-control profile: it is only read and checked.
+const UNCONTROLLED: Target = Target {
+    controlled: false,
+    top_rpm: 0,
+    ..SD2
+};
+
 pub const TARGETS: [Target; 8] = [
-    Target {
-        name: "sd2",
-        header: "drive: sd2\n",
-        controlled: true,
-        off_state: "ready_to_switch_on",
-        top_rpm: 6000,
-        fault_object: "drive_error",
-        reads: &["speed_actual", "status_word", "bus_voltage"],
-        text_check: None,
-        sampled: Some("speed_actual"),
-        can: false,
-        heartbeat: false,
-    },
+    SD2,
     Target {
         name: "sd2_cyclic",
         header: "drive: sd2\nlink: { channel: cyclic, velocity_scaling: 24000 rpm }\n",
-        controlled: true,
-        off_state: "ready_to_switch_on",
-        top_rpm: 6000,
-        fault_object: "drive_error",
         reads: &["speed_actual", "status_word"],
-        text_check: None,
-        sampled: Some("speed_actual"),
-        can: false,
-        heartbeat: false,
+        ..SD2
     },
     Target {
         name: "ct_ansi",
         header: "drive: ct-unidrive-sp\n",
-        controlled: true,
         off_state: "switched_on",
         top_rpm: 1500,
         fault_object: "last_trip",
-        reads: &["speed_actual", "status_word", "bus_voltage"],
-        text_check: None,
-        sampled: Some("speed_actual"),
-        can: false,
-        heartbeat: false,
+        ..SD2
     },
     Target {
         name: "lenze_931",
         header: "drive: lenze-931\n",
-        controlled: false,
-        off_state: "ready_to_switch_on",
-        top_rpm: 0,
         fault_object: "boot_state",
         reads: &["ident", "boot_state", "firmware_version"],
         text_check: Some(("boot_state", "APPLICATION")),
         sampled: None,
-        can: false,
-        heartbeat: false,
+        ..UNCONTROLLED
     },
     Target {
         name: "lenze_9400",
         header: "drive: lenze-9400\n",
-        controlled: false,
-        off_state: "ready_to_switch_on",
-        top_rpm: 0,
         fault_object: "heatsink_temperature",
         reads: &["ident", "heatsink_temperature", "rated_motor_current"],
-        text_check: None,
         sampled: Some("heatsink_temperature"),
         can: true,
-        heartbeat: false,
+        ..UNCONTROLLED
     },
     Target {
         name: "canopen",
         header: "drive: canopen\n",
-        controlled: true,
-        off_state: "ready_to_switch_on",
-        top_rpm: 6000,
-        fault_object: "drive_error",
-        reads: &["speed_actual", "status_word", "bus_voltage"],
-        text_check: None,
-        sampled: Some("speed_actual"),
         can: true,
         heartbeat: true,
+        ..SD2
     },
     Target {
         name: "modbus_rtu",
         header: "drive: sunfar-e500\n",
-        controlled: true,
-        off_state: "switched_on",
-        top_rpm: 3000,
-        fault_object: "fault_code",
         reads: &["speed_actual", "current_actual"],
-        text_check: None,
-        sampled: Some("speed_actual"),
-        can: false,
-        heartbeat: false,
+        ..MODBUS
     },
     Target {
         name: "modbus_tcp",
         header: "drive: modbus-tcp-inverter\n",
-        controlled: true,
-        off_state: "switched_on",
-        top_rpm: 3000,
-        fault_object: "fault_code",
         reads: &["speed_actual", "bus_voltage"],
-        text_check: None,
-        sampled: Some("speed_actual"),
-        can: false,
-        heartbeat: false,
+        ..MODBUS
     },
 ];
 
