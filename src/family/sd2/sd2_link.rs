@@ -15,8 +15,7 @@ use crate::family::sd2::codec::{
 };
 use crate::hex::to_hex;
 use crate::link::{
-    AttemptFailure, CoreLink, Direction, ExchangeText, LinkCore, Refusal, ReplyWait, RetryPlan,
-    Unanswered,
+    AttemptFailure, CoreLink, Direction, ExchangeText, LinkCore, Refusal, ReplyWait, RetryPlan, Unanswered,
 };
 use std::time::Duration;
 
@@ -220,7 +219,11 @@ impl LineEnd {
     }
 
     /// Waits for the reply that answers `request` and keeps it in `self.reply`.
-    fn await_reply(&mut self, t: &mut dyn Transport, request: &Telegram) -> Result<(), AttemptFailure<Refused>> {
+    fn await_reply(
+        &mut self,
+        t: &mut dyn Transport,
+        request: &Telegram,
+    ) -> Result<(), AttemptFailure<Refused>> {
         let (sent, deadline) = self.core.reply_window(t, self.config.reply_timeout);
         let mut dropped = None;
         loop {
