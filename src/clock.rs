@@ -170,7 +170,11 @@ impl Clock for VirtualClock {
     }
 
     fn sleep_until(&self, deadline: Duration) {
-        self.nanos.fetch_max(saturating_nanos(deadline), Ordering::SeqCst);
+        let target = saturating_nanos(deadline);
+        // A deadline already passed needs no locked write (a read is a plain load).
+        if self.nanos.load(Ordering::SeqCst) < target {
+            self.nanos.fetch_max(target, Ordering::SeqCst);
+        }
     }
 
     fn wait_step_until(&self, _now: Duration, until: Duration, _stop: &StopRequests) {

@@ -49,6 +49,13 @@ pub trait Peer: Send {
         true
     }
 
+    /// Until when the line, up at `now`, stays up for certain (a lost link ahead starts
+    /// then); a transport asks [`Peer::reachable`] again only after it. `now` itself by
+    /// default: it asks every time.
+    fn up_until(&self, now: Duration) -> Duration {
+        now
+    }
+
     /// What the peer sends on its own by clock time `now` (a CAN node's heartbeat behind
     /// a simulated adapter); nothing by default.
     fn poll(&mut self, _now: Duration) -> Vec<PeerReply> {
@@ -127,6 +134,9 @@ pub struct MemoryTransport {
     /// The peer's replies to the write under way (empty between writes) and buffers for
     /// the next ones.
     replies: PeerReplies,
+    /// Until when the peer's line is up for certain, as the peer said at the last write:
+    /// the reads of that write's replies need not lock the peer to ask.
+    up_until: Duration,
 }
 
 impl MemoryTransport {
@@ -138,6 +148,7 @@ impl MemoryTransport {
             wire: None,
             pending: VecDeque::new(),
             replies: PeerReplies::default(),
+            up_until: Duration::ZERO,
         }
     }
 
@@ -181,6 +192,7 @@ impl Transport for MemoryTransport {
             if !peer.reachable(now) {
                 return Err(self.line_down());
             }
+            self.up_until = peer.up_until(now);
             peer.exchange_into(bytes, now, &mut self.replies)?;
         }
         for mut r in self.replies.list.drain(..) {
@@ -204,7 +216,7 @@ impl Transport for MemoryTransport {
     }
 
     fn read(&mut self, buf: &mut [u8], timeout: Duration) -> Result<usize, TransportError> {
-        if !self.reachable() {
+        if self.clock.now() >= self.up_until && !self.reachable() {
             self.pending.clear();
             return Err(self.line_down());
         }
@@ -270,6 +282,40 @@ mod tests {
             delay: Duration::from_millis(delay_ms),
         }));
         (MemoryTransport::new("echo", peer, clock.clone()), clock)
+    }
+
+    /// Answers after 5 ms; its line goes down at 2 ms, as the simulator's lost link.
+    struct LosesItsLine;
+    impl Peer for LosesItsLine {
+        fn receive(&mut self, bytes: &[u8], now: Duration) -> Vec<PeerReply> {
+            vec![PeerReply {
+                at: now + Duration::from_millis(5),
+                bytes: bytes.to_vec(),
+            }]
+        }
+        fn reachable(&self, now: Duration) -> bool {
+            now < Duration::from_millis(2)
+        }
+        fn up_until(&self, _now: Duration) -> Duration {
+            Duration::from_millis(2)
+        }
+    }
+
+    /// The reads after a write ask the peer again once the time it vouched for is over.
+    #[test]
+    fn a_line_lost_between_request_and_reply_fails_the_read() {
+        let clock = Arc::new(VirtualClock::new());
+        let peer: Arc<Mutex<dyn Peer>> = Arc::new(Mutex::new(LosesItsLine));
+        let mut t = MemoryTransport::new("losing", peer, clock.clone());
+        t.write_all(&[1]).unwrap();
+        let mut buf = [0u8; 4];
+        clock.advance(Duration::from_millis(1));
+        assert!(t.discard_input().is_ok());
+        clock.advance(Duration::from_millis(2));
+        assert!(matches!(
+            t.read(&mut buf, Duration::from_secs(1)),
+            Err(TransportError::Io { .. })
+        ));
     }
 
     #[test]

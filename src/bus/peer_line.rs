@@ -29,6 +29,14 @@ impl Peer for PeerLine {
             .iter()
             .all(|p| p.lock().unwrap_or_else(PoisonError::into_inner).reachable(now))
     }
+
+    fn up_until(&self, now: Duration) -> Duration {
+        self.0
+            .iter()
+            .map(|p| p.lock().unwrap_or_else(PoisonError::into_inner).up_until(now))
+            .min()
+            .unwrap_or(Duration::MAX)
+    }
 }
 
 /// A line behind a half-duplex RS485 adapter with echo on: every byte the master sends
@@ -55,6 +63,13 @@ impl Peer for EchoingLine {
             .lock()
             .unwrap_or_else(PoisonError::into_inner)
             .reachable(now)
+    }
+
+    fn up_until(&self, now: Duration) -> Duration {
+        self.0
+            .lock()
+            .unwrap_or_else(PoisonError::into_inner)
+            .up_until(now)
     }
 }
 

@@ -8,8 +8,14 @@ use std::sync::{Arc, Mutex, MutexGuard, PoisonError};
 
 /// A bus (`B` is `dyn Transport` or `dyn FrameBus`) shared by the links of several drives.
 pub struct Shared<B: ?Sized> {
-    inner: Arc<Mutex<Box<B>>>,
-    name: Arc<str>,
+    /// One shared allocation, so that a link's handle for one exchange costs one count.
+    inner: Arc<Line<B>>,
+}
+
+/// The bus and its name, behind one count.
+struct Line<B: ?Sized> {
+    name: Box<str>,
+    bus: Mutex<Box<B>>,
 }
 
 /// A byte transport shared by the drives on one line.
@@ -39,22 +45,24 @@ impl Named for dyn FrameBus {
 
 impl<B: ?Sized + Named> Shared<B> {
     pub fn new(bus: Box<B>) -> Self {
-        let name: Arc<str> = bus.bus_name().into();
+        let name = bus.bus_name().into();
         Shared {
-            inner: Arc::new(Mutex::new(bus)),
-            name,
+            inner: Arc::new(Line {
+                name,
+                bus: Mutex::new(bus),
+            }),
         }
     }
 
     /// The bus for one exchange. A panic in another user's exchange leaves the bus usable:
     /// the next exchange discards stale input anyway, and the safe stop needs it.
     pub fn lock(&self) -> MutexGuard<'_, Box<B>> {
-        self.inner.lock().unwrap_or_else(PoisonError::into_inner)
+        self.inner.bus.lock().unwrap_or_else(PoisonError::into_inner)
     }
 
     /// What the bus talks to, for messages (as when it was opened).
     pub fn name(&self) -> &str {
-        &self.name
+        &self.inner.name
     }
 
     /// How many users share it (the links of the drives on this bus).
@@ -74,13 +82,12 @@ impl<B: ?Sized> Clone for Shared<B> {
     fn clone(&self) -> Self {
         Shared {
             inner: self.inner.clone(),
-            name: self.name.clone(),
         }
     }
 }
 
 impl<B: ?Sized + Named> std::fmt::Debug for Shared<B> {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "{}({})", B::KIND, self.name)
+        write!(f, "{}({})", B::KIND, self.inner.name)
     }
 }

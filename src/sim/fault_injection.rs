@@ -196,6 +196,21 @@ impl FaultInjection {
         !matches!(self.line_down, Some((from, until)) if from <= now && now < until)
     }
 
+    /// Until when the line, up at `now`, stays up: the start of the lost link ahead, or
+    /// for ever. `now` when it is down.
+    pub fn line_up_until(&self, now: Duration) -> Duration {
+        match self.line_down {
+            Some((from, until)) if now < until => {
+                if now < from {
+                    from
+                } else {
+                    now
+                }
+            }
+            _ => Duration::MAX,
+        }
+    }
+
     /// The simulator panics while handling the first request at or after `at`, once,
     /// before the request changes anything.
     pub fn panic_at(&mut self, at: Duration) -> &mut Self {
@@ -261,6 +276,19 @@ impl FaultInjection {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_line_is_up_until_the_lost_link_starts_and_after_it_ends() {
+        let ms = Duration::from_millis;
+        let mut f = FaultInjection::default();
+        assert_eq!(f.line_up_until(ms(7)), Duration::MAX);
+        f.line_down(ms(10), ms(20));
+        assert_eq!(f.line_up_until(ms(7)), ms(10));
+        assert!(!f.line_up(ms(10)));
+        assert_eq!(f.line_up_until(ms(15)), ms(15));
+        assert!(f.line_up(ms(20)));
+        assert_eq!(f.line_up_until(ms(20)), Duration::MAX);
+    }
 
     #[test]
     fn injections_count_down_independently() {

@@ -14,26 +14,37 @@ use crate::family::sd2::codec::{
     check_reply, Body, Cyclic, Data, DecodeError, ErrorCode, FrameExtractor, Framing, Telegram,
 };
 use crate::hex::to_hex;
-use crate::link::{AttemptFailure, CoreLink, Direction, ExchangeText, LinkCore, Refusal, RetryPlan};
+use crate::link::{
+    AttemptFailure, CoreLink, Direction, ExchangeText, LinkCore, Refusal, RetryPlan, Unanswered,
+};
 use std::time::Duration;
 
 /// A stop request does not cut short the first part of a reply wait: a drive that is
 /// answering at all has answered by then (250 µs turnaround plus the reply's wire time),
 /// so the telegram under way finishes and its answer is not lost.
 const STOP_GRACE: Duration = Duration::from_millis(20);
-/// What to check when an SD2 drive stays silent.
 /// What to check when the drive does not answer; also the family's `no_reply_advice`.
 pub(super) const NO_REPLY_HINT: &str = "check the cable, the baud rate, the drive's DNC address (address switch), and that its control channel is set to the serial interface";
 
 pub struct Sd2Link {
     /// Shared with the other drives on the same line; locked for one whole exchange.
     transport: SharedTransport,
+    end: LineEnd,
+}
+
+/// This end of the line: everything an exchange uses besides the line itself. Kept apart
+/// from the line's handle so that an exchange locks the line through the link's own
+/// handle, without another handle (and its counts) for each of a long run's millions.
+struct LineEnd {
     config: LinkConfig,
     extractor: FrameExtractor,
     /// Clock, observer, stop requests, counters and the listening every link shares.
     core: LinkCore,
     /// The request being sent, kept between exchanges: a long run sends millions.
     request_bytes: Vec<u8>,
+    /// The reply to the last exchange, written where it is read: the retry loop and its
+    /// results then carry no telegram.
+    reply: Telegram,
 }
 
 /// A reply that does not answer: its bytes and why.
@@ -43,17 +54,20 @@ impl Sd2Link {
     pub fn new(transport: SharedTransport, clock: SharedClock, config: LinkConfig) -> Self {
         Sd2Link {
             transport,
-            core: LinkCore::new(clock, STOP_GRACE),
-            config,
-            extractor: FrameExtractor::new(Framing::Replies),
-            request_bytes: Vec::new(),
+            end: LineEnd {
+                core: LinkCore::new(clock, STOP_GRACE),
+                config,
+                extractor: FrameExtractor::new(Framing::Replies),
+                request_bytes: Vec::new(),
+                reply: Telegram::read_request(0, 0, 0, 0),
+            },
         }
     }
 
     /// Closes and opens the port again after it failed; what arrived before is dropped.
     pub fn reopen(&mut self) -> Result<(), AccessError> {
-        self.extractor.clear();
-        self.core.event("reopening the port");
+        self.end.extractor.clear();
+        self.end.core.event("reopening the port");
         self.transport.reopen()?;
         Ok(())
     }
@@ -63,60 +77,52 @@ impl Sd2Link {
     }
 
     pub fn config(&self) -> &LinkConfig {
-        &self.config
+        &self.end.config
     }
 
     /// Sends `request` and returns the reply that answers it, retrying on timeouts and on
     /// corrupt or mismatched replies up to `config.retries` times.
     pub fn transact(&mut self, request: &Telegram) -> Result<Telegram, AccessError> {
-        let mut bytes = std::mem::take(&mut self.request_bytes);
-        bytes.clear();
-        request.encode_into(&mut bytes, self.config.write_length);
-        let result = self.send_and_await(request, &bytes);
-        self.request_bytes = bytes;
-        result
+        self.exchange(request)?;
+        Ok(self.end.reply)
     }
 
-    fn send_and_await(&mut self, request: &Telegram, bytes: &[u8]) -> Result<Telegram, AccessError> {
-        let shared = self.transport.clone();
-        let mut line = shared.lock();
-        let t: &mut dyn Transport = line.as_mut();
-        let c = &self.config;
+    /// [`transact`](Self::transact), with the reply left in `self.end.reply`.
+    fn exchange(&mut self, request: &Telegram) -> Result<(), AccessError> {
+        let end = &mut self.end;
+        let mut bytes = std::mem::take(&mut end.request_bytes);
+        bytes.clear();
+        request.encode_into(&mut bytes, end.config.write_length);
+        let c = &end.config;
         let plan = RetryPlan::new(c.retries, c.settle, c.reply_timeout);
-        plan.run(self, t, |link, t, attempt| {
-            link.flush_input(t).map_err(AttemptFailure::Transport)?;
-            t.write_all(bytes).map_err(AttemptFailure::Transport)?;
-            link.core.stats.requests += 1;
-            link.core.notify(Direction::Sent, bytes);
-            let reply = link.await_reply(t, request)?;
-            // Only a first attempt answered with nothing after it vouches for a clean
-            // line: after a retry, the failed attempt's reply may still come.
-            if attempt == 1 && link.extractor.pending().is_empty() {
-                t.exchange_complete();
-            }
-            Ok(reply)
-        })
-        .map_err(|unanswered| {
+        let result = {
+            let mut line = self.transport.lock();
+            let t: &mut dyn Transport = line.as_mut();
+            end.send_and_await(&plan, t, request, &bytes)
+        };
+        let result = result.map_err(|unanswered| {
             let text = ExchangeText {
                 port: self.transport.name().to_string(),
                 address: request.dest.to_string(),
-                request: describe_request(request, bytes),
+                request: describe_request(request, &bytes),
                 hint: NO_REPLY_HINT.to_string(),
             };
             unanswered.into_error(text, plan.reply_timeout, |r| {
                 (to_hex(&r.reply), r.problem.to_string())
             })
-        })
+        });
+        self.end.request_bytes = bytes;
+        result
     }
 
     /// Reads an object; a reply carrying an error code becomes [`AccessError::Refused`].
     pub fn read_object(&mut self, dest: u8, index: u16, subindex: u32) -> Result<Data, AccessError> {
-        let request = Telegram::read_request(dest, self.config.master_address, index, subindex);
-        let reply = self.transact(&request)?;
-        match reply.body {
+        let request = Telegram::read_request(dest, self.end.config.master_address, index, subindex);
+        self.exchange(&request)?;
+        match self.end.reply.body {
             Body::ReadReply { error, data } if error.is_ok() => Ok(data),
             Body::ReadReply { error, .. } => Err(self.refused(dest, "read", index, subindex, error)),
-            _ => Err(self.unexpected(&request, &reply)),
+            _ => Err(self.unexpected(&request)),
         }
     }
 
@@ -128,13 +134,13 @@ impl Sd2Link {
         subindex: u32,
         data: &[u8],
     ) -> Result<(), AccessError> {
-        let request = Telegram::write_request(dest, self.config.master_address, index, subindex, data)
+        let request = Telegram::write_request(dest, self.end.config.master_address, index, subindex, data)
             .map_err(|e| AccessError::Encode(e.to_string()))?;
-        let reply = self.transact(&request)?;
-        match reply.body {
+        self.exchange(&request)?;
+        match self.end.reply.body {
             Body::WriteReply { error } if error.is_ok() => Ok(()),
             Body::WriteReply { error } => Err(self.refused(dest, "write", index, subindex, error)),
-            _ => Err(self.unexpected(&request, &reply)),
+            _ => Err(self.unexpected(&request)),
         }
     }
 
@@ -142,13 +148,13 @@ impl Sd2Link {
     pub fn cyclic(&mut self, dest: u8, cyclic: Cyclic) -> Result<Cyclic, AccessError> {
         let request = Telegram {
             dest,
-            source: self.config.master_address,
+            source: self.end.config.master_address,
             body: Body::CyclicRequest(cyclic),
         };
-        let reply = self.transact(&request)?;
-        match reply.body {
+        self.exchange(&request)?;
+        match self.end.reply.body {
             Body::CyclicReply(c) => Ok(c),
-            _ => Err(self.unexpected(&request, &reply)),
+            _ => Err(self.unexpected(&request)),
         }
     }
 
@@ -170,13 +176,40 @@ impl Sd2Link {
         }
     }
 
-    fn unexpected(&self, request: &Telegram, reply: &Telegram) -> AccessError {
+    /// The last reply is of the wrong kind for `request`.
+    fn unexpected(&self, request: &Telegram) -> AccessError {
         AccessError::UnexpectedReply {
             port: self.transport.name().to_string(),
             address: request.dest.to_string(),
-            request: describe_request(request, &request.encode(self.config.write_length)),
-            detail: format!("command 0x{:02x}", reply.command()),
+            request: describe_request(request, &request.encode(self.end.config.write_length)),
+            detail: format!("command 0x{:02x}", self.end.reply.command()),
         }
+    }
+}
+
+impl LineEnd {
+    /// Sends `bytes` (the encoded `request`) on `t` and waits for the reply that answers it
+    /// (into `self.reply`), as `plan` says.
+    fn send_and_await(
+        &mut self,
+        plan: &RetryPlan,
+        t: &mut dyn Transport,
+        request: &Telegram,
+        bytes: &[u8],
+    ) -> Result<(), Unanswered<Refused>> {
+        plan.run(self, t, |end, t, attempt| {
+            end.flush_input(t).map_err(AttemptFailure::Transport)?;
+            t.write_all(bytes).map_err(AttemptFailure::Transport)?;
+            end.core.stats.requests += 1;
+            end.core.notify(Direction::Sent, bytes);
+            end.await_reply(t, request)?;
+            // Only a first attempt answered with nothing after it vouches for a clean
+            // line: after a retry, the failed attempt's reply may still come.
+            if attempt == 1 && end.extractor.pending().is_empty() {
+                t.exchange_complete();
+            }
+            Ok(())
+        })
     }
 
     fn flush_input(&mut self, t: &mut dyn Transport) -> Result<(), TransportError> {
@@ -185,11 +218,12 @@ impl Sd2Link {
         Ok(())
     }
 
+    /// Waits for the reply that answers `request` and keeps it in `self.reply`.
     fn await_reply(
         &mut self,
         t: &mut dyn Transport,
         request: &Telegram,
-    ) -> Result<Telegram, AttemptFailure<Refused>> {
+    ) -> Result<(), AttemptFailure<Refused>> {
         let (sent, deadline) = self.core.reply_window(t, self.config.reply_timeout);
         let mut dropped = None;
         loop {
@@ -225,7 +259,8 @@ impl Sd2Link {
                     });
                     continue;
                 }
-                return Ok(telegram);
+                self.reply = telegram;
+                return Ok(());
             }
             match self.core.read_reply(t, sent, deadline) {
                 Ok(bytes) => self.extractor.push(bytes),
@@ -235,12 +270,21 @@ impl Sd2Link {
     }
 }
 
-impl CoreLink for Sd2Link {
+impl CoreLink for LineEnd {
     fn core(&mut self) -> &mut LinkCore {
         &mut self.core
     }
     fn core_ref(&self) -> &LinkCore {
         &self.core
+    }
+}
+
+impl CoreLink for Sd2Link {
+    fn core(&mut self) -> &mut LinkCore {
+        &mut self.end.core
+    }
+    fn core_ref(&self) -> &LinkCore {
+        &self.end.core
     }
 }
 

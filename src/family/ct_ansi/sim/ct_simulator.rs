@@ -216,6 +216,10 @@ impl Peer for CtSimulator {
     fn reachable(&self, now: Duration) -> bool {
         self.core.faults.line_up(now)
     }
+
+    fn up_until(&self, now: Duration) -> Duration {
+        self.core.faults.line_up_until(now)
+    }
 }
 
 impl SimFront for CtSimulator {

@@ -33,6 +33,21 @@ const CYCLIC_SERVICE_LEN: u8 = 0x15;
 /// Offset of the count byte in a Write Wide Object command.
 const WRITE_COUNT_OFFSET: usize = 11;
 
+/// Bytes appended with their running sum for the check byte: the sum is taken from the
+/// values being written, not read back from the buffer just written byte by byte (a read
+/// that waits for those writes to land, in each of a long run's millions of telegrams).
+struct Summed<'a> {
+    out: &'a mut Vec<u8>,
+    sum: u8,
+}
+
+impl Summed<'_> {
+    fn put(&mut self, bytes: &[u8]) {
+        self.sum = bytes.iter().fold(self.sum, |sum, b| sum.wrapping_add(*b));
+        self.out.extend_from_slice(bytes);
+    }
+}
+
 impl Telegram {
     pub fn read_request(dest: u8, source: u8, index: u16, subindex: u32) -> Telegram {
         Telegram {
@@ -99,47 +114,48 @@ impl Telegram {
     /// Appends the bytes of this telegram to `out`.
     pub fn encode_into(&self, out: &mut Vec<u8>, write_length: WriteLength) {
         let start = out.len();
-        out.extend_from_slice(&[0x00, 0x00, self.dest, self.source, self.command()]);
+        out.extend_from_slice(&[0x00, 0x00]);
+        let mut w = Summed { out, sum: 0 };
+        w.put(&[self.dest, self.source, self.command()]);
         match &self.body {
             Body::ReadRequest { index, subindex } => {
-                out.extend_from_slice(&index.to_le_bytes());
-                out.extend_from_slice(&subindex.to_le_bytes());
+                w.put(&index.to_le_bytes());
+                w.put(&subindex.to_le_bytes());
             }
             Body::ReadReply { error, data } => {
-                out.push(data.len() as u8);
-                out.push(error.0);
-                out.extend_from_slice(data.as_slice());
+                w.put(&[data.len() as u8, error.0]);
+                w.put(data.as_slice());
             }
             Body::WriteRequest {
                 index,
                 subindex,
                 data,
             } => {
-                out.extend_from_slice(&index.to_le_bytes());
-                out.extend_from_slice(&subindex.to_le_bytes());
-                out.push(data.len() as u8);
-                out.extend_from_slice(data.as_slice());
+                w.put(&index.to_le_bytes());
+                w.put(&subindex.to_le_bytes());
+                w.put(&[data.len() as u8]);
+                w.put(data.as_slice());
             }
-            Body::WriteReply { error } => out.push(error.0),
+            Body::WriteReply { error } => w.put(&[error.0]),
             Body::CyclicRequest(c) | Body::CyclicReply(c) => {
-                out.extend_from_slice(&c.header);
-                out.extend_from_slice(&c.pdo);
+                w.put(&c.header);
+                w.put(&c.pdo);
                 if let Some(s) = &c.service {
-                    out.push(s.reserved);
-                    out.push(s.ctrl);
-                    out.extend_from_slice(&s.index.to_le_bytes());
-                    out.extend_from_slice(&s.data);
+                    w.put(&[s.reserved, s.ctrl]);
+                    w.put(&s.index.to_le_bytes());
+                    w.put(&s.data);
                 }
             }
         }
+        let sum = w.sum;
         let length = match &self.body {
             Body::WriteRequest { data, .. } => write_length.field(data.len()),
             // Bytes after the length field up to the check byte: dest..data.
             _ => (out.len() - start - 2) as u8,
         };
         out[start + 1] = length;
-        let check = checksum(&out[start + 1..]);
-        out.push(check);
+        // The check byte of the length field and what follows (see [`checksum`]).
+        out.push(0xFF - sum.wrapping_add(length));
     }
 
     /// Decodes exactly one complete block. Write commands are framed by their count byte,

@@ -219,6 +219,10 @@ impl Peer for Sd2Simulator {
     fn reachable(&self, now: Duration) -> bool {
         self.core.faults.line_up(now)
     }
+
+    fn up_until(&self, now: Duration) -> Duration {
+        self.core.faults.line_up_until(now)
+    }
 }
 
 impl Sd2Simulator {
