@@ -61,7 +61,7 @@ fn campaign(recipe: &Path, store: &str, data: &Path, kills: usize, offline: &dyn
     let mut moments = Moments::new();
     let spawn = |args: &[&str]| {
         command()
-            .env("XDG_DATA_HOME", data)
+            .envs(crate::support::data_home(data))
             .args(args)
             .args(["--results", store])
             .stdin(Stdio::null())
@@ -121,7 +121,7 @@ fn campaign(recipe: &Path, store: &str, data: &Path, kills: usize, offline: &dyn
         offline(false);
     }
     let last = command()
-        .env("XDG_DATA_HOME", data)
+        .envs(crate::support::data_home(data))
         .args(["results", "sync", "--results", store])
         .output()
         .expect("the last sync");
@@ -193,10 +193,6 @@ fn nothing_lost_or_stranded(store: &str, spools: &Path, tally: &Tally, steps: i6
 /// 200 SIGKILLs on SQLite, the store put aside (a directory in its place) every 20
 /// actions so that runs spool and syncs deliver.
 #[test]
-#[cfg_attr(
-    windows,
-    ignore = "fails under Wine (TerminateProcess at random moments); not yet understood"
-)]
 fn sigkill_at_random_moments_of_runs_and_syncs_loses_or_strands_nothing_in_sqlite() {
     let started = Instant::now();
     let dir = scratch("kill-sqlite");
@@ -214,10 +210,6 @@ fn sigkill_at_random_moments_of_runs_and_syncs_loses_or_strands_nothing_in_sqlit
 /// 50 SIGKILLs on a real PostgreSQL server, stopped and started every 20 actions, of
 /// runs of 1 006 steps (a queue's overflow on a server has its own test).
 #[test]
-#[cfg_attr(
-    windows,
-    ignore = "fails under Wine (TerminateProcess at random moments); not yet understood"
-)]
 fn sigkill_at_random_moments_of_runs_and_syncs_loses_or_strands_nothing_in_postgresql() {
     let Some(server) = PostgresServer::start("kill-postgres") else {
         return;
