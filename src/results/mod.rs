@@ -12,6 +12,7 @@ pub mod capability_html;
 pub mod certificate_html;
 mod check_history;
 mod check_identity;
+mod claim_owner;
 pub mod export;
 pub mod filter_time;
 mod locator;

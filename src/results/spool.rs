@@ -6,6 +6,7 @@
 //! gone (killed while delivering) is taken back by the next delivery — a replayed record
 //! changes nothing, so a kill at any moment strands and loses nothing.
 
+use super::claim_owner::gone;
 use super::record::Record;
 use super::{Store, StoreError};
 use std::io::{Read, Seek, SeekFrom, Write};
@@ -129,7 +130,7 @@ impl Spool {
     fn stale_claims(&self) -> Vec<PathBuf> {
         self.claims()
             .into_iter()
-            .filter(|(path, pid)| *pid != std::process::id() && gone(*pid, path))
+            .filter(|(path, pid)| gone(*pid, path))
             .map(|(p, _)| p)
             .collect()
     }
@@ -160,12 +161,16 @@ impl Spool {
             let mine = free(&mut n);
             // Another delivery took it a moment ago: nothing to do.
             if std::fs::rename(&stale, &mine).is_ok() {
+                touch(&mine);
                 taken.push(mine);
             }
         }
         let mine = free(&mut n);
         match std::fs::rename(&self.path, &mine) {
-            Ok(()) => taken.push(mine),
+            Ok(()) => {
+                touch(&mine);
+                taken.push(mine);
+            }
             Err(e) if e.kind() == std::io::ErrorKind::NotFound => {}
             Err(e) => {
                 self.give_back(&taken);
@@ -289,34 +294,22 @@ impl Spool {
 }
 
 /// Whether `file` ends in the middle of a line (a write cut short by a kill).
+/// Dates a claim to its making (a rename keeps the spool's time), which is how a claim is
+/// told from one of an earlier process by the same number (see `claim_owner`). Where it
+/// fails the claim keeps the spool's time: at worst another delivery takes it over, and a
+/// replayed record changes nothing.
+fn touch(claim: &Path) {
+    let _ = std::fs::OpenOptions::new()
+        .append(true)
+        .open(claim)
+        .and_then(|f| f.set_modified(std::time::SystemTime::now()));
+}
+
 fn ends_unfinished(file: &mut std::fs::File) -> bool {
     let mut last = [0u8; 1];
     file.seek(SeekFrom::End(-1))
         .and_then(|_| file.read_exact(&mut last))
         .is_ok_and(|()| last[0] != b'\n')
-}
-
-/// Whether the process `pid` that made the claim `path` is gone.
-#[cfg(unix)]
-fn gone(pid: u32, _path: &Path) -> bool {
-    let Ok(pid) = libc::pid_t::try_from(pid) else {
-        return true;
-    };
-    // SAFETY: signal 0 only asks whether the process exists; nothing is sent.
-    let alive = unsafe { libc::kill(pid, 0) } == 0
-        || std::io::Error::last_os_error().raw_os_error() == Some(libc::EPERM);
-    !alive
-}
-
-/// Without a cheap way to ask about a process, a claim untouched for ten minutes (a
-/// delivery takes seconds) is taken as left by a process that is gone.
-#[cfg(not(unix))]
-fn gone(_pid: u32, path: &Path) -> bool {
-    std::fs::metadata(path)
-        .and_then(|m| m.modified())
-        .ok()
-        .and_then(|t| t.elapsed().ok())
-        .is_some_and(|age| age > std::time::Duration::from_secs(600))
 }
 
 #[cfg(test)]

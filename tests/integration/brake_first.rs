@@ -1,31 +1,23 @@
 //! The safe stop brakes a turning drive before anything disables it: Ctrl-C on every
-//! shipped recipe and script that enables a drive, through a real pseudo-terminal against
-//! the simulated SD2, must show the spindle below the standstill threshold before the
-//! first disable telegram, whatever the recipe's own `finally`; and `check` says where a
-//! recipe or script opts out.
+//! shipped recipe and script that enables a drive, through a real pseudo-terminal (a COM
+//! port under Wine) against the simulated SD2, must show the spindle below the standstill
+//! threshold before the first disable telegram, whatever the recipe's own `finally`; and
+//! `check` says where a recipe or script opts out.
 
 use crate::support::{drivescript, stdout};
 
-#[cfg(unix)]
 use crate::live_run::LiveRun;
-#[cfg(unix)]
 use crate::safety::{traced_writes, CONTROL_WORD, SPEED_SETPOINT};
-#[cfg(unix)]
 use crate::support::{repo_root, Simulator};
-#[cfg(unix)]
 use std::path::{Path, PathBuf};
-#[cfg(unix)]
 use std::time::{Duration, Instant};
 
 /// The default standstill threshold (rpm).
-#[cfg(unix)]
 pub(crate) const STANDSTILL: f64 = 10.0;
 /// Control word of enable operation (SD2).
-#[cfg(unix)]
 pub(crate) const ENABLE_OPERATION: i64 = 15;
 
 /// The shipped recipes and scripts that enable a drive.
-#[cfg(unix)]
 fn shipped_recipes_that_enable() -> Vec<PathBuf> {
     let mut found: Vec<PathBuf> = std::fs::read_dir(repo_root().join("recipes"))
         .expect("recipes/")
@@ -42,7 +34,6 @@ fn shipped_recipes_that_enable() -> Vec<PathBuf> {
 }
 
 /// The speed values (rpm) of the trace's speed_actual replies, each with its line number.
-#[cfg(unix)]
 pub(crate) fn speed_replies(trace: &str) -> Vec<(usize, f64)> {
     numbered(trace, |line| {
         let (_, after) = line.split_once("# reply speed_actual = ")?;
@@ -51,7 +42,6 @@ pub(crate) fn speed_replies(trace: &str) -> Vec<(usize, f64)> {
 }
 
 /// The line numbers and values of the control words written in the trace.
-#[cfg(unix)]
 pub(crate) fn control_words(trace: &str) -> Vec<(usize, i64)> {
     numbered(trace, |line| {
         Some(traced_writes(line, CONTROL_WORD).into_iter().next()?.1)
@@ -59,7 +49,6 @@ pub(crate) fn control_words(trace: &str) -> Vec<(usize, i64)> {
 }
 
 /// What `find` finds in the trace's lines, each with its line number.
-#[cfg(unix)]
 fn numbered<T>(trace: &str, find: impl Fn(&str) -> Option<T>) -> Vec<(usize, T)> {
     trace
         .lines()
@@ -71,7 +60,6 @@ fn numbered<T>(trace: &str, find: impl Fn(&str) -> Option<T>) -> Vec<(usize, T)>
 /// Runs `recipe` on a pty, sends Ctrl-C once the spindle was told to turn, and checks that
 /// the last speed read before the first disable telegram is below standstill. `Err` says
 /// what went wrong (the test collects every recipe's outcome before it fails).
-#[cfg(unix)]
 fn ctrl_c_while_turning(recipe: &Path) -> Result<(), String> {
     let sim = Simulator::pty(&[]);
     let name = recipe.file_stem().and_then(|s| s.to_str()).unwrap_or("recipe");
@@ -136,7 +124,6 @@ fn ctrl_c_while_turning(recipe: &Path) -> Result<(), String> {
     Ok(())
 }
 
-#[cfg(unix)]
 #[test]
 fn ctrl_c_on_every_shipped_recipe_brakes_to_standstill_before_the_first_disable() {
     let recipes = shipped_recipes_that_enable();

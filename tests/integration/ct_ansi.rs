@@ -340,10 +340,6 @@ fn a_group_write_gets_no_reply_and_is_not_repeated() {
 }
 
 #[test]
-#[cfg_attr(
-    windows,
-    ignore = "Wine 8 refuses to open this pty-backed COM port with these line settings (Invalid parameter); runs on Linux"
-)]
 fn the_commissioning_recipe_runs_behind_an_adapter_that_echoes() {
     let sim = crate::support::Simulator::start(&["--drive", "ct-unidrive-sp", "--pty", "--echo"]);
     let recipe = ct_commissioning("echo");
@@ -376,10 +372,6 @@ fn the_commissioning_recipe_runs_behind_an_adapter_that_echoes() {
 }
 
 #[test]
-#[cfg_attr(
-    windows,
-    ignore = "Wine 8 refuses to open this pty-backed COM port with these line settings (Invalid parameter); runs on Linux"
-)]
 fn the_commissioning_recipe_runs_through_a_pseudo_terminal() {
     let sim = crate::support::Simulator::start(&["--drive", "ct-unidrive-sp", "--pty"]);
     let recipe = ct_commissioning("pty");

@@ -67,12 +67,35 @@ fn every_value_from_its_own_reply(family: Family) {
         "{prompt}"
     );
     let (code, late, err) = read(&family, true);
-    assert_eq!(
-        late, prompt,
-        "{} answering after 300 ms to a 200 ms timeout read other values than when it answers at once (stderr: {err})",
+    assert!(
+        same_readings(&late, &values),
+        "{} answering after 300 ms to a 200 ms timeout read other values than when it answers at once (stderr: {err})\n  late: {late}\nprompt: {prompt}",
         family.drive
     );
     assert_eq!(code, Some(0), "{err}");
+}
+
+/// The simulated DC link's noise (±0.3 V about 325.3 V): a retried request's reply is a
+/// later sample of the same object, which may differ by this much; any other object's
+/// value is far from it.
+const DC_LINK_NOISE_V: f64 = 0.6;
+
+/// Whether `late` (`read --json`) holds the objects of `prompt` in order with their
+/// values, the DC-link voltage within its noise: how often a slow drive's requests are
+/// retried (and so which sample answers) follows the line's timing, not the protocol.
+fn same_readings(late: &str, prompt: &serde_json::Value) -> bool {
+    let Ok(serde_json::Value::Array(late)) = serde_json::from_str::<serde_json::Value>(late) else {
+        return false;
+    };
+    let prompt = prompt.as_array().map(Vec::as_slice).unwrap_or_default();
+    late.len() == prompt.len()
+        && late.iter().zip(prompt).all(|(l, p)| {
+            let noisy = p["object"] == "bus_voltage" && l["object"] == "bus_voltage";
+            match (l["value"].as_f64(), p["value"].as_f64()) {
+                (Some(a), Some(b)) if noisy => (a - b).abs() <= DC_LINK_NOISE_V && l["unit"] == p["unit"],
+                _ => l == p,
+            }
+        })
 }
 
 /// The objects read back from a Modbus inverter, RTU or TCP: status, values and text.

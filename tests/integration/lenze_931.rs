@@ -407,12 +407,15 @@ fn a_lost_line_to_the_931_ends_in_the_truth() {
     run.run_expecting(3, &["CHECK THE DRIVE BY HAND", "drive left in an unknown state"]);
 }
 
-#[cfg(unix)]
+/// Under Wine the pseudo-terminal is a COM port (served by the Linux side).
 #[test]
 fn through_a_pseudo_terminal_raw_access_drive_limits_and_a_run() {
     let sim = crate::support::Simulator::start(&["--drive", "lenze-931", "--pty"]);
     let port = sim.endpoint.as_str();
-    assert!(port.starts_with("/dev/"), "{port}");
+    assert!(
+        port.starts_with(if cfg!(windows) { "COM" } else { "/dev/" }),
+        "{port}"
+    );
     let dir = scratch("pty");
     let dictionary = completed_template(&dir).to_string_lossy().to_string();
 
@@ -570,7 +573,6 @@ fn a_silent_drive_leaves_check_unable_to_read_limits_with_exit_code_3() {
 
 /// Backup, diff and restore on the simulated 931: the drive's own limits (`ON`/`OX`) refuse
 /// a value before any write, and `--store` sends `SAVE!`.
-#[cfg(unix)]
 #[test]
 fn parameters_round_trip_with_the_drives_limits_and_save() {
     let sim = crate::support::Simulator::start(&["--drive", "lenze-931", "--pty"]);

@@ -81,12 +81,17 @@ impl LiveRun {
         #[cfg(windows)]
         match name {
             "INT" => crate::wine_host::interrupt(&self.mark.mark),
+            // As the Task Manager ends a process (exit code 1); Wine's `taskkill /F`
+            // leaves exit code 0, which reads as a success.
             "KILL" => {
-                let pid = self.child.id().to_string();
-                let killed = std::process::Command::new("taskkill")
-                    .args(["/F", "/PID", &pid])
-                    .output();
-                assert!(killed.is_ok_and(|o| o.status.success()), "taskkill {pid}");
+                use std::os::windows::io::AsRawHandle;
+                #[link(name = "kernel32")]
+                extern "system" {
+                    fn TerminateProcess(process: std::os::windows::io::RawHandle, code: u32) -> i32;
+                }
+                // SAFETY: the handle is the child's own, open while `self` holds it.
+                let ended = unsafe { TerminateProcess(self.child.as_raw_handle(), 1) };
+                assert_ne!(ended, 0, "TerminateProcess: {}", std::io::Error::last_os_error());
             }
             _ => panic!("Windows has no signal {name}"),
         }

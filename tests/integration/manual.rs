@@ -169,7 +169,10 @@ fn the_recipe_reference_is_what_the_loader_and_the_schema_say() {
 /// written (from the repository's root, against the simulated drive) and prints what the
 /// block shows (`...` and `[..]` stand for what changes from run to run).
 #[test]
-#[cfg_attr(windows, ignore = "the examples show Linux paths and program names")]
+#[cfg_attr(
+    windows,
+    ignore = "the examples show what a Linux shell prints: paths with / where Windows shows \\, Linux ports (/dev/ttyUSB0), sh pipes"
+)]
 fn the_examples_of_the_readme_and_the_manual_run_as_shown() {
     trycmd::TestCases::new()
         .register_bin("drivescript", Path::new(env!("CARGO_BIN_EXE_drivescript")))

@@ -78,10 +78,6 @@ fn the_commissioning_recipe_runs_through_a_pseudo_terminal_and_its_trace_decodes
 }
 
 #[test]
-#[cfg_attr(
-    windows,
-    ignore = "Wine 8 refuses to open this pty-backed COM port with these line settings (Invalid parameter); runs on Linux"
-)]
 fn two_inverters_on_one_line_reach_their_own_speeds_and_a_broadcast_reaches_both() {
     let dir = scratch("modbus-two");
     let sim = Simulator::pty(&["--drive", "modbus-inverter", "--address", "1,2"]);
@@ -200,10 +196,6 @@ fn ctrl_c_through_a_pseudo_terminal_writes_the_stop_code_and_leaves_the_inverter
 }
 
 #[test]
-#[cfg_attr(
-    windows,
-    ignore = "Wine 8 refuses to open this pty-backed COM port with these line settings (Invalid parameter); runs on Linux"
-)]
 fn backup_diff_and_restore_of_an_inverters_parameters() {
     let dir = scratch("modbus-backup");
     let sim = Simulator::pty(&["--drive", "sunfar-e500"]);

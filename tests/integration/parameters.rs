@@ -256,10 +256,6 @@ fn a_restore_is_refused_by_the_library_while_the_drive_is_enabled() {
 /// command and saves the parameters beyond the dictionary too; `diff` compares them,
 /// `restore` writes the dictionary's and names the ones it leaves alone.
 #[test]
-#[cfg_attr(
-    windows,
-    ignore = "Wine 8 refuses to open this pty-backed COM port with these line settings (Invalid parameter); runs on Linux"
-)]
 fn a_control_techniques_scan_saves_and_compares_parameters_beyond_the_dictionary() {
     let (dir, sim, file) = on_a_pty("ct-all", &["--drive", "ct-unidrive-sp", "--pty"], "all.yaml");
     let (file, port) = (file.as_str(), sim.endpoint.as_str());

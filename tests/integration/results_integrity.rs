@@ -47,7 +47,7 @@ pub fn stored_runs(store: &str) -> Vec<StoredRun> {
 #[track_caller]
 fn run_into(recipe: &Path, store: &str, data: &Path, args: &[&str], code: i32) -> Ran {
     let out = command()
-        .env("XDG_DATA_HOME", data)
+        .envs(crate::support::data_home(data))
         .arg("run")
         .arg(recipe)
         .args(["--fast", "--results", store])
@@ -66,7 +66,7 @@ fn run_into(recipe: &Path, store: &str, data: &Path, args: &[&str], code: i32) -
 #[track_caller]
 fn results_cmd(args: &[&str], store: &str, data: &Path, code: i32) -> Ran {
     let out = command()
-        .env("XDG_DATA_HOME", data)
+        .envs(crate::support::data_home(data))
         .arg("results")
         .args(args)
         .args(["--results", store])
@@ -436,10 +436,6 @@ fn control_characters_are_shown_escaped_on_terminals_and_in_the_csv() {
 /// is kept on this bench, even with `--quiet`, and never "recorded in"; the overflow of
 /// the queue reaches the server whole.
 #[test]
-#[cfg_attr(
-    windows,
-    ignore = "fails under Wine against the Linux server; not yet understood"
-)]
 fn postgresql_holds_every_record_and_says_where_it_is() {
     let Some(server) = PostgresServer::start("postgres-integrity") else {
         return;

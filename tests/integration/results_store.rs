@@ -271,8 +271,7 @@ fn the_default_store_is_in_the_data_directory_and_takes_only_real_drives_unless_
     let run = |extra: &[&str]| {
         let out = command()
             .env_remove("DRIVESCRIPT_RESULTS")
-            .env("XDG_DATA_HOME", &dir)
-            .env("LOCALAPPDATA", &dir)
+            .envs(crate::support::data_home(&dir))
             .args(["run", recipe.to_str().unwrap()])
             .args(extra)
             .stdin(Stdio::null())
@@ -419,7 +418,8 @@ fn a_killed_run_is_left_incomplete_with_its_checks() {
     }
     run.signal("KILL");
     let (code, _) = run.finish();
-    // Windows' TerminateProcess (taskkill /F) leaves exit code 1; Unix says "by a signal".
+    // Windows' TerminateProcess leaves the code it is given (1, as the Task Manager's);
+    // Unix says "by a signal".
     assert_eq!(code, if cfg!(windows) { Some(1) } else { None }, "killed");
     let runs = all_runs(store.to_str().unwrap());
     assert_eq!(runs.len(), 1);
@@ -680,7 +680,7 @@ fn postgresql_records_runs_from_a_fleet_and_spools_while_the_server_is_down() {
     server.down();
     let recipe = write_file(&dir, "short.yaml", SHORT);
     let out = command()
-        .env("XDG_DATA_HOME", &dir)
+        .envs(crate::support::data_home(&dir))
         .args([
             "run",
             recipe.to_str().unwrap(),
@@ -705,7 +705,7 @@ fn postgresql_records_runs_from_a_fleet_and_spools_while_the_server_is_down() {
     assert_lacks(&err, &["pw-s3cret"]);
     server.up();
     let synced = command()
-        .env("XDG_DATA_HOME", &dir)
+        .envs(crate::support::data_home(&dir))
         .args(["results", "sync", "--results", &url])
         .output()
         .expect("syncs");
@@ -869,7 +869,7 @@ fn a_signal_ends_the_wait_for_a_silent_store_and_the_whole_run_is_spooled() {
 fn run_into_a_silent_store(dir: &Path, recipe: &Path, output: &str) -> std::process::Child {
     let url = format!("postgres://drivescript@127.0.0.1:{}/results", silent_server());
     command()
-        .env("XDG_DATA_HOME", dir)
+        .envs(crate::support::data_home(dir))
         .args([
             "run",
             recipe.to_str().unwrap(),

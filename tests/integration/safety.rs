@@ -3,9 +3,7 @@
 //! ramp that must not write after a stop, a port that goes away and comes back, and a run
 //! killed beyond any safe stop, which must leave a report that says so.
 
-#[cfg(unix)]
 use crate::live_run::LiveRun;
-#[cfg(unix)]
 use crate::support::{assert_has, assert_lacks, Simulator};
 use crate::support::{scratch, scratch_file, write_file, InProcessRun};
 use drivescript::clock::SharedClock;
@@ -186,8 +184,8 @@ pub(crate) fn traced_writes(trace: &str, index: u16) -> Vec<(f64, i64)> {
 
 /// Sends `signal` to a real run on a real pseudo-terminal while a sample step waits 30 s
 /// for its next sample (and `second` while the safe stop brakes the spindle); checks the
-/// exit code, the stop telegrams, the drive's state and both reports.
-#[cfg(unix)]
+/// exit code, the stop telegrams, the drive's state and both reports. Under Wine the
+/// pseudo-terminal is a COM port and a SIGINT is the console's Ctrl-C.
 fn signal_through_a_pty(signal: StopSignal, second: Option<StopSignal>) {
     let sim = Simulator::pty(&[]);
     let dir = scratch(&format!("pty-{}-{}", signal.name, second.map_or("", |s| s.name)));
@@ -239,8 +237,11 @@ fn signal_through_a_pty(signal: StopSignal, second: Option<StopSignal>) {
         None => signal.exit_code(),
     };
     assert_eq!(code, Some(expected), "{all}");
+    // Under Wine the Ctrl-C is pressed by the Linux side, which first looks the process up
+    // among all of Linux's: that lookup is in this time too.
+    let limit = Duration::from_millis(if cfg!(windows) { 1000 } else { 100 });
     assert!(
-        latency < Duration::from_millis(100),
+        latency < limit,
         "{}: the stop telegram came {latency:?} after the signal",
         signal.name
     );
@@ -292,7 +293,6 @@ fn signal_through_a_pty(signal: StopSignal, second: Option<StopSignal>) {
     assert!(shown.contains(state_after), "{shown}");
 }
 
-#[cfg(unix)]
 #[test]
 fn sigint_through_a_pty_stops_the_drive_and_exits_130() {
     signal_through_a_pty(StopSignal::INT, None);
@@ -316,14 +316,22 @@ fn sigquit_through_a_pty_stops_the_drive_and_exits_131() {
     signal_through_a_pty(StopSignal::QUIT, None);
 }
 
-#[cfg(unix)]
+/// Windows has no SIGTERM: there the first signal is a Ctrl-C as well.
 #[test]
 fn a_second_signal_through_a_pty_switches_the_power_stage_off_at_once() {
-    signal_through_a_pty(StopSignal::TERM, Some(StopSignal::INT));
+    let first = if cfg!(windows) {
+        StopSignal::INT
+    } else {
+        StopSignal::TERM
+    };
+    signal_through_a_pty(first, Some(StopSignal::INT));
 }
 
-#[cfg(unix)]
 #[test]
+#[cfg_attr(
+    windows,
+    ignore = "under Wine the run's NOT FINISHED placeholder report is not seen by the test within 10 s (not yet understood; the report may be held open by the run)"
+)]
 fn a_run_killed_beyond_any_safe_stop_leaves_a_report_that_says_not_finished() {
     let dir = scratch("sigkill");
     let recipe = write_file(&dir, "recipe.yaml", SAMPLE_EVERY_30_S);

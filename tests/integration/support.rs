@@ -10,6 +10,12 @@ pub fn repo_root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
 }
 
+/// The data directory a command is given, where its default store and a server's spool
+/// live: `XDG_DATA_HOME` on Linux, `%LOCALAPPDATA%` on Windows (`.envs(data_home(dir))`).
+pub fn data_home(dir: &std::path::Path) -> [(&'static str, &std::path::Path); 2] {
+    [("XDG_DATA_HOME", dir), ("LOCALAPPDATA", dir)]
+}
+
 /// The `drivescript` binary as every test runs it: its results go to a store of this
 /// test process's own (never the user's data directory); a test that checks the store
 /// names its own with `--results` or `DRIVESCRIPT_RESULTS`.

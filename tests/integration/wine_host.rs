@@ -101,8 +101,12 @@ mod linux {
                 let link = prefix.join("dosdevices").join(format!("com{n}"));
                 let _ = std::fs::remove_file(&link);
                 std::os::unix::fs::symlink(&sim.endpoint, &link).expect("link the COM port to the pty");
+                let serving = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(true));
+                let kept = keep_line_settable(&sim.endpoint, serving.clone());
                 let _ = writeln!(out, "COM{n}");
                 while lines.read_line(&mut line).unwrap_or(0) > 0 {}
+                serving.store(false, Ordering::SeqCst);
+                let _ = kept.map(std::thread::JoinHandle::join);
                 let _ = std::fs::remove_file(&link);
                 drop(sim);
             }
@@ -137,6 +141,41 @@ mod linux {
         }
     }
 
+    /// Lets Wine set parity or 7 data bits on the pty behind a COM port every time it is
+    /// opened. A pty holds neither (Linux keeps it 8 bits, no parity), and Linux refuses
+    /// with EINVAL a termios change of which nothing can be applied, which is what Wine's
+    /// SetCommState asks from the second opening on (the first one also changes the raw
+    /// mode's flags): "cannot open COM10: Invalid parameter". So while the port is served,
+    /// IMAXBEL (meaningless in raw mode) is set again whenever Wine has cleared it, and
+    /// each SetCommState has a flag to change.
+    fn keep_line_settable(
+        pty: &str,
+        serving: std::sync::Arc<std::sync::atomic::AtomicBool>,
+    ) -> Option<std::thread::JoinHandle<()>> {
+        use std::os::fd::AsRawFd;
+        use std::os::unix::fs::OpenOptionsExt;
+        let file = std::fs::OpenOptions::new()
+            .read(true)
+            .write(true)
+            .custom_flags(libc::O_NOCTTY | libc::O_NONBLOCK)
+            .open(pty)
+            .ok()?;
+        Some(std::thread::spawn(move || {
+            let fd = file.as_raw_fd();
+            while serving.load(Ordering::SeqCst) {
+                // SAFETY: termios is plain data filled in by tcgetattr on an fd open here.
+                unsafe {
+                    let mut t: libc::termios = std::mem::zeroed();
+                    if libc::tcgetattr(fd, &mut t) == 0 && t.c_iflag & libc::IMAXBEL == 0 {
+                        t.c_iflag |= libc::IMAXBEL;
+                        libc::tcsetattr(fd, libc::TCSANOW, &t);
+                    }
+                }
+                std::thread::sleep(std::time::Duration::from_millis(2));
+            }
+        }))
+    }
+
     /// Sends SIGINT to the processes of the program named `mark` (Wine shows a Windows
     /// process to Linux as its program's path, `Z:\…\MARK.exe`); how many there were.
     fn interrupt(mark: &str) -> usize {
@@ -158,8 +197,13 @@ mod linux {
     }
 
     /// A Windows path of the tests (`C:\users\…`, a capture to serve) as Linux finds it,
-    /// through the prefix's drive links; any other argument as it is.
+    /// through the prefix's drive links; a path under the repository (its Linux path, which
+    /// Wine takes as one on the current drive, `Z:`) joined with Windows' separator comes
+    /// back with Linux's; any other argument as it is.
     fn linux_path(prefix: &Path, arg: &str) -> String {
+        if arg.starts_with('/') {
+            return arg.replace('\\', "/");
+        }
         let b = arg.as_bytes();
         if b.len() > 2 && b[0].is_ascii_alphabetic() && b[1] == b':' && b[2] == b'\\' {
             let drive = format!("{}:", arg[..1].to_ascii_lowercase());

@@ -11,10 +11,6 @@ fn ct<'a>(args: &[&'a str], port: &'a str) -> Vec<&'a str> {
 }
 
 #[test]
-#[cfg_attr(
-    windows,
-    ignore = "Wine 8 refuses to open this pty-backed COM port with these line settings (Invalid parameter); runs on Linux"
-)]
 fn a_speed_beyond_the_documented_range_is_refused_before_sending() {
     let sim = Simulator::start(&["--drive", "ct-unidrive-sp", "--pty"]);
     let port = sim.endpoint.as_str();
@@ -37,10 +33,6 @@ fn a_speed_beyond_the_documented_range_is_refused_before_sending() {
 }
 
 #[test]
-#[cfg_attr(
-    windows,
-    ignore = "Wine 8 refuses to open this pty-backed COM port with these line settings (Invalid parameter); runs on Linux"
-)]
 fn a_value_without_a_documented_range_is_said_to_be_unchecked() {
     let sim = Simulator::start(&["--drive", "ct-unidrive-sp", "--pty"]);
     let port = sim.endpoint.as_str();
@@ -59,10 +51,6 @@ fn a_value_without_a_documented_range_is_said_to_be_unchecked() {
 }
 
 #[test]
-#[cfg_attr(
-    windows,
-    ignore = "Wine 8 refuses to open this pty-backed COM port with these line settings (Invalid parameter); runs on Linux"
-)]
 fn a_group_read_is_invalid_and_a_group_write_is_not_confirmed() {
     let sim = Simulator::start(&["--drive", "ct-unidrive-sp", "--pty"]);
     let port = sim.endpoint.as_str();

@@ -1,0 +1,110 @@
+//! Whether the process that claimed a spool for delivery (`FILE.sending-PID`) is gone, so
+//! that its claim may be taken back: asked of the system, never guessed from the clock
+//! where the system can tell. Must not touch the claim's records.
+
+use std::path::Path;
+
+/// Whether the process `pid` that made the claim `path` is gone.
+#[cfg(unix)]
+pub(super) fn gone(pid: u32, _path: &Path) -> bool {
+    if pid == std::process::id() {
+        return false;
+    }
+    let Ok(pid) = libc::pid_t::try_from(pid) else {
+        return true;
+    };
+    // SAFETY: signal 0 only asks whether the process exists; nothing is sent.
+    let alive = unsafe { libc::kill(pid, 0) } == 0
+        || std::io::Error::last_os_error().raw_os_error() == Some(libc::EPERM);
+    !alive
+}
+
+/// Windows hands a process id to the next process soon after one ends, so a process
+/// that holds the number is the claim's maker only if it started before the claim was
+/// made (each claim is touched when made): one that started later, this one included,
+/// holds a number the maker left behind.
+#[cfg(windows)]
+pub(super) fn gone(pid: u32, path: &Path) -> bool {
+    let Some(claimed) = std::fs::metadata(path).and_then(|m| m.modified()).ok() else {
+        // Gone already (another delivery took it): nothing of it is left to take.
+        return false;
+    };
+    match process::started_if_running(pid) {
+        Some(started) => started > claimed,
+        None => true,
+    }
+}
+
+#[cfg(windows)]
+mod process {
+    use std::ffi::c_void;
+    use std::time::{Duration, SystemTime};
+
+    #[repr(C)]
+    #[derive(Default, Clone, Copy)]
+    struct FileTime {
+        low: u32,
+        high: u32,
+    }
+
+    #[link(name = "kernel32")]
+    extern "system" {
+        fn OpenProcess(access: u32, inherit: i32, pid: u32) -> *mut c_void;
+        fn GetExitCodeProcess(process: *mut c_void, code: *mut u32) -> i32;
+        fn GetProcessTimes(
+            process: *mut c_void,
+            creation: *mut FileTime,
+            exit: *mut FileTime,
+            kernel: *mut FileTime,
+            user: *mut FileTime,
+        ) -> i32;
+        fn CloseHandle(handle: *mut c_void) -> i32;
+    }
+
+    const PROCESS_QUERY_LIMITED_INFORMATION: u32 = 0x1000;
+    const STILL_ACTIVE: u32 = 259;
+    const ERROR_ACCESS_DENIED: i32 = 5;
+    /// From 1601-01-01 (FILETIME's start) to 1970-01-01, in 100 ns.
+    const UNIX_EPOCH_AS_FILETIME: u64 = 116_444_736_000_000_000;
+
+    /// When the process `pid` started, if one by that number is running; a process this
+    /// one may not ask about is running, started at the earliest time there is.
+    pub fn started_if_running(pid: u32) -> Option<SystemTime> {
+        // SAFETY: OpenProcess has no precondition; a null handle is checked below.
+        let handle = unsafe { OpenProcess(PROCESS_QUERY_LIMITED_INFORMATION, 0, pid) };
+        if handle.is_null() {
+            let denied = std::io::Error::last_os_error().raw_os_error() == Some(ERROR_ACCESS_DENIED);
+            return denied.then_some(SystemTime::UNIX_EPOCH);
+        }
+        let (mut code, mut times) = (0u32, [FileTime::default(); 4]);
+        let [creation, exit, kernel, user] = &mut times;
+        // SAFETY: the handle is open until CloseHandle below; the out-pointers live here.
+        let (running, timed) = unsafe {
+            let running = GetExitCodeProcess(handle, &mut code) != 0 && code == STILL_ACTIVE;
+            let timed = GetProcessTimes(handle, creation, exit, kernel, user) != 0;
+            CloseHandle(handle);
+            (running, timed)
+        };
+        if !running {
+            return None;
+        }
+        let ticks = ((u64::from(times[0].high) << 32) | u64::from(times[0].low))
+            .saturating_sub(UNIX_EPOCH_AS_FILETIME);
+        Some(if timed {
+            SystemTime::UNIX_EPOCH + Duration::from_nanos(ticks.saturating_mul(100))
+        } else {
+            SystemTime::UNIX_EPOCH
+        })
+    }
+}
+
+/// Without a way to ask about a process, a claim untouched for ten minutes (a delivery
+/// takes seconds) is taken as left by a process that is gone.
+#[cfg(not(any(unix, windows)))]
+pub(super) fn gone(_pid: u32, path: &Path) -> bool {
+    std::fs::metadata(path)
+        .and_then(|m| m.modified())
+        .ok()
+        .and_then(|t| t.elapsed().ok())
+        .is_some_and(|age| age > std::time::Duration::from_secs(600))
+}
