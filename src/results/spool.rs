@@ -166,6 +166,9 @@ impl Spool {
             }
         }
         let mine = free(&mut n);
+        // Dated before the rename as well, so the claim is never seen with the spool's
+        // older time under this process's number.
+        touch(&self.path);
         match std::fs::rename(&self.path, &mine) {
             Ok(()) => {
                 touch(&mine);
@@ -293,7 +296,6 @@ impl Spool {
     }
 }
 
-/// Whether `file` ends in the middle of a line (a write cut short by a kill).
 /// Dates a claim to its making (a rename keeps the spool's time), which is how a claim is
 /// told from one of an earlier process by the same number (see `claim_owner`). Where it
 /// fails the claim keeps the spool's time: at worst another delivery takes it over, and a
@@ -305,6 +307,7 @@ fn touch(claim: &Path) {
         .and_then(|f| f.set_modified(std::time::SystemTime::now()));
 }
 
+/// Whether `file` ends in the middle of a line (a write cut short by a kill).
 fn ends_unfinished(file: &mut std::fs::File) -> bool {
     let mut last = [0u8; 1];
     file.seek(SeekFrom::End(-1))

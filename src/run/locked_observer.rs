@@ -120,6 +120,12 @@ impl RunObserver for LockedObserver<'_> {
         self.event(|o| o.check(result));
     }
     fn sample(&mut self, at: Duration, objects: &[ObjectRef], values: &[f64]) {
+        if values.len() != objects.len() {
+            // Held rows are sliced by the number of objects: a row of another width
+            // goes on its own, after those held.
+            self.event(|o| o.sample(at, objects, values));
+            return;
+        }
         let place = (objects.as_ptr() as usize, objects.len());
         if self.objects_at != Some(place) {
             self.objects_at = Some(place);
@@ -265,5 +271,25 @@ mod tests {
             locked.idle();
             assert_eq!(lines(&shared).len() as u64, 2 * (k + 1), "{:?}", lines(&shared));
         }
+    }
+
+    #[test]
+    fn a_row_of_another_width_than_its_objects_follows_the_held_rows_unsliced() {
+        let shared = Arc::new(Mutex::new(Lines::default()));
+        let dynamic: Arc<Mutex<dyn RunObserver>> = shared.clone();
+        let mut locked = LockedObserver::new(&dynamic);
+        let two = objects(&["speed", "current"]);
+        locked.sample(Duration::from_millis(1), &two, &[1.0, 2.0]);
+        locked.sample(Duration::from_millis(2), &two, &[3.0]);
+        locked.sample(Duration::from_millis(3), &two, &[4.0, 5.0]);
+        drop(locked);
+        assert_eq!(
+            lines(&shared),
+            [
+                "1 [\"speed\", \"current\"] [1.0, 2.0]",
+                "2 [\"speed\", \"current\"] [3.0]",
+                "3 [\"speed\", \"current\"] [4.0, 5.0]"
+            ]
+        );
     }
 }

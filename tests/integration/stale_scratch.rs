@@ -28,6 +28,11 @@ fn sweep(dir: &Path, gone: impl Fn(u32) -> bool) {
             continue;
         }
         let path = entry.path();
+        // A test's PostgreSQL server runs as another user and outlives a killed test
+        // process: its data stays while the server runs.
+        if server_pid(&path).is_some_and(|pid| !gone(pid)) {
+            continue;
+        }
         // Another test process may sweep the same entry at the same time; either removal
         // is as good.
         let _ = if path.is_dir() {
@@ -36,6 +41,12 @@ fn sweep(dir: &Path, gone: impl Fn(u32) -> bool) {
             std::fs::remove_file(&path)
         };
     }
+}
+
+/// The process id of the PostgreSQL server whose data a test keeps in `scratch/data`.
+fn server_pid(scratch: &Path) -> Option<u32> {
+    let text = std::fs::read_to_string(scratch.join("data/postmaster.pid")).ok()?;
+    text.lines().next()?.trim().parse().ok()
 }
 
 /// The numbers a test put in a scratch name `drivescript-PART-…`: the process id, and
@@ -83,6 +94,13 @@ fn scratch_of_ended_processes_is_removed_and_of_running_ones_kept() {
     make("drivescript-eds-1252-222");
     make("drivescript-tests-222");
     make("drivescript-plain");
+    make("drivescript-postgres-111");
+    std::fs::create_dir_all(root.join("drivescript-postgres-111/data")).expect("data made");
+    std::fs::write(
+        root.join("drivescript-postgres-111/data/postmaster.pid"),
+        "222\n/tmp/data\n",
+    )
+    .expect("server pid written");
     make("other-111");
     std::fs::write(root.join("drivescript-cyclic-111.trace"), "").expect("trace written");
     sweep(&root, |pid| pid != 222);
@@ -97,6 +115,7 @@ fn scratch_of_ended_processes_is_removed_and_of_running_ones_kept() {
         [
             "drivescript-eds-1252-222",
             "drivescript-plain",
+            "drivescript-postgres-111",
             "drivescript-tests-222",
             "other-111"
         ]
