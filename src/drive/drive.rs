@@ -32,6 +32,8 @@ pub type ValueLimits = (Option<Value>, Option<Value>);
 pub struct ReadSet {
     defs: Vec<ObjectDef>,
     requests: Vec<(crate::dictionary::Address, crate::dictionary::DataType)>,
+    /// Where the status word is among `defs`, if the set has it.
+    status: Option<usize>,
 }
 
 pub struct Drive {
@@ -40,6 +42,9 @@ pub struct Drive {
     clock: SharedClock,
     /// The results of [`Drive::read_set_numbers`] on their way, one list for every sample.
     results: Vec<Result<RawValue, AccessError>>,
+    /// The status word the last [`ReadSet`] with it read, and when: the fault watch takes
+    /// it instead of a telegram of its own while it is fresh (see [`Drive::state_within`]).
+    status_read: Option<(u16, Duration)>,
 }
 
 impl Drive {
@@ -50,6 +55,7 @@ impl Drive {
             dictionary,
             clock,
             results: Vec::new(),
+            status_read: None,
         }
     }
 
@@ -136,7 +142,13 @@ impl Drive {
             defs.push(def.clone());
         }
         let requests = defs.iter().map(|d| (d.address, d.data_type)).collect();
-        Ok(ReadSet { defs, requests })
+        let status_name = self.role_object(Role::StatusWord).ok().map(|d| d.name);
+        let status = defs.iter().position(|d| Some(&d.name) == status_name.as_ref());
+        Ok(ReadSet {
+            defs,
+            requests,
+            status,
+        })
     }
 
     /// Reads a [`ReadSet`] as numbers in the objects' engineering units into `out` (one
@@ -144,12 +156,18 @@ impl Drive {
     pub fn read_set_numbers(&mut self, set: &ReadSet, out: &mut [f64]) -> Result<(), DriveError> {
         if let ([def], [slot]) = (&set.defs[..], &mut out[..]) {
             let raw = self.access.read(&def.address, def.data_type);
+            if set.status.is_some() {
+                self.keep_status(raw.as_ref().ok());
+            }
             *slot = self.number_of(def, raw)?;
             return Ok(());
         }
         let mut results = std::mem::take(&mut self.results);
         results.clear();
         self.access.read_many(&set.requests, &mut results);
+        if let Some(i) = set.status {
+            self.keep_status(results.get(i).and_then(|r| r.as_ref().ok()));
+        }
         let numbers = set
             .defs
             .iter()
@@ -161,6 +179,13 @@ impl Drive {
             });
         self.results = results;
         numbers
+    }
+
+    /// Keeps the status word a set's read returned, with the time of its reply.
+    fn keep_status(&mut self, raw: Option<&RawValue>) {
+        self.status_read = raw
+            .and_then(RawValue::as_int)
+            .map(|s| (s as u16, self.clock.now()));
     }
 
     /// The number in `def`'s unit of what a read of it returned.
@@ -401,9 +426,25 @@ impl Drive {
     /// The state the status word shows.
     pub fn state(&mut self) -> Result<DeviceState, DriveError> {
         let status = self.status_word()?;
+        self.state_of(status)
+    }
+
+    fn state_of(&self, status: u16) -> Result<DeviceState, DriveError> {
         self.profile()?
             .state_of(status)
             .ok_or(DriveError::UnknownStatus { status })
+    }
+
+    /// The state the status word shows, taken from a sample's read of it when that reply
+    /// came within `age` (the value of its own request, only younger than the fault watch
+    /// asks for), else read now: a sample that reads the status word spares the fault
+    /// watch a telegram of its own.
+    pub fn state_within(&mut self, age: Duration) -> Result<DeviceState, DriveError> {
+        let fresh = self.clock.now().saturating_sub(age);
+        match self.status_read {
+            Some((status, at)) if at >= fresh => self.state_of(status),
+            _ => self.state(),
+        }
     }
 
     /// The drive's error code, when the profile has one and it can be read (best effort:

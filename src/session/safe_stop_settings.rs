@@ -23,8 +23,9 @@ pub struct SafeStopSettings {
     pub reconnect_timeout: Duration,
     /// The status word is read for fault watching at most this often: between steps and
     /// during waits. Reading it after every step would halve the reads a run can make; at
-    /// 250 ms it costs 2 % of a 57600 bit/s line, and the drive reacts to its own faults
-    /// at once anyway (this only ends the recipe's steps).
+    /// 250 ms it costs 2 % of a 57600 bit/s line (nothing while a `sample` reads the status
+    /// word: its reply stands for the watch's), and the drive reacts to its own faults at
+    /// once anyway (this only ends the recipe's steps).
     pub fault_poll: Duration,
     /// `run -x`: the first failed check ends the run through the safe stop, whatever the
     /// recipe's `on_failure` says.

@@ -157,8 +157,7 @@ impl<'a> Session<'a> {
         self
     }
 
-    /// The unit under test as the command line gives it (`--unit`), before the run
-    /// starts.
+    /// The unit under test as the command line gives it (`--unit`), before the run starts.
     pub fn with_unit(mut self, unit: UnitIdentity) -> Self {
         self.report.unit = unit.clone();
         self.run.unit = unit;
@@ -497,8 +496,9 @@ impl<'a> Session<'a> {
     fn watch_fault_of_current(&mut self) -> Result<(), Stop> {
         // Without a device-control profile there is no state to watch, but a fault the
         // drive reports on its own (a CANopen node's EMCY) is one all the same.
+        let fresh = self.settings.fault_poll / 4;
         let state = match self.drive().profile() {
-            Ok(_) => Some(self.drive().state()?),
+            Ok(_) => Some(self.drive().state_within(fresh)?),
             Err(_) => None,
         };
         let faulted = matches!(state, Some(DeviceState::Fault | DeviceState::FaultReactionActive));
