@@ -173,7 +173,17 @@ fn controlled_steps(target: &Target, rng: &mut Rng, y: &mut String) {
                     reach(y, &mut drive, rpm);
                     continue;
                 };
-                step(y, "sample: { objects: [speed_actual], every: 100 ms, for: 2 s }");
+                // Half the samples of a drive that names its status word read it too: the
+                // fault watch then judges the sample's own reply instead of polling.
+                let objects = if target.reads.contains(&"status_word") && rng.chance(50) {
+                    "speed_actual, status_word"
+                } else {
+                    "speed_actual"
+                };
+                step(
+                    y,
+                    &format!("sample: {{ objects: [{objects}], every: 100 ms, for: 2 s }}"),
+                );
                 // One in five checks a speed the drive is not at: a failed check.
                 let want = if rng.chance(20) { rpm + 300 } else { rpm };
                 step(
