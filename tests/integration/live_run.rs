@@ -3,8 +3,8 @@
 //! families' tests share.
 
 #[cfg(unix)]
-use crate::support::{assert_has, command, send_signal};
-use crate::support::{repo_root, scratch_file};
+use crate::support::{command, send_signal};
+use crate::support::{assert_has, repo_root, scratch_file};
 use std::path::Path;
 use std::process::Stdio;
 
