@@ -132,6 +132,28 @@ fn length(what: &'static str, b: &[u8], expected: usize) -> Result<(), CodecErro
     }
 }
 
+/// The registers a writing request carries after its header of `header` bytes: the byte
+/// before them counts them, and the word two bytes before that counts the registers (6.12,
+/// 6.17); both must agree with what came.
+fn written_words(b: &[u8], header: usize) -> Result<Vec<u16>, CodecError> {
+    if b.len() < header {
+        return Err(CodecError::Length {
+            what: "the request PDU",
+            len: b.len(),
+            expected: format!("at least {header}"),
+        });
+    }
+    let count = usize::from(word(b, header - 3));
+    let data = &b[header..];
+    if usize::from(b[header - 1]) != data.len() || data.len() != count * 2 {
+        return Err(CodecError::ByteCount {
+            count: b[header - 1].into(),
+            actual: data.len(),
+        });
+    }
+    Ok(words(data))
+}
+
 /// Reads of at most 125 registers, writes of at most 123, 23 writing at most 121
 /// (Application Protocol V1.1b3, 6.3, 6.4, 6.12, 6.17).
 const MAX_READ: usize = 125;
@@ -231,50 +253,16 @@ impl Request {
                     value: word(b, 3),
                 }
             }
-            Function::WriteMultiple => {
-                if b.len() < 6 {
-                    return Err(CodecError::Length {
-                        what: "the request PDU",
-                        len: b.len(),
-                        expected: "at least 6".into(),
-                    });
-                }
-                let count = usize::from(word(b, 3));
-                let data = &b[6..];
-                if usize::from(b[5]) != data.len() || data.len() != count * 2 {
-                    return Err(CodecError::ByteCount {
-                        count: b[5].into(),
-                        actual: data.len(),
-                    });
-                }
-                Request::WriteMultiple {
-                    start: word(b, 1),
-                    values: words(data),
-                }
-            }
-            Function::ReadWrite => {
-                if b.len() < 10 {
-                    return Err(CodecError::Length {
-                        what: "the request PDU",
-                        len: b.len(),
-                        expected: "at least 10".into(),
-                    });
-                }
-                let count = usize::from(word(b, 7));
-                let data = &b[10..];
-                if usize::from(b[9]) != data.len() || data.len() != count * 2 {
-                    return Err(CodecError::ByteCount {
-                        count: b[9].into(),
-                        actual: data.len(),
-                    });
-                }
-                Request::ReadWrite {
-                    read_start: word(b, 1),
-                    read_count: word(b, 3),
-                    write_start: word(b, 5),
-                    values: words(data),
-                }
-            }
+            Function::WriteMultiple => Request::WriteMultiple {
+                start: word(b, 1),
+                values: written_words(b, 6)?,
+            },
+            Function::ReadWrite => Request::ReadWrite {
+                read_start: word(b, 1),
+                read_count: word(b, 3),
+                write_start: word(b, 5),
+                values: written_words(b, 10)?,
+            },
         };
         // What encodes is what the specification allows: the same check both ways.
         request.encode()?;
