@@ -120,6 +120,18 @@ fn quantity(what: &'static str, value: usize, max: usize, allowed: &'static str)
     }
 }
 
+/// `what` is at least `least` bytes long.
+fn at_least(what: &'static str, b: &[u8], least: usize) -> Result<(), CodecError> {
+    if b.len() >= least {
+        return Ok(());
+    }
+    Err(CodecError::Length {
+        what,
+        len: b.len(),
+        expected: format!("at least {least}"),
+    })
+}
+
 fn length(what: &'static str, b: &[u8], expected: usize) -> Result<(), CodecError> {
     if b.len() == expected {
         Ok(())
@@ -136,13 +148,7 @@ fn length(what: &'static str, b: &[u8], expected: usize) -> Result<(), CodecErro
 /// before them counts them, and the word two bytes before that counts the registers (6.12,
 /// 6.17); both must agree with what came.
 fn written_words(b: &[u8], header: usize) -> Result<Vec<u16>, CodecError> {
-    if b.len() < header {
-        return Err(CodecError::Length {
-            what: "the request PDU",
-            len: b.len(),
-            expected: format!("at least {header}"),
-        });
-    }
+    at_least("the request PDU", b, header)?;
     let count = usize::from(word(b, header - 3));
     let data = &b[header..];
     if usize::from(b[header - 1]) != data.len() || data.len() != count * 2 {
@@ -229,13 +235,8 @@ impl Request {
     }
 
     pub fn decode(b: &[u8]) -> Result<Request, CodecError> {
-        let Some(&code) = b.first() else {
-            return Err(CodecError::Length {
-                what: "the request PDU",
-                len: 0,
-                expected: "at least 1".into(),
-            });
-        };
+        at_least("the request PDU", b, 1)?;
+        let code = b[0];
         let function = Function::of(code)?;
         let request = match function {
             Function::ReadHolding | Function::ReadInput => {
@@ -355,13 +356,8 @@ impl Response {
     }
 
     pub fn decode(b: &[u8]) -> Result<Response, CodecError> {
-        let Some(&code) = b.first() else {
-            return Err(CodecError::Length {
-                what: "the reply PDU",
-                len: 0,
-                expected: "at least 1".into(),
-            });
-        };
+        at_least("the reply PDU", b, 1)?;
+        let code = b[0];
         // An exception names the function it answers; any function may be refused (the
         // specification's own example refuses 01, which drivescript never sends).
         if code & 0x80 != 0 {
@@ -374,13 +370,7 @@ impl Response {
         let function = Function::of(code)?;
         match function {
             Function::ReadHolding | Function::ReadInput | Function::ReadWrite => {
-                if b.len() < 2 {
-                    return Err(CodecError::Length {
-                        what: "the reply PDU",
-                        len: b.len(),
-                        expected: "at least 2".into(),
-                    });
-                }
+                at_least("the reply PDU", b, 2)?;
                 let data = &b[2..];
                 if usize::from(b[1]) != data.len() || data.is_empty() || !data.len().is_multiple_of(2) {
                     return Err(CodecError::ByteCount {
