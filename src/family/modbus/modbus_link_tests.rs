@@ -3,33 +3,12 @@
 //! retried with located errors, and the inter-frame silence.
 
 use super::*;
-use crate::bus::{MemoryTransport, Peer, PeerReply};
+use crate::bus::{MemoryTransport, Peer, PeerReply, ScriptedPeer};
 use crate::clock::{Clock, VirtualClock};
 use crate::family::modbus::codec::{ExceptionCode, Function};
 use crate::family::modbus::ModbusSimulator;
 use crate::sim::{SimConfig, SimulatedDrive};
-use std::collections::VecDeque;
 use std::sync::{Arc, Mutex};
-
-/// Answers each request with the next scripted bytes (None = silence), and keeps when
-/// each request came.
-struct Scripted {
-    replies: VecDeque<Option<Vec<u8>>>,
-    received: Vec<(Duration, Vec<u8>)>,
-}
-
-impl Peer for Scripted {
-    fn receive(&mut self, bytes: &[u8], now: Duration) -> Vec<PeerReply> {
-        self.received.push((now, bytes.to_vec()));
-        match self.replies.pop_front().flatten() {
-            Some(bytes) => vec![PeerReply {
-                at: now + Duration::from_millis(2),
-                bytes,
-            }],
-            None => vec![],
-        }
-    }
-}
 
 fn link_to(peer: Arc<Mutex<dyn Peer>>, unit: u8, framing: Framing) -> (ModbusLink, Arc<VirtualClock>) {
     let clock = Arc::new(VirtualClock::new());
@@ -49,11 +28,8 @@ fn link_to(peer: Arc<Mutex<dyn Peer>>, unit: u8, framing: Framing) -> (ModbusLin
     )
 }
 
-fn scripted(replies: Vec<Option<Vec<u8>>>) -> Arc<Mutex<Scripted>> {
-    Arc::new(Mutex::new(Scripted {
-        replies: replies.into(),
-        received: vec![],
-    }))
+fn scripted(replies: Vec<Option<Vec<u8>>>) -> Arc<Mutex<ScriptedPeer>> {
+    ScriptedPeer::new(replies, Duration::from_millis(2))
 }
 
 const READ_STATUS: Request = Request::Read {
