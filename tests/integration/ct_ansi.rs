@@ -9,7 +9,7 @@ use crate::support::{
     assert_has, assert_matches_shared, cli, control_words, drivescript, load_vectors, repo_root,
     scratch_file, stderr, stdout, write_file, InProcessRun,
 };
-use drivescript::bus::{MemoryTransport, SharedTransport};
+use drivescript::bus::MemoryTransport;
 use drivescript::clock::{SharedClock, VirtualClock};
 use drivescript::dictionary::{Address, DataType, RawValue};
 use drivescript::family::ct_ansi::codec::{Reply, Request};
@@ -243,11 +243,7 @@ fn a_write_of_the_baud_rate_parameter_waits_20_ms_and_says_to_restart_with_baud(
     let f = family();
     let clock = Arc::new(VirtualClock::new());
     let peer = Arc::new(std::sync::Mutex::new(AcceptsWrites(Vec::new())));
-    let line = SharedTransport::new(Box::new(MemoryTransport::new(
-        "line",
-        peer.clone(),
-        clock.clone(),
-    )));
+    let line = MemoryTransport::shared("line", peer.clone(), clock.clone());
     let options = LinkOptions {
         reply_timeout: Duration::from_secs(1),
         retries: 2,
@@ -298,7 +294,7 @@ fn a_group_write_gets_no_reply_and_is_not_repeated() {
     };
     // Even with every reply dropped, the group write neither waits nor retries.
     device.drive.lock().unwrap().faults().drop_replies(10);
-    let line = SharedTransport::new(Box::new(MemoryTransport::new("line", peer, clock.clone())));
+    let line = MemoryTransport::shared("line", peer, clock.clone());
     let group = f.parse_drive_address(Some("1.0")).unwrap();
     let options = LinkOptions {
         reply_timeout: Duration::from_secs(1),

@@ -13,9 +13,8 @@ use std::sync::Mutex;
 fn link(script: Vec<Option<Vec<u8>>>) -> (CtLink, Arc<Mutex<ScriptedPeer>>, Arc<VirtualClock>) {
     let clock = Arc::new(VirtualClock::new());
     let peer = ScriptedPeer::new(script, Duration::from_millis(1));
-    let transport = MemoryTransport::new("scripted", peer.clone(), clock.clone());
     let link = CtLink::new(
-        SharedTransport::new(Box::new(transport)),
+        MemoryTransport::shared("scripted", peer.clone(), clock.clone()),
         clock.clone(),
         CtLinkConfig::default(),
     );
@@ -176,9 +175,8 @@ fn timed(script: Vec<Vec<(u64, Piece)>>) -> TimedLink {
         script: script.into(),
         received: 0,
     }));
-    let transport = MemoryTransport::new("echoing", peer.clone(), clock.clone());
     let mut link = CtLink::new(
-        SharedTransport::new(Box::new(transport)),
+        MemoryTransport::shared("echoing", peer.clone(), clock.clone()),
         clock.clone(),
         CtLinkConfig::default(),
     );

@@ -18,9 +18,8 @@ fn link(script: Vec<Option<&[u8]>>) -> (LenzeLink, Arc<Mutex<ScriptedPeer>>, Arc
     let clock = Arc::new(VirtualClock::new());
     let replies = script.into_iter().map(|r| r.map(<[u8]>::to_vec));
     let peer = ScriptedPeer::new(replies, Duration::from_millis(2));
-    let transport = MemoryTransport::new("scripted", peer.clone(), clock.clone());
     let link = LenzeLink::new(
-        SharedTransport::new(Box::new(transport)),
+        MemoryTransport::shared("scripted", peer.clone(), clock.clone()),
         clock.clone(),
         LinkConfig::default(),
     );

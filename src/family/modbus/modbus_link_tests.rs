@@ -12,14 +12,13 @@ use std::sync::{Arc, Mutex};
 
 fn link_to(peer: Arc<Mutex<dyn Peer>>, unit: u8, framing: Framing) -> (ModbusLink, Arc<VirtualClock>) {
     let clock = Arc::new(VirtualClock::new());
-    let transport = MemoryTransport::new("test line", peer, clock.clone());
     let config = LinkConfig {
         framing,
         ..LinkConfig::default()
     };
     (
         ModbusLink::new(
-            SharedTransport::new(Box::new(transport)),
+            MemoryTransport::shared("test line", peer, clock.clone()),
             clock.clone(),
             unit,
             config,
@@ -330,9 +329,8 @@ fn the_wait_of_a_busy_slave_survives_time_passing_between_its_readings() {
     for tick in 1..=20 {
         let clock = Arc::new(crate::clock::TickingClock::new(Duration::from_micros(tick * 300)));
         let peer = scripted(vec![Some(busy.clone()); 3]);
-        let transport = MemoryTransport::new("test line", peer, clock.clone());
         let mut link = ModbusLink::new(
-            SharedTransport::new(Box::new(transport)),
+            MemoryTransport::shared("test line", peer, clock.clone()),
             clock,
             1,
             LinkConfig::default(),

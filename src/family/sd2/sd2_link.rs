@@ -327,10 +327,9 @@ mod tests {
     ) -> (Sd2Link, Arc<Mutex<ScriptedPeer>>, Arc<VirtualClock>) {
         let clock = Arc::new(VirtualClock::new());
         let peer = ScriptedPeer::timed(script);
-        let transport = MemoryTransport::new("scripted", peer.clone(), clock.clone());
         (
             Sd2Link::new(
-                SharedTransport::new(Box::new(transport)),
+                MemoryTransport::shared("scripted", peer.clone(), clock.clone()),
                 clock.clone(),
                 LinkConfig::default(),
             ),
