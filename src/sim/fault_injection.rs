@@ -57,6 +57,15 @@ pub(crate) struct ReplyFate {
 const NOISE: [u8; 7] = [0x00, 0xFF, 0x7E, 0x81, 0x13, 0xFE, 0x3C];
 
 impl ReplyFate {
+    /// A byte line's reply as it reaches the master: `bytes` sent at `at`, later by the
+    /// injected delay, with the injected noise in front.
+    pub(crate) fn reply(&self, bytes: Vec<u8>, at: Duration) -> crate::bus::PeerReply {
+        crate::bus::PeerReply {
+            at: at + self.extra_delay,
+            bytes: self.noisy(bytes),
+        }
+    }
+
     /// `bytes` with line noise in front when the reply is garbled.
     pub(crate) fn noisy(&self, bytes: Vec<u8>) -> Vec<u8> {
         match self.garbage {

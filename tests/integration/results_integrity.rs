@@ -170,7 +170,10 @@ fn a_stale_spool_claim_is_taken_back_by_the_next_sync_in_sqlite() {
 /// Records a run of `TINY` in `store`, which makes the store.
 fn record_tiny_run(dir: &Path, store: &str) {
     let recipe = write_file(dir, "t.yaml", TINY);
-    cli(&["run", recipe.to_str().unwrap(), "--fast", "--results", store], 0);
+    cli(
+        &["run", recipe.to_str().unwrap(), "--fast", "--results", store],
+        0,
+    );
 }
 
 /// Puts the SQLite store `store` (its file and write-ahead log) aside with a directory in

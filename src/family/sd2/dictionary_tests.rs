@@ -67,7 +67,7 @@ fn at(e: &Diagnostic) -> (usize, usize) {
 /// The problem as a user reads it: miette's report, plain.
 fn rendered(e: &dyn miette::Diagnostic) -> String {
     let mut out = String::new();
-    miette::GraphicalReportHandler::new_themed(miette::GraphicalTheme::unicode_nocolor())
+    crate::diag::report_handler(false)
         .render_report(&mut out, e)
         .unwrap();
     out

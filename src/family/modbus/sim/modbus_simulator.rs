@@ -202,10 +202,8 @@ impl ModbusSimulator {
                 *last ^= 0x01;
             }
         }
-        Some(PeerReply {
-            at: now + TURNAROUND.max(self.core.model.config().response_latency) + fate.extra_delay,
-            bytes: fate.noisy(bytes),
-        })
+        let latency = self.core.model.config().response_latency;
+        Some(fate.reply(bytes, now + TURNAROUND.max(latency)))
     }
 }
 

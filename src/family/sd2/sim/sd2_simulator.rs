@@ -181,10 +181,7 @@ impl Sd2Simulator {
                 *check = !*check;
             }
         }
-        Some(PeerReply {
-            at: now + self.config().response_latency + fate.extra_delay,
-            bytes: fate.noisy(bytes),
-        })
+        Some(fate.reply(bytes, now + self.config().response_latency))
     }
 }
 
