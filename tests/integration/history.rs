@@ -8,7 +8,7 @@
 //! runs the safe stop; a serial typed at an operator step looks up at that point.
 
 use crate::support::{
-    assert_exit, assert_has, assert_lacks, command, run_recording as run, scratch, silent_server,
+    assert_exit, assert_has, assert_lacks, cli, command, run_recording as run, scratch, silent_server,
     sqlite_store, unit_certificate, with_postgres_store, with_sqlite_store, write_changed, write_file,
     InProcessRun, Simulator,
 };
@@ -112,23 +112,10 @@ fn history_in(dir: &Path, store: &str) {
     assert_lacks(&fourth, &[&third_id]);
     // Nor is a voided run (a wrong unit scanned): its values are not this unit's.
     let fourth_id = run_id(&fourth);
-    let voided = command()
-        .args([
-            "results",
-            "void",
-            &fourth_id,
-            "--why",
-            "wrong unit scanned",
-            "--by",
-            "A. Lead",
-        ])
-        .args(["--results", store])
-        .output()
-        .expect("voids");
-    assert!(
-        voided.status.success(),
-        "{}",
-        String::from_utf8_lossy(&voided.stderr)
+    let why = ["--why", "wrong unit scanned", "--by", "A. Lead"];
+    cli(
+        &[&["results", "void", &fourth_id][..], &why, &["--results", store]].concat(),
+        0,
     );
     let fifth = assert_exit(fast("SP-1", &[]), 0, &[&format!("run {second_id}")]);
     assert_lacks(&fifth, &[&fourth_id]);

@@ -279,6 +279,17 @@ pub fn cli(args: &[&str], code: i32) -> Ran {
     ran
 }
 
+/// Runs `command` (`what` names it) and fails the test, showing what it wrote, unless it
+/// succeeds; what it wrote.
+#[track_caller]
+pub fn succeeded(command: &mut Command, what: &str) -> Output {
+    let out = command
+        .output()
+        .unwrap_or_else(|e| panic!("{what} does not run: {e}"));
+    assert!(out.status.success(), "{what}: {}{}", stdout(&out), stderr(&out));
+    out
+}
+
 pub fn stdout(o: &Output) -> String {
     String::from_utf8_lossy(&o.stdout).into_owned()
 }
