@@ -54,12 +54,7 @@ fn run_into(recipe: &Path, store: &str, data: &Path, args: &[&str], code: i32) -
         .args(args)
         .output()
         .expect("runs");
-    let ran = Ran {
-        stdout: String::from_utf8_lossy(&out.stdout).into_owned(),
-        stderr: String::from_utf8_lossy(&out.stderr).into_owned(),
-    };
-    assert_eq!(out.status.code(), Some(code), "{}{}", ran.stdout, ran.stderr);
-    ran
+    Ran::exited(out, code)
 }
 
 /// `drivescript results ARGS --results STORE` with `data` as the data directory.
@@ -72,12 +67,7 @@ fn results_cmd(args: &[&str], store: &str, data: &Path, code: i32) -> Ran {
         .args(["--results", store])
         .output()
         .expect("runs");
-    let ran = Ran {
-        stdout: String::from_utf8_lossy(&out.stdout).into_owned(),
-        stderr: String::from_utf8_lossy(&out.stderr).into_owned(),
-    };
-    assert_eq!(out.status.code(), Some(code), "{}{}", ran.stdout, ran.stderr);
-    ran
+    Ran::exited(out, code)
 }
 
 /// The id of a process that has ended.

@@ -270,13 +270,21 @@ pub struct Ran {
 /// it exits with `code`.
 #[track_caller]
 pub fn cli(args: &[&str], code: i32) -> Ran {
-    let out = drivescript(args, "");
-    let ran = Ran {
-        stdout: stdout(&out),
-        stderr: stderr(&out),
-    };
-    assert_eq!(out.status.code(), Some(code), "{}{}", ran.stdout, ran.stderr);
-    ran
+    Ran::exited(drivescript(args, ""), code)
+}
+
+impl Ran {
+    /// What a finished command wrote; fails the test, showing both outputs, unless it
+    /// exited with `code`.
+    #[track_caller]
+    pub fn exited(out: Output, code: i32) -> Ran {
+        let ran = Ran {
+            stdout: stdout(&out),
+            stderr: stderr(&out),
+        };
+        assert_eq!(out.status.code(), Some(code), "{}{}", ran.stdout, ran.stderr);
+        ran
+    }
 }
 
 /// Runs `command` (`what` names it) and fails the test, showing what it wrote, unless it
