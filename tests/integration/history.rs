@@ -254,6 +254,21 @@ pub(crate) fn run_reading_a_silent_store(recipe: &Path, more: &[&str]) -> std::p
         .expect("runs")
 }
 
+/// [`run_reading_a_silent_store`] to its end: its exit code, how long it took and
+/// everything it wrote.
+pub(crate) fn ended_reading_a_silent_store(recipe: &Path, more: &[&str]) -> (Option<i32>, Duration, String) {
+    let started = Instant::now();
+    let out = run_reading_a_silent_store(recipe, more)
+        .wait_with_output()
+        .expect("the run ends");
+    let text = format!(
+        "{}{}",
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    (out.status.code(), started.elapsed(), text)
+}
+
 /// It is waited for once per serial: the operator steps after it do not wait again.
 #[test]
 fn the_lookup_of_a_store_that_never_answers_is_bounded() {
@@ -264,17 +279,9 @@ fn the_lookup_of_a_store_that_never_answers_is_bounded() {
         "run-in.yaml",
         &RUN_IN.replace("steps:\n", &format!("steps:\n{questions}")),
     );
-    let started = Instant::now();
-    let out = run_reading_a_silent_store(&recipe, &["--answer", "guard=yes", "--answer", "adapter=yes"])
-        .wait_with_output()
-        .expect("the run ends");
-    let took = started.elapsed();
-    let text = format!(
-        "{}{}",
-        String::from_utf8_lossy(&out.stdout),
-        String::from_utf8_lossy(&out.stderr)
-    );
-    assert_eq!(out.status.code(), Some(1), "{text}");
+    let answers = ["--answer", "guard=yes", "--answer", "adapter=yes"];
+    let (code, took, text) = ended_reading_a_silent_store(&recipe, &answers);
+    assert_eq!(code, Some(1), "{text}");
     assert!(took < Duration::from_secs(18), "took {took:?}:\n{text}");
     assert_eq!(
         text.matches("history: cannot compare").count(),
@@ -529,14 +536,7 @@ fn finally(d) {
 }
 ",
     );
-    let out = run_reading_a_silent_store(&script, &[])
-        .wait_with_output()
-        .expect("the run ends");
-    let text = format!(
-        "{}{}",
-        String::from_utf8_lossy(&out.stdout),
-        String::from_utf8_lossy(&out.stderr)
-    );
+    let (_, _, text) = ended_reading_a_silent_store(&script, &[]);
     assert_has(
         &text,
         &[
