@@ -5,7 +5,9 @@
 //! (lost line, disobedient drive, fault) are recipe cases under tests/cases/ (`modbus_*`).
 
 use crate::live_run::ctrl_c_during_a_dwell;
-use crate::support::{assert_has, cli, drivescript, repo_root, scratch, stdout, write_file, Simulator};
+use crate::support::{
+    assert_has, check_file, cli, drivescript, repo_root, scratch, stdout, write_file, Simulator,
+};
 use std::path::PathBuf;
 use std::time::Duration;
 
@@ -358,12 +360,12 @@ fn the_manuals_decode_example_prints_what_it_says() {
 #[test]
 fn check_notes_a_value_the_wire_quantises() {
     let dir = scratch("quantised");
-    let recipe = write_file(
+    let out = check_file(
         &dir,
         "recipe.yaml",
         "name: quantised\ndrive: modbus-inverter\nsteps:\n  - set: { speed_setpoint: 3003 rpm }\n  - set: { speed_setpoint: 3000 rpm }\n",
+        0,
     );
-    let out = cli(&["check", recipe.to_str().unwrap()], 0);
     assert_has(
         &out.stderr,
         &["recipe.yaml:4:5: set speed_setpoint = 3003 rpm: the drive holds whole counts of 6 rpm, so it gets 3006 rpm"],

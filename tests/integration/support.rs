@@ -255,6 +255,14 @@ pub fn write_file(dir: &Path, name: &str, text: &str) -> PathBuf {
     path
 }
 
+/// Writes `text` as `name` in `dir` and runs `drivescript check` on it, which must exit
+/// with `code`.
+#[track_caller]
+pub fn check_file(dir: &Path, name: &str, text: &str, code: i32) -> Ran {
+    let file = write_file(dir, name, text);
+    cli(&["check", file.to_str().expect("a UTF-8 path")], code)
+}
+
 /// The words of a command line with no quoted arguments (`run r.yaml --fast`), for [`cli`].
 pub fn words(line: &str) -> Vec<&str> {
     line.split_whitespace().collect()
