@@ -411,21 +411,15 @@ fn the_commissioning_recipe_runs_through_a_pseudo_terminal() {
 #[test]
 fn ctrl_c_during_a_run_on_the_simulated_ct_drive_stops_it() {
     let sim = crate::support::Simulator::start(&["--drive", "ct-unidrive-sp", "--pty"]);
-    let (seen, code, all) = ctrl_c_during_a_dwell(
-        "ct-unidrive-sp",
-        "300 rpm",
+    ctrl_c_during_a_dwell(
+        ("ct-unidrive-sp", "300 rpm"),
         &sim.endpoint,
         Duration::from_millis(200),
-    );
-    assert_has(&seen, &[&format!("drive 1.1 on {} at 9600 7O1", sim.endpoint)]);
-    assert_eq!(code, Some(130), "{all}");
-    assert_has(
-        &all,
+        &format!("drive 1.1 on {} at 9600 7O1", sim.endpoint),
         &[
             "disable_operation (default finally)  control word 129",
             "shutdown (default finally)  control word 128",
             "drive left in switched on",
-            "INTERRUPTED",
         ],
     );
     // Read back from the drive itself: stopped.

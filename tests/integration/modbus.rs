@@ -161,22 +161,16 @@ steps:
 #[test]
 fn ctrl_c_through_a_pseudo_terminal_writes_the_stop_code_and_leaves_the_inverter_stopped() {
     let sim = Simulator::pty(&["--drive", "sunfar-e500"]);
-    let (seen, code, all) = ctrl_c_during_a_dwell(
-        "sunfar-e500",
-        "600 rpm",
+    ctrl_c_during_a_dwell(
+        ("sunfar-e500", "600 rpm"),
         &sim.endpoint,
         Duration::from_millis(300),
-    );
-    assert_has(&seen, &[&format!("slave 1 on {} at 9600 8O1", sim.endpoint)]);
-    assert_eq!(code, Some(130), "{all}");
-    assert_has(
-        &all,
+        &format!("slave 1 on {} at 9600 8O1", sim.endpoint),
         &[
             "set speed_setpoint = 0 rpm (default finally)",
             "disable_operation (default finally)  control word 3",
             "shutdown (default finally)  control word 3",
             "drive left in switched on",
-            "INTERRUPTED",
         ],
     );
     let out = drivescript(
