@@ -66,6 +66,14 @@ impl ReplyFate {
         }
     }
 
+    /// A reply whose checksum is to be corrupted gets its last byte (the check byte of
+    /// every byte family that has one there) `spoiled`.
+    pub(crate) fn corrupt_last_byte(&self, bytes: &mut [u8], spoil: impl FnOnce(u8) -> u8) {
+        if let (true, Some(last)) = (self.corrupt_checksum, bytes.last_mut()) {
+            *last = spoil(*last);
+        }
+    }
+
     /// `bytes` with line noise in front when the reply is garbled.
     pub(crate) fn noisy(&self, bytes: Vec<u8>) -> Vec<u8> {
         match self.garbage {

@@ -197,11 +197,7 @@ impl ModbusSimulator {
             Framing::Rtu => rtu::encode(unit, &pdu),
             Framing::Tcp => mbap::encode(transaction, unit, &pdu),
         };
-        if fate.corrupt_checksum {
-            if let Some(last) = bytes.last_mut() {
-                *last ^= 0x01;
-            }
-        }
+        fate.corrupt_last_byte(&mut bytes, |check| check ^ 0x01);
         let latency = self.core.model.config().response_latency;
         Some(fate.reply(bytes, now + TURNAROUND.max(latency)))
     }
