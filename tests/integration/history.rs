@@ -8,9 +8,9 @@
 //! runs the safe stop; a serial typed at an operator step looks up at that point.
 
 use crate::support::{
-    assert_exit, assert_has, assert_lacks, cli, command, run_recording as run, scratch, silent_server,
-    sqlite_store, unit_certificate, with_postgres_store, with_sqlite_store, write_changed, write_file,
-    InProcessRun, Simulator,
+    assert_exit, assert_has, assert_lacks, cli, command, console, run_recording as run, scratch,
+    silent_server, sqlite_store, unit_certificate, with_postgres_store, with_sqlite_store, write_changed,
+    write_file, InProcessRun, Simulator,
 };
 use drivescript::results::{Locator, RunFilter, StoreHistory};
 use std::path::Path;
@@ -261,11 +261,7 @@ pub(crate) fn ended_reading_a_silent_store(recipe: &Path, more: &[&str]) -> (Opt
     let out = run_reading_a_silent_store(recipe, more)
         .wait_with_output()
         .expect("the run ends");
-    let text = format!(
-        "{}{}",
-        String::from_utf8_lossy(&out.stdout),
-        String::from_utf8_lossy(&out.stderr)
-    );
+    let text = console(&out.stdout, &out.stderr);
     (out.status.code(), started.elapsed(), text)
 }
 

@@ -476,7 +476,7 @@ impl<'a> InProcessRun<'a> {
 }
 
 /// Standard output, then errors.
-fn console(out: &[u8], err: &[u8]) -> String {
+pub fn console(out: &[u8], err: &[u8]) -> String {
     format!("{}{}", String::from_utf8_lossy(out), String::from_utf8_lossy(err))
 }
 
