@@ -5,7 +5,7 @@
 //! data type, access, limits, default and name, and where the built-in `canopen`
 //! dictionary has the object too, the file's limits are the ones in force.
 
-use crate::support::{drivescript, python_imports, succeeded};
+use crate::support::{cli, python_imports, succeeded};
 use serde_json::Value;
 use std::collections::HashMap;
 use std::process::Command;
@@ -42,7 +42,7 @@ fn python_view(file: &str) -> Option<Vec<Value>> {
 /// `drivescript objects --json` for the built-in canopen dictionary and `file`, by
 /// (index, subindex) of the file's entry.
 fn our_view(file: &str) -> HashMap<(u64, u64), Value> {
-    let out = drivescript(
+    let out = cli(
         &[
             "objects",
             "--drive",
@@ -51,15 +51,9 @@ fn our_view(file: &str) -> HashMap<(u64, u64), Value> {
             &path(file),
             "--json",
         ],
-        "",
+        0,
     );
-    assert_eq!(
-        out.status.code(),
-        Some(0),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let rows: Vec<Value> = serde_json::from_slice(&out.stdout).expect("JSON rows");
+    let rows: Vec<Value> = serde_json::from_str(&out.stdout).expect("JSON rows");
     rows.into_iter()
         .filter(|r| r["file"].is_object())
         .map(|r| {

@@ -277,12 +277,7 @@ fn the_default_store_is_in_the_data_directory_and_takes_only_real_drives_unless_
             .stdin(Stdio::null())
             .output()
             .expect("runs");
-        assert_eq!(
-            out.status.code(),
-            Some(0),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
+        Ran::exited(out, 0);
     };
     run(&["--fast"]);
     let default = dir.join("drivescript/results.sqlite");
@@ -709,12 +704,7 @@ fn postgresql_records_runs_from_a_fleet_and_spools_while_the_server_is_down() {
         .args(["results", "sync", "--results", &url])
         .output()
         .expect("syncs");
-    assert_eq!(
-        synced.status.code(),
-        Some(0),
-        "{}",
-        String::from_utf8_lossy(&synced.stderr)
-    );
+    Ran::exited(synced, 0);
     let runs = all_runs(&url);
     let spooled = runs
         .iter()
