@@ -152,6 +152,15 @@ impl MemoryTransport {
         }
     }
 
+    /// A line named `name` to `peer`, shared as links and the drives on one line take it.
+    pub fn shared(
+        name: impl Into<String>,
+        peer: Arc<Mutex<dyn Peer>>,
+        clock: SharedClock,
+    ) -> super::SharedTransport {
+        super::SharedTransport::new(Box::new(MemoryTransport::new(name, peer, clock)))
+    }
+
     fn line_down(&self) -> TransportError {
         TransportError::Io {
             port: self.name.clone(),

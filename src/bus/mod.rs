@@ -11,6 +11,8 @@ mod memory;
 mod memory_frame_bus;
 mod peer_line;
 mod read_within;
+#[cfg(test)]
+mod scripted_peer;
 mod serial;
 mod shared;
 mod slcan_adapter;
@@ -28,6 +30,8 @@ pub use can_frame_text_error::CanFrameTextError;
 pub use frame_bus::FrameBus;
 pub use memory_frame_bus::{FramePeer, MemoryFrameBus};
 pub use peer_line::{EchoingLine, FramePeerLine, PeerLine};
+#[cfg(test)]
+pub use scripted_peer::ScriptedPeer;
 pub use shared::{Named, Shared, SharedFrameBus, SharedTransport};
 pub use slcan_adapter::SlcanAdapter;
 pub use slcan_bus::SlcanBus;

@@ -107,7 +107,7 @@ mod tests {
         assert_eq!(all.to_string(), "d.yaml:1:1: first (and 2 more problems)");
         assert!(DictionaryError::collect(Diagnostics::new()).is_none());
         let mut out = String::new();
-        miette::GraphicalReportHandler::new_themed(miette::GraphicalTheme::unicode_nocolor())
+        crate::diag::report_handler(false)
             .render_report(&mut out, &all)
             .unwrap();
         assert!(!out.contains("drivescript::"), "no internal label: {out}");

@@ -4,6 +4,7 @@
 
 pub mod canopen;
 pub mod ct_ansi;
+mod documented_code;
 mod family;
 mod family_error;
 mod family_info;

@@ -3,7 +3,7 @@
 
 use super::FamilyError;
 use super::{
-    canopen::CanopenFamily, ct_ansi::CtFamily, lenze_931::Lenze931Family, lenze_9400::Lenze9400Family,
+    canopen::CANOPEN_FAMILY, ct_ansi::CtFamily, lenze_931::Lenze931Family, lenze_9400::LENZE_9400_FAMILY,
     modbus::ModbusFamily, sd2::Sd2Family, BuiltinDictionary, Family,
 };
 use crate::diag::{did_you_mean, Diagnostic};
@@ -27,10 +27,10 @@ impl Registry {
                 Arc::new(Sd2Family),
                 Arc::new(CtFamily),
                 Arc::new(Lenze931Family),
-                Arc::new(Lenze9400Family),
+                Arc::new(LENZE_9400_FAMILY),
                 Arc::new(ModbusFamily::RTU),
                 Arc::new(ModbusFamily::TCP),
-                Arc::new(CanopenFamily),
+                Arc::new(CANOPEN_FAMILY),
             ],
         }
     }

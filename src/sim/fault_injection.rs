@@ -57,6 +57,23 @@ pub(crate) struct ReplyFate {
 const NOISE: [u8; 7] = [0x00, 0xFF, 0x7E, 0x81, 0x13, 0xFE, 0x3C];
 
 impl ReplyFate {
+    /// A byte line's reply as it reaches the master: `bytes` sent at `at`, later by the
+    /// injected delay, with the injected noise in front.
+    pub(crate) fn reply(&self, bytes: Vec<u8>, at: Duration) -> crate::bus::PeerReply {
+        crate::bus::PeerReply {
+            at: at + self.extra_delay,
+            bytes: self.noisy(bytes),
+        }
+    }
+
+    /// A reply whose checksum is to be corrupted gets its last byte (the check byte of
+    /// every byte family that has one there) `spoiled`.
+    pub(crate) fn corrupt_last_byte(&self, bytes: &mut [u8], spoil: impl FnOnce(u8) -> u8) {
+        if let (true, Some(last)) = (self.corrupt_checksum, bytes.last_mut()) {
+            *last = spoil(*last);
+        }
+    }
+
     /// `bytes` with line noise in front when the reply is garbled.
     pub(crate) fn noisy(&self, bytes: Vec<u8>) -> Vec<u8> {
         match self.garbage {

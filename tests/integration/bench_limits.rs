@@ -133,17 +133,18 @@ fn limits_file_problems_are_located() {
     let o = run(&dir, &["check", "r.yaml", "--limits", "bad.yaml"], None);
     assert_eq!(o.status.code(), Some(2));
     let e = err(&o);
-    for expected in [
-        "bad.yaml:1:1: unknown key `max_sped` in the limits file",
-        "did you mean `max_speed`?",
-        "`max_current` is a current, but rpm measures speed",
-        "bad.yaml:2:14",
-        "`max_speed` 6000 has no unit",
-        "bad.yaml:3:12",
-        "write the unit, rpm or krpm, e.g. `max_speed: 12000 rpm`",
-    ] {
-        assert!(e.contains(expected), "missing `{expected}` in:\n{e}");
-    }
+    assert_has(
+        &e,
+        &[
+            "bad.yaml:1:1: unknown key `max_sped` in the limits file",
+            "did you mean `max_speed`?",
+            "`max_current` is a current, but rpm measures speed",
+            "bad.yaml:2:14",
+            "`max_speed` 6000 has no unit",
+            "bad.yaml:3:12",
+            "write the unit, rpm or krpm, e.g. `max_speed: 12000 rpm`",
+        ],
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }
 

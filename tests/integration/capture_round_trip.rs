@@ -3,7 +3,7 @@
 //! the same verdict and exit code. (A CANopen trace used not to: its NMT start was left out
 //! of the exchanges, so the replay said the capture "never answered" it.)
 
-use crate::support::{command, scratch_file};
+use crate::support::{command, console, scratch_file};
 
 /// Enabled, at 600 rpm, checked, stopped by the safe stop: every kind of telegram a run sends.
 const MOVES: &str = "  - read: [status_word]
@@ -22,11 +22,7 @@ fn verdict(recipe: &std::path::Path, args: &[&str]) -> (Option<i32>, String) {
         .current_dir(recipe.parent().expect("the recipe's folder"))
         .output()
         .expect("drivescript runs");
-    let text = format!(
-        "{}{}",
-        String::from_utf8_lossy(&out.stdout),
-        String::from_utf8_lossy(&out.stderr)
-    );
+    let text = console(&out.stdout, &out.stderr);
     let last = text
         .lines()
         .rev()

@@ -9,7 +9,7 @@ use crate::support::{
     assert_has, assert_matches_shared, cli, control_words, drivescript, load_vectors, repo_root,
     scratch_file, stderr, stdout, write_file, InProcessRun,
 };
-use drivescript::bus::{MemoryTransport, SharedTransport};
+use drivescript::bus::MemoryTransport;
 use drivescript::clock::{SharedClock, VirtualClock};
 use drivescript::dictionary::{Address, DataType, RawValue};
 use drivescript::family::ct_ansi::codec::{Reply, Request};
@@ -243,11 +243,7 @@ fn a_write_of_the_baud_rate_parameter_waits_20_ms_and_says_to_restart_with_baud(
     let f = family();
     let clock = Arc::new(VirtualClock::new());
     let peer = Arc::new(std::sync::Mutex::new(AcceptsWrites(Vec::new())));
-    let line = SharedTransport::new(Box::new(MemoryTransport::new(
-        "line",
-        peer.clone(),
-        clock.clone(),
-    )));
+    let line = MemoryTransport::shared("line", peer.clone(), clock.clone());
     let options = LinkOptions {
         reply_timeout: Duration::from_secs(1),
         retries: 2,
@@ -298,7 +294,7 @@ fn a_group_write_gets_no_reply_and_is_not_repeated() {
     };
     // Even with every reply dropped, the group write neither waits nor retries.
     device.drive.lock().unwrap().faults().drop_replies(10);
-    let line = SharedTransport::new(Box::new(MemoryTransport::new("line", peer, clock.clone())));
+    let line = MemoryTransport::shared("line", peer, clock.clone());
     let group = f.parse_drive_address(Some("1.0")).unwrap();
     let options = LinkOptions {
         reply_timeout: Duration::from_secs(1),
@@ -415,21 +411,15 @@ fn the_commissioning_recipe_runs_through_a_pseudo_terminal() {
 #[test]
 fn ctrl_c_during_a_run_on_the_simulated_ct_drive_stops_it() {
     let sim = crate::support::Simulator::start(&["--drive", "ct-unidrive-sp", "--pty"]);
-    let (seen, code, all) = ctrl_c_during_a_dwell(
-        "ct-unidrive-sp",
-        "300 rpm",
+    ctrl_c_during_a_dwell(
+        ("ct-unidrive-sp", "300 rpm"),
         &sim.endpoint,
         Duration::from_millis(200),
-    );
-    assert_has(&seen, &[&format!("drive 1.1 on {} at 9600 7O1", sim.endpoint)]);
-    assert_eq!(code, Some(130), "{all}");
-    assert_has(
-        &all,
+        &format!("drive 1.1 on {} at 9600 7O1", sim.endpoint),
         &[
             "disable_operation (default finally)  control word 129",
             "shutdown (default finally)  control word 128",
             "drive left in switched on",
-            "INTERRUPTED",
         ],
     );
     // Read back from the drive itself: stopped.

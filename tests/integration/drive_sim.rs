@@ -3,7 +3,7 @@
 //! that send nothing, and every fault injection producing the right retry or error.
 
 use crate::support::assert_has;
-use drivescript::bus::{MemoryTransport, Peer, SharedTransport};
+use drivescript::bus::{MemoryTransport, Peer};
 use drivescript::clock::{SharedClock, VirtualClock};
 use drivescript::dictionary::{Quantity, Unit};
 use drivescript::drive::device_control::{DeviceCommand, DeviceState};
@@ -26,9 +26,8 @@ fn bench() -> Bench {
     let clock: SharedClock = Arc::new(VirtualClock::new());
     let sim = Arc::new(Mutex::new(Sd2Simulator::new(SimConfig::default())));
     let peer: Arc<Mutex<dyn Peer>> = sim.clone();
-    let transport = MemoryTransport::new("simulated drive", peer, clock.clone());
     let link = Sd2Link::new(
-        SharedTransport::new(Box::new(transport)),
+        MemoryTransport::shared("simulated drive", peer, clock.clone()),
         clock.clone(),
         LinkConfig::default(),
     );
@@ -327,7 +326,7 @@ fn two_drives_share_one_line_and_their_exchanges_never_interleave() {
         })
         .collect();
     let peer: Arc<Mutex<dyn Peer>> = Arc::new(Mutex::new(Line(sims.clone())));
-    let line = SharedTransport::new(Box::new(MemoryTransport::new("rs485 line", peer, clock.clone())));
+    let line = MemoryTransport::shared("rs485 line", peer, clock.clone());
     let dictionary = Arc::new(
         drivescript::family::Registry::builtin()
             .load_dictionary("sd2")

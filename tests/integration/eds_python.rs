@@ -5,7 +5,7 @@
 //! data type, access, limits, default and name, and where the built-in `canopen`
 //! dictionary has the object too, the file's limits are the ones in force.
 
-use crate::support::{drivescript, python_imports};
+use crate::support::{cli, python_imports, succeeded};
 use serde_json::Value;
 use std::collections::HashMap;
 use std::process::Command;
@@ -29,15 +29,11 @@ fn python_view(file: &str) -> Option<Vec<Value>> {
     if !python_imports("canopen", missing) {
         return None;
     }
-    let out = Command::new("python3")
-        .arg(path("python_canopen_view.py"))
-        .arg(path(file))
-        .output()
-        .expect("python3 runs");
-    assert!(
-        out.status.success(),
-        "{file}: {}",
-        String::from_utf8_lossy(&out.stderr)
+    let out = succeeded(
+        Command::new("python3")
+            .arg(path("python_canopen_view.py"))
+            .arg(path(file)),
+        &format!("the python-canopen view of {file}"),
     );
     let view: Value = serde_json::from_slice(&out.stdout).expect("JSON from the view script");
     Some(view["variables"].as_array().expect("variables").clone())
@@ -46,7 +42,7 @@ fn python_view(file: &str) -> Option<Vec<Value>> {
 /// `drivescript objects --json` for the built-in canopen dictionary and `file`, by
 /// (index, subindex) of the file's entry.
 fn our_view(file: &str) -> HashMap<(u64, u64), Value> {
-    let out = drivescript(
+    let out = cli(
         &[
             "objects",
             "--drive",
@@ -55,15 +51,9 @@ fn our_view(file: &str) -> HashMap<(u64, u64), Value> {
             &path(file),
             "--json",
         ],
-        "",
+        0,
     );
-    assert_eq!(
-        out.status.code(),
-        Some(0),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let rows: Vec<Value> = serde_json::from_slice(&out.stdout).expect("JSON rows");
+    let rows: Vec<Value> = serde_json::from_str(&out.stdout).expect("JSON rows");
     rows.into_iter()
         .filter(|r| r["file"].is_object())
         .map(|r| {

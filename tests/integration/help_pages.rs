@@ -2,7 +2,7 @@
 //! command, `-h` the short form and `--help` the paragraphs with examples at the end, and
 //! the man page and completions generated from the same clap definitions.
 
-use crate::support::cli;
+use crate::support::{assert_has, cli};
 
 /// The lines of the `Commands:` list of `help`.
 fn command_lines(help: &str) -> Vec<&str> {
@@ -78,17 +78,18 @@ fn run_h_is_at_most_fifty_lines_of_one_line_options() {
         assert!(!short.contains(hidden), "{hidden} in -h:\n{short}");
         assert!(long.contains(hidden), "{hidden} missing from --help:\n{long}");
     }
-    for common in [
-        "--port",
-        "--tcp",
-        "--can",
-        "--address",
-        "--fast",
-        "--junit",
-        "--results",
-    ] {
-        assert!(short.contains(common), "{common} missing from -h:\n{short}");
-    }
+    assert_has(
+        &short,
+        &[
+            "--port",
+            "--tcp",
+            "--can",
+            "--address",
+            "--fast",
+            "--junit",
+            "--results",
+        ],
+    );
 }
 
 #[test]

@@ -8,9 +8,9 @@
 //! runs the safe stop; a serial typed at an operator step looks up at that point.
 
 use crate::support::{
-    assert_exit, assert_has, assert_lacks, command, run_recording as run, scratch, silent_server,
-    sqlite_store, unit_certificate, with_postgres_store, with_sqlite_store, write_changed, write_file,
-    InProcessRun, Simulator,
+    assert_exit, assert_has, assert_lacks, cli, command, console, run_recording as run, scratch,
+    silent_server, sqlite_store, unit_certificate, with_postgres_store, with_sqlite_store, write_changed,
+    write_file, InProcessRun, Simulator,
 };
 use drivescript::results::{Locator, RunFilter, StoreHistory};
 use std::path::Path;
@@ -112,23 +112,10 @@ fn history_in(dir: &Path, store: &str) {
     assert_lacks(&fourth, &[&third_id]);
     // Nor is a voided run (a wrong unit scanned): its values are not this unit's.
     let fourth_id = run_id(&fourth);
-    let voided = command()
-        .args([
-            "results",
-            "void",
-            &fourth_id,
-            "--why",
-            "wrong unit scanned",
-            "--by",
-            "A. Lead",
-        ])
-        .args(["--results", store])
-        .output()
-        .expect("voids");
-    assert!(
-        voided.status.success(),
-        "{}",
-        String::from_utf8_lossy(&voided.stderr)
+    let why = ["--why", "wrong unit scanned", "--by", "A. Lead"];
+    cli(
+        &[&["results", "void", &fourth_id][..], &why, &["--results", store]].concat(),
+        0,
     );
     let fifth = assert_exit(fast("SP-1", &[]), 0, &[&format!("run {second_id}")]);
     assert_lacks(&fifth, &[&fourth_id]);
@@ -267,6 +254,17 @@ pub(crate) fn run_reading_a_silent_store(recipe: &Path, more: &[&str]) -> std::p
         .expect("runs")
 }
 
+/// [`run_reading_a_silent_store`] to its end: its exit code, how long it took and
+/// everything it wrote.
+pub(crate) fn ended_reading_a_silent_store(recipe: &Path, more: &[&str]) -> (Option<i32>, Duration, String) {
+    let started = Instant::now();
+    let out = run_reading_a_silent_store(recipe, more)
+        .wait_with_output()
+        .expect("the run ends");
+    let text = console(&out.stdout, &out.stderr);
+    (out.status.code(), started.elapsed(), text)
+}
+
 /// It is waited for once per serial: the operator steps after it do not wait again.
 #[test]
 fn the_lookup_of_a_store_that_never_answers_is_bounded() {
@@ -277,17 +275,9 @@ fn the_lookup_of_a_store_that_never_answers_is_bounded() {
         "run-in.yaml",
         &RUN_IN.replace("steps:\n", &format!("steps:\n{questions}")),
     );
-    let started = Instant::now();
-    let out = run_reading_a_silent_store(&recipe, &["--answer", "guard=yes", "--answer", "adapter=yes"])
-        .wait_with_output()
-        .expect("the run ends");
-    let took = started.elapsed();
-    let text = format!(
-        "{}{}",
-        String::from_utf8_lossy(&out.stdout),
-        String::from_utf8_lossy(&out.stderr)
-    );
-    assert_eq!(out.status.code(), Some(1), "{text}");
+    let answers = ["--answer", "guard=yes", "--answer", "adapter=yes"];
+    let (code, took, text) = ended_reading_a_silent_store(&recipe, &answers);
+    assert_eq!(code, Some(1), "{text}");
     assert!(took < Duration::from_secs(18), "took {took:?}:\n{text}");
     assert_eq!(
         text.matches("history: cannot compare").count(),
@@ -542,14 +532,7 @@ fn finally(d) {
 }
 ",
     );
-    let out = run_reading_a_silent_store(&script, &[])
-        .wait_with_output()
-        .expect("the run ends");
-    let text = format!(
-        "{}{}",
-        String::from_utf8_lossy(&out.stdout),
-        String::from_utf8_lossy(&out.stderr)
-    );
+    let (_, _, text) = ended_reading_a_silent_store(&script, &[]);
     assert_has(
         &text,
         &[

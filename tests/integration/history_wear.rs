@@ -10,7 +10,7 @@
 
 #[cfg(unix)]
 use crate::history::interrupted_once_shown;
-use crate::history::{run_id, run_reading_a_silent_store};
+use crate::history::{ended_reading_a_silent_store, run_id, run_reading_a_silent_store};
 use crate::support::{
     assert_exit, assert_has, assert_lacks, command, line_with, run_recording as run, scratch, sqlite_store,
     write_changed, write_file, InProcessRun,
@@ -19,7 +19,7 @@ use drivescript::results::{Locator, StoreHistory};
 use drivescript::stop_request::StopSignal;
 use std::path::Path;
 use std::sync::Arc;
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 /// Up to speed, then the power stage off: 5800 rpm at the simulated 300 rpm/s take
 /// 19.334 s. `COMPARED` is replaced by the comparison.
@@ -563,16 +563,7 @@ fn finally(d) {
 }
 ",
     );
-    let started = Instant::now();
-    let out = run_reading_a_silent_store(&script, &[])
-        .wait_with_output()
-        .expect("the run ends");
-    let took = started.elapsed();
-    let text = format!(
-        "{}{}",
-        String::from_utf8_lossy(&out.stdout),
-        String::from_utf8_lossy(&out.stderr)
-    );
+    let (_, took, text) = ended_reading_a_silent_store(&script, &[]);
     assert!(
         took < drivescript::session::LOOKUP_LIMIT,
         "took {took:?}, as long as a lookup:\n{text}"

@@ -5,7 +5,7 @@
 //! refusing what no inverter of its kind reaches. Through the binary, against the
 //! built-in simulated inverter.
 
-use crate::support::{assert_has, assert_lacks, cli, scratch, words, write_file};
+use crate::support::{assert_has, assert_lacks, check_file, cli, scratch, words, write_file};
 
 const AT_100_HZ: &str = "name: Spindle at 100 Hz
 drive: sunfar-e500
@@ -99,12 +99,12 @@ fn bad_pole_pairs_are_refused_before_anything_is_sent() {
 #[test]
 fn hz_where_the_pole_pairs_are_unknown_gets_a_hint() {
     let dir = scratch("inverter-hz-hint");
-    let recipe = write_file(
+    let out = check_file(
         &dir,
         "sd2.yaml",
         "name: Hz on a servo\ndrive: sd2\nsteps:\n  - set: { speed_setpoint: 100 Hz }\n",
+        2,
     );
-    let out = cli(&["check", recipe.to_str().unwrap()], 2);
     assert_has(
         &out.stderr,
         &[
@@ -113,12 +113,12 @@ fn hz_where_the_pole_pairs_are_unknown_gets_a_hint() {
             "rpm = Hz × 60 / pole pairs",
         ],
     );
-    let script = write_file(
+    let out = check_file(
         &dir,
         "sd2.rhai",
         "//! drive: sd2\nlet d = drive();\nd.set(\"speed_setpoint\", 50.0, \"Hz\");\nlet f = d.read_as(\"speed_actual\", \"Hz\");\n",
+        2,
     );
-    let out = cli(&["check", script.to_str().unwrap()], 2);
     assert_has(
         &out.stderr,
         &["does not say the motor's pole pairs", "2 problems found"],
@@ -139,23 +139,23 @@ fn hz_where_the_pole_pairs_are_unknown_gets_a_hint() {
 fn every_shipped_inverter_dictionary_refuses_300_000_rpm_in_check() {
     let dir = scratch("inverter-too-fast");
     for drive in ["sunfar-e500", "modbus-inverter", "modbus-tcp-inverter"] {
-        let recipe = write_file(
+        let out = check_file(
             &dir,
             &format!("{drive}.yaml"),
             &format!("name: Too fast\ndrive: {drive}\nsteps:\n  - set: {{ speed_setpoint: 300000 rpm }}\n"),
+            2,
         );
-        let out = cli(&["check", recipe.to_str().unwrap()], 2);
         assert_has(
             &out.stderr,
             &["300000 rpm is above the maximum of speed_setpoint, 24000 rpm"],
         );
         // In Hz too: 5000 Hz is beyond the same 400 Hz.
-        let hz = write_file(
+        let out = check_file(
             &dir,
             &format!("{drive}-hz.yaml"),
             &format!("name: Too fast\ndrive: {drive}\nsteps:\n  - set: {{ speed_setpoint: 5000 Hz }}\n"),
+            2,
         );
-        let out = cli(&["check", hz.to_str().unwrap()], 2);
         assert_has(&out.stderr, &["5000 Hz (300000 rpm) is above the maximum"]);
     }
 }
@@ -250,12 +250,12 @@ steps:
         &out,
         &["a.speed_setpoint = 1500 rpm, b.speed_setpoint = 1500 rpm"],
     );
-    let bad = write_file(
+    let out = check_file(
         &dir,
         "bad.yaml",
         &text.replace("pole_pairs: 2", "pole_pairs: zero"),
+        2,
     );
-    let out = cli(&["check", bad.to_str().unwrap()], 2);
     assert_has(
         &out.stderr,
         &["drive `b`", "`zero` is not a number of pole pairs"],

@@ -134,14 +134,16 @@ impl Drop for LiveRun {
 
 /// A run that enables `drive`, sets `speed` (`300 rpm`) and dwells an hour, on `port` at
 /// 9600 baud with odd parity (not the family's default, so the run is seen to use them),
-/// interrupted by Ctrl-C `pause` after the setpoint was written: what it printed before
-/// the signal, its exit code and all it printed.
+/// interrupted by Ctrl-C `pause` after the setpoint was written. Fails unless it showed
+/// `connected` (the drive on its port and line settings) before the signal, then the safe
+/// stop's `stopped` lines, `INTERRUPTED` and the exit code 130.
 pub fn ctrl_c_during_a_dwell(
-    drive: &str,
-    speed: &str,
+    (drive, speed): (&str, &str),
     port: &str,
     pause: std::time::Duration,
-) -> (String, Option<i32>, String) {
+    connected: &str,
+    stopped: &[&str],
+) {
     let (_, recipe) = scratch_file(
         &format!("ctrl-c-{drive}"),
         "run.yaml",
@@ -153,5 +155,8 @@ pub fn ctrl_c_during_a_dwell(
     let args = [
         "run", &recipe, "--port", port, "--baud", "9600", "--parity", "odd",
     ];
-    LiveRun::start(args).interrupt_after("set speed_setpoint", pause)
+    let (seen, code, all) = LiveRun::start(args).interrupt_after("set speed_setpoint", pause);
+    assert_has(&seen, &[connected]);
+    assert_eq!(code, Some(130), "{all}");
+    assert_has(&all, &[stopped, &["INTERRUPTED"]].concat());
 }

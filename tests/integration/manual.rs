@@ -3,7 +3,7 @@
 //! include between them leads somewhere, every page is in the book's summary, and the
 //! generated recipe reference is what the loader and the schema say today.
 
-use crate::support::{cli, repo_root};
+use crate::support::{assert_has, cli, repo_root};
 use std::path::{Path, PathBuf};
 
 /// The Markdown files of the manual, and the README.
@@ -153,16 +153,17 @@ fn the_recipe_reference_is_what_the_loader_and_the_schema_say() {
         "docs/src/reference/recipe.md is out of date: run \
          `cargo run -- schema --reference > docs/src/reference/recipe.md`"
     );
-    for key in [
-        "wait_until",
-        "`timeout`",
-        "10 s",
-        "coast_down",
-        "10 min",
-        "brake_to_standstill",
-    ] {
-        assert!(generated.contains(key), "{key} missing:\n{generated}");
-    }
+    assert_has(
+        &generated,
+        &[
+            "wait_until",
+            "`timeout`",
+            "10 s",
+            "coast_down",
+            "10 min",
+            "brake_to_standstill",
+        ],
+    );
 }
 
 /// The `console` blocks of the README and the manual: each `$ drivescript …` runs as

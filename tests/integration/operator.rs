@@ -9,7 +9,7 @@
 use crate::safety::{traced_writes, CONTROL_WORD, SPEED_SETPOINT};
 #[cfg(unix)]
 use crate::support::Terminal;
-use crate::support::{assert_has, assert_lacks, cli, scratch, write_file, InProcessRun};
+use crate::support::{assert_has, assert_lacks, cli, scratch, succeeded, write_file, InProcessRun};
 
 const SPINDLE: &str = "name: Spindle check
 steps:
@@ -319,12 +319,7 @@ fn junit_and_html_carry_the_identity_and_every_answer() {
     let Some(mut chromium) = crate::support::headless_chromium(&dir.join("profile")) else {
         return;
     };
-    let out = chromium
-        .arg("--dump-dom")
-        .arg(&html_path)
-        .output()
-        .expect("chromium runs");
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let out = succeeded(chromium.arg("--dump-dom").arg(&html_path), "chromium");
     let rendered = String::from_utf8_lossy(&out.stdout);
     assert_has(
         &rendered,

@@ -3,7 +3,7 @@
 //! recipe passes; a wrong unit, a wrong dimension, `2 parsecs`, `near` without `within`
 //! and a misspelt step are refused, the last one with the list of step keys.
 
-use crate::support::{drivescript, repo_root, stdout};
+use crate::support::{drivescript, repo_root, stdout, succeeded};
 use std::process::Command;
 
 const VALIDATOR: &str = r#"
@@ -56,13 +56,13 @@ fn validate_against(drive: &str, paths: &[std::path::PathBuf]) -> Vec<(String, V
     std::fs::create_dir_all(&dir).unwrap();
     let schema = dir.join("recipe.schema.json");
     std::fs::write(&schema, stdout(&drivescript(&["schema", "--drive", drive], ""))).unwrap();
-    let out = Command::new("python3")
-        .args(["-c", VALIDATOR])
-        .arg(&schema)
-        .args(paths)
-        .output()
-        .expect("python3 runs");
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let out = succeeded(
+        Command::new("python3")
+            .args(["-c", VALIDATOR])
+            .arg(&schema)
+            .args(paths),
+        "the schema validator",
+    );
     String::from_utf8_lossy(&out.stdout)
         .lines()
         .map(|l| {

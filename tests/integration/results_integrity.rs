@@ -54,12 +54,7 @@ fn run_into(recipe: &Path, store: &str, data: &Path, args: &[&str], code: i32) -
         .args(args)
         .output()
         .expect("runs");
-    let ran = Ran {
-        stdout: String::from_utf8_lossy(&out.stdout).into_owned(),
-        stderr: String::from_utf8_lossy(&out.stderr).into_owned(),
-    };
-    assert_eq!(out.status.code(), Some(code), "{}{}", ran.stdout, ran.stderr);
-    ran
+    Ran::exited(out, code)
 }
 
 /// `drivescript results ARGS --results STORE` with `data` as the data directory.
@@ -72,12 +67,7 @@ fn results_cmd(args: &[&str], store: &str, data: &Path, code: i32) -> Ran {
         .args(["--results", store])
         .output()
         .expect("runs");
-    let ran = Ran {
-        stdout: String::from_utf8_lossy(&out.stdout).into_owned(),
-        stderr: String::from_utf8_lossy(&out.stderr).into_owned(),
-    };
-    assert_eq!(out.status.code(), Some(code), "{}{}", ran.stdout, ran.stderr);
-    ran
+    Ran::exited(out, code)
 }
 
 /// The id of a process that has ended.
@@ -160,20 +150,20 @@ fn a_stale_spool_claim_is_taken_back_by_the_next_sync_in_sqlite() {
     let store = dir.join("results.sqlite");
     let s = store.to_str().unwrap();
     // A first run makes the store; a directory in its place makes the next spool.
-    cli(
-        &[
-            "run",
-            write_file(&dir, "t.yaml", TINY).to_str().unwrap(),
-            "--fast",
-            "--results",
-            s,
-        ],
-        0,
-    );
+    record_tiny_run(&dir, s);
     let aside = dir.join("aside");
     std::fs::create_dir_all(&aside).expect("aside");
     let offline = |off: bool| take_offline(&store, &aside, off);
     a_stale_claim_is_taken_back(s, &dir.join("results.sqlite.spool"), &dir, &offline);
+}
+
+/// Records a run of `TINY` in `store`, which makes the store.
+fn record_tiny_run(dir: &Path, store: &str) {
+    let recipe = write_file(dir, "t.yaml", TINY);
+    cli(
+        &["run", recipe.to_str().unwrap(), "--fast", "--results", store],
+        0,
+    );
 }
 
 /// Puts the SQLite store `store` (its file and write-ahead log) aside with a directory in
@@ -210,16 +200,7 @@ fn a_queue_without_room_keeps_every_record_in_order_and_the_store_gets_the_whole
     let recipe = write_file(&dir, "heavy.yaml", HEAVY);
     let store = dir.join("results.sqlite");
     let s = store.to_str().unwrap();
-    cli(
-        &[
-            "run",
-            write_file(&dir, "t.yaml", TINY).to_str().unwrap(),
-            "--fast",
-            "--results",
-            s,
-        ],
-        0,
-    );
+    record_tiny_run(&dir, s);
     let lock = rusqlite::Connection::open(&store).expect("open");
     lock.execute_batch("BEGIN EXCLUSIVE").expect("lock");
     let child = command()

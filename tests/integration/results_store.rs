@@ -7,8 +7,8 @@
 use crate::live_run::LiveRun;
 use crate::support::SHORT_RECIPE as SHORT;
 use crate::support::{
-    assert_has, assert_lacks, cli, command, run_recording, scratch, screenshot, silent_server, sqlite_store,
-    unit_certificate, write_file, InProcessRun, PostgresServer, Ran, Simulator,
+    assert_has, assert_lacks, cli, command, console, run_recording, scratch, screenshot, silent_server,
+    sqlite_store, unit_certificate, write_file, InProcessRun, PostgresServer, Ran, Simulator,
 };
 use drivescript::results::{Locator, RunFilter, StoredRun};
 use drivescript::session::{CheckResult, RunInfo, RunObserver, RunReport, StepRecord, UnitIdentity};
@@ -277,12 +277,7 @@ fn the_default_store_is_in_the_data_directory_and_takes_only_real_drives_unless_
             .stdin(Stdio::null())
             .output()
             .expect("runs");
-        assert_eq!(
-            out.status.code(),
-            Some(0),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
+        Ran::exited(out, 0);
     };
     run(&["--fast"]);
     let default = dir.join("drivescript/results.sqlite");
@@ -709,12 +704,7 @@ fn postgresql_records_runs_from_a_fleet_and_spools_while_the_server_is_down() {
         .args(["results", "sync", "--results", &url])
         .output()
         .expect("syncs");
-    assert_eq!(
-        synced.status.code(),
-        Some(0),
-        "{}",
-        String::from_utf8_lossy(&synced.stderr)
-    );
+    Ran::exited(synced, 0);
     let runs = all_runs(&url);
     let spooled = runs
         .iter()
@@ -781,11 +771,7 @@ fn a_store_that_never_answers_does_not_hold_up_the_end_of_a_long_run() {
         std::thread::sleep(std::time::Duration::from_millis(50));
     };
     let out = child.wait_with_output().expect("output");
-    let text = format!(
-        "{}{}",
-        String::from_utf8_lossy(&out.stdout),
-        String::from_utf8_lossy(&out.stderr)
-    );
+    let text = console(&out.stdout, &out.stderr);
     let status = status.unwrap_or_else(|| panic!("the run did not end within 20 s:\n{text}"));
     assert_eq!(status.code(), Some(0), "{text}");
     assert_has(&text, &["PASSED", "did not answer", "results sync"]);

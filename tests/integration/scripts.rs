@@ -80,17 +80,18 @@ fn a_script_sends_the_telegrams_its_calls_name_then_the_default_safe_stop() {
         .collect();
     // 0.001 rpm per count: 3000 rpm, 1.5 krpm, then the safe stop's 0.
     assert_eq!(setpoints, [3_000_000, 1_500_000, 0], "{output}");
-    for line in [
-        "script  script (",
-        "     3  ok    shutdown  control word 6",
-        "     5  ok    set speed_setpoint = 3000 rpm  written",
-        "PASS  speed mean: measured",
-        "finally 1  ok    set speed_setpoint = 0 rpm (default finally)",
-        "drive left in ready to switch on at 0 rpm",
-        "PASSED — ",
-    ] {
-        assert!(output.contains(line), "missing {line:?}:\n{output}");
-    }
+    assert_has(
+        &output,
+        &[
+            "script  script (",
+            "     3  ok    shutdown  control word 6",
+            "     5  ok    set speed_setpoint = 3000 rpm  written",
+            "PASS  speed mean: measured",
+            "finally 1  ok    set speed_setpoint = 0 rpm (default finally)",
+            "drive left in ready to switch on at 0 rpm",
+            "PASSED — ",
+        ],
+    );
     let report = result.report.expect("a report");
     assert_eq!(report.checks.iter().filter(|c| c.name == "speed mean").count(), 1);
     let check = report
@@ -286,14 +287,15 @@ fn run_refuses_a_misspelt_call_before_it_opens_the_port() {
     let run = drivescript(&["run", p, "--port", "/dev/drivescript-no-such-port"], "");
     assert_eq!(run.status.code(), Some(2), "{}", stderr(&run));
     let err = stderr(&run);
-    for part in [
-        "script.rhai:4:11]",
-        "unknown method `sampel`",
-        "did you mean `sample`?",
-        "nothing was sent",
-    ] {
-        assert!(err.contains(part), "{part}: {err}");
-    }
+    assert_has(
+        &err,
+        &[
+            "script.rhai:4:11]",
+            "unknown method `sampel`",
+            "did you mean `sample`?",
+            "nothing was sent",
+        ],
+    );
     assert!(!err.contains("no-such-port"), "{err}");
 }
 
@@ -309,18 +311,19 @@ fn check_finds_literal_mistakes_with_places_and_suggestions_without_a_port() {
     let p = path.to_str().expect("utf-8");
     // A port that does not exist: check must not try to open it.
     let err = cli(&["check", p, "--set", "sped=1"], 2).stderr;
-    for part in [
-        "script.rhai:3:7]",
-        "did you mean `speed_setpoint`",
-        "above the maximum of speed_setpoint",
-        "did you mean `operation_enabled`",
-        "`5` is not a duration",
-        "A is not a unit of speed_actual",
-        "--set sped: the script reads no parameter `sped`",
-        "6 problems found; nothing was sent to the drive",
-    ] {
-        assert!(err.contains(part), "missing {part:?}:\n{err}");
-    }
+    assert_has(
+        &err,
+        &[
+            "script.rhai:3:7]",
+            "did you mean `speed_setpoint`",
+            "above the maximum of speed_setpoint",
+            "did you mean `operation_enabled`",
+            "`5` is not a duration",
+            "A is not a unit of speed_actual",
+            "--set sped: the script reads no parameter `sped`",
+            "6 problems found; nothing was sent to the drive",
+        ],
+    );
 }
 
 #[test]
@@ -624,15 +627,16 @@ fn check_finds_a_wait_until_condition_that_uses_the_drive() {
     );
     let p = path.to_str().expect("utf-8");
     let err = cli(&["check", p], 2).stderr;
-    for part in [
-        "a wait_until condition must not use the drive: `d` is used inside the condition",
-        "script.rhai:5:3]",
-        "the drive, inside the condition",
-        "in this wait_until",
-        "let target = d.read(\"speed_setpoint\");",
-    ] {
-        assert!(err.contains(part), "missing {part:?}:\n{err}");
-    }
+    assert_has(
+        &err,
+        &[
+            "a wait_until condition must not use the drive: `d` is used inside the condition",
+            "script.rhai:5:3]",
+            "the drive, inside the condition",
+            "in this wait_until",
+            "let target = d.read(\"speed_setpoint\");",
+        ],
+    );
     let (result, output) = InProcessRun::new(&path).run_expecting(2, &["nothing was sent to the drive"]);
     assert!(result.simulator.is_none(), "no drive opened: {output}");
 }

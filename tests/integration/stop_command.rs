@@ -6,8 +6,8 @@
 #![cfg(unix)]
 
 use crate::live_run::LiveRun;
+use crate::support::{assert_has, scratch, Simulator};
 use crate::support::{drivescript, stderr, stdout};
-use crate::support::{scratch, Simulator};
 use std::time::{Duration, Instant};
 
 const KEEP_TURNING: &str = "name: Keep turning
@@ -133,14 +133,15 @@ fn assert_state(sim: &Simulator, state: &str) {
 fn ctrl_c_during_stop_still_brakes_to_standstill_and_exits_130() {
     let (code, text) = interrupted_stop("stop-ctrl-c", None, "ready to switch on");
     assert_eq!(code, Some(130), "{text}");
-    for line in [
-        "stop 2  ok    wait for standstill",
-        "stop 4  ok    shutdown",
-        "drive left in ready to switch on at 0 rpm",
-        "INTERRUPTED: interrupted by Ctrl-C (SIGINT) — exit code 130",
-    ] {
-        assert!(text.contains(line), "{line}: {text}");
-    }
+    assert_has(
+        &text,
+        &[
+            "stop 2  ok    wait for standstill",
+            "stop 4  ok    shutdown",
+            "drive left in ready to switch on at 0 rpm",
+            "INTERRUPTED: interrupted by Ctrl-C (SIGINT) — exit code 130",
+        ],
+    );
 }
 
 #[test]
@@ -148,13 +149,14 @@ fn a_second_signal_during_stop_switches_the_power_stage_off_at_once() {
     let (code, text) = interrupted_stop("stop-second", Some("TERM"), "switch on disabled");
     // The spindle still coasts as the stop ends: exit code 3, not 130.
     assert_eq!(code, Some(3), "{text}");
-    for line in [
-        "power stage switched off at once (disable voltage)",
-        "drive left in switch on disabled at",
-        "STILL COASTING",
-    ] {
-        assert!(text.contains(line), "{line}: {text}");
-    }
+    assert_has(
+        &text,
+        &[
+            "power stage switched off at once (disable voltage)",
+            "drive left in switch on disabled at",
+            "STILL COASTING",
+        ],
+    );
     assert!(
         !text.contains("stop 3  ok"),
         "no disable after the braking: {text}"

@@ -255,6 +255,14 @@ pub fn write_file(dir: &Path, name: &str, text: &str) -> PathBuf {
     path
 }
 
+/// Writes `text` as `name` in `dir` and runs `drivescript check` on it, which must exit
+/// with `code`.
+#[track_caller]
+pub fn check_file(dir: &Path, name: &str, text: &str, code: i32) -> Ran {
+    let file = write_file(dir, name, text);
+    cli(&["check", file.to_str().expect("a UTF-8 path")], code)
+}
+
 /// The words of a command line with no quoted arguments (`run r.yaml --fast`), for [`cli`].
 pub fn words(line: &str) -> Vec<&str> {
     line.split_whitespace().collect()
@@ -270,13 +278,32 @@ pub struct Ran {
 /// it exits with `code`.
 #[track_caller]
 pub fn cli(args: &[&str], code: i32) -> Ran {
-    let out = drivescript(args, "");
-    let ran = Ran {
-        stdout: stdout(&out),
-        stderr: stderr(&out),
-    };
-    assert_eq!(out.status.code(), Some(code), "{}{}", ran.stdout, ran.stderr);
-    ran
+    Ran::exited(drivescript(args, ""), code)
+}
+
+impl Ran {
+    /// What a finished command wrote; fails the test, showing both outputs, unless it
+    /// exited with `code`.
+    #[track_caller]
+    pub fn exited(out: Output, code: i32) -> Ran {
+        let ran = Ran {
+            stdout: stdout(&out),
+            stderr: stderr(&out),
+        };
+        assert_eq!(out.status.code(), Some(code), "{}{}", ran.stdout, ran.stderr);
+        ran
+    }
+}
+
+/// Runs `command` (`what` names it) and fails the test, showing what it wrote, unless it
+/// succeeds; what it wrote.
+#[track_caller]
+pub fn succeeded(command: &mut Command, what: &str) -> Output {
+    let out = command
+        .output()
+        .unwrap_or_else(|e| panic!("{what} does not run: {e}"));
+    assert!(out.status.success(), "{what}: {}{}", stdout(&out), stderr(&out));
+    out
 }
 
 pub fn stdout(o: &Output) -> String {
@@ -449,7 +476,7 @@ impl<'a> InProcessRun<'a> {
 }
 
 /// Standard output, then errors.
-fn console(out: &[u8], err: &[u8]) -> String {
+pub fn console(out: &[u8], err: &[u8]) -> String {
     format!("{}{}", String::from_utf8_lossy(out), String::from_utf8_lossy(err))
 }
 

@@ -6,7 +6,7 @@
 
 use super::eds_number::{EdsLimit, EdsNumber};
 use super::eds_type::{access, EdsType};
-use super::ini_text::{IniSection, IniText};
+use super::ini_text::{IniEntry, IniSection, IniText};
 use crate::diag::{Diagnostic, Diagnostics, Source, Span};
 use crate::dictionary::Access;
 use std::collections::HashMap;
@@ -110,9 +110,9 @@ impl EdsFile {
         };
         let object_type = match section.get("ObjectType") {
             None => VAR,
-            Some(e) => match EdsNumber::parse(&e.value) {
-                Ok(n) if !n.plus_node_id && [DOMAIN, VAR, ARRAY, RECORD].contains(&n.value) => n.value,
-                _ => {
+            Some(e) => match plain_number(e, |v| [DOMAIN, VAR, ARRAY, RECORD].contains(&v)) {
+                Some(object_type) => object_type,
+                None => {
                     out.push(
                         Diagnostic::at(
                             &e.span,
@@ -270,11 +270,9 @@ fn entry(
             required(section, "DataType", out);
             None
         }
-        (Some(e), _) => match EdsNumber::parse(&e.value) {
-            Ok(n) if !n.plus_node_id && (0..=0xFFFF).contains(&n.value) => {
-                Some(EdsType::from_code(n.value as u16))
-            }
-            _ => {
+        (Some(e), _) => match plain_number(e, |v| (0..=0xFFFF).contains(&v)) {
+            Some(code) => Some(EdsType::from_code(code as u16)),
+            None => {
                 out.push(
                     Diagnostic::at(
                         &e.span,
@@ -357,6 +355,13 @@ fn object_index(name: &str) -> Option<u16> {
         .flatten()
 }
 
+/// `e`'s value as a number without `$NODEID` that `fits` takes; `None` for anything else,
+/// which the caller names in its problem.
+fn plain_number(e: &IniEntry, fits: impl Fn(i128) -> bool) -> Option<i128> {
+    let n = EdsNumber::parse(&e.value).ok()?;
+    (!n.plus_node_id && fits(n.value)).then_some(n.value)
+}
+
 /// `[XXXXObjectLinks]`: `ObjectLinks=n`, then `1=0x6041` …
 fn object_links(ini: &IniText, section: &IniSection, out: &mut Diagnostics) -> Vec<u16> {
     let Some(links) = ini.section(&format!("{}ObjectLinks", section.name)) else {
@@ -366,9 +371,9 @@ fn object_links(ini: &IniText, section: &IniSection, out: &mut Diagnostics) -> V
         .entries
         .iter()
         .filter(|e| !e.key.eq_ignore_ascii_case("ObjectLinks"))
-        .filter_map(|e| match EdsNumber::parse(&e.value) {
-            Ok(n) if !n.plus_node_id && (0..=0xFFFF).contains(&n.value) => Some(n.value as u16),
-            _ => {
+        .filter_map(|e| match plain_number(e, |v| (0..=0xFFFF).contains(&v)) {
+            Some(index) => Some(index as u16),
+            None => {
                 out.push(Diagnostic::at(
                     &e.span,
                     format!("`{}` is not an object index", e.value),
@@ -383,9 +388,9 @@ fn object_links(ini: &IniText, section: &IniSection, out: &mut Diagnostics) -> V
 /// A DCF's `[DeviceComissioning] NodeID` (CiA 306 spells the section so).
 fn node_id(ini: &IniText, out: &mut Diagnostics) -> Option<u8> {
     let e = ini.section("DeviceComissioning")?.get("NodeID")?;
-    match EdsNumber::parse(&e.value) {
-        Ok(n) if !n.plus_node_id && (1..=127).contains(&n.value) => Some(n.value as u8),
-        _ => {
+    match plain_number(e, |v| (1..=127).contains(&v)) {
+        Some(node) => Some(node as u8),
+        None => {
             out.push(Diagnostic::at(
                 &e.span,
                 format!("`NodeID={}` is not a node id 1..127", e.value),
@@ -410,9 +415,9 @@ fn check_object_lists(ini: &IniText, out: &mut Vec<Diagnostic>) {
             .iter()
             .filter(|e| !e.key.eq_ignore_ascii_case("SupportedObjects"))
         {
-            match EdsNumber::parse(&e.value) {
-                Ok(n) if !n.plus_node_id && (0..=0xFFFF).contains(&n.value) => {
-                    let name = format!("{:04X}", n.value);
+            match plain_number(e, |v| (0..=0xFFFF).contains(&v)) {
+                Some(index) => {
+                    let name = format!("{index:04X}");
                     if ini.section(&name).is_none() {
                         out.push(
                             Diagnostic::at(
@@ -426,7 +431,7 @@ fn check_object_lists(ini: &IniText, out: &mut Vec<Diagnostic>) {
                         );
                     }
                 }
-                _ => out.push(Diagnostic::at(
+                None => out.push(Diagnostic::at(
                     &e.span,
                     format!(
                         "[{list}]: `{}` is not an object index; the line is skipped",

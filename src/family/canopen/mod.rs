@@ -17,7 +17,7 @@ pub mod sdo_value;
 pub mod sim;
 mod transfer_bytes;
 
-pub use canopen_family::{parse_index_address, CanopenFamily};
+pub use canopen_family::{parse_index_address, CANOPEN_FAMILY};
 pub use sdo_access::SdoAccess;
 pub use sdo_explainer::{ExplainNotation, SdoExplainer, INDEX_NOTATION};
 pub use sdo_link::{index_text, SdoLink, SdoLinkConfig, SdoNotation, CIA_301_NOTATION};

@@ -5,7 +5,7 @@
 use super::sdo_explainer::*;
 use crate::bus::CanFrame;
 use crate::dictionary::Dictionary;
-use crate::family::lenze_9400::Lenze9400Family;
+use crate::family::lenze_9400::LENZE_9400_FAMILY;
 use crate::family::Family;
 use crate::link::{Direction, TelegramExplainer};
 use proptest::prelude::Strategy as _;
@@ -13,11 +13,11 @@ use serde_json::json;
 use std::sync::Arc;
 
 fn explainer() -> SdoExplainer {
-    let text = Lenze9400Family.dictionaries()[0].text;
+    let text = LENZE_9400_FAMILY.dictionaries()[0].text;
     let d = Dictionary::from_yaml_for(
         "dictionary/lenze-9400.yaml",
         text,
-        Lenze9400Family.address_parser(),
+        LENZE_9400_FAMILY.address_parser(),
     )
     .unwrap();
     SdoExplainer::new(Arc::new(d), crate::family::lenze_9400::LENZE_EXPLAIN)
@@ -58,10 +58,10 @@ fn segments_are_read_as_the_object_of_their_transfer() {
 
 /// The CiA 402 node's dictionary from its own EDS.
 fn node_explainer() -> SdoExplainer {
-    use crate::family::{canopen::CanopenFamily, Family};
-    let text = CanopenFamily.dictionaries()[0].text;
+    use crate::family::{canopen::CANOPEN_FAMILY, Family};
+    let text = CANOPEN_FAMILY.dictionaries()[0].text;
     let mut d =
-        Dictionary::from_yaml_for("dictionary/canopen.yaml", text, CanopenFamily.address_parser()).unwrap();
+        Dictionary::from_yaml_for("dictionary/canopen.yaml", text, CANOPEN_FAMILY.address_parser()).unwrap();
     d.extend_from(
         std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("src/family/canopen/sim/cia402_node.eds"),
     )

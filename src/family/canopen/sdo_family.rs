@@ -1,14 +1,90 @@
 //! What every family on CANopen SDO does alike (the generic `canopen` family and the
-//! Lenze 9400): their bus and serial settings, node ids 1..=127 as `--address`, opening SDO
-//! object access on a CAN frame bus in the family's notation, and an object named on the
-//! command line in the family's notation. The families keep what differs: their notation,
-//! dictionary and simulator.
+//! Lenze 9400): one [`Family`] for both, with their bus and serial settings, node ids
+//! 1..=127 as `--address`, SDO object access on a CAN frame bus in the family's notation,
+//! and an object named on the command line in the family's notation. The families keep
+//! what differs in an [`SdoFamily`] of their own: their notation, dictionary and simulator.
 
 use super::nmt_master::NmtMaster;
-use super::{SdoAccess, SdoLink, SdoLinkConfig, SdoNotation};
+use super::{ExplainNotation, SdoAccess, SdoExplainer, SdoLink, SdoLinkConfig, SdoNotation};
 use crate::bus::{Bus, SerialSettings};
-use crate::dictionary::{Access, AddressParser, DataType, ObjectDef};
-use crate::family::{DriveAddress, FamilyError, FamilyInfo, LinkContext, LinkOptions, Opened};
+use crate::dictionary::{Access, Address, AddressParser, DataType, Dictionary, ObjectDef};
+use crate::family::{
+    DriveAddress, Family, FamilyError, FamilyInfo, LinkContext, LinkOptions, Opened, SimulatedDevice,
+};
+use crate::link::TelegramExplainer;
+use crate::sim::SimConfig;
+use std::sync::Arc;
+
+/// A family on CANopen SDO: what it differs in from the other SDO families.
+pub struct SdoFamily {
+    /// Its id, title, address notation, dictionaries and address help.
+    pub info: fn() -> FamilyInfo,
+    /// Its words in the SDO link's messages.
+    pub notation: SdoNotation,
+    /// Its words in explanations.
+    pub explain: ExplainNotation,
+    /// Whether drivescript puts the node in NMT operational before it enables operation,
+    /// and back after the run ([`NmtMaster`]): a CiA 402 node.
+    pub nmt: bool,
+    /// The drive in the wrong-bus message (`a CANopen node`, `the Lenze 9400`).
+    pub what: &'static str,
+    /// Its simulated node with the given node id.
+    pub simulator: fn(u8, SimConfig) -> SimulatedDevice,
+    /// The description of an object named on the command line in the family's notation
+    /// (`CANopen object 0x6041 (not in the dictionary)`), `None` for a text in another.
+    pub raw_description: fn(&str) -> Option<String>,
+    /// An address as the family writes it.
+    pub show_address: fn(&Address) -> String,
+    /// The vendor's name of an object an EDS lists by index, if it has one.
+    pub object_alias: fn(&Address) -> Option<String>,
+}
+
+impl Family for SdoFamily {
+    fn info(&self) -> FamilyInfo {
+        (self.info)()
+    }
+
+    fn parse_drive_address(&self, text: Option<&str>) -> Result<DriveAddress, FamilyError> {
+        parse_node(text, self.address_help())
+    }
+
+    fn no_reply_advice(&self) -> &'static str {
+        self.notation.no_reply_hint
+    }
+
+    fn open(&self, bus: &Bus, drive: &DriveAddress, options: &LinkOptions, context: LinkContext) -> Opened {
+        let nmt = self.nmt.then(NmtMaster::default);
+        open_sdo(bus, drive, options, context, self.notation, nmt, self.what)
+    }
+
+    fn simulator(&self, drive: &DriveAddress, config: SimConfig) -> SimulatedDevice {
+        (self.simulator)(sim_node(drive), config)
+    }
+
+    fn explainer(&self, dictionary: Arc<Dictionary>) -> Box<dyn TelegramExplainer> {
+        Box::new(SdoExplainer::new(dictionary, self.explain))
+    }
+
+    /// SDO requests go to 0x600 + node, responses come from 0x580 + node.
+    fn frame_direction(&self, frame: &crate::bus::CanFrame) -> Option<crate::link::Direction> {
+        sdo_frame_direction(frame)
+    }
+
+    /// See [`raw_sdo_object`].
+    fn raw_object(&self, text: &str, data_type: Option<DataType>) -> Option<Result<ObjectDef, FamilyError>> {
+        let t = text.trim();
+        let description = (self.raw_description)(t)?;
+        Some(raw_sdo_object(t, self.address_parser(), data_type, description))
+    }
+
+    fn object_alias(&self, address: &Address) -> Option<String> {
+        (self.object_alias)(address)
+    }
+
+    fn show_address(&self, address: &Address) -> String {
+        (self.show_address)(address)
+    }
+}
 
 /// The node `--address` means when it is not given: CANopen's lowest node id.
 pub const DEFAULT_NODE: u8 = 1;
@@ -57,14 +133,14 @@ pub fn sdo_frame_direction(frame: &crate::bus::CanFrame) -> Option<crate::link::
 }
 
 /// The node id of a parsed address, for a simulator (the default when out of range).
-pub fn sim_node(drive: &DriveAddress) -> u8 {
+fn sim_node(drive: &DriveAddress) -> u8 {
     u8::try_from(drive.number).unwrap_or(DEFAULT_NODE)
 }
 
 /// SDO object access to `drive` on `bus`; `nmt` for a CiA 402 node drivescript starts
 /// before it enables operation; `what` names the drive for the wrong-bus message (`a
 /// CANopen node`, `the Lenze 9400`).
-pub fn open_sdo(
+fn open_sdo(
     bus: &Bus,
     drive: &DriveAddress,
     options: &LinkOptions,

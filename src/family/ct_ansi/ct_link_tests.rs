@@ -2,7 +2,7 @@
 //! change, stop requests and every shape of echo.
 
 use super::*;
-use crate::bus::{MemoryTransport, Peer, PeerReply};
+use crate::bus::{MemoryTransport, Peer, PeerReply, ScriptedPeer};
 use crate::clock::{Clock, VirtualClock};
 use crate::family::ct_ansi::codec::{DataValue, Parameter, ACK, NAK};
 use crate::link::TelegramObserver;
@@ -10,34 +10,11 @@ use std::collections::VecDeque;
 use std::sync::Arc;
 use std::sync::Mutex;
 
-/// Answers each message with the next scripted reply (None = silence).
-struct Scripted {
-    replies: VecDeque<Option<Vec<u8>>>,
-    received: Vec<Vec<u8>>,
-}
-
-impl Peer for Scripted {
-    fn receive(&mut self, bytes: &[u8], now: Duration) -> Vec<PeerReply> {
-        self.received.push(bytes.to_vec());
-        match self.replies.pop_front().flatten() {
-            Some(bytes) => vec![PeerReply {
-                at: now + Duration::from_millis(1),
-                bytes,
-            }],
-            None => vec![],
-        }
-    }
-}
-
-fn link(script: Vec<Option<Vec<u8>>>) -> (CtLink, Arc<Mutex<Scripted>>, Arc<VirtualClock>) {
+fn link(script: Vec<Option<Vec<u8>>>) -> (CtLink, Arc<Mutex<ScriptedPeer>>, Arc<VirtualClock>) {
     let clock = Arc::new(VirtualClock::new());
-    let peer = Arc::new(Mutex::new(Scripted {
-        replies: script.into(),
-        received: vec![],
-    }));
-    let transport = MemoryTransport::new("scripted", peer.clone(), clock.clone());
+    let peer = ScriptedPeer::new(script, Duration::from_millis(1));
     let link = CtLink::new(
-        SharedTransport::new(Box::new(transport)),
+        MemoryTransport::shared("scripted", peer.clone(), clock.clone()),
         clock.clone(),
         CtLinkConfig::default(),
     );
@@ -71,7 +48,7 @@ fn a_read_returns_the_exact_value() {
             value: DataValue::new(-476, 1)
         })
     );
-    assert_eq!(peer.lock().unwrap().received[0], b"\x0411220121\x05");
+    assert_eq!(peer.lock().unwrap().sent()[0], b"\x0411220121\x05");
 }
 
 #[test]
@@ -198,9 +175,8 @@ fn timed(script: Vec<Vec<(u64, Piece)>>) -> TimedLink {
         script: script.into(),
         received: 0,
     }));
-    let transport = MemoryTransport::new("echoing", peer.clone(), clock.clone());
     let mut link = CtLink::new(
-        SharedTransport::new(Box::new(transport)),
+        MemoryTransport::shared("echoing", peer.clone(), clock.clone()),
         clock.clone(),
         CtLinkConfig::default(),
     );
@@ -437,7 +413,7 @@ fn on_an_echoing_line_a_lone_eot_is_the_start_of_the_echo() {
     assert_eq!(l.peer.lock().unwrap().received, 2);
 }
 
-fn baud_link(script: Vec<Option<Vec<u8>>>) -> (CtLink, Arc<Mutex<Scripted>>, Arc<VirtualClock>) {
+fn baud_link(script: Vec<Option<Vec<u8>>>) -> (CtLink, Arc<Mutex<ScriptedPeer>>, Arc<VirtualClock>) {
     let (l, peer, clock) = link(script);
     let config = CtLinkConfig {
         baud_parameter: Parameter::new(11, 25),

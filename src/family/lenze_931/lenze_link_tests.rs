@@ -2,32 +2,11 @@
 //! the read-back before a write is sent again.
 
 use super::*;
-use crate::bus::{MemoryTransport, Peer, PeerReply};
+use crate::bus::{MemoryTransport, ScriptedPeer};
 use crate::clock::{Clock, VirtualClock};
 use crate::family::lenze_931::codec::ErrorCode;
-use std::collections::VecDeque;
 use std::sync::Arc;
 use std::sync::Mutex;
-
-/// Answers each request line with the next scripted reply (None = silence).
-struct Scripted {
-    replies: VecDeque<Option<Vec<u8>>>,
-    received: Vec<String>,
-}
-
-impl Peer for Scripted {
-    fn receive(&mut self, bytes: &[u8], now: Duration) -> Vec<PeerReply> {
-        self.received
-            .push(String::from_utf8_lossy(bytes).trim_end_matches('\r').to_string());
-        match self.replies.pop_front().flatten() {
-            Some(bytes) => vec![PeerReply {
-                at: now + Duration::from_millis(2),
-                bytes,
-            }],
-            None => vec![],
-        }
-    }
-}
 
 /// `OW:0010:00000BB8`, the write the lost-reply tests send.
 const WRITE_3000: Request = Request::Write {
@@ -35,23 +14,24 @@ const WRITE_3000: Request = Request::Write {
     value: 3000,
 };
 
-fn link(script: Vec<Option<&[u8]>>) -> (LenzeLink, Arc<Mutex<Scripted>>, Arc<VirtualClock>) {
+fn link(script: Vec<Option<&[u8]>>) -> (LenzeLink, Arc<Mutex<ScriptedPeer>>, Arc<VirtualClock>) {
     let clock = Arc::new(VirtualClock::new());
-    let peer = Arc::new(Mutex::new(Scripted {
-        replies: script.into_iter().map(|r| r.map(<[u8]>::to_vec)).collect(),
-        received: vec![],
-    }));
-    let transport = MemoryTransport::new("scripted", peer.clone(), clock.clone());
+    let replies = script.into_iter().map(|r| r.map(<[u8]>::to_vec));
+    let peer = ScriptedPeer::new(replies, Duration::from_millis(2));
     let link = LenzeLink::new(
-        SharedTransport::new(Box::new(transport)),
+        MemoryTransport::shared("scripted", peer.clone(), clock.clone()),
         clock.clone(),
         LinkConfig::default(),
     );
     (link, peer, clock)
 }
 
-fn sent(peer: &Arc<Mutex<Scripted>>) -> Vec<String> {
-    peer.lock().unwrap().received.clone()
+/// The request lines sent, without their CR.
+fn sent(peer: &Arc<Mutex<ScriptedPeer>>) -> Vec<String> {
+    let sent = peer.lock().unwrap().sent();
+    sent.iter()
+        .map(|line| String::from_utf8_lossy(line).trim_end_matches('\r').to_string())
+        .collect()
 }
 
 const READ_11: Request = Request::Read {

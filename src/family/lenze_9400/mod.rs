@@ -7,4 +7,4 @@ pub mod codec;
 mod lenze_9400_family;
 pub mod sim;
 
-pub use lenze_9400_family::{Lenze9400Family, LENZE_EXPLAIN, LENZE_NOTATION};
+pub use lenze_9400_family::{LENZE_9400_FAMILY, LENZE_EXPLAIN, LENZE_NOTATION};

@@ -257,7 +257,7 @@ impl TelegramExplainer for ModbusExplainer {
                 true,
             ),
             Ok(Read::Response(Response::Exception { function, code })) => (
-                json!({ "unit": f.unit, "transaction": f.transaction, "function": function | 0x80, "exception": code.0, "text": code.text() }),
+                json!({ "unit": f.unit, "transaction": f.transaction, "function": function | 0x80, "exception": code.0, "text": code.meaning() }),
                 true,
             ),
             Ok(Read::Response(r)) => (

@@ -3,44 +3,22 @@
 //! retried with located errors, and the inter-frame silence.
 
 use super::*;
-use crate::bus::{MemoryTransport, Peer, PeerReply};
+use crate::bus::{MemoryTransport, Peer, PeerReply, ScriptedPeer};
 use crate::clock::{Clock, VirtualClock};
 use crate::family::modbus::codec::{ExceptionCode, Function};
 use crate::family::modbus::ModbusSimulator;
 use crate::sim::{SimConfig, SimulatedDrive};
-use std::collections::VecDeque;
 use std::sync::{Arc, Mutex};
-
-/// Answers each request with the next scripted bytes (None = silence), and keeps when
-/// each request came.
-struct Scripted {
-    replies: VecDeque<Option<Vec<u8>>>,
-    received: Vec<(Duration, Vec<u8>)>,
-}
-
-impl Peer for Scripted {
-    fn receive(&mut self, bytes: &[u8], now: Duration) -> Vec<PeerReply> {
-        self.received.push((now, bytes.to_vec()));
-        match self.replies.pop_front().flatten() {
-            Some(bytes) => vec![PeerReply {
-                at: now + Duration::from_millis(2),
-                bytes,
-            }],
-            None => vec![],
-        }
-    }
-}
 
 fn link_to(peer: Arc<Mutex<dyn Peer>>, unit: u8, framing: Framing) -> (ModbusLink, Arc<VirtualClock>) {
     let clock = Arc::new(VirtualClock::new());
-    let transport = MemoryTransport::new("test line", peer, clock.clone());
     let config = LinkConfig {
         framing,
         ..LinkConfig::default()
     };
     (
         ModbusLink::new(
-            SharedTransport::new(Box::new(transport)),
+            MemoryTransport::shared("test line", peer, clock.clone()),
             clock.clone(),
             unit,
             config,
@@ -49,11 +27,8 @@ fn link_to(peer: Arc<Mutex<dyn Peer>>, unit: u8, framing: Framing) -> (ModbusLin
     )
 }
 
-fn scripted(replies: Vec<Option<Vec<u8>>>) -> Arc<Mutex<Scripted>> {
-    Arc::new(Mutex::new(Scripted {
-        replies: replies.into(),
-        received: vec![],
-    }))
+fn scripted(replies: Vec<Option<Vec<u8>>>) -> Arc<Mutex<ScriptedPeer>> {
+    ScriptedPeer::new(replies, Duration::from_millis(2))
 }
 
 const READ_STATUS: Request = Request::Read {
@@ -354,9 +329,8 @@ fn the_wait_of_a_busy_slave_survives_time_passing_between_its_readings() {
     for tick in 1..=20 {
         let clock = Arc::new(crate::clock::TickingClock::new(Duration::from_micros(tick * 300)));
         let peer = scripted(vec![Some(busy.clone()); 3]);
-        let transport = MemoryTransport::new("test line", peer, clock.clone());
         let mut link = ModbusLink::new(
-            SharedTransport::new(Box::new(transport)),
+            MemoryTransport::shared("test line", peer, clock.clone()),
             clock,
             1,
             LinkConfig::default(),

@@ -3,7 +3,7 @@
 //! round trip.
 
 use super::*;
-use crate::bus::{MemoryTransport, SharedTransport};
+use crate::bus::MemoryTransport;
 use crate::clock::{Clock, VirtualClock};
 use crate::family::sd2::codec::CMD_CYCLIC;
 use crate::family::sd2::{LinkConfig, Sd2Link, Sd2Simulator, SimConfig};
@@ -45,9 +45,8 @@ struct Bench {
 fn bench(heartbeat: bool, prepare: &[(u16, RawValue, DataType)]) -> Bench {
     let clock = Arc::new(VirtualClock::new());
     let sim = Arc::new(Mutex::new(Sd2Simulator::new(SimConfig::default())));
-    let transport = MemoryTransport::new("sim", sim.clone(), clock.clone());
     let mut link = Sd2Link::new(
-        SharedTransport::new(Box::new(transport)),
+        MemoryTransport::shared("sim", sim.clone(), clock.clone()),
         clock.clone(),
         LinkConfig::default(),
     );

@@ -64,6 +64,15 @@ fn at(e: &Diagnostic) -> (usize, usize) {
     (e.line(), e.column())
 }
 
+/// The problem as a user reads it: miette's report, plain.
+fn rendered(e: &dyn miette::Diagnostic) -> String {
+    let mut out = String::new();
+    crate::diag::report_handler(false)
+        .render_report(&mut out, e)
+        .unwrap();
+    out
+}
+
 /// A valid one-object file; `extra` lines are appended to the object.
 fn object(extra: &str) -> String {
     format!("family: sd2\nobjects:\n  - name: a\n    index: 1\n    type: u16\n    access: ro\n{extra}")
@@ -442,10 +451,7 @@ fn duplicate_names_and_aliases_name_both_places() {
         e.message(),
         "`alpha` is the name of `alpha` and already an alias of `a`"
     );
-    let mut out = String::new();
-    miette::GraphicalReportHandler::new_themed(miette::GraphicalTheme::unicode_nocolor())
-        .render_report(&mut out, &e)
-        .unwrap();
+    let out = rendered(&e);
     assert!(
         out.contains("first defined here") && out.contains("defined again here"),
         "{out}"
@@ -602,10 +608,7 @@ fn all_errors_of_a_file_are_collected() {
         e.to_string(),
         "test.yaml:5:11: unknown type `u17` (and 2 more problems)"
     );
-    let mut out = String::new();
-    miette::GraphicalReportHandler::new_themed(miette::GraphicalTheme::unicode_nocolor())
-        .render_report(&mut out, &e)
-        .unwrap();
+    let out = rendered(&e);
     assert!(
         out.contains("test.yaml:7:11") && out.contains("test.yaml:11:13"),
         "{out}"

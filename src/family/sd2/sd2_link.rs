@@ -302,33 +302,13 @@ fn describe_request(request: &Telegram, bytes: &[u8]) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::bus::{MemoryTransport, Peer, PeerReply, SharedTransport};
+    use crate::bus::{MemoryTransport, ScriptedPeer, SharedTransport};
     use crate::clock::{Clock, VirtualClock};
     use crate::family::sd2::codec::WriteLength;
     use crate::link::TelegramObserver;
     use crate::stop_request::StopRequests;
-    use std::collections::VecDeque;
     use std::sync::{Arc, Mutex};
     use std::time::Duration;
-
-    /// Answers each request with the next scripted reply (None = silence).
-    struct Scripted {
-        replies: VecDeque<Option<(Duration, Vec<u8>)>>,
-        received: Vec<Vec<u8>>,
-    }
-
-    impl Peer for Scripted {
-        fn receive(&mut self, bytes: &[u8], now: Duration) -> Vec<PeerReply> {
-            self.received.push(bytes.to_vec());
-            match self.replies.pop_front().flatten() {
-                Some((delay, bytes)) => vec![PeerReply {
-                    at: now + delay,
-                    bytes,
-                }],
-                None => vec![],
-            }
-        }
-    }
 
     fn status_reply(source: u8) -> Vec<u8> {
         Telegram {
@@ -342,16 +322,14 @@ mod tests {
         .encode(WriteLength::Captured)
     }
 
-    fn link(script: Vec<Option<(Duration, Vec<u8>)>>) -> (Sd2Link, Arc<Mutex<Scripted>>, Arc<VirtualClock>) {
+    fn link(
+        script: Vec<Option<(Duration, Vec<u8>)>>,
+    ) -> (Sd2Link, Arc<Mutex<ScriptedPeer>>, Arc<VirtualClock>) {
         let clock = Arc::new(VirtualClock::new());
-        let peer = Arc::new(Mutex::new(Scripted {
-            replies: script.into(),
-            received: vec![],
-        }));
-        let transport = MemoryTransport::new("scripted", peer.clone(), clock.clone());
+        let peer = ScriptedPeer::timed(script);
         (
             Sd2Link::new(
-                SharedTransport::new(Box::new(transport)),
+                MemoryTransport::shared("scripted", peer.clone(), clock.clone()),
                 clock.clone(),
                 LinkConfig::default(),
             ),
@@ -390,10 +368,7 @@ mod tests {
     /// only when the request itself took 15 ms on the line.
     fn late_reply(sending: Duration) -> Result<Telegram, AccessError> {
         let clock = Arc::new(VirtualClock::new());
-        let peer = Arc::new(Mutex::new(Scripted {
-            replies: vec![Some((Duration::from_millis(30), status_reply(2)))].into(),
-            received: vec![],
-        }));
+        let peer = ScriptedPeer::timed(vec![Some((Duration::from_millis(30), status_reply(2)))]);
         let transport = StillSending(MemoryTransport::new("scripted", peer, clock.clone()), sending);
         let config = LinkConfig {
             reply_timeout: Duration::from_millis(20),
@@ -409,10 +384,7 @@ mod tests {
     #[test]
     fn the_stop_grace_starts_when_the_request_is_off_the_line() {
         let clock = Arc::new(VirtualClock::new());
-        let peer = Arc::new(Mutex::new(Scripted {
-            replies: vec![Some((Duration::from_millis(45), status_reply(2)))].into(),
-            received: vec![],
-        }));
+        let peer = ScriptedPeer::timed(vec![Some((Duration::from_millis(45), status_reply(2)))]);
         let transport = StillSending(
             MemoryTransport::new("scripted", peer, clock.clone()),
             Duration::from_millis(40),
@@ -442,7 +414,7 @@ mod tests {
         let (mut l, peer, _) = link(vec![Some((FAST, status_reply(2)))]);
         let data = l.read_object(2, 67, 0).unwrap();
         assert_eq!(data.as_slice(), &[0x37, 0x02]);
-        let sent = &peer.lock().unwrap().received;
+        let sent = peer.lock().unwrap().sent();
         assert_eq!(to_hex(&sent[0]), "00 09 02 01 0d 43 00 00 00 00 00 a3");
         assert_eq!(l.stats().retries, 0);
     }

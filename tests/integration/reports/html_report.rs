@@ -2,7 +2,7 @@
 
 use super::markup::{elements, html, inside, rows, select, text, texts};
 use super::sample_reports::{error_report, origin, passed_report, step};
-use crate::support::assert_has;
+use crate::support::{assert_has, succeeded};
 use drivescript::report::{html_report, write_html};
 use drivescript::session::{CheckResult, Series};
 use scraper::{ElementRef, Html};
@@ -466,12 +466,12 @@ fn chromium_prints_the_report_to_pdf() {
     let html = dir.join("report.html");
     write_html(&passed_report(), &html).unwrap();
     let pdf = dir.join("report.pdf");
-    let out = chromium
-        .arg(format!("--print-to-pdf={}", pdf.display()))
-        .arg(&html)
-        .output()
-        .expect("chromium runs");
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    succeeded(
+        chromium
+            .arg(format!("--print-to-pdf={}", pdf.display()))
+            .arg(&html),
+        "chromium",
+    );
     let bytes = std::fs::read(&pdf).expect("a PDF");
     assert!(bytes.starts_with(b"%PDF"));
     let text = String::from_utf8_lossy(&bytes);
@@ -581,27 +581,21 @@ fn the_dynamics_report_marks_the_response_and_draws_the_whole_run() {
         return;
     };
     let png = dir.join("dynamics.png");
-    let shot = screen
-        .arg("--window-size=1100,2600")
-        .arg(format!("--screenshot={}", png.display()))
-        .arg(&html)
-        .output()
-        .expect("chromium runs");
-    assert!(shot.status.success(), "{}", String::from_utf8_lossy(&shot.stderr));
+    succeeded(
+        screen
+            .arg("--window-size=1100,2600")
+            .arg(format!("--screenshot={}", png.display()))
+            .arg(&html),
+        "chromium",
+    );
     assert!(std::fs::read(&png).unwrap().starts_with(b"\x89PNG"));
     let Some(mut print) = crate::support::headless_chromium(&dir.join("profile-print")) else {
         return;
     };
     let pdf = dir.join("dynamics.pdf");
-    let printed = print
-        .arg(format!("--print-to-pdf={}", pdf.display()))
-        .arg(&html)
-        .output()
-        .expect("chromium runs");
-    assert!(
-        printed.status.success(),
-        "{}",
-        String::from_utf8_lossy(&printed.stderr)
+    succeeded(
+        print.arg(format!("--print-to-pdf={}", pdf.display())).arg(&html),
+        "chromium",
     );
     let bytes = std::fs::read(&pdf).unwrap();
     let pages = String::from_utf8_lossy(&bytes)

@@ -2,7 +2,7 @@
 //! little-endian) and its meaning. Only the codes the protocol notes name are given a text;
 //! any other code is shown as a number and said to be unnamed, never guessed. Pure.
 
-use std::fmt;
+use crate::family::documented_code::documented_code;
 
 /// A CiA 301 SDO abort code.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -68,19 +68,12 @@ impl AbortCode {
     }
 }
 
-impl fmt::Display for AbortCode {
-    /// `0x06040041 object cannot be mapped to the PDO`.
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self.meaning() {
-            Some(text) => write!(f, "0x{:08X} {text}", self.0),
-            None => write!(
-                f,
-                "0x{:08X} (an abort code drivescript does not name; see the device manual or CiA 301)",
-                self.0
-            ),
-        }
-    }
-}
+// `0x06040041 object cannot be mapped to the PDO`.
+documented_code!(
+    AbortCode,
+    "0x{:08X}",
+    "an abort code drivescript does not name; see the device manual or CiA 301"
+);
 
 #[cfg(test)]
 mod tests {

@@ -160,15 +160,9 @@ impl CtSimulator {
             return None;
         }
         let mut bytes = reply.encode().ok()?;
-        if fate.corrupt_checksum {
-            if let Some(last) = bytes.last_mut() {
-                *last ^= 0x01;
-            }
-        }
-        Some(PeerReply {
-            at: now + TURNAROUND.max(self.core.model.config().response_latency) + fate.extra_delay,
-            bytes: fate.noisy(bytes),
-        })
+        fate.corrupt_last_byte(&mut bytes, |check| check ^ 0x01);
+        let latency = self.core.model.config().response_latency;
+        Some(fate.reply(bytes, now + TURNAROUND.max(latency)))
     }
 }
 

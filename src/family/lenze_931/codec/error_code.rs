@@ -1,7 +1,7 @@
 //! The 32-bit error codes an object command answers with (`OW:00000004`), their meaning
 //! from the manual, and which of them mean "written, but limited".
 
-use std::fmt;
+use crate::family::documented_code::documented_code;
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub struct ErrorCode(pub u32);
@@ -60,15 +60,8 @@ impl ErrorCode {
     }
 }
 
-impl fmt::Display for ErrorCode {
-    /// `0x00000003 value too high, not written`.
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self.meaning() {
-            Some(m) => write!(f, "0x{:08X} {m}", self.0),
-            None => write!(f, "0x{:08X} (a code the manual does not list)", self.0),
-        }
-    }
-}
+// `0x00000003 value too high, not written`.
+documented_code!(ErrorCode, "0x{:08X}", "a code the manual does not list");
 
 #[cfg(test)]
 mod tests {

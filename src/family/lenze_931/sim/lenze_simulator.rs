@@ -227,10 +227,7 @@ impl LenzeSimulator {
         if self.crlf {
             bytes.push(b'\n');
         }
-        Some(PeerReply {
-            at: now + self.core.model.config().response_latency + fate.extra_delay,
-            bytes: fate.noisy(bytes),
-        })
+        Some(fate.reply(bytes, now + self.core.model.config().response_latency))
     }
 }
 

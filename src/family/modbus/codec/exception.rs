@@ -1,7 +1,7 @@
 //! Modbus exception codes and their standard texts (Application Protocol V1.1b3,
 //! section 7, "MODBUS Exception Codes" table).
 
-use std::fmt;
+use crate::family::documented_code::documented_code;
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub struct ExceptionCode(pub u8);
@@ -18,7 +18,7 @@ impl ExceptionCode {
     pub const GATEWAY_TARGET_FAILED: ExceptionCode = ExceptionCode(0x0B);
 
     /// The specification's name and meaning, or `None` for a code it does not define.
-    pub fn text(self) -> Option<&'static str> {
+    pub fn meaning(self) -> Option<&'static str> {
         Some(match self.0 {
             0x01 => "ILLEGAL FUNCTION: the function code is not an allowable action for the server",
             0x02 => "ILLEGAL DATA ADDRESS: the data address is not an allowable address for the server",
@@ -34,14 +34,12 @@ impl ExceptionCode {
     }
 }
 
-impl fmt::Display for ExceptionCode {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self.text() {
-            Some(t) => write!(f, "exception {:02X} {t}", self.0),
-            None => write!(f, "exception {:02X} (not defined by the specification)", self.0),
-        }
-    }
-}
+// `exception 02 ILLEGAL DATA ADDRESS: …`.
+documented_code!(
+    ExceptionCode,
+    "exception {:02X}",
+    "not defined by the specification"
+);
 
 #[cfg(test)]
 mod tests {
@@ -52,7 +50,7 @@ mod tests {
         let defined = [1u8, 2, 3, 4, 5, 6, 8, 0x0A, 0x0B];
         for code in 0..=255u8 {
             assert_eq!(
-                ExceptionCode(code).text().is_some(),
+                ExceptionCode(code).meaning().is_some(),
                 defined.contains(&code),
                 "{code}"
             );

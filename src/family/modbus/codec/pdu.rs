@@ -120,6 +120,18 @@ fn quantity(what: &'static str, value: usize, max: usize, allowed: &'static str)
     }
 }
 
+/// `what` is at least `least` bytes long.
+fn at_least(what: &'static str, b: &[u8], least: usize) -> Result<(), CodecError> {
+    if b.len() >= least {
+        return Ok(());
+    }
+    Err(CodecError::Length {
+        what,
+        len: b.len(),
+        expected: format!("at least {least}"),
+    })
+}
+
 fn length(what: &'static str, b: &[u8], expected: usize) -> Result<(), CodecError> {
     if b.len() == expected {
         Ok(())
@@ -130,6 +142,22 @@ fn length(what: &'static str, b: &[u8], expected: usize) -> Result<(), CodecErro
             expected: expected.to_string(),
         })
     }
+}
+
+/// The registers a writing request carries after its header of `header` bytes: the byte
+/// before them counts them, and the word two bytes before that counts the registers (6.12,
+/// 6.17); both must agree with what came.
+fn written_words(b: &[u8], header: usize) -> Result<Vec<u16>, CodecError> {
+    at_least("the request PDU", b, header)?;
+    let count = usize::from(word(b, header - 3));
+    let data = &b[header..];
+    if usize::from(b[header - 1]) != data.len() || data.len() != count * 2 {
+        return Err(CodecError::ByteCount {
+            count: b[header - 1].into(),
+            actual: data.len(),
+        });
+    }
+    Ok(words(data))
 }
 
 /// Reads of at most 125 registers, writes of at most 123, 23 writing at most 121
@@ -207,13 +235,8 @@ impl Request {
     }
 
     pub fn decode(b: &[u8]) -> Result<Request, CodecError> {
-        let Some(&code) = b.first() else {
-            return Err(CodecError::Length {
-                what: "the request PDU",
-                len: 0,
-                expected: "at least 1".into(),
-            });
-        };
+        at_least("the request PDU", b, 1)?;
+        let code = b[0];
         let function = Function::of(code)?;
         let request = match function {
             Function::ReadHolding | Function::ReadInput => {
@@ -231,50 +254,16 @@ impl Request {
                     value: word(b, 3),
                 }
             }
-            Function::WriteMultiple => {
-                if b.len() < 6 {
-                    return Err(CodecError::Length {
-                        what: "the request PDU",
-                        len: b.len(),
-                        expected: "at least 6".into(),
-                    });
-                }
-                let count = usize::from(word(b, 3));
-                let data = &b[6..];
-                if usize::from(b[5]) != data.len() || data.len() != count * 2 {
-                    return Err(CodecError::ByteCount {
-                        count: b[5].into(),
-                        actual: data.len(),
-                    });
-                }
-                Request::WriteMultiple {
-                    start: word(b, 1),
-                    values: words(data),
-                }
-            }
-            Function::ReadWrite => {
-                if b.len() < 10 {
-                    return Err(CodecError::Length {
-                        what: "the request PDU",
-                        len: b.len(),
-                        expected: "at least 10".into(),
-                    });
-                }
-                let count = usize::from(word(b, 7));
-                let data = &b[10..];
-                if usize::from(b[9]) != data.len() || data.len() != count * 2 {
-                    return Err(CodecError::ByteCount {
-                        count: b[9].into(),
-                        actual: data.len(),
-                    });
-                }
-                Request::ReadWrite {
-                    read_start: word(b, 1),
-                    read_count: word(b, 3),
-                    write_start: word(b, 5),
-                    values: words(data),
-                }
-            }
+            Function::WriteMultiple => Request::WriteMultiple {
+                start: word(b, 1),
+                values: written_words(b, 6)?,
+            },
+            Function::ReadWrite => Request::ReadWrite {
+                read_start: word(b, 1),
+                read_count: word(b, 3),
+                write_start: word(b, 5),
+                values: written_words(b, 10)?,
+            },
         };
         // What encodes is what the specification allows: the same check both ways.
         request.encode()?;
@@ -367,13 +356,8 @@ impl Response {
     }
 
     pub fn decode(b: &[u8]) -> Result<Response, CodecError> {
-        let Some(&code) = b.first() else {
-            return Err(CodecError::Length {
-                what: "the reply PDU",
-                len: 0,
-                expected: "at least 1".into(),
-            });
-        };
+        at_least("the reply PDU", b, 1)?;
+        let code = b[0];
         // An exception names the function it answers; any function may be refused (the
         // specification's own example refuses 01, which drivescript never sends).
         if code & 0x80 != 0 {
@@ -386,13 +370,7 @@ impl Response {
         let function = Function::of(code)?;
         match function {
             Function::ReadHolding | Function::ReadInput | Function::ReadWrite => {
-                if b.len() < 2 {
-                    return Err(CodecError::Length {
-                        what: "the reply PDU",
-                        len: b.len(),
-                        expected: "at least 2".into(),
-                    });
-                }
+                at_least("the reply PDU", b, 2)?;
                 let data = &b[2..];
                 if usize::from(b[1]) != data.len() || data.is_empty() || !data.len().is_multiple_of(2) {
                     return Err(CodecError::ByteCount {

@@ -197,15 +197,9 @@ impl ModbusSimulator {
             Framing::Rtu => rtu::encode(unit, &pdu),
             Framing::Tcp => mbap::encode(transaction, unit, &pdu),
         };
-        if fate.corrupt_checksum {
-            if let Some(last) = bytes.last_mut() {
-                *last ^= 0x01;
-            }
-        }
-        Some(PeerReply {
-            at: now + TURNAROUND.max(self.core.model.config().response_latency) + fate.extra_delay,
-            bytes: fate.noisy(bytes),
-        })
+        fate.corrupt_last_byte(&mut bytes, |check| check ^ 0x01);
+        let latency = self.core.model.config().response_latency;
+        Some(fate.reply(bytes, now + TURNAROUND.max(latency)))
     }
 }
 

@@ -1,6 +1,6 @@
 //! The service-data-channel error byte of SD2 replies and its meaning. Pure.
 
-use std::fmt;
+use crate::family::documented_code::documented_code;
 
 /// The `error` byte of a reply. Drives set bit 7 or not; both forms mean the same.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -63,14 +63,8 @@ impl ErrorCode {
     pub const STATE_OF_CONTROL: ErrorCode = ErrorCode(0x9B);
 }
 
-impl fmt::Display for ErrorCode {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self.meaning() {
-            Some(m) => write!(f, "0x{:02X} {m}", self.0),
-            None => write!(f, "0x{:02X} (a code the SD2 manual does not list)", self.0),
-        }
-    }
-}
+// `0x95 value range exceeded (write)`.
+documented_code!(ErrorCode, "0x{:02X}", "a code the SD2 manual does not list");
 
 #[cfg(test)]
 mod tests {

@@ -176,15 +176,8 @@ impl Sd2Simulator {
         }
         // Replies are never write commands, so the length-field choice does not apply.
         reply.encode_into(&mut bytes, WriteLength::Captured);
-        if fate.corrupt_checksum {
-            if let Some(check) = bytes.last_mut() {
-                *check = !*check;
-            }
-        }
-        Some(PeerReply {
-            at: now + self.config().response_latency + fate.extra_delay,
-            bytes: fate.noisy(bytes),
-        })
+        fate.corrupt_last_byte(&mut bytes, |check| !check);
+        Some(fate.reply(bytes, now + self.config().response_latency))
     }
 }
 
