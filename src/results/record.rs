@@ -159,3 +159,38 @@ pub struct SeriesRow {
     pub step: String,
     pub points: Vec<(f64, f64)>,
 }
+
+/// A passed run of the unit `serial` with one check, as the store's and the spool's tests
+/// write it.
+#[cfg(test)]
+pub(super) fn passed_run(id: &str, serial: &str) -> Vec<Record> {
+    vec![
+        Record::Started(RunRow {
+            id: id.into(),
+            recipe: "R".into(),
+            started_at: format!("2026-01-01T00:00:00.000Z{id}"),
+            unit: UnitRow {
+                serial: Some(serial.into()),
+                ..UnitRow::default()
+            },
+            ..RunRow::default()
+        }),
+        Record::Check(CheckRow {
+            run: id.into(),
+            seq: 1,
+            name: "c".into(),
+            measured: Some(1.5),
+            unit: Some("A".into()),
+            high: Some(2.0),
+            passed: true,
+            step: "1".into(),
+            attempt: 1,
+            ..CheckRow::default()
+        }),
+        Record::Finished(EndRow {
+            run: id.into(),
+            verdict: "passed".into(),
+            ..EndRow::default()
+        }),
+    ]
+}

@@ -477,48 +477,17 @@ fn stored_run(r: &[Value]) -> StoredRun {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::results::record::passed_run;
     use crate::results::Locator;
-
-    fn records(id: &str, serial: &str) -> Vec<Record> {
-        vec![
-            Record::Started(RunRow {
-                id: id.into(),
-                recipe: "R".into(),
-                started_at: format!("2026-01-01T00:00:00.000Z{id}"),
-                unit: UnitRow {
-                    serial: Some(serial.into()),
-                    ..UnitRow::default()
-                },
-                ..RunRow::default()
-            }),
-            Record::Check(CheckRow {
-                run: id.into(),
-                seq: 1,
-                name: "c".into(),
-                measured: Some(1.5),
-                unit: Some("A".into()),
-                high: Some(2.0),
-                passed: true,
-                step: "1".into(),
-                attempt: 1,
-                ..CheckRow::default()
-            }),
-            Record::Finished(EndRow {
-                run: id.into(),
-                verdict: "passed".into(),
-                ..EndRow::default()
-            }),
-        ]
-    }
 
     #[test]
     fn replaying_records_changes_nothing_and_filters_take_the_right_runs() {
         let dir = std::env::temp_dir().join(format!("drivescript-store-unit-{}", std::process::id()));
         let _ = std::fs::remove_dir_all(&dir);
         let mut store = Locator::Sqlite(dir.join("r.sqlite")).open(true).expect("opens");
-        let mut all = records("a1", "S-1");
-        all.extend(records("b2", "S-2"));
-        all.extend(records("c3", "S-1"));
+        let mut all = passed_run("a1", "S-1");
+        all.extend(passed_run("b2", "S-2"));
+        all.extend(passed_run("c3", "S-1"));
         all.truncate(all.len() - 1); // c3 never finished
         for r in all.iter().chain(all.iter()) {
             store.apply(r).expect("applied");
