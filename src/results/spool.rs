@@ -325,9 +325,7 @@ mod tests {
     /// starts on a line of its own, and a delivery keeps the cut line in `FILE.bad`.
     #[test]
     fn a_line_cut_short_by_a_kill_spoils_only_itself() {
-        let dir = std::env::temp_dir().join(format!("drivescript-spool-unit-{}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&dir);
-        std::fs::create_dir_all(&dir).expect("dir");
+        let dir = crate::scratch_dir::scratch_dir("spool-unit");
         let spool = Spool::new(dir.join("r.sqlite.spool"));
         spool.append(&passed_run("a1", "S-1")).expect("appended");
         let mut f = std::fs::OpenOptions::new()
