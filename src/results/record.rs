@@ -3,13 +3,14 @@
 //! Plain data, also the lines of the spool file (JSON), so a record that could not be
 //! delivered is delivered later exactly as it was.
 
+use crate::session::UnitIdentity;
 use serde::{Deserialize, Serialize};
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "record", rename_all = "snake_case")]
 pub enum Record {
     Started(RunRow),
-    Unit { run: String, unit: UnitRow },
+    Unit { run: String, unit: UnitIdentity },
     Step(StepRow),
     Check(CheckRow),
     Finished(EndRow),
@@ -54,18 +55,9 @@ pub struct RunRow {
     pub port: Option<String>,
     pub address: Option<String>,
     pub host: Option<String>,
-    pub unit: UnitRow,
+    pub unit: UnitIdentity,
     /// (name, value) as resolved.
     pub params: Vec<(String, String)>,
-}
-
-/// The unit under test and the run's people and place.
-#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
-pub struct UnitRow {
-    pub serial: Option<String>,
-    pub part: Option<String>,
-    pub operator: Option<String>,
-    pub station: Option<String>,
 }
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -169,9 +161,9 @@ pub(super) fn passed_run(id: &str, serial: &str) -> Vec<Record> {
             id: id.into(),
             recipe: "R".into(),
             started_at: format!("2026-01-01T00:00:00.000Z{id}"),
-            unit: UnitRow {
+            unit: UnitIdentity {
                 serial: Some(serial.into()),
-                ..UnitRow::default()
+                ..UnitIdentity::default()
             },
             ..RunRow::default()
         }),

@@ -8,7 +8,7 @@
 //! committed by then goes whole to the spool, delivered by the next run or `results sync`,
 //! and the run says where its record is.
 
-use super::record::{CheckRow, EndRow, Record, RunRow, SeriesRow, StepRow, UnitRow};
+use super::record::{CheckRow, EndRow, Record, RunRow, SeriesRow, StepRow};
 use super::results_writer::{Job, Landed, Writer};
 use super::{Locator, Spool};
 use crate::session::{CheckResult, RunInfo, RunObserver, RunReport, StepRecord, UnitIdentity, MAX_RECORDS};
@@ -215,15 +215,6 @@ pub(super) fn note(notes: &Notes, text: &str) {
     }
 }
 
-fn unit_row(unit: &UnitIdentity) -> UnitRow {
-    UnitRow {
-        serial: unit.serial.clone(),
-        part: unit.part.clone(),
-        operator: unit.operator.clone(),
-        station: unit.station.clone(),
-    }
-}
-
 /// UTC, RFC 3339 with milliseconds: sorts as text.
 pub fn utc_text(at: SystemTime) -> String {
     humantime::format_rfc3339_millis(at).to_string()
@@ -285,7 +276,7 @@ impl ResultsRecorder {
                     .ok()
                     .map(|h| h.trim().to_string())
             }),
-            unit: unit_row(&run.unit),
+            unit: run.unit.clone(),
             params: run.params.clone(),
         };
         row
@@ -395,7 +386,7 @@ impl RunObserver for ResultsRecorder {
         if let Some(run) = &self.run {
             let record = Record::Unit {
                 run: run.id.clone(),
-                unit: unit_row(unit),
+                unit: unit.clone(),
             };
             self.send(record);
         }

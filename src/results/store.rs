@@ -4,10 +4,10 @@
 //! queries of `results`. Every value travels as a parameter, never inside the SQL.
 
 use super::backend::{Backend, Value};
-use super::record::{CheckRow, EndRow, Record, RunRow, SeriesRow, StepRow, UnitRow};
+use super::record::{CheckRow, EndRow, Record, RunRow, SeriesRow, StepRow};
 use super::stored_run::{RunFilter, StoredRun, VoidRow};
 use super::{schema, StoreError};
-use crate::session::key_of_name;
+use crate::session::{key_of_name, UnitIdentity};
 
 pub struct Store {
     pub(super) backend: Box<dyn Backend>,
@@ -434,7 +434,7 @@ fn stored_run(r: &[Value]) -> StoredRun {
         port: opt(&r[10]),
         address: opt(&r[11]),
         host: opt(&r[12]),
-        unit: UnitRow {
+        unit: UnitIdentity {
             serial: opt(&r[13]),
             part: opt(&r[14]),
             operator: opt(&r[15]),

@@ -8,7 +8,8 @@
 
 use crate::history::run_id;
 use crate::support::{assert_has, cli, line_with, run_recording, scratch, screenshot, write_file};
-use drivescript::results::{utc_text, CheckRow, EndRow, Locator, Record, RunRow, UnitRow};
+use drivescript::results::{utc_text, CheckRow, EndRow, Locator, Record, RunRow};
+use drivescript::session::UnitIdentity;
 use scraper::{Html, Selector};
 use std::path::Path;
 use std::time::{Duration, SystemTime};
@@ -68,9 +69,9 @@ fn recorded(store: &Path, runs: &[Past]) {
             started_at: started_at.clone(),
             simulated: true,
             drive: "simulated sd2".into(),
-            unit: UnitRow {
+            unit: UnitIdentity {
                 serial: Some(r.serial.into()),
-                ..UnitRow::default()
+                ..UnitIdentity::default()
             },
             ..RunRow::default()
         }));
