@@ -14,6 +14,7 @@ mod coasting;
 mod condition;
 mod downward;
 mod drive_identity;
+mod end_state;
 mod expect;
 mod expect_parameters;
 mod history_lookup;
@@ -58,6 +59,7 @@ pub use coast_down::CoastDown;
 pub use condition::{
     exact_with_unit, number, with_unit, Check, Condition, Measure, Predicate, Statistic, Stats, Tolerance,
 };
+pub use end_state::EndState;
 pub use expect::AttemptMark;
 pub use history_lookup::LOOKUP_LIMIT;
 pub use last_pass::{signed, History, HistoryError, LastPass, PastCheck, PastRun};

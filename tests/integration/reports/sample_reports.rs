@@ -4,7 +4,7 @@
 //! function each ([`step`], [`check`]), so a new field is one edit.
 
 use drivescript::drive::DeviceState;
-use drivescript::session::{CheckResult, RunReport, Series, StepOrigin, StepRecord, Verdict};
+use drivescript::session::{CheckResult, EndState, RunReport, Series, StepOrigin, StepRecord, Verdict};
 use std::time::{Duration, UNIX_EPOCH};
 
 pub fn origin(line: usize) -> StepOrigin {
@@ -141,10 +141,13 @@ pub fn passed_report() -> RunReport {
             samples: None,
             marks: None,
         }],
-        final_state: Some(DeviceState::SwitchedOn),
-        final_speed: Some(0.4),
-        speed_unit: Some("rpm".into()),
-        stop_confirmed: true,
+        end: EndState {
+            final_state: Some(DeviceState::SwitchedOn),
+            final_speed: Some(0.4),
+            speed_unit: Some("rpm".into()),
+            stop_confirmed: true,
+            ..EndState::default()
+        },
         safe_stop: vec!["finally: disable_operation ran".into()],
         ..report(
             "Spindle <run-in> & \"test\"",
