@@ -5,6 +5,7 @@
 
 use super::stored_run::{RunFilter, TrendPoint};
 use super::{Store, StoreError};
+use crate::session::Stats;
 
 /// The capability of one check.
 #[derive(Debug, Clone, PartialEq)]
@@ -39,14 +40,10 @@ impl Capability {
             .iter()
             .filter_map(|p| p.measured.filter(|v| v.is_finite()))
             .collect();
-        let n = values.len();
-        let mean = (n > 0).then(|| values.iter().sum::<f64>() / n as f64);
-        let sigma = match (n, mean) {
-            (2.., Some(m)) => {
-                Some((values.iter().map(|v| (v - m).powi(2)).sum::<f64>() / (n - 1) as f64).sqrt())
-            }
-            _ => None,
-        };
+        let stats = Stats::of(&values);
+        let n = stats.count;
+        let some = |v: f64| (n > 0).then_some(v);
+        let (mean, sigma) = (some(stats.mean), stats.sample_std());
         let newest = points.iter().rev().find(|p| p.low.is_some() || p.high.is_some());
         let (low, high) = newest.map_or((None, None), |p| (p.low, p.high));
         let mut other_limits: Vec<(Option<f64>, Option<f64>)> = Vec::new();
@@ -74,8 +71,8 @@ impl Capability {
             n,
             mean,
             sigma,
-            min: values.iter().copied().reduce(f64::min),
-            max: values.iter().copied().reduce(f64::max),
+            min: some(stats.min),
+            max: some(stats.max),
             low,
             high,
             cp,
