@@ -32,8 +32,11 @@
 
 #[path = "support/child_cost.rs"]
 mod child_cost;
+#[path = "support/goal.rs"]
+mod goal;
 
 use child_cost::{measure_child, Cost};
+use goal::verdict;
 use drivescript::family::sd2::codec::{Body, Cyclic, Data, ErrorCode, Telegram, WriteLength};
 use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
@@ -239,21 +242,7 @@ impl Drop for Simulator {
 }
 
 fn main() -> ExitCode {
-    match measure() {
-        Ok(()) => ExitCode::SUCCESS,
-        Err(e) => {
-            eprintln!("benchmark failed: {e}");
-            ExitCode::FAILURE
-        }
-    }
-}
-
-fn verdict(ok: bool) -> &'static str {
-    if ok {
-        "meets goal"
-    } else {
-        "BELOW GOAL"
-    }
+    goal::exit_of(measure())
 }
 
 fn measure() -> Result<(), String> {
