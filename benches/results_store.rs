@@ -21,7 +21,7 @@
 //!   100 ms, against the 10 s a run waits at most.
 
 use drivescript::results::{CheckRow, EndRow, Locator, Record, RunRow, StoreHistory};
-use drivescript::session::{History, UnitIdentity};
+use drivescript::session::{History, Limits, UnitIdentity};
 use drivescript::store_site::StoreSite;
 use drivescript::web::WebSettings;
 use std::path::{Path, PathBuf};
@@ -164,7 +164,7 @@ fn filled_store(path: &Path, runs: usize) -> Result<(), String> {
                 key: Some(format!("current_actual max below #{c}")),
                 measured: Some(3.0 + (i % 17) as f64 * 0.05),
                 unit: Some("A".into()),
-                high: Some(5.0),
+                limits: Limits::new(None, Some(5.0)),
                 passed: true,
                 step: format!("{}", c + 3),
                 attempt: 1,

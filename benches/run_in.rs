@@ -36,8 +36,8 @@ mod child_cost;
 mod goal;
 
 use child_cost::{measure_child, Cost};
-use goal::verdict;
 use drivescript::family::sd2::codec::{Body, Cyclic, Data, ErrorCode, Telegram, WriteLength};
+use goal::verdict;
 use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
 use std::process::{Command, ExitCode, Stdio};

@@ -3,7 +3,7 @@
 //! Plain data, also the lines of the spool file (JSON), so a record that could not be
 //! delivered is delivered later exactly as it was.
 
-use crate::session::UnitIdentity;
+use crate::session::{Limits, UnitIdentity};
 use serde::{Deserialize, Serialize};
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -89,8 +89,8 @@ pub struct CheckRow {
     pub measured: Option<f64>,
     pub measured_text: Option<String>,
     pub unit: Option<String>,
-    pub low: Option<f64>,
-    pub high: Option<f64>,
+    #[serde(flatten)]
+    pub limits: Limits,
     pub passed: bool,
     /// A pass outside the check's warning band.
     #[serde(default)]
@@ -173,7 +173,7 @@ pub(super) fn passed_run(id: &str, serial: &str) -> Vec<Record> {
             name: "c".into(),
             measured: Some(1.5),
             unit: Some("A".into()),
-            high: Some(2.0),
+            limits: Limits::new(None, Some(2.0)),
             passed: true,
             step: "1".into(),
             attempt: 1,

@@ -7,6 +7,7 @@ use super::backend::{Backend, Value};
 use super::record::{CheckRow, EndRow, Record, RunRow, SeriesRow, StepRow};
 use super::stored_run::{RunFilter, StoredRun, VoidRow};
 use super::{schema, StoreError};
+use crate::session::Limits;
 use crate::session::{key_of_name, UnitIdentity};
 
 pub struct Store {
@@ -111,8 +112,8 @@ impl Store {
                         c.measured.into(),
                         c.measured_text.clone().into(),
                         c.unit.clone().into(),
-                        c.low.into(),
-                        c.high.into(),
+                        c.limits.low.into(),
+                        c.limits.high.into(),
                         c.passed.into(),
                         c.marginal.into(),
                         c.step.as_str().into(),
@@ -282,8 +283,7 @@ impl Store {
                 measured: r[2].real(),
                 measured_text: opt(&r[3]),
                 unit: opt(&r[4]),
-                low: r[5].real(),
-                high: r[6].real(),
+                limits: Limits::new(r[5].real(), r[6].real()),
                 passed: int(&r[7]) != 0,
                 step: text(&r[8]),
                 stage: text(&r[9]),

@@ -9,6 +9,7 @@ use super::operator::{Given, Reply};
 use super::prompt::{Accepted, Prompt, PromptKind};
 use super::session::Session;
 use super::stop::Stop;
+use super::Limits;
 use super::{CheckResult, StepOrigin};
 use std::time::Duration;
 
@@ -258,8 +259,7 @@ impl Session<'_> {
             measured: accepted.and_then(|a| a.number),
             measured_text: accepted.map(|a| a.text.clone()),
             unit,
-            low,
-            high,
+            limits: Limits::new(low, high),
             message,
             inclusive: true,
             // A question holds no limits: it is its own key.

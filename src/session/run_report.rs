@@ -2,10 +2,10 @@
 //! measured value and limits, every sampled series, and how the run ended. Plain data for
 //! the console, JUnit, CSV and HTML reports; no formatting and no I/O here.
 
-use super::condition::{number, with_unit, Stats};
+use super::condition::Stats;
 use super::step_origin::StepOrigin;
-use super::EndState;
 use super::UnitIdentity;
+use super::{EndState, Limits};
 use crate::stop_request::StopSignal;
 use std::time::{Duration, SystemTime};
 
@@ -91,8 +91,7 @@ pub struct CheckResult {
     pub measured: Option<f64>,
     pub measured_text: Option<String>,
     pub unit: Option<String>,
-    pub low: Option<f64>,
-    pub high: Option<f64>,
+    pub limits: Limits,
     /// The object and statistic checked, for plots: (`speed_actual`, `mean`).
     pub object: Option<String>,
     pub statistic: Option<String>,
@@ -150,8 +149,7 @@ impl CheckResult {
             measured: None,
             measured_text: None,
             unit: None,
-            low: None,
-            high: None,
+            limits: Limits::default(),
             object: None,
             statistic: None,
             message: String::new(),
@@ -176,29 +174,8 @@ impl CheckResult {
     /// The limits as the recipe wrote them, for every report: `5970 .. 6030 rpm`, `= 1`,
     /// `> 5 A`, `< 60 °C`, `≤ 2.8 mm/s`; `None` without limits.
     pub fn limits_text(&self) -> Option<String> {
-        limits_text(self.low, self.high, self.unit.as_deref(), self.inclusive)
+        self.limits.text(self.unit.as_deref(), self.inclusive)
     }
-}
-
-/// Limits as every report writes them: `5970 .. 6030 rpm`, `= 1`, `≥ 5 A` (or `> 5 A`
-/// when not `inclusive`), `≤ 2.8 mm/s`; `None` without limits.
-pub fn limits_text(
-    low: Option<f64>,
-    high: Option<f64>,
-    unit: Option<&str>,
-    inclusive: bool,
-) -> Option<String> {
-    let (above, below) = match inclusive {
-        true => ("≥", "≤"),
-        false => (">", "<"),
-    };
-    Some(match (low, high) {
-        (Some(lo), Some(hi)) if lo == hi => format!("= {}", with_unit(lo, unit)),
-        (Some(lo), Some(hi)) => format!("{} .. {}", number(lo), with_unit(hi, unit)),
-        (Some(lo), None) => format!("{above} {}", with_unit(lo, unit)),
-        (None, Some(hi)) => format!("{below} {}", with_unit(hi, unit)),
-        (None, None) => return None,
-    })
 }
 
 /// A check a recipe holds, known before the run: reports show the ones no result answers

@@ -12,7 +12,7 @@ use crate::support::{
     write_file,
 };
 use drivescript::results::{CheckRow, EndRow, Locator, Record, RunRow};
-use drivescript::session::UnitIdentity;
+use drivescript::session::{Limits, UnitIdentity};
 use std::path::Path;
 
 /// A recipe of two stages, each holding `speed_actual mean near` at its own speed, compared
@@ -272,8 +272,7 @@ fn recorded(store: &str, runs: &[Past]) {
             key: Some("motor_temperature below".into()),
             measured: Some(*temperature),
             unit: Some("°C".into()),
-            low: Some(20.0),
-            high: Some(80.0),
+            limits: Limits::new(Some(20.0), Some(80.0)),
             passed: *passed,
             step: "2".into(),
             attempt: 1,
