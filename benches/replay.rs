@@ -10,8 +10,11 @@
 
 #[path = "support/child_cost.rs"]
 mod child_cost;
+#[path = "support/goal.rs"]
+mod goal;
 
 use child_cost::{measure_child, Cost};
+use goal::verdict;
 use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
 use std::process::{Command, ExitCode};
@@ -21,21 +24,7 @@ const SPEED_UP_GOAL: f64 = 5_000.0;
 const RSS_LIMIT_MB: f64 = 30.0;
 
 fn main() -> ExitCode {
-    match measure() {
-        Ok(()) => ExitCode::SUCCESS,
-        Err(e) => {
-            eprintln!("error: {e}");
-            ExitCode::FAILURE
-        }
-    }
-}
-
-fn verdict(ok: bool) -> &'static str {
-    if ok {
-        "ok"
-    } else {
-        "BELOW GOAL"
-    }
+    goal::exit_of(measure())
 }
 
 fn measure() -> Result<(), String> {

@@ -20,8 +20,8 @@
 //!   store (opening it and the query, as a run does before its first step): at most
 //!   100 ms, against the 10 s a run waits at most.
 
-use drivescript::results::{CheckRow, EndRow, Locator, Record, RunRow, StoreHistory, UnitRow};
-use drivescript::session::History;
+use drivescript::results::{CheckRow, EndRow, Locator, Record, RunRow, StoreHistory};
+use drivescript::session::{History, Limits, UnitIdentity};
 use drivescript::store_site::StoreSite;
 use drivescript::web::WebSettings;
 use std::path::{Path, PathBuf};
@@ -148,10 +148,10 @@ fn filled_store(path: &Path, runs: usize) -> Result<(), String> {
             tool_version: "0.1.0".into(),
             started_at: started_at.clone(),
             drive: "drive 2 on /dev/ttyUSB0".into(),
-            unit: UnitRow {
+            unit: UnitIdentity {
                 serial: Some(format!("SP-{}", 100_000 + i % 100)),
                 station: Some("Bench 3".into()),
-                ..UnitRow::default()
+                ..UnitIdentity::default()
             },
             params: vec![("speed".into(), "12000 rpm".into())],
             ..RunRow::default()
@@ -164,7 +164,7 @@ fn filled_store(path: &Path, runs: usize) -> Result<(), String> {
                 key: Some(format!("current_actual max below #{c}")),
                 measured: Some(3.0 + (i % 17) as f64 * 0.05),
                 unit: Some("A".into()),
-                high: Some(5.0),
+                limits: Limits::new(None, Some(5.0)),
                 passed: true,
                 step: format!("{}", c + 3),
                 attempt: 1,

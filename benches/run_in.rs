@@ -32,9 +32,12 @@
 
 #[path = "support/child_cost.rs"]
 mod child_cost;
+#[path = "support/goal.rs"]
+mod goal;
 
 use child_cost::{measure_child, Cost};
 use drivescript::family::sd2::codec::{Body, Cyclic, Data, ErrorCode, Telegram, WriteLength};
+use goal::verdict;
 use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
 use std::process::{Command, ExitCode, Stdio};
@@ -239,21 +242,7 @@ impl Drop for Simulator {
 }
 
 fn main() -> ExitCode {
-    match measure() {
-        Ok(()) => ExitCode::SUCCESS,
-        Err(e) => {
-            eprintln!("benchmark failed: {e}");
-            ExitCode::FAILURE
-        }
-    }
-}
-
-fn verdict(ok: bool) -> &'static str {
-    if ok {
-        "meets goal"
-    } else {
-        "BELOW GOAL"
-    }
+    goal::exit_of(measure())
 }
 
 fn measure() -> Result<(), String> {

@@ -35,6 +35,8 @@ pub mod recipe;
 pub mod report;
 pub mod results;
 pub mod run;
+#[cfg(test)]
+pub(crate) mod scratch_dir;
 pub mod script;
 pub mod session;
 pub mod sim;

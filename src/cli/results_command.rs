@@ -346,7 +346,7 @@ fn command(command: &ResultsCommand, locator: &Locator) -> Result<i32, StoreErro
                         serde_json::json!({"run": p.run, "started_at": p.started_at, "serial": p.serial,
                             "recipe": p.recipe, "recipe_sha256": p.recipe_sha256, "stage": p.stage, "step": p.step,
                             "check": p.name, "key": p.key,
-                            "measured": p.measured, "unit": p.unit, "low": p.low, "high": p.high, "passed": p.passed,
+                            "measured": p.measured, "unit": p.unit, "low": p.limits.low, "high": p.limits.high, "passed": p.passed,
                             "marginal": p.marginal, "simulated": p.simulated})
                     })
                     .collect();

@@ -101,7 +101,7 @@ pub(super) fn capability(
     let unit = c.unit.as_deref();
     if json {
         let v = serde_json::json!({"check": c.check, "key": c.key, "unit": c.unit, "n": c.n,
-            "mean": c.mean, "sigma": c.sigma, "min": c.min, "max": c.max, "low": c.low, "high": c.high,
+            "mean": c.mean, "sigma": c.sigma, "min": c.min, "max": c.max, "low": c.limits.low, "high": c.limits.high,
             "cp": c.cp, "cpk": c.cpk});
         println!("{}", serde_json::to_string_pretty(&v).unwrap_or_default());
         return Ok(PASSED);
@@ -118,8 +118,8 @@ pub(super) fn capability(
     );
     println!(
         "limits   {} .. {}  (the newest run's)",
-        limit(c.low),
-        limit(c.high)
+        limit(c.limits.low),
+        limit(c.limits.high)
     );
     println!("Cp       {}", index_text(c.cp));
     match c.why_no_cpk() {
@@ -131,7 +131,7 @@ pub(super) fn capability(
             "note: older runs had other limits ({}); Cp and Cpk are against the newest run's — narrow with --since",
             c.other_limits
                 .iter()
-                .map(|(l, h)| format!("{} .. {}", limit(*l), limit(*h)))
+                .map(|l| format!("{} .. {}", limit(l.low), limit(l.high)))
                 .collect::<Vec<_>>()
                 .join("; ")
         );

@@ -168,8 +168,7 @@ mod tests {
 
     #[test]
     fn reads_small_files_and_refuses_what_is_not_a_file() {
-        let dir = std::env::temp_dir().join(format!("drivescript-text-file-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
+        let dir = crate::scratch_dir::scratch_dir("text-file");
         let path = dir.join("r.yaml");
         std::fs::write(&path, "name: x\n").unwrap();
         assert_eq!(read_text_file(&path).unwrap(), "name: x\n");

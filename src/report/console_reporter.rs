@@ -260,7 +260,7 @@ pub fn check_line(c: &CheckResult, attempts: &OpenAttempts) -> Option<String> {
         (false, _) => attempts.fail_mark(),
     };
     let (above, below) = if c.inclusive { ("≥", "≤") } else { (">", "<") };
-    let limits = match (c.low, c.high) {
+    let limits = match (c.limits.low, c.limits.high) {
         (Some(lo), Some(hi)) if lo == hi => format!(" (expected {})", with_unit(lo, c.unit.as_deref())),
         (Some(lo), Some(hi)) => {
             format!(" (limits {} .. {})", number(lo), with_unit(hi, c.unit.as_deref()))

@@ -187,13 +187,13 @@ fn suite_properties(r: &RunReport, started: &str) -> Vec<(String, String)> {
         p.push(("reason".into(), reason));
     }
     // One state for one drive; with several, `after_safe_stop` names each drive's.
-    if let (Some(state), true) = (r.final_state, r.drive_ends.len() <= 1) {
+    if let (Some(state), true) = (r.end.final_state, r.drive_ends.len() <= 1) {
         p.push(("final_state".into(), state.to_string()));
     }
     p.push(("after_safe_stop".into(), r.drive_left()));
     p.push((
         "safe_stop_confirmed".into(),
-        if r.stop_confirmed {
+        if r.end.stop_confirmed {
             "true"
         } else {
             "false: CHECK THE DRIVE BY HAND"
@@ -377,8 +377,8 @@ fn run_case(r: &RunReport) -> Option<Case> {
 /// The test case `safe stop`: passes when the stop was verified and the drive obeyed;
 /// its `system-out` is the run's log (JUnit readers show it next to the case).
 fn safe_stop_case(r: &RunReport) -> Case {
-    let outcome = (!r.stop_confirmed || r.disobeyed).then(|| {
-        let message = if r.stop_confirmed {
+    let outcome = (!r.end.stop_confirmed || r.disobeyed).then(|| {
+        let message = if r.end.stop_confirmed {
             format!("the drive did not obey the stop commands; {}", r.drive_left())
         } else {
             format!(

@@ -392,7 +392,7 @@ mod tests {
             key: "motor_temperature min above".into(),
             measured: Some(28.6),
             unit: Some("°C".into()),
-            low: Some(33.0),
+            limits: crate::session::Limits::new(Some(33.0), None),
             message: "too cold".into(),
             origin: crate::session::StepOrigin {
                 path: "r.yaml".into(),

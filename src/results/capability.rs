@@ -5,6 +5,7 @@
 
 use super::stored_run::{RunFilter, TrendPoint};
 use super::{Store, StoreError};
+use crate::session::{Limits, Stats};
 
 /// The capability of one check.
 #[derive(Debug, Clone, PartialEq)]
@@ -20,14 +21,13 @@ pub struct Capability {
     pub min: Option<f64>,
     pub max: Option<f64>,
     /// The spec limits: the newest run's check's (the recipe as it is now).
-    pub low: Option<f64>,
-    pub high: Option<f64>,
+    pub limits: Limits,
     /// Cp (both limits), Cpk (the nearer limit, or the only one); `None` where they cannot
     /// be computed (below two values, σ = 0, no limit).
     pub cp: Option<f64>,
     pub cpk: Option<f64>,
     /// Different limits in older runs: (low, high) of each set other than the newest.
-    pub other_limits: Vec<(Option<f64>, Option<f64>)>,
+    pub other_limits: Vec<Limits>,
     /// The values, oldest first.
     pub values: Vec<f64>,
 }
@@ -39,23 +39,23 @@ impl Capability {
             .iter()
             .filter_map(|p| p.measured.filter(|v| v.is_finite()))
             .collect();
-        let n = values.len();
-        let mean = (n > 0).then(|| values.iter().sum::<f64>() / n as f64);
-        let sigma = match (n, mean) {
-            (2.., Some(m)) => {
-                Some((values.iter().map(|v| (v - m).powi(2)).sum::<f64>() / (n - 1) as f64).sqrt())
-            }
-            _ => None,
-        };
-        let newest = points.iter().rev().find(|p| p.low.is_some() || p.high.is_some());
-        let (low, high) = newest.map_or((None, None), |p| (p.low, p.high));
-        let mut other_limits: Vec<(Option<f64>, Option<f64>)> = Vec::new();
-        for p in points.iter().filter(|p| p.low.is_some() || p.high.is_some()) {
-            let l = (p.low, p.high);
-            if l != (low, high) && !other_limits.contains(&l) {
+        let stats = Stats::of(&values);
+        let n = stats.count;
+        let some = |v: f64| (n > 0).then_some(v);
+        let (mean, sigma) = (some(stats.mean), stats.sample_std());
+        let limits = points
+            .iter()
+            .rev()
+            .map(|p| p.limits)
+            .find(Limits::any)
+            .unwrap_or_default();
+        let mut other_limits: Vec<Limits> = Vec::new();
+        for l in points.iter().map(|p| p.limits).filter(Limits::any) {
+            if l != limits && !other_limits.contains(&l) {
                 other_limits.push(l);
             }
         }
+        let Limits { low, high } = limits;
         let s = sigma.filter(|s| *s > 0.0);
         let cp = match (low, high, s) {
             (Some(l), Some(h), Some(s)) => Some((h - l) / (6.0 * s)),
@@ -74,10 +74,9 @@ impl Capability {
             n,
             mean,
             sigma,
-            min: values.iter().copied().reduce(f64::min),
-            max: values.iter().copied().reduce(f64::max),
-            low,
-            high,
+            min: some(stats.min),
+            max: some(stats.max),
+            limits,
             cp,
             cpk,
             other_limits,
@@ -90,7 +89,7 @@ impl Capability {
         if self.cpk.is_some() {
             return None;
         }
-        Some(match (self.n, self.sigma, self.low.or(self.high)) {
+        Some(match (self.n, self.sigma, self.limits.low.or(self.limits.high)) {
             (0, _, _) => "no value",
             (1, _, _) => "one value: σ needs two",
             (_, _, None) => "the check has no limit",
@@ -101,8 +100,8 @@ impl Capability {
     /// The histogram: `bins` counts over equal intervals from `start` of width `width`,
     /// spanning the values and the limits.
     pub fn histogram(&self) -> Histogram {
-        let lows = [self.min, self.low].into_iter().flatten();
-        let highs = [self.max, self.high].into_iter().flatten();
+        let lows = [self.min, self.limits.low].into_iter().flatten();
+        let highs = [self.max, self.limits.high].into_iter().flatten();
         let start = lows.reduce(f64::min).unwrap_or(0.0);
         let end = highs.reduce(f64::max).unwrap_or(1.0);
         let bins = ((self.n as f64).sqrt().ceil() as usize).clamp(5, 40);
@@ -146,8 +145,7 @@ mod tests {
             started_at: "2026-01-01T00:00:00.000Z".into(),
             measured: Some(v),
             unit: Some("rpm".into()),
-            low,
-            high,
+            limits: Limits::new(low, high),
             passed: true,
             recipe: "R".into(),
             step: "2".into(),
@@ -171,8 +169,8 @@ mod tests {
         let mut shifted = points.clone();
         shifted.push(point(6030.0, Some(5940.0), Some(6030.0)));
         let c = Capability::of("x", &shifted);
-        assert_eq!(c.high, Some(6030.0), "the newest run's limits");
-        assert_eq!(c.other_limits, [(Some(5940.0), Some(6060.0))]);
+        assert_eq!(c.limits.high, Some(6030.0), "the newest run's limits");
+        assert_eq!(c.other_limits, [Limits::new(Some(5940.0), Some(6060.0))]);
         let (m, s) = (c.mean.unwrap_or(0.0), c.sigma.unwrap_or(0.0));
         assert!((c.cpk.unwrap_or(0.0) - (6030.0 - m) / (3.0 * s)).abs() < 1e-9);
         // One-sided: no Cp, Cpk of that side.

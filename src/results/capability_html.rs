@@ -50,8 +50,8 @@ pub fn capability_page(c: &Capability, links: PageLinks) -> String {
             "Min … max",
             format!("{} … {}", stat_text(c.min, 6, unit), stat_text(c.max, 6, unit)),
         ),
-        ("Lower spec limit", limit(c.low)),
-        ("Upper spec limit", limit(c.high)),
+        ("Lower spec limit", limit(c.limits.low)),
+        ("Upper spec limit", limit(c.limits.high)),
         ("Cp", index_text(c.cp)),
         (
             "Cpk",
@@ -76,7 +76,7 @@ pub fn capability_page(c: &Capability, links: PageLinks) -> String {
             esc(&c
                 .other_limits
                 .iter()
-                .map(|(l, h)| format!("{} .. {}", limit(*l), limit(*h)))
+                .map(|l| format!("{} .. {}", limit(l.low), limit(l.high)))
                 .collect::<Vec<_>>()
                 .join("; "))
         );
@@ -119,8 +119,8 @@ fn histogram_svg(c: &Capability) -> String {
         );
     }
     for (class, v, dash) in [
-        ("spec", c.low, " stroke-dasharray=\"6 4\""),
-        ("spec", c.high, " stroke-dasharray=\"6 4\""),
+        ("spec", c.limits.low, " stroke-dasharray=\"6 4\""),
+        ("spec", c.limits.high, " stroke-dasharray=\"6 4\""),
         ("mean", c.mean, ""),
     ] {
         if let Some(v) = v {

@@ -322,7 +322,7 @@ fn run_section(h: &mut String, r: &StoredRun, plot: &mut usize, links: PageLinks
                 .or_else(|| c.measured_text.clone())
                 .unwrap_or_else(|| "—".into());
             let key = c.key.clone().or_else(|| key_of_name(&c.name)).unwrap_or_default();
-            let limits = stored_limits(&c.name, &key, (c.low, c.high), c.unit.as_deref(), c.inclusive)
+            let limits = stored_limits(&c.name, &key, c.limits, c.unit.as_deref(), c.inclusive)
                 .unwrap_or_else(|| "—".into());
             // A comparison with the last pass says against what (its value is the change,
             // `+5 K` beside a check of 30 °C), and a check that measured nothing says why.

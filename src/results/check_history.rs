@@ -8,6 +8,7 @@ use super::check_identity::{readings, CheckIdentity};
 use super::store::{int, opt, text, where_clause, Store};
 use super::stored_run::{RunFilter, TrendPoint};
 use super::StoreError;
+use crate::session::Limits;
 use crate::session::{key_of_name, PastCheck, PastRun};
 
 impl Store {
@@ -116,8 +117,7 @@ impl Store {
                 serial: opt(&r[2]),
                 measured: r[3].real(),
                 unit: opt(&r[4]),
-                low: r[5].real(),
-                high: r[6].real(),
+                limits: Limits::new(r[5].real(), r[6].real()),
                 passed: int(&r[7]) != 0,
                 marginal: int(&r[10]) != 0,
                 inclusive: r[12].int().map(|v| v != 0),

@@ -39,7 +39,7 @@ pub use capability::{Capability, Histogram};
 pub use check_identity::{readings, AskedCheck, CheckIdentity};
 pub use locator::{data_dir, Locator, RESULTS_ENV};
 pub use page_links::{url_escape, PageLinks};
-pub use record::{CheckRow, EndRow, Record, RunRow, SeriesRow, StepRow, UnitRow};
+pub use record::{CheckRow, EndRow, Record, RunRow, SeriesRow, StepRow};
 pub use results_recorder::{utc_text, FileFacts, Notes, RecorderSettings, ResultsRecorder};
 pub use run_yield::YieldRow;
 pub use schema::{current_version, migration};

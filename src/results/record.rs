@@ -3,13 +3,14 @@
 //! Plain data, also the lines of the spool file (JSON), so a record that could not be
 //! delivered is delivered later exactly as it was.
 
+use crate::session::{Limits, UnitIdentity};
 use serde::{Deserialize, Serialize};
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "record", rename_all = "snake_case")]
 pub enum Record {
     Started(RunRow),
-    Unit { run: String, unit: UnitRow },
+    Unit { run: String, unit: UnitIdentity },
     Step(StepRow),
     Check(CheckRow),
     Finished(EndRow),
@@ -54,18 +55,9 @@ pub struct RunRow {
     pub port: Option<String>,
     pub address: Option<String>,
     pub host: Option<String>,
-    pub unit: UnitRow,
+    pub unit: UnitIdentity,
     /// (name, value) as resolved.
     pub params: Vec<(String, String)>,
-}
-
-/// The unit under test and the run's people and place.
-#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
-pub struct UnitRow {
-    pub serial: Option<String>,
-    pub part: Option<String>,
-    pub operator: Option<String>,
-    pub station: Option<String>,
 }
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -97,8 +89,8 @@ pub struct CheckRow {
     pub measured: Option<f64>,
     pub measured_text: Option<String>,
     pub unit: Option<String>,
-    pub low: Option<f64>,
-    pub high: Option<f64>,
+    #[serde(flatten)]
+    pub limits: Limits,
     pub passed: bool,
     /// A pass outside the check's warning band.
     #[serde(default)]
@@ -158,4 +150,39 @@ pub struct SeriesRow {
     pub unit: Option<String>,
     pub step: String,
     pub points: Vec<(f64, f64)>,
+}
+
+/// A passed run of the unit `serial` with one check, as the store's and the spool's tests
+/// write it.
+#[cfg(test)]
+pub(super) fn passed_run(id: &str, serial: &str) -> Vec<Record> {
+    vec![
+        Record::Started(RunRow {
+            id: id.into(),
+            recipe: "R".into(),
+            started_at: format!("2026-01-01T00:00:00.000Z{id}"),
+            unit: UnitIdentity {
+                serial: Some(serial.into()),
+                ..UnitIdentity::default()
+            },
+            ..RunRow::default()
+        }),
+        Record::Check(CheckRow {
+            run: id.into(),
+            seq: 1,
+            name: "c".into(),
+            measured: Some(1.5),
+            unit: Some("A".into()),
+            limits: Limits::new(None, Some(2.0)),
+            passed: true,
+            step: "1".into(),
+            attempt: 1,
+            ..CheckRow::default()
+        }),
+        Record::Finished(EndRow {
+            run: id.into(),
+            verdict: "passed".into(),
+            ..EndRow::default()
+        }),
+    ]
 }

@@ -8,7 +8,7 @@
 //! committed by then goes whole to the spool, delivered by the next run or `results sync`,
 //! and the run says where its record is.
 
-use super::record::{CheckRow, EndRow, Record, RunRow, SeriesRow, StepRow, UnitRow};
+use super::record::{CheckRow, EndRow, Record, RunRow, SeriesRow, StepRow};
 use super::results_writer::{Job, Landed, Writer};
 use super::{Locator, Spool};
 use crate::session::{CheckResult, RunInfo, RunObserver, RunReport, StepRecord, UnitIdentity, MAX_RECORDS};
@@ -215,15 +215,6 @@ pub(super) fn note(notes: &Notes, text: &str) {
     }
 }
 
-fn unit_row(unit: &UnitIdentity) -> UnitRow {
-    UnitRow {
-        serial: unit.serial.clone(),
-        part: unit.part.clone(),
-        operator: unit.operator.clone(),
-        station: unit.station.clone(),
-    }
-}
-
 /// UTC, RFC 3339 with milliseconds: sorts as text.
 pub fn utc_text(at: SystemTime) -> String {
     humantime::format_rfc3339_millis(at).to_string()
@@ -285,7 +276,7 @@ impl ResultsRecorder {
                     .ok()
                     .map(|h| h.trim().to_string())
             }),
-            unit: unit_row(&run.unit),
+            unit: run.unit.clone(),
             params: run.params.clone(),
         };
         row
@@ -395,7 +386,7 @@ impl RunObserver for ResultsRecorder {
         if let Some(run) = &self.run {
             let record = Record::Unit {
                 run: run.id.clone(),
-                unit: unit_row(unit),
+                unit: unit.clone(),
             };
             self.send(record);
         }
@@ -437,8 +428,7 @@ impl RunObserver for ResultsRecorder {
             measured: c.measured,
             measured_text: c.measured_text.clone(),
             unit: c.unit.clone(),
-            low: c.low,
-            high: c.high,
+            limits: c.limits,
             passed: c.passed,
             marginal: c.marginal,
             step: c.step.clone(),
@@ -470,11 +460,11 @@ impl RunObserver for ResultsRecorder {
             exit_code: i64::from(r.exit_code()),
             reason: r.verdict.reason(),
             drive_identity: r.identity.clone(),
-            final_state: r.final_state.map(|s| s.to_string()),
-            final_speed: r.final_speed,
-            speed_unit: r.speed_unit.clone(),
-            coasting: r.coasting,
-            stop_confirmed: r.stop_confirmed,
+            final_state: r.end.final_state.map(|s| s.to_string()),
+            final_speed: r.end.final_speed,
+            speed_unit: r.end.speed_unit.clone(),
+            coasting: r.end.coasting,
+            stop_confirmed: r.end.stop_confirmed,
             safe_stop: r.safe_stop.clone(),
             report_files: files,
             series: r

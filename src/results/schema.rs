@@ -208,9 +208,7 @@ mod tests {
     /// `checks` inserts, opened (so migrated) by this drivescript: the store, read raw, and
     /// its folder.
     fn migrated(name: &str, version: usize, checks: &str) -> (SqliteBackend, std::path::PathBuf) {
-        let dir = std::env::temp_dir().join(format!("drivescript-schema-{name}-{}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&dir);
-        std::fs::create_dir_all(&dir).expect("dir");
+        let dir = crate::scratch_dir::scratch_dir(&format!("schema-{name}"));
         let path = dir.join("old.sqlite");
         let mut old = SqliteBackend::open(&path, true).expect("opens");
         for v in 1..=version {

@@ -318,33 +318,16 @@ fn ends_unfinished(file: &mut std::fs::File) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::results::record::{EndRow, RunRow};
+    use crate::results::record::passed_run;
     use crate::results::{Locator, RunFilter};
-
-    fn run(id: &str) -> Vec<Record> {
-        vec![
-            Record::Started(RunRow {
-                id: id.into(),
-                recipe: "R".into(),
-                ..RunRow::default()
-            }),
-            Record::Finished(EndRow {
-                run: id.into(),
-                verdict: "passed".into(),
-                ..EndRow::default()
-            }),
-        ]
-    }
 
     /// A line cut short by a kill during an append spoils only itself: the next append
     /// starts on a line of its own, and a delivery keeps the cut line in `FILE.bad`.
     #[test]
     fn a_line_cut_short_by_a_kill_spoils_only_itself() {
-        let dir = std::env::temp_dir().join(format!("drivescript-spool-unit-{}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&dir);
-        std::fs::create_dir_all(&dir).expect("dir");
+        let dir = crate::scratch_dir::scratch_dir("spool-unit");
         let spool = Spool::new(dir.join("r.sqlite.spool"));
-        spool.append(&run("a1")).expect("appended");
+        spool.append(&passed_run("a1", "S-1")).expect("appended");
         let mut f = std::fs::OpenOptions::new()
             .append(true)
             .open(spool.path())
@@ -352,11 +335,11 @@ mod tests {
         f.write_all(b"{\"record\":\"started\",\"id\":\"cut")
             .expect("a cut line");
         drop(f);
-        spool.append(&run("b2")).expect("appended");
+        spool.append(&passed_run("b2", "S-2")).expect("appended");
         assert_eq!(spool.runs(), ["a1", "b2"]);
         let mut store = Locator::Sqlite(dir.join("r.sqlite")).open(true).expect("opens");
         let done = spool.deliver(&mut store).expect("delivered");
-        assert_eq!((done.runs, done.records, done.unreadable), (2, 4, 1));
+        assert_eq!((done.runs, done.records, done.unreadable), (2, 6, 1));
         let every = RunFilter {
             simulated: true,
             ..RunFilter::default()

@@ -4,10 +4,11 @@
 //! queries of `results`. Every value travels as a parameter, never inside the SQL.
 
 use super::backend::{Backend, Value};
-use super::record::{CheckRow, EndRow, Record, RunRow, SeriesRow, StepRow, UnitRow};
+use super::record::{CheckRow, EndRow, Record, RunRow, SeriesRow, StepRow};
 use super::stored_run::{RunFilter, StoredRun, VoidRow};
 use super::{schema, StoreError};
-use crate::session::key_of_name;
+use crate::session::Limits;
+use crate::session::{key_of_name, UnitIdentity};
 
 pub struct Store {
     pub(super) backend: Box<dyn Backend>,
@@ -111,8 +112,8 @@ impl Store {
                         c.measured.into(),
                         c.measured_text.clone().into(),
                         c.unit.clone().into(),
-                        c.low.into(),
-                        c.high.into(),
+                        c.limits.low.into(),
+                        c.limits.high.into(),
                         c.passed.into(),
                         c.marginal.into(),
                         c.step.as_str().into(),
@@ -282,8 +283,7 @@ impl Store {
                 measured: r[2].real(),
                 measured_text: opt(&r[3]),
                 unit: opt(&r[4]),
-                low: r[5].real(),
-                high: r[6].real(),
+                limits: Limits::new(r[5].real(), r[6].real()),
                 passed: int(&r[7]) != 0,
                 step: text(&r[8]),
                 stage: text(&r[9]),
@@ -434,7 +434,7 @@ fn stored_run(r: &[Value]) -> StoredRun {
         port: opt(&r[10]),
         address: opt(&r[11]),
         host: opt(&r[12]),
-        unit: UnitRow {
+        unit: UnitIdentity {
             serial: opt(&r[13]),
             part: opt(&r[14]),
             operator: opt(&r[15]),
@@ -477,48 +477,17 @@ fn stored_run(r: &[Value]) -> StoredRun {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::results::record::passed_run;
     use crate::results::Locator;
-
-    fn records(id: &str, serial: &str) -> Vec<Record> {
-        vec![
-            Record::Started(RunRow {
-                id: id.into(),
-                recipe: "R".into(),
-                started_at: format!("2026-01-01T00:00:00.000Z{id}"),
-                unit: UnitRow {
-                    serial: Some(serial.into()),
-                    ..UnitRow::default()
-                },
-                ..RunRow::default()
-            }),
-            Record::Check(CheckRow {
-                run: id.into(),
-                seq: 1,
-                name: "c".into(),
-                measured: Some(1.5),
-                unit: Some("A".into()),
-                high: Some(2.0),
-                passed: true,
-                step: "1".into(),
-                attempt: 1,
-                ..CheckRow::default()
-            }),
-            Record::Finished(EndRow {
-                run: id.into(),
-                verdict: "passed".into(),
-                ..EndRow::default()
-            }),
-        ]
-    }
 
     #[test]
     fn replaying_records_changes_nothing_and_filters_take_the_right_runs() {
         let dir = std::env::temp_dir().join(format!("drivescript-store-unit-{}", std::process::id()));
         let _ = std::fs::remove_dir_all(&dir);
         let mut store = Locator::Sqlite(dir.join("r.sqlite")).open(true).expect("opens");
-        let mut all = records("a1", "S-1");
-        all.extend(records("b2", "S-2"));
-        all.extend(records("c3", "S-1"));
+        let mut all = passed_run("a1", "S-1");
+        all.extend(passed_run("b2", "S-2"));
+        all.extend(passed_run("c3", "S-1"));
         all.truncate(all.len() - 1); // c3 never finished
         for r in all.iter().chain(all.iter()) {
             store.apply(r).expect("applied");

@@ -3,7 +3,7 @@
 //! trend. Plain data for the command line and the HTML pages.
 
 use super::record::{CheckRow, EndRow, RunRow, StepRow};
-use crate::session::{at_resolution, limits_text, signed, COMPARED};
+use crate::session::{at_resolution, signed, Limits, COMPARED};
 
 /// A stored run; `end` is `None` for a run that never finished (killed, or still going).
 #[derive(Debug, Clone, PartialEq)]
@@ -76,8 +76,7 @@ pub struct TrendPoint {
     pub serial: Option<String>,
     pub measured: Option<f64>,
     pub unit: Option<String>,
-    pub low: Option<f64>,
-    pub high: Option<f64>,
+    pub limits: Limits,
     pub passed: bool,
     /// Passed outside its warning band.
     pub marginal: bool,
@@ -115,7 +114,7 @@ impl TrendPoint {
         stored_limits(
             &self.name,
             &self.key,
-            (self.low, self.high),
+            self.limits,
             self.unit.as_deref(),
             self.inclusive,
         )
@@ -166,22 +165,22 @@ pub fn stored_measured(
 pub fn stored_limits(
     name: &str,
     key: &str,
-    (low, high): (Option<f64>, Option<f64>),
+    limits: Limits,
     unit: Option<&str>,
     inclusive: Option<bool>,
 ) -> Option<String> {
     if let Some(inclusive) = inclusive {
-        return limits_text(low, high, unit, inclusive);
+        return limits.text(unit, inclusive);
     }
-    let limits = name
+    let shown = name
         .strip_prefix(key)
         .and_then(|rest| rest.strip_prefix(' '))
         .filter(|_| !name.ends_with(COMPARED));
-    let strict = limits.is_some_and(|rest| {
+    let strict = shown.is_some_and(|rest| {
         let kind = [key.rsplit(' ').next(), rest.split(' ').next()];
         kind.iter().any(|w| matches!(w, Some("above" | "below")))
     });
-    limits_text(low, high, unit, !strict)
+    limits.text(unit, !strict)
 }
 
 #[cfg(test)]
@@ -190,8 +189,9 @@ mod tests {
 
     #[test]
     fn limits_read_strict_where_the_name_shows_it() {
-        let limits =
-            |name: &str, key: &str, low, high, unit| stored_limits(name, key, (low, high), Some(unit), None);
+        let limits = |name: &str, key: &str, low, high, unit| {
+            stored_limits(name, key, Limits::new(low, high), Some(unit), None)
+        };
         let below = limits(
             "current_actual max below 5 A",
             "current_actual max below",
@@ -239,7 +239,7 @@ mod tests {
             stored_limits(
                 "bearing current",
                 "bearing current",
-                (None, Some(5.0)),
+                Limits::new(None, Some(5.0)),
                 Some("A"),
                 inclusive,
             )

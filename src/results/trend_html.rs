@@ -12,6 +12,7 @@ use crate::report::{
     esc, trend_svg, unit_colour, LimitLine, Outcome, TrendMark, TrendPlot, MAX_PLOT_POINTS, REPORT_CSS,
     UNIT_COLOURS,
 };
+use crate::session::Limits;
 use crate::session::COMPARED;
 use std::fmt::Write as _;
 use std::time::UNIX_EPOCH;
@@ -34,8 +35,8 @@ enum Side {
 /// had one wrote it. `None` when no run had one.
 fn limit_line(points: &[TrendPoint], side: Side) -> Option<LimitLine> {
     let limit = |p: &TrendPoint| match side {
-        Side::Low => p.low,
-        Side::High => p.high,
+        Side::Low => p.limits.low,
+        Side::High => p.limits.high,
     };
     let mut steps: Vec<(f64, Option<f64>)> = Vec::new();
     for p in points {
@@ -48,8 +49,8 @@ fn limit_line(points: &[TrendPoint], side: Side) -> Option<LimitLine> {
     }
     let last = points.iter().rev().find(|p| limit(p).is_some())?;
     let one_side = match side {
-        Side::Low => (last.low, None),
-        Side::High => (None, last.high),
+        Side::Low => Limits::new(last.limits.low, None),
+        Side::High => Limits::new(None, last.limits.high),
     };
     let label = stored_limits(
         &last.name,
@@ -126,7 +127,7 @@ fn marks(points: &[TrendPoint], units: &[&str]) -> Vec<TrendMark> {
                     p.verdict(),
                     p.run
                 ),
-                limits: (p.low, p.high),
+                limits: (p.limits.low, p.limits.high),
             })
         })
         .collect()
@@ -257,7 +258,7 @@ mod tests {
             serial: Some(serial.into()),
             measured,
             unit: Some("K".into()),
-            high: Some(3.0),
+            limits: Limits::new(None, Some(3.0)),
             passed,
             recipe: "Bearing acceptance".into(),
             step: "2".into(),
@@ -273,8 +274,7 @@ mod tests {
         assert_eq!(p.verdict(), "FAIL");
         let fell = TrendPoint {
             measured: Some(-0.25),
-            low: Some(-10.0),
-            high: Some(10.0),
+            limits: Limits::new(Some(-10.0), Some(10.0)),
             unit: Some("%".into()),
             ..p.clone()
         };

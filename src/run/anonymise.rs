@@ -152,8 +152,7 @@ mod tests {
     /// and an earlier copy as it was.
     #[test]
     fn a_capture_bad_halfway_leaves_no_half_copy() {
-        let dir = std::env::temp_dir().join(format!("drivescript-anonymise-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
+        let dir = crate::scratch_dir::scratch_dir("anonymise");
         let good = std::fs::read_to_string(capture()).unwrap();
         let lines: Vec<&str> = good.lines().collect();
         let half = lines.len() / 2;

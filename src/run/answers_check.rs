@@ -102,60 +102,46 @@ mod tests {
         )
     }
 
+    /// [`answers_checked`] with no `--unit`; an error as its message.
+    fn checked(
+        prompts: &[(Prompt, StepOrigin)],
+        complete: bool,
+        given: &[(String, Given)],
+        terminal: bool,
+    ) -> Result<(), String> {
+        answers_checked(prompts, complete, given, terminal, &UnitIdentity::default())
+            .map_err(|e| e.to_string())
+    }
+
     #[test]
     fn every_unanswered_step_is_named_at_its_place_without_a_terminal() {
         let prompts = [
             prompt("guard", PromptKind::Instruction, 4),
             prompt("quiet", PromptKind::Confirm, 6),
         ];
-        let e = answers_checked(&prompts, true, &[], false, &UnitIdentity::default())
-            .unwrap_err()
-            .to_string();
+        let e = checked(&prompts, true, &[], false).unwrap_err();
         assert!(e.contains("2 operator step(s) have no answer"), "{e}");
         assert!(e.contains("r.yaml:4:5: guard: instruct \"guard?\""), "{e}");
         assert!(e.contains("r.yaml:6:5: quiet: confirm \"quiet?\""), "{e}");
         assert!(
-            answers_checked(&prompts, true, &[], true, &UnitIdentity::default()).is_ok(),
+            checked(&prompts, true, &[], true).is_ok(),
             "a terminal answers them"
         );
         let all = [given("guard", ""), given("quiet", "yes")];
-        assert!(answers_checked(&prompts, true, &all, false, &UnitIdentity::default()).is_ok());
+        assert!(checked(&prompts, true, &all, false).is_ok());
     }
 
     #[test]
     fn given_answers_are_judged_before_the_run() {
         let prompts = [prompt("quiet", PromptKind::Confirm, 6)];
-        let e = answers_checked(
-            &prompts,
-            true,
-            &[given("quiet", "")],
-            true,
-            &UnitIdentity::default(),
-        )
-        .unwrap_err()
-        .to_string();
+        let e = checked(&prompts, true, &[given("quiet", "")], true).unwrap_err();
         assert!(e.contains("Enter alone does not confirm"), "{e}");
-        let e = answers_checked(
-            &prompts,
-            true,
-            &[given("quite", "yes")],
-            true,
-            &UnitIdentity::default(),
-        )
-        .unwrap_err()
-        .to_string();
+        let e = checked(&prompts, true, &[given("quite", "yes")], true).unwrap_err();
         assert!(
             e.contains("no operator step is called `quite`; did you mean `quiet`?"),
             "{e}"
         );
-        assert!(answers_checked(
-            &prompts,
-            false,
-            &[given("other", "x")],
-            true,
-            &UnitIdentity::default()
-        )
-        .is_ok());
+        assert!(checked(&prompts, false, &[given("other", "x")], true).is_ok());
     }
 
     #[test]
@@ -180,13 +166,6 @@ mod tests {
             "{e}"
         );
         assert!(answers_checked(&prompts, true, &[given("serial", " SP-104233 ")], false, &unit).is_ok());
-        assert!(answers_checked(
-            &prompts,
-            true,
-            &[given("serial", "SP-000001")],
-            false,
-            &UnitIdentity::default()
-        )
-        .is_ok());
+        assert!(checked(&prompts, true, &[given("serial", "SP-000001")], false).is_ok());
     }
 }

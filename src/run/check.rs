@@ -96,8 +96,7 @@ mod tests {
     use std::path::PathBuf;
 
     fn scratch(name: &str, files: &[(&str, &str)]) -> PathBuf {
-        let dir = std::env::temp_dir().join(format!("drivescript-check-{name}-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
+        let dir = crate::scratch_dir::scratch_dir(&format!("check-{name}"));
         for (file, text) in files {
             std::fs::write(dir.join(file), text).unwrap();
         }

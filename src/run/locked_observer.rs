@@ -6,9 +6,7 @@
 //! event still reaches the observer, in the order the run made them: any other event hands
 //! the held rows over first. Must not fail the run, nor drop, reorder or change an event.
 
-use crate::session::{
-    CheckResult, ObjectRef, RunInfo, RunObserver, RunReport, StepInfo, StepRecord, UnitIdentity,
-};
+use crate::session::{ObjectRef, RunObserver};
 use std::sync::{Mutex, PoisonError};
 use std::time::Duration;
 
@@ -61,7 +59,7 @@ impl<'a> LockedObserver<'a> {
     }
 
     /// An event other than a row or a wait: the rows held, then `f`, under the lock.
-    fn event<T>(&mut self, f: impl FnOnce(&mut dyn RunObserver) -> T) -> T {
+    fn relay<T>(&mut self, f: impl FnOnce(&mut dyn RunObserver) -> T) -> T {
         self.objects_at = None;
         self.with(f)
     }
@@ -89,41 +87,12 @@ impl<'a> LockedObserver<'a> {
 }
 
 impl RunObserver for LockedObserver<'_> {
-    fn run_started(&mut self, run: &RunInfo, drive: &str) {
-        self.event(|o| o.run_started(run, drive));
-    }
-    fn unit_identified(&mut self, unit: &UnitIdentity) {
-        self.event(|o| o.unit_identified(unit));
-    }
-    fn step_started(&mut self, step: &StepInfo) {
-        self.event(|o| o.step_started(step));
-    }
-    fn step_placed(&mut self, id: &str) {
-        self.event(|o| o.step_placed(id));
-    }
-    fn attempt_started(&mut self, number: &str, attempt: u32, of: u32) {
-        self.event(|o| o.attempt_started(number, attempt, of));
-    }
-    fn attempts_given_up(&mut self) {
-        self.event(|o| o.attempts_given_up());
-    }
-    fn step_progress(&mut self, number: &str, elapsed: Duration, total: Option<Duration>, values: &str) {
-        self.event(|o| o.step_progress(number, elapsed, total, values));
-    }
-    fn asked(&mut self, number: &str, question: &str) {
-        self.event(|o| o.asked(number, question));
-    }
-    fn step_finished(&mut self, record: &StepRecord) {
-        self.event(|o| o.step_finished(record));
-    }
-    fn check(&mut self, result: &CheckResult) {
-        self.event(|o| o.check(result));
-    }
+    crate::relayed_events!();
     fn sample(&mut self, at: Duration, objects: &[ObjectRef], values: &[f64]) {
         if values.len() != objects.len() {
             // Held rows are sliced by the number of objects: a row of another width
             // goes on its own, after those held.
-            self.event(|o| o.sample(at, objects, values));
+            self.relay(|o| o.sample(at, objects, values));
             return;
         }
         let place = (objects.as_ptr() as usize, objects.len());
@@ -145,12 +114,6 @@ impl RunObserver for LockedObserver<'_> {
     }
     fn wants_progress(&self) -> bool {
         self.wants_progress
-    }
-    fn message(&mut self, text: &str) {
-        self.event(|o| o.message(text));
-    }
-    fn run_finished(&mut self, report: &RunReport) {
-        self.event(|o| o.run_finished(report));
     }
     fn idle(&mut self) {
         // A wait between rows not yet due is the sampling loop's own: the rows go with a

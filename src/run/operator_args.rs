@@ -156,8 +156,7 @@ mod tests {
 
     #[test]
     fn command_line_answers_win_over_the_file() {
-        let dir = std::env::temp_dir().join(format!("answers-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
+        let dir = crate::scratch_dir::scratch_dir("answers");
         let file = dir.join("answers.yaml");
         std::fs::write(&file, "quiet: no\nvibration: 1.2 mm/s\n").unwrap();
         let args = OperatorArgs {

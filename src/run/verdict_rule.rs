@@ -7,7 +7,7 @@
 //! results store read the settled verdict; none of them may judge the end again.
 
 use crate::drive::DeviceState;
-use crate::session::{RunReport, Verdict};
+use crate::session::{EndState, RunReport, Verdict};
 
 /// Settles `report`'s verdict from the way its steps ended, its checks and each drive's
 /// end: a drive whose end falls short is marked not confirmed (every report then says
@@ -20,34 +20,20 @@ pub fn settle(report: &mut RunReport) {
     let kept = report.kept_enabled;
     let mut problems = Vec::new();
     if report.drive_ends.is_empty() {
-        let end = End {
-            state: report.final_state,
-            confirmed: report.stop_confirmed,
-            coasting: report.coasting,
-            speed_unread: report.speed_unread,
-            no_device_control: report.no_device_control,
-        };
-        if let Some(why) = end.short_of(kept) {
+        if let Some(why) = short_of(&report.end, kept) {
             problems.push(format!("{why}: {}", report.drive_left()));
-            report.stop_confirmed = false;
+            report.end.stop_confirmed = false;
         }
     } else {
         let mut lines = report.drive_left_lines().into_iter();
         for e in report.drive_ends.iter_mut() {
             let line = lines.next().unwrap_or_default();
-            let end = End {
-                state: e.final_state,
-                confirmed: e.stop_confirmed,
-                coasting: e.coasting,
-                speed_unread: e.speed_unread,
-                no_device_control: e.no_device_control,
-            };
-            if let Some(why) = end.short_of(kept) {
-                e.stop_confirmed = false;
+            if let Some(why) = short_of(&e.end, kept) {
+                e.end.stop_confirmed = false;
                 problems.push(format!("{why}: {line}"));
             }
         }
-        report.stop_confirmed = report.drive_ends.iter().all(|e| e.stop_confirmed);
+        report.end.stop_confirmed = report.drive_ends.iter().all(|e| e.end.stop_confirmed);
     }
     if report.disobeyed {
         problems.push("the drive did not obey the stop commands; the stop was escalated".to_string());
@@ -67,40 +53,25 @@ pub fn settle(report: &mut RunReport) {
     };
 }
 
-/// What one drive's end is judged on.
-struct End {
-    state: Option<DeviceState>,
-    confirmed: bool,
-    coasting: bool,
-    speed_unread: bool,
-    no_device_control: bool,
-}
-
-impl End {
-    /// Why this end falls short of a confirmed safe stop; `None` when it does not.
-    fn short_of(&self, kept: bool) -> Option<&'static str> {
-        if !self.confirmed {
-            return Some("the safe stop could not be confirmed; CHECK THE DRIVE BY HAND");
-        }
-        if self.coasting {
-            return Some("the spindle was left coasting above standstill");
-        }
-        if self.speed_unread {
-            return Some("the speed could not be read back, so standstill is not confirmed");
-        }
-        match self.state {
-            Some(DeviceState::Fault | DeviceState::FaultReactionActive) => {
-                Some("the drive was left in fault")
-            }
-            // Left enabled on purpose: the state its steps left, whatever it turns at.
-            Some(_) if kept => None,
-            Some(DeviceState::SwitchOnDisabled | DeviceState::ReadyToSwitchOn | DeviceState::SwitchedOn) => {
-                None
-            }
-            Some(_) => Some("the drive was not left in a state the stop aims for"),
-            None if self.no_device_control => None,
-            None => Some("the drive's state could not be read back"),
-        }
+/// Why one drive's end falls short of a confirmed safe stop; `None` when it does not.
+fn short_of(end: &EndState, kept: bool) -> Option<&'static str> {
+    if !end.stop_confirmed {
+        return Some("the safe stop could not be confirmed; CHECK THE DRIVE BY HAND");
+    }
+    if end.coasting {
+        return Some("the spindle was left coasting above standstill");
+    }
+    if end.speed_unread {
+        return Some("the speed could not be read back, so standstill is not confirmed");
+    }
+    match end.final_state {
+        Some(DeviceState::Fault | DeviceState::FaultReactionActive) => Some("the drive was left in fault"),
+        // Left enabled on purpose: the state its steps left, whatever it turns at.
+        Some(_) if kept => None,
+        Some(DeviceState::SwitchOnDisabled | DeviceState::ReadyToSwitchOn | DeviceState::SwitchedOn) => None,
+        Some(_) => Some("the drive was not left in a state the stop aims for"),
+        None if end.no_device_control => None,
+        None => Some("the drive's state could not be read back"),
     }
 }
 

@@ -1,7 +1,19 @@
 use super::*;
-use crate::session::{CheckResult, DriveEnd};
+use crate::session::{CheckResult, DriveEnd, EndState};
 use crate::stop_request::StopSignal;
 use std::time::SystemTime;
+
+/// A confirmed stop that read the drive back in `state` at `speed` rpm.
+fn stopped(state: DeviceState, speed: f64, coasting: bool) -> EndState {
+    EndState {
+        final_state: Some(state),
+        final_speed: Some(speed),
+        speed_unit: Some("rpm".into()),
+        coasting,
+        stop_confirmed: true,
+        ..EndState::default()
+    }
+}
 
 /// A run whose every check passed and whose stop read the drive back in `state` at
 /// `speed` rpm.
@@ -14,11 +26,7 @@ fn ended(state: DeviceState, speed: f64, coasting: bool) -> RunReport {
         SystemTime::now(),
     );
     r.checks.push(CheckResult::named("speed", true));
-    r.final_state = Some(state);
-    r.final_speed = Some(speed);
-    r.speed_unit = Some("rpm".into());
-    r.coasting = coasting;
-    r.stop_confirmed = true;
+    r.end = stopped(state, speed, coasting);
     r
 }
 
@@ -27,7 +35,7 @@ fn a_drive_stopped_at_standstill_passes() {
     let mut r = ended(DeviceState::ReadyToSwitchOn, 0.0, false);
     settle(&mut r);
     assert_eq!((r.verdict.clone(), r.exit_code()), (Verdict::Passed, 0));
-    assert!(r.stop_confirmed);
+    assert!(r.end.stop_confirmed);
 }
 
 #[test]
@@ -41,7 +49,10 @@ fn a_drive_that_trips_during_the_stop_and_coasts_is_an_error_whatever_the_checks
         why.contains("coasting") && why.contains("fault at 2952 rpm"),
         "{why}"
     );
-    assert!(!r.stop_confirmed, "every report must say CHECK THE DRIVE BY HAND");
+    assert!(
+        !r.end.stop_confirmed,
+        "every report must say CHECK THE DRIVE BY HAND"
+    );
 }
 
 #[test]
@@ -62,8 +73,8 @@ fn a_spindle_still_coasting_after_a_coast_down_is_an_error() {
 #[test]
 fn a_speed_not_read_back_is_no_confirmed_standstill() {
     let mut r = ended(DeviceState::ReadyToSwitchOn, 0.0, false);
-    r.final_speed = None;
-    r.speed_unread = true;
+    r.end.final_speed = None;
+    r.end.speed_unread = true;
     settle(&mut r);
     assert_eq!(r.exit_code(), 3);
 }
@@ -113,18 +124,12 @@ fn with_several_drives_one_coasting_drive_is_an_error_said_of_that_drive() {
     let mut r = ended(DeviceState::ReadyToSwitchOn, 0.0, false);
     let end = |name: &str, speed: f64, coasting: bool| DriveEnd {
         name: name.into(),
-        final_state: Some(DeviceState::ReadyToSwitchOn),
-        final_speed: Some(speed),
-        speed_unit: Some("rpm".into()),
-        coasting,
-        stop_confirmed: true,
-        no_device_control: false,
-        speed_unread: false,
+        end: stopped(DeviceState::ReadyToSwitchOn, speed, coasting),
     };
     r.drive_ends = vec![end("left", 0.0, false), end("right", 700.0, true)];
     settle(&mut r);
     assert_eq!(r.exit_code(), 3);
-    assert!(r.drive_ends[0].stop_confirmed && !r.drive_ends[1].stop_confirmed);
+    assert!(r.drive_ends[0].end.stop_confirmed && !r.drive_ends[1].end.stop_confirmed);
     assert!(r
         .verdict
         .reason()

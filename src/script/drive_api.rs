@@ -515,8 +515,8 @@ fn register_checks(engine: &mut Engine, bridge: &Arc<Bridge>) {
             let mut check = plain(name, passed, None);
             check.measured = Some(measured);
             check.measured_text = None;
-            check.low = low;
-            check.high = high;
+            check.limits.low = low;
+            check.limits.high = high;
             check.unit = unit.clone();
             let shown = crate::session::with_unit((measured * 1000.0).round() / 1000.0, unit.as_deref());
             check.message = if passed {

@@ -11,7 +11,9 @@ use super::exchange::{Answer, Call};
 use super::literal_calls::{Arg, LiteralCall};
 use crate::diag::Source;
 use crate::dictionary::{Quantity, Unit};
-use crate::session::{default_answer_name, Accepted, Pattern, Prompt, PromptKind, StepOrigin, UNIT_FIELDS};
+use crate::session::{
+    default_answer_name, Accepted, Limits, Pattern, Prompt, PromptKind, StepOrigin, UNIT_FIELDS,
+};
 use rhai::{Dynamic, Engine, EvalAltResult, Map, NativeCallContext, Position};
 use std::sync::Arc;
 
@@ -96,8 +98,7 @@ fn prompt_of(word: &str, text: &str, map: &Map) -> RhaiResult<Prompt> {
             };
             PromptKind::Value {
                 unit,
-                low: limit(map, "at_least", unit)?,
-                high: limit(map, "at_most", unit)?,
+                limits: Limits::new(limit(map, "at_least", unit)?, limit(map, "at_most", unit)?),
                 last_pass,
             }
         }
@@ -195,8 +196,7 @@ pub fn literal_prompts(calls: &[LiteralCall], source: &Source) -> Vec<(Prompt, S
                 "confirm" => PromptKind::Confirm,
                 "enter_value" => PromptKind::Value {
                     unit: None,
-                    low: None,
-                    high: None,
+                    limits: Limits::default(),
                     last_pass: None,
                 },
                 _ => PromptKind::Text {

@@ -4,9 +4,7 @@
 
 use super::exchange::Window;
 use super::sandbox::MAX_ARRAY_SIZE;
-use crate::session::{
-    CheckResult, ObjectRef, RunInfo, RunObserver, RunReport, Stats, StepInfo, StepRecord, UnitIdentity,
-};
+use crate::session::{ObjectRef, RunObserver, Stats};
 use std::cell::RefCell;
 use std::rc::Rc;
 use std::time::Duration;
@@ -17,49 +15,20 @@ pub(super) struct Tap<'a> {
     pub capture: Rc<RefCell<Capture>>,
 }
 
+impl Tap<'_> {
+    fn relay(&mut self, mut each: impl FnMut(&mut dyn RunObserver)) {
+        each(&mut *self.inner);
+    }
+}
+
 impl RunObserver for Tap<'_> {
-    fn run_started(&mut self, run: &RunInfo, drive: &str) {
-        self.inner.run_started(run, drive);
-    }
-    fn unit_identified(&mut self, unit: &UnitIdentity) {
-        self.inner.unit_identified(unit);
-    }
-    fn step_started(&mut self, step: &StepInfo) {
-        self.inner.step_started(step);
-    }
-    fn step_placed(&mut self, id: &str) {
-        self.inner.step_placed(id);
-    }
-    fn attempt_started(&mut self, number: &str, attempt: u32, of: u32) {
-        self.inner.attempt_started(number, attempt, of);
-    }
-    fn attempts_given_up(&mut self) {
-        self.inner.attempts_given_up();
-    }
-    fn step_progress(&mut self, number: &str, elapsed: Duration, total: Option<Duration>, values: &str) {
-        self.inner.step_progress(number, elapsed, total, values);
-    }
-    fn asked(&mut self, number: &str, question: &str) {
-        self.inner.asked(number, question);
-    }
-    fn step_finished(&mut self, record: &StepRecord) {
-        self.inner.step_finished(record);
-    }
-    fn check(&mut self, result: &CheckResult) {
-        self.inner.check(result);
-    }
+    crate::relayed_events!();
     fn sample(&mut self, at: Duration, objects: &[ObjectRef], values: &[f64]) {
         self.capture.borrow_mut().push(values);
         self.inner.sample(at, objects, values);
     }
     fn wants_progress(&self) -> bool {
         self.inner.wants_progress()
-    }
-    fn message(&mut self, text: &str) {
-        self.inner.message(text);
-    }
-    fn run_finished(&mut self, report: &RunReport) {
-        self.inner.run_finished(report);
     }
     fn idle(&mut self) {
         self.inner.idle();

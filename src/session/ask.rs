@@ -9,6 +9,7 @@ use super::operator::{Given, Reply};
 use super::prompt::{Accepted, Prompt, PromptKind};
 use super::session::Session;
 use super::stop::Stop;
+use super::Limits;
 use super::{CheckResult, StepOrigin};
 use std::time::Duration;
 
@@ -248,9 +249,9 @@ impl Session<'_> {
         origin: &StepOrigin,
         started: Duration,
     ) {
-        let (unit, low, high) = match &prompt.kind {
-            PromptKind::Value { unit, low, high, .. } => (unit.map(|u| u.symbol().to_string()), *low, *high),
-            _ => (None, None, None),
+        let (unit, limits) = match &prompt.kind {
+            PromptKind::Value { unit, limits, .. } => (unit.map(|u| u.symbol().to_string()), *limits),
+            _ => (None, Limits::default()),
         };
         let passed = accepted.is_some_and(|a| a.passed);
         let result = CheckResult {
@@ -258,8 +259,7 @@ impl Session<'_> {
             measured: accepted.and_then(|a| a.number),
             measured_text: accepted.map(|a| a.text.clone()),
             unit,
-            low,
-            high,
+            limits,
             message,
             inclusive: true,
             // A question holds no limits: it is its own key.

@@ -52,11 +52,7 @@ impl BucketSeries {
     pub fn new(start: f64, width: f64) -> BucketSeries {
         BucketSeries {
             start,
-            width: if width > 0.0 && width.is_finite() {
-                width
-            } else {
-                1e-3
-            },
+            width: bucket_width(width),
             buckets: Vec::new(),
             count: 0,
         }
@@ -124,6 +120,16 @@ impl BucketSeries {
             }
         }
         out
+    }
+}
+
+/// A bucket width time can be divided by: a width that is not a positive number (a
+/// window of no duration) becomes a millisecond.
+pub(super) fn bucket_width(width: f64) -> f64 {
+    if width > 0.0 && width.is_finite() {
+        width
+    } else {
+        1e-3
     }
 }
 

@@ -9,6 +9,7 @@
 use super::history_lookup::Compared;
 use super::session::{round, show_duration, Session};
 use super::stop::Stop;
+use super::Limits;
 use super::{BucketSeries, CheckResult, LastPass, Predicate, SetValue, Stats, StepOrigin, SERIES_BUCKETS};
 use crate::dictionary::Role;
 use crate::drive::DeviceCommand;
@@ -164,8 +165,7 @@ impl Session<'_> {
             passed,
             measured,
             unit: Some("s".into()),
-            low,
-            high,
+            limits: Limits::new(low, high),
             object: Some(object.name.clone()),
             statistic: Some("coast_down".into()),
             message: message.clone(),

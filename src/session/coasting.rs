@@ -80,22 +80,22 @@ impl Session<'_> {
     /// The state read once more after the speed, so that the state told at the end is the
     /// last thing read (a drive that trips in between is told as in fault, not as stopped).
     pub(super) fn confirm_final_state(&mut self) {
-        let Some(before) = self.report.final_state else {
+        let Some(before) = self.report.end.final_state else {
             return;
         };
         match self.drive().state() {
             Ok(now) if now != before => {
                 self.note(format!("the drive went from {before} to {now} as the stop ended"));
-                self.report.final_state = Some(now);
+                self.report.end.final_state = Some(now);
                 if matches!(now, DeviceState::OperationEnabled | DeviceState::QuickStopActive) {
-                    self.report.stop_confirmed = false;
+                    self.report.end.stop_confirmed = false;
                 }
             }
             Ok(_) => {}
             Err(e) => {
                 // The state read before is no longer known to hold.
-                self.report.stop_confirmed = false;
-                self.report.final_state = None;
+                self.report.end.stop_confirmed = false;
+                self.report.end.final_state = None;
                 self.note(format!(
                     "could not read the drive's state once more after its speed: {e}; CHECK THE DRIVE BY HAND"
                 ));

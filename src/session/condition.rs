@@ -395,6 +395,12 @@ impl Stats {
         }
     }
 
+    /// Sample standard deviation (n − 1), as a process capability takes it; `None` below
+    /// two values.
+    pub fn sample_std(&self) -> Option<f64> {
+        (self.count >= 2).then(|| (self.m2 / (self.count - 1) as f64).max(0.0).sqrt())
+    }
+
     /// A statistic these sums hold (the measures of a step or a slope need a
     /// [`SampleWindow`](super::SampleWindow); they read as NaN here).
     pub fn get(&self, s: Statistic) -> f64 {

@@ -4,6 +4,7 @@
 
 use super::session::Session;
 use super::stop::Stop;
+use super::Limits;
 use super::{Check, CheckResult, Condition, Measured, StepOrigin};
 
 impl Session<'_> {
@@ -62,8 +63,7 @@ impl Session<'_> {
                 measured,
                 measured_text: text,
                 unit: c.object.unit.clone(),
-                low,
-                high,
+                limits: Limits::new(low, high),
                 object: Some(c.object.name.clone()),
                 statistic: c.statistic.map(|s| s.id().to_string()),
                 message: if passed {

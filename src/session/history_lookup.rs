@@ -7,6 +7,7 @@ use super::last_pass::{signed, LastPass, PastRun};
 use super::session::round;
 use super::session::Session;
 use super::stop::Stop;
+use super::Limits;
 use super::{compared_key, with_unit, CheckReference, CheckResult, StepOrigin, COMPARED};
 use std::sync::mpsc::RecvTimeoutError;
 use std::time::{Duration, Instant};
@@ -261,8 +262,7 @@ impl Session<'_> {
             measured: change,
             measured_text: None,
             unit,
-            low: lp.at_least,
-            high: lp.at_most,
+            limits: Limits::new(lp.at_least, lp.at_most),
             object: None,
             statistic: None,
             message,

@@ -14,10 +14,12 @@ mod coasting;
 mod condition;
 mod downward;
 mod drive_identity;
+mod end_state;
 mod expect;
 mod expect_parameters;
 mod history_lookup;
 mod last_pass;
+mod limits;
 mod number_text;
 mod object_ref;
 mod object_scale;
@@ -58,9 +60,11 @@ pub use coast_down::CoastDown;
 pub use condition::{
     exact_with_unit, number, with_unit, Check, Condition, Measure, Predicate, Statistic, Stats, Tolerance,
 };
+pub use end_state::EndState;
 pub use expect::AttemptMark;
 pub use history_lookup::LOOKUP_LIMIT;
 pub use last_pass::{signed, History, HistoryError, LastPass, PastCheck, PastRun};
+pub use limits::Limits;
 pub use number_text::{push_number, push_seconds, write_number, UtcMillis};
 pub use object_ref::ObjectRef;
 pub use object_scale::{at_resolution, decimals_of_scale};
@@ -70,8 +74,8 @@ pub use prompt::{default_answer_name, Accepted, NotAnAnswer, Pattern, Prompt, Pr
 pub use run_info::{RunInfo, StepInfo};
 pub use run_observer::{Observers, RunObserver};
 pub use run_report::{
-    limits_text, CheckReference, CheckResult, DriveEnd, PlannedCheck, RunReport, Series, StepRecord, Track,
-    Verdict, ERROR_EXIT, MAX_RECORDS, PANIC_EXIT,
+    CheckReference, CheckResult, DriveEnd, PlannedCheck, RunReport, Series, StepRecord, Track, Verdict,
+    ERROR_EXIT, MAX_RECORDS, PANIC_EXIT,
 };
 pub use safe_stop_settings::SafeStopSettings;
 pub use sample_table::{SampleTable, LONG_HEADER, LONG_HEADER_DRIVES};

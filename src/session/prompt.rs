@@ -33,8 +33,7 @@ pub enum PromptKind {
     /// last passed run when `last_pass` says how far it may move.
     Value {
         unit: Option<Unit>,
-        low: Option<f64>,
-        high: Option<f64>,
+        limits: super::Limits,
         last_pass: Option<super::LastPass>,
     },
     /// Any non-empty text, or one matching `pattern` in full; `sets` names the part of
@@ -116,11 +115,11 @@ impl Prompt {
 
     /// `at most 2.8 mm/s`, `between 1 and 2 mm`; `None` without limits.
     pub fn limits_text(&self) -> Option<String> {
-        let PromptKind::Value { unit, low, high, .. } = &self.kind else {
+        let PromptKind::Value { unit, limits, .. } = &self.kind else {
             return None;
         };
         let u = unit.map(|u| u.symbol());
-        match (low, high) {
+        match (&limits.low, &limits.high) {
             (Some(lo), Some(hi)) => Some(format!("between {} and {}", number(*lo), with_unit(*hi, u))),
             (Some(lo), None) => Some(format!("at least {}", with_unit(*lo, u))),
             (None, Some(hi)) => Some(format!("at most {}", with_unit(*hi, u))),
@@ -160,9 +159,9 @@ impl Prompt {
                 )),
                 _ => Err(NotAnAnswer(format!("`{t}` is neither yes nor no"))),
             },
-            PromptKind::Value { unit, low, high, .. } => {
+            PromptKind::Value { unit, limits, .. } => {
                 let v = value_in(t, *unit)?;
-                let passed = low.is_none_or(|lo| v >= lo) && high.is_none_or(|hi| v <= hi);
+                let passed = limits.low.is_none_or(|lo| v >= lo) && limits.high.is_none_or(|hi| v <= hi);
                 Ok(Accepted {
                     text: with_unit(v, unit.map(|u| u.symbol())),
                     number: Some(v),
@@ -270,8 +269,7 @@ mod tests {
     fn a_value_is_parsed_with_the_unit_rules_and_judged_against_its_limits() {
         let p = prompt(PromptKind::Value {
             unit: Some(Unit::MillimetrePerSecond),
-            low: None,
-            high: Some(2.8),
+            limits: crate::session::Limits::new(None, Some(2.8)),
             last_pass: None,
         });
         assert_eq!(p.hint(), "[in mm/s, at most 2.8 mm/s]");

@@ -29,8 +29,8 @@ impl Session<'_> {
     fn stop_verified(&self, i: usize) -> bool {
         let r = &self.report;
         match r.drive_ends.iter().find(|e| e.name == self.drives[i].name) {
-            Some(e) => e.stop_confirmed && !e.coasting && !e.speed_unread,
-            None => r.stop_confirmed && !r.coasting && !r.speed_unread,
+            Some(e) => e.end.stop_confirmed && !e.end.coasting && !e.end.speed_unread,
+            None => r.end.stop_confirmed && !r.end.coasting && !r.end.speed_unread,
         }
     }
 }

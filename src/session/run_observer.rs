@@ -45,6 +45,58 @@ pub trait RunObserver {
     fn idle(&mut self) {}
 }
 
+/// The events an observer that only passes them on hands over alike, written once: each
+/// goes to `self.relay(|o| …)`, the type's own way of reaching the observers behind it.
+/// Written inside its `impl RunObserver`; what it treats otherwise (the sample rows, the
+/// wait, whether it shows progress, a refused run) it writes beside it.
+#[macro_export]
+macro_rules! relayed_events {
+    () => {
+        fn run_started(&mut self, run: &$crate::session::RunInfo, drive: &str) {
+            self.relay(|o| o.run_started(run, drive));
+        }
+        fn unit_identified(&mut self, unit: &$crate::session::UnitIdentity) {
+            self.relay(|o| o.unit_identified(unit));
+        }
+        fn step_started(&mut self, step: &$crate::session::StepInfo) {
+            self.relay(|o| o.step_started(step));
+        }
+        fn step_placed(&mut self, id: &str) {
+            self.relay(|o| o.step_placed(id));
+        }
+        fn attempt_started(&mut self, number: &str, attempt: u32, of: u32) {
+            self.relay(|o| o.attempt_started(number, attempt, of));
+        }
+        fn attempts_given_up(&mut self) {
+            self.relay(|o| o.attempts_given_up());
+        }
+        fn step_progress(
+            &mut self,
+            number: &str,
+            elapsed: std::time::Duration,
+            total: Option<std::time::Duration>,
+            values: &str,
+        ) {
+            self.relay(|o| o.step_progress(number, elapsed, total, values));
+        }
+        fn asked(&mut self, number: &str, question: &str) {
+            self.relay(|o| o.asked(number, question));
+        }
+        fn step_finished(&mut self, record: &$crate::session::StepRecord) {
+            self.relay(|o| o.step_finished(record));
+        }
+        fn check(&mut self, result: &$crate::session::CheckResult) {
+            self.relay(|o| o.check(result));
+        }
+        fn message(&mut self, text: &str) {
+            self.relay(|o| o.message(text));
+        }
+        fn run_finished(&mut self, report: &$crate::session::RunReport) {
+            self.relay(|o| o.run_finished(report));
+        }
+    };
+}
+
 /// Passes every event to each observer in turn.
 #[derive(Default)]
 pub struct Observers<'a> {
@@ -55,61 +107,24 @@ impl<'a> Observers<'a> {
     pub fn push(&mut self, o: &'a mut dyn RunObserver) {
         self.list.push(o);
     }
+
+    fn relay(&mut self, mut each: impl FnMut(&mut dyn RunObserver)) {
+        self.list.iter_mut().for_each(|o| each(&mut **o));
+    }
 }
 
 impl RunObserver for Observers<'_> {
-    fn run_started(&mut self, run: &RunInfo, drive: &str) {
-        self.list.iter_mut().for_each(|o| o.run_started(run, drive));
-    }
-    fn unit_identified(&mut self, unit: &UnitIdentity) {
-        self.list.iter_mut().for_each(|o| o.unit_identified(unit));
-    }
-    fn step_started(&mut self, step: &StepInfo) {
-        self.list.iter_mut().for_each(|o| o.step_started(step));
-    }
-    fn step_placed(&mut self, id: &str) {
-        self.list.iter_mut().for_each(|o| o.step_placed(id));
-    }
-    fn attempt_started(&mut self, number: &str, attempt: u32, of: u32) {
-        self.list
-            .iter_mut()
-            .for_each(|o| o.attempt_started(number, attempt, of));
-    }
-    fn attempts_given_up(&mut self) {
-        self.list.iter_mut().for_each(|o| o.attempts_given_up());
-    }
-    fn step_progress(&mut self, number: &str, elapsed: Duration, total: Option<Duration>, values: &str) {
-        self.list
-            .iter_mut()
-            .for_each(|o| o.step_progress(number, elapsed, total, values));
-    }
-    fn asked(&mut self, number: &str, question: &str) {
-        self.list.iter_mut().for_each(|o| o.asked(number, question));
-    }
-    fn step_finished(&mut self, record: &StepRecord) {
-        self.list.iter_mut().for_each(|o| o.step_finished(record));
-    }
-    fn check(&mut self, result: &CheckResult) {
-        self.list.iter_mut().for_each(|o| o.check(result));
-    }
+    crate::relayed_events!();
     fn sample(&mut self, at: Duration, objects: &[ObjectRef], values: &[f64]) {
-        self.list.iter_mut().for_each(|o| o.sample(at, objects, values));
+        self.relay(|o| o.sample(at, objects, values));
     }
     fn wants_progress(&self) -> bool {
         self.list.iter().any(|o| o.wants_progress())
     }
-    fn message(&mut self, text: &str) {
-        self.list.iter_mut().for_each(|o| o.message(text));
-    }
-    fn run_finished(&mut self, report: &RunReport) {
-        self.list.iter_mut().for_each(|o| o.run_finished(report));
-    }
     fn run_refused(&mut self, run: &RunInfo, exit_code: i32, why: &str) {
-        self.list
-            .iter_mut()
-            .for_each(|o| o.run_refused(run, exit_code, why));
+        self.relay(|o| o.run_refused(run, exit_code, why));
     }
     fn idle(&mut self) {
-        self.list.iter_mut().for_each(|o| o.idle());
+        self.relay(|o| o.idle());
     }
 }

@@ -2,10 +2,10 @@
 //! measured value and limits, every sampled series, and how the run ended. Plain data for
 //! the console, JUnit, CSV and HTML reports; no formatting and no I/O here.
 
-use super::condition::{number, with_unit, Stats};
+use super::condition::Stats;
 use super::step_origin::StepOrigin;
 use super::UnitIdentity;
-use crate::drive::device_control::DeviceState;
+use super::{EndState, Limits};
 use crate::stop_request::StopSignal;
 use std::time::{Duration, SystemTime};
 
@@ -91,8 +91,7 @@ pub struct CheckResult {
     pub measured: Option<f64>,
     pub measured_text: Option<String>,
     pub unit: Option<String>,
-    pub low: Option<f64>,
-    pub high: Option<f64>,
+    pub limits: Limits,
     /// The object and statistic checked, for plots: (`speed_actual`, `mean`).
     pub object: Option<String>,
     pub statistic: Option<String>,
@@ -150,8 +149,7 @@ impl CheckResult {
             measured: None,
             measured_text: None,
             unit: None,
-            low: None,
-            high: None,
+            limits: Limits::default(),
             object: None,
             statistic: None,
             message: String::new(),
@@ -176,29 +174,8 @@ impl CheckResult {
     /// The limits as the recipe wrote them, for every report: `5970 .. 6030 rpm`, `= 1`,
     /// `> 5 A`, `< 60 °C`, `≤ 2.8 mm/s`; `None` without limits.
     pub fn limits_text(&self) -> Option<String> {
-        limits_text(self.low, self.high, self.unit.as_deref(), self.inclusive)
+        self.limits.text(self.unit.as_deref(), self.inclusive)
     }
-}
-
-/// Limits as every report writes them: `5970 .. 6030 rpm`, `= 1`, `≥ 5 A` (or `> 5 A`
-/// when not `inclusive`), `≤ 2.8 mm/s`; `None` without limits.
-pub fn limits_text(
-    low: Option<f64>,
-    high: Option<f64>,
-    unit: Option<&str>,
-    inclusive: bool,
-) -> Option<String> {
-    let (above, below) = match inclusive {
-        true => ("≥", "≤"),
-        false => (">", "<"),
-    };
-    Some(match (low, high) {
-        (Some(lo), Some(hi)) if lo == hi => format!("= {}", with_unit(lo, unit)),
-        (Some(lo), Some(hi)) => format!("{} .. {}", number(lo), with_unit(hi, unit)),
-        (Some(lo), None) => format!("{above} {}", with_unit(lo, unit)),
-        (None, Some(hi)) => format!("{below} {}", with_unit(hi, unit)),
-        (None, None) => return None,
-    })
 }
 
 /// A check a recipe holds, known before the run: reports show the ones no result answers
@@ -264,27 +241,14 @@ pub struct RunReport {
     pub series: Vec<Series>,
     /// The speed setpoints the run wrote, over the whole run.
     pub setpoints: Option<Track>,
-    /// The state the drive was left in, when it could be read.
-    pub final_state: Option<DeviceState>,
-    /// The actual speed read back after the safe stop, in `speed_unit`.
-    pub final_speed: Option<f64>,
-    pub speed_unit: Option<String>,
-    /// The power stage is off but the spindle still turns (it coasts without control).
-    pub coasting: bool,
-    /// The safe stop was verified by reading the state back (or a successful recipe left
-    /// the drive enabled on purpose). False means CHECK THE DRIVE BY HAND.
-    pub stop_confirmed: bool,
+    /// How the drive was left; for a run with several drives, all of them together (each
+    /// one's own in `drive_ends`).
+    pub end: EndState,
     /// The drive did not obey the stop commands and the stop was escalated.
     pub disobeyed: bool,
     /// The drives were left enabled on purpose (a `leave_enabled` run that passed): the
     /// end is the state its steps left, not a stop.
     pub kept_enabled: bool,
-    /// The profile names an actual speed, but it could not be read back after the stop:
-    /// standstill is not known.
-    pub speed_unread: bool,
-    /// The dictionary has no device-control profile: drivescript could neither command
-    /// the drive nor read its state, so the end says that instead of a state.
-    pub no_device_control: bool,
     /// Notes on the safe stop: what ran, what failed, the escalation.
     pub safe_stop: Vec<String>,
     /// Why the run ended at its first failed check (`on_failure: stop`, `run -x`), said as
@@ -309,13 +273,7 @@ pub struct RunReport {
 pub struct DriveEnd {
     /// The name the recipe gives the drive.
     pub name: String,
-    pub final_state: Option<DeviceState>,
-    pub final_speed: Option<f64>,
-    pub speed_unit: Option<String>,
-    pub coasting: bool,
-    pub stop_confirmed: bool,
-    pub no_device_control: bool,
-    pub speed_unread: bool,
+    pub end: EndState,
 }
 
 /// Most step records, and most check results, one report keeps: a repeat that runs for
@@ -348,15 +306,9 @@ impl RunReport {
             checks: Vec::new(),
             series: Vec::new(),
             setpoints: None,
-            final_state: None,
-            final_speed: None,
-            speed_unit: None,
-            coasting: false,
-            stop_confirmed: false,
+            end: EndState::default(),
             disobeyed: false,
             kept_enabled: false,
-            speed_unread: false,
-            no_device_control: false,
             safe_stop: Vec::new(),
             stopped_on_failure: None,
             omitted_steps: 0,
@@ -374,64 +326,27 @@ impl RunReport {
         self.verdict.exit_code()
     }
 
-    /// The truth about the drive after the safe stop, in one line: its state, its speed,
-    /// and whether it is still coasting.
+    /// The truth about the drives after the safe stop, in one line ([`EndState::drive_left`]
+    /// of each).
     pub fn drive_left(&self) -> String {
-        if !self.drive_ends.is_empty() {
-            return self.drive_left_lines().join("; ");
-        }
-        if self.no_device_control && self.final_state.is_none() && self.stop_confirmed {
-            return "drive state not known: the dictionary has no device-control profile, so drivescript neither commanded nor stopped the drive".to_string();
-        }
-        let state = match self.final_state {
-            Some(s) => s.to_string(),
-            None => "an unknown state (it could not be read back)".to_string(),
-        };
-        let speed = match (self.final_speed, &self.speed_unit) {
-            (Some(v), Some(u)) => format!(" at {} {u}", super::condition::number(v.round())),
-            (Some(v), None) => format!(" at speed {}", super::condition::number(v.round())),
-            (None, _) if self.final_state.is_some() => ", speed not read".to_string(),
-            (None, _) => String::new(),
-        };
-        let coasting = if self.coasting {
-            " — STILL COASTING: the power stage is off and nothing brakes the spindle; keep clear until it stands still"
-        } else {
-            ""
-        };
-        format!("drive left in {state}{speed}{coasting}")
+        self.drive_left_lines().join("; ")
     }
 
     /// [`RunReport::drive_left`] as one line per drive (`right: drive left in …`) for a
     /// run with several drives, in the order they were stopped.
     pub fn drive_left_lines(&self) -> Vec<String> {
         if self.drive_ends.is_empty() {
-            return vec![self.drive_left()];
+            return vec![self.end.drive_left()];
         }
         self.drive_ends
             .iter()
-            .map(|e| {
-                let one = RunReport {
-                    final_state: e.final_state,
-                    final_speed: e.final_speed,
-                    speed_unit: e.speed_unit.clone(),
-                    coasting: e.coasting,
-                    stop_confirmed: e.stop_confirmed,
-                    no_device_control: e.no_device_control,
-                    speed_unread: e.speed_unread,
-                    drive_ends: Vec::new(),
-                    steps: Vec::new(),
-                    checks: Vec::new(),
-                    series: Vec::new(),
-                    ..self.clone()
-                };
-                format!("{}: {}", e.name, one.drive_left())
-            })
+            .map(|e| format!("{}: {}", e.name, e.end.drive_left()))
             .collect()
     }
 
     /// True when the last word must be CHECK THE DRIVE BY HAND.
     pub fn check_by_hand(&self) -> bool {
-        !self.stop_confirmed
+        !self.end.stop_confirmed
     }
 
     pub fn checks_passed(&self) -> usize {

@@ -9,7 +9,7 @@
 use super::brake::StopStep;
 use super::session::Session;
 use super::stop::{outcome, Stop};
-use super::{DriveEnd, ObjectRef, RunReport, StepInfo, Verdict};
+use super::{DriveEnd, EndState, ObjectRef, RunReport, StepInfo, Verdict};
 use crate::dictionary::Role;
 use crate::drive::{DeviceCommand, DeviceState, DriveError};
 use crate::stop_request::StopSignal;
@@ -136,7 +136,7 @@ impl Session<'_> {
                     Ok(())
                 });
                 if last_resort.is_err() {
-                    self.report.stop_confirmed = false;
+                    self.report.end.stop_confirmed = false;
                 }
             }
         }
@@ -152,7 +152,7 @@ impl Session<'_> {
                 Ok(())
             });
             if again.is_err() {
-                self.report.stop_confirmed = false;
+                self.report.end.stop_confirmed = false;
             }
             kept = false;
         }
@@ -264,10 +264,7 @@ impl Session<'_> {
         let mut ends = Vec::new();
         for &i in &order {
             self.current = i;
-            let r = &mut self.report;
-            (r.final_state, r.final_speed, r.speed_unit) = (None, None, None);
-            (r.coasting, r.stop_confirmed, r.no_device_control) = (false, false, false);
-            r.speed_unread = false;
+            self.report.end = EndState::default();
             if !reachable[i] {
                 // Said above; the end line says the state is not known.
             } else if !self.has_device_control() {
@@ -278,32 +275,25 @@ impl Session<'_> {
                 }
                 self.verify(keep);
             }
-            let r = &self.report;
             ends.push(DriveEnd {
                 name: self.drives[i].name.clone(),
-                final_state: r.final_state,
-                final_speed: r.final_speed,
-                speed_unit: r.speed_unit.clone(),
-                coasting: r.coasting,
-                stop_confirmed: r.stop_confirmed,
-                no_device_control: r.no_device_control,
-                speed_unread: r.speed_unread,
+                end: self.report.end.clone(),
             });
         }
         let r = &mut self.report;
-        r.stop_confirmed = ends.iter().all(|e| e.stop_confirmed);
-        r.coasting = ends.iter().any(|e| e.coasting);
-        r.no_device_control = ends.iter().all(|e| e.no_device_control);
-        r.speed_unread = ends.iter().any(|e| e.speed_unread);
-        r.final_state = ends.first().and_then(|e| e.final_state);
-        r.final_speed = ends.first().and_then(|e| e.final_speed);
-        r.speed_unit = ends.first().and_then(|e| e.speed_unit.clone());
+        r.end.stop_confirmed = ends.iter().all(|e| e.end.stop_confirmed);
+        r.end.coasting = ends.iter().any(|e| e.end.coasting);
+        r.end.no_device_control = ends.iter().all(|e| e.end.no_device_control);
+        r.end.speed_unread = ends.iter().any(|e| e.end.speed_unread);
+        r.end.final_state = ends.first().and_then(|e| e.end.final_state);
+        r.end.final_speed = ends.first().and_then(|e| e.end.final_speed);
+        r.end.speed_unit = ends.first().and_then(|e| e.end.speed_unit.clone());
         r.drive_ends = ends;
     }
 
     fn safe_stop_one(&mut self, finally: Option<&mut dyn FnMut(&mut Session)>, link_lost: bool, keep: bool) {
         if link_lost && !self.restore_link() {
-            self.report.stop_confirmed = false;
+            self.report.end.stop_confirmed = false;
             self.note(
                 "the drive could not be reached to stop it; it may still be running. CHECK THE DRIVE BY HAND"
                     .to_string(),
@@ -345,9 +335,9 @@ impl Session<'_> {
     /// dictionary does not have. The drive answered (a lost link is restored first, or the
     /// run ends in CHECK THE DRIVE BY HAND before this), so the stop counts as confirmed.
     fn without_device_control(&mut self) {
-        self.report.final_state = None;
-        self.report.stop_confirmed = true;
-        self.report.no_device_control = true;
+        self.report.end.final_state = None;
+        self.report.end.stop_confirmed = true;
+        self.report.end.no_device_control = true;
         self.note(format!(
             "the {} dictionary has no device-control profile: there is no stop command to send; \
              the drive's power stage is as its terminals or PLC left it",
@@ -458,8 +448,8 @@ impl Session<'_> {
         let mut state = match self.state_with_reconnect() {
             Ok(s) => s,
             Err(e) => {
-                self.report.stop_confirmed = false;
-                self.report.final_state = None;
+                self.report.end.stop_confirmed = false;
+                self.report.end.final_state = None;
                 self.note(format!(
                     "could not read the drive's state after the safe stop: {e}; CHECK THE DRIVE BY HAND"
                 ));
@@ -480,13 +470,13 @@ impl Session<'_> {
                 state = self.escalate(state);
             }
         }
-        self.report.final_state = Some(state);
+        self.report.end.final_state = Some(state);
         let enabled = matches!(
             state,
             DeviceState::OperationEnabled | DeviceState::QuickStopActive
         );
-        self.report.stop_confirmed = keep || !enabled;
-        if !self.report.stop_confirmed {
+        self.report.end.stop_confirmed = keep || !enabled;
+        if !self.report.end.stop_confirmed {
             self.note(format!(
                 "the drive still reports {state} after quick stop and disable voltage; CHECK THE DRIVE BY HAND"
             ));
@@ -568,13 +558,13 @@ impl Session<'_> {
         };
         match self.drive().read_number(&object.name) {
             Ok(v) => {
-                let powered = self.report.final_state.is_some_and(DeviceState::is_powered);
-                self.report.final_speed = Some(v);
-                self.report.speed_unit = object.unit.clone();
-                self.report.coasting = !powered && v.abs() > self.standstill_in(&object);
+                let powered = self.report.end.final_state.is_some_and(DeviceState::is_powered);
+                self.report.end.final_speed = Some(v);
+                self.report.end.speed_unit = object.unit.clone();
+                self.report.end.coasting = !powered && v.abs() > self.standstill_in(&object);
             }
             Err(e) => {
-                self.report.speed_unread = true;
+                self.report.end.speed_unread = true;
                 self.note(format!("could not read {} after the safe stop: {e}", object.name))
             }
         }

@@ -235,10 +235,7 @@ mod tests {
 
     #[test]
     fn with_several_drives_the_long_layout_names_the_drive_in_its_own_column() {
-        let dir =
-            std::env::temp_dir().join(format!("drivescript-sample-table-drives-{}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&dir);
-        std::fs::create_dir_all(&dir).unwrap();
+        let dir = crate::scratch_dir::scratch_dir("sample-table-drives");
         let path = dir.join("d.csv");
         let objects = [
             object("left.speed_actual", Some("rpm")),

@@ -66,11 +66,7 @@ impl SlopeWindow {
     fn with_width(start: f64, width: f64, horizon: Option<f64>) -> SlopeWindow {
         SlopeWindow {
             start,
-            width: if width > 0.0 && width.is_finite() {
-                width
-            } else {
-                1e-3
-            },
+            width: super::bucket_series::bucket_width(width),
             buckets: VecDeque::new(),
             horizon,
             last: start,

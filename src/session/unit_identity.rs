@@ -2,10 +2,12 @@
 //! the station. Plain data the reports, the console and the results store show alike; it
 //! says nothing of where a value came from (the command line or an operator's answer).
 
+use serde::{Deserialize, Serialize};
 use std::fmt;
 
-/// The unit under test and the run's people and place; any part may be unknown.
-#[derive(Debug, Clone, Default, PartialEq, Eq)]
+/// The unit under test and the run's people and place; any part may be unknown. The
+/// results store keeps it as it is (its spool lines are this type's JSON).
+#[derive(Debug, Clone, Default, PartialEq, Eq, Serialize, Deserialize)]
 pub struct UnitIdentity {
     pub serial: Option<String>,
     pub part: Option<String>,

@@ -5,6 +5,7 @@ use super::session::show_duration;
 use super::session::value_of;
 use super::session::{secs, Session};
 use super::stop::Stop;
+use super::Limits;
 use super::{CheckResult, Condition, ObjectRef, StepOrigin, WAIT};
 use crate::drive::DeviceState;
 use std::time::Duration;
@@ -202,8 +203,7 @@ impl Session<'_> {
             measured: value,
             measured_text: text,
             unit,
-            low,
-            high,
+            limits: Limits::new(low, high),
             object,
             message: message.unwrap_or_else(|| "reached".into()),
             ..self.check_now(

@@ -5,6 +5,7 @@
 use super::condition::Condition;
 use super::session::Session;
 use super::stop::Stop;
+use super::Limits;
 use super::{CheckResult, StepOrigin};
 use std::time::Duration;
 
@@ -172,8 +173,7 @@ impl Session<'_> {
                 measured,
                 measured_text: Some(seen),
                 unit: object.as_ref().and_then(|o| o.unit.clone()),
-                low,
-                high,
+                limits: Limits::new(low, high),
                 object: object.map(|o| o.name),
                 message: message.clone(),
                 origin: origin.clone(),

@@ -8,7 +8,7 @@
 
 use super::event_log::EventLog;
 use super::station_view::{DialogView, StationView};
-use crate::session::{CheckResult, ObjectRef, Prompt, PromptKind, RunObserver, StepInfo, StepRecord};
+use crate::session::{CheckResult, Limits, ObjectRef, Prompt, PromptKind, RunObserver, StepInfo, StepRecord};
 use serde_json::Value;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
@@ -101,8 +101,7 @@ impl PageObserver {
             text: question.to_string(),
             hint: String::new(),
             unit: None,
-            low: None,
-            high: None,
+            limits: Limits::default(),
             pattern: None,
             error: None,
             answered: false,
@@ -122,11 +121,10 @@ impl PageObserver {
         match &prompt.kind {
             PromptKind::Instruction => dialog.kind = "instruct",
             PromptKind::Confirm => dialog.kind = "confirm",
-            PromptKind::Value { unit, low, high, .. } => {
+            PromptKind::Value { unit, limits, .. } => {
                 dialog.kind = "value";
                 dialog.unit = unit.map(|u| u.symbol().to_string());
-                dialog.low = *low;
-                dialog.high = *high;
+                dialog.limits = *limits;
             }
             PromptKind::Text { pattern, .. } => {
                 dialog.pattern = pattern.as_ref().map(|p| p.source().to_string());

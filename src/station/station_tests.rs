@@ -18,9 +18,7 @@ steps:
 ";
 
 fn station(name: &str) -> Station {
-    let dir = std::env::temp_dir().join(format!("drivescript-station-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).expect("scratch");
+    let dir = crate::scratch_dir::scratch_dir(&format!("station-{name}"));
     let recipe = dir.join("recipe.yaml");
     std::fs::write(&recipe, RECIPE).expect("recipe");
     let options = RunOptions {

@@ -5,6 +5,7 @@
 //! locking (the [`super::EventLog`] holds it).
 
 use super::plot_buffer::{PlotBuffer, Pushed};
+use crate::session::Limits;
 use serde::Serialize;
 use serde_json::{json, Value};
 use std::collections::VecDeque;
@@ -44,8 +45,8 @@ pub struct DialogView {
     /// What may be answered, as the terminal says it: `[mm/s, at most 2.8]`.
     pub hint: String,
     pub unit: Option<String>,
-    pub low: Option<f64>,
-    pub high: Option<f64>,
+    #[serde(flatten)]
+    pub limits: Limits,
     pub pattern: Option<String>,
     /// Why the last answer was no answer (the terminal's words).
     pub error: Option<String>,

@@ -99,8 +99,7 @@ mod tests {
 
     #[test]
     fn a_token_file_takes_its_first_line_and_refuses_weak_or_odd_tokens() {
-        let dir = std::env::temp_dir().join(format!("ds-token-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap_or_default();
+        let dir = crate::scratch_dir::scratch_dir("token");
         let file = dir.join("token");
         std::fs::write(&file, "  abcdefghijklmnop-_.0123  \nsecond line\n").unwrap_or_default();
         let token = AccessToken::from_file(&file).map(|t| t.text().to_string());

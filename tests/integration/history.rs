@@ -146,7 +146,10 @@ fn history_in(dir: &Path, store: &str) {
     assert_eq!(compared.reference_value, Some(25.0));
     assert_eq!(compared.measured, Some(5.0));
     assert_eq!(compared.unit.as_deref(), Some("K"));
-    assert_eq!((compared.low, compared.high), (Some(-2.0), Some(2.0)));
+    assert_eq!(
+        (compared.limits.low, compared.limits.high),
+        (Some(-2.0), Some(2.0))
+    );
     let shown = command()
         .args(["results", "show", &third_id, "--results", store])
         .output()

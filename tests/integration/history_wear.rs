@@ -165,7 +165,7 @@ fn a_coast_down_compares_its_time_with_the_units_last_pass() {
     let change = c.measured.expect("the change");
     assert!((change + 22.496).abs() < 0.001, "{change}");
     assert_eq!(c.unit.as_deref(), Some("%"));
-    assert_eq!((c.low, c.high), (Some(-10.0), None));
+    assert_eq!((c.limits.low, c.limits.high), (Some(-10.0), None));
     let shown = command()
         .args(["results", "show", &third_id, "--results", store])
         .output()

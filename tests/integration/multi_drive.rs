@@ -282,7 +282,7 @@ on_fault:
     let confirmed: Vec<(&str, bool)> = report
         .drive_ends
         .iter()
-        .map(|e| (e.name.as_str(), e.stop_confirmed))
+        .map(|e| (e.name.as_str(), e.end.stop_confirmed))
         .collect();
     assert_eq!(confirmed, [("right", true), ("left", false)], "{output}");
     assert_eq!(result.simulators.len(), 2);
@@ -311,10 +311,14 @@ fn a_stop_signal_stops_both_drives_last_enabled_first() {
     let report = result.report.expect("a report");
     let names: Vec<&str> = report.drive_ends.iter().map(|e| e.name.as_str()).collect();
     assert_eq!(names, vec!["right", "left"], "{output}");
-    for end in &report.drive_ends {
-        assert!(end.stop_confirmed, "{output}");
-        assert_eq!(end.final_state, Some(DeviceState::ReadyToSwitchOn), "{output}");
-        assert!(end.final_speed.is_some_and(|v| v.abs() < 10.0), "{output}");
+    for drive in &report.drive_ends {
+        assert!(drive.end.stop_confirmed, "{output}");
+        assert_eq!(
+            drive.end.final_state,
+            Some(DeviceState::ReadyToSwitchOn),
+            "{output}"
+        );
+        assert!(drive.end.final_speed.is_some_and(|v| v.abs() < 10.0), "{output}");
     }
     for (name, sim) in &result.simulators {
         assert_eq!(state_of(sim), DeviceState::ReadyToSwitchOn, "{name}: {output}");
@@ -358,7 +362,7 @@ steps:
     assert_has(&output, &["feed CT-ANSI (drive 1.2)"]);
     let report = result.report.expect("a report");
     assert_eq!(report.drive_ends.len(), 2);
-    assert!(report.drive_ends.iter().all(|e| e.stop_confirmed));
+    assert!(report.drive_ends.iter().all(|e| e.end.stop_confirmed));
     let series: Vec<&str> = report.series.iter().map(|s| s.object.as_str()).collect();
     assert_eq!(series, vec!["spindle.speed_actual", "feed.speed_actual"]);
 }

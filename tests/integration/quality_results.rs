@@ -11,7 +11,8 @@ use crate::support::{
     assert_has, assert_lacks, cli, line_with, run_recording as run, with_postgres_store, with_sqlite_store,
     write_file,
 };
-use drivescript::results::{CheckRow, EndRow, Locator, Record, RunRow, UnitRow};
+use drivescript::results::{CheckRow, EndRow, Locator, Record, RunRow};
+use drivescript::session::{Limits, UnitIdentity};
 use std::path::Path;
 
 /// A recipe of two stages, each holding `speed_actual mean near` at its own speed, compared
@@ -256,7 +257,7 @@ fn recorded(store: &str, runs: &[Past]) {
             started_at: started_at.clone(),
             simulated: false,
             drive: "drive 1 on /dev/ttyUSB0".into(),
-            unit: UnitRow {
+            unit: UnitIdentity {
                 serial: Some(serial.to_string()),
                 part: Some(part.to_string()),
                 operator: Some(operator.to_string()),
@@ -271,8 +272,7 @@ fn recorded(store: &str, runs: &[Past]) {
             key: Some("motor_temperature below".into()),
             measured: Some(*temperature),
             unit: Some("°C".into()),
-            low: Some(20.0),
-            high: Some(80.0),
+            limits: Limits::new(Some(20.0), Some(80.0)),
             passed: *passed,
             step: "2".into(),
             attempt: 1,

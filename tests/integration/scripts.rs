@@ -99,7 +99,10 @@ fn a_script_sends_the_telegrams_its_calls_name_then_the_default_safe_stop() {
         .iter()
         .find(|c| c.name == "speed mean")
         .expect("check");
-    assert_eq!((check.low, check.high), (Some(2985.0), Some(3015.0)));
+    assert_eq!(
+        (check.limits.low, check.limits.high),
+        (Some(2985.0), Some(3015.0))
+    );
     assert_eq!((check.origin.line, check.origin.column), (9, 1));
     assert!(check.origin.path.ends_with("script.rhai"));
 }

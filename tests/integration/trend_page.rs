@@ -8,7 +8,8 @@
 
 use crate::history::run_id;
 use crate::support::{assert_has, cli, line_with, run_recording, scratch, screenshot, write_file};
-use drivescript::results::{utc_text, CheckRow, EndRow, Locator, Record, RunRow, UnitRow};
+use drivescript::results::{utc_text, CheckRow, EndRow, Locator, Record, RunRow};
+use drivescript::session::{Limits, UnitIdentity};
 use scraper::{Html, Selector};
 use std::path::Path;
 use std::time::{Duration, SystemTime};
@@ -68,9 +69,9 @@ fn recorded(store: &Path, runs: &[Past]) {
             started_at: started_at.clone(),
             simulated: true,
             drive: "simulated sd2".into(),
-            unit: UnitRow {
+            unit: UnitIdentity {
                 serial: Some(r.serial.into()),
-                ..UnitRow::default()
+                ..UnitIdentity::default()
             },
             ..RunRow::default()
         }));
@@ -82,7 +83,7 @@ fn recorded(store: &Path, runs: &[Past]) {
                 key: Some(key.into()),
                 measured,
                 unit: Some(unit.into()),
-                high: Some(high),
+                limits: Limits::new(None, Some(high)),
                 passed: seq == 1 || passed,
                 marginal: seq == 2 && r.marginal,
                 step: "2".into(),

@@ -65,7 +65,7 @@ pub fn plot_svg(series: &Series, checks: &[&CheckResult], id: usize) -> String {
     for c in checks {
         let stat = c.statistic.clone().map(|s| format!("{s} ")).unwrap_or_default();
         let u = c.unit.as_deref().or(series.unit.as_deref());
-        let marks: Vec<(f64, String)> = match (c.low, c.high) {
+        let marks: Vec<(f64, String)> = match (c.limits.low, c.limits.high) {
             (Some(lo), Some(hi)) if lo == hi => vec![(lo, format!("{stat}= {}", with_unit(lo, u)))],
             (lo, hi) => lo
                 .map(|v| (v, format!("{stat}≥ {}", with_unit(v, u))))

@@ -4,7 +4,7 @@ use super::markup::{elements, html, inside, rows, select, text, texts};
 use super::sample_reports::{error_report, origin, passed_report, step};
 use crate::support::{assert_has, succeeded};
 use drivescript::report::{html_report, write_html};
-use drivescript::session::{CheckResult, Series};
+use drivescript::session::{CheckResult, Limits, Series};
 use scraper::{ElementRef, Html};
 
 const SVG_NAMESPACE: &str = "http://www.w3.org/2000/svg";
@@ -122,8 +122,8 @@ fn failures_and_errors_stand_out_and_text_is_escaped() {
 fn one_plot_per_series_with_data_axes_and_limits() {
     let mut r = passed_report();
     // Limits close to the data: drawn as levels inside the range.
-    r.checks[0].low = Some(5999.0);
-    r.checks[0].high = Some(6001.0);
+    r.checks[0].limits.low = Some(5999.0);
+    r.checks[0].limits.high = Some(6001.0);
     let page = html_report(&r);
     let doc = parse(&page);
     assert_eq!(select(&doc, "section#plots svg").len(), 1);
@@ -231,8 +231,7 @@ fn plots_show_their_own_window_checks_and_statistics_as_text() {
     let ripple = CheckResult {
         statistic: Some("ripple".into()),
         measured: Some(2.75),
-        low: None,
-        high: Some(5.0),
+        limits: Limits::new(None, Some(5.0)),
         name: "speed_actual ripple below 5 rpm".into(),
         key: "speed_actual ripple below".into(),
         window: Some("5[2].3".into()),
@@ -240,8 +239,7 @@ fn plots_show_their_own_window_checks_and_statistics_as_text() {
     };
     let base = r.checks[0].clone();
     let near = |lo: f64, hi: f64| CheckResult {
-        low: Some(lo),
-        high: Some(hi),
+        limits: Limits::new(Some(lo), Some(hi)),
         window: Some("5[2].3".into()),
         ..base.clone()
     };

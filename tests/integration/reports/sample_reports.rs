@@ -4,7 +4,9 @@
 //! function each ([`step`], [`check`]), so a new field is one edit.
 
 use drivescript::drive::DeviceState;
-use drivescript::session::{CheckResult, RunReport, Series, StepOrigin, StepRecord, Verdict};
+use drivescript::session::{
+    CheckResult, EndState, Limits, RunReport, Series, StepOrigin, StepRecord, Verdict,
+};
 use std::time::{Duration, UNIX_EPOCH};
 
 pub fn origin(line: usize) -> StepOrigin {
@@ -60,8 +62,7 @@ pub fn speed_check(name: &str, measured: f64, passed: bool) -> CheckResult {
     CheckResult {
         measured: Some(measured),
         unit: Some("rpm".into()),
-        low: Some(5970.0),
-        high: Some(6030.0),
+        limits: Limits::new(Some(5970.0), Some(6030.0)),
         object: Some("speed_actual".into()),
         statistic: Some("mean".into()),
         origin: origin(20),
@@ -141,10 +142,13 @@ pub fn passed_report() -> RunReport {
             samples: None,
             marks: None,
         }],
-        final_state: Some(DeviceState::SwitchedOn),
-        final_speed: Some(0.4),
-        speed_unit: Some("rpm".into()),
-        stop_confirmed: true,
+        end: EndState {
+            final_state: Some(DeviceState::SwitchedOn),
+            final_speed: Some(0.4),
+            speed_unit: Some("rpm".into()),
+            stop_confirmed: true,
+            ..EndState::default()
+        },
         safe_stop: vec!["finally: disable_operation ran".into()],
         ..report(
             "Spindle <run-in> & \"test\"",

@@ -10,7 +10,7 @@ use crate::diag::{Shape, Spanned, YamlNode, YamlValue};
 use crate::dictionary::{Quantity, Unit};
 use crate::recipe::loader::{did_you_mean, Loader};
 use crate::recipe::step::{Step, StepKind};
-use crate::session::{default_answer_name, Pattern, Prompt, PromptKind, UNIT_FIELDS};
+use crate::session::{default_answer_name, Limits, Pattern, Prompt, PromptKind, UNIT_FIELDS};
 use std::time::Duration;
 
 /// The operator step keywords.
@@ -149,8 +149,7 @@ impl Loader<'_, '_> {
         };
         Some(PromptKind::Value {
             unit,
-            low,
-            high,
+            limits: Limits::new(low, high),
             last_pass,
         })
     }
