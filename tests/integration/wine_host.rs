@@ -245,6 +245,9 @@ impl HostLine {
         };
         let out = std::net::TcpStream::connect(&address)
             .unwrap_or_else(|e| panic!("the Linux side at {address}: {e}"));
+        // A Linux side that stops answering (a server that does not come up) fails the
+        // test instead of holding the suite up.
+        let _ = out.set_read_timeout(Some(std::time::Duration::from_secs(120)));
         let mut line = HostLine {
             lines: std::io::BufReader::new(out.try_clone().expect("clone the connection")),
             out,
