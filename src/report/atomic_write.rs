@@ -1,6 +1,8 @@
 //! Writes a report file whole or not at all: the text goes to `PATH.tmp` first and is then
 //! renamed over `PATH`, so a crash or a full disk never leaves a half-written report that CI
 //! would misread. Creates the directory. Knows nothing about what the text is.
+//! On Windows a file another program holds open for a moment (a viewer reading it, a virus
+//! scanner) cannot be replaced; the rename is tried again for [`HELD_OPEN_LIMIT`].
 
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -29,10 +31,32 @@ pub fn write_atomically(path: &Path, text: &str) -> Result<(), ReportWriteError>
         let _ = std::fs::remove_file(&tmp);
         return Err(failed(e));
     }
-    std::fs::rename(&tmp, path).map_err(|e| {
+    replace(&tmp, path).map_err(|e| {
         let _ = std::fs::remove_file(&tmp);
         failed(e)
     })
+}
+
+/// How long a report held open by another program is waited for on Windows.
+pub const HELD_OPEN_LIMIT: std::time::Duration = std::time::Duration::from_secs(2);
+
+/// Renames `from` over `to`. Windows refuses (access denied) to replace a file another
+/// program has open without leave to delete it, and most readers hold it only for a
+/// moment: tried again until [`HELD_OPEN_LIMIT`]; the last refusal is the error.
+pub fn replace(from: &Path, to: &Path) -> std::io::Result<()> {
+    let started = std::time::Instant::now();
+    loop {
+        match std::fs::rename(from, to) {
+            Err(e)
+                if cfg!(windows)
+                    && e.kind() == std::io::ErrorKind::PermissionDenied
+                    && started.elapsed() < HELD_OPEN_LIMIT =>
+            {
+                std::thread::sleep(std::time::Duration::from_millis(10));
+            }
+            done => return done,
+        }
+    }
 }
 
 /// `report.xml` → `report.xml.tmp`.
@@ -61,6 +85,24 @@ mod tests {
         let err = write_atomically(&blocked, "x").unwrap_err().to_string();
         assert!(err.contains("deep"), "{err}");
         assert_eq!(std::fs::read_to_string(&path).unwrap(), "second");
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    /// A reader that has the report open while it is replaced (as a test polling it, or a
+    /// viewer, does) holds the run up for a moment at most, never fails it.
+    #[test]
+    fn a_report_held_open_by_a_reader_is_replaced_once_it_lets_go() {
+        let dir = std::env::temp_dir().join(format!("drivescript-held-{}", std::process::id()));
+        let path = dir.join("report.html");
+        write_atomically(&path, "old").unwrap();
+        let reader = std::fs::File::open(&path).unwrap();
+        let let_go = std::thread::spawn(move || {
+            std::thread::sleep(std::time::Duration::from_millis(300));
+            drop(reader);
+        });
+        write_atomically(&path, "new").unwrap();
+        let_go.join().unwrap();
+        assert_eq!(std::fs::read_to_string(&path).unwrap(), "new");
         std::fs::remove_dir_all(&dir).unwrap();
     }
 }

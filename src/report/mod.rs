@@ -17,7 +17,7 @@ mod trace_writer;
 mod unfinished_report;
 mod visible_text;
 
-pub use atomic_write::{tmp_path, write_atomically, ReportWriteError};
+pub use atomic_write::{replace, tmp_path, write_atomically, ReportWriteError};
 pub use console_color::{color_wanted, paint};
 pub use console_reporter::{
     check_line, container_line, header_lines, message_line, step_line, summary_lines, ConsoleReporter,

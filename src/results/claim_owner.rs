@@ -22,16 +22,19 @@ pub(super) fn gone(pid: u32, _path: &Path) -> bool {
 /// Windows hands a process id to the next process soon after one ends, so a process
 /// that holds the number is the claim's maker only if it started before the claim was
 /// made (each claim is touched when made): one that started later, this one included,
-/// holds a number the maker left behind.
+/// holds a number the maker left behind. A process this one may not ask about (access
+/// denied: another user's, a protected one) says nothing either way: then the claim's age
+/// decides, as where the system cannot be asked at all.
 #[cfg(windows)]
 pub(super) fn gone(pid: u32, path: &Path) -> bool {
     let Some(claimed) = std::fs::metadata(path).and_then(|m| m.modified()).ok() else {
         // Gone already (another delivery took it): nothing of it is left to take.
         return false;
     };
-    match process::started_if_running(pid) {
-        Some(started) => started > claimed,
-        None => true,
+    match process::asked(pid) {
+        process::Owner::Running { started } => started > claimed,
+        process::Owner::Ended => true,
+        process::Owner::Unknown => untouched_for_long(path),
     }
 }
 
@@ -67,14 +70,23 @@ mod process {
     /// From 1601-01-01 (FILETIME's start) to 1970-01-01, in 100 ns.
     const UNIX_EPOCH_AS_FILETIME: u64 = 116_444_736_000_000_000;
 
-    /// When the process `pid` started, if one by that number is running; a process this
-    /// one may not ask about is running, started at the earliest time there is.
-    pub fn started_if_running(pid: u32) -> Option<SystemTime> {
+    /// What Windows says of the process `pid`.
+    pub enum Owner {
+        /// One by that number runs; it started then (at the earliest time there is
+        /// where Windows does not say when).
+        Running { started: SystemTime },
+        /// None by that number runs.
+        Ended,
+        /// Windows refused to say (access denied).
+        Unknown,
+    }
+
+    pub fn asked(pid: u32) -> Owner {
         // SAFETY: OpenProcess has no precondition; a null handle is checked below.
         let handle = unsafe { OpenProcess(PROCESS_QUERY_LIMITED_INFORMATION, 0, pid) };
         if handle.is_null() {
             let denied = std::io::Error::last_os_error().raw_os_error() == Some(ERROR_ACCESS_DENIED);
-            return denied.then_some(SystemTime::UNIX_EPOCH);
+            return if denied { Owner::Unknown } else { Owner::Ended };
         }
         let (mut code, mut times) = (0u32, [FileTime::default(); 4]);
         let [creation, exit, kernel, user] = &mut times;
@@ -86,15 +98,16 @@ mod process {
             (running, timed)
         };
         if !running {
-            return None;
+            return Owner::Ended;
         }
         let ticks = ((u64::from(times[0].high) << 32) | u64::from(times[0].low))
             .saturating_sub(UNIX_EPOCH_AS_FILETIME);
-        Some(if timed {
+        let started = if timed {
             SystemTime::UNIX_EPOCH + Duration::from_nanos(ticks.saturating_mul(100))
         } else {
             SystemTime::UNIX_EPOCH
-        })
+        };
+        Owner::Running { started }
     }
 }
 
@@ -102,9 +115,66 @@ mod process {
 /// takes seconds) is taken as left by a process that is gone.
 #[cfg(not(any(unix, windows)))]
 pub(super) fn gone(_pid: u32, path: &Path) -> bool {
+    untouched_for_long(path)
+}
+
+/// Whether the claim `path` was last touched more than [`CLAIM_AGE_LIMIT`] ago.
+#[cfg_attr(unix, allow(dead_code))]
+fn untouched_for_long(path: &Path) -> bool {
     std::fs::metadata(path)
         .and_then(|m| m.modified())
         .ok()
         .and_then(|t| t.elapsed().ok())
-        .is_some_and(|age| age > std::time::Duration::from_secs(600))
+        .is_some_and(|age| age > CLAIM_AGE_LIMIT)
+}
+
+/// How long a claim whose maker cannot be asked about is left alone: a delivery takes
+/// seconds.
+const CLAIM_AGE_LIMIT: std::time::Duration = std::time::Duration::from_secs(600);
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The rule for a maker the system will not tell about: a fresh claim is left, one
+    /// untouched beyond the limit is taken back.
+    #[test]
+    fn a_claim_is_taken_back_by_its_age_only_beyond_the_limit() {
+        let dir = std::env::temp_dir().join(format!("drivescript-claim-age-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let claim = dir.join("results.spool.sending-4");
+        std::fs::write(&claim, "{}\n").unwrap();
+        assert!(!untouched_for_long(&claim), "a fresh claim");
+        let file = std::fs::OpenOptions::new().write(true).open(&claim).unwrap();
+        let old = std::time::SystemTime::now() - CLAIM_AGE_LIMIT - std::time::Duration::from_secs(5);
+        file.set_modified(old).unwrap();
+        drop(file);
+        assert!(untouched_for_long(&claim), "a claim older than the limit");
+        assert!(
+            !untouched_for_long(&dir.join("gone")),
+            "no claim, nothing to take"
+        );
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    /// Windows: a claim by a process that runs and started before it is kept; one whose
+    /// number no process holds is taken back at once.
+    #[cfg(windows)]
+    #[test]
+    fn a_claim_of_a_running_maker_is_kept_and_of_an_ended_one_taken_back() {
+        let dir = std::env::temp_dir().join(format!("drivescript-claim-owner-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let claim = dir.join("results.spool.sending");
+        std::fs::write(&claim, "{}\n").unwrap();
+        assert!(!gone(std::process::id(), &claim), "this process made it");
+        let mut child = std::process::Command::new(std::env::current_exe().unwrap())
+            .arg("--list")
+            .stdout(std::process::Stdio::null())
+            .spawn()
+            .unwrap();
+        let pid = child.id();
+        child.wait().unwrap();
+        assert!(gone(pid, &claim), "its maker ended");
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
 }

@@ -119,8 +119,12 @@ impl PostgresBackend {
             statements: HashMap::new(),
         };
         // A statement that hangs (a lock held elsewhere, a server in trouble) ends, so
-        // the writer spools instead of waiting for ever.
-        backend.batch("SET statement_timeout = '10s'")?;
+        // the writer spools instead of waiting for ever. And a session of ours that sits
+        // in an open transaction (a writer killed half-way whose connection the server
+        // still sees open: a killed process under Wine, a laptop pulled off the network)
+        // is ended by the server, so its locks do not hold every later delivery of that
+        // run past the statement limit; our transactions never wait on anything else.
+        backend.batch("SET statement_timeout = '10s'; SET idle_in_transaction_session_timeout = '30s'")?;
         Ok(backend)
     }
 

@@ -89,7 +89,7 @@ fn copy(anonymiser: &mut Anonymiser, from: &Path, to: &Path) -> Result<Anonymise
                 .map_err(|e| OutputFileError::file(to, e.into_error()))?;
             if !special {
                 file.sync_all().map_err(|e| OutputFileError::file(to, e))?;
-                std::fs::rename(&writing, to).map_err(|e| OutputFileError::file(to, e))?;
+                crate::report::replace(&writing, to).map_err(|e| OutputFileError::file(to, e))?;
             }
             Ok(done)
         });

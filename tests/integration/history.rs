@@ -7,6 +7,7 @@
 //! still ends in a verified safe stop; the lookup is bounded and a stop signal during it
 //! runs the safe stop; a serial typed at an operator step looks up at that point.
 
+use crate::live_run::LiveRun;
 use crate::support::{
     assert_exit, assert_has, assert_lacks, cli, command, console, run_recording as run, scratch,
     silent_server, sqlite_store, unit_certificate, with_postgres_store, with_sqlite_store, write_changed,
@@ -241,17 +242,9 @@ fn a_store_that_cannot_be_read_fails_the_comparison_and_the_drive_still_stops() 
 /// `--no-results` with a store (named by the environment) that takes the connection and
 /// never answers: the run records nothing and the comparison's lookup is bounded.
 pub(crate) fn run_reading_a_silent_store(recipe: &Path, more: &[&str]) -> std::process::Child {
-    let port = silent_server();
-    command()
-        .env(
-            "DRIVESCRIPT_RESULTS",
-            format!("postgres://drivescript@127.0.0.1:{port}/results"),
-        )
-        .arg("run")
-        .arg(recipe)
-        .args(["--fast", "--no-results", "--unit", "serial=SP-1"])
-        .args(more)
-        .stdout(Stdio::piped())
+    let mut run = command();
+    reading_a_silent_store(&mut run, recipe, more);
+    run.stdout(Stdio::piped())
         .stderr(Stdio::piped())
         .spawn()
         .expect("runs")
@@ -266,6 +259,19 @@ pub(crate) fn ended_reading_a_silent_store(recipe: &Path, more: &[&str]) -> (Opt
         .expect("the run ends");
     let text = console(&out.stdout, &out.stderr);
     (out.status.code(), started.elapsed(), text)
+}
+
+/// Makes `run` the `drivescript run RECIPE --fast MORE` of [`run_reading_a_silent_store`].
+fn reading_a_silent_store(run: &mut std::process::Command, recipe: &Path, more: &[&str]) {
+    let port = silent_server();
+    run.env(
+        "DRIVESCRIPT_RESULTS",
+        format!("postgres://drivescript@127.0.0.1:{port}/results"),
+    )
+    .arg("run")
+    .arg(recipe)
+    .args(["--fast", "--no-results", "--unit", "serial=SP-1"])
+    .args(more);
 }
 
 /// It is waited for once per serial: the operator steps after it do not wait again.
@@ -298,40 +304,27 @@ fn the_lookup_of_a_store_that_never_answers_is_bounded() {
     );
 }
 
-/// Reads the run's output until it shows `marker`, then sends it SIGINT (after a moment:
-/// the run is then waiting where `marker` says); its exit code and everything it showed.
-/// It must end within 5 s of the signal.
-#[cfg(unix)]
-pub(crate) fn interrupted_once_shown(mut child: std::process::Child, marker: &str) -> (Option<i32>, String) {
-    let mut stdout = child.stdout.take().expect("stdout");
-    let mut seen = String::new();
-    while !seen.contains(marker) {
-        let mut buf = [0u8; 512];
-        let n = std::io::Read::read(&mut stdout, &mut buf).expect("the run's output");
-        assert!(n > 0, "the run ended early:\n{seen}");
-        seen.push_str(&String::from_utf8_lossy(&buf[..n]));
-    }
+/// [`run_reading_a_silent_store`] of `recipe`, its output read until it shows `marker`,
+/// then Ctrl-C (SIGINT; under Wine the console's event) after a moment: the run is then
+/// waiting where `marker` says. Its exit code and everything it showed; it must end
+/// within 5 s of the signal.
+pub(crate) fn interrupted_once_shown(recipe: &Path, marker: &str) -> (Option<i32>, String) {
+    let mut run = LiveRun::with(|run| reading_a_silent_store(run, recipe, &[]));
+    run.wait_for(marker);
     std::thread::sleep(Duration::from_millis(300));
     let signalled = Instant::now();
-    let status = std::process::Command::new("kill")
-        .args(["-INT", &child.id().to_string()])
-        .status()
-        .expect("kill runs");
-    assert!(status.success());
-    std::io::Read::read_to_string(&mut stdout, &mut seen).expect("the rest");
-    let code = child.wait().expect("the run ends").code();
+    run.signal("INT");
+    let (code, seen) = run.finish();
     assert!(signalled.elapsed() < Duration::from_secs(5), "{seen}");
     (code, seen)
 }
 
 /// A stop signal while the store is looked up ends the wait at once, with the safe stop.
-#[cfg(unix)]
 #[test]
 fn a_stop_signal_during_the_lookup_runs_the_safe_stop() {
     let dir = scratch("history-signal");
     let recipe = write_file(&dir, "run-in.yaml", RUN_IN);
-    let child = run_reading_a_silent_store(&recipe, &[]);
-    let (code, seen) = interrupted_once_shown(child, "unit    serial SP-1");
+    let (code, seen) = interrupted_once_shown(&recipe, "unit    serial SP-1");
     assert_eq!(code, Some(130), "{seen}");
     // Never enabled, the drive stays in switch on disabled: the stop sends no shutdown,
     // which would move it up to ready to switch on.

@@ -8,9 +8,7 @@
 //! coast-down or at the question still runs the verified safe stop, makes no comparison,
 //! and the store is never waited for on the way to the stop.
 
-#[cfg(unix)]
-use crate::history::interrupted_once_shown;
-use crate::history::{ended_reading_a_silent_store, run_id, run_reading_a_silent_store};
+use crate::history::{ended_reading_a_silent_store, interrupted_once_shown, run_id};
 use crate::support::{
     assert_exit, assert_has, assert_lacks, command, line_with, run_recording as run, scratch, sqlite_store,
     write_changed, write_file, InProcessRun,
@@ -516,7 +514,6 @@ fn a_stop_at_a_compared_value_question_runs_the_safe_stop_and_no_comparison() {
 /// A script looks the unit up at its first comparison: for a coast-down, before the power
 /// stage goes off. A store that never answers holds it there; Ctrl-C then ends the wait at
 /// once and the safe stop brakes the spindle, which never coasted.
-#[cfg(unix)]
 #[test]
 fn a_stop_while_a_scripts_coast_down_waits_for_the_store_brakes_the_spindle() {
     let dir = scratch("wear-script-lookup");
@@ -532,8 +529,7 @@ d.wait_until(\"speed_actual\", |v| v > 5950.0, \"10 s\");
 d.coast_down(\"5900 rpm\", \"100 rpm\", \"10 s\", \"30 s\", #{ at_least: \"-10 %\", without_history: \"pass\" });
 ",
     );
-    let child = run_reading_a_silent_store(&script, &[]);
-    let (code, seen) = interrupted_once_shown(child, "wait_until speed_actual");
+    let (code, seen) = interrupted_once_shown(&script, "wait_until speed_actual");
     assert_eq!(code, Some(130), "{seen}");
     assert_has(&seen, &["drive left in ready to switch on at 0 rpm"]);
     assert_lacks(

@@ -10,6 +10,10 @@ use crate::support::{command, Simulator};
 /// The simulated drive answers this late; the reads wait this long for each reply.
 const LATENCY: &str = "reply-latency=300ms";
 const TIMEOUT: &str = "200ms";
+/// Enough attempts that a reply 300 ms late is met by a later attempt even on a loaded
+/// machine (three, the default, left a Windows process under Wine with none); each
+/// attempt puts another late reply on the line, which must be told apart too.
+const RETRIES: &str = "8";
 
 struct Family {
     drive: &'static str,
@@ -44,6 +48,7 @@ fn read(family: &Family, late: bool) -> (Option<i32>, String, String) {
             &endpoint,
         ])
         .args(["--timeout", if late { TIMEOUT } else { "1s" }])
+        .args(["--retries", RETRIES])
         .args(family.extra)
         .args(family.objects)
         .output()

@@ -2,22 +2,29 @@
 //! tests that signal a run in the middle; and the Ctrl-C during a dwell that several
 //! families' tests share.
 
+use crate::support::{assert_has, repo_root, scratch_file};
 #[cfg(unix)]
 use crate::support::{command, send_signal};
-use crate::support::{assert_has, repo_root, scratch_file};
 use std::path::Path;
 use std::process::Stdio;
 
 /// `drivescript ARGS` running in the background (from the repository root), its standard
-/// output read as it comes: for the tests that signal a run in the middle.
+/// output read as it comes: for the tests that signal a run in the middle. Every wait is
+/// bounded: a run that neither prints nor ends fails its test, never holds the suite up.
 pub struct LiveRun {
     child: std::process::Child,
-    out: std::process::ChildStdout,
+    /// What a reader thread took from the run's standard output, as it came; closed at
+    /// its end.
+    out: std::sync::mpsc::Receiver<String>,
+    stderr: Option<std::process::ChildStderr>,
     seen: String,
     /// Under Wine, the name by which the Linux side finds its process to interrupt.
     #[cfg(windows)]
     mark: crate::wine_host::Marked,
 }
+
+/// How long a run may print nothing new while a test waits for its output or its end.
+const QUIET_LIMIT: std::time::Duration = std::time::Duration::from_secs(60);
 
 impl LiveRun {
     /// `drivescript run FILE --port PORT`, then flags that each take a path (`--trace`).
@@ -35,19 +42,39 @@ impl LiveRun {
         I: IntoIterator<Item = S>,
         S: AsRef<std::ffi::OsStr>,
     {
+        LiveRun::with(|command| {
+            command.args(args).current_dir(repo_root());
+        })
+    }
+
+    /// The binary as `set_up` makes its command (arguments, environment, folder).
+    pub fn with(set_up: impl FnOnce(&mut std::process::Command)) -> LiveRun {
         #[cfg(unix)]
         let mut command = command();
         #[cfg(windows)]
         let (mut command, mark) = crate::wine_host::marked_command();
+        set_up(&mut command);
         let mut child = command
-            .args(args)
-            .current_dir(repo_root())
             .stdout(Stdio::piped())
             .stderr(Stdio::piped())
             .spawn()
             .expect("the run starts");
-        let out = child.stdout.take().expect("stdout is piped");
+        let mut stdout = child.stdout.take().expect("stdout is piped");
+        let (sender, out) = std::sync::mpsc::channel();
+        std::thread::spawn(move || {
+            use std::io::Read;
+            let mut buf = [0u8; 512];
+            while let Ok(n @ 1..) = stdout.read(&mut buf) {
+                if sender
+                    .send(String::from_utf8_lossy(&buf[..n]).into_owned())
+                    .is_err()
+                {
+                    break;
+                }
+            }
+        });
         LiveRun {
+            stderr: child.stderr.take(),
             child,
             out,
             seen: String::new(),
@@ -56,17 +83,22 @@ impl LiveRun {
         }
     }
 
+    /// The run's standard error, for a test that reads it (once; piped and unread
+    /// otherwise).
+    pub fn take_stderr(&mut self) -> std::process::ChildStderr {
+        self.stderr.take().expect("standard error is taken once")
+    }
+
     /// Reads the output until it holds `text` (at most 30 s); fails the test otherwise.
+    #[track_caller]
     pub fn wait_for(&mut self, text: &str) -> &str {
-        use std::io::Read;
-        let started = std::time::Instant::now();
-        let mut buf = [0u8; 512];
-        while !self.seen.contains(text) && started.elapsed() < std::time::Duration::from_secs(30) {
-            let n = self.out.read(&mut buf).expect("read the run's output");
-            if n == 0 {
-                break;
+        let deadline = std::time::Instant::now() + std::time::Duration::from_secs(30);
+        while !self.seen.contains(text) {
+            let left = deadline.saturating_duration_since(std::time::Instant::now());
+            match self.out.recv_timeout(left) {
+                Ok(more) => self.seen.push_str(&more),
+                Err(_) => break,
             }
-            self.seen.push_str(&String::from_utf8_lossy(&buf[..n]));
         }
         assert_has(&self.seen, &[text]);
         &self.seen
@@ -99,6 +131,7 @@ impl LiveRun {
 
     /// Ctrl-C once the output holds `text` and `pause` more has passed, then the end: what
     /// the run had printed before the signal, its exit code and all it printed.
+    #[track_caller]
     pub fn interrupt_after(
         mut self,
         text: &str,
@@ -111,12 +144,23 @@ impl LiveRun {
         (before, code, all)
     }
 
-    /// Waits for the run to end: its exit code and all it wrote to standard output.
+    /// Waits for the run to end: its exit code and all it wrote to standard output. A run
+    /// that prints nothing for [`QUIET_LIMIT`] without ending is killed and fails the test.
+    #[track_caller]
     pub fn finish(mut self) -> (Option<i32>, String) {
-        use std::io::Read;
-        self.out
-            .read_to_string(&mut self.seen)
-            .expect("the rest of the output");
+        loop {
+            match self.out.recv_timeout(QUIET_LIMIT) {
+                Ok(more) => self.seen.push_str(&more),
+                Err(std::sync::mpsc::RecvTimeoutError::Disconnected) => break,
+                Err(std::sync::mpsc::RecvTimeoutError::Timeout) => {
+                    let _ = self.child.kill();
+                    panic!(
+                        "the run neither ended nor printed for {QUIET_LIMIT:?}; killed:\n{}",
+                        self.seen
+                    );
+                }
+            }
+        }
         let code = self.child.wait().expect("the run ends").code();
         (code, std::mem::take(&mut self.seen))
     }

@@ -67,15 +67,22 @@ impl Served {
 impl Drop for Served {
     fn drop(&mut self) {
         // SIGTERM: the way a service manager ends it; it must end at once.
+        #[cfg(unix)]
         let _ = std::process::Command::new("kill")
             .args(["-TERM", &self.child.id().to_string()])
             .status();
+        // Windows has no SIGTERM (and no `kill`: waiting for a server never told to end
+        // would hang the tests): ended as the Task Manager ends it.
+        #[cfg(windows)]
+        let _ = self.child.kill();
         let _ = self.child.wait();
     }
 }
 
 fn http(at: SocketAddr, request: &str) -> (u16, String) {
     let mut s = TcpStream::connect(at).expect("connects");
+    // A server that stops answering fails the test instead of holding it up.
+    let _ = s.set_read_timeout(Some(std::time::Duration::from_secs(30)));
     s.write_all(request.as_bytes()).expect("sends");
     let mut answer = String::new();
     let _ = s.read_to_string(&mut answer);

@@ -780,39 +780,24 @@ fn a_store_that_never_answers_does_not_hold_up_the_end_of_a_long_run() {
 /// The end of a run waits for a store that has not taken everything only until a stop
 /// signal comes (the drive is stopped by then; the store is never on the stop's path), and
 /// what the writer had not taken is kept whole in the spool, the run's start to its end,
-/// not lost with the process.
-#[cfg(unix)]
+/// not lost with the process. The signal is SIGTERM, a service manager's; Windows has
+/// none, there it is Ctrl-C.
 #[test]
 fn a_signal_ends_the_wait_for_a_silent_store_and_the_whole_run_is_spooled() {
     let dir = scratch("silent-store-signal");
     let recipe = write_file(&dir, "short.yaml", SHORT);
-    let mut child = run_into_a_silent_store(&dir, &recipe, "--no-progress");
-    let mut stdout = child.stdout.take().expect("stdout");
-    let mut stderr = child.stderr.take().expect("stderr");
+    let mut run = LiveRun::with(|run| into_a_silent_store(run, &dir, &recipe, "--no-progress"));
+    let mut stderr = run.take_stderr();
     let said = std::thread::spawn(move || {
         let mut text = String::new();
         std::io::Read::read_to_string(&mut stderr, &mut text).map(|_| text)
     });
-    let mut seen = String::new();
-    let started = std::time::Instant::now();
-    while !seen.contains("PASSED") && started.elapsed() < std::time::Duration::from_secs(30) {
-        let mut buf = [0u8; 512];
-        let n = std::io::Read::read(&mut stdout, &mut buf).expect("the run's output");
-        if n == 0 {
-            break;
-        }
-        seen.push_str(&String::from_utf8_lossy(&buf[..n]));
-    }
-    assert!(seen.contains("PASSED"), "{seen}");
+    let seen = run.wait_for("PASSED").to_string();
     // The writer is still trying to reach the store (for up to 10 s): the end waits.
     std::thread::sleep(std::time::Duration::from_millis(500));
     let signalled = std::time::Instant::now();
-    let status = std::process::Command::new("kill")
-        .args(["-TERM", &child.id().to_string()])
-        .status()
-        .expect("kill runs");
-    assert!(status.success());
-    let code = child.wait().expect("the run ends").code();
+    run.signal(if cfg!(windows) { "INT" } else { "TERM" });
+    let (code, _) = run.finish();
     let waited = signalled.elapsed();
     let text = said.join().expect("stderr reader").expect("stderr");
     assert_eq!(
@@ -853,21 +838,25 @@ fn a_signal_ends_the_wait_for_a_silent_store_and_the_whole_run_is_spooled() {
 /// `run RECIPE --fast OUTPUT` recording into a PostgreSQL "server" that takes the
 /// connection and never answers, with `dir` as the data directory (for the spool).
 fn run_into_a_silent_store(dir: &Path, recipe: &Path, output: &str) -> std::process::Child {
-    let url = format!("postgres://drivescript@127.0.0.1:{}/results", silent_server());
-    command()
-        .envs(crate::support::data_home(dir))
-        .args([
-            "run",
-            recipe.to_str().unwrap(),
-            "--fast",
-            output,
-            "--results",
-            &url,
-        ])
-        .stdout(Stdio::piped())
+    let mut run = command();
+    into_a_silent_store(&mut run, dir, recipe, output);
+    run.stdout(Stdio::piped())
         .stderr(Stdio::piped())
         .spawn()
         .expect("runs")
+}
+
+/// Makes `run` the command of [`run_into_a_silent_store`].
+fn into_a_silent_store(run: &mut std::process::Command, dir: &Path, recipe: &Path, output: &str) {
+    let url = format!("postgres://drivescript@127.0.0.1:{}/results", silent_server());
+    run.envs(crate::support::data_home(dir)).args([
+        "run",
+        recipe.to_str().unwrap(),
+        "--fast",
+        output,
+        "--results",
+        &url,
+    ]);
 }
 
 /// The connect timeout bounds only the socket's connection; the handshake after it is

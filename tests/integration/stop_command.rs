@@ -57,15 +57,7 @@ fn stop_brakes_a_drive_a_recipe_left_running_and_verifies_it() {
             .unwrap_or_else(|| panic!("missing in order: {line}\n{text}"));
         from += at + line.len();
     }
-    // The drive runs in real time on the pty: the last few rpm inside the standstill window
-    // (±10 rpm) may still be ramping down when the end state is read.
-    let end_speed = text
-        .split("drive left in ready to switch on at ")
-        .nth(1)
-        .and_then(|rest| rest.split(" rpm").next())
-        .and_then(|n| n.trim().parse::<f64>().ok())
-        .unwrap_or_else(|| panic!("no end speed: {text}"));
-    assert!(end_speed.abs() <= 10.0, "end speed outside standstill: {text}");
+    assert_left_at_standstill(&text);
     assert!(!text.contains("STILL COASTING"), "{text}");
     assert!(text.contains("shutdown (stop)"), "the stop's own steps: {text}");
     assert!(!text.contains("default finally"), "{text}");
@@ -124,6 +116,20 @@ fn interrupted_stop(name: &str, second: Option<&str>, state_after: &str) -> (Opt
     (code, text)
 }
 
+/// The stop ended in "ready to switch on" at standstill: within the ±10 rpm the stop's
+/// wait accepts. A spindle that met the band a few milliseconds before the last of its
+/// ramp (a loaded machine's late poll) is shown at the speed read, `at 7 rpm`, truthfully.
+#[track_caller]
+fn assert_left_at_standstill(text: &str) {
+    let rpm: f64 = text
+        .split("drive left in ready to switch on at ")
+        .nth(1)
+        .and_then(|rest| rest.split(" rpm").next())
+        .and_then(|n| n.trim().parse().ok())
+        .unwrap_or_else(|| panic!("no end state at a speed: {text}"));
+    assert!(rpm.abs() <= 10.0, "left turning at {rpm} rpm: {text}");
+}
+
 fn assert_state(sim: &Simulator, state: &str) {
     let shown = state_of(sim);
     assert!(shown.contains(state), "{shown}");
@@ -138,10 +144,10 @@ fn ctrl_c_during_stop_still_brakes_to_standstill_and_exits_130() {
         &[
             "stop 2  ok    wait for standstill",
             "stop 4  ok    shutdown",
-            "drive left in ready to switch on at 0 rpm",
             "INTERRUPTED: interrupted by Ctrl-C (SIGINT) — exit code 130",
         ],
     );
+    assert_left_at_standstill(&text);
 }
 
 #[test]

@@ -14,12 +14,20 @@ pub const HOST_ENV: &str = "DRIVESCRIPT_WINE_HOST";
 #[cfg(windows)]
 pub fn marked_command() -> (std::process::Command, Marked) {
     static NEXT: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
-    let n = NEXT.fetch_add(1, std::sync::atomic::Ordering::SeqCst);
-    let mark = format!("drivescript-marked-{}-{n}", std::process::id());
     let binary = std::path::PathBuf::from(env!("CARGO_BIN_EXE_drivescript"));
-    let link = binary.with_file_name(format!("{mark}.exe"));
-    let _ = std::fs::remove_file(&link);
-    std::fs::hard_link(&binary, &link).expect("link the binary under a name of its own");
+    // A link left by an earlier test process of the same number (Windows reuses them; a
+    // link whose program still ran could not be removed) is passed over: the next name.
+    let (mark, link) = loop {
+        let n = NEXT.fetch_add(1, std::sync::atomic::Ordering::SeqCst);
+        let mark = format!("drivescript-marked-{}-{n}", std::process::id());
+        let link = binary.with_file_name(format!("{mark}.exe"));
+        let _ = std::fs::remove_file(&link);
+        match std::fs::hard_link(&binary, &link) {
+            Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => continue,
+            linked => linked.expect("link the binary under a name of its own"),
+        }
+        break (mark, link);
+    };
     let mut command = std::process::Command::new(&link);
     command.env("DRIVESCRIPT_RESULTS", crate::support::tests_results_store());
     (command, Marked { mark, link })
@@ -245,6 +253,9 @@ impl HostLine {
         };
         let out = std::net::TcpStream::connect(&address)
             .unwrap_or_else(|e| panic!("the Linux side at {address}: {e}"));
+        // A Linux side that stops answering (a server that does not come up) fails the
+        // test instead of holding the suite up.
+        let _ = out.set_read_timeout(Some(std::time::Duration::from_secs(120)));
         let mut line = HostLine {
             lines: std::io::BufReader::new(out.try_clone().expect("clone the connection")),
             out,
