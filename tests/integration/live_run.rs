@@ -54,11 +54,7 @@ impl LiveRun {
         #[cfg(windows)]
         let (mut command, mark) = crate::wine_host::marked_command();
         set_up(&mut command);
-        let mut child = command
-            .stdout(Stdio::piped())
-            .stderr(Stdio::piped())
-            .spawn()
-            .expect("the run starts");
+        let mut child = crate::support::started(command.stdout(Stdio::piped()).stderr(Stdio::piped()));
         let mut stdout = child.stdout.take().expect("stdout is piped");
         let (sender, out) = std::sync::mpsc::channel();
         std::thread::spawn(move || {

@@ -37,13 +37,13 @@ pub fn tests_results_store() -> PathBuf {
 /// output, closes the pipe and waits for the end. The line and how the command ended.
 pub fn first_line_then_closed_pipe(args: &[&str]) -> (String, std::process::ExitStatus) {
     use std::io::{BufRead, BufReader};
-    let mut child = command()
-        .args(args)
-        .current_dir(repo_root())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("the drivescript binary starts");
+    let mut child = started(
+        command()
+            .args(args)
+            .current_dir(repo_root())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped()),
+    );
     let mut out = BufReader::new(child.stdout.take().expect("stdout"));
     let mut first = String::new();
     out.read_line(&mut first).expect("first line");
@@ -51,16 +51,36 @@ pub fn first_line_then_closed_pipe(args: &[&str]) -> (String, std::process::Exit
     (first, child.wait().expect("the command ends"))
 }
 
+/// Starts the drivescript binary as `command` says. Under Wine on a busy machine, creating
+/// a process now and then fails with Windows error 1359 ("internal error") before the exe
+/// runs a single instruction; that is Wine's, not the product's, and a second try starts it.
+/// Any other error, and a third 1359, fail the test.
+pub fn started(command: &mut Command) -> std::process::Child {
+    const WINE_INTERNAL_ERROR: i32 = 1359;
+    let mut tries = 0;
+    loop {
+        tries += 1;
+        match command.spawn() {
+            Ok(child) => return child,
+            Err(e) if cfg!(windows) && e.raw_os_error() == Some(WINE_INTERNAL_ERROR) && tries < 3 => {
+                eprintln!("starting drivescript failed under Wine ({e}); trying again");
+                std::thread::sleep(std::time::Duration::from_millis(500));
+            }
+            Err(e) => panic!("the drivescript binary starts: {e:?}"),
+        }
+    }
+}
+
 /// Runs `drivescript ARGS` with `stdin`, returning its output.
 pub fn drivescript(args: &[&str], stdin: &str) -> Output {
-    let mut child = command()
-        .args(args)
-        .current_dir(repo_root())
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("the drivescript binary starts");
+    let mut child = started(
+        command()
+            .args(args)
+            .current_dir(repo_root())
+            .stdin(Stdio::piped())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped()),
+    );
     let written = child
         .stdin
         .take()
