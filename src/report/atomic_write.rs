@@ -40,16 +40,20 @@ pub fn write_atomically(path: &Path, text: &str) -> Result<(), ReportWriteError>
 /// How long a report held open by another program is waited for on Windows.
 pub const HELD_OPEN_LIMIT: std::time::Duration = std::time::Duration::from_secs(2);
 
-/// Renames `from` over `to`. Windows refuses (access denied) to replace a file another
-/// program has open without leave to delete it, and most readers hold it only for a
-/// moment: tried again until [`HELD_OPEN_LIMIT`]; the last refusal is the error.
+/// Renames `from` over `to`. Windows refuses to replace a file another program has open
+/// without leave to delete it (access denied) or has locked (a sharing or lock violation:
+/// a virus scanner, an indexer), and most hold it only for a moment: tried again until
+/// [`HELD_OPEN_LIMIT`]; the last refusal is the error.
 pub fn replace(from: &Path, to: &Path) -> std::io::Result<()> {
+    /// ERROR_ACCESS_DENIED, ERROR_SHARING_VIOLATION, ERROR_LOCK_VIOLATION.
+    const HELD_BY_ANOTHER: [i32; 3] = [5, 32, 33];
     let started = std::time::Instant::now();
     loop {
         match std::fs::rename(from, to) {
             Err(e)
                 if cfg!(windows)
-                    && e.kind() == std::io::ErrorKind::PermissionDenied
+                    && e.raw_os_error()
+                        .is_some_and(|code| HELD_BY_ANOTHER.contains(&code))
                     && started.elapsed() < HELD_OPEN_LIMIT =>
             {
                 std::thread::sleep(std::time::Duration::from_millis(10));

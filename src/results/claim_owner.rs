@@ -72,12 +72,11 @@ mod process {
 
     /// What Windows says of the process `pid`.
     pub enum Owner {
-        /// One by that number runs; it started then (at the earliest time there is
-        /// where Windows does not say when).
+        /// One by that number runs; it started then.
         Running { started: SystemTime },
         /// None by that number runs.
         Ended,
-        /// Windows refused to say (access denied).
+        /// Windows refused to say (access denied), or did not say when it started.
         Unknown,
     }
 
@@ -100,13 +99,14 @@ mod process {
         if !running {
             return Owner::Ended;
         }
+        if !timed {
+            // Without its start time a process of that number cannot be told from a later
+            // one that reused it: the claim's age decides.
+            return Owner::Unknown;
+        }
         let ticks = ((u64::from(times[0].high) << 32) | u64::from(times[0].low))
             .saturating_sub(UNIX_EPOCH_AS_FILETIME);
-        let started = if timed {
-            SystemTime::UNIX_EPOCH + Duration::from_nanos(ticks.saturating_mul(100))
-        } else {
-            SystemTime::UNIX_EPOCH
-        };
+        let started = SystemTime::UNIX_EPOCH + Duration::from_nanos(ticks.saturating_mul(100));
         Owner::Running { started }
     }
 }
