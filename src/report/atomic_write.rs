@@ -92,6 +92,20 @@ mod tests {
         std::fs::remove_dir_all(&dir).unwrap();
     }
 
+    /// The report open in another program as Windows' own programs open files: for reading,
+    /// without leave to delete or rename it (on Linux nothing holds a rename up).
+    fn held_open(path: &Path) -> std::fs::File {
+        let mut options = std::fs::OpenOptions::new();
+        options.read(true);
+        #[cfg(windows)]
+        {
+            use std::os::windows::fs::OpenOptionsExt;
+            const FILE_SHARE_READ: u32 = 1;
+            options.share_mode(FILE_SHARE_READ);
+        }
+        options.open(path).unwrap()
+    }
+
     /// A reader that has the report open while it is replaced (as a test polling it, or a
     /// viewer, does) holds the run up for a moment at most, never fails it.
     #[test]
@@ -99,14 +113,38 @@ mod tests {
         let dir = std::env::temp_dir().join(format!("drivescript-held-{}", std::process::id()));
         let path = dir.join("report.html");
         write_atomically(&path, "old").unwrap();
-        let reader = std::fs::File::open(&path).unwrap();
+        let reader = held_open(&path);
+        let held_for = std::time::Duration::from_millis(300);
         let let_go = std::thread::spawn(move || {
-            std::thread::sleep(std::time::Duration::from_millis(300));
+            std::thread::sleep(held_for);
             drop(reader);
         });
+        let started = std::time::Instant::now();
         write_atomically(&path, "new").unwrap();
+        if cfg!(windows) {
+            // Replaced only after the reader let go: the write waited for it.
+            assert!(started.elapsed() >= held_for / 2, "{:?}", started.elapsed());
+        }
         let_go.join().unwrap();
         assert_eq!(std::fs::read_to_string(&path).unwrap(), "new");
+        assert!(!tmp_path(&path).exists());
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    /// A report held beyond [`HELD_OPEN_LIMIT`] is an error that names it, the old report
+    /// stays whole and no temporary is left behind.
+    #[cfg(windows)]
+    #[test]
+    fn a_report_held_beyond_the_limit_is_an_error_and_the_old_one_stays() {
+        let dir = std::env::temp_dir().join(format!("drivescript-held-long-{}", std::process::id()));
+        let path = dir.join("report.html");
+        write_atomically(&path, "old").unwrap();
+        let reader = held_open(&path);
+        let err = write_atomically(&path, "new").unwrap_err().to_string();
+        drop(reader);
+        assert!(err.contains("report.html"), "{err}");
+        assert_eq!(std::fs::read_to_string(&path).unwrap(), "old");
+        assert!(!tmp_path(&path).exists());
         std::fs::remove_dir_all(&dir).unwrap();
     }
 }
