@@ -102,15 +102,14 @@ mod tests {
         )
     }
 
-    /// [`answers_checked`] with no `--unit`; an error as its message.
+    /// [`answers_checked`] with no `--unit`.
     fn checked(
         prompts: &[(Prompt, StepOrigin)],
         complete: bool,
         given: &[(String, Given)],
         terminal: bool,
-    ) -> Result<(), String> {
+    ) -> Result<(), RunError> {
         answers_checked(prompts, complete, given, terminal, &UnitIdentity::default())
-            .map_err(|e| e.to_string())
     }
 
     #[test]
@@ -119,7 +118,7 @@ mod tests {
             prompt("guard", PromptKind::Instruction, 4),
             prompt("quiet", PromptKind::Confirm, 6),
         ];
-        let e = checked(&prompts, true, &[], false).unwrap_err();
+        let e = checked(&prompts, true, &[], false).unwrap_err().to_string();
         assert!(e.contains("2 operator step(s) have no answer"), "{e}");
         assert!(e.contains("r.yaml:4:5: guard: instruct \"guard?\""), "{e}");
         assert!(e.contains("r.yaml:6:5: quiet: confirm \"quiet?\""), "{e}");
@@ -134,9 +133,13 @@ mod tests {
     #[test]
     fn given_answers_are_judged_before_the_run() {
         let prompts = [prompt("quiet", PromptKind::Confirm, 6)];
-        let e = checked(&prompts, true, &[given("quiet", "")], true).unwrap_err();
+        let e = checked(&prompts, true, &[given("quiet", "")], true)
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("Enter alone does not confirm"), "{e}");
-        let e = checked(&prompts, true, &[given("quite", "yes")], true).unwrap_err();
+        let e = checked(&prompts, true, &[given("quite", "yes")], true)
+            .unwrap_err()
+            .to_string();
         assert!(
             e.contains("no operator step is called `quite`; did you mean `quiet`?"),
             "{e}"

@@ -36,25 +36,35 @@ pub fn last_runs(record: &RecordArgs, station: Option<String>) -> Value {
     }
 }
 
+/// Why the station has no certificate page to show.
+#[derive(Debug, thiserror::Error)]
+pub enum NoCertificate {
+    #[error("no results store: the station records in none")]
+    NoStore,
+    #[error("the results store cannot be read: {0}")]
+    Unreadable(#[from] crate::results::StoreError),
+    #[error("no run of unit {serial} in {store}")]
+    NoRuns { serial: String, store: String },
+}
+
 /// The certificate page of unit `serial` (its runs in the store), or why there is none.
-pub fn certificate(record: &RecordArgs, serial: &str) -> Result<String, String> {
+pub fn certificate(record: &RecordArgs, serial: &str) -> Result<String, NoCertificate> {
     let Some((locator, _)) = Locator::resolve(record.results.as_deref()) else {
-        return Err("no results store: the station records in none".into());
+        return Err(NoCertificate::NoStore);
     };
-    let mut store = locator
-        .open(false)
-        .map_err(|e| format!("the results store cannot be read: {e}"))?;
+    let mut store = locator.open(false)?;
     let filter = RunFilter {
         unit: Some(serial.to_string()),
         simulated: true,
         include_void: true,
         ..RunFilter::default()
     };
-    let runs = store
-        .unit_runs_in(&filter)
-        .map_err(|e| format!("the results store cannot be read: {e}"))?;
+    let runs = store.unit_runs_in(&filter)?;
     if runs.is_empty() {
-        return Err(format!("no run of unit {serial} in {}", store.name()));
+        return Err(NoCertificate::NoRuns {
+            serial: serial.to_string(),
+            store: store.name().to_string(),
+        });
     }
     Ok(certificate_html::unit_certificate(serial, &runs, PageLinks::None))
 }

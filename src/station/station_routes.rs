@@ -186,7 +186,7 @@ async fn report(State(s): St) -> Response {
     };
     match blocking(move || std::fs::read(&path).map_err(|e| format!("{}: {e}", path.display()))).await {
         Ok(Ok(bytes)) => ([(header::CONTENT_TYPE, "text/html; charset=utf-8")], bytes).into_response(),
-        Ok(Err(why)) => refused(StatusCode::NOT_FOUND, &why),
+        Ok(Err(why)) => refused(StatusCode::NOT_FOUND, &why.to_string()),
         Err(e) => refused(StatusCode::INTERNAL_SERVER_ERROR, &e.to_string()),
     }
 }
@@ -198,7 +198,7 @@ async fn certificate(State(s): St) -> Response {
     let record = s.station.setup().options.record.clone();
     match blocking(move || bench_history::certificate(&record, &serial)).await {
         Ok(Ok(page)) => ([(header::CONTENT_TYPE, "text/html; charset=utf-8")], page).into_response(),
-        Ok(Err(why)) => refused(StatusCode::NOT_FOUND, &why),
+        Ok(Err(why)) => refused(StatusCode::NOT_FOUND, &why.to_string()),
         Err(e) => refused(StatusCode::INTERNAL_SERVER_ERROR, &e.to_string()),
     }
 }
