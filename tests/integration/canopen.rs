@@ -4,13 +4,13 @@
 //! heartbeat and EMCY frames; an EDS as a dictionary on the command line.
 
 use crate::support::{
-    assert_has, assert_in_order, assert_lacks, cli, control_words, repo_root, scratch, sqlite_store, words,
-    write_file, InProcessRun,
+    assert_has, assert_in_order, assert_lacks, cli, cli_with_dictionary, control_words, repo_root, scratch,
+    scratch_file, sqlite_store, words, write_file, InProcessRun,
 };
 use drivescript::clock::SharedClock;
 use drivescript::family::canopen::codec::NmtState;
 use drivescript::family::canopen::sim::Cia402Node;
-use drivescript::run::DictionaryArgs;
+use drivescript::run::{DictionaryArgs, PrepareSimulator};
 use drivescript::sim::SimulatedDrive;
 use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex};
@@ -32,12 +32,15 @@ fn on_cia402<'a>(dir: &Path, text: &str) -> InProcessRun<'a> {
     run
 }
 
-/// A run in `dir` of a recipe `title` that turns the node at 1000 rpm for a minute.
-fn turning_for_a_minute<'a>(dir: &Path, title: &str) -> InProcessRun<'a> {
-    on_cia402(
+/// A run in `dir` of a recipe `title` that turns the node at 1000 rpm for a minute, the
+/// simulated node made ready by `prepare` for what the test is about.
+fn turning_for_a_minute<'a>(dir: &Path, title: &str, prepare: &'a PrepareSimulator) -> InProcessRun<'a> {
+    let mut run = on_cia402(
         dir,
         &format!("name: {title}\ndrive: canopen\nsteps:\n  - go_to: operation_enabled\n  - set: {{ speed_setpoint: 1000 rpm }}\n  - dwell: 1 min\n"),
-    )
+    );
+    run.prepare = Some(prepare);
+    run
 }
 
 /// Prepares the simulated node to meet `fault` 20 s into the run (in the minute's dwell).
@@ -143,8 +146,7 @@ fn the_commissioning_recipe_runs_on_the_simulated_cia402_node_with_only_drive_ch
 fn a_node_whose_heartbeat_stops_is_a_lost_link_and_is_stopped() {
     let dir = scratch("canopen-heartbeat");
     let stop_heartbeat = at_20_s(Cia402Node::stop_heartbeat_at);
-    let mut run = turning_for_a_minute(&dir, "Heartbeat lost");
-    run.prepare = Some(&stop_heartbeat);
+    let run = turning_for_a_minute(&dir, "Heartbeat lost", &stop_heartbeat);
     let (result, _) = run.run_expecting(
         3,
         &[
@@ -168,9 +170,8 @@ fn a_node_whose_heartbeat_stops_is_a_lost_link_and_is_stopped() {
 fn a_node_silent_in_heartbeat_and_sdo_is_a_heartbeat_loss_and_gets_no_nmt_command() {
     let dir = scratch("canopen-silent");
     let silent = at_20_s(Cia402Node::go_silent_at);
-    let mut run = turning_for_a_minute(&dir, "Node silent");
+    let mut run = turning_for_a_minute(&dir, "Node silent", &silent);
     run.safe_stop.reconnect_timeout = Some(Duration::from_secs(2));
-    run.prepare = Some(&silent);
     let (_, output) = run.run_expecting(
         3,
         &[
@@ -192,8 +193,7 @@ fn an_emcy_alone_is_a_drive_fault_in_every_report() {
         let at = clock.now() + Duration::from_secs(20);
         sim.lock().unwrap().faults().emergency_at(at, 0x2310);
     };
-    let mut run = turning_for_a_minute(&dir, "EMCY alone");
-    run.prepare = Some(&emcy);
+    let mut run = turning_for_a_minute(&dir, "EMCY alone", &emcy);
     let (junit, html) = run.reports_in(&dir);
     let trace = dir.join("run.log");
     run.outputs.trace = Some(trace.clone());
@@ -280,27 +280,14 @@ fn decode_explains_nmt_heartbeat_and_emcy_frames() {
 
 #[test]
 fn an_eds_adds_its_objects_by_readable_name_index_and_eds_name() {
-    let eds = repo_root().join("tests/eds/every-type.dcf");
-    let eds = eds.to_string_lossy();
-    let out = cli(
-        &["objects", "--drive", "canopen", "--dictionary", &eds, "gains"],
-        0,
-    );
+    let eds = "tests/eds/every-type.dcf";
+    let out = cli_with_dictionary(&["objects", "gains"], "canopen", eds, 0);
     assert_has(&out.stdout, &["gains_proportional", "gains_integral"]);
     // The simulated node's own EDS: its objects are read by their EDS names.
-    let node_eds = repo_root().join("src/family/canopen/sim/cia402_node.eds");
-    let node_eds = node_eds.to_string_lossy();
-    let out = cli(
-        &[
-            "read",
-            "--drive",
-            "canopen",
-            "--dictionary",
-            &node_eds,
-            "vendor_id",
-            "Quick stop option code",
-            "0x1018/0",
-        ],
+    let out = cli_with_dictionary(
+        &["read", "vendor_id", "Quick stop option code", "0x1018/0"],
+        "canopen",
+        "src/family/canopen/sim/cia402_node.eds",
         0,
     );
     let row = |name: &str| {
@@ -319,7 +306,7 @@ fn an_eds_adds_its_objects_by_readable_name_index_and_eds_name() {
         ["quick_stop_option", "2", "2", "0x605A"]
     );
     // An EDS is for a CANopen family's dictionary, not the SD2's.
-    let out = cli(&["objects", "--dictionary", &eds], 2);
+    let out = cli(&["objects", "--dictionary", eds], 2);
     assert_has(
         &out.stderr,
         &[
@@ -379,9 +366,8 @@ fn an_emcy_alone_stops_a_run_through_an_slcan_pseudo_terminal() {
         "--sim",
         "emergency-at=8s:0x2310",
     ]);
-    let dir = scratch("canopen-slcan-emcy");
-    let recipe = write_file(
-        &dir,
+    let (dir, recipe) = scratch_file(
+        "canopen-slcan-emcy",
         "recipe.yaml",
         "name: EMCY alone over SLCAN\ndrive: canopen\nsteps:\n  - go_to: operation_enabled\n  - set: { speed_setpoint: 500 rpm }\n  - dwell: 2 min\n",
     );

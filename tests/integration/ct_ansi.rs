@@ -6,8 +6,8 @@
 
 use crate::live_run::ctrl_c_during_a_dwell;
 use crate::support::{
-    assert_has, assert_matches_shared, cli, control_words, drivescript, load_vectors, repo_root,
-    scratch_file, stderr, stdout, write_file, InProcessRun,
+    assert_every_vector_decodes, assert_has, assert_matches_shared, cli, control_words, drivescript,
+    load_vectors, repo_root, scratch_file, stderr, stdout, write_file, InProcessRun,
 };
 use drivescript::bus::MemoryTransport;
 use drivescript::clock::{SharedClock, VirtualClock};
@@ -44,19 +44,8 @@ fn the_copy_matches_the_shared_vectors() {
 
 #[test]
 fn every_vector_decodes_to_its_frame_or_is_rejected() {
-    let vectors = vectors();
-    assert_eq!(vectors.len(), 12);
     let mut e = explainer();
-    for v in &vectors {
-        let bytes = parse_hex(&v.hex).unwrap();
-        let (got, valid) = e.json(&bytes);
-        if v.frame == Value::String("reject".into()) {
-            assert!(!valid && got.get("reject").is_some(), "{}: {got}", v.name);
-        } else {
-            assert!(valid, "{}: {got}", v.name);
-            assert_eq!(got, v.frame, "{}", v.name);
-        }
-    }
+    assert_every_vector_decodes(&vectors(), 12, |bytes| e.json(bytes));
 }
 
 #[test]

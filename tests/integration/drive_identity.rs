@@ -3,9 +3,7 @@
 //! with the run in the store (SQLite and PostgreSQL) and shown on the run report and the
 //! certificates; a family whose dictionary names none says so.
 
-use crate::support::{
-    assert_has, cli, repo_root, scratch, with_postgres_store, with_sqlite_store, write_file,
-};
+use crate::support::{assert_has, cli, repo_root, scratch_file, with_postgres_store, with_sqlite_store};
 use std::path::Path;
 
 /// `drivescript run RECIPE --fast --report DIR/report.html ARGS` (which must pass); the page.
@@ -57,9 +55,8 @@ fn a_canopen_drives_identity_is_read_stored_and_shown_on_postgresql() {
 
 #[test]
 fn each_family_reads_what_its_dictionary_names_and_one_without_says_so() {
-    let dir = scratch("identity-families");
-    let e500 = write_file(
-        &dir,
+    let (dir, e500) = scratch_file(
+        "identity-families",
         "e500.yaml",
         "name: E500 read\ndrive: sunfar-e500\nsteps:\n  - read: [speed_actual]\n",
     );

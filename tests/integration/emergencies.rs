@@ -3,7 +3,7 @@
 //! one; a Lenze 9400's EMCY (no device-control profile) ending a run as a drive fault, its
 //! simulated node sending an injected one in process and served.
 
-use crate::support::{assert_has, assert_lacks, cli, scratch, words, write_file};
+use crate::support::{assert_has, assert_lacks, cli, scratch, scratch_file, words, write_file};
 
 #[test]
 fn an_emergency_no_simulated_drive_can_send_is_refused_before_anything_runs() {
@@ -27,26 +27,7 @@ fn an_emergency_no_simulated_drive_can_send_is_refused_before_anything_runs() {
     assert_has(&out.stderr, &[refusal, what_to_do, "canopen", "or leave it out"]);
     assert_lacks(&out.stdout, &["PASSED", "control word"]);
     assert!(!std::path::Path::new(trace).exists(), "nothing was sent");
-    // Several drives, none of which sends one.
-    let recipe = write_file(
-        &dir,
-        "two.yaml",
-        "name: Two\ndrives:\n  left:  { drive: sd2, address: dnc:2 }\n  right: { drive: ct-unidrive-sp }\nsteps:\n  - dwell: 1 min\n",
-    );
-    let out = cli(
-        &[
-            "run",
-            recipe.to_str().unwrap(),
-            "--fast",
-            "--sim",
-            "emergency-at=20s:0x2310",
-        ],
-        2,
-    );
-    assert_has(
-        &out.stderr,
-        &["no simulated ct-ansi or sd2 drive sends emergency messages"],
-    );
+    // Several drives, none of which sends one: see `check_refuses_an_emergency_as_run_does`.
     // `simulate` refuses it the same, before it serves anything.
     let out = cli(
         &words("simulate --drive sd2 --pty --sim emergency-at=20s:0x2310"),
@@ -75,17 +56,18 @@ fn check_refuses_an_emergency_as_run_does() {
         &out.stderr,
         &["--sim emergency-at: no simulated sd2 drive sends emergency messages"],
     );
-    let dir = scratch("emergency-check");
-    let two = write_file(
-        &dir,
+    let (dir, two) = scratch_file(
+        "emergency-check",
         "two.yaml",
         "name: Two\ndrives:\n  left:  { drive: sd2, address: dnc:2 }\n  right: { drive: ct-unidrive-sp }\nsteps:\n  - dwell: 1 min\n",
     );
-    let out = cli(&[&["check", two.to_str().unwrap()][..], &emergency].concat(), 2);
-    assert_has(
-        &out.stderr,
-        &["no simulated ct-ansi or sd2 drive sends emergency messages"],
-    );
+    for command in [&["run", "--fast"][..], &["check"]] {
+        let out = cli(&[command, &[two.to_str().unwrap()], &emergency].concat(), 2);
+        assert_has(
+            &out.stderr,
+            &["no simulated ct-ansi or sd2 drive sends emergency messages"],
+        );
+    }
     let node = write_file(
         &dir,
         "node.yaml",
@@ -99,9 +81,8 @@ fn check_refuses_an_emergency_as_run_does() {
 /// the profile-less safe stop ends the run with exit code 3 and the CiA 301 text.
 #[test]
 fn a_lenze_9400_emcy_ends_the_run_as_a_drive_fault() {
-    let dir = scratch("lenze-9400-emcy");
-    let recipe = write_file(
-        &dir,
+    let (dir, recipe) = scratch_file(
+        "lenze-9400-emcy",
         "emcy.yaml",
         "name: 9400 EMCY\ndrive: lenze-9400\nsteps:\n  - read: [ident]\n  - dwell: 1 min\n  - read: [heatsink_temperature]\non_fault:\n  - read: [heatsink_temperature]\n",
     );

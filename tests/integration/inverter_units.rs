@@ -6,6 +6,7 @@
 //! built-in simulated inverter.
 
 use crate::support::{assert_has, assert_lacks, check_file, cli, scratch, words, write_file};
+use std::path::Path;
 
 const AT_100_HZ: &str = "name: Spindle at 100 Hz
 drive: sunfar-e500
@@ -15,6 +16,13 @@ steps:
   - go_to: { state: operation_enabled, timeout: 2 s }
   - wait_until: { speed_actual: { near: 100 Hz, within: 1 % }, timeout: 20 s }
 ";
+
+/// `check` refuses `text`, written as `file` in `dir`, with exit code 2, saying each of
+/// `parts`.
+#[track_caller]
+fn refused_by_check(dir: &Path, file: &str, text: &str, parts: &[&str]) {
+    assert_has(&check_file(dir, file, text, 2).stderr, parts);
+}
 
 #[test]
 fn a_recipe_with_two_pole_pairs_in_its_link_sets_100_hz_as_3000_rpm() {
@@ -99,28 +107,20 @@ fn bad_pole_pairs_are_refused_before_anything_is_sent() {
 #[test]
 fn hz_where_the_pole_pairs_are_unknown_gets_a_hint() {
     let dir = scratch("inverter-hz-hint");
-    let out = check_file(
+    refused_by_check(
         &dir,
         "sd2.yaml",
         "name: Hz on a servo\ndrive: sd2\nsteps:\n  - set: { speed_setpoint: 100 Hz }\n",
-        2,
-    );
-    assert_has(
-        &out.stderr,
         &[
             "the dictionary does not say the motor's pole pairs",
             "give `pole_pairs: N` in the",
             "rpm = Hz × 60 / pole pairs",
         ],
     );
-    let out = check_file(
+    refused_by_check(
         &dir,
         "sd2.rhai",
         "//! drive: sd2\nlet d = drive();\nd.set(\"speed_setpoint\", 50.0, \"Hz\");\nlet f = d.read_as(\"speed_actual\", \"Hz\");\n",
-        2,
-    );
-    assert_has(
-        &out.stderr,
         &["does not say the motor's pole pairs", "2 problems found"],
     );
     let out = cli(&["write", "speed_setpoint", "100", "Hz"], 2);
@@ -139,24 +139,19 @@ fn hz_where_the_pole_pairs_are_unknown_gets_a_hint() {
 fn every_shipped_inverter_dictionary_refuses_300_000_rpm_in_check() {
     let dir = scratch("inverter-too-fast");
     for drive in ["sunfar-e500", "modbus-inverter", "modbus-tcp-inverter"] {
-        let out = check_file(
+        refused_by_check(
             &dir,
             &format!("{drive}.yaml"),
             &format!("name: Too fast\ndrive: {drive}\nsteps:\n  - set: {{ speed_setpoint: 300000 rpm }}\n"),
-            2,
-        );
-        assert_has(
-            &out.stderr,
             &["300000 rpm is above the maximum of speed_setpoint, 24000 rpm"],
         );
         // In Hz too: 5000 Hz is beyond the same 400 Hz.
-        let out = check_file(
+        refused_by_check(
             &dir,
             &format!("{drive}-hz.yaml"),
             &format!("name: Too fast\ndrive: {drive}\nsteps:\n  - set: {{ speed_setpoint: 5000 Hz }}\n"),
-            2,
+            &["5000 Hz (300000 rpm) is above the maximum"],
         );
-        assert_has(&out.stderr, &["5000 Hz (300000 rpm) is above the maximum"]);
     }
 }
 

@@ -213,11 +213,11 @@ fn script_on_931(name: &str, text: &str) -> (i32, String) {
     (code, output)
 }
 
-/// [`run_and_record`] of a file refused before anything moves (exit 2): the output and
-/// the requests the drive received.
+/// [`file_on_931`] of a file refused before anything moves (exit 2): the output and the
+/// requests the drive received.
 #[track_caller]
-pub(crate) fn refused_on_931(dir: &Path, path: PathBuf) -> (String, Vec<String>) {
-    let (code, output, requests) = run_and_record(dir, path);
+pub(crate) fn refused_on_931(name: &str, file: &str, text: &str) -> (String, Vec<String>) {
+    let (code, output, requests) = file_on_931(name, file, text);
     assert_eq!(code, 2, "{output}");
     (output, requests)
 }
@@ -244,24 +244,22 @@ pub(crate) fn run_and_record(dir: &Path, path: PathBuf) -> (i32, String, Vec<Str
 
 #[test]
 fn a_run_outside_the_drives_limits_is_refused_before_any_write_telegram() {
-    let (dir, recipe) = scratch_file(
+    let (output, requests) = refused_on_931(
         "run-limits",
         "outside.yaml",
         "name: Outside\ndrive: lenze-931\nsteps:\n  - read: [ident]\n  - set: { operating_mode: 2 }\n  - set: { speed_setpoint: 8000 rpm }\n  - ramp: { object: speed_setpoint, from: -7000 rpm, to: 0 rpm, rate: 1000 rpm/s }\nfinally:\n  - set: { speed_setpoint: 0 rpm }\n",
     );
-    let (output, requests) = refused_on_931(&dir, recipe);
     // Each object written is asked for its limits once, and nothing else is sent.
     assert_eq!(requests, ["ON:0014", "OX:0014", "ON:0010", "OX:0010"], "{output}");
     assert_has(&output, &["drive limits of speed_setpoint: -6000 rpm .. 6000 rpm (read from the 931 on", "outside.yaml:6:5: set speed_setpoint = 8000 rpm is above the maximum the drive reports, 6000 rpm", "outside.yaml:7:5: ramp speed_setpoint = -7000 rpm is below the minimum the drive reports, -6000 rpm", "error: 2 value(s) of ", "nothing was sent to move the drive. Lower the value, or change the drive's limit first"]);
     assert_lacks(&output, &["PASSED"]);
 
     // A script's literal values are compared the same way, at their place.
-    let script = write_file(
-        &dir,
+    let (output, requests) = refused_on_931(
+        "run-limits-script",
         "outside.rhai",
         "//! drive: lenze-931\nlet d = drive();\nd.set(\"operating_mode\", 9);\nd.set(\"speed_setpoint\", 100.0, \"rpm\");\n",
     );
-    let (output, requests) = refused_on_931(&dir, script);
     assert_eq!(requests, ["ON:0014", "OX:0014", "ON:0010", "OX:0010"], "{output}");
     assert_has(
         &output,

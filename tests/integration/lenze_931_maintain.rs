@@ -28,6 +28,16 @@ struct Outcome {
     line_rate: u32,
 }
 
+impl Outcome {
+    /// Fails the test, showing both outputs, unless `maintain` exited with `code` after
+    /// sending exactly `requests`.
+    #[track_caller]
+    fn sent(&self, code: i32, requests: &[&str]) {
+        assert_eq!(self.code, code, "{}{}", self.out, self.err);
+        assert_eq!(self.requests, requests);
+    }
+}
+
 fn maintain(
     dictionary: &DictionaryArgs,
     action: &str,
@@ -141,8 +151,7 @@ fn forced(
 #[test]
 fn each_action_sends_its_command_once_and_reads_the_documented_reply() {
     let reset = forced("reset", None, &["OW:0014:00000003"], &no_prepare);
-    assert_eq!(reset.code, 0, "{}{}", reset.out, reset.err);
-    assert_eq!(reset.requests, ["RESET!"]);
+    reset.sent(0, &["RESET!"]);
     assert_has(
         &reset.out,
         &[
@@ -153,8 +162,7 @@ fn each_action_sends_its_command_once_and_reads_the_documented_reply() {
     assert_eq!(reset.mode, 0, "the reset drive has its default operating mode");
 
     let init = forced("init", None, &["OW:0014:00000002"], &no_prepare);
-    assert_eq!(init.code, 0, "{}{}", init.out, init.err);
-    assert_eq!(init.requests, ["INIT!"]);
+    init.sent(0, &["INIT!"]);
     assert_has(
         &init.out,
         &["done: the drive answered `931 SIMULATED: default parameter set loaded`"],
@@ -168,8 +176,7 @@ fn each_action_sends_its_command_once_and_reads_the_documented_reply() {
         &["OW:0014:00000002", "SAVE!", "OW:0014:00000001"],
         &no_prepare,
     );
-    assert_eq!(load.code, 0, "{}{}", load.out, load.err);
-    assert_eq!(load.requests, ["SEP!"]);
+    load.sent(0, &["SEP!"]);
     assert_has(
         &load.out,
         &["load: sending SEP! to", "done: the drive answered `DONE`"],
@@ -177,8 +184,7 @@ fn each_action_sends_its_command_once_and_reads_the_documented_reply() {
     assert_eq!(load.mode, 2);
 
     let baud = forced("baud", Some("19200"), &[], &no_prepare);
-    assert_eq!(baud.code, 0, "{}{}", baud.out, baud.err);
-    assert_eq!(baud.requests, ["BAUD19200"]);
+    baud.sent(0, &["BAUD19200"]);
     assert_eq!(baud.line_rate, 19200);
     assert_has(
         &baud.out,
@@ -251,14 +257,13 @@ fn a_lost_or_garbled_reply_is_not_repeated_and_says_what_to_check() {
     let o = forced("reset", None, &[], &|s: &mut LenzeSimulator| {
         s.faults().drop_replies(5);
     });
-    assert_eq!(o.code, 3, "{}{}", o.out, o.err);
-    assert_eq!(o.requests, ["RESET!"], "sent once");
+    // Sent once.
+    o.sent(3, &["RESET!"]);
     assert_has(&o.err, &["error: reset failed: no reply", "whether the drive carried out reset is unknown: check the drive before repeating it (a drive that restarts may answer later than --timeout allows)"]);
     let o = forced("baud", Some("38400"), &[], &|s: &mut LenzeSimulator| {
         s.faults().drop_replies(5);
     });
-    assert_eq!(o.code, 3, "{}{}", o.out, o.err);
-    assert_eq!(o.requests, ["BAUD38400"]);
+    o.sent(3, &["BAUD38400"]);
     assert_has(
         &o.err,
         &["the drive may already talk at the new rate: try again with --baud 38400"],
@@ -267,8 +272,7 @@ fn a_lost_or_garbled_reply_is_not_repeated_and_says_what_to_check() {
     let o = forced("load", None, &[], &|s: &mut LenzeSimulator| {
         s.faults().corrupt_checksum(1);
     });
-    assert_eq!(o.code, 3, "{}{}", o.out, o.err);
-    assert_eq!(o.requests, ["SEP!"]);
+    o.sent(3, &["SEP!"]);
     assert_has(
         &o.err,
         &[

@@ -4,7 +4,8 @@
 //! that comes back, one that does not, and one lost in the middle of a segmented transfer.
 
 use crate::support::{
-    assert_exit, assert_has, assert_lacks, cli, load_frame_vectors, repo_root, words, InProcessRun, Simulator,
+    assert_exit, assert_has, assert_lacks, cli, cli_with_dictionary, load_frame_vectors, repo_root, words,
+    InProcessRun, Simulator,
 };
 use drivescript::bus::CanFrame;
 use drivescript::clock::SharedClock;
@@ -419,12 +420,8 @@ fn the_commissioning_recipe_is_refused_for_a_drive_without_device_control() {
 /// code too, and the codes the dictionary has keep their entries.
 #[test]
 fn an_eds_adds_codes_found_by_their_code_notation() {
-    let eds = repo_root().join("tests/eds/lenze-9400-codes.eds");
-    let eds = eds.to_string_lossy();
-    let out = cli(
-        &["objects", "--drive", "lenze-9400", "--dictionary", &eds, "speed"],
-        0,
-    );
+    let eds = "tests/eds/lenze-9400-codes.eds";
+    let out = cli_with_dictionary(&["objects", "speed"], "lenze-9400", eds, 0);
     assert_has(
         &out.stdout,
         &[
@@ -432,22 +429,8 @@ fn an_eds_adds_codes_found_by_their_code_notation() {
             "C00011, 0x5FF4, Reference speed",
         ],
     );
-    let out = cli(
-        &[
-            "write",
-            "C00011",
-            "1500",
-            "--drive",
-            "lenze-9400",
-            "--dictionary",
-            &eds,
-        ],
-        0,
-    );
+    let out = cli_with_dictionary(&["write", "C00011", "1500"], "lenze-9400", eds, 0);
     assert_has(&out.stdout, &["reference_speed"]);
-    let out = cli(
-        &["read", "0x5F9C", "--drive", "lenze-9400", "--dictionary", &eds],
-        0,
-    );
+    let out = cli_with_dictionary(&["read", "0x5F9C"], "lenze-9400", eds, 0);
     assert_has(&out.stdout, &["ident", "05.00.12.07"]);
 }

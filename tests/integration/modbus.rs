@@ -353,9 +353,8 @@ fn the_manuals_decode_example_prints_what_it_says() {
 /// 6 rpm: 3003 rpm is sent as 3006 rpm), and only there; the recipe is still valid.
 #[test]
 fn check_notes_a_value_the_wire_quantises() {
-    let dir = scratch("quantised");
     let out = check_file(
-        &dir,
+        &scratch("quantised"),
         "recipe.yaml",
         "name: quantised\ndrive: modbus-inverter\nsteps:\n  - set: { speed_setpoint: 3003 rpm }\n  - set: { speed_setpoint: 3000 rpm }\n",
         0,

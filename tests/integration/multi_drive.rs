@@ -7,13 +7,13 @@
 use crate::live_run::LiveRun;
 use crate::support::{
     assert_has, assert_lacks, cli, drivescript, scratch, scratch_file, stderr, stdout, words, write_file,
-    InProcessRun, Simulator,
+    InProcessRun, Ran, Simulator,
 };
 use drivescript::clock::SharedClock;
 use drivescript::drive::device_control::DeviceState;
 use drivescript::sim::SimulatedDrive;
 use drivescript::stop_request::{StopRequests, StopSignal};
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex, PoisonError};
 use std::time::Duration;
@@ -89,6 +89,17 @@ fn assert_never_interleaved(trace: &str) {
     );
 }
 
+/// `drivescript run RECIPE --port PTY MORE`, PTY the simulator's, which must exit with
+/// `code`.
+#[track_caller]
+fn run_on(sim: &Simulator, recipe: &Path, more: &[&str], code: i32) -> Ran {
+    let recipe = recipe.to_str().expect("utf-8 path");
+    cli(
+        &[&["run", recipe, "--port", &sim.endpoint][..], more].concat(),
+        code,
+    )
+}
+
 /// Runs `recipe_text` (two drives at DNC addresses 2 and 3) through a pty served by
 /// `simulate sim_args`, with a trace: both drives reach their own speeds and the requests
 /// never interleave. Returns the simulator (still serving), the recipe, the output and the
@@ -102,15 +113,10 @@ fn two_axes_on_a_pty(
     let dir = scratch(name);
     let recipe = write_file(&dir, "recipe.yaml", recipe_text);
     let trace = dir.join("run.trace");
-    let text = cli(
-        &[
-            "run",
-            recipe.to_str().expect("utf-8 path"),
-            "--port",
-            &sim.endpoint,
-            "--trace",
-            trace.to_str().expect("utf-8 path"),
-        ],
+    let text = run_on(
+        &sim,
+        &recipe,
+        &["--trace", trace.to_str().expect("utf-8 path")],
         0,
     )
     .stdout;
@@ -162,17 +168,7 @@ fn the_issue_spelling_of_addresses_on_a_pty_served_with_dnc_address() {
     let state = cli(&["state", "--port", &sim.endpoint, "--dnc-address", "3"], 0);
     assert_has(&state.stdout, &["ready to switch on"]);
     // With a recipe of several drives, one address on the command line is refused.
-    let out = cli(
-        &[
-            "run",
-            recipe.to_str().expect("utf-8 path"),
-            "--port",
-            &sim.endpoint,
-            "--dnc-address",
-            "2",
-        ],
-        2,
-    );
+    let out = run_on(&sim, &recipe, &["--dnc-address", "2"], 2);
     assert_has(
         &out.stderr,
         &["--dnc-address 2 names one drive; with several drives each gives its own"],
@@ -382,11 +378,9 @@ steps:
   - read: [speed_actual]
 ",
     );
-    let out = drivescript(&["check", recipe.to_str().expect("utf-8 path")], "");
-    let text = stderr(&out);
-    assert_eq!(out.status.code(), Some(2), "{text}");
+    let out = cli(&["check", recipe.to_str().expect("utf-8 path")], 2);
     assert_has(
-        &text,
+        &out.stderr,
         &[
             "unknown drive `lfet`",
             "did you mean `left`?",
@@ -480,27 +474,25 @@ fn a_script_naming_an_unknown_drive_or_no_drive_is_told_which_there_are() {
     }
 }
 
+/// A fresh scratch folder `name` with the two-axes recipe and a limits file capping the
+/// speed at `max_speed`: the folder, the recipe and the limits file.
+fn two_axes_under_limits(name: &str, max_speed: &str) -> (PathBuf, PathBuf, String) {
+    let dir = scratch(name);
+    let limits = write_file(&dir, "limits.yaml", &format!("max_speed: {max_speed}\n"));
+    let recipe = write_file(&dir, "recipe.yaml", &TWO_AXES.replace("SAMPLE_FOR", "1 s"));
+    let limits = limits.to_str().expect("utf-8 path").to_string();
+    (dir, recipe, limits)
+}
+
 #[test]
 fn the_bench_limits_cap_every_drive_of_a_recipe_and_of_a_script() {
-    let dir = scratch("multi-limits");
-    let limits = dir.join("limits.yaml");
-    std::fs::write(&limits, "max_speed: 1500 rpm\n").expect("limits written");
-    let recipe = write_file(&dir, "recipe.yaml", &TWO_AXES.replace("SAMPLE_FOR", "1 s"));
+    let (dir, recipe, limits) = two_axes_under_limits("multi-limits", "1500 rpm");
     let script = write_file(&dir, "script.rhai", &TWO_AXES_SCRIPT.replace("DRIVE_CALL", ""));
     for file in [&recipe, &script] {
-        let out = drivescript(
-            &[
-                "check",
-                file.to_str().expect("utf-8 path"),
-                "--limits",
-                limits.to_str().expect("utf-8 path"),
-            ],
-            "",
-        );
-        let text = stderr(&out);
-        assert_eq!(out.status.code(), Some(2), "{text}");
+        let file = file.to_str().expect("utf-8 path");
+        let out = cli(&["check", file, "--limits", &limits], 2);
         assert_has(
-            &text,
+            &out.stderr,
             &[
                 "2000 rpm exceeds the bench limit 1500 rpm of speed_setpoint",
                 "1 problem",
@@ -513,19 +505,13 @@ fn the_bench_limits_cap_every_drive_of_a_recipe_and_of_a_script() {
 /// for one drive and for a script: every drive of the file is capped by the same file.
 #[test]
 fn check_names_the_bench_limits_of_a_recipe_with_drives() {
-    let dir = scratch("multi-limits-named");
-    let limits = dir.join("limits.yaml");
-    std::fs::write(&limits, "max_speed: 2500 rpm\n").expect("limits written");
-    let recipe = write_file(&dir, "recipe.yaml", &TWO_AXES.replace("SAMPLE_FOR", "1 s"));
-    let limits = limits.to_str().expect("utf-8 path");
-    let out = drivescript(
-        &["check", recipe.to_str().expect("utf-8 path"), "--limits", limits],
-        "",
+    let (_, recipe, limits) = two_axes_under_limits("multi-limits-named", "2500 rpm");
+    let out = cli(
+        &["check", recipe.to_str().expect("utf-8 path"), "--limits", &limits],
+        0,
     );
-    let text = stdout(&out);
-    assert_eq!(out.status.code(), Some(0), "{text}{}", stderr(&out));
     assert_has(
-        &text,
+        &out.stdout,
         &[
             "drives left: sd2, right: sd2",
             &format!("bench limits max_speed 2500 rpm (limits file {limits})"),

@@ -11,12 +11,11 @@ use crate::support::{scratch, scratch_file, write_file};
 /// the 931 reports limits, and it has one drive per line, so the drive is one.)
 #[test]
 fn a_script_with_named_drives_is_refused_by_a_drive_limit_before_anything_moves() {
-    let (dir, script) = scratch_file(
+    let (output, requests) = refused_on_931(
         "script-drives-limits",
         "named.rhai",
         "//! drives: axis = lenze-931\nlet axis = drive(\"axis\");\naxis.set(\"operating_mode\", 9);\naxis.set(\"speed_setpoint\", 100.0, \"rpm\");\n",
     );
-    let (output, requests) = refused_on_931(&dir, script);
     // The state read that tells a silent drive early, then each object's limits once.
     assert_eq!(
         requests,

@@ -2,7 +2,7 @@
 //! to a real line or a replayed capture, whose drive no setting of the built-in simulated
 //! drive's physics can change; the built-in simulated drive still takes them.
 
-use crate::support::{assert_has, assert_lacks, cli, scratch, words, write_file};
+use crate::support::{assert_has, assert_lacks, cli, scratch_file, words, write_file};
 
 const REFUSED: &str = "--sim sets the built-in simulated drive's physics, but this run talks to";
 
@@ -52,9 +52,8 @@ fn a_sim_setting_on_a_real_line_or_a_replay_is_refused_before_anything_is_sent()
 /// drives alone.
 #[test]
 fn a_sim_setting_where_every_named_drive_has_its_own_line_is_refused() {
-    let dir = scratch("own-lines");
-    let own = write_file(
-        &dir,
+    let (dir, own) = scratch_file(
+        "own-lines",
         "own.yaml",
         "name: Own lines\ndrives:\n  left:  { drive: sd2, address: dnc:2, port: /dev/ttyUSB-drivescript-none-1 }\n  right: { drive: sd2, address: dnc:3, port: /dev/ttyUSB-drivescript-none-2 }\nsteps:\n  - set: { left.speed_setpoint: 0 rpm }\n",
     );

@@ -283,6 +283,15 @@ pub fn check_file(dir: &Path, name: &str, text: &str, code: i32) -> Ran {
     cli(&["check", file.to_str().expect("a UTF-8 path")], code)
 }
 
+/// Runs `drivescript ARGS --drive DRIVE --dictionary FILE`, FILE a path in the repository,
+/// as [`cli`] does: it must exit with `code`.
+#[track_caller]
+pub fn cli_with_dictionary(args: &[&str], drive: &str, file: &str, code: i32) -> Ran {
+    let file = repo_root().join(file);
+    let file = file.to_string_lossy();
+    cli(&[args, &["--drive", drive, "--dictionary", &file]].concat(), code)
+}
+
 /// The words of a command line with no quoted arguments (`run r.yaml --fast`), for [`cli`].
 pub fn words(line: &str) -> Vec<&str> {
     line.split_whitespace().collect()
@@ -344,6 +353,40 @@ pub struct Vector {
 
 pub fn load_vectors(path: &Path) -> Vec<Vector> {
     load_yaml(path)
+}
+
+impl Vector {
+    /// `got` (with whether the decoder called the telegram valid) is this vector's `frame`,
+    /// or, where the frame is `reject`, a rejection that gives its reason.
+    #[track_caller]
+    pub fn assert_decoded(&self, got: &serde_json::Value, valid: bool) {
+        if self.frame == serde_json::Value::String("reject".into()) {
+            assert!(
+                !valid && got["reject"].as_str().is_some_and(|r| !r.is_empty()),
+                "{}: decoded to {got} but must be rejected",
+                self.name
+            );
+        } else {
+            assert!(valid, "{}: {got}", self.name);
+            assert_eq!(got, &self.frame, "{}", self.name);
+        }
+    }
+}
+
+/// Every one of `count` vectors, decoded by `decode` (the JSON and whether it is valid),
+/// is its `frame` or the rejection it must be.
+#[track_caller]
+pub fn assert_every_vector_decodes(
+    vectors: &[Vector],
+    count: usize,
+    mut decode: impl FnMut(&[u8]) -> (serde_json::Value, bool),
+) {
+    assert_eq!(vectors.len(), count);
+    for v in vectors {
+        let bytes = drivescript::hex::parse_hex(&v.hex).unwrap();
+        let (got, valid) = decode(&bytes);
+        v.assert_decoded(&got, valid);
+    }
 }
 
 /// The repository's copy of a vector file holds exactly the vectors of the shared original

@@ -3,7 +3,7 @@
 //! report, in the results store and on the unit's certificate; and `check` warns of an
 //! enable that would start at a setpoint left from before a disable.
 
-use crate::support::{assert_has, cli, drivescript, scratch, stderr, stdout, write_file};
+use crate::support::{assert_has, cli, drivescript, scratch, scratch_file, stderr, stdout, write_file};
 
 /// Every check passes, but the coast-down ends at 3000 rpm and the stop timeout (2 s)
 /// ends before the spindle stands still.
@@ -82,17 +82,15 @@ fn a_spindle_left_coasting_is_the_same_error_in_every_report_and_the_store() {
 
 #[test]
 fn check_warns_of_an_enable_at_a_setpoint_left_from_before_a_disable() {
-    let dir = scratch("verdict-leftover");
-    let recipe = write_file(
-        &dir,
+    let (_, recipe) = scratch_file(
+        "verdict-leftover",
         "recipe.yaml",
         "name: Enable again\ndrive: sd2\nsteps:\n  - set: { speed_setpoint: 12000 rpm }\n  - go_to: operation_enabled\n  - go_to: ready_to_switch_on\n  - go_to: operation_enabled\n",
     );
-    let out = drivescript(&["check", &recipe.to_string_lossy()], "");
-    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    let out = cli(&["check", &recipe.to_string_lossy()], 0);
     let shown = recipe.display();
     assert_has(
-        &stderr(&out),
+        &out.stderr,
         &[&format!(
             "warning: {shown}:7:5: this enable starts the drive at speed_setpoint = 12000 rpm, left standing from {shown}:4:5 though the drive was disabled at {shown}:6:5"
         )],
