@@ -75,8 +75,8 @@ fn the_commissioning_recipe_runs_on_the_simulated_cia402_node_with_only_drive_ch
     let trace = dir.join("run.log");
     let mut run = InProcessRun::new(commissioning(&dir));
     run.dictionary = canopen();
-    run.outputs.trace = Some(trace.clone());
-    let (result, output) = run.run_expecting(
+    let (result, output, trace_text) = run.run_traced(
+        &trace,
         0,
         &[
             "ident = \"drivescript CiA 402 node\"",
@@ -102,7 +102,6 @@ fn the_commissioning_recipe_runs_on_the_simulated_cia402_node_with_only_drive_ch
     assert_eq!(control_words(&result), vec![6, 7, 15, 7, 6]);
     // Profile velocity mode (0x6060 = 3) is written before each command; the boot-up
     // message the node sent is in the trace too.
-    let trace_text = std::fs::read_to_string(&trace).expect("trace");
     assert_has(
         &trace_text,
         &[

@@ -144,8 +144,8 @@ fn the_commissioning_recipe_runs_on_the_simulated_ct_drive_with_exact_decimals()
     let trace = recipe.with_file_name("run.trace");
     let mut run = InProcessRun::new(recipe);
     run.set = vec![("speed".into(), "1500.5rpm".into())];
-    run.outputs.trace = Some(trace.clone());
-    let (result, _) = run.run_expecting(
+    let (result, _, trace) = run.run_traced(
+        &trace,
         0,
         &[
             "using the built-in simulated CT-ANSI drive (drive 1.1",
@@ -157,7 +157,6 @@ fn the_commissioning_recipe_runs_on_the_simulated_ct_drive_with_exact_decimals()
     );
     assert_eq!(control_words(&result), vec![131, 129, 128]);
     // 1500.5 rpm goes on the wire as the text 1500.5, after the control-word enable.
-    let trace = std::fs::read_to_string(&trace).unwrap();
     assert_has(
         &trace,
         &[

@@ -121,11 +121,8 @@ fn the_commissioning_recipe_runs_on_the_simulated_931_with_only_drive_changed() 
     let recipe = commissioning_for_931(&dir);
     let trace = dir.join("run.trace");
     let mut run = on_931(recipe, &dir);
-    run.outputs.trace = Some(trace.clone());
-    let (result, output) = run.run();
-    assert_eq!(result.exit_code, 0, "{output}");
+    let (result, output, trace_text) = run.run_traced(&trace, 0, &[]);
     // The trace shows each line as text with its meaning, and decode reads it back.
-    let trace_text = std::fs::read_to_string(&trace).expect("trace");
     assert_has(
         &trace_text,
         &["# OW:0020:0000000F write object 0x0020 control_word; 15 (0x0000000F)"],
@@ -630,10 +627,7 @@ fn an_sd2_run_asks_nothing_about_drive_limits() {
     let dir = scratch("sd2-count");
     let trace = dir.join("sd2.trace");
     let mut run = InProcessRun::new(repo_root().join("recipes/commissioning.yaml"));
-    run.outputs.trace = Some(trace.clone());
-    let (result, output) = run.run();
-    assert_eq!(result.exit_code, 0, "{output}");
-    let text = std::fs::read_to_string(&trace).expect("trace");
+    let (_, output, text) = run.run_traced(&trace, 0, &[]);
     assert_eq!(text.lines().filter(|l| l.contains(" TX ")).count(), 91, "{text}");
     assert_lacks(&output, &["drive limits"]);
 }

@@ -31,6 +31,14 @@ fn run_script(
     run.run()
 }
 
+/// [`run_script`] with nothing prepared and no stop request, which must exit with `code`.
+#[track_caller]
+fn script_exits(name: &str, text: &str, code: i32) -> (RunResult, String) {
+    let (result, output) = run_script(name, text, None, Arc::new(StopRequests::new()));
+    assert_eq!(result.exit_code, code, "{output}");
+    (result, output)
+}
+
 #[test]
 fn every_example_script_checks_and_passes_in_virtual_time() {
     let mut ran = 0;
@@ -69,8 +77,7 @@ d.set("speed_setpoint", 1.5, "krpm");
 
 #[test]
 fn a_script_sends_the_telegrams_its_calls_name_then_the_default_safe_stop() {
-    let (result, output) = run_script("telegrams", START_AND_SPIN, None, Arc::new(StopRequests::new()));
-    assert_eq!(result.exit_code, 0, "{output}");
+    let (result, output) = script_exits("telegrams", START_AND_SPIN, 0);
     // shutdown, switch_on, enable_operation; then the default finally's disable
     // operation and shutdown.
     assert_eq!(control_words(&result), [6, 7, 15, 7, 6], "{output}");
@@ -110,8 +117,7 @@ fn a_script_sends_the_telegrams_its_calls_name_then_the_default_safe_stop() {
 #[test]
 fn a_loop_numbers_its_steps_by_line_and_pass_and_keeps_them_bounded() {
     let text = "let d = drive();\nfor i in 0..3 {\n    d.set(\"speed_setpoint\", i * 100, \"rpm\");\n}\n";
-    let (result, output) = run_script("passes", text, None, Arc::new(StopRequests::new()));
-    assert_eq!(result.exit_code, 0, "{output}");
+    let (result, _) = script_exits("passes", text, 0);
     let numbers: Vec<String> = result
         .report
         .expect("report")
@@ -126,8 +132,7 @@ fn a_loop_numbers_its_steps_by_line_and_pass_and_keeps_them_bounded() {
 #[test]
 fn a_failed_expect_fails_the_run_with_exit_1_and_the_drive_is_stopped() {
     let text = "let d = drive();\nd.go_to(\"operation_enabled\");\nexpect(\"speed is high\", d.read(\"speed_actual\") > 100.0, d.read(\"speed_actual\"));\nprint(\"goes on\");\n";
-    let (result, output) = run_script("failed-expect", text, None, Arc::new(StopRequests::new()));
-    assert_eq!(result.exit_code, 1, "{output}");
+    let (result, output) = script_exits("failed-expect", text, 1);
     assert_has(&output, &["FAIL  speed is high: measured"]);
     assert!(
         output.contains("goes on"),
@@ -140,8 +145,7 @@ fn a_failed_expect_fails_the_run_with_exit_1_and_the_drive_is_stopped() {
 fn fail_ends_the_script_even_inside_try() {
     let text =
         "let d = drive();\ntry { fail(\"too slow\"); } catch { print(\"swallowed\"); }\nprint(\"after\");\n";
-    let (result, output) = run_script("fail", text, None, Arc::new(StopRequests::new()));
-    assert_eq!(result.exit_code, 1, "{output}");
+    let (_, output) = script_exits("fail", text, 1);
     assert!(
         !output.contains("swallowed") && !output.contains("after"),
         "{output}"
@@ -218,8 +222,7 @@ fn a_loop_that_calls_the_drive_runs_past_the_operation_limit() {
     // 20 000 passes of about 300 operations each: more than the limit in all, but never
     // that many between two drive calls.
     let text = "let d = drive();\nlet n = 0;\nfor i in 0..20000 {\n    let x = 0;\n    for k in 0..100 { x += k; }\n    n += d.read(\"speed_actual\") * 0.0 + 1;\n}\nexpect(\"passes\", n == 20000, n);\n";
-    let (result, output) = run_script("long-loop", text, None, Arc::new(StopRequests::new()));
-    assert_eq!(result.exit_code, 0, "{output}");
+    script_exits("long-loop", text, 0);
 }
 
 #[test]
@@ -603,8 +606,7 @@ fn a_scripts_csv_file_outside_the_output_directory_is_refused() {
     );
     let computed = "let d = drive();\nd.go_to(\"operation_enabled\");\nlet up = \"..\";\n\
                     let s = d.sample([\"speed_actual\"], \"100 ms\", \"1 s\", up + \"/escape.csv\");\n";
-    let (result, output) = run_script("csv-outside", computed, None, Arc::new(StopRequests::new()));
-    assert_eq!(result.exit_code, 3, "{output}");
+    let (_, output) = script_exits("csv-outside", computed, 3);
     assert_has(
         &output,
         &[
@@ -652,8 +654,7 @@ fn a_data_race_in_wait_until_is_located_at_the_wait_and_the_drive_is_stopped() {
         "let d = drive();\nd.set(\"speed_setpoint\", 2000.0, \"rpm\");\nd.go_to(\"operation_enabled\");\n\
                 let conditions = [|v| v > d.read(\"speed_setpoint\") - 10.0];\n\
                 d.wait_until(\"speed_actual\", conditions[0], \"10 s\");\n";
-    let (result, output) = run_script("data-race", text, None, Arc::new(StopRequests::new()));
-    assert_eq!(result.exit_code, 3, "{output}");
+    let (result, output) = script_exits("data-race", text, 3);
     assert_has(
         &output,
         &[
@@ -675,8 +676,7 @@ fn a_condition_that_calls_the_drive_is_refused_at_its_place() {
         "let d = drive();\nd.set(\"speed_setpoint\", 2000.0, \"rpm\");\nd.go_to(\"operation_enabled\");\n\
                 fn above_setpoint(d) { |v| v > d.read(\"speed_setpoint\") - 10.0 }\n\
                 d.wait_until(\"speed_actual\", above_setpoint(d), \"10 s\");\n";
-    let (result, output) = run_script("condition-calls", text, None, Arc::new(StopRequests::new()));
-    assert_eq!(result.exit_code, 3, "{output}");
+    let (result, output) = script_exits("condition-calls", text, 3);
     assert_has(&output, &["script.rhai:4:34]"]);
     assert!(
         output.contains("ERROR: ")

@@ -43,6 +43,17 @@ fn suites(doc: &roxmltree::Document) -> Vec<(String, String)> {
         .collect()
 }
 
+/// The JUnit file `j.xml` in `dir`, read back and checked as [`checked_junit`] does: each
+/// suite's name and outcome, one for each of the run's three files.
+#[track_caller]
+fn three_suites(dir: &Path) -> Vec<(String, String)> {
+    let path = dir.join("j.xml");
+    let xml = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let found = suites(&checked_junit(&xml));
+    assert_eq!(found.len(), 3, "{xml}");
+    found
+}
+
 /// The index page's rows: file, verdict cell, link target.
 fn index_rows(path: &Path) -> Vec<(String, String, Option<String>)> {
     let page = std::fs::read_to_string(path).expect("the index page");
@@ -151,30 +162,26 @@ fn a_signal_leaves_one_complete_junit_file_with_the_rest_not_run() {
         "slow.yaml",
         "name: Slow\nsteps:\n  - read: [ident]\n  - dwell: 30 s\n  - expect: { bus_voltage: { between: [300 V, 340 V] } }\n",
     );
-    let junit = dir.join("j.xml");
     let mut run = LiveRun::start([
         "run",
         slow.to_str().unwrap(),
         PASSING,
         FAILING,
         "--junit",
-        junit.to_str().unwrap(),
+        dir.join("j.xml").to_str().unwrap(),
         "--report",
         dir.join("index.html").to_str().unwrap(),
     ]);
     run.wait_for("read ident");
-    let during = std::fs::read_to_string(&junit).expect("written before the first recipe ran");
-    let found = suites(&checked_junit(&during));
-    assert_eq!(found.len(), 3, "{during}");
+    // Written before the first recipe ran.
+    let found = three_suites(&dir);
     assert!(found[0].1.starts_with("failure NOT FINISHED"), "{found:?}");
     assert!(found[1].1.starts_with("skipped not run yet"), "{found:?}");
     run.signal("INT");
     let (code, out) = run.finish();
     assert_eq!(code, Some(130), "{out}");
     assert_has(&out, &["exit code 130 (the worst of them)"]);
-    let xml = std::fs::read_to_string(&junit).unwrap();
-    let found = suites(&checked_junit(&xml));
-    assert_eq!(found.len(), 3, "{xml}");
+    let found = three_suites(&dir);
     assert_eq!(found[0].0, "Slow");
     assert!(found[0].1.contains("INTERRUPTED"), "{found:?}");
     for later in &found[1..] {
@@ -216,9 +223,7 @@ fn a_panic_leaves_one_complete_junit_file_with_the_rest_not_run() {
     let files: Vec<PathBuf> = vec![PASSING.into(), slow, FAILING.into()];
     let (code, out) = run.run_many(&files);
     assert_eq!(code, 101, "{out}");
-    let xml = std::fs::read_to_string(dir.join("j.xml")).unwrap();
-    let found = suites(&checked_junit(&xml));
-    assert_eq!(found.len(), 3, "{xml}");
+    let found = three_suites(&dir);
     assert_eq!(found[1].0, "Turning");
     assert!(found[1].1.starts_with("error PANIC"), "{found:?}");
     assert!(
@@ -315,9 +320,8 @@ fn a_set_no_file_has_is_refused_before_anything_runs() {
         out.stderr
     );
     assert!(!out.stdout.contains(" 1 of 3"), "nothing ran: {}", out.stdout);
-    let xml = std::fs::read_to_string(&junit).expect("CI reads this run's refusal");
-    let found = suites(&checked_junit(&xml));
-    assert_eq!(found.len(), 3, "{xml}");
+    // CI reads this run's refusal.
+    let found = three_suites(&dir);
     assert!(
         found.iter().all(|s| s.1.starts_with("error error: --set spedd")),
         "{found:?}"

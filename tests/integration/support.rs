@@ -508,6 +508,21 @@ impl<'a> InProcessRun<'a> {
         (result, output)
     }
 
+    /// [`run_expecting`](Self::run_expecting) with a trace written to `trace`: the result,
+    /// the console output and the trace's text.
+    #[track_caller]
+    pub fn run_traced(
+        &mut self,
+        trace: &Path,
+        code: i32,
+        parts: &[&str],
+    ) -> (drivescript::run::RunResult, String, String) {
+        self.outputs.trace = Some(trace.to_path_buf());
+        let (result, output) = self.run_expecting(code, parts);
+        let text = std::fs::read_to_string(trace).unwrap_or_else(|e| panic!("{}: {e}", trace.display()));
+        (result, output, text)
+    }
+
     /// Runs `files` as one command of several, with this run's settings; the exit code and
     /// the console output.
     pub fn run_many(&self, files: &[PathBuf]) -> (i32, String) {

@@ -93,8 +93,8 @@ fn a_test_family_plugs_in_through_the_registry_and_runs_a_recipe() {
     let mut run = InProcessRun::new(recipe);
     run.registry = registry;
     run.dictionary.name = "text".into();
-    run.outputs.trace = Some(trace.clone());
-    let (result, _) = run.run_expecting(
+    let (result, _, trace_text) = run.run_traced(
+        &trace,
         0,
         &[
             "using the built-in simulated TEXT drive (node 1",
@@ -105,7 +105,6 @@ fn a_test_family_plugs_in_through_the_registry_and_runs_a_recipe() {
     );
     assert_eq!(control_words(&result), vec![6, 7, 15, 7, 6]);
     // The trace reads the family's telegrams with the family's own explainer.
-    let trace_text = std::fs::read_to_string(&trace).expect("trace");
     assert_has(&trace_text, &["TX 57 20 33 20 33 30 30 30 0d  # W 3 3000"]);
     let _ = std::fs::remove_file(&trace);
 }
