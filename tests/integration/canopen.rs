@@ -19,9 +19,7 @@ use std::time::Duration;
 fn canopen() -> DictionaryArgs {
     DictionaryArgs {
         name: "canopen".into(),
-        extra: Vec::new(),
-        limits: None,
-        pole_pairs: None,
+        ..DictionaryArgs::builtin_default()
     }
 }
 

@@ -398,12 +398,10 @@ fn the_commissioning_recipe_runs_through_a_pseudo_terminal() {
 
 #[test]
 fn ctrl_c_during_a_run_on_the_simulated_ct_drive_stops_it() {
-    let sim = crate::support::Simulator::start(&["--drive", "ct-unidrive-sp", "--pty"]);
-    ctrl_c_during_a_dwell(
+    let sim = ctrl_c_during_a_dwell(
         ("ct-unidrive-sp", "300 rpm"),
-        &sim.endpoint,
         Duration::from_millis(200),
-        &format!("drive 1.1 on {} at 9600 7O1", sim.endpoint),
+        ("drive 1.1", "7O1"),
         &[
             "disable_operation (default finally)  control word 129",
             "shutdown (default finally)  control word 128",

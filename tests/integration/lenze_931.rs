@@ -6,8 +6,8 @@
 //! a drive that ignores commands; and a real pseudo-terminal with `simulate --pty`.
 
 use crate::support::{
-    assert_exit, assert_has, assert_lacks, cli, control_words, drivescript, repo_root, scratch, scratch_file,
-    stderr, stdout, write_file, InProcessRun,
+    assert_exit, assert_has, assert_lacks, cli, control_words, drivescript, faults_before_the_run, repo_root,
+    scratch, scratch_file, stderr, stdout, write_file, InProcessRun,
 };
 use drivescript::clock::SharedClock;
 use drivescript::drive::{DeviceCommand, DeviceState};
@@ -82,8 +82,7 @@ pub(crate) fn dictionary_args(extra: Option<PathBuf>) -> DictionaryArgs {
     DictionaryArgs {
         name: "lenze-931".into(),
         extra: extra.into_iter().collect(),
-        limits: None,
-        pole_pairs: None,
+        ..DictionaryArgs::builtin_default()
     }
 }
 
@@ -364,17 +363,14 @@ fn sigint_during_a_run_stops_the_simulated_931_and_verifies_it() {
 #[test]
 fn a_931_that_ignores_the_stop_commands_is_escalated_and_reported() {
     let dir = scratch("disobeys");
-    let prepare = |sim: &Arc<Mutex<dyn SimulatedDrive>>, _: &SharedClock| {
-        sim.lock()
-            .unwrap_or_else(PoisonError::into_inner)
-            .faults()
-            .ignore_commands(&[
-                DeviceCommand::DisableOperation,
-                DeviceCommand::Shutdown,
-                DeviceCommand::QuickStop,
-                DeviceCommand::DisableVoltage,
-            ]);
-    };
+    let prepare = faults_before_the_run(|f| {
+        f.ignore_commands(&[
+            DeviceCommand::DisableOperation,
+            DeviceCommand::Shutdown,
+            DeviceCommand::QuickStop,
+            DeviceCommand::DisableVoltage,
+        ])
+    });
     let (code, output, _) = run_with(&dir, &prepare, Arc::new(StopRequests::new()));
     assert_eq!(code, 3, "{output}");
     assert_has(
@@ -390,12 +386,7 @@ fn a_931_that_ignores_the_stop_commands_is_escalated_and_reported() {
 fn a_lost_line_to_the_931_ends_in_the_truth() {
     let dir = scratch("line-lost");
     let recipe = commissioning_for_931(&dir);
-    let prepare = |sim: &Arc<Mutex<dyn SimulatedDrive>>, _: &SharedClock| {
-        sim.lock()
-            .unwrap_or_else(PoisonError::into_inner)
-            .faults()
-            .line_down(Duration::from_secs(4), Duration::from_secs(36_000));
-    };
+    let prepare = faults_before_the_run(|f| f.line_down(Duration::from_secs(4), Duration::from_secs(36_000)));
     let mut run = on_931(&recipe, &dir);
     run.prepare = Some(&prepare);
     run.safe_stop.reconnect_timeout = Some(Duration::from_secs(2));
@@ -639,11 +630,7 @@ fn ctrl_c_while_the_drives_limits_are_read_ends_with_130_and_nothing_moved() {
         "silent.yaml",
         "name: Silent\ndrive: lenze-931\nsteps:\n  - set: { speed_setpoint: 100 rpm }\n",
     );
-    let prepare = |sim: &Arc<Mutex<dyn SimulatedDrive>>, _: &SharedClock| {
-        with_lenze(sim, |lenze| {
-            lenze.faults().drop_replies(100);
-        });
-    };
+    let prepare = faults_before_the_run(|f| f.drop_replies(100));
     let mut run = on_931(recipe, &dir);
     run.prepare = Some(&prepare);
     run.stop.schedule(

@@ -4,8 +4,8 @@
 //! that comes back, one that does not, and one lost in the middle of a segmented transfer.
 
 use crate::support::{
-    assert_exit, assert_has, assert_lacks, cli, cli_with_dictionary, load_frame_vectors, repo_root, words,
-    InProcessRun, Simulator,
+    assert_exit, assert_has, assert_lacks, cli, cli_with_dictionary, faults_before_the_run,
+    load_frame_vectors, repo_root, words, InProcessRun, Simulator,
 };
 use drivescript::bus::CanFrame;
 use drivescript::clock::SharedClock;
@@ -21,9 +21,7 @@ use std::time::Duration;
 fn lenze() -> DictionaryArgs {
     DictionaryArgs {
         name: "lenze-9400".into(),
-        extra: Vec::new(),
-        limits: None,
-        pole_pairs: None,
+        ..DictionaryArgs::builtin_default()
     }
 }
 
@@ -133,11 +131,8 @@ fn a_stop_signal_ends_the_run_with_the_truth_about_device_control() {
 
 #[test]
 fn an_adapter_that_comes_back_is_reopened_and_the_node_checked_by_its_identity() {
-    let down = |sim: &Arc<Mutex<dyn SimulatedDrive>>, _: &SharedClock| {
-        let mut sim = sim.lock().unwrap();
-        sim.faults()
-            .line_down(Duration::from_millis(5_500), Duration::from_millis(6_500));
-    };
+    let down =
+        faults_before_the_run(|f| f.line_down(Duration::from_millis(5_500), Duration::from_millis(6_500)));
     let output = assert_exit(
         with_faults(
             READ_FOR_A_MINUTE,

@@ -2,7 +2,7 @@
 //! tests that signal a run in the middle; and the Ctrl-C during a dwell that several
 //! families' tests share.
 
-use crate::support::{assert_has, repo_root, scratch_file};
+use crate::support::{assert_has, repo_root, scratch_file, Simulator};
 #[cfg(unix)]
 use crate::support::{command, send_signal};
 use std::path::Path;
@@ -172,18 +172,21 @@ impl Drop for LiveRun {
     }
 }
 
-/// A run that enables `drive`, sets `speed` (`300 rpm`) and dwells an hour, on `port` at
-/// 9600 baud with odd parity (not the family's default, so the run is seen to use them),
-/// interrupted by Ctrl-C `pause` after the setpoint was written. Fails unless it showed
-/// `connected` (the drive on its port and line settings) before the signal, then the safe
-/// stop's `stopped` lines, `INTERRUPTED` and the exit code 130.
+/// A run that enables `drive`, sets `speed` (`300 rpm`) and dwells an hour, on the pty of
+/// a `simulate --drive DRIVE --pty` at 9600 baud with odd parity (not the family's
+/// default, so the run is seen to use them), interrupted by Ctrl-C `pause` after the
+/// setpoint was written. Fails unless it showed the drive's `address` on the pty at 9600
+/// baud and the family's `framing` (`7O1`) before the signal, then the safe stop's
+/// `stopped` lines, `INTERRUPTED` and the exit code 130. The simulator, still serving, to
+/// read the drive back.
 pub fn ctrl_c_during_a_dwell(
     (drive, speed): (&str, &str),
-    port: &str,
     pause: std::time::Duration,
-    connected: &str,
+    (address, framing): (&str, &str),
     stopped: &[&str],
-) {
+) -> Simulator {
+    let sim = Simulator::pty(&["--drive", drive]);
+    let port = sim.endpoint.as_str();
     let (_, recipe) = scratch_file(
         &format!("ctrl-c-{drive}"),
         "run.yaml",
@@ -196,7 +199,8 @@ pub fn ctrl_c_during_a_dwell(
         "run", &recipe, "--port", port, "--baud", "9600", "--parity", "odd",
     ];
     let (seen, code, all) = LiveRun::start(args).interrupt_after("set speed_setpoint", pause);
-    assert_has(&seen, &[connected]);
+    assert_has(&seen, &[&format!("{address} on {port} at 9600 {framing}")]);
     assert_eq!(code, Some(130), "{all}");
     assert_has(&all, &[stopped, &["INTERRUPTED"]].concat());
+    sim
 }

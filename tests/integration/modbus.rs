@@ -160,12 +160,10 @@ steps:
 
 #[test]
 fn ctrl_c_through_a_pseudo_terminal_writes_the_stop_code_and_leaves_the_inverter_stopped() {
-    let sim = Simulator::pty(&["--drive", "sunfar-e500"]);
-    ctrl_c_during_a_dwell(
+    let sim = ctrl_c_during_a_dwell(
         ("sunfar-e500", "600 rpm"),
-        &sim.endpoint,
         Duration::from_millis(300),
-        &format!("slave 1 on {} at 9600 8O1", sim.endpoint),
+        ("slave 1", "8O1"),
         &[
             "set speed_setpoint = 0 rpm (default finally)",
             "disable_operation (default finally)  control word 3",

@@ -6,14 +6,12 @@
 use crate::live_run::LiveRun;
 use crate::safety::{received, written, CONTROL_WORD, SPEED_SETPOINT};
 use crate::support::{
-    assert_has, assert_lacks, cli, control_words, drivescript, repo_root, scratch, scratch_file, stderr,
-    stdout, wide_speed_and_current_rows, write_file, InProcessRun,
+    assert_has, assert_lacks, cli, control_words, drivescript, faults_before_the_run, repo_root, scratch,
+    scratch_file, stderr, stdout, wide_speed_and_current_rows, write_file, InProcessRun,
 };
-use drivescript::clock::SharedClock;
 use drivescript::run::RunResult;
-use drivescript::sim::SimulatedDrive;
 use drivescript::stop_request::{StopRequests, StopSignal};
-use std::sync::{Arc, Mutex};
+use std::sync::Arc;
 use std::time::Duration;
 
 /// Runs `text` as a script in-process (virtual time), with `prepare` for the simulator.
@@ -154,12 +152,7 @@ fn fail_ends_the_script_even_inside_try() {
 
 #[test]
 fn a_fault_caught_by_the_script_can_be_reset_and_the_start_retried() {
-    let prepare = |sim: &Arc<Mutex<dyn SimulatedDrive>>, _: &SharedClock| {
-        sim.lock()
-            .expect("simulator")
-            .faults()
-            .trip_at(Duration::from_millis(1), 4660);
-    };
+    let prepare = faults_before_the_run(|f| f.trip_at(Duration::from_millis(1), 4660));
     let text = std::fs::read_to_string(repo_root().join("recipes/fault-reset-start.rhai")).expect("example");
     let (result, output) = run_script("retry", &text, Some(&prepare), Arc::new(StopRequests::new()));
     assert_eq!(result.exit_code, 0, "{output}");

@@ -5,11 +5,10 @@
 
 use crate::live_run::LiveRun;
 use crate::reports::markup::{self, junit_xsd, select, text, xml_elements};
-use crate::support::{assert_has, assert_lacks, cli, scratch, scratch_file, words, InProcessRun};
-use drivescript::clock::SharedClock;
-use drivescript::sim::SimulatedDrive;
+use crate::support::{
+    assert_has, assert_lacks, cli, faults_before_the_run, scratch, scratch_file, words, InProcessRun,
+};
 use std::path::{Path, PathBuf};
-use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
 const PASSING: &str = "tests/cases/ok/identity/recipe.yaml";
@@ -210,12 +209,7 @@ fn a_panic_leaves_one_complete_junit_file_with_the_rest_not_run() {
         "turning.yaml",
         "name: Turning\nsteps:\n  - set: { speed_setpoint: 1000 rpm }\n  - go_to: operation_enabled\n  - dwell: 10 s\n",
     );
-    let panic_after_the_first = |sim: &Arc<Mutex<dyn SimulatedDrive>>, _: &SharedClock| {
-        sim.lock()
-            .expect("simulator")
-            .faults()
-            .panic_at(Duration::from_secs(2));
-    };
+    let panic_after_the_first = faults_before_the_run(|f| f.panic_at(Duration::from_secs(2)));
     let mut run = InProcessRun::new(PASSING);
     run.output_dir = dir.clone();
     run.outputs.junit = Some("j.xml".into());
@@ -238,30 +232,16 @@ fn a_panic_leaves_one_complete_junit_file_with_the_rest_not_run() {
 /// A run of a recipe and a script names each as what it is, and the summary counts files.
 #[test]
 fn a_recipe_and_a_script_are_each_named_as_what_they_are() {
-    let (dir, script) = scratch_file(
-        "recipe-and-script",
-        "state.rhai",
-        "let d = drive();\nd.go_to(\"switch_on_disabled\");\n",
-    );
-    let out = cli(
-        &[
-            "run",
-            "tests/cases/ok/identity/recipe.yaml",
-            script.to_str().unwrap(),
-            "--fast",
-        ],
-        0,
-    );
+    let out = cli(&["run", PASSING, "recipes/speed-sweep.rhai", "--fast"], 0);
     assert_has(
         &out.stdout,
         &[
             "== recipe 1 of 2: tests/cases/ok/identity/recipe.yaml",
-            &format!("== script 2 of 2: {}", script.display()),
+            "== script 2 of 2: recipes/speed-sweep.rhai",
             "== 2 files:",
         ],
     );
     assert_lacks(&out.stdout, &["recipe(s)"]);
-    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 /// `--set speed=…` that only the first recipe has: applied there, and the second runs

@@ -558,6 +558,23 @@ pub fn console(out: &[u8], err: &[u8]) -> String {
     format!("{}{}", String::from_utf8_lossy(out), String::from_utf8_lossy(err))
 }
 
+/// A `prepare` for an [`InProcessRun`] that sets faults on the run's simulated drive before
+/// it starts: `inject` is given the drive's fault injection (`|f| f.panic_at(…)`).
+pub fn faults_before_the_run(
+    inject: impl Fn(&mut drivescript::sim::FaultInjection) -> &mut drivescript::sim::FaultInjection,
+) -> impl Fn(
+    &std::sync::Arc<std::sync::Mutex<dyn drivescript::sim::SimulatedDrive>>,
+    &drivescript::clock::SharedClock,
+) {
+    move |sim, _| {
+        inject(
+            sim.lock()
+                .unwrap_or_else(std::sync::PoisonError::into_inner)
+                .faults(),
+        );
+    }
+}
+
 /// The control words the run's simulated drive received, in order; none when the run
 /// opened no simulated drive.
 pub fn control_words(result: &drivescript::run::RunResult) -> Vec<u16> {
