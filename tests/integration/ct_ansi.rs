@@ -359,7 +359,7 @@ fn the_commissioning_recipe_runs_behind_an_adapter_that_echoes() {
 fn the_commissioning_recipe_runs_through_a_pseudo_terminal() {
     let sim = crate::support::Simulator::start(&["--drive", "ct-unidrive-sp", "--pty"]);
     let recipe = ct_commissioning("pty");
-    let text = cli(&["run", recipe.to_str().unwrap(), "--port", &sim.endpoint], 0).stdout;
+    let text = sim.cli(&["run", recipe.to_str().unwrap()], 0).stdout;
     assert_has(
         &text,
         &[
@@ -368,32 +368,13 @@ fn the_commissioning_recipe_runs_through_a_pseudo_terminal() {
         ],
     );
     // The group address reaches the same drive, without a reply.
-    cli(
-        &[
-            "write",
-            "speed_setpoint",
-            "12.5",
-            "--address",
-            "1.0",
-            "--port",
-            &sim.endpoint,
-            "--drive",
-            "ct-unidrive-sp",
-        ],
+    let ct = ["--drive", "ct-unidrive-sp"];
+    sim.cli(
+        &[&["write", "speed_setpoint", "12.5", "--address", "1.0"][..], &ct].concat(),
         0,
     );
-    let out = drivescript(
-        &[
-            "read",
-            "speed_setpoint",
-            "--port",
-            &sim.endpoint,
-            "--drive",
-            "ct-unidrive-sp",
-        ],
-        "",
-    );
-    assert_has(&stdout(&out), &["12.5 rpm"]);
+    let out = sim.cli(&[&["read", "speed_setpoint"][..], &ct].concat(), 0);
+    assert_has(&out.stdout, &["12.5 rpm"]);
 }
 
 #[test]

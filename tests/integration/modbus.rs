@@ -5,9 +5,7 @@
 //! (lost line, disobedient drive, fault) are recipe cases under tests/cases/ (`modbus_*`).
 
 use crate::live_run::ctrl_c_during_a_dwell;
-use crate::support::{
-    assert_has, check_file, cli, drivescript, repo_root, scratch, stdout, write_file, Simulator,
-};
+use crate::support::{assert_has, check_file, cli, drivescript, repo_root, scratch, write_file, Simulator};
 use std::path::PathBuf;
 use std::time::Duration;
 
@@ -30,20 +28,19 @@ fn commissioning_on_a_pty(name: &str, sim_args: &[&str], speed: &str) -> (String
     let sim = Simulator::pty(&[&["--drive", "modbus-inverter"], sim_args].concat());
     let recipe = commissioning(&dir, "modbus-inverter");
     let trace = dir.join("run.trace");
-    let text = cli(
-        &[
-            "run",
-            recipe.to_str().unwrap(),
-            "--port",
-            &sim.endpoint,
-            "--set",
-            &format!("speed={speed}"),
-            "--trace",
-            trace.to_str().unwrap(),
-        ],
-        0,
-    )
-    .stdout;
+    let text = sim
+        .cli(
+            &[
+                "run",
+                recipe.to_str().unwrap(),
+                "--set",
+                &format!("speed={speed}"),
+                "--trace",
+                trace.to_str().unwrap(),
+            ],
+            0,
+        )
+        .stdout;
     (text, trace, sim.endpoint.clone())
 }
 
@@ -113,14 +110,12 @@ steps:
         ],
     );
     for address in ["1", "2"] {
-        let out = cli(
+        let out = sim.cli(
             &[
                 "read",
                 "run_command",
                 "--drive",
                 "modbus-inverter",
-                "--port",
-                &sim.endpoint,
                 "--address",
                 address,
             ],
@@ -171,20 +166,12 @@ fn ctrl_c_through_a_pseudo_terminal_writes_the_stop_code_and_leaves_the_inverter
             "drive left in switched on",
         ],
     );
-    let out = drivescript(
-        &[
-            "read",
-            "run_command",
-            "inverter_status",
-            "--port",
-            &sim.endpoint,
-            "--drive",
-            "sunfar-e500",
-        ],
-        "",
+    let out = sim.cli(
+        &["read", "run_command", "inverter_status", "--drive", "sunfar-e500"],
+        0,
     );
     assert_has(
-        &stdout(&out),
+        &out.stdout,
         &["run_command      0x0003", "inverter_status  0x0003"],
     );
 }

@@ -6,8 +6,8 @@
 
 use crate::live_run::LiveRun;
 use crate::support::{
-    assert_has, assert_lacks, cli, drivescript, scratch, scratch_file, stderr, stdout, words, write_file,
-    InProcessRun, Ran, Simulator,
+    assert_has, assert_lacks, cli, drivescript, scratch, scratch_file, stderr, words, write_file,
+    InProcessRun, Simulator,
 };
 use drivescript::clock::SharedClock;
 use drivescript::drive::device_control::DeviceState;
@@ -89,17 +89,6 @@ fn assert_never_interleaved(trace: &str) {
     );
 }
 
-/// `drivescript run RECIPE --port PTY MORE`, PTY the simulator's, which must exit with
-/// `code`.
-#[track_caller]
-fn run_on(sim: &Simulator, recipe: &Path, more: &[&str], code: i32) -> Ran {
-    let recipe = recipe.to_str().expect("utf-8 path");
-    cli(
-        &[&["run", recipe, "--port", &sim.endpoint][..], more].concat(),
-        code,
-    )
-}
-
 /// Runs `recipe_text` (two drives at DNC addresses 2 and 3) through a pty served by
 /// `simulate sim_args`, with a trace: both drives reach their own speeds and the requests
 /// never interleave. Returns the simulator (still serving), the recipe, the output and the
@@ -113,13 +102,17 @@ fn two_axes_on_a_pty(
     let dir = scratch(name);
     let recipe = write_file(&dir, "recipe.yaml", recipe_text);
     let trace = dir.join("run.trace");
-    let text = run_on(
-        &sim,
-        &recipe,
-        &["--trace", trace.to_str().expect("utf-8 path")],
-        0,
-    )
-    .stdout;
+    let text = sim
+        .cli(
+            &[
+                "run",
+                recipe.to_str().expect("utf-8 path"),
+                "--trace",
+                trace.to_str().expect("utf-8 path"),
+            ],
+            0,
+        )
+        .stdout;
     assert_has(
         &text,
         &[
@@ -165,10 +158,13 @@ fn the_issue_spelling_of_addresses_on_a_pty_served_with_dnc_address() {
         "{text}"
     );
     let (sim, recipe, _, _) = two_axes_on_a_pty(&["--dnc-address", "2,3"], "multi-pty-dnc-address", &text);
-    let state = cli(&["state", "--port", &sim.endpoint, "--dnc-address", "3"], 0);
+    let state = sim.cli(&["state", "--dnc-address", "3"], 0);
     assert_has(&state.stdout, &["ready to switch on"]);
     // With a recipe of several drives, one address on the command line is refused.
-    let out = run_on(&sim, &recipe, &["--dnc-address", "2"], 2);
+    let out = sim.cli(
+        &["run", recipe.to_str().expect("utf-8 path"), "--dnc-address", "2"],
+        2,
+    );
     assert_has(
         &out.stderr,
         &["--dnc-address 2 names one drive; with several drives each gives its own"],
@@ -218,13 +214,8 @@ fn ctrl_c_on_a_pty_stops_both_drives_each_verified() {
     assert!(right < left, "{seen}");
     assert_has(&seen, &["right: drive left in ready to switch on at 0 rpm\nleft: drive left in ready to switch on at 0 rpm\n"]);
     for address in ["dnc:2", "dnc:3"] {
-        let state = drivescript(&["state", "--port", &sim.endpoint, "--address", address], "");
-        let text = stdout(&state);
-        assert!(
-            text.contains("ready to switch on"),
-            "{address}: {text}{}",
-            stderr(&state)
-        );
+        let state = sim.cli(&["state", "--address", address], 0).stdout;
+        assert!(state.contains("ready to switch on"), "{address}: {state}");
     }
 }
 

@@ -274,7 +274,7 @@ fn a_capture_served_on_a_pty_and_tcp_answers_like_the_drive() {
     let (recipe, trace) = (recipe.to_str().unwrap(), trace.to_str().unwrap());
     let pty = crate::support::Simulator::pty(&["--replay", trace]);
     assert_has(
-        &cli(&["run", recipe, "--port", &pty.endpoint], 0).stdout,
+        &pty.cli(&["run", recipe], 0).stdout,
         &["ident = \"Test Motor\"", "PASSED"],
     );
     // What the capture never answered gets no reply.
@@ -283,17 +283,7 @@ fn a_capture_served_on_a_pty_and_tcp_answers_like_the_drive() {
         "other.yaml",
         "name: Other\ndrive: sd2\nsteps:\n  - read: [speed_setpoint]\n",
     );
-    let out = cli(
-        &[
-            "run",
-            other.to_str().unwrap(),
-            "--port",
-            &pty.endpoint,
-            "--timeout",
-            "200ms",
-        ],
-        3,
-    );
+    let out = pty.cli(&["run", other.to_str().unwrap(), "--timeout", "200ms"], 3);
     assert_has(&format!("{}{}", out.stdout, out.stderr), &["no reply"]);
     let tcp = crate::support::Simulator::start(&["--replay", trace, "--tcp", "127.0.0.1:0"]);
     assert_has(

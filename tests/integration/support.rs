@@ -661,6 +661,13 @@ impl Simulator {
     pub fn pty(args: &[&str]) -> Simulator {
         Simulator::start(&[&["--pty"], args].concat())
     }
+
+    /// `drivescript ARGS --port ENDPOINT`, a command on this simulator's line, which must
+    /// exit with `code` as [`cli`] checks.
+    #[track_caller]
+    pub fn cli(&self, args: &[&str], code: i32) -> Ran {
+        cli(&[args, &["--port", &self.endpoint]].concat(), code)
+    }
 }
 
 impl Drop for Simulator {
