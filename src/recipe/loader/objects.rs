@@ -3,7 +3,7 @@
 //! read values for the objects; that is `values`' job.
 
 use super::Loader;
-use crate::diag::{expected, Span, YamlNode, YamlValue};
+use crate::diag::{expected, Shape, Span, Spanned, YamlNode, YamlValue};
 use crate::dictionary::ObjectDef;
 use crate::session::ObjectRef;
 
@@ -35,6 +35,30 @@ impl Loader<'_, '_> {
             return Some((def, r));
         }
         self.lookup_object(name, span)
+    }
+
+    /// One value per entry of a mapping keyed by object (`set:`, `expect:`, a sample's
+    /// `step:`), made by `each` from the entry's object once it is found. Every entry is
+    /// read, so each of its mistakes is reported; `None` when any entry is refused.
+    pub(super) fn per_object<T>(
+        &mut self,
+        node: &YamlNode,
+        shape: &Shape,
+        mut each: impl FnMut(&mut Self, ObjectDef, ObjectRef, &Spanned<String>, &YamlNode) -> Option<T>,
+    ) -> Option<Vec<T>> {
+        let f = self.r.fields(node, shape)?;
+        let mut out = Vec::new();
+        let mut ok = true;
+        for (k, v) in f.entries() {
+            match self.object(&k.value, &k.span) {
+                Some((def, r)) => match each(self, def, r, k, v) {
+                    Some(t) => out.push(t),
+                    None => ok = false,
+                },
+                None => ok = false,
+            }
+        }
+        ok.then_some(out)
     }
 
     /// The object called `name` in the dictionary in use.
