@@ -33,6 +33,7 @@ use std::collections::{BTreeMap, HashMap};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::time::Duration;
+pub use steps::sample_label;
 pub(super) use steps::{COAST_DOWN_EVERY, COAST_DOWN_TIMEOUT, STEP_KEYS};
 
 /// Default `timeout` of `wait_until` and of each `go_to` transition.

@@ -23,7 +23,7 @@ pub use expansion::{MAX_EXPANDED_STEPS, MAX_INCLUDE_LOADS, MAX_RUN_TIME};
 pub use leftover_setpoint::{leftover_setpoints, LeftoverSetpoint};
 pub use loader::{
     declared_drives, declared_params, declared_pole_pairs, load_recipe, load_recipe_for, load_recipe_text,
-    DriveDictionaries, MAX_DURATION, MAX_SAMPLES,
+    sample_label, DriveDictionaries, MAX_DURATION, MAX_SAMPLES,
 };
 pub use planned_checks::{
     all_watches, last_pass_checks, operator_prompts, planned_checks, sampled_objects,

@@ -430,16 +430,7 @@ fn sample(
             crate::recipe::MAX_SAMPLES
         )));
     }
-    let label = format!(
-        "sample {} every {} for {}",
-        objects
-            .iter()
-            .map(|o| o.name.as_str())
-            .collect::<Vec<_>>()
-            .join(", "),
-        crate::session::show_duration(every),
-        crate::session::show_duration(time)
-    );
+    let label = crate::recipe::sample_label(&objects, every, time);
     let call = Call::Sample {
         objects,
         every,

@@ -146,6 +146,20 @@ impl Loader<'_, '_> {
         false
     }
 
+    /// Whether the object can be written; when not, says so ("cannot be `verb`").
+    pub(super) fn writable(&mut self, def: &ObjectDef, span: &Span, verb: &str) -> bool {
+        if def.writable() {
+            return true;
+        }
+        self.problem(
+            span,
+            format!("{} is read-only and cannot be {verb}", def.name),
+            "read-only",
+            None,
+        );
+        false
+    }
+
     /// One readable object's name or a list of them, given as the value of `what`.
     pub(super) fn object_list(&mut self, node: &YamlNode, what: &str) -> Option<Vec<ObjectRef>> {
         let items = match &node.value {

@@ -10,13 +10,8 @@ impl Loader<'_, '_> {
     pub(in crate::recipe::loader) fn set(&mut self, body: &YamlNode) -> Option<(StepKind, String)> {
         let shape = Shape::any_keys("`set`").example("set: { speed_setpoint: 6000 rpm }");
         let writes = self.per_object(body, &shape, |this, def, r, k, v| {
-            if !def.writable() {
-                return this.refuse(
-                    &k.span,
-                    format!("{} is read-only and cannot be set", def.name),
-                    "read-only",
-                    None,
-                );
+            if !this.writable(&def, &k.span, "set") {
+                return None;
             }
             let what = format!("`{}`", k.value);
             if !def.data_type.is_number() {
