@@ -134,30 +134,22 @@ impl Loader<'_, '_> {
 
     /// True when `def` can be read; otherwise says so at `span`.
     pub(super) fn readable(&mut self, def: &ObjectDef, span: &Span) -> bool {
-        if def.readable() {
-            return true;
-        }
-        self.problem(
-            span,
-            format!("{} is write-only and cannot be read", def.name),
-            "write-only",
-            None,
-        );
-        false
+        let problem = || format!("{} is write-only and cannot be read", def.name);
+        self.allowed(def.readable(), span, problem, "write-only")
     }
 
-    /// Whether the object can be written; when not, says so ("cannot be `verb`").
+    /// True when `def` can be written; otherwise says so at `span` ("cannot be `verb`").
     pub(super) fn writable(&mut self, def: &ObjectDef, span: &Span, verb: &str) -> bool {
-        if def.writable() {
-            return true;
+        let problem = || format!("{} is read-only and cannot be {verb}", def.name);
+        self.allowed(def.writable(), span, problem, "read-only")
+    }
+
+    /// `allowed`, said at `span` as `problem` when it is not.
+    fn allowed(&mut self, allowed: bool, span: &Span, problem: impl FnOnce() -> String, label: &str) -> bool {
+        if !allowed {
+            self.problem(span, problem(), label, None);
         }
-        self.problem(
-            span,
-            format!("{} is read-only and cannot be {verb}", def.name),
-            "read-only",
-            None,
-        );
-        false
+        allowed
     }
 
     /// One readable object's name or a list of them, given as the value of `what`.
