@@ -27,13 +27,13 @@ use crate::dictionary::Dictionary;
 use crate::drive::AddressKeyTable;
 use crate::session::{show_duration, StepOrigin};
 pub use drives::{declared_drives, declared_pole_pairs, DriveDictionaries};
+pub(super) use objects::names;
 pub use params::declared_params;
 use params::ParamValue;
 use std::collections::{BTreeMap, HashMap};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::time::Duration;
-pub use steps::sample_label;
 pub(super) use steps::{COAST_DOWN_EVERY, COAST_DOWN_TIMEOUT, STEP_KEYS};
 
 /// Default `timeout` of `wait_until` and of each `go_to` transition.

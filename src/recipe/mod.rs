@@ -11,6 +11,7 @@ mod prompt_schema;
 mod recipe;
 mod reference;
 mod runner;
+mod sampling;
 mod schema;
 mod schema_dynamics;
 mod schema_units;
@@ -23,7 +24,7 @@ pub use expansion::{MAX_EXPANDED_STEPS, MAX_INCLUDE_LOADS, MAX_RUN_TIME};
 pub use leftover_setpoint::{leftover_setpoints, LeftoverSetpoint};
 pub use loader::{
     declared_drives, declared_params, declared_pole_pairs, load_recipe, load_recipe_for, load_recipe_text,
-    sample_label, DriveDictionaries, MAX_DURATION, MAX_SAMPLES,
+    DriveDictionaries, MAX_DURATION, MAX_SAMPLES,
 };
 pub use planned_checks::{
     all_watches, last_pass_checks, operator_prompts, planned_checks, sampled_objects,
@@ -34,6 +35,7 @@ pub use recipe::{OnFailure, Param, Recipe, SafeStopChoice};
 pub type RecipeInvalid = crate::diag::FileInvalid;
 pub use reference::recipe_reference;
 pub use runner::Runner;
+pub use sampling::Sampling;
 pub use schema::recipe_schema;
 pub use step::{longest_time_of, Step, StepKind};
 pub use written_values::{written_values, WrittenValue};

@@ -370,14 +370,9 @@ impl Host<'_> {
                 s.dwell(d, number)?;
                 Ok(format!("{} dwelt", crate::session::show_duration(d)))
             }
-            Call::Sample {
-                objects,
-                every,
-                duration,
-                csv,
-            } => {
-                self.capture.borrow_mut().start(&objects);
-                let result = s.sample(&objects, every, duration, csv.as_ref(), &[], number);
+            Call::Sample(x) => {
+                self.capture.borrow_mut().start(&x.objects);
+                let result = s.sample(&x.objects, x.every, x.duration, x.csv.as_ref(), &[], number);
                 let windows = self.capture.borrow_mut().finish();
                 *answer = Answer::Sampled(windows);
                 result

@@ -29,7 +29,6 @@ use crate::session::StepOrigin;
 pub(in crate::recipe) use coast_down::{
     DEFAULT_EVERY as COAST_DOWN_EVERY, DEFAULT_TIMEOUT as COAST_DOWN_TIMEOUT,
 };
-pub use sample::sample_label;
 use std::time::Duration;
 
 /// Every step keyword, for the loader's suggestions and the JSON Schema's list alike.

@@ -4,12 +4,11 @@
 //! was sampled for `expect`. It must not sample.
 
 use crate::diag::{Shape, YamlNode};
-use crate::recipe::loader::objects::names;
 use crate::recipe::loader::{show_duration, Loader, MAX_SAMPLES};
 use crate::recipe::step::StepKind;
+use crate::recipe::Sampling;
 use crate::session::{ObjectRef, StepSpec, DEFAULT_BAND_PERCENT};
 use std::path::PathBuf;
-use std::time::Duration;
 
 impl Loader<'_, '_> {
     pub(in crate::recipe::loader) fn sample(&mut self, body: &YamlNode) -> Option<(StepKind, String)> {
@@ -67,29 +66,15 @@ impl Loader<'_, '_> {
             let stepped = steps.iter().any(|(name, _)| *name == o.name);
             self.sampled.insert(o.name.clone(), stepped);
         }
-        let label = sample_label(&objects, every, duration);
-        Some((
-            StepKind::Sample {
-                objects,
-                every,
-                duration,
-                csv,
-                steps,
-            },
-            label,
-        ))
+        let sampling = Sampling {
+            objects,
+            every,
+            duration,
+            csv,
+        };
+        let label = sampling.label();
+        Some((StepKind::Sample { sampling, steps }, label))
     }
-}
-
-/// `sample speed_actual every 100 ms for 2 s`: a sample step's label, a recipe's or a
-/// script's.
-pub fn sample_label(objects: &[ObjectRef], every: Duration, duration: Duration) -> String {
-    format!(
-        "sample {} every {} for {}",
-        names(objects),
-        show_duration(every),
-        show_duration(duration)
-    )
 }
 
 impl Loader<'_, '_> {
