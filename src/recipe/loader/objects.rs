@@ -61,6 +61,20 @@ impl Loader<'_, '_> {
         ok.then_some(out)
     }
 
+    /// `list`, or refused at `node` as `message` when it is empty.
+    pub(super) fn not_empty<T>(
+        &mut self,
+        list: Vec<T>,
+        node: &YamlNode,
+        message: &str,
+        help: Option<String>,
+    ) -> Option<Vec<T>> {
+        match list.is_empty() {
+            true => self.refuse(&node.span, message, "empty", help),
+            false => Some(list),
+        }
+    }
+
     /// The object called `name` in the dictionary in use.
     fn lookup_object(&mut self, name: &str, span: &Span) -> Option<(ObjectDef, ObjectRef)> {
         // Suggestions compare the name with every name of the dictionary: only for a

@@ -84,9 +84,7 @@ impl Loader<'_, '_> {
                 last_pass,
             })
         })?;
-        if checks.is_empty() {
-            return self.refuse(&body.span, "expect names no check", "empty", None);
-        }
+        let checks = self.not_empty(checks, body, "expect names no check", None)?;
         let label = format!(
             "expect {}",
             checks

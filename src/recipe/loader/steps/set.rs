@@ -24,14 +24,8 @@ impl Loader<'_, '_> {
             let n = this.quantity_for(&def, v, &what, true)?;
             Some((r, SetValue::Number(n)))
         })?;
-        if writes.is_empty() {
-            return self.refuse(
-                &body.span,
-                "set names no object",
-                "empty",
-                Some("e.g. `set: { speed_setpoint: 6000 rpm }`".into()),
-            );
-        }
+        let help = Some("e.g. `set: { speed_setpoint: 6000 rpm }`".into());
+        let writes = self.not_empty(writes, body, "set names no object", help)?;
         let label = format!(
             "set {}",
             writes
