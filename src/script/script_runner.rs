@@ -45,10 +45,6 @@ pub struct ScriptRunner<'a> {
 }
 
 impl<'a> ScriptRunner<'a> {
-    pub fn new(drive: &'a mut Drive, observer: &'a mut dyn RunObserver, stop: Arc<StopRequests>) -> Self {
-        Self::with_drives(vec![(String::new(), drive)], observer, stop)
-    }
-
     /// A runner for a script with `//! drives:`: each drive under its name (all on one
     /// clock); `drive("left")` in the script is that drive.
     pub fn with_drives(
