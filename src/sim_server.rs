@@ -178,15 +178,25 @@ mod tests {
         }
     }
 
+    type Serving = std::thread::JoinHandle<Result<ServeStats, TransportError>>;
+
+    /// A server thread with `peer` on a fresh pseudo-terminal: the path a client opens, the
+    /// server's stop flag and thread, and the terminal's far end (open until dropped).
+    fn served_on_a_pty(
+        peer: Arc<Mutex<dyn Peer>>,
+    ) -> (String, Arc<AtomicBool>, Serving, serialport::TTYPort) {
+        let pty = PtyEndpoint::open().unwrap();
+        let mut master = pty.master;
+        let server = SimServer::new(peer, RealClock::shared());
+        let stop = server.stop_flag();
+        let handle = std::thread::spawn(move || server.serve(&mut master));
+        (pty.path, stop, handle, pty._slave)
+    }
+
     #[cfg(unix)]
     #[test]
     fn a_pty_path_answers_like_a_port() {
-        let pty = PtyEndpoint::open().unwrap();
-        let path = pty.path.clone();
-        let mut master = pty.master;
-        let server = SimServer::new(Arc::new(Mutex::new(Echo)), RealClock::shared());
-        let stop = server.stop_flag();
-        let handle = std::thread::spawn(move || server.serve(&mut master));
+        let (path, stop, handle, slave) = served_on_a_pty(Arc::new(Mutex::new(Echo)));
         let mut port = crate::bus::SerialTransport::open(&path, Default::default()).unwrap();
         port.write_all(&[0x00, 0x0f]).unwrap();
         let mut got = Vec::new();
@@ -199,7 +209,7 @@ mod tests {
         stop.store(true, Ordering::SeqCst);
         let stats = handle.join().unwrap().unwrap();
         assert_eq!(stats.replies, 1);
-        drop(pty._slave);
+        drop(slave);
     }
 
     /// Sends `left` bytes of its own in chunks, as a CAN node sends its heartbeats.
@@ -226,15 +236,10 @@ mod tests {
     #[cfg(unix)]
     #[test]
     fn a_line_nobody_reads_does_not_end_the_server() {
-        let pty = PtyEndpoint::open().unwrap();
-        let path = pty.path.clone();
-        let mut master = pty.master;
         // Well beyond what a pseudo-terminal holds in raw mode (about 16 KiB on Linux).
         let left = Arc::new(std::sync::atomic::AtomicUsize::new(40 * 1024));
         let peer = Chatty { left: left.clone() };
-        let server = SimServer::new(Arc::new(Mutex::new(peer)), RealClock::shared());
-        let stop = server.stop_flag();
-        let handle = std::thread::spawn(move || server.serve(&mut master));
+        let (path, stop, handle, slave) = served_on_a_pty(Arc::new(Mutex::new(peer)));
         let started = std::time::Instant::now();
         while left.load(Ordering::SeqCst) > 0 && !handle.is_finished() {
             assert!(
@@ -256,6 +261,6 @@ mod tests {
         stop.store(true, Ordering::SeqCst);
         let stats = handle.join().unwrap().unwrap();
         assert!(stats.dropped_unread >= 1, "{stats:?}");
-        drop(pty._slave);
+        drop(slave);
     }
 }

@@ -162,6 +162,19 @@ impl miette::Diagnostic for Headline<'_> {
     }
 }
 
+/// Test support: three problems of `d.yaml` out of order, `third` (line 3) first, then
+/// `first` (line 1) and `second` (line 2).
+#[cfg(test)]
+pub(crate) fn three_out_of_order() -> Diagnostics {
+    use crate::diag::{Source, Span};
+    let file = Source::new("d.yaml", "a: 1\nb: 2\nc: 3\n");
+    let at =
+        |offset, line, message: &str| Diagnostic::at(&Span::new(&file, offset, 1, line, 1), message, "here");
+    [at(10, 3, "third"), at(0, 1, "first"), at(5, 2, "second")]
+        .into_iter()
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -169,13 +182,7 @@ mod tests {
 
     #[test]
     fn sorted_by_place_and_rendered_each_on_its_own() {
-        let file = Source::new("d.yaml", "a: 1\nb: 2\nc: 3\n");
-        let at = |offset, line, message: &str| {
-            Diagnostic::at(&Span::new(&file, offset, 1, line, 1), message, "here")
-        };
-        let all: Diagnostics = [at(10, 3, "third"), at(0, 1, "first"), at(5, 2, "second")]
-            .into_iter()
-            .collect();
+        let all = three_out_of_order();
         let lines: Vec<usize> = all.clone().sorted().iter().map(Diagnostic::line).collect();
         assert_eq!(lines, [1, 2, 3]);
         let out = all.render(false);

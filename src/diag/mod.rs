@@ -21,6 +21,8 @@ mod yaml_node;
 mod yaml_parse;
 
 pub use diagnostic::Diagnostic;
+#[cfg(test)]
+pub(crate) use diagnostics::three_out_of_order;
 pub use diagnostics::{render_diagnostic, report_handler, Diagnostics, MAX_SHOWN};
 pub use did_you_mean::{did_you_mean, suggestion_text};
 pub use fields::Fields;

@@ -230,6 +230,11 @@ mod tests {
         YamlNode::parse(&Source::new("t.yaml", text)).expect("YAML")
     }
 
+    /// The help of the first problem.
+    fn first_help(out: &Diagnostics) -> Option<&str> {
+        out.iter().next().and_then(Diagnostic::help)
+    }
+
     fn messages(out: &Diagnostics) -> Vec<String> {
         out.iter().map(Diagnostic::located).collect()
     }
@@ -249,10 +254,7 @@ mod tests {
                 "t.yaml:1:1: this sample has no `for`",
             ]
         );
-        assert_eq!(
-            out.iter().next().and_then(Diagnostic::help),
-            Some("did you mean `objects`?")
-        );
+        assert_eq!(first_help(&out), Some("did you mean `objects`?"));
     }
 
     #[test]
@@ -265,10 +267,7 @@ mod tests {
             .unwrap();
         assert!(f.get("name").is_none());
         assert_eq!(messages(&out), ["t.yaml:1:1: an object has no `name`"]);
-        assert_eq!(
-            out.iter().next().and_then(Diagnostic::help),
-            Some("add `name:` with its name")
-        );
+        assert_eq!(first_help(&out), Some("add `name:` with its name"));
         let mut out = Diagnostics::new();
         let f = Reader::new(&mut out).fields(&node, &strict).unwrap();
         assert!(f.get("name").is_some_and(YamlNode::is_null) && out.is_empty());
@@ -289,7 +288,7 @@ mod tests {
         let unknown = Reader::new(&mut out).fields(&node, &Shape::new("the limits file", &["max_speed"]));
         assert!(unknown.is_some());
         assert_eq!(
-            out.iter().next().and_then(Diagnostic::help),
+            first_help(&out),
             Some("the keys of the limits file are: max_speed")
         );
     }

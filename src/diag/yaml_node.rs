@@ -94,4 +94,15 @@ impl YamlNode {
             .find(|(k, _)| k.value == key)
             .map(|(_, v)| v)
     }
+
+    /// A mapping with the entries of `key` left out; any other node as it is.
+    pub fn without(&self, key: &str) -> YamlNode {
+        match &self.value {
+            YamlValue::Map(entries) => YamlNode {
+                value: YamlValue::Map(entries.iter().filter(|(k, _)| k.value != key).cloned().collect()),
+                span: self.span.clone(),
+            },
+            _ => self.clone(),
+        }
+    }
 }

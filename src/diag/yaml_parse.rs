@@ -90,19 +90,14 @@ fn error_of(e: &serde_saphyr::Error, source: &Arc<Source>) -> YamlError {
         .location()
         .filter(|loc| loc.line() > 0)
         .map(|loc| span_of_location(&loc, source));
-    if let Some((message, help)) = limit_message(e) {
+    let known = limit_message(e)
+        .map(|said| (said, true))
+        .or_else(|| own_words(e).map(|said| (said, false)));
+    if let Some(((message, help), over_limit)) = known {
         return YamlError {
             message,
             span,
-            over_limit: true,
-            help: Some(help),
-        };
-    }
-    if let Some((message, help)) = own_words(e) {
-        return YamlError {
-            message,
-            span,
-            over_limit: false,
+            over_limit,
             help: Some(help),
         };
     }

@@ -87,20 +87,10 @@ impl miette::Diagnostic for DictionaryError {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::diag::{Source, Span};
 
     #[test]
     fn collect_orders_by_place_and_counts() {
-        let file = Source::new("d.yaml", "a: 1\nb: 2\nc: 3\n");
-        let at = |offset, line, message: &str| {
-            Diagnostic::at(&Span::new(&file, offset, 1, line, 1), message, "here")
-        };
-        let all = DictionaryError::collect(
-            [at(10, 3, "third"), at(0, 1, "first"), at(5, 2, "second")]
-                .into_iter()
-                .collect(),
-        )
-        .unwrap();
+        let all = DictionaryError::collect(crate::diag::three_out_of_order()).unwrap();
         assert_eq!(all.count(), 3);
         let lines: Vec<usize> = all.problems().map(Diagnostic::line).collect();
         assert_eq!(lines, [1, 2, 3]);

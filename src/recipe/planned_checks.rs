@@ -154,7 +154,10 @@ pub fn shortest_sample_interval(recipe: &Recipe) -> Option<std::time::Duration> 
     fn walk(steps: &[Step], out: &mut Option<std::time::Duration>) {
         for step in steps {
             match &step.kind {
-                StepKind::Sample { every, .. } => *out = Some(out.map_or(*every, |o| o.min(*every))),
+                StepKind::Sample { sampling, .. } => {
+                    let every = sampling.every;
+                    *out = Some(out.map_or(every, |o| o.min(every)));
+                }
                 StepKind::Repeat { steps, .. }
                 | StepKind::Include { steps, .. }
                 | StepKind::Attempts { steps, .. } => walk(steps, out),
@@ -192,8 +195,8 @@ pub fn sampled_objects(recipe: &Recipe) -> Vec<ObjectRef> {
     fn walk(steps: &[Step], out: &mut Vec<ObjectRef>) {
         for step in steps {
             match &step.kind {
-                StepKind::Sample { objects, .. } => {
-                    for o in objects {
+                StepKind::Sample { sampling, .. } => {
+                    for o in &sampling.objects {
                         if !out.iter().any(|seen| seen.name == o.name) {
                             out.push(o.clone());
                         }

@@ -19,17 +19,8 @@ pub struct Runner<'a> {
 }
 
 impl<'a> Runner<'a> {
-    pub fn new(
-        drive: &'a mut Drive,
-        observer: &'a mut dyn RunObserver,
-        stop: &'a StopRequests,
-        recipe: &Recipe,
-    ) -> Self {
-        Self::with_drives(vec![(String::new(), drive)], observer, stop, recipe)
-    }
-
     /// A runner for a recipe with `drives:`: each drive under the name the recipe gives it
-    /// (all on one clock). With one unnamed drive this is [`Runner::new`].
+    /// (all on one clock); a recipe without `drives:` has its one drive unnamed.
     pub fn with_drives(
         drives: Vec<(String, &'a mut Drive)>,
         observer: &'a mut dyn RunObserver,
@@ -244,13 +235,9 @@ fn exec(
             s.dwell(*d, number)?;
             Ok(format!("{} dwelt", show_duration(*d)))
         }
-        StepKind::Sample {
-            objects,
-            every,
-            duration,
-            csv,
-            steps,
-        } => s.sample(objects, *every, *duration, csv.as_ref(), steps, number),
+        StepKind::Sample { sampling: x, steps } => {
+            s.sample(&x.objects, x.every, x.duration, x.csv.as_ref(), steps, number)
+        }
         StepKind::Expect(checks) => s.expect(checks, &step.origin),
         StepKind::CoastDown(c) => s.coast_down(c, &step.origin, number),
         StepKind::ExpectParameters { file, parameters } => {

@@ -5,7 +5,6 @@
 use crate::drive::device_control::{DeviceCommand, DeviceState};
 use crate::session::{Check, Condition};
 use crate::session::{ObjectRef, Prompt, SetValue, StepOrigin};
-use std::path::PathBuf;
 use std::time::Duration;
 
 #[derive(Debug, Clone, PartialEq)]
@@ -55,10 +54,7 @@ pub enum StepKind {
     Dwell(Duration),
     /// Read objects every `every` for `duration`, keeping statistics; optionally to CSV.
     Sample {
-        objects: Vec<ObjectRef>,
-        every: Duration,
-        duration: Duration,
-        csv: Option<PathBuf>,
+        sampling: super::Sampling,
         /// The setpoint step an object's response is measured against.
         steps: Vec<(String, crate::session::StepSpec)>,
     },
@@ -125,7 +121,7 @@ impl Step {
             StepKind::WaitUntil { timeout, every, .. } => timeout.saturating_add(*every),
             StepKind::Dwell(d) => *d,
             StepKind::CoastDown(c) => c.timeout.saturating_add(c.every),
-            StepKind::Sample { every, duration, .. } => duration.saturating_add(*every),
+            StepKind::Sample { sampling, .. } => sampling.duration.saturating_add(sampling.every),
             StepKind::Ramp { points, every, .. } => {
                 every.saturating_mul(u32::try_from(points.len()).unwrap_or(u32::MAX))
             }

@@ -106,14 +106,20 @@ mod tests {
         options.open(path).unwrap()
     }
 
+    /// `report.html` holding "old" in a fresh folder `name`, and a reader holding it open.
+    fn old_report_held_open(name: &str) -> (PathBuf, PathBuf, std::fs::File) {
+        let dir = crate::scratch_dir::scratch_dir(name);
+        let path = dir.join("report.html");
+        write_atomically(&path, "old").unwrap();
+        let reader = held_open(&path);
+        (dir, path, reader)
+    }
+
     /// A reader that has the report open while it is replaced (as a test polling it, or a
     /// viewer, does) holds the run up for a moment at most, never fails it.
     #[test]
     fn a_report_held_open_by_a_reader_is_replaced_once_it_lets_go() {
-        let dir = std::env::temp_dir().join(format!("drivescript-held-{}", std::process::id()));
-        let path = dir.join("report.html");
-        write_atomically(&path, "old").unwrap();
-        let reader = held_open(&path);
+        let (dir, path, reader) = old_report_held_open("held");
         let held_for = std::time::Duration::from_millis(300);
         let let_go = std::thread::spawn(move || {
             std::thread::sleep(held_for);
@@ -136,10 +142,7 @@ mod tests {
     #[cfg(windows)]
     #[test]
     fn a_report_held_beyond_the_limit_is_an_error_and_the_old_one_stays() {
-        let dir = std::env::temp_dir().join(format!("drivescript-held-long-{}", std::process::id()));
-        let path = dir.join("report.html");
-        write_atomically(&path, "old").unwrap();
-        let reader = held_open(&path);
+        let (dir, path, reader) = old_report_held_open("held-long");
         let err = write_atomically(&path, "new").unwrap_err().to_string();
         drop(reader);
         assert!(err.contains("report.html"), "{err}");

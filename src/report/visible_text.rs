@@ -43,12 +43,16 @@ mod tests {
 
     #[test]
     fn control_characters_are_shown_as_escapes_and_plain_text_is_untouched() {
-        assert_eq!(visible("SP-104233 ✓"), "SP-104233 ✓");
-        assert_eq!(
-            visible("\u{1b}[2J\u{1b}]0;owned\u{7}x\u{9b}31m"),
-            "\\x1b[2J\\x1b]0;owned\\x07x\\x9b31m"
-        );
-        assert_eq!(visible("two\nlines\tand\r\0"), "two\nlines\tand\\r\\x00");
+        for (text, shown) in [
+            ("SP-104233 ✓", "SP-104233 ✓"),
+            (
+                "\u{1b}[2J\u{1b}]0;owned\u{7}x\u{9b}31m",
+                "\\x1b[2J\\x1b]0;owned\\x07x\\x9b31m",
+            ),
+            ("two\nlines\tand\r\0", "two\nlines\tand\\r\\x00"),
+        ] {
+            assert_eq!(visible(text), shown, "{text:?}");
+        }
         assert_eq!(visible_inline("two\nlines\tx"), "two\\nlines\\tx");
         assert!(matches!(visible("plain"), Cow::Borrowed(_)));
     }

@@ -430,23 +430,14 @@ fn sample(
             crate::recipe::MAX_SAMPLES
         )));
     }
-    let label = format!(
-        "sample {} every {} for {}",
-        objects
-            .iter()
-            .map(|o| o.name.as_str())
-            .collect::<Vec<_>>()
-            .join(", "),
-        crate::session::show_duration(every),
-        crate::session::show_duration(time)
-    );
-    let call = Call::Sample {
+    let sampling = crate::recipe::Sampling {
         objects,
         every,
         duration: time,
         csv,
     };
-    match b.call(ctx.call_position(), call, label)? {
+    let label = sampling.label();
+    match b.call(ctx.call_position(), Call::Sample(sampling), label)? {
         Answer::Sampled(windows) => Ok(SampleWindow {
             windows,
             dictionary: b.dictionary.clone(),

@@ -6,7 +6,6 @@
 use crate::diag::Diagnostic;
 use crate::drive::{DeviceCommand, DeviceState};
 use crate::session::{CheckResult, ObjectRef, SetValue, Stop};
-use std::path::PathBuf;
 use std::time::Duration;
 
 /// One drive operation, resolved and checked on the script side.
@@ -27,14 +26,7 @@ pub enum Call {
         every: Duration,
     },
     Dwell(Duration),
-    Sample {
-        objects: Vec<ObjectRef>,
-        every: Duration,
-        duration: Duration,
-        /// The sample's rows also go to this file (under `--output-dir`), as a recipe
-        /// sample step's `csv:`.
-        csv: Option<PathBuf>,
-    },
+    Sample(crate::recipe::Sampling),
     Expect(Box<CheckResult>),
     /// A check (by name, with its value) compared with the unit's last passed run.
     CompareLastPass(Box<(String, f64, crate::session::LastPass)>),

@@ -58,16 +58,19 @@ pub fn object(dict: &Dictionary, name: &str) -> Result<(ObjectDef, ObjectRef), R
     }
 }
 
+/// `allowed`, refused as `label` with `problem`'s message when it is not.
+fn allowed(allowed: bool, problem: impl FnOnce() -> String, label: &'static str) -> Result<(), Refusal> {
+    match allowed {
+        true => Ok(()),
+        false => Err(Refusal::new(problem(), label, None)),
+    }
+}
+
 /// The object called `name`, which must be readable.
 pub fn readable(dict: &Dictionary, name: &str) -> Result<ObjectRef, Refusal> {
     let (def, r) = object(dict, name)?;
-    if !def.readable() {
-        return Err(Refusal::new(
-            format!("{} is write-only and cannot be read", def.name),
-            "write-only",
-            None,
-        ));
-    }
+    let problem = || format!("{} is write-only and cannot be read", def.name);
+    allowed(def.readable(), problem, "write-only")?;
     // Every read a script makes (read, read_as, wait_until, sample) gives a number.
     if !def.data_type.is_number() {
         return Err(Refusal::new(
@@ -123,13 +126,8 @@ pub enum Written {
 /// unit and limits (the bench limits too).
 pub fn set_value(dict: &Dictionary, name: &str, value: &Written) -> Result<(ObjectRef, SetValue), Refusal> {
     let (def, r) = object(dict, name)?;
-    if !def.writable() {
-        return Err(Refusal::new(
-            format!("{} is read-only and cannot be written", def.name),
-            "read-only",
-            None,
-        ));
-    }
+    let problem = || format!("{} is read-only and cannot be written", def.name);
+    allowed(def.writable(), problem, "read-only")?;
     if !def.data_type.is_number() {
         return match value {
             Written::Text(t) => match def.text_to_raw(t) {

@@ -45,10 +45,6 @@ pub struct ScriptRunner<'a> {
 }
 
 impl<'a> ScriptRunner<'a> {
-    pub fn new(drive: &'a mut Drive, observer: &'a mut dyn RunObserver, stop: Arc<StopRequests>) -> Self {
-        Self::with_drives(vec![(String::new(), drive)], observer, stop)
-    }
-
     /// A runner for a script with `//! drives:`: each drive under its name (all on one
     /// clock); `drive("left")` in the script is that drive.
     pub fn with_drives(
@@ -370,14 +366,9 @@ impl Host<'_> {
                 s.dwell(d, number)?;
                 Ok(format!("{} dwelt", crate::session::show_duration(d)))
             }
-            Call::Sample {
-                objects,
-                every,
-                duration,
-                csv,
-            } => {
-                self.capture.borrow_mut().start(&objects);
-                let result = s.sample(&objects, every, duration, csv.as_ref(), &[], number);
+            Call::Sample(x) => {
+                self.capture.borrow_mut().start(&x.objects);
+                let result = s.sample(&x.objects, x.every, x.duration, x.csv.as_ref(), &[], number);
                 let windows = self.capture.borrow_mut().finish();
                 *answer = Answer::Sampled(windows);
                 result

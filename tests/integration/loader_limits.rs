@@ -328,9 +328,10 @@ proptest! {
     fn accepted_samples_stay_countable(every in duration_text(), length in duration_text()) {
         let steps = format!("  - sample: {{ objects: [speed_actual], every: {every}, for: {length} }}\n");
         if let Some(steps) = load(&steps) {
-            let StepKind::Sample { every, duration, .. } = &steps[0].kind else {
+            let StepKind::Sample { sampling, .. } = &steps[0].kind else {
                 panic!("a sample step")
             };
+            let (every, duration) = (&sampling.every, &sampling.duration);
             prop_assert!(*every <= MAX_DURATION && *duration <= MAX_DURATION);
             let samples = duration.as_nanos() / every.as_nanos() + 1;
             prop_assert!(samples <= u128::from(MAX_SAMPLES));

@@ -3,7 +3,7 @@
 //! read values for the objects; that is `values`' job.
 
 use super::Loader;
-use crate::diag::{expected, Span, YamlNode, YamlValue};
+use crate::diag::{expected, Shape, Span, Spanned, YamlNode, YamlValue};
 use crate::dictionary::ObjectDef;
 use crate::session::ObjectRef;
 
@@ -35,6 +35,44 @@ impl Loader<'_, '_> {
             return Some((def, r));
         }
         self.lookup_object(name, span)
+    }
+
+    /// One value per entry of a mapping keyed by object (`set:`, `expect:`, a sample's
+    /// `step:`), made by `each` from the entry's object once it is found. Every entry is
+    /// read, so each of its mistakes is reported; `None` when any entry is refused.
+    pub(super) fn per_object<T>(
+        &mut self,
+        node: &YamlNode,
+        shape: &Shape,
+        mut each: impl FnMut(&mut Self, ObjectDef, ObjectRef, &Spanned<String>, &YamlNode) -> Option<T>,
+    ) -> Option<Vec<T>> {
+        let f = self.r.fields(node, shape)?;
+        let mut out = Vec::new();
+        let mut ok = true;
+        for (k, v) in f.entries() {
+            match self.object(&k.value, &k.span) {
+                Some((def, r)) => match each(self, def, r, k, v) {
+                    Some(t) => out.push(t),
+                    None => ok = false,
+                },
+                None => ok = false,
+            }
+        }
+        ok.then_some(out)
+    }
+
+    /// `list`, or refused at `node` as `message` when it is empty.
+    pub(super) fn not_empty<T>(
+        &mut self,
+        list: Vec<T>,
+        node: &YamlNode,
+        message: &str,
+        help: Option<String>,
+    ) -> Option<Vec<T>> {
+        match list.is_empty() {
+            true => self.refuse(&node.span, message, "empty", help),
+            false => Some(list),
+        }
     }
 
     /// The object called `name` in the dictionary in use.
@@ -110,16 +148,22 @@ impl Loader<'_, '_> {
 
     /// True when `def` can be read; otherwise says so at `span`.
     pub(super) fn readable(&mut self, def: &ObjectDef, span: &Span) -> bool {
-        if def.readable() {
-            return true;
+        let problem = || format!("{} is write-only and cannot be read", def.name);
+        self.allowed(def.readable(), span, problem, "write-only")
+    }
+
+    /// True when `def` can be written; otherwise says so at `span` ("cannot be `verb`").
+    pub(super) fn writable(&mut self, def: &ObjectDef, span: &Span, verb: &str) -> bool {
+        let problem = || format!("{} is read-only and cannot be {verb}", def.name);
+        self.allowed(def.writable(), span, problem, "read-only")
+    }
+
+    /// `allowed`, said at `span` as `problem` when it is not.
+    fn allowed(&mut self, allowed: bool, span: &Span, problem: impl FnOnce() -> String, label: &str) -> bool {
+        if !allowed {
+            self.problem(span, problem(), label, None);
         }
-        self.problem(
-            span,
-            format!("{} is write-only and cannot be read", def.name),
-            "write-only",
-            None,
-        );
-        false
+        allowed
     }
 
     /// One readable object's name or a list of them, given as the value of `what`.
@@ -153,7 +197,7 @@ impl Loader<'_, '_> {
 }
 
 /// `speed_actual, current_actual`
-pub(super) fn names(objects: &[ObjectRef]) -> String {
+pub(in crate::recipe) fn names(objects: &[ObjectRef]) -> String {
     objects
         .iter()
         .map(|o| o.name.clone())

@@ -101,8 +101,12 @@ mod tests {
 
     #[test]
     fn links_are_percent_encoded_and_texts_escaped() {
-        assert_eq!(href_of("report-1-a b#?.html"), "report-1-a%20b%23%3F.html");
-        assert_eq!(href_of("ü.html"), "%C3%BC.html");
+        for (file, href) in [
+            ("report-1-a b#?.html", "report-1-a%20b%23%3F.html"),
+            ("ü.html", "%C3%BC.html"),
+        ] {
+            assert_eq!(href_of(file), href, "{file}");
+        }
         let page = html_index(
             &[IndexEntry {
                 file: "<a>.yaml".into(),

@@ -16,6 +16,51 @@ pub struct Area {
     pub bottom: f64,
 }
 
+impl Area {
+    /// The plot area of a `width` × `height` SVG within its margins.
+    pub fn inside((width, height): (f64, f64), (left, right, top, bottom): (f64, f64, f64, f64)) -> Area {
+        Area {
+            left,
+            right: width - right,
+            top,
+            bottom: height - bottom,
+        }
+    }
+}
+
+/// Where a plot draws: times `t0..t1` across its area, values `v0..v1` up it.
+#[derive(Debug, Clone, Copy)]
+pub struct Scale {
+    area: Area,
+    t0: f64,
+    v0: f64,
+    /// Units across per second, and up per unit of value.
+    pub sx: f64,
+    pub sy: f64,
+}
+
+impl Scale {
+    pub fn new(area: Area, (t0, t1): (f64, f64), (v0, v1): (f64, f64)) -> Scale {
+        Scale {
+            area,
+            t0,
+            v0,
+            sx: (area.right - area.left) / (t1 - t0),
+            sy: (area.bottom - area.top) / (v1 - v0),
+        }
+    }
+
+    /// Where time `t` is drawn across.
+    pub fn x(&self, t: f64) -> f64 {
+        self.area.left + (t - self.t0) * self.sx
+    }
+
+    /// Where value `v` is drawn up.
+    pub fn y(&self, v: f64) -> f64 {
+        self.area.bottom - (v - self.v0) * self.sy
+    }
+}
+
 /// The grid lines of `time`'s ticks and of round values across `area`, each labelled:
 /// times `gap` below the area, values left of it.
 pub fn grid(

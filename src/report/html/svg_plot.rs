@@ -3,7 +3,7 @@
 //! the page around it; the axes' ranges and ticks come from [`super::plot_axes`].
 
 use super::html_text::esc;
-use super::plot_axes::{axes, axis_title, grid, padded_range, Area};
+use super::plot_axes::{axes, axis_title, grid, padded_range, Area, Scale};
 use super::time_axis::TimeAxis;
 use crate::session::with_unit;
 use crate::session::{number, CheckResult, Series};
@@ -111,19 +111,14 @@ fn plot_svg_with_limits(series: &Series, limits: &[LimitLine], id: usize) -> Str
 
     let (t0, t1) = padded_range(points.iter().map(|p| p.0), 0.0);
     let (v0, v1) = value_range(points.iter().map(|p| p.1), limits);
-    let (x_left, x_right, y_top, y_bottom) = (LEFT, W - RIGHT, TOP, H - BOTTOM);
-    let sx = (x_right - x_left) / (t1 - t0);
-    let sy = (y_bottom - y_top) / (v1 - v0);
-    let x = |t: f64| x_left + (t - t0) * sx;
-    let y = |v: f64| y_bottom - (v - v0) * sy;
+    let area = Area::inside((W, H), (LEFT, RIGHT, TOP, BOTTOM));
+    let (x_left, x_right, y_top, y_bottom) = (area.left, area.right, area.top, area.bottom);
+    let scale = Scale::new(area, (t0, t1), (v0, v1));
+    let (sx, sy) = (scale.sx, scale.sy);
+    let x = |t: f64| scale.x(t);
+    let y = |v: f64| scale.y(v);
 
     // Grid and tick labels.
-    let area = Area {
-        left: x_left,
-        right: x_right,
-        top: y_top,
-        bottom: y_bottom,
-    };
     let time = TimeAxis::elapsed(t0, t1);
     grid(&mut s, area, (&x, &y), &time, (v0, v1), 16.0);
     axes(&mut s, area, &time.title, H - 12.0, &title);

@@ -6,7 +6,7 @@
 //! run, so a day draws as fast as a minute. Reads the run report; draws nothing else.
 
 use super::html_text::esc;
-use super::plot_axes::{axes, axis_title, grid, padded_range, Area};
+use super::plot_axes::{axes, axis_title, grid, padded_range, Area, Scale};
 use super::svg_plot::{downsample_to, finite, MAX_PLOT_POINTS};
 use super::time_axis::TimeAxis;
 use crate::session::{RunReport, Series};
@@ -104,11 +104,11 @@ fn timeline_svg(
     let values = lines.iter().flatten().chain(profile.iter()).map(|p| p.1);
     let (v0, v1) = padded_range(values, 0.05);
     let (t0, t1) = (0.0, span);
-    let (xl, xr, yt, yb) = (LEFT, W - RIGHT, TOP, H - BOTTOM);
-    let sx = (xr - xl) / (t1 - t0);
-    let sy = (yb - yt) / (v1 - v0);
-    let x = |t: f64| xl + (t - t0) * sx;
-    let y = |v: f64| yb - (v - v0) * sy;
+    let area = Area::inside((W, H), (LEFT, RIGHT, TOP, BOTTOM));
+    let (xl, xr, yt, yb) = (area.left, area.right, area.top, area.bottom);
+    let scale = Scale::new(area, (t0, t1), (v0, v1));
+    let x = |t: f64| scale.x(t);
+    let y = |v: f64| scale.y(v);
     let mut s = String::new();
     let _ = writeln!(
         s,
@@ -117,12 +117,6 @@ fn timeline_svg(
          role=\"img\" aria-label=\"{0}\"><title>{0}</title>",
         esc(&format!("{title} over the whole run"))
     );
-    let area = Area {
-        left: xl,
-        right: xr,
-        top: yt,
-        bottom: yb,
-    };
     let time = TimeAxis::elapsed(t0, t1);
     grid(&mut s, area, (&x, &y), &time, (v0, v1), 14.0);
     axes(&mut s, area, &time.title, H - 6.0, &title);

@@ -6,7 +6,7 @@
 //! Knows nothing of the store; the caller bounds the marks.
 
 use super::html_text::esc;
-use super::plot_axes::{axes, grid, Area};
+use super::plot_axes::{axes, grid, Area, Scale};
 use super::svg_plot::{spread_labels, step_line, value_range, LimitLine};
 use super::time_axis::TimeAxis;
 use super::timeline::{LEFT, RIGHT, W};
@@ -98,16 +98,10 @@ pub fn trend_svg(p: &TrendPlot) -> String {
     let time = TimeAxis::calendar(first.at, last.at);
     let (t0, t1) = time.range;
     let (v0, v1) = value_range(p.marks.iter().map(|m| m.value), p.limits);
-    let area = Area {
-        left: LEFT,
-        right: W - RIGHT,
-        top: TOP,
-        bottom: H - BOTTOM,
-    };
-    let sx = (area.right - area.left) / (t1 - t0);
-    let sy = (area.bottom - area.top) / (v1 - v0);
-    let x = |t: f64| area.left + (t - t0) * sx;
-    let y = |v: f64| area.bottom - (v - v0) * sy;
+    let area = Area::inside((W, H), (LEFT, RIGHT, TOP, BOTTOM));
+    let scale = Scale::new(area, (t0, t1), (v0, v1));
+    let x = |t: f64| scale.x(t);
+    let y = |v: f64| scale.y(v);
     grid(&mut s, area, (&x, &y), &time, (v0, v1), 16.0);
     axes(&mut s, area, &time.title, H - 8.0, p.value_title);
     let _ = writeln!(

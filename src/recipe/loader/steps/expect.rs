@@ -16,44 +16,25 @@ impl Loader<'_, '_> {
     ) -> Option<(StepKind, String)> {
         let shape =
             Shape::any_keys("`expect`").example("expect: { speed_actual: { near: 6000 rpm, within: 1 % } }");
-        let f = self.r.fields(body, &shape)?;
-        let mut checks = Vec::new();
-        let mut ok = true;
-        for (k, v) in f.entries() {
-            let Some((def, r)) = self.object(&k.value, &k.span) else {
-                ok = false;
-                continue;
-            };
-            if !self.readable(&def, &k.span) {
-                ok = false;
-                continue;
-            }
+        // A step's name names its one check, or leads the names of its several checks.
+        let single = body.entries().is_some_and(|e| e.len() == 1);
+        let checks = self.per_object(body, &shape, |this, def, r, _, v| {
             // `{ mean: { near: ... } }` checks a statistic; `{ near: ... }` the value now.
             let (stat, pred_node) = match v.entries() {
                 Some([(key, node)]) if Statistic::from_id(&key.value).is_some() => {
-                    let Some(found) = self.statistic_of(&r, key, node) else {
-                        ok = false;
-                        continue;
-                    };
+                    let found = this.statistic_of(&r, key, node)?;
                     (Some(found.0), found.1)
                 }
                 // `{ avg: { below: … } }`: a condition nested under a word that is no
                 // statistic is a statistic misspelt, not a condition with an unknown key.
                 Some([(key, node)]) if node.entries().is_some() && !Self::is_condition_key(&key.value) => {
-                    self.unknown_statistic(key);
-                    ok = false;
-                    continue;
+                    this.unknown_statistic(key);
+                    return None;
                 }
                 _ => (None, v.clone()),
             };
             let measured = match stat {
-                Some(s) => match self.measure_def(&def, s, &pred_node) {
-                    Some(d) => d,
-                    None => {
-                        ok = false;
-                        continue;
-                    }
-                },
+                Some(s) => this.measure_def(&def, s, &pred_node)?,
                 None => def.clone(),
             };
             let r = match stat {
@@ -65,67 +46,45 @@ impl Loader<'_, '_> {
             };
             let (pred_node, last_pass_node) = Self::split_last_pass(&pred_node);
             let (pred_node, warn_node) = Self::split_warn(&pred_node);
-            let predicate = self.predicate(&measured, &pred_node);
+            let predicate = this.predicate(&measured, &pred_node);
             let last_pass = match (&predicate, &last_pass_node) {
                 (Some(Predicate::EqualsText(_)), Some((key, _))) => {
-                    self.problem(
+                    return this.refuse(
                         &key.span,
                         format!("`{}` compares numbers; {} is text", last_pass::KEY, def.name),
                         "not a number",
                         None,
                     );
-                    ok = false;
-                    continue;
                 }
-                (Some(_), Some((key, node))) => match self.last_pass(&Measured::Object(&measured), key, node)
-                {
-                    Some(lp) => Some(lp),
-                    None => {
-                        ok = false;
-                        continue;
-                    }
-                },
+                (Some(_), Some((key, node))) => {
+                    Some(this.last_pass(&Measured::Object(&measured), key, node)?)
+                }
                 _ => None,
             };
             let warn = match (&predicate, &warn_node) {
-                (Some(p), Some(w)) => match self.warn_band(&measured, &pred_node, p, w) {
-                    Some(band) => Some(band),
-                    None => {
-                        ok = false;
-                        continue;
-                    }
-                },
+                (Some(p), Some(w)) => Some(this.warn_band(&measured, &pred_node, p, w)?),
                 _ => None,
             };
-            match predicate {
-                Some(p) => {
-                    let stat_text = stat.map(|s| format!("{} ", s.id())).unwrap_or_default();
-                    let default_name = format!("{} {stat_text}{}", r.name, p.describe(r.unit.as_deref()));
-                    let default_key = measured_key(&r.name, stat.map(Statistic::id), &p);
-                    let (check_name, key) = match name {
-                        Some(n) if f.entries().len() == 1 => (n.to_string(), n.to_string()),
-                        Some(n) => (format!("{n}: {default_name}"), format!("{n}: {default_key}")),
-                        None => (default_name, default_key),
-                    };
-                    checks.push(Check {
-                        name: check_name,
-                        key,
-                        object: r,
-                        statistic: stat,
-                        predicate: p,
-                        warn,
-                        last_pass,
-                    });
-                }
-                None => ok = false,
-            }
-        }
-        if !ok {
-            return None;
-        }
-        if checks.is_empty() {
-            return self.refuse(&body.span, "expect names no check", "empty", None);
-        }
+            let p = predicate?;
+            let stat_text = stat.map(|s| format!("{} ", s.id())).unwrap_or_default();
+            let default_name = format!("{} {stat_text}{}", r.name, p.describe(r.unit.as_deref()));
+            let default_key = measured_key(&r.name, stat.map(Statistic::id), &p);
+            let (check_name, key) = match name {
+                Some(n) if single => (n.to_string(), n.to_string()),
+                Some(n) => (format!("{n}: {default_name}"), format!("{n}: {default_key}")),
+                None => (default_name, default_key),
+            };
+            Some(Check {
+                name: check_name,
+                key,
+                object: r,
+                statistic: stat,
+                predicate: p,
+                warn,
+                last_pass,
+            })
+        })?;
+        let checks = self.not_empty(checks, body, "expect names no check", None)?;
         let label = format!(
             "expect {}",
             checks

@@ -30,11 +30,7 @@ impl Loader<'_, '_> {
             return (node.clone(), None);
         };
         let found = entries.iter().find(|(k, _)| k.value == KEY).cloned();
-        let rest = YamlNode {
-            value: YamlValue::Map(entries.iter().filter(|(k, _)| k.value != KEY).cloned().collect()),
-            span: node.span.clone(),
-        };
-        (rest, found)
+        (node.without(KEY), found)
     }
 
     /// The comparison written at `key: node` for a check on `measured`.

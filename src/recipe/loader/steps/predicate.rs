@@ -75,22 +75,9 @@ impl Loader<'_, '_> {
             "above" => Some(Predicate::Above(self.number_for(def, value, &what, false)?)),
             "below" => Some(Predicate::Below(self.number_for(def, value, &what, false)?)),
             "between" => {
-                let YamlValue::Seq(bounds) = &value.value else {
-                    return self.refuse(
-                        &value.span,
-                        "between takes two values: `between: [5900 rpm, 6100 rpm]`",
-                        "expected [low, high]",
-                        None,
-                    );
-                };
-                let [low, high] = bounds.as_slice() else {
-                    return self.refuse(
-                        &value.span,
-                        format!("between takes two values, this has {}", bounds.len()),
-                        "expected [low, high]",
-                        None,
-                    );
-                };
+                let (low, high) = self.between_ends(value, "[5900 rpm, 6100 rpm]", |n| {
+                    format!("between takes two values, this has {n}")
+                })?;
                 let lo = self.number_for(def, low, "the low end of `between`", false);
                 let hi = self.number_for(def, high, "the high end of `between`", false);
                 Some(Predicate::Between(lo?, hi?))
@@ -115,6 +102,33 @@ impl Loader<'_, '_> {
     }
 
     /// `within`: a percentage of the target or an amount in the object's unit.
+    /// The two ends of `between: [low, high]` (`example`: such a list); a list of another
+    /// length is refused with `wrong_length`'s message for its length.
+    pub(in crate::recipe::loader) fn between_ends<'n>(
+        &mut self,
+        node: &'n YamlNode,
+        example: &str,
+        wrong_length: impl FnOnce(usize) -> String,
+    ) -> Option<(&'n YamlNode, &'n YamlNode)> {
+        let YamlValue::Seq(bounds) = &node.value else {
+            return self.refuse(
+                &node.span,
+                format!("between takes two values: `between: {example}`"),
+                "expected [low, high]",
+                None,
+            );
+        };
+        let [low, high] = bounds.as_slice() else {
+            return self.refuse(
+                &node.span,
+                wrong_length(bounds.len()),
+                "expected [low, high]",
+                None,
+            );
+        };
+        Some((low, high))
+    }
+
     fn tolerance(&mut self, def: &ObjectDef, node: &YamlNode) -> Option<Tolerance> {
         if self.r.refuse_non_finite(node, "`within`", FINITE_HELP) {
             return None;

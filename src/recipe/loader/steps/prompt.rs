@@ -113,22 +113,10 @@ impl Loader<'_, '_> {
             None => None,
         };
         if let Some(n) = between {
-            let YamlValue::Seq(bounds) = &n.value else {
-                return self.refuse(
-                    &n.span,
-                    "between takes two values: `between: [1 mm/s, 2.8 mm/s]`",
-                    "expected [low, high]",
-                    None,
-                );
-            };
-            let [lo, hi] = bounds.as_slice() else {
-                return self.refuse(
-                    &n.span,
-                    "between takes two values: `between: [1 mm/s, 2.8 mm/s]`",
-                    "expected [low, high]",
-                    None,
-                );
-            };
+            const EXAMPLE: &str = "[1 mm/s, 2.8 mm/s]";
+            let (lo, hi) = self.between_ends(n, EXAMPLE, |_| {
+                format!("between takes two values: `between: {EXAMPLE}`")
+            })?;
             low = Some(self.limit_in(lo, unit, "between")?);
             high = Some(self.limit_in(hi, unit, "between")?);
         }

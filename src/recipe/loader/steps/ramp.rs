@@ -19,13 +19,8 @@ impl Loader<'_, '_> {
         let obj_node = f.get("object")?;
         let obj_name = self.r.scalar_text(obj_node, "`object`")?;
         let (def, r) = self.object(&obj_name, &obj_node.span)?;
-        if !def.writable() {
-            return self.refuse(
-                &obj_node.span,
-                format!("{} is read-only and cannot be ramped", def.name),
-                "read-only",
-                None,
-            );
+        if !self.writable(&def, &obj_node.span, "ramped") {
+            return None;
         }
         let from = f
             .get("from")

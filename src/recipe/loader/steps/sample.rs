@@ -4,9 +4,9 @@
 //! was sampled for `expect`. It must not sample.
 
 use crate::diag::{Shape, YamlNode};
-use crate::recipe::loader::objects::names;
 use crate::recipe::loader::{show_duration, Loader, MAX_SAMPLES};
 use crate::recipe::step::StepKind;
+use crate::recipe::Sampling;
 use crate::session::{ObjectRef, StepSpec, DEFAULT_BAND_PERCENT};
 use std::path::PathBuf;
 
@@ -66,22 +66,14 @@ impl Loader<'_, '_> {
             let stepped = steps.iter().any(|(name, _)| *name == o.name);
             self.sampled.insert(o.name.clone(), stepped);
         }
-        let label = format!(
-            "sample {} every {} for {}",
-            names(&objects),
-            show_duration(every),
-            show_duration(duration)
-        );
-        Some((
-            StepKind::Sample {
-                objects,
-                every,
-                duration,
-                csv,
-                steps,
-            },
-            label,
-        ))
+        let sampling = Sampling {
+            objects,
+            every,
+            duration,
+            csv,
+        };
+        let label = sampling.label();
+        Some((StepKind::Sample { sampling, steps }, label))
     }
 }
 
@@ -90,53 +82,37 @@ impl Loader<'_, '_> {
     /// the step its response is measured against.
     fn response_steps(&mut self, node: &YamlNode, objects: &[ObjectRef]) -> Option<Vec<(String, StepSpec)>> {
         let shape = Shape::any_keys("`step`").example("step: { speed_actual: { to: 6000 rpm, band: 2 % } }");
-        let f = self.r.fields(node, &shape)?;
-        let mut steps = Vec::new();
-        let mut ok = true;
-        for (k, v) in f.entries() {
-            let Some((def, r)) = self.object(&k.value, &k.span) else {
-                ok = false;
-                continue;
-            };
+        self.per_object(node, &shape, |this, def, r, k, v| {
             if !objects.iter().any(|o| o.name == r.name) {
-                self.problem(
+                return this.refuse(
                     &k.span,
                     format!("`step` names {}, which this sample does not read", r.name),
                     "not sampled here",
                     Some(format!("add {} to `objects`", r.name)),
                 );
-                ok = false;
-                continue;
             }
             let shape = Shape::new("this step", &["to", "from", "band"])
                 .require(&["to"])
                 .example("{ to: 6000 rpm, band: 2 % }");
-            let Some(g) = self.r.fields(v, &shape) else {
-                ok = false;
-                continue;
-            };
-            let to = g.get("to").and_then(|n| self.number_for(&def, n, "`to`", false));
+            let g = this.r.fields(v, &shape)?;
+            let to = g.get("to").and_then(|n| this.number_for(&def, n, "`to`", false));
             let from = match g.get("from") {
-                Some(n) => self.number_for(&def, n, "`from`", false).map(Some),
+                Some(n) => this.number_for(&def, n, "`from`", false).map(Some),
                 None => Some(None),
             };
             let band = match g.get("band") {
-                Some(n) => self.band_percent(n),
+                Some(n) => this.band_percent(n),
                 None => Some(DEFAULT_BAND_PERCENT),
             };
-            match (to, from, band) {
-                (Some(to), Some(from), Some(band_percent)) => steps.push((
-                    r.name.clone(),
-                    StepSpec {
-                        from,
-                        to,
-                        band_percent,
-                    },
-                )),
-                _ => ok = false,
-            }
-        }
-        ok.then_some(steps)
+            Some((
+                r.name.clone(),
+                StepSpec {
+                    from: from?,
+                    to: to?,
+                    band_percent: band?,
+                },
+            ))
+        })
     }
 
     /// A settling band in % of the step, above 0 and below 100.

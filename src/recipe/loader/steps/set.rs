@@ -9,51 +9,23 @@ use crate::session::{ObjectRef, SetValue};
 impl Loader<'_, '_> {
     pub(in crate::recipe::loader) fn set(&mut self, body: &YamlNode) -> Option<(StepKind, String)> {
         let shape = Shape::any_keys("`set`").example("set: { speed_setpoint: 6000 rpm }");
-        let f = self.r.fields(body, &shape)?;
-        let mut writes = Vec::new();
-        let mut ok = true;
-        for (k, v) in f.entries() {
-            let Some((def, r)) = self.object(&k.value, &k.span) else {
-                ok = false;
-                continue;
-            };
-            if !def.writable() {
-                self.problem(
-                    &k.span,
-                    format!("{} is read-only and cannot be set", def.name),
-                    "read-only",
-                    None,
-                );
-                ok = false;
-                continue;
+        let writes = self.per_object(body, &shape, |this, def, r, k, v| {
+            if !this.writable(&def, &k.span, "set") {
+                return None;
             }
             let what = format!("`{}`", k.value);
             if !def.data_type.is_number() {
-                match self.text(v, &what) {
-                    Some(t) => match def.text_to_raw(&t) {
-                        Ok(_) => writes.push((r, SetValue::Text(t))),
-                        Err(e) => {
-                            self.problem(&v.span, e.to_string(), "refused", None);
-                            ok = false;
-                        }
-                    },
-                    None => ok = false,
-                }
-                continue;
+                let t = this.text(v, &what)?;
+                return match def.text_to_raw(&t) {
+                    Ok(_) => Some((r, SetValue::Text(t))),
+                    Err(e) => this.refuse(&v.span, e.to_string(), "refused", None),
+                };
             }
-            match self.quantity_for(&def, v, &what, true) {
-                Some(n) => writes.push((r, SetValue::Number(n))),
-                None => ok = false,
-            }
-        }
-        if writes.is_empty() && ok {
-            return self.refuse(
-                &body.span,
-                "set names no object",
-                "empty",
-                Some("e.g. `set: { speed_setpoint: 6000 rpm }`".into()),
-            );
-        }
+            let n = this.quantity_for(&def, v, &what, true)?;
+            Some((r, SetValue::Number(n)))
+        })?;
+        let help = Some("e.g. `set: { speed_setpoint: 6000 rpm }`".into());
+        let writes = self.not_empty(writes, body, "set names no object", help)?;
         let label = format!(
             "set {}",
             writes
@@ -62,7 +34,7 @@ impl Loader<'_, '_> {
                 .collect::<Vec<_>>()
                 .join(", ")
         );
-        ok.then_some((StepKind::Set(writes), label))
+        Some((StepKind::Set(writes), label))
     }
 }
 

@@ -3,7 +3,7 @@
 //! measures of a step, that the sample step declared one; the unit its limits are written
 //! in (seconds, %, K for a difference of °C, K/min for a slope). It must not evaluate.
 
-use crate::diag::{Spanned, YamlNode, YamlValue};
+use crate::diag::{Spanned, YamlNode};
 use crate::dictionary::{ObjectDef, Unit};
 use crate::recipe::loader::values::in_unit;
 use crate::recipe::loader::Loader;
@@ -124,20 +124,7 @@ impl Loader<'_, '_> {
             );
         };
         let over = self.duration(over, "over")?;
-        let YamlValue::Map(entries) = &node.value else {
-            return None;
-        };
-        let condition = YamlNode {
-            value: YamlValue::Map(
-                entries
-                    .iter()
-                    .filter(|(k, _)| k.value != "over")
-                    .cloned()
-                    .collect(),
-            ),
-            span: node.span.clone(),
-        };
-        Some((over, condition))
+        Some((over, node.without("over")))
     }
 
     /// `def` as the statistic's limits read it: its own unit, its difference unit, seconds,

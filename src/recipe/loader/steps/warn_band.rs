@@ -18,17 +18,7 @@ impl Loader<'_, '_> {
             .iter()
             .find(|(k, _)| k.value == "warn")
             .map(|(_, v)| v.clone());
-        let rest = YamlNode {
-            value: YamlValue::Map(
-                entries
-                    .iter()
-                    .filter(|(k, _)| k.value != "warn")
-                    .cloned()
-                    .collect(),
-            ),
-            span: node.span.clone(),
-        };
-        (rest, warn)
+        (node.without("warn"), warn)
     }
 
     /// The warning band `warn` gives `pass` (parsed against `def`, the condition's own
