@@ -1,0 +1,69 @@
+//! Test support for runs recorded in a results store and compared with a unit's history:
+//! a scratch folder with its store, the reports a run writes, a stored check, a script for
+//! the simulated drive. It starts no server and no run of its own (see `support`).
+
+use crate::support::{assert_has, cli, scratch, sqlite_store, write_file};
+use drivescript::results::{CheckRow, Locator};
+use std::path::{Path, PathBuf};
+
+/// A fresh [`scratch`] folder `name` and the SQLite results store in it, as `--results`
+/// takes it.
+#[track_caller]
+pub fn scratch_store(name: &str) -> (PathBuf, String) {
+    let dir = scratch(name);
+    let store = sqlite_store(&dir);
+    (dir, store)
+}
+
+/// The JUnit and the HTML report of one run: `NAME.xml` and `NAME.html` in a folder.
+pub struct Reports {
+    junit: PathBuf,
+    html: PathBuf,
+}
+
+impl Reports {
+    /// The reports `name` in `dir` (not written yet).
+    pub fn in_folder(dir: &Path, name: &str) -> Reports {
+        Reports {
+            junit: dir.join(format!("{name}.xml")),
+            html: dir.join(format!("{name}.html")),
+        }
+    }
+
+    /// `--junit FILE --report FILE` for `run`.
+    pub fn args(&self) -> [&str; 4] {
+        let utf8 = "a UTF-8 path";
+        let (junit, html) = (self.junit.to_str().expect(utf8), self.html.to_str().expect(utf8));
+        ["--junit", junit, "--report", html]
+    }
+
+    /// Both reports, each of which must hold every one of `parts`.
+    #[track_caller]
+    pub fn assert_both_have(&self, parts: &[&str]) {
+        for report in [&self.junit, &self.html] {
+            let text = std::fs::read_to_string(report).expect("the report");
+            assert_has(&text, parts);
+        }
+    }
+}
+
+/// The check `name` of run `id` as `store` keeps it.
+#[track_caller]
+pub fn stored_check(store: &str, id: &str, name: &str) -> CheckRow {
+    let mut s = Locator::parse(store).open(false).expect("the store opens");
+    let stored = s.run(id).expect("the run");
+    let found = stored.checks.into_iter().find(|c| c.name == name);
+    found.unwrap_or_else(|| panic!("{name} is not stored in run {id}"))
+}
+
+/// What `results show ID` of `store` printed; it must succeed.
+#[track_caller]
+pub fn shown_run(store: &str, id: &str) -> String {
+    cli(&["results", "show", id, "--results", store], 0).stdout
+}
+
+/// A Rhai script `file` in `dir` for the simulated sd2 drive, named `name` in its header,
+/// `body` after the header; its path.
+pub fn sd2_script(dir: &Path, file: &str, name: &str, body: &str) -> PathBuf {
+    write_file(dir, file, &format!("//! drive: sd2\n//! name: {name}\n{body}"))
+}
