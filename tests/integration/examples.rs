@@ -21,7 +21,7 @@ fn recipe_folders() -> Vec<(std::path::PathBuf, String)> {
 }
 
 /// The `.yaml` recipes directly in `dir`, in name order.
-fn recipes_in(dir: &std::path::Path) -> Vec<std::path::PathBuf> {
+pub(crate) fn recipes_in(dir: &std::path::Path) -> Vec<std::path::PathBuf> {
     let mut paths: Vec<_> = std::fs::read_dir(dir)
         .expect("recipes/")
         .map(|e| e.expect("entry").path())
@@ -29,6 +29,13 @@ fn recipes_in(dir: &std::path::Path) -> Vec<std::path::PathBuf> {
         .collect();
     paths.sort();
     paths
+}
+
+/// The dictionary a recipe's `drive:` line names, if it has one.
+pub(crate) fn drive_named(text: &str) -> Option<&str> {
+    text.lines()
+        .find_map(|l| l.strip_prefix("drive:"))
+        .map(|d| d.split('#').next().unwrap_or("").trim())
 }
 
 #[test]
@@ -40,11 +47,7 @@ fn every_example_recipe_checks_and_passes_in_virtual_time() {
         // Each recipe runs with the built-in dictionary its `drive:` names, and with the
         // device's own EDS where one lies beside it (recipes/canopen/).
         let text = std::fs::read_to_string(&path).expect("recipe");
-        let drive = text
-            .lines()
-            .find_map(|l| l.strip_prefix("drive:"))
-            .map(|d| d.split('#').next().unwrap_or("").trim().to_string())
-            .expect("a `drive:` line");
+        let drive = drive_named(&text).expect("a `drive:` line").to_string();
         let mut extra: Vec<String> = vec!["--drive".into(), drive.clone()];
         let folder = path.parent().expect("a folder");
         for eds in std::fs::read_dir(folder)
@@ -142,11 +145,7 @@ fn every_shipped_recipe_points_at_the_schema_of_its_drive() {
     for (dir, up) in folders {
         for path in recipes_in(&dir) {
             let text = std::fs::read_to_string(&path).expect("recipe");
-            let drive = text
-                .lines()
-                .find_map(|l| l.strip_prefix("drive:"))
-                .map(|d| d.split('#').next().unwrap_or("").trim())
-                .unwrap_or(DEFAULT_DICTIONARY);
+            let drive = drive_named(&text).unwrap_or(DEFAULT_DICTIONARY);
             assert_eq!(
                 text.lines().next(),
                 Some(format!("# yaml-language-server: $schema={up}schemas/{drive}.schema.json").as_str()),

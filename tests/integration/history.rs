@@ -13,7 +13,7 @@ use crate::support::{
     silent_server, unit_certificate, with_postgres_store, with_sqlite_store, write_changed, write_file,
     InProcessRun, Simulator,
 };
-use crate::support_store::{scratch_store, sd2_script, shown_run, stored_check, Reports};
+use crate::support_store::{scratch_store, sd2_script, shown_run, FailedComparison, Reports};
 use drivescript::results::{Locator, RunFilter, StoreHistory};
 use std::path::Path;
 use std::process::Stdio;
@@ -78,14 +78,13 @@ fn history_in(dir: &Path, store: &str) {
     let second_id = run_id(&second);
     // Drifted by 5 K: fails, naming the reference in every report.
     let reports = Reports::in_folder(dir, "drift");
-    let (code, third) = fast(
-        "SP-1",
-        &[&["--sim", "ambient=30°C"][..], &reports.args()].concat(),
-    );
-    assert_eq!(code, 1, "{third}");
     let drift = format!("motor_temperature = 30 °C: +5 K against 25 °C in run {second_id}");
-    assert_has(
-        &third,
+    let third = assert_exit(
+        fast(
+            "SP-1",
+            &[&["--sim", "ambient=30°C"][..], &reports.args()].concat(),
+        ),
+        1,
         &[
             "PASS  motor_temperature below 90 °C: motor_temperature = 30 °C",
             &format!("FAIL  motor_temperature below 90 °C compared with last pass: {drift}"),
@@ -122,19 +121,17 @@ fn history_in(dir: &Path, store: &str) {
         &["FAIL  motor_temperature below 90 °C compared with last pass: no earlier passed run of SP-1 for this recipe: fails as `without_history: fail` says"],
     );
     // The store keeps the reference with the comparison.
-    let compared = stored_check(
+    FailedComparison {
+        reference_run: &second_id,
+        reference_value: 25.0,
+        change: 5.0,
+        unit: "K",
+        limits: (Some(-2.0), Some(2.0)),
+    }
+    .assert_kept(
         store,
         &third_id,
         "motor_temperature below 90 °C compared with last pass",
-    );
-    assert!(!compared.passed);
-    assert_eq!(compared.reference_run.as_deref(), Some(second_id.as_str()));
-    assert_eq!(compared.reference_value, Some(25.0));
-    assert_eq!(compared.measured, Some(5.0));
-    assert_eq!(compared.unit.as_deref(), Some("K"));
-    assert_eq!(
-        (compared.limits.low, compared.limits.high),
-        (Some(-2.0), Some(2.0))
     );
     assert_has(
         &shown_run(store, &third_id),
@@ -316,10 +313,9 @@ fn a_stop_signal_during_the_lookup_runs_the_safe_stop() {
 /// unknown before it), and the check after it compares.
 #[test]
 fn a_serial_typed_at_an_operator_step_is_looked_up_there() {
-    let dir = scratch("history-typed");
-    let store = dir.join("results.sqlite");
+    let (dir, store) = &scratch_store("history-typed");
     let recipe = write_file(
-        &dir,
+        dir,
         "scanned.yaml",
         "name: Scanned acceptance
 drive: sd2
@@ -332,18 +328,14 @@ steps:
 ",
     );
     // Answered beforehand, the serial is known at the start: looked up before step 1.
-    let (code, given) = run(
-        &recipe,
-        store.to_str().unwrap(),
-        &["--fast", "--answer", "serial=SP-77"],
-    );
+    let (code, given) = run(&recipe, store, &["--fast", "--answer", "serial=SP-77"]);
     assert_eq!(code, 1, "no history fails here:\n{given}");
     let said = given.find("history SP-77: no earlier passed run").expect("said");
     assert!(said < given.find("     1  ").expect("step 1"), "{given}");
     // One passed run of the unit (a failed one is no reference).
     {
         let recorder = drivescript::results::ResultsRecorder::start(
-            Locator::Sqlite(store.clone()),
+            Locator::Sqlite(store.into()),
             drivescript::results::RecorderSettings {
                 simulated: true,
                 quiet: true,
@@ -352,7 +344,7 @@ steps:
             Arc::new(Mutex::new(std::io::sink())),
         );
         let lenient = write_changed(
-            &dir,
+            dir,
             "lenient.yaml",
             &recipe,
             "without_history: fail",
@@ -361,11 +353,11 @@ steps:
         let mut run = InProcessRun::new(&lenient);
         run.operator.answer = vec![("serial".into(), "SP-77".into())];
         run.observers.push(Arc::new(Mutex::new(recorder)));
-        run.history = Some(Arc::new(StoreHistory::new(Locator::Sqlite(store.clone()), true)));
+        run.history = Some(Arc::new(StoreHistory::new(Locator::Sqlite(store.into()), true)));
         let (result, out) = run.run();
         assert_eq!(result.exit_code, 0, "{out}");
     }
-    let mut s = Locator::Sqlite(store.clone()).open(false).expect("opens");
+    let mut s = Locator::Sqlite(store.into()).open(false).expect("opens");
     let passed = s
         .list(&RunFilter {
             simulated: true,
@@ -381,7 +373,7 @@ steps:
     std::io::Write::write_all(&mut typing, b"SP-77\n").expect("typed");
     let mut run = InProcessRun::new(&recipe);
     run.input = Some(drivescript::run::TerminalInput::of(reader));
-    run.history = Some(Arc::new(StoreHistory::new(Locator::Sqlite(store.clone()), true)));
+    run.history = Some(Arc::new(StoreHistory::new(Locator::Sqlite(store.into()), true)));
     let (result, out) = run.run();
     drop(typing);
     assert_eq!(result.exit_code, 0, "{out}");
@@ -404,13 +396,12 @@ steps:
 /// warms more than 3 K above its last pass fails, though still within its limit.
 #[test]
 fn the_bearing_acceptance_example_compares_a_spindle_with_its_last_pass() {
-    let dir = scratch("history-example");
-    let store = dir.join("results.sqlite");
+    let (_, store) = &scratch_store("history-example");
     let recipe = crate::support::repo_root().join("recipes/operator/bearing-acceptance.yaml");
     let example = |heating: &str| {
         run(
             &recipe,
-            store.to_str().unwrap(),
+            store,
             &["--fast", "--answer", "serial=SP-104233", "--sim", heating],
         )
     };

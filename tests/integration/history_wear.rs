@@ -13,7 +13,7 @@ use crate::support::{
     assert_exit, assert_has, assert_lacks, command, line_with, run_recording as run, scratch, write_changed,
     write_file, InProcessRun,
 };
-use crate::support_store::{scratch_store, sd2_script, shown_run, stored_check, Reports};
+use crate::support_store::{scratch_store, sd2_script, shown_run, FailedComparison, Reports};
 use drivescript::results::{Locator, StoreHistory};
 use drivescript::stop_request::StopSignal;
 use std::path::Path;
@@ -145,11 +145,10 @@ fn a_coast_down_compares_its_time_with_the_units_last_pass() {
     // Bearing drag: the time shrinks by a fifth, still above its limit; the comparison
     // fails and names the run it compared with in every report.
     let reports = Reports::in_folder(dir, "drag");
-    let (code, third) = coast(&percent, "400rpm/s", &reports.args());
-    assert_eq!(code, 1, "{third}");
     let drag = format!("coast-down time = 14.5 s: -22.496 % against 18.708 s in run {second_id}");
-    assert_has(
-        &third,
+    let third = assert_exit(
+        coast(&percent, "400rpm/s", &reports.args()),
+        1,
         &[
             &format!("PASS  {COAST_CHECK}: coast-down took 14.5 s"),
             &format!("FAIL  {compared}: {drag}"),
@@ -162,15 +161,14 @@ fn a_coast_down_compares_its_time_with_the_units_last_pass() {
     let third_id = run_id(&third);
     reports.assert_both_have(&[&compared, &drag]);
     // The store keeps the change in % with the reference.
-    let c = stored_check(store, &third_id, &compared);
-    assert!(!c.passed);
-    assert_eq!(c.reference_run.as_deref(), Some(second_id.as_str()));
-    let reference = c.reference_value.expect("the reference value");
-    assert!((reference - 18.708).abs() < 0.001, "{reference}");
-    let change = c.measured.expect("the change");
-    assert!((change + 22.496).abs() < 0.001, "{change}");
-    assert_eq!(c.unit.as_deref(), Some("%"));
-    assert_eq!((c.limits.low, c.limits.high), (Some(-10.0), None));
+    FailedComparison {
+        reference_run: &second_id,
+        reference_value: 18.708,
+        change: -22.496,
+        unit: "%",
+        limits: (Some(-10.0), None),
+    }
+    .assert_kept(store, &third_id, &compared);
     assert_has(
         &shown_run(store, &third_id),
         &[&format!("reference: run {second_id} of 20")],
@@ -211,8 +209,7 @@ fn a_coast_down_compares_its_time_with_the_units_last_pass() {
         Some("Coast-down in seconds"),
         "{ at_least: -0.626 s, at_most: 2 s, without_history: pass }",
     );
-    let (code, out) = coast(&seconds, "300rpm/s", &[]);
-    assert_eq!(code, 0, "{out}");
+    assert_exit(coast(&seconds, "300rpm/s", &[]), 0, &[]);
     assert_exit(
         coast(&seconds, "310rpm/s", &[]),
         0,
@@ -283,11 +280,10 @@ fn a_typed_value_compares_with_the_units_last_pass() {
     );
     let second_id = run_id(&second);
     // Creeping up: still within its limit, but 0.4 mm/s more than last time.
-    let (code, third) = answered(&lenient, "1.8");
-    assert_eq!(code, 1, "{third}");
     let creep = format!("answer = 1.8 mm/s: +0.4 mm/s against 1.4 mm/s in run {second_id}");
-    assert_has(
-        &third,
+    let third = assert_exit(
+        answered(&lenient, "1.8"),
+        1,
         &[
             &format!("PASS  {question}: answered `1.8 mm/s`"),
             &format!("FAIL  {compared}: {creep}"),
@@ -296,12 +292,14 @@ fn a_typed_value_compares_with_the_units_last_pass() {
         ],
     );
     let third_id = run_id(&third);
-    let c = stored_check(store, &third_id, &compared);
-    assert!(!c.passed);
-    assert_eq!(c.reference_run.as_deref(), Some(second_id.as_str()));
-    assert_eq!(c.reference_value, Some(1.4));
-    assert!((c.measured.expect("the change") - 0.4).abs() < 1e-9);
-    assert_eq!(c.unit.as_deref(), Some("mm/s"));
+    FailedComparison {
+        reference_run: &second_id,
+        reference_value: 1.4,
+        change: 0.4,
+        unit: "mm/s",
+        limits: (None, Some(0.3)),
+    }
+    .assert_kept(store, &third_id, &compared);
 }
 
 /// A script's `d.coast_down` and `enter_value` take the same comparison as a map.

@@ -56,6 +56,35 @@ pub fn stored_check(store: &str, id: &str, name: &str) -> CheckRow {
     found.unwrap_or_else(|| panic!("{name} is not stored in run {id}"))
 }
 
+/// What a failed comparison with the unit's last pass keeps in the store.
+pub struct FailedComparison<'a> {
+    /// The id of the run compared with.
+    pub reference_run: &'a str,
+    /// The value in that run.
+    pub reference_value: f64,
+    /// The change against it, in `unit`.
+    pub change: f64,
+    pub unit: &'a str,
+    /// The limits of the change (low, high).
+    pub limits: (Option<f64>, Option<f64>),
+}
+
+impl FailedComparison<'_> {
+    /// The comparison `name` of run `id` in `store` is kept as failed, as this says (each
+    /// value to the 0.001 the console shows).
+    #[track_caller]
+    pub fn assert_kept(&self, store: &str, id: &str, name: &str) {
+        let c = stored_check(store, id, name);
+        let near = |got: Option<f64>, value: f64| got.is_some_and(|g| (g - value).abs() < 0.0005);
+        assert!(!c.passed, "{c:?}");
+        assert_eq!(c.reference_run.as_deref(), Some(self.reference_run), "{c:?}");
+        assert!(near(c.reference_value, self.reference_value), "{c:?}");
+        assert!(near(c.measured, self.change), "{c:?}");
+        assert_eq!(c.unit.as_deref(), Some(self.unit), "{c:?}");
+        assert_eq!((c.limits.low, c.limits.high), self.limits, "{c:?}");
+    }
+}
+
 /// What `results show ID` of `store` printed; it must succeed.
 #[track_caller]
 pub fn shown_run(store: &str, id: &str) -> String {
