@@ -366,14 +366,21 @@ fn a_scripts_coast_down_and_typed_value_compare_with_the_units_last_pass() {
     );
 }
 
-/// `recipe` run once through the command line for SP-000009 (with `args`), recorded as the
-/// passed run the next compares with; the store and that run's id.
-fn passed_once(dir: &Path, recipe: &Path, args: &[&str]) -> (std::path::PathBuf, String) {
+/// The recipe `written` makes in the scratch folder `name`, run once through the command
+/// line for SP-000009 (with `args`), recorded as the passed run the next compares with;
+/// the recipe, the store and that run's id.
+fn passed_once(
+    name: &str,
+    written: fn(&Path) -> std::path::PathBuf,
+    args: &[&str],
+) -> (std::path::PathBuf, std::path::PathBuf, String) {
+    let dir = scratch(name);
+    let recipe = written(&dir);
     let store = dir.join("results.sqlite");
     let all = [&["--fast", "--unit", "serial=SP-000009"][..], args].concat();
-    let (code, out) = run(recipe, store.to_str().unwrap(), &all);
+    let (code, out) = run(&recipe, store.to_str().unwrap(), &all);
     assert_eq!(code, 0, "{out}");
-    (store.clone(), run_id(&out))
+    (recipe, store, run_id(&out))
 }
 
 /// `recipe` in this process for SP-000009, reading `store`, with a Ctrl-C at `at` (virtual
@@ -428,9 +435,7 @@ fn assert_stopped_without_a_comparison(
 /// Ctrl-C while the spindle coasts: the safe stop at once (it still coasts by design).
 #[test]
 fn a_stop_during_a_compared_coast_down_runs_the_safe_stop_and_no_comparison() {
-    let dir = scratch("wear-coast-ctrl-c");
-    let file = coast_recipe(&dir);
-    let (store, reference) = passed_once(&dir, &file, &[]);
+    let (file, store, reference) = passed_once("wear-coast-ctrl-c", coast_recipe, &[]);
     let (result, out) = interrupted_at(&file, store, Duration::from_secs(10)).run();
     assert_stopped_without_a_comparison(
         &result,
@@ -455,11 +460,9 @@ fn a_stop_during_a_compared_coast_down_runs_the_safe_stop_and_no_comparison() {
 /// Ctrl-C while the operator is asked for the value: the safe stop at once, braked.
 #[test]
 fn a_stop_at_a_compared_value_question_runs_the_safe_stop_and_no_comparison() {
-    let dir = scratch("wear-value-ctrl-c");
-    let file = vibration_recipe(&dir);
-    let (store, reference) = passed_once(
-        &dir,
-        &file,
+    let (file, store, reference) = passed_once(
+        "wear-value-ctrl-c",
+        vibration_recipe,
         &["--answer", "serial=SP-000009", "--answer", "vibration=1.2"],
     );
     // The serial answered beforehand; the value typed by nobody.

@@ -8,7 +8,7 @@
 //! the samples CSV holds the curves the HTML report plots.
 
 use crate::support::{assert_has, assert_lacks, cli, command, scratch, write_file, PostgresServer, Ran};
-use crate::support_store::scratch_store;
+use crate::support_store::{run_recorded, scratch_store};
 use drivescript::results::{Locator, RunFilter, StoredRun};
 use std::path::{Path, PathBuf};
 
@@ -157,10 +157,7 @@ fn a_stale_spool_claim_is_taken_back_by_the_next_sync_in_sqlite() {
 /// Records a run of `TINY` in `store`, which makes the store.
 fn record_tiny_run(dir: &Path, store: &str) {
     let recipe = write_file(dir, "t.yaml", TINY);
-    cli(
-        &["run", recipe.to_str().unwrap(), "--fast", "--results", store],
-        0,
-    );
+    run_recorded(&recipe, store, &[], 0);
 }
 
 /// Puts the SQLite store `store` (its file and write-ahead log) aside with a directory in
@@ -228,18 +225,7 @@ fn a_queue_without_room_keeps_every_record_in_order_and_the_store_gets_the_whole
 fn the_sqlite_file_alone_holds_every_finished_run() {
     let (dir, s) = &scratch_store("checkpoint");
     let recipe = write_file(dir, "heavy.yaml", HEAVY);
-    cli(
-        &[
-            "run",
-            recipe.to_str().unwrap(),
-            "--fast",
-            "--results",
-            s,
-            "--unit",
-            "serial=KEPT-1",
-        ],
-        0,
-    );
+    run_recorded(&recipe, s, &["--unit", "serial=KEPT-1"], 0);
     let copy = dir.join("artifact");
     std::fs::create_dir_all(&copy).expect("dir");
     std::fs::copy(s, copy.join("results.sqlite")).expect("only the file copied");

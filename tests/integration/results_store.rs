@@ -10,7 +10,7 @@ use crate::support::{
     assert_has, assert_lacks, cli, command, console, run_recording, scratch, screenshot, silent_server,
     sqlite_store, unit_certificate, write_file, InProcessRun, PostgresServer, Ran, Simulator,
 };
-use crate::support_store::{scratch_store, shown_run};
+use crate::support_store::{run_recorded, scratch_store, shown_run};
 use drivescript::results::{Locator, RunFilter, StoredRun};
 use drivescript::session::{CheckResult, RunInfo, RunObserver, RunReport, StepRecord, UnitIdentity};
 use std::path::Path;
@@ -126,10 +126,7 @@ fn serial(s: &str) -> UnitIdentity {
 fn a_run_is_recorded_with_its_checks_steps_end_state_and_series() {
     let (dir, store) = &scratch_store("recorded");
     let recipe = write_file(dir, "short.yaml", SHORT);
-    let ran = cli(
-        &["run", recipe.to_str().unwrap(), "--fast", "--results", store],
-        0,
-    );
+    let ran = run_recorded(&recipe, store, &[], 0);
     assert_has(&ran.stderr, &["results: run ", " recorded in ", store]);
     let runs = all_runs(store);
     assert_eq!(runs.len(), 1);
@@ -189,18 +186,7 @@ fn a_run_is_recorded_with_its_checks_steps_end_state_and_series() {
         &[&format!("\"id\": \"{}\"", r.run.id), "\"verdict\": \"passed\""],
     );
     // --no-results records nothing.
-    cli(
-        &[
-            "run",
-            recipe.to_str().unwrap(),
-            "--fast",
-            "--results",
-            store,
-            "--set",
-            "speed=2000rpm",
-        ],
-        0,
-    );
+    run_recorded(&recipe, store, &["--set", "speed=2000rpm"], 0);
     cli(&["run", recipe.to_str().unwrap(), "--fast", "--no-results"], 0);
     assert_eq!(all_runs(store).len(), 2);
     // Filters, export and trend over the runs.
@@ -315,18 +301,10 @@ steps:
 ",
     );
     let store = &sqlite_store(&dir);
-    let run = cli(
-        &[
-            "run",
-            recipe.to_str().expect("utf-8"),
-            "--fast",
-            "--results",
-            store,
-            "--unit",
-            "serial=SP-104233",
-            "--answer",
-            "operator=J. Smith",
-        ],
+    let run = run_recorded(
+        &recipe,
+        store,
+        &["--unit", "serial=SP-104233", "--answer", "operator=J. Smith"],
         0,
     );
     assert_has(&run.stdout, &["MARGINAL"]);
@@ -423,21 +401,10 @@ fn a_locked_store_is_spooled_and_synced_with_nothing_lost() {
     let (dir, s) = &scratch_store("locked");
     let recipe = write_file(dir, "short.yaml", SHORT);
     // A first run makes the store; then another process holds it locked for the whole run.
-    cli(&["run", recipe.to_str().unwrap(), "--fast", "--results", s], 0);
+    run_recorded(&recipe, s, &[], 0);
     let lock = rusqlite::Connection::open(s).expect("open");
     lock.execute_batch("BEGIN EXCLUSIVE").expect("lock");
-    let ran = cli(
-        &[
-            "run",
-            recipe.to_str().unwrap(),
-            "--fast",
-            "--results",
-            s,
-            "--set",
-            "speed=2500rpm",
-        ],
-        0,
-    );
+    let ran = run_recorded(&recipe, s, &["--set", "speed=2500rpm"], 0);
     assert_has(&ran.stdout, &["PASSED"]);
     assert_has(
         &ran.stderr,
@@ -464,20 +431,9 @@ fn a_locked_store_is_spooled_and_synced_with_nothing_lost() {
     // Spooled again; this time the next run delivers it.
     let lock = rusqlite::Connection::open(s).expect("open");
     lock.execute_batch("BEGIN EXCLUSIVE").expect("lock");
-    cli(
-        &[
-            "run",
-            recipe.to_str().unwrap(),
-            "--fast",
-            "--results",
-            s,
-            "--set",
-            "speed=2600rpm",
-        ],
-        0,
-    );
+    run_recorded(&recipe, s, &["--set", "speed=2600rpm"], 0);
     drop(lock);
-    let next = cli(&["run", recipe.to_str().unwrap(), "--fast", "--results", s], 0);
+    let next = run_recorded(&recipe, s, &[], 0);
     assert_has(&next.stderr, &["delivered 1 spooled run(s)"]);
     let runs = all_runs(s);
     assert_eq!(runs.len(), 4);
@@ -589,16 +545,7 @@ fn a_foreign_or_damaged_file_is_refused_clearly() {
     );
     // A run with such a store still runs and keeps its record in the spool.
     let recipe = write_file(&dir, "tiny.yaml", TINY);
-    let ran = cli(
-        &[
-            "run",
-            recipe.to_str().unwrap(),
-            "--fast",
-            "--results",
-            other.to_str().unwrap(),
-        ],
-        0,
-    );
+    let ran = run_recorded(&recipe, other.to_str().unwrap(), &[], 0);
     assert_has(
         &ran.stderr,
         &["is not a drivescript results store", "other.sqlite.spool"],

@@ -2,7 +2,7 @@
 //! a scratch folder with its store, the reports a run writes, a stored check, a script for
 //! the simulated drive. It starts no server and no run of its own (see `support`).
 
-use crate::support::{assert_has, cli, scratch, sqlite_store, write_file};
+use crate::support::{assert_has, cli, scratch, sqlite_store, write_file, Ran};
 use drivescript::results::{CheckRow, Locator};
 use std::path::{Path, PathBuf};
 
@@ -54,6 +54,17 @@ pub fn stored_check(store: &str, id: &str, name: &str) -> CheckRow {
     let stored = s.run(id).expect("the run");
     let found = stored.checks.into_iter().find(|c| c.name == name);
     found.unwrap_or_else(|| panic!("{name} is not stored in run {id}"))
+}
+
+/// `drivescript run RECIPE --fast --results STORE MORE`, which must exit with `code`: what
+/// it wrote, standard output and errors apart (`support::run_recording` gives them as one).
+#[track_caller]
+pub fn run_recorded(recipe: &Path, store: &str, more: &[&str], code: i32) -> Ran {
+    let recipe = recipe.to_str().expect("a UTF-8 path");
+    cli(
+        &[&["run", recipe, "--fast", "--results", store][..], more].concat(),
+        code,
+    )
 }
 
 /// What a failed comparison with the unit's last pass keeps in the store.
