@@ -1,6 +1,7 @@
 //! Test support for runs recorded in a results store and compared with a unit's history:
-//! a scratch folder with its store, the reports a run writes, a stored check, a script for
-//! the simulated drive. It starts no server and no run of its own (see `support`).
+//! a scratch folder with its store, a run recorded in it, the reports a run writes, a
+//! stored check and what a failed comparison keeps, `results show`, a script for the
+//! simulated drive. It starts no server and holds no fixture of other tests (see `support`).
 
 use crate::support::{assert_has, cli, scratch, sqlite_store, write_file, Ran};
 use drivescript::results::{CheckRow, Locator};
