@@ -39,6 +39,12 @@ fn refused_with(o: &Output, text: &str) {
     assert!(err(o).contains(text), "{}", err(o));
 }
 
+/// The command succeeded (exit code 0) and printed `text`.
+fn accepted_with(o: &Output, text: &str) {
+    assert_eq!(o.status.code(), Some(0), "{}{}", out(o), err(o));
+    assert!(out(o).contains(text), "{}", out(o));
+}
+
 /// A fresh folder with `files` (name, text) in it.
 fn bench(name: &str, files: &[(&str, &str)]) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("drivescript-bench-{name}-{}", std::process::id()));
@@ -93,12 +99,7 @@ fn the_limits_file_is_found_by_flag_then_environment_then_next_to_the_recipe() {
         &["check", "r.yaml", "--limits", "flag.yaml"],
         Some("env.yaml"),
     );
-    assert_eq!(o.status.code(), Some(0), "{}", err(&o));
-    assert!(
-        out(&o).contains("bench limits max_speed 7000 rpm (limits file flag.yaml)"),
-        "{}",
-        out(&o)
-    );
+    accepted_with(&o, "bench limits max_speed 7000 rpm (limits file flag.yaml)");
 
     // A limits file that is named but missing is an error, never no limits.
     let o = run(&dir, &["check", "r.yaml"], Some("gone.yaml"));
@@ -159,8 +160,10 @@ fn check_and_run_refuse_set_values_ramps_and_overrides_over_the_limit() {
         ],
     );
     let o = run(&dir, &["check", "r.yaml"], None);
-    assert_eq!(o.status.code(), Some(0), "{}", err(&o));
-    assert!(out(&o).contains("bench limits max_speed 6000 rpm (limits file drivescript-limits.yaml)"));
+    accepted_with(
+        &o,
+        "bench limits max_speed 6000 rpm (limits file drivescript-limits.yaml)",
+    );
 
     let o = run(&dir, &["check", "r.yaml", "--set", "speed=7 krpm"], None);
     refused_with(
@@ -195,12 +198,7 @@ fn write_refuses_a_value_over_the_limit_before_sending() {
     let o = run(&dir, &["write", "speed_setpoint", "-6.5krpm"], Some("l.yaml"));
     refused_with(&o, "-6.5 krpm (-6500 rpm) is below the bench limit -6000 rpm of speed_setpoint (limits file l.yaml from DRIVESCRIPT_LIMITS)");
     let o = run(&dir, &["write", "speed_setpoint", "6000rpm"], Some("l.yaml"));
-    assert_eq!(o.status.code(), Some(0), "{}", err(&o));
-    assert!(
-        out(&o).contains("speed_setpoint = 6000 rpm written"),
-        "{}",
-        out(&o)
-    );
+    accepted_with(&o, "speed_setpoint = 6000 rpm written");
     let _ = std::fs::remove_dir_all(&dir);
 }
 
@@ -262,11 +260,7 @@ fn a_user_dictionary_cannot_raise_the_limit() {
     assert!(row("current_limit").contains("8000 (bench)"), "{listing}");
     assert!(!row("speed_actual").contains("bench"), "{listing}");
     let o = with(&["objects", "--json", "speed_setpoint"]);
-    assert!(
-        out(&o).contains("\"bench_limit\":\"limits file l.yaml\""),
-        "{}",
-        out(&o)
-    );
+    accepted_with(&o, "\"bench_limit\":\"limits file l.yaml\"");
     let _ = std::fs::remove_dir_all(&dir);
 }
 

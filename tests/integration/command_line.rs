@@ -6,26 +6,33 @@
 
 use crate::support::{
     assert_has, assert_lacks, cli, drivescript, scratch, scratch_file, stderr, stdout,
-    wide_speed_and_current_rows,
+    wide_speed_and_current_rows, Ran,
 };
+use std::path::PathBuf;
+
+/// `drivescript run RECIPES --fast --output-dir DIR MORE`, DIR the fresh scratch folder
+/// `name`, which must exit with `code`: the folder and what the run wrote.
+#[track_caller]
+fn run_into_scratch(name: &str, recipes: &[&str], more: &[&str], code: i32) -> (PathBuf, Ran) {
+    let dir = scratch(name);
+    let output_dir = ["--fast", "--output-dir", dir.to_str().expect("a UTF-8 path")];
+    let args = [&["run"][..], recipes, &output_dir, more].concat();
+    let ran = cli(&args, code);
+    (dir, ran)
+}
 
 #[test]
 fn several_recipes_run_in_turn_and_the_worst_exit_code_wins() {
-    let dir = scratch("several");
-    let text = cli(
+    let (dir, ran) = run_into_scratch(
+        "several",
         &[
-            "run",
             "tests/cases/ok/identity/recipe.yaml",
             "tests/cases/failed/expect_out_of_tolerance/recipe.yaml",
-            "--fast",
-            "--output-dir",
-            dir.to_str().unwrap(),
-            "--junit",
-            "junit.xml",
         ],
+        &["--junit", "junit.xml"],
         1,
-    )
-    .stdout;
+    );
+    let text = ran.stdout;
     assert_has(
         &text,
         &[
@@ -56,17 +63,7 @@ fn several_recipes_run_in_turn_and_the_worst_exit_code_wins() {
 
 #[test]
 fn sample_csv_files_go_to_the_output_dir_and_are_announced() {
-    let dir = scratch("csv");
-    let out = cli(
-        &[
-            "run",
-            "recipes/spindle-run-in.yaml",
-            "--fast",
-            "--output-dir",
-            dir.to_str().unwrap(),
-        ],
-        0,
-    );
+    let (dir, out) = run_into_scratch("csv", &["recipes/spindle-run-in.yaml"], &[], 0);
     let line = out
         .stdout
         .lines()
@@ -228,18 +225,10 @@ pub(crate) fn said_early_that_the_drive_does_not_answer(file: &str, name: &str) 
 /// with the same time, UTC and iteration-aware step columns as the long layout.
 #[test]
 fn csv_wide_gives_one_column_per_object_everywhere() {
-    let dir = scratch("wide");
-    cli(
-        &[
-            "run",
-            "recipes/spindle-run-in.yaml",
-            "--fast",
-            "--output-dir",
-            dir.to_str().unwrap(),
-            "--csv",
-            "all.csv",
-            "--csv-wide",
-        ],
+    let (dir, _) = run_into_scratch(
+        "wide",
+        &["recipes/spindle-run-in.yaml"],
+        &["--csv", "all.csv", "--csv-wide"],
         0,
     );
     for name in ["all.csv", "run-in-stage-2.csv"] {

@@ -3,8 +3,10 @@
 //! next to them. Says it skipped where yaml-language-server or node is not installed, and
 //! fails so under CI (`.ci/run` installs both).
 
+use crate::examples::{drive_named, each_recipe_in};
 use crate::language_server::{position, LanguageServer};
 use crate::support::{repo_root, tool_missing};
+use drivescript::family::DEFAULT_DICTIONARY;
 use std::path::PathBuf;
 
 fn server() -> Option<LanguageServer> {
@@ -49,32 +51,24 @@ fn said(hover: &str) -> String {
 #[test]
 fn yaml_language_server_finds_no_problem_in_any_shipped_recipe() {
     let Some(mut server) = server() else { return };
-    let mut opened = 0;
-    for dir in ["recipes", "recipes/includes"] {
-        for entry in std::fs::read_dir(repo_root().join(dir)).expect("recipes/") {
-            let path = entry.expect("entry").path();
-            if path.extension().and_then(|e| e.to_str()) != Some("yaml") {
-                continue;
-            }
-            let text = std::fs::read_to_string(&path).expect("recipe");
-            let uri = server.open(&path, &text);
-            let problems = server.diagnostics(&uri);
-            assert!(problems.is_empty(), "{}: {problems:?}", path.display());
-            // The schema is in force, and it is the one of the recipe's drive.
-            let drive = text
-                .lines()
-                .find_map(|l| l.strip_prefix("drive:"))
-                .map_or("sd2", |d| d.split('#').next().unwrap_or("").trim());
-            let hover = server.hover(&uri, position(&text, "\nsteps:", Some(2)));
-            assert!(
-                hover.contains(&format!("{drive}.schema.json")) && !said(&hover).is_empty(),
-                "{}: {hover}",
-                path.display()
-            );
-            opened += 1;
-        }
-    }
-    assert!(opened >= 6, "only {opened} shipped recipes");
+    let root = repo_root();
+    let folders = [
+        (root.join("recipes"), "../".to_string()),
+        (root.join("recipes/includes"), "../../".to_string()),
+    ];
+    each_recipe_in(&folders, 6, |path, text, _| {
+        let uri = server.open(path, text);
+        let problems = server.diagnostics(&uri);
+        assert!(problems.is_empty(), "{}: {problems:?}", path.display());
+        // The schema is in force, and it is the one of the recipe's drive.
+        let drive = drive_named(text).unwrap_or(DEFAULT_DICTIONARY);
+        let hover = server.hover(&uri, position(text, "\nsteps:", Some(2)));
+        assert!(
+            hover.contains(&format!("{drive}.schema.json")) && !said(&hover).is_empty(),
+            "{}: {hover}",
+            path.display()
+        );
+    });
 }
 
 #[test]

@@ -31,20 +31,39 @@ fn recipes_in(dir: &std::path::Path) -> Vec<std::path::PathBuf> {
     paths
 }
 
+/// Calls `check` with the path, the text and the path back to `schemas/` of every recipe in
+/// `folders` (each folder with that path); there must be at least `least` of them.
+pub(crate) fn each_recipe_in(
+    folders: &[(std::path::PathBuf, String)],
+    least: usize,
+    mut check: impl FnMut(&std::path::Path, &str, &str),
+) {
+    let mut seen = 0;
+    for (dir, up) in folders {
+        for path in recipes_in(dir) {
+            let text = std::fs::read_to_string(&path).expect("recipe");
+            check(&path, &text, up);
+            seen += 1;
+        }
+    }
+    assert!(seen >= least, "only {seen} shipped recipes in {folders:?}");
+}
+
+/// The dictionary a recipe's `drive:` line names, if it has one.
+pub(crate) fn drive_named(text: &str) -> Option<&str> {
+    text.lines()
+        .find_map(|l| l.strip_prefix("drive:"))
+        .map(|d| d.split('#').next().unwrap_or("").trim())
+}
+
 #[test]
 fn every_example_recipe_checks_and_passes_in_virtual_time() {
     let out_dir = crate::support::scratch("outputs");
-    let mut ran = 0;
-    for path in recipe_folders().iter().flat_map(|(dir, _)| recipes_in(dir)) {
+    each_recipe_in(&recipe_folders(), 16, |path, text, _| {
         let p = path.to_str().expect("utf-8 path");
         // Each recipe runs with the built-in dictionary its `drive:` names, and with the
         // device's own EDS where one lies beside it (recipes/canopen/).
-        let text = std::fs::read_to_string(&path).expect("recipe");
-        let drive = text
-            .lines()
-            .find_map(|l| l.strip_prefix("drive:"))
-            .map(|d| d.split('#').next().unwrap_or("").trim().to_string())
-            .expect("a `drive:` line");
+        let drive = drive_named(text).expect("a `drive:` line").to_string();
         let mut extra: Vec<String> = vec!["--drive".into(), drive.clone()];
         let folder = path.parent().expect("a folder");
         for eds in std::fs::read_dir(folder)
@@ -85,9 +104,7 @@ fn every_example_recipe_checks_and_passes_in_virtual_time() {
             "{p}:\n{}",
             stdout(&run)
         );
-        ran += 1;
-    }
-    assert!(ran >= 16, "only {ran} example recipes");
+    });
     // The run-in's stage 2 runs twice; its CSV holds both passes under one header.
     let csv = std::fs::read_to_string(out_dir.join("run-in-stage-2.csv")).expect("stage 2 csv");
     assert_eq!(csv.lines().filter(|l| l.starts_with("time")).count(), 1);
@@ -136,27 +153,17 @@ fn the_committed_schemas_are_current() {
 /// completes and checks the objects that drive has.
 #[test]
 fn every_shipped_recipe_points_at_the_schema_of_its_drive() {
-    let mut seen = 0;
     let mut folders = recipe_folders();
     folders.push((repo_root().join("recipes/includes"), "../../".into()));
-    for (dir, up) in folders {
-        for path in recipes_in(&dir) {
-            let text = std::fs::read_to_string(&path).expect("recipe");
-            let drive = text
-                .lines()
-                .find_map(|l| l.strip_prefix("drive:"))
-                .map(|d| d.split('#').next().unwrap_or("").trim())
-                .unwrap_or(DEFAULT_DICTIONARY);
-            assert_eq!(
-                text.lines().next(),
-                Some(format!("# yaml-language-server: $schema={up}schemas/{drive}.schema.json").as_str()),
-                "{}",
-                path.display()
-            );
-            seen += 1;
-        }
-    }
-    assert!(seen >= 16, "only {seen} shipped recipes");
+    each_recipe_in(&folders, 16, |path, text, up| {
+        let drive = drive_named(text).unwrap_or(DEFAULT_DICTIONARY);
+        assert_eq!(
+            text.lines().next(),
+            Some(format!("# yaml-language-server: $schema={up}schemas/{drive}.schema.json").as_str()),
+            "{}",
+            path.display()
+        );
+    });
 }
 
 /// Every family other than the SD2's has a commissioning and an acceptance recipe of its

@@ -10,9 +10,10 @@
 use crate::live_run::LiveRun;
 use crate::support::{
     assert_exit, assert_has, assert_lacks, cli, command, console, run_recording as run, scratch,
-    silent_server, sqlite_store, unit_certificate, with_postgres_store, with_sqlite_store, write_changed,
-    write_file, InProcessRun, Simulator,
+    silent_server, unit_certificate, with_postgres_store, with_sqlite_store, write_changed, write_file,
+    InProcessRun, Simulator,
 };
+use crate::support_store::{scratch_store, sd2_script, shown_run, FailedComparison, Reports};
 use drivescript::results::{Locator, RunFilter, StoreHistory};
 use std::path::Path;
 use std::process::Stdio;
@@ -76,23 +77,14 @@ fn history_in(dir: &Path, store: &str) {
     );
     let second_id = run_id(&second);
     // Drifted by 5 K: fails, naming the reference in every report.
-    let junit = dir.join("drift.xml");
-    let html = dir.join("drift.html");
-    let (code, third) = fast(
-        "SP-1",
-        &[
-            "--sim",
-            "ambient=30°C",
-            "--junit",
-            junit.to_str().unwrap(),
-            "--report",
-            html.to_str().unwrap(),
-        ],
-    );
-    assert_eq!(code, 1, "{third}");
+    let reports = Reports::in_folder(dir, "drift");
     let drift = format!("motor_temperature = 30 °C: +5 K against 25 °C in run {second_id}");
-    assert_has(
-        &third,
+    let third = assert_exit(
+        fast(
+            "SP-1",
+            &[&["--sim", "ambient=30°C"][..], &reports.args()].concat(),
+        ),
+        1,
         &[
             "PASS  motor_temperature below 90 °C: motor_temperature = 30 °C",
             &format!("FAIL  motor_temperature below 90 °C compared with last pass: {drift}"),
@@ -101,13 +93,7 @@ fn history_in(dir: &Path, store: &str) {
         ],
     );
     let third_id = run_id(&third);
-    for report in [&junit, &html] {
-        let text = std::fs::read_to_string(report).expect("the report");
-        assert_has(
-            &text,
-            &["motor_temperature below 90 °C compared with last pass", &drift],
-        );
-    }
+    reports.assert_both_have(&["motor_temperature below 90 °C compared with last pass", &drift]);
     // A failed run is never the reference; nor is another unit's run.
     let fourth = assert_exit(fast("SP-1", &[]), 0, &[&format!("run {second_id}")]);
     assert_lacks(&fourth, &[&third_id]);
@@ -135,28 +121,20 @@ fn history_in(dir: &Path, store: &str) {
         &["FAIL  motor_temperature below 90 °C compared with last pass: no earlier passed run of SP-1 for this recipe: fails as `without_history: fail` says"],
     );
     // The store keeps the reference with the comparison.
-    let mut s = Locator::parse(store).open(false).expect("the store opens");
-    let stored = s.run(&third_id).expect("the drifted run");
-    let compared = stored
-        .checks
-        .iter()
-        .find(|c| c.name.ends_with("compared with last pass"))
-        .expect("the comparison is stored");
-    assert!(!compared.passed);
-    assert_eq!(compared.reference_run.as_deref(), Some(second_id.as_str()));
-    assert_eq!(compared.reference_value, Some(25.0));
-    assert_eq!(compared.measured, Some(5.0));
-    assert_eq!(compared.unit.as_deref(), Some("K"));
-    assert_eq!(
-        (compared.limits.low, compared.limits.high),
-        (Some(-2.0), Some(2.0))
+    FailedComparison {
+        reference_run: &second_id,
+        reference_value: 25.0,
+        change: 5.0,
+        unit: "K",
+        limits: (Some(-2.0), Some(2.0)),
+    }
+    .assert_kept(
+        store,
+        &third_id,
+        "motor_temperature below 90 °C compared with last pass",
     );
-    let shown = command()
-        .args(["results", "show", &third_id, "--results", store])
-        .output()
-        .expect("shows");
     assert_has(
-        &String::from_utf8_lossy(&shown.stdout),
+        &shown_run(store, &third_id),
         &[&format!("reference: run {second_id} of 20")],
     );
     // The unit's certificate says what each comparison compared with: the change alone
@@ -178,10 +156,9 @@ fn a_check_compares_with_the_units_last_passed_run_in_postgresql() {
 /// Real runs compare with real runs only, simulated ones with simulated ones.
 #[test]
 fn simulated_and_real_runs_are_compared_only_with_their_own_kind() {
-    let dir = scratch("history-kinds");
-    let store = &sqlite_store(&dir);
+    let (dir, store) = &scratch_store("history-kinds");
     let recipe = write_file(
-        &dir,
+        dir,
         "quick.yaml",
         "name: Quick look
 drive: sd2
@@ -336,10 +313,9 @@ fn a_stop_signal_during_the_lookup_runs_the_safe_stop() {
 /// unknown before it), and the check after it compares.
 #[test]
 fn a_serial_typed_at_an_operator_step_is_looked_up_there() {
-    let dir = scratch("history-typed");
-    let store = dir.join("results.sqlite");
+    let (dir, store) = &scratch_store("history-typed");
     let recipe = write_file(
-        &dir,
+        dir,
         "scanned.yaml",
         "name: Scanned acceptance
 drive: sd2
@@ -352,18 +328,14 @@ steps:
 ",
     );
     // Answered beforehand, the serial is known at the start: looked up before step 1.
-    let (code, given) = run(
-        &recipe,
-        store.to_str().unwrap(),
-        &["--fast", "--answer", "serial=SP-77"],
-    );
+    let (code, given) = run(&recipe, store, &["--fast", "--answer", "serial=SP-77"]);
     assert_eq!(code, 1, "no history fails here:\n{given}");
     let said = given.find("history SP-77: no earlier passed run").expect("said");
     assert!(said < given.find("     1  ").expect("step 1"), "{given}");
     // One passed run of the unit (a failed one is no reference).
     {
         let recorder = drivescript::results::ResultsRecorder::start(
-            Locator::Sqlite(store.clone()),
+            Locator::Sqlite(store.into()),
             drivescript::results::RecorderSettings {
                 simulated: true,
                 quiet: true,
@@ -372,7 +344,7 @@ steps:
             Arc::new(Mutex::new(std::io::sink())),
         );
         let lenient = write_changed(
-            &dir,
+            dir,
             "lenient.yaml",
             &recipe,
             "without_history: fail",
@@ -381,11 +353,11 @@ steps:
         let mut run = InProcessRun::new(&lenient);
         run.operator.answer = vec![("serial".into(), "SP-77".into())];
         run.observers.push(Arc::new(Mutex::new(recorder)));
-        run.history = Some(Arc::new(StoreHistory::new(Locator::Sqlite(store.clone()), true)));
+        run.history = Some(Arc::new(StoreHistory::new(Locator::Sqlite(store.into()), true)));
         let (result, out) = run.run();
         assert_eq!(result.exit_code, 0, "{out}");
     }
-    let mut s = Locator::Sqlite(store.clone()).open(false).expect("opens");
+    let mut s = Locator::Sqlite(store.into()).open(false).expect("opens");
     let passed = s
         .list(&RunFilter {
             simulated: true,
@@ -401,7 +373,7 @@ steps:
     std::io::Write::write_all(&mut typing, b"SP-77\n").expect("typed");
     let mut run = InProcessRun::new(&recipe);
     run.input = Some(drivescript::run::TerminalInput::of(reader));
-    run.history = Some(Arc::new(StoreHistory::new(Locator::Sqlite(store.clone()), true)));
+    run.history = Some(Arc::new(StoreHistory::new(Locator::Sqlite(store.into()), true)));
     let (result, out) = run.run();
     drop(typing);
     assert_eq!(result.exit_code, 0, "{out}");
@@ -424,13 +396,12 @@ steps:
 /// warms more than 3 K above its last pass fails, though still within its limit.
 #[test]
 fn the_bearing_acceptance_example_compares_a_spindle_with_its_last_pass() {
-    let dir = scratch("history-example");
-    let store = dir.join("results.sqlite");
+    let (_, store) = &scratch_store("history-example");
     let recipe = crate::support::repo_root().join("recipes/operator/bearing-acceptance.yaml");
     let example = |heating: &str| {
         run(
             &recipe,
-            store.to_str().unwrap(),
+            store,
             &["--fast", "--answer", "serial=SP-104233", "--sim", heating],
         )
     };
@@ -470,14 +441,12 @@ fn the_bearing_acceptance_example_compares_a_spindle_with_its_last_pass() {
 /// up at the first comparison; a comparison it writes wrongly is a script error.
 #[test]
 fn a_script_compares_its_check_with_the_units_last_pass() {
-    let dir = scratch("history-script");
-    let store = &sqlite_store(&dir);
-    let script = write_file(
-        &dir,
+    let (dir, store) = &scratch_store("history-script");
+    let script = sd2_script(
+        dir,
         "bearing.rhai",
-        "//! drive: sd2
-//! name: Scripted bearing check
-let d = drive();
+        "Scripted bearing check",
+        "let d = drive();
 d.go_to(\"operation_enabled\");
 let t = d.read(\"motor_temperature\");
 expect_near(\"motor temperature\", t, 25.0, \"50 %\");
@@ -500,7 +469,7 @@ expect_compared_with_last_pass(\"motor temperature\", t, #{ at_most: 2.0, at_lea
             "expected a change between -2 and +2",
         ],
     );
-    let wrong = write_changed(&dir, "wrong.rhai", &script, ", without_history: \"pass\"", "");
+    let wrong = write_changed(dir, "wrong.rhai", &script, ", without_history: \"pass\"", "");
     let (code, out) = run(&wrong, store, &unit[..3]);
     assert_ne!(code, 0, "{out}");
     assert_has(&out, &["give `without_history: \"pass\"`", "wrong.rhai:7:1"]);
@@ -512,12 +481,11 @@ expect_compared_with_last_pass(\"motor temperature\", t, #{ at_most: 2.0, at_lea
 #[test]
 fn a_comparison_in_a_scripts_finally_never_waits_for_the_store() {
     let dir = scratch("history-script-finally");
-    let script = write_file(
+    let script = sd2_script(
         &dir,
         "finally.rhai",
-        "//! drive: sd2
-//! name: Compared in finally
-let d = drive();
+        "Compared in finally",
+        "let d = drive();
 d.go_to(\"operation_enabled\");
 fn finally(d) {
     let t = d.read(\"motor_temperature\");

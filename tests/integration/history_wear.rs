@@ -10,9 +10,10 @@
 
 use crate::history::{ended_reading_a_silent_store, interrupted_once_shown, run_id};
 use crate::support::{
-    assert_exit, assert_has, assert_lacks, command, line_with, run_recording as run, scratch, sqlite_store,
-    write_changed, write_file, InProcessRun,
+    assert_exit, assert_has, assert_lacks, command, line_with, run_recording as run, scratch, write_changed,
+    write_file, InProcessRun,
 };
+use crate::support_store::{scratch_store, sd2_script, shown_run, FailedComparison, Reports};
 use drivescript::results::{Locator, StoreHistory};
 use drivescript::stop_request::StopSignal;
 use std::path::Path;
@@ -58,25 +59,44 @@ fn recipe(dir: &Path, file: &str, text: &str, name: Option<&str>, compared: &str
     write_file(dir, file, &text)
 }
 
-/// The check `name` of run `id` as `store` keeps it.
-fn stored_comparison(store: &str, id: &str, name: &str) -> drivescript::results::CheckRow {
-    let mut s = Locator::parse(store).open(false).expect("the store opens");
-    let stored = s.run(id).expect("the run");
-    let found = stored.checks.into_iter().find(|c| c.name == name);
-    found.unwrap_or_else(|| panic!("{name} is not stored in run {id}"))
-}
-
-#[test]
-fn a_coast_down_compares_its_time_with_the_units_last_pass() {
-    let dir = scratch("wear-coast-down");
-    let store = &sqlite_store(&dir);
-    let percent = recipe(
-        &dir,
+/// COAST as `coast.yaml`: within -10 % of the last pass, passing without one.
+fn coast_recipe(dir: &Path) -> std::path::PathBuf {
+    recipe(
+        dir,
         "coast.yaml",
         COAST,
         None,
         "{ at_least: -10 %, without_history: pass }",
-    );
+    )
+}
+
+/// VIBRATION as `vibration.yaml`: at most 0.3 mm/s above the last pass, passing without
+/// one.
+fn vibration_recipe(dir: &Path) -> std::path::PathBuf {
+    recipe(
+        dir,
+        "vibration.yaml",
+        VIBRATION,
+        None,
+        "{ at_most: 0.3 mm/s, without_history: pass }",
+    )
+}
+
+/// A script's spindle brought up to speed, as COAST does.
+const SCRIPT_UP_TO_SPEED: &str = "let d = drive();
+d.set(\"speed_setpoint\", 6000.0, \"rpm\");
+d.go_to(\"operation_enabled\");
+d.wait_until(\"speed_actual\", |v| v > 5950.0, \"10 s\");
+";
+
+/// A script's coast-down compared with the last pass as COAST's is.
+const SCRIPT_COAST_DOWN: &str = "d.coast_down(\"5900 rpm\", \"100 rpm\", \"10 s\", \"30 s\", #{ at_least: \"-10 %\", without_history: \"pass\" });
+";
+
+#[test]
+fn a_coast_down_compares_its_time_with_the_units_last_pass() {
+    let (dir, store) = &scratch_store("wear-coast-down");
+    let percent = coast_recipe(dir);
     let coast = |file: &Path, rate: &str, more: &[&str]| {
         let rate = format!("coast-rate={rate}");
         let mut args = vec!["--fast", "--unit", "serial=SP-1", "--sim", rate.as_str()];
@@ -97,7 +117,7 @@ fn a_coast_down_compares_its_time_with_the_units_last_pass() {
     let first_id = run_id(&first);
     // A recipe that insists on history fails a unit's first run.
     let strict = recipe(
-        &dir,
+        dir,
         "strict.yaml",
         COAST,
         Some("Strict coast-down"),
@@ -124,22 +144,11 @@ fn a_coast_down_compares_its_time_with_the_units_last_pass() {
     let second_id = run_id(&second);
     // Bearing drag: the time shrinks by a fifth, still above its limit; the comparison
     // fails and names the run it compared with in every report.
-    let junit = dir.join("drag.xml");
-    let html = dir.join("drag.html");
-    let (code, third) = coast(
-        &percent,
-        "400rpm/s",
-        &[
-            "--junit",
-            junit.to_str().unwrap(),
-            "--report",
-            html.to_str().unwrap(),
-        ],
-    );
-    assert_eq!(code, 1, "{third}");
+    let reports = Reports::in_folder(dir, "drag");
     let drag = format!("coast-down time = 14.5 s: -22.496 % against 18.708 s in run {second_id}");
-    assert_has(
-        &third,
+    let third = assert_exit(
+        coast(&percent, "400rpm/s", &reports.args()),
+        1,
         &[
             &format!("PASS  {COAST_CHECK}: coast-down took 14.5 s"),
             &format!("FAIL  {compared}: {drag}"),
@@ -150,26 +159,18 @@ fn a_coast_down_compares_its_time_with_the_units_last_pass() {
         ],
     );
     let third_id = run_id(&third);
-    for report in [&junit, &html] {
-        let text = std::fs::read_to_string(report).expect("the report");
-        assert_has(&text, &[&compared, &drag]);
-    }
+    reports.assert_both_have(&[&compared, &drag]);
     // The store keeps the change in % with the reference.
-    let c = stored_comparison(store, &third_id, &compared);
-    assert!(!c.passed);
-    assert_eq!(c.reference_run.as_deref(), Some(second_id.as_str()));
-    let reference = c.reference_value.expect("the reference value");
-    assert!((reference - 18.708).abs() < 0.001, "{reference}");
-    let change = c.measured.expect("the change");
-    assert!((change + 22.496).abs() < 0.001, "{change}");
-    assert_eq!(c.unit.as_deref(), Some("%"));
-    assert_eq!((c.limits.low, c.limits.high), (Some(-10.0), None));
-    let shown = command()
-        .args(["results", "show", &third_id, "--results", store])
-        .output()
-        .expect("shows");
+    FailedComparison {
+        reference_run: &second_id,
+        reference_value: 18.708,
+        change: -22.496,
+        unit: "%",
+        limits: (Some(-10.0), None),
+    }
+    .assert_kept(store, &third_id, &compared);
     assert_has(
-        &String::from_utf8_lossy(&shown.stdout),
+        &shown_run(store, &third_id),
         &[&format!("reference: run {second_id} of 20")],
     );
     // The change from run to run, the first without one.
@@ -202,14 +203,13 @@ fn a_coast_down_compares_its_time_with_the_units_last_pass() {
     );
     // In seconds instead of %, both ends included.
     let seconds = recipe(
-        &dir,
+        dir,
         "seconds.yaml",
         COAST,
         Some("Coast-down in seconds"),
         "{ at_least: -0.626 s, at_most: 2 s, without_history: pass }",
     );
-    let (code, out) = coast(&seconds, "300rpm/s", &[]);
-    assert_eq!(code, 0, "{out}");
+    assert_exit(coast(&seconds, "300rpm/s", &[]), 0, &[]);
     assert_exit(
         coast(&seconds, "310rpm/s", &[]),
         0,
@@ -227,15 +227,8 @@ fn a_coast_down_compares_its_time_with_the_units_last_pass() {
 
 #[test]
 fn a_typed_value_compares_with_the_units_last_pass() {
-    let dir = scratch("wear-vibration");
-    let store = &sqlite_store(&dir);
-    let lenient = recipe(
-        &dir,
-        "vibration.yaml",
-        VIBRATION,
-        None,
-        "{ at_most: 0.3 mm/s, without_history: pass }",
-    );
+    let (dir, store) = &scratch_store("wear-vibration");
+    let lenient = vibration_recipe(dir);
     let answered = |file: &Path, value: &str| {
         let vibration = format!("vibration={value}");
         let args = ["--fast", "--answer", "serial=SP-104233", "--answer", &vibration];
@@ -259,7 +252,7 @@ fn a_typed_value_compares_with_the_units_last_pass() {
     );
     let first_id = run_id(&first);
     let strict = recipe(
-        &dir,
+        dir,
         "strict.yaml",
         VIBRATION,
         Some("Strict balancing check"),
@@ -271,7 +264,7 @@ fn a_typed_value_compares_with_the_units_last_pass() {
         &[&format!("FAIL  {compared}: no earlier passed run of SP-104233 for this recipe: fails as `without_history: fail` says")],
     );
     // From an answers file: a little more, within 0.3 mm/s.
-    let answers = write_file(&dir, "answers.yaml", "serial: SP-104233\nvibration: 1.4 mm/s\n");
+    let answers = write_file(dir, "answers.yaml", "serial: SP-104233\nvibration: 1.4 mm/s\n");
     let second = assert_exit(
         run(
             &lenient,
@@ -287,11 +280,10 @@ fn a_typed_value_compares_with_the_units_last_pass() {
     );
     let second_id = run_id(&second);
     // Creeping up: still within its limit, but 0.4 mm/s more than last time.
-    let (code, third) = answered(&lenient, "1.8");
-    assert_eq!(code, 1, "{third}");
     let creep = format!("answer = 1.8 mm/s: +0.4 mm/s against 1.4 mm/s in run {second_id}");
-    assert_has(
-        &third,
+    let third = assert_exit(
+        answered(&lenient, "1.8"),
+        1,
         &[
             &format!("PASS  {question}: answered `1.8 mm/s`"),
             &format!("FAIL  {compared}: {creep}"),
@@ -300,31 +292,25 @@ fn a_typed_value_compares_with_the_units_last_pass() {
         ],
     );
     let third_id = run_id(&third);
-    let c = stored_comparison(store, &third_id, &compared);
-    assert!(!c.passed);
-    assert_eq!(c.reference_run.as_deref(), Some(second_id.as_str()));
-    assert_eq!(c.reference_value, Some(1.4));
-    assert!((c.measured.expect("the change") - 0.4).abs() < 1e-9);
-    assert_eq!(c.unit.as_deref(), Some("mm/s"));
+    FailedComparison {
+        reference_run: &second_id,
+        reference_value: 1.4,
+        change: 0.4,
+        unit: "mm/s",
+        limits: (None, Some(0.3)),
+    }
+    .assert_kept(store, &third_id, &compared);
 }
 
 /// A script's `d.coast_down` and `enter_value` take the same comparison as a map.
 #[test]
 fn a_scripts_coast_down_and_typed_value_compare_with_the_units_last_pass() {
-    let dir = scratch("wear-script");
-    let store = &sqlite_store(&dir);
-    let script = write_file(
-        &dir,
+    let (dir, store) = &scratch_store("wear-script");
+    let script = sd2_script(
+        dir,
         "wear.rhai",
-        "//! drive: sd2
-//! name: Scripted wear check
-let d = drive();
-d.set(\"speed_setpoint\", 6000.0, \"rpm\");
-d.go_to(\"operation_enabled\");
-d.wait_until(\"speed_actual\", |v| v > 5950.0, \"10 s\");
-d.coast_down(\"5900 rpm\", \"100 rpm\", \"10 s\", \"30 s\", #{ at_least: \"-10 %\", without_history: \"pass\" });
-let v = enter_value(\"Vibration\", #{ unit: \"mm/s\", name: \"vibration\", compared_with_last_pass: #{ at_most: 0.3, without_history: \"pass\" } });
-",
+        "Scripted wear check",
+        &format!("{SCRIPT_UP_TO_SPEED}{SCRIPT_COAST_DOWN}let v = enter_value(\"Vibration\", #{{ unit: \"mm/s\", name: \"vibration\", compared_with_last_pass: #{{ at_most: 0.3, without_history: \"pass\" }} }});\n"),
     );
     let scripted = |rate: &str, value: &str| {
         let (rate, value) = (format!("coast-rate={rate}"), format!("vibration={value}"));
@@ -362,7 +348,7 @@ let v = enter_value(\"Vibration\", #{ unit: \"mm/s\", name: \"vibration\", compa
     );
     // A comparison written wrongly is a script error at its call.
     let wrong = write_changed(
-        &dir,
+        dir,
         "wrong.rhai",
         &script,
         "at_least: \"-10 %\", without_history: \"pass\"",
@@ -380,14 +366,21 @@ let v = enter_value(\"Vibration\", #{ unit: \"mm/s\", name: \"vibration\", compa
     );
 }
 
-/// `recipe` run once through the command line for SP-000009 (with `args`), recorded as the
-/// passed run the next compares with; the store and that run's id.
-fn passed_once(dir: &Path, recipe: &Path, args: &[&str]) -> (std::path::PathBuf, String) {
+/// The recipe `written` makes in the scratch folder `name`, run once through the command
+/// line for SP-000009 (with `args`), recorded as the passed run the next compares with;
+/// the recipe, the store and that run's id.
+fn passed_once(
+    name: &str,
+    written: fn(&Path) -> std::path::PathBuf,
+    args: &[&str],
+) -> (std::path::PathBuf, std::path::PathBuf, String) {
+    let dir = scratch(name);
+    let recipe = written(&dir);
     let store = dir.join("results.sqlite");
     let all = [&["--fast", "--unit", "serial=SP-000009"][..], args].concat();
-    let (code, out) = run(recipe, store.to_str().unwrap(), &all);
+    let (code, out) = run(&recipe, store.to_str().unwrap(), &all);
     assert_eq!(code, 0, "{out}");
-    (store.clone(), run_id(&out))
+    (recipe, store, run_id(&out))
 }
 
 /// `recipe` in this process for SP-000009, reading `store`, with a Ctrl-C at `at` (virtual
@@ -442,15 +435,7 @@ fn assert_stopped_without_a_comparison(
 /// Ctrl-C while the spindle coasts: the safe stop at once (it still coasts by design).
 #[test]
 fn a_stop_during_a_compared_coast_down_runs_the_safe_stop_and_no_comparison() {
-    let dir = scratch("wear-coast-ctrl-c");
-    let file = recipe(
-        &dir,
-        "coast.yaml",
-        COAST,
-        None,
-        "{ at_least: -10 %, without_history: pass }",
-    );
-    let (store, reference) = passed_once(&dir, &file, &[]);
+    let (file, store, reference) = passed_once("wear-coast-ctrl-c", coast_recipe, &[]);
     let (result, out) = interrupted_at(&file, store, Duration::from_secs(10)).run();
     assert_stopped_without_a_comparison(
         &result,
@@ -475,17 +460,9 @@ fn a_stop_during_a_compared_coast_down_runs_the_safe_stop_and_no_comparison() {
 /// Ctrl-C while the operator is asked for the value: the safe stop at once, braked.
 #[test]
 fn a_stop_at_a_compared_value_question_runs_the_safe_stop_and_no_comparison() {
-    let dir = scratch("wear-value-ctrl-c");
-    let file = recipe(
-        &dir,
-        "vibration.yaml",
-        VIBRATION,
-        None,
-        "{ at_most: 0.3 mm/s, without_history: pass }",
-    );
-    let (store, reference) = passed_once(
-        &dir,
-        &file,
+    let (file, store, reference) = passed_once(
+        "wear-value-ctrl-c",
+        vibration_recipe,
         &["--answer", "serial=SP-000009", "--answer", "vibration=1.2"],
     );
     // The serial answered beforehand; the value typed by nobody.
@@ -517,17 +494,11 @@ fn a_stop_at_a_compared_value_question_runs_the_safe_stop_and_no_comparison() {
 #[test]
 fn a_stop_while_a_scripts_coast_down_waits_for_the_store_brakes_the_spindle() {
     let dir = scratch("wear-script-lookup");
-    let script = write_file(
+    let script = sd2_script(
         &dir,
         "wear.rhai",
-        "//! drive: sd2
-//! name: Scripted coast-down
-let d = drive();
-d.set(\"speed_setpoint\", 6000.0, \"rpm\");
-d.go_to(\"operation_enabled\");
-d.wait_until(\"speed_actual\", |v| v > 5950.0, \"10 s\");
-d.coast_down(\"5900 rpm\", \"100 rpm\", \"10 s\", \"30 s\", #{ at_least: \"-10 %\", without_history: \"pass\" });
-",
+        "Scripted coast-down",
+        &format!("{SCRIPT_UP_TO_SPEED}{SCRIPT_COAST_DOWN}"),
     );
     let (code, seen) = interrupted_once_shown(&script, "wait_until speed_actual");
     assert_eq!(code, Some(130), "{seen}");
@@ -543,21 +514,11 @@ d.coast_down(\"5900 rpm\", \"100 rpm\", \"10 s\", \"30 s\", #{ at_least: \"-10 %
 #[test]
 fn a_comparison_in_a_scripts_finally_never_waits_for_the_store() {
     let dir = scratch("wear-finally");
-    let script = write_file(
+    let script = sd2_script(
         &dir,
         "finally.rhai",
-        "//! drive: sd2
-//! name: Coast-down at the end
-//! safe_stop: brake_to_standstill=false
-let d = drive();
-d.set(\"speed_setpoint\", 6000.0, \"rpm\");
-d.go_to(\"operation_enabled\");
-d.wait_until(\"speed_actual\", |v| v > 5950.0, \"10 s\");
-fn finally(d) {
-    d.coast_down(\"5900 rpm\", \"100 rpm\", \"10 s\", \"30 s\", #{ at_least: \"-10 %\", without_history: \"pass\" });
-    d.disable_voltage();
-}
-",
+        "Coast-down at the end",
+        &format!("//! safe_stop: brake_to_standstill=false\n{SCRIPT_UP_TO_SPEED}fn finally(d) {{\n    {SCRIPT_COAST_DOWN}    d.disable_voltage();\n}}\n"),
     );
     let (_, took, text) = ended_reading_a_silent_store(&script, &[]);
     assert!(

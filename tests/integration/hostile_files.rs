@@ -3,7 +3,7 @@
 //! the first 100 and a count of the others (each problem shown renders its snippet from
 //! the file, so showing all of them cost time and memory quadratic in their number).
 
-use crate::support::{drivescript, scratch};
+use crate::support::{cli, drivescript, scratch};
 
 /// A DCF whose object 0x2100 (the simulated drive's velocity loop gain, REAL32) has a name
 /// of 70 000 characters, over the 65 535 `format!` can pad to.
@@ -21,17 +21,7 @@ fn long_name_dcf(dir: &std::path::Path) -> String {
 fn an_object_name_over_65535_characters_neither_panics_read_nor_diff() {
     let dir = scratch("long-name");
     let dcf = long_name_dcf(&dir);
-    let read = drivescript(
-        &["read", "0x2100", "--drive", "canopen", "--dictionary", &dcf],
-        "",
-    );
-    let stdout = String::from_utf8_lossy(&read.stdout);
-    assert_eq!(
-        read.status.code(),
-        Some(0),
-        "{}",
-        String::from_utf8_lossy(&read.stderr)
-    );
+    let stdout = cli(&["read", "0x2100", "--drive", "canopen", "--dictionary", &dcf], 0).stdout;
     assert!(stdout.contains(&"a".repeat(70_000)), "the whole name is shown");
     assert!(
         stdout.contains("1.5"),
@@ -39,14 +29,7 @@ fn an_object_name_over_65535_characters_neither_panics_read_nor_diff() {
         &stdout[stdout.len().saturating_sub(200)..]
     );
     // The DCF's 2.5 against the simulated drive's 1.5: one difference, named in full.
-    let diff = drivescript(&["diff", &dcf, "--drive", "canopen", "--dictionary", &dcf], "");
-    let stdout = String::from_utf8_lossy(&diff.stdout);
-    assert_eq!(
-        diff.status.code(),
-        Some(1),
-        "{}",
-        String::from_utf8_lossy(&diff.stderr)
-    );
+    let stdout = cli(&["diff", &dcf, "--drive", "canopen", "--dictionary", &dcf], 1).stdout;
     assert!(
         stdout.contains(&"a".repeat(70_000)) && stdout.contains("changed"),
         "{}",

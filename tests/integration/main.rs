@@ -65,6 +65,7 @@ mod station;
 mod stop_command;
 mod support;
 mod support_browser;
+mod support_store;
 mod text_family;
 mod trace_decode;
 mod trend_page;

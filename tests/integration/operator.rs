@@ -42,19 +42,9 @@ fn control_words_after_enable(trace: &str) -> Vec<i64> {
 #[cfg(unix)]
 #[test]
 fn on_a_terminal_an_instruction_is_acknowledged_and_typed_ahead_keys_are_discarded() {
-    let dir = scratch("operator-terminal");
-    let recipe = write_file(&dir, "spindle.yaml", SPINDLE);
-    let trace = dir.join("run.trace");
-    let (recipe, trace_arg) = (recipe.to_string_lossy(), trace.to_string_lossy());
-    let mut t = Terminal::start(
-        &[
-            "run",
-            &recipe,
-            "--trace",
-            &trace_arg,
-            "--unit",
-            "operator=J. Smith",
-        ],
+    let (mut t, trace) = spindle_on_a_terminal(
+        "operator-terminal",
+        &["--unit", "operator=J. Smith"],
         &[("NO_COLOR", "1")],
     );
     t.wait_for(
@@ -84,6 +74,18 @@ fn on_a_terminal_an_instruction_is_acknowledged_and_typed_ahead_keys_are_discard
     assert_eq!(control_words_after_enable(&trace_text), vec![7, 6]);
 }
 
+/// SPINDLE run on a terminal with `more` arguments and `env`, traced to `run.trace` in the
+/// scratch folder `name`: the terminal and the trace's path.
+#[cfg(unix)]
+fn spindle_on_a_terminal(name: &str, more: &[&str], env: &[(&str, &str)]) -> (Terminal, std::path::PathBuf) {
+    let dir = scratch(name);
+    let recipe = write_file(&dir, "spindle.yaml", SPINDLE);
+    let trace = dir.join("run.trace");
+    let (recipe, trace_arg) = (recipe.to_string_lossy(), trace.to_string_lossy());
+    let args = [&["run", &recipe, "--trace", &trace_arg][..], more].concat();
+    (Terminal::start(&args, env), trace)
+}
+
 /// How a question is ended without an answer while the drive is enabled and turning.
 #[cfg(unix)]
 enum Ending {
@@ -99,14 +101,9 @@ fn ended_at_a_question(how: Ending) {
         Ending::Sigterm => "sigterm",
         Ending::EndOfInput => "eof",
     };
-    let dir = scratch(&format!("operator-{name}"));
-    let recipe = write_file(&dir, "spindle.yaml", SPINDLE);
-    let trace = dir.join("run.trace");
-    let (recipe, trace_arg) = (recipe.to_string_lossy(), trace.to_string_lossy());
-    let mut t = Terminal::start(
-        &[
-            "run", &recipe, "--fast", "--trace", &trace_arg, "--answer", "guard=",
-        ],
+    let (mut t, trace) = spindle_on_a_terminal(
+        &format!("operator-{name}"),
+        &["--fast", "--answer", "guard="],
         &[],
     );
     t.wait_for("Is the spindle running quietly? [yes/no]", 1);
@@ -491,14 +488,7 @@ fn the_shipped_balancing_check_runs_with_its_answers() {
 #[cfg(unix)]
 #[test]
 fn a_stop_signal_at_a_question_is_served_at_once_in_real_time() {
-    let dir = scratch("operator-latency");
-    let recipe = write_file(&dir, "spindle.yaml", SPINDLE);
-    let trace = dir.join("run.trace");
-    let (recipe, trace_arg) = (recipe.to_string_lossy(), trace.to_string_lossy());
-    let t = Terminal::start(
-        &["run", &recipe, "--trace", &trace_arg, "--answer", "guard="],
-        &[],
-    );
+    let (t, trace) = spindle_on_a_terminal("operator-latency", &["--answer", "guard="], &[]);
     t.wait_for("Is the spindle running quietly? [yes/no]", 1);
     // The question has waited a while, its slices served in between.
     std::thread::sleep(std::time::Duration::from_millis(300));

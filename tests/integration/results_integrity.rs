@@ -7,9 +7,8 @@
 //! file alone holds every finished run, on SQLite and on a real PostgreSQL server; and
 //! the samples CSV holds the curves the HTML report plots.
 
-use crate::support::{
-    assert_has, assert_lacks, cli, command, scratch, sqlite_store, write_file, PostgresServer, Ran,
-};
+use crate::support::{assert_has, assert_lacks, cli, command, scratch, write_file, PostgresServer, Ran};
+use crate::support_store::{run_recorded, scratch_store};
 use drivescript::results::{Locator, RunFilter, StoredRun};
 use std::path::{Path, PathBuf};
 
@@ -146,24 +145,19 @@ fn a_stale_claim_is_taken_back(store: &str, spool: &Path, data: &Path, offline: 
 
 #[test]
 fn a_stale_spool_claim_is_taken_back_by_the_next_sync_in_sqlite() {
-    let dir = scratch("stale-claim");
-    let store = dir.join("results.sqlite");
-    let s = store.to_str().unwrap();
+    let (dir, s) = &scratch_store("stale-claim");
     // A first run makes the store; a directory in its place makes the next spool.
-    record_tiny_run(&dir, s);
+    record_tiny_run(dir, s);
     let aside = dir.join("aside");
     std::fs::create_dir_all(&aside).expect("aside");
-    let offline = |off: bool| take_offline(&store, &aside, off);
-    a_stale_claim_is_taken_back(s, &dir.join("results.sqlite.spool"), &dir, &offline);
+    let offline = |off: bool| take_offline(Path::new(s), &aside, off);
+    a_stale_claim_is_taken_back(s, &dir.join("results.sqlite.spool"), dir, &offline);
 }
 
 /// Records a run of `TINY` in `store`, which makes the store.
 fn record_tiny_run(dir: &Path, store: &str) {
     let recipe = write_file(dir, "t.yaml", TINY);
-    cli(
-        &["run", recipe.to_str().unwrap(), "--fast", "--results", store],
-        0,
-    );
+    run_recorded(&recipe, store, &[], 0);
 }
 
 /// Puts the SQLite store `store` (its file and write-ahead log) aside with a directory in
@@ -196,12 +190,10 @@ pub fn take_offline(store: &Path, aside: &Path, off: bool) {
 /// PASSED run with part of its steps.
 #[test]
 fn a_queue_without_room_keeps_every_record_in_order_and_the_store_gets_the_whole_run() {
-    let dir = scratch("overflow");
-    let recipe = write_file(&dir, "heavy.yaml", HEAVY);
-    let store = dir.join("results.sqlite");
-    let s = store.to_str().unwrap();
-    record_tiny_run(&dir, s);
-    let lock = rusqlite::Connection::open(&store).expect("open");
+    let (dir, s) = &scratch_store("overflow");
+    let recipe = write_file(dir, "heavy.yaml", HEAVY);
+    record_tiny_run(dir, s);
+    let lock = rusqlite::Connection::open(s).expect("open");
     lock.execute_batch("BEGIN EXCLUSIVE").expect("lock");
     let child = command()
         .args(["run", recipe.to_str().unwrap(), "--fast", "--results", s])
@@ -231,25 +223,12 @@ fn a_queue_without_room_keeps_every_record_in_order_and_the_store_gets_the_whole
 /// (not the write-ahead log beside it) lists the run.
 #[test]
 fn the_sqlite_file_alone_holds_every_finished_run() {
-    let dir = scratch("checkpoint");
-    let recipe = write_file(&dir, "heavy.yaml", HEAVY);
-    let store = dir.join("results.sqlite");
-    let s = store.to_str().unwrap();
-    cli(
-        &[
-            "run",
-            recipe.to_str().unwrap(),
-            "--fast",
-            "--results",
-            s,
-            "--unit",
-            "serial=KEPT-1",
-        ],
-        0,
-    );
+    let (dir, s) = &scratch_store("checkpoint");
+    let recipe = write_file(dir, "heavy.yaml", HEAVY);
+    run_recorded(&recipe, s, &["--unit", "serial=KEPT-1"], 0);
     let copy = dir.join("artifact");
     std::fs::create_dir_all(&copy).expect("dir");
-    std::fs::copy(&store, copy.join("results.sqlite")).expect("only the file copied");
+    std::fs::copy(s, copy.join("results.sqlite")).expect("only the file copied");
     let c = copy.join("results.sqlite");
     let listed = cli(
         &["results", "list", "--simulated", "--results", c.to_str().unwrap()],
@@ -374,11 +353,10 @@ fn a_store_path_that_is_a_directory_gets_a_clear_error() {
 /// `results list`, `results show` and the CSV export; the store keeps them exactly.
 #[test]
 fn control_characters_are_shown_escaped_on_terminals_and_in_the_csv() {
-    let dir = scratch("control-characters");
-    let s = &sqlite_store(&dir);
-    let recipe = write_file(&dir, "tiny.yaml", TINY);
+    let (dir, s) = &scratch_store("control-characters");
+    let recipe = write_file(dir, "tiny.yaml", TINY);
     let serial = "SP-\u{1b}[2J\u{1b}]0;owned\u{7}-9";
-    let ran = run_into(&recipe, s, &dir, &["--unit", &format!("serial={serial}")], 0);
+    let ran = run_into(&recipe, s, dir, &["--unit", &format!("serial={serial}")], 0);
     let shown = "SP-\\x1b[2J\\x1b]0;owned\\x07-9";
     assert_has(&ran.stdout, &[shown]);
     let runs = stored_runs(s);
@@ -497,10 +475,9 @@ fn asking_for_the_serial(dir: &Path, serial: &str) -> (PathBuf, PathBuf) {
 /// A NUL in SQLite is stored and read back exactly.
 #[test]
 fn a_nul_in_an_answer_is_stored_exactly_in_sqlite() {
-    let dir = scratch("nul-sqlite");
-    let s = &sqlite_store(&dir);
-    let (asking, answers) = asking_for_the_serial(&dir, "\"NUL\\0-1\"");
-    run_into(&asking, s, &dir, &["--answers", answers.to_str().unwrap()], 0);
+    let (dir, s) = &scratch_store("nul-sqlite");
+    let (asking, answers) = asking_for_the_serial(dir, "\"NUL\\0-1\"");
+    run_into(&asking, s, dir, &["--answers", answers.to_str().unwrap()], 0);
     let runs = stored_runs(s);
     assert_eq!(runs[0].run.unit.serial.as_deref(), Some("NUL\u{0}-1"));
     let listed = cli(&["results", "list", "--simulated", "--results", s], 0);
@@ -561,14 +538,13 @@ steps:
 /// the file as written (before, the name was refused).
 #[test]
 fn serial_in_an_output_name_comes_from_an_answer_given_beforehand() {
-    let dir = scratch("serial-from-answers");
-    let s = &sqlite_store(&dir);
-    let (asking, answers) = asking_for_the_serial(&dir, "SP-104233");
+    let (dir, s) = &scratch_store("serial-from-answers");
+    let (asking, answers) = asking_for_the_serial(dir, "SP-104233");
     let report = dir.join("{serial}-report.html");
     run_into(
         &asking,
         s,
-        &dir,
+        dir,
         &[
             "--answers",
             answers.to_str().unwrap(),
@@ -586,7 +562,7 @@ fn serial_in_an_output_name_comes_from_an_answer_given_beforehand() {
     let refused = run_into(
         &asking,
         s,
-        &dir,
+        dir,
         &["--answer", "other=1", "--report", report.to_str().unwrap()],
         2,
     );
@@ -600,16 +576,15 @@ fn serial_in_an_output_name_comes_from_an_answer_given_beforehand() {
 /// (the table and `--json`), until a sync delivers them.
 #[test]
 fn results_list_marks_runs_with_records_still_in_the_spool() {
-    let dir = scratch("unsynced");
-    let s = &sqlite_store(&dir);
-    let recipe = write_file(&dir, "tiny.yaml", TINY);
-    run_into(&recipe, s, &dir, &[], 0);
-    run_into(&recipe, s, &dir, &[], 0);
+    let (dir, s) = &scratch_store("unsynced");
+    let recipe = write_file(dir, "tiny.yaml", TINY);
+    run_into(&recipe, s, dir, &[], 0);
+    run_into(&recipe, s, dir, &[], 0);
     let runs = stored_runs(s);
     let id = runs[0].run.id.clone();
     // The unit of one run learnt late, still waiting in the spool.
     write_file(
-        &dir,
+        dir,
         "results.sqlite.spool",
         &format!(
             "{{\"record\":\"unit\",\"run\":\"{id}\",\"unit\":{{\"serial\":\"LATE-1\",\"part\":null,\"operator\":null,\"station\":null}}}}\n"

@@ -7,6 +7,7 @@ use crate::support::{
     assert_has, assert_lacks, cli, command, headless_chromium, run_recording, scratch, unit_args, write_file,
     PostgresServer, SHORT_RECIPE,
 };
+use crate::support_store::scratch_store;
 use std::io::{BufRead, BufReader, Read, Write};
 use std::net::{SocketAddr, TcpStream};
 use std::path::{Path, PathBuf};
@@ -50,6 +51,20 @@ impl Served {
     /// A page's address on this server from its path (`/run/…`).
     fn at(&self, path: &str) -> String {
         format!("http://{}{path}", self.address)
+    }
+
+    /// The page at `path` as headless Chromium built it (its profile in `dir`), once
+    /// Chromium is known to be installed.
+    fn page(&self, path: &str, dir: &Path) -> scraper::Html {
+        rendered(&self.at(path), &dir.join("profile")).expect("chromium")
+    }
+
+    /// The page behind the first link `css` of `page` whose address holds `part`.
+    fn followed(&self, page: &scraper::Html, css: &str, part: &str, dir: &Path) -> scraper::Html {
+        let links = hrefs(page, css);
+        let link = links.iter().find(|h| h.contains(part));
+        let link = link.unwrap_or_else(|| panic!("no link {css} holding {part}: {links:?}"));
+        self.page(link, dir)
     }
 
     /// Status and body of a GET of `path` with `headers` (`Name: value\r\n` each).
@@ -117,6 +132,12 @@ fn hrefs(doc: &scraper::Html, css: &str) -> Vec<String> {
         .collect()
 }
 
+/// [`three_runs`] into `store`, then `results serve` of it on `listen`.
+fn serving_three_runs(dir: &Path, store: &str, listen: &str) -> Served {
+    three_runs(dir, store);
+    Served::start(store, &["--listen", listen])
+}
+
 /// Three runs of two units at two stations into `store`.
 fn three_runs(dir: &Path, store: &str) -> PathBuf {
     let recipe = write_file(dir, "served.yaml", SHORT_RECIPE);
@@ -176,7 +197,7 @@ fn browse(served: &Served, dir: &Path) {
         .all(|v| v.contains("PASSED") && v.contains("SIMULATED")));
     let runs = hrefs(&list, "#runs a[href^='/run/']");
     assert_eq!(runs.len(), 3, "{runs:?}");
-    let run = rendered(&served.at(&runs[0]), &dir.join("profile")).expect("chromium");
+    let run = served.page(&runs[0], dir);
     assert_eq!(texts(&run, "#verdict")[0].trim(), "✔ PASSED (SIMULATED DRIVE)");
     assert_has(
         &texts(&run, "table.checks").concat(),
@@ -185,26 +206,15 @@ fn browse(served: &Served, dir: &Path) {
     assert!(!texts(&run, "#approval").is_empty());
     let unit = hrefs(&run, "#unit a");
     assert_eq!(unit.len(), 1);
-    let certificate = rendered(&served.at(&unit[0]), &dir.join("profile")).expect("chromium");
+    let certificate = served.page(&unit[0], dir);
     assert_eq!(texts(&certificate, "h1"), ["Unit SP-1"]);
     assert_eq!(texts(&certificate, "#runs tbody tr").len(), 2);
-    let trend = hrefs(&run, "table.checks a[href^='/trend']");
-    let mean = trend
-        .iter()
-        .find(|h| h.contains("mean"))
-        .expect("a link to the mean's trend");
-    let trend = rendered(&served.at(mean), &dir.join("profile")).expect("chromium");
+    let trend = served.followed(&run, "table.checks a[href^='/trend']", "mean", dir);
     assert_eq!(texts(&trend, "#values tbody tr").len(), 3);
     assert!(!texts(&trend, "svg").is_empty());
-    let capability = hrefs(&run, "table.checks a[href^='/capability']");
-    let capability = capability
-        .iter()
-        .find(|h| h.contains("mean"))
-        .expect("a link to its capability");
-    let capability = rendered(&served.at(capability), &dir.join("profile")).expect("chromium");
+    let capability = served.followed(&run, "table.checks a[href^='/capability']", "mean", dir);
     assert_has(&texts(&capability, "#capability").concat(), &["n3", "Cpk"]);
-    let yields = hrefs(&capability, "nav a[href^='/yield']");
-    let yields = rendered(&served.at(&yields[0]), &dir.join("profile")).expect("chromium");
+    let yields = served.followed(&capability, "nav a[href^='/yield']", "", dir);
     let rows = texts(&yields, "#yield tbody tr");
     assert_eq!(rows.len(), 2, "{rows:?}");
     assert!(
@@ -219,17 +229,14 @@ fn browse(served: &Served, dir: &Path) {
 
 #[test]
 fn results_serve_shows_a_sqlite_store_in_chromium() {
-    let dir = scratch("serve-sqlite");
-    let store = dir.join("results.sqlite");
-    let store = store.to_str().expect("utf-8");
-    three_runs(&dir, store);
-    let served = Served::start(store, &["--listen", "127.0.0.1:0"]);
+    let (dir, store) = &scratch_store("serve-sqlite");
+    let served = serving_three_runs(dir, store, "127.0.0.1:0");
     assert!(
         served.url.ends_with('/') && !served.url.contains("token"),
         "{}",
         served.url
     );
-    browse(&served, &dir);
+    browse(&served, dir);
 }
 
 #[test]
@@ -238,9 +245,7 @@ fn results_serve_shows_a_postgresql_store_in_chromium() {
         return;
     };
     let dir = scratch("serve-postgres-pages");
-    let url = server.url();
-    three_runs(&dir, &url);
-    let served = Served::start(&url, &["--listen", "127.0.0.1:0"]);
+    let served = serving_three_runs(&dir, &server.url(), "127.0.0.1:0");
     browse(&served, &dir);
     // A server restarted under it: the pages come back without restarting `serve`.
     server.down();
@@ -251,11 +256,8 @@ fn results_serve_shows_a_postgresql_store_in_chromium() {
 
 #[test]
 fn results_serve_on_the_network_wants_its_token() {
-    let dir = scratch("serve-token");
-    let store = dir.join("results.sqlite");
-    let store = store.to_str().expect("utf-8");
-    three_runs(&dir, store);
-    let served = Served::start(store, &["--listen", "0.0.0.0:0"]);
+    let (dir, store) = &scratch_store("serve-token");
+    let served = serving_three_runs(dir, store, "0.0.0.0:0");
     let token = served
         .url
         .split("?token=")
@@ -294,7 +296,7 @@ fn results_serve_on_the_network_wants_its_token() {
     }
     drop(served);
     // A token file that holds no usable token: refused before anything listens.
-    let empty = write_file(&dir, "token", "\n");
+    let empty = write_file(dir, "token", "\n");
     let ran = cli(
         &[
             "results",
@@ -309,7 +311,7 @@ fn results_serve_on_the_network_wants_its_token() {
         2,
     );
     assert_has(&ran.stderr, &["token", "shorter than 16 characters"]);
-    let kept = write_file(&dir, "kept-token", "bench-7-secret-token-0001\n");
+    let kept = write_file(dir, "kept-token", "bench-7-secret-token-0001\n");
     let served = Served::start(
         store,
         &[
@@ -335,13 +337,10 @@ fn results_serve_on_the_network_wants_its_token() {
 
 #[test]
 fn no_request_to_results_serve_reads_a_file() {
-    let dir = scratch("serve-paths");
-    let store = dir.join("results.sqlite");
-    let store = store.to_str().expect("utf-8");
-    three_runs(&dir, store);
-    let secret = write_file(&dir, "secret.txt", "SECRET-FILE-CONTENT\n");
+    let (dir, store) = &scratch_store("serve-paths");
+    let served = serving_three_runs(dir, store, "127.0.0.1:0");
+    let secret = write_file(dir, "secret.txt", "SECRET-FILE-CONTENT\n");
     let secret = secret.to_str().expect("utf-8").to_string();
-    let served = Served::start(store, &["--listen", "127.0.0.1:0"]);
     let escaped = drivescript::results::url_escape(&secret);
     for path in [
         "/secret.txt".to_string(),

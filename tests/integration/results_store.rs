@@ -10,6 +10,7 @@ use crate::support::{
     assert_has, assert_lacks, cli, command, console, run_recording, scratch, screenshot, silent_server,
     sqlite_store, unit_certificate, write_file, InProcessRun, PostgresServer, Ran, Simulator,
 };
+use crate::support_store::{run_recorded, scratch_store, shown_run};
 use drivescript::results::{Locator, RunFilter, StoredRun};
 use drivescript::session::{CheckResult, RunInfo, RunObserver, RunReport, StepRecord, UnitIdentity};
 use std::path::Path;
@@ -123,13 +124,9 @@ fn serial(s: &str) -> UnitIdentity {
 
 #[test]
 fn a_run_is_recorded_with_its_checks_steps_end_state_and_series() {
-    let dir = scratch("recorded");
-    let recipe = write_file(&dir, "short.yaml", SHORT);
-    let store = &sqlite_store(&dir);
-    let ran = cli(
-        &["run", recipe.to_str().unwrap(), "--fast", "--results", store],
-        0,
-    );
+    let (dir, store) = &scratch_store("recorded");
+    let recipe = write_file(dir, "short.yaml", SHORT);
+    let ran = run_recorded(&recipe, store, &[], 0);
     assert_has(&ran.stderr, &["results: run ", " recorded in ", store]);
     let runs = all_runs(store);
     assert_eq!(runs.len(), 1);
@@ -189,18 +186,7 @@ fn a_run_is_recorded_with_its_checks_steps_end_state_and_series() {
         &[&format!("\"id\": \"{}\"", r.run.id), "\"verdict\": \"passed\""],
     );
     // --no-results records nothing.
-    cli(
-        &[
-            "run",
-            recipe.to_str().unwrap(),
-            "--fast",
-            "--results",
-            store,
-            "--set",
-            "speed=2000rpm",
-        ],
-        0,
-    );
+    run_recorded(&recipe, store, &["--set", "speed=2000rpm"], 0);
     cli(&["run", recipe.to_str().unwrap(), "--fast", "--no-results"], 0);
     assert_eq!(all_runs(store).len(), 2);
     // Filters, export and trend over the runs.
@@ -315,18 +301,10 @@ steps:
 ",
     );
     let store = &sqlite_store(&dir);
-    let run = cli(
-        &[
-            "run",
-            recipe.to_str().expect("utf-8"),
-            "--fast",
-            "--results",
-            store,
-            "--unit",
-            "serial=SP-104233",
-            "--answer",
-            "operator=J. Smith",
-        ],
+    let run = run_recorded(
+        &recipe,
+        store,
+        &["--unit", "serial=SP-104233", "--answer", "operator=J. Smith"],
         0,
     );
     assert_has(&run.stdout, &["MARGINAL"]);
@@ -345,9 +323,8 @@ steps:
     let listed = list(store, &["--unit", "SP-104233"]);
     assert_has(&listed.stdout, &["Marginal with a unit"]);
     let id = runs[0].run.id.as_str();
-    let shown = cli(&["results", "show", id, "--results", store], 0);
     assert_has(
-        &shown.stdout,
+        &shown_run(store, id),
         &[
             "SP-104233",
             "J. Smith",
@@ -360,8 +337,7 @@ steps:
 /// is told apart from a run on the built-in simulated drive.
 #[test]
 fn a_replayed_run_is_recorded_with_its_capture() {
-    let dir = scratch("replayed");
-    let store = &sqlite_store(&dir);
+    let (_, store) = &scratch_store("replayed");
     let case = crate::support::repo_root().join("tests/cases/replay/sd2_commissioning");
     let capture = case.join("capture.trace");
     cli(
@@ -384,29 +360,24 @@ fn a_replayed_run_is_recorded_with_its_capture() {
 
 #[test]
 fn a_killed_run_is_left_incomplete_with_its_checks() {
-    let dir = scratch("killed");
+    let (dir, store) = &scratch_store("killed");
     let recipe = write_file(
-        &dir,
+        dir,
         "killed.yaml",
         "name: Killed\ndrive: sd2\nsteps:\n  - expect: { bus_voltage: { above: 100 V } }\n  - dwell: 60 s\n",
     );
-    let store = dir.join("results.sqlite");
     let mut run = LiveRun::start([
         "run",
         recipe.to_str().unwrap(),
         "--no-progress",
         "--results",
-        store.to_str().unwrap(),
+        store,
     ]);
     run.wait_for("bus_voltage");
     // The check reaches the store while the run dwells.
     let started = std::time::Instant::now();
     while started.elapsed() < std::time::Duration::from_secs(20) {
-        if store.is_file()
-            && all_runs(store.to_str().unwrap())
-                .first()
-                .is_some_and(|r| !r.checks.is_empty())
-        {
+        if Path::new(store).is_file() && all_runs(store).first().is_some_and(|r| !r.checks.is_empty()) {
             break;
         }
         std::thread::sleep(std::time::Duration::from_millis(50));
@@ -416,37 +387,24 @@ fn a_killed_run_is_left_incomplete_with_its_checks() {
     // Windows' TerminateProcess leaves the code it is given (1, as the Task Manager's);
     // Unix says "by a signal".
     assert_eq!(code, if cfg!(windows) { Some(1) } else { None }, "killed");
-    let runs = all_runs(store.to_str().unwrap());
+    let runs = all_runs(store);
     assert_eq!(runs.len(), 1);
     assert_eq!(runs[0].verdict(), "incomplete");
     assert_eq!(runs[0].checks.len(), 1);
     assert!(runs[0].checks[0].passed);
-    let listed = list(store.to_str().unwrap(), &["--verdict", "incomplete"]);
+    let listed = list(store, &["--verdict", "incomplete"]);
     assert_has(&listed.stdout, &["INCOMPLETE", "Killed"]);
 }
 
 #[test]
 fn a_locked_store_is_spooled_and_synced_with_nothing_lost() {
-    let dir = scratch("locked");
-    let recipe = write_file(&dir, "short.yaml", SHORT);
-    let store = dir.join("results.sqlite");
-    let s = store.to_str().unwrap();
+    let (dir, s) = &scratch_store("locked");
+    let recipe = write_file(dir, "short.yaml", SHORT);
     // A first run makes the store; then another process holds it locked for the whole run.
-    cli(&["run", recipe.to_str().unwrap(), "--fast", "--results", s], 0);
-    let lock = rusqlite::Connection::open(&store).expect("open");
+    run_recorded(&recipe, s, &[], 0);
+    let lock = rusqlite::Connection::open(s).expect("open");
     lock.execute_batch("BEGIN EXCLUSIVE").expect("lock");
-    let ran = cli(
-        &[
-            "run",
-            recipe.to_str().unwrap(),
-            "--fast",
-            "--results",
-            s,
-            "--set",
-            "speed=2500rpm",
-        ],
-        0,
-    );
+    let ran = run_recorded(&recipe, s, &["--set", "speed=2500rpm"], 0);
     assert_has(&ran.stdout, &["PASSED"]);
     assert_has(
         &ran.stderr,
@@ -471,22 +429,11 @@ fn a_locked_store_is_spooled_and_synced_with_nothing_lost() {
     let again = cli(&["results", "sync", "--results", s], 0);
     assert_has(&again.stdout, &["nothing to deliver"]);
     // Spooled again; this time the next run delivers it.
-    let lock = rusqlite::Connection::open(&store).expect("open");
+    let lock = rusqlite::Connection::open(s).expect("open");
     lock.execute_batch("BEGIN EXCLUSIVE").expect("lock");
-    cli(
-        &[
-            "run",
-            recipe.to_str().unwrap(),
-            "--fast",
-            "--results",
-            s,
-            "--set",
-            "speed=2600rpm",
-        ],
-        0,
-    );
+    run_recorded(&recipe, s, &["--set", "speed=2600rpm"], 0);
     drop(lock);
-    let next = cli(&["run", recipe.to_str().unwrap(), "--fast", "--results", s], 0);
+    let next = run_recorded(&recipe, s, &[], 0);
     assert_has(&next.stderr, &["delivered 1 spooled run(s)"]);
     let runs = all_runs(s);
     assert_eq!(runs.len(), 4);
@@ -598,16 +545,7 @@ fn a_foreign_or_damaged_file_is_refused_clearly() {
     );
     // A run with such a store still runs and keeps its record in the spool.
     let recipe = write_file(&dir, "tiny.yaml", TINY);
-    let ran = cli(
-        &[
-            "run",
-            recipe.to_str().unwrap(),
-            "--fast",
-            "--results",
-            other.to_str().unwrap(),
-        ],
-        0,
-    );
+    let ran = run_recorded(&recipe, other.to_str().unwrap(), &[], 0);
     assert_has(
         &ran.stderr,
         &["is not a drivescript results store", "other.sqlite.spool"],
@@ -626,10 +564,8 @@ fn a_foreign_or_damaged_file_is_refused_clearly() {
 
 #[test]
 fn the_unit_certificate_renders_in_headless_chromium() {
-    let dir = scratch("certificate");
-    let recipe = write_file(&dir, "short.yaml", SHORT);
-    let store = dir.join("results.sqlite");
-    let s = store.to_str().unwrap();
+    let (dir, s) = &scratch_store("certificate");
+    let recipe = write_file(dir, "short.yaml", SHORT);
     let unit = UnitIdentity {
         serial: Some("SP-104233".into()),
         part: Some("HSK-63 spindle <motor & co>".into()),
@@ -893,15 +829,14 @@ fn a_server_that_takes_the_connection_and_never_answers_is_unreachable_in_time()
 /// hashes as `sha256sum` of its file.
 #[test]
 fn the_recipe_hash_covers_every_included_file() {
-    let dir = scratch("hash-includes");
-    let store = &sqlite_store(&dir);
+    let (dir, store) = &scratch_store("hash-includes");
     let stage = write_file(
-        &dir,
+        dir,
         "stage.yaml",
         "name: Stage\ndrive: sd2\nsteps:\n  - expect: { bus_voltage: { above: 100 V } }\n",
     );
     let recipe = write_file(
-        &dir,
+        dir,
         "main.yaml",
         "name: With a stage\ndrive: sd2\nsteps:\n  - include: stage.yaml\n  - include: stage.yaml\n",
     );

@@ -139,6 +139,21 @@ fn start_in_page(b: &mut Browser, url: &str, operator: &str, serial: &str) {
     b.wait_for("!document.getElementById('run').hidden", "the run to start");
 }
 
+/// A browser (1280 × 800) at a station `name` of `recipe` (with `extra` arguments), its
+/// run started in the page by A. Operator for `serial`; `None` where no browser can be
+/// launched.
+fn started_in_a_browser(
+    name: &str,
+    recipe: &str,
+    extra: &[&str],
+    serial: &str,
+) -> Option<(Browser, StationUnderTest)> {
+    let mut b = browser(name, 1280, 800)?;
+    let station = StationUnderTest::start(name, recipe, extra);
+    start_in_page(&mut b, &station.url, "A. Operator", serial);
+    Some((b, station))
+}
+
 /// Waits for the open dialog that asks `text` and is not being judged.
 fn dialog(b: &mut Browser, text: &str) {
     b.wait_for_text("#dialog-text", text);
@@ -298,11 +313,9 @@ fn braked_before_disable(trace: &str) -> (f64, i64) {
 
 #[test]
 fn stop_in_the_page_brakes_to_standstill_and_a_second_start_is_refused_and_a_reopened_page_rejoins() {
-    let Some(mut first) = browser("stop-first", 1280, 800) else {
+    let Some((mut first, station)) = started_in_a_browser("stop", LONG_RUN, &[], "SP-000001") else {
         return;
     };
-    let station = StationUnderTest::start("stop", LONG_RUN, &[]);
-    start_in_page(&mut first, &station.url, "A. Operator", "SP-000001");
     dialog(&mut first, "Check the spindle from the other side");
 
     // A second browser sees the run under way, and its Start is refused saying why.
@@ -350,11 +363,10 @@ fn stop_in_the_page_brakes_to_standstill_and_a_second_start_is_refused_and_a_reo
 
 #[test]
 fn a_drive_fault_shows_fail_with_the_reason() {
-    let Some(mut b) = browser("fault", 1280, 800) else {
+    let trip = ["--sim", "trip-at=1s:0x1234"];
+    let Some((mut b, station)) = started_in_a_browser("fault", LONG_RUN, &trip, "SP-000003") else {
         return;
     };
-    let station = StationUnderTest::start("fault", LONG_RUN, &["--sim", "trip-at=1s:0x1234"]);
-    start_in_page(&mut b, &station.url, "A. Operator", "SP-000003");
     b.wait_for_text("#word", "FAIL");
     let line = b.text("#verdict-line");
     assert!(line.contains("ERROR") && line.contains("fault"), "{line}");
@@ -369,11 +381,9 @@ fn a_drive_fault_shows_fail_with_the_reason() {
 
 #[test]
 fn sigterm_to_the_station_mid_run_stops_the_drive_before_it_exits() {
-    let Some(mut b) = browser("sigterm", 1280, 800) else {
+    let Some((mut b, station)) = started_in_a_browser("sigterm", LONG_RUN, &[], "SP-000004") else {
         return;
     };
-    let station = StationUnderTest::start("sigterm", LONG_RUN, &[]);
-    start_in_page(&mut b, &station.url, "A. Operator", "SP-000004");
     dialog(&mut b, "Check the spindle from the other side");
     station.run.signal("TERM");
     // Every page hears that the station shuts down and how the run ended.
