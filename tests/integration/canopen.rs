@@ -312,9 +312,8 @@ fn an_eds_adds_its_objects_by_readable_name_index_and_eds_name() {
         ],
     );
     // A malformed EDS: located, nothing read.
-    let dir = scratch("canopen-bad-eds");
-    let bad = write_file(
-        &dir,
+    let (_, bad) = scratch_file(
+        "canopen-bad-eds",
         "bad.eds",
         "[FileInfo]\n[2000]\nParameterName=X\nDataType=0x0006\nAccessType=maybe\n",
     );

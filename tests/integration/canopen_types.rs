@@ -4,7 +4,7 @@
 //! than a transfer refused; a DCF of such values diffed and restored; `decode` of an SDO
 //! telegram carrying a REAL32.
 
-use crate::support::{assert_has, assert_lacks, cli, repo_root, scratch, write_file, Ran};
+use crate::support::{assert_has, assert_lacks, cli, repo_root, scratch_file, write_file, Ran};
 
 /// drivescript's subcommand `args[0]` on `--drive canopen` with the simulated node's own
 /// EDS as the dictionary, then the rest of `args` (a negative value after `--`), exiting
@@ -32,9 +32,8 @@ fn on_dictionary(dictionary: &str, args: &[&str], code: i32) -> Ran {
 
 #[test]
 fn floats_odd_width_integers_and_octets_are_read_and_written_with_their_exact_bytes() {
-    let dir = scratch("canopen-types");
-    let recipe = write_file(
-        &dir,
+    let (dir, recipe) = scratch_file(
+        "canopen-types",
         "types.yaml",
         r#"name: Wider types
 drive: canopen
@@ -96,9 +95,8 @@ steps:
 fn a_nan_is_shown_as_such_and_a_domain_beyond_a_transfer_is_refused() {
     let out = on_node(&["read", "torque_constant"], 0);
     assert_has(&out.stdout, &["torque_constant", "NaN", "0x2106"]);
-    let dir = scratch("canopen-nan");
-    let recipe = write_file(
-        &dir,
+    let (dir, recipe) = scratch_file(
+        "canopen-nan",
         "nan.yaml",
         "name: NaN\ndrive: canopen\nsteps:\n  - expect: { torque_constant: { below: 1000 } }\n",
     );

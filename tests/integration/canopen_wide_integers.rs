@@ -4,15 +4,14 @@
 //! restored, a DCF of them diffed and restored, and `decode` of their segments.
 
 use crate::canopen_types::{on_dcf, on_node};
-use crate::support::{assert_has, assert_in_order, assert_lacks, cli, scratch, write_file};
+use crate::support::{assert_has, assert_in_order, assert_lacks, cli, scratch, scratch_file, write_file};
 
 /// 2^63 − 1, 2^53 + 1, −2^55 and 2^56 − 1 written by a recipe, with the exact bytes on the
 /// bus, read back and compared exactly; `decode` of the trace shows each whole value.
 #[test]
 fn wide_integers_are_written_and_read_back_to_the_unit() {
-    let dir = scratch("canopen-wide-integers");
-    let recipe = write_file(
-        &dir,
+    let (dir, recipe) = scratch_file(
+        "canopen-wide-integers",
         "wide.yaml",
         r#"name: Wide integers
 drive: canopen
@@ -107,9 +106,8 @@ steps:
 /// `equals` tells 2^53 + 1 from 2^53, which a float cannot.
 #[test]
 fn equals_tells_apart_what_a_float_cannot() {
-    let dir = scratch("canopen-wide-equals");
-    let recipe = write_file(
-        &dir,
+    let (dir, recipe) = scratch_file(
+        "canopen-wide-equals",
         "equals.yaml",
         "name: One count\ndrive: canopen\nsteps:\n  - set: { position_counter: 9007199254740993 }\n  - expect: { position_counter: { equals: 9007199254740992 } }\n",
     );

@@ -128,9 +128,8 @@ fn a_served_lenze_9400_node_sends_an_injected_emcy() {
         "emergency-at=2s:0x2310"
     };
     let sim = crate::support::Simulator::start(&["--drive", "lenze-9400", "--slcan-pty", "--sim", emergency]);
-    let dir = scratch("lenze-9400-emcy-slcan");
-    let recipe = write_file(
-        &dir,
+    let (_, recipe) = scratch_file(
+        "lenze-9400-emcy-slcan",
         "emcy.yaml",
         "name: 9400 EMCY over SLCAN\ndrive: lenze-9400\nsteps:\n  - dwell: 1 min\n",
     );

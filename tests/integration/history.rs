@@ -10,8 +10,8 @@
 use crate::live_run::LiveRun;
 use crate::support::{
     assert_exit, assert_has, assert_lacks, cli, command, console, run_recording as run, scratch,
-    silent_server, unit_certificate, with_postgres_store, with_sqlite_store, write_changed, write_file,
-    InProcessRun, Simulator,
+    scratch_file, silent_server, unit_certificate, with_postgres_store, with_sqlite_store, write_changed,
+    write_file, InProcessRun, Simulator,
 };
 use crate::support_store::{scratch_store, sd2_script, shown_run, FailedComparison, Reports};
 use drivescript::results::{Locator, RunFilter, StoreHistory};
@@ -193,8 +193,7 @@ steps:
 /// fails, naming the store; the run goes on and its drive ends in a verified safe stop.
 #[test]
 fn a_store_that_cannot_be_read_fails_the_comparison_and_the_drive_still_stops() {
-    let dir = scratch("history-unreadable");
-    let recipe = write_file(&dir, "run-in.yaml", RUN_IN);
+    let (dir, recipe) = scratch_file("history-unreadable", "run-in.yaml", RUN_IN);
     let foreign = write_file(&dir, "notes.sqlite", "these are notes, not a database\n");
     let (code, out) = run(
         &recipe,
@@ -299,8 +298,7 @@ pub(crate) fn interrupted_once_shown(recipe: &Path, marker: &str) -> (Option<i32
 /// A stop signal while the store is looked up ends the wait at once, with the safe stop.
 #[test]
 fn a_stop_signal_during_the_lookup_runs_the_safe_stop() {
-    let dir = scratch("history-signal");
-    let recipe = write_file(&dir, "run-in.yaml", RUN_IN);
+    let (_, recipe) = scratch_file("history-signal", "run-in.yaml", RUN_IN);
     let (code, seen) = interrupted_once_shown(&recipe, "unit    serial SP-1");
     assert_eq!(code, Some(130), "{seen}");
     // Never enabled, the drive stays in switch on disabled: the stop sends no shutdown,

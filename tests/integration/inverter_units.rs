@@ -5,7 +5,7 @@
 //! refusing what no inverter of its kind reaches. Through the binary, against the
 //! built-in simulated inverter.
 
-use crate::support::{assert_has, assert_lacks, check_file, cli, scratch, words, write_file};
+use crate::support::{assert_has, assert_lacks, check_file, cli, scratch, scratch_file, words, write_file};
 use std::path::Path;
 
 const AT_100_HZ: &str = "name: Spindle at 100 Hz
@@ -46,8 +46,7 @@ fn a_recipe_with_two_pole_pairs_in_its_link_sets_100_hz_as_3000_rpm() {
 
 #[test]
 fn the_link_option_overrides_the_dictionarys_pole_pairs() {
-    let dir = scratch("inverter-100hz-option");
-    let recipe = write_file(&dir, "hz.yaml", AT_100_HZ);
+    let (dir, recipe) = scratch_file("inverter-100hz-option", "hz.yaml", AT_100_HZ);
     let path = recipe.to_str().unwrap();
     // The dictionary's own: one pole pair, 100 Hz is 6000 rpm.
     let out = cli(&["run", path, "--fast"], 0).stdout;
@@ -91,8 +90,7 @@ fn the_link_option_overrides_the_dictionarys_pole_pairs() {
 
 #[test]
 fn bad_pole_pairs_are_refused_before_anything_is_sent() {
-    let dir = scratch("inverter-bad-pole-pairs");
-    let recipe = write_file(&dir, "hz.yaml", AT_100_HZ);
+    let (_, recipe) = scratch_file("inverter-bad-pole-pairs", "hz.yaml", AT_100_HZ);
     let path = recipe.to_str().unwrap();
     let out = cli(&["check", path, "--link-option", "pole-pairs=0"], 2);
     assert_has(
@@ -157,9 +155,8 @@ fn every_shipped_inverter_dictionary_refuses_300_000_rpm_in_check() {
 
 #[test]
 fn a_script_and_read_give_a_value_in_hz_where_the_pole_pairs_are_known() {
-    let dir = scratch("inverter-hz-script");
-    let script = write_file(
-        &dir,
+    let (_, script) = scratch_file(
+        "inverter-hz-script",
         "hz.rhai",
         "//! drive: sunfar-e500
 let d = drive();
@@ -261,8 +258,7 @@ steps:
 /// the same rpm as the run did, and it replays to the same verdict.
 #[test]
 fn a_trace_keeps_the_pole_pairs_for_decode_and_replay() {
-    let dir = scratch("inverter-trace");
-    let recipe = write_file(&dir, "hz.yaml", AT_100_HZ);
+    let (dir, recipe) = scratch_file("inverter-trace", "hz.yaml", AT_100_HZ);
     let trace = dir.join("run.log");
     let (path, log) = (recipe.to_str().unwrap(), trace.to_str().unwrap());
     let args = [

@@ -99,8 +99,7 @@ fn two_axes_on_a_pty(
     recipe_text: &str,
 ) -> (Simulator, std::path::PathBuf, String, String) {
     let sim = Simulator::pty(sim_args);
-    let dir = scratch(name);
-    let recipe = write_file(&dir, "recipe.yaml", recipe_text);
+    let (dir, recipe) = scratch_file(name, "recipe.yaml", recipe_text);
     let trace = dir.join("run.trace");
     let text = sim
         .cli(
@@ -197,8 +196,11 @@ fn dnc_address_is_refused_with_address_and_for_a_family_without_dnc_addresses() 
 #[test]
 fn ctrl_c_on_a_pty_stops_both_drives_each_verified() {
     let sim = Simulator::pty(&["--address", "dnc:2,dnc:3"]);
-    let dir = scratch("multi-pty-ctrl-c");
-    let recipe = write_file(&dir, "recipe.yaml", &TWO_AXES.replace("SAMPLE_FOR", "10 min"));
+    let (_, recipe) = scratch_file(
+        "multi-pty-ctrl-c",
+        "recipe.yaml",
+        &TWO_AXES.replace("SAMPLE_FOR", "10 min"),
+    );
     let recipe = recipe.to_string_lossy().to_string();
     let run = LiveRun::start(["run", recipe.as_str(), "--port", &sim.endpoint]);
     let (_, code, seen) = run.interrupt_after("wait until right.speed_actual", Duration::from_millis(500));
@@ -289,8 +291,11 @@ on_fault:
 
 #[test]
 fn a_stop_signal_stops_both_drives_last_enabled_first() {
-    let dir = scratch("multi-signal");
-    let recipe = write_file(&dir, "recipe.yaml", &TWO_AXES.replace("SAMPLE_FOR", "1 h"));
+    let (_, recipe) = scratch_file(
+        "multi-signal",
+        "recipe.yaml",
+        &TWO_AXES.replace("SAMPLE_FOR", "1 h"),
+    );
     let stop = Arc::new(StopRequests::new());
     stop.schedule(Duration::from_secs(30), StopSignal::INT);
     let (result, output) = run_in_process(&recipe, stop, &|_, _| {});
@@ -422,8 +427,11 @@ DRIVE_CALL
 
 #[test]
 fn a_script_drives_each_named_drive_and_stops_both() {
-    let dir = scratch("multi-script");
-    let script = write_file(&dir, "script.rhai", &TWO_AXES_SCRIPT.replace("DRIVE_CALL", ""));
+    let (_, script) = scratch_file(
+        "multi-script",
+        "script.rhai",
+        &TWO_AXES_SCRIPT.replace("DRIVE_CALL", ""),
+    );
     let (result, output) = run_in_process(&script, Arc::new(StopRequests::new()), &|_, _| {});
     assert_eq!(result.exit_code, 0, "{output}");
     assert_has(
@@ -468,8 +476,7 @@ fn a_script_naming_an_unknown_drive_or_no_drive_is_told_which_there_are() {
 /// A fresh scratch folder `name` with the two-axes recipe and a limits file capping the
 /// speed at `max_speed`: the folder, the recipe and the limits file.
 fn two_axes_under_limits(name: &str, max_speed: &str) -> (PathBuf, PathBuf, String) {
-    let dir = scratch(name);
-    let limits = write_file(&dir, "limits.yaml", &format!("max_speed: {max_speed}\n"));
+    let (dir, limits) = scratch_file(name, "limits.yaml", &format!("max_speed: {max_speed}\n"));
     let recipe = write_file(&dir, "recipe.yaml", &TWO_AXES.replace("SAMPLE_FOR", "1 s"));
     let limits = limits.to_str().expect("utf-8 path").to_string();
     (dir, recipe, limits)

@@ -9,7 +9,7 @@
 use crate::safety::{traced_writes, CONTROL_WORD, SPEED_SETPOINT};
 #[cfg(unix)]
 use crate::support::Terminal;
-use crate::support::{assert_has, assert_lacks, cli, scratch, succeeded, write_file, InProcessRun};
+use crate::support::{assert_has, assert_lacks, cli, scratch_file, succeeded, write_file, InProcessRun};
 
 const SPINDLE: &str = "name: Spindle check
 steps:
@@ -78,8 +78,7 @@ fn on_a_terminal_an_instruction_is_acknowledged_and_typed_ahead_keys_are_discard
 /// scratch folder `name`: the terminal and the trace's path.
 #[cfg(unix)]
 fn spindle_on_a_terminal(name: &str, more: &[&str], env: &[(&str, &str)]) -> (Terminal, std::path::PathBuf) {
-    let dir = scratch(name);
-    let recipe = write_file(&dir, "spindle.yaml", SPINDLE);
+    let (dir, recipe) = scratch_file(name, "spindle.yaml", SPINDLE);
     let trace = dir.join("run.trace");
     let (recipe, trace_arg) = (recipe.to_string_lossy(), trace.to_string_lossy());
     let args = [&["run", &recipe, "--trace", &trace_arg][..], more].concat();
@@ -161,9 +160,8 @@ fn a_terminal_closed_at_a_question_stops_the_enabled_drive_and_exits_3() {
 /// with it. In virtual time, with a question nobody answers within its timeout.
 #[test]
 fn the_cyclic_channel_keeps_sending_while_a_question_waits() {
-    let dir = scratch("operator-cyclic");
-    let recipe = write_file(
-        &dir,
+    let (dir, recipe) = scratch_file(
+        "operator-cyclic",
         "cyclic.yaml",
         "name: Cyclic question
 link: { channel: cyclic, velocity_scaling: 24000 rpm }
@@ -231,8 +229,7 @@ steps:
 #[test]
 fn junit_and_html_carry_the_identity_and_every_answer() {
     use crate::reports::markup::{html, junit, junit_xsd, select, text};
-    let dir = scratch("operator-reports");
-    let recipe = write_file(&dir, "balancing.yaml", BALANCING);
+    let (dir, recipe) = scratch_file("operator-reports", "balancing.yaml", BALANCING);
     let answers = write_file(&dir, "answers.yaml", "serial: SP-104233\nguard: ''\nquiet: no\n");
     let mut run = InProcessRun::new(&recipe);
     run.operator.unit = vec![
@@ -344,8 +341,7 @@ print(`serial ${serial}, vibration ${v} mm/s`);
 /// did-you-mean).
 #[test]
 fn scripts_ask_the_operator_with_functions() {
-    let dir = scratch("operator-script");
-    let script = write_file(&dir, "balancing.rhai", SCRIPT);
+    let (dir, script) = scratch_file("operator-script", "balancing.rhai", SCRIPT);
     let path = script.to_string_lossy();
     let refused = cli(&["run", &path, "--fast", "--answer", "serial=SP-104233"], 2);
     assert_has(
@@ -394,8 +390,7 @@ fn scripts_ask_the_operator_with_functions() {
 /// unknown name is refused before anything is sent.
 #[test]
 fn output_names_are_filled_from_the_unit() {
-    let dir = scratch("operator-names");
-    let recipe = write_file(&dir, "spindle.yaml", SPINDLE);
+    let (dir, recipe) = scratch_file("operator-names", "spindle.yaml", SPINDLE);
     let (path, out_dir) = (recipe.to_string_lossy(), dir.to_string_lossy());
     let common = [
         "run",

@@ -7,7 +7,9 @@
 //! file alone holds every finished run, on SQLite and on a real PostgreSQL server; and
 //! the samples CSV holds the curves the HTML report plots.
 
-use crate::support::{assert_has, assert_lacks, cli, command, scratch, write_file, PostgresServer, Ran};
+use crate::support::{
+    assert_has, assert_lacks, cli, command, scratch, scratch_file, write_file, PostgresServer, Ran,
+};
 use crate::support_store::{run_recorded, scratch_store};
 use drivescript::results::{Locator, RunFilter, StoredRun};
 use std::path::{Path, PathBuf};
@@ -247,8 +249,7 @@ fn the_sqlite_file_alone_holds_every_finished_run() {
 /// WAL first); the run goes on and keeps its record on this bench.
 #[test]
 fn a_foreign_sqlite_file_is_left_untouched_with_a_clear_error() {
-    let dir = scratch("foreign-untouched");
-    let recipe = write_file(&dir, "tiny.yaml", TINY);
+    let (dir, recipe) = scratch_file("foreign-untouched", "tiny.yaml", TINY);
     for mode in ["DELETE", "WAL"] {
         let other = dir.join(format!("other-{mode}.sqlite"));
         {
@@ -297,8 +298,7 @@ fn a_foreign_sqlite_file_is_left_untouched_with_a_clear_error() {
 /// line then said they waited in the spool).
 #[test]
 fn a_run_neither_store_nor_spool_takes_is_said_lost_not_kept() {
-    let dir = scratch("spool-unwritable");
-    let recipe = write_file(&dir, "tiny.yaml", TINY);
+    let (dir, recipe) = scratch_file("spool-unwritable", "tiny.yaml", TINY);
     let other = dir.join("other.sqlite");
     {
         let c = rusqlite::Connection::open(&other).expect("another application's database");
@@ -488,9 +488,8 @@ fn a_nul_in_an_answer_is_stored_exactly_in_sqlite() {
 /// of a wait for a stable slope, in their steps (before, only `sample` steps).
 #[test]
 fn the_samples_csv_holds_the_coast_down_and_the_polls_of_a_stable_wait() {
-    let dir = scratch("csv-curves");
-    let recipe = write_file(
-        &dir,
+    let (dir, recipe) = scratch_file(
+        "csv-curves",
         "curves.yaml",
         "name: Curves
 drive: sd2

@@ -5,7 +5,7 @@
 //! its own is there complete, and nothing is left in the spool or in a claim on it. `DRIVESCRIPT_KILL_SEED=N` replays a campaign.
 
 use crate::results_integrity::{spool_files, stored_runs, take_offline, HEAVY};
-use crate::support::{command, scratch, write_file, PostgresServer};
+use crate::support::{command, scratch_file, PostgresServer};
 use std::path::Path;
 use std::process::Stdio;
 use std::time::{Duration, Instant};
@@ -225,8 +225,7 @@ fn kills(linux: usize, wine: usize) -> usize {
 #[test]
 fn sigkill_at_random_moments_of_runs_and_syncs_loses_or_strands_nothing_in_sqlite() {
     let started = Instant::now();
-    let dir = scratch("kill-sqlite");
-    let recipe = write_file(&dir, "heavy.yaml", HEAVY);
+    let (dir, recipe) = scratch_file("kill-sqlite", "heavy.yaml", HEAVY);
     let store = dir.join("results.sqlite");
     let aside = dir.join("aside");
     std::fs::create_dir_all(&aside).expect("aside");
@@ -249,8 +248,7 @@ fn sigkill_at_random_moments_of_runs_and_syncs_loses_or_strands_nothing_in_postg
         return;
     };
     let started = Instant::now();
-    let dir = scratch("kill-postgres-files");
-    let recipe = write_file(&dir, "medium.yaml", &medium());
+    let (dir, recipe) = scratch_file("kill-postgres-files", "medium.yaml", &medium());
     let url = server.url();
     let offline = |off: bool| if off { server.down() } else { server.up() };
     let tally = campaign(&recipe, &url, &dir, kills(50, 25), &offline);

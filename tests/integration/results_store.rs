@@ -7,8 +7,8 @@
 use crate::live_run::LiveRun;
 use crate::support::SHORT_RECIPE as SHORT;
 use crate::support::{
-    assert_has, assert_lacks, cli, command, console, run_recording, scratch, screenshot, silent_server,
-    sqlite_store, unit_certificate, write_file, InProcessRun, PostgresServer, Ran, Simulator,
+    assert_has, assert_lacks, cli, command, console, run_recording, scratch, scratch_file, screenshot,
+    silent_server, sqlite_store, unit_certificate, write_file, InProcessRun, PostgresServer, Ran, Simulator,
 };
 use crate::support_store::{run_recorded, scratch_store, shown_run};
 use drivescript::results::{Locator, RunFilter, StoredRun};
@@ -252,8 +252,7 @@ fn a_run_is_recorded_with_its_checks_steps_end_state_and_series() {
 
 #[test]
 fn the_default_store_is_in_the_data_directory_and_takes_only_real_drives_unless_named() {
-    let dir = scratch("default");
-    let recipe = write_file(&dir, "tiny.yaml", TINY);
+    let (dir, recipe) = scratch_file("default", "tiny.yaml", TINY);
     let run = |extra: &[&str]| {
         let out = command()
             .env_remove("DRIVESCRIPT_RESULTS")
@@ -284,9 +283,8 @@ fn the_default_store_is_in_the_data_directory_and_takes_only_real_drives_unless_
 /// finds the run, `results show` names the unit and says MARGINAL.
 #[test]
 fn the_unit_from_the_command_line_and_an_answer_and_a_marginal_check_are_recorded() {
-    let dir = scratch("unit-marginal");
-    let recipe = write_file(
-        &dir,
+    let (dir, recipe) = scratch_file(
+        "unit-marginal",
         "marginal.yaml",
         "name: Marginal with a unit
 drive: sd2
@@ -522,8 +520,7 @@ fn hostile_serial_numbers_round_trip_in_sqlite() {
 
 #[test]
 fn a_foreign_or_damaged_file_is_refused_clearly() {
-    let dir = scratch("foreign");
-    let junk = write_file(&dir, "notes.txt", &"not a database at all\n".repeat(200));
+    let (dir, junk) = scratch_file("foreign", "notes.txt", &"not a database at all\n".repeat(200));
     let refused = cli(&["results", "list", "--results", junk.to_str().unwrap()], 2);
     assert_has(
         &refused.stderr,
@@ -686,10 +683,9 @@ fn postgresql_over_tls_checks_the_certificate_against_the_given_ca() {
 /// still ends, with its exit code, instead of waiting for room in the queue for ever.
 #[test]
 fn a_store_that_never_answers_does_not_hold_up_the_end_of_a_long_run() {
-    let dir = scratch("silent-store");
     // More steps than the recorder's queue holds.
-    let recipe = write_file(
-        &dir,
+    let (dir, recipe) = scratch_file(
+        "silent-store",
         "long.yaml",
         "name: Long\ndrive: sd2\nsteps:\n  - repeat:\n      times: 5000\n      steps:\n        - print: \"pass\"\n",
     );
@@ -720,8 +716,7 @@ fn a_store_that_never_answers_does_not_hold_up_the_end_of_a_long_run() {
 /// none, there it is Ctrl-C.
 #[test]
 fn a_signal_ends_the_wait_for_a_silent_store_and_the_whole_run_is_spooled() {
-    let dir = scratch("silent-store-signal");
-    let recipe = write_file(&dir, "short.yaml", SHORT);
+    let (dir, recipe) = scratch_file("silent-store-signal", "short.yaml", SHORT);
     let mut run = LiveRun::with(|run| into_a_silent_store(run, &dir, &recipe, "--no-progress"));
     let mut stderr = run.take_stderr();
     let said = std::thread::spawn(move || {

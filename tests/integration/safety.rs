@@ -76,8 +76,7 @@ steps:
 
 #[test]
 fn in_virtual_time_the_stop_starts_at_the_signal_not_at_the_next_sample() {
-    let dir = scratch("virtual-latency");
-    let recipe = write_file(&dir, "recipe.yaml", SAMPLE_EVERY_30_S);
+    let (_, recipe) = scratch_file("virtual-latency", "recipe.yaml", SAMPLE_EVERY_30_S);
     let stop = Arc::new(StopRequests::new());
     let signal_at = Duration::from_millis(45_250);
     stop.schedule(signal_at, StopSignal::TERM);
@@ -94,8 +93,7 @@ fn in_virtual_time_the_stop_starts_at_the_signal_not_at_the_next_sample() {
 
 #[test]
 fn in_real_time_a_signal_during_a_30_s_sample_interval_stops_within_100_ms() {
-    let dir = scratch("real-latency");
-    let recipe = write_file(&dir, "recipe.yaml", SAMPLE_EVERY_30_S);
+    let (_, recipe) = scratch_file("real-latency", "recipe.yaml", SAMPLE_EVERY_30_S);
     let stop = Arc::new(StopRequests::new());
     let clock_slot: Arc<OnceLock<SharedClock>> = Arc::new(OnceLock::new());
     let (sender_stop, sender_clock) = (stop.clone(), clock_slot.clone());
@@ -188,8 +186,11 @@ pub(crate) fn traced_writes(trace: &str, index: u16) -> Vec<(f64, i64)> {
 /// pseudo-terminal is a COM port and a SIGINT is the console's Ctrl-C.
 fn signal_through_a_pty(signal: StopSignal, second: Option<StopSignal>) {
     let sim = Simulator::pty(&[]);
-    let dir = scratch(&format!("pty-{}-{}", signal.name, second.map_or("", |s| s.name)));
-    let recipe = write_file(&dir, "recipe.yaml", SAMPLE_EVERY_30_S);
+    let (dir, recipe) = scratch_file(
+        &format!("pty-{}-{}", signal.name, second.map_or("", |s| s.name)),
+        "recipe.yaml",
+        SAMPLE_EVERY_30_S,
+    );
     let (junit, html, trace) = (
         dir.join("junit.xml"),
         dir.join("report.html"),
@@ -331,8 +332,7 @@ fn a_second_signal_through_a_pty_switches_the_power_stage_off_at_once() {
 /// run waits for the reader to let go (it used to end with "access denied").
 #[test]
 fn a_run_killed_beyond_any_safe_stop_leaves_a_report_that_says_not_finished() {
-    let dir = scratch("sigkill");
-    let recipe = write_file(&dir, "recipe.yaml", SAMPLE_EVERY_30_S);
+    let (dir, recipe) = scratch_file("sigkill", "recipe.yaml", SAMPLE_EVERY_30_S);
     let (junit, html) = (dir.join("junit.xml"), dir.join("report.html"));
     std::fs::write(&junit, "<testsuites tests=\"1\" failures=\"0\"/>").expect("old junit");
     std::fs::write(&html, "<p>PASSED</p>").expect("old html");

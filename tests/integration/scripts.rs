@@ -300,9 +300,8 @@ fn run_refuses_a_misspelt_call_before_it_opens_the_port() {
 
 #[test]
 fn check_finds_literal_mistakes_with_places_and_suggestions_without_a_port() {
-    let dir = scratch("check");
-    let path = write_file(
-        &dir,
+    let (_, path) = scratch_file(
+        "check",
         "script.rhai",
         "//! drive: sd2\nlet d = drive();\nd.set(\"speed_setpont\", 3000.0, \"rpm\");\nd.set(\"speed_setpoint\", 300000.0, \"rpm\");\n\
          d.go_to(\"operation_enabld\", \"5 s\");\ndwell(\"5\");\nlet v = d.read_as(\"speed_actual\", \"A\");\n",
@@ -357,9 +356,8 @@ fn sigint_during_a_scripts_sample_through_a_pty_stops_the_drive() {
     use crate::safety::traced_writes;
     use crate::support::Simulator;
     let sim = Simulator::pty(&[]);
-    let dir = scratch("script-pty");
-    let script = write_file(
-        &dir,
+    let (dir, script) = scratch_file(
+        "script-pty",
         "script.rhai",
         "let d = drive();\nd.go_to(\"operation_enabled\", \"2 s\");\nd.set(\"speed_setpoint\", 2000.0, \"rpm\");\n\
          d.wait_until(\"speed_actual\", |v| v > 1980.0, \"10 s\");\nprint(\"sampling\");\n\
@@ -616,9 +614,8 @@ fn a_scripts_csv_file_outside_the_output_directory_is_refused() {
 /// place), and `run` sends nothing.
 #[test]
 fn check_finds_a_wait_until_condition_that_uses_the_drive() {
-    let dir = scratch("script-condition-drive");
-    let path = write_file(
-        &dir,
+    let (_, path) = scratch_file(
+        "script-condition-drive",
         "script.rhai",
         "//! drive: sd2\nlet d = drive();\nd.set(\"speed_setpoint\", 2000.0, \"rpm\");\nd.go_to(\"operation_enabled\");\n\
          d.wait_until(\"speed_actual\", |v| v > d.read(\"speed_setpoint\") - 10.0, \"10 s\");\n",

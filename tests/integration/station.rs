@@ -13,7 +13,7 @@
 
 use crate::brake_first::{control_words, speed_replies, ENABLE_OPERATION, STANDSTILL};
 use crate::live_run::LiveRun;
-use crate::support::{assert_left_at_standstill, repo_root, scratch, write_file};
+use crate::support::{assert_left_at_standstill, repo_root, scratch_file};
 use crate::support_browser::Browser;
 use std::io::{Read, Write};
 use std::path::PathBuf;
@@ -61,8 +61,7 @@ struct StationUnderTest {
 
 impl StationUnderTest {
     fn start(name: &str, recipe: &str, extra: &[&str]) -> StationUnderTest {
-        let dir = scratch(&format!("station-{name}"));
-        let recipe = write_file(&dir, "recipe.yaml", recipe);
+        let (dir, recipe) = scratch_file(&format!("station-{name}"), "recipe.yaml", recipe);
         let store = dir.join("results.sqlite");
         let mut args: Vec<String> = [
             "station",
@@ -426,8 +425,11 @@ fn http(url: &str, request: &str) -> (u16, String) {
 
 #[test]
 fn without_the_token_or_with_a_wrong_one_nothing_is_served_or_started() {
-    let dir = scratch("token-file");
-    let token_file = write_file(&dir, "token", "a-long-enough-secret-for-this-bench-0123456789\n");
+    let (_, token_file) = scratch_file(
+        "token-file",
+        "token",
+        "a-long-enough-secret-for-this-bench-0123456789\n",
+    );
     let token_arg = token_file.to_string_lossy().to_string();
     let station = StationUnderTest::start("token", LONG_RUN, &["--token-file", &token_arg]);
     let base = station.url.clone();

@@ -3,7 +3,7 @@
 //! report, in the results store and on the unit's certificate; and `check` warns of an
 //! enable that would start at a setpoint left from before a disable.
 
-use crate::support::{assert_has, cli, drivescript, scratch, scratch_file, stderr, stdout, write_file};
+use crate::support::{assert_has, cli, drivescript, scratch_file, stderr, stdout};
 
 /// Every check passes, but the coast-down ends at 3000 rpm and the stop timeout (2 s)
 /// ends before the spindle stands still.
@@ -11,8 +11,7 @@ const COASTING_AT_THE_END: &str = "name: Coast-down as the last step\ndrive: sd2
 
 #[test]
 fn a_spindle_left_coasting_is_the_same_error_in_every_report_and_the_store() {
-    let dir = scratch("verdict-coasting");
-    let recipe = write_file(&dir, "recipe.yaml", COASTING_AT_THE_END);
+    let (dir, recipe) = scratch_file("verdict-coasting", "recipe.yaml", COASTING_AT_THE_END);
     let (junit, html, store) = (
         dir.join("junit.xml"),
         dir.join("report.html"),

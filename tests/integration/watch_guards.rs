@@ -34,8 +34,7 @@ fn traced(path: &Path) -> Vec<Traced> {
 /// Runs `recipe` on the simulated SD2 drive in virtual time with `physics`; its console
 /// output and its trace.
 fn run_traced(name: &str, recipe: &str, physics: &[&str]) -> (i32, String, Vec<Traced>) {
-    let dir = scratch(name);
-    let file = write_file(&dir, "recipe.yaml", recipe);
+    let (dir, file) = scratch_file(name, "recipe.yaml", recipe);
     let mut run = InProcessRun::new(file);
     run.output_dir = dir.clone();
     run.outputs.trace = Some(dir.join("run.trace"));
