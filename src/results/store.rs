@@ -267,36 +267,12 @@ impl Store {
     }
 
     fn checks(&mut self, run: &str) -> Result<Vec<CheckRow>, StoreError> {
-        let rows = self.backend.query(
-            "SELECT seq, name, measured, measured_text, unit, low, high, passed, step, stage, \
-             attempt, message, marginal, reference_run, reference_at, reference_value, \
-             check_key, inclusive, decimals FROM checks WHERE run_id = $1 ORDER BY seq",
-            &[run.into()],
-        )?;
-        Ok(rows
-            .iter()
-            .map(|r| CheckRow {
-                run: run.to_string(),
-                seq: int(&r[0]),
-                name: text(&r[1]),
-                key: opt(&r[16]),
-                measured: r[2].real(),
-                measured_text: opt(&r[3]),
-                unit: opt(&r[4]),
-                limits: Limits::new(r[5].real(), r[6].real()),
-                passed: int(&r[7]) != 0,
-                step: text(&r[8]),
-                stage: text(&r[9]),
-                attempt: int(&r[10]),
-                message: text(&r[11]),
-                marginal: int(&r[12]) != 0,
-                reference_run: opt(&r[13]),
-                reference_at: opt(&r[14]),
-                reference_value: r[15].real(),
-                inclusive: r[17].int().map(|v| v != 0),
-                decimals: r[18].int(),
-            })
-            .collect())
+        let sql = format!(
+            "SELECT {} FROM checks WHERE run_id = $1 ORDER BY seq",
+            check_columns("")
+        );
+        let rows = self.backend.query(&sql, &[run.into()])?;
+        Ok(rows.iter().map(|r| check_row(run, r)).collect())
     }
 
     fn detailed(&mut self, mut run: StoredRun) -> Result<StoredRun, StoreError> {
@@ -416,6 +392,59 @@ pub(super) fn opt(v: &Value) -> Option<String> {
 
 pub(super) fn int(v: &Value) -> i64 {
     v.int().unwrap_or(0)
+}
+
+/// The columns of a stored check, in the order [`check_row`] reads them.
+const CHECK_COLUMNS: [&str; 19] = [
+    "seq",
+    "name",
+    "measured",
+    "measured_text",
+    "unit",
+    "low",
+    "high",
+    "passed",
+    "step",
+    "stage",
+    "attempt",
+    "message",
+    "marginal",
+    "reference_run",
+    "reference_at",
+    "reference_value",
+    "check_key",
+    "inclusive",
+    "decimals",
+];
+
+/// [`CHECK_COLUMNS`] for a query, each after `table` (`c.` where the checks are joined).
+pub(super) fn check_columns(table: &str) -> String {
+    CHECK_COLUMNS.map(|c| format!("{table}{c}")).join(", ")
+}
+
+/// A check of the run `run` from a row of [`check_columns`].
+pub(super) fn check_row(run: &str, r: &[Value]) -> CheckRow {
+    CheckRow {
+        run: run.to_string(),
+        seq: int(&r[0]),
+        name: text(&r[1]),
+        key: opt(&r[16]),
+        measured: r[2].real(),
+        measured_text: opt(&r[3]),
+        unit: opt(&r[4]),
+        limits: Limits::new(r[5].real(), r[6].real()),
+        passed: int(&r[7]) != 0,
+        step: text(&r[8]),
+        stage: text(&r[9]),
+        attempt: int(&r[10]),
+        message: text(&r[11]),
+        marginal: int(&r[12]) != 0,
+        reference_run: opt(&r[13]),
+        reference_at: opt(&r[14]),
+        reference_value: r[15].real(),
+        inclusive: r[17].int().map(|v| v != 0),
+        decimals: r[18].int(),
+    }
 }
 
 fn stored_run(r: &[Value]) -> StoredRun {
