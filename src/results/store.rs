@@ -395,31 +395,14 @@ pub(super) fn int(v: &Value) -> i64 {
 }
 
 /// The columns of a stored check, in the order [`check_row`] reads them.
-const CHECK_COLUMNS: [&str; 19] = [
-    "seq",
-    "name",
-    "measured",
-    "measured_text",
-    "unit",
-    "low",
-    "high",
-    "passed",
-    "step",
-    "stage",
-    "attempt",
-    "message",
-    "marginal",
-    "reference_run",
-    "reference_at",
-    "reference_value",
-    "check_key",
-    "inclusive",
-    "decimals",
-];
+const CHECK_COLUMNS: &str = "seq, name, measured, measured_text, unit, low, high, passed, step, stage, \
+     attempt, message, marginal, reference_run, reference_at, reference_value, \
+     check_key, inclusive, decimals";
 
 /// [`CHECK_COLUMNS`] for a query, each after `table` (`c.` where the checks are joined).
 pub(super) fn check_columns(table: &str) -> String {
-    CHECK_COLUMNS.map(|c| format!("{table}{c}")).join(", ")
+    let columns: Vec<String> = CHECK_COLUMNS.split(", ").map(|c| format!("{table}{c}")).collect();
+    columns.join(", ")
 }
 
 /// A check of the run `run` from a row of [`check_columns`].
