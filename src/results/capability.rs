@@ -136,7 +136,7 @@ impl Store {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::results::CheckRow;
+    use crate::results::{CheckRow, RunRow};
 
     fn point(v: f64, low: Option<f64>, high: Option<f64>) -> TrendPoint {
         TrendPoint {
@@ -151,9 +151,12 @@ mod tests {
                 step: "2".into(),
                 ..CheckRow::default()
             },
-            started_at: "2026-01-01T00:00:00.000Z".into(),
-            recipe: "R".into(),
-            ..TrendPoint::default()
+            run: RunRow {
+                id: "r".into(),
+                started_at: "2026-01-01T00:00:00.000Z".into(),
+                recipe: "R".into(),
+                ..RunRow::default()
+            },
         }
     }
 

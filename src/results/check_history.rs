@@ -5,7 +5,7 @@
 
 use super::backend::Value;
 use super::check_identity::{readings, CheckIdentity};
-use super::store::{check_columns, check_row, int, opt, text, where_clause, Store};
+use super::store::{check_row, opt, run_and_check_columns, run_row, text, where_clause, Store};
 use super::stored_run::{RunFilter, TrendPoint};
 use super::StoreError;
 use crate::session::{key_of_name, PastCheck, PastRun};
@@ -99,23 +99,22 @@ impl Store {
             .collect::<Vec<_>>()
             .join(", ");
         let and = if clause.is_empty() { " WHERE" } else { " AND" };
+        let (columns, checks_from) = run_and_check_columns();
         let sql = format!(
-            "SELECT r.id, r.started_at, r.serial, r.recipe, r.recipe_sha256, r.simulated, {} \
-             FROM checks c JOIN runs r ON r.id = c.run_id{clause}{and} \
+            "SELECT {columns} FROM checks c JOIN runs r ON r.id = c.run_id{clause}{and} \
              (c.check_key IN ({list}) OR (c.check_key IS NULL AND c.name IN ({list}))) \
-             ORDER BY r.started_at, r.id, c.seq",
-            check_columns("c.")
+             ORDER BY r.started_at, r.id, c.seq"
         );
         let rows = self.backend.query(&sql, &params)?;
         let mut points: Vec<TrendPoint> = rows
             .iter()
-            .map(|r| TrendPoint {
-                check: check_row(&text(&r[0]), &r[6..]),
-                started_at: text(&r[1]),
-                serial: opt(&r[2]),
-                recipe: text(&r[3]),
-                recipe_sha256: opt(&r[4]),
-                simulated: int(&r[5]) != 0,
+            .map(|r| {
+                let (run, check) = r.split_at(checks_from);
+                let run = run_row(run);
+                TrendPoint {
+                    check: check_row(&run.id, check),
+                    run,
+                }
             })
             .filter(|p| {
                 let id = p.identity();
@@ -208,7 +207,7 @@ fn measurements(points: &[TrendPoint]) -> Vec<CheckIdentity> {
     for (p, id) in points.iter().zip(&ids) {
         places
             .entry((
-                p.check.run.as_str(),
+                p.run.id.as_str(),
                 id.recipe.as_str(),
                 id.stage.as_str(),
                 id.key.as_str(),

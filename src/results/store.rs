@@ -267,10 +267,7 @@ impl Store {
     }
 
     fn checks(&mut self, run: &str) -> Result<Vec<CheckRow>, StoreError> {
-        let sql = format!(
-            "SELECT {} FROM checks WHERE run_id = $1 ORDER BY seq",
-            check_columns("")
-        );
+        let sql = format!("SELECT {CHECK_COLUMNS} FROM checks WHERE run_id = $1 ORDER BY seq");
         let rows = self.backend.query(&sql, &[run.into()])?;
         Ok(rows.iter().map(|r| check_row(run, r)).collect())
     }
@@ -399,13 +396,19 @@ const CHECK_COLUMNS: &str = "seq, name, measured, measured_text, unit, low, high
      attempt, message, marginal, reference_run, reference_at, reference_value, \
      check_key, inclusive, decimals";
 
-/// [`CHECK_COLUMNS`] for a query, each after `table` (`c.` where the checks are joined).
-pub(super) fn check_columns(table: &str) -> String {
-    let columns: Vec<String> = CHECK_COLUMNS.split(", ").map(|c| format!("{table}{c}")).collect();
-    columns.join(", ")
+/// [`RUN_COLUMNS`] then [`CHECK_COLUMNS`] for a query of checks `c` joined to their runs
+/// `r`, and where the check's columns start: [`run_row`] reads a row before it,
+/// [`check_row`] from it.
+pub(super) fn run_and_check_columns() -> (String, usize) {
+    let of = |table: &str, columns: &str| -> Vec<String> {
+        columns.split(", ").map(|c| format!("{table}.{c}")).collect()
+    };
+    let run = of("r", RUN_COLUMNS);
+    let checks_from = run.len();
+    ([run, of("c", CHECK_COLUMNS)].concat().join(", "), checks_from)
 }
 
-/// A check of the run `run` from a row of [`check_columns`].
+/// A check of the run `run` from a row of [`CHECK_COLUMNS`].
 pub(super) fn check_row(run: &str, r: &[Value]) -> CheckRow {
     CheckRow {
         run: run.to_string(),
@@ -430,8 +433,9 @@ pub(super) fn check_row(run: &str, r: &[Value]) -> CheckRow {
     }
 }
 
-fn stored_run(r: &[Value]) -> StoredRun {
-    let run = RunRow {
+/// A run's row from [`RUN_COLUMNS`] (the start; its end is [`stored_run`]'s).
+pub(super) fn run_row(r: &[Value]) -> RunRow {
+    RunRow {
         id: text(&r[0]),
         kind: text(&r[1]),
         recipe: text(&r[2]),
@@ -453,7 +457,11 @@ fn stored_run(r: &[Value]) -> StoredRun {
             station: opt(&r[16]),
         },
         params: serde_json::from_str(&text(&r[17])).unwrap_or_default(),
-    };
+    }
+}
+
+fn stored_run(r: &[Value]) -> StoredRun {
+    let run = run_row(r);
     let end = opt(&r[19]).map(|verdict| EndRow {
         run: run.id.clone(),
         ended_at: text(&r[18]),

@@ -65,21 +65,17 @@ pub struct RunFilter {
     pub limit: Option<u64>,
 }
 
-/// One check's value in one run, for `results trend`: the check as the store keeps it,
-/// and what the trend needs of its run.
+/// One check's value in one run, for `results trend`: the run's start and the check, as
+/// the store keeps them.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct TrendPoint {
+    /// The run: its recipe and the hash of its text, which with the check's key, stage
+    /// and step say which measurement it is ([`super::CheckIdentity`]); when it started;
+    /// its unit; whether on the built-in simulated drive (marked so beside its result).
+    pub run: RunRow,
     /// The check in that run: its name (with the limits it had there), its value, limits
     /// and result, the stage and the iteration-aware step that made it.
     pub check: CheckRow,
-    pub started_at: String,
-    pub serial: Option<String>,
-    /// The recipe's name and the hash of its text in that run: with the check's key, stage
-    /// and step, which measurement it is ([`super::CheckIdentity`]).
-    pub recipe: String,
-    pub recipe_sha256: Option<String>,
-    /// A run on the built-in simulated drive: marked so beside its result.
-    pub simulated: bool,
 }
 
 impl TrendPoint {
@@ -90,7 +86,7 @@ impl TrendPoint {
 
     /// Which measurement it is.
     pub fn identity(&self) -> super::CheckIdentity {
-        super::CheckIdentity::of(&self.recipe, &self.check.stage, &self.check.step, self.key())
+        super::CheckIdentity::of(&self.run.recipe, &self.check.stage, &self.check.step, self.key())
     }
 
     /// `31.4 K`, a comparison's change `+7.3 K`; `—` when nothing was measured (a
@@ -108,7 +104,7 @@ impl TrendPoint {
 
     /// [`TrendPoint::verdict`] with `(simulated)` after it for a run on the simulated drive.
     pub fn result_text(&self) -> String {
-        match self.simulated {
+        match self.run.simulated {
             true => format!("{} (simulated)", self.verdict()),
             false => self.verdict().to_string(),
         }

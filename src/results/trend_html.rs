@@ -40,7 +40,7 @@ fn limit_line(points: &[TrendPoint], side: Side) -> Option<LimitLine> {
     };
     let mut steps: Vec<(f64, Option<f64>)> = Vec::new();
     for p in points {
-        let Some(t) = seconds_of(&p.started_at) else {
+        let Some(t) = seconds_of(&p.run.started_at) else {
             continue;
         };
         if steps.last().is_none_or(|last| last.1 != limit(p)) {
@@ -95,7 +95,7 @@ fn units_of(points: &[TrendPoint]) -> Vec<&str> {
 }
 
 fn serial_text(p: &TrendPoint) -> &str {
-    p.serial.as_deref().unwrap_or("no serial")
+    p.run.unit.serial.as_deref().unwrap_or("no serial")
 }
 
 /// A marker per point that measured a value at a readable time.
@@ -104,7 +104,7 @@ fn marks(points: &[TrendPoint], units: &[&str]) -> Vec<TrendMark> {
         .iter()
         .filter_map(|p| {
             Some(TrendMark {
-                at: seconds_of(&p.started_at)?,
+                at: seconds_of(&p.run.started_at)?,
                 value: p.check.measured.filter(|v| v.is_finite())?,
                 outcome: match (p.check.passed, p.check.marginal) {
                     (true, false) => Outcome::Passed,
@@ -114,13 +114,13 @@ fn marks(points: &[TrendPoint], units: &[&str]) -> Vec<TrendMark> {
                 unit: units.iter().position(|u| *u == serial_text(p)).unwrap_or(0),
                 tip: format!(
                     "{} · {} · {}{} · {} · run {}",
-                    p.started_at,
+                    p.run.started_at,
                     serial_text(p),
                     p.measured_text(),
                     p.limits_text()
                         .map_or(String::new(), |l| format!(" (limits {l})")),
                     p.verdict(),
-                    p.check.run
+                    p.run.id
                 ),
                 limits: (p.check.limits.low, p.check.limits.high),
             })
@@ -146,7 +146,7 @@ pub fn trend_page(check: &str, all: &[TrendPoint], links: PageLinks) -> String {
         esc(&title)
     );
     let units = units_of(points);
-    let mut runs: Vec<&str> = points.iter().map(|p| p.check.run.as_str()).collect();
+    let mut runs: Vec<&str> = points.iter().map(|p| p.run.id.as_str()).collect();
     runs.dedup();
     let count = |f: fn(&TrendPoint) -> bool| points.iter().filter(|p| f(p)).count();
     let _ = writeln!(
@@ -166,8 +166,8 @@ pub fn trend_page(check: &str, all: &[TrendPoint], links: PageLinks) -> String {
             points.len(),
             all.len(),
             left.len(),
-            esc(&oldest.started_at),
-            esc(&newest.started_at)
+            esc(&oldest.run.started_at),
+            esc(&newest.run.started_at)
         );
     }
     h.push_str("</header>\n");
@@ -205,14 +205,14 @@ pub fn trend_page(check: &str, all: &[TrendPoint], links: PageLinks) -> String {
         let _ = writeln!(
             h,
             "<tr{row}><td>{}</td><td>{}</td><td class=\"num\">{}</td><td class=\"num\">{}</td><td class=\"{mark}\">{}</td><td>{}</td></tr>",
-            esc(&p.started_at),
-            p.serial
+            esc(&p.run.started_at),
+            p.run.unit.serial
                 .as_deref()
                 .map_or(String::new(), |s| links.unit(s, &esc(s))),
             esc(&p.measured_text()),
             esc(&p.limits_text().unwrap_or_else(|| "—".into())),
             p.result_text(),
-            links.run(&p.check.run, &format!("<code>{}</code>", esc(&p.check.run)))
+            links.run(&p.run.id, &format!("<code>{}</code>", esc(&p.run.id)))
         );
     }
     let _ = write!(
@@ -243,14 +243,15 @@ fn legend(units: &[&str]) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::results::CheckRow;
+    use crate::results::{CheckRow, RunRow};
+    use crate::session::UnitIdentity;
 
     fn point(started_at: &str, serial: &str, measured: Option<f64>, passed: bool) -> TrendPoint {
         TrendPoint {
             check: CheckRow {
+                run: format!("run-{started_at}"),
                 name: "bearing temperature compared with last pass".into(),
                 key: Some("bearing temperature compared with last pass".into()),
-                run: format!("run-{started_at}"),
                 measured,
                 unit: Some("K".into()),
                 limits: Limits::new(None, Some(3.0)),
@@ -258,9 +259,16 @@ mod tests {
                 step: "2".into(),
                 ..CheckRow::default()
             },
-            started_at: started_at.into(),
-            serial: Some(serial.into()),
-            recipe: "Bearing acceptance".into(),
+            run: RunRow {
+                id: format!("run-{started_at}"),
+                started_at: started_at.into(),
+                unit: UnitIdentity {
+                    serial: Some(serial.into()),
+                    ..UnitIdentity::default()
+                },
+                recipe: "Bearing acceptance".into(),
+                ..RunRow::default()
+            },
             ..TrendPoint::default()
         }
     }
