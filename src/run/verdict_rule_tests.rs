@@ -30,8 +30,9 @@ fn ended(state: DeviceState, speed: f64, coasting: bool) -> RunReport {
     r
 }
 
-/// `r` with a check that failed.
-fn with_a_failed_check(mut r: RunReport) -> RunReport {
+/// [`ended`], with a check that failed.
+fn failing(state: DeviceState, speed: f64, coasting: bool) -> RunReport {
+    let mut r = ended(state, speed, coasting);
     r.checks.push(CheckResult::named("current", false));
     r
 }
@@ -89,11 +90,7 @@ fn a_speed_not_read_back_is_no_confirmed_standstill() {
 
 #[test]
 fn a_failed_check_with_a_coasting_spindle_is_an_error_and_an_interrupted_run_too() {
-    let failed = settled(with_a_failed_check(ended(
-        DeviceState::ReadyToSwitchOn,
-        900.0,
-        true,
-    )));
+    let failed = settled(failing(DeviceState::ReadyToSwitchOn, 900.0, true));
     assert_eq!(failed.exit_code(), 3);
     let interrupted = settled(RunReport {
         verdict: Verdict::Interrupted(StopSignal::INT),
@@ -109,11 +106,7 @@ fn a_failed_check_with_a_coasting_spindle_is_an_error_and_an_interrupted_run_too
 
 #[test]
 fn a_failed_check_without_a_verdict_yet_fails_and_a_panic_stays_a_panic() {
-    let r = settled(with_a_failed_check(ended(
-        DeviceState::ReadyToSwitchOn,
-        0.0,
-        false,
-    )));
+    let r = settled(failing(DeviceState::ReadyToSwitchOn, 0.0, false));
     assert_eq!(r.exit_code(), 1);
     let p = settled(RunReport {
         verdict: Verdict::Panicked("bug".into()),
