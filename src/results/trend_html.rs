@@ -269,7 +269,6 @@ mod tests {
                 recipe: "Bearing acceptance".into(),
                 ..RunRow::default()
             },
-            ..TrendPoint::default()
         }
     }
 
