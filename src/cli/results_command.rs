@@ -343,11 +343,11 @@ fn command(command: &ResultsCommand, locator: &Locator) -> Result<i32, StoreErro
                 let list: Vec<serde_json::Value> = points
                     .iter()
                     .map(|p| {
-                        serde_json::json!({"run": p.run, "started_at": p.started_at, "serial": p.serial,
-                            "recipe": p.recipe, "recipe_sha256": p.recipe_sha256, "stage": p.stage, "step": p.step,
-                            "check": p.name, "key": p.key,
-                            "measured": p.measured, "unit": p.unit, "low": p.limits.low, "high": p.limits.high, "passed": p.passed,
-                            "marginal": p.marginal, "simulated": p.simulated})
+                        serde_json::json!({"run": p.run.id, "started_at": p.run.started_at, "serial": p.run.unit.serial,
+                            "recipe": p.run.recipe, "recipe_sha256": p.run.recipe_sha256, "stage": p.check.stage, "step": p.check.step,
+                            "check": p.check.name, "key": p.key(),
+                            "measured": p.check.measured, "unit": p.check.unit, "low": p.check.limits.low, "high": p.check.limits.high, "passed": p.check.passed,
+                            "marginal": p.check.marginal, "simulated": p.run.simulated})
                     })
                     .collect();
                 println!("{}", serde_json::to_string_pretty(&list).unwrap_or_default());
@@ -356,12 +356,12 @@ fn command(command: &ResultsCommand, locator: &Locator) -> Result<i32, StoreErro
                     .iter()
                     .map(|p| {
                         vec![
-                            p.started_at.clone(),
-                            p.serial.clone().unwrap_or_default(),
+                            p.run.started_at.clone(),
+                            p.run.unit.serial.clone().unwrap_or_default(),
                             p.measured_text(),
                             p.limits_text().unwrap_or_default(),
                             p.result_text(),
-                            p.run.clone(),
+                            p.run.id.clone(),
                         ]
                     })
                     .collect();

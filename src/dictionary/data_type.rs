@@ -59,6 +59,11 @@ impl DataType {
         DataType::I32,
     ];
 
+    /// The integer of `bytes` bytes (3, 5, 6 or 7: the widths CANopen adds), signed or not.
+    pub const fn int(bytes: u8, signed: bool) -> DataType {
+        DataType::Int { bytes, signed }
+    }
+
     /// Bytes on the wire: the integer's width, or for a string the length byte plus `max`.
     pub fn size(self) -> usize {
         match self {
@@ -232,14 +237,8 @@ mod tests {
 
     #[test]
     fn integers_of_24_to_56_bits() {
-        let i24 = DataType::Int {
-            bytes: 3,
-            signed: true,
-        };
-        let u48 = DataType::Int {
-            bytes: 6,
-            signed: false,
-        };
+        let i24 = DataType::int(3, true);
+        let u48 = DataType::int(6, false);
         assert_eq!((i24.name(), u48.name()), ("i24".into(), "u48".into()));
         assert_eq!(i24.range(), Some((-8_388_608, 8_388_607)));
         assert_eq!(u48.range(), Some((0, (1 << 48) - 1)));
@@ -248,14 +247,7 @@ mod tests {
         assert_eq!(u48.from_le_bytes(&[0xff; 6]), (1 << 48) - 1);
         assert_eq!(i24.to_le_bytes(-2), Some(vec![0xfe, 0xff, 0xff]));
         assert_eq!(i24.to_le_bytes(8_388_608), None);
-        assert_eq!(
-            DataType::Int {
-                bytes: 7,
-                signed: true
-            }
-            .size(),
-            7
-        );
+        assert_eq!(DataType::int(7, true).size(), 7);
         assert!(i24.is_signed() && !u48.is_signed() && u48.is_integer());
         assert!(DataType::F32.is_number() && !DataType::F32.is_integer());
         assert!(!DataType::Octets.is_number());

@@ -31,9 +31,13 @@ mod tests {
 
     #[test]
     fn the_former_spelling_reads_as_the_kebab_case_id() {
-        assert_eq!(family_id("ct_ansi"), "ct-ansi");
-        assert_eq!(family_id("lenze_9400"), "lenze-9400");
-        assert_eq!(family_id("lenze-931"), "lenze-931");
+        for (spelt, id) in [
+            ("ct_ansi", "ct-ansi"),
+            ("lenze_9400", "lenze-9400"),
+            ("lenze-931", "lenze-931"),
+        ] {
+            assert_eq!(family_id(spelt), id, "{spelt}");
+        }
         assert!(is_former_spelling("ct_ansi") && !is_former_spelling("ct-ansi"));
     }
 

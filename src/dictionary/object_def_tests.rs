@@ -367,22 +367,10 @@ proptest! {
 const WIDE: [DataType; 6] = [
     DataType::I64,
     DataType::U64,
-    DataType::Int {
-        bytes: 7,
-        signed: true,
-    },
-    DataType::Int {
-        bytes: 7,
-        signed: false,
-    },
-    DataType::Int {
-        bytes: 6,
-        signed: true,
-    },
-    DataType::Int {
-        bytes: 6,
-        signed: false,
-    },
+    DataType::int(7, true),
+    DataType::int(7, false),
+    DataType::int(6, true),
+    DataType::int(6, false),
 ];
 
 fn wide(data_type: DataType) -> ObjectDef {
@@ -399,14 +387,8 @@ fn wide(data_type: DataType) -> ObjectDef {
 /// here), −2^55 and 2^56 − 1.
 #[test]
 fn wide_integers_are_exact_at_both_ends_of_their_type() {
-    let u56 = DataType::Int {
-        bytes: 7,
-        signed: false,
-    };
-    let i56 = DataType::Int {
-        bytes: 7,
-        signed: true,
-    };
+    let u56 = DataType::int(7, false);
+    let i56 = DataType::int(7, true);
     for (data_type, end) in [
         (DataType::I64, i64::MIN),
         (DataType::I64, i64::MAX),

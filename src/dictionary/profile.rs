@@ -139,11 +139,7 @@ impl Profile {
 
     /// The commands the profile has, by id (for messages).
     pub fn command_ids(&self) -> Vec<&'static str> {
-        DeviceCommand::ALL
-            .into_iter()
-            .filter(|c| self.has_command(*c))
-            .map(DeviceCommand::id)
-            .collect()
+        ids_present(&DeviceCommand::ALL, &self.commands, DeviceCommand::id)
     }
 
     /// The writes made before every command.
@@ -169,11 +165,7 @@ impl Profile {
 
     /// The states the profile has, by id (for messages).
     pub fn state_ids(&self) -> Vec<&'static str> {
-        DeviceState::ALL
-            .into_iter()
-            .filter(|s| self.has_state(*s))
-            .map(DeviceState::id)
-            .collect()
+        ids_present(&DeviceState::ALL, &self.states, DeviceState::id)
     }
 
     /// True when the profile has every CiA 402 command and state.
@@ -271,6 +263,16 @@ pub(crate) fn stops_keeping_power(commands: &[u16; 7]) -> Vec<(DeviceCommand, De
         }
     }
     found
+}
+
+/// The ids of the entries of `all` whose place in `table` (kept in the same order) is
+/// filled: the commands or states a profile has.
+fn ids_present<T: Copy, E>(all: &[T], table: &[Option<E>], id: fn(T) -> &'static str) -> Vec<&'static str> {
+    all.iter()
+        .zip(table)
+        .filter(|(_, entry)| entry.is_some())
+        .map(|(t, _)| id(*t))
+        .collect()
 }
 
 #[cfg(test)]

@@ -37,7 +37,7 @@ impl Capability {
     pub fn of(check: &str, points: &[TrendPoint]) -> Capability {
         let values: Vec<f64> = points
             .iter()
-            .filter_map(|p| p.measured.filter(|v| v.is_finite()))
+            .filter_map(|p| p.check.measured.filter(|v| v.is_finite()))
             .collect();
         let stats = Stats::of(&values);
         let n = stats.count;
@@ -46,11 +46,11 @@ impl Capability {
         let limits = points
             .iter()
             .rev()
-            .map(|p| p.limits)
+            .map(|p| p.check.limits)
             .find(Limits::any)
             .unwrap_or_default();
         let mut other_limits: Vec<Limits> = Vec::new();
-        for l in points.iter().map(|p| p.limits).filter(Limits::any) {
+        for l in points.iter().map(|p| p.check.limits).filter(Limits::any) {
             if l != limits && !other_limits.contains(&l) {
                 other_limits.push(l);
             }
@@ -69,8 +69,8 @@ impl Capability {
         };
         Capability {
             check: check.to_string(),
-            key: points.first().map(|p| p.key.clone()),
-            unit: points.iter().rev().find_map(|p| p.unit.clone()),
+            key: points.first().map(|p| p.key().to_string()),
+            unit: points.iter().rev().find_map(|p| p.check.unit.clone()),
             n,
             mean,
             sigma,
@@ -136,20 +136,27 @@ impl Store {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::results::{CheckRow, RunRow};
 
     fn point(v: f64, low: Option<f64>, high: Option<f64>) -> TrendPoint {
         TrendPoint {
-            name: "speed_actual mean near 6000 rpm ± 1 %".into(),
-            key: "speed_actual mean near".into(),
-            run: "r".into(),
-            started_at: "2026-01-01T00:00:00.000Z".into(),
-            measured: Some(v),
-            unit: Some("rpm".into()),
-            limits: Limits::new(low, high),
-            passed: true,
-            recipe: "R".into(),
-            step: "2".into(),
-            ..TrendPoint::default()
+            check: CheckRow {
+                name: "speed_actual mean near 6000 rpm ± 1 %".into(),
+                key: Some("speed_actual mean near".into()),
+                run: "r".into(),
+                measured: Some(v),
+                unit: Some("rpm".into()),
+                limits: Limits::new(low, high),
+                passed: true,
+                step: "2".into(),
+                ..CheckRow::default()
+            },
+            run: RunRow {
+                id: "r".into(),
+                started_at: "2026-01-01T00:00:00.000Z".into(),
+                recipe: "R".into(),
+                ..RunRow::default()
+            },
         }
     }
 

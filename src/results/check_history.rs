@@ -5,10 +5,9 @@
 
 use super::backend::Value;
 use super::check_identity::{readings, CheckIdentity};
-use super::store::{int, opt, text, where_clause, Store};
+use super::store::{check_row, opt, run_and_check_columns, run_row, text, where_clause, Store};
 use super::stored_run::{RunFilter, TrendPoint};
 use super::StoreError;
-use crate::session::Limits;
 use crate::session::{key_of_name, PastCheck, PastRun};
 
 impl Store {
@@ -100,39 +99,26 @@ impl Store {
             .collect::<Vec<_>>()
             .join(", ");
         let and = if clause.is_empty() { " WHERE" } else { " AND" };
+        let (columns, checks_from) = run_and_check_columns();
         let sql = format!(
-            "SELECT r.id, r.started_at, r.serial, c.measured, c.unit, c.low, c.high, c.passed, \
-             c.name, c.check_key, c.marginal, c.seq, c.inclusive, r.recipe, r.recipe_sha256, c.stage, c.step, \
-             c.decimals, r.simulated \
-             FROM checks c JOIN runs r ON r.id = c.run_id{clause}{and} \
+            "SELECT {columns} FROM checks c JOIN runs r ON r.id = c.run_id{clause}{and} \
              (c.check_key IN ({list}) OR (c.check_key IS NULL AND c.name IN ({list}))) \
              ORDER BY r.started_at, r.id, c.seq"
         );
         let rows = self.backend.query(&sql, &params)?;
         let mut points: Vec<TrendPoint> = rows
             .iter()
-            .map(|r| TrendPoint {
-                run: text(&r[0]),
-                started_at: text(&r[1]),
-                serial: opt(&r[2]),
-                measured: r[3].real(),
-                unit: opt(&r[4]),
-                limits: Limits::new(r[5].real(), r[6].real()),
-                passed: int(&r[7]) != 0,
-                marginal: int(&r[10]) != 0,
-                inclusive: r[12].int().map(|v| v != 0),
-                key: opt(&r[9]).unwrap_or_else(|| text(&r[8])),
-                name: text(&r[8]),
-                recipe: text(&r[13]),
-                recipe_sha256: opt(&r[14]),
-                stage: text(&r[15]),
-                step: text(&r[16]),
-                decimals: r[17].int(),
-                simulated: int(&r[18]) != 0,
+            .map(|r| {
+                let (run, check) = r.split_at(checks_from);
+                let run = run_row(run);
+                TrendPoint {
+                    check: check_row(&run.id, check),
+                    run,
+                }
             })
             .filter(|p| {
                 let id = p.identity();
-                readings.iter().any(|asked| asked.takes(&id, &p.name))
+                readings.iter().any(|asked| asked.takes(&id, &p.check.name))
             })
             .collect();
         let ids = measurements(&points);
@@ -142,7 +128,7 @@ impl Store {
         let named: Vec<&CheckIdentity> = points
             .iter()
             .zip(&ids)
-            .filter(|(p, _)| readings.iter().any(|r| r.keys.first() == Some(&p.name)))
+            .filter(|(p, _)| readings.iter().any(|r| r.keys.first() == Some(&p.check.name)))
             .map(|(_, id)| id)
             .collect();
         let keep: Vec<bool> = ids
@@ -221,7 +207,7 @@ fn measurements(points: &[TrendPoint]) -> Vec<CheckIdentity> {
     for (p, id) in points.iter().zip(&ids) {
         places
             .entry((
-                p.run.as_str(),
+                p.run.id.as_str(),
                 id.recipe.as_str(),
                 id.stage.as_str(),
                 id.key.as_str(),

@@ -136,14 +136,21 @@ const CLAIM_AGE_LIMIT: std::time::Duration = std::time::Duration::from_secs(600)
 mod tests {
     use super::*;
 
+    /// A claim file `name` in a fresh folder of this process named after `folder`:
+    /// (the folder, the claim).
+    fn claim_in(folder: &str, name: &str) -> (std::path::PathBuf, std::path::PathBuf) {
+        let dir = std::env::temp_dir().join(format!("{folder}-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let claim = dir.join(name);
+        std::fs::write(&claim, "{}\n").unwrap();
+        (dir, claim)
+    }
+
     /// The rule for a maker the system will not tell about: a fresh claim is left, one
     /// untouched beyond the limit is taken back.
     #[test]
     fn a_claim_is_taken_back_by_its_age_only_beyond_the_limit() {
-        let dir = std::env::temp_dir().join(format!("drivescript-claim-age-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
-        let claim = dir.join("results.spool.sending-4");
-        std::fs::write(&claim, "{}\n").unwrap();
+        let (dir, claim) = claim_in("drivescript-claim-age", "results.spool.sending-4");
         assert!(!untouched_for_long(&claim), "a fresh claim");
         let file = std::fs::OpenOptions::new().write(true).open(&claim).unwrap();
         let old = std::time::SystemTime::now() - CLAIM_AGE_LIMIT - std::time::Duration::from_secs(5);
@@ -162,10 +169,7 @@ mod tests {
     #[cfg(windows)]
     #[test]
     fn a_claim_of_a_running_maker_is_kept_and_of_an_ended_one_taken_back() {
-        let dir = std::env::temp_dir().join(format!("drivescript-claim-owner-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
-        let claim = dir.join("results.spool.sending");
-        std::fs::write(&claim, "{}\n").unwrap();
+        let (dir, claim) = claim_in("drivescript-claim-owner", "results.spool.sending");
         assert!(!gone(std::process::id(), &claim), "this process made it");
         let mut child = std::process::Command::new(std::env::current_exe().unwrap())
             .arg("--list")

@@ -267,36 +267,9 @@ impl Store {
     }
 
     fn checks(&mut self, run: &str) -> Result<Vec<CheckRow>, StoreError> {
-        let rows = self.backend.query(
-            "SELECT seq, name, measured, measured_text, unit, low, high, passed, step, stage, \
-             attempt, message, marginal, reference_run, reference_at, reference_value, \
-             check_key, inclusive, decimals FROM checks WHERE run_id = $1 ORDER BY seq",
-            &[run.into()],
-        )?;
-        Ok(rows
-            .iter()
-            .map(|r| CheckRow {
-                run: run.to_string(),
-                seq: int(&r[0]),
-                name: text(&r[1]),
-                key: opt(&r[16]),
-                measured: r[2].real(),
-                measured_text: opt(&r[3]),
-                unit: opt(&r[4]),
-                limits: Limits::new(r[5].real(), r[6].real()),
-                passed: int(&r[7]) != 0,
-                step: text(&r[8]),
-                stage: text(&r[9]),
-                attempt: int(&r[10]),
-                message: text(&r[11]),
-                marginal: int(&r[12]) != 0,
-                reference_run: opt(&r[13]),
-                reference_at: opt(&r[14]),
-                reference_value: r[15].real(),
-                inclusive: r[17].int().map(|v| v != 0),
-                decimals: r[18].int(),
-            })
-            .collect())
+        let sql = format!("SELECT {CHECK_COLUMNS} FROM checks WHERE run_id = $1 ORDER BY seq");
+        let rows = self.backend.query(&sql, &[run.into()])?;
+        Ok(rows.iter().map(|r| check_row(run, r)).collect())
     }
 
     fn detailed(&mut self, mut run: StoredRun) -> Result<StoredRun, StoreError> {
@@ -418,8 +391,51 @@ pub(super) fn int(v: &Value) -> i64 {
     v.int().unwrap_or(0)
 }
 
-fn stored_run(r: &[Value]) -> StoredRun {
-    let run = RunRow {
+/// The columns of a stored check, in the order [`check_row`] reads them.
+const CHECK_COLUMNS: &str = "seq, name, measured, measured_text, unit, low, high, passed, step, stage, \
+     attempt, message, marginal, reference_run, reference_at, reference_value, \
+     check_key, inclusive, decimals";
+
+/// [`RUN_COLUMNS`] then [`CHECK_COLUMNS`] for a query of checks `c` joined to their runs
+/// `r`, and where the check's columns start: [`run_row`] reads a row before it,
+/// [`check_row`] from it.
+pub(super) fn run_and_check_columns() -> (String, usize) {
+    let of = |table: &str, columns: &str| -> Vec<String> {
+        columns.split(", ").map(|c| format!("{table}.{c}")).collect()
+    };
+    let run = of("r", RUN_COLUMNS);
+    let checks_from = run.len();
+    ([run, of("c", CHECK_COLUMNS)].concat().join(", "), checks_from)
+}
+
+/// A check of the run `run` from a row of [`CHECK_COLUMNS`].
+pub(super) fn check_row(run: &str, r: &[Value]) -> CheckRow {
+    CheckRow {
+        run: run.to_string(),
+        seq: int(&r[0]),
+        name: text(&r[1]),
+        key: opt(&r[16]),
+        measured: r[2].real(),
+        measured_text: opt(&r[3]),
+        unit: opt(&r[4]),
+        limits: Limits::new(r[5].real(), r[6].real()),
+        passed: int(&r[7]) != 0,
+        step: text(&r[8]),
+        stage: text(&r[9]),
+        attempt: int(&r[10]),
+        message: text(&r[11]),
+        marginal: int(&r[12]) != 0,
+        reference_run: opt(&r[13]),
+        reference_at: opt(&r[14]),
+        reference_value: r[15].real(),
+        inclusive: r[17].int().map(|v| v != 0),
+        decimals: r[18].int(),
+    }
+}
+
+/// A run's row from [`RUN_COLUMNS`] (the start; its end is [`stored_run`]'s).
+pub(super) fn run_row(r: &[Value]) -> RunRow {
+    RunRow {
         id: text(&r[0]),
         kind: text(&r[1]),
         recipe: text(&r[2]),
@@ -441,7 +457,11 @@ fn stored_run(r: &[Value]) -> StoredRun {
             station: opt(&r[16]),
         },
         params: serde_json::from_str(&text(&r[17])).unwrap_or_default(),
-    };
+    }
+}
+
+fn stored_run(r: &[Value]) -> StoredRun {
+    let run = run_row(r);
     let end = opt(&r[19]).map(|verdict| EndRow {
         run: run.id.clone(),
         ended_at: text(&r[18]),

@@ -65,64 +65,46 @@ pub struct RunFilter {
     pub limit: Option<u64>,
 }
 
-/// One check's value in one run, for `results trend`.
+/// One check's value in one run, for `results trend`: the run's start and the check, as
+/// the store keeps them.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct TrendPoint {
-    /// The check's name in that run (with the limits it had there) and its key.
-    pub name: String,
-    pub key: String,
-    pub run: String,
-    pub started_at: String,
-    pub serial: Option<String>,
-    pub measured: Option<f64>,
-    pub unit: Option<String>,
-    pub limits: Limits,
-    pub passed: bool,
-    /// Passed outside its warning band.
-    pub marginal: bool,
-    /// Whether its limits include the values at them; `None` when stored before the
-    /// store kept it.
-    pub inclusive: Option<bool>,
-    /// The recipe's name and the hash of its text in that run, the stage and the
-    /// iteration-aware step that made the check: with the key, which measurement it is
-    /// ([`super::CheckIdentity`]).
-    pub recipe: String,
-    pub recipe_sha256: Option<String>,
-    pub stage: String,
-    pub step: String,
-    /// The decimal places its object resolves, when the store kept them.
-    pub decimals: Option<i64>,
-    /// A run on the built-in simulated drive: marked so beside its result.
-    pub simulated: bool,
+    /// The run: its recipe and the hash of its text, which with the check's key, stage
+    /// and step say which measurement it is ([`super::CheckIdentity`]); when it started;
+    /// its unit; whether on the built-in simulated drive (marked so beside its result).
+    pub run: RunRow,
+    /// The check in that run: its name (with the limits it had there), its value, limits
+    /// and result, the stage and the iteration-aware step that made it.
+    pub check: CheckRow,
 }
 
 impl TrendPoint {
+    /// The check's key; a check stored before keys were is its own key.
+    pub fn key(&self) -> &str {
+        self.check.key.as_deref().unwrap_or(&self.check.name)
+    }
+
     /// Which measurement it is.
     pub fn identity(&self) -> super::CheckIdentity {
-        super::CheckIdentity::of(&self.recipe, &self.stage, &self.step, &self.key)
+        super::CheckIdentity::of(&self.run.recipe, &self.check.stage, &self.check.step, self.key())
     }
 
     /// `31.4 K`, a comparison's change `+7.3 K`; `—` when nothing was measured (a
     /// comparison without history).
     pub fn measured_text(&self) -> String {
-        stored_measured(&self.name, self.measured, self.unit.as_deref(), self.decimals)
-            .unwrap_or_else(|| "—".into())
+        let c = &self.check;
+        stored_measured(&c.name, c.measured, c.unit.as_deref(), c.decimals).unwrap_or_else(|| "—".into())
     }
 
     /// `≤ 3 K`, `< 80 °C`, `-10 .. 10 %`; `None` without limits.
     pub fn limits_text(&self) -> Option<String> {
-        stored_limits(
-            &self.name,
-            &self.key,
-            self.limits,
-            self.unit.as_deref(),
-            self.inclusive,
-        )
+        let c = &self.check;
+        stored_limits(&c.name, self.key(), c.limits, c.unit.as_deref(), c.inclusive)
     }
 
     /// [`TrendPoint::verdict`] with `(simulated)` after it for a run on the simulated drive.
     pub fn result_text(&self) -> String {
-        match self.simulated {
+        match self.run.simulated {
             true => format!("{} (simulated)", self.verdict()),
             false => self.verdict().to_string(),
         }
@@ -130,7 +112,7 @@ impl TrendPoint {
 
     /// `PASS`, `MARGINAL` or `FAIL`, as `results show` says it.
     pub fn verdict(&self) -> &'static str {
-        match (self.passed, self.marginal) {
+        match (self.check.passed, self.check.marginal) {
             (true, false) => "PASS",
             (true, true) => "MARGINAL",
             (false, _) => "FAIL",
@@ -189,51 +171,54 @@ mod tests {
 
     #[test]
     fn limits_read_strict_where_the_name_shows_it() {
-        let limits = |name: &str, key: &str, low, high, unit| {
-            stored_limits(name, key, Limits::new(low, high), Some(unit), None)
-        };
-        let below = limits(
-            "current_actual max below 5 A",
-            "current_actual max below",
-            None,
-            Some(5.0),
-            "A",
-        );
-        assert_eq!(below.as_deref(), Some("< 5 A"));
-        let named = limits(
-            "N: current_actual max below 5 A",
-            "N: current_actual max below",
-            None,
-            Some(5.0),
-            "A",
-        );
-        assert_eq!(named.as_deref(), Some("< 5 A"));
-        let coast = limits(
-            "coast-down from 6000 rpm below 100 rpm above 20 s",
-            "coast-down from 6000 rpm below 100 rpm",
-            Some(20.0),
-            None,
-            "s",
-        );
-        assert_eq!(coast.as_deref(), Some("> 20 s"));
-        let compared = limits(
-            "current_actual max below 5 A compared with last pass",
-            "current_actual max below compared with last pass",
-            None,
-            Some(3.0),
-            "%",
-        );
-        assert_eq!(compared.as_deref(), Some("≤ 3 %"));
-        let answer = limits("Vibration", "Vibration", None, Some(2.8), "mm/s");
-        assert_eq!(answer.as_deref(), Some("≤ 2.8 mm/s"));
-        let near = limits(
-            "speed_actual mean near 3000 rpm ± 1 %",
-            "speed_actual mean near",
-            Some(2970.0),
-            Some(3030.0),
-            "rpm",
-        );
-        assert_eq!(near.as_deref(), Some("2970 .. 3030 rpm"));
+        // (name, key, low, high, unit, shown)
+        let cases = [
+            (
+                "current_actual max below 5 A",
+                "current_actual max below",
+                None,
+                Some(5.0),
+                "A",
+                "< 5 A",
+            ),
+            (
+                "N: current_actual max below 5 A",
+                "N: current_actual max below",
+                None,
+                Some(5.0),
+                "A",
+                "< 5 A",
+            ),
+            (
+                "coast-down from 6000 rpm below 100 rpm above 20 s",
+                "coast-down from 6000 rpm below 100 rpm",
+                Some(20.0),
+                None,
+                "s",
+                "> 20 s",
+            ),
+            (
+                "current_actual max below 5 A compared with last pass",
+                "current_actual max below compared with last pass",
+                None,
+                Some(3.0),
+                "%",
+                "≤ 3 %",
+            ),
+            ("Vibration", "Vibration", None, Some(2.8), "mm/s", "≤ 2.8 mm/s"),
+            (
+                "speed_actual mean near 3000 rpm ± 1 %",
+                "speed_actual mean near",
+                Some(2970.0),
+                Some(3030.0),
+                "rpm",
+                "2970 .. 3030 rpm",
+            ),
+        ];
+        for (name, key, low, high, unit, shown) in cases {
+            let limits = stored_limits(name, key, Limits::new(low, high), Some(unit), None);
+            assert_eq!(limits.as_deref(), Some(shown), "{name}");
+        }
         // What the store kept wins over what the name shows.
         let kept = |inclusive| {
             stored_limits(

@@ -35,12 +35,12 @@ enum Side {
 /// had one wrote it. `None` when no run had one.
 fn limit_line(points: &[TrendPoint], side: Side) -> Option<LimitLine> {
     let limit = |p: &TrendPoint| match side {
-        Side::Low => p.limits.low,
-        Side::High => p.limits.high,
+        Side::Low => p.check.limits.low,
+        Side::High => p.check.limits.high,
     };
     let mut steps: Vec<(f64, Option<f64>)> = Vec::new();
     for p in points {
-        let Some(t) = seconds_of(&p.started_at) else {
+        let Some(t) = seconds_of(&p.run.started_at) else {
             continue;
         };
         if steps.last().is_none_or(|last| last.1 != limit(p)) {
@@ -49,16 +49,11 @@ fn limit_line(points: &[TrendPoint], side: Side) -> Option<LimitLine> {
     }
     let last = points.iter().rev().find(|p| limit(p).is_some())?;
     let one_side = match side {
-        Side::Low => Limits::new(last.limits.low, None),
-        Side::High => Limits::new(None, last.limits.high),
+        Side::Low => Limits::new(last.check.limits.low, None),
+        Side::High => Limits::new(None, last.check.limits.high),
     };
-    let label = stored_limits(
-        &last.name,
-        &last.key,
-        one_side,
-        last.unit.as_deref(),
-        last.inclusive,
-    )?;
+    let c = &last.check;
+    let label = stored_limits(&c.name, last.key(), one_side, c.unit.as_deref(), c.inclusive)?;
     // The first run's limit reaches back to the plot's left edge.
     if let Some(start) = steps.first_mut() {
         start.0 = f64::NEG_INFINITY;
@@ -71,14 +66,14 @@ fn value_title(points: &[TrendPoint]) -> String {
     let mut units: Vec<&str> = Vec::new();
     for u in points
         .iter()
-        .filter(|p| p.measured.is_some())
-        .filter_map(|p| p.unit.as_deref())
+        .filter(|p| p.check.measured.is_some())
+        .filter_map(|p| p.check.unit.as_deref())
     {
         if !units.contains(&u) {
             units.push(u);
         }
     }
-    let change = points.iter().any(|p| p.name.ends_with(COMPARED));
+    let change = points.iter().any(|p| p.check.name.ends_with(COMPARED));
     match (units.is_empty(), change) {
         (true, true) => "change".into(),
         (true, false) => "value".into(),
@@ -100,7 +95,7 @@ fn units_of(points: &[TrendPoint]) -> Vec<&str> {
 }
 
 fn serial_text(p: &TrendPoint) -> &str {
-    p.serial.as_deref().unwrap_or("no serial")
+    p.run.unit.serial.as_deref().unwrap_or("no serial")
 }
 
 /// A marker per point that measured a value at a readable time.
@@ -109,9 +104,9 @@ fn marks(points: &[TrendPoint], units: &[&str]) -> Vec<TrendMark> {
         .iter()
         .filter_map(|p| {
             Some(TrendMark {
-                at: seconds_of(&p.started_at)?,
-                value: p.measured.filter(|v| v.is_finite())?,
-                outcome: match (p.passed, p.marginal) {
+                at: seconds_of(&p.run.started_at)?,
+                value: p.check.measured.filter(|v| v.is_finite())?,
+                outcome: match (p.check.passed, p.check.marginal) {
                     (true, false) => Outcome::Passed,
                     (true, true) => Outcome::Marginal,
                     (false, _) => Outcome::Failed,
@@ -119,15 +114,15 @@ fn marks(points: &[TrendPoint], units: &[&str]) -> Vec<TrendMark> {
                 unit: units.iter().position(|u| *u == serial_text(p)).unwrap_or(0),
                 tip: format!(
                     "{} · {} · {}{} · {} · run {}",
-                    p.started_at,
+                    p.run.started_at,
                     serial_text(p),
                     p.measured_text(),
                     p.limits_text()
                         .map_or(String::new(), |l| format!(" (limits {l})")),
                     p.verdict(),
-                    p.run
+                    p.run.id
                 ),
-                limits: (p.limits.low, p.limits.high),
+                limits: (p.check.limits.low, p.check.limits.high),
             })
         })
         .collect()
@@ -137,7 +132,7 @@ fn marks(points: &[TrendPoint], units: &[&str]) -> Vec<TrendMark> {
 pub fn trend_page(check: &str, all: &[TrendPoint], links: PageLinks) -> String {
     // The check's key when every point shares it: what the page is the trend of.
     let title = match all.first() {
-        Some(p) if all.iter().all(|q| q.key == p.key) => p.key.clone(),
+        Some(p) if all.iter().all(|q| q.key() == p.key()) => p.key().to_string(),
         _ => check.to_string(),
     };
     let points = &all[all.len().saturating_sub(MAX_PLOT_POINTS)..];
@@ -151,7 +146,7 @@ pub fn trend_page(check: &str, all: &[TrendPoint], links: PageLinks) -> String {
         esc(&title)
     );
     let units = units_of(points);
-    let mut runs: Vec<&str> = points.iter().map(|p| p.run.as_str()).collect();
+    let mut runs: Vec<&str> = points.iter().map(|p| p.run.id.as_str()).collect();
     runs.dedup();
     let count = |f: fn(&TrendPoint) -> bool| points.iter().filter(|p| f(p)).count();
     let _ = writeln!(
@@ -160,8 +155,8 @@ pub fn trend_page(check: &str, all: &[TrendPoint], links: PageLinks) -> String {
         points.len(),
         runs.len(),
         units.len(),
-        count(|p| !p.passed),
-        count(|p| p.passed && p.marginal)
+        count(|p| !p.check.passed),
+        count(|p| p.check.passed && p.check.marginal)
     );
     let left = &all[..all.len() - points.len()];
     if let (Some(oldest), Some(newest)) = (left.first(), left.last()) {
@@ -171,8 +166,8 @@ pub fn trend_page(check: &str, all: &[TrendPoint], links: PageLinks) -> String {
             points.len(),
             all.len(),
             left.len(),
-            esc(&oldest.started_at),
-            esc(&newest.started_at)
+            esc(&oldest.run.started_at),
+            esc(&newest.run.started_at)
         );
     }
     h.push_str("</header>\n");
@@ -202,7 +197,7 @@ pub fn trend_page(check: &str, all: &[TrendPoint], links: PageLinks) -> String {
     );
     h.push_str("<section>\n<h2>Values</h2>\n<table id=\"values\">\n<thead><tr><th>Started (UTC)</th><th>Unit</th><th>Measured</th><th>Limits</th><th>Result</th><th>Run</th></tr></thead>\n<tbody>\n");
     for p in points {
-        let (row, mark) = match (p.passed, p.marginal) {
+        let (row, mark) = match (p.check.passed, p.check.marginal) {
             (true, false) => ("", "ok"),
             (true, true) => (" class=\"marginal\"", "warn"),
             (false, _) => (" class=\"fail\"", "fail"),
@@ -210,14 +205,14 @@ pub fn trend_page(check: &str, all: &[TrendPoint], links: PageLinks) -> String {
         let _ = writeln!(
             h,
             "<tr{row}><td>{}</td><td>{}</td><td class=\"num\">{}</td><td class=\"num\">{}</td><td class=\"{mark}\">{}</td><td>{}</td></tr>",
-            esc(&p.started_at),
-            p.serial
+            esc(&p.run.started_at),
+            p.run.unit.serial
                 .as_deref()
                 .map_or(String::new(), |s| links.unit(s, &esc(s))),
             esc(&p.measured_text()),
             esc(&p.limits_text().unwrap_or_else(|| "—".into())),
             p.result_text(),
-            links.run(&p.run, &format!("<code>{}</code>", esc(&p.run)))
+            links.run(&p.run.id, &format!("<code>{}</code>", esc(&p.run.id)))
         );
     }
     let _ = write!(
@@ -248,21 +243,40 @@ fn legend(units: &[&str]) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::results::{CheckRow, RunRow};
+    use crate::session::UnitIdentity;
 
     fn point(started_at: &str, serial: &str, measured: Option<f64>, passed: bool) -> TrendPoint {
         TrendPoint {
-            name: "bearing temperature compared with last pass".into(),
-            key: "bearing temperature compared with last pass".into(),
-            run: format!("run-{started_at}"),
-            started_at: started_at.into(),
-            serial: Some(serial.into()),
-            measured,
-            unit: Some("K".into()),
-            limits: Limits::new(None, Some(3.0)),
-            passed,
-            recipe: "Bearing acceptance".into(),
-            step: "2".into(),
-            ..TrendPoint::default()
+            check: CheckRow {
+                run: format!("run-{started_at}"),
+                name: "bearing temperature compared with last pass".into(),
+                key: Some("bearing temperature compared with last pass".into()),
+                measured,
+                unit: Some("K".into()),
+                limits: Limits::new(None, Some(3.0)),
+                passed,
+                step: "2".into(),
+                ..CheckRow::default()
+            },
+            run: RunRow {
+                id: format!("run-{started_at}"),
+                started_at: started_at.into(),
+                unit: UnitIdentity {
+                    serial: Some(serial.into()),
+                    ..UnitIdentity::default()
+                },
+                recipe: "Bearing acceptance".into(),
+                ..RunRow::default()
+            },
+        }
+    }
+
+    /// `p` with its check changed by `change`.
+    fn with_check(p: &TrendPoint, change: impl FnOnce(CheckRow) -> CheckRow) -> TrendPoint {
+        TrendPoint {
+            check: change(p.check.clone()),
+            ..p.clone()
         }
     }
 
@@ -272,22 +286,22 @@ mod tests {
         assert_eq!(p.measured_text(), "+7.3 K");
         assert_eq!(p.limits_text().as_deref(), Some("≤ 3 K"));
         assert_eq!(p.verdict(), "FAIL");
-        let fell = TrendPoint {
+        let fell = with_check(&p, |c| CheckRow {
             measured: Some(-0.25),
             limits: Limits::new(Some(-10.0), Some(10.0)),
             unit: Some("%".into()),
-            ..p.clone()
-        };
+            ..c
+        });
         assert_eq!(fell.measured_text(), "-0.25 %");
         assert_eq!(fell.limits_text().as_deref(), Some("-10 .. 10 %"));
-        let plain = TrendPoint {
+        let plain = with_check(&p, |c| CheckRow {
             name: "motor_temperature below 80 °C".into(),
             measured: Some(31.4),
             unit: Some("°C".into()),
-            ..p.clone()
-        };
+            ..c
+        });
         assert_eq!(plain.measured_text(), "31.4 °C");
-        let none = TrendPoint { measured: None, ..p };
+        let none = with_check(&p, |c| CheckRow { measured: None, ..c });
         assert_eq!(none.measured_text(), "—");
         assert_eq!(value_title(std::slice::from_ref(&none)), "change");
         assert_eq!(value_title(&[fell, none]), "change [%]");

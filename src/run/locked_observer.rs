@@ -165,14 +165,20 @@ mod tests {
             .collect()
     }
 
+    /// An observer that keeps its events as lines, and the same as the run's observer.
+    fn lines_observer() -> (Arc<Mutex<Lines>>, Arc<Mutex<dyn RunObserver>>) {
+        let shared = Arc::new(Mutex::new(Lines::default()));
+        let dynamic: Arc<Mutex<dyn RunObserver>> = shared.clone();
+        (shared, dynamic)
+    }
+
     fn lines(shared: &Arc<Mutex<Lines>>) -> Vec<String> {
         shared.lock().expect("lines").0.clone()
     }
 
     #[test]
     fn rows_reach_the_observer_in_order_at_most_held_for_after_the_last_ones() {
-        let shared = Arc::new(Mutex::new(Lines::default()));
-        let dynamic: Arc<Mutex<dyn RunObserver>> = shared.clone();
+        let (shared, dynamic) = lines_observer();
         let mut locked = LockedObserver::new(&dynamic);
         let two = objects(&["speed", "current"]);
         // A sampling loop at 100 Hz: a row, then the wait before the next.
@@ -212,8 +218,7 @@ mod tests {
 
     #[test]
     fn rows_held_when_the_run_ends_without_its_last_event_are_handed_over() {
-        let shared = Arc::new(Mutex::new(Lines::default()));
-        let dynamic: Arc<Mutex<dyn RunObserver>> = shared.clone();
+        let (shared, dynamic) = lines_observer();
         let mut locked = LockedObserver::new(&dynamic);
         let one = objects(&["speed"]);
         for k in 0..5u64 {
@@ -225,8 +230,7 @@ mod tests {
 
     #[test]
     fn slow_rows_are_each_handed_over_at_once() {
-        let shared = Arc::new(Mutex::new(Lines::default()));
-        let dynamic: Arc<Mutex<dyn RunObserver>> = shared.clone();
+        let (shared, dynamic) = lines_observer();
         let mut locked = LockedObserver::new(&dynamic);
         let one = objects(&["speed"]);
         for k in 0..5u64 {
@@ -238,8 +242,7 @@ mod tests {
 
     #[test]
     fn a_row_of_another_width_than_its_objects_follows_the_held_rows_unsliced() {
-        let shared = Arc::new(Mutex::new(Lines::default()));
-        let dynamic: Arc<Mutex<dyn RunObserver>> = shared.clone();
+        let (shared, dynamic) = lines_observer();
         let mut locked = LockedObserver::new(&dynamic);
         let two = objects(&["speed", "current"]);
         locked.sample(Duration::from_millis(1), &two, &[1.0, 2.0]);

@@ -103,27 +103,30 @@ impl RunPlan {
         })
     }
 
-    pub fn name(&self) -> &str {
+    /// What a recipe and a script both hold, taken from whichever this is.
+    fn either<'a, T: ?Sized>(
+        &'a self,
+        recipe: fn(&'a Recipe) -> &'a T,
+        script: fn(&'a Script) -> &'a T,
+    ) -> &'a T {
         match self {
-            RunPlan::Recipe(r) => &r.name,
-            RunPlan::Script(s) => &s.name,
+            RunPlan::Recipe(r) => recipe(r),
+            RunPlan::Script(s) => script(s),
         }
+    }
+
+    pub fn name(&self) -> &str {
+        self.either(|r| &r.name, |s| &s.name)
     }
 
     /// The file as the reports name it.
     pub fn path(&self) -> &str {
-        match self {
-            RunPlan::Recipe(r) => &r.path,
-            RunPlan::Script(s) => &s.path,
-        }
+        self.either(|r| &r.path, |s| &s.path)
     }
 
     /// The file's own link settings (`link:`, `//! link:`), under the command line's.
     pub fn link(&self) -> &[(String, String)] {
-        match self {
-            RunPlan::Recipe(r) => &r.link,
-            RunPlan::Script(s) => &s.link,
-        }
+        self.either(|r| &r.link, |s| &s.link)
     }
 
     /// Where [`link`](Self::link) is written, for messages.
@@ -136,26 +139,17 @@ impl RunPlan {
 
     /// The named drives; empty for a plan with one drive.
     pub fn drives(&self) -> &[DriveDecl] {
-        match self {
-            RunPlan::Recipe(r) => &r.drives,
-            RunPlan::Script(s) => &s.drives,
-        }
+        self.either(|r| &r.drives, |s| &s.drives)
     }
 
     pub fn safe_stop(&self) -> &SafeStopChoice {
-        match self {
-            RunPlan::Recipe(r) => &r.safe_stop,
-            RunPlan::Script(s) => &s.safe_stop,
-        }
+        self.either(|r| &r.safe_stop, |s| &s.safe_stop)
     }
 
     /// `leave_enabled: true` (`//! leave_enabled: true`): a run that succeeds leaves the
     /// drive as it was left.
     pub fn leave_enabled(&self) -> bool {
-        match self {
-            RunPlan::Recipe(r) => r.leave_enabled,
-            RunPlan::Script(s) => s.leave_enabled,
-        }
+        *self.either(|r| &r.leave_enabled, |s| &s.leave_enabled)
     }
 
     /// The checks known before the run (a recipe's; a script's appear as it runs), for the

@@ -30,18 +30,29 @@ fn ended(state: DeviceState, speed: f64, coasting: bool) -> RunReport {
     r
 }
 
+/// [`ended`], with a check that failed.
+fn failing(state: DeviceState, speed: f64, coasting: bool) -> RunReport {
+    let mut r = ended(state, speed, coasting);
+    r.checks.push(CheckResult::named("current", false));
+    r
+}
+
+/// `r` after the verdict rule.
+fn settled(mut r: RunReport) -> RunReport {
+    settle(&mut r);
+    r
+}
+
 #[test]
 fn a_drive_stopped_at_standstill_passes() {
-    let mut r = ended(DeviceState::ReadyToSwitchOn, 0.0, false);
-    settle(&mut r);
+    let r = settled(ended(DeviceState::ReadyToSwitchOn, 0.0, false));
     assert_eq!((r.verdict.clone(), r.exit_code()), (Verdict::Passed, 0));
     assert!(r.end.stop_confirmed);
 }
 
 #[test]
 fn a_drive_that_trips_during_the_stop_and_coasts_is_an_error_whatever_the_checks_said() {
-    let mut r = ended(DeviceState::Fault, 2952.0, true);
-    settle(&mut r);
+    let r = settled(ended(DeviceState::Fault, 2952.0, true));
     assert_eq!(r.exit_code(), 3);
     assert_eq!(r.verdict.word(), "ERROR");
     let why = r.verdict.reason().unwrap_or_default();
@@ -57,16 +68,14 @@ fn a_drive_that_trips_during_the_stop_and_coasts_is_an_error_whatever_the_checks
 
 #[test]
 fn a_drive_left_in_fault_at_standstill_is_an_error() {
-    let mut r = ended(DeviceState::Fault, 0.0, false);
-    settle(&mut r);
+    let r = settled(ended(DeviceState::Fault, 0.0, false));
     assert_eq!(r.exit_code(), 3);
     assert!(r.verdict.reason().unwrap_or_default().contains("left in fault"));
 }
 
 #[test]
 fn a_spindle_still_coasting_after_a_coast_down_is_an_error() {
-    let mut r = ended(DeviceState::ReadyToSwitchOn, 988.0, true);
-    settle(&mut r);
+    let r = settled(ended(DeviceState::ReadyToSwitchOn, 988.0, true));
     assert_eq!(r.exit_code(), 3);
 }
 
@@ -81,13 +90,12 @@ fn a_speed_not_read_back_is_no_confirmed_standstill() {
 
 #[test]
 fn a_failed_check_with_a_coasting_spindle_is_an_error_and_an_interrupted_run_too() {
-    let mut failed = ended(DeviceState::ReadyToSwitchOn, 900.0, true);
-    failed.checks.push(CheckResult::named("current", false));
-    settle(&mut failed);
+    let failed = settled(failing(DeviceState::ReadyToSwitchOn, 900.0, true));
     assert_eq!(failed.exit_code(), 3);
-    let mut interrupted = ended(DeviceState::SwitchOnDisabled, 22000.0, true);
-    interrupted.verdict = Verdict::Interrupted(StopSignal::INT);
-    settle(&mut interrupted);
+    let interrupted = settled(RunReport {
+        verdict: Verdict::Interrupted(StopSignal::INT),
+        ..ended(DeviceState::SwitchOnDisabled, 22000.0, true)
+    });
     assert_eq!(interrupted.exit_code(), 3);
     assert!(interrupted
         .verdict
@@ -98,24 +106,23 @@ fn a_failed_check_with_a_coasting_spindle_is_an_error_and_an_interrupted_run_too
 
 #[test]
 fn a_failed_check_without_a_verdict_yet_fails_and_a_panic_stays_a_panic() {
-    let mut r = ended(DeviceState::ReadyToSwitchOn, 0.0, false);
-    r.checks.push(CheckResult::named("current", false));
-    settle(&mut r);
+    let r = settled(failing(DeviceState::ReadyToSwitchOn, 0.0, false));
     assert_eq!(r.exit_code(), 1);
-    let mut p = ended(DeviceState::Fault, 500.0, true);
-    p.verdict = Verdict::Panicked("bug".into());
-    settle(&mut p);
+    let p = settled(RunReport {
+        verdict: Verdict::Panicked("bug".into()),
+        ..ended(DeviceState::Fault, 500.0, true)
+    });
     assert_eq!(p.exit_code(), 101);
 }
 
 #[test]
 fn a_passing_leave_enabled_run_passes_in_the_state_its_steps_left() {
-    let mut r = ended(DeviceState::OperationEnabled, 6000.0, false);
-    r.kept_enabled = true;
-    settle(&mut r);
+    let r = settled(RunReport {
+        kept_enabled: true,
+        ..ended(DeviceState::OperationEnabled, 6000.0, false)
+    });
     assert_eq!(r.exit_code(), 0);
-    let mut not_kept = ended(DeviceState::OperationEnabled, 6000.0, false);
-    settle(&mut not_kept);
+    let not_kept = settled(ended(DeviceState::OperationEnabled, 6000.0, false));
     assert_eq!(not_kept.exit_code(), 3);
 }
 

@@ -275,15 +275,10 @@ impl Statistic {
     /// The id of the slope, which a wait until stable measures too.
     pub const SLOPE: &'static str = "slope";
 
-    /// The statistics a window's running sums hold (what a script's sample window offers);
-    /// the measures of a step and the slope need the session's own window.
-    pub const OF_SUMS: [(&'static str, Statistic); 5] = [
-        ("mean", Statistic::Mean),
-        ("min", Statistic::Min),
-        ("max", Statistic::Max),
-        ("ripple", Statistic::Ripple),
-        ("std", Statistic::Std),
-    ];
+    /// The statistics a window's running sums hold (what a script's sample window offers),
+    /// the first five of [`Self::ALL`]; the measures of a step and the slope need the
+    /// session's own window.
+    pub const OF_SUMS: [(&'static str, Statistic); 5] = *Self::ALL.first_chunk().unwrap();
 
     pub fn id(self) -> &'static str {
         match self {

@@ -52,48 +52,33 @@ pub trait RunObserver {
 #[macro_export]
 macro_rules! relayed_events {
     () => {
-        fn run_started(&mut self, run: &$crate::session::RunInfo, drive: &str) {
-            self.relay(|o| o.run_started(run, drive));
+        $crate::relayed_events! {
+            fn run_started(run: &$crate::session::RunInfo, drive: &str);
+            fn unit_identified(unit: &$crate::session::UnitIdentity);
+            fn step_started(step: &$crate::session::StepInfo);
+            fn step_placed(id: &str);
+            fn attempt_started(number: &str, attempt: u32, of: u32);
+            fn attempts_given_up();
+            fn step_progress(
+                number: &str,
+                elapsed: std::time::Duration,
+                total: Option<std::time::Duration>,
+                values: &str,
+            );
+            fn asked(number: &str, question: &str);
+            fn step_finished(record: &$crate::session::StepRecord);
+            fn check(result: &$crate::session::CheckResult);
+            fn message(text: &str);
+            fn run_finished(report: &$crate::session::RunReport);
         }
-        fn unit_identified(&mut self, unit: &$crate::session::UnitIdentity) {
-            self.relay(|o| o.unit_identified(unit));
-        }
-        fn step_started(&mut self, step: &$crate::session::StepInfo) {
-            self.relay(|o| o.step_started(step));
-        }
-        fn step_placed(&mut self, id: &str) {
-            self.relay(|o| o.step_placed(id));
-        }
-        fn attempt_started(&mut self, number: &str, attempt: u32, of: u32) {
-            self.relay(|o| o.attempt_started(number, attempt, of));
-        }
-        fn attempts_given_up(&mut self) {
-            self.relay(|o| o.attempts_given_up());
-        }
-        fn step_progress(
-            &mut self,
-            number: &str,
-            elapsed: std::time::Duration,
-            total: Option<std::time::Duration>,
-            values: &str,
-        ) {
-            self.relay(|o| o.step_progress(number, elapsed, total, values));
-        }
-        fn asked(&mut self, number: &str, question: &str) {
-            self.relay(|o| o.asked(number, question));
-        }
-        fn step_finished(&mut self, record: &$crate::session::StepRecord) {
-            self.relay(|o| o.step_finished(record));
-        }
-        fn check(&mut self, result: &$crate::session::CheckResult) {
-            self.relay(|o| o.check(result));
-        }
-        fn message(&mut self, text: &str) {
-            self.relay(|o| o.message(text));
-        }
-        fn run_finished(&mut self, report: &$crate::session::RunReport) {
-            self.relay(|o| o.run_finished(report));
-        }
+    };
+    // Each event, handed to `self.relay` with its arguments.
+    ($(fn $event:ident($($arg:ident: $type:ty),* $(,)?);)*) => {
+        $(
+            fn $event(&mut self, $($arg: $type),*) {
+                self.relay(|o| o.$event($($arg),*));
+            }
+        )*
     };
 }
 

@@ -36,32 +36,26 @@ impl SampleWindow {
         if self.stats.count == 0 {
             return Missing("no samples".into());
         }
-        let response = || {
-            self.response
-                .as_ref()
-                .ok_or("no step declared on the sample step")
-        };
         let found = |v: Option<f64>, why: &str| v.map_or_else(|| Missing(why.to_string()), Value);
+        // A measure of the step response, or why there is none.
+        let of_response = |measure: fn(&StepResponse) -> Option<f64>, why: &str| match &self.response {
+            Some(r) => found(measure(r), why),
+            None => Missing("no step declared on the sample step".into()),
+        };
         match stat {
             Statistic::Mean | Statistic::Min | Statistic::Max | Statistic::Ripple | Statistic::Std => {
                 Value(self.stats.get(stat))
             }
-            Statistic::RiseTime => match response() {
-                Ok(r) => found(r.rise_time(), "never reached 90 % of the step"),
-                Err(why) => Missing(why.into()),
-            },
-            Statistic::Overshoot => match response() {
-                Ok(r) => found(r.overshoot_percent(), "a step of size zero"),
-                Err(why) => Missing(why.into()),
-            },
-            Statistic::SettlingTime => match response() {
-                Ok(r) => found(r.settling_time(), "still outside the band at the window's end"),
-                Err(why) => Missing(why.into()),
-            },
-            Statistic::SteadyStateError => match response() {
-                Ok(r) => found(r.steady_state_error(), "no samples in the window's last tenth"),
-                Err(why) => Missing(why.into()),
-            },
+            Statistic::RiseTime => of_response(StepResponse::rise_time, "never reached 90 % of the step"),
+            Statistic::Overshoot => of_response(StepResponse::overshoot_percent, "a step of size zero"),
+            Statistic::SettlingTime => of_response(
+                StepResponse::settling_time,
+                "still outside the band at the window's end",
+            ),
+            Statistic::SteadyStateError => of_response(
+                StepResponse::steady_state_error,
+                "no samples in the window's last tenth",
+            ),
             Statistic::Slope(over) => found(
                 self.slope
                     .slope_over(over.as_secs_f64())

@@ -5,16 +5,14 @@
 
 use super::session::{show_duration, value_of, Session};
 use super::stop::Stop;
-use super::wait_until::wait_ended;
+use super::wait_until::{wait_ended, Polling};
 use super::{BucketSeries, Condition, ObjectRef, Series, SlopeWindow, Stats, StepOrigin, SERIES_BUCKETS};
-use std::time::Duration;
 
 impl Session<'_> {
     pub(super) fn wait_until_stable(
         &mut self,
         condition: &Condition,
-        timeout: Duration,
-        every: Duration,
+        poll: Polling,
         origin: &StepOrigin,
         number: &str,
     ) -> Result<String, Stop> {
@@ -27,8 +25,11 @@ impl Session<'_> {
         else {
             return Err(Stop::Failed(format!("{condition} is not a stabilisation")));
         };
-        let started = self.clock.now();
-        let give_up = started.saturating_add(timeout);
+        let Polling {
+            started,
+            timeout,
+            every,
+        } = poll;
         let origin_s = started.saturating_sub(self.run_start).as_secs_f64();
         let mut slope = SlopeWindow::with_horizon(origin_s, over.as_secs_f64(), every.as_secs_f64());
         let width = (timeout.as_secs_f64() / SERIES_BUCKETS as f64).max(every.as_secs_f64());
@@ -87,13 +88,7 @@ impl Session<'_> {
                 return wait_ended(message, &seen, waited);
             }
             self.watch_fault(false)?;
-            self.between_polls(
-                number,
-                waited,
-                timeout,
-                &seen,
-                now.saturating_add(every).min(give_up),
-            )?;
+            self.between_polls(number, waited, timeout, &seen, poll.next_after(now))?;
         }
     }
 

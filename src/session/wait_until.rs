@@ -22,10 +22,10 @@ impl Session<'_> {
         number: &str,
     ) -> Result<String, Stop> {
         if let Condition::Stable { .. } = condition {
-            return self.wait_until_stable(condition, timeout, every, origin, number);
+            return self.wait_until_stable(condition, self.polling(timeout, every), origin, number);
         }
-        let started = self.clock.now();
-        let give_up = started.saturating_add(timeout);
+        let poll = self.polling(timeout, every);
+        let started = poll.started;
         loop {
             let (holds, seen, value) = self.read_condition(condition)?;
             let waited = self.clock.now().saturating_sub(started);
@@ -76,7 +76,7 @@ impl Session<'_> {
                 );
                 return Err(Stop::Failed(message));
             }
-            let next = self.clock.now().saturating_add(every).min(give_up);
+            let next = poll.next_after(self.clock.now());
             self.between_polls(number, waited, timeout, &seen, next)?;
         }
     }
@@ -95,8 +95,8 @@ impl Session<'_> {
         origin: &StepOrigin,
         number: &str,
     ) -> Result<String, Stop> {
-        let started = self.clock.now();
-        let give_up = started.saturating_add(timeout);
+        let poll = self.polling(timeout, every);
+        let started = poll.started;
         loop {
             let name = self.select_object(&object.name)?;
             let v = self.drive().read_number(name)?;
@@ -120,8 +120,17 @@ impl Session<'_> {
                 return wait_ended(message, &seen, waited);
             }
             self.watch_fault(false)?;
-            let next = self.clock.now().saturating_add(every).min(give_up);
+            let next = poll.next_after(self.clock.now());
             self.between_polls(number, waited, timeout, &seen, next)?;
+        }
+    }
+
+    /// A wait that polls every `every` for at most `timeout`, starting now.
+    pub(super) fn polling(&self, timeout: Duration, every: Duration) -> Polling {
+        Polling {
+            started: self.clock.now(),
+            timeout,
+            every,
         }
     }
 
@@ -223,6 +232,23 @@ pub(super) fn timed_out(timeout: Duration, what: &str, seen: &str) -> String {
         "timed out after {} waiting for {what}; last value seen: {seen}",
         show_duration(timeout)
     )
+}
+
+/// A wait that polls: when it started (the session's clock), how long it may take, how
+/// often it polls.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Polling {
+    pub started: Duration,
+    pub timeout: Duration,
+    pub every: Duration,
+}
+
+impl Polling {
+    /// When the poll after one at `now` is due: a period on, never past the timeout.
+    pub fn next_after(&self, now: Duration) -> Duration {
+        now.saturating_add(self.every)
+            .min(self.started.saturating_add(self.timeout))
+    }
 }
 
 /// How a wait ended: the value seen and when, or (`message`) why it failed, which stops the

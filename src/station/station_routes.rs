@@ -7,7 +7,7 @@
 
 use super::bench_history;
 use super::event_log::Catch;
-use super::station::Station;
+use super::station::{Refused, Station};
 use crate::report::esc;
 use crate::web::{blocking, Asset, Site};
 use axum::body::Body;
@@ -16,6 +16,7 @@ use axum::extract::State;
 use axum::http::{header, HeaderMap, StatusCode};
 use axum::response::{IntoResponse, Response};
 use axum::Router;
+use serde::de::DeserializeOwned;
 use serde::Deserialize;
 use serde_json::json;
 use std::sync::Arc;
@@ -132,16 +133,29 @@ struct StartBody {
     operator: String,
 }
 
-async fn start(State(s): St, body: Bytes) -> Response {
-    let Ok(b) = serde_json::from_slice::<StartBody>(&body) else {
-        return refused(
-            StatusCode::BAD_REQUEST,
-            "a start names a recipe by its number, a serial and an operator",
-        );
-    };
-    match s.station.start(b.recipe, &b.serial, &b.operator) {
-        Ok(id) => json_reply(StatusCode::OK, json!({"run": id})),
+/// What an operator's request came to: the station's answer (200), or why it refused (409).
+fn replied<T>(done: Result<T, Refused>, answer: impl FnOnce(T) -> serde_json::Value) -> Response {
+    match done {
+        Ok(t) => json_reply(StatusCode::OK, answer(t)),
         Err(e) => refused(StatusCode::CONFLICT, &e.0),
+    }
+}
+
+/// A request's JSON body, or the refusal (400) saying what it must name.
+fn body_of<T: DeserializeOwned>(body: &Bytes, names: &str) -> Result<T, Response> {
+    serde_json::from_slice(body).map_err(|_| refused(StatusCode::BAD_REQUEST, names))
+}
+
+async fn start(State(s): St, body: Bytes) -> Response {
+    match body_of::<StartBody>(
+        &body,
+        "a start names a recipe by its number, a serial and an operator",
+    ) {
+        Ok(b) => replied(
+            s.station.start(b.recipe, &b.serial, &b.operator),
+            |id| json!({"run": id}),
+        ),
+        Err(refusal) => refusal,
     }
 }
 
@@ -152,23 +166,14 @@ struct AnswerBody {
 }
 
 async fn answer(State(s): St, body: Bytes) -> Response {
-    let Ok(b) = serde_json::from_slice::<AnswerBody>(&body) else {
-        return refused(
-            StatusCode::BAD_REQUEST,
-            "an answer names its question and the answer",
-        );
-    };
-    match s.station.answer(b.dialog, &b.answer) {
-        Ok(()) => json_reply(StatusCode::OK, json!({"ok": true})),
-        Err(e) => refused(StatusCode::CONFLICT, &e.0),
+    match body_of::<AnswerBody>(&body, "an answer names its question and the answer") {
+        Ok(b) => replied(s.station.answer(b.dialog, &b.answer), |()| json!({"ok": true})),
+        Err(refusal) => refusal,
     }
 }
 
 async fn stop(State(s): St) -> Response {
-    match s.station.stop() {
-        Ok(presses) => json_reply(StatusCode::OK, json!({"stops": presses})),
-        Err(e) => refused(StatusCode::CONFLICT, &e.0),
-    }
+    replied(s.station.stop(), |presses| json!({"stops": presses}))
 }
 
 async fn runs(State(s): St) -> Response {

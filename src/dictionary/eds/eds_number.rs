@@ -185,15 +185,24 @@ mod tests {
         EdsNumber::parse(text).map(|n| (n.value, n.plus_node_id))
     }
 
+    /// Each text reads as its value, with `$NODEID` to add or not.
+    fn reads_all(cases: &[(&str, i128, bool)]) {
+        for &(text, value, plus_node_id) in cases {
+            assert_eq!(n(text), Ok((value, plus_node_id)), "{text}");
+        }
+    }
+
     #[test]
     fn decimal_hex_octal_and_signs() {
-        assert_eq!(n("1000"), Ok((1000, false)));
-        assert_eq!(n("0x6041"), Ok((0x6041, false)));
-        assert_eq!(n("0X7f"), Ok((127, false)));
-        assert_eq!(n("017"), Ok((15, false)));
-        assert_eq!(n("0"), Ok((0, false)));
-        assert_eq!(n("-32768"), Ok((-32768, false)));
-        assert_eq!(n("0xFFFFFFFFFFFFFFFF"), Ok((u64::MAX.into(), false)));
+        reads_all(&[
+            ("1000", 1000, false),
+            ("0x6041", 0x6041, false),
+            ("0X7f", 127, false),
+            ("017", 15, false),
+            ("0", 0, false),
+            ("-32768", -32768, false),
+            ("0xFFFFFFFFFFFFFFFF", u64::MAX.into(), false),
+        ]);
         assert!(n("09").unwrap_err().to_string().contains("octal"));
         assert!(n("0xZZ").unwrap_err().to_string().contains("hexadecimal"));
         assert!(n("").is_err());
@@ -237,11 +246,13 @@ mod tests {
 
     #[test]
     fn node_id_expressions() {
-        assert_eq!(n("$NODEID+0x180"), Ok((0x180, true)));
-        assert_eq!(n("$NodeId + 0x600"), Ok((0x600, true)));
-        assert_eq!(n("0x580+$NODEID"), Ok((0x580, true)));
-        assert_eq!(n("$NODEID"), Ok((0, true)));
-        assert_eq!(n("$NODEID-1"), Ok((-1, true)));
+        reads_all(&[
+            ("$NODEID+0x180", 0x180, true),
+            ("$NodeId + 0x600", 0x600, true),
+            ("0x580+$NODEID", 0x580, true),
+            ("$NODEID", 0, true),
+            ("$NODEID-1", -1, true),
+        ]);
         assert!(n("$NODEID*2").unwrap_err().to_string().contains("$NODEID+0x180"));
         assert!(n("1-$NODEID").is_err());
         // Beyond any 64-bit value: refused, never a sum that overflows.

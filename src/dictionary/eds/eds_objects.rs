@@ -285,14 +285,15 @@ mod tests {
 
     #[test]
     fn readable_names() {
-        assert_eq!(slug("Controlword"), "controlword");
-        assert_eq!(slug("Vendor-ID"), "vendor_id");
-        assert_eq!(
-            slug("  Highest sub-index supported "),
-            "highest_sub_index_supported"
-        );
-        assert_eq!(slug("1st value"), "o_1st_value");
-        assert_eq!(slug("ÄÖÜ"), "o");
-        assert_eq!(slug(""), "o");
+        for (name, id) in [
+            ("Controlword", "controlword"),
+            ("Vendor-ID", "vendor_id"),
+            ("  Highest sub-index supported ", "highest_sub_index_supported"),
+            ("1st value", "o_1st_value"),
+            ("ÄÖÜ", "o"),
+            ("", "o"),
+        ] {
+            assert_eq!(slug(name), id, "{name:?}");
+        }
     }
 }

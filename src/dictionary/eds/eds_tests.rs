@@ -130,7 +130,7 @@ fn compact_sub_objects_node_id_and_parameter_values() {
 fn every_basic_type_is_carried_in_its_own_width() {
     let d = every_type();
     let t = |name: &str| d.get(name).unwrap_or_else(|| panic!("{name}")).data_type;
-    let int = |bytes, signed| DataType::Int { bytes, signed };
+    let int = DataType::int;
     assert_eq!(t("signed_24"), int(3, true));
     assert_eq!(t("signed_40"), int(5, true));
     assert_eq!(t("signed_48"), int(6, true));

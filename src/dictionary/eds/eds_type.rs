@@ -111,7 +111,7 @@ impl EdsType {
     /// The dictionary type that carries this one over SDO, with the value range a BOOLEAN
     /// adds.
     pub fn carried(self) -> Result<(DataType, Option<(f64, f64)>), NotCarried> {
-        let int = |bytes, signed| DataType::Int { bytes, signed };
+        let int = DataType::int;
         Ok(match self {
             // CiA 301 sends a BOOLEAN in one byte, 0 or 1.
             EdsType::Boolean => (DataType::U8, Some((0.0, 1.0))),
@@ -206,27 +206,9 @@ mod tests {
         assert_eq!(carried(EdsType::Unsigned32), DataType::U32);
         assert_eq!(carried(EdsType::Unsigned64), DataType::U64);
         assert_eq!(carried(EdsType::Integer64), DataType::I64);
-        assert_eq!(
-            carried(EdsType::Integer24),
-            DataType::Int {
-                bytes: 3,
-                signed: true
-            }
-        );
-        assert_eq!(
-            carried(EdsType::Unsigned40),
-            DataType::Int {
-                bytes: 5,
-                signed: false
-            }
-        );
-        assert_eq!(
-            carried(EdsType::Integer56),
-            DataType::Int {
-                bytes: 7,
-                signed: true
-            }
-        );
+        assert_eq!(carried(EdsType::Integer24), DataType::int(3, true));
+        assert_eq!(carried(EdsType::Unsigned40), DataType::int(5, false));
+        assert_eq!(carried(EdsType::Integer56), DataType::int(7, true));
         assert_eq!(carried(EdsType::Real32), DataType::F32);
         assert_eq!(carried(EdsType::Real64), DataType::F64);
         assert_eq!(carried(EdsType::OctetString), DataType::Octets);

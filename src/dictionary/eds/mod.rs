@@ -37,59 +37,51 @@ pub fn dcf_parameter_values(
         if data_type == DataType::Domain {
             continue;
         }
+        // The value as the parameter set holds it, or the one problem with it.
         let value = if let Some(single) = data_type.float_single() {
-            match crate::dictionary::Real::parse(text, single) {
-                // The shortest text of the float, as a backup and a read show it.
-                Some(real) => real.to_string(),
-                None => {
-                    problems.push(Diagnostic::at(
+            // The shortest text of the float, as a backup and a read show it.
+            crate::dictionary::Real::parse(text, single)
+                .map(|real| real.to_string())
+                .ok_or_else(|| {
+                    Diagnostic::at(
                         &entry.span,
                         format!("`ParameterValue={text}` is not a number; a {} value is a decimal such as 1.5 or -3.4E+38", entry.data_type.name()),
                         "expected a float",
-                    ));
-                    continue;
-                }
-            }
+                    )
+                })
         } else if data_type == DataType::Octets {
             // CiA 306 writes an OCTET_STRING's value as hex digits.
-            match crate::hex::parse_hex(text) {
-                Ok(bytes) => crate::hex::to_hex(&bytes),
-                Err(why) => {
-                    problems.push(Diagnostic::at(
+            crate::hex::parse_hex(text)
+                .map(|bytes| crate::hex::to_hex(&bytes))
+                .map_err(|why| {
+                    Diagnostic::at(
                         &entry.span,
                         format!("`ParameterValue` of an OCTET_STRING: {why}"),
                         "expected hex bytes",
-                    ));
-                    continue;
-                }
-            }
+                    )
+                })
         } else if data_type.is_integer() {
             match EdsNumber::parse(text).map(|n| n.resolve(file.node_id)) {
-                Ok(Some(n)) => n.to_string(),
-                Ok(None) => {
-                    problems.push(
-                        Diagnostic::at(
-                            &entry.span,
-                            format!("`ParameterValue={text}` needs the node id"),
-                            "no node id",
-                        )
-                        .with_help("give it in [DeviceComissioning] NodeID"),
-                    );
-                    continue;
-                }
-                Err(why) => {
-                    problems.push(Diagnostic::at(
-                        &entry.span,
-                        format!("`ParameterValue`: {why}"),
-                        "expected a number",
-                    ));
-                    continue;
-                }
+                Ok(Some(n)) => Ok(n.to_string()),
+                Ok(None) => Err(Diagnostic::at(
+                    &entry.span,
+                    format!("`ParameterValue={text}` needs the node id"),
+                    "no node id",
+                )
+                .with_help("give it in [DeviceComissioning] NodeID")),
+                Err(why) => Err(Diagnostic::at(
+                    &entry.span,
+                    format!("`ParameterValue`: {why}"),
+                    "expected a number",
+                )),
             }
         } else {
-            text.clone()
+            Ok(text.clone())
         };
-        values.push((eds_objects::index_text(entry), value));
+        match value {
+            Ok(value) => values.push((eds_objects::index_text(entry), value)),
+            Err(problem) => problems.push(problem),
+        }
     }
     if problems.is_empty() {
         Ok(values)
