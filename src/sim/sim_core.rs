@@ -113,6 +113,21 @@ impl<E> SimCore<E> {
     }
 }
 
+/// The line of a byte front's [`Peer`](crate::bus::Peer) as its [`SimCore`]'s faults have
+/// it (up, and until when), written inside its `impl Peer`: `sim_line_core!();`.
+#[macro_export]
+macro_rules! sim_line_core {
+    () => {
+        fn reachable(&self, now: std::time::Duration) -> bool {
+            self.core.faults.line_up(now)
+        }
+
+        fn up_until(&self, now: std::time::Duration) -> std::time::Duration {
+            self.core.faults.line_up_until(now)
+        }
+    };
+}
+
 /// The [`SimFront`] accessors of a front that keeps its [`SimCore`] in a field `core`,
 /// written inside its `impl SimFront`: `sim_front_core!((Duration, Request));` logs each
 /// request as its time and the decoded request.

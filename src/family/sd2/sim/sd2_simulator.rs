@@ -209,13 +209,7 @@ impl Peer for Sd2Simulator {
         Ok(())
     }
 
-    fn reachable(&self, now: Duration) -> bool {
-        self.core.faults.line_up(now)
-    }
-
-    fn up_until(&self, now: Duration) -> Duration {
-        self.core.faults.line_up_until(now)
-    }
+    crate::sim_line_core!();
 }
 
 impl Sd2Simulator {
