@@ -11,13 +11,9 @@ use std::sync::Arc;
 use std::sync::Mutex;
 
 fn link(script: Vec<Option<Vec<u8>>>) -> (CtLink, Arc<Mutex<ScriptedPeer>>, Arc<VirtualClock>) {
-    let clock = Arc::new(VirtualClock::new());
     let peer = ScriptedPeer::new(script, Duration::from_millis(1));
-    let link = CtLink::new(
-        MemoryTransport::shared("scripted", peer.clone(), clock.clone()),
-        clock.clone(),
-        CtLinkConfig::default(),
-    );
+    let (line, clock) = ScriptedPeer::line(&peer);
+    let link = CtLink::new(line, clock.clone(), CtLinkConfig::default());
     (link, peer, clock)
 }
 
