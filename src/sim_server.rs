@@ -178,16 +178,41 @@ mod tests {
         }
     }
 
+    /// A server of `peer` on a new pseudo-terminal, serving in its own thread.
+    struct Served {
+        path: String,
+        stop: Arc<AtomicBool>,
+        handle: std::thread::JoinHandle<Result<ServeStats, TransportError>>,
+        _slave: serialport::TTYPort,
+    }
+
+    fn served(peer: impl Peer + 'static) -> Served {
+        let pty = PtyEndpoint::open().unwrap();
+        let mut master = pty.master;
+        let server = SimServer::new(Arc::new(Mutex::new(peer)), RealClock::shared());
+        let stop = server.stop_flag();
+        let handle = std::thread::spawn(move || server.serve(&mut master));
+        Served {
+            path: pty.path,
+            stop,
+            handle,
+            _slave: pty._slave,
+        }
+    }
+
+    impl Served {
+        /// Stops the server; what it counted.
+        fn stop(self) -> ServeStats {
+            self.stop.store(true, Ordering::SeqCst);
+            self.handle.join().unwrap().unwrap()
+        }
+    }
+
     #[cfg(unix)]
     #[test]
     fn a_pty_path_answers_like_a_port() {
-        let pty = PtyEndpoint::open().unwrap();
-        let path = pty.path.clone();
-        let mut master = pty.master;
-        let server = SimServer::new(Arc::new(Mutex::new(Echo)), RealClock::shared());
-        let stop = server.stop_flag();
-        let handle = std::thread::spawn(move || server.serve(&mut master));
-        let mut port = crate::bus::SerialTransport::open(&path, Default::default()).unwrap();
+        let server = served(Echo);
+        let mut port = crate::bus::SerialTransport::open(&server.path, Default::default()).unwrap();
         port.write_all(&[0x00, 0x0f]).unwrap();
         let mut got = Vec::new();
         let mut buf = [0u8; 8];
@@ -196,10 +221,7 @@ mod tests {
             got.extend_from_slice(&buf[..n]);
         }
         assert_eq!(got, vec![0xff, 0xf0]);
-        stop.store(true, Ordering::SeqCst);
-        let stats = handle.join().unwrap().unwrap();
-        assert_eq!(stats.replies, 1);
-        drop(pty._slave);
+        assert_eq!(server.stop().replies, 1);
     }
 
     /// Sends `left` bytes of its own in chunks, as a CAN node sends its heartbeats.
@@ -226,25 +248,21 @@ mod tests {
     #[cfg(unix)]
     #[test]
     fn a_line_nobody_reads_does_not_end_the_server() {
-        let pty = PtyEndpoint::open().unwrap();
-        let path = pty.path.clone();
-        let mut master = pty.master;
         // Well beyond what a pseudo-terminal holds in raw mode (about 16 KiB on Linux).
         let left = Arc::new(std::sync::atomic::AtomicUsize::new(40 * 1024));
-        let peer = Chatty { left: left.clone() };
-        let server = SimServer::new(Arc::new(Mutex::new(peer)), RealClock::shared());
-        let stop = server.stop_flag();
-        let handle = std::thread::spawn(move || server.serve(&mut master));
+        let server = served(Chatty { left: left.clone() });
         let started = std::time::Instant::now();
-        while left.load(Ordering::SeqCst) > 0 && !handle.is_finished() {
+        while left.load(Ordering::SeqCst) > 0 && !server.handle.is_finished() {
             assert!(
                 started.elapsed() < Duration::from_secs(30),
                 "the peer's bytes were not taken"
             );
             std::thread::sleep(Duration::from_millis(20));
         }
-        assert!(!handle.is_finished(), "the server ended: {:?}", handle.join());
-        let mut port = crate::bus::SerialTransport::open(&path, Default::default()).unwrap();
+        if server.handle.is_finished() {
+            panic!("the server ended: {:?}", server.handle.join());
+        }
+        let mut port = crate::bus::SerialTransport::open(&server.path, Default::default()).unwrap();
         port.discard_input().unwrap();
         port.write_all(&[0x00, 0x0f]).unwrap();
         let mut got = Vec::new();
@@ -253,9 +271,7 @@ mod tests {
             let n = port.read(&mut buf, Duration::from_secs(2)).unwrap();
             got.extend(buf[..n].iter().filter(|b| **b != 0x55));
         }
-        stop.store(true, Ordering::SeqCst);
-        let stats = handle.join().unwrap().unwrap();
+        let stats = server.stop();
         assert!(stats.dropped_unread >= 1, "{stats:?}");
-        drop(pty._slave);
     }
 }
