@@ -311,6 +311,16 @@ fn open_error(path: &str, e: &serialport::Error) -> TransportError {
     }
 }
 
+/// `op` on `port` with the port's one timeout (it serves both directions) set to `timeout`.
+fn within<T>(
+    port: &mut Box<dyn SerialPort>,
+    timeout: Duration,
+    op: impl FnOnce(&mut Box<dyn SerialPort>) -> io::Result<T>,
+) -> io::Result<T> {
+    port.set_timeout(timeout).map_err(io::Error::from)?;
+    op(port)
+}
+
 impl Transport for SerialTransport {
     fn name(&self) -> &str {
         &self.name
@@ -333,10 +343,7 @@ impl Transport for SerialTransport {
         let port = self.device()?;
         // No drain (tcdrain) after the write: the reply timeout starts after the line time
         // of the request instead (`still_sending`), which spares a system call per telegram.
-        let sent = port
-            .set_timeout(allowed)
-            .map_err(io::Error::from)
-            .and_then(|()| port.write_all(bytes));
+        let sent = within(port, allowed, |port| port.write_all(bytes));
         match sent {
             Ok(()) => Ok(()),
             Err(e) if e.kind() == io::ErrorKind::TimedOut => Err(TransportError::Io {
@@ -354,10 +361,7 @@ impl Transport for SerialTransport {
     fn read(&mut self, buf: &mut [u8], timeout: Duration) -> Result<usize, TransportError> {
         let read = read_within(buf, timeout, |buf, left| {
             let port = self.device()?;
-            let read = port
-                .set_timeout(left)
-                .map_err(io::Error::from)
-                .and_then(|()| port.read(buf));
+            let read = within(port, left, |port| port.read(buf));
             match read {
                 Ok(n) if n > 0 => Ok(Some(n)),
                 // A signal or a zero-length read is not an answer; keep waiting while the
