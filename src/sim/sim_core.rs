@@ -51,6 +51,12 @@ impl<E> SimCore<E> {
         self.model.advance_to(now);
     }
 
+    /// When the reply to a request that arrived at `now` goes out: after the configured
+    /// response latency, and never sooner than the protocol's `turnaround`.
+    pub fn reply_at(&self, now: Duration, turnaround: Duration) -> Duration {
+        now + turnaround.max(self.model.config().response_latency)
+    }
+
     /// The injected panic, when it is due: a front calls this first for every request.
     pub fn panic_if_due(&mut self, now: Duration) {
         if self.faults.take_panic_due(now) {
