@@ -178,26 +178,41 @@ mod tests {
         }
     }
 
-    type Serving = std::thread::JoinHandle<Result<ServeStats, TransportError>>;
+    /// A server of `peer` on a new pseudo-terminal, serving in its own thread.
+    struct Served {
+        path: String,
+        stop: Arc<AtomicBool>,
+        handle: std::thread::JoinHandle<Result<ServeStats, TransportError>>,
+        _slave: serialport::TTYPort,
+    }
 
-    /// A server thread with `peer` on a fresh pseudo-terminal: the path a client opens, the
-    /// server's stop flag and thread, and the terminal's far end (open until dropped).
-    fn served_on_a_pty(
-        peer: Arc<Mutex<dyn Peer>>,
-    ) -> (String, Arc<AtomicBool>, Serving, serialport::TTYPort) {
+    fn served(peer: impl Peer + 'static) -> Served {
         let pty = PtyEndpoint::open().unwrap();
         let mut master = pty.master;
-        let server = SimServer::new(peer, RealClock::shared());
+        let server = SimServer::new(Arc::new(Mutex::new(peer)), RealClock::shared());
         let stop = server.stop_flag();
         let handle = std::thread::spawn(move || server.serve(&mut master));
-        (pty.path, stop, handle, pty._slave)
+        Served {
+            path: pty.path,
+            stop,
+            handle,
+            _slave: pty._slave,
+        }
+    }
+
+    impl Served {
+        /// Stops the server; what it counted.
+        fn stop(self) -> ServeStats {
+            self.stop.store(true, Ordering::SeqCst);
+            self.handle.join().unwrap().unwrap()
+        }
     }
 
     #[cfg(unix)]
     #[test]
     fn a_pty_path_answers_like_a_port() {
-        let (path, stop, handle, slave) = served_on_a_pty(Arc::new(Mutex::new(Echo)));
-        let mut port = crate::bus::SerialTransport::open(&path, Default::default()).unwrap();
+        let server = served(Echo);
+        let mut port = crate::bus::SerialTransport::open(&server.path, Default::default()).unwrap();
         port.write_all(&[0x00, 0x0f]).unwrap();
         let mut got = Vec::new();
         let mut buf = [0u8; 8];
@@ -206,10 +221,7 @@ mod tests {
             got.extend_from_slice(&buf[..n]);
         }
         assert_eq!(got, vec![0xff, 0xf0]);
-        stop.store(true, Ordering::SeqCst);
-        let stats = handle.join().unwrap().unwrap();
-        assert_eq!(stats.replies, 1);
-        drop(slave);
+        assert_eq!(server.stop().replies, 1);
     }
 
     /// Sends `left` bytes of its own in chunks, as a CAN node sends its heartbeats.
@@ -238,18 +250,19 @@ mod tests {
     fn a_line_nobody_reads_does_not_end_the_server() {
         // Well beyond what a pseudo-terminal holds in raw mode (about 16 KiB on Linux).
         let left = Arc::new(std::sync::atomic::AtomicUsize::new(40 * 1024));
-        let peer = Chatty { left: left.clone() };
-        let (path, stop, handle, slave) = served_on_a_pty(Arc::new(Mutex::new(peer)));
+        let server = served(Chatty { left: left.clone() });
         let started = std::time::Instant::now();
-        while left.load(Ordering::SeqCst) > 0 && !handle.is_finished() {
+        while left.load(Ordering::SeqCst) > 0 && !server.handle.is_finished() {
             assert!(
                 started.elapsed() < Duration::from_secs(30),
                 "the peer's bytes were not taken"
             );
             std::thread::sleep(Duration::from_millis(20));
         }
-        assert!(!handle.is_finished(), "the server ended: {:?}", handle.join());
-        let mut port = crate::bus::SerialTransport::open(&path, Default::default()).unwrap();
+        if server.handle.is_finished() {
+            panic!("the server ended: {:?}", server.handle.join());
+        }
+        let mut port = crate::bus::SerialTransport::open(&server.path, Default::default()).unwrap();
         port.discard_input().unwrap();
         port.write_all(&[0x00, 0x0f]).unwrap();
         let mut got = Vec::new();
@@ -258,9 +271,7 @@ mod tests {
             let n = port.read(&mut buf, Duration::from_secs(2)).unwrap();
             got.extend(buf[..n].iter().filter(|b| **b != 0x55));
         }
-        stop.store(true, Ordering::SeqCst);
-        let stats = handle.join().unwrap().unwrap();
+        let stats = server.stop();
         assert!(stats.dropped_unread >= 1, "{stats:?}");
-        drop(slave);
     }
 }

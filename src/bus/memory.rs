@@ -214,14 +214,13 @@ impl Transport for MemoryTransport {
     }
 
     fn reopen(&mut self) -> Result<(), TransportError> {
-        if !self.reachable() {
-            return Err(TransportError::Open {
-                port: self.name.clone(),
-                detail: "the simulated line is still down".into(),
-            });
-        }
-        self.pending.clear();
-        Ok(())
+        let reachable = self.reachable();
+        reopen_line(
+            reachable,
+            &self.name,
+            "the simulated line is still down",
+            &mut self.pending,
+        )
     }
 
     fn read(&mut self, buf: &mut [u8], timeout: Duration) -> Result<usize, TransportError> {
@@ -266,6 +265,24 @@ impl Transport for MemoryTransport {
         }
         Ok(dropped)
     }
+}
+
+/// The reopen of a simulated line: refused, saying `still_down`, while its peer is
+/// unreachable; otherwise what was waiting to be read is dropped, as a port reopened loses it.
+pub(super) fn reopen_line<T>(
+    reachable: bool,
+    name: &str,
+    still_down: &str,
+    pending: &mut VecDeque<T>,
+) -> Result<(), TransportError> {
+    if !reachable {
+        return Err(TransportError::Open {
+            port: name.to_string(),
+            detail: still_down.into(),
+        });
+    }
+    pending.clear();
+    Ok(())
 }
 
 #[cfg(test)]

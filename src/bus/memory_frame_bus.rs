@@ -112,14 +112,9 @@ impl FrameBus for MemoryFrameBus {
     }
 
     fn reopen(&mut self) -> Result<(), TransportError> {
-        if !self.reachable() {
-            return Err(TransportError::Open {
-                port: self.name.clone(),
-                detail: "the simulated CAN adapter is still gone".into(),
-            });
-        }
-        self.pending.clear();
-        Ok(())
+        let reachable = self.reachable();
+        let still_down = "the simulated CAN adapter is still gone";
+        super::memory::reopen_line(reachable, &self.name, still_down, &mut self.pending)
     }
 }
 

@@ -4,6 +4,7 @@
 //! talks to a real line or the simulator.
 
 use super::{Peer, PeerReply};
+use crate::clock::VirtualClock;
 use std::collections::VecDeque;
 use std::sync::{Arc, Mutex};
 use std::time::Duration;
@@ -29,6 +30,14 @@ impl ScriptedPeer {
             replies: replies.into_iter().collect(),
             received: vec![],
         }))
+    }
+
+    /// A line named `scripted` to `peer`, on a virtual clock the test moves on, as a link
+    /// test opens it.
+    pub fn line(peer: &Arc<Mutex<ScriptedPeer>>) -> (super::SharedTransport, Arc<VirtualClock>) {
+        let clock = Arc::new(VirtualClock::new());
+        let line = super::MemoryTransport::shared("scripted", peer.clone(), clock.clone());
+        (line, clock)
     }
 
     /// The requests in the order they came.

@@ -311,6 +311,16 @@ fn open_error(path: &str, e: &serialport::Error) -> TransportError {
     }
 }
 
+/// `op` on `port` with the port's one timeout (it serves both directions) set to `timeout`.
+fn within<T>(
+    port: &mut Box<dyn SerialPort>,
+    timeout: Duration,
+    op: impl FnOnce(&mut Box<dyn SerialPort>) -> io::Result<T>,
+) -> io::Result<T> {
+    port.set_timeout(timeout).map_err(io::Error::from)?;
+    op(port)
+}
+
 impl Transport for SerialTransport {
     fn name(&self) -> &str {
         &self.name
@@ -333,10 +343,7 @@ impl Transport for SerialTransport {
         let port = self.device()?;
         // No drain (tcdrain) after the write: the reply timeout starts after the line time
         // of the request instead (`still_sending`), which spares a system call per telegram.
-        let sent = port
-            .set_timeout(allowed)
-            .map_err(io::Error::from)
-            .and_then(|()| port.write_all(bytes));
+        let sent = within(port, allowed, |port| port.write_all(bytes));
         match sent {
             Ok(()) => Ok(()),
             Err(e) if e.kind() == io::ErrorKind::TimedOut => Err(TransportError::Io {
@@ -354,10 +361,7 @@ impl Transport for SerialTransport {
     fn read(&mut self, buf: &mut [u8], timeout: Duration) -> Result<usize, TransportError> {
         let read = read_within(buf, timeout, |buf, left| {
             let port = self.device()?;
-            let read = port
-                .set_timeout(left)
-                .map_err(io::Error::from)
-                .and_then(|()| port.read(buf));
+            let read = within(port, left, |port| port.read(buf));
             match read {
                 Ok(n) if n > 0 => Ok(Some(n)),
                 // A signal or a zero-length read is not an answer; keep waiting while the
@@ -606,6 +610,18 @@ mod tests {
             (SerialTransport::from_port(slave, "pty".to_string()), master)
         }
 
+        /// The first `n` bytes the drive's end reads, each read waiting at most `timeout`.
+        fn drive_reads(drive: &mut TTYPort, n: usize, timeout: Duration) -> Vec<u8> {
+            drive.set_timeout(timeout).unwrap();
+            let mut got = Vec::new();
+            let mut buf = [0u8; 4096];
+            while got.len() < n {
+                let read = drive.read(&mut buf).unwrap();
+                got.extend_from_slice(&buf[..read]);
+            }
+            got
+        }
+
         fn wait_until_pending(t: &mut SerialTransport, n: u32) {
             let deadline = Instant::now() + Duration::from_millis(500);
             while t.device().unwrap().bytes_to_read().unwrap() < n {
@@ -637,14 +653,7 @@ mod tests {
             // Not drained: the reply timeout starts after the bytes' time on the line.
             assert_eq!(t.still_sending(), t.settings.wire_time(5));
             assert!(t.still_sending() > Duration::ZERO);
-            drive.set_timeout(Duration::from_millis(200)).unwrap();
-            let mut got = Vec::new();
-            let mut buf = [0u8; 16];
-            while got.len() < 5 {
-                let n = drive.read(&mut buf).unwrap();
-                got.extend_from_slice(&buf[..n]);
-            }
-            assert_eq!(got, b"hello");
+            assert_eq!(drive_reads(&mut drive, 5, Duration::from_millis(200)), b"hello");
         }
 
         #[test]
@@ -680,13 +689,7 @@ mod tests {
             let (mut t, mut drive) = pair();
             let telegram: Vec<u8> = (0..=255u8).cycle().take(200_000).collect();
             let reader = std::thread::spawn(move || {
-                drive.set_timeout(Duration::from_secs(2)).unwrap();
-                let mut got = Vec::new();
-                let mut buf = [0u8; 4096];
-                while got.len() < 200_000 {
-                    let n = drive.read(&mut buf).unwrap();
-                    got.extend_from_slice(&buf[..n]);
-                }
+                let got = drive_reads(&mut drive, 200_000, Duration::from_secs(2));
                 // The drive's end stays open until the writer's drain is over: closing it
                 // earlier is a hang-up, which the drain rightly reports.
                 (got, drive)

@@ -130,3 +130,18 @@ pub trait ObjectAccess: Send {
     /// Opens the port again after the line was lost (see `Transport::reopen`).
     fn reopen(&mut self) -> Result<(), AccessError>;
 }
+
+/// The [`ObjectAccess`] methods of an access that keeps its link in a field `link`, written
+/// inside its `impl ObjectAccess`: the link's clock, and its reopen.
+#[macro_export]
+macro_rules! link_access_core {
+    () => {
+        fn clock(&self) -> $crate::clock::SharedClock {
+            self.link.clock().clone()
+        }
+
+        fn reopen(&mut self) -> Result<(), $crate::drive::AccessError> {
+            self.link.reopen()
+        }
+    };
+}

@@ -20,3 +20,36 @@ macro_rules! documented_code {
 }
 
 pub(crate) use documented_code;
+
+/// A code type from its manual's table, each code written once with its text: declares the
+/// tuple struct of the number, an associated constant for each code given a name, `ALL`
+/// (every listed code, in the table's order) and `meaning` (the text, or `None` for a code
+/// the table does not list).
+macro_rules! code_table {
+    (
+        $(#[$attr:meta])*
+        pub struct $code:ident(pub $number:ty);
+        $( $($name:ident =)? $value:literal => $text:literal, )*
+    ) => {
+        $(#[$attr])*
+        #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+        pub struct $code(pub $number);
+
+        impl $code {
+            $( $( pub const $name: $code = $code($value); )? )*
+
+            /// Every code the table lists.
+            pub const ALL: [$code; [$(stringify!($value)),*].len()] = [$($code($value)),*];
+
+            /// The manual's text, or `None` for a code the table does not list.
+            pub fn meaning(self) -> Option<&'static str> {
+                match self.0 {
+                    $( $value => Some($text), )*
+                    _ => None,
+                }
+            }
+        }
+    };
+}
+
+pub(crate) use code_table;

@@ -8,6 +8,7 @@ mod documented_code;
 mod family;
 mod family_error;
 mod family_info;
+mod integer_value;
 pub(crate) mod le_integer;
 pub mod lenze_931;
 pub mod lenze_9400;

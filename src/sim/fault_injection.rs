@@ -66,12 +66,18 @@ impl ReplyFate {
         }
     }
 
-    /// A reply whose checksum is to be corrupted gets its last byte (the check byte of
-    /// every byte family that has one there) `spoiled`.
-    pub(crate) fn corrupt_last_byte(&self, bytes: &mut [u8], spoil: impl FnOnce(u8) -> u8) {
+    /// [`ReplyFate::reply`] of a reply whose last byte is its check byte (every byte family
+    /// that has one puts it there): `spoil`ed when the checksum is to be corrupted.
+    pub(crate) fn checked_reply(
+        &self,
+        mut bytes: Vec<u8>,
+        spoil: impl FnOnce(u8) -> u8,
+        at: Duration,
+    ) -> crate::bus::PeerReply {
         if let (true, Some(last)) = (self.corrupt_checksum, bytes.last_mut()) {
             *last = spoil(*last);
         }
+        self.reply(bytes, at)
     }
 
     /// `bytes` with line noise in front when the reply is garbled.

@@ -231,14 +231,21 @@ mod tests {
         assert!(r.current_at(s(1.0)) < 0.0);
     }
 
+    /// A motor at rest told at `at` to follow to `target` rpm with time constant `tau_s` and
+    /// `overshoot`; the response, to follow again with.
+    fn following(tau_s: f64, overshoot: f64, at: Duration, target: f64) -> (Motor, Response) {
+        let response = Response {
+            time_constant_s: tau_s,
+            overshoot,
+        };
+        let mut m = Motor::at_rest();
+        m.follow(at, target, response);
+        (m, response)
+    }
+
     #[test]
     fn a_first_order_response_rises_from_10_to_90_percent_in_tau_ln_9() {
-        let mut m = Motor::at_rest();
-        let response = Response {
-            time_constant_s: 0.2,
-            overshoot: 0.0,
-        };
-        m.follow(s(1.0), 6000.0, response);
+        let (m, _) = following(0.2, 0.0, s(1.0), 6000.0);
         let t10 = 1.0 + 0.2 * (10.0f64 / 9.0).ln();
         let t90 = 1.0 + 0.2 * 10f64.ln();
         // Times are whole nanoseconds: within 1 ns at up to 30 000 rpm/s.
@@ -251,12 +258,7 @@ mod tests {
 
     #[test]
     fn a_second_order_response_peaks_at_the_configured_overshoot() {
-        let mut m = Motor::at_rest();
-        let response = Response {
-            time_constant_s: 0.05,
-            overshoot: 0.1,
-        };
-        m.follow(Duration::ZERO, 1000.0, response);
+        let (mut m, response) = following(0.05, 0.1, Duration::ZERO, 1000.0);
         let (sigma, wd) = response.oscillation().unwrap();
         let peak = std::f64::consts::PI / wd;
         assert!(

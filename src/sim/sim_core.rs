@@ -51,6 +51,12 @@ impl<E> SimCore<E> {
         self.model.advance_to(now);
     }
 
+    /// When the reply to a request that arrived at `now` goes out: after the configured
+    /// response latency, and never sooner than the protocol's `turnaround`.
+    pub fn reply_at(&self, now: Duration, turnaround: Duration) -> Duration {
+        now + turnaround.max(self.model.config().response_latency)
+    }
+
     /// The injected panic, when it is due: a front calls this first for every request.
     pub fn panic_if_due(&mut self, now: Duration) {
         if self.faults.take_panic_due(now) {
@@ -111,6 +117,21 @@ impl<E> SimCore<E> {
     pub fn set_logging(&mut self, on: bool) {
         self.logging = on;
     }
+}
+
+/// The line of a byte front's [`Peer`](crate::bus::Peer) as its [`SimCore`]'s faults have
+/// it (up, and until when), written inside its `impl Peer`: `sim_line_core!();`.
+#[macro_export]
+macro_rules! sim_line_core {
+    () => {
+        fn reachable(&self, now: std::time::Duration) -> bool {
+            self.core.faults.line_up(now)
+        }
+
+        fn up_until(&self, now: std::time::Duration) -> std::time::Duration {
+            self.core.faults.line_up_until(now)
+        }
+    };
 }
 
 /// The [`SimFront`] accessors of a front that keeps its [`SimCore`] in a field `core`,

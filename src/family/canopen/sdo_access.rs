@@ -5,7 +5,6 @@
 use super::nmt_master::NmtMaster;
 use super::sdo_link::SdoLink;
 use super::sdo_value;
-use crate::clock::SharedClock;
 use crate::dictionary::{Address, DataType, RawValue};
 use crate::drive::{AccessError, ObjectAccess, WriteOutcome, WriteResult};
 use crate::link::CoreLink;
@@ -83,11 +82,5 @@ impl ObjectAccess for SdoAccess {
         format!("node {} on {}", self.link.node(), self.link.port())
     }
 
-    fn clock(&self) -> SharedClock {
-        self.link.clock().clone()
-    }
-
-    fn reopen(&mut self) -> Result<(), AccessError> {
-        self.link.reopen()
-    }
+    crate::link_access_core!();
 }

@@ -274,6 +274,11 @@ impl SdoExplainer {
         }
     }
 
+    /// An abort, either way: `abort <object> <arrow and node>: <code and meaning>`.
+    fn abort_line(&self, index: u16, subindex: u8, code: AbortCode, way: &str) -> String {
+        format!("abort {} {way}: {code}", self.object(index, subindex))
+    }
+
     fn one_line(&self, sdo: &Sdo) -> String {
         match sdo {
             Sdo::Request { node, body } => {
@@ -294,9 +299,7 @@ impl SdoExplainer {
                         index,
                         subindex,
                         code,
-                    } => {
-                        format!("abort {} {to}: {code}", self.object(*index, *subindex))
-                    }
+                    } => self.abort_line(*index, *subindex, *code, &to),
                     other => format!(
                         "{other}{}{} {to}",
                         self.segment_of(*node),
@@ -337,9 +340,7 @@ impl SdoExplainer {
                         index,
                         subindex,
                         code,
-                    } => {
-                        format!("abort {} {from}: {code}", self.object(*index, *subindex))
-                    }
+                    } => self.abort_line(*index, *subindex, *code, &from),
                     other => format!("{other}{} {from}", self.segment_of(*node)),
                 }
             }

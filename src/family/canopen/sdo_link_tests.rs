@@ -53,6 +53,28 @@ fn scripted(node: u8, replies: Vec<Vec<(u32, &'static str)>>) -> (SdoLink, Arc<M
     (link, peer)
 }
 
+/// Node 12's replies to the upload of 0x5F9C:0, "05.00.12.07": the initiate response
+/// (11 bytes to come), then the two segments.
+fn firmware_upload() -> Vec<Vec<(u32, &'static str)>> {
+    vec![
+        vec![(0x58C, "41 9c 5f 00 0b 00 00 00")],
+        vec![(0x58C, "00 30 35 2e 30 30 2e 31")],
+        vec![(0x58C, "17 32 2e 30 37 00 00 00")],
+    ]
+}
+
+/// The upload of 0x5F9C:0 whose first attempt gets `first_attempt`: the link's third frame
+/// must be the abort `abort` (`why`), and the retry must read "05.00.12.07". The link, for
+/// its counts.
+#[track_caller]
+fn upload_retried_after(first_attempt: Vec<Vec<(u32, &'static str)>>, abort: &str, why: &str) -> SdoLink {
+    let (mut link, peer) = scripted(12, [first_attempt, firmware_upload()].concat());
+    assert_eq!(link.upload(0x5F9C, 0).unwrap().data, b"05.00.12.07");
+    let sent = peer.lock().unwrap().received.clone();
+    assert_eq!(sent[2], abort, "abort with {why}");
+    link
+}
+
 fn simulated(node: u8) -> (SdoLink, Arc<Mutex<Lenze9400Simulator>>, Arc<VirtualClock>) {
     let clock = Arc::new(VirtualClock::new());
     let sim = Arc::new(Mutex::new(Lenze9400Simulator::new(node, SimConfig::default())));
@@ -71,14 +93,7 @@ fn simulated(node: u8) -> (SdoLink, Arc<Mutex<Lenze9400Simulator>>, Arc<VirtualC
 
 #[test]
 fn segmented_upload_of_eleven_characters_in_two_segments() {
-    let (mut link, peer) = scripted(
-        12,
-        vec![
-            vec![(0x58C, "41 9c 5f 00 0b 00 00 00")],
-            vec![(0x58C, "00 30 35 2e 30 30 2e 31")],
-            vec![(0x58C, "17 32 2e 30 37 00 00 00")],
-        ],
-    );
+    let (mut link, peer) = scripted(12, firmware_upload());
     let value = link.upload(0x5F9C, 0).unwrap();
     assert_eq!(value.data, b"05.00.12.07");
     assert_eq!(
@@ -146,23 +161,12 @@ fn only_frames_from_0x580_plus_node_are_responses() {
 
 #[test]
 fn a_wrong_toggle_bit_is_aborted_and_the_transfer_retried() {
-    let (mut link, peer) = scripted(
-        12,
-        vec![
-            vec![(0x58C, "41 9c 5f 00 0b 00 00 00")],
-            vec![(0x58C, "10 30 35 2e 30 30 2e 31")],
-            vec![], // the abort is not answered
-            vec![(0x58C, "41 9c 5f 00 0b 00 00 00")],
-            vec![(0x58C, "00 30 35 2e 30 30 2e 31")],
-            vec![(0x58C, "17 32 2e 30 37 00 00 00")],
-        ],
-    );
-    assert_eq!(link.upload(0x5F9C, 0).unwrap().data, b"05.00.12.07");
-    let sent = peer.lock().unwrap().received.clone();
-    assert_eq!(
-        sent[2], "60C#809C5F0000000305",
-        "abort with 0x05030000 toggle bit"
-    );
+    let first_attempt = vec![
+        vec![(0x58C, "41 9c 5f 00 0b 00 00 00")],
+        vec![(0x58C, "10 30 35 2e 30 30 2e 31")],
+        vec![], // the abort is not answered
+    ];
+    let link = upload_retried_after(first_attempt, "60C#809C5F0000000305", "0x05030000 toggle bit");
     assert_eq!(link.stats().retries, 1);
 }
 
@@ -215,23 +219,8 @@ fn every_attempt_broken_reports_the_last_response_and_the_problem() {
 #[test]
 fn a_node_silent_mid_transfer_is_aborted_with_the_timeout_code_then_retried() {
     // The initiate response arrives, the first segment's is lost.
-    let (mut l2, peer) = scripted(
-        12,
-        vec![
-            vec![(0x58C, "41 9c 5f 00 0b 00 00 00")],
-            vec![],
-            vec![],
-            vec![(0x58C, "41 9c 5f 00 0b 00 00 00")],
-            vec![(0x58C, "00 30 35 2e 30 30 2e 31")],
-            vec![(0x58C, "17 32 2e 30 37 00 00 00")],
-        ],
-    );
-    assert_eq!(l2.upload(0x5F9C, 0).unwrap().data, b"05.00.12.07");
-    let sent = peer.lock().unwrap().received.clone();
-    assert_eq!(
-        sent[2], "60C#809C5F0000000405",
-        "abort with 0x05040000 SDO timeout"
-    );
+    let first_attempt = vec![vec![(0x58C, "41 9c 5f 00 0b 00 00 00")], vec![], vec![]];
+    let l2 = upload_retried_after(first_attempt, "60C#809C5F0000000405", "0x05040000 SDO timeout");
     assert_eq!(l2.stats().timeouts, 1);
     // Every attempt lost: a clear no-reply error after three attempts of 1 s.
     let (mut link, sim, clock) = simulated(12);

@@ -4,7 +4,6 @@
 
 use super::codec::{DataValue, NodeAddress, Parameter, Reply, Request};
 use super::ct_link::{nak_text, CtLink};
-use crate::clock::SharedClock;
 use crate::dictionary::{Address, DataType, RawValue};
 use crate::drive::{AccessError, ObjectAccess, WriteOutcome, WriteResult};
 use crate::link::CoreLink;
@@ -188,13 +187,7 @@ impl ObjectAccess for CtAccess {
         format!("{} on {}", self.node.describe(), self.link.port())
     }
 
-    fn clock(&self) -> SharedClock {
-        self.link.clock().clone()
-    }
-
-    fn reopen(&mut self) -> Result<(), AccessError> {
-        self.link.reopen()
-    }
+    crate::link_access_core!();
 }
 
 /// A reply of the wrong kind, for the message.

@@ -11,13 +11,9 @@ use std::sync::Arc;
 use std::sync::Mutex;
 
 fn link(script: Vec<Option<Vec<u8>>>) -> (CtLink, Arc<Mutex<ScriptedPeer>>, Arc<VirtualClock>) {
-    let clock = Arc::new(VirtualClock::new());
     let peer = ScriptedPeer::new(script, Duration::from_millis(1));
-    let link = CtLink::new(
-        MemoryTransport::shared("scripted", peer.clone(), clock.clone()),
-        clock.clone(),
-        CtLinkConfig::default(),
-    );
+    let (line, clock) = ScriptedPeer::line(&peer);
+    let link = CtLink::new(line, clock.clone(), CtLinkConfig::default());
     (link, peer, clock)
 }
 
@@ -28,26 +24,32 @@ fn read_121() -> Request {
     }
 }
 
-fn value_reply(menu: u8, param: u8, digits: i64) -> Vec<u8> {
+/// The reply carrying `digits` (one decimal place) of parameter `menu`.`param`.
+fn value(menu: u8, param: u8, digits: i64) -> Reply {
     Reply::Value {
         parameter: Parameter::new(menu, param).unwrap(),
         value: DataValue::new(digits, 1),
     }
-    .encode()
-    .unwrap()
+}
+
+fn value_reply(menu: u8, param: u8, digits: i64) -> Vec<u8> {
+    value(menu, param, digits).encode().unwrap()
+}
+
+/// The write of 1500.5 to #1.21 at `address` (`None`: a rewrite to the last address).
+fn write_121_to(address: Option<(u8, u8)>) -> Request {
+    Request::Write {
+        address: address.map(|(group, unit)| NodeAddress::new(group, unit).unwrap()),
+        parameter: Parameter::new(1, 21).unwrap(),
+        value: DataValue::new(15005, 1),
+    }
 }
 
 #[test]
 fn a_read_returns_the_exact_value() {
     let (mut l, peer, _) = link(vec![Some(b"\x020121-47.6\x037".to_vec())]);
     let reply = l.transact(&read_121()).unwrap();
-    assert_eq!(
-        reply,
-        Some(Reply::Value {
-            parameter: Parameter::new(1, 21).unwrap(),
-            value: DataValue::new(-476, 1)
-        })
-    );
+    assert_eq!(reply, Some(value(1, 21, -476)));
     assert_eq!(peer.lock().unwrap().sent()[0], b"\x0411220121\x05");
 }
 
@@ -89,11 +91,7 @@ fn silence_names_port_drive_and_message() {
 #[test]
 fn a_group_write_gets_no_reply_and_is_sent_once() {
     let (mut l, peer, clock) = link(vec![None, None, None]);
-    let write = Request::Write {
-        address: Some(NodeAddress::new(1, 0).unwrap()),
-        parameter: Parameter::new(1, 21).unwrap(),
-        value: DataValue::new(15005, 1),
-    };
+    let write = write_121_to(Some((1, 0)));
     assert_eq!(l.transact(&write).unwrap(), None);
     assert_eq!(peer.lock().unwrap().received.len(), 1);
     assert_eq!(l.stats().retries, 0);
@@ -104,11 +102,7 @@ fn a_group_write_gets_no_reply_and_is_sent_once() {
 #[test]
 fn a_nak_is_the_drives_answer_and_not_retried() {
     let (mut l, peer, _) = link(vec![Some(vec![0x15])]);
-    let write = Request::Write {
-        address: Some(NodeAddress::new(1, 2).unwrap()),
-        parameter: Parameter::new(1, 21).unwrap(),
-        value: DataValue::new(15005, 1),
-    };
+    let write = write_121();
     assert_eq!(l.transact(&write).unwrap(), Some(Reply::Refused));
     assert_eq!(peer.lock().unwrap().received.len(), 1);
 }
@@ -169,6 +163,15 @@ struct TimedLink {
     events: Arc<Mutex<Vec<String>>>,
 }
 
+impl TimedLink {
+    /// Fails the test unless the link traced `event`, showing what it traced.
+    #[track_caller]
+    fn assert_traced(&self, event: &str) {
+        let events = self.events.lock().unwrap();
+        assert!(events.iter().any(|e| e == event), "{events:?}");
+    }
+}
+
 fn timed(script: Vec<Vec<(u64, Piece)>>) -> TimedLink {
     let clock = Arc::new(VirtualClock::new());
     let peer = Arc::new(Mutex::new(Timed {
@@ -197,55 +200,31 @@ fn echo_then(reply: Vec<u8>) -> Vec<(u64, Piece)> {
 }
 
 fn write_121() -> Request {
-    Request::Write {
-        address: Some(NodeAddress::new(1, 2).unwrap()),
-        parameter: Parameter::new(1, 21).unwrap(),
-        value: DataValue::new(15005, 1),
-    }
+    write_121_to(Some((1, 2)))
 }
 
 /// A group write's echo comes back late on a slow adapter; its tail reads exactly like
 /// a value reply of the same parameter, so it must be gone before the next message.
 #[test]
 fn a_late_echo_of_a_group_write_is_never_the_next_reads_reply() {
-    let group_write = Request::Write {
-        address: Some(NodeAddress::new(1, 0).unwrap()),
-        parameter: Parameter::new(1, 21).unwrap(),
-        value: DataValue::new(15005, 1),
-    };
+    let group_write = write_121_to(Some((1, 0)));
     let mut l = timed(vec![
         vec![(5, Piece::Echo(ALL))],
         vec![(0, Piece::Echo(ALL)), (10, Piece::Bytes(value_reply(1, 21, 42)))],
     ]);
     assert_eq!(l.link.transact(&group_write).unwrap(), None);
     let reply = l.link.transact(&read_121()).unwrap();
-    assert_eq!(
-        reply,
-        Some(Reply::Value {
-            parameter: Parameter::new(1, 21).unwrap(),
-            value: DataValue::new(42, 1)
-        })
-    );
+    assert_eq!(reply, Some(value(1, 21, 42)));
 }
 
 #[test]
 fn the_echo_of_a_read_is_skipped_counted_and_traced() {
     let mut l = timed(vec![echo_then(value_reply(1, 21, 15005))]);
     let reply = l.link.transact(&read_121()).unwrap();
-    assert_eq!(
-        reply,
-        Some(Reply::Value {
-            parameter: Parameter::new(1, 21).unwrap(),
-            value: DataValue::new(15005, 1)
-        })
-    );
+    assert_eq!(reply, Some(value(1, 21, 15005)));
     let stats = l.link.stats();
     assert_eq!((stats.echoes, stats.retries, stats.corrupt_replies), (1, 0, 0));
-    let events = l.events.lock().unwrap();
-    assert!(
-        events.contains(&"echo of our message skipped: EOT 11220121 ENQ".to_string()),
-        "{events:?}"
-    );
+    l.assert_traced("echo of our message skipped: EOT 11220121 ENQ");
 }
 
 #[test]
@@ -255,11 +234,7 @@ fn the_echo_of_a_write_is_never_its_ack() {
     assert_eq!(l.link.transact(&write_121()).unwrap(), Some(Reply::Refused));
     assert_eq!(l.link.stats().echoes, 2);
     // A rewrite (no address) echoes as a data block, which is no answer to it either.
-    let rewrite = Request::Write {
-        address: None,
-        parameter: Parameter::new(1, 21).unwrap(),
-        value: DataValue::new(15005, 1),
-    };
+    let rewrite = write_121_to(None);
     let mut l = timed(vec![echo_then(vec![ACK])]);
     assert_eq!(l.link.transact(&rewrite).unwrap(), Some(Reply::Accepted));
     assert_eq!(l.link.stats().mismatched_replies, 0);
@@ -295,11 +270,7 @@ fn an_echo_without_a_reply_times_out_and_says_so() {
             ),
             (3, 3, 0, 0)
         );
-        let events = l.events.lock().unwrap();
-        assert!(
-            events.contains(&"no reply within 1000 ms after the echo of our message".to_string()),
-            "{events:?}"
-        );
+        l.assert_traced("no reply within 1000 ms after the echo of our message");
     }
 }
 

@@ -8,7 +8,6 @@ use super::codec::{ErrorCode, ObjectCommand, Reply, Request};
 use super::object_address::{Ident, LenzeObject};
 use super::wire_value;
 use super::LenzeLink;
-use crate::clock::SharedClock;
 use crate::dictionary::{Address, DataType, RawValue};
 use crate::drive::{AccessError, DriveLimits, MaintenanceOutcome, ObjectAccess, WriteOutcome, WriteResult};
 use crate::link::CoreLink;
@@ -276,11 +275,5 @@ impl ObjectAccess for LenzeAccess {
         format!("the 931 on {}", self.link.port())
     }
 
-    fn clock(&self) -> SharedClock {
-        self.link.clock().clone()
-    }
-
-    fn reopen(&mut self) -> Result<(), AccessError> {
-        self.link.reopen()
-    }
+    crate::link_access_core!();
 }

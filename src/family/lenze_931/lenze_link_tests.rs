@@ -2,7 +2,7 @@
 //! the read-back before a write is sent again.
 
 use super::*;
-use crate::bus::{MemoryTransport, ScriptedPeer};
+use crate::bus::ScriptedPeer;
 use crate::clock::{Clock, VirtualClock};
 use crate::family::lenze_931::codec::ErrorCode;
 use std::sync::Arc;
@@ -15,14 +15,10 @@ const WRITE_3000: Request = Request::Write {
 };
 
 fn link(script: Vec<Option<&[u8]>>) -> (LenzeLink, Arc<Mutex<ScriptedPeer>>, Arc<VirtualClock>) {
-    let clock = Arc::new(VirtualClock::new());
     let replies = script.into_iter().map(|r| r.map(<[u8]>::to_vec));
     let peer = ScriptedPeer::new(replies, Duration::from_millis(2));
-    let link = LenzeLink::new(
-        MemoryTransport::shared("scripted", peer.clone(), clock.clone()),
-        clock.clone(),
-        LinkConfig::default(),
-    );
+    let (line, clock) = ScriptedPeer::line(&peer);
+    let link = LenzeLink::new(line, clock.clone(), LinkConfig::default());
     (link, peer, clock)
 }
 

@@ -3,6 +3,7 @@
 //! bytes of the SDO simulation (read as CANopen's little-endian order [I]). Pure.
 
 use crate::dictionary::{DataType, RawValue, WireValueError};
+use crate::family::integer_value::integer_in_range;
 
 /// The 32 bits of `DDDDDDDD` as a value of `data_type`; refused when they do not fit it.
 pub fn decode(bits: u32, data_type: DataType) -> Result<RawValue, WireValueError> {
@@ -26,23 +27,13 @@ pub fn decode(bits: u32, data_type: DataType) -> Result<RawValue, WireValueError
 
 /// A value for `OW:NNNN:DDDDDDDD`.
 pub fn encode(value: &RawValue, data_type: DataType) -> Result<u32, WireValueError> {
-    let RawValue::Int(n) = value else {
-        return Err(WireValueError::Unfit(format!(
-            "a 931 object holds a 32-bit number; {value} cannot be written to it"
-        )));
-    };
-    let fits = data_type.range().is_some_and(|(lo, hi)| (lo..=hi).contains(n));
-    if !fits {
-        return Err(WireValueError::Unfit(format!(
-            "{n} is outside the range of the type {data_type}"
-        )));
-    }
+    let n = integer_in_range(value, data_type, "a 931 object holds a 32-bit number")?;
     if data_type.is_signed() {
-        i32::try_from(*n)
+        i32::try_from(n)
             .map(|v| v as u32)
             .map_err(|_| WireValueError::Unfit(format!("{n} does not fit 32 bits")))
     } else {
-        u32::try_from(*n).map_err(|_| WireValueError::Unfit(format!("{n} does not fit 32 bits")))
+        u32::try_from(n).map_err(|_| WireValueError::Unfit(format!("{n} does not fit 32 bits")))
     }
 }
 

@@ -7,7 +7,6 @@ use super::codec::{Function, Request, Response};
 use super::register_address::{Register, Table};
 use super::register_value;
 use super::ModbusLink;
-use crate::clock::SharedClock;
 use crate::dictionary::{Address, DataType, RawValue};
 use crate::drive::{AccessError, ObjectAccess, WriteOutcome, WriteResult};
 use crate::link::CoreLink;
@@ -133,11 +132,5 @@ impl ObjectAccess for ModbusAccess {
         format!("{} on {}", self.link.shown_unit(), self.link.port())
     }
 
-    fn clock(&self) -> SharedClock {
-        self.link.clock().clone()
-    }
-
-    fn reopen(&mut self) -> Result<(), AccessError> {
-        self.link.reopen()
-    }
+    crate::link_access_core!();
 }

@@ -4,6 +4,7 @@
 //! gives one the same way. Pure.
 
 use crate::dictionary::{DataType, RawValue, WireValueError};
+use crate::family::integer_value::integer_in_range;
 
 /// How many registers an object of `data_type` takes; `None` for types Modbus objects
 /// cannot have here.
@@ -56,18 +57,7 @@ pub fn encode(
     low_word_first: bool,
 ) -> Result<Vec<u16>, WireValueError> {
     let n = count(data_type).ok_or_else(|| unsupported(data_type))?;
-    let RawValue::Int(v) = value else {
-        return Err(WireValueError::Unfit(format!(
-            "a Modbus register holds a number; {value} cannot be written to it"
-        )));
-    };
-    let fits = data_type.range().is_some_and(|(lo, hi)| (lo..=hi).contains(v));
-    if !fits {
-        return Err(WireValueError::Unfit(format!(
-            "{v} is outside the range of the type {data_type}"
-        )));
-    }
-    let bits = *v as u32;
+    let bits = integer_in_range(value, data_type, "a Modbus register holds a number")? as u32;
     Ok(match (n, low_word_first) {
         (1, _) => vec![bits as u16],
         (_, false) => vec![(bits >> 16) as u16, bits as u16],

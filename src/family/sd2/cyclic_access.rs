@@ -23,6 +23,27 @@ use crate::drive::{AccessError, ObjectAccess, WriteOutcome, WriteResult};
 use crate::link::CoreLink;
 use std::time::Duration;
 
+/// One service of the channel: its function, the object, how many bytes of the data field
+/// count, and the data written (zeros for a read).
+#[derive(Debug, Clone, Copy)]
+struct Service {
+    function: ServiceFunction,
+    index: u16,
+    size: u8,
+    data: [u8; 4],
+}
+
+impl Service {
+    fn read(index: u16, size: u8) -> Service {
+        Service {
+            function: ServiceFunction::Read,
+            index,
+            size,
+            data: [0; 4],
+        }
+    }
+}
+
 /// Objects the process data carries. 67, 68, 395 and 398 are in the sources; 400 and 401
 /// are the built-in dictionary's (unconfirmed) current and drive-error objects.
 const STATUS_WORD: u16 = 67;
@@ -182,31 +203,23 @@ impl Sd2CyclicAccess {
 
     /// Runs one service (read or write) to completion and returns the reply's data field,
     /// with the process data of the telegram that completed it.
-    fn service(
-        &mut self,
-        function: ServiceFunction,
-        index: u16,
-        size: u8,
-        data: [u8; 4],
-    ) -> Result<(Cyclic, [u8; 4]), AccessError> {
+    fn service(&mut self, service: Service) -> Result<(Cyclic, [u8; 4]), AccessError> {
         let fresh_start = !self.service_used;
-        match self.service_once(function, index, size, data) {
+        match self.service_once(service) {
             // A drive that still remembers another master's toggle takes the first request
             // for a repeat and answers the old service: start again with the other toggle.
-            Err(AccessError::BadReply { .. }) if fresh_start => {
-                self.service_once(function, index, size, data)
-            }
+            Err(AccessError::BadReply { .. }) if fresh_start => self.service_once(service),
             other => other,
         }
     }
 
-    fn service_once(
-        &mut self,
-        function: ServiceFunction,
-        index: u16,
-        size: u8,
-        data: [u8; 4],
-    ) -> Result<(Cyclic, [u8; 4]), AccessError> {
+    fn service_once(&mut self, service: Service) -> Result<(Cyclic, [u8; 4]), AccessError> {
+        let Service {
+            function,
+            index,
+            size,
+            data,
+        } = service;
         self.service_toggle = !self.service_toggle;
         let request = ServiceChannel::request(self.service_toggle, function, size, index, data);
         for _ in 0..SERVICE_TELEGRAMS {
@@ -268,7 +281,7 @@ impl Sd2CyclicAccess {
     ) -> Option<Result<RawValue, AccessError>> {
         let (index, size) = Self::service_fits(address, data_type)?;
         Some(
-            self.service(ServiceFunction::Read, index, size, [0; 4])
+            self.service(Service::read(index, size))
                 .and_then(|(_, data)| self.service_value(&data, size, data_type, index)),
         )
     }
@@ -321,7 +334,12 @@ impl ObjectAccess for Sd2CyclicAccess {
         let bytes = wire_value::encode(value, data_type).map_err(|e| AccessError::Encode(e.to_string()))?;
         let mut data = [0u8; 4];
         data[..bytes.len()].copy_from_slice(&bytes);
-        self.service(ServiceFunction::Write, index, size, data)?;
+        self.service(Service {
+            function: ServiceFunction::Write,
+            index,
+            size,
+            data,
+        })?;
         Ok(WriteOutcome::Stored)
     }
 
@@ -381,7 +399,7 @@ impl Sd2CyclicAccess {
             Some(i) => {
                 let (address, data_type) = objects[i];
                 let (index, size) = Self::service_fits(&address, data_type).unwrap_or((0, 4));
-                match self.service(ServiceFunction::Read, index, size, [0; 4]) {
+                match self.service(Service::read(index, size)) {
                     Ok((reply, data)) => {
                         let value = self.service_value(&data, size, data_type, address);
                         Ok((reply, Some(value)))

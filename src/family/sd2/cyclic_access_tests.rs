@@ -42,7 +42,7 @@ struct Bench {
 
 /// A cyclic access to the simulated drive at DNC address 2 with 24 000 rpm scaling,
 /// after `prepare` ran over the object channel.
-fn bench(heartbeat: bool, prepare: &[(u16, RawValue, DataType)]) -> Bench {
+fn bench(heartbeat: bool, prepare: &[(u16, i64, DataType)]) -> Bench {
     let clock = Arc::new(VirtualClock::new());
     let sim = Arc::new(Mutex::new(Sd2Simulator::new(SimConfig::default())));
     let mut link = Sd2Link::new(
@@ -55,7 +55,7 @@ fn bench(heartbeat: bool, prepare: &[(u16, RawValue, DataType)]) -> Bench {
     let mut object = Sd2Access::new(link, 2);
     for (index, value, data_type) in prepare {
         object
-            .write(&Address::indexed(*index, 0), value, *data_type)
+            .write(&Address::indexed(*index, 0), &RawValue::Int(*value), *data_type)
             .unwrap();
     }
     let settings = CyclicSettings {
@@ -124,10 +124,7 @@ const WORD: u16 = CONTROL_WORD;
 #[test]
 fn start_up_and_stop_are_the_printed_telegrams() {
     // The drive already holds 12 000 rpm (50 % of 24 000): the channel repeats it.
-    let mut b = bench(
-        true,
-        &[(SPEED_SETPOINT, RawValue::Int(12_000_000), DataType::I32)],
-    );
+    let mut b = bench(true, &[(SPEED_SETPOINT, 12_000_000, DataType::I32)]);
     b.enable();
     assert_eq!(
         b.sent.take(),
@@ -161,8 +158,8 @@ fn service_channel_read_and_write_are_the_printed_telegrams() {
     let mut b = bench(
         true,
         &[
-            (WORD, RawValue::Int(6), DataType::U16),
-            (SPEED_SETPOINT, RawValue::Int(6_000_000), DataType::I32),
+            (WORD, 6, DataType::U16),
+            (SPEED_SETPOINT, 6_000_000, DataType::I32),
         ],
     );
     let load = b.access.read(&Address::indexed(39, 0), DataType::U16).unwrap();
@@ -225,7 +222,7 @@ fn a_setpoint_beyond_the_scaling_is_refused_before_sending() {
 
 #[test]
 fn the_telegram_goes_out_every_period_with_the_last_output() {
-    let mut b = bench(false, &[(WORD, RawValue::Int(6), DataType::U16)]);
+    let mut b = bench(false, &[(WORD, 6, DataType::U16)]);
     let start = b.clock.now();
     let mut next = Duration::ZERO;
     while b.clock.now() < start + Duration::from_secs(1) {
@@ -259,10 +256,7 @@ fn a_refused_rider_fails_alone() {
 
 #[test]
 fn after_a_reopen_the_channel_does_not_resume_the_old_speed() {
-    let mut b = bench(
-        false,
-        &[(SPEED_SETPOINT, RawValue::Int(6_000_000), DataType::I32)],
-    );
+    let mut b = bench(false, &[(SPEED_SETPOINT, 6_000_000, DataType::I32)]);
     b.enable();
     b.sent.take();
     b.access.reopen().unwrap();

@@ -60,6 +60,20 @@ fn assert_says(e: &Diagnostic, part: &str) {
     assert!(e.message().contains(part), "{}", e.message());
 }
 
+/// The built-in SD2 dictionary, as a recipe without its own gets it.
+fn builtin() -> Dictionary {
+    crate::family::Registry::builtin()
+        .load_dictionary(crate::family::DEFAULT_DICTIONARY)
+        .unwrap()
+}
+
+/// Fails the test unless problem `e` is at `(line, column)` and says `message`.
+#[track_caller]
+fn assert_problem(e: &Diagnostic, line_column: (usize, usize), message: &str) {
+    assert_eq!(at(e), line_column, "{}", e.message());
+    assert_eq!(e.message(), message);
+}
+
 fn at(e: &Diagnostic) -> (usize, usize) {
     (e.line(), e.column())
 }
@@ -83,9 +97,7 @@ type Row = (&'static str, u16, DataType, Access, Option<Unit>, f64);
 
 #[test]
 fn builtin_sd2_loads_and_validates() {
-    let d = crate::family::Registry::builtin()
-        .load_dictionary(crate::family::DEFAULT_DICTIONARY)
-        .unwrap();
+    let d = builtin();
     assert_eq!(d.family(), "sd2");
     assert!(d.title().contains("SD2"));
     let names: Vec<&str> = d.objects().map(|o| o.name.as_str()).collect();
@@ -183,9 +195,7 @@ fn builtin_sd2_loads_and_validates() {
 
 #[test]
 fn builtin_speeds_to_bytes() {
-    let d = crate::family::Registry::builtin()
-        .load_dictionary(crate::family::DEFAULT_DICTIONARY)
-        .unwrap();
+    let d = builtin();
     let sp = d.lookup("speed_setpoint").unwrap();
     let counts = |text: &str| sp.to_raw(&Quantity::parse(text).unwrap()).unwrap();
     assert_eq!(counts("1000 rpm"), RawValue::Int(1_000_000));
@@ -220,9 +230,7 @@ fn builtin_speeds_to_bytes() {
 
 #[test]
 fn lookup_ignores_case_and_knows_aliases() {
-    let d = crate::family::Registry::builtin()
-        .load_dictionary(crate::family::DEFAULT_DICTIONARY)
-        .unwrap();
+    let d = builtin();
     assert_eq!(d.lookup("SPEED_SETPOINT").unwrap().name, "speed_setpoint");
     assert_eq!(
         d.lookup("spg_target_velocity_vl_uunit").unwrap().name,
@@ -239,9 +247,7 @@ fn lookup_ignores_case_and_knows_aliases() {
 
 #[test]
 fn did_you_mean_for_unknown_objects() {
-    let d = crate::family::Registry::builtin()
-        .load_dictionary(crate::family::DEFAULT_DICTIONARY)
-        .unwrap();
+    let d = builtin();
     let e = d.lookup("speed_setpont").unwrap_err();
     assert_eq!(e.suggestions.first().map(String::as_str), Some("speed_setpoint"));
     assert!(e.suggestions.len() <= 3);
@@ -263,9 +269,7 @@ fn did_you_mean_for_unknown_objects() {
 
 #[test]
 fn filter_by_name_alias_and_description() {
-    let d = crate::family::Registry::builtin()
-        .load_dictionary(crate::family::DEFAULT_DICTIONARY)
-        .unwrap();
+    let d = builtin();
     let names = |f: &str| {
         d.filter(f)
             .into_iter()
@@ -297,8 +301,7 @@ fn a_minimal_file_is_valid() {
 fn unknown_type() {
     let text = object("").replace("type: u16", "type: u64");
     let e = problem(&text);
-    assert_eq!(at(&e), (5, 11));
-    assert_eq!(e.message(), "unknown type `u64`");
+    assert_problem(&e, (5, 11), "unknown type `u64`");
     assert_eq!(e.label(), "not a type");
     let e = problem(&object("").replace("type: u16", "type: string"));
     assert_eq!(at(&e), (5, 11));
@@ -308,8 +311,7 @@ fn unknown_type() {
 #[test]
 fn unknown_unit() {
     let e = problem(&object("    unit: rpn\n"));
-    assert_eq!(at(&e), (7, 11));
-    assert_eq!(e.message(), "unknown unit `rpn`");
+    assert_problem(&e, (7, 11), "unknown unit `rpn`");
     assert!(
         e.help().unwrap_or("").starts_with("did you mean `rpm`?"),
         "{:?}",
@@ -320,16 +322,14 @@ fn unknown_unit() {
 #[test]
 fn bad_access() {
     let e = problem(&object("").replace("access: ro", "access: read"));
-    assert_eq!(at(&e), (6, 13));
-    assert_eq!(e.message(), "unknown access `read`");
+    assert_problem(&e, (6, 13), "unknown access `read`");
     assert!(e.help().unwrap_or("").contains("ro (read-only)"));
 }
 
 #[test]
 fn min_greater_than_max() {
     let e = problem(&object("    min: 10\n    max: 5\n"));
-    assert_eq!(at(&e), (7, 10));
-    assert_eq!(e.message(), "`min` 10 is greater than `max` 5");
+    assert_problem(&e, (7, 10), "`min` 10 is greater than `max` 5");
 }
 
 #[test]
@@ -355,10 +355,10 @@ fn bad_scale_and_kinds_of_values() {
     assert_eq!(at(&e), (7, 12));
     assert!(e.message().contains("greater than 0"));
     let e = problem(&object("").replace("index: 1", "index: abc"));
-    assert_eq!(at(&e), (4, 12));
-    assert_eq!(
-        e.message(),
-        "`index` must be a whole number (decimal or 0x hex), found text"
+    assert_problem(
+        &e,
+        (4, 12),
+        "`index` must be a whole number (decimal or 0x hex), found text",
     );
     let e = problem(&object("").replace("index: 1", "index: 0x10000"));
     assert_eq!(at(&e), (4, 12));
@@ -377,8 +377,7 @@ fn bad_scale_and_kinds_of_values() {
 #[test]
 fn names_must_be_identifiers() {
     let e = problem(&object("").replace("name: a", "name: Speed"));
-    assert_eq!(at(&e), (3, 11));
-    assert_eq!(e.message(), "`Speed` is not a valid object name");
+    assert_problem(&e, (3, 11), "`Speed` is not a valid object name");
     let e = problem(&object("").replace("family: sd2", "family: SD-2"));
     assert_eq!(at(&e), (1, 9));
 }
@@ -386,12 +385,10 @@ fn names_must_be_identifiers() {
 #[test]
 fn missing_required_keys() {
     let e = problem(&object("").replace("    index: 1\n", ""));
-    assert_eq!(at(&e), (3, 5));
-    assert_eq!(e.message(), "an object has no `index` (or `address`)");
+    assert_problem(&e, (3, 5), "an object has no `index` (or `address`)");
     assert!(e.help().unwrap_or("").contains("index: 395"));
     let e = problem("objects: []\n");
-    assert_eq!(at(&e), (1, 1));
-    assert_eq!(e.message(), "the dictionary has no `family`");
+    assert_problem(&e, (1, 1), "the dictionary has no `family`");
     let e = problem(&object("").replace("index: 1", "index:"));
     assert_eq!(
         at(&e),
@@ -434,22 +431,20 @@ fn string_objects_take_no_unit_or_limits() {
 #[test]
 fn unknown_keys_with_suggestions() {
     let e = problem(&object("    unti: rpm\n"));
-    assert_eq!(at(&e), (7, 5));
-    assert_eq!(e.message(), "unknown key `unti` in an object");
+    assert_problem(&e, (7, 5), "unknown key `unti` in an object");
     assert_eq!(e.help(), Some("did you mean `unit`?"));
     let e = problem(&format!("{}colour: red\n", object("")));
-    assert_eq!(at(&e), (7, 1));
-    assert_eq!(e.message(), "unknown key `colour` in the dictionary");
+    assert_problem(&e, (7, 1), "unknown key `colour` in the dictionary");
 }
 
 #[test]
 fn duplicate_names_and_aliases_name_both_places() {
     let text = "family: sd2\nobjects:\n  - name: a\n    aliases: [Alpha]\n    index: 1\n    type: u16\n    access: ro\n  - name: alpha\n    index: 2\n    type: u16\n    access: ro\n";
     let e = problem(text);
-    assert_eq!(at(&e), (8, 11));
-    assert_eq!(
-        e.message(),
-        "`alpha` is the name of `alpha` and already an alias of `a`"
+    assert_problem(
+        &e,
+        (8, 11),
+        "`alpha` is the name of `alpha` and already an alias of `a`",
     );
     let out = rendered(&e);
     assert!(
@@ -471,8 +466,7 @@ fn duplicate_addresses() {
         object("")
     );
     let e = problem(&text);
-    assert_eq!(at(&e), (7, 5));
-    assert_eq!(e.message(), "`b` has the same address as `a`: index 1 (0x0001)");
+    assert_problem(&e, (7, 5), "`b` has the same address as `a`: index 1 (0x0001)");
 }
 
 #[test]
@@ -490,10 +484,10 @@ fn yaml_syntax_errors_are_located() {
 #[test]
 fn profile_role_naming_an_unknown_object() {
     let (text, e) = sd2_problem("  speed_actual: speed_actual\n", "  speed_actual: speed_actul\n");
-    assert_eq!(at(&e), pos(&text, "speed_actul"));
-    assert_eq!(
-        e.message(),
-        "the profile's speed_actual is `speed_actul`, which is not an object of this dictionary"
+    assert_problem(
+        &e,
+        pos(&text, "speed_actul"),
+        "the profile's speed_actual is `speed_actul`, which is not an object of this dictionary",
     );
     assert_eq!(
         e.help(),
@@ -504,13 +498,16 @@ fn profile_role_naming_an_unknown_object() {
 #[test]
 fn profile_role_of_the_wrong_type_or_access() {
     let (text, e) = sd2_problem("  status_word: status_word\n", "  status_word: ident\n");
-    assert_eq!(at(&e), pos(&text, "ident\n  speed_setpoint"));
-    assert_eq!(e.message(), "the status word must be an integer, not string(32)");
+    assert_problem(
+        &e,
+        pos(&text, "ident\n  speed_setpoint"),
+        "the status word must be an integer, not string(32)",
+    );
     let (text, e) = sd2_problem("  control_word: control_word\n", "  control_word: status_word\n");
-    assert_eq!(at(&e), pos(&text, "status_word\n  status_word"));
-    assert_eq!(
-        e.message(),
-        "the control word is written by the engine, but `status_word` is read-only (ro)"
+    assert_problem(
+        &e,
+        pos(&text, "status_word\n  status_word"),
+        "the control word is written by the engine, but `status_word` is read-only (ro)",
     );
     let (_, e) = sd2_problem("  status_word: status_word\n", "  status_word: speed_actual\n");
     assert_says(&e, "must be 8 or 16 bits wide");
@@ -567,11 +564,7 @@ fn mask_zero_and_value_outside_the_mask() {
         "switch_on_disabled:     { mask: 0x4F, value: 0x40 }",
         "switch_on_disabled:     { mask: 0x4F, value: 0x50 }",
     );
-    assert_eq!(at(&e), pos(&text, "0x50"));
-    assert_eq!(
-        e.message(),
-        "value 0x50 of `switch_on_disabled` has bits outside its mask 0x4F (0x10), so no status word can match"
-    );
+    assert_problem(&e, pos(&text, "0x50"), "value 0x50 of `switch_on_disabled` has bits outside its mask 0x4F (0x10), so no status word can match");
     let (text, e) = sd2_problem("    shutdown: 6\n", "    shutdown: 0x10000\n");
     assert_eq!(at(&e), pos(&text, "0x10000"));
 }
@@ -584,10 +577,10 @@ fn overlapping_states() {
         "quick_stop_active:      { mask: 0x4F,",
     );
     let (line, _) = pos(&text, "quick_stop_active:");
-    assert_eq!(at(&e), (line, pos(&text, "{ mask: 0x4F, value: 0x07").1));
-    assert_eq!(
-        e.message(),
-        "states `operation_enabled` and `quick_stop_active` overlap: status word 0x0027 matches both"
+    assert_problem(
+        &e,
+        (line, pos(&text, "{ mask: 0x4F, value: 0x07").1),
+        "states `operation_enabled` and `quick_stop_active` overlap: status word 0x0027 matches both",
     );
 }
 
@@ -630,9 +623,7 @@ fn a_broken_object_named_by_the_profile_is_reported_once() {
 
 #[test]
 fn extend_adds_and_replaces() {
-    let mut d = crate::family::Registry::builtin()
-        .load_dictionary(crate::family::DEFAULT_DICTIONARY)
-        .unwrap();
+    let mut d = builtin();
     let user = parse(
         "family: sd2\nobjects:\n  - name: speed_setpoint\n    aliases: [SPG_TARGET_VELOCITY_VL_UUNIT]\n    index: 395\n    type: i32\n    unit: rpm\n    scale: 0.001\n    access: rw\n    min: -24000\n    max: 24000\n  - name: motor_temperature\n    index: 500\n    type: i16\n    access: ro\n",
     )
@@ -661,9 +652,7 @@ fn extend_adds_and_replaces() {
 
 #[test]
 fn extend_refuses_clashes_and_leaves_the_dictionary_unchanged() {
-    let mut d = crate::family::Registry::builtin()
-        .load_dictionary(crate::family::DEFAULT_DICTIONARY)
-        .unwrap();
+    let mut d = builtin();
     let text = "family: sd2\nobjects:\n  - name: my_speed\n    aliases: [target_speed]\n    index: 600\n    type: i32\n    access: rw\n";
     let e = d.extend(parse(text).unwrap()).unwrap_err().first().clone();
     assert_eq!(
@@ -708,9 +697,7 @@ fn extend_from_a_file_whose_profile_names_builtin_objects() {
     let profile = &SD2[SD2.find("profile:").unwrap()..]
         .replace("speed_actual: speed_actual", "speed_actual: speed_actual_2");
     std::fs::write(&path, format!("family: sd2\nobjects: []\n{profile}")).unwrap();
-    let mut d = crate::family::Registry::builtin()
-        .load_dictionary(crate::family::DEFAULT_DICTIONARY)
-        .unwrap();
+    let mut d = builtin();
     assert!(
         Dictionary::load(&path).is_err(),
         "alone, its profile names objects it lacks"
@@ -756,11 +743,7 @@ fn problems_of_broken_objects_are_all_reported_too() {
 #[test]
 fn stop_commands_that_keep_the_drive_enabled_are_refused() {
     let (text, e) = sd2_problem("disable_operation: 7", "disable_operation: 15");
-    assert_eq!(at(&e), pos(&text, "15\n    enable_operation"));
-    assert_eq!(
-        e.message(),
-        "`disable_operation` 15 (0x000F) keeps every bit of `enable_operation` 15 (0x000F): this stop command would leave the drive enabled"
-    );
+    assert_problem(&e, pos(&text, "15\n    enable_operation"), "`disable_operation` 15 (0x000F) keeps every bit of `enable_operation` 15 (0x000F): this stop command would leave the drive enabled");
     assert_eq!(e.label(), "keeps the drive running");
     assert!(e.help().unwrap_or("").contains("disable_operation is 7"), "{e:?}");
 

@@ -3,7 +3,6 @@
 
 use super::wire_value;
 use super::Sd2Link;
-use crate::clock::SharedClock;
 use crate::dictionary::{Address, DataType, RawValue};
 use crate::drive::{AccessError, ObjectAccess, WriteOutcome, WriteResult};
 use crate::link::CoreLink;
@@ -59,11 +58,5 @@ impl ObjectAccess for Sd2Access {
         format!("drive {} on {}", self.dest, self.link.port())
     }
 
-    fn clock(&self) -> SharedClock {
-        self.link.clock().clone()
-    }
-
-    fn reopen(&mut self) -> Result<(), AccessError> {
-        self.link.reopen()
-    }
+    crate::link_access_core!();
 }

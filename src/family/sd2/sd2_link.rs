@@ -325,14 +325,10 @@ mod tests {
     fn link(
         script: Vec<Option<(Duration, Vec<u8>)>>,
     ) -> (Sd2Link, Arc<Mutex<ScriptedPeer>>, Arc<VirtualClock>) {
-        let clock = Arc::new(VirtualClock::new());
         let peer = ScriptedPeer::timed(script);
+        let (line, clock) = ScriptedPeer::line(&peer);
         (
-            Sd2Link::new(
-                MemoryTransport::shared("scripted", peer.clone(), clock.clone()),
-                clock.clone(),
-                LinkConfig::default(),
-            ),
+            Sd2Link::new(line, clock.clone(), LinkConfig::default()),
             peer,
             clock,
         )

@@ -465,6 +465,17 @@ mod tests {
         replies.first().map(|r| r.bytes.clone()).unwrap_or_default()
     }
 
+    /// Asks each `(request, at_ms, first reply byte)` in turn, naming the one that differs.
+    fn asks(d: &mut CapturedDrive, expected: &[(u8, u64, u8)]) {
+        for &(request, at_ms, byte) in expected {
+            assert_eq!(
+                ask(d, request, at_ms),
+                vec![byte],
+                "request {request} at {at_ms} ms"
+            );
+        }
+    }
+
     /// Write 9, then the speed (request 1) polled every 100 ms ramps 10, 20, 30 and stays.
     const RAMP: &str = "\
     5.000 TX 09\n    5.001 RX 00\n\
@@ -484,10 +495,7 @@ mod tests {
                 bytes: vec![0]
             }]
         );
-        assert_eq!(ask(&mut d, 1, 100), vec![10]);
-        assert_eq!(ask(&mut d, 1, 200), vec![20]);
-        assert_eq!(ask(&mut d, 1, 300), vec![30]);
-        assert_eq!(ask(&mut d, 2, 400), vec![99]);
+        asks(&mut d, &[(1, 100, 10), (1, 200, 20), (1, 300, 30), (2, 400, 99)]);
     }
 
     #[test]
@@ -508,9 +516,7 @@ mod tests {
     fn a_poll_less_often_gets_the_state_of_that_time() {
         let mut d = drive(RAMP);
         ask(&mut d, 9, 0);
-        assert_eq!(ask(&mut d, 1, 200), vec![20]);
-        assert_eq!(ask(&mut d, 1, 400), vec![30]);
-        assert_eq!(ask(&mut d, 2, 410), vec![99]);
+        asks(&mut d, &[(1, 200, 20), (1, 400, 30), (2, 410, 99)]);
     }
 
     #[test]
@@ -546,11 +552,16 @@ mod tests {
     9.201 RX 12
 ",
         );
-        assert_eq!(ask(&mut d, 6, 0), vec![0x60]);
-        assert_eq!(ask(&mut d, 1, 100), vec![0x11]);
-        assert_eq!(ask(&mut d, 7, 150), vec![0x70]);
-        assert_eq!(ask(&mut d, 6, 160), vec![0x61]);
-        assert_eq!(ask(&mut d, 1, 170), vec![0x12]);
+        asks(
+            &mut d,
+            &[
+                (6, 0, 0x60),
+                (1, 100, 0x11),
+                (7, 150, 0x70),
+                (6, 160, 0x61),
+                (1, 170, 0x12),
+            ],
+        );
     }
 
     #[test]
@@ -559,10 +570,10 @@ mod tests {
         let mut d = drive("    0.0 TX 01\n    0.001 RX 10\n    0.1 TX 01\n    0.101 RX 11\n    0.2 TX 02\n    0.201 RX 20\n    0.3 TX 09\n    0.301 RX 90\n    0.4 TX 01\n    0.401 RX 12\n");
         assert_eq!(ask(&mut d, 1, 0), vec![0x10]);
         // 450 ms late: the capture polled once more, then read 2 and sent 9 before then.
-        assert_eq!(ask(&mut d, 1, 550), vec![0x11]);
-        assert_eq!(ask(&mut d, 2, 600), vec![0x20]);
-        assert_eq!(ask(&mut d, 9, 650), vec![0x90]);
-        assert_eq!(ask(&mut d, 1, 700), vec![0x12]);
+        asks(
+            &mut d,
+            &[(1, 550, 0x11), (2, 600, 0x20), (9, 650, 0x90), (1, 700, 0x12)],
+        );
     }
 
     #[test]
@@ -570,12 +581,18 @@ mod tests {
         // Four polls of 1, then 2 read once and command 9, then polls of 1 again.
         let mut d = drive("    0.0 TX 01\n    0.001 RX 10\n    0.25 TX 01\n    0.251 RX 11\n    0.5 TX 01\n    0.501 RX 12\n    0.501 TX 02\n    0.502 RX 20\n    0.502 TX 09\n    0.503 RX 90\n    0.6 TX 01\n    0.601 RX 13\n");
         // The fourth poll comes nearer the capture's next poll than its last one.
-        for (at, got) in [(0, 0x10), (250, 0x11), (500, 0x12), (580, 0x12)] {
-            assert_eq!(ask(&mut d, 1, at), vec![got]);
-        }
-        assert_eq!(ask(&mut d, 2, 581), vec![0x20]);
-        assert_eq!(ask(&mut d, 9, 582), vec![0x90]);
-        assert_eq!(ask(&mut d, 1, 700), vec![0x13]);
+        asks(
+            &mut d,
+            &[
+                (1, 0, 0x10),
+                (1, 250, 0x11),
+                (1, 500, 0x12),
+                (1, 580, 0x12),
+                (2, 581, 0x20),
+                (9, 582, 0x90),
+                (1, 700, 0x13),
+            ],
+        );
     }
 
     #[test]

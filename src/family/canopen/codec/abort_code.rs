@@ -2,66 +2,46 @@
 //! little-endian) and its meaning. Only the codes the protocol notes name are given a text;
 //! any other code is shown as a number and said to be unnamed, never guessed. Pure.
 
-use crate::family::documented_code::documented_code;
+use crate::family::documented_code::{code_table, documented_code};
 
-/// A CiA 301 SDO abort code.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub struct AbortCode(pub u32);
+code_table! {
+    /// A CiA 301 SDO abort code. The table is CiA 301's (V4.2.0, 7.2.4.3.17, the SDO abort
+    /// codes): every code it lists.
+    pub struct AbortCode(pub u32);
+    TOGGLE_BIT = 0x0503_0000 => "toggle bit not alternated",
+    TIMEOUT = 0x0504_0000 => "SDO protocol timed out",
+    INVALID_COMMAND = 0x0504_0001 => "client/server command specifier not valid or unknown",
+    0x0504_0002 => "invalid block size (block mode only)",
+    0x0504_0003 => "invalid sequence number (block mode only)",
+    0x0504_0004 => "CRC error (block mode only)",
+    0x0504_0005 => "out of memory",
+    0x0601_0000 => "unsupported access to an object",
+    WRITE_ONLY = 0x0601_0001 => "attempt to read a write-only object",
+    READ_ONLY = 0x0601_0002 => "attempt to write a read-only object",
+    OBJECT_DOES_NOT_EXIST = 0x0602_0000 => "object does not exist in the object dictionary",
+    0x0604_0041 => "object cannot be mapped to the PDO",
+    0x0604_0042 => "the number and length of the objects to be mapped would exceed the PDO length",
+    0x0604_0043 => "general parameter incompatibility reason",
+    0x0604_0047 => "general internal incompatibility in the device",
+    0x0606_0000 => "access failed due to a hardware error",
+    LENGTH_MISMATCH = 0x0607_0010 => "data type does not match, length of service parameter does not match",
+    0x0607_0012 => "data type does not match, length of service parameter too high",
+    0x0607_0013 => "data type does not match, length of service parameter too low",
+    SUBINDEX_DOES_NOT_EXIST = 0x0609_0011 => "subindex does not exist",
+    VALUE_RANGE_EXCEEDED = 0x0609_0030 => "value range of parameter exceeded",
+    VALUE_TOO_HIGH = 0x0609_0031 => "value of parameter written too high",
+    VALUE_TOO_LOW = 0x0609_0032 => "value of parameter written too low",
+    0x0609_0036 => "maximum value is less than minimum value",
+    0x060A_0023 => "resource not available: SDO connection",
+    GENERAL_ERROR = 0x0800_0000 => "general error",
+    0x0800_0020 => "data cannot be transferred or stored to the application",
+    0x0800_0021 => "data cannot be transferred or stored to the application because of local control",
+    DEVICE_STATE = 0x0800_0022 => "data cannot be transferred or stored because of the present device state",
+    0x0800_0023 => "object dictionary dynamic generation fails or no object dictionary is present",
+    0x0800_0024 => "no data available",
+}
 
 impl AbortCode {
-    pub const TOGGLE_BIT: AbortCode = AbortCode(0x0503_0000);
-    pub const TIMEOUT: AbortCode = AbortCode(0x0504_0000);
-    pub const INVALID_COMMAND: AbortCode = AbortCode(0x0504_0001);
-    pub const OBJECT_DOES_NOT_EXIST: AbortCode = AbortCode(0x0602_0000);
-    pub const LENGTH_MISMATCH: AbortCode = AbortCode(0x0607_0010);
-    pub const SUBINDEX_DOES_NOT_EXIST: AbortCode = AbortCode(0x0609_0011);
-    pub const VALUE_RANGE_EXCEEDED: AbortCode = AbortCode(0x0609_0030);
-    pub const VALUE_TOO_HIGH: AbortCode = AbortCode(0x0609_0031);
-    pub const VALUE_TOO_LOW: AbortCode = AbortCode(0x0609_0032);
-    pub const READ_ONLY: AbortCode = AbortCode(0x0601_0002);
-    pub const WRITE_ONLY: AbortCode = AbortCode(0x0601_0001);
-    pub const GENERAL_ERROR: AbortCode = AbortCode(0x0800_0000);
-    pub const DEVICE_STATE: AbortCode = AbortCode(0x0800_0022);
-
-    /// The meaning CiA 301 (V4.2.0, 7.2.4.3.17, the SDO abort codes) gives the code: every
-    /// code the table lists.
-    pub fn meaning(self) -> Option<&'static str> {
-        Some(match self.0 {
-            0x0503_0000 => "toggle bit not alternated",
-            0x0504_0000 => "SDO protocol timed out",
-            0x0504_0001 => "client/server command specifier not valid or unknown",
-            0x0504_0002 => "invalid block size (block mode only)",
-            0x0504_0003 => "invalid sequence number (block mode only)",
-            0x0504_0004 => "CRC error (block mode only)",
-            0x0504_0005 => "out of memory",
-            0x0601_0000 => "unsupported access to an object",
-            0x0601_0001 => "attempt to read a write-only object",
-            0x0601_0002 => "attempt to write a read-only object",
-            0x0602_0000 => "object does not exist in the object dictionary",
-            0x0604_0041 => "object cannot be mapped to the PDO",
-            0x0604_0042 => "the number and length of the objects to be mapped would exceed the PDO length",
-            0x0604_0043 => "general parameter incompatibility reason",
-            0x0604_0047 => "general internal incompatibility in the device",
-            0x0606_0000 => "access failed due to a hardware error",
-            0x0607_0010 => "data type does not match, length of service parameter does not match",
-            0x0607_0012 => "data type does not match, length of service parameter too high",
-            0x0607_0013 => "data type does not match, length of service parameter too low",
-            0x0609_0011 => "subindex does not exist",
-            0x0609_0030 => "value range of parameter exceeded",
-            0x0609_0031 => "value of parameter written too high",
-            0x0609_0032 => "value of parameter written too low",
-            0x0609_0036 => "maximum value is less than minimum value",
-            0x060A_0023 => "resource not available: SDO connection",
-            0x0800_0000 => "general error",
-            0x0800_0020 => "data cannot be transferred or stored to the application",
-            0x0800_0021 => "data cannot be transferred or stored to the application because of local control",
-            0x0800_0022 => "data cannot be transferred or stored because of the present device state",
-            0x0800_0023 => "object dictionary dynamic generation fails or no object dictionary is present",
-            0x0800_0024 => "no data available",
-            _ => return None,
-        })
-    }
-
     /// The four bytes as they travel in bytes 5..8 of an abort frame.
     pub fn to_bytes(self) -> [u8; 4] {
         self.0.to_le_bytes()

@@ -30,19 +30,13 @@ const COMMANDS: [(u8, NmtCommand, &str); 5] = [
 
 impl NmtCommand {
     pub fn from_byte(byte: u8) -> Option<NmtCommand> {
-        COMMANDS.iter().find(|(b, _, _)| *b == byte).map(|(_, c, _)| *c)
+        of_byte(&COMMANDS, byte)
     }
     pub fn byte(self) -> u8 {
-        COMMANDS
-            .iter()
-            .find(|(_, c, _)| *c == self)
-            .map_or(0, |(b, _, _)| *b)
+        row(&COMMANDS, self).map_or(0, |(b, _, _)| *b)
     }
     pub fn name(self) -> &'static str {
-        COMMANDS
-            .iter()
-            .find(|(_, c, _)| *c == self)
-            .map_or("", |(_, _, n)| n)
+        row(&COMMANDS, self).map_or("", |(_, _, n)| n)
     }
 }
 
@@ -66,24 +60,31 @@ impl NmtState {
     /// The state of a heartbeat byte; bit 7 is a toggle bit of node guarding, ignored here.
     pub fn from_byte(byte: u8) -> Option<NmtState> {
         let state = if byte == 0x7F { byte } else { byte & 0x7F };
-        STATES.iter().find(|(b, _, _)| *b == state).map(|(_, s, _)| *s)
+        of_byte(&STATES, state)
     }
     pub fn byte(self) -> u8 {
-        STATES
-            .iter()
-            .find(|(_, s, _)| *s == self)
-            .map_or(0, |(b, _, _)| *b)
+        row(&STATES, self).map_or(0, |(b, _, _)| *b)
     }
     pub fn name(self) -> &'static str {
-        STATES
-            .iter()
-            .find(|(_, s, _)| *s == self)
-            .map_or("", |(_, _, n)| n)
+        row(&STATES, self).map_or("", |(_, _, n)| n)
     }
     /// SDO is served in pre-operational and operational, not in stopped (CiA 301).
     pub fn serves_sdo(self) -> bool {
         matches!(self, NmtState::Operational | NmtState::PreOperational)
     }
+}
+
+/// A table of byte, value and name (`COMMANDS`, `STATES`): the value a byte stands for.
+fn of_byte<T: Copy>(table: &[(u8, T, &'static str)], byte: u8) -> Option<T> {
+    table
+        .iter()
+        .find(|(b, _, _)| *b == byte)
+        .map(|(_, value, _)| *value)
+}
+
+/// The row of `value` in a table of byte, value and name.
+fn row<'t, T: PartialEq>(table: &'t [(u8, T, &'static str)], value: T) -> Option<&'t (u8, T, &'static str)> {
+    table.iter().find(|(_, v, _)| *v == value)
 }
 
 #[cfg(test)]

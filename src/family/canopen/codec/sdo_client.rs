@@ -156,6 +156,21 @@ impl SdoClient {
         }
     }
 
+    /// The failure of a segment whose toggle bit is not `expected`, aborted with
+    /// 0x05030000; `None` when it is.
+    fn wrong_toggle(&mut self, segment: &str, expected: bool, echoed: bool) -> Option<SdoStep> {
+        (echoed != expected).then(|| {
+            self.fail(
+                format!(
+                    "{segment} toggle bit expected {}, got {}",
+                    u8::from(expected),
+                    u8::from(echoed)
+                ),
+                AbortCode::TOGGLE_BIT,
+            )
+        })
+    }
+
     /// Feeds the 8 data bytes of a frame from the node.
     pub fn on_bytes(&mut self, bytes: &[u8]) -> SdoStep {
         match SdoResponse::decode(bytes) {
@@ -224,15 +239,8 @@ impl SdoClient {
                     last,
                 }),
             ) => {
-                if *echoed != toggle {
-                    return self.fail(
-                        format!(
-                            "upload segment toggle bit expected {}, got {}",
-                            u8::from(toggle),
-                            u8::from(*echoed)
-                        ),
-                        AbortCode::TOGGLE_BIT,
-                    );
+                if let Some(failed) = self.wrong_toggle("upload segment", toggle, *echoed) {
+                    return failed;
                 }
                 data.extend_from_slice(part);
                 match size {
@@ -276,15 +284,8 @@ impl SdoClient {
                 self.next_download_segment(false, 0)
             }
             (State::DownloadSegments { toggle, sent }, SdoResponse::DownloadSegment { toggle: echoed }) => {
-                if *echoed != toggle {
-                    return self.fail(
-                        format!(
-                            "download segment toggle bit expected {}, got {}",
-                            u8::from(toggle),
-                            u8::from(*echoed)
-                        ),
-                        AbortCode::TOGGLE_BIT,
-                    );
+                if let Some(failed) = self.wrong_toggle("download segment", toggle, *echoed) {
+                    return failed;
                 }
                 if sent >= self.value.len() {
                     SdoStep::Downloaded
@@ -317,6 +318,15 @@ mod tests {
 
     fn feed(client: &mut SdoClient, hex: &str) -> SdoStep {
         client.on_bytes(&parse_hex(hex).unwrap())
+    }
+
+    /// The abort frame (hex) a failed step sends to the node.
+    #[track_caller]
+    fn abort_sent(step: SdoStep) -> String {
+        match step {
+            SdoStep::Failed { abort: Some(a), .. } => to_hex(&a.encode()),
+            other => panic!("{other:?}"),
+        }
     }
 
     #[test]
@@ -384,12 +394,10 @@ mod tests {
     #[test]
     fn an_unknown_command_is_aborted_as_invalid() {
         let (mut c, _) = SdoClient::upload(0x5FC2, 0);
-        match feed(&mut c, "c1 c2 5f 00 00 00 00 00") {
-            SdoStep::Failed { abort: Some(a), .. } => {
-                assert_eq!(to_hex(&a.encode()), "80 c2 5f 00 01 00 04 05")
-            }
-            other => panic!("{other:?}"),
-        }
+        assert_eq!(
+            abort_sent(feed(&mut c, "c1 c2 5f 00 00 00 00 00")),
+            "80 c2 5f 00 01 00 04 05"
+        );
     }
 
     #[test]
@@ -418,12 +426,10 @@ mod tests {
     fn more_data_than_announced_is_aborted() {
         let (mut c, _) = SdoClient::upload(0x5F9C, 0);
         feed(&mut c, "41 9c 5f 00 03 00 00 00");
-        match feed(&mut c, "00 30 35 2e 30 30 2e 31") {
-            SdoStep::Failed { abort: Some(a), .. } => {
-                assert_eq!(to_hex(&a.encode()), "80 9c 5f 00 10 00 07 06")
-            }
-            other => panic!("{other:?}"),
-        }
+        assert_eq!(
+            abort_sent(feed(&mut c, "00 30 35 2e 30 30 2e 31")),
+            "80 9c 5f 00 10 00 07 06"
+        );
     }
 
     #[test]

@@ -130,23 +130,30 @@ fn slot(entry: &EdsEntry, node: u8) -> Option<Slot> {
     })
 }
 
-fn missing(slots: &BTreeMap<Place, Slot>, place: Place) -> AbortCode {
-    if slots.keys().any(|(i, _)| *i == place.0) {
-        AbortCode::SUBINDEX_DOES_NOT_EXIST
-    } else {
-        AbortCode::OBJECT_DOES_NOT_EXIST
+/// The slot at `place`, or the abort CiA 301 gives: no such object or subindex, or
+/// `refused` when the slot's access is `barred` (write-only for a read, read-only for a write).
+fn slot_for(
+    slots: &BTreeMap<Place, Slot>,
+    place: Place,
+    barred: Access,
+    refused: AbortCode,
+) -> Result<&Slot, AbortCode> {
+    let Some(slot) = slots.get(&place) else {
+        return Err(if slots.keys().any(|(i, _)| *i == place.0) {
+            AbortCode::SUBINDEX_DOES_NOT_EXIST
+        } else {
+            AbortCode::OBJECT_DOES_NOT_EXIST
+        });
+    };
+    if slot.access == barred {
+        return Err(refused);
     }
+    Ok(slot)
 }
 
 impl ObjectStore for Cia402Objects {
     fn read(&mut self, core: &mut SimCore<SdoLogged>, place: Place) -> Result<Vec<u8>, AbortCode> {
-        let slot = self
-            .slots
-            .get(&place)
-            .ok_or_else(|| missing(&self.slots, place))?;
-        if slot.access == Access::WriteOnly {
-            return Err(AbortCode::WRITE_ONLY);
-        }
+        let slot = slot_for(&self.slots, place, Access::WriteOnly, AbortCode::WRITE_ONLY)?;
         let m = &mut core.model;
         let live = match place {
             STATUSWORD => i64::from(m.status_word()),
@@ -164,13 +171,7 @@ impl ObjectStore for Cia402Objects {
     }
 
     fn write(&mut self, core: &mut SimCore<SdoLogged>, place: Place, bytes: &[u8]) -> Result<(), AbortCode> {
-        let slot = self
-            .slots
-            .get(&place)
-            .ok_or_else(|| missing(&self.slots, place))?;
-        if slot.access == Access::ReadOnly {
-            return Err(AbortCode::READ_ONLY);
-        }
+        let slot = slot_for(&self.slots, place, Access::ReadOnly, AbortCode::READ_ONLY)?;
         let fits = match slot.data_type {
             DataType::String { max } => bytes.len() <= usize::from(max),
             DataType::Octets | DataType::Unicode | DataType::Domain => bytes.len() <= MAX_BLOCK_LEN,

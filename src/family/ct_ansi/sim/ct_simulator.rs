@@ -159,10 +159,9 @@ impl CtSimulator {
         if fate.dropped {
             return None;
         }
-        let mut bytes = reply.encode().ok()?;
-        fate.corrupt_last_byte(&mut bytes, |check| check ^ 0x01);
-        let latency = self.core.model.config().response_latency;
-        Some(fate.reply(bytes, now + TURNAROUND.max(latency)))
+        let bytes = reply.encode().ok()?;
+        let at = self.core.reply_at(now, TURNAROUND);
+        Some(fate.checked_reply(bytes, |check| check ^ 0x01, at))
     }
 }
 
@@ -207,13 +206,7 @@ impl Peer for CtSimulator {
         replies
     }
 
-    fn reachable(&self, now: Duration) -> bool {
-        self.core.faults.line_up(now)
-    }
-
-    fn up_until(&self, now: Duration) -> Duration {
-        self.core.faults.line_up_until(now)
-    }
+    crate::sim_line_core!();
 }
 
 impl SimFront for CtSimulator {

@@ -4,9 +4,7 @@
 
 use super::decode_error::DecodeError;
 use super::error_code::ErrorCode;
-use super::request::{
-    check_ascii, hex_bytes, hex_field, parse_hex_bytes, sdo_address, ObjectCommand, Request,
-};
+use super::request::{check_ascii, hex_bytes, hex_field, sdo_value, ObjectCommand, Request};
 use std::fmt;
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -68,9 +66,7 @@ impl Reply {
             return Ok(Reply::Type(t.to_string()));
         }
         if let Some(rest) = line.strip_prefix('=') {
-            let (head, data) = rest.split_once(':').ok_or_else(unknown)?;
-            let (index, subindex) = sdo_address(head, 1)?;
-            let data = parse_hex_bytes(data, 1 + head.len() + 1)?;
+            let (index, subindex, data) = sdo_value(rest, unknown)?;
             return Ok(Reply::Sdo {
                 index,
                 subindex,

@@ -203,14 +203,12 @@ impl Request {
             return Ok(Request::Baud(baud));
         }
         if let Some(rest) = line.strip_prefix('=') {
-            let (head, data) = rest.split_once(':').ok_or_else(|| DecodeError::BadField {
+            let (index, subindex, data) = sdo_value(rest, || DecodeError::BadField {
                 what: "the SDO write",
                 offset: line.len(),
                 expected: "`:` and the data after iiiiss".into(),
                 actual: rest.to_string(),
             })?;
-            let (index, subindex) = sdo_address(head, 1)?;
-            let data = parse_hex_bytes(data, 1 + head.len() + 1)?;
             return Ok(Request::SdoWrite {
                 index,
                 subindex,
@@ -306,6 +304,18 @@ fn decimal(text: &str, max_digits: usize, what: &'static str, offset: usize) -> 
 pub(super) fn sdo_address(text: &str, offset: usize) -> Result<(u16, u8), DecodeError> {
     let v = hex_field(text, 6, "the CANopen index and subindex (iiiiss)", offset)?;
     Ok(((v >> 8) as u16, (v & 0xFF) as u8))
+}
+
+/// `iiiiss:dd..`, the part after the `=` of an SDO write or its reply: the object and the
+/// data; `no_colon` is the error when there is no `:`.
+pub(super) fn sdo_value(
+    rest: &str,
+    no_colon: impl FnOnce() -> DecodeError,
+) -> Result<(u16, u8, Vec<u8>), DecodeError> {
+    let (head, data) = rest.split_once(':').ok_or_else(no_colon)?;
+    let (index, subindex) = sdo_address(head, 1)?;
+    let data = parse_hex_bytes(data, 1 + head.len() + 1)?;
+    Ok((index, subindex, data))
 }
 
 /// `dd..`: hex bytes, two digits each, at least one, at most [`MAX_SDO_BYTES`].

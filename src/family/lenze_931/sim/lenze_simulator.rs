@@ -256,13 +256,7 @@ impl Peer for LenzeSimulator {
         replies
     }
 
-    fn reachable(&self, now: Duration) -> bool {
-        self.core.faults.line_up(now)
-    }
-
-    fn up_until(&self, now: Duration) -> Duration {
-        self.core.faults.line_up_until(now)
-    }
+    crate::sim_line_core!();
 }
 
 impl SimFront for LenzeSimulator {

@@ -16,6 +16,14 @@ fn ask(sim: &mut LenzeSimulator, line: &str) -> String {
         .join("|")
 }
 
+/// Sends each line of `(request, reply)` in turn, naming the request whose reply differs.
+#[track_caller]
+fn converse(sim: &mut LenzeSimulator, lines: &[(&str, &str)]) {
+    for (request, reply) in lines {
+        assert_eq!(ask(sim, request), *reply, "the reply to {request}");
+    }
+}
+
 fn sim() -> LenzeSimulator {
     LenzeSimulator::new(SimConfig::default())
 }
@@ -23,27 +31,32 @@ fn sim() -> LenzeSimulator {
 #[test]
 fn object_commands_and_their_error_codes() {
     let mut s = sim();
-    assert_eq!(ask(&mut s, "OW:0010:00000BB8"), "OK!\r");
-    assert_eq!(ask(&mut s, "OR:0010"), "0010:00000BB8\r");
-    assert_eq!(ask(&mut s, "OW:0010:FFFFF448"), "OK!\r");
-    assert_eq!(ask(&mut s, "OR:0010"), "0010:FFFFF448\r");
-    assert_eq!(ask(&mut s, "OI:0010"), "0010:FFFFF448\r");
-    assert_eq!(ask(&mut s, "ON:0010"), "0010:FFFFE890\r");
-    assert_eq!(ask(&mut s, "OX:0010"), "0010:00001770\r");
-    // Written but limited, both ways; the stored value is the limit.
-    assert_eq!(ask(&mut s, "OW:0010:00001F40"), "OW:00000005\r");
-    assert_eq!(ask(&mut s, "OR:0010"), "0010:00001770\r");
-    assert_eq!(ask(&mut s, "OW:0010:FFFFE0C0"), "OW:00000004\r");
-    assert_eq!(ask(&mut s, "OR:0010"), "0010:FFFFE890\r");
-    // Refused, not written.
-    assert_eq!(ask(&mut s, "OW:0014:00000004"), "OW:00000003\r");
-    assert_eq!(ask(&mut s, "OW:0014:FFFFFFFF"), "OW:00000002\r");
-    assert_eq!(ask(&mut s, "OR:0014"), "0014:00000000\r");
-    assert_eq!(ask(&mut s, "OW:0020:00000005"), "OW:00000008\r");
-    assert_eq!(ask(&mut s, "OW:0011:00000001"), "OW:00050000\r");
-    assert_eq!(ask(&mut s, "OR:0099"), "OR:00040000\r");
-    assert_eq!(ask(&mut s, "ON:0011"), "ON:00020000\r");
-    assert_eq!(ask(&mut s, "OX:0011"), "OX:00030000\r");
+    converse(
+        &mut s,
+        &[
+            ("OW:0010:00000BB8", "OK!\r"),
+            ("OR:0010", "0010:00000BB8\r"),
+            ("OW:0010:FFFFF448", "OK!\r"),
+            ("OR:0010", "0010:FFFFF448\r"),
+            ("OI:0010", "0010:FFFFF448\r"),
+            ("ON:0010", "0010:FFFFE890\r"),
+            ("OX:0010", "0010:00001770\r"),
+            // Written but limited, both ways; the stored value is the limit.
+            ("OW:0010:00001F40", "OW:00000005\r"),
+            ("OR:0010", "0010:00001770\r"),
+            ("OW:0010:FFFFE0C0", "OW:00000004\r"),
+            ("OR:0010", "0010:FFFFE890\r"),
+            // Refused, not written.
+            ("OW:0014:00000004", "OW:00000003\r"),
+            ("OW:0014:FFFFFFFF", "OW:00000002\r"),
+            ("OR:0014", "0014:00000000\r"),
+            ("OW:0020:00000005", "OW:00000008\r"),
+            ("OW:0011:00000001", "OW:00050000\r"),
+            ("OR:0099", "OR:00040000\r"),
+            ("ON:0011", "ON:00020000\r"),
+            ("OX:0011", "OX:00030000\r"),
+        ],
+    );
     // Code 9: the operating mode cannot change while enabled.
     for cw in ["00000006", "00000007", "0000000F"] {
         assert_eq!(ask(&mut s, &format!("OW:0020:{cw}")), "OK!\r");
@@ -72,15 +85,20 @@ fn the_status_word_has_the_manuals_bits() {
 #[test]
 fn identification_service_and_sdo_commands() {
     let mut s = sim();
-    assert_eq!(ask(&mut s, "TYPE?"), "TYPE:0931\r");
-    assert_eq!(ask(&mut s, "VERSION?"), "0000:VERSION:0100\r");
-    assert_eq!(ask(&mut s, "BOOT?"), "APPLICATION\r");
-    assert_eq!(ask(&mut s, "BUS?"), "0000:BUS:01:0500:0000\r");
-    assert_eq!(ask(&mut s, "SAVE!"), "DONE\r");
-    assert_eq!(ask(&mut s, "SEP!"), "DONE\r");
-    assert_eq!(ask(&mut s, "BAUD9600"), "OK!\r");
-    assert_eq!(ask(&mut s, "?604100"), "=604100:4002\r");
-    assert_eq!(ask(&mut s, "=604000:0600"), "=604000:0600\r");
+    converse(
+        &mut s,
+        &[
+            ("TYPE?", "TYPE:0931\r"),
+            ("VERSION?", "0000:VERSION:0100\r"),
+            ("BOOT?", "APPLICATION\r"),
+            ("BUS?", "0000:BUS:01:0500:0000\r"),
+            ("SAVE!", "DONE\r"),
+            ("SEP!", "DONE\r"),
+            ("BAUD9600", "OK!\r"),
+            ("?604100", "=604100:4002\r"),
+            ("=604000:0600", "=604000:0600\r"),
+        ],
+    );
     assert_eq!(s.state(), DeviceState::ReadyToSwitchOn);
     assert_eq!(ask(&mut s, "?123400"), "ERROR!\r");
     ask(&mut s, "OW:0010:00000064");

@@ -254,16 +254,23 @@ impl Request {
                     value: word(b, 3),
                 }
             }
-            Function::WriteMultiple => Request::WriteMultiple {
-                start: word(b, 1),
-                values: written_words(b, 6)?,
-            },
-            Function::ReadWrite => Request::ReadWrite {
-                read_start: word(b, 1),
-                read_count: word(b, 3),
-                write_start: word(b, 5),
-                values: written_words(b, 10)?,
-            },
+            // The values first: their check is the one of the PDU's length.
+            Function::WriteMultiple => {
+                let values = written_words(b, 6)?;
+                Request::WriteMultiple {
+                    start: word(b, 1),
+                    values,
+                }
+            }
+            Function::ReadWrite => {
+                let values = written_words(b, 10)?;
+                Request::ReadWrite {
+                    read_start: word(b, 1),
+                    read_count: word(b, 3),
+                    write_start: word(b, 5),
+                    values,
+                }
+            }
         };
         // What encodes is what the specification allows: the same check both ways.
         request.encode()?;

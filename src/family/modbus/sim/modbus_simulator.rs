@@ -193,13 +193,12 @@ impl ModbusSimulator {
             self.unit
         };
         let pdu = response.encode();
-        let mut bytes = match self.framing {
+        let bytes = match self.framing {
             Framing::Rtu => rtu::encode(unit, &pdu),
             Framing::Tcp => mbap::encode(transaction, unit, &pdu),
         };
-        fate.corrupt_last_byte(&mut bytes, |check| check ^ 0x01);
-        let latency = self.core.model.config().response_latency;
-        Some(fate.reply(bytes, now + TURNAROUND.max(latency)))
+        let at = self.core.reply_at(now, TURNAROUND);
+        Some(fate.checked_reply(bytes, |check| check ^ 0x01, at))
     }
 }
 

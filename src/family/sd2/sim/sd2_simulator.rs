@@ -176,8 +176,7 @@ impl Sd2Simulator {
         }
         // Replies are never write commands, so the length-field choice does not apply.
         reply.encode_into(&mut bytes, WriteLength::Captured);
-        fate.corrupt_last_byte(&mut bytes, |check| !check);
-        Some(fate.reply(bytes, now + self.config().response_latency))
+        Some(fate.checked_reply(bytes, |check| !check, now + self.config().response_latency))
     }
 }
 
@@ -209,13 +208,7 @@ impl Peer for Sd2Simulator {
         Ok(())
     }
 
-    fn reachable(&self, now: Duration) -> bool {
-        self.core.faults.line_up(now)
-    }
-
-    fn up_until(&self, now: Duration) -> Duration {
-        self.core.faults.line_up_until(now)
-    }
+    crate::sim_line_core!();
 }
 
 impl Sd2Simulator {

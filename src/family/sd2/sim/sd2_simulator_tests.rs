@@ -107,6 +107,14 @@ fn hex(s: &str) -> Vec<u8> {
     parse_hex(s).expect("valid hex")
 }
 
+/// The bytes of the one reply to the telegram `request` (hex), sent at time zero.
+#[track_caller]
+fn reply_to(sim: &mut Sd2Simulator, request: &str) -> Vec<u8> {
+    let replies = sim.receive(&hex(request), Duration::ZERO);
+    assert_eq!(replies.len(), 1, "one reply to {request}");
+    replies[0].bytes.clone()
+}
+
 /// The telegram `s` with its check byte appended.
 fn with_checksum(s: &str) -> Vec<u8> {
     let mut bytes = hex(s);
@@ -542,27 +550,17 @@ fn trip_splits_the_advance_and_fault_reset_clears_it() {
 #[test]
 fn cyclic_telegram_golden_bytes() {
     let mut s = sim();
-    let r = s.receive(
-        &hex("00 0d 02 01 10 01 00 06 00 ff 1f 00 00 00 00 ba"),
-        Duration::ZERO,
-    );
     assert_eq!(
-        r[0].bytes,
+        reply_to(&mut s, "00 0d 02 01 10 01 00 06 00 ff 1f 00 00 00 00 ba"),
         with_checksum("00 0d 01 02 90 01 00 31 02 00 00 00 00 00 00")
     );
     assert!((s.setpoint_rpm() - 8191.0 / 16383.0 * 24000.0).abs() < 1e-9);
     // Header echoed, toggle and all.
-    let r = s.receive(
-        &hex("00 0d 02 01 10 05 00 07 00 ff 1f 00 00 00 00 b5"),
-        Duration::ZERO,
-    );
-    assert_eq!(r[0].bytes[5..9], hex("05 00 33 02")[..]);
+    let r = reply_to(&mut s, "00 0d 02 01 10 05 00 07 00 ff 1f 00 00 00 00 b5");
+    assert_eq!(r[5..9], hex("05 00 33 02")[..]);
     assert_eq!(s.state(), DeviceState::SwitchedOn);
-    let r = s.receive(
-        &hex("00 0d 02 01 10 01 00 0f 00 ff 1f 00 00 00 00 b1"),
-        Duration::ZERO,
-    );
-    assert_eq!(r[0].bytes[7..9], hex("37 02")[..]);
+    let r = reply_to(&mut s, "00 0d 02 01 10 01 00 0f 00 ff 1f 00 00 00 00 b1");
+    assert_eq!(r[7..9], hex("37 02")[..]);
     assert_eq!(s.control_words_written(), vec![6, 7, 15]);
 }
 
@@ -592,11 +590,11 @@ fn cyclic_process_data_at_speed() {
 #[test]
 fn service_channel_golden_requests() {
     let mut s = sim();
-    let r = s.receive(
-        &hex("00 15 02 01 10 01 00 06 00 ff 0f 00 00 00 00 00 08 27 00 00 00 00 00 93"),
-        Duration::ZERO,
+    let r = reply_to(
+        &mut s,
+        "00 15 02 01 10 01 00 06 00 ff 0f 00 00 00 00 00 08 27 00 00 00 00 00 93",
     );
-    let reply = Telegram::decode(&r[0].bytes).unwrap();
+    let reply = Telegram::decode(&r).unwrap();
     let Body::CyclicReply(c) = reply.body else {
         panic!("{reply:?}")
     };
@@ -605,12 +603,11 @@ fn service_channel_golden_requests() {
         (sc.reserved, sc.ctrl, sc.index, sc.data),
         (0, 0x08, 39, [0, 0, 0, 0])
     );
-    let r = s.receive(
-        &hex("00 15 02 01 10 05 00 06 00 ff 0f 00 00 00 00 00 0d 60 01 01 00 00 00 4f"),
-        Duration::ZERO,
-    );
     assert_eq!(
-        r[0].bytes,
+        reply_to(
+            &mut s,
+            "00 15 02 01 10 05 00 06 00 ff 0f 00 00 00 00 00 0d 60 01 01 00 00 00 4f"
+        ),
         with_checksum("00 15 01 02 90 05 00 31 02 00 00 00 00 00 00 00 0d 60 01 01 00 00 00")
     );
     assert_eq!(read_u16(&mut s, 352, Duration::ZERO), 1);
