@@ -414,6 +414,20 @@ impl Stats {
 mod tests {
     use super::*;
 
+    /// `OF_SUMS` is the head of `ALL`: a statistic put before these in `ALL` would offer a
+    /// script a measure its window's sums do not hold.
+    #[test]
+    fn of_sums_offers_exactly_what_running_sums_hold() {
+        let ids = Statistic::OF_SUMS.map(|(id, _)| id);
+        assert_eq!(ids, ["mean", "min", "max", "ripple", "std"]);
+        let values = [1.0, 4.0, 2.0];
+        let sums = Stats::of(&values);
+        for (id, statistic) in Statistic::OF_SUMS {
+            assert_eq!(Statistic::from_id(id), Some(statistic));
+            assert!(sums.get(statistic).is_finite(), "{id}");
+        }
+    }
+
     #[test]
     fn streaming_statistics_match_the_two_pass_ones() {
         let values: Vec<f64> = (0..10_000)

@@ -300,3 +300,22 @@ proptest! {
         let _ = crate::family::modbus::codec::mbap::frame_len(&bytes);
     }
 }
+
+/// A write request cut anywhere before its values' byte count is refused by its length,
+/// never read past its end (a PDU of function 16 or 23 and nothing else once panicked).
+#[test]
+fn a_write_request_cut_short_is_refused_by_its_length() {
+    let write_multiple = [0x10, 0x00, 0x01, 0x00, 0x01, 0x02, 0x00, 0x0A];
+    let read_write = [
+        0x17, 0x00, 0x01, 0x00, 0x01, 0x00, 0x02, 0x00, 0x01, 0x02, 0x00, 0x0A,
+    ];
+    for (whole, values_at) in [(&write_multiple[..], 6), (&read_write[..], 10)] {
+        assert!(Request::decode(whole).is_ok(), "{whole:02X?}");
+        for len in 1..values_at {
+            match Request::decode(&whole[..len]) {
+                Err(CodecError::Length { .. }) => {}
+                other => panic!("{:02X?}: {other:?}", &whole[..len]),
+            }
+        }
+    }
+}

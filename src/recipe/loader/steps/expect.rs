@@ -18,7 +18,10 @@ impl Loader<'_, '_> {
             Shape::any_keys("`expect`").example("expect: { speed_actual: { near: 6000 rpm, within: 1 % } }");
         // A step's name names its one check, or leads the names of its several checks.
         let single = body.entries().is_some_and(|e| e.len() == 1);
-        let checks = self.per_object(body, &shape, |this, def, r, _, v| {
+        let checks = self.per_object(body, &shape, |this, def, r, k, v| {
+            if !this.readable(&def, &k.span) {
+                return None;
+            }
             // `{ mean: { near: ... } }` checks a statistic; `{ near: ... }` the value now.
             let (stat, pred_node) = match v.entries() {
                 Some([(key, node)]) if Statistic::from_id(&key.value).is_some() => {

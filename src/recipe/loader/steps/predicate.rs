@@ -101,7 +101,6 @@ impl Loader<'_, '_> {
         }
     }
 
-    /// `within`: a percentage of the target or an amount in the object's unit.
     /// The two ends of `between: [low, high]` (`example`: such a list); a list of another
     /// length is refused with `wrong_length`'s message for its length.
     pub(in crate::recipe::loader) fn between_ends<'n>(
@@ -129,6 +128,7 @@ impl Loader<'_, '_> {
         Some((low, high))
     }
 
+    /// `within`: a percentage of the target or an amount in the object's unit.
     fn tolerance(&mut self, def: &ObjectDef, node: &YamlNode) -> Option<Tolerance> {
         if self.r.refuse_non_finite(node, "`within`", FINITE_HELP) {
             return None;
