@@ -27,7 +27,6 @@ use crate::dictionary::Dictionary;
 use crate::drive::AddressKeyTable;
 use crate::session::{show_duration, StepOrigin};
 pub use drives::{declared_drives, declared_pole_pairs, DriveDictionaries};
-pub(super) use objects::names;
 pub use params::declared_params;
 use params::ParamValue;
 use std::collections::{BTreeMap, HashMap};

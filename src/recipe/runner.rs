@@ -235,9 +235,7 @@ fn exec(
             s.dwell(*d, number)?;
             Ok(format!("{} dwelt", show_duration(*d)))
         }
-        StepKind::Sample { sampling: x, steps } => {
-            s.sample(&x.objects, x.every, x.duration, x.csv.as_ref(), steps, number)
-        }
+        StepKind::Sample { sampling: x, steps } => s.sample(x, steps, number),
         StepKind::Expect(checks) => s.expect(checks, &step.origin),
         StepKind::CoastDown(c) => s.coast_down(c, &step.origin, number),
         StepKind::ExpectParameters { file, parameters } => {

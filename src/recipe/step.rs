@@ -54,7 +54,7 @@ pub enum StepKind {
     Dwell(Duration),
     /// Read objects every `every` for `duration`, keeping statistics; optionally to CSV.
     Sample {
-        sampling: super::Sampling,
+        sampling: crate::session::Sampling,
         /// The setpoint step an object's response is measured against.
         steps: Vec<(String, crate::session::StepSpec)>,
     },

@@ -430,7 +430,7 @@ fn sample(
             crate::recipe::MAX_SAMPLES
         )));
     }
-    let sampling = crate::recipe::Sampling {
+    let sampling = crate::session::Sampling {
         objects,
         every,
         duration: time,

@@ -26,7 +26,7 @@ pub enum Call {
         every: Duration,
     },
     Dwell(Duration),
-    Sample(crate::recipe::Sampling),
+    Sample(crate::session::Sampling),
     Expect(Box<CheckResult>),
     /// A check (by name, with its value) compared with the unit's last passed run.
     CompareLastPass(Box<(String, f64, crate::session::LastPass)>),

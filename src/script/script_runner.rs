@@ -368,7 +368,7 @@ impl Host<'_> {
             }
             Call::Sample(x) => {
                 self.capture.borrow_mut().start(&x.objects);
-                let result = s.sample(&x.objects, x.every, x.duration, x.csv.as_ref(), &[], number);
+                let result = s.sample(&x, &[], number);
                 let windows = self.capture.borrow_mut().finish();
                 *answer = Answer::Sampled(windows);
                 result

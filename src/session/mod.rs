@@ -39,6 +39,7 @@ mod safe_stop_settings;
 mod sample;
 mod sample_table;
 mod sample_window;
+mod sampling;
 mod session;
 mod session_drive;
 mod set_value;
@@ -80,6 +81,7 @@ pub use run_report::{
 pub use safe_stop_settings::SafeStopSettings;
 pub use sample_table::{SampleTable, LONG_HEADER, LONG_HEADER_DRIVES};
 pub use sample_window::{Measured, SampleWindow};
+pub use sampling::Sampling;
 pub use session::{show_duration, Session};
 pub use set_value::SetValue;
 pub use slope_window::{Slope, SlopeWindow, SLOPE_BUCKETS};

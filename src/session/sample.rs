@@ -6,11 +6,10 @@ use super::session::{round, Session};
 use super::stop::{nth_tick, Stop};
 use super::with_unit;
 use super::{
-    BucketSeries, ObjectRef, SampleTable, SampleWindow, Series, SlopeWindow, StepResponse, StepSpec,
-    SERIES_BUCKETS,
+    BucketSeries, ObjectRef, SampleTable, SampleWindow, Sampling, Series, SlopeWindow, StepResponse,
+    StepSpec, SERIES_BUCKETS,
 };
 use crate::drive::ReadSet;
-use std::path::PathBuf;
 use std::time::Duration;
 
 /// The objects of one drive in a sample: the drive's index, the objects' places in the
@@ -78,21 +77,25 @@ impl Session<'_> {
         Ok(())
     }
 
-    /// Reads `objects` every `every` for `duration`; keeps the window for `expect` (with
+    /// Reads the sampling's objects every `every` for `duration`; keeps the window for `expect` (with
     /// the response to the step `steps` declares for an object) and the series for the
     /// plots; optionally writes a CSV file. Each tick's values are lent to the watches of
     /// the same objects while it runs (see [`super::watch`]; the step that runs it takes
     /// them back however it ends).
     pub fn sample(
         &mut self,
-        objects: &[ObjectRef],
-        every: Duration,
-        duration: Duration,
-        csv: Option<&PathBuf>,
+        sampling: &Sampling,
         steps: &[(String, StepSpec)],
         number: &str,
     ) -> Result<String, Stop> {
-        let mut writer = match csv {
+        let Sampling {
+            objects,
+            every,
+            duration,
+            csv,
+        } = sampling;
+        let (objects, every, duration) = (objects.as_slice(), *every, *duration);
+        let mut writer = match csv.as_ref() {
             Some(p) => {
                 let path = self.output_dir.join(p);
                 let append = !self.csv_files.insert(path.clone());

@@ -197,7 +197,7 @@ impl Loader<'_, '_> {
 }
 
 /// `speed_actual, current_actual`
-pub(in crate::recipe) fn names(objects: &[ObjectRef]) -> String {
+pub(super) fn names(objects: &[ObjectRef]) -> String {
     objects
         .iter()
         .map(|o| o.name.clone())

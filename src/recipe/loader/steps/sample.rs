@@ -6,7 +6,7 @@
 use crate::diag::{Shape, YamlNode};
 use crate::recipe::loader::{show_duration, Loader, MAX_SAMPLES};
 use crate::recipe::step::StepKind;
-use crate::recipe::Sampling;
+use crate::session::Sampling;
 use crate::session::{ObjectRef, StepSpec, DEFAULT_BAND_PERCENT};
 use std::path::PathBuf;
 

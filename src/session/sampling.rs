@@ -1,8 +1,8 @@
 //! What a sample step reads, how often, for how long and where its rows also go: the same
-//! facts for a recipe's `sample` step and a script's `d.sample(...)`. Plain data; the
-//! session samples.
+//! facts for a recipe's `sample` step and a script's `d.sample(...)`, which the session
+//! samples. Plain data; it must not read anything.
 
-use crate::session::{show_duration, ObjectRef};
+use super::{show_duration, ObjectRef};
 use std::path::PathBuf;
 use std::time::Duration;
 
@@ -21,7 +21,11 @@ impl Sampling {
     pub fn label(&self) -> String {
         format!(
             "sample {} every {} for {}",
-            super::loader::names(&self.objects),
+            self.objects
+                .iter()
+                .map(|o| o.name.as_str())
+                .collect::<Vec<_>>()
+                .join(", "),
             show_duration(self.every),
             show_duration(self.duration)
         )
