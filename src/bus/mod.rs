@@ -21,6 +21,8 @@ pub mod slcan_codec;
 #[cfg(target_os = "linux")]
 mod socketcan_bus;
 mod tcp;
+#[cfg(test)]
+mod transport_checks;
 mod transport_error;
 mod usb_latency;
 
