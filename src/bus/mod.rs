@@ -21,6 +21,8 @@ pub mod slcan_codec;
 #[cfg(target_os = "linux")]
 mod socketcan_bus;
 mod tcp;
+#[cfg(test)]
+mod transport_checks;
 mod transport_error;
 mod usb_latency;
 
@@ -37,6 +39,8 @@ pub use slcan_adapter::SlcanAdapter;
 pub use slcan_bus::SlcanBus;
 #[cfg(target_os = "linux")]
 pub use socketcan_bus::SocketCanBus;
+#[cfg(test)]
+pub use transport_checks::candump_replies;
 
 /// A SocketCAN interface as a frame bus (Linux only; elsewhere a clear refusal).
 pub fn open_socketcan(interface: &str) -> Result<Box<dyn FrameBus>, TransportError> {

@@ -41,6 +41,20 @@ pub trait CoreLink {
     }
 }
 
+/// The [`CoreLink`] accessors of a link that keeps its [`LinkCore`] in a field `core`,
+/// written inside its `impl CoreLink`: `core_link_field!();`.
+#[macro_export]
+macro_rules! core_link_field {
+    () => {
+        fn core(&mut self) -> &mut $crate::link::LinkCore {
+            &mut self.core
+        }
+        fn core_ref(&self) -> &$crate::link::LinkCore {
+            &self.core
+        }
+    };
+}
+
 /// What a link listens to between attempts and before an exchange: a byte line lets late
 /// bytes settle and drops them, and waits for the replies still owed to earlier attempts; a
 /// CAN bus has nothing to wait for here (its responses name their node and object, and the

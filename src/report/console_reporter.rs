@@ -128,13 +128,7 @@ impl<W: Write> RunObserver for ConsoleReporter<W> {
         }
     }
 
-    fn attempt_started(&mut self, number: &str, attempt: u32, of: u32) {
-        self.attempts.started(number, attempt, of);
-    }
-
-    fn attempts_given_up(&mut self) {
-        self.attempts.give_up();
-    }
+    crate::follow_attempts!();
 
     fn step_finished(&mut self, r: &StepRecord) {
         self.attempts.finished(&r.number);

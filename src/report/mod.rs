@@ -36,6 +36,6 @@ pub use trace_header::{trace_notes_path, TraceHeader};
 pub use trace_writer::{hex_of_trace_line, is_trace_line, TraceWriter};
 pub use unfinished_report::{
     html_not_run, html_unfinished, junit_not_run, junit_not_run_suite, junit_skipped_suite, junit_unfinished,
-    junit_unfinished_suite, write_html_unfinished, write_junit_unfinished,
+    junit_unfinished_suite, write_unfinished,
 };
 pub use visible_text::{visible, visible_inline};

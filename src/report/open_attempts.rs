@@ -42,6 +42,22 @@ impl OpenAttempts {
     }
 }
 
+/// The [`RunObserver`](crate::session::RunObserver) methods of a reporter that follows the
+/// `attempts` blocks in an [`OpenAttempts`] field `attempts`, written inside its
+/// `impl RunObserver`: `follow_attempts!();`.
+#[macro_export]
+macro_rules! follow_attempts {
+    () => {
+        fn attempt_started(&mut self, number: &str, attempt: u32, of: u32) {
+            self.attempts.started(number, attempt, of);
+        }
+
+        fn attempts_given_up(&mut self) {
+            self.attempts.give_up();
+        }
+    };
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -327,13 +327,7 @@ impl<W: Write> RunObserver for ProgressReporter<W> {
         }
     }
 
-    fn attempt_started(&mut self, number: &str, attempt: u32, of: u32) {
-        self.attempts.started(number, attempt, of);
-    }
-
-    fn attempts_given_up(&mut self) {
-        self.attempts.give_up();
-    }
+    crate::follow_attempts!();
 
     fn message(&mut self, text: &str) {
         self.line(&message_line(text));

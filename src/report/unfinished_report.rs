@@ -117,13 +117,15 @@ fn first_line(text: &str) -> String {
         .to_string()
 }
 
-/// Writes [`junit_unfinished`] to `path` atomically.
-pub fn write_junit_unfinished(
+/// Writes the stand-in report `page` makes ([`junit_unfinished`], [`html_unfinished`]) to
+/// `path` atomically.
+pub fn write_unfinished(
+    page: fn(&str, &str) -> String,
     recipe: &str,
     recipe_path: &str,
     path: &Path,
 ) -> Result<(), crate::report::ReportWriteError> {
-    write_atomically(path, &junit_unfinished(recipe, recipe_path))
+    write_atomically(path, &page(recipe, recipe_path))
 }
 
 /// The HTML page that stands in for a run still under way.
@@ -169,15 +171,6 @@ fn page(recipe: &str, recipe_path: &str, class: &str, word: &str, why: &str, whe
         word_text = esc(word),
         why = esc(why.trim_end()),
     )
-}
-
-/// Writes [`html_unfinished`] to `path` atomically.
-pub fn write_html_unfinished(
-    recipe: &str,
-    recipe_path: &str,
-    path: &Path,
-) -> Result<(), crate::report::ReportWriteError> {
-    write_atomically(path, &html_unfinished(recipe, recipe_path))
 }
 
 #[cfg(test)]

@@ -10,8 +10,8 @@ use crate::dictionary::Dictionary;
 use crate::family::Family;
 use crate::link::{Direction, TelegramObserver};
 use crate::report::{
-    color_wanted, write_html, write_html_unfinished, write_junit, write_junit_unfinished, ConsoleReporter,
-    CsvRecorder, ProgressReporter, TelegramFanOut, TraceHeader, TraceWriter,
+    color_wanted, html_unfinished, junit_unfinished, write_html, write_junit, write_unfinished,
+    ConsoleReporter, CsvRecorder, ProgressReporter, TelegramFanOut, TraceHeader, TraceWriter,
 };
 use crate::session::PlannedCheck;
 use crate::session::{ObjectRef, Observers, RunReport};
@@ -142,11 +142,11 @@ pub fn write_placeholders(outputs: &OutputArgs, name: &str, path: &str) -> Resul
         outputs
             .junit
             .as_ref()
-            .map(|p| write_junit_unfinished(name, path, p)),
+            .map(|p| write_unfinished(junit_unfinished, name, path, p)),
         outputs
             .report
             .as_ref()
-            .map(|p| write_html_unfinished(name, path, p)),
+            .map(|p| write_unfinished(html_unfinished, name, path, p)),
     ];
     match placeholders.into_iter().flatten().find_map(Result::err) {
         Some(e) => Err(RunError::Invalid(format!("error: {e}"))),

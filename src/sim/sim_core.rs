@@ -134,6 +134,17 @@ macro_rules! sim_line_core {
     };
 }
 
+/// The CAN adapter of a frame front's [`FramePeer`](crate::bus::FramePeer) as its
+/// [`SimCore`]'s faults have it, written inside its `impl FramePeer`: `sim_frame_line_core!();`.
+#[macro_export]
+macro_rules! sim_frame_line_core {
+    () => {
+        fn reachable(&self, now: std::time::Duration) -> bool {
+            self.core.faults.line_up(now)
+        }
+    };
+}
+
 /// The [`SimFront`] accessors of a front that keeps its [`SimCore`] in a field `core`,
 /// written inside its `impl SimFront`: `sim_front_core!((Duration, Request));` logs each
 /// request as its time and the decoded request.

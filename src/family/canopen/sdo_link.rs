@@ -430,12 +430,7 @@ impl SdoLink {
 }
 
 impl CoreLink for SdoLink {
-    fn core(&mut self) -> &mut LinkCore {
-        &mut self.core
-    }
-    fn core_ref(&self) -> &LinkCore {
-        &self.core
-    }
+    crate::core_link_field!();
 }
 
 impl SdoLink {

@@ -222,12 +222,7 @@ impl CtLink {
 }
 
 impl CoreLink for CtLink {
-    fn core(&mut self) -> &mut LinkCore {
-        &mut self.core
-    }
-    fn core_ref(&self) -> &LinkCore {
-        &self.core
-    }
+    crate::core_link_field!();
 }
 
 /// Why a reply does not answer the message (the problem of a `Refusal`, shown as it is).

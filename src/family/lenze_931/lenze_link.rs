@@ -307,12 +307,7 @@ impl LenzeLink {
 }
 
 impl CoreLink for LenzeLink {
-    fn core(&mut self) -> &mut LinkCore {
-        &mut self.core
-    }
-    fn core_ref(&self) -> &LinkCore {
-        &self.core
-    }
+    crate::core_link_field!();
 }
 
 /// `` `OR:0011` (read object 0x0011) ``.

@@ -376,12 +376,7 @@ impl ModbusLink {
 }
 
 impl CoreLink for ModbusLink {
-    fn core(&mut self) -> &mut LinkCore {
-        &mut self.core
-    }
-    fn core_ref(&self) -> &LinkCore {
-        &self.core
-    }
+    crate::core_link_field!();
 }
 
 /// `` `03 D0 00 00 02` (read holding registers 0xD000, 2) ``.

@@ -271,12 +271,7 @@ impl LineEnd {
 }
 
 impl CoreLink for LineEnd {
-    fn core(&mut self) -> &mut LinkCore {
-        &mut self.core
-    }
-    fn core_ref(&self) -> &LinkCore {
-        &self.core
-    }
+    crate::core_link_field!();
 }
 
 impl CoreLink for Sd2Link {

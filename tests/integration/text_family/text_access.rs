@@ -18,12 +18,7 @@ pub struct TextAccess {
 }
 
 impl CoreLink for TextAccess {
-    fn core(&mut self) -> &mut LinkCore {
-        &mut self.core
-    }
-    fn core_ref(&self) -> &LinkCore {
-        &self.core
-    }
+    drivescript::core_link_field!();
 }
 
 impl TextAccess {

@@ -182,9 +182,7 @@ impl FramePeer for Cia402Node {
         out
     }
 
-    fn reachable(&self, now: Duration) -> bool {
-        self.core.faults.line_up(now)
-    }
+    crate::sim_frame_line_core!();
 
     fn poll(&mut self, until: Duration) -> Vec<(Duration, CanFrame)> {
         let mut out = Vec::new();
@@ -213,10 +211,7 @@ mod tests {
     }
 
     fn sent(node: &mut Cia402Node, f: &CanFrame, ms: u64) -> Vec<String> {
-        node.receive(f, Duration::from_millis(ms))
-            .into_iter()
-            .map(|(_, f)| f.to_candump())
-            .collect()
+        crate::bus::candump_replies(node, f, Duration::from_millis(ms))
     }
 
     /// CiA 301 on the wire: boot-up into pre-operational, start, stop (no SDO, heartbeat

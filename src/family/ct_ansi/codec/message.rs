@@ -79,9 +79,7 @@ impl Request {
     }
 
     pub fn decode(bytes: &[u8]) -> Result<Request, DecodeError> {
-        let Some(&first) = bytes.first() else {
-            return Err(DecodeError::Empty);
-        };
+        let first = first_byte(bytes)?;
         let single = |r: Request| single_byte(bytes).map(|()| r);
         match first {
             NAK => single(Request::ReadAgain),
@@ -141,9 +139,7 @@ impl Reply {
     }
 
     pub fn decode(bytes: &[u8]) -> Result<Reply, DecodeError> {
-        let Some(&first) = bytes.first() else {
-            return Err(DecodeError::Empty);
-        };
+        let first = first_byte(bytes)?;
         match first {
             ACK => single_byte(bytes).map(|()| Reply::Accepted),
             NAK => single_byte(bytes).map(|()| Reply::Refused),
@@ -170,6 +166,11 @@ fn data_block(parameter: Parameter, field: &[u8]) -> Vec<u8> {
     let check = bcc(&b[1..]);
     b.push(check);
     b
+}
+
+/// The byte a message starts with, which tells its kind; nothing at all is no message.
+fn first_byte(bytes: &[u8]) -> Result<u8, DecodeError> {
+    bytes.first().copied().ok_or(DecodeError::Empty)
 }
 
 fn single_byte(bytes: &[u8]) -> Result<(), DecodeError> {

@@ -60,9 +60,7 @@ impl FramePeer for Lenze9400Simulator {
         out
     }
 
-    fn reachable(&self, now: Duration) -> bool {
-        self.core.faults.line_up(now)
-    }
+    crate::sim_frame_line_core!();
 
     /// An injected EMCY goes out when it is due, without a request to answer.
     fn poll(&mut self, until: Duration) -> Vec<(Duration, CanFrame)> {
@@ -90,10 +88,7 @@ mod tests {
 
     fn ask(sim: &mut Lenze9400Simulator, node_id: u32, hex: &str) -> Vec<String> {
         let data: [u8; 8] = parse_hex(hex).unwrap().try_into().unwrap();
-        sim.receive(&CanFrame::standard8(node_id, data), Duration::ZERO)
-            .into_iter()
-            .map(|(_, f)| f.to_candump())
-            .collect()
+        crate::bus::candump_replies(sim, &CanFrame::standard8(node_id, data), Duration::ZERO)
     }
 
     #[test]
