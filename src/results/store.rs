@@ -433,7 +433,8 @@ pub(super) fn check_row(run: &str, r: &[Value]) -> CheckRow {
     }
 }
 
-/// A run's row from [`RUN_COLUMNS`] (the start; its end is [`stored_run`]'s).
+/// What a run says as it starts, from a row of [`RUN_COLUMNS`] (the family, added later, is
+/// its last column); the end is [`stored_run`]'s.
 pub(super) fn run_row(r: &[Value]) -> RunRow {
     RunRow {
         id: text(&r[0]),
