@@ -13,7 +13,9 @@ use crate::support::{
     assert_exit, assert_has, assert_lacks, command, line_with, run_recording as run, scratch, write_changed,
     write_file, InProcessRun,
 };
-use crate::support_store::{scratch_store, sd2_script, shown_run, FailedComparison, Reports};
+use crate::support_store::{
+    scratch_sd2_script, scratch_store, sd2_script, shown_run, FailedComparison, Reports,
+};
 use drivescript::results::{Locator, StoreHistory};
 use drivescript::stop_request::StopSignal;
 use std::path::Path;
@@ -493,9 +495,8 @@ fn a_stop_at_a_compared_value_question_runs_the_safe_stop_and_no_comparison() {
 /// once and the safe stop brakes the spindle, which never coasted.
 #[test]
 fn a_stop_while_a_scripts_coast_down_waits_for_the_store_brakes_the_spindle() {
-    let dir = scratch("wear-script-lookup");
-    let script = sd2_script(
-        &dir,
+    let script = scratch_sd2_script(
+        "wear-script-lookup",
         "wear.rhai",
         "Scripted coast-down",
         &format!("{SCRIPT_UP_TO_SPEED}{SCRIPT_COAST_DOWN}"),
@@ -513,9 +514,8 @@ fn a_stop_while_a_scripts_coast_down_waits_for_the_store_brakes_the_spindle() {
 /// what was looked up before (here nothing), at once.
 #[test]
 fn a_comparison_in_a_scripts_finally_never_waits_for_the_store() {
-    let dir = scratch("wear-finally");
-    let script = sd2_script(
-        &dir,
+    let script = scratch_sd2_script(
+        "wear-finally",
         "finally.rhai",
         "Coast-down at the end",
         &format!("//! safe_stop: brake_to_standstill=false\n{SCRIPT_UP_TO_SPEED}fn finally(d) {{\n    {SCRIPT_COAST_DOWN}    d.disable_voltage();\n}}\n"),
