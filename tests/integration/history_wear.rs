@@ -84,6 +84,13 @@ fn vibration_recipe(dir: &Path) -> std::path::PathBuf {
     )
 }
 
+/// `text` as `strict.yaml` named `name`, insisting on history: within `limit` of the last
+/// pass (`at_most: 10 %`), failing a unit's first run.
+fn strict_recipe(dir: &Path, text: &str, name: &str, limit: &str) -> std::path::PathBuf {
+    let compared = format!("{{ {limit}, without_history: fail }}");
+    recipe(dir, "strict.yaml", text, Some(name), &compared)
+}
+
 /// A script's spindle brought up to speed, as COAST does.
 const SCRIPT_UP_TO_SPEED: &str = "let d = drive();
 d.set(\"speed_setpoint\", 6000.0, \"rpm\");
@@ -118,13 +125,7 @@ fn a_coast_down_compares_its_time_with_the_units_last_pass() {
     );
     let first_id = run_id(&first);
     // A recipe that insists on history fails a unit's first run.
-    let strict = recipe(
-        dir,
-        "strict.yaml",
-        COAST,
-        Some("Strict coast-down"),
-        "{ at_least: -10 %, without_history: fail }",
-    );
+    let strict = strict_recipe(dir, COAST, "Strict coast-down", "at_least: -10 %");
     assert_exit(
         coast(&strict, "300rpm/s", &[]),
         1,
@@ -253,13 +254,7 @@ fn a_typed_value_compares_with_the_units_last_pass() {
         ],
     );
     let first_id = run_id(&first);
-    let strict = recipe(
-        dir,
-        "strict.yaml",
-        VIBRATION,
-        Some("Strict balancing check"),
-        "{ at_most: 10 %, without_history: fail }",
-    );
+    let strict = strict_recipe(dir, VIBRATION, "Strict balancing check", "at_most: 10 %");
     assert_exit(
         answered(&strict, "1.2"),
         1,
