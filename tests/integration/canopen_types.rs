@@ -24,6 +24,16 @@ pub fn on_dcf(file: &str, args: &[&str], code: i32) -> Ran {
     on_dictionary(&dcf, &all, code)
 }
 
+/// `diff` of the DCF `file` with the node finds differences (exit code 1) and shows every
+/// one of `differences`; `restore --apply` then succeeds showing every one of `restored`
+/// and none of `untouched` (what the node already holds as the DCF says).
+pub fn dcf_diffed_and_restored(file: &str, differences: &[&str], restored: &[&str], untouched: &[&str]) {
+    assert_has(&on_dcf(file, &["diff"], 1).stdout, differences);
+    let out = on_dcf(file, &["restore", "--apply"], 0);
+    assert_has(&out.stdout, restored);
+    assert_lacks(&out.stdout, untouched);
+}
+
 fn on_dictionary(dictionary: &str, args: &[&str], code: i32) -> Ran {
     let mut all = vec![args[0], "--drive", "canopen", "--dictionary", dictionary];
     all.extend(&args[1..]);
@@ -124,10 +134,8 @@ fn a_nan_is_shown_as_such_and_a_domain_beyond_a_transfer_is_refused() {
 
 #[test]
 fn a_dcf_of_floats_and_wide_integers_is_diffed_and_restored() {
-    let file = "cia402-wide-types.dcf";
-    let out = on_dcf(file, &["diff"], 1);
-    assert_has(
-        &out.stdout,
+    dcf_diffed_and_restored(
+        "cia402-wide-types.dcf",
         &[
             "velocity_loop_gain",
             "27",
@@ -138,14 +146,9 @@ fn a_dcf_of_floats_and_wide_integers_is_diffed_and_restored() {
             "ca fe",
             "3 difference(s)",
         ],
-    );
-    let out = on_dcf(file, &["restore", "--apply"], 0);
-    assert_has(
-        &out.stdout,
         &["velocity_loop_gain", "operating_time", "option_key"],
+        &["encoder_scale", "position_offset"],
     );
-    assert_lacks(&out.stdout, &["encoder_scale"]);
-    assert_lacks(&out.stdout, &["position_offset"]);
 }
 
 #[test]

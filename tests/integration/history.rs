@@ -13,7 +13,9 @@ use crate::support::{
     scratch_file, silent_server, unit_certificate, with_postgres_store, with_sqlite_store, write_changed,
     write_file, InProcessRun, Simulator,
 };
-use crate::support_store::{scratch_store, sd2_script, shown_run, FailedComparison, Reports};
+use crate::support_store::{
+    scratch_sd2_script, scratch_store, sd2_script, shown_run, FailedComparison, Reports,
+};
 use drivescript::results::{Locator, RunFilter, StoreHistory};
 use std::path::Path;
 use std::process::Stdio;
@@ -478,9 +480,8 @@ expect_compared_with_last_pass(\"motor temperature\", t, #{ at_most: 2.0, at_lea
 /// stop goes on at once to disable the drive, even with a store that never answers.
 #[test]
 fn a_comparison_in_a_scripts_finally_never_waits_for_the_store() {
-    let dir = scratch("history-script-finally");
-    let script = sd2_script(
-        &dir,
+    let script = scratch_sd2_script(
+        "history-script-finally",
         "finally.rhai",
         "Compared in finally",
         "let d = drive();

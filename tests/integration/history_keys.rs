@@ -7,8 +7,8 @@
 
 use crate::history::run_id;
 use crate::support::{
-    assert_exit, assert_has, assert_lacks, cli, line_with, run_recording as run, scratch, sqlite_store,
-    with_postgres_store, with_sqlite_store, write_file, PostgresServer,
+    assert_exit, assert_has, assert_lacks, cli, line_with, postgres_with_folder, run_recording as run,
+    scratch, sqlite_store, with_postgres_store, with_sqlite_store, write_file,
 };
 use std::path::Path;
 
@@ -275,12 +275,12 @@ fn a_version_2_sqlite_store_migrates_and_its_runs_still_serve_as_history() {
 
 #[test]
 fn a_version_2_postgresql_store_migrates_and_its_runs_still_serve_as_history() {
-    let Some(server) = PostgresServer::start("keys-v2-postgres") else {
+    let Some((server, dir)) = postgres_with_folder("keys-v2-postgres") else {
         return;
     };
     let mut db = postgres::Client::connect(&server.url(), postgres::NoTls).expect("connects");
     version_2_store(&mut |sql| db.batch_execute(sql).expect("version 2 SQL"));
-    old_runs_serve_as_history(&scratch("keys-v2-postgres-files"), &server.url());
+    old_runs_serve_as_history(&dir, &server.url());
     let row = db
         .query_one(
             "SELECT check_key FROM checks WHERE run_id = '0ld5tore' AND seq = 1",

@@ -13,7 +13,9 @@ use crate::support::{
     assert_exit, assert_has, assert_lacks, command, line_with, run_recording as run, scratch, write_changed,
     write_file, InProcessRun,
 };
-use crate::support_store::{scratch_store, sd2_script, shown_run, FailedComparison, Reports};
+use crate::support_store::{
+    scratch_sd2_script, scratch_store, sd2_script, shown_run, FailedComparison, Reports,
+};
 use drivescript::results::{Locator, StoreHistory};
 use drivescript::stop_request::StopSignal;
 use std::path::Path;
@@ -82,6 +84,13 @@ fn vibration_recipe(dir: &Path) -> std::path::PathBuf {
     )
 }
 
+/// `text` as `strict.yaml` named `name`, insisting on history: within `limit` of the last
+/// pass (`at_most: 10 %`), failing a unit's first run.
+fn strict_recipe(dir: &Path, text: &str, name: &str, limit: &str) -> std::path::PathBuf {
+    let compared = format!("{{ {limit}, without_history: fail }}");
+    recipe(dir, "strict.yaml", text, Some(name), &compared)
+}
+
 /// A script's spindle brought up to speed, as COAST does.
 const SCRIPT_UP_TO_SPEED: &str = "let d = drive();
 d.set(\"speed_setpoint\", 6000.0, \"rpm\");
@@ -116,13 +125,7 @@ fn a_coast_down_compares_its_time_with_the_units_last_pass() {
     );
     let first_id = run_id(&first);
     // A recipe that insists on history fails a unit's first run.
-    let strict = recipe(
-        dir,
-        "strict.yaml",
-        COAST,
-        Some("Strict coast-down"),
-        "{ at_least: -10 %, without_history: fail }",
-    );
+    let strict = strict_recipe(dir, COAST, "Strict coast-down", "at_least: -10 %");
     assert_exit(
         coast(&strict, "300rpm/s", &[]),
         1,
@@ -251,13 +254,7 @@ fn a_typed_value_compares_with_the_units_last_pass() {
         ],
     );
     let first_id = run_id(&first);
-    let strict = recipe(
-        dir,
-        "strict.yaml",
-        VIBRATION,
-        Some("Strict balancing check"),
-        "{ at_most: 10 %, without_history: fail }",
-    );
+    let strict = strict_recipe(dir, VIBRATION, "Strict balancing check", "at_most: 10 %");
     assert_exit(
         answered(&strict, "1.2"),
         1,
@@ -493,9 +490,8 @@ fn a_stop_at_a_compared_value_question_runs_the_safe_stop_and_no_comparison() {
 /// once and the safe stop brakes the spindle, which never coasted.
 #[test]
 fn a_stop_while_a_scripts_coast_down_waits_for_the_store_brakes_the_spindle() {
-    let dir = scratch("wear-script-lookup");
-    let script = sd2_script(
-        &dir,
+    let script = scratch_sd2_script(
+        "wear-script-lookup",
         "wear.rhai",
         "Scripted coast-down",
         &format!("{SCRIPT_UP_TO_SPEED}{SCRIPT_COAST_DOWN}"),
@@ -513,9 +509,8 @@ fn a_stop_while_a_scripts_coast_down_waits_for_the_store_brakes_the_spindle() {
 /// what was looked up before (here nothing), at once.
 #[test]
 fn a_comparison_in_a_scripts_finally_never_waits_for_the_store() {
-    let dir = scratch("wear-finally");
-    let script = sd2_script(
-        &dir,
+    let script = scratch_sd2_script(
+        "wear-finally",
         "finally.rhai",
         "Coast-down at the end",
         &format!("//! safe_stop: brake_to_standstill=false\n{SCRIPT_UP_TO_SPEED}fn finally(d) {{\n    {SCRIPT_COAST_DOWN}    d.disable_voltage();\n}}\n"),

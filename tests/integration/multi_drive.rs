@@ -36,6 +36,11 @@ steps:
       right.speed_actual: { mean: { near: 2000 rpm, within: 1 % } }
 ";
 
+/// TWO_AXES sampling for `sample_for` (`1 s`).
+fn two_axes(sample_for: &str) -> String {
+    TWO_AXES.replace("SAMPLE_FOR", sample_for)
+}
+
 fn state_of(sim: &Arc<Mutex<dyn SimulatedDrive>>) -> DeviceState {
     sim.lock().unwrap_or_else(PoisonError::into_inner).state()
 }
@@ -127,11 +132,8 @@ fn two_axes_on_a_pty(
 
 #[test]
 fn two_drives_on_one_pty_reach_their_own_speeds_and_never_interleave() {
-    let (_sim, _, text, trace) = two_axes_on_a_pty(
-        &["--address", "dnc:2,dnc:3"],
-        "multi-pty",
-        &TWO_AXES.replace("SAMPLE_FOR", "1 s"),
-    );
+    let (_sim, _, text, trace) =
+        two_axes_on_a_pty(&["--address", "dnc:2,dnc:3"], "multi-pty", &two_axes("1 s"));
     assert_has(&text, &["right: drive left in ready to switch on at 0 rpm\nleft: drive left in ready to switch on at 0 rpm\n"]);
     assert!(
         trace.contains("-- drive `left`") && trace.contains("-- drive `right`"),
@@ -145,8 +147,7 @@ fn two_drives_on_one_pty_reach_their_own_speeds_and_never_interleave() {
 /// drive B alone afterwards.
 #[test]
 fn the_issue_spelling_of_addresses_on_a_pty_served_with_dnc_address() {
-    let text = TWO_AXES
-        .replace("SAMPLE_FOR", "1 s")
+    let text = two_axes("1 s")
         .replace("{ drive: sd2, address: dnc:2 }", "{ drive: sd2, dnc_address: 2 }")
         .replace(
             "{ drive: sd2, address: dnc:3 }",
@@ -196,11 +197,7 @@ fn dnc_address_is_refused_with_address_and_for_a_family_without_dnc_addresses() 
 #[test]
 fn ctrl_c_on_a_pty_stops_both_drives_each_verified() {
     let sim = Simulator::pty(&["--address", "dnc:2,dnc:3"]);
-    let (_, recipe) = scratch_file(
-        "multi-pty-ctrl-c",
-        "recipe.yaml",
-        &TWO_AXES.replace("SAMPLE_FOR", "10 min"),
-    );
+    let (_, recipe) = scratch_file("multi-pty-ctrl-c", "recipe.yaml", &two_axes("10 min"));
     let recipe = recipe.to_string_lossy().to_string();
     let run = LiveRun::start(["run", recipe.as_str(), "--port", &sim.endpoint]);
     let (_, code, seen) = run.interrupt_after("wait until right.speed_actual", Duration::from_millis(500));
@@ -291,11 +288,7 @@ on_fault:
 
 #[test]
 fn a_stop_signal_stops_both_drives_last_enabled_first() {
-    let (_, recipe) = scratch_file(
-        "multi-signal",
-        "recipe.yaml",
-        &TWO_AXES.replace("SAMPLE_FOR", "1 h"),
-    );
+    let (_, recipe) = scratch_file("multi-signal", "recipe.yaml", &two_axes("1 h"));
     let stop = Arc::new(StopRequests::new());
     stop.schedule(Duration::from_secs(30), StopSignal::INT);
     let (result, output) = run_in_process(&recipe, stop, &|_, _| {});
@@ -477,7 +470,7 @@ fn a_script_naming_an_unknown_drive_or_no_drive_is_told_which_there_are() {
 /// speed at `max_speed`: the folder, the recipe and the limits file.
 fn two_axes_under_limits(name: &str, max_speed: &str) -> (PathBuf, PathBuf, String) {
     let (dir, limits) = scratch_file(name, "limits.yaml", &format!("max_speed: {max_speed}\n"));
-    let recipe = write_file(&dir, "recipe.yaml", &TWO_AXES.replace("SAMPLE_FOR", "1 s"));
+    let recipe = write_file(&dir, "recipe.yaml", &two_axes("1 s"));
     let limits = limits.to_str().expect("utf-8 path").to_string();
     (dir, recipe, limits)
 }

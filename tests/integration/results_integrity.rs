@@ -8,7 +8,7 @@
 //! the samples CSV holds the curves the HTML report plots.
 
 use crate::support::{
-    assert_has, assert_lacks, cli, command, scratch, scratch_file, write_file, PostgresServer, Ran,
+    assert_has, assert_lacks, cli, command, postgres_with_folder, scratch, scratch_file, write_file, Ran,
 };
 use crate::support_store::{run_recorded, scratch_store};
 use drivescript::results::{Locator, RunFilter, StoredRun};
@@ -396,10 +396,9 @@ fn control_characters_are_shown_escaped_on_terminals_and_in_the_csv() {
 /// the queue reaches the server whole.
 #[test]
 fn postgresql_holds_every_record_and_says_where_it_is() {
-    let Some(server) = PostgresServer::start("postgres-integrity") else {
+    let Some((server, dir)) = postgres_with_folder("postgres-integrity") else {
         return;
     };
-    let dir = scratch("postgres-integrity-files");
     let url = server.url();
     let recipe = write_file(&dir, "tiny.yaml", TINY);
     // A NUL in the serial number: while the server is down (spooled, then a second run

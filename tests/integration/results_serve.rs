@@ -4,8 +4,8 @@
 //! and that no request reaches a file.
 
 use crate::support::{
-    assert_has, assert_lacks, cli, command, headless_chromium, run_recording, scratch, unit_args, write_file,
-    PostgresServer, SHORT_RECIPE,
+    assert_has, assert_lacks, cli, command, headless_chromium, postgres_with_folder, run_recording,
+    unit_args, write_file, SHORT_RECIPE,
 };
 use crate::support_store::scratch_store;
 use std::io::{BufRead, BufReader, Read, Write};
@@ -241,10 +241,9 @@ fn results_serve_shows_a_sqlite_store_in_chromium() {
 
 #[test]
 fn results_serve_shows_a_postgresql_store_in_chromium() {
-    let Some(server) = PostgresServer::start("serve-postgres") else {
+    let Some((server, dir)) = postgres_with_folder("serve-postgres") else {
         return;
     };
-    let dir = scratch("serve-postgres-pages");
     let served = serving_three_runs(&dir, &server.url(), "127.0.0.1:0");
     browse(&served, &dir);
     // A server restarted under it: the pages come back without restarting `serve`.

@@ -7,8 +7,9 @@
 use crate::live_run::LiveRun;
 use crate::support::SHORT_RECIPE as SHORT;
 use crate::support::{
-    assert_has, assert_lacks, cli, command, console, run_recording, scratch, scratch_file, screenshot,
-    silent_server, sqlite_store, unit_certificate, write_file, InProcessRun, PostgresServer, Ran, Simulator,
+    assert_has, assert_lacks, cli, command, console, postgres_with_folder, run_recording, scratch,
+    scratch_file, screenshot, silent_server, sqlite_store, unit_certificate, write_file, InProcessRun,
+    PostgresServer, Ran, Simulator,
 };
 use crate::support_store::{run_recorded, scratch_store, shown_run};
 use drivescript::results::{Locator, RunFilter, StoredRun};
@@ -359,11 +360,7 @@ fn a_replayed_run_is_recorded_with_its_capture() {
 #[test]
 fn a_killed_run_is_left_incomplete_with_its_checks() {
     let (dir, store) = &scratch_store("killed");
-    let recipe = write_file(
-        dir,
-        "killed.yaml",
-        "name: Killed\ndrive: sd2\nsteps:\n  - expect: { bus_voltage: { above: 100 V } }\n  - dwell: 60 s\n",
-    );
+    let recipe = write_file(dir, "killed.yaml", &format!("{TINY}  - dwell: 60 s\n"));
     let mut run = LiveRun::start([
         "run",
         recipe.to_str().unwrap(),
@@ -391,7 +388,7 @@ fn a_killed_run_is_left_incomplete_with_its_checks() {
     assert_eq!(runs[0].checks.len(), 1);
     assert!(runs[0].checks[0].passed);
     let listed = list(store, &["--verdict", "incomplete"]);
-    assert_has(&listed.stdout, &["INCOMPLETE", "Killed"]);
+    assert_has(&listed.stdout, &["INCOMPLETE", "Tiny"]);
 }
 
 #[test]
@@ -594,10 +591,9 @@ fn the_unit_certificate_renders_in_headless_chromium() {
 
 #[test]
 fn postgresql_records_runs_from_a_fleet_and_spools_while_the_server_is_down() {
-    let Some(server) = PostgresServer::start("postgres") else {
+    let Some((server, dir)) = postgres_with_folder("postgres") else {
         return;
     };
-    let dir = scratch("postgres-runs");
     let url = server.url();
     hostile_serials_round_trip(&dir, &url);
     two_processes_of_200_runs(&dir, &url);
@@ -825,11 +821,7 @@ fn a_server_that_takes_the_connection_and_never_answers_is_unreachable_in_time()
 #[test]
 fn the_recipe_hash_covers_every_included_file() {
     let (dir, store) = &scratch_store("hash-includes");
-    let stage = write_file(
-        dir,
-        "stage.yaml",
-        "name: Stage\ndrive: sd2\nsteps:\n  - expect: { bus_voltage: { above: 100 V } }\n",
-    );
+    let stage = write_file(dir, "stage.yaml", TINY);
     let recipe = write_file(
         dir,
         "main.yaml",
@@ -844,11 +836,7 @@ fn the_recipe_hash_covers_every_included_file() {
     };
     let before = hash_of_a_run(&recipe);
     assert_eq!(hash_of_a_run(&recipe), before, "the same text, the same hash");
-    std::fs::write(
-        &stage,
-        "name: Stage\ndrive: sd2\nsteps:\n  - expect: { bus_voltage: { above: 200 V } }\n",
-    )
-    .expect("the stage edited");
+    std::fs::write(&stage, TINY.replace("100 V", "200 V")).expect("the stage edited");
     let after = hash_of_a_run(&recipe);
     assert_ne!(after, before, "an included file's edit changes the hash");
     // Alone, a file hashes as sha256sum does.

@@ -248,11 +248,18 @@ pub fn with_sqlite_store(name: &str, check: impl FnOnce(&Path, &str)) {
 /// started it does what [`PostgresServer::start`] says (skips, or fails under CI).
 #[track_caller]
 pub fn with_postgres_store(name: &str, check: impl FnOnce(&Path, &str)) {
-    let Some(server) = PostgresServer::start(&format!("{name}-postgres")) else {
+    let Some((server, dir)) = postgres_with_folder(&format!("{name}-postgres")) else {
         return;
     };
-    let dir = scratch(&format!("{name}-postgres-files"));
     check(&dir, &server.url());
+}
+
+/// A PostgreSQL server of its own (`NAME`, as [`PostgresServer::start`] starts it, `None`
+/// where it says) and the fresh [`scratch`] folder `NAME-files` for the test's other files.
+#[track_caller]
+pub fn postgres_with_folder(name: &str) -> Option<(PostgresServer, PathBuf)> {
+    let server = PostgresServer::start(name)?;
+    Some((server, scratch(&format!("{name}-files"))))
 }
 
 /// The path of a SQLite results store in `dir`, as `--results` takes it.

@@ -108,3 +108,10 @@ pub fn shown_run(store: &str, id: &str) -> String {
 pub fn sd2_script(dir: &Path, file: &str, name: &str, body: &str) -> PathBuf {
     write_file(dir, file, &format!("//! drive: sd2\n//! name: {name}\n{body}"))
 }
+
+/// A script as [`sd2_script`] writes it, alone in a fresh [`scratch`] folder `name`; its
+/// path.
+#[track_caller]
+pub fn scratch_sd2_script(name: &str, file: &str, title: &str, body: &str) -> PathBuf {
+    sd2_script(&scratch(name), file, title, body)
+}
