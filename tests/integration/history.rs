@@ -129,6 +129,7 @@ fn history_in(dir: &Path, store: &str) {
         change: 5.0,
         unit: "K",
         limits: (Some(-2.0), Some(2.0)),
+        within: 0.0,
     }
     .assert_kept(
         store,

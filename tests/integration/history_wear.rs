@@ -170,6 +170,7 @@ fn a_coast_down_compares_its_time_with_the_units_last_pass() {
         change: -22.496,
         unit: "%",
         limits: (Some(-10.0), None),
+        within: 0.001,
     }
     .assert_kept(store, &third_id, &compared);
     assert_has(
@@ -295,6 +296,7 @@ fn a_typed_value_compares_with_the_units_last_pass() {
         change: 0.4,
         unit: "mm/s",
         limits: (None, Some(0.3)),
+        within: 1e-9,
     }
     .assert_kept(store, &third_id, &compared);
 }
@@ -343,7 +345,8 @@ fn a_scripts_coast_down_and_typed_value_compare_with_the_units_last_pass() {
             &format!("PASS  Vibration compared with last pass: answer = 1.3 mm/s: +0.1 mm/s against 1.2 mm/s in run {first_id}"),
         ],
     );
-    // A comparison written wrongly is a script error at its call.
+    // A comparison written wrongly is a script error at its call: line 7 of the script
+    // (the 2 header lines, the 4 of SCRIPT_UP_TO_SPEED, then SCRIPT_COAST_DOWN).
     let wrong = write_changed(
         dir,
         "wrong.rhai",
