@@ -20,6 +20,12 @@
 //!   store (opening it and the query, as a run does before its first step): at most
 //!   100 ms, against the 10 s a run waits at most.
 
+// Only the wait for a child is needed here; the other benchmarks use the rest.
+#[allow(dead_code)]
+#[path = "support/child_cost.rs"]
+mod child_cost;
+
+use child_cost::wait_cost;
 use drivescript::results::{CheckRow, EndRow, Locator, Record, RunRow, StoreHistory};
 use drivescript::session::{History, Limits, UnitIdentity};
 use drivescript::store_site::StoreSite;
@@ -58,19 +64,11 @@ fn costs(args: &[&str]) -> Result<(Duration, Duration), String> {
         .stderr(Stdio::null())
         .spawn()
         .map_err(|e| format!("cannot start drivescript: {e}"))?;
-    let pid = child.id() as libc::pid_t;
-    let mut status = 0;
-    // SAFETY: an all-zero rusage is a valid value for wait4 to fill in.
-    let mut usage: libc::rusage = unsafe { std::mem::zeroed() };
-    // SAFETY: waiting for our own child with valid pointers.
-    let waited = unsafe { libc::wait4(pid, &mut status, 0, &mut usage) };
-    let wall = started.elapsed();
-    if waited != pid || !libc::WIFEXITED(status) || libc::WEXITSTATUS(status) != 0 {
+    let (code, cost) = wait_cost(child.id() as libc::pid_t, started)?;
+    if code != Some(0) {
         return Err(format!("drivescript {args:?} failed"));
     }
-    let tv =
-        |t: libc::timeval| Duration::from_secs(t.tv_sec as u64) + Duration::from_micros(t.tv_usec as u64);
-    Ok((wall, tv(usage.ru_utime) + tv(usage.ru_stime)))
+    Ok((cost.wall, cost.user + cost.system))
 }
 
 fn size_of_store(path: &Path) -> u64 {
