@@ -10,6 +10,17 @@ pub struct ObjectRef {
     pub unit: Option<String>,
 }
 
+impl ObjectRef {
+    /// `speed_actual, current_actual`: the objects of a step, as its label names them.
+    pub fn names(objects: &[ObjectRef]) -> String {
+        objects
+            .iter()
+            .map(|o| o.name.as_str())
+            .collect::<Vec<_>>()
+            .join(", ")
+    }
+}
+
 impl std::fmt::Display for ObjectRef {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.write_str(&self.name)

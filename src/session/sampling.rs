@@ -21,11 +21,7 @@ impl Sampling {
     pub fn label(&self) -> String {
         format!(
             "sample {} every {} for {}",
-            self.objects
-                .iter()
-                .map(|o| o.name.as_str())
-                .collect::<Vec<_>>()
-                .join(", "),
+            ObjectRef::names(&self.objects),
             show_duration(self.every),
             show_duration(self.duration)
         )

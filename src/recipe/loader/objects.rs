@@ -195,12 +195,3 @@ impl Loader<'_, '_> {
         ok.then_some(out)
     }
 }
-
-/// `speed_actual, current_actual`
-pub(super) fn names(objects: &[ObjectRef]) -> String {
-    objects
-        .iter()
-        .map(|o| o.name.clone())
-        .collect::<Vec<_>>()
-        .join(", ")
-}
